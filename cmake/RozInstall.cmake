@@ -1,0 +1,43 @@
+# SPDX-License-Identifier: Apache-2.0
+# Install rules: find_package(roz CONFIG) gives a consumer the same roz::
+# targets and roz_generate() that add_subdirectory(roz) does.
+include(CMakePackageConfigHelpers)
+
+set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
+set(_roz_targets roz_core)
+if(TARGET roz_wasm3)
+  # Static roz_core links it PRIVATE, so a consumer's link line needs it.
+  list(APPEND _roz_targets roz_wasm3)
+  set_target_properties(roz_wasm3 PROPERTIES EXPORT_NAME wasm3)
+endif()
+if(TARGET roz_manifests)
+  list(APPEND _roz_targets roz_manifests)
+  target_include_directories(roz_manifests PUBLIC
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/roz/manifests>)
+  install(DIRECTORY ${PROJECT_BINARY_DIR}/manifests/generated/
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/manifests
+          FILES_MATCHING PATTERN "*.h")
+endif()
+
+install(TARGETS ${_roz_targets} EXPORT rozTargets
+        ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+        LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/lib/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        FILES_MATCHING PATTERN "*.h")
+install(FILES ${PROJECT_BINARY_DIR}/lib/include/roz/features.h
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz)
+install(EXPORT rozTargets NAMESPACE roz:: DESTINATION ${ROZ_INSTALL_CMAKEDIR})
+
+configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/rozConfig.cmake.in
+  ${PROJECT_BINARY_DIR}/rozConfig.cmake INSTALL_DESTINATION ${ROZ_INSTALL_CMAKEDIR})
+write_basic_package_version_file(${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
+  COMPATIBILITY SameMinorVersion)
+install(FILES ${PROJECT_BINARY_DIR}/rozConfig.cmake ${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/RozGenerate.cmake
+        DESTINATION ${ROZ_INSTALL_CMAKEDIR})
+
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
+if(ROZ_WASM3_LICENSE_FILE)
+  install(FILES ${ROZ_WASM3_LICENSE_FILE} DESTINATION ${CMAKE_INSTALL_DOCDIR}
+          RENAME LICENSE.wasm3)
+endif()

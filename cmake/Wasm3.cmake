@@ -1,0 +1,55 @@
+# SPDX-License-Identifier: Apache-2.0
+#
+# wasm3 0.5.0, built from its C sources as its own static library target
+# (roz_wasm3) with its own flags: never roz's warnings, never -Werror. roz
+# links it PRIVATE, so no wasm3 header reaches roz's public headers.
+#
+# Where the sources come from, in order:
+#   ROZ_WASM3_SOURCE_DIR  any wasm3 source tree (the folder holding wasm3.h)
+#   ROZ_WASM3_SDIST       the pywasm3 0.5.0 source distribution, as fetched by
+#                         tools/setup.sh; its sha256 is checked here and the
+#                         build stops on a mismatch; its wasm3/ folder is the
+#                         wasm3 0.5.0 core.
+set(ROZ_WASM3_SOURCE_DIR "" CACHE PATH "wasm3 source tree (folder with wasm3.h); overrides ROZ_WASM3_SDIST")
+set(ROZ_WASM3_SDIST "" CACHE FILEPATH "pywasm3-0.5.0.tar.gz (wasm3 0.5.0 sources, sha256-checked)")
+set(ROZ_WASM3_SDIST_SHA256 5a47c8a39f7f6ae71b3316b2e5d86c9d0db6e771a65f09a86e4d4aa3a19aefcc)
+
+if(ROZ_WASM3_SOURCE_DIR)
+  set(_roz_wasm3_dir ${ROZ_WASM3_SOURCE_DIR})
+  set(_roz_wasm3_license "")
+elseif(ROZ_WASM3_SDIST)
+  if(NOT EXISTS "${ROZ_WASM3_SDIST}")
+    message(FATAL_ERROR "ROZ_WASM3_SDIST: ${ROZ_WASM3_SDIST} does not exist; run tools/setup.sh (or make setup) to fetch it")
+  endif()
+  file(SHA256 "${ROZ_WASM3_SDIST}" _roz_sha)
+  if(NOT _roz_sha STREQUAL ROZ_WASM3_SDIST_SHA256)
+    message(FATAL_ERROR "ROZ_WASM3_SDIST: ${ROZ_WASM3_SDIST} has sha256 ${_roz_sha}, "
+                        "expected ${ROZ_WASM3_SDIST_SHA256}: refusing to build wasm3 from it. "
+                        "Delete the file and run tools/setup.sh to fetch it again.")
+  endif()
+  set(_roz_unpack ${CMAKE_BINARY_DIR}/_deps/wasm3-${_roz_sha})
+  if(NOT EXISTS ${_roz_unpack}/pywasm3-0.5.0/wasm3/wasm3.h)
+    file(ARCHIVE_EXTRACT INPUT "${ROZ_WASM3_SDIST}" DESTINATION ${_roz_unpack})
+  endif()
+  set(_roz_wasm3_dir ${_roz_unpack}/pywasm3-0.5.0/wasm3)
+  set(_roz_wasm3_license ${_roz_unpack}/pywasm3-0.5.0/LICENSE)
+else()
+  message(FATAL_ERROR "roz needs wasm3's sources: set ROZ_WASM3_SDIST to pywasm3-0.5.0.tar.gz "
+                      "(tools/setup.sh fetches it into .cache/) or ROZ_WASM3_SOURCE_DIR to a wasm3 "
+                      "source tree, or configure with -DROZ_WITH_WASM3=OFF")
+endif()
+if(NOT EXISTS ${_roz_wasm3_dir}/wasm3.h)
+  message(FATAL_ERROR "no wasm3.h in ${_roz_wasm3_dir}")
+endif()
+
+file(GLOB _roz_wasm3_sources CONFIGURE_DEPENDS ${_roz_wasm3_dir}/*.c)
+add_library(roz_wasm3 STATIC ${_roz_wasm3_sources})
+add_library(roz::wasm3 ALIAS roz_wasm3)
+set_target_properties(roz_wasm3 PROPERTIES C_STANDARD 11 C_EXTENSIONS ON
+                                           POSITION_INDEPENDENT_CODE ON)
+# Only roz's own sources include wasm3.h; consumers never see this folder.
+target_include_directories(roz_wasm3 PUBLIC $<BUILD_INTERFACE:${_roz_wasm3_dir}>)
+target_compile_options(roz_wasm3 PRIVATE
+  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing>)
+target_link_libraries(roz_wasm3 PRIVATE m)
+set(ROZ_WASM3_LICENSE_FILE "${_roz_wasm3_license}")

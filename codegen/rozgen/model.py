@@ -1,0 +1,88 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The validated manifest: immutable, and valid by construction.
+
+Only ``rozgen.validate`` builds these; renderers and the JSON writer read
+them and never check anything. Field meanings follow roz/manifest.h.
+"""
+
+from dataclasses import dataclass
+
+from rozgen import names
+
+#: Interface types in roz_interface_t order (ROZ_IF_POSITION = 0, ...).
+INTERFACE_TYPES = (
+    "position",
+    "velocity",
+    "effort",
+    "stiffness",
+    "damping",
+    "acceleration",
+    "orientation",
+)
+
+#: roz_channel_t::position_state of an unpaired channel (ROZ_CHANNEL_UNPAIRED).
+UNPAIRED = -1
+
+
+@dataclass(frozen=True)
+class Maxima:
+    """Compile-time maxima of the roz build the output is meant for."""
+
+    commands: int = 256  # ROZ_CFG_MAX_COMMANDS
+    states: int = 256  # ROZ_CFG_MAX_STATES
+    name_len: int = 63  # ROZ_CFG_MAX_NAME_LEN, bytes without the NUL
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One command or state channel (roz_channel_t)."""
+
+    name: str
+    interface_type: str  # one of INTERFACE_TYPES
+    unit: str
+    min: float
+    max: float
+    default: float
+    max_rate: float  # max change per tick; 0.0 = no cap
+    position_state: int  # paired state index or UNPAIRED
+
+    @property
+    def constant(self) -> str:
+        """``<NAME>`` part of the channel's index macro."""
+        return names.constant_suffix(self.name)
+
+    @property
+    def c_type(self) -> str:
+        """roz_interface_t enumerator: ``ROZ_IF_VELOCITY``."""
+        return "ROZ_IF_" + self.interface_type.upper()
+
+
+@dataclass(frozen=True)
+class Hardware:
+    """The optional [hardware] table (roz_hardware_t)."""
+
+    port: str
+    joints: tuple[str, ...]  # in the SDK's motor order, as written
+    params: tuple[tuple[str, str], ...]  # (key, value), sorted by key
+
+
+@dataclass(frozen=True)
+class Manifest:
+    """A whole robot.toml (roz_manifest_t)."""
+
+    robot_id: str
+    robot_class: str
+    control_rate_hz: int
+    commands: tuple[Channel, ...]
+    states: tuple[Channel, ...]
+    hardware: Hardware | None
+
+    @property
+    def prefix(self) -> str:
+        """Macro prefix: ``ROZ_UR5``."""
+        return names.id_prefix(self.robot_id)
+
+    @property
+    def longest_name(self) -> int:
+        """Bytes in the longest channel name."""
+        return max(len(c.name.encode("utf-8")) for c in self.commands + self.states)

@@ -1,0 +1,68 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Problems found in input files, each with a stable rule id.
+
+A problem prints as ``<file><message>``; ``message`` starts with ``": "``
+(or ``":<line>:<col>: "`` for TOML syntax errors). With ``--error-ids`` the
+line is prefixed by ``[<rule>] ``. The rule ids are the contract with every
+other reader of robot.toml (a C reader must find the same rule on the same
+fixture in manifests/invalid/); their descriptions are in ``RULES``.
+"""
+
+from dataclasses import dataclass, field
+
+#: Every rule id, in documentation order, with what it refuses.
+RULES: dict[str, str] = {
+    "io-error": "the file cannot be read (or an output cannot be written)",
+    "utf8": "the file is not valid UTF-8",
+    "toml-syntax": "the file is not valid TOML",
+    "unknown-key": "a key or table that rozgen does not know (typos never pass)",
+    "missing-key": "a required key or table is absent",
+    "type": "a value has the wrong TOML type (booleans are not numbers, "
+    "floats are not integers)",
+    "nul-char": "a string holds a NUL character (C would cut it short)",
+    "robot-id": "robot_id does not match [a-z][a-z0-9_]* or is longer than 32",
+    "control-rate": "control_rate_hz is not in 1..100000",
+    "name": "a channel name is empty, too long, has no letter or digit, or "
+    "has characters other than printable ASCII without \" and \\",
+    "interface-type": "interface_type is not a known type",
+    "limits-shape": "limits is not an array of exactly two numbers",
+    "not-finite": "limits, default or max_rate_of_change is inf or nan",
+    "limits-order": "limits min is not below max",
+    "default-range": "default is outside the limits",
+    "max-rate": "max_rate_of_change is negative",
+    "duplicate-name": "two channels of one list have the same name",
+    "constant-collision": "two names of one list give the same C constant",
+    "pairing-range": "position_state_index is neither -1 nor a state index",
+    "pairing-type": "position_state_index points at a state that is not of "
+    "type position",
+    "pairing-on-state": "a state channel has a position_state_index other than -1",
+    "no-commands": "the manifest has no command channel",
+    "too-many-channels": "more commands or states than ROZ_CFG_MAX_COMMANDS "
+    "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",
+    "joint-name": "a hardware joint name is empty",
+    "duplicate-joint": "a hardware joint is listed twice",
+    "duplicate-robot-id": "two files given together have the same robot_id",
+    "source-root": "a file is not under --source-root",
+}
+
+#: Rules that no single robot.toml can break (they need several files, the
+#: file system or --source-root), hence without a fixture in manifests/invalid.
+RULES_WITHOUT_FIXTURE = frozenset({"io-error", "duplicate-robot-id", "source-root"})
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One thing wrong with one file."""
+
+    rule: str
+    message: str  # text after the file name, starting with ":"
+    order: tuple = field(default=(), compare=False)  # sort key within a file
+
+    def __post_init__(self) -> None:
+        if self.rule not in RULES:
+            raise ValueError(f"undocumented rule id {self.rule!r}")
+
+    def render(self, file: str, with_id: bool = False) -> str:
+        """The line printed on stderr."""
+        prefix = f"[{self.rule}] " if with_id else ""
+        return f"{prefix}{file}{self.message}"

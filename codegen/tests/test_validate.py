@@ -1,0 +1,200 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Validation in process: defaults, the model, all problems at once."""
+
+import dataclasses
+import tomllib
+
+import pytest
+
+from rozgen.model import Maxima
+from rozgen.validate import validate
+
+GOOD = """
+[manifest]
+robot_id = "arm"
+
+[[manifest.commands]]
+name = "j1/velocity"
+interface_type = "velocity"
+unit = "rad/s"
+limits = [-2, 2]
+default = 0
+
+[[manifest.states]]
+name = "j1/position"
+interface_type = "position"
+unit = "rad"
+limits = [-3.14, 3.14]
+default = 0.0
+"""
+
+
+def check(text: str, maxima: Maxima = Maxima()):
+    manifest, problems = validate(tomllib.loads(text), maxima)
+    return manifest, [p.render("f.toml", with_id=True) for p in problems]
+
+
+def test_defaults_and_conversions():
+    m, problems = check(GOOD)
+    assert problems == []
+    assert (m.robot_id, m.robot_class, m.control_rate_hz) == ("arm", "generic", 100)
+    c = m.commands[0]
+    assert (c.min, c.max, c.default, c.max_rate, c.position_state) == (-2.0, 2.0, 0.0, 0.0, -1)
+    assert all(isinstance(v, float) for v in (c.min, c.max, c.default, c.max_rate))
+    assert m.states[0].position_state == -1
+    assert m.hardware is None
+
+
+def test_model_is_immutable():
+    m, _ = check(GOOD)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.robot_id = "x"
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.commands[0].max = 1e9
+    assert isinstance(m.commands, tuple) and isinstance(m.states, tuple)
+
+
+def test_states_are_optional():
+    text = GOOD[:GOOD.index("[[manifest.states]]")]
+    m, problems = check(text)
+    assert problems == [] and m.states == ()
+
+
+def test_hardware_params_sorted_joints_kept_in_order():
+    m, problems = check(GOOD + """
+[hardware]
+port = "unitree/G1"
+joints = ["z", "a"]
+
+[hardware.params]
+network_interface = "eth0"
+dds_domain = "0"
+""")
+    assert problems == []
+    assert m.hardware.joints == ("z", "a")
+    assert m.hardware.params == (("dds_domain", "0"), ("network_interface", "eth0"))
+
+
+def test_every_problem_is_reported_in_schema_order():
+    text = """
+[hardware]
+port = 5
+params = {a = 1}
+
+[manifest]
+control_rate_hz = true
+robot_id = "Bad"
+typo = 1
+
+[[manifest.states]]
+name = "s/velocity"
+interface_type = "velocity"
+unit = "m/s"
+limits = [1.0, -1.0]
+default = 9.0
+
+[[manifest.commands]]
+name = "c/velocity"
+interface_type = "velocity"
+unit = "m/s"
+limits = [-1, 1]
+default = 2
+max_rate_of_change = -1
+position_state_index = 0
+"""
+    m, problems = check(text)
+    assert m is None
+    assert problems == [
+        "[unknown-key] f.toml: manifest: typo: unknown key (known keys: robot_id, robot_class, "
+        "control_rate_hz, commands, states)",
+        '[robot-id] f.toml: manifest: robot_id "Bad": must match [a-z][a-z0-9_]* '
+        "(it names C symbols and files)",
+        "[type] f.toml: manifest: control_rate_hz true: expected an integer, not a boolean",
+        '[default-range] f.toml: manifest.commands[0] "c/velocity": default 2: '
+        "must be within limits [-1.0, 1.0]",
+        '[max-rate] f.toml: manifest.commands[0] "c/velocity": max_rate_of_change -1: '
+        "must not be negative",
+        '[pairing-type] f.toml: manifest.commands[0] "c/velocity": position_state_index 0: '
+        'manifest.states[0] "s/velocity" is a velocity state, not a position state',
+        '[limits-order] f.toml: manifest.states[0] "s/velocity": limits [1.0, -1.0]: '
+        "min must be below max",
+        "[type] f.toml: hardware: port 5: expected a string",
+        "[type] f.toml: hardware.params: a 1: expected a string",
+    ]
+
+
+def test_problems_in_channels_without_a_usable_name():
+    _, problems = check("""
+[manifest]
+robot_id = "r"
+commands = [{name = 3, interface_type = "x", unit = "", limits = [0, 1], default = 0}, 7]
+""")
+    assert problems == [
+        "[type] f.toml: manifest: commands[1] 7: expected a table",
+        "[type] f.toml: manifest.commands[0]: name 3: expected a string",
+        '[interface-type] f.toml: manifest.commands[0]: interface_type "x": unknown type '
+        "(known types: position, velocity, effort, stiffness, damping, acceleration, orientation)",
+    ]
+
+
+def test_maxima_are_options():
+    two = GOOD + GOOD[GOOD.index("[[manifest.states]]"):].replace("j1/", "j2/")
+    _, problems = check(two, Maxima(commands=1, states=1, name_len=8))
+    assert problems == [
+        "[too-many-channels] f.toml: manifest: states: 2 channels, more than the maximum "
+        "of 1 (ROZ_CFG_MAX_STATES)",
+        '[name] f.toml: manifest.commands[0]: name "j1/velocity": 11 bytes, more than the '
+        "maximum of 8 (ROZ_CFG_MAX_NAME_LEN)",
+        '[name] f.toml: manifest.states[0]: name "j1/position": 11 bytes, more than the '
+        "maximum of 8 (ROZ_CFG_MAX_NAME_LEN)",
+        '[name] f.toml: manifest.states[1]: name "j2/position": 11 bytes, more than the '
+        "maximum of 8 (ROZ_CFG_MAX_NAME_LEN)",
+    ]
+
+
+def test_same_name_in_commands_and_states_is_fine():
+    m, problems = check(GOOD.replace('"j1/position"', '"j1/velocity"').replace(
+        'interface_type = "position"', 'interface_type = "velocity"'))
+    assert problems == [] and m.states[0].name == m.commands[0].name
+
+
+def test_negative_zero_is_kept():
+    m, problems = check(GOOD.replace("default = 0\n", "default = -0.0\n", 1))
+    assert problems == []
+    assert str(m.commands[0].default) == "-0.0"
+
+
+def _with_command(**raw: str) -> str:
+    """GOOD with its command's keys replaced by (or added as) raw TOML."""
+    keys = {"name": '"j1/velocity"', "interface_type": '"velocity"', "unit": '"rad/s"',
+            "limits": "[-2, 2]", "default": "0"}
+    keys.update(raw)
+    command = "".join(f"{k} = {v}\n" for k, v in keys.items())
+    head, tail = GOOD.split("[[manifest.states]]")
+    head = head[:head.index("[[manifest.commands]]")]
+    return f"{head}[[manifest.commands]]\n{command}\n[[manifest.states]]{tail}"
+
+
+@pytest.mark.parametrize("key, value, rule", [
+    ("position_state_index", "1.0", "[type]"),
+    ("position_state_index", "true", "[type]"),
+    ("limits", '"-1..1"', "[limits-shape]"),
+    ("limits", "[-1, 0, 1]", "[limits-shape]"),
+    ("limits", "[]", "[limits-shape]"),
+    ("limits", "[nan, 1]", "[not-finite]"),
+    ("default", '"0"', "[type]"),
+    ("interface_type", "1", "[type]"),
+    ("max_rate_of_change", "-inf", "[not-finite]"),
+    ("name", '"a\\"b"', "[name]"),
+])
+def test_bad_values(key, value, rule):
+    _, problems = check(_with_command(**{key: value}))
+    assert len(problems) == 1 and problems[0].startswith(rule), problems
+
+
+def test_good_command_variants():
+    m, problems = check(_with_command(max_rate_of_change="0.25", position_state_index="0",
+                                      unit='""', limits="[-1e-05, 1e16]"))
+    assert problems == []
+    c = m.commands[0]
+    assert (c.unit, c.min, c.max, c.max_rate, c.position_state) == ("", -1e-05, 1e16, 0.25, 0)

@@ -1,0 +1,65 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz_controller.h
+ * @brief The roz controller ABI for controllers written in C.
+ *
+ * Compile for WebAssembly with clang:
+ *   clang --target=wasm32 -O2 -nostdlib -Wl,--no-entry -o ctl.wasm ctl.c
+ * and export the entry point with ROZ_PROCESS:
+ *   ROZ_PROCESS(tick) { roz_command_set(0, 0.1); }
+ *
+ * Channel indices come from the manifest's generated header
+ * (<robot_id>_channels.h, freestanding), e.g. ROZ_UR5_CMD_ELBOW_JOINT_VELOCITY.
+ *
+ * Built natively (not for wasm32), the same source calls plain C functions
+ * of these names, which a host program provides; the benchmark uses this to
+ * run one controller both ways.
+ */
+#ifndef ROZ_CONTROLLER_SDK_H
+#define ROZ_CONTROLLER_SDK_H
+
+#ifdef __wasm__
+#define ROZ_IMPORT(module, name) __attribute__((import_module(module), import_name(name)))
+#define ROZ_PROCESS(tick) __attribute__((export_name("process"))) void process(long long tick)
+#else
+#define ROZ_IMPORT(module, name)
+#define ROZ_PROCESS(tick) void roz_native_process(long long tick)
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Return codes of roz_command_set(). */
+#define ROZ_SET_TAKEN    0
+#define ROZ_SET_CLAMPED  1
+#define ROZ_SET_REFUSED (-1)
+
+/** Write command channel @p index; 0 taken, 1 clamped, -1 refused. */
+ROZ_IMPORT("command", "set") int roz_command_set(int index, double value);
+/** Number of command channels. */
+ROZ_IMPORT("command", "count") int roz_command_count(void);
+/** Limits of a command channel; NaN for a bad index. */
+ROZ_IMPORT("command", "limit_min") double roz_command_limit_min(int index);
+ROZ_IMPORT("command", "limit_max") double roz_command_limit_max(int index);
+/** Value of state channel @p index in this tick's snapshot; NaN for a bad index. */
+ROZ_IMPORT("state", "get") double roz_state_get(int index);
+/** Number of state channels. */
+ROZ_IMPORT("state", "count") int roz_state_count(void);
+/** Trigonometry (WebAssembly has none). */
+ROZ_IMPORT("math", "sin") double roz_sin(double x);
+ROZ_IMPORT("math", "cos") double roz_cos(double x);
+/** Ask for an emergency stop. */
+ROZ_IMPORT("safety", "request_estop") void roz_request_estop(void);
+/** Wall-clock nanoseconds. */
+ROZ_IMPORT("timing", "now_ns") long long roz_now_ns(void);
+/** Control time: tick * period, in nanoseconds. */
+ROZ_IMPORT("timing", "sim_time_ns") long long roz_sim_time_ns(void);
+/** Record a scalar for observability. */
+ROZ_IMPORT("telemetry", "emit_metric") void roz_emit_metric(double value);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_CONTROLLER_SDK_H */

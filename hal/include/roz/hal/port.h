@@ -1,0 +1,108 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/hal/port.h
+ * @brief The port interface every hardware port implements
+ *        (shared/DESIGN.md section 6).
+ *
+ * A port is a const ops table plus the port's own instance data. The core
+ * calls a port only through these wrappers. Channel binding happens once in
+ * open(): the port looks the manifest's channels up by name and keeps
+ * indices; read() and write() move plain arrays in manifest order.
+ *
+ * Every hardware port keeps three layers of safe start-up: it sends nothing
+ * before its first state frame; on the first state frame it sets every
+ * command to the current position with zero stiffness and damping; and it
+ * does the same on the first write.
+ */
+#ifndef ROZ_HAL_PORT_H
+#define ROZ_HAL_PORT_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+
+#include "roz/error.h"
+#include "roz/manifest.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Port parameters: string key/values (robot.toml [hardware.params], CLI). */
+typedef struct roz_params {
+    const roz_param_t *items;
+    size_t             n;
+} roz_params_t;
+
+/** The operations of one kind of port. Optional ops may be NULL. */
+typedef struct roz_port_ops {
+    const char *name; /**< "loopback", "unitree/G1", ... */
+    /** Parse parameters, allocate, bind channels by name. Errors name the
+     *  parameter or channel in @p err. Context: start-up; may allocate. */
+    int (*open)(void *self, const roz_manifest_t *m, const roz_params_t *p, char *err,
+                size_t errlen);
+    /** Start threads / transport. Optional. */
+    int (*activate)(void *self);
+    /** Copy the latest state (n = n_states values). Returns 1 for a fresh
+     *  frame, 0 when nothing newer than the last read arrived (state then
+     *  holds the previous frame), negative ROZ_E* on error (ROZ_ENOENT: no
+     *  frame ever). Context: the tick; RT-safe, never blocks. */
+    int (*read)(void *self, double *state, size_t n);
+    /** Hand n = n_commands filtered commands to the robot. Context: the
+     *  tick; RT-safe, never blocks. */
+    int (*write)(void *self, const double *cmd, size_t n);
+    /** Stop threads. Optional. */
+    int (*deactivate)(void *self);
+    /** Free everything; idempotent. Optional. */
+    void (*close)(void *self);
+} roz_port_ops_t;
+
+/** A port instance: its ops and its data. */
+typedef struct roz_port {
+    const roz_port_ops_t *ops;
+    void                 *self;
+} roz_port_t;
+
+/** @brief open(); ROZ_ENOTSUP when the port has no such op. */
+static inline int roz_port_open(const roz_port_t *p, const roz_manifest_t *m,
+                                const roz_params_t *params, char *err, size_t errlen)
+{
+    return p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_ENOTSUP;
+}
+
+/** @brief activate(); ROZ_OK when the port has none (nothing to start). */
+static inline int roz_port_activate(const roz_port_t *p)
+{
+    return p->ops->activate != NULL ? p->ops->activate(p->self) : ROZ_OK;
+}
+
+/** @brief read() */
+static inline int roz_port_read(const roz_port_t *p, double *state, size_t n)
+{
+    return p->ops->read != NULL ? p->ops->read(p->self, state, n) : ROZ_ENOTSUP;
+}
+
+/** @brief write() */
+static inline int roz_port_write(const roz_port_t *p, const double *cmd, size_t n)
+{
+    return p->ops->write != NULL ? p->ops->write(p->self, cmd, n) : ROZ_ENOTSUP;
+}
+
+/** @brief deactivate(); ROZ_OK when the port has none. */
+static inline int roz_port_deactivate(const roz_port_t *p)
+{
+    return p->ops->deactivate != NULL ? p->ops->deactivate(p->self) : ROZ_OK;
+}
+
+/** @brief close(), if any. */
+static inline void roz_port_close(const roz_port_t *p)
+{
+    if (p->ops->close != NULL)
+        p->ops->close(p->self);
+}
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_HAL_PORT_H */

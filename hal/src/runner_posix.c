@@ -1,0 +1,113 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#define _GNU_SOURCE
+#include "roz/hal/runner.h"
+
+#include <errno.h>
+#include <pthread.h>
+#include <sched.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <time.h>
+
+#include "roz/error.h"
+#include "roz/hal/clock.h"
+
+/* ---- private ------------------------------------------------------------- */
+
+#define NS_PER_S 1000000000ull
+
+_Static_assert(sizeof(pthread_t) <= sizeof(unsigned long), "pthread_t must fit the opaque field");
+
+static void warn(const roz_runner_t *r, const char *what, int err)
+{
+    if (r->cfg.log != NULL) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "runner: %s not permitted (%s); running without it", what,
+                 strerror(err));
+        r->cfg.log(r->cfg.log_ctx, ROZ_LOG_WARN, msg);
+    }
+}
+
+static struct timespec to_timespec(uint64_t ns)
+{
+    struct timespec ts = { (time_t)(ns / NS_PER_S), (long)(ns % NS_PER_S) };
+    return ts;
+}
+
+static void *runner_main(void *arg)
+{
+    roz_runner_t *r = arg;
+    uint64_t next = roz_clock_monotonic_ns(NULL);
+
+    if (r->cfg.realtime_priority > 0) {
+        struct sched_param sp = { .sched_priority = r->cfg.realtime_priority };
+        int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+        if (rc == 0)
+            r->realtime = 1;
+        else
+            warn(r, "SCHED_FIFO", rc);
+    }
+    while (!atomic_load(&r->stop)) {
+        struct timespec ts = to_timespec(next);
+        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+            ;
+        uint64_t woke = roz_clock_monotonic_ns(NULL);
+        roz_monitor_periodic(&r->monitor, woke);
+        if (r->fn(r->ctx) != 0)
+            break;
+        r->ticks++;
+        if (r->cfg.max_ticks != 0 && r->ticks >= r->cfg.max_ticks)
+            break;
+        next += r->cfg.period_ns;
+        uint64_t done = roz_clock_monotonic_ns(NULL);
+        if (done > next + r->cfg.period_ns) {
+            /* Far behind: count it and restart the schedule from now. */
+            r->missed++;
+            next = done + r->cfg.period_ns;
+        }
+    }
+    return NULL;
+}
+
+/* ---- public -------------------------------------------------------------- */
+
+int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner_tick_fn fn,
+                     void *ctx)
+{
+    pthread_t th;
+
+    if (r == NULL || cfg == NULL || fn == NULL || cfg->period_ns == 0 ||
+        cfg->realtime_priority < 0 || cfg->realtime_priority > 99)
+        return ROZ_EINVAL;
+    memset(r, 0, sizeof *r);
+    r->cfg = *cfg;
+    r->fn = fn;
+    r->ctx = ctx;
+    atomic_init(&r->stop, 0);
+    roz_monitor_init(&r->monitor, "runner", cfg->period_ns, cfg->log, cfg->log_ctx);
+    if (cfg->lock_memory) {
+        if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0)
+            r->locked = 1;
+        else
+            warn(r, "mlockall", errno);
+    }
+    if (pthread_create(&th, NULL, runner_main, r) != 0)
+        return ROZ_EIO;
+    r->thread = (unsigned long)th;
+    r->started = 1;
+    return ROZ_OK;
+}
+
+void roz_runner_stop(roz_runner_t *r)
+{
+    atomic_store(&r->stop, 1);
+}
+
+void roz_runner_join(roz_runner_t *r)
+{
+    if (!r->started)
+        return;
+    pthread_join((pthread_t)r->thread, NULL);
+    r->started = 0;
+}

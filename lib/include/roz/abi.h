@@ -1,0 +1,158 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/abi.h
+ * @brief The controller ABI (shared/DESIGN.md section 3), engine-neutral.
+ *
+ * Each import a controller may use is a plain C function over a roz_abi_t
+ * context; an engine (wasm3 today) only marshals arguments into these. The
+ * import table roz_abi_imports[] lists every (module, name, signature) so an
+ * engine can link them and refuse anything else.
+ *
+ * Signatures use one letter per value: i = i32, I = i64, F = f64, v = none,
+ * written "ret(args)": command.set is "i(iF)".
+ */
+#ifndef ROZ_ABI_H
+#define ROZ_ABI_H
+
+#include "roz/config.h"
+
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/manifest.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Return codes of command.set. */
+#define ROZ_ABI_SET_TAKEN    0   /**< value taken as given */
+#define ROZ_ABI_SET_CLAMPED  1   /**< value clamped to the channel's limits */
+#define ROZ_ABI_SET_REFUSED (-1) /**< bad index or non-finite value */
+
+/** Telemetry ring entries (emit_metric); power of two, 2..65536. */
+#ifndef ROZ_CFG_TELEMETRY_RING
+#define ROZ_CFG_TELEMETRY_RING 256
+#endif
+#if ROZ_CFG_TELEMETRY_RING < 2 || ROZ_CFG_TELEMETRY_RING > 65536 || \
+    (ROZ_CFG_TELEMETRY_RING & (ROZ_CFG_TELEMETRY_RING - 1)) != 0
+#error "ROZ_CFG_TELEMETRY_RING must be a power of two in 2..65536"
+#endif
+
+/** One emitted metric. */
+typedef struct roz_metric {
+    int64_t tick;
+    double  value;
+} roz_metric_t;
+
+/** Wait-free single-producer (tick) single-consumer (any thread) ring. */
+typedef struct roz_metric_ring {
+    roz_metric_t         items[ROZ_CFG_TELEMETRY_RING];
+    atomic_uint_fast32_t head; /**< written by the tick only */
+    atomic_uint_fast32_t tail; /**< written by the consumer only */
+    uint64_t             dropped; /**< tick only: metrics lost to a full ring */
+} roz_metric_ring_t;
+
+/** Counters of the ABI, per controller instance. */
+typedef struct roz_abi_counters {
+    uint64_t sets;             /**< command.set calls */
+    uint64_t set_clamped;      /**< ... that returned 1 */
+    uint64_t set_bad_index;    /**< ... refused for a bad index */
+    uint64_t set_nonfinite;    /**< ... refused for NaN/Inf (channel sent to its default) */
+    uint64_t get_bad_index;    /**< state.get / limit_* with a bad index */
+    uint64_t estop_requests;   /**< safety.request_estop calls */
+    uint64_t metrics;          /**< telemetry.emit_metric calls */
+} roz_abi_counters_t;
+
+/** Wall-clock source: nanoseconds from an arbitrary epoch. */
+typedef uint64_t (*roz_clock_fn)(void *ctx);
+
+/**
+ * The context every import works on. The runtime points it at this tick's
+ * snapshot and the controller's target array before each process() call.
+ * Fields are the runtime's; a controller sees them only through the imports.
+ */
+typedef struct roz_abi {
+    const roz_manifest_t *manifest;
+    double               *target;        /**< n_commands targets; persist across ticks */
+    const double         *state;         /**< n_states values of this tick's snapshot */
+    int64_t               tick;          /**< the tick being processed */
+    uint64_t              period_ns;     /**< 1e9 / control_rate_hz */
+    roz_clock_fn          clock;         /**< wall clock, for timing.now_ns; may be NULL */
+    void                 *clock_ctx;
+    int                   estop_requested; /**< set by safety.request_estop */
+    roz_abi_counters_t    counters;
+    roz_metric_ring_t    *metrics;       /**< may be NULL: metrics are counted, not kept */
+} roz_abi_t;
+
+/** One entry of the import table. */
+typedef struct roz_abi_import {
+    const char *module;
+    const char *name;
+    const char *signature;
+} roz_abi_import_t;
+
+/** Every import a controller may use, and their count. */
+extern const roz_abi_import_t roz_abi_imports[];
+extern const size_t roz_abi_import_count;
+
+/**
+ * @brief Look up an import by module and name.
+ * @return the table entry, or NULL when roz has no such import.
+ * Context: load time.
+ */
+const roz_abi_import_t *roz_abi_find_import(const char *module, const char *name);
+
+/**
+ * @brief Point a context at a manifest and target storage; targets start at
+ *        the manifest defaults, counters at zero.
+ * Context: start-up or controller (re)start; RT-safe.
+ */
+void roz_abi_init(roz_abi_t *abi, const roz_manifest_t *m, double *target,
+                  roz_metric_ring_t *metrics);
+
+/** @brief Reset targets to the defaults and clear estop_requested. RT-safe. */
+void roz_abi_reset(roz_abi_t *abi);
+
+/* ---- the imports; Context: inside process(), RT-safe, O(1) ------------- */
+
+/** command.set: 0 taken, 1 clamped, -1 refused (bad index; NaN/Inf, which
+ *  also sends the channel to its safe default). */
+int32_t roz_abi_command_set(roz_abi_t *abi, int32_t index, double value);
+/** command.count */
+int32_t roz_abi_command_count(const roz_abi_t *abi);
+/** command.limit_min: NaN for a bad index. */
+double roz_abi_command_limit_min(roz_abi_t *abi, int32_t index);
+/** command.limit_max: NaN for a bad index. */
+double roz_abi_command_limit_max(roz_abi_t *abi, int32_t index);
+/** state.get: NaN for a bad index. */
+double roz_abi_state_get(roz_abi_t *abi, int32_t index);
+/** state.count */
+int32_t roz_abi_state_count(const roz_abi_t *abi);
+/** math.sin */
+double roz_abi_math_sin(double x);
+/** math.cos */
+double roz_abi_math_cos(double x);
+/** safety.request_estop */
+void roz_abi_safety_request_estop(roz_abi_t *abi);
+/** timing.now_ns: the wall clock, 0 without one. */
+int64_t roz_abi_timing_now_ns(const roz_abi_t *abi);
+/** timing.sim_time_ns: tick * period. */
+int64_t roz_abi_timing_sim_time_ns(const roz_abi_t *abi);
+/** telemetry.emit_metric: into the ring, dropped (and counted) when full. */
+void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value);
+
+/**
+ * @brief Take the oldest metric from a ring.
+ * @retval 1 one metric taken into @p out
+ * @retval 0 the ring is empty
+ * Context: any one consumer thread; wait-free.
+ */
+int roz_metric_ring_pop(roz_metric_ring_t *ring, roz_metric_t *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_ABI_H */

@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/config.h
+ * @brief Compile-time configuration of roz, with documented defaults.
+ *
+ * Every roz header includes this file first. An application overrides any
+ * option by defining ROZ_CONFIG_FILE (a quoted header name, e.g.
+ * -DROZ_CONFIG_FILE='"my_roz_config.h"') whose file defines the options it
+ * wants; everything it leaves out takes the default below. Options are always
+ * defined and tested with #if, so a build with -Wundef catches typos.
+ */
+#ifndef ROZ_CONFIG_H
+#define ROZ_CONFIG_H
+
+#if defined(ROZ_CONFIG_FILE)
+#include ROZ_CONFIG_FILE
+#endif
+
+#include "roz/features.h"
+
+/** Command channels per manifest. Range 1..4096. A humanoid needs ~150. */
+#ifndef ROZ_CFG_MAX_COMMANDS
+#define ROZ_CFG_MAX_COMMANDS 256
+#endif
+
+/** State channels per manifest. Range 0..4096. A humanoid needs ~100. */
+#ifndef ROZ_CFG_MAX_STATES
+#define ROZ_CFG_MAX_STATES 256
+#endif
+
+/** Bytes of name storage in a roz_manifest_storage_t (channel names, units,
+ *  ids of manifests built at run time). Range 64..1048576. */
+#ifndef ROZ_CFG_NAME_ARENA_BYTES
+#define ROZ_CFG_NAME_ARENA_BYTES 16384
+#endif
+
+/** Longest channel name in bytes, without the terminating NUL. Range 8..255. */
+#ifndef ROZ_CFG_MAX_NAME_LEN
+#define ROZ_CFG_MAX_NAME_LEN 63
+#endif
+
+/** wasm3 value stack per controller instance, bytes. Range 4096..16777216. */
+#ifndef ROZ_CFG_WASM_STACK_BYTES
+#define ROZ_CFG_WASM_STACK_BYTES 65536
+#endif
+
+/** Largest linear memory a controller may declare, in 64 KiB pages.
+ *  Range 1..65536. Memory never grows after load (growing would allocate
+ *  inside the tick): memory.grow returns -1. */
+#ifndef ROZ_CFG_WASM_MAX_PAGES
+#define ROZ_CFG_WASM_MAX_PAGES 16
+#endif
+
+/** Largest controller module accepted, bytes. Range 64..67108864. */
+#ifndef ROZ_CFG_WASM_MAX_MODULE_BYTES
+#define ROZ_CFG_WASM_MAX_MODULE_BYTES 1048576
+#endif
+
+/** Length of the error message buffers in controllers and the runtime,
+ *  bytes including the NUL. Range 32..4096. */
+#ifndef ROZ_CFG_ERROR_LEN
+#define ROZ_CFG_ERROR_LEN 192
+#endif
+
+/* ---- checks --------------------------------------------------------- */
+#if ROZ_CFG_MAX_COMMANDS < 1 || ROZ_CFG_MAX_COMMANDS > 4096
+#error "ROZ_CFG_MAX_COMMANDS must be in 1..4096"
+#endif
+#if ROZ_CFG_MAX_STATES < 0 || ROZ_CFG_MAX_STATES > 4096
+#error "ROZ_CFG_MAX_STATES must be in 0..4096"
+#endif
+#if ROZ_CFG_NAME_ARENA_BYTES < 64 || ROZ_CFG_NAME_ARENA_BYTES > 1048576
+#error "ROZ_CFG_NAME_ARENA_BYTES must be in 64..1048576"
+#endif
+#if ROZ_CFG_MAX_NAME_LEN < 8 || ROZ_CFG_MAX_NAME_LEN > 255
+#error "ROZ_CFG_MAX_NAME_LEN must be in 8..255"
+#endif
+
+#if ROZ_CFG_WASM_STACK_BYTES < 4096 || ROZ_CFG_WASM_STACK_BYTES > 16777216
+#error "ROZ_CFG_WASM_STACK_BYTES must be in 4096..16777216"
+#endif
+#if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
+#error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"
+#endif
+#if ROZ_CFG_WASM_MAX_MODULE_BYTES < 64 || ROZ_CFG_WASM_MAX_MODULE_BYTES > 67108864
+#error "ROZ_CFG_WASM_MAX_MODULE_BYTES must be in 64..67108864"
+#endif
+#if ROZ_CFG_ERROR_LEN < 32 || ROZ_CFG_ERROR_LEN > 4096
+#error "ROZ_CFG_ERROR_LEN must be in 32..4096"
+#endif
+
+#endif /* ROZ_CONFIG_H */

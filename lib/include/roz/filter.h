@@ -1,0 +1,121 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @brief The safety filter (shared/DESIGN.md section 4): the last word on
+ *        every command before it reaches a port.
+ * @file roz/filter.h
+ *
+ * Runs after the controller, on every command channel, every tick, in this
+ * order:
+ *  1. non-finite targets become the channel's safe default (the controller
+ *     ABI already refuses them at command.set; this is the backstop),
+ *  2. clamp to [min, max],
+ *  3. rate cap: |target - last applied| <= max_rate (skipped for an e-stop),
+ *  4. position-limit enforcement for a velocity channel paired with a
+ *     position state p: p + v*dt must stay inside the state's limits less a
+ *     margin, looking ahead far enough that the rate cap can still brake to
+ *     zero before the limit; when p is already outside, only motion back
+ *     toward the range passes,
+ *  5. a final clamp to [min, max], so the output is inside the manifest
+ *     whatever the steps before did.
+ * Steps 3 and 4 can disagree (a position state that jumps out of range while
+ * the joint moves fast): then the position limit wins and the extra change is
+ * counted as a limit stop. Safe defaults: the manifest's default, except a
+ * position command paired with a position state, which holds that state's
+ * current value. With a stop requested (a latched fault) every target is the
+ * safe default: ramped by the rate caps for a controlled stop, at once for an
+ * e-stop.
+ *
+ * Context: one filter per control loop, used only from the tick; no heap, no
+ * locks, bounded by the channel count.
+ */
+#ifndef ROZ_FILTER_H
+#define ROZ_FILTER_H
+
+#include "roz/config.h"
+
+#include <stdint.h>
+
+#include "roz/manifest.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Default margin inside a paired position state's limits, in its unit. */
+#define ROZ_FILTER_DEFAULT_MARGIN 0.05
+
+/** How the filter treats the controller's targets this tick. */
+typedef enum roz_stop {
+    ROZ_STOP_NONE = 0,    /**< run: filter the controller's targets */
+    ROZ_STOP_CONTROLLED,  /**< ramp every channel to its safe default under the rate caps */
+    ROZ_STOP_IMMEDIATE,   /**< e-stop: every channel at its safe default now */
+} roz_stop_t;
+
+/** Counters, totals since init (per channel ones in roz_filter_t). */
+typedef struct roz_filter_counters {
+    uint64_t ticks;        /**< roz_filter_apply() calls */
+    uint64_t clamps;       /**< values moved into [min, max] by the filter */
+    uint64_t nonfinite;    /**< non-finite targets replaced by the safe default */
+    uint64_t rate_caps;    /**< values held back by max_rate */
+    uint64_t limit_stops;  /**< values held back by position-limit enforcement */
+} roz_filter_counters_t;
+
+/** Filter state; caller-owned storage, fields are read-only outside filter.c. */
+typedef struct roz_filter {
+    const roz_manifest_t *manifest;
+    double   dt;          /**< 1 / control_rate_hz */
+    double   margin;      /**< position margin, >= 0 */
+    int      primed;      /**< last[] holds applied values */
+    double   last[ROZ_CFG_MAX_COMMANDS];      /**< last applied value per channel */
+    roz_filter_counters_t counters;
+    uint32_t channel_clamps[ROZ_CFG_MAX_COMMANDS];
+    uint32_t channel_rate_caps[ROZ_CFG_MAX_COMMANDS];
+    uint32_t channel_limit_stops[ROZ_CFG_MAX_COMMANDS];
+} roz_filter_t;
+
+/**
+ * @brief Prepare a filter for a (valid) manifest; counters zero, not primed.
+ * @retval ROZ_OK     ready
+ * @retval ROZ_EINVAL NULL argument or manifest failing roz_manifest_validate()
+ * Context: start-up.
+ */
+ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
+
+/**
+ * @brief Set the position margin (default ROZ_FILTER_DEFAULT_MARGIN).
+ * @retval ROZ_EINVAL margin negative or not finite
+ */
+ROZ_NODISCARD int roz_filter_set_margin(roz_filter_t *f, double margin);
+
+/**
+ * @brief The safe default of command @p i given the state snapshot: the
+ *        paired position state's value for a paired position command (when
+ *        that value is finite; clamped to the command's limits), else the
+ *        manifest default.
+ * Context: RT-safe.
+ */
+double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *state);
+
+/**
+ * @brief Start from the safe defaults: the "last applied" values become the
+ *        safe defaults for @p state, so the first rate cap ramps from there.
+ * Context: RT-safe.
+ */
+void roz_filter_prime(roz_filter_t *f, const double *state);
+
+/**
+ * @brief Filter one tick.
+ * @param[in]  target  n_commands controller targets (ignored when stopping)
+ * @param[in]  state   n_states values of this tick's snapshot
+ * @param[in]  stop    run, controlled stop or e-stop
+ * @param[out] out     n_commands values for the port, each within [min, max]
+ * Context: tick; RT-safe; O(n_commands).
+ */
+void roz_filter_apply(roz_filter_t *f, const double *target, const double *state,
+                      roz_stop_t stop, double *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_FILTER_H */

@@ -1,0 +1,177 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#include "roz/abi.h"
+
+#include <math.h>
+#include <string.h>
+
+/* ---- the import table ---------------------------------------------------- */
+
+const roz_abi_import_t roz_abi_imports[] = {
+    { "command", "set", "i(iF)" },
+    { "command", "count", "i()" },
+    { "command", "limit_min", "F(i)" },
+    { "command", "limit_max", "F(i)" },
+    { "state", "get", "F(i)" },
+    { "state", "count", "i()" },
+    { "math", "sin", "F(F)" },
+    { "math", "cos", "F(F)" },
+    { "safety", "request_estop", "v()" },
+    { "timing", "now_ns", "I()" },
+    { "timing", "sim_time_ns", "I()" },
+    { "telemetry", "emit_metric", "v(F)" },
+};
+const size_t roz_abi_import_count = sizeof roz_abi_imports / sizeof roz_abi_imports[0];
+
+const roz_abi_import_t *roz_abi_find_import(const char *module, const char *name)
+{
+    if (module == NULL || name == NULL)
+        return NULL;
+    for (size_t i = 0; i < roz_abi_import_count; i++) {
+        if (strcmp(roz_abi_imports[i].module, module) == 0 &&
+            strcmp(roz_abi_imports[i].name, name) == 0)
+            return &roz_abi_imports[i];
+    }
+    return NULL;
+}
+
+/* ---- context ------------------------------------------------------------- */
+
+void roz_abi_init(roz_abi_t *abi, const roz_manifest_t *m, double *target,
+                  roz_metric_ring_t *metrics)
+{
+    memset(abi, 0, sizeof *abi);
+    abi->manifest = m;
+    abi->target = target;
+    abi->metrics = metrics;
+    abi->period_ns = 1000000000ull / m->control_rate_hz;
+    roz_abi_reset(abi);
+}
+
+void roz_abi_reset(roz_abi_t *abi)
+{
+    for (uint16_t i = 0; i < abi->manifest->n_commands; i++)
+        abi->target[i] = abi->manifest->commands[i].default_value;
+    abi->estop_requested = 0;
+}
+
+/* ---- imports ------------------------------------------------------------- */
+
+int32_t roz_abi_command_set(roz_abi_t *abi, int32_t index, double value)
+{
+    const roz_channel_t *c;
+
+    abi->counters.sets++;
+    if (index < 0 || index >= (int32_t)abi->manifest->n_commands) {
+        abi->counters.set_bad_index++;
+        return ROZ_ABI_SET_REFUSED;
+    }
+    c = &abi->manifest->commands[index];
+    if (!isfinite(value)) {
+        /* The safety filter turns a non-finite target into the channel's
+         * safe default (holding the paired position for a position
+         * command), so hand it one. */
+        abi->counters.set_nonfinite++;
+        abi->target[index] = NAN;
+        return ROZ_ABI_SET_REFUSED;
+    }
+    if (value < c->min || value > c->max) {
+        abi->counters.set_clamped++;
+        abi->target[index] = value < c->min ? c->min : c->max;
+        return ROZ_ABI_SET_CLAMPED;
+    }
+    abi->target[index] = value;
+    return ROZ_ABI_SET_TAKEN;
+}
+
+int32_t roz_abi_command_count(const roz_abi_t *abi)
+{
+    return (int32_t)abi->manifest->n_commands;
+}
+
+double roz_abi_command_limit_min(roz_abi_t *abi, int32_t index)
+{
+    if (index < 0 || index >= (int32_t)abi->manifest->n_commands) {
+        abi->counters.get_bad_index++;
+        return NAN;
+    }
+    return abi->manifest->commands[index].min;
+}
+
+double roz_abi_command_limit_max(roz_abi_t *abi, int32_t index)
+{
+    if (index < 0 || index >= (int32_t)abi->manifest->n_commands) {
+        abi->counters.get_bad_index++;
+        return NAN;
+    }
+    return abi->manifest->commands[index].max;
+}
+
+double roz_abi_state_get(roz_abi_t *abi, int32_t index)
+{
+    if (index < 0 || index >= (int32_t)abi->manifest->n_states || abi->state == NULL) {
+        abi->counters.get_bad_index++;
+        return NAN;
+    }
+    return abi->state[index];
+}
+
+int32_t roz_abi_state_count(const roz_abi_t *abi)
+{
+    return (int32_t)abi->manifest->n_states;
+}
+
+double roz_abi_math_sin(double x)
+{
+    return sin(x);
+}
+
+double roz_abi_math_cos(double x)
+{
+    return cos(x);
+}
+
+void roz_abi_safety_request_estop(roz_abi_t *abi)
+{
+    abi->counters.estop_requests++;
+    abi->estop_requested = 1;
+}
+
+int64_t roz_abi_timing_now_ns(const roz_abi_t *abi)
+{
+    return abi->clock != NULL ? (int64_t)abi->clock(abi->clock_ctx) : 0;
+}
+
+int64_t roz_abi_timing_sim_time_ns(const roz_abi_t *abi)
+{
+    return abi->tick * (int64_t)abi->period_ns;
+}
+
+void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value)
+{
+    roz_metric_ring_t *r = abi->metrics;
+    uint_fast32_t head, tail;
+
+    abi->counters.metrics++;
+    if (r == NULL)
+        return;
+    head = atomic_load_explicit(&r->head, memory_order_relaxed);
+    tail = atomic_load_explicit(&r->tail, memory_order_acquire);
+    if (head - tail >= ROZ_CFG_TELEMETRY_RING) {
+        r->dropped++;
+        return;
+    }
+    r->items[head & (ROZ_CFG_TELEMETRY_RING - 1)] = (roz_metric_t){ abi->tick, value };
+    atomic_store_explicit(&r->head, head + 1, memory_order_release);
+}
+
+int roz_metric_ring_pop(roz_metric_ring_t *r, roz_metric_t *out)
+{
+    uint_fast32_t tail = atomic_load_explicit(&r->tail, memory_order_relaxed);
+    uint_fast32_t head = atomic_load_explicit(&r->head, memory_order_acquire);
+
+    if (head == tail)
+        return 0;
+    *out = r->items[tail & (ROZ_CFG_TELEMETRY_RING - 1)];
+    atomic_store_explicit(&r->tail, tail + 1, memory_order_release);
+    return 1;
+}

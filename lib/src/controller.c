@@ -1,0 +1,258 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The wasm3 engine behind roz/controller.h. This is the only file of roz
+ * that includes wasm3's headers; it reaches into m3_env.h (pinned wasm3
+ * 0.5.0) for one thing the public API lacks: capping linear memory at its
+ * initial size. */
+#include "roz/controller.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "wasm3.h"
+#include "m3_env.h"
+#include "wasm_scan.h"
+
+/* ---- private: the imports as wasm3 raw functions -------------------------- */
+
+#define ABI ((roz_abi_t *)_ctx->userdata)
+
+static m3ApiRawFunction(h_command_set)
+{
+    m3ApiReturnType(int32_t);
+    m3ApiGetArg(int32_t, index);
+    m3ApiGetArg(double, value);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_command_set(ABI, index, value));
+}
+
+static m3ApiRawFunction(h_command_count)
+{
+    m3ApiReturnType(int32_t);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_command_count(ABI));
+}
+
+static m3ApiRawFunction(h_command_limit_min)
+{
+    m3ApiReturnType(double);
+    m3ApiGetArg(int32_t, index);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_command_limit_min(ABI, index));
+}
+
+static m3ApiRawFunction(h_command_limit_max)
+{
+    m3ApiReturnType(double);
+    m3ApiGetArg(int32_t, index);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_command_limit_max(ABI, index));
+}
+
+static m3ApiRawFunction(h_state_get)
+{
+    m3ApiReturnType(double);
+    m3ApiGetArg(int32_t, index);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_state_get(ABI, index));
+}
+
+static m3ApiRawFunction(h_state_count)
+{
+    m3ApiReturnType(int32_t);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_state_count(ABI));
+}
+
+static m3ApiRawFunction(h_math_sin)
+{
+    m3ApiReturnType(double);
+    m3ApiGetArg(double, x);
+    (void)runtime;
+    (void)_mem;
+    (void)_ctx;
+    m3ApiReturn(roz_abi_math_sin(x));
+}
+
+static m3ApiRawFunction(h_math_cos)
+{
+    m3ApiReturnType(double);
+    m3ApiGetArg(double, x);
+    (void)runtime;
+    (void)_mem;
+    (void)_ctx;
+    m3ApiReturn(roz_abi_math_cos(x));
+}
+
+static m3ApiRawFunction(h_safety_request_estop)
+{
+    (void)runtime;
+    (void)_mem;
+    (void)_sp;
+    roz_abi_safety_request_estop(ABI);
+    m3ApiSuccess();
+}
+
+static m3ApiRawFunction(h_timing_now_ns)
+{
+    m3ApiReturnType(int64_t);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_timing_now_ns(ABI));
+}
+
+static m3ApiRawFunction(h_timing_sim_time_ns)
+{
+    m3ApiReturnType(int64_t);
+    (void)runtime;
+    (void)_mem;
+    m3ApiReturn(roz_abi_timing_sim_time_ns(ABI));
+}
+
+static m3ApiRawFunction(h_telemetry_emit_metric)
+{
+    m3ApiGetArg(double, value);
+    (void)runtime;
+    (void)_mem;
+    roz_abi_telemetry_emit_metric(ABI, value);
+    m3ApiSuccess();
+}
+
+/* Same order as roz_abi_imports[] (checked at load). */
+static const M3RawCall host_functions[] = {
+    h_command_set,       h_command_count,   h_command_limit_min,  h_command_limit_max,
+    h_state_get,         h_state_count,     h_math_sin,           h_math_cos,
+    h_safety_request_estop, h_timing_now_ns, h_timing_sim_time_ns, h_telemetry_emit_metric,
+};
+
+/* wasm3 writes signatures as ret(args) with F for f64, I for i64, i for i32,
+ * v for none: the roz/abi.h notation, so the table's strings pass through. */
+
+static int fail(roz_controller_t *c, int rc, const char *what, const char *detail)
+{
+    snprintf(c->error, sizeof c->error, "%s%s%s", what, detail ? ": " : "", detail ? detail : "");
+    roz_controller_unload(c);
+    return rc;
+}
+
+/* ---- public -------------------------------------------------------------- */
+
+void roz_controller_init(roz_controller_t *c)
+{
+    memset(c, 0, sizeof *c);
+}
+
+int roz_controller_loaded(const roz_controller_t *c)
+{
+    return c->process != NULL;
+}
+
+const char *roz_controller_error(const roz_controller_t *c)
+{
+    return c->error;
+}
+
+int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi)
+{
+    IM3Environment env;
+    IM3Runtime rt;
+    IM3Module mod = NULL;
+    IM3Function fn = NULL;
+    M3Result r;
+    char why[ROZ_CFG_ERROR_LEN];
+
+    _Static_assert(sizeof host_functions / sizeof host_functions[0] == 12,
+                   "one host function per roz_abi_imports[] entry");
+    if (c->env != NULL)
+        return ROZ_ESTATE;
+    c->error[0] = '\0';
+    c->calls = 0;
+    if (abi == NULL)
+        return fail(c, ROZ_EINVAL, "no ABI context", NULL);
+    if (len > ROZ_CFG_WASM_MAX_MODULE_BYTES) {
+        snprintf(why, sizeof why, "%zu bytes, more than ROZ_CFG_WASM_MAX_MODULE_BYTES (%u)", len,
+                 (unsigned)ROZ_CFG_WASM_MAX_MODULE_BYTES);
+        return fail(c, ROZ_EINVAL, "module too large", why);
+    }
+    if (roz__wasm_scan(wasm, len, why, sizeof why) != ROZ_OK)
+        return fail(c, ROZ_EINVAL, why, NULL);
+
+    env = m3_NewEnvironment();
+    if (env == NULL)
+        return fail(c, ROZ_ENOSPC, "out of memory creating the engine", NULL);
+    c->env = env;
+    rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, NULL);
+    if (rt == NULL)
+        return fail(c, ROZ_ENOSPC, "out of memory creating the runtime", NULL);
+    c->runtime = rt;
+
+    r = m3_ParseModule(env, &mod, wasm, (uint32_t)len);
+    if (r != m3Err_none)
+        return fail(c, ROZ_EINVAL, "malformed module", r);
+    if (mod->memoryInfo.initPages > ROZ_CFG_WASM_MAX_PAGES) {
+        m3_FreeModule(mod);
+        snprintf(why, sizeof why, "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)",
+                 (unsigned)mod->memoryInfo.initPages, (unsigned)ROZ_CFG_WASM_MAX_PAGES);
+        return fail(c, ROZ_EINVAL, "linear memory too large", why);
+    }
+    r = m3_LoadModule(rt, mod);
+    if (r != m3Err_none) {
+        m3_FreeModule(mod);
+        return fail(c, ROZ_EINVAL, "cannot load module", r);
+    }
+    c->module = mod; /* owned by the runtime from here on */
+    /* Fixed memory: growing would allocate inside the tick. */
+    rt->memory.maxPages = rt->memory.numPages;
+
+    for (size_t i = 0; i < roz_abi_import_count; i++) {
+        const roz_abi_import_t *imp = &roz_abi_imports[i];
+        r = m3_LinkRawFunctionEx(mod, imp->module, imp->name, imp->signature, host_functions[i],
+                                 abi);
+        if (r != m3Err_none && r != m3Err_functionLookupFailed) {
+            snprintf(why, sizeof why, "%s.%s: %s", imp->module, imp->name, r);
+            return fail(c, ROZ_EINVAL, "cannot link import", why);
+        }
+    }
+    r = m3_CompileModule(mod);
+    if (r != m3Err_none)
+        return fail(c, ROZ_EINVAL, "cannot compile module", r);
+    r = m3_FindFunction(&fn, rt, "process");
+    if (r != m3Err_none || fn == NULL)
+        return fail(c, ROZ_EINVAL, "no export \"process\"", r);
+    c->abi = abi;
+    c->process = fn;
+    return ROZ_OK;
+}
+
+int roz_controller_process(roz_controller_t *c, int64_t tick)
+{
+    M3Result r;
+
+    if (c->process == NULL)
+        return ROZ_ESTATE;
+    c->calls++;
+    r = m3_CallV((IM3Function)c->process, tick);
+    if (r != m3Err_none) {
+        snprintf(c->error, sizeof c->error, "trap at tick %lld: %s", (long long)tick, r);
+        return ROZ_EFAULT;
+    }
+    return ROZ_OK;
+}
+
+void roz_controller_unload(roz_controller_t *c)
+{
+    if (c->runtime != NULL)
+        m3_FreeRuntime((IM3Runtime)c->runtime);
+    if (c->env != NULL)
+        m3_FreeEnvironment((IM3Environment)c->env);
+    c->runtime = NULL;
+    c->env = NULL;
+    c->module = NULL;
+    c->process = NULL;
+    c->abi = NULL;
+}

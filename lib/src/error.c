@@ -1,0 +1,19 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#include "roz/error.h"
+
+const char *roz_strerror(int code)
+{
+    switch (code) {
+    case ROZ_OK:        return "success";
+    case ROZ_EINVAL:    return "invalid argument";
+    case ROZ_ENOENT:    return "no such entry";
+    case ROZ_ENOSPC:    return "no space left in caller-provided storage";
+    case ROZ_ENOTSUP:   return "not supported";
+    case ROZ_ERANGE:    return "value out of range";
+    case ROZ_EFAULT:    return "safety fault latched";
+    case ROZ_ESTATE:    return "invalid in the current state";
+    case ROZ_EIO:       return "input/output error";
+    case ROZ_ETIMEDOUT: return "deadline or budget exceeded";
+    default:            return "unknown error";
+    }
+}

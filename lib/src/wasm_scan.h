@@ -1,0 +1,16 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Private: a small, bounded reader of a wasm module's type, import, function,
+ * export and start sections, used to refuse a controller with a clear message
+ * before any engine parses it. Engine-neutral. */
+#ifndef ROZ_WASM_SCAN_H
+#define ROZ_WASM_SCAN_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Checks that the module imports only functions of the roz ABI with their
+ * exact signatures, exports process(i64), and has no start function.
+ * Returns ROZ_OK, or ROZ_EINVAL with a message in err. */
+int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen);
+
+#endif /* ROZ_WASM_SCAN_H */

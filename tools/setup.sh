@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
+#
+# Installs everything roz needs on a Debian 12 machine, idempotently:
+#   1. Debian packages (only those missing; needs root then),
+#   2. a Python virtual environment in .venv with the pinned, hash-checked
+#      tools of tools/requirements.txt and rozgen itself,
+#   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
+#      into .cache/ and checked against its sha256 (CMake checks it again
+#      before it extracts it into the build tree).
+# Run from anywhere; a second run changes nothing and takes a second or two.
+set -euo pipefail
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+cd "$root"
+
+say() { printf 'setup: %s\n' "$*"; }
+die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
+
+# ---- 1. Debian packages ---------------------------------------------------
+# clang + lld build wasm32 controllers and the fuzz targets, wabt assembles
+# .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests.
+apt_packages=(
+    ca-certificates cmake ninja-build make gcc libc6-dev pkg-config
+    clang lld llvm libclang-rt-14-dev wabt
+    libcmocka-dev cyclonedds-dev cyclonedds-tools
+    python3 python3-venv python3-pip
+)
+missing=()
+for p in "${apt_packages[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+        missing+=("$p")
+    fi
+done
+if ((${#missing[@]})); then
+    [ "$(id -u)" = 0 ] || die "missing Debian packages (${missing[*]}); run as root or install them: apt-get install ${missing[*]}"
+    say "installing Debian packages: ${missing[*]}"
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# ---- 2. Python virtual environment ------------------------------------------
+# Debian's own interpreter, so the venv does not depend on whatever else is on
+# PATH; PYTHON overrides it.
+python=${PYTHON:-}
+if [ -z "$python" ]; then
+    if [ -x /usr/bin/python3 ]; then python=/usr/bin/python3; else python=python3; fi
+fi
+venv=.venv
+if [ ! -x "$venv/bin/python" ]; then
+    say "creating the Python virtual environment in $venv"
+    "$python" -m venv "$venv"
+fi
+stamp_want=$(cat tools/requirements.txt codegen/pyproject.toml | sha256sum | cut -d' ' -f1)
+stamp_file=$venv/.roz-installed
+if [ "$(cat "$stamp_file" 2>/dev/null)" != "$stamp_want" ]; then
+    say "installing pinned Python packages (hash-checked)"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check \
+        --require-hashes -r tools/requirements.txt
+    say "installing rozgen"
+    "$venv/bin/python" -m pip install -q --disable-pip-version-check \
+        --no-build-isolation --no-deps --editable codegen
+    echo "$stamp_want" > "$stamp_file"
+fi
+
+# ---- 3. wasm3 sources ---------------------------------------------------------
+wasm3_sha256=5a47c8a39f7f6ae71b3316b2e5d86c9d0db6e771a65f09a86e4d4aa3a19aefcc
+sdist=.cache/pywasm3-0.5.0.tar.gz
+check_sdist() { [ "$(sha256sum "$sdist" | cut -d' ' -f1)" = "$wasm3_sha256" ]; }
+if [ -f "$sdist" ] && ! check_sdist; then
+    die "$sdist has the wrong sha256 (want $wasm3_sha256); delete it to fetch it again"
+fi
+if [ ! -f "$sdist" ]; then
+    say "fetching wasm3 0.5.0 sources (pywasm3 source distribution)"
+    mkdir -p .cache
+    req=$(mktemp)
+    trap 'rm -f "$req"' EXIT
+    echo "pywasm3==0.5.0 --hash=sha256:$wasm3_sha256" > "$req"
+    "$venv/bin/python" -m pip download -q --disable-pip-version-check \
+        --no-deps --no-binary :all: --no-build-isolation --require-hashes -r "$req" -d .cache
+    check_sdist || die "$sdist: sha256 mismatch (want $wasm3_sha256)"
+fi
+say "ready"
