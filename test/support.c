@@ -1,0 +1,38 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#include "support.h"
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#define SLOTS 8
+#define MAX_MODULE (256 * 1024)
+
+const uint8_t *roz_test_controller(const char *name, size_t *len)
+{
+    static uint8_t bufs[SLOTS][MAX_MODULE];
+    static unsigned next;
+    char path[512];
+    uint8_t *buf = bufs[next++ % SLOTS];
+
+    snprintf(path, sizeof path, "%s/%s.wasm", ROZ_CONTROLLER_DIR, name);
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        fail_msg("cannot open %s", path);
+    *len = fread(buf, 1, MAX_MODULE, f);
+    fclose(f);
+    if (*len == 0 || *len == MAX_MODULE)
+        fail_msg("%s: empty or too large", path);
+    return buf;
+}
+
+uint64_t roz_test_clock(void *ctx)
+{
+    roz_test_clock_t *c = ctx;
+    uint64_t t = c->now;
+    c->now += c->step;
+    return t;
+}

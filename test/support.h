@@ -1,0 +1,32 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Helpers shared by the C tests. */
+#ifndef ROZ_TEST_SUPPORT_H
+#define ROZ_TEST_SUPPORT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Reads ROZ_CONTROLLER_DIR/<name>.wasm into static storage (one of 8
+ * rotating buffers, so a few modules can be live at once); fails the test
+ * when missing. Sets *len. */
+const uint8_t *roz_test_controller(const char *name, size_t *len);
+
+/* A test clock: returns the current value and advances by `step` ns per call
+ * (ctx is a roz_test_clock_t*). */
+typedef struct {
+    uint64_t now;
+    uint64_t step;
+} roz_test_clock_t;
+uint64_t roz_test_clock(void *ctx);
+
+
+
+/* |a - b| <= eps, with both values in the failure message (cmocka 1.1.5,
+ * Debian 12's, has no assert_double_equal). Needs <cmocka.h> and <math.h>. */
+#define assert_near(a, b, eps)                                                        \
+    do {                                                                              \
+        double roz_a_ = (a), roz_b_ = (b);                                            \
+        if (!(fabs(roz_a_ - roz_b_) <= (eps)))                                        \
+            fail_msg("%s = %.17g, expected %.17g (+-%g)", #a, roz_a_, roz_b_, (double)(eps)); \
+    } while (0)
+#endif /* ROZ_TEST_SUPPORT_H */

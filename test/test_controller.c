@@ -1,0 +1,164 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Loading controllers: every refusal names its import, export or problem;
+ * good controllers run through the ABI. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/controller.h"
+#include "support.h"
+#include "ur5_manifest.h"
+
+static roz_controller_t ctl;
+static roz_abi_t abi;
+static double target[ROZ_CFG_MAX_COMMANDS];
+static double state[ROZ_CFG_MAX_STATES];
+
+static int setup(void **st)
+{
+    (void)st;
+    roz_controller_init(&ctl);
+    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
+    memset(state, 0, sizeof state);
+    abi.state = state;
+    return 0;
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_controller_unload(&ctl);
+    roz_controller_unload(&ctl); /* idempotent */
+    return 0;
+}
+
+typedef struct {
+    const char *controller;
+    const char *message; /* substring of the error */
+} refusal_t;
+
+static const refusal_t refusals[] = {
+    { "bad_unknown_import", "unknown import env.open_valve" },
+    { "bad_bad_signature", "import command.set has signature i(if), expected i(iF)" },
+    { "bad_no_process", "no export \"process\"" },
+    { "bad_process_signature", "export \"process\" has signature v(i), expected v(I)" },
+    { "bad_imported_memory", "import env.memory is a memory" },
+    { "bad_start_function", "start function" },
+};
+
+static void test_controller_refusals(void **st)
+{
+    for (size_t i = 0; i < sizeof refusals / sizeof refusals[0]; i++) {
+        size_t len;
+        const uint8_t *w = roz_test_controller(refusals[i].controller, &len);
+        setup(st);
+        assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_EINVAL);
+        assert_false(roz_controller_loaded(&ctl));
+        if (strstr(roz_controller_error(&ctl), refusals[i].message) == NULL)
+            fail_msg("%s: error \"%s\" lacks \"%s\"", refusals[i].controller,
+                     roz_controller_error(&ctl), refusals[i].message);
+        assert_int_equal(roz_controller_process(&ctl, 0), ROZ_ESTATE);
+    }
+}
+
+static void test_controller_garbage(void **st)
+{
+    static const uint8_t junk[] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, 0x01, 0xff };
+    static const uint8_t text[] = "(module)";
+    (void)st;
+    assert_int_equal(roz_controller_load(&ctl, text, sizeof text, &abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&ctl), "not a WebAssembly"));
+    assert_int_equal(roz_controller_load(&ctl, junk, sizeof junk, &abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&ctl), "malformed"));
+    assert_int_equal(roz_controller_load(&ctl, junk, 0, &abi), ROZ_EINVAL);
+    assert_int_equal(roz_controller_load(&ctl, NULL, 0, &abi), ROZ_EINVAL);
+    size_t len;
+    const uint8_t *w = roz_test_controller("hold", &len);
+    assert_int_equal(roz_controller_load(&ctl, w, ROZ_CFG_WASM_MAX_MODULE_BYTES + 1, &abi),
+                     ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&ctl), "ROZ_CFG_WASM_MAX_MODULE_BYTES"));
+}
+
+static void test_controller_runs_sine(void **st)
+{
+    size_t len;
+    const uint8_t *w = roz_test_controller("sine", &len);
+    (void)st;
+    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
+    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_ESTATE);
+    abi.tick = 50; /* 0.5 s at 100 Hz: sin(pi/2 + i*pi/3) */
+    assert_int_equal(roz_controller_process(&ctl, 50), ROZ_OK);
+    for (int i = 0; i < 6; i++)
+        assert_near(target[i], 1.57 * sin(3.141592653589793 / 2 + i * 3.141592653589793 / 3),
+                            1e-9);
+    assert_int_equal(abi.counters.sets, 6);
+}
+
+static void test_controller_pd_reads_state(void **st)
+{
+    size_t len;
+    const uint8_t *w = roz_test_controller("pd_hold", &len);
+    (void)st;
+    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
+    state[1] = -1.0; /* shoulder_lift at -1.0, target -1.2: v = 2 * -0.2 */
+    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    assert_near(target[1], -0.4, 1e-12);
+    assert_near(target[0], 0.0, 1e-12);
+}
+
+static void test_controller_traps(void **st)
+{
+    static const struct { const char *name; int64_t tick; const char *msg; } traps[] = {
+        { "bad_trap_run", 150, "unreachable" },
+        { "bad_oob_memory", 150, "out of bounds" },
+        { "bad_recursion", 150, "stack" },
+    };
+    for (size_t i = 0; i < sizeof traps / sizeof traps[0]; i++) {
+        size_t len;
+        const uint8_t *w = roz_test_controller(traps[i].name, &len);
+        setup(st);
+        assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
+        assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+        assert_int_equal(roz_controller_process(&ctl, traps[i].tick), ROZ_EFAULT);
+        if (strstr(roz_controller_error(&ctl), traps[i].msg) == NULL)
+            fail_msg("%s: \"%s\" lacks \"%s\"", traps[i].name, roz_controller_error(&ctl),
+                     traps[i].msg);
+        roz_controller_unload(&ctl);
+    }
+}
+
+static void test_controller_memory_is_fixed(void **st)
+{
+    roz_metric_ring_t ring;
+    roz_metric_t m;
+    size_t len;
+    const uint8_t *w = roz_test_controller("bad_grow_memory", &len);
+    (void)st;
+    memset(&ring, 0, sizeof ring);
+    abi.metrics = &ring;
+    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
+    for (int t = 0; t < 5; t++)
+        assert_int_equal(roz_controller_process(&ctl, t), ROZ_OK);
+    for (int t = 0; t < 5; t++) {
+        assert_int_equal(roz_metric_ring_pop(&ring, &m), 1);
+        assert_true(m.value == -1.0); /* memory.grow refused */
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_setup_teardown(test_controller_refusals, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_garbage, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_runs_sine, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_pd_reads_state, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_traps, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_memory_is_fixed, setup, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

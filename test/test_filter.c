@@ -1,0 +1,168 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The safety filter, as tables: one row per rule, on the UR5 (velocity
+ * commands paired with positions) and the G1 (position, gains, effort). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/filter.h"
+#include "support.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+static roz_filter_t f;
+static double target[ROZ_CFG_MAX_COMMANDS], state[ROZ_CFG_MAX_STATES], out[ROZ_CFG_MAX_COMMANDS];
+
+typedef struct {
+    const char *rule;
+    int         ch;        /* command channel */
+    double      last;      /* last applied value (primed) */
+    double      pos;       /* paired position state value */
+    double      target;
+    roz_stop_t  stop;
+    double      expect;
+    int         clamps, rate_caps, limit_stops, nonfinite;
+} row_t;
+
+#define UR5_J3 ROZ_UR5_CMD_WRIST_1_JOINT_VELOCITY /* +-3.14, rate 0.5, pos +-2pi */
+#define TWO_PI 6.283185307179586
+
+static const row_t ur5_rows[] = {
+    /* rule                          ch      last  pos   target  stop                 expect clamp cap lim nf */
+    { "in range passes",              UR5_J3, 0.0,  0.0,  0.3,    ROZ_STOP_NONE,       0.3,   0, 0, 0, 0 },
+    { "clamp above max",              UR5_J3, 3.0,  0.0,  9.0,    ROZ_STOP_NONE,       3.14,  1, 0, 0, 0 },
+    { "clamp below min",              UR5_J3, -3.0, 0.0,  -9.0,   ROZ_STOP_NONE,       -3.14, 1, 0, 0, 0 },
+    { "rate cap up",                  UR5_J3, 0.0,  0.0,  2.0,    ROZ_STOP_NONE,       0.5,   0, 1, 0, 0 },
+    { "rate cap down",                UR5_J3, 1.0,  0.0,  -1.0,   ROZ_STOP_NONE,       0.5,   0, 1, 0, 0 },
+    { "clamp then rate cap",          UR5_J3, 0.0,  0.0,  100.0,  ROZ_STOP_NONE,       0.5,   1, 1, 0, 0 },
+    { "NaN target -> default, capped",UR5_J3, 0.4,  0.0,  NAN,    ROZ_STOP_NONE,       0.0,   0, 0, 0, 1 },
+    { "inf target -> default",        UR5_J3, 0.0,  0.0,  INFINITY, ROZ_STOP_NONE,     0.0,   0, 0, 0, 1 },
+    { "limit: at upper margin stops", UR5_J3, 0.0,  TWO_PI - 0.05, 0.3, ROZ_STOP_NONE, 0.0,   0, 0, 1, 0 },
+    { "limit: outside, moving out",   UR5_J3, 0.0,  7.0,  0.2,    ROZ_STOP_NONE,       0.0,   0, 0, 1, 0 },
+    { "limit: outside, moving back",  UR5_J3, 0.0,  7.0,  -0.2,   ROZ_STOP_NONE,       -0.2,  0, 0, 0, 0 },
+    { "limit: below, moving out",     UR5_J3, 0.0,  -7.0, -0.2,   ROZ_STOP_NONE,       0.0,   0, 0, 1, 0 },
+    { "limit: near, slowed",          UR5_J3, 0.0,  TWO_PI - 0.051, 0.5, ROZ_STOP_NONE, 0.0,  0, 0, 1, 0 },
+    { "limit: far, untouched",        UR5_J3, 0.0,  0.0,  -0.5,   ROZ_STOP_NONE,       -0.5,  0, 0, 0, 0 },
+    { "controlled stop ramps",        UR5_J3, 2.0,  0.0,  3.0,    ROZ_STOP_CONTROLLED, 1.5,   0, 1, 0, 0 },
+    { "e-stop is immediate",          UR5_J3, 2.0,  0.0,  3.0,    ROZ_STOP_IMMEDIATE,  0.0,   0, 0, 0, 0 },
+};
+
+static void run_rows(const roz_manifest_t *m, const row_t *rows, size_t n)
+{
+    for (size_t r = 0; r < n; r++) {
+        const row_t *row = &rows[r];
+        const roz_channel_t *c = &m->commands[row->ch];
+        print_message("row: %s\n", row->rule);
+        assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+        for (uint16_t s = 0; s < m->n_states; s++)
+            state[s] = m->states[s].default_value;
+        if (c->position_state >= 0)
+            state[c->position_state] = row->pos;
+        roz_filter_prime(&f, state);
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            target[i] = f.last[i];
+        f.last[row->ch] = row->last;
+        target[row->ch] = row->target;
+        roz_filter_apply(&f, target, state, row->stop, out);
+        assert_near(out[row->ch], row->expect, 1e-12);
+        assert_int_equal(f.counters.clamps, row->clamps);
+        assert_int_equal(f.counters.rate_caps, row->rate_caps);
+        assert_int_equal(f.counters.limit_stops, row->limit_stops);
+        assert_int_equal(f.counters.nonfinite, row->nonfinite);
+        assert_int_equal(f.channel_clamps[row->ch], row->clamps);
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            assert_true(out[i] >= m->commands[i].min && out[i] <= m->commands[i].max);
+    }
+}
+
+static void test_filter_ur5(void **st)
+{
+    (void)st;
+    run_rows(&roz_manifest_ur5, ur5_rows, sizeof ur5_rows / sizeof ur5_rows[0]);
+}
+
+#define G1_KNEE_POS ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION   /* [-0.087267, 2.8798] */
+#define G1_KNEE_KP ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_STIFFNESS   /* [0, 200], rate 0.8 */
+#define G1_KNEE_KD ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_DAMPING     /* [0, 10], default 8 */
+#define G1_KNEE_TAU ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_EFFORT     /* +-139, rate 1.39 */
+#define G1_KNEE_VEL ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_VELOCITY
+
+static const row_t g1_rows[] = {
+    /* rule                             ch           last  pos   target stop                 expect clamp cap lim nf */
+    { "position clamp to URDF upper",    G1_KNEE_POS, 2.87, 2.87, 3.5,  ROZ_STOP_NONE,       2.8798, 1, 0, 0, 0 },
+    { "position target rate cap",        G1_KNEE_POS, 0.0,  0.0,  1.0,  ROZ_STOP_NONE,       0.04,  0, 1, 0, 0 },
+    { "NaN position holds the state",    G1_KNEE_POS, 0.5,  0.5,  NAN,  ROZ_STOP_NONE,       0.5,   0, 0, 0, 1 },
+    { "stop: position holds the state",  G1_KNEE_POS, 0.51, 0.5,  2.0,  ROZ_STOP_CONTROLLED, 0.5,   0, 0, 0, 0 },
+    { "e-stop: position holds state",    G1_KNEE_POS, 2.0,  0.7,  2.0,  ROZ_STOP_IMMEDIATE,  0.7,   0, 0, 0, 0 },
+    { "stiffness never negative",        G1_KNEE_KP,  0.0,  0.0,  -5.0, ROZ_STOP_NONE,       0.0,   1, 0, 0, 0 },
+    { "stiffness ramps in",              G1_KNEE_KP,  0.0,  0.0,  150.0, ROZ_STOP_NONE,      0.8,   0, 1, 0, 0 },
+    { "stop: stiffness ramps out",       G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_CONTROLLED, 99.2, 0, 1, 0, 0 },
+    { "e-stop: stiffness drops to 0",    G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_IMMEDIATE,  0.0,  0, 0, 0, 0 },
+    { "damping has no cap",              G1_KNEE_KD,  0.0,  0.0,  9.0,  ROZ_STOP_NONE,       9.0,   0, 0, 0, 0 },
+    { "stop: damping mode kd",           G1_KNEE_KD,  1.0,  0.0,  1.0,  ROZ_STOP_CONTROLLED, 8.0,   0, 0, 0, 0 },
+    { "effort clamp",                    G1_KNEE_TAU, 139.0, 0.0, 500.0, ROZ_STOP_NONE,      139.0, 1, 0, 0, 0 },
+    { "effort rate cap",                 G1_KNEE_TAU, 0.0,  0.0,  50.0, ROZ_STOP_NONE,       1.39,  0, 1, 0, 0 },
+    { "velocity stopped at knee limit",  G1_KNEE_VEL, 0.0,  2.8798 - 0.05, 1.0, ROZ_STOP_NONE, 0.0, 0, 0, 1, 0 },
+    { "velocity back from below",        G1_KNEE_VEL, 0.0,  -0.2, 1.0,  ROZ_STOP_NONE,       1.0,   0, 0, 0, 0 },
+};
+
+static void test_filter_g1(void **st)
+{
+    (void)st;
+    run_rows(&roz_manifest_unitree_g1, g1_rows, sizeof g1_rows / sizeof g1_rows[0]);
+}
+
+/* A velocity toward a limit, rate-capped, brakes in time: simulate the joint
+ * under the filter at full speed and check it never crosses the limit less
+ * margin, and every change stays within max_rate. */
+static void test_filter_brakes_before_limit(void **st)
+{
+    const roz_manifest_t *m = &roz_manifest_ur5;
+    const double dt = 1.0 / m->control_rate_hz;
+    (void)st;
+    assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+    memset(state, 0, sizeof state);
+    state[3] = 5.0;
+    roz_filter_prime(&f, state);
+    for (int i = 0; i < 6; i++)
+        target[i] = 0.0;
+    double prev = 0.0;
+    for (int t = 0; t < 2000; t++) {
+        target[3] = 3.14;
+        roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+        assert_true(fabs(out[3] - prev) <= 0.5 + 1e-12);
+        prev = out[3];
+        state[3] += out[3] * dt;
+        assert_true(state[3] <= TWO_PI - 0.05 + 1e-9);
+    }
+    assert_true(state[3] > TWO_PI - 0.05 - 0.02); /* and it got close */
+}
+
+static void test_filter_init_errors(void **st)
+{
+    roz_manifest_t bad = roz_manifest_ur5;
+    (void)st;
+    bad.control_rate_hz = 0;
+    assert_int_equal(roz_filter_init(&f, &bad), ROZ_EINVAL);
+    assert_int_equal(roz_filter_init(NULL, &roz_manifest_ur5), ROZ_EINVAL);
+    assert_int_equal(roz_filter_init(&f, &roz_manifest_ur5), ROZ_OK);
+    assert_int_equal(roz_filter_set_margin(&f, -1.0), ROZ_EINVAL);
+    assert_int_equal(roz_filter_set_margin(&f, NAN), ROZ_EINVAL);
+    assert_int_equal(roz_filter_set_margin(&f, 0.1), ROZ_OK);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_filter_ur5),
+        cmocka_unit_test(test_filter_g1),
+        cmocka_unit_test(test_filter_brakes_before_limit),
+        cmocka_unit_test(test_filter_init_errors),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

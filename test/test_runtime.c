@@ -1,0 +1,297 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The runtime on the loopback simulator: controllers drive the robot, each
+ * fault latches and drives the safe defaults (ramped or at once), verify and
+ * swap, and nothing outside the manifest reaches the port. Time is a test
+ * clock that advances a fixed step per reading. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "support.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+static roz_runtime_t rt;
+static roz_loopback_t lb;
+static roz_test_clock_t clk;
+
+/* Every command the port got is inside the manifest. */
+static void assert_port_safe(void)
+{
+    assert_int_equal(lb.violations, 0);
+}
+
+static void start(const roz_manifest_t *m, const roz_params_t *params)
+{
+    roz_runtime_config_t cfg;
+    char err[160] = "";
+    roz_port_t port = roz_loopback_port(&lb);
+
+    if (roz_port_open(&port, m, params, err, sizeof err) != ROZ_OK)
+        fail_msg("open: %s", err);
+    clk = (roz_test_clock_t){ 1000000, 1000 }; /* every reading advances 1 us */
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+}
+
+static void load(const char *name, int expect)
+{
+    size_t len;
+    const uint8_t *w = roz_test_controller(name, &len);
+    int rc = roz_runtime_load(&rt, w, len, NULL);
+    if (rc != expect)
+        fail_msg("load %s: %d (%s), expected %d", name, rc, roz_runtime_error(&rt), expect);
+}
+
+static void ticks(int n)
+{
+    for (int i = 0; i < n; i++) {
+        roz_runtime_tick(&rt);
+        assert_port_safe();
+    }
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_runtime_deinit(&rt);
+    return 0;
+}
+
+static void test_runtime_sine_drives_ur5(void **st)
+{
+    roz_verify_report_t rep;
+    size_t len;
+    const uint8_t *w = roz_test_controller("sine", &len);
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    assert_int_equal(roz_runtime_load(&rt, w, len, &rep), ROZ_OK);
+    assert_int_equal(rep.ticks_run, ROZ_RUNTIME_VERIFY_TICKS);
+    assert_int_equal(rep.nonfinite, 0);
+    ticks(300);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(rt.counters.controller_ticks, 300);
+    assert_int_equal(rt.counters.writes, 300);
+    /* the filter ramped the sine's first steps (rate cap 0.5 per tick) */
+    assert_true(rt.filter.counters.rate_caps > 0);
+    /* the arm moved: joint 0 integrates the commanded velocity */
+    double q[12];
+    roz_loopback_true_state(&lb, q);
+    assert_true(fabs(q[0]) > 0.01);
+    /* commands equal the controller's sine once past the ramp */
+    const double *out = roz_runtime_last_commands(&rt);
+    const double *tgt = roz_runtime_last_targets(&rt);
+    for (int i = 0; i < 6; i++)
+        assert_near(out[i], tgt[i], 1e-9);
+}
+
+static void test_runtime_nothing_before_first_state(void **st)
+{
+    roz_param_t p[] = { { "drop", "0:5" } };
+    roz_params_t params = { p, 1 };
+    (void)st;
+    start(&roz_manifest_ur5, &params);
+    load("constant_velocity", ROZ_OK);
+    ticks(5);
+    assert_int_equal(lb.writes, 0);
+    assert_int_equal(rt.counters.waiting_ticks, 5);
+    ticks(1);
+    assert_int_equal(lb.writes, 1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+static void test_runtime_trap_latches_controlled_stop(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("bad_trap_run", ROZ_OK);
+    ticks(150);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.1, 1e-12);
+    ticks(1); /* tick 150 traps: defaults this very tick, ramped */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_TRAP);
+    assert_non_null(strstr(roz_runtime_fault_message(&rt), "unreachable"));
+    assert_int_equal(rt.counters.faults[0], 1);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.0, 1e-12); /* 0.1 within one cap */
+    uint64_t calls = rt.counters.controller_ticks;
+    ticks(50);
+    assert_int_equal(rt.counters.controller_ticks, calls); /* it never runs again */
+    assert_int_equal(roz_runtime_tick(&rt), ROZ_EFAULT);
+    /* clearing rebuilds it (a trapped instance is not reused), from tick 0 */
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(rt.counters.swaps, 2);
+    ticks(149);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_TRAP);
+}
+
+static void test_runtime_controlled_stop_ramps(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("constant_velocity", ROZ_OK); /* 0.2 * 3.14 = 0.628 on every joint */
+    ticks(20);
+    assert_near(roz_runtime_last_commands(&rt)[2], 0.628, 1e-12);
+    /* freeze the state stream: stale after 10 ticks, then a ramp down */
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, lb.tick, 0, -1, 0 };
+    assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);
+    ticks(9);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    assert_near(roz_runtime_last_commands(&rt)[2], 0.128, 1e-12); /* 0.628 - 0.5 */
+    ticks(1);
+    assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
+    /* still latched after the stream comes back, until cleared */
+    lb.n_faults = 0;
+    ticks(20);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(3);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_near(roz_runtime_last_commands(&rt)[2], 0.628, 1e-12);
+}
+
+static void test_runtime_estop_is_immediate(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("constant_velocity", ROZ_OK);
+    ticks(10);
+    roz_runtime_estop(&rt);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    for (int i = 0; i < 6; i++)
+        assert_true(roz_runtime_last_commands(&rt)[i] == 0.0);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(5);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+static void test_runtime_controller_estop(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("bad_estop_run", ROZ_OK);
+    ticks(150);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.2, 1e-12);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP_REQUEST);
+    assert_true(roz_runtime_last_commands(&rt)[0] == 0.0); /* at once, not ramped */
+}
+
+static void test_runtime_overrun(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("bad_slow", ROZ_OK); /* budget 5 ms; from tick 150 it reads the clock 20000 times */
+    ticks(150);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
+    assert_non_null(strstr(roz_runtime_fault_message(&rt), "budget 5000 us"));
+}
+
+static void test_runtime_verify_refuses(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("bad_trap_verify", ROZ_EFAULT);
+    assert_non_null(strstr(roz_runtime_error(&rt), "unreachable"));
+    load("bad_nonfinite", ROZ_EFAULT);
+    assert_non_null(strstr(roz_runtime_error(&rt), "non-finite"));
+    load("bad_unknown_import", ROZ_EINVAL);
+    assert_non_null(strstr(roz_runtime_error(&rt), "env.open_valve"));
+    assert_int_equal(rt.counters.swaps_refused, 3);
+    ticks(5); /* no controller: defaults go out, no fault */
+    assert_int_equal(lb.writes, 5);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+static void test_runtime_swap_keeps_old_on_failure(void **st)
+{
+    (void)st;
+    start(&roz_manifest_ur5, NULL);
+    load("constant_velocity", ROZ_OK);
+    ticks(10);
+    load("bad_trap_verify", ROZ_EFAULT);
+    ticks(10);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.628, 1e-12);
+    assert_int_equal(rt.counters.swaps, 1);
+    /* a good one swaps in at the next tick boundary, from tick 0 */
+    load("hold", ROZ_OK);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.628, 1e-12);
+    ticks(1);
+    assert_int_equal(rt.counters.swaps, 2);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.128, 1e-12); /* ramped down */
+    ticks(2);
+    assert_true(roz_runtime_last_commands(&rt)[0] == 0.0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+static void test_runtime_g1_stand(void **st)
+{
+    (void)st;
+    start(&roz_manifest_unitree_g1, NULL);
+    load("g1_stand", ROZ_OK);
+    ticks(1500); /* 3 s at 500 Hz */
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    double q[ROZ_UNITREE_G1_N_STATES];
+    roz_loopback_true_state(&lb, q);
+    /* the knees reached the standing pose (0.3 rad) under the robot-side PD */
+    assert_near(q[ROZ_UNITREE_G1_STATE_LEFT_KNEE_JOINT_POSITION], 0.3, 0.02);
+    assert_near(q[ROZ_UNITREE_G1_STATE_RIGHT_ELBOW_JOINT_POSITION], 0.9, 0.05);
+    assert_true(roz_runtime_last_commands(&rt)[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_STIFFNESS] == 150.0);
+}
+
+static void test_runtime_nan_and_range_states(void **st)
+{
+    roz_param_t p[] = { { "nan", "3@50:60" }, { "range", "wrist_2_joint/position@70:" } };
+    roz_params_t params = { p, 2 };
+    (void)st;
+    start(&roz_manifest_ur5, &params);
+    load("constant_velocity", ROZ_OK);
+    ticks(55);
+    /* NaN position of joint 3: its velocity command stops (unknown position) */
+    assert_true(roz_runtime_last_commands(&rt)[3] == 0.0);
+    assert_true(roz_runtime_last_commands(&rt)[2] > 0.0);
+    ticks(20);
+    /* joint 4 reads beyond its upper limit: positive velocity refused */
+    assert_true(roz_runtime_last_commands(&rt)[4] == 0.0);
+    assert_true(rt.filter.counters.limit_stops > 0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_runtime_sine_drives_ur5, teardown),
+        cmocka_unit_test_teardown(test_runtime_nothing_before_first_state, teardown),
+        cmocka_unit_test_teardown(test_runtime_trap_latches_controlled_stop, teardown),
+        cmocka_unit_test_teardown(test_runtime_controlled_stop_ramps, teardown),
+        cmocka_unit_test_teardown(test_runtime_estop_is_immediate, teardown),
+        cmocka_unit_test_teardown(test_runtime_controller_estop, teardown),
+        cmocka_unit_test_teardown(test_runtime_overrun, teardown),
+        cmocka_unit_test_teardown(test_runtime_verify_refuses, teardown),
+        cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
+        cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
+        cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
