@@ -28,8 +28,18 @@ $(BUILD)/build.ninja: | setup
 build: setup $(BUILD)/build.ninja
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 
+DEMO_DIR = $(BUILD)/demo
+
+# The main job: the sine controller drives a UR5 on the loopback simulator
+# for 5 s (500 ticks at 100 Hz) behind the safety filter; the trace and a plot
+# of commanded vs applied velocity and joint positions land in $(DEMO_DIR).
 demo: build
-	$(BUILD)/examples/manifest_info/roz_manifest_info
+	@mkdir -p $(DEMO_DIR)
+	$(BUILD)/examples/rozrun/rozrun --robot ur5 \
+	    --controller $(BUILD)/examples/controllers/sine.wasm --port loopback \
+	    --ticks 500 --trace $(DEMO_DIR)/ur5_sine.csv
+	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/ur5_sine.csv $(DEMO_DIR)/ur5_sine.png \
+	    --title "UR5, sine controller, loopback simulator"
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

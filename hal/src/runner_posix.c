@@ -67,6 +67,7 @@ static void *runner_main(void *arg)
             next = done + r->cfg.period_ns;
         }
     }
+    atomic_store(&r->finished, 1);
     return NULL;
 }
 
@@ -85,6 +86,7 @@ int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner
     r->fn = fn;
     r->ctx = ctx;
     atomic_init(&r->stop, 0);
+    atomic_init(&r->finished, 0);
     roz_monitor_init(&r->monitor, "runner", cfg->period_ns, cfg->log, cfg->log_ctx);
     if (cfg->lock_memory) {
         if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0)

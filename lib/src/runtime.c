@@ -123,6 +123,7 @@ void roz_runtime_config_default(roz_runtime_config_t *cfg)
     memset(cfg, 0, sizeof *cfg);
     cfg->stale_ticks = 10;
     cfg->position_margin = ROZ_FILTER_DEFAULT_MARGIN;
+    cfg->monitor_jitter = 1;
 }
 
 int roz_runtime_init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
@@ -179,8 +180,9 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     memset(report, 0, sizeof *report);
     rt->error[0] = '\0';
 
-    /* 1. a separate instance for verification */
+    /* 1. a separate instance for verification; its telemetry is discarded */
     rc = load_slot(rt, s, wasm, len);
+    s->abi.metrics = NULL;
     if (rc != ROZ_OK) {
         snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
         rt->counters.swaps_refused++;
@@ -221,7 +223,8 @@ int roz_runtime_tick(roz_runtime_t *rt)
     int rc, active;
 
     rt->counters.ticks++;
-    roz_monitor_periodic(&rt->monitor, t_start);
+    if (rt->cfg.monitor_jitter)
+        roz_monitor_periodic(&rt->monitor, t_start);
 
     /* Hand-overs from other threads, at the tick boundary. The clear request
      * is taken first: clear_faults() schedules a rebuilt controller before

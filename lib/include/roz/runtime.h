@@ -68,6 +68,9 @@ typedef struct roz_runtime_config {
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
     void        *clock_ctx;
+    int          monitor_jitter; /**< 1: check each tick's start against the period
+                                     (ticks driven by a timer; default); 0: ticks run
+                                     back to back in simulated time */
     roz_log_fn   log;           /**< warnings and faults; NULL = silent */
     void        *log_ctx;
 } roz_runtime_config_t;

@@ -44,6 +44,7 @@ typedef struct roz_runner {
     roz_runner_tick_fn  fn;
     void               *ctx;
     atomic_int          stop;
+    atomic_int          finished; /**< 1 once the thread has ended */
     uint64_t            ticks;
     uint64_t            missed;   /**< deadlines missed by more than a period */
     int                 realtime; /**< 1 if SCHED_FIFO was granted */

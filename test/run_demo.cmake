@@ -1,0 +1,33 @@
+# SPDX-License-Identifier: Apache-2.0
+# The main job end to end: rozrun writes a trace, the plot script turns it
+# into a PNG. cmake -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=... -DOUT=... -P
+file(REMOVE_RECURSE ${OUT})
+file(MAKE_DIRECTORY ${OUT})
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CONTROLLER} --port loopback
+                        --ticks 500 --trace ${OUT}/trace.csv
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message(STATUS "${out}${err}")
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "rozrun exited ${rc}")
+endif()
+foreach(want "ticks                  500" "faults                 none" "rate caps")
+  string(FIND "${out}" "${want}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "summary lacks \"${want}\"")
+  endif()
+endforeach()
+file(STRINGS ${OUT}/trace.csv lines)
+list(LENGTH lines n)
+if(NOT n EQUAL 501)
+  message(FATAL_ERROR "trace has ${n} lines, expected a header and 500 rows")
+endif()
+execute_process(COMMAND ${PYTHON} ${PLOT} ${OUT}/trace.csv ${OUT}/plot.png RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "plot failed")
+endif()
+file(READ ${OUT}/plot.png head LIMIT 8 HEX)
+file(SIZE ${OUT}/plot.png size)
+if(NOT head STREQUAL "89504e470d0a1a0a" OR size LESS 20000)
+  message(FATAL_ERROR "plot.png is not a real PNG (${size} bytes)")
+endif()
+message(STATUS "demo: ${n} trace lines, plot ${size} bytes")

@@ -1,0 +1,39 @@
+# SPDX-License-Identifier: Apache-2.0
+# rozrun's errors for bad arguments: each exits 2 with a message naming the
+# problem. cmake -DROZRUN=... -DCTL=<controller dir> -P
+function(expect_error args want)
+  execute_process(COMMAND ${ROZRUN} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 2)
+    message(FATAL_ERROR "rozrun ${args}: exit ${rc}, expected 2\n${out}${err}")
+  endif()
+  string(FIND "${err}" "${want}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "rozrun ${args}: stderr lacks \"${want}\":\n${err}")
+  endif()
+endfunction()
+expect_error("--robot;ur5" "--robot and --controller are required")
+expect_error("--robot;ur10;--controller;${CTL}/sine.wasm" "no such built-in manifest; known: agibot_x2")
+expect_error("--robot;ur5;--controller;${CTL}/nope.wasm" "cannot read")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--ticks;-3" "--ticks needs a non-negative integer")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--port;can0" "--port \"can0\"")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;dropp=1:2" "unknown parameter \"dropp\"")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=x" "parameter drop = \"x\"")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--frobnicate" "unknown option")
+expect_error("--robot;ur5;--controller;${CTL}/bad_unknown_import.wasm" "unknown import env.open_valve")
+expect_error("--robot;ur5;--controller;${CTL}/bad_trap_verify.wasm" "verify: trap at tick 3")
+execute_process(COMMAND ${ROZRUN} --help RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: rozrun")
+  message(FATAL_ERROR "--help")
+endif()
+# a run whose controller traps exits 1 and names the fault
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/bad_trap_run.wasm --ticks 300
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 1 OR NOT out MATCHES "latched: trap")
+  message(FATAL_ERROR "trap run: exit ${rc}\n${out}${err}")
+endif()
+# a .wat controller is assembled with wat2wasm
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${WAT} --ticks 50
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR ".wat run: exit ${rc}\n${out}${err}")
+endif()
