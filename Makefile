@@ -15,7 +15,16 @@ CONFIGURE_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROZ_WERROR=ON \
                   -DROZ_PYTHON=$(CURDIR)/.venv/bin/python \
                   -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 
-.PHONY: all setup build demo test clean
+# Sanitizer builds (clang): ASan+UBSan over every C unit test, TSan over the
+# threaded ones. Any report fails the run.
+SAN_FLAGS = -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DROZ_WERROR=ON \
+            -DROZ_INSTALL=OFF -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
+            -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
+SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
+          UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+          TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
+
+.PHONY: all setup build demo test test-asan test-tsan clean
 
 all: build
 
@@ -41,8 +50,24 @@ demo: build
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/ur5_sine.csv $(DEMO_DIR)/ur5_sine.png \
 	    --title "UR5, sine controller, loopback simulator"
 
-test: build
+$(BUILD)-asan/build.ninja: | setup
+	$(CMAKE) -S . -B $(BUILD)-asan $(SAN_FLAGS) -DROZ_SANITIZE=address
+
+$(BUILD)-tsan/build.ninja: | setup
+	$(CMAKE) -S . -B $(BUILD)-tsan $(SAN_FLAGS) -DROZ_SANITIZE=thread
+
+test-asan: setup $(BUILD)-asan/build.ninja
+	$(CMAKE) --build $(BUILD)-asan -j $(JOBS)
+	# test_alloc wraps malloc itself, which ASan owns here; it runs in the main build
+	cd $(BUILD)-asan && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L unit -E test_alloc
+
+test-tsan: setup $(BUILD)-tsan/build.ninja
+	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS)
+	cd $(BUILD)-tsan && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L threads
+
+# Every test: the sanitizer runs first, the whole suite last.
+test: test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan

@@ -50,6 +50,6 @@ set_target_properties(roz_wasm3 PROPERTIES C_STANDARD 11 C_EXTENSIONS ON
 # Only roz's own sources include wasm3.h; consumers never see this folder.
 target_include_directories(roz_wasm3 PUBLIC $<BUILD_INTERFACE:${_roz_wasm3_dir}>)
 target_compile_options(roz_wasm3 PRIVATE
-  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing>)
+  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing> ${ROZ_SANITIZE_DEP_FLAGS})
 target_link_libraries(roz_wasm3 PRIVATE m)
 set(ROZ_WASM3_LICENSE_FILE "${_roz_wasm3_license}")

@@ -1,0 +1,137 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* No heap after start: malloc, calloc, realloc and free are wrapped at link
+ * time (-Wl,--wrap=...), which covers roz and the statically linked wasm3, and
+ * counted over 100,000 ticks of the G1 PD controller (145 commands, 97 states)
+ * and of the UR5 sine controller, with faults and their clearing between. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "support.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+void *__real_malloc(size_t n);
+void *__real_calloc(size_t n, size_t size);
+void *__real_realloc(void *p, size_t n);
+void __real_free(void *p);
+void *__wrap_malloc(size_t n);
+void *__wrap_calloc(size_t n, size_t size);
+void *__wrap_realloc(void *p, size_t n);
+void __wrap_free(void *p);
+
+static int counting;
+static uint64_t allocations, frees;
+
+void *__wrap_malloc(size_t n)
+{
+    allocations += counting;
+    return __real_malloc(n);
+}
+
+void *__wrap_calloc(size_t n, size_t size)
+{
+    allocations += counting;
+    return __real_calloc(n, size);
+}
+
+void *__wrap_realloc(void *p, size_t n)
+{
+    allocations += counting;
+    return __real_realloc(p, n);
+}
+
+void __wrap_free(void *p)
+{
+    frees += counting && p != NULL;
+    __real_free(p);
+}
+
+static roz_runtime_t rt;
+static roz_loopback_t lb;
+
+static void run(const roz_manifest_t *m, const char *controller, int ticks)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 100 };
+    char err[128];
+    size_t len;
+    const uint8_t *w = roz_test_controller(controller, &len);
+    roz_port_t port = roz_loopback_port(&lb);
+
+    assert_int_equal(roz_port_open(&port, m, NULL, err, sizeof err), ROZ_OK);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_runtime_tick(&rt); /* the swap-in happens here */
+
+    allocations = frees = 0;
+    counting = 1;
+    for (int t = 0; t < ticks; t++) {
+        roz_runtime_tick(&rt);
+        if (t == ticks / 2)
+            roz_runtime_estop(&rt); /* a fault and its defaults, still no heap */
+    }
+    counting = 0;
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    assert_true(rt.counters.controller_ticks >= (uint64_t)ticks / 2);
+    print_message("%s: %d ticks, %llu allocations, %llu frees\n", controller, ticks,
+                  (unsigned long long)allocations, (unsigned long long)frees);
+    assert_int_equal(allocations, 0);
+    assert_int_equal(frees, 0);
+    assert_int_equal(lb.violations, 0);
+    roz_runtime_deinit(&rt);
+}
+
+static void test_alloc_g1_pd(void **st)
+{
+    (void)st;
+    run(&roz_manifest_unitree_g1, "g1_pd", 100000);
+}
+
+static void test_alloc_ur5_sine(void **st)
+{
+    (void)st;
+    run(&roz_manifest_ur5, "sine", 100000);
+}
+
+/* The wrapper is live: loading a controller does allocate (outside the tick). */
+static void test_alloc_counter_works(void **st)
+{
+    size_t len;
+    const uint8_t *w = roz_test_controller("hold", &len);
+    roz_controller_t c;
+    roz_abi_t abi;
+    double target[ROZ_CFG_MAX_COMMANDS];
+    (void)st;
+    roz_controller_init(&c);
+    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
+    allocations = 0;
+    counting = 1;
+    assert_int_equal(roz_controller_load(&c, w, len, &abi), ROZ_OK);
+    counting = 0;
+    assert_true(allocations > 0);
+    roz_controller_unload(&c);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_alloc_counter_works),
+        cmocka_unit_test(test_alloc_g1_pd),
+        cmocka_unit_test(test_alloc_ur5_sine),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

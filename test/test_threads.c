@@ -1,0 +1,160 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The threaded pieces together, for ThreadSanitizer: a port whose simulator
+ * runs on its own thread and talks to the tick through two latest-value
+ * buffers (state in, commands out), the tick on the periodic runner, and a
+ * third thread swapping controllers, raising the e-stop and clearing faults
+ * while it runs. Nothing here asserts a time. */
+#define _POSIX_C_SOURCE 200809L
+#include <pthread.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "roz/buffer.h"
+#include "roz/hal/clock.h"
+#include "roz/hal/runner.h"
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "support.h"
+#include "unitree_g1_manifest.h"
+
+/* ---- a port with a simulator thread ---------------------------------------- */
+
+ROZ_BUFFER_DEFINE(state_buf, ROZ_UNITREE_G1_N_STATES);
+ROZ_BUFFER_DEFINE(cmd_buf, ROZ_UNITREE_G1_N_COMMANDS);
+static roz_loopback_t sim;
+static atomic_int sim_stop;
+static atomic_ullong sim_violations;
+
+static void *sim_main(void *arg)
+{
+    double state[ROZ_UNITREE_G1_N_STATES];
+    roz_buffer_frame_t f;
+    roz_port_t p = roz_loopback_port(&sim);
+    (void)arg;
+    while (!atomic_load(&sim_stop)) {
+        if (roz_buffer_read(&cmd_buf, &f) == 1)
+            roz_port_write(&p, f.values, ROZ_UNITREE_G1_N_COMMANDS);
+        if (roz_port_read(&p, state, ROZ_UNITREE_G1_N_STATES) == 1)
+            roz_buffer_write(&state_buf, state, roz_clock_monotonic_ns(NULL));
+        atomic_store(&sim_violations, sim.violations);
+        struct timespec ts = { 0, 500000 };
+        nanosleep(&ts, NULL);
+    }
+    return NULL;
+}
+
+static int tp_read(void *self, double *state, size_t n)
+{
+    roz_buffer_frame_t f;
+    (void)self;
+    int rc = roz_buffer_read(&state_buf, &f);
+    if (rc >= 0)
+        memcpy(state, f.values, n * sizeof state[0]);
+    return rc;
+}
+
+static int tp_write(void *self, const double *cmd, size_t n)
+{
+    (void)self;
+    (void)n;
+    roz_buffer_write(&cmd_buf, cmd, 0);
+    return ROZ_OK;
+}
+
+static const roz_port_ops_t threaded_ops = { .name = "threaded-test", .read = tp_read,
+                                             .write = tp_write };
+
+/* ---- the test ------------------------------------------------------------ */
+
+static roz_runtime_t rt;
+static roz_runner_t runner;
+
+static int tick(void *ctx)
+{
+    (void)ctx;
+    roz_runtime_tick(&rt);
+    return 0;
+}
+
+static void sleep_ms(long ms)
+{
+    struct timespec ts = { ms / 1000, (ms % 1000) * 1000000L };
+    nanosleep(&ts, NULL);
+}
+
+static void test_threads_runtime_under_load(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_runner_config_t rc = { .period_ns = 1000000, .max_ticks = 3000 };
+    char err[128];
+    pthread_t th;
+    size_t len_pd, len_stand, len_bad;
+    const uint8_t *pd = roz_test_controller("g1_pd", &len_pd);
+    const uint8_t *stand = roz_test_controller("g1_stand", &len_stand);
+    const uint8_t *bad = roz_test_controller("bad_trap_verify", &len_bad);
+    roz_port_t simport = roz_loopback_port(&sim);
+    (void)st;
+
+    assert_int_equal(roz_port_open(&simport, &roz_manifest_unitree_g1, NULL, err, sizeof err),
+                     ROZ_OK);
+    roz_buffer_init(&state_buf, state_buf_slots, ROZ_UNITREE_G1_N_STATES);
+    roz_buffer_init(&cmd_buf, cmd_buf_slots, ROZ_UNITREE_G1_N_COMMANDS);
+    atomic_store(&sim_stop, 0);
+    assert_int_equal(pthread_create(&th, NULL, sim_main, NULL), 0);
+
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = &roz_manifest_unitree_g1;
+    cfg.port = (roz_port_t){ &threaded_ops, NULL };
+    cfg.clock = roz_clock_monotonic_ns;
+    cfg.stale_ticks = 1000000; /* the simulator thread's pace is not the tick's */
+    cfg.budget_ns = 500000000; /* sanitizers are slow; this test is about races */
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, pd, len_pd, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    assert_int_equal(roz_runner_start(&runner, &rc, tick, NULL), ROZ_OK);
+
+    int loads = 0, refused = 0;
+    for (int round = 0; round < 12 && !atomic_load(&runner.finished); round++) {
+        sleep_ms(40);
+        const uint8_t *w = round % 3 == 0 ? bad : (round % 3 == 1 ? stand : pd);
+        size_t len = round % 3 == 0 ? len_bad : (round % 3 == 1 ? len_stand : len_pd);
+        int r = roz_runtime_load(&rt, w, len, NULL);
+        if (r == ROZ_OK)
+            loads++;
+        else if (r == ROZ_EFAULT)
+            refused++;
+        if (round == 6)
+            roz_runtime_estop(&rt);
+        if (round == 8)
+            assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    }
+    roz_runner_join(&runner);
+    atomic_store(&sim_stop, 1);
+    pthread_join(th, NULL);
+
+    print_message("ticks %llu, controller ticks %llu, loads %d, refused %d, swaps %llu\n",
+                  (unsigned long long)runner.ticks,
+                  (unsigned long long)rt.counters.controller_ticks, loads, refused,
+                  (unsigned long long)rt.counters.swaps);
+    assert_true(runner.ticks > 0);
+    assert_true(refused > 0);
+    assert_true(loads > 0);
+    assert_int_equal(atomic_load(&sim_violations), 0);
+    roz_runtime_deinit(&rt);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_threads_runtime_under_load),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
