@@ -24,7 +24,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build demo test test-asan test-tsan clean
+.PHONY: all setup build demo test test-asan test-tsan bench clean
 
 all: build
 
@@ -68,6 +68,10 @@ test-tsan: setup $(BUILD)-tsan/build.ninja
 # Every test: the sanitizer runs first, the whole suite last.
 test: test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# Benchmarks print figures and ratios; they are not tests.
+bench: build
+	$(BUILD)/bench/roz_bench_tick 20000
 
 clean:
 	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan

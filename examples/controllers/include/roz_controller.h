@@ -24,6 +24,7 @@
 #else
 #define ROZ_IMPORT(module, name)
 #define ROZ_PROCESS(tick) void roz_native_process(long long tick)
+void roz_native_process(long long tick);
 #endif
 
 #ifdef __cplusplus

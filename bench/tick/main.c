@@ -1,0 +1,173 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/*
+ * bench/tick: what one control tick costs on the Unitree G1 manifest (145
+ * commands, 97 states) with the PD controller of examples/controllers/g1_pd.c,
+ *   - run by wasm3 inside the full runtime tick (loopback port), and
+ *   - compiled natively against the same channel API (the same source, its
+ *     imports bound to roz's ABI functions directly),
+ * and the runtime's own overhead (tick minus process()). Prints medians, p99
+ * and ratios side by side. A benchmark, not a test: it never fails on a time.
+ *
+ *   roz_bench_tick [TICKS] [CONTROLLER.wasm]
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "roz/hal/clock.h"
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "unitree_g1_manifest.h"
+
+/* ---- the native controller's imports: roz's ABI functions, directly ------ */
+
+void roz_native_process(long long tick);
+int roz_command_set(int index, double value);
+int roz_command_count(void);
+double roz_command_limit_min(int index);
+double roz_command_limit_max(int index);
+double roz_state_get(int index);
+int roz_state_count(void);
+double roz_sin(double x);
+double roz_cos(double x);
+void roz_request_estop(void);
+long long roz_now_ns(void);
+long long roz_sim_time_ns(void);
+void roz_emit_metric(double value);
+
+static roz_abi_t native_abi;
+int roz_command_set(int i, double v) { return roz_abi_command_set(&native_abi, i, v); }
+int roz_command_count(void) { return roz_abi_command_count(&native_abi); }
+double roz_command_limit_min(int i) { return roz_abi_command_limit_min(&native_abi, i); }
+double roz_command_limit_max(int i) { return roz_abi_command_limit_max(&native_abi, i); }
+double roz_state_get(int i) { return roz_abi_state_get(&native_abi, i); }
+int roz_state_count(void) { return roz_abi_state_count(&native_abi); }
+double roz_sin(double x) { return roz_abi_math_sin(x); }
+double roz_cos(double x) { return roz_abi_math_cos(x); }
+void roz_request_estop(void) { roz_abi_safety_request_estop(&native_abi); }
+long long roz_now_ns(void) { return roz_abi_timing_now_ns(&native_abi); }
+long long roz_sim_time_ns(void) { return roz_abi_timing_sim_time_ns(&native_abi); }
+void roz_emit_metric(double v) { roz_abi_telemetry_emit_metric(&native_abi, v); }
+
+/* ---- helpers -------------------------------------------------------------- */
+
+static int cmp_u64(const void *a, const void *b)
+{
+    uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+typedef struct {
+    double p50, p99, max;
+} stats_t;
+
+static stats_t stats(uint64_t *v, size_t n)
+{
+    qsort(v, n, sizeof v[0], cmp_u64);
+    stats_t s = { v[n / 2] / 1000.0, v[(n * 99) / 100] / 1000.0, v[n - 1] / 1000.0 };
+    return s;
+}
+
+static uint8_t *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return NULL;
+    uint8_t *buf = malloc(ROZ_CFG_WASM_MAX_MODULE_BYTES);
+    *len = buf ? fread(buf, 1, ROZ_CFG_WASM_MAX_MODULE_BYTES, f) : 0;
+    fclose(f);
+    return buf;
+}
+
+static roz_runtime_t rt;
+static roz_loopback_t lb;
+
+int main(int argc, char **argv)
+{
+    size_t ticks = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
+    const char *path = argc > 2 ? argv[2] : ROZ_BENCH_CONTROLLER;
+    const roz_manifest_t *m = &roz_manifest_unitree_g1;
+    roz_runtime_config_t cfg;
+    char err[128];
+    size_t len;
+
+    if (ticks < 100)
+        ticks = 100;
+    uint8_t *wasm = read_file(path, &len);
+    if (wasm == NULL) {
+        fprintf(stderr, "bench: cannot read %s\n", path);
+        return 2;
+    }
+    roz_port_t port = roz_loopback_port(&lb);
+    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "bench: %s\n", err);
+        return 2;
+    }
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_clock_monotonic_ns;
+    cfg.monitor_jitter = 0;
+    cfg.budget_ns = 1000000000; /* measure, don't fault */
+    if (roz_runtime_init(&rt, &cfg) != ROZ_OK || roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
+        roz_runtime_start(&rt) != ROZ_OK) {
+        fprintf(stderr, "bench: runtime: %s\n", roz_runtime_error(&rt));
+        return 2;
+    }
+
+    uint64_t *tick_ns = calloc(ticks, sizeof(uint64_t));
+    uint64_t *wasm_ns = calloc(ticks, sizeof(uint64_t));
+    uint64_t *native_ns = calloc(ticks, sizeof(uint64_t));
+    uint64_t *overhead_ns = calloc(ticks, sizeof(uint64_t));
+    static double native_target[ROZ_CFG_MAX_COMMANDS];
+    if (!tick_ns || !wasm_ns || !native_ns || !overhead_ns)
+        return 2;
+    roz_abi_init(&native_abi, m, native_target, NULL);
+
+    /* warm-up */
+    for (int i = 0; i < 1000; i++)
+        roz_runtime_tick(&rt);
+    size_t mismatches = 0;
+    for (size_t i = 0; i < ticks; i++) {
+        uint64_t t0 = roz_clock_monotonic_ns(NULL);
+        roz_runtime_tick(&rt);
+        uint64_t t1 = roz_clock_monotonic_ns(NULL);
+        tick_ns[i] = t1 - t0;
+        wasm_ns[i] = rt.last_process_ns;
+        overhead_ns[i] = tick_ns[i] > wasm_ns[i] ? tick_ns[i] - wasm_ns[i] : 0;
+
+        /* the same controller, native, on the same snapshot */
+        native_abi.state = roz_runtime_last_state(&rt);
+        native_abi.tick = (int64_t)i;
+        t0 = roz_clock_monotonic_ns(NULL);
+        roz_native_process((long long)i);
+        t1 = roz_clock_monotonic_ns(NULL);
+        native_ns[i] = t1 - t0;
+        const double *wt = roz_runtime_last_targets(&rt);
+        for (uint16_t c = 0; c < m->n_commands; c++)
+            mismatches += wt[c] != native_target[c];
+    }
+    stats_t st = stats(tick_ns, ticks), sw = stats(wasm_ns, ticks), sn = stats(native_ns, ticks),
+            so = stats(overhead_ns, ticks);
+    double period_us = 1e6 / m->control_rate_hz;
+
+    printf("bench/tick: %s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
+           (unsigned)m->n_commands, (unsigned)m->n_states, ticks, path);
+    printf("%-34s %10s %10s %10s\n", "", "p50 [us]", "p99 [us]", "max [us]");
+    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), wasm3", sw.p50, sw.p99, sw.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), native", sn.p50, sn.p99, sn.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "runtime overhead (tick - process)", so.p50, so.p99,
+           so.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, wasm3", st.p50, st.p99, st.max);
+    printf("ratios: wasm3/native process() p50 %.1fx, p99 %.1fx; whole tick p50 is %.2f%% of the "
+           "%.0f us period\n",
+           sn.p50 > 0 ? sw.p50 / sn.p50 : 0.0, sn.p99 > 0 ? sw.p99 / sn.p99 : 0.0,
+           100.0 * st.p50 / period_us, period_us);
+    printf("outputs: wasm3 and native targets %s (%zu differing values)\n",
+           mismatches == 0 ? "identical" : "DIFFER", mismatches);
+    roz_runtime_deinit(&rt);
+    free(wasm);
+    return mismatches == 0 ? 0 : 1;
+}
