@@ -14,8 +14,28 @@ set(ROZ_WASM3_SOURCE_DIR "" CACHE PATH "wasm3 source tree (folder with wasm3.h);
 set(ROZ_WASM3_SDIST "" CACHE FILEPATH "pywasm3-0.5.0.tar.gz (wasm3 0.5.0 sources, sha256-checked)")
 set(ROZ_WASM3_SDIST_SHA256 5a47c8a39f7f6ae71b3316b2e5d86c9d0db6e771a65f09a86e4d4aa3a19aefcc)
 
+# roz's own patch (cmake/wasm3-fuel.patch) meters loop back-edges; it is
+# applied to a copy in the build tree, never to the source it came from.
+set(_roz_patch ${CMAKE_CURRENT_LIST_DIR}/wasm3-fuel.patch)
+file(SHA256 ${_roz_patch} _roz_patch_sha)
+string(SUBSTRING ${_roz_patch_sha} 0 12 _roz_patch_sha)
+find_program(ROZ_PATCH_EXECUTABLE patch DOC "patch, to apply cmake/wasm3-fuel.patch")
+if(NOT ROZ_PATCH_EXECUTABLE)
+  message(FATAL_ERROR "the 'patch' program is needed to apply cmake/wasm3-fuel.patch "
+                      "(Debian package patch; tools/setup.sh installs it)")
+endif()
+
 if(ROZ_WASM3_SOURCE_DIR)
-  set(_roz_wasm3_dir ${ROZ_WASM3_SOURCE_DIR})
+  if(NOT EXISTS ${ROZ_WASM3_SOURCE_DIR}/wasm3.h)
+    message(FATAL_ERROR "ROZ_WASM3_SOURCE_DIR: no wasm3.h in ${ROZ_WASM3_SOURCE_DIR}")
+  endif()
+  string(SHA256 _roz_key "${ROZ_WASM3_SOURCE_DIR}")
+  string(SUBSTRING ${_roz_key} 0 12 _roz_key)
+  set(_roz_root ${CMAKE_BINARY_DIR}/_deps/wasm3-tree-${_roz_key}-${_roz_patch_sha})
+  if(NOT EXISTS ${_roz_root}/.roz-patched)
+    file(REMOVE_RECURSE ${_roz_root})
+    file(COPY ${ROZ_WASM3_SOURCE_DIR}/ DESTINATION ${_roz_root}/wasm3)
+  endif()
   set(_roz_wasm3_license "")
 elseif(ROZ_WASM3_SDIST)
   if(NOT EXISTS "${ROZ_WASM3_SDIST}")
@@ -27,20 +47,29 @@ elseif(ROZ_WASM3_SDIST)
                         "expected ${ROZ_WASM3_SDIST_SHA256}: refusing to build wasm3 from it. "
                         "Delete the file and run tools/setup.sh to fetch it again.")
   endif()
-  set(_roz_unpack ${CMAKE_BINARY_DIR}/_deps/wasm3-${_roz_sha})
-  if(NOT EXISTS ${_roz_unpack}/pywasm3-0.5.0/wasm3/wasm3.h)
+  set(_roz_unpack ${CMAKE_BINARY_DIR}/_deps/wasm3-0.5.0-${_roz_patch_sha})
+  set(_roz_root ${_roz_unpack}/pywasm3-0.5.0)
+  if(NOT EXISTS ${_roz_root}/.roz-patched)
+    file(REMOVE_RECURSE ${_roz_unpack})
     file(ARCHIVE_EXTRACT INPUT "${ROZ_WASM3_SDIST}" DESTINATION ${_roz_unpack})
   endif()
-  set(_roz_wasm3_dir ${_roz_unpack}/pywasm3-0.5.0/wasm3)
-  set(_roz_wasm3_license ${_roz_unpack}/pywasm3-0.5.0/LICENSE)
+  set(_roz_wasm3_license ${_roz_root}/LICENSE)
 else()
   message(FATAL_ERROR "roz needs wasm3's sources: set ROZ_WASM3_SDIST to pywasm3-0.5.0.tar.gz "
                       "(tools/setup.sh fetches it into .cache/) or ROZ_WASM3_SOURCE_DIR to a wasm3 "
                       "source tree, or configure with -DROZ_WITH_WASM3=OFF")
 endif()
-if(NOT EXISTS ${_roz_wasm3_dir}/wasm3.h)
-  message(FATAL_ERROR "no wasm3.h in ${_roz_wasm3_dir}")
+if(NOT EXISTS ${_roz_root}/.roz-patched)
+  execute_process(COMMAND ${ROZ_PATCH_EXECUTABLE} -p1 --forward --batch -i ${_roz_patch}
+                  WORKING_DIRECTORY ${_roz_root} RESULT_VARIABLE _roz_rc
+                  OUTPUT_VARIABLE _roz_out ERROR_VARIABLE _roz_out)
+  if(NOT _roz_rc EQUAL 0)
+    message(FATAL_ERROR "cmake/wasm3-fuel.patch does not apply to the wasm3 sources in "
+                        "${_roz_root}:\n${_roz_out}")
+  endif()
+  file(TOUCH ${_roz_root}/.roz-patched)
 endif()
+set(_roz_wasm3_dir ${_roz_root}/wasm3)
 
 file(GLOB _roz_wasm3_sources CONFIGURE_DEPENDS ${_roz_wasm3_dir}/*.c)
 add_library(roz_wasm3 STATIC ${_roz_wasm3_sources})

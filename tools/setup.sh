@@ -21,7 +21,7 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # clang + lld build wasm32 controllers and the fuzz targets, wabt assembles
 # .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests.
 apt_packages=(
-    ca-certificates cmake ninja-build make gcc libc6-dev pkg-config
+    ca-certificates cmake ninja-build make gcc libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt
     libcmocka-dev cyclonedds-dev cyclonedds-tools
     python3 python3-venv python3-pip

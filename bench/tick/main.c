@@ -5,8 +5,12 @@
  *   - run by wasm3 inside the full runtime tick (loopback port), and
  *   - compiled natively against the same channel API (the same source, its
  *     imports bound to roz's ABI functions directly),
- * and the runtime's own overhead (tick minus process()). Prints medians, p99
- * and ratios side by side. A benchmark, not a test: it never fails on a time.
+ * and the runtime's own overhead (tick minus process()), and the cost of the
+ * per-tick budget: the same wasm run metered (fuel and deadline checks, the
+ * defaults) and unmetered (no fuel limit, no deadline; the m3_Yield hook is
+ * still called, so this isolates the checks, not the hook's call). Prints
+ * medians, p99 and ratios side by side. A benchmark, not a test: it never
+ * fails on a time.
  *
  *   roz_bench_tick [TICKS] [CONTROLLER.wasm]
  */
@@ -83,6 +87,41 @@ static uint8_t *read_file(const char *path, size_t *len)
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
+
+/* One runtime run of `ticks` ticks; fills tick and process() times. */
+static int run_wasm(const roz_manifest_t *m, const uint8_t *wasm, size_t len, int metered,
+                    size_t ticks, uint64_t *tick_ns, uint64_t *proc_ns)
+{
+    roz_runtime_config_t cfg;
+    char err[128];
+    roz_port_t port = roz_loopback_port(&lb);
+
+    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
+        return -1;
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_clock_monotonic_ns;
+    cfg.monitor_jitter = 0;
+    if (!metered) {
+        cfg.fuel_per_tick = UINT64_MAX;
+        cfg.budget_ns = UINT64_MAX;
+    }
+    if (roz_runtime_init(&rt, &cfg) != ROZ_OK || roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
+        roz_runtime_start(&rt) != ROZ_OK)
+        return -1;
+    for (int i = 0; i < 1000; i++)
+        roz_runtime_tick(&rt);
+    for (size_t i = 0; i < ticks; i++) {
+        uint64_t t0 = roz_clock_monotonic_ns(NULL);
+        roz_runtime_tick(&rt);
+        tick_ns[i] = roz_clock_monotonic_ns(NULL) - t0;
+        proc_ns[i] = rt.last_process_ns;
+    }
+    int faults = (int)roz_runtime_faults(&rt);
+    roz_runtime_deinit(&rt);
+    return faults;
+}
 
 int main(int argc, char **argv)
 {
@@ -167,7 +206,33 @@ int main(int argc, char **argv)
            100.0 * st.p50 / period_us, period_us);
     printf("outputs: wasm3 and native targets %s (%zu differing values)\n",
            mismatches == 0 ? "identical" : "DIFFER", mismatches);
+    uint64_t fuel = rt.counters.max_fuel, budget = rt.cfg.fuel_per_tick;
     roz_runtime_deinit(&rt);
+
+    /* metering: the same controller, metered and unmetered, alternating
+     * rounds so drift on the machine hits both alike */
+    size_t half = ticks / 2;
+    uint64_t *mt = calloc(ticks, sizeof(uint64_t)), *mp = calloc(ticks, sizeof(uint64_t));
+    uint64_t *ut = calloc(ticks, sizeof(uint64_t)), *up = calloc(ticks, sizeof(uint64_t));
+    if (!mt || !mp || !ut || !up)
+        return 2;
+    if (run_wasm(m, wasm, len, 1, half, mt, mp) != 0 || run_wasm(m, wasm, len, 0, half, ut, up) != 0 ||
+        run_wasm(m, wasm, len, 1, half, mt + half, mp + half) != 0 ||
+        run_wasm(m, wasm, len, 0, half, ut + half, up + half) != 0) {
+        fprintf(stderr, "bench: metering runs faulted\n");
+        return 2;
+    }
+    stats_t smt = stats(mt, 2 * half), smp = stats(mp, 2 * half);
+    stats_t sut = stats(ut, 2 * half), sup = stats(up, 2 * half);
+    printf("\nbudget metering (fuel %llu units/tick used of %llu; deadline %.0f us):\n",
+           (unsigned long long)fuel, (unsigned long long)budget, period_us / 2);
+    printf("%-34s %10s %10s %10s\n", "", "p50 [us]", "p99 [us]", "max [us]");
+    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), metered", smp.p50, smp.p99, smp.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), unmetered", sup.p50, sup.p99, sup.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, metered", smt.p50, smt.p99, smt.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, unmetered", sut.p50, sut.p99, sut.max);
+    printf("ratios: metered/unmetered process() p50 %.3fx, whole tick p50 %.3fx (aim: <= 1.10x)\n",
+           sup.p50 > 0 ? smp.p50 / sup.p50 : 0.0, sut.p50 > 0 ? smt.p50 / sut.p50 : 0.0);
     free(wasm);
     return mismatches == 0 ? 0 : 1;
 }

@@ -48,6 +48,8 @@ typedef struct {
     int         realtime;
     int         priority;
     uint64_t    budget_us;
+    uint64_t    fuel;
+    int         fuel_set;
     uint32_t    stale_ticks;
     roz_param_t params[MAX_PARAMS];
     size_t      n_params;
@@ -76,7 +78,9 @@ static void usage(FILE *f)
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
         "  --param KEY=VALUE    port parameter, repeatable (loopback: drop, freeze,\n"
         "                       delay, nan, range fault injection)\n"
-        "  --budget-us US       controller time budget per tick (default half the period)\n"
+        "  --budget-us US       controller wall-clock budget per tick (default half the period)\n"
+        "  --fuel N             controller fuel per tick, in loop back-edges and calls\n"
+        "                       (default 10000000 / control rate; 0 = unmetered)\n"
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
         "  --trace FILE         write every tick (targets, applied commands, state) as CSV\n"
         "  --help               this text\n"
@@ -137,7 +141,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
                                               "--ticks", "--priority", "--budget-us",
-                                              "--stale-ticks", "--param", NULL };
+                                              "--stale-ticks", "--param", "--fuel", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -173,6 +177,10 @@ static int parse_args(int argc, char **argv, options_t *o)
                 return -1;
             }
             o->budget_us = x;
+        } else if (!strcmp(a, "--fuel")) {
+            if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel))
+                return -1;
+            o->fuel_set = 1;
         } else if (!strcmp(a, "--stale-ticks")) {
             if (parse_u64(a, v, 1000000, &x) || x == 0) {
                 fprintf(stderr, "rozrun: --stale-ticks must be in 1..1000000\n");
@@ -366,6 +374,9 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  verify                 %u ticks, max %.1f us, mean %.1f us per tick\n",
            (unsigned)rep->ticks_run, rep->max_process_ns / 1000.0,
            rep->ticks_run ? rep->total_process_ns / 1000.0 / rep->ticks_run : 0.0);
+    printf("  fuel per tick          verify max %llu, run max %llu, last %llu units; budget %llu\n",
+           (unsigned long long)rep->max_fuel, (unsigned long long)rt.counters.max_fuel,
+           (unsigned long long)rt.counters.last_fuel, (unsigned long long)rep->fuel_budget);
     printf("  ticks                  %llu (controller %llu, waiting for state %llu)\n",
            (unsigned long long)rt.counters.ticks, (unsigned long long)rt.counters.controller_ticks,
            (unsigned long long)rt.counters.waiting_ticks);
@@ -442,6 +453,8 @@ int main(int argc, char **argv)
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;
     cfg.budget_ns = o.budget_us * 1000u;
+    if (o.fuel_set)
+        cfg.fuel_per_tick = o.fuel == 0 ? UINT64_MAX : o.fuel;
     cfg.monitor_jitter = o.realtime; /* simulated time runs ticks back to back */
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);

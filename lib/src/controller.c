@@ -12,6 +12,39 @@
 #include "m3_env.h"
 #include "wasm_scan.h"
 
+/* ---- private: metering ----------------------------------------------------- */
+
+/* The call being metered on this thread. Verification (another thread) and
+ * the tick meter at once, each in its own thread-local state. */
+typedef struct {
+    uint64_t     units;     /* used so far in this call */
+    uint64_t     fuel;      /* units allowed, 0 = no limit */
+    uint64_t     deadline;  /* absolute clock time, 0 = none */
+    roz_clock_fn clock;
+    void        *clock_ctx;
+} meter_t;
+
+static _Thread_local meter_t meter;
+
+static const char fuel_trap[] = "[trap] fuel exhausted";
+static const char deadline_trap[] = "[trap] deadline passed";
+
+/* wasm3's hook, called on every call (wasm3 itself) and every loop back-edge
+ * (cmake/wasm3-fuel.patch). A non-NULL result traps the running call. It is
+ * the one symbol of roz's core outside the roz_ prefix: wasm3 names it. */
+M3Result m3_Yield(void)
+{
+    meter_t *m = &meter;
+
+    m->units++;
+    if (m->fuel != 0 && m->units > m->fuel)
+        return fuel_trap;
+    if (m->deadline != 0 && (m->units & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) == 0 &&
+        m->clock(m->clock_ctx) > m->deadline)
+        return deadline_trap;
+    return m3Err_none;
+}
+
 /* ---- private: the imports as wasm3 raw functions -------------------------- */
 
 #define ABI ((roz_abi_t *)_ctx->userdata)
@@ -229,14 +262,47 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     return ROZ_OK;
 }
 
+void roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget)
+{
+    c->budget = *budget;
+    if (c->budget.clock == NULL)
+        c->budget.deadline_ns = 0;
+}
+
+uint64_t roz_controller_fuel_used(const roz_controller_t *c)
+{
+    return c->fuel_used;
+}
+
 int roz_controller_process(roz_controller_t *c, int64_t tick)
 {
     M3Result r;
 
-    if (c->process == NULL)
+    if (c->process == NULL || c->spent)
         return ROZ_ESTATE;
     c->calls++;
+    meter = (meter_t){ 0, c->budget.fuel, 0, c->budget.clock, c->budget.clock_ctx };
+    if (c->budget.deadline_ns != 0)
+        meter.deadline = c->budget.clock(c->budget.clock_ctx) + c->budget.deadline_ns;
     r = m3_CallV((IM3Function)c->process, tick);
+    c->fuel_used = meter.units;
+    meter.fuel = 0;
+    meter.deadline = 0;
+    if (r == fuel_trap) {
+        c->spent = 1;
+        snprintf(c->error, sizeof c->error, "fuel exhausted at tick %lld: %llu units, budget %llu",
+                 (long long)tick, (unsigned long long)c->fuel_used,
+                 (unsigned long long)c->budget.fuel);
+        return ROZ_ETIMEDOUT;
+    }
+    if (r == deadline_trap) {
+        c->spent = 1;
+        snprintf(c->error, sizeof c->error,
+                 "deadline passed at tick %lld: %llu us budget, stopped after %llu units",
+                 (long long)tick, (unsigned long long)(c->budget.deadline_ns / 1000u),
+                 (unsigned long long)c->fuel_used);
+        return ROZ_ETIMEDOUT;
+    }
     if (r != m3Err_none) {
         snprintf(c->error, sizeof c->error, "trap at tick %lld: %s", (long long)tick, r);
         return ROZ_EFAULT;
@@ -255,4 +321,5 @@ void roz_controller_unload(roz_controller_t *c)
     c->module = NULL;
     c->process = NULL;
     c->abi = NULL;
+    c->spent = 0;
 }

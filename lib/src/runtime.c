@@ -63,13 +63,21 @@ static void verify_state(roz_runtime_t *rt, double *state)
 
 static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wasm, size_t len)
 {
+    roz_budget_t budget = { rt->cfg.fuel_per_tick == UINT64_MAX ? 0 : rt->cfg.fuel_per_tick,
+                            rt->cfg.budget_ns == UINT64_MAX ? 0 : rt->cfg.budget_ns,
+                            rt->cfg.clock, rt->cfg.clock_ctx };
+    int rc;
+
     roz_controller_unload(&s->ctrl);
     roz_abi_init(&s->abi, rt->cfg.manifest, s->target, &rt->metrics);
     s->abi.clock = rt->cfg.clock;
     s->abi.clock_ctx = rt->cfg.clock_ctx;
     s->wasm = wasm;
     s->wasm_len = len;
-    return roz_controller_load(&s->ctrl, wasm, len, &s->abi);
+    rc = roz_controller_load(&s->ctrl, wasm, len, &s->abi);
+    if (rc == ROZ_OK)
+        roz_controller_set_budget(&s->ctrl, &budget);
+    return rc;
 }
 
 /* Runs a freshly loaded slot for ROZ_RUNTIME_VERIFY_TICKS ticks against a
@@ -78,6 +86,7 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
                        roz_verify_report_t *rep)
 {
     memset(rep, 0, sizeof *rep);
+    rep->fuel_budget = s->ctrl.budget.fuel;
     s->abi.state = state;
     for (int64_t t = 0; t < ROZ_RUNTIME_VERIFY_TICKS; t++) {
         s->abi.tick = t;
@@ -90,11 +99,15 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
         rep->nonfinite = s->abi.counters.set_nonfinite;
         rep->bad_index = s->abi.counters.set_bad_index + s->abi.counters.get_bad_index;
         rep->clamped = s->abi.counters.set_clamped;
+        rep->fuel[t] = roz_controller_fuel_used(&s->ctrl);
+        if (rep->fuel[t] > rep->max_fuel)
+            rep->max_fuel = rep->fuel[t];
         if (rc != ROZ_OK) {
             snprintf(rt->error, sizeof rt->error, "verify: %s", roz_controller_error(&s->ctrl));
             return ROZ_EFAULT;
         }
-        if (rt->cfg.budget_ns != 0 && dt > rt->cfg.budget_ns) {
+        /* (a deadline or fuel stop above is a failed verification as well) */
+        if (rt->cfg.budget_ns != UINT64_MAX && dt > rt->cfg.budget_ns) {
             snprintf(rt->error, sizeof rt->error,
                      "verify: process() took %llu us at tick %lld, budget %llu us",
                      (unsigned long long)(dt / 1000u), (long long)t,
@@ -142,6 +155,8 @@ int roz_runtime_init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     uint64_t period_ns = 1000000000ull / m->control_rate_hz;
     if (rt->cfg.budget_ns == 0)
         rt->cfg.budget_ns = period_ns / 2u;
+    if (rt->cfg.fuel_per_tick == 0)
+        rt->cfg.fuel_per_tick = (uint64_t)ROZ_CFG_FUEL_PER_SECOND / m->control_rate_hz;
     roz_monitor_init(&rt->monitor, "roz runtime", period_ns, cfg->log, cfg->log_ctx);
     rt->monitor.threshold_ns[ROZ_MON_PROCESS] = rt->cfg.budget_ns;
     for (int i = 0; i < 2; i++) {
@@ -290,9 +305,14 @@ int roz_runtime_tick(roz_runtime_t *rt)
             roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);
             rt->ctrl_tick++;
             rt->counters.controller_ticks++;
-            if (rc != ROZ_OK) {
+            rt->counters.last_fuel = roz_controller_fuel_used(&s->ctrl);
+            if (rt->counters.last_fuel > rt->counters.max_fuel)
+                rt->counters.max_fuel = rt->counters.last_fuel;
+            if (rc == ROZ_ETIMEDOUT) {
+                latch(rt, ROZ_FAULT_OVERRUN, roz_controller_error(&s->ctrl));
+            } else if (rc != ROZ_OK) {
                 latch(rt, ROZ_FAULT_TRAP, roz_controller_error(&s->ctrl));
-            } else if (rt->cfg.budget_ns != 0 && t1 - t0 > rt->cfg.budget_ns) {
+            } else if (rt->cfg.budget_ns != UINT64_MAX && t1 - t0 > rt->cfg.budget_ns) {
                 char msg[128];
                 snprintf(msg, sizeof msg, "process() took %llu us at tick %lld, budget %llu us",
                          (unsigned long long)((t1 - t0) / 1000u), (long long)(rt->ctrl_tick - 1),
@@ -335,12 +355,14 @@ int roz_runtime_clear_faults(roz_runtime_t *rt)
     int active = atomic_load(&rt->active);
 
     atomic_store(&rt->estop_input, 0u);
-    if ((faults & ROZ_FAULT_TRAP) && active >= 0) {
-        /* A trapped instance is not reused: rebuild and re-verify it. */
+    if (active >= 0 && ((faults & ROZ_FAULT_TRAP) || rt->slot[active].ctrl.spent)) {
+        /* A trapped or budget-stopped instance is not reused: its memory may
+         * be half-updated. Rebuild and re-verify it. */
         const roz_runtime_slot_t *s = &rt->slot[active];
         int rc = roz_runtime_load(rt, s->wasm, s->wasm_len, NULL);
         if (rc != ROZ_OK)
             return rc;
+        rt->counters.rebuilds++;
     }
     atomic_store(&rt->clear_request, 1u);
     return ROZ_OK;

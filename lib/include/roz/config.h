@@ -62,6 +62,19 @@
 #define ROZ_CFG_ERROR_LEN 192
 #endif
 
+/** Default controller fuel for one second of control time, in units (one
+ *  unit per loop back-edge or call, see roz/controller.h); a tick gets this
+ *  divided by control_rate_hz. Range 1000..4000000000. */
+#ifndef ROZ_CFG_FUEL_PER_SECOND
+#define ROZ_CFG_FUEL_PER_SECOND 10000000
+#endif
+
+/** Fuel units between two wall-clock deadline checks. Power of two,
+ *  1..65536. Smaller stops a slow loop sooner and costs more clock reads. */
+#ifndef ROZ_CFG_DEADLINE_CHECK_UNITS
+#define ROZ_CFG_DEADLINE_CHECK_UNITS 128
+#endif
+
 /* ---- checks --------------------------------------------------------- */
 #if ROZ_CFG_MAX_COMMANDS < 1 || ROZ_CFG_MAX_COMMANDS > 4096
 #error "ROZ_CFG_MAX_COMMANDS must be in 1..4096"
@@ -87,6 +100,14 @@
 #endif
 #if ROZ_CFG_ERROR_LEN < 32 || ROZ_CFG_ERROR_LEN > 4096
 #error "ROZ_CFG_ERROR_LEN must be in 32..4096"
+#endif
+
+#if ROZ_CFG_FUEL_PER_SECOND < 1000 || ROZ_CFG_FUEL_PER_SECOND > 4000000000
+#error "ROZ_CFG_FUEL_PER_SECOND must be in 1000..4000000000"
+#endif
+#if ROZ_CFG_DEADLINE_CHECK_UNITS < 1 || ROZ_CFG_DEADLINE_CHECK_UNITS > 65536 || \
+    (ROZ_CFG_DEADLINE_CHECK_UNITS & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) != 0
+#error "ROZ_CFG_DEADLINE_CHECK_UNITS must be a power of two in 1..65536"
 #endif
 
 #endif /* ROZ_CONFIG_H */

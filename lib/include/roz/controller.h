@@ -11,6 +11,16 @@
  * compiles or allocates; linear memory is fixed at its declared initial size
  * (at most ROZ_CFG_WASM_MAX_PAGES) and memory.grow returns -1.
  *
+ * Budget: every process() call runs on fuel, counted in units of executed
+ * work: one unit per function call (host imports included) and per loop
+ * back-edge, so the same controller on the same inputs always stops at the
+ * same point, on any machine. wasm3 calls its m3_Yield() hook on calls;
+ * roz's patch (cmake/wasm3-fuel.patch) calls it on back-edges too, and roz's
+ * m3_Yield() counts. On hosts a wall-clock deadline is checked at the same
+ * points, every ROZ_CFG_DEADLINE_CHECK_UNITS units. A call stopped by either
+ * ends with ROZ_ETIMEDOUT, and the instance is spent: it refuses to run again
+ * (its memory may be half-updated) until it is unloaded and loaded anew.
+ *
  * Load and unload allocate (wasm3's heap, or its fixed heap on firmware):
  * do them outside the tick. The module bytes must outlive the instance
  * (wasm3 keeps pointers into them).
@@ -30,8 +40,19 @@
 extern "C" {
 #endif
 
+/** Per-call budget of a controller instance. */
+typedef struct roz_budget {
+    uint64_t     fuel;        /**< units per process() call; 0 = unmetered */
+    uint64_t     deadline_ns; /**< wall-clock time per call; 0 = none */
+    roz_clock_fn clock;       /**< monotonic clock for the deadline */
+    void        *clock_ctx;
+} roz_budget_t;
+
 /** A controller instance. Fields are private to controller.c. */
 typedef struct roz_controller {
+    roz_budget_t budget;
+    uint64_t   fuel_used;  /* units the last process() call used */
+    int        spent;      /* stopped by its budget: must be reloaded */
     void      *env;       /* engine handles, NULL when not loaded */
     void      *runtime;
     void      *module;
@@ -59,11 +80,18 @@ void roz_controller_init(roz_controller_t *c);
 ROZ_NODISCARD int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len,
                                       roz_abi_t *abi);
 
+/** @brief Set the budget of every following process() call. */
+void roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget);
+
+/** @brief Fuel units the last process() call used. */
+uint64_t roz_controller_fuel_used(const roz_controller_t *c);
+
 /**
- * @brief Call process(tick) once.
- * @retval ROZ_OK     returned normally
- * @retval ROZ_EFAULT the controller trapped; roz_controller_error() says why
- * @retval ROZ_ESTATE not loaded
+ * @brief Call process(tick) once, within the budget.
+ * @retval ROZ_OK        returned normally
+ * @retval ROZ_EFAULT    the controller trapped; roz_controller_error() says why
+ * @retval ROZ_ETIMEDOUT fuel or deadline ran out; the instance is spent
+ * @retval ROZ_ESTATE    not loaded, or spent by an earlier overrun
  * Context: the tick; RT-safe (no allocation, no compilation).
  */
 ROZ_NODISCARD int roz_controller_process(roz_controller_t *c, int64_t tick);

@@ -63,7 +63,12 @@ typedef struct roz_runtime_config {
     const roz_manifest_t *manifest;
     roz_port_t            port;
     uint32_t     stale_ticks;   /**< ticks without a fresh frame before STALE; default 10 */
-    uint64_t     budget_ns;     /**< process() time budget per tick; default half the period */
+    uint64_t     budget_ns;     /**< process() wall-clock budget per tick (deadline, checked
+                                     while it runs, needs a clock); default half the period;
+                                     UINT64_MAX = none */
+    uint64_t     fuel_per_tick; /**< process() fuel per tick (deterministic, see
+                                     roz/controller.h); default ROZ_CFG_FUEL_PER_SECOND /
+                                     control_rate_hz; UINT64_MAX = unmetered */
     double       position_margin; /**< filter margin; default ROZ_FILTER_DEFAULT_MARGIN */
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
@@ -83,6 +88,9 @@ typedef struct roz_verify_report {
     uint64_t nonfinite;        /**< non-finite command.set values */
     uint64_t bad_index;        /**< refused indices (reported, not failing) */
     uint64_t clamped;          /**< clamped command.set values (reported) */
+    uint64_t fuel[ROZ_RUNTIME_VERIFY_TICKS]; /**< fuel each verify tick used */
+    uint64_t max_fuel;         /**< the most any verify tick used */
+    uint64_t fuel_budget;      /**< the per-tick fuel budget it ran under */
 } roz_verify_report_t;
 
 /** Counters of the runtime (the filter and ABI keep their own). */
@@ -97,6 +105,9 @@ typedef struct roz_runtime_counters {
     uint64_t faults[ROZ_FAULT_KIND_COUNT]; /**< times each fault latched */
     uint64_t swaps;            /**< controllers installed */
     uint64_t swaps_refused;    /**< controllers that failed verification */
+    uint64_t last_fuel;        /**< fuel the last process() call used */
+    uint64_t max_fuel;         /**< the most one process() call used */
+    uint64_t rebuilds;         /**< instances rebuilt after a trap or overrun */
 } roz_runtime_counters_t;
 
 /** One controller slot. */
@@ -182,7 +193,9 @@ void roz_runtime_estop(roz_runtime_t *rt);
 
 /**
  * @brief Clear every latched fault at the next tick. A controller that
- *        trapped is rebuilt from its bytes first (its instance is not reused).
+ *        trapped or was stopped by its budget is rebuilt from its bytes and
+ *        verified first (its instance is not reused); one that overran but
+ *        returned normally is reused.
  * @retval ROZ_OK, or the error of rebuilding (the fault then stays latched)
  * Context: not the tick thread; may allocate.
  */

@@ -1,0 +1,217 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The per-tick budget: fuel (deterministic: loop back-edges and calls) and a
+ * wall-clock deadline checked at the same points. A call-free infinite loop,
+ * an import called forever and infinite recursion all stop within the budget;
+ * a slow but finite controller passes just under its budget and stops just
+ * over it, at the same fuel on every run; the fault latches, the safe defaults
+ * go out, and the loop keeps ticking. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/hal/clock.h"
+#include "roz/hal/runner.h"
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "support.h"
+#include "ur5_manifest.h"
+
+static roz_runtime_t rt;
+static roz_loopback_t lb;
+static roz_test_clock_t clk;
+
+/* A still clock: the deadline never passes, so only fuel can stop a call. */
+static void start(uint64_t fuel, uint64_t clock_step)
+{
+    roz_runtime_config_t cfg;
+    char err[128];
+    roz_port_t port = roz_loopback_port(&lb);
+
+    assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
+    clk = (roz_test_clock_t){ 1000, clock_step };
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = &roz_manifest_ur5;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.fuel_per_tick = fuel;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+}
+
+static int load(const char *name, roz_verify_report_t *rep)
+{
+    size_t len;
+    const uint8_t *w = roz_test_controller(name, &len);
+    return roz_runtime_load(&rt, w, len, rep);
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_runtime_deinit(&rt);
+    return 0;
+}
+
+static void test_budget_default_per_rate(void **st)
+{
+    (void)st;
+    start(0, 0);
+    assert_int_equal(rt.cfg.fuel_per_tick, ROZ_CFG_FUEL_PER_SECOND / 100);
+    assert_int_equal(rt.cfg.budget_ns, 5000000); /* half of the 10 ms period */
+}
+
+/* Each endless controller stops at exactly the fuel budget, at tick 150. */
+static void test_budget_endless_controllers_stop(void **st)
+{
+    static const struct { const char *name; unsigned fault; const char *msg; } cases[] = {
+        { "bad_infinite_loop", ROZ_FAULT_OVERRUN, "fuel exhausted at tick 150: 5001 units, budget 5000" },
+        { "bad_import_loop", ROZ_FAULT_OVERRUN, "fuel exhausted at tick 150: 5001 units, budget 5000" },
+        /* recursion: each call costs fuel; wasm3's stack check may come first */
+        { "bad_recursion", ROZ_FAULT_OVERRUN | ROZ_FAULT_TRAP, "at tick 150" },
+    };
+    (void)st;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        print_message("case %s\n", cases[i].name);
+        start(5000, 0);
+        assert_int_equal(load(cases[i].name, NULL), ROZ_OK);
+        for (int t = 0; t < 151; t++)
+            roz_runtime_tick(&rt);
+        unsigned f = roz_runtime_faults(&rt);
+        assert_true(f != 0 && (f & ~cases[i].fault) == 0);
+        if (strstr(roz_runtime_fault_message(&rt), cases[i].msg) == NULL)
+            fail_msg("%s: \"%s\" lacks \"%s\"", cases[i].name, roz_runtime_fault_message(&rt),
+                     cases[i].msg);
+        /* the loop keeps going: defaults out every tick, nothing unsafe */
+        for (int t = 0; t < 50; t++)
+            assert_int_equal(roz_runtime_tick(&rt), ROZ_EFAULT);
+        assert_int_equal(rt.counters.writes, 201);
+        assert_int_equal(lb.violations, 0);
+        assert_true(roz_runtime_last_commands(&rt)[0] == 0.0);
+        roz_runtime_deinit(&rt);
+    }
+}
+
+/* Just under and just over: the same controller, the same fuel, every run. */
+static void test_budget_just_under_and_over(void **st)
+{
+    roz_verify_report_t rep, rep2;
+    (void)st;
+    start(UINT64_MAX, 0); /* unmetered: measure */
+    assert_int_equal(load("bad_busy", &rep), ROZ_OK);
+    uint64_t need = rep.fuel[0];
+    print_message("busy.wat uses %llu units per tick\n", (unsigned long long)need);
+    assert_true(need >= 1000);
+    for (int t = 0; t < ROZ_RUNTIME_VERIFY_TICKS; t++)
+        assert_int_equal(rep.fuel[t], need); /* same every tick */
+    roz_runtime_deinit(&rt);
+
+    /* exactly enough: verifies and runs */
+    start(need, 0);
+    assert_int_equal(load("bad_busy", &rep2), ROZ_OK);
+    assert_int_equal(rep2.max_fuel, need);
+    assert_int_equal(rep2.fuel_budget, need);
+    for (int t = 0; t < 300; t++)
+        roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(rt.counters.max_fuel, need);
+    roz_runtime_deinit(&rt);
+
+    /* one unit short: verification refuses it, naming the fuel */
+    start(need - 1, 0);
+    assert_int_equal(load("bad_busy", &rep2), ROZ_EFAULT);
+    assert_non_null(strstr(roz_runtime_error(&rt), "fuel exhausted at tick 0"));
+    assert_int_equal(rep2.fuel[0], need); /* stopped at the first unit over */
+}
+
+/* A controller stopped by its budget is rebuilt on clear, never reused. */
+static void test_budget_rebuild_after_overrun(void **st)
+{
+    (void)st;
+    start(5000, 0);
+    assert_int_equal(load("bad_infinite_loop", NULL), ROZ_OK);
+    for (int t = 0; t < 151; t++)
+        roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
+    int active = atomic_load(&rt.active);
+    assert_true(rt.slot[active].ctrl.spent);
+    assert_int_equal(roz_controller_process(&rt.slot[active].ctrl, 0), ROZ_ESTATE);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    assert_int_equal(rt.counters.rebuilds, 1);
+    roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_not_equal(atomic_load(&rt.active), active);
+    assert_true(roz_runtime_last_commands(&rt)[0] > 0.0); /* running again from tick 0 */
+}
+
+/* The wall-clock deadline, checked at the same points as the fuel. */
+static void test_budget_deadline(void **st)
+{
+    (void)st;
+    start(UINT64_MAX, 1000); /* unmetered fuel; the clock advances 1 us per reading */
+    assert_int_equal(load("bad_infinite_loop", NULL), ROZ_OK);
+    for (int t = 0; t < 151; t++)
+        roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
+    assert_non_null(strstr(roz_runtime_fault_message(&rt), "deadline passed at tick 150"));
+}
+
+/* On the periodic runner with the real clock: the endless loop is stopped
+ * every time and the runner completes its ticks. Figures are printed, not
+ * asserted. */
+static roz_runner_t runner;
+
+static int tick(void *ctx)
+{
+    (void)ctx;
+    roz_runtime_tick(&rt);
+    return 0;
+}
+
+static void test_budget_loop_keeps_its_period(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_runner_config_t rc = { .period_ns = 10000000, .max_ticks = 300 };
+    char err[128];
+    roz_port_t port = roz_loopback_port(&lb);
+    size_t len;
+    const uint8_t *w = roz_test_controller("bad_infinite_loop", &len);
+    (void)st;
+    assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = &roz_manifest_ur5;
+    cfg.port = port;
+    cfg.clock = roz_clock_monotonic_ns;
+    cfg.fuel_per_tick = UINT64_MAX; /* the deadline alone must stop it */
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    assert_int_equal(roz_runner_start(&runner, &rc, tick, NULL), ROZ_OK);
+    roz_runner_join(&runner);
+    assert_int_equal(runner.ticks, 300);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
+    assert_int_equal(rt.counters.writes, 300);
+    assert_int_equal(lb.violations, 0);
+    print_message("300 ticks at 100 Hz: %llu deadlines missed, tick max %.1f us, "
+                  "wake-up jitter max %.1f us\n",
+                  (unsigned long long)runner.missed, rt.monitor.stat[ROZ_MON_TICK].max_ns / 1e3,
+                  runner.monitor.stat[ROZ_MON_JITTER].max_ns / 1e3);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_budget_default_per_rate, teardown),
+        cmocka_unit_test(test_budget_endless_controllers_stop),
+        cmocka_unit_test_teardown(test_budget_just_under_and_over, teardown),
+        cmocka_unit_test_teardown(test_budget_rebuild_after_overrun, teardown),
+        cmocka_unit_test_teardown(test_budget_deadline, teardown),
+        cmocka_unit_test_teardown(test_budget_loop_keeps_its_period, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
