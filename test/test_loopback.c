@@ -1,0 +1,176 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The loopback simulator: works with every built-in manifest, is
+ * deterministic, models velocity, position-lag, MIT-mode and planar-base
+ * motion, keeps the IMU at rest, and injects faults as documented. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "diff_drive_manifest.h"
+#include "quadcopter_manifest.h"
+#include "roz/builtin.h"
+#include "roz/loopback.h"
+#include "roz/runtime.h"
+#include "support.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+static roz_loopback_t lb;
+static roz_runtime_t rt;
+static double st_a[ROZ_CFG_MAX_STATES], st_b[ROZ_CFG_MAX_STATES];
+
+static void run_builtin(const roz_manifest_t *m, const char *ctl, int ticks, double *final)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 10 };
+    char err[128];
+    size_t len;
+    const uint8_t *w = roz_test_controller(ctl, &len);
+    roz_port_t port = roz_loopback_port(&lb);
+
+    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
+        fail_msg("%s: %s", m->robot_id, err);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    for (int t = 0; t < ticks; t++)
+        roz_runtime_tick(&rt);
+    if (roz_runtime_faults(&rt) != 0)
+        fail_msg("%s: fault %s", m->robot_id, roz_runtime_fault_message(&rt));
+    assert_int_equal(lb.violations, 0);
+    assert_int_equal(lb.writes, (uint64_t)ticks);
+    roz_loopback_true_state(&lb, final);
+    roz_runtime_deinit(&rt);
+}
+
+/* Every built-in runs, twice, to the same bits. */
+static void test_loopback_every_builtin_deterministic(void **st)
+{
+    (void)st;
+    for (size_t i = 0; i < roz_builtin_count(); i++) {
+        const roz_manifest_t *m = roz_builtin_at(i);
+        print_message("%s\n", m->robot_id);
+        run_builtin(m, "sine", 300, st_a);
+        run_builtin(m, "sine", 300, st_b);
+        assert_memory_equal(st_a, st_b, m->n_states * sizeof st_a[0]);
+        int moved = 0;
+        for (uint16_t s = 0; s < m->n_states; s++) {
+            assert_true(isfinite(st_a[s]));
+            moved += st_a[s] != m->states[s].default_value;
+        }
+        assert_true(moved > 0);
+    }
+}
+
+static void test_loopback_models(void **st)
+{
+    (void)st;
+    /* UR5: velocity integrates into position; the velocity state reads it */
+    run_builtin(&roz_manifest_ur5, "constant_velocity", 100, st_a);
+    /* the port steps on each read after the first write: 99 steps, the first
+     * at 0.5 rad/s (ramped from 0 by the rate cap), then 0.628 rad/s */
+    assert_near(st_a[ROZ_UR5_STATE_ELBOW_JOINT_POSITION], 0.005 + 0.628 * 0.98, 1e-9);
+    assert_near(st_a[ROZ_UR5_STATE_ELBOW_JOINT_VELOCITY], 0.628, 1e-12);
+
+    /* quadcopter: body velocities into world position, yaw from the yaw rate */
+    run_builtin(&roz_manifest_quadcopter, "constant_velocity", 100, st_a);
+    assert_true(st_a[ROZ_QUADCOPTER_STATE_BODY_POSITION_Z] > 0.5);
+    assert_near(st_a[ROZ_QUADCOPTER_STATE_BODY_YAW], 0.314 * 0.99, 1e-9);
+
+    /* diff drive: a unicycle */
+    run_builtin(&roz_manifest_diff_drive, "constant_velocity", 100, st_a);
+    assert_true(st_a[ROZ_DIFF_DRIVE_STATE_BASE_ODOM_X] > 0.15);
+    assert_true(st_a[ROZ_DIFF_DRIVE_STATE_BASE_ODOM_Y] > 0.0);
+    assert_near(st_a[ROZ_DIFF_DRIVE_STATE_BASE_ODOM_YAW], 0.4 * 0.99, 1e-9);
+
+    /* G1: the IMU stays at rest (its manifest defaults) */
+    run_builtin(&roz_manifest_unitree_g1, "g1_stand", 100, st_a);
+    assert_true(st_a[ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_W] == 1.0);
+    assert_true(st_a[ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_X] == 0.0);
+    assert_true(st_a[ROZ_UNITREE_G1_STATE_BASE_IMU_LINEAR_ACCELERATION_Z] == 9.81);
+    assert_true(st_a[ROZ_UNITREE_G1_STATE_LEFT_KNEE_JOINT_EFFORT] != 0.0); /* PD torque */
+}
+
+/* Fault injection, read straight from the port. */
+static void test_loopback_faults(void **st)
+{
+    roz_port_t p = roz_loopback_port(&lb);
+    roz_param_t items[] = { { "drop", "2:4" }, { "nan", "shoulder_pan_joint/position@5:6" },
+                            { "range", "1@6:7" }, { "delay", "2@8:10" }, { "freeze", "12" } };
+    roz_params_t params = { items, 5 };
+    double s[12], cmd[6] = { 1, 1, 1, 1, 1, 1 };
+    char err[160];
+    (void)st;
+    assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, &params, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* tick 0: the initial frame */
+    assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* tick 1: moved 0.01 */
+    assert_near(s[0], 0.01, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 0); /* 2, 3 dropped: the old frame */
+    assert_near(s[0], 0.01, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 0);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 4 */
+    assert_near(s[0], 0.04, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 5: NaN on state 0 */
+    assert_true(isnan(s[0]));
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 6: state 1 beyond its limit */
+    assert_near(s[1], 6.283185307179586 + 0.5, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 7 */
+    assert_near(s[0], 0.07, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 8: two ticks late */
+    assert_near(s[0], 0.06, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 9 */
+    assert_near(s[0], 0.07, 1e-12);
+    for (int t = 10; t < 12; t++)
+        assert_int_equal(roz_port_read(&p, s, 12), 1);
+    for (int t = 12; t < 20; t++) /* frozen from 12: nothing new, ever */
+        assert_int_equal(roz_port_read(&p, s, 12), 0);
+    assert_int_equal(lb.frames_dropped, 2 + 8);
+}
+
+static void test_loopback_bad_params(void **st)
+{
+    static const struct { const char *key, *value, *want; } cases[] = {
+        { "dropp", "1:2", "unknown parameter \"dropp\" for port loopback" },
+        { "drop", "5:2", "parameter drop = \"5:2\"" },
+        { "delay", "99@1:2", "parameter delay = \"99@1:2\": expected K@FROM:TO with K in 1..15" },
+        { "nan", "nosuch/state@1:2", "parameter nan = \"nosuch/state@1:2\"" },
+        { "range", "12@1:", "parameter range = \"12@1:\"" },
+    };
+    roz_port_t p = roz_loopback_port(&lb);
+    char err[200];
+    (void)st;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        roz_param_t item = { cases[i].key, cases[i].value };
+        roz_params_t params = { &item, 1 };
+        assert_true(roz_port_open(&p, &roz_manifest_ur5, &params, err, sizeof err) < 0);
+        if (strstr(err, cases[i].want) == NULL)
+            fail_msg("\"%s\" lacks \"%s\"", err, cases[i].want);
+    }
+    /* wrong sizes are refused, not overrun */
+    double s[12];
+    assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_port_read(&p, s, 11), ROZ_EINVAL);
+    assert_int_equal(roz_port_write(&p, s, 7), ROZ_EINVAL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_loopback_every_builtin_deterministic),
+        cmocka_unit_test(test_loopback_models),
+        cmocka_unit_test(test_loopback_faults),
+        cmocka_unit_test(test_loopback_bad_params),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,114 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Port parameters: values parsed with errors naming the key and the value;
+ * unknown keys refused. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/hal/params.h"
+
+static const roz_param_t items[] = {
+    { "command_writer_period_us", "2000" }, { "state_decimation", "0" },
+    { "enable_monitor", "off" },            { "network_interface", "lo" },
+    { "dds_domain", "-1" },                 { "gain", "1.5e1" },
+    { "big", "99999999999999999999" },      { "flag", "maybe" },
+    { "dds_domain", "7" }, /* the last one wins */
+};
+static const roz_params_t p = { items, sizeof items / sizeof items[0] };
+
+static void test_params_values(void **st)
+{
+    char err[160] = "";
+    uint32_t u = 0;
+    double d = 0;
+    int b = -1;
+    (void)st;
+    assert_int_equal(roz_params_get_u32(&p, "command_writer_period_us", 1, 100, 1000000, &u, err,
+                                        sizeof err), ROZ_OK);
+    assert_int_equal(u, 2000);
+    assert_int_equal(roz_params_get_u32(&p, "absent", 42, 0, 100, &u, err, sizeof err), ROZ_OK);
+    assert_int_equal(u, 42);
+    assert_int_equal(roz_params_get_u32(&p, "dds_domain", 0, 0, 232, &u, err, sizeof err), ROZ_OK);
+    assert_int_equal(u, 7);
+    assert_int_equal(roz_params_get_bool(&p, "enable_monitor", 1, &b, err, sizeof err), ROZ_OK);
+    assert_int_equal(b, 0);
+    assert_int_equal(roz_params_get_bool(&p, "absent", 1, &b, err, sizeof err), ROZ_OK);
+    assert_int_equal(b, 1);
+    assert_int_equal(roz_params_get_double(&p, "gain", 0, 0, 100, &d, err, sizeof err), ROZ_OK);
+    assert_true(d == 15.0);
+    assert_string_equal(roz_params_get_str(&p, "network_interface", "eth0"), "lo");
+    assert_string_equal(roz_params_get_str(&p, "absent", "eth0"), "eth0");
+}
+
+static void test_params_errors_name_key_and_value(void **st)
+{
+    static const struct { const char *key; const char *want; } cases[] = {
+        { "state_decimation", "parameter state_decimation = \"0\": expected an integer in 1..1000" },
+        { "big", "parameter big = \"99999999999999999999\": expected an integer in 1..1000" },
+        { "network_interface", "parameter network_interface = \"lo\": expected an integer" },
+    };
+    char err[160];
+    uint32_t u;
+    double d;
+    int b;
+    (void)st;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        err[0] = '\0';
+        assert_int_equal(roz_params_get_u32(&p, cases[i].key, 1, 1, 1000, &u, err, sizeof err),
+                         ROZ_EINVAL);
+        if (strstr(err, cases[i].want) == NULL)
+            fail_msg("\"%s\" lacks \"%s\"", err, cases[i].want);
+    }
+    static const roz_param_t neg[] = { { "dds_domain", "-1" } };
+    static const roz_params_t pn = { neg, 1 };
+    assert_int_equal(roz_params_get_u32(&pn, "dds_domain", 0, 0, 232, &u, err, sizeof err), ROZ_EINVAL);
+    assert_non_null(strstr(err, "dds_domain = \"-1\""));
+    assert_int_equal(roz_params_get_bool(&p, "flag", 1, &b, err, sizeof err), ROZ_EINVAL);
+    assert_non_null(strstr(err, "parameter flag = \"maybe\": expected true or false"));
+    assert_int_equal(roz_params_get_double(&p, "gain", 0, 0, 10, &d, err, sizeof err), ROZ_EINVAL);
+    assert_non_null(strstr(err, "parameter gain = \"1.5e1\""));
+}
+
+static void test_params_unknown_keys(void **st)
+{
+    static const char *const known[] = { "command_writer_period_us", "state_decimation",
+                                         "enable_monitor", "network_interface", "dds_domain",
+                                         "gain", "big", "flag", NULL };
+    static const char *const few[] = { "dds_domain", NULL };
+    char err[256];
+    (void)st;
+    assert_int_equal(roz_params_check_known(&p, known, "test/port", err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_params_check_known(&p, few, "test/port", err, sizeof err), ROZ_ENOENT);
+    assert_string_equal(err, "unknown parameter \"command_writer_period_us\" for port test/port "
+                             "(known: dds_domain)");
+    assert_int_equal(roz_params_check_known(NULL, few, "x", err, sizeof err), ROZ_OK);
+}
+
+static void test_params_split(void **st)
+{
+    char a[] = "drop=10:20", b[] = "novalue", c[] = "=x", d[] = "k=";
+    roz_param_t out;
+    (void)st;
+    assert_int_equal(roz_params_split(a, &out), ROZ_OK);
+    assert_string_equal(out.key, "drop");
+    assert_string_equal(out.value, "10:20");
+    assert_int_equal(roz_params_split(b, &out), ROZ_EINVAL);
+    assert_int_equal(roz_params_split(c, &out), ROZ_EINVAL);
+    assert_int_equal(roz_params_split(d, &out), ROZ_OK);
+    assert_string_equal(out.value, "");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_params_values),
+        cmocka_unit_test(test_params_errors_name_key_and_value),
+        cmocka_unit_test(test_params_unknown_keys),
+        cmocka_unit_test(test_params_split),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
