@@ -4,7 +4,14 @@
 include(CMakePackageConfigHelpers)
 
 set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
-set(_roz_targets roz_core)
+set(_roz_targets roz_core roz_hal)
+if(TARGET roz_port_loopback)
+  list(APPEND _roz_targets roz_port_loopback)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/loopback/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+endif()
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+        FILES_MATCHING PATTERN "*.h")
 if(TARGET roz_wasm3)
   # Static roz_core links it PRIVATE, so a consumer's link line needs it.
   list(APPEND _roz_targets roz_wasm3)
@@ -33,7 +40,7 @@ configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/rozConfig.cmake.in
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/rozConfig.cmake ${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
-              ${PROJECT_SOURCE_DIR}/cmake/RozGenerate.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/RozGenerate.cmake ${PROJECT_SOURCE_DIR}/cmake/RozWasm.cmake
         DESTINATION ${ROZ_INSTALL_CMAKEDIR})
 
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})

@@ -5,7 +5,9 @@
 
 #include "my_arm_manifest.h"
 #include "roz/builtin.h"
+#include "roz/loopback.h"
 #include "roz/manifest.h"
+#include "roz/runtime.h"
 
 #define CHECK(cond)                                                   \
     do {                                                              \
@@ -14,6 +16,16 @@
             return 1;                                                 \
         }                                                             \
     } while (0)
+
+/* (module (func (export "process") (param i64))): the smallest controller */
+static const uint8_t idle_wasm[] = {
+    0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, 0x01, 0x05, 0x01, 0x60, 0x01,
+    0x7e, 0x00, 0x03, 0x02, 0x01, 0x00, 0x07, 0x0b, 0x01, 0x07, 0x70, 0x72, 0x6f,
+    0x63, 0x65, 0x73, 0x73, 0x00, 0x00, 0x0a, 0x04, 0x01, 0x02, 0x00, 0x0b,
+};
+
+static roz_runtime_t rt;
+static roz_loopback_t lb;
 
 int main(void)
 {
@@ -26,6 +38,21 @@ int main(void)
     CHECK(m->commands[ROZ_MY_ARM_CMD_JOINT2_VELOCITY].position_state ==
           ROZ_MY_ARM_STATE_JOINT2_POSITION);
     CHECK(ur5 != NULL && ur5->n_commands == 6);
+    /* the runtime on the loopback port, as an installed package gives it */
+    roz_runtime_config_t cfg;
+    char err[128];
+    roz_port_t port = roz_loopback_port(&lb);
+    CHECK(roz_port_open(&port, m, NULL, err, sizeof err) == ROZ_OK);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    CHECK(roz_runtime_init(&rt, &cfg) == ROZ_OK);
+    CHECK(roz_runtime_load(&rt, idle_wasm, sizeof idle_wasm, NULL) == ROZ_OK);
+    CHECK(roz_runtime_start(&rt) == ROZ_OK);
+    for (int t = 0; t < 10; t++)
+        CHECK(roz_runtime_tick(&rt) == ROZ_OK);
+    CHECK(rt.counters.writes == 10 && lb.violations == 0);
+    roz_runtime_deinit(&rt);
     printf("consumer: my_arm %u commands, %u states; ur5 found; roz %s\n",
            (unsigned)m->n_commands, (unsigned)m->n_states, ROZ_VERSION_STRING);
     return 0;
