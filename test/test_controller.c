@@ -150,6 +150,38 @@ static void test_controller_memory_is_fixed(void **st)
     }
 }
 
+/* The WAT twins of the C examples compute the same targets, bit for bit. */
+static void test_controller_c_and_wat_agree(void **st)
+{
+    static const char *const pairs[][2] = { { "sine", "sine_wat" },
+                                            { "constant_velocity", "constant_velocity_wat" } };
+    static double out_c[ROZ_CFG_MAX_COMMANDS];
+    (void)st;
+    for (size_t p = 0; p < 2; p++) {
+        roz_controller_t a, b;
+        roz_abi_t abi_b;
+        static double target_b[ROZ_CFG_MAX_COMMANDS];
+        size_t la, lb;
+        const uint8_t *wa = roz_test_controller(pairs[p][0], &la);
+        const uint8_t *wb = roz_test_controller(pairs[p][1], &lb);
+        roz_controller_init(&a);
+        roz_controller_init(&b);
+        roz_abi_init(&abi_b, &roz_manifest_ur5, target_b, NULL);
+        abi_b.state = state;
+        assert_int_equal(roz_controller_load(&a, wa, la, &abi), ROZ_OK);
+        assert_int_equal(roz_controller_load(&b, wb, lb, &abi_b), ROZ_OK);
+        for (int64_t t = 0; t < 300; t++) {
+            abi.tick = abi_b.tick = t;
+            assert_int_equal(roz_controller_process(&a, t), ROZ_OK);
+            assert_int_equal(roz_controller_process(&b, t), ROZ_OK);
+            memcpy(out_c, target, sizeof out_c);
+            assert_memory_equal(out_c, target_b, 6 * sizeof(double));
+        }
+        roz_controller_unload(&a);
+        roz_controller_unload(&b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -159,6 +191,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_controller_pd_reads_state, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_traps, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_memory_is_fixed, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_c_and_wat_agree, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

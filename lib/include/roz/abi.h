@@ -31,15 +31,6 @@ extern "C" {
 #define ROZ_ABI_SET_CLAMPED  1   /**< value clamped to the channel's limits */
 #define ROZ_ABI_SET_REFUSED (-1) /**< bad index or non-finite value */
 
-/** Telemetry ring entries (emit_metric); power of two, 2..65536. */
-#ifndef ROZ_CFG_TELEMETRY_RING
-#define ROZ_CFG_TELEMETRY_RING 256
-#endif
-#if ROZ_CFG_TELEMETRY_RING < 2 || ROZ_CFG_TELEMETRY_RING > 65536 || \
-    (ROZ_CFG_TELEMETRY_RING & (ROZ_CFG_TELEMETRY_RING - 1)) != 0
-#error "ROZ_CFG_TELEMETRY_RING must be a power of two in 2..65536"
-#endif
-
 /** One emitted metric. */
 typedef struct roz_metric {
     int64_t tick;

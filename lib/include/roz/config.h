@@ -75,6 +75,12 @@
 #define ROZ_CFG_DEADLINE_CHECK_UNITS 128
 #endif
 
+/** Telemetry ring entries (telemetry.emit_metric values waiting to be
+ *  drained off the tick). Power of two, 2..65536. */
+#ifndef ROZ_CFG_TELEMETRY_RING
+#define ROZ_CFG_TELEMETRY_RING 256
+#endif
+
 /* ---- checks --------------------------------------------------------- */
 #if ROZ_CFG_MAX_COMMANDS < 1 || ROZ_CFG_MAX_COMMANDS > 4096
 #error "ROZ_CFG_MAX_COMMANDS must be in 1..4096"
@@ -108,6 +114,11 @@
 #if ROZ_CFG_DEADLINE_CHECK_UNITS < 1 || ROZ_CFG_DEADLINE_CHECK_UNITS > 65536 || \
     (ROZ_CFG_DEADLINE_CHECK_UNITS & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) != 0
 #error "ROZ_CFG_DEADLINE_CHECK_UNITS must be a power of two in 1..65536"
+#endif
+
+#if ROZ_CFG_TELEMETRY_RING < 2 || ROZ_CFG_TELEMETRY_RING > 65536 || \
+    (ROZ_CFG_TELEMETRY_RING & (ROZ_CFG_TELEMETRY_RING - 1)) != 0
+#error "ROZ_CFG_TELEMETRY_RING must be a power of two in 2..65536"
 #endif
 
 #endif /* ROZ_CONFIG_H */
