@@ -4,7 +4,10 @@
 #include <stdio.h>
 
 #include "my_arm_manifest.h"
+#include "roz/config.h"
+#if ROZ_HAS_BUILTIN_MANIFESTS
 #include "roz/builtin.h"
+#endif
 #include "roz/loopback.h"
 #include "roz/manifest.h"
 #include "roz/runtime.h"
@@ -30,15 +33,16 @@ static roz_loopback_t lb;
 int main(void)
 {
     const roz_manifest_t *m = &roz_manifest_my_arm;
-    const roz_manifest_t *ur5 = roz_builtin_find("ur5");
 
     CHECK(roz_manifest_validate(m, NULL) == ROZ_OK);
     CHECK(ROZ_MY_ARM_N_COMMANDS == 2 && m->n_commands == 2);
     CHECK(roz_manifest_find_command(m, "joint2/velocity") == ROZ_MY_ARM_CMD_JOINT2_VELOCITY);
     CHECK(m->commands[ROZ_MY_ARM_CMD_JOINT2_VELOCITY].position_state ==
           ROZ_MY_ARM_STATE_JOINT2_POSITION);
+#if ROZ_HAS_BUILTIN_MANIFESTS
+    const roz_manifest_t *ur5 = roz_builtin_find("ur5");
     CHECK(ur5 != NULL && ur5->n_commands == 6);
-    /* the runtime on the loopback port, as an installed package gives it */
+#endif    /* the runtime on the loopback port, as an installed package gives it */
     roz_runtime_config_t cfg;
     char err[128];
     roz_port_t port = roz_loopback_port(&lb);
@@ -53,7 +57,8 @@ int main(void)
         CHECK(roz_runtime_tick(&rt) == ROZ_OK);
     CHECK(rt.counters.writes == 10 && lb.violations == 0);
     roz_runtime_deinit(&rt);
-    printf("consumer: my_arm %u commands, %u states; ur5 found; roz %s\n",
-           (unsigned)m->n_commands, (unsigned)m->n_states, ROZ_VERSION_STRING);
+    printf("consumer: my_arm %u commands, %u states; built-ins %s; max commands %d; roz %s\n",
+           (unsigned)m->n_commands, (unsigned)m->n_states,
+           ROZ_HAS_BUILTIN_MANIFESTS ? "found" : "off", ROZ_CFG_MAX_COMMANDS, ROZ_VERSION_STRING);
     return 0;
 }
