@@ -14,28 +14,22 @@
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
 #include <math.h>
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <stdatomic.h>
 #include <time.h>
 
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
+#include "roz/hal/module.h"
 #include "roz/hal/params.h"
 #include "roz/hal/runner.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "trace.h"
-
-extern char **environ;
 
 #define MAX_PARAMS 32
 
@@ -226,86 +220,6 @@ static const roz_manifest_t *find_robot(const char *id)
     return NULL;
 }
 
-/* Reads a whole file; NULL with a message on error. */
-static uint8_t *read_file(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (f == NULL) {
-        fprintf(stderr, "rozrun: cannot read %s: %s\n", path, strerror(errno));
-        return NULL;
-    }
-    size_t cap = 65536, n = 0;
-    uint8_t *buf = malloc(cap);
-    while (buf != NULL) {
-        n += fread(buf + n, 1, cap - n, f);
-        if (n < cap || cap > (size_t)ROZ_CFG_WASM_MAX_MODULE_BYTES)
-            break;
-        uint8_t *bigger = realloc(buf, cap * 2);
-        if (bigger == NULL) {
-            free(buf);
-            buf = NULL;
-            break;
-        }
-        buf = bigger;
-        cap *= 2;
-    }
-    int failed = ferror(f);
-    fclose(f);
-    if (buf == NULL || failed) {
-        fprintf(stderr, "rozrun: cannot read %s\n", path);
-        free(buf);
-        return NULL;
-    }
-    *len = n;
-    return buf;
-}
-
-/* Assembles a .wat with wabt's wat2wasm into a temporary file and reads it. */
-static uint8_t *assemble_wat(const char *path, size_t *len)
-{
-    char tmp[] = "/tmp/rozrun-XXXXXX";
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        fprintf(stderr, "rozrun: cannot create a temporary file: %s\n", strerror(errno));
-        return NULL;
-    }
-    close(fd);
-    /* posix_spawn takes char *const argv[]: give it writable copies. */
-    char prog[] = "wat2wasm", out_flag[] = "-o";
-    char *in = strdup(path);
-    if (in == NULL) {
-        unlink(tmp);
-        return NULL;
-    }
-    char *args[] = { prog, in, out_flag, tmp, NULL };
-    pid_t pid;
-    int status = 0;
-    int rc = posix_spawnp(&pid, "wat2wasm", NULL, NULL, args, environ);
-    free(in);
-    if (rc != 0) {
-        fprintf(stderr, "rozrun: cannot run wat2wasm (Debian package wabt) for %s: %s\n", path,
-                strerror(rc));
-        unlink(tmp);
-        return NULL;
-    }
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
-        ;
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-        fprintf(stderr, "rozrun: %s: wat2wasm refused it (its message is above)\n", path);
-        unlink(tmp);
-        return NULL;
-    }
-    uint8_t *buf = read_file(tmp, len);
-    unlink(tmp);
-    return buf;
-}
-
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && strcmp(s + n - k, suffix) == 0;
-}
-
 static uint64_t metrics_seen;
 static double metric_last = NAN;
 
@@ -423,7 +337,6 @@ int main(int argc, char **argv)
     roz_verify_report_t rep;
     char err[256] = "";
     size_t len = 0;
-    uint8_t *wasm;
 
     if (parse_args(argc, argv, &o) != 0)
         return 2;
@@ -435,10 +348,11 @@ int main(int argc, char **argv)
                 o.port);
         return 2;
     }
-    wasm = ends_with(o.controller, ".wat") ? assemble_wat(o.controller, &len)
-                                           : read_file(o.controller, &len);
-    if (wasm == NULL)
+    static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
+    if (roz_module_read_file(o.controller, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "rozrun: %s\n", err);
         return 2;
+    }
 
     roz_port_t port = roz_loopback_port(&loopback);
     roz_params_t params = { o.params, o.n_params };
@@ -517,6 +431,5 @@ int main(int argc, char **argv)
     unsigned faults = roz_runtime_faults(&rt);
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
-    free(wasm);
     return faults != 0 ? 1 : 0;
 }
