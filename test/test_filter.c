@@ -99,6 +99,8 @@ static const row_t g1_rows[] = {
     { "NaN position holds the state",    G1_KNEE_POS, 0.5,  0.5,  NAN,  ROZ_STOP_NONE,       0.5,   0, 0, 0, 1 },
     { "stop: position holds the state",  G1_KNEE_POS, 0.51, 0.5,  2.0,  ROZ_STOP_CONTROLLED, 0.5,   0, 0, 0, 0 },
     { "e-stop: position holds state",    G1_KNEE_POS, 2.0,  0.7,  2.0,  ROZ_STOP_IMMEDIATE,  0.7,   0, 0, 0, 0 },
+    { "stop, NaN position: keeps target", G1_KNEE_POS, 1.2, NAN,  2.0,  ROZ_STOP_CONTROLLED, 1.2,   0, 0, 0, 0 },
+    { "e-stop, NaN position: keeps target", G1_KNEE_POS, 1.2, NAN, 2.0, ROZ_STOP_IMMEDIATE,  1.2,   0, 0, 0, 0 },
     { "stiffness never negative",        G1_KNEE_KP,  0.0,  0.0,  -5.0, ROZ_STOP_NONE,       0.0,   1, 0, 0, 0 },
     { "stiffness ramps in",              G1_KNEE_KP,  0.0,  0.0,  150.0, ROZ_STOP_NONE,      0.8,   0, 1, 0, 0 },
     { "stop: stiffness ramps out",       G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_CONTROLLED, 99.2, 0, 1, 0, 0 },

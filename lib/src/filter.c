@@ -54,11 +54,14 @@ double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *
 {
     const roz_channel_t *c = &f->manifest->commands[i];
 
-    if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED &&
-        state != NULL) {
-        double held = state[c->position_state];
+    if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED) {
+        double held = state != NULL ? state[c->position_state] : NAN;
         if (isfinite(held))
             return clampd(held, c->min, c->max);
+        /* Position unknown: keep the last target rather than jump to the
+         * manifest default, which may be far from where the joint is. */
+        if (f->primed)
+            return f->last[i];
     }
     return c->default_value;
 }

@@ -21,7 +21,7 @@
  * the joint moves fast): then the position limit wins and the extra change is
  * counted as a limit stop. Safe defaults: the manifest's default, except a
  * position command paired with a position state, which holds that state's
- * current value. With a stop requested (a latched fault) every target is the
+ * current value (or its last target while the state reads NaN/Inf). With a stop requested (a latched fault) every target is the
  * safe default: ramped by the rate caps for a controlled stop, at once for an
  * e-stop.
  *
@@ -88,10 +88,11 @@ ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
 ROZ_NODISCARD int roz_filter_set_margin(roz_filter_t *f, double margin);
 
 /**
- * @brief The safe default of command @p i given the state snapshot: the
- *        paired position state's value for a paired position command (when
- *        that value is finite; clamped to the command's limits), else the
- *        manifest default.
+ * @brief The safe default of command @p i given the state snapshot: for a
+ *        position command paired with a position state, that state's value
+ *        (clamped to the command's limits), or the last applied value when
+ *        the state is not finite (position unknown: hold, don't jump); for
+ *        every other channel the manifest default.
  * Context: RT-safe.
  */
 double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *state);
