@@ -7,7 +7,9 @@
 #      tools of tools/requirements.txt and rozgen itself,
 #   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
 #      into .cache/ and checked against its sha256 (CMake checks it again
-#      before it extracts it into the build tree).
+#      before it extracts it into the build tree),
+#   4. the runner of toml-test, the official TOML test suite (a Go program),
+#      built into .cache/go/bin from the module pinned in tools/toml-test/.
 # Run from anywhere; a second run changes nothing and takes a second or two.
 set -euo pipefail
 
@@ -80,5 +82,48 @@ if [ ! -f "$sdist" ]; then
     "$venv/bin/python" -m pip download -q --disable-pip-version-check \
         --no-deps --no-binary :all: --no-build-isolation --require-hashes -r "$req" -d .cache
     check_sdist || die "$sdist: sha256 mismatch (want $wasm3_sha256)"
+fi
+
+# ---- 4. toml-test -------------------------------------------------------------
+# roz's C TOML reader is checked against toml-test v1.6.0 (test/toml/). Its
+# runner is built with Go from tools/toml-test/go.mod, which pins toml-test
+# and, through go.sum, every module it uses; everything Go fetches or builds
+# stays in .cache/go. Go 1.19 or later does (Debian 12's golang-go is 1.19).
+# Without Go the toml-test ctest is skipped, nothing else needs it.
+toml_test=.cache/go/bin/toml-test
+toml_test_stamp=.cache/go/.toml-test-installed
+toml_test_want=$(cat tools/toml-test/go.mod tools/toml-test/go.sum | sha256sum | cut -d' ' -f1)
+go_ok() { # go1.19 or later?
+    local v
+    v=$("$1" env GOVERSION 2>/dev/null) || return 1
+    v=${v#go}
+    [ "${v%%.*}" -gt 1 ] || { v=${v#1.}; [ "${v%%[.a-z]*}" -ge 19 ]; }
+}
+if [ ! -x "$toml_test" ] || [ "$(cat "$toml_test_stamp" 2>/dev/null)" != "$toml_test_want" ]; then
+    go_bin=$(command -v go || true)
+    if [ -z "$go_bin" ] && [ "$(id -u)" = 0 ]; then
+        say "installing Debian's Go (golang-go) to build toml-test"
+        export DEBIAN_FRONTEND=noninteractive
+        { apt-get update -qq && apt-get install -y -qq --no-install-recommends golang-go; } \
+            >/dev/null || true
+        go_bin=$(command -v go || true)
+    fi
+    if [ -z "$go_bin" ]; then
+        say "warning: no Go toolchain; toml-test (the TOML suite ctest) will be skipped." \
+            "Install Go 1.19 or later (Debian: apt-get install golang-go) and run this again."
+    elif ! go_ok "$go_bin"; then
+        say "warning: $("$go_bin" version) is too old for toml-test v1.6.0 (needs go1.19" \
+            "or later); the TOML suite ctest will be skipped."
+    else
+        say "building toml-test v1.6.0 with $("$go_bin" env GOVERSION) into .cache/go/bin"
+        mkdir -p .cache/go
+        # -modcacherw: keep the module cache deletable (rm -rf .cache)
+        (cd tools/toml-test && env GOTOOLCHAIN=local GOFLAGS="-mod=readonly -modcacherw" \
+            GOBIN="$root/.cache/go/bin" GOPATH="$root/.cache/go/path" \
+            GOMODCACHE="$root/.cache/go/mod" GOCACHE="$root/.cache/go/build" \
+            "$go_bin" install github.com/toml-lang/toml-test/cmd/toml-test) ||
+            die "building toml-test failed (see above)"
+        echo "$toml_test_want" > "$toml_test_stamp"
+    fi
 fi
 say "ready"

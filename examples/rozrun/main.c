@@ -4,6 +4,7 @@
  *
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
  *          [--realtime] [--param k=v]... [--trace out.csv]
+ *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *
  * Without --realtime the ticks run back to back (simulated time, as fast as
  * the machine goes); with it a periodic thread runs them at the manifest's
@@ -30,6 +31,9 @@
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "trace.h"
+#if ROZ_HAS_TOML
+#include "roz/manifest_toml.h"
+#endif
 
 #define MAX_PARAMS 32
 
@@ -58,12 +62,13 @@ static atomic_int interrupted; /* lock-free: set by the signal handler */
 static void usage(FILE *f)
 {
     fprintf(f,
-        "usage: rozrun --robot ID --controller FILE [options]\n"
+        "usage: rozrun --robot ID|FILE --controller FILE [options]\n"
         "\n"
         "Runs a WebAssembly controller (.wasm, or .wat assembled with wat2wasm) on a\n"
         "robot through a port, behind roz's safety filter, and prints a summary.\n"
         "\n"
-        "  --robot ID           built-in manifest id (see roz_manifest_info)\n"
+        "  --robot ID|FILE      built-in manifest id (see roz_manifest_info), or a\n"
+        "                       robot.toml read at run time (a path with / or .toml)\n"
         "  --controller FILE    controller module, .wasm or .wat\n"
         "  --port NAME          port to drive (default loopback; known: loopback)\n"
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
@@ -203,15 +208,53 @@ static int parse_args(int argc, char **argv, options_t *o)
     return 0;
 }
 
+#if ROZ_HAS_TOML
+/* A robot.toml read at run time lives in static storage, like everything
+ * else rozrun keeps. */
+#define ROBOT_TOML_MAX_BYTES (4u << 20)
+#define ROBOT_TOML_MAX_PROBLEMS 64u
+static char robot_text[ROBOT_TOML_MAX_BYTES];
+static roz_manifest_storage_t robot_storage;
+static roz_manifest_toml_problem_t robot_problems[ROBOT_TOML_MAX_PROBLEMS];
+ROZ_TOML_DOC_DEFINE(robot_doc, 1u << 16, 1u << 20);
+
+/* Loads a robot.toml; on problems prints them as rozgen does. */
+static const roz_manifest_t *load_robot_toml(const char *path)
+{
+    size_t found = 0, shown;
+    roz_toml_init(&robot_doc, robot_doc_nodes, sizeof robot_doc_nodes / sizeof robot_doc_nodes[0],
+                  robot_doc_arena, sizeof robot_doc_arena);
+    int rc = roz_manifest_toml_load_file(path, robot_text, sizeof robot_text, &robot_storage,
+                                         &robot_doc, robot_problems, ROBOT_TOML_MAX_PROBLEMS,
+                                         &found);
+    if (rc == ROZ_OK)
+        return &robot_storage.manifest;
+    shown = found < ROBOT_TOML_MAX_PROBLEMS ? found : ROBOT_TOML_MAX_PROBLEMS;
+    for (size_t i = 0; i < shown; i++)
+        fprintf(stderr, "%s%s\n", path, robot_problems[i].text);
+    if (found > shown)
+        fprintf(stderr, "rozrun: %lu more problems in %s\n", (unsigned long)(found - shown), path);
+    if (found == 0)
+        fprintf(stderr, "rozrun: --robot %s: %s\n", path, roz_strerror(rc));
+    return NULL;
+}
+#endif
+
 static const roz_manifest_t *find_robot(const char *id)
 {
     const roz_manifest_t *m = roz_builtin_find(id);
     if (m != NULL)
         return m;
     size_t n = strlen(id);
-    if (n > 5 && strcmp(id + n - 5, ".toml") == 0)
-        fprintf(stderr, "rozrun: --robot %s: reading a robot.toml at run time is not in this "
-                        "build yet; generate its tables with rozgen, or use a built-in id:", id);
+    int is_file = strchr(id, '/') != NULL || (n > 5 && strcmp(id + n - 5, ".toml") == 0);
+#if ROZ_HAS_TOML
+    if (is_file)
+        return load_robot_toml(id);
+#endif
+    if (is_file)
+        fprintf(stderr, "rozrun: --robot %s: this build reads no robot.toml at run time "
+                        "(ROZ_TOML is OFF); generate its tables with rozgen, or use a built-in "
+                        "id:", id);
     else
         fprintf(stderr, "rozrun: --robot \"%s\": no such built-in manifest; known:", id);
     for (size_t i = 0; i < roz_builtin_count(); i++)

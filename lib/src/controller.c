@@ -228,9 +228,10 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     if (r != m3Err_none)
         return fail(c, ROZ_EINVAL, "malformed module", r);
     if (mod->memoryInfo.initPages > ROZ_CFG_WASM_MAX_PAGES) {
-        m3_FreeModule(mod);
+        /* the message first: freeing the module frees memoryInfo too */
         snprintf(why, sizeof why, "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)",
                  (unsigned)mod->memoryInfo.initPages, (unsigned)ROZ_CFG_WASM_MAX_PAGES);
+        m3_FreeModule(mod);
         return fail(c, ROZ_EINVAL, "linear memory too large", why);
     }
     r = m3_LoadModule(rt, mod);

@@ -114,7 +114,8 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
             double limited = v;
 
             if (!isfinite(p)) {
-                limited = 0.0 > c->min && 0.0 < c->max ? 0.0 : c->default_value;
+                /* position unknown: stop, also when zero is a limit itself */
+                limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
             } else if (v > 0.0) {
                 limited = p >= hi ? 0.0 : fmin(v, brake_speed(hi - p, c->max_rate, f->dt));
             } else if (v < 0.0) {

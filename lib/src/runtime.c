@@ -319,8 +319,12 @@ int roz_runtime_tick(roz_runtime_t *rt)
                          (unsigned long long)(rt->cfg.budget_ns / 1000u));
                 latch(rt, ROZ_FAULT_OVERRUN, msg);
             }
-            if (s->abi.estop_requested)
+            if (s->abi.estop_requested) {
+                /* The request is now a latched fault; consume it, or it would
+                 * latch again on the first tick after the application clears. */
+                s->abi.estop_requested = 0;
                 latch(rt, ROZ_FAULT_ESTOP_REQUEST, "the controller called safety.request_estop");
+            }
             stop = stop_mode(atomic_load(&rt->faults));
         }
     } else if (stop == ROZ_STOP_NONE) {

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "wasm_scan.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -31,6 +32,8 @@ static uint32_t rd_u32(cursor_t *c)
         if (c->bad)
             return 0;
         v |= (uint32_t)(b & 0x7f) << shift;
+        if (shift == 28 && (b & 0x70) != 0)
+            break; /* bits past 32: malformed (and an engine may read them differently) */
         if ((b & 0x80) == 0)
             return v;
     }
@@ -148,6 +151,743 @@ static const char *kind_name(uint8_t k)
         return ROZ_EINVAL;                       \
     } while (0)
 
+/* A signed LEB128 of at most 32 bits (an i32.const immediate). */
+static int32_t rd_s32(cursor_t *c)
+{
+    uint32_t v = 0;
+    for (int shift = 0; shift < 35; shift += 7) {
+        uint8_t b = rd_byte(c);
+        if (c->bad)
+            return 0;
+        v |= (uint32_t)(b & 0x7f) << shift;
+        if (shift == 28 && (b & 0x78) != 0 && (b & 0x78) != 0x78)
+            break; /* bits past 32 that are not the sign's: malformed */
+        if ((b & 0x80) == 0) {
+            if (shift < 25 && (b & 0x40) != 0)
+                v |= ~0u << (shift + 7);
+            return (int32_t)v;
+        }
+    }
+    c->bad = 1;
+    return 0;
+}
+
+/* Tables: wasm3 skips the table section and sizes its table from the
+ * element segments instead (up to 100,000 entries), so a segment written
+ * past the declared table is not refused there. Bound the declared size by
+ * ROZ_CFG_WASM_MAX_TABLE_ENTRIES and require every segment (MVP form:
+ * table 0, constant offset) to fit the declared table. */
+static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const uint8_t *elems,
+                        const uint8_t *elems_end, char *err, size_t errlen)
+{
+    uint32_t size = 0;
+
+    if (tables != NULL) {
+        cursor_t tc = { tables, tables_end, 0 };
+        uint32_t n = rd_u32(&tc);
+        if (n > 1 && !tc.bad)
+            FAIL("%u tables; a controller may have one", (unsigned)n);
+        if (n == 1) {
+            (void)rd_byte(&tc); /* element type */
+            uint8_t flags = rd_byte(&tc);
+            size = rd_u32(&tc);
+            uint32_t max = flags == 1 ? rd_u32(&tc) : size;
+            if (tc.bad || flags > 1 || max < size || tc.p != tc.end)
+                FAIL("malformed table section");
+            if (size > ROZ_CFG_WASM_MAX_TABLE_ENTRIES)
+                FAIL("table of %u entries, more than ROZ_CFG_WASM_MAX_TABLE_ENTRIES (%u)",
+                     (unsigned)size, (unsigned)ROZ_CFG_WASM_MAX_TABLE_ENTRIES);
+        }
+    }
+    if (elems == NULL)
+        return ROZ_OK;
+    cursor_t ec = { elems, elems_end, 0 };
+    uint32_t n = rd_u32(&ec);
+    for (uint32_t i = 0; i < n && !ec.bad; i++) {
+        uint32_t form = rd_u32(&ec);
+        if (ec.bad)
+            break;
+        if (form != 0)
+            FAIL("element segment %u: only the MVP form (table 0, constant offset) is accepted",
+                 (unsigned)i);
+        if (rd_byte(&ec) != 0x41)
+            FAIL("element segment %u: the offset must be an i32.const", (unsigned)i);
+        int32_t offset = rd_s32(&ec);
+        uint8_t end = rd_byte(&ec);
+        uint32_t count = rd_u32(&ec);
+        if (ec.bad || end != 0x0b)
+            break;
+        if (offset < 0 || (uint64_t)(uint32_t)offset + count > size)
+            FAIL("element segment %u at offset %lld needs a table of %llu entries; the table "
+                 "has %u", (unsigned)i, (long long)offset,
+                 (unsigned long long)((int64_t)offset + count), (unsigned)size);
+        for (uint32_t k = 0; k < count && !ec.bad; k++)
+            (void)rd_u32(&ec);
+    }
+    if (ec.bad)
+        FAIL("malformed element section");
+    return ROZ_OK;
+}
+
+/* ---- private: globals, data and function bodies --------------------------- */
+
+/* wasm3 does not validate function bodies before it compiles them: it
+ * compiles some malformed ones out of bounds (found by fuzz/fuzz_controller:
+ * an `else` outside an `if`, blocks with parameters, README Known issues)
+ * and accepts operands of the wrong type. So roz validates every body as
+ * the WebAssembly 1.0 specification does (its validation algorithm: an
+ * operand type stack and a stack of control frames) before the engine sees
+ * it, within fixed limits, with no heap: block nesting, `else` only inside
+ * `if`, branch labels, operand types of every instruction, function, type,
+ * local and global indices, memory instructions only with a memory, global
+ * writes only to mutable globals. Accepted beyond 1.0: sign extension,
+ * saturating truncation, memory.copy and memory.fill (wasm3 implements
+ * them; clang may emit them). Refused: blocks with parameters and functions
+ * with more than one result (multi-value), and every other opcode; each
+ * refusal names the function, the offset in its body and the reason. */
+
+#define SCAN_MAX_TYPES  1024  /* function types per module */
+#define SCAN_MAX_FUNCS  4096  /* functions, imported and defined */
+#define SCAN_MAX_GLOBALS 1024 /* globals */
+#define SCAN_MAX_LOCALS 4096  /* parameters and locals per function */
+#define SCAN_MAX_STACK  1024  /* operand stack height per function */
+#define SCAN_MAX_DEPTH  256   /* nested blocks: wasm3 compiles them recursively */
+#define SCAN_MAX_PARAMS 255   /* parameters per function type */
+
+enum { T_ANY = 0, T_I32 = 0x7f, T_I64 = 0x7e, T_F32 = 0x7d, T_F64 = 0x7c };
+
+typedef struct {
+    uint8_t  kind;       /* 0x02 block, 0x03 loop, 0x04 if, 0x05 else, 0 the body */
+    uint8_t  result;     /* a value type, or 0 for none */
+    uint8_t  unreachable;
+    uint32_t height;     /* operand stack height at entry */
+} frame_t;
+
+typedef struct {
+    const uint8_t *types, *types_end;        /* type section body */
+    uint32_t n_types;
+    uint32_t type_at[SCAN_MAX_TYPES];        /* offset of each type in the section */
+    uint32_t n_funcs;
+    uint16_t func_type[SCAN_MAX_FUNCS];
+    uint32_t n_globals;
+    uint8_t  global_type[SCAN_MAX_GLOBALS];
+    uint8_t  global_mut[SCAN_MAX_GLOBALS];
+    int      has_memory, has_table;
+    /* the function being checked */
+    uint32_t f, at;
+    uint32_t n_locals;
+    uint8_t  local_type[SCAN_MAX_LOCALS];
+    uint32_t height;
+    uint8_t  stack[SCAN_MAX_STACK];
+    uint32_t depth;
+    frame_t  ctl[SCAN_MAX_DEPTH];
+    char    *err;
+    size_t   errlen;
+} vctx_t;
+
+/* Big for a stack frame (about 25 KB); one per thread that loads. */
+static _Thread_local vctx_t vctx;
+
+static int is_valtype(uint8_t t)
+{
+    return t == T_I32 || t == T_I64 || t == T_F32 || t == T_F64;
+}
+
+/* Skips a signed LEB128 of 64 bits (an i64.const immediate); a tenth byte
+ * may carry only the sign. */
+static void skip_s64(cursor_t *c)
+{
+    for (int i = 0; i < 10; i++) {
+        uint8_t b = rd_byte(c);
+        if (c->bad)
+            return;
+        if (i == 9 && (b & 0x7f) != 0 && (b & 0x7f) != 0x7f)
+            break;
+        if ((b & 0x80) == 0)
+            return;
+    }
+    c->bad = 1;
+}
+
+static const char *type_name(uint8_t t)
+{
+    switch (t) {
+    case T_I32: return "i32";
+    case T_I64: return "i64";
+    case T_F32: return "f32";
+    case T_F64: return "f64";
+    default:    return "nothing";
+    }
+}
+
+static int bad_body(vctx_t *v, const char *why, const char *a, const char *b)
+{
+    snprintf(v->err, v->errlen, "function %u, offset %u: %s%s%s%s%s", (unsigned)v->f,
+             (unsigned)v->at, why, a != NULL ? " " : "", a != NULL ? a : "",
+             b != NULL ? ", got " : "", b != NULL ? b : "");
+    return ROZ_EINVAL;
+}
+
+static int push(vctx_t *v, uint8_t t)
+{
+    if (v->height >= SCAN_MAX_STACK)
+        return bad_body(v, "operand stack deeper than the limit", NULL, NULL);
+    v->stack[v->height++] = t;
+    return ROZ_OK;
+}
+
+/* Pops one operand of type `want` (T_ANY: any); *got is what it was. */
+static int pop(vctx_t *v, uint8_t want, uint8_t *got)
+{
+    const frame_t *fr = &v->ctl[v->depth - 1];
+    uint8_t t = T_ANY;
+    if (v->height == fr->height) {
+        if (!fr->unreachable)
+            return bad_body(v, "operand missing: expected", want ? type_name(want) : "a value",
+                            NULL);
+    } else {
+        t = v->stack[--v->height];
+    }
+    if (want != T_ANY && t != T_ANY && t != want)
+        return bad_body(v, "type mismatch: expected", type_name(want), type_name(t));
+    if (got != NULL)
+        *got = t;
+    return ROZ_OK;
+}
+
+static int pops(vctx_t *v, const char *sig)
+{
+    for (size_t i = strlen(sig); i-- > 0;) {
+        static const char letters[] = "iIfF";
+        static const uint8_t types[] = { T_I32, T_I64, T_F32, T_F64 };
+        uint8_t want = types[strchr(letters, sig[i]) - letters];
+        if (pop(v, want, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+/* "ii:i": pop the types left of the colon (last on top), push the right. */
+static int apply(vctx_t *v, const char *sig)
+{
+    char in[4];
+    const char *colon = strchr(sig, ':');
+    size_t n = (size_t)(colon - sig);
+    memcpy(in, sig, n);
+    in[n] = '\0';
+    if (pops(v, in) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (colon[1] != '\0') {
+        static const char letters[] = "iIfF";
+        static const uint8_t types[] = { T_I32, T_I64, T_F32, T_F64 };
+        return push(v, types[strchr(letters, colon[1]) - letters]);
+    }
+    return ROZ_OK;
+}
+
+/* Operand types of the numeric instructions 0x45..0xc4. */
+static const char *numeric_sig(uint8_t op)
+{
+    static const struct { uint8_t first, last; const char *sig; } ranges[] = {
+        { 0x45, 0x45, "i:i" },  { 0x46, 0x4f, "ii:i" }, { 0x50, 0x50, "I:i" },
+        { 0x51, 0x5a, "II:i" }, { 0x5b, 0x60, "ff:i" }, { 0x61, 0x66, "FF:i" },
+        { 0x67, 0x69, "i:i" },  { 0x6a, 0x78, "ii:i" }, { 0x79, 0x7b, "I:I" },
+        { 0x7c, 0x8a, "II:I" }, { 0x8b, 0x91, "f:f" },  { 0x92, 0x98, "ff:f" },
+        { 0x99, 0x9f, "F:F" },  { 0xa0, 0xa6, "FF:F" }, { 0xa7, 0xa7, "I:i" },
+        { 0xa8, 0xa9, "f:i" },  { 0xaa, 0xab, "F:i" },  { 0xac, 0xad, "i:I" },
+        { 0xae, 0xaf, "f:I" },  { 0xb0, 0xb1, "F:I" },  { 0xb2, 0xb3, "i:f" },
+        { 0xb4, 0xb5, "I:f" },  { 0xb6, 0xb6, "F:f" },  { 0xb7, 0xb8, "i:F" },
+        { 0xb9, 0xba, "I:F" },  { 0xbb, 0xbb, "f:F" },  { 0xbc, 0xbc, "f:i" },
+        { 0xbd, 0xbd, "F:I" },  { 0xbe, 0xbe, "i:f" },  { 0xbf, 0xbf, "I:F" },
+        { 0xc0, 0xc1, "i:i" },  { 0xc2, 0xc4, "I:I" },
+    };
+    for (size_t i = 0; i < sizeof ranges / sizeof ranges[0]; i++) {
+        if (op >= ranges[i].first && op <= ranges[i].last)
+            return ranges[i].sig;
+    }
+    return NULL;
+}
+
+/* Loads and stores 0x28..0x3e: operand types and the largest alignment. */
+static const char *const memory_sig[] = {
+    "i:i", "i:I", "i:f", "i:F", "i:i", "i:i", "i:i", "i:i", "i:I", "i:I", "i:I", "i:I",
+    "i:I", "i:I", "ii:", "iI:", "if:", "iF:", "ii:", "ii:", "iI:", "iI:", "iI:",
+};
+static const uint8_t memory_align[] = { 2, 3, 2, 3, 0, 0, 1, 1, 0, 0, 1, 1,
+                                        2, 2, 2, 3, 2, 3, 0, 1, 0, 1, 2 };
+
+/* The parameter types of function type `type` and its result (0: none). */
+static void type_sig(const vctx_t *v, uint32_t type, uint8_t *params, uint32_t *np,
+                     uint8_t *result)
+{
+    /* the type section was checked whole before any body */
+    cursor_t c = { v->types + v->type_at[type], v->types_end, 0 };
+    (void)rd_byte(&c);
+    *np = rd_u32(&c);
+    for (uint32_t i = 0; i < *np; i++)
+        params[i] = rd_byte(&c);
+    *result = rd_u32(&c) == 1 ? rd_byte(&c) : 0;
+}
+
+static int pop_params(vctx_t *v, uint32_t type, uint8_t *result)
+{
+    uint8_t params[SCAN_MAX_PARAMS];
+    uint32_t np;
+    type_sig(v, type, params, &np, result);
+    while (np-- > 0) {
+        if (pop(v, params[np], NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+/* Values a branch to `label` carries: a loop's label takes none. */
+static uint8_t label_type(const vctx_t *v, uint32_t label)
+{
+    const frame_t *fr = &v->ctl[v->depth - 1 - label];
+    return fr->kind == 0x03 ? 0 : fr->result;
+}
+
+static void unreachable(vctx_t *v)
+{
+    frame_t *fr = &v->ctl[v->depth - 1];
+    v->height = fr->height;
+    fr->unreachable = 1;
+}
+
+/* The end of a frame's instructions: exactly its result on its stack. */
+static int close_frame(vctx_t *v)
+{
+    const frame_t *fr = &v->ctl[v->depth - 1];
+    if (fr->result != 0 && pop(v, fr->result, NULL) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (v->height != fr->height)
+        return bad_body(v, "values left on the stack at the end of a block", NULL, NULL);
+    return ROZ_OK;
+}
+
+static int check_body(vctx_t *v, cursor_t *c)
+{
+    const uint8_t *start = c->p;
+    uint8_t params[SCAN_MAX_PARAMS], result, t, t2;
+    uint32_t np, idx;
+
+    /* locals: the parameters, then the declared groups */
+    type_sig(v, v->func_type[v->f], params, &np, &result);
+    memcpy(v->local_type, params, np);
+    v->n_locals = np;
+    uint32_t groups = rd_u32(c);
+    for (uint32_t g = 0; g < groups && !c->bad; g++) {
+        uint32_t n = rd_u32(c);
+        t = rd_byte(c);
+        if (c->bad)
+            break;
+        if (!is_valtype(t))
+            return bad_body(v, "a local of an unknown type", NULL, NULL);
+        if (n > SCAN_MAX_LOCALS - v->n_locals)
+            return bad_body(v, "more parameters and locals than the limit (4096)", NULL, NULL);
+        memset(v->local_type + v->n_locals, t, n);
+        v->n_locals += n;
+    }
+    v->height = 0;
+    v->depth = 1;
+    v->ctl[0] = (frame_t){ 0, result, 0, 0 };
+
+    while (!c->bad && c->p < c->end) {
+        v->at = (uint32_t)(c->p - start);
+        uint8_t op = rd_byte(c);
+        const char *sig = numeric_sig(op);
+        int rc = ROZ_OK;
+        if (sig != NULL) {
+            rc = apply(v, sig);
+        } else if (op >= 0x28 && op <= 0x3e) {
+            uint32_t align = rd_u32(c);
+            (void)rd_u32(c); /* offset */
+            if (!v->has_memory)
+                return bad_body(v, "a memory access without a memory", NULL, NULL);
+            if (!c->bad && align > memory_align[op - 0x28])
+                return bad_body(v, "alignment larger than the access", NULL, NULL);
+            rc = apply(v, memory_sig[op - 0x28]);
+        } else {
+            switch (op) {
+            case 0x00: /* unreachable */
+                unreachable(v);
+                break;
+            case 0x01: /* nop */
+                break;
+            case 0x02: case 0x03: case 0x04: { /* block, loop, if */
+                uint8_t bt = rd_byte(c);
+                if (c->bad)
+                    break;
+                if (bt != 0x40 && !is_valtype(bt))
+                    return bad_body(v, "a block type other than none or one value "
+                                       "(multi-value blocks are not accepted)", NULL, NULL);
+                if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (v->depth >= SCAN_MAX_DEPTH)
+                    return bad_body(v, "blocks nested deeper than the limit (256)", NULL, NULL);
+                v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
+                break;
+            }
+            case 0x05: { /* else */
+                frame_t *fr = &v->ctl[v->depth - 1];
+                if (fr->kind != 0x04)
+                    return bad_body(v, "else without its if", NULL, NULL);
+                if (close_frame(v) != ROZ_OK)
+                    return ROZ_EINVAL;
+                fr->kind = 0x05;
+                fr->unreachable = 0;
+                break;
+            }
+            case 0x0b: { /* end */
+                const frame_t *fr = &v->ctl[v->depth - 1];
+                if (close_frame(v) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (fr->kind == 0x04 && fr->result != 0)
+                    return bad_body(v, "an if with a result but no else", NULL, NULL);
+                result = fr->result;
+                if (--v->depth == 0) {
+                    if (c->p != c->end)
+                        return bad_body(v, "code after the body's end", NULL, NULL);
+                    return ROZ_OK;
+                }
+                if (result != 0)
+                    rc = push(v, result);
+                break;
+            }
+            case 0x0c: case 0x0d: /* br, br_if */
+                idx = rd_u32(c);
+                if (c->bad)
+                    break;
+                if (idx >= v->depth)
+                    return bad_body(v, "a branch to a label outside the function", NULL, NULL);
+                if (op == 0x0d && pop(v, T_I32, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                t = label_type(v, idx);
+                if (t != 0 && pop(v, t, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (op == 0x0c)
+                    unreachable(v);
+                else if (t != 0)
+                    rc = push(v, t);
+                break;
+            case 0x0e: { /* br_table */
+                uint32_t n = rd_u32(c);
+                if ((size_t)(c->end - c->p) < n)
+                    c->bad = 1;
+                if (c->bad)
+                    break;
+                if (pop(v, T_I32, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                int arity = -1;
+                for (uint32_t i = 0; i <= n && !c->bad; i++) {
+                    idx = rd_u32(c);
+                    if (c->bad)
+                        break;
+                    if (idx >= v->depth)
+                        return bad_body(v, "a br_table label outside the function", NULL, NULL);
+                    t = label_type(v, idx);
+                    if (arity == -1)
+                        arity = t;
+                    else if (arity != t)
+                        return bad_body(v, "br_table labels of different types", NULL, NULL);
+                }
+                if (arity > 0 && pop(v, (uint8_t)arity, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                unreachable(v);
+                break;
+            }
+            case 0x0f: /* return */
+                if (v->ctl[0].result != 0 && pop(v, v->ctl[0].result, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                unreachable(v);
+                break;
+            case 0x10: /* call */
+                idx = rd_u32(c);
+                if (c->bad)
+                    break;
+                if (idx >= v->n_funcs)
+                    return bad_body(v, "a call to a function that does not exist", NULL, NULL);
+                if (pop_params(v, v->func_type[idx], &t) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (t != 0)
+                    rc = push(v, t);
+                break;
+            case 0x11: /* call_indirect */
+                idx = rd_u32(c);
+                t = rd_byte(c);
+                if (c->bad)
+                    break;
+                if (!v->has_table || t != 0)
+                    return bad_body(v, "call_indirect without a table", NULL, NULL);
+                if (idx >= v->n_types)
+                    return bad_body(v, "call_indirect of a type that does not exist", NULL, NULL);
+                if (pop(v, T_I32, NULL) != ROZ_OK || pop_params(v, idx, &t) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (t != 0)
+                    rc = push(v, t);
+                break;
+            case 0x1a: /* drop */
+                rc = pop(v, T_ANY, NULL);
+                break;
+            case 0x1b: /* select */
+                if (pop(v, T_I32, NULL) != ROZ_OK || pop(v, T_ANY, &t) != ROZ_OK ||
+                    pop(v, t, &t2) != ROZ_OK)
+                    return ROZ_EINVAL;
+                rc = push(v, t != T_ANY ? t : t2);
+                break;
+            case 0x20: case 0x21: case 0x22: /* local.get, set, tee */
+                idx = rd_u32(c);
+                if (c->bad)
+                    break;
+                if (idx >= v->n_locals)
+                    return bad_body(v, "a local that does not exist", NULL, NULL);
+                t = v->local_type[idx];
+                if (op != 0x20 && pop(v, t, NULL) != ROZ_OK)
+                    return ROZ_EINVAL;
+                if (op != 0x21)
+                    rc = push(v, t);
+                break;
+            case 0x23: case 0x24: /* global.get, set */
+                idx = rd_u32(c);
+                if (c->bad)
+                    break;
+                if (idx >= v->n_globals)
+                    return bad_body(v, "a global that does not exist", NULL, NULL);
+                if (op == 0x24 && !v->global_mut[idx])
+                    return bad_body(v, "global.set of an immutable global", NULL, NULL);
+                rc = op == 0x23 ? push(v, v->global_type[idx]) : pop(v, v->global_type[idx], NULL);
+                break;
+            case 0x3f: case 0x40: /* memory.size, memory.grow */
+                if (rd_byte(c) != 0 || !v->has_memory)
+                    return bad_body(v, "memory.size or memory.grow without a memory", NULL, NULL);
+                rc = apply(v, op == 0x3f ? ":i" : "i:i");
+                break;
+            case 0x41: (void)rd_s32(c); rc = push(v, T_I32); break;
+            case 0x42: skip_s64(c); rc = push(v, T_I64); break;
+            case 0x43: skip(c, 4); rc = push(v, T_F32); break;
+            case 0x44: skip(c, 8); rc = push(v, T_F64); break;
+            case 0xfc: {
+                static const char *const sat[8] = { "f:i", "f:i", "F:i", "F:i",
+                                                    "f:I", "f:I", "F:I", "F:I" };
+                /* one byte: wasm3 reads the sub-opcode as a byte, not a LEB */
+                uint8_t sub = rd_byte(c);
+                if (c->bad)
+                    break;
+                if (sub <= 7) {
+                    rc = apply(v, sat[sub]);
+                } else if ((sub == 10 || sub == 11) && v->has_memory) {
+                    if (rd_byte(c) != 0 || (sub == 10 && rd_byte(c) != 0))
+                        return bad_body(v, "a malformed memory.copy or memory.fill", NULL, NULL);
+                    rc = apply(v, "iii:");
+                } else {
+                    return bad_body(v, "an opcode (0xfc prefix) that is not accepted", NULL,
+                                    NULL);
+                }
+                break;
+            }
+            default:
+                snprintf(v->err, v->errlen,
+                         "function %u, offset %u: opcode 0x%02x is not accepted (unknown, or a "
+                         "feature beyond WebAssembly 1.0 that roz does not enable)",
+                         (unsigned)v->f, (unsigned)v->at, op);
+                return ROZ_EINVAL;
+            }
+        }
+        if (rc != ROZ_OK)
+            return ROZ_EINVAL;
+    }
+    return bad_body(v, "the body runs past its end", NULL, NULL);
+}
+
+/* A constant expression: one const instruction of value type `type`, end. */
+static int const_expr(cursor_t *c, uint8_t type)
+{
+    static const uint8_t types[4] = { T_I32, T_I64, T_F32, T_F64 };
+    uint8_t op = rd_byte(c);
+    switch (op) {
+    case 0x41: (void)rd_s32(c); break;
+    case 0x42: skip_s64(c); break;
+    case 0x43: skip(c, 4); break;
+    case 0x44: skip(c, 8); break;
+    default: return ROZ_EINVAL;
+    }
+    if (rd_byte(c) != 0x0b || c->bad || types[op - 0x41] != type)
+        return ROZ_EINVAL;
+    return ROZ_OK;
+}
+
+/* Types, globals, memory, data and code: everything the engine would
+ * otherwise take on trust. `sec`/`sec_end` are the sections by id; imports
+ * were checked before (all functions of the ABI). */
+static int check_code(const module_t *m, const uint8_t *imports, const uint8_t *imports_end,
+                      const uint8_t *const *sec, const uint8_t *const *sec_end, char *err,
+                      size_t errlen)
+{
+    vctx_t *v = &vctx;
+    uint32_t n;
+
+    memset(v, 0, offsetof(vctx_t, f));
+    v->err = err;
+    v->errlen = errlen;
+    /* types: functions of at most SCAN_MAX_PARAMS value parameters and one result */
+    if (m->n_types > SCAN_MAX_TYPES)
+        FAIL("%u function types, more than %u", (unsigned)m->n_types, (unsigned)SCAN_MAX_TYPES);
+    v->types = sec[1];
+    v->types_end = sec_end[1];
+    v->n_types = m->n_types;
+    if (sec[1] != NULL) {
+        cursor_t c = { sec[1], sec_end[1], 0 };
+        (void)rd_u32(&c);
+        for (uint32_t t = 0; t < v->n_types && !c.bad; t++) {
+            v->type_at[t] = (uint32_t)(c.p - sec[1]);
+            if (rd_byte(&c) != 0x60)
+                FAIL("type %u is not a function type", (unsigned)t);
+            uint32_t np = rd_u32(&c);
+            if (!c.bad && np > SCAN_MAX_PARAMS)
+                FAIL("type %u has %u parameters, more than %u", (unsigned)t, (unsigned)np,
+                     (unsigned)SCAN_MAX_PARAMS);
+            for (uint32_t i = 0; i < np && !c.bad; i++) {
+                if (!is_valtype(rd_byte(&c)) && !c.bad)
+                    FAIL("type %u: a parameter of an unknown type", (unsigned)t);
+            }
+            uint32_t nr = rd_u32(&c);
+            if (!c.bad && nr > 1)
+                FAIL("type %u returns %u values; WebAssembly 1.0 functions return at most one",
+                     (unsigned)t, (unsigned)nr);
+            if (nr == 1 && !is_valtype(rd_byte(&c)) && !c.bad)
+                FAIL("type %u: a result of an unknown type", (unsigned)t);
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed type section");
+    }
+    /* functions: the imported ones, then the function section */
+    if (imports != NULL) {
+        cursor_t c = { imports, imports_end, 0 };
+        n = rd_u32(&c);
+        for (uint32_t i = 0; i < n && !c.bad; i++) {
+            skip(&c, rd_u32(&c));
+            skip(&c, rd_u32(&c));
+            (void)rd_byte(&c); /* a function: checked before */
+            uint32_t type = rd_u32(&c);
+            if (c.bad)
+                break;
+            if (v->n_funcs >= SCAN_MAX_FUNCS)
+                FAIL("more than %u functions", (unsigned)SCAN_MAX_FUNCS);
+            v->func_type[v->n_funcs++] = (uint16_t)type; /* < n_types: checked before */
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed import section");
+    }
+    cursor_t fc = { m->funcs, m->funcs_end, 0 };
+    uint32_t n_defined = m->funcs != NULL ? rd_u32(&fc) : 0;
+    for (uint32_t i = 0; i < n_defined && !fc.bad; i++) {
+        uint32_t type = rd_u32(&fc);
+        if (fc.bad)
+            break;
+        if (type >= v->n_types)
+            FAIL("function %u has type %u of %u", (unsigned)v->n_funcs, (unsigned)type,
+                 (unsigned)v->n_types);
+        if (v->n_funcs >= SCAN_MAX_FUNCS)
+            FAIL("more than %u functions", (unsigned)SCAN_MAX_FUNCS);
+        v->func_type[v->n_funcs++] = (uint16_t)type;
+    }
+    if (fc.bad || fc.p != fc.end)
+        FAIL("malformed function section");
+    /* globals: a value type, mutability and one constant of that type */
+    if (sec[6] != NULL) {
+        cursor_t c = { sec[6], sec_end[6], 0 };
+        v->n_globals = rd_u32(&c);
+        if (!c.bad && v->n_globals > SCAN_MAX_GLOBALS)
+            FAIL("%u globals, more than %u", (unsigned)v->n_globals, (unsigned)SCAN_MAX_GLOBALS);
+        for (uint32_t g = 0; g < v->n_globals && !c.bad; g++) {
+            v->global_type[g] = rd_byte(&c);
+            v->global_mut[g] = rd_byte(&c);
+            if (c.bad || !is_valtype(v->global_type[g]) || v->global_mut[g] > 1 ||
+                const_expr(&c, v->global_type[g]) != ROZ_OK)
+                FAIL("global %u: malformed (a value type, 0 or 1, and one constant of its type)",
+                     (unsigned)g);
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed global section");
+    }
+    if (sec[4] != NULL) {
+        cursor_t c = { sec[4], sec_end[4], 0 };
+        v->has_table = rd_u32(&c) == 1;
+    }
+    if (sec[5] != NULL) {
+        cursor_t c = { sec[5], sec_end[5], 0 };
+        n = rd_u32(&c);
+        if (n > 1)
+            FAIL("%u memories; a controller may have one", (unsigned)n);
+        v->has_memory = n == 1;
+        if (n == 1) {
+            uint8_t flags = rd_byte(&c);
+            uint32_t min = rd_u32(&c);
+            uint32_t max = flags == 1 ? rd_u32(&c) : min;
+            if (!c.bad && flags > 1)
+                FAIL("memory limits flag %u: shared or 64-bit memories are not accepted",
+                     (unsigned)flags);
+            if (min > 65536 || max > 65536 || max < min)
+                c.bad = 1;
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed memory section");
+    }
+    /* data: memory 0, an i32.const offset, bytes within the section */
+    if (sec[11] != NULL) {
+        cursor_t c = { sec[11], sec_end[11], 0 };
+        n = rd_u32(&c);
+        if (n > 0 && !v->has_memory)
+            FAIL("data segments without a memory");
+        for (uint32_t d = 0; d < n && !c.bad; d++) {
+            if (rd_u32(&c) != 0 || const_expr(&c, T_I32) != ROZ_OK)
+                FAIL("data segment %u: only memory 0 with an i32.const offset is accepted",
+                     (unsigned)d);
+            skip(&c, rd_u32(&c));
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed data section");
+    }
+    /* code: one valid body per defined function */
+    cursor_t cc = { sec[10], sec_end[10], 0 };
+    n = sec[10] != NULL ? rd_u32(&cc) : 0;
+    if (cc.bad || n != n_defined)
+        FAIL("%u function bodies for %u functions", (unsigned)n, (unsigned)n_defined);
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t size = rd_u32(&cc);
+        if (cc.bad || (size_t)(cc.end - cc.p) < size)
+            FAIL("malformed code section");
+        cursor_t body = { cc.p, cc.p + size, 0 };
+        v->f = m->n_func_imports + i;
+        v->at = 0;
+        if (check_body(v, &body) != ROZ_OK)
+            return ROZ_EINVAL;
+        cc.p += size;
+    }
+    if (cc.p != cc.end)
+        FAIL("malformed code section");
+    /* exports: of things that exist (process itself is checked below) */
+    if (sec[7] != NULL) {
+        cursor_t c = { sec[7], sec_end[7], 0 };
+        n = rd_u32(&c);
+        for (uint32_t e = 0; e < n && !c.bad; e++) {
+            skip(&c, rd_u32(&c));
+            uint8_t kind = rd_byte(&c);
+            uint32_t idx = rd_u32(&c);
+            if (c.bad)
+                break;
+            if ((kind == 0 && idx >= v->n_funcs) || (kind == 1 && (!v->has_table || idx != 0)) ||
+                (kind == 2 && (!v->has_memory || idx != 0)) ||
+                (kind == 3 && idx >= v->n_globals) || kind > 3)
+                FAIL("export %u: of something that does not exist", (unsigned)e);
+        }
+        if (c.bad || c.p != c.end)
+            FAIL("malformed export section");
+    }
+    return ROZ_OK;
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
@@ -155,6 +895,8 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
     static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     module_t m = { 0 };
     const uint8_t *imports = NULL, *imports_end = NULL, *exports = NULL, *exports_end = NULL;
+    const uint8_t *tables = NULL, *tables_end = NULL, *elems = NULL, *elems_end = NULL;
+    const uint8_t *sec[13] = { 0 }, *sec_end[13] = { 0 };
     int has_start = 0;
 
     if (wasm == NULL || len < sizeof magic || memcmp(wasm, magic, sizeof magic) != 0)
@@ -169,12 +911,18 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
         skip(&c, size);
         if (c.bad)
             FAIL("malformed module: section %u runs past the end", (unsigned)id);
+        if (id < 13) {
+            sec[id] = body;
+            sec_end[id] = body + size;
+        }
         switch (id) {
         case 1: m.types = body; m.types_end = body + size; break;
         case 2: imports = body; imports_end = body + size; break;
         case 3: m.funcs = body; m.funcs_end = body + size; break;
+        case 4: tables = body; tables_end = body + size; break;
         case 7: exports = body; exports_end = body + size; break;
         case 8: has_start = 1; break;
+        case 9: elems = body; elems_end = body + size; break;
         default: break;
         }
     }
@@ -184,6 +932,8 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
     }
     if (has_start)
         FAIL("the module has a start function; a controller must do its set-up in process()");
+    if (check_tables(tables, tables_end, elems, elems_end, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
 
     /* Pass 2: imports. */
     if (imports != NULL) {
@@ -212,7 +962,11 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
         }
     }
 
-    /* Pass 3: export process(i64) -> (). */
+    /* Pass 3: types, globals, memory, data, function bodies. */
+    if (check_code(&m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+
+    /* Pass 4: export process(i64) -> (). */
     if (exports != NULL) {
         cursor_t ec = { exports, exports_end, 0 };
         uint32_t n = rd_u32(&ec);

@@ -9,7 +9,9 @@
 #include <stdint.h>
 
 /* Checks that the module imports only functions of the roz ABI with their
- * exact signatures, exports process(i64), and has no start function.
+ * exact signatures, exports process(i64), has no start function, and has at
+ * most one table of at most ROZ_CFG_WASM_MAX_TABLE_ENTRIES entries that
+ * every element segment fits.
  * Returns ROZ_OK, or ROZ_EINVAL with a message in err. */
 int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen);
 

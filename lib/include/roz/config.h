@@ -39,6 +39,26 @@
 #define ROZ_CFG_MAX_NAME_LEN 63
 #endif
 
+/** Joints of a [hardware] table that a roz_manifest_storage_t holds (a
+ *  robot.toml read at run time, roz/manifest_toml.h). Range 0..4096. The
+ *  built-in humanoids have 24..30. */
+#ifndef ROZ_CFG_MAX_JOINTS
+#define ROZ_CFG_MAX_JOINTS 64
+#endif
+
+/** [hardware.params] entries that a roz_manifest_storage_t holds.
+ *  Range 0..1024. */
+#ifndef ROZ_CFG_MAX_PARAMS
+#define ROZ_CFG_MAX_PARAMS 32
+#endif
+
+/** Bytes of one problem message of the robot.toml loader
+ *  (roz/manifest_toml.h), NUL included; longer messages end in "...".
+ *  Range 64..65536. */
+#ifndef ROZ_CFG_PROBLEM_LEN
+#define ROZ_CFG_PROBLEM_LEN 384
+#endif
+
 /** wasm3 value stack per controller instance, bytes. Range 4096..16777216. */
 #ifndef ROZ_CFG_WASM_STACK_BYTES
 #define ROZ_CFG_WASM_STACK_BYTES 65536
@@ -49,6 +69,15 @@
  *  inside the tick): memory.grow returns -1. */
 #ifndef ROZ_CFG_WASM_MAX_PAGES
 #define ROZ_CFG_WASM_MAX_PAGES 16
+#endif
+
+/** Largest table a controller may declare, in entries (function
+ *  references), and the highest entry its element segments may fill.
+ *  Range 0..100000 (wasm3's own ceiling). wasm3 ignores the declared size
+ *  and allocates the table from the element segments, 8 bytes per entry on
+ *  64-bit hosts; roz checks both at load. */
+#ifndef ROZ_CFG_WASM_MAX_TABLE_ENTRIES
+#define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 4096
 #endif
 
 /** Largest controller module accepted, bytes. Range 64..67108864. */
@@ -94,12 +123,24 @@
 #if ROZ_CFG_MAX_NAME_LEN < 8 || ROZ_CFG_MAX_NAME_LEN > 255
 #error "ROZ_CFG_MAX_NAME_LEN must be in 8..255"
 #endif
+#if ROZ_CFG_MAX_JOINTS < 0 || ROZ_CFG_MAX_JOINTS > 4096
+#error "ROZ_CFG_MAX_JOINTS must be in 0..4096"
+#endif
+#if ROZ_CFG_MAX_PARAMS < 0 || ROZ_CFG_MAX_PARAMS > 1024
+#error "ROZ_CFG_MAX_PARAMS must be in 0..1024"
+#endif
+#if ROZ_CFG_PROBLEM_LEN < 64 || ROZ_CFG_PROBLEM_LEN > 65536
+#error "ROZ_CFG_PROBLEM_LEN must be in 64..65536"
+#endif
 
 #if ROZ_CFG_WASM_STACK_BYTES < 4096 || ROZ_CFG_WASM_STACK_BYTES > 16777216
 #error "ROZ_CFG_WASM_STACK_BYTES must be in 4096..16777216"
 #endif
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"
+#endif
+#if ROZ_CFG_WASM_MAX_TABLE_ENTRIES < 0 || ROZ_CFG_WASM_MAX_TABLE_ENTRIES > 100000
+#error "ROZ_CFG_WASM_MAX_TABLE_ENTRIES must be in 0..100000"
 #endif
 #if ROZ_CFG_WASM_MAX_MODULE_BYTES < 64 || ROZ_CFG_WASM_MAX_MODULE_BYTES > 67108864
 #error "ROZ_CFG_WASM_MAX_MODULE_BYTES must be in 64..67108864"

@@ -85,6 +85,10 @@ typedef struct roz_manifest_storage {
     roz_channel_t  states[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     char           arena[ROZ_CFG_NAME_ARENA_BYTES]; /**< interned names */
     size_t         arena_used;
+    /** The [hardware] table of a manifest read at run time (roz/manifest_toml.h). */
+    roz_hardware_t hardware;
+    const char    *joints[ROZ_CFG_MAX_JOINTS > 0 ? ROZ_CFG_MAX_JOINTS : 1]; /**< hardware.joints */
+    roz_param_t    params[ROZ_CFG_MAX_PARAMS > 0 ? ROZ_CFG_MAX_PARAMS : 1]; /**< hardware.params, by key */
 } roz_manifest_storage_t;
 
 /** Why a manifest failed roz_manifest_validate(). */

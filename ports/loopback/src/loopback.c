@@ -276,11 +276,12 @@ bad:
 static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, char *err,
                    size_t errlen)
 {
-    static const char *const known[] = { "drop", "freeze", "delay", "nan", "range", NULL };
+    static const char *const known[] = { "drop", "freeze", "delay", "nan", "range",
+                                         "duplicate", NULL };
     static const struct { const char *key; roz_loopback_fault_kind_t kind; } fault_keys[] = {
         { "drop", ROZ_LOOPBACK_DROP },   { "freeze", ROZ_LOOPBACK_FREEZE },
         { "delay", ROZ_LOOPBACK_DELAY }, { "nan", ROZ_LOOPBACK_NAN },
-        { "range", ROZ_LOOPBACK_RANGE },
+        { "range", ROZ_LOOPBACK_RANGE }, { "duplicate", ROZ_LOOPBACK_DUPLICATE },
     };
     roz_loopback_t *lb = self;
     int rc;
@@ -325,7 +326,7 @@ static int lb_read(void *self, double *state, size_t n)
     uint64_t t = lb->tick++;
     double *now_frame = lb->hist[t % HIST];
     const double *frame = now_frame;
-    int deliver = 1;
+    int deliver = 1, duplicate = 0;
 
     if (n != m->n_states)
         return ROZ_EINVAL;
@@ -344,6 +345,8 @@ static int lb_read(void *self, double *state, size_t n)
             deliver = 0;
         else if (f->kind == ROZ_LOOPBACK_DELAY)
             frame = t >= f->arg ? lb->hist[(t - f->arg) % HIST] : NULL;
+        else if (f->kind == ROZ_LOOPBACK_DUPLICATE)
+            duplicate = 1;
     }
     if (frame == NULL)
         deliver = 0;
@@ -353,6 +356,13 @@ static int lb_read(void *self, double *state, size_t n)
             return ROZ_ENOENT;
         memcpy(state, lb->last_out, n * sizeof state[0]);
         return 0;
+    }
+    if (duplicate && lb->delivered_any) {
+        /* the frame before, again, claimed fresh */
+        memcpy(state, lb->last_out, n * sizeof state[0]);
+        lb->frames_duplicated++;
+        lb->frames_delivered++;
+        return 1;
     }
     memcpy(state, frame, n * sizeof state[0]);
     for (uint32_t k = 0; k < lb->n_faults; k++) {
@@ -405,7 +415,7 @@ int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
 {
     if (lb->n_faults >= ROZ_LOOPBACK_MAX_FAULTS)
         return ROZ_ENOSPC;
-    if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_RANGE)
+    if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_DUPLICATE)
         return ROZ_EINVAL;
     if ((f->kind == ROZ_LOOPBACK_NAN || f->kind == ROZ_LOOPBACK_RANGE) &&
         (f->channel < 0 || f->channel >= (int32_t)lb->m->n_states))

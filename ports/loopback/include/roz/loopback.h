@@ -26,7 +26,9 @@
  * Fault injection, for tests (also as parameters, see roz_loopback_ops):
  * drop (frames not delivered), delay (frames delivered k ticks late), freeze
  * (no new frames from a tick on), nan (a state channel reads NaN), range (a
- * position state reads 0.5 beyond its upper limit).
+ * position state reads 0.5 beyond its upper limit), duplicate (the frame
+ * delivered before is delivered again and reported fresh, as a transport
+ * without sequence numbers would).
  */
 #ifndef ROZ_LOOPBACK_H
 #define ROZ_LOOPBACK_H
@@ -55,6 +57,7 @@ typedef enum roz_loopback_fault_kind {
     ROZ_LOOPBACK_FREEZE,     /**< no new frame from `from` until `to` */
     ROZ_LOOPBACK_NAN,        /**< state `channel` reads NaN in [from, to) */
     ROZ_LOOPBACK_RANGE,      /**< position state `channel` reads max + 0.5 in [from, to) */
+    ROZ_LOOPBACK_DUPLICATE,  /**< reads in [from, to) deliver the previous frame again, as fresh */
 } roz_loopback_fault_kind_t;
 
 /** One injected fault; `to` = 0 means forever. */
@@ -99,13 +102,14 @@ typedef struct roz_loopback {
     uint32_t               n_faults;
     /* counters */
     uint64_t               frames_delivered, frames_dropped, writes;
+    uint64_t               frames_duplicated; /* of frames_delivered, repeats (DUPLICATE) */
     uint64_t               violations;      /* written values outside [min, max] or non-finite: must stay 0 */
     uint64_t               first_write_tick; /* tick of the first write, 0 = none */
 } roz_loopback_t;
 
 /** The ops table. Parameters: drop=FROM:TO, freeze=FROM[:TO], delay=K@FROM:TO,
- *  nan=CH@FROM:TO, range=CH@FROM:TO (TO may be empty: forever); CH is a
- *  state index or name. */
+ *  nan=CH@FROM:TO, range=CH@FROM:TO, duplicate=FROM:TO (TO may be empty:
+ *  forever); CH is a state index or name. */
 extern const roz_port_ops_t roz_loopback_ops;
 
 /** @brief A roz_port_t over @p lb. */

@@ -1,0 +1,185 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* libFuzzer target: the input is a program of host-function calls. The
+ * first byte picks the manifest (UR5 or Unitree G1); then each operation is
+ * one byte of opcode and its arguments, read little-endian from the bytes
+ * that follow (missing bytes read as zero):
+ *   command.set (any i32 index, or a near one), count, limit_min/max,
+ *   state.get, state.count, math.sin/cos, safety.request_estop,
+ *   timing.now_ns/sim_time_ns, telemetry.emit_metric, a state value (any
+ *   double, NaN and Inf included), the tick number, and "tick": the filter
+ *   runs over the targets with a stop mode from the input.
+ * Checked: every command.set result against its documented meaning, and
+ * every filtered command inside the manifest, within max_rate of the last
+ * one unless an e-stop or a counted limit stop allowed more. */
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "roz/abi.h"
+#include "roz/filter.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+typedef struct {
+    const uint8_t *p, *end;
+} input_t;
+
+static uint8_t u8(input_t *in)
+{
+    return in->p < in->end ? *in->p++ : 0;
+}
+
+static uint64_t u64(input_t *in, int bytes)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < bytes; i++)
+        v |= (uint64_t)u8(in) << (8 * i);
+    return v;
+}
+
+static double f64(input_t *in)
+{
+    uint64_t bits = u64(in, 8);
+    double d;
+    memcpy(&d, &bits, sizeof d);
+    return d;
+}
+
+static roz_abi_t abi;
+static roz_metric_ring_t ring;
+static roz_filter_t filt;
+static double target[ROZ_CFG_MAX_COMMANDS];
+static double state[ROZ_CFG_MAX_STATES];
+static double out[ROZ_CFG_MAX_COMMANDS];
+static double last[ROZ_CFG_MAX_COMMANDS];
+static uint32_t stops[ROZ_CFG_MAX_COMMANDS];
+
+static void check_set(const roz_manifest_t *m, int32_t index, double v, int32_t rc)
+{
+    if (index < 0 || index >= (int32_t)m->n_commands) {
+        if (rc != ROZ_ABI_SET_REFUSED)
+            abort();
+        return;
+    }
+    const roz_channel_t *c = &m->commands[index];
+    if (!isfinite(v)) {
+        if (rc != ROZ_ABI_SET_REFUSED || isfinite(target[index]))
+            abort();
+    } else if (v < c->min || v > c->max) {
+        if (rc != ROZ_ABI_SET_CLAMPED || target[index] != (v < c->min ? c->min : c->max))
+            abort();
+    } else if (rc != ROZ_ABI_SET_TAKEN || target[index] != v) {
+        abort();
+    }
+}
+
+static void tick(const roz_manifest_t *m, roz_stop_t stop)
+{
+    roz_filter_apply(&filt, target, state, stop, out);
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        int limited = filt.channel_limit_stops[i] != stops[i];
+        stops[i] = filt.channel_limit_stops[i];
+        if (!(out[i] >= c->min && out[i] <= c->max))
+            abort();
+        if (stop != ROZ_STOP_IMMEDIATE && !limited && c->max_rate > 0.0 &&
+            fabs(out[i] - last[i]) > c->max_rate * (1.0 + 1e-12))
+            abort();
+        last[i] = out[i];
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    input_t in = { data, data + size };
+    const roz_manifest_t *m = u8(&in) & 1 ? &roz_manifest_unitree_g1 : &roz_manifest_ur5;
+    roz_metric_t metric;
+    volatile double sink = 0.0;
+    volatile int64_t isink = 0;
+
+    /* validating a manifest is quadratic in its channels: once per manifest */
+    static roz_filter_t fresh[2];
+    static int ready[2];
+    int which = m == &roz_manifest_unitree_g1;
+    if (!ready[which]) {
+        if (roz_filter_init(&fresh[which], m) != ROZ_OK)
+            abort();
+        ready[which] = 1;
+    }
+    filt = fresh[which];
+
+    roz_abi_init(&abi, m, target, &ring);
+    for (uint16_t s = 0; s < m->n_states; s++)
+        state[s] = m->states[s].default_value;
+    abi.state = state;
+    roz_filter_prime(&filt, state);
+    memcpy(last, filt.last, m->n_commands * sizeof last[0]);
+    memset(stops, 0, sizeof stops);
+
+    while (in.p < in.end) {
+        uint8_t op = u8(&in);
+        switch (op % 16) {
+        case 0: {
+            int32_t i = (int32_t)(uint32_t)u64(&in, 4);
+            double v = f64(&in);
+            check_set(m, i, v, roz_abi_command_set(&abi, i, v));
+            break;
+        }
+        case 1: {
+            int32_t i = (int32_t)u8(&in) - 8; /* mostly valid, some just outside */
+            double v = f64(&in);
+            check_set(m, i, v, roz_abi_command_set(&abi, i, v));
+            break;
+        }
+        case 2:
+            if (roz_abi_command_count(&abi) != m->n_commands)
+                abort();
+            break;
+        case 3: sink = roz_abi_command_limit_min(&abi, (int32_t)(uint32_t)u64(&in, 4)); break;
+        case 4: sink = roz_abi_command_limit_max(&abi, (int32_t)(uint32_t)u64(&in, 4)); break;
+        case 5: {
+            int32_t i = (int32_t)(uint32_t)u64(&in, 4);
+            double v = roz_abi_state_get(&abi, i);
+            int ok = i >= 0 && i < (int32_t)m->n_states;
+            if (ok ? memcmp(&v, &state[i], sizeof v) != 0 : !isnan(v))
+                abort();
+            break;
+        }
+        case 6:
+            if (roz_abi_state_count(&abi) != m->n_states)
+                abort();
+            break;
+        case 7: sink = roz_abi_math_sin(f64(&in)); break;
+        case 8: sink = roz_abi_math_cos(f64(&in)); break;
+        case 9: roz_abi_safety_request_estop(&abi); break;
+        case 10: isink = roz_abi_timing_now_ns(&abi); break;
+        case 11: isink = roz_abi_timing_sim_time_ns(&abi); break;
+        case 12: roz_abi_telemetry_emit_metric(&abi, f64(&in)); break;
+        case 13: {
+            uint8_t s = u8(&in);
+            double v = f64(&in);
+            if (m->n_states > 0)
+                state[s % m->n_states] = v;
+            break;
+        }
+        case 14:
+            /* any tick within 292 years of control time, where
+             * tick * period_ns still fits in an int64 */
+            abi.tick = (int64_t)(u64(&in, 8) % ((uint64_t)INT64_MAX / abi.period_ns + 1));
+            break;
+        default:
+            tick(m, (roz_stop_t)(u8(&in) % 3));
+            break;
+        }
+    }
+    tick(m, ROZ_STOP_NONE);
+    while (roz_metric_ring_pop(&ring, &metric))
+        ;
+    (void)sink;
+    (void)isink;
+    return 0;
+}

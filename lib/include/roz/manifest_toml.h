@@ -1,0 +1,109 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/manifest_toml.h
+ * @brief Read a robot.toml at run time into a roz_manifest_storage_t, with
+ *        exactly rozgen's rules, rule ids and messages (host builds).
+ *
+ * Part of roz::toml (CMake option ROZ_TOML). Host tools and Linux ECU
+ * applications load any robot.toml this way without generating C tables;
+ * firmware keeps using the tables rozgen generates.
+ *
+ * Every problem is reported the way `rozgen --check` prints it, one line
+ * per problem: `<file><text>`, where @c text starts with ": " (or with
+ * ":<line>:<col>: " for TOML errors), and `[<rule>] <file><text>` in the
+ * form of `rozgen --error-ids`. The rules, their ids and wording are those
+ * of codegen/rozgen/validate.py (see codegen/README.md); the C loader keeps
+ * the first @c max_problems problems in rozgen's order. TOML syntax errors
+ * have tomllib's line and column with roz's own wording.
+ *
+ * Limits of this build rather than rules of robot.toml are reported under
+ * the rule id "storage": a document larger than the caller's TOML storage,
+ * more joints or parameters than ROZ_CFG_MAX_JOINTS / ROZ_CFG_MAX_PARAMS,
+ * names and units beyond ROZ_CFG_NAME_ARENA_BYTES, a file larger than the
+ * caller's buffer. The channel maxima are ROZ_CFG_MAX_COMMANDS,
+ * ROZ_CFG_MAX_STATES and ROZ_CFG_MAX_NAME_LEN (rozgen's defaults).
+ * Known difference: tomllib reads integers of any size, this reader only
+ * 64-bit ones, as TOML requires; a larger one is a toml-syntax problem here.
+ */
+#ifndef ROZ_MANIFEST_TOML_H
+#define ROZ_MANIFEST_TOML_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/error.h"
+#include "roz/manifest.h"
+#include "roz/toml.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** One problem in a robot.toml. */
+typedef struct roz_manifest_toml_problem {
+    const char *rule; /**< rule id: "limits-order", "toml-syntax", ..., or "storage" */
+    char text[ROZ_CFG_PROBLEM_LEN]; /**< the line after the file name, e.g.
+                                         ": manifest: control_rate_hz 0: must be in 1..100000" */
+    uint32_t order[4]; /**< sort key of rozgen's order; not API */
+} roz_manifest_toml_problem_t;
+
+/**
+ * @brief Parse and check a robot.toml and build its manifest in @p storage.
+ * @param[out] storage      on ROZ_OK, &storage->manifest is the manifest; its
+ *                          strings are interned in storage->arena, its
+ *                          [hardware] in storage->hardware/joints/params
+ * @param[in,out] doc       TOML storage (roz_toml_init()); the text is parsed
+ *                          into it and it can be dropped after the call
+ * @param[in]  text         the file's bytes, @p len of them
+ * @param[out] problems     optional: room for @p max_problems problems; gets
+ *                          the first ones in rozgen's order
+ * @param[out] n_found      optional: how many problems were found (may be
+ *                          more than @p max_problems)
+ * @retval ROZ_OK      valid; the manifest is built
+ * @retval ROZ_EINVAL  invalid TOML, UTF-8 or manifest (see the problems), or
+ *                     NULL storage/doc
+ * @retval ROZ_ENOTSUP valid TOML this reader refuses (see roz/toml.h)
+ * @retval ROZ_ENOSPC  a limit of this build or of @p doc (rule "storage")
+ * Context: start-up or host tools; no heap, no I/O, no recursion.
+ */
+ROZ_NODISCARD int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
+                                         const char *text, size_t len,
+                                         roz_manifest_toml_problem_t *problems,
+                                         size_t max_problems, size_t *n_found);
+
+/**
+ * @brief Read a whole file into a caller buffer (host builds).
+ * @param[in]  path     the file
+ * @param[out] buf      @p cap bytes; not NUL-terminated
+ * @param[out] len      bytes read
+ * @param[out] problem  optional: on failure, rozgen's "io-error" problem
+ *                      (": cannot read: No such file or directory") or a
+ *                      "storage" one for a file larger than @p cap
+ * @retval ROZ_OK     read
+ * @retval ROZ_EIO    cannot open or read it
+ * @retval ROZ_ENOSPC larger than @p cap bytes
+ * @retval ROZ_EINVAL NULL arguments
+ * Context: host tools; blocking file I/O.
+ */
+ROZ_NODISCARD int roz_manifest_toml_read_file(const char *path, char *buf, size_t cap,
+                                              size_t *len, roz_manifest_toml_problem_t *problem);
+
+/**
+ * @brief roz_manifest_toml_read_file() then roz_manifest_toml_load(): the
+ *        usual way to load a robot.toml. A read failure is one problem.
+ * @retval as the two functions above
+ * Context: host tools; blocking file I/O; no heap.
+ */
+ROZ_NODISCARD int roz_manifest_toml_load_file(const char *path, char *buf, size_t cap,
+                                              roz_manifest_storage_t *storage,
+                                              roz_toml_doc_t *doc,
+                                              roz_manifest_toml_problem_t *problems,
+                                              size_t max_problems, size_t *n_found);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_MANIFEST_TOML_H */

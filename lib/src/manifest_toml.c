@@ -1,0 +1,1268 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#include "roz/manifest_toml.h"
+
+#include <errno.h>
+#include <locale.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/*
+ * The robot.toml rules of codegen/rozgen/validate.py, in C.
+ *
+ * The checks run in the same order as rozgen's and each problem gets the
+ * same sort key (section, channel index, rank of its key, sequence), so
+ * that the problems come out in rozgen's order; only the first
+ * max_problems are kept, smallest keys first. Facts that rozgen keeps in
+ * "drafts" (is this channel's name valid? its interface type?) are
+ * recomputed from the document where they are needed, so checking needs
+ * no storage of its own. The manifest is built only when nothing is wrong.
+ */
+
+/* ---- types ---------------------------------------------------------------- */
+
+enum { SEC_TOP, SEC_MANIFEST, SEC_COMMANDS, SEC_STATES, SEC_HARDWARE };
+
+/* Where problems go: section and index for ordering, text for messages. */
+typedef struct place {
+    uint32_t           section;
+    uint32_t           index;
+    const char        *where; /* "" at top level */
+    const char *const *keys;  /* known keys, in reporting order */
+    size_t             n_keys;
+} place_t;
+
+/* A bounded string builder: text past the end is dropped and marked. */
+typedef struct sb {
+    char  *buf;
+    size_t cap;
+    size_t len;
+    int    cut;
+} sb_t;
+
+typedef struct checker {
+    const roz_toml_doc_t        *doc;
+    roz_manifest_toml_problem_t *out;
+    size_t                       cap;
+    size_t                       stored;
+    size_t                       found;
+    uint32_t                     seq;
+    const roz_toml_node_t       *robot_id; /* when valid */
+} checker_t;
+
+#define ROBOT_ID_MAX 32
+#define RATE_MAX 100000
+#define DEFAULT_RATE 100
+#define MSG_ARRAY_ITEMS 8
+
+static const char *const top_keys[] = { "manifest", "hardware" };
+static const char *const manifest_keys[] = { "robot_id", "robot_class", "control_rate_hz",
+                                             "commands", "states" };
+static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
+                                            "limits",  "default",            "max_rate_of_change",
+                                            "position_state_index" };
+static const char *const hardware_keys[] = { "port", "joints", "params" };
+
+#define N_OF(a) (sizeof(a) / sizeof((a)[0]))
+
+/* ---- private: text ------------------------------------------------------------- */
+
+static void sb_init(sb_t *sb, char *buf, size_t cap)
+{
+    sb->buf = buf;
+    sb->cap = cap;
+    sb->len = 0;
+    sb->cut = 0;
+    buf[0] = '\0';
+}
+
+static void sb_putn(sb_t *sb, const char *s, size_t n)
+{
+    size_t room = sb->cap - 1 - sb->len;
+    if (n > room) {
+        n = room;
+        sb->cut = 1;
+    }
+    memcpy(sb->buf + sb->len, s, n);
+    sb->len += n;
+    sb->buf[sb->len] = '\0';
+}
+
+static void sb_puts(sb_t *sb, const char *s)
+{
+    sb_putn(sb, s, strlen(s));
+}
+
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 2, 3)))
+#endif
+static void sb_printf(sb_t *sb, const char *fmt, ...)
+{
+    char tmp[160];
+    va_list ap;
+    int n;
+    va_start(ap, fmt);
+    n = vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    if (n < 0)
+        return;
+    if ((size_t)n >= sizeof tmp) {
+        n = (int)sizeof tmp - 1;
+        sb->cut = 1;
+    }
+    sb_putn(sb, tmp, (size_t)n);
+}
+
+/* Ends a cut text in "..." so that nobody takes it for the whole message. */
+static void sb_finish(sb_t *sb)
+{
+    if (sb->cut && sb->cap >= 4) {
+        size_t at = sb->len >= 3 ? sb->len - 3 : 0;
+        memcpy(sb->buf + at, "...", 3);
+        sb->buf[at + 3] = '\0';
+    }
+}
+
+/* rozgen.fmt.quote: a TOML basic string for messages. */
+static void put_quoted(sb_t *sb, const char *s, size_t n)
+{
+    sb_puts(sb, "\"");
+    for (size_t i = 0; i < n; i++) {
+        unsigned char c = (unsigned char)s[i];
+        switch (c) {
+        case '"':  sb_puts(sb, "\\\""); break;
+        case '\\': sb_puts(sb, "\\\\"); break;
+        case '\n': sb_puts(sb, "\\n"); break;
+        case '\t': sb_puts(sb, "\\t"); break;
+        case '\r': sb_puts(sb, "\\r"); break;
+        case '\b': sb_puts(sb, "\\b"); break;
+        case '\f': sb_puts(sb, "\\f"); break;
+        default:
+            if (c < 0x20 || c == 0x7F)
+                sb_printf(sb, "\\u%04X", (unsigned)c);
+            else
+                sb_putn(sb, (const char *)&c, 1);
+        }
+    }
+    sb_puts(sb, "\"");
+}
+
+/* "%.*g" with '.' as the decimal point whatever the locale; *exact tells
+ * whether the text reads back as x. */
+static void fmt_g(char *buf, size_t cap, int prec, double x, int *exact)
+{
+    const char *point = localeconv()->decimal_point;
+    snprintf(buf, cap, "%.*g", prec, x);
+    if (exact != NULL)
+        *exact = strtod(buf, NULL) == x;
+    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
+        char *at = strstr(buf, point);
+        if (at != NULL) {
+            size_t plen = strlen(point);
+            *at = '.';
+            memmove(at + 1, at + plen, strlen(at + plen) + 1);
+        }
+    }
+}
+
+/* rozgen.fmt.shortest_g: the shortest round-trip %g, integral values below
+ * 1e16 without exponent. */
+static void shortest_g(double x, char out[40])
+{
+    int exact = 0;
+    const char *e;
+    if (isnan(x)) {
+        strcpy(out, "nan");
+        return;
+    }
+    if (isinf(x)) {
+        strcpy(out, x > 0 ? "inf" : "-inf");
+        return;
+    }
+    for (int p = 1; p <= 17 && !exact; p++)
+        fmt_g(out, 40, p, x, &exact);
+    e = strchr(out, 'e');
+    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
+        fmt_g(out, 40, atoi(e + 1) + 1, x, NULL);
+}
+
+/* rozgen.fmt.c_double: shortest_g with ".0" when it looks like an integer. */
+static void c_double(double x, char out[44])
+{
+    shortest_g(x, out);
+    if (strpbrk(out, ".eni") == NULL)
+        strcat(out, ".0");
+}
+
+/* Python's isoformat() of what tomllib makes of a date/time. */
+static void put_isoformat(sb_t *sb, const roz_toml_node_t *v)
+{
+    const roz_toml_datetime_t *t = &v->as.datetime;
+    uint32_t micro = t->nanosecond / 1000u;
+    if (v->type != ROZ_TOML_TIME_LOCAL)
+        sb_printf(sb, "%04u-%02u-%02u", (unsigned)t->year, (unsigned)t->month, (unsigned)t->day);
+    if (v->type == ROZ_TOML_DATE_LOCAL)
+        return;
+    if (v->type != ROZ_TOML_TIME_LOCAL)
+        sb_puts(sb, "T");
+    sb_printf(sb, "%02u:%02u:%02u", (unsigned)t->hour, (unsigned)t->minute, (unsigned)t->second);
+    if (micro != 0)
+        sb_printf(sb, ".%06lu", (unsigned long)micro);
+    if (v->type == ROZ_TOML_DATETIME) {
+        int off = t->offset_min < 0 ? -t->offset_min : t->offset_min;
+        sb_printf(sb, "%c%02d:%02d", t->offset_min < 0 ? '-' : '+', off / 60, off % 60);
+    }
+}
+
+/* A value that toml_value() shows without looking inside. */
+static void put_brief(sb_t *sb, const roz_toml_node_t *v)
+{
+    char num[44];
+    switch (v->type) {
+    case ROZ_TOML_TABLE:   sb_puts(sb, "{...}"); break;
+    case ROZ_TOML_ARRAY:   sb_puts(sb, "[...]"); break;
+    case ROZ_TOML_STRING:  put_quoted(sb, v->as.str.ptr, v->as.str.len); break;
+    case ROZ_TOML_INTEGER: sb_printf(sb, "%lld", (long long)v->as.integer); break;
+    case ROZ_TOML_BOOL:    sb_puts(sb, v->as.boolean ? "true" : "false"); break;
+    case ROZ_TOML_FLOAT:
+        c_double(v->as.real, num);
+        sb_puts(sb, num);
+        break;
+    default:               put_isoformat(sb, v); break;
+    }
+}
+
+/* An array's first MSG_ARRAY_ITEMS items, each shown briefly. */
+static void put_array_brief(sb_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *a)
+{
+    size_t i = 0;
+    sb_puts(sb, "[");
+    for (const roz_toml_node_t *c = roz_toml_first(d, a); c != NULL; c = roz_toml_next(d, c)) {
+        if (i > 0)
+            sb_puts(sb, ", ");
+        if (i++ == MSG_ARRAY_ITEMS) {
+            sb_puts(sb, "...");
+            break;
+        }
+        put_brief(sb, c);
+    }
+    sb_puts(sb, "]");
+}
+
+/* rozgen.fmt.toml_value: a value as written, for messages; arrays show two
+ * levels, deeper ones as "[...]". */
+static void put_value(sb_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *v)
+{
+    size_t i = 0;
+    if (v->type != ROZ_TOML_ARRAY) {
+        put_brief(sb, v);
+        return;
+    }
+    sb_puts(sb, "[");
+    for (const roz_toml_node_t *c = roz_toml_first(d, v); c != NULL; c = roz_toml_next(d, c)) {
+        if (i > 0)
+            sb_puts(sb, ", ");
+        if (i++ == MSG_ARRAY_ITEMS) {
+            sb_puts(sb, "...");
+            break;
+        }
+        if (c->type == ROZ_TOML_ARRAY)
+            put_array_brief(sb, d, c);
+        else
+            put_brief(sb, c);
+    }
+    sb_puts(sb, "]");
+}
+
+/* rozgen's _key_text: a key bare when it can be, else quoted. */
+static void put_key(sb_t *sb, roz_toml_string_t k)
+{
+    int bare = k.len > 0;
+    for (uint32_t i = 0; i < k.len && bare; i++) {
+        char c = k.ptr[i];
+        bare = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+               c == '_' || c == '-';
+    }
+    if (bare)
+        sb_putn(sb, k.ptr, k.len);
+    else
+        put_quoted(sb, k.ptr, k.len);
+}
+
+/* ---- private: values --------------------------------------------------------------- */
+
+static int is_type(const roz_toml_node_t *n, roz_toml_type_t t)
+{
+    return n != NULL && n->type == (uint8_t)t;
+}
+
+static int is_number(const roz_toml_node_t *n)
+{
+    return is_type(n, ROZ_TOML_INTEGER) || is_type(n, ROZ_TOML_FLOAT);
+}
+
+/* Python's float(value) of an int or float. */
+static double number_of(const roz_toml_node_t *n)
+{
+    return n->type == ROZ_TOML_INTEGER ? (double)n->as.integer : n->as.real;
+}
+
+static int has_nul(roz_toml_string_t s)
+{
+    return s.len > 0 && memchr(s.ptr, '\0', s.len) != NULL;
+}
+
+static int str_eq(roz_toml_string_t s, const char *z)
+{
+    size_t n = strlen(z);
+    return s.len == n && memcmp(s.ptr, z, n) == 0;
+}
+
+static int str_eq2(roz_toml_string_t a, roz_toml_string_t b)
+{
+    return a.len == b.len && (a.len == 0 || memcmp(a.ptr, b.ptr, a.len) == 0);
+}
+
+/* Index of an interface type name, or -1. */
+static int interface_of(roz_toml_string_t s)
+{
+    for (int i = 0; i < (int)ROZ_IF_COUNT_; i++) {
+        if (str_eq(s, roz_interface_name((roz_interface_t)i)))
+            return i;
+    }
+    return -1;
+}
+
+/* rozgen.names.constant_suffix: upper case, runs of anything but letters
+ * and digits made one '_', none at the ends. */
+static size_t constant_suffix(roz_toml_string_t name, char *out, size_t cap)
+{
+    size_t n = 0;
+    int gap = 0;
+    for (uint32_t i = 0; i < name.len && n + 2 < cap; i++) {
+        char c = name.ptr[i];
+        int alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+        if (!alnum) {
+            gap = 1;
+            continue;
+        }
+        if (gap && n > 0)
+            out[n++] = '_';
+        gap = 0;
+        out[n++] = (char)(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+    }
+    out[n] = '\0';
+    return n;
+}
+
+/* ---- private: problems ------------------------------------------------------------- */
+
+static int order_less(const uint32_t a[4], const uint32_t b[4])
+{
+    for (int i = 0; i < 4; i++) {
+        if (a[i] != b[i])
+            return a[i] < b[i];
+    }
+    return 0;
+}
+
+/* Keeps the max_problems problems with the smallest sort keys. */
+static void keep(checker_t *ck, const roz_manifest_toml_problem_t *p)
+{
+    ck->found++;
+    if (ck->stored < ck->cap) {
+        ck->out[ck->stored++] = *p;
+        return;
+    }
+    if (ck->cap == 0)
+        return;
+    size_t worst = 0;
+    for (size_t i = 1; i < ck->stored; i++) {
+        if (order_less(ck->out[worst].order, ck->out[i].order))
+            worst = i;
+    }
+    if (order_less(p->order, ck->out[worst].order))
+        ck->out[worst] = *p;
+}
+
+static void sort_kept(checker_t *ck)
+{
+    for (size_t i = 1; i < ck->stored; i++) {
+        roz_manifest_toml_problem_t p = ck->out[i];
+        size_t j = i;
+        while (j > 0 && order_less(p.order, ck->out[j - 1].order)) {
+            ck->out[j] = ck->out[j - 1];
+            j--;
+        }
+        ck->out[j] = p;
+    }
+}
+
+/* rozgen's report(): "<where>: <key> <value>: <what>" under @pl; @value
+ * NULL for none; the key's rank is that of @rank_key (default @key). */
+static void report(checker_t *ck, const char *rule, const place_t *pl, const char *key,
+                   const char *what, const roz_toml_node_t *value, const char *rank_key)
+{
+    roz_manifest_toml_problem_t p;
+    const char *rk = rank_key != NULL ? rank_key : key;
+    uint32_t rank = 0; /* unknown keys (rank -1) first */
+    sb_t sb;
+
+    for (size_t i = 0; i < pl->n_keys; i++) {
+        if (strcmp(pl->keys[i], rk) == 0)
+            rank = (uint32_t)i + 1u;
+    }
+    p.rule = rule;
+    sb_init(&sb, p.text, sizeof p.text);
+    sb_puts(&sb, ": ");
+    if (pl->where[0] != '\0') {
+        sb_puts(&sb, pl->where);
+        sb_puts(&sb, ": ");
+    }
+    sb_puts(&sb, key);
+    if (value != NULL) {
+        sb_puts(&sb, " ");
+        put_value(&sb, ck->doc, value);
+    }
+    sb_puts(&sb, ": ");
+    sb_puts(&sb, what);
+    sb_finish(&sb);
+    p.order[0] = pl->section;
+    p.order[1] = pl->index;
+    p.order[2] = rank;
+    p.order[3] = ck->seq++;
+    keep(ck, &p);
+}
+
+/* A problem without a place (TOML, UTF-8, I/O, storage). */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static void report_raw(checker_t *ck, const char *rule, const char *fmt, ...)
+{
+    roz_manifest_toml_problem_t p;
+    va_list ap;
+    p.rule = rule;
+    va_start(ap, fmt);
+    vsnprintf(p.text, sizeof p.text, fmt, ap);
+    va_end(ap);
+    memset(p.order, 0, sizeof p.order);
+    p.order[3] = ck->seq++;
+    keep(ck, &p);
+}
+
+static void unknown_keys(checker_t *ck, const place_t *pl, const roz_toml_node_t *table)
+{
+    for (const roz_toml_node_t *c = roz_toml_first(ck->doc, table); c != NULL;
+         c = roz_toml_next(ck->doc, c)) {
+        char key[ROZ_CFG_PROBLEM_LEN], what[ROZ_CFG_PROBLEM_LEN];
+        sb_t kb, wb;
+        int known = 0;
+        for (size_t i = 0; i < pl->n_keys && !known; i++)
+            known = str_eq(c->key, pl->keys[i]);
+        if (known)
+            continue;
+        sb_init(&kb, key, sizeof key);
+        put_key(&kb, c->key);
+        sb_finish(&kb);
+        sb_init(&wb, what, sizeof what);
+        sb_puts(&wb, "unknown key (known keys: ");
+        for (size_t i = 0; i < pl->n_keys; i++) {
+            sb_puts(&wb, i > 0 ? ", " : "");
+            sb_puts(&wb, pl->keys[i]);
+        }
+        sb_puts(&wb, ")");
+        report(ck, "unknown-key", pl, key, what, NULL, "");
+    }
+}
+
+static const char *expected(const roz_toml_node_t *v, const char *what, char *buf, size_t cap)
+{
+    snprintf(buf, cap, "expected %s%s", what, is_type(v, ROZ_TOML_BOOL) ? ", not a boolean" : "");
+    return buf;
+}
+
+/* rozgen's string(): 1 and *out (NULL when absent and not @required) when
+ * valid, else 0 with the problem reported. */
+static int check_string(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
+                        const char *key, int required, const roz_toml_node_t **out)
+{
+    const roz_toml_node_t *v = roz_toml_get(ck->doc, table, key);
+    *out = NULL;
+    if (v == NULL) {
+        if (required)
+            report(ck, "missing-key", pl, key, "required key is missing", NULL, NULL);
+        return !required;
+    }
+    if (v->type != ROZ_TOML_STRING) {
+        report(ck, "type", pl, key, "expected a string", v, NULL);
+        return 0;
+    }
+    if (has_nul(v->as.str)) {
+        report(ck, "nul-char", pl, key, "must not contain a NUL character", v, NULL);
+        return 0;
+    }
+    *out = v;
+    return 1;
+}
+
+/* rozgen's number(): a finite number as a double. */
+static int check_number(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
+                        const char *key, int required, double def, double *out)
+{
+    const roz_toml_node_t *v = roz_toml_get(ck->doc, table, key);
+    char buf[64];
+    if (v == NULL) {
+        if (required) {
+            report(ck, "missing-key", pl, key, "required key is missing", NULL, NULL);
+            return 0;
+        }
+        *out = def;
+        return 1;
+    }
+    if (!is_number(v)) {
+        report(ck, "type", pl, key, expected(v, "a number", buf, sizeof buf), v, NULL);
+        return 0;
+    }
+    if (!isfinite(number_of(v))) {
+        report(ck, "not-finite", pl, key, "must be finite", v, NULL);
+        return 0;
+    }
+    *out = number_of(v);
+    return 1;
+}
+
+/* rozgen's integer(), quietly when @ck is NULL. */
+static int check_integer(checker_t *ck, const roz_toml_doc_t *d, const place_t *pl,
+                         const roz_toml_node_t *table, const char *key, int64_t def,
+                         int64_t *out)
+{
+    const roz_toml_node_t *v = roz_toml_get(d, table, key);
+    char buf[64];
+    if (v == NULL) {
+        *out = def;
+        return 1;
+    }
+    if (v->type != ROZ_TOML_INTEGER) {
+        if (ck != NULL)
+            report(ck, "type", pl, key, expected(v, "an integer", buf, sizeof buf), v, NULL);
+        return 0;
+    }
+    *out = v->as.integer;
+    return 1;
+}
+
+/* rozgen's tables(): an array whose elements should be tables; *ok and the
+ * array (NULL for an absent optional one, which counts as empty). */
+static const roz_toml_node_t *check_tables(checker_t *ck, const place_t *pl,
+                                           const roz_toml_node_t *table, const char *key,
+                                           int required, int *ok)
+{
+    const roz_toml_node_t *v = roz_toml_get(ck->doc, table, key);
+    uint32_t i = 0;
+    *ok = 0;
+    if (v == NULL) {
+        if (required)
+            report(ck, "missing-key", pl, key, "required key is missing", NULL, NULL);
+        *ok = !required;
+        return NULL;
+    }
+    if (v->type != ROZ_TOML_ARRAY) {
+        report(ck, "type", pl, key, "expected an array of tables", v, NULL);
+        return NULL;
+    }
+    for (const roz_toml_node_t *c = roz_toml_first(ck->doc, v); c != NULL;
+         c = roz_toml_next(ck->doc, c), i++) {
+        if (c->type != ROZ_TOML_TABLE) {
+            char k[48];
+            snprintf(k, sizeof k, "%s[%lu]", key, (unsigned long)i);
+            report(ck, "type", pl, k, "expected a table", c, key);
+        }
+    }
+    *ok = 1;
+    return v;
+}
+
+static void check_count(checker_t *ck, const place_t *pl, const char *key, size_t n,
+                        size_t maximum, const char *option)
+{
+    if (n > maximum) {
+        char what[128];
+        snprintf(what, sizeof what, "%lu channels, more than the maximum of %lu (%s)",
+                 (unsigned long)n, (unsigned long)maximum, option);
+        report(ck, "too-many-channels", pl, key, what, NULL, NULL);
+    }
+}
+
+/* ---- private: channels ---------------------------------------------------------------- */
+
+/* rozgen's channel_name(): the name when valid, else NULL (reported when
+ * @ck is not NULL). */
+static const roz_toml_node_t *channel_name(checker_t *ck, const roz_toml_doc_t *d,
+                                           const place_t *pl, const roz_toml_node_t *table)
+{
+    const roz_toml_node_t *v = roz_toml_get(d, table, "name");
+    const char *what = NULL;
+    char buf[128], suffix[ROZ_CFG_MAX_NAME_LEN + 2];
+    int printable = 1;
+
+    if (v == NULL || v->type != ROZ_TOML_STRING || has_nul(v->as.str)) {
+        if (ck != NULL) {
+            const roz_toml_node_t *dummy;
+            (void)check_string(ck, pl, table, "name", 1, &dummy);
+        }
+        return NULL;
+    }
+    for (uint32_t i = 0; i < v->as.str.len && printable; i++) {
+        unsigned char c = (unsigned char)v->as.str.ptr[i];
+        printable = c >= 0x20 && c < 0x7F && c != '"' && c != '\\';
+    }
+    if (v->as.str.len == 0) {
+        what = "must not be empty";
+    } else if (!printable) {
+        what = "must be printable ASCII other than \" and \\";
+    } else if (v->as.str.len > ROZ_CFG_MAX_NAME_LEN) {
+        snprintf(buf, sizeof buf, "%lu bytes, more than the maximum of %d (ROZ_CFG_MAX_NAME_LEN)",
+                 (unsigned long)v->as.str.len, ROZ_CFG_MAX_NAME_LEN);
+        what = buf;
+    } else if (constant_suffix(v->as.str, suffix, sizeof suffix) == 0) {
+        what = "must have a letter or digit (it names a C constant)";
+    }
+    if (what != NULL) {
+        if (ck != NULL)
+            report(ck, "name", pl, "name", what, v, NULL);
+        return NULL;
+    }
+    return v;
+}
+
+/* The interface type of a channel table when valid, else -1. */
+static int channel_interface(const roz_toml_doc_t *d, const roz_toml_node_t *table)
+{
+    const roz_toml_node_t *v = roz_toml_get(d, table, "interface_type");
+    if (!is_type(v, ROZ_TOML_STRING) || has_nul(v->as.str))
+        return -1;
+    return interface_of(v->as.str);
+}
+
+/* "manifest.commands[3]", and with the name when it is valid. */
+static void channel_where(const roz_toml_doc_t *d, const char *kind, uint32_t index,
+                          const roz_toml_node_t *table, int with_name, char *buf, size_t cap)
+{
+    sb_t sb;
+    const roz_toml_node_t *name = with_name ? channel_name(NULL, d, NULL, table) : NULL;
+    sb_init(&sb, buf, cap);
+    sb_printf(&sb, "manifest.%s[%lu]", kind, (unsigned long)index);
+    if (name != NULL) {
+        sb_puts(&sb, " ");
+        put_quoted(&sb, name->as.str.ptr, name->as.str.len);
+    }
+}
+
+/* rozgen's limits(): 1 with [lo, hi] when valid. */
+static int check_limits(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
+                        double *lo, double *hi)
+{
+    const roz_toml_node_t *v = roz_toml_get(ck->doc, table, "limits");
+    const roz_toml_node_t *a, *b;
+    if (v == NULL) {
+        report(ck, "missing-key", pl, "limits", "required key is missing", NULL, NULL);
+        return 0;
+    }
+    a = roz_toml_first(ck->doc, v);
+    b = a != NULL ? roz_toml_next(ck->doc, a) : NULL;
+    if (v->type != ROZ_TOML_ARRAY || roz_toml_count(v) != 2 || !is_number(a) || !is_number(b)) {
+        report(ck, "limits-shape", pl, "limits", "expected [min, max], two numbers", v, NULL);
+        return 0;
+    }
+    *lo = number_of(a);
+    *hi = number_of(b);
+    if (!isfinite(*lo) || !isfinite(*hi)) {
+        report(ck, "not-finite", pl, "limits", "must be finite", v, NULL);
+        return 0;
+    }
+    if (!(*lo < *hi)) {
+        report(ck, "limits-order", pl, "limits", "min must be below max", v, NULL);
+        return 0;
+    }
+    return 1;
+}
+
+static void check_channel(checker_t *ck, uint32_t section, const char *kind, uint32_t index,
+                          const roz_toml_node_t *t)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    char bare[48], where[ROZ_CFG_PROBLEM_LEN], what[ROZ_CFG_PROBLEM_LEN];
+    place_t pl = { section, index, bare, channel_keys, N_OF(channel_keys) };
+    const roz_toml_node_t *s;
+    double lo = 0, hi = 0, def, rate;
+    int64_t pair;
+    int lim;
+
+    snprintf(bare, sizeof bare, "manifest.%s[%lu]", kind, (unsigned long)index);
+    (void)channel_name(ck, d, &pl, t);
+    channel_where(d, kind, index, t, 1, where, sizeof where);
+    pl.where = where;
+    unknown_keys(ck, &pl, t);
+
+    if (check_string(ck, &pl, t, "interface_type", 1, &s) && interface_of(s->as.str) < 0) {
+        sb_t sb;
+        sb_init(&sb, what, sizeof what);
+        sb_puts(&sb, "unknown type (known types: ");
+        for (int i = 0; i < (int)ROZ_IF_COUNT_; i++) {
+            sb_puts(&sb, i > 0 ? ", " : "");
+            sb_puts(&sb, roz_interface_name((roz_interface_t)i));
+        }
+        sb_puts(&sb, ")");
+        report(ck, "interface-type", &pl, "interface_type", what, s, NULL);
+    }
+    (void)check_string(ck, &pl, t, "unit", 1, &s);
+    lim = check_limits(ck, &pl, t, &lo, &hi);
+    if (check_number(ck, &pl, t, "default", 1, 0.0, &def) && lim && !(lo <= def && def <= hi)) {
+        char a[44], b[44];
+        c_double(lo, a);
+        c_double(hi, b);
+        snprintf(what, sizeof what, "must be within limits [%s, %s]", a, b);
+        report(ck, "default-range", &pl, "default", what, roz_toml_get(d, t, "default"), NULL);
+    }
+    if (check_number(ck, &pl, t, "max_rate_of_change", 0, 0.0, &rate) && rate < 0)
+        report(ck, "max-rate", &pl, "max_rate_of_change", "must not be negative",
+               roz_toml_get(d, t, "max_rate_of_change"), NULL);
+    if (check_integer(ck, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED, &pair) &&
+        section == SEC_STATES && pair != ROZ_CHANNEL_UNPAIRED)
+        report(ck, "pairing-on-state", &pl, "position_state_index",
+               "only commands are paired with a position state; must be -1 or left out",
+               roz_toml_get(d, t, "position_state_index"), NULL);
+}
+
+/* rozgen's unique_names(): names, and the C constants made of them, once
+ * per list. */
+static void unique_names(checker_t *ck, uint32_t section, const char *kind,
+                         const roz_toml_node_t *list)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    const char *tag = section == SEC_COMMANDS ? "_CMD_" : "_STATE_";
+    uint32_t i = 0;
+
+    for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(NULL, d, NULL, t)
+                                                                : NULL;
+        char bare[48], what[ROZ_CFG_PROBLEM_LEN];
+        char mine[ROZ_CFG_MAX_NAME_LEN + 2], theirs[ROZ_CFG_MAX_NAME_LEN + 2];
+        place_t pl = { section, i, bare, channel_keys, N_OF(channel_keys) };
+        uint32_t j = 0;
+        const roz_toml_node_t *u, *dup = NULL, *clash = NULL;
+        uint32_t dup_j = 0, clash_j = 0;
+
+        if (name == NULL)
+            continue;
+        snprintf(bare, sizeof bare, "manifest.%s[%lu]", kind, (unsigned long)i);
+        constant_suffix(name->as.str, mine, sizeof mine);
+        for (u = roz_toml_first(d, list); u != t; u = roz_toml_next(d, u), j++) {
+            const roz_toml_node_t *other = u->type == ROZ_TOML_TABLE
+                                               ? channel_name(NULL, d, NULL, u) : NULL;
+            if (other == NULL)
+                continue;
+            if (dup == NULL && str_eq2(other->as.str, name->as.str)) {
+                dup = u;
+                dup_j = j;
+            }
+            if (clash == NULL) {
+                constant_suffix(other->as.str, theirs, sizeof theirs);
+                if (strcmp(mine, theirs) == 0) {
+                    clash = u;
+                    clash_j = j;
+                }
+            }
+        }
+        if (dup != NULL) {
+            snprintf(what, sizeof what, "duplicate of manifest.%s[%lu]", kind,
+                     (unsigned long)dup_j);
+            report(ck, "duplicate-name", &pl, "name", what, name, NULL);
+        } else if (clash != NULL) {
+            char other_where[ROZ_CFG_PROBLEM_LEN];
+            sb_t sb;
+            channel_where(d, kind, clash_j, clash, 1, other_where, sizeof other_where);
+            sb_init(&sb, what, sizeof what);
+            sb_puts(&sb, "C constant ROZ_");
+            if (ck->robot_id != NULL) {
+                for (uint32_t k = 0; k < ck->robot_id->as.str.len; k++) {
+                    char c = ck->robot_id->as.str.ptr[k];
+                    char up = (char)(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
+                    sb_putn(&sb, &up, 1);
+                }
+            } else {
+                sb_puts(&sb, "<ID>");
+            }
+            sb_puts(&sb, tag);
+            sb_puts(&sb, mine);
+            sb_puts(&sb, " is also that of ");
+            sb_puts(&sb, other_where);
+            sb_finish(&sb);
+            report(ck, "constant-collision", &pl, "name", what, name, NULL);
+        }
+    }
+}
+
+static void check_channels(checker_t *ck, uint32_t section, const char *kind,
+                           const roz_toml_node_t *list)
+{
+    uint32_t i = 0;
+    if (list == NULL)
+        return;
+    for (const roz_toml_node_t *t = roz_toml_first(ck->doc, list); t != NULL;
+         t = roz_toml_next(ck->doc, t), i++) {
+        if (t->type == ROZ_TOML_TABLE)
+            check_channel(ck, section, kind, i, t);
+    }
+    unique_names(ck, section, kind, list);
+}
+
+/* rozgen's pairing(): each paired command points at a position state. */
+static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
+                          const roz_toml_node_t *states)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    size_t n_states = roz_toml_count(states);
+    uint32_t i = 0;
+
+    for (const roz_toml_node_t *t = roz_toml_first(d, commands); t != NULL;
+         t = roz_toml_next(d, t), i++) {
+        char where[ROZ_CFG_PROBLEM_LEN], what[ROZ_CFG_PROBLEM_LEN];
+        place_t pl = { SEC_COMMANDS, i, where, channel_keys, N_OF(channel_keys) };
+        const roz_toml_node_t *value, *target;
+        int64_t pair;
+        int type;
+
+        if (t->type != ROZ_TOML_TABLE ||
+            !check_integer(NULL, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED,
+                           &pair) ||
+            pair == ROZ_CHANNEL_UNPAIRED)
+            continue;
+        channel_where(d, "commands", i, t, 1, where, sizeof where);
+        value = roz_toml_get(d, t, "position_state_index");
+        if (pair < 0 || (uint64_t)pair >= n_states) {
+            if (n_states == 0)
+                snprintf(what, sizeof what, "must be -1 (unpaired): there are no states");
+            else if (n_states == 1)
+                snprintf(what, sizeof what, "must be -1 (unpaired) or 0, the only state");
+            else
+                snprintf(what, sizeof what, "must be -1 (unpaired) or a state index 0..%lu",
+                         (unsigned long)n_states - 1u);
+            report(ck, "pairing-range", &pl, "position_state_index", what, value, NULL);
+            continue;
+        }
+        target = roz_toml_at(d, states, (size_t)pair);
+        if (target->type != ROZ_TOML_TABLE)
+            continue;
+        type = channel_interface(d, target);
+        if (type < 0 || type == ROZ_IF_POSITION)
+            continue; /* a broken target is reported where it is */
+        {
+            char target_where[ROZ_CFG_PROBLEM_LEN];
+            sb_t sb;
+            channel_where(d, "states", (uint32_t)pair, target, 1, target_where,
+                          sizeof target_where);
+            sb_init(&sb, what, sizeof what);
+            sb_puts(&sb, target_where);
+            sb_printf(&sb, " is a %s state, not a position state",
+                      roz_interface_name((roz_interface_t)type));
+            sb_finish(&sb);
+        }
+        report(ck, "pairing-type", &pl, "position_state_index", what, value, NULL);
+    }
+}
+
+/* ---- private: document ---------------------------------------------------------------- */
+
+static int robot_id_ok(roz_toml_string_t s)
+{
+    if (s.len == 0 || !(s.ptr[0] >= 'a' && s.ptr[0] <= 'z'))
+        return 0;
+    for (uint32_t i = 0; i < s.len; i++) {
+        char c = s.ptr[i];
+        if (!((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_'))
+            return 0;
+    }
+    return 1;
+}
+
+static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
+{
+    place_t pl = { SEC_MANIFEST, 0, "manifest", manifest_keys, N_OF(manifest_keys) };
+    const roz_toml_node_t *id, *cls, *commands, *states;
+    int64_t rate;
+    int commands_ok, states_ok;
+    char what[128];
+
+    unknown_keys(ck, &pl, t);
+    if (check_string(ck, &pl, t, "robot_id", 1, &id)) {
+        if (!robot_id_ok(id->as.str)) {
+            report(ck, "robot-id", &pl, "robot_id",
+                   "must match [a-z][a-z0-9_]* (it names C symbols and files)", id, NULL);
+        } else if (id->as.str.len > ROBOT_ID_MAX) {
+            snprintf(what, sizeof what, "%lu characters, more than the maximum of %d",
+                     (unsigned long)id->as.str.len, ROBOT_ID_MAX);
+            report(ck, "robot-id", &pl, "robot_id", what, id, NULL);
+        } else {
+            ck->robot_id = id;
+        }
+    }
+    (void)check_string(ck, &pl, t, "robot_class", 0, &cls);
+    if (check_integer(ck, ck->doc, &pl, t, "control_rate_hz", DEFAULT_RATE, &rate) &&
+        !(rate >= 1 && rate <= RATE_MAX)) {
+        snprintf(what, sizeof what, "must be in 1..%d", RATE_MAX);
+        report(ck, "control-rate", &pl, "control_rate_hz", what,
+               roz_toml_get(ck->doc, t, "control_rate_hz"), NULL);
+    }
+    commands = check_tables(ck, &pl, t, "commands", 1, &commands_ok);
+    states = check_tables(ck, &pl, t, "states", 0, &states_ok);
+    if (commands_ok) {
+        if (roz_toml_count(commands) == 0)
+            report(ck, "no-commands", &pl, "commands", "at least one command is required", NULL,
+                   NULL);
+        check_count(ck, &pl, "commands", roz_toml_count(commands), ROZ_CFG_MAX_COMMANDS,
+                    "ROZ_CFG_MAX_COMMANDS");
+    }
+    if (states_ok)
+        check_count(ck, &pl, "states", roz_toml_count(states), ROZ_CFG_MAX_STATES,
+                    "ROZ_CFG_MAX_STATES");
+    check_channels(ck, SEC_STATES, "states", states_ok ? states : NULL);
+    check_channels(ck, SEC_COMMANDS, "commands", commands_ok ? commands : NULL);
+    if (states_ok && commands_ok)
+        check_pairing(ck, commands, states);
+}
+
+static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    place_t pl = { SEC_HARDWARE, 0, "hardware", hardware_keys, N_OF(hardware_keys) };
+    place_t ppl = { SEC_HARDWARE, 1, "hardware.params", NULL, 0 };
+    const roz_toml_node_t *port, *joints, *params;
+
+    unknown_keys(ck, &pl, t);
+    (void)check_string(ck, &pl, t, "port", 1, &port);
+
+    joints = roz_toml_get(d, t, "joints");
+    if (joints != NULL && joints->type != ROZ_TOML_ARRAY) {
+        report(ck, "type", &pl, "joints", "expected an array of strings", joints, NULL);
+    } else if (joints != NULL) {
+        uint32_t i = 0;
+        for (const roz_toml_node_t *j = roz_toml_first(d, joints); j != NULL;
+             j = roz_toml_next(d, j), i++) {
+            char key[32], what[64];
+            snprintf(key, sizeof key, "joints[%lu]", (unsigned long)i);
+            if (j->type != ROZ_TOML_STRING) {
+                report(ck, "type", &pl, key, "expected a string", j, "joints");
+            } else if (j->as.str.len == 0) {
+                report(ck, "joint-name", &pl, key, "must not be empty", j, "joints");
+            } else if (has_nul(j->as.str)) {
+                report(ck, "nul-char", &pl, key, "must not contain a NUL character", j, "joints");
+            } else {
+                uint32_t k = 0;
+                for (const roz_toml_node_t *o = roz_toml_first(d, joints); o != j;
+                     o = roz_toml_next(d, o), k++) {
+                    if (o->type == ROZ_TOML_STRING && o->as.str.len > 0 && !has_nul(o->as.str) &&
+                        str_eq2(o->as.str, j->as.str)) {
+                        snprintf(what, sizeof what, "duplicate of joints[%lu]", (unsigned long)k);
+                        report(ck, "duplicate-joint", &pl, key, what, j, "joints");
+                        break;
+                    }
+                }
+            }
+        }
+    }
+
+    params = roz_toml_get(d, t, "params");
+    if (params != NULL && params->type != ROZ_TOML_TABLE) {
+        report(ck, "type", &pl, "params", "expected a table of strings", params, NULL);
+    } else if (params != NULL) {
+        for (const roz_toml_node_t *v = roz_toml_first(d, params); v != NULL;
+             v = roz_toml_next(d, v)) {
+            char key[ROZ_CFG_PROBLEM_LEN];
+            sb_t kb;
+            sb_init(&kb, key, sizeof key);
+            put_key(&kb, v->key);
+            sb_finish(&kb);
+            if (v->type != ROZ_TOML_STRING)
+                report(ck, "type", &ppl, key, "expected a string", v, NULL);
+            else if (has_nul(v->key))
+                report(ck, "nul-char", &ppl, key, "must not contain a NUL character", NULL, NULL);
+            else if (has_nul(v->as.str))
+                report(ck, "nul-char", &ppl, key, "must not contain a NUL character", v, NULL);
+        }
+    }
+}
+
+static void check_document(checker_t *ck)
+{
+    const roz_toml_node_t *root = roz_toml_root(ck->doc), *m, *hw;
+    place_t top = { SEC_TOP, 0, "", top_keys, N_OF(top_keys) };
+
+    unknown_keys(ck, &top, root);
+    m = roz_toml_get(ck->doc, root, "manifest");
+    if (m == NULL)
+        report(ck, "missing-key", &top, "manifest", "required key is missing", NULL, NULL);
+    else if (m->type != ROZ_TOML_TABLE)
+        report(ck, "type", &top, "manifest", "expected a table", m, NULL);
+    else
+        check_manifest(ck, m);
+    hw = roz_toml_get(ck->doc, root, "hardware");
+    if (hw != NULL && hw->type == ROZ_TOML_TABLE)
+        check_hardware(ck, hw);
+    else if (hw != NULL)
+        report(ck, "type", &top, "hardware", "expected a table", hw, NULL);
+}
+
+/* ---- private: building ------------------------------------------------------------------ */
+
+/* Copies a checked string (no NUL inside) into the storage's name arena. */
+static const char *intern(roz_manifest_storage_t *st, roz_toml_string_t s)
+{
+    char *at;
+    if ((size_t)s.len + 1u > sizeof st->arena - st->arena_used)
+        return NULL;
+    at = &st->arena[st->arena_used];
+    if (s.len > 0)
+        memcpy(at, s.ptr, s.len);
+    at[s.len] = '\0';
+    st->arena_used += (size_t)s.len + 1u;
+    return at;
+}
+
+static const char *intern_key(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
+                              const roz_toml_node_t *t, const char *key)
+{
+    return intern(st, roz_toml_get(d, t, key)->as.str);
+}
+
+static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
+                          const roz_toml_node_t *list, roz_channel_t *out)
+{
+    size_t i = 0;
+    for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *lim = roz_toml_get(d, t, "limits");
+        const roz_toml_node_t *rate = roz_toml_get(d, t, "max_rate_of_change");
+        const roz_toml_node_t *pair = roz_toml_get(d, t, "position_state_index");
+        roz_channel_t *c = &out[i];
+        c->name = intern_key(st, d, t, "name");
+        c->unit = intern_key(st, d, t, "unit");
+        if (c->name == NULL || c->unit == NULL)
+            return ROZ_ENOSPC;
+        c->type = (roz_interface_t)channel_interface(d, t);
+        c->min = number_of(roz_toml_first(d, lim));
+        c->max = number_of(roz_toml_next(d, roz_toml_first(d, lim)));
+        c->default_value = number_of(roz_toml_get(d, t, "default"));
+        c->max_rate = rate != NULL ? number_of(rate) : 0.0;
+        c->position_state = pair != NULL ? (int32_t)pair->as.integer : ROZ_CHANNEL_UNPAIRED;
+    }
+    return ROZ_OK;
+}
+
+/* Builds the checked document into @st; a limit of this build is a
+ * "storage" problem. */
+static int build(checker_t *ck, roz_manifest_storage_t *st)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    const roz_toml_node_t *root = roz_toml_root(d);
+    const roz_toml_node_t *m = roz_toml_get(d, root, "manifest");
+    const roz_toml_node_t *hw = roz_toml_get(d, root, "hardware");
+    const roz_toml_node_t *cls = roz_toml_get(d, m, "robot_class");
+    const roz_toml_node_t *rate = roz_toml_get(d, m, "control_rate_hz");
+    const roz_toml_node_t *commands = roz_toml_get(d, m, "commands");
+    const roz_toml_node_t *states = roz_toml_get(d, m, "states");
+    roz_manifest_t *man = &st->manifest;
+    int rc;
+
+    st->arena_used = 0;
+    memset(man, 0, sizeof *man);
+    if (hw != NULL) {
+        const roz_toml_node_t *joints = roz_toml_get(d, hw, "joints");
+        const roz_toml_node_t *params = roz_toml_get(d, hw, "params");
+        if (roz_toml_count(joints) > ROZ_CFG_MAX_JOINTS) {
+            report_raw(ck, "storage", ": hardware: joints: %lu joints, more than the maximum of "
+                                      "%d (ROZ_CFG_MAX_JOINTS)",
+                       (unsigned long)roz_toml_count(joints), ROZ_CFG_MAX_JOINTS);
+            return ROZ_ENOSPC;
+        }
+        if (roz_toml_count(params) > ROZ_CFG_MAX_PARAMS) {
+            report_raw(ck, "storage", ": hardware.params: %lu parameters, more than the maximum "
+                                      "of %d (ROZ_CFG_MAX_PARAMS)",
+                       (unsigned long)roz_toml_count(params), ROZ_CFG_MAX_PARAMS);
+            return ROZ_ENOSPC;
+        }
+    }
+
+    man->robot_id = intern_key(st, d, m, "robot_id");
+    man->robot_class = cls != NULL ? intern(st, cls->as.str) : "generic";
+    rc = man->robot_id != NULL && man->robot_class != NULL ? ROZ_OK : ROZ_ENOSPC;
+    man->control_rate_hz = rate != NULL ? (uint32_t)rate->as.integer : DEFAULT_RATE;
+    man->commands = st->commands;
+    man->n_commands = (uint16_t)roz_toml_count(commands);
+    man->states = roz_toml_count(states) > 0 ? st->states : NULL;
+    man->n_states = (uint16_t)roz_toml_count(states);
+    if (rc == ROZ_OK)
+        rc = build_channels(st, d, commands, st->commands);
+    if (rc == ROZ_OK && states != NULL)
+        rc = build_channels(st, d, states, st->states);
+
+    if (rc == ROZ_OK && hw != NULL) {
+        const roz_toml_node_t *joints = roz_toml_get(d, hw, "joints");
+        const roz_toml_node_t *params = roz_toml_get(d, hw, "params");
+        roz_hardware_t *h = &st->hardware;
+        size_t i = 0;
+        memset(h, 0, sizeof *h);
+        h->port = intern_key(st, d, hw, "port");
+        if (h->port == NULL)
+            rc = ROZ_ENOSPC;
+        for (const roz_toml_node_t *j = roz_toml_first(d, joints); j != NULL && rc == ROZ_OK;
+             j = roz_toml_next(d, j), i++) {
+            st->joints[i] = intern(st, j->as.str);
+            rc = st->joints[i] != NULL ? ROZ_OK : ROZ_ENOSPC;
+        }
+        h->joints = st->joints;
+        h->n_joints = (uint16_t)i;
+        i = 0;
+        for (const roz_toml_node_t *v = roz_toml_first(d, params); v != NULL && rc == ROZ_OK;
+             v = roz_toml_next(d, v), i++) {
+            /* sorted by key, as rozgen writes them */
+            roz_param_t p = { intern(st, v->key), intern(st, v->as.str) };
+            size_t k = i;
+            if (p.key == NULL || p.value == NULL) {
+                rc = ROZ_ENOSPC;
+                break;
+            }
+            while (k > 0 && strcmp(st->params[k - 1].key, p.key) > 0) {
+                st->params[k] = st->params[k - 1];
+                k--;
+            }
+            st->params[k] = p;
+        }
+        h->params = i > 0 ? st->params : NULL;
+        h->n_params = (uint16_t)i;
+        man->hardware = h;
+    }
+    if (rc != ROZ_OK) {
+        report_raw(ck, "storage", ": manifest: names, units and [hardware] strings need more than "
+                                  "the %lu bytes of ROZ_CFG_NAME_ARENA_BYTES",
+                   (unsigned long)sizeof st->arena);
+        st->arena_used = 0;
+    }
+    return rc;
+}
+
+/* ---- public ------------------------------------------------------------------------------ */
+
+int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
+                           const char *text, size_t len, roz_manifest_toml_problem_t *problems,
+                           size_t max_problems, size_t *n_found)
+{
+    checker_t ck;
+    roz_toml_error_t err;
+    int rc;
+
+    memset(&ck, 0, sizeof ck);
+    ck.doc = doc;
+    ck.out = problems;
+    ck.cap = problems != NULL ? max_problems : 0u;
+    if (n_found != NULL)
+        *n_found = 0;
+    if (storage == NULL || doc == NULL)
+        return ROZ_EINVAL;
+
+    rc = roz_toml_parse(doc, text, len, &err);
+    if (rc != ROZ_OK) {
+        switch (err.kind) {
+        case ROZ_TOML_ERR_UTF8:
+            report_raw(&ck, "utf8", ": cannot read: %s", err.message);
+            break;
+        case ROZ_TOML_ERR_UNSUPPORTED:
+            report_raw(&ck, "toml-syntax", ":%lu:%lu: TOML that roz's reader does not support: %s",
+                       (unsigned long)err.line, (unsigned long)err.column, err.message);
+            break;
+        case ROZ_TOML_ERR_NODES:
+        case ROZ_TOML_ERR_ARENA:
+            report_raw(&ck, "storage", ":%lu:%lu: cannot read: %s", (unsigned long)err.line,
+                       (unsigned long)err.column, err.message);
+            break;
+        default:
+            report_raw(&ck, "toml-syntax", ":%lu:%lu: invalid TOML: %s", (unsigned long)err.line,
+                       (unsigned long)err.column, err.message);
+            break;
+        }
+    } else {
+        check_document(&ck);
+        if (ck.found == 0)
+            rc = build(&ck, storage);
+        else
+            rc = ROZ_EINVAL;
+    }
+    sort_kept(&ck);
+    if (n_found != NULL)
+        *n_found = ck.found;
+    return rc;
+}
+
+int roz_manifest_toml_read_file(const char *path, char *buf, size_t cap, size_t *len,
+                                roz_manifest_toml_problem_t *problem)
+{
+    FILE *f;
+    size_t n;
+    int failed;
+
+    if (path == NULL || buf == NULL || len == NULL)
+        return ROZ_EINVAL;
+    *len = 0;
+    f = fopen(path, "rb");
+    if (f != NULL) {
+        n = fread(buf, 1, cap, f);
+        failed = ferror(f);
+        if (!failed && n == cap && fgetc(f) != EOF) {
+            fclose(f);
+            if (problem != NULL) {
+                problem->rule = "storage";
+                snprintf(problem->text, sizeof problem->text,
+                         ": cannot read: larger than the %lu bytes of the buffer",
+                         (unsigned long)cap);
+                memset(problem->order, 0, sizeof problem->order);
+            }
+            return ROZ_ENOSPC;
+        }
+        if (!failed) {
+            fclose(f);
+            *len = n;
+            return ROZ_OK;
+        }
+    }
+    /* errno is the C library's only word on why; translated here, once */
+    if (problem != NULL) {
+        problem->rule = "io-error";
+        snprintf(problem->text, sizeof problem->text, ": cannot read: %s", strerror(errno));
+        memset(problem->order, 0, sizeof problem->order);
+    }
+    if (f != NULL)
+        fclose(f);
+    return ROZ_EIO;
+}
+
+int roz_manifest_toml_load_file(const char *path, char *buf, size_t cap,
+                                roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
+                                roz_manifest_toml_problem_t *problems, size_t max_problems,
+                                size_t *n_found)
+{
+    roz_manifest_toml_problem_t p;
+    size_t len = 0;
+    int rc = roz_manifest_toml_read_file(path, buf, cap, &len, &p);
+    if (rc != ROZ_OK) {
+        if (problems != NULL && max_problems > 0)
+            problems[0] = p;
+        if (n_found != NULL)
+            *n_found = rc == ROZ_EINVAL ? 0u : 1u;
+        return rc;
+    }
+    return roz_manifest_toml_load(storage, doc, buf, len, problems, max_problems, n_found);
+}

@@ -1,0 +1,113 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Run every shared robot.toml vector through rozgen and the C reader.
+
+    compare_vectors.py --root REPO --rozgen ROZGEN --c-tool ROZ_MANIFEST_JSON
+
+Good vectors (manifests/*.toml, examples/my_arm/robot.toml,
+test/vectors/good/*.toml): both exit 0 and print the same JSON, byte for
+byte (``rozgen --json`` and ``roz_manifest_json``).
+
+Bad vectors (manifests/invalid/*.toml, test/vectors/bad/*.toml): both exit
+2 and print the same problems with ``--error-ids``: the same number of
+lines, the same rule id on each, and the same text, except that
+
+- a TOML syntax problem needs only the same ``<file>:<line>:<col>`` (the
+  wording is each reader's own), and
+- a C line may be cut to ROZ_CFG_PROBLEM_LEN and end in "...", when it is
+  a prefix of rozgen's.
+
+Paths are given relative to REPO, from REPO, as in the .expected files.
+Exit status 0 when every vector agrees, 1 otherwise.
+"""
+
+import argparse
+import concurrent.futures
+import glob
+import os
+import re
+import subprocess
+import sys
+
+_LINE = re.compile(r"^\[(?P<rule>[a-z0-9-]+)\] (?P<text>.*)$")
+_SYNTAX = re.compile(r"^(?P<where>.*?:\d+:\d+): ")
+
+
+def _vectors(root: str, patterns: list[str]) -> list[str]:
+    found = []
+    for pattern in patterns:
+        found += sorted(glob.glob(pattern, root_dir=root))
+    return found
+
+
+def _run(cmd: list[str], root: str) -> tuple[int, bytes, bytes]:
+    done = subprocess.run(cmd, cwd=root, capture_output=True, timeout=60)
+    return done.returncode, done.stdout, done.stderr
+
+
+def _same_line(ours: str, theirs: str) -> bool:
+    a, b = _LINE.match(ours), _LINE.match(theirs)
+    if a is None or b is None or a["rule"] != b["rule"]:
+        return False
+    if a["text"] == b["text"]:
+        return True
+    if a["rule"] == "toml-syntax":
+        wa, wb = _SYNTAX.match(a["text"]), _SYNTAX.match(b["text"])
+        return wa is not None and wb is not None and wa["where"] == wb["where"]
+    return a["text"].endswith("...") and b["text"].startswith(a["text"][:-3])
+
+
+def _check_good(path: str, args) -> tuple[bool, str]:
+    rc_py, out_py, err_py = _run(args.rozgen + ["--json", path], args.root)
+    rc_c, out_c, err_c = _run([args.c_tool, path], args.root)
+    if rc_py != 0:
+        return False, f"rozgen refuses it (exit {rc_py}): {err_py.decode(errors='replace')}"
+    if rc_c != 0:
+        return False, f"C reader refuses it (exit {rc_c}): {err_c.decode(errors='replace')}"
+    if out_py != out_c:
+        return False, "JSON differs"
+    return True, "same JSON"
+
+
+def _check_bad(path: str, args) -> tuple[bool, str]:
+    rc_py, _, err_py = _run(args.rozgen + ["--check", "--error-ids", path], args.root)
+    rc_c, _, err_c = _run([args.c_tool, "--check", "--error-ids", path], args.root)
+    ours = err_c.decode("utf-8", errors="replace").splitlines()
+    theirs = err_py.decode("utf-8", errors="replace").splitlines()
+    if rc_py != 2 or rc_c != 2:
+        return False, f"exit {rc_py} (rozgen), {rc_c} (C), want 2"
+    if not theirs or len(ours) != len(theirs):
+        return False, f"{len(theirs)} problems (rozgen), {len(ours)} (C)"
+    for a, b in zip(ours, theirs):
+        if not _same_line(a, b):
+            return False, f"differs:\n      C:      {a}\n      rozgen: {b}"
+    rule = _LINE.match(theirs[0])["rule"]
+    exact = sum(a == b for a, b in zip(ours, theirs))
+    return True, f"{len(theirs)} x [{rule}...], {exact} identical"
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--root", required=True, help="the repository")
+    p.add_argument("--rozgen", required=True, nargs="+", help="rozgen command")
+    p.add_argument("--c-tool", required=True, help="roz_manifest_json")
+    args = p.parse_args()
+    args.c_tool = os.path.abspath(args.c_tool)
+
+    good = _vectors(args.root, ["manifests/*.toml", "examples/my_arm/robot.toml",
+                                "test/vectors/good/*.toml"])
+    bad = _vectors(args.root, ["manifests/invalid/*.toml", "test/vectors/bad/*.toml"])
+    jobs = [(path, _check_good) for path in good] + [(path, _check_bad) for path in bad]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+        results = list(pool.map(lambda job: job[1](job[0], args), jobs))
+
+    failed = 0
+    for (path, check), (ok, what) in zip(jobs, results):
+        kind = "good" if check is _check_good else "bad "
+        print(f"{'ok  ' if ok else 'FAIL'} {kind} {path}: {what}")
+        failed += not ok
+    print(f"\n{len(good)} good and {len(bad)} bad vectors, {failed} disagreeing")
+    return 1 if failed or not good or not bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
