@@ -14,14 +14,15 @@ set(ROZ_WASM3_SOURCE_DIR "" CACHE PATH "wasm3 source tree (folder with wasm3.h);
 set(ROZ_WASM3_SDIST "" CACHE FILEPATH "pywasm3-0.5.0.tar.gz (wasm3 0.5.0 sources, sha256-checked)")
 set(ROZ_WASM3_SDIST_SHA256 5a47c8a39f7f6ae71b3316b2e5d86c9d0db6e771a65f09a86e4d4aa3a19aefcc)
 
-# roz's own patch (cmake/wasm3-fuel.patch) meters loop back-edges; it is
+# roz's own patch (cmake/wasm3-roz.patch) meters loop back-edges and guards
+# memory.grow; it is
 # applied to a copy in the build tree, never to the source it came from.
-set(_roz_patch ${CMAKE_CURRENT_LIST_DIR}/wasm3-fuel.patch)
+set(_roz_patch ${CMAKE_CURRENT_LIST_DIR}/wasm3-roz.patch)
 file(SHA256 ${_roz_patch} _roz_patch_sha)
 string(SUBSTRING ${_roz_patch_sha} 0 12 _roz_patch_sha)
-find_program(ROZ_PATCH_EXECUTABLE patch DOC "patch, to apply cmake/wasm3-fuel.patch")
+find_program(ROZ_PATCH_EXECUTABLE patch DOC "patch, to apply cmake/wasm3-roz.patch")
 if(NOT ROZ_PATCH_EXECUTABLE)
-  message(FATAL_ERROR "the 'patch' program is needed to apply cmake/wasm3-fuel.patch "
+  message(FATAL_ERROR "the 'patch' program is needed to apply cmake/wasm3-roz.patch "
                       "(Debian package patch; tools/setup.sh installs it)")
 endif()
 
@@ -64,7 +65,7 @@ if(NOT EXISTS ${_roz_root}/.roz-patched)
                   WORKING_DIRECTORY ${_roz_root} RESULT_VARIABLE _roz_rc
                   OUTPUT_VARIABLE _roz_out ERROR_VARIABLE _roz_out)
   if(NOT _roz_rc EQUAL 0)
-    message(FATAL_ERROR "cmake/wasm3-fuel.patch does not apply to the wasm3 sources in "
+    message(FATAL_ERROR "cmake/wasm3-roz.patch does not apply to the wasm3 sources in "
                         "${_roz_root}:\n${_roz_out}")
   endif()
   file(TOUCH ${_roz_root}/.roz-patched)

@@ -106,6 +106,7 @@ static void b_pair_range(void) { cmds[1].position_state = 3; }
 static void b_pair_neg(void) { cmds[1].position_state = -2; }
 static void b_pair_type(void) { cmds[0].position_state = 2; }
 static void b_pair_on_state(void) { states[2].position_state = 0; }
+static void b_pair_no_zero(void) { cmds[1].min = 0.5; cmds[1].default_value = 1.0; }
 
 static const rule_case_t rule_cases[] = {
     { "robot_id upper case", b_id_upper, ROZ_MANIFEST_RULE_ID, 0, -1 },
@@ -130,6 +131,7 @@ static const rule_case_t rule_cases[] = {
     { "pairing negative", b_pair_neg, ROZ_MANIFEST_RULE_PAIRING, 0, 1 },
     { "pairing to velocity state", b_pair_type, ROZ_MANIFEST_RULE_PAIRING, 0, 0 },
     { "pairing on a state", b_pair_on_state, ROZ_MANIFEST_RULE_PAIRING, 1, 2 },
+    { "paired velocity excluding 0", b_pair_no_zero, ROZ_MANIFEST_RULE_PAIRING, 0, 1 },
 };
 
 static void test_manifest_validate_rules(void **state)

@@ -35,6 +35,8 @@ RULES: dict[str, str] = {
     "pairing-range": "position_state_index is neither -1 nor a state index",
     "pairing-type": "position_state_index points at a state that is not of "
     "type position",
+    "pairing-zero": "a velocity command paired with a position state has limits "
+    "that exclude 0, so the filter could not stop it at a position limit",
     "pairing-on-state": "a state channel has a position_state_index other than -1",
     "no-commands": "the manifest has no command channel",
     "too-many-channels": "more commands or states than ROZ_CFG_MAX_COMMANDS "

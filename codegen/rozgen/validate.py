@@ -73,6 +73,9 @@ pairing-range       ``position_state_index 6: must be -1 (unpaired) or a
                     -1 (unpaired): there are no states``)
 pairing-type        ``position_state_index 1: manifest.states[1] "x/velocity"
                     is a velocity state, not a position state``
+pairing-zero        ``position_state_index 0: a paired velocity command must
+                    have 0 within its limits [0.5, 2.0], to stop at a position
+                    limit``
 pairing-on-state    ``position_state_index 0: only commands are paired with
                     a position state; must be -1 or left out``
 no-commands         ``manifest: commands: at least one command is required``
@@ -472,7 +475,18 @@ class _Checker:
                 draft.position_state = None
                 continue
             target = states[index]
-            if target is None or target.interface_type in (None, "position"):
+            if target is not None and target.interface_type == "position":
+                # The filter stops a paired velocity command at a position
+                # limit by commanding 0: 0 must be a value it may send.
+                if draft.interface_type == "velocity" and draft.limits is not None:
+                    low, high = draft.limits
+                    if not low <= 0.0 <= high:
+                        self.report("pairing-zero", place, "position_state_index",
+                                    "a paired velocity command must have 0 within its limits "
+                                    f"[{c_double(low)}, {c_double(high)}], to stop at a "
+                                    "position limit", index)
+                continue
+            if target is None or target.interface_type is None:
                 continue  # a broken target is reported where it is
             self.report("pairing-type", place, "position_state_index",
                         f"{target.where} is a {target.interface_type} state, "

@@ -30,7 +30,7 @@ static const char fuel_trap[] = "[trap] fuel exhausted";
 static const char deadline_trap[] = "[trap] deadline passed";
 
 /* wasm3's hook, called on every call (wasm3 itself) and every loop back-edge
- * (cmake/wasm3-fuel.patch). A non-NULL result traps the running call. It is
+ * (cmake/wasm3-roz.patch). A non-NULL result traps the running call. It is
  * the one symbol of roz's core outside the roz_ prefix: wasm3 names it. */
 M3Result m3_Yield(void)
 {

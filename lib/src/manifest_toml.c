@@ -859,7 +859,31 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
         if (target->type != ROZ_TOML_TABLE)
             continue;
         type = channel_interface(d, target);
-        if (type < 0 || type == ROZ_IF_POSITION)
+        if (type == ROZ_IF_POSITION) {
+            /* rozgen's pairing-zero: the filter stops a paired velocity
+             * command at a position limit by commanding 0, so 0 must be a
+             * value it may send. Limits that fail their own checks are
+             * reported where they are. */
+            const roz_toml_node_t *lim = roz_toml_get(d, t, "limits");
+            const roz_toml_node_t *a = lim != NULL ? roz_toml_first(d, lim) : NULL;
+            const roz_toml_node_t *b = a != NULL ? roz_toml_next(d, a) : NULL;
+            if (channel_interface(d, t) == ROZ_IF_VELOCITY && lim != NULL &&
+                lim->type == ROZ_TOML_ARRAY &&
+                roz_toml_count(lim) == 2 && is_number(a) && is_number(b)) {
+                double lo = number_of(a), hi = number_of(b);
+                if (isfinite(lo) && isfinite(hi) && lo < hi && !(lo <= 0.0 && 0.0 <= hi)) {
+                    char sa[44], sb_[44];
+                    c_double(lo, sa);
+                    c_double(hi, sb_);
+                    snprintf(what, sizeof what,
+                             "a paired velocity command must have 0 within its limits "
+                             "[%s, %s], to stop at a position limit", sa, sb_);
+                    report(ck, "pairing-zero", &pl, "position_state_index", what, value, NULL);
+                }
+            }
+            continue;
+        }
+        if (type < 0)
             continue; /* a broken target is reported where it is */
         {
             char target_where[ROZ_CFG_PROBLEM_LEN];

@@ -103,7 +103,8 @@ typedef enum roz_manifest_rule {
     ROZ_MANIFEST_RULE_LIMITS,        /**< limits not finite or min >= max */
     ROZ_MANIFEST_RULE_DEFAULT,       /**< default not finite or outside limits */
     ROZ_MANIFEST_RULE_MAX_RATE,      /**< max_rate not finite or negative */
-    ROZ_MANIFEST_RULE_PAIRING,       /**< position_state out of range or not a position state */
+    ROZ_MANIFEST_RULE_PAIRING,       /**< position_state out of range or not a position state,
+                                          or a paired velocity command whose limits exclude 0 */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */
