@@ -16,7 +16,7 @@
 #include "roz/builtin.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
-#include "support.h"
+#include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -28,18 +28,10 @@ static void run_builtin(const roz_manifest_t *m, const char *ctl, int ticks, dou
 {
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 1, 10 };
-    char err[128];
     size_t len;
     const uint8_t *w = roz_test_controller(ctl, &len);
-    roz_port_t port = roz_loopback_port(&lb);
 
-    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
-        fail_msg("%s: %s", m->robot_id, err);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);

@@ -14,7 +14,7 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
-#include "support.h"
+#include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -31,17 +31,9 @@ static void assert_port_safe(void)
 static void start(const roz_manifest_t *m, const roz_params_t *params)
 {
     roz_runtime_config_t cfg;
-    char err[160] = "";
-    roz_port_t port = roz_loopback_port(&lb);
 
-    if (roz_port_open(&port, m, params, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
     clk = (roz_test_clock_t){ 1000000, 1000 }; /* every reading advances 1 us */
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_loopback_config(&cfg, &lb, m, params, &clk);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
 }
