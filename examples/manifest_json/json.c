@@ -1,0 +1,116 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Prints a manifest in rozgen's canonical JSON (codegen/rozgen/canonical.py),
+ * byte for byte. Used by roz_manifest_json (a robot.toml read at run time) and
+ * by rozgen's test that the generated C tables print the same bytes. */
+#include "json.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* json.dumps(s, ensure_ascii=True): \uXXXX (UTF-16, lower-case hex) for
+ * everything outside printable ASCII. */
+static void put_string(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    putchar('"');
+    while (*p != 0) {
+        unsigned long cp = *p++;
+        int more = cp >= 0xF0 ? 3 : cp >= 0xE0 ? 2 : cp >= 0xC0 ? 1 : 0;
+        if (more > 0)
+            cp &= 0x3Fu >> more;
+        for (; more > 0 && *p != 0; more--)
+            cp = (cp << 6) | (*p++ & 0x3Fu);
+        switch (cp) {
+        case '"':  fputs("\\\"", stdout); break;
+        case '\\': fputs("\\\\", stdout); break;
+        case '\b': fputs("\\b", stdout); break;
+        case '\f': fputs("\\f", stdout); break;
+        case '\n': fputs("\\n", stdout); break;
+        case '\r': fputs("\\r", stdout); break;
+        case '\t': fputs("\\t", stdout); break;
+        default:
+            if (cp >= 0x20 && cp < 0x7F) {
+                putchar((int)cp);
+            } else if (cp >= 0x10000) {
+                cp -= 0x10000;
+                printf("\\u%04lx\\u%04lx", 0xD800 + (cp >> 10), 0xDC00 + (cp & 0x3FF));
+            } else {
+                printf("\\u%04lx", cp);
+            }
+        }
+    }
+    putchar('"');
+}
+
+/* rozgen.fmt.shortest_g (this program keeps the "C" locale). */
+static void put_double(double x)
+{
+    char buf[40];
+    const char *e;
+    for (int p = 1; p <= 17; p++) {
+        snprintf(buf, sizeof buf, "%.*g", p, x);
+        if (strtod(buf, NULL) == x)
+            break;
+    }
+    e = strchr(buf, 'e');
+    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
+        snprintf(buf, sizeof buf, "%.*g", atoi(e + 1) + 1, x);
+    fputs(buf, stdout);
+}
+
+static void put_channels(const char *key, const roz_channel_t *c, uint16_t n)
+{
+    printf("  \"%s\": [", key);
+    for (uint16_t i = 0; i < n; i++) {
+        fputs(i == 0 ? "\n    {\"name\": " : ",\n    {\"name\": ", stdout);
+        put_string(c[i].name);
+        fputs(", \"interface_type\": ", stdout);
+        put_string(roz_interface_name(c[i].type));
+        fputs(", \"unit\": ", stdout);
+        put_string(c[i].unit);
+        fputs(", \"limits\": [", stdout);
+        put_double(c[i].min);
+        fputs(", ", stdout);
+        put_double(c[i].max);
+        fputs("], \"default\": ", stdout);
+        put_double(c[i].default_value);
+        fputs(", \"max_rate_of_change\": ", stdout);
+        put_double(c[i].max_rate);
+        printf(", \"position_state_index\": %ld}", (long)c[i].position_state);
+    }
+    fputs(n == 0 ? "],\n" : "\n  ],\n", stdout);
+}
+
+void manifest_json_print(const roz_manifest_t *m)
+{
+    const roz_hardware_t *h = m->hardware;
+    fputs("{\n  \"robot_id\": ", stdout);
+    put_string(m->robot_id);
+    fputs(",\n  \"robot_class\": ", stdout);
+    put_string(m->robot_class);
+    printf(",\n  \"control_rate_hz\": %lu,\n", (unsigned long)m->control_rate_hz);
+    put_channels("commands", m->commands, m->n_commands);
+    put_channels("states", m->states, m->n_states);
+    fputs("  \"hardware\": ", stdout);
+    if (h == NULL) {
+        fputs("null", stdout);
+    } else {
+        fputs("{\"port\": ", stdout);
+        put_string(h->port);
+        fputs(", \"joints\": [", stdout);
+        for (uint16_t i = 0; i < h->n_joints; i++) {
+            fputs(i == 0 ? "" : ", ", stdout);
+            put_string(h->joints[i]);
+        }
+        fputs("], \"params\": {", stdout);
+        for (uint16_t i = 0; i < h->n_params; i++) {
+            fputs(i == 0 ? "" : ", ", stdout);
+            put_string(h->params[i].key);
+            fputs(": ", stdout);
+            put_string(h->params[i].value);
+        }
+        fputs("}}", stdout);
+    }
+    fputs("\n}\n", stdout);
+}

@@ -1,0 +1,11 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* rozgen's canonical JSON for a manifest in memory (see json.c). */
+#ifndef ROZ_EXAMPLES_MANIFEST_JSON_H
+#define ROZ_EXAMPLES_MANIFEST_JSON_H
+
+#include "roz/manifest.h"
+
+/* Writes the manifest to stdout exactly as `rozgen --json` prints it. */
+void manifest_json_print(const roz_manifest_t *m);
+
+#endif
