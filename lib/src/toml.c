@@ -298,20 +298,26 @@ static int skip_comment(parser_t *p)
     }
 }
 
+/* Whitespace and newlines (no comments). */
+static void skip_ws_newlines(parser_t *p)
+{
+    for (;;) {
+        size_t nl = newline_at(p, p->pos);
+        if (is_ws(peek(p)))
+            p->pos++;
+        else if (nl > 0)
+            p->pos += nl;
+        else
+            return;
+    }
+}
+
 /* Whitespace, newlines and comments, as allowed between array elements. */
 static int skip_array_ws(parser_t *p)
 {
     for (;;) {
         size_t before = p->pos;
-        for (;;) {
-            size_t nl = newline_at(p, p->pos);
-            if (is_ws(peek(p)))
-                p->pos++;
-            else if (nl > 0)
-                p->pos += nl;
-            else
-                break;
-        }
+        skip_ws_newlines(p);
         int rc = skip_comment(p);
         if (rc != ROZ_OK)
             return rc;
@@ -370,15 +376,8 @@ static int escape(parser_t *p, int multi)
         } else {
             p->pos = at + 1 + newline_at(p, at + 1);
         }
-        for (;;) {
-            size_t nl = newline_at(p, p->pos);
-            if (is_ws(peek(p)))
-                p->pos++;
-            else if (nl > 0)
-                p->pos += nl;
-            else
-                return ROZ_OK;
-        }
+        skip_ws_newlines(p);
+        return ROZ_OK;
     }
     switch (e) {
     case 'b':  c = '\b'; break;
