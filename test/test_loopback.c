@@ -119,15 +119,99 @@ static void test_loopback_faults(void **st)
     assert_near(s[1], 6.283185307179586 + 0.5, 1e-12);
     assert_int_equal(roz_port_read(&p, s, 12), 1); /* 7 */
     assert_near(s[0], 0.07, 1e-12);
-    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 8: two ticks late */
-    assert_near(s[0], 0.06, 1e-12);
-    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 9 */
+    /* frames sent at 8 and 9 arrive two ticks late: a gap, then the frame
+     * sent at 8 arrives at 10 with the one sent at 10 (newest wins), and the
+     * one sent at 9 arrives at 11 behind frame 10: dropped as a replay */
+    assert_int_equal(roz_port_read(&p, s, 12), 0); /* 8 */
     assert_near(s[0], 0.07, 1e-12);
-    for (int t = 10; t < 12; t++)
-        assert_int_equal(roz_port_read(&p, s, 12), 1);
+    assert_int_equal(roz_port_read(&p, s, 12), 0); /* 9 */
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 10 */
+    assert_near(s[0], 0.10, 1e-12);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 11 */
+    assert_near(s[0], 0.11, 1e-12);
+    assert_int_equal(lb.link.replays, 1);
     for (int t = 12; t < 20; t++) /* frozen from 12: nothing new, ever */
         assert_int_equal(roz_port_read(&p, s, 12), 0);
-    assert_int_equal(lb.frames_dropped, 2 + 8);
+    assert_int_equal(lb.frames_dropped, 2);
+    assert_int_equal(lb.frames_sent, 12);
+    assert_int_equal(lb.link.missing, 3); /* the two dropped, and 9, overtaken by 10 */
+    assert_int_equal(lb.link.crc_errors, 0);
+}
+
+/* The wire faults, read straight from the port: CRC corruption both ways,
+ * a replaying transport, a peer that dies and boots again. */
+static void test_loopback_wire_faults(void **st)
+{
+    roz_port_t p = roz_loopback_port(&lb);
+    roz_param_t items[] = { { "corrupt", "2:4" }, { "corrupt_cmd", "5:7" },
+                            { "duplicate", "8:10" }, { "restart", "100:160" } };
+    roz_params_t params = { items, 4 };
+    double s[12], cmd[6] = { 1, 1, 1, 1, 1, 1 }, zero[6] = { 0 };
+    char err[160];
+    int t = 0;
+    (void)st;
+    assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, &params, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK); /* before any state: withheld */
+    assert_int_equal(lb.writes_withheld, 1);
+    assert_null(roz_loopback_last_command(&lb));
+    for (; t < 2; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 1);
+        assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    }
+    /* 2, 3: a bit flips in each state frame: dropped, counted, old state */
+    for (; t < 4; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 0);
+        assert_near(s[0], 0.01, 1e-12);
+        assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    }
+    assert_int_equal(lb.frames_corrupted, 2);
+    assert_int_equal(lb.link.crc_errors, 2);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 4 */
+    assert_near(s[0], 0.04, 1e-12);
+    assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    /* 5, 6: the robot gets command frames with a bit flipped: it drops them
+     * and keeps applying the last good command */
+    for (t = 5; t < 7; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 1);
+        assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
+        assert_true(roz_loopback_last_command(&lb)[0] == 1.0);
+    }
+    assert_int_equal(lb.cmds_corrupted, 2);
+    assert_int_equal(lb.peer_link.crc_errors, 2);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 7: still moving at 1 rad/s */
+    assert_near(s[0], 0.07, 1e-12);
+    assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
+    assert_true(roz_loopback_last_command(&lb)[0] == 0.0);
+    /* 8, 9: the frame of tick 7 again, in place of new ones: replays */
+    for (t = 8; t < 10; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 0);
+        assert_near(s[0], 0.07, 1e-12);
+        assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
+    }
+    assert_int_equal(lb.frames_duplicated, 2);
+    assert_int_equal(lb.link.replays, 2);
+    for (t = 10; t < 100; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 1);
+        assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    }
+    double before = s[0];
+    /* 100..159: the robot is dead: no frames, commands lost, joints stopped */
+    for (t = 100; t < 160; t++) {
+        assert_int_equal(roz_port_read(&p, s, 12), 0);
+        assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
+    }
+    assert_int_equal(lb.cmds_lost, 60);
+    /* 160: it boots, its sequence back at 0 (from 99): the port reports the
+     * link fault once and takes the frame */
+    assert_int_equal(roz_port_read(&p, s, 12), ROZ_EIO);
+    assert_int_equal(lb.link_events, 1);
+    assert_int_equal(lb.link.restarts, 1);
+    assert_null(roz_loopback_last_command(&lb)); /* it forgot its command */
+    assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
+    assert_int_equal(roz_port_read(&p, s, 12), 1); /* 161 */
+    roz_loopback_true_state(&lb, s);
+    assert_near(s[0], before, 1e-12); /* it stopped where it died; the new command is 0 */
+    assert_int_equal(lb.violations, 0);
 }
 
 static void test_loopback_bad_params(void **st)
@@ -162,6 +246,7 @@ int main(void)
         cmocka_unit_test(test_loopback_every_builtin_deterministic),
         cmocka_unit_test(test_loopback_models),
         cmocka_unit_test(test_loopback_faults),
+        cmocka_unit_test(test_loopback_wire_faults),
         cmocka_unit_test(test_loopback_bad_params),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

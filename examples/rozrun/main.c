@@ -75,8 +75,9 @@ static void usage(FILE *f)
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
-        "  --param KEY=VALUE    port parameter, repeatable (loopback: drop, freeze,\n"
-        "                       delay, nan, range fault injection)\n"
+        "  --param KEY=VALUE    port parameter, repeatable (loopback fault injection:\n"
+        "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
+        "                       corrupt_cmd, restart; see roz/loopback.h)\n"
         "  --budget-us US       controller wall-clock budget per tick (default half the period)\n"
         "  --fuel N             controller fuel per tick, in loop back-edges and calls\n"
         "                       (default 10000000 / control rate; 0 = unmetered)\n"
@@ -345,6 +346,11 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  refused values         %llu non-finite, %llu bad indices\n",
            (unsigned long long)nonfinite, (unsigned long long)bad_index);
     printf("  stale reads            %llu\n", (unsigned long long)rt.counters.stale_reads);
+    printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu missing, "
+           "%llu peer restarts\n",
+           (unsigned long long)loopback.link.accepted, (unsigned long long)loopback.link.crc_errors,
+           (unsigned long long)loopback.link.replays, (unsigned long long)loopback.link.missing,
+           (unsigned long long)(loopback.link.restarts + loopback.link.returns));
     drain_metrics();
     printf("  metrics                %llu emitted, %llu received (last %g), %llu dropped\n",
            (unsigned long long)metrics, (unsigned long long)metrics_seen, metric_last,

@@ -8,7 +8,7 @@
 /* ---- private ------------------------------------------------------------- */
 
 static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
-    "trap", "overrun", "stale state", "e-stop", "controller e-stop request",
+    "trap", "overrun", "stale state", "e-stop", "controller e-stop request", "port link",
 };
 
 static uint64_t now(const roz_runtime_t *rt)
@@ -279,6 +279,9 @@ int roz_runtime_tick(roz_runtime_t *rt)
             snprintf(msg, sizeof msg, "no fresh state for %u ticks", (unsigned)rt->stale_count);
             latch(rt, ROZ_FAULT_STALE, msg);
         }
+        if (rc == ROZ_EIO)
+            latch(rt, ROZ_FAULT_LINK,
+                  "port link fault: the robot restarted or came back after it was lost");
     }
     if (atomic_load(&rt->estop_input) != 0u)
         latch(rt, ROZ_FAULT_ESTOP, "e-stop input");

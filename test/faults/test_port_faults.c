@@ -8,12 +8,21 @@
  *    producer): the STALE fault latches on the stale_ticks-th missing frame,
  *    commands ramp to the safe defaults under the rate caps, and stay there
  *    after the stream comes back until the application clears the fault;
- *  - delayed frames: fresh, no fault; the controller and the filter see the
- *    state as it was k ticks ago, so position limits hold only to within the
- *    distance a joint covers in k ticks (the margin must cover the latency);
- *  - duplicated frames (the frame before, delivered again as fresh): taken as
- *    fresh and not detected by the core (the port's sequence numbers must
- *    catch replays), counted by the port, no fault;
+ *  - delayed frames: a gap as long as the delay where it starts, then
+ *    fresh frames k ticks old, no fault (for k < stale_ticks); the
+ *    controller and the filter see the state as it was k ticks ago, so
+ *    position limits hold only to within the distance a joint covers in k
+ *    ticks (the margin must cover the latency); frames overtaken in transit
+ *    are dropped as replays;
+ *  - duplicated (replayed) frames and frames failing their CRC: dropped and
+ *    counted by the port's link checks (roz/hal/link.h), so they are missing
+ *    frames: a short run is counted, a long one latches STALE;
+ *  - command frames failing their CRC: dropped by the robot, which keeps its
+ *    last good command; counted; the core cannot see it (the robot's own
+ *    command timeout must cover a long run);
+ *  - a peer that dies and comes back: STALE while it is gone, then the port
+ *    reports the restart (ROZ_FAULT_LINK); a restart too quick for STALE is
+ *    caught by its sequence going back; running again only after a clear;
  *  - NaN in a state channel: the paired velocity command stops (a limit
  *    stop, counted), a controller that passes the NaN on has its command
  *    refused (counted) and sent to the safe default, no fault; the joint
@@ -47,6 +56,7 @@ static roz_test_clock_t clk;
 static const roz_manifest_t *const m = &roz_manifest_ur5;
 static double prev_cmd[ROZ_CFG_MAX_COMMANDS];
 static int have_prev;
+static uint32_t stale_ticks; /* 0: the default, 10 */
 /* Limit stops per channel before this tick: the position limit may
  * override the rate cap (roz/filter.h), nothing else may. */
 static uint32_t stops_before[ROZ_CFG_MAX_COMMANDS];
@@ -66,6 +76,8 @@ static void start_port(const roz_port_t *port, const char *controller)
     cfg.clock = roz_test_clock;
     cfg.clock_ctx = &clk;
     assert_int_equal(cfg.stale_ticks, 10);
+    if (stale_ticks != 0)
+        cfg.stale_ticks = stale_ticks;
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
@@ -90,7 +102,9 @@ static void check_frame(const double *cmd)
 {
     for (uint16_t i = 0; i < m->n_commands; i++) {
         const roz_channel_t *c = &m->commands[i];
-        int limited = rt.filter.channel_limit_stops[i] != stops_before[i];
+        /* the position limit may override the rate cap, and an e-stop */
+        int limited = rt.filter.channel_limit_stops[i] != stops_before[i] ||
+                      (roz_runtime_faults(&rt) & ROZ_FAULT_IMMEDIATE_MASK) != 0;
         stops_before[i] = rt.filter.channel_limit_stops[i];
         if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
             fail_msg("tick %llu: command %u = %g outside [%g, %g]",
@@ -125,6 +139,7 @@ static const double *out(void)
 static int teardown(void **st)
 {
     (void)st;
+    stale_ticks = 0;
     roz_runtime_deinit(&rt);
     return 0;
 }
@@ -184,11 +199,12 @@ static void test_faults_long_drop_latches_stale(void **st)
     assert_near(out()[0], V, 1e-12);
 }
 
-/* A frozen stream: STALE; a clear while it is still frozen latches again
- * stale_ticks later; after it thaws, a clear recovers. */
+/* A frozen stream (0.4 s, shorter than the loopback's peer timeout): STALE;
+ * a clear while it is still frozen latches again stale_ticks later; after
+ * it thaws, a clear recovers. */
 static void test_faults_freeze_needs_clear(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, 30, 80, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, 30, 70, -1, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(40);
@@ -198,7 +214,7 @@ static void test_faults_freeze_needs_clear(void **st)
         assert_int_equal(tick(), ROZ_OK);
     assert_int_equal(tick(), ROZ_EFAULT); /* still frozen: latched again */
     assert_int_equal(rt.counters.faults[2], 2);
-    ticks(40); /* thawed at 80 */
+    ticks(40); /* thawed at 70 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     ticks(50);
@@ -206,8 +222,10 @@ static void test_faults_freeze_needs_clear(void **st)
     assert_near(out()[0], V, 1e-12);
 }
 
-/* Delayed frames are fresh frames: no stale read, no fault; the snapshot
- * is the simulator's state of five ticks before. */
+/* Frames sent in [50, 150) arrive five ticks late: five ticks without a
+ * fresh frame (counted, no fault), then the simulator's state of five
+ * ticks before; at the end the four frames overtaken by the first prompt
+ * one are dropped as replays. */
 static void test_faults_delay_is_latency(void **st)
 {
     enum { K = 5, N = 200 };
@@ -219,11 +237,12 @@ static void test_faults_delay_is_latency(void **st)
         assert_int_equal(tick(), ROZ_OK);
         roz_loopback_true_state(&lb, truth[t]);
         const double *seen = roz_runtime_last_state(&rt);
-        int lag = t >= 50 && t < 150 ? K : 0;
+        int sent = t < 50 || t >= 150 ? t : (t < 50 + K ? 49 : t - K);
         for (uint16_t s = 0; s < m->n_states; s++)
-            assert_true(seen[s] == truth[t - lag][s]);
+            assert_true(seen[s] == truth[sent][s]);
     }
-    assert_int_equal(rt.counters.stale_reads, 0);
+    assert_int_equal(rt.counters.stale_reads, K);
+    assert_int_equal(lb.link.replays, K - 1);
     assert_int_equal(rt.counters.controller_ticks, N);
 }
 
@@ -234,6 +253,7 @@ static double max_position(uint32_t delay, int n)
 {
     roz_loopback_fault_t f = { ROZ_LOOPBACK_DELAY, 20, 0, -1, delay }; /* from tick 20 on */
     double q[ROZ_CFG_MAX_STATES], top = -INFINITY;
+    stale_ticks = 20; /* the gap where the delay starts is 15 ticks long */
     start("constant_velocity", &f, delay > 0 ? 1 : 0);
     for (int t = 0; t < n; t++) {
         assert_int_equal(tick(), ROZ_OK);
@@ -259,35 +279,163 @@ static void test_faults_delay_and_position_limit(void **st)
     assert_true(late <= hi + 15 * V * dt + 1e-9);
 }
 
-/* A duplicated frame is taken as fresh: the core cannot tell a replay from
- * a robot at rest; the port counts it. No stale read, no fault. */
-static void test_faults_duplicate_is_taken_as_fresh(void **st)
+/* A replayed frame (the last one again, in place of a new one) is caught by
+ * the port's sequence check: dropped and counted, so it is a missing frame;
+ * a replay without end is a stale stream. */
+static void test_faults_duplicate_is_rejected(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DUPLICATE, 50, 60, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_DUPLICATE, 50, 55, -1, 0 };
     double first[ROZ_CFG_MAX_STATES], q[ROZ_CFG_MAX_STATES];
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(50);
     memcpy(first, roz_runtime_last_state(&rt), m->n_states * sizeof first[0]);
-    for (int t = 50; t < 60; t++) {
+    for (int t = 50; t < 55; t++) {
         assert_int_equal(tick(), ROZ_OK);
         assert_memory_equal(roz_runtime_last_state(&rt), first, m->n_states * sizeof first[0]);
     }
     tick();
     roz_loopback_true_state(&lb, q);
     assert_memory_equal(roz_runtime_last_state(&rt), q, m->n_states * sizeof q[0]);
-    assert_int_equal(lb.frames_duplicated, 10);
-    assert_int_equal(rt.counters.stale_reads, 0);
+    assert_int_equal(lb.frames_duplicated, 5);
+    assert_int_equal(lb.link.replays, 5);
+    assert_int_equal(rt.counters.stale_reads, 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 
-    /* even a replay without end raises no STALE (SAFETY.md: ports must
-     * reject replays by sequence number) */
     roz_runtime_deinit(&rt);
     roz_loopback_fault_t forever = { ROZ_LOOPBACK_DUPLICATE, 10, 0, -1, 0 };
     start("constant_velocity", &forever, 1);
-    ticks(200);
+    ticks(19);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(lb.frames_duplicated, 190);
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 19: the tenth replay */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    ticks(100);
+    assert_true(out()[0] == 0.0);
+    assert_int_equal(lb.link.replays, 110); /* even after 0.5 s of silence */
+    assert_int_equal(lb.link.returns, 0);
+}
+
+/* State frames failing their CRC: dropped and counted; five are a short
+ * gap, twenty latch STALE, and only a clear resumes. */
+static void test_faults_corrupt_state(void **st)
+{
+    const roz_loopback_fault_t f[] = { { ROZ_LOOPBACK_CORRUPT, 50, 55, -1, 0 },
+                                       { ROZ_LOOPBACK_CORRUPT, 100, 120, -1, 0 } };
+    (void)st;
+    start("constant_velocity", f, 2);
+    ticks(100);
+    assert_int_equal(lb.link.crc_errors, 5);
+    assert_int_equal(rt.counters.stale_reads, 5);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_near(out()[0], V, 1e-12);
+    ticks(9);
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 109 */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    ticks(30); /* good frames again from 120: still latched */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    assert_true(out()[0] == 0.0);
+    assert_int_equal(lb.frames_corrupted, 25);
+    assert_int_equal(lb.link.crc_errors, 25);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(2);
+    assert_near(out()[0], V, 1e-12);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+/* Command frames failing their CRC: the robot drops them and keeps its last
+ * good command; it never applies a corrupted value. The core cannot see it. */
+static void test_faults_corrupt_command(void **st)
+{
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, 50, 70, -1, 0 };
+    double good[ROZ_CFG_MAX_COMMANDS];
+    (void)st;
+    start("constant_velocity", &f, 1);
+    ticks(50);
+    memcpy(good, roz_loopback_last_command(&lb), m->n_commands * sizeof good[0]);
+    roz_runtime_estop(&rt); /* the stop is corrupted in transit too */
+    for (int t = 50; t < 70; t++) {
+        tick();
+        assert_memory_equal(roz_loopback_last_command(&lb), good, m->n_commands * sizeof good[0]);
+    }
+    assert_int_equal(lb.cmds_corrupted, 20);
+    assert_int_equal(lb.peer_link.crc_errors, 20);
+    tick(); /* tick 70: the stop gets through */
+    assert_true(roz_loopback_last_command(&lb)[0] == 0.0);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+}
+
+/* The robot dies at tick 100 and boots again at 200 (1 s later): STALE at
+ * 109, commands to the dead robot are lost, the port reports the restart
+ * (LINK) at 200; the robot, which forgot its command, gets only the stopped
+ * output until the application clears both faults. */
+static void test_faults_peer_restart(void **st)
+{
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 100, 200, -1, 0 };
+    double where[ROZ_CFG_MAX_STATES], q[ROZ_CFG_MAX_STATES];
+    (void)st;
+    start("constant_velocity", &f, 1);
+    ticks(100);
+    roz_loopback_true_state(&lb, where);
+    ticks(9);
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 109 */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    ticks(90);
+    assert_int_equal(lb.cmds_lost, 100);
+    roz_loopback_true_state(&lb, q);
+    assert_memory_equal(q, where, m->n_states * sizeof q[0]); /* stopped where it died */
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 200: back, sequence 0 */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE | ROZ_FAULT_LINK);
+    assert_int_equal(lb.link.restarts, 1);
+    assert_int_equal(rt.counters.faults[5], 1);
+    uint64_t ran = rt.counters.controller_ticks;
+    for (int t = 201; t < 250; t++) {
+        assert_int_equal(tick(), ROZ_EFAULT);
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            assert_true(roz_loopback_last_command(&lb)[i] == 0.0);
+    }
+    assert_int_equal(rt.counters.controller_ticks, ran);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(2);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_near(roz_loopback_last_command(&lb)[0], V, 1e-12);
+}
+
+/* A restart quicker than stale_ticks (dead for 5 ticks) is caught by the
+ * robot's sequence going back to 0: LINK alone. */
+static void test_faults_quick_restart(void **st)
+{
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 300, 305, -1, 0 };
+    (void)st;
+    start("constant_velocity", &f, 1);
+    ticks(305);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 305 */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_LINK);
+    assert_int_equal(lb.link.restarts, 1);
+    assert_non_null(strstr(roz_runtime_fault_message(&rt), "port link fault"));
+    ticks(20);
+    assert_true(out()[0] == 0.0);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(2);
+    assert_near(out()[0], V, 1e-12);
+}
+
+/* The limit of the sequence check: a robot that restarts early, its old
+ * sequence within the replay window (20 behind), sends frames the port
+ * takes for replays until its sequence passes the old one. No frame passes
+ * meanwhile, so STALE latches: the robot stays safe. After a silence of the
+ * peer timeout, its first newer frame is reported as a restart. */
+static void test_faults_early_restart_is_stale(void **st)
+{
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 20, 60, -1, 0 };
+    (void)st;
+    start("constant_velocity", &f, 1);
+    ticks(80);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    assert_int_equal(lb.link.replays, 20); /* sequence 0..19 again, at ticks 60..79 */
+    assert_int_equal(tick(), ROZ_EFAULT); /* tick 80: sequence 20, 0.61 s after 19 */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE | ROZ_FAULT_LINK);
+    assert_int_equal(lb.link.returns, 1);
 }
 
 /* NaN on joint 3's position: its velocity command stops (a limit stop),
@@ -459,7 +607,12 @@ int main(void)
         cmocka_unit_test_teardown(test_faults_freeze_needs_clear, teardown),
         cmocka_unit_test_teardown(test_faults_delay_is_latency, teardown),
         cmocka_unit_test_teardown(test_faults_delay_and_position_limit, teardown),
-        cmocka_unit_test_teardown(test_faults_duplicate_is_taken_as_fresh, teardown),
+        cmocka_unit_test_teardown(test_faults_duplicate_is_rejected, teardown),
+        cmocka_unit_test_teardown(test_faults_corrupt_state, teardown),
+        cmocka_unit_test_teardown(test_faults_corrupt_command, teardown),
+        cmocka_unit_test_teardown(test_faults_peer_restart, teardown),
+        cmocka_unit_test_teardown(test_faults_quick_restart, teardown),
+        cmocka_unit_test_teardown(test_faults_early_restart_is_stale, teardown),
         cmocka_unit_test_teardown(test_faults_nan_position_stops_its_joint, teardown),
         cmocka_unit_test_teardown(test_faults_nan_state_into_controller, teardown),
         cmocka_unit_test_teardown(test_faults_stalled_port_thread, teardown),

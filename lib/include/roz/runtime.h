@@ -53,8 +53,10 @@ typedef enum roz_fault {
     ROZ_FAULT_STALE         = 1u << 2, /**< no fresh state for stale_ticks ticks */
     ROZ_FAULT_ESTOP         = 1u << 3, /**< the application's e-stop input */
     ROZ_FAULT_ESTOP_REQUEST = 1u << 4, /**< the controller called safety.request_estop */
+    ROZ_FAULT_LINK          = 1u << 5, /**< the port's read() returned ROZ_EIO: its peer
+                                            restarted or came back after it was lost */
 } roz_fault_t;
-#define ROZ_FAULT_KIND_COUNT 5
+#define ROZ_FAULT_KIND_COUNT 6
 /** Faults answered by an immediate stop; the others ramp. */
 #define ROZ_FAULT_IMMEDIATE_MASK (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST)
 

@@ -1,4 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
+/* The loopback port: the wire between the port and the simulated robot
+ * (sim.c), its faults, and the port's end with the link checks every
+ * hardware port runs. */
 #include "roz/loopback.h"
 
 #include <math.h>
@@ -6,198 +9,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "roz/hal/crc32.h"
 #include "roz/hal/params.h"
+#include "sim.h"
 
-/* ---- private ------------------------------------------------------------- */
+#define DEPTH (ROZ_LOOPBACK_MAX_DELAY + 1)
+#define NEVER UINT64_MAX
 
-enum { M_DEFAULT = 0, M_JOINT_POS, M_JOINT_VEL, M_JOINT_EFF, M_BASE };
-
-#define INERTIA 0.05  /* kg*m^2 of every simulated joint */
-#define FRICTION 0.05 /* N*m*s/rad viscous friction */
-#define HIST (ROZ_LOOPBACK_MAX_DELAY + 1)
-
-static const char *suffix_of(const char *name)
-{
-    const char *slash = strrchr(name, '/');
-    return slash != NULL ? slash + 1 : name;
-}
-
-static size_t prefix_len(const char *name)
-{
-    const char *slash = strrchr(name, '/');
-    return slash != NULL ? (size_t)(slash - name) : 0;
-}
-
-static int same_prefix(const char *a, const char *b)
-{
-    size_t la = prefix_len(a);
-    return la != 0 && la == prefix_len(b) && strncmp(a, b, la) == 0;
-}
-
-/* Joint whose states share this name's prefix; created for position states. */
-static int joint_for(roz_loopback_t *lb, const char *name, int create)
-{
-    const roz_manifest_t *m = lb->m;
-    for (uint16_t j = 0; j < lb->n_joints; j++) {
-        const roz_loopback_joint_t *jt = &lb->joints[j];
-        int32_t any = jt->pos_state >= 0 ? jt->pos_state
-                                         : (jt->vel_state >= 0 ? jt->vel_state : jt->eff_state);
-        if (any >= 0 && same_prefix(m->states[any].name, name))
-            return j;
-    }
-    if (!create || prefix_len(name) == 0 || lb->n_joints >= (uint16_t)(sizeof lb->joints / sizeof lb->joints[0]))
-        return -1;
-    roz_loopback_joint_t *jt = &lb->joints[lb->n_joints];
-    memset(jt, 0, sizeof *jt);
-    jt->pos_state = jt->vel_state = jt->eff_state = -1;
-    jt->pos_cmd = jt->vel_cmd = jt->kp_cmd = jt->kd_cmd = jt->eff_cmd = -1;
-    return lb->n_joints++;
-}
-
-static int base_axis_state(const char *suffix)
-{
-    if (!strcmp(suffix, "position.x") || !strcmp(suffix, "odom.x")) return 0;
-    if (!strcmp(suffix, "position.y") || !strcmp(suffix, "odom.y")) return 1;
-    if (!strcmp(suffix, "position.z")) return 2;
-    if (!strcmp(suffix, "yaw") || !strcmp(suffix, "odom.yaw")) return 3;
-    return -1;
-}
-
-static int base_axis_cmd(const char *suffix)
-{
-    if (!strcmp(suffix, "velocity.x") || !strcmp(suffix, "linear.x")) return 0;
-    if (!strcmp(suffix, "velocity.y") || !strcmp(suffix, "linear.y")) return 1;
-    if (!strcmp(suffix, "velocity.z") || !strcmp(suffix, "linear.z")) return 2;
-    if (!strcmp(suffix, "yaw_rate") || !strcmp(suffix, "angular.z")) return 3;
-    return -1;
-}
-
-static void bind_channels(roz_loopback_t *lb)
-{
-    const roz_manifest_t *m = lb->m;
-
-    lb->n_joints = 0;
-    for (int a = 0; a < 4; a++)
-        lb->base_cmd[a] = lb->base_state[a] = -1;
-    /* states: joints first (a position state creates its joint) */
-    for (uint16_t s = 0; s < m->n_states; s++) {
-        const roz_channel_t *c = &m->states[s];
-        const char *suf = suffix_of(c->name);
-        int axis = base_axis_state(suf);
-        lb->bind[s] = (roz_loopback_binding_t){ M_DEFAULT, 0, -1 };
-        if (axis >= 0 && c->type == ROZ_IF_POSITION) {
-            lb->base_state[axis] = s;
-            lb->bind[s] = (roz_loopback_binding_t){ M_BASE, (uint8_t)axis, -1 };
-        } else if (c->type == ROZ_IF_POSITION && !strcmp(suf, "position")) {
-            int j = joint_for(lb, c->name, 1);
-            if (j >= 0) {
-                lb->joints[j].pos_state = s;
-                lb->bind[s] = (roz_loopback_binding_t){ M_JOINT_POS, 0, (int16_t)j };
-            }
-        }
-    }
-    for (uint16_t s = 0; s < m->n_states; s++) {
-        const roz_channel_t *c = &m->states[s];
-        const char *suf = suffix_of(c->name);
-        int j;
-        if (lb->bind[s].model != M_DEFAULT)
-            continue;
-        if (c->type == ROZ_IF_VELOCITY && !strcmp(suf, "velocity") &&
-            (j = joint_for(lb, c->name, 0)) >= 0) {
-            lb->joints[j].vel_state = s;
-            lb->bind[s] = (roz_loopback_binding_t){ M_JOINT_VEL, 0, (int16_t)j };
-        } else if (c->type == ROZ_IF_EFFORT && !strcmp(suf, "effort") &&
-                   (j = joint_for(lb, c->name, 0)) >= 0) {
-            lb->joints[j].eff_state = s;
-            lb->bind[s] = (roz_loopback_binding_t){ M_JOINT_EFF, 0, (int16_t)j };
-        }
-    }
-    /* commands: by joint prefix, or through the position pairing */
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        const char *suf = suffix_of(c->name);
-        int axis = base_axis_cmd(suf);
-        int j = joint_for(lb, c->name, 0);
-        if (j < 0 && c->position_state >= 0 && lb->bind[c->position_state].model == M_JOINT_POS)
-            j = lb->bind[c->position_state].joint;
-        if (j < 0) {
-            if (axis >= 0 && c->type == ROZ_IF_VELOCITY)
-                lb->base_cmd[axis] = i;
-            continue;
-        }
-        roz_loopback_joint_t *jt = &lb->joints[j];
-        switch (c->type) {
-        case ROZ_IF_POSITION:  jt->pos_cmd = i; break;
-        case ROZ_IF_VELOCITY:  jt->vel_cmd = i; break;
-        case ROZ_IF_STIFFNESS: jt->kp_cmd = i; break;
-        case ROZ_IF_DAMPING:   jt->kd_cmd = i; break;
-        case ROZ_IF_EFFORT:    jt->eff_cmd = i; break;
-        default: break;
-        }
-    }
-}
-
-static double cmd_or(const roz_loopback_t *lb, int32_t i, double fallback)
-{
-    return i >= 0 ? lb->cmd[i] : fallback;
-}
-
-static void step_joint(roz_loopback_t *lb, roz_loopback_joint_t *jt)
-{
-    const roz_manifest_t *m = lb->m;
-    double dt = lb->dt;
-
-    if (jt->kp_cmd >= 0 || jt->kd_cmd >= 0 || (jt->eff_cmd >= 0 && jt->pos_cmd < 0 && jt->vel_cmd < 0)) {
-        double kp = cmd_or(lb, jt->kp_cmd, 0.0), kd = cmd_or(lb, jt->kd_cmd, 0.0);
-        double tau = kp * (cmd_or(lb, jt->pos_cmd, jt->q) - jt->q) +
-                     kd * (cmd_or(lb, jt->vel_cmd, 0.0) - jt->dq) + cmd_or(lb, jt->eff_cmd, 0.0);
-        if (jt->eff_cmd >= 0) {
-            const roz_channel_t *e = &m->commands[jt->eff_cmd];
-            tau = fmin(fmax(tau, e->min), e->max);
-        }
-        jt->tau = tau;
-        jt->dq += (tau - FRICTION * jt->dq) / INERTIA * dt;
-        jt->q += jt->dq * dt;
-    } else if (jt->pos_cmd >= 0) {
-        double target = lb->cmd[jt->pos_cmd];
-        double q0 = jt->q;
-        jt->q += (target - jt->q) * (1.0 - exp(-dt / ROZ_LOOPBACK_TAU_S));
-        jt->dq = (jt->q - q0) / dt;
-        jt->tau = 0.0;
-    } else if (jt->vel_cmd >= 0) {
-        jt->dq = lb->cmd[jt->vel_cmd];
-        jt->q += jt->dq * dt;
-        jt->tau = 0.0;
-    }
-}
-
-static void step_base(roz_loopback_t *lb)
-{
-    double v[4];
-    for (int a = 0; a < 4; a++)
-        v[a] = cmd_or(lb, lb->base_cmd[a], 0.0);
-    double yaw = lb->base[3];
-    lb->base[0] += (v[0] * cos(yaw) - v[1] * sin(yaw)) * lb->dt;
-    lb->base[1] += (v[0] * sin(yaw) + v[1] * cos(yaw)) * lb->dt;
-    lb->base[2] += v[2] * lb->dt;
-    yaw += v[3] * lb->dt;
-    lb->base[3] = atan2(sin(yaw), cos(yaw)); /* wrap to [-pi, pi] */
-}
-
-static void compose(const roz_loopback_t *lb, double *state)
-{
-    const roz_manifest_t *m = lb->m;
-    for (uint16_t s = 0; s < m->n_states; s++) {
-        const roz_loopback_binding_t *b = &lb->bind[s];
-        switch (b->model) {
-        case M_JOINT_POS: state[s] = lb->joints[b->joint].q; break;
-        case M_JOINT_VEL: state[s] = lb->joints[b->joint].dq; break;
-        case M_JOINT_EFF: state[s] = lb->joints[b->joint].tau; break;
-        case M_BASE:      state[s] = lb->base[b->axis]; break;
-        default:          state[s] = m->states[s].default_value; break;
-        }
-    }
-}
+/* ---- faults --------------------------------------------------------------- */
 
 static int fault_active(const roz_loopback_fault_t *f, uint64_t t)
 {
@@ -271,18 +90,154 @@ bad:
     return ROZ_EINVAL;
 }
 
+/* Any fault of @p kind active at tick @p t. */
+static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_loopback_fault_kind_t kind,
+                                          uint64_t t)
+{
+    for (uint32_t k = 0; k < lb->n_faults; k++) {
+        if (lb->faults[k].kind == kind && fault_active(&lb->faults[k], t))
+            return &lb->faults[k];
+    }
+    return NULL;
+}
+
+/* ---- frames ----------------------------------------------------------------
+ * A frame image: [0] sequence, [1] value count, [2 .. 2+2n) the values as
+ * host doubles, [2+2n] the CRC of the words before it. */
+
+static size_t frame_words(size_t n)
+{
+    return 3 + 2 * n;
+}
+
+static void encode(uint32_t *image, uint32_t seq, const double *v, size_t n)
+{
+    image[0] = seq;
+    image[1] = (uint32_t)n;
+    memcpy(&image[2], v, n * sizeof v[0]);
+    image[2 + 2 * n] = roz_crc32_words(image, 2 + 2 * n);
+}
+
+/* Whether the image is intact: the count it claims and its CRC. */
+static int intact(const uint32_t *image, size_t n)
+{
+    return image[1] == (uint32_t)n && image[2 + 2 * n] == roz_crc32_words(image, 2 + 2 * n);
+}
+
+static void decode(const uint32_t *image, double *v, size_t n)
+{
+    memcpy(v, &image[2], n * sizeof v[0]);
+}
+
+/* One bit, chosen by the tick, flips in transit. */
+static void flip_bit(uint32_t *image, size_t words, uint64_t t)
+{
+    uint64_t bit = (t * 2654435761u) % (words * 32u);
+    image[bit / 32u] ^= 1u << (bit % 32u);
+}
+
+/* ---- the robot's end ------------------------------------------------------ */
+
+/* Tick t of the robot: live or die, move, send a state frame. */
+static void peer_tick(roz_loopback_t *lb, uint64_t t)
+{
+    const roz_manifest_t *m = lb->m;
+    int dead = active(lb, ROZ_LOOPBACK_RESTART, t) != NULL;
+    double v[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+
+    if (dead) {
+        /* died (or still dead): it forgets its command, its joints stop */
+        lb->peer_dead = 1;
+        lb->have_cmd = 0;
+        return;
+    }
+    if (lb->peer_dead) {
+        /* boots again: a new process, sequence from 0, no command */
+        lb->peer_dead = 0;
+        lb->peer_seq = 0;
+        roz_link_init(&lb->peer_link, 0, 0);
+    }
+    if (lb->have_cmd)
+        roz_lbsim_step(lb);
+    if (active(lb, ROZ_LOOPBACK_FREEZE, t) != NULL)
+        return;
+
+    roz_lbsim_compose(lb, v);
+    for (uint32_t k = 0; k < lb->n_faults; k++) {
+        const roz_loopback_fault_t *f = &lb->faults[k];
+        if (!fault_active(f, t))
+            continue;
+        if (f->kind == ROZ_LOOPBACK_NAN)
+            v[f->channel] = NAN;
+        else if (f->kind == ROZ_LOOPBACK_RANGE)
+            v[f->channel] = m->states[f->channel].max + 0.5;
+    }
+    roz_loopback_frame_t *fr = &lb->flight[t % DEPTH];
+    encode(fr->image, lb->peer_seq++, v, m->n_states);
+    lb->frames_sent++;
+
+    /* the transport */
+    const roz_loopback_fault_t *delay = active(lb, ROZ_LOOPBACK_DELAY, t);
+    fr->sent = t;
+    fr->arrives = t + (delay != NULL ? delay->arg : 0u);
+    if (active(lb, ROZ_LOOPBACK_DROP, t) != NULL) {
+        fr->arrives = NEVER;
+        lb->frames_dropped++;
+    }
+    if (active(lb, ROZ_LOOPBACK_CORRUPT, t) != NULL) {
+        flip_bit(fr->image, frame_words(m->n_states), t);
+        lb->frames_corrupted++;
+    }
+}
+
+/* A command frame reaches the robot. */
+static void peer_receive(roz_loopback_t *lb, const uint32_t *image, uint64_t now_ns)
+{
+    const roz_manifest_t *m = lb->m;
+    if (lb->peer_dead) {
+        lb->cmds_lost++;
+        return;
+    }
+    roz_link_verdict_t v = roz_link_check(&lb->peer_link, intact(image, m->n_commands), image[0],
+                                          now_ns);
+    if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY)
+        return; /* dropped and counted by peer_link; the last good command stays */
+    decode(image, lb->cmd, m->n_commands);
+    if (lb->first_write_tick == 0)
+        lb->first_write_tick = lb->tick;
+    lb->have_cmd = 1;
+}
+
+/* ---- the port's end --------------------------------------------------------- */
+
+/* A state frame reaches the port. Returns the verdict. */
+static roz_link_verdict_t port_receive(roz_loopback_t *lb, const uint32_t *image, uint64_t now_ns)
+{
+    size_t n = lb->m->n_states;
+    roz_link_verdict_t v = roz_link_check(&lb->link, intact(image, n), image[0], now_ns);
+
+    if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY)
+        return v;
+    decode(image, lb->rx, n);
+    memcpy(lb->last_image, image, frame_words(n) * sizeof image[0]);
+    lb->frames_delivered++;
+    return v;
+}
+
 /* ---- ops ----------------------------------------------------------------- */
 
 static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, char *err,
                    size_t errlen)
 {
-    static const char *const known[] = { "drop", "freeze", "delay", "nan", "range",
-                                         "duplicate", NULL };
     static const struct { const char *key; roz_loopback_fault_kind_t kind; } fault_keys[] = {
-        { "drop", ROZ_LOOPBACK_DROP },   { "freeze", ROZ_LOOPBACK_FREEZE },
-        { "delay", ROZ_LOOPBACK_DELAY }, { "nan", ROZ_LOOPBACK_NAN },
-        { "range", ROZ_LOOPBACK_RANGE }, { "duplicate", ROZ_LOOPBACK_DUPLICATE },
+        { "drop", ROZ_LOOPBACK_DROP },     { "freeze", ROZ_LOOPBACK_FREEZE },
+        { "delay", ROZ_LOOPBACK_DELAY },   { "nan", ROZ_LOOPBACK_NAN },
+        { "range", ROZ_LOOPBACK_RANGE },   { "duplicate", ROZ_LOOPBACK_DUPLICATE },
+        { "corrupt", ROZ_LOOPBACK_CORRUPT }, { "corrupt_cmd", ROZ_LOOPBACK_CORRUPT_CMD },
+        { "restart", ROZ_LOOPBACK_RESTART },
     };
+    enum { N_KEYS = sizeof fault_keys / sizeof fault_keys[0] };
+    const char *known[N_KEYS + 1];
     roz_loopback_t *lb = self;
     int rc;
 
@@ -293,21 +248,21 @@ static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     memset(lb, 0, sizeof *lb);
     lb->m = m;
     lb->dt = 1.0 / (double)m->control_rate_hz;
-    bind_channels(lb);
-    for (uint16_t j = 0; j < lb->n_joints; j++) {
-        roz_loopback_joint_t *jt = &lb->joints[j];
-        if (jt->pos_state >= 0)
-            jt->q = m->states[jt->pos_state].default_value;
-    }
-    for (int a = 0; a < 4; a++) {
-        if (lb->base_state[a] >= 0)
-            lb->base[a] = m->states[lb->base_state[a]].default_value;
-    }
+    lb->period_ns = 1000000000u / m->control_rate_hz;
+    for (size_t k = 0; k < DEPTH; k++)
+        lb->flight[k].arrives = NEVER;
+    roz_link_init(&lb->link, ROZ_LOOPBACK_PEER_TIMEOUT_NS, 0);
+    roz_link_init(&lb->peer_link, 0, 0);
+    roz_lbsim_open(lb);
+
+    for (size_t k = 0; k < N_KEYS; k++)
+        known[k] = fault_keys[k].key;
+    known[N_KEYS] = NULL;
     rc = roz_params_check_known(p, known, "loopback", err, errlen);
     if (rc != ROZ_OK)
         return rc;
     for (size_t i = 0; p != NULL && i < p->n; i++) {
-        for (size_t k = 0; k < sizeof fault_keys / sizeof fault_keys[0]; k++) {
+        for (size_t k = 0; k < N_KEYS; k++) {
             if (strcmp(p->items[i].key, fault_keys[k].key) == 0) {
                 rc = parse_fault_param(lb, p->items[i].key, p->items[i].value,
                                        fault_keys[k].kind, err, errlen);
@@ -322,80 +277,68 @@ static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
 static int lb_read(void *self, double *state, size_t n)
 {
     roz_loopback_t *lb = self;
-    const roz_manifest_t *m = lb->m;
     uint64_t t = lb->tick++;
-    double *now_frame = lb->hist[t % HIST];
-    const double *frame = now_frame;
-    int deliver = 1, duplicate = 0;
+    uint64_t now_ns = t * lb->period_ns;
+    int fresh = 0, restarted = 0;
 
-    if (n != m->n_states)
+    if (n != lb->m->n_states)
         return ROZ_EINVAL;
-    if (lb->have_cmd) {
-        for (uint16_t j = 0; j < lb->n_joints; j++)
-            step_joint(lb, &lb->joints[j]);
-        step_base(lb);
-    }
-    compose(lb, now_frame);
+    peer_tick(lb, t);
 
-    for (uint32_t k = 0; k < lb->n_faults; k++) {
-        const roz_loopback_fault_t *f = &lb->faults[k];
-        if (!fault_active(f, t))
-            continue;
-        if (f->kind == ROZ_LOOPBACK_DROP || f->kind == ROZ_LOOPBACK_FREEZE)
-            deliver = 0;
-        else if (f->kind == ROZ_LOOPBACK_DELAY)
-            frame = t >= f->arg ? lb->hist[(t - f->arg) % HIST] : NULL;
-        else if (f->kind == ROZ_LOOPBACK_DUPLICATE)
-            duplicate = 1;
-    }
-    if (frame == NULL)
-        deliver = 0;
-    if (!deliver) {
-        lb->frames_dropped++;
-        if (!lb->delivered_any)
-            return ROZ_ENOENT;
-        memcpy(state, lb->last_out, n * sizeof state[0]);
-        return 0;
-    }
-    if (duplicate && lb->delivered_any) {
-        /* the frame before, again, claimed fresh */
-        memcpy(state, lb->last_out, n * sizeof state[0]);
+    if (active(lb, ROZ_LOOPBACK_DUPLICATE, t) != NULL && lb->link.alive) {
+        /* the last frame again, in place of whatever arrives now */
+        for (size_t k = 0; k < DEPTH; k++) {
+            if (lb->flight[k].arrives == t)
+                lb->flight[k].arrives = NEVER;
+        }
         lb->frames_duplicated++;
-        lb->frames_delivered++;
-        return 1;
+        (void)port_receive(lb, lb->last_image, now_ns);
     }
-    memcpy(state, frame, n * sizeof state[0]);
-    for (uint32_t k = 0; k < lb->n_faults; k++) {
-        const roz_loopback_fault_t *f = &lb->faults[k];
-        if (!fault_active(f, t))
+    /* frames arriving now, oldest sent first */
+    for (uint64_t back = DEPTH; back-- > 0;) {
+        if (back > t)
             continue;
-        if (f->kind == ROZ_LOOPBACK_NAN)
-            state[f->channel] = NAN;
-        else if (f->kind == ROZ_LOOPBACK_RANGE)
-            state[f->channel] = m->states[f->channel].max + 0.5;
+        roz_loopback_frame_t *fr = &lb->flight[(t - back) % DEPTH];
+        if (fr->sent != t - back || fr->arrives != t)
+            continue;
+        fr->arrives = NEVER;
+        roz_link_verdict_t v = port_receive(lb, fr->image, now_ns);
+        fresh |= v == ROZ_LINK_FIRST || v == ROZ_LINK_FRESH || v == ROZ_LINK_RESTART;
+        restarted |= v == ROZ_LINK_RESTART;
     }
-    memcpy(lb->last_out, state, n * sizeof state[0]);
-    lb->delivered_any = 1;
-    lb->frames_delivered++;
-    return 1;
+    if (restarted) {
+        lb->link_events++;
+        return ROZ_EIO;
+    }
+    if (!lb->link.alive)
+        return ROZ_ENOENT;
+    memcpy(state, lb->rx, n * sizeof state[0]);
+    return fresh;
 }
 
 static int lb_write(void *self, const double *cmd, size_t n)
 {
     roz_loopback_t *lb = self;
     const roz_manifest_t *m = lb->m;
+    uint64_t t = lb->tick > 0 ? lb->tick - 1 : 0; /* the tick of the last read */
 
     if (n != m->n_commands)
         return ROZ_EINVAL;
+    lb->writes++;
     for (uint16_t i = 0; i < m->n_commands; i++) {
         if (!(cmd[i] >= m->commands[i].min && cmd[i] <= m->commands[i].max))
             lb->violations++;
     }
-    memcpy(lb->cmd, cmd, n * sizeof cmd[0]);
-    if (!lb->have_cmd)
-        lb->first_write_tick = lb->tick;
-    lb->have_cmd = 1;
-    lb->writes++;
+    if (!lb->link.alive) {
+        lb->writes_withheld++; /* nothing before the peer's first state frame */
+        return ROZ_OK;
+    }
+    encode(lb->cmd_image, lb->cmd_seq++, cmd, n);
+    if (active(lb, ROZ_LOOPBACK_CORRUPT_CMD, t) != NULL) {
+        flip_bit(lb->cmd_image, frame_words(n), t);
+        lb->cmds_corrupted++;
+    }
+    peer_receive(lb, lb->cmd_image, t * lb->period_ns);
     return ROZ_OK;
 }
 
@@ -415,7 +358,7 @@ int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
 {
     if (lb->n_faults >= ROZ_LOOPBACK_MAX_FAULTS)
         return ROZ_ENOSPC;
-    if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_DUPLICATE)
+    if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_RESTART)
         return ROZ_EINVAL;
     if ((f->kind == ROZ_LOOPBACK_NAN || f->kind == ROZ_LOOPBACK_RANGE) &&
         (f->channel < 0 || f->channel >= (int32_t)lb->m->n_states))
@@ -428,7 +371,7 @@ int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
 
 void roz_loopback_true_state(const roz_loopback_t *lb, double *state)
 {
-    compose(lb, state);
+    roz_lbsim_compose(lb, state);
 }
 
 const double *roz_loopback_last_command(const roz_loopback_t *lb)

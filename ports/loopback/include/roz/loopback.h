@@ -23,12 +23,31 @@
  *   `X/odom.x|y` and `X/yaw` or `X/odom.yaw`.
  * Every other state (an IMU, say) holds its manifest default: a robot at rest.
  *
- * Fault injection, for tests (also as parameters, see roz_loopback_ops):
- * drop (frames not delivered), delay (frames delivered k ticks late), freeze
- * (no new frames from a tick on), nan (a state channel reads NaN), range (a
- * position state reads 0.5 beyond its upper limit), duplicate (the frame
- * delivered before is delivered again and reported fresh, as a transport
- * without sequence numbers would).
+ * The port and the simulated robot talk as a hardware port and its robot
+ * do: the robot (the peer) sends each state frame as a word image with a
+ * sequence number and a CRC-32 (roz/hal/crc32.h), and the port receives it
+ * through the link checks every hardware port runs (roz/hal/link.h): bad
+ * CRC and replayed or overtaken frames are dropped and counted, a peer that
+ * restarts or comes back after ROZ_LOOPBACK_PEER_TIMEOUT_NS of silence is
+ * reported (read() returns ROZ_EIO once; the runtime latches
+ * ROZ_FAULT_LINK). Commands travel the same way; the robot drops commands
+ * that fail their CRC and keeps the last good one. As on a hardware port,
+ * nothing is sent before the peer's first state frame.
+ *
+ * Fault injection, for tests (also as parameters, see roz_loopback_ops),
+ * each over ticks [from, to):
+ * - drop: frames sent are lost in transit (the peer's sequence goes on);
+ * - freeze: the peer sends nothing;
+ * - delay: frames sent arrive k ticks late (after a gap of k ticks at the
+ *   start; at the end, frames overtaken by newer ones are dropped as stale);
+ * - nan: the peer sends NaN in a state channel;
+ * - range: the peer sends 0.5 beyond a position state's upper limit;
+ * - duplicate: the transport delivers the frame it delivered before again,
+ *   in place of the new one (a stuck bridge, a replay);
+ * - corrupt: one bit of every state frame flips in transit;
+ * - corrupt_cmd: one bit of every command frame flips in transit;
+ * - restart: the peer dies at `from` (sends and receives nothing, its joints
+ *   stop) and boots again at `to` with its sequence back at 0 and no command.
  */
 #ifndef ROZ_LOOPBACK_H
 #define ROZ_LOOPBACK_H
@@ -37,6 +56,7 @@
 
 #include <stdint.h>
 
+#include "roz/hal/link.h"
 #include "roz/hal/port.h"
 #include "roz/manifest.h"
 
@@ -50,14 +70,23 @@ extern "C" {
 #define ROZ_LOOPBACK_MAX_DELAY 15
 /** Fault injections active at once. */
 #define ROZ_LOOPBACK_MAX_FAULTS 8
+/** Silence after which the port counts its peer as lost (roz/hal/link.h). */
+#define ROZ_LOOPBACK_PEER_TIMEOUT_NS 500000000u
+/** Words of a state frame image: sequence, count, two per value, CRC. */
+#define ROZ_LOOPBACK_STATE_WORDS (3 + 2 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1))
+/** Words of a command frame image. */
+#define ROZ_LOOPBACK_CMD_WORDS (3 + 2 * ROZ_CFG_MAX_COMMANDS)
 
 typedef enum roz_loopback_fault_kind {
-    ROZ_LOOPBACK_DROP = 1,   /**< frames in [from, to) are not delivered */
-    ROZ_LOOPBACK_DELAY,      /**< frames in [from, to) arrive `arg` ticks late */
-    ROZ_LOOPBACK_FREEZE,     /**< no new frame from `from` until `to` */
+    ROZ_LOOPBACK_DROP = 1,   /**< frames sent in [from, to) are lost */
+    ROZ_LOOPBACK_DELAY,      /**< frames sent in [from, to) arrive `arg` ticks late */
+    ROZ_LOOPBACK_FREEZE,     /**< the peer sends nothing in [from, to) */
     ROZ_LOOPBACK_NAN,        /**< state `channel` reads NaN in [from, to) */
     ROZ_LOOPBACK_RANGE,      /**< position state `channel` reads max + 0.5 in [from, to) */
-    ROZ_LOOPBACK_DUPLICATE,  /**< reads in [from, to) deliver the previous frame again, as fresh */
+    ROZ_LOOPBACK_DUPLICATE,  /**< the last delivered frame again, in place of the new one */
+    ROZ_LOOPBACK_CORRUPT,    /**< a bit of each state frame flips in transit */
+    ROZ_LOOPBACK_CORRUPT_CMD,/**< a bit of each command frame flips in transit */
+    ROZ_LOOPBACK_RESTART,    /**< the peer is dead in [from, to) and boots again at `to` */
 } roz_loopback_fault_kind_t;
 
 /** One injected fault; `to` = 0 means forever. */
@@ -82,34 +111,65 @@ typedef struct roz_loopback_joint {
     double  q, dq, tau;
 } roz_loopback_joint_t;
 
-/** The port's data; caller-owned. Fields are private to loopback.c. */
+/** A state frame in transit. */
+typedef struct roz_loopback_frame {
+    uint64_t sent;    /* tick it was sent */
+    uint64_t arrives; /* tick it arrives; UINT64_MAX = lost */
+    uint32_t image[ROZ_LOOPBACK_STATE_WORDS];
+} roz_loopback_frame_t;
+
+/** The port's data; caller-owned. Fields are private to the loopback port;
+ *  tests read the counters. */
 typedef struct roz_loopback {
     const roz_manifest_t  *m;
     double                 dt;
+    uint64_t               period_ns;
     uint64_t               tick;         /* reads so far */
+    roz_loopback_fault_t   faults[ROZ_LOOPBACK_MAX_FAULTS];
+    uint32_t               n_faults;
+
+    /* the simulated robot (sim.c) and its end of the wire */
     roz_loopback_joint_t   joints[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     uint16_t               n_joints;
     roz_loopback_binding_t bind[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     int32_t                base_cmd[4];  /* vx, vy, vz, yaw rate */
     int32_t                base_state[4];/* x, y, z, yaw */
     double                 base[4];
-    double                 cmd[ROZ_CFG_MAX_COMMANDS];
+    double                 cmd[ROZ_CFG_MAX_COMMANDS]; /* the command the robot applies */
     int                    have_cmd;
-    double                 hist[ROZ_LOOPBACK_MAX_DELAY + 1][ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    double                 last_out[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    int                    delivered_any;
-    roz_loopback_fault_t   faults[ROZ_LOOPBACK_MAX_FAULTS];
-    uint32_t               n_faults;
+    int                    peer_dead;
+    uint32_t               peer_seq;     /* next state frame's sequence number */
+    roz_link_t             peer_link;    /* the robot's checks on command frames */
+
+    /* the wire: state frames in flight, by sent tick modulo the depth */
+    roz_loopback_frame_t   flight[ROZ_LOOPBACK_MAX_DELAY + 1];
+    uint32_t               cmd_image[ROZ_LOOPBACK_CMD_WORDS];
+    uint32_t               cmd_seq;
+
+    /* the port's end */
+    roz_link_t             link;         /* the port's checks on state frames */
+    uint32_t               last_image[ROZ_LOOPBACK_STATE_WORDS]; /* last frame accepted */
+    double                 rx[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+
     /* counters */
-    uint64_t               frames_delivered, frames_dropped, writes;
-    uint64_t               frames_duplicated; /* of frames_delivered, repeats (DUPLICATE) */
+    uint64_t               frames_sent;      /* by the robot */
+    uint64_t               frames_delivered; /* accepted by the port */
+    uint64_t               frames_dropped;   /* lost in transit (DROP) */
+    uint64_t               frames_duplicated;/* delivered again (DUPLICATE) */
+    uint64_t               frames_corrupted; /* state frames with a bit flipped (CORRUPT) */
+    uint64_t               link_events;      /* reads that returned ROZ_EIO: the peer restarted */
+    uint64_t               writes;           /* write() calls */
+    uint64_t               writes_withheld;  /* before the peer's first state frame */
+    uint64_t               cmds_corrupted;   /* command frames with a bit flipped (CORRUPT_CMD) */
+    uint64_t               cmds_lost;        /* command frames sent to a dead peer */
     uint64_t               violations;      /* written values outside [min, max] or non-finite: must stay 0 */
-    uint64_t               first_write_tick; /* tick of the first write, 0 = none */
+    uint64_t               first_write_tick; /* tick the robot applied its first command, 0 = none */
 } roz_loopback_t;
 
 /** The ops table. Parameters: drop=FROM:TO, freeze=FROM[:TO], delay=K@FROM:TO,
- *  nan=CH@FROM:TO, range=CH@FROM:TO, duplicate=FROM:TO (TO may be empty:
- *  forever); CH is a state index or name. */
+ *  nan=CH@FROM:TO, range=CH@FROM:TO, duplicate=FROM:TO, corrupt=FROM:TO,
+ *  corrupt_cmd=FROM:TO, restart=FROM:TO (TO may be empty: forever); CH is a
+ *  state index or name. */
 extern const roz_port_ops_t roz_loopback_ops;
 
 /** @brief A roz_port_t over @p lb. */
@@ -127,10 +187,11 @@ static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
  */
 int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f);
 
-/** @brief The simulator's true state (n_states), before fault injection. */
+/** @brief The simulated robot's true state (n_states), before fault injection. */
 void roz_loopback_true_state(const roz_loopback_t *lb, double *state);
 
-/** @brief The last command written (n_commands), or NULL before any write. */
+/** @brief The command the simulated robot applies (n_commands), or NULL
+ *         before it received one (or since it restarted). */
 const double *roz_loopback_last_command(const roz_loopback_t *lb);
 
 #ifdef __cplusplus

@@ -1,0 +1,167 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The frame checks every port runs (roz/hal/crc32.h, roz/hal/link.h): the
+ * CRC against the reference values of shared/reference/robots.md 1.4 and a
+ * bit-by-bit model of its definition, and the link verdicts, counters and
+ * sequence wrap-around. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/hal/crc32.h"
+#include "roz/hal/link.h"
+
+/* The definition, one bit at a time: shift left, XOR the polynomial if the
+ * bit shifted out was 1, XOR it again if the data bit is 1. */
+static uint32_t crc_bitwise(const uint32_t *w, size_t n)
+{
+    uint32_t crc = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; i++) {
+        for (uint32_t bit = 1u << 31; bit != 0u; bit >>= 1) {
+            uint32_t out = crc & 0x80000000u;
+            crc <<= 1;
+            if (out)
+                crc ^= 0x04C11DB7u;
+            if (w[i] & bit)
+                crc ^= 0x04C11DB7u;
+        }
+    }
+    return crc;
+}
+
+/* CRC-32/MPEG-2 over bytes, MSB first. */
+static uint32_t crc_mpeg2(const uint8_t *b, size_t n)
+{
+    uint32_t crc = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; i++) {
+        crc ^= (uint32_t)b[i] << 24;
+        for (int k = 0; k < 8; k++)
+            crc = (crc & 0x80000000u) ? (crc << 1) ^ 0x04C11DB7u : crc << 1;
+    }
+    return crc;
+}
+
+static void test_crc32_reference_values(void **st)
+{
+    static uint32_t zero[250];
+    (void)st;
+    /* an all-zero G1 LowCmd_ image: 250 words */
+    assert_int_equal(roz_crc32_words(zero, 250), 0xFE172F9Fu);
+    assert_int_equal(roz_crc32_words(NULL, 0), 0xFFFFFFFFu);
+    /* the MPEG-2 check value anchors the byte model below */
+    assert_int_equal(crc_mpeg2((const uint8_t *)"123456789", 9), 0x0376E6E7u);
+}
+
+static void test_crc32_matches_its_definition(void **st)
+{
+    uint32_t w[522];
+    uint8_t bytes[sizeof w];
+    uint32_t x = 12345u;
+    (void)st;
+    for (size_t i = 0; i < 522; i++) {
+        x = x * 1664525u + 1013904223u;
+        w[i] = x;
+    }
+    for (size_t n = 0; n <= 522; n += 29) {
+        assert_int_equal(roz_crc32_words(w, n), crc_bitwise(w, n));
+        /* MPEG-2 over each word's bytes, most significant first */
+        for (size_t i = 0; i < n; i++) {
+            bytes[4 * i] = (uint8_t)(w[i] >> 24);
+            bytes[4 * i + 1] = (uint8_t)(w[i] >> 16);
+            bytes[4 * i + 2] = (uint8_t)(w[i] >> 8);
+            bytes[4 * i + 3] = (uint8_t)w[i];
+        }
+        assert_int_equal(roz_crc32_words(w, n), crc_mpeg2(bytes, 4 * n));
+    }
+    /* every single-bit error in a LowState_-sized image changes the CRC */
+    uint32_t good = roz_crc32_words(w, 522);
+    for (size_t bit = 0; bit < 522 * 32; bit += 7) {
+        w[bit / 32] ^= 1u << (bit % 32);
+        assert_true(roz_crc32_words(w, 522) != good);
+        w[bit / 32] ^= 1u << (bit % 32);
+    }
+}
+
+#define MS 1000000ull
+
+static void test_link_verdicts(void **st)
+{
+    roz_link_t l;
+    (void)st;
+    roz_link_init(&l, 100 * MS, 0);
+    assert_int_equal(l.window, ROZ_LINK_DEFAULT_WINDOW);
+    assert_int_equal(roz_link_check(&l, 0, 7, 0), ROZ_LINK_BAD_CRC); /* before the first */
+    assert_false(l.alive);
+    assert_int_equal(roz_link_check(&l, 1, 1000, 0), ROZ_LINK_FIRST);
+    assert_int_equal(roz_link_check(&l, 1, 1001, 2 * MS), ROZ_LINK_FRESH);
+    assert_int_equal(roz_link_check(&l, 1, 1001, 4 * MS), ROZ_LINK_REPLAY); /* duplicate */
+    assert_int_equal(roz_link_check(&l, 1, 1004, 6 * MS), ROZ_LINK_FRESH);  /* 2 missing */
+    assert_int_equal(roz_link_check(&l, 1, 1003, 6 * MS), ROZ_LINK_REPLAY); /* overtaken */
+    assert_int_equal(roz_link_check(&l, 0, 1005, 8 * MS), ROZ_LINK_BAD_CRC);
+    assert_int_equal(roz_link_check(&l, 1, 1004 - 64, 8 * MS), ROZ_LINK_REPLAY); /* window edge */
+    assert_int_equal(roz_link_check(&l, 1, 1004 - 65, 8 * MS), ROZ_LINK_RESTART); /* beyond */
+    assert_int_equal(l.last_seq, 1004 - 65);
+    assert_int_equal(roz_link_check(&l, 1, 1004 - 64, 10 * MS), ROZ_LINK_FRESH);
+    assert_int_equal(l.accepted, 5);
+    assert_int_equal(l.crc_errors, 2);
+    assert_int_equal(l.replays, 3);
+    assert_int_equal(l.missing, 2);
+    assert_int_equal(l.restarts, 1);
+    assert_int_equal(l.returns, 0);
+    assert_string_equal(roz_link_verdict_name(ROZ_LINK_RESTART), "restart");
+    assert_string_equal(roz_link_verdict_name(ROZ_LINK_BAD_CRC), "bad crc");
+}
+
+static void test_link_silence(void **st)
+{
+    roz_link_t l;
+    (void)st;
+    roz_link_init(&l, 100 * MS, 0);
+    assert_int_equal(roz_link_check(&l, 1, 5, 0), ROZ_LINK_FIRST);
+    assert_false(roz_link_lost(&l, 99 * MS));
+    assert_true(roz_link_lost(&l, 100 * MS));
+    /* after the silence: the last frame replayed stays a replay ... */
+    assert_int_equal(roz_link_check(&l, 1, 5, 200 * MS), ROZ_LINK_REPLAY);
+    assert_int_equal(roz_link_check(&l, 1, 3, 200 * MS), ROZ_LINK_REPLAY);
+    /* ... a newer frame is the peer coming back */
+    assert_int_equal(roz_link_check(&l, 1, 9, 200 * MS), ROZ_LINK_RESTART);
+    assert_int_equal(l.returns, 1);
+    assert_int_equal(roz_link_check(&l, 1, 10, 202 * MS), ROZ_LINK_FRESH);
+    assert_int_equal(l.missing, 0); /* no gap counted across the silence */
+    /* lost_after 0: never lost by time */
+    roz_link_init(&l, 0, 4);
+    assert_int_equal(roz_link_check(&l, 1, 5, 0), ROZ_LINK_FIRST);
+    assert_false(roz_link_lost(&l, UINT64_MAX));
+    assert_int_equal(roz_link_check(&l, 1, 6, UINT64_MAX), ROZ_LINK_FRESH);
+    assert_int_equal(roz_link_check(&l, 1, 1, UINT64_MAX), ROZ_LINK_RESTART); /* window 4 */
+}
+
+static void test_link_wraps(void **st)
+{
+    roz_link_t l;
+    (void)st;
+    roz_link_init(&l, 0, 0);
+    assert_int_equal(roz_link_check(&l, 1, 0xFFFFFFFEu, 0), ROZ_LINK_FIRST);
+    assert_int_equal(roz_link_check(&l, 1, 0xFFFFFFFFu, 1), ROZ_LINK_FRESH);
+    assert_int_equal(roz_link_check(&l, 1, 0u, 2), ROZ_LINK_FRESH);  /* wraps */
+    assert_int_equal(roz_link_check(&l, 1, 2u, 3), ROZ_LINK_FRESH);  /* 1 missing */
+    assert_int_equal(roz_link_check(&l, 1, 0xFFFFFFFFu, 4), ROZ_LINK_REPLAY);
+    assert_int_equal(l.missing, 1);
+    /* half the sequence space ahead is behind: a restart, not a jump */
+    assert_int_equal(roz_link_check(&l, 1, 2u + 0x80000000u, 5), ROZ_LINK_RESTART);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_crc32_reference_values),
+        cmocka_unit_test(test_crc32_matches_its_definition),
+        cmocka_unit_test(test_link_verdicts),
+        cmocka_unit_test(test_link_silence),
+        cmocka_unit_test(test_link_wraps),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
