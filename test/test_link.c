@@ -154,6 +154,60 @@ static void test_link_wraps(void **st)
     assert_int_equal(roz_link_check(&l, 1, 2u + 0x80000000u, 5), ROZ_LINK_RESTART);
 }
 
+/* 10^6 random frames (CRC good or bad, sequence near the last, far off or
+ * wrapped, receive times with silences): every verdict agrees with its
+ * definition, and the counters add up. Seeded; the seed is printed. */
+static void test_link_random(void **st)
+{
+    uint64_t x = 0x9E3779B97F4A7C15ull, now = 0;
+    roz_link_t l;
+    uint64_t calls = 0, first = 0;
+    (void)st;
+    print_message("seed 0x9E3779B97F4A7C15\n");
+    roz_link_init(&l, 50 * MS, 16);
+    for (int i = 0; i < 1000000; i++) {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        int crc_ok = (x & 15u) != 0u;
+        uint32_t r = (uint32_t)(x >> 8) & 1023u, seq;
+        if (r < 900)
+            seq = l.last_seq + (uint32_t)(int32_t)((int)(r % 40) - 20); /* near */
+        else if (r < 1000)
+            seq = (uint32_t)(x >> 32);                                  /* anywhere */
+        else
+            seq = l.last_seq + 0x7FFFFFF0u + (r & 31u);                 /* half-way round */
+        now += (x >> 40) % 64 == 0 ? 60 * MS : MS;                      /* some silences */
+        int was_alive = l.alive, lost = roz_link_lost(&l, now);
+        uint32_t last = l.last_seq, ahead = seq - last;
+        int newer = ahead != 0u && ahead < 0x80000000u;
+        roz_link_verdict_t v = roz_link_check(&l, crc_ok, seq, now);
+        calls++;
+        roz_link_verdict_t want;
+        if (!crc_ok)
+            want = ROZ_LINK_BAD_CRC;
+        else if (!was_alive)
+            want = ROZ_LINK_FIRST;
+        else if (newer)
+            want = lost ? ROZ_LINK_RESTART : ROZ_LINK_FRESH;
+        else if (last - seq <= 16u)
+            want = ROZ_LINK_REPLAY;
+        else
+            want = ROZ_LINK_RESTART;
+        if (v != want)
+            fail_msg("frame %d: seq %u after %u: %s, expected %s", i, seq, last,
+                     roz_link_verdict_name(v), roz_link_verdict_name(want));
+        first += v == ROZ_LINK_FIRST;
+        if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY)
+            assert_int_equal(l.last_seq, last);
+        else
+            assert_int_equal(l.last_seq, seq);
+    }
+    assert_int_equal(first, 1);
+    assert_int_equal(l.accepted + l.crc_errors + l.replays, calls);
+    assert_true(l.restarts > 0 && l.returns > 0 && l.replays > 0 && l.missing > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -162,6 +216,7 @@ int main(void)
         cmocka_unit_test(test_link_verdicts),
         cmocka_unit_test(test_link_silence),
         cmocka_unit_test(test_link_wraps),
+        cmocka_unit_test(test_link_random),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -5,10 +5,14 @@
  *   - run by wasm3 inside the full runtime tick (loopback port), and
  *   - compiled natively against the same channel API (the same source, its
  *     imports bound to roz's ABI functions directly),
- * and the runtime's own overhead (tick minus process()), and the cost of the
+ * and the runtime's own overhead (tick minus process() minus the port's read
+ * and write, timed apart: the loopback simulates the robot and moves CRC'd
+ * frames both ways inside the tick), and the cost of the
  * per-tick budget: the same wasm run metered (fuel and deadline checks, the
  * defaults) and unmetered (no fuel limit, no deadline; the m3_Yield hook is
- * still called, so this isolates the checks, not the hook's call). Prints
+ * still called, so this isolates the checks, not the hook's call); and the
+ * frame CRC every port computes (roz/hal/crc32.h) on G1-sized images,
+ * against the bit-by-bit definition. Prints
  * medians, p99 and ratios side by side. A benchmark, not a test: it never
  * fails on a time.
  *
@@ -21,6 +25,7 @@
 #include <string.h>
 
 #include "roz/hal/clock.h"
+#include "roz/hal/crc32.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "unitree_g1_manifest.h"
@@ -57,6 +62,25 @@ void roz_emit_metric(double v) { roz_abi_telemetry_emit_metric(&native_abi, v); 
 
 /* ---- helpers -------------------------------------------------------------- */
 
+static volatile uint32_t crc_sink; /* keeps the timed CRCs */
+
+/* The CRC's definition, one bit at a time (shared/reference/robots.md 1.4). */
+static uint32_t crc_bitwise(const uint32_t *w, size_t n)
+{
+    uint32_t crc = 0xFFFFFFFFu;
+    for (size_t i = 0; i < n; i++) {
+        for (uint32_t bit = 1u << 31; bit != 0u; bit >>= 1) {
+            uint32_t out = crc & 0x80000000u;
+            crc <<= 1;
+            if (out)
+                crc ^= 0x04C11DB7u;
+            if (w[i] & bit)
+                crc ^= 0x04C11DB7u;
+        }
+    }
+    return crc;
+}
+
 static int cmp_u64(const void *a, const void *b)
 {
     uint64_t x = *(const uint64_t *)a, y = *(const uint64_t *)b;
@@ -87,6 +111,30 @@ static uint8_t *read_file(const char *path, size_t *len)
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
+
+/* The loopback port behind a shim that times its read() and write(): the
+ * loopback simulates the robot and moves CRC'd frames both ways, which a
+ * hardware port does on its own threads, not in the tick. */
+static uint64_t port_ns; /* this tick's read + write */
+
+static int timed_read(void *self, double *state, size_t n)
+{
+    uint64_t t0 = roz_clock_monotonic_ns(NULL);
+    int rc = roz_loopback_ops.read(self, state, n);
+    port_ns += roz_clock_monotonic_ns(NULL) - t0;
+    return rc;
+}
+
+static int timed_write(void *self, const double *cmd, size_t n)
+{
+    uint64_t t0 = roz_clock_monotonic_ns(NULL);
+    int rc = roz_loopback_ops.write(self, cmd, n);
+    port_ns += roz_clock_monotonic_ns(NULL) - t0;
+    return rc;
+}
+
+static const roz_port_ops_t timed_ops = { .name = "loopback (timed)", .read = timed_read,
+                                          .write = timed_write };
 
 /* One runtime run of `ticks` ticks; fills tick and process() times. */
 static int run_wasm(const roz_manifest_t *m, const uint8_t *wasm, size_t len, int metered,
@@ -146,7 +194,7 @@ int main(int argc, char **argv)
     }
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
-    cfg.port = port;
+    cfg.port = (roz_port_t){ &timed_ops, &lb };
     cfg.clock = roz_clock_monotonic_ns;
     cfg.monitor_jitter = 0;
     cfg.budget_ns = 1000000000; /* measure, don't fault */
@@ -160,8 +208,9 @@ int main(int argc, char **argv)
     uint64_t *wasm_ns = calloc(ticks, sizeof(uint64_t));
     uint64_t *native_ns = calloc(ticks, sizeof(uint64_t));
     uint64_t *overhead_ns = calloc(ticks, sizeof(uint64_t));
+    uint64_t *port_tick_ns = calloc(ticks, sizeof(uint64_t));
     static double native_target[ROZ_CFG_MAX_COMMANDS];
-    if (!tick_ns || !wasm_ns || !native_ns || !overhead_ns)
+    if (!tick_ns || !wasm_ns || !native_ns || !overhead_ns || !port_tick_ns)
         return 2;
     roz_abi_init(&native_abi, m, native_target, NULL);
 
@@ -170,12 +219,14 @@ int main(int argc, char **argv)
         roz_runtime_tick(&rt);
     size_t mismatches = 0;
     for (size_t i = 0; i < ticks; i++) {
+        port_ns = 0;
         uint64_t t0 = roz_clock_monotonic_ns(NULL);
         roz_runtime_tick(&rt);
         uint64_t t1 = roz_clock_monotonic_ns(NULL);
         tick_ns[i] = t1 - t0;
         wasm_ns[i] = rt.last_process_ns;
-        overhead_ns[i] = tick_ns[i] > wasm_ns[i] ? tick_ns[i] - wasm_ns[i] : 0;
+        port_tick_ns[i] = port_ns;
+        overhead_ns[i] = tick_ns[i] > wasm_ns[i] + port_ns ? tick_ns[i] - wasm_ns[i] - port_ns : 0;
 
         /* the same controller, native, on the same snapshot */
         native_abi.state = roz_runtime_last_state(&rt);
@@ -189,7 +240,7 @@ int main(int argc, char **argv)
             mismatches += wt[c] != native_target[c];
     }
     stats_t st = stats(tick_ns, ticks), sw = stats(wasm_ns, ticks), sn = stats(native_ns, ticks),
-            so = stats(overhead_ns, ticks);
+            so = stats(overhead_ns, ticks), sp = stats(port_tick_ns, ticks);
     double period_us = 1e6 / m->control_rate_hz;
 
     printf("bench/tick: %s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
@@ -197,8 +248,10 @@ int main(int argc, char **argv)
     printf("%-34s %10s %10s %10s\n", "", "p50 [us]", "p99 [us]", "max [us]");
     printf("%-34s %10.2f %10.2f %10.2f\n", "process(), wasm3", sw.p50, sw.p99, sw.max);
     printf("%-34s %10.2f %10.2f %10.2f\n", "process(), native", sn.p50, sn.p99, sn.max);
-    printf("%-34s %10.2f %10.2f %10.2f\n", "runtime overhead (tick - process)", so.p50, so.p99,
+    printf("%-34s %10.2f %10.2f %10.2f\n", "runtime (tick - process - port)", so.p50, so.p99,
            so.max);
+    printf("%-34s %10.2f %10.2f %10.2f\n", "port read + write (loopback sim)", sp.p50, sp.p99,
+           sp.max);
     printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, wasm3", st.p50, st.p99, st.max);
     printf("ratios: wasm3/native process() p50 %.1fx, p99 %.1fx; whole tick p50 is %.2f%% of the "
            "%.0f us period\n",
@@ -233,6 +286,35 @@ int main(int argc, char **argv)
     printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, unmetered", sut.p50, sut.p99, sut.max);
     printf("ratios: metered/unmetered process() p50 %.3fx, whole tick p50 %.3fx (aim: <= 1.10x)\n",
            sup.p50 > 0 ? smp.p50 / sup.p50 : 0.0, sut.p50 > 0 ? smt.p50 / sut.p50 : 0.0);
+
+    /* the frame CRC: a G1 LowState_ (522 words) and LowCmd_ (250 words) */
+    static uint32_t image[522];
+    static const size_t words[2] = { 522, 250 };
+    static const char *const names[2] = { "LowState_ (522 words)", "LowCmd_ (250 words)" };
+    enum { REPS = 2000 };
+    uint64_t *ct = calloc(REPS, sizeof(uint64_t)), *cb = calloc(REPS, sizeof(uint64_t));
+    if (!ct || !cb)
+        return 2;
+    for (size_t i = 0; i < 522; i++)
+        image[i] = (uint32_t)(i * 2654435761u);
+    printf("\nframe CRC-32 (roz_crc32_words, sliced by four, vs the bit-by-bit definition):\n");
+    printf("%-34s %10s %10s %10s\n", "", "table [us]", "bits [us]", "ratio");
+    for (int k = 0; k < 2; k++) {
+        for (size_t r = 0; r < REPS; r++) {
+            uint64_t t0 = roz_clock_monotonic_ns(NULL);
+            crc_sink ^= roz_crc32_words(image, words[k]);
+            uint64_t t1 = roz_clock_monotonic_ns(NULL);
+            crc_sink ^= crc_bitwise(image, words[k]);
+            uint64_t t2 = roz_clock_monotonic_ns(NULL);
+            ct[r] = t1 - t0;
+            cb[r] = t2 - t1;
+        }
+        stats_t sct = stats(ct, REPS), scb = stats(cb, REPS);
+        printf("%-34s %10.2f %10.2f %9.1fx  (p50)\n", names[k], sct.p50, scb.p50,
+               sct.p50 > 0 ? scb.p50 / sct.p50 : 0.0);
+    }
+    free(ct);
+    free(cb);
     free(wasm);
     return mismatches == 0 ? 0 : 1;
 }

@@ -335,6 +335,9 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  fuel per tick          verify max %llu, run max %llu, last %llu units; budget %llu\n",
            (unsigned long long)rep->max_fuel, (unsigned long long)rt.counters.max_fuel,
            (unsigned long long)rt.counters.last_fuel, (unsigned long long)rep->fuel_budget);
+    printf("  native stack           verify max %llu, run max %llu bytes; limit %u\n",
+           (unsigned long long)rep->max_stack, (unsigned long long)rt.counters.max_stack,
+           (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
     printf("  ticks                  %llu (controller %llu, waiting for state %llu)\n",
            (unsigned long long)rt.counters.ticks, (unsigned long long)rt.counters.controller_ticks,
            (unsigned long long)rt.counters.waiting_ticks);

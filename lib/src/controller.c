@@ -22,12 +22,28 @@ typedef struct {
     uint64_t     deadline;  /* absolute clock time, 0 = none */
     roz_clock_fn clock;
     void        *clock_ctx;
+    uintptr_t    stack_base; /* the C stack where the call entered the engine */
+    size_t       stack_max;  /* deepest seen, bytes */
 } meter_t;
 
 static _Thread_local meter_t meter;
 
 static const char fuel_trap[] = "[trap] fuel exhausted";
 static const char deadline_trap[] = "[trap] deadline passed";
+static const char stack_trap[] = "[trap] native stack limit";
+
+/* The current C stack position: the frame address where the compiler gives
+ * it (never a sanitizer's fake stack), else a local's address. */
+#if defined(__GNUC__) || defined(__clang__)
+#define STACK_HERE() ((uintptr_t)__builtin_frame_address(0))
+#else
+#define STACK_HERE() stack_here_fallback()
+static uintptr_t stack_here_fallback(void)
+{
+    volatile char here = 0;
+    return (uintptr_t)&here;
+}
+#endif
 
 /* wasm3's hook, called on every call (wasm3 itself) and every loop back-edge
  * (cmake/wasm3-roz.patch). A non-NULL result traps the running call. It is
@@ -35,8 +51,15 @@ static const char deadline_trap[] = "[trap] deadline passed";
 M3Result m3_Yield(void)
 {
     meter_t *m = &meter;
+    uintptr_t here = STACK_HERE();
+    size_t depth = here < m->stack_base ? m->stack_base - here : here - m->stack_base;
 
     m->units++;
+    if (m->stack_base != 0 && depth > m->stack_max) {
+        m->stack_max = depth;
+        if (depth > ROZ_CFG_NATIVE_STACK_BYTES)
+            return stack_trap;
+    }
     if (m->fuel != 0 && m->units > m->fuel)
         return fuel_trap;
     if (m->deadline != 0 && (m->units & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) == 0 &&
@@ -275,6 +298,11 @@ uint64_t roz_controller_fuel_used(const roz_controller_t *c)
     return c->fuel_used;
 }
 
+size_t roz_controller_stack_used(const roz_controller_t *c)
+{
+    return c->stack_used;
+}
+
 int roz_controller_process(roz_controller_t *c, int64_t tick)
 {
     M3Result r;
@@ -282,13 +310,16 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
     if (c->process == NULL || c->spent)
         return ROZ_ESTATE;
     c->calls++;
-    meter = (meter_t){ 0, c->budget.fuel, 0, c->budget.clock, c->budget.clock_ctx };
+    meter = (meter_t){ 0, c->budget.fuel, 0, c->budget.clock, c->budget.clock_ctx, STACK_HERE(),
+                       0 };
     if (c->budget.deadline_ns != 0)
         meter.deadline = c->budget.clock(c->budget.clock_ctx) + c->budget.deadline_ns;
     r = m3_CallV((IM3Function)c->process, tick);
     c->fuel_used = meter.units;
+    c->stack_used = meter.stack_max;
     meter.fuel = 0;
     meter.deadline = 0;
+    meter.stack_base = 0;
     if (r == fuel_trap) {
         c->spent = 1;
         snprintf(c->error, sizeof c->error, "fuel exhausted at tick %lld: %llu units, budget %llu",
@@ -303,6 +334,13 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
                  (long long)tick, (unsigned long long)(c->budget.deadline_ns / 1000u),
                  (unsigned long long)c->fuel_used);
         return ROZ_ETIMEDOUT;
+    }
+    if (r == stack_trap) {
+        snprintf(c->error, sizeof c->error,
+                 "trap at tick %lld: native stack limit: %zu bytes deep, limit %u "
+                 "(ROZ_CFG_NATIVE_STACK_BYTES)",
+                 (long long)tick, c->stack_used, (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
+        return ROZ_EFAULT;
     }
     if (r != m3Err_none) {
         snprintf(c->error, sizeof c->error, "trap at tick %lld: %s", (long long)tick, r);

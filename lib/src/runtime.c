@@ -102,6 +102,8 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
         rep->fuel[t] = roz_controller_fuel_used(&s->ctrl);
         if (rep->fuel[t] > rep->max_fuel)
             rep->max_fuel = rep->fuel[t];
+        if (roz_controller_stack_used(&s->ctrl) > rep->max_stack)
+            rep->max_stack = roz_controller_stack_used(&s->ctrl);
         if (rc != ROZ_OK) {
             snprintf(rt->error, sizeof rt->error, "verify: %s", roz_controller_error(&s->ctrl));
             return ROZ_EFAULT;
@@ -311,6 +313,8 @@ int roz_runtime_tick(roz_runtime_t *rt)
             rt->counters.last_fuel = roz_controller_fuel_used(&s->ctrl);
             if (rt->counters.last_fuel > rt->counters.max_fuel)
                 rt->counters.max_fuel = rt->counters.last_fuel;
+            if (roz_controller_stack_used(&s->ctrl) > rt->counters.max_stack)
+                rt->counters.max_stack = roz_controller_stack_used(&s->ctrl);
             if (rc == ROZ_ETIMEDOUT) {
                 latch(rt, ROZ_FAULT_OVERRUN, roz_controller_error(&s->ctrl));
             } else if (rc != ROZ_OK) {

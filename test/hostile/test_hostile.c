@@ -378,6 +378,16 @@ static void check_grow_wrap(void)
     assert_near(tgt[1], 0.2, 1e-12);
 }
 
+/* The deepest C stack of the run stayed within the limit, plus the little a
+ * check interval adds. */
+static void check_stack(void)
+{
+    print_message("native stack: %llu bytes at most (limit %u)\n",
+                  (unsigned long long)rt.counters.max_stack, (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
+    assert_true(rt.counters.max_stack > 0);
+    assert_true(rt.counters.max_stack <= ROZ_CFG_NATIVE_STACK_BYTES + 4096);
+}
+
 /* ---- the table ------------------------------------------------------------ */
 
 typedef struct {
@@ -401,6 +411,11 @@ static const hostile_t cases[] = {
       ROZ_FAULT_TRAP | ROZ_FAULT_OVERRUN, 150, NULL },
     { "stack_smash", NULL, BUDGET_DEFAULT, ROZ_OK, "trap at tick 150: [trap] out of bounds",
       ROZ_FAULT_TRAP, 150, NULL },
+    /* unmetered, the recursion runs until wasm3's value stack or roz's C
+     * stack limit (ROZ_CFG_NATIVE_STACK_BYTES; wasm3 recurses on the C stack
+     * per wasm call) stops it, whichever comes first in this build */
+    { "recursion", NULL, BUDGET_NONE, ROZ_OK, "trap at tick 150: ", ROZ_FAULT_TRAP, 150,
+      check_stack },
     /* memory */
     { "oob_store", NULL, BUDGET_DEFAULT, ROZ_OK, "trap at tick 150: [trap] out of bounds",
       ROZ_FAULT_TRAP, 150, NULL },

@@ -64,6 +64,18 @@
 #define ROZ_CFG_WASM_STACK_BYTES 65536
 #endif
 
+/** Native (C) stack a controller's process() call may use, bytes, measured
+ *  from where roz calls into the engine. wasm3 recurses on the C stack for
+ *  every wasm call, so a deep or endless recursion needs stack in
+ *  proportion to its depth; the metering hook checks the depth on every
+ *  call and loop back-edge and traps past this limit. Leave headroom below
+ *  the thread's real stack for the host functions and the check interval
+ *  (firmware: size the task stack to this plus a few KiB). Range
+ *  4096..67108864. */
+#ifndef ROZ_CFG_NATIVE_STACK_BYTES
+#define ROZ_CFG_NATIVE_STACK_BYTES 262144
+#endif
+
 /** Largest linear memory a controller may declare, in 64 KiB pages.
  *  Range 1..65536. Memory never grows after load (growing would allocate
  *  inside the tick): memory.grow returns -1. */
@@ -135,6 +147,9 @@
 
 #if ROZ_CFG_WASM_STACK_BYTES < 4096 || ROZ_CFG_WASM_STACK_BYTES > 16777216
 #error "ROZ_CFG_WASM_STACK_BYTES must be in 4096..16777216"
+#endif
+#if ROZ_CFG_NATIVE_STACK_BYTES < 4096 || ROZ_CFG_NATIVE_STACK_BYTES > 67108864
+#error "ROZ_CFG_NATIVE_STACK_BYTES must be in 4096..67108864"
 #endif
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"

@@ -52,6 +52,7 @@ typedef struct roz_budget {
 typedef struct roz_controller {
     roz_budget_t budget;
     uint64_t   fuel_used;  /* units the last process() call used */
+    size_t     stack_used; /* deepest C stack of the last call, bytes */
     int        spent;      /* stopped by its budget: must be reloaded */
     void      *env;       /* engine handles, NULL when not loaded */
     void      *runtime;
@@ -86,10 +87,16 @@ void roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget);
 /** @brief Fuel units the last process() call used. */
 uint64_t roz_controller_fuel_used(const roz_controller_t *c);
 
+/** @brief The deepest C stack the last process() call reached, bytes, as
+ *  seen at its calls and loop back-edges (ROZ_CFG_NATIVE_STACK_BYTES). */
+size_t roz_controller_stack_used(const roz_controller_t *c);
+
 /**
  * @brief Call process(tick) once, within the budget.
  * @retval ROZ_OK        returned normally
- * @retval ROZ_EFAULT    the controller trapped; roz_controller_error() says why
+ * @retval ROZ_EFAULT    the controller trapped (in wasm, or past
+ *                       ROZ_CFG_NATIVE_STACK_BYTES of C stack);
+ *                       roz_controller_error() says why
  * @retval ROZ_ETIMEDOUT fuel or deadline ran out; the instance is spent
  * @retval ROZ_ESTATE    not loaded, or spent by an earlier overrun
  * Context: the tick; RT-safe (no allocation, no compilation).

@@ -93,6 +93,7 @@ typedef struct roz_verify_report {
     uint64_t fuel[ROZ_RUNTIME_VERIFY_TICKS]; /**< fuel each verify tick used */
     uint64_t max_fuel;         /**< the most any verify tick used */
     uint64_t fuel_budget;      /**< the per-tick fuel budget it ran under */
+    uint64_t max_stack;        /**< deepest C stack of any verify tick, bytes */
 } roz_verify_report_t;
 
 /** Counters of the runtime (the filter and ABI keep their own). */
@@ -109,6 +110,7 @@ typedef struct roz_runtime_counters {
     uint64_t swaps_refused;    /**< controllers that failed verification */
     uint64_t last_fuel;        /**< fuel the last process() call used */
     uint64_t max_fuel;         /**< the most one process() call used */
+    uint64_t max_stack;        /**< deepest C stack of any process() call, bytes */
     uint64_t rebuilds;         /**< instances rebuilt after a trap or overrun */
 } roz_runtime_counters_t;
 
