@@ -2,7 +2,8 @@
 # Runs one libFuzzer target as a test (cmake -P):
 #   -DFUZZER=exe -DWORK=dir -DSECONDS=n [-DSEEDS=dir;dir...]
 #       fuzz for SECONDS seconds (the environment's ROZ_FUZZ_SECONDS, when
-#       set, wins: the longer runs of fuzz/README.md); WORK/corpus is the growing corpus, every
+#       set, wins: the longer runs of fuzz/README.md), from seed 1 (random
+#       in the longer runs; ROZ_FUZZ_SEED wins); WORK/corpus is the growing corpus, every
 #       *.wasm of the SEEDS folders is a read-only seed; a crash is written
 #       to WORK/artifacts/ and fails the test
 #   -DFUZZER=exe -DREPRODUCERS=dir
@@ -23,8 +24,16 @@ if(REPRODUCERS)
   return()
 endif()
 
+# The short run of `make test` starts from a fixed seed, so a clean tree
+# fuzzes the same way every time; the longer runs (ROZ_FUZZ_SECONDS set)
+# take a random one (libFuzzer's -seed=0). ROZ_FUZZ_SEED wins over both.
+set(SEED 1)
 if(DEFINED ENV{ROZ_FUZZ_SECONDS})
   set(SECONDS $ENV{ROZ_FUZZ_SECONDS})
+  set(SEED 0)
+endif()
+if(DEFINED ENV{ROZ_FUZZ_SEED})
+  set(SEED $ENV{ROZ_FUZZ_SEED})
 endif()
 set(corpus ${WORK}/corpus)
 set(seeds ${WORK}/seeds)
@@ -37,7 +46,7 @@ foreach(dir IN LISTS SEEDS)
     file(COPY ${wasm} DESTINATION ${seeds})
   endif()
 endforeach()
-execute_process(COMMAND ${FUZZER} -max_total_time=${SECONDS} -timeout=10 -rss_limit_mb=2048
+execute_process(COMMAND ${FUZZER} -seed=${SEED} -max_total_time=${SECONDS} -timeout=10 -rss_limit_mb=2048
                         -print_final_stats=1 -artifact_prefix=${artifacts}/ ${corpus} ${seeds}
                 RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 # rozrun's errors for bad arguments: each exits 2 with a message naming the
-# problem. cmake -DROZRUN=... -DCTL=<controller dir> -P
+# problem; and runs that latch faults exit 1 and name them. cmake -DROZRUN=... -DCTL=<controller dir> -P
 function(expect_error args want)
   execute_process(COMMAND ${ROZRUN} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 2)
@@ -36,4 +36,12 @@ execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${WAT} --ticks 50
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR ".wat run: exit ${rc}\n${out}${err}")
+endif()
+# the robot dies and boots again: exit 1, both faults named, the link counted
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 400
+                        --param restart=150:300 --param corrupt=50:55
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 1 OR NOT out MATCHES "latched: stale state port link"
+   OR NOT out MATCHES "5 bad CRC, 0 replays, [0-9]+ missing, 1 peer restarts")
+  message(FATAL_ERROR "restart run: exit ${rc}\n${out}${err}")
 endif()
