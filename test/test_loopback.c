@@ -214,6 +214,29 @@ static void test_loopback_wire_faults(void **st)
     assert_int_equal(lb.violations, 0);
 }
 
+/* The fault table holds ROZ_LOOPBACK_MAX_FAULTS active injections; spent
+ * ones make room for new ones. */
+static void test_loopback_fault_table(void **st)
+{
+    roz_port_t p = roz_loopback_port(&lb);
+    double s[12];
+    char err[160];
+    (void)st;
+    assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
+    for (uint64_t k = 0; k < ROZ_LOOPBACK_MAX_FAULTS; k++) {
+        roz_loopback_fault_t f = { ROZ_LOOPBACK_DROP, k, k + 1, -1, 0 };
+        assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);
+    }
+    roz_loopback_fault_t forever = { ROZ_LOOPBACK_NAN, 100, 0, 0, 0 };
+    assert_int_equal(roz_loopback_inject(&lb, &forever), ROZ_ENOSPC); /* all pending */
+    for (int t = 0; t < 3; t++)
+        assert_int_equal(roz_port_read(&p, s, 12), ROZ_ENOENT); /* ticks 0..2 dropped */
+    for (uint32_t k = 0; k < 3; k++) /* three spent: room for three */
+        assert_int_equal(roz_loopback_inject(&lb, &forever), ROZ_OK);
+    assert_int_equal(roz_loopback_inject(&lb, &forever), ROZ_ENOSPC);
+    assert_int_equal(lb.n_faults, ROZ_LOOPBACK_MAX_FAULTS);
+}
+
 static void test_loopback_bad_params(void **st)
 {
     static const struct { const char *key, *value, *want; } cases[] = {
@@ -247,6 +270,7 @@ int main(void)
         cmocka_unit_test(test_loopback_models),
         cmocka_unit_test(test_loopback_faults),
         cmocka_unit_test(test_loopback_wire_faults),
+        cmocka_unit_test(test_loopback_fault_table),
         cmocka_unit_test(test_loopback_bad_params),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

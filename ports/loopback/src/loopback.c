@@ -356,6 +356,15 @@ const roz_port_ops_t roz_loopback_ops = {
 
 int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
 {
+    if (lb->n_faults >= ROZ_LOOPBACK_MAX_FAULTS) {
+        /* make room: forget the injections that are over */
+        uint32_t kept = 0;
+        for (uint32_t k = 0; k < lb->n_faults; k++) {
+            if (lb->faults[k].to == 0 || lb->faults[k].to > lb->tick)
+                lb->faults[kept++] = lb->faults[k];
+        }
+        lb->n_faults = kept;
+    }
     if (lb->n_faults >= ROZ_LOOPBACK_MAX_FAULTS)
         return ROZ_ENOSPC;
     if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_RESTART)

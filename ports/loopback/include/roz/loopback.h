@@ -181,8 +181,9 @@ static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
 
 /**
  * @brief Add a fault injection (before or while running; not thread-safe:
- *        call it from the tick's thread).
- * @retval ROZ_ENOSPC ROZ_LOOPBACK_MAX_FAULTS already set
+ *        call it from the tick's thread). When the table is full, the
+ *        injections that are over (`to` reached) are forgotten first.
+ * @retval ROZ_ENOSPC ROZ_LOOPBACK_MAX_FAULTS still active
  * @retval ROZ_EINVAL bad channel, kind or delay
  */
 int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f);

@@ -1,0 +1,92 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The loopback port's conformance fixture: its simulated robot is the peer.
+ * The loopback makes a state frame inside each read(), so the fixture sets
+ * up one tick's fault injection for the read that follows. */
+#include <string.h>
+
+#include "port_fixture.h"
+#include "roz/loopback.h"
+
+static roz_loopback_t lb;
+static roz_port_t the_port;
+
+static int lb_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
+                      char *err, size_t errlen)
+{
+    the_port = roz_loopback_port(&lb);
+    *port = the_port;
+    int rc = roz_port_open(port, m, params, err, errlen);
+    return rc != ROZ_OK ? rc : roz_port_activate(port);
+}
+
+/* A fault over the next read only (spent injections make room). */
+static void one_tick(roz_loopback_fault_kind_t kind)
+{
+    roz_loopback_fault_t f = { kind, lb.tick, lb.tick + 1, -1, 0 };
+    (void)roz_loopback_inject(&lb, &f);
+}
+
+static void lb_fx_peer(roz_peer_frame_t what)
+{
+    switch (what) {
+    case ROZ_PEER_SEND:
+        break;
+    case ROZ_PEER_SILENT:
+        one_tick(ROZ_LOOPBACK_FREEZE);
+        break;
+    case ROZ_PEER_CORRUPT:
+        one_tick(ROZ_LOOPBACK_CORRUPT);
+        break;
+    case ROZ_PEER_REPLAY:
+        one_tick(ROZ_LOOPBACK_DUPLICATE);
+        break;
+    case ROZ_PEER_RESTART: {
+        /* the robot is down for one tick, which this read spends, then
+         * boots: the next read brings its first frame */
+        double scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+        one_tick(ROZ_LOOPBACK_RESTART);
+        (void)roz_port_read(&the_port, scratch, lb.m->n_states);
+        break;
+    }
+    }
+}
+
+static void lb_fx_peer_sent(double *state)
+{
+    roz_loopback_true_state(&lb, state);
+}
+
+static const double *lb_fx_peer_command(void)
+{
+    return roz_loopback_last_command(&lb);
+}
+
+static void lb_fx_corrupt_next_command(void)
+{
+    /* write() follows the read of this tick */
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, lb.tick > 0 ? lb.tick - 1 : 0, lb.tick,
+                               -1, 0 };
+    (void)roz_loopback_inject(&lb, &f);
+}
+
+static const roz_link_t *lb_fx_link(void)
+{
+    return &lb.link;
+}
+
+static void lb_fx_close(void)
+{
+    (void)roz_port_deactivate(&the_port);
+    roz_port_close(&the_port);
+}
+
+const roz_port_fixture_t roz_fixture_loopback = {
+    .name = "loopback",
+    .open = lb_fx_open,
+    .peer = lb_fx_peer,
+    .peer_sent = lb_fx_peer_sent,
+    .peer_command = lb_fx_peer_command,
+    .corrupt_next_command = lb_fx_corrupt_next_command,
+    .link = lb_fx_link,
+    .close = lb_fx_close,
+};

@@ -1,0 +1,54 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* What the port conformance suite (test_port_conformance.c) needs from a
+ * port's test fixture: the port, and a robot peer on the other end that the
+ * suite can drive frame by frame. Every port provides one fixture; the
+ * suite runs the same checks against each (STYLE 3: one conformance suite
+ * for every port). The loopback's fixture is fixture_loopback.c; a hardware
+ * port's fixture wraps its fake robot peer, which speaks the real wire
+ * protocol over loopback networking.
+ *
+ * Nothing here is thread-safe: the suite calls a fixture from one thread. */
+#ifndef ROZ_TEST_PORT_FIXTURE_H
+#define ROZ_TEST_PORT_FIXTURE_H
+
+#include <stddef.h>
+
+#include "roz/hal/link.h"
+#include "roz/hal/port.h"
+#include "roz/manifest.h"
+
+/* The peer's next state frame. */
+typedef enum {
+    ROZ_PEER_SEND = 0, /* a good frame, newer than the last */
+    ROZ_PEER_SILENT,   /* nothing for one frame period */
+    ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC */
+    ROZ_PEER_REPLAY,   /* the frame it sent last, again */
+    ROZ_PEER_RESTART,  /* the peer restarts (sequence from 0); then its first frame */
+} roz_peer_frame_t;
+
+typedef struct roz_port_fixture {
+    const char *name;
+    /* Open the port on @p m with @p params against a new peer that has sent
+     * nothing yet; the port is activated. ROZ_OK, or the open's error. */
+    int (*open)(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port, char *err,
+                size_t errlen);
+    /* Make the peer's next state frame and return once the port has taken
+     * it in (for SILENT: once a frame period has passed), so that the next
+     * read() sees it. */
+    void (*peer)(roz_peer_frame_t what);
+    /* The last state frame the peer sent (n_states values). */
+    void (*peer_sent)(double *state);
+    /* The command the peer applies (n_commands values), NULL before its
+     * first good command frame (and after a restart). */
+    const double *(*peer_command)(void);
+    /* Flip one bit of the next command frame in transit. */
+    void (*corrupt_next_command)(void);
+    /* The port's checks on state frames. */
+    const roz_link_t *(*link)(void);
+    /* Deactivate and close the port, stop the peer. */
+    void (*close)(void);
+} roz_port_fixture_t;
+
+extern const roz_port_fixture_t roz_fixture_loopback;
+
+#endif /* ROZ_TEST_PORT_FIXTURE_H */

@@ -1,0 +1,237 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The port conformance suite: the same checks against every port's fixture
+ * (port_fixture.h), on a small and a large manifest (UR5, G1):
+ *  - parameters: an unknown key is an error naming the key and the port;
+ *  - sizes: read() and write() refuse an array of the wrong length;
+ *  - start-up: nothing reaches the peer before its first state frame, and
+ *    read() says ROZ_ENOENT until then;
+ *  - fresh and stale: a new frame reads 1 with exactly the values the peer
+ *    sent, no new frame reads 0 with the previous values;
+ *  - the link checks (roz/hal/link.h): a frame failing its CRC and a
+ *    replayed frame read 0 and are counted; a restarted peer reads ROZ_EIO
+ *    once, then its frames read 1, and it gets no command until the next
+ *    write;
+ *  - commands: the peer applies exactly what was written; a command frame
+ *    corrupted in transit is dropped by the peer, which keeps the last one. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "port_fixture.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+typedef struct {
+    const roz_port_fixture_t *fx;
+    const roz_manifest_t     *m;
+    roz_port_t                port;
+    double                    state[ROZ_CFG_MAX_STATES];
+    double                    sent[ROZ_CFG_MAX_STATES];
+    double                    cmd[ROZ_CFG_MAX_COMMANDS];
+} conformance_t;
+
+static const roz_port_fixture_t *const fixtures[] = { &roz_fixture_loopback };
+static const roz_manifest_t *const manifests[] = { &roz_manifest_ur5, &roz_manifest_unitree_g1 };
+
+static void open_port(conformance_t *c, const roz_port_fixture_t *fx, const roz_manifest_t *m)
+{
+    char err[200] = "";
+    memset(c, 0, sizeof *c);
+    c->fx = fx;
+    c->m = m;
+    if (fx->open(m, NULL, &c->port, err, sizeof err) != ROZ_OK)
+        fail_msg("%s on %s: open: %s", fx->name, m->robot_id, err);
+}
+
+/* A command inside the manifest, different for each k. */
+static void command(conformance_t *c, int k)
+{
+    for (uint16_t i = 0; i < c->m->n_commands; i++) {
+        const roz_channel_t *ch = &c->m->commands[i];
+        c->cmd[i] = ch->min + (ch->max - ch->min) * (double)((k + i) % 7 + 1) / 8.0;
+    }
+}
+
+static int read_port(conformance_t *c)
+{
+    return roz_port_read(&c->port, c->state, c->m->n_states);
+}
+
+/* The peer sends a good frame; the port reads it, fresh and exact. */
+static void fresh_frame(conformance_t *c)
+{
+    c->fx->peer(ROZ_PEER_SEND);
+    assert_int_equal(read_port(c), 1);
+    c->fx->peer_sent(c->sent);
+    assert_memory_equal(c->state, c->sent, c->m->n_states * sizeof c->state[0]);
+}
+
+static void write_checked(conformance_t *c, int k)
+{
+    command(c, k);
+    assert_int_equal(roz_port_write(&c->port, c->cmd, c->m->n_commands), ROZ_OK);
+}
+
+static void assert_peer_applies(conformance_t *c, const double *want)
+{
+    const double *got = c->fx->peer_command();
+    assert_non_null(got);
+    assert_memory_equal(got, want, c->m->n_commands * sizeof want[0]);
+}
+
+/* ---- the checks, each on one fixture and manifest ------------------------- */
+
+static void check_params(const roz_port_fixture_t *fx, const roz_manifest_t *m)
+{
+    roz_param_t item = { "no_such_key", "1" };
+    roz_params_t params = { &item, 1 };
+    roz_port_t port;
+    char err[200] = "";
+    assert_true(fx->open(m, &params, &port, err, sizeof err) < 0);
+    if (strstr(err, "no_such_key") == NULL || strstr(err, fx->name) == NULL)
+        fail_msg("%s: \"%s\" names neither the key nor the port", fx->name, err);
+    fx->close();
+}
+
+static void check_sizes_and_start(conformance_t *c)
+{
+    uint16_t ns = c->m->n_states, nc = c->m->n_commands;
+    assert_int_equal(roz_port_read(&c->port, c->state, (size_t)ns + 1), ROZ_EINVAL);
+    assert_int_equal(roz_port_write(&c->port, c->cmd, (size_t)nc - 1), ROZ_EINVAL);
+    /* before the peer's first frame: nothing to read, nothing sent */
+    c->fx->peer(ROZ_PEER_SILENT);
+    assert_int_equal(read_port(c), ROZ_ENOENT);
+    write_checked(c, 0);
+    assert_null(c->fx->peer_command());
+    fresh_frame(c);
+    write_checked(c, 1);
+    assert_peer_applies(c, c->cmd);
+}
+
+static void check_fresh_and_stale(conformance_t *c)
+{
+    double before[ROZ_CFG_MAX_STATES];
+    fresh_frame(c);
+    memcpy(before, c->state, c->m->n_states * sizeof before[0]);
+    c->fx->peer(ROZ_PEER_SILENT);
+    assert_int_equal(read_port(c), 0);
+    assert_memory_equal(c->state, before, c->m->n_states * sizeof before[0]);
+    fresh_frame(c);
+}
+
+static void check_link(conformance_t *c)
+{
+    const roz_link_t *l = c->fx->link();
+    double before[ROZ_CFG_MAX_STATES];
+
+    for (int i = 0; i < 100; i++) /* past the replay window */
+        fresh_frame(c);
+    write_checked(c, 2);
+    memcpy(before, c->state, c->m->n_states * sizeof before[0]);
+
+    uint64_t crc = l->crc_errors;
+    c->fx->peer(ROZ_PEER_CORRUPT);
+    assert_int_equal(read_port(c), 0);
+    assert_int_equal(l->crc_errors, crc + 1);
+    assert_memory_equal(c->state, before, c->m->n_states * sizeof before[0]);
+    fresh_frame(c);
+
+    uint64_t replays = l->replays;
+    memcpy(before, c->state, c->m->n_states * sizeof before[0]);
+    c->fx->peer(ROZ_PEER_REPLAY);
+    assert_int_equal(read_port(c), 0);
+    assert_int_equal(l->replays, replays + 1);
+    assert_memory_equal(c->state, before, c->m->n_states * sizeof before[0]);
+    fresh_frame(c);
+
+    uint64_t restarts = l->restarts + l->returns;
+    c->fx->peer(ROZ_PEER_RESTART);
+    assert_int_equal(read_port(c), ROZ_EIO);
+    assert_int_equal(l->restarts + l->returns, restarts + 1);
+    assert_null(c->fx->peer_command()); /* it forgot */
+    fresh_frame(c);
+    write_checked(c, 3);
+    assert_peer_applies(c, c->cmd);
+}
+
+static void check_commands(conformance_t *c)
+{
+    double first[ROZ_CFG_MAX_COMMANDS];
+    fresh_frame(c);
+    write_checked(c, 4);
+    assert_peer_applies(c, c->cmd);
+    memcpy(first, c->cmd, c->m->n_commands * sizeof first[0]);
+    fresh_frame(c);
+    c->fx->corrupt_next_command();
+    write_checked(c, 5);
+    assert_peer_applies(c, first); /* dropped: the last good one stays */
+    fresh_frame(c);
+    write_checked(c, 6);
+    assert_peer_applies(c, c->cmd);
+}
+
+/* ---- every fixture, every manifest ---------------------------------------- */
+
+typedef void (*check_fn)(conformance_t *c);
+
+static void each(check_fn check)
+{
+    static conformance_t c;
+    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++) {
+        for (size_t k = 0; k < sizeof manifests / sizeof manifests[0]; k++) {
+            print_message("%s on %s\n", fixtures[f]->name, manifests[k]->robot_id);
+            open_port(&c, fixtures[f], manifests[k]);
+            check(&c);
+            fixtures[f]->close();
+        }
+    }
+}
+
+static void test_port_conformance_params(void **st)
+{
+    (void)st;
+    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++)
+        check_params(fixtures[f], &roz_manifest_ur5);
+}
+
+static void test_port_conformance_start(void **st)
+{
+    (void)st;
+    each(check_sizes_and_start);
+}
+
+static void test_port_conformance_fresh_and_stale(void **st)
+{
+    (void)st;
+    each(check_fresh_and_stale);
+}
+
+static void test_port_conformance_link(void **st)
+{
+    (void)st;
+    each(check_link);
+}
+
+static void test_port_conformance_commands(void **st)
+{
+    (void)st;
+    each(check_commands);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_port_conformance_params),
+        cmocka_unit_test(test_port_conformance_start),
+        cmocka_unit_test(test_port_conformance_fresh_and_stale),
+        cmocka_unit_test(test_port_conformance_link),
+        cmocka_unit_test(test_port_conformance_commands),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
