@@ -79,7 +79,15 @@ set_target_properties(roz_wasm3 PROPERTIES C_STANDARD 11 C_EXTENSIONS ON
                                            POSITION_INDEPENDENT_CODE ON)
 # Only roz's own sources include wasm3.h; consumers never see this folder.
 target_include_directories(roz_wasm3 PUBLIC $<BUILD_INTERFACE:${_roz_wasm3_dir}>)
+# wasm3's interpreter chains its ops by calls that must compile to tail
+# calls, or every op executed nests a C stack frame (a long straight-line
+# function then overflows any stack; roz's guard checks the depth only at
+# calls and loop back-edges). Optimise wasm3 with sibling calls in every
+# build type, Debug included (-Os stays -Os).
+set(ROZ_WASM3_OPT_FLAGS
+  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:$<IF:$<CONFIG:MinSizeRel>,-Os,-O2> -foptimize-sibling-calls>)
 target_compile_options(roz_wasm3 PRIVATE
-  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing> ${ROZ_SANITIZE_DEP_FLAGS})
+  $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing> ${ROZ_WASM3_OPT_FLAGS}
+  ${ROZ_SANITIZE_DEP_FLAGS})
 target_link_libraries(roz_wasm3 PRIVATE m)
 set(ROZ_WASM3_LICENSE_FILE "${_roz_wasm3_license}")

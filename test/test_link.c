@@ -61,7 +61,7 @@ static void test_crc32_matches_its_definition(void **st)
     }
     /* every single-bit error in a LowState_-sized image changes the CRC */
     uint32_t good = roz_crc32_words(w, 522);
-    for (size_t bit = 0; bit < 522 * 32; bit += 7) {
+    for (size_t bit = 0; bit < 522 * 32; bit++) {
         w[bit / 32] ^= 1u << (bit % 32);
         assert_true(roz_crc32_words(w, 522) != good);
         w[bit / 32] ^= 1u << (bit % 32);
@@ -122,6 +122,40 @@ static void test_link_silence(void **st)
     assert_int_equal(roz_link_check(&l, 1, 1, UINT64_MAX), ROZ_LINK_RESTART); /* window 4 */
 }
 
+/* A peer that restarts counts again from 0: older frames, one after the
+ * other. The second is a restart. Duplicates and lone overtaken frames
+ * between newer ones are not. */
+static void test_link_counting_again(void **st)
+{
+    roz_link_t l;
+    (void)st;
+    roz_link_init(&l, 0, 0);
+    assert_int_equal(roz_link_check(&l, 1, 30, 0), ROZ_LINK_FIRST);
+    assert_int_equal(roz_link_check(&l, 1, 0, 1), ROZ_LINK_REPLAY);  /* could be overtaken */
+    assert_int_equal(roz_link_check(&l, 1, 1, 2), ROZ_LINK_RESTART); /* counting again */
+    assert_int_equal(l.restarts, 1);
+    assert_int_equal(roz_link_check(&l, 1, 2, 3), ROZ_LINK_FRESH);
+    /* lone overtaken frames between newer ones */
+    for (uint32_t s = 3; s < 40; s++) {
+        assert_int_equal(roz_link_check(&l, 1, s + 5, s), ROZ_LINK_FRESH);
+        assert_int_equal(roz_link_check(&l, 1, s + 1, s), ROZ_LINK_REPLAY);
+    }
+    /* duplicates without end, and older frames out of order */
+    for (int i = 0; i < 10; i++)
+        assert_int_equal(roz_link_check(&l, 1, 44, 50), ROZ_LINK_REPLAY);
+    assert_int_equal(roz_link_check(&l, 1, 30, 51), ROZ_LINK_REPLAY);
+    assert_int_equal(roz_link_check(&l, 1, 32, 52), ROZ_LINK_REPLAY);
+    assert_int_equal(roz_link_check(&l, 1, 31, 53), ROZ_LINK_REPLAY);
+    assert_int_equal(l.restarts, 1);
+    /* a bad frame between two in order does not break the run */
+    assert_int_equal(roz_link_check(&l, 0, 12345, 54), ROZ_LINK_BAD_CRC);
+    assert_int_equal(roz_link_check(&l, 1, 32, 55), ROZ_LINK_RESTART);
+    assert_int_equal(l.restarts, 2);
+    /* windows beyond half the sequence space are clamped */
+    roz_link_init(&l, 0, 0xFFFFFFFFu);
+    assert_int_equal(l.window, ROZ_LINK_MAX_WINDOW);
+}
+
 static void test_link_wraps(void **st)
 {
     roz_link_t l;
@@ -145,6 +179,7 @@ static void test_link_random(void **st)
     uint64_t x = 0x9E3779B97F4A7C15ull, now = 0;
     roz_link_t l;
     uint64_t calls = 0, first = 0;
+    uint32_t run = 0, run_seq = 0; /* the model's run of older frames in order */
     (void)st;
     print_message("seed 0x9E3779B97F4A7C15\n");
     roz_link_init(&l, 50 * MS, 16);
@@ -173,10 +208,20 @@ static void test_link_random(void **st)
             want = ROZ_LINK_FIRST;
         else if (newer)
             want = lost ? ROZ_LINK_RESTART : ROZ_LINK_FRESH;
-        else if (last - seq <= 16u)
+        else if (seq == last)
             want = ROZ_LINK_REPLAY;
+        else if (last - seq <= 16u)
+            want = run > 0 && seq == run_seq + 1u ? ROZ_LINK_RESTART : ROZ_LINK_REPLAY;
         else
             want = ROZ_LINK_RESTART;
+        /* the model's run: older frames in order, nothing newer between */
+        if (!crc_ok) {
+        } else if (want == ROZ_LINK_REPLAY && seq != last) {
+            run = run > 0 && seq == run_seq + 1u ? run + 1u : 1u;
+            run_seq = seq;
+        } else {
+            run = 0;
+        }
         if (v != want)
             fail_msg("frame %d: seq %u after %u: %s, expected %s", i, seq, last,
                      roz_link_verdict_name(v), roz_link_verdict_name(want));
@@ -198,6 +243,7 @@ int main(void)
         cmocka_unit_test(test_crc32_matches_its_definition),
         cmocka_unit_test(test_link_verdicts),
         cmocka_unit_test(test_link_silence),
+        cmocka_unit_test(test_link_counting_again),
         cmocka_unit_test(test_link_wraps),
         cmocka_unit_test(test_link_random),
     };

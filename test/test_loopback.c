@@ -203,7 +203,7 @@ static void test_loopback_wire_faults(void **st)
     assert_int_equal(lb.cmds_lost, 60);
     /* 160: it boots, its sequence back at 0 (from 99): the port reports the
      * link fault once and takes the frame */
-    assert_int_equal(roz_port_read(&p, s, 12), ROZ_EIO);
+    assert_int_equal(roz_port_read(&p, s, 12), ROZ_ELINK);
     assert_int_equal(lb.link_events, 1);
     assert_int_equal(lb.link.restarts, 1);
     assert_null(roz_loopback_last_command(&lb)); /* it forgot its command */

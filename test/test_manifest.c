@@ -199,6 +199,7 @@ static void test_manifest_strerror(void **state)
     (void)state;
     assert_string_equal(roz_strerror(ROZ_OK), "success");
     assert_string_equal(roz_strerror(ROZ_ENOENT), "no such entry");
+    assert_string_equal(roz_strerror(ROZ_ELINK), "the robot restarted or came back after it was lost");
     assert_string_equal(roz_strerror(-1000), "unknown error");
 }
 

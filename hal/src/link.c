@@ -7,7 +7,8 @@ void roz_link_init(roz_link_t *l, uint64_t lost_after_ns, uint32_t window)
 {
     memset(l, 0, sizeof *l);
     l->lost_after_ns = lost_after_ns;
-    l->window = window != 0u ? window : ROZ_LINK_DEFAULT_WINDOW;
+    l->window = window == 0u ? ROZ_LINK_DEFAULT_WINDOW
+                             : (window > ROZ_LINK_MAX_WINDOW ? ROZ_LINK_MAX_WINDOW : window);
 }
 
 int roz_link_lost(const roz_link_t *l, uint64_t now_ns)
@@ -20,6 +21,7 @@ static roz_link_verdict_t accept(roz_link_t *l, roz_link_verdict_t v, uint32_t s
     l->alive = 1;
     l->last_seq = seq;
     l->last_ns = now_ns;
+    l->behind_run = 0;
     l->accepted++;
     return v;
 }
@@ -43,9 +45,25 @@ roz_link_verdict_t roz_link_check(roz_link_t *l, int crc_ok, uint32_t seq, uint6
         l->missing += ahead - 1u;
         return accept(l, ROZ_LINK_FRESH, seq, now_ns);
     }
-    /* not newer: a replay, even after a silence (an old frame replayed must
-     * never pass for a peer that came back), unless it is too far behind */
-    if (l->last_seq - seq <= l->window) {
+    uint32_t behind = l->last_seq - seq;
+    if (behind == 0u) {
+        /* the last frame again: a duplicate */
+        l->behind_run = 0;
+        l->replays++;
+        return ROZ_LINK_REPLAY;
+    }
+    if (behind <= l->window) {
+        /* Older frames, one after the other, with nothing newer between:
+         * a peer counting again from below its old sequence (it restarted),
+         * or old frames replayed in order. Either way not the stream the
+         * port was following. A lone older frame is one overtaken in
+         * transit. */
+        l->behind_run = l->behind_run > 0u && seq == l->behind_seq + 1u ? l->behind_run + 1u : 1u;
+        l->behind_seq = seq;
+        if (l->behind_run >= ROZ_LINK_RESTART_RUN) {
+            l->restarts++;
+            return accept(l, ROZ_LINK_RESTART, seq, now_ns);
+        }
         l->replays++;
         return ROZ_LINK_REPLAY;
     }

@@ -14,6 +14,7 @@ const char *roz_strerror(int code)
     case ROZ_ESTATE:    return "invalid in the current state";
     case ROZ_EIO:       return "input/output error";
     case ROZ_ETIMEDOUT: return "deadline or budget exceeded";
+    case ROZ_ELINK:     return "the robot restarted or came back after it was lost";
     default:            return "unknown error";
     }
 }

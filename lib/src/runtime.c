@@ -281,7 +281,7 @@ int roz_runtime_tick(roz_runtime_t *rt)
             snprintf(msg, sizeof msg, "no fresh state for %u ticks", (unsigned)rt->stale_count);
             latch(rt, ROZ_FAULT_STALE, msg);
         }
-        if (rc == ROZ_EIO)
+        if (rc == ROZ_ELINK)
             latch(rt, ROZ_FAULT_LINK,
                   "port link fault: the robot restarted or came back after it was lost");
     }

@@ -2,6 +2,7 @@
 /* Uses what a consumer gets: its own generated table, the core and the
  * built-in registry. Exits non-zero on the first surprise. */
 #include <stdio.h>
+#include <string.h>
 
 #include "my_arm_manifest.h"
 #include "roz/config.h"
@@ -25,6 +26,15 @@ static const uint8_t idle_wasm[] = {
     0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, 0x01, 0x05, 0x01, 0x60, 0x01,
     0x7e, 0x00, 0x03, 0x02, 0x01, 0x00, 0x07, 0x0b, 0x01, 0x07, 0x70, 0x72, 0x6f,
     0x63, 0x65, 0x73, 0x73, 0x00, 0x00, 0x0a, 0x04, 0x01, 0x02, 0x00, 0x0b,
+};
+
+/* (func $f (param i64) (result i64) (i64.add (call $f (i64.add (local.get 0)
+ * (i64.const 1))) (local.get 0))), called from process: endless recursion */
+static const uint8_t deep_wasm[] = {
+    0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, 0x01, 0x0a, 0x02, 0x60, 0x01, 0x7e, 0x01, 0x7e,
+    0x60, 0x01, 0x7e, 0x00, 0x03, 0x03, 0x02, 0x00, 0x01, 0x07, 0x0b, 0x01, 0x07, 0x70, 0x72, 0x6f,
+    0x63, 0x65, 0x73, 0x73, 0x00, 0x01, 0x0a, 0x16, 0x02, 0x0c, 0x00, 0x20, 0x00, 0x42, 0x01, 0x7c,
+    0x10, 0x00, 0x20, 0x00, 0x7c, 0x0b, 0x07, 0x00, 0x42, 0x00, 0x10, 0x00, 0x1a, 0x0b,
 };
 
 static roz_runtime_t rt;
@@ -56,6 +66,17 @@ int main(void)
     for (int t = 0; t < 10; t++)
         CHECK(roz_runtime_tick(&rt) == ROZ_OK);
     CHECK(rt.counters.writes == 10 && lb.violations == 0);
+    roz_runtime_deinit(&rt);
+
+    /* endless recursion is refused at verification: by wasm3's value stack,
+     * or first by roz's C stack limit where that is small */
+    CHECK(roz_port_open(&port, m, NULL, err, sizeof err) == ROZ_OK);
+    CHECK(roz_runtime_init(&rt, &cfg) == ROZ_OK);
+    CHECK(roz_runtime_load(&rt, deep_wasm, sizeof deep_wasm, NULL) == ROZ_EFAULT);
+    printf("consumer: endless recursion refused: %s\n", roz_runtime_error(&rt));
+#if ROZ_CFG_NATIVE_STACK_BYTES <= 8192
+    CHECK(strstr(roz_runtime_error(&rt), "native stack limit") != NULL);
+#endif
     roz_runtime_deinit(&rt);
     printf("consumer: my_arm %u commands, %u states; built-ins %s; max commands %d; roz %s\n",
            (unsigned)m->n_commands, (unsigned)m->n_states,

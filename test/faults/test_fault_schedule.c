@@ -9,7 +9,8 @@
  *    and inside the manifest;
  *  - the robot's command changes only when a good command frame arrives,
  *    and never faster than max_rate per tick, counted over the ticks since
- *    the good frame before (limit stops and a robot that rebooted excepted);
+ *    the good frame before (limit stops, the immediate stop of a LINK fault
+ *    and a robot that rebooted excepted);
  *  - a fault latches whenever stale_ticks reads in a row brought no fresh
  *    frame, and LINK latches on the tick the port reports a restart;
  *  - while any fault is latched the controller does not run.
@@ -89,7 +90,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
     roz_port_t port = roz_loopback_port(&lb);
     double applied[ROZ_CFG_MAX_COMMANDS];
     uint32_t stops[ROZ_CFG_MAX_COMMANDS];
-    int have_applied = 0, cleared = 0;
+    int have_applied = 0, cleared = 0, jumped = 0;
     uint64_t applied_at = 0, quiet = 0;
 
     rng = seed * 2 + salt;
@@ -132,7 +133,8 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
         if (before != 0 && !cleared && rt.counters.controller_ticks != ran)
             fail_msg("seed %llu tick %llu: the controller ran with faults 0x%x latched",
                      (unsigned long long)seed, (unsigned long long)t, before);
-        /* what the robot applies */
+        /* what the robot applies; an immediate stop (LINK) may jump */
+        jumped |= (faults & ROZ_FAULT_IMMEDIATE_MASK) != 0;
         const double *cmd = roz_loopback_last_command(&lb);
         if (cmd == NULL) {
             have_applied = 0; /* not started, or rebooted: it forgot */
@@ -149,7 +151,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
                              "good frame", (unsigned long long)seed, (unsigned long long)t, i);
                 int limited = rt.filter.channel_limit_stops[i] != stops[i];
                 double gap = (double)(t - applied_at);
-                if (changed && have_applied && !limited && c->max_rate > 0.0 &&
+                if (changed && have_applied && !limited && !jumped && c->max_rate > 0.0 &&
                     fabs(cmd[i] - applied[i]) > c->max_rate * gap + 1e-9)
                     fail_msg("seed %llu tick %llu: command %u went %g -> %g in %.0f ticks, "
                              "max_rate %g", (unsigned long long)seed, (unsigned long long)t, i,
@@ -160,6 +162,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
                 memcpy(stops, rt.filter.channel_limit_stops, m->n_commands * sizeof stops[0]);
                 have_applied = 1;
                 applied_at = t;
+                jumped = 0;
             }
         }
         cleared = 0;

@@ -8,7 +8,7 @@
  *  - fresh and stale: a new frame reads 1 with exactly the values the peer
  *    sent, no new frame reads 0 with the previous values;
  *  - the link checks (roz/hal/link.h): a frame failing its CRC and a
- *    replayed frame read 0 and are counted; a restarted peer reads ROZ_EIO
+ *    replayed frame read 0 and are counted; a restarted peer reads ROZ_ELINK
  *    once, then its frames read 1, and it gets no command until the next
  *    write;
  *  - commands: the peer applies exactly what was written; a command frame
@@ -152,7 +152,7 @@ static void check_link(conformance_t *c)
 
     uint64_t restarts = l->restarts + l->returns;
     c->fx->peer(ROZ_PEER_RESTART);
-    assert_int_equal(read_port(c), ROZ_EIO);
+    assert_int_equal(read_port(c), ROZ_ELINK);
     assert_int_equal(l->restarts + l->returns, restarts + 1);
     assert_null(c->fx->peer_command()); /* it forgot */
     fresh_frame(c);

@@ -53,12 +53,14 @@ typedef enum roz_fault {
     ROZ_FAULT_STALE         = 1u << 2, /**< no fresh state for stale_ticks ticks */
     ROZ_FAULT_ESTOP         = 1u << 3, /**< the application's e-stop input */
     ROZ_FAULT_ESTOP_REQUEST = 1u << 4, /**< the controller called safety.request_estop */
-    ROZ_FAULT_LINK          = 1u << 5, /**< the port's read() returned ROZ_EIO: its peer
+    ROZ_FAULT_LINK          = 1u << 5, /**< the port's read() returned ROZ_ELINK: its peer
                                             restarted or came back after it was lost */
 } roz_fault_t;
 #define ROZ_FAULT_KIND_COUNT 6
-/** Faults answered by an immediate stop; the others ramp. */
-#define ROZ_FAULT_IMMEDIATE_MASK (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST)
+/** Faults answered by an immediate stop; the others ramp. A robot that
+ *  restarted (LINK) has forgotten the commands a ramp would continue from,
+ *  so its first command is the safe default itself. */
+#define ROZ_FAULT_IMMEDIATE_MASK (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST | ROZ_FAULT_LINK)
 
 /** Configuration; roz_runtime_config_default() fills the defaults. */
 typedef struct roz_runtime_config {

@@ -149,6 +149,8 @@ static void peer_tick(roz_loopback_t *lb, uint64_t t)
         /* died (or still dead): it forgets its command, its joints stop */
         lb->peer_dead = 1;
         lb->have_cmd = 0;
+        for (uint16_t j = 0; j < lb->n_joints; j++)
+            lb->joints[j].dq = lb->joints[j].tau = 0.0;
         return;
     }
     if (lb->peer_dead) {
@@ -277,12 +279,12 @@ static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
 static int lb_read(void *self, double *state, size_t n)
 {
     roz_loopback_t *lb = self;
-    uint64_t t = lb->tick++;
-    uint64_t now_ns = t * lb->period_ns;
     int fresh = 0, restarted = 0;
 
     if (n != lb->m->n_states)
-        return ROZ_EINVAL;
+        return ROZ_EINVAL; /* refused before time moves on */
+    uint64_t t = lb->tick++;
+    uint64_t now_ns = t * lb->period_ns;
     peer_tick(lb, t);
 
     if (active(lb, ROZ_LOOPBACK_DUPLICATE, t) != NULL && lb->link.alive) {
@@ -308,7 +310,7 @@ static int lb_read(void *self, double *state, size_t n)
     }
     if (restarted) {
         lb->link_events++;
-        return ROZ_EIO;
+        return ROZ_ELINK;
     }
     if (!lb->link.alive)
         return ROZ_ENOENT;
@@ -371,6 +373,8 @@ int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
         return ROZ_EINVAL;
     if ((f->kind == ROZ_LOOPBACK_NAN || f->kind == ROZ_LOOPBACK_RANGE) &&
         (f->channel < 0 || f->channel >= (int32_t)lb->m->n_states))
+        return ROZ_EINVAL;
+    if (f->kind == ROZ_LOOPBACK_RANGE && lb->m->states[f->channel].type != ROZ_IF_POSITION)
         return ROZ_EINVAL;
     if (f->kind == ROZ_LOOPBACK_DELAY && (f->arg < 1 || f->arg > ROZ_LOOPBACK_MAX_DELAY))
         return ROZ_EINVAL;

@@ -46,7 +46,7 @@ typedef struct roz_port_ops {
     /** Copy the latest state (n = n_states values). Returns 1 for a fresh
      *  frame, 0 when nothing newer than the last read arrived (state then
      *  holds the previous frame), negative ROZ_E* on error (ROZ_ENOENT: no
-     *  frame ever; ROZ_EIO: the link to the robot broke, its peer restarted
+     *  frame ever; ROZ_ELINK: the link to the robot broke, its peer restarted
      *  or came back after it was lost (roz/hal/link.h), which latches
      *  ROZ_FAULT_LINK). Context: the tick; RT-safe, never blocks. */
     int (*read)(void *self, double *state, size_t n);

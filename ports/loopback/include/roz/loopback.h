@@ -29,7 +29,7 @@
  * through the link checks every hardware port runs (roz/hal/link.h): bad
  * CRC and replayed or overtaken frames are dropped and counted, a peer that
  * restarts or comes back after ROZ_LOOPBACK_PEER_TIMEOUT_NS of silence is
- * reported (read() returns ROZ_EIO once; the runtime latches
+ * reported (read() returns ROZ_ELINK once; the runtime latches
  * ROZ_FAULT_LINK). Commands travel the same way; the robot drops commands
  * that fail their CRC and keeps the last good one. As on a hardware port,
  * nothing is sent before the peer's first state frame.
@@ -157,7 +157,7 @@ typedef struct roz_loopback {
     uint64_t               frames_dropped;   /* lost in transit (DROP) */
     uint64_t               frames_duplicated;/* delivered again (DUPLICATE) */
     uint64_t               frames_corrupted; /* state frames with a bit flipped (CORRUPT) */
-    uint64_t               link_events;      /* reads that returned ROZ_EIO: the peer restarted */
+    uint64_t               link_events;      /* reads that returned ROZ_ELINK: the peer restarted */
     uint64_t               writes;           /* write() calls */
     uint64_t               writes_withheld;  /* before the peer's first state frame */
     uint64_t               cmds_corrupted;   /* command frames with a bit flipped (CORRUPT_CMD) */
