@@ -14,7 +14,13 @@ if(ROZ_SANITIZE STREQUAL "address")
   set(ROZ_SANITIZE_DEP_FLAGS -fsanitize=address -fno-omit-frame-pointer)
 elseif(ROZ_SANITIZE STREQUAL "thread")
   set(ROZ_SANITIZE_FLAGS -fsanitize=thread -fno-omit-frame-pointer)
-  set(ROZ_SANITIZE_DEP_FLAGS ${ROZ_SANITIZE_FLAGS})
+  # Without function entry/exit hooks for wasm3: TSan's exit hook after
+  # every call would stop wasm3's ops chaining by tail calls, and every op
+  # executed would nest a C stack frame (cmake/Wasm3.cmake). Its memory
+  # accesses are still checked; only its frames leave TSan's stack traces.
+  set(ROZ_SANITIZE_DEP_FLAGS ${ROZ_SANITIZE_FLAGS}
+    "$<$<C_COMPILER_ID:Clang,AppleClang>:SHELL:-mllvm -tsan-instrument-func-entry-exit=0>"
+    "$<$<C_COMPILER_ID:GNU>:--param=tsan-instrument-func-entry-exit=0>")
 elseif(NOT ROZ_SANITIZE STREQUAL "")
   message(FATAL_ERROR "ROZ_SANITIZE must be empty, address or thread, not \"${ROZ_SANITIZE}\"")
 else()

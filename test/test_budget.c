@@ -4,8 +4,13 @@
  * an import called forever and infinite recursion all stop within the budget;
  * a slow but finite controller passes just under its budget and stops just
  * over it, at the same fuel on every run; the fault latches, the safe defaults
- * go out, and the loop keeps ticking. */
+ * go out, and the loop keeps ticking. And the C stack: a 120,000-op
+ * straight-line function and an endless recursion run on a thread with a
+ * 512 KiB stack, in every build (wasm3's ops must chain by tail calls, and
+ * roz's guard must bound the recursion). */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -203,6 +208,93 @@ static void test_budget_loop_keeps_its_period(void **st)
                   runner.monitor.stat[ROZ_MON_JITTER].max_ns / 1e3);
 }
 
+/* ---- the C stack ------------------------------------------------------------ */
+
+enum { STRAIGHT_OPS = 120000 };
+static uint8_t straight[ROZ_CFG_WASM_MAX_MODULE_BYTES];
+
+static size_t put_leb(uint8_t *p, uint32_t v)
+{
+    size_t n = 0;
+    do {
+        uint8_t b = v & 0x7fu;
+        v >>= 7;
+        p[n++] = (uint8_t)(b | (v != 0u ? 0x80u : 0u));
+    } while (v != 0u);
+    return n;
+}
+
+/* (func (export "process") (param $t i64)) whose body is STRAIGHT_OPS times
+ * (local.set $t (i64.add (local.get $t) (i64.const 1))): no call, no loop. */
+static size_t straight_module(void)
+{
+    static const uint8_t head[] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00,
+                                    0x01, 0x05, 0x01, 0x60, 0x01, 0x7e, 0x00, /* type */
+                                    0x03, 0x02, 0x01, 0x00,                   /* func */
+                                    0x07, 0x0b, 0x01, 0x07, 'p', 'r', 'o', 'c', 'e', 's', 's',
+                                    0x00, 0x00 };                             /* export */
+    static const uint8_t op[] = { 0x20, 0x00, 0x42, 0x01, 0x7c, 0x21, 0x00 };
+    uint32_t body = 1 + STRAIGHT_OPS * (uint32_t)sizeof op + 1; /* no locals, ops, end */
+    uint8_t leb[5];
+    size_t n = 0, lb_body = put_leb(leb, body);
+    uint32_t section = 1 + (uint32_t)lb_body + body;
+
+    memcpy(straight, head, sizeof head);
+    n = sizeof head;
+    straight[n++] = 0x0a; /* code */
+    n += put_leb(&straight[n], section);
+    straight[n++] = 0x01;
+    n += put_leb(&straight[n], body);
+    straight[n++] = 0x00;
+    for (int i = 0; i < STRAIGHT_OPS; i++, n += sizeof op)
+        memcpy(&straight[n], op, sizeof op);
+    straight[n++] = 0x0b;
+    return n;
+}
+
+static size_t straight_stack, recursion_stack;
+static int straight_rc, recursion_rc;
+
+static void *small_stack_thread(void *arg)
+{
+    size_t len, n = straight_module();
+    const uint8_t *rec = roz_test_controller("bad_recursion", &len);
+    (void)arg;
+    start(UINT64_MAX, 0); /* unmetered: only the stacks bound it */
+    straight_rc = roz_runtime_load(&rt, straight, n, NULL);
+    for (int t = 0; t < 5 && straight_rc == ROZ_OK; t++)
+        straight_rc = roz_runtime_tick(&rt);
+    straight_stack = (size_t)rt.counters.max_stack;
+    roz_runtime_deinit(&rt);
+    start(UINT64_MAX, 0);
+    recursion_rc = roz_runtime_load(&rt, rec, len, NULL);
+    for (int t = 0; t < 160 && recursion_rc == ROZ_OK; t++) /* it recurses at tick 150 */
+        (void)roz_runtime_tick(&rt);
+    recursion_stack = (size_t)rt.counters.max_stack;
+    return NULL;
+}
+
+static void test_budget_stack_on_a_small_thread(void **st)
+{
+    pthread_attr_t attr;
+    pthread_t th;
+    (void)st;
+    assert_int_equal(pthread_attr_init(&attr), 0);
+    assert_int_equal(pthread_attr_setstacksize(&attr, 512 * 1024), 0);
+    assert_int_equal(pthread_create(&th, &attr, small_stack_thread, NULL), 0);
+    assert_int_equal(pthread_join(th, NULL), 0);
+    pthread_attr_destroy(&attr);
+    print_message("straight line of %d ops: %zu bytes of C stack; endless recursion: %zu "
+                  "bytes, then \"%s\"\n", STRAIGHT_OPS, straight_stack, recursion_stack,
+                  roz_runtime_fault_message(&rt));
+    assert_int_equal(straight_rc, ROZ_OK);
+    assert_true(straight_stack < 16384);
+    assert_int_equal(recursion_rc, ROZ_OK);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_TRAP);
+    assert_true(strstr(roz_runtime_fault_message(&rt), "stack") != NULL);
+    assert_true(recursion_stack <= ROZ_CFG_NATIVE_STACK_BYTES + 4096);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -212,6 +304,7 @@ int main(void)
         cmocka_unit_test_teardown(test_budget_rebuild_after_overrun, teardown),
         cmocka_unit_test_teardown(test_budget_deadline, teardown),
         cmocka_unit_test_teardown(test_budget_loop_keeps_its_period, teardown),
+        cmocka_unit_test_teardown(test_budget_stack_on_a_small_thread, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

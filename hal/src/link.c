@@ -21,7 +21,6 @@ static roz_link_verdict_t accept(roz_link_t *l, roz_link_verdict_t v, uint32_t s
     l->alive = 1;
     l->last_seq = seq;
     l->last_ns = now_ns;
-    l->behind_run = 0;
     l->accepted++;
     return v;
 }
@@ -45,25 +44,13 @@ roz_link_verdict_t roz_link_check(roz_link_t *l, int crc_ok, uint32_t seq, uint6
         l->missing += ahead - 1u;
         return accept(l, ROZ_LINK_FRESH, seq, now_ns);
     }
-    uint32_t behind = l->last_seq - seq;
-    if (behind == 0u) {
-        /* the last frame again: a duplicate */
-        l->behind_run = 0;
-        l->replays++;
-        return ROZ_LINK_REPLAY;
-    }
-    if (behind <= l->window) {
-        /* Older frames, one after the other, with nothing newer between:
-         * a peer counting again from below its old sequence (it restarted),
-         * or old frames replayed in order. Either way not the stream the
-         * port was following. A lone older frame is one overtaken in
-         * transit. */
-        l->behind_run = l->behind_run > 0u && seq == l->behind_seq + 1u ? l->behind_run + 1u : 1u;
-        l->behind_seq = seq;
-        if (l->behind_run >= ROZ_LINK_RESTART_RUN) {
-            l->restarts++;
-            return accept(l, ROZ_LINK_RESTART, seq, now_ns);
-        }
+    /* Not newer: the last frame again, a replay, or a frame overtaken in
+     * transit; dropped even after a silence, so an old frame never passes
+     * for a peer that came back. Older frames in order are dropped too: a
+     * peer that restarted and counts again from below its old sequence
+     * cannot be told from old frames replayed in order or overtaken ones,
+     * so it is taken for a replay until it passes its old sequence. */
+    if (l->last_seq - seq <= l->window) {
         l->replays++;
         return ROZ_LINK_REPLAY;
     }

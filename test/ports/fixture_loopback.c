@@ -26,6 +26,13 @@ static void one_tick(roz_loopback_fault_kind_t kind)
     (void)roz_loopback_inject(&lb, &f);
 }
 
+static void spend_reads(uint64_t n)
+{
+    double scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    for (uint64_t i = 0; i < n; i++)
+        (void)roz_port_read(&the_port, scratch, lb.m->n_states);
+}
+
 static void lb_fx_peer(roz_peer_frame_t what)
 {
     switch (what) {
@@ -40,15 +47,26 @@ static void lb_fx_peer(roz_peer_frame_t what)
     case ROZ_PEER_REPLAY:
         one_tick(ROZ_LOOPBACK_DUPLICATE);
         break;
-    case ROZ_PEER_RESTART: {
-        /* the robot is down for one tick, which this read spends, then
+    case ROZ_PEER_RESTART:
+        /* the robot is down for one tick, which a read of ours spends, then
          * boots: the next read brings its first frame */
-        double scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
         one_tick(ROZ_LOOPBACK_RESTART);
-        (void)roz_port_read(&the_port, scratch, lb.m->n_states);
+        spend_reads(1);
+        break;
+    case ROZ_PEER_VANISH: {
+        /* silent past the peer timeout, a read of ours a tick */
+        uint64_t n = ROZ_LOOPBACK_PEER_TIMEOUT_NS / lb.period_ns + 1;
+        roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, lb.tick, lb.tick + n, -1, 0 };
+        (void)roz_loopback_inject(&lb, &f);
+        spend_reads(n);
         break;
     }
     }
+}
+
+static void lb_fx_settle(void)
+{
+    /* write() hands the frame to the robot before it returns */
 }
 
 static void lb_fx_peer_sent(double *state)
@@ -69,9 +87,9 @@ static void lb_fx_corrupt_next_command(void)
     (void)roz_loopback_inject(&lb, &f);
 }
 
-static const roz_link_t *lb_fx_link(void)
+static void lb_fx_link(roz_link_t *out)
 {
-    return &lb.link;
+    *out = lb.link;
 }
 
 static void lb_fx_close(void)
@@ -85,6 +103,7 @@ const roz_port_fixture_t roz_fixture_loopback = {
     .open = lb_fx_open,
     .peer = lb_fx_peer,
     .peer_sent = lb_fx_peer_sent,
+    .settle = lb_fx_settle,
     .peer_command = lb_fx_peer_command,
     .corrupt_next_command = lb_fx_corrupt_next_command,
     .link = lb_fx_link,

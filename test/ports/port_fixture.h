@@ -7,7 +7,11 @@
  * port's fixture wraps its fake robot peer, which speaks the real wire
  * protocol over loopback networking.
  *
- * Nothing here is thread-safe: the suite calls a fixture from one thread. */
+ * The suite calls a fixture from one thread. A port with threads of its own
+ * (a DDS port) makes each call synchronous: peer() waits until the port's
+ * receive thread has judged the frame (one of its link counters moved),
+ * settle() until the peer has received every command frame written so far,
+ * each with a timeout that fails the test. */
 #ifndef ROZ_TEST_PORT_FIXTURE_H
 #define ROZ_TEST_PORT_FIXTURE_H
 
@@ -24,6 +28,8 @@ typedef enum {
     ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC */
     ROZ_PEER_REPLAY,   /* the frame it sent last, again */
     ROZ_PEER_RESTART,  /* the peer restarts (sequence from 0); then its first frame */
+    ROZ_PEER_VANISH,   /* silent for longer than the port's peer timeout; then a
+                          frame, newer than the last */
 } roz_peer_frame_t;
 
 typedef struct roz_port_fixture {
@@ -33,18 +39,22 @@ typedef struct roz_port_fixture {
     int (*open)(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port, char *err,
                 size_t errlen);
     /* Make the peer's next state frame and return once the port has taken
-     * it in (for SILENT: once a frame period has passed), so that the next
-     * read() sees it. */
+     * it in (for SILENT: once a frame period has passed; RESTART and VANISH
+     * may spend reads of the port's own), so that the next read() sees it. */
     void (*peer)(roz_peer_frame_t what);
-    /* The last state frame the peer sent (n_states values). */
+    /* The last state frame the peer sent, as the port should deliver it
+     * (n_states values; converted where the wire narrows or reorders them). */
     void (*peer_sent)(double *state);
+    /* Return once every command frame written so far has reached the peer
+     * (or was lost on the way). */
+    void (*settle)(void);
     /* The command the peer applies (n_commands values), NULL before its
-     * first good command frame (and after a restart). */
+     * first good command frame (and after a restart). Call settle() first. */
     const double *(*peer_command)(void);
     /* Flip one bit of the next command frame in transit. */
     void (*corrupt_next_command)(void);
-    /* The port's checks on state frames. */
-    const roz_link_t *(*link)(void);
+    /* A copy of the port's checks on state frames, taken consistently. */
+    void (*link)(roz_link_t *out);
     /* Deactivate and close the port, stop the peer. */
     void (*close)(void);
 } roz_port_fixture_t;

@@ -8,9 +8,9 @@
  *  - fresh and stale: a new frame reads 1 with exactly the values the peer
  *    sent, no new frame reads 0 with the previous values;
  *  - the link checks (roz/hal/link.h): a frame failing its CRC and a
- *    replayed frame read 0 and are counted; a restarted peer reads ROZ_ELINK
- *    once, then its frames read 1, and it gets no command until the next
- *    write;
+ *    replayed frame read 0 and are counted; a restarted peer, and one back
+ *    after a silence past the peer timeout, read ROZ_ELINK once, then their
+ *    frames read 1; a restarted peer gets no command until the next write;
  *  - commands: the peer applies exactly what was written; a command frame
  *    corrupted in transit is dropped by the peer, which keeps the last one. */
 #include <math.h>
@@ -80,6 +80,7 @@ static void write_checked(conformance_t *c, int k)
 
 static void assert_peer_applies(conformance_t *c, const double *want)
 {
+    c->fx->settle();
     const double *got = c->fx->peer_command();
     assert_non_null(got);
     assert_memory_equal(got, want, c->m->n_commands * sizeof want[0]);
@@ -108,6 +109,7 @@ static void check_sizes_and_start(conformance_t *c)
     c->fx->peer(ROZ_PEER_SILENT);
     assert_int_equal(read_port(c), ROZ_ENOENT);
     write_checked(c, 0);
+    c->fx->settle();
     assert_null(c->fx->peer_command());
     fresh_frame(c);
     write_checked(c, 1);
@@ -125,9 +127,15 @@ static void check_fresh_and_stale(conformance_t *c)
     fresh_frame(c);
 }
 
+static roz_link_t link_now(const conformance_t *c)
+{
+    roz_link_t l;
+    c->fx->link(&l);
+    return l;
+}
+
 static void check_link(conformance_t *c)
 {
-    const roz_link_t *l = c->fx->link();
     double before[ROZ_CFG_MAX_STATES];
 
     for (int i = 0; i < 100; i++) /* past the replay window */
@@ -135,29 +143,38 @@ static void check_link(conformance_t *c)
     write_checked(c, 2);
     memcpy(before, c->state, c->m->n_states * sizeof before[0]);
 
-    uint64_t crc = l->crc_errors;
+    uint64_t crc = link_now(c).crc_errors;
     c->fx->peer(ROZ_PEER_CORRUPT);
     assert_int_equal(read_port(c), 0);
-    assert_int_equal(l->crc_errors, crc + 1);
+    assert_int_equal(link_now(c).crc_errors, crc + 1);
     assert_memory_equal(c->state, before, c->m->n_states * sizeof before[0]);
     fresh_frame(c);
 
-    uint64_t replays = l->replays;
+    uint64_t replays = link_now(c).replays;
     memcpy(before, c->state, c->m->n_states * sizeof before[0]);
     c->fx->peer(ROZ_PEER_REPLAY);
     assert_int_equal(read_port(c), 0);
-    assert_int_equal(l->replays, replays + 1);
+    assert_int_equal(link_now(c).replays, replays + 1);
     assert_memory_equal(c->state, before, c->m->n_states * sizeof before[0]);
     fresh_frame(c);
 
-    uint64_t restarts = l->restarts + l->returns;
+    /* restarted: its sequence went back beyond the window */
+    uint64_t restarts = link_now(c).restarts;
     c->fx->peer(ROZ_PEER_RESTART);
     assert_int_equal(read_port(c), ROZ_ELINK);
-    assert_int_equal(l->restarts + l->returns, restarts + 1);
+    assert_int_equal(link_now(c).restarts, restarts + 1);
+    c->fx->settle();
     assert_null(c->fx->peer_command()); /* it forgot */
     fresh_frame(c);
     write_checked(c, 3);
     assert_peer_applies(c, c->cmd);
+
+    /* gone past the peer timeout, then back */
+    uint64_t returns = link_now(c).returns;
+    c->fx->peer(ROZ_PEER_VANISH);
+    assert_int_equal(read_port(c), ROZ_ELINK);
+    assert_int_equal(link_now(c).returns, returns + 1);
+    fresh_frame(c);
 }
 
 static void check_commands(conformance_t *c)

@@ -13,13 +13,23 @@
  * | ROZ_LINK_FIRST     | the first good frame since roz_link_init()       | accepts it; arms its safe start-up |
  * | ROZ_LINK_FRESH     | newer than the last accepted frame               | accepts it  |
  * | ROZ_LINK_BAD_CRC   | the CRC failed                                   | drops it    |
- * | ROZ_LINK_REPLAY    | the last accepted frame again, or a lone frame at most `window` behind (overtaken in transit), also after a silence | drops it |
- * | ROZ_LINK_RESTART   | newer, after the peer was silent for `lost_after_ns` or more; or more than `window` behind; or the ROZ_LINK_RESTART_RUN-th of older frames numbered one after the other with nothing newer between: the peer came back, or restarted and counts again from 0 | accepts it as the new peer's first frame and reports a link fault: read() returns ROZ_ELINK once, the runtime latches ROZ_FAULT_LINK (an immediate stop). A hardware port also starts its safe start-up layers (roz/hal/port.h) over for the new peer. |
+ * | ROZ_LINK_REPLAY    | not newer and at most `window` behind: the last frame again, a replay, a frame overtaken in transit; also after a silence | drops it |
+ * | ROZ_LINK_RESTART   | newer, after the peer was silent for `lost_after_ns` or more; or more than `window` behind: the peer came back, or restarted | accepts it as the new peer's first frame and reports a link fault: read() returns ROZ_ELINK once, the runtime latches ROZ_FAULT_LINK (an immediate stop). A hardware port also starts its safe start-up layers (roz/hal/port.h) over for the new peer. |
  *
- * Not detected: a peer that restarts within `lost_after_ns` and numbers its
- * frames on from above its old sequence (it looks like one that skipped
- * frames). A replayed old frame never passes for fresh state, not even
- * after a silence; old frames replayed in order are reported as a restart.
+ * What the sequence cannot tell apart, and how it errs:
+ * - A peer that restarts within `lost_after_ns` with its old sequence at
+ *   most `window` (counting from 0: in its first `window` frames) is taken
+ *   for a replay until its sequence passes the old one: its frames are
+ *   dropped meanwhile, so the runtime's STALE fault stops the robot unless
+ *   the restart and the dropped frames together last less than stale_ticks.
+ *   (Taking older frames in order for a restart instead would let replayed
+ *   old frames pass, and stop the robot on two frames overtaken in transit.)
+ * - A peer that restarts within `lost_after_ns` and numbers its frames on
+ *   from above its old sequence looks like one that skipped frames.
+ * - Old frames replayed in order from more than `window` back look like a
+ *   restarted peer: LINK latches, and after the application clears it they
+ *   are its stream. Replay by an attacker needs an authenticated transport.
+ * A port whose robot reports a boot counter or session id should check it.
  *
  * Sequence numbers are compared modulo 2^32 (serial number arithmetic), so
  * a counter wrapping around is not a restart. Dropped frames show as gaps,
@@ -39,12 +49,10 @@
 extern "C" {
 #endif
 
-/** A lone frame this far behind the last accepted one is a replay; further is a restart. */
+/** A frame this far behind the last accepted one is a replay; further is a restart. */
 #define ROZ_LINK_DEFAULT_WINDOW 64u
 /** The largest window (half the sequence space, less a margin). */
 #define ROZ_LINK_MAX_WINDOW 0x40000000u
-/** Older frames numbered one after the other that make a restart. */
-#define ROZ_LINK_RESTART_RUN 2u
 
 typedef enum roz_link_verdict {
     ROZ_LINK_FIRST = 0, /**< accept: the first frame of this peer */
@@ -61,13 +69,11 @@ typedef struct roz_link {
     int      alive;         /**< a frame has been accepted since init */
     uint32_t last_seq;      /**< sequence of the last accepted frame */
     uint64_t last_ns;       /**< when it was accepted */
-    uint32_t behind_run;    /**< older frames in order since the last accepted one */
-    uint32_t behind_seq;    /**< the last of them */
     /* counters */
     uint64_t accepted;      /**< FIRST + FRESH + RESTART */
     uint64_t crc_errors;    /**< BAD_CRC */
     uint64_t replays;       /**< REPLAY */
-    uint64_t restarts;      /**< RESTART: the sequence went back (beyond the window, or counting again) */
+    uint64_t restarts;      /**< RESTART: the sequence went back beyond the window */
     uint64_t returns;       /**< RESTART: a newer frame after a silence */
     uint64_t missing;       /**< sequence numbers skipped between accepted frames */
 } roz_link_t;
