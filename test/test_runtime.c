@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -102,6 +103,48 @@ static void test_runtime_nothing_before_first_state(void **st)
     ticks(1);
     assert_int_equal(lb.writes, 1);
     assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+static int warnings;
+static char last_warning[160];
+
+static void capture(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    if (level == ROZ_LOG_WARN && strstr(msg, "no state") != NULL) {
+        warnings++;
+        snprintf(last_warning, sizeof last_warning, "%s", msg);
+    }
+}
+
+/* Waiting for the robot's first frame is not a fault (a DDS peer may take
+ * a while to be discovered): nothing is sent, one warning after stale_ticks,
+ * and staleness counts from the first frame. */
+static void test_runtime_waiting_is_not_a_fault(void **st)
+{
+    roz_param_t p[] = { { "freeze", "0:300" }, { "freeze", "310:330" } };
+    roz_params_t params = { p, 2 };
+    roz_runtime_config_t cfg;
+    (void)st;
+    clk = (roz_test_clock_t){ 1000000, 1000 };
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, &params, &clk);
+    cfg.log = capture;
+    warnings = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    load("constant_velocity", ROZ_OK);
+    ticks(300);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(lb.writes, 0);
+    assert_int_equal(rt.counters.waiting_ticks, 300);
+    assert_int_equal(rt.counters.stale_reads, 0);
+    assert_int_equal(warnings, 1);
+    assert_non_null(strstr(last_warning, "no state from the port yet after 10 ticks"));
+    ticks(10); /* frames from 300 */
+    assert_int_equal(lb.writes, 10);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    ticks(10); /* frozen again from 310: STALE on the tenth */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
 }
 
 static void test_runtime_trap_latches_controlled_stop(void **st)
@@ -275,6 +318,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_runtime_sine_drives_ur5, teardown),
         cmocka_unit_test_teardown(test_runtime_nothing_before_first_state, teardown),
+        cmocka_unit_test_teardown(test_runtime_waiting_is_not_a_fault, teardown),
         cmocka_unit_test_teardown(test_runtime_trap_latches_controlled_stop, teardown),
         cmocka_unit_test_teardown(test_runtime_controlled_stop_ramps, teardown),
         cmocka_unit_test_teardown(test_runtime_estop_is_immediate, teardown),

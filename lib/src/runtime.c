@@ -270,6 +270,19 @@ int roz_runtime_tick(roz_runtime_t *rt)
         rt->have_state = 1;
         rt->stale_count = 0;
         roz_buffer_write(&rt->snapshot, rt->state, t1);
+    } else if (!rt->have_state) {
+        /* Waiting for the robot's first frame (a DDS peer may take a while
+         * to be discovered) is not a fault: nothing is sent meanwhile, and
+         * staleness counts from the first frame. Said once, as a warning,
+         * when it lasts stale_ticks. */
+        if (rc < 0 && rc != ROZ_ENOENT)
+            rt->counters.read_errors++;
+        if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks) {
+            char msg[96];
+            snprintf(msg, sizeof msg, "no state from the port yet after %u ticks; nothing is sent",
+                     (unsigned)rt->cfg.stale_ticks);
+            log_msg(rt, ROZ_LOG_WARN, msg);
+        }
     } else {
         if (rc < 0 && rc != ROZ_ENOENT)
             rt->counters.read_errors++;

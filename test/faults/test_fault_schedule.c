@@ -12,7 +12,8 @@
  *    the good frame before (limit stops, the immediate stop of a LINK fault
  *    and a robot that rebooted excepted);
  *  - a fault latches whenever stale_ticks reads in a row brought no fresh
- *    frame, and LINK latches on the tick the port reports a restart;
+ *    frame (after the first one), and LINK latches on the tick the port
+ *    reports a restart;
  *  - while any fault is latched the controller does not run.
  * Seeded and reproducible: the seed is printed; ROZ_FAULT_SEED=N reruns one. */
 #include <math.h>
@@ -90,7 +91,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
     roz_port_t port = roz_loopback_port(&lb);
     double applied[ROZ_CFG_MAX_COMMANDS];
     uint32_t stops[ROZ_CFG_MAX_COMMANDS];
-    int have_applied = 0, cleared = 0, jumped = 0;
+    int have_applied = 0, cleared = 0, jumped = 0, started = 0;
     uint64_t applied_at = 0, quiet = 0;
 
     rng = seed * 2 + salt;
@@ -122,7 +123,8 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
                      (unsigned long long)seed, (unsigned long long)t);
         /* staleness and link faults */
         int fresh = lb.frames_delivered != delivered && lb.link_events == events;
-        quiet = fresh || cleared ? 0 : quiet + 1; /* a clear restarts the runtime's count */
+        started |= fresh; /* staleness counts from the first frame */
+        quiet = fresh || cleared || !started ? 0 : quiet + 1; /* a clear restarts the count */
         if (quiet >= cfg.stale_ticks && (faults & ROZ_FAULT_STALE) == 0)
             fail_msg("seed %llu tick %llu: %llu reads without a fresh frame, no STALE",
                      (unsigned long long)seed, (unsigned long long)t, (unsigned long long)quiet);

@@ -50,7 +50,8 @@ extern "C" {
 typedef enum roz_fault {
     ROZ_FAULT_TRAP          = 1u << 0, /**< the controller trapped */
     ROZ_FAULT_OVERRUN       = 1u << 1, /**< process() exceeded the tick budget */
-    ROZ_FAULT_STALE         = 1u << 2, /**< no fresh state for stale_ticks ticks */
+    ROZ_FAULT_STALE         = 1u << 2, /**< no fresh state for stale_ticks ticks, counted
+                                            from the first state frame */
     ROZ_FAULT_ESTOP         = 1u << 3, /**< the application's e-stop input */
     ROZ_FAULT_ESTOP_REQUEST = 1u << 4, /**< the controller called safety.request_estop */
     ROZ_FAULT_LINK          = 1u << 5, /**< the port's read() returned ROZ_ELINK: its peer
@@ -102,7 +103,8 @@ typedef struct roz_verify_report {
 typedef struct roz_runtime_counters {
     uint64_t ticks;            /**< roz_runtime_tick() calls */
     uint64_t controller_ticks; /**< process() calls that drove the robot */
-    uint64_t waiting_ticks;    /**< ticks before the first state frame (nothing sent) */
+    uint64_t waiting_ticks;    /**< ticks before the first state frame (nothing sent; not
+                                    a fault, a warning once after stale_ticks) */
     uint64_t stale_reads;      /**< reads with no fresh frame */
     uint64_t read_errors;      /**< reads that returned an error */
     uint64_t write_errors;     /**< writes that returned an error */
