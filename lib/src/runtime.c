@@ -270,33 +270,35 @@ int roz_runtime_tick(roz_runtime_t *rt)
         rt->have_state = 1;
         rt->stale_count = 0;
         roz_buffer_write(&rt->snapshot, rt->state, t1);
-    } else if (!rt->have_state) {
-        /* Waiting for the robot's first frame (a DDS peer may take a while
-         * to be discovered) is not a fault: nothing is sent meanwhile, and
-         * staleness counts from the first frame. Said once, as a warning,
-         * when it lasts stale_ticks. */
-        if (rc < 0 && rc != ROZ_ENOENT)
-            rt->counters.read_errors++;
-        if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks) {
-            char msg[96];
-            snprintf(msg, sizeof msg, "no state from the port yet after %u ticks; nothing is sent",
-                     (unsigned)rt->cfg.stale_ticks);
-            log_msg(rt, ROZ_LOG_WARN, msg);
-        }
     } else {
         if (rc < 0 && rc != ROZ_ENOENT)
             rt->counters.read_errors++;
-        rt->counters.stale_reads++;
-        if (rt->stale_count < UINT32_MAX)
-            rt->stale_count++;
-        if (rt->stale_count >= rt->cfg.stale_ticks) {
-            char msg[96];
-            snprintf(msg, sizeof msg, "no fresh state for %u ticks", (unsigned)rt->stale_count);
-            latch(rt, ROZ_FAULT_STALE, msg);
+        if (!rt->have_state) {
+            /* Waiting for the robot's first frame (a DDS peer may take a
+             * while to be discovered) is not a fault: nothing is sent
+             * meanwhile, and staleness counts from the first frame. Said
+             * once, as a warning, when it lasts stale_ticks. */
+            if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks) {
+                char msg[96];
+                snprintf(msg, sizeof msg,
+                         "no state from the port yet after %u ticks; nothing is sent",
+                         (unsigned)rt->cfg.stale_ticks);
+                log_msg(rt, ROZ_LOG_WARN, msg);
+            }
+        } else {
+            rt->counters.stale_reads++;
+            if (rt->stale_count < UINT32_MAX)
+                rt->stale_count++;
+            if (rt->stale_count >= rt->cfg.stale_ticks) {
+                char msg[96];
+                snprintf(msg, sizeof msg, "no fresh state for %u ticks",
+                         (unsigned)rt->stale_count);
+                latch(rt, ROZ_FAULT_STALE, msg);
+            }
+            if (rc == ROZ_ELINK)
+                latch(rt, ROZ_FAULT_LINK,
+                      "port link fault: the robot restarted or came back after it was lost");
         }
-        if (rc == ROZ_ELINK)
-            latch(rt, ROZ_FAULT_LINK,
-                  "port link fault: the robot restarted or came back after it was lost");
     }
     if (atomic_load(&rt->estop_input) != 0u)
         latch(rt, ROZ_FAULT_ESTOP, "e-stop input");
