@@ -14,15 +14,25 @@ set(ROZ_WASM3_SOURCE_DIR "" CACHE PATH "wasm3 source tree (folder with wasm3.h);
 set(ROZ_WASM3_SDIST "" CACHE FILEPATH "pywasm3-0.5.0.tar.gz (wasm3 0.5.0 sources, sha256-checked)")
 set(ROZ_WASM3_SDIST_SHA256 5a47c8a39f7f6ae71b3316b2e5d86c9d0db6e771a65f09a86e4d4aa3a19aefcc)
 
-# roz's own patch (cmake/wasm3-roz.patch) meters loop back-edges and guards
-# memory.grow; it is
-# applied to a copy in the build tree, never to the source it came from.
-set(_roz_patch ${CMAKE_CURRENT_LIST_DIR}/wasm3-roz.patch)
-file(SHA256 ${_roz_patch} _roz_patch_sha)
+# roz's own patches (cmake/wasm3/*.patch, one concern each, applied in name
+# order) meter the work a controller does, guard wasm3 0.5.0's known
+# memory-safety bugs and make its integer ops well-defined; each file's
+# header says what it changes and why. They are applied to a copy in the
+# build tree, never to the source it came from; the copy is keyed by a hash
+# of the whole series, so editing a patch rebuilds wasm3.
+file(GLOB _roz_patches CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/wasm3/*.patch)
+list(SORT _roz_patches)
+set(_roz_patch_cat "")
+foreach(_p IN LISTS _roz_patches)
+  file(SHA256 ${_p} _h)
+  string(APPEND _roz_patch_cat "${_h}")
+  set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${_p})
+endforeach()
+string(SHA256 _roz_patch_sha "${_roz_patch_cat}")
 string(SUBSTRING ${_roz_patch_sha} 0 12 _roz_patch_sha)
-find_program(ROZ_PATCH_EXECUTABLE patch DOC "patch, to apply cmake/wasm3-roz.patch")
+find_program(ROZ_PATCH_EXECUTABLE patch DOC "patch, to apply cmake/wasm3/*.patch")
 if(NOT ROZ_PATCH_EXECUTABLE)
-  message(FATAL_ERROR "the 'patch' program is needed to apply cmake/wasm3-roz.patch "
+  message(FATAL_ERROR "the 'patch' program is needed to apply cmake/wasm3/*.patch "
                       "(Debian package patch; tools/setup.sh installs it)")
 endif()
 
@@ -61,13 +71,18 @@ else()
                       "source tree, or configure with -DROZ_WITH_WASM3=OFF")
 endif()
 if(NOT EXISTS ${_roz_root}/.roz-patched)
-  execute_process(COMMAND ${ROZ_PATCH_EXECUTABLE} -p1 --forward --batch -i ${_roz_patch}
-                  WORKING_DIRECTORY ${_roz_root} RESULT_VARIABLE _roz_rc
-                  OUTPUT_VARIABLE _roz_out ERROR_VARIABLE _roz_out)
-  if(NOT _roz_rc EQUAL 0)
-    message(FATAL_ERROR "cmake/wasm3-roz.patch does not apply to the wasm3 sources in "
-                        "${_roz_root}:\n${_roz_out}")
-  endif()
+  foreach(_p IN LISTS _roz_patches)
+    get_filename_component(_pn ${_p} NAME)
+    # --fuzz=0: a hunk applies where it was written or the build stops
+    execute_process(COMMAND ${ROZ_PATCH_EXECUTABLE} -p1 --forward --batch --fuzz=0
+                            --no-backup-if-mismatch -i ${_p}
+                    WORKING_DIRECTORY ${_roz_root} RESULT_VARIABLE _roz_rc
+                    OUTPUT_VARIABLE _roz_out ERROR_VARIABLE _roz_out)
+    if(NOT _roz_rc EQUAL 0)
+      message(FATAL_ERROR "cmake/wasm3/${_pn} does not apply to the wasm3 sources in "
+                          "${_roz_root}:\n${_roz_out}")
+    endif()
+  endforeach()
   file(TOUCH ${_roz_root}/.roz-patched)
 endif()
 set(_roz_wasm3_dir ${_roz_root}/wasm3)

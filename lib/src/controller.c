@@ -46,7 +46,7 @@ static uintptr_t stack_here_fallback(void)
 #endif
 
 /* wasm3's hook, called on every call (wasm3 itself) and every loop back-edge
- * (cmake/wasm3-roz.patch). A non-NULL result traps the running call. It is
+ * (cmake/wasm3/02-metering.patch). A non-NULL result traps the running call. It is
  * the one symbol of roz's core outside the roz_ prefix: wasm3 names it. */
 M3Result m3_Yield(void)
 {

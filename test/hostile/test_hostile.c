@@ -368,7 +368,7 @@ static void check_metrics(void)
 
 /* memory.grow(0xffffffff) must be refused (-1) and leave memory as it was:
  * wasm3 0.5.0 wrapped the page count in 32 bits and shrank memory with a
- * realloc inside the tick; roz's cmake/wasm3-roz.patch refuses the delta. */
+ * realloc inside the tick; roz's cmake/wasm3/01-memory-grow.patch refuses the delta. */
 static void check_grow_wrap(void)
 {
     const double *tgt = roz_runtime_last_targets(&rt);

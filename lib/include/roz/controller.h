@@ -15,7 +15,7 @@
  * work: one unit per function call (host imports included) and per loop
  * back-edge, so the same controller on the same inputs always stops at the
  * same point, on any machine. wasm3 calls its m3_Yield() hook on calls;
- * roz's patch (cmake/wasm3-roz.patch) calls it on back-edges too, and roz's
+ * roz's patch (cmake/wasm3/02-metering.patch) calls it on back-edges too, and roz's
  * m3_Yield() counts. On hosts a wall-clock deadline is checked at the same
  * points, every ROZ_CFG_DEADLINE_CHECK_UNITS units. A call stopped by either
  * ends with ROZ_ETIMEDOUT, and the instance is spent: it refuses to run again
