@@ -32,7 +32,7 @@ static double out[ROZ_CFG_MAX_COMMANDS];
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     const roz_manifest_t *m = &roz_manifest_ur5;
-    roz_budget_t budget = { FUEL, 0, NULL, NULL };
+    roz_budget_t budget = { FUEL, ROZ_BUDGET_OFF, NULL, NULL };
     roz_metric_t drop;
 
     roz_controller_init(&ctl);
@@ -46,7 +46,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         roz_controller_unload(&ctl);
         return 0;
     }
-    roz_controller_set_budget(&ctl, &budget);
+    if (roz_controller_set_budget(&ctl, &budget) != ROZ_OK)
+        abort();
     if (roz_filter_init(&filt, m) != ROZ_OK)
         abort();
     for (int64_t t = 0; t < TICKS; t++) {

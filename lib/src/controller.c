@@ -14,23 +14,24 @@
 
 /* ---- private: metering ----------------------------------------------------- */
 
-/* The call being metered on this thread. Verification (another thread) and
- * the tick meter at once, each in its own thread-local state. */
-typedef struct {
-    uint64_t     units;     /* used so far in this call */
-    uint64_t     fuel;      /* units allowed, 0 = no limit */
-    uint64_t     deadline;  /* absolute clock time, 0 = none */
-    roz_clock_fn clock;
-    void        *clock_ctx;
-    uintptr_t    stack_base; /* the C stack where the call entered the engine */
-    size_t       stack_max;  /* deepest seen, bytes */
-} meter_t;
-
-static _Thread_local meter_t meter;
+/* roz's patch (cmake/wasm3/02-metering.patch) makes wasm3 charge every run
+ * of straight-line code, and every byte of memory.fill/memory.copy, against
+ * M3Runtime.rozFuel before it runs, and compare the C stack at every wasm
+ * call and loop entry with the lowest the call has reached. The fuel is
+ * handed out in slices: a charge that takes the slice below zero lands in
+ * roz__wasm3_refuel(), which stops the call once the budget is spent, reads
+ * the clock for the deadline, and hands out the next slice. With a deadline
+ * a slice is ROZ_CFG_DEADLINE_CHECK_UNITS, so the clock is read after at
+ * most that much work plus one charge (a run of at most d_m3RozMaxRun
+ * instructions, or one bulk memory op, bounded by the memory's size). The
+ * state lives in the controller, which the runtime's userdata points at. */
 
 static const char fuel_trap[] = "[trap] fuel exhausted";
 static const char deadline_trap[] = "[trap] deadline passed";
 static const char stack_trap[] = "[trap] native stack limit";
+
+/* A slice no charge can reach below zero when nothing is metered. */
+#define UNMETERED_SLICE ((uint64_t)1 << 62)
 
 /* The current C stack position: the frame address where the compiler gives
  * it (never a sanitizer's fake stack), else a local's address. */
@@ -45,27 +46,43 @@ static uintptr_t stack_here_fallback(void)
 }
 #endif
 
-/* wasm3's hook, called on every call (wasm3 itself) and every loop back-edge
- * (cmake/wasm3/02-metering.patch). A non-NULL result traps the running call. It is
- * the one symbol of roz's core outside the roz_ prefix: wasm3 names it. */
-M3Result m3_Yield(void)
+/* The next slice: what is left of the budget, at most one deadline
+ * interval when a deadline is set. */
+static uint64_t next_slice(const roz_controller_t *c)
 {
-    meter_t *m = &meter;
-    uintptr_t here = STACK_HERE();
-    size_t depth = here < m->stack_base ? m->stack_base - here : here - m->stack_base;
+    uint64_t left = c->budget.fuel == ROZ_BUDGET_OFF ? UNMETERED_SLICE
+                                                     : c->budget.fuel - c->meter_used;
+    if (c->meter_deadline != 0 && left > ROZ_CFG_DEADLINE_CHECK_UNITS)
+        left = ROZ_CFG_DEADLINE_CHECK_UNITS;
+    return left < UNMETERED_SLICE ? left : UNMETERED_SLICE;
+}
 
-    m->units++;
-    if (m->stack_base != 0 && depth > m->stack_max) {
-        m->stack_max = depth;
-        if (depth > ROZ_CFG_NATIVE_STACK_BYTES)
-            return stack_trap;
-    }
-    if (m->fuel != 0 && m->units > m->fuel)
+M3Result roz__wasm3_refuel(IM3Runtime rt)
+{
+    roz_controller_t *c = rt->userdata;
+    /* all charged so far, the charge that emptied the slice included */
+    uint64_t used = c->meter_used + c->meter_slice + (uint64_t)(-rt->rozFuel);
+
+    c->meter_used = used;
+    c->meter_slice = 0;
+    rt->rozFuel = 0;
+    if (c->budget.fuel != ROZ_BUDGET_OFF && used > c->budget.fuel)
         return fuel_trap;
-    if (m->deadline != 0 && (m->units & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) == 0 &&
-        m->clock(m->clock_ctx) > m->deadline)
+    if (c->meter_deadline != 0 && c->budget.clock(c->budget.clock_ctx) > c->meter_deadline)
         return deadline_trap;
+    c->meter_slice = next_slice(c);
+    rt->rozFuel = (int64_t)c->meter_slice;
     return m3Err_none;
+}
+
+M3Result roz__wasm3_stack(IM3Runtime rt, void *here)
+{
+    roz_controller_t *c = rt->userdata;
+    size_t depth = c->stack_base - (uintptr_t)here; /* stacks grow down */
+
+    rt->rozStackLow = here;
+    c->stack_used = depth;
+    return depth > ROZ_CFG_NATIVE_STACK_BYTES ? stack_trap : m3Err_none;
 }
 
 /* ---- private: the imports as wasm3 raw functions -------------------------- */
@@ -201,6 +218,8 @@ static int fail(roz_controller_t *c, int rc, const char *what, const char *detai
 void roz_controller_init(roz_controller_t *c)
 {
     memset(c, 0, sizeof *c);
+    c->budget.fuel = ROZ_BUDGET_OFF;
+    c->budget.deadline_ns = ROZ_BUDGET_OFF;
 }
 
 int roz_controller_loaded(const roz_controller_t *c)
@@ -242,7 +261,8 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     if (env == NULL)
         return fail(c, ROZ_ENOSPC, "out of memory creating the engine", NULL);
     c->env = env;
-    rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, NULL);
+    /* the metering hooks find the controller through the runtime */
+    rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, c);
     if (rt == NULL)
         return fail(c, ROZ_ENOSPC, "out of memory creating the runtime", NULL);
     c->runtime = rt;
@@ -286,11 +306,14 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     return ROZ_OK;
 }
 
-void roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget)
+int roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget)
 {
+    /* 0 is a budget that allows nothing, never a silent "unmetered" */
+    if (budget->fuel == 0 || budget->deadline_ns == 0 ||
+        (budget->deadline_ns != ROZ_BUDGET_OFF && budget->clock == NULL))
+        return ROZ_EINVAL;
     c->budget = *budget;
-    if (c->budget.clock == NULL)
-        c->budget.deadline_ns = 0;
+    return ROZ_OK;
 }
 
 uint64_t roz_controller_fuel_used(const roz_controller_t *c)
@@ -305,21 +328,23 @@ size_t roz_controller_stack_used(const roz_controller_t *c)
 
 int roz_controller_process(roz_controller_t *c, int64_t tick)
 {
+    IM3Runtime rt = c->runtime;
     M3Result r;
 
     if (c->process == NULL || c->spent)
         return ROZ_ESTATE;
     c->calls++;
-    meter = (meter_t){ 0, c->budget.fuel, 0, c->budget.clock, c->budget.clock_ctx, STACK_HERE(),
-                       0 };
-    if (c->budget.deadline_ns != 0)
-        meter.deadline = c->budget.clock(c->budget.clock_ctx) + c->budget.deadline_ns;
+    c->meter_used = 0;
+    c->meter_deadline = 0;
+    if (c->budget.deadline_ns != ROZ_BUDGET_OFF)
+        c->meter_deadline = c->budget.clock(c->budget.clock_ctx) + c->budget.deadline_ns;
+    c->meter_slice = next_slice(c);
+    rt->rozFuel = (int64_t)c->meter_slice;
+    c->stack_base = STACK_HERE();
+    c->stack_used = 0;
+    rt->rozStackLow = (void *)c->stack_base;
     r = m3_CallV((IM3Function)c->process, tick);
-    c->fuel_used = meter.units;
-    c->stack_used = meter.stack_max;
-    meter.fuel = 0;
-    meter.deadline = 0;
-    meter.stack_base = 0;
+    c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
     if (r == fuel_trap) {
         c->spent = 1;
         snprintf(c->error, sizeof c->error, "fuel exhausted at tick %lld: %llu units, budget %llu",

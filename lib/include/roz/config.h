@@ -103,17 +103,21 @@
 #define ROZ_CFG_ERROR_LEN 192
 #endif
 
-/** Default controller fuel for one second of control time, in units (one
- *  unit per loop back-edge or call, see roz/controller.h); a tick gets this
- *  divided by control_rate_hz. Range 1000..4000000000. */
+/** Default controller fuel for one second of control time, in units of
+ *  work (about one WebAssembly instruction each, see roz/controller.h); a
+ *  tick gets this divided by control_rate_hz, and a rate that leaves a tick
+ *  no fuel is refused at roz_runtime_init(). Range 1000..4000000000. */
 #ifndef ROZ_CFG_FUEL_PER_SECOND
 #define ROZ_CFG_FUEL_PER_SECOND 10000000
 #endif
 
-/** Fuel units between two wall-clock deadline checks. Power of two,
- *  1..65536. Smaller stops a slow loop sooner and costs more clock reads. */
+/** Fuel units between two wall-clock deadline checks: the clock is read
+ *  once this many units have been charged since the last reading (the work
+ *  between two readings is at most this plus one charge: a run of at most
+ *  256 instructions, or one memory.fill/copy). Power of two, 1..65536.
+ *  Smaller stops an overrun sooner and costs more clock reads. */
 #ifndef ROZ_CFG_DEADLINE_CHECK_UNITS
-#define ROZ_CFG_DEADLINE_CHECK_UNITS 128
+#define ROZ_CFG_DEADLINE_CHECK_UNITS 4096
 #endif
 
 /** Telemetry ring entries (telemetry.emit_metric values waiting to be

@@ -11,15 +11,21 @@
  * compiles or allocates; linear memory is fixed at its declared initial size
  * (at most ROZ_CFG_WASM_MAX_PAGES) and memory.grow returns -1.
  *
- * Budget: every process() call runs on fuel, counted in units of executed
- * work: one unit per function call (host imports included) and per loop
- * back-edge, so the same controller on the same inputs always stops at the
- * same point, on any machine. wasm3 calls its m3_Yield() hook on calls;
- * roz's patch (cmake/wasm3/02-metering.patch) calls it on back-edges too, and roz's
- * m3_Yield() counts. On hosts a wall-clock deadline is checked at the same
- * points, every ROZ_CFG_DEADLINE_CHECK_UNITS units. A call stopped by either
- * ends with ROZ_ETIMEDOUT, and the instance is spent: it refuses to run again
- * (its memory may be half-updated) until it is unloaded and loaded anew.
+ * Budget: every process() call runs on fuel, counted in units of work:
+ * one unit per WebAssembly instruction executed, 4 more per call (host
+ * imports included), one per 16 bytes of memory.fill and memory.copy, and
+ * one per 16 bytes of locals a called function zeroes. Fuel is charged
+ * before the work runs (a straight-line run of instructions at its start, a
+ * bulk memory op before it touches memory), so the same controller on the
+ * same inputs stops at the same instruction on any machine and in any
+ * build, and a call never does work its budget does not cover (roz's patch
+ * cmake/wasm3/02-metering.patch). A wall-clock deadline, where the
+ * platform has a clock, is checked whenever ROZ_CFG_DEADLINE_CHECK_UNITS
+ * units have been charged since the last check. A call stopped by either
+ * ends with ROZ_ETIMEDOUT, and the instance is spent: it refuses to run
+ * again (its memory may be half-updated) until it is unloaded and loaded
+ * anew. The C stack is checked at every wasm call and loop entry (the only
+ * places wasm3 nests a C frame) against ROZ_CFG_NATIVE_STACK_BYTES.
  *
  * Load and unload allocate (wasm3's heap, or its fixed heap on firmware):
  * do them outside the tick. The module bytes must outlive the instance
@@ -40,11 +46,15 @@
 extern "C" {
 #endif
 
+/** A budget field that is off: fuel unmetered, or no deadline. Zero is
+ *  never "off": a budget of 0 allows nothing and is refused. */
+#define ROZ_BUDGET_OFF UINT64_MAX
+
 /** Per-call budget of a controller instance. */
 typedef struct roz_budget {
-    uint64_t     fuel;        /**< units per process() call; 0 = unmetered */
-    uint64_t     deadline_ns; /**< wall-clock time per call; 0 = none */
-    roz_clock_fn clock;       /**< monotonic clock for the deadline */
+    uint64_t     fuel;        /**< units per process() call, >= 1; ROZ_BUDGET_OFF = unmetered */
+    uint64_t     deadline_ns; /**< wall-clock time per call, >= 1; ROZ_BUDGET_OFF = none */
+    roz_clock_fn clock;       /**< monotonic clock for the deadline (needed with one) */
     void        *clock_ctx;
 } roz_budget_t;
 
@@ -53,6 +63,10 @@ typedef struct roz_controller {
     roz_budget_t budget;
     uint64_t   fuel_used;  /* units the last process() call used */
     size_t     stack_used; /* deepest C stack of the last call, bytes */
+    uint64_t   meter_used;     /* the running call: units charged before this slice */
+    uint64_t   meter_slice;    /* units of the current slice */
+    uint64_t   meter_deadline; /* absolute clock time, 0 = none */
+    uintptr_t  stack_base;     /* the C stack where the call entered the engine */
     int        spent;      /* stopped by its budget: must be reloaded */
     void      *env;       /* engine handles, NULL when not loaded */
     void      *runtime;
@@ -81,14 +95,21 @@ void roz_controller_init(roz_controller_t *c);
 ROZ_NODISCARD int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len,
                                       roz_abi_t *abi);
 
-/** @brief Set the budget of every following process() call. */
-void roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget);
+/**
+ * @brief Set the budget of every following process() call (the default,
+ *        after init, is unmetered with no deadline).
+ * @retval ROZ_OK     set
+ * @retval ROZ_EINVAL a fuel or deadline of 0, or a deadline without a clock;
+ *                    the budget is unchanged
+ * Context: outside the tick, or from the tick thread between calls.
+ */
+ROZ_NODISCARD int roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget);
 
 /** @brief Fuel units the last process() call used. */
 uint64_t roz_controller_fuel_used(const roz_controller_t *c);
 
 /** @brief The deepest C stack the last process() call reached, bytes, as
- *  seen at its calls and loop back-edges (ROZ_CFG_NATIVE_STACK_BYTES). */
+ *  seen at its wasm calls and loop entries (ROZ_CFG_NATIVE_STACK_BYTES). */
 size_t roz_controller_stack_used(const roz_controller_t *c);
 
 /**
