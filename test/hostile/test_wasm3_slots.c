@@ -769,6 +769,104 @@ static void test_multi_value_refused(void **st)
     }
 }
 
+/* ---- item 4: the compiler's own bookkeeping --------------------------------- */
+
+/* wasm3 0.5.0's compiler keeps params, locals, operands and block result
+ * records on one stack of d_m3MaxFunctionStackHeight (2000) entries; roz's
+ * validator allows more (4096 locals, 1024 operands). A failed Push still
+ * moved the stack index past the array and CompileBlock ignored
+ * PushBlockResults' error, so the compiler went on indexing past its
+ * arrays (upstream e485482). Every such function must now be refused with
+ * wasm3's "compiling function overran its stack height limit" or run
+ * correctly. */
+static void test_compiler_stack_full(void **st)
+{
+    unsigned refused = 0, ran = 0;
+    (void)st;
+    for (uint32_t locals = 1990; locals <= 2002; locals++)
+    for (int shape = 0; shape < 4; shape++) {
+        char what[96];
+        buf_t *o;
+        snprintf(what, sizeof what, "%u i32 locals, shape %d", (unsigned)locals, shape);
+        module_begin();
+        o = &mod.body[0];
+        put(o, 1); put_u32(o, locals); put(o, I32);
+        switch (shape) {
+        case 0: /* block (result f64) with a value, emitted */
+            put(o, OP_BLOCK); put(o, F64); put_const(o, F64, VALUE); put(o, OP_END);
+            break;
+        case 1: /* block (result i32) left by br, converted */
+            put(o, OP_BLOCK); put(o, I32); put_const(o, I32, VALUE);
+            put(o, OP_BR); put(o, 0); put(o, OP_END);
+            put_to_f64(o, I32);
+            break;
+        case 2: /* an unreachable block (result i64), never run */
+            put(o, OP_LOCAL_GET); put(o, 0); put(o, OP_I64_CONST); put(o, 0); put(o, 0x51); /* i64.eq */
+            put(o, OP_IF); put(o, 0x40); put(o, OP_ELSE);
+            put(o, OP_BLOCK); put(o, I64); put(o, OP_UNREACHABLE); put(o, OP_END);
+            put(o, OP_DROP); put(o, OP_END);
+            put_const(o, F64, VALUE);
+            break;
+        default: /* nested blocks (result f32) */
+            for (int i = 0; i < 4; i++) {
+                put(o, OP_BLOCK); put(o, F32);
+            }
+            put_const(o, F32, VALUE);
+            for (int i = 0; i < 4; i++)
+                put(o, OP_END);
+            put_to_f64(o, F32);
+            break;
+        }
+        put(o, OP_CALL); put(o, 0);
+        put(o, OP_END);
+        module_end();
+        roz_controller_unload(&ctl);
+        roz_controller_init(&ctl);
+        memset(&ring, 0, sizeof ring);
+        roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
+        if (roz_controller_load(&ctl, wasm.b, wasm.n, &abi) != ROZ_OK) {
+            if (strstr(roz_controller_error(&ctl), "overran its stack height limit") == NULL)
+                fail_msg("%s: refused: %s", what, roz_controller_error(&ctl));
+            refused++;
+            continue;
+        }
+        assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+        if (metric(what) != expect_of(shape == 1 ? I32 : F64, VALUE))
+            fail_msg("%s: wrong result", what);
+        ran++;
+    }
+    print_message("compiler stack: %u ran, %u refused\n", ran, refused);
+    assert_true(ran > 0 && refused > 0);
+}
+
+/* Compile_BranchTable reserves targetCount + 4 code lines in a u32, which
+ * wraps for counts near 2^32 (upstream #570): roz's validator refuses a
+ * br_table whose label count passes the bytes left in the body. */
+static void test_br_table_count_refused(void **st)
+{
+    static const uint32_t counts[] = { 0xfffffffcu, 0xfffffffdu, 0xffffffffu, 100000u };
+    (void)st;
+    for (size_t i = 0; i < sizeof counts / sizeof counts[0]; i++) {
+        buf_t *o;
+        module_begin();
+        o = &mod.body[0];
+        put(o, 0);
+        put(o, OP_BLOCK); put(o, 0x40);
+        put(o, OP_I32_CONST); put(o, 0);
+        put(o, OP_BR_TABLE); put_u32(o, counts[i]);
+        for (int k = 0; k < 16; k++)
+            put(o, 0);
+        put(o, OP_END);
+        put(o, OP_END);
+        module_end();
+        roz_controller_unload(&ctl);
+        roz_controller_init(&ctl);
+        roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
+        assert_int_equal(roz_controller_load(&ctl, wasm.b, wasm.n, &abi), ROZ_EINVAL);
+        assert_false(roz_controller_loaded(&ctl));
+    }
+}
+
 /* An argument runs only the tests whose names contain it. */
 int main(int argc, char **argv)
 {
@@ -778,6 +876,8 @@ int main(int argc, char **argv)
         cmocka_unit_test_teardown(test_call_args_i64, teardown),
         cmocka_unit_test_teardown(test_call_args_i32_f64, teardown),
         cmocka_unit_test_teardown(test_multi_value_refused, teardown),
+        cmocka_unit_test_teardown(test_compiler_stack_full, teardown),
+        cmocka_unit_test_teardown(test_br_table_count_refused, teardown),
     };
     struct CMUnitTest tests[sizeof all / sizeof all[0]];
     size_t n = 0;
