@@ -12,9 +12,12 @@
  * (at most ROZ_CFG_WASM_MAX_PAGES) and memory.grow returns -1.
  *
  * Budget: every process() call runs on fuel, counted in units of work:
- * one unit per WebAssembly instruction executed, 4 more per call (host
- * imports included), one per 16 bytes of memory.fill and memory.copy, and
- * one per 16 bytes of locals a called function zeroes. Fuel is charged
+ * one unit per WebAssembly instruction executed, more for those that cost
+ * more (a call 8 more, host imports included; entering a loop 6 more;
+ * br_table and float sqrt and div 2 more), one per 16 bytes of memory.fill
+ * and memory.copy, and one per 16 bytes of locals a called function zeroes,
+ * so that a unit stands for about the same time whatever the work
+ * (bench/fuel measures it). Fuel is charged
  * before the work runs (a straight-line run of instructions at its start, a
  * bulk memory op before it touches memory), so the same controller on the
  * same inputs stops at the same instruction on any machine and in any

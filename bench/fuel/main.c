@@ -1,0 +1,274 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/*
+ * bench/fuel: what one fuel unit costs, and how long a process() call can
+ * really run under its budget.
+ *
+ * Fuel is roz's measure of work (roz/controller.h): one unit per WebAssembly
+ * instruction, more for the costly ones (a call 8 more, a loop entry 6,
+ * br_table and float sqrt/div 2), one per 16 bytes of memory.fill/copy or
+ * of zeroed locals. For each kind of work a hostile controller could pile up,
+ * a module does nothing else in an endless loop; the bench runs it
+ *   1. on fuel alone (ROZ_BENCH_FUEL units, no deadline) and prints the
+ *      nanoseconds per 1000 units: the cost of the unit on this machine,
+ *      per kind, the spread between kinds being what a budget in units can
+ *      promise in time;
+ *   2. on the default budgets of a 100 Hz and a 500 Hz robot, fuel alone (a
+ *      firmware without a clock), and prints the longest call against the
+ *      time the budget stands for (units x the median cost of a unit);
+ *   3. with the fuel off and the deadline of a 100 Hz and a 500 Hz robot
+ *      (half the period, the runtime's default) and prints the longest call
+ *      against the deadline.
+ * A benchmark, not a test: it prints, it never fails on a time.
+ *
+ *   roz_bench_fuel [REPEATS]
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "roz/abi.h"
+#include "roz/controller.h"
+#include "roz/hal/clock.h"
+#include "roz/hal/module.h"
+#include "ur5_manifest.h"
+
+#define ROZ_BENCH_FUEL 50000000ull
+
+/* ---- the modules ------------------------------------------------------------ */
+
+typedef struct {
+    const char *name;
+    const char *what;
+    const char *decls; /* functions, memory, table before process */
+    const char *body;  /* one repetition of the loop's work */
+    int         reps;  /* repetitions inside the loop body */
+} work_t;
+
+static const work_t works[] = {
+    { "i32_arith", "i32.add/mul/xor on locals", "",
+      "(local.set $a (i32.xor (i32.mul (i32.add (local.get $a) (i32.const 7)) (local.get $a)) "
+      "(i32.const 5)))",
+      64 },
+    { "i64_div", "i64.div_s and i64.rem_u", "",
+      "(local.set $x (i64.add (i64.div_s (local.get $x) (local.get $y)) "
+      "(i64.rem_u (local.get $x) (local.get $y))))",
+      64 },
+    { "f64_sqrt_div", "f64.sqrt and f64.div", "",
+      "(local.set $f (f64.div (f64.sqrt (local.get $f)) (f64.const 0.999)))", 64 },
+    { "f64_trunc", "checked float to int conversions", "",
+      "(local.set $a (i32.trunc_f64_s (f64.const 12345.5)))", 64 },
+    { "load_store", "i64 loads and stores", "(memory 1)",
+      "(i64.store offset=8 (i32.const 64) (i64.load offset=16 (i32.const 64)))", 64 },
+    { "select_global", "select, global.get/set", "(global $g (mut i32) (i32.const 1))",
+      "(global.set $g (select (global.get $g) (local.get $a) (local.get $a)))", 64 },
+    { "br_table", "br_table into nested blocks", "",
+      "(block $b0 (block $b1 (block $b2 (br_table $b0 $b1 $b2 (i32.and (local.get $a) "
+      "(i32.const 3))))))",
+      16 },
+    { "empty_loops", "entering loops that exit at once", "", "(loop $inner)", 64 },
+    { "back_edges", "a loop whose body is a nop", "", "(nop)", 1 },
+    { "call_empty", "calls of an empty function", "(func $nop)", "(call $nop)", 16 },
+    { "call_1000_locals", "calls of a function with 1000 i64 locals",
+      "(func $big (local i64 i64 i64 i64 i64 i64 i64 i64 i64 i64) " /* 10 declared... */
+      "(local " /* ...and 990 more: see locals_990 below */ "LOCALS990))",
+      "(call $big)", 4 },
+    { "call_indirect", "call_indirect through a table",
+      "(type $t (func)) (func $nop) (table 1 funcref) (elem (i32.const 0) $nop)",
+      "(call_indirect (type $t) (i32.const 0))", 16 },
+    { "host_sin", "host calls: math.sin", "", "(local.set $f (call $sin (local.get $f)))", 16 },
+    { "host_set", "host calls: command.set",
+      "", "(drop (call $set (i32.const 0) (local.get $f)))", 16 },
+    { "host_get", "host calls: state.get", "", "(local.set $f (call $get (i32.const 0)))", 16 },
+    { "memory_fill", "memory.fill of 1 MiB", "(memory 16)",
+      "(memory.fill (i32.const 0) (local.get $a) (i32.const 1048576))", 1 },
+    { "memory_copy", "memory.copy of 512 KiB", "(memory 16)",
+      "(memory.copy (i32.const 0) (i32.const 524288) (i32.const 524288))", 1 },
+    { "memory_fill_small", "memory.fill of 16 bytes", "(memory 1)",
+      "(memory.fill (i32.const 0) (local.get $a) (i32.const 16))", 64 },
+};
+#define N_WORKS (sizeof works / sizeof works[0])
+
+static char text[256 * 1024];
+
+/* The WAT of one work: an endless loop around reps copies of its body. */
+static void module_text(const work_t *w)
+{
+    char decls[16384];
+    size_t n = 0;
+    const char *hole = strstr(w->decls, "LOCALS990");
+
+    if (hole != NULL) {
+        n = (size_t)snprintf(decls, sizeof decls, "%.*s", (int)(hole - w->decls), w->decls);
+        for (int i = 0; i < 990; i++)
+            n += (size_t)snprintf(decls + n, sizeof decls - n, "i64 ");
+        snprintf(decls + n, sizeof decls - n, "%s", hole + strlen("LOCALS990"));
+    } else {
+        snprintf(decls, sizeof decls, "%s", w->decls);
+    }
+    n = (size_t)snprintf(text, sizeof text,
+                         "(module\n"
+                         " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))\n"
+                         " (import \"state\" \"get\" (func $get (param i32) (result f64)))\n"
+                         " (import \"math\" \"sin\" (func $sin (param f64) (result f64)))\n"
+                         " %s\n"
+                         " (func (export \"process\") (param $tick i64)\n"
+                         "  (local $a i32) (local $x i64) (local $y i64) (local $f f64)\n"
+                         "  (local.set $a (i32.const 3)) (local.set $x (i64.const 1000000007))\n"
+                         "  (local.set $y (i64.const 3)) (local.set $f (f64.const 0.5))\n"
+                         "  (loop $l\n",
+                         decls);
+    for (int r = 0; r < w->reps; r++)
+        n += (size_t)snprintf(text + n, sizeof text - n, "   %s\n", w->body);
+    snprintf(text + n, sizeof text - n, "   (br $l))))\n");
+}
+
+static uint8_t wasms[sizeof works / sizeof works[0]][64 * 1024];
+static uint8_t *wasm;
+
+static size_t build(const work_t *w)
+{
+    char dir[] = "/tmp/roz_bench_fuel_XXXXXX", path[64], err[256];
+    size_t len = 0;
+    FILE *f;
+
+    module_text(w);
+    if (mkdtemp(dir) == NULL) {
+        fprintf(stderr, "roz_bench_fuel: cannot make a temporary folder\n");
+        exit(1);
+    }
+    snprintf(path, sizeof path, "%s/%s.wat", dir, w->name);
+    f = fopen(path, "w");
+    if (f == NULL || fputs(text, f) == EOF || fclose(f) != 0) {
+        fprintf(stderr, "roz_bench_fuel: cannot write %s\n", path);
+        exit(1);
+    }
+    int rc = roz_module_read_file(path, wasms[w - works], sizeof wasms[0], &len, err, sizeof err);
+    unlink(path);
+    rmdir(dir);
+    if (rc != ROZ_OK) {
+        fprintf(stderr, "roz_bench_fuel: %s: %s\n", w->name, err);
+        exit(1);
+    }
+    return len;
+}
+
+/* ---- running ---------------------------------------------------------------- */
+
+static roz_controller_t ctl;
+static roz_abi_t abi;
+
+static double state[ROZ_CFG_MAX_STATES];
+static double targets[ROZ_CFG_MAX_COMMANDS];
+
+typedef struct {
+    uint64_t ns;    /* the longest call */
+    uint64_t units; /* what it used */
+    int      rc;
+} run_t;
+
+/* Loads the work afresh and makes `repeats` calls within `budget`; each is
+ * stopped by the budget (the work never ends). */
+static run_t run(const work_t *w, size_t len, uint64_t fuel, uint64_t deadline_ns, int repeats)
+{
+    roz_budget_t b = { fuel, deadline_ns, roz_clock_monotonic_ns, NULL };
+    run_t worst = { 0, 0, 0 };
+
+    wasm = wasms[w - works];
+
+    for (int i = 0; i < repeats; i++) {
+        roz_controller_init(&ctl);
+        roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+        abi.state = state;
+        if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK) {
+            fprintf(stderr, "roz_bench_fuel: %s: %s\n", w->name, roz_controller_error(&ctl));
+            exit(1);
+        }
+        if (roz_controller_set_budget(&ctl, &b) != ROZ_OK) {
+            fprintf(stderr, "roz_bench_fuel: bad budget\n");
+            exit(1);
+        }
+        uint64_t t0 = roz_clock_monotonic_ns(NULL);
+        int rc = roz_controller_process(&ctl, 0);
+        uint64_t dt = roz_clock_monotonic_ns(NULL) - t0;
+        if (dt > worst.ns)
+            worst = (run_t){ dt, roz_controller_fuel_used(&ctl), rc };
+        roz_controller_unload(&ctl);
+    }
+    return worst;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+int main(int argc, char **argv)
+{
+    int repeats = argc > 1 ? atoi(argv[1]) : 5;
+    static size_t lens[N_WORKS];
+    double ns_per_k[N_WORKS], sorted[N_WORKS];
+
+    if (repeats < 1)
+        repeats = 1;
+    for (size_t i = 0; i < N_WORKS; i++)
+        lens[i] = build(&works[i]);
+
+    printf("roz_bench_fuel: %d calls per figure, the slowest shown; a unit is about one "
+           "WebAssembly instruction\n\n",
+           repeats);
+    printf("1. the cost of fuel, %llu units per call, no deadline\n",
+           (unsigned long long)ROZ_BENCH_FUEL);
+    printf("   %-18s %-44s %12s\n", "work", "", "ns/1000 units");
+    for (size_t i = 0; i < N_WORKS; i++) {
+        run_t r = run(&works[i], lens[i], ROZ_BENCH_FUEL, ROZ_BUDGET_OFF, repeats);
+        ns_per_k[i] = r.units ? 1000.0 * (double)r.ns / (double)r.units : 0.0;
+        sorted[i] = ns_per_k[i];
+        printf("   %-18s %-44s %12.1f\n", works[i].name, works[i].what, ns_per_k[i]);
+    }
+    qsort(sorted, N_WORKS, sizeof sorted[0], cmp_double);
+    double median = sorted[N_WORKS / 2], slowest = sorted[N_WORKS - 1];
+    printf("   median %.1f ns, slowest %.1f ns per 1000 units (%.2fx the median)\n\n", median,
+           slowest, slowest / median);
+
+    static const unsigned rates[] = { 100, 500 };
+    printf("2. fuel alone (no clock): the default budget, ROZ_CFG_FUEL_PER_SECOND / rate\n");
+    printf("   %-18s %14s %14s %10s\n", "work", "budget stands", "longest call", "ratio");
+    for (size_t k = 0; k < 2; k++) {
+        uint64_t fuel = (uint64_t)ROZ_CFG_FUEL_PER_SECOND / rates[k];
+        double stands_ns = (double)fuel * median / 1000.0;
+        double worst_ratio = 0;
+        printf("   %u Hz: %llu units, %.0f us at the median cost\n", rates[k],
+               (unsigned long long)fuel, stands_ns / 1000.0);
+        for (size_t i = 0; i < N_WORKS; i++) {
+            run_t r = run(&works[i], lens[i], fuel, ROZ_BUDGET_OFF, repeats);
+            double ratio = (double)r.ns / stands_ns;
+            if (ratio > worst_ratio)
+                worst_ratio = ratio;
+            printf("   %-18s %11.0f us %11.0f us %9.2fx\n", works[i].name, stands_ns / 1000.0,
+                   (double)r.ns / 1000.0, ratio);
+        }
+        printf("   %u Hz worst: %.2fx the time the budget stands for\n", rates[k], worst_ratio);
+    }
+
+    printf("\n3. deadline alone (fuel off): half the period, the runtime's default; the clock\n"
+           "   is read every %u units\n",
+           (unsigned)ROZ_CFG_DEADLINE_CHECK_UNITS);
+    printf("   %-18s %14s %14s %10s\n", "work", "deadline", "longest call", "ratio");
+    for (size_t k = 0; k < 2; k++) {
+        uint64_t deadline = 1000000000ull / rates[k] / 2u;
+        double worst_ratio = 0;
+        for (size_t i = 0; i < N_WORKS; i++) {
+            run_t r = run(&works[i], lens[i], ROZ_BUDGET_OFF, deadline, repeats);
+            double ratio = (double)r.ns / (double)deadline;
+            if (ratio > worst_ratio)
+                worst_ratio = ratio;
+            printf("   %-18s %11.0f us %11.0f us %9.2fx\n", works[i].name,
+                   (double)deadline / 1000.0, (double)r.ns / 1000.0, ratio);
+        }
+        printf("   %u Hz worst: %.2fx the deadline\n", rates[k], worst_ratio);
+    }
+    return 0;
+}
