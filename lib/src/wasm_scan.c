@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "roz/abi.h"
+#include "roz/config.h"
 #include "roz/error.h"
 
 /* ---- private: a cursor over the module bytes ----------------------------- */
@@ -341,7 +342,9 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
 #define SCAN_MAX_GLOBALS 1024 /* globals */
 #define SCAN_MAX_LOCALS 4096  /* parameters and locals per function */
 #define SCAN_MAX_STACK  1024  /* operand stack height per function */
-#define SCAN_MAX_DEPTH  256   /* nested blocks: wasm3 compiles them recursively */
+/* control frames: the function body and its nested blocks (wasm3 compiles
+ * those recursively: this bounds the loader's C stack, roz/config.h) */
+#define SCAN_MAX_DEPTH  (ROZ_CFG_WASM_MAX_BLOCK_DEPTH + 1)
 #define SCAN_MAX_PARAMS 255   /* parameters per function type */
 
 enum { T_ANY = 0, T_I32 = 0x7f, T_I64 = 0x7e, T_F32 = 0x7d, T_F64 = 0x7c };
@@ -353,6 +356,13 @@ typedef struct {
     uint32_t height;     /* operand stack height at entry */
 } frame_t;
 
+#define SCAN_MAX_EXPORTS 1024 /* exports per module */
+
+typedef struct {
+    uint32_t at;  /* offset of the name's length in the export section */
+    uint32_t idx; /* export index */
+} export_ref_t;
+
 typedef struct {
     const uint8_t *types, *types_end;        /* type section body */
     uint32_t n_types;
@@ -363,14 +373,19 @@ typedef struct {
     uint8_t  global_type[SCAN_MAX_GLOBALS];
     uint8_t  global_mut[SCAN_MAX_GLOBALS];
     int      has_memory, has_table;
-    /* the function being checked */
-    uint32_t f, at;
-    uint32_t n_locals;
-    uint8_t  local_type[SCAN_MAX_LOCALS];
-    uint32_t height;
-    uint8_t  stack[SCAN_MAX_STACK];
-    uint32_t depth;
-    frame_t  ctl[SCAN_MAX_DEPTH];
+    union {
+        struct { /* the function being checked */
+            uint32_t f, at;
+            uint32_t n_locals;
+            uint8_t  local_type[SCAN_MAX_LOCALS];
+            uint32_t height;
+            uint8_t  stack[SCAN_MAX_STACK];
+            uint32_t depth;
+            frame_t  ctl[SCAN_MAX_DEPTH];
+        };
+        /* the exports, once every body is checked (check_exports) */
+        export_ref_t export_refs[SCAN_MAX_EXPORTS];
+    };
     char    *err;
     size_t   errlen;
 } vctx_t;
@@ -614,8 +629,15 @@ static int check_body(vctx_t *v, cursor_t *c)
                                        "(multi-value blocks are not accepted)", NULL, NULL);
                 if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
                     return ROZ_EINVAL;
-                if (v->depth >= SCAN_MAX_DEPTH)
-                    return bad_body(v, "blocks nested deeper than the limit (256)", NULL, NULL);
+                if (v->depth >= SCAN_MAX_DEPTH) {
+                    snprintf(v->err, v->errlen,
+                             "function %u, offset %u: blocks nested deeper than "
+                             "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
+                             "recursively on the loader's C stack)",
+                             (unsigned)v->f, (unsigned)v->at,
+                             (unsigned)ROZ_CFG_WASM_MAX_BLOCK_DEPTH);
+                    return ROZ_EINVAL;
+                }
                 v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
                 break;
             }
@@ -983,15 +1005,8 @@ static int check_code(const module_t *m, const uint8_t *imports, const uint8_t *
 /* Export names must be unique (the specification); wasm3 would keep them
  * all and m3_FindFunction would return the first function with the name,
  * which need not be the export roz checked. Duplicates are found by sorting
- * the names (heapsort: no recursion, no heap, O(n log n) comparisons). */
-#define SCAN_MAX_EXPORTS 1024
-
-typedef struct {
-    uint32_t at;  /* offset of the name's length in the export section */
-    uint32_t idx; /* export index */
-} export_ref_t;
-
-static _Thread_local export_ref_t export_refs[SCAN_MAX_EXPORTS];
+ * the names (heapsort: no recursion, no heap, O(n log n) comparisons) in
+ * vctx.export_refs, over the body checker's scratch. */
 
 static name_t export_name(const uint8_t *sec, const uint8_t *end, const export_ref_t *r)
 {
@@ -1032,7 +1047,7 @@ static void sift_down(export_ref_t *r, size_t root, size_t n, const uint8_t *sec
 static int check_exports(const module_t *m, const uint8_t *sec, const uint8_t *end,
                          uint32_t *process_index, char *err, size_t errlen)
 {
-    export_ref_t *refs = export_refs;
+    export_ref_t *refs = vctx.export_refs;
     uint32_t n = 0, found = 0, pidx = 0;
     uint8_t pkind = 0;
     char shown[48], sig[40];
