@@ -98,7 +98,7 @@
  *  bytes a level, 272 for if/else, in the normal build; about 1 KiB under
  *  ASan), so this bounds the stack roz_controller_load() needs. With the
  *  default, loading any accepted module needs at most about 28 KiB of C
- *  stack below the caller's frame (about 115 KiB under ASan): it fits a
+ *  stack below the caller's frame (about 101 KiB under ASan): it fits a
  *  64 KiB thread (256 KiB under ASan) together with the thread's static TLS,
  *  about 22 KiB of which is roz's validator (glibc carves static TLS out of
  *  every thread's stack). A C switch of N cases compiles to N + 1 nested
