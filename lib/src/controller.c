@@ -296,7 +296,8 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
      *    links to exactly the host function whose signature roz checked.
      *  - no other lookup by name (m3_FindGlobal, m3_GetFunctionName) is
      *    used. */
-    if (process_index >= mod->numFunctions || mod->startFunction >= 0)
+    if (process_index < mod->numFuncImports || process_index >= mod->numFunctions ||
+        mod->startFunction >= 0)
         return fail(c, ROZ_EINVAL, "cannot find process", "engine disagrees with the scan");
     fn = &mod->functions[process_index];
     if (fn->compiled == NULL || fn->module != mod || mod->runtime != rt ||
