@@ -239,6 +239,7 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     IM3Module mod = NULL;
     IM3Function fn = NULL;
     M3Result r;
+    uint32_t process_index = 0;
     char why[ROZ_CFG_ERROR_LEN];
 
     _Static_assert(sizeof host_functions / sizeof host_functions[0] == 12,
@@ -254,7 +255,7 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
                  (unsigned)ROZ_CFG_WASM_MAX_MODULE_BYTES);
         return fail(c, ROZ_EINVAL, "module too large", why);
     }
-    if (roz__wasm_scan(wasm, len, why, sizeof why) != ROZ_OK)
+    if (roz__wasm_scan(wasm, len, &process_index, why, sizeof why) != ROZ_OK)
         return fail(c, ROZ_EINVAL, why, NULL);
 
     env = m3_NewEnvironment();
@@ -298,9 +299,32 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     r = m3_CompileModule(mod);
     if (r != m3Err_none)
         return fail(c, ROZ_EINVAL, "cannot compile module", r);
-    r = m3_FindFunction(&fn, rt, "process");
-    if (r != m3Err_none || fn == NULL)
-        return fail(c, ROZ_EINVAL, "no export \"process\"", r);
+    /* Names (audit, issue 10): nothing roz runs is found by a name wasm3
+     * resolves on its own.
+     *  - process is called as the function index roz__wasm_scan checked,
+     *    never through m3_FindFunction (which returns the first function
+     *    with the name, from any export or the name section). The export's
+     *    names are unique, UTF-8 and NUL-free (wasm_scan.c); the name
+     *    section, like every custom section, is never parsed by wasm3
+     *    (cmake/wasm3/30-custom-sections.patch). m3_FindFunction also
+     *    compiles the function (m3_CompileModule above compiled them all)
+     *    and runs a start function (roz refuses those: checked again here).
+     *  - imports are linked by m3_LinkRawFunctionEx, which compares wasm3's
+     *    NUL-ended copies of module and field names with strcmp. roz checked
+     *    every import byte for byte against roz_abi_imports[] and refused
+     *    names with a NUL byte, so strcmp sees the same bytes: each import
+     *    links to exactly the host function whose signature roz checked.
+     *  - no other lookup by name (m3_FindGlobal, m3_GetFunctionName) is
+     *    used. */
+    if (process_index < mod->numFuncImports || process_index >= mod->numFunctions ||
+        mod->startFunction >= 0)
+        return fail(c, ROZ_EINVAL, "cannot find process", "engine disagrees with the scan");
+    fn = &mod->functions[process_index];
+    if (fn->compiled == NULL || fn->module != mod || mod->runtime != rt ||
+        fn->funcType == NULL || fn->funcType->numArgs != 1 || fn->funcType->numRets != 0 ||
+        d_FuncArgType(fn->funcType, 0) != c_m3Type_i64)
+        return fail(c, ROZ_EINVAL, "cannot find process",
+                    "the engine's function is not the compiled process(i64) roz checked");
     c->abi = abi;
     c->process = fn;
     return ROZ_OK;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "roz/abi.h"
+#include "roz/config.h"
 #include "roz/error.h"
 
 /* ---- private: a cursor over the module bytes ----------------------------- */
@@ -51,20 +52,110 @@ static void skip(cursor_t *c, uint32_t n)
     c->p += n;
 }
 
-/* Reads a name into out (truncated, always NUL-terminated). */
-static void rd_name(cursor_t *c, char *out, size_t outlen)
+/* ---- private: names ----------------------------------------------------- */
+
+/* Names (imports, exports, custom sections) are kept as the module's own
+ * bytes: every comparison roz makes is on exactly the bytes wasm3 copies.
+ * wasm3 keeps names as C strings (a copy ended by a NUL) and compares them
+ * with strcmp, so a name with a NUL byte would compare equal to its prefix
+ * there: such names are refused, as are names that are not UTF-8 (the
+ * specification's rule) and names longer than wasm3's own limit. */
+#define SCAN_MAX_NAME 10000 /* bytes; wasm3 refuses longer names (d_m3MaxSaneUtf8Length) */
+
+typedef struct {
+    const uint8_t *s;
+    uint32_t       n;
+} name_t;
+
+static name_t rd_name(cursor_t *c)
 {
+    name_t nm = { NULL, 0 };
     uint32_t n = rd_u32(c);
     const uint8_t *s = c->p;
     skip(c, n);
-    if (c->bad) {
-        out[0] = '\0';
-        return;
+    if (!c->bad) {
+        nm.s = s;
+        nm.n = n;
     }
-    size_t k = n < outlen - 1 ? n : outlen - 1;
-    for (size_t i = 0; i < k; i++)
-        out[i] = (s[i] >= 0x20 && s[i] < 0x7f) ? (char)s[i] : '?';
+    return nm;
+}
+
+static int name_is(name_t nm, const char *want)
+{
+    size_t n = strlen(want);
+    return nm.n == n && memcmp(nm.s, want, n) == 0;
+}
+
+/* Well-formed UTF-8 as Unicode defines it: shortest form, no surrogates,
+ * at most U+10FFFF. */
+static int utf8_valid(const uint8_t *s, uint32_t n)
+{
+    uint32_t i = 0;
+    while (i < n) {
+        uint8_t b = s[i];
+        uint32_t k, cp;
+        if (b < 0x80) {
+            i++;
+            continue;
+        }
+        if (b >= 0xc2 && b <= 0xdf) {
+            k = 1;
+            cp = b & 0x1fu;
+        } else if (b >= 0xe0 && b <= 0xef) {
+            k = 2;
+            cp = b & 0x0fu;
+        } else if (b >= 0xf0 && b <= 0xf4) {
+            k = 3;
+            cp = b & 0x07u;
+        } else {
+            return 0;
+        }
+        if (n - i - 1 < k)
+            return 0;
+        for (uint32_t j = 1; j <= k; j++) {
+            if ((s[i + j] & 0xc0) != 0x80)
+                return 0;
+            cp = (cp << 6) | (s[i + j] & 0x3fu);
+        }
+        if ((k == 2 && cp < 0x800) || (k == 3 && cp < 0x10000) || cp > 0x10ffff ||
+            (cp >= 0xd800 && cp <= 0xdfff))
+            return 0;
+        i += k + 1;
+    }
+    return 1;
+}
+
+/* Why a name cannot be accepted, or NULL. */
+static const char *name_problem(name_t nm)
+{
+    if (nm.n > SCAN_MAX_NAME)
+        return "is longer than 10000 bytes (wasm3's limit; a roz limitation)";
+    if (memchr(nm.s, 0, nm.n) != NULL)
+        return "contains a NUL byte (wasm3 would read it as a shorter name)";
+    if (!utf8_valid(nm.s, nm.n))
+        return "is not valid UTF-8";
+    return NULL;
+}
+
+/* A name for a message: printable ASCII kept, every other byte as \xNN,
+ * cut with "..." to fit. */
+static const char *show(name_t nm, char *out, size_t outlen)
+{
+    size_t k = 0;
+    for (uint32_t i = 0; i < nm.n; i++) {
+        uint8_t b = nm.s[i];
+        size_t need = (b >= 0x20 && b < 0x7f && b != '\\' && b != '"') ? 1 : 4;
+        if (k + need + 4 > outlen) {
+            memcpy(out + k, "...", 4);
+            return out;
+        }
+        if (need == 1)
+            out[k++] = (char)b;
+        else
+            k += (size_t)snprintf(out + k, outlen - k, "\\x%02x", b);
+    }
     out[k] = '\0';
+    return out;
 }
 
 static char type_letter(uint8_t t)
@@ -251,7 +342,9 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
 #define SCAN_MAX_GLOBALS 1024 /* globals */
 #define SCAN_MAX_LOCALS 4096  /* parameters and locals per function */
 #define SCAN_MAX_STACK  1024  /* operand stack height per function */
-#define SCAN_MAX_DEPTH  256   /* nested blocks: wasm3 compiles them recursively */
+/* control frames: the function body and its nested blocks (wasm3 compiles
+ * those recursively: this bounds the loader's C stack, roz/config.h) */
+#define SCAN_MAX_DEPTH  (ROZ_CFG_WASM_MAX_BLOCK_DEPTH + 1)
 #define SCAN_MAX_PARAMS 255   /* parameters per function type */
 
 enum { T_ANY = 0, T_I32 = 0x7f, T_I64 = 0x7e, T_F32 = 0x7d, T_F64 = 0x7c };
@@ -263,6 +356,13 @@ typedef struct {
     uint32_t height;     /* operand stack height at entry */
 } frame_t;
 
+#define SCAN_MAX_EXPORTS 1024 /* exports per module */
+
+typedef struct {
+    uint32_t at;  /* offset of the name's length in the export section */
+    uint32_t idx; /* export index */
+} export_ref_t;
+
 typedef struct {
     const uint8_t *types, *types_end;        /* type section body */
     uint32_t n_types;
@@ -273,14 +373,19 @@ typedef struct {
     uint8_t  global_type[SCAN_MAX_GLOBALS];
     uint8_t  global_mut[SCAN_MAX_GLOBALS];
     int      has_memory, has_table;
-    /* the function being checked */
-    uint32_t f, at;
-    uint32_t n_locals;
-    uint8_t  local_type[SCAN_MAX_LOCALS];
-    uint32_t height;
-    uint8_t  stack[SCAN_MAX_STACK];
-    uint32_t depth;
-    frame_t  ctl[SCAN_MAX_DEPTH];
+    union {
+        struct { /* the function being checked */
+            uint32_t f, at;
+            uint32_t n_locals;
+            uint8_t  local_type[SCAN_MAX_LOCALS];
+            uint32_t height;
+            uint8_t  stack[SCAN_MAX_STACK];
+            uint32_t depth;
+            frame_t  ctl[SCAN_MAX_DEPTH];
+        };
+        /* the exports, once every body is checked (check_exports) */
+        export_ref_t export_refs[SCAN_MAX_EXPORTS];
+    };
     char    *err;
     size_t   errlen;
 } vctx_t;
@@ -524,8 +629,15 @@ static int check_body(vctx_t *v, cursor_t *c)
                                        "(multi-value blocks are not accepted)", NULL, NULL);
                 if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
                     return ROZ_EINVAL;
-                if (v->depth >= SCAN_MAX_DEPTH)
-                    return bad_body(v, "blocks nested deeper than the limit (256)", NULL, NULL);
+                if (v->depth >= SCAN_MAX_DEPTH) {
+                    snprintf(v->err, v->errlen,
+                             "function %u, offset %u: blocks nested deeper than "
+                             "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
+                             "recursively on the loader's C stack)",
+                             (unsigned)v->f, (unsigned)v->at,
+                             (unsigned)ROZ_CFG_WASM_MAX_BLOCK_DEPTH);
+                    return ROZ_EINVAL;
+                }
                 v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
                 break;
             }
@@ -888,9 +1000,122 @@ static int check_code(const module_t *m, const uint8_t *imports, const uint8_t *
     return ROZ_OK;
 }
 
+/* ---- private: exports --------------------------------------------------- */
+
+/* Export names must be unique (the specification); wasm3 would keep them
+ * all and m3_FindFunction would return the first function with the name,
+ * which need not be the export roz checked. Duplicates are found by sorting
+ * the names (heapsort: no recursion, no heap, O(n log n) comparisons) in
+ * vctx.export_refs, over the body checker's scratch. */
+
+static name_t export_name(const uint8_t *sec, const uint8_t *end, const export_ref_t *r)
+{
+    cursor_t c = { sec + r->at, end, 0 };
+    return rd_name(&c);
+}
+
+static int name_cmp(name_t a, name_t b)
+{
+    int d = memcmp(a.s, b.s, a.n < b.n ? a.n : b.n);
+    if (d != 0)
+        return d;
+    return a.n < b.n ? -1 : a.n > b.n;
+}
+
+static void sift_down(export_ref_t *r, size_t root, size_t n, const uint8_t *sec,
+                      const uint8_t *end)
+{
+    for (;;) {
+        size_t child = 2 * root + 1;
+        if (child >= n)
+            return;
+        if (child + 1 < n && name_cmp(export_name(sec, end, &r[child]),
+                                      export_name(sec, end, &r[child + 1])) < 0)
+            child++;
+        if (name_cmp(export_name(sec, end, &r[root]), export_name(sec, end, &r[child])) >= 0)
+            return;
+        export_ref_t t = r[root];
+        r[root] = r[child];
+        r[child] = t;
+        root = child;
+    }
+}
+
+/* Names, uniqueness, and the export "process": a function defined in the
+ * module of type (i64) -> (), whose function index goes to *process_index.
+ * The kinds and indices of all exports were checked with the code. */
+static int check_exports(const module_t *m, const uint8_t *sec, const uint8_t *end,
+                         uint32_t *process_index, char *err, size_t errlen)
+{
+    export_ref_t *refs = vctx.export_refs;
+    uint32_t n = 0, found = 0, pidx = 0;
+    uint8_t pkind = 0;
+    char shown[48], sig[40];
+
+    if (sec != NULL) {
+        cursor_t c = { sec, end, 0 };
+        n = rd_u32(&c);
+        if (n > SCAN_MAX_EXPORTS)
+            FAIL("%u exports, more than %u (a roz limitation)", (unsigned)n,
+                 (unsigned)SCAN_MAX_EXPORTS);
+        for (uint32_t e = 0; e < n; e++) {
+            const char *why;
+            refs[e] = (export_ref_t){ (uint32_t)(c.p - sec), e };
+            name_t nm = rd_name(&c);
+            uint8_t kind = rd_byte(&c);
+            uint32_t idx = rd_u32(&c);
+            if (c.bad)
+                FAIL("malformed export section"); /* checked before: not reached */
+            if ((why = name_problem(nm)) != NULL)
+                FAIL("export %u: its name \"%s\" %s", (unsigned)e, show(nm, shown, sizeof shown),
+                     why);
+            if (name_is(nm, "process")) {
+                found = 1;
+                pkind = kind;
+                pidx = idx;
+            }
+        }
+    }
+    /* heapsort by name; equal names end up next to each other */
+    for (size_t i = n / 2; i-- > 0;)
+        sift_down(refs, i, n, sec, end);
+    for (size_t i = n; i-- > 1;) {
+        export_ref_t t = refs[0];
+        refs[0] = refs[i];
+        refs[i] = t;
+        sift_down(refs, 0, i, sec, end);
+    }
+    for (uint32_t i = 1; i < n; i++) {
+        name_t a = export_name(sec, end, &refs[i - 1]), b = export_name(sec, end, &refs[i]);
+        if (name_cmp(a, b) == 0) {
+            uint32_t first = refs[i - 1].idx < refs[i].idx ? refs[i - 1].idx : refs[i].idx;
+            uint32_t second = refs[i - 1].idx ^ refs[i].idx ^ first;
+            FAIL("export %u: duplicate export name \"%s\" (also export %u); export names "
+                 "must be unique", (unsigned)second, show(b, shown, sizeof shown),
+                 (unsigned)first);
+        }
+    }
+    if (!found)
+        FAIL("no export \"process\": a controller must export process(i64 tick)");
+    if (pkind != 0)
+        FAIL("export \"process\" is not a function");
+    if (pidx < m->n_func_imports)
+        FAIL("export \"process\" is imported function %u; process must be defined in the "
+             "module", (unsigned)pidx);
+    uint32_t type_idx = 0;
+    if (func_type(m, pidx, &type_idx) != ROZ_OK ||
+        type_signature(m, type_idx, sig, sizeof sig) != ROZ_OK)
+        FAIL("export \"process\": malformed function index %u", (unsigned)pidx);
+    if (strcmp(sig, "v(I)") != 0)
+        FAIL("export \"process\" has signature %s, expected v(I): process(i64 tick)", sig);
+    *process_index = pidx;
+    return ROZ_OK;
+}
+
 /* ---- public -------------------------------------------------------------- */
 
-int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
+int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, char *err,
+                   size_t errlen)
 {
     static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     module_t m = { 0 };
@@ -923,6 +1148,19 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
         case 7: exports = body; exports_end = body + size; break;
         case 8: has_start = 1; break;
         case 9: elems = body; elems_end = body + size; break;
+        case 0: { /* custom: a well-formed name; the content never reaches wasm3 */
+            cursor_t cc = { body, body + size, 0 };
+            char shown[48];
+            const char *why;
+            name_t nm = rd_name(&cc);
+            if (cc.bad)
+                FAIL("custom section at offset %u: malformed name",
+                     (unsigned)(body - wasm));
+            if ((why = name_problem(nm)) != NULL)
+                FAIL("custom section at offset %u: its name \"%s\" %s",
+                     (unsigned)(body - wasm), show(nm, shown, sizeof shown), why);
+            break;
+        }
         default: break;
         }
     }
@@ -935,22 +1173,36 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
     if (check_tables(tables, tables_end, elems, elems_end, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
 
-    /* Pass 2: imports. */
+    /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
+     * by the same bytes, see lib/src/controller.c). */
     if (imports != NULL) {
         cursor_t ic = { imports, imports_end, 0 };
         uint32_t n = rd_u32(&ic);
         for (uint32_t i = 0; i < n; i++) {
             char mod[48], name[48], sig[40];
-            rd_name(&ic, mod, sizeof mod);
-            rd_name(&ic, name, sizeof name);
+            const char *why;
+            name_t nm_mod = rd_name(&ic), nm_name = rd_name(&ic);
             uint8_t kind = rd_byte(&ic);
             if (ic.bad)
                 FAIL("malformed import section");
+            if ((why = name_problem(nm_mod)) != NULL)
+                FAIL("import %u: its module name \"%s\" %s", (unsigned)i,
+                     show(nm_mod, mod, sizeof mod), why);
+            if ((why = name_problem(nm_name)) != NULL)
+                FAIL("import %u: its name \"%s\" %s", (unsigned)i, show(nm_name, name, sizeof name),
+                     why);
+            show(nm_mod, mod, sizeof mod);
+            show(nm_name, name, sizeof name);
             if (kind != 0)
                 FAIL("import %s.%s is %s; a controller may import only the roz ABI's "
                      "functions and must define its own memory", mod, name, kind_name(kind));
             uint32_t type_idx = rd_u32(&ic);
-            const roz_abi_import_t *imp = roz_abi_find_import(mod, name);
+            const roz_abi_import_t *imp = NULL;
+            for (size_t k = 0; k < roz_abi_import_count && imp == NULL; k++) {
+                if (name_is(nm_mod, roz_abi_imports[k].module) &&
+                    name_is(nm_name, roz_abi_imports[k].name))
+                    imp = &roz_abi_imports[k];
+            }
             if (imp == NULL)
                 FAIL("unknown import %s.%s: not part of the roz controller ABI", mod, name);
             if (type_signature(&m, type_idx, sig, sizeof sig) != ROZ_OK)
@@ -966,27 +1218,6 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen)
     if (check_code(&m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
 
-    /* Pass 4: export process(i64) -> (). */
-    if (exports != NULL) {
-        cursor_t ec = { exports, exports_end, 0 };
-        uint32_t n = rd_u32(&ec);
-        for (uint32_t i = 0; i < n && !ec.bad; i++) {
-            char name[48], sig[40];
-            uint32_t type_idx = 0;
-            rd_name(&ec, name, sizeof name);
-            uint8_t kind = rd_byte(&ec);
-            uint32_t idx = rd_u32(&ec);
-            if (ec.bad || strcmp(name, "process") != 0)
-                continue;
-            if (kind != 0)
-                FAIL("export \"process\" is not a function");
-            if (func_type(&m, idx, &type_idx) != ROZ_OK ||
-                type_signature(&m, type_idx, sig, sizeof sig) != ROZ_OK)
-                FAIL("export \"process\": malformed function index %u", (unsigned)idx);
-            if (strcmp(sig, "v(I)") != 0)
-                FAIL("export \"process\" has signature %s, expected v(I): process(i64 tick)", sig);
-            return ROZ_OK;
-        }
-    }
-    FAIL("no export \"process\": a controller must export process(i64 tick)");
+    /* Pass 4: export names, and process(i64) -> (). */
+    return check_exports(&m, exports, exports_end, process_index, err, errlen);
 }

@@ -9,10 +9,14 @@
 #include <stdint.h>
 
 /* Checks that the module imports only functions of the roz ABI with their
- * exact signatures, exports process(i64), has no start function, and has at
- * most one table of at most ROZ_CFG_WASM_MAX_TABLE_ENTRIES entries that
- * every element segment fits.
+ * exact signatures (names compared byte for byte), exports process(i64)
+ * once, under export names that are unique, valid UTF-8 and free of NUL
+ * bytes, has no start function, and has at most one table of at most
+ * ROZ_CFG_WASM_MAX_TABLE_ENTRIES entries that every element segment fits.
+ * On ROZ_OK, *process_index is the function index of the export "process"
+ * (a function defined in the module, never an import): the one to call.
  * Returns ROZ_OK, or ROZ_EINVAL with a message in err. */
-int roz__wasm_scan(const uint8_t *wasm, size_t len, char *err, size_t errlen);
+int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, char *err,
+                   size_t errlen);
 
 #endif /* ROZ_WASM_SCAN_H */

@@ -92,6 +92,21 @@
 #define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 4096
 #endif
 
+/** Deepest nesting of blocks (block, loop, if) in a controller function,
+ *  counting the outermost block as 1. Range 1..255. wasm3 compiles nested
+ *  blocks recursively on the C stack of the thread that loads (about 200
+ *  bytes a level, 272 for if/else, in the normal build; about 1 KiB under
+ *  ASan), so this bounds the stack roz_controller_load() needs. With the
+ *  default, loading any accepted module needs at most about 28 KiB of C
+ *  stack below the caller's frame (about 101 KiB under ASan): it fits a
+ *  64 KiB thread (256 KiB under ASan) together with the thread's static TLS,
+ *  about 22 KiB of which is roz's validator (glibc carves static TLS out of
+ *  every thread's stack). A C switch of N cases compiles to N + 1 nested
+ *  blocks. Deeper nesting is refused with a message naming this option. */
+#ifndef ROZ_CFG_WASM_MAX_BLOCK_DEPTH
+#define ROZ_CFG_WASM_MAX_BLOCK_DEPTH 100
+#endif
+
 /** Largest controller module accepted, bytes. Range 64..67108864. */
 #ifndef ROZ_CFG_WASM_MAX_MODULE_BYTES
 #define ROZ_CFG_WASM_MAX_MODULE_BYTES 1048576
@@ -149,6 +164,9 @@
 #error "ROZ_CFG_PROBLEM_LEN must be in 64..65536"
 #endif
 
+#if ROZ_CFG_WASM_MAX_BLOCK_DEPTH < 1 || ROZ_CFG_WASM_MAX_BLOCK_DEPTH > 255
+#error "ROZ_CFG_WASM_MAX_BLOCK_DEPTH must be in 1..255"
+#endif
 #if ROZ_CFG_WASM_STACK_BYTES < 4096 || ROZ_CFG_WASM_STACK_BYTES > 16777216
 #error "ROZ_CFG_WASM_STACK_BYTES must be in 4096..16777216"
 #endif
