@@ -51,7 +51,7 @@ if [ "${ROZ_DIFF_SMITH:-1}" != 0 ]; then
             "$wt" smith "$sm/seed.bin" -o "$sm/in/smith$i.wasm" \
                 --exports "$sm/exports.wasm" --max-imports 0 --max-memories 1 \
                 --max-tables 1 --max-memory32-bytes 1048576 --min-funcs 1 \
-                --canonicalize-nans true --ensure-termination true \
+                --canonicalize-nans true --ensure-termination \
                 --bulk-memory-enabled true --reference-types-enabled false \
                 --multi-value-enabled false --simd-enabled false --relaxed-simd-enabled false \
                 --saturating-float-to-int-enabled true --sign-extension-ops-enabled true \
