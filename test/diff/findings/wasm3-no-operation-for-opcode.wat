@@ -1,3 +1,15 @@
+;; SPDX-License-Identifier: Apache-2.0
+;; Finding of the long differential run (fuzz/diff/long_run.sh, smith stage;
+;; 3 of 40 wasm-tools smith 1.263.0 modules, MVP + bulk memory), partly
+;; minimised (line deletion, 1224 -> 591 lines): roz's validator accepts
+;; this module (wasm-validate does too), but wasm3 refuses to compile it:
+;; "no operation found for opcode" (m3_CompileModule). A controller roz
+;; accepts must load; either roz's validator should refuse what wasm3 cannot
+;; compile, or wasm3 lacks an operation (every opcode here also appears in
+;; modules wasm3 compiles, so likely an opcode in a context, e.g. dead code
+;; after br or a loop with a result).
+;; Run: wat2wasm this.wat -o s.wasm && build/test/diff/roz_wasm_run s.wasm
+;;      (prints "wasm3-refused: no operation found for opcode", exit 3)
 (module
   (type (;0;) (func (param i64) (result i64)))
   (type (;1;) (func (param i64)))
