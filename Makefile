@@ -24,7 +24,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build demo test test-asan test-tsan bench clean
+.PHONY: all setup build demo test test-asan test-tsan bench fuzz-diff clean
 
 all: build
 
@@ -72,6 +72,13 @@ test: test-asan test-tsan build
 # Benchmarks print figures and ratios; they are not tests.
 bench: build
 	$(BUILD)/bench/roz_bench_tick 20000
+
+# The long differential run (fuzz/README.md): generated and wasm-tools smith
+# modules on roz's wasm3 against wasm-interp, then fuzz_controller from them
+# when build-asan has it. FUZZ_DIFF_SECONDS per stage.
+FUZZ_DIFF_SECONDS ?= 600
+fuzz-diff: build
+	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
 	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan
