@@ -330,17 +330,17 @@ static void *loop_recursion_thread(void *arg)
 
 static void test_fuel_stack_at_loop_entry(void **st)
 {
-    /* every level enters 200 nested loops, then calls itself: most of the C
+    /* every level enters 90 nested loops, then calls itself: most of the C
      * stack it takes is op_Loop frames, which the old guard never saw */
-    static char body[200 * 16 + 256];
+    static char body[90 * 16 + 256];
     size_t n = 0;
     pthread_attr_t attr;
     pthread_t th;
     (void)st;
-    for (int i = 0; i < 200; i++)
+    for (int i = 0; i < 90; i++)
         n += (size_t)snprintf(body + n, sizeof body - n, "(loop ");
     n += (size_t)snprintf(body + n, sizeof body - n, "(call $deep)");
-    for (int i = 0; i < 200; i++)
+    for (int i = 0; i < 90; i++)
         n += (size_t)snprintf(body + n, sizeof body - n, ")");
     static char decls[sizeof body + 64];
     snprintf(decls, sizeof decls, "(func $deep %s)", body);
@@ -351,7 +351,7 @@ static void test_fuel_stack_at_loop_entry(void **st)
     assert_int_equal(pthread_create(&th, &attr, loop_recursion_thread, NULL), 0);
     assert_int_equal(pthread_join(th, NULL), 0);
     pthread_attr_destroy(&attr);
-    print_message("recursion through 200 nested loops: stopped %zu bytes deep (limit %u): %s\n",
+    print_message("recursion through 90 nested loops: stopped %zu bytes deep (limit %u): %s\n",
                   loops_stack, (unsigned)ROZ_CFG_NATIVE_STACK_BYTES, roz_controller_error(&ctl));
     assert_int_equal(loops_rc, ROZ_EFAULT);
     assert_true(strstr(roz_controller_error(&ctl), "native stack limit") != NULL);

@@ -16,10 +16,10 @@
  *   name() =>                     (no result)
  *   name() => error: [trap] integer divide by zero
  *
- * Like roz, a hook on every call and loop back-edge (wasm3's m3_Yield)
- * bounds the work of each call (fuel) and the C stack depth, so a module
- * that loops or recurses too deep stops with a trap instead of hanging or
- * crashing this process.
+ * Like roz, roz's metering hooks (cmake/wasm3/02-metering.patch; defined
+ * here, as lib/src/controller.c is not linked) bound the work of each call
+ * (fuel) and the C stack depth, so a module that loops or recurses too deep
+ * stops with a trap instead of hanging or crashing this process.
  *
  * Exit status: 0 ran, 2 refused by roz's validator (message on stdout as
  * "roz-refused: ..."), 3 refused by wasm3 (parse, load, link or compile),
@@ -32,10 +32,12 @@
 #include "roz/abi.h"
 #include "roz/config.h"
 #include "roz/error.h"
+#include "m3_env.h"
 #include "wasm3.h"
 #include "wasm_scan.h"
 
-#define FUEL_PER_CALL 200000000u /* hook calls (calls + back-edges) per export */
+#define FUEL_PER_CALL 200000000u /* fuel units (about instructions) per export */
+#define SLICE 65536              /* units between two calls of the refuel hook */
 
 static uint64_t units;
 static uintptr_t stack_base;
@@ -43,17 +45,22 @@ static uintptr_t stack_base;
 static const char fuel_trap[] = "[trap] fuel exhausted";
 static const char stack_trap[] = "[trap] native stack limit";
 
-/* The same hook as lib/src/controller.c (which is not linked here). */
-M3Result m3_Yield(void)
-{
-    uintptr_t here = (uintptr_t)__builtin_frame_address(0);
-    size_t depth = here < stack_base ? stack_base - here : here - stack_base;
+/* roz's metering hooks, as lib/src/controller.c defines them (without a
+ * deadline): fuel in slices, the C stack at every function and loop entry. */
+M3Result roz__wasm3_refuel(IM3Runtime rt);
+M3Result roz__wasm3_stack(IM3Runtime rt, void *here);
 
-    if (stack_base != 0 && depth > ROZ_CFG_NATIVE_STACK_BYTES)
-        return stack_trap;
-    if (++units > FUEL_PER_CALL)
-        return fuel_trap;
-    return m3Err_none;
+M3Result roz__wasm3_refuel(IM3Runtime rt)
+{
+    units += SLICE + (uint64_t)(-rt->rozFuel);
+    rt->rozFuel = units > FUEL_PER_CALL ? 0 : SLICE;
+    return units > FUEL_PER_CALL ? fuel_trap : m3Err_none;
+}
+
+M3Result roz__wasm3_stack(IM3Runtime rt, void *here)
+{
+    rt->rozStackLow = here;
+    return stack_base - (uintptr_t)here > ROZ_CFG_NATIVE_STACK_BYTES ? stack_trap : m3Err_none;
 }
 
 /* Every import returns the zero of its result type (or nothing). */
@@ -120,8 +127,9 @@ static void call_export(IM3Runtime rt, const char *name)
         return; /* wasm-interp --run-all-exports skips these too */
     units = 0;
     stack_base = (uintptr_t)__builtin_frame_address(0);
+    rt->rozFuel = SLICE;
+    rt->rozStackLow = (void *)stack_base;
     M3Result r = m3_Call(fn, 0, NULL);
-    stack_base = 0;
     if (r != m3Err_none) {
         printf("%s() => error: %s\n", name, r);
         return;
@@ -161,7 +169,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "%s: cannot read %s\n", argv[0], argv[1]);
         return 1;
     }
-    if (roz__wasm_scan(wasm, len, err, sizeof err) != ROZ_OK) {
+    uint32_t process_index;
+    if (roz__wasm_scan(wasm, len, &process_index, err, sizeof err) != ROZ_OK) {
         printf("roz-refused: %s\n", err);
         free(wasm);
         return 2;
