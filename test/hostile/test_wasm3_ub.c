@@ -771,6 +771,143 @@ static void test_straight_line_memory_ops_small_stack(void **st)
     assert_int_equal(pop_u32(), 12345 & 0xff);
 }
 
+/* ---- traps below process(), after host calls ----------------------------- */
+
+static uint8_t file_buf[64 * 1024];
+
+static void load_file(const char *name)
+{
+    char path[512];
+    size_t len;
+    FILE *f;
+
+    snprintf(path, sizeof path, "%s/hostile_%s.wasm", ROZ_HOSTILE_DIR, name);
+    f = fopen(path, "rb");
+    if (f == NULL)
+        fail_msg("cannot open %s", path);
+    len = fread(file_buf, 1, sizeof file_buf, f);
+    fclose(f);
+    assert_true(len > 0 && len < sizeof file_buf);
+    if (roz_controller_load(&ctl, file_buf, len, &abi) != ROZ_OK)
+        fail_msg("load %s: %s", name, roz_controller_error(&ctl));
+}
+
+/* What one host_trap tick leaves in the ring: the four import results, then
+ * metrics 0..251 of the 300 (the ring holds 256; the rest are dropped and
+ * counted, never a trap). */
+static void check_host_calls(uint64_t dropped_before)
+{
+    roz_metric_t mt;
+
+    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(mt.value == -1.0); /* command.set, bad index: refused */
+    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(mt.value == -1.0); /* command.set, NaN: refused */
+    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(isnan(mt.value)); /* state.get, bad index */
+    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(isnan(mt.value)); /* command.limit_min, bad index */
+    for (uint32_t i = 0; i < ROZ_CFG_TELEMETRY_RING - 4; i++) {
+        assert_true(roz_metric_ring_pop(&ring, &mt));
+        assert_true(mt.value == (double)i);
+    }
+    assert_false(roz_metric_ring_pop(&ring, &mt));
+    assert_true(ring.dropped > dropped_before);
+    assert_int_equal(abi.estop_requested, 1);
+}
+
+/* wasm3 0.5.0 moves runtime->stack to the caller's frame during a host
+ * call and puts it back when the host function returns; upstream #436 (a
+ * bad free in Runtime_Release) is the case where it is not put back. Every
+ * roz import is plain C that returns (none returns a trap, none calls back
+ * into the engine), so the stack is always put back; roz's patch 23 frees
+ * the allocation itself anyway. Here: host calls with bad arguments 20 wasm
+ * calls deep, a trap right after them on odd ticks, the instance runs
+ * again with the same results, and the runtime frees cleanly (ASan). */
+static void test_trap_after_host_calls(void **st)
+{
+    uint64_t dropped;
+    (void)st;
+
+    load_file("host_trap");
+    for (int64_t tick = 0; tick < 6; tick++) {
+        int rc;
+        dropped = ring.dropped;
+        abi.estop_requested = 0;
+        rc = roz_controller_process(&ctl, tick);
+        if (tick % 2 == 0) {
+            if (rc != ROZ_OK)
+                fail_msg("tick %lld: %s", (long long)tick, roz_controller_error(&ctl));
+        } else {
+            assert_int_equal(rc, ROZ_EFAULT);
+            assert_non_null(strstr(roz_controller_error(&ctl), "unreachable"));
+        }
+        check_host_calls(dropped);
+    }
+    roz_controller_unload(&ctl);
+    assert_false(roz_controller_loaded(&ctl));
+}
+
+/* ---- start functions ------------------------------------------------------ */
+
+/* wasm3 runs a module's start function lazily, from m3_FindFunction (roz
+ * calls it once, for "process", at load), and 0.5.0 marks it run only
+ * after it returns: a start function that traps runs again at the next
+ * lookup, one that reaches a lookup re-enters itself (upstream #281, #363).
+ * roz refuses any module with a start section before wasm3 sees it, so
+ * m3_RunStart never finds one; no import calls back into the engine. */
+static void test_start_section_refused(void **st)
+{
+    size_t sec, body;
+    size_t start_at;
+    (void)st;
+
+    /* the same module twice: without and with a start section (function
+     * 0 is the import; a start function must be a defined () -> () one, but
+     * the validator refuses the section whatever it names) */
+    module_head(1);
+    code_begin(&sec, &body);
+    put(0x44);
+    {
+        static const uint8_t one[8] = { 0, 0, 0, 0, 0, 0, 0xf0, 0x3f };
+        put_bytes(one, sizeof one);
+    }
+    put(0x10); put(0);
+    code_end(sec, body);
+    load_generated();
+    assert_false(roz_metric_ring_pop(&ring, &(roz_metric_t){ 0, 0 })); /* nothing ran */
+    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    assert_int_equal(pop_u32(), 1);
+    roz_controller_unload(&ctl);
+
+    /* insert a start section (id 8) before the code section */
+    for (start_at = 8; start_at < gen_len;) {
+        uint8_t id = gen_buf[start_at];
+        size_t n = 0;
+        int shift = 0;
+        size_t p = start_at + 1;
+        while (gen_buf[p] & 0x80) {
+            n |= (size_t)(gen_buf[p] & 0x7f) << shift;
+            shift += 7;
+            p++;
+        }
+        n |= (size_t)gen_buf[p] << shift;
+        if (id == 10)
+            break;
+        start_at = p + 1 + n;
+    }
+    assert_true(start_at < gen_len);
+    memmove(gen_buf + start_at + 3, gen_buf + start_at, gen_len - start_at);
+    gen_buf[start_at] = 8;
+    gen_buf[start_at + 1] = 1;
+    gen_buf[start_at + 2] = 1; /* function 1 */
+    gen_len += 3;
+    assert_int_equal(roz_controller_load(&ctl, gen_buf, gen_len, &abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&ctl), "start function"));
+    assert_false(roz_controller_loaded(&ctl));
+    assert_int_equal(abi.counters.metrics, 1); /* the one from the first module */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -778,6 +915,8 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_memory_section_without_entries, setup, teardown),
         cmocka_unit_test_setup_teardown(test_straight_line_memory_ops_small_stack, setup,
                                         teardown),
+        cmocka_unit_test_setup_teardown(test_trap_after_host_calls, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_start_section_refused, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
