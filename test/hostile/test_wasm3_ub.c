@@ -17,10 +17,13 @@
  *  - a module whose memory section has 0 entries loads
  *    (cmake/wasm3/22-memory-section.patch, upstream #510);
  *  - 100,000 straight-line loads and stores run on a thread with a 256 KiB C
- *    stack: every load/store op chains to the next by a tail call
- *    (cmake/wasm3/23-load-store-tail-calls.patch);
- *  - a trap inside a call below process() leaves the instance callable and
- *    its runtime frees cleanly (the Runtime_Release bad free, upstream #436);
+ *    stack: every load/store op chains to the next by a tail call, as
+ *    wasm3 0.5.0 already does at roz's flags (cmake/Wasm3.cmake; with
+ *    -fno-optimize-sibling-calls this test overflows the stack);
+ *  - a trap inside a call below process(), right after host calls, leaves
+ *    the instance callable and its runtime frees cleanly; no roz import can
+ *    trap (the Runtime_Release bad free, upstream #436;
+ *    cmake/wasm3/23-runtime-stack-free.patch);
  *  - process() and the other exports never run a start function: a module
  *    with one is refused, and looking up "process" runs nothing.
  * Modules are generated here byte by byte; results leave through
