@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The per-tick budget: fuel (deterministic: loop back-edges and calls) and a
- * wall-clock deadline checked at the same points. A call-free infinite loop,
+/* The per-tick budget: fuel (deterministic work units, charged before the
+ * work runs; test_fuel.c pins the unit) and a wall-clock deadline read every
+ * ROZ_CFG_DEADLINE_CHECK_UNITS units. A call-free infinite loop,
  * an import called forever and infinite recursion all stop within the budget;
  * a slow but finite controller passes just under its budget and stops just
  * over it, at the same fuel on every run; the fault latches, the safe defaults
@@ -76,7 +77,9 @@ static void test_budget_endless_controllers_stop(void **st)
 {
     static const struct { const char *name; unsigned fault; const char *msg; } cases[] = {
         { "bad_infinite_loop", ROZ_FAULT_OVERRUN, "fuel exhausted at tick 150: 5001 units, budget 5000" },
-        { "bad_import_loop", ROZ_FAULT_OVERRUN, "fuel exhausted at tick 150: 5001 units, budget 5000" },
+        /* its loop body's runs cost 9 (the call) and 2 units: the first it cannot pay
+         * leaves it at 5003 */
+        { "bad_import_loop", ROZ_FAULT_OVERRUN, "fuel exhausted at tick 150: 5003 units, budget 5000" },
         /* recursion: each call costs fuel; wasm3's stack check may come first */
         { "bad_recursion", ROZ_FAULT_OVERRUN | ROZ_FAULT_TRAP, "at tick 150" },
     };

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Fuel is work done (issue 10, item 3). The modules are WAT written here and
- * assembled with wabt's wat2wasm through roz_module_read_file(). The tests
+ * assembled with wabt's wat2wasm (support_wat.h). The tests
  * prove that
  *  - the unit is what roz/controller.h says: exact fuel for small bodies
  *    (one unit an instruction, a call 8 more, a loop entry 6 more, memory
@@ -29,7 +29,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #include <cmocka.h>
 
@@ -39,33 +38,13 @@
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_wat.h"
 #include "ur5_manifest.h"
 
 /* ---- modules from WAT ------------------------------------------------------- */
 
 static char text[1536 * 1024];
 static uint8_t wasm[1024 * 1024];
-
-/* Assembles the module `text` holds; returns its length. */
-static size_t assemble(void)
-{
-    char dir[] = "/tmp/roz_test_fuel_XXXXXX", path[64], err[256];
-    size_t len = 0;
-    FILE *f;
-
-    assert_non_null(mkdtemp(dir));
-    snprintf(path, sizeof path, "%s/m.wat", dir);
-    f = fopen(path, "w");
-    assert_non_null(f);
-    assert_true(fputs(text, f) != EOF);
-    assert_int_equal(fclose(f), 0);
-    int rc = roz_module_read_file(path, wasm, sizeof wasm, &len, err, sizeof err);
-    unlink(path);
-    rmdir(dir);
-    if (rc != ROZ_OK)
-        fail_msg("wat2wasm: %s", err);
-    return len;
-}
 
 /* A module: the ABI imports roz's tests use, `decls`, and process(). */
 static size_t module(const char *decls, const char *body)
@@ -77,7 +56,7 @@ static size_t module(const char *decls, const char *body)
              " %s\n"
              " (func (export \"process\") (param $tick i64) (local $i i32)\n%s))\n",
              decls, body);
-    return assemble();
+    return roz_test_wat(text, wasm, sizeof wasm);
 }
 
 static roz_controller_t ctl;

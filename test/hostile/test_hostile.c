@@ -476,10 +476,10 @@ static const hostile_t cases[] = {
       ROZ_FAULT_ESTOP_REQUEST, 150, check_estop_spam },
     { "estop_verify", NULL, BUDGET_DEFAULT, ROZ_EFAULT, "safety.request_estop at tick 42", 0, 0,
       NULL },
-    /* the loop body's run (12 instructions and a call) is charged whole
-     * before it runs: the budget stops it at the first run it cannot pay */
+    /* the loop body's runs are charged whole before they run: the budget
+     * stops it at the first run it cannot pay */
     { "set_flood", NULL, BUDGET_DEFAULT, ROZ_OK,
-      "fuel exhausted at tick 150: 100008 units, budget 100000", ROZ_FAULT_OVERRUN, 150, NULL },
+      "fuel exhausted at tick 150: 100004 units, budget 100000", ROZ_FAULT_OVERRUN, 150, NULL },
     { "set_flood", NULL, BUDGET_NONE, ROZ_OK, NULL, 0, 0, check_flood },
     { "metric_spam", NULL, BUDGET_DEFAULT, ROZ_OK, NULL, 0, 0, check_metrics },
     /* traps: at verification vs at run time */
