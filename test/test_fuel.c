@@ -103,10 +103,10 @@ static void test_fuel_unit(void **st)
     /* the body's end */
     assert_int_equal(fuel_of("", ""), 1);
     assert_int_equal(fuel_of("", "(nop) (nop) (nop)"), 4);
-    /* a run ends at a call: f64.const, call (1 + 8) | drop, end */
+    /* f64.const, call (1 + 8), drop, end: a call does not end the run */
     assert_int_equal(fuel_of("", "(drop (call $sin (f64.const 1)))"), 12);
     /* a callee with 4 i64 locals zeroes 32 bytes (2 units) and runs its end:
-     * call (9), callee (2 + 1), end (1) */
+     * call (9), end (1), callee (2 + 1) */
     assert_int_equal(fuel_of("(func $f (local i64 i64 i64 i64))", "(call $f)"), 13);
     /* three constants, the fill, end, and 1600 / 16 */
     assert_int_equal(fuel_of("(memory 1)",
@@ -115,12 +115,12 @@ static void test_fuel_unit(void **st)
     assert_int_equal(fuel_of("(memory 1)",
                              "(memory.copy (i32.const 0) (i32.const 4096) (i32.const 3200))"),
                      5 + 200);
-    /* a loop entered once (1 + 6), its body of 8 run 10 times, the loop's
-     * end once, the body's end */
+    /* a loop entered once (1 + 6); its body's run, 8 instructions and the
+     * loop's end (a br_if does not end a run), paid 10 times; the body's end */
     assert_int_equal(fuel_of("", "(loop $l\n"
                                  "  (local.set $i (i32.add (local.get $i) (i32.const 1)))\n"
                                  "  (br_if $l (i32.lt_u (local.get $i) (i32.const 10))))"),
-                     7 + 80 + 1 + 1);
+                     7 + 10 * 9 + 1);
     /* both arms of an if pay for what they run: i32.const, if | const, drop,
      * else | end */
     uint64_t then_arm = fuel_of("", "(if (i32.const 1) (then (drop (i32.const 5))) "

@@ -8,9 +8,10 @@
  * and the runtime's own overhead (tick minus process() minus the port's read
  * and write, timed apart: the loopback simulates the robot and moves CRC'd
  * frames both ways inside the tick), and the cost of the
- * per-tick budget: the same wasm run metered (fuel and deadline checks, the
- * defaults) and unmetered (no fuel limit, no deadline; the m3_Yield hook is
- * still called, so this isolates the checks, not the hook's call); and the
+ * per-tick budget: the G1 PD and a loop-heavy controller (bench/tick/
+ * loop_heavy.c) under wasm3 with their fuel charges and the default budget,
+ * against the same modules compiled without charges (a private loader for
+ * benchmarks); and the
  * frame CRC every port computes (roz/hal/crc32.h) on G1-sized images,
  * against the bit-by-bit definition. Prints
  * medians, p99 and ratios side by side. A benchmark, not a test: it never
@@ -29,6 +30,7 @@
 #include "crc32_reference.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "controller_bench.h"
 #include "unitree_g1_manifest.h"
 
 /* ---- the native controller's imports: roz's ABI functions, directly ------ */
@@ -120,44 +122,63 @@ static int timed_write(void *self, const double *cmd, size_t n)
 static const roz_port_ops_t timed_ops = { .name = "loopback (timed)", .read = timed_read,
                                           .write = timed_write };
 
-/* One runtime run of `ticks` ticks; fills tick and process() times. */
-static int run_wasm(const roz_manifest_t *m, const uint8_t *wasm, size_t len, int metered,
-                    size_t ticks, uint64_t *tick_ns, uint64_t *proc_ns)
+/* Loads `wasm` into `ctl`: with its fuel charges, a budget and a 1 s
+ * deadline (read every ROZ_CFG_DEADLINE_CHECK_UNITS units, as usual), or
+ * compiled without charges and with no budget at all. */
+static int meter_load(roz_controller_t *ctl, roz_abi_t *abi, double *target, const double *state,
+                      const roz_manifest_t *m, const uint8_t *wasm, size_t len, int charged)
 {
-    roz_runtime_config_t cfg;
-    char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    /* a second's fuel: the loop-heavy controller needs more than a tick's
+     * default, and the cost of a charge does not depend on the budget */
+    roz_budget_t b = { (uint64_t)ROZ_CFG_FUEL_PER_SECOND, 1000000000, roz_clock_monotonic_ns,
+                       NULL };
+    int rc;
 
-    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
-        return -1;
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_clock_monotonic_ns;
-    cfg.monitor_jitter = 0;
-    if (!metered) {
-        cfg.fuel_per_tick = UINT64_MAX;
-        cfg.budget_ns = UINT64_MAX;
-    } else {
-        /* the default fuel, and a deadline that is checked as usual but
-         * wide enough that a preempted tick on a busy machine does not
-         * fault the run: the cost measured is the checking */
-        cfg.budget_ns = 1000000000;
+    roz_controller_init(ctl);
+    roz_abi_init(abi, m, target, NULL);
+    abi->state = state;
+    if (!charged)
+        return roz__controller_load_unmetered(ctl, wasm, len, abi);
+    rc = roz_controller_load(ctl, wasm, len, abi);
+    return rc == ROZ_OK ? roz_controller_set_budget(ctl, &b) : rc;
+}
+
+/* process() of the same module charged and uncharged, `calls` times each,
+ * alternating rounds of 100 so drift on the machine hits both alike. */
+static int meter_pair(const roz_manifest_t *m, const uint8_t *wasm, size_t len, size_t calls,
+                      uint64_t *charged_ns, uint64_t *bare_ns, uint64_t *units)
+{
+    static roz_controller_t ctl[2];
+    static roz_abi_t abi[2];
+    static double target[2][ROZ_CFG_MAX_COMMANDS], state[ROZ_CFG_MAX_STATES];
+    uint64_t *out[2] = { bare_ns, charged_ns };
+
+    for (uint16_t i = 0; i < m->n_states; i++)
+        state[i] = m->states[i].default_value;
+    for (int k = 0; k < 2; k++) {
+        if (meter_load(&ctl[k], &abi[k], target[k], state, m, wasm, len, k) != ROZ_OK)
+            return -1;
+        for (int i = 0; i < 1000; i++) {
+            if (roz_controller_process(&ctl[k], i) != ROZ_OK)
+                return -1;
+        }
     }
-    if (roz_runtime_init(&rt, &cfg) != ROZ_OK || roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
-        roz_runtime_start(&rt) != ROZ_OK)
-        return -1;
-    for (int i = 0; i < 1000; i++)
-        roz_runtime_tick(&rt);
-    for (size_t i = 0; i < ticks; i++) {
-        uint64_t t0 = roz_clock_monotonic_ns(NULL);
-        roz_runtime_tick(&rt);
-        tick_ns[i] = roz_clock_monotonic_ns(NULL) - t0;
-        proc_ns[i] = rt.last_process_ns;
+    for (size_t r = 0; r < calls; r += 100) {
+        for (int k = 0; k < 2; k++) {
+            for (size_t i = r; i < r + 100 && i < calls; i++) {
+                abi[k].tick = (int64_t)i;
+                uint64_t t0 = roz_clock_monotonic_ns(NULL);
+                int rc = roz_controller_process(&ctl[k], (int64_t)i);
+                out[k][i] = roz_clock_monotonic_ns(NULL) - t0;
+                if (rc != ROZ_OK)
+                    return -1;
+            }
+        }
     }
-    int faults = (int)roz_runtime_faults(&rt);
-    roz_runtime_deinit(&rt);
-    return faults;
+    *units = roz_controller_fuel_used(&ctl[1]);
+    roz_controller_unload(&ctl[0]);
+    roz_controller_unload(&ctl[1]);
+    return 0;
 }
 
 int main(int argc, char **argv)
@@ -248,34 +269,47 @@ int main(int argc, char **argv)
            100.0 * st.p50 / period_us, period_us);
     printf("outputs: wasm3 and native targets %s (%zu differing values)\n",
            mismatches == 0 ? "identical" : "DIFFER", mismatches);
-    uint64_t fuel = rt.counters.max_fuel, budget = rt.cfg.fuel_per_tick;
     roz_runtime_deinit(&rt);
 
-    /* metering: the same controller, metered and unmetered, alternating
-     * rounds so drift on the machine hits both alike */
-    size_t half = ticks / 2;
-    uint64_t *mt = calloc(ticks, sizeof(uint64_t)), *mp = calloc(ticks, sizeof(uint64_t));
-    uint64_t *ut = calloc(ticks, sizeof(uint64_t)), *up = calloc(ticks, sizeof(uint64_t));
-    if (!mt || !mp || !ut || !up)
+    /* metering: the same controllers under wasm3 with their fuel charges
+     * (the default budget) and compiled without them (the private
+     * benchmark loader; no budget at all), alternating rounds so drift on
+     * the machine hits both alike */
+    printf("\nbudget metering: fuel charged per run of instructions (a budget, and the "
+           "deadline read every %d units, set to 1 s so a preempted call does not fault the "
+           "run) vs the same module compiled without charges:\n",
+           ROZ_CFG_DEADLINE_CHECK_UNITS);
+    printf("%-34s %10s %10s %10s %10s\n", "", "units/call", "p50 [us]", "p99 [us]", "ratio p50");
+    static const char *const meter_names[2] = { "G1 PD (host calls)", "loop-heavy (29x29 loops)" };
+    const char *meter_paths[2] = { path, ROZ_BENCH_LOOP_HEAVY };
+    size_t calls = ticks;
+    uint64_t *metered = calloc(calls, sizeof(uint64_t)), *bare = calloc(calls, sizeof(uint64_t));
+    if (!metered || !bare)
         return 2;
-    if (run_wasm(m, wasm, len, 1, half, mt, mp) != 0 || run_wasm(m, wasm, len, 0, half, ut, up) != 0 ||
-        run_wasm(m, wasm, len, 1, half, mt + half, mp + half) != 0 ||
-        run_wasm(m, wasm, len, 0, half, ut + half, up + half) != 0) {
-        fprintf(stderr, "bench: metering runs faulted\n");
-        return 2;
+    for (int k = 0; k < 2; k++) {
+        size_t mlen;
+        uint8_t *mw = k == 0 ? wasm : read_file(meter_paths[k], &mlen);
+        if (mw == NULL) {
+            fprintf(stderr, "bench: cannot read %s\n", meter_paths[k]);
+            return 2;
+        }
+        if (k == 0)
+            mlen = len;
+        uint64_t units = 0;
+        if (meter_pair(m, mw, mlen, calls, metered, bare, &units) != 0) {
+            fprintf(stderr, "bench: %s: metering runs failed\n", meter_paths[k]);
+            return 2;
+        }
+        stats_t sm = stats(metered, calls), sb = stats(bare, calls);
+        printf("%-34s %10llu %10.2f %10.2f\n", meter_names[k], (unsigned long long)units, sm.p50,
+               sm.p99);
+        printf("%-34s %10s %10.2f %10.2f %9.3fx  (aim: <= 1.10x)\n", "  the same, no charges", "-",
+               sb.p50, sb.p99, sb.p50 > 0 ? sm.p50 / sb.p50 : 0.0);
+        if (k != 0)
+            free(mw);
     }
-    stats_t smt = stats(mt, 2 * half), smp = stats(mp, 2 * half);
-    stats_t sut = stats(ut, 2 * half), sup = stats(up, 2 * half);
-    printf("\nbudget metering (fuel %llu units/tick used of %llu; the deadline checked every "
-           "%d units, set to 1 s here so a preempted tick does not fault the run):\n",
-           (unsigned long long)fuel, (unsigned long long)budget, ROZ_CFG_DEADLINE_CHECK_UNITS);
-    printf("%-34s %10s %10s %10s\n", "", "p50 [us]", "p99 [us]", "max [us]");
-    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), metered", smp.p50, smp.p99, smp.max);
-    printf("%-34s %10.2f %10.2f %10.2f\n", "process(), unmetered", sup.p50, sup.p99, sup.max);
-    printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, metered", smt.p50, smt.p99, smt.max);
-    printf("%-34s %10.2f %10.2f %10.2f\n", "whole tick, unmetered", sut.p50, sut.p99, sut.max);
-    printf("ratios: metered/unmetered process() p50 %.3fx, whole tick p50 %.3fx (aim: <= 1.10x)\n",
-           sup.p50 > 0 ? smp.p50 / sup.p50 : 0.0, sut.p50 > 0 ? smt.p50 / sut.p50 : 0.0);
+    free(metered);
+    free(bare);
 
     /* the frame CRC: a G1 LowState_ (522 words) and LowCmd_ (250 words) */
     static uint32_t image[522];

@@ -10,6 +10,7 @@
 
 #include "wasm3.h"
 #include "m3_env.h"
+#include "controller_bench.h"
 #include "wasm_scan.h"
 
 /* ---- private: metering ----------------------------------------------------- */
@@ -232,7 +233,9 @@ const char *roz_controller_error(const roz_controller_t *c)
     return c->error;
 }
 
-int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi)
+/* The loader; `metered` 0 compiles no fuel charges (benchmarks only, see
+ * controller_bench.h): such an instance accepts no budget but "off". */
+static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi, int metered)
 {
     IM3Environment env;
     IM3Runtime rt;
@@ -296,6 +299,8 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
             return fail(c, ROZ_EINVAL, "cannot link import", why);
         }
     }
+    rt->rozUnmetered = metered ? 0 : 1;
+    c->unmetered = !metered;
     r = m3_CompileModule(mod);
     if (r != m3Err_none)
         return fail(c, ROZ_EINVAL, "cannot compile module", r);
@@ -330,11 +335,24 @@ int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, ro
     return ROZ_OK;
 }
 
+int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi)
+{
+    return load(c, wasm, len, abi, 1);
+}
+
+int roz__controller_load_unmetered(roz_controller_t *c, const uint8_t *wasm, size_t len,
+                                   roz_abi_t *abi)
+{
+    return load(c, wasm, len, abi, 0);
+}
+
 int roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget)
 {
-    /* 0 is a budget that allows nothing, never a silent "unmetered" */
+    /* 0 is a budget that allows nothing, never a silent "unmetered"; an
+     * instance compiled without charges cannot keep any budget */
     if (budget->fuel == 0 || budget->deadline_ns == 0 ||
-        (budget->deadline_ns != ROZ_BUDGET_OFF && budget->clock == NULL))
+        (budget->deadline_ns != ROZ_BUDGET_OFF && budget->clock == NULL) ||
+        (c->unmetered && (budget->fuel != ROZ_BUDGET_OFF || budget->deadline_ns != ROZ_BUDGET_OFF)))
         return ROZ_EINVAL;
     c->budget = *budget;
     return ROZ_OK;

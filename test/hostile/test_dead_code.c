@@ -19,6 +19,7 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
+#include "roz/hal/module.h"
 #include "support_wat.h"
 #include "ur5_manifest.h"
 
@@ -123,11 +124,32 @@ static void test_dead_code_costs_nothing(void **st)
     assert_int_equal(dead, lean);
 }
 
+/* The differential run's find itself: a module of wasm-tools smith that
+ * wasm3 0.5.0 refused ("no operation found for opcode") loads and runs. */
+static void test_dead_code_the_find(void **st)
+{
+    static uint8_t big[256 * 1024];
+    char err[256];
+    size_t len = 0;
+    (void)st;
+    if (roz_module_read_file(ROZ_DIFF_FINDINGS "/wasm3-no-operation-for-opcode.wat", big,
+                             sizeof big, &len, err, sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    roz_controller_init(&ctl);
+    roz_abi_init(&abi, &roz_manifest_ur5, targets, &ring);
+    abi.state = state;
+    if (roz_controller_load(&ctl, big, len, &abi) != ROZ_OK)
+        fail_msg("refused: %s", roz_controller_error(&ctl));
+    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    roz_controller_unload(&ctl);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_dead_code_after_every_terminator),
         cmocka_unit_test(test_dead_code_costs_nothing),
+        cmocka_unit_test(test_dead_code_the_find),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,6 +70,7 @@ typedef struct roz_controller {
     uint64_t   meter_slice;    /* units of the current slice */
     uint64_t   meter_deadline; /* absolute clock time, 0 = none */
     uintptr_t  stack_base;     /* the C stack where the call entered the engine */
+    int        unmetered;      /* compiled without fuel charges (benchmarks only) */
     int        spent;      /* stopped by its budget: must be reloaded */
     void      *env;       /* engine handles, NULL when not loaded */
     void      *runtime;
