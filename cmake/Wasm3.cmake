@@ -97,7 +97,7 @@ target_include_directories(roz_wasm3 PUBLIC $<BUILD_INTERFACE:${_roz_wasm3_dir}>
 # wasm3's interpreter chains its ops by calls that must compile to tail
 # calls, or every op executed nests a C stack frame (a long straight-line
 # function then overflows any stack; roz's guard checks the depth only at
-# calls and loop back-edges). Optimise wasm3 with sibling calls in every
+# function and loop entries). Optimise wasm3 with sibling calls in every
 # build type, Debug included (-Os stays -Os).
 set(ROZ_WASM3_OPT_FLAGS
   $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:$<IF:$<CONFIG:MinSizeRel>,-Os,-O2> -foptimize-sibling-calls>)

@@ -21,6 +21,13 @@ expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=x" "paramet
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--frobnicate" "unknown option")
 expect_error("--robot;ur5;--controller;${CTL}/bad_unknown_import.wasm" "unknown import env.open_valve")
 expect_error("--robot;ur5;--controller;${CTL}/bad_trap_verify.wasm" "verify: trap at tick 3")
+# a budget of 0 allows nothing: refused, never "unmetered" (that is --fuel off)
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--fuel;0" "--fuel must be in 1..")
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 20 --fuel off
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "units; budget off")
+  message(FATAL_ERROR "--fuel off: exit ${rc}\n${out}${err}")
+endif()
 execute_process(COMMAND ${ROZRUN} --help RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: rozrun")
   message(FATAL_ERROR "--help")

@@ -79,7 +79,9 @@ static void usage(FILE *f)
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
         "                       corrupt_cmd, restart; see roz/loopback.h)\n"
         "  --budget-us US       controller wall-clock budget per tick (default half the period)\n"
-        "  --fuel N             controller fuel per tick, in loop back-edges and calls\n"
+        "  --fuel N|off         controller fuel per tick, in work units (about one wasm\n"
+        "                       instruction each; default ROZ_CFG_FUEL_PER_SECOND / rate);\n"
+        "                       off: unmetered\n"
         "                       (default 10000000 / control rate; 0 = unmetered)\n"
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
         "  --trace FILE         write every tick (targets, applied commands, state) as CSV\n"
@@ -178,8 +180,14 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
             o->budget_us = x;
         } else if (!strcmp(a, "--fuel")) {
-            if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel))
+            /* "off" is the only way to run unmetered: 0 allows nothing */
+            if (v != NULL && !strcmp(v, "off")) {
+                o->fuel = UINT64_MAX;
+            } else if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel) || o->fuel == 0) {
+                fprintf(stderr, "rozrun: --fuel must be in 1..%llu, or off\n",
+                        (unsigned long long)(UINT64_MAX - 1));
                 return -1;
+            }
             o->fuel_set = 1;
         } else if (!strcmp(a, "--stale-ticks")) {
             if (parse_u64(a, v, 1000000, &x) || x == 0) {
@@ -332,9 +340,12 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  verify                 %u ticks, max %.1f us, mean %.1f us per tick\n",
            (unsigned)rep->ticks_run, rep->max_process_ns / 1000.0,
            rep->ticks_run ? rep->total_process_ns / 1000.0 / rep->ticks_run : 0.0);
-    printf("  fuel per tick          verify max %llu, run max %llu, last %llu units; budget %llu\n",
+    char budget[32] = "off";
+    if (rep->fuel_budget != ROZ_BUDGET_OFF)
+        snprintf(budget, sizeof budget, "%llu", (unsigned long long)rep->fuel_budget);
+    printf("  fuel per tick          verify max %llu, run max %llu, last %llu units; budget %s\n",
            (unsigned long long)rep->max_fuel, (unsigned long long)rt.counters.max_fuel,
-           (unsigned long long)rt.counters.last_fuel, (unsigned long long)rep->fuel_budget);
+           (unsigned long long)rt.counters.last_fuel, budget);
     printf("  native stack           verify max %llu, run max %llu bytes; limit %u\n",
            (unsigned long long)rep->max_stack, (unsigned long long)rt.counters.max_stack,
            (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
@@ -420,7 +431,7 @@ int main(int argc, char **argv)
     cfg.stale_ticks = o.stale_ticks;
     cfg.budget_ns = o.budget_us * 1000u;
     if (o.fuel_set)
-        cfg.fuel_per_tick = o.fuel == 0 ? UINT64_MAX : o.fuel;
+        cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
     cfg.monitor_jitter = o.realtime; /* simulated time runs ticks back to back */
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);

@@ -707,7 +707,7 @@ static void test_memory_section_without_entries(void **st)
  * metrics. If any load or store op called the next op instead of jumping
  * to it, every op would nest a C frame: 100,000 frames do not fit in 256
  * KiB, and nothing in a straight line reaches the stack guard (which checks
- * at calls and loop back-edges). */
+ * at function and loop entries). */
 #define CHAIN_PAIRS 50000
 #define SMALL_STACK (256 * 1024)
 

@@ -1,6 +1,6 @@
 ;; SPDX-License-Identifier: Apache-2.0
 ;; From tick 150 on: a call-free infinite loop, (loop (br 0)). Only roz's
-;; back-edge metering (cmake/wasm3/02-metering.patch) can stop it.
+;; fuel charged by work done (cmake/wasm3/02-metering.patch) stops it.
 (module
   (import "command" "set" (func $set (param i32 f64) (result i32)))
   (func (export "process") (param $tick i64)

@@ -65,12 +65,12 @@
 #endif
 
 /** Native (C) stack a controller's process() call may use, bytes, measured
- *  from where roz calls into the engine. wasm3 recurses on the C stack for
- *  every wasm call, so a deep or endless recursion needs stack in
- *  proportion to its depth; the metering hook checks the depth on every
- *  call and loop back-edge and traps past this limit. Leave headroom below
- *  the thread's real stack for the host functions and the check interval
- *  (firmware: size the task stack to this plus a few KiB). Range
+ *  from where roz calls into the engine. wasm3 nests a C frame for every
+ *  wasm call and every loop it enters, so a deep or endless recursion needs
+ *  stack in proportion to its depth; roz checks the depth at every function
+ *  and loop entry and traps past this limit, at most one frame late. Leave
+ *  headroom below the thread's real stack for the host functions and the
+ *  runtime (size the task stack to this plus 16 KiB). Range
  *  4096..67108864. */
 #ifndef ROZ_CFG_NATIVE_STACK_BYTES
 #define ROZ_CFG_NATIVE_STACK_BYTES 262144
