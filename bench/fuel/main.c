@@ -6,7 +6,8 @@
  * Fuel is roz's measure of work (roz/controller.h): one unit per WebAssembly
  * instruction, more for the costly ones (a call 8 more, a loop entry 6,
  * br_table and float sqrt/div 2), one per 16 bytes of memory.fill/copy or
- * of zeroed locals. For each kind of work a hostile controller could pile up,
+ * of a called function's locals and constants. For each kind of work a
+ * hostile controller could pile up,
  * a module does nothing else in an endless loop; the bench runs it
  *   1. on fuel alone (ROZ_BENCH_FUEL units, no deadline) and prints the
  *      nanoseconds per 1000 units: the cost of the unit on this machine,

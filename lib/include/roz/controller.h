@@ -15,7 +15,8 @@
  * one unit per WebAssembly instruction executed, more for those that cost
  * more (a call 8 more, host imports included; entering a loop 6 more;
  * br_table and float sqrt and div 2 more), one per 16 bytes of memory.fill
- * and memory.copy, and one per 16 bytes of locals a called function zeroes,
+ * and memory.copy, and one per 16 bytes of the locals and constants a
+ * called function sets up in its frame,
  * so that a unit stands for about the same time whatever the work
  * (bench/fuel measures it). Fuel is charged
  * before the work runs (a straight-line run of instructions at its start, a
