@@ -72,7 +72,7 @@ test: test-asan test-tsan build
 # Benchmarks print figures and ratios; they are not tests.
 bench: build
 	$(BUILD)/bench/roz_bench_tick 20000
-	$(BUILD)/bench/roz_bench_fuel 5
+	$(BUILD)/bench/roz_bench_fuel 9
 
 # The long differential run (fuzz/README.md): generated and wasm-tools smith
 # modules on roz's wasm3 against wasm-interp, then fuzz_controller from them

@@ -3,9 +3,9 @@
  * assembled with wabt's wat2wasm (support_wat.h). The tests
  * prove that
  *  - the unit is what roz/controller.h says: exact fuel for small bodies
- *    (one unit an instruction, a call 8 more, a loop entry 6 more, memory
- *    bulk ops, and the locals and constants a called function sets up, one
- *    unit per 16 bytes), the same on every run;
+ *    (one unit an instruction, a call 8 more, a loop entry 6 more, a bulk
+ *    memory op 2 more and one unit per 16 bytes, as for the locals and
+ *    constants a called function sets up), the same on every run;
  *  - a loop whose body is 60,000 straight-line instructions is stopped by a
  *    100,000-unit budget in its second iteration (the old meter counted one
  *    unit per back-edge and let it run 6 billion instructions);
@@ -108,22 +108,23 @@ static void test_fuel_unit(void **st)
     /* a callee with 4 i64 locals zeroes 32 bytes (2 units) and runs its end:
      * call (9), end (1), callee (2 + 1) */
     assert_int_equal(fuel_of("(func $f (local i64 i64 i64 i64))", "(call $f)"), 13);
-    /* three constants, the fill, end, and 1600 / 16; process()'s frame
-     * (its i32 local and the three constants, 16 bytes) 1 */
+    /* three constants, the fill (1 + 2), end, and 1600 / 16; process()'s
+     * frame (its i32 local and the three constants, 16 bytes) 1 */
     assert_int_equal(fuel_of("(memory 1)",
                              "(memory.fill (i32.const 0) (i32.const 7) (i32.const 1600))"),
-                     5 + 100 + 1);
+                     7 + 100 + 1);
     assert_int_equal(fuel_of("(memory 1)",
                              "(memory.copy (i32.const 0) (i32.const 4096) (i32.const 3200))"),
-                     5 + 200 + 1);
-    /* a loop entered once (1 + 6); its body's run, 8 instructions and the
-     * loop's end (a br_if does not end a run), paid 10 times; the body's
-     * end (process()'s frame, its local and two i32 constants, is 12 bytes:
-     * less than a unit) */
+                     7 + 200 + 1);
+    /* a loop entered once (1 + 6); its body's run, 8 instructions, 1 more
+     * for the br_if back to the loop's start and the loop's end (a br_if
+     * does not end a run), paid 10 times; the body's end (process()'s
+     * frame, its local and two i32 constants, is 12 bytes: less than a
+     * unit) */
     assert_int_equal(fuel_of("", "(loop $l\n"
                                  "  (local.set $i (i32.add (local.get $i) (i32.const 1)))\n"
                                  "  (br_if $l (i32.lt_u (local.get $i) (i32.const 10))))"),
-                     7 + 10 * 9 + 1);
+                     7 + 10 * 10 + 1);
     /* both arms of an if pay for what they run: i32.const, if | const, drop,
      * else | end */
     uint64_t then_arm = fuel_of("", "(if (i32.const 1) (then (drop (i32.const 5))) "
@@ -178,8 +179,9 @@ static void test_fuel_bulk_memory(void **st)
     print_message("1 MiB fills, budget 100000: stopped at %llu units\n",
                   (unsigned long long)used);
     /* process()'s frame (its i32 local and three i32 constants: 1 unit), the loop
-     * (7), one run of 5 and its fill, the next run of 5 and its fill */
-    assert_int_equal(used, 1 + 7 + 2 * (5 + 65536));
+     * (7), one run of 8 (the back-edge 2) and its fill, the next run and its
+     * fill */
+    assert_int_equal(used, 1 + 7 + 2 * (8 + 65536));
     roz_controller_unload(&ctl);
 
     /* one fill bigger than the whole budget: refused before it starts, and

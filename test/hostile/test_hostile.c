@@ -402,7 +402,7 @@ typedef struct {
     void (*check)(void); /* extra checks at the end, or NULL */
 } hostile_t;
 
-#define FUEL_150 "fuel exhausted at tick 150: 100001 units, budget 100000"
+#define FUEL_150 "fuel exhausted at tick 150: 100002 units, budget 100000"
 
 static const hostile_t cases[] = {
     /* runaway code: the budget stops it */
@@ -479,7 +479,7 @@ static const hostile_t cases[] = {
     /* the loop body's runs are charged whole before they run: the budget
      * stops it at the first run it cannot pay */
     { "set_flood", NULL, BUDGET_DEFAULT, ROZ_OK,
-      "fuel exhausted at tick 150: 100015 units, budget 100000", ROZ_FAULT_OVERRUN, 150, NULL },
+      "fuel exhausted at tick 150: 100019 units, budget 100000", ROZ_FAULT_OVERRUN, 150, NULL },
     { "set_flood", NULL, BUDGET_NONE, ROZ_OK, NULL, 0, 0, check_flood },
     { "metric_spam", NULL, BUDGET_DEFAULT, ROZ_OK, NULL, 0, 0, check_metrics },
     /* traps: at verification vs at run time */

@@ -13,9 +13,9 @@
  *
  * Budget: every process() call runs on fuel, counted in units of work:
  * one unit per WebAssembly instruction executed, more for those that cost
- * more (a call 8 more, host imports included; entering a loop 6 more;
- * br_table and float sqrt and div 2 more), one per 16 bytes of memory.fill
- * and memory.copy, and one per 16 bytes of the locals and constants a
+ * more (a call 8 more, host imports included; entering a loop 6 more; a
+ * branch back to a loop's start 1 more; br_table, float sqrt and div, memory.fill, memory.copy and saturating
+ * truncation 2 more), one per 16 bytes of memory.fill and memory.copy, and one per 16 bytes of the locals and constants a
  * called function sets up in its frame,
  * so that a unit stands for about the same time whatever the work
  * (bench/fuel measures it). Fuel is charged
