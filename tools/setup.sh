@@ -21,9 +21,10 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 
 # ---- 1. Debian packages ---------------------------------------------------
 # clang + lld build wasm32 controllers and the fuzz targets, wabt assembles
-# .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests.
+# .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests, g++ the
+# test that roz's public headers compile as C++.
 apt_packages=(
-    ca-certificates cmake ninja-build make gcc libc6-dev pkg-config patch
+    ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt
     libcmocka-dev cyclonedds-dev cyclonedds-tools
     python3 python3-venv python3-pip

@@ -16,10 +16,10 @@
 
 #include "roz/config.h"
 
-#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/atomic.h"
 #include "roz/manifest.h"
 
 #ifdef __cplusplus
@@ -40,8 +40,8 @@ typedef struct roz_metric {
 /** Wait-free single-producer (tick) single-consumer (any thread) ring. */
 typedef struct roz_metric_ring {
     roz_metric_t         items[ROZ_CFG_TELEMETRY_RING];
-    atomic_uint_fast32_t head; /**< written by the tick only */
-    atomic_uint_fast32_t tail; /**< written by the consumer only */
+    ROZ_ATOMIC(uint_fast32_t) head; /**< written by the tick only */
+    ROZ_ATOMIC(uint_fast32_t) tail; /**< written by the consumer only */
     uint64_t             dropped; /**< tick only: metrics lost to a full ring */
 } roz_metric_ring_t;
 

@@ -25,10 +25,10 @@
 
 #include "roz/config.h"
 
-#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/atomic.h"
 #include "roz/error.h"
 
 #ifdef __cplusplus
@@ -37,7 +37,7 @@ extern "C" {
 
 /** The exchanged word: slot index (bits 0-1) and a "fresh" flag (bit 2). */
 typedef struct roz_buffer_xchg {
-    atomic_uint_fast32_t word;
+    ROZ_ATOMIC(uint_fast32_t) word;
 } roz_buffer_xchg_t;
 
 /** A latest-value buffer; storage is the caller's (see ROZ_BUFFER_DEFINE). */

@@ -26,10 +26,10 @@
 
 #include "roz/config.h"
 
-#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/atomic.h"
 #include "roz/abi.h"
 #include "roz/buffer.h"
 #include "roz/controller.h"
@@ -135,11 +135,11 @@ typedef struct roz_runtime {
     roz_runtime_counters_t counters;
     roz_metric_ring_t      metrics;
     roz_runtime_slot_t     slot[2];
-    atomic_int             active;       /* index of the driving slot, -1 none; written by the tick */
-    atomic_int             pending;      /* swap: slot to install at the next tick, -1 none */
-    atomic_uint            faults;       /* latched fault bits */
-    atomic_uint            estop_input;  /* set by roz_runtime_estop() */
-    atomic_uint            clear_request;/* set by roz_runtime_clear_faults() */
+    ROZ_ATOMIC(int)        active;       /* index of the driving slot, -1 none; written by the tick */
+    ROZ_ATOMIC(int)        pending;      /* swap: slot to install at the next tick, -1 none */
+    ROZ_ATOMIC(unsigned)   faults;       /* latched fault bits */
+    ROZ_ATOMIC(unsigned)   estop_input;  /* set by roz_runtime_estop() */
+    ROZ_ATOMIC(unsigned)   clear_request;/* set by roz_runtime_clear_faults() */
     int64_t                ctrl_tick;    /* tick number the controller sees */
     int                    have_state;
     uint32_t               stale_count;

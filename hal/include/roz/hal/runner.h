@@ -15,9 +15,9 @@
 
 #include "roz/config.h"
 
-#include <stdatomic.h>
 #include <stdint.h>
 
+#include "roz/atomic.h"
 #include "roz/log.h"
 #include "roz/monitor.h"
 
@@ -43,8 +43,8 @@ typedef struct roz_runner {
     roz_runner_config_t cfg;
     roz_runner_tick_fn  fn;
     void               *ctx;
-    atomic_int          stop;
-    atomic_int          finished; /**< 1 once the thread has ended */
+    ROZ_ATOMIC(int)     stop;
+    ROZ_ATOMIC(int)     finished; /**< 1 once the thread has ended */
     uint64_t            ticks;
     uint64_t            missed;   /**< deadlines missed by more than a period */
     int                 realtime; /**< 1 if SCHED_FIFO was granted */
