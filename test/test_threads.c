@@ -111,7 +111,9 @@ static void test_threads_runtime_under_load(void **st)
 
     roz_runtime_config_default(&cfg);
     cfg.manifest = &roz_manifest_unitree_g1;
-    cfg.port = (roz_port_t){ &threaded_ops, NULL };
+    cfg.port = (roz_port_t){ &threaded_ops, NULL, 0 };
+    assert_int_equal(roz_port_open(&cfg.port, &roz_manifest_unitree_g1, NULL, err, sizeof err),
+                     ROZ_OK); /* no open op: nothing to open */
     cfg.clock = roz_clock_monotonic_ns;
     cfg.stale_ticks = 1000000; /* the simulator thread's pace is not the tick's */
     cfg.budget_ns = 500000000; /* sanitizers are slow; this test is about races */

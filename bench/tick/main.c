@@ -204,7 +204,9 @@ int main(int argc, char **argv)
     }
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
-    cfg.port = (roz_port_t){ &timed_ops, &lb };
+    cfg.port = (roz_port_t){ &timed_ops, &lb, 0 };
+    if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) /* no open op */
+        return 2;
     cfg.clock = roz_clock_monotonic_ns;
     cfg.monitor_jitter = 0;
     cfg.budget_ns = 1000000000; /* measure, don't fault */

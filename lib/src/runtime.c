@@ -142,13 +142,80 @@ void roz_runtime_config_default(roz_runtime_config_t *cfg)
     cfg->monitor_jitter = 1;
 }
 
-int roz_runtime_init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
+static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg);
+
+int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err, size_t errlen)
+{
+    static const roz_runtime_layout_t mine = ROZ_RUNTIME_LAYOUT_INIT;
+    static const struct {
+        const char *name;
+        size_t      at;
+    } fields[] = {
+        { "the layout version", offsetof(roz_runtime_layout_t, version) },
+        { "ROZ_CFG_MAX_COMMANDS", offsetof(roz_runtime_layout_t, max_commands) },
+        { "ROZ_CFG_MAX_STATES", offsetof(roz_runtime_layout_t, max_states) },
+        { "ROZ_CFG_ERROR_LEN", offsetof(roz_runtime_layout_t, error_len) },
+        { "ROZ_CFG_TELEMETRY_RING", offsetof(roz_runtime_layout_t, telemetry_ring) },
+        { "sizeof(roz_runtime_t)", offsetof(roz_runtime_layout_t, runtime_bytes) },
+        { "sizeof(roz_runtime_config_t)", offsetof(roz_runtime_layout_t, config_bytes) },
+        { "sizeof(roz_controller_t)", offsetof(roz_runtime_layout_t, controller_bytes) },
+        { "sizeof(roz_filter_t)", offsetof(roz_runtime_layout_t, filter_bytes) },
+        { "sizeof(roz_abi_t)", offsetof(roz_runtime_layout_t, abi_bytes) },
+    };
+
+    if (caller == NULL)
+        return ROZ_EINVAL;
+    /* the options first: they say what to change; a size alone differs
+     * when another option or a compiler setting changed the layout */
+    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
+        uint32_t theirs, ours;
+        memcpy(&theirs, (const char *)caller + fields[i].at, sizeof theirs);
+        memcpy(&ours, (const char *)&mine + fields[i].at, sizeof ours);
+        if (theirs != ours) {
+            if (err != NULL && errlen > 0)
+                snprintf(err, errlen,
+                         "%s is %lu in the application, %lu in libroz_core: build both with the "
+                         "same ROZ_CONFIG_FILE (and compiler settings)",
+                         fields[i].name, (unsigned long)theirs, (unsigned long)ours);
+            return ROZ_ECONFIG;
+        }
+    }
+    if (err != NULL && errlen > 0)
+        err[0] = '\0';
+    return ROZ_OK;
+}
+
+int roz_runtime_init_layout(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
+                            const roz_runtime_layout_t *caller)
+{
+    char why[ROZ_CFG_ERROR_LEN];
+
+    if (roz_runtime_layout_check(caller, why, sizeof why) != ROZ_OK) {
+        /* *rt may be smaller than the library thinks: write nothing there;
+         * cfg is safe to read only if its own layout is the same */
+        if (caller != NULL && cfg != NULL &&
+            caller->config_bytes == (uint32_t)sizeof(roz_runtime_config_t) && cfg->log != NULL)
+            cfg->log(cfg->log_ctx, ROZ_LOG_ERROR, why);
+        return ROZ_ECONFIG;
+    }
+    return init(rt, cfg);
+}
+
+/* roz_runtime_init() with a caller whose layout is the library's. */
+static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
 {
     const roz_manifest_t *m;
 
     if (rt == NULL || cfg == NULL || cfg->manifest == NULL || cfg->port.ops == NULL ||
         cfg->port.ops->read == NULL || cfg->port.ops->write == NULL || cfg->stale_ticks == 0)
         return ROZ_EINVAL;
+    /* a port never opened would run its read() on an instance never set up */
+    if (!cfg->port.opened) {
+        if (cfg->log != NULL)
+            cfg->log(cfg->log_ctx, ROZ_LOG_ERROR,
+                     "roz_runtime_init: the port is not open: call roz_port_open() first");
+        return ROZ_ESTATE;
+    }
     m = cfg->manifest;
     memset(rt, 0, sizeof *rt);
     rt->cfg = *cfg;

@@ -554,8 +554,10 @@ static int tick_fresh(void)
 static void test_faults_stalled_port_thread(void **st)
 {
     pthread_t th;
-    roz_port_t port = { &stalling_ops, NULL };
+    roz_port_t port = { &stalling_ops, NULL, 0 };
+    char err[64];
     (void)st;
+    assert_int_equal(roz_port_open(&port, m, NULL, err, sizeof err), ROZ_OK); /* no open op */
     roz_buffer_init(&state_buf, state_buf_slots, ROZ_UR5_N_STATES);
     atomic_store(&stall, 0);
     atomic_store(&stalled, 0);

@@ -26,6 +26,7 @@ extern "C" {
 #define ROZ_EIO      -8   /**< I/O or transport failure */
 #define ROZ_ETIMEDOUT -9  /**< deadline or budget exceeded */
 #define ROZ_ELINK    -10  /**< a port's peer restarted, or came back after it was lost */
+#define ROZ_ECONFIG  -11  /**< the caller and roz were built with different ROZ_CFG_* options */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define ROZ_NODISCARD __attribute__((warn_unused_result))

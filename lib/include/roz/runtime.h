@@ -159,10 +159,74 @@ typedef struct roz_runtime {
 void roz_runtime_config_default(roz_runtime_config_t *cfg);
 
 /**
- * @brief Prepare a runtime (no I/O, no allocation).
- * @retval ROZ_EINVAL bad configuration (invalid manifest, no port read/write)
+ * What a translation unit was compiled with: the sizes of the roz structs
+ * it allocates and the ROZ_CFG_* options behind their layout. An
+ * application built with another configuration than libroz_core (another
+ * ROZ_CONFIG_FILE, or none) would hand roz storage of the wrong size; the
+ * caller's view travels with roz_runtime_init() and a mismatch is refused.
  */
-ROZ_NODISCARD int roz_runtime_init(roz_runtime_t *rt, const roz_runtime_config_t *cfg);
+typedef struct roz_runtime_layout {
+    uint32_t version;          /**< ROZ_RUNTIME_LAYOUT_VERSION */
+    uint32_t runtime_bytes;    /**< sizeof(roz_runtime_t) */
+    uint32_t config_bytes;     /**< sizeof(roz_runtime_config_t) */
+    uint32_t controller_bytes; /**< sizeof(roz_controller_t) */
+    uint32_t filter_bytes;     /**< sizeof(roz_filter_t) */
+    uint32_t abi_bytes;        /**< sizeof(roz_abi_t) */
+    uint32_t max_commands;     /**< ROZ_CFG_MAX_COMMANDS */
+    uint32_t max_states;       /**< ROZ_CFG_MAX_STATES */
+    uint32_t error_len;        /**< ROZ_CFG_ERROR_LEN */
+    uint32_t telemetry_ring;   /**< ROZ_CFG_TELEMETRY_RING */
+} roz_runtime_layout_t;
+
+#define ROZ_RUNTIME_LAYOUT_VERSION 1u
+
+/** The layout of the translation unit that expands it. */
+#define ROZ_RUNTIME_LAYOUT_INIT                                                              \
+    {                                                                                        \
+        ROZ_RUNTIME_LAYOUT_VERSION, (uint32_t)sizeof(roz_runtime_t),                         \
+            (uint32_t)sizeof(roz_runtime_config_t), (uint32_t)sizeof(roz_controller_t),      \
+            (uint32_t)sizeof(roz_filter_t), (uint32_t)sizeof(roz_abi_t),                     \
+            (uint32_t)ROZ_CFG_MAX_COMMANDS, (uint32_t)ROZ_CFG_MAX_STATES,                    \
+            (uint32_t)ROZ_CFG_ERROR_LEN, (uint32_t)ROZ_CFG_TELEMETRY_RING                    \
+    }
+
+/**
+ * @brief Compare a caller's layout with the library's.
+ * @param[in]  caller  ROZ_RUNTIME_LAYOUT_INIT, expanded in the caller
+ * @param[out] err     names the first difference: "ROZ_CFG_MAX_COMMANDS is 16
+ *                     in the application, 256 in libroz_core: ..."; may be NULL
+ * @retval ROZ_OK      the same
+ * @retval ROZ_ECONFIG different
+ * Context: any; no I/O.
+ */
+ROZ_NODISCARD int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err,
+                                           size_t errlen);
+
+/**
+ * @brief roz_runtime_init() with the caller's layout made explicit; use
+ *        roz_runtime_init(), which passes it.
+ * @retval ROZ_ECONFIG the caller was built with another configuration than
+ *                     the library: nothing is written to @p rt, and the
+ *                     message goes to @p cfg's log callback when the config
+ *                     struct itself has the same layout
+ */
+ROZ_NODISCARD int roz_runtime_init_layout(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
+                                          const roz_runtime_layout_t *caller);
+
+/**
+ * @brief Prepare a runtime (no I/O, no allocation).
+ * @retval ROZ_EINVAL  bad configuration (invalid manifest, no port read/write)
+ * @retval ROZ_ESTATE  the port is not open (roz_port_open() first)
+ * @retval ROZ_ECONFIG this translation unit was built with other ROZ_CFG_*
+ *                     options than libroz_core (roz_runtime_layout_check())
+ * Context: start-up.
+ */
+ROZ_NODISCARD static inline int roz_runtime_init(roz_runtime_t *rt,
+                                                 const roz_runtime_config_t *cfg)
+{
+    const roz_runtime_layout_t caller = ROZ_RUNTIME_LAYOUT_INIT;
+    return roz_runtime_init_layout(rt, cfg, &caller);
+}
 
 /**
  * @brief Load, verify (ROZ_RUNTIME_VERIFY_TICKS ticks on a separate instance

@@ -63,13 +63,20 @@ typedef struct roz_port_ops {
 typedef struct roz_port {
     const roz_port_ops_t *ops;
     void                 *self;
+    /** 1 once roz_port_open() succeeded, 0 again after roz_port_close(); set
+     *  only by those two. roz_runtime_init() refuses a port that is not
+     *  open: its read() would run on an instance that was never set up. */
+    int                   opened;
 } roz_port_t;
 
-/** @brief open(); ROZ_ENOTSUP when the port has no such op. */
-static inline int roz_port_open(const roz_port_t *p, const roz_manifest_t *m,
+/** @brief open(); a port without the op has nothing to open and is open at
+ *  once. Marks @p p open on success. Context: start-up; may allocate. */
+static inline int roz_port_open(roz_port_t *p, const roz_manifest_t *m,
                                 const roz_params_t *params, char *err, size_t errlen)
 {
-    return p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_ENOTSUP;
+    int rc = p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_OK;
+    p->opened = rc == ROZ_OK;
+    return rc;
 }
 
 /** @brief activate(); ROZ_OK when the port has none (nothing to start). */
@@ -96,11 +103,12 @@ static inline int roz_port_deactivate(const roz_port_t *p)
     return p->ops->deactivate != NULL ? p->ops->deactivate(p->self) : ROZ_OK;
 }
 
-/** @brief close(), if any. */
-static inline void roz_port_close(const roz_port_t *p)
+/** @brief close(), if any; marks @p p not open. */
+static inline void roz_port_close(roz_port_t *p)
 {
     if (p->ops->close != NULL)
         p->ops->close(p->self);
+    p->opened = 0;
 }
 
 #ifdef __cplusplus

@@ -172,10 +172,10 @@ typedef struct roz_loopback {
  *  state index or name. */
 extern const roz_port_ops_t roz_loopback_ops;
 
-/** @brief A roz_port_t over @p lb. */
+/** @brief A roz_port_t over @p lb, not yet open (roz_port_open()). */
 static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
 {
-    roz_port_t p = { &roz_loopback_ops, lb };
+    roz_port_t p = { &roz_loopback_ops, lb, 0 };
     return p;
 }
 
