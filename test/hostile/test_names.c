@@ -29,6 +29,7 @@
 
 #include "roz/controller.h"
 #include "ur5_manifest.h"
+#include "wasm_bytes.h"
 
 /* ---- a byte-by-byte module builder ---------------------------------------- */
 
@@ -37,32 +38,17 @@ typedef struct {
     size_t  n;
 } buf_t;
 
-static void put(buf_t *w, uint8_t v)
-{
-    assert_true(w->n < sizeof w->b);
-    w->b[w->n++] = v;
-}
-
-static void put_u32(buf_t *w, uint32_t v)
-{
-    do {
-        uint8_t b = v & 0x7f;
-        v >>= 7;
-        put(w, v != 0 ? (uint8_t)(b | 0x80) : b);
-    } while (v != 0);
-}
-
+/* The test's wrappers of test/wasm_bytes.h around one buffer. */
+static void put(buf_t *w, uint8_t v) { roz_wb_byte(w->b, sizeof w->b, &w->n, v); }
+static void put_u32(buf_t *w, uint32_t v) { roz_wb_u32(w->b, sizeof w->b, &w->n, v); }
 static void put_bytes(buf_t *w, const void *p, size_t n)
 {
-    for (size_t i = 0; i < n; i++)
-        put(w, ((const uint8_t *)p)[i]);
+    roz_wb_bytes(w->b, sizeof w->b, &w->n, p, n);
 }
-
 /* A name of n bytes (may hold NUL bytes). */
 static void put_name(buf_t *w, const char *s, size_t n)
 {
-    put_u32(w, (uint32_t)n);
-    put_bytes(w, s, n);
+    roz_wb_name(w->b, sizeof w->b, &w->n, s, n);
 }
 
 static void put_section(buf_t *w, uint8_t id, const buf_t *body)

@@ -35,6 +35,7 @@
 #include "roz/controller.h"
 #include "support.h"
 #include "ur5_manifest.h"
+#include "wasm_bytes.h"
 
 /* ---- a small wasm binary builder ------------------------------------------ */
 
@@ -57,46 +58,17 @@ typedef struct {
     size_t  n;
 } buf_t;
 
-static void put(buf_t *o, uint8_t v)
-{
-    if (o->n >= sizeof o->b)
-        fail_msg("builder: buffer full");
-    o->b[o->n++] = v;
-}
-
-static void put_u32(buf_t *o, uint32_t v)
-{
-    do {
-        uint8_t b = v & 0x7f;
-        v >>= 7;
-        put(o, v != 0 ? (uint8_t)(b | 0x80) : b);
-    } while (v != 0);
-}
-
-static void put_s64(buf_t *o, int64_t v)
-{
-    for (;;) {
-        uint8_t b = (uint8_t)(v & 0x7f);
-        int64_t rest = v / 128 - ((v % 128 != 0 && v < 0) ? 1 : 0); /* floor(v / 128) */
-        if ((rest == 0 && (b & 0x40) == 0) || (rest == -1 && (b & 0x40) != 0)) {
-            put(o, b);
-            return;
-        }
-        put(o, (uint8_t)(b | 0x80));
-        v = rest;
-    }
-}
-
+/* The test's wrappers of test/wasm_bytes.h around one buffer. */
+static void put(buf_t *o, uint8_t v) { roz_wb_byte(o->b, sizeof o->b, &o->n, v); }
+static void put_u32(buf_t *o, uint32_t v) { roz_wb_u32(o->b, sizeof o->b, &o->n, v); }
+static void put_s64(buf_t *o, int64_t v) { roz_wb_s64(o->b, sizeof o->b, &o->n, (uint64_t)v); }
 static void put_bytes(buf_t *o, const void *p, size_t n)
 {
-    for (size_t i = 0; i < n; i++)
-        put(o, ((const uint8_t *)p)[i]);
+    roz_wb_bytes(o->b, sizeof o->b, &o->n, p, n);
 }
-
 static void put_name(buf_t *o, const char *s)
 {
-    put_u32(o, (uint32_t)strlen(s));
-    put_bytes(o, s, strlen(s));
+    roz_wb_name(o->b, sizeof o->b, &o->n, s, strlen(s));
 }
 
 /* A constant of type t with the value v (integers take v's integer part). */
@@ -214,20 +186,8 @@ static buf_t *add_func(uint32_t t, uint32_t *index)
     return &mod.body[f];
 }
 
-static size_t sized_begin(buf_t *o)
-{
-    size_t at = o->n;
-    for (int i = 0; i < 5; i++)
-        put(o, 0);
-    return at;
-}
-
-static void sized_end(buf_t *o, size_t at)
-{
-    uint32_t size = (uint32_t)(o->n - at - 5);
-    for (int i = 0; i < 5; i++)
-        o->b[at + (size_t)i] = (uint8_t)(((size >> (7 * i)) & 0x7f) | (i < 4 ? 0x80 : 0));
-}
+static size_t sized_begin(buf_t *o) { return roz_wb_sized_begin(o->b, sizeof o->b, &o->n); }
+static void sized_end(buf_t *o, size_t at) { roz_wb_sized_end(o->b, o->n, at); }
 
 static size_t section(buf_t *o, uint8_t id)
 {

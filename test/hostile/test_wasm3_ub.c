@@ -43,71 +43,24 @@
 #include "roz/controller.h"
 #include "support.h"
 #include "ur5_manifest.h"
+#include "wasm_bytes.h"
 
 /* ---- module writer -------------------------------------------------------- */
 
 static uint8_t gen_buf[ROZ_CFG_WASM_MAX_MODULE_BYTES];
 static size_t gen_len;
 
-static void put(uint8_t b)
-{
-    assert_true(gen_len < sizeof gen_buf);
-    gen_buf[gen_len++] = b;
-}
-
+/* The test's wrappers of test/wasm_bytes.h around gen_buf. */
+static void put(uint8_t b) { roz_wb_byte(gen_buf, sizeof gen_buf, &gen_len, b); }
 static void put_bytes(const uint8_t *p, size_t n)
 {
-    for (size_t i = 0; i < n; i++)
-        put(p[i]);
+    roz_wb_bytes(gen_buf, sizeof gen_buf, &gen_len, p, n);
 }
-
-static void put_u32(uint32_t v)
-{
-    do {
-        uint8_t b = v & 0x7f;
-        v >>= 7;
-        put(v != 0 ? (uint8_t)(b | 0x80) : b);
-    } while (v != 0);
-}
-
-/* Signed LEB128 of a 64-bit two's complement value (i32 values arrive sign-
- * extended). Arithmetic on the unsigned bits only. */
-static void put_s64(uint64_t v)
-{
-    for (;;) {
-        uint8_t b = v & 0x7f;
-        uint64_t sign = (v >> 63) ? ~UINT64_C(0) : 0;
-        v = (v >> 7) | (sign << 57);
-        if ((v == 0 && (b & 0x40) == 0) || (v == ~UINT64_C(0) && (b & 0x40) != 0)) {
-            put(b);
-            return;
-        }
-        put((uint8_t)(b | 0x80));
-    }
-}
-
-/* A 5-byte LEB size placeholder, filled in by sized_end(). */
-static size_t sized_begin(void)
-{
-    size_t at = gen_len;
-    for (int i = 0; i < 4; i++)
-        put(0x80);
-    put(0x00);
-    return at;
-}
-
-static void sized_end(size_t at)
-{
-    size_t n = gen_len - at - 5;
-    for (int i = 0; i < 5; i++)
-        gen_buf[at + (size_t)i] = (uint8_t)(((n >> (7 * i)) & 0x7f) | (i < 4 ? 0x80 : 0));
-}
-
-static void put_name(const char *s)
-{
-    put_u32((uint32_t)strlen(s));
-    put_bytes((const uint8_t *)s, strlen(s));
-}
+static void put_u32(uint32_t v) { roz_wb_u32(gen_buf, sizeof gen_buf, &gen_len, v); }
+static void put_s64(uint64_t v) { roz_wb_s64(gen_buf, sizeof gen_buf, &gen_len, v); }
+static size_t sized_begin(void) { return roz_wb_sized_begin(gen_buf, sizeof gen_buf, &gen_len); }
+static void sized_end(size_t at) { roz_wb_sized_end(gen_buf, gen_len, at); }
+static void put_name(const char *s) { roz_wb_name(gen_buf, sizeof gen_buf, &gen_len, s, strlen(s)); }
 
 /* The sections every module here has, up to and including the memory
  * section: types 0 = (f64)->() and 1 = (i64)->(), the import
