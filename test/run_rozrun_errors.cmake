@@ -21,6 +21,27 @@ expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=x" "paramet
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--frobnicate" "unknown option")
 expect_error("--robot;ur5;--controller;${CTL}/bad_unknown_import.wasm" "unknown import env.open_valve")
 expect_error("--robot;ur5;--controller;${CTL}/bad_trap_verify.wasm" "verify: trap at tick 3")
+# simulated time: the fuel alone decides, so two runs write the same trace,
+# byte for byte; --budget-us off/N is accepted, 0 refused
+foreach(k IN ITEMS 1 2)
+  execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 300
+                          --trace ${CMAKE_CURRENT_BINARY_DIR}/rozrun_det_${k}.csv
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "deterministic run ${k}: exit ${rc}\n${err}")
+  endif()
+endforeach()
+file(SHA256 ${CMAKE_CURRENT_BINARY_DIR}/rozrun_det_1.csv h1)
+file(SHA256 ${CMAKE_CURRENT_BINARY_DIR}/rozrun_det_2.csv h2)
+if(NOT h1 STREQUAL h2)
+  message(FATAL_ERROR "two simulated-time runs wrote different traces")
+endif()
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--budget-us;0" "--budget-us must be in 1..10000000, or off")
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 20 --budget-us off
+                RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT rc EQUAL 0)
+  message(FATAL_ERROR "--budget-us off: exit ${rc}\n${err}")
+endif()
 # a budget of 0 allows nothing: refused, never "unmetered" (that is --fuel off)
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--fuel;0" "--fuel must be in 1..")
 execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 20 --fuel off

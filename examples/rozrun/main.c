@@ -46,6 +46,7 @@ typedef struct {
     int         realtime;
     int         priority;
     uint64_t    budget_us;
+    int         budget_set;
     uint64_t    fuel;
     int         fuel_set;
     uint32_t    stale_ticks;
@@ -78,11 +79,12 @@ static void usage(FILE *f)
         "  --param KEY=VALUE    port parameter, repeatable (loopback fault injection:\n"
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
         "                       corrupt_cmd, restart; see roz/loopback.h)\n"
-        "  --budget-us US       controller wall-clock budget per tick (default half the period)\n"
+        "  --budget-us US|off   controller wall-clock deadline per tick (default: half the\n"
+        "                       period with --realtime; off in simulated time, where the\n"
+        "                       fuel alone decides, so a run is the same on any machine)\n"
         "  --fuel N|off         controller fuel per tick, in work units (about one wasm\n"
         "                       instruction each; default ROZ_CFG_FUEL_PER_SECOND / rate);\n"
         "                       off: unmetered\n"
-        "                       (default 10000000 / control rate; 0 = unmetered)\n"
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
         "  --trace FILE         write every tick (targets, applied commands, state) as CSV\n"
         "  --help               this text\n"
@@ -174,11 +176,14 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
             o->priority = (int)x;
         } else if (!strcmp(a, "--budget-us")) {
-            if (parse_u64(a, v, 10000000, &x) || x == 0) {
-                fprintf(stderr, "rozrun: --budget-us must be in 1..10000000\n");
+            if (v != NULL && !strcmp(v, "off")) {
+                x = UINT64_MAX;
+            } else if (parse_u64(a, v, 10000000, &x) || x == 0) {
+                fprintf(stderr, "rozrun: --budget-us must be in 1..10000000, or off\n");
                 return -1;
             }
             o->budget_us = x;
+            o->budget_set = 1;
         } else if (!strcmp(a, "--fuel")) {
             /* "off" is the only way to run unmetered: 0 allows nothing */
             if (v != NULL && !strcmp(v, "off")) {
@@ -429,7 +434,12 @@ int main(int argc, char **argv)
     cfg.clock = roz_clock_monotonic_ns;
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;
-    cfg.budget_ns = o.budget_us * 1000u;
+    /* the deadline is wall-clock time, which simulated time is not: there
+     * the fuel alone decides unless asked, so a run is deterministic */
+    if (o.budget_set)
+        cfg.budget_ns = o.budget_us == UINT64_MAX ? UINT64_MAX : o.budget_us * 1000u;
+    else if (!o.realtime)
+        cfg.budget_ns = UINT64_MAX;
     if (o.fuel_set)
         cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
     cfg.monitor_jitter = o.realtime; /* simulated time runs ticks back to back */
