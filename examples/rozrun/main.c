@@ -485,6 +485,7 @@ int main(int argc, char **argv)
             if (tracing)
                 rozrun_trace_drain(&trace);
             drain_metrics();
+            roz_runtime_log_drain(&rt); /* the log is written here, never in the tick */
             nanosleep(&ts, NULL);
         }
         roz_runner_stop(&runner);
@@ -495,8 +496,10 @@ int main(int argc, char **argv)
             if (tracing)
                 rozrun_trace_drain(&trace);
             drain_metrics();
+            roz_runtime_log_drain(&rt); /* between ticks: the application's idle time */
         }
     }
+    roz_runtime_log_drain(&rt);
     roz_port_deactivate(&port);
     if (tracing && rozrun_trace_close(&trace) != 0)
         fprintf(stderr, "rozrun: error writing %s\n", o.trace);

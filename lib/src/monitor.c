@@ -78,14 +78,29 @@ void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns, 
         return;
     s->warned++;
     s->last_warn_ns = now_ns;
-    if (m->log != NULL) {
+    if (m->warn != NULL) {
+        m->warn(m->warn_ctx, kind, ns, m->threshold_ns[kind], s->exceeded);
+    } else if (m->log != NULL) {
         char msg[160];
-        snprintf(msg, sizeof msg, "%s: %s took %llu us, threshold %llu us (%llu times so far)",
-                 m->name, kind_names[kind], (unsigned long long)(ns / 1000u),
-                 (unsigned long long)(m->threshold_ns[kind] / 1000u),
-                 (unsigned long long)s->exceeded);
+        roz_monitor_format_warning(msg, sizeof msg, m->name, kind, ns, m->threshold_ns[kind],
+                                   s->exceeded);
         m->log(m->log_ctx, ROZ_LOG_WARN, msg);
     }
+}
+
+void roz_monitor_set_warn(roz_monitor_t *m, roz_monitor_warn_fn warn, void *ctx)
+{
+    m->warn = warn;
+    m->warn_ctx = ctx;
+}
+
+int roz_monitor_format_warning(char *buf, size_t len, const char *name, roz_monitor_kind_t kind,
+                               uint64_t ns, uint64_t threshold_ns, uint64_t exceeded)
+{
+    return snprintf(buf, len, "%s: %s took %llu us, threshold %llu us (%llu times so far)",
+                    name != NULL ? name : "roz", roz_monitor_kind_name(kind),
+                    (unsigned long long)(ns / 1000u), (unsigned long long)(threshold_ns / 1000u),
+                    (unsigned long long)exceeded);
 }
 
 void roz_monitor_periodic(roz_monitor_t *m, uint64_t start_ns)

@@ -16,27 +16,213 @@ static uint64_t now(const roz_runtime_t *rt)
     return rt->cfg.clock != NULL ? rt->cfg.clock(rt->cfg.clock_ctx) : 0;
 }
 
-static void log_msg(const roz_runtime_t *rt, roz_log_level_t level, const char *msg)
+/* ---- faults: one word, written by the tick ---------------------------------
+ *
+ * rt->faults holds the latched bits (low 8) and a latch sequence number
+ * (24 bits, wrapping) that every latch bumps; latch_stamp[] remembers the
+ * number of each bit's latest latch. A clear hands the tick the word it saw;
+ * the tick clears a bit only if its latest latch is no newer than that word:
+ * a fault latched after the clear looked, even of the same kind, stays. */
+
+#define FAULT_BITS 0xffu
+#define SEQ_MASK   0xffffffu
+
+/* Log event codes (the ring carries numbers; log_drain formats them). */
+enum { EV_FAULT = 1, EV_WAITING, EV_FIRST_FRAME_NONFINITE, EV_MONITOR };
+
+/* Numbers of a fault record (num[]): */
+enum { N_TICK_LO = 0, N_TICK_HI, N_A, N_B };
+
+static unsigned fault_index(unsigned bit)
 {
-    if (rt->cfg.log != NULL)
-        rt->cfg.log(rt->cfg.log_ctx, level, msg);
+    for (unsigned i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
+        if (bit == 1u << i)
+            return i;
+    }
+    return 0;
 }
 
-/* Latch a fault (tick thread). The first fault's message is kept. */
-static void latch(roz_runtime_t *rt, roz_fault_t fault, const char *msg)
+/* a is not newer than b, in 24-bit serial arithmetic */
+static int seq_le(uint32_t a, uint32_t b)
 {
-    unsigned before = atomic_fetch_or(&rt->faults, (unsigned)fault);
-    if (before & (unsigned)fault)
+    return ((b - a) & SEQ_MASK) < (SEQ_MASK + 1u) / 2u;
+}
+
+/* Queue a log event (tick; wait-free; counts a drop when full). */
+static void log_push(roz_runtime_t *rt, roz_log_level_t level, uint8_t code, uint16_t kind,
+                     uint32_t latch, uint64_t a, uint64_t b, uint64_t c, uint64_t d)
+{
+    unsigned head = atomic_load_explicit(&rt->log_head, memory_order_relaxed);
+    unsigned tail = atomic_load_explicit(&rt->log_tail, memory_order_acquire);
+
+    if (rt->cfg.log == NULL)
         return;
-    for (int i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
-        if ((unsigned)fault == 1u << i)
-            rt->counters.faults[i]++;
+    if (head - tail >= ROZ_RUNTIME_LOG_RING) {
+        atomic_store_explicit(&rt->log_dropped,
+                              atomic_load_explicit(&rt->log_dropped, memory_order_relaxed) + 1u,
+                              memory_order_relaxed);
+        return;
     }
-    if (before == 0)
-        snprintf(rt->fault_msg, sizeof rt->fault_msg, "%s", msg);
-    char line[ROZ_CFG_ERROR_LEN + 48];
-    snprintf(line, sizeof line, "fault latched: %s", msg);
-    log_msg(rt, ROZ_LOG_ERROR, line);
+    roz_runtime_log_event_t *e = &rt->log_ring[head & (ROZ_RUNTIME_LOG_RING - 1u)];
+    e->level = (uint8_t)level;
+    e->code = code;
+    e->kind = kind;
+    e->latch = latch;
+    e->num[0] = a;
+    e->num[1] = b;
+    e->num[2] = c;
+    e->num[3] = d;
+    atomic_store_explicit(&rt->log_head, head + 1u, memory_order_release);
+}
+
+static void monitor_warn(void *ctx, roz_monitor_kind_t kind, uint64_t ns, uint64_t threshold_ns,
+                         uint64_t exceeded)
+{
+    log_push(ctx, ROZ_LOG_WARN, EV_MONITOR, (uint16_t)kind, 0, ns, threshold_ns, exceeded, 0);
+}
+
+/* Write the first fault's record (tick), under its sequence counter: the
+ * numbers and a byte copy of the controller's text, no formatting. */
+static void record_first_fault(roz_runtime_t *rt, unsigned bit, uint32_t latch,
+                               const uint32_t num[4], const char *text)
+{
+    roz_runtime_fault_rec_t *r = &rt->first_fault;
+    unsigned s = atomic_load_explicit(&r->seq, memory_order_relaxed);
+    size_t i = 0;
+
+    atomic_store_explicit(&r->seq, s + 1u, memory_order_relaxed);
+    atomic_thread_fence(memory_order_release);
+    atomic_store_explicit(&r->bit, bit, memory_order_relaxed);
+    atomic_store_explicit(&r->latch, latch, memory_order_relaxed);
+    for (int k = 0; k < 4; k++)
+        atomic_store_explicit(&r->num[k], num[k], memory_order_relaxed);
+    if (text != NULL) {
+        for (; i + 1u < sizeof r->text && text[i] != '\0'; i++)
+            atomic_store_explicit(&r->text[i], (unsigned char)text[i], memory_order_relaxed);
+    }
+    atomic_store_explicit(&r->text[i], 0u, memory_order_relaxed);
+    atomic_store_explicit(&r->seq, s + 2u, memory_order_release);
+}
+
+/* Latch a fault (tick thread), or refresh its latch number when it is
+ * already latched (a new event of the same kind: a clear that saw the older
+ * one must not clear it). The record is written before the bit is
+ * published. num: N_A, N_B figures; text: the controller's message or NULL. */
+static void latch(roz_runtime_t *rt, roz_fault_t fault, uint32_t a, uint32_t b, const char *text)
+{
+    unsigned word = atomic_load_explicit(&rt->faults, memory_order_relaxed);
+    unsigned bits = word & FAULT_BITS, idx = fault_index((unsigned)fault);
+    uint32_t num[4] = { (uint32_t)((uint64_t)rt->ctrl_tick & 0xffffffffu),
+                        (uint32_t)((uint64_t)rt->ctrl_tick >> 32), a, b };
+
+    rt->latch_seq = (rt->latch_seq + 1u) & SEQ_MASK;
+    rt->latch_stamp[idx] = rt->latch_seq;
+    if (bits == 0)
+        record_first_fault(rt, (unsigned)fault, rt->latch_seq, num, text);
+    atomic_store_explicit(&rt->faults, (bits | (unsigned)fault) | (rt->latch_seq << 8),
+                          memory_order_release);
+    if (bits & (unsigned)fault)
+        return;
+    rt->counters.faults[idx]++;
+    log_push(rt, ROZ_LOG_ERROR, EV_FAULT, (uint16_t)idx, rt->latch_seq,
+             (uint64_t)rt->ctrl_tick, a, b, 0);
+}
+
+static unsigned faults_now(const roz_runtime_t *rt)
+{
+    return atomic_load_explicit(&rt->faults, memory_order_acquire) & FAULT_BITS;
+}
+
+/* Apply a clear a supervisor asked for (tick): only the bits it saw, and of
+ * those only the ones not latched again since it looked. */
+static void apply_clear(roz_runtime_t *rt, unsigned seen)
+{
+    unsigned word = atomic_load_explicit(&rt->faults, memory_order_relaxed);
+    unsigned bits = word & FAULT_BITS, clear = 0;
+    uint32_t seen_seq = seen >> 8;
+
+    for (unsigned i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
+        unsigned bit = 1u << i;
+        if ((seen & bits & bit) && seq_le(rt->latch_stamp[i], seen_seq))
+            clear |= bit;
+    }
+    if (clear == 0)
+        return;
+    if (clear & ROZ_FAULT_STALE)
+        rt->stale_count = 0;
+    bits &= ~clear;
+    if (bits == 0) {
+        uint32_t none[4] = { 0, 0, 0, 0 };
+        record_first_fault(rt, 0, 0, none, NULL);
+    }
+    atomic_store_explicit(&rt->faults, bits | (word & ~FAULT_BITS), memory_order_release);
+}
+
+/* The text of a fault from its numbers (readers; formats). */
+static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num[4],
+                         const char *text)
+{
+    int64_t tick = (int64_t)(num[N_TICK_LO] | (num[N_TICK_HI] << 32));
+
+    switch (bit) {
+    case 0:
+        snprintf(buf, len, "%s", "");
+        break;
+    case ROZ_FAULT_STALE:
+        snprintf(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
+        break;
+    case ROZ_FAULT_ESTOP:
+        snprintf(buf, len, "e-stop input");
+        break;
+    case ROZ_FAULT_ESTOP_REQUEST:
+        snprintf(buf, len, "the controller called safety.request_estop");
+        break;
+    case ROZ_FAULT_LINK:
+        snprintf(buf, len,
+                 "port link fault: the robot restarted or came back after it was lost");
+        break;
+    default:
+        if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
+            snprintf(buf, len, "process() took %llu us at tick %lld, budget %llu us",
+                     (unsigned long long)num[N_A], (long long)tick,
+                     (unsigned long long)num[N_B]);
+        else if (text != NULL && text[0] != '\0')
+            snprintf(buf, len, "%s", text);
+        else
+            snprintf(buf, len, "%s at tick %lld", roz_fault_name(bit), (long long)tick);
+        break;
+    }
+}
+
+/* Copy the first fault's record (readers): 1 if consistent, 0 if the tick
+ * kept rewriting it. */
+static int read_first_fault(const roz_runtime_t *rt, unsigned *bit, uint32_t *latch,
+                            uint64_t num[4], char *text, size_t text_len)
+{
+    const roz_runtime_fault_rec_t *r = &rt->first_fault;
+
+    for (int tries = 0; tries < 1000; tries++) {
+        unsigned s1 = atomic_load_explicit(&r->seq, memory_order_acquire);
+        if (s1 & 1u)
+            continue;
+        *bit = atomic_load_explicit(&r->bit, memory_order_relaxed);
+        *latch = atomic_load_explicit(&r->latch, memory_order_relaxed);
+        for (int k = 0; k < 4; k++)
+            num[k] = atomic_load_explicit(&r->num[k], memory_order_relaxed);
+        size_t cap = text_len - 1u < sizeof r->text - 1u ? text_len - 1u : sizeof r->text - 1u;
+        size_t i = 0;
+        for (; i < cap; i++) {
+            char c = (char)atomic_load_explicit(&r->text[i], memory_order_relaxed);
+            if (c == '\0')
+                break;
+            text[i] = c;
+        }
+        text[i] = '\0';
+        atomic_thread_fence(memory_order_acquire);
+        if (atomic_load_explicit(&r->seq, memory_order_relaxed) == s1)
+            return 1;
+    }
+    return 0;
 }
 
 static roz_stop_t stop_mode(unsigned faults)
@@ -76,6 +262,7 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
         budget.deadline_ns = ROZ_BUDGET_OFF;
 
     roz_controller_unload(&s->ctrl);
+    atomic_store(&s->dead, 0);
     roz_abi_init(&s->abi, rt->cfg.manifest, s->target, &rt->metrics);
     s->abi.clock = rt->cfg.clock;
     s->abi.clock_ctx = rt->cfg.clock_ctx;
@@ -231,17 +418,32 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
         if (rt->cfg.fuel_per_tick == 0)
             return ROZ_EINVAL;
     }
-    roz_monitor_init(&rt->monitor, "roz runtime", period_ns, cfg->log, cfg->log_ctx);
+    /* the monitor's warnings are queued as numbers, formatted by log_drain */
+    roz_monitor_init(&rt->monitor, "roz runtime", period_ns, NULL, NULL);
+    roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
     rt->monitor.threshold_ns[ROZ_MON_PROCESS] = rt->cfg.budget_ns;
     for (int i = 0; i < 2; i++) {
         roz_controller_init(&rt->slot[i].ctrl);
         roz_abi_init(&rt->slot[i].abi, m, rt->slot[i].target, &rt->metrics);
+        atomic_init(&rt->slot[i].dead, 0);
     }
     atomic_init(&rt->active, -1);
     atomic_init(&rt->pending, -1);
     atomic_init(&rt->faults, 0u);
-    atomic_init(&rt->estop_input, 0u);
     atomic_init(&rt->clear_request, 0u);
+    atomic_init(&rt->estop_level, 0u);
+    atomic_init(&rt->estop_press, 0u);
+    atomic_store(&rt->loader_busy, 0u);
+    atomic_init(&rt->first_fault.seq, 0u);
+    atomic_init(&rt->first_fault.bit, 0u);
+    atomic_init(&rt->first_fault.latch, 0u);
+    for (int k = 0; k < 4; k++)
+        atomic_init(&rt->first_fault.num[k], 0u);
+    for (size_t i = 0; i < sizeof rt->first_fault.text; i++)
+        atomic_init(&rt->first_fault.text[i], 0u);
+    atomic_init(&rt->log_head, 0u);
+    atomic_init(&rt->log_tail, 0u);
+    atomic_init(&rt->log_dropped, 0u);
     roz_buffer_init(&rt->snapshot, rt->snapshot_slots, m->n_states > 0 ? m->n_states : 1u);
     for (uint16_t i = 0; i < m->n_states; i++)
         rt->state[i] = m->states[i].default_value;
@@ -250,8 +452,9 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     return ROZ_OK;
 }
 
-int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
-                     roz_verify_report_t *report)
+/* Load, verify and schedule a controller; the caller holds loader_busy. */
+static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
+                       roz_verify_report_t *report)
 {
     double *vstate = rt->verify_state;
     roz_verify_report_t local;
@@ -262,6 +465,8 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         snprintf(rt->error, sizeof rt->error, "a controller swap is already pending");
         return ROZ_ESTATE;
     }
+    /* the tick changes active only by taking pending, which only the holder
+     * of loader_busy sets: the spare slot is the tick's to ignore */
     spare = atomic_load(&rt->active) == 0 ? 1 : 0;
     s = &rt->slot[spare];
     if (report == NULL)
@@ -291,8 +496,22 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         rt->counters.swaps_refused++;
         return rc;
     }
+    /* published complete: the tick takes it with an exchange (acquire) */
     atomic_store(&rt->pending, spare);
     return ROZ_OK;
+}
+
+int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
+                     roz_verify_report_t *report)
+{
+    if (atomic_exchange(&rt->loader_busy, 1u)) {
+        if (report != NULL)
+            memset(report, 0, sizeof *report);
+        return ROZ_ESTATE; /* rt->error belongs to the running load */
+    }
+    int rc = load_locked(rt, wasm, len, report);
+    atomic_store(&rt->loader_busy, 0u);
+    return rc;
 }
 
 int roz_runtime_start(roz_runtime_t *rt)
@@ -301,6 +520,24 @@ int roz_runtime_start(roz_runtime_t *rt)
         return ROZ_ESTATE;
     rt->started = 1;
     return ROZ_OK;
+}
+
+/* The first frame is usable when every position paired with a position
+ * command is finite: that command's safe default holds the position, and
+ * before any command went out there is no last value to hold instead (the
+ * manifest default may be far from the joint). Returns the first bad state
+ * index, or -1. */
+static int first_frame_bad(const roz_runtime_t *rt, const double *state)
+{
+    const roz_manifest_t *m = rt->cfg.manifest;
+
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED &&
+            !isfinite(state[c->position_state]))
+            return (int)c->position_state;
+    }
+    return -1;
 }
 
 int roz_runtime_tick(roz_runtime_t *rt)
@@ -315,30 +552,43 @@ int roz_runtime_tick(roz_runtime_t *rt)
     if (rt->cfg.monitor_jitter)
         roz_monitor_periodic(&rt->monitor, t_start);
 
-    /* Hand-overs from other threads, at the tick boundary. The clear request
-     * is taken first: clear_faults() schedules a rebuilt controller before
-     * it asks for the clear, so seeing the request means seeing the swap. */
+    /* 0. Hand-overs from other threads, at the tick boundary, each taken
+     * with an exchange. The clear request is taken first: a clear that
+     * rebuilt the controller scheduled it before it asked for the clear, so
+     * seeing the request means seeing the swap. */
     unsigned clear = atomic_exchange(&rt->clear_request, 0u);
-    int pending = atomic_load(&rt->pending);
+    int pending = atomic_exchange(&rt->pending, -1);
     if (pending != -1) {
         atomic_store(&rt->active, pending);
-        atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
         rt->counters.swaps++;
     }
-    if (clear != 0u) {
-        atomic_store(&rt->faults, 0u);
-        rt->fault_msg[0] = '\0';
-        rt->stale_count = 0;
-    }
+    if (clear != 0u)
+        apply_clear(rt, clear);
     active = atomic_load(&rt->active);
 
-    /* 1. state snapshot */
+    /* 1. the e-stop input, before anything runs: a press since the last
+     * tick (even one already released), or the input held */
+    unsigned press = atomic_exchange(&rt->estop_press, 0u);
+    if (press != 0u || (atomic_load(&rt->estop_level) != 0u && !(faults_now(rt) & ROZ_FAULT_ESTOP)))
+        latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
+
+    /* 2. state: read into a scratch frame (the port leaves it undefined on
+     * error); the state the controller and filter see is the last good one */
     t0 = now(rt);
-    rc = rt->cfg.port.ops->read(rt->cfg.port.self, rt->state, m->n_states);
+    rc = rt->cfg.port.ops->read(rt->cfg.port.self, rt->scratch, m->n_states);
     t1 = now(rt);
     roz_monitor_record(&rt->monitor, ROZ_MON_READ, t1 - t0, t1);
-    if (rc == 1) {
+    int bad = -1;
+    if (rc == 1 && !rt->have_state) {
+        bad = first_frame_bad(rt, rt->scratch);
+        if (bad >= 0 && !rt->nonfinite_warned) {
+            rt->nonfinite_warned = 1;
+            log_push(rt, ROZ_LOG_WARN, EV_FIRST_FRAME_NONFINITE, 0, 0, (uint64_t)bad, 0, 0, 0);
+        }
+    }
+    if (rc == 1 && bad < 0) {
+        memcpy(rt->state, rt->scratch, (size_t)m->n_states * sizeof rt->state[0]);
         rt->have_state = 1;
         rt->stale_count = 0;
         roz_buffer_write(&rt->snapshot, rt->state, t1);
@@ -346,42 +596,35 @@ int roz_runtime_tick(roz_runtime_t *rt)
         if (rc < 0 && rc != ROZ_ENOENT)
             rt->counters.read_errors++;
         if (!rt->have_state) {
-            /* Waiting for the robot's first frame (a DDS peer may take a
-             * while to be discovered) is not a fault: nothing is sent
+            /* Waiting for the robot's first usable frame (a DDS peer may take
+             * a while to be discovered) is not a fault: nothing is sent
              * meanwhile, and staleness counts from the first frame. Said
              * once, as a warning, when it lasts stale_ticks. */
-            if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks) {
-                char msg[96];
-                snprintf(msg, sizeof msg,
-                         "no state from the port yet after %u ticks; nothing is sent",
-                         (unsigned)rt->cfg.stale_ticks);
-                log_msg(rt, ROZ_LOG_WARN, msg);
-            }
+            if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks)
+                log_push(rt, ROZ_LOG_WARN, EV_WAITING, 0, 0, rt->cfg.stale_ticks, 0, 0, 0);
         } else {
             rt->counters.stale_reads++;
             if (rt->stale_count < UINT32_MAX)
                 rt->stale_count++;
-            if (rt->stale_count >= rt->cfg.stale_ticks) {
-                char msg[96];
-                snprintf(msg, sizeof msg, "no fresh state for %u ticks",
-                         (unsigned)rt->stale_count);
-                latch(rt, ROZ_FAULT_STALE, msg);
-            }
+            if (rt->stale_count >= rt->cfg.stale_ticks && !(faults_now(rt) & ROZ_FAULT_STALE))
+                latch(rt, ROZ_FAULT_STALE, rt->stale_count, 0, NULL);
             if (rc == ROZ_ELINK)
-                latch(rt, ROZ_FAULT_LINK,
-                      "port link fault: the robot restarted or came back after it was lost");
+                latch(rt, ROZ_FAULT_LINK, 0, 0, NULL);
         }
     }
-    if (atomic_load(&rt->estop_input) != 0u)
-        latch(rt, ROZ_FAULT_ESTOP, "e-stop input");
     if (!rt->have_state) {
-        /* Nothing is sent before the first state frame. */
+        /* Nothing is sent before the first usable state frame. */
         rt->counters.waiting_ticks++;
-        return atomic_load(&rt->faults) != 0u ? ROZ_EFAULT : ROZ_OK;
+        return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
     }
 
-    /* 2. the controller, unless a fault is latched */
-    faults = atomic_load(&rt->faults);
+    /* 3. the controller, unless a fault is latched; an instance that trapped
+     * or was stopped by its budget never runs again */
+    if (active >= 0 && atomic_load(&rt->slot[active].dead) && faults_now(rt) == 0u)
+        latch(rt, ROZ_FAULT_TRAP, 0, 0,
+              "the controller's instance trapped or ran out of budget before; "
+              "clearing the faults rebuilds it");
+    faults = faults_now(rt);
     stop = stop_mode(faults);
     double *target = NULL;
     if (active >= 0) {
@@ -395,41 +638,41 @@ int roz_runtime_tick(roz_runtime_t *rt)
             t1 = now(rt);
             rt->last_process_ns = t1 - t0;
             roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);
-            rt->ctrl_tick++;
             rt->counters.controller_ticks++;
             rt->counters.last_fuel = roz_controller_fuel_used(&s->ctrl);
             if (rt->counters.last_fuel > rt->counters.max_fuel)
                 rt->counters.max_fuel = rt->counters.last_fuel;
             if (roz_controller_stack_used(&s->ctrl) > rt->counters.max_stack)
                 rt->counters.max_stack = roz_controller_stack_used(&s->ctrl);
-            if (rc == ROZ_ETIMEDOUT) {
-                latch(rt, ROZ_FAULT_OVERRUN, roz_controller_error(&s->ctrl));
-            } else if (rc != ROZ_OK) {
-                latch(rt, ROZ_FAULT_TRAP, roz_controller_error(&s->ctrl));
+            if (rc != ROZ_OK) {
+                /* unusable from now on, marked before the fault is
+                 * published: a clear that sees the fault sees this */
+                atomic_store(&s->dead, 1);
+                latch(rt, rc == ROZ_ETIMEDOUT ? ROZ_FAULT_OVERRUN : ROZ_FAULT_TRAP, 0, 0,
+                      roz_controller_error(&s->ctrl));
             } else if (rt->cfg.budget_ns != UINT64_MAX && t1 - t0 > rt->cfg.budget_ns) {
-                char msg[128];
-                snprintf(msg, sizeof msg, "process() took %llu us at tick %lld, budget %llu us",
-                         (unsigned long long)((t1 - t0) / 1000u), (long long)(rt->ctrl_tick - 1),
-                         (unsigned long long)(rt->cfg.budget_ns / 1000u));
-                latch(rt, ROZ_FAULT_OVERRUN, msg);
+                uint64_t us = (t1 - t0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
+                latch(rt, ROZ_FAULT_OVERRUN, us > UINT32_MAX ? UINT32_MAX : (uint32_t)us,
+                      budget_us > UINT32_MAX ? UINT32_MAX : (uint32_t)budget_us, NULL);
             }
             if (s->abi.estop_requested) {
                 /* The request is now a latched fault; consume it, or it would
                  * latch again on the first tick after the application clears. */
                 s->abi.estop_requested = 0;
-                latch(rt, ROZ_FAULT_ESTOP_REQUEST, "the controller called safety.request_estop");
+                latch(rt, ROZ_FAULT_ESTOP_REQUEST, 0, 0, NULL);
             }
-            stop = stop_mode(atomic_load(&rt->faults));
+            rt->ctrl_tick++;
+            stop = stop_mode(faults_now(rt));
         }
     } else if (stop == ROZ_STOP_NONE) {
         /* No controller yet: hold the safe defaults, ramped. */
         stop = ROZ_STOP_CONTROLLED;
     }
 
-    /* 3. the safety filter: the last word */
+    /* 4. the safety filter: the last word */
     roz_filter_apply(&rt->filter, target, rt->state, stop, rt->out);
 
-    /* 4. the port */
+    /* 5. the port */
     t0 = now(rt);
     rc = rt->cfg.port.ops->write(rt->cfg.port.self, rt->out, m->n_commands);
     t1 = now(rt);
@@ -439,36 +682,57 @@ int roz_runtime_tick(roz_runtime_t *rt)
     else
         rt->counters.writes++;
     roz_monitor_record(&rt->monitor, ROZ_MON_TICK, t1 - t_start, t1);
-    return atomic_load(&rt->faults) != 0u ? ROZ_EFAULT : ROZ_OK;
+    return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
+}
+
+void roz_runtime_estop_set(roz_runtime_t *rt, int pressed)
+{
+    /* the press first: a press and release between two ticks still latches */
+    if (pressed)
+        atomic_store(&rt->estop_press, 1u);
+    atomic_store(&rt->estop_level, pressed ? 1u : 0u);
 }
 
 void roz_runtime_estop(roz_runtime_t *rt)
 {
-    atomic_store(&rt->estop_input, 1u);
+    atomic_store(&rt->estop_press, 1u);
 }
 
 int roz_runtime_clear_faults(roz_runtime_t *rt)
 {
-    unsigned faults = atomic_load(&rt->faults);
-    int active = atomic_load(&rt->active);
+    /* what this clear saw: the bits and the latch number they carry */
+    unsigned seen = atomic_load(&rt->faults);
+    int rc = ROZ_OK;
 
-    atomic_store(&rt->estop_input, 0u);
-    if (active >= 0 && ((faults & ROZ_FAULT_TRAP) || rt->slot[active].ctrl.spent)) {
+    if ((seen & FAULT_BITS) == 0u)
+        return ROZ_OK; /* saw nothing: changes nothing */
+    if (atomic_exchange(&rt->loader_busy, 1u))
+        return ROZ_ESTATE;
+    int active = atomic_load(&rt->active);
+    if (atomic_load(&rt->pending) == -1 && active >= 0 && atomic_load(&rt->slot[active].dead)) {
         /* A trapped or budget-stopped instance is not reused: its memory may
-         * be half-updated. Rebuild and re-verify it. */
+         * be half-updated. Rebuild and re-verify it into the spare slot; the
+         * tick swaps it in, complete, before it applies this clear. (With a
+         * swap pending, the pending controller replaces it.) */
         const roz_runtime_slot_t *s = &rt->slot[active];
-        int rc = roz_runtime_load(rt, s->wasm, s->wasm_len, NULL);
-        if (rc != ROZ_OK)
-            return rc;
-        rt->counters.rebuilds++;
+        rc = load_locked(rt, s->wasm, s->wasm_len, NULL);
+        if (rc == ROZ_OK)
+            rt->counters.rebuilds++;
     }
-    atomic_store(&rt->clear_request, 1u);
-    return ROZ_OK;
+    atomic_store(&rt->loader_busy, 0u);
+    if (rc != ROZ_OK)
+        return rc;
+    if (atomic_load(&rt->estop_level) != 0u) {
+        seen &= ~(unsigned)ROZ_FAULT_ESTOP; /* held: the fault stays */
+        rc = ROZ_ESTATE;
+    }
+    atomic_store(&rt->clear_request, seen);
+    return rc;
 }
 
 unsigned roz_runtime_faults(const roz_runtime_t *rt)
 {
-    return atomic_load(&rt->faults);
+    return faults_now(rt);
 }
 
 const char *roz_fault_name(unsigned fault_bit)
@@ -480,9 +744,94 @@ const char *roz_fault_name(unsigned fault_bit)
     return "?";
 }
 
-const char *roz_runtime_fault_message(const roz_runtime_t *rt)
+int roz_runtime_fault_message_copy(const roz_runtime_t *rt, char *buf, size_t len)
 {
+    char text[ROZ_CFG_ERROR_LEN];
+    uint64_t num[4];
+    uint32_t latch_no;
+    unsigned bit;
+
+    if (buf == NULL || len == 0)
+        return ROZ_EINVAL;
+    if (!read_first_fault(rt, &bit, &latch_no, num, text, sizeof text)) {
+        buf[0] = '\0';
+        return ROZ_ESTATE;
+    }
+    format_fault(buf, len, bit, num, text);
+    return ROZ_OK;
+}
+
+const char *roz_runtime_fault_message(roz_runtime_t *rt)
+{
+    (void)roz_runtime_fault_message_copy(rt, rt->fault_msg, sizeof rt->fault_msg);
     return rt->fault_msg;
+}
+
+size_t roz_runtime_log_drain(roz_runtime_t *rt)
+{
+    char line[ROZ_CFG_ERROR_LEN + 96], msg[ROZ_CFG_ERROR_LEN + 64];
+    size_t n = 0;
+
+    for (;;) {
+        unsigned tail = atomic_load_explicit(&rt->log_tail, memory_order_relaxed);
+        unsigned head = atomic_load_explicit(&rt->log_head, memory_order_acquire);
+        if (tail == head)
+            break;
+        roz_runtime_log_event_t e = rt->log_ring[tail & (ROZ_RUNTIME_LOG_RING - 1u)];
+        atomic_store_explicit(&rt->log_tail, tail + 1u, memory_order_release);
+        n++;
+        switch (e.code) {
+        case EV_FAULT: {
+            unsigned bit = 1u << e.kind, rbit;
+            uint64_t num[4] = { e.num[0] & 0xffffffffu, e.num[0] >> 32, e.num[1], e.num[2] };
+            char text[ROZ_CFG_ERROR_LEN];
+            uint64_t rnum[4];
+            uint32_t rlatch;
+            /* the controller's text is kept for the first fault only */
+            if (read_first_fault(rt, &rbit, &rlatch, rnum, text, sizeof text) && rbit == bit &&
+                rlatch == e.latch)
+                format_fault(msg, sizeof msg, bit, num, text);
+            else
+                format_fault(msg, sizeof msg, bit, num, NULL);
+            snprintf(line, sizeof line, "fault latched: %s", msg);
+            break;
+        }
+        case EV_WAITING:
+            snprintf(line, sizeof line,
+                     "no state from the port yet after %llu ticks; nothing is sent",
+                     (unsigned long long)e.num[0]);
+            break;
+        case EV_FIRST_FRAME_NONFINITE:
+            snprintf(line, sizeof line,
+                     "the first state frame has a non-finite %s, which a position command "
+                     "holds; nothing is sent until it is finite",
+                     rt->cfg.manifest->states[e.num[0]].name);
+            break;
+        case EV_MONITOR:
+            roz_monitor_format_warning(line, sizeof line, rt->monitor.name,
+                                       (roz_monitor_kind_t)e.kind, e.num[0], e.num[1], e.num[2]);
+            break;
+        default:
+            snprintf(line, sizeof line, "event %u", (unsigned)e.code);
+            break;
+        }
+        if (rt->cfg.log != NULL)
+            rt->cfg.log(rt->cfg.log_ctx, (roz_log_level_t)e.level, line);
+    }
+    uint32_t dropped = atomic_load(&rt->log_dropped);
+    if (dropped != rt->log_dropped_seen) {
+        snprintf(line, sizeof line, "%lu log events dropped (the log ring was full)",
+                 (unsigned long)(dropped - rt->log_dropped_seen));
+        rt->log_dropped_seen = dropped;
+        if (rt->cfg.log != NULL)
+            rt->cfg.log(rt->cfg.log_ctx, ROZ_LOG_WARN, line);
+    }
+    return n;
+}
+
+uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt)
+{
+    return atomic_load(&rt->log_dropped);
 }
 
 const char *roz_runtime_error(const roz_runtime_t *rt)

@@ -2,7 +2,8 @@
 /* The README's firmware block, compiled as printed (this directory's
  * CMakeLists.txt cuts it out of README.md into firmware_snippet.c) and run:
  * the smallest controller, 100 periods on the loopback, no fault, one frame
- * a period. A README that stops compiling or running fails this test. */
+ * a period; then the e-stop pressed (the fault cannot be cleared), released
+ * and cleared. A README that stops compiling or running fails this test. */
 #include <stdio.h>
 
 #include "roz/hal/clock.h"
@@ -12,6 +13,8 @@
 int controller_start(const uint8_t *wasm, size_t wasm_len, roz_clock_fn clock, char *err,
                      size_t errlen);
 void controller_period(void);
+void estop_isr(int pressed);
+void controller_supervise(int operator_acknowledged);
 
 #include "firmware_snippet.c"
 
@@ -38,6 +41,24 @@ int main(void)
                 (unsigned long long)rt.counters.writes);
         return 1;
     }
-    printf("readme firmware: 100 periods, no fault\n");
+    /* the e-stop: pressed, the fault cannot be cleared; released, it can */
+    estop_isr(1);
+    controller_period();
+    controller_supervise(1);
+    controller_period();
+    if (!(roz_runtime_faults(&rt) & ROZ_FAULT_ESTOP)) {
+        fprintf(stderr, "readme firmware: ESTOP cleared while pressed\n");
+        return 1;
+    }
+    estop_isr(0);
+    controller_supervise(1);
+    for (int t = 0; t < 3; t++)
+        controller_period();
+    if (roz_runtime_faults(&rt) != 0) {
+        fprintf(stderr, "readme firmware: faults 0x%x after release and clear\n",
+                roz_runtime_faults(&rt));
+        return 1;
+    }
+    printf("readme firmware: 100 periods, no fault; e-stop held, released, cleared\n");
     return 0;
 }

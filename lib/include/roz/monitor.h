@@ -14,6 +14,7 @@
 
 #include "roz/config.h"
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "roz/log.h"
@@ -49,6 +50,12 @@ typedef struct roz_monitor_stat {
     uint32_t hist[ROZ_MONITOR_BUCKETS];
 } roz_monitor_stat_t;
 
+/** A threshold warning, as numbers: called instead of formatting one when
+ *  set (roz_monitor_set_warn()), so a real-time writer can queue it and a
+ *  non-real-time thread format it (roz_monitor_format_warning()). */
+typedef void (*roz_monitor_warn_fn)(void *ctx, roz_monitor_kind_t kind, uint64_t ns,
+                                    uint64_t threshold_ns, uint64_t exceeded);
+
 /** A monitor; caller-owned storage. */
 typedef struct roz_monitor {
     const char        *name;           /**< prefix of warnings, e.g. "runtime" */
@@ -56,6 +63,8 @@ typedef struct roz_monitor {
     roz_monitor_stat_t stat[ROZ_MON_KIND_COUNT_];
     roz_log_fn         log;
     void              *log_ctx;
+    roz_monitor_warn_fn warn;          /**< set: called instead of log, no text */
+    void              *warn_ctx;
     uint64_t           period_ns;      /**< expected period for jitter, 0 = none */
     uint64_t           last_start_ns;  /**< previous periodic start, 0 = none */
 } roz_monitor_t;
@@ -69,8 +78,24 @@ void roz_monitor_init(roz_monitor_t *m, const char *name, uint64_t period_ns,
                       roz_log_fn log, void *log_ctx);
 
 /**
- * @brief Record one sample; warn through the log callback if it exceeds the
- *        threshold and the last warning of that kind is a second old or more.
+ * @brief Send warnings as numbers to @p warn instead of formatting them for
+ *        the log callback (NULL: back to the log callback).
+ * Context: start-up.
+ */
+void roz_monitor_set_warn(roz_monitor_t *m, roz_monitor_warn_fn warn, void *ctx);
+
+/**
+ * @brief The text of a threshold warning, as the log callback gets it.
+ * @return snprintf's result
+ * Context: any; formats text (not for a real-time thread).
+ */
+int roz_monitor_format_warning(char *buf, size_t len, const char *name, roz_monitor_kind_t kind,
+                               uint64_t ns, uint64_t threshold_ns, uint64_t exceeded);
+
+/**
+ * @brief Record one sample; warn (through the warn hook when set, else the
+ *        log callback) if it exceeds the threshold and the last warning of
+ *        that kind is a second old or more.
  * @param[in] now_ns the clock now, for throttling
  * Context: the monitor's writer thread; RT-safe; O(1).
  */

@@ -9,17 +9,31 @@
  * roz_runtime_t, which the caller owns (make it static: it is large). After
  * roz_runtime_start() the tick never allocates.
  *
- * Threads: roz_runtime_tick() runs on one thread (the tick). Controller load,
- * swap and fault clearing run on another (or the same, between ticks) and
- * hand over through atomics at the next tick boundary; roz_runtime_estop()
- * may be called from any thread or an ISR.
+ * Threads (each function's Context: line says where it may run):
+ *  - the tick: roz_runtime_tick(), on one thread (timer task, RT thread);
+ *  - the loader: roz_runtime_load(), roz_runtime_clear_faults() (which may
+ *    rebuild a controller); any non-tick thread, and two of them may race:
+ *    the second gets ROZ_ESTATE while the first loads;
+ *  - the e-stop input: roz_runtime_estop_set() and roz_runtime_estop(),
+ *    any thread or an ISR (atomic stores only);
+ *  - readers: roz_runtime_faults(), roz_runtime_fault_message_copy(),
+ *    any thread; roz_runtime_log_drain(), one non-real-time thread at a time.
+ * Hand-overs go through atomics at the next tick boundary; the tick never
+ * waits for another thread.
  *
  * Faults latch (shared/DESIGN.md section 4): a trap, an overrun of the
  * tick's time budget, a stale state stream, the e-stop input or the
  * controller's safety.request_estop. While any is latched the controller does
  * not run and every command goes to its safe default, ramped by the rate
  * caps for a controlled stop (trap, overrun, stale) or at once for an e-stop.
- * Only roz_runtime_clear_faults() unlatches them.
+ * Only roz_runtime_clear_faults() unlatches them, and only those it saw:
+ * a fault that latches after the clear looked stays latched. A controller
+ * instance that trapped or was stopped by its budget never runs again.
+ *
+ * The log callback never runs in the tick: the tick queues events (codes
+ * and numbers) in a bounded ring, and roz_runtime_log_drain(), called from a
+ * non-real-time thread, formats them and calls it. Events the ring had no
+ * room for are counted (roz_runtime_log_dropped()).
  */
 #ifndef ROZ_RUNTIME_H
 #define ROZ_RUNTIME_H
@@ -63,6 +77,14 @@ typedef enum roz_fault {
  *  so its first command is the safe default itself. */
 #define ROZ_FAULT_IMMEDIATE_MASK (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST | ROZ_FAULT_LINK)
 
+/** Log events the ring holds between two roz_runtime_log_drain() calls. */
+#ifndef ROZ_RUNTIME_LOG_RING
+#define ROZ_RUNTIME_LOG_RING 64
+#endif
+#if ROZ_RUNTIME_LOG_RING < 2 || (ROZ_RUNTIME_LOG_RING & (ROZ_RUNTIME_LOG_RING - 1)) != 0
+#error "ROZ_RUNTIME_LOG_RING must be a power of two, at least 2"
+#endif
+
 /** Configuration; roz_runtime_config_default() fills the defaults. */
 typedef struct roz_runtime_config {
     const roz_manifest_t *manifest;
@@ -81,7 +103,8 @@ typedef struct roz_runtime_config {
     int          monitor_jitter; /**< 1: check each tick's start against the period
                                      (ticks driven by a timer; default); 0: ticks run
                                      back to back in simulated time */
-    roz_log_fn   log;           /**< warnings and faults; NULL = silent */
+    roz_log_fn   log;           /**< warnings and faults, called by roz_runtime_log_drain()
+                                     (never from the tick); NULL = silent */
     void        *log_ctx;
 } roz_runtime_config_t;
 
@@ -125,7 +148,28 @@ typedef struct roz_runtime_slot {
     double           target[ROZ_CFG_MAX_COMMANDS];
     const uint8_t   *wasm;     /* bytes (caller's), kept to rebuild after a trap */
     size_t           wasm_len;
+    ROZ_ATOMIC(int)  dead;     /* 1: trapped or stopped by its budget; set by the tick
+                                  before the fault is published, never run again */
 } roz_runtime_slot_t;
+
+/** The first fault's record (private): numbers and the controller's text,
+ *  written by the tick under a sequence counter, formatted by readers. */
+typedef struct roz_runtime_fault_rec {
+    ROZ_ATOMIC(unsigned) seq;       /* odd while the tick writes */
+    ROZ_ATOMIC(unsigned) bit;       /* the fault, 0 none */
+    ROZ_ATOMIC(unsigned) latch;     /* latch sequence number of that fault */
+    ROZ_ATOMIC(unsigned) num[4];    /* its figures (see runtime.c) */
+    ROZ_ATOMIC(unsigned char) text[ROZ_CFG_ERROR_LEN]; /* the controller's message, or "" */
+} roz_runtime_fault_rec_t;
+
+/** One queued log event (private). */
+typedef struct roz_runtime_log_event {
+    uint8_t  level;          /* roz_log_level_t */
+    uint8_t  code;           /* what happened (runtime.c) */
+    uint16_t kind;           /* fault bit index, monitor kind */
+    uint32_t latch;          /* latch sequence number of a fault */
+    uint64_t num[4];
+} roz_runtime_log_event_t;
 
 /** The runtime. Large: give it static storage. Fields are private. */
 typedef struct roz_runtime {
@@ -137,20 +181,35 @@ typedef struct roz_runtime {
     roz_runtime_slot_t     slot[2];
     ROZ_ATOMIC(int)        active;       /* index of the driving slot, -1 none; written by the tick */
     ROZ_ATOMIC(int)        pending;      /* swap: slot to install at the next tick, -1 none */
-    ROZ_ATOMIC(unsigned)   faults;       /* latched fault bits */
-    ROZ_ATOMIC(unsigned)   estop_input;  /* set by roz_runtime_estop() */
-    ROZ_ATOMIC(unsigned)   clear_request;/* set by roz_runtime_clear_faults() */
+    /* Faults: latched bits (low 8) | latch sequence number << 8. Written by
+     * the tick only; a new latch bumps the sequence, so a clear can tell the
+     * faults it saw from those latched since. */
+    ROZ_ATOMIC(unsigned)   faults;
+    ROZ_ATOMIC(unsigned)   clear_request;/* the faults word a clear saw, 0 none; taken by exchange */
+    ROZ_ATOMIC(unsigned)   estop_level;  /* the e-stop input: 1 pressed */
+    ROZ_ATOMIC(unsigned)   estop_press;  /* a press the tick has not seen; taken by exchange */
+    ROZ_ATOMIC(unsigned)   loader_busy;  /* 1 while a load or rebuild runs; taken by exchange */
+    uint32_t               latch_seq;    /* tick: last latch sequence number */
+    uint32_t               latch_stamp[ROZ_FAULT_KIND_COUNT]; /* tick: each bit's latch */
+    roz_runtime_fault_rec_t first_fault;
+    roz_runtime_log_event_t log_ring[ROZ_RUNTIME_LOG_RING];
+    ROZ_ATOMIC(unsigned)   log_head;     /* written by the tick */
+    ROZ_ATOMIC(unsigned)   log_tail;     /* written by the drain */
+    ROZ_ATOMIC(unsigned)   log_dropped;  /* events the ring had no room for */
+    uint32_t               log_dropped_seen; /* drain: drops already reported */
+    int                    nonfinite_warned; /* tick: the first-frame warning went out */
     int64_t                ctrl_tick;    /* tick number the controller sees */
     int                    have_state;
     uint32_t               stale_count;
     double                 state[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                 scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1]; /* read() */
     double                 out[ROZ_CFG_MAX_COMMANDS];
     /* this tick's state for verification on another thread */
     roz_buffer_t           snapshot;
     double                 snapshot_slots[3 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1)];
     double                 verify_state[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     uint64_t               last_process_ns;
-    char                   fault_msg[ROZ_CFG_ERROR_LEN]; /* first fault's message */
+    char                   fault_msg[ROZ_CFG_ERROR_LEN + 64]; /* roz_runtime_fault_message() */
     char                   error[ROZ_CFG_ERROR_LEN];     /* last load/verify error */
     int                    started;
 } roz_runtime_t;
@@ -240,59 +299,124 @@ ROZ_NODISCARD static inline int roz_runtime_init(roz_runtime_t *rt,
  * @retval ROZ_EINVAL  refused at load; roz_runtime_error() names the problem
  * @retval ROZ_EFAULT  failed verification (trap, overrun, non-finite
  *                     values, e-stop request); roz_runtime_error() says which
- * @retval ROZ_ESTATE  a swap is already pending
- * Context: not the tick thread; allocates (wasm3).
+ * @retval ROZ_ESTATE  a swap is already pending, or another load or a
+ *                     rebuild (roz_runtime_clear_faults()) is running
+ * Context: a loader thread, not the tick; blocks while it verifies;
+ *          allocates (wasm3).
  */
 ROZ_NODISCARD int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
                                    roz_verify_report_t *report);
 
 /**
- * @brief Start: nothing is sent before the port's first state frame.
+ * @brief Start: nothing is sent before the port's first usable state frame
+ *        (one in which every position paired with a position command is
+ *        finite: a command that holds an unknown position would jump).
  * Context: start-up.
  */
 ROZ_NODISCARD int roz_runtime_start(roz_runtime_t *rt);
 
 /**
- * @brief One tick. @retval ROZ_OK, or ROZ_EFAULT while a fault is latched
- *        (the tick still ran: defaults went out).
- * Context: the tick thread; RT-safe; no allocation; bounded.
+ * @brief One tick, in this order: hand-overs from other threads (a pending
+ *        swap, then a clear), the e-stop input, the port's read() into a
+ *        scratch frame, the controller unless a fault is latched, the filter,
+ *        the port's write().
+ * @retval ROZ_OK     no fault latched
+ * @retval ROZ_EFAULT a fault is latched (the tick still ran: defaults went out)
+ * Context: the tick thread only; RT-safe; no allocation, no formatting,
+ *          no locks; bounded.
  */
 int roz_runtime_tick(roz_runtime_t *rt);
 
-/** @brief Set the e-stop input (latches ROZ_FAULT_ESTOP at the next tick).
- *  Context: any thread or ISR; wait-free. */
+/**
+ * @brief Set the e-stop input level: 1 pressed, 0 released. A press latches
+ *        ROZ_FAULT_ESTOP at the start of the next tick (before the controller
+ *        runs; every command at its safe default at once), even if the input
+ *        is released again before that tick. ROZ_FAULT_ESTOP cannot be
+ *        cleared while the input is pressed.
+ * Context: any thread or an ISR; wait-free (one or two atomic stores).
+ */
+void roz_runtime_estop_set(roz_runtime_t *rt, int pressed);
+
+/**
+ * @brief A momentary e-stop press (an edge: a press and release): latches
+ *        ROZ_FAULT_ESTOP at the start of the next tick. A clear before that
+ *        tick does not lose it; a clear after it clears the fault.
+ * Context: any thread or an ISR; wait-free (one atomic store).
+ */
 void roz_runtime_estop(roz_runtime_t *rt);
 
 /**
- * @brief Clear every latched fault at the next tick. A controller that
- *        trapped or was stopped by its budget is rebuilt from its bytes and
- *        verified first (its instance is not reused); one that overran but
- *        returned normally is reused.
- * @retval ROZ_OK, or the error of rebuilding (the fault then stays latched)
- * Context: not the tick thread; may allocate.
+ * @brief Clear the latched faults this call sees, at the next tick. A
+ *        fault that latches after this call looked (even one of the same
+ *        kind) stays latched; a call that sees no fault changes nothing.
+ *        A controller instance that trapped or was stopped by its budget is
+ *        rebuilt from its bytes and verified first (it is never run again);
+ *        one that overran but returned normally is reused.
+ * @retval ROZ_OK      the faults seen are cleared at the next tick
+ * @retval ROZ_ESTATE  the e-stop input is still pressed: every fault seen
+ *                     but ROZ_FAULT_ESTOP is cleared; or a load or rebuild
+ *                     is running on another thread: nothing is cleared
+ * @retval other       the error of rebuilding (nothing is cleared;
+ *                     roz_runtime_error() says why)
+ * Context: a loader thread, not the tick; may block and allocate while it
+ *          rebuilds.
  */
 int roz_runtime_clear_faults(roz_runtime_t *rt);
 
-/** @brief Latched faults (roz_fault_t bits). Context: any thread. */
+/** @brief Latched faults (roz_fault_t bits).
+ *  Context: any thread; wait-free. */
 unsigned roz_runtime_faults(const roz_runtime_t *rt);
 
-/** @brief Name of one fault bit ("trap", ...). */
+/** @brief Name of one fault bit ("trap", ...). Context: any thread. */
 const char *roz_fault_name(unsigned fault_bit);
 
-/** @brief Message of the first fault latched ("" if none). */
-const char *roz_runtime_fault_message(const roz_runtime_t *rt);
+/**
+ * @brief Copy the message of the first fault latched since the faults were
+ *        last all clear into @p buf ("" if none), truncated to @p len.
+ *        Consistent: never half of one message and half of another. A fault
+ *        seen in roz_runtime_faults() has its message here (it is written
+ *        before the fault is published).
+ * @retval ROZ_OK     copied
+ * @retval ROZ_EINVAL @p buf NULL or @p len 0
+ * @retval ROZ_ESTATE the tick kept rewriting it (1000 tries); buf holds ""
+ * Context: any thread; never blocks the tick (the tick writes it wait-free;
+ *          this retries).
+ */
+int roz_runtime_fault_message_copy(const roz_runtime_t *rt, char *buf, size_t len);
 
-/** @brief Last load/verify error ("" if none). */
+/**
+ * @brief roz_runtime_fault_message_copy() into storage of @p rt, returned.
+ * Context: one thread at a time (the supervisor, or the tick's thread between
+ *          ticks); from several threads use roz_runtime_fault_message_copy().
+ */
+const char *roz_runtime_fault_message(roz_runtime_t *rt);
+
+/**
+ * @brief Format the queued log events (faults, warnings, the monitor's
+ *        threshold warnings) and pass each to the configured log callback,
+ *        with a line for events dropped since the last drain.
+ * @return the number of events drained
+ * Context: one non-real-time thread at a time (never the tick's RT thread;
+ *          an application's idle loop between ticks is fine); formats text.
+ */
+size_t roz_runtime_log_drain(roz_runtime_t *rt);
+
+/** @brief Log events dropped because the ring was full, since init.
+ *  Context: any thread. */
+uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt);
+
+/** @brief Last load/verify error ("" if none). Context: the loader thread. */
 const char *roz_runtime_error(const roz_runtime_t *rt);
 
-/** @brief The commands handed to the port on the last tick (n_commands). */
+/** @brief The commands handed to the port on the last tick (n_commands).
+ *  Context: the tick's thread (between ticks) or after it stopped. */
 const double *roz_runtime_last_commands(const roz_runtime_t *rt);
 
-/** @brief This tick's state snapshot (n_states). */
+/** @brief The last good state frame (n_states). Context: as above. */
 const double *roz_runtime_last_state(const roz_runtime_t *rt);
 
 /** @brief The active controller's targets before filtering (n_commands), or
- *  NULL without one. */
+ *  NULL without one. Context: as above. */
 const double *roz_runtime_last_targets(const roz_runtime_t *rt);
 
 /** @brief Stop, unload controllers; idempotent. Context: not the tick. */
