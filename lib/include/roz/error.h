@@ -15,18 +15,18 @@
 extern "C" {
 #endif
 
-#define ROZ_OK        0   /**< success */
-#define ROZ_EINVAL   -1   /**< invalid argument or malformed input */
-#define ROZ_ENOENT   -2   /**< no such channel, manifest or key */
-#define ROZ_ENOSPC   -3   /**< caller-provided storage is full */
-#define ROZ_ENOTSUP  -4   /**< operation not supported by this port/build */
-#define ROZ_ERANGE   -5   /**< value outside its documented range */
-#define ROZ_EFAULT   -6   /**< a latched safety fault blocks the operation */
-#define ROZ_ESTATE   -7   /**< call not valid in the object's current state */
-#define ROZ_EIO      -8   /**< I/O or transport failure */
-#define ROZ_ETIMEDOUT -9  /**< deadline or budget exceeded */
-#define ROZ_ELINK    -10  /**< a port's peer restarted, or came back after it was lost */
-#define ROZ_ECONFIG  -11  /**< the caller and roz were built with different ROZ_CFG_* options */
+#define ROZ_OK        0      /**< success */
+#define ROZ_EINVAL    (-1)   /**< invalid argument or malformed input */
+#define ROZ_ENOENT    (-2)   /**< no such channel, manifest or key */
+#define ROZ_ENOSPC    (-3)   /**< caller-provided storage is full */
+#define ROZ_ENOTSUP   (-4)   /**< operation not supported by this port/build */
+#define ROZ_ERANGE    (-5)   /**< value outside its documented range */
+#define ROZ_EFAULT    (-6)   /**< a latched safety fault blocks the operation */
+#define ROZ_ESTATE    (-7)   /**< call not valid in the object's current state */
+#define ROZ_EIO       (-8)   /**< I/O or transport failure */
+#define ROZ_ETIMEDOUT (-9)   /**< deadline or budget exceeded */
+#define ROZ_ELINK     (-10)  /**< a port's peer restarted, or came back after it was lost */
+#define ROZ_ECONFIG   (-11)  /**< the caller and roz were built with different ROZ_CFG_* options */
 
 #if defined(__GNUC__) || defined(__clang__)
 #define ROZ_NODISCARD __attribute__((warn_unused_result))
