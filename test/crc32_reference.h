@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The frame CRC as shared/reference/robots.md 1.4 defines it, one bit at a
+/* The frame CRC as Unitree's SDK defines it (crc32_core), one bit at a
  * time: shift left, XOR the polynomial if the bit shifted out was 1, XOR it
  * again if the data bit is 1. The reference roz_crc32_words() is checked
  * against (test/test_link.c) and timed against (bench/tick). */

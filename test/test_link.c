@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The frame checks every port runs (roz/hal/crc32.h, roz/hal/link.h): the
- * CRC against the reference values of shared/reference/robots.md 1.4 and a
+ * CRC against the reference values of Unitree's crc32_core and a
  * bit-by-bit model of its definition, and the link verdicts, counters and
  * sequence wrap-around. */
 #include <setjmp.h>

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """rozgen: turn robot.toml manifests into static C tables for roz.
 
-Pipeline (shared/STYLE.md section 10), one module per step:
+Pipeline, one module per step:
 
 - ``load``:      read the file, check UTF-8, parse TOML (tomllib).
 - ``validate``:  apply the rules (listed in ``rozgen.validate``) and build the

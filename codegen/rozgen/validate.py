@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Rules of robot.toml (shared/DESIGN.md section 2): document -> model.
+"""Rules of robot.toml: document -> model.
 
 ``validate(doc, maxima)`` checks a parsed TOML document and returns the
 ``rozgen.model.Manifest`` or every problem found. It never stops at the

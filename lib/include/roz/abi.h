@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @file roz/abi.h
- * @brief The controller ABI (shared/DESIGN.md section 3), engine-neutral.
+ * @brief The controller ABI, engine-neutral.
  *
  * Each import a controller may use is a plain C function over a roz_abi_t
  * context; an engine (wasm3 today) only marshals arguments into these. The

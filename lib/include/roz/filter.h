@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
- * @brief The safety filter (shared/DESIGN.md section 4): the last word on
+ * @brief The safety filter: the last word on
  *        every command before it reaches a port.
  * @file roz/filter.h
  *

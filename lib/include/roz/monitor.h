@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @file roz/monitor.h
- * @brief Latency and jitter monitor (shared/DESIGN.md section 5): counters and
+ * @brief Latency and jitter monitor: counters and
  *        histograms in static memory, warnings only when a threshold is
  *        exceeded, throttled to one per second per kind.
  *

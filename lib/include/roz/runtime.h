@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @file roz/runtime.h
- * @brief The tick runtime (shared/DESIGN.md section 5): snapshot the state,
+ * @brief The tick runtime: snapshot the state,
  *        run the controller, filter, hand the commands to the port, record.
  *
  * Firmware calls roz_runtime_tick() from its own timer or RTOS task; hosts
@@ -21,7 +21,7 @@
  * Hand-overs go through atomics at the next tick boundary; the tick never
  * waits for another thread.
  *
- * Faults latch (shared/DESIGN.md section 4): a trap, an overrun of the
+ * Faults latch: a trap, an overrun of the
  * tick's time budget, a stale state stream, the e-stop input or the
  * controller's safety.request_estop. While any is latched the controller does
  * not run and every command goes to its safe default, ramped by the rate

@@ -2,7 +2,7 @@
 /**
  * @file roz/hal/crc32.h
  * @brief The CRC-32 that ports put on their frames: the one the Unitree SDK
- *        calls crc32_core, over 32-bit words (shared/reference/robots.md 1.4).
+ *        calls crc32_core, over 32-bit words (Unitree's SDK).
  *
  * Register starts at 0xFFFFFFFF; polynomial 0x04C11DB7; each word's bits are
  * taken most significant first; no reflection, no final XOR. Over a byte

@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @file roz/hal/port.h
- * @brief The port interface every hardware port implements
- *        (shared/DESIGN.md section 6).
+ * @brief The port interface every hardware port implements.
  *
  * A port is a const ops table plus the port's own instance data. The core
  * calls a port only through these wrappers. Channel binding happens once in
