@@ -319,6 +319,169 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
     return ROZ_OK;
 }
 
+/* ---- private: the tick's steps -------------------------------------------- */
+
+/* The first frame is usable when every position paired with a position
+ * command is finite: that command's safe default holds the position, and
+ * before any command went out there is no last value to hold instead (the
+ * manifest default may be far from the joint). Returns the first bad state
+ * index, or -1. */
+static int first_frame_bad(const roz_runtime_t *rt, const double *state)
+{
+    const roz_manifest_t *m = rt->cfg.manifest;
+
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED &&
+            !isfinite(state[c->position_state]))
+            return (int)c->position_state;
+    }
+    return -1;
+}
+
+/* 0. Hand-overs from other threads, at the tick boundary, each taken with an
+ * exchange. The clear request is taken first: a clear that rebuilt the
+ * controller scheduled it before it asked for the clear, so seeing the
+ * request means seeing the swap. Returns the slot that drives, -1 none. */
+static int tick_handovers(roz_runtime_t *rt)
+{
+    unsigned clear = atomic_exchange(&rt->clear_request, 0u);
+    int pending = atomic_exchange(&rt->pending, -1);
+    if (pending != -1) {
+        atomic_store(&rt->active, pending);
+        rt->ctrl_tick = 0;
+        rt->counters.swaps++;
+    }
+    if (clear != 0u)
+        apply_clear(rt, clear);
+    return atomic_load(&rt->active);
+}
+
+/* 1. The e-stop input, before anything runs: a press since the last tick
+ * (even one already released), or the input held. */
+static void tick_estop(roz_runtime_t *rt)
+{
+    unsigned press = atomic_exchange(&rt->estop_press, 0u);
+    if (press != 0u || (atomic_load(&rt->estop_level) != 0u && !(faults_now(rt) & ROZ_FAULT_ESTOP)))
+        latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
+}
+
+/* 2. State: read into a scratch frame (the port leaves it undefined on
+ * error); the state the controller and filter see is the last good one.
+ * Counts staleness and latches STALE and LINK. */
+static void tick_read(roz_runtime_t *rt)
+{
+    const roz_manifest_t *m = rt->cfg.manifest;
+    uint64_t t0 = now(rt);
+    int rc = rt->cfg.port.ops->read(rt->cfg.port.self, rt->scratch, m->n_states);
+    uint64_t t1 = now(rt);
+    int bad = -1;
+
+    roz_monitor_record(&rt->monitor, ROZ_MON_READ, t1 - t0, t1);
+    if (rc == 1 && !rt->have_state) {
+        bad = first_frame_bad(rt, rt->scratch);
+        if (bad >= 0 && !rt->nonfinite_warned) {
+            rt->nonfinite_warned = 1;
+            log_push(rt, ROZ_LOG_WARN, EV_FIRST_FRAME_NONFINITE, 0, 0, (uint64_t)bad, 0, 0, 0);
+        }
+    }
+    if (rc == 1 && bad < 0) {
+        memcpy(rt->state, rt->scratch, (size_t)m->n_states * sizeof rt->state[0]);
+        rt->have_state = 1;
+        rt->stale_count = 0;
+        roz_buffer_write(&rt->snapshot, rt->state, t1);
+        return;
+    }
+    if (rc < 0 && rc != ROZ_ENOENT)
+        rt->counters.read_errors++;
+    if (!rt->have_state) {
+        /* Waiting for the robot's first usable frame (a DDS peer may take a
+         * while to be discovered) is not a fault: nothing is sent meanwhile,
+         * and staleness counts from the first frame. Said once, as a
+         * warning, when it lasts stale_ticks. */
+        if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks)
+            log_push(rt, ROZ_LOG_WARN, EV_WAITING, 0, 0, rt->cfg.stale_ticks, 0, 0, 0);
+        return;
+    }
+    rt->counters.stale_reads++;
+    if (rt->stale_count < UINT32_MAX)
+        rt->stale_count++;
+    if (rt->stale_count >= rt->cfg.stale_ticks && !(faults_now(rt) & ROZ_FAULT_STALE))
+        latch(rt, ROZ_FAULT_STALE, rt->stale_count, 0, NULL);
+    if (rc == ROZ_ELINK)
+        latch(rt, ROZ_FAULT_LINK, 0, 0, NULL);
+}
+
+/* One process() call of the driving slot and what it latches. */
+static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
+{
+    s->abi.state = rt->state;
+    s->abi.tick = rt->ctrl_tick;
+    uint64_t t0 = now(rt);
+    int rc = roz_controller_process(&s->ctrl, rt->ctrl_tick);
+    uint64_t t1 = now(rt);
+    rt->last_process_ns = t1 - t0;
+    roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);
+    rt->counters.controller_ticks++;
+    rt->counters.last_fuel = roz_controller_fuel_used(&s->ctrl);
+    if (rt->counters.last_fuel > rt->counters.max_fuel)
+        rt->counters.max_fuel = rt->counters.last_fuel;
+    if (roz_controller_stack_used(&s->ctrl) > rt->counters.max_stack)
+        rt->counters.max_stack = roz_controller_stack_used(&s->ctrl);
+    if (rc != ROZ_OK) {
+        /* unusable from now on, marked before the fault is published: a
+         * clear that sees the fault sees this */
+        atomic_store(&s->dead, 1);
+        latch(rt, rc == ROZ_ETIMEDOUT ? ROZ_FAULT_OVERRUN : ROZ_FAULT_TRAP, 0, 0,
+              roz_controller_error(&s->ctrl));
+    } else if (rt->cfg.budget_ns != UINT64_MAX && t1 - t0 > rt->cfg.budget_ns) {
+        uint64_t us = (t1 - t0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
+        latch(rt, ROZ_FAULT_OVERRUN, us > UINT32_MAX ? UINT32_MAX : (uint32_t)us,
+              budget_us > UINT32_MAX ? UINT32_MAX : (uint32_t)budget_us, NULL);
+    }
+    if (s->abi.estop_requested) {
+        /* The request is now a latched fault; consume it, or it would latch
+         * again on the first tick after the application clears. */
+        s->abi.estop_requested = 0;
+        latch(rt, ROZ_FAULT_ESTOP_REQUEST, 0, 0, NULL);
+    }
+    rt->ctrl_tick++;
+}
+
+/* 3. The controller, unless a fault is latched; an instance that trapped or
+ * was stopped by its budget never runs again. Sets *target to the driving
+ * slot's targets (NULL: none) and returns how the filter must stop. */
+static roz_stop_t tick_controller(roz_runtime_t *rt, int active, double **target)
+{
+    if (active >= 0 && atomic_load(&rt->slot[active].dead) && faults_now(rt) == 0u)
+        latch(rt, ROZ_FAULT_TRAP, 0, 0,
+              "the controller's instance trapped or ran out of budget before; "
+              "clearing the faults rebuilds it");
+    roz_stop_t stop = stop_mode(faults_now(rt));
+    *target = NULL;
+    if (active < 0) /* no controller yet: hold the safe defaults, ramped */
+        return stop == ROZ_STOP_NONE ? ROZ_STOP_CONTROLLED : stop;
+    *target = rt->slot[active].target;
+    if (stop != ROZ_STOP_NONE)
+        return stop;
+    tick_process(rt, &rt->slot[active]);
+    return stop_mode(faults_now(rt));
+}
+
+/* 5. The port. */
+static void tick_write(roz_runtime_t *rt, uint64_t t_start)
+{
+    uint64_t t0 = now(rt);
+    int rc = rt->cfg.port.ops->write(rt->cfg.port.self, rt->out, rt->cfg.manifest->n_commands);
+    uint64_t t1 = now(rt);
+    roz_monitor_record(&rt->monitor, ROZ_MON_WRITE, t1 - t0, t1);
+    if (rc < 0)
+        rt->counters.write_errors++;
+    else
+        rt->counters.writes++;
+    roz_monitor_record(&rt->monitor, ROZ_MON_TICK, t1 - t_start, t1);
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 void roz_runtime_config_default(roz_runtime_config_t *cfg)
@@ -522,166 +685,26 @@ int roz_runtime_start(roz_runtime_t *rt)
     return ROZ_OK;
 }
 
-/* The first frame is usable when every position paired with a position
- * command is finite: that command's safe default holds the position, and
- * before any command went out there is no last value to hold instead (the
- * manifest default may be far from the joint). Returns the first bad state
- * index, or -1. */
-static int first_frame_bad(const roz_runtime_t *rt, const double *state)
-{
-    const roz_manifest_t *m = rt->cfg.manifest;
-
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED &&
-            !isfinite(state[c->position_state]))
-            return (int)c->position_state;
-    }
-    return -1;
-}
-
 int roz_runtime_tick(roz_runtime_t *rt)
 {
-    const roz_manifest_t *m = rt->cfg.manifest;
-    uint64_t t_start = now(rt), t0, t1;
-    unsigned faults;
-    roz_stop_t stop;
-    int rc, active;
+    uint64_t t_start = now(rt);
+    double *target;
 
     rt->counters.ticks++;
     if (rt->cfg.monitor_jitter)
         roz_monitor_periodic(&rt->monitor, t_start);
-
-    /* 0. Hand-overs from other threads, at the tick boundary, each taken
-     * with an exchange. The clear request is taken first: a clear that
-     * rebuilt the controller scheduled it before it asked for the clear, so
-     * seeing the request means seeing the swap. */
-    unsigned clear = atomic_exchange(&rt->clear_request, 0u);
-    int pending = atomic_exchange(&rt->pending, -1);
-    if (pending != -1) {
-        atomic_store(&rt->active, pending);
-        rt->ctrl_tick = 0;
-        rt->counters.swaps++;
-    }
-    if (clear != 0u)
-        apply_clear(rt, clear);
-    active = atomic_load(&rt->active);
-
-    /* 1. the e-stop input, before anything runs: a press since the last
-     * tick (even one already released), or the input held */
-    unsigned press = atomic_exchange(&rt->estop_press, 0u);
-    if (press != 0u || (atomic_load(&rt->estop_level) != 0u && !(faults_now(rt) & ROZ_FAULT_ESTOP)))
-        latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
-
-    /* 2. state: read into a scratch frame (the port leaves it undefined on
-     * error); the state the controller and filter see is the last good one */
-    t0 = now(rt);
-    rc = rt->cfg.port.ops->read(rt->cfg.port.self, rt->scratch, m->n_states);
-    t1 = now(rt);
-    roz_monitor_record(&rt->monitor, ROZ_MON_READ, t1 - t0, t1);
-    int bad = -1;
-    if (rc == 1 && !rt->have_state) {
-        bad = first_frame_bad(rt, rt->scratch);
-        if (bad >= 0 && !rt->nonfinite_warned) {
-            rt->nonfinite_warned = 1;
-            log_push(rt, ROZ_LOG_WARN, EV_FIRST_FRAME_NONFINITE, 0, 0, (uint64_t)bad, 0, 0, 0);
-        }
-    }
-    if (rc == 1 && bad < 0) {
-        memcpy(rt->state, rt->scratch, (size_t)m->n_states * sizeof rt->state[0]);
-        rt->have_state = 1;
-        rt->stale_count = 0;
-        roz_buffer_write(&rt->snapshot, rt->state, t1);
-    } else {
-        if (rc < 0 && rc != ROZ_ENOENT)
-            rt->counters.read_errors++;
-        if (!rt->have_state) {
-            /* Waiting for the robot's first usable frame (a DDS peer may take
-             * a while to be discovered) is not a fault: nothing is sent
-             * meanwhile, and staleness counts from the first frame. Said
-             * once, as a warning, when it lasts stale_ticks. */
-            if (rt->counters.waiting_ticks + 1u == rt->cfg.stale_ticks)
-                log_push(rt, ROZ_LOG_WARN, EV_WAITING, 0, 0, rt->cfg.stale_ticks, 0, 0, 0);
-        } else {
-            rt->counters.stale_reads++;
-            if (rt->stale_count < UINT32_MAX)
-                rt->stale_count++;
-            if (rt->stale_count >= rt->cfg.stale_ticks && !(faults_now(rt) & ROZ_FAULT_STALE))
-                latch(rt, ROZ_FAULT_STALE, rt->stale_count, 0, NULL);
-            if (rc == ROZ_ELINK)
-                latch(rt, ROZ_FAULT_LINK, 0, 0, NULL);
-        }
-    }
+    int active = tick_handovers(rt);
+    tick_estop(rt);
+    tick_read(rt);
     if (!rt->have_state) {
-        /* Nothing is sent before the first usable state frame. */
+        /* nothing is sent before the first usable state frame */
         rt->counters.waiting_ticks++;
         return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
     }
-
-    /* 3. the controller, unless a fault is latched; an instance that trapped
-     * or was stopped by its budget never runs again */
-    if (active >= 0 && atomic_load(&rt->slot[active].dead) && faults_now(rt) == 0u)
-        latch(rt, ROZ_FAULT_TRAP, 0, 0,
-              "the controller's instance trapped or ran out of budget before; "
-              "clearing the faults rebuilds it");
-    faults = faults_now(rt);
-    stop = stop_mode(faults);
-    double *target = NULL;
-    if (active >= 0) {
-        roz_runtime_slot_t *s = &rt->slot[active];
-        target = s->target;
-        if (stop == ROZ_STOP_NONE) {
-            s->abi.state = rt->state;
-            s->abi.tick = rt->ctrl_tick;
-            t0 = now(rt);
-            rc = roz_controller_process(&s->ctrl, rt->ctrl_tick);
-            t1 = now(rt);
-            rt->last_process_ns = t1 - t0;
-            roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);
-            rt->counters.controller_ticks++;
-            rt->counters.last_fuel = roz_controller_fuel_used(&s->ctrl);
-            if (rt->counters.last_fuel > rt->counters.max_fuel)
-                rt->counters.max_fuel = rt->counters.last_fuel;
-            if (roz_controller_stack_used(&s->ctrl) > rt->counters.max_stack)
-                rt->counters.max_stack = roz_controller_stack_used(&s->ctrl);
-            if (rc != ROZ_OK) {
-                /* unusable from now on, marked before the fault is
-                 * published: a clear that sees the fault sees this */
-                atomic_store(&s->dead, 1);
-                latch(rt, rc == ROZ_ETIMEDOUT ? ROZ_FAULT_OVERRUN : ROZ_FAULT_TRAP, 0, 0,
-                      roz_controller_error(&s->ctrl));
-            } else if (rt->cfg.budget_ns != UINT64_MAX && t1 - t0 > rt->cfg.budget_ns) {
-                uint64_t us = (t1 - t0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
-                latch(rt, ROZ_FAULT_OVERRUN, us > UINT32_MAX ? UINT32_MAX : (uint32_t)us,
-                      budget_us > UINT32_MAX ? UINT32_MAX : (uint32_t)budget_us, NULL);
-            }
-            if (s->abi.estop_requested) {
-                /* The request is now a latched fault; consume it, or it would
-                 * latch again on the first tick after the application clears. */
-                s->abi.estop_requested = 0;
-                latch(rt, ROZ_FAULT_ESTOP_REQUEST, 0, 0, NULL);
-            }
-            rt->ctrl_tick++;
-            stop = stop_mode(faults_now(rt));
-        }
-    } else if (stop == ROZ_STOP_NONE) {
-        /* No controller yet: hold the safe defaults, ramped. */
-        stop = ROZ_STOP_CONTROLLED;
-    }
-
+    roz_stop_t stop = tick_controller(rt, active, &target);
     /* 4. the safety filter: the last word */
     roz_filter_apply(&rt->filter, target, rt->state, stop, rt->out);
-
-    /* 5. the port */
-    t0 = now(rt);
-    rc = rt->cfg.port.ops->write(rt->cfg.port.self, rt->out, m->n_commands);
-    t1 = now(rt);
-    roz_monitor_record(&rt->monitor, ROZ_MON_WRITE, t1 - t0, t1);
-    if (rc < 0)
-        rt->counters.write_errors++;
-    else
-        rt->counters.writes++;
-    roz_monitor_record(&rt->monitor, ROZ_MON_TICK, t1 - t_start, t1);
+    tick_write(rt, t_start);
     return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
 }
 
