@@ -4,7 +4,8 @@
  * called roz_port_open(), init accepted the port, and the first tick
  * crashed in the loopback's read() on an instance never set up. Now init
  * returns ROZ_ESTATE and says why; after roz_port_open() it succeeds; after
- * roz_port_close() it refuses again. test/readme/ runs the snippet itself. */
+ * roz_port_close() it refuses again. test/readme/ runs the snippet itself.
+ * And roz_runtime_start() arms the tick: before it, a tick touches nothing. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -45,7 +46,12 @@ static void test_init_refuses_an_unopened_port(void **st)
     assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
     cfg.port = port;
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    /* not started: the tick touches nothing */
+    assert_int_equal(roz_runtime_tick(&rt), ROZ_ESTATE);
+    assert_int_equal(rt.counters.writes, 0);
+    assert_null(roz_loopback_last_command(&lb));
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_ESTATE);
     assert_int_equal(roz_runtime_tick(&rt), ROZ_OK); /* nothing loaded: defaults go out */
     roz_runtime_deinit(&rt);
 

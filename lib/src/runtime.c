@@ -434,7 +434,7 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
         atomic_store(&s->dead, 1);
         latch(rt, rc == ROZ_ETIMEDOUT ? ROZ_FAULT_OVERRUN : ROZ_FAULT_TRAP, 0, 0,
               roz_controller_error(&s->ctrl));
-    } else if (rt->cfg.budget_ns != UINT64_MAX && t1 - t0 > rt->cfg.budget_ns) {
+    } else if (rt->cfg.budget_ns != ROZ_BUDGET_OFF && t1 - t0 > rt->cfg.budget_ns) {
         uint64_t us = (t1 - t0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
         latch(rt, ROZ_FAULT_OVERRUN, us > UINT32_MAX ? UINT32_MAX : (uint32_t)us,
               budget_us > UINT32_MAX ? UINT32_MAX : (uint32_t)budget_us, NULL);
@@ -687,9 +687,12 @@ int roz_runtime_start(roz_runtime_t *rt)
 
 int roz_runtime_tick(roz_runtime_t *rt)
 {
-    uint64_t t_start = now(rt);
+    uint64_t t_start;
     double *target;
 
+    if (!rt->started)
+        return ROZ_ESTATE; /* not armed: the port is not touched */
+    t_start = now(rt);
     rt->counters.ticks++;
     if (rt->cfg.monitor_jitter)
         roz_monitor_periodic(&rt->monitor, t_start);

@@ -90,12 +90,14 @@ typedef struct roz_runtime_config {
     const roz_manifest_t *manifest;
     roz_port_t            port;
     uint32_t     stale_ticks;   /**< ticks without a fresh frame before STALE; default 10 */
+    /* budgets: 0 = the default, ROZ_BUDGET_OFF = off (roz/controller.h) */
     uint64_t     budget_ns;     /**< process() wall-clock budget per tick (deadline, checked
-                                     while it runs, needs a clock); default half the period;
-                                     UINT64_MAX = none */
+                                     while it runs, needs a clock); 0: half the period;
+                                     ROZ_BUDGET_OFF: none */
     uint64_t     fuel_per_tick; /**< process() fuel per tick (deterministic, see
-                                     roz/controller.h); default ROZ_CFG_FUEL_PER_SECOND /
-                                     control_rate_hz; UINT64_MAX = unmetered */
+                                     roz/controller.h); 0: ROZ_CFG_FUEL_PER_SECOND /
+                                     control_rate_hz (refused if that rounds to 0);
+                                     ROZ_BUDGET_OFF: unmetered */
     double       position_margin; /**< filter margin; default ROZ_FILTER_DEFAULT_MARGIN */
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
@@ -308,10 +310,16 @@ ROZ_NODISCARD int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_
                                    roz_verify_report_t *report);
 
 /**
- * @brief Start: nothing is sent before the port's first usable state frame
- *        (one in which every position paired with a position command is
- *        finite: a command that holds an unknown position would jump).
- * Context: start-up.
+ * @brief Arm the tick: before this call roz_runtime_tick() neither reads nor
+ *        writes the port (it returns ROZ_ESTATE), so the application decides
+ *        when the robot may first be driven, after the port is active and a
+ *        controller loaded. Once started, nothing is sent before the port's
+ *        first usable state frame (one in which every position paired with a
+ *        position command is finite: a command that holds an unknown
+ *        position would jump).
+ * @retval ROZ_OK     started
+ * @retval ROZ_ESTATE already started
+ * Context: start-up, before the tick runs.
  */
 ROZ_NODISCARD int roz_runtime_start(roz_runtime_t *rt);
 
@@ -322,6 +330,7 @@ ROZ_NODISCARD int roz_runtime_start(roz_runtime_t *rt);
  *        the port's write().
  * @retval ROZ_OK     no fault latched
  * @retval ROZ_EFAULT a fault is latched (the tick still ran: defaults went out)
+ * @retval ROZ_ESTATE not started (roz_runtime_start()): nothing read or sent
  * Context: the tick thread only; RT-safe; no allocation, no formatting,
  *          no locks; bounded.
  */
