@@ -135,21 +135,27 @@ static void wait_ticks(uint64_t until)
         pause_us(20);
 }
 
-/* Presses (level or edge) and releases; after each press, the tick after
- * next must have ended with ESTOP latched. */
+/* Presses (level or edge) and releases; after each press, a tick that ended
+ * after the press began must have ended with ESTOP latched. */
 static void *isr_main(void *arg)
 {
     uint64_t s = 0x9e3779b97f4a7c15ull;
     (void)arg;
     while (!atomic_load(&stop)) {
         pause_us((long)(xorshift(&s) % 3000u));
+        /* p: ticks done before the press; q: after it. The press is taken
+         * by a tick that ends at p + 1 at the earliest (one already running
+         * when p was read) and q + 2 at the latest (the one running when q
+         * was read, or the next). Waiting from p alone would let a thread
+         * preempted between reading p and pressing check too early. */
         uint64_t p = atomic_load(&ticks_done);
         int level = (int)(xorshift(&s) & 1u);
         if (level)
             roz_runtime_estop_set(&rt, 1);
         else
             roz_runtime_estop(&rt);
-        wait_ticks(p + 2u);
+        uint64_t q = atomic_load(&ticks_done);
+        wait_ticks(q + 2u);
         if (atomic_load(&stop))
             break;
         estop_checks++;
