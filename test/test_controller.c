@@ -44,9 +44,9 @@ typedef struct {
 
 static const refusal_t refusals[] = {
     { "bad_unknown_import", "unknown import env.open_valve" },
-    { "bad_bad_signature", "import command.set has signature i(if), expected i(iF)" },
+    { "bad_bad_signature", "import command.set has type (i32, f32) -> i32, expected (i32, f64) -> i32" },
     { "bad_no_process", "no export \"process\"" },
-    { "bad_process_signature", "export \"process\" has signature v(i), expected v(I)" },
+    { "bad_process_signature", "export \"process\" has type (i32) -> (), expected (i64) -> ()" },
     { "bad_imported_memory", "import env.memory is a memory" },
     { "bad_start_function", "start function" },
 };

@@ -211,6 +211,40 @@ static int type_signature(const module_t *m, uint32_t idx, char *out, size_t out
     return ROZ_EINVAL;
 }
 
+/* A signature in roz/abi.h's notation ("i(iF)") as WebAssembly writes it,
+ * "(i32, f64) -> i32", for messages. */
+static const char *wasm_notation(const char *sig, char *out, size_t outlen)
+{
+    static const char letters[] = "iIfF";
+    static const char *const names[] = { "i32", "i64", "f32", "f64" };
+    size_t n = 0;
+    const char *p = sig + 2; /* past "r(" */
+
+#define PUT(...)                                                           \
+    do {                                                                   \
+        int k = snprintf(out + n, n < outlen ? outlen - n : 0, __VA_ARGS__); \
+        n += k > 0 ? (size_t)k : 0;                                        \
+    } while (0)
+    PUT("(");
+    for (int first = 1; *p != '\0' && *p != ')' && *p != '.'; p++, first = 0) {
+        const char *hit = strchr(letters, *p);
+        PUT("%s%s", first ? "" : ", ", hit != NULL ? names[hit - letters] : "?");
+    }
+    PUT("%s)", *p == '.' ? ", ..." : "");
+    if (sig[0] == '*') {
+        PUT(" -> (more than one value)");
+    } else if (sig[0] == 'v') {
+        PUT(" -> ()");
+    } else {
+        const char *hit = strchr(letters, sig[0]);
+        PUT(" -> %s", hit != NULL ? names[hit - letters] : "?");
+    }
+#undef PUT
+    if (outlen > 0 && n >= outlen)
+        out[outlen - 1] = '\0';
+    return out;
+}
+
 /* The type index of function `fidx` (imports first, then the function section). */
 static int func_type(const module_t *m, uint32_t fidx, uint32_t *type_idx)
 {
@@ -1106,8 +1140,11 @@ static int check_exports(const module_t *m, const uint8_t *sec, const uint8_t *e
     if (func_type(m, pidx, &type_idx) != ROZ_OK ||
         type_signature(m, type_idx, sig, sizeof sig) != ROZ_OK)
         FAIL("export \"process\": malformed function index %u", (unsigned)pidx);
-    if (strcmp(sig, "v(I)") != 0)
-        FAIL("export \"process\" has signature %s, expected v(I): process(i64 tick)", sig);
+    if (strcmp(sig, "v(I)") != 0) {
+        char got[64];
+        FAIL("export \"process\" has type %s, expected (i64) -> (): process(i64 tick)",
+             wasm_notation(sig, got, sizeof got));
+    }
     *process_index = pidx;
     return ROZ_OK;
 }
@@ -1207,9 +1244,12 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, cha
                 FAIL("unknown import %s.%s: not part of the roz controller ABI", mod, name);
             if (type_signature(&m, type_idx, sig, sizeof sig) != ROZ_OK)
                 FAIL("import %s.%s: malformed type index %u", mod, name, (unsigned)type_idx);
-            if (strcmp(sig, imp->signature) != 0)
-                FAIL("import %s.%s has signature %s, expected %s", mod, name, sig,
-                     imp->signature);
+            if (strcmp(sig, imp->signature) != 0) {
+                char got[64], want[64];
+                FAIL("import %s.%s has type %s, expected %s", mod, name,
+                     wasm_notation(sig, got, sizeof got),
+                     wasm_notation(imp->signature, want, sizeof want));
+            }
             m.n_func_imports++;
         }
     }
