@@ -108,6 +108,9 @@ def main(argv: list[str] | None = None) -> int:
         sys.stdout.write(to_json(robots[0][1]))
         return EXIT_OK
     if args.check:
+        for path, manifest, _ in robots:
+            print(f"{path}: ok: {manifest.robot_id}, {len(manifest.commands)} commands, "
+                  f"{len(manifest.states)} states")
         return EXIT_OK
 
     outputs = _render_all(robots, args.source_root, args.registry, report)
