@@ -49,6 +49,13 @@ static inline void roz_wb_s64(uint8_t *b, size_t cap, size_t *n, uint64_t v)
     }
 }
 
+/* The low `bytes` bytes of v, little-endian (an f32 or f64 constant's bits). */
+static inline void roz_wb_le(uint8_t *b, size_t cap, size_t *n, uint64_t v, unsigned bytes)
+{
+    for (unsigned i = 0; i < bytes; i++)
+        roz_wb_byte(b, cap, n, (uint8_t)(v >> (8 * i)));
+}
+
 /* A name of len bytes (it may hold NUL bytes). */
 static inline void roz_wb_name(uint8_t *b, size_t cap, size_t *n, const char *s, size_t len)
 {

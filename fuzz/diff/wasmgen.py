@@ -434,7 +434,10 @@ class Gen:
             return "%s %s.%s" % (self.const(t), t, r.choice(("add", "xor", "mul", "sub")))
         return "%s.%s" % (t, r.choice(("neg", "abs", "sqrt", "ceil")))
 
-    def loop_expr(self, t, d):
+    def counted_loop(self, max_stmts, d, tail=None):
+        """A loop that runs 1..8 times on a fresh counter: (counter, label,
+        count, body); `tail(counter, label, count)` adds instructions at the
+        end of the body while the loop's label is in scope."""
         r = self.r
         c = self.counter()
         n = r.randint(1, 8)
@@ -443,13 +446,19 @@ class Gen:
         old = self.mult
         self.mult *= n
         self.labels.append((lab, "loop", None))
-        body = self.stmts(r.randint(1, 3), d - 1)
-        body.append("(br_if %s (i32.lt_u (local.tee %s (i32.add (local.get %s) (i32.const 1))) "
-                    "(i32.const %d)))" % (lab, c, c, n))
-        body.append(self.expr(t, d - 1))
+        body = self.stmts(r.randint(1, max_stmts), d - 1)
+        if tail is not None:
+            body.extend(tail(c, lab, n))
         self.labels.pop()
         self.mult = old
         self.loop_nest -= 1
+        return c, lab, n, body
+
+    def loop_expr(self, t, d):
+        def tail(c, lab, n):
+            return ["(br_if %s (i32.lt_u (local.tee %s (i32.add (local.get %s) (i32.const 1))) "
+                    "(i32.const %d)))" % (lab, c, c, n), self.expr(t, d - 1)]
+        c, lab, _, body = self.counted_loop(3, d, tail)
         return "(block (result %s) (local.set %s (i32.const 0)) (loop %s (result %s) %s))" % (
             t, c, lab, t, " ".join(body))
 
@@ -538,17 +547,7 @@ class Gen:
             self.labels.pop()
             return "(block %s %s)" % (lab, " ".join(body))
         if kind == "loop":
-            c = self.counter()
-            n = r.randint(1, 8)
-            lab = self.label()
-            self.loop_nest += 1
-            old = self.mult
-            self.mult *= n
-            self.labels.append((lab, "loop", None))
-            body = self.stmts(r.randint(1, 4), d - 1)
-            self.labels.pop()
-            self.mult = old
-            self.loop_nest -= 1
+            c, lab, n, body = self.counted_loop(4, d)
             return ("(local.set %s (i32.const 0)) (loop %s %s (br_if %s (i32.lt_u (local.tee %s "
                     "(i32.add (local.get %s) (i32.const 1))) (i32.const %d))))" % (
                         c, lab, " ".join(body), lab, c, c, n))

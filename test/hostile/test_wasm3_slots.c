@@ -79,23 +79,17 @@ static void put_const(buf_t *o, uint8_t t, double v)
     case I64: put(o, OP_I64_CONST); put_s64(o, (int64_t)v); break;
     case F32: {
         float f = (float)v;
-        uint8_t le[4];
         uint32_t u;
         memcpy(&u, &f, 4);
-        for (int i = 0; i < 4; i++)
-            le[i] = (uint8_t)(u >> (8 * i));
         put(o, OP_F32_CONST);
-        put_bytes(o, le, 4);
+        roz_wb_le(o->b, sizeof o->b, &o->n, u, 4);
         break;
     }
     default: {
-        uint8_t le[8];
         uint64_t u;
         memcpy(&u, &v, 8);
-        for (int i = 0; i < 8; i++)
-            le[i] = (uint8_t)(u >> (8 * i));
         put(o, OP_F64_CONST);
-        put_bytes(o, le, 8);
+        roz_wb_le(o->b, sizeof o->b, &o->n, u, 8);
         break;
     }
     }

@@ -510,14 +510,12 @@ static void put_operand(char kind, uint64_t v, int computed)
         break;
     case 'f':
         put(0x43);
-        for (int i = 0; i < 4; i++)
-            put((uint8_t)(v >> (8 * i)));
+        roz_wb_le(gen_buf, sizeof gen_buf, &gen_len, v, 4);
         if (computed) { put(0x8c); put(0x8c); } /* f32.neg twice: the same bits */
         break;
     default:
         put(0x44);
-        for (int i = 0; i < 8; i++)
-            put((uint8_t)(v >> (8 * i)));
+        roz_wb_le(gen_buf, sizeof gen_buf, &gen_len, v, 8);
         if (computed) { put(0x9a); put(0x9a); }
         break;
     }
