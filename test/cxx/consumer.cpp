@@ -18,7 +18,7 @@
 #include "roz/hal/link.h"
 #include "roz/hal/module.h"
 #include "roz/hal/params.h"
-#include "roz/hal/port.h"
+#include "roz/port.h"
 #include "roz/hal/runner.h"
 #include "roz/log.h"
 #include "roz/loopback.h"

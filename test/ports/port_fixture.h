@@ -18,7 +18,7 @@
 #include <stddef.h>
 
 #include "roz/hal/link.h"
-#include "roz/hal/port.h"
+#include "roz/port.h"
 #include "roz/manifest.h"
 
 /* The peer's next state frame. */

@@ -143,7 +143,7 @@ int roz_manifest_find_command(const roz_manifest_t *m, const char *name);
 int roz_manifest_find_state(const roz_manifest_t *m, const char *name);
 
 /**
- * @brief Check every rule of DESIGN section 2 on a manifest in memory
+ * @brief Check every rule of the manifest format (codegen/README.md) on a manifest in memory
  *        (useful for manifests built by hand; generated ones pass by
  *        construction).
  * @param[in]  m        the manifest

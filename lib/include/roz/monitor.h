@@ -70,7 +70,7 @@ typedef struct roz_monitor {
 } roz_monitor_t;
 
 /**
- * @brief Zero a monitor and set the default thresholds of DESIGN section 5
+ * @brief Zero a monitor and set the default thresholds (roz_monitor_kind_t)
  *        (PROCESS and TICK default to @p period_ns).
  * Context: start-up; no I/O.
  */

@@ -48,7 +48,7 @@
 #include "roz/buffer.h"
 #include "roz/controller.h"
 #include "roz/filter.h"
-#include "roz/hal/port.h"
+#include "roz/port.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"

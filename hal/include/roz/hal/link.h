@@ -14,7 +14,7 @@
  * | ROZ_LINK_FRESH     | newer than the last accepted frame               | accepts it  |
  * | ROZ_LINK_BAD_CRC   | the CRC failed                                   | drops it    |
  * | ROZ_LINK_REPLAY    | not newer and at most `window` behind: the last frame again, a replay, a frame overtaken in transit; also after a silence | drops it |
- * | ROZ_LINK_RESTART   | newer, after the peer was silent for `lost_after_ns` or more; or more than `window` behind: the peer came back, or restarted | accepts it as the new peer's first frame and reports a link fault: read() returns ROZ_ELINK once, the runtime latches ROZ_FAULT_LINK (an immediate stop). A hardware port also starts its safe start-up layers (roz/hal/port.h) over for the new peer. |
+ * | ROZ_LINK_RESTART   | newer, after the peer was silent for `lost_after_ns` or more; or more than `window` behind: the peer came back, or restarted | accepts it as the new peer's first frame and reports a link fault: read() returns ROZ_ELINK once, the runtime latches ROZ_FAULT_LINK (an immediate stop). A hardware port also starts its safe start-up layers (roz/port.h) over for the new peer. |
  *
  * What the sequence cannot tell apart, and how it errs:
  * - A peer that restarts within `lost_after_ns` with its old sequence at

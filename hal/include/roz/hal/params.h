@@ -4,7 +4,7 @@
  * @brief Parsing port parameters (string key/values) with errors that name
  *        the key and the value.
  *
- * Common keys (DESIGN section 6): network_interface ("lo"), enable_monitor
+ * Common keys every port understands: network_interface ("lo"), enable_monitor
  * (true), command_writer_period_us (2000), state_decimation (1), dds_domain
  * (0). Each port lists the keys it knows; roz_params_check_known() refuses
  * any other, so a misspelt key is an error, not a silent default.
@@ -17,7 +17,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "roz/hal/port.h"
+#include "roz/port.h"
 
 #ifdef __cplusplus
 extern "C" {

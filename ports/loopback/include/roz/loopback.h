@@ -57,7 +57,7 @@
 #include <stdint.h>
 
 #include "roz/hal/link.h"
-#include "roz/hal/port.h"
+#include "roz/port.h"
 #include "roz/manifest.h"
 
 #ifdef __cplusplus

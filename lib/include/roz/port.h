@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
- * @file roz/hal/port.h
+ * @file roz/port.h
  * @brief The port interface every hardware port implements.
  *
  * A port is a const ops table plus the port's own instance data. The core
@@ -13,8 +13,8 @@
  * command to the current position with zero stiffness and damping; and it
  * does the same on the first write.
  */
-#ifndef ROZ_HAL_PORT_H
-#define ROZ_HAL_PORT_H
+#ifndef ROZ_PORT_H
+#define ROZ_PORT_H
 
 #include "roz/config.h"
 
@@ -114,4 +114,4 @@ static inline void roz_port_close(roz_port_t *p)
 }
 #endif
 
-#endif /* ROZ_HAL_PORT_H */
+#endif /* ROZ_PORT_H */
