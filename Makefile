@@ -24,7 +24,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build demo test test-asan test-tsan bench fuzz-diff clean
+.PHONY: all setup build demo test test-asan test-tsan stress bench fuzz-diff clean
 
 all: build
 
@@ -68,6 +68,12 @@ test-tsan: setup $(BUILD)-tsan/build.ninja
 # Every test: the sanitizer runs first, the whole suite last.
 test: test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The fault latch under four threads for STRESS_TICKS ticks, under TSan.
+STRESS_TICKS ?= 1000000
+stress: setup $(BUILD)-tsan/build.ninja
+	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS) --target test_latch_threads
+	$(SAN_ENV) ROZ_LATCH_STRESS_TICKS=$(STRESS_TICKS) $(BUILD)-tsan/test/test_latch_threads
 
 # Benchmarks print figures and ratios; they are not tests.
 bench: build

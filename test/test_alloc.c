@@ -14,6 +14,7 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -68,18 +69,18 @@ static void run(const roz_manifest_t *m, const char *controller, int ticks)
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    roz_runtime_tick(&rt); /* the swap-in happens here */
+    roz_test_tick(&rt); /* the swap-in happens here */
 
     allocations = frees = 0;
     counting = 1;
     for (int t = 0; t < ticks; t++) {
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
         if (t == ticks / 2)
             roz_runtime_estop(&rt); /* a fault and its defaults, still no heap */
     }
     counting = 0;
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
-    assert_true(rt.counters.controller_ticks >= (uint64_t)ticks / 2);
+    assert_true(RT_COUNT(&rt, controller_ticks) >= (uint64_t)ticks / 2);
     print_message("%s: %d ticks, %llu allocations, %llu frees\n", controller, ticks,
                   (unsigned long long)allocations, (unsigned long long)frees);
     assert_int_equal(allocations, 0);

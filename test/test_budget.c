@@ -10,6 +10,9 @@
  * 512 KiB stack, in every build (wasm3's ops must chain by tail calls, and
  * roz's guard must bound the recursion). */
 #define _POSIX_C_SOURCE 200809L
+/* white-box in part: reads the runtime's controller slots (a trapped
+ * instance must never run again), which no public function exposes */
+#define ROZ_PRIVATE_ACCESS
 #include <math.h>
 #include <pthread.h>
 #include <setjmp.h>
@@ -24,6 +27,7 @@
 #include "roz/hal/runner.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support.h"
 #include "ur5_manifest.h"
 
@@ -68,8 +72,8 @@ static void test_budget_default_per_rate(void **st)
 {
     (void)st;
     start(0, 0);
-    assert_int_equal(rt.cfg.fuel_per_tick, ROZ_CFG_FUEL_PER_SECOND / 100);
-    assert_int_equal(rt.cfg.budget_ns, 5000000); /* half of the 10 ms period */
+    assert_int_equal(roz_runtime_config(&rt)->fuel_per_tick, ROZ_CFG_FUEL_PER_SECOND / 100);
+    assert_int_equal(roz_runtime_config(&rt)->budget_ns, 5000000); /* half of the 10 ms period */
 }
 
 /* Each endless controller stops at exactly the fuel budget, at tick 150. */
@@ -89,7 +93,7 @@ static void test_budget_endless_controllers_stop(void **st)
         start(5000, 0);
         assert_int_equal(load(cases[i].name, NULL), ROZ_OK);
         for (int t = 0; t < 151; t++)
-            roz_runtime_tick(&rt);
+            roz_test_tick(&rt);
         unsigned f = roz_runtime_faults(&rt);
         assert_true(f != 0 && (f & ~cases[i].fault) == 0);
         if (strstr(roz_runtime_fault_message(&rt), cases[i].msg) == NULL)
@@ -98,7 +102,7 @@ static void test_budget_endless_controllers_stop(void **st)
         /* the loop keeps going: defaults out every tick, nothing unsafe */
         for (int t = 0; t < 50; t++)
             assert_int_equal(roz_runtime_tick(&rt), ROZ_EFAULT);
-        assert_int_equal(rt.counters.writes, 201);
+        assert_int_equal(RT_COUNT(&rt, writes), 201);
         assert_int_equal(lb.violations, 0);
         assert_true(roz_runtime_last_commands(&rt)[0] == 0.0);
         roz_runtime_deinit(&rt);
@@ -125,9 +129,9 @@ static void test_budget_just_under_and_over(void **st)
     assert_int_equal(rep2.max_fuel, need);
     assert_int_equal(rep2.fuel_budget, need);
     for (int t = 0; t < 300; t++)
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(rt.counters.max_fuel, need);
+    assert_int_equal(RT_COUNT(&rt, max_fuel), need);
     roz_runtime_deinit(&rt);
 
     /* one unit short: verification refuses it, naming the fuel */
@@ -144,14 +148,14 @@ static void test_budget_rebuild_after_overrun(void **st)
     start(5000, 0);
     assert_int_equal(load("bad_infinite_loop", NULL), ROZ_OK);
     for (int t = 0; t < 151; t++)
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
     int active = atomic_load(&rt.active);
     assert_true(rt.slot[active].ctrl.spent);
     assert_int_equal(roz_controller_process(&rt.slot[active].ctrl, 0), ROZ_ESTATE);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    assert_int_equal(rt.counters.rebuilds, 1);
-    roz_runtime_tick(&rt);
+    assert_int_equal(RT_COUNT(&rt, rebuilds), 1);
+    roz_test_tick(&rt);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_int_not_equal(atomic_load(&rt.active), active);
     assert_true(roz_runtime_last_commands(&rt)[0] > 0.0); /* running again from tick 0 */
@@ -164,7 +168,7 @@ static void test_budget_deadline(void **st)
     start(UINT64_MAX, 1000); /* unmetered fuel; the clock advances 1 us per reading */
     assert_int_equal(load("bad_infinite_loop", NULL), ROZ_OK);
     for (int t = 0; t < 151; t++)
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
     assert_non_null(strstr(roz_runtime_fault_message(&rt), "deadline passed at tick 150"));
 }
@@ -177,7 +181,7 @@ static roz_runner_t runner;
 static int tick(void *ctx)
 {
     (void)ctx;
-    roz_runtime_tick(&rt);
+    roz_test_tick(&rt);
     return 0;
 }
 
@@ -203,12 +207,12 @@ static void test_budget_loop_keeps_its_period(void **st)
     roz_runner_join(&runner);
     assert_int_equal(runner.ticks, 300);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_OVERRUN);
-    assert_int_equal(rt.counters.writes, 300);
+    assert_int_equal(RT_COUNT(&rt, writes), 300);
     assert_int_equal(lb.violations, 0);
     print_message("300 ticks at 100 Hz: %llu deadlines missed, tick max %.1f us, "
                   "wake-up jitter max %.1f us\n",
-                  (unsigned long long)runner.missed, rt.monitor.stat[ROZ_MON_TICK].max_ns / 1e3,
-                  runner.monitor.stat[ROZ_MON_JITTER].max_ns / 1e3);
+                  (unsigned long long)runner.missed, roz_test_monitor(roz_runtime_monitor(&rt), ROZ_MON_TICK).max_ns / 1e3,
+                  roz_test_monitor(&runner.monitor, ROZ_MON_JITTER).max_ns / 1e3);
 }
 
 /* ---- the C stack ------------------------------------------------------------ */
@@ -267,13 +271,13 @@ static void *small_stack_thread(void *arg)
     straight_rc = roz_runtime_load(&rt, straight, n, NULL);
     for (int t = 0; t < 5 && straight_rc == ROZ_OK; t++)
         straight_rc = roz_runtime_tick(&rt);
-    straight_stack = (size_t)rt.counters.max_stack;
+    straight_stack = (size_t)RT_COUNT(&rt, max_stack);
     roz_runtime_deinit(&rt);
     start(UINT64_MAX, 0);
     recursion_rc = roz_runtime_load(&rt, rec, len, NULL);
     for (int t = 0; t < 160 && recursion_rc == ROZ_OK; t++) /* it recurses at tick 150 */
-        (void)roz_runtime_tick(&rt);
-    recursion_stack = (size_t)rt.counters.max_stack;
+        roz_test_tick(&rt);
+    recursion_stack = (size_t)RT_COUNT(&rt, max_stack);
     return NULL;
 }
 

@@ -21,6 +21,8 @@
  *  - the C stack is checked at loop entry: a recursion through nested loops
  *    stops within a frame of ROZ_CFG_NATIVE_STACK_BYTES. */
 #define _POSIX_C_SOURCE 200809L
+/* white-box: this test reads the private fields of the module it tests */
+#define ROZ_PRIVATE_ACCESS
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -69,7 +71,7 @@ static void load(size_t len, uint64_t fuel, uint64_t deadline_ns, roz_clock_fn c
     roz_budget_t b = { fuel, deadline_ns, clock, ctx };
     roz_controller_init(&ctl);
     roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
-    abi.state = state;
+    roz_abi_begin_tick(&abi, 0, state);
     if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK)
         fail_msg("load: %s", roz_controller_error(&ctl));
     assert_int_equal(roz_controller_set_budget(&ctl, &b), ROZ_OK);

@@ -16,6 +16,7 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "ur5_manifest.h"
 
 static roz_runtime_t rt;
@@ -48,7 +49,7 @@ static void test_init_refuses_an_unopened_port(void **st)
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     /* not started: the tick touches nothing */
     assert_int_equal(roz_runtime_tick(&rt), ROZ_ESTATE);
-    assert_int_equal(rt.counters.writes, 0);
+    assert_int_equal(RT_COUNT(&rt, writes), 0);
     assert_null(roz_loopback_last_command(&lb));
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_ESTATE);

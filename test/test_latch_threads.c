@@ -9,6 +9,9 @@
  * race. ROZ_LATCH_STRESS_TICKS=N runs N ticks (default 50000, a few
  * seconds under TSan on two cores); nothing here asserts a time. */
 #define _POSIX_C_SOURCE 200809L
+/* white-box in part: reads the runtime's controller slots (a trapped
+ * instance must never run again), which no public function exposes */
+#define ROZ_PRIVATE_ACCESS
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -24,6 +27,7 @@
 
 #include "roz/hal/clock.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support.h"
 #include "support_wat.h"
 
@@ -99,22 +103,22 @@ static void pause_us(long us)
 }
 
 static uint64_t reused, traps, estop_checks, estop_lost, msg_checks, msg_missing;
-static uint64_t clears, loads;
+static uint64_t clears, clears_refused, loads, stats_checks, stats_bad;
 
 static void *tick_main(void *arg)
 {
     uint64_t n = *(const uint64_t *)arg;
     int expect_fresh = 0;
     for (uint64_t i = 0; i < n; i++) {
-        uint64_t trapped = rt.counters.faults[0];
-        roz_runtime_tick(&rt);
+        uint64_t trapped = RT_COUNT(&rt, faults[0]);
+        roz_test_tick(&rt);
         roz_metric_t m;
-        while (roz_metric_ring_pop(&rt.metrics, &m)) {
+        while (roz_runtime_metric_pop(&rt, &m)) {
             if (expect_fresh && m.value != 1.0)
                 reused++;
             expect_fresh = 0;
         }
-        if (rt.counters.faults[0] != trapped &&
+        if (RT_COUNT(&rt, faults[0]) != trapped &&
             strstr(rt.slot[atomic_load(&rt.active)].ctrl.error, "unreachable") != NULL) {
             expect_fresh = 1;
             traps++;
@@ -185,8 +189,26 @@ static void *supervisor_main(void *arg)
             if (msg[0] == '\0')
                 msg_missing++;
         }
+        /* the figures, taken while the tick publishes them: each snapshot
+         * consistent (one tick's) and never going backwards */
+        roz_runtime_stats_t a, b;
+        roz_monitor_stat_t ms;
+        if (roz_runtime_stats(&rt, &a) == ROZ_OK && roz_runtime_stats(&rt, &b) == ROZ_OK &&
+            roz_monitor_snapshot(roz_runtime_monitor(&rt), ROZ_MON_TICK, &ms) == ROZ_OK) {
+            stats_checks++;
+            uint64_t hist = 0;
+            for (unsigned k = 0; k < ROZ_MONITOR_BUCKETS; k++)
+                hist += ms.hist[k];
+            if (b.runtime.ticks < a.runtime.ticks ||
+                a.runtime.controller_ticks > a.runtime.ticks ||
+                a.runtime.writes + a.runtime.write_errors + a.runtime.waiting_ticks !=
+                    a.runtime.ticks ||
+                a.filter.ticks != a.runtime.writes + a.runtime.write_errors || hist != ms.count)
+                stats_bad++;
+        }
         if (xorshift(&s) % 4u == 0) {
-            (void)roz_runtime_clear_faults(&rt);
+            if (roz_runtime_clear_faults(&rt) != ROZ_OK)
+                clears_refused++;
             clears++;
         }
         pause_us((long)(xorshift(&s) % 400u));
@@ -237,12 +259,15 @@ static void test_latch_threads_stress(void **st)
     roz_runtime_log_drain(&rt);
 
     print_message("ticks %llu, controller %llu, traps %llu, clears %llu, loads %llu, rebuilds %llu, "
-                  "e-stop checks %llu, message checks %llu\n",
-                  (unsigned long long)n, (unsigned long long)rt.counters.controller_ticks,
+                  "e-stop checks %llu, message checks %llu, stats checks %llu\n",
+                  (unsigned long long)n, (unsigned long long)RT_COUNT(&rt, controller_ticks),
                   (unsigned long long)traps, (unsigned long long)clears,
-                  (unsigned long long)loads, (unsigned long long)rt.counters.rebuilds,
-                  (unsigned long long)estop_checks, (unsigned long long)msg_checks);
+                  (unsigned long long)loads, (unsigned long long)RT_COUNT(&rt, rebuilds),
+                  (unsigned long long)estop_checks, (unsigned long long)msg_checks,
+                  (unsigned long long)stats_checks);
     assert_int_equal(reused, 0);
+    assert_int_equal(stats_bad, 0);
+    assert_true(stats_checks > 0);
     assert_int_equal(estop_lost, 0);
     assert_int_equal(msg_missing, 0);
     assert_true(traps > 0);

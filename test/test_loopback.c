@@ -16,6 +16,7 @@
 #include "roz/builtin.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -36,7 +37,7 @@ static void run_builtin(const roz_manifest_t *m, const char *ctl, int ticks, dou
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     for (int t = 0; t < ticks; t++)
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
     if (roz_runtime_faults(&rt) != 0)
         fail_msg("%s: fault %s", m->robot_id, roz_runtime_fault_message(&rt));
     assert_int_equal(lb.violations, 0);

@@ -11,6 +11,7 @@
 #include <cmocka.h>
 
 #include "roz/monitor.h"
+#include "support_stats.h"
 
 static int warnings;
 static char last[256];
@@ -32,12 +33,12 @@ static void test_monitor_defaults(void **st)
 {
     (void)st;
     roz_monitor_init(&mon, "t", 2 * MS, sink, NULL);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_READ], 100000);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_WRITE], 100000);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_STATE_HANDLER], 200000);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_COMMAND_WRITER], 200000);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_JITTER], 500000);
-    assert_int_equal(mon.threshold_ns[ROZ_MON_TICK], 2 * MS);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_READ), 100000);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_WRITE), 100000);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_STATE_HANDLER), 200000);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_COMMAND_WRITER), 200000);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_JITTER), 500000);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_TICK), 2 * MS);
     assert_string_equal(roz_monitor_kind_name(ROZ_MON_COMMAND_WRITER), "command writer");
     assert_string_equal(roz_monitor_kind_name(ROZ_MON_KIND_COUNT_), "?");
 }
@@ -51,7 +52,7 @@ static void test_monitor_threshold_and_throttle(void **st)
     for (int i = 0; i < 100; i++)
         roz_monitor_record(&mon, ROZ_MON_READ, 100000, 10 * S + (uint64_t)i);
     assert_int_equal(warnings, 0);
-    assert_int_equal(mon.stat[ROZ_MON_READ].exceeded, 0);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).exceeded, 0);
     /* above: one warning, then silence for a second */
     roz_monitor_record(&mon, ROZ_MON_READ, 150000, 20 * S);
     assert_int_equal(warnings, 1);
@@ -59,7 +60,7 @@ static void test_monitor_threshold_and_throttle(void **st)
     for (int i = 1; i <= 50; i++)
         roz_monitor_record(&mon, ROZ_MON_READ, 150000, 20 * S + (uint64_t)i * 10 * MS);
     assert_int_equal(warnings, 1);
-    assert_int_equal(mon.stat[ROZ_MON_READ].exceeded, 51);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).exceeded, 51);
     /* another kind has its own throttle */
     roz_monitor_record(&mon, ROZ_MON_WRITE, 150000, 20 * S + 1);
     assert_int_equal(warnings, 2);
@@ -67,13 +68,13 @@ static void test_monitor_threshold_and_throttle(void **st)
     roz_monitor_record(&mon, ROZ_MON_READ, 300000, 21 * S);
     assert_int_equal(warnings, 3);
     assert_non_null(strstr(last, "(52 times so far)"));
-    assert_int_equal(mon.stat[ROZ_MON_READ].warned, 2);
-    assert_int_equal(mon.stat[ROZ_MON_READ].count, 152);
-    assert_int_equal(mon.stat[ROZ_MON_READ].max_ns, 300000);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).warned, 2);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).count, 152);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).max_ns, 300000);
     /* without a sink: counted, silent */
     roz_monitor_init(&mon, "quiet", 2 * MS, NULL, NULL);
     roz_monitor_record(&mon, ROZ_MON_READ, 999999, S);
-    assert_int_equal(mon.stat[ROZ_MON_READ].exceeded, 1);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).exceeded, 1);
     roz_monitor_record(&mon, ROZ_MON_KIND_COUNT_, 1, S); /* ignored */
 }
 
@@ -106,13 +107,13 @@ static void test_monitor_jitter(void **st)
     roz_monitor_init(&mon, "loop", 2 * MS, sink, NULL);
     uint64_t t = 5 * S;
     roz_monitor_periodic(&mon, t); /* the first start has no interval */
-    assert_int_equal(mon.stat[ROZ_MON_JITTER].count, 0);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_JITTER).count, 0);
     for (int i = 0; i < 10; i++) {
         t += 2 * MS + (i % 2 ? 100000 : 0); /* 0 or 100 us late */
         roz_monitor_periodic(&mon, t);
     }
-    assert_int_equal(mon.stat[ROZ_MON_JITTER].count, 10);
-    assert_int_equal(mon.stat[ROZ_MON_JITTER].max_ns, 100000);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_JITTER).count, 10);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_JITTER).max_ns, 100000);
     assert_int_equal(warnings, 0);
     t += 2 * MS + 600000; /* 600 us late: above 500 us */
     roz_monitor_periodic(&mon, t);
@@ -120,7 +121,34 @@ static void test_monitor_jitter(void **st)
     assert_non_null(strstr(last, "jitter took 600 us"));
     t += 2 * MS - 700000; /* early counts too */
     roz_monitor_periodic(&mon, t);
-    assert_int_equal(mon.stat[ROZ_MON_JITTER].exceeded, 2);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_JITTER).exceeded, 2);
+}
+
+static void test_monitor_snapshot_api(void **st)
+{
+    (void)st;
+    roz_monitor_stat_t s;
+    roz_monitor_init(&mon, "api", 2 * MS, NULL, NULL);
+    roz_monitor_set_threshold(&mon, ROZ_MON_READ, 7);
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_READ), 7);
+    roz_monitor_set_threshold(&mon, ROZ_MON_KIND_COUNT_, 7); /* ignored */
+    assert_int_equal(roz_monitor_threshold(&mon, ROZ_MON_KIND_COUNT_), 0);
+    roz_monitor_record(&mon, ROZ_MON_READ, 5, S);
+    roz_monitor_record(&mon, ROZ_MON_READ, 9, S);
+    roz_monitor_record(&mon, ROZ_MON_READ, 10, S);
+    assert_int_equal(roz_monitor_snapshot(&mon, ROZ_MON_READ, &s), ROZ_OK);
+    assert_int_equal(s.count, 3);
+    assert_int_equal(s.exceeded, 2);
+    assert_int_equal(s.sum_ns, 24);
+    assert_int_equal(s.max_ns, 10);
+    assert_int_equal(roz_monitor_stat_mean(&s), 8);
+    assert_int_equal(roz_monitor_snapshot(&mon, ROZ_MON_KIND_COUNT_, &s), ROZ_EINVAL);
+    assert_int_equal(roz_monitor_snapshot(NULL, ROZ_MON_READ, &s), ROZ_EINVAL);
+    /* counts past 32 bits survive the two-word storage */
+    roz_monitor_record(&mon, ROZ_MON_TICK, 5000000000ull, S);
+    assert_int_equal(roz_monitor_snapshot(&mon, ROZ_MON_TICK, &s), ROZ_OK);
+    assert_int_equal(s.max_ns, 5000000000ull);
+    assert_int_equal(s.sum_ns, 5000000000ull);
 }
 
 int main(void)
@@ -130,6 +158,7 @@ int main(void)
         cmocka_unit_test(test_monitor_threshold_and_throttle),
         cmocka_unit_test(test_monitor_percentiles),
         cmocka_unit_test(test_monitor_jitter),
+        cmocka_unit_test(test_monitor_snapshot_api),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,6 +15,7 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -51,7 +52,7 @@ static void load(const char *name, int expect)
 static void ticks(int n)
 {
     for (int i = 0; i < n; i++) {
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
         assert_port_safe();
     }
 }
@@ -75,10 +76,10 @@ static void test_runtime_sine_drives_ur5(void **st)
     assert_int_equal(rep.nonfinite, 0);
     ticks(300);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(rt.counters.controller_ticks, 300);
-    assert_int_equal(rt.counters.writes, 300);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), 300);
+    assert_int_equal(RT_COUNT(&rt, writes), 300);
     /* the filter ramped the sine's first steps (rate cap 0.5 per tick) */
-    assert_true(rt.filter.counters.rate_caps > 0);
+    assert_true(FILTER_COUNT(&rt, rate_caps) > 0);
     /* the arm moved: joint 0 integrates the commanded velocity */
     double q[12];
     roz_loopback_true_state(&lb, q);
@@ -99,7 +100,7 @@ static void test_runtime_nothing_before_first_state(void **st)
     load("constant_velocity", ROZ_OK);
     ticks(5);
     assert_int_equal(lb.writes, 0);
-    assert_int_equal(rt.counters.waiting_ticks, 5);
+    assert_int_equal(RT_COUNT(&rt, waiting_ticks), 5);
     ticks(1);
     assert_int_equal(lb.writes, 1);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -136,8 +137,8 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     ticks(300);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_int_equal(lb.writes, 0);
-    assert_int_equal(rt.counters.waiting_ticks, 300);
-    assert_int_equal(rt.counters.stale_reads, 0);
+    assert_int_equal(RT_COUNT(&rt, waiting_ticks), 300);
+    assert_int_equal(RT_COUNT(&rt, stale_reads), 0);
     assert_int_equal(warnings, 0); /* the tick never calls the log callback */
     roz_runtime_log_drain(&rt);    /* the application's non-RT thread does */
     assert_int_equal(warnings, 1);
@@ -160,17 +161,17 @@ static void test_runtime_trap_latches_controlled_stop(void **st)
     ticks(1); /* tick 150 traps: defaults this very tick, ramped */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_TRAP);
     assert_non_null(strstr(roz_runtime_fault_message(&rt), "unreachable"));
-    assert_int_equal(rt.counters.faults[0], 1);
+    assert_int_equal(RT_COUNT(&rt, faults[0]), 1);
     assert_near(roz_runtime_last_commands(&rt)[0], 0.0, 1e-12); /* 0.1 within one cap */
-    uint64_t calls = rt.counters.controller_ticks;
+    uint64_t calls = RT_COUNT(&rt, controller_ticks);
     ticks(50);
-    assert_int_equal(rt.counters.controller_ticks, calls); /* it never runs again */
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), calls); /* it never runs again */
     assert_int_equal(roz_runtime_tick(&rt), ROZ_EFAULT);
     /* clearing rebuilds it (a trapped instance is not reused), from tick 0 */
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     ticks(1);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(rt.counters.swaps, 2);
+    assert_int_equal(RT_COUNT(&rt, swaps), 2);
     ticks(149);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     ticks(1);
@@ -260,7 +261,7 @@ static void test_runtime_verify_refuses(void **st)
     assert_non_null(strstr(roz_runtime_error(&rt), "non-finite"));
     load("bad_unknown_import", ROZ_EINVAL);
     assert_non_null(strstr(roz_runtime_error(&rt), "env.open_valve"));
-    assert_int_equal(rt.counters.swaps_refused, 3);
+    assert_int_equal(RT_COUNT(&rt, swaps_refused), 3);
     ticks(5); /* no controller: defaults go out, no fault */
     assert_int_equal(lb.writes, 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -275,12 +276,12 @@ static void test_runtime_swap_keeps_old_on_failure(void **st)
     load("bad_trap_verify", ROZ_EFAULT);
     ticks(10);
     assert_near(roz_runtime_last_commands(&rt)[0], 0.628, 1e-12);
-    assert_int_equal(rt.counters.swaps, 1);
+    assert_int_equal(RT_COUNT(&rt, swaps), 1);
     /* a good one swaps in at the next tick boundary, from tick 0 */
     load("hold", ROZ_OK);
     assert_near(roz_runtime_last_commands(&rt)[0], 0.628, 1e-12);
     ticks(1);
-    assert_int_equal(rt.counters.swaps, 2);
+    assert_int_equal(RT_COUNT(&rt, swaps), 2);
     assert_near(roz_runtime_last_commands(&rt)[0], 0.128, 1e-12); /* ramped down */
     ticks(2);
     assert_true(roz_runtime_last_commands(&rt)[0] == 0.0);
@@ -316,7 +317,7 @@ static void test_runtime_nan_and_range_states(void **st)
     ticks(20);
     /* joint 4 reads beyond its upper limit: positive velocity refused */
     assert_true(roz_runtime_last_commands(&rt)[4] == 0.0);
-    assert_true(rt.filter.counters.limit_stops > 0);
+    assert_true(FILTER_COUNT(&rt, limit_stops) > 0);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 

@@ -21,6 +21,7 @@
 #include "roz/hal/runner.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support.h"
 #include "unitree_g1_manifest.h"
 
@@ -79,7 +80,7 @@ static roz_runner_t runner;
 static int tick(void *ctx)
 {
     (void)ctx;
-    roz_runtime_tick(&rt);
+    roz_test_tick(&rt);
     return 0;
 }
 
@@ -144,8 +145,8 @@ static void test_threads_runtime_under_load(void **st)
 
     print_message("ticks %llu, controller ticks %llu, loads %d, refused %d, swaps %llu\n",
                   (unsigned long long)runner.ticks,
-                  (unsigned long long)rt.counters.controller_ticks, loads, refused,
-                  (unsigned long long)rt.counters.swaps);
+                  (unsigned long long)RT_COUNT(&rt, controller_ticks), loads, refused,
+                  (unsigned long long)RT_COUNT(&rt, swaps));
     assert_true(runner.ticks > 0);
     assert_true(refused > 0);
     assert_true(loads > 0);

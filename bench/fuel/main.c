@@ -209,7 +209,7 @@ static run_t run(const work_t *w, size_t len, uint64_t fuel, uint64_t deadline_n
     for (int i = 0; i < repeats; i++) {
         roz_controller_init(&ctl);
         roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
-        abi.state = state;
+        roz_abi_begin_tick(&abi, 0, state);
         if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK) {
             fprintf(stderr, "roz_bench_fuel: %s: %s\n", w->name, roz_controller_error(&ctl));
             exit(1);

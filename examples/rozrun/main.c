@@ -278,13 +278,15 @@ static const roz_manifest_t *find_robot(const char *id)
 }
 
 static uint64_t metrics_seen;
+static uint64_t ticks_run;   /* roz_runtime_tick() calls */
+static int last_tick_rc;     /* its last result */
 static double metric_last = NAN;
 
 /* Telemetry is kept off the tick: drained here, outside it. */
 static void drain_metrics(void)
 {
     roz_metric_t mt;
-    while (roz_metric_ring_pop(&rt.metrics, &mt)) {
+    while (roz_runtime_metric_pop(&rt, &mt)) {
         metrics_seen++;
         metric_last = mt.value;
     }
@@ -294,8 +296,8 @@ static void record_tick(void)
 {
     if (!tracing)
         return;
-    const roz_manifest_t *m = rt.cfg.manifest;
-    uint64_t tick = rt.counters.ticks - 1;
+    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    uint64_t tick = ticks_run - 1;
     rozrun_trace_push(&trace, tick, (double)tick / m->control_rate_hz,
                       roz_runtime_last_targets(&rt), roz_runtime_last_commands(&rt),
                       roz_runtime_last_state(&rt));
@@ -304,36 +306,35 @@ static void record_tick(void)
 static int tick_fn(void *ctx)
 {
     (void)ctx;
-    roz_runtime_tick(&rt);
+    last_tick_rc = roz_runtime_tick(&rt); /* faults are read from the latch */
+    ticks_run++;
     record_tick();
     return atomic_load(&interrupted) ? 1 : 0;
 }
 
 static void print_ns(const char *label, const roz_monitor_t *mon, roz_monitor_kind_t k)
 {
-    const roz_monitor_stat_t *s = &mon->stat[k];
-    if (s->count == 0) {
+    static roz_monitor_stat_t s; /* 2 KiB: not on the stack */
+    if (roz_monitor_snapshot(mon, k, &s) != ROZ_OK || s.count == 0) {
         printf("  %-22s -\n", label);
         return;
     }
     printf("  %-22s p50 %8.1f us   p99 %8.1f us   max %8.1f us\n", label,
-           roz_monitor_percentile(mon, k, 50.0) / 1000.0,
-           roz_monitor_percentile(mon, k, 99.0) / 1000.0, s->max_ns / 1000.0);
+           roz_monitor_stat_percentile(&s, 50.0) / 1000.0,
+           roz_monitor_stat_percentile(&s, 99.0) / 1000.0, s.max_ns / 1000.0);
 }
 
 static void summary(const options_t *o, const roz_verify_report_t *rep, const roz_runner_t *runner)
 {
-    const roz_manifest_t *m = rt.cfg.manifest;
-    const roz_filter_counters_t *fc = &rt.filter.counters;
-    uint64_t clamped = fc->clamps, bad_index = 0, nonfinite = fc->nonfinite, sets = 0;
-    uint64_t metrics = 0;
-    for (int i = 0; i < 2; i++) {
-        const roz_abi_counters_t *c = &rt.slot[i].abi.counters;
-        clamped += c->set_clamped;
-        bad_index += c->set_bad_index + c->get_bad_index;
-        sets += c->sets;
-        metrics += c->metrics;
-    }
+    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    roz_runtime_stats_t st;
+    if (roz_runtime_stats(&rt, &st) != ROZ_OK)
+        memset(&st, 0, sizeof st);
+    const roz_filter_counters_t *fc = &st.filter;
+    const roz_abi_counters_t *c = &st.abi;
+    uint64_t clamped = fc->clamps + c->set_clamped, nonfinite = fc->nonfinite;
+    uint64_t bad_index = c->set_bad_index + c->get_bad_index, sets = c->sets;
+    uint64_t metrics = c->metrics;
     unsigned faults = roz_runtime_faults(&rt);
 
     printf("\n== rozrun summary ==\n");
@@ -349,22 +350,22 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     if (rep->fuel_budget != ROZ_BUDGET_OFF)
         snprintf(budget, sizeof budget, "%llu", (unsigned long long)rep->fuel_budget);
     printf("  fuel per tick          verify max %llu, run max %llu, last %llu units; budget %s\n",
-           (unsigned long long)rep->max_fuel, (unsigned long long)rt.counters.max_fuel,
-           (unsigned long long)rt.counters.last_fuel, budget);
+           (unsigned long long)rep->max_fuel, (unsigned long long)st.runtime.max_fuel,
+           (unsigned long long)st.runtime.last_fuel, budget);
     printf("  native stack           verify max %llu, run max %llu bytes; limit %u\n",
-           (unsigned long long)rep->max_stack, (unsigned long long)rt.counters.max_stack,
+           (unsigned long long)rep->max_stack, (unsigned long long)st.runtime.max_stack,
            (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
     printf("  ticks                  %llu (controller %llu, waiting for state %llu)\n",
-           (unsigned long long)rt.counters.ticks, (unsigned long long)rt.counters.controller_ticks,
-           (unsigned long long)rt.counters.waiting_ticks);
+           (unsigned long long)st.runtime.ticks, (unsigned long long)st.runtime.controller_ticks,
+           (unsigned long long)st.runtime.waiting_ticks);
     printf("  commands written       %llu frames, %llu command.set calls\n",
-           (unsigned long long)rt.counters.writes, (unsigned long long)sets);
+           (unsigned long long)st.runtime.writes, (unsigned long long)sets);
     printf("  clamps                 %llu\n", (unsigned long long)clamped);
     printf("  rate caps              %llu\n", (unsigned long long)fc->rate_caps);
     printf("  limit stops            %llu\n", (unsigned long long)fc->limit_stops);
     printf("  refused values         %llu non-finite, %llu bad indices\n",
            (unsigned long long)nonfinite, (unsigned long long)bad_index);
-    printf("  stale reads            %llu\n", (unsigned long long)rt.counters.stale_reads);
+    printf("  stale reads            %llu\n", (unsigned long long)st.runtime.stale_reads);
     printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu missing, "
            "%llu peer restarts\n",
            (unsigned long long)loopback.link.accepted, (unsigned long long)loopback.link.crc_errors,
@@ -373,7 +374,7 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     drain_metrics();
     printf("  metrics                %llu emitted, %llu received (last %g), %llu dropped\n",
            (unsigned long long)metrics, (unsigned long long)metrics_seen, metric_last,
-           (unsigned long long)rt.metrics.dropped);
+           (unsigned long long)roz_runtime_metrics_dropped(&rt));
     if (faults == 0) {
         printf("  faults                 none\n");
     } else {
@@ -384,8 +385,8 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
         }
         printf(" (first: %s)\n", roz_runtime_fault_message(&rt));
     }
-    print_ns("process() time", &rt.monitor, ROZ_MON_PROCESS);
-    print_ns("tick time", &rt.monitor, ROZ_MON_TICK);
+    print_ns("process() time", roz_runtime_monitor(&rt), ROZ_MON_PROCESS);
+    print_ns("tick time", roz_runtime_monitor(&rt), ROZ_MON_TICK);
     if (runner != NULL) {
         print_ns("wake-up jitter", &runner->monitor, ROZ_MON_JITTER);
         printf("  scheduling             %s, memory %s, %llu deadlines missed\n",

@@ -54,6 +54,30 @@ void roz_abi_reset(roz_abi_t *abi)
     abi->estop_requested = 0;
 }
 
+void roz_abi_begin_tick(roz_abi_t *abi, int64_t tick, const double *state)
+{
+    abi->tick = tick;
+    abi->state = state;
+}
+
+void roz_abi_set_clock(roz_abi_t *abi, roz_clock_fn clock, void *clock_ctx, uint64_t period_ns)
+{
+    abi->clock = clock;
+    abi->clock_ctx = clock_ctx;
+    if (period_ns != 0)
+        abi->period_ns = period_ns;
+}
+
+int roz_abi_estop_requested(const roz_abi_t *abi)
+{
+    return abi->estop_requested;
+}
+
+void roz_abi_counters_get(const roz_abi_t *abi, roz_abi_counters_t *out)
+{
+    *out = abi->counters;
+}
+
 /* ---- imports ------------------------------------------------------------- */
 
 int32_t roz_abi_command_set(roz_abi_t *abi, int32_t index, double value)
@@ -157,7 +181,9 @@ void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value)
     head = atomic_load_explicit(&r->head, memory_order_relaxed);
     tail = atomic_load_explicit(&r->tail, memory_order_acquire);
     if (head - tail >= ROZ_CFG_TELEMETRY_RING) {
-        r->dropped++;
+        atomic_store_explicit(&r->dropped,
+                              atomic_load_explicit(&r->dropped, memory_order_relaxed) + 1u,
+                              memory_order_relaxed);
         return;
     }
     r->items[head & (ROZ_CFG_TELEMETRY_RING - 1)] = (roz_metric_t){ abi->tick, value };
@@ -174,4 +200,9 @@ int roz_metric_ring_pop(roz_metric_ring_t *r, roz_metric_t *out)
     *out = r->items[tail & (ROZ_CFG_TELEMETRY_RING - 1)];
     atomic_store_explicit(&r->tail, tail + 1, memory_order_release);
     return 1;
+}
+
+uint32_t roz_metric_ring_dropped(const roz_metric_ring_t *r)
+{
+    return atomic_load_explicit(&r->dropped, memory_order_relaxed);
 }

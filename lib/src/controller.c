@@ -11,6 +11,7 @@
 #include "wasm3.h"
 #include "m3_env.h"
 #include "controller_bench.h"
+#include "text.h"
 #include "wasm_scan.h"
 
 /* ---- private: metering ----------------------------------------------------- */
@@ -387,33 +388,54 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
     rt->rozStackLow = (void *)c->stack_base;
     r = m3_CallV((IM3Function)c->process, tick);
     c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
-    if (r == fuel_trap) {
+    /* Messages built without printf: this runs in the tick. A budget stop
+     * leaves the instance spent; after a trap the caller decides (the
+     * runtime never runs a trapped instance again). */
+    if (r == m3Err_none)
+        return ROZ_OK;
+    roz__text_t t = roz__text(c->error, sizeof c->error);
+    if (r == fuel_trap || r == deadline_trap) {
         c->spent = 1;
-        snprintf(c->error, sizeof c->error, "fuel exhausted at tick %lld: %llu units, budget %llu",
-                 (long long)tick, (unsigned long long)c->fuel_used,
-                 (unsigned long long)c->budget.fuel);
+        roz__text_str(&t, r == fuel_trap ? "fuel exhausted at tick " : "deadline passed at tick ");
+        roz__text_i64(&t, tick);
+        if (r == fuel_trap) {
+            roz__text_str(&t, ": ");
+            roz__text_u64(&t, c->fuel_used);
+            roz__text_str(&t, " units, budget ");
+            roz__text_u64(&t, c->budget.fuel);
+        } else {
+            roz__text_str(&t, ": ");
+            roz__text_u64(&t, c->budget.deadline_ns / 1000u);
+            roz__text_str(&t, " us budget, stopped after ");
+            roz__text_u64(&t, c->fuel_used);
+            roz__text_str(&t, " units");
+        }
         return ROZ_ETIMEDOUT;
     }
-    if (r == deadline_trap) {
-        c->spent = 1;
-        snprintf(c->error, sizeof c->error,
-                 "deadline passed at tick %lld: %llu us budget, stopped after %llu units",
-                 (long long)tick, (unsigned long long)(c->budget.deadline_ns / 1000u),
-                 (unsigned long long)c->fuel_used);
-        return ROZ_ETIMEDOUT;
-    }
+    roz__text_str(&t, "trap at tick ");
+    roz__text_i64(&t, tick);
     if (r == stack_trap) {
-        snprintf(c->error, sizeof c->error,
-                 "trap at tick %lld: native stack limit: %zu bytes deep, limit %u "
-                 "(ROZ_CFG_NATIVE_STACK_BYTES)",
-                 (long long)tick, c->stack_used, (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
-        return ROZ_EFAULT;
+        roz__text_str(&t, ": native stack limit: ");
+        roz__text_u64(&t, c->stack_used);
+        roz__text_str(&t, " bytes deep, limit ");
+        roz__text_u64(&t, ROZ_CFG_NATIVE_STACK_BYTES);
+        roz__text_str(&t, " (ROZ_CFG_NATIVE_STACK_BYTES)");
+    } else {
+        roz__text_str(&t, ": ");
+        roz__text_str(&t, r);
     }
-    if (r != m3Err_none) {
-        snprintf(c->error, sizeof c->error, "trap at tick %lld: %s", (long long)tick, r);
-        return ROZ_EFAULT;
-    }
+    return ROZ_EFAULT;
     return ROZ_OK;
+}
+
+int roz_controller_spent(const roz_controller_t *c)
+{
+    return c->spent;
+}
+
+uint64_t roz_controller_calls(const roz_controller_t *c)
+{
+    return c->calls;
 }
 
 void roz_controller_unload(roz_controller_t *c)

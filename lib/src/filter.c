@@ -134,3 +134,21 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
         out[i] = v;
     }
 }
+
+void roz_filter_counters_get(const roz_filter_t *f, roz_filter_counters_t *out)
+{
+    *out = f->counters;
+}
+
+int roz_filter_channel_counters_get(const roz_filter_t *f, size_t channel,
+                                    roz_filter_channel_counters_t *out)
+{
+    if (channel >= f->manifest->n_commands || channel >= ROZ_CFG_MAX_COMMANDS) {
+        memset(out, 0, sizeof *out);
+        return ROZ_ENOENT;
+    }
+    out->clamps = f->channel_clamps[channel];
+    out->rate_caps = f->channel_rate_caps[channel];
+    out->limit_stops = f->channel_limit_stops[channel];
+    return ROZ_OK;
+}

@@ -1,8 +1,11 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "roz/monitor.h"
 
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
+
+#include "seqlock.h"
 
 /* ---- private ------------------------------------------------------------- */
 
@@ -40,6 +43,22 @@ static uint64_t bucket_top(unsigned b)
     return base + ((uint64_t)(sub + 1u) << (lead - 3u));
 }
 
+/* The published words of a cell: 64-bit values as lo, hi. */
+enum { W_COUNT = 0, W_EXCEEDED = 2, W_WARNED = 4, W_MAX = 6, W_SUM = 8 };
+
+/* Writer side: the only writer of a cell reads its own words relaxed. */
+static uint64_t ld64(const roz_monitor_cell_t *c, unsigned w)
+{
+    return (uint64_t)atomic_load_explicit(&c->w[w], memory_order_relaxed) |
+           (uint64_t)atomic_load_explicit(&c->w[w + 1u], memory_order_relaxed) << 32;
+}
+
+static void st64(roz_monitor_cell_t *c, unsigned w, uint64_t v)
+{
+    atomic_store_explicit(&c->w[w], (uint32_t)v, memory_order_relaxed);
+    atomic_store_explicit(&c->w[w + 1u], (uint32_t)(v >> 32), memory_order_relaxed);
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 void roz_monitor_init(roz_monitor_t *m, const char *name, uint64_t period_ns,
@@ -59,31 +78,53 @@ void roz_monitor_init(roz_monitor_t *m, const char *name, uint64_t period_ns,
     m->threshold_ns[ROZ_MON_TICK] = period_ns;
 }
 
+void roz_monitor_set_threshold(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns)
+{
+    if ((unsigned)kind < (unsigned)ROZ_MON_KIND_COUNT_)
+        m->threshold_ns[kind] = ns;
+}
+
+uint64_t roz_monitor_threshold(const roz_monitor_t *m, roz_monitor_kind_t kind)
+{
+    return (unsigned)kind < (unsigned)ROZ_MON_KIND_COUNT_ ? m->threshold_ns[kind] : 0;
+}
+
 void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns, uint64_t now_ns)
 {
-    roz_monitor_stat_t *s;
+    roz_monitor_cell_t *c;
+    uint64_t exceeded = 0;
+    int warn = 0;
 
     if ((unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
         return;
-    s = &m->stat[kind];
-    s->count++;
-    s->sum_ns += ns;
-    if (ns > s->max_ns)
-        s->max_ns = ns;
-    s->hist[bucket_of(ns)]++;
-    if (m->threshold_ns[kind] == 0 || ns <= m->threshold_ns[kind])
+    c = &m->cell[kind];
+    unsigned b = bucket_of(ns);
+    roz__seq_begin(&c->seq);
+    st64(c, W_COUNT, ld64(c, W_COUNT) + 1u);
+    st64(c, W_SUM, ld64(c, W_SUM) + ns);
+    if (ns > ld64(c, W_MAX))
+        st64(c, W_MAX, ns);
+    atomic_store_explicit(&c->hist[b], atomic_load_explicit(&c->hist[b], memory_order_relaxed) + 1u,
+                          memory_order_relaxed);
+    if (m->threshold_ns[kind] != 0 && ns > m->threshold_ns[kind]) {
+        uint64_t warned = ld64(c, W_WARNED);
+        exceeded = ld64(c, W_EXCEEDED) + 1u;
+        st64(c, W_EXCEEDED, exceeded);
+        if (warned == 0 || now_ns - c->last_warn_ns >= NS_PER_S) {
+            st64(c, W_WARNED, warned + 1u);
+            c->last_warn_ns = now_ns;
+            warn = 1;
+        }
+    }
+    roz__seq_end(&c->seq);
+    if (!warn)
         return;
-    s->exceeded++;
-    if (s->warned != 0 && now_ns - s->last_warn_ns < NS_PER_S)
-        return;
-    s->warned++;
-    s->last_warn_ns = now_ns;
     if (m->warn != NULL) {
-        m->warn(m->warn_ctx, kind, ns, m->threshold_ns[kind], s->exceeded);
+        m->warn(m->warn_ctx, kind, ns, m->threshold_ns[kind], exceeded);
     } else if (m->log != NULL) {
         char msg[160];
         roz_monitor_format_warning(msg, sizeof msg, m->name, kind, ns, m->threshold_ns[kind],
-                                   s->exceeded);
+                                   exceeded);
         m->log(m->log_ctx, ROZ_LOG_WARN, msg);
     }
 }
@@ -114,15 +155,33 @@ void roz_monitor_periodic(roz_monitor_t *m, uint64_t start_ns)
     m->last_start_ns = start_ns;
 }
 
-uint64_t roz_monitor_percentile(const roz_monitor_t *m, roz_monitor_kind_t kind, double pct)
+int roz_monitor_snapshot(const roz_monitor_t *m, roz_monitor_kind_t kind, roz_monitor_stat_t *out)
 {
-    const roz_monitor_stat_t *s;
+    if (m == NULL || out == NULL || (unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
+        return ROZ_EINVAL;
+    const roz_monitor_cell_t *c = &m->cell[kind];
+    for (unsigned tries = 0; tries < 1000u; tries++) {
+        uint32_t q = roz__seq_read_begin(&c->seq), w[10];
+        roz__seq_load(w, c->w, 10u);
+        roz__seq_load(out->hist, c->hist, ROZ_MONITOR_BUCKETS);
+        if (!roz__seq_read_ok(&c->seq, q))
+            continue;
+        out->count = (uint64_t)w[W_COUNT] | (uint64_t)w[W_COUNT + 1] << 32;
+        out->exceeded = (uint64_t)w[W_EXCEEDED] | (uint64_t)w[W_EXCEEDED + 1] << 32;
+        out->warned = (uint64_t)w[W_WARNED] | (uint64_t)w[W_WARNED + 1] << 32;
+        out->max_ns = (uint64_t)w[W_MAX] | (uint64_t)w[W_MAX + 1] << 32;
+        out->sum_ns = (uint64_t)w[W_SUM] | (uint64_t)w[W_SUM + 1] << 32;
+        return ROZ_OK;
+    }
+    memset(out, 0, sizeof *out);
+    return ROZ_ESTATE;
+}
+
+uint64_t roz_monitor_stat_percentile(const roz_monitor_stat_t *s, double pct)
+{
     uint64_t want, seen = 0;
 
-    if ((unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
-        return 0;
-    s = &m->stat[kind];
-    if (s->count == 0)
+    if (s == NULL || s->count == 0)
         return 0;
     if (!(pct > 0.0))
         pct = 0.0;
@@ -139,6 +198,19 @@ uint64_t roz_monitor_percentile(const roz_monitor_t *m, roz_monitor_kind_t kind,
         }
     }
     return s->max_ns;
+}
+
+uint64_t roz_monitor_stat_mean(const roz_monitor_stat_t *s)
+{
+    return s != NULL && s->count != 0 ? s->sum_ns / s->count : 0;
+}
+
+uint64_t roz_monitor_percentile(const roz_monitor_t *m, roz_monitor_kind_t kind, double pct)
+{
+    roz_monitor_stat_t s;
+    if (roz_monitor_snapshot(m, kind, &s) != ROZ_OK)
+        return 0;
+    return roz_monitor_stat_percentile(&s, pct);
 }
 
 const char *roz_monitor_kind_name(roz_monitor_kind_t kind)

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "seqlock.h"
+
 /* ---- private ------------------------------------------------------------- */
 
 static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
@@ -339,6 +341,17 @@ static int first_frame_bad(const roz_runtime_t *rt, const double *state)
     return -1;
 }
 
+static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
+{
+    sum->sets += c->sets;
+    sum->set_clamped += c->set_clamped;
+    sum->set_bad_index += c->set_bad_index;
+    sum->set_nonfinite += c->set_nonfinite;
+    sum->get_bad_index += c->get_bad_index;
+    sum->estop_requests += c->estop_requests;
+    sum->metrics += c->metrics;
+}
+
 /* 0. Hand-overs from other threads, at the tick boundary, each taken with an
  * exchange. The clear request is taken first: a clear that rebuilt the
  * controller scheduled it before it asked for the clear, so seeing the
@@ -348,6 +361,9 @@ static int tick_handovers(roz_runtime_t *rt)
     unsigned clear = atomic_exchange(&rt->clear_request, 0u);
     int pending = atomic_exchange(&rt->pending, -1);
     if (pending != -1) {
+        int old = atomic_load(&rt->active);
+        if (old >= 0)
+            abi_add(&rt->abi_retired, &rt->slot[old].abi.counters);
         atomic_store(&rt->active, pending);
         rt->ctrl_tick = 0;
         rt->counters.swaps++;
@@ -482,6 +498,27 @@ static void tick_write(roz_runtime_t *rt, uint64_t t_start)
     roz_monitor_record(&rt->monitor, ROZ_MON_TICK, t1 - t_start, t1);
 }
 
+/* 6. What the tick counted, for roz_runtime_stats() on any thread. */
+static void tick_publish(roz_runtime_t *rt)
+{
+    roz_runtime_stats_t st;
+    uint32_t w[ROZ_RUNTIME_STATS_WORDS] = { 0 };
+    int active = atomic_load_explicit(&rt->active, memory_order_relaxed);
+
+    memset(&st, 0, sizeof st);
+    st.runtime = rt->counters;
+    st.filter = rt->filter.counters;
+    st.abi = rt->abi_retired;
+    if (active >= 0)
+        abi_add(&st.abi, &rt->slot[active].abi.counters);
+    st.controller_tick = rt->ctrl_tick;
+    st.last_process_ns = rt->last_process_ns;
+    memcpy(w, &st, sizeof st);
+    roz__seq_begin(&rt->stats_seq);
+    roz__seq_store(rt->stats_words, w, ROZ_RUNTIME_STATS_WORDS);
+    roz__seq_end(&rt->stats_seq);
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 void roz_runtime_config_default(roz_runtime_config_t *cfg)
@@ -584,7 +621,8 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     /* the monitor's warnings are queued as numbers, formatted by log_drain */
     roz_monitor_init(&rt->monitor, "roz runtime", period_ns, NULL, NULL);
     roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
-    rt->monitor.threshold_ns[ROZ_MON_PROCESS] = rt->cfg.budget_ns;
+    roz_monitor_set_threshold(&rt->monitor, ROZ_MON_PROCESS,
+                              rt->cfg.budget_ns == ROZ_BUDGET_OFF ? 0 : rt->cfg.budget_ns);
     for (int i = 0; i < 2; i++) {
         roz_controller_init(&rt->slot[i].ctrl);
         roz_abi_init(&rt->slot[i].abi, m, rt->slot[i].target, &rt->metrics);
@@ -607,6 +645,11 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     atomic_init(&rt->log_head, 0u);
     atomic_init(&rt->log_tail, 0u);
     atomic_init(&rt->log_dropped, 0u);
+    atomic_init(&rt->swaps_refused, 0u);
+    atomic_init(&rt->rebuilds, 0u);
+    atomic_init(&rt->stats_seq, 0u);
+    for (size_t i = 0; i < ROZ_RUNTIME_STATS_WORDS; i++)
+        atomic_init(&rt->stats_words[i], 0u);
     roz_buffer_init(&rt->snapshot, rt->snapshot_slots, m->n_states > 0 ? m->n_states : 1u);
     for (uint16_t i = 0; i < m->n_states; i++)
         rt->state[i] = m->states[i].default_value;
@@ -642,21 +685,21 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     s->abi.metrics = NULL;
     if (rc != ROZ_OK) {
         snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
-        rt->counters.swaps_refused++;
+        atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
     verify_state(rt, vstate);
     rc = verify_slot(rt, s, vstate, report);
     roz_controller_unload(&s->ctrl);
     if (rc != ROZ_OK) {
-        rt->counters.swaps_refused++;
+        atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
     /* 2. a fresh instance to drive the robot from tick 0 */
     rc = load_slot(rt, s, wasm, len, 0);
     if (rc != ROZ_OK) {
         snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
-        rt->counters.swaps_refused++;
+        atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
     /* published complete: the tick takes it with an exchange (acquire) */
@@ -699,15 +742,16 @@ int roz_runtime_tick(roz_runtime_t *rt)
     int active = tick_handovers(rt);
     tick_estop(rt);
     tick_read(rt);
-    if (!rt->have_state) {
+    if (rt->have_state) {
+        roz_stop_t stop = tick_controller(rt, active, &target);
+        /* 4. the safety filter: the last word */
+        roz_filter_apply(&rt->filter, target, rt->state, stop, rt->out);
+        tick_write(rt, t_start);
+    } else {
         /* nothing is sent before the first usable state frame */
         rt->counters.waiting_ticks++;
-        return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
     }
-    roz_stop_t stop = tick_controller(rt, active, &target);
-    /* 4. the safety filter: the last word */
-    roz_filter_apply(&rt->filter, target, rt->state, stop, rt->out);
-    tick_write(rt, t_start);
+    tick_publish(rt);
     return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
 }
 
@@ -743,7 +787,7 @@ int roz_runtime_clear_faults(roz_runtime_t *rt)
         const roz_runtime_slot_t *s = &rt->slot[active];
         rc = load_locked(rt, s->wasm, s->wasm_len, NULL);
         if (rc == ROZ_OK)
-            rt->counters.rebuilds++;
+            atomic_fetch_add(&rt->rebuilds, 1u);
     }
     atomic_store(&rt->loader_busy, 0u);
     if (rc != ROZ_OK)
@@ -858,6 +902,52 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
 uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt)
 {
     return atomic_load(&rt->log_dropped);
+}
+
+int roz_runtime_stats(const roz_runtime_t *rt, roz_runtime_stats_t *out)
+{
+    uint32_t w[ROZ_RUNTIME_STATS_WORDS];
+
+    if (rt == NULL || out == NULL)
+        return ROZ_EINVAL;
+    for (unsigned tries = 0; tries < 1000u; tries++) {
+        uint32_t q = roz__seq_read_begin(&rt->stats_seq);
+        roz__seq_load(w, rt->stats_words, ROZ_RUNTIME_STATS_WORDS);
+        if (!roz__seq_read_ok(&rt->stats_seq, q))
+            continue;
+        memcpy(out, w, sizeof *out);
+        out->runtime.swaps_refused = atomic_load(&rt->swaps_refused);
+        out->runtime.rebuilds = atomic_load(&rt->rebuilds);
+        return ROZ_OK;
+    }
+    memset(out, 0, sizeof *out);
+    return ROZ_ESTATE;
+}
+
+int roz_runtime_channel_counters(const roz_runtime_t *rt, size_t channel,
+                                 roz_filter_channel_counters_t *out)
+{
+    return roz_filter_channel_counters_get(&rt->filter, channel, out);
+}
+
+const roz_monitor_t *roz_runtime_monitor(const roz_runtime_t *rt)
+{
+    return &rt->monitor;
+}
+
+int roz_runtime_metric_pop(roz_runtime_t *rt, roz_metric_t *out)
+{
+    return roz_metric_ring_pop(&rt->metrics, out);
+}
+
+uint32_t roz_runtime_metrics_dropped(const roz_runtime_t *rt)
+{
+    return roz_metric_ring_dropped(&rt->metrics);
+}
+
+const roz_runtime_config_t *roz_runtime_config(const roz_runtime_t *rt)
+{
+    return &rt->cfg;
 }
 
 const char *roz_runtime_error(const roz_runtime_t *rt)

@@ -65,7 +65,9 @@ int main(void)
     CHECK(roz_runtime_start(&rt) == ROZ_OK);
     for (int t = 0; t < 10; t++)
         CHECK(roz_runtime_tick(&rt) == ROZ_OK);
-    CHECK(rt.counters.writes == 10 && lb.violations == 0);
+    roz_runtime_stats_t st;
+    CHECK(roz_runtime_stats(&rt, &st) == ROZ_OK);
+    CHECK(st.runtime.writes == 10 && lb.violations == 0);
     roz_runtime_deinit(&rt);
 
     /* endless recursion is refused at verification: by wasm3's value stack,

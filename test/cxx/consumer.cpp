@@ -69,7 +69,10 @@ int main()
         if (roz_runtime_tick(&rt) != ROZ_OK)
             return fail("tick");
     }
-    if (roz_runtime_faults(&rt) != 0 || rt.counters.writes != 100 || lb.violations != 0)
+    roz_runtime_stats_t st;
+    if (roz_runtime_stats(&rt, &st) != ROZ_OK)
+        return fail("stats");
+    if (roz_runtime_faults(&rt) != 0 || st.runtime.writes != 100 || lb.violations != 0)
         return fail("100 ticks without a fault, one frame each");
     roz_runtime_deinit(&rt);
     std::printf("cxx consumer: %zu bytes of roz_runtime_t, 100 ticks, no fault\n", sizeof rt);

@@ -28,6 +28,7 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -110,7 +111,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
 
     for (uint64_t t = 0; t < TICKS; t++) {
         uint64_t delivered = lb.frames_delivered, events = lb.link_events;
-        uint64_t good_cmds = lb.peer_link.accepted, ran = rt.counters.controller_ticks;
+        uint64_t good_cmds = lb.peer_link.accepted, ran = RT_COUNT(&rt, controller_ticks);
         unsigned before = roz_runtime_faults(&rt);
         int rc = roz_runtime_tick(&rt);
         unsigned faults = roz_runtime_faults(&rt);
@@ -132,7 +133,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
             fail_msg("seed %llu tick %llu: the port reported a restart, no LINK",
                      (unsigned long long)seed, (unsigned long long)t);
         /* (a clear takes effect at the start of the next tick) */
-        if (before != 0 && !cleared && rt.counters.controller_ticks != ran)
+        if (before != 0 && !cleared && RT_COUNT(&rt, controller_ticks) != ran)
             fail_msg("seed %llu tick %llu: the controller ran with faults 0x%x latched",
                      (unsigned long long)seed, (unsigned long long)t, before);
         /* what the robot applies; an immediate stop (LINK) may jump */
@@ -151,7 +152,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
                 if (have_applied && !changed && memcmp(&cmd[i], &applied[i], sizeof cmd[i]) != 0)
                     fail_msg("seed %llu tick %llu: the robot's command %u changed without a "
                              "good frame", (unsigned long long)seed, (unsigned long long)t, i);
-                int limited = rt.filter.channel_limit_stops[i] != stops[i];
+                int limited = roz_test_channel(&rt, i).limit_stops != stops[i];
                 double gap = (double)(t - applied_at);
                 if (changed && have_applied && !limited && !jumped && c->max_rate > 0.0 &&
                     fabs(cmd[i] - applied[i]) > c->max_rate * gap + 1e-9)
@@ -161,7 +162,8 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
             }
             if (changed || !have_applied) {
                 memcpy(applied, cmd, m->n_commands * sizeof applied[0]);
-                memcpy(stops, rt.filter.channel_limit_stops, m->n_commands * sizeof stops[0]);
+                for (uint16_t k = 0; k < m->n_commands; k++)
+                    stops[k] = roz_test_channel(&rt, k).limit_stops;
                 have_applied = 1;
                 applied_at = t;
                 jumped = 0;
@@ -174,14 +176,14 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
             seen.clears++;
         }
     }
-    seen.stale += rt.counters.faults[2];
-    seen.link += rt.counters.faults[5];
+    seen.stale += RT_COUNT(&rt, faults[2]);
+    seen.link += RT_COUNT(&rt, faults[5]);
     seen.crc += lb.link.crc_errors;
     seen.replays += lb.link.replays;
     seen.restarts += lb.link.restarts + lb.link.returns;
     seen.cmd_crc += lb.peer_link.crc_errors;
     seen.cmds_lost += lb.cmds_lost;
-    seen.limit_stops += rt.filter.counters.limit_stops;
+    seen.limit_stops += FILTER_COUNT(&rt, limit_stops);
     roz_runtime_deinit(&rt);
 }
 

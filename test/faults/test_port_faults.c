@@ -30,6 +30,9 @@
  * Every written frame is checked against the manifest. Nothing asserts a
  * wall-clock time. */
 #define _POSIX_C_SOURCE 200809L
+/* white-box in part: reads the runtime's controller slots (a trapped
+ * instance must never run again), which no public function exposes */
+#define ROZ_PRIVATE_ACCESS
 #include <math.h>
 #include <pthread.h>
 #include <setjmp.h>
@@ -45,6 +48,7 @@
 #include "roz/buffer.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_stats.h"
 #include "support.h"
 #include "ur5_manifest.h"
 
@@ -103,14 +107,14 @@ static void check_frame(const double *cmd)
     for (uint16_t i = 0; i < m->n_commands; i++) {
         const roz_channel_t *c = &m->commands[i];
         /* the position limit may override the rate cap, and an e-stop */
-        int limited = rt.filter.channel_limit_stops[i] != stops_before[i] ||
+        int limited = roz_test_channel(&rt, i).limit_stops != stops_before[i] ||
                       (roz_runtime_faults(&rt) & ROZ_FAULT_IMMEDIATE_MASK) != 0;
-        stops_before[i] = rt.filter.channel_limit_stops[i];
+        stops_before[i] = roz_test_channel(&rt, i).limit_stops;
         if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
             fail_msg("tick %llu: command %u = %g outside [%g, %g]",
-                     (unsigned long long)rt.counters.ticks, i, cmd[i], c->min, c->max);
+                     (unsigned long long)RT_COUNT(&rt, ticks), i, cmd[i], c->min, c->max);
         if (have_prev && !limited && fabs(cmd[i] - prev_cmd[i]) > c->max_rate + 1e-12)
-            fail_msg("tick %llu: command %u jumped %g -> %g", (unsigned long long)rt.counters.ticks,
+            fail_msg("tick %llu: command %u jumped %g -> %g", (unsigned long long)RT_COUNT(&rt, ticks),
                      i, prev_cmd[i], cmd[i]);
         prev_cmd[i] = cmd[i];
     }
@@ -162,10 +166,10 @@ static void test_faults_short_drop_is_counted(void **st)
     }
     ticks(45);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(rt.counters.stale_reads, 5);
+    assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
     assert_int_equal(lb.frames_dropped, 5);
-    assert_int_equal(rt.counters.controller_ticks, 100);
-    assert_int_equal(rt.counters.writes, 100);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), 100);
+    assert_int_equal(RT_COUNT(&rt, writes), 100);
     assert_near(out()[0], V, 1e-12);
 }
 
@@ -185,14 +189,14 @@ static void test_faults_long_drop_latches_stale(void **st)
     assert_near(out()[0], V - 0.5, 1e-12); /* ramped by max_rate */
     tick();
     assert_true(out()[0] == 0.0);
-    uint64_t ran = rt.counters.controller_ticks;
+    uint64_t ran = RT_COUNT(&rt, controller_ticks);
     ticks(40); /* frames are back from tick 70: the fault stays */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
-    assert_int_equal(rt.counters.controller_ticks, ran);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), ran);
     assert_true(out()[0] == 0.0);
-    assert_int_equal(rt.counters.faults[2], 1);
+    assert_int_equal(RT_COUNT(&rt, faults[2]), 1);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    assert_int_equal(rt.counters.rebuilds, 0); /* nothing wrong with the controller */
+    assert_int_equal(RT_COUNT(&rt, rebuilds), 0); /* nothing wrong with the controller */
     assert_int_equal(tick(), ROZ_OK);
     assert_near(out()[0], 0.5, 1e-12);
     tick();
@@ -213,7 +217,7 @@ static void test_faults_freeze_needs_clear(void **st)
     for (int t = 40; t < 49; t++)
         assert_int_equal(tick(), ROZ_OK);
     assert_int_equal(tick(), ROZ_EFAULT); /* still frozen: latched again */
-    assert_int_equal(rt.counters.faults[2], 2);
+    assert_int_equal(RT_COUNT(&rt, faults[2]), 2);
     ticks(40); /* thawed at 70 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
@@ -241,9 +245,9 @@ static void test_faults_delay_is_latency(void **st)
         for (uint16_t s = 0; s < m->n_states; s++)
             assert_true(seen[s] == truth[sent][s]);
     }
-    assert_int_equal(rt.counters.stale_reads, K);
+    assert_int_equal(RT_COUNT(&rt, stale_reads), K);
     assert_int_equal(lb.link.replays, K - 1);
-    assert_int_equal(rt.counters.controller_ticks, N);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), N);
 }
 
 /* How far a joint passes its position limit when the filter brakes on
@@ -299,7 +303,7 @@ static void test_faults_duplicate_is_rejected(void **st)
     assert_memory_equal(roz_runtime_last_state(&rt), q, m->n_states * sizeof q[0]);
     assert_int_equal(lb.frames_duplicated, 5);
     assert_int_equal(lb.link.replays, 5);
-    assert_int_equal(rt.counters.stale_reads, 5);
+    assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 
     roz_runtime_deinit(&rt);
@@ -325,7 +329,7 @@ static void test_faults_corrupt_state(void **st)
     start("constant_velocity", f, 2);
     ticks(100);
     assert_int_equal(lb.link.crc_errors, 5);
-    assert_int_equal(rt.counters.stale_reads, 5);
+    assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_near(out()[0], V, 1e-12);
     ticks(9);
@@ -387,14 +391,14 @@ static void test_faults_peer_restart(void **st)
     assert_int_equal(tick(), ROZ_EFAULT); /* tick 200: back, sequence 0 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE | ROZ_FAULT_LINK);
     assert_int_equal(lb.link.restarts, 1);
-    assert_int_equal(rt.counters.faults[5], 1);
-    uint64_t ran = rt.counters.controller_ticks;
+    assert_int_equal(RT_COUNT(&rt, faults[5]), 1);
+    uint64_t ran = RT_COUNT(&rt, controller_ticks);
     for (int t = 201; t < 250; t++) {
         assert_int_equal(tick(), ROZ_EFAULT);
         for (uint16_t i = 0; i < m->n_commands; i++)
             assert_true(roz_loopback_last_command(&lb)[i] == 0.0);
     }
-    assert_int_equal(rt.counters.controller_ticks, ran);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), ran);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     ticks(2);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -458,7 +462,7 @@ static void test_faults_nan_position_stops_its_joint(void **st)
     assert_near(out()[2], V, 1e-12);
     ticks(9);
     assert_true(out()[3] == 0.0);
-    assert_true(rt.filter.channel_limit_stops[3] >= 10);
+    assert_true(roz_test_channel(&rt, 3).limit_stops >= 10);
     tick();
     assert_near(out()[3], 0.5, 1e-12);
     tick();
@@ -579,28 +583,28 @@ static void test_faults_stalled_port_thread(void **st)
         nap();
     int n = 0;
     while (roz_runtime_faults(&rt) == 0 && n < 20) {
-        roz_runtime_tick(&rt);
+        roz_test_tick(&rt);
         n++;
     }
     print_message("STALE latched after %d ticks without the producer\n", n);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_true(n >= 10 && n <= 11);
-    roz_runtime_tick(&rt);
+    roz_test_tick(&rt);
     assert_true(out()[0] == 0.0);
-    uint64_t ran = rt.counters.controller_ticks;
+    uint64_t ran = RT_COUNT(&rt, controller_ticks);
 
     /* 3. it resumes: fresh frames, but the fault stays latched */
     atomic_store(&stall, 0);
     for (int t = 0; t < 20; t++)
         assert_int_equal(tick_fresh(), ROZ_EFAULT);
-    assert_int_equal(rt.counters.controller_ticks, ran);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), ran);
     assert_true(out()[0] == 0.0);
 
     /* 4. the application clears it: running again */
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     for (int t = 0; t < 5; t++)
         assert_int_equal(tick_fresh(), ROZ_OK);
-    assert_int_equal(rt.counters.controller_ticks, ran + 5);
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), ran + 5);
     assert_near(out()[0], V, 1e-12);
 
     atomic_store(&stop_producer, 1);

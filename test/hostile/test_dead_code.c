@@ -46,7 +46,7 @@ static uint64_t run(const char *funcs, const char *body, const double *want, siz
     size_t len = roz_test_wat(text, wasm, sizeof wasm);
     roz_controller_init(&ctl);
     roz_abi_init(&abi, &roz_manifest_ur5, targets, &ring);
-    abi.state = state;
+    roz_abi_begin_tick(&abi, 0, state);
     if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK)
         fail_msg("refused: %s\n%s", roz_controller_error(&ctl), text);
     if (roz_controller_process(&ctl, 0) != ROZ_OK)
@@ -137,7 +137,7 @@ static void test_dead_code_the_find(void **st)
         fail_msg("%s", err);
     roz_controller_init(&ctl);
     roz_abi_init(&abi, &roz_manifest_ur5, targets, &ring);
-    abi.state = state;
+    roz_abi_begin_tick(&abi, 0, state);
     if (roz_controller_load(&ctl, big, len, &abi) != ROZ_OK)
         fail_msg("refused: %s", roz_controller_error(&ctl));
     assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);

@@ -262,7 +262,7 @@ static void load(const char *what)
     roz_controller_init(&ctl);
     memset(&ring, 0, sizeof ring);
     roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
-    abi.state = state;
+    roz_abi_begin_tick(&abi, 0, state);
     if (roz_controller_load(&ctl, wasm.b, wasm.n, &abi) != ROZ_OK)
         fail_msg("%s: refused: %s", what, roz_controller_error(&ctl));
 }

@@ -31,6 +31,8 @@
  * Seeded and reproducible: ROZ_PROPERTY_SEED (decimal or 0x hex) overrides
  * the fixed default seed; the seed is printed, and a failure names the seed,
  * the tick, the manifest and the channel. */
+/* white-box: this test reads the private fields of the module it tests */
+#define ROZ_PRIVATE_ACCESS
 #include <float.h>
 #include <inttypes.h>
 #include <math.h>
@@ -475,7 +477,7 @@ static void run_manifest(uint32_t n_ticks)
 
     for (uint32_t t = 0; t < n_ticks; t++, tick_no++) {
         random_states(0);
-        abi.state = state;
+        roz_abi_begin_tick(&abi, 0, state);
         set_commands();
         if (stop_left == 0) {
             uint32_t r = below(100);

@@ -36,9 +36,11 @@ int main(void)
     }
     for (int t = 0; t < 100; t++)
         controller_period();
-    if (roz_runtime_faults(&rt) != 0 || rt.counters.writes != 100 || sim.violations != 0) {
+    roz_runtime_stats_t st;
+    if (roz_runtime_stats(&rt, &st) != ROZ_OK || roz_runtime_faults(&rt) != 0 ||
+        st.runtime.writes != 100 || sim.violations != 0) {
         fprintf(stderr, "readme firmware: faults 0x%x, %llu frames\n", roz_runtime_faults(&rt),
-                (unsigned long long)rt.counters.writes);
+                (unsigned long long)st.runtime.writes);
         return 1;
     }
     /* the e-stop: pressed, the fault cannot be cleared; released, it can */

@@ -20,6 +20,7 @@
 #include <stdint.h>
 
 #include "roz/atomic.h"
+#include "roz/private.h"
 #include "roz/manifest.h"
 
 #ifdef __cplusplus
@@ -37,12 +38,13 @@ typedef struct roz_metric {
     double  value;
 } roz_metric_t;
 
-/** Wait-free single-producer (tick) single-consumer (any thread) ring. */
+/** Wait-free single-producer (tick) single-consumer (any thread) ring;
+ *  fields private (roz/private.h). */
 typedef struct roz_metric_ring {
-    roz_metric_t         items[ROZ_CFG_TELEMETRY_RING];
-    ROZ_ATOMIC(uint_fast32_t) head; /**< written by the tick only */
-    ROZ_ATOMIC(uint_fast32_t) tail; /**< written by the consumer only */
-    uint64_t             dropped; /**< tick only: metrics lost to a full ring */
+    roz_metric_t         ROZ_PRIVATE(items)[ROZ_CFG_TELEMETRY_RING];
+    ROZ_ATOMIC(uint_fast32_t) ROZ_PRIVATE(head); /* written by the tick only */
+    ROZ_ATOMIC(uint_fast32_t) ROZ_PRIVATE(tail); /* written by the consumer only */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(dropped);   /* written by the tick only */
 } roz_metric_ring_t;
 
 /** Counters of the ABI, per controller instance. */
@@ -62,19 +64,20 @@ typedef uint64_t (*roz_clock_fn)(void *ctx);
 /**
  * The context every import works on. The runtime points it at this tick's
  * snapshot and the controller's target array before each process() call.
- * Fields are the runtime's; a controller sees them only through the imports.
+ * Fields are private (roz/private.h); a controller sees them only through
+ * the imports.
  */
 typedef struct roz_abi {
-    const roz_manifest_t *manifest;
-    double               *target;        /**< n_commands targets; persist across ticks */
-    const double         *state;         /**< n_states values of this tick's snapshot */
-    int64_t               tick;          /**< the tick being processed */
-    uint64_t              period_ns;     /**< 1e9 / control_rate_hz */
-    roz_clock_fn          clock;         /**< wall clock, for timing.now_ns; may be NULL */
-    void                 *clock_ctx;
-    int                   estop_requested; /**< set by safety.request_estop */
-    roz_abi_counters_t    counters;
-    roz_metric_ring_t    *metrics;       /**< may be NULL: metrics are counted, not kept */
+    const roz_manifest_t *ROZ_PRIVATE(manifest);
+    double               *ROZ_PRIVATE(target);   /* n_commands targets; persist across ticks */
+    const double         *ROZ_PRIVATE(state);    /* n_states values of this tick's snapshot */
+    int64_t               ROZ_PRIVATE(tick);     /* the tick being processed */
+    uint64_t              ROZ_PRIVATE(period_ns);/* 1e9 / control_rate_hz */
+    roz_clock_fn          ROZ_PRIVATE(clock);    /* wall clock, for timing.now_ns; may be NULL */
+    void                 *ROZ_PRIVATE(clock_ctx);
+    int                   ROZ_PRIVATE(estop_requested); /* set by safety.request_estop */
+    roz_abi_counters_t    ROZ_PRIVATE(counters);
+    roz_metric_ring_t    *ROZ_PRIVATE(metrics);  /* may be NULL: metrics are counted, not kept */
 } roz_abi_t;
 
 /** One entry of the import table. */
@@ -103,8 +106,28 @@ const roz_abi_import_t *roz_abi_find_import(const char *module, const char *name
 void roz_abi_init(roz_abi_t *abi, const roz_manifest_t *m, double *target,
                   roz_metric_ring_t *metrics);
 
-/** @brief Reset targets to the defaults and clear estop_requested. RT-safe. */
+/** @brief Reset targets to the defaults and clear estop_requested. RT-safe.
+ *  Context: the thread that runs the controller. */
 void roz_abi_reset(roz_abi_t *abi);
+
+/**
+ * @brief Point the context at this tick's snapshot before a process() call.
+ * Context: the thread that runs the controller; RT-safe.
+ */
+void roz_abi_begin_tick(roz_abi_t *abi, int64_t tick, const double *state);
+
+/** @brief Set the clock timing.now_ns reads, and the control period
+ *  (0 keeps the manifest's). Context: start-up or controller (re)start. */
+void roz_abi_set_clock(roz_abi_t *abi, roz_clock_fn clock, void *clock_ctx,
+                       uint64_t period_ns);
+
+/** @brief 1 if safety.request_estop was called since the last reset.
+ *  Context: the thread that runs the controller. */
+int roz_abi_estop_requested(const roz_abi_t *abi);
+
+/** @brief The context's counters. Context: the thread that runs the
+ *  controller (a runtime's: roz_runtime_stats() from any thread). */
+void roz_abi_counters_get(const roz_abi_t *abi, roz_abi_counters_t *out);
 
 /* ---- the imports; Context: inside process(), RT-safe, O(1) ------------- */
 
@@ -141,6 +164,9 @@ void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value);
  * Context: any one consumer thread; wait-free.
  */
 int roz_metric_ring_pop(roz_metric_ring_t *ring, roz_metric_t *out);
+
+/** @brief Metrics lost to a full ring since init. Context: any thread. */
+uint32_t roz_metric_ring_dropped(const roz_metric_ring_t *ring);
 
 #ifdef __cplusplus
 }

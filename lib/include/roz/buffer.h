@@ -30,6 +30,7 @@
 
 #include "roz/atomic.h"
 #include "roz/error.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,20 +38,21 @@ extern "C" {
 
 /** The exchanged word: slot index (bits 0-1) and a "fresh" flag (bit 2). */
 typedef struct roz_buffer_xchg {
-    ROZ_ATOMIC(uint_fast32_t) word;
+    ROZ_ATOMIC(uint_fast32_t) ROZ_PRIVATE(word);
 } roz_buffer_xchg_t;
 
-/** A latest-value buffer; storage is the caller's (see ROZ_BUFFER_DEFINE). */
+/** A latest-value buffer; storage is the caller's (see ROZ_BUFFER_DEFINE);
+ *  fields private (roz/private.h). */
 typedef struct roz_buffer {
-    double           *slots;      /**< 3 * n doubles */
-    uint32_t          n;          /**< values per frame */
-    uint64_t          seq[3];     /**< sequence of the frame in each slot */
-    uint64_t          stamp_ns[3];/**< producer's time stamp per slot */
-    uint32_t          back;       /**< producer's slot */
-    uint64_t          produced;   /**< frames committed so far (producer) */
-    uint32_t          front;      /**< consumer's slot */
-    uint64_t          consumed_seq; /**< seq of the consumer's frame, 0 = none */
-    roz_buffer_xchg_t middle;     /**< the slot in between, plus fresh flag */
+    double           *ROZ_PRIVATE(slots);      /* 3 * n doubles */
+    uint32_t          ROZ_PRIVATE(n);          /* values per frame */
+    uint64_t          ROZ_PRIVATE(seq)[3];     /* sequence of the frame in each slot */
+    uint64_t          ROZ_PRIVATE(stamp_ns)[3];/* producer's time stamp per slot */
+    uint32_t          ROZ_PRIVATE(back);       /* producer's slot */
+    uint64_t          ROZ_PRIVATE(produced);   /* frames committed so far (producer) */
+    uint32_t          ROZ_PRIVATE(front);      /* consumer's slot */
+    uint64_t          ROZ_PRIVATE(consumed_seq); /* seq of the consumer's frame, 0 = none */
+    roz_buffer_xchg_t ROZ_PRIVATE(middle);     /* the slot in between, plus fresh flag */
 } roz_buffer_t;
 
 /** What roz_buffer_read() gives the consumer. */

@@ -44,6 +44,7 @@
 #include <stdint.h>
 
 #include "roz/abi.h"
+#include "roz/private.h"
 #include "roz/error.h"
 
 #ifdef __cplusplus
@@ -64,22 +65,22 @@ typedef struct roz_budget {
 
 /** A controller instance. Fields are private to controller.c. */
 typedef struct roz_controller {
-    roz_budget_t budget;
-    uint64_t   fuel_used;  /* units the last process() call used */
-    size_t     stack_used; /* deepest C stack of the last call, bytes */
-    uint64_t   meter_used;     /* the running call: units charged before this slice */
-    uint64_t   meter_slice;    /* units of the current slice */
-    uint64_t   meter_deadline; /* absolute clock time, 0 = none */
-    uintptr_t  stack_base;     /* the C stack where the call entered the engine */
-    int        unmetered;      /* compiled without fuel charges (benchmarks only) */
-    int        spent;      /* stopped by its budget: must be reloaded */
-    void      *env;       /* engine handles, NULL when not loaded */
-    void      *runtime;
-    void      *module;
-    void      *process;
-    roz_abi_t *abi;       /* the context the imports run on */
-    uint64_t   calls;     /* process() calls since load */
-    char       error[ROZ_CFG_ERROR_LEN]; /* last load or trap message */
+    roz_budget_t ROZ_PRIVATE(budget);
+    uint64_t   ROZ_PRIVATE(fuel_used);  /* units the last process() call used */
+    size_t     ROZ_PRIVATE(stack_used); /* deepest C stack of the last call, bytes */
+    uint64_t   ROZ_PRIVATE(meter_used);     /* the running call: units charged before this slice */
+    uint64_t   ROZ_PRIVATE(meter_slice);    /* units of the current slice */
+    uint64_t   ROZ_PRIVATE(meter_deadline); /* absolute clock time, 0 = none */
+    uintptr_t  ROZ_PRIVATE(stack_base);     /* the C stack where the call entered the engine */
+    int        ROZ_PRIVATE(unmetered);      /* compiled without fuel charges (benchmarks only) */
+    int        ROZ_PRIVATE(spent);      /* stopped by its budget: must be reloaded */
+    void      *ROZ_PRIVATE(env);       /* engine handles, NULL when not loaded */
+    void      *ROZ_PRIVATE(runtime);
+    void      *ROZ_PRIVATE(module);
+    void      *ROZ_PRIVATE(process);
+    roz_abi_t *ROZ_PRIVATE(abi);       /* the context the imports run on */
+    uint64_t   ROZ_PRIVATE(calls);     /* process() calls since load */
+    char       ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN]; /* last load or trap message */
 } roz_controller_t;
 
 /** @brief Zero an instance (not loaded). Context: any; no I/O. */
@@ -110,11 +111,14 @@ ROZ_NODISCARD int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, 
  */
 ROZ_NODISCARD int roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget);
 
-/** @brief Fuel units the last process() call used. */
+/** @brief Fuel units the last process() call used.
+ *  Context: the thread that runs the controller. */
 uint64_t roz_controller_fuel_used(const roz_controller_t *c);
 
 /** @brief The deepest C stack the last process() call reached, bytes, as
- *  seen at its wasm calls and loop entries (ROZ_CFG_NATIVE_STACK_BYTES). */
+ *  seen at its wasm calls and loop entries (ROZ_CFG_NATIVE_STACK_BYTES).
+ * Context: the thread that runs the controller.
+ */
 size_t roz_controller_stack_used(const roz_controller_t *c);
 
 /**
@@ -124,7 +128,9 @@ size_t roz_controller_stack_used(const roz_controller_t *c);
  *                       ROZ_CFG_NATIVE_STACK_BYTES of C stack);
  *                       roz_controller_error() says why
  * @retval ROZ_ETIMEDOUT fuel or deadline ran out; the instance is spent
- * @retval ROZ_ESTATE    not loaded, or spent by an earlier overrun
+ * @retval ROZ_ESTATE    not loaded, or spent by an earlier overrun (a trapped
+ *                       instance may be called again; its memory is as the
+ *                       trap left it: roz_runtime never does)
  * Context: the tick; RT-safe (no allocation, no compilation).
  */
 ROZ_NODISCARD int roz_controller_process(roz_controller_t *c, int64_t tick);
@@ -132,10 +138,19 @@ ROZ_NODISCARD int roz_controller_process(roz_controller_t *c, int64_t tick);
 /** @brief Free the instance; idempotent. Context: outside the tick. */
 void roz_controller_unload(roz_controller_t *c);
 
-/** @brief 1 if loaded. */
+/** @brief 1 if loaded.
+ *  Context: the thread that loads and runs the controller. */
 int roz_controller_loaded(const roz_controller_t *c);
 
-/** @brief The last load or trap message ("" if none). */
+/** @brief 1 if the instance was stopped by its budget: it must be reloaded
+ *  before it runs again. Context: the thread that runs it. */
+int roz_controller_spent(const roz_controller_t *c);
+
+/** @brief process() calls since load. Context: the thread that runs it. */
+uint64_t roz_controller_calls(const roz_controller_t *c);
+
+/** @brief The last load or trap message ("" if none).
+ *  Context: the thread that loads and runs the controller. */
 const char *roz_controller_error(const roz_controller_t *c);
 
 #ifdef __cplusplus

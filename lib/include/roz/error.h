@@ -28,7 +28,14 @@ extern "C" {
 #define ROZ_ELINK     (-10)  /**< a port's peer restarted, or came back after it was lost */
 #define ROZ_ECONFIG   (-11)  /**< the caller and roz were built with different ROZ_CFG_* options */
 
-#if defined(__GNUC__) || defined(__clang__)
+/* A result that must not be ignored. With C++17 or C23 `[[nodiscard]]`,
+ * which a cast to void silences; GCC's older attribute cannot be silenced
+ * that way: assign the result. */
+#if defined(__cplusplus) && __cplusplus >= 201703L
+#define ROZ_NODISCARD [[nodiscard]]
+#elif !defined(__cplusplus) && defined(__STDC_VERSION__) && __STDC_VERSION__ >= 202311L
+#define ROZ_NODISCARD [[nodiscard]]
+#elif defined(__GNUC__) || defined(__clang__)
 #define ROZ_NODISCARD __attribute__((warn_unused_result))
 #else
 #define ROZ_NODISCARD

@@ -33,9 +33,11 @@
 
 #include "roz/config.h"
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "roz/manifest.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -51,7 +53,7 @@ typedef enum roz_stop {
     ROZ_STOP_IMMEDIATE,   /**< e-stop: every channel at its safe default now */
 } roz_stop_t;
 
-/** Counters, totals since init (per channel ones in roz_filter_t). */
+/** Counters, totals since init. */
 typedef struct roz_filter_counters {
     uint64_t ticks;        /**< roz_filter_apply() calls */
     uint64_t clamps;       /**< values moved into [min, max] by the filter */
@@ -60,17 +62,24 @@ typedef struct roz_filter_counters {
     uint64_t limit_stops;  /**< values held back by position-limit enforcement */
 } roz_filter_counters_t;
 
-/** Filter state; caller-owned storage, fields are read-only outside filter.c. */
+/** One command channel's counters, totals since init. */
+typedef struct roz_filter_channel_counters {
+    uint32_t clamps;       /**< values moved into [min, max] */
+    uint32_t rate_caps;    /**< values held back by max_rate */
+    uint32_t limit_stops;  /**< values held back by position-limit enforcement */
+} roz_filter_channel_counters_t;
+
+/** Filter state; caller-owned storage, fields private (roz/private.h). */
 typedef struct roz_filter {
-    const roz_manifest_t *manifest;
-    double   dt;          /**< 1 / control_rate_hz */
-    double   margin;      /**< position margin, >= 0 */
-    int      primed;      /**< last[] holds applied values */
-    double   last[ROZ_CFG_MAX_COMMANDS];      /**< last applied value per channel */
-    roz_filter_counters_t counters;
-    uint32_t channel_clamps[ROZ_CFG_MAX_COMMANDS];
-    uint32_t channel_rate_caps[ROZ_CFG_MAX_COMMANDS];
-    uint32_t channel_limit_stops[ROZ_CFG_MAX_COMMANDS];
+    const roz_manifest_t *ROZ_PRIVATE(manifest);
+    double   ROZ_PRIVATE(dt);          /* 1 / control_rate_hz */
+    double   ROZ_PRIVATE(margin);      /* position margin, >= 0 */
+    int      ROZ_PRIVATE(primed);      /* last[] holds applied values */
+    double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
+    roz_filter_counters_t ROZ_PRIVATE(counters);
+    uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];
+    uint32_t ROZ_PRIVATE(channel_rate_caps)[ROZ_CFG_MAX_COMMANDS];
+    uint32_t ROZ_PRIVATE(channel_limit_stops)[ROZ_CFG_MAX_COMMANDS];
 } roz_filter_t;
 
 /**
@@ -84,6 +93,7 @@ ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
 /**
  * @brief Set the position margin (default ROZ_FILTER_DEFAULT_MARGIN).
  * @retval ROZ_EINVAL margin negative or not finite
+ * Context: start-up.
  */
 ROZ_NODISCARD int roz_filter_set_margin(roz_filter_t *f, double margin);
 
@@ -114,6 +124,19 @@ void roz_filter_prime(roz_filter_t *f, const double *state);
  */
 void roz_filter_apply(roz_filter_t *f, const double *target, const double *state,
                       roz_stop_t stop, double *out);
+
+/** @brief The filter's totals. Context: the filter's thread (a runtime's
+ *  filter: roz_runtime_stats() from any thread). */
+void roz_filter_counters_get(const roz_filter_t *f, roz_filter_counters_t *out);
+
+/**
+ * @brief One command channel's counters.
+ * @retval ROZ_OK    copied
+ * @retval ROZ_ENOENT no such channel (@p out zeroed)
+ * Context: the filter's thread.
+ */
+int roz_filter_channel_counters_get(const roz_filter_t *f, size_t channel,
+                                    roz_filter_channel_counters_t *out);
 
 #ifdef __cplusplus
 }

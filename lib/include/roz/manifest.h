@@ -139,7 +139,8 @@ ROZ_NODISCARD int roz_interface_parse(const char *name, roz_interface_t *type);
  */
 int roz_manifest_find_command(const roz_manifest_t *m, const char *name);
 
-/** @brief As roz_manifest_find_command(), for state channels. */
+/** @brief As roz_manifest_find_command(), for state channels.
+ *  Context: as roz_manifest_find_command(). */
 int roz_manifest_find_state(const roz_manifest_t *m, const char *name);
 
 /**

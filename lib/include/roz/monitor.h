@@ -5,9 +5,11 @@
  *        histograms in static memory, warnings only when a threshold is
  *        exceeded, throttled to one per second per kind.
  *
- * One monitor per thread that records into it (single writer). Reading the
- * figures from another thread while it records gives approximate values;
- * read them after the writer stopped, or from the writer itself.
+ * Each kind has one writer thread (a monitor may be shared by a port's
+ * threads when each records its own kinds). Any thread reads a kind's
+ * figures with roz_monitor_snapshot(): the writer publishes each sample
+ * under a sequence counter, so a snapshot is consistent (count, sum, max and
+ * histogram of the same instant) and never blocks the writer.
  */
 #ifndef ROZ_MONITOR_H
 #define ROZ_MONITOR_H
@@ -17,7 +19,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/atomic.h"
+#include "roz/error.h"
 #include "roz/log.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,33 +45,39 @@ typedef enum roz_monitor_kind {
 #define ROZ_MONITOR_BUCKETS (64 * ROZ_MONITOR_SUB_BUCKETS)
 
 /** Figures of one kind. */
+/** The figures of one kind at one instant (roz_monitor_snapshot()). */
 typedef struct roz_monitor_stat {
     uint64_t count;        /**< samples */
     uint64_t exceeded;     /**< samples above the threshold */
     uint64_t warned;       /**< warnings issued (throttled) */
     uint64_t max_ns;
     uint64_t sum_ns;
-    uint64_t last_warn_ns; /**< clock time of the last warning */
-    uint32_t hist[ROZ_MONITOR_BUCKETS];
+    uint32_t hist[ROZ_MONITOR_BUCKETS]; /**< samples per bucket (roz_monitor_stat_percentile()) */
 } roz_monitor_stat_t;
 
-/** A threshold warning, as numbers: called instead of formatting one when
- *  set (roz_monitor_set_warn()), so a real-time writer can queue it and a
- *  non-real-time thread format it (roz_monitor_format_warning()). */
 typedef void (*roz_monitor_warn_fn)(void *ctx, roz_monitor_kind_t kind, uint64_t ns,
                                     uint64_t threshold_ns, uint64_t exceeded);
 
-/** A monitor; caller-owned storage. */
+/** One kind's figures as the writer publishes them (private): 64-bit values
+ *  as two 32-bit words (no 64-bit atomics on 32-bit MCUs), under @c seq. */
+typedef struct roz_monitor_cell {
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(seq);      /* odd while the writer updates */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(w)[10];    /* count, exceeded, warned, max, sum: lo, hi */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(hist)[ROZ_MONITOR_BUCKETS];
+    uint64_t             ROZ_PRIVATE(last_warn_ns); /* writer only */
+} roz_monitor_cell_t;
+
+/** A monitor; caller-owned storage, fields private. */
 typedef struct roz_monitor {
-    const char        *name;           /**< prefix of warnings, e.g. "runtime" */
-    uint64_t           threshold_ns[ROZ_MON_KIND_COUNT_];
-    roz_monitor_stat_t stat[ROZ_MON_KIND_COUNT_];
-    roz_log_fn         log;
-    void              *log_ctx;
-    roz_monitor_warn_fn warn;          /**< set: called instead of log, no text */
-    void              *warn_ctx;
-    uint64_t           period_ns;      /**< expected period for jitter, 0 = none */
-    uint64_t           last_start_ns;  /**< previous periodic start, 0 = none */
+    const char        *ROZ_PRIVATE(name);
+    uint64_t           ROZ_PRIVATE(threshold_ns)[ROZ_MON_KIND_COUNT_];
+    roz_monitor_cell_t ROZ_PRIVATE(cell)[ROZ_MON_KIND_COUNT_];
+    roz_log_fn         ROZ_PRIVATE(log);
+    void              *ROZ_PRIVATE(log_ctx);
+    roz_monitor_warn_fn ROZ_PRIVATE(warn);
+    void              *ROZ_PRIVATE(warn_ctx);
+    uint64_t           ROZ_PRIVATE(period_ns);
+    uint64_t           ROZ_PRIVATE(last_start_ns); /* writer of ROZ_MON_JITTER only */
 } roz_monitor_t;
 
 /**
@@ -110,12 +121,45 @@ void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns,
 void roz_monitor_periodic(roz_monitor_t *m, uint64_t start_ns);
 
 /**
- * @brief Approximate percentile (0..100) of a kind, in ns (upper edge of its
- *        histogram bucket, capped at the max seen); 0 without samples.
+ * @brief Set the threshold of a kind, in ns (warnings above it); 0 = none.
+ * Context: start-up, before the kind's writer records.
+ */
+void roz_monitor_set_threshold(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns);
+
+/** @brief The threshold of a kind in ns (0 none, or a bad kind).
+ *  Context: any thread after start-up. */
+uint64_t roz_monitor_threshold(const roz_monitor_t *m, roz_monitor_kind_t kind);
+
+/**
+ * @brief Copy the figures of one kind, consistently (all of one instant).
+ * @retval ROZ_OK     copied
+ * @retval ROZ_EINVAL bad kind or NULL
+ * @retval ROZ_ESTATE the writer kept updating it (1000 tries); @p out zeroed
+ * Context: any thread; never blocks the writer (it retries); copies about
+ *          2 KiB.
+ */
+ROZ_NODISCARD int roz_monitor_snapshot(const roz_monitor_t *m, roz_monitor_kind_t kind,
+                                       roz_monitor_stat_t *out);
+
+/**
+ * @brief Approximate percentile (0..100) of a snapshot, in ns (upper edge of
+ *        its histogram bucket, capped at the max seen); 0 without samples.
+ * Context: any; pure.
+ */
+uint64_t roz_monitor_stat_percentile(const roz_monitor_stat_t *s, double pct);
+
+/** @brief The mean of a snapshot in ns, 0 without samples. Context: any; pure. */
+uint64_t roz_monitor_stat_mean(const roz_monitor_stat_t *s);
+
+/**
+ * @brief roz_monitor_stat_percentile() of a fresh snapshot of one kind; 0
+ *        without samples or when no consistent snapshot could be taken.
+ * Context: any thread; copies a snapshot on the caller's stack (about 2 KiB).
  */
 uint64_t roz_monitor_percentile(const roz_monitor_t *m, roz_monitor_kind_t kind, double pct);
 
-/** @brief Name of a kind ("read", "write", ...). */
+/** @brief Name of a kind ("read", "write", ...).
+ *  Context: any. */
 const char *roz_monitor_kind_name(roz_monitor_kind_t kind);
 
 #ifdef __cplusplus

@@ -78,31 +78,36 @@ static inline int roz_port_open(roz_port_t *p, const roz_manifest_t *m,
     return rc;
 }
 
-/** @brief activate(); ROZ_OK when the port has none (nothing to start). */
+/** @brief activate(); ROZ_OK when the port has none (nothing to start).
+ *  Context: start-up, not the tick. */
 static inline int roz_port_activate(const roz_port_t *p)
 {
     return p->ops->activate != NULL ? p->ops->activate(p->self) : ROZ_OK;
 }
 
-/** @brief read() */
+/** @brief read()
+ *  Context: the tick; must not block. */
 static inline int roz_port_read(const roz_port_t *p, double *state, size_t n)
 {
     return p->ops->read != NULL ? p->ops->read(p->self, state, n) : ROZ_ENOTSUP;
 }
 
-/** @brief write() */
+/** @brief write()
+ *  Context: the tick; must not block. */
 static inline int roz_port_write(const roz_port_t *p, const double *cmd, size_t n)
 {
     return p->ops->write != NULL ? p->ops->write(p->self, cmd, n) : ROZ_ENOTSUP;
 }
 
-/** @brief deactivate(); ROZ_OK when the port has none. */
+/** @brief deactivate(); ROZ_OK when the port has none.
+ *  Context: shut-down, after the tick stopped. */
 static inline int roz_port_deactivate(const roz_port_t *p)
 {
     return p->ops->deactivate != NULL ? p->ops->deactivate(p->self) : ROZ_OK;
 }
 
-/** @brief close(), if any; marks @p p not open. */
+/** @brief close(), if any; marks @p p not open.
+ *  Context: shut-down, after the tick stopped; idempotent. */
 static inline void roz_port_close(roz_port_t *p)
 {
     if (p->ops->close != NULL)

@@ -52,6 +52,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -143,80 +144,102 @@ typedef struct roz_runtime_counters {
     uint64_t rebuilds;         /**< instances rebuilt after a trap or overrun */
 } roz_runtime_counters_t;
 
+/** Everything the runtime counts, as of the end of the last tick (the
+ *  loader's counters as of now): roz_runtime_stats(). */
+typedef struct roz_runtime_stats {
+    roz_runtime_counters_t runtime;
+    roz_filter_counters_t  filter;          /**< the safety filter's totals */
+    roz_abi_counters_t     abi;             /**< the calls of every controller that
+                                                 drove the robot since init (verification
+                                                 runs not counted) */
+    int64_t                controller_tick; /**< the tick number process() sees next */
+    uint64_t               last_process_ns; /**< the last process() call, wall clock */
+} roz_runtime_stats_t;
+
+/** 32-bit words the tick publishes roz_runtime_stats_t in (private). */
+#define ROZ_RUNTIME_STATS_WORDS ((sizeof(roz_runtime_stats_t) + 3u) / 4u)
+
 /** One controller slot. */
 typedef struct roz_runtime_slot {
-    roz_controller_t ctrl;
-    roz_abi_t        abi;
-    double           target[ROZ_CFG_MAX_COMMANDS];
-    const uint8_t   *wasm;     /* bytes (caller's), kept to rebuild after a trap */
-    size_t           wasm_len;
-    ROZ_ATOMIC(int)  dead;     /* 1: trapped or stopped by its budget; set by the tick
+    roz_controller_t ROZ_PRIVATE(ctrl);
+    roz_abi_t        ROZ_PRIVATE(abi);
+    double           ROZ_PRIVATE(target)[ROZ_CFG_MAX_COMMANDS];
+    const uint8_t   *ROZ_PRIVATE(wasm);     /* bytes (caller's), kept to rebuild after a trap */
+    size_t           ROZ_PRIVATE(wasm_len);
+    ROZ_ATOMIC(int)  ROZ_PRIVATE(dead);     /* 1: trapped or stopped by its budget; set by the tick
                                   before the fault is published, never run again */
 } roz_runtime_slot_t;
 
 /** The first fault's record (private): numbers and the controller's text,
  *  written by the tick under a sequence counter, formatted by readers. */
 typedef struct roz_runtime_fault_rec {
-    ROZ_ATOMIC(unsigned) seq;       /* odd while the tick writes */
-    ROZ_ATOMIC(unsigned) bit;       /* the fault, 0 none */
-    ROZ_ATOMIC(unsigned) latch;     /* latch sequence number of that fault */
-    ROZ_ATOMIC(unsigned) num[4];    /* its figures (see runtime.c) */
-    ROZ_ATOMIC(unsigned char) text[ROZ_CFG_ERROR_LEN]; /* the controller's message, or "" */
+    ROZ_ATOMIC(unsigned) ROZ_PRIVATE(seq);       /* odd while the tick writes */
+    ROZ_ATOMIC(unsigned) ROZ_PRIVATE(bit);       /* the fault, 0 none */
+    ROZ_ATOMIC(unsigned) ROZ_PRIVATE(latch);     /* latch sequence number of that fault */
+    ROZ_ATOMIC(unsigned) ROZ_PRIVATE(num)[4];    /* its figures (see runtime.c) */
+    ROZ_ATOMIC(unsigned char) ROZ_PRIVATE(text)[ROZ_CFG_ERROR_LEN]; /* the controller's message, or "" */
 } roz_runtime_fault_rec_t;
 
 /** One queued log event (private). */
 typedef struct roz_runtime_log_event {
-    uint8_t  level;          /* roz_log_level_t */
-    uint8_t  code;           /* what happened (runtime.c) */
-    uint16_t kind;           /* fault bit index, monitor kind */
-    uint32_t latch;          /* latch sequence number of a fault */
-    uint64_t num[4];
+    uint8_t  ROZ_PRIVATE(level);          /* roz_log_level_t */
+    uint8_t  ROZ_PRIVATE(code);           /* what happened (runtime.c) */
+    uint16_t ROZ_PRIVATE(kind);           /* fault bit index, monitor kind */
+    uint32_t ROZ_PRIVATE(latch);          /* latch sequence number of a fault */
+    uint64_t ROZ_PRIVATE(num)[4];
 } roz_runtime_log_event_t;
 
 /** The runtime. Large: give it static storage. Fields are private. */
 typedef struct roz_runtime {
-    roz_runtime_config_t   cfg;
-    roz_filter_t           filter;
-    roz_monitor_t          monitor;
-    roz_runtime_counters_t counters;
-    roz_metric_ring_t      metrics;
-    roz_runtime_slot_t     slot[2];
-    ROZ_ATOMIC(int)        active;       /* index of the driving slot, -1 none; written by the tick */
-    ROZ_ATOMIC(int)        pending;      /* swap: slot to install at the next tick, -1 none */
+    roz_runtime_config_t   ROZ_PRIVATE(cfg);
+    roz_filter_t           ROZ_PRIVATE(filter);
+    roz_monitor_t          ROZ_PRIVATE(monitor);
+    roz_runtime_counters_t ROZ_PRIVATE(counters);
+    roz_metric_ring_t      ROZ_PRIVATE(metrics);
+    roz_runtime_slot_t     ROZ_PRIVATE(slot)[2];
+    ROZ_ATOMIC(int)        ROZ_PRIVATE(active);       /* index of the driving slot, -1 none; written by the tick */
+    ROZ_ATOMIC(int)        ROZ_PRIVATE(pending);      /* swap: slot to install at the next tick, -1 none */
     /* Faults: latched bits (low 8) | latch sequence number << 8. Written by
      * the tick only; a new latch bumps the sequence, so a clear can tell the
      * faults it saw from those latched since. */
-    ROZ_ATOMIC(unsigned)   faults;
-    ROZ_ATOMIC(unsigned)   clear_request;/* the faults word a clear saw, 0 none; taken by exchange */
-    ROZ_ATOMIC(unsigned)   estop_level;  /* the e-stop input: 1 pressed */
-    ROZ_ATOMIC(unsigned)   estop_press;  /* a press the tick has not seen; taken by exchange */
-    ROZ_ATOMIC(unsigned)   loader_busy;  /* 1 while a load or rebuild runs; taken by exchange */
-    uint32_t               latch_seq;    /* tick: last latch sequence number */
-    uint32_t               latch_stamp[ROZ_FAULT_KIND_COUNT]; /* tick: each bit's latch */
-    roz_runtime_fault_rec_t first_fault;
-    roz_runtime_log_event_t log_ring[ROZ_RUNTIME_LOG_RING];
-    ROZ_ATOMIC(unsigned)   log_head;     /* written by the tick */
-    ROZ_ATOMIC(unsigned)   log_tail;     /* written by the drain */
-    ROZ_ATOMIC(unsigned)   log_dropped;  /* events the ring had no room for */
-    uint32_t               log_dropped_seen; /* drain: drops already reported */
-    int                    nonfinite_warned; /* tick: the first-frame warning went out */
-    int64_t                ctrl_tick;    /* tick number the controller sees */
-    int                    have_state;
-    uint32_t               stale_count;
-    double                 state[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    double                 scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1]; /* read() */
-    double                 out[ROZ_CFG_MAX_COMMANDS];
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(faults);
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(clear_request);/* the faults word a clear saw, 0 none; taken by exchange */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(estop_level);  /* the e-stop input: 1 pressed */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(estop_press);  /* a press the tick has not seen; taken by exchange */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(loader_busy);  /* 1 while a load or rebuild runs; taken by exchange */
+    uint32_t               ROZ_PRIVATE(latch_seq);    /* tick: last latch sequence number */
+    uint32_t               ROZ_PRIVATE(latch_stamp)[ROZ_FAULT_KIND_COUNT]; /* tick: each bit's latch */
+    roz_runtime_fault_rec_t ROZ_PRIVATE(first_fault);
+    roz_runtime_log_event_t ROZ_PRIVATE(log_ring)[ROZ_RUNTIME_LOG_RING];
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(log_head);     /* written by the tick */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(log_tail);     /* written by the drain */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(log_dropped);  /* events the ring had no room for */
+    uint32_t               ROZ_PRIVATE(log_dropped_seen); /* drain: drops already reported */
+    int                    ROZ_PRIVATE(nonfinite_warned); /* tick: the first-frame warning went out */
+    int64_t                ROZ_PRIVATE(ctrl_tick);    /* tick number the controller sees */
+    int                    ROZ_PRIVATE(have_state);
+    uint32_t               ROZ_PRIVATE(stale_count);
+    double                 ROZ_PRIVATE(state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                 ROZ_PRIVATE(scratch)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1]; /* read() */
+    double                 ROZ_PRIVATE(out)[ROZ_CFG_MAX_COMMANDS];
     /* this tick's state for verification on another thread */
-    roz_buffer_t           snapshot;
-    double                 snapshot_slots[3 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1)];
-    double                 verify_state[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    uint64_t               last_process_ns;
-    char                   fault_msg[ROZ_CFG_ERROR_LEN + 64]; /* roz_runtime_fault_message() */
-    char                   error[ROZ_CFG_ERROR_LEN];     /* last load/verify error */
-    int                    started;
+    roz_buffer_t           ROZ_PRIVATE(snapshot);
+    double                 ROZ_PRIVATE(snapshot_slots)[3 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1)];
+    double                 ROZ_PRIVATE(verify_state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    uint64_t               ROZ_PRIVATE(last_process_ns);
+    char                   ROZ_PRIVATE(fault_msg)[ROZ_CFG_ERROR_LEN + 64]; /* roz_runtime_fault_message() */
+    char                   ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN];     /* last load/verify error */
+    int                    ROZ_PRIVATE(started);
+    roz_abi_counters_t     ROZ_PRIVATE(abi_retired);   /* tick: ABI counters of replaced slots */
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(swaps_refused); /* loader: counters.swaps_refused */
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(rebuilds);      /* loader: counters.rebuilds */
+    /* roz_runtime_stats_t as the tick published it (lib/src/seqlock.h) */
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(stats_seq);
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(stats_words)[ROZ_RUNTIME_STATS_WORDS];
 } roz_runtime_t;
 
-/** @brief Defaults for everything but manifest and port. */
+/** @brief Defaults for everything but manifest and port.
+ *  Context: start-up. */
 void roz_runtime_config_default(roz_runtime_config_t *cfg);
 
 /**
@@ -270,6 +293,7 @@ ROZ_NODISCARD int roz_runtime_layout_check(const roz_runtime_layout_t *caller, c
  *                     the library: nothing is written to @p rt, and the
  *                     message goes to @p cfg's log callback when the config
  *                     struct itself has the same layout
+ * Context: start-up.
  */
 ROZ_NODISCARD int roz_runtime_init_layout(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
                                           const roz_runtime_layout_t *caller);
@@ -334,7 +358,7 @@ ROZ_NODISCARD int roz_runtime_start(roz_runtime_t *rt);
  * Context: the tick thread only; RT-safe; no allocation, no formatting,
  *          no locks; bounded.
  */
-int roz_runtime_tick(roz_runtime_t *rt);
+ROZ_NODISCARD int roz_runtime_tick(roz_runtime_t *rt);
 
 /**
  * @brief Set the e-stop input level: 1 pressed, 0 released. A press latches
@@ -370,7 +394,7 @@ void roz_runtime_estop(roz_runtime_t *rt);
  * Context: a loader thread, not the tick; may block and allocate while it
  *          rebuilds.
  */
-int roz_runtime_clear_faults(roz_runtime_t *rt);
+ROZ_NODISCARD int roz_runtime_clear_faults(roz_runtime_t *rt);
 
 /** @brief Latched faults (roz_fault_t bits).
  *  Context: any thread; wait-free. */
@@ -413,6 +437,53 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt);
 /** @brief Log events dropped because the ring was full, since init.
  *  Context: any thread. */
 uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt);
+
+/**
+ * @brief A consistent copy of everything the runtime counts: its own
+ *        counters, the safety filter's and the driving controller's ABI
+ *        counters, as the tick published them at the end of the last tick
+ *        (zeros before the first), and the loader's counters as of now.
+ * @retval ROZ_OK     copied
+ * @retval ROZ_EINVAL NULL argument
+ * @retval ROZ_ESTATE the tick kept republishing (1000 tries): @p out zeroed
+ * Context: any thread; never blocks the tick (it publishes wait-free; this
+ *          retries).
+ */
+ROZ_NODISCARD int roz_runtime_stats(const roz_runtime_t *rt, roz_runtime_stats_t *out);
+
+/**
+ * @brief One command channel's safety-filter counters.
+ * @retval ROZ_OK     copied
+ * @retval ROZ_ENOENT no such channel (@p out zeroed)
+ * Context: the tick's thread between ticks, or after the tick stopped.
+ */
+int roz_runtime_channel_counters(const roz_runtime_t *rt, size_t channel,
+                                 roz_filter_channel_counters_t *out);
+
+/**
+ * @brief The runtime's latency monitor (read, write, process, tick, and the
+ *        tick's jitter when monitor_jitter is set), for roz_monitor_snapshot().
+ * Context: any thread (snapshots are consistent while the tick records).
+ */
+const roz_monitor_t *roz_runtime_monitor(const roz_runtime_t *rt);
+
+/**
+ * @brief Take the oldest metric the controllers emitted (telemetry.emit_metric;
+ *        verification runs emit none).
+ * @retval 1 one metric taken into @p out
+ * @retval 0 none queued
+ * Context: one consumer thread at a time; wait-free.
+ */
+int roz_runtime_metric_pop(roz_runtime_t *rt, roz_metric_t *out);
+
+/** @brief Metrics lost to a full ring (ROZ_CFG_TELEMETRY_RING) since init.
+ *  Context: any thread. */
+uint32_t roz_runtime_metrics_dropped(const roz_runtime_t *rt);
+
+/** @brief The configuration the runtime runs with, defaults resolved (e.g.
+ *  the budgets init chose). Context: any thread after init (it is not
+ *  changed after init). */
+const roz_runtime_config_t *roz_runtime_config(const roz_runtime_t *rt);
 
 /** @brief Last load/verify error ("" if none). Context: the loader thread. */
 const char *roz_runtime_error(const roz_runtime_t *rt);

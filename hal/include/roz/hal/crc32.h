@@ -30,6 +30,7 @@ extern "C" {
  * @param[in] n     word count (for a struct with a trailing crc field:
  *                  sizeof(struct) / 4 - 1)
  * @return the CRC; 0xFFFFFFFF for n = 0
+ * Context: any; RT-safe; O(n).
  */
 uint32_t roz_crc32_words(const uint32_t *words, size_t n);
 

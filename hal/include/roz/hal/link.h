@@ -83,6 +83,7 @@ typedef struct roz_link {
  * @param lost_after_ns silence that makes the peer lost; 0 = never by time
  * @param window        see ROZ_LINK_DEFAULT_WINDOW; 0 = the default; at most
  *                      ROZ_LINK_MAX_WINDOW (larger is clamped)
+ * Context: start-up (the port's open).
  */
 void roz_link_init(roz_link_t *l, uint64_t lost_after_ns, uint32_t window);
 
@@ -92,13 +93,16 @@ void roz_link_init(roz_link_t *l, uint64_t lost_after_ns, uint32_t window);
  *                not trusted and not looked at)
  * @param seq     the frame's sequence number
  * @param now_ns  the receive time, monotonic
+ * Context: the port's receive path (one thread); RT-safe; O(1).
  */
 roz_link_verdict_t roz_link_check(roz_link_t *l, int crc_ok, uint32_t seq, uint64_t now_ns);
 
-/** @brief Whether the peer has been silent for lost_after_ns at @p now_ns. */
+/** @brief Whether the peer has been silent for lost_after_ns at @p now_ns.
+ *  Context: the thread that calls roz_link_check(); RT-safe. */
 int roz_link_lost(const roz_link_t *l, uint64_t now_ns);
 
-/** @brief "first", "fresh", "bad crc", "replay", "restart". */
+/** @brief "first", "fresh", "bad crc", "replay", "restart".
+ *  Context: any. */
 const char *roz_link_verdict_name(roz_link_verdict_t v);
 
 #ifdef __cplusplus

@@ -64,11 +64,14 @@ typedef struct roz_runner {
 int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner_tick_fn fn,
                      void *ctx);
 
-/** @brief Ask the thread to stop after its current tick. Any thread. */
+/** @brief Ask the thread to stop after its current tick. Any thread.
+ *  Context: any thread; wait-free. */
 void roz_runner_stop(roz_runner_t *r);
 
 /** @brief Wait for the thread to end (after stop, max_ticks or a non-zero
- *  tick return). Idempotent. */
+ *  tick return). Idempotent.
+ * Context: the thread that started the runner; blocks until it ends.
+ */
 void roz_runner_join(roz_runner_t *r);
 
 #ifdef __cplusplus

@@ -172,7 +172,8 @@ typedef struct roz_loopback {
  *  state index or name. */
 extern const roz_port_ops_t roz_loopback_ops;
 
-/** @brief A roz_port_t over @p lb, not yet open (roz_port_open()). */
+/** @brief A roz_port_t over @p lb, not yet open (roz_port_open()).
+ *  Context: start-up. */
 static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
 {
     roz_port_t p = { &roz_loopback_ops, lb, 0 };
@@ -185,14 +186,18 @@ static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
  *        injections that are over (`to` reached) are forgotten first.
  * @retval ROZ_ENOSPC ROZ_LOOPBACK_MAX_FAULTS still active
  * @retval ROZ_EINVAL bad channel, kind or delay
+ * Context: the tick's thread.
  */
 int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f);
 
-/** @brief The simulated robot's true state (n_states), before fault injection. */
+/** @brief The simulated robot's true state (n_states), before fault injection.
+ *  Context: the tick's thread between ticks, or after it stopped. */
 void roz_loopback_true_state(const roz_loopback_t *lb, double *state);
 
 /** @brief The command the simulated robot applies (n_commands), or NULL
- *         before it received one (or since it restarted). */
+ *         before it received one (or since it restarted).
+ * Context: the tick's thread between ticks, or after it stopped.
+ */
 const double *roz_loopback_last_command(const roz_loopback_t *lb);
 
 #ifdef __cplusplus
