@@ -11,6 +11,8 @@
  * Checked: every command.set result against its documented meaning, and
  * every filtered command inside the manifest, within max_rate of the last
  * one unless an e-stop or a counted limit stop allowed more. */
+/* white-box: the harness drives the module's private fields directly */
+#define ROZ_PRIVATE_ACCESS
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>

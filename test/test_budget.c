@@ -136,7 +136,7 @@ static void test_budget_just_under_and_over(void **st)
 
     /* one unit short: verification refuses it, naming the fuel */
     start(need - 1, 0);
-    assert_int_equal(load("bad_busy", &rep2), ROZ_EFAULT);
+    assert_int_equal(load("bad_busy", &rep2), ROZ_EVERIFY);
     assert_non_null(strstr(roz_runtime_error(&rt), "fuel exhausted at tick 0"));
     assert_int_equal(rep2.fuel[0], need); /* stopped at the first unit over */
 }

@@ -126,7 +126,7 @@ static void test_controller_traps(void **st)
         setup(st);
         assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
         assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
-        assert_int_equal(roz_controller_process(&ctl, traps[i].tick), ROZ_EFAULT);
+        assert_int_equal(roz_controller_process(&ctl, traps[i].tick), ROZ_ETRAP);
         if (strstr(roz_controller_error(&ctl), traps[i].msg) == NULL)
             fail_msg("%s: \"%s\" lacks \"%s\"", traps[i].name, roz_controller_error(&ctl),
                      traps[i].msg);

@@ -340,7 +340,7 @@ static void test_fuel_stack_at_loop_entry(void **st)
     pthread_attr_destroy(&attr);
     print_message("recursion through 90 nested loops: stopped %zu bytes deep (limit %u): %s\n",
                   loops_stack, (unsigned)ROZ_CFG_NATIVE_STACK_BYTES, roz_controller_error(&ctl));
-    assert_int_equal(loops_rc, ROZ_EFAULT);
+    assert_int_equal(loops_rc, ROZ_ETRAP);
     assert_true(strstr(roz_controller_error(&ctl), "native stack limit") != NULL);
     assert_true(loops_stack > ROZ_CFG_NATIVE_STACK_BYTES);
     assert_true(loops_stack <= ROZ_CFG_NATIVE_STACK_BYTES + 1024); /* one frame over */

@@ -255,9 +255,9 @@ static void test_runtime_verify_refuses(void **st)
 {
     (void)st;
     start(&roz_manifest_ur5, NULL);
-    load("bad_trap_verify", ROZ_EFAULT);
+    load("bad_trap_verify", ROZ_EVERIFY);
     assert_non_null(strstr(roz_runtime_error(&rt), "unreachable"));
-    load("bad_nonfinite", ROZ_EFAULT);
+    load("bad_nonfinite", ROZ_EVERIFY);
     assert_non_null(strstr(roz_runtime_error(&rt), "non-finite"));
     load("bad_unknown_import", ROZ_EINVAL);
     assert_non_null(strstr(roz_runtime_error(&rt), "env.open_valve"));
@@ -273,7 +273,7 @@ static void test_runtime_swap_keeps_old_on_failure(void **st)
     start(&roz_manifest_ur5, NULL);
     load("constant_velocity", ROZ_OK);
     ticks(10);
-    load("bad_trap_verify", ROZ_EFAULT);
+    load("bad_trap_verify", ROZ_EVERIFY);
     ticks(10);
     assert_near(roz_runtime_last_commands(&rt)[0], 0.628, 1e-12);
     assert_int_equal(RT_COUNT(&rt, swaps), 1);

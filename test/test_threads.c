@@ -132,7 +132,7 @@ static void test_threads_runtime_under_load(void **st)
         int r = roz_runtime_load(&rt, w, len, NULL);
         if (r == ROZ_OK)
             loads++;
-        else if (r == ROZ_EFAULT)
+        else if (r == ROZ_EVERIFY)
             refused++;
         if (round == 6)
             roz_runtime_estop(&rt);

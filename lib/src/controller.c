@@ -264,12 +264,12 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     env = m3_NewEnvironment();
     if (env == NULL)
-        return fail(c, ROZ_ENOSPC, "out of memory creating the engine", NULL);
+        return fail(c, ROZ_ENOMEM, "out of memory creating the engine", NULL);
     c->env = env;
     /* the metering hooks find the controller through the runtime */
     rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, c);
     if (rt == NULL)
-        return fail(c, ROZ_ENOSPC, "out of memory creating the runtime", NULL);
+        return fail(c, ROZ_ENOMEM, "out of memory creating the runtime", NULL);
     c->runtime = rt;
 
     r = m3_ParseModule(env, &mod, wasm, (uint32_t)len);
@@ -424,7 +424,7 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
         roz__text_str(&t, ": ");
         roz__text_str(&t, r);
     }
-    return ROZ_EFAULT;
+    return ROZ_ETRAP;
     return ROZ_OK;
 }
 

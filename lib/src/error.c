@@ -16,6 +16,9 @@ const char *roz_strerror(int code)
     case ROZ_ETIMEDOUT: return "deadline or budget exceeded";
     case ROZ_ELINK:     return "the robot restarted or came back after it was lost";
     case ROZ_ECONFIG:   return "the application and roz were built with different configurations";
+    case ROZ_ENOMEM:    return "the WebAssembly engine could not allocate";
+    case ROZ_ETRAP:     return "the controller trapped";
+    case ROZ_EVERIFY:   return "the controller failed verification";
     default:            return "unknown error";
     }
 }

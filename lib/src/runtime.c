@@ -302,19 +302,19 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
             rep->max_stack = roz_controller_stack_used(&s->ctrl);
         if (rc != ROZ_OK) {
             snprintf(rt->error, sizeof rt->error, "verify: %s", roz_controller_error(&s->ctrl));
-            return ROZ_EFAULT;
+            return ROZ_EVERIFY;
         }
         /* (a fuel stop above is a failed verification as well; the
          * loader's clock is not a judge: dt is reported, never refused) */
         if (s->abi.counters.set_nonfinite != 0) {
             snprintf(rt->error, sizeof rt->error,
                      "verify: command.set with a non-finite value at tick %lld", (long long)t);
-            return ROZ_EFAULT;
+            return ROZ_EVERIFY;
         }
         if (s->abi.estop_requested) {
             snprintf(rt->error, sizeof rt->error,
                      "verify: safety.request_estop at tick %lld", (long long)t);
-            return ROZ_EFAULT;
+            return ROZ_EVERIFY;
         }
         rep->ticks_run = (uint32_t)t + 1;
     }

@@ -399,7 +399,7 @@ typedef struct {
     const char *name;    /* hostile_<name>.wasm, or the generator's name */
     const uint8_t *(*gen)(size_t *len); /* builds the module instead of a file */
     int         budget;  /* BUDGET_DEFAULT or BUDGET_NONE (no fuel, no deadline) */
-    int         load_rc; /* ROZ_OK, ROZ_EINVAL (refused at load), ROZ_EFAULT (verify) */
+    int         load_rc; /* ROZ_OK, ROZ_EINVAL (refused at load), ROZ_EVERIFY (verify) */
     const char *msg;     /* in roz_runtime_error() when refused, else in the fault message */
     unsigned    faults;  /* faults that may latch; 0 = none may */
     int         fault_tick; /* controller tick the fault latches at */
@@ -411,7 +411,7 @@ typedef struct {
 static const hostile_t cases[] = {
     /* runaway code: the budget stops it */
     { "loop_run", NULL, BUDGET_DEFAULT, ROZ_OK, FUEL_150, ROZ_FAULT_OVERRUN, 150, NULL },
-    { "loop_verify", NULL, BUDGET_DEFAULT, ROZ_EFAULT, "fuel exhausted at tick 0", 0, 0, NULL },
+    { "loop_verify", NULL, BUDGET_DEFAULT, ROZ_EVERIFY, "fuel exhausted at tick 0", 0, 0, NULL },
     { "recursion", NULL, BUDGET_DEFAULT, ROZ_OK, "at tick 150",
       ROZ_FAULT_TRAP | ROZ_FAULT_OVERRUN, 150, NULL },
     { "stack_smash", NULL, BUDGET_DEFAULT, ROZ_OK, "trap at tick 150: [trap] out of bounds",
@@ -472,13 +472,13 @@ static const hostile_t cases[] = {
       ROZ_FAULT_TRAP, 150, NULL },
     /* values and indices */
     { "nonfinite_run", NULL, BUDGET_DEFAULT, ROZ_OK, NULL, 0, 0, check_nonfinite },
-    { "nonfinite_verify", NULL, BUDGET_DEFAULT, ROZ_EFAULT,
+    { "nonfinite_verify", NULL, BUDGET_DEFAULT, ROZ_EVERIFY,
       "command.set with a non-finite value at tick 7", 0, 0, NULL },
     { "indices", NULL, BUDGET_DEFAULT, ROZ_OK, NULL, 0, 0, check_indices },
     /* host-call floods */
     { "estop_spam", NULL, BUDGET_DEFAULT, ROZ_OK, "the controller called safety.request_estop",
       ROZ_FAULT_ESTOP_REQUEST, 150, check_estop_spam },
-    { "estop_verify", NULL, BUDGET_DEFAULT, ROZ_EFAULT, "safety.request_estop at tick 42", 0, 0,
+    { "estop_verify", NULL, BUDGET_DEFAULT, ROZ_EVERIFY, "safety.request_estop at tick 42", 0, 0,
       NULL },
     /* the loop body's runs are charged whole before they run: the budget
      * stops it at the first run it cannot pay */
@@ -487,7 +487,7 @@ static const hostile_t cases[] = {
     { "set_flood", NULL, BUDGET_NONE, ROZ_OK, NULL, 0, 0, check_flood },
     { "metric_spam", NULL, BUDGET_DEFAULT, ROZ_OK, NULL, 0, 0, check_metrics },
     /* traps: at verification vs at run time */
-    { "trap_verify", NULL, BUDGET_DEFAULT, ROZ_EFAULT, "verify: trap at tick 5: [trap] unreachable",
+    { "trap_verify", NULL, BUDGET_DEFAULT, ROZ_EVERIFY, "verify: trap at tick 5: [trap] unreachable",
       0, 0, NULL },
     { "trap_run", NULL, BUDGET_DEFAULT, ROZ_OK, "trap at tick 150: [trap] unreachable executed",
       ROZ_FAULT_TRAP, 150, NULL },

@@ -596,7 +596,7 @@ static int run_depth(const char *what, int64_t depth, double expect)
             fail_msg("%s, depth %lld: %g, expected %g", what, (long long)depth, v, expect);
         return 1;
     }
-    if (rc != ROZ_EFAULT)
+    if (rc != ROZ_ETRAP)
         fail_msg("%s, depth %lld: process returned %d", what, (long long)depth, rc);
     const char *e = roz_controller_error(&ctl);
     if (strstr(e, "[trap] stack overflow") != NULL)

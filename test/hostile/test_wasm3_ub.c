@@ -580,7 +580,7 @@ static void check_case(size_t k)
         return;
     rc = roz_controller_process(&ctl, (int64_t)k);
     if (c->trap != NULL) {
-        if (rc != ROZ_EFAULT || strstr(roz_controller_error(&ctl), c->trap) == NULL)
+        if (rc != ROZ_ETRAP || strstr(roz_controller_error(&ctl), c->trap) == NULL)
             fail_msg("%s (form %d): expected the trap \"%s\", got %d \"%s\"", c->name, form,
                      c->trap, rc, roz_controller_error(&ctl));
         return;
@@ -795,7 +795,7 @@ static void test_trap_after_host_calls(void **st)
             if (rc != ROZ_OK)
                 fail_msg("tick %lld: %s", (long long)tick, roz_controller_error(&ctl));
         } else {
-            assert_int_equal(rc, ROZ_EFAULT);
+            assert_int_equal(rc, ROZ_ETRAP);
             assert_non_null(strstr(roz_controller_error(&ctl), "unreachable"));
         }
         check_host_calls(dropped);

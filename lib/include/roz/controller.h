@@ -94,7 +94,7 @@ void roz_controller_init(roz_controller_t *c);
  * @retval ROZ_OK     loaded
  * @retval ROZ_EINVAL refused; roz_controller_error() names the import,
  *                    export or problem
- * @retval ROZ_ENOSPC the engine could not allocate
+ * @retval ROZ_ENOMEM the engine could not allocate
  * @retval ROZ_ESTATE already loaded
  * Context: outside the tick; allocates.
  */
@@ -124,7 +124,7 @@ size_t roz_controller_stack_used(const roz_controller_t *c);
 /**
  * @brief Call process(tick) once, within the budget.
  * @retval ROZ_OK        returned normally
- * @retval ROZ_EFAULT    the controller trapped (in wasm, or past
+ * @retval ROZ_ETRAP     the controller trapped (in wasm, or past
  *                       ROZ_CFG_NATIVE_STACK_BYTES of C stack);
  *                       roz_controller_error() says why
  * @retval ROZ_ETIMEDOUT fuel or deadline ran out; the instance is spent

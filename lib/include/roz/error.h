@@ -27,6 +27,9 @@ extern "C" {
 #define ROZ_ETIMEDOUT (-9)   /**< deadline or budget exceeded */
 #define ROZ_ELINK     (-10)  /**< a port's peer restarted, or came back after it was lost */
 #define ROZ_ECONFIG   (-11)  /**< the caller and roz were built with different ROZ_CFG_* options */
+#define ROZ_ENOMEM    (-12)  /**< the engine (wasm3's heap) could not allocate */
+#define ROZ_ETRAP     (-13)  /**< the controller trapped */
+#define ROZ_EVERIFY   (-14)  /**< a controller failed verification and was not installed */
 
 /* A result that must not be ignored. With C++17 or C23 `[[nodiscard]]`,
  * which a cast to void silences; GCC's older attribute cannot be silenced

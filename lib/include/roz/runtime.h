@@ -323,7 +323,7 @@ ROZ_NODISCARD static inline int roz_runtime_init(roz_runtime_t *rt,
  * @param[out] report  optional verification figures
  * @retval ROZ_OK      verified and scheduled
  * @retval ROZ_EINVAL  refused at load; roz_runtime_error() names the problem
- * @retval ROZ_EFAULT  failed verification (trap, overrun, non-finite
+ * @retval ROZ_EVERIFY failed verification (trap, overrun, non-finite
  *                     values, e-stop request); roz_runtime_error() says which
  * @retval ROZ_ESTATE  a swap is already pending, or another load or a
  *                     rebuild (roz_runtime_clear_faults()) is running
