@@ -1,42 +1,81 @@
 # SPDX-License-Identifier: Apache-2.0
 #
-# roz_add_wasm_controller(<name> SOURCE <file.c|file.wat> [INCLUDES dir...] [DEPENDS file...])
-# builds <name>.wasm into CMAKE_CURRENT_BINARY_DIR: C with clang
-# --target=wasm32 (freestanding, no libc), WAT with wabt's wat2wasm. Adds it
-# to the target roz_controllers (built by default).
+# roz_add_wasm_controller(<name> SOURCE <file.c|file.wat>
+#                         [MANIFEST <robot.toml>...] [INCLUDES <dir>...] [DEPENDS <file>...])
+#
+# Builds <name>.wasm into CMAKE_CURRENT_BINARY_DIR as the target
+# roz_wasm_<name>, part of roz_controllers (built by default). C is compiled
+# with clang --target=wasm32 (freestanding, no libc) against the controller
+# SDK, the target roz::sdk (roz_controller.h); WAT is assembled with wabt's
+# wat2wasm.
+#
+# MANIFEST runs rozgen on each robot.toml into
+# ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/wasm_<name> and puts that folder
+# on the include path, so the source can include <robot_id>_channels.h; the
+# controller is built after that step and again whenever the manifest
+# changes. A C controller is also rebuilt when any header it includes changes
+# (clang writes the list). INCLUDES adds include folders, DEPENDS files to
+# rebuild on.
+#
+# Available after find_package(roz) and after add_subdirectory(roz).
 find_program(ROZ_CLANG NAMES clang clang-14 DOC "clang, to compile C controllers to wasm32")
 find_program(ROZ_WAT2WASM wat2wasm DOC "wabt's wat2wasm, to assemble WAT controllers")
-
-if(NOT TARGET roz_controllers)
-  add_custom_target(roz_controllers ALL)
+if(NOT COMMAND roz__rozgen_command)
+  include(${CMAKE_CURRENT_LIST_DIR}/RozGenerate.cmake)
 endif()
 
 function(roz_add_wasm_controller name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE" "INCLUDES;DEPENDS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE" "MANIFEST;INCLUDES;DEPENDS")
+  if(NOT arg_SOURCE)
+    message(FATAL_ERROR "roz_add_wasm_controller(${name}): SOURCE is required")
+  endif()
   cmake_path(ABSOLUTE_PATH arg_SOURCE BASE_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR} NORMALIZE)
   set(out ${CMAKE_CURRENT_BINARY_DIR}/${name}.wasm)
   if(arg_SOURCE MATCHES "\\.wat$")
     if(NOT ROZ_WAT2WASM)
       message(FATAL_ERROR "wat2wasm (Debian package wabt) is needed to build ${arg_SOURCE}")
     endif()
+    if(arg_MANIFEST)
+      message(FATAL_ERROR "roz_add_wasm_controller(${name}): MANIFEST is for C controllers; "
+                          "${arg_SOURCE} is WAT")
+    endif()
     add_custom_command(OUTPUT ${out}
       COMMAND ${ROZ_WAT2WASM} ${arg_SOURCE} -o ${out}
-      DEPENDS ${arg_SOURCE} VERBATIM COMMENT "wat2wasm ${name}.wasm")
+      DEPENDS ${arg_SOURCE} ${arg_DEPENDS} VERBATIM COMMENT "wat2wasm ${name}.wasm")
   else()
     if(NOT ROZ_CLANG)
       message(FATAL_ERROR "clang (with lld) is needed to build ${arg_SOURCE} for wasm32")
     endif()
+    if(NOT TARGET roz::sdk)
+      message(FATAL_ERROR "roz_add_wasm_controller(${name}): the target roz::sdk (the "
+                          "controller SDK) is missing; call find_package(roz) first")
+    endif()
+    set(generated "")
     set(incs "")
+    if(arg_MANIFEST)
+      set(gen_dir ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/wasm_${name})
+      roz__rozgen_command(generated unused ${gen_dir} ${PROJECT_SOURCE_DIR} OFF ${arg_MANIFEST})
+      list(APPEND incs -I${gen_dir})
+    endif()
     foreach(d IN LISTS arg_INCLUDES)
+      cmake_path(ABSOLUTE_PATH d BASE_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR} NORMALIZE)
       list(APPEND incs -I${d})
     endforeach()
+    # The SDK's folder: the source tree's or the installed one.
+    set(sdk "$<TARGET_PROPERTY:roz::sdk,INTERFACE_INCLUDE_DIRECTORIES>")
     add_custom_command(OUTPUT ${out}
       COMMAND ${ROZ_CLANG} --target=wasm32 -O2 -nostdlib -fno-builtin -std=c11
-              -Wall -Wextra -Werror ${incs}
+              -Wall -Wextra -Werror "-I$<JOIN:${sdk},;-I>" ${incs}
+              -MD -MF ${out}.d -MT ${out}
               -Wl,--no-entry -Wl,--strip-all -Wl,-z,stack-size=16384
               -o ${out} ${arg_SOURCE}
-      DEPENDS ${arg_SOURCE} ${arg_DEPENDS} VERBATIM COMMENT "clang wasm32 ${name}.wasm")
+      DEPENDS ${arg_SOURCE} ${generated} ${arg_DEPENDS}
+      DEPFILE ${out}.d
+      COMMAND_EXPAND_LISTS VERBATIM COMMENT "clang wasm32 ${name}.wasm")
   endif()
   add_custom_target(roz_wasm_${name} DEPENDS ${out})
+  if(NOT TARGET roz_controllers)
+    add_custom_target(roz_controllers ALL)
+  endif()
   add_dependencies(roz_controllers roz_wasm_${name})
 endfunction()
