@@ -13,7 +13,8 @@ JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
 CONFIGURE_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROZ_WERROR=ON \
                   -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
                   -DROZ_PYTHON=$(CURDIR)/.venv/bin/python \
-                  -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
+                  -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz \
+                  -DROZ_PYTHON_WHEELS=$(CURDIR)/.cache/wheels
 
 # Sanitizer builds (clang): ASan+UBSan over every C unit test, TSan over the
 # threaded ones. Any report fails the run.
@@ -24,7 +25,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build demo test test-asan test-tsan stress bench fuzz-diff clean
+.PHONY: all setup build install demo test test-asan test-tsan stress bench fuzz-diff clean
 
 all: build
 
@@ -36,6 +37,12 @@ $(BUILD)/build.ninja: | setup
 
 build: setup $(BUILD)/build.ninja
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
+
+# Installs the build into PREFIX: libraries, headers, the CMake package, the
+# controller SDK, rozgen and the tools (README, "Installing roz").
+PREFIX ?= /usr/local
+install: build
+	$(CMAKE) --install $(BUILD) --prefix $(PREFIX)
 
 DEMO_DIR = $(BUILD)/demo
 

@@ -1,10 +1,22 @@
 # SPDX-License-Identifier: Apache-2.0
 # Install rules: find_package(roz CONFIG) gives a consumer the same roz::
-# targets and roz_generate() that add_subdirectory(roz) does.
+# targets, roz_generate() and roz_add_wasm_controller() that
+# add_subdirectory(roz) does, and nothing in the prefix names the tree it
+# was built in. What goes where (under the prefix):
+#   include/roz/             the public headers (roz/features.h included)
+#   include/roz/sdk/         the controller SDK (roz_controller.h), roz::sdk
+#   include/roz/manifests/   the built-in manifests' generated headers
+#   lib/                     the static libraries
+#   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake
+#   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
+#   bin/                     rozgen, rozrun, roz_manifest_json, roz_manifest_info
+#   share/doc/roz/           licences
 include(CMakePackageConfigHelpers)
 
 set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
-set(_roz_targets roz_core roz_hal)
+set(_roz_targets roz_core roz_hal roz_sdk)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/controllers/include/
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
 if(TARGET roz_port_loopback)
   list(APPEND _roz_targets roz_port_loopback)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/loopback/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
@@ -38,8 +50,18 @@ install(FILES ${PROJECT_BINARY_DIR}/lib/include/roz/features.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz)
 install(EXPORT rozTargets NAMESPACE roz:: DESTINATION ${ROZ_INSTALL_CMAKEDIR})
 
+# The host tools (built with the examples).
+foreach(tool IN ITEMS rozrun roz_manifest_json roz_manifest_info)
+  if(TARGET ${tool})
+    install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endif()
+endforeach()
+include(RozInstallRozgen)
+
+set(ROZ_INSTALL_BINDIR ${CMAKE_INSTALL_BINDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/rozConfig.cmake.in
-  ${PROJECT_BINARY_DIR}/rozConfig.cmake INSTALL_DESTINATION ${ROZ_INSTALL_CMAKEDIR})
+  ${PROJECT_BINARY_DIR}/rozConfig.cmake INSTALL_DESTINATION ${ROZ_INSTALL_CMAKEDIR}
+  PATH_VARS ROZ_INSTALL_BINDIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/rozConfig.cmake ${PROJECT_BINARY_DIR}/rozConfigVersion.cmake

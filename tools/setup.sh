@@ -8,7 +8,10 @@
 #   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
 #      into .cache/ and checked against its sha256 (CMake checks it again
 #      before it extracts it into the build tree),
-#   4. the runner of toml-test, the official TOML test suite (a Go program),
+#   4. the wheels of rozgen's run-time dependencies (codegen/requirements.txt,
+#      hash-checked) in .cache/wheels, which `cmake --install` installs beside
+#      rozgen without a network,
+#   5. the runner of toml-test, the official TOML test suite (a Go program),
 #      built into .cache/go/bin from the module pinned in tools/toml-test/.
 # Run from anywhere; a second run changes nothing and takes a second or two.
 set -euo pipefail
@@ -85,7 +88,21 @@ if [ ! -f "$sdist" ]; then
     check_sdist || die "$sdist: sha256 mismatch (want $wasm3_sha256)"
 fi
 
-# ---- 4. toml-test -------------------------------------------------------------
+# ---- 4. rozgen's dependencies, for the installed package ---------------------
+# `cmake --install` puts rozgen and these wheels in <prefix>/lib/roz/python
+# (cmake/RozInstallRozgen.cmake); having them here lets it work offline.
+wheels=.cache/wheels
+wheels_want=$(sha256sum codegen/requirements.txt | cut -d' ' -f1)
+wheels_stamp=$wheels/.roz-downloaded
+if [ "$(cat "$wheels_stamp" 2>/dev/null)" != "$wheels_want" ]; then
+    say "fetching the wheels of rozgen's dependencies into $wheels"
+    mkdir -p "$wheels"
+    "$venv/bin/python" -m pip download -q --disable-pip-version-check \
+        --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt -d "$wheels"
+    echo "$wheels_want" > "$wheels_stamp"
+fi
+
+# ---- 5. toml-test -------------------------------------------------------------
 # roz's C TOML reader is checked against toml-test v1.6.0 (test/toml/). Its
 # runner is built with Go from tools/toml-test/go.mod, which pins toml-test
 # and, through go.sum, every module it uses; everything Go fetches or builds

@@ -1,0 +1,105 @@
+# SPDX-License-Identifier: Apache-2.0
+#
+# Installs rozgen with roz, so that an installed roz builds robot tables with
+# nothing from the tree it was built in (no virtual environment, no source):
+#   <prefix>/lib/roz/python/  rozgen's package (codegen/rozgen) and its pinned,
+#                             hash-checked run-time dependencies
+#                             (codegen/requirements.txt: jinja2, markupsafe),
+#                             which pip puts there at install time
+#   <prefix>/bin/rozgen       a launcher that runs rozgen from ../lib/roz/python
+#                             with the Python it was installed for
+#                             (ROZ_ROZGEN_PYTHON)
+# The dependencies' wheels come from the folder ROZ_PYTHON_WHEELS without a
+# network (tools/setup.sh fills .cache/wheels, the default when it exists),
+# else from the package index. ROZ_INSTALL_ROZGEN=OFF leaves rozgen out: an
+# installed roz then looks for rozgen on PATH (`pip install codegen/`).
+option(ROZ_INSTALL_ROZGEN "Install rozgen and its pinned Python dependencies with roz" ON)
+if(NOT ROZ_INSTALL_ROZGEN)
+  return()
+endif()
+
+if(NOT DEFINED CACHE{ROZ_PYTHON_WHEELS} AND EXISTS ${PROJECT_SOURCE_DIR}/.cache/wheels)
+  set(_roz_wheels ${PROJECT_SOURCE_DIR}/.cache/wheels)
+else()
+  set(_roz_wheels "")
+endif()
+set(ROZ_PYTHON_WHEELS "${_roz_wheels}" CACHE PATH
+    "Folder with the wheels of codegen/requirements.txt, installed offline with rozgen (empty: the package index)")
+
+# The interpreter the launcher names. A virtual environment's python lives in
+# a build or source tree, so the default is the interpreter behind it.
+if(NOT ROZ_ROZGEN_PYTHON)
+  set(_roz_py "${ROZ_PYTHON}")
+  if(NOT _roz_py)
+    find_package(Python3 3.11 COMPONENTS Interpreter)
+    set(_roz_py "${Python3_EXECUTABLE}")
+  endif()
+  if(_roz_py)
+    execute_process(
+      COMMAND ${_roz_py} -c "import sys; print(getattr(sys, '_base_executable', '') or sys.executable)"
+      OUTPUT_VARIABLE _roz_py OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE _rc)
+    if(NOT _rc EQUAL 0)
+      set(_roz_py "")
+    endif()
+  endif()
+  set(ROZ_ROZGEN_PYTHON "${_roz_py}" CACHE FILEPATH
+      "Python 3.11 or later that runs the installed rozgen (not a virtual environment's)")
+endif()
+execute_process(COMMAND ${ROZ_ROZGEN_PYTHON} -c "import sys; sys.exit(sys.version_info < (3, 11))"
+                RESULT_VARIABLE _rc OUTPUT_QUIET ERROR_QUIET)
+if(NOT ROZ_ROZGEN_PYTHON OR NOT _rc EQUAL 0)
+  message(FATAL_ERROR "ROZ_ROZGEN_PYTHON='${ROZ_ROZGEN_PYTHON}': the installed rozgen needs "
+                      "Python 3.11 or later with pip. Name one with -DROZ_ROZGEN_PYTHON=..., or "
+                      "pass -DROZ_INSTALL_ROZGEN=OFF and install rozgen yourself (pip install codegen/).")
+endif()
+
+set(_roz_pydir ${CMAKE_INSTALL_LIBDIR}/roz/python)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/rozgen DESTINATION ${_roz_pydir}
+        FILES_MATCHING PATTERN "*.py" PATTERN "*.j2" PATTERN "__pycache__" EXCLUDE)
+
+# The launcher finds the package relative to itself, so the prefix can move.
+cmake_path(ABSOLUTE_PATH CMAKE_INSTALL_BINDIR BASE_DIRECTORY /prefix OUTPUT_VARIABLE _bin)
+cmake_path(ABSOLUTE_PATH _roz_pydir BASE_DIRECTORY /prefix OUTPUT_VARIABLE _py)
+file(RELATIVE_PATH ROZ_ROZGEN_PYDIR_FROM_BIN ${_bin} ${_py})
+configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in ${PROJECT_BINARY_DIR}/roz_install/rozgen @ONLY)
+install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/rozgen DESTINATION ${CMAKE_INSTALL_BINDIR})
+
+# The dependencies: pip, at install time, into the same folder (DESTDIR is
+# honoured). What pip wrote is added to install_manifest.txt.
+set(_roz_index_args "")
+if(ROZ_PYTHON_WHEELS)
+  set(_roz_index_args "--no-index --find-links \"${ROZ_PYTHON_WHEELS}\"")
+endif()
+set(_roz_install_deps [=[
+  set(_dest "@_roz_pydir@")
+  if(NOT IS_ABSOLUTE "${_dest}")
+    set(_dest "${CMAKE_INSTALL_PREFIX}/${_dest}")
+  endif()
+  set(_dest "$ENV{DESTDIR}${_dest}")
+  message(STATUS "Installing: rozgen's dependencies (codegen/requirements.txt) to ${_dest}")
+  execute_process(
+    COMMAND "@ROZ_ROZGEN_PYTHON@" -m pip install --quiet --disable-pip-version-check
+            --root-user-action=ignore --no-cache-dir --no-compile --no-deps --only-binary :all:
+            --require-hashes --upgrade @_roz_index_args@
+            --target "${_dest}" -r "@PROJECT_SOURCE_DIR@/codegen/requirements.txt"
+    RESULT_VARIABLE _rc ERROR_VARIABLE _err)
+  if(NOT _rc EQUAL 0)
+    message(FATAL_ERROR "installing rozgen's dependencies with @ROZ_ROZGEN_PYTHON@ -m pip "
+      "failed:\n${_err}\nWheels came from: @ROZ_PYTHON_WHEELS@ (empty: the package index). "
+      "Run tools/setup.sh (it downloads them into .cache/wheels) and configure with "
+      "-DROZ_PYTHON_WHEELS=<that folder>, or -DROZ_INSTALL_ROZGEN=OFF.")
+  endif()
+  file(GLOB _tops LIST_DIRECTORIES true "${_dest}/*")
+  foreach(_top IN LISTS _tops)
+    cmake_path(GET _top FILENAME _name)
+    if(_name STREQUAL "rozgen") # install(DIRECTORY) listed rozgen's own files
+    elseif(IS_DIRECTORY "${_top}")
+      file(GLOB_RECURSE _files LIST_DIRECTORIES false "${_top}/*")
+      list(APPEND CMAKE_INSTALL_MANIFEST_FILES ${_files})
+    else()
+      list(APPEND CMAKE_INSTALL_MANIFEST_FILES "${_top}")
+    endif()
+  endforeach()
+]=])
+string(CONFIGURE "${_roz_install_deps}" _roz_install_deps @ONLY)
+install(CODE "${_roz_install_deps}")
