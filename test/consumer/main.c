@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Uses what a consumer gets: its own generated table, the core and the
- * built-in registry. Exits non-zero on the first surprise. */
+/* Uses what a consumer gets: its own generated table, its own controller
+ * (reach.c, built to wasm32 by roz_add_wasm_controller(); the path of
+ * reach.wasm is argv[1]), the core, the loopback port and the built-in
+ * registry. Exits non-zero on the first surprise. */
 #include <stdio.h>
 #include <string.h>
 
@@ -9,6 +11,7 @@
 #if ROZ_HAS_BUILTIN_MANIFESTS
 #include "roz/builtin.h"
 #endif
+#include "roz/hal/module.h"
 #include "roz/loopback.h"
 #include "roz/manifest.h"
 #include "roz/runtime.h"
@@ -39,10 +42,16 @@ static const uint8_t deep_wasm[] = {
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
+static uint8_t reach_wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
 
-int main(void)
+int main(int argc, char **argv)
 {
     const roz_manifest_t *m = &roz_manifest_my_arm;
+
+    if (argc != 2) {
+        fprintf(stderr, "usage: consumer reach.wasm\n");
+        return 2;
+    }
 
     CHECK(roz_manifest_validate(m, NULL) == ROZ_OK);
     CHECK(ROZ_MY_ARM_N_COMMANDS == 2 && m->n_commands == 2);
@@ -80,6 +89,26 @@ int main(void)
     CHECK(strstr(roz_runtime_error(&rt), "native stack limit") != NULL);
 #endif
     roz_runtime_deinit(&rt);
+
+    /* the consumer's controller: 300 ticks (3 s) take joint2 to 1 rad */
+    size_t len = 0;
+    double q[2];
+    CHECK(roz_module_read_file(argv[1], reach_wasm, sizeof reach_wasm, &len, err, sizeof err) ==
+          ROZ_OK);
+    CHECK(roz_port_open(&port, m, NULL, err, sizeof err) == ROZ_OK);
+    CHECK(roz_runtime_init(&rt, &cfg) == ROZ_OK);
+    CHECK(roz_runtime_load(&rt, reach_wasm, len, NULL) == ROZ_OK);
+    CHECK(roz_runtime_start(&rt) == ROZ_OK);
+    for (int t = 0; t < 300; t++)
+        CHECK(roz_runtime_tick(&rt) == ROZ_OK);
+    roz_loopback_true_state(&lb, q);
+    CHECK(q[ROZ_MY_ARM_STATE_JOINT2_POSITION] > 0.99 && q[ROZ_MY_ARM_STATE_JOINT2_POSITION] < 1.01);
+    CHECK(q[ROZ_MY_ARM_STATE_JOINT1_POSITION] == 0.0);
+    CHECK(roz_runtime_faults(&rt) == 0 && lb.violations == 0);
+    printf("consumer: reach.wasm (%zu bytes) took joint2 to %.4f rad in 300 ticks\n", len,
+           q[ROZ_MY_ARM_STATE_JOINT2_POSITION]);
+    roz_runtime_deinit(&rt);
+
     printf("consumer: my_arm %u commands, %u states; built-ins %s; max commands %d; roz %s\n",
            (unsigned)m->n_commands, (unsigned)m->n_states,
            ROZ_HAS_BUILTIN_MANIFESTS ? "found" : "off", ROZ_CFG_MAX_COMMANDS, ROZ_VERSION_STRING);

@@ -1,6 +1,25 @@
 # SPDX-License-Identifier: Apache-2.0
-# cmake -DMODE=find_package|add_subdirectory -DROZ_SOURCE_DIR=... -DROZ_BINARY_DIR=...
-#       -DWORK_DIR=... -DROZGEN_EXECUTABLE=... [-DGENERATOR=...] -P run_consumer.cmake
+# cmake -DMODE=find_package|add_subdirectory|small_config -DROZ_SOURCE_DIR=...
+#       -DROZ_BINARY_DIR=... -DWORK_DIR=... -DROZGEN_EXECUTABLE=... [-DGENERATOR=...]
+#       -P run_consumer.cmake
+#
+# Builds the consumer project (CMakeLists.txt here) in WORK_DIR and runs it.
+#
+# find_package: the installed package must stand alone. It works in a
+# temporary folder outside the trees instead of WORK_DIR (removed when the
+# test passes, kept for a look when it fails). The build is installed
+# into a staging prefix there, which is then moved (a prefix
+# must not care where it is); no text file in it may name the source tree, the
+# build tree or the virtual environment rozgen came from. Then, with only the
+# prefix (this script again, with PHASE=installed): no ROZGEN_EXECUTABLE, a
+# PATH without the virtual environment, and, where a mount namespace is
+# permitted (unshare -m, or -rm), the source tree, the build tree and the
+# virtual environment hidden under empty tmpfs mounts, the consumer is
+# configured (it must find <prefix>/bin/rozgen), built and run; the installed
+# rozrun runs the consumer's controller on the consumer's robot.toml, and the
+# installed roz_manifest_json and rozgen --json must print the same manifest.
+cmake_minimum_required(VERSION 3.25)
+
 function(run)
   execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
@@ -9,38 +28,194 @@ function(run)
   message(STATUS "${out}")
 endfunction()
 
-file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR}/src)
-file(COPY ${CMAKE_CURRENT_LIST_DIR}/CMakeLists.txt ${CMAKE_CURRENT_LIST_DIR}/main.c
-     DESTINATION ${WORK_DIR}/src)
-file(COPY ${CMAKE_CURRENT_LIST_DIR}/small_config.h DESTINATION ${WORK_DIR}/src)
-file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
-file(COPY_FILE ${ROZ_SOURCE_DIR}/manifests/unitree_g1.toml ${WORK_DIR}/src/big_robot.toml)
-
 set(gen "")
 if(GENERATOR)
   set(gen -G ${GENERATOR})
 endif()
-set(common -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen} -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE})
+
+# ---- find_package, second half: only the prefix ------------------------------
+if(PHASE STREQUAL "installed")
+  set(prefix ${WORK_DIR}/prefix)
+  string(REPLACE "|" ";" HIDDEN "${HIDDEN}")
+  foreach(hidden IN LISTS HIDDEN)
+    if(EXISTS ${hidden}/CMakeLists.txt OR EXISTS ${hidden}/CMakeCache.txt
+       OR EXISTS ${hidden}/bin/python)
+      message(FATAL_ERROR "${hidden} was to be hidden, yet it is still there")
+    endif()
+  endforeach()
+  run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
+      -DROZ_CONSUMER_MODE=find_package -DCMAKE_PREFIX_PATH=${prefix})
+  file(STRINGS ${WORK_DIR}/build/CMakeCache.txt used REGEX "^ROZGEN_EXECUTABLE:")
+  if(NOT used STREQUAL "ROZGEN_EXECUTABLE:FILEPATH=${prefix}/bin/rozgen")
+    message(FATAL_ERROR "the consumer did not use the installed rozgen: ${used}")
+  endif()
+  run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+  run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
+      --controller ${WORK_DIR}/build/reach.wasm --ticks 100)
+  run(${prefix}/bin/roz_manifest_info ur5)
+  foreach(tool IN ITEMS roz_manifest_json rozgen)
+    set(json_flag "")
+    if(tool STREQUAL "rozgen")
+      set(json_flag --json)
+    endif()
+    execute_process(COMMAND ${prefix}/bin/${tool} ${json_flag} ${WORK_DIR}/src/robot.toml
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE json_${tool} ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0)
+      message(FATAL_ERROR "${tool} on the consumer's robot.toml failed (${rc}):\n${err}")
+    endif()
+  endforeach()
+  if(NOT json_roz_manifest_json STREQUAL json_rozgen OR json_rozgen STREQUAL "")
+    message(FATAL_ERROR "roz_manifest_json and rozgen --json disagree:\n"
+                        "${json_roz_manifest_json}\n---\n${json_rozgen}")
+  endif()
+  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info and rozgen work")
+  return()
+endif()
+
+# ---- the consumer's sources ---------------------------------------------------
 if(MODE STREQUAL "find_package")
-  run(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${WORK_DIR}/prefix)
-  run(${CMAKE_COMMAND} ${common} -DROZ_CONSUMER_MODE=find_package
-      -DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix)
-elseif(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
-  run(${CMAKE_COMMAND} ${common} -DROZ_CONSUMER_MODE=${MODE}
+  # Outside the build tree, so that the build tree can be hidden from it.
+  if(DEFINED ENV{TMPDIR})
+    set(tmp $ENV{TMPDIR})
+  else()
+    set(tmp /tmp)
+  endif()
+  string(RANDOM LENGTH 8 ALPHABET abcdefghijklmnopqrstuvwxyz0123456789 tag)
+  set(WORK_DIR ${tmp}/roz_consumer_${tag})
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR}/src)
+foreach(f IN ITEMS CMakeLists.txt main.c reach.c small_config.h)
+  file(COPY ${CMAKE_CURRENT_LIST_DIR}/${f} DESTINATION ${WORK_DIR}/src)
+endforeach()
+file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
+file(COPY_FILE ${ROZ_SOURCE_DIR}/manifests/unitree_g1.toml ${WORK_DIR}/src/big_robot.toml)
+
+if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
+  run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
+      -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE} -DROZ_CONSUMER_MODE=${MODE}
       -DROZ_SOURCE_DIR=${ROZ_SOURCE_DIR} -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST}
       -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR})
-else()
+  run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+  run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  if(MODE STREQUAL "small_config")
+    # 145 commands in a 16-command build: the generated table must not compile
+    execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build --target too_big
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "more than ROZ_CFG_MAX_COMMANDS")
+      message(FATAL_ERROR "a 145-command manifest compiled against ROZ_CFG_MAX_COMMANDS 16:\n${out}${err}")
+    endif()
+    message(STATUS "too_big refused at compile time, as it must be")
+  endif()
+  return()
+elseif(NOT MODE STREQUAL "find_package")
   message(FATAL_ERROR "MODE must be find_package, add_subdirectory or small_config")
 endif()
-run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
-run(${WORK_DIR}/build/consumer)
-if(MODE STREQUAL "small_config")
-  # 145 commands in a 16-command build: the generated table must not compile
-  execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build --target too_big
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "more than ROZ_CFG_MAX_COMMANDS")
-    message(FATAL_ERROR "a 145-command manifest compiled against ROZ_CFG_MAX_COMMANDS 16:\n${out}${err}")
+
+# ---- find_package, first half: install, move, scan ------------------------------
+run(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${WORK_DIR}/stage)
+file(RENAME ${WORK_DIR}/stage ${WORK_DIR}/prefix)
+
+# What must be out of reach: the trees and the virtual environment (the folder
+# above rozgen's bin/), under their own names and their real paths.
+cmake_path(GET ROZGEN_EXECUTABLE PARENT_PATH venv)
+cmake_path(GET venv PARENT_PATH venv)
+set(HIDDEN "")
+foreach(d IN ITEMS ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${venv})
+  file(REAL_PATH ${d} real)
+  list(APPEND HIDDEN ${real})
+endforeach()
+list(REMOVE_DUPLICATES HIDDEN)
+foreach(h IN LISTS HIDDEN)
+  cmake_path(IS_PREFIX h ${WORK_DIR} under)
+  if(under)
+    message(FATAL_ERROR "the temporary folder ${WORK_DIR} is inside ${h}, which the test hides; "
+                        "set TMPDIR elsewhere")
   endif()
-  message(STATUS "too_big refused at compile time, as it must be")
+endforeach()
+set(needles ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${venv} ${HIDDEN} ${WORK_DIR}/stage)
+list(REMOVE_DUPLICATES needles)
+file(GLOB_RECURSE installed LIST_DIRECTORIES false ${WORK_DIR}/prefix/*)
+set(scanned 0)
+foreach(f IN LISTS installed)
+  file(READ ${f} magic LIMIT 8 HEX)
+  if(magic MATCHES "^7f454c46" OR magic MATCHES "^213c617263683e") # ELF, ar: debug info
+    continue()
+  endif()
+  file(READ ${f} text)
+  foreach(n IN LISTS needles)
+    string(FIND "${text}" "${n}" at)
+    if(NOT at EQUAL -1)
+      message(FATAL_ERROR "${f} names ${n}: an installed roz must not depend on the tree it "
+                          "was built in")
+    endif()
+  endforeach()
+  math(EXPR scanned "${scanned} + 1")
+endforeach()
+foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
+                      include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
+  if(NOT EXISTS ${WORK_DIR}/prefix/${must})
+    message(FATAL_ERROR "the install has no ${must}")
+  endif()
+endforeach()
+message(STATUS "installed, moved; ${scanned} text files name none of: ${needles}")
+
+# The second half runs a copy of this script: the original is in the source
+# tree, which it hides.
+file(COPY ${CMAKE_CURRENT_LIST_FILE} DESTINATION ${WORK_DIR})
+set(path "")
+string(REPLACE ":" ";" path_in "$ENV{PATH}")
+foreach(p IN LISTS path_in)
+  set(keep TRUE)
+  foreach(n IN LISTS needles)
+    cmake_path(IS_PREFIX n "${p}" under)
+    if(under)
+      set(keep FALSE)
+    endif()
+  endforeach()
+  if(keep)
+    list(APPEND path ${p})
+  endif()
+endforeach()
+string(REPLACE ";" ":" path "${path}")
+set(inner ${CMAKE_COMMAND} -E env --unset=VIRTUAL_ENV --unset=PYTHONPATH --unset=ROZGEN_EXECUTABLE
+          PATH=${path}
+          ${CMAKE_COMMAND} -DPHASE=installed -DWORK_DIR=${WORK_DIR} -DGENERATOR=${GENERATOR})
+# sh -c "$script" sh N DIR1..DIRN COMMAND...: hide each DIR under an empty
+# tmpfs (a folder inside one already hidden is gone: skipped), then COMMAND.
+# No semicolons: run() passes it on as a CMake list.
+set(script [=[
+n=$1
+shift
+while [ "$n" -gt 0 ]
+do
+  if [ -d "$1" ]
+  then mount -t tmpfs -o size=64k roz-hidden "$1" || exit 1
+  fi
+  shift
+  n=$((n-1))
+done
+exec "$@"
+]=])
+list(LENGTH HIDDEN n_hidden)
+string(JOIN "|" hidden_arg ${HIDDEN})
+set(ns "")
+foreach(flags IN ITEMS -m -rm)
+  execute_process(COMMAND unshare ${flags} sh -c "${script}" sh ${n_hidden} ${HIDDEN} true
+                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
+  if(rc EQUAL 0)
+    set(ns ${flags})
+    break()
+  endif()
+endforeach()
+if(ns)
+  message(STATUS "hiding ${hidden_arg} (unshare ${ns})")
+  run(unshare ${ns} sh -c "${script}" sh ${n_hidden} ${HIDDEN}
+      ${inner} -DHIDDEN=${hidden_arg} -P ${WORK_DIR}/run_consumer.cmake)
+else()
+  message(STATUS "no mount namespace here (unshare -m and -rm refused): the trees stay "
+                 "visible; the scan above and the sanitised environment remain")
+  run(${inner} -P ${WORK_DIR}/run_consumer.cmake)
 endif()
+file(REMOVE_RECURSE ${WORK_DIR})
