@@ -203,8 +203,20 @@ static void *supervisor_main(void *arg)
                 a.runtime.controller_ticks > a.runtime.ticks ||
                 a.runtime.writes + a.runtime.write_errors + a.runtime.waiting_ticks !=
                     a.runtime.ticks ||
-                a.filter.ticks != a.runtime.writes + a.runtime.write_errors || hist != ms.count)
+                a.filter.ticks != a.runtime.writes + a.runtime.write_errors || hist != ms.count) {
                 stats_bad++;
+                fprintf(stderr,
+                        "inconsistent figures: ticks %llu then %llu, controller %llu, writes %llu, "
+                        "write errors %llu, waiting %llu, filter ticks %llu, tick samples %llu, "
+                        "histogram %llu\n",
+                        (unsigned long long)a.runtime.ticks, (unsigned long long)b.runtime.ticks,
+                        (unsigned long long)a.runtime.controller_ticks,
+                        (unsigned long long)a.runtime.writes,
+                        (unsigned long long)a.runtime.write_errors,
+                        (unsigned long long)a.runtime.waiting_ticks,
+                        (unsigned long long)a.filter.ticks, (unsigned long long)ms.count,
+                        (unsigned long long)hist);
+            }
         }
         if (xorshift(&s) % 4u == 0) {
             if (roz_runtime_clear_faults(&rt) != ROZ_OK)

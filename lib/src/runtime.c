@@ -153,10 +153,10 @@ static void apply_clear(roz_runtime_t *rt, unsigned seen)
     if (clear & ROZ_FAULT_STALE)
         rt->stale_count = 0;
     bits &= ~clear;
-    if (bits == 0) {
-        uint32_t none[4] = { 0, 0, 0, 0 };
-        record_first_fault(rt, 0, 0, none, NULL);
-    }
+    /* The first fault's record stays as it is: a reader that saw a fault
+     * must find its message, and the record is rewritten only by the next
+     * latch after all clear, before that latch is published. Readers show
+     * "" while no fault is latched. */
     atomic_store_explicit(&rt->faults, bits | (word & ~FAULT_BITS), memory_order_release);
 }
 
@@ -823,6 +823,10 @@ int roz_runtime_fault_message_copy(const roz_runtime_t *rt, char *buf, size_t le
 
     if (buf == NULL || len == 0)
         return ROZ_EINVAL;
+    if (faults_now(rt) == 0u) {
+        buf[0] = '\0';
+        return ROZ_OK;
+    }
     if (!read_first_fault(rt, &bit, &latch_no, num, text, sizeof text)) {
         buf[0] = '\0';
         return ROZ_ESTATE;
