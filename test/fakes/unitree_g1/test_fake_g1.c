@@ -31,6 +31,7 @@
 
 #include <cmocka.h>
 #include <dds/dds.h>
+#include <dds/ddsi/ddsi_serdata.h>
 
 #include "g1_crc.h"
 #include "g1_dds.h"
@@ -310,6 +311,7 @@ static void fk_start(fk_t *k, const char *const *args)
 /* ---- this side of the wire ----------------------------------------------- */
 
 static dds_entity_t participant, state_reader, cmd_writer, state_ws;
+static dds_entity_t state_wire, cmd_wire; /* the same samples, serialized */
 
 static int group_setup(void **st)
 {
@@ -329,10 +331,13 @@ static int group_setup(void **st)
     dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 256);
     state_reader = dds_create_reader(participant, ts, q, NULL);
     cmd_writer = dds_create_writer(participant, tc, q, NULL);
+    state_wire = dds_create_reader(participant, ts, q, NULL);
+    cmd_wire = dds_create_reader(participant, tc, q, NULL); /* this writer's, locally */
     dds_delete_qos(q);
     state_ws = dds_create_waitset(participant);
     dds_entity_t rc = dds_create_readcondition(state_reader, DDS_ANY_STATE);
-    if (ts < 0 || tc < 0 || state_reader < 0 || cmd_writer < 0 || state_ws < 0 || rc < 0 ||
+    if (ts < 0 || tc < 0 || state_reader < 0 || cmd_writer < 0 || state_wire < 0 ||
+        cmd_wire < 0 || state_ws < 0 || rc < 0 ||
         dds_waitset_attach(state_ws, rc, 0) < 0) {
         fprintf(stderr, "test_fake_g1: DDS set-up failed\n");
         return -1;
@@ -383,11 +388,62 @@ static int take_state(g1_lowstate_t *out, int ms)
     }
 }
 
+/* The next sample on @p reader as it travelled: its encapsulation header,
+ * then the CDR payload. Its size. */
+static size_t take_wire(dds_entity_t reader, uint8_t *buf, size_t cap)
+{
+    struct ddsi_serdata *sd = NULL;
+    dds_sample_info_t info;
+    for (int i = 0; i < WIRE_MS; i++) {
+        if (dds_takecdr(reader, &sd, 1, &info, DDS_ANY_STATE) == 1) {
+            size_t n = ddsi_serdata_size(sd);
+            if (n > cap)
+                fail_msg("a serialized sample of %zu bytes", n);
+            ddsi_serdata_to_ser(sd, 0, n, buf);
+            ddsi_serdata_unref(sd);
+            return n;
+        }
+        dds_sleepfor(DDS_MSECS(1));
+    }
+    fail_msg("no serialized sample");
+    return 0;
+}
+
+static void drain_wire(dds_entity_t reader)
+{
+    struct ddsi_serdata *sd = NULL;
+    dds_sample_info_t info;
+    while (dds_takecdr(reader, &sd, 1, &info, DDS_ANY_STATE) == 1)
+        ddsi_serdata_unref(sd);
+}
+
 static void drain_states(void)
 {
     g1_lowstate_t s;
     while (take_state(&s, 0))
         ;
+    drain_wire(state_wire);
+}
+
+static uint32_t le32(const uint8_t *p)
+{
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static void expect_le_float(const uint8_t *p, float want, const char *what)
+{
+    uint32_t bits;
+    memcpy(&bits, &want, sizeof bits);
+    if (le32(p) != bits)
+        fail_msg("%s on the wire: 0x%08x, want 0x%08x", what, le32(p), bits);
+}
+
+/* XCDR1, little-endian: the encapsulation Cyclone uses for @final types
+ * and ROS 2 expects. */
+static void expect_xcdr1_le(const uint8_t *w)
+{
+    assert_int_equal(w[0], 0x00);
+    assert_int_equal(w[1], 0x01);
 }
 
 static uint32_t state_matches(void)
@@ -713,6 +769,28 @@ static void test_fake_g1_send(void **st)
     state_rebuild(&got, &s);
     assert_memory_equal(&got, &want, sizeof want);
     assert_true(state_crc_ok(&s));
+
+    /* the same frame as it travelled: CDR aligns each primitive, not each
+     * struct, so the payload is 2088 bytes and motor_state[0] starts at 70
+     * (natively 72); later slots every 56 bytes from 124 */
+    uint8_t w[4096];
+    const uint8_t *p = w + 4;
+    do
+        assert_int_equal(take_wire(state_wire, w, sizeof w), 4 + 2088);
+    while (le32(p + 12) != t + 2);
+    expect_xcdr1_le(w);
+    assert_true(p[8] == 1 && p[9] == 13);
+    expect_le_float(p + 16, 0.9f, "quaternion w");
+    expect_le_float(p + 28, 0.3f, "quaternion z");
+    for (int i = 0; i < 35; i++) {
+        const uint8_t *m = i == 0 ? p + 70 : p + 124 + 56 * (i - 1);
+        expect_le_float(m + (i == 0 ? 2 : 4), q_of(i), "motor_state[].q");
+        expect_le_float(m + (i == 0 ? 6 : 8), dq_of(i), "motor_state[].dq");
+        expect_le_float(m + (i == 0 ? 14 : 16), tau_of(i), "motor_state[].tau_est");
+    }
+    assert_int_equal(le32(p + 124 + 56 * 6 + 36), 8193);            /* [7].motorstate */
+    assert_int_equal(le32(p + 124 + 56 * 33 + 36), 4294967295u);    /* [34].motorstate */
+    assert_int_equal(le32(p + 2084), want.crc);
     fk_quit(&fake);
 }
 
@@ -794,9 +872,27 @@ static void test_fake_g1_commands(void **st)
 
     /* good: counted and applied */
     make_command(&c1, 1);
+    drain_wire(cmd_wire);
     publish_command(&c1);
     await_counts(&fake, g + 1, 0);
     expect_command(&fake, &c1);
+
+    /* c1 as it travelled: 1000 bytes, motor_cmd[i] at 28 i (its mode at 2
+     * for i = 0), reserve at 980, crc at 996 */
+    uint8_t w[2048];
+    const uint8_t *p = w + 4;
+    assert_int_equal(take_wire(cmd_wire, w, sizeof w), 4 + 1000);
+    expect_xcdr1_le(w);
+    assert_true(p[0] == c1.mode_pr && p[1] == c1.mode_machine && p[2] == c1.motor_cmd[0].mode);
+    for (int i = 0; i < 35; i++) {
+        const uint8_t *m = p + 28 * i;
+        if (i > 0)
+            assert_int_equal(m[0], c1.motor_cmd[i].mode);
+        expect_le_float(m + 4, c1.motor_cmd[i].q, "motor_cmd[].q");
+        expect_le_float(m + 20, c1.motor_cmd[i].kd, "motor_cmd[].kd");
+    }
+    assert_int_equal(le32(p + 980), 0xDEADBEEFu);
+    assert_int_equal(le32(p + 996), c1.crc);
 
     /* a wrong CRC: counted bad, the last good command stays */
     make_command(&c2, 2);
