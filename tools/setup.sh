@@ -25,11 +25,12 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # ---- 1. Debian packages ---------------------------------------------------
 # clang + lld build wasm32 controllers and the fuzz targets, wabt assembles
 # .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests, g++ the
-# test that roz's public headers compile as C++.
+# test that roz's public headers compile as C++, iproute2 the loopback of the
+# DDS tests' network namespace (test/run_netns.sh).
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt
-    libcmocka-dev cyclonedds-dev cyclonedds-tools
+    libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2
     python3 python3-venv python3-pip
 )
 missing=()
