@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The safety filter, as tables: one row per rule, on the UR5 (velocity
- * commands paired with positions) and the G1 (position, gains, effort). */
+ * commands paired with positions) and the G1 (position, gains, effort); and
+ * per-channel limit margins on a gripper whose range is 8 cm. */
 /* white-box: this test reads the private fields of the module it tests */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
@@ -147,6 +148,91 @@ static void test_filter_brakes_before_limit(void **st)
     assert_true(state[3] > TWO_PI - 0.05 - 0.02); /* and it got close */
 }
 
+/* A gripper, limits [0, 0.08] m. roz's old margin, 0.05 whatever the unit,
+ * stopped it at 0.03 m for good; now each position state has its own. */
+static roz_channel_t grip_cmd[] = {
+    { "gripper/velocity", ROZ_IF_VELOCITY, "m/s", -0.05, 0.05, 0.0, 0.0, 0, 0.0 },
+};
+static roz_channel_t grip_state[] = {
+    { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+};
+static const roz_manifest_t gripper = { "gripper", "gripper", 100, grip_cmd, 1, grip_state, 1,
+                                        NULL };
+
+typedef struct {
+    const char *what;
+    double      margin;   /* the state's limit_margin; 0 = the default */
+    double      max_rate; /* of the command */
+    double      lo, hi;   /* where the gripper comes to rest: [min + margin, max - margin] */
+} margin_row_t;
+
+static const margin_row_t margin_rows[] = {
+    /* what                          margin   max_rate  lo       hi */
+    { "default: 5 % of 8 cm",        0.0,     0.0,      0.004,   0.076 },
+    { "default, rate-capped",        0.0,     0.002,    0.004,   0.076 },
+    { "its own 1 cm",                0.01,    0.0,      0.01,    0.07 },
+    { "its own, 0.2 mm of room",     0.0399,  0.0,      0.0399,  0.0401 },
+};
+
+/* Drives the gripper at full speed toward one end for n ticks; returns
+ * where it ends, checking it never passes the end less the margin. */
+static double drive(double speed, double lo, double hi, int n)
+{
+    const double dt = 1.0 / gripper.control_rate_hz;
+    for (int t = 0; t < n; t++) {
+        target[0] = speed;
+        roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+        state[0] += out[0] * dt;
+        assert_true(state[0] <= hi + 1e-12 && state[0] >= lo - 1e-12);
+    }
+    return state[0];
+}
+
+static void test_filter_margin_per_channel(void **st)
+{
+    (void)st;
+    for (size_t r = 0; r < sizeof margin_rows / sizeof margin_rows[0]; r++) {
+        const margin_row_t *row = &margin_rows[r];
+        print_message("row: %s\n", row->what);
+        grip_state[0].limit_margin = row->margin;
+        grip_cmd[0].max_rate = row->max_rate;
+        assert_int_equal(roz_filter_init(&f, &gripper), ROZ_OK);
+        state[0] = 0.04;
+        roz_filter_prime(&f, state);
+
+        /* open: it gets to the end less the margin (within 0.1 mm), and
+         * stays; every tick it pushes there is a limit stop in a row */
+        roz_filter_channel_counters_t cc;
+        double open = drive(0.05, row->lo, row->hi, 400);
+        print_message("  opens to %.6f m, closes to ", open);
+        assert_true(open > row->hi - 1e-4);
+        assert_int_equal(roz_filter_channel_counters_get(&f, 0, &cc), ROZ_OK);
+        assert_true(cc.stop_run > 300 && cc.stop_run <= 400); /* 3.6 cm: ~72 ticks */
+        assert_int_equal(cc.stop_longest, cc.stop_run);
+        uint32_t longest = cc.stop_longest;
+
+        /* and it moves again: closing is not held back until the other end
+         * (unless the room is less than a tick of travel, 0.5 mm) */
+        drive(-0.05, row->lo, row->hi, 1);
+        assert_int_equal(roz_filter_channel_counters_get(&f, 0, &cc), ROZ_OK);
+        if (row->hi - row->lo > 0.0005)
+            assert_int_equal(cc.stop_run, 0);
+        double closed = drive(-0.05, row->lo, row->hi, 399);
+        print_message("%.6f m\n", closed);
+        assert_true(closed < row->lo + 1e-4);
+        assert_int_equal(roz_filter_channel_counters_get(&f, 0, &cc), ROZ_OK);
+        assert_true(cc.stop_run > 200); /* 7.2 cm take ~144 of the 400 ticks */
+        if (row->hi - row->lo > 0.0005) {
+            assert_int_equal(cc.stop_longest, longest);
+            assert_int_equal(cc.limit_stops, cc.stop_run + longest);
+        } else {
+            assert_int_equal(cc.stop_run, 800); /* held back every tick */
+        }
+    }
+    grip_state[0].limit_margin = 0.0;
+    grip_cmd[0].max_rate = 0.0;
+}
+
 static void test_filter_init_errors(void **st)
 {
     roz_manifest_t bad = roz_manifest_ur5;
@@ -155,9 +241,13 @@ static void test_filter_init_errors(void **st)
     assert_int_equal(roz_filter_init(&f, &bad), ROZ_EINVAL);
     assert_int_equal(roz_filter_init(NULL, &roz_manifest_ur5), ROZ_EINVAL);
     assert_int_equal(roz_filter_init(&f, &roz_manifest_ur5), ROZ_OK);
-    assert_int_equal(roz_filter_set_margin(&f, -1.0), ROZ_EINVAL);
-    assert_int_equal(roz_filter_set_margin(&f, NAN), ROZ_EINVAL);
-    assert_int_equal(roz_filter_set_margin(&f, 0.1), ROZ_OK);
+    /* a margin that leaves the gripper no room to move is refused */
+    grip_state[0].limit_margin = 0.04;
+    assert_int_equal(roz_filter_init(&f, &gripper), ROZ_EINVAL);
+    grip_state[0].limit_margin = -0.001;
+    assert_int_equal(roz_filter_init(&f, &gripper), ROZ_EINVAL);
+    grip_state[0].limit_margin = 0.0;
+    assert_int_equal(roz_filter_init(&f, &gripper), ROZ_OK);
 }
 
 int main(void)
@@ -166,6 +256,7 @@ int main(void)
         cmocka_unit_test(test_filter_ur5),
         cmocka_unit_test(test_filter_g1),
         cmocka_unit_test(test_filter_brakes_before_limit),
+        cmocka_unit_test(test_filter_margin_per_channel),
         cmocka_unit_test(test_filter_init_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

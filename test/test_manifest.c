@@ -23,15 +23,15 @@ static int setup_manifest(void **state)
 {
     (void)state;
     cmds[0] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 0 };
+                               0.2, 0, 0.0 };
     cmds[1] = (roz_channel_t){ "joint2/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 1 };
+                               0.2, 1, 0.0 };
     states[0] = (roz_channel_t){ "joint1/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
     states[1] = (roz_channel_t){ "joint2/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
     states[2] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
     m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL };
     return 0;
 }
@@ -107,6 +107,15 @@ static void b_pair_neg(void) { cmds[1].position_state = -2; }
 static void b_pair_type(void) { cmds[0].position_state = 2; }
 static void b_pair_on_state(void) { states[2].position_state = 0; }
 static void b_pair_no_zero(void) { cmds[1].min = 0.5; cmds[1].default_value = 1.0; }
+/* state 0's limits are [-3.14, 3.14]: a margin must be below 3.14 */
+static void b_margin_neg(void) { states[0].limit_margin = -0.01; }
+static void b_margin_nan(void) { states[0].limit_margin = NAN; }
+static void b_margin_inf(void) { states[1].limit_margin = INFINITY; }
+static void b_margin_half(void) { states[1].limit_margin = 3.14; }
+static void b_margin_more(void) { states[1].limit_margin = 5.0; }
+static void b_margin_huge(void) { states[1].limit_margin = 1e308; }
+static void b_margin_command(void) { cmds[0].limit_margin = 0.01; }
+static void b_margin_vel_state(void) { states[2].limit_margin = 0.01; }
 
 static const rule_case_t rule_cases[] = {
     { "robot_id upper case", b_id_upper, ROZ_MANIFEST_RULE_ID, 0, -1 },
@@ -132,7 +141,44 @@ static const rule_case_t rule_cases[] = {
     { "pairing to velocity state", b_pair_type, ROZ_MANIFEST_RULE_PAIRING, 0, 0 },
     { "pairing on a state", b_pair_on_state, ROZ_MANIFEST_RULE_PAIRING, 1, 2 },
     { "paired velocity excluding 0", b_pair_no_zero, ROZ_MANIFEST_RULE_PAIRING, 0, 1 },
+    { "negative margin", b_margin_neg, ROZ_MANIFEST_RULE_MARGIN, 1, 0 },
+    { "NaN margin", b_margin_nan, ROZ_MANIFEST_RULE_MARGIN, 1, 0 },
+    { "infinite margin", b_margin_inf, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
+    { "margin of half the range", b_margin_half, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
+    { "margin wider than the range", b_margin_more, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
+    { "margin whose double overflows", b_margin_huge, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
+    { "margin on a command", b_margin_command, ROZ_MANIFEST_RULE_MARGIN, 0, 0 },
+    { "margin on a velocity state", b_margin_vel_state, ROZ_MANIFEST_RULE_MARGIN, 1, 2 },
 };
+
+/* 0 is the default: the smaller of 0.05 and 5 % of the range; a margin
+ * leaving any room at all is the state's own. */
+static void test_manifest_limit_margin(void **state)
+{
+    roz_channel_t gripper = { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0,
+                              ROZ_CHANNEL_UNPAIRED, 0.0 };
+    (void)state;
+    assert_true(roz_manifest_limit_margin(&states[0]) == 0.05);      /* [-3.14, 3.14] rad */
+    assert_true(roz_manifest_limit_margin(&gripper) == 0.05 * 0.08); /* [0, 0.08] m */
+    assert_true(roz_manifest_limit_margin(&gripper) < 0.0041);
+    gripper.max = 2.0; /* 5 % of 2 is 0.1: the 0.05 cap applies */
+    assert_true(roz_manifest_limit_margin(&gripper) == 0.05);
+    gripper.max = 0.08;
+    gripper.limit_margin = 0.002;
+    assert_true(roz_manifest_limit_margin(&gripper) == 0.002);
+
+    m.states = &gripper;
+    m.n_states = 1;
+    cmds[0].position_state = 0;
+    cmds[1].position_state = ROZ_CHANNEL_UNPAIRED;
+    gripper.limit_margin = 0.0399; /* 0.2 mm of room */
+    assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_OK);
+    gripper.limit_margin = 0.04;   /* none */
+    assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_EINVAL);
+    gripper.limit_margin = -0.0;   /* -0 is 0: the default */
+    assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_OK);
+    assert_true(roz_manifest_limit_margin(&gripper) == 0.05 * 0.08);
+}
 
 static void test_manifest_validate_rules(void **state)
 {
@@ -176,6 +222,7 @@ static void test_manifest_generic_velocity(void **state)
         assert_true(c->min == -1.5 && c->max == 1.5);
         assert_true(c->default_value == 0.0 && c->max_rate == 0.0);
         assert_int_equal(c->position_state, ROZ_CHANNEL_UNPAIRED);
+        assert_true(c->limit_margin == 0.0);
     }
     assert_int_equal(roz_manifest_find_command(g, "joint7/velocity"), 7);
 
@@ -209,6 +256,7 @@ int main(void)
         cmocka_unit_test(test_manifest_interface_names),
         cmocka_unit_test_setup(test_manifest_find, setup_manifest),
         cmocka_unit_test_setup(test_manifest_validate_rules, setup_manifest),
+        cmocka_unit_test_setup(test_manifest_limit_margin, setup_manifest),
         cmocka_unit_test(test_manifest_generic_velocity),
         cmocka_unit_test(test_manifest_strerror),
     };

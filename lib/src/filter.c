@@ -38,15 +38,6 @@ int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
     memset(f, 0, sizeof *f);
     f->manifest = m;
     f->dt = 1.0 / (double)m->control_rate_hz;
-    f->margin = ROZ_FILTER_DEFAULT_MARGIN;
-    return ROZ_OK;
-}
-
-int roz_filter_set_margin(roz_filter_t *f, double margin)
-{
-    if (f == NULL || !isfinite(margin) || margin < 0.0)
-        return ROZ_EINVAL;
-    f->margin = margin;
     return ROZ_OK;
 }
 
@@ -84,6 +75,7 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
     for (uint16_t i = 0; i < m->n_commands; i++) {
         const roz_channel_t *c = &m->commands[i];
         double v = stop == ROZ_STOP_NONE ? target[i] : roz_filter_safe_default(f, i, state);
+        int held = 0; /* held back by position-limit enforcement this tick */
 
         /* 1. non-finite: the safe default */
         if (!isfinite(v)) {
@@ -110,7 +102,8 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
             state != NULL) {
             const roz_channel_t *ps = &m->states[c->position_state];
             double p = state[c->position_state];
-            double lo = ps->min + f->margin, hi = ps->max - f->margin;
+            double margin = roz_manifest_limit_margin(ps);
+            double lo = ps->min + margin, hi = ps->max - margin;
             double limited = v;
 
             if (!isfinite(p)) {
@@ -125,7 +118,15 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
                 v = limited;
                 f->counters.limit_stops++;
                 f->channel_limit_stops[i]++;
+                held = 1;
             }
+        }
+        if (!held) {
+            f->channel_stop_run[i] = 0;
+        } else if (f->channel_stop_run[i] < UINT32_MAX) {
+            f->channel_stop_run[i]++;
+            if (f->channel_stop_run[i] > f->channel_stop_longest[i])
+                f->channel_stop_longest[i] = f->channel_stop_run[i];
         }
         /* 5. whatever happened above, the port gets a value in [min, max] */
         if (!(v >= c->min && v <= c->max))
@@ -150,5 +151,7 @@ int roz_filter_channel_counters_get(const roz_filter_t *f, size_t channel,
     out->clamps = f->channel_clamps[channel];
     out->rate_caps = f->channel_rate_caps[channel];
     out->limit_stops = f->channel_limit_stops[channel];
+    out->stop_run = f->channel_stop_run[channel];
+    out->stop_longest = f->channel_stop_longest[channel];
     return ROZ_OK;
 }

@@ -84,6 +84,12 @@ static int check_channels(const roz_manifest_t *m, int is_state,
             if (c->type == ROZ_IF_VELOCITY && !(c->min <= 0.0 && 0.0 <= c->max))
                 return set_problem(p, ROZ_MANIFEST_RULE_PAIRING, is_state, idx);
         }
+        /* 0 is the default; any other margin belongs to a position state
+         * and must leave the joint room to move */
+        if (c->limit_margin != 0.0 &&
+            (!is_state || c->type != ROZ_IF_POSITION || !isfinite(c->limit_margin) ||
+             c->limit_margin < 0.0 || !(2.0 * c->limit_margin < c->max - c->min)))
+            return set_problem(p, ROZ_MANIFEST_RULE_MARGIN, is_state, idx);
     }
     return ROZ_OK;
 }
@@ -136,6 +142,15 @@ int roz_manifest_find_state(const roz_manifest_t *m, const char *name)
     if (m == NULL)
         return ROZ_EINVAL;
     return find_channel(m->states, m->n_states, name);
+}
+
+double roz_manifest_limit_margin(const roz_channel_t *state)
+{
+    double share = ROZ_MANIFEST_MARGIN_SHARE * (state->max - state->min);
+
+    if (state->limit_margin > 0.0)
+        return state->limit_margin;
+    return share < ROZ_MANIFEST_MARGIN_MAX ? share : ROZ_MANIFEST_MARGIN_MAX;
 }
 
 int roz_manifest_validate(const roz_manifest_t *m, roz_manifest_problem_t *problem)
@@ -197,6 +212,7 @@ int roz_manifest_generic_velocity(uint16_t n, double max_vel,
             .default_value = 0.0,
             .max_rate = 0.0,
             .position_state = ROZ_CHANNEL_UNPAIRED,
+            .limit_margin = 0.0,
         };
     }
     storage->manifest = (roz_manifest_t){

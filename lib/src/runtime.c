@@ -525,7 +525,6 @@ void roz_runtime_config_default(roz_runtime_config_t *cfg)
 {
     memset(cfg, 0, sizeof *cfg);
     cfg->stale_ticks = 10;
-    cfg->position_margin = ROZ_FILTER_DEFAULT_MARGIN;
     cfg->monitor_jitter = 1;
 }
 
@@ -606,8 +605,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     m = cfg->manifest;
     memset(rt, 0, sizeof *rt);
     rt->cfg = *cfg;
-    if (roz_filter_init(&rt->filter, m) != ROZ_OK ||
-        roz_filter_set_margin(&rt->filter, cfg->position_margin) != ROZ_OK)
+    if (roz_filter_init(&rt->filter, m) != ROZ_OK)
         return ROZ_EINVAL;
     uint64_t period_ns = 1000000000ull / m->control_rate_hz;
     if (rt->cfg.budget_ns == 0)

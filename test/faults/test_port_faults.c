@@ -271,13 +271,13 @@ static double max_position(uint32_t delay, int n)
 static void test_faults_delay_and_position_limit(void **st)
 {
     const roz_channel_t *p = &m->states[0];
-    const double hi = p->max - ROZ_FILTER_DEFAULT_MARGIN, dt = 1.0 / m->control_rate_hz;
+    const double margin = roz_manifest_limit_margin(p);
+    const double hi = p->max - margin, dt = 1.0 / m->control_rate_hz;
     (void)st;
     double fresh = max_position(0, 1200);       /* 0.628 rad/s reaches 2*pi in 10 s */
     double late = max_position(15, 1200);       /* 15 ticks = 150 ms of latency */
     print_message("joint 0 stops at %.4f rad with fresh state, %.4f rad with 15 ticks of "
-                  "latency; limit %.4f, margin %.2f\n", fresh, late, p->max,
-                  ROZ_FILTER_DEFAULT_MARGIN);
+                  "latency; limit %.4f, margin %.2f\n", fresh, late, p->max, margin);
     assert_true(fresh <= hi + 1e-9 && fresh > hi - 0.01);
     assert_true(late > fresh);
     assert_true(late <= hi + 15 * V * dt + 1e-9);

@@ -14,14 +14,17 @@
  *  P4  a velocity command paired with a position state p never points
  *      further out: p >= max - margin => out <= 0, p <= min + margin =>
  *      out >= 0, p unknown (NaN/Inf) => out = 0; inside, p + out*dt stays
- *      inside [min + margin, max - margin];
+ *      inside [min + margin, max - margin], where margin is that state's
+ *      limit margin (random per state: its own, or 0 for the default);
  *  P5  P2 and P3 hold exactly, except where P4 forced a change (the filter
  *      counts it as a limit stop: the documented precedence of position
  *      limits over the rate cap);
  *  P6  command.set returns -1 for a bad index or a non-finite value (and the
  *      channel's target becomes non-finite, i.e. its safe default), 1 with
  *      the target at the nearer limit for a value outside [min, max], 0 with
- *      the value taken otherwise; channels not set keep their target.
+ *      the value taken otherwise; channels not set keep their target;
+ *  P7  a channel's run of limit stops grows by one on a tick with a limit
+ *      stop and is 0 after one without; its longest run is the longest seen.
  *
  * The safe default is computed here from the manifest (filter.h): the
  * manifest default, except a position command paired with a position state,
@@ -160,12 +163,34 @@ static double random_rate(double min, double max)
 static const uint32_t rates[] = { 1, 7, 50, 100, 500, 1000, 10000, 1000000 };
 
 typedef struct {
-    double margin;
     int    n_pos;                  /* position states */
     uint16_t pos_index[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
 } shape_t;
 
 static shape_t shape;
+
+/* A position state's limit margin: 0 (the default) or its own, which must
+ * leave room to move (2 * margin < max - min). */
+static double random_margin(double min, double max)
+{
+    double range = max - min;
+    switch (below(5)) {
+    case 0:
+    case 1: return 0.0;
+    case 2: return range * uniform(1e-9, 0.49);
+    case 3: return range * 0.4999;                     /* barely any room */
+    default: return range > 0.1 ? 0.05 : 0.0;          /* roz's old global margin */
+    }
+}
+
+/* roz_manifest_limit_margin(), restated: the state's own margin, or the
+ * smaller of 0.05 and 5 % of its range. */
+static double margin_of(const roz_channel_t *s)
+{
+    if (s->limit_margin > 0.0)
+        return s->limit_margin;
+    return fmin(0.05, 0.05 * (s->max - s->min));
+}
 
 static void random_manifest(void)
 {
@@ -192,8 +217,11 @@ static void random_manifest(void)
         c->default_value = pick_in(c->min, c->max);
         c->max_rate = 0.0;
         c->position_state = ROZ_CHANNEL_UNPAIRED;
-        if (c->type == ROZ_IF_POSITION)
+        c->limit_margin = 0.0;
+        if (c->type == ROZ_IF_POSITION) {
+            c->limit_margin = random_margin(c->min, c->max);
             shape.pos_index[shape.n_pos++] = (uint16_t)s;
+        }
     }
     for (uint32_t i = 0; i < ncmd; i++) {
         roz_channel_t *c = &cmds[i];
@@ -206,6 +234,7 @@ static void random_manifest(void)
         c->default_value = pick_in(c->min, c->max);
         c->max_rate = random_rate(c->min, c->max);
         c->position_state = ROZ_CHANNEL_UNPAIRED;
+        c->limit_margin = 0.0;
         if (shape.n_pos > 0 && chance(c->type == ROZ_IF_VELOCITY ? 0.8 : 0.4))
             c->position_state = shape.pos_index[below((uint32_t)shape.n_pos)];
         if (c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED &&
@@ -217,11 +246,6 @@ static void random_manifest(void)
     }
     man = (roz_manifest_t){ "prop", "generic", rates[below(sizeof rates / sizeof rates[0])],
                             cmds, (uint16_t)ncmd, nst > 0 ? states : NULL, (uint16_t)nst, NULL };
-    switch (below(4)) {
-    case 0: shape.margin = 0.0; break;
-    case 1: shape.margin = scales[below(sizeof scales / sizeof scales[0])] * unit(); break;
-    default: shape.margin = ROZ_FILTER_DEFAULT_MARGIN; break;
-    }
 }
 
 /* ---- random inputs --------------------------------------------------------- */
@@ -273,6 +297,7 @@ static double state[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
 static double prev[ROZ_CFG_MAX_COMMANDS];
 static double out[ROZ_CFG_MAX_COMMANDS];
 static uint32_t stops_before[ROZ_CFG_MAX_COMMANDS];
+static uint32_t run_before[ROZ_CFG_MAX_COMMANDS];
 
 static uint64_t seed, tick_no;
 static uint32_t run_no;
@@ -335,7 +360,8 @@ static void check_channel(uint16_t i, roz_stop_t stop)
     if (paired_velocity) {
         const roz_channel_t *ps = &states[c->position_state];
         double p = state[c->position_state];
-        double lo = ps->min + filt.margin, hi = ps->max - filt.margin;
+        double margin = margin_of(ps);
+        double lo = ps->min + margin, hi = ps->max - margin;
         double dt = 1.0 / (double)man.control_rate_hz;
         if (!isfinite(p)) {
             if (c->min <= 0.0 && 0.0 <= c->max && o != 0.0)
@@ -355,6 +381,13 @@ static void check_channel(uint16_t i, roz_stop_t stop)
                           p, o, dt, next, lo, hi);
         }
     }
+
+    /* P7 */
+    uint32_t run = filt.channel_stop_run[i];
+    if (run != (limited ? run_before[i] + 1u : 0u) || filt.channel_stop_longest[i] < run)
+        VIOLATION("P7 (stop runs)", i, "run %u after %u, limit stop %d, longest %u",
+                  (unsigned)run, (unsigned)run_before[i], limited,
+                  (unsigned)filt.channel_stop_longest[i]);
 
     /* P2, P3, P5 */
     double rate = c->max_rate;
@@ -449,7 +482,7 @@ static void random_states(int fresh)
         const roz_channel_t *c = &states[s];
         if (!fresh && chance(0.7))
             continue; /* held */
-        state[s] = c->type == ROZ_IF_POSITION ? random_position(c, shape.margin)
+        state[s] = c->type == ROZ_IF_POSITION ? random_position(c, margin_of(c))
                                               : wild(c->min, c->max);
     }
 }
@@ -465,8 +498,15 @@ static void run_manifest(uint32_t n_ticks)
         fail_msg("seed 0x%016" PRIx64 ", manifest %u: generator made an invalid manifest (rule "
                  "%d, %s %d)", seed, run_no, (int)why.rule, why.is_state ? "state" : "command",
                  why.index);
+    for (uint16_t s = 0; s < man.n_states; s++) {
+        double mg = roz_manifest_limit_margin(&states[s]);
+        if (states[s].type == ROZ_IF_POSITION &&
+            (mg != margin_of(&states[s]) || !(mg >= 0.0 && 2.0 * mg < states[s].max - states[s].min)))
+            fail_msg("seed 0x%016" PRIx64 ", manifest %u, state %u: margin %.17g, expected "
+                     "%.17g, limits [%.17g, %.17g]", seed, run_no, (unsigned)s, mg,
+                     margin_of(&states[s]), states[s].min, states[s].max);
+    }
     assert_int_equal(roz_filter_init(&filt, &man), ROZ_OK);
-    assert_int_equal(roz_filter_set_margin(&filt, shape.margin), ROZ_OK);
     roz_abi_init(&abi, &man, target, NULL);
     for (uint16_t i = 0; i < man.n_commands; i++)
         expect_target[i] = cmds[i].default_value;
@@ -474,6 +514,7 @@ static void run_manifest(uint32_t n_ticks)
     roz_filter_prime(&filt, state);
     memcpy(prev, filt.last, man.n_commands * sizeof prev[0]);
     memset(stops_before, 0, sizeof stops_before);
+    memset(run_before, 0, sizeof run_before);
 
     for (uint32_t t = 0; t < n_ticks; t++, tick_no++) {
         random_states(0);
@@ -489,6 +530,7 @@ static void run_manifest(uint32_t n_ticks)
         for (uint16_t i = 0; i < man.n_commands; i++) {
             check_channel(i, stop);
             stops_before[i] = filt.channel_limit_stops[i];
+            run_before[i] = filt.channel_stop_run[i];
         }
         memcpy(prev, out, man.n_commands * sizeof prev[0]);
         if (filt.counters.ticks != t + 1)

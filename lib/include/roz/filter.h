@@ -11,10 +11,12 @@
  *  2. clamp to [min, max],
  *  3. rate cap: |target - last applied| <= max_rate (skipped for an e-stop),
  *  4. position-limit enforcement for a velocity channel paired with a
- *     position state p: p + v*dt must stay inside the state's limits less a
- *     margin, looking ahead far enough that the rate cap can still brake to
- *     zero before the limit; when p is already outside, only motion back
- *     toward the range passes,
+ *     position state p: p + v*dt must stay inside the state's limits less
+ *     the state's limit margin (roz_manifest_limit_margin(): its
+ *     limit_margin in robot.toml, by default the smaller of 0.05 and 5 % of
+ *     its range), looking ahead far enough that the rate cap can still
+ *     brake to zero before the limit; when p is already outside, only
+ *     motion back toward the range passes,
  *  5. a final clamp to [min, max], so the output is inside the manifest
  *     whatever the steps before did.
  * Steps 3 and 4 can disagree (a position state that jumps out of range while
@@ -43,9 +45,6 @@
 extern "C" {
 #endif
 
-/** Default margin inside a paired position state's limits, in its unit. */
-#define ROZ_FILTER_DEFAULT_MARGIN 0.05
-
 /** How the filter treats the controller's targets this tick. */
 typedef enum roz_stop {
     ROZ_STOP_NONE = 0,    /**< run: filter the controller's targets */
@@ -67,19 +66,24 @@ typedef struct roz_filter_channel_counters {
     uint32_t clamps;       /**< values moved into [min, max] */
     uint32_t rate_caps;    /**< values held back by max_rate */
     uint32_t limit_stops;  /**< values held back by position-limit enforcement */
+    uint32_t stop_run;     /**< ticks in a row, up to the last one, that position-limit
+                                enforcement held the channel back; 0 when the last tick
+                                did not; saturates */
+    uint32_t stop_longest; /**< the longest such run */
 } roz_filter_channel_counters_t;
 
 /** Filter state; caller-owned storage, fields private (roz/private.h). */
 typedef struct roz_filter {
     const roz_manifest_t *ROZ_PRIVATE(manifest);
     double   ROZ_PRIVATE(dt);          /* 1 / control_rate_hz */
-    double   ROZ_PRIVATE(margin);      /* position margin, >= 0 */
     int      ROZ_PRIVATE(primed);      /* last[] holds applied values */
     double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
     roz_filter_counters_t ROZ_PRIVATE(counters);
     uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];
     uint32_t ROZ_PRIVATE(channel_rate_caps)[ROZ_CFG_MAX_COMMANDS];
     uint32_t ROZ_PRIVATE(channel_limit_stops)[ROZ_CFG_MAX_COMMANDS];
+    uint32_t ROZ_PRIVATE(channel_stop_run)[ROZ_CFG_MAX_COMMANDS];     /* see stop_run */
+    uint32_t ROZ_PRIVATE(channel_stop_longest)[ROZ_CFG_MAX_COMMANDS]; /* see stop_longest */
 } roz_filter_t;
 
 /**
@@ -89,13 +93,6 @@ typedef struct roz_filter {
  * Context: start-up.
  */
 ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
-
-/**
- * @brief Set the position margin (default ROZ_FILTER_DEFAULT_MARGIN).
- * @retval ROZ_EINVAL margin negative or not finite
- * Context: start-up.
- */
-ROZ_NODISCARD int roz_filter_set_margin(roz_filter_t *f, double margin);
 
 /**
  * @brief The safe default of command @p i given the state snapshot: for a

@@ -39,6 +39,13 @@ typedef enum roz_interface {
 /** Sentinel for roz_channel_t::position_state: not paired. */
 #define ROZ_CHANNEL_UNPAIRED (-1)
 
+/** The default limit margin of a position state is the smaller of this, in
+ *  the state's unit, ... */
+#define ROZ_MANIFEST_MARGIN_MAX 0.05
+/** ... and this share of its range (max - min): so it never takes more than
+ *  a tenth of a joint's travel (both ends), in radians or in metres. */
+#define ROZ_MANIFEST_MARGIN_SHARE 0.05
+
 /** One command or state channel. */
 typedef struct roz_channel {
     const char     *name;          /**< "shoulder_pan_joint/velocity" */
@@ -49,6 +56,12 @@ typedef struct roz_channel {
     double          default_value; /**< safe value, min <= default <= max */
     double          max_rate;      /**< max change per tick, >= 0; 0 = no cap */
     int32_t         position_state; /**< paired position state, or ROZ_CHANNEL_UNPAIRED */
+    /** Position states only: how far inside [min, max] the safety filter
+     *  stops a velocity command paired with this state, in this state's
+     *  unit; 0 = the default (roz_manifest_limit_margin()); 0 on every
+     *  other channel. A property of the filter, not of the channel
+     *  interface a controller sees. */
+    double          limit_margin;
 } roz_channel_t;
 
 /** A string key/value, as in robot.toml's [hardware.params]. */
@@ -105,6 +118,9 @@ typedef enum roz_manifest_rule {
     ROZ_MANIFEST_RULE_MAX_RATE,      /**< max_rate not finite or negative */
     ROZ_MANIFEST_RULE_PAIRING,       /**< position_state out of range or not a position state,
                                           or a paired velocity command whose limits exclude 0 */
+    ROZ_MANIFEST_RULE_MARGIN,        /**< limit_margin not finite, negative, leaving no room to
+                                          move (2 * margin >= max - min), or not 0 on a channel
+                                          other than a position state */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */
@@ -142,6 +158,18 @@ int roz_manifest_find_command(const roz_manifest_t *m, const char *name);
 /** @brief As roz_manifest_find_command(), for state channels.
  *  Context: as roz_manifest_find_command(). */
 int roz_manifest_find_state(const roz_manifest_t *m, const char *name);
+
+/**
+ * @brief The limit margin of a position state: its limit_margin, or when
+ *        that is 0, the default min(ROZ_MANIFEST_MARGIN_MAX,
+ *        ROZ_MANIFEST_MARGIN_SHARE * (max - min)). The safety filter keeps
+ *        a velocity command paired with @p state from driving it outside
+ *        [min + margin, max - margin].
+ * @param[in] state  a position state of a valid manifest
+ * @return the margin, >= 0, and less than half the range
+ * Context: any; RT-safe; O(1).
+ */
+double roz_manifest_limit_margin(const roz_channel_t *state);
 
 /**
  * @brief Check every rule of the manifest format (codegen/README.md) on a manifest in memory

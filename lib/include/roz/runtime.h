@@ -99,7 +99,6 @@ typedef struct roz_runtime_config {
                                      roz/controller.h); 0: ROZ_CFG_FUEL_PER_SECOND /
                                      control_rate_hz (refused if that rounds to 0);
                                      ROZ_BUDGET_OFF: unmetered */
-    double       position_margin; /**< filter margin; default ROZ_FILTER_DEFAULT_MARGIN */
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
     void        *clock_ctx;
@@ -262,7 +261,9 @@ typedef struct roz_runtime_layout {
     uint32_t telemetry_ring;   /**< ROZ_CFG_TELEMETRY_RING */
 } roz_runtime_layout_t;
 
-#define ROZ_RUNTIME_LAYOUT_VERSION 1u
+/** Raised whenever the fields of a public struct change: a manifest table
+ *  or a configuration laid out for other fields would be misread. */
+#define ROZ_RUNTIME_LAYOUT_VERSION 2u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \
