@@ -10,10 +10,12 @@ byte for byte. A C program can write it with printf() alone. The format::
       "robot_class": "manipulator",
       "control_rate_hz": 100,
       "commands": [
-        {"name": "a/velocity", "interface_type": "velocity", "unit": "rad/s", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0.5, "position_state_index": 0},
+        {"name": "a/velocity", "interface_type": "velocity", "unit": "rad/s", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0.5, "position_state_index": 0, "limit_margin": null},
         {"name": "b/velocity", ...}
       ],
-      "states": [],
+      "states": [
+        {"name": "a/position", "interface_type": "position", "unit": "rad", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0, "position_state_index": -1, "limit_margin": 0.05}
+      ],
       "hardware": {"port": "unitree/G1", "joints": ["a", "b"], "params": {"dds_domain": "0"}}
     }
 
@@ -22,12 +24,15 @@ byte for byte. A C program can write it with printf() alone. The format::
   manifest order, keys in the order shown, ``", "`` and ``": "`` separators.
   An empty list is ``[]`` on the key's line. Defaults are written out:
   ``"robot_class": "generic"``, ``"max_rate_of_change": 0``,
-  ``"position_state_index": -1``.
+  ``"position_state_index": -1``. ``"limit_margin"`` is the margin the
+  filter keeps inside a position state's limits, the default worked out
+  (``Channel.margin``, roz_manifest_limit_margin()), and ``null`` on
+  commands and on states of other types.
 - ``"hardware"`` is ``null`` without a ``[hardware]`` table, else one line
   with ``"joints"`` (``[]`` when absent) in the given order and ``"params"``
   (``{}`` when absent) sorted by key (byte order of UTF-8 = code point order).
-- Integers in decimal. Numbers of limits, default and max_rate_of_change
-  (doubles, always finite) as the shortest ``%.{p}g``, p = 1..17, that reads
+- Integers in decimal. Numbers of limits, default, max_rate_of_change and
+  limit_margin (doubles, always finite) as the shortest ``%.{p}g``, p = 1..17, that reads
   back as the same double: ``0`` (also for ints written in TOML), ``-0``,
   ``0.5``, ``1e-05``, ``1e+16``, ``6.283185307179586``.
 - Strings in double quotes, ASCII only: ``"`` -> ``\\"``, ``\\`` ->
@@ -50,22 +55,23 @@ def to_json(manifest: Manifest) -> str:
         f'  "robot_class": {json_string(manifest.robot_class)},',
         f'  "control_rate_hz": {manifest.control_rate_hz},',
     ]
-    lines += _channel_list("commands", manifest.commands)
-    lines += _channel_list("states", manifest.states)
+    lines += _channel_list("commands", manifest.commands, False)
+    lines += _channel_list("states", manifest.states, True)
     lines.append(f'  "hardware": {_hardware(manifest.hardware)}')
     lines.append("}")
     return "\n".join(lines) + "\n"
 
 
-def _channel_list(key: str, channels: tuple[Channel, ...]) -> list[str]:
+def _channel_list(key: str, channels: tuple[Channel, ...], states: bool) -> list[str]:
     if not channels:
         return [f'  "{key}": [],']
-    rows = [f"    {_channel(c)}," for c in channels]
+    rows = [f"    {_channel(c, states)}," for c in channels]
     rows[-1] = rows[-1][:-1]
     return [f'  "{key}": ['] + rows + ["  ],"]
 
 
-def _channel(c: Channel) -> str:
+def _channel(c: Channel, state: bool) -> str:
+    has_margin = state and c.interface_type == "position"
     fields = [
         ("name", json_string(c.name)),
         ("interface_type", json_string(c.interface_type)),
@@ -74,6 +80,7 @@ def _channel(c: Channel) -> str:
         ("default", shortest_g(c.default)),
         ("max_rate_of_change", shortest_g(c.max_rate)),
         ("position_state_index", str(c.position_state)),
+        ("limit_margin", shortest_g(c.margin) if has_margin else "null"),
     ]
     return "{" + ", ".join(f'"{k}": {v}' for k, v in fields) + "}"
 

@@ -23,6 +23,12 @@ INTERFACE_TYPES = (
 #: roz_channel_t::position_state of an unpaired channel (ROZ_CHANNEL_UNPAIRED).
 UNPAIRED = -1
 
+#: The default limit margin of a position state: the smaller of MARGIN_MAX
+#: (in its unit) and MARGIN_SHARE of its range (ROZ_MANIFEST_MARGIN_MAX,
+#: ROZ_MANIFEST_MARGIN_SHARE; roz_manifest_limit_margin()).
+MARGIN_MAX = 0.05
+MARGIN_SHARE = 0.05
+
 
 @dataclass(frozen=True)
 class Maxima:
@@ -45,6 +51,16 @@ class Channel:
     default: float
     max_rate: float  # max change per tick; 0.0 = no cap
     position_state: int  # paired state index or UNPAIRED
+    limit_margin: float  # position states: as written; 0.0 = the default
+
+    @property
+    def margin(self) -> float:
+        """The margin the filter keeps inside a position state's limits:
+        ``limit_margin``, or the default when that is 0 (as
+        roz_manifest_limit_margin() computes it: the same double)."""
+        if self.limit_margin > 0.0:
+            return self.limit_margin
+        return min(MARGIN_MAX, MARGIN_SHARE * (self.max - self.min))
 
     @property
     def constant(self) -> str:

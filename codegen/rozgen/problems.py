@@ -26,7 +26,7 @@ RULES: dict[str, str] = {
     "has characters other than printable ASCII without \" and \\",
     "interface-type": "interface_type is not a known type",
     "limits-shape": "limits is not an array of exactly two numbers",
-    "not-finite": "limits, default or max_rate_of_change is inf or nan",
+    "not-finite": "limits, default, max_rate_of_change or limit_margin is inf or nan",
     "limits-order": "limits min is not below max",
     "default-range": "default is outside the limits",
     "max-rate": "max_rate_of_change is negative",
@@ -38,6 +38,9 @@ RULES: dict[str, str] = {
     "pairing-zero": "a velocity command paired with a position state has limits "
     "that exclude 0, so the filter could not stop it at a position limit",
     "pairing-on-state": "a state channel has a position_state_index other than -1",
+    "margin-channel": "limit_margin on a channel other than a position state",
+    "margin-range": "limit_margin is not above 0, or leaves no room to move (twice the "
+    "margin is not below max - min)",
     "no-commands": "the manifest has no command channel",
     "too-many-channels": "more commands or states than ROZ_CFG_MAX_COMMANDS "
     "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",

@@ -34,7 +34,9 @@ Schema::
                               states (array of tables, [])
     [[manifest.commands]]     name, interface_type, unit, limits = [min, max],
     [[manifest.states]]       default (all required), max_rate_of_change
-                              (number, 0.0), position_state_index (integer, -1)
+                              (number, 0.0), position_state_index (integer, -1),
+                              limit_margin (number, position states only;
+                              absent: the default, model.Channel.margin)
     [hardware]                port (string, required), joints (array of
                               strings, []), params (table of strings, {})
 
@@ -61,7 +63,7 @@ name                ``name "": must not be empty``, ``name "..": must be
 interface-type      ``interface_type "Velocity": unknown type (known types: ..)``
 limits-shape        ``limits [1.0]: expected [min, max], two numbers``
 not-finite          ``limits [-inf, 1.0]: must be finite`` (also default,
-                    max_rate_of_change)
+                    max_rate_of_change, limit_margin)
 limits-order        ``limits [2.0, -2.0]: min must be below max``
 default-range       ``default 3.0: must be within limits [-2.0, 2.0]``
 max-rate            ``max_rate_of_change -0.5: must not be negative``
@@ -78,6 +80,13 @@ pairing-zero        ``position_state_index 0: a paired velocity command must
                     limit``
 pairing-on-state    ``position_state_index 0: only commands are paired with
                     a position state; must be -1 or left out``
+margin-channel      ``limit_margin 0.01: only a position state has a limit
+                    margin (the filter keeps a velocity command paired with
+                    it that far inside its limits)``
+margin-range        ``limit_margin 0: must be above 0 (leave it out for the
+                    default)`` or ``limit_margin 0.05: leaves no room to move
+                    within limits [0.0, 0.08]: twice the margin must be below
+                    max - min``
 no-commands         ``manifest: commands: at least one command is required``
 too-many-channels   ``manifest: commands: 300 channels, more than the maximum
                     of 256 (ROZ_CFG_MAX_COMMANDS)`` (states likewise)
@@ -111,6 +120,7 @@ CHANNEL_KEYS = (
     "default",
     "max_rate_of_change",
     "position_state_index",
+    "limit_margin",
 )
 HARDWARE_KEYS = ("port", "joints", "params")
 
@@ -151,6 +161,7 @@ class _Draft:
     default: float | None = None
     max_rate: float | None = None
     position_state: int | None = None
+    limit_margin: float | None = None
 
     def complete(self) -> bool:
         return None not in (
@@ -161,6 +172,7 @@ class _Draft:
             self.default,
             self.max_rate,
             self.position_state,
+            self.limit_margin,
         )
 
 
@@ -396,7 +408,35 @@ class _Checker:
                         pair)
             pair = None
         draft.position_state = pair
+        draft.limit_margin = self.margin(place, kind, table, itype, draft.limits)
         return draft
+
+    def margin(self, place: _Place, kind: str, table: dict, itype: str | None,
+               limits: tuple[float, float] | None) -> float | None:
+        """limit_margin: 0.0 (the default) when absent; a position state's
+        own margin must be above 0 and leave the joint room to move."""
+        if "limit_margin" not in table:
+            return 0.0
+        margin = self.number(place, table, "limit_margin")
+        if margin is None:
+            return None
+        value = table["limit_margin"]
+        if kind == "commands" or (itype is not None and itype != "position"):
+            self.report("margin-channel", place, "limit_margin",
+                        "only a position state has a limit margin (the filter keeps a velocity "
+                        "command paired with it that far inside its limits)", value)
+            return None
+        if not margin > 0.0:
+            self.report("margin-range", place, "limit_margin",
+                        "must be above 0 (leave it out for the default)", value)
+            return None
+        if limits is not None and not 2.0 * margin < limits[1] - limits[0]:
+            low, high = limits
+            self.report("margin-range", place, "limit_margin",
+                        f"leaves no room to move within limits [{c_double(low)}, "
+                        f"{c_double(high)}]: twice the margin must be below max - min", value)
+            return None
+        return margin
 
     def channel_name(self, place: _Place, table: dict) -> str | None:
         name = self.string(place, table, "name")
@@ -571,4 +611,5 @@ def _channel(draft: _Draft) -> Channel:
         default=draft.default,
         max_rate=draft.max_rate,
         position_state=draft.position_state,
+        limit_margin=draft.limit_margin,
     )

@@ -6,7 +6,9 @@ import json
 
 import pytest
 
-from conftest import DATA, MY_ARM, builtin_manifests, run_rozgen
+from conftest import DATA, MY_ARM, REPO, builtin_manifests, run_rozgen
+
+VECTORS = REPO / "test" / "vectors" / "good"
 
 
 def toml_string(s: str) -> str:
@@ -46,6 +48,9 @@ def json_to_toml(text: str) -> str:
                 f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
                 f"position_state_index = {int(c['position_state_index'])}",
             ]
+            # the margin worked out, written as the state's own: same JSON
+            if c["limit_margin"] is not None:
+                out.append(f"limit_margin = {toml_float(c['limit_margin'])}")
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",
@@ -65,13 +70,13 @@ def test_my_arm_values():
     assert doc["commands"] == [
         {"name": f"joint{i}/velocity", "interface_type": "velocity", "unit": "rad/s",
          "limits": [-2.0, 2.0], "default": 0, "max_rate_of_change": 0.2,
-         "position_state_index": i - 1}
+         "position_state_index": i - 1, "limit_margin": None}
         for i in (1, 2)
     ]
     assert doc["states"] == [
         {"name": f"joint{i}/position", "interface_type": "position", "unit": "rad",
          "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0,
-         "position_state_index": -1}
+         "position_state_index": -1, "limit_margin": 0.05}
         for i in (1, 2)
     ]
     assert doc["hardware"] is None
@@ -79,10 +84,12 @@ def test_my_arm_values():
                          "hardware"]
     assert result.stdout.splitlines()[5] == (
         '    {"name": "joint1/velocity", "interface_type": "velocity", "unit": "rad/s", '
-        '"limits": [-2, 2], "default": 0, "max_rate_of_change": 0.2, "position_state_index": 0},')
+        '"limits": [-2, 2], "default": 0, "max_rate_of_change": 0.2, "position_state_index": 0, '
+        '"limit_margin": null},')
 
 
-@pytest.mark.parametrize("toml", [MY_ARM, DATA / "tricky.toml", *builtin_manifests()],
+@pytest.mark.parametrize("toml", [MY_ARM, DATA / "tricky.toml", VECTORS / "margins.toml",
+                                  *builtin_manifests()],
                          ids=lambda p: p.stem if p.stem != "robot" else p.parent.name)
 def test_round_trip(tmp_path, toml):
     first = run_rozgen("--json", toml)

@@ -198,3 +198,76 @@ def test_good_command_variants():
     assert problems == []
     c = m.commands[0]
     assert (c.unit, c.min, c.max, c.max_rate, c.position_state) == ("", -1e-05, 1e16, 0.25, 0)
+
+
+def _with_state(**raw: str) -> str:
+    """GOOD with its state's keys replaced by (or added as) raw TOML."""
+    keys = {"name": '"j1/position"', "interface_type": '"position"', "unit": '"rad"',
+            "limits": "[-3.14, 3.14]", "default": "0.0"}
+    keys.update(raw)
+    head = GOOD[:GOOD.index("[[manifest.states]]")]
+    return head + "[[manifest.states]]\n" + "".join(f"{k} = {v}\n" for k, v in keys.items())
+
+
+def test_limit_margin_default_and_own():
+    m, problems = check(GOOD)
+    assert problems == []
+    assert m.states[0].limit_margin == 0.0 and m.commands[0].limit_margin == 0.0
+    assert m.states[0].margin == 0.05  # 5 % of 6.28 rad is more: capped at 0.05
+    # the gripper of issue 12: 5 % of its 8 cm, not 5 cm of them
+    m, problems = check(_with_state(unit='"m"', limits="[0, 0.08]", default="0.04"))
+    assert problems == []
+    assert m.states[0].margin == 0.05 * 0.08 and m.states[0].margin < 0.0041
+    m, problems = check(_with_state(limit_margin="1"))
+    assert problems == []
+    assert m.states[0].limit_margin == 1.0 and isinstance(m.states[0].limit_margin, float)
+    assert m.states[0].margin == 1.0
+    m, problems = check(_with_state(limits="[-1e308, 1.5e308]"))  # max - min overflows
+    assert problems == [] and m.states[0].margin == 0.05
+
+
+@pytest.mark.parametrize("value, shown, rule, what", [
+    ("0", "0", "[margin-range]", "must be above 0 (leave it out for the default)"),
+    ("-0.0", "-0.0", "[margin-range]", "must be above 0 (leave it out for the default)"),
+    ("-1e-9", "-1e-09", "[margin-range]", "must be above 0 (leave it out for the default)"),
+    ("3.14", "3.14", "[margin-range]", "leaves no room to move within limits [-3.14, 3.14]: "
+     "twice the margin must be below max - min"),
+    ("1e308", "1e+308", "[margin-range]", "leaves no room to move"),
+    ("nan", "nan", "[not-finite]", "must be finite"),
+    ("-inf", "-inf", "[not-finite]", "must be finite"),
+    ('"0.1"', '"0.1"', "[type]", "expected a number"),
+    ("false", "false", "[type]", "expected a number, not a boolean"),
+])
+def test_bad_limit_margins(value, shown, rule, what):
+    _, problems = check(_with_state(limit_margin=value))
+    assert len(problems) == 1, problems
+    assert problems[0].startswith(f'{rule} f.toml: manifest.states[0] "j1/position": '
+                                  f"limit_margin {shown}: {what}"), problems
+
+
+def test_limit_margin_just_below_half_the_range():
+    m, problems = check(_with_state(limits="[0, 0.08]", default="0.04", limit_margin="0.0399"))
+    assert problems == [] and m.states[0].margin == 0.0399
+    _, problems = check(_with_state(limits="[0, 0.08]", default="0.04", limit_margin="0.04"))
+    assert [p.split(": ")[-2] for p in problems] == ["leaves no room to move within limits "
+                                                     "[0.0, 0.08]"]
+
+
+@pytest.mark.parametrize("text", [
+    _with_command(limit_margin="0.01"),
+    _with_state(interface_type='"velocity"', limit_margin="0.01"),
+    _with_state(interface_type='"velocity"', limit_margin="0"),
+])
+def test_limit_margin_only_on_position_states(text):
+    _, problems = check(text)
+    assert len(problems) == 1 and problems[0].startswith("[margin-channel]"), problems
+    assert problems[0].endswith("only a position state has a limit margin (the filter keeps a "
+                                "velocity command paired with it that far inside its limits)")
+
+
+def test_canonical_json_shows_the_margin_worked_out():
+    from rozgen.canonical import to_json
+    m, _ = check(_with_state(unit='"m"', limits="[0, 0.08]", default="0.04"))
+    lines = to_json(m).splitlines()
+    assert lines[5].endswith('"position_state_index": -1, "limit_margin": null}')  # command
+    assert lines[8].endswith('"position_state_index": -1, "limit_margin": 0.004}')  # state

@@ -59,7 +59,7 @@ static void put_double(double x)
     fputs(buf, stdout);
 }
 
-static void put_channels(const char *key, const roz_channel_t *c, uint16_t n)
+static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, int states)
 {
     printf("  \"%s\": [", key);
     for (uint16_t i = 0; i < n; i++) {
@@ -77,7 +77,13 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n)
         put_double(c[i].default_value);
         fputs(", \"max_rate_of_change\": ", stdout);
         put_double(c[i].max_rate);
-        printf(", \"position_state_index\": %ld}", (long)c[i].position_state);
+        printf(", \"position_state_index\": %ld, \"limit_margin\": ", (long)c[i].position_state);
+        /* the margin the filter keeps, the default worked out */
+        if (states && c[i].type == ROZ_IF_POSITION)
+            put_double(roz_manifest_limit_margin(&c[i]));
+        else
+            fputs("null", stdout);
+        putchar('}');
     }
     fputs(n == 0 ? "],\n" : "\n  ],\n", stdout);
 }
@@ -90,8 +96,8 @@ void manifest_json_print(const roz_manifest_t *m)
     fputs(",\n  \"robot_class\": ", stdout);
     put_string(m->robot_class);
     printf(",\n  \"control_rate_hz\": %lu,\n", (unsigned long)m->control_rate_hz);
-    put_channels("commands", m->commands, m->n_commands);
-    put_channels("states", m->states, m->n_states);
+    put_channels("commands", m->commands, m->n_commands, 0);
+    put_channels("states", m->states, m->n_states, 1);
     fputs("  \"hardware\": ", stdout);
     if (h == NULL) {
         fputs("null", stdout);

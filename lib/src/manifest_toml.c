@@ -62,7 +62,7 @@ static const char *const manifest_keys[] = { "robot_id", "robot_class", "control
                                              "commands", "states" };
 static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
                                             "limits",  "default",            "max_rate_of_change",
-                                            "position_state_index" };
+                                            "position_state_index",          "limit_margin" };
 static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
@@ -690,6 +690,35 @@ static int check_limits(checker_t *ck, const place_t *pl, const roz_toml_node_t 
     return 1;
 }
 
+/* rozgen's margin(): limit_margin, on a position state only, above 0 and
+ * leaving the joint room to move; @lim says whether [lo, hi] is valid. */
+static void check_margin(checker_t *ck, const place_t *pl, uint32_t section,
+                         const roz_toml_node_t *t, int lim, double lo, double hi)
+{
+    const roz_toml_node_t *v = roz_toml_get(ck->doc, t, "limit_margin");
+    int type = channel_interface(ck->doc, t);
+    char what[ROZ_CFG_PROBLEM_LEN], a[44], b[44];
+    double margin;
+
+    if (v == NULL || !check_number(ck, pl, t, "limit_margin", 1, 0.0, &margin))
+        return;
+    if (section == SEC_COMMANDS || (type >= 0 && type != ROZ_IF_POSITION)) {
+        report(ck, "margin-channel", pl, "limit_margin",
+               "only a position state has a limit margin (the filter keeps a velocity command "
+               "paired with it that far inside its limits)", v, NULL);
+    } else if (!(margin > 0.0)) {
+        report(ck, "margin-range", pl, "limit_margin",
+               "must be above 0 (leave it out for the default)", v, NULL);
+    } else if (lim && !(2.0 * margin < hi - lo)) {
+        c_double(lo, a);
+        c_double(hi, b);
+        snprintf(what, sizeof what,
+                 "leaves no room to move within limits [%s, %s]: twice the margin must be "
+                 "below max - min", a, b);
+        report(ck, "margin-range", pl, "limit_margin", what, v, NULL);
+    }
+}
+
 static void check_channel(checker_t *ck, uint32_t section, const char *kind, uint32_t index,
                           const roz_toml_node_t *t)
 {
@@ -735,6 +764,7 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
         report(ck, "pairing-on-state", &pl, "position_state_index",
                "only commands are paired with a position state; must be -1 or left out",
                roz_toml_get(d, t, "position_state_index"), NULL);
+    check_margin(ck, &pl, section, t, lim, lo, hi);
 }
 
 /* rozgen's unique_names(): names, and the C constants made of them, once
@@ -1072,6 +1102,7 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         const roz_toml_node_t *lim = roz_toml_get(d, t, "limits");
         const roz_toml_node_t *rate = roz_toml_get(d, t, "max_rate_of_change");
         const roz_toml_node_t *pair = roz_toml_get(d, t, "position_state_index");
+        const roz_toml_node_t *margin = roz_toml_get(d, t, "limit_margin");
         roz_channel_t *c = &out[i];
         c->name = intern_key(st, d, t, "name");
         c->unit = intern_key(st, d, t, "unit");
@@ -1083,6 +1114,7 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         c->default_value = number_of(roz_toml_get(d, t, "default"));
         c->max_rate = rate != NULL ? number_of(rate) : 0.0;
         c->position_state = pair != NULL ? (int32_t)pair->as.integer : ROZ_CHANNEL_UNPAIRED;
+        c->limit_margin = margin != NULL ? number_of(margin) : 0.0; /* 0: the default */
     }
     return ROZ_OK;
 }

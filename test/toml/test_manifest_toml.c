@@ -102,6 +102,7 @@ static void test_manifest_toml_builtins(void **state)
                 assert_true(a[i].default_value == w[i].default_value);
                 assert_true(a[i].max_rate == w[i].max_rate);
                 assert_int_equal(a[i].position_state, w[i].position_state);
+                assert_true(a[i].limit_margin == w[i].limit_margin);
             }
         }
         assert_int_equal(m->hardware == NULL, want->hardware == NULL);
@@ -147,6 +148,32 @@ static void test_manifest_toml_hardware(void **state)
     assert_string_equal(storage.manifest.robot_class, "generic");
     assert_int_equal(storage.manifest.control_rate_hz, 100);
     assert_null(storage.manifest.states);
+}
+
+/* limit_margin as written on a position state, 0 (the default) when left
+ * out; the filter's margin is worked out from it. */
+static void test_manifest_toml_limit_margin(void **state)
+{
+    const roz_manifest_t *m = &storage.manifest;
+    (void)state;
+    snprintf(text, sizeof text,
+             "[manifest]\nrobot_id = \"grip\"\n"
+             "[[manifest.commands]]\nname = \"gripper/velocity\"\ninterface_type = \"velocity\"\n"
+             "unit = \"m/s\"\nlimits = [-0.05, 0.05]\ndefault = 0.0\nposition_state_index = 0\n"
+             "[[manifest.states]]\nname = \"gripper/position\"\ninterface_type = \"position\"\n"
+             "unit = \"m\"\nlimits = [0, 0.08]\ndefault = 0.04\nlimit_margin = 0.002\n"
+             "[[manifest.states]]\nname = \"wrist/position\"\ninterface_type = \"position\"\n"
+             "unit = \"rad\"\nlimits = [-3, 3]\ndefault = 0\n"
+             "[[manifest.states]]\nname = \"finger/position\"\ninterface_type = \"position\"\n"
+             "unit = \"mm\"\nlimits = [0, 80]\ndefault = 0\nlimit_margin = 1\n");
+    assert_int_equal(load(text, 16, NULL), ROZ_OK);
+    assert_true(m->states[0].limit_margin == 0.002);
+    assert_true(m->states[1].limit_margin == 0.0);
+    assert_true(m->states[2].limit_margin == 1.0); /* an integer is a number */
+    assert_true(m->commands[0].limit_margin == 0.0);
+    assert_true(roz_manifest_limit_margin(&m->states[0]) == 0.002);
+    assert_true(roz_manifest_limit_margin(&m->states[1]) == 0.05);
+    assert_int_equal(roz_manifest_validate(m, NULL), ROZ_OK);
 }
 
 /* The first problems in rozgen's order, all of them counted. */
@@ -297,6 +324,7 @@ int main(void)
         cmocka_unit_test(test_manifest_toml_my_arm),
         cmocka_unit_test(test_manifest_toml_builtins),
         cmocka_unit_test(test_manifest_toml_hardware),
+        cmocka_unit_test(test_manifest_toml_limit_margin),
         cmocka_unit_test(test_manifest_toml_problem_order),
         cmocka_unit_test(test_manifest_toml_syntax_and_utf8),
         cmocka_unit_test(test_manifest_toml_storage_limits),

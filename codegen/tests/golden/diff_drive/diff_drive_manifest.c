@@ -17,14 +17,14 @@ _Static_assert(14 <= ROZ_CFG_MAX_NAME_LEN,
 /* ---- channels --------------------------------------------------------- */
 
 static const roz_channel_t roz__diff_drive_commands[ROZ_DIFF_DRIVE_N_COMMANDS] = {
-    { .name = "base/linear.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "base/angular.z", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -2.0, .max = 2.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "base/linear.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "base/angular.z", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -2.0, .max = 2.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
 };
 
 static const roz_channel_t roz__diff_drive_states[ROZ_DIFF_DRIVE_N_STATES] = {
-    { .name = "base/odom.x", .type = ROZ_IF_POSITION, .unit = "m", .min = -10000.0, .max = 10000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "base/odom.y", .type = ROZ_IF_POSITION, .unit = "m", .min = -10000.0, .max = 10000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "base/odom.yaw", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.141592653589793, .max = 3.141592653589793, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "base/odom.x", .type = ROZ_IF_POSITION, .unit = "m", .min = -10000.0, .max = 10000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "base/odom.y", .type = ROZ_IF_POSITION, .unit = "m", .min = -10000.0, .max = 10000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "base/odom.yaw", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.141592653589793, .max = 3.141592653589793, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
 };
 
 /* ---- manifest --------------------------------------------------------- */

@@ -17,17 +17,17 @@ _Static_assert(15 <= ROZ_CFG_MAX_NAME_LEN,
 /* ---- channels --------------------------------------------------------- */
 
 static const roz_channel_t roz__quadcopter_commands[ROZ_QUADCOPTER_N_COMMANDS] = {
-    { .name = "body/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -5.0, .max = 5.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -5.0, .max = 5.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/velocity.z", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -3.0, .max = 3.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.57, .max = 1.57, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "body/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -5.0, .max = 5.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -5.0, .max = 5.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/velocity.z", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -3.0, .max = 3.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.57, .max = 1.57, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
 };
 
 static const roz_channel_t roz__quadcopter_states[ROZ_QUADCOPTER_N_STATES] = {
-    { .name = "body/position.x", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/position.y", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/position.z", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "body/yaw", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.141592653589793, .max = 3.141592653589793, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "body/position.x", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/position.y", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/position.z", .type = ROZ_IF_POSITION, .unit = "m", .min = -1000.0, .max = 1000.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "body/yaw", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.141592653589793, .max = 3.141592653589793, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
 };
 
 /* ---- manifest --------------------------------------------------------- */

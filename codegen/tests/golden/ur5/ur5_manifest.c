@@ -17,27 +17,27 @@ _Static_assert(28 <= ROZ_CFG_MAX_NAME_LEN,
 /* ---- channels --------------------------------------------------------- */
 
 static const roz_channel_t roz__ur5_commands[ROZ_UR5_N_COMMANDS] = {
-    { .name = "shoulder_pan_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 0 },
-    { .name = "shoulder_lift_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 1 },
-    { .name = "elbow_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 2 },
-    { .name = "wrist_1_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 3 },
-    { .name = "wrist_2_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 4 },
-    { .name = "wrist_3_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 5 },
+    { .name = "shoulder_pan_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 0, .limit_margin = 0.0 },
+    { .name = "shoulder_lift_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 1, .limit_margin = 0.0 },
+    { .name = "elbow_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 2, .limit_margin = 0.0 },
+    { .name = "wrist_1_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 3, .limit_margin = 0.0 },
+    { .name = "wrist_2_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 4, .limit_margin = 0.0 },
+    { .name = "wrist_3_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.5, .position_state = 5, .limit_margin = 0.0 },
 };
 
 static const roz_channel_t roz__ur5_states[ROZ_UR5_N_STATES] = {
-    { .name = "shoulder_pan_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "shoulder_lift_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "elbow_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_1_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_2_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_3_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "shoulder_pan_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "shoulder_lift_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "elbow_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_1_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_2_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
-    { .name = "wrist_3_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "shoulder_pan_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "shoulder_lift_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "elbow_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_1_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_2_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_3_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -6.283185307179586, .max = 6.283185307179586, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "shoulder_pan_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "shoulder_lift_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "elbow_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_1_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_2_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "wrist_3_joint/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
 };
 
 /* ---- manifest --------------------------------------------------------- */
