@@ -24,18 +24,21 @@ static void print_summary(void)
     }
 }
 
-static void print_channels(const char *title, const roz_channel_t *c, uint16_t n)
+/* margin: the limit margin of position states (the filter's, default worked out) */
+static void print_channels(const char *title, const roz_channel_t *c, uint16_t n, int states)
 {
     printf("  %s (%u)\n", title, (unsigned)n);
-    printf("  %4s  %-40s %-12s %-10s %12s %12s %10s %10s %6s\n", "idx", "name", "type", "unit",
-           "min", "max", "default", "max_rate", "pair");
+    printf("  %4s  %-40s %-12s %-10s %12s %12s %10s %10s %6s %10s\n", "idx", "name", "type",
+           "unit", "min", "max", "default", "max_rate", "pair", "margin");
     for (uint16_t i = 0; i < n; i++) {
-        char pair[16] = "-";
+        char pair[16] = "-", margin[24] = "-";
         if (c[i].position_state != ROZ_CHANNEL_UNPAIRED)
             snprintf(pair, sizeof pair, "%d", (int)c[i].position_state);
-        printf("  %4u  %-40s %-12s %-10s %12.6g %12.6g %10.6g %10.6g %6s\n", (unsigned)i,
+        if (states && c[i].type == ROZ_IF_POSITION)
+            snprintf(margin, sizeof margin, "%.6g", roz_manifest_limit_margin(&c[i]));
+        printf("  %4u  %-40s %-12s %-10s %12.6g %12.6g %10.6g %10.6g %6s %10s\n", (unsigned)i,
                c[i].name, roz_interface_name(c[i].type), c[i].unit, c[i].min, c[i].max,
-               c[i].default_value, c[i].max_rate, pair);
+               c[i].default_value, c[i].max_rate, pair, margin);
     }
 }
 
@@ -49,8 +52,8 @@ static void print_manifest(const roz_manifest_t *m)
             printf(", %s=%s", m->hardware->params[i].key, m->hardware->params[i].value);
         printf("\n");
     }
-    print_channels("commands", m->commands, m->n_commands);
-    print_channels("states", m->states, m->n_states);
+    print_channels("commands", m->commands, m->n_commands, 0);
+    print_channels("states", m->states, m->n_states, 1);
 }
 
 int main(int argc, char **argv)

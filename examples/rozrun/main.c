@@ -324,6 +324,46 @@ static void print_ns(const char *label, const roz_monitor_t *mon, roz_monitor_ki
            roz_monitor_stat_percentile(&s, 99.0) / 1000.0, s.max_ns / 1000.0);
 }
 
+/* A joint the controller keeps pushing against a position limit for a
+ * second or more in a row, or for half the run (of @ticks): say which,
+ * where it is and what the filter holds it to, since the run itself looks
+ * normal (the filter's limit stops are no fault). Called once the tick has
+ * stopped (roz_runtime_channel_counters()' context). */
+#define HELD_WARN_SECONDS 1u
+#define HELD_WARN_LINES 8u
+
+static void warn_held_at_limits(uint64_t ticks)
+{
+    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    const double *state = roz_runtime_last_state(&rt);
+    uint64_t long_run = (uint64_t)HELD_WARN_SECONDS * m->control_rate_hz;
+    unsigned held = 0;
+
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        roz_filter_channel_counters_t cc;
+        if (c->type != ROZ_IF_VELOCITY || c->position_state == ROZ_CHANNEL_UNPAIRED ||
+            roz_runtime_channel_counters(&rt, i, &cc) != ROZ_OK)
+            continue;
+        uint64_t longest = cc.stop_longest, all = cc.limit_stops;
+        if (!(longest >= long_run || (all >= long_run && 2u * all >= ticks)))
+            continue;
+        if (held++ >= HELD_WARN_LINES)
+            continue;
+        const roz_channel_t *p = &m->states[c->position_state];
+        printf("  warning                %s held back at a position limit for %llu ticks in a "
+               "row (%.2f s), %llu of %llu ticks in all: %s at %g %s, limits [%g, %g] %s less "
+               "a margin of %g %s\n",
+               c->name, (unsigned long long)longest, (double)longest / m->control_rate_hz,
+               (unsigned long long)all, (unsigned long long)ticks, p->name,
+               state[c->position_state], p->unit, p->min, p->max, p->unit,
+               roz_manifest_limit_margin(p), p->unit);
+    }
+    if (held > HELD_WARN_LINES)
+        printf("  warning                and %u more held back at a position limit\n",
+               held - HELD_WARN_LINES);
+}
+
 static void summary(const options_t *o, const roz_verify_report_t *rep, const roz_runner_t *runner)
 {
     const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
@@ -363,6 +403,7 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  clamps                 %llu\n", (unsigned long long)clamped);
     printf("  rate caps              %llu\n", (unsigned long long)fc->rate_caps);
     printf("  limit stops            %llu\n", (unsigned long long)fc->limit_stops);
+    warn_held_at_limits(fc->ticks); /* after the run: the tick has stopped */
     printf("  refused values         %llu non-finite, %llu bad indices\n",
            (unsigned long long)nonfinite, (unsigned long long)bad_index);
     printf("  stale reads            %llu\n", (unsigned long long)st.runtime.stale_reads);
