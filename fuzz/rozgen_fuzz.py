@@ -47,7 +47,7 @@ DICTIONARY = [
     "[manifest]", "[[manifest.commands]]", "[[manifest.states]]", "[hardware]",
     "[hardware.params]", "robot_id", "robot_class", "control_rate_hz", "name",
     "interface_type", "unit", "limits", "default", "max_rate_of_change",
-    "position_state_index", "port", "joints", "position", "velocity", "effort",
+    "position_state_index", "limit_margin", "port", "joints", "position", "velocity", "effort",
     "stiffness", "damping", "acceleration", "orientation", "nan", "inf", "-inf",
     "+inf", "1e309", "-0.0", "9223372036854775808", "-9223372036854775809", "0x7f",
     "0o17", "0b1", "1_000", "true", "false", '"""', "'''", "\\u0000", "\\U0001F600",

@@ -76,8 +76,8 @@ def test_my_arm_values():
     assert doc["states"] == [
         {"name": f"joint{i}/position", "interface_type": "position", "unit": "rad",
          "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0,
-         "position_state_index": -1, "limit_margin": 0.05}
-        for i in (1, 2)
+         "position_state_index": -1, "limit_margin": margin}
+        for i, margin in ((1, 0.05), (2, 0.1))  # the default; joint2's own
     ]
     assert doc["hardware"] is None
     assert list(doc) == ["robot_id", "robot_class", "control_rate_hz", "commands", "states",

@@ -67,6 +67,7 @@ static void test_manifest_toml_my_arm(void **state)
     assert_true(m->commands[1].max_rate == 0.2);
     assert_int_equal(m->commands[1].position_state, 1);
     assert_int_equal(m->states[0].position_state, ROZ_CHANNEL_UNPAIRED);
+    assert_true(m->states[0].limit_margin == 0.0 && m->states[1].limit_margin == 0.1);
     assert_null(m->hardware);
     assert_int_equal(roz_manifest_validate(m, NULL), ROZ_OK);
     /* the strings live in the storage, not in the file buffer */
