@@ -3,6 +3,7 @@
  * CRC against the reference values of Unitree's crc32_core and a
  * bit-by-bit model of its definition, and the link verdicts, counters and
  * sequence wrap-around. */
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -217,6 +218,78 @@ static void test_link_random(void **st)
     assert_true(l.restarts > 0 && l.returns > 0 && l.replays > 0 && l.missing > 0);
 }
 
+/* The copy for other threads: every field round-trips, and a reader on
+ * another thread always gets one published state, never a mix of two. */
+static void test_link_shared_copy(void **st)
+{
+    roz_link_shared_t sh;
+    roz_link_t l, out;
+    (void)st;
+
+    roz_link_shared_init(&sh);
+    assert_int_equal(roz_link_shared_read(&sh, &out), ROZ_OK);
+    assert_int_equal(out.accepted, 0);
+    memset(&l, 0, sizeof l);
+    l.lost_after_ns = 123456789012ull;
+    l.window = 77;
+    l.alive = 1;
+    l.last_seq = 0xfffffff0u;
+    l.last_ns = 987654321098ull;
+    l.accepted = 1;
+    l.crc_errors = 2;
+    l.replays = 3;
+    l.restarts = 4;
+    l.returns = 5;
+    l.missing = 6;
+    roz_link_shared_publish(&sh, &l);
+    assert_int_equal(roz_link_shared_read(&sh, &out), ROZ_OK);
+    assert_memory_equal(&out, &l, sizeof l);
+}
+
+static roz_link_shared_t shared;
+
+static void *shared_writer(void *arg)
+{
+    roz_link_t l;
+    (void)arg;
+    roz_link_init(&l, 0, 0);
+    for (uint64_t k = 1; k <= 200000; k++) {
+        l.accepted = k;
+        l.crc_errors = 2 * k;
+        l.replays = 3 * k;
+        l.missing = k ^ 0x5555u;
+        l.last_seq = (uint32_t)k;
+        roz_link_shared_publish(&shared, &l);
+    }
+    return NULL;
+}
+
+static void test_link_shared_threads(void **st)
+{
+    pthread_t th;
+    roz_link_t out;
+    uint64_t last = 0, reads = 0;
+    (void)st;
+
+    roz_link_shared_init(&shared);
+    assert_int_equal(pthread_create(&th, NULL, shared_writer, NULL), 0);
+    while (last < 200000) {
+        if (roz_link_shared_read(&shared, &out) != ROZ_OK)
+            continue; /* the writer kept it busy: try again */
+        reads++;
+        assert_true(out.accepted >= last); /* never goes back */
+        assert_int_equal(out.crc_errors, 2 * out.accepted);
+        assert_int_equal(out.replays, 3 * out.accepted);
+        if (out.accepted != 0) {
+            assert_int_equal(out.missing, out.accepted ^ 0x5555u);
+            assert_int_equal(out.last_seq, (uint32_t)out.accepted);
+        }
+        last = out.accepted;
+    }
+    assert_int_equal(pthread_join(th, NULL), 0);
+    assert_true(reads > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -227,6 +300,8 @@ int main(void)
         cmocka_unit_test(test_link_in_order_old_frames),
         cmocka_unit_test(test_link_wraps),
         cmocka_unit_test(test_link_random),
+        cmocka_unit_test(test_link_shared_copy),
+        cmocka_unit_test(test_link_shared_threads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

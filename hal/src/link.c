@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "roz/error.h"
+
 void roz_link_init(roz_link_t *l, uint64_t lost_after_ns, uint32_t window)
 {
     memset(l, 0, sizeof *l);
@@ -68,4 +70,59 @@ const char *roz_link_verdict_name(roz_link_verdict_t v)
     case ROZ_LINK_RESTART: return "restart";
     }
     return "unknown";
+}
+
+/* ---- the copy for other threads -------------------------------------------- */
+
+enum { W_LOST, W_WINDOW, W_ALIVE, W_LAST_SEQ, W_LAST_NS, W_ACCEPTED, W_CRC, W_REPLAYS, W_RESTARTS,
+       W_RETURNS, W_MISSING, W_COUNT };
+_Static_assert(W_COUNT == sizeof(((roz_link_shared_t *)0)->words) / sizeof(uint64_t),
+               "roz_link_shared_t carries every field of roz_link_t");
+
+void roz_link_shared_init(roz_link_shared_t *s)
+{
+    atomic_init(&s->seq, 0u);
+    for (int i = 0; i < W_COUNT; i++)
+        atomic_init(&s->words[i], 0u);
+}
+
+void roz_link_shared_publish(roz_link_shared_t *s, const roz_link_t *l)
+{
+    const uint64_t w[W_COUNT] = { l->lost_after_ns, l->window, (uint64_t)l->alive, l->last_seq,
+                                  l->last_ns, l->accepted, l->crc_errors, l->replays,
+                                  l->restarts, l->returns, l->missing };
+    uint32_t q = atomic_load_explicit(&s->seq, memory_order_relaxed);
+
+    atomic_store_explicit(&s->seq, q + 1u, memory_order_relaxed);
+    atomic_thread_fence(memory_order_release);
+    for (int i = 0; i < W_COUNT; i++)
+        atomic_store_explicit(&s->words[i], w[i], memory_order_relaxed);
+    atomic_store_explicit(&s->seq, q + 2u, memory_order_release);
+}
+
+int roz_link_shared_read(const roz_link_shared_t *s, roz_link_t *out)
+{
+    uint64_t w[W_COUNT];
+    for (int tries = 0; tries < 1000; tries++) {
+        uint32_t q0 = atomic_load_explicit(&s->seq, memory_order_acquire);
+        for (int i = 0; i < W_COUNT; i++)
+            w[i] = atomic_load_explicit(&s->words[i], memory_order_relaxed);
+        atomic_thread_fence(memory_order_acquire);
+        uint32_t q1 = atomic_load_explicit(&s->seq, memory_order_relaxed);
+        memset(out, 0, sizeof *out);
+        out->lost_after_ns = w[W_LOST];
+        out->window = (uint32_t)w[W_WINDOW];
+        out->alive = (int)w[W_ALIVE];
+        out->last_seq = (uint32_t)w[W_LAST_SEQ];
+        out->last_ns = w[W_LAST_NS];
+        out->accepted = w[W_ACCEPTED];
+        out->crc_errors = w[W_CRC];
+        out->replays = w[W_REPLAYS];
+        out->restarts = w[W_RESTARTS];
+        out->returns = w[W_RETURNS];
+        out->missing = w[W_MISSING];
+        if (q0 == q1 && (q0 & 1u) == 0u)
+            return ROZ_OK;
+    }
+    return ROZ_ESTATE;
 }

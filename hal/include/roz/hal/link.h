@@ -45,6 +45,9 @@
 
 #include <stdint.h>
 
+#include "roz/atomic.h"
+#include "roz/error.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -100,6 +103,33 @@ roz_link_verdict_t roz_link_check(roz_link_t *l, int crc_ok, uint32_t seq, uint6
 /** @brief Whether the peer has been silent for lost_after_ns at @p now_ns.
  *  Context: the thread that calls roz_link_check(); RT-safe. */
 int roz_link_lost(const roz_link_t *l, uint64_t now_ns);
+
+/**
+ * A consistent copy of a roz_link_t for other threads, when the checks run
+ * on a port's receive thread: that thread publishes after each check, any
+ * thread reads. Published under a sequence counter (odd while the writer
+ * updates); every field is an atomic, so a reader never races.
+ */
+typedef struct roz_link_shared {
+    ROZ_ATOMIC(uint32_t) seq;
+    ROZ_ATOMIC(uint64_t) words[11];
+} roz_link_shared_t;
+
+/** @brief Zero the copy (before either thread uses it). */
+void roz_link_shared_init(roz_link_shared_t *s);
+
+/** @brief Publish @p l. Context: the one thread that runs the checks;
+ *  RT-safe, wait-free. */
+void roz_link_shared_publish(roz_link_shared_t *s, const roz_link_t *l);
+
+/**
+ * @brief Copy the last published state into @p out.
+ * @retval ROZ_OK     a consistent copy
+ * @retval ROZ_ESTATE the writer kept updating it (1000 tries); @p out holds
+ *                    the last try
+ * Context: any thread; never blocks the writer.
+ */
+int roz_link_shared_read(const roz_link_shared_t *s, roz_link_t *out);
 
 /** @brief "first", "fresh", "bad crc", "replay", "restart".
  *  Context: any. */
