@@ -1,0 +1,309 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/dds.h
+ * @brief roz::dds, the Cyclone DDS plumbing every DDS port shares: the
+ *        participant and its configuration, QoS profiles, a receive path into
+ *        preallocated storage, and the command writer thread.
+ *
+ * Participant. Built from two parameters: `network_interface` (default
+ * `lo`) and `dds_domain`. roz passes Cyclone its configuration as an XML
+ * string when it creates the domain (roz_dds_config_xml()):
+ * - on `lo`: that interface only, multicast off, 127.0.0.1 as the discovery
+ *   peer, participant indices assigned automatically up to
+ *   ROZ_DDS_MAX_PARTICIPANT_INDEX (Cyclone's default allows 10 participants
+ *   per host and domain; with multicast off and no peer, discovery fails, and
+ *   Cyclone's defaults would multicast out of other interfaces);
+ * - on any other interface: that interface only, Cyclone's defaults
+ *   otherwise (multicast discovery, as the robots' own DDS stacks use).
+ * A user's own CYCLONEDDS_URI wins when it is set: roz then leaves the
+ * configuration to Cyclone and says so through the log callback.
+ *
+ * Receive path. A reader calls the port's function for each valid sample,
+ * on Cyclone's receive thread, with the sample taken (dds_take) into storage
+ * the port preallocated at open and zeroed before every take: no heap in
+ * roz's code. (Cyclone's own threads may allocate; a type with sequences
+ * must have their buffers preallocated, or Cyclone allocates them.)
+ *
+ * Command writer. A thread of its own publishes the port's latest command:
+ * periodically (every `command_writer_period_us`, absolute deadlines, jitter
+ * monitored against the period), or, with a period of 0, as soon as the
+ * tick hands it a frame (roz_dds_writer_wake(): a semaphore post, which
+ * never blocks). The port fills each sample in the writer thread
+ * (roz_dds_fill_fn) from the sample storage roz zeroes before every fill.
+ *
+ * Threads: a reader's function runs on a Cyclone thread, the fill function
+ * on the writer thread; they hand frames to the tick through roz/buffer.h
+ * and atomics, never a lock the tick could wait on.
+ *
+ * Only the .c files of this library include Cyclone's headers: entities are
+ * kept as int32_t (dds_entity_t), topic descriptors as opaque pointers.
+ */
+#ifndef ROZ_DDS_H
+#define ROZ_DDS_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/atomic.h"
+#include "roz/log.h"
+#include "roz/monitor.h"
+#include "roz/port.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Longest interface name (Linux IFNAMSIZ less the NUL). */
+#define ROZ_DDS_IFNAME_MAX 15
+/** Largest domain id (Cyclone's port mapping allows 0..232). */
+#define ROZ_DDS_MAX_DOMAIN 232u
+/** Highest participant index on `lo`: 64 participants per host and domain. */
+#define ROZ_DDS_MAX_PARTICIPANT_INDEX 63
+/** Room for the configuration XML. */
+#define ROZ_DDS_CONFIG_MAX 640
+/** Samples one data-available call takes at most before it yields. */
+#define ROZ_DDS_TAKE_MAX 64u
+/** Shortest writer period, microseconds (0 = event-driven). */
+#define ROZ_DDS_MIN_PERIOD_US 100u
+/** Longest writer period, microseconds. */
+#define ROZ_DDS_MAX_PERIOD_US 1000000u
+
+/* ---- parameters ------------------------------------------------------------ */
+
+/** The parameters every DDS port understands (roz/hal/params.h). */
+typedef struct roz_dds_params {
+    char     network_interface[ROZ_DDS_IFNAME_MAX + 1]; /**< "lo" */
+    uint32_t domain;                   /**< dds_domain, 0..ROZ_DDS_MAX_DOMAIN */
+    int      enable_monitor;           /**< 1: latency and jitter monitored and warned */
+    uint32_t command_writer_period_us; /**< 2000; 0: event-driven */
+    uint32_t state_decimation;         /**< 1: full conversion of every state frame */
+} roz_dds_params_t;
+
+/** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
+#define ROZ_DDS_PARAM_KEYS                                                          \
+    "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
+        "state_decimation"
+
+/**
+ * @brief Read the common DDS parameters.
+ * @param[out] out            the values (defaults where absent)
+ * @param[in]  p              the parameters (NULL: all defaults)
+ * @param[in]  default_domain dds_domain when absent (the robot's own)
+ * @retval ROZ_OK     read
+ * @retval ROZ_EINVAL a bad value; @p err names the key and the value
+ * Context: start-up.
+ */
+int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t default_domain,
+                         char *err, size_t errlen);
+
+/**
+ * @brief Check an interface name: 1..ROZ_DDS_IFNAME_MAX characters from
+ *        [A-Za-z0-9_.:-] (it goes into XML, so nothing else passes).
+ * @retval ROZ_OK or ROZ_EINVAL (@p err names the key and the value)
+ * Context: any; pure.
+ */
+int roz_dds_check_interface(const char *name, char *err, size_t errlen);
+
+/* ---- participant ------------------------------------------------------------ */
+
+/**
+ * @brief The Cyclone configuration for @p iface (see the file comment).
+ * @return the length written, or ROZ_EINVAL for a bad name,
+ *         ROZ_ENOSPC when @p len is too small
+ * Context: any; pure.
+ */
+int roz_dds_config_xml(const char *iface, char *out, size_t len);
+
+/** A participant; caller-owned. */
+typedef struct roz_dds_participant {
+    int32_t  domain_entity;  /**< the domain roz created, 0 when Cyclone made it */
+    int32_t  participant;    /**< 0 when not open */
+    uint32_t domain;
+    int      user_config;    /**< 1: CYCLONEDDS_URI was set and used */
+    char     iface[ROZ_DDS_IFNAME_MAX + 1];
+    char     config[ROZ_DDS_CONFIG_MAX]; /**< the XML passed to Cyclone, "" when none */
+} roz_dds_participant_t;
+
+/**
+ * @brief Create the domain with roz's configuration (or the user's) and a
+ *        participant in it.
+ * @param[in] log  where to say which configuration is used (NULL: silent)
+ * @retval ROZ_OK     open
+ * @retval ROZ_EINVAL a bad interface name or domain; @p err says which
+ * @retval ROZ_ENOENT no such network interface
+ * @retval ROZ_EIO    Cyclone refused; @p err has its message
+ * Context: start-up; allocates (Cyclone), starts Cyclone's threads.
+ */
+int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32_t domain,
+                             roz_log_fn log, void *log_ctx, char *err, size_t errlen);
+
+/** @brief Delete the participant (and every entity in it) and the domain.
+ *  Idempotent. Context: shutdown, after the writer and readers stopped. */
+void roz_dds_participant_close(roz_dds_participant_t *p);
+
+/* ---- QoS ----------------------------------------------------------------- */
+
+/** A QoS profile for one reader or writer. */
+typedef struct roz_dds_qos {
+    uint8_t  reliable;        /**< 1 RELIABLE, 0 BEST_EFFORT */
+    uint8_t  transient_local; /**< 1 TRANSIENT_LOCAL, 0 VOLATILE */
+    uint16_t depth;           /**< KEEP_LAST depth, >= 1 */
+    uint32_t max_blocking_us; /**< RELIABLE writers: longest a write may wait */
+} roz_dds_qos_t;
+
+/** ROS 2's default: KEEP_LAST 10, RELIABLE, VOLATILE. */
+extern const roz_dds_qos_t roz_dds_qos_ros2_default;
+/** ROS 2's sensor data: KEEP_LAST 5, BEST_EFFORT, VOLATILE. */
+extern const roz_dds_qos_t roz_dds_qos_sensor_data;
+/** A robot's state, read: KEEP_LAST 1, BEST_EFFORT, VOLATILE; matches any
+ *  writer, and only the latest frame matters. */
+extern const roz_dds_qos_t roz_dds_qos_robot_state;
+/** A robot's commands, written: KEEP_LAST 1, RELIABLE, VOLATILE; matches a
+ *  RELIABLE or BEST_EFFORT reader and never queues an old command behind a
+ *  new one. */
+extern const roz_dds_qos_t roz_dds_qos_robot_command;
+
+/* ---- reader ------------------------------------------------------------------ */
+
+/** A sample arrived: @p sample is the reader's storage, valid during the
+ *  call; @p now_ns the monotonic receive time. Context: a Cyclone thread;
+ *  one call at a time per reader; must not block or allocate. */
+typedef void (*roz_dds_sample_fn)(void *ctx, void *sample, uint64_t now_ns);
+
+/** A reader; caller-owned. The counters are written by the receive thread. */
+typedef struct roz_dds_reader {
+    int32_t              topic, reader;
+    void                *sample;      /* the port's storage for one sample */
+    size_t               sample_size;
+    roz_dds_sample_fn    fn;
+    void                *ctx;
+    roz_monitor_t       *monitor;     /* ROZ_MON_STATE_HANDLER; NULL: not monitored */
+    /* The hand-overs to, between and from Cyclone's threads are roz's own,
+     * not only Cyclone's internal locks (which ThreadSanitizer cannot see
+     * in an uninstrumented libddsc): armed is set (release) once the fields
+     * above are, before the reader exists, and loaded (acquire) by every
+     * listener call; busy lets one call take at a time (Cyclone calls a
+     * reader's listener from its delivery thread, or from a writer's
+     * thread delivering locally), pending makes the one taking look again
+     * when another came meanwhile; calls (release at the end of a call) is
+     * loaded (acquire) by close() once Cyclone returned. */
+    ROZ_ATOMIC(uint32_t) armed;
+    ROZ_ATOMIC(uint32_t) busy;
+    ROZ_ATOMIC(uint32_t) pending;
+    ROZ_ATOMIC(uint64_t) calls;
+    ROZ_ATOMIC(uint64_t) samples;     /**< valid samples handed to fn */
+    ROZ_ATOMIC(uint64_t) invalid;     /**< samples without data (dispose, unregister) */
+    ROZ_ATOMIC(uint64_t) take_errors; /**< dds_take failures */
+} roz_dds_reader_t;
+
+/**
+ * @brief Create a topic and a reader that hands every valid sample to @p fn.
+ * @param[in] descriptor  the type's `const dds_topic_descriptor_t *` (idlc's
+ *                        `<type>_desc`)
+ * @param[in] storage     room for one sample of that type, @p size bytes,
+ *                        kept for the reader's life
+ * @param[in] monitor     records each call's duration (NULL: none)
+ * @retval ROZ_OK, ROZ_EINVAL, ROZ_EIO (@p err names the topic)
+ * Context: start-up; @p fn may be called from the moment this returns.
+ */
+int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, const char *topic,
+                        const void *descriptor, const roz_dds_qos_t *qos, void *storage,
+                        size_t size, roz_dds_sample_fn fn, void *ctx, roz_monitor_t *monitor,
+                        char *err, size_t errlen);
+
+/** @brief Writers matched with this reader now. Context: any thread. */
+uint32_t roz_dds_reader_matched(const roz_dds_reader_t *r);
+
+/** @brief Delete the reader: when it returns, @p fn runs no more.
+ *  Idempotent. Context: shutdown. */
+void roz_dds_reader_close(roz_dds_reader_t *r);
+
+/* ---- writer -------------------------------------------------------------------- */
+
+/** Fill @p sample (zeroed by roz) with the command to publish now.
+ *  @return 1 to publish it, 0 to publish nothing this time.
+ *  Context: the writer thread; must not block or allocate. */
+typedef int (*roz_dds_fill_fn)(void *ctx, void *sample, uint64_t now_ns);
+
+/** A writer and its thread; caller-owned. Fields are private; the counters
+ *  are written by the writer thread and read with atomic loads. */
+typedef struct roz_dds_writer {
+    int32_t              topic, writer;
+    void                *sample;
+    size_t               sample_size;
+    roz_dds_fill_fn      fill;
+    void                *ctx;
+    roz_monitor_t       *monitor;   /* JITTER (periodic), COMMAND_WRITER; NULL: none */
+    uint64_t             period_ns; /* 0: event-driven */
+    ROZ_ATOMIC(int)      stop;
+    ROZ_ATOMIC(int)      running;   /* the thread is started */
+    ROZ_ATOMIC(uint64_t) passes;    /**< fill calls */
+    ROZ_ATOMIC(uint64_t) published; /**< samples written */
+    ROZ_ATOMIC(uint64_t) errors;    /**< dds_write failures */
+    ROZ_ATOMIC(uint64_t) missed;    /**< periods missed by more than a period (skipped) */
+    unsigned long        thread;    /* pthread_t, kept opaque */
+    union {
+        unsigned char bytes[64];
+        long double   align;
+    } wake;                         /* sem_t, kept opaque */
+    int                  wake_ready;
+} roz_dds_writer_t;
+
+/**
+ * @brief Create a topic and a writer (no thread yet).
+ * @param[in] storage  room for one sample, @p size bytes, kept for the
+ *                     writer's life; the writer thread owns it
+ * @retval ROZ_OK, ROZ_EINVAL, ROZ_EIO (@p err names the topic)
+ * Context: start-up.
+ */
+int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, const char *topic,
+                        const void *descriptor, const roz_dds_qos_t *qos, void *storage,
+                        size_t size, char *err, size_t errlen);
+
+/**
+ * @brief Start the writer thread.
+ * @param[in] period_us  publish every period_us (ROZ_DDS_MIN_PERIOD_US ..
+ *                       ROZ_DDS_MAX_PERIOD_US); 0: on roz_dds_writer_wake()
+ * @param[in] monitor    jitter against the period and the time of each pass
+ *                       (NULL: not monitored)
+ * @retval ROZ_OK, ROZ_EINVAL (bad period, not open), ROZ_ESTATE (running),
+ *         ROZ_EIO (no thread)
+ * Context: start-up.
+ */
+int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
+                         void *ctx, roz_monitor_t *monitor);
+
+/** @brief Event-driven mode: publish now. Never blocks (a semaphore post);
+ *  nothing in periodic mode. Context: any thread; RT-safe. */
+void roz_dds_writer_wake(roz_dds_writer_t *w);
+
+/**
+ * @brief Publish one sample now from the calling thread, through @p fill:
+ *        for a last command before the thread stops (which must not run at
+ *        the same time: call after roz_dds_writer_stop()).
+ * @retval 1 published, 0 fill declined, ROZ_EIO write failed, ROZ_ESTATE running
+ * Context: shutdown.
+ */
+int roz_dds_writer_publish(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx);
+
+/** @brief Wait until every reader acknowledged what was written, at most
+ *  @p timeout_ms. @retval ROZ_OK, ROZ_ETIMEDOUT. Context: shutdown. */
+int roz_dds_writer_flush(roz_dds_writer_t *w, uint32_t timeout_ms);
+
+/** @brief Readers matched with this writer now. Context: any thread. */
+uint32_t roz_dds_writer_matched(const roz_dds_writer_t *w);
+
+/** @brief Stop and join the thread (it finishes its pass). Idempotent.
+ *  Context: shutdown; blocks up to one pass. */
+void roz_dds_writer_stop(roz_dds_writer_t *w);
+
+/** @brief Stop, then delete the writer. Idempotent. Context: shutdown. */
+void roz_dds_writer_close(roz_dds_writer_t *w);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_DDS_H */

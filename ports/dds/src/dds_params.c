@@ -1,0 +1,102 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The common DDS parameters and the Cyclone configuration built from them:
+ * pure functions, no Cyclone call. */
+#include "roz/dds.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "roz/hal/params.h"
+
+/* ---- private ------------------------------------------------------------- */
+
+static int ifname_char(char c)
+{
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+           c == '_' || c == '.' || c == ':' || c == '-';
+}
+
+/* ---- public -------------------------------------------------------------- */
+
+int roz_dds_check_interface(const char *name, char *err, size_t errlen)
+{
+    size_t n = name != NULL ? strlen(name) : 0;
+    size_t i = 0;
+
+    while (i < n && ifname_char(name[i]))
+        i++;
+    if (n == 0 || n > ROZ_DDS_IFNAME_MAX || i != n) {
+        snprintf(err, errlen,
+                 "parameter network_interface = \"%s\": expected an interface name "
+                 "(1..%d characters from A-Z a-z 0-9 _ . : -), such as lo or eth0",
+                 name != NULL ? name : "", ROZ_DDS_IFNAME_MAX);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t default_domain,
+                         char *err, size_t errlen)
+{
+    const char *iface = roz_params_get_str(p, "network_interface", "lo");
+    int rc;
+
+    memset(out, 0, sizeof *out);
+    rc = roz_dds_check_interface(iface, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    memcpy(out->network_interface, iface, strlen(iface) + 1);
+    if (default_domain > ROZ_DDS_MAX_DOMAIN)
+        default_domain = 0;
+    rc = roz_params_get_u32(p, "dds_domain", default_domain, 0, ROZ_DDS_MAX_DOMAIN, &out->domain,
+                            err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_params_get_bool(p, "enable_monitor", 1, &out->enable_monitor, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_params_get_u32(p, "state_decimation", 1, 1, 1000, &out->state_decimation, err,
+                                errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    rc = roz_params_get_u32(p, "command_writer_period_us", 2000, 0, ROZ_DDS_MAX_PERIOD_US,
+                            &out->command_writer_period_us, err, errlen);
+    if (rc == ROZ_OK && out->command_writer_period_us != 0 &&
+        out->command_writer_period_us < ROZ_DDS_MIN_PERIOD_US)
+        rc = ROZ_EINVAL;
+    if (rc != ROZ_OK) {
+        snprintf(err, errlen,
+                 "parameter command_writer_period_us = \"%s\": expected 0 (publish as soon as "
+                 "the tick writes) or a period in %u..%u us",
+                 roz_params_get_str(p, "command_writer_period_us", ""), ROZ_DDS_MIN_PERIOD_US,
+                 ROZ_DDS_MAX_PERIOD_US);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+int roz_dds_config_xml(const char *iface, char *out, size_t len)
+{
+    char err[8];
+    int n;
+
+    if (roz_dds_check_interface(iface, err, sizeof err) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (strcmp(iface, "lo") == 0)
+        n = snprintf(out, len,
+                     "<CycloneDDS><Domain Id=\"any\">"
+                     "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
+                     "<AllowMulticast>false</AllowMulticast></General>"
+                     "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+                     "<MaxAutoParticipantIndex>%d</MaxAutoParticipantIndex>"
+                     "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
+                     "</Domain></CycloneDDS>",
+                     ROZ_DDS_MAX_PARTICIPANT_INDEX);
+    else
+        n = snprintf(out, len,
+                     "<CycloneDDS><Domain Id=\"any\">"
+                     "<General><Interfaces><NetworkInterface name=\"%s\"/></Interfaces></General>"
+                     "</Domain></CycloneDDS>",
+                     iface);
+    if (n < 0 || (size_t)n >= len)
+        return ROZ_ENOSPC;
+    return n;
+}

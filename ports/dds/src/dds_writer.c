@@ -1,0 +1,238 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The command writer: a topic, a writer, and a thread that publishes the
+ * port's latest command periodically (absolute deadlines, jitter against
+ * the period) or when woken (event-driven). */
+#define _GNU_SOURCE /* sem_clockwait */
+#include "dds_internal.h"
+
+#include <errno.h>
+#include <pthread.h>
+#include <semaphore.h>
+#include <string.h>
+#include <time.h>
+
+#include "roz/hal/clock.h"
+
+#define NS_PER_S 1000000000ull
+
+_Static_assert(sizeof(pthread_t) <= sizeof(unsigned long), "pthread_t must fit the opaque field");
+_Static_assert(sizeof(sem_t) <= sizeof(((roz_dds_writer_t *)0)->wake.bytes),
+               "sem_t must fit the opaque field");
+_Static_assert(_Alignof(sem_t) <= _Alignof(long double), "sem_t alignment");
+
+/* ---- private ------------------------------------------------------------- */
+
+static sem_t *wake_sem(roz_dds_writer_t *w)
+{
+    return (sem_t *)(void *)w->wake.bytes;
+}
+
+/* One pass: the port fills the zeroed sample, roz publishes it. */
+static int pass(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx, uint64_t now_ns)
+{
+    memset(w->sample, 0, w->sample_size);
+    atomic_fetch_add_explicit(&w->passes, 1u, memory_order_relaxed);
+    if (!fill(ctx, w->sample, now_ns))
+        return 0;
+    dds_return_t rc = dds_write(w->writer, w->sample);
+    if (rc != DDS_RETCODE_OK) {
+        atomic_fetch_add_explicit(&w->errors, 1u, memory_order_relaxed);
+        return ROZ_EIO;
+    }
+    atomic_fetch_add_explicit(&w->published, 1u, memory_order_relaxed);
+    return 1;
+}
+
+static void timed_pass(roz_dds_writer_t *w)
+{
+    uint64_t t0 = roz_clock_monotonic_ns(NULL);
+    (void)pass(w, w->fill, w->ctx, t0);
+    if (w->monitor != NULL) {
+        uint64_t t1 = roz_clock_monotonic_ns(NULL);
+        roz_monitor_record(w->monitor, ROZ_MON_COMMAND_WRITER, t1 - t0, t1);
+    }
+}
+
+static struct timespec to_timespec(uint64_t ns)
+{
+    struct timespec ts = { (time_t)(ns / NS_PER_S), (long)(ns % NS_PER_S) };
+    return ts;
+}
+
+/* Periodic: wait for the deadline on the semaphore, so a stop wakes the
+ * thread at once; a post in periodic mode only comes from stop. */
+static void run_periodic(roz_dds_writer_t *w)
+{
+    uint64_t next = roz_clock_monotonic_ns(NULL) + w->period_ns;
+
+    while (!atomic_load_explicit(&w->stop, memory_order_acquire)) {
+        struct timespec ts = to_timespec(next);
+        int rc = sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts);
+        if (rc == 0 || errno == EINTR)
+            continue; /* stop (or a stray post): look at the flag */
+        uint64_t woke = roz_clock_monotonic_ns(NULL);
+        if (w->monitor != NULL)
+            roz_monitor_periodic(w->monitor, woke);
+        timed_pass(w);
+        next += w->period_ns;
+        uint64_t done = roz_clock_monotonic_ns(NULL);
+        if (done > next + w->period_ns) {
+            /* far behind: count it and go on from now, no burst */
+            atomic_fetch_add_explicit(&w->missed, 1u, memory_order_relaxed);
+            next = done + w->period_ns;
+        }
+    }
+}
+
+/* Event-driven: every post is a frame to publish; posts that piled up
+ * while a pass ran are one pass (it publishes the latest frame). */
+static void run_events(roz_dds_writer_t *w)
+{
+    for (;;) {
+        while (sem_wait(wake_sem(w)) != 0)
+            ; /* EINTR */
+        while (sem_trywait(wake_sem(w)) == 0)
+            ;
+        if (atomic_load_explicit(&w->stop, memory_order_acquire))
+            return;
+        timed_pass(w);
+    }
+}
+
+static void *writer_main(void *arg)
+{
+    roz_dds_writer_t *w = arg;
+    if (w->period_ns != 0)
+        run_periodic(w);
+    else
+        run_events(w);
+    return NULL;
+}
+
+/* ---- public -------------------------------------------------------------- */
+
+int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, const char *topic,
+                        const void *descriptor, const roz_dds_qos_t *qos, void *storage,
+                        size_t size, char *err, size_t errlen)
+{
+    memset(w, 0, sizeof *w);
+    atomic_init(&w->stop, 0);
+    atomic_init(&w->running, 0);
+    atomic_init(&w->passes, 0u);
+    atomic_init(&w->published, 0u);
+    atomic_init(&w->errors, 0u);
+    atomic_init(&w->missed, 0u);
+    if (p == NULL || p->participant <= 0 || topic == NULL || descriptor == NULL || qos == NULL ||
+        storage == NULL || size == 0) {
+        roz__dds_say(err, errlen, topic != NULL ? topic : "?", "writer", DDS_RETCODE_BAD_PARAMETER);
+        return ROZ_EINVAL;
+    }
+    w->sample = storage;
+    w->sample_size = size;
+    if (sem_init(wake_sem(w), 0, 0) != 0) {
+        roz__dds_say(err, errlen, topic, "writer", DDS_RETCODE_OUT_OF_RESOURCES);
+        return ROZ_ENOSPC;
+    }
+    w->wake_ready = 1;
+    dds_entity_t t = dds_create_topic(p->participant, descriptor, topic, NULL, NULL);
+    if (t < 0) {
+        roz__dds_say(err, errlen, topic, "no topic", t);
+        roz_dds_writer_close(w);
+        return roz__dds_error(t);
+    }
+    w->topic = t;
+    dds_qos_t *q = roz__dds_qos(qos);
+    if (q == NULL) {
+        roz__dds_say(err, errlen, topic, "writer", DDS_RETCODE_OUT_OF_RESOURCES);
+        roz_dds_writer_close(w);
+        return ROZ_ENOSPC;
+    }
+    /* a stopped port's last command must not be disposed under the robot */
+    dds_qset_writer_data_lifecycle(q, false);
+    dds_entity_t wr = dds_create_writer(p->participant, t, q, NULL);
+    dds_delete_qos(q);
+    if (wr < 0) {
+        roz__dds_say(err, errlen, topic, "no writer", wr);
+        roz_dds_writer_close(w);
+        return roz__dds_error(wr);
+    }
+    w->writer = wr;
+    return ROZ_OK;
+}
+
+int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
+                         void *ctx, roz_monitor_t *monitor)
+{
+    pthread_t th;
+
+    if (w->writer <= 0 || fill == NULL ||
+        (period_us != 0 && (period_us < ROZ_DDS_MIN_PERIOD_US || period_us > ROZ_DDS_MAX_PERIOD_US)))
+        return ROZ_EINVAL;
+    if (atomic_load(&w->running))
+        return ROZ_ESTATE;
+    w->fill = fill;
+    w->ctx = ctx;
+    w->monitor = monitor;
+    w->period_ns = (uint64_t)period_us * 1000u;
+    atomic_store(&w->stop, 0);
+    if (pthread_create(&th, NULL, writer_main, w) != 0)
+        return ROZ_EIO;
+    w->thread = (unsigned long)th;
+    atomic_store(&w->running, 1);
+    return ROZ_OK;
+}
+
+void roz_dds_writer_wake(roz_dds_writer_t *w)
+{
+    if (w->period_ns == 0 && w->wake_ready)
+        (void)sem_post(wake_sem(w));
+}
+
+int roz_dds_writer_publish(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx)
+{
+    if (atomic_load(&w->running))
+        return ROZ_ESTATE;
+    if (w->writer <= 0 || fill == NULL)
+        return ROZ_EINVAL;
+    return pass(w, fill, ctx, roz_clock_monotonic_ns(NULL));
+}
+
+int roz_dds_writer_flush(roz_dds_writer_t *w, uint32_t timeout_ms)
+{
+    if (w->writer <= 0)
+        return ROZ_OK;
+    dds_return_t rc = dds_wait_for_acks(w->writer, DDS_MSECS((int64_t)timeout_ms));
+    return rc == DDS_RETCODE_OK ? ROZ_OK : roz__dds_error(rc);
+}
+
+uint32_t roz_dds_writer_matched(const roz_dds_writer_t *w)
+{
+    dds_publication_matched_status_t st;
+    if (w->writer <= 0 || dds_get_publication_matched_status(w->writer, &st) != DDS_RETCODE_OK)
+        return 0;
+    return st.current_count;
+}
+
+void roz_dds_writer_stop(roz_dds_writer_t *w)
+{
+    if (!atomic_load(&w->running))
+        return;
+    atomic_store_explicit(&w->stop, 1, memory_order_release);
+    (void)sem_post(wake_sem(w));
+    pthread_join((pthread_t)w->thread, NULL);
+    atomic_store(&w->running, 0);
+}
+
+void roz_dds_writer_close(roz_dds_writer_t *w)
+{
+    roz_dds_writer_stop(w);
+    if (w->writer > 0)
+        (void)dds_delete(w->writer);
+    if (w->topic > 0)
+        (void)dds_delete(w->topic);
+    w->writer = 0;
+    w->topic = 0;
+    if (w->wake_ready)
+        (void)sem_destroy(wake_sem(w));
+    w->wake_ready = 0;
+}
