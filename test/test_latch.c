@@ -8,7 +8,9 @@
  * instance never runs again, no e-stop press is lost, a clear that saw
  * nothing changes nothing. Also: read() errors keep the last good state, a
  * first frame with a NaN held position sends nothing, the log callback
- * runs only in roz_runtime_log_drain(). */
+ * runs only in roz_runtime_log_drain(), a frame in which the robot reports
+ * a fault of its own latches ROBOT naming the part and code, is taken as a
+ * fresh frame, and holds the fault while it is reported (a level). */
 /* white-box in part: reads the runtime's controller slots (a trapped
  * instance must never run again), which no public function exposes */
 #define ROZ_PRIVATE_ACCESS
@@ -163,7 +165,7 @@ static int hp_read(void *self, double *state, size_t n)
     (void)self;
     fire(P_BEFORE_READ);
     int rc = read_rc;
-    if (rc == 1)
+    if (rc == 1 || rc == ROZ_EROBOT)
         memcpy(state, st, n * sizeof st[0]);
     else if (rc < 0)
         for (size_t i = 0; i < n; i++)
@@ -183,7 +185,18 @@ static int hp_write(void *self, const double *cmd, size_t n)
     return ROZ_OK;
 }
 
-static const roz_port_ops_t hook_ops = { .name = "hooks", .read = hp_read, .write = hp_write };
+/* what the robot reports when read() returns ROZ_EROBOT */
+static int hp_fault(void *self, roz_port_fault_t *out)
+{
+    (void)self;
+    out->what = "j0";
+    out->kind = "motor fault code";
+    out->code = 0x21;
+    return ROZ_OK;
+}
+
+static const roz_port_ops_t hook_ops = { .name = "hooks", .read = hp_read, .write = hp_write,
+                                         .fault = hp_fault };
 
 /* ---- helpers ------------------------------------------------------------- */
 
@@ -557,6 +570,42 @@ static void test_latch_read_error_keeps_state(void **s)
     assert_int_equal(reused, 0);
 }
 
+/* The robot reports a fault (a motor's code) in a fresh frame: the frame is
+ * the state, ROBOT latches with the port's words and the code, the stop is
+ * ramped; the report is a level: no clear takes while it lasts. */
+static void test_latch_robot_fault(void **s)
+{
+    (void)s;
+    setup_rt();
+    ticks(110);
+    uint64_t reads = rt.counters.read_errors, stale = rt.counters.stale_reads;
+    st[0] = 0.5;
+    read_rc = ROZ_EROBOT;
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    assert_string_equal(roz_runtime_fault_message(&rt),
+                        "robot fault: j0: motor fault code 33 (0x21)");
+    assert_true(roz_runtime_last_state(&rt)[0] == 0.5);
+    assert_int_equal(rt.counters.read_errors, reads);
+    assert_int_equal(rt.counters.stale_reads, stale);
+    assert_string_equal(roz_fault_name(ROZ_FAULT_ROBOT), "robot fault");
+    assert_int_equal(ROZ_FAULT_ROBOT & ROZ_FAULT_IMMEDIATE_MASK, 0); /* ramped */
+    /* still reported: the clear takes at the tick's start, and the same
+     * tick's frame latches it again before the controller could run */
+    uint64_t calls = rt.counters.controller_ticks;
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(2);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    assert_int_equal(rt.counters.faults[6], 2);
+    assert_int_equal(rt.counters.controller_ticks, calls);
+    /* no longer reported: the clear takes */
+    read_rc = 1;
+    ticks(1);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 /* A NaN held position in the first frame: its command would have nothing to
  * hold but the manifest default (1.0, far from the joint at 0.3). Nothing is
  * sent until the position is known; then it holds it. */
@@ -649,6 +698,7 @@ int main(void)
         cmocka_unit_test_teardown(test_latch_every_ordering, teardown),
         cmocka_unit_test_teardown(test_latch_read_error_keeps_state, teardown),
         cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
+        cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
         cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

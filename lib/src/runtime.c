@@ -11,6 +11,7 @@
 
 static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
     "trap", "overrun", "stale state", "e-stop", "controller e-stop request", "port link",
+    "robot fault",
 };
 
 static uint64_t now(const roz_runtime_t *rt)
@@ -182,6 +183,11 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
     case ROZ_FAULT_LINK:
         snprintf(buf, len,
                  "port link fault: the robot restarted or came back after it was lost");
+        break;
+    case ROZ_FAULT_ROBOT:
+        snprintf(buf, len, "robot fault: %s %lu (0x%lx)",
+                 text != NULL && text[0] != '\0' ? text : "the port reports a fault, code",
+                 (unsigned long)num[N_A], (unsigned long)num[N_A]);
         break;
     default:
         if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
@@ -382,9 +388,38 @@ static void tick_estop(roz_runtime_t *rt)
         latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
 }
 
+/* Appends @p s to @p buf (capacity @p cap, NUL kept) without formatting. */
+static size_t append(char *buf, size_t used, size_t cap, const char *s)
+{
+    while (s != NULL && *s != '\0' && used + 1u < cap)
+        buf[used++] = *s++;
+    buf[used] = '\0';
+    return used;
+}
+
+/* The robot reported a fault (read() returned ROZ_EROBOT): latch ROBOT with
+ * the port's account of it, "<what>: <kind>" and the code, copied, not
+ * formatted. */
+static void latch_robot(roz_runtime_t *rt)
+{
+    roz_port_fault_t f = { NULL, NULL, 0 };
+    char text[ROZ_CFG_ERROR_LEN];
+    size_t used = 0;
+
+    text[0] = '\0';
+    if (rt->cfg.port.ops->fault != NULL &&
+        rt->cfg.port.ops->fault(rt->cfg.port.self, &f) == ROZ_OK && f.what != NULL) {
+        used = append(text, used, sizeof text, f.what);
+        used = append(text, used, sizeof text, ": ");
+        used = append(text, used, sizeof text, f.kind != NULL ? f.kind : "code");
+    }
+    latch(rt, ROZ_FAULT_ROBOT, f.code, 0, text);
+}
+
 /* 2. State: read into a scratch frame (the port leaves it undefined on
  * error); the state the controller and filter see is the last good one.
- * Counts staleness and latches STALE and LINK. */
+ * Counts staleness and latches STALE and LINK; a frame that reports a
+ * robot fault is a fresh frame, and latches ROBOT. */
 static void tick_read(roz_runtime_t *rt)
 {
     const roz_manifest_t *m = rt->cfg.manifest;
@@ -394,6 +429,10 @@ static void tick_read(roz_runtime_t *rt)
     int bad = -1;
 
     roz_monitor_record(&rt->monitor, ROZ_MON_READ, t1 - t0, t1);
+    if (rc == ROZ_EROBOT) {
+        latch_robot(rt);
+        rc = 1;
+    }
     if (rc == 1 && !rt->have_state) {
         bad = first_frame_bad(rt, rt->scratch);
         if (bad >= 0 && !rt->nonfinite_warned) {

@@ -30,6 +30,7 @@ extern "C" {
 #define ROZ_ENOMEM    (-12)  /**< the engine (wasm3's heap) could not allocate */
 #define ROZ_ETRAP     (-13)  /**< the controller trapped */
 #define ROZ_EVERIFY   (-14)  /**< a controller failed verification and was not installed */
+#define ROZ_EROBOT    (-15)  /**< the robot reports a fault of its own (a motor's fault code) */
 
 /* A result that must not be ignored. With C++17 or C23 `[[nodiscard]]`,
  * which a cast to void silences; GCC's older attribute cannot be silenced

@@ -19,6 +19,7 @@
 #include "roz/config.h"
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "roz/error.h"
 #include "roz/manifest.h"
@@ -32,6 +33,14 @@ typedef struct roz_params {
     const roz_param_t *items;
     size_t             n;
 } roz_params_t;
+
+/** What the robot reported when read() returned ROZ_EROBOT. */
+typedef struct roz_port_fault {
+    const char *what; /**< the part at fault, in storage that lives as long as
+                           the port is open: "left_knee_joint" */
+    const char *kind; /**< what it reported, static: "motor fault code" */
+    uint32_t    code; /**< the robot's own code */
+} roz_port_fault_t;
 
 /** The operations of one kind of port. Optional ops may be NULL. */
 typedef struct roz_port_ops {
@@ -47,7 +56,11 @@ typedef struct roz_port_ops {
      *  holds the previous frame), negative ROZ_E* on error (ROZ_ENOENT: no
      *  frame ever; ROZ_ELINK: the link to the robot broke, its peer restarted
      *  or came back after it was lost (roz/hal/link.h), which latches
-     *  ROZ_FAULT_LINK). Context: the tick; RT-safe, never blocks. */
+     *  ROZ_FAULT_LINK; ROZ_EROBOT: a fresh frame, in @p state, in which the
+     *  robot reports a fault of its own (fault() says which), which latches
+     *  ROZ_FAULT_ROBOT; a port returns it for every fresh frame while the
+     *  robot reports the fault: a level, not an event).
+     *  Context: the tick; RT-safe, never blocks. */
     int (*read)(void *self, double *state, size_t n);
     /** Hand n = n_commands filtered commands to the robot. Context: the
      *  tick; RT-safe, never blocks. */
@@ -56,6 +69,10 @@ typedef struct roz_port_ops {
     int (*deactivate)(void *self);
     /** Free everything; idempotent. Optional. */
     void (*close)(void *self);
+    /** After read() returned ROZ_EROBOT: what the robot reported. Optional
+     *  (without it the fault has a code of 0 and no name).
+     *  Context: the tick; RT-safe. */
+    int (*fault)(void *self, roz_port_fault_t *out);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */

@@ -71,8 +71,11 @@ typedef enum roz_fault {
     ROZ_FAULT_ESTOP_REQUEST = 1u << 4, /**< the controller called safety.request_estop */
     ROZ_FAULT_LINK          = 1u << 5, /**< the port's read() returned ROZ_ELINK: its peer
                                             restarted or came back after it was lost */
+    ROZ_FAULT_ROBOT         = 1u << 6, /**< the port's read() returned ROZ_EROBOT: the robot
+                                            reports a fault of its own (the port's fault()
+                                            op names the part and the code) */
 } roz_fault_t;
-#define ROZ_FAULT_KIND_COUNT 6
+#define ROZ_FAULT_KIND_COUNT 7
 /** Faults answered by an immediate stop; the others ramp. A robot that
  *  restarted (LINK) has forgotten the commands a ramp would continue from,
  *  so its first command is the safe default itself. */
