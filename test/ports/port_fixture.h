@@ -34,6 +34,18 @@ typedef enum {
 
 typedef struct roz_port_fixture {
     const char *name;
+    /* The manifests the port serves, NULL-terminated; NULL: the suite's
+     * own (UR5 and G1). */
+    const roz_manifest_t *const *manifests;
+    /* 1: the port keeps the start-up hold (roz/port.h): its first write to
+     * a peer that has just sent its first frame (a new or restarted peer)
+     * goes out as every position command holding its paired position
+     * state, every other command 0 (each clamped to its channel), not as
+     * what was written. */
+    int start_hold;
+    /* What the peer applies for a command written as @p in (n_commands
+     * values), where the wire narrows them (float32); NULL: exactly that. */
+    void (*wire_command)(const double *in, double *out);
     /* Open the port on @p m with @p params against a new peer that has sent
      * nothing yet; the port is activated. ROZ_OK, or the open's error. */
     int (*open)(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port, char *err,
@@ -60,5 +72,6 @@ typedef struct roz_port_fixture {
 } roz_port_fixture_t;
 
 extern const roz_port_fixture_t roz_fixture_loopback;
+extern const roz_port_fixture_t roz_fixture_unitree_g1;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */

@@ -11,8 +11,14 @@
  *    replayed frame read 0 and are counted; a restarted peer, and one back
  *    after a silence past the peer timeout, read ROZ_ELINK once, then their
  *    frames read 1; a restarted peer gets no command until the next write;
- *  - commands: the peer applies exactly what was written; a command frame
- *    corrupted in transit is dropped by the peer, which keeps the last one. */
+ *  - commands: the peer applies exactly what was written (as the wire
+ *    carries it); a command frame corrupted in transit is dropped by the
+ *    peer, which keeps the last one;
+ *  - start-up hold, for a port that keeps it: the first write to a new or
+ *    restarted peer reaches it as the hold of the positions it sent, with
+ *    zero gains; the next write as written.
+ * Each fixture runs on the manifests it serves (the loopback on UR5 and G1,
+ * the G1 port on G1). */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -36,12 +42,23 @@ typedef struct {
     double                    cmd[ROZ_CFG_MAX_COMMANDS];
 } conformance_t;
 
-static const roz_port_fixture_t *const fixtures[] = { &roz_fixture_loopback };
-static const roz_manifest_t *const manifests[] = { &roz_manifest_ur5, &roz_manifest_unitree_g1 };
+static const roz_port_fixture_t *const fixtures[] = {
+    &roz_fixture_loopback,
+#ifdef ROZ_TEST_HAVE_UNITREE_G1
+    &roz_fixture_unitree_g1,
+#endif
+};
+static const roz_manifest_t *const default_manifests[] = { &roz_manifest_ur5,
+                                                           &roz_manifest_unitree_g1, NULL };
+
+static const roz_manifest_t *const *manifests_of(const roz_port_fixture_t *fx)
+{
+    return fx->manifests != NULL ? fx->manifests : default_manifests;
+}
 
 static void open_port(conformance_t *c, const roz_port_fixture_t *fx, const roz_manifest_t *m)
 {
-    char err[200] = "";
+    char err[300] = "";
     memset(c, 0, sizeof *c);
     c->fx = fx;
     c->m = m;
@@ -78,12 +95,50 @@ static void write_checked(conformance_t *c, int k)
     assert_int_equal(roz_port_write(&c->port, c->cmd, c->m->n_commands), ROZ_OK);
 }
 
-static void assert_peer_applies(conformance_t *c, const double *want)
+/* @p written, as the peer should apply it: through the wire's narrowing */
+static void assert_peer_applies(conformance_t *c, const double *written)
 {
+    double want[ROZ_CFG_MAX_COMMANDS];
+    if (c->fx->wire_command != NULL)
+        c->fx->wire_command(written, want);
+    else
+        memcpy(want, written, c->m->n_commands * sizeof want[0]);
     c->fx->settle();
     const double *got = c->fx->peer_command();
     assert_non_null(got);
-    assert_memory_equal(got, want, c->m->n_commands * sizeof want[0]);
+    for (uint16_t i = 0; i < c->m->n_commands; i++) {
+        if (memcmp(&got[i], &want[i], sizeof want[i]) != 0)
+            fail_msg("%s on %s: command %u \"%s\": the peer applies %.17g, expected %.17g",
+                     c->fx->name, c->m->robot_id, (unsigned)i, c->m->commands[i].name, got[i],
+                     want[i]);
+    }
+}
+
+static double clamp_to(const roz_channel_t *ch, double v)
+{
+    return v < ch->min ? ch->min : v > ch->max ? ch->max : v;
+}
+
+/* The first write to a peer that has sent its first frame (new, or
+ * restarted). A port that keeps the start-up hold sends the hold of the
+ * positions the peer sent (c->state, the last read), zero elsewhere; then
+ * the next write goes out as written. */
+static void first_write(conformance_t *c, int k)
+{
+    write_checked(c, k);
+    if (c->fx->start_hold) {
+        double hold[ROZ_CFG_MAX_COMMANDS];
+        for (uint16_t i = 0; i < c->m->n_commands; i++) {
+            const roz_channel_t *ch = &c->m->commands[i];
+            hold[i] = clamp_to(ch, ch->type == ROZ_IF_POSITION &&
+                                           ch->position_state != ROZ_CHANNEL_UNPAIRED
+                                       ? c->state[ch->position_state]
+                                       : 0.0);
+        }
+        assert_peer_applies(c, hold);
+        write_checked(c, k);
+    }
+    assert_peer_applies(c, c->cmd);
 }
 
 /* ---- the checks, each on one fixture and manifest ------------------------- */
@@ -93,7 +148,7 @@ static void check_params(const roz_port_fixture_t *fx, const roz_manifest_t *m)
     roz_param_t item = { "no_such_key", "1" };
     roz_params_t params = { &item, 1 };
     roz_port_t port;
-    char err[200] = "";
+    char err[300] = "";
     assert_true(fx->open(m, &params, &port, err, sizeof err) < 0);
     if (strstr(err, "no_such_key") == NULL || strstr(err, fx->name) == NULL)
         fail_msg("%s: \"%s\" names neither the key nor the port", fx->name, err);
@@ -112,8 +167,7 @@ static void check_sizes_and_start(conformance_t *c)
     c->fx->settle();
     assert_null(c->fx->peer_command());
     fresh_frame(c);
-    write_checked(c, 1);
-    assert_peer_applies(c, c->cmd);
+    first_write(c, 1);
 }
 
 static void check_fresh_and_stale(conformance_t *c)
@@ -166,8 +220,7 @@ static void check_link(conformance_t *c)
     c->fx->settle();
     assert_null(c->fx->peer_command()); /* it forgot */
     fresh_frame(c);
-    write_checked(c, 3);
-    assert_peer_applies(c, c->cmd);
+    first_write(c, 3);
 
     /* gone past the peer timeout, then back */
     uint64_t returns = link_now(c).returns;
@@ -181,8 +234,7 @@ static void check_commands(conformance_t *c)
 {
     double first[ROZ_CFG_MAX_COMMANDS];
     fresh_frame(c);
-    write_checked(c, 4);
-    assert_peer_applies(c, c->cmd);
+    first_write(c, 4);
     memcpy(first, c->cmd, c->m->n_commands * sizeof first[0]);
     fresh_frame(c);
     c->fx->corrupt_next_command();
@@ -201,9 +253,10 @@ static void each(check_fn check)
 {
     static conformance_t c;
     for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++) {
-        for (size_t k = 0; k < sizeof manifests / sizeof manifests[0]; k++) {
-            print_message("%s on %s\n", fixtures[f]->name, manifests[k]->robot_id);
-            open_port(&c, fixtures[f], manifests[k]);
+        const roz_manifest_t *const *ms = manifests_of(fixtures[f]);
+        for (size_t k = 0; ms[k] != NULL; k++) {
+            print_message("%s on %s\n", fixtures[f]->name, ms[k]->robot_id);
+            open_port(&c, fixtures[f], ms[k]);
             check(&c);
             fixtures[f]->close();
         }
@@ -214,7 +267,7 @@ static void test_port_conformance_params(void **st)
 {
     (void)st;
     for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++)
-        check_params(fixtures[f], &roz_manifest_ur5);
+        check_params(fixtures[f], manifests_of(fixtures[f])[0]);
 }
 
 static void test_port_conformance_start(void **st)

@@ -30,17 +30,20 @@ static sem_t *wake_sem(roz_dds_writer_t *w)
 /* One pass: the port fills the zeroed sample, roz publishes it. */
 static int pass(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx, uint64_t now_ns)
 {
+    int rc = 1;
+
     memset(w->sample, 0, w->sample_size);
     atomic_fetch_add_explicit(&w->passes, 1u, memory_order_relaxed);
-    if (!fill(ctx, w->sample, now_ns))
-        return 0;
-    dds_return_t rc = dds_write(w->writer, w->sample);
-    if (rc != DDS_RETCODE_OK) {
+    if (!fill(ctx, w->sample, now_ns)) {
+        rc = 0;
+    } else if (dds_write(w->writer, w->sample) != DDS_RETCODE_OK) {
         atomic_fetch_add_explicit(&w->errors, 1u, memory_order_relaxed);
-        return ROZ_EIO;
+        rc = ROZ_EIO;
+    } else {
+        atomic_fetch_add_explicit(&w->published, 1u, memory_order_relaxed);
     }
-    atomic_fetch_add_explicit(&w->published, 1u, memory_order_relaxed);
-    return 1;
+    atomic_fetch_add_explicit(&w->done, 1u, memory_order_release);
+    return rc;
 }
 
 static void timed_pass(roz_dds_writer_t *w)
@@ -119,6 +122,7 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
     atomic_init(&w->stop, 0);
     atomic_init(&w->running, 0);
     atomic_init(&w->passes, 0u);
+    atomic_init(&w->done, 0u);
     atomic_init(&w->published, 0u);
     atomic_init(&w->errors, 0u);
     atomic_init(&w->missed, 0u);

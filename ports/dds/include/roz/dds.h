@@ -239,7 +239,8 @@ typedef struct roz_dds_writer {
     uint64_t             period_ns; /* 0: event-driven */
     ROZ_ATOMIC(int)      stop;
     ROZ_ATOMIC(int)      running;   /* the thread is started */
-    ROZ_ATOMIC(uint64_t) passes;    /**< fill calls */
+    ROZ_ATOMIC(uint64_t) passes;    /**< passes begun (fill calls) */
+    ROZ_ATOMIC(uint64_t) done;      /**< passes ended (published, declined or failed) */
     ROZ_ATOMIC(uint64_t) published; /**< samples written */
     ROZ_ATOMIC(uint64_t) errors;    /**< dds_write failures */
     ROZ_ATOMIC(uint64_t) missed;    /**< periods missed by more than a period (skipped) */

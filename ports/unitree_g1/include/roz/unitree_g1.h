@@ -1,0 +1,218 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/unitree_g1.h
+ * @brief The port `unitree/G1`: a Unitree G1 (29 joints) driven through
+ *        `rt/lowcmd` and `rt/lowstate` (unitree_hg LowCmd_ / LowState_) over
+ *        Cyclone DDS, as Unitree's own SDKs do on the wire.
+ *
+ * Binding (at open, by name, never in the tick): the manifest's `[hardware]
+ * joints` are the motors in SDK order, joint i is motor slot i (at most 29:
+ * slots 0-28 are the body; 29-34 are never driven). For each joint the
+ * states `{joint}/position`, `/velocity`, `/effort` come from the motor's q,
+ * dq, tau_est, and the commands `{joint}/position`, `/velocity`, `/effort`,
+ * `/stiffness`, `/damping` go to its q, dq, tau, kp, kd. The IMU states
+ * `base_imu/orientation.{x,y,z,w}` come from Unitree's quaternion, which is
+ * w, x, y, z; `base_imu/angular_velocity.*` from the gyroscope,
+ * `base_imu/linear_acceleration.*` from the accelerometer. A manifest
+ * channel the G1 has no place for is an error at open naming it.
+ *
+ * State (Cyclone's receive thread, roz/dds.h): every LowState_ is checked
+ * before anything of it is used: its CRC (crc32_core over the native struct,
+ * roz/hal/crc32.h), then its `tick` through roz/hal/link.h (bad CRC and
+ * replays dropped and counted; a robot that restarts, or comes back after
+ * `peer_timeout_ms` of silence, makes read() return ROZ_ELINK once and the
+ * start-up layers begin again). Every frame's safety fields are converted:
+ * the motors' fault codes, mode_machine and the joint positions; the rest
+ * (velocities, efforts, IMU) every `state_decimation`-th frame (the first
+ * frame of a robot always). A joint whose motor reports a fault code
+ * (`motorstate` != 0) makes read() return ROZ_EROBOT for every frame that
+ * reports it; fault() names the joint and the code (the runtime latches
+ * ROZ_FAULT_ROBOT).
+ *
+ * Commands: write() hands the frame to the command writer thread through a
+ * latest-value buffer (never blocks); the writer publishes at
+ * `command_writer_period_us` (2000), or at once when that is 0. Every
+ * publish fills a freshly zeroed LowCmd_ (stale padding under the CRC makes
+ * the robot drop a command without a word): mode 1 for the manifest's
+ * joints, 0 and all zero for the other slots; q, dq, tau, kp, kd from the
+ * command channels (a joint without one sends 0 there); `mode_pr` from the
+ * parameter; `mode_machine` echoed from the latest LowState_; the CRC over
+ * the native struct. The mode_machine of the first command sent is kept:
+ * while the robot reports another, nothing is sent and read() returns
+ * ROZ_EROBOT (fault(): "mode_machine changed under a running controller").
+ *
+ * Safe start-up, three layers: nothing is sent before the first LowState_
+ * (writes before it are counted and dropped); the first frame of a robot
+ * (at open, or after a restart) sets the command to hold each joint's
+ * measured position with zero gains (kd = `startup_damping`, 0 unless set:
+ * a damping hold as the vendor's deploy code uses); and the first write
+ * after it is published as that hold, not as what was written. A robot that
+ * restarted gets nothing until the tick writes again. On deactivate, the
+ * writer stops after one damping command (kp 0, kd `shutdown_damping`,
+ * default the manifest's damping default) when anything was sent.
+ *
+ * Parameters (robot.toml [hardware.params], overridden by the caller's;
+ * errors name the key and the value): `network_interface` (lo),
+ * `dds_domain` (0), `enable_monitor` (true), `command_writer_period_us`
+ * (2000; 0 = as soon as the tick writes), `state_decimation` (1), `mode_pr`
+ * (PR or AB, or 0 or 1; default PR), `peer_timeout_ms` (500),
+ * `startup_damping` (0), `shutdown_damping` (the damping channels' default).
+ *
+ * Threads: open, activate, deactivate and close from the application's
+ * thread; read, write and fault from the tick; the rest runs on Cyclone's
+ * receive thread and the writer thread, which meet the tick through
+ * roz/buffer.h and atomics only.
+ */
+#ifndef ROZ_UNITREE_G1_H
+#define ROZ_UNITREE_G1_H
+
+#include "roz/config.h"
+
+#include <stdint.h>
+
+#include "roz/atomic.h"
+#include "roz/buffer.h"
+#include "roz/dds.h"
+#include "roz/hal/link.h"
+#include "roz/log.h"
+#include "roz/manifest.h"
+#include "roz/monitor.h"
+#include "roz/port.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Motor slots of LowCmd_ / LowState_. */
+#define ROZ_UNITREE_G1_SLOTS 35
+/** Slots of the body (0-28); the manifest's joints are at most this many. */
+#define ROZ_UNITREE_G1_BODY 29
+/** 32-bit words of the native LowCmd_ (1004 bytes) and LowState_ (2092). */
+#define ROZ_UNITREE_G1_CMD_WORDS 251
+#define ROZ_UNITREE_G1_STATE_WORDS 523
+/** Values after the states in a state frame: robot session, faulty slot,
+ *  its code, mode_machine, tick, then each slot's measured q. */
+#define ROZ_UNITREE_G1_STATE_META (5 + ROZ_UNITREE_G1_SLOTS)
+/** Values after the commands in a command frame: session, hold, sequence. */
+#define ROZ_UNITREE_G1_CMD_META 3
+/** Largest number of merged parameters (robot.toml's and the caller's). */
+#define ROZ_UNITREE_G1_MAX_PARAMS 48
+
+/** One motor slot's channels (-1: none). */
+typedef struct roz_unitree_g1_joint {
+    int16_t q_state, dq_state, tau_state;
+    int16_t q_cmd, dq_cmd, tau_cmd, kp_cmd, kd_cmd;
+} roz_unitree_g1_joint_t;
+
+/** The port's counters (roz_unitree_g1_counters()). */
+typedef struct roz_unitree_g1_counters {
+    uint64_t frames;            /**< LowState_ samples received */
+    uint64_t full_conversions;  /**< frames converted whole (decimation) */
+    uint64_t motor_fault_frames;/**< accepted frames in which a motor reports a fault */
+    uint64_t sessions;          /**< robots seen: the first one, then each restart or return */
+    uint64_t writes;            /**< write() calls */
+    uint64_t writes_withheld;   /**< writes before the first LowState_ (nothing sent) */
+    uint64_t holds;             /**< first writes of a robot published as the start-up hold */
+    uint64_t clamped;           /**< written values outside their channel (clamped; 0 behind
+                                     the runtime's filter) */
+    uint64_t writer_passes;     /**< writer passes begun */
+    uint64_t writer_done;       /**< writer passes ended (none open when equal) */
+    uint64_t published;         /**< LowCmd_ samples written */
+    uint64_t publish_errors;    /**< dds_write failures */
+    uint64_t stale_session;     /**< passes that sent nothing: the command was for a robot
+                                     that restarted since */
+    uint64_t refused_mode_machine; /**< passes that sent nothing: mode_machine changed */
+    uint64_t handled_seq;       /**< sequence of the last command frame the writer took */
+    uint64_t written_seq;       /**< sequence of the last command frame written */
+} roz_unitree_g1_counters_t;
+
+/** The port's instance; caller-owned (large: give it static storage).
+ *  Fields are private; the tests and tools read them through the functions
+ *  below. */
+typedef struct roz_unitree_g1 {
+    /* ---- set at open, then read-only ---- */
+    const roz_manifest_t  *m;
+    roz_dds_params_t       dds;
+    uint8_t                mode_pr;
+    uint32_t               peer_timeout_ms;
+    double                 startup_kd, shutdown_kd;
+    roz_log_fn             log;
+    void                  *log_ctx;
+    uint16_t               n_joints;
+    roz_unitree_g1_joint_t joint[ROZ_UNITREE_G1_SLOTS];
+    int16_t                imu[10];     /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
+    roz_param_t            params[ROZ_UNITREE_G1_MAX_PARAMS];
+    int                    open, active;
+
+    /* ---- DDS ---- */
+    roz_dds_participant_t  part;
+    roz_dds_reader_t       reader;
+    roz_dds_writer_t       writer;
+    roz_monitor_t          mon_rx, mon_tx; /* one per thread that records */
+    uint32_t               rx_sample[ROZ_UNITREE_G1_STATE_WORDS]; /* LowState_, receive thread */
+    uint32_t               tx_sample[ROZ_UNITREE_G1_CMD_WORDS];   /* LowCmd_, writer thread */
+
+    /* ---- receive thread ---- */
+    roz_link_t             link;
+    uint32_t               session;        /* robots seen */
+    uint32_t               since_full;     /* frames since the last full conversion */
+    double                 rx_values[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    roz_link_shared_t      link_shared;
+    ROZ_ATOMIC(uint32_t)   rx_session;     /* for the writer */
+    ROZ_ATOMIC(uint32_t)   rx_mode_machine;
+
+    /* ---- receive thread -> tick ---- */
+    roz_buffer_t           state_buf;
+    double                 state_slots[3 * ((ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1) +
+                                            ROZ_UNITREE_G1_STATE_META)];
+
+    /* ---- tick ---- */
+    int                    tick_has_state;
+    uint32_t               tick_session;   /* robot session of the last frame read */
+    uint32_t               write_session;  /* robot session of the last write */
+    uint64_t               write_seq;
+    double                 tick_q[ROZ_UNITREE_G1_SLOTS];
+    roz_port_fault_t       tick_fault;
+
+    /* ---- tick -> writer thread ---- */
+    roz_buffer_t           cmd_buf;
+    double                 cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_UNITREE_G1_CMD_META)];
+
+    /* ---- writer thread ---- */
+    ROZ_ATOMIC(uint32_t)   locked_mode_machine; /* 0x100 | value once a command went out */
+    ROZ_ATOMIC(int)        shutdown;       /* 1: publish the damping command */
+    double                 tx_last_q[ROZ_UNITREE_G1_SLOTS]; /* positions last commanded */
+
+    /* ---- counters (atomics: written by one thread, read by any) ---- */
+    ROZ_ATOMIC(uint64_t)   c_frames, c_full, c_motor_fault, c_sessions;
+    ROZ_ATOMIC(uint64_t)   c_writes, c_withheld, c_holds, c_clamped;
+    ROZ_ATOMIC(uint64_t)   c_stale_session, c_refused_mm, c_handled_seq, c_written_seq;
+} roz_unitree_g1_t;
+
+/** The ops table (name "unitree/G1"). */
+extern const roz_port_ops_t roz_unitree_g1_ops;
+
+/**
+ * @brief A roz_port_t over @p g1, not yet open (roz_port_open()).
+ * @param log  where the port says which DDS configuration it uses and the
+ *             monitors warn (from the port's threads); NULL: stderr
+ */
+roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx);
+
+/** @brief A consistent copy of the checks on LowState_ frames.
+ *  Context: any thread. */
+void roz_unitree_g1_link(const roz_unitree_g1_t *g1, roz_link_t *out);
+
+/** @brief The counters. Context: any thread (each value is one atomic load). */
+void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters_t *out);
+
+/** @brief Readers of rt/lowcmd and writers of rt/lowstate matched now (a
+ *  test waits for both before it speaks). Context: any thread. */
+void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
+                            uint32_t *state_writers);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_UNITREE_G1_H */

@@ -1,0 +1,57 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Private to the G1 port: the manifest <-> unitree_hg binding and the
+ * conversions, pure functions over the native structs (no DDS, no threads). */
+#ifndef ROZ_G1_MAP_H
+#define ROZ_G1_MAP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/unitree_g1.h"
+#include "unitree_hg.h"
+
+typedef unitree_hg_msg_dds__LowCmd_ g1_cmd_t;
+typedef unitree_hg_msg_dds__LowState_ g1_state_t;
+
+/* Words the CRC covers: all but the trailing crc. */
+#define G1_CMD_CRC_WORDS (sizeof(g1_cmd_t) / 4u - 1u)
+#define G1_STATE_CRC_WORDS (sizeof(g1_state_t) / 4u - 1u)
+
+/* Binds the manifest's joints and IMU to motor slots and channels; every
+ * channel must find its place. ROZ_EINVAL with err naming the joint or the
+ * channel. */
+int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen);
+
+/* The damping channels' common range [lo, hi]; 0 when there are none.
+ * Returns the number of damping channels. */
+int roz__g1_damping_range(const roz_unitree_g1_t *g1, double *lo, double *hi);
+
+/* Whether the frame's CRC matches. */
+int roz__g1_state_crc_ok(const g1_state_t *s);
+
+/* The states of the frame into values (n_states, manifest order): positions
+ * always, the rest when full. */
+void roz__g1_convert(const roz_unitree_g1_t *g1, const g1_state_t *s, double *values, int full);
+
+/* The first joint whose motor reports a fault code, or -1; its code. */
+int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_t *code);
+
+/* The start-up hold as a command frame (n_commands, manifest order): every
+ * joint's position command holds q[slot], kd is @p kd where the joint has
+ * a damping command, everything else 0; each value clamped to its channel. */
+void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd);
+
+/* Clamps every value to its channel (NaN: the channel's default); returns
+ * how many it changed. */
+uint32_t roz__g1_clamp(const roz_unitree_g1_t *g1, const double *in, double *out);
+
+/* Fills a zeroed LowCmd_ from a command frame and sets its CRC. */
+void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_machine,
+                  g1_cmd_t *out);
+
+/* Fills a zeroed LowCmd_ with the damping command: kp 0, kd (each joint's
+ * damping default when NaN; clamped), q the given positions; and its CRC. */
+void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd,
+                          uint8_t mode_machine, g1_cmd_t *out);
+
+#endif /* ROZ_G1_MAP_H */

@@ -1,0 +1,464 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The port unitree/G1: parameters, the receive path (Cyclone's thread), the
+ * tick's read and write, the command writer's fill (its thread), start-up
+ * and shutdown. roz/unitree_g1.h says what it does; here is how. */
+#include "roz/unitree_g1.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "g1_map.h"
+#include "roz/hal/params.h"
+
+/* ---- frame layouts ----------------------------------------------------------
+ * State frame (receive thread -> tick): n_states values, then: */
+enum { M_SESSION = 0, M_FAULT_SLOT, M_FAULT_CODE, M_MODE_MACHINE, M_TICK, M_Q };
+/* Command frame (tick -> writer thread): n_commands values, then: */
+enum { C_SESSION = 0, C_HOLD, C_SEQ };
+
+_Static_assert(M_Q + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_STATE_META, "state frame meta");
+_Static_assert(C_SEQ + 1 == ROZ_UNITREE_G1_CMD_META, "command frame meta");
+_Static_assert(sizeof(g1_cmd_t) == 4u * ROZ_UNITREE_G1_CMD_WORDS, "LowCmd_ storage");
+_Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_ storage");
+
+#define LOCKED 0x100u /* locked_mode_machine: a command went out */
+
+static const char *const known_keys[] = { ROZ_DDS_PARAM_KEYS, "mode_pr", "peer_timeout_ms",
+                                          "startup_damping", "shutdown_damping", NULL };
+
+/* ---- private ----------------------------------------------------------------- */
+
+static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    fprintf(stderr, "unitree/G1: %s: %s\n",
+            level == ROZ_LOG_ERROR ? "error" : level == ROZ_LOG_WARN ? "warning" : "info", msg);
+}
+
+static uint64_t load(const ROZ_ATOMIC(uint64_t) *a)
+{
+    return atomic_load_explicit(a, memory_order_acquire);
+}
+
+static void bump(ROZ_ATOMIC(uint64_t) *a)
+{
+    atomic_fetch_add_explicit(a, 1u, memory_order_relaxed);
+}
+
+/* robot.toml's [hardware.params] first, then the caller's: the last wins */
+static int merge_params(roz_unitree_g1_t *g1, const roz_manifest_t *m, const roz_params_t *p,
+                        roz_params_t *out, char *err, size_t errlen)
+{
+    size_t n = 0;
+    size_t hw = m->hardware != NULL ? m->hardware->n_params : 0;
+    size_t given = p != NULL ? p->n : 0;
+
+    if (hw + given > ROZ_UNITREE_G1_MAX_PARAMS) {
+        snprintf(err, errlen, "unitree/G1: %lu parameters; at most %d",
+                 (unsigned long)(hw + given), ROZ_UNITREE_G1_MAX_PARAMS);
+        return ROZ_EINVAL;
+    }
+    for (size_t i = 0; i < hw; i++)
+        g1->params[n++] = m->hardware->params[i];
+    for (size_t i = 0; i < given; i++)
+        g1->params[n++] = p->items[i];
+    out->items = g1->params;
+    out->n = n;
+    return ROZ_OK;
+}
+
+static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t errlen)
+{
+    const char *v = roz_params_get_str(p, "mode_pr", "PR");
+    if (strcmp(v, "PR") == 0 || strcmp(v, "pr") == 0 || strcmp(v, "0") == 0) {
+        *out = 0;
+    } else if (strcmp(v, "AB") == 0 || strcmp(v, "ab") == 0 || strcmp(v, "1") == 0) {
+        *out = 1;
+    } else {
+        snprintf(err, errlen,
+                 "parameter mode_pr = \"%s\": expected PR (0: ankles and waist in serial "
+                 "pitch/roll joint space) or AB (1: the parallel actuators directly)",
+                 v);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
+{
+    double lo, hi;
+    int rc = roz_params_check_known(p, known_keys, "unitree/G1", err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_dds_params_parse(&g1->dds, p, 0, err, errlen);
+    if (rc == ROZ_OK)
+        rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &g1->peer_timeout_ms, err,
+                                errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    /* gains the damping channels allow, for every joint */
+    (void)roz__g1_damping_range(g1, &lo, &hi);
+    rc = roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
+                               &g1->startup_kd, err, errlen);
+    if (rc == ROZ_OK && roz_params_find(p, "shutdown_damping") != NULL)
+        rc = roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi, &g1->shutdown_kd, err,
+                                   errlen);
+    else
+        g1->shutdown_kd = NAN; /* each joint's damping default */
+    return rc;
+}
+
+/* ---- the receive path (Cyclone's thread) ------------------------------------- */
+
+static void on_lowstate(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_unitree_g1_t *g1 = ctx;
+    const g1_state_t *s = sample;
+    const roz_manifest_t *m = g1->m;
+    uint32_t code;
+
+    bump(&g1->c_frames);
+    roz_link_verdict_t v = roz_link_check(&g1->link, roz__g1_state_crc_ok(s), s->tick, now_ns);
+    if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY) {
+        roz_link_shared_publish(&g1->link_shared, &g1->link);
+        return;
+    }
+    if (v == ROZ_LINK_FIRST || v == ROZ_LINK_RESTART) {
+        /* a robot, new or restarted: its own session, converted whole */
+        g1->session++;
+        g1->since_full = 0;
+        bump(&g1->c_sessions);
+        atomic_store_explicit(&g1->rx_session, g1->session, memory_order_release);
+    }
+    int full = g1->since_full == 0;
+    roz__g1_convert(g1, s, g1->rx_values, full);
+    if (full)
+        bump(&g1->c_full);
+    g1->since_full = g1->since_full + 1u >= g1->dds.state_decimation ? 0u : g1->since_full + 1u;
+    int slot = roz__g1_motor_fault(g1, s, &code);
+    if (slot >= 0)
+        bump(&g1->c_motor_fault);
+    atomic_store_explicit(&g1->rx_mode_machine, s->mode_machine, memory_order_release);
+
+    double *f = roz_buffer_write_begin(&g1->state_buf);
+    memcpy(f, g1->rx_values, (size_t)m->n_states * sizeof f[0]);
+    double *meta = f + m->n_states;
+    meta[M_SESSION] = g1->session;
+    meta[M_FAULT_SLOT] = slot;
+    meta[M_FAULT_CODE] = code;
+    meta[M_MODE_MACHINE] = s->mode_machine;
+    meta[M_TICK] = s->tick;
+    for (int k = 0; k < ROZ_UNITREE_G1_SLOTS; k++)
+        meta[M_Q + k] = s->motor_state[k].q;
+    roz_buffer_write_commit(&g1->state_buf, now_ns);
+    /* last: whoever waits on the counters finds the frame in the buffer */
+    roz_link_shared_publish(&g1->link_shared, &g1->link);
+}
+
+/* ---- the command writer (its thread; after it stopped, the caller's) -------- */
+
+static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_unitree_g1_t *g1 = ctx;
+    g1_cmd_t *out = sample;
+    const roz_manifest_t *m = g1->m;
+    roz_buffer_frame_t f;
+    (void)now_ns;
+
+    uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
+    if (atomic_load_explicit(&g1->shutdown, memory_order_acquire)) {
+        /* the last command: damping, if the robot ever got one */
+        if (!locked)
+            return 0;
+        roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu), out);
+        return 1;
+    }
+    if (roz_buffer_read(&g1->cmd_buf, &f) == ROZ_ENOENT)
+        return 0;
+    const double *meta = f.values + m->n_commands;
+    uint64_t seq = (uint64_t)meta[C_SEQ];
+    int rc = 0;
+    uint32_t mm = atomic_load_explicit(&g1->rx_mode_machine, memory_order_acquire);
+
+    if ((uint32_t)meta[C_SESSION] !=
+        atomic_load_explicit(&g1->rx_session, memory_order_acquire)) {
+        /* written for a robot that restarted since: the new one gets
+         * nothing until the tick writes for it */
+        bump(&g1->c_stale_session);
+    } else if (locked && (locked & 0xffu) != mm) {
+        bump(&g1->c_refused_mm);
+    } else {
+        if (!locked)
+            atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
+        roz__g1_fill(g1, f.values, (uint8_t)mm, out);
+        for (uint16_t k = 0; k < g1->n_joints; k++)
+            g1->tx_last_q[k] = out->motor_cmd[k].q;
+        rc = 1;
+    }
+    atomic_store_explicit(&g1->c_handled_seq, seq, memory_order_release);
+    return rc;
+}
+
+/* ---- ops ------------------------------------------------------------------------ */
+
+static void g1_close(void *self);
+
+static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, char *err,
+                   size_t errlen)
+{
+    roz_unitree_g1_t *g1 = self;
+    roz_log_fn log = g1->log != NULL ? g1->log : log_stderr;
+    void *log_ctx = g1->log_ctx;
+    roz_params_t params;
+    int rc;
+
+    if (g1->open)
+        g1_close(g1);
+    memset(g1, 0, sizeof *g1);
+    g1->log = log;
+    g1->log_ctx = log_ctx;
+    if (m == NULL || roz_manifest_validate(m, NULL) != ROZ_OK) {
+        snprintf(err, errlen, "unitree/G1: invalid manifest");
+        return ROZ_EINVAL;
+    }
+    g1->m = m;
+    rc = roz__g1_bind(g1, m, err, errlen);
+    if (rc == ROZ_OK)
+        rc = merge_params(g1, m, p, &params, err, errlen);
+    if (rc == ROZ_OK)
+        rc = parse_params(g1, &params, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+
+    roz_link_init(&g1->link, (uint64_t)g1->peer_timeout_ms * 1000000u, 0);
+    roz_link_shared_init(&g1->link_shared);
+    roz_link_shared_publish(&g1->link_shared, &g1->link);
+    roz_buffer_init(&g1->state_buf, g1->state_slots,
+                    (uint32_t)(m->n_states + ROZ_UNITREE_G1_STATE_META));
+    roz_buffer_init(&g1->cmd_buf, g1->cmd_slots,
+                    (uint32_t)(m->n_commands + ROZ_UNITREE_G1_CMD_META));
+    uint64_t period_ns = g1->dds.command_writer_period_us != 0
+                             ? (uint64_t)g1->dds.command_writer_period_us * 1000u
+                             : 1000000000u / m->control_rate_hz;
+    roz_monitor_init(&g1->mon_rx, "unitree/G1 state", period_ns, log, log_ctx);
+    roz_monitor_init(&g1->mon_tx, "unitree/G1 command writer", period_ns, log, log_ctx);
+    atomic_init(&g1->rx_session, 0u);
+    atomic_init(&g1->rx_mode_machine, 0u);
+    atomic_init(&g1->locked_mode_machine, 0u);
+    atomic_init(&g1->shutdown, 0);
+    ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
+                                         &g1->c_sessions, &g1->c_writes, &g1->c_withheld,
+                                         &g1->c_holds, &g1->c_clamped, &g1->c_stale_session,
+                                         &g1->c_refused_mm, &g1->c_handled_seq,
+                                         &g1->c_written_seq };
+    for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
+        atomic_init(counters[i], 0u);
+
+    rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain, log,
+                                  log_ctx, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_dds_writer_open(&g1->writer, &g1->part, "rt/lowcmd",
+                                 &unitree_hg_msg_dds__LowCmd__desc, &roz_dds_qos_robot_command,
+                                 g1->tx_sample, sizeof g1->tx_sample, err, errlen);
+    g1->open = 1;
+    if (rc != ROZ_OK)
+        g1_close(g1);
+    return rc;
+}
+
+static int g1_activate(void *self)
+{
+    roz_unitree_g1_t *g1 = self;
+    char err[200];
+
+    if (!g1->open)
+        return ROZ_ESTATE;
+    if (g1->active)
+        return ROZ_OK;
+    atomic_store(&g1->shutdown, 0);
+    int rc = roz_dds_reader_open(&g1->reader, &g1->part, "rt/lowstate",
+                                 &unitree_hg_msg_dds__LowState__desc, &roz_dds_qos_robot_state,
+                                 g1->rx_sample, sizeof g1->rx_sample, on_lowstate, g1,
+                                 g1->dds.enable_monitor ? &g1->mon_rx : NULL, err, sizeof err);
+    if (rc != ROZ_OK) {
+        g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
+        return rc;
+    }
+    rc = roz_dds_writer_start(&g1->writer, g1->dds.command_writer_period_us, fill_lowcmd, g1,
+                              g1->dds.enable_monitor ? &g1->mon_tx : NULL);
+    if (rc != ROZ_OK) {
+        roz_dds_reader_close(&g1->reader);
+        return rc;
+    }
+    g1->active = 1;
+    return ROZ_OK;
+}
+
+static int g1_read(void *self, double *state, size_t n)
+{
+    roz_unitree_g1_t *g1 = self;
+    roz_buffer_frame_t f;
+
+    if (!g1->open || n != g1->m->n_states)
+        return ROZ_EINVAL;
+    if (roz_buffer_read(&g1->state_buf, &f) == ROZ_ENOENT)
+        return ROZ_ENOENT;
+    memcpy(state, f.values, n * sizeof state[0]);
+    if (!f.fresh)
+        return 0;
+    const double *meta = f.values + n;
+    g1->tick_has_state = 1;
+    memcpy(g1->tick_q, meta + M_Q, sizeof g1->tick_q);
+
+    uint32_t session = (uint32_t)meta[M_SESSION];
+    if (session != g1->tick_session) {
+        int first = g1->tick_session == 0;
+        g1->tick_session = session;
+        if (!first)
+            return ROZ_ELINK; /* a restarted robot: its start-up layers begin again */
+    }
+    int slot = (int)meta[M_FAULT_SLOT];
+    if (slot >= 0) {
+        g1->tick_fault.what = g1->m->hardware->joints[slot];
+        g1->tick_fault.kind = "motor fault code";
+        g1->tick_fault.code = (uint32_t)meta[M_FAULT_CODE];
+        return ROZ_EROBOT;
+    }
+    uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_acquire);
+    uint32_t mm = (uint32_t)meta[M_MODE_MACHINE];
+    if (locked && (locked & 0xffu) != mm) {
+        g1->tick_fault.what = "mode_machine";
+        g1->tick_fault.kind = "changed under a running controller (nothing is sent), now";
+        g1->tick_fault.code = mm;
+        return ROZ_EROBOT;
+    }
+    return 1;
+}
+
+static int g1_write(void *self, const double *cmd, size_t n)
+{
+    roz_unitree_g1_t *g1 = self;
+    const roz_manifest_t *m = g1->m;
+
+    if (!g1->open || n != m->n_commands)
+        return ROZ_EINVAL;
+    bump(&g1->c_writes);
+    if (!g1->tick_has_state) {
+        bump(&g1->c_withheld); /* nothing before the first state frame */
+        return ROZ_OK;
+    }
+    double *f = roz_buffer_write_begin(&g1->cmd_buf);
+    int hold = g1->tick_session != g1->write_session;
+    if (hold) {
+        /* the first write for this robot: the start-up hold instead */
+        roz__g1_hold(g1, g1->tick_q, g1->startup_kd, f);
+        g1->write_session = g1->tick_session;
+        bump(&g1->c_holds);
+    } else {
+        uint32_t changed = roz__g1_clamp(g1, cmd, f);
+        if (changed != 0)
+            atomic_fetch_add_explicit(&g1->c_clamped, changed, memory_order_relaxed);
+    }
+    double *meta = f + m->n_commands;
+    meta[C_SESSION] = g1->tick_session;
+    meta[C_HOLD] = hold;
+    meta[C_SEQ] = (double)++g1->write_seq;
+    roz_buffer_write_commit(&g1->cmd_buf, 0);
+    atomic_store_explicit(&g1->c_written_seq, g1->write_seq, memory_order_release);
+    roz_dds_writer_wake(&g1->writer);
+    return ROZ_OK;
+}
+
+static int g1_deactivate(void *self)
+{
+    roz_unitree_g1_t *g1 = self;
+
+    if (!g1->active)
+        return ROZ_OK;
+    roz_dds_writer_stop(&g1->writer);
+    /* the last command: damping, published here now the thread is gone */
+    atomic_store_explicit(&g1->shutdown, 1, memory_order_release);
+    if (roz_dds_writer_publish(&g1->writer, fill_lowcmd, g1) == 1)
+        (void)roz_dds_writer_flush(&g1->writer, 200);
+    roz_dds_reader_close(&g1->reader);
+    g1->active = 0;
+    return ROZ_OK;
+}
+
+static void g1_close(void *self)
+{
+    roz_unitree_g1_t *g1 = self;
+
+    if (!g1->open)
+        return;
+    (void)g1_deactivate(g1);
+    roz_dds_writer_close(&g1->writer);
+    roz_dds_participant_close(&g1->part);
+    g1->open = 0;
+}
+
+static int g1_fault(void *self, roz_port_fault_t *out)
+{
+    roz_unitree_g1_t *g1 = self;
+    *out = g1->tick_fault;
+    return ROZ_OK;
+}
+
+const roz_port_ops_t roz_unitree_g1_ops = {
+    .name = "unitree/G1",
+    .open = g1_open,
+    .activate = g1_activate,
+    .read = g1_read,
+    .write = g1_write,
+    .deactivate = g1_deactivate,
+    .close = g1_close,
+    .fault = g1_fault,
+};
+
+/* ---- public ------------------------------------------------------------------------ */
+
+roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx)
+{
+    roz_port_t p = { &roz_unitree_g1_ops, g1, 0 };
+    g1->open = 0;
+    g1->log = log;
+    g1->log_ctx = log_ctx;
+    return p;
+}
+
+void roz_unitree_g1_link(const roz_unitree_g1_t *g1, roz_link_t *out)
+{
+    (void)roz_link_shared_read(&g1->link_shared, out);
+}
+
+void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters_t *out)
+{
+    memset(out, 0, sizeof *out);
+    out->frames = load(&g1->c_frames);
+    out->full_conversions = load(&g1->c_full);
+    out->motor_fault_frames = load(&g1->c_motor_fault);
+    out->sessions = load(&g1->c_sessions);
+    out->writes = load(&g1->c_writes);
+    out->writes_withheld = load(&g1->c_withheld);
+    out->holds = load(&g1->c_holds);
+    out->clamped = load(&g1->c_clamped);
+    /* done before passes: a pass that ends between the two loads shows as
+     * open, never the other way round */
+    out->writer_done = load(&g1->writer.done);
+    out->writer_passes = load(&g1->writer.passes);
+    out->published = load(&g1->writer.published);
+    out->publish_errors = load(&g1->writer.errors);
+    out->stale_session = load(&g1->c_stale_session);
+    out->refused_mode_machine = load(&g1->c_refused_mm);
+    out->handled_seq = load(&g1->c_handled_seq);
+    out->written_seq = load(&g1->c_written_seq);
+}
+
+void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
+                            uint32_t *state_writers)
+{
+    *cmd_readers = roz_dds_writer_matched(&g1->writer);
+    *state_writers = roz_dds_reader_matched(&g1->reader);
+}

@@ -1,0 +1,362 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The G1 port's conformance fixture: the port in this process, its peer
+ * the fake robot fake_g1 (test/fakes/unitree_g1: a separate process with
+ * its own IDL and CRC), driven over its stdin/stdout, over loopback DDS.
+ *
+ * The port's threads make each call synchronous here (port_fixture.h):
+ * peer() returns once the port's receive thread has judged the frame (its
+ * link counters moved); settle() once the port's writer took every frame
+ * written and the fake counted every sample published. The port runs its
+ * writer event-driven (command_writer_period_us = 0), one sample per write,
+ * so "the next command frame" is the next write's (a periodic writer sends
+ * each command many times); the G1 tests run it periodic too. The fake
+ * sends float32: the values it is told are float32 already, so what the
+ * port delivers is exactly what the fixture asked for. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "fake_g1_client.h"
+#include "port_fixture.h"
+#include "roz/unitree_g1.h"
+#include "unitree_g1_fixture.h"
+#include "unitree_g1_manifest.h"
+
+#ifndef ROZ_TEST_DDS_DOMAIN
+#error "ROZ_TEST_DDS_DOMAIN: a domain id of this test's own"
+#endif
+
+#define WAIT_MS 10000u
+
+static roz_unitree_g1_t g1;
+static roz_port_t the_port;
+static int port_open;
+static roz_fake_g1_t fake;
+static const roz_manifest_t *man;
+static double sent[ROZ_CFG_MAX_STATES];
+static double applied[ROZ_CFG_MAX_COMMANDS];
+static uint32_t frame_no;
+static uint32_t peer_timeout_ms;
+
+/* ---- helpers for the G1 tests too (unitree_g1_fixture.h) -------------------- */
+
+roz_unitree_g1_t *roz_g1fx_port(void)
+{
+    return &g1;
+}
+
+roz_fake_g1_t *roz_g1fx_fake(void)
+{
+    return &fake;
+}
+
+static void quiet_log(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    if (level == ROZ_LOG_ERROR)
+        fprintf(stderr, "unitree/G1: %s\n", msg);
+}
+
+void roz_g1fx_ask(const char *fmt, ...)
+{
+    char req[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(req, sizeof req, fmt, ap);
+    va_end(ap);
+    if (roz_fake_g1_ask(&fake, "%s", req) != 0)
+        fail_msg("fake_g1: \"%s\" -> \"%s\"", req, fake.line);
+}
+
+/* Sets the fake's state for frame k, distinct per joint and per frame, in
+ * float32, inside each channel's limits; records what the port should
+ * deliver. */
+void roz_g1fx_set_state(uint32_t k)
+{
+    const roz_hardware_t *hw = man->hardware;
+    for (uint16_t j = 0; j < hw->n_joints; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", hw->joints[j]);
+        int qi = roz_manifest_find_state(man, name);
+        snprintf(name, sizeof name, "%s/velocity", hw->joints[j]);
+        int dqi = roz_manifest_find_state(man, name);
+        snprintf(name, sizeof name, "%s/effort", hw->joints[j]);
+        int ti = roz_manifest_find_state(man, name);
+        double lo = qi >= 0 ? man->states[qi].min : -1.0, hi = qi >= 0 ? man->states[qi].max : 1.0;
+        float q = (float)(lo + (hi - lo) * (double)((k * 7u + j * 3u) % 17u + 1u) / 19.0);
+        float dq = (float)(((int)((k + j) % 11u) - 5) * 0.5);
+        float tau = (float)(((int)((k * 3u + j) % 13u) - 6) * 0.25);
+        roz_g1fx_ask("motor %u %.9g %.9g %.9g", (unsigned)j, (double)q, (double)dq, (double)tau);
+        if (qi >= 0)
+            sent[qi] = q;
+        if (dqi >= 0)
+            sent[dqi] = dq;
+        if (ti >= 0)
+            sent[ti] = tau;
+    }
+    /* the IMU: Unitree's w, x, y, z in; the manifest's x, y, z, w out */
+    float w = 0.5f + 0.001f * (float)(k % 100u), x = -0.25f + 0.002f * (float)(k % 50u);
+    float y = 0.125f, z = -0.0625f - 0.001f * (float)(k % 30u);
+    float g[3] = { 0.01f * (float)(k % 7u), -0.02f, 0.03f };
+    float a[3] = { 0.1f, -0.2f * (float)(k % 3u), 9.81f };
+    roz_g1fx_ask("imu %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g", (double)w, (double)x,
+                 (double)y, (double)z, (double)g[0], (double)g[1], (double)g[2], (double)a[0],
+                 (double)a[1], (double)a[2]);
+    static const char *const imu_names[10] = {
+        "base_imu/orientation.x",         "base_imu/orientation.y",
+        "base_imu/orientation.z",         "base_imu/orientation.w",
+        "base_imu/angular_velocity.x",    "base_imu/angular_velocity.y",
+        "base_imu/angular_velocity.z",    "base_imu/linear_acceleration.x",
+        "base_imu/linear_acceleration.y", "base_imu/linear_acceleration.z",
+    };
+    const float v[10] = { x, y, z, w, g[0], g[1], g[2], a[0], a[1], a[2] };
+    for (int i = 0; i < 10; i++) {
+        int s = roz_manifest_find_state(man, imu_names[i]);
+        if (s >= 0)
+            sent[s] = v[i];
+    }
+}
+
+void roz_g1fx_sent(double *state)
+{
+    memcpy(state, sent, man->n_states * sizeof state[0]);
+}
+
+/* Waits until @p pred holds of the port's link checks. */
+static int link_moved(const roz_link_t *before, const roz_link_t *now)
+{
+    return now->accepted != before->accepted || now->crc_errors != before->crc_errors ||
+           now->replays != before->replays;
+}
+
+void roz_g1fx_wait_judged(const roz_link_t *before, int resend_until_first)
+{
+    roz_link_t now;
+    for (unsigned ms = 0; ms < WAIT_MS; ms++) {
+        roz_unitree_g1_link(&g1, &now);
+        if (link_moved(before, &now))
+            return;
+        /* Before the port's first frame, the fake's writer may not have
+         * found the port's reader yet (discovery is asynchronous): a new
+         * frame every 100 ms until one arrives. */
+        if (resend_until_first && !now.alive && ms % 100u == 99u) {
+            roz_g1fx_set_state(frame_no);
+            roz_g1fx_ask("send");
+        }
+        roz_fake_g1_sleep_ms(1);
+    }
+    fail_msg("unitree/G1: the port did not judge the fake's frame within %u ms", WAIT_MS);
+}
+
+/* Sends one good frame (new values) and waits for the port to take it. */
+void roz_g1fx_send(void)
+{
+    roz_link_t before;
+    roz_unitree_g1_link(&g1, &before);
+    roz_g1fx_set_state(++frame_no);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 1);
+}
+
+void roz_g1fx_settle(void)
+{
+    roz_unitree_g1_counters_t c;
+    uint64_t good = 0, bad = 0;
+    unsigned ms = 0;
+
+    /* the port's writer took the last frame written, and no pass is open */
+    for (;; ms++) {
+        roz_unitree_g1_counters(&g1, &c);
+        if (c.handled_seq == c.written_seq && c.writer_passes == c.writer_done)
+            break;
+        if (ms >= WAIT_MS)
+            fail_msg("unitree/G1: the writer did not take command %llu within %u ms",
+                     (unsigned long long)c.written_seq, WAIT_MS);
+        roz_fake_g1_sleep_ms(1);
+    }
+    /* the fake counted everything published (good or flipped) */
+    for (;; ms++) {
+        if (roz_fake_g1_commands(&fake, &good, &bad) != 0)
+            fail_msg("fake_g1: commands: \"%s\"", fake.line);
+        if (good + bad >= c.published)
+            return;
+        if (ms >= WAIT_MS)
+            fail_msg("fake_g1 counted %llu of the %llu commands published within %u ms",
+                     (unsigned long long)(good + bad), (unsigned long long)c.published, WAIT_MS);
+        roz_fake_g1_sleep_ms(1);
+    }
+}
+
+/* ---- the fixture ---------------------------------------------------------------- */
+
+static void fx_close(void);
+
+static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
+                   char *err, size_t errlen)
+{
+    static char domain[16];
+    static roz_param_t items[ROZ_UNITREE_G1_MAX_PARAMS];
+    size_t n = 0;
+
+    /* a check that failed half-way left its port and fake behind */
+    if (port_open || fake.pid != 0)
+        fx_close();
+    man = m;
+    frame_no = 0;
+    memset(sent, 0, sizeof sent);
+    peer_timeout_ms = 300;
+    if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, NULL, err, errlen) != 0)
+        return ROZ_EIO;
+    /* the fixture's parameters first: the caller's win */
+    snprintf(domain, sizeof domain, "%d", ROZ_TEST_DDS_DOMAIN);
+    items[n++] = (roz_param_t){ "network_interface", "lo" };
+    items[n++] = (roz_param_t){ "dds_domain", domain };
+    items[n++] = (roz_param_t){ "command_writer_period_us", "0" };
+    items[n++] = (roz_param_t){ "peer_timeout_ms", "300" };
+    for (size_t i = 0; params != NULL && i < params->n && n < ROZ_UNITREE_G1_MAX_PARAMS / 2; i++) {
+        items[n++] = params->items[i];
+        if (strcmp(params->items[i].key, "peer_timeout_ms") == 0)
+            peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
+    }
+    roz_params_t all = { items, n };
+    the_port = roz_unitree_g1_port(&g1, quiet_log, NULL);
+    int rc = roz_port_open(&the_port, m, &all, err, errlen);
+    if (rc == ROZ_OK)
+        port_open = 1;
+    if (rc == ROZ_OK)
+        rc = roz_port_activate(&the_port);
+    if (rc != ROZ_OK)
+        return rc;
+    *port = the_port;
+    /* both directions matched before anyone speaks */
+    for (unsigned ms = 0;; ms++) {
+        uint32_t readers, writers;
+        roz_unitree_g1_matched(&g1, &readers, &writers);
+        if (readers >= 1 && writers >= 1)
+            break;
+        if (ms >= WAIT_MS) {
+            snprintf(err, errlen, "unitree/G1 and fake_g1 did not discover each other in %u ms",
+                     WAIT_MS);
+            return ROZ_ETIMEDOUT;
+        }
+        roz_fake_g1_sleep_ms(1);
+    }
+    return ROZ_OK;
+}
+
+static void fx_peer(roz_peer_frame_t what)
+{
+    roz_link_t before;
+    roz_unitree_g1_link(&g1, &before);
+    switch (what) {
+    case ROZ_PEER_SEND:
+        roz_g1fx_send();
+        break;
+    case ROZ_PEER_SILENT:
+        roz_g1fx_ask("silent");
+        roz_fake_g1_sleep_ms(2); /* a frame period */
+        break;
+    case ROZ_PEER_CORRUPT:
+        roz_g1fx_ask("corrupt");
+        roz_g1fx_wait_judged(&before, 0);
+        break;
+    case ROZ_PEER_REPLAY:
+        roz_g1fx_ask("replay");
+        roz_g1fx_wait_judged(&before, 0);
+        break;
+    case ROZ_PEER_RESTART:
+        roz_g1fx_ask("restart");
+        roz_g1fx_set_state(++frame_no);
+        roz_g1fx_ask("send");
+        roz_g1fx_wait_judged(&before, 0);
+        break;
+    case ROZ_PEER_VANISH:
+        roz_fake_g1_sleep_ms(peer_timeout_ms + 100u);
+        roz_g1fx_send();
+        break;
+    }
+}
+
+static void fx_peer_sent(double *state)
+{
+    roz_g1fx_sent(state);
+}
+
+static const double *fx_peer_command(void)
+{
+    static roz_fake_g1_cmd_t c;
+    int rc = roz_fake_g1_command(&fake, &c);
+    if (rc < 0)
+        fail_msg("fake_g1: command: \"%s\"", fake.line);
+    if (rc == 0)
+        return NULL;
+    const roz_hardware_t *hw = man->hardware;
+    for (uint16_t i = 0; i < man->n_commands; i++)
+        applied[i] = NAN; /* a command the fake has no value for stays NaN: a failure */
+    for (uint16_t j = 0; j < hw->n_joints; j++) {
+        static const char *const suffix[5] = { "position", "velocity", "effort", "stiffness",
+                                               "damping" };
+        const double v[5] = { c.q[j], c.dq[j], c.tau[j], c.kp[j], c.kd[j] };
+        for (int k = 0; k < 5; k++) {
+            char name[160];
+            snprintf(name, sizeof name, "%s/%s", hw->joints[j], suffix[k]);
+            int i = roz_manifest_find_command(man, name);
+            if (i >= 0)
+                applied[i] = v[k];
+        }
+    }
+    return applied;
+}
+
+static void fx_corrupt_next_command(void)
+{
+    roz_g1fx_ask("flip_next_command");
+}
+
+static void fx_link(roz_link_t *out)
+{
+    roz_unitree_g1_link(&g1, out);
+}
+
+static void fx_close(void)
+{
+    if (port_open) {
+        (void)roz_port_deactivate(&the_port);
+        roz_port_close(&the_port);
+        port_open = 0;
+    }
+    if (fake.pid != 0 && roz_fake_g1_stop(&fake) != 0)
+        fail_msg("fake_g1 did not exit cleanly");
+}
+
+/* The wire carries float32. */
+static void fx_wire_command(const double *in, double *out)
+{
+    for (uint16_t i = 0; i < man->n_commands; i++)
+        out[i] = (float)in[i];
+}
+
+static const roz_manifest_t *const g1_manifests[] = { &roz_manifest_unitree_g1, NULL };
+
+const roz_port_fixture_t roz_fixture_unitree_g1 = {
+    .name = "unitree/G1",
+    .manifests = g1_manifests,
+    .start_hold = 1,
+    .wire_command = fx_wire_command,
+    .open = fx_open,
+    .peer = fx_peer,
+    .peer_sent = fx_peer_sent,
+    .settle = roz_g1fx_settle,
+    .peer_command = fx_peer_command,
+    .corrupt_next_command = fx_corrupt_next_command,
+    .link = fx_link,
+    .close = fx_close,
+};

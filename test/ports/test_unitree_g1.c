@@ -1,0 +1,576 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The G1 port (roz/unitree_g1.h) against the fake robot (fake_g1, its own
+ * IDL and CRC, a separate process) over loopback DDS, beyond the conformance
+ * suite:
+ *  - all 29 joints map both ways, a distinct value per joint and field: the
+ *    states the port reads, the LowCmd_ the robot gets (mode 1 for the
+ *    joints, slots 29-34 mode 0 and all zero, mode_pr PR);
+ *  - the IMU: Unitree's w, x, y, z quaternion reaches the manifest's x, y,
+ *    z, w; gyroscope and accelerometer in order;
+ *  - padding zero under the CRC: the port's sample storage starts as
+ *    garbage and the robot (which recomputes the CRC over a freshly zeroed
+ *    struct) counts no bad CRC; the published CRC equals a bit-by-bit
+ *    reference computed here from a raw subscription;
+ *  - mode_machine is echoed, and a change under a running controller stops
+ *    the commands and makes read() report it, until it changes back;
+ *  - a motor fault code latches ROZ_FAULT_ROBOT in the runtime naming the
+ *    joint and the code;
+ *  - decimation 4 converts every 4th frame whole, checks every frame (bad
+ *    CRC, fault codes) and converts the positions of every frame;
+ *  - the periodic writer keeps publishing the last command, and a restarted
+ *    robot gets nothing until the tick writes; the start-up hold with
+ *    startup_damping; the damping command on shutdown;
+ *  - bad parameters and manifests are refused naming the key and value, or
+ *    the joint or channel. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <dds/dds.h>
+
+#include "../crc32_reference.h"
+#include "port_fixture.h"
+#include "roz/runtime.h"
+#include "roz/unitree_g1.h"
+#include "../support.h"
+#include "unitree_g1_fixture.h"
+#include "unitree_g1_manifest.h"
+#include "unitree_hg.h"
+#include "ur5_manifest.h"
+
+static const roz_manifest_t *const m = &roz_manifest_unitree_g1;
+static roz_port_t port;
+static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
+static double cmd[ROZ_CFG_MAX_COMMANDS];
+
+static void open_g1(const roz_param_t *items, size_t n)
+{
+    roz_params_t p = { items, n };
+    char err[300] = "";
+    if (roz_fixture_unitree_g1.open(m, &p, &port, err, sizeof err) != ROZ_OK)
+        fail_msg("open: %s", err);
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_fixture_unitree_g1.close();
+    return 0;
+}
+
+static int read_g1(void)
+{
+    return roz_port_read(&port, state, m->n_states);
+}
+
+static void write_g1(void)
+{
+    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
+}
+
+static roz_unitree_g1_counters_t counters(void)
+{
+    roz_unitree_g1_counters_t c;
+    roz_unitree_g1_counters(roz_g1fx_port(), &c);
+    return c;
+}
+
+static int cmd_index(uint16_t joint, const char *suffix)
+{
+    char name[160];
+    snprintf(name, sizeof name, "%s/%s", m->hardware->joints[joint], suffix);
+    int i = roz_manifest_find_command(m, name);
+    assert_true(i >= 0);
+    return i;
+}
+
+static int state_index(const char *name)
+{
+    int i = roz_manifest_find_state(m, name);
+    assert_true(i >= 0);
+    return i;
+}
+
+/* A command with a distinct value in every channel, inside its limits. */
+static void distinct_command(int k)
+{
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        cmd[i] = c->min + (c->max - c->min) * (double)((i * 13u + (unsigned)k * 7u) % 97u + 1u) / 98.0;
+    }
+}
+
+/* The first frame, and the first write (the start-up hold) behind us. */
+static void start(void)
+{
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(0);
+    write_g1();
+    roz_g1fx_settle();
+}
+
+static void get_command(roz_fake_g1_cmd_t *c)
+{
+    roz_g1fx_settle();
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), c), 1);
+}
+
+/* ---- mapping ------------------------------------------------------------------ */
+
+static void test_g1_joints_map_both_ways(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    open_g1(NULL, 0);
+    start();
+    for (int k = 1; k <= 3; k++) {
+        /* state: every joint's q, dq, tau_est distinct, and the IMU */
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        for (uint16_t i = 0; i < m->n_states; i++) {
+            if (memcmp(&state[i], &sent[i], sizeof sent[i]) != 0)
+                fail_msg("state %u \"%s\": read %.17g, the robot sent %.17g", (unsigned)i,
+                         m->states[i].name, state[i], sent[i]);
+        }
+        /* command: every joint's five fields distinct */
+        distinct_command(k);
+        write_g1();
+        get_command(&c);
+        assert_int_equal(c.mode_pr, 0);      /* PR */
+        assert_int_equal(c.mode_machine, 5); /* the fake's, echoed */
+        for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+            assert_int_equal(c.mode[j], 1);
+            assert_true(c.q[j] == (float)cmd[cmd_index(j, "position")]);
+            assert_true(c.dq[j] == (float)cmd[cmd_index(j, "velocity")]);
+            assert_true(c.tau[j] == (float)cmd[cmd_index(j, "effort")]);
+            assert_true(c.kp[j] == (float)cmd[cmd_index(j, "stiffness")]);
+            assert_true(c.kd[j] == (float)cmd[cmd_index(j, "damping")]);
+        }
+        for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
+            assert_int_equal(c.mode[j], 0);
+            assert_true(c.q[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0 && c.kp[j] == 0.0 &&
+                        c.kd[j] == 0.0);
+        }
+    }
+}
+
+static void test_g1_imu_order(void **st)
+{
+    (void)st;
+    open_g1(NULL, 0);
+    start();
+    roz_g1fx_ask("imu 0.5 0.25 -0.125 0.0625 1.5 -2.5 3.5 0.75 -1.25 9.75");
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 0);
+    assert_int_equal(read_g1(), 1);
+    assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
+    assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
+    assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
+    assert_true(state[state_index("base_imu/orientation.w")] == 0.5);
+    assert_true(state[state_index("base_imu/angular_velocity.x")] == 1.5);
+    assert_true(state[state_index("base_imu/angular_velocity.y")] == -2.5);
+    assert_true(state[state_index("base_imu/angular_velocity.z")] == 3.5);
+    assert_true(state[state_index("base_imu/linear_acceleration.x")] == 0.75);
+    assert_true(state[state_index("base_imu/linear_acceleration.y")] == -1.25);
+    assert_true(state[state_index("base_imu/linear_acceleration.z")] == 9.75);
+}
+
+/* ---- the wire: padding and CRC ------------------------------------------------- */
+
+static ROZ_ATOMIC(uint32_t) crc_checked, crc_bad;
+
+static void on_raw_lowcmd(dds_entity_t rd, void *arg)
+{
+    unitree_hg_msg_dds__LowCmd_ s;
+    void *ptr[1] = { &s };
+    dds_sample_info_t info[1];
+    (void)arg;
+    for (;;) {
+        memset(&s, 0, sizeof s); /* the robot's way: a zeroed struct, filled */
+        if (dds_take(rd, ptr, info, 1, 1) != 1)
+            return;
+        if (!info[0].valid_data)
+            continue;
+        uint32_t words[sizeof s / 4];
+        memcpy(words, &s, sizeof s);
+        if (roz_crc32_reference(words, sizeof s / 4 - 1) != s.crc)
+            atomic_fetch_add(&crc_bad, 1u);
+        atomic_fetch_add(&crc_checked, 1u);
+    }
+}
+
+static void test_g1_padding_and_crc(void **st)
+{
+    uint64_t good = 0, bad = 0;
+    (void)st;
+
+    atomic_store(&crc_checked, 0u);
+    atomic_store(&crc_bad, 0u);
+    /* the port, with garbage in its sample storage before its writer runs
+     * (event-driven: one sample per write) */
+    open_g1(NULL, 0);
+    roz_unitree_g1_t *g1 = roz_g1fx_port();
+    (void)roz_port_deactivate(&port);
+    memset(g1->tx_sample, 0xA5, sizeof g1->tx_sample);
+    assert_int_equal(roz_port_activate(&port), ROZ_OK);
+    /* a raw subscriber of our own beside the fake (in the port's domain):
+     * the CRC bit by bit */
+    dds_entity_t part = dds_create_participant(ROZ_TEST_DDS_DOMAIN, NULL, NULL);
+    assert_true(part > 0);
+    dds_entity_t topic = dds_create_topic(part, &unitree_hg_msg_dds__LowCmd__desc, "rt/lowcmd",
+                                          NULL, NULL);
+    dds_qos_t *q = dds_create_qos();
+    dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
+    dds_listener_t *l = dds_create_listener(NULL);
+    dds_lset_data_available(l, on_raw_lowcmd);
+    dds_entity_t rd = dds_create_reader(part, topic, q, l);
+    dds_delete_qos(q);
+    dds_delete_listener(l);
+    assert_true(rd > 0);
+
+    dds_publication_matched_status_t pm;
+    for (int i = 0; i < 10000; i++) {
+        if (dds_get_publication_matched_status(g1->writer.writer, &pm) == 0 && pm.current_count >= 2)
+            break;
+        roz_fake_g1_sleep_ms(1);
+    }
+    start();
+    for (int k = 1; k <= 50; k++) {
+        roz_g1fx_send();
+        (void)read_g1();
+        distinct_command(k);
+        write_g1();
+    }
+    roz_g1fx_settle();
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_true(good >= 50);
+    assert_int_equal(bad, 0); /* stale padding under the CRC would show here */
+    for (int i = 0; i < 5000 && atomic_load(&crc_checked) < 50u; i++)
+        roz_fake_g1_sleep_ms(1);
+    assert_true(atomic_load(&crc_checked) >= 50u);
+    assert_int_equal(atomic_load(&crc_bad), 0);
+    dds_delete(part);
+}
+
+/* ---- mode_machine ------------------------------------------------------------------ */
+
+static void test_g1_mode_machine(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_fault_t f;
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_g1fx_ask("mode_machine 9");
+    start();
+    distinct_command(1);
+    write_g1();
+    get_command(&c);
+    assert_int_equal(c.mode_machine, 9); /* echoed */
+
+    /* changed under a running controller: reported, nothing sent */
+    roz_g1fx_ask("mode_machine 10");
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EROBOT);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "mode_machine");
+    assert_int_equal(f.code, 10);
+    uint64_t published = counters().published;
+    for (int k = 2; k < 6; k++) {
+        distinct_command(k);
+        write_g1();
+    }
+    roz_g1fx_settle();
+    assert_int_equal(counters().published, published);
+    assert_true(counters().refused_mode_machine >= 1);
+    get_command(&c);
+    assert_int_equal(c.mode_machine, 9); /* the robot kept the last good one */
+
+    /* back: reads and commands again */
+    roz_g1fx_ask("mode_machine 9");
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(7);
+    write_g1();
+    get_command(&c);
+    assert_true(c.q[0] == (float)cmd[cmd_index(0, "position")]);
+    assert_true(counters().published > published);
+}
+
+/* ---- a motor fault in the runtime -------------------------------------------------- */
+
+static roz_runtime_t rt;
+
+static void test_g1_motor_fault_latches(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        roz_runtime_tick(&rt);
+    }
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_g1fx_ask("motorstate 3 33"); /* left_knee_joint */
+    roz_g1fx_send();
+    roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    if (strstr(msg, "left_knee_joint") == NULL || strstr(msg, "33") == NULL)
+        fail_msg("the fault names neither the joint nor the code: \"%s\"", msg);
+    assert_true(counters().motor_fault_frames >= 1);
+    /* a level: while the motor reports it, a clear does not take */
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    roz_g1fx_ask("motorstate 3 0");
+    roz_g1fx_send();
+    roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    roz_runtime_tick(&rt);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_runtime_deinit(&rt);
+}
+
+/* ---- decimation ----------------------------------------------------------------------- */
+
+static void test_g1_decimation(void **st)
+{
+    double full[ROZ_CFG_MAX_STATES];
+    int dq0 = state_index("left_hip_pitch_joint/velocity");
+    int q0 = state_index("left_hip_pitch_joint/position");
+    int ow = state_index("base_imu/orientation.w");
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "state_decimation", "4" } }, 1);
+    for (int k = 0; k < 12; k++) {
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        if (k % 4 == 0)
+            memcpy(full, sent, sizeof full); /* converted whole */
+        /* positions: every frame; the rest: the last whole conversion */
+        assert_true(state[q0] == sent[q0]);
+        assert_true(state[dq0] == full[dq0]);
+        assert_true(state[ow] == full[ow]);
+        if (k % 4 != 0)
+            assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
+    }
+    assert_int_equal(counters().full_conversions, 3);
+    assert_int_equal(counters().frames, 12);
+    /* every frame is still checked: a bad CRC on a frame between two whole
+     * conversions, and a fault code */
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("corrupt");
+    roz_g1fx_wait_judged(&before, 0);
+    assert_int_equal(read_g1(), 0);
+    roz_g1fx_ask("motorstate 20 7");
+    roz_g1fx_send(); /* frame 13: not converted whole */
+    assert_int_equal(read_g1(), ROZ_EROBOT);
+    roz_port_fault_t f;
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "left_wrist_pitch_joint");
+    assert_int_equal(f.code, 7);
+    assert_int_equal(counters().full_conversions, 4); /* frames 1, 5, 9, 13 of the robot */
+}
+
+/* ---- the writer -------------------------------------------------------------------- */
+
+static void test_g1_periodic_writer(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    uint64_t good = 0, bad = 0, good0 = 0;
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
+    start();
+    for (int k = 0; k < 70; k++) /* past the replay window: a restart shows */
+        roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(3);
+    write_g1();
+    get_command(&c);
+    /* no more writes: the writer goes on publishing the last command */
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    for (int i = 0; i < 5000 && good < good0 + 50; i++) {
+        roz_fake_g1_sleep_ms(2);
+        assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    }
+    assert_true(good >= good0 + 50);
+    assert_int_equal(bad, 0);
+    get_command(&c);
+    assert_true(c.q[5] == (float)cmd[cmd_index(5, "position")]);
+
+    /* a restarted robot gets nothing until the tick writes for it */
+    roz_g1fx_ask("restart");
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_set_state(100);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 0);
+    assert_int_equal(read_g1(), ROZ_ELINK);
+    /* (until its first frame reached the port, the port could not know:
+     * the old command went on; from then on, nothing) */
+    roz_fake_g1_sleep_ms(10);
+    uint64_t after = 0, later = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &after, &bad), 0);
+    roz_fake_g1_sleep_ms(50); /* 25 periods of the writer */
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &later, &bad), 0);
+    assert_int_equal(later, after);
+    assert_true(counters().stale_session >= 20);
+    /* the tick writes: the hold of the restarted robot's positions */
+    distinct_command(4);
+    write_g1();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
+    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+
+    /* the monitors saw the writer's periods (read once it stopped) */
+    (void)roz_port_deactivate(&port);
+    assert_true(roz_g1fx_port()->mon_tx.stat[ROZ_MON_JITTER].count >= 50);
+    assert_true(roz_g1fx_port()->mon_rx.stat[ROZ_MON_STATE_HANDLER].count >= 1);
+}
+
+static void test_g1_startup_and_shutdown_damping(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(sent);
+    distinct_command(1);
+    write_g1(); /* the first write: the hold, with the damping asked for */
+    get_command(&c);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        assert_true(c.q[j] == sent[state_index(name)]);
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == 2.5);
+    }
+    assert_int_equal(counters().holds, 1);
+    write_g1(); /* the next goes out as written */
+    get_command(&c);
+    assert_true(c.kp[0] == (float)cmd[cmd_index(0, "stiffness")]);
+
+    /* shutdown: one damping command, kd the manifest's damping default */
+    uint64_t good0 = 0, good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    for (int i = 0; i < 2000 && good <= good0; i++) {
+        roz_fake_g1_sleep_ms(1);
+        assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    }
+    assert_int_equal(good, good0 + 1);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        assert_int_equal(c.mode[j], 1);
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == (float)kd->default_value);
+        assert_true(c.q[j] == (float)cmd[cmd_index(j, "position")]);
+    }
+}
+
+/* ---- refusals ----------------------------------------------------------------------- */
+
+static void expect_refused(const roz_manifest_t *man, const char *key, const char *value,
+                           const char *want1, const char *want2)
+{
+    static roz_unitree_g1_t g1;
+    roz_param_t item = { key, value };
+    roz_params_t p = { &item, key != NULL ? 1u : 0u };
+    roz_port_t pt = roz_unitree_g1_port(&g1, NULL, NULL);
+    char err[400] = "";
+    assert_true(roz_port_open(&pt, man, &p, err, sizeof err) < 0);
+    if (strstr(err, want1) == NULL || (want2 != NULL && strstr(err, want2) == NULL))
+        fail_msg("%s = \"%s\": the error \"%s\" does not name \"%s\" and \"%s\"",
+                 key != NULL ? key : "(manifest)", value != NULL ? value : "", err, want1,
+                 want2 != NULL ? want2 : "");
+    roz_port_close(&pt);
+}
+
+/* a robot whose manifest has a channel the G1 has no place for */
+static const roz_channel_t odd_commands[] = {
+    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0 },
+    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+};
+static const roz_channel_t odd_states[] = {
+    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+};
+static const char *const odd_joints[] = { "j1" };
+static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
+static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
+                                    &odd_hw };
+static const roz_channel_t typo_commands[] = {
+    { "j1/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+};
+static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
+                                     &odd_hw };
+
+static void test_g1_bad_parameters(void **st)
+{
+    (void)st;
+    static const struct { const char *key, *value; } bad[] = {
+        { "network_interface", "eth0;rm" }, { "network_interface", "roznosuch0" },
+        { "dds_domain", "999" },            { "command_writer_period_us", "10" },
+        { "state_decimation", "0" },        { "enable_monitor", "maybe" },
+        { "mode_pr", "XY" },                { "peer_timeout_ms", "5" },
+        { "startup_damping", "11" },        { "shutdown_damping", "-1" },
+        { "startup_damping", "nan" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
+    expect_refused(m, "no_such_key", "1", "no_such_key", "unitree/G1");
+    /* manifests the G1 cannot serve */
+    expect_refused(&roz_manifest_ur5, NULL, NULL, "[hardware] joints", NULL);
+    expect_refused(&odd, NULL, NULL, "base/velocity.x", NULL);
+    expect_refused(&typo, NULL, NULL, "j1/stiffness", "damping");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_g1_joints_map_both_ways, teardown),
+        cmocka_unit_test_teardown(test_g1_imu_order, teardown),
+        cmocka_unit_test_teardown(test_g1_padding_and_crc, teardown),
+        cmocka_unit_test_teardown(test_g1_mode_machine, teardown),
+        cmocka_unit_test_teardown(test_g1_motor_fault_latches, teardown),
+        cmocka_unit_test_teardown(test_g1_decimation, teardown),
+        cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
+        cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test(test_g1_bad_parameters),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
