@@ -5,10 +5,14 @@
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
  *          [--realtime] [--param k=v]... [--trace out.csv]
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
+ *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
+ *          --controller g1_stand.wasm
  *
- * Without --realtime the ticks run back to back (simulated time, as fast as
- * the machine goes); with it a periodic thread runs them at the manifest's
- * rate, with SCHED_FIFO and locked memory where permitted. Exit status: 0 when
+ * On the loopback, without --realtime, the ticks run back to back
+ * (simulated time, as fast as the machine goes); with it a periodic thread
+ * runs them at the manifest's rate, with SCHED_FIFO and locked memory where
+ * permitted. A robot's port always runs at the manifest's rate (the robot
+ * keeps its own time); --realtime adds SCHED_FIFO and locked memory. Exit status: 0 when
  * no fault latched, 1 when one did, 2 for bad arguments or a refused
  * controller.
  */
@@ -30,6 +34,9 @@
 #include "roz/hal/runner.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#if ROZRUN_HAS_UNITREE_G1
+#include "roz/unitree_g1.h"
+#endif
 #include "trace.h"
 #if ROZ_HAS_TOML
 #include "roz/manifest_toml.h"
@@ -56,6 +63,62 @@ typedef struct {
 
 static roz_runtime_t rt;
 static roz_loopback_t loopback;
+#if ROZRUN_HAS_UNITREE_G1
+static roz_unitree_g1_t g1;
+#endif
+
+/* ---- the ports rozrun knows ------------------------------------------------ */
+
+static roz_port_t make_loopback(void)
+{
+    return roz_loopback_port(&loopback);
+}
+
+static void link_loopback(roz_link_t *out)
+{
+    *out = loopback.link;
+}
+
+static void log_stderr(void *ctx, roz_log_level_t level, const char *msg);
+
+#if ROZRUN_HAS_UNITREE_G1
+static roz_port_t make_g1(void)
+{
+    return roz_unitree_g1_port(&g1, log_stderr, NULL);
+}
+
+static void link_g1(roz_link_t *out)
+{
+    roz_unitree_g1_link(&g1, out);
+}
+#endif
+
+typedef struct {
+    const char *name;
+    int         robot; /* a robot's port: ticks at the manifest's rate, always */
+    roz_port_t (*make)(void);
+    void (*link)(roz_link_t *out); /* the checks on the state frames it received */
+} port_entry_t;
+
+static const port_entry_t ports[] = {
+    { "loopback", 0, make_loopback, link_loopback },
+#if ROZRUN_HAS_UNITREE_G1
+    { "unitree/G1", 1, make_g1, link_g1 },
+#endif
+};
+
+static const port_entry_t *find_port(const char *name)
+{
+    for (size_t i = 0; i < sizeof ports / sizeof ports[0]; i++) {
+        if (strcmp(ports[i].name, name) == 0)
+            return &ports[i];
+    }
+    fprintf(stderr, "rozrun: --port \"%s\": not available in this build; known:", name);
+    for (size_t i = 0; i < sizeof ports / sizeof ports[0]; i++)
+        fprintf(stderr, " %s", ports[i].name);
+    fprintf(stderr, "\n");
+    return NULL;
+}
 static rozrun_trace_t trace;
 static int tracing;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
@@ -71,14 +134,20 @@ static void usage(FILE *f)
         "  --robot ID|FILE      built-in manifest id (see roz_manifest_info), or a\n"
         "                       robot.toml read at run time (a path with / or .toml)\n"
         "  --controller FILE    controller module, .wasm or .wat\n"
-        "  --port NAME          port to drive (default loopback; known: loopback)\n"
+        "  --port NAME          port to drive (default loopback; known: loopback"
+#if ROZRUN_HAS_UNITREE_G1
+        ", unitree/G1"
+#endif
+        ")\n"
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
         "  --param KEY=VALUE    port parameter, repeatable (loopback fault injection:\n"
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
-        "                       corrupt_cmd, restart; see roz/loopback.h)\n"
+        "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
+        "                       network_interface, dds_domain, command_writer_period_us,\n"
+        "                       ...; see roz/unitree_g1.h)\n"
         "  --budget-us US|off   controller wall-clock deadline per tick (default: half the\n"
         "                       period with --realtime; off in simulated time, where the\n"
         "                       fuel alone decides, so a run is the same on any machine)\n"
@@ -364,8 +433,11 @@ static void warn_held_at_limits(uint64_t ticks)
                held - HELD_WARN_LINES);
 }
 
-static void summary(const options_t *o, const roz_verify_report_t *rep, const roz_runner_t *runner)
+static void summary(const options_t *o, const port_entry_t *pe, const roz_verify_report_t *rep,
+                    const roz_runner_t *runner)
 {
+    roz_link_t link;
+    pe->link(&link);
     const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
     roz_runtime_stats_t st;
     if (roz_runtime_stats(&rt, &st) != ROZ_OK)
@@ -382,7 +454,8 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
            m->robot_class, (unsigned)m->control_rate_hz, (unsigned)m->n_commands,
            (unsigned)m->n_states);
     printf("  controller             %s\n", o->controller);
-    printf("  port                   %s%s\n", o->port, o->realtime ? " (realtime)" : " (simulated time)");
+    printf("  port                   %s%s\n", o->port,
+           o->realtime ? " (realtime)" : pe->robot ? " (the robot's time)" : " (simulated time)");
     printf("  verify                 %u ticks, max %.1f us, mean %.1f us per tick\n",
            (unsigned)rep->ticks_run, rep->max_process_ns / 1000.0,
            rep->ticks_run ? rep->total_process_ns / 1000.0 / rep->ticks_run : 0.0);
@@ -409,9 +482,9 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     printf("  stale reads            %llu\n", (unsigned long long)st.runtime.stale_reads);
     printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu missing, "
            "%llu peer restarts\n",
-           (unsigned long long)loopback.link.accepted, (unsigned long long)loopback.link.crc_errors,
-           (unsigned long long)loopback.link.replays, (unsigned long long)loopback.link.missing,
-           (unsigned long long)(loopback.link.restarts + loopback.link.returns));
+           (unsigned long long)link.accepted, (unsigned long long)link.crc_errors,
+           (unsigned long long)link.replays, (unsigned long long)link.missing,
+           (unsigned long long)(link.restarts + link.returns));
     drain_metrics();
     printf("  metrics                %llu emitted, %llu received (last %g), %llu dropped\n",
            (unsigned long long)metrics, (unsigned long long)metrics_seen, metric_last,
@@ -431,7 +504,9 @@ static void summary(const options_t *o, const roz_verify_report_t *rep, const ro
     if (runner != NULL) {
         print_ns("wake-up jitter", &runner->monitor, ROZ_MON_JITTER);
         printf("  scheduling             %s, memory %s, %llu deadlines missed\n",
-               runner->realtime ? "SCHED_FIFO" : "normal (SCHED_FIFO not permitted)",
+               runner->realtime ? "SCHED_FIFO"
+               : o->realtime   ? "normal (SCHED_FIFO not permitted)"
+                               : "normal (no --realtime)",
                runner->locked ? "locked" : "not locked",
                (unsigned long long)runner->missed);
     }
@@ -453,18 +528,16 @@ int main(int argc, char **argv)
     const roz_manifest_t *m = find_robot(o.robot);
     if (m == NULL)
         return 2;
-    if (strcmp(o.port, "loopback") != 0) {
-        fprintf(stderr, "rozrun: --port \"%s\": not available in this build; known: loopback\n",
-                o.port);
+    const port_entry_t *pe = find_port(o.port);
+    if (pe == NULL)
         return 2;
-    }
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
     if (roz_module_read_file(o.controller, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: %s\n", err);
         return 2;
     }
 
-    roz_port_t port = roz_loopback_port(&loopback);
+    roz_port_t port = pe->make();
     roz_params_t params = { o.params, o.n_params };
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
@@ -476,22 +549,25 @@ int main(int argc, char **argv)
     cfg.clock = roz_clock_monotonic_ns;
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;
+    int paced = o.realtime || pe->robot; /* a robot keeps its own time */
     /* the deadline is wall-clock time, which simulated time is not: there
      * the fuel alone decides unless asked, so a run is deterministic */
     if (o.budget_set)
         cfg.budget_ns = o.budget_us == UINT64_MAX ? UINT64_MAX : o.budget_us * 1000u;
-    else if (!o.realtime)
+    else if (!paced)
         cfg.budget_ns = UINT64_MAX;
     if (o.fuel_set)
         cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
-    cfg.monitor_jitter = o.realtime; /* simulated time runs ticks back to back */
+    cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
+        roz_port_close(&port);
         return 2;
     }
     if (roz_runtime_load(&rt, wasm, len, &rep) != ROZ_OK) {
         fprintf(stderr, "rozrun: controller %s refused: %s\n", o.controller,
                 roz_runtime_error(&rt));
+        roz_port_close(&port);
         return 2;
     }
     if (o.trace != NULL) {
@@ -509,12 +585,12 @@ int main(int argc, char **argv)
     }
 
     static roz_runner_t runner;
-    if (o.realtime) {
+    if (paced) {
         roz_runner_config_t rc = {
             .period_ns = 1000000000ull / m->control_rate_hz,
             .max_ticks = o.ticks,
-            .realtime_priority = o.priority,
-            .lock_memory = 1,
+            .realtime_priority = o.realtime ? o.priority : 0,
+            .lock_memory = o.realtime,
             .log = NULL, /* the runtime warns about command jitter itself */
         };
         if (roz_runner_start(&runner, &rc, tick_fn, NULL) != ROZ_OK) {
@@ -545,7 +621,7 @@ int main(int argc, char **argv)
     roz_port_deactivate(&port);
     if (tracing && rozrun_trace_close(&trace) != 0)
         fprintf(stderr, "rozrun: error writing %s\n", o.trace);
-    summary(&o, &rep, o.realtime ? &runner : NULL);
+    summary(&o, pe, &rep, paced ? &runner : NULL);
     unsigned faults = roz_runtime_faults(&rt);
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
