@@ -45,6 +45,7 @@ static double sent[ROZ_CFG_MAX_STATES];
 static double applied[ROZ_CFG_MAX_COMMANDS];
 static uint32_t frame_no;
 static uint32_t peer_timeout_ms;
+static const char *const *fake_args; /* the next open's, then none */
 
 /* ---- helpers for the G1 tests too (unitree_g1_fixture.h) -------------------- */
 
@@ -56,6 +57,11 @@ roz_unitree_g1_t *roz_g1fx_port(void)
 roz_fake_g1_t *roz_g1fx_fake(void)
 {
     return &fake;
+}
+
+void roz_g1fx_set_fake_args(const char *const *extra)
+{
+    fake_args = extra;
 }
 
 static void quiet_log(void *ctx, roz_log_level_t level, const char *msg)
@@ -213,7 +219,9 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     frame_no = 0;
     memset(sent, 0, sizeof sent);
     peer_timeout_ms = 300;
-    if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, NULL, err, errlen) != 0)
+    const char *const *extra = fake_args;
+    fake_args = NULL;
+    if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, errlen) != 0)
         return ROZ_EIO;
     /* the fixture's parameters first: the caller's win */
     snprintf(domain, sizeof domain, "%d", ROZ_TEST_DDS_DOMAIN);
