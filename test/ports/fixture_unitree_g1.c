@@ -152,8 +152,8 @@ void roz_g1fx_wait_judged(const roz_link_t *before, int resend_until_first)
             return;
         /* Before the port's first frame, the fake's writer may not have
          * found the port's reader yet (discovery is asynchronous): a new
-         * frame every 100 ms until one arrives. */
-        if (resend_until_first && !now.alive && ms % 100u == 99u) {
+         * frame every 500 ms until one arrives. */
+        if (resend_until_first && !now.alive && ms % 500u == 499u) {
             roz_g1fx_set_state(frame_no);
             roz_g1fx_ask("send");
         }
