@@ -74,15 +74,15 @@ const char *roz_link_verdict_name(roz_link_verdict_t v)
 
 /* ---- the copy for other threads -------------------------------------------- */
 
+/* The fields, each as two 32-bit words (low, high). */
 enum { W_LOST, W_WINDOW, W_ALIVE, W_LAST_SEQ, W_LAST_NS, W_ACCEPTED, W_CRC, W_REPLAYS, W_RESTARTS,
        W_RETURNS, W_MISSING, W_COUNT };
-_Static_assert(W_COUNT == sizeof(((roz_link_shared_t *)0)->words) / sizeof(uint64_t),
-               "roz_link_shared_t carries every field of roz_link_t");
+_Static_assert(2 * W_COUNT == ROZ_LINK_SHARED_WORDS, "roz_link_shared_t carries every field");
 
 void roz_link_shared_init(roz_link_shared_t *s)
 {
     atomic_init(&s->seq, 0u);
-    for (int i = 0; i < W_COUNT; i++)
+    for (int i = 0; i < ROZ_LINK_SHARED_WORDS; i++)
         atomic_init(&s->words[i], 0u);
 }
 
@@ -95,8 +95,10 @@ void roz_link_shared_publish(roz_link_shared_t *s, const roz_link_t *l)
 
     atomic_store_explicit(&s->seq, q + 1u, memory_order_relaxed);
     atomic_thread_fence(memory_order_release);
-    for (int i = 0; i < W_COUNT; i++)
-        atomic_store_explicit(&s->words[i], w[i], memory_order_relaxed);
+    for (int i = 0; i < W_COUNT; i++) {
+        atomic_store_explicit(&s->words[2 * i], (uint32_t)w[i], memory_order_relaxed);
+        atomic_store_explicit(&s->words[2 * i + 1], (uint32_t)(w[i] >> 32), memory_order_relaxed);
+    }
     atomic_store_explicit(&s->seq, q + 2u, memory_order_release);
 }
 
@@ -106,7 +108,9 @@ int roz_link_shared_read(const roz_link_shared_t *s, roz_link_t *out)
     for (int tries = 0; tries < 1000; tries++) {
         uint32_t q0 = atomic_load_explicit(&s->seq, memory_order_acquire);
         for (int i = 0; i < W_COUNT; i++)
-            w[i] = atomic_load_explicit(&s->words[i], memory_order_relaxed);
+            w[i] = atomic_load_explicit(&s->words[2 * i], memory_order_relaxed) |
+                   (uint64_t)atomic_load_explicit(&s->words[2 * i + 1], memory_order_relaxed)
+                       << 32;
         atomic_thread_fence(memory_order_acquire);
         uint32_t q1 = atomic_load_explicit(&s->seq, memory_order_relaxed);
         memset(out, 0, sizeof *out);

@@ -104,15 +104,20 @@ roz_link_verdict_t roz_link_check(roz_link_t *l, int crc_ok, uint32_t seq, uint6
  *  Context: the thread that calls roz_link_check(); RT-safe. */
 int roz_link_lost(const roz_link_t *l, uint64_t now_ns);
 
+/** 32-bit words of a roz_link_t's fields in a roz_link_shared_t. */
+#define ROZ_LINK_SHARED_WORDS 22
+
 /**
  * A consistent copy of a roz_link_t for other threads, when the checks run
  * on a port's receive thread: that thread publishes after each check, any
  * thread reads. Published under a sequence counter (odd while the writer
- * updates); every field is an atomic, so a reader never races.
+ * updates) as relaxed atomic 32-bit words (64-bit atomics are not lock-free
+ * on 32-bit microcontrollers), so a reader never races and never blocks the
+ * writer.
  */
 typedef struct roz_link_shared {
     ROZ_ATOMIC(uint32_t) seq;
-    ROZ_ATOMIC(uint64_t) words[11];
+    ROZ_ATOMIC(uint32_t) words[ROZ_LINK_SHARED_WORDS];
 } roz_link_shared_t;
 
 /** @brief Zero the copy (before either thread uses it). */
