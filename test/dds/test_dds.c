@@ -290,12 +290,15 @@ static void test_dds_periodic_writer(void **st)
     sleep_ms(20);
     assert_int_equal(atomic_load(&wr.published), published);
     assert_int_equal(atomic_load(&b.seen), published);
-    /* the monitors saw the writer's periods and passes, and the handler
-     * (read once their threads stopped recording) */
+    /* the monitors saw the writer's periods and passes, and the handler */
     roz_dds_reader_close(&rd);
-    assert_true(mon_tx.stat[ROZ_MON_JITTER].count >= published - 1);
-    assert_int_equal(mon_tx.stat[ROZ_MON_COMMAND_WRITER].count, atomic_load(&wr.passes));
-    assert_int_equal(mon_rx.stat[ROZ_MON_STATE_HANDLER].count, published);
+    roz_monitor_stat_t s;
+    assert_int_equal(roz_monitor_snapshot(&mon_tx, ROZ_MON_JITTER, &s), ROZ_OK);
+    assert_true(s.count >= published - 1);
+    assert_int_equal(roz_monitor_snapshot(&mon_tx, ROZ_MON_COMMAND_WRITER, &s), ROZ_OK);
+    assert_int_equal(s.count, atomic_load(&wr.passes));
+    assert_int_equal(roz_monitor_snapshot(&mon_rx, ROZ_MON_STATE_HANDLER, &s), ROZ_OK);
+    assert_int_equal(s.count, published);
     close_pair();
 }
 

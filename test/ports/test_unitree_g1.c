@@ -313,6 +313,14 @@ static void test_g1_mode_machine(void **st)
 
 static roz_runtime_t rt;
 
+/* One tick; ROZ_EFAULT while a fault is latched, which the test checks
+ * through roz_runtime_faults(). */
+static void tick_rt(void)
+{
+    int rc = roz_runtime_tick(&rt);
+    assert_true(rc == ROZ_OK || rc == ROZ_EFAULT);
+}
+
 static void test_g1_motor_fault_latches(void **st)
 {
     roz_runtime_config_t cfg;
@@ -333,12 +341,12 @@ static void test_g1_motor_fault_latches(void **st)
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     for (int t = 0; t < 20; t++) {
         roz_g1fx_send();
-        roz_runtime_tick(&rt);
+        tick_rt();
     }
     assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_g1fx_ask("motorstate 3 33"); /* left_knee_joint */
     roz_g1fx_send();
-    roz_runtime_tick(&rt);
+    tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
     const char *msg = roz_runtime_fault_message(&rt);
     if (strstr(msg, "left_knee_joint") == NULL || strstr(msg, "33") == NULL)
@@ -347,14 +355,14 @@ static void test_g1_motor_fault_latches(void **st)
     /* a level: while the motor reports it, a clear does not take */
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     roz_g1fx_send();
-    roz_runtime_tick(&rt);
+    tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
     roz_g1fx_ask("motorstate 3 0");
     roz_g1fx_send();
-    roz_runtime_tick(&rt);
+    tick_rt();
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     roz_g1fx_send();
-    roz_runtime_tick(&rt);
+    tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_runtime_deinit(&rt);
 }
@@ -454,10 +462,13 @@ static void test_g1_periodic_writer(void **st)
     assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
     assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
 
-    /* the monitors saw the writer's periods (read once it stopped) */
-    (void)roz_port_deactivate(&port);
-    assert_true(roz_g1fx_port()->mon_tx.stat[ROZ_MON_JITTER].count >= 50);
-    assert_true(roz_g1fx_port()->mon_rx.stat[ROZ_MON_STATE_HANDLER].count >= 1);
+    /* the monitors saw the writer's periods and the state handler */
+    roz_monitor_stat_t s;
+    assert_int_equal(roz_monitor_snapshot(&roz_g1fx_port()->mon_tx, ROZ_MON_JITTER, &s), ROZ_OK);
+    assert_true(s.count >= 50);
+    assert_int_equal(
+        roz_monitor_snapshot(&roz_g1fx_port()->mon_rx, ROZ_MON_STATE_HANDLER, &s), ROZ_OK);
+    assert_true(s.count >= 1);
 }
 
 static void test_g1_startup_and_shutdown_damping(void **st)
