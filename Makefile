@@ -86,6 +86,8 @@ stress: setup $(BUILD)-tsan/build.ninja
 bench: build
 	$(BUILD)/bench/roz_bench_tick 20000
 	$(BUILD)/bench/roz_bench_fuel 9
+	if [ -x $(BUILD)/bench/roz_bench_g1_latency ]; then \
+	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000; fi
 
 # The long differential run (fuzz/README.md): generated and wasm-tools smith
 # modules on roz's wasm3 against wasm-interp, then fuzz_controller from them
