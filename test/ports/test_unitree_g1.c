@@ -534,18 +534,18 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 /* a robot whose manifest has a channel the G1 has no place for */
 static const roz_channel_t odd_commands[] = {
-    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0 },
-    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0 },
+    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const roz_channel_t odd_states[] = {
-    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const char *const odd_joints[] = { "j1" };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
                                     &odd_hw };
 static const roz_channel_t typo_commands[] = {
-    { "j1/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED },
+    { "j1/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
                                      &odd_hw };
