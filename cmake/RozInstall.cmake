@@ -6,7 +6,8 @@
 #   include/roz/             the public headers (roz/features.h included)
 #   include/roz/sdk/         the controller SDK (roz_controller.h), roz::sdk
 #   include/roz/manifests/   the built-in manifests' generated headers
-#   lib/                     the static libraries
+#   lib/                     the static libraries (roz::dds and the DDS ports where
+#                            Cyclone DDS was found: the package then needs it too)
 #   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
 #   bin/                     rozgen, rozrun, roz_manifest_json, roz_manifest_info
@@ -24,6 +25,22 @@ if(TARGET roz_port_loopback)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
+# The DDS ports (hosts with Cyclone DDS): rozConfig.cmake then finds
+# CycloneDDS first, since the static libraries link it.
+set(ROZ_INSTALL_WITH_DDS OFF)
+if(TARGET roz_dds)
+  set(ROZ_INSTALL_WITH_DDS ON)
+  list(APPEND _roz_targets roz_dds)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/dds/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET roz_port_unitree_g1)
+  # roz_unitree_hg: the idlc-generated types, linked privately by the port
+  list(APPEND _roz_targets roz_unitree_hg roz_port_unitree_g1)
+  set_target_properties(roz_unitree_hg PROPERTIES EXPORT_NAME unitree_hg)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/unitree_g1/include/roz
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
 if(TARGET roz_wasm3)
   # Static roz_core links it PRIVATE, so a consumer's link line needs it.
   list(APPEND _roz_targets roz_wasm3)
