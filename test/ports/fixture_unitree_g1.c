@@ -136,6 +136,9 @@ void roz_g1fx_sent(double *state)
     memcpy(state, sent, man->n_states * sizeof state[0]);
 }
 
+/* The kind of frame being waited for, for the failure message. */
+static const char *judging = "first";
+
 /* Waits until @p pred holds of the port's link checks. */
 static int link_moved(const roz_link_t *before, const roz_link_t *now)
 {
@@ -150,16 +153,23 @@ void roz_g1fx_wait_judged(const roz_link_t *before, int resend_until_first)
         roz_unitree_g1_link(&g1, &now);
         if (link_moved(before, &now))
             return;
-        /* Before the port's first frame, the fake's writer may not have
-         * found the port's reader yet (discovery is asynchronous): a new
-         * frame every 500 ms until one arrives. */
-        if (resend_until_first && !now.alive && ms % 500u == 499u) {
+        /* Before the port's first frame, or after the fake restarted (a new
+         * writer), the fake's writer may not have found the port's reader
+         * yet (discovery is asynchronous, slow on a loaded machine): a new
+         * frame every 500 ms until one arrives. resend_until_first: 1 while
+         * the port has no live peer, 2 always. */
+        if ((resend_until_first == 2 || (resend_until_first && !now.alive)) &&
+            ms % 500u == 499u) {
             roz_g1fx_set_state(frame_no);
             roz_g1fx_ask("send");
         }
         roz_fake_g1_sleep_ms(1);
     }
-    fail_msg("unitree/G1: the port did not judge the fake's frame within %u ms", WAIT_MS);
+    fail_msg("unitree/G1: the port did not judge the fake's %s frame within %u ms "
+             "(link: %llu accepted, %llu bad CRC, %llu replays, %llu restarts, alive %d)",
+             judging, WAIT_MS, (unsigned long long)now.accepted,
+             (unsigned long long)now.crc_errors, (unsigned long long)now.replays,
+             (unsigned long long)now.restarts, (int)now.alive);
 }
 
 /* Sends one good frame (new values) and waits for the port to take it. */
@@ -264,6 +274,9 @@ static void fx_peer(roz_peer_frame_t what)
 {
     roz_link_t before;
     roz_unitree_g1_link(&g1, &before);
+    static const char *const names[] = { "good", "silent", "corrupt", "replayed", "restart",
+                                         "after-vanish" };
+    judging = (unsigned)what < sizeof names / sizeof names[0] ? names[what] : "?";
     switch (what) {
     case ROZ_PEER_SEND:
         roz_g1fx_send();
@@ -284,7 +297,7 @@ static void fx_peer(roz_peer_frame_t what)
         roz_g1fx_ask("restart");
         roz_g1fx_set_state(++frame_no);
         roz_g1fx_ask("send");
-        roz_g1fx_wait_judged(&before, 0);
+        roz_g1fx_wait_judged(&before, 2);
         break;
     case ROZ_PEER_VANISH:
         roz_fake_g1_sleep_ms(peer_timeout_ms + 100u);
