@@ -240,23 +240,58 @@ static void test_loopback_fault_table(void **st)
 
 static void test_loopback_bad_params(void **st)
 {
-    static const struct { const char *key, *value, *want; } cases[] = {
-        { "dropp", "1:2", "unknown parameter \"dropp\" for port loopback" },
-        { "drop", "5:2", "parameter drop = \"5:2\"" },
-        { "delay", "99@1:2", "parameter delay = \"99@1:2\": expected K@FROM:TO with K in 1..15" },
-        { "nan", "nosuch/state@1:2", "parameter nan = \"nosuch/state@1:2\"" },
-        { "range", "12@1:", "parameter range = \"12@1:\"" },
+    /* each message quotes the value and says what is wrong with it */
+    static const struct {
+        const roz_manifest_t *m;
+        const char *key, *value, *want;
+    } cases[] = {
+        { &roz_manifest_ur5, "dropp", "1:2", "unknown parameter \"dropp\" for port loopback" },
+        { &roz_manifest_ur5, "drop", "300:100", "parameter drop = \"300:100\": FROM 300 after TO 100" },
+        { &roz_manifest_ur5, "drop", "5:5", "FROM 5 equals TO" },
+        { &roz_manifest_ur5, "drop", "99999999999999999999999:",
+          "FROM 99999999999999999999999 is too large (at most 18446744073709551615)" },
+        { &roz_manifest_ur5, "freeze", "1:18446744073709551616", "TO 18446744073709551616 is too large" },
+        { &roz_manifest_ur5, "freeze", "18446744073709551615", NULL }, /* the largest: taken */
+        { &roz_manifest_ur5, "drop", "x", "parameter drop = \"x\": FROM is missing or not a tick number" },
+        { &roz_manifest_ur5, "drop", "-1:2", "FROM is missing or not a tick number" },
+        { &roz_manifest_ur5, "drop", "1:-2", "TO is missing or not a tick number" },
+        { &roz_manifest_ur5, "drop", "1:2x", "unexpected \"x\" after the ticks" },
+        { &roz_manifest_ur5, "delay", "99@1:2", "parameter delay = \"99@1:2\": K 99 is not a delay in 1..15 ticks" },
+        { &roz_manifest_ur5, "delay", "0@1:2", "K 0 is not a delay in 1..15" },
+        { &roz_manifest_ur5, "delay", "1:2", "no K before '@'; expected K@FROM:TO" },
+        { &roz_manifest_diff_drive, "nan", "7@1:2", "parameter nan = \"7@1:2\": state 7 does not exist (3 states)" },
+        { &roz_manifest_diff_drive, "nan", "3@1:2", "state 3 does not exist (3 states)" },
+        { &roz_manifest_diff_drive, "nan", "2@1:2", NULL },
+        { &roz_manifest_diff_drive, "nan", "99999999999999999999@1:", "state 99999999999999999999 does not exist (3 states)" },
+        { &roz_manifest_ur5, "nan", "nosuch/state@1:2", "parameter nan = \"nosuch/state@1:2\": no state named \"nosuch/state\"" },
+        { &roz_manifest_ur5, "nan", "@1:2", "no CHANNEL before '@'" },
+        { &roz_manifest_ur5, "range", "12@1:", "parameter range = \"12@1:\": state 12 does not exist (12 states)" },
+        { &roz_manifest_ur5, "range", "6@1:", "state 6 (shoulder_pan_joint/velocity) is not a position state" },
     };
     roz_port_t p = roz_loopback_port(&lb);
-    char err[200];
+    char err[320];
     (void)st;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         roz_param_t item = { cases[i].key, cases[i].value };
         roz_params_t params = { &item, 1 };
-        assert_true(roz_port_open(&p, &roz_manifest_ur5, &params, err, sizeof err) < 0);
+        int rc = roz_port_open(&p, cases[i].m, &params, err, sizeof err);
+        if (cases[i].want == NULL) {
+            if (rc != ROZ_OK)
+                fail_msg("%s=%s refused: %s", cases[i].key, cases[i].value, err);
+            continue;
+        }
+        if (rc >= 0)
+            fail_msg("%s=%s accepted", cases[i].key, cases[i].value);
         if (strstr(err, cases[i].want) == NULL)
             fail_msg("\"%s\" lacks \"%s\"", err, cases[i].want);
     }
+    /* one more than the table holds */
+    roz_param_t many[ROZ_LOOPBACK_MAX_FAULTS + 1];
+    for (size_t i = 0; i < ROZ_LOOPBACK_MAX_FAULTS + 1; i++)
+        many[i] = (roz_param_t){ "drop", "1:2" };
+    roz_params_t all = { many, ROZ_LOOPBACK_MAX_FAULTS + 1 };
+    assert_true(roz_port_open(&p, &roz_manifest_ur5, &all, err, sizeof err) < 0);
+    assert_non_null(strstr(err, "more than 8 fault injections"));
     /* wrong sizes are refused, not overrun */
     double s[12];
     assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);

@@ -23,73 +23,6 @@ static int fault_active(const roz_loopback_fault_t *f, uint64_t t)
     return t >= f->from && (f->to == 0 || t < f->to);
 }
 
-/* Parses "FROM:TO", "FROM:" or "FROM" (freeze); TO empty = forever. */
-static int parse_range(const char *s, uint64_t *from, uint64_t *to)
-{
-    char *end;
-    if (*s < '0' || *s > '9')
-        return ROZ_EINVAL;
-    *from = strtoull(s, &end, 10);
-    *to = 0;
-    if (*end == '\0')
-        return ROZ_OK;
-    if (*end != ':')
-        return ROZ_EINVAL;
-    s = end + 1;
-    if (*s == '\0')
-        return ROZ_OK;
-    if (*s < '0' || *s > '9')
-        return ROZ_EINVAL;
-    *to = strtoull(s, &end, 10);
-    return *end == '\0' && *to > *from ? ROZ_OK : ROZ_EINVAL;
-}
-
-static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *value,
-                             roz_loopback_fault_kind_t kind, char *err, size_t errlen)
-{
-    roz_loopback_fault_t f = { kind, 0, 0, -1, 0 };
-    char head[96];
-    const char *range = value;
-    const char *at = strchr(value, '@');
-
-    if (kind == ROZ_LOOPBACK_DELAY || kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE) {
-        size_t n = at != NULL ? (size_t)(at - value) : 0;
-        if (at == NULL || n == 0 || n >= sizeof head)
-            goto bad;
-        memcpy(head, value, n);
-        head[n] = '\0';
-        range = at + 1;
-        if (kind == ROZ_LOOPBACK_DELAY) {
-            char *end;
-            unsigned long k = strtoul(head, &end, 10);
-            if (*end != '\0' || k < 1 || k > ROZ_LOOPBACK_MAX_DELAY)
-                goto bad;
-            f.arg = (uint32_t)k;
-        } else {
-            char *end;
-            long ch = strtol(head, &end, 10);
-            if (*end != '\0' || head[0] < '0' || head[0] > '9')
-                ch = roz_manifest_find_state(lb->m, head);
-            if (ch < 0 || ch >= (long)lb->m->n_states)
-                goto bad;
-            f.channel = (int32_t)ch;
-        }
-    }
-    if (parse_range(range, &f.from, &f.to) != ROZ_OK)
-        goto bad;
-    if (roz_loopback_inject(lb, &f) == ROZ_OK)
-        return ROZ_OK;
-bad:
-    snprintf(err, errlen,
-             "parameter %s = \"%s\": expected %s (ticks FROM:TO, TO empty = forever; at most %d faults)",
-             key, value,
-             kind == ROZ_LOOPBACK_DELAY ? "K@FROM:TO with K in 1..15"
-             : (kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE) ? "CHANNEL@FROM:TO"
-                                                                        : "FROM:TO",
-             ROZ_LOOPBACK_MAX_FAULTS);
-    return ROZ_EINVAL;
-}
-
 /* Any fault of @p kind active at tick @p t. */
 static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_loopback_fault_kind_t kind,
                                           uint64_t t)
@@ -99,6 +32,163 @@ static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_loopback
             return &lb->faults[k];
     }
     return NULL;
+}
+
+/* ---- parameters ------------------------------------------------------------
+ * Each message says what is wrong with the value as given ("state 7 does
+ * not exist (3 states)", "FROM 300 after TO 100"), quoting the user's text
+ * rather than a number it was converted to. */
+
+/* Parsers below return 0, or a message in why and SYNTAX (the value is not
+ * in the expected form: the caller adds the form) or BAD (it is, but says
+ * something wrong). */
+enum { BAD = -1, SYNTAX = -2 };
+
+/* A tick number at *s: digits only (no sign, no space), no overflow.
+ * Advances *s past it. */
+static int parse_tick(const char **s, const char *what, uint64_t *out, char *why, size_t whylen)
+{
+    const char *p = *s;
+    uint64_t v = 0;
+
+    if (*p < '0' || *p > '9') {
+        snprintf(why, whylen, "%s is missing or not a tick number", what);
+        return SYNTAX;
+    }
+    for (; *p >= '0' && *p <= '9'; p++) {
+        unsigned d = (unsigned)(*p - '0');
+        if (v > (UINT64_MAX - d) / 10u) {
+            size_t n = strspn(*s, "0123456789");
+            snprintf(why, whylen, "%s %.*s is too large (at most %llu)", what,
+                     n > 40 ? 40 : (int)n, *s, (unsigned long long)UINT64_MAX);
+            return BAD;
+        }
+        v = v * 10u + d;
+    }
+    *out = v;
+    *s = p;
+    return 0;
+}
+
+/* Parses "FROM:TO", "FROM:" or "FROM"; TO empty = forever (to = 0). */
+static int parse_range(const char *s, uint64_t *from, uint64_t *to, char *why, size_t whylen)
+{
+    int rc;
+
+    *to = 0;
+    if ((rc = parse_tick(&s, "FROM", from, why, whylen)) != 0)
+        return rc;
+    if (*s == ':') {
+        s++;
+        if (*s != '\0' && (rc = parse_tick(&s, "TO", to, why, whylen)) != 0)
+            return rc;
+    }
+    if (*s != '\0') {
+        snprintf(why, whylen, "unexpected \"%s\" after the ticks", s);
+        return SYNTAX;
+    }
+    if (*to != 0 && *to < *from) {
+        snprintf(why, whylen, "FROM %llu after TO %llu", (unsigned long long)*from,
+                 (unsigned long long)*to);
+        return BAD;
+    }
+    if (*to != 0 && *to == *from) {
+        snprintf(why, whylen, "FROM %llu equals TO: the ticks [FROM, TO) are none",
+                 (unsigned long long)*from);
+        return BAD;
+    }
+    return 0;
+}
+
+/* The state channel of nan= and range=: an index or a name. */
+static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopback_fault_kind_t kind,
+                         int32_t *out, char *why, size_t whylen)
+{
+    const roz_manifest_t *m = lb->m;
+    long ch;
+
+    if (head[strspn(head, "0123456789")] == '\0') {
+        /* an index; long enough a number is out of range, not wrapped */
+        ch = strlen(head) > 6 ? -1 : strtol(head, NULL, 10);
+        if (ch < 0 || ch >= (long)m->n_states) {
+            snprintf(why, whylen, "state %s does not exist (%u states)", head,
+                     (unsigned)m->n_states);
+            return BAD;
+        }
+    } else {
+        ch = roz_manifest_find_state(m, head);
+        if (ch < 0) {
+            snprintf(why, whylen, "no state named \"%s\"", head);
+            return BAD;
+        }
+    }
+    if (kind == ROZ_LOOPBACK_RANGE && m->states[ch].type != ROZ_IF_POSITION) {
+        snprintf(why, whylen, "state %ld (%s) is not a position state", ch, m->states[ch].name);
+        return BAD;
+    }
+    *out = (int32_t)ch;
+    return 0;
+}
+
+static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *value,
+                             roz_loopback_fault_kind_t kind, char *err, size_t errlen)
+{
+    roz_loopback_fault_t f = { kind, 0, 0, -1, 0 };
+    const char *form = kind == ROZ_LOOPBACK_DELAY ? "K@FROM:TO"
+                       : (kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE)
+                           ? "CHANNEL@FROM:TO"
+                           : "FROM:TO";
+    const char *range = value;
+    char why[160];
+    int rc = SYNTAX;
+
+    if (kind == ROZ_LOOPBACK_DELAY || kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE) {
+        const char *at = strchr(value, '@');
+        char head[96];
+        size_t n = at != NULL ? (size_t)(at - value) : 0;
+        if (at == NULL || n == 0) {
+            snprintf(why, sizeof why, "no %s before '@'",
+                     kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL");
+            goto bad;
+        }
+        if (n >= sizeof head) {
+            snprintf(why, sizeof why, "the %s before '@' is longer than %u characters",
+                     kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL", (unsigned)sizeof head - 1u);
+            rc = BAD;
+            goto bad;
+        }
+        memcpy(head, value, n);
+        head[n] = '\0';
+        range = at + 1;
+        if (kind == ROZ_LOOPBACK_DELAY) {
+            int digits = head[strspn(head, "0123456789")] == '\0';
+            unsigned long k = digits && n <= 3 ? strtoul(head, NULL, 10) : 0;
+            if (k < 1 || k > ROZ_LOOPBACK_MAX_DELAY) {
+                snprintf(why, sizeof why, "K %s is not a delay in 1..%d ticks", head,
+                         ROZ_LOOPBACK_MAX_DELAY);
+                rc = BAD;
+                goto bad;
+            }
+            f.arg = (uint32_t)k;
+        } else if ((rc = parse_channel(lb, head, kind, &f.channel, why, sizeof why)) != 0) {
+            goto bad;
+        }
+    }
+    if ((rc = parse_range(range, &f.from, &f.to, why, sizeof why)) != 0)
+        goto bad;
+    if (roz_loopback_inject(lb, &f) != ROZ_OK) {
+        snprintf(why, sizeof why, "more than %d fault injections", ROZ_LOOPBACK_MAX_FAULTS);
+        rc = BAD;
+        goto bad;
+    }
+    return ROZ_OK;
+bad:
+    if (rc == SYNTAX)
+        snprintf(err, errlen, "parameter %s = \"%s\": %s; expected %s (ticks, TO empty = forever)",
+                 key, value, why, form);
+    else
+        snprintf(err, errlen, "parameter %s = \"%s\": %s", key, value, why);
+    return ROZ_EINVAL;
 }
 
 /* ---- frames ----------------------------------------------------------------
