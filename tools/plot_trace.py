@@ -4,8 +4,11 @@
     python tools/plot_trace.py trace.csv out.png [--title TEXT]
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>... (see examples/rozrun/trace.c). Up to six commands and six
-position states are drawn.
+state:<state>..., faults, events (see examples/rozrun/trace.h). Up to six
+commands and six position states are drawn. Ticks with a fault latched are
+shaded, and each event (e-stop press and release, clear, swap, refused swap,
+rebuild, a fault latching) is a labelled vertical line. Traces written before
+the faults and events columns existed plot without them.
 """
 import argparse
 import csv
@@ -17,6 +20,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+TEXT_COLUMNS = ("events",)
+
 
 def read(path):
     with open(path, newline="") as f:
@@ -24,8 +29,67 @@ def read(path):
     if len(rows) < 2:
         sys.exit(f"{path}: no rows")
     header, data = rows[0], rows[1:]
-    cols = {name: [float(r[i]) for r in data] for i, name in enumerate(header)}
+    cols = {}
+    for i, name in enumerate(header):
+        if name in TEXT_COLUMNS:
+            cols[name] = [r[i] if i < len(r) else "" for r in data]
+        else:
+            cols[name] = [float(r[i]) for r in data]
     return header, cols
+
+
+def fault_spans(t, faults):
+    """(start, end) times of the runs of rows with a fault latched."""
+    spans, start = [], None
+    for i, f in enumerate(faults):
+        if f and start is None:
+            start = t[i]
+        elif not f and start is not None:
+            spans.append((start, t[i]))
+            start = None
+    if start is not None:
+        spans.append((start, t[-1]))
+    return spans
+
+
+def event_label(events):
+    """A row's events as a label, and whether they stop the robot (an e-stop
+    press or a fault latching: drawn red). cleared:<name> tokens are left to
+    the clear that caused them."""
+    words, stop = [], False
+    for token in events.split():
+        if not token or token.startswith("cleared:"):
+            continue
+        if token.startswith("fault:"):
+            words.append("fault: " + token[len("fault:"):])
+            stop = True
+        else:
+            words.append(token)
+            stop = stop or token == "estop"
+    return ", ".join(words), stop
+
+
+def mark(axes, t, cols):
+    """Shade the latched faults and mark each event, on every axis."""
+    if "faults" in cols:
+        for i, (a, b) in enumerate(fault_spans(t, cols["faults"])):
+            for ax in axes:
+                ax.axvspan(a, b, color="tab:red", alpha=0.12, linewidth=0,
+                           label="fault latched" if i == 0 and ax is axes[0] else None)
+    if "events" not in cols:
+        return
+    for i, events in enumerate(cols["events"]):
+        label, stop = event_label(events)
+        if not label:
+            continue
+        color = "tab:red" if stop else "0.3"
+        for ax in axes:
+            ax.axvline(t[i], color=color, linestyle="--", linewidth=0.8)
+        # at the foot of the upper plot, clear of the legends
+        axes[0].annotate(label, xy=(t[i], 0.0), xycoords=("data", "axes fraction"),
+                         xytext=(2, 4), textcoords="offset points", rotation=90,
+                         va="bottom", ha="left", fontsize=7, color=color,
+                         bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7))
 
 
 def main():
@@ -47,6 +111,7 @@ def main():
         if not all(math.isnan(v) for v in target):
             ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
         ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
+    mark((ax1, ax2), t, cols)
     ax1.set_ylabel("command")
     ax1.set_title("commanded (dotted) vs applied after the safety filter (solid)")
     ax1.legend(fontsize=7, ncol=3, loc="upper right")

@@ -4,6 +4,7 @@
  *
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
  *          [--realtime] [--param k=v]... [--trace out.csv]
+ *          [--estop-at T] [--estop-release-at T] [--clear-at T] [--swap-at T:FILE]...
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
  *          --controller g1_stand.wasm
@@ -12,9 +13,10 @@
  * (simulated time, as fast as the machine goes); with it a periodic thread
  * runs them at the manifest's rate, with SCHED_FIFO and locked memory where
  * permitted. A robot's port always runs at the manifest's rate (the robot
- * keeps its own time); --realtime adds SCHED_FIFO and locked memory. Exit status: 0 when
- * no fault latched, 1 when one did, 2 for bad arguments or a refused
- * controller.
+ * keeps its own time); --realtime adds SCHED_FIFO and locked memory. The
+ * scheduled interventions are schedule.c's. Exit status: 0 when no fault is
+ * latched at the end, 1 when one is, 2 for bad arguments or a refused
+ * controller, 3 when the trace could not be written.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
@@ -37,6 +39,7 @@
 #if ROZRUN_HAS_UNITREE_G1
 #include "roz/unitree_g1.h"
 #endif
+#include "schedule.h"
 #include "trace.h"
 #if ROZ_HAS_TOML
 #include "roz/manifest_toml.h"
@@ -121,7 +124,11 @@ static const port_entry_t *find_port(const char *name)
 }
 static rozrun_trace_t trace;
 static int tracing;
+static int trace_failed; /* main thread: the trace's first write error was reported */
+static rozrun_schedule_t sched;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
+static atomic_uint loader_events; /* trace events of the loader's actions, taken by the tick */
+static _Atomic uint64_t ticks_done; /* written by the tick's thread after each tick */
 
 static void usage(FILE *f)
 {
@@ -155,11 +162,26 @@ static void usage(FILE *f)
         "                       instruction each; default ROZ_CFG_FUEL_PER_SECOND / rate);\n"
         "                       off: unmetered\n"
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
-        "  --trace FILE         write every tick (targets, applied commands, state) as CSV\n"
+        "  --trace FILE         write every tick (targets, applied commands, state, latched\n"
+        "                       faults, events) as CSV\n"
+        "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
+        "                       and stays latched, even through clears, while pressed\n"
+        "  --estop-release-at T release it before tick T (the fault stays latched until\n"
+        "                       a clear)\n"
+        "  --clear-at T         clear the latched faults before tick T (a controller that\n"
+        "                       trapped is rebuilt and verified first)\n"
+        "  --swap-at T:FILE     load, verify and install another controller to drive from\n"
+        "                       tick T (from 1); refused, the running one stays\n"
+        "                       These four are repeatable; at one tick the e-stop input\n"
+        "                       comes first, then the swap, then the clear. In simulated\n"
+        "                       time each takes effect exactly at tick T; with --realtime\n"
+        "                       or a robot's port clears and swaps run on a loader thread\n"
+        "                       once tick T-1 is done and take effect at the next tick\n"
+        "                       boundary after.\n"
         "  --help               this text\n"
         "\n"
-        "Exit status: 0 no fault latched, 1 a fault latched, 2 bad arguments or refused\n"
-        "controller.\n");
+        "Exit status: 0 no fault latched at the end, 1 a fault latched at the end, 2 bad\n"
+        "arguments or refused controller, 3 the trace could not be written.\n");
 }
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
@@ -214,7 +236,9 @@ static int parse_args(int argc, char **argv, options_t *o)
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
                                               "--ticks", "--priority", "--budget-us",
-                                              "--stale-ticks", "--param", "--fuel", NULL };
+                                              "--stale-ticks", "--param", "--fuel",
+                                              "--estop-at", "--estop-release-at", "--clear-at",
+                                              "--swap-at", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -279,6 +303,10 @@ static int parse_args(int argc, char **argv, options_t *o)
                 return -1;
             }
             o->n_params++;
+        } else if (!strcmp(a, "--estop-at") || !strcmp(a, "--estop-release-at") ||
+                   !strcmp(a, "--clear-at") || !strcmp(a, "--swap-at")) {
+            if (rozrun_schedule_add(&sched, a, v) != 0)
+                return -1;
         } else {
             fprintf(stderr, "rozrun: unknown option \"%s\" (see --help)\n", a);
             return -1;
@@ -288,7 +316,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         fprintf(stderr, "rozrun: --robot and --controller are required (see --help)\n");
         return -1;
     }
-    return 0;
+    return rozrun_schedule_check(&sched, o->ticks);
 }
 
 #if ROZ_HAS_TOML
@@ -346,9 +374,9 @@ static const roz_manifest_t *find_robot(const char *id)
     return NULL;
 }
 
-static uint64_t metrics_seen;
 static uint64_t ticks_run;   /* roz_runtime_tick() calls */
 static int last_tick_rc;     /* its last result */
+static uint64_t metrics_seen;
 static double metric_last = NAN;
 
 /* Telemetry is kept off the tick: drained here, outside it. */
@@ -361,7 +389,7 @@ static void drain_metrics(void)
     }
 }
 
-static void record_tick(void)
+static void record_tick(unsigned events)
 {
     if (!tracing)
         return;
@@ -369,16 +397,40 @@ static void record_tick(void)
     uint64_t tick = ticks_run - 1;
     rozrun_trace_push(&trace, tick, (double)tick / m->control_rate_hz,
                       roz_runtime_last_targets(&rt), roz_runtime_last_commands(&rt),
-                      roz_runtime_last_state(&rt));
+                      roz_runtime_last_state(&rt), roz_runtime_faults(&rt), events);
 }
+
+/* The tick's thread: the events of this tick are the e-stop input set after
+ * the last one and what the loader did before this one started. */
+static unsigned input_events; /* the tick's thread's (start-up's before it starts) */
 
 static int tick_fn(void *ctx)
 {
+    unsigned events = input_events | atomic_exchange(&loader_events, 0u);
     (void)ctx;
     last_tick_rc = roz_runtime_tick(&rt); /* faults are read from the latch */
     ticks_run++;
-    record_tick();
+    record_tick(events);
+    input_events = rozrun_schedule_inputs(&sched, &rt, ticks_run);
+    atomic_store(&ticks_done, ticks_run); /* after the inputs: the loader acts on top of them */
     return atomic_load(&interrupted) ? 1 : 0;
+}
+
+/* The loader's turn (never the tick's thread while it ticks): the clears
+ * and swaps due once @p done ticks have run. */
+static void loader_step(uint64_t done)
+{
+    if (rozrun_schedule_loader_due(&sched, done))
+        atomic_fetch_or(&loader_events, rozrun_schedule_loader(&sched, &rt, done));
+}
+
+/* Writes the queued trace rows (main thread); says once if the file broke. */
+static void trace_drain(void)
+{
+    if (tracing && rozrun_trace_drain(&trace) != 0 && !trace_failed) {
+        trace_failed = 1;
+        fprintf(stderr, "rozrun: %s; the rest of the run goes on without it\n", trace.error);
+    }
 }
 
 static void print_ns(const char *label, const roz_monitor_t *mon, roz_monitor_kind_t k)
@@ -433,6 +485,40 @@ static void warn_held_at_limits(uint64_t ticks)
                held - HELD_WARN_LINES);
 }
 
+/* Waiting: the ticks are the first ones, before the port's first usable
+ * state frame (the runtime sends nothing until then). */
+static void print_waiting(uint64_t waiting, uint64_t ticks)
+{
+    if (ticks == 0)
+        printf("  waiting for state      - (no tick ran)\n");
+    else if (waiting == 0)
+        printf("  waiting for state      none: the port's first state frame came at tick 0\n");
+    else if (waiting < ticks)
+        printf("  waiting for state      %llu ticks before the port's first usable state frame "
+               "(tick %llu); nothing is sent until the robot's state is known\n",
+               (unsigned long long)waiting, (unsigned long long)waiting);
+    else
+        printf("  waiting for state      all %llu ticks: the port never gave a usable state "
+               "frame, so nothing was sent (nothing is until the robot's state is known)\n",
+               (unsigned long long)waiting);
+}
+
+/* After "faults none": the faults that latched and were cleared. */
+static void print_cleared(const roz_runtime_counters_t *c)
+{
+    int any = 0;
+    for (unsigned b = 0; b < ROZ_FAULT_KIND_COUNT; b++) {
+        if (c->faults[b] != 0) {
+            printf("%s%s %llu time%s", any ? ", " : " latched at the end (cleared during the run: ",
+                   roz_fault_name(1u << b), (unsigned long long)c->faults[b],
+                   c->faults[b] == 1 ? "" : "s");
+            any = 1;
+        }
+    }
+    if (any)
+        printf(")");
+}
+
 static void summary(const options_t *o, const port_entry_t *pe, const roz_verify_report_t *rep,
                     const roz_runner_t *runner)
 {
@@ -468,9 +554,9 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     printf("  native stack           verify max %llu, run max %llu bytes; limit %u\n",
            (unsigned long long)rep->max_stack, (unsigned long long)st.runtime.max_stack,
            (unsigned)ROZ_CFG_NATIVE_STACK_BYTES);
-    printf("  ticks                  %llu (controller %llu, waiting for state %llu)\n",
-           (unsigned long long)st.runtime.ticks, (unsigned long long)st.runtime.controller_ticks,
-           (unsigned long long)st.runtime.waiting_ticks);
+    printf("  ticks                  %llu (the controller ran in %llu)\n",
+           (unsigned long long)st.runtime.ticks, (unsigned long long)st.runtime.controller_ticks);
+    print_waiting(st.runtime.waiting_ticks, st.runtime.ticks);
     printf("  commands written       %llu frames, %llu command.set calls\n",
            (unsigned long long)st.runtime.writes, (unsigned long long)sets);
     printf("  clamps                 %llu\n", (unsigned long long)clamped);
@@ -490,7 +576,9 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
            (unsigned long long)metrics, (unsigned long long)metrics_seen, metric_last,
            (unsigned long long)roz_runtime_metrics_dropped(&rt));
     if (faults == 0) {
-        printf("  faults                 none\n");
+        printf("  faults                 none");
+        print_cleared(&st.runtime);
+        printf("\n");
     } else {
         printf("  faults                 latched:");
         for (unsigned b = 0; b < ROZ_FAULT_KIND_COUNT; b++) {
@@ -499,6 +587,10 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
         }
         printf(" (first: %s)\n", roz_runtime_fault_message(&rt));
     }
+    char line[256];
+    rozrun_schedule_summary(&sched, line, sizeof line);
+    if (line[0] != '\0')
+        printf("  interventions          %s\n", line);
     print_ns("process() time", roz_runtime_monitor(&rt), ROZ_MON_PROCESS);
     print_ns("tick time", roz_runtime_monitor(&rt), ROZ_MON_TICK);
     if (runner != NULL) {
@@ -510,7 +602,9 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
                runner->locked ? "locked" : "not locked",
                (unsigned long long)runner->missed);
     }
-    if (tracing)
+    if (tracing && trace.error[0] != '\0')
+        printf("  trace                  %s is incomplete: %s\n", o->trace, trace.error);
+    else if (tracing)
         printf("  trace                  %s (%llu rows, %llu dropped)\n", o->trace,
                (unsigned long long)trace.written, (unsigned long long)trace.dropped);
 }
@@ -536,6 +630,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "rozrun: %s\n", err);
         return 2;
     }
+    if (rozrun_schedule_read_modules(&sched) != 0)
+        return 2;
 
     roz_port_t port = pe->make();
     roz_params_t params = { o.params, o.n_params };
@@ -585,6 +681,8 @@ int main(int argc, char **argv)
     }
 
     static roz_runner_t runner;
+    sched.simulated = !paced;
+    input_events = rozrun_schedule_inputs(&sched, &rt, 0); /* the e-stop input at tick 0 */
     if (paced) {
         roz_runner_config_t rc = {
             .period_ns = 1000000000ull / m->control_rate_hz,
@@ -597,11 +695,19 @@ int main(int argc, char **argv)
             fprintf(stderr, "rozrun: cannot start the periodic thread\n");
             return 2;
         }
-        /* the runner ends by itself after max_ticks, or on Ctrl-C */
+        /* the runner ends by itself after max_ticks, or on Ctrl-C; this
+         * thread is the loader, and the one that writes */
+        uint64_t period_ns = 1000000000ull / m->control_rate_hz;
         while (!atomic_load(&interrupted) && !atomic_load(&runner.finished)) {
+            /* every 20 ms; every half period while a loader action is due
+             * within the next 20 ms */
             struct timespec ts = { 0, 20000000 };
-            if (tracing)
-                rozrun_trace_drain(&trace);
+            uint64_t done = atomic_load(&ticks_done);
+            loader_step(done);
+            if (period_ns / 2u < 20000000u &&
+                rozrun_schedule_loader_due(&sched, done + 20000000u / period_ns + 1u))
+                ts.tv_nsec = (long)(period_ns / 2u);
+            trace_drain();
             drain_metrics();
             roz_runtime_log_drain(&rt); /* the log is written here, never in the tick */
             nanosleep(&ts, NULL);
@@ -610,20 +716,28 @@ int main(int argc, char **argv)
         roz_runner_join(&runner);
     } else {
         for (uint64_t t = 0; (o.ticks == 0 || t < o.ticks) && !atomic_load(&interrupted); t++) {
+            /* between ticks the loader acts: each clear or swap takes
+             * effect exactly at its tick, and runs are deterministic */
+            loader_step(t);
             tick_fn(NULL);
-            if (tracing)
-                rozrun_trace_drain(&trace);
+            trace_drain();
             drain_metrics();
             roz_runtime_log_drain(&rt); /* between ticks: the application's idle time */
         }
     }
     roz_runtime_log_drain(&rt);
+    if (rozrun_schedule_left(&sched) != 0)
+        fprintf(stderr, "rozrun: %lu scheduled interventions not carried out: the run ended "
+                        "first\n", (unsigned long)rozrun_schedule_left(&sched));
     roz_port_deactivate(&port);
-    if (tracing && rozrun_trace_close(&trace) != 0)
-        fprintf(stderr, "rozrun: error writing %s\n", o.trace);
+    if (tracing && rozrun_trace_close(&trace) != 0 && !trace_failed)
+        fprintf(stderr, "rozrun: %s\n", trace.error);
     summary(&o, pe, &rep, paced ? &runner : NULL);
     unsigned faults = roz_runtime_faults(&rt);
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
+    rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
+    if (tracing && trace.error[0] != '\0')
+        return 3; /* the run's record is incomplete: not a success, whatever latched */
     return faults != 0 ? 1 : 0;
 }

@@ -6,12 +6,29 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "roz/runtime.h"
+
+static const char *const event_names[ROZRUN_EV_COUNT] = {
+    "estop", "estop-release", "swap", "load-refused", "verify-refused",
+    "clear", "clear-while-pressed", "clear-refused", "rebuild",
+};
+
+/* The first write error, once (consumer). errno is read right after the
+ * failing call, before anything else could change it. */
+static void write_failed(rozrun_trace_t *t, const char *what, int err)
+{
+    if (t->error[0] == '\0')
+        snprintf(t->error, sizeof t->error, "cannot write trace %s: %s%s", t->path, what,
+                 err != 0 ? strerror(err) : "write error");
+}
+
 int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t *m, char *err,
                       size_t errlen)
 {
     memset(t, 0, sizeof *t);
     t->m = m;
-    t->width = 2u + 2u * m->n_commands + m->n_states;
+    t->path = path;
+    t->width = 2u + 2u * m->n_commands + m->n_states + 2u;
     t->capacity = 4096;
     t->rows = calloc(t->capacity * t->width, sizeof(double));
     if (t->rows == NULL) {
@@ -34,12 +51,13 @@ int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t 
         fprintf(t->out, ",applied:%s", m->commands[i].name);
     for (uint16_t i = 0; i < m->n_states; i++)
         fprintf(t->out, ",state:%s", m->states[i].name);
-    fprintf(t->out, "\n");
+    fprintf(t->out, ",faults,events\n");
     return 0;
 }
 
 void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const double *targets,
-                       const double *applied, const double *state)
+                       const double *applied, const double *state, unsigned faults,
+                       unsigned events)
 {
     size_t head = atomic_load_explicit(&t->head, memory_order_relaxed);
     size_t tail = atomic_load_explicit(&t->tail, memory_order_acquire);
@@ -59,34 +77,82 @@ void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const do
         row[k++] = applied[i];
     for (uint16_t i = 0; i < m->n_states; i++)
         row[k++] = state[i];
+    row[k++] = (double)faults; /* small integers: exact in a double */
+    row[k++] = (double)events;
     atomic_store_explicit(&t->head, head + 1, memory_order_release);
 }
 
-void rozrun_trace_drain(rozrun_trace_t *t)
+/* One fault token: fault:<name> or cleared:<name>, spaces as '-'. */
+static void put_fault(FILE *f, const char *prefix, unsigned bit, int *first)
+{
+    fprintf(f, "%s%s:", *first ? "" : " ", prefix);
+    for (const char *c = roz_fault_name(bit); *c != '\0'; c++)
+        fputc(*c == ' ' ? '-' : *c, f);
+    *first = 0;
+}
+
+static void put_events(rozrun_trace_t *t, unsigned faults, unsigned events)
+{
+    int first = 1;
+
+    for (unsigned b = 0; b < ROZRUN_EV_COUNT; b++) {
+        if (events & (1u << b)) {
+            fprintf(t->out, "%s%s", first ? "" : " ", event_names[b]);
+            first = 0;
+        }
+    }
+    for (unsigned b = 0; b < ROZ_FAULT_KIND_COUNT; b++) {
+        unsigned bit = 1u << b;
+        if ((faults & bit) && !(t->faults & bit))
+            put_fault(t->out, "fault", bit, &first);
+        else if (!(faults & bit) && (t->faults & bit))
+            put_fault(t->out, "cleared", bit, &first);
+    }
+    t->faults = faults;
+}
+
+int rozrun_trace_drain(rozrun_trace_t *t)
 {
     size_t tail = atomic_load_explicit(&t->tail, memory_order_relaxed);
     size_t head = atomic_load_explicit(&t->head, memory_order_acquire);
 
     for (; tail != head; tail++) {
         const double *row = &t->rows[(tail & (t->capacity - 1)) * t->width];
+        if (t->error[0] != '\0') {
+            t->lost++; /* the file is broken: the rest of the run is not in it */
+            continue;
+        }
         fprintf(t->out, "%.0f,%.6f", row[0], row[1]);
-        for (size_t k = 2; k < t->width; k++)
+        for (size_t k = 2; k < t->width - 2u; k++)
             fprintf(t->out, ",%.9g", row[k]);
-        fprintf(t->out, "\n");
+        fprintf(t->out, ",%u,", (unsigned)row[t->width - 2u]);
+        put_events(t, (unsigned)row[t->width - 2u], (unsigned)row[t->width - 1u]);
+        fputc('\n', t->out);
+        /* stdio reports a failed write of its buffer through the stream's
+         * error flag; checked per row, so the count of rows is honest */
+        if (ferror(t->out)) {
+            write_failed(t, "", errno);
+            t->lost++;
+            continue;
+        }
         t->written++;
     }
     atomic_store_explicit(&t->tail, tail, memory_order_release);
+    return t->error[0] != '\0' ? -1 : 0;
 }
 
 int rozrun_trace_close(rozrun_trace_t *t)
 {
-    int rc = 0;
     if (t->out != NULL) {
         rozrun_trace_drain(t);
-        rc = fclose(t->out) == 0 ? 0 : -1;
+        /* the last rows sit in stdio's buffer until now */
+        if (fflush(t->out) != 0 || ferror(t->out))
+            write_failed(t, "", errno);
+        if (fclose(t->out) != 0)
+            write_failed(t, "closing: ", errno);
         t->out = NULL;
     }
     free(t->rows);
     t->rows = NULL;
-    return rc;
+    return t->error[0] != '\0' ? -1 : 0;
 }
