@@ -19,6 +19,33 @@ expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--port;can0" "--port \"c
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;dropp=1:2" "unknown parameter \"dropp\"")
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=x" "parameter drop = \"x\"")
 expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--frobnicate" "unknown option")
+# fault parameters: what is wrong with the value given
+expect_error("--robot;diff_drive;--controller;${CTL}/sine.wasm;--param;nan=7@1:2"
+             "parameter nan = \"7@1:2\": state 7 does not exist (3 states)")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=300:100"
+             "parameter drop = \"300:100\": FROM 300 after TO 100")
+expect_error("--robot;ur5;--controller;${CTL}/sine.wasm;--param;drop=99999999999999999999999:"
+             "FROM 99999999999999999999999 is too large")
+# the scheduled interventions: malformed, out of the run, or in conflict;
+# each message names the option and its value
+set(S "--robot;ur5;--controller;${CTL}/sine.wasm;--ticks;300")
+expect_error("${S};--estop-at;300" "--estop-at 300: after the run (--ticks 300 runs ticks 0..299)")
+expect_error("${S};--clear-at;x" "--clear-at \"x\": expected TICK")
+expect_error("${S};--clear-at;-1" "--clear-at \"-1\": expected TICK")
+expect_error("${S};--estop-release-at;12abc" "--estop-release-at \"12abc\": expected TICK")
+expect_error("${S};--clear-at;99999999999999999999999" "--clear-at \"99999999999999999999999\": the tick is too large")
+expect_error("${S};--swap-at;50" "--swap-at \"50\": expected TICK:FILE")
+expect_error("${S};--swap-at;50:" "--swap-at \"50:\": expected TICK:FILE")
+expect_error("${S};--swap-at;0:${CTL}/sine.wasm" "--swap-at 0:${CTL}/sine.wasm: tick 0 runs --controller")
+expect_error("${S};--swap-at;50:${CTL}/nope.wasm" "--swap-at 50:${CTL}/nope.wasm: cannot read")
+expect_error("${S};--swap-at;50:${CTL}/sine.wasm;--swap-at;50:${CTL}/hold.wasm"
+             "--swap-at 50:${CTL}/hold.wasm: --swap-at 50:${CTL}/sine.wasm is at the same tick; one swap a tick")
+expect_error("${S};--clear-at;70;--clear-at;70" "--clear-at 70: given twice")
+expect_error("${S};--estop-release-at;40" "--estop-release-at 40: the e-stop is not pressed then")
+expect_error("${S};--estop-at;40;--estop-at;60" "--estop-at 60: the e-stop is still pressed then (--estop-at 40, no release between)")
+expect_error("${S};--estop-at;40;--estop-release-at;40" "--estop-release-at 40: --estop-at 40 is at the same tick")
+expect_error("${S};--estop-at;40;--estop-release-at;50;--estop-release-at;60" "--estop-release-at 60: the e-stop is not pressed then")
+expect_error("${S};--estop-at" "--estop-at needs a value")
 expect_error("--robot;ur5;--controller;${CTL}/bad_unknown_import.wasm" "unknown import env.open_valve")
 expect_error("--robot;ur5;--controller;${CTL}/bad_trap_verify.wasm" "verify: trap at tick 3")
 # simulated time: the fuel alone decides, so two runs write the same trace,
@@ -72,4 +99,32 @@ execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ti
 if(NOT rc EQUAL 1 OR NOT out MATCHES "latched: stale state port link"
    OR NOT out MATCHES "5 bad CRC, 0 replays, [0-9]+ missing, 1 peer restarts")
   message(FATAL_ERROR "restart run: exit ${rc}\n${out}${err}")
+endif()
+# a trace that cannot be written is an error, exit 3, whatever the run did
+if(EXISTS /dev/full)
+  foreach(n IN ITEMS 3 300) # failing at close, and while running
+    execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks ${n}
+                            --trace /dev/full
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 3 OR NOT err MATCHES "cannot write trace /dev/full: No space left on device"
+       OR NOT out MATCHES "trace                  /dev/full is incomplete")
+      message(FATAL_ERROR "--trace /dev/full, ${n} ticks: exit ${rc}, expected 3\n${out}${err}")
+    endif()
+  endforeach()
+endif()
+# the summary says plainly how long the runtime waited for state, and why
+# nothing was sent meanwhile
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 50
+                        --param freeze=0:20
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "waiting for state      20 ticks before the port's first usable state frame \\(tick 20\\); nothing is sent until the robot's state is known"
+   OR NOT out MATCHES "commands written       30 frames")
+  message(FATAL_ERROR "waiting 20 ticks: exit ${rc}\n${out}${err}")
+endif()
+execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --ticks 50
+                        --param freeze=0
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT out MATCHES "waiting for state      all 50 ticks: the port never gave a usable state frame, so nothing was sent"
+   OR NOT out MATCHES "commands written       0 frames")
+  message(FATAL_ERROR "never any state: exit ${rc}\n${out}${err}")
 endif()
