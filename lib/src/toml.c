@@ -227,10 +227,13 @@ static int new_node(parser_t *p, uint8_t type, uint32_t *out)
     memset(n, 0, sizeof *n);
     n->parent = ROZ_TOML_NONE;
     n->next = ROZ_TOML_NONE;
+    n->left = ROZ_TOML_NONE;
+    n->right = ROZ_TOML_NONE;
     n->type = type;
     if (type == ROZ_TOML_TABLE || type == ROZ_TOML_ARRAY) {
         n->as.list.first = ROZ_TOML_NONE;
         n->as.list.last = ROZ_TOML_NONE;
+        n->as.list.index = ROZ_TOML_NONE;
     }
     *out = d->n_nodes++;
     return ROZ_OK;
@@ -249,6 +252,95 @@ static int arena_put(parser_t *p, const char *s, size_t n)
     return ROZ_OK;
 }
 
+/* ---- private: the key index of a table ---------------------------------------
+ *
+ * The members of a table are kept twice: in document order (first, next) and
+ * in an AA tree (a balanced binary search tree; Andersson, 1993) whose links
+ * live in the member nodes (left, right, level) and whose root is the
+ * table's list.index. Keys are ordered by length, then bytes: any total
+ * order will do, and this one compares most keys in one step. An AA tree of
+ * n nodes is at most 2 log2(n + 1) deep, so a path of 64 steps holds any
+ * tree of fewer than 2^32 nodes; insertion walks back up that path instead
+ * of recursing. */
+
+#define INDEX_MAX_PATH 64
+
+static int key_cmp(const char *a, size_t alen, roz_toml_string_t b)
+{
+    if (alen != b.len)
+        return alen < b.len ? -1 : 1;
+    return alen == 0 ? 0 : memcmp(a, b.ptr, alen);
+}
+
+static uint32_t find_child(const roz_toml_doc_t *d, uint32_t table, const char *key,
+                           size_t len)
+{
+    uint32_t i = d->nodes[table].as.list.index;
+    while (i != ROZ_TOML_NONE) {
+        int c = key_cmp(key, len, d->nodes[i].key);
+        if (c == 0)
+            return i;
+        i = c < 0 ? d->nodes[i].left : d->nodes[i].right;
+    }
+    return ROZ_TOML_NONE;
+}
+
+/* The AA tree's two rotations, on the subtree rooted at @t; each returns
+ * the subtree's new root. */
+static uint32_t index_skew(roz_toml_doc_t *d, uint32_t t)
+{
+    uint32_t l = d->nodes[t].left;
+    if (l == ROZ_TOML_NONE || d->nodes[l].level != d->nodes[t].level)
+        return t;
+    d->nodes[t].left = d->nodes[l].right;
+    d->nodes[l].right = t;
+    return l;
+}
+
+static uint32_t index_split(roz_toml_doc_t *d, uint32_t t)
+{
+    uint32_t r = d->nodes[t].right;
+    if (r == ROZ_TOML_NONE || d->nodes[r].right == ROZ_TOML_NONE ||
+        d->nodes[d->nodes[r].right].level != d->nodes[t].level)
+        return t;
+    d->nodes[t].right = d->nodes[r].left;
+    d->nodes[r].left = t;
+    d->nodes[r].level++;
+    return r;
+}
+
+/* Adds @child, whose key is not yet in @table, to the table's key index. */
+static void index_insert(roz_toml_doc_t *d, uint32_t table, uint32_t child)
+{
+    uint32_t path[INDEX_MAX_PATH];
+    int went_left[INDEX_MAX_PATH];
+    size_t depth = 0;
+    uint32_t i = d->nodes[table].as.list.index;
+    roz_toml_node_t *cn = &d->nodes[child];
+
+    cn->left = ROZ_TOML_NONE;
+    cn->right = ROZ_TOML_NONE;
+    cn->level = 1;
+    while (i != ROZ_TOML_NONE && depth < INDEX_MAX_PATH) {
+        path[depth] = i;
+        went_left[depth] = key_cmp(cn->key.ptr, cn->key.len, d->nodes[i].key) < 0;
+        i = went_left[depth] ? d->nodes[i].left : d->nodes[i].right;
+        depth++;
+    }
+    i = child;
+    while (depth-- > 0) {
+        uint32_t t = path[depth];
+        if (went_left[depth])
+            d->nodes[t].left = i;
+        else
+            d->nodes[t].right = i;
+        i = index_split(d, index_skew(d, t));
+    }
+    d->nodes[table].as.list.index = i;
+}
+
+/* Appends @child to table or array @parent; a table's member must have a
+ * key not yet in the table (the callers look it up first). */
 static void append_child(roz_toml_doc_t *d, uint32_t parent, uint32_t child)
 {
     roz_toml_node_t *pn = &d->nodes[parent];
@@ -261,17 +353,8 @@ static void append_child(roz_toml_doc_t *d, uint32_t parent, uint32_t child)
         d->nodes[pn->as.list.last].next = child;
     pn->as.list.last = child;
     pn->as.list.count++;
-}
-
-static uint32_t find_child(const roz_toml_doc_t *d, uint32_t table, const char *key,
-                           size_t len)
-{
-    for (uint32_t i = d->nodes[table].as.list.first; i != ROZ_TOML_NONE; i = d->nodes[i].next) {
-        const roz_toml_node_t *n = &d->nodes[i];
-        if (n->key.len == len && (len == 0 || memcmp(n->key.ptr, key, len) == 0))
-            return i;
-    }
-    return ROZ_TOML_NONE;
+    if (pn->type == ROZ_TOML_TABLE)
+        index_insert(d, parent, child);
 }
 
 /* ---- private: whitespace and comments --------------------------------------- */
@@ -821,8 +904,14 @@ static int datetime(parser_t *p, uint32_t *out)
         type = ROZ_TOML_DATE_LOCAL;
         if (sep == 'T' || sep == 't' || sep == ' ')
             tend = match_time(p, at + 11, &t);
-        if (tend == (size_t)-1)
-            return fail(p, at, ROZ_TOML_ERR_UNSUPPORTED, "leap seconds (:60) are not supported");
+        if (dd > days_in_month(y, mo))
+            return fail(p, at, ROZ_TOML_ERR_SYNTAX, "%04d-%02d-%02d: no such date", y, mo, dd);
+        if (y == 0)
+            return fail(p, at, ROZ_TOML_ERR_UNSUPPORTED,
+                        "year 0000 is not supported (rozgen's dates start at year 1)");
+        if (tend == (size_t)-1) /* where tomllib, which reads the date alone, stops */
+            return fail(p, at + (sep == ' ' ? 11u : 10u), ROZ_TOML_ERR_UNSUPPORTED,
+                        "leap seconds (:60) are not supported");
         if (tend > 0) {
             int z = peek_at(p, tend), oh, om;
             end = tend;
@@ -839,12 +928,11 @@ static int datetime(parser_t *p, uint32_t *out)
                 end = tend + 6;
             }
         }
-        if (dd > days_in_month(y, mo))
-            return fail(p, at, ROZ_TOML_ERR_SYNTAX, "%04d-%02d-%02d: no such date", y, mo, dd);
     } else {
         end = match_time(p, at, &t);
-        if (end == (size_t)-1)
-            return fail(p, at, ROZ_TOML_ERR_UNSUPPORTED, "leap seconds (:60) are not supported");
+        if (end == (size_t)-1) /* where tomllib, which reads the hour as an integer, stops */
+            return fail(p, at + (peek_at(p, at) == '0' ? 1u : 2u), ROZ_TOML_ERR_UNSUPPORTED,
+                        "leap seconds (:60) are not supported");
         if (end == 0)
             return 0;
         type = ROZ_TOML_TIME_LOCAL;
@@ -868,6 +956,10 @@ static size_t digit_run(const parser_t *p, size_t at, int base)
     }
     return at;
 }
+
+/* rozgen says the same (codegen/rozgen/toml_limits.py) */
+#define INT_RANGE_MESSAGE \
+    "integer does not fit in 64 bits (-9223372036854775808..9223372036854775807)"
 
 /* Text [from, to) as a 64-bit integer in @base, skipping '_' and an
  * optional sign; 0 on overflow. */
@@ -893,31 +985,80 @@ static int to_int64(const parser_t *p, size_t from, size_t to, int base, int64_t
     return 1;
 }
 
-/* The float text [from, to) as a double, correctly rounded by strtod. */
-#define MAX_FLOAT_TEXT 500 /* characters of a float literal, underscores aside */
+/* The float text [from, to) -- already matched: sign, digits, optional
+ * fraction and exponent, single underscores between digits -- as a double,
+ * correctly rounded by strtod, whatever its length.
+ *
+ * strtod needs a NUL-terminated copy, and the literal may be longer than any
+ * buffer. The copy is 0.DDD...e<exp> with the leading zeros dropped (moved
+ * into the exponent) and at most FLOAT_DIGITS significant digits, plus one
+ * sticky '1' when a dropped digit was not zero. That rounds the same: a
+ * value halfway between two doubles has at most 767 significant digits, so
+ * no halfway value and no double lies strictly between the kept digits and
+ * the kept digits plus one unit of the last, where both the literal and the
+ * copy are. The exponent is clamped to +-EXP_CLAMP: beyond 10^400 any
+ * 0.D... is inf and below 10^-400 it is 0, either way. */
+#define FLOAT_DIGITS 800
+#define EXP_CLAMP    100000
 
 static int to_double(parser_t *p, size_t from, size_t to, double *out)
 {
-    char buf[MAX_FLOAT_TEXT + 16];
+    char buf[FLOAT_DIGITS + 40];
     const char *point = localeconv()->decimal_point;
-    size_t plen = point != NULL && point[0] != '\0' ? strlen(point) : 1u;
-    size_t n = 0;
+    size_t plen = point != NULL && point[0] != '\0' ? strlen(point) : 0u;
+    size_t i = from, n = 0, kept = 0;
+    int64_t exp10 = 0, exp_text = 0;
+    int seen_point = 0, sticky = 0, exp_neg = 0;
     char *end;
 
-    for (size_t i = from; i < to; i++) {
+    if (plen == 0 || plen > 8) { /* strtod follows the C locale's decimal point */
+        point = ".";
+        plen = 1;
+    }
+    if (p->src[i] == '+' || p->src[i] == '-')
+        buf[n++] = p->src[i++];
+    buf[n++] = '0';
+    memcpy(buf + n, point, plen);
+    n += plen;
+    for (; i < to; i++) {
         char c = p->src[i];
         if (c == '_')
             continue;
-        if (n >= MAX_FLOAT_TEXT || plen > 8)
-            return fail(p, from, ROZ_TOML_ERR_UNSUPPORTED,
-                        "floats longer than %d characters are not supported", MAX_FLOAT_TEXT);
-        if (c == '.' && point != NULL && point[0] != '\0') {
-            /* strtod follows the C locale's decimal point; the host may have set one */
-            memcpy(buf + n, point, plen);
-            n += plen;
-        } else {
-            buf[n++] = c;
+        if (c == '.') {
+            seen_point = 1;
+            continue;
         }
+        if (c == 'e' || c == 'E')
+            break;
+        if (kept == 0 && c == '0') { /* a leading zero: only the exponent moves */
+            exp10 -= seen_point;
+            continue;
+        }
+        exp10 += !seen_point;
+        if (kept < FLOAT_DIGITS) {
+            buf[n++] = c;
+            kept++;
+        } else if (c != '0') {
+            sticky = 1;
+        }
+    }
+    if (i < to) { /* the exponent, saturated: its sign and digits */
+        i++;
+        if (p->src[i] == '+' || p->src[i] == '-')
+            exp_neg = p->src[i++] == '-';
+        for (; i < to; i++) {
+            if (p->src[i] != '_' && exp_text < 10 * (int64_t)EXP_CLAMP)
+                exp_text = exp_text * 10 + (p->src[i] - '0');
+        }
+    }
+    if (kept == 0) {
+        buf[n++] = '0'; /* zero, with its sign */
+    } else {
+        exp10 += exp_neg ? -exp_text : exp_text;
+        exp10 = exp10 > EXP_CLAMP ? EXP_CLAMP : exp10 < -EXP_CLAMP ? -EXP_CLAMP : exp10;
+        if (sticky)
+            buf[n++] = '1';
+        n += (size_t)snprintf(buf + n, sizeof buf - n, "e%ld", (long)exp10);
     }
     buf[n] = '\0';
     *out = strtod(buf, &end); /* out of range gives +-inf or 0, as Python's float() */
@@ -944,7 +1085,7 @@ static int number(parser_t *p, uint32_t *out)
     if (base != 0) {
         i = digit_run(p, at + 2, base);
         if (!to_int64(p, at + 2, i, base, &iv))
-            return fail(p, at, ROZ_TOML_ERR_SYNTAX, "integer does not fit in 64 bits");
+            return fail(p, at, ROZ_TOML_ERR_SYNTAX, INT_RANGE_MESSAGE);
         rc = new_node(p, ROZ_TOML_INTEGER, out);
         if (rc != ROZ_OK)
             return rc;
@@ -972,7 +1113,7 @@ static int number(parser_t *p, uint32_t *out)
     }
     if (i == int_end) {
         if (!to_int64(p, at, i, 10, &iv))
-            return fail(p, at, ROZ_TOML_ERR_SYNTAX, "integer does not fit in 64 bits");
+            return fail(p, at, ROZ_TOML_ERR_SYNTAX, INT_RANGE_MESSAGE);
         rc = new_node(p, ROZ_TOML_INTEGER, out);
         if (rc != ROZ_OK)
             return rc;
@@ -1067,6 +1208,7 @@ static int value(parser_t *p, const char *key_at)
     uint32_t e = ROZ_TOML_NONE; /* innermost open array or inline table */
     uint32_t n = ROZ_TOML_NONE; /* value just read, or container just closed */
     const char *key = key_at;   /* key of the next value, unless e is an array */
+    unsigned depth = 0;         /* containers open: e and those around it */
     int rc = ROZ_OK, c;
 
     for (;;) {
@@ -1074,6 +1216,10 @@ static int value(parser_t *p, const char *key_at)
         case S_VALUE:
             c = peek(p);
             if (c == '[' || c == '{') {
+                if (depth >= ROZ_TOML_MAX_DEPTH)
+                    return fail(p, p->pos, ROZ_TOML_ERR_UNSUPPORTED,
+                                "arrays and inline tables nested more than %d deep are not "
+                                "supported", ROZ_TOML_MAX_DEPTH);
                 rc = new_node(p, c == '[' ? ROZ_TOML_ARRAY : ROZ_TOML_TABLE, &n);
                 if (rc != ROZ_OK)
                     return rc;
@@ -1096,6 +1242,7 @@ static int value(parser_t *p, const char *key_at)
                         s = S_CLOSE;
                     } else {
                         e = n;
+                        depth++;
                     }
                 } else {
                     skip_ws(p);
@@ -1104,6 +1251,7 @@ static int value(parser_t *p, const char *key_at)
                         s = S_CLOSE;
                     } else {
                         e = n;
+                        depth++;
                         s = S_KEY;
                     }
                 }
@@ -1181,6 +1329,7 @@ static int value(parser_t *p, const char *key_at)
                 p->pos++;
             }
             n = e;
+            depth--;
             s = S_CLOSE;
             break;
         }

@@ -139,6 +139,8 @@ static void test_toml_integers(void **state)
     assert_int_equal(parse("a = 0x8000000000000000\n"), ROZ_EINVAL);
     assert_int_equal(err.kind, ROZ_TOML_ERR_SYNTAX);
     assert_int_equal(err.column, 5);
+    assert_string_equal(err.message, "integer does not fit in 64 bits "
+                                     "(-9223372036854775808..9223372036854775807)");
 }
 
 static void test_toml_floats(void **state)
@@ -281,26 +283,107 @@ static void test_toml_crlf_and_comments(void **state)
     assert_int_equal(roz_toml_count(roz_toml_root(&doc)), 0);
 }
 
-/* Nesting follows parent links, not the C stack: deep is fine. */
+/* Nesting follows parent links, not the C stack; ROZ_TOML_MAX_DEPTH levels
+ * are read (rozgen reads as many), one more is refused at its bracket. */
 static void test_toml_deep_nesting(void **state)
 {
-    static char text[8 * 2000 + 16];
+    static char text[8 * ROZ_TOML_MAX_DEPTH + 64];
     size_t n;
     const roz_toml_node_t *v;
     (void)state;
-    /* a = [{k=[{k= ... 1 ... }]}]: 4000 levels */
+    /* a = [{k=[{k= ... 1 ... }]}]: ROZ_TOML_MAX_DEPTH levels */
     n = (size_t)sprintf(text, "a = ");
-    for (int i = 0; i < 2000; i++)
+    for (int i = 0; i < ROZ_TOML_MAX_DEPTH / 2; i++)
         n += (size_t)sprintf(text + n, "[{k=");
     n += (size_t)sprintf(text + n, "1");
-    for (int i = 0; i < 2000; i++)
+    for (int i = 0; i < ROZ_TOML_MAX_DEPTH / 2; i++)
         n += (size_t)sprintf(text + n, "}]");
     assert_int_equal(parse(text), ROZ_OK);
     v = at("a");
-    for (int i = 0; i < 2000; i++)
+    for (int i = 0; i < ROZ_TOML_MAX_DEPTH / 2; i++)
         v = roz_toml_get(&doc, roz_toml_first(&doc, v), "k");
     assert_non_null(v);
     assert_int_equal(v->as.integer, 1);
+
+    /* one level more, empty or not, in an array or an inline table */
+    static const char *const deepest[] = { "[]", "[1]", "{}", "{x=1}" };
+    for (size_t k = 0; k < sizeof deepest / sizeof deepest[0]; k++) {
+        n = (size_t)sprintf(text, "ok = [[1]]\nb = ");
+        for (int i = 0; i < ROZ_TOML_MAX_DEPTH; i++)
+            n += (size_t)sprintf(text + n, "[");
+        n += (size_t)sprintf(text + n, "%s", deepest[k]);
+        for (int i = 0; i < ROZ_TOML_MAX_DEPTH; i++)
+            n += (size_t)sprintf(text + n, "]");
+        assert_int_equal(parse(text), ROZ_ENOTSUP);
+        assert_int_equal(err.kind, ROZ_TOML_ERR_UNSUPPORTED);
+        assert_int_equal(err.line, 2);
+        assert_int_equal(err.column, 5 + ROZ_TOML_MAX_DEPTH);
+        assert_non_null(strstr(err.message, "nested more than 100 deep"));
+    }
+    /* depth counts what is open, not what was opened before */
+    static char wide[3 * ROZ_TOML_MAX_DEPTH * 16 + 16];
+    n = (size_t)sprintf(wide, "a = [");
+    for (int i = 0; i < 3 * ROZ_TOML_MAX_DEPTH; i++)
+        n += (size_t)sprintf(wide + n, "[[]], {x = {}}, ");
+    n += (size_t)sprintf(wide + n, "]");
+    assert_true(n < sizeof wide);
+    assert_int_equal(parse(wide), ROZ_OK);
+    assert_int_equal(roz_toml_count(at("a")), 6 * ROZ_TOML_MAX_DEPTH);
+}
+
+/* Many keys in one table: found through the table's key index, duplicates
+ * refused wherever they are, document order kept. */
+static void test_toml_many_keys(void **state)
+{
+    enum { KEYS = 5000 };
+    static char text[KEYS * 24 + 64];
+    char key[16];
+    size_t n = 0;
+    const roz_toml_node_t *t, *c;
+    (void)state;
+    /* keys in an order that is neither sorted nor reversed, of mixed lengths */
+    n += (size_t)sprintf(text + n, "[t]\n");
+    for (int i = 0; i < KEYS; i++)
+        n += (size_t)sprintf(text + n, "k%d = %d\n", (i * 7919) % KEYS, i);
+    assert_int_equal(parse(text), ROZ_OK);
+    t = at("t");
+    assert_int_equal(roz_toml_count(t), KEYS);
+    for (int i = 0; i < KEYS; i++) {
+        sprintf(key, "k%d", (i * 7919) % KEYS);
+        c = roz_toml_get(&doc, t, key);
+        assert_non_null(c);
+        assert_int_equal(c->as.integer, i);
+    }
+    assert_null(roz_toml_get(&doc, t, "k5000"));
+    assert_null(roz_toml_get(&doc, t, "k"));
+    assert_null(roz_toml_get(&doc, t, ""));
+    c = roz_toml_first(&doc, t); /* document order, not key order */
+    for (int i = 0; i < KEYS; i++, c = roz_toml_next(&doc, c))
+        assert_int_equal(c->as.integer, i);
+    assert_null(c);
+
+    /* a duplicate at the start, the middle and the end of the table, by
+     * a plain, a quoted and a dotted key */
+    static const char *const dups[] = { "k0 = 1\n", "\"k2500\" = 1\n", "k4999 = 1\n",
+                                        "k17.x = 1\n" };
+    for (size_t d = 0; d < sizeof dups / sizeof dups[0]; d++) {
+        size_t m = n;
+        m += (size_t)sprintf(text + m, "%s", dups[d]);
+        assert_int_equal(parse(text), ROZ_EINVAL);
+        assert_int_equal(err.kind, ROZ_TOML_ERR_SYNTAX);
+        assert_int_equal(err.line, KEYS + 2);
+        text[n] = '\0';
+    }
+    assert_non_null(strstr(err.message, "k17"));
+    /* keys that differ only in length or in their last byte, and empty keys */
+    assert_int_equal(parse("a = 1\naa = 2\nab = 3\n\"\" = 4\n'a\\u0000' = 5\n"), ROZ_OK);
+    assert_int_equal(int_at("aa"), 2);
+    assert_int_equal(int_at("ab"), 3);
+    assert_int_equal(roz_toml_get(&doc, roz_toml_root(&doc), "")->as.integer, 4);
+    assert_int_equal(parse("a = 1\naa = 2\n\"\" = 4\n'' = 5\n"), ROZ_EINVAL);
+    assert_int_equal(err.line, 4);
+    assert_int_equal(parse("a = \"\\u0041\"\n\"\\u0041\" = 1\nA = 2\n"), ROZ_EINVAL);
+    assert_int_equal(err.line, 3); /* keys compare decoded */
 }
 
 /* ---- errors ------------------------------------------------------------------------ */
@@ -369,17 +452,107 @@ static void test_toml_utf8(void **state)
 
 static void test_toml_unsupported(void **state)
 {
-    static char text[700];
     (void)state;
-    /* valid TOML that the reader refuses, and says so */
+    /* valid TOML that the reader refuses (as tomllib does), and says so, at
+     * the place where tomllib stops */
     assert_int_equal(parse("t = 23:59:60\n"), ROZ_ENOTSUP);
     assert_int_equal(err.kind, ROZ_TOML_ERR_UNSUPPORTED);
     assert_non_null(strstr(err.message, "leap second"));
+    assert_int_equal(err.column, 7);
+    assert_int_equal(parse("t = 00:00:60\n"), ROZ_ENOTSUP);
+    assert_int_equal(err.column, 6);
     assert_int_equal(parse("t = 1990-12-31T23:59:60Z\n"), ROZ_ENOTSUP);
-    memset(text, '1', sizeof text - 1);
-    memcpy(text, "f = 0.", 6);
-    assert_int_equal(parse(text), ROZ_ENOTSUP);
-    assert_non_null(strstr(err.message, "not supported"));
+    assert_int_equal(err.column, 15);
+    assert_int_equal(parse("t = [1990-12-31 23:59:60Z]\n"), ROZ_ENOTSUP);
+    assert_int_equal(err.column, 17);
+    assert_int_equal(parse("t = 1990-02-30T23:59:60Z\n"), ROZ_EINVAL); /* the date first */
+    assert_int_equal(err.column, 5);
+    assert_int_equal(parse("t = 0000-01-01\n"), ROZ_ENOTSUP);
+    assert_int_equal(err.column, 5);
+    assert_non_null(strstr(err.message, "year 0000"));
+    assert_int_equal(parse("t = 0000-01-01T00:00:00Z\n"), ROZ_ENOTSUP);
+    assert_int_equal(parse("t = 0001-01-01T00:00:00Z\n"), ROZ_OK);
+}
+
+/* Floats of any length, correctly rounded: the same double as strtod on the
+ * whole literal (glibc's strtod is exact for any length). */
+static void test_toml_long_floats(void **state)
+{
+    static char text[12000], lit[11000];
+    /* 1 + 2^-53, exactly halfway between 1 and the next double */
+    static const char half_one[] = "1.00000000000000011102230246251565404236316680908203125";
+    /* 2^-1075, exactly halfway between 0 and the smallest subnormal: 752
+     * significant digits after 323 zeros */
+    char half_min[1200];
+    double want;
+    size_t n;
+    (void)state;
+
+    /* 2^-1075 = 5^1075 / 10^1075: the digits of 5^1075 by long multiplication */
+    {
+        unsigned char dig[800];
+        size_t len = 1;
+        dig[0] = 1;
+        for (int k = 0; k < 1075; k++) {
+            unsigned carry = 0;
+            for (size_t i = 0; i < len; i++) {
+                unsigned v = dig[i] * 5u + carry;
+                dig[i] = (unsigned char)(v % 10u);
+                carry = v / 10u;
+            }
+            while (carry > 0) {
+                dig[len++] = (unsigned char)(carry % 10u);
+                carry /= 10u;
+            }
+        }
+        n = (size_t)sprintf(half_min, "0.");
+        for (size_t i = len; i < 1075; i++)
+            half_min[n++] = '0';
+        for (size_t i = len; i-- > 0;)
+            half_min[n++] = (char)('0' + dig[i]);
+        half_min[n] = '\0';
+        assert_true(strtod(half_min, NULL) == 0.0); /* ties to even */
+    }
+
+    static const struct {
+        const char *head;   /* the literal starts with this */
+        size_t      zeros;  /* then this many zeros */
+        const char *tail;   /* then this */
+    } cases[] = {
+        { "0.", 518, "1" },                         /* the 521 characters of issue 12 */
+        { "0.", 5000, "1" },
+        { "1", 3000, ".0" },                        /* inf */
+        { "-0.", 600, "1e600" },                    /* 0.1 */
+        { "", 0, "" },                              /* half_one, exactly: 1.0 */
+        { "", 1000, "1" },                          /* half_one and more: up */
+        { "", 0, "" },                              /* half_min, exactly: 0 */
+        { "", 200, "1" },                           /* half_min and more: 5e-324 */
+        { "9", 900, "e-900" },                      /* 9 */
+        { "0.", 900, "e99999999999999999999999" },  /* zero, any exponent */
+        { "1_2_3.4_5", 0, "e-1_0" },
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
+        const char *head = c == 4 || c == 5 ? half_one : c == 6 || c == 7 ? half_min
+                                                                           : cases[c].head;
+        size_t m = (size_t)sprintf(lit, "%s", head);
+        memset(lit + m, '0', cases[c].zeros);
+        m += cases[c].zeros;
+        m += (size_t)sprintf(lit + m, "%s", cases[c].tail);
+        sprintf(text, "f = %s\n", lit);
+        assert_int_equal(parse(text), ROZ_OK);
+        for (size_t i = 0, k = 0;; i++) { /* strtod does not read underscores */
+            if (lit[i] != '_')
+                lit[k++] = lit[i];
+            if (lit[i] == '\0')
+                break;
+        }
+        want = strtod(lit, NULL);
+        if (memcmp(&want, &(double){ float_at("f") }, sizeof want) != 0)
+            fail_msg("case %zu: read %.17g, strtod %.17g", c, float_at("f"), want);
+    }
+    assert_true(float_at("f") == 123.45e-10);
+    assert_int_equal(parse("f = -0.0000000000000000000000000000e7\n"), ROZ_OK);
+    assert_true(float_at("f") == 0.0 && signbit(float_at("f")));
 }
 
 static void test_toml_storage_exhausted(void **state)
@@ -436,9 +609,11 @@ int main(void)
         cmocka_unit_test(test_toml_tables),
         cmocka_unit_test(test_toml_crlf_and_comments),
         cmocka_unit_test(test_toml_deep_nesting),
+        cmocka_unit_test(test_toml_many_keys),
         cmocka_unit_test(test_toml_error_positions),
         cmocka_unit_test(test_toml_utf8),
         cmocka_unit_test(test_toml_unsupported),
+        cmocka_unit_test(test_toml_long_floats),
         cmocka_unit_test(test_toml_storage_exhausted),
         cmocka_unit_test(test_toml_arguments),
     };

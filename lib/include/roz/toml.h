@@ -15,13 +15,16 @@
  * booleans, offset and local date-times, local dates and times, arrays
  * (nested, multi-line, trailing comma) and inline tables, with LF or CRLF
  * line ends. It passes every case of toml-test v1.6.0, the official TOML
- * suite (test/toml/). What it refuses although TOML allows it, each with a
- * message that says so (ROZ_ENOTSUP): a leap second (":60"), a float
- * literal of more than 500 digits and signs (underscores aside). Integers
- * outside 64 bits are refused as TOML demands. Fractions of a second beyond
- * nanoseconds are truncated, as TOML allows. Dates are checked against the
- * calendar; year 0000 is accepted (RFC 3339 allows it; Python's tomllib
- * does not).
+ * suite (test/toml/). Floats of any length are read correctly rounded.
+ * Integers outside 64 bits are refused as TOML demands. Fractions of a
+ * second beyond nanoseconds are truncated, as TOML allows. Dates are
+ * checked against the calendar.
+ *
+ * What it refuses although TOML allows it, each with a message that says
+ * so (ROZ_ENOTSUP), so that it refuses exactly what rozgen (Python's
+ * tomllib) refuses: a leap second (":60"), year 0000 (Python's dates start
+ * at year 1), and arrays and inline tables nested more than
+ * ROZ_TOML_MAX_DEPTH deep (rozgen applies the same limit).
  *
  * Storage: a pool of nodes and a byte arena, both the caller's. Every value,
  * table and array is one node. Strings and keys are not copied when they can
@@ -31,15 +34,21 @@
  * not NUL-terminated.
  *
  * The reader never recurses: nested arrays and inline tables are parsed with
- * the node tree itself as the stack (each node knows its parent), so the
- * nesting depth is bounded only by the node pool. Walk a document the same
- * way with roz_toml_first(), roz_toml_next() and roz_toml_parent().
+ * the node tree itself as the stack (each node knows its parent). Walk a
+ * document the same way with roz_toml_first(), roz_toml_next() and
+ * roz_toml_parent().
+ *
+ * Time: linear in the text, times the logarithm of the largest table. Every
+ * table keeps its members in a balanced search tree by key, built in the
+ * nodes themselves (the fields marked "not API"), so finding a key -- to
+ * refuse a duplicate while parsing, or in roz_toml_get() -- takes
+ * O(log n) key comparisons in a table of n members, never a scan.
  *
  * Error positions are those of Python's tomllib (what rozgen uses) for the
- * same error -- checked on all of toml-test's invalid cases and the shared
- * vectors of test/vectors -- with the column counted in bytes; the wording
- * is roz's own. Where only one of them refuses (an integer beyond 64 bits,
- * a leap second), positions may differ.
+ * same error -- checked on all of toml-test's cases and the shared vectors
+ * of test/vectors -- with the column counted in bytes; the wording is roz's
+ * own, except for the refusals that rozgen makes itself (an integer beyond
+ * 64 bits, nesting beyond ROZ_TOML_MAX_DEPTH), whose messages are the same.
  */
 #ifndef ROZ_TOML_H
 #define ROZ_TOML_H
@@ -57,6 +66,11 @@ extern "C" {
 
 /** Node index meaning "none" (no parent, no sibling, no child). */
 #define ROZ_TOML_NONE UINT32_MAX
+
+/** Deepest nesting of arrays and inline tables read (`a = [[1]]` is 2
+ *  deep); deeper is refused with ROZ_ENOTSUP at the bracket that goes too
+ *  deep. rozgen has the same limit (Python's tomllib recurses per level). */
+#define ROZ_TOML_MAX_DEPTH 100
 
 /** Type of a node; the names (roz_toml_type_name()) are toml-test's. */
 typedef enum roz_toml_type {
@@ -100,6 +114,8 @@ typedef struct roz_toml_node {
     uint32_t next;         /**< next sibling in document order, or ROZ_TOML_NONE */
     uint8_t  type;         /**< a roz_toml_type_t */
     uint8_t  flags;        /**< the reader's bookkeeping; not API */
+    uint8_t  level;        /**< key index of the parent table (AA-tree level); not API */
+    uint32_t left, right;  /**< key index of the parent table (children); not API */
     union {
         roz_toml_string_t   str;      /**< ROZ_TOML_STRING */
         int64_t             integer;  /**< ROZ_TOML_INTEGER */
@@ -110,6 +126,7 @@ typedef struct roz_toml_node {
             uint32_t first; /**< first child, or ROZ_TOML_NONE */
             uint32_t last;  /**< last child, or ROZ_TOML_NONE */
             uint32_t count; /**< number of children */
+            uint32_t index; /**< tables: root of the key index; not API */
         } list;             /**< ROZ_TOML_TABLE, ROZ_TOML_ARRAY */
     } as;
 } roz_toml_node_t;
@@ -180,8 +197,7 @@ void roz_toml_init(roz_toml_doc_t *doc, roz_toml_node_t *nodes, size_t n_nodes, 
  * @retval ROZ_ENOTSUP valid TOML that this reader refuses (see @p err)
  * @retval ROZ_ENOSPC  the node pool or the arena is full (see @p err)
  * On any error the document is empty again. Context: start-up or host
- * tools; linear in the text for ordinary documents (look-ups in one table
- * are linear in its size); no heap, no recursion.
+ * tools; O(n log n) in the text (see above); no heap, no recursion.
  */
 ROZ_NODISCARD int roz_toml_parse(roz_toml_doc_t *doc, const char *text, size_t len,
                                  roz_toml_error_t *err);
@@ -197,13 +213,13 @@ const roz_toml_node_t *roz_toml_root(const roz_toml_doc_t *doc);
  * @param[in] key    the key, decoded (as it reads, not as it is written)
  * @return the node, or NULL when there is none, @p table is not a table or
  *         an argument is NULL.
- * Context: any; linear in the table's size.
+ * Context: any; O(log n) key comparisons in a table of n members.
  */
 const roz_toml_node_t *roz_toml_get(const roz_toml_doc_t *doc, const roz_toml_node_t *table,
                                     const char *key);
 
 /** @brief As roz_toml_get(), with a counted key (which may hold NUL).
- *  Context: any; linear in the table's size. */
+ *  Context: any; O(log n) key comparisons in a table of n members. */
 const roz_toml_node_t *roz_toml_get_n(const roz_toml_doc_t *doc, const roz_toml_node_t *table,
                                       const char *key, size_t key_len);
 
