@@ -46,7 +46,8 @@ each message with ``[<id>] ``):
 ==================  ==========================================================
 io-error            ``cannot read: <strerror>`` (or ``cannot write``)
 utf8                ``cannot read: not valid UTF-8 (byte 0x.. at offset N)``
-toml-syntax         ``<file>:<line>:<col>: invalid TOML: <what>``
+toml-syntax         ``<file>:<line>:<col>: invalid TOML: <what>`` (see
+                    ``rozgen.load``; also ``unsupported TOML: <what>``)
 unknown-key         ``<key>: unknown key (known keys: a, b, c)``
 missing-key         ``<key>: required key is missing``
 type                ``<key> <value>: expected a string`` (an integer, a

@@ -1237,7 +1237,7 @@ int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
             report_raw(&ck, "utf8", ": cannot read: %s", err.message);
             break;
         case ROZ_TOML_ERR_UNSUPPORTED:
-            report_raw(&ck, "toml-syntax", ":%lu:%lu: TOML that roz's reader does not support: %s",
+            report_raw(&ck, "toml-syntax", ":%lu:%lu: unsupported TOML: %s",
                        (unsigned long)err.line, (unsigned long)err.column, err.message);
             break;
         case ROZ_TOML_ERR_NODES:

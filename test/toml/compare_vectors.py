@@ -12,7 +12,9 @@ Bad vectors (manifests/invalid/*.toml, test/vectors/bad/*.toml): both exit
 lines, the same rule id on each, and the same text, except that
 
 - a TOML syntax problem needs only the same ``<file>:<line>:<col>`` (the
-  wording is each reader's own), and
+  wording is each reader's own), except for the refusals that rozgen makes
+  itself in the C reader's words (``_SHARED_WORDING``): those are the same
+  line, and
 - a C line may be cut to ROZ_CFG_PROBLEM_LEN and end in "...", when it is
   a prefix of rozgen's.
 
@@ -30,6 +32,8 @@ import sys
 
 _LINE = re.compile(r"^\[(?P<rule>[a-z0-9-]+)\] (?P<text>.*)$")
 _SYNTAX = re.compile(r"^(?P<where>.*?:\d+:\d+): ")
+# rozgen.toml_limits: what roz refuses although tomllib reads it
+_SHARED_WORDING = ("integer does not fit in 64 bits", "nested more than")
 
 
 def _vectors(root: str, patterns: list[str]) -> list[str]:
@@ -51,6 +55,8 @@ def _same_line(ours: str, theirs: str) -> bool:
     if a["text"] == b["text"]:
         return True
     if a["rule"] == "toml-syntax":
+        if any(w in a["text"] or w in b["text"] for w in _SHARED_WORDING):
+            return False
         wa, wb = _SYNTAX.match(a["text"]), _SYNTAX.match(b["text"])
         return wa is not None and wb is not None and wa["where"] == wb["where"]
     return a["text"].endswith("...") and b["text"].startswith(a["text"][:-3])
