@@ -68,7 +68,10 @@ not-finite          ``limits [-inf, 1.0]: must be finite`` (also default,
 limits-order        ``limits [2.0, -2.0]: min must be below max``
 default-range       ``default 3.0: must be within limits [-2.0, 2.0]``
 max-rate            ``max_rate_of_change -0.5: must not be negative``
-duplicate-name      ``name "x": duplicate of manifest.commands[0]``
+duplicate-name      ``name "x": duplicate of manifest.commands[0]`` (among
+                    the first maximum channels of the list: a longer list is
+                    a too-many-channels problem, and comparing all of it
+                    would cost the C reader quadratic time)
 constant-collision  ``name "a/b": C constant ROZ_R_CMD_A_B is also that of
                     manifest.commands[0] "a.b"``
 pairing-range       ``position_state_index 6: must be -1 (unpaired) or a
@@ -363,7 +366,8 @@ class _Checker:
     def channels(self, section: int, kind: str, tables: list) -> list:
         drafts = [None if t is None else self.channel(section, kind, i, t)
                   for i, t in enumerate(tables)]
-        self.unique_names(section, kind, drafts)
+        maximum = self.maxima.commands if section == _COMMANDS else self.maxima.states
+        self.unique_names(section, kind, drafts[:maximum])
         return drafts
 
     def channel(self, section: int, kind: str, index: int, table: dict) -> _Draft:

@@ -152,6 +152,19 @@ def test_maxima_are_options():
     ]
 
 
+def test_names_are_compared_among_the_first_maximum_channels():
+    state = GOOD[GOOD.index("[[manifest.states]]"):]
+    states = "".join(state.replace("j1/", f"j{i}/") for i in (0, 1, 0, 2, 1))
+    _, problems = check(GOOD[:GOOD.index("[[manifest.states]]")] + states,
+                        Maxima(commands=8, states=3))
+    assert problems == [
+        "[too-many-channels] f.toml: manifest: states: 5 channels, more than the maximum "
+        "of 3 (ROZ_CFG_MAX_STATES)",
+        '[duplicate-name] f.toml: manifest.states[2]: name "j0/position": duplicate of '
+        "manifest.states[0]",
+    ]  # states[4] repeats states[1] too, beyond the maximum: not compared
+
+
 def test_same_name_in_commands_and_states_is_fine():
     m, problems = check(GOOD.replace('"j1/position"', '"j1/velocity"').replace(
         'interface_type = "position"', 'interface_type = "velocity"'))

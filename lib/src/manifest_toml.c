@@ -768,15 +768,16 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
 }
 
 /* rozgen's unique_names(): names, and the C constants made of them, once
- * per list. */
+ * per list, among its first @max channels (a longer list is refused as too
+ * long, and comparing every pair of it would take quadratic time). */
 static void unique_names(checker_t *ck, uint32_t section, const char *kind,
-                         const roz_toml_node_t *list)
+                         const roz_toml_node_t *list, uint32_t max)
 {
     const roz_toml_doc_t *d = ck->doc;
     const char *tag = section == SEC_COMMANDS ? "_CMD_" : "_STATE_";
     uint32_t i = 0;
 
-    for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL;
+    for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL && i < max;
          t = roz_toml_next(d, t), i++) {
         const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(NULL, d, NULL, t)
                                                                 : NULL;
@@ -848,7 +849,9 @@ static void check_channels(checker_t *ck, uint32_t section, const char *kind,
         if (t->type == ROZ_TOML_TABLE)
             check_channel(ck, section, kind, i, t);
     }
-    unique_names(ck, section, kind, list);
+    unique_names(ck, section, kind, list,
+                 section == SEC_COMMANDS ? (uint32_t)ROZ_CFG_MAX_COMMANDS
+                                         : (uint32_t)ROZ_CFG_MAX_STATES);
 }
 
 /* rozgen's pairing(): each paired command points at a position state. */
@@ -1016,9 +1019,12 @@ static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
             } else if (has_nul(j->as.str)) {
                 report(ck, "nul-char", &pl, key, "must not contain a NUL character", j, "joints");
             } else {
+                /* among the first ROZ_CFG_MAX_JOINTS only: more joints than
+                 * that are refused ("storage"), and comparing every pair of a
+                 * long list would take quadratic time */
                 uint32_t k = 0;
-                for (const roz_toml_node_t *o = roz_toml_first(d, joints); o != j;
-                     o = roz_toml_next(d, o), k++) {
+                for (const roz_toml_node_t *o = roz_toml_first(d, joints);
+                     o != j && k < (uint32_t)ROZ_CFG_MAX_JOINTS; o = roz_toml_next(d, o), k++) {
                     if (o->type == ROZ_TOML_STRING && o->as.str.len > 0 && !has_nul(o->as.str) &&
                         str_eq2(o->as.str, j->as.str)) {
                         snprintf(what, sizeof what, "duplicate of joints[%lu]", (unsigned long)k);

@@ -243,6 +243,19 @@ static void test_manifest_toml_storage_limits(void **state)
     assert_int_equal(found, 1);
     assert_string_equal(problems[0].rule, "storage");
     assert_non_null(strstr(problems[0].text, "ROZ_CFG_MAX_JOINTS"));
+    /* beyond it, a joint is compared with the first ROZ_CFG_MAX_JOINTS only
+     * (a long list costs linear time, not quadratic): a duplicate of one of
+     * them is found, one of a later joint is left to the storage problem */
+    n = (size_t)snprintf(text, sizeof text, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");
+    n += (size_t)snprintf(text + n, sizeof text - n, channel, "a");
+    n += (size_t)snprintf(text + n, sizeof text - n, "[hardware]\nport = \"p\"\njoints = [");
+    for (int i = 0; i < ROZ_CFG_MAX_JOINTS + 8; i++)
+        n += (size_t)snprintf(text + n, sizeof text - n, "\"j%d\", ", i);
+    n += (size_t)snprintf(text + n, sizeof text - n, "\"j%d\", \"j3\"]\n", ROZ_CFG_MAX_JOINTS + 2);
+    assert_int_equal(load(text, 16, &found), ROZ_EINVAL);
+    assert_int_equal(found, 1);
+    assert_string_equal(problems[0].rule, "duplicate-joint");
+    assert_non_null(strstr(problems[0].text, "duplicate of joints[3]"));
 
     /* more params than ROZ_CFG_MAX_PARAMS */
     n = (size_t)snprintf(text, sizeof text, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");

@@ -21,9 +21,16 @@
  * more joints or parameters than ROZ_CFG_MAX_JOINTS / ROZ_CFG_MAX_PARAMS,
  * names and units beyond ROZ_CFG_NAME_ARENA_BYTES, a file larger than the
  * caller's buffer. The channel maxima are ROZ_CFG_MAX_COMMANDS,
- * ROZ_CFG_MAX_STATES and ROZ_CFG_MAX_NAME_LEN (rozgen's defaults).
- * Known difference: tomllib reads integers of any size, this reader only
- * 64-bit ones, as TOML requires; a larger one is a toml-syntax problem here.
+ * ROZ_CFG_MAX_STATES and ROZ_CFG_MAX_NAME_LEN (rozgen's defaults). Joints
+ * beyond ROZ_CFG_MAX_JOINTS are not compared with each other for
+ * duplicates (the file is refused anyway; comparing every pair of a long
+ * list would take quadratic time).
+ *
+ * TOML that one of Python's tomllib and roz/toml.h reads and the other
+ * cannot hold is refused by both, at the same place: an integer beyond 64
+ * bits and nesting beyond ROZ_TOML_MAX_DEPTH ("invalid TOML" and
+ * "unsupported TOML" in rozgen too, word for word), a leap second and year
+ * 0000 ("unsupported TOML" here, tomllib's own words in rozgen).
  */
 #ifndef ROZ_MANIFEST_TOML_H
 #define ROZ_MANIFEST_TOML_H
