@@ -88,6 +88,8 @@ bench: build
 	$(BUILD)/bench/roz_bench_fuel 9
 	if [ -x $(BUILD)/bench/roz_bench_g1_latency ]; then \
 	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000; fi
+	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
+	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml
 
 # The long differential run (fuzz/README.md): generated and wasm-tools smith
 # modules on roz's wasm3 against wasm-interp, then fuzz_controller from them
