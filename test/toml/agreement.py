@@ -93,9 +93,9 @@ def _c_verdict(decoder: str, data: bytes) -> tuple[str, str]:
     return f"{m['line']}:{m['col']}", m["what"]
 
 
-def _check(job: tuple[str, bytes], decoder: str, work: Path) -> str | None:
-    name, data = job
-    path = work / f"{abs(hash(name))}-{os.getpid()}.toml"
+def _check(job: tuple[int, str, bytes], decoder: str, work: Path) -> str | None:
+    index, name, data = job
+    path = work / f"case-{index}.toml"
     path.write_bytes(data)
     try:
         py = _python_verdict(path)
@@ -131,7 +131,7 @@ def main() -> int:
     jobs = []
     for name, path in files:
         for i, data in enumerate(_variants(name, path.read_bytes(), args.mutations)):
-            jobs.append((f"{name}#{i}" if i else name, data))
+            jobs.append((len(jobs), f"{name}#{i}" if i else name, data))
     scratch = work / "scratch"
     scratch.mkdir(parents=True, exist_ok=True)
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
