@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The ``rozgen`` command.
 
-    rozgen [-o DIR] [--check | --json] [--registry] [--source-root DIR]
+    rozgen [-o DIR] [--check | --json | --identity] [--registry] [--source-root DIR]
            [--max-commands N] [--max-states N] [--max-name-len N]
            [--error-ids] [--list-rules] [--version] FILE...
 
@@ -15,7 +15,7 @@ import argparse
 import os
 import sys
 
-from rozgen import __version__
+from rozgen import __version__, identity
 from rozgen.canonical import to_json
 from rozgen.load import load, source_label
 from rozgen.model import Manifest, Maxima
@@ -53,6 +53,9 @@ def _parser() -> argparse.ArgumentParser:
                       help="validate only; write nothing")
     mode.add_argument("--json", action="store_true",
                       help="print the canonical JSON of one FILE; write nothing")
+    mode.add_argument("--identity", action="store_true",
+                      help="print each FILE's robot_id and interface hash (the identity a "
+                           "controller built for it carries); write nothing")
     p.add_argument("--registry", action="store_true",
                    help=f"also write {REGISTRY_FILE} (roz/builtin.h) over all FILEs")
     p.add_argument("--source-root", metavar="DIR",
@@ -96,8 +99,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("the following arguments are required: FILE")
     if args.json and len(args.files) != 1:
         parser.error("--json takes exactly one FILE")
-    if args.json and args.registry:
-        parser.error("--json and --registry do not go together")
+    if (args.json or args.identity) and args.registry:
+        parser.error(f"--{'json' if args.json else 'identity'} and --registry do not go together")
 
     report = _Reporter(args.error_ids)
     robots = _load_all(args.files, Maxima(args.max_commands, args.max_states,
@@ -106,6 +109,10 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_ERROR
     if args.json:
         sys.stdout.write(to_json(robots[0][1]))
+        return EXIT_OK
+    if args.identity:
+        for _, manifest, _ in robots:
+            print(f"{manifest.robot_id} {identity.interface_hash(manifest):016x}")
         return EXIT_OK
     if args.check:
         for path, manifest, _ in robots:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import jinja2
 
-from rozgen import __version__, names
+from rozgen import __version__, identity, names
 from rozgen.fmt import c_comment, c_double, c_string
 from rozgen.model import Manifest
 
@@ -38,7 +38,8 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
     channels_h, manifest_h, manifest_c = robot_files(manifest)
     cmd_macros = [names.command_constant(manifest.robot_id, c.name) for c in manifest.commands]
     state_macros = [names.state_constant(manifest.robot_id, c.name) for c in manifest.states]
-    count_macros = [manifest.prefix + s for s in ("_N_COMMANDS", "_N_STATES", "_CONTROL_RATE_HZ")]
+    count_macros = [manifest.prefix + s for s in ("_N_COMMANDS", "_N_STATES", "_CONTROL_RATE_HZ",
+                                                  "_ROBOT_ID", "_INTERFACE_HASH")]
     n_max = max(len(manifest.commands), len(manifest.states))
     context = {
         "m": manifest,
@@ -50,6 +51,9 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
         # Column widths, so that values and comments line up.
         "width": max(map(len, cmd_macros + state_macros + count_macros)),
         "index_width": len(str(n_max - 1)),
+        "interface_hash": "0x%016x" % identity.interface_hash(manifest),
+        "section": identity.SECTION,
+        "record_version": identity.RECORD_VERSION,
     }
     return {
         channels_h: env.get_template("channels.h.j2").render(context),

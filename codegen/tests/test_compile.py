@@ -106,13 +106,15 @@ def test_channel_headers_for_wasm32(build, tmp_path):
 
 
 def test_c_tables_print_the_same_json(build):
-    """A C program walking the tables prints exactly `rozgen --json`."""
+    """A C program walking the tables prints exactly `rozgen --json`, and
+    computes the interface hash `rozgen --identity` prints."""
     root, out = build
     exe = root / "print_manifest_json"
     # the JSON printer of examples/manifest_json, and the core's interface names
     _compile(COMPILERS[0], [*FLAGS, *_includes(root, out), f"-I{JSON_PRINTER.parent}",
                             "-o", str(exe), str(DATA / "print_manifest_json.c"),
                             str(JSON_PRINTER), str(REPO / "lib" / "src" / "manifest.c"),
+                            str(REPO / "lib" / "src" / "identity.c"),
                             *map(str, sorted(out.glob("*.c"))), "-lm"])
     registry = subprocess.run([exe, "--registry"], capture_output=True, text=True)
     assert registry.returncode == 0
@@ -124,3 +126,6 @@ def test_c_tables_print_the_same_json(build):
         printed = subprocess.run([exe, rid], capture_output=True, text=True)
         assert printed.returncode == 0
         assert printed.stdout == expected, rid
+        identity = subprocess.run([exe, "--identity", rid], capture_output=True, text=True)
+        assert identity.returncode == 0
+        assert identity.stdout == run_rozgen("--identity", toml).stdout, rid

@@ -5,9 +5,12 @@
  * for byte: the canonical JSON (codegen/rozgen/canonical.py) on stdout, or
  * the problems on stderr, one per line, as rozgen prints them.
  *
- *   roz_manifest_json [--check] [--error-ids] FILE
+ *   roz_manifest_json [--check | --identity] [--error-ids] FILE
  *
  *   --check      validate only, print nothing when the file is valid
+ *   --identity   print "<robot_id> <interface hash>" as `rozgen --identity`
+ *                does, the hash computed from the loaded manifest
+ *                (roz_manifest_interface_hash())
  *   --error-ids  prefix every problem with its rule id: [limits-order] ...
  *
  * Exit status: 0 valid, 2 on any problem or a usage error (as rozgen).
@@ -18,6 +21,7 @@
 #include <string.h>
 
 #include "json.h"
+#include "roz/identity.h"
 #include "roz/manifest_toml.h"
 
 #define MAX_FILE (8u << 20)
@@ -30,19 +34,21 @@ ROZ_TOML_DOC_DEFINE(doc, 1u << 19, 4u << 20);
 
 static int usage(void)
 {
-    fprintf(stderr, "usage: roz_manifest_json [--check] [--error-ids] FILE\n");
+    fprintf(stderr, "usage: roz_manifest_json [--check | --identity] [--error-ids] FILE\n");
     return 2;
 }
 
 int main(int argc, char **argv)
 {
     const char *file = NULL;
-    int check = 0, ids = 0, rc;
+    int check = 0, identity = 0, ids = 0, rc;
     size_t found = 0;
 
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--check") == 0)
             check = 1;
+        else if (strcmp(argv[i], "--identity") == 0)
+            identity = 1;
         else if (strcmp(argv[i], "--error-ids") == 0)
             ids = 1;
         else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
@@ -54,7 +60,7 @@ int main(int argc, char **argv)
         else
             return usage();
     }
-    if (file == NULL)
+    if (file == NULL || (check && identity))
         return usage();
 
     roz_toml_init(&doc, doc_nodes, sizeof doc_nodes / sizeof doc_nodes[0], doc_arena,
@@ -73,7 +79,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", file, roz_strerror(rc));
         return 2;
     }
-    if (!check)
+    if (identity)
+        printf("%s %016llx\n", storage.manifest.robot_id,
+               (unsigned long long)roz_manifest_interface_hash(&storage.manifest));
+    else if (!check)
         manifest_json_print(&storage.manifest);
     return 0;
 }

@@ -5,7 +5,9 @@
 
 Good vectors (manifests/*.toml, examples/my_arm/robot.toml,
 test/vectors/good/*.toml): both exit 0 and print the same JSON, byte for
-byte (``rozgen --json`` and ``roz_manifest_json``).
+byte (``rozgen --json`` and ``roz_manifest_json``), and the same identity,
+robot_id and interface hash (``--identity``: rozgen computes it from its
+model, the C tool from the loaded roz_manifest_t).
 
 Bad vectors (manifests/invalid/*.toml, test/vectors/bad/*.toml): both exit
 2 and print the same problems with ``--error-ids``: the same number of
@@ -71,7 +73,12 @@ def _check_good(path: str, args) -> tuple[bool, str]:
         return False, f"C reader refuses it (exit {rc_c}): {err_c.decode(errors='replace')}"
     if out_py != out_c:
         return False, "JSON differs"
-    return True, "same JSON"
+    rc_py, id_py, err_py = _run(args.rozgen + ["--identity", path], args.root)
+    rc_c, id_c, err_c = _run([args.c_tool, "--identity", path], args.root)
+    if rc_py != 0 or rc_c != 0 or id_py != id_c or not id_py:
+        return False, (f"identity differs: rozgen {id_py!r} (exit {rc_py}), "
+                       f"C {id_c!r} (exit {rc_c})")
+    return True, f"same JSON, same identity {id_py.decode().split()[1]}"
 
 
 def _check_bad(path: str, args) -> tuple[bool, str]:

@@ -6,6 +6,10 @@
  * exactly what `rozgen --json` prints.
  *
  *   print_manifest_json <robot_id>   the manifest's JSON
+ *   print_manifest_json --identity <robot_id>
+ *                                    "<robot_id> <hash>" as `rozgen --identity`
+ *                                    prints it, the hash computed from the
+ *                                    tables (roz_manifest_interface_hash())
  *   print_manifest_json --registry   check roz/builtin.h, print the ids
  */
 #include <stdio.h>
@@ -14,6 +18,7 @@
 
 #include "json.h"
 #include "roz/builtin.h"
+#include "roz/identity.h"
 
 static int check_registry(void)
 {
@@ -39,6 +44,15 @@ int main(int argc, char **argv)
 {
     const roz_manifest_t *m;
 
+    if (argc == 3 && strcmp(argv[1], "--identity") == 0) {
+        m = roz_builtin_find(argv[2]);
+        if (m == NULL) {
+            return 1;
+        }
+        printf("%s %016llx\n", m->robot_id,
+               (unsigned long long)roz_manifest_interface_hash(m));
+        return 0;
+    }
     if (argc != 2) {
         return 2;
     }

@@ -9,6 +9,10 @@
  * -nostdlib can use it. Pass a ROZ_DIFF_DRIVE_CMD_* index to command.set and a
  * ROZ_DIFF_DRIVE_STATE_* index to state.get. Each index is followed by the
  * channel's name, interface type, unit and limits.
+ *
+ * A controller compiled for wasm32 with this header carries the robot it was
+ * built for (see the end of the file): roz refuses to load it on another
+ * robot, or on this one once its channel table has changed.
  */
 #ifndef ROZ_DIFF_DRIVE_CHANNELS_H
 #define ROZ_DIFF_DRIVE_CHANNELS_H
@@ -16,6 +20,12 @@
 #define ROZ_DIFF_DRIVE_N_COMMANDS          2
 #define ROZ_DIFF_DRIVE_N_STATES            3
 #define ROZ_DIFF_DRIVE_CONTROL_RATE_HZ     100
+
+/* Identity: robot_id, and the FNV-1a 64 hash of the channel table (names,
+ * interface types, units and limits in index order; codegen/README.md,
+ * "Manifest identity"). roz_manifest_interface_hash() gives the same value. */
+#define ROZ_DIFF_DRIVE_ROBOT_ID            "diff_drive"
+#define ROZ_DIFF_DRIVE_INTERFACE_HASH      0xd91458f4d30099d8
 
 /* Command channels. */
 #define ROZ_DIFF_DRIVE_CMD_BASE_LINEAR_X   0 /* base/linear.x: velocity, m/s, [-1.0, 1.0] */
@@ -25,5 +35,21 @@
 #define ROZ_DIFF_DRIVE_STATE_BASE_ODOM_X   0 /* base/odom.x: position, m, [-10000.0, 10000.0] */
 #define ROZ_DIFF_DRIVE_STATE_BASE_ODOM_Y   1 /* base/odom.y: position, m, [-10000.0, 10000.0] */
 #define ROZ_DIFF_DRIVE_STATE_BASE_ODOM_YAW 2 /* base/odom.yaw: position, rad, [-3.141592653589793, 3.141592653589793] */
+
+/* Compiled for wasm32, this header puts the identity into the module's custom
+ * section "roz.manifest" (record version 1: version, length of robot_id,
+ * robot_id, hash little-endian). wasm-ld joins the sections of all object
+ * files, so a controller of several files carries one copy per file; roz
+ * accepts copies of one record and refuses two different ones. Define
+ * ROZ_NO_ROBOT_IDENTITY before the include to build a controller that runs
+ * on any robot. */
+#if defined(__wasm__) && !defined(ROZ_NO_ROBOT_IDENTITY)
+__asm__(".section .custom_section.roz.manifest,\"\",@\n"
+        ".int8 1\n"
+        ".int8 10\n"
+        ".ascii \"diff_drive\"\n"
+        ".int64 0xd91458f4d30099d8\n"
+        ".text");
+#endif
 
 #endif /* ROZ_DIFF_DRIVE_CHANNELS_H */

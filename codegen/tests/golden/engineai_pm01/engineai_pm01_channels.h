@@ -9,6 +9,10 @@
  * -nostdlib can use it. Pass a ROZ_ENGINEAI_PM01_CMD_* index to command.set and a
  * ROZ_ENGINEAI_PM01_STATE_* index to state.get. Each index is followed by the
  * channel's name, interface type, unit and limits.
+ *
+ * A controller compiled for wasm32 with this header carries the robot it was
+ * built for (see the end of the file): roz refuses to load it on another
+ * robot, or on this one once its channel table has changed.
  */
 #ifndef ROZ_ENGINEAI_PM01_CHANNELS_H
 #define ROZ_ENGINEAI_PM01_CHANNELS_H
@@ -16,6 +20,12 @@
 #define ROZ_ENGINEAI_PM01_N_COMMANDS                           120
 #define ROZ_ENGINEAI_PM01_N_STATES                             82
 #define ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ                      500
+
+/* Identity: robot_id, and the FNV-1a 64 hash of the channel table (names,
+ * interface types, units and limits in index order; codegen/README.md,
+ * "Manifest identity"). roz_manifest_interface_hash() gives the same value. */
+#define ROZ_ENGINEAI_PM01_ROBOT_ID                             "engineai_pm01"
+#define ROZ_ENGINEAI_PM01_INTERFACE_HASH                       0x731e5e02a1ca7f5c
 
 /* Command channels. */
 #define ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_POSITION         0   /* J00_HIP_PITCH_L/position: position, rad, [-3.141, 2.443] */
@@ -222,5 +232,21 @@
 #define ROZ_ENGINEAI_PM01_STATE_BASE_IMU_LINEAR_ACCELERATION_X 79  /* base_imu/linear_acceleration.x: acceleration, m/s^2, [-160.0, 160.0] */
 #define ROZ_ENGINEAI_PM01_STATE_BASE_IMU_LINEAR_ACCELERATION_Y 80  /* base_imu/linear_acceleration.y: acceleration, m/s^2, [-160.0, 160.0] */
 #define ROZ_ENGINEAI_PM01_STATE_BASE_IMU_LINEAR_ACCELERATION_Z 81  /* base_imu/linear_acceleration.z: acceleration, m/s^2, [-160.0, 160.0] */
+
+/* Compiled for wasm32, this header puts the identity into the module's custom
+ * section "roz.manifest" (record version 1: version, length of robot_id,
+ * robot_id, hash little-endian). wasm-ld joins the sections of all object
+ * files, so a controller of several files carries one copy per file; roz
+ * accepts copies of one record and refuses two different ones. Define
+ * ROZ_NO_ROBOT_IDENTITY before the include to build a controller that runs
+ * on any robot. */
+#if defined(__wasm__) && !defined(ROZ_NO_ROBOT_IDENTITY)
+__asm__(".section .custom_section.roz.manifest,\"\",@\n"
+        ".int8 1\n"
+        ".int8 13\n"
+        ".ascii \"engineai_pm01\"\n"
+        ".int64 0x731e5e02a1ca7f5c\n"
+        ".text");
+#endif
 
 #endif /* ROZ_ENGINEAI_PM01_CHANNELS_H */

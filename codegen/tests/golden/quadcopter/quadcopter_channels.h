@@ -9,6 +9,10 @@
  * -nostdlib can use it. Pass a ROZ_QUADCOPTER_CMD_* index to command.set and a
  * ROZ_QUADCOPTER_STATE_* index to state.get. Each index is followed by the
  * channel's name, interface type, unit and limits.
+ *
+ * A controller compiled for wasm32 with this header carries the robot it was
+ * built for (see the end of the file): roz refuses to load it on another
+ * robot, or on this one once its channel table has changed.
  */
 #ifndef ROZ_QUADCOPTER_CHANNELS_H
 #define ROZ_QUADCOPTER_CHANNELS_H
@@ -16,6 +20,12 @@
 #define ROZ_QUADCOPTER_N_COMMANDS            4
 #define ROZ_QUADCOPTER_N_STATES              4
 #define ROZ_QUADCOPTER_CONTROL_RATE_HZ       100
+
+/* Identity: robot_id, and the FNV-1a 64 hash of the channel table (names,
+ * interface types, units and limits in index order; codegen/README.md,
+ * "Manifest identity"). roz_manifest_interface_hash() gives the same value. */
+#define ROZ_QUADCOPTER_ROBOT_ID              "quadcopter"
+#define ROZ_QUADCOPTER_INTERFACE_HASH        0xe66497c2454ce8fa
 
 /* Command channels. */
 #define ROZ_QUADCOPTER_CMD_BODY_VELOCITY_X   0 /* body/velocity.x: velocity, m/s, [-5.0, 5.0] */
@@ -28,5 +38,21 @@
 #define ROZ_QUADCOPTER_STATE_BODY_POSITION_Y 1 /* body/position.y: position, m, [-1000.0, 1000.0] */
 #define ROZ_QUADCOPTER_STATE_BODY_POSITION_Z 2 /* body/position.z: position, m, [-1000.0, 1000.0] */
 #define ROZ_QUADCOPTER_STATE_BODY_YAW        3 /* body/yaw: position, rad, [-3.141592653589793, 3.141592653589793] */
+
+/* Compiled for wasm32, this header puts the identity into the module's custom
+ * section "roz.manifest" (record version 1: version, length of robot_id,
+ * robot_id, hash little-endian). wasm-ld joins the sections of all object
+ * files, so a controller of several files carries one copy per file; roz
+ * accepts copies of one record and refuses two different ones. Define
+ * ROZ_NO_ROBOT_IDENTITY before the include to build a controller that runs
+ * on any robot. */
+#if defined(__wasm__) && !defined(ROZ_NO_ROBOT_IDENTITY)
+__asm__(".section .custom_section.roz.manifest,\"\",@\n"
+        ".int8 1\n"
+        ".int8 10\n"
+        ".ascii \"quadcopter\"\n"
+        ".int64 0xe66497c2454ce8fa\n"
+        ".text");
+#endif
 
 #endif /* ROZ_QUADCOPTER_CHANNELS_H */

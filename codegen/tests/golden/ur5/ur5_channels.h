@@ -9,6 +9,10 @@
  * -nostdlib can use it. Pass a ROZ_UR5_CMD_* index to command.set and a
  * ROZ_UR5_STATE_* index to state.get. Each index is followed by the
  * channel's name, interface type, unit and limits.
+ *
+ * A controller compiled for wasm32 with this header carries the robot it was
+ * built for (see the end of the file): roz refuses to load it on another
+ * robot, or on this one once its channel table has changed.
  */
 #ifndef ROZ_UR5_CHANNELS_H
 #define ROZ_UR5_CHANNELS_H
@@ -16,6 +20,12 @@
 #define ROZ_UR5_N_COMMANDS                         6
 #define ROZ_UR5_N_STATES                           12
 #define ROZ_UR5_CONTROL_RATE_HZ                    100
+
+/* Identity: robot_id, and the FNV-1a 64 hash of the channel table (names,
+ * interface types, units and limits in index order; codegen/README.md,
+ * "Manifest identity"). roz_manifest_interface_hash() gives the same value. */
+#define ROZ_UR5_ROBOT_ID                           "ur5"
+#define ROZ_UR5_INTERFACE_HASH                     0xdb0744b1c34e4028
 
 /* Command channels. */
 #define ROZ_UR5_CMD_SHOULDER_PAN_JOINT_VELOCITY    0  /* shoulder_pan_joint/velocity: velocity, rad/s, [-3.14, 3.14] */
@@ -38,5 +48,21 @@
 #define ROZ_UR5_STATE_WRIST_1_JOINT_VELOCITY       9  /* wrist_1_joint/velocity: velocity, rad/s, [-3.14, 3.14] */
 #define ROZ_UR5_STATE_WRIST_2_JOINT_VELOCITY       10 /* wrist_2_joint/velocity: velocity, rad/s, [-3.14, 3.14] */
 #define ROZ_UR5_STATE_WRIST_3_JOINT_VELOCITY       11 /* wrist_3_joint/velocity: velocity, rad/s, [-3.14, 3.14] */
+
+/* Compiled for wasm32, this header puts the identity into the module's custom
+ * section "roz.manifest" (record version 1: version, length of robot_id,
+ * robot_id, hash little-endian). wasm-ld joins the sections of all object
+ * files, so a controller of several files carries one copy per file; roz
+ * accepts copies of one record and refuses two different ones. Define
+ * ROZ_NO_ROBOT_IDENTITY before the include to build a controller that runs
+ * on any robot. */
+#if defined(__wasm__) && !defined(ROZ_NO_ROBOT_IDENTITY)
+__asm__(".section .custom_section.roz.manifest,\"\",@\n"
+        ".int8 1\n"
+        ".int8 3\n"
+        ".ascii \"ur5\"\n"
+        ".int64 0xdb0744b1c34e4028\n"
+        ".text");
+#endif
 
 #endif /* ROZ_UR5_CHANNELS_H */
