@@ -3,7 +3,7 @@
  * rozrun: run a WebAssembly controller on a robot through a port.
  *
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
- *          [--realtime] [--param k=v]... [--trace out.csv]
+ *          [--realtime] [--param k=v]... [--trace out.csv] [--allow-other-robot]
  *          [--estop-at T] [--estop-release-at T] [--clear-at T] [--swap-at T:FILE]...
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
@@ -54,6 +54,7 @@ typedef struct {
     const char *trace;
     uint64_t    ticks;
     int         realtime;
+    int         allow_other_robot;
     int         priority;
     uint64_t    budget_us;
     int         budget_set;
@@ -150,6 +151,8 @@ static void usage(FILE *f)
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
+        "  --allow-other-robot  run a controller built for another robot, or for an older\n"
+        "                       channel table of this one (refused by default)\n"
         "  --param KEY=VALUE    port parameter, repeatable (loopback fault injection:\n"
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
         "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
@@ -232,6 +235,9 @@ static int parse_args(int argc, char **argv, options_t *o)
             exit(0);
         } else if (!strcmp(a, "--realtime")) {
             o->realtime = 1;
+            continue;
+        } else if (!strcmp(a, "--allow-other-robot")) {
+            o->allow_other_robot = 1;
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
@@ -445,6 +451,23 @@ static void print_ns(const char *label, const roz_monitor_t *mon, roz_monitor_ki
            roz_monitor_stat_percentile(&s, 99.0) / 1000.0, s.max_ns / 1000.0);
 }
 
+/* The summary's line on the robot the controller was built for. */
+static void print_identity(const roz_verify_report_t *rep)
+{
+    const roz_identity_t *id = &rep->identity;
+    static const char *const verdict[] = {
+        [ROZ_IDENTITY_SAME] = "this robot",
+        [ROZ_IDENTITY_OTHER_ROBOT] = "another robot, allowed by --allow-other-robot",
+        [ROZ_IDENTITY_TABLE_CHANGED] = "an older channel table, allowed by --allow-other-robot",
+    };
+    if (rep->identity_match == ROZ_IDENTITY_NONE || !id->present) {
+        printf("  built for              unknown: the controller carries no robot identity\n");
+        return;
+    }
+    printf("  built for              %s (hash %016llx): %s\n", id->robot_id,
+           (unsigned long long)id->hash, verdict[rep->identity_match]);
+}
+
 /* A joint the controller keeps pushing against a position limit for a
  * second or more in a row, or for half the run (of @ticks): say which,
  * where it is and what the filter holds it to, since the run itself looks
@@ -540,6 +563,7 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
            m->robot_class, (unsigned)m->control_rate_hz, (unsigned)m->n_commands,
            (unsigned)m->n_states);
     printf("  controller             %s\n", o->controller);
+    print_identity(rep);
     printf("  port                   %s%s\n", o->port,
            o->realtime ? " (realtime)" : pe->robot ? " (the robot's time)" : " (simulated time)");
     printf("  verify                 %u ticks, max %.1f us, mean %.1f us per tick\n",
@@ -655,6 +679,7 @@ int main(int argc, char **argv)
     if (o.fuel_set)
         cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
     cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
+    cfg.allow_foreign_controller = o.allow_other_robot;
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
         roz_port_close(&port);
@@ -663,6 +688,9 @@ int main(int argc, char **argv)
     if (roz_runtime_load(&rt, wasm, len, &rep) != ROZ_OK) {
         fprintf(stderr, "rozrun: controller %s refused: %s\n", o.controller,
                 roz_runtime_error(&rt));
+        if (!o.allow_other_robot && (rep.identity_match == ROZ_IDENTITY_OTHER_ROBOT ||
+                                     rep.identity_match == ROZ_IDENTITY_TABLE_CHANGED))
+            fprintf(stderr, "rozrun: --allow-other-robot runs it anyway\n");
         roz_port_close(&port);
         return 2;
     }

@@ -327,6 +327,27 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
     return ROZ_OK;
 }
 
+/* The robot the module was built for, against ours: a controller for
+ * another robot or channel table is refused unless the configuration allows
+ * it. The scan refused a malformed identity already. */
+static int check_identity(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
+                          roz_identity_t *id, roz_identity_match_t *match)
+{
+    char why[ROZ_CFG_ERROR_LEN];
+
+    if (roz_identity_read(wasm, len, id, why, sizeof why) != ROZ_OK) {
+        snprintf(rt->error, sizeof rt->error, "load: %s", why);
+        return ROZ_EINVAL;
+    }
+    *match = roz_identity_check(id, rt->cfg.manifest, why, sizeof why);
+    if ((*match == ROZ_IDENTITY_OTHER_ROBOT || *match == ROZ_IDENTITY_TABLE_CHANGED) &&
+        !rt->cfg.allow_foreign_controller) {
+        snprintf(rt->error, sizeof rt->error, "load: %s", why);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
 /* ---- private: the tick's steps -------------------------------------------- */
 
 /* The first frame is usable when every position paired with a position
@@ -702,6 +723,8 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     double *vstate = rt->verify_state;
     roz_verify_report_t local;
     roz_runtime_slot_t *s;
+    roz_identity_t identity;
+    roz_identity_match_t match = ROZ_IDENTITY_NONE;
     int spare, rc;
 
     if (atomic_load(&rt->pending) != -1) {
@@ -725,14 +748,25 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
+    /* 2. built for this robot? (before it runs at all) */
+    rc = check_identity(rt, wasm, len, &identity, &match);
+    if (rc != ROZ_OK) {
+        report->identity = identity;
+        report->identity_match = match;
+        roz_controller_unload(&s->ctrl);
+        atomic_fetch_add(&rt->swaps_refused, 1u);
+        return rc;
+    }
     verify_state(rt, vstate);
     rc = verify_slot(rt, s, vstate, report);
+    report->identity = identity;
+    report->identity_match = match;
     roz_controller_unload(&s->ctrl);
     if (rc != ROZ_OK) {
         atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
-    /* 2. a fresh instance to drive the robot from tick 0 */
+    /* 3. a fresh instance to drive the robot from tick 0 */
     rc = load_slot(rt, s, wasm, len, 0);
     if (rc != ROZ_OK) {
         snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));

@@ -8,6 +8,7 @@
 #include "roz/abi.h"
 #include "roz/config.h"
 #include "roz/error.h"
+#include "roz/identity.h"
 
 /* ---- private: a cursor over the module bytes ----------------------------- */
 
@@ -1185,7 +1186,8 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, cha
         case 7: exports = body; exports_end = body + size; break;
         case 8: has_start = 1; break;
         case 9: elems = body; elems_end = body + size; break;
-        case 0: { /* custom: a well-formed name; the content never reaches wasm3 */
+        case 0: { /* custom: a well-formed name; the content never reaches wasm3
+                   (roz.manifest's is read below) */
             cursor_t cc = { body, body + size, 0 };
             char shown[48];
             const char *why;
@@ -1201,6 +1203,12 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, cha
         default: break;
         }
     }
+    /* The custom section "roz.manifest" (roz/identity.h): malformed or twice,
+     * refused whatever the robot; comparing it with the robot is the
+     * runtime's (roz_runtime_load). */
+    roz_identity_t identity;
+    if (roz_identity_read(wasm, len, &identity, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
     if (m.types != NULL) {
         cursor_t t = { m.types, m.types_end, 0 };
         m.n_types = rd_u32(&t);

@@ -12,7 +12,8 @@
  * exact signatures (names compared byte for byte), exports process(i64)
  * once, under export names that are unique, valid UTF-8 and free of NUL
  * bytes, has no start function, and has at most one table of at most
- * ROZ_CFG_WASM_MAX_TABLE_ENTRIES entries that every element segment fits.
+ * ROZ_CFG_WASM_MAX_TABLE_ENTRIES entries that every element segment fits,
+ * and at most one well-formed "roz.manifest" section (roz/identity.h).
  * On ROZ_OK, *process_index is the function index of the export "process"
  * (a function defined in the module, never an import): the one to call.
  * Returns ROZ_OK, or ROZ_EINVAL with a message in err. */

@@ -48,6 +48,7 @@
 #include "roz/buffer.h"
 #include "roz/controller.h"
 #include "roz/filter.h"
+#include "roz/identity.h"
 #include "roz/port.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
@@ -111,6 +112,11 @@ typedef struct roz_runtime_config {
     roz_log_fn   log;           /**< warnings and faults, called by roz_runtime_log_drain()
                                      (never from the tick); NULL = silent */
     void        *log_ctx;
+    int          allow_foreign_controller; /**< 0 (default): roz_runtime_load() refuses a
+                                     controller whose identity (roz/identity.h) names another
+                                     robot or another channel table; 1: loads it (it runs
+                                     behind the same filter, but its indices may mean other
+                                     channels). Controllers without an identity load either way */
 } roz_runtime_config_t;
 
 /** Figures of a verification run. */
@@ -125,6 +131,10 @@ typedef struct roz_verify_report {
     uint64_t max_fuel;         /**< the most any verify tick used */
     uint64_t fuel_budget;      /**< the per-tick fuel budget it ran under */
     uint64_t max_stack;        /**< deepest C stack of any verify tick, bytes */
+    roz_identity_t identity;   /**< the robot the controller says it was built for */
+    roz_identity_match_t identity_match; /**< that against this robot: OTHER_ROBOT or
+                                    TABLE_CHANGED when the load was refused for it, or
+                                    allowed by allow_foreign_controller */
 } roz_verify_report_t;
 
 /** Counters of the runtime (the filter and ABI keep their own). */
@@ -318,15 +328,19 @@ ROZ_NODISCARD static inline int roz_runtime_init(roz_runtime_t *rt,
 }
 
 /**
- * @brief Load, verify (ROZ_RUNTIME_VERIFY_TICKS ticks on a separate instance
- *        against the latest state, outputs discarded) and install a
+ * @brief Load, check the robot the controller was built for (its identity,
+ *        roz/identity.h), verify (ROZ_RUNTIME_VERIFY_TICKS ticks on a separate
+ *        instance against the latest state, outputs discarded) and install a
  *        controller; it starts at tick 0 at the next tick boundary. When
  *        a controller is already running, it keeps running until then, and
  *        keeps running if the new one fails.
  * @param[in]  wasm    module bytes; must outlive the controller
  * @param[out] report  optional verification figures
  * @retval ROZ_OK      verified and scheduled
- * @retval ROZ_EINVAL  refused at load; roz_runtime_error() names the problem
+ * @retval ROZ_EINVAL  refused at load; roz_runtime_error() names the problem,
+ *                     among them a controller built for another robot or
+ *                     channel table (its "roz.manifest" identity; see
+ *                     allow_foreign_controller), naming both robots
  * @retval ROZ_EVERIFY failed verification (trap, overrun, non-finite
  *                     values, e-stop request); roz_runtime_error() says which
  * @retval ROZ_ESTATE  a swap is already pending, or another load or a
