@@ -11,6 +11,19 @@
  * Channel indices come from the manifest's generated header
  * (<robot_id>_channels.h, freestanding), e.g. ROZ_UR5_CMD_ELBOW_JOINT_VELOCITY.
  *
+ * The robot a controller is built for: compiled for wasm32, that header
+ * also puts the robot's identity (robot_id and the hash of its channel
+ * table, ROZ_<ID>_ROBOT_ID and ROZ_<ID>_INTERFACE_HASH) into the module's
+ * custom section "roz.manifest". roz then refuses to load the controller on
+ * another robot, or on this one once its channel table has changed, unless
+ * told otherwise (rozrun --allow-other-robot; the runtime configuration's
+ * allow_foreign_controller). Nothing to call: including the header is
+ * enough. A controller that includes no channel header (one that works from
+ * command.count and the limits alone, like examples/controllers/sine.c)
+ * carries no identity and loads on any robot; so does one that defines
+ * ROZ_NO_ROBOT_IDENTITY before including a channel header. To see it:
+ *   wasm-objdump -x -j roz.manifest ctl.wasm
+ *
  * Built natively (not for wasm32), the same source calls plain C functions
  * of these names, which a host program provides; the benchmark uses this to
  * run one controller both ways.
