@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_AGIBOT_X2_CMD_* and
- * ROZ_AGIBOT_X2_STATE_* in agibot_x2_channels.h.
+ * ROZ_AGIBOT_X2_STATE_* in agibot_x2_channels.h, with the identity of this table:
+ * ROZ_AGIBOT_X2_ROBOT_ID and ROZ_AGIBOT_X2_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_agibot_x2;
 

@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_DIFF_DRIVE_CMD_* and
- * ROZ_DIFF_DRIVE_STATE_* in diff_drive_channels.h.
+ * ROZ_DIFF_DRIVE_STATE_* in diff_drive_channels.h, with the identity of this table:
+ * ROZ_DIFF_DRIVE_ROBOT_ID and ROZ_DIFF_DRIVE_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_diff_drive;
 

@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_ENGINEAI_PM01_CMD_* and
- * ROZ_ENGINEAI_PM01_STATE_* in engineai_pm01_channels.h.
+ * ROZ_ENGINEAI_PM01_STATE_* in engineai_pm01_channels.h, with the identity of this table:
+ * ROZ_ENGINEAI_PM01_ROBOT_ID and ROZ_ENGINEAI_PM01_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_engineai_pm01;
 

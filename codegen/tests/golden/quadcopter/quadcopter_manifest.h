@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_QUADCOPTER_CMD_* and
- * ROZ_QUADCOPTER_STATE_* in quadcopter_channels.h.
+ * ROZ_QUADCOPTER_STATE_* in quadcopter_channels.h, with the identity of this table:
+ * ROZ_QUADCOPTER_ROBOT_ID and ROZ_QUADCOPTER_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_quadcopter;
 

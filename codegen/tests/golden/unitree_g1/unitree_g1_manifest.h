@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_UNITREE_G1_CMD_* and
- * ROZ_UNITREE_G1_STATE_* in unitree_g1_channels.h.
+ * ROZ_UNITREE_G1_STATE_* in unitree_g1_channels.h, with the identity of this table:
+ * ROZ_UNITREE_G1_ROBOT_ID and ROZ_UNITREE_G1_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_unitree_g1;
 

@@ -21,7 +21,9 @@ extern "C" {
  *
  * Constant data, valid by construction (rozgen checked every rule of
  * roz_manifest_validate()). Channel indices: ROZ_UR5_CMD_* and
- * ROZ_UR5_STATE_* in ur5_channels.h.
+ * ROZ_UR5_STATE_* in ur5_channels.h, with the identity of this table:
+ * ROZ_UR5_ROBOT_ID and ROZ_UR5_INTERFACE_HASH, which
+ * roz_manifest_interface_hash() of this manifest returns (roz/identity.h).
  */
 extern const roz_manifest_t roz_manifest_ur5;
 
