@@ -386,12 +386,17 @@ static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
 static int tick_handovers(roz_runtime_t *rt)
 {
     unsigned clear = atomic_exchange(&rt->clear_request, 0u);
-    int pending = atomic_exchange(&rt->pending, -1);
+    int pending = atomic_load(&rt->pending);
     if (pending != -1) {
         int old = atomic_load(&rt->active);
         if (old >= 0)
             abi_add(&rt->abi_retired, &rt->slot[old].abi.counters);
+        /* active first, pending released after it: a loader that sees no
+         * swap pending then sees the new active slot, and never takes the
+         * slot being installed for its spare (only a loader sets pending,
+         * and only while it is -1: nothing is lost between the two) */
         atomic_store(&rt->active, pending);
+        atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
         rt->counters.swaps++;
     }
@@ -732,7 +737,8 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         return ROZ_ESTATE;
     }
     /* the tick changes active only by taking pending, which only the holder
-     * of loader_busy sets: the spare slot is the tick's to ignore */
+     * of loader_busy sets, and stores active before it clears pending: with
+     * none pending, the spare slot is the tick's to ignore */
     spare = atomic_load(&rt->active) == 0 ? 1 : 0;
     s = &rt->slot[spare];
     if (report == NULL)
@@ -849,8 +855,10 @@ int roz_runtime_clear_faults(roz_runtime_t *rt)
         return ROZ_OK; /* saw nothing: changes nothing */
     if (atomic_exchange(&rt->loader_busy, 1u))
         return ROZ_ESTATE;
+    /* pending before active: with no swap pending, active is the tick's */
+    int no_swap = atomic_load(&rt->pending) == -1;
     int active = atomic_load(&rt->active);
-    if (atomic_load(&rt->pending) == -1 && active >= 0 && atomic_load(&rt->slot[active].dead)) {
+    if (no_swap && active >= 0 && atomic_load(&rt->slot[active].dead)) {
         /* A trapped or budget-stopped instance is not reused: its memory may
          * be half-updated. Rebuild and re-verify it into the spare slot; the
          * tick swaps it in, complete, before it applies this clear. (With a
