@@ -6,7 +6,8 @@
 # - wasm-objdump -x lists the custom section "roz.manifest" of the pan-tilt
 #   controller, holding the record rozgen's identity gives;
 # - on a UR5 it is refused (exit 2), the message naming both robots and
-#   hashes; with --allow-other-robot it runs (exit 0) and the summary says so;
+#   hashes, and so is a swap to it during a run; with --allow-other-robot it
+#   runs (exit 0) and the summary says so;
 # - on its own robot.toml (read by the C loader) it runs, "this robot"; on the
 #   same robot after an edit of its channel table it is refused as changed;
 # - a controller without identity runs, with a note in the summary.
@@ -79,6 +80,11 @@ expect("${out}" "faults                 none")
 
 rozrun(0 --robot ur5 --controller ${CTL}/pd_hold.wasm)
 expect("${out}" "built for              ur5 (hash ${ur5_hash}): this robot")
+
+# a swap to it during a run is refused the same way; the UR5's controller stays
+rozrun(0 --robot ur5 --controller ${CTL}/pd_hold.wasm --swap-at 20:${PAN_TILT_CTL})
+expect("${err}" "refused, the running controller stays: load: controller built for robot 'pan_tilt' (hash ${pt_hash}), this robot is 'ur5' (hash ${ur5_hash})")
+expect("${out}" "swaps 0, 1 refused")
 
 rozrun(0 --robot ur5 --controller ${CTL}/sine.wasm)
 expect("${out}" "built for              unknown: the controller carries no robot identity")
