@@ -12,7 +12,8 @@
 # The manifests are checked at configure time, so a bad robot.toml stops
 # cmake with rozgen's message.
 #
-# rozgen is the cache variable ROZGEN_EXECUTABLE. find_package(roz) sets it to
+# rozgen is the cache variable ROZGEN_EXECUTABLE (ROZGEN_DEPENDS: more files
+# its output depends on, e.g. its sources in a source tree). find_package(roz) sets it to
 # the rozgen installed with roz (<prefix>/bin/rozgen); otherwise it is looked
 # up on PATH. Set it yourself to use another one.
 
@@ -63,7 +64,7 @@ function(roz__rozgen_command outputs_var sources_var output_dir source_root regi
     OUTPUT ${outputs}
     COMMAND ${ROZGEN_EXECUTABLE} -o ${output_dir} --source-root ${source_root}
             ${registry_flag} ${inputs}
-    DEPENDS ${inputs} ${ROZGEN_EXECUTABLE}
+    DEPENDS ${inputs} ${ROZGEN_EXECUTABLE} ${ROZGEN_DEPENDS}
     COMMENT "rozgen: generating ${shown}"
     VERBATIM)
   set(${outputs_var} ${outputs} PARENT_SCOPE)
