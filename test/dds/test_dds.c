@@ -11,6 +11,10 @@
  *    whatever was there), the monitor sees the writer's jitter and passes
  *    and the state handler; a stopped writer publishes no more;
  *  - the event-driven writer publishes when woken, and only then;
+ *  - a kept reader (a type with a string and a sequence, sized at open)
+ *    takes into the same buffers sample after sample, and lets Cyclone grow
+ *    them for a longer one; a writer without a thread of its own publishes
+ *    from another writer's pass;
  *  - two processes find each other with roz's configuration for lo (no
  *    multicast: through the peer) and echo frames both ways.
  * Timeouts here guard against a hang; no test asserts a time. */
@@ -335,6 +339,139 @@ static void test_dds_event_writer(void **st)
     close_pair();
 }
 
+/* ---- sequences and strings: kept storage ----------------------------------- */
+
+typedef struct {
+    ROZ_ATOMIC(uint32_t) n;       /* values in the next sample */
+    ROZ_ATOMIC(uint32_t) seen;
+    ROZ_ATOMIC(uint32_t) bad;
+    ROZ_ATOMIC(uint32_t) moved;   /* samples taken into another buffer than the last */
+    ROZ_ATOMIC(uint32_t) lengths; /* sum of the lengths received */
+    const void          *last_buf, *last_name;
+    double               tx_values[16];
+    char                 tx_name[16];
+} joints_t;
+
+static roz_dds_test_Joints joints_rx, joints_tx, joints_tx2;
+static roz_dds_writer_t wr2;
+static joints_t jt;
+
+static int fill_joints_on(roz_dds_test_Joints *j, uint32_t seq)
+{
+    uint32_t n = atomic_load(&jt.n);
+    for (uint32_t i = 0; i < n; i++)
+        jt.tx_values[i] = seq * 10.0 + i;
+    snprintf(jt.tx_name, sizeof jt.tx_name, "joint_%03u", (unsigned)(seq % 1000u));
+    j->seq = seq;
+    j->name = jt.tx_name;
+    j->values._buffer = jt.tx_values;
+    j->values._length = n;
+    j->values._maximum = n;
+    j->values._release = false;
+    return 1;
+}
+
+static int fill_second(void *ctx, void *sample, uint64_t now_ns)
+{
+    (void)now_ns;
+    return fill_joints_on(sample, (uint32_t)(uintptr_t)ctx);
+}
+
+/* The thread's pass: the second writer first (from this thread), then its
+ * own sample. */
+static int fill_first(void *ctx, void *sample, uint64_t now_ns)
+{
+    uint32_t seq = (uint32_t)atomic_load(&wr.passes);
+    (void)ctx;
+    (void)now_ns;
+    if (roz_dds_writer_publish(&wr2, fill_second, (void *)(uintptr_t)(seq + 100000u)) != 1)
+        atomic_fetch_add(&jt.bad, 1u);
+    return fill_joints_on(sample, seq);
+}
+
+static void on_joints(void *ctx, void *sample, uint64_t now_ns)
+{
+    const roz_dds_test_Joints *j = sample;
+    char want[16];
+    int ok = 1;
+    (void)ctx;
+    (void)now_ns;
+    for (uint32_t i = 0; i < j->values._length; i++)
+        ok &= j->values._buffer[i] == j->seq * 10.0 + i;
+    snprintf(want, sizeof want, "joint_%03u", (unsigned)(j->seq % 1000u));
+    ok &= j->name != NULL && strcmp(j->name, want) == 0;
+    if (!ok)
+        atomic_fetch_add(&jt.bad, 1u);
+    if ((const void *)j->values._buffer != jt.last_buf || (const void *)j->name != jt.last_name)
+        atomic_fetch_add(&jt.moved, 1u);
+    jt.last_buf = j->values._buffer;
+    jt.last_name = j->name;
+    atomic_fetch_add(&jt.lengths, j->values._length);
+    atomic_fetch_add(&jt.seen, 1u);
+}
+
+static void test_dds_kept_storage(void **st)
+{
+    char err[256] = "";
+    (void)st;
+
+    memset(&jt, 0, sizeof jt);
+    memset(&joints_rx, 0, sizeof joints_rx);
+    assert_int_equal(roz_dds_seq_reserve(&joints_rx.values, 8, sizeof(double)), ROZ_OK);
+    assert_int_equal(roz_dds_seq_reserve(&joints_rx.values, 8, sizeof(double)), ROZ_EINVAL);
+    assert_int_equal(roz_dds_string_reserve(&joints_rx.name, 15), ROZ_OK);
+    assert_int_equal(roz_dds_string_reserve(&joints_rx.name, 15), ROZ_EINVAL);
+    assert_int_equal(joints_rx.values._maximum, 8);
+    assert_int_equal(strlen(joints_rx.name), 15);
+    jt.last_buf = joints_rx.values._buffer;
+    jt.last_name = joints_rx.name;
+
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, err,
+                                 sizeof err) != ROZ_OK ||
+        roz_dds_reader_open_kept(&rd, &part, "roz_test/joints", &roz_dds_test_Joints_desc,
+                                 &roz_dds_qos_ros2_default, &joints_rx, sizeof joints_rx,
+                                 on_joints, NULL, NULL, err, sizeof err) != ROZ_OK ||
+        roz_dds_writer_open(&wr, &part, "roz_test/joints", &roz_dds_test_Joints_desc,
+                            &roz_dds_qos_ros2_default, &joints_tx, sizeof joints_tx, err,
+                            sizeof err) != ROZ_OK ||
+        roz_dds_writer_open(&wr2, &part, "roz_test/joints", &roz_dds_test_Joints_desc,
+                            &roz_dds_qos_ros2_default, &joints_tx2, sizeof joints_tx2, err,
+                            sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    WAIT_FOR(roz_dds_writer_matched(&wr) >= 1 && roz_dds_writer_matched(&wr2) >= 1 &&
+                 roz_dds_reader_matched(&rd) >= 2,
+             5000);
+    /* up to the room given at open: the same buffers every time */
+    atomic_store(&jt.n, 8u);
+    assert_int_equal(roz_dds_writer_start(&wr, 0, fill_first, NULL, NULL), ROZ_OK);
+    for (int k = 1; k <= 50; k++) {
+        atomic_store(&jt.n, (uint32_t)(k % 2 ? 8 : 5));
+        uint32_t before = atomic_load(&jt.seen);
+        roz_dds_writer_wake(&wr);
+        WAIT_FOR(atomic_load(&jt.seen) >= before + 2, 5000); /* both writers' samples */
+    }
+    assert_int_equal(atomic_load(&jt.bad), 0);
+    assert_int_equal(atomic_load(&jt.moved), 0);
+    assert_int_equal(atomic_load(&wr2.published), atomic_load(&wr.published));
+    /* a longer sample: Cyclone grows the sequence, the content is right */
+    atomic_store(&jt.n, 16u);
+    uint32_t before = atomic_load(&jt.seen);
+    roz_dds_writer_wake(&wr);
+    WAIT_FOR(atomic_load(&jt.seen) >= before + 2, 5000);
+    roz_dds_writer_stop(&wr);
+    assert_int_equal(atomic_load(&jt.bad), 0);
+    assert_true(joints_rx.values._maximum >= 16);
+    assert_int_equal(joints_rx.values._length, 16);
+    roz_dds_reader_close(&rd);
+    roz_dds_writer_close(&wr2);
+    roz_dds_writer_close(&wr);
+    roz_dds_participant_close(&part);
+    roz_dds_sample_free(&joints_rx, sizeof joints_rx, &roz_dds_test_Joints_desc);
+    assert_null(joints_rx.values._buffer);
+    assert_null(joints_rx.name);
+    roz_dds_sample_free(&joints_rx, sizeof joints_rx, &roz_dds_test_Joints_desc);
+}
+
 /* ---- two processes -------------------------------------------------------- */
 
 /* The echo peer: a frame on roz_test/ping comes back on roz_test/pong, made
@@ -463,6 +600,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_dds_participant),
         cmocka_unit_test(test_dds_periodic_writer),
         cmocka_unit_test(test_dds_event_writer),
+        cmocka_unit_test(test_dds_kept_storage),
         cmocka_unit_test(test_dds_two_processes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -18,8 +18,10 @@ static void take_all(roz_dds_reader_t *r, dds_entity_t reader)
 
         /* zeroed before every take: Cyclone writes the members, never the
          * padding between them, and a CRC over the native struct covers
-         * the padding as zeros */
-        memset(r->sample, 0, r->sample_size);
+         * the padding as zeros; kept storage holds the buffers its
+         * sequences and strings were given at open */
+        if (!r->keep)
+            memset(r->sample, 0, r->sample_size);
         dds_return_t n = dds_take(reader, samples, info, 1, 1);
         if (n < 0) {
             atomic_fetch_add_explicit(&r->take_errors, 1u, memory_order_relaxed);
@@ -62,10 +64,10 @@ static void on_data_available(dds_entity_t reader, void *arg)
     atomic_fetch_add_explicit(&r->calls, 1u, memory_order_release);
 }
 
-int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, const char *topic,
-                        const void *descriptor, const roz_dds_qos_t *qos, void *storage,
-                        size_t size, roz_dds_sample_fn fn, void *ctx, roz_monitor_t *monitor,
-                        char *err, size_t errlen)
+static int reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, const char *topic,
+                       const void *descriptor, const roz_dds_qos_t *qos, void *storage,
+                       size_t size, int keep, roz_dds_sample_fn fn, void *ctx,
+                       roz_monitor_t *monitor, char *err, size_t errlen)
 {
     memset(r, 0, sizeof *r);
     atomic_init(&r->armed, 0u);
@@ -82,6 +84,7 @@ int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, con
     }
     r->sample = storage;
     r->sample_size = size;
+    r->keep = keep;
     r->fn = fn;
     r->ctx = ctx;
     r->monitor = monitor;
@@ -113,6 +116,24 @@ int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, con
     }
     r->reader = rd;
     return ROZ_OK;
+}
+
+int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, const char *topic,
+                        const void *descriptor, const roz_dds_qos_t *qos, void *storage,
+                        size_t size, roz_dds_sample_fn fn, void *ctx, roz_monitor_t *monitor,
+                        char *err, size_t errlen)
+{
+    return reader_open(r, p, topic, descriptor, qos, storage, size, 0, fn, ctx, monitor, err,
+                       errlen);
+}
+
+int roz_dds_reader_open_kept(roz_dds_reader_t *r, const roz_dds_participant_t *p,
+                             const char *topic, const void *descriptor, const roz_dds_qos_t *qos,
+                             void *storage, size_t size, roz_dds_sample_fn fn, void *ctx,
+                             roz_monitor_t *monitor, char *err, size_t errlen)
+{
+    return reader_open(r, p, topic, descriptor, qos, storage, size, 1, fn, ctx, monitor, err,
+                       errlen);
 }
 
 uint32_t roz_dds_reader_matched(const roz_dds_reader_t *r)

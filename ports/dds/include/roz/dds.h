@@ -21,8 +21,11 @@
  * Receive path. A reader calls the port's function for each valid sample,
  * on Cyclone's receive thread, with the sample taken (dds_take) into storage
  * the port preallocated at open and zeroed before every take: no heap in
- * roz's code. (Cyclone's own threads may allocate; a type with sequences
- * must have their buffers preallocated, or Cyclone allocates them.)
+ * roz's code. A type with sequences or strings (a ROS 2 message) keeps its
+ * storage between takes instead (roz_dds_reader_open_kept()): the port sizes
+ * its sequences and strings once at open (roz_dds_seq_reserve(),
+ * roz_dds_string_reserve()) and Cyclone's deserializer fills them in place;
+ * it allocates only for a sample longer than they are (on its own thread).
  *
  * Command writer. A thread of its own publishes the port's latest command:
  * periodically (every `command_writer_period_us`, absolute deadlines, jitter
@@ -180,6 +183,7 @@ typedef struct roz_dds_reader {
     roz_dds_sample_fn    fn;
     void                *ctx;
     roz_monitor_t       *monitor;     /* ROZ_MON_STATE_HANDLER; NULL: not monitored */
+    int                  keep;        /* 1: storage kept between takes (not zeroed) */
     /* The hand-overs to, between and from Cyclone's threads are roz's own,
      * not only Cyclone's internal locks (which ThreadSanitizer cannot see
      * in an uninstrumented libddsc): armed is set (release) once the fields
@@ -213,12 +217,65 @@ int roz_dds_reader_open(roz_dds_reader_t *r, const roz_dds_participant_t *p, con
                         size_t size, roz_dds_sample_fn fn, void *ctx, roz_monitor_t *monitor,
                         char *err, size_t errlen);
 
+/**
+ * @brief As roz_dds_reader_open(), for a type with sequences or strings: the
+ *        storage is not zeroed before a take, so the buffers its members
+ *        were given at open (roz_dds_seq_reserve(), roz_dds_string_reserve())
+ *        are reused by every take. Cyclone 0.10 fills a sequence in place
+ *        while the sample's elements fit its room, and grows it with its own
+ *        allocator (its thread, not roz's code) for a longer sample; a string
+ *        in place while the received one is no longer than the last, so a
+ *        topic whose strings keep their length (joint names) reaches a steady
+ *        state with no allocation. The members' padding is not zeroed: no
+ *        CRC may cover such a type. Free the members with
+ *        roz_dds_sample_free() after roz_dds_reader_close().
+ * Context: start-up; @p fn may be called from the moment this returns.
+ */
+int roz_dds_reader_open_kept(roz_dds_reader_t *r, const roz_dds_participant_t *p,
+                             const char *topic, const void *descriptor, const roz_dds_qos_t *qos,
+                             void *storage, size_t size, roz_dds_sample_fn fn, void *ctx,
+                             roz_monitor_t *monitor, char *err, size_t errlen);
+
 /** @brief Writers matched with this reader now. Context: any thread. */
 uint32_t roz_dds_reader_matched(const roz_dds_reader_t *r);
 
 /** @brief Delete the reader: when it returns, @p fn runs no more.
  *  Idempotent. Context: shutdown. */
 void roz_dds_reader_close(roz_dds_reader_t *r);
+
+/* ---- samples with sequences and strings (ROS 2 messages) ------------------------ */
+
+/**
+ * @brief Give a sequence member of a sample (any idlc `dds_sequence_*`:
+ *        _maximum, _length, _buffer, _release) room for @p n elements of
+ *        @p elem_size bytes, zeroed, length 0. The buffer comes from
+ *        Cyclone's allocator and the sequence owns it (_release), so
+ *        Cyclone may grow it for a longer sample and roz_dds_sample_free()
+ *        frees it.
+ * @retval ROZ_OK, ROZ_EINVAL (n or elem_size 0, the member not empty),
+ *         ROZ_ENOSPC (no memory)
+ * Context: start-up (a port's open); allocates.
+ */
+int roz_dds_seq_reserve(void *seq, uint32_t n, size_t elem_size);
+
+/**
+ * @brief Give a string member (`char *`) room for @p len characters: a
+ *        buffer from Cyclone's allocator holding @p len non-NUL characters,
+ *        so that Cyclone's deserializer copies any string up to @p len
+ *        characters into it in place (it reallocates only a buffer whose
+ *        current string is shorter than the one received).
+ * @retval ROZ_OK, ROZ_EINVAL (len 0, the member not NULL), ROZ_ENOSPC
+ * Context: start-up (a port's open); allocates.
+ */
+int roz_dds_string_reserve(char **s, size_t len);
+
+/**
+ * @brief Free what the members of @p sample own (sequence buffers that
+ *        _release, strings), not the sample itself, and zero it. Idempotent.
+ * @param[in] descriptor the type's `const dds_topic_descriptor_t *`
+ * Context: shutdown, after the reader that took into it closed.
+ */
+void roz_dds_sample_free(void *sample, size_t size, const void *descriptor);
 
 /* ---- writer -------------------------------------------------------------------- */
 
@@ -283,9 +340,14 @@ void roz_dds_writer_wake(roz_dds_writer_t *w);
 /**
  * @brief Publish one sample now from the calling thread, through @p fill:
  *        for a last command before the thread stops (which must not run at
- *        the same time: call after roz_dds_writer_stop()).
+ *        the same time: call after roz_dds_writer_stop()), or for a writer
+ *        that never has a thread of its own, published from another
+ *        writer's pass (a port with several command topics runs one writer
+ *        thread: its fill publishes the other topics' writers this way, so
+ *        every topic's sample of a pass carries the same command frame).
  * @retval 1 published, 0 fill declined, ROZ_EIO write failed, ROZ_ESTATE running
- * Context: shutdown.
+ * Context: shutdown; or the one thread that publishes a writer without a
+ *          thread of its own. Must not block or allocate in @p fill.
  */
 int roz_dds_writer_publish(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx);
 
