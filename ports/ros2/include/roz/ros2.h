@@ -1,0 +1,405 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/ros2.h
+ * @brief roz::ros2, what the ports that speak a robot's ROS 2 topics share
+ *        (`engineai/PM01`, `agibot/X2`): ROS 2's conventions on plain
+ *        Cyclone DDS, and the bridge between a robot's joint-group topics
+ *        and roz's port contract. No ROS 2 installation is involved.
+ *
+ * ROS 2 on DDS (rmw_cyclonedds): a topic `/a/b` is the DDS topic `rt/a/b`;
+ * a message `pkg/M` is the type `pkg::msg::dds_::M_`, every struct @final
+ * and written as XCDR1 (roz/dds.h's QoS asks for XCDR1); standard messages
+ * in `ros2_msgs.idl` (builtin_interfaces/Time, std_msgs/Header,
+ * geometry_msgs/Quaternion and Vector3, sensor_msgs/Imu), a robot's own in
+ * its port's IDL. rmw_cyclonedds sends no XTypes type information, so a ROS
+ * 2 node matches roz's topics by topic and type name alone.
+ *
+ * The bridge. A robot (roz_ros2_robot_t, the port's constant description)
+ * has joint groups, each a state topic in and a command topic out, and an
+ * IMU topic in; the PM01 has one group (24 joints), the X2 four (leg, waist,
+ * arm, head). The manifest's `[hardware] joints` are bound to the groups'
+ * slots at open: by name among the robot's joint names when the names go on
+ * the wire (X2), else joint i is slot i (PM01). Each joint's states
+ * `{joint}/position`, `/velocity`, `/effort` and commands `/position`,
+ * `/velocity`, `/effort`, `/stiffness`, `/damping`; the IMU's
+ * `base_imu/orientation.{x,y,z,w}`, `angular_velocity.{x,y,z}`,
+ * `linear_acceleration.{x,y,z}` (geometry_msgs order, as the manifest's).
+ *
+ * State. Each state topic (the groups that have a bound joint, and the IMU
+ * when the manifest has an IMU channel) is checked on Cyclone's receive
+ * thread before anything of it is used: its shape (the port's decode: the
+ * arrays' lengths, the joints' names where the wire has them; a malformed
+ * sample is dropped, counted and logged once), then its header through
+ * roz/hal/link.h. ROS 2 messages carry no CRC; the link checks take the
+ * header's `sequence` where the message has one (the X2's), or its stamp
+ * (`link_check = stamp`; std_msgs/Header has no sequence): the stamp in
+ * microseconds modulo 2^32 must increase strictly; one a second or less
+ * behind the last is a replay, further behind a restart. A frame is fresh
+ * when every state topic delivered a new sample since the last fresh frame:
+ * read() returns 1 then, 0 meanwhile (with the last fresh frame), so one
+ * silent topic makes the state stale on its own, and the runtime's STALE
+ * fault stops the robot. A fault the robot reports in a topic (the port's
+ * decode: the X2's DomainErrorState, a joint's error code) makes every fresh
+ * frame read ROZ_EROBOT while it lasts; fault() names the group or joint.
+ * A topic whose peer restarts or comes back after `peer_timeout_ms` makes
+ * read() return ROZ_ELINK, and the start-up layers begin again. Velocities,
+ * efforts and the IMU are converted every `state_decimation`-th sample of a
+ * topic; positions, faults and the checks every sample.
+ *
+ * Commands. write() hands the frame to the command writer through a
+ * latest-value buffer (never blocks); one writer thread publishes every
+ * group's command topic in each pass (periodic at
+ * `command_writer_period_us`, or as soon as the tick writes when 0), each
+ * sample filled by the port's encode: stamped with the system clock (ROS
+ * time), every slot of the group, q, dq, tau, kp, kd from the manifest's
+ * channels; a slot without a bound joint, or a joint without a position
+ * command, gets its measured position, and 0 elsewhere (no torque).
+ *
+ * Safe start-up, three layers: nothing before the first fresh frame; the
+ * first frame of a robot (at open, after a restart) sets the command to
+ * hold every joint's measured position with zero gains (kd =
+ * `startup_damping`, 0 unless set); the first write after it is published
+ * as that hold. A robot that restarted gets nothing until the tick writes
+ * for it. On deactivate, one damping command (kp 0, kd `shutdown_damping`,
+ * by default each joint's damping default, q the last commanded) when
+ * anything was sent.
+ *
+ * Parameters (robot.toml [hardware.params], overridden by the caller's;
+ * errors name the key and the value): `network_interface` (lo),
+ * `dds_domain` (the robot's), `enable_monitor` (true),
+ * `command_writer_period_us` (2000), `state_decimation` (1),
+ * `peer_timeout_ms` (500), `startup_damping` (0), `shutdown_damping`,
+ * `link_check` (`sequence` or `stamp`, where the messages have a sequence),
+ * and the port's own.
+ *
+ * Threads: open, activate, deactivate and close from the application's
+ * thread; read, write and fault from the tick; each state topic's listener
+ * on a Cyclone thread (one call at a time per topic), the writer's passes
+ * on its thread; they meet the tick through roz/buffer.h and atomics only.
+ */
+#ifndef ROZ_ROS2_H
+#define ROZ_ROS2_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/atomic.h"
+#include "roz/buffer.h"
+#include "roz/dds.h"
+#include "roz/hal/link.h"
+#include "roz/log.h"
+#include "roz/manifest.h"
+#include "roz/monitor.h"
+#include "roz/port.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Joint groups of a robot (a state and a command topic each). */
+#define ROZ_ROS2_MAX_GROUPS 4
+/** State topics: the groups and the IMU. */
+#define ROZ_ROS2_MAX_TOPICS (ROZ_ROS2_MAX_GROUPS + 1)
+/** Joints in one group. */
+#define ROZ_ROS2_MAX_SLOTS 32
+/** Joints over all groups. */
+#define ROZ_ROS2_MAX_ROBOT_SLOTS 48
+/** IMU values: orientation x, y, z, w; angular velocity x, y, z; linear
+ *  acceleration x, y, z. */
+#define ROZ_ROS2_IMU_VALUES 10
+/** 8-byte words of storage for one sample's struct (its sequences and
+ *  strings are allocated at open). */
+#define ROZ_ROS2_SAMPLE_WORDS 32
+/** Largest number of merged parameters (robot.toml's and the caller's). */
+#define ROZ_ROS2_MAX_PARAMS 48
+/** Values after a state topic's values in its frame: session, fault kind,
+ *  fault slot, fault code. */
+#define ROZ_ROS2_STATE_META 4
+/** Values after the commands in a command frame: session, hold, sequence,
+ *  then each robot slot's measured position. */
+#define ROZ_ROS2_CMD_META (3 + ROZ_ROS2_MAX_ROBOT_SLOTS)
+
+/* ---- ROS 2 conventions ---------------------------------------------------- */
+
+/** @brief The system clock (ROS time) as a builtin_interfaces/Time.
+ *  Context: any; RT-safe (vDSO). */
+void roz_ros2_stamp_now(int32_t *sec, uint32_t *nanosec);
+
+/**
+ * @brief A header stamp as a link sequence number: microseconds modulo 2^32.
+ * @retval 1 valid; 0 not a time (nanosec above 999999999, or before 1970)
+ * Context: any; pure.
+ */
+int roz_ros2_stamp_seq(int32_t sec, uint32_t nanosec, uint32_t *seq);
+
+/** The link window for stamps: a stamp this many microseconds behind the
+ *  last (one second) is a replay; further, a restart. */
+#define ROZ_ROS2_STAMP_WINDOW_US 1000000u
+
+/* ---- a robot's description (the port's constant) ----------------------------- */
+
+/** One joint group: its topics (DDS names) and its joints in slot order. */
+typedef struct roz_ros2_group {
+    const char        *name;          /**< "leg"; "body" */
+    const char        *state_topic;   /**< "rt/aima/hal/joint/leg/state" */
+    const char        *command_topic; /**< "rt/aima/hal/joint/leg/command" */
+    const char *const *slots;         /**< the robot's joint names in slot order */
+    uint16_t           n_slots;
+} roz_ros2_group_t;
+
+/** A state sample's header, as the port's decode reads it. */
+typedef struct roz_ros2_header {
+    int32_t  sec;
+    uint32_t nanosec;
+    uint32_t sequence;  /**< 0 where the message has none */
+} roz_ros2_header_t;
+
+/** Why the port's decode refused a sample. */
+typedef enum roz_ros2_bad {
+    ROZ_ROS2_GOOD = 0,
+    ROZ_ROS2_BAD_LENGTH, /**< an array's length is not the group's (a: got, b: expected) */
+    ROZ_ROS2_BAD_NAME,   /**< a joint's name is not its slot's (a: slot) */
+    ROZ_ROS2_BAD_STAMP,  /**< the header's stamp is not a time */
+} roz_ros2_bad_t;
+
+/** What the port's decode makes of one group's state sample. */
+typedef struct roz_ros2_rx {
+    double  *q, *dq, *tau; /**< n_slots each (the bridge's storage); dq, tau when full */
+    uint32_t fault_kind;   /**< 0 none; else 1 + an index into the robot's fault_kinds */
+    int32_t  fault_slot;   /**< the joint slot at fault; -1: the group */
+    uint32_t fault_code;   /**< the robot's own code */
+    int32_t  bad_a, bad_b; /**< what was wrong (roz_ros2_bad_t) */
+} roz_ros2_rx_t;
+
+/** One joint's command, as the port's encode puts it on the wire. */
+typedef struct roz_ros2_joint_cmd {
+    double q, dq, tau, kp, kd;
+} roz_ros2_joint_cmd_t;
+
+/** One group's command for the port's encode. */
+typedef struct roz_ros2_cmd {
+    const roz_ros2_joint_cmd_t *joint;    /**< n_slots, slot order */
+    uint16_t                    n_slots;
+    int32_t                     sec;      /**< stamp: when the pass began (system clock) */
+    uint32_t                    nanosec;
+    uint32_t                    sequence; /**< this topic's samples, from 1 */
+} roz_ros2_cmd_t;
+
+/** A robot: its groups, topics, types, QoS and the port's conversions.
+ *  The hooks get @p v, the port's instance (its roz_ros2_bridge_t first). */
+typedef struct roz_ros2_robot {
+    const char             *port;           /**< "engineai/PM01" */
+    const roz_ros2_group_t *groups;
+    uint16_t                n_groups;
+    const char             *imu_topic;      /**< "rt/hardware/imu_info"; NULL: none */
+    uint32_t                default_domain; /**< dds_domain when no parameter says */
+    const roz_dds_qos_t    *state_qos;      /**< the state and IMU readers */
+    const roz_dds_qos_t    *command_qos;    /**< the command writers */
+    int                     joints_by_name; /**< 1: [hardware] joints found among the slots
+                                                 by name; 0: joint i is slot i (one group) */
+    int                     has_sequence;   /**< the state headers carry a sequence */
+    const char *const      *keys;           /**< the port's own parameters, NULL-terminated */
+    const char *const      *fault_kinds;    /**< what rx.fault_kind names, static */
+    /** The port's own parameters. Context: open. */
+    int (*params)(void *v, const roz_params_t *p, char *err, size_t errlen);
+    /** The group state type (a `const dds_topic_descriptor_t *`) and its
+     *  size, which may depend on the port's parameters. Context: open. */
+    const void *(*state_type)(void *v, size_t *size);
+    const void *imu_type;      /**< descriptor; its struct starts with a std_msgs/Header */
+    size_t      imu_size;
+    const void *command_type;  /**< descriptor */
+    size_t      command_size;
+    /** Size a group state sample's sequences and strings for @p n_slots
+     *  joints (roz_dds_seq_reserve(), roz_dds_string_reserve()).
+     *  Context: open; may allocate. */
+    int (*reserve)(void *v, void *sample, uint16_t n_slots);
+    /** The header of a group state sample. Context: a receive thread. */
+    void (*state_header)(void *v, const void *sample, roz_ros2_header_t *h);
+    /** Check and convert a group state sample: positions and faults always,
+     *  velocities and efforts when @p full. ROZ_ROS2_GOOD, or why not (rx's
+     *  bad_a, bad_b say more). Context: a receive thread; RT-safe. */
+    roz_ros2_bad_t (*decode)(void *v, uint16_t group, const void *sample, int full,
+                             roz_ros2_rx_t *rx);
+    /** The IMU's ten values of an IMU sample. Context: a receive thread. */
+    void (*decode_imu)(const void *sample, double *out);
+    /** Fill a zeroed command sample for one group; sequences and strings
+     *  point into the port's own storage (the writer thread's). Context:
+     *  the writer thread (or the caller's after it stopped); RT-safe. */
+    void (*encode)(void *v, uint16_t group, const roz_ros2_cmd_t *c, void *sample);
+} roz_ros2_robot_t;
+
+/* ---- the bridge ---------------------------------------------------------------- */
+
+/** One manifest joint's channels (-1: none) and its place. */
+typedef struct roz_ros2_joint {
+    int16_t  q_state, dq_state, tau_state;
+    int16_t  q_cmd, dq_cmd, tau_cmd, kp_cmd, kd_cmd;
+    uint16_t group, slot;
+} roz_ros2_joint_t;
+
+/** One state topic: its reader and checks (a receive thread), its frames to
+ *  the tick. Private. */
+typedef struct roz_ros2_topic {
+    struct roz_ros2_bridge *bridge;
+    uint16_t             index;     /* < n_groups: a group; n_groups: the IMU */
+    uint16_t             n_values;
+    const char          *name;      /* DDS topic */
+    const void          *type;
+    size_t               size;
+    roz_dds_reader_t     reader;
+    uint64_t             sample[ROZ_ROS2_SAMPLE_WORDS];
+    roz_monitor_t        mon;       /* this listener's handler times */
+    /* the receive thread's */
+    roz_link_t           link;
+    uint32_t             session, since_full;
+    double               values[3 * ROZ_ROS2_MAX_SLOTS]; /* accepted: q, dq, tau (or IMU) */
+    double               scratch[3 * ROZ_ROS2_MAX_SLOTS]; /* a sample being checked */
+    roz_link_shared_t    link_shared;
+    ROZ_ATOMIC(uint32_t) rx_session; /* for the writer */
+    ROZ_ATOMIC(uint32_t) said;       /* bad kinds logged once (a bit each) */
+    ROZ_ATOMIC(uint64_t) c_samples, c_malformed, c_full, c_fault, c_sessions;
+    /* receive thread -> tick */
+    roz_buffer_t         buf;
+    double               slots[3 * (3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META)];
+    /* the tick's */
+    double               staged[3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META];
+    uint32_t             tick_session;
+} roz_ros2_topic_t;
+
+/** One command topic: its writer (only the first group's has a thread; it
+ *  publishes the others in its pass). Private. */
+typedef struct roz_ros2_out {
+    struct roz_ros2_bridge *bridge;
+    uint16_t             group;
+    roz_dds_writer_t     writer;
+    uint64_t             sample[ROZ_ROS2_SAMPLE_WORDS];
+    uint32_t             sequence;  /* the writer thread's */
+} roz_ros2_out_t;
+
+/** The bridge's counters (roz_ros2_counters()). */
+typedef struct roz_ros2_topic_counters {
+    uint64_t samples;      /**< samples received */
+    uint64_t malformed;    /**< dropped by the port's decode (lengths, names, stamp) */
+    uint64_t full;         /**< converted whole (decimation) */
+    uint64_t fault_frames; /**< accepted samples reporting a fault */
+    uint64_t sessions;     /**< peers seen: the first, then each restart or return */
+} roz_ros2_topic_counters_t;
+
+typedef struct roz_ros2_counters {
+    uint16_t                  n_topics;
+    roz_ros2_topic_counters_t topic[ROZ_ROS2_MAX_TOPICS]; /**< groups, then the IMU */
+    uint64_t frames;          /**< fresh frames read (every topic delivered) */
+    uint64_t writes;          /**< write() calls */
+    uint64_t writes_withheld; /**< writes before the first frame (nothing sent) */
+    uint64_t holds;           /**< first writes of a robot published as the start-up hold */
+    uint64_t clamped;         /**< written values outside their channel (clamped) */
+    uint64_t writer_passes;   /**< writer passes begun */
+    uint64_t writer_done;     /**< writer passes ended (none open when equal) */
+    uint64_t published;       /**< passes that published every group's command */
+    uint64_t publish_errors;  /**< dds_write failures, any topic */
+    uint64_t stale_session;   /**< passes that sent nothing: the command was for a robot
+                                   that restarted since */
+    uint64_t handled_seq;     /**< sequence of the last command frame the writer took */
+    uint64_t written_seq;     /**< sequence of the last command frame written */
+} roz_ros2_counters_t;
+
+/** The bridge's instance: the first member of a ROS 2 port's instance.
+ *  Caller-owned (large: give it static storage); fields private. */
+typedef struct roz_ros2_bridge {
+    /* ---- set at open, then read-only ---- */
+    const roz_ros2_robot_t *robot;
+    void                 *vendor;        /* the port's instance */
+    const roz_manifest_t *m;
+    roz_dds_params_t      dds;
+    uint32_t              peer_timeout_ms;
+    int                   link_by_stamp;
+    double                startup_kd, shutdown_kd;
+    roz_log_fn            log;
+    void                 *log_ctx;
+    uint16_t              n_joints;
+    roz_ros2_joint_t      joint[ROZ_CFG_MAX_JOINTS];
+    int16_t               slot_joint[ROZ_ROS2_MAX_ROBOT_SLOTS]; /* robot slot -> joint, -1 */
+    uint16_t              group_base[ROZ_ROS2_MAX_GROUPS];      /* first robot slot */
+    uint16_t              n_slots;                               /* robot slots */
+    int16_t               imu[ROZ_ROS2_IMU_VALUES];              /* state index or -1 */
+    uint16_t              n_topics;      /* state topics read */
+    uint32_t              required;      /* a bit per topic read */
+    roz_param_t           params[ROZ_ROS2_MAX_PARAMS];
+    int                   open, active;
+
+    /* ---- DDS ---- */
+    roz_dds_participant_t part;
+    roz_ros2_topic_t      topic[ROZ_ROS2_MAX_TOPICS];
+    roz_ros2_out_t        out[ROZ_ROS2_MAX_GROUPS];
+    roz_monitor_t         mon_tx;
+
+    /* ---- tick ---- */
+    int                   tick_has_state;
+    uint32_t              tick_robot;    /* robots seen by the tick: first, each restart */
+    uint32_t              write_robot;   /* robot of the last write */
+    uint32_t              delivered;     /* topics fresh since the last fresh frame */
+    uint64_t              write_seq;
+    double                tick_frame[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                tick_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    roz_port_fault_t      tick_fault;
+
+    /* ---- tick -> writer thread ---- */
+    roz_buffer_t          cmd_buf;
+    double                cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_ROS2_CMD_META)];
+
+    /* ---- writer thread ---- */
+    ROZ_ATOMIC(int)       shutdown;      /* 1: publish the damping command */
+    int                   sent_any;
+    double                tx_last_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    roz_ros2_joint_cmd_t  tx_joint[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    int32_t               tx_sec;
+    uint32_t              tx_nanosec;
+
+    /* ---- counters (atomics: written by one thread, read by any) ---- */
+    ROZ_ATOMIC(uint64_t)  c_frames, c_writes, c_withheld, c_holds, c_clamped;
+    ROZ_ATOMIC(uint64_t)  c_stale_session, c_handled_seq, c_written_seq;
+} roz_ros2_bridge_t;
+
+/**
+ * @brief Open the bridge for @p robot (a port's open): bind the manifest,
+ *        read the parameters, create the participant and the writers.
+ * @param[in] vendor the port's instance, handed to the robot's hooks
+ * @retval ROZ_OK, or ROZ_EINVAL / ROZ_ENOENT / ROZ_EIO with @p err naming
+ *         the port and the key, channel, joint or topic at fault
+ * Context: start-up; allocates (Cyclone, the samples' sequences).
+ */
+int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *vendor,
+                  const roz_manifest_t *m, const roz_params_t *p, char *err, size_t errlen);
+
+/* The port ops on a bridge (@p self is the bridge, the port instance's first
+ * member); their contexts are roz/port.h's. */
+int  roz_ros2_activate(void *self);
+int  roz_ros2_read(void *self, double *state, size_t n);
+int  roz_ros2_write(void *self, const double *cmd, size_t n);
+int  roz_ros2_deactivate(void *self);
+void roz_ros2_close(void *self);
+int  roz_ros2_fault(void *self, roz_port_fault_t *out);
+
+/** @brief The link checks of every state topic, summed (alive: every topic
+ *  has a peer; last_seq, last_ns: the first topic's). Context: any thread. */
+void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out);
+
+/** @brief The link checks of state topic @p t (the groups, then the IMU),
+ *  a consistent copy. ROZ_EINVAL for a topic not read. Context: any thread. */
+int roz_ros2_topic_link(const roz_ros2_bridge_t *b, uint16_t t, roz_link_t *out);
+
+/** @brief The counters. Context: any thread (each value one atomic load). */
+void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out);
+
+/** @brief The fewest readers matched by any command writer, and the fewest
+ *  writers matched by any state reader (a test waits for both to be >= 1).
+ *  Context: any thread. */
+void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_ROS2_H */

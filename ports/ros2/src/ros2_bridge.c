@@ -1,0 +1,804 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The bridge between a robot's ROS 2 joint-group topics and roz's port
+ * contract: parameters, the receive path of each state topic (a Cyclone
+ * thread), the tick's read (gathering the topics into one frame) and write,
+ * the writer's pass over every command topic (its thread), start-up and
+ * shutdown. roz/ros2.h says what it does; here is how. */
+#include "roz/ros2.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "ros2_map.h"
+#include "ros2_msgs.h"
+#include "roz/hal/params.h"
+
+/* ---- frame layouts -------------------------------------------------------------
+ * A state topic's frame (receive thread -> tick): its values, then: */
+enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE };
+/* Command frame (tick -> writer thread): n_commands values, then: */
+enum { C_SESSION = 0, C_HOLD, C_SEQ, C_Q };
+
+_Static_assert(M_FAULT_CODE + 1 == ROZ_ROS2_STATE_META, "state frame meta");
+_Static_assert(C_Q + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META, "command frame meta");
+_Static_assert(ROZ_ROS2_MAX_TOPICS <= 32, "a bit per topic");
+
+#define MAX_KEYS 32
+#define FRAME_ID_ROOM 63 /* characters a received frame_id gets without Cyclone reallocating */
+
+static const char *const common_keys[] = { ROZ_DDS_PARAM_KEYS, "peer_timeout_ms",
+                                           "startup_damping", "shutdown_damping", "link_check",
+                                           NULL };
+
+/* ---- private ---------------------------------------------------------------------- */
+
+static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    fprintf(stderr, "%s: %s\n",
+            level == ROZ_LOG_ERROR ? "error" : level == ROZ_LOG_WARN ? "warning" : "info", msg);
+}
+
+static uint64_t load(const ROZ_ATOMIC(uint64_t) *a)
+{
+    return atomic_load_explicit(a, memory_order_acquire);
+}
+
+static void bump(ROZ_ATOMIC(uint64_t) *a)
+{
+    atomic_fetch_add_explicit(a, 1u, memory_order_relaxed);
+}
+
+static int reads(const roz_ros2_bridge_t *b, uint16_t t)
+{
+    return (b->required >> t) & 1u;
+}
+
+static int is_imu(const roz_ros2_bridge_t *b, uint16_t t)
+{
+    return t == b->robot->n_groups;
+}
+
+/* The group of the first command writer (the one with the thread). */
+static uint16_t primary(const roz_ros2_bridge_t *b)
+{
+    for (uint16_t g = 0; g < b->robot->n_groups; g++) {
+        if (reads(b, g))
+            return g;
+    }
+    return 0;
+}
+
+/* robot.toml's [hardware.params] first, then the caller's: the last wins */
+static int merge_params(roz_ros2_bridge_t *b, const roz_manifest_t *m, const roz_params_t *p,
+                        roz_params_t *out, char *err, size_t errlen)
+{
+    size_t n = 0;
+    size_t hw = m->hardware != NULL ? m->hardware->n_params : 0;
+    size_t given = p != NULL ? p->n : 0;
+
+    if (hw + given > ROZ_ROS2_MAX_PARAMS) {
+        snprintf(err, errlen, "%s: %lu parameters; at most %d", b->robot->port,
+                 (unsigned long)(hw + given), ROZ_ROS2_MAX_PARAMS);
+        return ROZ_EINVAL;
+    }
+    for (size_t i = 0; i < hw; i++)
+        b->params[n++] = m->hardware->params[i];
+    for (size_t i = 0; i < given; i++)
+        b->params[n++] = p->items[i];
+    out->items = b->params;
+    out->n = n;
+    return ROZ_OK;
+}
+
+static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *err,
+                            size_t errlen)
+{
+    const roz_ros2_robot_t *r = b->robot;
+    const char *v = roz_params_get_str(p, "link_check", r->has_sequence ? "sequence" : "stamp");
+    if (strcmp(v, "stamp") == 0) {
+        b->link_by_stamp = 1;
+    } else if (strcmp(v, "sequence") == 0 && r->has_sequence) {
+        b->link_by_stamp = 0;
+    } else {
+        snprintf(err, errlen,
+                 "parameter link_check = \"%s\": expected %s (what the state messages' headers "
+                 "offer the link checks)",
+                 v,
+                 r->has_sequence ? "sequence (the header's sequence number) or stamp (its "
+                                   "stamp, strictly increasing)"
+                                 : "stamp (these messages' std_msgs/Header has no sequence)");
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
+{
+    const roz_ros2_robot_t *r = b->robot;
+    const char *keys[MAX_KEYS];
+    size_t n = 0;
+    double lo, hi;
+
+    for (size_t i = 0; common_keys[i] != NULL; i++)
+        keys[n++] = common_keys[i];
+    for (size_t i = 0; r->keys != NULL && r->keys[i] != NULL && n + 1 < MAX_KEYS; i++)
+        keys[n++] = r->keys[i];
+    keys[n] = NULL;
+    int rc = roz_params_check_known(p, keys, r->port, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_dds_params_parse(&b->dds, p, r->default_domain, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &b->peer_timeout_ms, err,
+                                errlen);
+    if (rc == ROZ_OK)
+        rc = parse_link_check(b, p, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    /* gains the damping channels allow, for every joint */
+    (void)roz__ros2_damping_range(b, &lo, &hi);
+    rc = roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
+                               &b->startup_kd, err, errlen);
+    if (rc == ROZ_OK && roz_params_find(p, "shutdown_damping") != NULL)
+        rc = roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi, &b->shutdown_kd, err,
+                                   errlen);
+    else
+        b->shutdown_kd = NAN; /* each joint's damping default */
+    if (rc == ROZ_OK && r->params != NULL)
+        rc = r->params(b->vendor, p, err, errlen);
+    return rc;
+}
+
+/* ---- the receive path (a Cyclone thread per topic, one call at a time) --------- */
+
+/* A malformed sample: said once per topic and kind, from this thread (the
+ * tick never formats text). */
+static void say_once(roz_ros2_topic_t *t, roz_ros2_bad_t why, const roz_ros2_rx_t *rx)
+{
+    roz_ros2_bridge_t *b = t->bridge;
+    uint32_t bit = 1u << (unsigned)why;
+    char msg[320];
+
+    if (atomic_fetch_or_explicit(&t->said, bit, memory_order_relaxed) & bit)
+        return;
+    switch (why) {
+    case ROZ_ROS2_BAD_LENGTH:
+        snprintf(msg, sizeof msg,
+                 "%s: %s: a sample with %d joint values, expected %d: dropped (counted; said "
+                 "once)",
+                 b->robot->port, t->name, (int)rx->bad_a, (int)rx->bad_b);
+        break;
+    case ROZ_ROS2_BAD_NAME:
+        snprintf(msg, sizeof msg,
+                 "%s: %s: the joint in slot %d is not named \"%s\": the robot's joint order is "
+                 "not the port's; dropped (counted; said once)",
+                 b->robot->port, t->name, (int)rx->bad_a,
+                 rx->bad_a >= 0 && rx->bad_a < (int32_t)b->robot->groups[t->index].n_slots
+                     ? b->robot->groups[t->index].slots[rx->bad_a]
+                     : "?");
+        break;
+    default:
+        snprintf(msg, sizeof msg,
+                 "%s: %s: a header stamp that is not a time (sec < 0 or nanosec > 999999999): "
+                 "dropped (counted; said once)",
+                 b->robot->port, t->name);
+        break;
+    }
+    b->log(b->log_ctx, ROZ_LOG_ERROR, msg);
+}
+
+/* Checks and converts the sample into t->scratch (rx): the port's decode for
+ * a group, the IMU's values (when full) for the IMU. */
+static roz_ros2_bad_t convert(roz_ros2_topic_t *t, const void *sample, int full,
+                              roz_ros2_rx_t *rx)
+{
+    roz_ros2_bridge_t *b = t->bridge;
+    const roz_ros2_robot_t *r = b->robot;
+
+    memset(rx, 0, sizeof *rx);
+    rx->fault_slot = -1;
+    if (is_imu(b, t->index)) {
+        if (full)
+            r->decode_imu(sample, t->scratch);
+        return ROZ_ROS2_GOOD;
+    }
+    uint16_t n = r->groups[t->index].n_slots;
+    rx->q = t->scratch;
+    rx->dq = t->scratch + n;
+    rx->tau = t->scratch + 2u * n;
+    return r->decode(b->vendor, t->index, sample, full, rx);
+}
+
+static void on_sample(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_ros2_topic_t *t = ctx;
+    roz_ros2_bridge_t *b = t->bridge;
+    const roz_ros2_robot_t *r = b->robot;
+    roz_ros2_header_t h = { 0, 0, 0 };
+    roz_ros2_rx_t rx;
+    uint32_t seq = 0;
+    int imu = is_imu(b, t->index);
+
+    bump(&t->c_samples);
+    if (imu) {
+        const std_msgs_msg_dds__Header_ *sh = sample; /* the IMU's struct starts with it */
+        h.sec = sh->stamp.sec;
+        h.nanosec = sh->stamp.nanosec;
+    } else {
+        r->state_header(b->vendor, sample, &h);
+    }
+    int full = t->since_full == 0 || !t->link.alive;
+    roz_ros2_bad_t why = convert(t, sample, full, &rx);
+    if (why == ROZ_ROS2_GOOD) {
+        if (imu || b->link_by_stamp) {
+            if (!roz_ros2_stamp_seq(h.sec, h.nanosec, &seq))
+                why = ROZ_ROS2_BAD_STAMP;
+        } else {
+            seq = h.sequence;
+        }
+    }
+    if (why != ROZ_ROS2_GOOD) {
+        bump(&t->c_malformed);
+        say_once(t, why, &rx);
+        roz_link_shared_publish(&t->link_shared, &t->link);
+        return;
+    }
+    roz_link_verdict_t v = roz_link_check(&t->link, 1, seq, now_ns);
+    if (v == ROZ_LINK_REPLAY || v == ROZ_LINK_BAD_CRC) {
+        roz_link_shared_publish(&t->link_shared, &t->link);
+        return;
+    }
+    if (v == ROZ_LINK_FIRST || v == ROZ_LINK_RESTART) {
+        /* a peer, new or restarted: its own session, converted whole */
+        t->session++;
+        t->since_full = 0;
+        bump(&t->c_sessions);
+        atomic_store_explicit(&t->rx_session, t->session, memory_order_release);
+        if (!full) {
+            full = 1;
+            (void)convert(t, sample, 1, &rx);
+        }
+    }
+    full = t->since_full == 0;
+    if (imu) {
+        if (full)
+            memcpy(t->values, t->scratch, ROZ_ROS2_IMU_VALUES * sizeof t->values[0]);
+    } else {
+        /* positions every sample; velocities and efforts when full */
+        uint16_t n = r->groups[t->index].n_slots;
+        memcpy(t->values, t->scratch, (full ? 3u : 1u) * n * sizeof t->values[0]);
+    }
+    if (full)
+        bump(&t->c_full);
+    t->since_full = t->since_full + 1u >= b->dds.state_decimation ? 0u : t->since_full + 1u;
+    if (rx.fault_kind != 0)
+        bump(&t->c_fault);
+
+    double *f = roz_buffer_write_begin(&t->buf);
+    memcpy(f, t->values, t->n_values * sizeof f[0]);
+    double *meta = f + t->n_values;
+    meta[M_SESSION] = t->session;
+    meta[M_FAULT_KIND] = rx.fault_kind;
+    meta[M_FAULT_SLOT] = rx.fault_slot;
+    meta[M_FAULT_CODE] = rx.fault_code;
+    roz_buffer_write_commit(&t->buf, now_ns);
+    /* last: whoever waits on the counters finds the frame in the buffer */
+    roz_link_shared_publish(&t->link_shared, &t->link);
+}
+
+/* ---- the command writer (its thread; after it stopped, the caller's) ------------ */
+
+static void encode_group(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
+{
+    const roz_ros2_group_t *g = &b->robot->groups[o->group];
+    roz_ros2_cmd_t c = { &b->tx_joint[b->group_base[o->group]], g->n_slots, b->tx_sec,
+                         b->tx_nanosec, ++o->sequence };
+    b->robot->encode(b->vendor, o->group, &c, sample);
+}
+
+static int fill_group(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_ros2_out_t *o = ctx;
+    (void)now_ns;
+    encode_group(o->bridge, o, sample);
+    return 1;
+}
+
+/* Every other group's topic from here, then the primary's sample (which the
+ * writer publishes when this returns): one stamp for the pass. */
+static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
+{
+    roz_ros2_stamp_now(&b->tx_sec, &b->tx_nanosec);
+    for (uint16_t g = 0; g < b->robot->n_groups; g++) {
+        if (g != o->group && reads(b, g))
+            (void)roz_dds_writer_publish(&b->out[g].writer, fill_group, &b->out[g]);
+    }
+    encode_group(b, o, sample);
+    return 1;
+}
+
+static uint32_t rx_sessions(roz_ros2_bridge_t *b)
+{
+    uint32_t sum = 0;
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        if (reads(b, t))
+            sum += atomic_load_explicit(&b->topic[t].rx_session, memory_order_acquire);
+    }
+    return sum;
+}
+
+static int fill_primary(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_ros2_out_t *o = ctx;
+    roz_ros2_bridge_t *b = o->bridge;
+    const roz_manifest_t *m = b->m;
+    roz_buffer_frame_t f;
+    (void)now_ns;
+
+    if (atomic_load_explicit(&b->shutdown, memory_order_acquire)) {
+        /* the last command: damping, if the robot ever got one */
+        if (!b->sent_any)
+            return 0;
+        roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
+        return publish_all(b, o, sample);
+    }
+    if (roz_buffer_read(&b->cmd_buf, &f) == ROZ_ENOENT)
+        return 0;
+    const double *meta = f.values + m->n_commands;
+    uint64_t seq = (uint64_t)meta[C_SEQ];
+    int rc = 0;
+    if ((uint32_t)meta[C_SESSION] != rx_sessions(b)) {
+        /* written for a robot that restarted since: the new one gets
+         * nothing until the tick writes for it */
+        bump(&b->c_stale_session);
+    } else {
+        roz__ros2_joints(b, f.values, meta + C_Q, b->tx_joint);
+        for (uint16_t s = 0; s < b->n_slots; s++)
+            b->tx_last_q[s] = b->tx_joint[s].q;
+        rc = publish_all(b, o, sample);
+        b->sent_any = 1;
+    }
+    atomic_store_explicit(&b->c_handled_seq, seq, memory_order_release);
+    return rc;
+}
+
+/* ---- open -------------------------------------------------------------------------- */
+
+static int setup_topic(roz_ros2_bridge_t *b, uint16_t t, const char *name, const void *type,
+                       size_t size, uint16_t n_values, char *err, size_t errlen)
+{
+    roz_ros2_topic_t *tp = &b->topic[t];
+    const roz_ros2_robot_t *r = b->robot;
+    uint64_t period_ns = 1000000000u / b->m->control_rate_hz;
+    int rc = ROZ_OK;
+
+    if (type == NULL || size == 0 || size > sizeof tp->sample) {
+        snprintf(err, errlen, "%s: topic %s: its type needs %lu bytes, the port has room for %lu",
+                 r->port, name, (unsigned long)size, (unsigned long)sizeof tp->sample);
+        return ROZ_EINVAL;
+    }
+    tp->bridge = b;
+    tp->index = t;
+    tp->name = name;
+    tp->type = type;
+    tp->size = size;
+    tp->n_values = n_values;
+    b->required |= 1u << t;
+    roz_link_init(&tp->link, (uint64_t)b->peer_timeout_ms * 1000000u,
+                  is_imu(b, t) || b->link_by_stamp ? ROZ_ROS2_STAMP_WINDOW_US : 0u);
+    roz_link_shared_init(&tp->link_shared);
+    roz_link_shared_publish(&tp->link_shared, &tp->link);
+    roz_buffer_init(&tp->buf, tp->slots, (uint32_t)(n_values + ROZ_ROS2_STATE_META));
+    roz_monitor_init(&tp->mon, name, period_ns, b->log, b->log_ctx);
+    atomic_init(&tp->rx_session, 0u);
+    atomic_init(&tp->said, 0u);
+    ROZ_ATOMIC(uint64_t) *counters[] = { &tp->c_samples, &tp->c_malformed, &tp->c_full,
+                                         &tp->c_fault, &tp->c_sessions };
+    for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
+        atomic_init(counters[i], 0u);
+    /* the sample's sequences and strings, sized once */
+    if (is_imu(b, t)) {
+        std_msgs_msg_dds__Header_ *h = (void *)tp->sample;
+        rc = roz_dds_string_reserve(&h->frame_id, FRAME_ID_ROOM);
+    } else {
+        rc = r->reserve(b->vendor, tp->sample, r->groups[t].n_slots);
+    }
+    if (rc != ROZ_OK)
+        snprintf(err, errlen, "%s: topic %s: no room for its samples", r->port, name);
+    return rc;
+}
+
+int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *vendor,
+                  const roz_manifest_t *m, const roz_params_t *p, char *err, size_t errlen)
+{
+    roz_log_fn log = b->log != NULL ? b->log : log_stderr;
+    void *log_ctx = b->log_ctx;
+    roz_params_t params;
+    int rc;
+
+    if (b->open)
+        roz_ros2_close(b);
+    memset(b, 0, sizeof *b);
+    b->log = log;
+    b->log_ctx = log_ctx;
+    b->robot = robot;
+    b->vendor = vendor;
+    if (m == NULL || roz_manifest_validate(m, NULL) != ROZ_OK) {
+        snprintf(err, errlen, "%s: invalid manifest", robot->port);
+        return ROZ_EINVAL;
+    }
+    b->m = m;
+    rc = roz__ros2_bind(b, m, err, errlen);
+    if (rc == ROZ_OK)
+        rc = merge_params(b, m, p, &params, err, errlen);
+    if (rc == ROZ_OK)
+        rc = parse_params(b, &params, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+
+    /* the topics to read: the groups with a joint of the manifest, the IMU
+     * when the manifest has an IMU channel */
+    b->n_topics = (uint16_t)(robot->n_groups + 1u);
+    size_t state_size = 0;
+    const void *state_type = robot->state_type(vendor, &state_size);
+    for (uint16_t g = 0; g < robot->n_groups && rc == ROZ_OK; g++) {
+        int bound = 0;
+        for (uint16_t j = 0; j < b->n_joints; j++)
+            bound |= b->joint[j].group == g;
+        if (bound)
+            rc = setup_topic(b, g, robot->groups[g].state_topic, state_type, state_size,
+                             (uint16_t)(3u * robot->groups[g].n_slots), err, errlen);
+    }
+    int imu = 0;
+    for (int k = 0; k < ROZ_ROS2_IMU_VALUES; k++)
+        imu |= b->imu[k] >= 0;
+    if (rc == ROZ_OK && imu)
+        rc = setup_topic(b, robot->n_groups, robot->imu_topic, robot->imu_type, robot->imu_size,
+                         ROZ_ROS2_IMU_VALUES, err, errlen);
+    b->open = 1; /* from here, close() frees what was made */
+    if (rc != ROZ_OK) {
+        roz_ros2_close(b);
+        return rc;
+    }
+
+    roz_buffer_init(&b->cmd_buf, b->cmd_slots, (uint32_t)(m->n_commands + ROZ_ROS2_CMD_META));
+    uint64_t period_ns = b->dds.command_writer_period_us != 0
+                             ? (uint64_t)b->dds.command_writer_period_us * 1000u
+                             : 1000000000u / m->control_rate_hz;
+    roz_monitor_init(&b->mon_tx, robot->port, period_ns, log, log_ctx);
+    atomic_init(&b->shutdown, 0);
+    ROZ_ATOMIC(uint64_t) *counters[] = { &b->c_frames,  &b->c_writes,          &b->c_withheld,
+                                         &b->c_holds,   &b->c_clamped,         &b->c_stale_session,
+                                         &b->c_handled_seq, &b->c_written_seq };
+    for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
+        atomic_init(counters[i], 0u);
+
+    rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain, log,
+                                  log_ctx, err, errlen);
+    for (uint16_t g = 0; g < robot->n_groups && rc == ROZ_OK; g++) {
+        roz_ros2_out_t *o = &b->out[g];
+        o->bridge = b;
+        o->group = g;
+        if (reads(b, g))
+            rc = roz_dds_writer_open(&o->writer, &b->part, robot->groups[g].command_topic,
+                                     robot->command_type, robot->command_qos, o->sample,
+                                     robot->command_size, err, errlen);
+    }
+    if (rc != ROZ_OK)
+        roz_ros2_close(b);
+    return rc;
+}
+
+/* ---- ops ---------------------------------------------------------------------------- */
+
+int roz_ros2_activate(void *self)
+{
+    roz_ros2_bridge_t *b = self;
+    const roz_ros2_robot_t *r;
+    char err[240];
+    int rc = ROZ_OK;
+
+    if (!b->open)
+        return ROZ_ESTATE;
+    if (b->active)
+        return ROZ_OK;
+    r = b->robot;
+    atomic_store(&b->shutdown, 0);
+    for (uint16_t t = 0; t < b->n_topics && rc == ROZ_OK; t++) {
+        roz_ros2_topic_t *tp = &b->topic[t];
+        if (!reads(b, t))
+            continue;
+        rc = roz_dds_reader_open_kept(&tp->reader, &b->part, tp->name, tp->type, r->state_qos,
+                                      tp->sample, tp->size, on_sample, tp,
+                                      b->dds.enable_monitor ? &tp->mon : NULL, err, sizeof err);
+    }
+    uint16_t g0 = primary(b);
+    if (rc == ROZ_OK)
+        rc = roz_dds_writer_start(&b->out[g0].writer, b->dds.command_writer_period_us,
+                                  fill_primary, &b->out[g0],
+                                  b->dds.enable_monitor ? &b->mon_tx : NULL);
+    else
+        b->log(b->log_ctx, ROZ_LOG_ERROR, err);
+    if (rc != ROZ_OK) {
+        for (uint16_t t = 0; t < b->n_topics; t++)
+            roz_dds_reader_close(&b->topic[t].reader);
+        return rc;
+    }
+    b->active = 1;
+    return ROZ_OK;
+}
+
+/* The manifest's state from the staged topics, and each slot's position. */
+static void assemble(roz_ros2_bridge_t *b)
+{
+    const roz_ros2_robot_t *r = b->robot;
+    for (uint16_t g = 0; g < r->n_groups; g++) {
+        if (!reads(b, g))
+            continue;
+        uint16_t n = r->groups[g].n_slots;
+        memcpy(&b->tick_q[b->group_base[g]], b->topic[g].staged, n * sizeof b->tick_q[0]);
+    }
+    for (uint16_t k = 0; k < b->n_joints; k++) {
+        const roz_ros2_joint_t *j = &b->joint[k];
+        const double *v = b->topic[j->group].staged;
+        uint16_t n = r->groups[j->group].n_slots;
+        if (j->q_state >= 0)
+            b->tick_frame[j->q_state] = v[j->slot];
+        if (j->dq_state >= 0)
+            b->tick_frame[j->dq_state] = v[n + j->slot];
+        if (j->tau_state >= 0)
+            b->tick_frame[j->tau_state] = v[2u * n + j->slot];
+    }
+    const double *imu = b->topic[r->n_groups].staged;
+    for (int k = 0; k < ROZ_ROS2_IMU_VALUES; k++) {
+        if (b->imu[k] >= 0)
+            b->tick_frame[b->imu[k]] = imu[k];
+    }
+}
+
+/* The first fault a topic of the frame reports, into tick_fault; 0: none. */
+static int robot_fault(roz_ros2_bridge_t *b)
+{
+    const roz_ros2_robot_t *r = b->robot;
+    for (uint16_t g = 0; g < r->n_groups; g++) {
+        if (!reads(b, g))
+            continue;
+        const double *meta = b->topic[g].staged + b->topic[g].n_values;
+        uint32_t kind = (uint32_t)meta[M_FAULT_KIND];
+        if (kind == 0)
+            continue;
+        int32_t slot = (int32_t)meta[M_FAULT_SLOT];
+        b->tick_fault.what = slot >= 0 && slot < (int32_t)r->groups[g].n_slots
+                                 ? r->groups[g].slots[slot]
+                                 : r->groups[g].name;
+        b->tick_fault.kind = r->fault_kinds != NULL ? r->fault_kinds[kind - 1u] : "fault";
+        b->tick_fault.code = (uint32_t)meta[M_FAULT_CODE];
+        return 1;
+    }
+    return 0;
+}
+
+int roz_ros2_read(void *self, double *state, size_t n)
+{
+    roz_ros2_bridge_t *b = self;
+    int restarted = 0;
+
+    if (!b->open || n != b->m->n_states)
+        return ROZ_EINVAL;
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        roz_ros2_topic_t *tp = &b->topic[t];
+        roz_buffer_frame_t f;
+        if (!reads(b, t) || roz_buffer_read(&tp->buf, &f) != 1)
+            continue;
+        memcpy(tp->staged, f.values, (tp->n_values + ROZ_ROS2_STATE_META) * sizeof f.values[0]);
+        uint32_t session = (uint32_t)tp->staged[tp->n_values + M_SESSION];
+        if (session != tp->tick_session) {
+            restarted |= tp->tick_session != 0;
+            tp->tick_session = session;
+        }
+        b->delivered |= 1u << t;
+    }
+    if (!b->tick_has_state) {
+        if ((b->delivered & b->required) != b->required)
+            return ROZ_ENOENT; /* not every topic yet */
+        restarted = 0;         /* a peer that restarted before the first frame: its first */
+    }
+    if (restarted) {
+        /* a restarted robot: its start-up layers begin again */
+        assemble(b);
+        b->delivered = 0;
+        b->tick_robot++;
+        memcpy(state, b->tick_frame, n * sizeof state[0]);
+        return ROZ_ELINK;
+    }
+    if ((b->delivered & b->required) != b->required) {
+        memcpy(state, b->tick_frame, n * sizeof state[0]);
+        return 0;
+    }
+    b->delivered = 0;
+    assemble(b);
+    if (!b->tick_has_state) {
+        b->tick_has_state = 1;
+        b->tick_robot++;
+    }
+    bump(&b->c_frames);
+    memcpy(state, b->tick_frame, n * sizeof state[0]);
+    return robot_fault(b) ? ROZ_EROBOT : 1;
+}
+
+int roz_ros2_write(void *self, const double *cmd, size_t n)
+{
+    roz_ros2_bridge_t *b = self;
+    const roz_manifest_t *m = b->m;
+
+    if (!b->open || n != m->n_commands)
+        return ROZ_EINVAL;
+    bump(&b->c_writes);
+    if (!b->tick_has_state) {
+        bump(&b->c_withheld); /* nothing before the first state frame */
+        return ROZ_OK;
+    }
+    double *f = roz_buffer_write_begin(&b->cmd_buf);
+    int hold = b->tick_robot != b->write_robot;
+    if (hold) {
+        /* the first write for this robot: the start-up hold instead */
+        roz__ros2_hold(b, b->tick_q, b->startup_kd, f);
+        b->write_robot = b->tick_robot;
+        bump(&b->c_holds);
+    } else {
+        uint32_t changed = roz__ros2_clamp(b, cmd, f);
+        if (changed != 0)
+            atomic_fetch_add_explicit(&b->c_clamped, changed, memory_order_relaxed);
+    }
+    double *meta = f + m->n_commands;
+    uint32_t sessions = 0;
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        if (reads(b, t))
+            sessions += b->topic[t].tick_session;
+    }
+    meta[C_SESSION] = sessions;
+    meta[C_HOLD] = hold;
+    meta[C_SEQ] = (double)++b->write_seq;
+    memcpy(meta + C_Q, b->tick_q, sizeof b->tick_q);
+    roz_buffer_write_commit(&b->cmd_buf, 0);
+    atomic_store_explicit(&b->c_written_seq, b->write_seq, memory_order_release);
+    roz_dds_writer_wake(&b->out[primary(b)].writer);
+    return ROZ_OK;
+}
+
+int roz_ros2_deactivate(void *self)
+{
+    roz_ros2_bridge_t *b = self;
+
+    if (!b->active)
+        return ROZ_OK;
+    roz_ros2_out_t *o = &b->out[primary(b)];
+    roz_dds_writer_stop(&o->writer);
+    /* the last command: damping, published here now the thread is gone */
+    atomic_store_explicit(&b->shutdown, 1, memory_order_release);
+    if (roz_dds_writer_publish(&o->writer, fill_primary, o) == 1) {
+        for (uint16_t g = 0; g < b->robot->n_groups; g++) {
+            if (reads(b, g))
+                (void)roz_dds_writer_flush(&b->out[g].writer, 200);
+        }
+    }
+    for (uint16_t t = 0; t < b->n_topics; t++)
+        roz_dds_reader_close(&b->topic[t].reader);
+    b->active = 0;
+    return ROZ_OK;
+}
+
+void roz_ros2_close(void *self)
+{
+    roz_ros2_bridge_t *b = self;
+
+    if (!b->open)
+        return;
+    (void)roz_ros2_deactivate(b);
+    for (uint16_t g = 0; g < ROZ_ROS2_MAX_GROUPS; g++)
+        roz_dds_writer_close(&b->out[g].writer);
+    roz_dds_participant_close(&b->part);
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        roz_ros2_topic_t *tp = &b->topic[t];
+        if (reads(b, t))
+            roz_dds_sample_free(tp->sample, sizeof tp->sample, tp->type);
+    }
+    b->open = 0;
+}
+
+int roz_ros2_fault(void *self, roz_port_fault_t *out)
+{
+    roz_ros2_bridge_t *b = self;
+    *out = b->tick_fault;
+    return ROZ_OK;
+}
+
+/* ---- public ------------------------------------------------------------------------ */
+
+int roz_ros2_topic_link(const roz_ros2_bridge_t *b, uint16_t t, roz_link_t *out)
+{
+    if (t >= b->n_topics || !reads(b, t)) {
+        memset(out, 0, sizeof *out);
+        return ROZ_EINVAL;
+    }
+    (void)roz_link_shared_read(&b->topic[t].link_shared, out);
+    return ROZ_OK;
+}
+
+void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out)
+{
+    int first = 1;
+    memset(out, 0, sizeof *out);
+    out->alive = 1;
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        roz_link_t l;
+        if (roz_ros2_topic_link(b, t, &l) != ROZ_OK)
+            continue;
+        if (first) {
+            out->lost_after_ns = l.lost_after_ns;
+            out->window = l.window;
+            out->last_seq = l.last_seq;
+            out->last_ns = l.last_ns;
+            first = 0;
+        }
+        out->alive &= l.alive;
+        out->accepted += l.accepted;
+        out->crc_errors += l.crc_errors;
+        out->replays += l.replays;
+        out->restarts += l.restarts;
+        out->returns += l.returns;
+        out->missing += l.missing;
+    }
+    if (first)
+        out->alive = 0;
+}
+
+void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
+{
+    memset(out, 0, sizeof *out);
+    out->n_topics = b->n_topics;
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        const roz_ros2_topic_t *tp = &b->topic[t];
+        out->topic[t].samples = load(&tp->c_samples);
+        out->topic[t].malformed = load(&tp->c_malformed);
+        out->topic[t].full = load(&tp->c_full);
+        out->topic[t].fault_frames = load(&tp->c_fault);
+        out->topic[t].sessions = load(&tp->c_sessions);
+    }
+    const roz_dds_writer_t *w = &b->out[primary(b)].writer;
+    out->frames = load(&b->c_frames);
+    out->writes = load(&b->c_writes);
+    out->writes_withheld = load(&b->c_withheld);
+    out->holds = load(&b->c_holds);
+    out->clamped = load(&b->c_clamped);
+    /* done before passes: a pass that ends between the two loads shows as
+     * open, never the other way round */
+    out->writer_done = load(&w->done);
+    out->writer_passes = load(&w->passes);
+    out->published = load(&w->published);
+    for (uint16_t g = 0; g < b->robot->n_groups; g++)
+        out->publish_errors += load(&b->out[g].writer.errors);
+    out->stale_session = load(&b->c_stale_session);
+    out->handled_seq = load(&b->c_handled_seq);
+    out->written_seq = load(&b->c_written_seq);
+}
+
+void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers)
+{
+    uint32_t readers = UINT32_MAX, writers = UINT32_MAX;
+    for (uint16_t g = 0; g < b->robot->n_groups; g++) {
+        if (!reads(b, g))
+            continue;
+        uint32_t k = roz_dds_writer_matched(&b->out[g].writer);
+        readers = k < readers ? k : readers;
+    }
+    for (uint16_t t = 0; t < b->n_topics; t++) {
+        if (!reads(b, t))
+            continue;
+        uint32_t k = roz_dds_reader_matched(&b->topic[t].reader);
+        writers = k < writers ? k : writers;
+    }
+    *cmd_readers = readers == UINT32_MAX ? 0 : readers;
+    *state_writers = writers == UINT32_MAX ? 0 : writers;
+}

@@ -1,0 +1,43 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Private to roz::ros2: the manifest bound to a robot's joint slots and the
+ * conversions between channel values and joint commands; pure functions
+ * (no DDS, no threads). */
+#ifndef ROZ_ROS2_MAP_H
+#define ROZ_ROS2_MAP_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/ros2.h"
+
+/* Binds the manifest's joints and IMU to the robot's slots and channels;
+ * every channel must find its place. ROZ_EINVAL with err naming the joint
+ * or the channel. */
+int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, size_t errlen);
+
+/* The damping channels' common range [lo, hi] (0, 0 when none); returns how
+ * many there are. */
+int roz__ros2_damping_range(const roz_ros2_bridge_t *b, double *lo, double *hi);
+
+/* The start-up hold as a command frame (n_commands, manifest order): every
+ * joint's position command holds q[robot slot], kd is @p kd where the joint
+ * has a damping command, everything else 0; each value clamped. */
+void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, double kd, double *cmd);
+
+/* Clamps every value to its channel (NaN: its default); returns how many
+ * it changed. */
+uint32_t roz__ros2_clamp(const roz_ros2_bridge_t *b, const double *in, double *out);
+
+/* Every robot slot's joint command from a command frame: a bound joint's
+ * channels (a joint without a position command: @p q, its measured
+ * position), an unbound slot q[slot] with everything else 0. */
+void roz__ros2_joints(const roz_ros2_bridge_t *b, const double *cmd, const double *q,
+                      roz_ros2_joint_cmd_t *out);
+
+/* The damping command per robot slot: q the given positions (clamped), kp 0,
+ * kd @p kd (NaN: each joint's damping default; clamped) where the joint has
+ * a damping command, 0 elsewhere. */
+void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd,
+                       roz_ros2_joint_cmd_t *out);
+
+#endif /* ROZ_ROS2_MAP_H */
