@@ -25,7 +25,7 @@
 typedef enum {
     ROZ_PEER_SEND = 0, /* a good frame, newer than the last */
     ROZ_PEER_SILENT,   /* nothing for one frame period */
-    ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC */
+    ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC (not for no_crc) */
     ROZ_PEER_REPLAY,   /* the frame it sent last, again */
     ROZ_PEER_RESTART,  /* the peer restarts (sequence from 0); then its first frame */
     ROZ_PEER_VANISH,   /* silent for longer than the port's peer timeout; then a
@@ -43,6 +43,14 @@ typedef struct roz_port_fixture {
      * state, every other command 0 (each clamped to its channel), not as
      * what was written. */
     int start_hold;
+    /* Non-NULL: the wire has no CRC, and this says what the port checks
+     * instead; the suite skips its CRC cases (a corrupted state frame, a
+     * corrupted command frame) and prints this. */
+    const char *no_crc;
+    /* A state frame is this many samples on topics of their own, each with
+     * its own link checks (0 counts as 1): a replayed, restarted or returning
+     * peer counts once per topic. */
+    int state_topics;
     /* What the peer applies for a command written as @p in (n_commands
      * values), where the wire narrows them (float32); NULL: exactly that. */
     void (*wire_command)(const double *in, double *out);
@@ -63,7 +71,7 @@ typedef struct roz_port_fixture {
     /* The command the peer applies (n_commands values), NULL before its
      * first good command frame (and after a restart). Call settle() first. */
     const double *(*peer_command)(void);
-    /* Flip one bit of the next command frame in transit. */
+    /* Flip one bit of the next command frame in transit (not for no_crc). */
     void (*corrupt_next_command)(void);
     /* A copy of the port's checks on state frames, taken consistently. */
     void (*link)(roz_link_t *out);
@@ -73,5 +81,7 @@ typedef struct roz_port_fixture {
 
 extern const roz_port_fixture_t roz_fixture_loopback;
 extern const roz_port_fixture_t roz_fixture_unitree_g1;
+extern const roz_port_fixture_t roz_fixture_engineai_pm01;
+extern const roz_port_fixture_t roz_fixture_agibot_x2;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */
