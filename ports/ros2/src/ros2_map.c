@@ -72,15 +72,7 @@ static int place(roz_ros2_bridge_t *b, uint16_t j, const char *joint, char *err,
     const roz_ros2_robot_t *r = b->robot;
 
     if (!r->joints_by_name) {
-        if (j >= r->groups[0].n_slots) {
-            snprintf(err, errlen,
-                     "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u "
-                     "(joint i is slot i of its messages' arrays)",
-                     r->port, b->m->robot_id, (unsigned)b->m->hardware->n_joints,
-                     (unsigned)r->groups[0].n_slots);
-            return ROZ_EINVAL;
-        }
-        b->joint[j].group = 0;
+        b->joint[j].group = 0; /* bind() checked the count */
         b->joint[j].slot = j;
         return ROZ_OK;
     }
@@ -136,6 +128,13 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
                  "lists %u",
                  r->port, m->robot_id, (unsigned)b->n_slots,
                  hw != NULL ? (unsigned)hw->n_joints : 0u);
+        return ROZ_EINVAL;
+    }
+    if (!r->joints_by_name && hw->n_joints > r->groups[0].n_slots) {
+        snprintf(err, errlen,
+                 "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u (joint i "
+                 "is index i of its messages' arrays)",
+                 r->port, m->robot_id, (unsigned)hw->n_joints, (unsigned)r->groups[0].n_slots);
         return ROZ_EINVAL;
     }
     b->n_joints = hw->n_joints;

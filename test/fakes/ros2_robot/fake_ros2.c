@@ -49,6 +49,9 @@ typedef struct {
     uint8_t  error;  /* DomainErrorState (X2) */
     uint32_t seq;    /* header sequence (X2) */
     int64_t  stamp_ns;
+    int      raw;    /* the stamp is sec, nsec below, as asked ("stamp") */
+    int32_t  sec;
+    uint32_t nsec;
 } gmodel_t;
 
 typedef struct {
@@ -89,6 +92,9 @@ typedef struct {
 
     pthread_mutex_t     pub_lock;
     int64_t             clock_ns;    /* the robot's clock: the stamps */
+    int                 raw_pending; /* topics (a bit each) whose next sample carries raw */
+    int32_t             raw_sec;     /* the stamp asked for ("stamp") */
+    uint32_t            raw_nsec;
     double              imu_last[10];
     int64_t             imu_last_stamp;
     int                 imu_have_last, imu_muted;
@@ -209,9 +215,10 @@ static const char *joint_name(const fgroup_t *g, const gmodel_t *m, uint32_t i)
 static int write_group(fake_t *f, fgroup_t *g, const gmodel_t *m)
 {
     static char empty[1];
-    int32_t sec;
-    uint32_t nsec;
-    stamp_of(m->stamp_ns, &sec, &nsec);
+    int32_t sec = m->sec;
+    uint32_t nsec = m->nsec;
+    if (!m->raw)
+        stamp_of(m->stamp_ns, &sec, &nsec);
     if (f->robot->kind == FAKE_PM01) {
         double q[FAKE_MAX_SLOTS], dq[FAKE_MAX_SLOTS], tau[FAKE_MAX_SLOTS];
         interface_protocol_msg_dds__JointState_ s;
@@ -274,12 +281,13 @@ static int write_group(fake_t *f, fgroup_t *g, const gmodel_t *m)
     return dds_write(g->state_writer, &s);
 }
 
-static int write_imu(fake_t *f, const double *v, int64_t stamp_ns)
+static int write_imu(fake_t *f, const double *v, int64_t stamp_ns, int raw)
 {
     static char empty[1];
-    int32_t sec;
-    uint32_t nsec;
-    stamp_of(stamp_ns, &sec, &nsec);
+    int32_t sec = f->raw_sec;
+    uint32_t nsec = f->raw_nsec;
+    if (!raw)
+        stamp_of(stamp_ns, &sec, &nsec);
     if (f->robot->kind == FAKE_PM01) {
         interface_protocol_msg_dds__ImuInfo_ s;
         memset(&s, 0, sizeof s);
@@ -306,6 +314,8 @@ static int write_imu(fake_t *f, const double *v, int64_t stamp_ns)
  * next sequence. pub_lock held. */
 static int send_new(fake_t *f, uint16_t g)
 {
+    int raw = (f->raw_pending >> g) & 1;
+    f->raw_pending &= ~(1 << g);
     f->clock_ns += CLOCK_STEP_NS;
     if (g == f->robot->n_groups) {
         double v[10];
@@ -314,8 +324,8 @@ static int send_new(fake_t *f, uint16_t g)
         pthread_mutex_unlock(&f->lock);
         memcpy(f->imu_last, v, sizeof v);
         f->imu_last_stamp = f->clock_ns;
-        f->imu_have_last = 1;
-        return write_imu(f, v, f->clock_ns);
+        f->imu_have_last = !raw;
+        return write_imu(f, v, f->clock_ns, raw);
     }
     fgroup_t *gr = &f->group[g];
     pthread_mutex_lock(&f->lock);
@@ -323,6 +333,9 @@ static int send_new(fake_t *f, uint16_t g)
     gr->model.seq++;
     pthread_mutex_unlock(&f->lock);
     m.stamp_ns = f->clock_ns;
+    m.raw = raw;
+    m.sec = f->raw_sec;
+    m.nsec = f->raw_nsec;
     gr->last = m;
     gr->have_last = 1;
     return write_group(f, gr, &m);
@@ -331,7 +344,7 @@ static int send_new(fake_t *f, uint16_t g)
 static int send_replay(fake_t *f, uint16_t g)
 {
     if (g == f->robot->n_groups)
-        return f->imu_have_last ? write_imu(f, f->imu_last, f->imu_last_stamp) : -1;
+        return f->imu_have_last ? write_imu(f, f->imu_last, f->imu_last_stamp, 0) : -1;
     fgroup_t *gr = &f->group[g];
     return gr->have_last ? write_group(f, gr, &gr->last) : -1;
 }
@@ -697,6 +710,23 @@ static int handle(fake_t *f, int argc, char **argv)
             f->imu_muted = r[0] == 'm';
         else
             f->group[g].muted = r[0] == 'm';
+        pthread_mutex_unlock(&f->pub_lock);
+        return reply("ok");
+    }
+    if (strcmp(r, "stamp") == 0 && argc == 3 && argv[1][0] != '\0') {
+        /* the next new sample of every topic carries exactly this stamp; a
+         * valid one also sets the clock the later samples count from */
+        char *end;
+        long sec = strtol(argv[1], &end, 10);
+        if (*end != '\0' || sec < INT32_MIN || sec > INT32_MAX ||
+            parse_u32(argv[2], UINT32_MAX, &u) != 0)
+            return reply("err stamp: expected SEC NSEC");
+        pthread_mutex_lock(&f->pub_lock);
+        f->raw_sec = (int32_t)sec;
+        f->raw_nsec = u;
+        f->raw_pending = (1 << (f->robot->n_groups + 1)) - 1;
+        if (sec >= 0 && u <= 999999999u)
+            f->clock_ns = (int64_t)sec * 1000000000LL + u - CLOCK_STEP_NS;
         pthread_mutex_unlock(&f->pub_lock);
         return reply("ok");
     }
