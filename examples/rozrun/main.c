@@ -8,6 +8,8 @@
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
  *          --controller g1_stand.wasm
+ *   rozrun --robot engineai_pm01 --port engineai/PM01 --param network_interface=eth0
+ *          --controller pm01_stand.wasm
  *
  * On the loopback, without --realtime, the ticks run back to back
  * (simulated time, as fast as the machine goes); with it a periodic thread
@@ -38,6 +40,12 @@
 #include "roz/runtime.h"
 #if ROZRUN_HAS_UNITREE_G1
 #include "roz/unitree_g1.h"
+#endif
+#if ROZRUN_HAS_ENGINEAI_PM01
+#include "roz/engineai_pm01.h"
+#endif
+#if ROZRUN_HAS_AGIBOT_X2
+#include "roz/agibot_x2.h"
 #endif
 #include "schedule.h"
 #include "trace.h"
@@ -70,6 +78,12 @@ static roz_loopback_t loopback;
 #if ROZRUN_HAS_UNITREE_G1
 static roz_unitree_g1_t g1;
 #endif
+#if ROZRUN_HAS_ENGINEAI_PM01
+static roz_engineai_pm01_t pm01;
+#endif
+#if ROZRUN_HAS_AGIBOT_X2
+static roz_agibot_x2_t x2;
+#endif
 
 /* ---- the ports rozrun knows ------------------------------------------------ */
 
@@ -97,17 +111,70 @@ static void link_g1(roz_link_t *out)
 }
 #endif
 
+#if ROZRUN_HAS_ENGINEAI_PM01
+static roz_port_t make_pm01(void)
+{
+    return roz_engineai_pm01_port(&pm01, log_stderr, NULL);
+}
+
+static void link_pm01(roz_link_t *out)
+{
+    roz_ros2_link(&pm01.b, out);
+}
+
+static uint64_t malformed_pm01(void)
+{
+    roz_ros2_counters_t c;
+    uint64_t n = 0;
+    roz_ros2_counters(&pm01.b, &c);
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        n += c.topic[t].malformed;
+    return n;
+}
+#endif
+
+#if ROZRUN_HAS_AGIBOT_X2
+static roz_port_t make_x2(void)
+{
+    return roz_agibot_x2_port(&x2, log_stderr, NULL);
+}
+
+static void link_x2(roz_link_t *out)
+{
+    roz_ros2_link(&x2.b, out);
+}
+
+static uint64_t malformed_x2(void)
+{
+    roz_ros2_counters_t c;
+    uint64_t n = 0;
+    roz_ros2_counters(&x2.b, &c);
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        n += c.topic[t].malformed;
+    return n;
+}
+#endif
+
 typedef struct {
     const char *name;
     int         robot; /* a robot's port: ticks at the manifest's rate, always */
     roz_port_t (*make)(void);
     void (*link)(roz_link_t *out); /* the checks on the state frames it received */
+    /* A ROS 2 port (no CRC on the wire): the samples it dropped as malformed;
+     * NULL for a port whose frames carry a CRC. */
+    uint64_t (*malformed)(void);
 } port_entry_t;
 
 static const port_entry_t ports[] = {
-    { "loopback", 0, make_loopback, link_loopback },
+    { "loopback", 0, make_loopback, link_loopback, NULL },
 #if ROZRUN_HAS_UNITREE_G1
-    { "unitree/G1", 1, make_g1, link_g1 },
+    { "unitree/G1", 1, make_g1, link_g1, NULL },
+#endif
+#if ROZRUN_HAS_ENGINEAI_PM01
+    { "engineai/PM01", 1, make_pm01, link_pm01, malformed_pm01 },
+#endif
+#if ROZRUN_HAS_AGIBOT_X2
+    { "agibot/X2", 1, make_x2, link_x2, malformed_x2 },
 #endif
 };
 
@@ -146,6 +213,12 @@ static void usage(FILE *f)
 #if ROZRUN_HAS_UNITREE_G1
         ", unitree/G1"
 #endif
+#if ROZRUN_HAS_ENGINEAI_PM01
+        ", engineai/PM01"
+#endif
+#if ROZRUN_HAS_AGIBOT_X2
+        ", agibot/X2"
+#endif
         ")\n"
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
@@ -157,7 +230,8 @@ static void usage(FILE *f)
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
         "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
         "                       network_interface, dds_domain, command_writer_period_us,\n"
-        "                       ...; see roz/unitree_g1.h)\n"
+        "                       ...; see roz/unitree_g1.h; engineai/PM01, agibot/X2: the\n"
+        "                       same and roz/ros2.h, roz/engineai_pm01.h, roz/agibot_x2.h)\n"
         "  --budget-us US|off   controller wall-clock deadline per tick (default: half the\n"
         "                       period with --realtime; off in simulated time, where the\n"
         "                       fuel alone decides, so a run is the same on any machine)\n"
@@ -590,11 +664,18 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     printf("  refused values         %llu non-finite, %llu bad indices\n",
            (unsigned long long)nonfinite, (unsigned long long)bad_index);
     printf("  stale reads            %llu\n", (unsigned long long)st.runtime.stale_reads);
-    printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu missing, "
-           "%llu peer restarts\n",
-           (unsigned long long)link.accepted, (unsigned long long)link.crc_errors,
-           (unsigned long long)link.replays, (unsigned long long)link.missing,
-           (unsigned long long)(link.restarts + link.returns));
+    if (pe->malformed == NULL)
+        printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu "
+               "missing, %llu peer restarts\n",
+               (unsigned long long)link.accepted, (unsigned long long)link.crc_errors,
+               (unsigned long long)link.replays, (unsigned long long)link.missing,
+               (unsigned long long)(link.restarts + link.returns));
+    else /* ROS 2 topics: no CRC; what the port checks instead */
+        printf("  state link             %llu samples taken, no CRC on the wire, %llu malformed, "
+               "%llu replays, %llu missing, %llu peer restarts\n",
+               (unsigned long long)link.accepted, (unsigned long long)pe->malformed(),
+               (unsigned long long)link.replays, (unsigned long long)link.missing,
+               (unsigned long long)(link.restarts + link.returns));
     drain_metrics();
     printf("  metrics                %llu emitted, %llu received (last %g), %llu dropped\n",
            (unsigned long long)metrics, (unsigned long long)metrics_seen, metric_last,

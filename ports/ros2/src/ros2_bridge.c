@@ -748,7 +748,10 @@ void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out)
         out->replays += l.replays;
         out->restarts += l.restarts;
         out->returns += l.returns;
-        out->missing += l.missing;
+        /* a stamp's gaps are microseconds, not frames: only sequence numbers
+         * tell frames missing */
+        if (!is_imu(b, t) && !b->link_by_stamp)
+            out->missing += l.missing;
     }
     if (first)
         out->alive = 0;

@@ -383,7 +383,9 @@ void roz_ros2_close(void *self);
 int  roz_ros2_fault(void *self, roz_port_fault_t *out);
 
 /** @brief The link checks of every state topic, summed (alive: every topic
- *  has a peer; last_seq, last_ns: the first topic's). Context: any thread. */
+ *  has a peer; last_seq, last_ns: the first topic's; missing: only topics
+ *  checked by sequence number, a stamp's gaps being microseconds, not
+ *  frames). Context: any thread. */
 void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out);
 
 /** @brief The link checks of state topic @p t (the groups, then the IMU),
