@@ -111,7 +111,7 @@ extern "C" {
 #define ROZ_ROS2_IMU_VALUES 10
 /** 8-byte words of storage for one sample's struct (its sequences and
  *  strings are allocated at open). */
-#define ROZ_ROS2_SAMPLE_WORDS 32
+#define ROZ_ROS2_SAMPLE_WORDS 48
 /** Largest number of merged parameters (robot.toml's and the caller's). */
 #define ROZ_ROS2_MAX_PARAMS 48
 /** Values after a state topic's values in its frame: session, fault kind,
