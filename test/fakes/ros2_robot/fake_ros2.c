@@ -41,6 +41,7 @@ typedef struct {
     double   q, dq, tau;
     uint16_t error_code;
     char     name[NAME_MAX_LEN + 1]; /* "": the robot's own */
+    int      unnamed;                /* an empty name on the wire */
 } fjoint_t;
 
 typedef struct {
@@ -207,6 +208,8 @@ static void sleep_ms(unsigned ms)
 
 static const char *joint_name(const fgroup_t *g, const gmodel_t *m, uint32_t i)
 {
+    if (m->j[i].unnamed)
+        return "";
     if (m->j[i].name[0] != '\0')
         return m->j[i].name;
     return i < g->g->n_joints ? g->g->joints[i] : "";
@@ -664,7 +667,8 @@ static int handle(fake_t *f, int argc, char **argv)
         strlen(argv[3]) <= NAME_MAX_LEN) {
         pthread_mutex_lock(&f->lock);
         snprintf(f->group[g].model.j[slot].name, NAME_MAX_LEN + 1, "%s",
-                 strcmp(argv[3], "-") == 0 ? "" : argv[3]);
+                 strcmp(argv[3], "-") == 0 || strcmp(argv[3], "none") == 0 ? "" : argv[3]);
+        f->group[g].model.j[slot].unnamed = strcmp(argv[3], "none") == 0;
         pthread_mutex_unlock(&f->lock);
         return reply("ok");
     }
