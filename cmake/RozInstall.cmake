@@ -41,6 +41,26 @@ if(TARGET roz_port_unitree_g1)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/unitree_g1/include/roz
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 endif()
+if(TARGET roz_ros2)
+  # roz::ros2 and ROS 2's standard messages (idlc-generated, linked privately
+  # by it and by the ports' own generated types)
+  list(APPEND _roz_targets roz_ros2_msgs roz_ros2)
+  set_target_properties(roz_ros2_msgs PROPERTIES EXPORT_NAME ros2_msgs)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/ros2/include/roz
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET roz_port_engineai_pm01)
+  list(APPEND _roz_targets roz_interface_protocol roz_port_engineai_pm01)
+  set_target_properties(roz_interface_protocol PROPERTIES EXPORT_NAME interface_protocol)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/engineai_pm01/include/roz
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET roz_port_agibot_x2)
+  list(APPEND _roz_targets roz_aimdk_msgs roz_port_agibot_x2)
+  set_target_properties(roz_aimdk_msgs PROPERTIES EXPORT_NAME aimdk_msgs)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/agibot_x2/include/roz
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
 if(TARGET roz_wasm3)
   # Static roz_core links it PRIVATE, so a consumer's link line needs it.
   list(APPEND _roz_targets roz_wasm3)

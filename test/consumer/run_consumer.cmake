@@ -54,6 +54,9 @@ if(PHASE STREQUAL "installed")
   if(EXISTS ${prefix}/include/roz/unitree_g1.h)
     run(${WORK_DIR}/build/consumer_g1) # the DDS ports came with the package
   endif()
+  if(EXISTS ${prefix}/include/roz/engineai_pm01.h)
+    run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
+  endif()
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
       --controller ${WORK_DIR}/build/reach.wasm --ticks 100)
   run(${prefix}/bin/roz_manifest_info ur5)
@@ -89,7 +92,7 @@ if(MODE STREQUAL "find_package")
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR}/src)
-foreach(f IN ITEMS CMakeLists.txt main.c reach.c g1_link.c small_config.h)
+foreach(f IN ITEMS CMakeLists.txt main.c reach.c g1_link.c ros2_link.c small_config.h)
   file(COPY ${CMAKE_CURRENT_LIST_DIR}/${f} DESTINATION ${WORK_DIR}/src)
 endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)

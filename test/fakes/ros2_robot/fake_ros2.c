@@ -818,7 +818,7 @@ int main(int argc, char **argv)
     char line[LINE_MAX_LEN + 2];
 
     f->typeinfo = 1;
-    for (int i = 1; i < argc; i++) {
+    for (int i = 1; i < argc; i += 2) { /* options come as pairs: --name value */
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(argv[i], "--robot") == 0 && v != NULL) {
             f->robot = fake_robot_find(v);
@@ -840,7 +840,6 @@ int main(int argc, char **argv)
         } else {
             return usage("unknown option or missing value");
         }
-        i++;
     }
     if (f->robot == NULL || domain == UINT32_MAX)
         return usage("--robot and --domain are required");
