@@ -221,32 +221,40 @@ static int link_moved(const roz_link_t *before, const roz_link_t *now)
            now->replays != before->replays;
 }
 
-void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend_until_first)
+void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend)
 {
     roz_link_t now[ROZ_ROS2_MAX_TOPICS];
     for (unsigned ms = 0; ms < WAIT_MS; ms++) {
-        int all = 1, alive = 1;
+        int all = 1;
         for (uint16_t t = 0; t < ROZ_ROS2_MAX_TOPICS; t++) {
             if (roz_ros2_topic_link(robot->bridge, t, &now[t]) != ROZ_OK)
                 continue; /* a topic the port does not read */
             if (mask != 0 && !(mask & (1u << t)))
                 continue;
             all &= link_moved(&before[t], &now[t]);
-            alive &= now[t].alive;
         }
         if (all)
             return;
-        /* Before the port's first frame the fake's writers may not have
-         * found the port's readers yet (discovery is asynchronous): a new
-         * frame every 500 ms until every topic has one. */
-        if (resend_until_first && !alive && ms % 500u == 499u) {
+        /* The fake's writers may not have found the port's readers yet
+         * (discovery is asynchronous: before the port's first frame, and
+         * again for a restarted robot's new writers), and the robots'
+         * state topics are BEST_EFFORT: the frame again every 500 ms until
+         * every topic has one. */
+        if (resend && ms % 500u == 499u) {
             roz_ros2fx_set_state(frame_no);
             roz_ros2fx_ask("send");
         }
         roz_fake_ros2_sleep_ms(1);
     }
-    fail_msg("%s: the port did not judge the fake's samples within %u ms", man->robot_id,
-             WAIT_MS);
+    char which[128] = "";
+    size_t used = 0;
+    for (uint16_t t = 0; t < ROZ_ROS2_MAX_TOPICS && used < sizeof which; t++) {
+        if (roz_ros2_topic_link(robot->bridge, t, &now[t]) == ROZ_OK &&
+            (mask == 0 || (mask & (1u << t))) && !link_moved(&before[t], &now[t]))
+            used += (size_t)snprintf(which + used, sizeof which - used, " %u", (unsigned)t);
+    }
+    fail_msg("%s: the port did not judge the fake's samples within %u ms (topics%s)",
+             man->robot_id, WAIT_MS, which);
 }
 
 void roz_ros2fx_send(void)
@@ -409,7 +417,7 @@ static void fx_peer(roz_peer_frame_t what)
         roz_ros2fx_ask("restart");
         roz_ros2fx_set_state(++frame_no);
         roz_ros2fx_ask("send");
-        roz_ros2fx_wait_judged(before, 0, 0);
+        roz_ros2fx_wait_judged(before, 0, 1);
         break;
     case ROZ_PEER_VANISH:
         roz_fake_ros2_sleep_ms(peer_timeout_ms + 100u);

@@ -30,8 +30,10 @@ void roz_ros2fx_sent(double *state);
 /* The port's link checks, per state topic (unread topics zero). */
 void roz_ros2fx_links(roz_link_t *out /* [ROZ_ROS2_MAX_TOPICS] */);
 /* Waits until every state topic in @p mask (port topic indices; 0: every
- * topic the port reads) judged a sample since @p before. */
-void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend_until_first);
+ * topic the port reads) judged a sample since @p before; with @p resend,
+ * the last frame's values go out again as a new frame every 500 ms until
+ * they have (a sample lost before discovery completed). */
+void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend);
 /* A good frame with new values on every topic; returns once the port took it. */
 void roz_ros2fx_send(void);
 /* Returns once the port's writer took every write and the fake counted

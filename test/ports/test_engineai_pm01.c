@@ -496,7 +496,7 @@ static void test_pm01_periodic_writer(void **st)
     roz_ros2fx_links(before);
     roz_ros2fx_set_state(100);
     roz_ros2fx_ask("send");
-    roz_ros2fx_wait_judged(before, 0, 0);
+    roz_ros2fx_wait_judged(before, 0, 1); /* the new writers: again until discovered */
     assert_int_equal(read_pm01(), ROZ_ELINK);
     roz_fake_ros2_sleep_ms(10);
     uint64_t after[FAKE_ROS2_MAX_GROUPS], later[FAKE_ROS2_MAX_GROUPS];
