@@ -6,6 +6,11 @@
 
 #include <string.h>
 
+/* The sequence owns its buffer (_release): Cyclone 0.10's deserializer
+ * grows a releasing sequence that is too short, but fills a sequence of
+ * structs that does not release past its _maximum (it reads every element
+ * the sample carries), which a hostile sample would turn into an overflow
+ * of the port's storage. */
 int roz_dds_seq_reserve(void *seq, uint32_t n, size_t elem_size)
 {
     dds_sequence_t *s = seq;

@@ -111,6 +111,7 @@ extern const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS];
  * @brief A roz_port_t over @p x2, not yet open (roz_port_open()).
  * @param log  where the port says which DDS configuration it uses, what it
  *             drops and what the monitors see (from its threads); NULL: stderr
+ * Context: start-up.
  */
 roz_port_t roz_agibot_x2_port(roz_agibot_x2_t *x2, roz_log_fn log, void *log_ctx);
 

@@ -82,6 +82,7 @@ extern const char *const roz_engineai_pm01_joints[ROZ_ENGINEAI_PM01_JOINTS];
  * @brief A roz_port_t over @p pm, not yet open (roz_port_open()).
  * @param log  where the port says which DDS configuration it uses, what it
  *             drops and what the monitors see (from its threads); NULL: stderr
+ * Context: start-up.
  */
 roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log, void *log_ctx);
 
