@@ -443,7 +443,7 @@ static void test_g1_periodic_writer(void **st)
     roz_unitree_g1_link(roz_g1fx_port(), &before);
     roz_g1fx_set_state(100);
     roz_g1fx_ask("send");
-    roz_g1fx_wait_judged(&before, 0);
+    roz_g1fx_wait_judged(&before, 2); /* the new writer: again until discovered */
     assert_int_equal(read_g1(), ROZ_ELINK);
     /* (until its first frame reached the port, the port could not know:
      * the old command went on; from then on, nothing) */
