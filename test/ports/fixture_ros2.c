@@ -332,6 +332,31 @@ int roz_ros2fx_applied(double *cmd)
 
 static void fx_close(void);
 
+/* Whether the fake matched the port on every topic the port uses: each
+ * driven group's command reader and state writer, the IMU's writer when the
+ * port reads it. */
+static int fake_matched(void)
+{
+    unsigned v[2 * FAKE_ROS2_MAX_GROUPS + 1];
+    char *p, *end;
+    roz_link_t l;
+    if (roz_fake_ros2_ask(&fake, "matched") != 0)
+        fail_msg("fake_ros2: matched: \"%s\"", fake.line);
+    p = fake.line + 2;
+    for (unsigned i = 0; i < 2 * fake.n_groups + 1; i++) {
+        v[i] = (unsigned)strtoul(p, &end, 10);
+        if (end == p)
+            fail_msg("fake_ros2: matched: \"%s\"", fake.line);
+        p = end;
+    }
+    for (unsigned g = 0; g < fake.n_groups; g++) {
+        if (drives[g] && (v[2 * g] < 1 || v[2 * g + 1] < 1))
+            return 0;
+    }
+    int imu = roz_ros2_topic_link(robot->bridge, robot->bridge->robot->n_groups, &l) == ROZ_OK;
+    return !imu || v[2 * fake.n_groups] >= 1;
+}
+
 static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_params_t *params,
                          roz_port_t *port, char *err, size_t errlen)
 {
@@ -373,11 +398,14 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
     if (rc != ROZ_OK)
         return rc;
     *port = the_port;
-    /* both directions matched before anyone speaks */
+    /* both directions matched, seen from both sides, before anyone speaks
+     * (discovery is asynchronous: a side that has not matched the other's
+     * writer yet drops what it sends, and both robots' topics are
+     * BEST_EFFORT somewhere) */
     for (unsigned ms = 0;; ms++) {
         uint32_t readers, writers;
         roz_ros2_matched(r->bridge, &readers, &writers);
-        if (readers >= 1 && writers >= 1)
+        if (readers >= 1 && writers >= 1 && fake_matched())
             break;
         if (ms >= WAIT_MS) {
             snprintf(err, errlen, "%s and fake_ros2 did not discover each other in %u ms",

@@ -497,6 +497,14 @@ static uint32_t matched(dds_entity_t writer)
     return st.current_count;
 }
 
+static uint32_t sub_matched(dds_entity_t reader)
+{
+    dds_subscription_matched_status_t st;
+    if (dds_get_subscription_matched_status(reader, &st) != DDS_RETCODE_OK)
+        return 0;
+    return st.current_count;
+}
+
 /* A new writer for a state topic, once it meets the readers the old one
  * had (a rebooted robot's writers are new endpoints). pub_lock held. */
 static dds_entity_t renew(fake_t *f, dds_entity_t topic, dds_entity_t old)
@@ -784,6 +792,22 @@ static int handle(fake_t *f, int argc, char **argv)
         putchar('\n');
         fflush(stdout);
         return 0;
+    }
+    if (strcmp(r, "matched") == 0 && argc == 1) {
+        /* discovery seen from this side: per group, the writers its command
+         * reader matched and the readers its state writer matched; then the
+         * IMU writer's readers */
+        char line[256];
+        size_t n = (size_t)snprintf(line, sizeof line, "ok");
+        pthread_mutex_lock(&f->pub_lock);
+        for (uint16_t i = 0; i < f->robot->n_groups && n < sizeof line; i++)
+            n += (size_t)snprintf(line + n, sizeof line - n, " %u %u",
+                                  (unsigned)sub_matched(f->group[i].cmd_reader),
+                                  (unsigned)matched(f->group[i].state_writer));
+        if (n < sizeof line)
+            snprintf(line + n, sizeof line - n, " %u", (unsigned)matched(f->imu_writer));
+        pthread_mutex_unlock(&f->pub_lock);
+        return reply("%s", line);
     }
     if (strcmp(r, "groups") == 0 && argc == 1) {
         printf("ok %u", (unsigned)f->robot->n_groups);
