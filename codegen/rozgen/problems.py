@@ -46,6 +46,18 @@ RULES: dict[str, str] = {
     "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",
     "joint-name": "a hardware joint name is empty",
     "duplicate-joint": "a hardware joint is listed twice",
+    "can-param": "socketcan port: a [hardware.params] key of a CAN robot is missing or "
+    "malformed (an entry, a number, a range, a layout)",
+    "can-id": "socketcan port: two joints share a CAN id or its low byte (a reply's id), "
+    "or one is master_id",
+    "can-joint": "socketcan port: a hardware joint name it cannot use, none at all, or a "
+    "joint without a channel",
+    "can-channel": "socketcan port: a channel that is not JOINT/<type> of a hardware joint "
+    "with a type it carries",
+    "can-range": "socketcan port: an actuator's range does not hold the limits of one of "
+    "its joint's channels",
+    "can-bus": "socketcan port: one joint's frames overrun the bus in a round, or "
+    "reply_timeout_us is shorter than two command intervals",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }

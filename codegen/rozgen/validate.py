@@ -38,7 +38,9 @@ Schema::
                               limit_margin (number, position states only;
                               absent: the default, model.Channel.margin)
     [hardware]                port (string, required), joints (array of
-                              strings, []), params (table of strings, {})
+                              strings, []), params (table of strings, {});
+                              a port's own keys in params are checked by
+                              the port's module (``rozgen.socketcan``)
 
 Rules, by id (``rozgen --list-rules`` prints them; ``--error-ids`` prefixes
 each message with ``[<id>] ``):
@@ -96,6 +98,25 @@ too-many-channels   ``manifest: commands: 300 channels, more than the maximum
                     of 256 (ROZ_CFG_MAX_COMMANDS)`` (states likewise)
 joint-name          ``hardware: joints[1] "": must not be empty``
 duplicate-joint     ``hardware: joints[2] "a": duplicate of joints[0]``
+can-param           (port ``socketcan``: ``rozgen.socketcan``)
+                    ``hardware.params: can_id "knee=x": expected an actuator's
+                    CAN id, 1..2047 (11 bits; decimal or 0x hex)``, ``...:
+                    required key is missing``, ``no value for joint "knee",
+                    and none for every joint``
+can-id              ``hardware.params: can_id: joint "knee": id 3 is also that
+                    of joint "hip"`` (or the same low byte, or master_id)
+can-joint           ``hardware: joints[1] "a=b": the socketcan port needs joint
+                    names without ',' and '=' ...``, ``... no channel of the
+                    manifest is this joint's``
+can-channel         ``manifest.states[3] "imu/orientation.x": the socketcan port
+                    gives JOINT/position, /velocity and /effort states, ...``
+can-range           ``hardware.params: effort_range: joint "knee": the actuator's
+                    range [-18.0, 18.0] does not hold manifest.commands[4]
+                    "knee/effort" limits [-24.0, 24.0]``
+can-bus             ``hardware.params: command_writer_period_us "100": a joint's
+                    command and reply take 270 bits, more than 80% of a 100 us
+                    round ...``; ``reply_timeout_us "3000": shorter than two
+                    command intervals of a joint (2 x 2000 us)``
 duplicate-robot-id  ``manifest: robot_id "ur5": also the robot_id of <file>``
                     (several files; checked by the CLI)
 source-root         ``not under --source-root <dir>`` (checked by the CLI)
@@ -109,7 +130,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from rozgen import names
+from rozgen import names, socketcan
 from rozgen.fmt import c_double, quote, toml_value
 from rozgen.model import INTERFACE_TYPES, UNPAIRED, Channel, Hardware, Manifest, Maxima
 from rozgen.problems import Problem
@@ -134,8 +155,9 @@ RATE_MAX = 100000
 DEFAULT_CLASS = "generic"
 DEFAULT_RATE = 100
 
-# Sections, in reporting order.
-_TOP, _MANIFEST, _COMMANDS, _STATES, _HARDWARE = range(5)
+# Sections, in reporting order (a port's keys are checked last, on a
+# manifest without other problems).
+_TOP, _MANIFEST, _COMMANDS, _STATES, _HARDWARE, _PORT = range(6)
 _UNKNOWN_RANK = -1  # unknown keys come first within a section
 
 _MISSING = object()
@@ -302,7 +324,11 @@ class _Checker:
                 self.report("type", top, "hardware", "expected a table", hardware_table)
         if manifest is None or self.problems:
             return None
-        return Manifest(**manifest, hardware=hardware)
+        result = Manifest(**manifest, hardware=hardware)
+        # a port's own keys, checked as the port checks them at open
+        for rule, message in socketcan.check(result):
+            self.problems.append(Problem(rule, message, (_PORT, 0, 0, len(self.problems))))
+        return None if self.problems else result
 
     def manifest(self, table: dict) -> dict | None:
         place = _Place(_MANIFEST, 0, "manifest", MANIFEST_KEYS)

@@ -3,7 +3,9 @@
  * roz_manifest_json: load a robot.toml at run time with roz's C reader
  * (roz/manifest_toml.h) and print what `rozgen --json` prints for it, byte
  * for byte: the canonical JSON (codegen/rozgen/canonical.py) on stdout, or
- * the problems on stderr, one per line, as rozgen prints them.
+ * the problems on stderr, one per line, as rozgen prints them. A robot for
+ * the socketcan port (hardware.port = "socketcan") also passes that port's
+ * checks of its [hardware] keys (roz/can_config.h), as in rozgen.
  *
  *   roz_manifest_json [--check | --identity] [--error-ids] FILE
  *
@@ -21,6 +23,7 @@
 #include <string.h>
 
 #include "json.h"
+#include "roz/can_config.h"
 #include "roz/identity.h"
 #include "roz/manifest_toml.h"
 
@@ -31,6 +34,28 @@ static char text[MAX_FILE];
 static roz_manifest_storage_t storage;
 static roz_manifest_toml_problem_t problems[MAX_PROBLEMS];
 ROZ_TOML_DOC_DEFINE(doc, 1u << 19, 4u << 20);
+
+typedef struct {
+    const char *file;
+    int         ids;
+} printer_t;
+
+static void print_problem(void *ctx, const char *rule, const char *what)
+{
+    const printer_t *p = ctx;
+    fprintf(stderr, "%s%s%s%s%s\n", p->ids ? "[" : "", p->ids ? rule : "", p->ids ? "] " : "",
+            p->file, what);
+}
+
+/* A port's checks of its own [hardware] keys, after the generic ones. */
+static int port_checks(const roz_manifest_t *m, const char *file, int ids)
+{
+    static roz_can_config_t can;
+    printer_t p = { file, ids };
+    if (m->hardware == NULL || strcmp(m->hardware->port, "socketcan") != 0)
+        return 0;
+    return roz_can_config_load(&can, m, NULL, print_problem, &p) == ROZ_OK ? 0 : 2;
+}
 
 static int usage(void)
 {
@@ -79,6 +104,8 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", file, roz_strerror(rc));
         return 2;
     }
+    if (port_checks(&storage.manifest, file, ids) != 0)
+        return 2;
     if (identity)
         printf("%s %016llx\n", storage.manifest.robot_id,
                (unsigned long long)roz_manifest_interface_hash(&storage.manifest));

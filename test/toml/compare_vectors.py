@@ -3,7 +3,7 @@
 
     compare_vectors.py --root REPO --rozgen ROZGEN --c-tool ROZ_MANIFEST_JSON
 
-Good vectors (manifests/*.toml, examples/my_arm/robot.toml,
+Good vectors (manifests/*.toml, examples/my_arm/robot.toml, examples/can_leg/leg.toml,
 test/vectors/good/*.toml): both exit 0 and print the same JSON, byte for
 byte (``rozgen --json`` and ``roz_manifest_json``), and the same identity,
 robot_id and interface hash (``--identity``: rozgen computes it from its
@@ -107,6 +107,7 @@ def main() -> int:
     args.c_tool = os.path.abspath(args.c_tool)
 
     good = _vectors(args.root, ["manifests/*.toml", "examples/my_arm/robot.toml",
+                                "examples/can_leg/leg.toml",
                                 "test/vectors/good/*.toml"])
     bad = _vectors(args.root, ["manifests/invalid/*.toml", "test/vectors/bad/*.toml"])
     jobs = [(path, _check_good) for path in good] + [(path, _check_bad) for path in bad]

@@ -1,0 +1,1043 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The CAN keys of [hardware]: parsing, checking, binding, the bus figures.
+ * Every message and its order match rozgen's (codegen/rozgen/socketcan.py),
+ * which test/toml/compare_vectors.py checks on every fixture. */
+#include "roz/can_config.h"
+
+#include <locale.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- types ------------------------------------------------------------------ */
+
+typedef struct {
+    const char *s;
+    size_t      n;
+} span_t;
+
+typedef struct {
+    roz_can_problem_fn fn;
+    void              *ctx;
+    unsigned           count;
+} reporter_t;
+
+/* A string under construction, cut (with "...") at the end of its buffer. */
+typedef struct {
+    char  *buf;
+    size_t cap, len;
+    int    cut;
+} sb_t;
+
+enum { K_NETWORK_INTERFACE, K_BITRATE, K_PERIOD, K_MAX_LOAD, K_REPLY_TIMEOUT, K_MASTER_ID,
+       K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
+       K_VELOCITY_RANGE, K_STIFFNESS_RANGE, K_DAMPING_RANGE, K_EFFORT_RANGE, K_DIRECTION,
+       K_ZERO_OFFSET, N_KEYS };
+
+static const char *const key_names[N_KEYS + 1] = {
+    "network_interface", "bitrate", "command_writer_period_us", "max_bus_load_percent",
+    "reply_timeout_us", "master_id", "consistency_margin", "enable_monitor", "state_decimation",
+    "can_id", "reply", "position_range", "velocity_range", "stiffness_range", "damping_range",
+    "effort_range", "direction", "zero_offset", NULL,
+};
+
+static const char *const rule_names[] = {
+    "unknown-key", "can-param", "can-id", "can-joint", "can-channel", "can-range", "can-bus", NULL,
+};
+
+#define KNOWN_KEYS                                                                               \
+    "network_interface, bitrate, command_writer_period_us, max_bus_load_percent, "               \
+    "reply_timeout_us, master_id, consistency_margin, enable_monitor, state_decimation, can_id, " \
+    "reply, position_range, velocity_range, stiffness_range, damping_range, effort_range, "      \
+    "direction, zero_offset"
+
+#define MAX_NUMBER_TEXT 63 /* longer numbers are refused (rozgen too) */
+#define DEFAULT_TIMEOUT_US 20000u
+
+/* the five ranges, in roz_mit_ranges_t order, and the channel kinds they hold */
+static const roz_interface_t range_types[5] = { ROZ_IF_POSITION, ROZ_IF_VELOCITY,
+                                                ROZ_IF_STIFFNESS, ROZ_IF_DAMPING, ROZ_IF_EFFORT };
+
+/* ---- text -------------------------------------------------------------------- */
+
+static span_t span_of(const char *s)
+{
+    span_t sp = { s, strlen(s) };
+    return sp;
+}
+
+static int is_space(char c)
+{
+    return c == ' ' || c == '\t';
+}
+
+static span_t trim(span_t s)
+{
+    while (s.n > 0 && is_space(s.s[0])) {
+        s.s++;
+        s.n--;
+    }
+    while (s.n > 0 && is_space(s.s[s.n - 1]))
+        s.n--;
+    return s;
+}
+
+static int span_is(span_t s, const char *z)
+{
+    return strlen(z) == s.n && memcmp(s.s, z, s.n) == 0;
+}
+
+static void sb_init(sb_t *sb, char *buf, size_t cap)
+{
+    sb->buf = buf;
+    sb->cap = cap;
+    sb->len = 0;
+    sb->cut = 0;
+    buf[0] = '\0';
+}
+
+static void sb_putn(sb_t *sb, const char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (sb->len + 1 >= sb->cap) {
+            sb->cut = 1;
+            break;
+        }
+        sb->buf[sb->len++] = s[i];
+    }
+    sb->buf[sb->len] = '\0';
+}
+
+static void sb_puts(sb_t *sb, const char *s)
+{
+    sb_putn(sb, s, strlen(s));
+}
+
+static void sb_printf(sb_t *sb, const char *fmt, ...)
+{
+    char tmp[128];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(tmp, sizeof tmp, fmt, ap);
+    va_end(ap);
+    sb_puts(sb, tmp);
+}
+
+/* rozgen.fmt.quote */
+static void sb_quoted(sb_t *sb, span_t s)
+{
+    sb_puts(sb, "\"");
+    for (size_t i = 0; i < s.n; i++) {
+        unsigned char c = (unsigned char)s.s[i];
+        switch (c) {
+        case '"': sb_puts(sb, "\\\""); break;
+        case '\\': sb_puts(sb, "\\\\"); break;
+        case '\n': sb_puts(sb, "\\n"); break;
+        case '\t': sb_puts(sb, "\\t"); break;
+        case '\r': sb_puts(sb, "\\r"); break;
+        case '\b': sb_puts(sb, "\\b"); break;
+        case '\f': sb_puts(sb, "\\f"); break;
+        default:
+            if (c < 0x20 || c == 0x7F)
+                sb_printf(sb, "\\u%04X", (unsigned)c);
+            else
+                sb_putn(sb, (const char *)&c, 1);
+        }
+    }
+    sb_puts(sb, "\"");
+}
+
+/* "%.*g" with '.' as the decimal point whatever the locale */
+static void fmt_g(char *buf, size_t cap, int prec, double x)
+{
+    const char *point = localeconv()->decimal_point;
+    snprintf(buf, cap, "%.*g", prec, x);
+    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
+        char *at = strstr(buf, point);
+        if (at != NULL) {
+            size_t plen = strlen(point);
+            *at = '.';
+            memmove(at + 1, at + plen, strlen(at + plen) + 1);
+        }
+    }
+}
+
+/* rozgen.fmt.c_double: the shortest round-trip %g, integral values below
+ * 1e16 without exponent, ".0" when it looks like an integer. */
+static void sb_double(sb_t *sb, double x)
+{
+    char out[48];
+    if (isnan(x)) {
+        sb_puts(sb, "nan");
+        return;
+    }
+    if (isinf(x)) {
+        sb_puts(sb, x > 0 ? "inf" : "-inf");
+        return;
+    }
+    for (int p = 1; p <= 17; p++) {
+        fmt_g(out, 40, p, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    const char *e = strchr(out, 'e');
+    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
+        fmt_g(out, 40, atoi(e + 1) + 1, x);
+    if (strpbrk(out, ".eni") == NULL)
+        strcat(out, ".0");
+    sb_puts(sb, out);
+}
+
+static void sb_interval(sb_t *sb, double lo, double hi)
+{
+    sb_puts(sb, "[");
+    sb_double(sb, lo);
+    sb_puts(sb, ", ");
+    sb_double(sb, hi);
+    sb_puts(sb, "]");
+}
+
+static void report(reporter_t *r, const char *rule, sb_t *sb)
+{
+    if (sb->cut && sb->cap >= 4)
+        memcpy(sb->buf + sb->cap - 4, "...", 4);
+    r->count++;
+    if (r->fn != NULL)
+        r->fn(r->ctx, rule, sb->buf);
+}
+
+/* ": hardware.params: KEY "ENTRY": WHAT" */
+static void say_entry(reporter_t *r, const char *rule, const char *key, span_t entry,
+                      const char *what)
+{
+    char buf[ROZ_CFG_PROBLEM_LEN];
+    sb_t sb;
+    sb_init(&sb, buf, sizeof buf);
+    sb_puts(&sb, ": hardware.params: ");
+    sb_puts(&sb, key);
+    sb_puts(&sb, " ");
+    sb_quoted(&sb, entry);
+    sb_puts(&sb, ": ");
+    sb_puts(&sb, what);
+    report(r, rule, &sb);
+}
+
+/* ---- values ------------------------------------------------------------------ */
+
+/* Decimal digits, or 0x and hex digits; saturates at UINT32_MAX. */
+static int parse_uint(span_t s, uint32_t *out)
+{
+    unsigned base = 10;
+    uint64_t v = 0;
+    size_t i = 0;
+
+    if (s.n > 2 && s.s[0] == '0' && (s.s[1] == 'x' || s.s[1] == 'X')) {
+        base = 16;
+        i = 2;
+    }
+    if (i >= s.n)
+        return 0;
+    for (; i < s.n; i++) {
+        char c = s.s[i];
+        unsigned d;
+        if (c >= '0' && c <= '9')
+            d = (unsigned)(c - '0');
+        else if (base == 16 && c >= 'a' && c <= 'f')
+            d = (unsigned)(c - 'a' + 10);
+        else if (base == 16 && c >= 'A' && c <= 'F')
+            d = (unsigned)(c - 'A' + 10);
+        else
+            return 0;
+        v = v * base + d;
+        if (v > UINT32_MAX)
+            v = UINT32_MAX + (uint64_t)1;
+    }
+    *out = v > UINT32_MAX ? UINT32_MAX : (uint32_t)v;
+    return 1;
+}
+
+static int parse_uint_in(span_t s, uint32_t lo, uint32_t hi, uint32_t *out)
+{
+    uint32_t v;
+    if (!parse_uint(s, &v) || v < lo || v > hi)
+        return 0;
+    *out = v;
+    return 1;
+}
+
+/* [+-]?(digits[.digits?]|.digits)([eE][+-]?digits)?, finite */
+static int parse_number(span_t s, double *out)
+{
+    char buf[MAX_NUMBER_TEXT + 16];
+    size_t i = 0, digits = 0;
+
+    if (s.n == 0 || s.n > MAX_NUMBER_TEXT)
+        return 0;
+    if (s.s[i] == '+' || s.s[i] == '-')
+        i++;
+    while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
+        i++;
+        digits++;
+    }
+    if (i < s.n && s.s[i] == '.') {
+        i++;
+        while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
+            i++;
+            digits++;
+        }
+    }
+    if (digits == 0)
+        return 0;
+    if (i < s.n && (s.s[i] == 'e' || s.s[i] == 'E')) {
+        size_t exp_digits = 0;
+        i++;
+        if (i < s.n && (s.s[i] == '+' || s.s[i] == '-'))
+            i++;
+        while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
+            i++;
+            exp_digits++;
+        }
+        if (exp_digits == 0)
+            return 0;
+    }
+    if (i != s.n)
+        return 0;
+    /* strtod follows the C locale's decimal point; the host may have set one */
+    const char *point = localeconv()->decimal_point;
+    size_t plen = point != NULL && point[0] != '\0' ? strlen(point) : 1u;
+    size_t n = 0;
+    if (plen > 8)
+        return 0;
+    for (i = 0; i < s.n; i++) {
+        if (s.s[i] == '.' && point != NULL && point[0] != '\0') {
+            memcpy(buf + n, point, plen);
+            n += plen;
+        } else {
+            buf[n++] = s.s[i];
+        }
+    }
+    buf[n] = '\0';
+    *out = strtod(buf, NULL);
+    return isfinite(*out);
+}
+
+static int parse_range(span_t s, roz_mit_range_t *out)
+{
+    const char *colon = memchr(s.s, ':', s.n);
+    span_t lo, hi;
+    roz_mit_range_t r;
+
+    if (colon == NULL)
+        return 0;
+    lo.s = s.s;
+    lo.n = (size_t)(colon - s.s);
+    hi.s = colon + 1;
+    hi.n = s.n - lo.n - 1;
+    if (!parse_number(trim(lo), &r.min) || !parse_number(trim(hi), &r.max) ||
+        !roz_mit_codec_range_valid(&r))
+        return 0;
+    *out = r;
+    return 1;
+}
+
+static int parse_bool(span_t s, int *out)
+{
+    static const char *const yes[] = { "true", "1", "yes", "on" };
+    static const char *const no[] = { "false", "0", "no", "off" };
+    for (size_t i = 0; i < 4; i++) {
+        if (span_is(s, yes[i])) {
+            *out = 1;
+            return 1;
+        }
+        if (span_is(s, no[i])) {
+            *out = 0;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int interface_name_ok(span_t s)
+{
+    if (s.n == 0 || s.n > ROZ_CAN_IFNAME_MAX)
+        return 0;
+    for (size_t i = 0; i < s.n; i++) {
+        unsigned char c = (unsigned char)s.s[i];
+        if (c <= 0x20 || c >= 0x7F || c == '/')
+            return 0;
+    }
+    return 1;
+}
+
+/* ---- the parameters ------------------------------------------------------------ */
+
+/* The parameters merged: the last occurrence of a key wins. */
+typedef struct {
+    const roz_param_t *a;
+    size_t             na;
+    const roz_param_t *b;
+    size_t             nb;
+} params_t;
+
+static const roz_param_t *param_at(const params_t *p, size_t i)
+{
+    return i < p->na ? &p->a[i] : &p->b[i - p->na];
+}
+
+static size_t param_count(const params_t *p)
+{
+    return p->na + p->nb;
+}
+
+/* The effective value of @p key, or NULL. */
+static const char *param_value(const params_t *p, const char *key)
+{
+    const char *v = NULL;
+    for (size_t i = 0; i < param_count(p); i++) {
+        if (strcmp(param_at(p, i)->key, key) == 0)
+            v = param_at(p, i)->value;
+    }
+    return v;
+}
+
+static int known_key(const char *key)
+{
+    for (int k = 0; k < N_KEYS; k++) {
+        if (strcmp(key_names[k], key) == 0)
+            return k;
+    }
+    return -1;
+}
+
+/* ---- per-joint keys ------------------------------------------------------------ */
+
+typedef int (*entry_fn)(span_t v, roz_can_joint_t *j, int key);
+
+static int entry_can_id(span_t v, roz_can_joint_t *j, int key)
+{
+    uint32_t id;
+    (void)key;
+    if (!parse_uint_in(v, 1, 0x7FF, &id))
+        return 0;
+    j->can_id = (uint16_t)id;
+    return 1;
+}
+
+static int entry_reply(span_t v, roz_can_joint_t *j, int key)
+{
+    char name[32];
+    (void)key;
+    if (v.n >= sizeof name)
+        return 0;
+    memcpy(name, v.s, v.n);
+    name[v.n] = '\0';
+    return roz_mit_codec_layout_parse(name, &j->reply) == ROZ_OK;
+}
+
+static roz_mit_range_t *range_slot(roz_can_joint_t *j, int key)
+{
+    roz_mit_range_t *slots[5] = { &j->ranges.position, &j->ranges.velocity, &j->ranges.kp,
+                                  &j->ranges.kd, &j->ranges.torque };
+    return slots[key - K_POSITION_RANGE];
+}
+
+static const roz_mit_range_t *range_of(const roz_can_joint_t *j, int key)
+{
+    const roz_mit_range_t *slots[5] = { &j->ranges.position, &j->ranges.velocity, &j->ranges.kp,
+                                        &j->ranges.kd, &j->ranges.torque };
+    return slots[key - K_POSITION_RANGE];
+}
+
+static int entry_range(span_t v, roz_can_joint_t *j, int key)
+{
+    return parse_range(v, range_slot(j, key));
+}
+
+static int entry_direction(span_t v, roz_can_joint_t *j, int key)
+{
+    (void)key;
+    if (span_is(v, "1") || span_is(v, "+1"))
+        j->direction = 1;
+    else if (span_is(v, "-1"))
+        j->direction = -1;
+    else
+        return 0;
+    return 1;
+}
+
+static int entry_zero_offset(span_t v, roz_can_joint_t *j, int key)
+{
+    (void)key;
+    return parse_number(v, &j->zero_offset);
+}
+
+static const char *entry_expected(int key)
+{
+    switch (key) {
+    case K_CAN_ID: return "expected an actuator's CAN id, 1..2047 (11 bits; decimal or 0x hex)";
+    case K_REPLY: return "unknown reply layout (known: basic, temperature_error)";
+    case K_DIRECTION: return "expected 1 or -1";
+    case K_ZERO_OFFSET: return "expected a finite number (rad)";
+    default: return "expected MIN:MAX, two finite numbers, MIN below MAX";
+    }
+}
+
+static int joint_index(const roz_can_config_t *cfg, span_t name)
+{
+    for (uint16_t j = 0; j < cfg->n_joints; j++) {
+        if (span_is(name, cfg->joints[j].name))
+            return j;
+    }
+    return -1;
+}
+
+/* The entries of a per-joint key, in the order written; then the entry for
+ * every joint goes to the joints without their own. Returns 1 when every
+ * joint has a valid value (or the key is optional and absent). */
+static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *value,
+                     int required, entry_fn fn)
+{
+    uint8_t have[ROZ_CAN_MAX_JOINTS]; /* 1 valid, 2 invalid */
+    roz_can_joint_t scratch;
+    int ok = 1, have_default = 0;     /* 1 valid, 2 invalid */
+    span_t all, deflt = { NULL, 0 };
+    const char *name = key_names[key];
+    char what[200];
+
+    if (value == NULL) {
+        if (!required)
+            return 1;
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_printf(&sb, ": hardware.params: %s: required key is missing", name);
+        report(r, "can-param", &sb);
+        return 0;
+    }
+    memset(have, 0, sizeof have);
+    all = span_of(value);
+    const char *p = all.s, *end = all.s + all.n;
+    for (;;) {
+        const char *comma = memchr(p, ',', (size_t)(end - p));
+        span_t e = { p, (size_t)((comma != NULL ? comma : end) - p) };
+        e = trim(e);
+        const char *eq = e.n > 0 ? memchr(e.s, '=', e.n) : NULL;
+        if (e.n == 0) {
+            say_entry(r, "can-param", name, all, "an entry is empty");
+            ok = 0;
+        } else if (eq == NULL) {
+            if (have_default != 0) {
+                say_entry(r, "can-param", name, e, "a second entry for every joint");
+                ok = 0;
+            } else if (!fn(e, &scratch, key)) {
+                say_entry(r, "can-param", name, e, entry_expected(key));
+                have_default = 2;
+                ok = 0;
+            } else {
+                have_default = 1;
+                deflt = e;
+            }
+        } else {
+            span_t jn = { e.s, (size_t)(eq - e.s) };
+            span_t v = { eq + 1, (size_t)(e.s + e.n - eq - 1) };
+            int j = joint_index(cfg, trim(jn));
+            if (j < 0) {
+                char q[ROZ_CFG_MAX_NAME_LEN * 2 + 8];
+                sb_t sb;
+                sb_init(&sb, q, sizeof q);
+                sb_quoted(&sb, trim(jn));
+                snprintf(what, sizeof what, "%s is not a joint of hardware.joints", q);
+                say_entry(r, "can-param", name, e, what);
+                ok = 0;
+            } else if (have[j] != 0) {
+                snprintf(what, sizeof what, "joint \"%s\" is given twice", cfg->joints[j].name);
+                say_entry(r, "can-param", name, e, what);
+                ok = 0;
+            } else if (!fn(trim(v), &cfg->joints[j], key)) {
+                say_entry(r, "can-param", name, e, entry_expected(key));
+                have[j] = 2;
+                ok = 0;
+            } else {
+                have[j] = 1;
+            }
+        }
+        if (comma == NULL)
+            break;
+        p = comma + 1;
+    }
+    for (uint16_t j = 0; j < cfg->n_joints; j++) {
+        if (have[j] != 0)
+            continue;
+        if (have_default == 1) {
+            (void)fn(deflt, &cfg->joints[j], key);
+        } else if (required && have_default == 0) {
+            snprintf(what, sizeof what, "no value for joint \"%s\", and none for every joint",
+                     cfg->joints[j].name);
+            say_entry(r, "can-param", name, all, what);
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+static const entry_fn entry_fns[N_KEYS] = {
+    [K_CAN_ID] = entry_can_id,           [K_REPLY] = entry_reply,
+    [K_POSITION_RANGE] = entry_range,    [K_VELOCITY_RANGE] = entry_range,
+    [K_STIFFNESS_RANGE] = entry_range,   [K_DAMPING_RANGE] = entry_range,
+    [K_EFFORT_RANGE] = entry_range,      [K_DIRECTION] = entry_direction,
+    [K_ZERO_OFFSET] = entry_zero_offset,
+};
+
+/* ---- global keys --------------------------------------------------------------- */
+
+/* Returns 1 when valid (or absent: the default stays). */
+static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char *value,
+                      int *timeout_given)
+{
+    span_t v;
+    int ok = 1, b;
+    const char *what = NULL;
+
+    if (value == NULL)
+        return 1;
+    v = span_of(value);
+    switch (key) {
+    case K_NETWORK_INTERFACE:
+        ok = interface_name_ok(v);
+        if (ok) {
+            memcpy(cfg->network_interface, v.s, v.n);
+            cfg->network_interface[v.n] = '\0';
+        }
+        what = "expected an interface name, 1..15 printable bytes without spaces or '/'";
+        break;
+    case K_BITRATE:
+        ok = parse_uint_in(v, 10000, 1000000, &cfg->bitrate);
+        what = "expected an integer in 10000..1000000 (bit/s)";
+        break;
+    case K_PERIOD:
+        ok = span_is(v, "0") ? (cfg->command_writer_period_us = 0, 1)
+                             : parse_uint_in(v, 100, 1000000, &cfg->command_writer_period_us);
+        what = "expected 0 (a round per write) or an integer in 100..1000000 (us)";
+        break;
+    case K_MAX_LOAD:
+        ok = parse_uint_in(v, 10, 100, &cfg->max_bus_load_percent);
+        what = "expected an integer in 10..100 (percent)";
+        break;
+    case K_REPLY_TIMEOUT:
+        ok = parse_uint_in(v, 1000, 10000000, &cfg->reply_timeout_us);
+        *timeout_given = ok;
+        what = "expected an integer in 1000..10000000 (us)";
+        break;
+    case K_MASTER_ID:
+        ok = parse_uint_in(v, 0, 0x7FF, &cfg->master_id);
+        what = "expected a CAN id, 0..2047 (decimal or 0x hex)";
+        break;
+    case K_CONSISTENCY:
+        ok = parse_number(v, &cfg->consistency_margin) && cfg->consistency_margin >= 0.0;
+        what = "expected a finite number, 0 or more (rad; 0 = off)";
+        break;
+    case K_MONITOR:
+        ok = parse_bool(v, &b);
+        if (ok)
+            cfg->enable_monitor = b;
+        what = "expected true or false (1/0, yes/no, on/off)";
+        break;
+    case K_DECIMATION:
+        ok = span_is(v, "1");
+        what = "must be 1: the socketcan port converts every reply";
+        break;
+    default:
+        break;
+    }
+    if (!ok)
+        say_entry(r, "can-param", key_names[key], v, what);
+    return ok;
+}
+
+/* ---- checks -------------------------------------------------------------------- */
+
+static void say_joint(reporter_t *r, size_t index, const char *name, const char *what)
+{
+    char buf[ROZ_CFG_PROBLEM_LEN];
+    sb_t sb;
+    sb_init(&sb, buf, sizeof buf);
+    sb_printf(&sb, ": hardware: joints[%lu] ", (unsigned long)index);
+    sb_quoted(&sb, span_of(name));
+    sb_puts(&sb, ": ");
+    sb_puts(&sb, what);
+    report(r, "can-joint", &sb);
+}
+
+static int check_joints(reporter_t *r, roz_can_config_t *cfg, const roz_hardware_t *hw)
+{
+    int ok = 1;
+    if (hw->n_joints == 0) {
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_puts(&sb, ": hardware: joints: the socketcan port drives the joints listed here, "
+                     "one actuator each, and none is");
+        report(r, "can-joint", &sb);
+        return 0;
+    }
+    if (hw->n_joints > ROZ_CAN_MAX_JOINTS) {
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_printf(&sb, ": hardware: joints: %u joints, more than the maximum of %d "
+                       "(ROZ_CFG_MAX_JOINTS)", (unsigned)hw->n_joints, (int)ROZ_CAN_MAX_JOINTS);
+        report(r, "can-joint", &sb);
+        return 0;
+    }
+    for (uint16_t j = 0; j < hw->n_joints; j++) {
+        const char *n = hw->joints[j];
+        size_t len = strlen(n);
+        if (strpbrk(n, ",=") != NULL || len == 0 || is_space(n[0]) || is_space(n[len - 1])) {
+            say_joint(r, j, n, "the socketcan port needs joint names without ',' and '=' "
+                               "and without spaces around them");
+            ok = 0;
+        }
+        cfg->joints[j].name = n;
+    }
+    cfg->n_joints = hw->n_joints;
+    return ok;
+}
+
+static void check_ids(reporter_t *r, const roz_can_config_t *cfg)
+{
+    for (uint16_t j = 0; j < cfg->n_joints; j++) {
+        const roz_can_joint_t *a = &cfg->joints[j];
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_printf(&sb, ": hardware.params: can_id: joint \"%s\": id %u", a->name,
+                  (unsigned)a->can_id);
+        size_t head = sb.len;
+        if (a->can_id == cfg->master_id) {
+            sb_printf(&sb, " is master_id, where replies come from");
+            report(r, "can-id", &sb);
+            continue;
+        }
+        for (uint16_t k = 0; k < j; k++) {
+            const roz_can_joint_t *b = &cfg->joints[k];
+            sb.len = head;
+            sb.buf[head] = '\0';
+            if (b->can_id == a->can_id) {
+                sb_printf(&sb, " is also that of joint \"%s\"", b->name);
+                report(r, "can-id", &sb);
+                break;
+            }
+            if ((b->can_id & 0xFFu) == (a->can_id & 0xFFu)) {
+                sb_printf(&sb, " (0x%03X) answers with id byte 0x%02X, as joint \"%s\" "
+                               "(id %u) does", (unsigned)a->can_id, (unsigned)(a->can_id & 0xFFu),
+                          b->name, (unsigned)b->can_id);
+                report(r, "can-id", &sb);
+                break;
+            }
+        }
+    }
+}
+
+/* The joint of a channel ("knee" of "knee/position") and whether its
+ * suffix is its type's name. */
+static int bind_channel(roz_can_config_t *cfg, const roz_channel_t *ch, int32_t index,
+                        int is_state)
+{
+    const char *slash = strrchr(ch->name, '/');
+    if (slash == NULL)
+        return 0;
+    span_t jn = { ch->name, (size_t)(slash - ch->name) };
+    int j = joint_index(cfg, jn);
+    if (j < 0 || strcmp(slash + 1, roz_interface_name(ch->type)) != 0)
+        return 0;
+    roz_can_joint_t *jt = &cfg->joints[j];
+    int32_t *slot = NULL;
+    if (is_state) {
+        slot = ch->type == ROZ_IF_POSITION   ? &jt->pos_state
+               : ch->type == ROZ_IF_VELOCITY ? &jt->vel_state
+               : ch->type == ROZ_IF_EFFORT   ? &jt->eff_state
+                                             : NULL;
+    } else {
+        slot = ch->type == ROZ_IF_POSITION    ? &jt->pos_cmd
+               : ch->type == ROZ_IF_VELOCITY  ? &jt->vel_cmd
+               : ch->type == ROZ_IF_STIFFNESS ? &jt->kp_cmd
+               : ch->type == ROZ_IF_DAMPING   ? &jt->kd_cmd
+               : ch->type == ROZ_IF_EFFORT    ? &jt->eff_cmd
+                                              : NULL;
+    }
+    if (slot == NULL)
+        return 0;
+    *slot = index;
+    return 1;
+}
+
+static int check_channels(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t *m)
+{
+    int ok = 1;
+    for (int pass = 0; pass < 2; pass++) {
+        const roz_channel_t *chs = pass == 0 ? m->commands : m->states;
+        uint16_t n = pass == 0 ? m->n_commands : m->n_states;
+        for (uint16_t i = 0; i < n; i++) {
+            if (bind_channel(cfg, &chs[i], i, pass == 1))
+                continue;
+            char buf[ROZ_CFG_PROBLEM_LEN];
+            sb_t sb;
+            sb_init(&sb, buf, sizeof buf);
+            sb_printf(&sb, ": manifest.%s[%u] ", pass == 0 ? "commands" : "states", (unsigned)i);
+            sb_quoted(&sb, span_of(chs[i].name));
+            sb_puts(&sb, pass == 0 ? ": the socketcan port takes JOINT/position, /velocity, "
+                                     "/stiffness, /damping and /effort commands, of a joint of "
+                                     "hardware.joints, each of its type"
+                                   : ": the socketcan port gives JOINT/position, /velocity and "
+                                     "/effort states, of a joint of hardware.joints, each of its "
+                                     "type");
+            report(r, "can-channel", &sb);
+            ok = 0;
+        }
+    }
+    for (uint16_t j = 0; j < cfg->n_joints; j++) {
+        const roz_can_joint_t *jt = &cfg->joints[j];
+        if (jt->pos_state < 0 && jt->vel_state < 0 && jt->eff_state < 0 && jt->pos_cmd < 0 &&
+            jt->vel_cmd < 0 && jt->kp_cmd < 0 && jt->kd_cmd < 0 && jt->eff_cmd < 0) {
+            say_joint(r, j, jt->name, "no channel of the manifest is this joint's");
+            ok = 0;
+        }
+    }
+    return ok;
+}
+
+/* One channel's limits against the actuator's range, seen from the actuator. */
+static void check_range(reporter_t *r, const roz_can_joint_t *jt, const roz_channel_t *ch,
+                        uint16_t index, int is_state)
+{
+    const roz_mit_range_t *range = NULL;
+    int key = 0;
+    for (int k = 0; k < 5; k++) {
+        if (range_types[k] == ch->type) {
+            range = range_of(jt, K_POSITION_RANGE + k);
+            key = K_POSITION_RANGE + k;
+        }
+    }
+    double a = ch->min, b = ch->max;
+    if (ch->type == ROZ_IF_POSITION) {
+        a = (double)jt->direction * (ch->min - jt->zero_offset);
+        b = (double)jt->direction * (ch->max - jt->zero_offset);
+    } else if (ch->type == ROZ_IF_VELOCITY || ch->type == ROZ_IF_EFFORT) {
+        a = (double)jt->direction * ch->min;
+        b = (double)jt->direction * ch->max;
+    }
+    double lo = a < b ? a : b, hi = a < b ? b : a;
+    if (lo >= range->min && hi <= range->max)
+        return;
+    char buf[ROZ_CFG_PROBLEM_LEN];
+    sb_t sb;
+    sb_init(&sb, buf, sizeof buf);
+    sb_printf(&sb, ": hardware.params: %s: joint \"%s\": the actuator's range ", key_names[key],
+              jt->name);
+    sb_interval(&sb, range->min, range->max);
+    sb_printf(&sb, " does not hold manifest.%s[%u] ", is_state ? "states" : "commands",
+              (unsigned)index);
+    sb_quoted(&sb, span_of(ch->name));
+    sb_puts(&sb, " limits ");
+    sb_interval(&sb, ch->min, ch->max);
+    if (lo != ch->min || hi != ch->max) {
+        sb_puts(&sb, " (the actuator sees ");
+        sb_interval(&sb, lo, hi);
+        sb_puts(&sb, ")");
+    }
+    report(r, "can-range", &sb);
+}
+
+static void check_ranges(reporter_t *r, const roz_can_config_t *cfg, const roz_manifest_t *m)
+{
+    for (int pass = 0; pass < 2; pass++) {
+        const roz_channel_t *chs = pass == 0 ? m->commands : m->states;
+        uint16_t n = pass == 0 ? m->n_commands : m->n_states;
+        for (uint16_t i = 0; i < n; i++) {
+            const char *slash = strrchr(chs[i].name, '/');
+            span_t jn = { chs[i].name, (size_t)(slash - chs[i].name) };
+            int j = joint_index(cfg, jn);
+            check_range(r, &cfg->joints[j], &chs[i], i, pass == 1);
+        }
+    }
+}
+
+/* The bus: round-robin groups, the load, the reply timeout. */
+static int check_bus(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t *m,
+                     int timeout_given, const char *period_text, const char *timeout_text)
+{
+    uint64_t round_us = cfg->command_writer_period_us != 0
+                            ? cfg->command_writer_period_us
+                            : 1000000u / m->control_rate_hz;
+    if (round_us == 0)
+        round_us = 1;
+    uint64_t budget = (uint64_t)cfg->bitrate * round_us * cfg->max_bus_load_percent / 100000000u;
+    uint32_t groups = 0, worst = 0;
+
+    for (uint32_t k = 1; k <= cfg->n_joints && groups == 0; k++) {
+        uint32_t busiest = 0;
+        for (uint32_t g = 0; g < k; g++) {
+            uint32_t bits = 0;
+            for (uint32_t j = g; j < cfg->n_joints; j += k)
+                bits += ROZ_CAN_FRAME_BITS(8u) +
+                        ROZ_CAN_FRAME_BITS((unsigned)roz_mit_codec_reply_bytes(cfg->joints[j].reply));
+            if (bits > busiest)
+                busiest = bits;
+        }
+        worst = busiest;
+        if (busiest <= budget)
+            groups = k;
+    }
+    if (groups == 0) {
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_puts(&sb, ": hardware.params: command_writer_period_us");
+        if (period_text != NULL) {
+            sb_puts(&sb, " ");
+            sb_quoted(&sb, span_of(period_text));
+        }
+        sb_printf(&sb, ": a joint's command and reply take %u bits, more than %u%% of a "
+                       "%lu us round at %u bit/s (%lu bits)",
+                  (unsigned)worst, (unsigned)cfg->max_bus_load_percent, (unsigned long)round_us,
+                  (unsigned)cfg->bitrate, (unsigned long)budget);
+        report(r, "can-bus", &sb);
+        return 0;
+    }
+    cfg->round_us = (uint32_t)round_us;
+    cfg->groups = groups;
+    cfg->group_bits = worst;
+    cfg->bus_load = (double)worst * 1e6 / ((double)cfg->bitrate * (double)round_us);
+    cfg->joint_interval_us = (uint32_t)(round_us * groups);
+    if (!timeout_given) {
+        uint64_t three = 3u * (uint64_t)cfg->joint_interval_us;
+        cfg->reply_timeout_us = three > DEFAULT_TIMEOUT_US ? (uint32_t)three : DEFAULT_TIMEOUT_US;
+    } else if ((uint64_t)cfg->reply_timeout_us < 2u * (uint64_t)cfg->joint_interval_us) {
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_puts(&sb, ": hardware.params: reply_timeout_us ");
+        sb_quoted(&sb, span_of(timeout_text));
+        sb_printf(&sb, ": shorter than two command intervals of a joint (2 x %u us)",
+                  (unsigned)cfg->joint_interval_us);
+        report(r, "can-bus", &sb);
+        return 0;
+    }
+    return 1;
+}
+
+/* ---- public -------------------------------------------------------------------- */
+
+int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const roz_params_t *extra,
+                        roz_can_problem_fn fn, void *ctx)
+{
+    reporter_t r = { fn, ctx, 0 };
+    const roz_hardware_t *hw = m != NULL ? m->hardware : NULL;
+    params_t p = { NULL, 0, NULL, 0 };
+    int parsed[N_KEYS];
+    int timeout_given = 0;
+
+    memset(cfg, 0, sizeof *cfg);
+    strcpy(cfg->network_interface, "can0");
+    cfg->bitrate = 1000000;
+    cfg->command_writer_period_us = 2000;
+    cfg->max_bus_load_percent = 80;
+    cfg->reply_timeout_us = DEFAULT_TIMEOUT_US;
+    cfg->master_id = 0;
+    cfg->consistency_margin = 0.2;
+    cfg->enable_monitor = 1;
+    for (size_t j = 0; j < ROZ_CAN_MAX_JOINTS; j++) {
+        roz_can_joint_t *jt = &cfg->joints[j];
+        jt->direction = 1;
+        jt->pos_state = jt->vel_state = jt->eff_state = -1;
+        jt->pos_cmd = jt->vel_cmd = jt->kp_cmd = jt->kd_cmd = jt->eff_cmd = -1;
+    }
+    if (hw == NULL || hw->port == NULL || strcmp(hw->port, "socketcan") != 0) {
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        if (hw == NULL) {
+            sb_puts(&sb, ": hardware: the socketcan port needs the [hardware] table "
+                         "(port = \"socketcan\", joints, the CAN keys in params)");
+        } else {
+            sb_puts(&sb, ": hardware: port ");
+            sb_quoted(&sb, span_of(hw->port != NULL ? hw->port : ""));
+            sb_puts(&sb, ": this robot is not one for the socketcan port");
+        }
+        report(&r, "can-joint", &sb);
+        return ROZ_EINVAL;
+    }
+    p.a = hw->params;
+    p.na = hw->params != NULL ? hw->n_params : 0;
+    if (extra != NULL && extra->items != NULL) {
+        p.b = extra->items;
+        p.nb = extra->n;
+    }
+
+    int joints_ok = check_joints(&r, cfg, hw);
+
+    /* unknown keys, each once, in order of first appearance */
+    for (size_t i = 0; i < param_count(&p); i++) {
+        const char *key = param_at(&p, i)->key;
+        int first = 1;
+        for (size_t k = 0; k < i && first; k++)
+            first = strcmp(param_at(&p, k)->key, key) != 0;
+        if (!first || known_key(key) >= 0)
+            continue;
+        char buf[ROZ_CFG_PROBLEM_LEN];
+        sb_t sb;
+        sb_init(&sb, buf, sizeof buf);
+        sb_puts(&sb, ": hardware.params: ");
+        span_t ks = span_of(key);
+        int bare = ks.n > 0;
+        for (size_t c = 0; c < ks.n; c++) {
+            char ch = ks.s[c];
+            bare &= (ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') ||
+                    (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
+        }
+        if (bare)
+            sb_puts(&sb, key);
+        else
+            sb_quoted(&sb, ks);
+        sb_puts(&sb, ": unknown key of the socketcan port (known keys: " KNOWN_KEYS ")");
+        report(&r, "unknown-key", &sb);
+    }
+
+    /* the known keys, in their order */
+    for (int k = 0; k < N_KEYS; k++) {
+        const char *value = param_value(&p, key_names[k]);
+        if (entry_fns[k] == NULL)
+            parsed[k] = global_key(&r, cfg, k, value, &timeout_given);
+        else if (joints_ok)
+            parsed[k] = per_joint(&r, cfg, k, value, k != K_DIRECTION && k != K_ZERO_OFFSET,
+                                  entry_fns[k]);
+        else
+            parsed[k] = 0;
+    }
+
+    if (joints_ok && parsed[K_CAN_ID] && parsed[K_MASTER_ID])
+        check_ids(&r, cfg);
+    int bound = joints_ok && check_channels(&r, cfg, m);
+    int ranges_ok = bound;
+    for (int k = K_POSITION_RANGE; k <= K_ZERO_OFFSET; k++)
+        ranges_ok &= parsed[k];
+    if (ranges_ok)
+        check_ranges(&r, cfg, m);
+    if (joints_ok && parsed[K_BITRATE] && parsed[K_PERIOD] && parsed[K_MAX_LOAD] &&
+        parsed[K_REPLY_TIMEOUT] && parsed[K_REPLY])
+        (void)check_bus(&r, cfg, m, timeout_given, param_value(&p, key_names[K_PERIOD]),
+                        param_value(&p, key_names[K_REPLY_TIMEOUT]));
+    return r.count == 0 ? ROZ_OK : ROZ_EINVAL;
+}
+
+const char *const *roz_can_config_rules(void)
+{
+    return rule_names;
+}
+
+const char *const *roz_can_config_keys(void)
+{
+    return key_names;
+}
