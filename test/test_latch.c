@@ -10,7 +10,8 @@
  * first frame with a NaN held position sends nothing, the log callback
  * runs only in roz_runtime_log_drain(), a frame in which the robot reports
  * a fault of its own latches ROBOT naming the part and code, is taken as a
- * fresh frame, and holds the fault while it is reported (a level). */
+ * fresh frame, and holds the fault while it is reported (a level); STALE
+ * names what the port says went silent. */
 /* white-box in part: reads the runtime's controller slots (a trapped
  * instance must never run again), which no public function exposes */
 #define ROZ_PRIVATE_ACCESS
@@ -185,10 +186,21 @@ static int hp_write(void *self, const double *cmd, size_t n)
     return ROZ_OK;
 }
 
-/* what the robot reports when read() returns ROZ_EROBOT */
+/* what the robot reports when read() returns ROZ_EROBOT; why nothing is
+ * fresh when read() returns 0 and the test says it knows (stale_why) */
+static const char *stale_why;
+
 static int hp_fault(void *self, roz_port_fault_t *out)
 {
     (void)self;
+    if (read_rc == 0) {
+        if (stale_why == NULL)
+            return ROZ_ENOENT;
+        out->what = "j0";
+        out->kind = stale_why;
+        out->code = 7;
+        return ROZ_OK;
+    }
     out->what = "j0";
     out->kind = "motor fault code";
     out->code = 0x21;
@@ -245,6 +257,7 @@ static void setup_rt(void)
     in_hook = 0;
     after_read = 0;
     read_rc = 1;
+    stale_why = NULL;
     expect_fresh = 0;
     reused = 0;
     st[0] = 0.3;
@@ -573,6 +586,30 @@ static void test_latch_read_error_keeps_state(void **s)
 /* The robot reports a fault (a motor's code) in a fresh frame: the frame is
  * the state, ROBOT latches with the port's words and the code, the stop is
  * ramped; the report is a level: no clear takes while it lasts. */
+/* STALE names what the port knows went silent (its fault() op), and
+ * without an account says what it always said. */
+static void test_latch_stale_names_the_part(void **s)
+{
+    (void)s;
+    setup_rt();
+    ticks(110);
+    read_rc = 0;
+    stale_why = "no reply for 20 ms (CAN id 3)";
+    ticks(10);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
+    assert_string_equal(roz_runtime_fault_message(&rt),
+                        "no fresh state for 10 ticks: j0: no reply for 20 ms (CAN id 3)");
+    read_rc = 1;
+    stale_why = NULL;
+    ticks(1);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    read_rc = 0;
+    ticks(10);
+    assert_string_equal(roz_runtime_fault_message(&rt), "no fresh state for 10 ticks");
+}
+
 static void test_latch_robot_fault(void **s)
 {
     (void)s;
@@ -699,6 +736,7 @@ int main(void)
         cmocka_unit_test_teardown(test_latch_read_error_keeps_state, teardown),
         cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
         cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
+        cmocka_unit_test_teardown(test_latch_stale_names_the_part, teardown),
         cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

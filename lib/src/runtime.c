@@ -172,7 +172,10 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
         snprintf(buf, len, "%s", "");
         break;
     case ROZ_FAULT_STALE:
-        snprintf(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
+        if (text != NULL && text[0] != '\0')
+            snprintf(buf, len, "no fresh state for %u ticks: %s", (unsigned)num[N_A], text);
+        else
+            snprintf(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
         break;
     case ROZ_FAULT_ESTOP:
         snprintf(buf, len, "e-stop input");
@@ -426,20 +429,39 @@ static size_t append(char *buf, size_t used, size_t cap, const char *s)
 /* The robot reported a fault (read() returned ROZ_EROBOT): latch ROBOT with
  * the port's account of it, "<what>: <kind>" and the code, copied, not
  * formatted. */
-static void latch_robot(roz_runtime_t *rt)
+/* The port's account of its last read (fault() op), "<what>: <kind>" in
+ * @p text, copied; "" when it has none. */
+static void port_account(roz_runtime_t *rt, roz_port_fault_t *f, char *text, size_t cap)
 {
-    roz_port_fault_t f = { NULL, NULL, 0 };
-    char text[ROZ_CFG_ERROR_LEN];
     size_t used = 0;
 
     text[0] = '\0';
     if (rt->cfg.port.ops->fault != NULL &&
-        rt->cfg.port.ops->fault(rt->cfg.port.self, &f) == ROZ_OK && f.what != NULL) {
-        used = append(text, used, sizeof text, f.what);
-        used = append(text, used, sizeof text, ": ");
-        used = append(text, used, sizeof text, f.kind != NULL ? f.kind : "code");
+        rt->cfg.port.ops->fault(rt->cfg.port.self, f) == ROZ_OK && f->what != NULL) {
+        used = append(text, used, cap, f->what);
+        used = append(text, used, cap, ": ");
+        used = append(text, used, cap, f->kind != NULL ? f->kind : "code");
     }
+}
+
+static void latch_robot(roz_runtime_t *rt)
+{
+    roz_port_fault_t f = { NULL, NULL, 0 };
+    char text[ROZ_CFG_ERROR_LEN];
+
+    port_account(rt, &f, text, sizeof text);
     latch(rt, ROZ_FAULT_ROBOT, f.code, 0, text);
+}
+
+/* No fresh state for stale_ticks: STALE, with the port's account of why when
+ * it has one (a hardware port knows which of its actuators went silent). */
+static void latch_stale(roz_runtime_t *rt)
+{
+    roz_port_fault_t f = { NULL, NULL, 0 };
+    char text[ROZ_CFG_ERROR_LEN];
+
+    port_account(rt, &f, text, sizeof text);
+    latch(rt, ROZ_FAULT_STALE, rt->stale_count, f.code, text);
 }
 
 /* 2. State: read into a scratch frame (the port leaves it undefined on
@@ -488,7 +510,7 @@ static void tick_read(roz_runtime_t *rt)
     if (rt->stale_count < UINT32_MAX)
         rt->stale_count++;
     if (rt->stale_count >= rt->cfg.stale_ticks && !(faults_now(rt) & ROZ_FAULT_STALE))
-        latch(rt, ROZ_FAULT_STALE, rt->stale_count, 0, NULL);
+        latch_stale(rt);
     if (rc == ROZ_ELINK)
         latch(rt, ROZ_FAULT_LINK, 0, 0, NULL);
 }

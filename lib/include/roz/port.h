@@ -69,8 +69,11 @@ typedef struct roz_port_ops {
     int (*deactivate)(void *self);
     /** Free everything; idempotent. Optional. */
     void (*close)(void *self);
-    /** After read() returned ROZ_EROBOT: what the robot reported. Optional
-     *  (without it the fault has a code of 0 and no name).
+    /** After read() returned ROZ_EROBOT: what the robot reported. After
+     *  read() returned 0 (nothing fresh): why, when the port knows (an
+     *  actuator that stopped answering, named), else not ROZ_OK; the
+     *  runtime adds it to the STALE fault's message when that latches.
+     *  Optional (without it the fault has a code of 0 and no name).
      *  Context: the tick; RT-safe. */
     int (*fault)(void *self, roz_port_fault_t *out);
 } roz_port_ops_t;
