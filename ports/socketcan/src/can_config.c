@@ -115,6 +115,9 @@ static void sb_puts(sb_t *sb, const char *s)
     sb_putn(sb, s, strlen(s));
 }
 
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((format(printf, 2, 3)))
+#endif
 static void sb_printf(sb_t *sb, const char *fmt, ...)
 {
     char tmp[128];

@@ -1,0 +1,666 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The socketcan port against fake actuators (test/fakes/can) on a
+ * socketpair carrying struct can_frame records, the example leg
+ * (examples/can_leg/leg.toml: ids 1-3, temperature_error replies, the knee
+ * turned round and offset, answering from id 0):
+ *  - start-up: "enter motor mode" and nothing else before an actuator's
+ *    first reply, no gains before every actuator replied, the holds at the
+ *    measured position, the first command written after that a hold too;
+ *  - commands reach their ids, in the actuator's frame (direction, offset),
+ *    within half a step; states come back the same way;
+ *  - replies to nothing (replays), frames of other ids, short, RTR, 29-bit
+ *    and error frames are counted and change nothing;
+ *  - an actuator that stops answering is named (fault(), STALE in the
+ *    runtime), one that answers again makes read() return ROZ_ELINK once
+ *    and starts over; an error code latches ROBOT naming joint and code; a
+ *    frozen or jumping position is an actuator fault;
+ *  - round-robin when the bus has no room for every joint each round;
+ *  - shutdown: a hold without gains, then "exit motor mode", to each;
+ *  - the PD controller on the runtime, periodic writer, threads throughout
+ *    (label threads: ThreadSanitizer).
+ * Waits are bounded and fail the test when they run out; nothing asserts a
+ * time. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "can_leg_manifest.h"
+#include "can_test_support.h"
+#include "roz/hal/clock.h"
+#include "roz/mit_codec.h"
+#include "roz/runtime.h"
+#include "support.h"
+
+static roz_socketcan_t sc;
+static fake_can_t bus;
+static roz_test_can_t t;
+static roz_runtime_t rt;
+static int rt_up;
+
+static const roz_manifest_t *const leg = &roz_manifest_can_leg;
+
+enum { HIP, THIGH, KNEE };
+
+/* ---- helpers ---------------------------------------------------------------- */
+
+static roz_socketcan_counters_t counters(void)
+{
+    roz_socketcan_counters_t c;
+    roz_socketcan_counters(&sc, &c);
+    return c;
+}
+
+static roz_link_t link_now(void)
+{
+    roz_link_t l;
+    roz_socketcan_link(&sc, &l);
+    return l;
+}
+
+static fake_actuator_t actuator(unsigned j)
+{
+    fake_actuator_t a;
+    fake_can_view(&bus, j, &a);
+    return a;
+}
+
+static void open_on_write(const char *const *more)
+{
+    const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "5000" };
+    size_t k = 4;
+    for (size_t i = 0; more != NULL && more[i] != NULL && k < 18; i++)
+        params[k++] = more[i];
+    params[k] = NULL;
+    roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 0, params);
+}
+
+/* Rounds until every actuator has answered (auto replies). */
+static void bring_up(void)
+{
+    while (actuator(HIP).replies == 0 || actuator(THIGH).replies == 0 ||
+           actuator(KNEE).replies == 0)
+        roz_test_can_round(&t);
+    ROZ_WAIT_FOR(counters().replies >= 3);
+}
+
+/* A command inside the leg's limits, different for each k. */
+static void command(double *cmd, int k)
+{
+    for (uint16_t i = 0; i < leg->n_commands; i++) {
+        const roz_channel_t *ch = &leg->commands[i];
+        cmd[i] = ch->min + (ch->max - ch->min) * (double)((k + 3 * i) % 11 + 1) / 12.0;
+    }
+}
+
+static void write_round(const double *cmd)
+{
+    assert_int_equal(roz_port_write(&t.port, cmd, leg->n_commands), ROZ_OK);
+    roz_test_can_settle(&t);
+}
+
+/* The step of a field of the leg's actuators. */
+static double step_of(int field, unsigned j)
+{
+    const fake_actuator_cfg_t *c = &roz_test_leg_actuators[j];
+    static const unsigned bits[5] = { 16, 12, 12, 12, 12 };
+    return (c->range[field][1] - c->range[field][0]) / (double)((1u << bits[field]) - 1u);
+}
+
+static int read_leg(double *state)
+{
+    return roz_port_read(&t.port, state, leg->n_states);
+}
+
+/* ---- start-up ------------------------------------------------------------------ */
+
+static void test_socketcan_start_up(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    (void)st;
+    open_on_write(NULL);
+    assert_int_equal(read_leg(state), ROZ_ENOENT);
+
+    /* the knee keeps quiet: the others answer, and get holds only, however
+     * the tick writes (every write is a round) */
+    fake_can_mute(&bus, KNEE, 1);
+    command(cmd, 1);
+    for (int i = 0; i < 5; i++)
+        write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= 2);
+    assert_int_equal(read_leg(state), ROZ_ENOENT); /* no whole state yet */
+    for (unsigned j = 0; j < 3; j++) {
+        fake_actuator_t a = actuator(j);
+        assert_int_equal(a.before_first_reply, 0);
+        assert_int_equal(a.gains_before_all, 0);
+        assert_int_equal(a.commands, 0);
+        assert_int_equal(a.outside_motor_mode, 0);
+        assert_true(a.enters >= 1);
+        assert_int_equal(bus.log[0][1], FAKE_ENTER);
+    }
+    assert_int_equal(actuator(KNEE).holds, 0); /* only "enter motor mode" */
+    assert_true(actuator(KNEE).enters >= 5);
+    assert_true(actuator(HIP).holds >= 4);
+
+    /* the knee answers: a whole state */
+    fake_can_mute(&bus, KNEE, 0);
+    roz_test_can_round(&t);
+    ROZ_WAIT_FOR(actuator(KNEE).replies >= 1 && counters().replies >= 3);
+    ROZ_WAIT_FOR(read_leg(state) == 1);
+
+    /* layer 3: the first command written now goes out as a hold, at the
+     * measured position; the next as written */
+    command(cmd, 2);
+    write_round(cmd);
+    for (unsigned j = 0; j < 3; j++) {
+        fake_actuator_t a = actuator(j);
+        assert_int_equal(a.commands, 0);
+        assert_int_equal(a.code[FAKE_KP], 0);
+        assert_int_equal(a.code[FAKE_KD], 0);
+        /* the hold's position is the code of the last reply */
+        assert_int_equal(a.code[FAKE_P], (a.last_reply[1] << 8) | a.last_reply[2]);
+    }
+    write_round(cmd);
+    for (unsigned j = 0; j < 3; j++)
+        assert_int_equal(actuator(j).commands, 1);
+    assert_int_equal(counters().saturated, 0);
+    roz_test_can_close(&t);
+}
+
+/* Commands reach their actuators in the actuator's frame; states come back
+ * in the joint's. */
+static void test_socketcan_commands_and_states(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    static const int dir[3] = { 1, 1, -1 };
+    static const double offset[3] = { 0.0, 0.0, -1.2 };
+    (void)st;
+    open_on_write(NULL);
+    bring_up();
+    command(cmd, 5);
+    write_round(cmd);
+    for (int k = 0; k < 4; k++) {
+        command(cmd, 6 + k);
+        write_round(cmd);
+        for (unsigned j = 0; j < 3; j++) {
+            fake_actuator_t a = actuator(j);
+            const double *c = &cmd[5 * j];
+            assert_near(a.cmd[FAKE_P], dir[j] * (c[0] - offset[j]), step_of(FAKE_P, j) / 2 + 1e-12);
+            assert_near(a.cmd[FAKE_V], dir[j] * c[1], step_of(FAKE_V, j) / 2 + 1e-12);
+            assert_near(a.cmd[FAKE_KP], c[2], step_of(FAKE_KP, j) / 2 + 1e-12);
+            assert_near(a.cmd[FAKE_KD], c[3], step_of(FAKE_KD, j) / 2 + 1e-12);
+            assert_near(a.cmd[FAKE_T], dir[j] * c[4], step_of(FAKE_T, j) / 2 + 1e-12);
+        }
+    }
+    /* states: the knee's actuator at +1.0 rad and 2 rad/s is the joint at
+     * -1 * 1.0 + (-1.2) rad, -2 rad/s */
+    fake_can_mute(&bus, HIP, 1); /* hold the physics still: set, then one reply each */
+    fake_can_set(&bus, KNEE, 1.0, 2.0);
+    fake_can_set(&bus, HIP, -0.25, 0.0);
+    fake_can_mute(&bus, HIP, 0);
+    uint64_t before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 3);
+    (void)read_leg(state);
+    assert_near(state[ROZ_CAN_LEG_STATE_KNEE_POSITION], -1.0 * actuator(KNEE).q - 1.2,
+                step_of(FAKE_P, KNEE) / 2 + 1e-9);
+    assert_near(state[ROZ_CAN_LEG_STATE_KNEE_VELOCITY], -actuator(KNEE).dq,
+                step_of(FAKE_V, KNEE) / 2 + 1e-9);
+    assert_near(state[ROZ_CAN_LEG_STATE_HIP_POSITION], actuator(HIP).q,
+                step_of(FAKE_P, HIP) / 2 + 1e-9);
+    assert_near(state[ROZ_CAN_LEG_STATE_KNEE_EFFORT], -actuator(KNEE).tau,
+                step_of(FAKE_T, KNEE) / 2 + 1e-9);
+    assert_int_equal(counters().saturated, 0);
+    assert_int_equal(counters().unknown, 0);
+    roz_test_can_close(&t);
+}
+
+/* ---- what is not a reply ----------------------------------------------------------- */
+
+static void test_socketcan_replays_and_strays(void **st)
+{
+    double state[ROZ_CAN_LEG_N_STATES], before[ROZ_CAN_LEG_N_STATES];
+    const char *const params[] = { "command_writer_period_us", "0", NULL };
+    uint8_t d[8] = { 1, 0x80, 0, 0x80, 0x08, 0x00, 0, 0 };
+    (void)st;
+    roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 1, params);
+    for (int i = 0; i < 2; i++) {
+        roz_test_can_round(&t);
+        assert_int_equal(fake_can_release(&bus), 3);
+        ROZ_WAIT_FOR(counters().replies >= (uint64_t)(3 * (i + 1)));
+    }
+    assert_int_equal(read_leg(state), 1);
+    memcpy(before, state, sizeof before);
+
+    /* the hip's last reply again: nothing was sent to it since */
+    assert_int_equal(fake_can_replay(&bus, HIP), 0);
+    ROZ_WAIT_FOR(link_now().replays == 1);
+    roz_socketcan_counters_t c0 = counters();
+    /* a frame of another id; the hip's id byte from a third id; a short one
+     * from the hip; a remote request; a 29-bit frame; a CRC error and a
+     * bus-off reported by the controller */
+    assert_int_equal(fake_can_send_raw(&bus, 0x123, d, 8), 0);
+    assert_int_equal(fake_can_send_raw(&bus, 0x055, d, 8), 0);
+    assert_int_equal(fake_can_send_raw(&bus, 0x001, d, 5), 0);
+    assert_int_equal(fake_can_send_raw(&bus, 0x001 | 0x40000000u /* RTR */, d, 0), 0);
+    assert_int_equal(fake_can_send_raw(&bus, 0x001 | 0x80000000u /* EFF */, d, 8), 0);
+    uint8_t crc[8] = { 0, 0, 0x08 /* form */, 0x08 /* CRC sequence */, 0, 0, 0, 0 };
+    assert_int_equal(fake_can_send_raw(&bus, 0x20000000u | 0x08u /* ERR, PROT */, crc, 8), 0);
+    assert_int_equal(fake_can_send_raw(&bus, 0x20000000u | 0x40u /* ERR, BUSOFF */, crc, 8), 0);
+    ROZ_WAIT_FOR(counters().frames_received >= c0.frames_received + 7);
+    roz_socketcan_counters_t c = counters();
+    assert_int_equal(c.unknown - c0.unknown, 4);
+    assert_int_equal(c.short_frames - c0.short_frames, 1);
+    assert_int_equal(c.bus_errors - c0.bus_errors, 2);
+    assert_int_equal(c.bus_off - c0.bus_off, 1);
+    assert_int_equal(link_now().crc_errors, 1);
+    assert_int_equal(c.replies, c0.replies);
+    /* none of it is a state */
+    assert_int_equal(read_leg(state), 0);
+    assert_memory_equal(state, before, sizeof before);
+
+    /* a reply to the next frame is taken again; two replies to one frame
+     * leave the second a replay */
+    roz_test_can_round(&t);
+    assert_int_equal(fake_can_release(&bus), 3);
+    ROZ_WAIT_FOR(counters().replies >= c.replies + 3);
+    assert_int_equal(read_leg(state), 1);
+    roz_test_can_round(&t);
+    roz_test_can_round(&t); /* two frames to each, one reply: one missing */
+    assert_int_equal(fake_can_release(&bus), 3);
+    ROZ_WAIT_FOR(counters().replies >= c.replies + 6);
+    assert_int_equal(link_now().missing, 3);
+    roz_test_can_close(&t);
+}
+
+/* ---- silence, return, faults -------------------------------------------------------- */
+
+static void test_socketcan_silence_and_return(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    roz_port_fault_t f;
+    (void)st;
+    open_on_write(NULL); /* reply_timeout_us 5000 */
+    bring_up();
+    ROZ_WAIT_FOR(read_leg(state) == 1);
+    command(cmd, 3);
+    write_round(cmd);
+    write_round(cmd);
+    assert_int_equal(actuator(KNEE).commands, 1);
+
+    fake_can_mute(&bus, KNEE, 1);
+    write_round(cmd); /* the knee's frame goes unanswered ... */
+    ROZ_WAIT_FOR(counters().lost == 1); /* ... longer than the timeout */
+    uint64_t before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 2);
+    assert_int_equal(read_leg(state), 0);
+    assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
+    assert_string_equal(f.what, "knee");
+    assert_string_equal(f.kind, "its actuator (CAN id 3) stopped answering (no reply in 5000 us)");
+    assert_int_equal(f.code, 3);
+
+    /* back: ROZ_ELINK once, "enter motor mode" again, the holds, then commands
+     * (the round that finds it back still sends what it sent while it was
+     * away: the writer learns of the return from the reply) */
+    uint64_t enters = actuator(KNEE).enters;
+    fake_can_mute(&bus, KNEE, 0);
+    before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 3);
+    uint64_t commands = actuator(KNEE).commands;
+    assert_int_equal(read_leg(state), ROZ_ELINK);
+    assert_int_equal(link_now().returns, 1);
+    write_round(cmd); /* "enter motor mode": it may have rebooted */
+    ROZ_WAIT_FOR(counters().replies >= before + 6);
+    assert_int_equal(read_leg(state), 1);
+    assert_int_equal(actuator(KNEE).enters, enters + 1);
+    assert_int_equal(actuator(KNEE).commands, commands);
+    uint64_t hip = actuator(HIP).commands;
+    write_round(cmd); /* the first command since it came back: a hold */
+    assert_int_equal(actuator(KNEE).commands, commands);
+    assert_int_equal(actuator(KNEE).code[FAKE_KP], 0);
+    assert_int_equal(actuator(HIP).commands, hip + 1); /* the others carry on */
+    command(cmd, 4);
+    write_round(cmd);
+    assert_int_equal(actuator(KNEE).commands, commands + 1);
+    assert_true(actuator(KNEE).code[FAKE_KP] != 0);
+    roz_test_can_close(&t);
+}
+
+static void test_socketcan_error_code_and_consistency(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    roz_port_fault_t f;
+    (void)st;
+    open_on_write(NULL);
+    bring_up();
+    ROZ_WAIT_FOR(read_leg(state) == 1);
+    command(cmd, 1);
+
+    /* an error code: every fresh frame while it is reported */
+    fake_can_error(&bus, THIGH, 0x21);
+    uint64_t before = counters().replies;
+    for (int i = 0; i < 3; i++) {
+        write_round(cmd);
+        ROZ_WAIT_FOR(counters().replies >= before + 3 * (uint64_t)(i + 1));
+        assert_int_equal(read_leg(state), ROZ_EROBOT);
+        assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
+        assert_string_equal(f.what, "thigh");
+        assert_string_equal(f.kind, "actuator error code");
+        assert_int_equal(f.code, 0x21);
+        assert_int_equal(read_leg(state), 0); /* nothing fresh: not reported again */
+    }
+    fake_can_error(&bus, THIGH, 0);
+    before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 3);
+    assert_int_equal(read_leg(state), 1);
+
+    /* frozen: the hip's replies repeat while they say it moves at 3 rad/s */
+    fake_can_set(&bus, HIP, 0.2, 3.0);
+    before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 3);
+    (void)read_leg(state);
+    fake_can_freeze(&bus, HIP, 1);
+    int rc = 0;
+    for (int i = 0; i < 200 && rc != ROZ_EROBOT; i++) {
+        before = counters().replies;
+        write_round(cmd);
+        ROZ_WAIT_FOR(counters().replies >= before + 3);
+        rc = read_leg(state);
+    }
+    assert_int_equal(rc, ROZ_EROBOT);
+    assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
+    assert_string_equal(f.what, "hip");
+    assert_non_null(strstr(f.kind, "position does not follow velocity (CAN id 1)"));
+    /* thawed, the hip's position catches up with where it went: a jump too */
+    fake_can_freeze(&bus, HIP, 0);
+    fake_can_set(&bus, HIP, 0.2, 0.0);
+    for (int i = 0; i < 3; i++) {
+        before = counters().replies;
+        write_round(cmd);
+        ROZ_WAIT_FOR(counters().replies >= before + 3);
+        (void)read_leg(state);
+    }
+    assert_int_equal(read_leg(state), 0);
+
+    /* a jump: the knee's position moves 0.5 rad between two replies */
+    uint64_t inconsistent = counters().inconsistent;
+    fake_can_jump(&bus, KNEE, 0.5);
+    before = counters().replies;
+    write_round(cmd);
+    ROZ_WAIT_FOR(counters().replies >= before + 3);
+    assert_int_equal(read_leg(state), ROZ_EROBOT);
+    assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
+    assert_string_equal(f.what, "knee");
+    assert_int_equal(counters().inconsistent, inconsistent + 1);
+    roz_test_can_close(&t);
+}
+
+/* ---- the bus -------------------------------------------------------------------------- */
+
+/* Six effort joints at 125 kbit/s, a round of 5 ms (200 Hz, period 0): 500
+ * bits a round at 80 %, 250 a joint (6-byte replies): two joints a round,
+ * three groups, every joint every 15 ms. */
+static roz_channel_t six_commands[6];
+static char six_names[6][2][16];
+static const char *six_joints[6];
+static roz_hardware_t six_hw;
+static roz_manifest_t six;
+static const roz_param_t six_params[] = {
+    { "can_id", "j0=0x10, j1=0x11, j2=0x12, j3=0x13, j4=0x14, j5=0x15" },
+    { "reply", "basic" }, { "position_range", "-12.5:12.5" }, { "velocity_range", "-45:45" },
+    { "stiffness_range", "0:500" }, { "damping_range", "0:5" }, { "effort_range", "-18:18" },
+    { "bitrate", "125000" }, { "command_writer_period_us", "0" },
+};
+
+static void test_socketcan_round_robin(void **st)
+{
+    fake_actuator_cfg_t acts[6];
+    roz_socketcan_info_t info;
+    (void)st;
+    for (unsigned j = 0; j < 6; j++) {
+        snprintf(six_names[j][0], sizeof six_names[j][0], "j%u", j);
+        snprintf(six_names[j][1], sizeof six_names[j][1], "j%u/effort", j);
+        six_joints[j] = six_names[j][0];
+        six_commands[j] = (roz_channel_t){ .name = six_names[j][1], .type = ROZ_IF_EFFORT,
+                                           .unit = "N.m", .min = -1.0, .max = 1.0,
+                                           .position_state = ROZ_CHANNEL_UNPAIRED };
+        acts[j] = (fake_actuator_cfg_t){ (uint16_t)(0x10 + j), (uint16_t)(0x10 + j), FAKE_BASIC,
+                                         { { -12.5, 12.5 }, { -45, 45 }, { 0, 500 }, { 0, 5 },
+                                           { -18, 18 } } };
+    }
+    six_hw = (roz_hardware_t){ "socketcan", six_joints, 6, six_params,
+                               sizeof six_params / sizeof six_params[0] };
+    six = (roz_manifest_t){ "six", "arm", 200, six_commands, 6, NULL, 0, &six_hw };
+    roz_test_can_open(&t, &sc, &bus, &six, acts, 6, 0.005, 0, NULL);
+    roz_socketcan_info(&sc, &info);
+    assert_int_equal(info.groups, 3);
+    assert_int_equal(info.round_us, 5000);
+    assert_int_equal(info.joint_interval_us, 15000);
+    assert_true(fabs(info.bus_load - 0.8) < 1e-12);
+    assert_string_equal(info.network_interface, "");
+
+    for (int r = 0; r < 9; r++) {
+        roz_test_can_round(&t);
+        /* round r went to joints r mod 3 and r mod 3 + 3 */
+        for (unsigned j = 0; j < 6; j++) {
+            int g = (int)(j % 3), want = r >= g ? (r - g) / 3 + 1 : 0;
+            assert_int_equal(actuator(j).frames, want);
+        }
+    }
+    for (unsigned j = 0; j < 6; j++)
+        assert_int_equal(actuator(j).frames, 3);
+    roz_test_can_close(&t);
+}
+
+/* ---- shutdown ------------------------------------------------------------------------- */
+
+static void test_socketcan_shutdown(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS];
+    (void)st;
+    open_on_write(NULL);
+    bring_up();
+    command(cmd, 7);
+    write_round(cmd);
+    write_round(cmd);
+    (void)roz_port_deactivate(&t.port);
+    ROZ_WAIT_FOR(fake_can_received(&bus) >= counters().frames_sent);
+    for (unsigned j = 0; j < 3; j++) {
+        fake_actuator_t a = actuator(j);
+        unsigned last = 0, before_last = 0;
+        for (unsigned i = 0; i < bus.n_log; i++) {
+            if (bus.log[i][0] == (char)('0' + j)) {
+                before_last = last;
+                last = i;
+            }
+        }
+        assert_int_equal(bus.log[last][1], FAKE_EXIT);
+        assert_int_equal(bus.log[before_last][1], FAKE_HOLD);
+        assert_int_equal(a.code[FAKE_KP], 0);
+        assert_int_equal(a.code[FAKE_KD], 0);
+        assert_int_equal(a.motor_mode, 0);
+        assert_int_equal(a.exits, 1);
+        assert_int_equal(a.zeros, 0); /* the port never sets zero */
+    }
+    assert_int_equal(counters().exit_sent, 3);
+    roz_test_can_close(&t);
+}
+
+/* ---- opening ---------------------------------------------------------------------------- */
+
+static void test_socketcan_open_errors(void **st)
+{
+    roz_port_t p;
+    char err[300];
+    roz_param_t item;
+    roz_params_t params = { &item, 1 };
+    double x[ROZ_CAN_LEG_N_COMMANDS] = { 0 };
+    (void)st;
+
+    item = (roz_param_t){ "can_id", "hip=1, thigh=2, knee=2048" };
+    p = roz_socketcan_port(&sc, -1);
+    assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_EINVAL);
+    assert_string_equal(err, "socketcan: hardware.params: can_id \"knee=2048\": expected an "
+                             "actuator's CAN id, 1..2047 (11 bits; decimal or 0x hex)");
+    assert_int_equal(p.opened, 0);
+
+    item = (roz_param_t){ "network_interface", "nosuchcan7" };
+    p = roz_socketcan_port(&sc, -1);
+    assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_ENOENT);
+    assert_non_null(strstr(err, "socketcan: network_interface \"nosuchcan7\": no such interface"));
+
+    p = roz_socketcan_port(&sc, -1);
+    assert_int_equal(roz_port_open(&p, &roz_manifest_can_leg, NULL, err, sizeof err) == ROZ_OK ||
+                         strstr(err, "can0") != NULL,
+                     1); /* can0 exists here, or the error names it */
+    roz_port_close(&p);
+
+    /* sizes */
+    open_on_write(NULL);
+    assert_int_equal(roz_port_read(&t.port, x, (size_t)leg->n_states + 1), ROZ_EINVAL);
+    assert_int_equal(roz_port_write(&t.port, x, (size_t)leg->n_commands - 1), ROZ_EINVAL);
+    roz_test_can_close(&t);
+}
+
+/* ---- the PD controller on the runtime, the periodic writer ------------------------------- */
+
+static void tick_for(int n)
+{
+    for (int i = 0; i < n; i++) {
+        int rc = roz_runtime_tick(&rt); /* a latched fault is looked at by the caller */
+        (void)rc;
+        struct timespec ts = { 0, 2000000 };
+        nanosleep(&ts, NULL);
+    }
+}
+
+static void runtime_up(void)
+{
+    roz_runtime_config_t cfg;
+    size_t len;
+    const uint8_t *w = roz_test_controller("leg_pd", &len);
+    const char *const params[] = { "command_writer_period_us", "2000", "reply_timeout_us",
+                                   "20000", NULL };
+    roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 0, params);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = leg;
+    cfg.port = t.port;
+    cfg.clock = roz_clock_monotonic_ns;
+    cfg.budget_ns = ROZ_BUDGET_OFF; /* fuel alone: sanitizer builds are slow */
+    cfg.stale_ticks = 25;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    rt_up = 1;
+}
+
+static void runtime_down(void)
+{
+    roz_test_can_close(&t);
+    roz_runtime_deinit(&rt);
+    rt_up = 0;
+}
+
+static void test_socketcan_pd_on_the_runtime(void **st)
+{
+    (void)st;
+    runtime_up();
+    tick_for(750); /* 1.5 s: the gains are in, the leg squats */
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_socketcan_counters_t c = counters();
+    assert_true(c.commands_sent > 0);
+    assert_int_equal(c.saturated, 0);
+    assert_int_equal(c.unknown, 0);
+    assert_int_equal(c.inconsistent, 0);
+    /* each round: one frame to each actuator, nothing else */
+    assert_true(c.frames_sent >= 3 * c.rounds - 3 && c.frames_sent <= 3 * c.rounds);
+    /* the actuators got what the filter applied, in their own frames */
+    const double *applied = roz_runtime_last_commands(&rt);
+    for (unsigned j = 0; j < 3; j++) {
+        fake_actuator_t a = actuator(j);
+        assert_near(a.cmd[FAKE_KP], applied[5 * j + 2], 0.5); /* one tick apart at most */
+        assert_true(a.commands > 100);
+        assert_int_equal(a.gains_before_all, 0);
+    }
+    /* the knee followed its target (its own PD in the fake): within 0.2 rad */
+    const double *s = roz_runtime_last_state(&rt);
+    assert_near(s[ROZ_CAN_LEG_STATE_KNEE_POSITION], applied[ROZ_CAN_LEG_CMD_KNEE_POSITION], 0.2);
+    runtime_down();
+}
+
+static void test_socketcan_silent_actuator_latches_stale(void **st)
+{
+    char msg[ROZ_CFG_ERROR_LEN];
+    (void)st;
+    runtime_up();
+    tick_for(100);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    fake_can_mute(&bus, KNEE, 1);
+    for (int i = 0; i < 2000 && !(roz_runtime_faults(&rt) & ROZ_FAULT_STALE); i++)
+        tick_for(1);
+    assert_true(roz_runtime_faults(&rt) & ROZ_FAULT_STALE);
+    roz_runtime_fault_message_copy(&rt, msg, sizeof msg);
+    assert_non_null(strstr(msg, "no fresh state for 25 ticks: knee: its actuator (CAN id 3) "
+                                "stopped answering"));
+    runtime_down();
+}
+
+static void test_socketcan_error_code_latches_robot(void **st)
+{
+    char msg[ROZ_CFG_ERROR_LEN];
+    (void)st;
+    runtime_up();
+    tick_for(100);
+    fake_can_error(&bus, THIGH, 0x21);
+    for (int i = 0; i < 2000 && !(roz_runtime_faults(&rt) & ROZ_FAULT_ROBOT); i++)
+        tick_for(1);
+    assert_true(roz_runtime_faults(&rt) & ROZ_FAULT_ROBOT);
+    roz_runtime_fault_message_copy(&rt, msg, sizeof msg);
+    assert_string_equal(msg, "robot fault: thigh: actuator error code 33 (0x21)");
+    runtime_down();
+}
+
+/* A test that failed half-way leaves things open: close them. */
+static int teardown(void **st)
+{
+    (void)st;
+    if (t.sc != NULL && t.sc->opened)
+        roz_test_can_close(&t);
+    else if (bus.running)
+        fake_can_stop(&bus);
+    if (rt_up) {
+        roz_runtime_deinit(&rt);
+        rt_up = 0;
+    }
+    memset(&t, 0, sizeof t);
+    return 0;
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_socketcan_start_up, teardown),
+        cmocka_unit_test_teardown(test_socketcan_commands_and_states, teardown),
+        cmocka_unit_test_teardown(test_socketcan_replays_and_strays, teardown),
+        cmocka_unit_test_teardown(test_socketcan_silence_and_return, teardown),
+        cmocka_unit_test_teardown(test_socketcan_error_code_and_consistency, teardown),
+        cmocka_unit_test_teardown(test_socketcan_round_robin, teardown),
+        cmocka_unit_test_teardown(test_socketcan_shutdown, teardown),
+        cmocka_unit_test_teardown(test_socketcan_open_errors, teardown),
+        cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),
+        cmocka_unit_test_teardown(test_socketcan_silent_actuator_latches_stale, teardown),
+        cmocka_unit_test_teardown(test_socketcan_error_code_latches_robot, teardown),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
