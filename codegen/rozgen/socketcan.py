@@ -58,13 +58,16 @@ _NUMBER = re.compile(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)([eE][+-]?[0-9]+)?")
 _UINT = re.compile(r"0[xX][0-9a-fA-F]+|[0-9]+")
 _BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
 
+POSITION_EXPECTED = "expected MIN:MAX, two finite numbers, MIN below MAX"
+RANGE_EXPECTED = ("expected MIN:MAX, two finite numbers, MIN below MAX, 0 between them (a hold "
+                  "sends 0)")
 EXPECTED = {
+    "position_range": POSITION_EXPECTED,
     "can_id": "expected an actuator's CAN id, 1..2047 (11 bits; decimal or 0x hex)",
     "reply": "unknown reply layout (known: basic, temperature_error)",
     "direction": "expected 1 or -1",
     "zero_offset": "expected a finite number (rad)",
 }
-RANGE_EXPECTED = "expected MIN:MAX, two finite numbers, MIN below MAX"
 
 
 def frame_bits(n: int) -> int:
@@ -104,6 +107,12 @@ def _range(text: str) -> tuple[float, float] | None:
     return lo, hi
 
 
+def _range_with_zero(text: str) -> tuple[float, float] | None:
+    """A range a hold can send 0 in: velocity, gains, torque."""
+    r = _range(text)
+    return r if r is not None and r[0] <= 0.0 <= r[1] else None
+
+
 def _direction(text: str) -> int | None:
     return {"1": 1, "+1": 1, "-1": -1}.get(text)
 
@@ -114,7 +123,8 @@ def _reply(text: str) -> str | None:
 
 _PARSERS = {"can_id": lambda t: _uint_in(t, 1, 0x7FF), "reply": _reply,
             "direction": _direction, "zero_offset": _number}
-_PARSERS.update({k: _range for k in RANGE_KEYS})
+_PARSERS.update({k: _range_with_zero for k in RANGE_KEYS})
+_PARSERS["position_range"] = _range
 
 
 class _Checker:

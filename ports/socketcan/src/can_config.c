@@ -455,7 +455,14 @@ static const roz_mit_range_t *range_of(const roz_can_joint_t *j, int key)
 
 static int entry_range(span_t v, roz_can_joint_t *j, int key)
 {
-    return parse_range(v, range_slot(j, key));
+    roz_mit_range_t r;
+    if (!parse_range(v, &r))
+        return 0;
+    /* a hold sends velocity, gains and torque 0: it must be a value of theirs */
+    if (key != K_POSITION_RANGE && !(r.min <= 0.0 && r.max >= 0.0))
+        return 0;
+    *range_slot(j, key) = r;
+    return 1;
 }
 
 static int entry_direction(span_t v, roz_can_joint_t *j, int key)
@@ -483,7 +490,9 @@ static const char *entry_expected(int key)
     case K_REPLY: return "unknown reply layout (known: basic, temperature_error)";
     case K_DIRECTION: return "expected 1 or -1";
     case K_ZERO_OFFSET: return "expected a finite number (rad)";
-    default: return "expected MIN:MAX, two finite numbers, MIN below MAX";
+    case K_POSITION_RANGE: return "expected MIN:MAX, two finite numbers, MIN below MAX";
+    default: return "expected MIN:MAX, two finite numbers, MIN below MAX, 0 between them (a hold "
+                    "sends 0)";
     }
 }
 

@@ -32,7 +32,7 @@
  * |-----|-------|---------|
  * | can_id | the actuator's 11-bit CAN id, 1..2047 (decimal or 0x hex), per joint; the low byte must be unique (a reply names its actuator by it) and none may be master_id | required |
  * | reply | the reply layout (roz/mit_codec.h): `basic` or `temperature_error` | required |
- * | position_range, velocity_range, stiffness_range, damping_range, effort_range | `MIN:MAX`, the actuator firmware's ranges for position (rad), velocity (rad/s), kp (N.m/rad), kd (N.m.s/rad), torque (N.m); they must hold the manifest's limits of the joint's channels, seen from the actuator | required |
+ * | position_range, velocity_range, stiffness_range, damping_range, effort_range | `MIN:MAX`, the actuator firmware's ranges for position (rad), velocity (rad/s), kp (N.m/rad), kd (N.m.s/rad), torque (N.m); all but position hold 0 (a hold sends 0); they must hold the manifest's limits of the joint's channels, seen from the actuator | required |
  * | direction | 1, or -1 when the actuator turns against the joint | 1 |
  * | zero_offset | the joint's position (rad) when the actuator reads 0 | 0 |
  * | network_interface | the CAN interface, at most 15 bytes | can0 |
