@@ -51,8 +51,14 @@ typedef struct roz_port_fixture {
      * its own link checks (0 counts as 1): a replayed, restarted or returning
      * peer counts once per topic. */
     int state_topics;
+    /* Non-NULL: the wire has no sequence number that starts over when the
+     * peer restarts, and this says what the port sees instead; the suite
+     * skips its restart case (a restart is seen, if at all, as a silence:
+     * the vanish case) and prints this. */
+    const char *no_sequence;
     /* What the peer applies for a command written as @p in (n_commands
-     * values), where the wire narrows them (float32); NULL: exactly that. */
+     * values), where the wire narrows them (float32, a field of 12 bits);
+     * NULL: exactly that. */
     void (*wire_command)(const double *in, double *out);
     /* Open the port on @p m with @p params against a new peer that has sent
      * nothing yet; the port is activated. ROZ_OK, or the open's error. */
@@ -83,5 +89,6 @@ extern const roz_port_fixture_t roz_fixture_loopback;
 extern const roz_port_fixture_t roz_fixture_unitree_g1;
 extern const roz_port_fixture_t roz_fixture_engineai_pm01;
 extern const roz_port_fixture_t roz_fixture_agibot_x2;
+extern const roz_port_fixture_t roz_fixture_socketcan;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */
