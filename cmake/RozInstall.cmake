@@ -6,7 +6,8 @@
 #   include/roz/             the public headers (roz/features.h included)
 #   include/roz/sdk/         the controller SDK (roz_controller.h), roz::sdk
 #   include/roz/manifests/   the built-in manifests' generated headers
-#   lib/                     the static libraries (roz::dds and the DDS ports where
+#   lib/                     the static libraries (roz::can and roz::port_socketcan
+#                            among them where built) (roz::dds and the DDS ports where
 #                            Cyclone DDS was found: the package then needs it too)
 #   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
@@ -59,6 +60,15 @@ if(TARGET roz_port_agibot_x2)
   list(APPEND _roz_targets roz_aimdk_msgs roz_port_agibot_x2)
   set_target_properties(roz_aimdk_msgs PROPERTIES EXPORT_NAME aimdk_msgs)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/agibot_x2/include/roz
+          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET roz_can)
+  # the SocketCAN port's portable half (codec, keys), and the Linux port
+  list(APPEND _roz_targets roz_can)
+  if(TARGET roz_port_socketcan)
+    list(APPEND _roz_targets roz_port_socketcan)
+  endif()
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/socketcan/include/roz
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 endif()
 if(TARGET roz_wasm3)

@@ -10,6 +10,8 @@
  *          --controller g1_stand.wasm
  *   rozrun --robot engineai_pm01 --port engineai/PM01 --param network_interface=eth0
  *          --controller pm01_stand.wasm
+ *   rozrun --robot leg.toml --port socketcan --param network_interface=can0
+ *          --controller leg_pd.wasm
  *
  * On the loopback, without --realtime, the ticks run back to back
  * (simulated time, as fast as the machine goes); with it a periodic thread
@@ -47,6 +49,9 @@
 #if ROZRUN_HAS_AGIBOT_X2
 #include "roz/agibot_x2.h"
 #endif
+#if ROZRUN_HAS_SOCKETCAN
+#include "roz/socketcan.h"
+#endif
 #include "schedule.h"
 #include "trace.h"
 #if ROZ_HAS_TOML
@@ -83,6 +88,9 @@ static roz_engineai_pm01_t pm01;
 #endif
 #if ROZRUN_HAS_AGIBOT_X2
 static roz_agibot_x2_t x2;
+#endif
+#if ROZRUN_HAS_SOCKETCAN
+static roz_socketcan_t can;
 #endif
 
 /* ---- the ports rozrun knows ------------------------------------------------ */
@@ -155,6 +163,57 @@ static uint64_t malformed_x2(void)
 }
 #endif
 
+#if ROZRUN_HAS_SOCKETCAN
+static roz_port_t make_socketcan(void)
+{
+    roz_socketcan_set_log(&can, log_stderr, NULL);
+    return roz_socketcan_port(&can, -1);
+}
+
+static void link_socketcan(roz_link_t *out)
+{
+    roz_socketcan_link(&can, out);
+}
+
+/* Before the run: the bus the configuration gives. */
+static void opened_socketcan(void)
+{
+    roz_socketcan_info_t info;
+    roz_socketcan_info(&can, &info);
+    printf("rozrun: socketcan: %u actuators on %s at %u kbit/s; rounds of %u us, %u group%s (each "
+           "actuator every %u us); worst-case bus load %.1f %%; an actuator silent for %u us "
+           "is stale\n",
+           (unsigned)info.n_joints, info.network_interface, (unsigned)(info.bitrate / 1000u),
+           (unsigned)info.round_us, (unsigned)info.groups, info.groups == 1 ? "" : "s",
+           (unsigned)info.joint_interval_us, 100.0 * info.bus_load,
+           (unsigned)info.reply_timeout_us);
+}
+
+/* In the summary: what went over the bus. */
+static void summary_socketcan(void)
+{
+    roz_socketcan_counters_t c;
+    roz_socketcan_info_t info;
+    roz_socketcan_counters(&can, &c);
+    roz_socketcan_info(&can, &info);
+    printf("  CAN bus                %s, %u group%s, worst-case load %.1f %%; %llu frames sent "
+           "(%llu commands, %llu holds, %llu enter, %llu exit), %llu refused by the socket\n",
+           info.network_interface, (unsigned)info.groups, info.groups == 1 ? "" : "s",
+           100.0 * info.bus_load, (unsigned long long)c.frames_sent,
+           (unsigned long long)c.commands_sent, (unsigned long long)c.holds_sent,
+           (unsigned long long)c.enter_sent, (unsigned long long)c.exit_sent,
+           (unsigned long long)c.send_errors);
+    printf("  CAN replies            %llu taken, %llu with an error code, %llu inconsistent; "
+           "%llu unknown, %llu short, %llu bus errors (%llu bus-off); actuators lost %llu "
+           "times; %llu fields saturated\n",
+           (unsigned long long)c.replies, (unsigned long long)c.error_replies,
+           (unsigned long long)c.inconsistent, (unsigned long long)c.unknown,
+           (unsigned long long)c.short_frames, (unsigned long long)c.bus_errors,
+           (unsigned long long)c.bus_off, (unsigned long long)c.lost,
+           (unsigned long long)c.saturated);
+}
+#endif
+
 typedef struct {
     const char *name;
     int         robot; /* a robot's port: ticks at the manifest's rate, always */
@@ -163,18 +222,23 @@ typedef struct {
     /* A ROS 2 port (no CRC on the wire): the samples it dropped as malformed;
      * NULL for a port whose frames carry a CRC. */
     uint64_t (*malformed)(void);
+    void (*opened)(void);  /* optional: says what it opened */
+    void (*summary)(void); /* optional: its own lines in the summary */
 } port_entry_t;
 
 static const port_entry_t ports[] = {
-    { "loopback", 0, make_loopback, link_loopback, NULL },
+    { "loopback", 0, make_loopback, link_loopback, NULL, NULL, NULL },
 #if ROZRUN_HAS_UNITREE_G1
-    { "unitree/G1", 1, make_g1, link_g1, NULL },
+    { "unitree/G1", 1, make_g1, link_g1, NULL, NULL, NULL },
 #endif
 #if ROZRUN_HAS_ENGINEAI_PM01
-    { "engineai/PM01", 1, make_pm01, link_pm01, malformed_pm01 },
+    { "engineai/PM01", 1, make_pm01, link_pm01, malformed_pm01, NULL, NULL },
 #endif
 #if ROZRUN_HAS_AGIBOT_X2
-    { "agibot/X2", 1, make_x2, link_x2, malformed_x2 },
+    { "agibot/X2", 1, make_x2, link_x2, malformed_x2, NULL, NULL },
+#endif
+#if ROZRUN_HAS_SOCKETCAN
+    { "socketcan", 1, make_socketcan, link_socketcan, NULL, opened_socketcan, summary_socketcan },
 #endif
 };
 
@@ -219,6 +283,9 @@ static void usage(FILE *f)
 #if ROZRUN_HAS_AGIBOT_X2
         ", agibot/X2"
 #endif
+#if ROZRUN_HAS_SOCKETCAN
+        ", socketcan"
+#endif
         ")\n"
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
@@ -231,7 +298,9 @@ static void usage(FILE *f)
         "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
         "                       network_interface, dds_domain, command_writer_period_us,\n"
         "                       ...; see roz/unitree_g1.h; engineai/PM01, agibot/X2: the\n"
-        "                       same and roz/ros2.h, roz/engineai_pm01.h, roz/agibot_x2.h)\n"
+        "                       same and roz/ros2.h, roz/engineai_pm01.h, roz/agibot_x2.h;\n"
+        "                       socketcan: network_interface, can_id, ...; see\n"
+        "                       roz/can_config.h)\n"
         "  --budget-us US|off   controller wall-clock deadline per tick (default: half the\n"
         "                       period with --realtime; off in simulated time, where the\n"
         "                       fuel alone decides, so a run is the same on any machine)\n"
@@ -707,6 +776,8 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
                runner->locked ? "locked" : "not locked",
                (unsigned long long)runner->missed);
     }
+    if (pe->summary != NULL)
+        pe->summary();
     if (tracing && trace.error[0] != '\0')
         printf("  trace                  %s is incomplete: %s\n", o->trace, trace.error);
     else if (tracing)
@@ -744,6 +815,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
         return 2;
     }
+    if (pe->opened != NULL)
+        pe->opened();
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
     cfg.port = port;
