@@ -58,7 +58,7 @@ static size_t hex_bytes(const char *s, uint8_t *out, size_t cap, unsigned line)
     if (strcmp(s, "-") == 0)
         return 0;
     for (; s[0] != '\0' && s[1] != '\0'; s += 2) {
-        unsigned b;
+        unsigned b = 0;
         if (n == cap || sscanf(s, "%2x", &b) != 1)
             fail_msg("line %u: bad bytes", line);
         out[n++] = (uint8_t)b;

@@ -109,19 +109,23 @@ static int joint_of(const roz_socketcan_t *sc, const roz__can_frame_t *f)
 }
 
 /* Position against velocity, in the actuator's frame; 1 when inconsistent.
- * dt counts the command intervals between the two replies (host receive
- * times would make a late receive thread look like a jump); one interval
- * of travel at the faster velocity is allowed for timing. */
-static int inconsistent(roz_socketcan_t *sc, size_t j, const roz_mit_reply_t *rep, uint32_t seq)
+ * dt counts the command intervals between the two replies (the actuator
+ * answers each frame at once). Host receive times would make a late receive
+ * thread look like a jump, and frame counts would make a late writer look
+ * like one: the travel allowed for timing is the faster velocity times the
+ * larger of one interval and the disagreement of the two clocks. */
+static int inconsistent(roz_socketcan_t *sc, size_t j, const roz_mit_reply_t *rep, uint32_t seq,
+                        uint64_t t)
 {
     roz_socketcan_rx_joint_t *rx = &sc->rx[j];
     const roz_can_joint_t *jt = &sc->cfg.joints[j];
     double margin = sc->cfg.consistency_margin;
     double interval = (double)sc->cfg.joint_interval_us * 1e-6;
     double dt = (double)(uint32_t)(seq - rx->last_seq) * interval;
+    double dt_host = (double)(t - rx->last_t) * 1e-9;
     double vbar = 0.5 * (rx->last_v + rep->velocity);
     double vmax = fmax(fabs(rx->last_v), fabs(rep->velocity));
-    double slack = margin + vmax * interval;
+    double slack = margin + vmax * fmax(interval, fabs(dt_host - dt));
     double deadband = DEADBAND_STEPS * roz_mit_codec_step(&jt->ranges.velocity,
                                                           ROZ_MIT_VELOCITY_BITS);
 
@@ -182,7 +186,7 @@ static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, u
         if (returned)
             link_bump(sc, L_RETURNS, 1);
     }
-    if (inconsistent(sc, j, &rep, seq)) {
+    if (inconsistent(sc, j, &rep, seq, t)) {
         rx->inconsistent++;
         bump(sc, C(inconsistent), 1);
     }
@@ -190,6 +194,7 @@ static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, u
     rx->last_p = rep.position;
     rx->last_v = rep.velocity;
     rx->last_seq = seq;
+    rx->last_t = t;
     rx->have = 1;
     rx->error = rep.error;
     if (rep.error != 0)

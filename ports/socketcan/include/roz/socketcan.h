@@ -40,7 +40,10 @@
  * rest with its last values cannot be told from a resting one; the port
  * checks that position follows velocity (`consistency_margin`): a position
  * that stays put while the velocity says it moves, or that jumps further
- * than the velocity explains (one command interval allowed for timing), is
+ * than the velocity explains (the time between the replies counted in
+ * command intervals; as much travel allowed for timing as the faster
+ * velocity covers in one interval, or in the time by which the host's clock
+ * disagrees with that count, if longer: a late thread is not a jump), is
  * a fault of that actuator (read() returns ROZ_EROBOT once per detection;
  * fault() names the joint). An actuator that reboots answers again out of
  * motor mode: the port sees that only as a silence (below), so a reboot
@@ -169,6 +172,7 @@ typedef struct roz_socketcan_rx_joint {
     uint16_t   last_pcode;    /* consistency: the last reply */
     double     last_p, last_v;
     uint32_t   last_seq;
+    uint64_t   last_t;        /* when it came, host clock */
     double     frozen_travel; /* what the velocity says it moved at one position code */
     uint32_t   inconsistent;  /* consistency faults seen */
     uint8_t    error;         /* the last reply's error code */
