@@ -303,6 +303,7 @@ static int g1_read(void *self, double *state, size_t n)
 
     if (!g1->open || n != g1->m->n_states)
         return ROZ_EINVAL;
+    g1->tick_fault.what = NULL; /* fault() speaks of this read only (roz/port.h) */
     if (roz_buffer_read(&g1->state_buf, &f) == ROZ_ENOENT)
         return ROZ_ENOENT;
     memcpy(state, f.values, n * sizeof state[0]);
