@@ -74,7 +74,9 @@ static fake_actuator_t actuator(unsigned j)
 
 static void open_on_write(const char *const *more)
 {
-    const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "5000" };
+    /* a timeout far above what a loaded machine takes to answer: only the
+     * fake's silences count */
+    const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "300000" };
     size_t k = 4;
     for (size_t i = 0; more != NULL && more[i] != NULL && k < 18; i++)
         params[k++] = more[i];
@@ -132,9 +134,12 @@ static void test_socketcan_start_up(void **st)
      * the tick writes (every write is a round) */
     fake_can_mute(&bus, KNEE, 1);
     command(cmd, 1);
-    for (int i = 0; i < 5; i++)
+    for (int i = 0; i < 5; i++) {
         write_round(cmd);
-    ROZ_WAIT_FOR(counters().replies >= 2);
+        /* the hip and the thigh answer each frame; the writer knows of it
+         * before the next round */
+        ROZ_WAIT_FOR(counters().replies >= 2u * (uint64_t)(i + 1));
+    }
     assert_int_equal(read_leg(state), ROZ_ENOENT); /* no whole state yet */
     for (unsigned j = 0; j < 3; j++) {
         fake_actuator_t a = actuator(j);
@@ -287,7 +292,7 @@ static void test_socketcan_silence_and_return(void **st)
     double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
     roz_port_fault_t f;
     (void)st;
-    open_on_write(NULL); /* reply_timeout_us 5000 */
+    open_on_write(NULL); /* reply_timeout_us 300000 */
     bring_up();
     ROZ_WAIT_FOR(read_leg(state) == 1);
     command(cmd, 3);
@@ -297,14 +302,14 @@ static void test_socketcan_silence_and_return(void **st)
 
     fake_can_mute(&bus, KNEE, 1);
     write_round(cmd); /* the knee's frame goes unanswered ... */
-    ROZ_WAIT_FOR(counters().lost == 1); /* ... longer than the timeout */
+    ROZ_WAIT_FOR(counters().lost >= 1); /* ... longer than the timeout */
     uint64_t before = counters().replies;
     write_round(cmd);
     ROZ_WAIT_FOR(counters().replies >= before + 2);
     assert_int_equal(read_leg(state), 0);
     assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
     assert_string_equal(f.what, "knee");
-    assert_string_equal(f.kind, "its actuator (CAN id 3) stopped answering (no reply in 5000 us)");
+    assert_string_equal(f.kind, "its actuator (CAN id 3) stopped answering (no reply in 300000 us)");
     assert_int_equal(f.code, 3);
 
     /* back: ROZ_ELINK once, "enter motor mode" again, the holds, then commands
@@ -545,15 +550,16 @@ static void runtime_up(void)
     roz_runtime_config_t cfg;
     size_t len;
     const uint8_t *w = roz_test_controller("leg_pd", &len);
+    /* generous timeouts: the threads of a loaded machine are no silent actuator */
     const char *const params[] = { "command_writer_period_us", "2000", "reply_timeout_us",
-                                   "20000", NULL };
+                                   "100000", NULL };
     roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 0, params);
     roz_runtime_config_default(&cfg);
     cfg.manifest = leg;
     cfg.port = t.port;
     cfg.clock = roz_clock_monotonic_ns;
     cfg.budget_ns = ROZ_BUDGET_OFF; /* fuel alone: sanitizer builds are slow */
-    cfg.stale_ticks = 25;
+    cfg.stale_ticks = 50;
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
@@ -608,7 +614,7 @@ static void test_socketcan_silent_actuator_latches_stale(void **st)
         tick_for(1);
     assert_true(roz_runtime_faults(&rt) & ROZ_FAULT_STALE);
     roz_runtime_fault_message_copy(&rt, msg, sizeof msg);
-    assert_non_null(strstr(msg, "no fresh state for 25 ticks: knee: its actuator (CAN id 3) "
+    assert_non_null(strstr(msg, "no fresh state for 50 ticks: knee: its actuator (CAN id 3) "
                                 "stopped answering"));
     runtime_down();
 }

@@ -21,7 +21,8 @@
  *    restart only as a silence, VANISH; one shorter than reply_timeout_us
  *    goes unseen (a position jump aside, which the port's consistency check
  *    catches);
- *  - VANISH: the hip does not answer for longer than reply_timeout_us, then
+ *  - VANISH: the hip does not answer for longer than reply_timeout_us (the
+ *    fixture's: 0.3 s, far above what a loaded machine takes to answer), then
  *    does: one actuator is one peer (link.returns counts actuators);
  *  - a command frame corrupted in transit: every actuator's controller
  *    refuses the next frame (its CRC); on a bus the sender would send it
@@ -67,16 +68,22 @@ static roz_link_t link_copy(void)
     return l;
 }
 
+static void sc_fx_close(void);
+
 static int sc_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                       char *err, size_t errlen)
 {
+    /* a reply timeout far above what a loaded machine takes between a round
+     * and the fixture's release: only VANISH is a silence */
     roz_param_t items[16] = { { "command_writer_period_us", "0" },
-                              { "reply_timeout_us", "5000" } };
+                              { "reply_timeout_us", "300000" } };
     size_t n = 2;
     for (size_t i = 0; params != NULL && i < params->n && n < 16; i++)
         items[n++] = params->items[i];
     roz_params_t p = { items, n };
 
+    if (sc.opened || bus.running)
+        sc_fx_close(); /* a check that failed half-way left it open */
     memset(&t, 0, sizeof t);
     t.sc = &sc;
     t.bus = &bus;
