@@ -11,6 +11,8 @@
  *   replies, session, hold_code   the receive thread; hold_code before
  *              session and replies (release), so a reader that sees a
  *              session sees a position of it;
+ *   answered   the receive thread: `sent` as the last accepted reply found
+ *              it (frames after it are unanswered);
  *   lost       the writer: "replies + 1" when the oldest unanswered frame
  *              is older than the reply timeout. It is true while replies
  *              still has that value; a reply makes it false by itself.
@@ -213,6 +215,7 @@ static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, u
 
     atomic_store_explicit(&sh->hold_code, rep.position_code, memory_order_relaxed);
     atomic_store_explicit(&sh->session, session, memory_order_release);
+    atomic_store_explicit(&sh->answered, seq, memory_order_release);
     atomic_store_explicit(&sh->replies, replies + 1u, memory_order_release);
     link_bump(sc, L_ACCEPTED, 1);
     bump(sc, C(replies), 1);
@@ -274,9 +277,12 @@ static void send_to(roz_socketcan_t *sc, size_t j, const uint8_t data[8], size_t
     f.id = sc->cfg.joints[j].can_id;
     f.len = 8;
     memcpy(f.data, data, 8);
-    atomic_fetch_add_explicit(&sc->shared[j].sent, 1u, memory_order_acq_rel);
-    if (sc->tx[j].unanswered_ns == 0)
-        sc->tx[j].unanswered_ns = t;
+    /* the writer alone counts frames while it runs: this one will be k */
+    uint32_t k = atomic_load_explicit(&sc->shared[j].sent, memory_order_relaxed) + 1u;
+    sc->tx[j].sent_ns[k % ROZ_SOCKETCAN_SENT_RING] = t;
+    if (sc->tx[j].oldest_ns == 0)
+        sc->tx[j].oldest_ns = t;
+    atomic_store_explicit(&sc->shared[j].sent, k, memory_order_release);
     if (roz__can_send(sc->fd, &f) == ROZ_OK) {
         bump(sc, C(frames_sent), 1);
         bump(sc, counter, 1);
@@ -330,7 +336,11 @@ static void command_to(roz_socketcan_t *sc, size_t j, uint64_t t)
 }
 
 /* An actuator whose oldest unanswered frame is older than the timeout is
- * lost (every joint, every round: a group's joints wait their turn). */
+ * lost (every joint, every round: a group's joints wait their turn). When a
+ * reply comes, the frames after the one it found counted are unanswered,
+ * the oldest of them sent at sent_ns (when more went out since than the
+ * ring holds, the oldest it holds: a silence judged no sooner than it is);
+ * a frame sent with none unanswered is the oldest itself (send_to()). */
 static void watch_losses(roz_socketcan_t *sc, uint64_t t)
 {
     uint64_t timeout = (uint64_t)sc->cfg.reply_timeout_us * NS_PER_US;
@@ -338,11 +348,15 @@ static void watch_losses(roz_socketcan_t *sc, uint64_t t)
         roz_socketcan_tx_joint_t *tx = &sc->tx[j];
         roz_socketcan_shared_t *sh = &sc->shared[j];
         uint32_t r = atomic_load_explicit(&sh->replies, memory_order_acquire);
-        if (r != tx->replies_seen) {
-            tx->replies_seen = r;
-            tx->unanswered_ns = 0;
+        uint32_t a = atomic_load_explicit(&sh->answered, memory_order_acquire);
+        uint32_t s = atomic_load_explicit(&sh->sent, memory_order_relaxed);
+        if (a != tx->answered_seen) {
+            tx->answered_seen = a;
+            uint32_t oldest = s - a > ROZ_SOCKETCAN_SENT_RING ? s - ROZ_SOCKETCAN_SENT_RING + 1u
+                                                              : a + 1u;
+            tx->oldest_ns = s == a ? 0 : tx->sent_ns[oldest % ROZ_SOCKETCAN_SENT_RING];
         }
-        if (tx->unanswered_ns != 0 && t - tx->unanswered_ns > timeout &&
+        if (tx->oldest_ns != 0 && t - tx->oldest_ns > timeout &&
             atomic_load_explicit(&sh->lost, memory_order_relaxed) != r + 1u) {
             atomic_store_explicit(&sh->lost, r + 1u, memory_order_release);
             bump(sc, C(lost), 1);

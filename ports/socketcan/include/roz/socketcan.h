@@ -116,6 +116,10 @@ extern "C" {
 /** Values in the state image the receive thread publishes: the states,
  *  then per joint its session, error code and consistency faults. */
 #define ROZ_SOCKETCAN_IMAGE ((ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1) + 3 * ROZ_CAN_MAX_JOINTS)
+/** Send times a writer keeps per joint: when a reply comes, the frame
+ *  after the one it answered is the oldest unanswered, and its time is
+ *  among these (the writer looks every round). */
+#define ROZ_SOCKETCAN_SENT_RING 8
 /** Bytes of a precomputed fault text per joint. */
 #define ROZ_SOCKETCAN_TEXT 96
 
@@ -161,6 +165,7 @@ typedef struct roz_socketcan_info {
 typedef struct roz_socketcan_shared {
     ROZ_ATOMIC(uint32_t) sent;      /**< writer: frames sent to it, counted before each send */
     ROZ_ATOMIC(uint32_t) replies;   /**< receive: replies accepted */
+    ROZ_ATOMIC(uint32_t) answered;  /**< receive: `sent` as the last accepted reply found it */
     ROZ_ATOMIC(uint32_t) lost;      /**< writer: replies + 1 when it judged it silent */
     ROZ_ATOMIC(uint32_t) session;   /**< receive: 1 at the first reply, +1 at each return */
     ROZ_ATOMIC(uint32_t) hold_code; /**< receive: the last reply's position code */
@@ -185,8 +190,9 @@ typedef struct roz_socketcan_tx_joint {
     int      enter_pending;  /* a returned actuator: "enter motor mode" once */
     uint64_t ready_seq;      /* command sequence when it became ready */
     uint64_t hold_seq;       /* the command sent as the hold (layer 3); 0 = none yet */
-    uint32_t replies_seen;   /* loss: the reply count it last saw */
-    uint64_t unanswered_ns;  /* loss: when its oldest unanswered frame went out; 0 = none */
+    uint64_t sent_ns[ROZ_SOCKETCAN_SENT_RING]; /* loss: when frame k went out, at k mod ring */
+    uint32_t answered_seen;  /* loss: `answered` when it last looked */
+    uint64_t oldest_ns;      /* loss: when the oldest unanswered frame went out; 0 = none */
 } roz_socketcan_tx_joint_t;
 
 /** The port's data; caller-owned (static storage: it is large). Fields are
