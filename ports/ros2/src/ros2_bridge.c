@@ -680,7 +680,7 @@ int roz_ros2_deactivate(void *self)
     if (roz_dds_writer_publish(&o->writer, fill_primary, o) == 1) {
         for (uint16_t g = 0; g < b->robot->n_groups; g++) {
             if (reads(b, g))
-                (void)roz_dds_writer_flush(&b->out[g].writer, 200);
+                (void)roz_dds_writer_flush(&b->out[g].writer, ROZ_DDS_SHUTDOWN_FLUSH_MS);
         }
     }
     for (uint16_t t = 0; t < b->n_topics; t++)

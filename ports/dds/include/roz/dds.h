@@ -351,6 +351,11 @@ void roz_dds_writer_wake(roz_dds_writer_t *w);
  */
 int roz_dds_writer_publish(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx);
 
+/** How long a port's deactivate waits for reliable readers to acknowledge
+ *  its last (damping) command: a robot, or a peer on a loaded machine, may be
+ *  slow to (200 ms lost it under load). Bounded; off the tick path. */
+#define ROZ_DDS_SHUTDOWN_FLUSH_MS 1000u
+
 /** @brief Wait until every reader acknowledged what was written, at most
  *  @p timeout_ms. @retval ROZ_OK, ROZ_ETIMEDOUT. Context: shutdown. */
 int roz_dds_writer_flush(roz_dds_writer_t *w, uint32_t timeout_ms);
