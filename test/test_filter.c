@@ -114,6 +114,14 @@ static const row_t g1_rows[] = {
     { "effort rate cap",                 G1_KNEE_TAU, 0.0,  0.0,  50.0, ROZ_STOP_NONE,       1.39,  0, 1, 0, 0 },
     { "velocity stopped at knee limit",  G1_KNEE_VEL, 0.0,  2.8798 - 0.05, 1.0, ROZ_STOP_NONE, 0.0, 0, 0, 1, 0 },
     { "velocity back from below",        G1_KNEE_VEL, 0.0,  -0.2, 1.0,  ROZ_STOP_NONE,       1.0,   0, 0, 0, 0 },
+    /* knee position [-0.087267, 2.8798], margin 0.05: effort pushing out is cut */
+    { "effort out at upper limit: 0",    G1_KNEE_TAU, 1.0,  2.8798 - 0.05, 1.5, ROZ_STOP_NONE, 0.0, 0, 0, 1, 0 },
+    { "effort out past upper limit: 0",  G1_KNEE_TAU, 0.5,  3.0,  0.5,  ROZ_STOP_NONE,       0.0,   0, 0, 1, 0 },
+    { "effort back from upper limit",    G1_KNEE_TAU, -0.5, 3.0,  -0.5, ROZ_STOP_NONE,       -0.5,  0, 0, 0, 0 },
+    { "effort out below lower limit: 0", G1_KNEE_TAU, -0.5, -0.087267 + 0.05, -0.5, ROZ_STOP_NONE, 0.0, 0, 0, 1, 0 },
+    { "effort back from lower limit",    G1_KNEE_TAU, 0.5,  -0.2, 0.5,  ROZ_STOP_NONE,       0.5,   0, 0, 0, 0 },
+    { "effort just inside the margin",   G1_KNEE_TAU, 0.5,  2.8798 - 0.0501, 0.5, ROZ_STOP_NONE, 0.5, 0, 0, 0, 0 },
+    { "effort, position unknown: 0",     G1_KNEE_TAU, -0.5, NAN,  -0.5, ROZ_STOP_NONE,       0.0,   0, 0, 1, 0 },
 };
 
 static void test_filter_g1(void **st)

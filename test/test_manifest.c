@@ -107,6 +107,19 @@ static void b_pair_neg(void) { cmds[1].position_state = -2; }
 static void b_pair_type(void) { cmds[0].position_state = 2; }
 static void b_pair_on_state(void) { states[2].position_state = 0; }
 static void b_pair_no_zero(void) { cmds[1].min = 0.5; cmds[1].default_value = 1.0; }
+static void b_pair_effort_no_zero(void)
+{
+    cmds[1].type = ROZ_IF_EFFORT;
+    cmds[1].max = -0.5;
+    cmds[1].default_value = -1.0;
+}
+/* a position command may be paired whatever its limits: it holds the state */
+static void b_pair_position_no_zero(void)
+{
+    cmds[1].type = ROZ_IF_POSITION;
+    cmds[1].min = 0.5;
+    cmds[1].default_value = 1.0;
+}
 /* state 0's limits are [-3.14, 3.14]: a margin must be below 3.14 */
 static void b_margin_neg(void) { states[0].limit_margin = -0.01; }
 static void b_margin_nan(void) { states[0].limit_margin = NAN; }
@@ -141,6 +154,7 @@ static const rule_case_t rule_cases[] = {
     { "pairing to velocity state", b_pair_type, ROZ_MANIFEST_RULE_PAIRING, 0, 0 },
     { "pairing on a state", b_pair_on_state, ROZ_MANIFEST_RULE_PAIRING, 1, 2 },
     { "paired velocity excluding 0", b_pair_no_zero, ROZ_MANIFEST_RULE_PAIRING, 0, 1 },
+    { "paired effort excluding 0", b_pair_effort_no_zero, ROZ_MANIFEST_RULE_PAIRING, 0, 1 },
     { "negative margin", b_margin_neg, ROZ_MANIFEST_RULE_MARGIN, 1, 0 },
     { "NaN margin", b_margin_nan, ROZ_MANIFEST_RULE_MARGIN, 1, 0 },
     { "infinite margin", b_margin_inf, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
@@ -198,6 +212,10 @@ static void test_manifest_validate_rules(void **state)
         assert_int_equal(p.is_state, c->is_state);
         assert_int_equal(p.index, c->index);
     }
+    setup_manifest(state);
+    b_pair_position_no_zero();
+    assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_OK);
+    setup_manifest(state);
 }
 
 static roz_manifest_storage_t storage;

@@ -81,7 +81,7 @@ pairing-range       ``position_state_index 6: must be -1 (unpaired) or a
                     -1 (unpaired): there are no states``)
 pairing-type        ``position_state_index 1: manifest.states[1] "x/velocity"
                     is a velocity state, not a position state``
-pairing-zero        ``position_state_index 0: a paired velocity command must
+pairing-zero        ``position_state_index 0: a paired velocity (or effort) command must
                     have 0 within its limits [0.5, 2.0], to stop at a position
                     limit``
 pairing-on-state    ``position_state_index 0: only commands are paired with
@@ -547,13 +547,14 @@ class _Checker:
                 continue
             target = states[index]
             if target is not None and target.interface_type == "position":
-                # The filter stops a paired velocity command at a position
-                # limit by commanding 0: 0 must be a value it may send.
-                if draft.interface_type == "velocity" and draft.limits is not None:
+                # The filter stops a paired velocity or effort command at a
+                # position limit by commanding 0: 0 must be a value it may send.
+                if draft.interface_type in ("velocity", "effort") and draft.limits is not None:
                     low, high = draft.limits
                     if not low <= 0.0 <= high:
                         self.report("pairing-zero", place, "position_state_index",
-                                    "a paired velocity command must have 0 within its limits "
+                                    f"a paired {draft.interface_type} command must have 0 "
+                                    "within its limits "
                                     f"[{c_double(low)}, {c_double(high)}], to stop at a "
                                     "position limit", index)
                 continue

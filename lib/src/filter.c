@@ -121,6 +121,25 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
                 held = 1;
             }
         }
+        /* 4b. an effort paired with a position state may not push further
+         * out: at or past the limit less the margin, an effort toward the
+         * outside becomes 0; with the position unknown, 0 (no rate cap:
+         * the limit wins, as for a velocity) */
+        if (c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED &&
+            state != NULL) {
+            const roz_channel_t *ps = &m->states[c->position_state];
+            double p = state[c->position_state];
+            double margin = roz_manifest_limit_margin(ps);
+            int outward = !isfinite(p) ? v != 0.0
+                                       : (v > 0.0 && p >= ps->max - margin) ||
+                                             (v < 0.0 && p <= ps->min + margin);
+            if (outward) {
+                v = 0.0;
+                f->counters.limit_stops++;
+                f->channel_limit_stops[i]++;
+                held = 1;
+            }
+        }
         if (!held) {
             f->channel_stop_run[i] = 0;
         } else if (f->channel_stop_run[i] < UINT32_MAX) {

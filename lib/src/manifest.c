@@ -80,8 +80,10 @@ static int check_channels(const roz_manifest_t *m, int is_state,
             if (is_state || s < 0 || s >= (int32_t)m->n_states ||
                 m->states[s].type != ROZ_IF_POSITION)
                 return set_problem(p, ROZ_MANIFEST_RULE_PAIRING, is_state, idx);
-            /* the filter stops a paired velocity at a position limit with 0 */
-            if (c->type == ROZ_IF_VELOCITY && !(c->min <= 0.0 && 0.0 <= c->max))
+            /* the filter stops a paired velocity or effort at a position
+             * limit with 0 */
+            if ((c->type == ROZ_IF_VELOCITY || c->type == ROZ_IF_EFFORT) &&
+                !(c->min <= 0.0 && 0.0 <= c->max))
                 return set_problem(p, ROZ_MANIFEST_RULE_PAIRING, is_state, idx);
         }
         /* 0 is the default; any other margin belongs to a position state

@@ -894,13 +894,14 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
         type = channel_interface(d, target);
         if (type == ROZ_IF_POSITION) {
             /* rozgen's pairing-zero: the filter stops a paired velocity
-             * command at a position limit by commanding 0, so 0 must be a
-             * value it may send. Limits that fail their own checks are
-             * reported where they are. */
+             * or effort command at a position limit by commanding 0, so 0
+             * must be a value it may send. Limits that fail their own
+             * checks are reported where they are. */
             const roz_toml_node_t *lim = roz_toml_get(d, t, "limits");
             const roz_toml_node_t *a = lim != NULL ? roz_toml_first(d, lim) : NULL;
             const roz_toml_node_t *b = a != NULL ? roz_toml_next(d, a) : NULL;
-            if (channel_interface(d, t) == ROZ_IF_VELOCITY && lim != NULL &&
+            int ctype = channel_interface(d, t);
+            if ((ctype == ROZ_IF_VELOCITY || ctype == ROZ_IF_EFFORT) && lim != NULL &&
                 lim->type == ROZ_TOML_ARRAY &&
                 roz_toml_count(lim) == 2 && is_number(a) && is_number(b)) {
                 double lo = number_of(a), hi = number_of(b);
@@ -909,8 +910,9 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
                     c_double(lo, sa);
                     c_double(hi, sb_);
                     snprintf(what, sizeof what,
-                             "a paired velocity command must have 0 within its limits "
-                             "[%s, %s], to stop at a position limit", sa, sb_);
+                             "a paired %s command must have 0 within its limits "
+                             "[%s, %s], to stop at a position limit",
+                             ctype == ROZ_IF_EFFORT ? "effort" : "velocity", sa, sb_);
                     report(ck, "pairing-zero", &pl, "position_state_index", what, value, NULL);
                 }
             }

@@ -16,11 +16,15 @@
  *     limit_margin in robot.toml, by default the smaller of 0.05 and 5 % of
  *     its range), looking ahead far enough that the rate cap can still
  *     brake to zero before the limit; when p is already outside, only
- *     motion back toward the range passes,
+ *     motion back toward the range passes; likewise an effort command
+ *     paired with a position state p may not push further out: at or past
+ *     the state's limit less its margin, an effort toward the outside is 0
+ *     (and any effort is 0 while p is unknown), so a feed-forward torque
+ *     cannot hold a joint against its end stop,
  *  5. a final clamp to [min, max], so the output is inside the manifest
  *     whatever the steps before did.
  * Steps 3 and 4 can disagree (a position state that jumps out of range while
- * the joint moves fast): then the position limit wins and the extra change is
+ * the joint moves fast, an effort cut at a limit): then the position limit wins and the extra change is
  * counted as a limit stop. Safe defaults: the manifest's default, except a
  * position command paired with a position state, which holds that state's
  * current value (or its last target while the state reads NaN/Inf). With a stop requested (a latched fault) every target is the

@@ -117,7 +117,7 @@ typedef enum roz_manifest_rule {
     ROZ_MANIFEST_RULE_DEFAULT,       /**< default not finite or outside limits */
     ROZ_MANIFEST_RULE_MAX_RATE,      /**< max_rate not finite or negative */
     ROZ_MANIFEST_RULE_PAIRING,       /**< position_state out of range or not a position state,
-                                          or a paired velocity command whose limits exclude 0 */
+                                          or a paired velocity or effort command whose limits exclude 0 */
     ROZ_MANIFEST_RULE_MARGIN,        /**< limit_margin not finite, negative, leaving no room to
                                           move (2 * margin >= max - min), or not 0 on a channel
                                           other than a position state */
