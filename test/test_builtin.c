@@ -144,7 +144,10 @@ static void check_humanoid(const roz_manifest_t *m, uint16_t joints, const char 
             snprintf(name, sizeof name, "%s/%s", jn, cmd_suffix[b]);
             assert_string_equal(c->name, name);
             assert_int_equal(c->type, cmd_type[b]);
-            if (b <= 1)
+            /* position, velocity and effort are paired with the joint's
+             * position; the gains are not */
+            if (c->type == ROZ_IF_POSITION || c->type == ROZ_IF_VELOCITY ||
+                c->type == ROZ_IF_EFFORT)
                 assert_int_equal(c->position_state, j);
             else
                 assert_int_equal(c->position_state, ROZ_CHANNEL_UNPAIRED);

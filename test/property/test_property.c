@@ -16,7 +16,10 @@
  *      out >= 0, p unknown (NaN/Inf) => out = 0; inside, p + out*dt stays
  *      inside [min + margin, max - margin], where margin is that state's
  *      limit margin (random per state: its own, or 0 for the default);
- *  P5  P2 and P3 hold exactly, except where P4 forced a change (the filter
+ *  P4e an effort command paired with a position state p never pushes
+ *      further out: p >= max - margin => out <= 0, p <= min + margin =>
+ *      out >= 0, p unknown (NaN/Inf) => out = 0;
+ *  P5  P2 and P3 hold exactly, except where P4 or P4e forced a change (the filter
  *      counts it as a limit stop: the documented precedence of position
  *      limits over the rate cap);
  *  P6  command.set returns -1 for a bad index or a non-finite value (and the
@@ -237,10 +240,11 @@ static void random_manifest(void)
         c->limit_margin = 0.0;
         if (shape.n_pos > 0 && chance(c->type == ROZ_IF_VELOCITY ? 0.8 : 0.4))
             c->position_state = shape.pos_index[below((uint32_t)shape.n_pos)];
-        if (c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED &&
-            !(c->min <= 0.0 && 0.0 <= c->max)) {
-            /* A paired velocity that cannot be zero could not be stopped at a
-             * position limit: manifests refuse it (rule pairing-zero). */
+        if ((c->type == ROZ_IF_VELOCITY || c->type == ROZ_IF_EFFORT) &&
+            c->position_state != ROZ_CHANNEL_UNPAIRED && !(c->min <= 0.0 && 0.0 <= c->max)) {
+            /* A paired velocity or effort that cannot be zero could not be
+             * stopped at a position limit: manifests refuse it (rule
+             * pairing-zero). */
             c->position_state = ROZ_CHANNEL_UNPAIRED;
         }
     }
@@ -382,6 +386,19 @@ static void check_channel(uint16_t i, roz_stop_t stop)
         }
     }
 
+    /* P4e */
+    int paired_effort = c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED;
+    if (paired_effort) {
+        const roz_channel_t *ps = &states[c->position_state];
+        double p = state[c->position_state];
+        double margin = margin_of(ps);
+        double lo = ps->min + margin, hi = ps->max - margin;
+        if (!isfinite(p) ? o != 0.0 : (p >= hi && o > 0.0) || (p <= lo && o < 0.0))
+            VIOLATION("P4e (effort further out)", i,
+                      "position %.17g, range less margin [%.17g, %.17g], out %.17g, stop %s",
+                      p, lo, hi, o, stop_name(stop));
+    }
+
     /* P7 */
     uint32_t run = filt.channel_stop_run[i];
     if (run != (limited ? run_before[i] + 1u : 0u) || filt.channel_stop_longest[i] < run)
@@ -401,7 +418,7 @@ static void check_channel(uint16_t i, roz_stop_t stop)
         expect = step_toward(prev[i], clampd(t, c->min, c->max), rate);
     }
     if (!close_enough(o, expect)) {
-        if (!(paired_velocity && limited))
+        if (!((paired_velocity || paired_effort) && limited))
             VIOLATION(stop == ROZ_STOP_NONE ? "P2 (target, clamp, rate cap)" : "P3 (stop)", i,
                       "out %.17g, expected %.17g (last %.17g, target %.17g, max_rate %.17g, "
                       "stop %s, limit stop %d)",
