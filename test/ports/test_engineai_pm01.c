@@ -553,16 +553,19 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     get_command(&c);
     assert_true(c.kp[0] == cmd[cmd_index(0, "stiffness")]);
 
-    /* shutdown: one damping command, kd the manifest's damping default */
+    /* shutdown: the damping command, kd the manifest's damping default,
+     * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (the robot's reader may be best
+     * effort and lose one): all of them, or on a loaded machine most */
+    const uint64_t repeats = ROZ_DDS_SHUTDOWN_REPEAT_MS * 1000u / ROZ_DDS_SHUTDOWN_REPEAT_US;
     uint64_t n0[FAKE_ROS2_MAX_GROUPS], n[FAKE_ROS2_MAX_GROUPS];
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
     n[0] = n0[0];
-    for (int i = 0; i < 2000 && n[0] <= n0[0]; i++) {
+    for (int i = 0; i < 2000 && n[0] < n0[0] + repeats; i++) {
         roz_fake_ros2_sleep_ms(1);
         assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
     }
-    assert_int_equal(n[0], n0[0] + 1);
+    assert_true(n[0] > n0[0] && n[0] <= n0[0] + repeats);
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
     assert_int_equal(c.min_len, N);
     for (uint16_t j = 0; j < N; j++) {

@@ -120,7 +120,10 @@ static void test_rozrun_g1_stand(void **st)
     }
     for (int j = 0; j < 29; j++) {
         assert_int_equal(c.mode[j], 1);
-        assert_true(c.kp[j] == 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0 && c.dq[j] == 0.0);
+        if (!(c.kp[j] == 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0 && c.dq[j] == 0.0))
+            fail_msg("the last command, joint %d: kp %g kd %g tau %g dq %g q %g (want the "
+                     "damping: kp 0, kd 8, tau 0, dq 0)",
+                     j, c.kp[j], c.kd[j], c.tau[j], c.dq[j], c.q[j]);
     }
     for (int j = 29; j < 35; j++)
         assert_int_equal(c.mode[j], 0);

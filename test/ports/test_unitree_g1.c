@@ -495,15 +495,18 @@ static void test_g1_startup_and_shutdown_damping(void **st)
     get_command(&c);
     assert_true(c.kp[0] == (float)cmd[cmd_index(0, "stiffness")]);
 
-    /* shutdown: one damping command, kd the manifest's damping default */
+    /* shutdown: the damping command, kd the manifest's damping default,
+     * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (the robot's reader may be best
+     * effort and lose one): all of them, or on a loaded machine most */
+    const uint64_t repeats = ROZ_DDS_SHUTDOWN_REPEAT_MS * 1000u / ROZ_DDS_SHUTDOWN_REPEAT_US;
     uint64_t good0 = 0, good = 0, bad = 0;
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
-    for (int i = 0; i < 2000 && good <= good0; i++) {
+    for (int i = 0; i < 2000 && good < good0 + repeats; i++) {
         roz_fake_g1_sleep_ms(1);
         assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
     }
-    assert_int_equal(good, good0 + 1);
+    assert_true(good > good0 && good <= good0 + repeats);
     assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];

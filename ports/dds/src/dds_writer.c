@@ -209,6 +209,28 @@ int roz_dds_writer_flush(roz_dds_writer_t *w, uint32_t timeout_ms)
     return rc == DDS_RETCODE_OK ? ROZ_OK : roz__dds_error(rc);
 }
 
+int roz_dds_writer_publish_final(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx)
+{
+    const unsigned n = ROZ_DDS_SHUTDOWN_REPEAT_MS * 1000u / ROZ_DDS_SHUTDOWN_REPEAT_US;
+    uint64_t next = roz_clock_monotonic_ns(NULL);
+    int best = ROZ_EIO;
+
+    for (unsigned i = 0; i < n; i++) {
+        int rc = roz_dds_writer_publish(w, fill, ctx);
+        if (rc == ROZ_ESTATE || rc == ROZ_EINVAL || rc == 0)
+            return rc; /* running, not open, or nothing to send: no repeat helps */
+        if (rc == 1)
+            best = 1;
+        next += (uint64_t)ROZ_DDS_SHUTDOWN_REPEAT_US * 1000u;
+        struct timespec ts = to_timespec(next);
+        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
+            ;
+    }
+    if (best == 1)
+        (void)roz_dds_writer_flush(w, ROZ_DDS_SHUTDOWN_FLUSH_MS);
+    return best;
+}
+
 uint32_t roz_dds_writer_matched(const roz_dds_writer_t *w)
 {
     dds_publication_matched_status_t st;

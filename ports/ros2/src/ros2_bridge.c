@@ -677,9 +677,10 @@ int roz_ros2_deactivate(void *self)
     roz_dds_writer_stop(&o->writer);
     /* the last command: damping, published here now the thread is gone */
     atomic_store_explicit(&b->shutdown, 1, memory_order_release);
-    if (roz_dds_writer_publish(&o->writer, fill_primary, o) == 1) {
+    /* (the primary's pass publishes every other group's damping too) */
+    if (roz_dds_writer_publish_final(&o->writer, fill_primary, o) == 1) {
         for (uint16_t g = 0; g < b->robot->n_groups; g++) {
-            if (reads(b, g))
+            if (g != o->group && reads(b, g))
                 (void)roz_dds_writer_flush(&b->out[g].writer, ROZ_DDS_SHUTDOWN_FLUSH_MS);
         }
     }

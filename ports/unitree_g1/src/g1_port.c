@@ -381,8 +381,7 @@ static int g1_deactivate(void *self)
     roz_dds_writer_stop(&g1->writer);
     /* the last command: damping, published here now the thread is gone */
     atomic_store_explicit(&g1->shutdown, 1, memory_order_release);
-    if (roz_dds_writer_publish(&g1->writer, fill_lowcmd, g1) == 1)
-        (void)roz_dds_writer_flush(&g1->writer, ROZ_DDS_SHUTDOWN_FLUSH_MS);
+    (void)roz_dds_writer_publish_final(&g1->writer, fill_lowcmd, g1);
     roz_dds_reader_close(&g1->reader);
     g1->active = 0;
     return ROZ_OK;

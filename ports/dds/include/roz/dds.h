@@ -356,6 +356,26 @@ int roz_dds_writer_publish(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx)
  *  slow to (200 ms lost it under load). Bounded; off the tick path. */
 #define ROZ_DDS_SHUTDOWN_FLUSH_MS 1000u
 
+/** How long a port's deactivate repeats its last (damping) command, one
+ *  sample every ROZ_DDS_SHUTDOWN_REPEAT_US: a best-effort reader (the robots
+ *  do not say what theirs is) loses a single sample when its socket buffer is
+ *  full, and the command the robot would then keep is the controller's last,
+ *  with its gains. */
+#define ROZ_DDS_SHUTDOWN_REPEAT_MS 100u
+#define ROZ_DDS_SHUTDOWN_REPEAT_US 2000u
+
+/**
+ * @brief The last command of a port: publish through @p fill from the
+ *        calling thread every ROZ_DDS_SHUTDOWN_REPEAT_US for
+ *        ROZ_DDS_SHUTDOWN_REPEAT_MS, then wait up to ROZ_DDS_SHUTDOWN_FLUSH_MS
+ *        for reliable readers to acknowledge it. Call after
+ *        roz_dds_writer_stop().
+ * @retval 1 published (at least once), 0 fill declined, ROZ_EIO every write
+ *         failed, ROZ_ESTATE running
+ * Context: shutdown (sleeps; bounded by the two constants).
+ */
+int roz_dds_writer_publish_final(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx);
+
 /** @brief Wait until every reader acknowledged what was written, at most
  *  @p timeout_ms. @retval ROZ_OK, ROZ_ETIMEDOUT. Context: shutdown. */
 int roz_dds_writer_flush(roz_dds_writer_t *w, uint32_t timeout_ms);

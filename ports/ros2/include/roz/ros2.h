@@ -60,9 +60,10 @@
  * hold every joint's measured position with zero gains (kd =
  * `startup_damping`, 0 unless set); the first write after it is published
  * as that hold. A robot that restarted gets nothing until the tick writes
- * for it. On deactivate, one damping command (kp 0, kd `shutdown_damping`,
+ * for it. On deactivate, the damping command (kp 0, kd `shutdown_damping`,
  * by default each joint's damping default, q the last commanded) when
- * anything was sent.
+ * anything was sent, repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS
+ * (roz_dds_writer_publish_final()).
  *
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),

@@ -48,8 +48,9 @@
  * a damping hold as the vendor's deploy code uses); and the first write
  * after it is published as that hold, not as what was written. A robot that
  * restarted gets nothing until the tick writes again. On deactivate, the
- * writer stops after one damping command (kp 0, kd `shutdown_damping`,
- * default the manifest's damping default) when anything was sent.
+ * writer stops, then the damping command (kp 0, kd `shutdown_damping`,
+ * default the manifest's damping default) goes out, when anything was sent,
+ * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (roz_dds_writer_publish_final()).
  *
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),
