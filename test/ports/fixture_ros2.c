@@ -5,8 +5,7 @@
  * of the robot), driven over its stdin/stdout, over loopback DDS.
  *
  * Where a manifest joint is on the robot comes from the fake ("groups",
- * "joints G"): by name for the X2 (whose joint names are on the wire), by
- * position for the PM01 (joint i is index i of its arrays). The port's
+ * "joints G"), by name, as the port finds it among the robot's. The port's
  * threads make each call synchronous (port_fixture.h): peer() returns once
  * every state topic the port reads judged its sample (its link counters
  * moved); settle() once the port's writer took every frame written and the
@@ -55,7 +54,6 @@ static const char *const imu_names[ROZ_ROS2_IMU_VALUES] = {
 
 typedef struct {
     const char *fake_robot; /* fake_ros2 --robot */
-    int         by_name;    /* joints placed by name (else by position) */
     roz_port_t (*make)(roz_log_fn log);
     roz_ros2_bridge_t *bridge;
 } robot_t;
@@ -74,7 +72,7 @@ static roz_port_t make_pm01(roz_log_fn log)
     return roz_engineai_pm01_port(&pm01, log, NULL);
 }
 
-static const robot_t robot_pm01 = { "pm01", 0, make_pm01, &pm01.b };
+static const robot_t robot_pm01 = { "pm01", make_pm01, &pm01.b };
 
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
 static roz_agibot_x2_t x2;
@@ -84,7 +82,7 @@ static roz_port_t make_x2(roz_log_fn log)
     return roz_agibot_x2_port(&x2, log, NULL);
 }
 
-static const robot_t robot_x2 = { "x2", 1, make_x2, &x2.b };
+static const robot_t robot_x2 = { "x2", make_x2, &x2.b };
 #endif
 
 /* ---- the fixture's state -------------------------------------------------------------- */
@@ -143,19 +141,12 @@ static void place_joints(void)
     memset(drives, 0, sizeof drives);
     for (uint16_t j = 0; j < hw->n_joints; j++) {
         place_group[j] = place_slot[j] = -1;
-        if (!robot->by_name) {
-            if (j < fake.n_joints[0]) {
-                place_group[j] = 0;
-                place_slot[j] = j;
-            }
-        } else {
-            for (unsigned g = 0; g < fake.n_groups && place_group[j] < 0; g++) {
-                for (unsigned s = 0; s < fake.n_joints[g]; s++) {
-                    if (strcmp(fake.joint[g][s], hw->joints[j]) == 0) {
-                        place_group[j] = (int)g;
-                        place_slot[j] = (int)s;
-                        break;
-                    }
+        for (unsigned g = 0; g < fake.n_groups && place_group[j] < 0; g++) {
+            for (unsigned s = 0; s < fake.n_joints[g]; s++) {
+                if (strcmp(fake.joint[g][s], hw->joints[j]) == 0) {
+                    place_group[j] = (int)g;
+                    place_slot[j] = (int)s;
+                    break;
                 }
             }
         }

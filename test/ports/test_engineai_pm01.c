@@ -21,6 +21,8 @@
  *    an endpoint whose type name lacks ROS 2's "dds_" never matches;
  *  - decimation 4, the periodic writer and a restarted robot, the start-up
  *    hold with startup_damping, the damping command on shutdown;
+ *  - a manifest's joints are found by name, in any order and any subset
+ *    (the other indices passive); a joint not on the PM01 is refused;
  *  - bad parameters and manifests are refused naming the key and value. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -576,24 +578,30 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     }
 }
 
-/* ---- a manifest of fewer joints ------------------------------------------------------------ */
+/* ---- a manifest of fewer joints, in another order ------------------------------------------ */
 
-/* Two joints at indices 0 and 1; the rest of the robot's 24 get their
+/* Two joints, listed right hip roll first, then left hip roll (indices 7 and
+ * 1): each found by its name, not by its place in the list (the names are
+ * not on the wire; by place, the left hip roll would get the right's
+ * command, outside its own limits). The rest of the robot's 24 get their
  * measured positions and zero gains. */
 static const roz_channel_t two_commands[] = {
-    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0 },
-    { "b/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0, 0, 0.0 },
+    { "J01_HIP_ROLL_L/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const roz_channel_t two_states[] = {
-    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
-    { "b/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "J01_HIP_ROLL_L/position", ROZ_IF_POSITION, "rad", -0.436, 2.094, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
-static const char *const two_joints[] = { "a", "b" };
+static const char *const two_joints[] = { "J07_HIP_ROLL_R", "J01_HIP_ROLL_L" };
 static const roz_hardware_t two_hw = { "engineai/PM01", two_joints, 2, NULL, 0 };
 static const roz_manifest_t two = { "two", "humanoid", 500, two_commands, 2, two_states, 2,
                                     &two_hw };
 
-static void test_pm01_unbound_indices(void **st)
+static void test_pm01_joints_by_name(void **st)
 {
     roz_fake_ros2_cmd_t c;
     char err[300] = "";
@@ -601,9 +609,10 @@ static void test_pm01_unbound_indices(void **st)
     if (roz_fixture_engineai_pm01.open(&two, NULL, &port, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
     roz_ros2fx_ask("joint body 5 0.375 0 0");
-    roz_ros2fx_ask("joint body 0 0.25 0 0");
-    roz_ros2fx_ask("joint body 1 -0.5 0 0");
-    double st2[2], cmd2[2] = { 0.5, 80.0 };
+    roz_ros2fx_ask("joint body 0 0.125 0 0");
+    roz_ros2fx_ask("joint body 1 0.25 0 0");
+    roz_ros2fx_ask("joint body 7 -0.5 0 0");
+    double st2[2], cmd2[2] = { -1.5, 80.0 };
     int rc = ROZ_ENOENT;
     for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
         if (ms % 500 == 0) /* until the fake's writer found the port's reader */
@@ -612,14 +621,19 @@ static void test_pm01_unbound_indices(void **st)
         rc = roz_port_read(&port, st2, 2); /* no IMU channel: joint_state alone */
     }
     assert_int_equal(rc, 1);
-    assert_true(st2[0] == 0.25 && st2[1] == -0.5);
+    assert_true(st2[0] == -0.5 && st2[1] == 0.25);
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK); /* the hold */
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
     get_command(&c);
     assert_int_equal(c.min_len, N);
-    assert_true(c.q[0] == 0.5 && c.kp[0] == 0.0);
-    assert_true(c.q[1] == -0.5 && c.kp[1] == 80.0); /* no position command: its own */
-    assert_true(c.q[5] == 0.375 && c.kp[5] == 0.0 && c.kd[5] == 0.0 && c.tau[5] == 0.0);
+    assert_true(c.q[7] == -1.5 && c.kp[7] == 0.0);
+    assert_true(c.q[1] == 0.25 && c.kp[1] == 80.0); /* no position command: its own */
+    for (unsigned i = 0; i < N; i++) {
+        if (i == 1 || i == 7)
+            continue;
+        assert_true(c.kp[i] == 0.0 && c.kd[i] == 0.0 && c.tau[i] == 0.0);
+    }
+    assert_true(c.q[0] == 0.125 && c.q[5] == 0.375);
 }
 
 /* ---- refusals ------------------------------------------------------------------------------- */
@@ -650,6 +664,17 @@ static const roz_channel_t many_commands[] = {
 static const roz_hardware_t many_hw = { "engineai/PM01", many_joints, 25, NULL, 0 };
 static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, NULL, 0,
                                      &many_hw };
+/* a joint that is not the robot's, where a PM01 joint would be by place */
+static const char *const stranger_joints[] = { "J00_HIP_PITCH_L", "left_knee" };
+static const roz_channel_t stranger_commands[] = {
+    { "J00_HIP_PITCH_L/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
+      0.0 },
+};
+static const roz_hardware_t stranger_hw = { "engineai/PM01", stranger_joints, 2, NULL, 0 };
+static const roz_manifest_t stranger = { "stranger", "humanoid", 500, stranger_commands, 2,
+                                         NULL, 0, &stranger_hw };
 
 static void test_pm01_bad_parameters(void **st)
 {
@@ -668,6 +693,7 @@ static void test_pm01_bad_parameters(void **st)
     expect_refused(m, "mode_pr", "PR", "mode_pr", "engineai/PM01"); /* the G1's, not ours */
     expect_refused(&roz_manifest_ur5, NULL, NULL, "[hardware] joints", NULL);
     expect_refused(&many, NULL, NULL, "25 joints", "24");
+    expect_refused(&stranger, NULL, NULL, "joints[1] \"left_knee\"", "not one of the robot's");
 }
 
 int main(void)
@@ -685,7 +711,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_decimation, teardown),
         cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
-        cmocka_unit_test_teardown(test_pm01_unbound_indices, teardown),
+        cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
         cmocka_unit_test(test_pm01_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

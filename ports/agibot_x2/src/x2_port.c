@@ -273,7 +273,6 @@ static const roz_ros2_robot_t x2_robot = {
     .default_domain = 0,
     .state_qos = &roz_dds_qos_sensor_data,
     .command_qos = &roz_dds_qos_sensor_data,
-    .joints_by_name = 1,
     .has_sequence = 1,
     .keys = own_keys,
     .fault_kinds = fault_kinds,

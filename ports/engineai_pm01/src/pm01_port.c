@@ -176,7 +176,6 @@ static const roz_ros2_robot_t pm01_robot = {
     .default_domain = ROZ_ENGINEAI_PM01_DOMAIN,
     .state_qos = &pm01_qos,
     .command_qos = &pm01_qos,
-    .joints_by_name = 0,
     .has_sequence = 0,
     .keys = own_keys,
     .fault_kinds = NULL,

@@ -66,16 +66,13 @@ static int find(const roz_ros2_bridge_t *b, int is_state, const char *joint, con
     return ROZ_OK;
 }
 
-/* The robot's slot of manifest joint @p j: by name, or by position. */
+/* The robot's slot of manifest joint @p j, found by its name among the
+ * robot's joints (a joint listed under another name, or in another order
+ * than the robot's, would otherwise drive the wrong actuator). */
 static int place(roz_ros2_bridge_t *b, uint16_t j, const char *joint, char *err, size_t errlen)
 {
     const roz_ros2_robot_t *r = b->robot;
 
-    if (!r->joints_by_name) {
-        b->joint[j].group = 0; /* bind() checked the count */
-        b->joint[j].slot = j;
-        return ROZ_OK;
-    }
     for (uint16_t g = 0; g < r->n_groups; g++) {
         for (uint16_t s = 0; s < r->groups[g].n_slots; s++) {
             if (strcmp(r->groups[g].slots[s], joint) == 0) {
@@ -86,9 +83,9 @@ static int place(roz_ros2_bridge_t *b, uint16_t j, const char *joint, char *err,
         }
     }
     snprintf(err, errlen,
-             "%s: [hardware] joints[%u] \"%s\" is not one of the robot's joints (its names go "
-             "on the wire; the port's header lists them by group)",
-             r->port, (unsigned)j, joint);
+             "%s: [hardware] joints[%u] \"%s\" is not one of the robot's joints (the port's "
+             "header lists them%s)",
+             r->port, (unsigned)j, joint, r->n_groups > 1 ? " by group" : "");
     return ROZ_EINVAL;
 }
 
@@ -102,8 +99,7 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
     memset(state_bound, 0, sizeof state_bound);
     memset(cmd_bound, 0, sizeof cmd_bound);
     b->n_slots = 0;
-    if (r->n_groups == 0 || r->n_groups > ROZ_ROS2_MAX_GROUPS ||
-        (!r->joints_by_name && r->n_groups != 1)) {
+    if (r->n_groups == 0 || r->n_groups > ROZ_ROS2_MAX_GROUPS) {
         snprintf(err, errlen, "%s: %u joint groups; the bridge takes 1..%d", r->port,
                  (unsigned)r->n_groups, ROZ_ROS2_MAX_GROUPS);
         return ROZ_EINVAL;
@@ -130,11 +126,9 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
                  hw != NULL ? (unsigned)hw->n_joints : 0u);
         return ROZ_EINVAL;
     }
-    if (!r->joints_by_name && hw->n_joints > r->groups[0].n_slots) {
-        snprintf(err, errlen,
-                 "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u (joint i "
-                 "is index i of its messages' arrays)",
-                 r->port, m->robot_id, (unsigned)hw->n_joints, (unsigned)r->groups[0].n_slots);
+    if (hw->n_joints > b->n_slots) {
+        snprintf(err, errlen, "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u",
+                 r->port, m->robot_id, (unsigned)hw->n_joints, (unsigned)b->n_slots);
         return ROZ_EINVAL;
     }
     b->n_joints = hw->n_joints;

@@ -17,8 +17,11 @@
  * QoS as the vendor's own client: KEEP_LAST 3, BEST_EFFORT, VOLATILE, both
  * ways. Domain: `dds_domain`, by default the robot's ROS_DOMAIN_ID 69.
  *
- * Binding: the manifest's `[hardware] joints` are the arrays' order, joint
- * i is index i (at most 24; J00_HIP_PITCH_L .. J23_HEAD_YAW on the robot).
+ * Binding: each of the manifest's `[hardware] joints` is found by name
+ * among the robot's (roz_engineai_pm01_joints: J00_HIP_PITCH_L ..
+ * J23_HEAD_YAW, the arrays' index order), in any order and any subset; a
+ * name that is not the robot's is refused at open. The names are not on
+ * the wire, so only this check keeps a joint from driving another's index.
  * States: position, velocity, effort from joint_state's position, velocity,
  * torque; the IMU from imu_info (rpy is not used). Commands: position,
  * velocity, stiffness, damping to the arrays of those names, effort to

@@ -18,8 +18,9 @@
  * has joint groups, each a state topic in and a command topic out, and an
  * IMU topic in; the PM01 has one group (24 joints), the X2 four (leg, waist,
  * arm, head). The manifest's `[hardware] joints` are bound to the groups'
- * slots at open: by name among the robot's joint names when the names go on
- * the wire (X2), else joint i is slot i (PM01). Each joint's states
+ * slots at open by name, among the robot's joint names (whether or not the
+ * names go on the wire: a manifest that lists a joint under another name, or
+ * in another order, can never drive the wrong actuator). Each joint's states
  * `{joint}/position`, `/velocity`, `/effort` and commands `/position`,
  * `/velocity`, `/effort`, `/stiffness`, `/damping`; the IMU's
  * `base_imu/orientation.{x,y,z,w}`, `angular_velocity.{x,y,z}`,
@@ -198,8 +199,6 @@ typedef struct roz_ros2_robot {
     uint32_t                default_domain; /**< dds_domain when no parameter says */
     const roz_dds_qos_t    *state_qos;      /**< the state and IMU readers */
     const roz_dds_qos_t    *command_qos;    /**< the command writers */
-    int                     joints_by_name; /**< 1: [hardware] joints found among the slots
-                                                 by name; 0: joint i is slot i (one group) */
     int                     has_sequence;   /**< the state headers carry a sequence */
     const char *const      *keys;           /**< the port's own parameters, NULL-terminated */
     const char *const      *fault_kinds;    /**< what rx.fault_kind names, static */
