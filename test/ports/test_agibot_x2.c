@@ -14,7 +14,8 @@
  *    runtime latches STALE while the other groups go on;
  *  - a group's DomainErrorState (1..4) latches ROBOT naming the group and
  *    the state, for as long as it is reported; a joint's error code names
- *    the joint and the code;
+ *    the joint and the code; one reported in a single sample, overtaken by
+ *    a clean one before the tick read, is reported all the same;
  *  - the documentation's JointState layout, asked for by joint_state_layout
  *    = docs, reads right; what the wrong layout does either way;
  *  - a joint named otherwise than its slot, and a group of the wrong
@@ -354,6 +355,44 @@ static void test_x2_error_states_latch(void **st)
     assert_int_equal(read_x2(), 1);
 }
 
+/* A fault the robot reports in one sample only is not lost because a clean
+ * sample followed before the tick read (the topics are latest-value): the
+ * receive thread holds it until the tick took a frame that carries it, and
+ * the tick until it read a fresh frame. */
+static void test_x2_brief_error_state_is_not_lost(void **st)
+{
+    roz_port_fault_t f;
+    (void)st;
+
+    open_x2(NULL, 0);
+    start();
+    /* overtaken on the receive side: the tick never saw the faulted sample */
+    roz_ros2fx_ask("error waist 2");
+    send_some("waist", 1u << WAIST);
+    roz_ros2fx_ask("error waist 0");
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
+    assert_string_equal(f.what, "waist");
+    assert_non_null(strstr(f.kind, "power-off"));
+    assert_int_equal(f.code, 2);
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1); /* reported once; it is over */
+
+    /* overtaken on the tick's side: taken by a read that was not a frame */
+    roz_ros2fx_ask("joint_error arm 4 9");
+    send_some("arm", 1u << ARM);
+    assert_int_equal(read_x2(), 0);
+    roz_ros2fx_ask("joint_error arm 4 0");
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
+    assert_string_equal(f.what, "left_wrist_yaw_joint");
+    assert_int_equal(f.code, 9);
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1);
+}
+
 static void test_x2_error_state_in_the_runtime(void **st)
 {
     roz_test_clock_t clk = { 1, 1000 };
@@ -618,6 +657,7 @@ int main(void)
         cmocka_unit_test_teardown(test_x2_fresh_needs_every_group, teardown),
         cmocka_unit_test_teardown(test_x2_silent_group_is_stale, teardown),
         cmocka_unit_test_teardown(test_x2_error_states_latch, teardown),
+        cmocka_unit_test_teardown(test_x2_brief_error_state_is_not_lost, teardown),
         cmocka_unit_test_teardown(test_x2_error_state_in_the_runtime, teardown),
         cmocka_unit_test_teardown(test_x2_docs_layout, teardown),
         cmocka_unit_test_teardown(test_x2_wrong_layout, teardown),

@@ -16,11 +16,11 @@
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
-enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE };
+enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE, M_FAULT_SERIAL };
 /* Command frame (tick -> writer thread): n_commands values, then: */
 enum { C_SESSION = 0, C_HOLD, C_SEQ, C_Q };
 
-_Static_assert(M_FAULT_CODE + 1 == ROZ_ROS2_STATE_META, "state frame meta");
+_Static_assert(M_FAULT_SERIAL + 1 == ROZ_ROS2_STATE_META, "state frame meta");
 _Static_assert(C_Q + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META, "command frame meta");
 _Static_assert(ROZ_ROS2_MAX_TOPICS <= 32, "a bit per topic");
 
@@ -272,8 +272,23 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     if (full)
         bump(&t->c_full);
     t->since_full = t->since_full + 1u >= b->dds.state_decimation ? 0u : t->since_full + 1u;
-    if (rx.fault_kind != 0)
+    /* A fault is held until the tick took a frame that carries it: the
+     * buffer keeps only the latest frame, and a clean sample may follow
+     * before the tick reads. A new fault is held when none is. */
+    uint32_t ack = atomic_load_explicit(&t->fault_ack, memory_order_acquire);
+    if (rx.fault_kind != 0) {
         bump(&t->c_fault);
+        if (t->held_serial == ack) {
+            t->held_kind = rx.fault_kind;
+            t->held_slot = rx.fault_slot;
+            t->held_code = rx.fault_code;
+            t->held_serial++;
+        }
+    } else if (t->held_serial != ack) {
+        rx.fault_kind = t->held_kind;
+        rx.fault_slot = t->held_slot;
+        rx.fault_code = t->held_code;
+    }
 
     double *f = roz_buffer_write_begin(&t->buf);
     memcpy(f, t->values, t->n_values * sizeof f[0]);
@@ -282,6 +297,7 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     meta[M_FAULT_KIND] = rx.fault_kind;
     meta[M_FAULT_SLOT] = rx.fault_slot;
     meta[M_FAULT_CODE] = rx.fault_code;
+    meta[M_FAULT_SERIAL] = t->held_serial;
     roz_buffer_write_commit(&t->buf, now_ns);
     /* last: whoever waits on the counters finds the frame in the buffer */
     roz_link_shared_publish(&t->link_shared, &t->link);
@@ -392,6 +408,7 @@ static int setup_topic(roz_ros2_bridge_t *b, uint16_t t, const char *name, const
     roz_buffer_init(&tp->buf, tp->slots, (uint32_t)(n_values + ROZ_ROS2_STATE_META));
     roz_monitor_init(&tp->mon, name, period_ns, b->log, b->log_ctx);
     atomic_init(&tp->rx_session, 0u);
+    atomic_init(&tp->fault_ack, 0u);
     atomic_init(&tp->said, 0u);
     ROZ_ATOMIC(uint64_t) *counters[] = { &tp->c_samples, &tp->c_malformed, &tp->c_full,
                                          &tp->c_fault, &tp->c_sessions };
@@ -557,26 +574,43 @@ static void assemble(roz_ros2_bridge_t *b)
     }
 }
 
-/* The first fault a topic of the frame reports, into tick_fault; 0: none. */
+/* The first fault a topic reported since the last fresh frame, into
+ * tick_fault (0: none); each topic's is cleared for the next frame. */
 static int robot_fault(roz_ros2_bridge_t *b)
 {
     const roz_ros2_robot_t *r = b->robot;
+    int found = 0;
     for (uint16_t g = 0; g < r->n_groups; g++) {
-        if (!reads(b, g))
+        roz_ros2_topic_t *tp = &b->topic[g];
+        uint32_t kind = tp->tick_fault_kind;
+        if (!reads(b, g) || kind == 0)
             continue;
-        const double *meta = b->topic[g].staged + b->topic[g].n_values;
-        uint32_t kind = (uint32_t)meta[M_FAULT_KIND];
-        if (kind == 0)
+        tp->tick_fault_kind = 0;
+        if (found)
             continue;
-        int32_t slot = (int32_t)meta[M_FAULT_SLOT];
+        int32_t slot = tp->tick_fault_slot;
         b->tick_fault.what = slot >= 0 && slot < (int32_t)r->groups[g].n_slots
                                  ? r->groups[g].slots[slot]
                                  : r->groups[g].name;
         b->tick_fault.kind = r->fault_kinds != NULL ? r->fault_kinds[kind - 1u] : "fault";
-        b->tick_fault.code = (uint32_t)meta[M_FAULT_CODE];
-        return 1;
+        b->tick_fault.code = tp->tick_fault_code;
+        found = 1;
     }
-    return 0;
+    return found;
+}
+
+/* A staged frame's fault: kept as the topic's first since the last fresh
+ * frame, and acknowledged to the receive thread, which stops holding it. */
+static void take_fault(roz_ros2_topic_t *tp)
+{
+    const double *meta = tp->staged + tp->n_values;
+    uint32_t kind = (uint32_t)meta[M_FAULT_KIND];
+    if (kind != 0 && tp->tick_fault_kind == 0) {
+        tp->tick_fault_kind = kind;
+        tp->tick_fault_slot = (int32_t)meta[M_FAULT_SLOT];
+        tp->tick_fault_code = (uint32_t)meta[M_FAULT_CODE];
+    }
+    atomic_store_explicit(&tp->fault_ack, (uint32_t)meta[M_FAULT_SERIAL], memory_order_release);
 }
 
 int roz_ros2_read(void *self, double *state, size_t n)
@@ -592,6 +626,7 @@ int roz_ros2_read(void *self, double *state, size_t n)
         if (!reads(b, t) || roz_buffer_read(&tp->buf, &f) != 1)
             continue;
         memcpy(tp->staged, f.values, (tp->n_values + ROZ_ROS2_STATE_META) * sizeof f.values[0]);
+        take_fault(tp);
         uint32_t session = (uint32_t)tp->staged[tp->n_values + M_SESSION];
         if (session != tp->tick_session) {
             restarted |= tp->tick_session != 0;

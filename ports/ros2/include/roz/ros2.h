@@ -42,6 +42,9 @@
  * fault stops the robot. A fault the robot reports in a topic (the port's
  * decode: the X2's DomainErrorState, a joint's error code) makes every fresh
  * frame read ROZ_EROBOT while it lasts; fault() names the group or joint.
+ * One reported in a single sample is not lost to the samples after it: the
+ * receive thread holds it until the tick took a frame carrying it, and the
+ * tick until the next fresh frame reports it.
  * A topic whose peer restarts or comes back after `peer_timeout_ms` makes
  * read() return ROZ_ELINK, and the start-up layers begin again. Velocities,
  * efforts and the IMU are converted every `state_decimation`-th sample of a
@@ -117,8 +120,8 @@ extern "C" {
 /** Largest number of merged parameters (robot.toml's and the caller's). */
 #define ROZ_ROS2_MAX_PARAMS 48
 /** Values after a state topic's values in its frame: session, fault kind,
- *  fault slot, fault code. */
-#define ROZ_ROS2_STATE_META 4
+ *  fault slot, fault code, fault serial. */
+#define ROZ_ROS2_STATE_META 5
 /** Values after the commands in a command frame: session, hold, sequence,
  *  then each robot slot's measured position. */
 #define ROZ_ROS2_CMD_META (3 + ROZ_ROS2_MAX_ROBOT_SLOTS)
@@ -257,6 +260,9 @@ typedef struct roz_ros2_topic {
     double               values[3 * ROZ_ROS2_MAX_SLOTS]; /* accepted: q, dq, tau (or IMU) */
     double               scratch[3 * ROZ_ROS2_MAX_SLOTS]; /* a sample being checked */
     roz_link_shared_t    link_shared;
+    uint32_t             held_kind, held_code, held_serial; /* a fault not yet taken */
+    int32_t              held_slot;
+    ROZ_ATOMIC(uint32_t) fault_ack;  /* tick -> receive thread: the serial it took */
     ROZ_ATOMIC(uint32_t) rx_session; /* for the writer */
     ROZ_ATOMIC(uint32_t) said;       /* bad kinds logged once (a bit each) */
     ROZ_ATOMIC(uint64_t) c_samples, c_malformed, c_full, c_fault, c_sessions;
@@ -266,6 +272,8 @@ typedef struct roz_ros2_topic {
     /* the tick's */
     double               staged[3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META];
     uint32_t             tick_session;
+    uint32_t             tick_fault_kind, tick_fault_code; /* the first since the last frame */
+    int32_t              tick_fault_slot;
 } roz_ros2_topic_t;
 
 /** One command topic: its writer (only the first group's has a thread; it
