@@ -42,7 +42,7 @@
 
 #define WAIT_MS 10000u
 
-static const char *const imu_names[ROZ_ROS2_IMU_VALUES] = {
+static const char *const imu_names[ROZ_IMU_VALUES] = {
     "base_imu/orientation.x",         "base_imu/orientation.y",
     "base_imu/orientation.z",         "base_imu/orientation.w",
     "base_imu/angular_velocity.x",    "base_imu/angular_velocity.y",
@@ -183,14 +183,14 @@ void roz_ros2fx_set_state(uint32_t k)
         if (ti >= 0)
             sent[ti] = tau;
     }
-    const double v[ROZ_ROS2_IMU_VALUES] = {
+    const double v[ROZ_IMU_VALUES] = {
         -0.25 + 0.002 * (k % 50u), 0.125, -0.0625 - 0.001 * (k % 30u), 0.5 + 0.001 * (k % 100u),
         0.01 * (k % 7u),           -0.02, 0.03,
         0.1,                       -0.2 * (k % 3u), 9.81,
     };
     roz_ros2fx_ask("imu %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g", v[0], v[1],
                    v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]);
-    for (int i = 0; i < ROZ_ROS2_IMU_VALUES; i++) {
+    for (int i = 0; i < ROZ_IMU_VALUES; i++) {
         int s = roz_manifest_find_state(man, imu_names[i]);
         if (s >= 0)
             sent[s] = v[i];

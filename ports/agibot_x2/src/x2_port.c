@@ -224,7 +224,7 @@ static roz_ros2_bad_t x2_decode(void *v, uint16_t group, const void *sample, int
 static void x2_decode_imu(const void *sample, double *out)
 {
     const x2_imu_t *s = sample;
-    const double v[ROZ_ROS2_IMU_VALUES] = {
+    const double v[ROZ_IMU_VALUES] = {
         s->orientation.x,         s->orientation.y,         s->orientation.z,
         s->orientation.w,         s->angular_velocity.x,    s->angular_velocity.y,
         s->angular_velocity.z,    s->linear_acceleration.x, s->linear_acceleration.y,

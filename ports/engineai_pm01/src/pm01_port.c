@@ -119,7 +119,7 @@ static roz_ros2_bad_t pm01_decode(void *v, uint16_t group, const void *sample, i
 static void pm01_decode_imu(const void *sample, double *out)
 {
     const pm01_imu_t *s = sample;
-    const double v[ROZ_ROS2_IMU_VALUES] = {
+    const double v[ROZ_IMU_VALUES] = {
         s->quaternion.x,          s->quaternion.y,          s->quaternion.z,
         s->quaternion.w,          s->angular_velocity.x,    s->angular_velocity.y,
         s->angular_velocity.z,    s->linear_acceleration.x, s->linear_acceleration.y,

@@ -137,7 +137,7 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
     if (rc != ROZ_OK)
         return rc;
     /* gains the damping channels allow, for every joint */
-    (void)roz__ros2_damping_range(b, &lo, &hi);
+    (void)roz_joints_damping_range(b->m, b->joint, b->n_joints, &lo, &hi);
     rc = roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
                                &b->startup_kd, err, errlen);
     if (rc == ROZ_OK && roz_params_find(p, "shutdown_damping") != NULL)
@@ -263,7 +263,7 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     full = t->since_full == 0;
     if (imu) {
         if (full)
-            memcpy(t->values, t->scratch, ROZ_ROS2_IMU_VALUES * sizeof t->values[0]);
+            memcpy(t->values, t->scratch, ROZ_IMU_VALUES * sizeof t->values[0]);
     } else {
         /* positions every sample; velocities and efforts when full */
         uint16_t n = r->groups[t->index].n_slots;
@@ -462,17 +462,17 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     for (uint16_t g = 0; g < robot->n_groups && rc == ROZ_OK; g++) {
         int bound = 0;
         for (uint16_t j = 0; j < b->n_joints; j++)
-            bound |= b->joint[j].group == g;
+            bound |= b->place[j].group == g;
         if (bound)
             rc = setup_topic(b, g, robot->groups[g].state_topic, state_type, state_size,
                              (uint16_t)(3u * robot->groups[g].n_slots), err, errlen);
     }
     int imu = 0;
-    for (int k = 0; k < ROZ_ROS2_IMU_VALUES; k++)
+    for (int k = 0; k < ROZ_IMU_VALUES; k++)
         imu |= b->imu[k] >= 0;
     if (rc == ROZ_OK && imu)
         rc = setup_topic(b, robot->n_groups, robot->imu_topic, robot->imu_type, robot->imu_size,
-                         ROZ_ROS2_IMU_VALUES, err, errlen);
+                         ROZ_IMU_VALUES, err, errlen);
     b->open = 1; /* from here, close() frees what was made */
     if (rc != ROZ_OK) {
         roz_ros2_close(b);
@@ -557,18 +557,19 @@ static void assemble(roz_ros2_bridge_t *b)
         memcpy(&b->tick_q[b->group_base[g]], b->topic[g].staged, n * sizeof b->tick_q[0]);
     }
     for (uint16_t k = 0; k < b->n_joints; k++) {
-        const roz_ros2_joint_t *j = &b->joint[k];
-        const double *v = b->topic[j->group].staged;
-        uint16_t n = r->groups[j->group].n_slots;
+        const roz_joint_channels_t *j = &b->joint[k];
+        const roz_ros2_place_t *at = &b->place[k];
+        const double *v = b->topic[at->group].staged;
+        uint16_t n = r->groups[at->group].n_slots;
         if (j->q_state >= 0)
-            b->tick_frame[j->q_state] = v[j->slot];
+            b->tick_frame[j->q_state] = v[at->slot];
         if (j->dq_state >= 0)
-            b->tick_frame[j->dq_state] = v[n + j->slot];
+            b->tick_frame[j->dq_state] = v[n + at->slot];
         if (j->tau_state >= 0)
-            b->tick_frame[j->tau_state] = v[2u * n + j->slot];
+            b->tick_frame[j->tau_state] = v[2u * n + at->slot];
     }
     const double *imu = b->topic[r->n_groups].staged;
-    for (int k = 0; k < ROZ_ROS2_IMU_VALUES; k++) {
+    for (int k = 0; k < ROZ_IMU_VALUES; k++) {
         if (b->imu[k] >= 0)
             b->tick_frame[b->imu[k]] = imu[k];
     }
@@ -682,7 +683,7 @@ int roz_ros2_write(void *self, const double *cmd, size_t n)
         b->write_robot = b->tick_robot;
         bump(&b->c_holds);
     } else {
-        uint32_t changed = roz__ros2_clamp(b, cmd, f);
+        uint32_t changed = roz_commands_clamp(m, cmd, f);
         if (changed != 0)
             atomic_fetch_add_explicit(&b->c_clamped, changed, memory_order_relaxed);
     }

@@ -15,18 +15,11 @@
  * or the channel. */
 int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, size_t errlen);
 
-/* The damping channels' common range [lo, hi] (0, 0 when none); returns how
- * many there are. */
-int roz__ros2_damping_range(const roz_ros2_bridge_t *b, double *lo, double *hi);
-
 /* The start-up hold as a command frame (n_commands, manifest order): every
  * joint's position command holds q[robot slot], kd is @p kd where the joint
- * has a damping command, everything else 0; each value clamped. */
+ * has a damping command, everything else 0; each value clamped
+ * (roz_joints_hold() on the joints' positions). */
 void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, double kd, double *cmd);
-
-/* Clamps every value to its channel (NaN: its default); returns how many
- * it changed. */
-uint32_t roz__ros2_clamp(const roz_ros2_bridge_t *b, const double *in, double *out);
 
 /* Every robot slot's joint command from a command frame: a bound joint's
  * channels (a joint without a position command: @p q, its measured

@@ -93,6 +93,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/dds.h"
+#include "roz/hal/joints.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
@@ -111,9 +112,6 @@ extern "C" {
 #define ROZ_ROS2_MAX_SLOTS 32
 /** Joints over all groups. */
 #define ROZ_ROS2_MAX_ROBOT_SLOTS 48
-/** IMU values: orientation x, y, z, w; angular velocity x, y, z; linear
- *  acceleration x, y, z. */
-#define ROZ_ROS2_IMU_VALUES 10
 /** 8-byte words of storage for one sample's struct (its sequences and
  *  strings are allocated at open). */
 #define ROZ_ROS2_SAMPLE_WORDS 48
@@ -235,12 +233,10 @@ typedef struct roz_ros2_robot {
 
 /* ---- the bridge ---------------------------------------------------------------- */
 
-/** One manifest joint's channels (-1: none) and its place. */
-typedef struct roz_ros2_joint {
-    int16_t  q_state, dq_state, tau_state;
-    int16_t  q_cmd, dq_cmd, tau_cmd, kp_cmd, kd_cmd;
+/** One manifest joint's place on the robot. */
+typedef struct roz_ros2_place {
     uint16_t group, slot;
-} roz_ros2_joint_t;
+} roz_ros2_place_t;
 
 /** One state topic: its reader and checks (a receive thread), its frames to
  *  the tick. Private. */
@@ -327,11 +323,12 @@ typedef struct roz_ros2_bridge {
     roz_log_fn            log;
     void                 *log_ctx;
     uint16_t              n_joints;
-    roz_ros2_joint_t      joint[ROZ_CFG_MAX_JOINTS];
+    roz_joint_channels_t  joint[ROZ_CFG_MAX_JOINTS];                /* channels */
+    roz_ros2_place_t      place[ROZ_CFG_MAX_JOINTS];
     int16_t               slot_joint[ROZ_ROS2_MAX_ROBOT_SLOTS]; /* robot slot -> joint, -1 */
     uint16_t              group_base[ROZ_ROS2_MAX_GROUPS];      /* first robot slot */
     uint16_t              n_slots;                               /* robot slots */
-    int16_t               imu[ROZ_ROS2_IMU_VALUES];              /* state index or -1 */
+    int16_t               imu[ROZ_IMU_VALUES];              /* state index or -1 */
     uint16_t              n_topics;      /* state topics read */
     uint32_t              required;      /* a bit per topic read */
     roz_param_t           params[ROZ_ROS2_MAX_PARAMS];

@@ -74,6 +74,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/dds.h"
+#include "roz/hal/joints.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
@@ -100,10 +101,7 @@ extern "C" {
 #define ROZ_UNITREE_G1_MAX_PARAMS 48
 
 /** One motor slot's channels (-1: none). */
-typedef struct roz_unitree_g1_joint {
-    int16_t q_state, dq_state, tau_state;
-    int16_t q_cmd, dq_cmd, tau_cmd, kp_cmd, kd_cmd;
-} roz_unitree_g1_joint_t;
+typedef roz_joint_channels_t roz_unitree_g1_joint_t;
 
 /** The port's counters (roz_unitree_g1_counters()). */
 typedef struct roz_unitree_g1_counters {
@@ -141,7 +139,7 @@ typedef struct roz_unitree_g1 {
     void                  *log_ctx;
     uint16_t               n_joints;
     roz_unitree_g1_joint_t joint[ROZ_UNITREE_G1_SLOTS];
-    int16_t                imu[10];     /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
+    int16_t                imu[ROZ_IMU_VALUES]; /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
     roz_param_t            params[ROZ_UNITREE_G1_MAX_PARAMS];
     int                    open, active;
 
