@@ -10,12 +10,10 @@
 #include <stdio.h>
 #include <sys/types.h>
 
-typedef struct roz_fake_g1 {
-    pid_t pid;      /* 0: not running */
-    FILE *to;       /* its stdin */
-    FILE *from;     /* its stdout */
-    char  line[8192]; /* the last reply */
-} roz_fake_g1_t;
+#include "fake_process.h"
+
+/* The running fake: its pid, pipes and last reply (f->line). */
+typedef roz_fake_process_t roz_fake_g1_t;
 
 /* Starts fake_g1 (path ROZ_FAKE_G1, set by the build) on @p domain with
  * @p extra options (NULL-terminated list, may be NULL) and waits for its

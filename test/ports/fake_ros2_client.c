@@ -2,37 +2,13 @@
 #define _POSIX_C_SOURCE 200809L
 #include "fake_ros2_client.h"
 
-#include <signal.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <time.h>
-#include <unistd.h>
 
 #ifndef ROZ_FAKE_ROS2
 #error "ROZ_FAKE_ROS2: the path of fake_ros2, set by the build"
 #endif
-
-extern char **environ;
-
-void roz_fake_ros2_sleep_ms(unsigned ms)
-{
-    struct timespec ts = { (time_t)(ms / 1000u), (long)(ms % 1000u) * 1000000L };
-    while (nanosleep(&ts, &ts) != 0)
-        ;
-}
-
-static int read_line(roz_fake_ros2_t *f)
-{
-    if (fgets(f->line, sizeof f->line, f->from) == NULL) {
-        f->line[0] = '\0';
-        return -1;
-    }
-    f->line[strcspn(f->line, "\n")] = '\0';
-    return 0;
-}
 
 /* The next space-separated word of *p into out. */
 static int word(char **p, char *out, size_t len)
@@ -54,7 +30,7 @@ static int describe(roz_fake_ros2_t *f)
     char buf[32];
     if (roz_fake_ros2_ask(f, "groups") != 0)
         return -1;
-    char *p = f->line + 2;
+    char *p = f->proc.line + 2;
     if (word(&p, buf, sizeof buf) != 0)
         return -1;
     f->n_groups = (unsigned)strtoul(buf, NULL, 10);
@@ -67,7 +43,7 @@ static int describe(roz_fake_ros2_t *f)
     for (unsigned g = 0; g < f->n_groups; g++) {
         if (roz_fake_ros2_ask(f, "joints %s", f->group[g]) != 0)
             return -1;
-        p = f->line + 2;
+        p = f->proc.line + 2;
         if (word(&p, buf, sizeof buf) != 0)
             return -1;
         f->n_joints[g] = (unsigned)strtoul(buf, NULL, 10);
@@ -84,52 +60,24 @@ static int describe(roz_fake_ros2_t *f)
 int roz_fake_ros2_start(roz_fake_ros2_t *f, const char *robot, uint32_t domain,
                         const char *const *extra, char *err, size_t errlen)
 {
-    char dom[16];
-    char *argv[24];
-    int in[2], out[2], n = 0;
-    posix_spawn_file_actions_t fa;
+    char dom[16], what[64];
+    const char *args[24];
+    size_t n = 0;
 
     memset(f, 0, sizeof *f);
     snprintf(dom, sizeof dom, "%u", (unsigned)domain);
-    argv[n++] = (char *)(uintptr_t)ROZ_FAKE_ROS2;
-    argv[n++] = (char *)(uintptr_t)"--robot";
-    argv[n++] = (char *)(uintptr_t)robot;
-    argv[n++] = (char *)(uintptr_t)"--domain";
-    argv[n++] = dom;
-    for (size_t i = 0; extra != NULL && extra[i] != NULL && n < 22; i++)
-        argv[n++] = (char *)(uintptr_t)extra[i];
-    argv[n] = NULL;
-    if (pipe(in) != 0 || pipe(out) != 0) {
-        snprintf(err, errlen, "fake_ros2: no pipes");
+    snprintf(what, sizeof what, "fake_ros2 --robot %s on domain %u", robot, (unsigned)domain);
+    args[n++] = "--robot";
+    args[n++] = robot;
+    args[n++] = "--domain";
+    args[n++] = dom;
+    for (size_t i = 0; extra != NULL && extra[i] != NULL && n + 1 < 24; i++)
+        args[n++] = extra[i];
+    args[n] = NULL;
+    if (roz_fake_process_start(&f->proc, ROZ_FAKE_ROS2, args, what, err, errlen) != 0)
         return -1;
-    }
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-    posix_spawn_file_actions_adddup2(&fa, out[1], 1);
-    posix_spawn_file_actions_addclose(&fa, in[1]);
-    posix_spawn_file_actions_addclose(&fa, out[0]);
-    int rc = posix_spawn(&f->pid, ROZ_FAKE_ROS2, &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    close(in[0]);
-    close(out[1]);
-    if (rc != 0) {
-        snprintf(err, errlen, "fake_ros2: cannot start %s", ROZ_FAKE_ROS2);
-        close(in[1]);
-        close(out[0]);
-        f->pid = 0;
-        return -1;
-    }
-    f->to = fdopen(in[1], "w");
-    f->from = fdopen(out[0], "r");
-    if (read_line(f) != 0 || strcmp(f->line, "ready") != 0) {
-        snprintf(err, errlen, "fake_ros2 --robot %s on domain %u: no \"ready\" (got \"%s\")",
-                 robot, (unsigned)domain, f->line);
-        (void)roz_fake_ros2_stop(f);
-        return -1;
-    }
     if (describe(f) != 0) {
-        snprintf(err, errlen, "fake_ros2 --robot %s: cannot read its groups (\"%s\")", robot,
-                 f->line);
+        snprintf(err, errlen, "%s: cannot read its groups (\"%s\")", what, f->proc.line);
         (void)roz_fake_ros2_stop(f);
         return -1;
     }
@@ -139,50 +87,22 @@ int roz_fake_ros2_start(roz_fake_ros2_t *f, const char *robot, uint32_t domain,
 int roz_fake_ros2_ask(roz_fake_ros2_t *f, const char *fmt, ...)
 {
     va_list ap;
-    if (f->pid == 0)
-        return -1;
     va_start(ap, fmt);
-    vfprintf(f->to, fmt, ap);
+    int rc = roz_fake_process_vask(&f->proc, fmt, ap);
     va_end(ap);
-    fputc('\n', f->to);
-    if (fflush(f->to) != 0 || read_line(f) != 0)
-        return -1;
-    if (strncmp(f->line, "ok", 2) == 0 && (f->line[2] == '\0' || f->line[2] == ' '))
-        return 0;
-    return 1;
+    return rc;
 }
 
 int roz_fake_ros2_stop(roz_fake_ros2_t *f)
 {
-    int status = 0;
-    if (f->pid == 0)
-        return 0;
-    if (f->to != NULL) {
-        (void)roz_fake_ros2_ask(f, "quit");
-        fclose(f->to);
-    }
-    if (f->from != NULL)
-        fclose(f->from);
-    f->to = f->from = NULL;
-    for (int i = 0; i < 1000; i++) {
-        pid_t r = waitpid(f->pid, &status, WNOHANG);
-        if (r == f->pid) {
-            f->pid = 0;
-            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-        }
-        roz_fake_ros2_sleep_ms(10);
-    }
-    kill(f->pid, SIGKILL);
-    waitpid(f->pid, &status, 0);
-    f->pid = 0;
-    return -1;
+    return roz_fake_process_stop(&f->proc);
 }
 
 int roz_fake_ros2_commands(roz_fake_ros2_t *f, uint64_t *counts)
 {
     if (roz_fake_ros2_ask(f, "commands") != 0)
         return -1;
-    char *p = f->line + 2, *end;
+    char *p = f->proc.line + 2, *end;
     for (unsigned g = 0; g < f->n_groups; g++) {
         counts[g] = strtoull(p, &end, 10);
         if (end == p)
@@ -197,12 +117,12 @@ int roz_fake_ros2_command(roz_fake_ros2_t *f, unsigned g, roz_fake_ros2_cmd_t *o
     if (g >= f->n_groups)
         return -1;
     int rc = roz_fake_ros2_ask(f, "command %s", f->group[g]);
-    if (rc == 1 && strcmp(f->line, "err none") == 0)
+    if (rc == 1 && strcmp(f->proc.line, "err none") == 0)
         return 0;
     if (rc != 0)
         return -1;
     memset(out, 0, sizeof *out);
-    char *p = f->line + 2, *end;
+    char *p = f->proc.line + 2, *end;
     out->sec = (uint32_t)strtoul(p, &end, 10);
     out->nanosec = (uint32_t)strtoul(end, &end, 10);
     out->seq = (uint32_t)strtoul(end, &end, 10);

@@ -10,15 +10,14 @@
 #include <stdio.h>
 #include <sys/types.h>
 
+#include "fake_process.h"
+
 #define FAKE_ROS2_MAX_GROUPS 4
 #define FAKE_ROS2_MAX_JOINTS 32
 #define FAKE_ROS2_NAME_LEN 64
 
 typedef struct roz_fake_ros2 {
-    pid_t pid;        /* 0: not running */
-    FILE *to;         /* its stdin */
-    FILE *from;       /* its stdout */
-    char  line[16384]; /* the last reply */
+    roz_fake_process_t proc; /* its pid, pipes and last reply (proc.line) */
     /* the robot, as the fake describes it ("groups", "joints G") */
     unsigned n_groups;
     char     group[FAKE_ROS2_MAX_GROUPS][16];
@@ -34,7 +33,7 @@ int roz_fake_ros2_start(roz_fake_ros2_t *f, const char *robot, uint32_t domain,
                         const char *const *extra, char *err, size_t errlen);
 
 /* One request; 0 when the reply is "ok ...", 1 when "err ...", -1 when the
- * fake is gone. The reply is in f->line. */
+ * fake is gone. The reply is in f->proc.line. */
 int roz_fake_ros2_ask(roz_fake_ros2_t *f, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 
@@ -63,8 +62,5 @@ int roz_fake_ros2_command(roz_fake_ros2_t *f, unsigned g, roz_fake_ros2_cmd_t *o
 
 /* The fake's group called @p name, or -1. */
 int roz_fake_ros2_group(const roz_fake_ros2_t *f, const char *name);
-
-/* Sleep @p ms milliseconds. */
-void roz_fake_ros2_sleep_ms(unsigned ms);
 
 #endif /* ROZ_TEST_FAKE_ROS2_CLIENT_H */

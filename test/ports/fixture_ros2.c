@@ -125,7 +125,7 @@ void roz_ros2fx_ask(const char *fmt, ...)
     vsnprintf(req, sizeof req, fmt, ap);
     va_end(ap);
     if (roz_fake_ros2_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_ros2: \"%s\" -> \"%s\"", req, fake.line);
+        fail_msg("fake_ros2: \"%s\" -> \"%s\"", req, fake.proc.line);
 }
 
 int roz_ros2fx_place(uint16_t j, int *group, int *slot)
@@ -237,7 +237,7 @@ void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend)
             roz_ros2fx_set_state(frame_no);
             roz_ros2fx_ask("send");
         }
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     }
     char which[128] = "";
     size_t used = 0;
@@ -272,11 +272,11 @@ void roz_ros2fx_settle(void)
         if (ms >= WAIT_MS)
             fail_msg("%s: the writer did not take command %llu within %u ms", man->robot_id,
                      (unsigned long long)c.written_seq, WAIT_MS);
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     }
     for (;; ms++) {
         if (roz_fake_ros2_commands(&fake, got) != 0)
-            fail_msg("fake_ros2: commands: \"%s\"", fake.line);
+            fail_msg("fake_ros2: commands: \"%s\"", fake.proc.line);
         int all = 1;
         for (unsigned g = 0; g < fake.n_groups; g++)
             all &= !drives[g] || got[g] >= c.published;
@@ -285,7 +285,7 @@ void roz_ros2fx_settle(void)
         if (ms >= WAIT_MS)
             fail_msg("%s: the fake did not count the %llu commands published within %u ms",
                      man->robot_id, (unsigned long long)c.published, WAIT_MS);
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     }
 }
 
@@ -301,7 +301,7 @@ int roz_ros2fx_applied(double *cmd)
             continue;
         int rc = roz_fake_ros2_command(&fake, g, &c);
         if (rc < 0)
-            fail_msg("fake_ros2: command %s: \"%s\"", fake.group[g], fake.line);
+            fail_msg("fake_ros2: command %s: \"%s\"", fake.group[g], fake.proc.line);
         if (rc == 0)
             return 0;
         for (uint16_t j = 0; j < man->hardware->n_joints; j++) {
@@ -334,12 +334,12 @@ static int fake_matched(void)
     char *p, *end;
     roz_link_t l;
     if (roz_fake_ros2_ask(&fake, "matched") != 0)
-        fail_msg("fake_ros2: matched: \"%s\"", fake.line);
-    p = fake.line + 2;
+        fail_msg("fake_ros2: matched: \"%s\"", fake.proc.line);
+    p = fake.proc.line + 2;
     for (unsigned i = 0; i < 2 * fake.n_groups + 1; i++) {
         v[i] = (unsigned)strtoul(p, &end, 10);
         if (end == p)
-            fail_msg("fake_ros2: matched: \"%s\"", fake.line);
+            fail_msg("fake_ros2: matched: \"%s\"", fake.proc.line);
         p = end;
     }
     for (unsigned g = 0; g < fake.n_groups; g++) {
@@ -358,7 +358,7 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
     size_t n = 0;
 
     /* a check that failed half-way left its port and fake behind */
-    if (port_open || fake.pid != 0)
+    if (port_open || fake.proc.pid != 0)
         fx_close();
     robot = r;
     man = m;
@@ -406,7 +406,7 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
                      m->robot_id, WAIT_MS);
             return ROZ_ETIMEDOUT;
         }
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     }
     return ROZ_OK;
 }
@@ -426,7 +426,7 @@ static void fx_peer(roz_peer_frame_t what)
         roz_ros2fx_send();
         break;
     case ROZ_PEER_SILENT:
-        roz_fake_ros2_sleep_ms(2); /* a frame period */
+        roz_fake_sleep_ms(2); /* a frame period */
         break;
     case ROZ_PEER_CORRUPT:
         fail_msg("%s: no CRC to corrupt", man->robot_id);
@@ -447,11 +447,11 @@ static void fx_peer(roz_peer_frame_t what)
          * ignores them. */
         roz_ros2fx_settle();
         if (roz_fake_ros2_commands(&fake, got_at_restart) != 0)
-            fail_msg("fake_ros2: commands: \"%s\"", fake.line);
+            fail_msg("fake_ros2: commands: \"%s\"", fake.proc.line);
         restarted = 1;
         break;
     case ROZ_PEER_VANISH:
-        roz_fake_ros2_sleep_ms(peer_timeout_ms + 100u);
+        roz_fake_sleep_ms(peer_timeout_ms + 100u);
         roz_ros2fx_send();
         break;
     }
@@ -468,7 +468,7 @@ static const double *fx_peer_command(void)
         uint64_t got[FAKE_ROS2_MAX_GROUPS];
         int newer = 0;
         if (roz_fake_ros2_commands(&fake, got) != 0)
-            fail_msg("fake_ros2: commands: \"%s\"", fake.line);
+            fail_msg("fake_ros2: commands: \"%s\"", fake.proc.line);
         for (unsigned g = 0; g < fake.n_groups; g++)
             newer |= drives[g] && got[g] != got_at_restart[g];
         if (!newer)
@@ -495,7 +495,7 @@ static void fx_close(void)
         roz_port_close(&the_port);
         port_open = 0;
     }
-    if (fake.pid != 0 && roz_fake_ros2_stop(&fake) != 0)
+    if (fake.proc.pid != 0 && roz_fake_ros2_stop(&fake) != 0)
         fail_msg("fake_ros2 did not exit cleanly");
 }
 

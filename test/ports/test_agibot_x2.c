@@ -471,7 +471,7 @@ static void test_x2_wrong_layout(void **st)
     roz_ros2fx_set_state(2);
     for (int i = 0; i < 20; i++) {
         roz_ros2fx_ask("send");
-        roz_fake_ros2_sleep_ms(10);
+        roz_fake_sleep_ms(10);
         assert_int_equal(read_x2(), ROZ_ENOENT);
     }
     roz_ros2_counters_t c = counters();
@@ -485,7 +485,7 @@ static void test_x2_wrong_layout(void **st)
 static void wait_malformed(int topic, uint64_t before)
 {
     for (int w = 0; w < 10000 && counters().topic[topic].malformed == before; w++)
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     assert_int_equal(counters().topic[topic].malformed, before + 1);
 }
 
@@ -587,7 +587,7 @@ static void test_x2_part_of_the_robot(void **st)
     for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
         if (ms % 500 == 0)
             roz_ros2fx_ask("send leg");
-        roz_fake_ros2_sleep_ms(10);
+        roz_fake_sleep_ms(10);
         rc = roz_port_read(&port, s1, 1);
     }
     assert_int_equal(rc, 1); /* the leg alone makes the frame */

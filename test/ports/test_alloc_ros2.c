@@ -157,13 +157,13 @@ static void run(const roz_port_fixture_t *fx, const roz_manifest_t *m, const cha
         roz_ros2_counters(roz_ros2fx_bridge(), &c0);
         if (c0.topic[0].samples >= 10)
             break;
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     }
     assert_true(c0.topic[0].samples >= 10);
 
     assert_int_equal(pthread_create(&th, NULL, tick_main, NULL), 0);
     while (atomic_load_explicit(&ticks_done, memory_order_acquire) < TICKS / 2)
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     roz_ros2fx_ask("%s", midway);
     assert_int_equal(pthread_join(th, NULL), 0);
 

@@ -291,7 +291,7 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     roz_ros2fx_ask("stamp 1799999997 1000000000");
     roz_ros2fx_ask("send");
     for (int i = 0; i < 10000 && counters().topic[0].malformed == malformed; i++)
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
     assert_int_equal(counters().topic[0].malformed, malformed + 1);
     assert_int_equal(read_pm01(), 0);
 }
@@ -310,7 +310,7 @@ static void test_pm01_arrays_must_be_24_long(void **st)
         roz_ros2fx_set_state(60 + (uint32_t)i);
         roz_ros2fx_ask("send body");
         for (int w = 0; w < 10000 && counters().topic[0].malformed == malformed; w++)
-            roz_fake_ros2_sleep_ms(1);
+            roz_fake_sleep_ms(1);
         assert_int_equal(counters().topic[0].malformed, malformed + 1);
         assert_int_equal(read_pm01(), 0); /* nothing new, the old frame stays */
     }
@@ -369,7 +369,7 @@ static void test_pm01_traffic_on_69(void **st)
     for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
         if (ms % 200 == 0)
             assert_int_equal(roz_fake_ros2_ask(&fake, "send"), 0);
-        roz_fake_ros2_sleep_ms(10);
+        roz_fake_sleep_ms(10);
         rc = roz_port_read(&pt, state, m->n_states);
     }
     assert_int_equal(rc, 1);
@@ -422,7 +422,7 @@ static void test_pm01_ros2_names(void **st)
     dds_entity_t rd = dds_create_reader(part, topic, q, NULL);
     dds_delete_qos(q);
     assert_true(rd > 0);
-    roz_fake_ros2_sleep_ms(500); /* discovery on loopback takes milliseconds */
+    roz_fake_sleep_ms(500); /* discovery on loopback takes milliseconds */
     dds_subscription_matched_status_t sm;
     assert_int_equal(dds_get_subscription_matched_status(rd, &sm), 0);
     assert_int_equal(sm.total_count, 0);
@@ -485,7 +485,7 @@ static void test_pm01_periodic_writer(void **st)
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
     n[0] = n0[0];
     for (int i = 0; i < 5000 && n[0] < n0[0] + 50; i++) {
-        roz_fake_ros2_sleep_ms(2);
+        roz_fake_sleep_ms(2);
         assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
     }
     assert_true(n[0] >= n0[0] + 50);
@@ -500,10 +500,10 @@ static void test_pm01_periodic_writer(void **st)
     roz_ros2fx_ask("send");
     roz_ros2fx_wait_judged(before, 0, 1); /* the new writers: again until discovered */
     assert_int_equal(read_pm01(), ROZ_ELINK);
-    roz_fake_ros2_sleep_ms(10);
+    roz_fake_sleep_ms(10);
     uint64_t after[FAKE_ROS2_MAX_GROUPS], later[FAKE_ROS2_MAX_GROUPS];
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), after), 0);
-    roz_fake_ros2_sleep_ms(50);
+    roz_fake_sleep_ms(50);
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), later), 0);
     assert_int_equal(later[0], after[0]);
     assert_true(counters().stale_session >= 1);
@@ -564,7 +564,7 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
     n[0] = n0[0];
     for (int i = 0; i < 2000 && n[0] < n0[0] + repeats; i++) {
-        roz_fake_ros2_sleep_ms(1);
+        roz_fake_sleep_ms(1);
         assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
     }
     assert_true(n[0] > n0[0] && n[0] <= n0[0] + repeats);
@@ -617,7 +617,7 @@ static void test_pm01_joints_by_name(void **st)
     for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
         if (ms % 500 == 0) /* until the fake's writer found the port's reader */
             roz_ros2fx_ask("send body");
-        roz_fake_ros2_sleep_ms(10);
+        roz_fake_sleep_ms(10);
         rc = roz_port_read(&port, st2, 2); /* no IMU channel: joint_state alone */
     }
     assert_int_equal(rc, 1);

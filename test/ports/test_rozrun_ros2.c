@@ -91,7 +91,7 @@ static void run_stand(const robot_case_t *rc)
             knee_kp = c.kp[rc->knee_slot];
             knee_q = c.q[rc->knee_slot];
         }
-        roz_fake_ros2_sleep_ms(20);
+        roz_fake_sleep_ms(20);
     }
     if (!done) {
         kill(pid, SIGKILL);
@@ -137,7 +137,7 @@ static void run_stand(const robot_case_t *rc)
                 all_zero &= c.kp[j] == 0.0;
             if (all_zero)
                 break;
-            roz_fake_ros2_sleep_ms(20);
+            roz_fake_sleep_ms(20);
         }
         assert_int_equal(c.min_len, fake.n_joints[g]);
         for (unsigned j = 0; j < c.n; j++) {
