@@ -6,17 +6,10 @@
  * robot reports a motor fault, so the fault path (ROZ_EROBOT, the ROBOT
  * latch, the safe defaults) runs too.
  *
- * malloc, calloc, realloc, free and the aligned allocators are defined
- * here, over glibc's own (__libc_*), so every allocation of the process is
- * seen, Cyclone's in its shared library included; those made on the tick
- * thread while it ticks are counted. Cyclone's own threads may allocate;
- * the tick thread may not. (Not in the sanitizer builds, whose runtimes own
- * malloc.) The ticks run back to back, not at 500 Hz: most read no fresh
- * frame, so stale_ticks is set past the run. */
+ * alloc_ticks.c counts every allocation of the process, and those on the
+ * tick thread. The ticks run back to back, not at 500 Hz: most read no
+ * fresh frame, so stale_ticks is set past the run. */
 #define _GNU_SOURCE
-#include <errno.h>
-#include <malloc.h>
-#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -28,6 +21,7 @@
 #include <cmocka.h>
 
 #include "../support.h"
+#include "alloc_ticks.h"
 #include "port_fixture.h"
 #include "roz/runtime.h"
 #include "roz/unitree_g1.h"
@@ -36,96 +30,18 @@
 
 #define TICKS 100000
 
-/* ---- every allocation of the process ------------------------------------------ */
-
-void *__libc_malloc(size_t n);
-void *__libc_calloc(size_t n, size_t size);
-void *__libc_realloc(void *p, size_t n);
-void *__libc_memalign(size_t align, size_t n);
-void __libc_free(void *p);
-
-static _Thread_local int on_tick; /* this thread is the tick, ticking */
-static _Atomic uint64_t tick_allocations, tick_frees, other_allocations;
-
-static void count(void)
-{
-    if (on_tick)
-        atomic_fetch_add_explicit(&tick_allocations, 1u, memory_order_relaxed);
-    else
-        atomic_fetch_add_explicit(&other_allocations, 1u, memory_order_relaxed);
-}
-
-void *malloc(size_t n)
-{
-    count();
-    return __libc_malloc(n);
-}
-
-void *calloc(size_t n, size_t size)
-{
-    count();
-    return __libc_calloc(n, size);
-}
-
-void *realloc(void *p, size_t n)
-{
-    count();
-    return __libc_realloc(p, n);
-}
-
-void *memalign(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-void *aligned_alloc(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-int posix_memalign(void **out, size_t align, size_t n)
-{
-    count();
-    void *p = __libc_memalign(align, n);
-    if (p == NULL)
-        return ENOMEM;
-    *out = p;
-    return 0;
-}
-
-void free(void *p)
-{
-    if (on_tick && p != NULL)
-        atomic_fetch_add_explicit(&tick_frees, 1u, memory_order_relaxed);
-    __libc_free(p);
-}
-
-/* ---- the run -------------------------------------------------------------------- */
-
 static roz_runtime_t rt;
-static _Atomic int ticks_done;
 
-static void *tick_main(void *arg)
+static void motor_fault(void *ctx)
 {
-    (void)arg;
-    int rc = roz_runtime_tick(&rt); /* the controller's swap-in, before counting */
-    on_tick = 1;
-    for (int t = 0; t < TICKS; t++) {
-        rc = roz_runtime_tick(&rt); /* ROZ_EFAULT once the motor reports */
-        atomic_store_explicit(&ticks_done, t + 1, memory_order_release);
-    }
-    on_tick = 0;
-    (void)rc;
-    return NULL;
+    (void)ctx;
+    roz_g1fx_ask("motorstate 5 7"); /* left_ankle_roll_joint reports a fault */
 }
 
 static void test_alloc_unitree_g1(void **st)
 {
     roz_runtime_config_t cfg;
     roz_port_t port;
-    pthread_t th;
     size_t len;
     char err[300] = "";
     (void)st;
@@ -156,27 +72,23 @@ static void test_alloc_unitree_g1(void **st)
     }
     assert_true(c0.frames >= 10);
 
-    assert_int_equal(pthread_create(&th, NULL, tick_main, NULL), 0);
-    while (atomic_load_explicit(&ticks_done, memory_order_acquire) < TICKS / 2)
-        roz_fake_g1_sleep_ms(1);
-    roz_g1fx_ask("motorstate 5 7"); /* left_ankle_roll_joint reports a fault */
-    assert_int_equal(pthread_join(th, NULL), 0);
+    roz_alloc_counts_t n;
+    assert_int_equal(roz_alloc_ticks(&rt, TICKS, motor_fault, NULL, &n), 0);
 
     roz_unitree_g1_counters_t c;
     roz_unitree_g1_counters(roz_g1fx_port(), &c);
     print_message("%d ticks: %llu allocations and %llu frees on the tick thread; %llu elsewhere "
                   "(Cyclone's threads, the test); %llu frames in, %llu commands out\n",
-                  TICKS, (unsigned long long)atomic_load(&tick_allocations),
-                  (unsigned long long)atomic_load(&tick_frees),
-                  (unsigned long long)atomic_load(&other_allocations),
+                  TICKS, (unsigned long long)n.tick_allocations,
+                  (unsigned long long)n.tick_frees, (unsigned long long)n.other_allocations,
                   (unsigned long long)(c.frames - c0.frames), (unsigned long long)c.published);
-    assert_int_equal(atomic_load(&tick_allocations), 0);
-    assert_int_equal(atomic_load(&tick_frees), 0);
+    assert_int_equal(n.tick_allocations, 0);
+    assert_int_equal(n.tick_frees, 0);
     /* the port was busy meanwhile, and so was Cyclone */
     assert_true(c.frames - c0.frames > 10);
     assert_true(c.writes >= TICKS);
     assert_true(c.published > 100);
-    assert_true(atomic_load(&other_allocations) > 0);
+    assert_true(n.other_allocations > 0);
     roz_runtime_stats_t rs;
     assert_int_equal(roz_runtime_stats(&rt, &rs), ROZ_OK);
     assert_true(rs.runtime.controller_ticks > TICKS / 4);
