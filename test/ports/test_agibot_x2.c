@@ -38,6 +38,7 @@
 #include "../support.h"
 #include "agibot_x2_manifest.h"
 #include "port_fixture.h"
+#include "port_test.h"
 #include "ros2_fixture.h"
 #include "roz/agibot_x2.h"
 #include "roz/runtime.h"
@@ -51,10 +52,7 @@ enum { LEG = 0, WAIST, ARM, HEAD, IMU };
 
 static void open_x2_on(const roz_manifest_t *man, const roz_param_t *items, size_t n)
 {
-    roz_params_t p = { items, n };
-    char err[300] = "";
-    if (roz_fixture_agibot_x2.open(man, &p, &port, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
+    roz_port_test_open(&roz_fixture_agibot_x2, man, items, n, &port);
 }
 
 static void open_x2(const roz_param_t *items, size_t n)
@@ -88,24 +86,17 @@ static roz_ros2_counters_t counters(void)
 
 static int cmd_of(const char *joint, const char *suffix)
 {
-    char name[160];
-    snprintf(name, sizeof name, "%s/%s", joint, suffix);
-    return roz_manifest_find_command(m, name);
+    return roz_port_test_command(m, joint, suffix, 0);
 }
 
 static int state_index(const char *name)
 {
-    int i = roz_manifest_find_state(m, name);
-    assert_true(i >= 0);
-    return i;
+    return roz_port_test_state(m, name);
 }
 
 static void distinct_command(int k)
 {
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        cmd[i] = c->min + (c->max - c->min) * (double)((i * 13u + (unsigned)k * 7u) % 97u + 1u) / 98.0;
-    }
+    roz_port_test_distinct_command(m, k, cmd);
 }
 
 static void start(void)
@@ -120,11 +111,7 @@ static void start(void)
 static void assert_state_is_sent(void)
 {
     roz_ros2fx_sent(sent);
-    for (uint16_t i = 0; i < m->n_states; i++) {
-        if (memcmp(&state[i], &sent[i], sizeof sent[i]) != 0)
-            fail_msg("state %u \"%s\": read %.17g, the robot sent %.17g", (unsigned)i,
-                     m->states[i].name, state[i], sent[i]);
-    }
+    roz_port_test_assert_state(m, state, sent);
 }
 
 /* Sends on the listed topics of the fake ("leg waist imu") and waits until
@@ -137,12 +124,6 @@ static void send_some(const char *topics, uint32_t mask)
     roz_ros2fx_wait_judged(before, mask, 0);
 }
 
-static uint64_t realtime_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
-}
 
 /* ---- mapping ---------------------------------------------------------------------- */
 
@@ -166,10 +147,10 @@ static void test_x2_joints_map_both_ways(void **st)
         assert_int_equal(read_x2(), 1);
         assert_state_is_sent();
         distinct_command(k);
-        uint64_t before = realtime_ns();
+        uint64_t before = roz_port_test_realtime_ns();
         write_x2();
         roz_ros2fx_settle();
-        uint64_t after = realtime_ns();
+        uint64_t after = roz_port_test_realtime_ns();
         roz_ros2fx_sent(sent);
         for (unsigned g = 0; g < fake->n_groups; g++) {
             assert_int_equal(roz_fake_ros2_command(fake, g, &c), 1);

@@ -40,6 +40,7 @@
 #include "engineai_pm01_manifest.h"
 #include "interface_protocol.h"
 #include "port_fixture.h"
+#include "port_test.h"
 #include "ros2_fixture.h"
 #include "roz/engineai_pm01.h"
 #include "ur5_manifest.h"
@@ -53,10 +54,7 @@ static double cmd[ROZ_CFG_MAX_COMMANDS];
 
 static void open_pm01(const roz_param_t *items, size_t n)
 {
-    roz_params_t p = { items, n };
-    char err[300] = "";
-    if (roz_fixture_engineai_pm01.open(m, &p, &port, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
+    roz_port_test_open(&roz_fixture_engineai_pm01, m, items, n, &port);
 }
 
 static int teardown(void **st)
@@ -85,26 +83,17 @@ static roz_ros2_counters_t counters(void)
 
 static int cmd_index(uint16_t joint, const char *suffix)
 {
-    char name[160];
-    snprintf(name, sizeof name, "%s/%s", m->hardware->joints[joint], suffix);
-    int i = roz_manifest_find_command(m, name);
-    assert_true(i >= 0);
-    return i;
+    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
 }
 
 static int state_index(const char *name)
 {
-    int i = roz_manifest_find_state(m, name);
-    assert_true(i >= 0);
-    return i;
+    return roz_port_test_state(m, name);
 }
 
 static void distinct_command(int k)
 {
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        cmd[i] = c->min + (c->max - c->min) * (double)((i * 13u + (unsigned)k * 7u) % 97u + 1u) / 98.0;
-    }
+    roz_port_test_distinct_command(m, k, cmd);
 }
 
 static void start(void)
@@ -125,19 +114,9 @@ static void get_command(roz_fake_ros2_cmd_t *c)
 static void assert_state_is_sent(void)
 {
     roz_ros2fx_sent(sent);
-    for (uint16_t i = 0; i < m->n_states; i++) {
-        if (memcmp(&state[i], &sent[i], sizeof sent[i]) != 0)
-            fail_msg("state %u \"%s\": read %.17g, the robot sent %.17g", (unsigned)i,
-                     m->states[i].name, state[i], sent[i]);
-    }
+    roz_port_test_assert_state(m, state, sent);
 }
 
-static uint64_t realtime_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_REALTIME, &ts);
-    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
-}
 
 /* ---- mapping ---------------------------------------------------------------------- */
 
@@ -218,10 +197,10 @@ static void test_pm01_command_stamps(void **st)
         roz_ros2fx_send();
         (void)read_pm01();
         distinct_command(k);
-        uint64_t before = realtime_ns();
+        uint64_t before = roz_port_test_realtime_ns();
         write_pm01();
         get_command(&c);
-        uint64_t after = realtime_ns();
+        uint64_t after = roz_port_test_realtime_ns();
         uint64_t stamp = (uint64_t)c.sec * 1000000000u + c.nanosec;
         /* the system clock (ROS time) when the writer published it */
         assert_true(c.nanosec <= 999999999u);

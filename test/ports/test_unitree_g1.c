@@ -36,6 +36,7 @@
 
 #include "../crc32_reference.h"
 #include "port_fixture.h"
+#include "port_test.h"
 #include "roz/runtime.h"
 #include "roz/unitree_g1.h"
 #include "../support.h"
@@ -51,10 +52,7 @@ static double cmd[ROZ_CFG_MAX_COMMANDS];
 
 static void open_g1(const roz_param_t *items, size_t n)
 {
-    roz_params_t p = { items, n };
-    char err[300] = "";
-    if (roz_fixture_unitree_g1.open(m, &p, &port, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
+    roz_port_test_open(&roz_fixture_unitree_g1, m, items, n, &port);
 }
 
 static int teardown(void **st)
@@ -83,27 +81,18 @@ static roz_unitree_g1_counters_t counters(void)
 
 static int cmd_index(uint16_t joint, const char *suffix)
 {
-    char name[160];
-    snprintf(name, sizeof name, "%s/%s", m->hardware->joints[joint], suffix);
-    int i = roz_manifest_find_command(m, name);
-    assert_true(i >= 0);
-    return i;
+    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
 }
 
 static int state_index(const char *name)
 {
-    int i = roz_manifest_find_state(m, name);
-    assert_true(i >= 0);
-    return i;
+    return roz_port_test_state(m, name);
 }
 
 /* A command with a distinct value in every channel, inside its limits. */
 static void distinct_command(int k)
 {
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        cmd[i] = c->min + (c->max - c->min) * (double)((i * 13u + (unsigned)k * 7u) % 97u + 1u) / 98.0;
-    }
+    roz_port_test_distinct_command(m, k, cmd);
 }
 
 /* The first frame, and the first write (the start-up hold) behind us. */
@@ -136,11 +125,7 @@ static void test_g1_joints_map_both_ways(void **st)
         roz_g1fx_send();
         assert_int_equal(read_g1(), 1);
         roz_g1fx_sent(sent);
-        for (uint16_t i = 0; i < m->n_states; i++) {
-            if (memcmp(&state[i], &sent[i], sizeof sent[i]) != 0)
-                fail_msg("state %u \"%s\": read %.17g, the robot sent %.17g", (unsigned)i,
-                         m->states[i].name, state[i], sent[i]);
-        }
+        roz_port_test_assert_state(m, state, sent);
         /* command: every joint's five fields distinct */
         distinct_command(k);
         write_g1();
