@@ -4,8 +4,7 @@
  * unitree/G1, on loopback DDS:
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=lo
  *          --param dds_domain=D --controller g1_stand.wasm --ticks 1500
- * (deadline off and 100 ms to stale: a loaded machine, or TSan, must not
- * fail the run on time). Under TSan (label threads) this is the tick on
+ * (rozrun_stand.c). Under TSan (label threads) this is the tick on
  * rozrun's periodic thread, the port's writer thread and Cyclone's receive
  * thread running the port's state path, and the main thread reading the
  * port's counters, all at once.
@@ -15,84 +14,52 @@
  * pose's 0.3) with no bad CRC; after it, the robot's last command is the
  * port's damping command (kp 0, kd the manifest's 8). */
 #define _POSIX_C_SOURCE 200809L
-#include <fcntl.h>
 #include <setjmp.h>
-#include <signal.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmocka.h>
 
 #include "fake_g1_client.h"
+#include "rozrun_stand.h"
 
 #ifndef ROZRUN
 #error "ROZRUN, CONTROLLER, OUT: set by the build"
 #endif
 
-extern char **environ;
+/* The knee's largest gain seen, and its target then. */
+typedef struct {
+    roz_fake_g1_t *fake;
+    double         kp, q;
+} knee_t;
+
+static void watch_knee(void *ctx)
+{
+    knee_t *k = ctx;
+    roz_fake_g1_cmd_t c;
+    if (roz_fake_g1_command(k->fake, &c) == 1 && c.kp[3] > k->kp) {
+        k->kp = c.kp[3];
+        k->q = c.q[3];
+    }
+}
 
 static void test_rozrun_g1_stand(void **st)
 {
     roz_fake_g1_t fake;
     roz_fake_g1_cmd_t c;
-    char err[256] = "", domain[32], text[16384];
+    char err[256] = "", text[16384];
     static const char *const extra[] = { "--period-us", "2000", NULL };
     (void)st;
 
     if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, sizeof err) != 0)
         fail_msg("%s", err);
-    snprintf(domain, sizeof domain, "dds_domain=%d", ROZ_TEST_DDS_DOMAIN);
-    const char *argv[] = { ROZRUN, "--robot", "unitree_g1", "--port", "unitree/G1",
-                           "--param", "network_interface=lo", "--param", domain,
-                           "--controller", CONTROLLER, "--ticks", "1500",
-                           /* a loaded machine (or TSan) must not fail the
-                            * run on time: the deadline off (fuel still
-                            * bounds the controller), 100 ms to stale */
-                           "--budget-us", "off", "--stale-ticks", "50", NULL };
-    posix_spawn_file_actions_t fa;
-    pid_t pid;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, OUT, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    assert_int_equal(posix_spawn(&pid, ROZRUN, &fa, NULL, (char *const *)(uintptr_t)argv,
-                                 environ),
-                     0);
-    posix_spawn_file_actions_destroy(&fa);
-
-    /* while it runs: what the robot gets (a hang guard of 60 s) */
-    double knee_kp = 0.0, knee_q = 0.0;
-    int status = 0, done = 0;
-    for (int ms = 0; ms < 60000 && !done; ms += 20) {
-        if (waitpid(pid, &status, WNOHANG) == pid) {
-            done = 1;
-            break;
-        }
-        if (roz_fake_g1_command(&fake, &c) == 1 && c.kp[3] > knee_kp) {
-            knee_kp = c.kp[3];
-            knee_q = c.q[3];
-        }
-        roz_fake_g1_sleep_ms(20);
-    }
-    if (!done) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        fail_msg("rozrun did not finish 1500 ticks in 60 s");
-    }
-    FILE *f = fopen(OUT, "r");
-    assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    print_message("%s", text);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    knee_t knee = { &fake, 0.0, 0.0 };
+    roz_rozrun_stand(ROZRUN, "unitree_g1", "unitree/G1", CONTROLLER, ROZ_TEST_DDS_DOMAIN, 1500,
+                     OUT, watch_knee, &knee, text, sizeof text);
     assert_non_null(strstr(text, "faults                 none"));
     assert_non_null(strstr(text, "port                   unitree/G1"));
     unsigned long long taken = 0, bad = 1;
@@ -103,8 +70,8 @@ static void test_rozrun_g1_stand(void **st)
     assert_int_equal(bad, 0);
 
     /* the stand's gains and pose reached the robot */
-    assert_true(knee_kp == 150.0);
-    assert_true(knee_q > 0.0 && knee_q <= 0.3 + 1e-6);
+    assert_true(knee.kp == 150.0);
+    assert_true(knee.q > 0.0 && knee.q <= 0.3 + 1e-6);
     uint64_t good = 0, badcrc = 1;
     assert_int_equal(roz_fake_g1_commands(&fake, &good, &badcrc), 0);
     assert_true(good > 500);

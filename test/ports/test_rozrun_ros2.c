@@ -5,8 +5,7 @@
  *   rozrun --robot engineai_pm01 --port engineai/PM01 --param network_interface=lo
  *          --param dds_domain=D --controller pm01_stand.wasm --ticks 1500
  *   rozrun --robot agibot_x2 --port agibot/X2 ... --controller x2_stand.wasm
- * (deadline off and 100 ms to stale: a loaded machine, or TSan, must not
- * fail the run on time). Under TSan (label threads) this is the tick on
+ * (rozrun_stand.c). Under TSan (label threads) this is the tick on
  * rozrun's periodic thread, the port's writer thread and Cyclone's threads
  * running every topic's receive path, all at once.
  * Asserted: rozrun exits 0 with no fault latched, the state link taking
@@ -15,28 +14,22 @@
  * its target the pose's); after it, every group's last command is the
  * port's damping command (kp 0, kd the manifest's damping default). */
 #define _POSIX_C_SOURCE 200809L
-#include <fcntl.h>
 #include <setjmp.h>
-#include <signal.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <cmocka.h>
 
 #include "fake_ros2_client.h"
+#include "rozrun_stand.h"
 
 #ifndef ROZRUN
 #error "ROZRUN, CONTROLLER_DIR, OUT_DIR: set by the build"
 #endif
-
-extern char **environ;
 
 typedef struct {
     const char *fake;       /* fake_ros2 --robot */
@@ -50,62 +43,40 @@ typedef struct {
     const char *placeholder; /* a slot without a joint of the manifest (kd 0); NULL: none */
 } robot_case_t;
 
+/* The knee's largest gain seen, and its target then. */
+typedef struct {
+    roz_fake_ros2_t     *fake;
+    const robot_case_t *rc;
+    int                  group;
+    double               kp, q;
+} knee_t;
+
+static void watch_knee(void *ctx)
+{
+    knee_t *k = ctx;
+    roz_fake_ros2_cmd_t c;
+    if (roz_fake_ros2_command(k->fake, (unsigned)k->group, &c) == 1 &&
+        c.kp[k->rc->knee_slot] > k->kp) {
+        k->kp = c.kp[k->rc->knee_slot];
+        k->q = c.q[k->rc->knee_slot];
+    }
+}
+
 static void run_stand(const robot_case_t *rc)
 {
-    roz_fake_ros2_t fake;
+    static roz_fake_ros2_t fake;
     roz_fake_ros2_cmd_t c;
-    char err[256] = "", domain[32], text[16384], out[4096], controller[4096];
+    char err[256] = "", text[16384], out[4096], controller[4096];
     static const char *const extra[] = { "--period-us", "2000", NULL };
 
     snprintf(out, sizeof out, "%s/rozrun_%s.txt", OUT_DIR, rc->robot);
     snprintf(controller, sizeof controller, "%s/%s", CONTROLLER_DIR, rc->controller);
     if (roz_fake_ros2_start(&fake, rc->fake, ROZ_TEST_DDS_DOMAIN, extra, err, sizeof err) != 0)
         fail_msg("%s", err);
-    int knee_g = roz_fake_ros2_group(&fake, rc->knee_group);
-    assert_true(knee_g >= 0);
-    snprintf(domain, sizeof domain, "dds_domain=%d", ROZ_TEST_DDS_DOMAIN);
-    const char *argv[] = { ROZRUN, "--robot", rc->robot, "--port", rc->port,
-                           "--param", "network_interface=lo", "--param", domain,
-                           "--controller", controller, "--ticks", "1500",
-                           "--budget-us", "off", "--stale-ticks", "50", NULL };
-    posix_spawn_file_actions_t fa;
-    pid_t pid;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    assert_int_equal(posix_spawn(&pid, ROZRUN, &fa, NULL, (char *const *)(uintptr_t)argv,
-                                 environ),
-                     0);
-    posix_spawn_file_actions_destroy(&fa);
-
-    /* while it runs: what the robot gets (a hang guard of 60 s) */
-    double knee_kp = 0.0, knee_q = 0.0;
-    int status = 0, done = 0;
-    for (int ms = 0; ms < 60000 && !done; ms += 20) {
-        if (waitpid(pid, &status, WNOHANG) == pid) {
-            done = 1;
-            break;
-        }
-        if (roz_fake_ros2_command(&fake, (unsigned)knee_g, &c) == 1 &&
-            c.kp[rc->knee_slot] > knee_kp) {
-            knee_kp = c.kp[rc->knee_slot];
-            knee_q = c.q[rc->knee_slot];
-        }
-        roz_fake_sleep_ms(20);
-    }
-    if (!done) {
-        kill(pid, SIGKILL);
-        waitpid(pid, &status, 0);
-        fail_msg("rozrun did not finish 1500 ticks in 60 s");
-    }
-    FILE *f = fopen(out, "r");
-    assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    print_message("%s", text);
-    assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    knee_t knee = { &fake, rc, roz_fake_ros2_group(&fake, rc->knee_group), 0.0, 0.0 };
+    assert_true(knee.group >= 0);
+    roz_rozrun_stand(ROZRUN, rc->robot, rc->port, controller, ROZ_TEST_DDS_DOMAIN, 1500, out,
+                     watch_knee, &knee, text, sizeof text);
     assert_non_null(strstr(text, "faults                 none"));
     char want[128];
     snprintf(want, sizeof want, "port                   %s", rc->port);
@@ -121,8 +92,8 @@ static void run_stand(const robot_case_t *rc)
     assert_int_equal(malformed, 0);
 
     /* the stand's gains and pose reached the robot */
-    assert_true(knee_kp == rc->knee_kp);
-    assert_true(knee_q > 0.0 && knee_q <= rc->knee_q + 1e-9);
+    assert_true(knee.kp == rc->knee_kp);
+    assert_true(knee.q > 0.0 && knee.q <= rc->knee_q + 1e-9);
     uint64_t counts[FAKE_ROS2_MAX_GROUPS];
     assert_int_equal(roz_fake_ros2_commands(&fake, counts), 0);
     for (unsigned g = 0; g < fake.n_groups; g++) {

@@ -1,0 +1,72 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#define _POSIX_C_SOURCE 200809L
+#include "rozrun_stand.h"
+
+#include <fcntl.h>
+#include <setjmp.h>
+#include <signal.h>
+#include <spawn.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+extern char **environ;
+
+static void sleep_20ms(void)
+{
+    struct timespec ts = { 0, 20000000L };
+    while (nanosleep(&ts, &ts) != 0)
+        ;
+}
+
+void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
+                      const char *controller, uint32_t domain, int ticks, const char *out,
+                      void (*watch)(void *ctx), void *ctx, char *text, size_t len)
+{
+    char dom[32], nticks[16];
+    snprintf(dom, sizeof dom, "dds_domain=%u", (unsigned)domain);
+    snprintf(nticks, sizeof nticks, "%d", ticks);
+    const char *argv[] = { rozrun,       "--robot",      robot,      "--port",
+                           port,         "--param",      "network_interface=lo",
+                           "--param",    dom,            "--controller", controller,
+                           "--ticks",    nticks,         "--budget-us", "off",
+                           "--stale-ticks", "50",        NULL };
+    posix_spawn_file_actions_t fa;
+    pid_t pid;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    assert_int_equal(posix_spawn(&pid, rozrun, &fa, NULL, (char *const *)(uintptr_t)argv,
+                                 environ),
+                     0);
+    posix_spawn_file_actions_destroy(&fa);
+
+    /* while it runs: what the robot gets (a hang guard of 60 s) */
+    int status = 0, done = 0;
+    for (int ms = 0; ms < 60000 && !done; ms += 20) {
+        if (waitpid(pid, &status, WNOHANG) == pid) {
+            done = 1;
+            break;
+        }
+        watch(ctx);
+        sleep_20ms();
+    }
+    if (!done) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        fail_msg("rozrun did not finish %d ticks in 60 s", ticks);
+    }
+    FILE *f = fopen(out, "r");
+    assert_non_null(f);
+    size_t n = fread(text, 1, len - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    print_message("%s", text);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+}

@@ -1,0 +1,24 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* rozrun end to end against a fake robot (test_rozrun_g1.c,
+ * test_rozrun_ros2.c): one run of a stand controller through a hardware
+ * port on loopback DDS,
+ *   rozrun --robot R --port P --param network_interface=lo
+ *          --param dds_domain=D --controller C --ticks N
+ *          --budget-us off --stale-ticks 50
+ * (deadline off and 100 ms to stale: a loaded machine, or TSan, must not
+ * fail the run on time), its output to a file. */
+#ifndef ROZ_TEST_ROZRUN_STAND_H
+#define ROZ_TEST_ROZRUN_STAND_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Runs rozrun (path @p rozrun) as above, its stdout and stderr to @p out;
+ * calls @p watch(@p ctx) every 20 ms while it runs (a hang guard of 60 s
+ * fails the test). Then @p text holds its output (printed), and the test
+ * has failed unless it exited 0. */
+void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
+                      const char *controller, uint32_t domain, int ticks, const char *out,
+                      void (*watch)(void *ctx), void *ctx, char *text, size_t len);
+
+#endif /* ROZ_TEST_ROZRUN_STAND_H */
