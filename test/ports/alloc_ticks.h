@@ -11,19 +11,35 @@
 
 #include <stdint.h>
 
-#include "roz/runtime.h"
+#include "roz/manifest.h"
+#include "roz/port.h"
 
-typedef struct roz_alloc_counts {
-    uint64_t tick_allocations; /* on the tick thread while it ticked */
-    uint64_t tick_frees;
-    uint64_t other_allocations; /* every other thread meanwhile */
-} roz_alloc_counts_t;
+/* What a port counted (read through its own counters). */
+typedef struct roz_alloc_port_counts {
+    uint64_t received;  /* state samples or frames taken in by its receive path */
+    uint64_t frames;    /* fresh frames read by the tick */
+    uint64_t writes;    /* write() calls */
+    uint64_t published; /* command samples or passes published */
+} roz_alloc_port_counts_t;
 
-/* Runs @p ticks ticks of @p rt back to back on a thread of its own, after
- * one uncounted tick (the controller's swap-in); half-way, calls
- * @p midway(@p ctx) from the caller's thread. The counts of the run; 0, or
- * -1 when no thread could be made. */
-int roz_alloc_ticks(roz_runtime_t *rt, int ticks, void (*midway)(void *ctx), void *ctx,
-                    roz_alloc_counts_t *out);
+/* One run: @p ticks ticks of @p controller on @p m through @p port (opened
+ * and active, against a robot that publishes by itself), back to back on a
+ * thread of their own after one uncounted tick (the controller's swap-in),
+ * once the port has received 10 samples; half-way, @p midway() from the
+ * caller's thread, which must latch @p fault. Asserted: no allocation and no
+ * free on the tick thread while it ticked; the port and Cyclone's threads
+ * busy meanwhile; the controller ran; @p fault latched. The caller closes
+ * the port. */
+typedef struct roz_alloc_case {
+    const roz_manifest_t *m;
+    roz_port_t            port;
+    const char           *controller;
+    int                   ticks;
+    void                (*counters)(roz_alloc_port_counts_t *out);
+    void                (*midway)(void);
+    uint32_t              fault;
+} roz_alloc_case_t;
+
+void roz_alloc_run(const roz_alloc_case_t *c);
 
 #endif /* ROZ_TEST_ALLOC_TICKS_H */

@@ -34,67 +34,37 @@
 
 #define TICKS 100000
 
-static roz_runtime_t rt;
-
-static void ask_midway(void *ctx)
+static void ros2_counters(roz_alloc_port_counts_t *out)
 {
-    roz_ros2fx_ask("%s", (const char *)ctx);
+    roz_ros2_counters_t c;
+    roz_ros2_counters(roz_ros2fx_bridge(), &c);
+    out->received = c.topic[0].samples;
+    out->frames = c.frames;
+    out->writes = c.writes;
+    out->published = c.published;
+}
+
+static const char *midway_request;
+
+static void ask_midway(void)
+{
+    roz_ros2fx_ask("%s", midway_request);
 }
 
 /* @p midway: the fake's request half-way; @p fault: what it latches. */
 static void run(const roz_port_fixture_t *fx, const roz_manifest_t *m, const char *controller,
                 const char *midway, unsigned fault)
 {
-    roz_runtime_config_t cfg;
     roz_port_t port;
-    size_t len;
     char err[300] = "";
 
     static const char *const periodic[] = { "--period-us", "2000", NULL };
     roz_ros2fx_set_fake_args(periodic);
     if (fx->open(m, NULL, &port, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
-
-    const uint8_t *w = roz_test_controller(controller, &len);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.stale_ticks = 10u * TICKS; /* back to back: most reads are not fresh */
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    roz_ros2_counters_t c0;
-    for (int i = 0; i < 10000; i++) {
-        roz_ros2_counters(roz_ros2fx_bridge(), &c0);
-        if (c0.topic[0].samples >= 10)
-            break;
-        roz_fake_sleep_ms(1);
-    }
-    assert_true(c0.topic[0].samples >= 10);
-
-    roz_alloc_counts_t n;
-    assert_int_equal(roz_alloc_ticks(&rt, TICKS, ask_midway, (void *)(uintptr_t)midway, &n), 0);
-
-    roz_ros2_counters_t c;
-    roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    print_message("%s: %d ticks: %llu allocations and %llu frees on the tick thread; %llu "
-                  "elsewhere (Cyclone's threads, the test); %llu frames in, %llu passes out\n",
-                  m->robot_id, TICKS, (unsigned long long)n.tick_allocations,
-                  (unsigned long long)n.tick_frees, (unsigned long long)n.other_allocations,
-                  (unsigned long long)(c.frames - c0.frames), (unsigned long long)c.published);
-    assert_int_equal(n.tick_allocations, 0);
-    assert_int_equal(n.tick_frees, 0);
-    /* the port was busy meanwhile, and so was Cyclone */
-    assert_true(c.frames - c0.frames > 10);
-    assert_true(c.writes >= TICKS);
-    assert_true(c.published > 100);
-    assert_true(n.other_allocations > 0);
-    roz_runtime_stats_t rs;
-    assert_int_equal(roz_runtime_stats(&rt, &rs), ROZ_OK);
-    assert_true(rs.runtime.controller_ticks > TICKS / 4);
-    assert_true(roz_runtime_faults(&rt) & fault);
-    roz_runtime_deinit(&rt);
+    midway_request = midway;
+    roz_alloc_case_t c = { m, port, controller, TICKS, ros2_counters, ask_midway, fault };
+    roz_alloc_run(&c);
     fx->close();
 }
 

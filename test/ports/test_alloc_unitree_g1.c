@@ -30,19 +30,24 @@
 
 #define TICKS 100000
 
-static roz_runtime_t rt;
-
-static void motor_fault(void *ctx)
+static void g1_counters(roz_alloc_port_counts_t *out)
 {
-    (void)ctx;
+    roz_unitree_g1_counters_t c;
+    roz_unitree_g1_counters(roz_g1fx_port(), &c);
+    out->received = c.frames;
+    out->frames = c.frames;
+    out->writes = c.writes;
+    out->published = c.published;
+}
+
+static void motor_fault(void)
+{
     roz_g1fx_ask("motorstate 5 7"); /* left_ankle_roll_joint reports a fault */
 }
 
 static void test_alloc_unitree_g1(void **st)
 {
-    roz_runtime_config_t cfg;
     roz_port_t port;
-    size_t len;
     char err[300] = "";
     (void)st;
 
@@ -52,48 +57,9 @@ static void test_alloc_unitree_g1(void **st)
     if (roz_fixture_unitree_g1.open(&roz_manifest_unitree_g1, NULL, &port, err, sizeof err) !=
         ROZ_OK)
         fail_msg("open: %s", err);
-
-    const uint8_t *w = roz_test_controller("g1_pd", &len);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &roz_manifest_unitree_g1;
-    cfg.port = port;
-    cfg.stale_ticks = 10u * TICKS; /* back to back: most reads are not fresh */
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    /* the robot's frames arrive */
-    roz_unitree_g1_counters_t c0;
-    for (int i = 0; i < 10000; i++) {
-        roz_unitree_g1_counters(roz_g1fx_port(), &c0);
-        if (c0.frames >= 10)
-            break;
-        roz_fake_g1_sleep_ms(1);
-    }
-    assert_true(c0.frames >= 10);
-
-    roz_alloc_counts_t n;
-    assert_int_equal(roz_alloc_ticks(&rt, TICKS, motor_fault, NULL, &n), 0);
-
-    roz_unitree_g1_counters_t c;
-    roz_unitree_g1_counters(roz_g1fx_port(), &c);
-    print_message("%d ticks: %llu allocations and %llu frees on the tick thread; %llu elsewhere "
-                  "(Cyclone's threads, the test); %llu frames in, %llu commands out\n",
-                  TICKS, (unsigned long long)n.tick_allocations,
-                  (unsigned long long)n.tick_frees, (unsigned long long)n.other_allocations,
-                  (unsigned long long)(c.frames - c0.frames), (unsigned long long)c.published);
-    assert_int_equal(n.tick_allocations, 0);
-    assert_int_equal(n.tick_frees, 0);
-    /* the port was busy meanwhile, and so was Cyclone */
-    assert_true(c.frames - c0.frames > 10);
-    assert_true(c.writes >= TICKS);
-    assert_true(c.published > 100);
-    assert_true(n.other_allocations > 0);
-    roz_runtime_stats_t rs;
-    assert_int_equal(roz_runtime_stats(&rt, &rs), ROZ_OK);
-    assert_true(rs.runtime.controller_ticks > TICKS / 4);
-    assert_true(roz_runtime_faults(&rt) & ROZ_FAULT_ROBOT);
-    roz_runtime_deinit(&rt);
+    roz_alloc_case_t c = { &roz_manifest_unitree_g1, port, "g1_pd", TICKS, g1_counters,
+                           motor_fault, ROZ_FAULT_ROBOT };
+    roz_alloc_run(&c);
     roz_fixture_unitree_g1.close();
 }
 
