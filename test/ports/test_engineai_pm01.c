@@ -5,8 +5,10 @@
  *  - all 24 joints map both ways, a distinct value per joint and field: the
  *    states the port reads from joint_state, the JointCommand the robot
  *    gets (position, velocity, feed_forward_torque from effort, stiffness,
- *    damping; torque 0; parallel_parser_type RL by default, classic when
- *    asked); every array of every command is 24 long;
+ *    damping; torque 0); every array of every command is 24 long;
+ *  - parallel_parser_type: RL_PARSER (1) by default, each documented
+ *    spelling as its number in every command (hold, commands, damping),
+ *    from robot.toml or the caller; anything else refused by key and value;
  *  - the IMU: imu_info's quaternion x, y, z, w, angular velocity and linear
  *    acceleration reach the manifest's channels in order;
  *  - header stamps: every command is stamped with the system clock, stamps
@@ -52,9 +54,14 @@ static roz_port_t port;
 static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
 static double cmd[ROZ_CFG_MAX_COMMANDS];
 
+static void open_pm01_on(const roz_manifest_t *man, const roz_param_t *items, size_t n)
+{
+    roz_port_test_open(&roz_fixture_engineai_pm01, man, items, n, &port);
+}
+
 static void open_pm01(const roz_param_t *items, size_t n)
 {
-    roz_port_test_open(&roz_fixture_engineai_pm01, m, items, n, &port);
+    open_pm01_on(m, items, n);
 }
 
 static int teardown(void **st)
@@ -148,16 +155,111 @@ static void test_pm01_joints_map_both_ways(void **st)
     }
 }
 
-static void test_pm01_parallel_parser_classic(void **st)
+/* ---- parallel_parser_type ------------------------------------------------------------ */
+
+/* The last command the robot got, once it counted @p n0 + 1 on its topic. */
+static void next_command(uint64_t n0, roz_fake_ros2_cmd_t *c)
+{
+    uint64_t n[FAKE_ROS2_MAX_GROUPS] = { 0 };
+    for (int i = 0; i < 5000 && n[0] <= n0; i++) {
+        assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
+        if (n[0] <= n0)
+            roz_fake_sleep_ms(1);
+    }
+    assert_true(n[0] > n0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, c), 1);
+}
+
+/* Every JointCommand of a session carries @p want: the start-up hold, the
+ * commands after it, the damping command on deactivate. */
+static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param_t *items,
+                                      size_t n, unsigned want)
 {
     roz_fake_ros2_cmd_t c;
+    uint64_t counts[FAKE_ROS2_MAX_GROUPS];
+    open_pm01_on(man, items, n);
+    roz_ros2fx_send();
+    assert_int_equal(roz_port_read(&port, state, man->n_states), 1);
+    distinct_command(2);
+    for (int k = 0; k < 3; k++) { /* the hold, then two commands */
+        assert_int_equal(roz_port_write(&port, cmd, man->n_commands), ROZ_OK);
+        get_command(&c);
+        assert_int_equal(c.ppt, want);
+    }
+    assert_int_equal(counters().holds, 1);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), counts), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    next_command(counts[0], &c);
+    assert_true(c.kp[0] == 0.0); /* the damping command */
+    assert_int_equal(c.ppt, want);
+    roz_fixture_engineai_pm01.close();
+}
+
+/* The PM01's manifest with parallel_parser_type in its [hardware.params]. */
+static roz_param_t hw_params[4];
+static roz_hardware_t hw_with_parser;
+static roz_manifest_t with_parser;
+
+static const roz_manifest_t *manifest_with_parser(const char *value)
+{
+    const roz_hardware_t *hw = m->hardware;
+    size_t n = hw->n_params;
+    assert_true(n < 4);
+    memcpy(hw_params, hw->params, n * sizeof hw_params[0]);
+    hw_params[n] = (roz_param_t){ "parallel_parser_type", value };
+    hw_with_parser = *hw;
+    hw_with_parser.params = hw_params;
+    hw_with_parser.n_params = (uint16_t)(n + 1);
+    with_parser = *m;
+    with_parser.hardware = &hw_with_parser;
+    return &with_parser;
+}
+
+/* ParallelParserType (interface_protocol): CLASSIC_PARSER 0, RL_PARSER 1;
+ * the parameter's default is RL_PARSER, as the vendor's RL example sends;
+ * each spelling the README gives reaches the wire as its number, in every
+ * command; robot.toml's [hardware.params] sets it, the caller's overrides;
+ * anything else is refused at open naming the key and the value. */
+static void test_pm01_parallel_parser_type(void **st)
+{
     (void)st;
-    open_pm01((roz_param_t[]){ { "parallel_parser_type", "classic" } }, 1);
-    start();
-    distinct_command(1);
-    write_pm01();
-    get_command(&c);
-    assert_int_equal(c.ppt, 0);
+    expect_parser_on_the_wire(m, NULL, 0, 1);
+    static const struct { const char *value; unsigned wire; } spellings[] = {
+        { "rl", 1 },     { "RL_PARSER", 1 },     { "1", 1 },
+        { "classic", 0 }, { "CLASSIC_PARSER", 0 }, { "0", 0 },
+    };
+    for (size_t i = 0; i < sizeof spellings / sizeof spellings[0]; i++) {
+        roz_param_t p = { "parallel_parser_type", spellings[i].value };
+        expect_parser_on_the_wire(m, &p, 1, spellings[i].wire);
+    }
+    expect_parser_on_the_wire(manifest_with_parser("classic"), NULL, 0, 0);
+    roz_param_t rl = { "parallel_parser_type", "rl" };
+    expect_parser_on_the_wire(manifest_with_parser("classic"), &rl, 1, 1);
+
+    static const char *const bad[] = { "2", "RL", "Classic", "rl ", "-1", "01", "0x1",
+                                       "parallel", "" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        static roz_engineai_pm01_t pm;
+        roz_param_t item = { "parallel_parser_type", bad[i] };
+        roz_params_t p = { &item, 1 };
+        roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+        char err[400] = "", want[64];
+        assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_EINVAL);
+        snprintf(want, sizeof want, "parallel_parser_type = \"%s\"", bad[i]);
+        if (strstr(err, want) == NULL || strstr(err, "RL_PARSER") == NULL)
+            fail_msg("\"%s\": the error \"%s\" names neither the key and value nor the "
+                     "choices",
+                     bad[i], err);
+        roz_port_close(&pt);
+    }
+    /* and from robot.toml */
+    static roz_engineai_pm01_t pm;
+    roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+    char err[400] = "";
+    assert_int_equal(roz_port_open(&pt, manifest_with_parser("2"), NULL, err, sizeof err),
+                     ROZ_EINVAL);
+    assert_non_null(strstr(err, "parallel_parser_type = \"2\""));
+    roz_port_close(&pt);
 }
 
 static void test_pm01_imu_order(void **st)
@@ -679,7 +781,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_pm01_joints_map_both_ways, teardown),
-        cmocka_unit_test_teardown(test_pm01_parallel_parser_classic, teardown),
+        cmocka_unit_test_teardown(test_pm01_parallel_parser_type, teardown),
         cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
         cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
         cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
