@@ -40,8 +40,11 @@
 #include "roz_dds_test.h"
 
 #ifndef ROZ_TEST_DDS_DOMAIN
-#define ROZ_TEST_DDS_DOMAIN 11
+#define ROZ_TEST_DDS_DOMAIN 10
+#define ROZ_TEST_DDS_DOMAINS 2
 #endif
+/* the two-process case meets on the second of its ids (test/CMakeLists.txt) */
+_Static_assert(ROZ_TEST_DDS_DOMAINS >= 2, "test_dds takes two DDS domain ids");
 
 extern char **environ;
 
