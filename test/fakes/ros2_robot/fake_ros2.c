@@ -23,6 +23,7 @@
 
 #include <dds/dds.h>
 
+#include "fake_dds.h"
 #include "robots.h"
 #include "ros2_robot.h"
 
@@ -441,21 +442,7 @@ static void on_command(dds_entity_t reader, void *arg)
 
 static int open_dds(fake_t *f, uint32_t domain)
 {
-    char config[640];
-    snprintf(config, sizeof config,
-             "<CycloneDDS><Domain id=\"any\">"
-             "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
-             "<AllowMulticast>false</AllowMulticast></General>"
-             "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
-             "<MaxAutoParticipantIndex>40</MaxAutoParticipantIndex>"
-             "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
-             "</Domain></CycloneDDS>");
-    const char *uri = getenv("CYCLONEDDS_URI");
-    if (uri != NULL && uri[0] != '\0')
-        fprintf(stderr, "fake_ros2: CYCLONEDDS_URI is set: Cyclone DDS is configured by it\n");
-    else if (dds_create_domain(domain, config) < 0)
-        return -1;
-    f->participant = dds_create_participant(domain, NULL, NULL);
+    f->participant = fake_dds_participant(domain, "fake_ros2");
     if (f->participant < 0)
         return -1;
     choose_types(f);

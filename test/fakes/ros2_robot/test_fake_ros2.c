@@ -30,6 +30,7 @@
 #include <dds/dds.h>
 #include <dds/ddsi/ddsi_serdata.h>
 
+#include "fake_dds.h"
 #include "fake_ros2_client.h"
 #include "ros2_robot.h"
 
@@ -189,19 +190,7 @@ static void ask(const char *fmt, ...)
 static int setup_dds(void **st)
 {
     (void)st;
-    char config[640];
-    snprintf(config, sizeof config,
-             "<CycloneDDS><Domain id=\"any\">"
-             "<General><Interfaces><NetworkInterface name=\"lo\"/></Interfaces>"
-             "<AllowMulticast>false</AllowMulticast></General>"
-             "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
-             "<MaxAutoParticipantIndex>40</MaxAutoParticipantIndex>"
-             "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
-             "</Domain></CycloneDDS>");
-    const char *uri = getenv("CYCLONEDDS_URI");
-    if ((uri == NULL || uri[0] == '\0') && dds_create_domain(ROZ_TEST_DDS_DOMAIN, config) < 0)
-        return -1;
-    part = dds_create_participant(ROZ_TEST_DDS_DOMAIN, NULL, NULL);
+    part = fake_dds_participant(ROZ_TEST_DDS_DOMAIN, "test_fake_ros2");
     return part < 0 ? -1 : 0;
 }
 
