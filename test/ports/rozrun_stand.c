@@ -31,11 +31,17 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
     char dom[32], nticks[16];
     snprintf(dom, sizeof dom, "dds_domain=%u", (unsigned)domain);
     snprintf(nticks, sizeof nticks, "%d", ticks);
-    const char *argv[] = { rozrun,       "--robot",      robot,      "--port",
-                           port,         "--param",      "network_interface=lo",
-                           "--param",    dom,            "--controller", controller,
-                           "--ticks",    nticks,         "--budget-us", "off",
-                           "--stale-ticks", "50",        NULL };
+    const char *argv[] = { rozrun,
+                           "--robot", robot,
+                           "--port", port,
+                           "--param", "network_interface=lo",
+                           "--param", dom,
+                           "--param", "peer_timeout_ms=5000",
+                           "--controller", controller,
+                           "--ticks", nticks,
+                           "--budget-us", "off",
+                           "--stale-ticks", "250",
+                           NULL };
     posix_spawn_file_actions_t fa;
     pid_t pid;
     posix_spawn_file_actions_init(&fa);

@@ -3,10 +3,12 @@
  * test_rozrun_ros2.c): one run of a stand controller through a hardware
  * port on loopback DDS,
  *   rozrun --robot R --port P --param network_interface=lo
- *          --param dds_domain=D --controller C --ticks N
- *          --budget-us off --stale-ticks 50
- * (deadline off and 100 ms to stale: a loaded machine, or TSan, must not
- * fail the run on time), its output to a file. */
+ *          --param dds_domain=D --param peer_timeout_ms=5000
+ *          --controller C --ticks N --budget-us off --stale-ticks 250
+ * (deadline off, 0.5 s to stale, 5 s before a silent robot counts as lost:
+ * a loaded machine, or TSan, must not fail the run on time; at a load of 8
+ * to 11 on two cores, runs latched STALE after 100 ms and LINK after a fake
+ * starved for half a second), its output to a file. */
 #ifndef ROZ_TEST_ROZRUN_STAND_H
 #define ROZ_TEST_ROZRUN_STAND_H
 
