@@ -250,6 +250,26 @@ void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend)
              man->robot_id, WAIT_MS, which);
 }
 
+void roz_ros2fx_ask_judged(uint32_t mask, const char *fmt, ...)
+{
+    char req[1024];
+    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(req, sizeof req, fmt, ap);
+    va_end(ap);
+    roz_ros2fx_links(before);
+    roz_ros2fx_ask("%s", req);
+    roz_ros2fx_wait_judged(before, mask, 0);
+}
+
+roz_ros2_counters_t roz_ros2fx_counters(void)
+{
+    roz_ros2_counters_t c;
+    roz_ros2_counters(robot->bridge, &c);
+    return c;
+}
+
 void roz_ros2fx_send(void)
 {
     roz_link_t before[ROZ_ROS2_MAX_TOPICS];

@@ -34,6 +34,13 @@ void roz_ros2fx_links(roz_link_t *out /* [ROZ_ROS2_MAX_TOPICS] */);
  * the last frame's values go out again as a new frame every 500 ms until
  * they have (a sample lost before discovery completed). */
 void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend);
+/* One request to the fake ("send leg imu", "replay"), then waits until
+ * every state topic in @p mask (0: every topic the port reads) judged a
+ * sample. */
+void roz_ros2fx_ask_judged(uint32_t mask, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+/* The port's counters. */
+roz_ros2_counters_t roz_ros2fx_counters(void);
 /* A good frame with new values on every topic; returns once the port took it. */
 void roz_ros2fx_send(void);
 /* Returns once the port's writer took every write and the fake counted

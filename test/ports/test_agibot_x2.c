@@ -77,13 +77,6 @@ static void write_x2(void)
     assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
 }
 
-static roz_ros2_counters_t counters(void)
-{
-    roz_ros2_counters_t c;
-    roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    return c;
-}
-
 static int cmd_of(const char *joint, const char *suffix)
 {
     return roz_port_test_command(m, joint, suffix, 0);
@@ -113,17 +106,6 @@ static void assert_state_is_sent(void)
     roz_ros2fx_sent(sent);
     roz_port_test_assert_state(m, state, sent);
 }
-
-/* Sends on the listed topics of the fake ("leg waist imu") and waits until
- * the port judged them (port topic indices in @p mask). */
-static void send_some(const char *topics, uint32_t mask)
-{
-    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2fx_links(before);
-    roz_ros2fx_ask("send %s", topics);
-    roz_ros2fx_wait_judged(before, mask, 0);
-}
-
 
 /* ---- mapping ---------------------------------------------------------------------- */
 
@@ -186,10 +168,7 @@ static void test_x2_imu_order(void **st)
     open_x2(NULL, 0);
     start();
     roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
-    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2fx_links(before);
-    roz_ros2fx_ask("send");
-    roz_ros2fx_wait_judged(before, 0, 0);
+    roz_ros2fx_ask_judged(0, "send");
     assert_int_equal(read_x2(), 1);
     assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
     assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
@@ -237,13 +216,14 @@ static void test_x2_fresh_needs_every_group(void **st)
     memcpy(before, state, sizeof before);
     /* three groups and the IMU: not a frame yet; the old one stays */
     roz_ros2fx_set_state(40);
-    send_some("leg waist arm imu", (1u << LEG) | (1u << WAIST) | (1u << ARM) | (1u << IMU));
+    roz_ros2fx_ask_judged((1u << LEG) | (1u << WAIST) | (1u << ARM) | (1u << IMU),
+                          "send leg waist arm imu");
     assert_int_equal(read_x2(), 0);
     assert_memory_equal(state, before, m->n_states * sizeof state[0]);
-    send_some("leg arm", (1u << LEG) | (1u << ARM));
+    roz_ros2fx_ask_judged((1u << LEG) | (1u << ARM), "send leg arm");
     assert_int_equal(read_x2(), 0);
     /* the head at last: the frame, with every topic's latest */
-    send_some("head", 1u << HEAD);
+    roz_ros2fx_ask_judged(1u << HEAD, "send head");
     assert_int_equal(read_x2(), 1);
     assert_state_is_sent();
     assert_int_equal(read_x2(), 0);
@@ -289,7 +269,8 @@ static void test_x2_silent_group_is_stale(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
     for (int t = 0; t < 6; t++) {
         roz_ros2fx_set_state(200u + (uint32_t)t);
-        send_some("leg waist head imu", (1u << LEG) | (1u << WAIST) | (1u << HEAD) | (1u << IMU));
+        roz_ros2fx_ask_judged((1u << LEG) | (1u << WAIST) | (1u << HEAD) | (1u << IMU),
+                              "send leg waist head imu");
         tick_rt();
     }
     assert_int_equal(roz_runtime_faults(&rt) & ROZ_FAULT_STALE, ROZ_FAULT_STALE);
@@ -321,7 +302,7 @@ static void test_x2_error_states_latch(void **st)
     roz_ros2fx_ask("error waist 0");
     roz_ros2fx_send();
     assert_int_equal(read_x2(), 1);
-    assert_true(counters().topic[WAIST].fault_frames >= 8);
+    assert_true(roz_ros2fx_counters().topic[WAIST].fault_frames >= 8);
 
     /* a joint's error code: the joint and the code */
     roz_ros2fx_ask("joint_error leg 3 17");
@@ -349,7 +330,7 @@ static void test_x2_brief_error_state_is_not_lost(void **st)
     start();
     /* overtaken on the receive side: the tick never saw the faulted sample */
     roz_ros2fx_ask("error waist 2");
-    send_some("waist", 1u << WAIST);
+    roz_ros2fx_ask_judged(1u << WAIST, "send waist");
     roz_ros2fx_ask("error waist 0");
     roz_ros2fx_send();
     assert_int_equal(read_x2(), ROZ_EROBOT);
@@ -362,7 +343,7 @@ static void test_x2_brief_error_state_is_not_lost(void **st)
 
     /* overtaken on the tick's side: taken by a read that was not a frame */
     roz_ros2fx_ask("joint_error arm 4 9");
-    send_some("arm", 1u << ARM);
+    roz_ros2fx_ask_judged(1u << ARM, "send arm");
     assert_int_equal(read_x2(), 0);
     roz_ros2fx_ask("joint_error arm 4 0");
     roz_ros2fx_send();
@@ -421,7 +402,7 @@ static void test_x2_docs_layout(void **st)
         assert_int_equal(read_x2(), 1);
         assert_state_is_sent();
     }
-    assert_int_equal(counters().topic[ARM].malformed, 0);
+    assert_int_equal(roz_ros2fx_counters().topic[ARM].malformed, 0);
 }
 
 /* The wrong layout, either way (DDS matches the topics by name alone). The
@@ -455,7 +436,7 @@ static void test_x2_wrong_layout(void **st)
         roz_fake_sleep_ms(10);
         assert_int_equal(read_x2(), ROZ_ENOENT);
     }
-    roz_ros2_counters_t c = counters();
+    roz_ros2_counters_t c = roz_ros2fx_counters();
     for (int g = LEG; g <= HEAD; g++)
         assert_int_equal(c.topic[g].samples, 0);
     assert_true(c.topic[IMU].samples >= 1); /* the IMU's type is the same: it arrives */
@@ -465,9 +446,9 @@ static void test_x2_wrong_layout(void **st)
 
 static void wait_malformed(int topic, uint64_t before)
 {
-    for (int w = 0; w < 10000 && counters().topic[topic].malformed == before; w++)
+    for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[topic].malformed == before; w++)
         roz_fake_sleep_ms(1);
-    assert_int_equal(counters().topic[topic].malformed, before + 1);
+    assert_int_equal(roz_ros2fx_counters().topic[topic].malformed, before + 1);
 }
 
 static void test_x2_names_and_lengths(void **st)
@@ -479,7 +460,7 @@ static void test_x2_names_and_lengths(void **st)
     assert_int_equal(read_x2(), 1);
 
     /* the arm's slot 3 names another joint: the robot's order is not ours */
-    uint64_t before = counters().topic[ARM].malformed;
+    uint64_t before = roz_ros2fx_counters().topic[ARM].malformed;
     roz_ros2fx_ask("name arm 3 right_elbow_joint");
     roz_ros2fx_set_state(70);
     roz_ros2fx_ask("send");
@@ -492,18 +473,18 @@ static void test_x2_names_and_lengths(void **st)
     assert_int_equal(read_x2(), 1);
 
     /* a group of the wrong length */
-    before = counters().topic[LEG].malformed;
+    before = roz_ros2fx_counters().topic[LEG].malformed;
     roz_ros2fx_ask("length leg 11");
     roz_ros2fx_ask("send leg");
     wait_malformed(LEG, before);
-    before = counters().topic[HEAD].malformed;
+    before = roz_ros2fx_counters().topic[HEAD].malformed;
     roz_ros2fx_ask("length head 1");
     roz_ros2fx_ask("send head");
     wait_malformed(HEAD, before);
     /* longer than the room the sample was given at open (14 joints): Cyclone
      * grows the sequence, which owns its buffer (roz_dds_seq_reserve()), the
      * port sees 32 joints and drops the sample */
-    before = counters().topic[ARM].malformed;
+    before = roz_ros2fx_counters().topic[ARM].malformed;
     roz_ros2fx_ask("length arm 32");
     roz_ros2fx_ask("send arm");
     wait_malformed(ARM, before);
@@ -530,7 +511,7 @@ static void test_x2_link_by_stamp(void **st)
     uint64_t replays = l.replays;
     /* a new sequence number, an old stamp: a replay by the stamp */
     roz_ros2fx_ask("stamp 1799999999 900000000");
-    send_some("leg", 1u << LEG);
+    roz_ros2fx_ask_judged(1u << LEG, "send leg");
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     assert_int_equal(l.replays, replays + 1);
     assert_int_equal(l.missing, 0); /* stamps tell no frame missing */

@@ -81,13 +81,6 @@ static void write_pm01(void)
     assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
 }
 
-static roz_ros2_counters_t counters(void)
-{
-    roz_ros2_counters_t c;
-    roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    return c;
-}
-
 static int cmd_index(uint16_t joint, const char *suffix)
 {
     return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
@@ -186,7 +179,7 @@ static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param
         get_command(&c);
         assert_int_equal(c.ppt, want);
     }
-    assert_int_equal(counters().holds, 1);
+    assert_int_equal(roz_ros2fx_counters().holds, 1);
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), counts), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
     next_command(counts[0], &c);
@@ -268,10 +261,7 @@ static void test_pm01_imu_order(void **st)
     open_pm01(NULL, 0);
     start();
     roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
-    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2fx_links(before);
-    roz_ros2fx_ask("send");
-    roz_ros2fx_wait_judged(before, 0, 0);
+    roz_ros2fx_ask_judged(0, "send");
     assert_int_equal(read_pm01(), 1);
     assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
     assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
@@ -315,10 +305,7 @@ static void test_pm01_command_stamps(void **st)
 
 static void send_judged(void)
 {
-    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2fx_links(before);
-    roz_ros2fx_ask("send");
-    roz_ros2fx_wait_judged(before, 0, 0);
+    roz_ros2fx_ask_judged(0, "send");
 }
 
 static void test_pm01_state_stamps_are_the_link(void **st)
@@ -368,12 +355,12 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     assert_int_equal(read_pm01(), 1);
 
     /* a stamp that is not a time: malformed, dropped, counted */
-    uint64_t malformed = counters().topic[0].malformed;
+    uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
     roz_ros2fx_ask("stamp 1799999997 1000000000");
     roz_ros2fx_ask("send");
-    for (int i = 0; i < 10000 && counters().topic[0].malformed == malformed; i++)
+    for (int i = 0; i < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; i++)
         roz_fake_sleep_ms(1);
-    assert_int_equal(counters().topic[0].malformed, malformed + 1);
+    assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
     assert_int_equal(read_pm01(), 0);
 }
 
@@ -386,13 +373,13 @@ static void test_pm01_arrays_must_be_24_long(void **st)
     start();
     static const unsigned lengths[] = { 23, 25, 0, 12 };
     for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
-        uint64_t malformed = counters().topic[0].malformed;
+        uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
         roz_ros2fx_ask("length body %u", lengths[i]);
         roz_ros2fx_set_state(60 + (uint32_t)i);
         roz_ros2fx_ask("send body");
-        for (int w = 0; w < 10000 && counters().topic[0].malformed == malformed; w++)
+        for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; w++)
             roz_fake_sleep_ms(1);
-        assert_int_equal(counters().topic[0].malformed, malformed + 1);
+        assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
         assert_int_equal(read_pm01(), 0); /* nothing new, the old frame stays */
     }
     roz_ros2fx_ask("length body 24");
@@ -536,14 +523,11 @@ static void test_pm01_decimation(void **st)
         if (k % 4 != 0)
             assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
     }
-    assert_int_equal(counters().topic[0].full, 3);
-    assert_int_equal(counters().topic[1].full, 3);
-    assert_int_equal(counters().frames, 12);
+    assert_int_equal(roz_ros2fx_counters().topic[0].full, 3);
+    assert_int_equal(roz_ros2fx_counters().topic[1].full, 3);
+    assert_int_equal(roz_ros2fx_counters().frames, 12);
     /* every sample is still checked: a replay between two whole conversions */
-    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2fx_links(before);
-    roz_ros2fx_ask("replay");
-    roz_ros2fx_wait_judged(before, 0, 0);
+    roz_ros2fx_ask_judged(0, "replay");
     assert_int_equal(read_pm01(), 0);
 }
 
@@ -587,7 +571,7 @@ static void test_pm01_periodic_writer(void **st)
     roz_fake_sleep_ms(50);
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), later), 0);
     assert_int_equal(later[0], after[0]);
-    assert_true(counters().stale_session >= 1);
+    assert_true(roz_ros2fx_counters().stale_session >= 1);
     /* the tick writes: the hold of the restarted robot's positions */
     distinct_command(4);
     write_pm01();
@@ -617,7 +601,7 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     write_pm01();
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 0);
-    assert_int_equal(counters().writes_withheld, 1);
+    assert_int_equal(roz_ros2fx_counters().writes_withheld, 1);
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
     roz_ros2fx_sent(sent);
@@ -631,7 +615,7 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
         assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
         assert_true(c.kd[j] == 2.5);
     }
-    assert_int_equal(counters().holds, 1);
+    assert_int_equal(roz_ros2fx_counters().holds, 1);
     write_pm01();
     get_command(&c);
     assert_true(c.kp[0] == cmd[cmd_index(0, "stiffness")]);

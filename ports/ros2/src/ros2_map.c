@@ -70,8 +70,9 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
         return ROZ_EINVAL;
     }
     if (hw->n_joints > b->n_slots) {
-        snprintf(err, errlen, "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u",
-                 r->port, m->robot_id, (unsigned)hw->n_joints, (unsigned)b->n_slots);
+        snprintf(err, errlen,
+                 "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u", r->port,
+                 m->robot_id, (unsigned)hw->n_joints, (unsigned)b->n_slots);
         return ROZ_EINVAL;
     }
     b->n_joints = hw->n_joints;
