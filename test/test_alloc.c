@@ -57,8 +57,21 @@ void __wrap_free(void *p)
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
+static roz_recorder_t rec;
+static uint64_t rec_storage[(1u << 20) / 8u];
+static uint64_t drained;
 
-static void run(const roz_manifest_t *m, const char *controller, int ticks)
+static int count_record(void *ctx, const roz_record_t *r)
+{
+    (void)ctx;
+    (void)r;
+    drained++;
+    return 0;
+}
+
+/* With @p record, the flight recorder is on, drained every 16 ticks (as an
+ * idle loop would): neither the tick nor the drain allocates. */
+static void run_rec(const roz_manifest_t *m, const char *controller, int ticks, int record)
 {
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 1, 100 };
@@ -66,19 +79,33 @@ static void run(const roz_manifest_t *m, const char *controller, int ticks)
     const uint8_t *w = roz_test_controller(controller, &len);
 
     roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
+    if (record) {
+        assert_int_equal(roz_recorder_init(&rec, m, rec_storage, sizeof rec_storage, 1), ROZ_OK);
+        cfg.recorder = &rec;
+    }
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     roz_test_tick(&rt); /* the swap-in happens here */
 
     allocations = frees = 0;
+    drained = 0;
     counting = 1;
     for (int t = 0; t < ticks; t++) {
         roz_test_tick(&rt);
         if (t == ticks / 2)
             roz_runtime_estop(&rt); /* a fault and its defaults, still no heap */
+        if (record && t % 16 == 15)
+            (void)roz_recorder_drain(&rec, count_record, NULL, 0);
     }
+    if (record)
+        (void)roz_recorder_drain(&rec, count_record, NULL, 0);
     counting = 0;
+    if (record) {
+        /* every tick recorded (the swap-in tick too), none dropped */
+        assert_int_equal(roz_recorder_dropped(&rec), 0);
+        assert_int_equal(drained, (uint64_t)ticks + 1u); /* and the swap-in tick */
+    }
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
     assert_true(RT_COUNT(&rt, controller_ticks) >= (uint64_t)ticks / 2);
     print_message("%s: %d ticks, %llu allocations, %llu frees\n", controller, ticks,
@@ -87,6 +114,17 @@ static void run(const roz_manifest_t *m, const char *controller, int ticks)
     assert_int_equal(frees, 0);
     assert_int_equal(lb.violations, 0);
     roz_runtime_deinit(&rt);
+}
+
+static void run(const roz_manifest_t *m, const char *controller, int ticks)
+{
+    run_rec(m, controller, ticks, 0);
+}
+
+static void test_alloc_g1_pd_recorded(void **st)
+{
+    (void)st;
+    run_rec(&roz_manifest_unitree_g1, "g1_pd", 100000, 1);
 }
 
 static void test_alloc_g1_pd(void **st)
@@ -126,6 +164,7 @@ int main(void)
         cmocka_unit_test(test_alloc_counter_works),
         cmocka_unit_test(test_alloc_g1_pd),
         cmocka_unit_test(test_alloc_ur5_sine),
+        cmocka_unit_test(test_alloc_g1_pd_recorded),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

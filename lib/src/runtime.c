@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "recorder_push.h"
 #include "seqlock.h"
 
 /* ---- private ------------------------------------------------------------- */
@@ -151,6 +152,8 @@ static void apply_clear(roz_runtime_t *rt, unsigned seen)
     }
     if (clear == 0)
         return;
+    rt->rec_flags |= ROZ_RECORD_CLEAR;
+    rt->rec_cleared = clear;
     if (clear & ROZ_FAULT_STALE)
         rt->stale_count = 0;
     bits &= ~clear;
@@ -203,6 +206,14 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
             snprintf(buf, len, "%s at tick %lld", roz_fault_name(bit), (long long)tick);
         break;
     }
+}
+
+void roz__runtime_format_fault(char *buf, size_t len, const roz__fault_raw_t *fault)
+{
+    uint64_t num[4];
+    for (int k = 0; k < 4; k++)
+        num[k] = fault->num[k];
+    format_fault(buf, len, fault->bit, num, fault->text);
 }
 
 /* Copy the first fault's record (readers): 1 if consistent, 0 if the tick
@@ -279,6 +290,7 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
     s->abi.clock_ctx = rt->cfg.clock_ctx;
     s->wasm = wasm;
     s->wasm_len = len;
+    s->hash = roz_recorder_hash(wasm, len);
     rc = roz_controller_load(&s->ctrl, wasm, len, &s->abi);
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
@@ -402,6 +414,7 @@ static int tick_handovers(roz_runtime_t *rt)
         atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
         rt->counters.swaps++;
+        rt->rec_flags |= ROZ_RECORD_SWAP;
     }
     if (clear != 0u)
         apply_clear(rt, clear);
@@ -413,7 +426,12 @@ static int tick_handovers(roz_runtime_t *rt)
 static void tick_estop(roz_runtime_t *rt)
 {
     unsigned press = atomic_exchange(&rt->estop_press, 0u);
-    if (press != 0u || (atomic_load(&rt->estop_level) != 0u && !(faults_now(rt) & ROZ_FAULT_ESTOP)))
+    unsigned level = atomic_load(&rt->estop_level);
+    if (press != 0u)
+        rt->rec_flags |= ROZ_RECORD_ESTOP_PRESS;
+    if (level != 0u)
+        rt->rec_flags |= ROZ_RECORD_ESTOP_LEVEL;
+    if (press != 0u || (level != 0u && !(faults_now(rt) & ROZ_FAULT_ESTOP)))
         latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
 }
 
@@ -477,6 +495,7 @@ static void tick_read(roz_runtime_t *rt)
     int bad = -1;
 
     roz_monitor_record(&rt->monitor, ROZ_MON_READ, t1 - t0, t1);
+    rt->rec_read_rc = rc;
     if (rc == ROZ_EROBOT) {
         latch_robot(rt);
         rc = 1;
@@ -493,6 +512,7 @@ static void tick_read(roz_runtime_t *rt)
         rt->have_state = 1;
         rt->stale_count = 0;
         roz_buffer_write(&rt->snapshot, rt->state, t1);
+        rt->rec_flags |= ROZ_RECORD_FRESH;
         return;
     }
     if (rc < 0 && rc != ROZ_ENOENT)
@@ -520,6 +540,8 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
 {
     s->abi.state = rt->state;
     s->abi.tick = rt->ctrl_tick;
+    rt->rec_flags |= ROZ_RECORD_RAN;
+    rt->rec_ctrl_tick = rt->ctrl_tick;
     uint64_t t0 = now(rt);
     int rc = roz_controller_process(&s->ctrl, rt->ctrl_tick);
     uint64_t t1 = now(rt);
@@ -583,6 +605,33 @@ static void tick_write(roz_runtime_t *rt, uint64_t t_start)
     else
         rt->counters.writes++;
     roz_monitor_record(&rt->monitor, ROZ_MON_TICK, t1 - t_start, t1);
+    rt->rec_flags |= ROZ_RECORD_WROTE;
+}
+
+/* 7. The flight recorder's record of this tick (copies, no formatting). */
+static void tick_record(roz_runtime_t *rt, int active, const double *target, uint64_t t_start)
+{
+    roz_record_t rec;
+    uint64_t period_ns = 1000000000ull / rt->cfg.manifest->control_rate_hz;
+    int ran = (rt->rec_flags & ROZ_RECORD_RAN) != 0u;
+
+    rec.tick = rt->counters.ticks - 1u;
+    rec.controller_tick = ran ? rt->rec_ctrl_tick : -1;
+    rec.sim_ns = rec.tick * period_ns;
+    rec.wall_ns = t_start;
+    rec.fuel = ran ? rt->counters.last_fuel : 0u;
+    rec.process_ns = ran ? rt->last_process_ns : 0u;
+    rec.tick_ns = now(rt) - t_start;
+    rec.controller_hash = active >= 0 ? rt->slot[active].hash : 0u;
+    rec.faults = faults_now(rt);
+    rec.cleared = rt->rec_cleared;
+    rec.read_rc = rt->rec_read_rc;
+    rec.flags = rt->rec_flags | (target != NULL ? (uint32_t)ROZ_RECORD_TARGETS : 0u);
+    rec.state = rt->state;
+    rec.target = target;
+    rec.applied = rt->out;
+    rec.fault_message = NULL;
+    roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
 }
 
 /* 6. What the tick counted, for roz_runtime_stats() on any thread. */
@@ -690,6 +739,9 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
         return ROZ_ESTATE;
     }
     m = cfg->manifest;
+    /* the recorder's slots are sized for its manifest */
+    if (cfg->recorder != NULL && cfg->recorder->m != m)
+        return ROZ_EINVAL;
     memset(rt, 0, sizeof *rt);
     rt->cfg = *cfg;
     if (roz_filter_init(&rt->filter, m) != ROZ_OK)
@@ -838,9 +890,12 @@ int roz_runtime_tick(roz_runtime_t *rt)
     rt->counters.ticks++;
     if (rt->cfg.monitor_jitter)
         roz_monitor_periodic(&rt->monitor, t_start);
+    rt->rec_flags = 0u;
+    rt->rec_cleared = 0u;
     int active = tick_handovers(rt);
     tick_estop(rt);
     tick_read(rt);
+    target = NULL;
     if (rt->have_state) {
         roz_stop_t stop = tick_controller(rt, active, &target);
         /* 4. the safety filter: the last word */
@@ -849,8 +904,12 @@ int roz_runtime_tick(roz_runtime_t *rt)
     } else {
         /* nothing is sent before the first usable state frame */
         rt->counters.waiting_ticks++;
+        if (active >= 0)
+            target = rt->slot[active].target;
     }
     tick_publish(rt);
+    if (rt->cfg.recorder != NULL)
+        tick_record(rt, active, target, t_start);
     return faults_now(rt) != 0u ? ROZ_EFAULT : ROZ_OK;
 }
 

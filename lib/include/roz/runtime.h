@@ -54,6 +54,7 @@
 #include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/private.h"
+#include "roz/recorder.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -117,6 +118,9 @@ typedef struct roz_runtime_config {
                                      robot or another channel table; 1: loads it (it runs
                                      behind the same filter, but its indices may mean other
                                      channels). Controllers without an identity load either way */
+    roz_recorder_t *recorder;   /**< the flight recorder every tick pushes its record into
+                                     (roz/recorder.h), set up on the same manifest; NULL
+                                     (default): none */
 } roz_runtime_config_t;
 
 /** Figures of a verification run. */
@@ -178,6 +182,7 @@ typedef struct roz_runtime_slot {
     double           ROZ_PRIVATE(target)[ROZ_CFG_MAX_COMMANDS];
     const uint8_t   *ROZ_PRIVATE(wasm);     /* bytes (caller's), kept to rebuild after a trap */
     size_t           ROZ_PRIVATE(wasm_len);
+    uint64_t         ROZ_PRIVATE(hash);     /* roz_recorder_hash() of the bytes, for the recorder */
     ROZ_ATOMIC(int)  ROZ_PRIVATE(dead);     /* 1: trapped or stopped by its budget; set by the tick
                                   before the fault is published, never run again */
 } roz_runtime_slot_t;
@@ -229,6 +234,11 @@ typedef struct roz_runtime {
     uint32_t               ROZ_PRIVATE(log_dropped_seen); /* drain: drops already reported */
     int                    ROZ_PRIVATE(nonfinite_warned); /* tick: the first-frame warning went out */
     int64_t                ROZ_PRIVATE(ctrl_tick);    /* tick number the controller sees */
+    /* tick: this tick's account for the recorder (roz_record_t) */
+    uint32_t               ROZ_PRIVATE(rec_flags);
+    uint32_t               ROZ_PRIVATE(rec_cleared);
+    int32_t                ROZ_PRIVATE(rec_read_rc);
+    int64_t                ROZ_PRIVATE(rec_ctrl_tick);
     int                    ROZ_PRIVATE(have_state);
     uint32_t               ROZ_PRIVATE(stale_count);
     double                 ROZ_PRIVATE(state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
@@ -276,7 +286,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 2u
+#define ROZ_RUNTIME_LAYOUT_VERSION 3u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \

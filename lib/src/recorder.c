@@ -1,0 +1,199 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+#include "roz/recorder.h"
+
+#include <math.h>
+#include <stdatomic.h>
+#include <string.h>
+
+#include "recorder_push.h"
+#include "roz/runtime.h"
+
+/* ---- types ----------------------------------------------------------------
+ *
+ * A slot: the scalars of the record, the first fault's numbers and text (set
+ * only when the faults changed), then n_states + 2 x n_commands doubles. The
+ * tick fills a slot the drain does not own (head - tail < capacity) and
+ * publishes it with a release store of head; the drain reads it after an
+ * acquire load of head and hands it back with a release store of tail. The
+ * slots themselves are plain memory: only one side owns a slot at a time. */
+
+typedef struct slot {
+    roz_record_t     rec; /* pointers not used: the arrays follow */
+    roz__fault_raw_t fault;
+    char             fault_text[ROZ_CFG_ERROR_LEN];
+} slot_t;
+
+#define INPUT_FLAGS                                                                          \
+    (ROZ_RECORD_ESTOP_PRESS | ROZ_RECORD_CLEAR | ROZ_RECORD_SWAP)
+
+/* ---- private ------------------------------------------------------------- */
+
+static size_t head_bytes(void)
+{
+    return (sizeof(slot_t) + 7u) & ~(size_t)7u;
+}
+
+static slot_t *slot_at(const roz_recorder_t *r, uint32_t i)
+{
+    return (slot_t *)(void *)(r->slots + (size_t)(i & (r->capacity - 1u)) * r->slot_bytes);
+}
+
+static double *slot_values(slot_t *s)
+{
+    return (double *)(void *)((unsigned char *)s + head_bytes());
+}
+
+/* ---- the tick ------------------------------------------------------------- */
+
+void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
+                        const struct roz_runtime_fault_rec *first)
+{
+    const roz_manifest_t *m = r->m;
+    uint32_t flags = rec->flags;
+    int changed = !r->any || rec->faults != r->last_faults;
+
+    /* decimation: every Nth tick, and every tick where something happened */
+    int due = r->phase == 0u;
+    r->phase = due ? r->decimation - 1u : r->phase - 1u;
+    if (!due && !changed && (flags & INPUT_FLAGS) == 0u)
+        return;
+
+    uint32_t head = atomic_load_explicit(&r->head, memory_order_relaxed);
+    uint32_t tail = atomic_load_explicit(&r->tail, memory_order_acquire);
+    if (head - tail >= r->capacity) {
+        /* last_faults stays: the next record that gets in carries the change */
+        atomic_store_explicit(&r->dropped,
+                              atomic_load_explicit(&r->dropped, memory_order_relaxed) + 1u,
+                              memory_order_relaxed);
+        return;
+    }
+    slot_t *s = slot_at(r, head);
+    double *v = slot_values(s);
+    s->rec = *rec;
+    s->rec.fault_message = NULL;
+    if (changed) {
+        s->rec.flags |= ROZ_RECORD_FAULT_CHANGED;
+        /* the tick is the record's only writer: plain loads of its own data */
+        s->fault.bit = atomic_load_explicit(&first->bit, memory_order_relaxed);
+        for (int k = 0; k < 4; k++)
+            s->fault.num[k] = atomic_load_explicit(&first->num[k], memory_order_relaxed);
+        size_t i = 0;
+        for (; i + 1u < sizeof s->fault_text; i++) {
+            char c = (char)atomic_load_explicit(&first->text[i], memory_order_relaxed);
+            if (c == '\0')
+                break;
+            s->fault_text[i] = c;
+        }
+        s->fault_text[i] = '\0';
+        r->last_faults = rec->faults;
+        r->any = 1;
+    }
+    memcpy(v, rec->state, (size_t)m->n_states * sizeof v[0]);
+    v += m->n_states;
+    if (rec->target != NULL) {
+        memcpy(v, rec->target, (size_t)m->n_commands * sizeof v[0]);
+    } else {
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            v[i] = NAN;
+    }
+    v += m->n_commands;
+    memcpy(v, rec->applied, (size_t)m->n_commands * sizeof v[0]);
+    atomic_store_explicit(&r->recorded,
+                          atomic_load_explicit(&r->recorded, memory_order_relaxed) + 1u,
+                          memory_order_relaxed);
+    atomic_store_explicit(&r->head, head + 1u, memory_order_release);
+}
+
+/* ---- public --------------------------------------------------------------- */
+
+size_t roz_recorder_slot_bytes(const roz_manifest_t *m)
+{
+    if (m == NULL)
+        return 0;
+    return head_bytes() + ((size_t)m->n_states + 2u * (size_t)m->n_commands) * sizeof(double);
+}
+
+int roz_recorder_init(roz_recorder_t *r, const roz_manifest_t *m, void *storage, size_t bytes,
+                      uint32_t decimation)
+{
+    if (r == NULL || m == NULL || storage == NULL || ((uintptr_t)storage & 7u) != 0u)
+        return ROZ_EINVAL;
+    size_t slot = roz_recorder_slot_bytes(m);
+    size_t n = bytes / slot;
+    if (n < 2u)
+        return ROZ_EINVAL;
+    uint32_t cap = 1u;
+    while ((size_t)cap * 2u <= n && cap < (1u << 30))
+        cap *= 2u;
+    memset(r, 0, sizeof *r);
+    r->m = m;
+    r->slots = (unsigned char *)storage;
+    r->slot_bytes = slot;
+    r->capacity = cap;
+    r->decimation = decimation == 0u ? 1u : decimation;
+    atomic_init(&r->head, 0u);
+    atomic_init(&r->tail, 0u);
+    atomic_init(&r->dropped, 0u);
+    atomic_init(&r->recorded, 0u);
+    return ROZ_OK;
+}
+
+uint32_t roz_recorder_capacity(const roz_recorder_t *r)
+{
+    return r->capacity;
+}
+
+size_t roz_recorder_drain(roz_recorder_t *r, roz_record_sink_fn sink, void *ctx, size_t max)
+{
+    const roz_manifest_t *m = r->m;
+    char msg[ROZ_CFG_ERROR_LEN + 64];
+    size_t n = 0;
+    uint32_t tail = atomic_load_explicit(&r->tail, memory_order_relaxed);
+    uint32_t head = atomic_load_explicit(&r->head, memory_order_acquire);
+
+    /* bounded by what was queued when the drain started */
+    while (tail != head && (max == 0u || n < max)) {
+        slot_t *s = slot_at(r, tail);
+        double *v = slot_values(s);
+        roz_record_t rec = s->rec;
+        rec.state = v;
+        rec.target = v + m->n_states;
+        rec.applied = v + m->n_states + m->n_commands;
+        if (rec.flags & ROZ_RECORD_FAULT_CHANGED) {
+            msg[0] = '\0';
+            if (rec.faults != 0u) {
+                s->fault.text = s->fault_text;
+                roz__runtime_format_fault(msg, sizeof msg, &s->fault);
+            }
+            rec.fault_message = msg;
+        }
+        int stop = sink != NULL ? sink(ctx, &rec) : 0;
+        tail++;
+        atomic_store_explicit(&r->tail, tail, memory_order_release);
+        n++;
+        if (stop)
+            break;
+    }
+    return n;
+}
+
+uint32_t roz_recorder_dropped(const roz_recorder_t *r)
+{
+    return atomic_load_explicit(&r->dropped, memory_order_relaxed);
+}
+
+uint32_t roz_recorder_recorded(const roz_recorder_t *r)
+{
+    return atomic_load_explicit(&r->recorded, memory_order_relaxed);
+}
+
+uint64_t roz_recorder_hash(const void *bytes, size_t len)
+{
+    const unsigned char *p = (const unsigned char *)bytes;
+    uint64_t h = 0xcbf29ce484222325ull;
+    for (size_t i = 0; i < len; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
