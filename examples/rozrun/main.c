@@ -3,7 +3,8 @@
  * rozrun: run a WebAssembly controller on a robot through a port.
  *
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
- *          [--realtime] [--param k=v]... [--trace out.csv] [--allow-other-robot]
+ *          [--realtime] [--param k=v]... [--trace out.csv] [--record run.mcap]
+ *          [--allow-other-robot]
  *          [--estop-at T] [--estop-release-at T] [--clear-at T] [--swap-at T:FILE]...
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
@@ -12,6 +13,7 @@
  *          --controller pm01_stand.wasm
  *   rozrun --robot leg.toml --port socketcan --param network_interface=can0
  *          --controller leg_pd.wasm
+ *   rozrun --replay run.mcap --controller ctl.wasm [--record new.mcap] [--trace new.csv]
  *
  * On the loopback, without --realtime, the ticks run back to back
  * (simulated time, as fast as the machine goes); with it a periodic thread
@@ -39,6 +41,7 @@
 #include "roz/hal/params.h"
 #include "roz/hal/runner.h"
 #include "roz/loopback.h"
+#include "roz/record_file.h"
 #include "roz/runtime.h"
 #if ROZRUN_HAS_UNITREE_G1
 #include "roz/unitree_g1.h"
@@ -52,6 +55,7 @@
 #if ROZRUN_HAS_SOCKETCAN
 #include "roz/socketcan.h"
 #endif
+#include "replay.h"
 #include "schedule.h"
 #include "trace.h"
 #if ROZ_HAS_TOML
@@ -65,6 +69,8 @@ typedef struct {
     const char *controller;
     const char *port;
     const char *trace;
+    const char *record;
+    const char *replay;
     uint64_t    ticks;
     int         realtime;
     int         allow_other_robot;
@@ -256,6 +262,11 @@ static const port_entry_t *find_port(const char *name)
 }
 static rozrun_trace_t trace;
 static int tracing;
+/* the flight recorder: ring storage (the heap, at start-up), its file */
+static roz_recorder_t recorder;
+static roz_record_file_t recfile;
+static int recording;
+static int record_failed; /* main thread: the recording's first write error was reported */
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
@@ -310,6 +321,16 @@ static void usage(FILE *f)
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
         "  --trace FILE         write every tick (targets, applied commands, state, latched\n"
         "                       faults, events) as CSV\n"
+        "  --record FILE        record every tick as MCAP (state, freshness, targets,\n"
+        "                       applied commands, faults, fuel, times; the manifest and\n"
+        "                       configuration once): tools/recording.py, Foxglove, ros2 bag\n"
+        "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
+        "                       (no port; --robot optional, checked against the recording)\n"
+        "                       and compare its targets and applied commands bit for bit:\n"
+        "                       the first divergence is reported (tick, channel, both\n"
+        "                       values); with another controller than the recorded one,\n"
+        "                       --record and --trace keep the new run for a comparison\n");
+    fprintf(f,
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -327,7 +348,9 @@ static void usage(FILE *f)
         "  --help               this text\n"
         "\n"
         "Exit status: 0 no fault latched at the end, 1 a fault latched at the end, 2 bad\n"
-        "arguments or refused controller, 3 the trace could not be written.\n");
+        "arguments or refused controller, 3 the trace or recording could not be written;\n"
+        "--replay: 0 identical (or another controller ran through), 4 diverged, 2 a\n"
+        "recording that cannot be read.\n");
 }
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
@@ -384,6 +407,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
+                                              "--record", "--replay",
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel",
                                               "--estop-at", "--estop-release-at", "--clear-at",
@@ -408,6 +432,10 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->port = v;
         } else if (!strcmp(a, "--trace")) {
             o->trace = v;
+        } else if (!strcmp(a, "--record")) {
+            o->record = v;
+        } else if (!strcmp(a, "--replay")) {
+            o->replay = v;
         } else if (!strcmp(a, "--ticks")) {
             if (parse_u64(a, v, UINT64_MAX / 2, &o->ticks))
                 return -1;
@@ -461,6 +489,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             return -1;
         }
     }
+    if (o->replay != NULL && o->controller != NULL)
+        return 0; /* the robot comes from the recording */
     if (o->robot == NULL || o->controller == NULL) {
         fprintf(stderr, "rozrun: --robot and --controller are required (see --help)\n");
         return -1;
@@ -571,6 +601,16 @@ static void loader_step(uint64_t done)
 {
     if (rozrun_schedule_loader_due(&sched, done))
         atomic_fetch_or(&loader_events, rozrun_schedule_loader(&sched, &rt, done));
+}
+
+/* Writes the recorder's queued ticks (main thread); says once if it broke. */
+static void record_drain(void)
+{
+    if (recording && roz_record_file_drain(&recfile) < 0 && !record_failed) {
+        record_failed = 1;
+        fprintf(stderr, "rozrun: %s; the rest of the run goes on without it\n",
+                recfile.w.error);
+    }
 }
 
 /* Writes the queued trace rows (main thread); says once if the file broke. */
@@ -778,6 +818,11 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     }
     if (pe->summary != NULL)
         pe->summary();
+    if (recording)
+        printf("  recording              %s (%llu ticks, %lu dropped: the ring was full)%s\n",
+               o->record, (unsigned long long)roz_record_file_ticks(&recfile),
+               (unsigned long)roz_recorder_dropped(&recorder),
+               record_failed ? ", incomplete" : "");
     if (tracing && trace.error[0] != '\0')
         printf("  trace                  %s is incomplete: %s\n", o->trace, trace.error);
     else if (tracing)
@@ -795,6 +840,12 @@ int main(int argc, char **argv)
 
     if (parse_args(argc, argv, &o) != 0)
         return 2;
+    if (o.replay != NULL) {
+        rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace };
+        if (o.robot != NULL && find_robot(o.robot) == NULL)
+            return 2;
+        return rozrun_replay(&ro, o.robot != NULL ? find_robot(o.robot) : NULL);
+    }
     const roz_manifest_t *m = find_robot(o.robot);
     if (m == NULL)
         return 2;
@@ -834,6 +885,17 @@ int main(int argc, char **argv)
         cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
     cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
     cfg.allow_foreign_controller = o.allow_other_robot;
+    if (o.record != NULL) {
+        /* 1024 ticks of room: the main thread drains every 20 ms at most */
+        size_t bytes = 1024u * roz_recorder_slot_bytes(m);
+        void *ring = malloc(bytes);
+        if (ring == NULL || roz_recorder_init(&recorder, m, ring, bytes, 1) != ROZ_OK) {
+            fprintf(stderr, "rozrun: no memory for the recorder's ring (%lu bytes)\n",
+                    (unsigned long)bytes);
+            return 2;
+        }
+        cfg.recorder = &recorder;
+    }
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
         roz_port_close(&port);
@@ -847,6 +909,14 @@ int main(int argc, char **argv)
             fprintf(stderr, "rozrun: --allow-other-robot runs it anyway\n");
         roz_port_close(&port);
         return 2;
+    }
+    if (o.record != NULL) {
+        if (roz_record_file_open(&recfile, o.record, &rt, &recorder, o.controller, err,
+                                 sizeof err) != ROZ_OK) {
+            fprintf(stderr, "rozrun: cannot record: %s\n", err);
+            return 2;
+        }
+        recording = 1;
     }
     if (o.trace != NULL) {
         if (rozrun_trace_open(&trace, o.trace, m, err, sizeof err) != 0) {
@@ -890,6 +960,7 @@ int main(int argc, char **argv)
                 rozrun_schedule_loader_due(&sched, done + 20000000u / period_ns + 1u))
                 ts.tv_nsec = (long)(period_ns / 2u);
             trace_drain();
+            record_drain();
             drain_metrics();
             roz_runtime_log_drain(&rt); /* the log is written here, never in the tick */
             nanosleep(&ts, NULL);
@@ -903,6 +974,7 @@ int main(int argc, char **argv)
             loader_step(t);
             tick_fn(NULL);
             trace_drain();
+            record_drain();
             drain_metrics();
             roz_runtime_log_drain(&rt); /* between ticks: the application's idle time */
         }
@@ -914,12 +986,17 @@ int main(int argc, char **argv)
     roz_port_deactivate(&port);
     if (tracing && rozrun_trace_close(&trace) != 0 && !trace_failed)
         fprintf(stderr, "rozrun: %s\n", trace.error);
+    if (recording && roz_record_file_close(&recfile, err, sizeof err) != ROZ_OK) {
+        if (!record_failed)
+            fprintf(stderr, "rozrun: %s\n", err);
+        record_failed = 1;
+    }
     summary(&o, pe, &rep, paced ? &runner : NULL);
     unsigned faults = roz_runtime_faults(&rt);
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
     rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
-    if (tracing && trace.error[0] != '\0')
+    if ((tracing && trace.error[0] != '\0') || record_failed)
         return 3; /* the run's record is incomplete: not a success, whatever latched */
     return faults != 0 ? 1 : 0;
 }

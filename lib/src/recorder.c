@@ -143,6 +143,11 @@ uint32_t roz_recorder_capacity(const roz_recorder_t *r)
     return r->capacity;
 }
 
+uint32_t roz_recorder_decimation(const roz_recorder_t *r)
+{
+    return r->decimation;
+}
+
 size_t roz_recorder_drain(roz_recorder_t *r, roz_record_sink_fn sink, void *ctx, size_t max)
 {
     const roz_manifest_t *m = r->m;

@@ -121,6 +121,9 @@ ROZ_NODISCARD int roz_recorder_init(roz_recorder_t *r, const roz_manifest_t *m, 
 /** @brief Records the ring holds. Context: any. */
 uint32_t roz_recorder_capacity(const roz_recorder_t *r);
 
+/** @brief The decimation it was set up with (1: every tick). Context: any. */
+uint32_t roz_recorder_decimation(const roz_recorder_t *r);
+
 /**
  * @brief Hand the queued records, oldest first, to @p sink, at most @p max
  *        of them (0: all that are queued now).

@@ -1,0 +1,163 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/mcap.h
+ * @brief A small MCAP writer and reader (host builds: stdio and the heap, at
+ *        open and while writing, never in a tick).
+ *
+ * MCAP (format version 0) is the container ROS 2 bags, Foxglove and many
+ * robotics tools read. This writer puts schemas, channels and messages in
+ * uncompressed chunks, each followed by its message indexes; the summary
+ * repeats the schemas and channels and holds the statistics and a chunk
+ * index, with summary offsets; the data section and the summary carry their
+ * CRC-32, and every chunk the CRC of its records. The reader is what replay
+ * needs: the messages in file order, every chunk's CRC checked, and every
+ * error naming the byte offset at fault.
+ */
+#ifndef ROZ_MCAP_H
+#define ROZ_MCAP_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "roz/error.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Channels (and schemas) one file may have. */
+#define ROZ_MCAP_MAX_CHANNELS 16
+
+/** A writer. Fields are private to mcap.c. */
+typedef struct roz_mcap_writer {
+    FILE          *out;
+    const char    *path;
+    uint64_t       offset;      /* bytes written */
+    uint32_t       data_crc;    /* CRC-32 state of the data section so far */
+    unsigned char *chunk;       /* records of the open chunk */
+    size_t         chunk_len, chunk_cap, chunk_target;
+    uint64_t       chunk_start, chunk_end; /* message times of the open chunk */
+    uint64_t       chunk_messages;
+    /* per channel: the open chunk's message index (time, offset pairs) */
+    uint64_t      *index[ROZ_MCAP_MAX_CHANNELS + 1];
+    size_t         index_len[ROZ_MCAP_MAX_CHANNELS + 1], index_cap[ROZ_MCAP_MAX_CHANNELS + 1];
+    /* the summary: schema and channel records as written, chunk indexes */
+    unsigned char *schemas, *channels, *chunk_indexes;
+    size_t         schemas_len, channels_len, chunk_indexes_len;
+    size_t         schemas_cap, channels_cap, chunk_indexes_cap;
+    uint16_t       n_schemas, n_channels;
+    uint32_t       n_chunks;
+    uint64_t       n_messages, first_time, last_time;
+    uint64_t       channel_messages[ROZ_MCAP_MAX_CHANNELS + 1];
+    uint32_t       sequence[ROZ_MCAP_MAX_CHANNELS + 1];
+    char           error[192]; /* the first error, "" none */
+} roz_mcap_writer_t;
+
+/**
+ * @brief Create @p path and write the magic and the header (profile "ros2").
+ * @param[in] chunk_bytes  a chunk is closed once its records pass this size
+ *                         (0: 1 MiB)
+ * @retval ROZ_OK    open
+ * @retval ROZ_EIO   the file could not be created (w->error says why)
+ * @retval ROZ_ENOMEM
+ * Context: a non-real-time thread.
+ */
+ROZ_NODISCARD int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
+                                size_t chunk_bytes);
+
+/** @brief Add a schema (encoding "ros2msg"): ids from 1, in order of the
+ *  calls. @return the id, or 0 on error. Context: as roz_mcap_open(). */
+uint16_t roz_mcap_schema(roz_mcap_writer_t *w, const char *name, const char *encoding,
+                         const char *text);
+
+/** @brief Add a channel on @p schema_id (message encoding "cdr"): ids from 1.
+ *  @return the id, or 0 on error. Context: as roz_mcap_open(). */
+uint16_t roz_mcap_channel(roz_mcap_writer_t *w, uint16_t schema_id, const char *topic,
+                          const char *message_encoding);
+
+/**
+ * @brief Add one message (its bytes copied into the open chunk).
+ * @retval ROZ_OK, ROZ_EINVAL (unknown channel), ROZ_EIO (w->error), ROZ_ENOMEM
+ * Context: as roz_mcap_open().
+ */
+ROZ_NODISCARD int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
+                                   uint64_t publish_time, const void *data, size_t len);
+
+/**
+ * @brief Close the last chunk, write the data end, the summary, its offsets,
+ *        the footer and the magic; close the file; free. Idempotent.
+ * @retval ROZ_OK  the file is complete
+ * @retval ROZ_EIO a write failed, now or before (w->error says the first)
+ * Context: as roz_mcap_open().
+ */
+int roz_mcap_close(roz_mcap_writer_t *w);
+
+/** One message as the reader hands it out (valid until the next call). */
+typedef struct roz_mcap_message {
+    uint16_t             channel;
+    const char          *topic;     /**< the channel's topic */
+    const char          *schema;    /**< its schema's name, "" none */
+    uint32_t             sequence;
+    uint64_t             log_time, publish_time;
+    const unsigned char *data;
+    size_t               len;
+    uint64_t             offset;    /**< where the message record starts in the
+                                         file (inside a chunk: the chunk's offset) */
+} roz_mcap_message_t;
+
+/** A reader: the file in memory. Fields are private to mcap.c. */
+typedef struct roz_mcap_reader {
+    const char    *path;
+    unsigned char *buf;
+    size_t         len;
+    size_t         pos;        /* next record of the data section */
+    size_t         chunk_pos, chunk_end, chunk_base; /* inside a chunk's records */
+    unsigned char *chunk_data; /* the chunk's records (in buf) */
+    int            in_chunk, done, complete;
+    uint16_t       channel_schema[ROZ_MCAP_MAX_CHANNELS + 1];
+    char           topics[ROZ_MCAP_MAX_CHANNELS + 1][64];
+    char           schema_names[ROZ_MCAP_MAX_CHANNELS + 1][64];
+    char           warning[192]; /* a file cut short: where, "" none */
+} roz_mcap_reader_t;
+
+/**
+ * @brief Read @p path into memory and check its magic, header and (when the
+ *        file is complete) its footer and trailing magic. A file cut short
+ *        (a recording whose writer died) is readable up to its last whole
+ *        record; r->warning says where it ends.
+ * @retval ROZ_OK     open
+ * @retval ROZ_EIO    the file cannot be read (err says why)
+ * @retval ROZ_EINVAL not an MCAP file, or a malformed header (err names the offset)
+ * @retval ROZ_ENOMEM
+ * Context: a non-real-time thread.
+ */
+ROZ_NODISCARD int roz_mcap_reader_open(roz_mcap_reader_t *r, const char *path, char *err,
+                                       size_t errlen);
+
+/**
+ * @brief The next message in file order; schemas and channels on the way
+ *        are taken in, every chunk's CRC is checked before its records are.
+ * @retval 1          a message in @p out
+ * @retval 0          the end of the data section (or of a file cut short)
+ * @retval ROZ_EINVAL a malformed record or a CRC mismatch: @p err names the
+ *                    file, the offset and what is wrong
+ * Context: as roz_mcap_reader_open().
+ */
+int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *err,
+                         size_t errlen);
+
+/** @brief Free; idempotent. Context: as roz_mcap_reader_open(). */
+void roz_mcap_reader_close(roz_mcap_reader_t *r);
+
+/** @brief CRC-32 (ISO-HDLC, as zlib) of @p len bytes, continued from @p crc
+ *  (0 to start). Context: any. */
+uint32_t roz_mcap_crc32(uint32_t crc, const void *data, size_t len);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_MCAP_H */

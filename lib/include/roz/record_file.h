@@ -1,0 +1,156 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/record_file.h
+ * @brief Flight recordings as MCAP files (host builds; roz/mcap.h): the
+ *        recorder's drain side, and the reader replay uses.
+ *
+ * One channel per record kind, every message ROS 2 CDR (little endian) with
+ * a `ros2msg` schema, so Foxglove plots any field by name and the `mcap`
+ * ROS 2 readers decode them:
+ *
+ * | topic | schema | when |
+ * |---|---|---|
+ * | /roz/run | roz_msgs/msg/Run | once, first: robot, interface hash, channel names, configuration |
+ * | /roz/controller | roz_msgs/msg/Controller | when the driving controller changes: hash, name |
+ * | /roz/tick | roz_msgs/msg/Tick | every recorded tick: numbers, times, flags, faults |
+ * | /roz/state | roz_<robot_id>/msg/State | every recorded tick: one float64 per state channel |
+ * | /roz/target | roz_<robot_id>/msg/Commands | the controller's targets |
+ * | /roz/applied | roz_<robot_id>/msg/Commands | what the filter handed the port |
+ * | /roz/fault | roz_msgs/msg/Fault | when the latched faults change: bits and message |
+ *
+ * A channel's field name is its manifest name in lower case with every run
+ * of other characters made one '_' ("shoulder_pan_joint/velocity" is
+ * shoulder_pan_joint_velocity); a name taken already gets "_<index>".
+ * Every message's log and publish time is the tick's simulated time
+ * (tick x period, from 0), so a recording of a deterministic run is the
+ * same file every time but for the wall-clock fields of /roz/tick.
+ *
+ * Writing: roz_record_file_open() after roz_runtime_init() with a recorder,
+ * roz_record_file_drain() from a non-real-time thread (or between ticks),
+ * roz_record_file_close() at the end. Reading: roz_record_reader_open(),
+ * roz_record_reader_next() tick by tick.
+ */
+#ifndef ROZ_RECORD_FILE_H
+#define ROZ_RECORD_FILE_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/mcap.h"
+#include "roz/recorder.h"
+#include "roz/runtime.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A recording being written. Fields are private to record_file.c. */
+typedef struct roz_record_file {
+    roz_mcap_writer_t      w;
+    roz_recorder_t        *rec;
+    const roz_manifest_t  *m;
+    uint16_t               ch_run, ch_controller, ch_tick, ch_state, ch_target, ch_applied,
+                           ch_fault;
+    uint64_t               last_hash;
+    int                    have_hash;
+    const char            *controller_name;
+    unsigned char         *msg;    /* one message being encoded */
+    size_t                 msg_cap;
+    uint64_t               ticks, bytes_before;
+    int                    failed;
+} roz_record_file_t;
+
+/**
+ * @brief Create @p path, write the schemas, the channels and the run's
+ *        /roz/run message (from @p rt's configuration and manifest, and
+ *        @p rec's decimation).
+ * @param[in] controller_name  named in /roz/controller (e.g. the file's path)
+ * @retval ROZ_OK, ROZ_EIO (err names the file), ROZ_ENOMEM, ROZ_EINVAL (no recorder)
+ * Context: start-up, a non-real-time thread; allocates.
+ */
+ROZ_NODISCARD int roz_record_file_open(roz_record_file_t *f, const char *path,
+                                       const roz_runtime_t *rt, roz_recorder_t *rec,
+                                       const char *controller_name, char *err, size_t errlen);
+
+/**
+ * @brief Drain the recorder into the file.
+ * @return records written (>= 0), or ROZ_EIO once a write failed (the
+ *         records are still drained, so the tick's ring never fills)
+ * Context: the recorder's one consumer thread (roz_recorder_drain()).
+ */
+int roz_record_file_drain(roz_record_file_t *f);
+
+/** @brief Ticks written so far. Context: the consumer thread. */
+uint64_t roz_record_file_ticks(const roz_record_file_t *f);
+
+/**
+ * @brief Drain what is left, finish the file (summary, footer), close it.
+ * @retval ROZ_OK  complete; ROZ_EIO  a write failed (err says the first)
+ * Context: the consumer thread, after the tick stopped.
+ */
+int roz_record_file_close(roz_record_file_t *f, char *err, size_t errlen);
+
+/** What /roz/run says about a recording. */
+typedef struct roz_record_run {
+    char     robot_id[64];
+    char     robot_class[64];
+    uint32_t control_rate_hz;
+    uint64_t interface_hash;
+    uint16_t n_commands, n_states;
+    uint32_t stale_ticks;
+    uint64_t fuel_per_tick;
+    uint64_t budget_ns;
+    uint32_t decimation;
+    int      allow_foreign_controller;
+} roz_record_run_t;
+
+/** A recording being read. Fields are private to record_file.c. */
+typedef struct roz_record_reader {
+    roz_mcap_reader_t r;
+    roz_record_run_t  run;
+    int               have_tick;
+    roz_record_t      tick;          /* being assembled */
+    uint64_t          tick_offset;
+    double           *state, *target, *applied; /* n_states, n_commands, n_commands */
+    uint32_t          parts;         /* which of state/target/applied the tick has */
+    char              fault_message[256];
+    uint64_t          controller_hash_seen;
+    roz_mcap_message_t pending;      /* a /roz/tick read ahead */
+    int               have_pending;
+} roz_record_reader_t;
+
+/**
+ * @brief Open a recording and read its /roz/run message.
+ * @retval ROZ_OK, ROZ_EIO, ROZ_ENOMEM, ROZ_EINVAL (err names the file, the
+ *         offset and what is wrong: not MCAP, a CRC mismatch, no /roz/run
+ *         first, a message of the wrong size)
+ * Context: a non-real-time thread; allocates.
+ */
+ROZ_NODISCARD int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
+                                         size_t errlen);
+
+/** @brief The run's account. Context: as roz_record_reader_open(). */
+const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd);
+
+/**
+ * @brief The next recorded tick, with its state, targets and applied
+ *        commands (pointers valid until the next call).
+ * @param[out] offset  where the tick's /roz/tick message is in the file
+ *                     (its chunk's offset); may be NULL
+ * @retval 1 a tick; 0 the end (rd->r.warning says when the file was cut
+ *         short); ROZ_EINVAL a corrupt file (err names the offset)
+ * Context: as roz_record_reader_open().
+ */
+int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t *offset,
+                           char *err, size_t errlen);
+
+/** @brief Free; idempotent. Context: as roz_record_reader_open(). */
+void roz_record_reader_close(roz_record_reader_t *rd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_RECORD_FILE_H */

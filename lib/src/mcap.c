@@ -1,0 +1,706 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* MCAP, written and read from the public specification (format version 0):
+ * records are an opcode byte, a little-endian u64 length and the content;
+ * strings and byte arrays have a u32 length prefix, maps a u32 byte length. */
+#include "roz/mcap.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- types ------------------------------------------------------------------ */
+
+enum {
+    OP_HEADER = 0x01,
+    OP_FOOTER = 0x02,
+    OP_SCHEMA = 0x03,
+    OP_CHANNEL = 0x04,
+    OP_MESSAGE = 0x05,
+    OP_CHUNK = 0x06,
+    OP_MESSAGE_INDEX = 0x07,
+    OP_CHUNK_INDEX = 0x08,
+    OP_STATISTICS = 0x0B,
+    OP_SUMMARY_OFFSET = 0x0E,
+    OP_DATA_END = 0x0F,
+};
+
+static const unsigned char magic[8] = { 0x89, 'M', 'C', 'A', 'P', '0', '\r', '\n' };
+
+/* A growable byte buffer (host side: the heap, never in a tick). */
+typedef struct {
+    unsigned char **p;
+    size_t         *len, *cap;
+} buf_t;
+
+/* ---- CRC-32 ----------------------------------------------------------------- */
+
+static uint32_t crc_table[256];
+static int crc_ready;
+
+uint32_t roz_mcap_crc32(uint32_t crc, const void *data, size_t len)
+{
+    const unsigned char *p = (const unsigned char *)data;
+    if (!crc_ready) {
+        for (uint32_t i = 0; i < 256u; i++) {
+            uint32_t c = i;
+            for (int k = 0; k < 8; k++)
+                c = (c & 1u) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+            crc_table[i] = c;
+        }
+        crc_ready = 1;
+    }
+    crc = ~crc;
+    for (size_t i = 0; i < len; i++)
+        crc = crc_table[(crc ^ p[i]) & 0xFFu] ^ (crc >> 8);
+    return ~crc;
+}
+
+/* ---- writer: encoding -------------------------------------------------------- */
+
+static int grow(buf_t b, size_t more)
+{
+    if (*b.len + more <= *b.cap)
+        return 0;
+    size_t cap = *b.cap ? *b.cap : 256u;
+    while (cap < *b.len + more)
+        cap *= 2u;
+    unsigned char *n = realloc(*b.p, cap);
+    if (n == NULL)
+        return -1;
+    *b.p = n;
+    *b.cap = cap;
+    return 0;
+}
+
+static int put(buf_t b, const void *src, size_t n)
+{
+    if (grow(b, n) != 0)
+        return -1;
+    memcpy(*b.p + *b.len, src, n);
+    *b.len += n;
+    return 0;
+}
+
+static int put_u8(buf_t b, uint8_t v)
+{
+    return put(b, &v, 1);
+}
+
+static int put_le(buf_t b, uint64_t v, int bytes)
+{
+    unsigned char t[8];
+    for (int i = 0; i < bytes; i++)
+        t[i] = (unsigned char)(v >> (8 * i));
+    return put(b, t, (size_t)bytes);
+}
+
+static int put_str(buf_t b, const char *s)
+{
+    size_t n = strlen(s);
+    return put_le(b, n, 4) | put(b, s, n);
+}
+
+/* Opens a record: opcode and a length patched by rec_end(). */
+static size_t rec_begin(buf_t b, uint8_t op)
+{
+    (void)put_u8(b, op);
+    (void)put_le(b, 0, 8);
+    return *b.len;
+}
+
+static void rec_end(buf_t b, size_t start)
+{
+    uint64_t n = *b.len - start;
+    for (int i = 0; i < 8; i++)
+        (*b.p)[start - 8 + (size_t)i] = (unsigned char)(n >> (8 * i));
+}
+
+static void fail(roz_mcap_writer_t *w, const char *what, int err)
+{
+    if (w->error[0] == '\0')
+        snprintf(w->error, sizeof w->error, "%s: %s%s%s", w->path, what, err ? ": " : "",
+                 err ? strerror(err) : "");
+}
+
+/* Writes bytes to the file, counting them into the data section's CRC. */
+static int emit(roz_mcap_writer_t *w, const void *p, size_t n, int data_section)
+{
+    if (w->error[0] != '\0')
+        return ROZ_EIO;
+    if (n != 0 && fwrite(p, 1, n, w->out) != n) {
+        fail(w, "write failed", errno);
+        return ROZ_EIO;
+    }
+    if (data_section)
+        w->data_crc = roz_mcap_crc32(w->data_crc, p, n);
+    w->offset += n;
+    return ROZ_OK;
+}
+
+/* ---- writer: chunks ---------------------------------------------------------- */
+
+static buf_t chunk_buf(roz_mcap_writer_t *w)
+{
+    buf_t b = { &w->chunk, &w->chunk_len, &w->chunk_cap };
+    return b;
+}
+
+/* Writes the open chunk and its message indexes; adds its chunk index. */
+static int flush_chunk(roz_mcap_writer_t *w)
+{
+    unsigned char *rec = NULL;
+    size_t len = 0, cap = 0;
+    buf_t b = { &rec, &len, &cap };
+    uint64_t chunk_start = w->offset, chunk_len;
+    int rc = ROZ_OK;
+
+    if (w->chunk_messages == 0)
+        return ROZ_OK;
+    /* the chunk */
+    size_t s = rec_begin(b, OP_CHUNK);
+    int e = put_le(b, w->chunk_start, 8) | put_le(b, w->chunk_end, 8) |
+            put_le(b, w->chunk_len, 8) |
+            put_le(b, roz_mcap_crc32(0, w->chunk, w->chunk_len), 4) | put_str(b, "") |
+            put_le(b, w->chunk_len, 8) | put(b, w->chunk, w->chunk_len);
+    rec_end(b, s);
+    if (e != 0) {
+        free(rec);
+        return ROZ_ENOMEM;
+    }
+    rc = emit(w, rec, len, 1);
+    chunk_len = len;
+    /* its message indexes, and where each went */
+    uint64_t index_at[ROZ_MCAP_MAX_CHANNELS + 1] = { 0 };
+    uint64_t index_start = w->offset;
+    for (uint16_t c = 1; c <= w->n_channels && rc == ROZ_OK; c++) {
+        if (w->index_len[c] == 0)
+            continue;
+        len = 0;
+        s = rec_begin(b, OP_MESSAGE_INDEX);
+        e = put_le(b, c, 2) | put_le(b, w->index_len[c] * 8u, 4);
+        for (size_t i = 0; i < w->index_len[c]; i++)
+            e |= put_le(b, w->index[c][i], 8);
+        rec_end(b, s);
+        if (e != 0) {
+            rc = ROZ_ENOMEM;
+            break;
+        }
+        index_at[c] = w->offset;
+        rc = emit(w, rec, len, 1);
+    }
+    uint64_t index_len = w->offset - index_start;
+    /* the chunk index, for the summary */
+    if (rc == ROZ_OK) {
+        buf_t ci = { &w->chunk_indexes, &w->chunk_indexes_len, &w->chunk_indexes_cap };
+        uint32_t n_idx = 0;
+        for (uint16_t c = 1; c <= w->n_channels; c++)
+            n_idx += w->index_len[c] != 0;
+        s = rec_begin(ci, OP_CHUNK_INDEX);
+        e = put_le(ci, w->chunk_start, 8) | put_le(ci, w->chunk_end, 8) |
+            put_le(ci, chunk_start, 8) | put_le(ci, chunk_len, 8) | put_le(ci, n_idx * 10u, 4);
+        for (uint16_t c = 1; c <= w->n_channels; c++) {
+            if (w->index_len[c] != 0)
+                e |= put_le(ci, c, 2) | put_le(ci, index_at[c], 8);
+        }
+        e |= put_le(ci, index_len, 8) | put_str(ci, "") | put_le(ci, w->chunk_len, 8) |
+             put_le(ci, w->chunk_len, 8);
+        rec_end(ci, s);
+        if (e != 0)
+            rc = ROZ_ENOMEM;
+        w->n_chunks++;
+    }
+    free(rec);
+    w->chunk_len = 0;
+    w->chunk_messages = 0;
+    for (uint16_t c = 1; c <= w->n_channels; c++)
+        w->index_len[c] = 0;
+    return rc;
+}
+
+/* ---- writer: public ---------------------------------------------------------- */
+
+int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
+                  size_t chunk_bytes)
+{
+    unsigned char *rec = NULL;
+    size_t len = 0, cap = 0;
+    buf_t b = { &rec, &len, &cap };
+
+    memset(w, 0, sizeof *w);
+    w->path = path;
+    w->chunk_target = chunk_bytes != 0 ? chunk_bytes : (size_t)1 << 20;
+    w->out = fopen(path, "wb");
+    if (w->out == NULL) {
+        fail(w, "cannot create", errno);
+        return ROZ_EIO;
+    }
+    size_t s = rec_begin(b, OP_HEADER);
+    int e = put_str(b, "ros2") | put_str(b, library);
+    rec_end(b, s);
+    if (e != 0) {
+        free(rec);
+        return ROZ_ENOMEM;
+    }
+    int rc = emit(w, magic, sizeof magic, 1);
+    if (rc == ROZ_OK)
+        rc = emit(w, rec, len, 1);
+    free(rec);
+    return rc;
+}
+
+uint16_t roz_mcap_schema(roz_mcap_writer_t *w, const char *name, const char *encoding,
+                         const char *text)
+{
+    buf_t sb = { &w->schemas, &w->schemas_len, &w->schemas_cap };
+    size_t before = w->schemas_len;
+
+    if (w->n_schemas >= ROZ_MCAP_MAX_CHANNELS)
+        return 0;
+    uint16_t id = (uint16_t)(w->n_schemas + 1u);
+    size_t s = rec_begin(sb, OP_SCHEMA);
+    int e = put_le(sb, id, 2) | put_str(sb, name) | put_str(sb, encoding) | put_str(sb, text);
+    rec_end(sb, s);
+    /* in the chunk too: a reader that reads the data section alone sees it */
+    if (e != 0 || put(chunk_buf(w), w->schemas + before, w->schemas_len - before) != 0)
+        return 0;
+    w->n_schemas = id;
+    return id;
+}
+
+uint16_t roz_mcap_channel(roz_mcap_writer_t *w, uint16_t schema_id, const char *topic,
+                          const char *message_encoding)
+{
+    buf_t cb = { &w->channels, &w->channels_len, &w->channels_cap };
+    size_t before = w->channels_len;
+
+    if (w->n_channels >= ROZ_MCAP_MAX_CHANNELS || schema_id > w->n_schemas)
+        return 0;
+    uint16_t id = (uint16_t)(w->n_channels + 1u);
+    size_t s = rec_begin(cb, OP_CHANNEL);
+    int e = put_le(cb, id, 2) | put_le(cb, schema_id, 2) | put_str(cb, topic) |
+            put_str(cb, message_encoding) | put_le(cb, 0, 4);
+    rec_end(cb, s);
+    if (e != 0 || put(chunk_buf(w), w->channels + before, w->channels_len - before) != 0)
+        return 0;
+    w->n_channels = id;
+    return id;
+}
+
+int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
+                     uint64_t publish_time, const void *data, size_t len)
+{
+    buf_t b = chunk_buf(w);
+
+    if (channel == 0 || channel > w->n_channels)
+        return ROZ_EINVAL;
+    if (w->error[0] != '\0')
+        return ROZ_EIO;
+    /* the message index: (log time, offset in the chunk's records) */
+    if (w->index_len[channel] + 2u > w->index_cap[channel]) {
+        size_t cap = w->index_cap[channel] ? 2u * w->index_cap[channel] : 512u;
+        uint64_t *n = realloc(w->index[channel], cap * sizeof n[0]);
+        if (n == NULL)
+            return ROZ_ENOMEM;
+        w->index[channel] = n;
+        w->index_cap[channel] = cap;
+    }
+    w->index[channel][w->index_len[channel]++] = log_time;
+    w->index[channel][w->index_len[channel]++] = w->chunk_len;
+    size_t s = rec_begin(b, OP_MESSAGE);
+    int e = put_le(b, channel, 2) | put_le(b, w->sequence[channel]++, 4) |
+            put_le(b, log_time, 8) | put_le(b, publish_time, 8) | put(b, data, len);
+    rec_end(b, s);
+    if (e != 0)
+        return ROZ_ENOMEM;
+    if (w->chunk_messages == 0 || log_time < w->chunk_start)
+        w->chunk_start = w->chunk_messages == 0 ? log_time : w->chunk_start;
+    if (w->chunk_messages == 0 || log_time > w->chunk_end)
+        w->chunk_end = log_time;
+    if (w->n_messages == 0 || log_time < w->first_time)
+        w->first_time = log_time;
+    if (w->n_messages == 0 || log_time > w->last_time)
+        w->last_time = log_time;
+    w->chunk_messages++;
+    w->n_messages++;
+    w->channel_messages[channel]++;
+    if (w->chunk_len >= w->chunk_target)
+        return flush_chunk(w);
+    return ROZ_OK;
+}
+
+/* One summary group: its records, and a summary offset pointing at them. */
+static int summary_group(roz_mcap_writer_t *w, buf_t offsets, uint8_t op, const void *p,
+                         size_t n)
+{
+    if (n == 0)
+        return ROZ_OK;
+    size_t s = rec_begin(offsets, OP_SUMMARY_OFFSET);
+    int e = put_u8(offsets, op) | put_le(offsets, w->offset, 8) | put_le(offsets, n, 8);
+    rec_end(offsets, s);
+    if (e != 0)
+        return ROZ_ENOMEM;
+    return emit(w, p, n, 0);
+}
+
+int roz_mcap_close(roz_mcap_writer_t *w)
+{
+    unsigned char *rec = NULL, *offs = NULL;
+    size_t len = 0, cap = 0, olen = 0, ocap = 0;
+    buf_t b = { &rec, &len, &cap }, ob = { &offs, &olen, &ocap };
+    int rc = ROZ_OK;
+
+    if (w->out == NULL)
+        return w->error[0] != '\0' ? ROZ_EIO : ROZ_OK;
+    if (w->chunk_messages == 0 && w->chunk_len != 0 && w->n_chunks == 0) {
+        /* no message at all: the schemas and channels still go in a chunk */
+        w->chunk_messages = 0;
+    }
+    rc = flush_chunk(w);
+    /* the data end, with the data section's CRC */
+    size_t s = rec_begin(b, OP_DATA_END);
+    (void)put_le(b, w->data_crc, 4);
+    rec_end(b, s);
+    if (rc == ROZ_OK)
+        rc = emit(w, rec, len, 0);
+    /* the summary: CRC from its first byte through the footer's offsets */
+    uint64_t summary_start = w->offset;
+    uint32_t crc_before = 0;
+    long summary_pos = ftell(w->out);
+    (void)crc_before;
+    if (rc == ROZ_OK)
+        rc = summary_group(w, ob, OP_SCHEMA, w->schemas, w->schemas_len);
+    if (rc == ROZ_OK)
+        rc = summary_group(w, ob, OP_CHANNEL, w->channels, w->channels_len);
+    len = 0;
+    s = rec_begin(b, OP_STATISTICS);
+    int e = put_le(b, w->n_messages, 8) | put_le(b, w->n_schemas, 2) |
+            put_le(b, w->n_channels, 4) | put_le(b, 0, 4) | put_le(b, 0, 4) |
+            put_le(b, w->n_chunks, 4) | put_le(b, w->first_time, 8) |
+            put_le(b, w->last_time, 8) | put_le(b, (uint64_t)w->n_channels * 10u, 4);
+    for (uint16_t c = 1; c <= w->n_channels; c++)
+        e |= put_le(b, c, 2) | put_le(b, w->channel_messages[c], 8);
+    rec_end(b, s);
+    if (e != 0 && rc == ROZ_OK)
+        rc = ROZ_ENOMEM;
+    if (rc == ROZ_OK)
+        rc = summary_group(w, ob, OP_STATISTICS, rec, len);
+    if (rc == ROZ_OK)
+        rc = summary_group(w, ob, OP_CHUNK_INDEX, w->chunk_indexes, w->chunk_indexes_len);
+    uint64_t offsets_start = w->offset;
+    if (rc == ROZ_OK)
+        rc = emit(w, offs, olen, 0);
+    /* the footer */
+    len = 0;
+    s = rec_begin(b, OP_FOOTER);
+    (void)put_le(b, summary_start, 8);
+    (void)put_le(b, offsets_start, 8);
+    rec_end(b, s);
+    if (rc == ROZ_OK)
+        rc = emit(w, rec, len, 0); /* without its CRC field yet */
+    /* the summary CRC: re-read what was written since summary_start */
+    uint32_t crc = 0;
+    if (rc == ROZ_OK && fflush(w->out) == 0) {
+        FILE *in = fopen(w->path, "rb");
+        if (in == NULL || fseek(in, summary_pos, SEEK_SET) != 0) {
+            fail(w, "cannot re-read the summary", errno);
+            rc = ROZ_EIO;
+        } else {
+            unsigned char tmp[4096];
+            size_t n;
+            while ((n = fread(tmp, 1, sizeof tmp, in)) > 0)
+                crc = roz_mcap_crc32(crc, tmp, n);
+        }
+        if (in != NULL)
+            fclose(in);
+    }
+    len = 0;
+    (void)put_le(b, crc, 4);
+    (void)put(b, magic, sizeof magic);
+    if (rc == ROZ_OK)
+        rc = emit(w, rec, len, 0);
+    if (fclose(w->out) != 0 && rc == ROZ_OK) {
+        fail(w, "closing", errno);
+        rc = ROZ_EIO;
+    }
+    w->out = NULL;
+    free(rec);
+    free(offs);
+    free(w->chunk);
+    free(w->schemas);
+    free(w->channels);
+    free(w->chunk_indexes);
+    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
+        free(w->index[c]);
+    w->chunk = w->schemas = w->channels = w->chunk_indexes = NULL;
+    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
+        w->index[c] = NULL;
+    if (rc != ROZ_OK && w->error[0] == '\0')
+        fail(w, rc == ROZ_ENOMEM ? "out of memory" : "write failed", 0);
+    return rc == ROZ_OK ? ROZ_OK : ROZ_EIO;
+}
+
+/* ---- reader ------------------------------------------------------------------ */
+
+static void rerr(const roz_mcap_reader_t *r, char *err, size_t errlen, uint64_t at,
+                 const char *fmt, ...)
+{
+    char what[160];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (err != NULL && errlen > 0)
+        snprintf(err, errlen, "%s: at offset %llu: %s", r->path, (unsigned long long)at, what);
+}
+
+static uint64_t get_le(const unsigned char *p, int bytes)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < bytes; i++)
+        v |= (uint64_t)p[i] << (8 * i);
+    return v;
+}
+
+/* A string field at *at within [.., end): copied (truncated) into dst. */
+static int get_str(const unsigned char *p, size_t *at, size_t end, char *dst, size_t cap)
+{
+    if (*at + 4u > end)
+        return -1;
+    size_t n = (size_t)get_le(p + *at, 4);
+    *at += 4u;
+    if (n > end - *at)
+        return -1;
+    size_t k = n < cap - 1u ? n : cap - 1u;
+    memcpy(dst, p + *at, k);
+    dst[k] = '\0';
+    *at += n;
+    return 0;
+}
+
+int roz_mcap_reader_open(roz_mcap_reader_t *r, const char *path, char *err, size_t errlen)
+{
+    memset(r, 0, sizeof *r);
+    r->path = path;
+    FILE *in = fopen(path, "rb");
+    if (in == NULL) {
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return ROZ_EIO;
+    }
+    if (fseek(in, 0, SEEK_END) != 0 || ftell(in) < 0) {
+        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        fclose(in);
+        return ROZ_EIO;
+    }
+    r->len = (size_t)ftell(in);
+    rewind(in);
+    r->buf = malloc(r->len ? r->len : 1u);
+    if (r->buf == NULL) {
+        fclose(in);
+        snprintf(err, errlen, "%s: out of memory for %lu bytes", path, (unsigned long)r->len);
+        return ROZ_ENOMEM;
+    }
+    if (fread(r->buf, 1, r->len, in) != r->len) {
+        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
+        fclose(in);
+        roz_mcap_reader_close(r);
+        return ROZ_EIO;
+    }
+    fclose(in);
+    if (r->len < sizeof magic || memcmp(r->buf, magic, sizeof magic) != 0) {
+        rerr(r, err, errlen, 0, "not an MCAP file (no MCAP magic)");
+        roz_mcap_reader_close(r);
+        return ROZ_EINVAL;
+    }
+    if (r->len < 17u || r->buf[8] != OP_HEADER ||
+        get_le(r->buf + 9, 8) > r->len - 17u) {
+        rerr(r, err, errlen, 8, "no complete header record");
+        roz_mcap_reader_close(r);
+        return ROZ_EINVAL;
+    }
+    r->pos = 17u + (size_t)get_le(r->buf + 9, 8);
+    r->complete = r->len >= 2u * sizeof magic + 17u &&
+                  memcmp(r->buf + r->len - sizeof magic, magic, sizeof magic) == 0;
+    return ROZ_OK;
+}
+
+/* Takes a schema or channel record in (content at p, n bytes). */
+static int take_definition(roz_mcap_reader_t *r, uint8_t op, const unsigned char *p, size_t n)
+{
+    size_t at = 0;
+    if (op == OP_SCHEMA) {
+        if (n < 2u)
+            return -1;
+        uint16_t id = (uint16_t)get_le(p, 2);
+        at = 2;
+        char name[64];
+        if (get_str(p, &at, n, name, sizeof name) != 0)
+            return -1;
+        if (id >= 1u && id <= ROZ_MCAP_MAX_CHANNELS)
+            memcpy(r->schema_names[id], name, sizeof name);
+    } else if (op == OP_CHANNEL) {
+        if (n < 4u)
+            return -1;
+        uint16_t id = (uint16_t)get_le(p, 2), schema = (uint16_t)get_le(p + 2, 2);
+        at = 4;
+        char topic[64];
+        if (get_str(p, &at, n, topic, sizeof topic) != 0)
+            return -1;
+        if (id >= 1u && id <= ROZ_MCAP_MAX_CHANNELS) {
+            memcpy(r->topics[id], topic, sizeof topic);
+            r->channel_schema[id] = schema;
+        }
+    }
+    return 0;
+}
+
+int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *err,
+                         size_t errlen)
+{
+    for (;;) {
+        if (r->done)
+            return 0;
+        if (r->in_chunk) {
+            if (r->chunk_pos >= r->chunk_end) {
+                r->in_chunk = 0;
+                continue;
+            }
+            size_t at = r->chunk_pos;
+            uint64_t file_at = r->chunk_base;
+            if (r->chunk_end - at < 9u) {
+                rerr(r, err, errlen, file_at, "chunk: a record cut short at byte %lu of its records",
+                     (unsigned long)(at - (size_t)(r->chunk_data - r->buf)));
+                return ROZ_EINVAL;
+            }
+            uint8_t op = r->buf[at];
+            uint64_t n = get_le(r->buf + at + 1, 8);
+            if (n > r->chunk_end - at - 9u) {
+                rerr(r, err, errlen, file_at, "chunk: a record of %llu bytes runs past its end",
+                     (unsigned long long)n);
+                return ROZ_EINVAL;
+            }
+            const unsigned char *p = r->buf + at + 9;
+            r->chunk_pos = at + 9u + (size_t)n;
+            if (op == OP_SCHEMA || op == OP_CHANNEL) {
+                if (take_definition(r, op, p, (size_t)n) != 0) {
+                    rerr(r, err, errlen, file_at, "chunk: a malformed %s record",
+                         op == OP_SCHEMA ? "schema" : "channel");
+                    return ROZ_EINVAL;
+                }
+                continue;
+            }
+            if (op != OP_MESSAGE)
+                continue;
+            if (n < 22u) {
+                rerr(r, err, errlen, file_at, "chunk: a message record of %llu bytes",
+                     (unsigned long long)n);
+                return ROZ_EINVAL;
+            }
+            out->channel = (uint16_t)get_le(p, 2);
+            out->sequence = (uint32_t)get_le(p + 2, 4);
+            out->log_time = get_le(p + 6, 8);
+            out->publish_time = get_le(p + 14, 8);
+            out->data = p + 22;
+            out->len = (size_t)n - 22u;
+            out->offset = file_at;
+            if (out->channel == 0 || out->channel > ROZ_MCAP_MAX_CHANNELS ||
+                r->topics[out->channel][0] == '\0') {
+                rerr(r, err, errlen, file_at, "a message on channel %u, which no channel record "
+                     "defines", (unsigned)out->channel);
+                return ROZ_EINVAL;
+            }
+            out->topic = r->topics[out->channel];
+            uint16_t sc = r->channel_schema[out->channel];
+            out->schema = sc >= 1u && sc <= ROZ_MCAP_MAX_CHANNELS ? r->schema_names[sc] : "";
+            return 1;
+        }
+        /* the data section, record by record */
+        size_t at = r->pos;
+        if (r->len - at < 9u) {
+            r->done = 1;
+            snprintf(r->warning, sizeof r->warning,
+                     "%s: cut short at offset %lu (no data end, summary or footer): read up "
+                     "to there", r->path, (unsigned long)at);
+            return 0;
+        }
+        uint8_t op = r->buf[at];
+        uint64_t n = get_le(r->buf + at + 1, 8);
+        if (n > r->len - at - 9u) {
+            r->done = 1;
+            snprintf(r->warning, sizeof r->warning,
+                     "%s: cut short at offset %lu (a record of %llu bytes runs past the end "
+                     "of the file): read up to there", r->path, (unsigned long)at,
+                     (unsigned long long)n);
+            return 0;
+        }
+        const unsigned char *p = r->buf + at + 9;
+        r->pos = at + 9u + (size_t)n;
+        switch (op) {
+        case OP_DATA_END:
+        case OP_FOOTER:
+            r->done = 1;
+            if (!r->complete)
+                snprintf(r->warning, sizeof r->warning,
+                         "%s: no trailing magic: the file is cut short after offset %lu",
+                         r->path, (unsigned long)at);
+            return 0;
+        case OP_SCHEMA:
+        case OP_CHANNEL:
+            if (take_definition(r, op, p, (size_t)n) != 0) {
+                rerr(r, err, errlen, at, "a malformed %s record",
+                     op == OP_SCHEMA ? "schema" : "channel");
+                return ROZ_EINVAL;
+            }
+            break;
+        case OP_CHUNK: {
+            if (n < 8u * 3u + 4u + 4u + 8u) {
+                rerr(r, err, errlen, at, "a chunk record of %llu bytes", (unsigned long long)n);
+                return ROZ_EINVAL;
+            }
+            uint64_t usize = get_le(p + 16, 8);
+            uint32_t crc = (uint32_t)get_le(p + 24, 4);
+            size_t q = 28;
+            char comp[32];
+            if (get_str(p, &q, (size_t)n, comp, sizeof comp) != 0 || q + 8u > n) {
+                rerr(r, err, errlen, at, "a malformed chunk record");
+                return ROZ_EINVAL;
+            }
+            if (comp[0] != '\0') {
+                rerr(r, err, errlen, at, "a chunk compressed with \"%s\", which this reader "
+                     "does not decompress", comp);
+                return ROZ_EINVAL;
+            }
+            uint64_t rlen = get_le(p + q, 8);
+            q += 8u;
+            if (rlen > n - q || rlen != usize) {
+                rerr(r, err, errlen, at, "a chunk whose records (%llu bytes) do not fit it",
+                     (unsigned long long)rlen);
+                return ROZ_EINVAL;
+            }
+            uint32_t got = roz_mcap_crc32(0, p + q, (size_t)rlen);
+            if (crc != 0 && got != crc) {
+                rerr(r, err, errlen, at, "chunk CRC mismatch (stored %08lx, computed %08lx): "
+                     "the file is corrupt", (unsigned long)crc, (unsigned long)got);
+                return ROZ_EINVAL;
+            }
+            r->chunk_data = r->buf + (p - r->buf) + q;
+            r->chunk_pos = (size_t)(r->chunk_data - r->buf);
+            r->chunk_end = r->chunk_pos + (size_t)rlen;
+            r->chunk_base = at;
+            r->in_chunk = 1;
+            break;
+        }
+        case OP_MESSAGE:
+            rerr(r, err, errlen, at, "a message outside a chunk (roz writes none)");
+            return ROZ_EINVAL;
+        default:
+            break; /* message indexes, attachments, metadata: not needed here */
+        }
+    }
+}
+
+void roz_mcap_reader_close(roz_mcap_reader_t *r)
+{
+    free(r->buf);
+    r->buf = NULL;
+}

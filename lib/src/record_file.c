@@ -1,0 +1,629 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Flight recordings as MCAP: the roz messages in ROS 2 CDR (XCDR1, little
+ * endian: a 4-byte encapsulation header 00 01 00 00, then every primitive
+ * aligned to its size counted from the end of that header; a string is a
+ * u32 length with its NUL, the bytes and the NUL; a sequence a u32 count). */
+#include "roz/record_file.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "roz/identity.h"
+
+/* ---- types ------------------------------------------------------------------ */
+
+typedef struct {
+    unsigned char **p;
+    size_t         *cap;
+    size_t          len;
+    int             oom;
+} cdr_t;
+
+static const char tick_schema[] =
+    "# one tick of the roz runtime (roz/recorder.h, roz_record_t)\n"
+    "uint64 tick\n"
+    "int64 controller_tick\n"
+    "uint64 sim_time_ns\n"
+    "uint64 wall_time_ns\n"
+    "uint64 fuel\n"
+    "uint64 process_ns\n"
+    "uint64 tick_ns\n"
+    "uint64 controller_hash\n"
+    "uint32 faults\n"
+    "uint32 cleared\n"
+    "int32 read_rc\n"
+    "uint32 flags\n"
+    "bool fresh\n"
+    "bool ran\n"
+    "bool wrote\n";
+
+static const char run_schema[] =
+    "# a roz run, once per recording\n"
+    "string robot_id\n"
+    "string robot_class\n"
+    "uint32 control_rate_hz\n"
+    "uint64 interface_hash\n"
+    "string[] command_names\n"
+    "string[] state_names\n"
+    "uint32 stale_ticks\n"
+    "uint64 fuel_per_tick\n"
+    "uint64 budget_ns\n"
+    "uint32 decimation\n"
+    "bool allow_foreign_controller\n";
+
+static const char controller_schema[] =
+    "# the controller that drives from this tick on\n"
+    "uint64 hash\n"
+    "string name\n";
+
+static const char fault_schema[] =
+    "# the latched faults changed\n"
+    "uint32 faults\n"
+    "uint32 cleared\n"
+    "string message\n";
+
+/* ---- CDR ---------------------------------------------------------------------- */
+
+static void cdr_begin(cdr_t *c, unsigned char **p, size_t *cap)
+{
+    c->p = p;
+    c->cap = cap;
+    c->len = 0;
+    c->oom = 0;
+    static const unsigned char hdr[4] = { 0x00, 0x01, 0x00, 0x00 }; /* CDR_LE */
+    if (*cap < 4096u) {
+        unsigned char *n = realloc(*p, 4096u);
+        if (n == NULL) {
+            c->oom = 1;
+            return;
+        }
+        *p = n;
+        *cap = 4096u;
+    }
+    memcpy(*p, hdr, 4);
+    c->len = 4;
+}
+
+static void cdr_raw(cdr_t *c, const void *src, size_t n)
+{
+    if (c->oom)
+        return;
+    if (c->len + n > *c->cap) {
+        size_t cap = *c->cap * 2u;
+        while (cap < c->len + n)
+            cap *= 2u;
+        unsigned char *p = realloc(*c->p, cap);
+        if (p == NULL) {
+            c->oom = 1;
+            return;
+        }
+        *c->p = p;
+        *c->cap = cap;
+    }
+    memcpy(*c->p + c->len, src, n);
+    c->len += n;
+}
+
+static void cdr_align(cdr_t *c, size_t a)
+{
+    static const unsigned char zero[8] = { 0 };
+    size_t pad = (a - (c->len - 4u) % a) % a;
+    cdr_raw(c, zero, pad);
+}
+
+static void cdr_u(cdr_t *c, uint64_t v, size_t bytes)
+{
+    unsigned char t[8];
+    cdr_align(c, bytes);
+    for (size_t i = 0; i < bytes; i++)
+        t[i] = (unsigned char)(v >> (8u * i));
+    cdr_raw(c, t, bytes);
+}
+
+static void cdr_f64(cdr_t *c, double v)
+{
+    uint64_t u;
+    memcpy(&u, &v, sizeof u);
+    cdr_u(c, u, 8);
+}
+
+static void cdr_str(cdr_t *c, const char *s)
+{
+    size_t n = strlen(s) + 1u;
+    cdr_u(c, n, 4);
+    cdr_raw(c, s, n);
+}
+
+/* ---- field names -------------------------------------------------------------- */
+
+/* A channel's field name (see the header); @p taken: the names so far, for
+ * uniqueness. */
+static void field_name(const roz_channel_t *ch, size_t index, char *out, size_t cap,
+                       const char *taken, size_t taken_len)
+{
+    size_t k = 0;
+    int sep = 0;
+    for (const char *s = ch->name; *s != '\0' && k + 12u < cap; s++) {
+        char c = *s;
+        if (c >= 'A' && c <= 'Z')
+            c = (char)(c - 'A' + 'a');
+        if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9')) {
+            if (sep && k > 0)
+                out[k++] = '_';
+            sep = 0;
+            if (k == 0 && c >= '0' && c <= '9') {
+                out[k++] = 'c';
+                out[k++] = '_';
+            }
+            out[k++] = c;
+        } else {
+            sep = 1;
+        }
+    }
+    if (k == 0)
+        out[k++] = 'c';
+    out[k] = '\0';
+    /* taken: "\nname\n" entries */
+    char probe[160];
+    snprintf(probe, sizeof probe, "\n%s\n", out);
+    if (taken != NULL && taken_len > 0 && strstr(taken, probe) != NULL)
+        snprintf(out + k, cap - k, "_%lu", (unsigned long)index);
+}
+
+/* The ros2msg text of a manifest's states or commands: one float64 each. */
+static char *values_schema(const roz_channel_t *chs, uint16_t n, const char *what)
+{
+    size_t cap = 128u + (size_t)n * 96u, len = 0;
+    char *text = malloc(cap), *taken = malloc(cap);
+    size_t taken_len = 0;
+    if (text == NULL || taken == NULL) {
+        free(text);
+        free(taken);
+        return NULL;
+    }
+    taken[0] = '\n';
+    taken[1] = '\0';
+    taken_len = 1;
+    len += (size_t)snprintf(text + len, cap - len, "# %s, in manifest order\n", what);
+    for (uint16_t i = 0; i < n; i++) {
+        char name[80];
+        field_name(&chs[i], i, name, sizeof name, taken, taken_len);
+        len += (size_t)snprintf(text + len, cap - len, "float64 %s  # %s [%s]\n", name,
+                                chs[i].name, chs[i].unit != NULL ? chs[i].unit : "");
+        taken_len += (size_t)snprintf(taken + taken_len, cap - taken_len, "%s\n", name);
+    }
+    free(taken);
+    return text;
+}
+
+/* ---- writing ------------------------------------------------------------------- */
+
+static int put_msg(roz_record_file_t *f, uint16_t ch, uint64_t t, cdr_t *c)
+{
+    if (c->oom)
+        return ROZ_ENOMEM;
+    return roz_mcap_message(&f->w, ch, t, t, *c->p, c->len);
+}
+
+static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
+{
+    const roz_manifest_t *m = f->m;
+    cdr_t c;
+    cdr_begin(&c, &f->msg, &f->msg_cap);
+    cdr_str(&c, m->robot_id);
+    cdr_str(&c, m->robot_class != NULL ? m->robot_class : "");
+    cdr_u(&c, m->control_rate_hz, 4);
+    cdr_u(&c, roz_manifest_interface_hash(m), 8);
+    cdr_u(&c, m->n_commands, 4);
+    for (uint16_t i = 0; i < m->n_commands; i++)
+        cdr_str(&c, m->commands[i].name);
+    cdr_u(&c, m->n_states, 4);
+    for (uint16_t i = 0; i < m->n_states; i++)
+        cdr_str(&c, m->states[i].name);
+    cdr_u(&c, cfg->stale_ticks, 4);
+    cdr_u(&c, cfg->fuel_per_tick, 8);
+    cdr_u(&c, cfg->budget_ns, 8);
+    cdr_u(&c, roz_recorder_decimation(f->rec), 4);
+    cdr_u(&c, cfg->allow_foreign_controller ? 1u : 0u, 1);
+    return put_msg(f, f->ch_run, 0, &c);
+}
+
+int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
+                         roz_recorder_t *rec, const char *controller_name, char *err,
+                         size_t errlen)
+{
+    const roz_runtime_config_t *cfg = roz_runtime_config(rt);
+    char pkg[96];
+    int rc;
+
+    memset(f, 0, sizeof *f);
+    if (rec == NULL || cfg->recorder != rec) {
+        snprintf(err, errlen, "%s: the runtime records into no recorder, or another one", path);
+        return ROZ_EINVAL;
+    }
+    f->rec = rec;
+    f->m = cfg->manifest;
+    f->controller_name = controller_name != NULL ? controller_name : "";
+    rc = roz_mcap_open(&f->w, path, "roz", 0);
+    if (rc != ROZ_OK) {
+        snprintf(err, errlen, "%s", f->w.error);
+        return rc;
+    }
+    char *state_text = values_schema(f->m->states, f->m->n_states, "the state channels");
+    char *cmd_text = values_schema(f->m->commands, f->m->n_commands, "the command channels");
+    if (state_text == NULL || cmd_text == NULL) {
+        free(state_text);
+        free(cmd_text);
+        (void)roz_mcap_close(&f->w);
+        snprintf(err, errlen, "%s: out of memory", path);
+        return ROZ_ENOMEM;
+    }
+    uint16_t s_run = roz_mcap_schema(&f->w, "roz_msgs/msg/Run", "ros2msg", run_schema);
+    uint16_t s_ctl = roz_mcap_schema(&f->w, "roz_msgs/msg/Controller", "ros2msg",
+                                     controller_schema);
+    uint16_t s_tick = roz_mcap_schema(&f->w, "roz_msgs/msg/Tick", "ros2msg", tick_schema);
+    snprintf(pkg, sizeof pkg, "roz_%s/msg/State", f->m->robot_id);
+    uint16_t s_state = roz_mcap_schema(&f->w, pkg, "ros2msg", state_text);
+    snprintf(pkg, sizeof pkg, "roz_%s/msg/Commands", f->m->robot_id);
+    uint16_t s_cmd = roz_mcap_schema(&f->w, pkg, "ros2msg", cmd_text);
+    uint16_t s_fault = roz_mcap_schema(&f->w, "roz_msgs/msg/Fault", "ros2msg", fault_schema);
+    free(state_text);
+    free(cmd_text);
+    f->ch_run = roz_mcap_channel(&f->w, s_run, "/roz/run", "cdr");
+    f->ch_controller = roz_mcap_channel(&f->w, s_ctl, "/roz/controller", "cdr");
+    f->ch_tick = roz_mcap_channel(&f->w, s_tick, "/roz/tick", "cdr");
+    f->ch_state = roz_mcap_channel(&f->w, s_state, "/roz/state", "cdr");
+    f->ch_target = roz_mcap_channel(&f->w, s_cmd, "/roz/target", "cdr");
+    f->ch_applied = roz_mcap_channel(&f->w, s_cmd, "/roz/applied", "cdr");
+    f->ch_fault = roz_mcap_channel(&f->w, s_fault, "/roz/fault", "cdr");
+    if (f->ch_fault == 0)
+        rc = ROZ_ENOMEM;
+    if (rc == ROZ_OK)
+        rc = write_run(f, cfg);
+    if (rc != ROZ_OK) {
+        snprintf(err, errlen, "%s: %s", path, f->w.error[0] ? f->w.error : "out of memory");
+        (void)roz_mcap_close(&f->w);
+        free(f->msg);
+        f->msg = NULL;
+        return rc;
+    }
+    return ROZ_OK;
+}
+
+static int write_values(roz_record_file_t *f, uint16_t ch, uint64_t t, const double *v,
+                        uint16_t n)
+{
+    cdr_t c;
+    cdr_begin(&c, &f->msg, &f->msg_cap);
+    for (uint16_t i = 0; i < n; i++)
+        cdr_f64(&c, v[i]);
+    return put_msg(f, ch, t, &c);
+}
+
+static int write_record(void *ctx, const roz_record_t *r)
+{
+    roz_record_file_t *f = ctx;
+    const roz_manifest_t *m = f->m;
+    uint64_t t = r->sim_ns;
+    int rc = ROZ_OK;
+    cdr_t c;
+
+    if (f->failed)
+        return 0; /* drained, not written: the ring must not fill */
+    if (!f->have_hash || r->controller_hash != f->last_hash) {
+        cdr_begin(&c, &f->msg, &f->msg_cap);
+        cdr_u(&c, r->controller_hash, 8);
+        cdr_str(&c, r->controller_hash != 0 ? f->controller_name : "");
+        rc = put_msg(f, f->ch_controller, t, &c);
+        f->have_hash = 1;
+        f->last_hash = r->controller_hash;
+    }
+    cdr_begin(&c, &f->msg, &f->msg_cap);
+    cdr_u(&c, r->tick, 8);
+    cdr_u(&c, (uint64_t)r->controller_tick, 8);
+    cdr_u(&c, r->sim_ns, 8);
+    cdr_u(&c, r->wall_ns, 8);
+    cdr_u(&c, r->fuel, 8);
+    cdr_u(&c, r->process_ns, 8);
+    cdr_u(&c, r->tick_ns, 8);
+    cdr_u(&c, r->controller_hash, 8);
+    cdr_u(&c, r->faults, 4);
+    cdr_u(&c, r->cleared, 4);
+    cdr_u(&c, (uint32_t)r->read_rc, 4);
+    cdr_u(&c, r->flags, 4);
+    cdr_u(&c, (r->flags & ROZ_RECORD_FRESH) ? 1u : 0u, 1);
+    cdr_u(&c, (r->flags & ROZ_RECORD_RAN) ? 1u : 0u, 1);
+    cdr_u(&c, (r->flags & ROZ_RECORD_WROTE) ? 1u : 0u, 1);
+    if (rc == ROZ_OK)
+        rc = put_msg(f, f->ch_tick, t, &c);
+    if (rc == ROZ_OK)
+        rc = write_values(f, f->ch_state, t, r->state, m->n_states);
+    if (rc == ROZ_OK)
+        rc = write_values(f, f->ch_target, t, r->target, m->n_commands);
+    if (rc == ROZ_OK)
+        rc = write_values(f, f->ch_applied, t, r->applied, m->n_commands);
+    if (rc == ROZ_OK && r->fault_message != NULL) {
+        cdr_begin(&c, &f->msg, &f->msg_cap);
+        cdr_u(&c, r->faults, 4);
+        cdr_u(&c, r->cleared, 4);
+        cdr_str(&c, r->fault_message);
+        rc = put_msg(f, f->ch_fault, t, &c);
+    }
+    if (rc != ROZ_OK)
+        f->failed = 1;
+    else
+        f->ticks++;
+    return 0;
+}
+
+int roz_record_file_drain(roz_record_file_t *f)
+{
+    uint64_t before = f->ticks;
+    (void)roz_recorder_drain(f->rec, write_record, f, 0);
+    if (f->failed)
+        return ROZ_EIO;
+    return (int)(f->ticks - before > 0x7fffffffu ? 0x7fffffff : f->ticks - before);
+}
+
+uint64_t roz_record_file_ticks(const roz_record_file_t *f)
+{
+    return f->ticks;
+}
+
+int roz_record_file_close(roz_record_file_t *f, char *err, size_t errlen)
+{
+    (void)roz_record_file_drain(f);
+    int rc = roz_mcap_close(&f->w);
+    if (f->failed || rc != ROZ_OK) {
+        snprintf(err, errlen, "%s", f->w.error[0] ? f->w.error : "the recording could not be "
+                                                                "written (out of memory)");
+        rc = ROZ_EIO;
+    }
+    free(f->msg);
+    f->msg = NULL;
+    f->msg_cap = 0;
+    return rc;
+}
+
+/* ---- reading ------------------------------------------------------------------- */
+
+typedef struct {
+    const unsigned char *p;
+    size_t               len, at;
+    int                  bad;
+} rd_t;
+
+static uint64_t rd_u(rd_t *d, size_t bytes)
+{
+    size_t pad = (bytes - (d->at - 4u) % bytes) % bytes;
+    if (d->bad || d->at + pad + bytes > d->len) {
+        d->bad = 1;
+        return 0;
+    }
+    d->at += pad;
+    uint64_t v = 0;
+    for (size_t i = 0; i < bytes; i++)
+        v |= (uint64_t)d->p[d->at + i] << (8u * i);
+    d->at += bytes;
+    return v;
+}
+
+static void rd_str(rd_t *d, char *out, size_t cap)
+{
+    size_t n = (size_t)rd_u(d, 4);
+    if (d->bad || n == 0 || n > d->len - d->at) {
+        d->bad = 1;
+        if (cap > 0)
+            out[0] = '\0';
+        return;
+    }
+    if (out != NULL && cap > 0) {
+        size_t k = n - 1u < cap - 1u ? n - 1u : cap - 1u;
+        memcpy(out, d->p + d->at, k);
+        out[k] = '\0';
+    }
+    d->at += n;
+}
+
+static void rd_begin(rd_t *d, const roz_mcap_message_t *msg)
+{
+    d->p = msg->data;
+    d->len = msg->len;
+    d->at = 4;
+    d->bad = msg->len < 4u || msg->data[1] != 0x01; /* CDR little endian */
+}
+
+static int read_values(const roz_mcap_message_t *msg, double *out, uint16_t n)
+{
+    if (msg->len != 4u + 8u * (size_t)n)
+        return -1;
+    for (uint16_t i = 0; i < n; i++) {
+        uint64_t u = 0;
+        for (int b = 0; b < 8; b++)
+            u |= (uint64_t)msg->data[4u + 8u * i + (unsigned)b] << (8 * b);
+        memcpy(&out[i], &u, sizeof u);
+    }
+    return 0;
+}
+
+int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err, size_t errlen)
+{
+    roz_mcap_message_t msg;
+    int rc;
+
+    memset(rd, 0, sizeof *rd);
+    rc = roz_mcap_reader_open(&rd->r, path, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    rc = roz_mcap_reader_next(&rd->r, &msg, err, errlen);
+    if (rc < 0) {
+        roz_record_reader_close(rd);
+        return rc;
+    }
+    if (rc == 0 || strcmp(msg.topic, "/roz/run") != 0) {
+        snprintf(err, errlen, "%s: at offset %llu: not a roz recording (its first message is "
+                 "not /roz/run)", path, rc == 0 ? 0ull : (unsigned long long)msg.offset);
+        roz_record_reader_close(rd);
+        return ROZ_EINVAL;
+    }
+    rd_t d;
+    roz_record_run_t *run = &rd->run;
+    rd_begin(&d, &msg);
+    rd_str(&d, run->robot_id, sizeof run->robot_id);
+    rd_str(&d, run->robot_class, sizeof run->robot_class);
+    run->control_rate_hz = (uint32_t)rd_u(&d, 4);
+    run->interface_hash = rd_u(&d, 8);
+    uint64_t nc = rd_u(&d, 4);
+    for (uint64_t i = 0; i < nc && !d.bad; i++)
+        rd_str(&d, NULL, 0);
+    uint64_t ns = rd_u(&d, 4);
+    for (uint64_t i = 0; i < ns && !d.bad; i++)
+        rd_str(&d, NULL, 0);
+    run->stale_ticks = (uint32_t)rd_u(&d, 4);
+    run->fuel_per_tick = rd_u(&d, 8);
+    run->budget_ns = rd_u(&d, 8);
+    run->decimation = (uint32_t)rd_u(&d, 4);
+    run->allow_foreign_controller = (int)rd_u(&d, 1);
+    if (d.bad || nc > ROZ_CFG_MAX_COMMANDS || ns > ROZ_CFG_MAX_STATES ||
+        run->control_rate_hz == 0) {
+        snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/run message", path,
+                 (unsigned long long)msg.offset);
+        roz_record_reader_close(rd);
+        return ROZ_EINVAL;
+    }
+    run->n_commands = (uint16_t)nc;
+    run->n_states = (uint16_t)ns;
+    rd->state = calloc((size_t)ns + 2u * (size_t)nc + 1u, sizeof(double));
+    if (rd->state == NULL) {
+        snprintf(err, errlen, "%s: out of memory", path);
+        roz_record_reader_close(rd);
+        return ROZ_ENOMEM;
+    }
+    rd->target = rd->state + ns;
+    rd->applied = rd->target + nc;
+    return ROZ_OK;
+}
+
+const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd)
+{
+    return &rd->run;
+}
+
+enum { HAS_STATE = 1, HAS_TARGET = 2, HAS_APPLIED = 4 };
+
+/* Takes a /roz/tick message as the start of the next tick. */
+static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, char *err,
+                      size_t errlen)
+{
+    rd_t d;
+    roz_record_t *t = &rd->tick;
+    rd_begin(&d, msg);
+    memset(t, 0, sizeof *t);
+    t->tick = rd_u(&d, 8);
+    t->controller_tick = (int64_t)rd_u(&d, 8);
+    t->sim_ns = rd_u(&d, 8);
+    t->wall_ns = rd_u(&d, 8);
+    t->fuel = rd_u(&d, 8);
+    t->process_ns = rd_u(&d, 8);
+    t->tick_ns = rd_u(&d, 8);
+    t->controller_hash = rd_u(&d, 8);
+    t->faults = (uint32_t)rd_u(&d, 4);
+    t->cleared = (uint32_t)rd_u(&d, 4);
+    t->read_rc = (int32_t)(uint32_t)rd_u(&d, 4);
+    t->flags = (uint32_t)rd_u(&d, 4);
+    if (d.bad) {
+        snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/tick message", rd->r.path,
+                 (unsigned long long)msg->offset);
+        return ROZ_EINVAL;
+    }
+    rd->tick_offset = msg->offset;
+    rd->parts = 0;
+    rd->fault_message[0] = '\0';
+    rd->have_tick = 1;
+    return ROZ_OK;
+}
+
+int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t *offset,
+                           char *err, size_t errlen)
+{
+    roz_mcap_message_t msg;
+    const roz_record_run_t *run = &rd->run;
+
+    rd->have_tick = 0;
+    if (rd->have_pending) {
+        rd->have_pending = 0;
+        if (begin_tick(rd, &rd->pending, err, errlen) != ROZ_OK)
+            return ROZ_EINVAL;
+    }
+    for (;;) {
+        int rc = roz_mcap_reader_next(&rd->r, &msg, err, errlen);
+        if (rc < 0)
+            return rc;
+        if (rc == 0)
+            break;
+        if (strcmp(msg.topic, "/roz/tick") == 0) {
+            if (rd->have_tick) {
+                rd->pending = msg;
+                rd->have_pending = 1;
+                break;
+            }
+            if (begin_tick(rd, &msg, err, errlen) != ROZ_OK)
+                return ROZ_EINVAL;
+            continue;
+        }
+        if (!rd->have_tick)
+            continue; /* /roz/controller before its tick */
+        int bad = 0;
+        if (strcmp(msg.topic, "/roz/state") == 0) {
+            bad = read_values(&msg, rd->state, run->n_states);
+            rd->parts |= HAS_STATE;
+        } else if (strcmp(msg.topic, "/roz/target") == 0) {
+            bad = read_values(&msg, rd->target, run->n_commands);
+            rd->parts |= HAS_TARGET;
+        } else if (strcmp(msg.topic, "/roz/applied") == 0) {
+            bad = read_values(&msg, rd->applied, run->n_commands);
+            rd->parts |= HAS_APPLIED;
+        } else if (strcmp(msg.topic, "/roz/fault") == 0) {
+            rd_t d;
+            rd_begin(&d, &msg);
+            (void)rd_u(&d, 4);
+            (void)rd_u(&d, 4);
+            rd_str(&d, rd->fault_message, sizeof rd->fault_message);
+            bad = d.bad;
+        }
+        if (bad) {
+            snprintf(err, errlen, "%s: at offset %llu: a malformed %s message (%lu bytes) at "
+                     "tick %llu", rd->r.path, (unsigned long long)msg.offset, msg.topic,
+                     (unsigned long)msg.len, (unsigned long long)rd->tick.tick);
+            return ROZ_EINVAL;
+        }
+    }
+    if (!rd->have_tick)
+        return 0;
+    if (rd->parts != (HAS_STATE | HAS_TARGET | HAS_APPLIED)) {
+        if (!rd->have_pending && rd->r.warning[0] != '\0')
+            return 0; /* the last tick of a file cut short: incomplete, left out */
+        snprintf(err, errlen, "%s: at offset %llu: tick %llu lacks its %s message",
+                 rd->r.path, (unsigned long long)rd->tick_offset,
+                 (unsigned long long)rd->tick.tick,
+                 !(rd->parts & HAS_STATE) ? "/roz/state"
+                 : !(rd->parts & HAS_TARGET) ? "/roz/target" : "/roz/applied");
+        return ROZ_EINVAL;
+    }
+    *out = rd->tick;
+    out->state = rd->state;
+    out->target = rd->target;
+    out->applied = rd->applied;
+    out->fault_message = (rd->tick.flags & ROZ_RECORD_FAULT_CHANGED) ? rd->fault_message : NULL;
+    if (offset != NULL)
+        *offset = rd->tick_offset;
+    return 1;
+}
+
+void roz_record_reader_close(roz_record_reader_t *rd)
+{
+    roz_mcap_reader_close(&rd->r);
+    free(rd->state);
+    rd->state = NULL;
+}
