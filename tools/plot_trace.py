@@ -1,14 +1,16 @@
 # SPDX-License-Identifier: Apache-2.0
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
-    python tools/plot_trace.py trace.csv out.png [--title TEXT]
+    python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
 state:<state>..., faults, events (see examples/rozrun/trace.h). Up to six
 commands and six position states are drawn. Ticks with a fault latched are
 shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before
-the faults and events columns existed plot without them.
+the faults and events columns existed plot without them. With --compare, a
+second trace is drawn beside the first on the same axes (two runs side by
+side; tools/recording.py compare does the same for two recordings).
 """
 import argparse
 import csv
@@ -92,18 +94,11 @@ def mark(axes, t, cols):
                          bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7))
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("trace")
-    ap.add_argument("png")
-    ap.add_argument("--title", default="")
-    a = ap.parse_args()
-    header, cols = read(a.trace)
+def draw(ax1, ax2, header, cols, label=""):
+    """One run: commanded vs applied on ax1, the position states on ax2."""
     t = cols["time_s"]
     commands = [h[len("applied:"):] for h in header if h.startswith("applied:")][:6]
     positions = [h for h in header if h.startswith("state:") and h.endswith("/position")][:6]
-
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(11, 7.5), sharex=True)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     for i, name in enumerate(commands):
         c = colors[i % len(colors)]
@@ -113,7 +108,8 @@ def main():
         ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
     mark((ax1, ax2), t, cols)
     ax1.set_ylabel("command")
-    ax1.set_title("commanded (dotted) vs applied after the safety filter (solid)")
+    what = "commanded (dotted) vs applied after the safety filter (solid)"
+    ax1.set_title(f"{label}: {what}" if label else what, fontsize=9 if label else None)
     ax1.legend(fontsize=7, ncol=3, loc="upper right")
     ax1.grid(alpha=0.3)
     for i, name in enumerate(positions):
@@ -122,11 +118,36 @@ def main():
     ax2.set_xlabel("time [s]")
     ax2.legend(fontsize=7, ncol=3, loc="upper right")
     ax2.grid(alpha=0.3)
-    if a.title:
-        fig.suptitle(a.title)
+
+
+def plot(runs, png, title=""):
+    """Plots one run, or several side by side (same axes): runs is a list of
+    (header, cols, label)."""
+    n = len(runs)
+    fig, axes = plt.subplots(2, n, figsize=(11 * n if n == 1 else 8 * n, 7.5), sharex=True,
+                             sharey="row", squeeze=False)
+    for k, (header, cols, label) in enumerate(runs):
+        draw(axes[0][k], axes[1][k], header, cols, label)
+    if title:
+        fig.suptitle(title)
     fig.tight_layout()
-    fig.savefig(a.png, dpi=100)
-    print(f"plot: {a.png}")
+    fig.savefig(png, dpi=100)
+    plt.close(fig)
+    print(f"plot: {png}")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("trace")
+    ap.add_argument("png")
+    ap.add_argument("--title", default="")
+    ap.add_argument("--compare", metavar="TRACE",
+                    help="a second trace, drawn beside the first on the same axes")
+    a = ap.parse_args()
+    runs = [(*read(a.trace), a.trace if a.compare else "")]
+    if a.compare:
+        runs.append((*read(a.compare), a.compare))
+    plot(runs, a.png, a.title)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,8 @@ static void sleep_20ms(void)
 
 void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                       const char *controller, uint32_t domain, int ticks, const char *out,
-                      void (*watch)(void *ctx), void *ctx, char *text, size_t len)
+                      const char *record, void (*watch)(void *ctx), void *ctx, char *text,
+                      size_t len)
 {
     char dom[32], nticks[16];
     snprintf(dom, sizeof dom, "dds_domain=%u", (unsigned)domain);
@@ -41,6 +42,7 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                            "--ticks", nticks,
                            "--budget-us", "off",
                            "--stale-ticks", "250",
+                           record != NULL ? "--record" : NULL, record,
                            NULL };
     posix_spawn_file_actions_t fa;
     pid_t pid;
@@ -75,4 +77,40 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
     print_message("%s", text);
     assert_true(WIFEXITED(status));
     assert_int_equal(WEXITSTATUS(status), 0);
+}
+
+/* Reads @p out into @p text (printed). */
+static void read_out(const char *out, char *text, size_t len)
+{
+    FILE *f = fopen(out, "r");
+    assert_non_null(f);
+    size_t n = fread(text, 1, len - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    print_message("%s", text);
+}
+
+void roz_rozrun_replay(const char *rozrun, const char *recording, const char *controller,
+                       int ticks, const char *out, char *text, size_t len)
+{
+    const char *argv[] = { rozrun, "--replay", recording, "--controller", controller, NULL };
+    posix_spawn_file_actions_t fa;
+    char want[64];
+    pid_t pid;
+    int status = 0;
+
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    assert_int_equal(posix_spawn(&pid, rozrun, &fa, NULL, (char *const *)(uintptr_t)argv,
+                                 environ),
+                     0);
+    posix_spawn_file_actions_destroy(&fa);
+    assert_int_equal(waitpid(pid, &status, 0), pid);
+    read_out(out, text, len);
+    assert_true(WIFEXITED(status));
+    assert_int_equal(WEXITSTATUS(status), 0);
+    snprintf(want, sizeof want, "ticks replayed         %d\n", ticks);
+    assert_non_null(strstr(text, want));
+    assert_non_null(strstr(text, "result                 identical"));
 }

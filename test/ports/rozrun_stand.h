@@ -15,12 +15,19 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* Runs rozrun (path @p rozrun) as above, its stdout and stderr to @p out;
- * calls @p watch(@p ctx) every 20 ms while it runs (a hang guard of 60 s
- * fails the test). Then @p text holds its output (printed), and the test
- * has failed unless it exited 0. */
+/* Runs rozrun (path @p rozrun) as above, its stdout and stderr to @p out,
+ * with --record @p record unless it is NULL; calls @p watch(@p ctx) every
+ * 20 ms while it runs (a hang guard of 60 s fails the test). Then @p text
+ * holds its output (printed), and the test has failed unless it exited 0. */
 void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                       const char *controller, uint32_t domain, int ticks, const char *out,
-                      void (*watch)(void *ctx), void *ctx, char *text, size_t len);
+                      const char *record, void (*watch)(void *ctx), void *ctx, char *text,
+                      size_t len);
+
+/* rozrun --replay @p recording --controller @p controller, its output to
+ * @p out and @p text (printed); the test has failed unless it exited 0
+ * having replayed @p ticks ticks identically. */
+void roz_rozrun_replay(const char *rozrun, const char *recording, const char *controller,
+                       int ticks, const char *out, char *text, size_t len);
 
 #endif /* ROZ_TEST_ROZRUN_STAND_H */

@@ -12,7 +12,10 @@
  * frames with no bad CRC; while it runs, the robot receives the stand's
  * commands (the knee's gain reaches the controller's 150, its target the
  * pose's 0.3) with no bad CRC; after it, the robot's last command is the
- * port's damping command (kp 0, kd the manifest's 8). */
+ * port's damping command (kp 0, kd the manifest's 8). The run is recorded
+ * (--record, drained by rozrun's main thread while the port's threads run)
+ * and replayed: rozrun --replay gives the same targets, applied commands and
+ * faults bit for bit at each of the 1500 ticks, without the robot. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -59,7 +62,7 @@ static void test_rozrun_g1_stand(void **st)
         fail_msg("%s", err);
     knee_t knee = { &fake, 0.0, 0.0 };
     roz_rozrun_stand(ROZRUN, "unitree_g1", "unitree/G1", CONTROLLER, ROZ_TEST_DDS_DOMAIN, 1500,
-                     OUT, watch_knee, &knee, text, sizeof text);
+                     OUT, RECORDING, watch_knee, &knee, text, sizeof text);
     assert_non_null(strstr(text, "faults                 none"));
     assert_non_null(strstr(text, "port                   unitree/G1"));
     unsigned long long taken = 0, bad = 1;
@@ -95,6 +98,10 @@ static void test_rozrun_g1_stand(void **st)
     for (int j = 29; j < 35; j++)
         assert_int_equal(c.mode[j], 0);
     assert_int_equal(roz_fake_g1_stop(&fake), 0);
+    assert_non_null(strstr(text, "recording              " RECORDING " (1500 ticks, 0 dropped"));
+
+    /* the recording replays bit for bit, without the robot */
+    roz_rozrun_replay(ROZRUN, RECORDING, CONTROLLER, 1500, OUT ".replay", text, sizeof text);
 }
 
 int main(void)

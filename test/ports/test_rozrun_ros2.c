@@ -76,7 +76,7 @@ static void run_stand(const robot_case_t *rc)
     knee_t knee = { &fake, rc, roz_fake_ros2_group(&fake, rc->knee_group), 0.0, 0.0 };
     assert_true(knee.group >= 0);
     roz_rozrun_stand(ROZRUN, rc->robot, rc->port, controller, ROZ_TEST_DDS_DOMAIN, 1500, out,
-                     watch_knee, &knee, text, sizeof text);
+                     NULL, watch_knee, &knee, text, sizeof text);
     assert_non_null(strstr(text, "faults                 none"));
     char want[128];
     snprintf(want, sizeof want, "port                   %s", rc->port);

@@ -1,0 +1,205 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Read a roz flight recording (MCAP, rozrun --record): check it, turn it into
+rozrun's CSV trace, plot it, or plot two recordings side by side.
+
+    python tools/recording.py check run.mcap
+    python tools/recording.py csv run.mcap out.csv
+    python tools/recording.py plot run.mcap out.png [--title TEXT]
+    python tools/recording.py compare a.mcap b.mcap out.png [--title TEXT]
+
+The CSV has the columns of rozrun's --trace (examples/rozrun/trace.h): tick,
+time_s, target:<command>..., applied:<command>..., state:<state>..., faults,
+events; the plots are tools/plot_trace.py's. `check` reads every record with
+the `mcap` readers, chunk and data-section CRCs checked, decodes every
+message with mcap-ros2-support, checks the counts against the summary and
+prints them; any problem exits non-zero.
+"""
+import argparse
+import importlib.util
+import math
+import pathlib
+import sys
+import zlib
+
+from mcap.reader import make_reader
+from mcap_ros2.decoder import DecoderFactory
+
+_here = pathlib.Path(__file__).resolve().parent
+_spec = importlib.util.spec_from_file_location("plot_trace", _here / "plot_trace.py")
+plot_trace = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(plot_trace)
+
+# roz_record_flag (lib/include/roz/recorder.h)
+FLAG_ESTOP_LEVEL = 1 << 4
+FLAG_ESTOP_PRESS = 1 << 5
+FLAG_CLEAR = 1 << 6
+FLAG_SWAP = 1 << 7
+# roz_fault_name(), with '-' for spaces, as rozrun's trace writes them
+FAULT_NAMES = ["trap", "overrun", "stale-state", "e-stop", "controller-e-stop-request",
+               "port-link", "robot-fault"]
+
+
+class RecordingError(Exception):
+    pass
+
+
+def read(path):
+    """The run's account and its ticks: (run, ticks, counts), ticks a list of
+    dicts with tick, time_s, target, applied, state, faults, flags, message."""
+    run, ticks, counts, by_time = None, [], {}, {}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()], validate_crcs=True)
+        summary = reader.get_summary()
+        if summary is None or summary.statistics is None:
+            raise RecordingError(f"{path}: no summary (the file is cut short?)")
+        current = None
+        for schema, channel, message, decoded in reader.iter_decoded_messages(log_time_order=False):
+            counts[channel.topic] = counts.get(channel.topic, 0) + 1
+            if channel.topic == "/roz/run":
+                run = decoded
+            elif channel.topic == "/roz/tick":
+                current = {"tick": decoded.tick, "time_s": decoded.sim_time_ns / 1e9,
+                           "faults": decoded.faults, "flags": decoded.flags, "message": None,
+                           "fuel": decoded.fuel}
+                ticks.append(current)
+            elif channel.topic in ("/roz/state", "/roz/target", "/roz/applied"):
+                if current is None:
+                    raise RecordingError(f"{path}: {channel.topic} before any /roz/tick")
+                # the schema's fields, in manifest order (mcap_ros2 keeps it)
+                values = [getattr(decoded, n) for n in type(decoded).__slots__]
+                want = len(run.state_names if channel.topic == "/roz/state"
+                           else run.command_names)
+                if len(values) != want:
+                    raise RecordingError(f"{path}: {channel.topic} has {len(values)} fields, "
+                                         f"the run {want} channels")
+                current[channel.topic[len("/roz/"):]] = values
+            elif channel.topic == "/roz/fault" and current is not None:
+                current["message"] = decoded.message
+    if run is None:
+        raise RecordingError(f"{path}: no /roz/run message: not a roz recording")
+    stats = summary.statistics
+    ids = {c.topic: i for i, c in summary.channels.items()}
+    for topic, n in counts.items():
+        if stats.channel_message_counts.get(ids[topic], 0) != n:
+            raise RecordingError(f"{path}: {topic}: {n} messages read, the summary says "
+                                 f"{stats.channel_message_counts.get(ids[topic], 0)}")
+    if sum(counts.values()) != stats.message_count:
+        raise RecordingError(f"{path}: {sum(counts.values())} messages read, the summary says "
+                             f"{stats.message_count}")
+    for t in ticks:
+        for part in ("state", "target", "applied"):
+            if part not in t:
+                raise RecordingError(f"{path}: tick {t['tick']} lacks /roz/{part}")
+    _check_summary_crc(path)
+    return run, ticks, counts
+
+
+def _check_summary_crc(path):
+    """The footer's summary CRC, which the readers do not check."""
+    data = pathlib.Path(path).read_bytes()
+    footer = data[-8 - 29:-8]
+    if footer[0] != 0x02:
+        raise RecordingError(f"{path}: no footer record before the trailing magic")
+    summary_start = int.from_bytes(footer[9:17], "little")
+    crc = int.from_bytes(footer[25:29], "little")
+    if summary_start and crc and zlib.crc32(data[summary_start:len(data) - 8 - 4]) != crc:
+        raise RecordingError(f"{path}: summary CRC mismatch")
+
+
+def events(prev, t):
+    """A tick's events, as rozrun's trace writes them (those a recording
+    holds: e-stop press and release, swap, clear, faults latching and
+    clearing), after the previous recorded tick @p prev (None: none)."""
+    words = []
+    prev_faults = prev["faults"] if prev else 0
+    if t["flags"] & FLAG_ESTOP_PRESS:
+        words.append("estop")
+    if prev and prev["flags"] & FLAG_ESTOP_LEVEL and not t["flags"] & FLAG_ESTOP_LEVEL:
+        words.append("estop-release")
+    if t["flags"] & FLAG_SWAP and t["tick"] != 0:
+        words.append("swap")
+    if t["flags"] & FLAG_CLEAR:
+        words.append("clear")
+    for b, name in enumerate(FAULT_NAMES):
+        bit = 1 << b
+        if t["faults"] & bit and not prev_faults & bit:
+            words.append(f"fault:{name}")
+        elif prev_faults & bit and not t["faults"] & bit:
+            words.append(f"cleared:{name}")
+    return " ".join(words)
+
+
+def table(run, ticks):
+    """The trace's header and columns (plot_trace.read()'s shape)."""
+    header = (["tick", "time_s"] + [f"target:{n}" for n in run.command_names]
+              + [f"applied:{n}" for n in run.command_names]
+              + [f"state:{n}" for n in run.state_names] + ["faults", "events"])
+    cols = {h: [] for h in header}
+    prev = None
+    for t in ticks:
+        cols["tick"].append(float(t["tick"]))
+        cols["time_s"].append(t["time_s"])
+        for i, n in enumerate(run.command_names):
+            cols[f"target:{n}"].append(t["target"][i])
+            cols[f"applied:{n}"].append(t["applied"][i])
+        for i, n in enumerate(run.state_names):
+            cols[f"state:{n}"].append(t["state"][i])
+        cols["faults"].append(float(t["faults"]))
+        cols["events"].append(events(prev, t))
+        prev = t
+    return header, cols
+
+
+def write_csv(header, cols, out):
+    with open(out, "w") as f:
+        f.write(",".join(header) + "\n")
+        for i in range(len(cols["tick"])):
+            row = [f"{cols['tick'][i]:.0f}", f"{cols['time_s'][i]:.6f}"]
+            for h in header[2:-2]:
+                v = cols[h][i]
+                row.append("nan" if math.isnan(v) else f"{v:.9g}")
+            row.append(f"{int(cols['faults'][i])}")
+            row.append(cols["events"][i])
+            f.write(",".join(row) + "\n")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    c = sub.add_parser("check")
+    c.add_argument("mcap")
+    c = sub.add_parser("csv")
+    c.add_argument("mcap")
+    c.add_argument("csv")
+    c = sub.add_parser("plot")
+    c.add_argument("mcap")
+    c.add_argument("png")
+    c.add_argument("--title", default="")
+    c = sub.add_parser("compare")
+    c.add_argument("a")
+    c.add_argument("b")
+    c.add_argument("png")
+    c.add_argument("--title", default="")
+    a = ap.parse_args(argv)
+    try:
+        if a.cmd == "check":
+            run, ticks, counts = read(a.mcap)
+            print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks, "
+                  + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+        elif a.cmd == "csv":
+            write_csv(*table(*read(a.mcap)[:2]), a.csv)
+        elif a.cmd == "plot":
+            header, cols = table(*read(a.mcap)[:2])
+            plot_trace.plot([(header, cols, "")], a.png, a.title)
+        else:
+            runs = []
+            for path in (a.a, a.b):
+                header, cols = table(*read(path)[:2])
+                runs.append((header, cols, pathlib.Path(path).name))
+            plot_trace.plot(runs, a.png, a.title)
+    except RecordingError as e:
+        sys.exit(f"recording: {e}")
+
+
+if __name__ == "__main__":
+    main()
