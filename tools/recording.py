@@ -21,6 +21,7 @@ import pathlib
 import sys
 import zlib
 
+from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
 
@@ -199,6 +200,8 @@ def main(argv=None):
             plot_trace.plot(runs, a.png, a.title)
     except RecordingError as e:
         sys.exit(f"recording: {e}")
+    except (McapError, EOFError, ValueError) as e:
+        sys.exit(f"recording: {getattr(a, 'mcap', None) or a.a}: cannot be read: {e}")
 
 
 if __name__ == "__main__":

@@ -245,7 +245,8 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
     f->rec = rec;
     f->m = cfg->manifest;
     f->controller_name = controller_name != NULL ? controller_name : "";
-    rc = roz_mcap_open(&f->w, path, "roz", 0);
+    /* 64 KiB chunks: a recording whose writer died loses at most the last */
+    rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
     if (rc != ROZ_OK) {
         snprintf(err, errlen, "%s", f->w.error);
         return rc;
@@ -460,6 +461,11 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     if (rc < 0) {
         roz_record_reader_close(rd);
         return rc;
+    }
+    if (rc == 0 && rd->r.warning[0] != '\0') {
+        snprintf(err, errlen, "%s; not one complete chunk: nothing to read", rd->r.warning);
+        roz_record_reader_close(rd);
+        return ROZ_EINVAL;
     }
     if (rc == 0 || strcmp(msg.topic, "/roz/run") != 0) {
         snprintf(err, errlen, "%s: at offset %llu: not a roz recording (its first message is "

@@ -25,6 +25,10 @@
  * (tick x period, from 0), so a recording of a deterministic run is the
  * same file every time but for the wall-clock fields of /roz/tick.
  *
+ * Chunks are closed at 64 KiB (about 100 UR5 or 20 G1 ticks), so a
+ * recording whose writer died (a crash, a power cut) is readable up to its
+ * last complete chunk.
+ *
  * Writing: roz_record_file_open() after roz_runtime_init() with a recorder,
  * roz_record_file_drain() from a non-real-time thread (or between ticks),
  * roz_record_file_close() at the end. Reading: roz_record_reader_open(),
