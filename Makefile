@@ -87,6 +87,7 @@ bench: build
 	$(BUILD)/bench/roz_bench_tick 20000
 	$(BUILD)/bench/roz_bench_fuel 9
 	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then $(BUILD)/bench/roz_bench_can_codec; fi
+	$(BUILD)/bench/roz_bench_record 20000 $(BUILD)/bench
 	if [ -x $(BUILD)/bench/roz_bench_g1_latency ]; then \
 	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000; fi
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
