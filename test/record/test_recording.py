@@ -136,12 +136,18 @@ def test_faults_replayed(tmp_path):
 
 
 def test_trap_and_rebuild_replayed(tmp_path):
-    path = record(tmp_path, "ur5", "bad_trap_run", 200, "--clear-at", 120)
+    """The controller traps at its tick 150; the clear at 200 rebuilds it
+    (a fresh instance from its tick 0): both replayed."""
+    path = record(tmp_path, "ur5", "bad_trap_run", 300, "--clear-at", 200)
     _, ticks, _ = recording.read(path)
-    assert any(t["faults"] & 1 for t in ticks)   # trap
-    msgs = [t["message"] for t in ticks if t["message"]]
-    assert msgs and "trap" in msgs[0].lower() or "unreachable" in msgs[0].lower()
+    by = {t["tick"]: t for t in ticks}
+    assert by[150]["faults"] == 1
+    assert by[150]["message"] == "trap at tick 150: [trap] unreachable executed"
+    assert by[200]["faults"] == 0 and by[200]["flags"] & recording.FLAG_CLEAR
+    assert by[200]["flags"] & recording.FLAG_SWAP     # the rebuilt instance
+    assert by[299]["faults"] == 0
     p = rozrun("--replay", path, "--controller", CTL / "bad_trap_run.wasm")
+    assert "ticks replayed         300\n" in p.stdout
     assert "result                 identical" in p.stdout
 
 
