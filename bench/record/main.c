@@ -117,7 +117,7 @@ static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const c
             int n = roz_record_file_drain(&file);
             drain_ns += roz_clock_monotonic_ns(NULL) - d0;
             if (n < 0) {
-                fprintf(stderr, "bench: %s\n", file.w.error);
+                fprintf(stderr, "bench: %s\n", roz_record_file_error(&file));
                 return -1;
             }
             drained += (uint64_t)n;

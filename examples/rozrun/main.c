@@ -609,7 +609,7 @@ static void record_drain(void)
     if (recording && roz_record_file_drain(&recfile) < 0 && !record_failed) {
         record_failed = 1;
         fprintf(stderr, "rozrun: %s; the rest of the run goes on without it\n",
-                recfile.w.error);
+                roz_record_file_error(&recfile));
     }
 }
 

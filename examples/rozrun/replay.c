@@ -297,8 +297,8 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         fprintf(stderr, "rozrun: --replay: %s\n", err);
         status = 2;
     }
-    if (reader.r.warning[0] != '\0')
-        fprintf(stderr, "rozrun: warning: %s\n", reader.r.warning);
+    if (roz_record_reader_warning(&reader)[0] != '\0')
+        fprintf(stderr, "rozrun: warning: %s\n", roz_record_reader_warning(&reader));
 
     printf("\n== rozrun replay ==\n");
     printf("  recording              %s (%s, %u Hz, %u commands, %u states)\n", o->recording,

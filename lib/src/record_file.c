@@ -372,6 +372,11 @@ uint64_t roz_record_file_ticks(const roz_record_file_t *f)
     return f->ticks;
 }
 
+const char *roz_record_file_error(const roz_record_file_t *f)
+{
+    return f->w.error;
+}
+
 int roz_record_file_close(roz_record_file_t *f, char *err, size_t errlen)
 {
     (void)roz_record_file_drain(f);
@@ -625,6 +630,11 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
     if (offset != NULL)
         *offset = rd->tick_offset;
     return 1;
+}
+
+const char *roz_record_reader_warning(const roz_record_reader_t *rd)
+{
+    return rd->r.warning;
 }
 
 void roz_record_reader_close(roz_record_reader_t *rd)

@@ -23,6 +23,7 @@
 #include <stdio.h>
 
 #include "roz/error.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -33,27 +34,27 @@ extern "C" {
 
 /** A writer. Fields are private to mcap.c. */
 typedef struct roz_mcap_writer {
-    FILE          *out;
-    const char    *path;
-    uint64_t       offset;      /* bytes written */
-    uint32_t       data_crc;    /* CRC-32 state of the data section so far */
-    unsigned char *chunk;       /* records of the open chunk */
-    size_t         chunk_len, chunk_cap, chunk_target;
-    uint64_t       chunk_start, chunk_end; /* message times of the open chunk */
-    uint64_t       chunk_messages;
+    FILE          *ROZ_PRIVATE(out);
+    const char    *ROZ_PRIVATE(path);
+    uint64_t       ROZ_PRIVATE(offset);      /* bytes written */
+    uint32_t       ROZ_PRIVATE(data_crc);    /* CRC-32 state of the data section so far */
+    unsigned char *ROZ_PRIVATE(chunk);       /* records of the open chunk */
+    size_t         ROZ_PRIVATE(chunk_len), ROZ_PRIVATE(chunk_cap), ROZ_PRIVATE(chunk_target);
+    uint64_t       ROZ_PRIVATE(chunk_start), ROZ_PRIVATE(chunk_end); /* message times of the open chunk */
+    uint64_t       ROZ_PRIVATE(chunk_messages);
     /* per channel: the open chunk's message index (time, offset pairs) */
-    uint64_t      *index[ROZ_MCAP_MAX_CHANNELS + 1];
-    size_t         index_len[ROZ_MCAP_MAX_CHANNELS + 1], index_cap[ROZ_MCAP_MAX_CHANNELS + 1];
+    uint64_t      *ROZ_PRIVATE(index)[ROZ_MCAP_MAX_CHANNELS + 1];
+    size_t         ROZ_PRIVATE(index_len)[ROZ_MCAP_MAX_CHANNELS + 1], ROZ_PRIVATE(index_cap)[ROZ_MCAP_MAX_CHANNELS + 1];
     /* the summary: schema and channel records as written, chunk indexes */
-    unsigned char *schemas, *channels, *chunk_indexes;
-    size_t         schemas_len, channels_len, chunk_indexes_len;
-    size_t         schemas_cap, channels_cap, chunk_indexes_cap;
-    uint16_t       n_schemas, n_channels;
-    uint32_t       n_chunks;
-    uint64_t       n_messages, first_time, last_time;
-    uint64_t       channel_messages[ROZ_MCAP_MAX_CHANNELS + 1];
-    uint32_t       sequence[ROZ_MCAP_MAX_CHANNELS + 1];
-    char           error[192]; /* the first error, "" none */
+    unsigned char *ROZ_PRIVATE(schemas), *ROZ_PRIVATE(channels), *ROZ_PRIVATE(chunk_indexes);
+    size_t         ROZ_PRIVATE(schemas_len), ROZ_PRIVATE(channels_len), ROZ_PRIVATE(chunk_indexes_len);
+    size_t         ROZ_PRIVATE(schemas_cap), ROZ_PRIVATE(channels_cap), ROZ_PRIVATE(chunk_indexes_cap);
+    uint16_t       ROZ_PRIVATE(n_schemas), ROZ_PRIVATE(n_channels);
+    uint32_t       ROZ_PRIVATE(n_chunks);
+    uint64_t       ROZ_PRIVATE(n_messages), ROZ_PRIVATE(first_time), ROZ_PRIVATE(last_time);
+    uint64_t       ROZ_PRIVATE(channel_messages)[ROZ_MCAP_MAX_CHANNELS + 1];
+    uint32_t       ROZ_PRIVATE(sequence)[ROZ_MCAP_MAX_CHANNELS + 1];
+    char           ROZ_PRIVATE(error)[192]; /* the first error, "" none */
 } roz_mcap_writer_t;
 
 /**
@@ -110,17 +111,17 @@ typedef struct roz_mcap_message {
 
 /** A reader: the file in memory. Fields are private to mcap.c. */
 typedef struct roz_mcap_reader {
-    const char    *path;
-    unsigned char *buf;
-    size_t         len;
-    size_t         pos;        /* next record of the data section */
-    size_t         chunk_pos, chunk_end, chunk_base; /* inside a chunk's records */
-    unsigned char *chunk_data; /* the chunk's records (in buf) */
-    int            in_chunk, done, complete;
-    uint16_t       channel_schema[ROZ_MCAP_MAX_CHANNELS + 1];
-    char           topics[ROZ_MCAP_MAX_CHANNELS + 1][64];
-    char           schema_names[ROZ_MCAP_MAX_CHANNELS + 1][64];
-    char           warning[192]; /* a file cut short: where, "" none */
+    const char    *ROZ_PRIVATE(path);
+    unsigned char *ROZ_PRIVATE(buf);
+    size_t         ROZ_PRIVATE(len);
+    size_t         ROZ_PRIVATE(pos);        /* next record of the data section */
+    size_t         ROZ_PRIVATE(chunk_pos), ROZ_PRIVATE(chunk_end), ROZ_PRIVATE(chunk_base); /* inside a chunk's records */
+    unsigned char *ROZ_PRIVATE(chunk_data); /* the chunk's records (in buf) */
+    int            ROZ_PRIVATE(in_chunk), ROZ_PRIVATE(done), ROZ_PRIVATE(complete);
+    uint16_t       ROZ_PRIVATE(channel_schema)[ROZ_MCAP_MAX_CHANNELS + 1];
+    char           ROZ_PRIVATE(topics)[ROZ_MCAP_MAX_CHANNELS + 1][64];
+    char           ROZ_PRIVATE(schema_names)[ROZ_MCAP_MAX_CHANNELS + 1][64];
+    char           ROZ_PRIVATE(warning)[192]; /* a file cut short: where, "" none */
 } roz_mcap_reader_t;
 
 /**

@@ -43,6 +43,7 @@
 #include <stdint.h>
 
 #include "roz/mcap.h"
+#include "roz/private.h"
 #include "roz/recorder.h"
 #include "roz/runtime.h"
 
@@ -52,18 +53,19 @@ extern "C" {
 
 /** A recording being written. Fields are private to record_file.c. */
 typedef struct roz_record_file {
-    roz_mcap_writer_t      w;
-    roz_recorder_t        *rec;
-    const roz_manifest_t  *m;
-    uint16_t               ch_run, ch_controller, ch_tick, ch_state, ch_target, ch_applied,
-                           ch_fault;
-    uint64_t               last_hash;
-    int                    have_hash;
-    const char            *controller_name;
-    unsigned char         *msg;    /* one message being encoded */
-    size_t                 msg_cap;
-    uint64_t               ticks, bytes_before;
-    int                    failed;
+    roz_mcap_writer_t      ROZ_PRIVATE(w);
+    roz_recorder_t        *ROZ_PRIVATE(rec);
+    const roz_manifest_t  *ROZ_PRIVATE(m);
+    uint16_t               ROZ_PRIVATE(ch_run), ROZ_PRIVATE(ch_controller), ROZ_PRIVATE(ch_tick),
+                           ROZ_PRIVATE(ch_state), ROZ_PRIVATE(ch_target), ROZ_PRIVATE(ch_applied),
+                           ROZ_PRIVATE(ch_fault);
+    uint64_t               ROZ_PRIVATE(last_hash);
+    int                    ROZ_PRIVATE(have_hash);
+    const char            *ROZ_PRIVATE(controller_name);
+    unsigned char         *ROZ_PRIVATE(msg);    /* one message being encoded */
+    size_t                 ROZ_PRIVATE(msg_cap);
+    uint64_t               ROZ_PRIVATE(ticks), ROZ_PRIVATE(bytes_before);
+    int                    ROZ_PRIVATE(failed);
 } roz_record_file_t;
 
 /**
@@ -89,6 +91,10 @@ int roz_record_file_drain(roz_record_file_t *f);
 /** @brief Ticks written so far. Context: the consumer thread. */
 uint64_t roz_record_file_ticks(const roz_record_file_t *f);
 
+/** @brief The first write error ("" none), naming the file. Context: the
+ *  consumer thread. */
+const char *roz_record_file_error(const roz_record_file_t *f);
+
 /**
  * @brief Drain what is left, finish the file (summary, footer), close it.
  * @retval ROZ_OK  complete; ROZ_EIO  a write failed (err says the first)
@@ -112,17 +118,17 @@ typedef struct roz_record_run {
 
 /** A recording being read. Fields are private to record_file.c. */
 typedef struct roz_record_reader {
-    roz_mcap_reader_t r;
-    roz_record_run_t  run;
-    int               have_tick;
-    roz_record_t      tick;          /* being assembled */
-    uint64_t          tick_offset;
-    double           *state, *target, *applied; /* n_states, n_commands, n_commands */
-    uint32_t          parts;         /* which of state/target/applied the tick has */
-    char              fault_message[256];
-    uint64_t          controller_hash_seen;
-    roz_mcap_message_t pending;      /* a /roz/tick read ahead */
-    int               have_pending;
+    roz_mcap_reader_t ROZ_PRIVATE(r);
+    roz_record_run_t  ROZ_PRIVATE(run);
+    int               ROZ_PRIVATE(have_tick);
+    roz_record_t      ROZ_PRIVATE(tick);          /* being assembled */
+    uint64_t          ROZ_PRIVATE(tick_offset);
+    double           *ROZ_PRIVATE(state), *ROZ_PRIVATE(target), *ROZ_PRIVATE(applied); /* n_states, n_commands, n_commands */
+    uint32_t          ROZ_PRIVATE(parts);         /* which of state/target/applied the tick has */
+    char              ROZ_PRIVATE(fault_message)[256];
+    uint64_t          ROZ_PRIVATE(controller_hash_seen);
+    roz_mcap_message_t ROZ_PRIVATE(pending);      /* a /roz/tick read ahead */
+    int               ROZ_PRIVATE(have_pending);
 } roz_record_reader_t;
 
 /**
@@ -149,6 +155,10 @@ const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd);
  */
 int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t *offset,
                            char *err, size_t errlen);
+
+/** @brief Where a file cut short ends ("" for a complete file, or before
+ *  the end was reached). Context: as roz_record_reader_open(). */
+const char *roz_record_reader_warning(const roz_record_reader_t *rd);
 
 /** @brief Free; idempotent. Context: as roz_record_reader_open(). */
 void roz_record_reader_close(roz_record_reader_t *rd);
