@@ -472,6 +472,7 @@ int roz_mcap_close(roz_mcap_writer_t *w)
 
 /* ---- reader ------------------------------------------------------------------ */
 
+__attribute__((format(printf, 5, 6)))
 static void rerr(const roz_mcap_reader_t *r, char *err, size_t errlen, uint64_t at,
                  const char *fmt, ...)
 {
