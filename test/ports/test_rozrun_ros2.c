@@ -12,7 +12,9 @@
  * samples with none malformed; while it runs, the robot receives the
  * stand's commands on every group (a knee's gain reaches the controller's,
  * its target the pose's); after it, every group's last command is the
- * port's damping command (kp 0, kd the manifest's damping default). */
+ * port's damping command (kp 0, kd the manifest's damping default). The
+ * run is recorded (--record) and replayed: rozrun --replay gives the same
+ * targets, applied commands and faults bit for bit at each tick. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -66,17 +68,18 @@ static void run_stand(const robot_case_t *rc)
 {
     static roz_fake_ros2_t fake;
     roz_fake_ros2_cmd_t c;
-    char err[256] = "", text[16384], out[4096], controller[4096];
+    char err[256] = "", text[16384], out[4096], controller[4096], rec[4096];
     static const char *const extra[] = { "--period-us", "2000", NULL };
 
     snprintf(out, sizeof out, "%s/rozrun_%s.txt", OUT_DIR, rc->robot);
+    snprintf(rec, sizeof rec, "%s/rozrun_%s.mcap", OUT_DIR, rc->robot);
     snprintf(controller, sizeof controller, "%s/%s", CONTROLLER_DIR, rc->controller);
     if (roz_fake_ros2_start(&fake, rc->fake, ROZ_TEST_DDS_DOMAIN, extra, err, sizeof err) != 0)
         fail_msg("%s", err);
     knee_t knee = { &fake, rc, roz_fake_ros2_group(&fake, rc->knee_group), 0.0, 0.0 };
     assert_true(knee.group >= 0);
     roz_rozrun_stand(ROZRUN, rc->robot, rc->port, controller, ROZ_TEST_DDS_DOMAIN, 1500, out,
-                     NULL, watch_knee, &knee, text, sizeof text);
+                     rec, watch_knee, &knee, text, sizeof text);
     assert_non_null(strstr(text, "faults                 none"));
     char want[128];
     snprintf(want, sizeof want, "port                   %s", rc->port);
@@ -118,6 +121,12 @@ static void run_stand(const robot_case_t *rc)
         }
     }
     assert_int_equal(roz_fake_ros2_stop(&fake), 0);
+
+    /* the run was recorded; it replays bit for bit, without the robot */
+    snprintf(want, sizeof want, "recording              %s (1500 ticks, 0 dropped", rec);
+    assert_non_null(strstr(text, want));
+    snprintf(out, sizeof out, "%s/rozrun_%s.replay.txt", OUT_DIR, rc->robot);
+    roz_rozrun_replay(ROZRUN, rec, controller, 1500, out, text, sizeof text);
 }
 
 static void test_rozrun_pm01_stand(void **st)
