@@ -191,7 +191,8 @@ static void test_recorder_overflow(void **st)
 }
 
 /* Decimation 5: ticks 0, 5, 10, 15, and the ticks of an e-stop press and of a
- * clear (their inputs and fault changes are never decimated away). */
+ * clear (their inputs and fault changes are never decimated away); a held
+ * input's release too. */
 static void test_recorder_decimation(void **st)
 {
     size_t len;
@@ -202,10 +203,14 @@ static void test_recorder_decimation(void **st)
             roz_runtime_estop(&rt);
         if (t == 12)
             assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+        if (t == 16)
+            roz_runtime_estop_set(&rt, 1); /* pressed at 16: recorded */
+        if (t == 17)
+            roz_runtime_estop_set(&rt, 0); /* released at 17: recorded, no press */
         tick(t);
     }
     (void)roz_recorder_drain(&rec, sink, NULL, 0);
-    static const uint64_t want[] = { 0, 5, 7, 10, 12, 15 };
+    static const uint64_t want[] = { 0, 5, 7, 10, 12, 15, 16, 17 };
     assert_int_equal(n_got, sizeof want / sizeof want[0]);
     for (size_t i = 0; i < n_got; i++)
         assert_int_equal(got[i].r.tick, want[i]);
@@ -217,6 +222,8 @@ static void test_recorder_decimation(void **st)
     assert_true(got[4].has_msg);
     assert_string_equal(got[4].msg, "");
     assert_false(got[3].has_msg);
+    assert_true(got[6].r.flags & ROZ_RECORD_ESTOP_LEVEL);
+    assert_false(got[7].r.flags & (ROZ_RECORD_ESTOP_LEVEL | ROZ_RECORD_ESTOP_PRESS));
     roz_runtime_deinit(&rt);
 }
 

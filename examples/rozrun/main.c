@@ -80,6 +80,7 @@ typedef struct {
     uint64_t    fuel;
     int         fuel_set;
     uint32_t    stale_ticks;
+    uint32_t    record_every;
     roz_param_t params[MAX_PARAMS];
     size_t      n_params;
 } options_t;
@@ -324,6 +325,9 @@ static void usage(FILE *f)
         "  --record FILE        record every tick as MCAP (state, freshness, targets,\n"
         "                       applied commands, faults, fuel, times; the manifest and\n"
         "                       configuration once): tools/recording.py, Foxglove, ros2 bag\n"
+        "  --record-every N     record every Nth tick only (and every tick where the faults\n"
+        "                       change or an input arrives); such a recording is not\n"
+        "                       replayed (default 1)\n"
         "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
         "                       (no port; --robot optional, checked against the recording)\n"
         "                       and compare its targets and applied commands bit for bit:\n"
@@ -407,7 +411,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
-                                              "--record", "--replay",
+                                              "--record", "--replay", "--record-every",
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel",
                                               "--estop-at", "--estop-release-at", "--clear-at",
@@ -434,6 +438,12 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->trace = v;
         } else if (!strcmp(a, "--record")) {
             o->record = v;
+        } else if (!strcmp(a, "--record-every")) {
+            if (parse_u64(a, v, 1000000, &x) || x == 0) {
+                fprintf(stderr, "rozrun: --record-every must be in 1..1000000\n");
+                return -1;
+            }
+            o->record_every = (uint32_t)x;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--ticks")) {
@@ -889,7 +899,7 @@ int main(int argc, char **argv)
         /* 1024 ticks of room: the main thread drains every 20 ms at most */
         size_t bytes = 1024u * roz_recorder_slot_bytes(m);
         void *ring = malloc(bytes);
-        if (ring == NULL || roz_recorder_init(&recorder, m, ring, bytes, 1) != ROZ_OK) {
+        if (ring == NULL || roz_recorder_init(&recorder, m, ring, bytes, o.record_every) != ROZ_OK) {
             fprintf(stderr, "rozrun: no memory for the recorder's ring (%lu bytes)\n",
                     (unsigned long)bytes);
             return 2;

@@ -51,11 +51,14 @@ void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
     const roz_manifest_t *m = r->m;
     uint32_t flags = rec->flags;
     int changed = !r->any || rec->faults != r->last_faults;
+    uint32_t level = flags & ROZ_RECORD_ESTOP_LEVEL;
+    int released = level != r->last_level;
 
     /* decimation: every Nth tick, and every tick where something happened */
     int due = r->phase == 0u;
     r->phase = due ? r->decimation - 1u : r->phase - 1u;
-    if (!due && !changed && (flags & INPUT_FLAGS) == 0u)
+    r->last_level = level;
+    if (!due && !changed && !released && (flags & INPUT_FLAGS) == 0u)
         return;
 
     uint32_t head = atomic_load_explicit(&r->head, memory_order_relaxed);

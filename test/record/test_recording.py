@@ -261,3 +261,19 @@ def test_replay_refuses(tmp_path):
     p = rozrun("--replay", path, "--robot", "quadcopter", "--controller", CTL / "sine.wasm",
                ok=(2,))
     assert 'records robot "ur5"' in p.stderr and '--robot is "quadcopter"' in p.stderr
+
+
+def test_record_every(tmp_path):
+    """--record-every 10: every 10th tick, and the ticks of an e-stop press
+    and of a clear; such a recording is read back, but not replayed."""
+    path = record(tmp_path, "ur5", "sine", 100, "--record-every", 10, "--estop-at", 55,
+                  "--estop-release-at", 62, "--clear-at", 73)
+    decode_all(path)
+    run, ticks, _ = recording.read(path)
+    assert run.decimation == 10
+    assert [t["tick"] for t in ticks] == [0, 10, 20, 30, 40, 50, 55, 60, 62, 70, 73, 80, 90]
+    assert recording.events(ticks[7], ticks[8]) == "estop-release"
+    assert ticks[6]["faults"] == 8 and ticks[6]["message"] == "e-stop input"
+    assert ticks[10]["faults"] == 0
+    p = rozrun("--replay", path, "--controller", CTL / "sine.wasm", ok=(2,))
+    assert "recorded every 10 ticks: replay needs every tick" in p.stderr

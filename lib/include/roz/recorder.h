@@ -23,7 +23,8 @@
  * roz_recorder_slot_bytes(): a UR5 record is 0.6 KiB, a G1 record 3.5 KiB.
  *
  * Decimation N records every Nth tick, and every tick at which the faults
- * changed or an input (e-stop, clear, swap) arrived. Replay needs N = 1.
+ * changed or an input arrived (an e-stop press or release, a clear, a
+ * swap). Replay needs N = 1.
  */
 #ifndef ROZ_RECORDER_H
 #define ROZ_RECORDER_H
@@ -96,6 +97,7 @@ typedef struct roz_recorder {
     ROZ_ATOMIC(uint32_t)  ROZ_PRIVATE(recorded);  /* written by the tick only */
     uint32_t              ROZ_PRIVATE(phase);     /* tick: ticks until the next decimated one */
     uint32_t              ROZ_PRIVATE(last_faults); /* tick: faults of the last record */
+    uint32_t              ROZ_PRIVATE(last_level);  /* tick: the e-stop input at the last tick */
     int                   ROZ_PRIVATE(any);       /* tick: a record went in */
 } roz_recorder_t;
 
