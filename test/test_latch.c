@@ -166,7 +166,7 @@ static int hp_read(void *self, double *state, size_t n)
     (void)self;
     fire(P_BEFORE_READ);
     int rc = read_rc;
-    if (rc == 1 || rc == ROZ_EROBOT)
+    if (rc == 1 || rc == ROZ_EROBOT || rc == ROZ_EWATCHDOG)
         memcpy(state, st, n * sizeof st[0]);
     else if (rc < 0)
         for (size_t i = 0; i < n; i++)
@@ -187,12 +187,20 @@ static int hp_write(void *self, const double *cmd, size_t n)
 }
 
 /* what the robot reports when read() returns ROZ_EROBOT; why nothing is
- * fresh when read() returns 0 and the test says it knows (stale_why) */
+ * fresh when read() returns 0 and the test says it knows (stale_why); after
+ * ROZ_EWATCHDOG, the silence and the timeout */
 static const char *stale_why;
 
 static int hp_fault(void *self, roz_port_fault_t *out)
 {
     (void)self;
+    if (read_rc == ROZ_EWATCHDOG) {
+        out->what = "command_timeout_us";
+        out->kind = "the tick wrote no command for (us)";
+        out->code = 61234;
+        out->limit = 50000;
+        return ROZ_OK;
+    }
     if (read_rc == 0) {
         if (stale_why == NULL)
             return ROZ_ENOENT;
@@ -643,6 +651,36 @@ static void test_latch_robot_fault(void **s)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* The port's command watchdog fired (the tick was silent past the port's
+ * timeout, and the port sent the robot its safe command): COMMAND_TIMEOUT
+ * latches once with the silence and the timeout, as an immediate stop; the
+ * read is no fresh frame; an event, so a clear takes at once. */
+static void test_latch_command_timeout(void **s)
+{
+    (void)s;
+    setup_rt();
+    ticks(110);
+    uint64_t stale = rt.counters.stale_reads;
+    read_rc = ROZ_EWATCHDOG;
+    ticks(1);
+    read_rc = 1;
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    assert_string_equal(roz_runtime_fault_message(&rt),
+                        "command timeout: the tick wrote no command for 61234 us, longer than "
+                        "the port's command_timeout_us (50000): the port sent the robot its safe "
+                        "command");
+    assert_string_equal(roz_fault_name(ROZ_FAULT_COMMAND_TIMEOUT), "command timeout");
+    assert_true((ROZ_FAULT_COMMAND_TIMEOUT & ROZ_FAULT_IMMEDIATE_MASK) != 0);
+    assert_int_equal(rt.counters.stale_reads, stale + 1);
+    assert_int_equal(rt.counters.faults[7], 1);
+    ticks(5);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(rt.counters.faults[7], 1);
+}
+
 /* A NaN held position in the first frame: its command would have nothing to
  * hold but the manifest default (1.0, far from the joint at 0.3). Nothing is
  * sent until the position is known; then it holds it. */
@@ -737,6 +775,7 @@ int main(void)
         cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
         cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
         cmocka_unit_test_teardown(test_latch_stale_names_the_part, teardown),
+        cmocka_unit_test_teardown(test_latch_command_timeout, teardown),
         cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -15,6 +15,7 @@ const char *roz_strerror(int code)
     case ROZ_EIO:       return "input/output error";
     case ROZ_ETIMEDOUT: return "deadline or budget exceeded";
     case ROZ_EROBOT:    return "the robot reports a fault";
+    case ROZ_EWATCHDOG: return "the tick wrote no command for the port's command timeout";
     case ROZ_ELINK:     return "the robot restarted or came back after it was lost";
     case ROZ_ECONFIG:   return "the application and roz were built with different configurations";
     case ROZ_ENOMEM:    return "the WebAssembly engine could not allocate";

@@ -12,7 +12,7 @@
 
 static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
     "trap", "overrun", "stale state", "e-stop", "controller e-stop request", "port link",
-    "robot fault",
+    "robot fault", "command timeout",
 };
 
 static uint64_t now(const roz_runtime_t *rt)
@@ -194,6 +194,12 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
         snprintf(buf, len, "robot fault: %s %lu (0x%lx)",
                  text != NULL && text[0] != '\0' ? text : "the port reports a fault, code",
                  (unsigned long)num[N_A], (unsigned long)num[N_A]);
+        break;
+    case ROZ_FAULT_COMMAND_TIMEOUT:
+        snprintf(buf, len,
+                 "command timeout: the tick wrote no command for %lu us, longer than the "
+                 "port's command_timeout_us (%lu): the port sent the robot its safe command",
+                 (unsigned long)num[N_A], (unsigned long)num[N_B]);
         break;
     default:
         if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
@@ -444,9 +450,6 @@ static size_t append(char *buf, size_t used, size_t cap, const char *s)
     return used;
 }
 
-/* The robot reported a fault (read() returned ROZ_EROBOT): latch ROBOT with
- * the port's account of it, "<what>: <kind>" and the code, copied, not
- * formatted. */
 /* The port's account of its last read (fault() op), "<what>: <kind>" in
  * @p text, copied; "" when it has none. */
 static void port_account(roz_runtime_t *rt, roz_port_fault_t *f, char *text, size_t cap)
@@ -462,9 +465,12 @@ static void port_account(roz_runtime_t *rt, roz_port_fault_t *f, char *text, siz
     }
 }
 
+/* The robot reported a fault (read() returned ROZ_EROBOT): latch ROBOT with
+ * the port's account of it, "<what>: <kind>" and the code, copied, not
+ * formatted. */
 static void latch_robot(roz_runtime_t *rt)
 {
-    roz_port_fault_t f = { NULL, NULL, 0 };
+    roz_port_fault_t f = { NULL, NULL, 0, 0 };
     char text[ROZ_CFG_ERROR_LEN];
 
     port_account(rt, &f, text, sizeof text);
@@ -475,11 +481,22 @@ static void latch_robot(roz_runtime_t *rt)
  * it has one (a hardware port knows which of its actuators went silent). */
 static void latch_stale(roz_runtime_t *rt)
 {
-    roz_port_fault_t f = { NULL, NULL, 0 };
+    roz_port_fault_t f = { NULL, NULL, 0, 0 };
     char text[ROZ_CFG_ERROR_LEN];
 
     port_account(rt, &f, text, sizeof text);
     latch(rt, ROZ_FAULT_STALE, rt->stale_count, f.code, text);
+}
+
+/* The port's command watchdog fired (read() returned ROZ_EWATCHDOG): latch
+ * COMMAND_TIMEOUT with how long the tick was silent and the timeout. */
+static void latch_command_timeout(roz_runtime_t *rt)
+{
+    roz_port_fault_t f = { NULL, NULL, 0, 0 };
+
+    if (rt->cfg.port.ops->fault != NULL)
+        (void)rt->cfg.port.ops->fault(rt->cfg.port.self, &f);
+    latch(rt, ROZ_FAULT_COMMAND_TIMEOUT, f.code, f.limit, NULL);
 }
 
 /* 2. State: read into a scratch frame (the port leaves it undefined on
@@ -499,6 +516,8 @@ static void tick_read(roz_runtime_t *rt)
     if (rc == ROZ_EROBOT) {
         latch_robot(rt);
         rc = 1;
+    } else if (rc == ROZ_EWATCHDOG) {
+        latch_command_timeout(rt); /* no frame in this read */
     }
     if (rc == 1 && !rt->have_state) {
         bad = first_frame_bad(rt, rt->scratch);

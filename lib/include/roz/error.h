@@ -31,6 +31,8 @@ extern "C" {
 #define ROZ_ETRAP     (-13)  /**< the controller trapped */
 #define ROZ_EVERIFY   (-14)  /**< a controller failed verification and was not installed */
 #define ROZ_EROBOT    (-15)  /**< the robot reports a fault of its own (a motor's fault code) */
+#define ROZ_EWATCHDOG (-16)  /**< a port's command watchdog fired: the tick wrote no command
+                                  for the port's command_timeout_us (roz/hal/cmd_watchdog.h) */
 
 /* A result that must not be ignored. With C++17 or C23 `[[nodiscard]]`,
  * which a cast to void silences; GCC's older attribute cannot be silenced

@@ -39,7 +39,10 @@ typedef struct roz_port_fault {
     const char *what; /**< the part at fault, in storage that lives as long as
                            the port is open: "left_knee_joint" */
     const char *kind; /**< what it reported, static: "motor fault code" */
-    uint32_t    code; /**< the robot's own code */
+    uint32_t    code; /**< the robot's own code; after ROZ_EWATCHDOG: how long
+                           the tick wrote no command, microseconds */
+    uint32_t    limit; /**< after ROZ_EWATCHDOG: the port's command timeout,
+                            microseconds; 0 otherwise */
 } roz_port_fault_t;
 
 /** The operations of one kind of port. Optional ops may be NULL. */
@@ -59,7 +62,14 @@ typedef struct roz_port_ops {
      *  ROZ_FAULT_LINK; ROZ_EROBOT: a fresh frame, in @p state, in which the
      *  robot reports a fault of its own (fault() says which), which latches
      *  ROZ_FAULT_ROBOT; a port returns it for every fresh frame while the
-     *  robot reports the fault: a level, not an event).
+     *  robot reports the fault: a level, not an event; ROZ_EWATCHDOG: the
+     *  port's command watchdog (roz/hal/cmd_watchdog.h) found the tick
+     *  silent for longer than its command timeout and sent the robot its
+     *  safe command instead of the stale one; reported once per trip, in
+     *  place of 0 or 1 (state holds the latest frame, which the runtime
+     *  takes as not fresh), with fault() giving how long the tick was
+     *  silent (code) and the timeout (limit); latches
+     *  ROZ_FAULT_COMMAND_TIMEOUT).
      *  Context: the tick; RT-safe, never blocks. */
     int (*read)(void *self, double *state, size_t n);
     /** Hand n = n_commands filtered commands to the robot. Context: the
@@ -69,11 +79,12 @@ typedef struct roz_port_ops {
     int (*deactivate)(void *self);
     /** Free everything; idempotent. Optional. */
     void (*close)(void *self);
-    /** After read() returned ROZ_EROBOT: what the robot reported. After
-     *  read() returned 0 (nothing fresh): why, when the port knows (an
-     *  actuator that stopped answering, named), else not ROZ_OK; the
-     *  runtime adds it to the STALE fault's message when that latches.
-     *  Optional (without it the fault has a code of 0 and no name).
+    /** After read() returned ROZ_EROBOT: what the robot reported; after
+     *  ROZ_EWATCHDOG: the silence and the timeout. After read() returned 0
+     *  (nothing fresh): why, when the port knows (an actuator that stopped
+     *  answering, named), else not ROZ_OK; the runtime adds it to the STALE
+     *  fault's message when that latches. Optional (without it the fault
+     *  has a code of 0 and no name).
      *  Context: the tick; RT-safe. */
     int (*fault)(void *self, roz_port_fault_t *out);
 } roz_port_ops_t;

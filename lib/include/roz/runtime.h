@@ -76,12 +76,18 @@ typedef enum roz_fault {
     ROZ_FAULT_ROBOT         = 1u << 6, /**< the port's read() returned ROZ_EROBOT: the robot
                                             reports a fault of its own (the port's fault()
                                             op names the part and the code) */
+    ROZ_FAULT_COMMAND_TIMEOUT = 1u << 7, /**< the port's read() returned ROZ_EWATCHDOG:
+                                            the tick wrote no command for the port's
+                                            command timeout, and the port sent the robot
+                                            its safe command on its own */
 } roz_fault_t;
-#define ROZ_FAULT_KIND_COUNT 7
+#define ROZ_FAULT_KIND_COUNT 8
 /** Faults answered by an immediate stop; the others ramp. A robot that
- *  restarted (LINK) has forgotten the commands a ramp would continue from,
- *  so its first command is the safe default itself. */
-#define ROZ_FAULT_IMMEDIATE_MASK (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST | ROZ_FAULT_LINK)
+ *  restarted (LINK), or that the port's command watchdog switched to its
+ *  safe command (COMMAND_TIMEOUT), no longer tracks the commands a ramp
+ *  would continue from, so its first command is the safe default itself. */
+#define ROZ_FAULT_IMMEDIATE_MASK                                                              \
+    (ROZ_FAULT_ESTOP | ROZ_FAULT_ESTOP_REQUEST | ROZ_FAULT_LINK | ROZ_FAULT_COMMAND_TIMEOUT)
 
 /** Log events the ring holds between two roz_runtime_log_drain() calls. */
 #ifndef ROZ_RUNTIME_LOG_RING
