@@ -309,6 +309,7 @@ static void usage(FILE *f)
         "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
         "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
         "                       network_interface, dds_domain, command_writer_period_us,\n"
+        "                       command_timeout_us (the command watchdog; default 50000),\n"
         "                       ...; see roz/unitree_g1.h; engineai/PM01, agibot/X2: the\n"
         "                       same and roz/ros2.h, roz/engineai_pm01.h, roz/agibot_x2.h;\n"
         "                       socketcan: network_interface, can_id, ...; see\n"

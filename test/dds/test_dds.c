@@ -77,12 +77,13 @@ static void test_dds_params(void **st)
     char err[256];
     (void)st;
 
-    assert_int_equal(roz_dds_params_parse(&d, NULL, 7, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_dds_params_parse(&d, NULL, 7, 500, err, sizeof err), ROZ_OK);
     assert_string_equal(d.network_interface, "lo");
     assert_int_equal(d.domain, 7);
     assert_int_equal(d.enable_monitor, 1);
     assert_int_equal(d.command_writer_period_us, 2000);
     assert_int_equal(d.state_decimation, 1);
+    assert_int_equal(d.command_timeout_us, ROZ_CMD_WATCHDOG_DEFAULT_US); /* 50 ms at 500 Hz */
 
     static const struct { const char *key, *value; } bad[] = {
         { "network_interface", "eth0\"/><x" }, { "network_interface", "" },
@@ -91,25 +92,43 @@ static void test_dds_params(void **st)
         { "command_writer_period_us", "50" }, { "command_writer_period_us", "1000001" },
         { "command_writer_period_us", "2 ms" }, { "state_decimation", "0" },
         { "state_decimation", "1001" },
+        /* the watchdog: under two periods of the tick (500 Hz: 2 ms), over 10 s, not a number */
+        { "command_timeout_us", "3999" }, { "command_timeout_us", "10000001" },
+        { "command_timeout_us", "50ms" }, { "command_timeout_us", "0" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         roz_param_t item = { bad[i].key, bad[i].value };
         roz_params_t p = { &item, 1 };
         err[0] = '\0';
-        assert_int_equal(roz_dds_params_parse(&d, &p, 0, err, sizeof err), ROZ_EINVAL);
+        assert_int_equal(roz_dds_params_parse(&d, &p, 0, 500, err, sizeof err), ROZ_EINVAL);
         if (strstr(err, bad[i].key) == NULL || strstr(err, bad[i].value) == NULL)
             fail_msg("%s = \"%s\": \"%s\" names neither", bad[i].key, bad[i].value, err);
     }
     roz_param_t good[] = { { "network_interface", "eth0.10" }, { "dds_domain", "232" },
                            { "command_writer_period_us", "0" }, { "state_decimation", "4" },
-                           { "enable_monitor", "false" } };
-    roz_params_t p = { good, 5 };
-    assert_int_equal(roz_dds_params_parse(&d, &p, 0, err, sizeof err), ROZ_OK);
+                           { "enable_monitor", "false" }, { "command_timeout_us", "4000" } };
+    roz_params_t p = { good, 6 };
+    assert_int_equal(roz_dds_params_parse(&d, &p, 0, 500, err, sizeof err), ROZ_OK);
     assert_string_equal(d.network_interface, "eth0.10");
     assert_int_equal(d.domain, 232);
     assert_int_equal(d.command_writer_period_us, 0);
     assert_int_equal(d.state_decimation, 4);
     assert_int_equal(d.enable_monitor, 0);
+    assert_int_equal(d.command_timeout_us, 4000);
+
+    /* the least timeout and the default follow the slower of the tick and
+     * the writer: a 20 ms writer period allows 40 ms, defaults to 100 ms;
+     * a 10 Hz tick allows 200 ms, defaults to 500 ms */
+    roz_param_t slow[] = { { "command_writer_period_us", "20000" },
+                           { "command_timeout_us", "39999" } };
+    roz_params_t ps = { slow, 2 };
+    assert_int_equal(roz_dds_params_parse(&d, &ps, 0, 500, err, sizeof err), ROZ_EINVAL);
+    assert_non_null(strstr(err, "40000..10000000"));
+    ps.n = 1;
+    assert_int_equal(roz_dds_params_parse(&d, &ps, 0, 500, err, sizeof err), ROZ_OK);
+    assert_int_equal(d.command_timeout_us, 100000);
+    assert_int_equal(roz_dds_params_parse(&d, NULL, 0, 10, err, sizeof err), ROZ_OK);
+    assert_int_equal(d.command_timeout_us, 500000);
 }
 
 static void test_dds_config_xml(void **st)

@@ -56,9 +56,23 @@ int roz_fake_g1_commands(roz_fake_g1_t *f, uint64_t *good, uint64_t *bad)
     return 0;
 }
 
+static int parse_command(roz_fake_g1_t *f, int rc, roz_fake_g1_cmd_t *out);
+
 int roz_fake_g1_command(roz_fake_g1_t *f, roz_fake_g1_cmd_t *out)
 {
-    int rc = roz_fake_g1_ask(f, "command");
+    return parse_command(f, roz_fake_g1_ask(f, "command"), out);
+}
+
+int roz_fake_g1_command_at(roz_fake_g1_t *f, uint64_t k, roz_fake_g1_cmd_t *out)
+{
+    int rc = roz_fake_g1_ask(f, "command_at %llu", (unsigned long long)k);
+    if (rc == 1)
+        return -1;
+    return parse_command(f, rc, out);
+}
+
+static int parse_command(roz_fake_g1_t *f, int rc, roz_fake_g1_cmd_t *out)
+{
     if (rc == 1 && strcmp(f->line, "err none") == 0)
         return 0;
     if (rc != 0)

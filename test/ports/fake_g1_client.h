@@ -41,6 +41,10 @@ typedef struct roz_fake_g1_cmd {
 } roz_fake_g1_cmd_t;
 int roz_fake_g1_command(roz_fake_g1_t *f, roz_fake_g1_cmd_t *out);
 
+/* Good command number @p k (1 the first; roz_fake_g1_commands() counts
+ * them), while the fake keeps it (the last 2048). 1, or -1. */
+int roz_fake_g1_command_at(roz_fake_g1_t *f, uint64_t k, roz_fake_g1_cmd_t *out);
+
 /* Sleep @p ms milliseconds. */
 void roz_fake_g1_sleep_ms(unsigned ms);
 

@@ -25,6 +25,11 @@
  *    hold with startup_damping, the damping command on shutdown;
  *  - a manifest's joints are found by name, in any order and any subset
  *    (the other indices passive); a joint not on the PM01 is refused;
+ *  - the command watchdog (roz::ros2, shared with the X2): the tick stops
+ *    writing, the event-driven writer wakes by itself and the robot gets
+ *    the damping command, repeatedly; read() reports the trip once naming
+ *    the silence and the timeout; the next write is the hold, then the
+ *    commands as written;
  *  - bad parameters and manifests are refused naming the key and value. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -590,6 +595,94 @@ static void test_pm01_periodic_writer(void **st)
     assert_true(s.count >= 1);
 }
 
+/* Until @p cond, or fail after a hang guard (20 s: a loaded machine is slow,
+ * never this slow). */
+#define WAIT_UNTIL(cond)                                                                  \
+    do {                                                                                  \
+        int ms_ = 0;                                                                      \
+        while (!(cond) && ms_ < 20000) {                                                  \
+            roz_fake_sleep_ms(1);                                                         \
+            ms_++;                                                                        \
+        }                                                                                 \
+        if (!(cond))                                                                      \
+            fail_msg("waited 20 s for %s", #cond);                                        \
+    } while (0)
+
+static roz_ros2_counters_t counters(void)
+{
+    roz_ros2_counters_t c;
+    roz_ros2_counters(roz_ros2fx_bridge(), &c);
+    return c;
+}
+
+static void test_pm01_watchdog(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    double q[N];
+    (void)st;
+
+    /* event-driven (the fixture's): once the tick stops nothing wakes the
+     * writer but the watchdog; the robot says nothing meanwhile either (no
+     * link fault for it) */
+    open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
+                               { "peer_timeout_ms", "60000" } },
+              2);
+    start();
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(1);
+    for (uint16_t j = 0; j < N; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
+    assert_int_equal(counters().command_timeouts, 0);
+
+    /* the tick stops */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
+                                       roz_ros2fx_fake()->group[0],
+                                       (unsigned long long)n0[0] + 5u),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    for (uint16_t j = 0; j < N; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        if (c.q[j] != q[j] || c.kp[j] != 0.0 || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
+            c.extra[j] != 0.0 || c.kd[j] != kd->default_value)
+            fail_msg("joint %u after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
+                     "damping command",
+                     (unsigned)j, c.q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
+    }
+    assert_true(counters().safe_published >= 5);
+    assert_int_equal(counters().command_timeouts, 1);
+
+    /* the tick is back: reported once with the silence; the hold; then as
+     * written */
+    roz_port_fault_t f;
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_engineai_pm01_ops.fault(port.self, &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.limit, 100000);
+    assert_true(f.code >= 100000);
+    assert_int_equal(read_pm01(), 0);
+    distinct_command(2);
+    write_pm01();
+    get_command(&c);
+    roz_ros2fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
+    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(3);
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
+    assert_true(c.q[3] == cmd[cmd_index(3, "position")]);
+}
+
 static void test_pm01_startup_and_shutdown_damping(void **st)
 {
     roz_fake_ros2_cmd_t c;
@@ -751,6 +844,7 @@ static void test_pm01_bad_parameters(void **st)
         { "peer_timeout_ms", "5" },         { "startup_damping", "11" },
         { "shutdown_damping", "-1" },       { "parallel_parser_type", "2" },
         { "link_check", "sequence" },       { "link_check", "crc" },
+        { "command_timeout_us", "1000" },   { "command_timeout_us", "10000001" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
@@ -775,6 +869,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_ros2_names, teardown),
         cmocka_unit_test_teardown(test_pm01_decimation, teardown),
         cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
+        cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
         cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
         cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
         cmocka_unit_test(test_pm01_bad_parameters),

@@ -20,6 +20,14 @@
  *  - the periodic writer keeps publishing the last command, and a restarted
  *    robot gets nothing until the tick writes; the start-up hold with
  *    startup_damping; the damping command on shutdown;
+ *  - the command watchdog: the tick stops writing; the robot gets the
+ *    last command for at most the timeout's worth of writer periods, then
+ *    the damping command (kp 0, kd the damping default, the last commanded
+ *    positions), on the writer's own (periodic, and event-driven where
+ *    nothing wakes it); read() reports the trip once and the runtime
+ *    latches COMMAND_TIMEOUT naming the silence and the timeout; the first
+ *    command after it is the start-up hold, a clear lets the stand's gains
+ *    through again;
  *  - bad parameters and manifests are refused naming the key and value, or
  *    the joint or channel. */
 #define _POSIX_C_SOURCE 200809L
@@ -502,6 +510,270 @@ static void test_g1_startup_and_shutdown_damping(void **st)
     }
 }
 
+/* ---- the command watchdog --------------------------------------------------------------- */
+
+/* Until @p cond, or fail after a hang guard (20 s: a loaded machine is slow,
+ * never this slow). */
+#define WAIT_UNTIL(cond)                                                                  \
+    do {                                                                                  \
+        int ms_ = 0;                                                                      \
+        while (!(cond) && ms_ < 20000) {                                                  \
+            roz_fake_g1_sleep_ms(1);                                                      \
+            ms_++;                                                                        \
+        }                                                                                 \
+        if (!(cond))                                                                      \
+            fail_msg("waited 20 s for %s", #cond);                                        \
+    } while (0)
+
+static uint64_t fake_good(void)
+{
+    uint64_t good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_int_equal(bad, 0);
+    return good;
+}
+
+/* Whether @p c is the damping command over the positions @p q (manifest
+ * order of the joints): mode 1, q, kp 0, dq 0, tau 0, kd the damping
+ * channel's default, for every joint; the unused slots zero. */
+static int is_damping(const roz_fake_g1_cmd_t *c, const double *q)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != 0.0 || c->dq[j] != 0.0 ||
+            c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value)
+            return 0;
+    }
+    for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
+        if (c->mode[j] != 0 || c->kp[j] != 0.0 || c->kd[j] != 0.0 || c->q[j] != 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+/* Whether @p c carries the command in cmd[] (every joint's five fields). */
+static int is_written(const roz_fake_g1_cmd_t *c)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        if (c->q[j] != (float)cmd[cmd_index(j, "position")] ||
+            c->kp[j] != (float)cmd[cmd_index(j, "stiffness")] ||
+            c->kd[j] != (float)cmd[cmd_index(j, "damping")])
+            return 0;
+    }
+    return 1;
+}
+
+static void test_g1_watchdog_on_the_wire(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    /* 100 ms: long enough that the steps of a test on a loaded machine do
+     * not trip it while the tick is meant to be alive */
+    const unsigned period_us = 2000, timeout_us = 100000;
+    (void)st;
+
+    /* the robot says nothing while the tick is away: no link fault meanwhile */
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            3);
+    start();
+    for (int k = 1; k <= 5; k++) { /* a tick alive: commands as written */
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        distinct_command(k);
+        write_g1();
+    }
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 0);
+
+    /* the last write, then the tick stops */
+    uint64_t before = fake_good();
+    distinct_command(6);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    uint64_t tripped = fake_good();
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 20000",
+                                     (unsigned long long)tripped + 5u),
+                     0);
+    uint64_t now = fake_good();
+
+    /* what the robot got after the last write: the command before it (in
+     * flight), the last command, then only damping: the last command for no
+     * more than the timeout's writer periods (and up to two late ones
+     * caught up), however slow the machine */
+    unsigned last = 0, damping = 0;
+    for (uint64_t k = before + 1; k <= now; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (is_damping(&c, q)) {
+            damping++;
+        } else if (is_written(&c)) {
+            if (damping != 0)
+                fail_msg("command %llu: the written command after the damping one",
+                         (unsigned long long)k);
+            last++;
+        } else {
+            if (last != 0 || damping != 0)
+                fail_msg("command %llu: neither the last command nor damping",
+                         (unsigned long long)k);
+        }
+    }
+    assert_true(last >= 1);
+    if (last > timeout_us / period_us + 3u)
+        fail_msg("the last command went out %u times after the tick stopped: more than the "
+                 "timeout allows (%u)",
+                 last, timeout_us / period_us + 3u);
+    assert_true(damping >= 5);
+    assert_true(counters().safe_published >= damping);
+    assert_int_equal(counters().command_timeouts, 1); /* once, however long */
+
+    /* the tick is back: read() reports the trip once, naming the silence */
+    roz_port_fault_t f;
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.limit, timeout_us);
+    assert_true(f.code >= timeout_us); /* silent for longer than the timeout */
+    roz_g1fx_sent(sent);
+    assert_true(state[state_index("left_knee_joint/position")] ==
+                sent[state_index("left_knee_joint/position")]); /* read with the report */
+    assert_int_equal(read_g1(), 0);
+    /* its first write is the hold: the measured positions, no gains */
+    distinct_command(7);
+    write_g1();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        assert_true(c.q[j] == sent[state_index(name)]);
+        assert_true(c.kp[j] == 0.0 && c.kd[j] == 0.0);
+    }
+    /* then as written again */
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(8);
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 1);
+}
+
+static void test_g1_watchdog_event_driven(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    /* event-driven: nothing wakes the writer once the tick stops but the
+     * watchdog itself, which then repeats the damping at the tick's rate */
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "0" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            3);
+    start();
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    uint64_t written = fake_good();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 20000",
+                                     (unsigned long long)written + 5u),
+                     0);
+    for (uint64_t k = written + 1; k <= written + 5u; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (!is_damping(&c, q))
+            fail_msg("command %llu after the tick stopped: not the damping command",
+                     (unsigned long long)k);
+    }
+}
+
+static void test_g1_watchdog_latches_in_the_runtime(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    roz_fake_g1_cmd_t c;
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    int knee_kp = cmd_index(3, "stiffness");
+    (void)st;
+
+    /* 300 ms: the test's ticks wait for the fake, slowly on a loaded machine */
+    open_g1((roz_param_t[]){ { "command_timeout_us", "300000" }, { "peer_timeout_ms", "60000" } },
+            2);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    /* past verification: the stand's gains reach the robot */
+    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_true(roz_runtime_last_commands(&rt)[knee_kp] > 0.0);
+    roz_g1fx_settle();
+    get_command(&c);
+    assert_true(c.kp[3] > 0.0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+
+    /* the tick stops; the watchdog trips; the tick is back */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    unsigned long silent = 0, limit = 0;
+    const char *at = strstr(msg, "the tick wrote no command for ");
+    if (strstr(msg, "command timeout") == NULL || at == NULL ||
+        sscanf(at, "the tick wrote no command for %lu us, longer than the port's "
+                   "command_timeout_us (%lu)",
+               &silent, &limit) != 2)
+        fail_msg("the fault names neither the timeout nor the silence: \"%s\"", msg);
+    assert_int_equal(limit, 300000);
+    assert_true(silent >= 300000);
+    assert_int_equal(roz_fault_name(ROZ_FAULT_COMMAND_TIMEOUT)[0], 'c');
+    /* the tick's write after the trip: the start-up hold */
+    roz_g1fx_settle();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
+    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+    assert_true(counters().holds >= 2);
+
+    /* latched (an immediate stop: the safe defaults) until cleared; then
+     * the stand drives again */
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_g1fx_settle();
+    get_command(&c);
+    assert_true(c.kp[3] > 0.0);
+    assert_int_equal(counters().command_timeouts, 1);
+    roz_runtime_deinit(&rt);
+}
+
 /* ---- refusals ----------------------------------------------------------------------- */
 
 static void expect_refused(const roz_manifest_t *man, const char *key, const char *value,
@@ -547,7 +819,8 @@ static void test_g1_bad_parameters(void **st)
         { "state_decimation", "0" },        { "enable_monitor", "maybe" },
         { "mode_pr", "XY" },                { "peer_timeout_ms", "5" },
         { "startup_damping", "11" },        { "shutdown_damping", "-1" },
-        { "startup_damping", "nan" },
+        { "startup_damping", "nan" },       { "command_timeout_us", "3999" },
+        { "command_timeout_us", "10000001" }, { "command_timeout_us", "fast" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
@@ -569,6 +842,9 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
         cmocka_unit_test(test_g1_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

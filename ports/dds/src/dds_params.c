@@ -36,7 +36,7 @@ int roz_dds_check_interface(const char *name, char *err, size_t errlen)
 }
 
 int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t default_domain,
-                         char *err, size_t errlen)
+                         uint32_t control_rate_hz, char *err, size_t errlen)
 {
     const char *iface = roz_params_get_str(p, "network_interface", "lo");
     int rc;
@@ -70,7 +70,8 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  ROZ_DDS_MAX_PERIOD_US);
         return ROZ_EINVAL;
     }
-    return ROZ_OK;
+    return roz_cmd_watchdog_param(p, control_rate_hz, out->command_writer_period_us,
+                                  &out->command_timeout_us, err, errlen);
 }
 
 int roz_dds_config_xml(const char *iface, char *out, size_t len)

@@ -49,6 +49,7 @@ static int pass(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx, uint64_t n
 static void timed_pass(roz_dds_writer_t *w)
 {
     uint64_t t0 = roz_clock_monotonic_ns(NULL);
+    w->last_pass_ns = t0;
     (void)pass(w, w->fill, w->ctx, t0);
     if (w->monitor != NULL) {
         uint64_t t1 = roz_clock_monotonic_ns(NULL);
@@ -87,13 +88,39 @@ static void run_periodic(roz_dds_writer_t *w)
     }
 }
 
+/* When an event-driven writer must pass without a post: the watchdog's
+ * expiry of the last frame sent, or the safe command's next repeat while
+ * tripped; UINT64_MAX: not before a post. A deadline a wait already timed
+ * out at (a pass that did not judge a frame leaves it as it was) is not
+ * waited for again. */
+static uint64_t next_due(roz_dds_writer_t *w)
+{
+    if (w->watchdog == NULL)
+        return UINT64_MAX;
+    uint64_t due = roz_cmd_watchdog_next_ns(w->watchdog);
+    if (due == 0)
+        return w->last_pass_ns + w->repeat_ns;
+    return due == w->fired_due ? UINT64_MAX : due;
+}
+
 /* Event-driven: every post is a frame to publish; posts that piled up
- * while a pass ran are one pass (it publishes the latest frame). */
+ * while a pass ran are one pass (it publishes the latest frame). With a
+ * watchdog, a wait also ends when it is due. */
 static void run_events(roz_dds_writer_t *w)
 {
     for (;;) {
-        while (sem_wait(wake_sem(w)) != 0)
-            ; /* EINTR */
+        uint64_t due = next_due(w);
+        if (due == UINT64_MAX) {
+            while (sem_wait(wake_sem(w)) != 0)
+                ; /* EINTR */
+        } else {
+            struct timespec ts = to_timespec(due);
+            if (sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts) != 0) {
+                if (errno == EINTR)
+                    continue;
+                w->fired_due = due; /* ETIMEDOUT: the watchdog's pass */
+            }
+        }
         while (sem_trywait(wake_sem(w)) == 0)
             ;
         if (atomic_load_explicit(&w->stop, memory_order_acquire))
@@ -183,6 +210,18 @@ int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_f
         return ROZ_EIO;
     w->thread = (unsigned long)th;
     atomic_store(&w->running, 1);
+    return ROZ_OK;
+}
+
+int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us)
+{
+    if (wd == NULL || repeat_us == 0)
+        return ROZ_EINVAL;
+    if (atomic_load(&w->running))
+        return ROZ_ESTATE;
+    w->watchdog = wd;
+    w->repeat_ns = (uint64_t)repeat_us * 1000u;
+    w->fired_due = 0;
     return ROZ_OK;
 }
 

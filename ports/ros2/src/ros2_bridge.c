@@ -12,13 +12,14 @@
 
 #include "ros2_map.h"
 #include "ros2_msgs.h"
+#include "roz/hal/clock.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
 enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE, M_FAULT_SERIAL };
 /* Command frame (tick -> writer thread): n_commands values, then: */
-enum { C_SESSION = 0, C_HOLD, C_SEQ, C_Q };
+enum { C_SESSION = 0, C_HOLD, C_SEQ, C_EPOCH, C_Q };
 
 _Static_assert(M_FAULT_SERIAL + 1 == ROZ_ROS2_STATE_META, "state frame meta");
 _Static_assert(C_Q + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META, "command frame meta");
@@ -128,7 +129,8 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
     keys[n] = NULL;
     int rc = roz_params_check_known(p, keys, r->port, err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_dds_params_parse(&b->dds, p, r->default_domain, err, errlen);
+        rc = roz_dds_params_parse(&b->dds, p, r->default_domain, b->m->control_rate_hz, err,
+                                  errlen);
     if (rc == ROZ_OK)
         rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &b->peer_timeout_ms, err,
                                 errlen);
@@ -350,7 +352,6 @@ static int fill_primary(void *ctx, void *sample, uint64_t now_ns)
     roz_ros2_bridge_t *b = o->bridge;
     const roz_manifest_t *m = b->m;
     roz_buffer_frame_t f;
-    (void)now_ns;
 
     if (atomic_load_explicit(&b->shutdown, memory_order_acquire)) {
         /* the last command: damping, if the robot ever got one */
@@ -368,6 +369,16 @@ static int fill_primary(void *ctx, void *sample, uint64_t now_ns)
         /* written for a robot that restarted since: the new one gets
          * nothing until the tick writes for it */
         bump(&b->c_stale_session);
+    } else if (roz_cmd_watchdog_judge(&b->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
+                                      f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
+        /* the tick went silent (or this was written before it was found
+         * so): the damping command, as on shutdown, until it writes again;
+         * nothing to a robot that never got a command */
+        if (b->sent_any) {
+            roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
+            rc = publish_all(b, o, sample);
+            bump(&b->c_safe);
+        }
     } else {
         roz__ros2_joints(b, f.values, meta + C_Q, b->tx_joint);
         for (uint16_t s = 0; s < b->n_slots; s++)
@@ -485,9 +496,10 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
                              : 1000000000u / m->control_rate_hz;
     roz_monitor_init(&b->mon_tx, robot->port, period_ns, log, log_ctx);
     atomic_init(&b->shutdown, 0);
+    roz_cmd_watchdog_init(&b->watchdog, b->dds.command_timeout_us);
     ROZ_ATOMIC(uint64_t) *counters[] = { &b->c_frames,  &b->c_writes,          &b->c_withheld,
                                          &b->c_holds,   &b->c_clamped,         &b->c_stale_session,
-                                         &b->c_handled_seq, &b->c_written_seq };
+                                         &b->c_handled_seq, &b->c_written_seq, &b->c_safe };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
@@ -502,6 +514,10 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
                                      robot->command_type, robot->command_qos, o->sample,
                                      robot->command_size, err, errlen);
     }
+    if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
+        rc = roz_dds_writer_watch(&b->out[primary(b)].writer, &b->watchdog,
+                                  m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz
+                                                                : 1u);
     if (rc != ROZ_OK)
         roz_ros2_close(b);
     return rc;
@@ -595,6 +611,7 @@ static int robot_fault(roz_ros2_bridge_t *b)
                                  : r->groups[g].name;
         b->tick_fault.kind = r->fault_kinds != NULL ? r->fault_kinds[kind - 1u] : "fault";
         b->tick_fault.code = tp->tick_fault_code;
+        b->tick_fault.limit = 0;
         found = 1;
     }
     return found;
@@ -614,13 +631,11 @@ static void take_fault(roz_ros2_topic_t *tp)
     atomic_store_explicit(&tp->fault_ack, (uint32_t)meta[M_FAULT_SERIAL], memory_order_release);
 }
 
-int roz_ros2_read(void *self, double *state, size_t n)
+static int read_frame(roz_ros2_bridge_t *b, double *state, size_t n)
 {
-    roz_ros2_bridge_t *b = self;
     int restarted = 0;
 
-    if (!b->open || n != b->m->n_states)
-        return ROZ_EINVAL;
+    b->tick_fault.what = NULL; /* fault() speaks of this read only (roz/port.h) */
     for (uint16_t t = 0; t < b->n_topics; t++) {
         roz_ros2_topic_t *tp = &b->topic[t];
         roz_buffer_frame_t f;
@@ -663,6 +678,27 @@ int roz_ros2_read(void *self, double *state, size_t n)
     return robot_fault(b) ? ROZ_EROBOT : 1;
 }
 
+int roz_ros2_read(void *self, double *state, size_t n)
+{
+    roz_ros2_bridge_t *b = self;
+
+    if (!b->open || n != b->m->n_states)
+        return ROZ_EINVAL;
+    int rc = read_frame(b, state, n);
+    /* a trip of the watchdog in place of a plain frame (the frame is read:
+     * the hold that follows holds its positions); after a link or robot
+     * fault, at the next read */
+    if ((rc == 0 || rc == 1) &&
+        roz_cmd_watchdog_report(&b->watchdog, roz_clock_monotonic_ns(NULL),
+                                &b->tick_fault.code)) {
+        b->tick_fault.what = ROZ_CMD_WATCHDOG_KEY;
+        b->tick_fault.kind = "the tick wrote no command for (us)";
+        b->tick_fault.limit = b->dds.command_timeout_us;
+        return ROZ_EWATCHDOG;
+    }
+    return rc;
+}
+
 int roz_ros2_write(void *self, const double *cmd, size_t n)
 {
     roz_ros2_bridge_t *b = self;
@@ -675,10 +711,14 @@ int roz_ros2_write(void *self, const double *cmd, size_t n)
         bump(&b->c_withheld); /* nothing before the first state frame */
         return ROZ_OK;
     }
+    uint64_t now = roz_clock_monotonic_ns(NULL);
+    uint32_t epoch;
     double *f = roz_buffer_write_begin(&b->cmd_buf);
-    int hold = b->tick_robot != b->write_robot;
+    /* the first write for this robot, or since the watchdog tripped */
+    int hold = roz_cmd_watchdog_write(&b->watchdog, now, &epoch);
+    hold |= b->tick_robot != b->write_robot;
     if (hold) {
-        /* the first write for this robot: the start-up hold instead */
+        /* the start-up hold instead */
         roz__ros2_hold(b, b->tick_q, b->startup_kd, f);
         b->write_robot = b->tick_robot;
         bump(&b->c_holds);
@@ -696,8 +736,9 @@ int roz_ros2_write(void *self, const double *cmd, size_t n)
     meta[C_SESSION] = sessions;
     meta[C_HOLD] = hold;
     meta[C_SEQ] = (double)++b->write_seq;
+    meta[C_EPOCH] = epoch;
     memcpy(meta + C_Q, b->tick_q, sizeof b->tick_q);
-    roz_buffer_write_commit(&b->cmd_buf, 0);
+    roz_buffer_write_commit(&b->cmd_buf, now); /* the watchdog judges its age */
     atomic_store_explicit(&b->c_written_seq, b->write_seq, memory_order_release);
     roz_dds_writer_wake(&b->out[primary(b)].writer);
     return ROZ_OK;
@@ -822,6 +863,8 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
     out->stale_session = load(&b->c_stale_session);
     out->handled_seq = load(&b->c_handled_seq);
     out->written_seq = load(&b->c_written_seq);
+    out->command_timeouts = roz_cmd_watchdog_trips(&b->watchdog);
+    out->safe_published = load(&b->c_safe);
 }
 
 void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers)

@@ -9,16 +9,17 @@
 #include <string.h>
 
 #include "g1_map.h"
+#include "roz/hal/clock.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts ----------------------------------------------------------
  * State frame (receive thread -> tick): n_states values, then: */
 enum { M_SESSION = 0, M_FAULT_SLOT, M_FAULT_CODE, M_MODE_MACHINE, M_TICK, M_Q };
 /* Command frame (tick -> writer thread): n_commands values, then: */
-enum { C_SESSION = 0, C_HOLD, C_SEQ };
+enum { C_SESSION = 0, C_HOLD, C_SEQ, C_EPOCH };
 
 _Static_assert(M_Q + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_STATE_META, "state frame meta");
-_Static_assert(C_SEQ + 1 == ROZ_UNITREE_G1_CMD_META, "command frame meta");
+_Static_assert(C_EPOCH + 1 == ROZ_UNITREE_G1_CMD_META, "command frame meta");
 _Static_assert(sizeof(g1_cmd_t) == 4u * ROZ_UNITREE_G1_CMD_WORDS, "LowCmd_ storage");
 _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_ storage");
 
@@ -90,7 +91,7 @@ static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, 
     double lo, hi;
     int rc = roz_params_check_known(p, known_keys, "unitree/G1", err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_dds_params_parse(&g1->dds, p, 0, err, errlen);
+        rc = roz_dds_params_parse(&g1->dds, p, 0, g1->m->control_rate_hz, err, errlen);
     if (rc == ROZ_OK)
         rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
     if (rc == ROZ_OK)
@@ -165,7 +166,6 @@ static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
     g1_cmd_t *out = sample;
     const roz_manifest_t *m = g1->m;
     roz_buffer_frame_t f;
-    (void)now_ns;
 
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
     if (atomic_load_explicit(&g1->shutdown, memory_order_acquire)) {
@@ -189,6 +189,17 @@ static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
         bump(&g1->c_stale_session);
     } else if (locked && (locked & 0xffu) != mm) {
         bump(&g1->c_refused_mm);
+    } else if (roz_cmd_watchdog_judge(&g1->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
+                                      f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
+        /* the tick went silent (or this was written before it was found
+         * so): the damping command, as on shutdown, until it writes again;
+         * nothing to a robot that never got a command */
+        if (locked) {
+            roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu),
+                                 out);
+            bump(&g1->c_safe);
+            rc = 1;
+        }
     } else {
         if (!locked)
             atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
@@ -248,11 +259,12 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     atomic_init(&g1->rx_mode_machine, 0u);
     atomic_init(&g1->locked_mode_machine, 0u);
     atomic_init(&g1->shutdown, 0);
+    roz_cmd_watchdog_init(&g1->watchdog, g1->dds.command_timeout_us);
     ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
                                          &g1->c_sessions, &g1->c_writes, &g1->c_withheld,
                                          &g1->c_holds, &g1->c_clamped, &g1->c_stale_session,
                                          &g1->c_refused_mm, &g1->c_handled_seq,
-                                         &g1->c_written_seq };
+                                         &g1->c_written_seq, &g1->c_safe };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
@@ -262,6 +274,10 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
         rc = roz_dds_writer_open(&g1->writer, &g1->part, "rt/lowcmd",
                                  &unitree_hg_msg_dds__LowCmd__desc, &roz_dds_qos_robot_command,
                                  g1->tx_sample, sizeof g1->tx_sample, err, errlen);
+    if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
+        rc = roz_dds_writer_watch(&g1->writer, &g1->watchdog,
+                                  m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz
+                                                                : 1u);
     g1->open = 1;
     if (rc != ROZ_OK)
         g1_close(g1);
@@ -296,13 +312,10 @@ static int g1_activate(void *self)
     return ROZ_OK;
 }
 
-static int g1_read(void *self, double *state, size_t n)
+static int read_frame(roz_unitree_g1_t *g1, double *state, size_t n)
 {
-    roz_unitree_g1_t *g1 = self;
     roz_buffer_frame_t f;
 
-    if (!g1->open || n != g1->m->n_states)
-        return ROZ_EINVAL;
     g1->tick_fault.what = NULL; /* fault() speaks of this read only (roz/port.h) */
     if (roz_buffer_read(&g1->state_buf, &f) == ROZ_ENOENT)
         return ROZ_ENOENT;
@@ -325,6 +338,7 @@ static int g1_read(void *self, double *state, size_t n)
         g1->tick_fault.what = g1->m->hardware->joints[slot];
         g1->tick_fault.kind = "motor fault code";
         g1->tick_fault.code = (uint32_t)meta[M_FAULT_CODE];
+        g1->tick_fault.limit = 0;
         return ROZ_EROBOT;
     }
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_acquire);
@@ -333,9 +347,31 @@ static int g1_read(void *self, double *state, size_t n)
         g1->tick_fault.what = "mode_machine";
         g1->tick_fault.kind = "changed under a running controller (nothing is sent), now";
         g1->tick_fault.code = mm;
+        g1->tick_fault.limit = 0;
         return ROZ_EROBOT;
     }
     return 1;
+}
+
+static int g1_read(void *self, double *state, size_t n)
+{
+    roz_unitree_g1_t *g1 = self;
+
+    if (!g1->open || n != g1->m->n_states)
+        return ROZ_EINVAL;
+    int rc = read_frame(g1, state, n);
+    /* a trip of the watchdog in place of a plain frame (the frame is read:
+     * the hold that follows holds its positions); after a link or robot
+     * fault, at the next read */
+    if ((rc == 0 || rc == 1) &&
+        roz_cmd_watchdog_report(&g1->watchdog, roz_clock_monotonic_ns(NULL),
+                                &g1->tick_fault.code)) {
+        g1->tick_fault.what = ROZ_CMD_WATCHDOG_KEY;
+        g1->tick_fault.kind = "the tick wrote no command for (us)";
+        g1->tick_fault.limit = g1->dds.command_timeout_us;
+        return ROZ_EWATCHDOG;
+    }
+    return rc;
 }
 
 static int g1_write(void *self, const double *cmd, size_t n)
@@ -350,10 +386,14 @@ static int g1_write(void *self, const double *cmd, size_t n)
         bump(&g1->c_withheld); /* nothing before the first state frame */
         return ROZ_OK;
     }
+    uint64_t now = roz_clock_monotonic_ns(NULL);
+    uint32_t epoch;
     double *f = roz_buffer_write_begin(&g1->cmd_buf);
-    int hold = g1->tick_session != g1->write_session;
+    /* the first write for this robot, or since the watchdog tripped */
+    int hold = roz_cmd_watchdog_write(&g1->watchdog, now, &epoch);
+    hold |= g1->tick_session != g1->write_session;
     if (hold) {
-        /* the first write for this robot: the start-up hold instead */
+        /* the start-up hold instead */
         roz__g1_hold(g1, g1->tick_q, g1->startup_kd, f);
         g1->write_session = g1->tick_session;
         bump(&g1->c_holds);
@@ -366,7 +406,8 @@ static int g1_write(void *self, const double *cmd, size_t n)
     meta[C_SESSION] = g1->tick_session;
     meta[C_HOLD] = hold;
     meta[C_SEQ] = (double)++g1->write_seq;
-    roz_buffer_write_commit(&g1->cmd_buf, 0);
+    meta[C_EPOCH] = epoch;
+    roz_buffer_write_commit(&g1->cmd_buf, now); /* the watchdog judges its age */
     atomic_store_explicit(&g1->c_written_seq, g1->write_seq, memory_order_release);
     roz_dds_writer_wake(&g1->writer);
     return ROZ_OK;
@@ -454,6 +495,8 @@ void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters
     out->refused_mode_machine = load(&g1->c_refused_mm);
     out->handled_seq = load(&g1->c_handled_seq);
     out->written_seq = load(&g1->c_written_seq);
+    out->command_timeouts = roz_cmd_watchdog_trips(&g1->watchdog);
+    out->safe_published = load(&g1->c_safe);
 }
 
 void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,

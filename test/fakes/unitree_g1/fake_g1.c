@@ -38,6 +38,9 @@
  * readers the old one had (polled every millisecond). */
 #define REMATCH_POLLS 5000
 
+/* Good commands kept for command_at: 4 s of a 500 Hz stream. */
+#define HISTORY 2048
+
 typedef struct fake {
     dds_entity_t participant, state_topic, cmd_topic, cmd_reader;
     dds_entity_t waitset, stop_guard;
@@ -59,6 +62,7 @@ typedef struct fake {
     uint64_t good, bad_crc;
     int have_cmd;
     g1_lowcmd_t last_cmd;
+    g1_lowcmd_t history[HISTORY]; /* good command K at (K - 1) % HISTORY */
     int flip_next;
     int stopping;
 
@@ -247,6 +251,7 @@ static void take_commands(fake_t *f)
             if (ok) {
                 f->good++;
                 memcpy(&f->last_cmd, &f->rx[i], sizeof f->last_cmd);
+                memcpy(&f->history[(f->good - 1u) % HISTORY], &f->rx[i], sizeof f->last_cmd);
                 f->have_cmd = 1;
             } else {
                 f->bad_crc++; /* the robot drops it without a word */
@@ -292,15 +297,22 @@ static int wait_commands(fake_t *f, uint64_t n, uint64_t timeout_ms, uint64_t *g
     return *good >= n ? 0 : -1;
 }
 
-static int reply_command(fake_t *f)
+/* The last good command (k = 0), or good command number k (1, 2, ...)
+ * while it is among the last HISTORY. */
+static int reply_command(fake_t *f, uint64_t k)
 {
     g1_lowcmd_t c;
     pthread_mutex_lock(&f->lock);
-    int have = f->have_cmd;
-    memcpy(&c, &f->last_cmd, sizeof c);
+    int have = k == 0 ? f->have_cmd : k <= f->good && f->good - k < HISTORY;
+    uint64_t good = f->good;
+    memcpy(&c, k == 0 ? &f->last_cmd : &f->history[(k - 1u) % HISTORY], sizeof c);
     pthread_mutex_unlock(&f->lock);
-    if (!have)
+    if (!have && k == 0)
         return reply("err none");
+    if (!have)
+        return reply("err command_at %" PRIu64 ": not kept (good commands: %" PRIu64
+                     ", the last %u kept)",
+                     k, good, (unsigned)HISTORY);
     /* 35 groups of at most 4 + 5 * 25 characters */
     char out[8192];
     size_t len = (size_t)snprintf(out, sizeof out, "ok %u %u", (unsigned)c.mode_pr,
@@ -388,7 +400,9 @@ static int handle(fake_t *f, const g1_request_t *q)
         return reply("ok %" PRIu64, good);
     }
     case G1_REQ_COMMAND:
-        return reply_command(f);
+        return reply_command(f, 0);
+    case G1_REQ_COMMAND_AT:
+        return reply_command(f, q->u[0] != 0 ? q->u[0] : UINT64_MAX);
     case G1_REQ_FLIP_NEXT:
         pthread_mutex_lock(&f->lock);
         f->flip_next = 1;

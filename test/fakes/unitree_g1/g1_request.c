@@ -37,6 +37,7 @@ static const verb_t verbs[] = {
     { "commands", G1_REQ_COMMANDS, "", "commands" },
     { "wait_commands", G1_REQ_WAIT_COMMANDS, "nt", "wait_commands N TIMEOUT_MS" },
     { "command", G1_REQ_COMMAND, "", "command" },
+    { "command_at", G1_REQ_COMMAND_AT, "n", "command_at K" },
     { "flip_next_command", G1_REQ_FLIP_NEXT, "", "flip_next_command" },
     { "quit", G1_REQ_QUIT, "", "quit" },
 };

@@ -546,10 +546,11 @@ static void await_counts(fk_t *k, uint64_t good, uint64_t bad)
     fail_msg("commands: '%s', want '%s'", r, want);
 }
 
-/* "command" must give @p c's values exactly. */
-static void expect_command(fk_t *k, const g1_lowcmd_t *c)
+/* The reply to @p req ("command", "command_at K") must give @p c's values
+ * exactly. */
+static void expect_command_reply(fk_t *k, const char *req, const g1_lowcmd_t *c)
 {
-    const char *r = fk_req(k, "command");
+    const char *r = fk_req(k, "%s", req);
     char *end;
     if (strncmp(r, "ok ", 3) != 0)
         fail_msg("command -> '%.80s'", r);
@@ -571,6 +572,20 @@ static void expect_command(fk_t *k, const g1_lowcmd_t *c)
             fail_msg("command: motor %d is %g %g %g %g %g %g", i, g[0], g[1], g[2], g[3], g[4],
                      g[5]);
     }
+}
+
+/* "command" must give @p c's values exactly. */
+static void expect_command(fk_t *k, const g1_lowcmd_t *c)
+{
+    expect_command_reply(k, "command", c);
+}
+
+/* "command_at K" must give @p c's values exactly. */
+static void expect_command_at(fk_t *k, uint64_t at, const g1_lowcmd_t *c)
+{
+    char req[64];
+    snprintf(req, sizeof req, "command_at %llu", (unsigned long long)at);
+    expect_command_reply(k, req, c);
 }
 
 static void default_args(const char **args, char *dom)
@@ -943,6 +958,15 @@ static void test_fake_g1_commands(void **st)
     snprintf(want, sizeof want, "err timeout %llu", (unsigned long long)(g + 3));
     assert_string_equal(fk_req(&fake, "wait_commands %llu 50", (unsigned long long)(g + 4)),
                         want);
+
+    /* command_at: every good one by its number, bad ones not numbered */
+    expect_command_at(&fake, g + 1, &c1);
+    expect_command_at(&fake, g + 2, &c4);
+    expect_command_at(&fake, g + 3, &c6);
+    expect_command_at(&fake, g, &c0);
+    assert_true(strncmp(fk_req(&fake, "command_at %llu", (unsigned long long)(g + 4)),
+                        "err command_at", 14) == 0);
+    assert_true(strncmp(fk_req(&fake, "command_at 0"), "err command_at", 14) == 0);
     fk_quit(&fake);
 }
 

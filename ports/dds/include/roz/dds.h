@@ -34,6 +34,15 @@
  * never blocks). The port fills each sample in the writer thread
  * (roz_dds_fill_fn) from the sample storage roz zeroes before every fill.
  *
+ * Command watchdog. Every DDS port runs roz/hal/cmd_watchdog.h between its
+ * tick and its writer (`command_timeout_us`, read here with the other
+ * common parameters): its fill judges each frame and fills the port's safe
+ * command when the tick has gone silent. A periodic writer looks every
+ * period anyway; an event-driven one, given the watchdog
+ * (roz_dds_writer_watch()), also wakes on its own when the last frame it
+ * sent expires, and then repeats the safe command every repeat period
+ * until the tick writes again.
+ *
  * Threads: a reader's function runs on a Cyclone thread, the fill function
  * on the writer thread; they hand frames to the tick through roz/buffer.h
  * and atomics, never a lock the tick could wait on.
@@ -50,6 +59,7 @@
 #include <stdint.h>
 
 #include "roz/atomic.h"
+#include "roz/hal/cmd_watchdog.h"
 #include "roz/log.h"
 #include "roz/monitor.h"
 #include "roz/port.h"
@@ -82,24 +92,27 @@ typedef struct roz_dds_params {
     int      enable_monitor;           /**< 1: latency and jitter monitored and warned */
     uint32_t command_writer_period_us; /**< 2000; 0: event-driven */
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
+    uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
 } roz_dds_params_t;
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
-        "state_decimation"
+        "state_decimation", ROZ_CMD_WATCHDOG_KEY
 
 /**
  * @brief Read the common DDS parameters.
  * @param[out] out            the values (defaults where absent)
  * @param[in]  p              the parameters (NULL: all defaults)
  * @param[in]  default_domain dds_domain when absent (the robot's own)
+ * @param[in]  control_rate_hz the manifest's tick rate, for command_timeout_us's
+ *                            default and least value (roz_cmd_watchdog_param())
  * @retval ROZ_OK     read
  * @retval ROZ_EINVAL a bad value; @p err names the key and the value
  * Context: start-up.
  */
 int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t default_domain,
-                         char *err, size_t errlen);
+                         uint32_t control_rate_hz, char *err, size_t errlen);
 
 /**
  * @brief Check an interface name: 1..ROZ_DDS_IFNAME_MAX characters from
@@ -301,6 +314,10 @@ typedef struct roz_dds_writer {
     ROZ_ATOMIC(uint64_t) published; /**< samples written */
     ROZ_ATOMIC(uint64_t) errors;    /**< dds_write failures */
     ROZ_ATOMIC(uint64_t) missed;    /**< periods missed by more than a period (skipped) */
+    const roz_cmd_watchdog_t *watchdog; /* event-driven: wake when it is due; NULL: none */
+    uint64_t             repeat_ns;  /* event-driven, tripped: the safe command's period */
+    uint64_t             fired_due;  /* the last deadline a wait timed out at */
+    uint64_t             last_pass_ns;
     unsigned long        thread;    /* pthread_t, kept opaque */
     union {
         unsigned char bytes[64];
@@ -332,6 +349,21 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
  */
 int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
                          void *ctx, roz_monitor_t *monitor);
+
+/**
+ * @brief Let an event-driven writer keep the port's command watchdog: it
+ *        wakes by itself when the last frame the fill judged expires (a pass
+ *        whose fill judges it again, trips, and fills the safe command), and
+ *        while tripped passes every @p repeat_us until the tick writes. A
+ *        periodic writer passes every period and needs none of this.
+ * @param[in] wd        the watchdog the fill judges frames with (the writer
+ *                      thread reads roz_cmd_watchdog_next_ns() only)
+ * @param[in] repeat_us the safe command's period while tripped (the robot's
+ *                      command period), > 0
+ * @retval ROZ_OK, ROZ_EINVAL, ROZ_ESTATE (running)
+ * Context: start-up, before roz_dds_writer_start().
+ */
+int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us);
 
 /** @brief Event-driven mode: publish now. Never blocks (a semaphore post);
  *  nothing in periodic mode. Context: any thread; RT-safe. */

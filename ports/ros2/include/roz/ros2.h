@@ -69,11 +69,20 @@
  * anything was sent, repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS
  * (roz_dds_writer_publish_final()).
  *
+ * Command watchdog (roz/hal/cmd_watchdog.h): when the latest command the
+ * tick wrote is older than `command_timeout_us` (the tick stopped), the
+ * writer publishes that same damping command to every group instead, every
+ * pass (event-driven: every tick period), on its own; the tick's next read()
+ * returns ROZ_EWATCHDOG (the runtime latches ROZ_FAULT_COMMAND_TIMEOUT
+ * naming how long the tick was silent) and its next write is published as
+ * the start-up hold; a command written before the trip is never published.
+ *
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),
  * `dds_domain` (the robot's), `enable_monitor` (true),
  * `command_writer_period_us` (2000), `state_decimation` (1),
  * `peer_timeout_ms` (500), `startup_damping` (0), `shutdown_damping`,
+ * `command_timeout_us` (50000, or 5 tick or writer periods when longer),
  * `link_check` (`sequence` or `stamp`, where the messages have a sequence),
  * and the port's own.
  *
@@ -93,6 +102,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/dds.h"
+#include "roz/hal/cmd_watchdog.h"
 #include "roz/hal/joints.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
@@ -121,8 +131,8 @@ extern "C" {
  *  fault slot, fault code, fault serial. */
 #define ROZ_ROS2_STATE_META 5
 /** Values after the commands in a command frame: session, hold, sequence,
- *  then each robot slot's measured position. */
-#define ROZ_ROS2_CMD_META (3 + ROZ_ROS2_MAX_ROBOT_SLOTS)
+ *  watchdog epoch, then each robot slot's measured position. */
+#define ROZ_ROS2_CMD_META (4 + ROZ_ROS2_MAX_ROBOT_SLOTS)
 
 /* ---- ROS 2 conventions ---------------------------------------------------- */
 
@@ -307,6 +317,8 @@ typedef struct roz_ros2_counters {
                                    that restarted since */
     uint64_t handled_seq;     /**< sequence of the last command frame the writer took */
     uint64_t written_seq;     /**< sequence of the last command frame written */
+    uint64_t command_timeouts;/**< command watchdog trips: the tick went silent */
+    uint64_t safe_published;  /**< passes that published the watchdog's damping command */
 } roz_ros2_counters_t;
 
 /** The bridge's instance: the first member of a ROS 2 port's instance.
@@ -350,7 +362,8 @@ typedef struct roz_ros2_bridge {
     double                tick_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_port_fault_t      tick_fault;
 
-    /* ---- tick -> writer thread ---- */
+    /* ---- tick <-> writer thread ---- */
+    roz_cmd_watchdog_t    watchdog;
     roz_buffer_t          cmd_buf;
     double                cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_ROS2_CMD_META)];
 
@@ -364,7 +377,7 @@ typedef struct roz_ros2_bridge {
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)  c_frames, c_writes, c_withheld, c_holds, c_clamped;
-    ROZ_ATOMIC(uint64_t)  c_stale_session, c_handled_seq, c_written_seq;
+    ROZ_ATOMIC(uint64_t)  c_stale_session, c_handled_seq, c_written_seq, c_safe;
 } roz_ros2_bridge_t;
 
 /**

@@ -52,12 +52,22 @@
  * default the manifest's damping default) goes out, when anything was sent,
  * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (roz_dds_writer_publish_final()).
  *
+ * Command watchdog (roz/hal/cmd_watchdog.h): when the latest command the
+ * tick wrote is older than `command_timeout_us` (the tick stopped: a killed
+ * or stuck control loop), the writer publishes that same damping command
+ * instead, every period (event-driven: every tick period), on its own; the
+ * tick's next read() returns ROZ_EWATCHDOG (the runtime latches
+ * ROZ_FAULT_COMMAND_TIMEOUT naming how long the tick was silent), and its
+ * next write is published as the start-up hold; a command written before
+ * the trip is never published.
+ *
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),
  * `dds_domain` (0), `enable_monitor` (true), `command_writer_period_us`
  * (2000; 0 = as soon as the tick writes), `state_decimation` (1), `mode_pr`
  * (PR or AB, or 0 or 1; default PR), `peer_timeout_ms` (500),
- * `startup_damping` (0), `shutdown_damping` (the damping channels' default).
+ * `startup_damping` (0), `shutdown_damping` (the damping channels' default),
+ * `command_timeout_us` (50000, or 5 tick or writer periods when longer).
  *
  * Threads: open, activate, deactivate and close from the application's
  * thread; read, write and fault from the tick; the rest runs on Cyclone's
@@ -74,6 +84,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/dds.h"
+#include "roz/hal/cmd_watchdog.h"
 #include "roz/hal/joints.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
@@ -95,8 +106,9 @@ extern "C" {
 /** Values after the states in a state frame: robot session, faulty slot,
  *  its code, mode_machine, tick, then each slot's measured q. */
 #define ROZ_UNITREE_G1_STATE_META (5 + ROZ_UNITREE_G1_SLOTS)
-/** Values after the commands in a command frame: session, hold, sequence. */
-#define ROZ_UNITREE_G1_CMD_META 3
+/** Values after the commands in a command frame: session, hold, sequence,
+ *  watchdog epoch. */
+#define ROZ_UNITREE_G1_CMD_META 4
 /** Largest number of merged parameters (robot.toml's and the caller's). */
 #define ROZ_UNITREE_G1_MAX_PARAMS 48
 
@@ -123,6 +135,8 @@ typedef struct roz_unitree_g1_counters {
     uint64_t refused_mode_machine; /**< passes that sent nothing: mode_machine changed */
     uint64_t handled_seq;       /**< sequence of the last command frame the writer took */
     uint64_t written_seq;       /**< sequence of the last command frame written */
+    uint64_t command_timeouts;  /**< command watchdog trips: the tick went silent */
+    uint64_t safe_published;    /**< damping commands the watchdog published */
 } roz_unitree_g1_counters_t;
 
 /** The port's instance; caller-owned (large: give it static storage).
@@ -173,7 +187,8 @@ typedef struct roz_unitree_g1 {
     double                 tick_q[ROZ_UNITREE_G1_SLOTS];
     roz_port_fault_t       tick_fault;
 
-    /* ---- tick -> writer thread ---- */
+    /* ---- tick <-> writer thread ---- */
+    roz_cmd_watchdog_t     watchdog;
     roz_buffer_t           cmd_buf;
     double                 cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_UNITREE_G1_CMD_META)];
 
@@ -186,6 +201,7 @@ typedef struct roz_unitree_g1 {
     ROZ_ATOMIC(uint64_t)   c_frames, c_full, c_motor_fault, c_sessions;
     ROZ_ATOMIC(uint64_t)   c_writes, c_withheld, c_holds, c_clamped;
     ROZ_ATOMIC(uint64_t)   c_stale_session, c_refused_mm, c_handled_seq, c_written_seq;
+    ROZ_ATOMIC(uint64_t)   c_safe;
 } roz_unitree_g1_t;
 
 /** The ops table (name "unitree/G1"). */
