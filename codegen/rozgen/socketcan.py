@@ -23,6 +23,7 @@ GLOBAL_KEYS = (
     "command_writer_period_us",
     "max_bus_load_percent",
     "reply_timeout_us",
+    "command_timeout_us",
     "master_id",
     "consistency_margin",
     "enable_monitor",
@@ -51,6 +52,11 @@ COMMAND_TYPES = ("position", "velocity", "stiffness", "damping", "effort")
 MAX_JOINTS = 64  # ROZ_CFG_MAX_JOINTS
 MAX_NUMBER_TEXT = 63
 DEFAULT_TIMEOUT_US = 20000
+#: the command watchdog's, as roz/hal/cmd_watchdog.h has them
+WATCHDOG_DEFAULT_US = 50000
+WATCHDOG_DEFAULT_PERIODS = 5
+WATCHDOG_MIN_PERIODS = 2
+WATCHDOG_MAX_US = 10000000
 BOOLS = {"true": True, "1": True, "yes": True, "on": True,
          "false": False, "0": False, "no": False, "off": False}
 
@@ -137,7 +143,8 @@ class _Checker:
         self.values: dict[str, dict[str, object]] = {}  # joint key -> joint -> value
         self.config: dict[str, object] = {
             "network_interface": "can0", "bitrate": 1000000, "command_writer_period_us": 2000,
-            "max_bus_load_percent": 80, "reply_timeout_us": DEFAULT_TIMEOUT_US, "master_id": 0,
+            "max_bus_load_percent": 80, "reply_timeout_us": DEFAULT_TIMEOUT_US,
+            "command_timeout_us": WATCHDOG_DEFAULT_US, "master_id": 0,
             "consistency_margin": 0.2, "enable_monitor": True, "state_decimation": 1}
 
     def say(self, rule: str, text: str) -> None:
@@ -175,7 +182,8 @@ class _Checker:
         if joints_ok and all(parsed[k] for k in ("bitrate", "command_writer_period_us",
                                                  "max_bus_load_percent", "reply_timeout_us",
                                                  "reply")):
-            self.check_bus()
+            if self.check_bus() and parsed["command_timeout_us"]:
+                self.check_command_timeout()
         return self.problems
 
     def check_joints(self) -> bool:
@@ -212,6 +220,8 @@ class _Checker:
                                      "expected an integer in 10..100 (percent)"),
             "reply_timeout_us": (lambda v: _uint_in(v, 1000, 10000000),
                                  "expected an integer in 1000..10000000 (us)"),
+            "command_timeout_us": (lambda v: _uint_in(v, 1000, WATCHDOG_MAX_US),
+                                   "expected an integer in 1000..10000000 (us)"),
             "master_id": (lambda v: _uint_in(v, 0, 0x7FF),
                           "expected a CAN id, 0..2047 (decimal or 0x hex)"),
             "consistency_margin": (
@@ -358,7 +368,7 @@ class _Checker:
                     text += f" (the actuator sees [{c_double(lo)}, {c_double(hi)}])"
                 self.say("can-range", text)
 
-    def check_bus(self) -> None:
+    def check_bus(self) -> bool:
         c = self.config
         period = c["command_writer_period_us"]
         round_us = period if period != 0 else 1000000 // self.m.control_rate_hz
@@ -379,12 +389,31 @@ class _Checker:
                      f"command and reply take {worst} bits, more than "
                      f"{c['max_bus_load_percent']}% of a {round_us} us round at {c['bitrate']} "
                      f"bit/s ({budget} bits)")
-            return
+            return False
         interval = round_us * groups
+        c["joint_interval_us"] = interval
         if "reply_timeout_us" in self.params and c["reply_timeout_us"] < 2 * interval:
             self.say("can-bus", f": hardware.params: reply_timeout_us "
                      f"{quote(self.params['reply_timeout_us'])}: shorter than two command "
                      f"intervals of a joint (2 x {interval} us)")
+            return False
+        return True
+
+    def check_command_timeout(self) -> None:
+        """The command watchdog: at least two command intervals of a joint and two ticks."""
+        c = self.config
+        rate = self.m.control_rate_hz
+        slowest = max((1000000 + rate - 1) // rate, c["joint_interval_us"])
+        least = WATCHDOG_MIN_PERIODS * slowest
+        default = max(WATCHDOG_DEFAULT_US, WATCHDOG_DEFAULT_PERIODS * slowest)
+        if default > WATCHDOG_MAX_US:
+            default = max(least, WATCHDOG_MAX_US)
+        if "command_timeout_us" not in self.params:
+            c["command_timeout_us"] = default
+        elif c["command_timeout_us"] < least:
+            self.say("can-bus", f": hardware.params: command_timeout_us "
+                     f"{quote(self.params['command_timeout_us'])}: shorter than two command "
+                     f"intervals of a joint or two ticks (2 x {slowest} us)")
 
 
 def check(manifest: Manifest) -> list[tuple[str, str]]:

@@ -189,11 +189,11 @@ static void opened_socketcan(void)
     roz_socketcan_info(&can, &info);
     printf("rozrun: socketcan: %u actuators on %s at %u kbit/s; rounds of %u us, %u group%s (each "
            "actuator every %u us); worst-case bus load %.1f %%; an actuator silent for %u us "
-           "is stale\n",
+           "is stale; a tick silent for %u us, every actuator held without gains\n",
            (unsigned)info.n_joints, info.network_interface, (unsigned)(info.bitrate / 1000u),
            (unsigned)info.round_us, (unsigned)info.groups, info.groups == 1 ? "" : "s",
            (unsigned)info.joint_interval_us, 100.0 * info.bus_load,
-           (unsigned)info.reply_timeout_us);
+           (unsigned)info.reply_timeout_us, (unsigned)info.command_timeout_us);
 }
 
 /* In the summary: what went over the bus. */

@@ -112,6 +112,7 @@ static void test_can_config_the_leg(void **state)
     assert_true(fabs(cfg.bus_load - 0.405) < 1e-12);
     assert_int_equal(cfg.joint_interval_us, 2000);
     assert_int_equal(cfg.reply_timeout_us, 20000); /* 20 ms > three intervals */
+    assert_int_equal(cfg.command_timeout_us, 50000); /* 50 ms > five intervals or ticks */
 }
 
 static void test_can_config_caller_params_win(void **state)
@@ -211,6 +212,7 @@ static void test_can_config_round_robin(void **state)
     assert_int_equal(cfg.groups, 12);
     assert_int_equal(cfg.joint_interval_us, 24000);
     assert_int_equal(cfg.reply_timeout_us, 72000);
+    assert_int_equal(cfg.command_timeout_us, 120000); /* five intervals */
 
     /* 64 joints, the most there may be: still a configuration */
     assert_int_equal(roz_can_config_load(&cfg, hand_robot(ROZ_CAN_MAX_JOINTS, "basic", "2000",
@@ -259,6 +261,38 @@ static void test_can_config_any_locale(void **state)
     }
 }
 
+/* The command watchdog's timeout: at least two command intervals of a joint
+ * and two ticks, else refused naming key, value and why. */
+static void test_can_config_command_timeout(void **state)
+{
+    const roz_manifest_t *m = load_leg();
+    seen_t seen = { 0 };
+    (void)state;
+    roz_param_t ok = { "command_timeout_us", "4000" };
+    roz_params_t extra = { &ok, 1 };
+    assert_int_equal(roz_can_config_load(&cfg, m, &extra, NULL, NULL), ROZ_OK);
+    assert_int_equal(cfg.command_timeout_us, 4000);
+    roz_param_t short_one = { "command_timeout_us", "3999" };
+    extra.items = &short_one;
+    assert_int_equal(roz_can_config_load(&cfg, m, &extra, collect, &seen), ROZ_EINVAL);
+    assert_string_equal(seen.rule, "can-bus");
+    assert_non_null(strstr(seen.first, "command_timeout_us \"3999\": shorter than two command "
+                                       "intervals of a joint or two ticks (2 x 2000 us)"));
+    static const char *const bad[] = { "999", "10000001", "fast", "-1" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        roz_param_t b = { "command_timeout_us", bad[i] };
+        extra.items = &b;
+        memset(&seen, 0, sizeof seen);
+        assert_int_equal(roz_can_config_load(&cfg, m, &extra, collect, &seen), ROZ_EINVAL);
+        assert_string_equal(seen.rule, "can-param");
+        char want[80];
+        snprintf(want, sizeof want, "command_timeout_us \"%s\"", bad[i]);
+        if (strstr(seen.first, want) == NULL || strstr(seen.first, "1000..10000000") == NULL)
+            fail_msg("\"%s\": \"%s\" names neither the key, the value nor the range", bad[i],
+                     seen.first);
+    }
+}
+
 static void test_can_config_rules_and_keys(void **state)
 {
     const char *const *rules = roz_can_config_rules();
@@ -270,9 +304,9 @@ static void test_can_config_rules_and_keys(void **state)
     assert_int_equal(n, 7);
     for (n = 0; keys[n] != NULL; n++)
         ;
-    assert_int_equal(n, 18);
+    assert_int_equal(n, 19);
     assert_string_equal(keys[0], "network_interface");
-    assert_string_equal(keys[17], "zero_offset");
+    assert_string_equal(keys[18], "zero_offset");
 }
 
 int main(void)
@@ -283,6 +317,7 @@ int main(void)
         cmocka_unit_test(test_can_config_round_robin),
         cmocka_unit_test(test_can_config_not_a_can_robot),
         cmocka_unit_test(test_can_config_any_locale),
+        cmocka_unit_test(test_can_config_command_timeout),
         cmocka_unit_test(test_can_config_rules_and_keys),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -16,6 +16,12 @@
  *    frozen or jumping position is an actuator fault;
  *  - round-robin when the bus has no room for every joint each round;
  *  - shutdown: a hold without gains, then "exit motor mode", to each;
+ *  - the command watchdog: the tick stops writing; with a period of 0 the
+ *    writer wakes by itself and every actuator gets holds without gains at
+ *    its measured position, repeatedly, and no command; read() reports it
+ *    once; the next write goes out as the hold, then as written; on the
+ *    runtime (periodic writer) COMMAND_TIMEOUT latches naming the silence,
+ *    and a clear lets the controller drive again;
  *  - the PD controller on the runtime, periodic writer, threads throughout
  *    (label threads: ThreadSanitizer).
  * Waits are bounded and fail the test when they run out; nothing asserts a
@@ -75,9 +81,11 @@ static fake_actuator_t actuator(unsigned j)
 static void open_on_write(const char *const *more)
 {
     /* a timeout far above what a loaded machine takes to answer: only the
-     * fake's silences count */
-    const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "300000" };
-    size_t k = 4;
+     * fake's silences count; the test's own pauses between writes are no
+     * silent tick (the watchdog's cases set theirs) */
+    const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "300000",
+                               "command_timeout_us", "10000000" };
+    size_t k = 6;
     for (size_t i = 0; more != NULL && more[i] != NULL && k < 18; i++)
         params[k++] = more[i];
     params[k] = NULL;
@@ -232,7 +240,8 @@ static void test_socketcan_commands_and_states(void **st)
 static void test_socketcan_replays_and_strays(void **st)
 {
     double state[ROZ_CAN_LEG_N_STATES], before[ROZ_CAN_LEG_N_STATES];
-    const char *const params[] = { "command_writer_period_us", "0", NULL };
+    const char *const params[] = { "command_writer_period_us", "0", "command_timeout_us",
+                                   "10000000", NULL };
     uint8_t d[8] = { 1, 0x80, 0, 0x80, 0x08, 0x00, 0, 0 };
     (void)st;
     roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 1, params);
@@ -545,14 +554,13 @@ static void tick_for(int n)
     }
 }
 
-static void runtime_up(void)
+static void runtime_up_with(const char *command_timeout_us)
 {
     roz_runtime_config_t cfg;
     size_t len;
     const uint8_t *w = roz_test_controller("leg_pd", &len);
-    /* generous timeouts: the threads of a loaded machine are no silent actuator */
     const char *const params[] = { "command_writer_period_us", "2000", "reply_timeout_us",
-                                   "100000", NULL };
+                                   "100000", "command_timeout_us", command_timeout_us, NULL };
     roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 0, params);
     roz_runtime_config_default(&cfg);
     cfg.manifest = leg;
@@ -564,6 +572,13 @@ static void runtime_up(void)
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     rt_up = 1;
+}
+
+/* generous timeouts: the threads of a loaded machine are no silent actuator,
+ * and no silent tick */
+static void runtime_up(void)
+{
+    runtime_up_with("2000000");
 }
 
 static void runtime_down(void)
@@ -634,6 +649,118 @@ static void test_socketcan_error_code_latches_robot(void **st)
     runtime_down();
 }
 
+/* ---- the command watchdog --------------------------------------------------------- */
+
+/* Whether actuator j's last frame was a hold: no gains, no velocity, no
+ * torque (at the measured position, which the joint left since, moving
+ * under no gains: not compared). */
+static int last_is_hold(unsigned j)
+{
+    fake_actuator_t a = actuator(j);
+    return a.code[FAKE_KP] == 0 && a.code[FAKE_KD] == 0 &&
+           fabs(a.cmd[FAKE_V]) <= step_of(FAKE_V, j) / 2 + 1e-12 &&
+           fabs(a.cmd[FAKE_T]) <= step_of(FAKE_T, j) / 2 + 1e-12;
+}
+
+static void test_socketcan_watchdog_on_write(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    uint64_t commands[3], holds[3];
+    roz_port_fault_t f;
+    (void)st;
+    /* a round per write: once the tick stops, nothing wakes the writer but
+     * the watchdog (100 ms: the test's own steps on a loaded machine are
+     * no silence) */
+    const char *const more[] = { "command_timeout_us", "100000", NULL };
+    open_on_write(more);
+    bring_up();
+    ROZ_WAIT_FOR(read_leg(state) == 1);
+    command(cmd, 1);
+    write_round(cmd); /* the start-up hold */
+    command(cmd, 2);
+    write_round(cmd);
+    for (unsigned j = 0; j < 3; j++) {
+        commands[j] = actuator(j).commands;
+        assert_int_equal(commands[j], 1);
+        assert_true(actuator(j).code[FAKE_KP] != 0);
+    }
+    assert_int_equal(counters().command_timeouts, 0);
+
+    /* the tick stops: the writer holds every actuator by itself, again and
+     * again, and sends no command */
+    ROZ_WAIT_FOR(counters().command_timeouts == 1);
+    for (unsigned j = 0; j < 3; j++)
+        holds[j] = actuator(j).holds;
+    ROZ_WAIT_FOR(actuator(HIP).holds >= holds[HIP] + 3 && actuator(THIGH).holds >= holds[THIGH] + 3 &&
+                 actuator(KNEE).holds >= holds[KNEE] + 3);
+    for (unsigned j = 0; j < 3; j++) {
+        assert_int_equal(actuator(j).commands, commands[j]); /* one round per write, no more */
+        assert_true(last_is_hold(j));
+    }
+    assert_true(counters().watchdog_holds >= 9);
+    assert_int_equal(counters().command_timeouts, 1);
+
+    /* the tick is back: read() reports once, naming the silence */
+    assert_int_equal(read_leg(state), ROZ_EWATCHDOG);
+    assert_int_equal(roz_socketcan_ops.fault(&sc, &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.limit, 100000);
+    assert_true(f.code >= 100000);
+    assert_true(read_leg(state) >= 0);
+    /* the first write goes out as the hold, the next as written */
+    command(cmd, 3);
+    write_round(cmd);
+    for (unsigned j = 0; j < 3; j++) {
+        assert_int_equal(actuator(j).commands, commands[j]);
+        assert_true(last_is_hold(j));
+    }
+    write_round(cmd);
+    for (unsigned j = 0; j < 3; j++) {
+        assert_int_equal(actuator(j).commands, commands[j] + 1u);
+        assert_true(actuator(j).code[FAKE_KP] != 0);
+    }
+    assert_int_equal(counters().command_timeouts, 1);
+    roz_test_can_close(&t);
+}
+
+static void test_socketcan_watchdog_latches_on_the_runtime(void **st)
+{
+    char msg[ROZ_CFG_ERROR_LEN];
+    unsigned long silent = 0, limit = 0;
+    (void)st;
+    runtime_up_with("100000"); /* the periodic writer, 100 ms */
+    tick_for(100);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    uint64_t commands = actuator(KNEE).commands;
+    assert_true(commands > 0);
+
+    /* the tick stops */
+    ROZ_WAIT_FOR(counters().command_timeouts == 1);
+    uint64_t holds = actuator(KNEE).holds;
+    ROZ_WAIT_FOR(actuator(KNEE).holds >= holds + 5); /* every period, by itself */
+    assert_true(last_is_hold(KNEE));
+    uint64_t at_trip = actuator(KNEE).commands;
+    tick_for(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    roz_runtime_fault_message_copy(&rt, msg, sizeof msg);
+    const char *at = strstr(msg, "the tick wrote no command for ");
+    if (at == NULL || sscanf(at, "the tick wrote no command for %lu us, longer than the port's "
+                                 "command_timeout_us (%lu)",
+                             &silent, &limit) != 2)
+        fail_msg("the fault names neither the silence nor the timeout: \"%s\"", msg);
+    assert_int_equal(limit, 100000);
+    assert_true(silent >= 100000);
+    /* latched (an immediate stop) until cleared; then the controller again */
+    tick_for(20);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    tick_for(50);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    ROZ_WAIT_FOR(actuator(KNEE).commands > at_trip);
+    assert_int_equal(counters().command_timeouts, 1);
+    runtime_down();
+}
+
 /* A test that failed half-way leaves things open: close them. */
 static int teardown(void **st)
 {
@@ -664,6 +791,8 @@ int main(void)
         cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),
         cmocka_unit_test_teardown(test_socketcan_silent_actuator_latches_stale, teardown),
         cmocka_unit_test_teardown(test_socketcan_error_code_latches_robot, teardown),
+        cmocka_unit_test_teardown(test_socketcan_watchdog_on_write, teardown),
+        cmocka_unit_test_teardown(test_socketcan_watchdog_latches_on_the_runtime, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

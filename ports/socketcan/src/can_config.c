@@ -11,6 +11,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "roz/hal/cmd_watchdog.h"
+
 /* ---- types ------------------------------------------------------------------ */
 
 typedef struct {
@@ -31,15 +33,15 @@ typedef struct {
     int    cut;
 } sb_t;
 
-enum { K_NETWORK_INTERFACE, K_BITRATE, K_PERIOD, K_MAX_LOAD, K_REPLY_TIMEOUT, K_MASTER_ID,
-       K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
+enum { K_NETWORK_INTERFACE, K_BITRATE, K_PERIOD, K_MAX_LOAD, K_REPLY_TIMEOUT, K_CMD_TIMEOUT,
+       K_MASTER_ID, K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
        K_VELOCITY_RANGE, K_STIFFNESS_RANGE, K_DAMPING_RANGE, K_EFFORT_RANGE, K_DIRECTION,
        K_ZERO_OFFSET, N_KEYS };
 
 static const char *const key_names[N_KEYS + 1] = {
     "network_interface", "bitrate", "command_writer_period_us", "max_bus_load_percent",
-    "reply_timeout_us", "master_id", "consistency_margin", "enable_monitor", "state_decimation",
-    "can_id", "reply", "position_range", "velocity_range", "stiffness_range", "damping_range",
+    "reply_timeout_us", ROZ_CMD_WATCHDOG_KEY, "master_id", "consistency_margin", "enable_monitor",
+    "state_decimation", "can_id", "reply", "position_range", "velocity_range", "stiffness_range", "damping_range",
     "effort_range", "direction", "zero_offset", NULL,
 };
 
@@ -49,7 +51,8 @@ static const char *const rule_names[] = {
 
 #define KNOWN_KEYS                                                                               \
     "network_interface, bitrate, command_writer_period_us, max_bus_load_percent, "               \
-    "reply_timeout_us, master_id, consistency_margin, enable_monitor, state_decimation, can_id, " \
+    "reply_timeout_us, command_timeout_us, master_id, consistency_margin, enable_monitor, "     \
+    "state_decimation, can_id, "                                                                 \
     "reply, position_range, velocity_range, stiffness_range, damping_range, effort_range, "      \
     "direction, zero_offset"
 
@@ -642,6 +645,10 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
         *timeout_given = ok;
         what = "expected an integer in 1000..10000000 (us)";
         break;
+    case K_CMD_TIMEOUT:
+        ok = parse_uint_in(v, 1000, ROZ_CMD_WATCHDOG_MAX_US, &cfg->command_timeout_us);
+        what = "expected an integer in 1000..10000000 (us)";
+        break;
     case K_MASTER_ID:
         ok = parse_uint_in(v, 0, 0x7FF, &cfg->master_id);
         what = "expected a CAN id, 0..2047 (decimal or 0x hex)";
@@ -876,6 +883,38 @@ static void check_ranges(reporter_t *r, const roz_can_config_t *cfg, const roz_m
     }
 }
 
+/* The command watchdog (roz/hal/cmd_watchdog.h): at least two ticks and two
+ * command intervals of a joint; by default 50 ms, or five of them when
+ * longer. */
+static int check_command_timeout(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t *m,
+                                 const char *text)
+{
+    uint64_t tick_us = (1000000u + m->control_rate_hz - 1u) / m->control_rate_hz;
+    uint64_t slowest = tick_us > cfg->joint_interval_us ? tick_us : cfg->joint_interval_us;
+    uint64_t least = ROZ_CMD_WATCHDOG_MIN_PERIODS * slowest;
+    uint64_t def = ROZ_CMD_WATCHDOG_DEFAULT_PERIODS * slowest;
+
+    if (def < ROZ_CMD_WATCHDOG_DEFAULT_US)
+        def = ROZ_CMD_WATCHDOG_DEFAULT_US;
+    if (def > ROZ_CMD_WATCHDOG_MAX_US)
+        def = least > ROZ_CMD_WATCHDOG_MAX_US ? least : ROZ_CMD_WATCHDOG_MAX_US;
+    if (text == NULL) {
+        cfg->command_timeout_us = (uint32_t)def;
+        return 1;
+    }
+    if ((uint64_t)cfg->command_timeout_us >= least)
+        return 1;
+    char buf[ROZ_CFG_PROBLEM_LEN];
+    sb_t sb;
+    sb_init(&sb, buf, sizeof buf);
+    sb_puts(&sb, ": hardware.params: command_timeout_us ");
+    sb_quoted(&sb, span_of(text));
+    sb_printf(&sb, ": shorter than two command intervals of a joint or two ticks (2 x %lu us)",
+              (unsigned long)slowest);
+    report(r, "can-bus", &sb);
+    return 0;
+}
+
 /* The bus: round-robin groups, the load, the reply timeout. */
 static int check_bus(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t *m,
                      int timeout_given, const char *period_text, const char *timeout_text)
@@ -957,6 +996,7 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
     cfg->command_writer_period_us = 2000;
     cfg->max_bus_load_percent = 80;
     cfg->reply_timeout_us = DEFAULT_TIMEOUT_US;
+    cfg->command_timeout_us = ROZ_CMD_WATCHDOG_DEFAULT_US;
     cfg->master_id = 0;
     cfg->consistency_margin = 0.2;
     cfg->enable_monitor = 1;
@@ -1038,9 +1078,11 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
     if (ranges_ok)
         check_ranges(&r, cfg, m);
     if (joints_ok && parsed[K_BITRATE] && parsed[K_PERIOD] && parsed[K_MAX_LOAD] &&
-        parsed[K_REPLY_TIMEOUT] && parsed[K_REPLY])
-        (void)check_bus(&r, cfg, m, timeout_given, param_value(&p, key_names[K_PERIOD]),
-                        param_value(&p, key_names[K_REPLY_TIMEOUT]));
+        parsed[K_REPLY_TIMEOUT] && parsed[K_REPLY] &&
+        check_bus(&r, cfg, m, timeout_given, param_value(&p, key_names[K_PERIOD]),
+                  param_value(&p, key_names[K_REPLY_TIMEOUT])) &&
+        parsed[K_CMD_TIMEOUT])
+        (void)check_command_timeout(&r, cfg, m, param_value(&p, key_names[K_CMD_TIMEOUT]));
     return r.count == 0 ? ROZ_OK : ROZ_EINVAL;
 }
 

@@ -47,7 +47,7 @@ _Static_assert(sizeof(roz_socketcan_counters_t) % sizeof(uint64_t) == 0, "counte
 #define C(field) (offsetof(roz_socketcan_counters_t, field) / sizeof(uint64_t))
 
 enum { L_ACCEPTED, L_CRC, L_REPLAYS, L_RESTARTS, L_RETURNS, L_MISSING };
-enum { FAULT_NONE, FAULT_CODE, FAULT_CONSISTENCY, FAULT_SILENT };
+enum { FAULT_NONE, FAULT_CODE, FAULT_CONSISTENCY, FAULT_SILENT, FAULT_WATCHDOG };
 enum { META_SESSION, META_ERROR, META_INCONSISTENT, META_N };
 
 /* ---- small things ------------------------------------------------------------ */
@@ -364,17 +364,40 @@ static void watch_losses(roz_socketcan_t *sc, uint64_t t)
     }
 }
 
+/* The command watchdog's verdict on the latest command for this round. A
+ * hold frame (the tick's first writes after a trip) counts as sent once
+ * every round-robin group got it. */
+static roz_cmd_verdict_t judge_round(roz_socketcan_t *sc, uint64_t t)
+{
+    if (sc->tx_cmd_seq == 0)
+        return ROZ_CMD_SEND; /* nothing written yet: the start-up layers decide */
+    int held = sc->tx_hold && sc->hold_rounds + 1u >= sc->cfg.groups;
+    roz_cmd_verdict_t v = roz_cmd_watchdog_judge(&sc->watchdog, sc->tx_epoch, held,
+                                                 sc->tx_stamp, t);
+    if (v == ROZ_CMD_SEND && sc->tx_hold)
+        sc->hold_rounds++;
+    else
+        sc->hold_rounds = 0;
+    return v;
+}
+
 /* One round: each joint of this round's group gets one frame. */
 static void round_pass(roz_socketcan_t *sc, uint64_t t)
 {
     roz_buffer_frame_t fr;
     int all = 1;
     uint64_t before = sc->tx_cmd_seq; /* the commands the tick wrote before this round */
+    uint16_t n = sc->m->n_commands;
 
     if (roz_buffer_read(&sc->cmd_buf, &fr) >= 0 && fr.seq != 0 && fr.seq != sc->tx_cmd_seq) {
-        memcpy(sc->tx_cmd, fr.values, (size_t)sc->m->n_commands * sizeof sc->tx_cmd[0]);
+        memcpy(sc->tx_cmd, fr.values, (size_t)n * sizeof sc->tx_cmd[0]);
         sc->tx_cmd_seq = fr.seq;
+        sc->tx_epoch = (uint32_t)fr.values[n];
+        sc->tx_hold = fr.values[n + 1u] != 0.0;
+        sc->tx_stamp = fr.stamp_ns;
     }
+    roz_cmd_verdict_t verdict = judge_round(sc, t);
+    sc->last_round_ns = t;
     watch_losses(sc, t);
     for (size_t j = 0; j < sc->cfg.n_joints; j++)
         all &= atomic_load_explicit(&sc->shared[j].session, memory_order_acquire) != 0;
@@ -409,6 +432,11 @@ static void round_pass(roz_socketcan_t *sc, uint64_t t)
         } else if (tx->hold_seq == 0 || sc->tx_cmd_seq == tx->hold_seq) {
             tx->hold_seq = sc->tx_cmd_seq; /* layer 3: the first command after is a hold */
             hold_to(sc, j, t);
+        } else if (verdict == ROZ_CMD_SAFE) {
+            hold_to(sc, j, t); /* the tick went silent: no gains until it is back */
+            bump(sc, C(watchdog_holds), 1);
+        } else if (sc->tx_hold) {
+            hold_to(sc, j, t); /* back after a trip: the hold first */
         } else {
             command_to(sc, j, t);
         }
@@ -445,14 +473,27 @@ static void run_periodic(roz_socketcan_t *sc)
     }
 }
 
+/* When the command watchdog wants a round without a post: the expiry of
+ * the last command sent; while tripped, a control period after the last
+ * round (the hold, repeated); UINT64_MAX: not before a post. */
+static uint64_t watchdog_due(const roz_socketcan_t *sc)
+{
+    uint64_t due = roz_cmd_watchdog_next_ns(&sc->watchdog);
+    return due != 0 ? due : sc->last_round_ns + (uint64_t)sc->cfg.round_us * NS_PER_US;
+}
+
 /* A round per post; posts that piled up meanwhile are one round (it sends
- * the latest command). Between posts, losses are still watched. */
+ * the latest command). Between posts, losses are still watched, and the
+ * command watchdog sends its rounds when it is due. */
 static void run_on_write(roz_socketcan_t *sc)
 {
     while (!atomic_load_explicit(&sc->stop_tx, memory_order_acquire)) {
-        struct timespec ts = to_timespec(now_ns() + IDLE_WAKE_NS);
+        uint64_t t = now_ns(), due = watchdog_due(sc);
+        struct timespec ts = to_timespec(due < t + IDLE_WAKE_NS ? due : t + IDLE_WAKE_NS);
         if (sem_clockwait(wake_sem(sc), CLOCK_MONOTONIC, &ts) != 0) {
-            if (errno == ETIMEDOUT)
+            if (errno == ETIMEDOUT && now_ns() >= due)
+                timed_round(sc);
+            else if (errno == ETIMEDOUT)
                 watch_losses(sc, now_ns());
             continue;
         }
@@ -574,7 +615,8 @@ static int sc_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     for (uint16_t i = 0; i < m->n_states; i++)
         sc->rx_image[i] = m->states[i].default_value;
     roz_buffer_init(&sc->state_buf, sc->state_slots, (uint32_t)image_len(sc));
-    roz_buffer_init(&sc->cmd_buf, sc->cmd_slots, m->n_commands);
+    roz_buffer_init(&sc->cmd_buf, sc->cmd_slots, (uint32_t)m->n_commands + 2u);
+    roz_cmd_watchdog_init(&sc->watchdog, sc->cfg.command_timeout_us);
     roz_monitor_init(&sc->monitor, "socketcan",
                      (uint64_t)(sc->cfg.command_writer_period_us != 0
                                     ? sc->cfg.command_writer_period_us
@@ -634,14 +676,11 @@ static int sc_activate(void *self)
     return ROZ_OK;
 }
 
-static int sc_read(void *self, double *state, size_t n)
+static int read_frame(roz_socketcan_t *sc, double *state, size_t n)
 {
-    roz_socketcan_t *sc = self;
     roz_buffer_frame_t fr;
     int returned = 0, stale = -1;
 
-    if (!sc->opened || n != sc->m->n_states)
-        return ROZ_EINVAL;
     sc->fault_joint = -1;
     int rc = roz_buffer_read(&sc->state_buf, &fr);
     if (rc == ROZ_ENOENT)
@@ -692,14 +731,39 @@ static int sc_read(void *self, double *state, size_t n)
     return sc->fault_joint >= 0 ? ROZ_EROBOT : 1;
 }
 
+static int sc_read(void *self, double *state, size_t n)
+{
+    roz_socketcan_t *sc = self;
+
+    if (!sc->opened || n != sc->m->n_states)
+        return ROZ_EINVAL;
+    int rc = read_frame(sc, state, n);
+    /* a trip of the watchdog in place of a plain frame; after a link or
+     * robot fault, at the next read */
+    if ((rc == 0 || rc == 1) &&
+        roz_cmd_watchdog_report(&sc->watchdog, now_ns(), &sc->fault_code)) {
+        sc->fault_joint = 0;
+        sc->fault_kind = FAULT_WATCHDOG;
+        return ROZ_EWATCHDOG;
+    }
+    return rc;
+}
+
 static int sc_write(void *self, const double *cmd, size_t n)
 {
     roz_socketcan_t *sc = self;
+    uint32_t epoch;
 
     if (!sc->opened || n != sc->m->n_commands)
         return ROZ_EINVAL;
     bump(sc, C(writes), 1);
-    roz_buffer_write(&sc->cmd_buf, cmd, 0);
+    uint64_t t = now_ns();
+    int hold = roz_cmd_watchdog_write(&sc->watchdog, t, &epoch);
+    double *f = roz_buffer_write_begin(&sc->cmd_buf);
+    memcpy(f, cmd, n * sizeof cmd[0]);
+    f[n] = epoch;
+    f[n + 1u] = hold; /* back after a trip: a hold until every group got one */
+    roz_buffer_write_commit(&sc->cmd_buf, t); /* the watchdog judges its age */
     if (sc->cfg.command_writer_period_us == 0)
         roz_socketcan_send_round(sc);
     return ROZ_OK;
@@ -710,6 +774,14 @@ static int sc_fault(void *self, roz_port_fault_t *out)
     roz_socketcan_t *sc = self;
     if (sc->fault_joint < 0)
         return ROZ_ENOENT;
+    if (sc->fault_kind == FAULT_WATCHDOG) {
+        out->what = ROZ_CMD_WATCHDOG_KEY;
+        out->kind = "the tick wrote no command for (us)";
+        out->code = sc->fault_code;
+        out->limit = sc->cfg.command_timeout_us;
+        return ROZ_OK;
+    }
+    out->limit = 0;
     out->what = sc->cfg.joints[sc->fault_joint].name;
     out->code = sc->fault_code;
     out->kind = sc->fault_kind == FAULT_CODE          ? "actuator error code"
@@ -788,6 +860,7 @@ void roz_socketcan_counters(const roz_socketcan_t *sc, roz_socketcan_counters_t 
     for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
         v[i] = atomic_load_explicit(&sc->n[i], memory_order_acquire);
     memcpy(out, v, sizeof *out);
+    out->command_timeouts = roz_cmd_watchdog_trips(&sc->watchdog);
 }
 
 void roz_socketcan_link(const roz_socketcan_t *sc, roz_link_t *out)
@@ -812,6 +885,7 @@ void roz_socketcan_info(const roz_socketcan_t *sc, roz_socketcan_info_t *out)
     out->groups = sc->cfg.groups;
     out->joint_interval_us = sc->cfg.joint_interval_us;
     out->reply_timeout_us = sc->cfg.reply_timeout_us;
+    out->command_timeout_us = sc->cfg.command_timeout_us;
     out->bus_load = sc->cfg.bus_load;
     out->n_joints = sc->cfg.n_joints;
 }

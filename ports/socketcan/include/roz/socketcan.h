@@ -78,6 +78,16 @@
  * others 0. Values outside the actuator's ranges are saturated and counted
  * (`saturated`; the configuration check and the safety filter keep it at 0).
  *
+ * Command watchdog (roz/hal/cmd_watchdog.h). When the latest command the
+ * tick wrote is older than `command_timeout_us` (the tick stopped: a killed
+ * or stuck control loop), the writer sends every actuator the zero-gain
+ * hold at its measured position in place of that command, every round (with
+ * a period of 0, a round every control period, on its own); read() returns
+ * ROZ_EWATCHDOG once (the runtime latches COMMAND_TIMEOUT naming how long
+ * the tick was silent), and the tick's writes go out as the hold until
+ * every round-robin group got one; a command written before the trip is
+ * never sent.
+ *
  * Shutdown. deactivate() stops the writer, then sends every actuator that
  * answered a zero-gain hold and "exit motor mode", then stops the receive
  * thread. The port never sends "set zero".
@@ -103,6 +113,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/can_config.h"
+#include "roz/hal/cmd_watchdog.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
@@ -147,6 +158,8 @@ typedef struct roz_socketcan_counters {
     uint64_t rx_errors;       /**< socket read errors of the receive thread */
     uint64_t wakes;           /**< rounds asked for with a period of 0 (write, send_round) */
     uint64_t wakes_served;    /**< of those, asked before a round that has been sent */
+    uint64_t watchdog_holds;  /**< holds the command watchdog sent in place of a command */
+    uint64_t command_timeouts;/**< command watchdog trips: the tick went silent */
 } roz_socketcan_counters_t;
 
 /** What the port knows about the bus (roz_socketcan_info()). */
@@ -157,6 +170,7 @@ typedef struct roz_socketcan_info {
     uint32_t    groups;            /**< round-robin groups */
     uint32_t    joint_interval_us; /**< each joint is commanded this often */
     uint32_t    reply_timeout_us;
+    uint32_t    command_timeout_us;/**< the command watchdog */
     double      bus_load;          /**< worst case, the busiest round's share of the bus */
     uint16_t    n_joints;
 } roz_socketcan_info_t;
@@ -220,10 +234,16 @@ typedef struct roz_socketcan {
 
     /* writer thread */
     roz_socketcan_tx_joint_t  tx[ROZ_CAN_MAX_JOINTS];
-    roz_buffer_t              cmd_buf;
-    double                    cmd_slots[3 * ROZ_CFG_MAX_COMMANDS];
+    roz_buffer_t              cmd_buf;  /* the commands, then the watchdog's epoch and hold */
+    double                    cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + 2)];
     double                    tx_cmd[ROZ_CFG_MAX_COMMANDS];
     uint64_t                  tx_cmd_seq;
+    uint32_t                  tx_epoch;     /* the watchdog: the frame's epoch, */
+    int                       tx_hold;      /* whether it is a hold, */
+    uint64_t                  tx_stamp;     /* when the tick wrote it, */
+    uint32_t                  hold_rounds;  /* rounds that sent it (a group each) */
+    uint64_t                  last_round_ns;
+    roz_cmd_watchdog_t        watchdog;
     uint32_t                  round;
     roz_monitor_t             monitor;
 
@@ -231,7 +251,8 @@ typedef struct roz_socketcan {
     uint32_t                  tick_session[ROZ_CAN_MAX_JOINTS];
     uint32_t                  tick_inconsistent[ROZ_CAN_MAX_JOINTS];
     int                       fault_joint;  /* fault(): the joint, -1 none */
-    int                       fault_kind;   /* 1 error code, 2 consistency, 3 silent */
+    int                       fault_kind;   /* 1 error code, 2 consistency, 3 silent,
+                                               4 command timeout */
     uint32_t                  fault_code;
 
     /* threads, counters */
