@@ -34,7 +34,11 @@
 #error "ROZ_TEST_DDS_DOMAIN: a domain id of this test's own"
 #endif
 
-#define WAIT_MS 10000u
+/* A hang guard for every wait on the port or the fake: far beyond what a
+ * loaded machine takes (a full parallel ctest under a sanitizer once took
+ * longer than the 10 s this was), so only a hang fails; nothing asserts a
+ * time. */
+#define WAIT_MS 60000u
 
 static roz_unitree_g1_t g1;
 static roz_port_t the_port;
@@ -219,6 +223,16 @@ void roz_g1fx_settle(void)
 
 static void fx_close(void);
 
+/* Whether the fake matched the port both ways: its command reader the
+ * port's writer, its state writer the port's reader. */
+static int fake_matched(void)
+{
+    unsigned w = 0, r = 0;
+    if (roz_fake_g1_ask(&fake, "matched") != 0 || sscanf(fake.line, "ok %u %u", &w, &r) != 2)
+        fail_msg("fake_g1: matched: \"%s\"", fake.line);
+    return w >= 1 && r >= 1;
+}
+
 static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                    char *err, size_t errlen)
 {
@@ -263,11 +277,14 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     if (rc != ROZ_OK)
         return rc;
     *port = the_port;
-    /* both directions matched before anyone speaks */
+    /* both directions matched, seen from both sides, before anyone speaks
+     * (discovery is asynchronous: a side that has not matched the other's
+     * writer yet drops what it is sent, so the first command could be lost
+     * and a wait for it never end) */
     for (unsigned ms = 0;; ms++) {
         uint32_t readers, writers;
         roz_unitree_g1_matched(&g1, &readers, &writers);
-        if (readers >= 1 && writers >= 1)
+        if (readers >= 1 && writers >= 1 && fake_matched())
             break;
         if (ms >= WAIT_MS) {
             snprintf(err, errlen, "unitree/G1 and fake_g1 did not discover each other in %u ms",

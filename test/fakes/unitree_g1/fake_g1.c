@@ -169,6 +169,12 @@ static uint32_t readers_matched(dds_entity_t writer)
     return dds_get_publication_matched_status(writer, &st) < 0 ? 0u : st.current_count;
 }
 
+static uint32_t writers_matched(dds_entity_t reader)
+{
+    dds_subscription_matched_status_t st;
+    return dds_get_subscription_matched_status(reader, &st) < 0 ? 0u : st.current_count;
+}
+
 /* The robot restarts: a new state writer (a new DDS identity, as after a
  * boot), the tick from 0, the last command forgotten; the counters stay. */
 static int restart(fake_t *f, char *err, size_t errlen)
@@ -408,6 +414,14 @@ static int handle(fake_t *f, const g1_request_t *q)
         f->flip_next = 1;
         pthread_mutex_unlock(&f->lock);
         return reply("ok");
+    case G1_REQ_MATCHED: {
+        /* discovery seen from this side: the writers its command reader
+         * matched, the readers its state writer matched */
+        pthread_mutex_lock(&f->pub_lock);
+        uint32_t w = writers_matched(f->cmd_reader), r = readers_matched(f->state_writer);
+        pthread_mutex_unlock(&f->pub_lock);
+        return reply("ok %" PRIu32 " %" PRIu32, w, r);
+    }
     case G1_REQ_QUIT:
         return reply("ok") != 0 ? -1 : 1;
     }

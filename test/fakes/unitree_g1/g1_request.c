@@ -39,6 +39,7 @@ static const verb_t verbs[] = {
     { "command", G1_REQ_COMMAND, "", "command" },
     { "command_at", G1_REQ_COMMAND_AT, "n", "command_at K" },
     { "flip_next_command", G1_REQ_FLIP_NEXT, "", "flip_next_command" },
+    { "matched", G1_REQ_MATCHED, "", "matched" },
     { "quit", G1_REQ_QUIT, "", "quit" },
 };
 

@@ -884,6 +884,11 @@ static void test_fake_g1_commands(void **st)
     uint64_t g = prime_commands(&c0);
     await_counts(&fake, g, 0);
     expect_command(&fake, &c0);
+    /* discovery from the fake's side: its command reader matched our
+     * writer, its state writer our reader */
+    unsigned mw = 0, mr = 0;
+    assert_int_equal(sscanf(fk_req(&fake, "matched"), "ok %u %u", &mw, &mr), 2);
+    assert_true(mw >= 1 && mr >= 1);
 
     /* good: counted and applied */
     make_command(&c1, 1);
