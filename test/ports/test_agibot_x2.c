@@ -21,6 +21,8 @@
  *  - a joint named otherwise than its slot, and a group of the wrong
  *    length, are dropped and counted;
  *  - link_check = stamp takes the header stamps instead of the sequence;
+ *  - the command watchdog: with the tick silent every driven group gets the
+ *    damping command in the X2's messages; the trip reported, a hold next;
  *  - a manifest of the leg alone reads and drives the leg topic alone;
  *  - bad parameters and joints not on the X2 are refused by name. */
 #define _POSIX_C_SOURCE 200809L
@@ -610,6 +612,82 @@ static void test_x2_bad_parameters(void **st)
     expect_refused(&alien, NULL, NULL, "tail_joint", "agibot/X2");
 }
 
+/* The command watchdog (roz::ros2, tested whole on the PM01): once the tick
+ * stops, every group's topic gets the damping command in the X2's messages,
+ * repeatedly, by the writer alone; read() reports it once; the next write
+ * is the hold. */
+static roz_ros2_counters_t counters(void)
+{
+    roz_ros2_counters_t c;
+    roz_ros2_counters(roz_ros2fx_bridge(), &c);
+    return c;
+}
+
+static void test_x2_watchdog_every_group(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    double q[ROZ_CFG_MAX_JOINTS];
+    (void)st;
+    open_x2((roz_param_t[]){ { "command_timeout_us", "100000" }, { "peer_timeout_ms", "60000" } },
+            2);
+    start();
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1);
+    distinct_command(1);
+    for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
+        int i = cmd_of(m->hardware->joints[j], "position");
+        q[j] = i >= 0 ? cmd[i] : NAN;
+    }
+    write_x2();
+    roz_ros2fx_settle();
+    assert_int_equal(counters().command_timeouts, 0);
+
+    for (int ms = 0; counters().command_timeouts != 1; ms++) {
+        if (ms >= 60000)
+            fail_msg("the watchdog did not trip in 60 s");
+        roz_fake_sleep_ms(1);
+    }
+    roz_fake_ros2_t *fk = roz_ros2fx_fake();
+    assert_int_equal(roz_fake_ros2_commands(fk, n0), 0);
+    for (unsigned g = 0; g < fk->n_groups; g++) {
+        if (n0[g] == 0)
+            continue; /* a group the manifest does not drive */
+        assert_int_equal(roz_fake_ros2_ask(fk, "wait_commands %s %llu 60000", fk->group[g],
+                                           (unsigned long long)n0[g] + 3u),
+                         0);
+    }
+    unsigned checked = 0;
+    for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
+        int g, s, kd = cmd_of(m->hardware->joints[j], "damping");
+        if (isnan(q[j]) || kd < 0 || roz_ros2fx_place(j, &g, &s) != 0)
+            continue;
+        assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
+        if (c.q[s] != q[j] || c.kp[s] != 0.0 || c.dq[s] != 0.0 || c.tau[s] != 0.0 ||
+            c.kd[s] != m->commands[kd].default_value)
+            fail_msg("%s after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the damping "
+                     "command",
+                     m->hardware->joints[j], c.q[s], c.kp[s], c.kd[s], c.dq[s], c.tau[s]);
+        checked++;
+    }
+    assert_true(checked >= 4);
+    assert_int_equal(counters().command_timeouts, 1);
+
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), ROZ_EWATCHDOG);
+    distinct_command(2);
+    write_x2();
+    roz_ros2fx_settle();
+    roz_ros2fx_sent(sent);
+    int g, s;
+    assert_int_equal(roz_ros2fx_place(0, &g, &s), 0);
+    assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
+    char name[160];
+    snprintf(name, sizeof name, "%s/position", m->hardware->joints[0]);
+    assert_true(c.q[s] == sent[state_index(name)]);
+    assert_true(c.kp[s] == 0.0 && c.kd[s] == 0.0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -626,6 +704,7 @@ int main(void)
         cmocka_unit_test_teardown(test_x2_names_and_lengths, teardown),
         cmocka_unit_test_teardown(test_x2_link_by_stamp, teardown),
         cmocka_unit_test_teardown(test_x2_part_of_the_robot, teardown),
+        cmocka_unit_test_teardown(test_x2_watchdog_every_group, teardown),
         cmocka_unit_test(test_x2_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
