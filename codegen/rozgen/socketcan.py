@@ -56,7 +56,7 @@ DEFAULT_TIMEOUT_US = 20000
 WATCHDOG_DEFAULT_US = 50000
 WATCHDOG_DEFAULT_PERIODS = 5
 WATCHDOG_MIN_PERIODS = 2
-WATCHDOG_MAX_US = 10000000
+WATCHDOG_MAX_US = 60000000
 BOOLS = {"true": True, "1": True, "yes": True, "on": True,
          "false": False, "0": False, "no": False, "off": False}
 
@@ -221,7 +221,7 @@ class _Checker:
             "reply_timeout_us": (lambda v: _uint_in(v, 1000, 10000000),
                                  "expected an integer in 1000..10000000 (us)"),
             "command_timeout_us": (lambda v: _uint_in(v, 1000, WATCHDOG_MAX_US),
-                                   "expected an integer in 1000..10000000 (us)"),
+                                   "expected an integer in 1000..60000000 (us)"),
             "master_id": (lambda v: _uint_in(v, 0, 0x7FF),
                           "expected a CAN id, 0..2047 (decimal or 0x hex)"),
             "consistency_margin": (

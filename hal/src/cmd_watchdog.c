@@ -71,6 +71,12 @@ int roz_cmd_watchdog_write(roz_cmd_watchdog_t *wd, uint64_t now_ns, uint32_t *ep
     uint32_t trips = atomic_load_explicit(&wd->trips, memory_order_acquire);
     int hold = trips != atomic_load_explicit(&wd->resumed, memory_order_acquire);
 
+    if (trips != wd->tick_reported && trips != wd->tick_gap_trips && wd->tick_wrote) {
+        /* the first write after a trip read() has not reported: the silence
+         * it ends is the one to report */
+        wd->tick_gap_trips = trips;
+        wd->tick_gap_ns = now_ns > wd->tick_last_ns ? now_ns - wd->tick_last_ns : 0;
+    }
     wd->tick_wrote = 1;
     wd->tick_last_ns = now_ns;
     *epoch = trips;
@@ -84,9 +90,10 @@ int roz_cmd_watchdog_report(roz_cmd_watchdog_t *wd, uint64_t now_ns, uint32_t *s
     if (trips == wd->tick_reported)
         return 0;
     wd->tick_reported = trips;
-    /* the sender trips only on a frame the tick wrote, so tick_wrote is set */
-    *silent_us = wd->tick_wrote && now_ns > wd->tick_last_ns ? us_sat(now_ns - wd->tick_last_ns)
-                                                             : 0u;
+    if (wd->tick_gap_trips == trips)
+        *silent_us = us_sat(wd->tick_gap_ns); /* it wrote since: the silence that ended */
+    else /* the sender trips only on a frame the tick wrote: tick_wrote is set */
+        *silent_us = now_ns > wd->tick_last_ns ? us_sat(now_ns - wd->tick_last_ns) : 0u;
     return 1;
 }
 

@@ -81,7 +81,7 @@ static void test_alloc_socketcan_ticks(void **st)
     size_t len;
     const uint8_t *w = roz_test_controller("leg_pd", &len);
     const char *const params[] = { "command_writer_period_us", "2000", "reply_timeout_us",
-                                   "10000", "command_timeout_us", "2000000", NULL };
+                                   "10000", "command_timeout_us", "60000000", NULL };
     (void)st;
     roz_test_can_open(&t, &sc, &bus, &roz_manifest_can_leg, roz_test_leg_actuators, 3, 0.002, 0,
                       params);

@@ -84,7 +84,7 @@ static void open_on_write(const char *const *more)
      * fake's silences count; the test's own pauses between writes are no
      * silent tick (the watchdog's cases set theirs) */
     const char *params[20] = { "command_writer_period_us", "0", "reply_timeout_us", "300000",
-                               "command_timeout_us", "10000000" };
+                               "command_timeout_us", "60000000" };
     size_t k = 6;
     for (size_t i = 0; more != NULL && more[i] != NULL && k < 18; i++)
         params[k++] = more[i];
@@ -241,7 +241,7 @@ static void test_socketcan_replays_and_strays(void **st)
 {
     double state[ROZ_CAN_LEG_N_STATES], before[ROZ_CAN_LEG_N_STATES];
     const char *const params[] = { "command_writer_period_us", "0", "command_timeout_us",
-                                   "10000000", NULL };
+                                   "60000000", NULL };
     uint8_t d[8] = { 1, 0x80, 0, 0x80, 0x08, 0x00, 0, 0 };
     (void)st;
     roz_test_can_open(&t, &sc, &bus, leg, roz_test_leg_actuators, 3, 0.002, 1, params);
@@ -578,7 +578,7 @@ static void runtime_up_with(const char *command_timeout_us)
  * and no silent tick */
 static void runtime_up(void)
 {
-    runtime_up_with("2000000");
+    runtime_up_with("60000000");
 }
 
 static void runtime_down(void)

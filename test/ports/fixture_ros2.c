@@ -399,7 +399,7 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
     items[n++] = (roz_param_t){ "peer_timeout_ms", "300" };
     /* the suite ticks at its own pace, not a clock's: a pause between two
      * steps is no stuck control loop (the watchdog has tests of its own) */
-    items[n++] = (roz_param_t){ "command_timeout_us", "10000000" };
+    items[n++] = (roz_param_t){ "command_timeout_us", "60000000" };
     for (size_t i = 0; params != NULL && i < params->n && n < ROZ_ROS2_MAX_PARAMS / 2; i++) {
         items[n++] = params->items[i];
         if (strcmp(params->items[i].key, "peer_timeout_ms") == 0)

@@ -78,7 +78,7 @@ static int sc_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_p
     roz_param_t items[16] = { { "command_writer_period_us", "0" },
                               { "reply_timeout_us", "300000" },
                               /* the suite's pace is no silent tick */
-                              { "command_timeout_us", "10000000" } };
+                              { "command_timeout_us", "60000000" } };
     size_t n = 3;
     for (size_t i = 0; params != NULL && i < params->n && n < 16; i++)
         items[n++] = params->items[i];

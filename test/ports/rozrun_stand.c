@@ -38,10 +38,10 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                            "--param", "network_interface=lo",
                            "--param", dom,
                            "--param", "peer_timeout_ms=5000",
-                           /* the command watchdog at 2 s: a loaded machine may
-                            * deschedule the tick past the default (the ports'
-                            * tests have the watchdog's cases) */
-                           "--param", "command_timeout_us=2000000",
+                           /* the command watchdog at its longest: a loaded
+                            * machine may deschedule the tick past the default
+                            * (the ports' tests have the watchdog's cases) */
+                           "--param", "command_timeout_us=60000000",
                            "--controller", controller,
                            "--ticks", nticks,
                            "--budget-us", "off",

@@ -647,7 +647,7 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
         break;
     case K_CMD_TIMEOUT:
         ok = parse_uint_in(v, 1000, ROZ_CMD_WATCHDOG_MAX_US, &cfg->command_timeout_us);
-        what = "expected an integer in 1000..10000000 (us)";
+        what = "expected an integer in 1000..60000000 (us)";
         break;
     case K_MASTER_ID:
         ok = parse_uint_in(v, 0, 0x7FF, &cfg->master_id);

@@ -64,9 +64,10 @@ extern "C" {
 /** A timeout is at least this many tick periods and sender periods: a
  *  shorter one fires between two writes of a healthy loop. */
 #define ROZ_CMD_WATCHDOG_MIN_PERIODS 2u
-/** The longest timeout, microseconds (10 s: bring-up on a hung robot, a slow
- *  test machine; never a robot that stands or walks). */
-#define ROZ_CMD_WATCHDOG_MAX_US 10000000u
+/** The longest timeout, microseconds (60 s: tests whose steps wait on a
+ *  loaded machine, bring-up on a hung robot; never a robot that stands or
+ *  walks). There is no "off". */
+#define ROZ_CMD_WATCHDOG_MAX_US 60000000u
 
 /** What the sender sends. */
 typedef enum roz_cmd_verdict {
@@ -89,6 +90,8 @@ typedef struct roz_cmd_watchdog {
     uint32_t tick_reported; /* trips read() reported */
     int      tick_wrote;    /* a write since init */
     uint64_t tick_last_ns;  /* its time */
+    uint32_t tick_gap_trips; /* trips when the tick's first write after them came */
+    uint64_t tick_gap_ns;    /* the silence that write ended */
 } roz_cmd_watchdog_t;
 
 /**
@@ -126,9 +129,10 @@ int roz_cmd_watchdog_write(roz_cmd_watchdog_t *wd, uint64_t now_ns, uint32_t *ep
 /**
  * @brief Whether the sender tripped since the last report: once per trip.
  * @param[in]  now_ns     the tick's time now
- * @param[out] silent_us  how long the tick had written nothing, until
- *                        @p now_ns (the time since its last write),
- *                        saturated at UINT32_MAX
+ * @param[out] silent_us  how long the tick wrote nothing: until @p now_ns,
+ *                        or, when it wrote since the trip (a write before
+ *                        this read), until that write; saturated at
+ *                        UINT32_MAX
  * @return 1 once for each trip (read() returns ROZ_EWATCHDOG), else 0
  * Context: the tick (read()); RT-safe, wait-free.
  */

@@ -40,7 +40,7 @@
  * | command_writer_period_us | the command writer's period; 0 sends a round when the tick writes; else 100..1000000 | 2000 |
  * | max_bus_load_percent | the share of the bus a period's frames may take, worst case, 10..100 | 80 |
  * | reply_timeout_us | a command unanswered this long makes its joint stale; at least two command intervals of a joint, 1000..10000000 | 20000 or three intervals, whichever is longer |
- * | command_timeout_us | the command watchdog (roz/hal/cmd_watchdog.h): the tick silent this long, the writer holds every actuator without gains; at least two command intervals of a joint and two ticks, 1000..10000000 | 50000 or five intervals or ticks, whichever is longer |
+ * | command_timeout_us | the command watchdog (roz/hal/cmd_watchdog.h): the tick silent this long, the writer holds every actuator without gains; at least two command intervals of a joint and two ticks, 1000..60000000 | 50000 or five intervals or ticks, whichever is longer |
  * | master_id | the CAN id replies may come from besides the actuator's own, 0..2047 | 0 |
  * | consistency_margin | rad: a position that moves this much more (or less) than its velocity says is a fault; 0 = off | 0.2 |
  * | enable_monitor | true/false (1/0, yes/no, on/off): jitter warnings | true |
