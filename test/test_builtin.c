@@ -16,13 +16,15 @@
 #include "quadcopter_manifest.h"
 #include "roz/builtin.h"
 #include "roz/manifest.h"
+#include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
 static void test_builtin_registry(void **state)
 {
     static const char *const ids[] = { "agibot_x2", "diff_drive", "engineai_pm01",
-                                       "quadcopter", "unitree_g1", "ur5" };
+                                       "quadcopter", "unitree_g1", "unitree_g1_23dof",
+                                       "ur5" };
     (void)state;
     assert_int_equal(roz_builtin_count(), sizeof ids / sizeof ids[0]);
     for (size_t i = 0; i < sizeof ids / sizeof ids[0]; i++) {
@@ -180,6 +182,8 @@ static void test_builtin_humanoids(void **state)
     (void)state;
     check_humanoid(&roz_manifest_unitree_g1, 29, "unitree/G1", "left_hip_pitch_joint",
                    "right_wrist_yaw_joint", 8.0);
+    check_humanoid(&roz_manifest_unitree_g1_23dof, 23, "unitree/G1", "left_hip_pitch_joint",
+                   "right_wrist_roll_joint", 8.0);
     check_humanoid(&roz_manifest_agibot_x2, 30, "agibot/X2", "left_hip_pitch_joint",
                    "head_yaw_joint", 4.0);
     check_humanoid(&roz_manifest_engineai_pm01, 24, "engineai/PM01", "J00_HIP_PITCH_L",

@@ -5,6 +5,7 @@
  *   manifests/engineai_pm01.toml (sha256 df53e7a82ebcd9f0f98da01eccfac93bfa84f699ad0f31b20e606eeee8572173)
  *   manifests/quadcopter.toml (sha256 6b7d084160f1dd382cde31a66c45a948e414d47c358dce50a2a124bf8a26967d)
  *   manifests/unitree_g1.toml (sha256 92dd38f5f5b41f82a808786d5824706b2fc9fac7ba4ccf7c660c9c567e4dcc16)
+ *   manifests/unitree_g1_23dof.toml (sha256 65a836847388f73b00ef81657cff32a24c50a72bc39d9ec6ab677aaee1519ab9)
  *   manifests/ur5.toml (sha256 e5c738d6f3d073b6177ae149f16acda64f96522dcbf15f1fbfce2000bcb0650d)
  * DO NOT EDIT: edit the sources and regenerate. */
 /* Registry of the built-in manifests (roz/builtin.h), sorted by robot_id. */
@@ -18,9 +19,10 @@
 #include "engineai_pm01_manifest.h"
 #include "quadcopter_manifest.h"
 #include "unitree_g1_manifest.h"
+#include "unitree_g1_23dof_manifest.h"
 #include "ur5_manifest.h"
 
-#define ROZ__BUILTIN_COUNT 6u
+#define ROZ__BUILTIN_COUNT 7u
 
 static const roz_manifest_t *const roz__builtins[ROZ__BUILTIN_COUNT] = {
     &roz_manifest_agibot_x2,
@@ -28,6 +30,7 @@ static const roz_manifest_t *const roz__builtins[ROZ__BUILTIN_COUNT] = {
     &roz_manifest_engineai_pm01,
     &roz_manifest_quadcopter,
     &roz_manifest_unitree_g1,
+    &roz_manifest_unitree_g1_23dof,
     &roz_manifest_ur5,
 };
 
