@@ -28,6 +28,7 @@
 #include "port_fixture.h"
 #include "roz/unitree_g1.h"
 #include "unitree_g1_fixture.h"
+#include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
 
 #ifndef ROZ_TEST_DDS_DOMAIN
@@ -86,6 +87,30 @@ void roz_g1fx_ask(const char *fmt, ...)
         fail_msg("fake_g1: \"%s\" -> \"%s\"", req, fake.line);
 }
 
+/* The G1's motor slots by joint name, written here from the SDK's joint
+ * order (not taken from the port): the robot's side of the binding. */
+int roz_g1fx_slot(const char *joint)
+{
+    static const char *const body[29] = {
+        "left_hip_pitch_joint", "left_hip_roll_joint", "left_hip_yaw_joint", "left_knee_joint",
+        "left_ankle_pitch_joint", "left_ankle_roll_joint", "right_hip_pitch_joint",
+        "right_hip_roll_joint", "right_hip_yaw_joint", "right_knee_joint",
+        "right_ankle_pitch_joint", "right_ankle_roll_joint", "waist_yaw_joint",
+        "waist_roll_joint", "waist_pitch_joint", "left_shoulder_pitch_joint",
+        "left_shoulder_roll_joint", "left_shoulder_yaw_joint", "left_elbow_joint",
+        "left_wrist_roll_joint", "left_wrist_pitch_joint", "left_wrist_yaw_joint",
+        "right_shoulder_pitch_joint", "right_shoulder_roll_joint", "right_shoulder_yaw_joint",
+        "right_elbow_joint", "right_wrist_roll_joint", "right_wrist_pitch_joint",
+        "right_wrist_yaw_joint",
+    };
+    for (int s = 0; s < 29; s++) {
+        if (strcmp(body[s], joint) == 0)
+            return s;
+    }
+    fail_msg("\"%s\" is not a G1 joint", joint);
+    return -1;
+}
+
 /* Sets the fake's state for frame k, distinct per joint and per frame, in
  * float32, inside each channel's limits; records what the port should
  * deliver. */
@@ -104,7 +129,8 @@ void roz_g1fx_set_state(uint32_t k)
         float q = (float)(lo + (hi - lo) * (double)((k * 7u + j * 3u) % 17u + 1u) / 19.0);
         float dq = (float)(((int)((k + j) % 11u) - 5) * 0.5);
         float tau = (float)(((int)((k * 3u + j) % 13u) - 6) * 0.25);
-        roz_g1fx_ask("motor %u %.9g %.9g %.9g", (unsigned)j, (double)q, (double)dq, (double)tau);
+        roz_g1fx_ask("motor %d %.9g %.9g %.9g", roz_g1fx_slot(hw->joints[j]), (double)q,
+                     (double)dq, (double)tau);
         if (qi >= 0)
             sent[qi] = q;
         if (dqi >= 0)
@@ -370,7 +396,8 @@ static const double *fx_peer_command(void)
     for (uint16_t j = 0; j < hw->n_joints; j++) {
         static const char *const suffix[5] = { "position", "velocity", "effort", "stiffness",
                                                "damping" };
-        const double v[5] = { c.q[j], c.dq[j], c.tau[j], c.kp[j], c.kd[j] };
+        int sl = roz_g1fx_slot(hw->joints[j]);
+        const double v[5] = { c.q[sl], c.dq[sl], c.tau[sl], c.kp[sl], c.kd[sl] };
         for (int k = 0; k < 5; k++) {
             char name[160];
             snprintf(name, sizeof name, "%s/%s", hw->joints[j], suffix[k]);
@@ -410,7 +437,8 @@ static void fx_wire_command(const double *in, double *out)
         out[i] = (float)in[i];
 }
 
-static const roz_manifest_t *const g1_manifests[] = { &roz_manifest_unitree_g1, NULL };
+static const roz_manifest_t *const g1_manifests[] = { &roz_manifest_unitree_g1,
+                                                      &roz_manifest_unitree_g1_23dof, NULL };
 
 const roz_port_fixture_t roz_fixture_unitree_g1 = {
     .name = "unitree/G1",

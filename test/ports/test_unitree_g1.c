@@ -5,6 +5,13 @@
  *  - all 29 joints map both ways, a distinct value per joint and field: the
  *    states the port reads, the LowCmd_ the robot gets (mode 1 for the
  *    joints, slots 29-34 mode 0 and all zero, mode_pr PR);
+ *  - joints bound by name: a manifest listing the 29 joints in reverse
+ *    order drives each joint's motor slot (a distinct value per joint); the
+ *    23-DoF manifest drives its 23 slots and leaves 13, 14, 20, 21, 27, 28
+ *    mode 0 and zero; an unknown or repeated name is refused at open;
+ *  - a robot whose mode_machine says it lacks a listed joint (23-DoF 4/10,
+ *    locked waist 6/12/14/16) gets no command, and the runtime latches
+ *    ROZ_FAULT_ROBOT naming the joint and the mode_machine; 0 takes all;
  *  - the IMU: Unitree's w, x, y, z quaternion reaches the manifest's x, y,
  *    z, w; gyroscope and accelerometer in order;
  *  - padding zero under the CRC: the port's sample storage starts as
@@ -49,11 +56,13 @@
 #include "roz/unitree_g1.h"
 #include "../support.h"
 #include "unitree_g1_fixture.h"
+#include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
 #include "unitree_hg.h"
 #include "ur5_manifest.h"
 
-static const roz_manifest_t *const m = &roz_manifest_unitree_g1;
+/* the manifest the test opens the port with (teardown restores the G1's) */
+static const roz_manifest_t *m = &roz_manifest_unitree_g1;
 static roz_port_t port;
 static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
 static double cmd[ROZ_CFG_MAX_COMMANDS];
@@ -81,6 +90,7 @@ static int teardown(void **st)
 {
     (void)st;
     roz_fixture_unitree_g1.close();
+    m = &roz_manifest_unitree_g1;
     return 0;
 }
 
@@ -167,6 +177,107 @@ static void test_g1_joints_map_both_ways(void **st)
             assert_true(c.q[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0 && c.kp[j] == 0.0 &&
                         c.kd[j] == 0.0);
         }
+    }
+}
+
+/* The command the fake got, joint by joint at the slot of its name: mode 1
+ * and the five fields of cmd; every other slot mode 0 and zero. */
+static void assert_command_by_name(const roz_fake_g1_cmd_t *c)
+{
+    int driven[ROZ_UNITREE_G1_SLOTS] = { 0 };
+    for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
+        int s = roz_g1fx_slot(m->hardware->joints[j]);
+        driven[s] = 1;
+        assert_int_equal(c->mode[s], 1);
+        assert_true(c->q[s] == (float)cmd[cmd_index(j, "position")]);
+        assert_true(c->dq[s] == (float)cmd[cmd_index(j, "velocity")]);
+        assert_true(c->tau[s] == (float)cmd[cmd_index(j, "effort")]);
+        assert_true(c->kp[s] == (float)cmd[cmd_index(j, "stiffness")]);
+        assert_true(c->kd[s] == (float)cmd[cmd_index(j, "damping")]);
+    }
+    for (int s = 0; s < ROZ_UNITREE_G1_SLOTS; s++) {
+        if (driven[s])
+            continue;
+        assert_int_equal(c->mode[s], 0);
+        assert_true(c->q[s] == 0.0 && c->dq[s] == 0.0 && c->tau[s] == 0.0 && c->kp[s] == 0.0 &&
+                    c->kd[s] == 0.0);
+    }
+}
+
+/* Both ways through @p man, three frames and commands, the fake reporting
+ * @p mode_machine (< 0: its default, 5). */
+static void map_both_ways(const roz_manifest_t *man, int mode_machine)
+{
+    roz_fake_g1_cmd_t c;
+
+    m = man;
+    open_g1(NULL, 0);
+    if (mode_machine >= 0)
+        roz_g1fx_ask("mode_machine %d", mode_machine);
+    start();
+    for (int k = 1; k <= 3; k++) {
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        roz_port_test_assert_state(m, state, sent);
+        distinct_command(k);
+        write_g1();
+        get_command(&c);
+        if (mode_machine >= 0)
+            assert_int_equal(c.mode_machine, mode_machine);
+        assert_command_by_name(&c);
+    }
+}
+
+/* The G1's manifest with its joints listed in reverse: the same channels,
+ * so joint i's channels belong to motor 28 - i's name. */
+static const char *reversed_joints[ROZ_UNITREE_G1_BODY];
+static roz_hardware_t reversed_hw;
+static roz_manifest_t reversed;
+
+static const roz_manifest_t *reversed_g1(void)
+{
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    assert_int_equal(g1->hardware->n_joints, ROZ_UNITREE_G1_BODY);
+    for (int j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        reversed_joints[j] = g1->hardware->joints[ROZ_UNITREE_G1_BODY - 1 - j];
+    reversed_hw = *g1->hardware;
+    reversed_hw.joints = reversed_joints;
+    reversed = *g1;
+    reversed.hardware = &reversed_hw;
+    return &reversed;
+}
+
+static void test_g1_joints_by_name_reordered(void **st)
+{
+    (void)st;
+    map_both_ways(reversed_g1(), -1);
+    /* the first listed joint is the right wrist's yaw: motor 28 */
+    assert_int_equal(roz_g1fx_slot(m->hardware->joints[0]), 28);
+}
+
+static void test_g1_23dof(void **st)
+{
+    static const int absent[6] = { 13, 14, 20, 21, 27, 28 };
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    assert_int_equal(roz_manifest_unitree_g1_23dof.hardware->n_joints, 23);
+    /* a 23-DoF robot (10) gets commands for its 23 motors */
+    map_both_ways(&roz_manifest_unitree_g1_23dof, 10);
+    get_command(&c);
+    for (int i = 0; i < 6; i++) {
+        assert_int_equal(c.mode[absent[i]], 0);
+        assert_true(c.q[absent[i]] == 0.0 && c.dq[absent[i]] == 0.0 &&
+                    c.tau[absent[i]] == 0.0 && c.kp[absent[i]] == 0.0 &&
+                    c.kd[absent[i]] == 0.0);
+    }
+    teardown(NULL);
+    /* so do 4 (23-DoF rev 1.0), a locked waist, simulation */
+    static const int others[] = { 4, 6, 0 };
+    for (size_t i = 0; i < sizeof others / sizeof others[0]; i++) {
+        map_both_ways(&roz_manifest_unitree_g1_23dof, others[i]);
+        teardown(NULL);
     }
 }
 
@@ -287,12 +398,12 @@ static void test_g1_mode_machine(void **st)
     assert_int_equal(c.mode_machine, 9); /* echoed */
 
     /* changed under a running controller: reported, nothing sent */
-    roz_g1fx_ask("mode_machine 10");
+    roz_g1fx_ask("mode_machine 11"); /* another 29-DoF variant */
     roz_g1fx_send();
     assert_int_equal(read_g1(), ROZ_EROBOT);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
     assert_string_equal(f.what, "mode_machine");
-    assert_int_equal(f.code, 10);
+    assert_int_equal(f.code, 11);
     uint64_t published = counters().published;
     for (int k = 2; k < 6; k++) {
         distinct_command(k);
@@ -371,6 +482,74 @@ static void test_g1_motor_fault_latches(void **st)
     tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_runtime_deinit(&rt);
+}
+
+/* ---- the robot's variant ------------------------------------------------------------ */
+
+/* The 29-DoF manifest on a robot whose @p mode_machine lacks @p joint: the
+ * runtime latches ROZ_FAULT_ROBOT naming the joint and the mode_machine, and
+ * the robot gets no command at all. */
+static void expect_variant_refused(int mode_machine, const char *joint)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    roz_port_fault_t f;
+    uint64_t good = 1, bad = 1;
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    char code[16];
+
+    open_g1(NULL, 0);
+    roz_g1fx_ask("mode_machine %d", mode_machine);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt) & ROZ_FAULT_ROBOT, ROZ_FAULT_ROBOT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    snprintf(code, sizeof code, "%d", mode_machine);
+    if (strstr(msg, joint) == NULL || strstr(msg, "mode_machine") == NULL ||
+        strstr(msg, code) == NULL)
+        fail_msg("the fault names not the joint %s and mode_machine %d: \"%s\"", joint,
+                 mode_machine, msg);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, joint);
+    assert_int_equal(f.code, (uint32_t)mode_machine);
+    /* written to the port straight, past the latch: still nothing goes out */
+    distinct_command(3);
+    write_g1();
+    roz_g1fx_settle();
+    assert_int_equal(counters().published, 0);
+    assert_true(counters().refused_mode_machine >= 1);
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_int_equal(good, 0);
+    assert_int_equal(bad, 0);
+    roz_runtime_deinit(&rt);
+}
+
+static void test_g1_variant_mismatch(void **st)
+{
+    (void)st;
+    /* 23-DoF: the first listed joint of slots 13, 14, 20, 21, 27, 28 */
+    expect_variant_refused(10, "waist_roll_joint");
+    teardown(NULL);
+    expect_variant_refused(4, "waist_roll_joint");
+    teardown(NULL);
+    /* a locked waist */
+    expect_variant_refused(12, "waist_roll_joint");
+    teardown(NULL);
+    /* listed in reverse, the first absent one is the right wrist's yaw */
+    m = reversed_g1();
+    expect_variant_refused(10, "right_wrist_yaw_joint");
 }
 
 /* ---- decimation ----------------------------------------------------------------------- */
@@ -791,21 +970,26 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 /* a robot whose manifest has a channel the G1 has no place for */
 static const roz_channel_t odd_commands[] = {
-    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0 },
     { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const roz_channel_t odd_states[] = {
-    { "j1/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const char *const odd_joints[] = { "j1" };
+static const char *const real_joints[] = { "left_knee_joint" };
+static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &odd_hw };
+                                    &real_hw };
+/* joint j1 is not a G1's */
+static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
+                                        1, &odd_hw };
 static const roz_channel_t typo_commands[] = {
-    { "j1/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &odd_hw };
+                                     &real_hw };
 
 static void test_g1_bad_parameters(void **st)
 {
@@ -825,13 +1009,29 @@ static void test_g1_bad_parameters(void **st)
     /* manifests the G1 cannot serve */
     expect_refused(&roz_manifest_ur5, NULL, NULL, "[hardware] joints", NULL);
     expect_refused(&odd, NULL, NULL, "base/velocity.x", NULL);
-    expect_refused(&typo, NULL, NULL, "j1/stiffness", "damping");
+    expect_refused(&typo, NULL, NULL, "left_knee_joint/stiffness", "damping");
+    /* a joint by a name the G1 does not have, or twice */
+    expect_refused(&unknown, NULL, NULL, "[hardware] joints[0] \"j1\"",
+                   "is not one of the robot's joints");
+    static const char *twice[29];
+    static roz_hardware_t twice_hw;
+    static roz_manifest_t twice_m;
+    twice_m = *reversed_g1();
+    memcpy(twice, reversed_joints, sizeof twice);
+    twice[5] = twice[4];
+    twice_hw = reversed_hw;
+    twice_hw.joints = twice;
+    twice_m.hardware = &twice_hw;
+    expect_refused(&twice_m, NULL, NULL, "joints[5]", "duplicate of joints[4]");
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_g1_joints_map_both_ways, teardown),
+        cmocka_unit_test_teardown(test_g1_joints_by_name_reordered, teardown),
+        cmocka_unit_test_teardown(test_g1_23dof, teardown),
+        cmocka_unit_test_teardown(test_g1_variant_mismatch, teardown),
         cmocka_unit_test_teardown(test_g1_imu_order, teardown),
         cmocka_unit_test_teardown(test_g1_padding_and_crc, teardown),
         cmocka_unit_test_teardown(test_g1_mode_machine, teardown),

@@ -12,6 +12,9 @@
 #include "roz/unitree_g1.h"
 
 roz_unitree_g1_t *roz_g1fx_port(void);
+/* The motor slot of G1 joint @p joint (the SDK's name); fails the test for
+ * a name the G1 does not have. */
+int roz_g1fx_slot(const char *joint);
 roz_fake_g1_t *roz_g1fx_fake(void);
 /* Options for the fake of the next open only (NULL-terminated), such as
  * --period-us for a robot that publishes by itself. */

@@ -13,14 +13,74 @@
 
 /* ---- binding --------------------------------------------------------------- */
 
+/* The body's motors by their SDK joint names: index = motor_cmd/motor_state
+ * slot (the 29-DoF order; a 23-DoF G1 has no motor at 13, 14, 20, 21, 27,
+ * 28, a locked waist none at 13, 14). */
+static const char *const slot_names[ROZ_UNITREE_G1_BODY] = {
+    "left_hip_pitch_joint",      "left_hip_roll_joint",      "left_hip_yaw_joint",
+    "left_knee_joint",           "left_ankle_pitch_joint",   "left_ankle_roll_joint",
+    "right_hip_pitch_joint",     "right_hip_roll_joint",     "right_hip_yaw_joint",
+    "right_knee_joint",          "right_ankle_pitch_joint",  "right_ankle_roll_joint",
+    "waist_yaw_joint",           "waist_roll_joint",         "waist_pitch_joint",
+    "left_shoulder_pitch_joint", "left_shoulder_roll_joint", "left_shoulder_yaw_joint",
+    "left_elbow_joint",          "left_wrist_roll_joint",    "left_wrist_pitch_joint",
+    "left_wrist_yaw_joint",      "right_shoulder_pitch_joint", "right_shoulder_roll_joint",
+    "right_shoulder_yaw_joint",  "right_elbow_joint",        "right_wrist_roll_joint",
+    "right_wrist_pitch_joint",   "right_wrist_yaw_joint",
+};
+
+int roz_unitree_g1_joint_slot(const char *name)
+{
+    for (int s = 0; name != NULL && s < ROZ_UNITREE_G1_BODY; s++) {
+        if (strcmp(slot_names[s], name) == 0)
+            return s;
+    }
+    return -1;
+}
+
+const char *roz_unitree_g1_slot_joint(int slot)
+{
+    return slot >= 0 && slot < ROZ_UNITREE_G1_BODY ? slot_names[slot] : NULL;
+}
+
+/* Each manifest joint's motor slot, by name; every error names the joint. */
+static int place(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen)
+{
+    const roz_hardware_t *hw = m->hardware;
+    int taken[ROZ_UNITREE_G1_BODY];
+
+    for (int s = 0; s < ROZ_UNITREE_G1_BODY; s++)
+        taken[s] = -1;
+    for (uint16_t k = 0; k < hw->n_joints; k++) {
+        int s = roz_unitree_g1_joint_slot(hw->joints[k]);
+        if (s < 0) {
+            snprintf(err, errlen,
+                     "unitree/G1: [hardware] joints[%u] \"%s\" is not one of the robot's joints "
+                     "(the port's header lists them)",
+                     (unsigned)k, hw->joints[k] != NULL ? hw->joints[k] : "");
+            return ROZ_EINVAL;
+        }
+        if (taken[s] >= 0) {
+            snprintf(err, errlen,
+                     "unitree/G1: [hardware] joints[%u] \"%s\" is a duplicate of joints[%d]",
+                     (unsigned)k, hw->joints[k], taken[s]);
+            return ROZ_EINVAL;
+        }
+        taken[s] = (int)k;
+        g1->slot[k] = (uint8_t)s;
+        g1->listed |= (uint32_t)1u << s;
+    }
+    return ROZ_OK;
+}
+
 int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen)
 {
     const roz_hardware_t *hw = m->hardware;
 
     if (hw == NULL || hw->n_joints == 0 || hw->n_joints > ROZ_UNITREE_G1_BODY) {
         snprintf(err, errlen,
-                 "unitree/G1: manifest %s: [hardware] joints must list 1..%d joints in the SDK's "
-                 "motor order (motor_cmd/motor_state index), it lists %u",
+                 "unitree/G1: manifest %s: [hardware] joints must list 1..%d of the robot's "
+                 "joints by their SDK names, it lists %u",
                  m->robot_id, ROZ_UNITREE_G1_BODY, hw != NULL ? (unsigned)hw->n_joints : 0u);
         return ROZ_EINVAL;
     }
@@ -29,9 +89,49 @@ int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_
         j->q_state = j->dq_state = j->tau_state = -1;
         j->q_cmd = j->dq_cmd = j->tau_cmd = j->kp_cmd = j->kd_cmd = -1;
     }
+    g1->listed = 0;
+    if (place(g1, m, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
     g1->n_joints = hw->n_joints;
     return roz_joints_bind(m, "unitree/G1", "the G1", hw->joints, hw->n_joints, g1->joint,
                            g1->imu, err, errlen);
+}
+
+/* Motor slots each hardware variant lacks (mode_machine, reference: the
+ * SDK's 23-DoF enum and the locked-waist variants). */
+#define G1_SLOTS_23DOF ((1u << 13) | (1u << 14) | (1u << 20) | (1u << 21) | (1u << 27) | (1u << 28))
+#define G1_SLOTS_WAIST ((1u << 13) | (1u << 14))
+
+int roz__g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mode_machine, const char **why)
+{
+    uint32_t absent;
+
+    switch (mode_machine) {
+    case 4:
+    case 10:
+        absent = G1_SLOTS_23DOF;
+        *why = "has no motor on a 23-DoF G1 (nothing is sent), mode_machine";
+        break;
+    case 6:
+    case 12:
+    case 14:
+    case 16:
+        absent = G1_SLOTS_WAIST;
+        *why = "has no motor on a G1 with a locked waist (nothing is sent), mode_machine";
+        break;
+    default: /* 0 (simulation), and every other variant: the whole body */
+        *why = NULL;
+        return -1;
+    }
+    if ((g1->listed & absent) == 0u) {
+        *why = NULL;
+        return -1;
+    }
+    for (uint16_t k = 0; k < g1->n_joints; k++) {
+        if ((absent >> g1->slot[k]) & 1u)
+            return (int)k;
+    }
+    return -1; /* not reached: listed says one is */
 }
 
 int roz__g1_damping_range(const roz_unitree_g1_t *g1, double *lo, double *hi)
@@ -50,7 +150,7 @@ void roz__g1_convert(const roz_unitree_g1_t *g1, const g1_state_t *s, double *va
 {
     for (uint16_t k = 0; k < g1->n_joints; k++) {
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
-        const unitree_hg_msg_dds__MotorState_ *ms = &s->motor_state[k];
+        const unitree_hg_msg_dds__MotorState_ *ms = &s->motor_state[g1->slot[k]];
         if (j->q_state >= 0)
             values[j->q_state] = ms->q;
         if (!full)
@@ -77,8 +177,9 @@ void roz__g1_convert(const roz_unitree_g1_t *g1, const g1_state_t *s, double *va
 int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_t *code)
 {
     for (uint16_t k = 0; k < g1->n_joints; k++) {
-        if (s->motor_state[k].motorstate != 0u) {
-            *code = s->motor_state[k].motorstate;
+        uint32_t c = s->motor_state[g1->slot[k]].motorstate;
+        if (c != 0u) {
+            *code = c;
             return (int)k;
         }
     }
@@ -90,7 +191,10 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
 
 void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd)
 {
-    roz_joints_hold(g1->m, g1->joint, g1->n_joints, q, kd, cmd);
+    double jq[ROZ_UNITREE_G1_BODY];
+    for (uint16_t k = 0; k < g1->n_joints; k++)
+        jq[k] = q[g1->slot[k]];
+    roz_joints_hold(g1->m, g1->joint, g1->n_joints, jq, kd, cmd);
 }
 
 uint32_t roz__g1_clamp(const roz_unitree_g1_t *g1, const double *in, double *out)
@@ -113,10 +217,10 @@ void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_ma
 {
     out->mode_pr = g1->mode_pr;
     out->mode_machine = mode_machine;
-    /* slots past the manifest's joints stay as zeroed: mode 0, disabled */
+    /* slots without a manifest joint stay as zeroed: mode 0, disabled */
     for (uint16_t k = 0; k < g1->n_joints; k++) {
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
-        unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[k];
+        unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
         mc->q = value(cmd, j->q_cmd);
         mc->dq = value(cmd, j->dq_cmd);
@@ -135,7 +239,7 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
     out->mode_machine = mode_machine;
     for (uint16_t k = 0; k < g1->n_joints; k++) {
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
-        unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[k];
+        unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
         mc->q = j->q_cmd >= 0 ? (float)roz_channel_clamp(&m->commands[j->q_cmd], q[k]) : 0.0f;
         if (j->kd_cmd >= 0) {

@@ -158,6 +158,14 @@ static void on_lowstate(void *ctx, void *sample, uint64_t now_ns)
     roz_link_shared_publish(&g1->link_shared, &g1->link);
 }
 
+/* Whether mode_machine @p mm is a variant without a motor for one of the
+ * manifest's joints (any thread: reads what open set). */
+static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
+{
+    const char *why;
+    return roz__g1_variant_refuses(g1, mm, &why) >= 0;
+}
+
 /* ---- the command writer (its thread; after it stopped, the caller's) -------- */
 
 static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
@@ -187,7 +195,9 @@ static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
         /* written for a robot that restarted since: the new one gets
          * nothing until the tick writes for it */
         bump(&g1->c_stale_session);
-    } else if (locked && (locked & 0xffu) != mm) {
+    } else if ((locked && (locked & 0xffu) != mm) || g1_variant_refuses(g1, mm)) {
+        /* mode_machine changed under the controller, or the robot is a
+         * variant without a motor the manifest drives */
         bump(&g1->c_refused_mm);
     } else if (roz_cmd_watchdog_judge(&g1->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
                                       f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
@@ -205,7 +215,7 @@ static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
             atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
         roz__g1_fill(g1, f.values, (uint8_t)mm, out);
         for (uint16_t k = 0; k < g1->n_joints; k++)
-            g1->tx_last_q[k] = out->motor_cmd[k].q;
+            g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
         rc = 1;
     }
     atomic_store_explicit(&g1->c_handled_seq, seq, memory_order_release);
@@ -343,6 +353,15 @@ static int read_frame(roz_unitree_g1_t *g1, double *state, size_t n)
     }
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_acquire);
     uint32_t mm = (uint32_t)meta[M_MODE_MACHINE];
+    const char *why;
+    int absent = roz__g1_variant_refuses(g1, mm, &why);
+    if (absent >= 0) {
+        g1->tick_fault.what = g1->m->hardware->joints[absent];
+        g1->tick_fault.kind = why;
+        g1->tick_fault.code = mm;
+        g1->tick_fault.limit = 0;
+        return ROZ_EROBOT;
+    }
     if (locked && (locked & 0xffu) != mm) {
         g1->tick_fault.what = "mode_machine";
         g1->tick_fault.kind = "changed under a running controller (nothing is sent), now";

@@ -5,9 +5,18 @@
  *        `rt/lowcmd` and `rt/lowstate` (unitree_hg LowCmd_ / LowState_) over
  *        Cyclone DDS, as Unitree's own SDKs do on the wire.
  *
- * Binding (at open, by name, never in the tick): the manifest's `[hardware]
- * joints` are the motors in SDK order, joint i is motor slot i (at most 29:
- * slots 0-28 are the body; 29-34 are never driven). For each joint the
+ * Binding (at open, by name, never in the tick): each of the manifest's
+ * `[hardware] joints` is bound to its motor slot by its SDK joint name, in
+ * any order and any subset (the 29-DoF order: left_hip_pitch_joint,
+ * left_hip_roll_joint, left_hip_yaw_joint, left_knee_joint,
+ * left_ankle_pitch_joint, left_ankle_roll_joint = 0-5; the right leg's six
+ * = 6-11; waist_yaw_joint, waist_roll_joint, waist_pitch_joint = 12-14;
+ * left_shoulder_pitch_joint, left_shoulder_roll_joint,
+ * left_shoulder_yaw_joint, left_elbow_joint, left_wrist_roll_joint,
+ * left_wrist_pitch_joint, left_wrist_yaw_joint = 15-21; the right arm's
+ * seven = 22-28; roz_unitree_g1_joint_slot()). A name that is not one of
+ * these, or one listed twice, is an error at open naming it; a slot with no
+ * joint listed is never driven (nor are 29-34). For each joint the
  * states `{joint}/position`, `/velocity`, `/effort` come from the motor's q,
  * dq, tau_est, and the commands `{joint}/position`, `/velocity`, `/effort`,
  * `/stiffness`, `/damping` go to its q, dq, tau, kp, kd. The IMU states
@@ -37,7 +46,12 @@
  * joints, 0 and all zero for the other slots; q, dq, tau, kp, kd from the
  * command channels (a joint without one sends 0 there); `mode_pr` from the
  * parameter; `mode_machine` echoed from the latest LowState_; the CRC over
- * the native struct. The mode_machine of the first command sent is kept:
+ * the native struct. A robot whose `mode_machine` names a variant without a
+ * motor for a listed joint (4, 10: 23-DoF, no slots 13, 14, 20, 21, 27, 28;
+ * 6, 12, 14, 16: waist locked, no 13, 14) gets nothing, and read() returns
+ * ROZ_EROBOT with fault() naming the joint and the mode_machine (0,
+ * simulation, and every other value take the whole body). The
+ * mode_machine of the first command sent is kept:
  * while the robot reports another, nothing is sent and read() returns
  * ROZ_EROBOT (fault(): "mode_machine changed under a running controller").
  *
@@ -152,7 +166,9 @@ typedef struct roz_unitree_g1 {
     roz_log_fn             log;
     void                  *log_ctx;
     uint16_t               n_joints;
-    roz_unitree_g1_joint_t joint[ROZ_UNITREE_G1_SLOTS];
+    roz_unitree_g1_joint_t joint[ROZ_UNITREE_G1_SLOTS]; /* by manifest joint */
+    uint8_t                slot[ROZ_UNITREE_G1_BODY];   /* manifest joint -> motor slot */
+    uint32_t               listed;                      /* bit s: slot s has a joint */
     int16_t                imu[ROZ_IMU_VALUES]; /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
     roz_param_t            params[ROZ_UNITREE_G1_MAX_PARAMS];
     int                    open, active;
@@ -195,7 +211,8 @@ typedef struct roz_unitree_g1 {
     /* ---- writer thread ---- */
     ROZ_ATOMIC(uint32_t)   locked_mode_machine; /* 0x100 | value once a command went out */
     ROZ_ATOMIC(int)        shutdown;       /* 1: publish the damping command */
-    double                 tx_last_q[ROZ_UNITREE_G1_SLOTS]; /* positions last commanded */
+    double                 tx_last_q[ROZ_UNITREE_G1_SLOTS]; /* positions last commanded,
+                                                               by manifest joint */
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)   c_frames, c_full, c_motor_fault, c_sessions;
@@ -213,6 +230,15 @@ extern const roz_port_ops_t roz_unitree_g1_ops;
  *             monitors warn (from the port's threads); NULL: stderr
  */
 roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx);
+
+/** @brief The motor slot (0-28) of the body joint @p name (the SDK's
+ *  joint name, "left_hip_pitch_joint"), or -1 when the G1 has none.
+ *  Context: any; pure. */
+int roz_unitree_g1_joint_slot(const char *name);
+
+/** @brief The SDK joint name of motor slot @p slot, or NULL past the body.
+ *  Context: any; pure. */
+const char *roz_unitree_g1_slot_joint(int slot);
 
 /** @brief A consistent copy of the checks on LowState_ frames.
  *  Context: any thread. */
