@@ -38,11 +38,6 @@ int roz_unitree_g1_joint_slot(const char *name)
     return -1;
 }
 
-const char *roz_unitree_g1_slot_joint(int slot)
-{
-    return slot >= 0 && slot < ROZ_UNITREE_G1_BODY ? slot_names[slot] : NULL;
-}
-
 /* Each manifest joint's motor slot, by name; every error names the joint. */
 static int place(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen)
 {

@@ -236,10 +236,6 @@ roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_c
  *  Context: any; pure. */
 int roz_unitree_g1_joint_slot(const char *name);
 
-/** @brief The SDK joint name of motor slot @p slot, or NULL past the body.
- *  Context: any; pure. */
-const char *roz_unitree_g1_slot_joint(int slot);
-
 /** @brief A consistent copy of the checks on LowState_ frames.
  *  Context: any thread. */
 void roz_unitree_g1_link(const roz_unitree_g1_t *g1, roz_link_t *out);
