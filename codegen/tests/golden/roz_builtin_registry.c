@@ -4,7 +4,7 @@
  *   manifests/diff_drive.toml (sha256 451fa750584a25cdca9867845bf954dd328d6b2dfd3b04c8769ea9088c11c6bb)
  *   manifests/engineai_pm01.toml (sha256 df53e7a82ebcd9f0f98da01eccfac93bfa84f699ad0f31b20e606eeee8572173)
  *   manifests/quadcopter.toml (sha256 6b7d084160f1dd382cde31a66c45a948e414d47c358dce50a2a124bf8a26967d)
- *   manifests/unitree_g1.toml (sha256 92dd38f5f5b41f82a808786d5824706b2fc9fac7ba4ccf7c660c9c567e4dcc16)
+ *   manifests/unitree_g1.toml (sha256 bbab76db1bb5393440b5702853ed11c909e72ff22aa3b2ddb991e8bf6e1e583e)
  *   manifests/unitree_g1_23dof.toml (sha256 65a836847388f73b00ef81657cff32a24c50a72bc39d9ec6ab677aaee1519ab9)
  *   manifests/ur5.toml (sha256 e5c738d6f3d073b6177ae149f16acda64f96522dcbf15f1fbfce2000bcb0650d)
  * DO NOT EDIT: edit the sources and regenerate. */
