@@ -274,7 +274,7 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     man = m;
     frame_no = 0;
     memset(sent, 0, sizeof sent);
-    peer_timeout_ms = 300;
+    peer_timeout_ms = 1000; /* a fake starved for a few hundred ms on a loaded machine is not gone */
     const char *const *extra = fake_args;
     fake_args = NULL;
     if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, errlen) != 0)
@@ -284,7 +284,7 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     items[n++] = (roz_param_t){ "network_interface", "lo" };
     items[n++] = (roz_param_t){ "dds_domain", domain };
     items[n++] = (roz_param_t){ "command_writer_period_us", "0" };
-    items[n++] = (roz_param_t){ "peer_timeout_ms", "300" };
+    items[n++] = (roz_param_t){ "peer_timeout_ms", "1000" };
     /* the suite ticks at its own pace, not a clock's: a pause between two
      * steps is no stuck control loop (the watchdog has tests of its own) */
     items[n++] = (roz_param_t){ "command_timeout_us", "60000000" };
