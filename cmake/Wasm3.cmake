@@ -91,7 +91,7 @@ file(GLOB _roz_wasm3_sources CONFIGURE_DEPENDS ${_roz_wasm3_dir}/*.c)
 add_library(roz_wasm3 STATIC ${_roz_wasm3_sources})
 add_library(roz::wasm3 ALIAS roz_wasm3)
 set_target_properties(roz_wasm3 PROPERTIES C_STANDARD 11 C_EXTENSIONS ON
-                                           POSITION_INDEPENDENT_CODE ON)
+                                           POSITION_INDEPENDENT_CODE ${ROZ_PIC})
 # Only roz's own sources include wasm3.h; consumers never see this folder.
 target_include_directories(roz_wasm3 PUBLIC $<BUILD_INTERFACE:${_roz_wasm3_dir}>)
 # wasm3's interpreter chains its ops by calls that must compile to tail

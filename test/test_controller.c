@@ -113,6 +113,31 @@ static void test_controller_pd_reads_state(void **st)
     assert_near(target[0], 0.0, 1e-12);
 }
 
+/* The validator's scratch is the caller's: roz_controller_load_in() works
+ * in the storage given (filled with a pattern first: nothing may depend on
+ * it being zero), a refusal says the same as with the scratch on the stack,
+ * and the same scratch serves the next load. */
+static void test_controller_load_in_scratch(void **st)
+{
+    static roz_load_scratch_t scratch;
+    static const unsigned char no_process[] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
+    char on_stack[ROZ_CFG_ERROR_LEN];
+    size_t len;
+    const uint8_t *w = roz_test_controller("pd_hold", &len);
+    (void)st;
+    assert_true(sizeof scratch >= ROZ_CONTROLLER_SCRATCH_BYTES);
+    memset(&scratch, 0xa5, sizeof scratch);
+    assert_int_equal(roz_controller_load(&ctl, no_process, sizeof no_process, &abi), ROZ_EINVAL);
+    strcpy(on_stack, roz_controller_error(&ctl));
+    assert_int_equal(roz_controller_load_in(&ctl, no_process, sizeof no_process, &abi, &scratch),
+                     ROZ_EINVAL);
+    assert_string_equal(roz_controller_error(&ctl), on_stack);
+    assert_int_equal(roz_controller_load_in(&ctl, w, len, &abi, &scratch), ROZ_OK);
+    state[1] = -1.0;
+    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    assert_near(target[1], -0.4, 1e-12);
+}
+
 static void test_controller_traps(void **st)
 {
     static const struct { const char *name; int64_t tick; const char *msg; } traps[] = {
@@ -191,6 +216,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_controller_garbage, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_runs_sine, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_pd_reads_state, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_controller_load_in_scratch, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_traps, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_memory_is_fixed, setup, teardown),
         cmocka_unit_test_setup_teardown(test_controller_c_and_wat_agree, setup, teardown),

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "roz/error.h"
+#include "roz/format.h"
 
 extern char **environ;
 
@@ -21,7 +22,7 @@ static int read_all(const char *path, const char *shown, uint8_t *buf, size_t ca
 {
     FILE *f = fopen(path, "rb");
     if (f == NULL) {
-        snprintf(err, errlen, "cannot read %s: %s", shown, strerror(errno));
+        roz_format(err, errlen, "cannot read %s: %s", shown, strerror(errno));
         return ROZ_EIO;
     }
     size_t n = fread(buf, 1, cap, f);
@@ -29,11 +30,11 @@ static int read_all(const char *path, const char *shown, uint8_t *buf, size_t ca
     int failed = ferror(f);
     fclose(f);
     if (failed) {
-        snprintf(err, errlen, "cannot read %s", shown);
+        roz_format(err, errlen, "cannot read %s", shown);
         return ROZ_EIO;
     }
     if (more) {
-        snprintf(err, errlen, "%s: larger than %zu bytes", shown, cap);
+        roz_format(err, errlen, "%s: larger than %zu bytes", shown, cap);
         return ROZ_ENOSPC;
     }
     *len = n;
@@ -46,7 +47,7 @@ static int assemble_wat(const char *path, uint8_t *buf, size_t cap, size_t *len,
     char tmp[] = "/tmp/roz-wat-XXXXXX";
     int fd = mkstemp(tmp);
     if (fd < 0) {
-        snprintf(err, errlen, "%s: cannot create a temporary file: %s", path, strerror(errno));
+        roz_format(err, errlen, "%s: cannot create a temporary file: %s", path, strerror(errno));
         return ROZ_EIO;
     }
     close(fd);
@@ -55,7 +56,7 @@ static int assemble_wat(const char *path, uint8_t *buf, size_t cap, size_t *len,
     char *in = strdup(path);
     if (in == NULL) {
         unlink(tmp);
-        snprintf(err, errlen, "out of memory");
+        roz_format(err, errlen, "out of memory");
         return ROZ_EIO;
     }
     char *args[] = { prog, in, out_flag, tmp, NULL };
@@ -65,15 +66,15 @@ static int assemble_wat(const char *path, uint8_t *buf, size_t cap, size_t *len,
     free(in);
     if (rc != 0) {
         unlink(tmp);
-        snprintf(err, errlen, "%s: cannot run wat2wasm (Debian package wabt): %s", path,
-                 strerror(rc));
+        roz_format(err, errlen, "%s: cannot run wat2wasm (Debian package wabt): %s", path,
+                   strerror(rc));
         return ROZ_EIO;
     }
     while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
         ;
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
         unlink(tmp);
-        snprintf(err, errlen, "%s: wat2wasm refused it (its message is above)", path);
+        roz_format(err, errlen, "%s: wat2wasm refused it (its message is above)", path);
         return ROZ_EIO;
     }
     rc = read_all(tmp, path, buf, cap, len, err, errlen);

@@ -3,9 +3,10 @@
 
 #include <errno.h>
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "roz/format.h"
 
 const char *roz_params_find(const roz_params_t *p, const char *key)
 {
@@ -29,12 +30,13 @@ int roz_params_check_known(const roz_params_t *p, const char *const *known, cons
         for (const char *const *k = known; *k != NULL && !found; k++)
             found = strcmp(*k, p->items[i].key) == 0;
         if (!found) {
-            size_t used = (size_t)snprintf(err, errlen, "unknown parameter \"%s\" for port %s (known:",
-                                           p->items[i].key, port);
+            size_t used = (size_t)roz_format(err, errlen,
+                                             "unknown parameter \"%s\" for port %s (known:",
+                                             p->items[i].key, port);
             for (const char *const *k = known; *k != NULL && used < errlen; k++)
-                used += (size_t)snprintf(err + used, errlen - used, " %s", *k);
+                used += (size_t)roz_format(err + used, errlen - used, " %s", *k);
             if (used < errlen)
-                snprintf(err + used, errlen - used, ")");
+                roz_format(err + used, errlen - used, ")");
             return ROZ_ENOENT;
         }
     }
@@ -62,8 +64,8 @@ int roz_params_get_u32(const roz_params_t *p, const char *key, uint32_t def, uin
     *out = (uint32_t)x;
     return ROZ_OK;
 bad:
-    snprintf(err, errlen, "parameter %s = \"%s\": expected an integer in %lu..%lu", key, v,
-             (unsigned long)min, (unsigned long)max);
+    roz_format(err, errlen, "parameter %s = \"%s\": expected an integer in %lu..%lu", key, v,
+               (unsigned long)min, (unsigned long)max);
     return ROZ_EINVAL;
 }
 
@@ -80,8 +82,8 @@ int roz_params_get_double(const roz_params_t *p, const char *key, double def, do
     }
     x = strtod(v, &end);
     if (end == v || *end != '\0' || !isfinite(x) || x < min || x > max) {
-        snprintf(err, errlen, "parameter %s = \"%s\": expected a number in %g..%g", key, v, min,
-                 max);
+        roz_format(err, errlen, "parameter %s = \"%s\": expected a number in %g..%g", key, v, min,
+                   max);
         return ROZ_EINVAL;
     }
     *out = x;
@@ -109,7 +111,7 @@ int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *ou
             return ROZ_OK;
         }
     }
-    snprintf(err, errlen, "parameter %s = \"%s\": expected true or false", key, v);
+    roz_format(err, errlen, "parameter %s = \"%s\": expected true or false", key, v);
     return ROZ_EINVAL;
 }
 

@@ -5,12 +5,12 @@
 #include <errno.h>
 #include <pthread.h>
 #include <sched.h>
-#include <stdio.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <time.h>
 
 #include "roz/error.h"
+#include "roz/format.h"
 #include "roz/hal/clock.h"
 
 /* ---- private ------------------------------------------------------------- */
@@ -23,8 +23,8 @@ static void warn(const roz_runner_t *r, const char *what, int err)
 {
     if (r->cfg.log != NULL) {
         char msg[160];
-        snprintf(msg, sizeof msg, "runner: %s not permitted (%s); running without it", what,
-                 strerror(err));
+        roz_format(msg, sizeof msg, "runner: %s not permitted (%s); running without it", what,
+                   strerror(err));
         r->cfg.log(r->cfg.log_ctx, ROZ_LOG_WARN, msg);
     }
 }

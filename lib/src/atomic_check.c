@@ -16,4 +16,6 @@ ROZ_SAME_AS_PLAIN(unsigned);
 ROZ_SAME_AS_PLAIN(uint_fast32_t);
 ROZ_SAME_AS_PLAIN(unsigned char);
 
-_Static_assert(ATOMIC_INT_LOCK_FREE == 2, "roz needs lock-free atomic int");
+_Static_assert(ATOMIC_INT_LOCK_FREE == 2,
+               "roz needs lock-free atomic int (ARMv6-M, Cortex-M0/M0+, has none: "
+               "see lib/CMakeLists.txt)");

@@ -5,8 +5,9 @@
  * initial size. */
 #include "roz/controller.h"
 
-#include <stdio.h>
 #include <string.h>
+
+#include "roz/format.h"
 
 #include "wasm3.h"
 #include "m3_env.h"
@@ -210,7 +211,7 @@ static const M3RawCall host_functions[] = {
 
 static int fail(roz_controller_t *c, int rc, const char *what, const char *detail)
 {
-    snprintf(c->error, sizeof c->error, "%s%s%s", what, detail ? ": " : "", detail ? detail : "");
+    roz_format(c->error, sizeof c->error, "%s%s%s", what, detail ? ": " : "", detail ? detail : "");
     roz_controller_unload(c);
     return rc;
 }
@@ -234,10 +235,26 @@ const char *roz_controller_error(const roz_controller_t *c)
     return c->error;
 }
 
-/* The loader; `metered` 0 compiles no fuel charges (benchmarks only, see
- * controller_bench.h): such an instance accepts no budget but "off". */
-static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi, int metered)
+/* The validator with its scratch on this frame's stack: a call of its own,
+ * so that the scratch is gone before the engine compiles (which recurses,
+ * README: the loader's C stack), and the two never add up. */
+#if defined(__GNUC__) || defined(__clang__)
+__attribute__((noinline))
+#endif
+static int scan_on_stack(const uint8_t *wasm, size_t len, uint32_t *process_index, char *why,
+                         size_t whylen)
 {
+    roz_load_scratch_t scratch;
+    return roz__wasm_scan(wasm, len, &scratch, process_index, why, whylen);
+}
+
+/* The loader; `metered` 0 compiles no fuel charges (benchmarks only, see
+ * controller_bench.h): such an instance accepts no budget but "off".
+ * `scratch` NULL: the validator's scratch on the stack. */
+static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi, int metered,
+                roz_load_scratch_t *scratch)
+{
+    int scanned;
     IM3Environment env;
     IM3Runtime rt;
     IM3Module mod = NULL;
@@ -255,11 +272,14 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     if (abi == NULL)
         return fail(c, ROZ_EINVAL, "no ABI context", NULL);
     if (len > ROZ_CFG_WASM_MAX_MODULE_BYTES) {
-        snprintf(why, sizeof why, "%zu bytes, more than ROZ_CFG_WASM_MAX_MODULE_BYTES (%u)", len,
-                 (unsigned)ROZ_CFG_WASM_MAX_MODULE_BYTES);
+        roz_format(why, sizeof why, "%zu bytes, more than ROZ_CFG_WASM_MAX_MODULE_BYTES (%u)", len,
+                   (unsigned)ROZ_CFG_WASM_MAX_MODULE_BYTES);
         return fail(c, ROZ_EINVAL, "module too large", why);
     }
-    if (roz__wasm_scan(wasm, len, &process_index, why, sizeof why) != ROZ_OK)
+    scanned = scratch != NULL
+                  ? roz__wasm_scan(wasm, len, scratch, &process_index, why, sizeof why)
+                  : scan_on_stack(wasm, len, &process_index, why, sizeof why);
+    if (scanned != ROZ_OK)
         return fail(c, ROZ_EINVAL, why, NULL);
 
     env = m3_NewEnvironment();
@@ -277,8 +297,8 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
         return fail(c, ROZ_EINVAL, "malformed module", r);
     if (mod->memoryInfo.initPages > ROZ_CFG_WASM_MAX_PAGES) {
         /* the message first: freeing the module frees memoryInfo too */
-        snprintf(why, sizeof why, "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)",
-                 (unsigned)mod->memoryInfo.initPages, (unsigned)ROZ_CFG_WASM_MAX_PAGES);
+        roz_format(why, sizeof why, "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)",
+                   (unsigned)mod->memoryInfo.initPages, (unsigned)ROZ_CFG_WASM_MAX_PAGES);
         m3_FreeModule(mod);
         return fail(c, ROZ_EINVAL, "linear memory too large", why);
     }
@@ -296,7 +316,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
         r = m3_LinkRawFunctionEx(mod, imp->module, imp->name, imp->signature, host_functions[i],
                                  abi);
         if (r != m3Err_none && r != m3Err_functionLookupFailed) {
-            snprintf(why, sizeof why, "%s.%s: %s", imp->module, imp->name, r);
+            roz_format(why, sizeof why, "%s.%s: %s", imp->module, imp->name, r);
             return fail(c, ROZ_EINVAL, "cannot link import", why);
         }
     }
@@ -338,13 +358,19 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
 int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi)
 {
-    return load(c, wasm, len, abi, 1);
+    return load(c, wasm, len, abi, 1, NULL);
+}
+
+int roz_controller_load_in(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t *abi,
+                           roz_load_scratch_t *scratch)
+{
+    return load(c, wasm, len, abi, 1, scratch);
 }
 
 int roz__controller_load_unmetered(roz_controller_t *c, const uint8_t *wasm, size_t len,
                                    roz_abi_t *abi)
 {
-    return load(c, wasm, len, abi, 0);
+    return load(c, wasm, len, abi, 0, NULL);
 }
 
 int roz_controller_set_budget(roz_controller_t *c, const roz_budget_t *budget)

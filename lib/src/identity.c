@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "roz/identity.h"
 
-#include <stdio.h>
 #include <string.h>
+
+#include "roz/format.h"
 
 /* ---- private: the interface hash ------------------------------------------ */
 
@@ -73,7 +74,7 @@ static void fnv_channels(uint64_t *h, const roz_channel_t *list, uint16_t n)
 #define ERR(...)                                   \
     do {                                           \
         if (err != NULL && errlen > 0)             \
-            snprintf(err, errlen, __VA_ARGS__);    \
+            roz_format(err, errlen, __VA_ARGS__);  \
     } while (0)
 
 /* An unsigned LEB128 of at most 32 bits at *at; 0 when malformed or cut. */
@@ -109,7 +110,7 @@ static const char *show_id(const uint8_t *s, size_t n, char *out, size_t outlen)
         if (s[i] >= 0x20 && s[i] < 0x7f && s[i] != '\\' && s[i] != '\'')
             out[k++] = (char)s[i];
         else
-            k += (size_t)snprintf(out + k, outlen - k, "\\x%02x", s[i]);
+            k += (size_t)roz_format(out + k, outlen - k, "\\x%02x", s[i]);
     }
     out[k] = '\0';
     return out;
@@ -253,16 +254,16 @@ roz_identity_match_t roz_identity_check(const roz_identity_t *id, const roz_mani
     const char *our_id = m->robot_id != NULL ? m->robot_id : "";
     if (strcmp(id->robot_id, our_id) != 0) {
         if (msg != NULL && len > 0)
-            snprintf(msg, len, "controller built for robot '%s' (hash %016llx), this robot is "
-                               "'%s' (hash %016llx)", id->robot_id,
-                     (unsigned long long)id->hash, our_id, (unsigned long long)ours);
+            roz_format(msg, len, "controller built for robot '%s' (hash %016llx), this robot is "
+                                 "'%s' (hash %016llx)", id->robot_id,
+                       (unsigned long long)id->hash, our_id, (unsigned long long)ours);
         return ROZ_IDENTITY_OTHER_ROBOT;
     }
     if (id->hash != ours) {
         if (msg != NULL && len > 0)
-            snprintf(msg, len, "controller built for robot '%s' (hash %016llx) before its "
-                               "channel table changed: this robot's table has hash %016llx",
-                     our_id, (unsigned long long)id->hash, (unsigned long long)ours);
+            roz_format(msg, len, "controller built for robot '%s' (hash %016llx) before its "
+                                 "channel table changed: this robot's table has hash %016llx",
+                       our_id, (unsigned long long)id->hash, (unsigned long long)ours);
         return ROZ_IDENTITY_TABLE_CHANGED;
     }
     return ROZ_IDENTITY_SAME;

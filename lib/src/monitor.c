@@ -2,8 +2,9 @@
 #include "roz/monitor.h"
 
 #include <stdatomic.h>
-#include <stdio.h>
 #include <string.h>
+
+#include "roz/format.h"
 
 #include "seqlock.h"
 
@@ -21,13 +22,32 @@ static const char *const kind_names[ROZ_MON_KIND_COUNT_] = {
     [ROZ_MON_TICK] = "tick",
 };
 
+/* Index of the highest set bit of ns != 0: the compiler's count of
+ * leading zeros where there is one (one instruction on Cortex-M3 and up,
+ * x86-64, AArch64), else a binary search of six steps. */
+static unsigned lead_bit(uint64_t ns)
+{
+#if defined(__GNUC__) || defined(__clang__)
+    return 63u - (unsigned)__builtin_clzll(ns);
+#else
+    unsigned lead = 0;
+    for (unsigned step = 32; step != 0; step /= 2u) {
+        if ((ns >> step) != 0u) {
+            ns >>= step;
+            lead += step;
+        }
+    }
+    return lead;
+#endif
+}
+
 /* Bucket of a value: below 8 ns one bucket per ns; above, the power of two
  * and the next three bits below the leading one. */
 static unsigned bucket_of(uint64_t ns)
 {
     if (ns < ROZ_MONITOR_SUB_BUCKETS)
         return (unsigned)ns;
-    unsigned lead = 63u - (unsigned)__builtin_clzll(ns);
+    unsigned lead = lead_bit(ns);
     unsigned sub = (unsigned)(ns >> (lead - 3u)) & (ROZ_MONITOR_SUB_BUCKETS - 1u);
     return (lead - 2u) * ROZ_MONITOR_SUB_BUCKETS + sub;
 }
@@ -138,10 +158,10 @@ void roz_monitor_set_warn(roz_monitor_t *m, roz_monitor_warn_fn warn, void *ctx)
 int roz_monitor_format_warning(char *buf, size_t len, const char *name, roz_monitor_kind_t kind,
                                uint64_t ns, uint64_t threshold_ns, uint64_t exceeded)
 {
-    return snprintf(buf, len, "%s: %s took %llu us, threshold %llu us (%llu times so far)",
-                    name != NULL ? name : "roz", roz_monitor_kind_name(kind),
-                    (unsigned long long)(ns / 1000u), (unsigned long long)(threshold_ns / 1000u),
-                    (unsigned long long)exceeded);
+    return roz_format(buf, len, "%s: %s took %llu us, threshold %llu us (%llu times so far)",
+                      name != NULL ? name : "roz", roz_monitor_kind_name(kind),
+                      (unsigned long long)(ns / 1000u), (unsigned long long)(threshold_ns / 1000u),
+                      (unsigned long long)exceeded);
 }
 
 void roz_monitor_periodic(roz_monitor_t *m, uint64_t start_ns)

@@ -2,8 +2,9 @@
 #include "roz/runtime.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
+
+#include "roz/format.h"
 
 #include "recorder_push.h"
 #include "seqlock.h"
@@ -172,28 +173,28 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
 
     switch (bit) {
     case 0:
-        snprintf(buf, len, "%s", "");
+        roz_format(buf, len, "%s", "");
         break;
     case ROZ_FAULT_STALE:
         if (text != NULL && text[0] != '\0')
-            snprintf(buf, len, "no fresh state for %u ticks: %s", (unsigned)num[N_A], text);
+            roz_format(buf, len, "no fresh state for %u ticks: %s", (unsigned)num[N_A], text);
         else
-            snprintf(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
+            roz_format(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
         break;
     case ROZ_FAULT_ESTOP:
-        snprintf(buf, len, "e-stop input");
+        roz_format(buf, len, "e-stop input");
         break;
     case ROZ_FAULT_ESTOP_REQUEST:
-        snprintf(buf, len, "the controller called safety.request_estop");
+        roz_format(buf, len, "the controller called safety.request_estop");
         break;
     case ROZ_FAULT_LINK:
-        snprintf(buf, len,
-                 "port link fault: the robot restarted or came back after it was lost");
+        roz_format(buf, len,
+                   "port link fault: the robot restarted or came back after it was lost");
         break;
     case ROZ_FAULT_ROBOT:
-        snprintf(buf, len, "robot fault: %s %lu (0x%lx)",
-                 text != NULL && text[0] != '\0' ? text : "the port reports a fault, code",
-                 (unsigned long)num[N_A], (unsigned long)num[N_A]);
+        roz_format(buf, len, "robot fault: %s %lu (0x%lx)",
+                   text != NULL && text[0] != '\0' ? text : "the port reports a fault, code",
+                   (unsigned long)num[N_A], (unsigned long)num[N_A]);
         break;
     case ROZ_FAULT_COMMAND_TIMEOUT:
         snprintf(buf, len,
@@ -203,13 +204,13 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
         break;
     default:
         if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
-            snprintf(buf, len, "process() took %llu us at tick %lld, budget %llu us",
-                     (unsigned long long)num[N_A], (long long)tick,
-                     (unsigned long long)num[N_B]);
+            roz_format(buf, len, "process() took %llu us at tick %lld, budget %llu us",
+                       (unsigned long long)num[N_A], (long long)tick,
+                       (unsigned long long)num[N_B]);
         else if (text != NULL && text[0] != '\0')
-            snprintf(buf, len, "%s", text);
+            roz_format(buf, len, "%s", text);
         else
-            snprintf(buf, len, "%s at tick %lld", roz_fault_name(bit), (long long)tick);
+            roz_format(buf, len, "%s at tick %lld", roz_fault_name(bit), (long long)tick);
         break;
     }
 }
@@ -297,7 +298,7 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
     s->wasm = wasm;
     s->wasm_len = len;
     s->hash = roz_recorder_hash(wasm, len);
-    rc = roz_controller_load(&s->ctrl, wasm, len, &s->abi);
+    rc = roz_controller_load_in(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
     return rc;
@@ -328,19 +329,19 @@ static int verify_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const double *s
         if (roz_controller_stack_used(&s->ctrl) > rep->max_stack)
             rep->max_stack = roz_controller_stack_used(&s->ctrl);
         if (rc != ROZ_OK) {
-            snprintf(rt->error, sizeof rt->error, "verify: %s", roz_controller_error(&s->ctrl));
+            roz_format(rt->error, sizeof rt->error, "verify: %s", roz_controller_error(&s->ctrl));
             return ROZ_EVERIFY;
         }
         /* (a fuel stop above is a failed verification as well; the
          * loader's clock is not a judge: dt is reported, never refused) */
         if (s->abi.counters.set_nonfinite != 0) {
-            snprintf(rt->error, sizeof rt->error,
-                     "verify: command.set with a non-finite value at tick %lld", (long long)t);
+            roz_format(rt->error, sizeof rt->error,
+                       "verify: command.set with a non-finite value at tick %lld", (long long)t);
             return ROZ_EVERIFY;
         }
         if (s->abi.estop_requested) {
-            snprintf(rt->error, sizeof rt->error,
-                     "verify: safety.request_estop at tick %lld", (long long)t);
+            roz_format(rt->error, sizeof rt->error,
+                       "verify: safety.request_estop at tick %lld", (long long)t);
             return ROZ_EVERIFY;
         }
         rep->ticks_run = (uint32_t)t + 1;
@@ -357,13 +358,13 @@ static int check_identity(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     char why[ROZ_CFG_ERROR_LEN];
 
     if (roz_identity_read(wasm, len, id, why, sizeof why) != ROZ_OK) {
-        snprintf(rt->error, sizeof rt->error, "load: %s", why);
+        roz_format(rt->error, sizeof rt->error, "load: %s", why);
         return ROZ_EINVAL;
     }
     *match = roz_identity_check(id, rt->cfg.manifest, why, sizeof why);
     if ((*match == ROZ_IDENTITY_OTHER_ROBOT || *match == ROZ_IDENTITY_TABLE_CHANGED) &&
         !rt->cfg.allow_foreign_controller) {
-        snprintf(rt->error, sizeof rt->error, "load: %s", why);
+        roz_format(rt->error, sizeof rt->error, "load: %s", why);
         return ROZ_EINVAL;
     }
     return ROZ_OK;
@@ -714,10 +715,10 @@ int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err, size
         memcpy(&ours, (const char *)&mine + fields[i].at, sizeof ours);
         if (theirs != ours) {
             if (err != NULL && errlen > 0)
-                snprintf(err, errlen,
-                         "%s is %lu in the application, %lu in libroz_core: build both with the "
-                         "same ROZ_CONFIG_FILE (and compiler settings)",
-                         fields[i].name, (unsigned long)theirs, (unsigned long)ours);
+                roz_format(err, errlen,
+                           "%s is %lu in the application, %lu in libroz_core: build both with the "
+                           "same ROZ_CONFIG_FILE (and compiler settings)",
+                           fields[i].name, (unsigned long)theirs, (unsigned long)ours);
             return ROZ_ECONFIG;
         }
     }
@@ -826,7 +827,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     int spare, rc;
 
     if (atomic_load(&rt->pending) != -1) {
-        snprintf(rt->error, sizeof rt->error, "a controller swap is already pending");
+        roz_format(rt->error, sizeof rt->error, "a controller swap is already pending");
         return ROZ_ESTATE;
     }
     /* the tick changes active only by taking pending, which only the holder
@@ -843,7 +844,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     rc = load_slot(rt, s, wasm, len, 1);
     s->abi.metrics = NULL;
     if (rc != ROZ_OK) {
-        snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
+        roz_format(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
         atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
@@ -868,7 +869,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     /* 3. a fresh instance to drive the robot from tick 0 */
     rc = load_slot(rt, s, wasm, len, 0);
     if (rc != ROZ_OK) {
-        snprintf(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
+        roz_format(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
         atomic_fetch_add(&rt->swaps_refused, 1u);
         return rc;
     }
@@ -1046,26 +1047,26 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
                 format_fault(msg, sizeof msg, bit, num, text);
             else
                 format_fault(msg, sizeof msg, bit, num, NULL);
-            snprintf(line, sizeof line, "fault latched: %s", msg);
+            roz_format(line, sizeof line, "fault latched: %s", msg);
             break;
         }
         case EV_WAITING:
-            snprintf(line, sizeof line,
-                     "no state from the port yet after %llu ticks; nothing is sent",
-                     (unsigned long long)e.num[0]);
+            roz_format(line, sizeof line,
+                       "no state from the port yet after %llu ticks; nothing is sent",
+                       (unsigned long long)e.num[0]);
             break;
         case EV_FIRST_FRAME_NONFINITE:
-            snprintf(line, sizeof line,
-                     "the first state frame has a non-finite %s, which a position command "
-                     "holds; nothing is sent until it is finite",
-                     rt->cfg.manifest->states[e.num[0]].name);
+            roz_format(line, sizeof line,
+                       "the first state frame has a non-finite %s, which a position command "
+                       "holds; nothing is sent until it is finite",
+                       rt->cfg.manifest->states[e.num[0]].name);
             break;
         case EV_MONITOR:
             roz_monitor_format_warning(line, sizeof line, rt->monitor.name,
                                        (roz_monitor_kind_t)e.kind, e.num[0], e.num[1], e.num[2]);
             break;
         default:
-            snprintf(line, sizeof line, "event %u", (unsigned)e.code);
+            roz_format(line, sizeof line, "event %u", (unsigned)e.code);
             break;
         }
         if (rt->cfg.log != NULL)
@@ -1073,8 +1074,8 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
     }
     uint32_t dropped = atomic_load(&rt->log_dropped);
     if (dropped != rt->log_dropped_seen) {
-        snprintf(line, sizeof line, "%lu log events dropped (the log ring was full)",
-                 (unsigned long)(dropped - rt->log_dropped_seen));
+        roz_format(line, sizeof line, "%lu log events dropped (the log ring was full)",
+                   (unsigned long)(dropped - rt->log_dropped_seen));
         rt->log_dropped_seen = dropped;
         if (rt->cfg.log != NULL)
             rt->cfg.log(rt->cfg.log_ctx, ROZ_LOG_WARN, line);

@@ -2,12 +2,12 @@
 #include "wasm_scan.h"
 
 #include <stddef.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "roz/abi.h"
 #include "roz/config.h"
 #include "roz/error.h"
+#include "roz/format.h"
 #include "roz/identity.h"
 
 /* ---- private: a cursor over the module bytes ----------------------------- */
@@ -153,7 +153,7 @@ static const char *show(name_t nm, char *out, size_t outlen)
         if (need == 1)
             out[k++] = (char)b;
         else
-            k += (size_t)snprintf(out + k, outlen - k, "\\x%02x", b);
+            k += (size_t)roz_format(out + k, outlen - k, "\\x%02x", b);
     }
     out[k] = '\0';
     return out;
@@ -205,7 +205,7 @@ static int type_signature(const module_t *m, uint32_t idx, char *out, size_t out
         if (nr > 1)
             ret = '*';
         if (t == idx && !c.bad) {
-            snprintf(out, outlen, "%c(%s%s)", ret, args, np > sizeof args - 2 ? "..." : "");
+            roz_format(out, outlen, "%c(%s%s)", ret, args, np > sizeof args - 2 ? "..." : "");
             return ROZ_OK;
         }
     }
@@ -221,10 +221,10 @@ static const char *wasm_notation(const char *sig, char *out, size_t outlen)
     size_t n = 0;
     const char *p = sig + 2; /* past "r(" */
 
-#define PUT(...)                                                           \
-    do {                                                                   \
-        int k = snprintf(out + n, n < outlen ? outlen - n : 0, __VA_ARGS__); \
-        n += k > 0 ? (size_t)k : 0;                                        \
+#define PUT(...)                                                             \
+    do {                                                                     \
+        int k = roz_format(out + n, n < outlen ? outlen - n : 0, __VA_ARGS__); \
+        n += k > 0 ? (size_t)k : 0;                                          \
     } while (0)
     PUT("(");
     for (int first = 1; *p != '\0' && *p != ')' && *p != '.'; p++, first = 0) {
@@ -273,7 +273,7 @@ static const char *kind_name(uint8_t k)
 
 #define FAIL(...)                                \
     do {                                         \
-        snprintf(err, errlen, __VA_ARGS__);      \
+        roz_format(err, errlen, __VA_ARGS__);    \
         return ROZ_EINVAL;                       \
     } while (0)
 
@@ -425,8 +425,12 @@ typedef struct {
     size_t   errlen;
 } vctx_t;
 
-/* Big for a stack frame (about 25 KB); one per thread that loads. */
-static _Thread_local vctx_t vctx;
+/* The scratch is the caller's (roz_load_scratch_t, roz/controller.h):
+ * static storage on firmware, a loader's stack or struct on hosts. */
+_Static_assert(sizeof(vctx_t) <= sizeof(roz_load_scratch_t),
+               "ROZ_CONTROLLER_SCRATCH_BYTES is smaller than the validator's context");
+_Static_assert(_Alignof(vctx_t) <= _Alignof(roz_load_scratch_t),
+               "roz_load_scratch_t is less aligned than the validator's context");
 
 static int is_valtype(uint8_t t)
 {
@@ -462,9 +466,9 @@ static const char *type_name(uint8_t t)
 
 static int bad_body(vctx_t *v, const char *why, const char *a, const char *b)
 {
-    snprintf(v->err, v->errlen, "function %u, offset %u: %s%s%s%s%s", (unsigned)v->f,
-             (unsigned)v->at, why, a != NULL ? " " : "", a != NULL ? a : "",
-             b != NULL ? ", got " : "", b != NULL ? b : "");
+    roz_format(v->err, v->errlen, "function %u, offset %u: %s%s%s%s%s", (unsigned)v->f,
+               (unsigned)v->at, why, a != NULL ? " " : "", a != NULL ? a : "",
+               b != NULL ? ", got " : "", b != NULL ? b : "");
     return ROZ_EINVAL;
 }
 
@@ -665,12 +669,12 @@ static int check_body(vctx_t *v, cursor_t *c)
                 if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
                     return ROZ_EINVAL;
                 if (v->depth >= SCAN_MAX_DEPTH) {
-                    snprintf(v->err, v->errlen,
-                             "function %u, offset %u: blocks nested deeper than "
-                             "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
-                             "recursively on the loader's C stack)",
-                             (unsigned)v->f, (unsigned)v->at,
-                             (unsigned)ROZ_CFG_WASM_MAX_BLOCK_DEPTH);
+                    roz_format(v->err, v->errlen,
+                               "function %u, offset %u: blocks nested deeper than "
+                               "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
+                               "recursively on the loader's C stack)",
+                               (unsigned)v->f, (unsigned)v->at,
+                               (unsigned)ROZ_CFG_WASM_MAX_BLOCK_DEPTH);
                     return ROZ_EINVAL;
                 }
                 v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
@@ -834,10 +838,10 @@ static int check_body(vctx_t *v, cursor_t *c)
                 break;
             }
             default:
-                snprintf(v->err, v->errlen,
-                         "function %u, offset %u: opcode 0x%02x is not accepted (unknown, or a "
-                         "feature beyond WebAssembly 1.0 that roz does not enable)",
-                         (unsigned)v->f, (unsigned)v->at, op);
+                roz_format(v->err, v->errlen,
+                           "function %u, offset %u: opcode 0x%02x is not accepted (unknown, or a "
+                           "feature beyond WebAssembly 1.0 that roz does not enable)",
+                           (unsigned)v->f, (unsigned)v->at, op);
                 return ROZ_EINVAL;
             }
         }
@@ -867,11 +871,10 @@ static int const_expr(cursor_t *c, uint8_t type)
 /* Types, globals, memory, data and code: everything the engine would
  * otherwise take on trust. `sec`/`sec_end` are the sections by id; imports
  * were checked before (all functions of the ABI). */
-static int check_code(const module_t *m, const uint8_t *imports, const uint8_t *imports_end,
-                      const uint8_t *const *sec, const uint8_t *const *sec_end, char *err,
-                      size_t errlen)
+static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
+                      const uint8_t *imports_end, const uint8_t *const *sec,
+                      const uint8_t *const *sec_end, char *err, size_t errlen)
 {
-    vctx_t *v = &vctx;
     uint32_t n;
 
     memset(v, 0, offsetof(vctx_t, f));
@@ -1041,7 +1044,7 @@ static int check_code(const module_t *m, const uint8_t *imports, const uint8_t *
  * all and m3_FindFunction would return the first function with the name,
  * which need not be the export roz checked. Duplicates are found by sorting
  * the names (heapsort: no recursion, no heap, O(n log n) comparisons) in
- * vctx.export_refs, over the body checker's scratch. */
+ * v->export_refs, over the body checker's scratch. */
 
 static name_t export_name(const uint8_t *sec, const uint8_t *end, const export_ref_t *r)
 {
@@ -1079,10 +1082,10 @@ static void sift_down(export_ref_t *r, size_t root, size_t n, const uint8_t *sec
 /* Names, uniqueness, and the export "process": a function defined in the
  * module of type (i64) -> (), whose function index goes to *process_index.
  * The kinds and indices of all exports were checked with the code. */
-static int check_exports(const module_t *m, const uint8_t *sec, const uint8_t *end,
+static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const uint8_t *end,
                          uint32_t *process_index, char *err, size_t errlen)
 {
-    export_ref_t *refs = vctx.export_refs;
+    export_ref_t *refs = v->export_refs;
     uint32_t n = 0, found = 0, pidx = 0;
     uint8_t pkind = 0;
     char shown[48], sig[40];
@@ -1152,9 +1155,10 @@ static int check_exports(const module_t *m, const uint8_t *sec, const uint8_t *e
 
 /* ---- public -------------------------------------------------------------- */
 
-int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, char *err,
-                   size_t errlen)
+int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
+                   uint32_t *process_index, char *err, size_t errlen)
 {
+    vctx_t *v = (vctx_t *)(void *)scratch;
     static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     module_t m = { 0 };
     const uint8_t *imports = NULL, *imports_end = NULL, *exports = NULL, *exports_end = NULL;
@@ -1263,9 +1267,9 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, cha
     }
 
     /* Pass 3: types, globals, memory, data, function bodies. */
-    if (check_code(&m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)
+    if (check_code(v, &m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
 
     /* Pass 4: export names, and process(i64) -> (). */
-    return check_exports(&m, exports, exports_end, process_index, err, errlen);
+    return check_exports(v, &m, exports, exports_end, process_index, err, errlen);
 }

@@ -8,6 +8,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/controller.h"
+
 /* Checks that the module imports only functions of the roz ABI with their
  * exact signatures (names compared byte for byte), exports process(i64)
  * once, under export names that are unique, valid UTF-8 and free of NUL
@@ -16,8 +18,9 @@
  * and at most one well-formed "roz.manifest" section (roz/identity.h).
  * On ROZ_OK, *process_index is the function index of the export "process"
  * (a function defined in the module, never an import): the one to call.
+ * The validator works in *scratch (roz_load_scratch_t, the caller's).
  * Returns ROZ_OK, or ROZ_EINVAL with a message in err. */
-int roz__wasm_scan(const uint8_t *wasm, size_t len, uint32_t *process_index, char *err,
-                   size_t errlen);
+int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
+                   uint32_t *process_index, char *err, size_t errlen);
 
 #endif /* ROZ_WASM_SCAN_H */

@@ -170,7 +170,8 @@ int main(int argc, char **argv)
         return 1;
     }
     uint32_t process_index;
-    if (roz__wasm_scan(wasm, len, &process_index, err, sizeof err) != ROZ_OK) {
+    static roz_load_scratch_t scratch;
+    if (roz__wasm_scan(wasm, len, &scratch, &process_index, err, sizeof err) != ROZ_OK) {
         printf("roz-refused: %s\n", err);
         free(wasm);
         return 2;

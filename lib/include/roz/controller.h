@@ -83,6 +83,29 @@ typedef struct roz_controller {
     char       ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN]; /* last load or trap message */
 } roz_controller_t;
 
+/**
+ * @brief Bytes of scratch memory roz's module validator works in while a
+ *        controller loads (its operand and control stacks, the module's
+ *        type, function and global tables, the export names it sorts).
+ *
+ * The scratch is the caller's: roz_controller_load() puts it on the calling
+ * thread's stack (only while it validates, before the engine compiles), and
+ * roz_controller_load_in() takes storage the caller owns, e.g. one static
+ * buffer on a firmware that loads one controller at a time. No thread-local
+ * storage is involved (bare-metal C libraries have none).
+ */
+#define ROZ_CONTROLLER_SCRATCH_BYTES 22656u
+
+/** The validator's scratch (see ROZ_CONTROLLER_SCRATCH_BYTES); one load at a
+ *  time may use it. Its contents are meaningless between loads. */
+typedef struct roz_load_scratch {
+    union {
+        uint64_t      ROZ_PRIVATE(align);
+        void         *ROZ_PRIVATE(align_ptr);
+        unsigned char ROZ_PRIVATE(bytes)[ROZ_CONTROLLER_SCRATCH_BYTES];
+    } ROZ_PRIVATE(u);
+} roz_load_scratch_t;
+
 /** @brief Zero an instance (not loaded). Context: any; no I/O. */
 void roz_controller_init(roz_controller_t *c);
 
@@ -96,10 +119,19 @@ void roz_controller_init(roz_controller_t *c);
  *                    export or problem
  * @retval ROZ_ENOMEM the engine could not allocate
  * @retval ROZ_ESTATE already loaded
- * Context: outside the tick; allocates.
+ * Context: outside the tick; allocates; the validator's scratch takes
+ * ROZ_CONTROLLER_SCRATCH_BYTES of the calling thread's stack while it runs.
  */
 ROZ_NODISCARD int roz_controller_load(roz_controller_t *c, const uint8_t *wasm, size_t len,
                                       roz_abi_t *abi);
+
+/**
+ * @brief As roz_controller_load(), with the validator's scratch in
+ *        @p scratch (the caller's storage; one load at a time uses it).
+ * Context: outside the tick; allocates.
+ */
+ROZ_NODISCARD int roz_controller_load_in(roz_controller_t *c, const uint8_t *wasm, size_t len,
+                                         roz_abi_t *abi, roz_load_scratch_t *scratch);
 
 /**
  * @brief Set the budget of every following process() call (the default,

@@ -127,6 +127,11 @@ typedef struct roz_runtime_config {
     roz_recorder_t *recorder;   /**< the flight recorder every tick pushes its record into
                                      (roz/recorder.h), set up on the same manifest; NULL
                                      (default): none */
+    roz_load_scratch_t *load_scratch; /**< where the module validator works while a
+                                     controller loads (roz/controller.h,
+                                     ROZ_CONTROLLER_SCRATCH_BYTES); NULL (default): the
+                                     loader thread's stack; firmware passes static storage.
+                                     The runtime's loads run one at a time */
 } roz_runtime_config_t;
 
 /** Figures of a verification run. */

@@ -5,10 +5,10 @@
 #include "roz/loopback.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "roz/format.h"
 #include "roz/hal/crc32.h"
 #include "roz/hal/params.h"
 #include "sim.h"
@@ -52,15 +52,15 @@ static int parse_tick(const char **s, const char *what, uint64_t *out, char *why
     uint64_t v = 0;
 
     if (*p < '0' || *p > '9') {
-        snprintf(why, whylen, "%s is missing or not a tick number", what);
+        roz_format(why, whylen, "%s is missing or not a tick number", what);
         return SYNTAX;
     }
     for (; *p >= '0' && *p <= '9'; p++) {
         unsigned d = (unsigned)(*p - '0');
         if (v > (UINT64_MAX - d) / 10u) {
             size_t n = strspn(*s, "0123456789");
-            snprintf(why, whylen, "%s %.*s is too large (at most %llu)", what,
-                     n > 40 ? 40 : (int)n, *s, (unsigned long long)UINT64_MAX);
+            roz_format(why, whylen, "%s %.*s is too large (at most %llu)", what,
+                       n > 40 ? 40 : (int)n, *s, (unsigned long long)UINT64_MAX);
             return BAD;
         }
         v = v * 10u + d;
@@ -84,16 +84,16 @@ static int parse_range(const char *s, uint64_t *from, uint64_t *to, char *why, s
             return rc;
     }
     if (*s != '\0') {
-        snprintf(why, whylen, "unexpected \"%s\" after the ticks", s);
+        roz_format(why, whylen, "unexpected \"%s\" after the ticks", s);
         return SYNTAX;
     }
     if (*to != 0 && *to < *from) {
-        snprintf(why, whylen, "FROM %llu after TO %llu", (unsigned long long)*from,
-                 (unsigned long long)*to);
+        roz_format(why, whylen, "FROM %llu after TO %llu", (unsigned long long)*from,
+                   (unsigned long long)*to);
         return BAD;
     }
     if (*to != 0 && *to == *from) {
-        snprintf(why, whylen, "FROM %llu equals TO: the ticks [FROM, TO) are none",
+        roz_format(why, whylen, "FROM %llu equals TO: the ticks [FROM, TO) are none",
                  (unsigned long long)*from);
         return BAD;
     }
@@ -111,19 +111,19 @@ static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopbac
         /* an index; long enough a number is out of range, not wrapped */
         ch = strlen(head) > 6 ? -1 : strtol(head, NULL, 10);
         if (ch < 0 || ch >= (long)m->n_states) {
-            snprintf(why, whylen, "state %s does not exist (%u states)", head,
-                     (unsigned)m->n_states);
+            roz_format(why, whylen, "state %s does not exist (%u states)", head,
+                       (unsigned)m->n_states);
             return BAD;
         }
     } else {
         ch = roz_manifest_find_state(m, head);
         if (ch < 0) {
-            snprintf(why, whylen, "no state named \"%s\"", head);
+            roz_format(why, whylen, "no state named \"%s\"", head);
             return BAD;
         }
     }
     if (kind == ROZ_LOOPBACK_RANGE && m->states[ch].type != ROZ_IF_POSITION) {
-        snprintf(why, whylen, "state %ld (%s) is not a position state", ch, m->states[ch].name);
+        roz_format(why, whylen, "state %ld (%s) is not a position state", ch, m->states[ch].name);
         return BAD;
     }
     *out = (int32_t)ch;
@@ -147,13 +147,13 @@ static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *va
         char head[96];
         size_t n = at != NULL ? (size_t)(at - value) : 0;
         if (at == NULL || n == 0) {
-            snprintf(why, sizeof why, "no %s before '@'",
-                     kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL");
+            roz_format(why, sizeof why, "no %s before '@'",
+                       kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL");
             goto bad;
         }
         if (n >= sizeof head) {
-            snprintf(why, sizeof why, "the %s before '@' is longer than %u characters",
-                     kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL", (unsigned)sizeof head - 1u);
+            roz_format(why, sizeof why, "the %s before '@' is longer than %u characters",
+                       kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL", (unsigned)sizeof head - 1u);
             rc = BAD;
             goto bad;
         }
@@ -164,8 +164,8 @@ static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *va
             int digits = head[strspn(head, "0123456789")] == '\0';
             unsigned long k = digits && n <= 3 ? strtoul(head, NULL, 10) : 0;
             if (k < 1 || k > ROZ_LOOPBACK_MAX_DELAY) {
-                snprintf(why, sizeof why, "K %s is not a delay in 1..%d ticks", head,
-                         ROZ_LOOPBACK_MAX_DELAY);
+                roz_format(why, sizeof why, "K %s is not a delay in 1..%d ticks", head,
+                           ROZ_LOOPBACK_MAX_DELAY);
                 rc = BAD;
                 goto bad;
             }
@@ -177,17 +177,18 @@ static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *va
     if ((rc = parse_range(range, &f.from, &f.to, why, sizeof why)) != 0)
         goto bad;
     if (roz_loopback_inject(lb, &f) != ROZ_OK) {
-        snprintf(why, sizeof why, "more than %d fault injections", ROZ_LOOPBACK_MAX_FAULTS);
+        roz_format(why, sizeof why, "more than %d fault injections", ROZ_LOOPBACK_MAX_FAULTS);
         rc = BAD;
         goto bad;
     }
     return ROZ_OK;
 bad:
     if (rc == SYNTAX)
-        snprintf(err, errlen, "parameter %s = \"%s\": %s; expected %s (ticks, TO empty = forever)",
-                 key, value, why, form);
+        roz_format(err, errlen,
+                   "parameter %s = \"%s\": %s; expected %s (ticks, TO empty = forever)", key,
+                   value, why, form);
     else
-        snprintf(err, errlen, "parameter %s = \"%s\": %s", key, value, why);
+        roz_format(err, errlen, "parameter %s = \"%s\": %s", key, value, why);
     return ROZ_EINVAL;
 }
 
@@ -334,7 +335,7 @@ static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     int rc;
 
     if (m == NULL || roz_manifest_validate(m, NULL) != ROZ_OK) {
-        snprintf(err, errlen, "loopback: invalid manifest");
+        roz_format(err, errlen, "loopback: invalid manifest");
         return ROZ_EINVAL;
     }
     memset(lb, 0, sizeof *lb);
