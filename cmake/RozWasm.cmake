@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 #
 # roz_add_wasm_controller(<name> SOURCE <file.c|file.wat>
-#                         [MANIFEST <robot.toml>...] [INCLUDES <dir>...] [DEPENDS <file>...])
+#                         [MANIFEST <robot.toml>...] [SOURCE_ROOT <dir>]
+#                         [INCLUDES <dir>...] [DEPENDS <file>...])
 #
 # Builds <name>.wasm into CMAKE_CURRENT_BINARY_DIR as the target
 # roz_wasm_<name>, part of roz_controllers (built by default). C is compiled
@@ -13,7 +14,8 @@
 # ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/wasm_<name> and puts that folder
 # on the include path, so the source can include <robot_id>_channels.h; the
 # controller is built after that step and again whenever the manifest
-# changes. A C controller is also rebuilt when any header it includes changes
+# changes. The generated files name the manifest relative to SOURCE_ROOT
+# (default: the project's source folder), which must hold it. A C controller is also rebuilt when any header it includes changes
 # (clang writes the list). INCLUDES adds include folders, DEPENDS files to
 # rebuild on.
 #
@@ -25,7 +27,7 @@ if(NOT COMMAND roz__rozgen_command)
 endif()
 
 function(roz_add_wasm_controller name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE" "MANIFEST;INCLUDES;DEPENDS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE;SOURCE_ROOT" "MANIFEST;INCLUDES;DEPENDS")
   if(NOT arg_SOURCE)
     message(FATAL_ERROR "roz_add_wasm_controller(${name}): SOURCE is required")
   endif()
@@ -54,7 +56,10 @@ function(roz_add_wasm_controller name)
     set(incs "")
     if(arg_MANIFEST)
       set(gen_dir ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/wasm_${name})
-      roz__rozgen_command(generated unused ${gen_dir} ${PROJECT_SOURCE_DIR} OFF ${arg_MANIFEST})
+      if(NOT arg_SOURCE_ROOT)
+        set(arg_SOURCE_ROOT ${PROJECT_SOURCE_DIR})
+      endif()
+      roz__rozgen_command(generated unused ${gen_dir} ${arg_SOURCE_ROOT} OFF ${arg_MANIFEST})
       list(APPEND incs -I${gen_dir})
     endif()
     foreach(d IN LISTS arg_INCLUDES)

@@ -4,6 +4,9 @@
 #include <math.h>
 #include <string.h>
 
+/* The controller SDK's freestanding math: the same bits on every target */
+#include "roz_math.h"
+
 /* ---- the import table ---------------------------------------------------- */
 
 const roz_abi_import_t roz_abi_imports[] = {
@@ -144,14 +147,20 @@ int32_t roz_abi_state_count(const roz_abi_t *abi)
     return (int32_t)abi->manifest->n_states;
 }
 
+/* Not the C library's sin and cos: glibc and newlib differ in the last
+ * bit now and then, and a controller's outputs would then depend on the
+ * machine it runs on. The SDK's (roz_math.h: < 1 ulp, exact argument
+ * reduction, double arithmetic only) give the same bits on every target,
+ * so a controller run on a Cortex-M and on the host agrees bit for bit
+ * (test/firmware/), and a recording replays on any machine. */
 double roz_abi_math_sin(double x)
 {
-    return sin(x);
+    return roz_math_sin(x);
 }
 
 double roz_abi_math_cos(double x)
 {
-    return cos(x);
+    return roz_math_cos(x);
 }
 
 void roz_abi_safety_request_estop(roz_abi_t *abi)

@@ -99,10 +99,13 @@
  *  ASan), so this bounds the stack roz_controller_load() needs. With the
  *  default, loading any accepted module needs at most about 28 KiB of C
  *  stack below the caller's frame (about 101 KiB under ASan): it fits a
- *  64 KiB thread (256 KiB under ASan) together with the thread's static TLS,
- *  about 22 KiB of which is roz's validator (glibc carves static TLS out of
- *  every thread's stack). A C switch of N cases compiles to N + 1 nested
- *  blocks. Deeper nesting is refused with a message naming this option. */
+ *  64 KiB thread (256 KiB under ASan). roz_controller_load() puts the
+ *  validator's scratch (ROZ_CONTROLLER_SCRATCH_BYTES, about 22 KiB) on the
+ *  same stack, but only while it validates, before the engine compiles; a
+ *  firmware passes static storage instead (roz_controller_load_in(),
+ *  roz_runtime_config_t.load_scratch). A C switch of N cases compiles to
+ *  N + 1 nested blocks. Deeper nesting is refused with a message naming
+ *  this option. */
 #ifndef ROZ_CFG_WASM_MAX_BLOCK_DEPTH
 #define ROZ_CFG_WASM_MAX_BLOCK_DEPTH 100
 #endif

@@ -6,6 +6,11 @@
 #include <math.h>
 #include <string.h>
 
+/* The controller SDK's math, not the C library's: the simulator computes
+ * the same bits on every target (glibc and newlib differ in the last bit
+ * now and then), so a firmware image and the host agree (test/firmware/). */
+#include "roz_math.h"
+
 enum { M_DEFAULT = 0, M_JOINT_POS, M_JOINT_VEL, M_JOINT_EFF, M_BASE };
 
 #define INERTIA 0.05  /* kg*m^2 of every simulated joint */
@@ -156,7 +161,7 @@ static void step_joint(roz_loopback_t *lb, roz_loopback_joint_t *jt)
     } else if (jt->pos_cmd >= 0) {
         double target = lb->cmd[jt->pos_cmd];
         double q0 = jt->q;
-        jt->q += (target - jt->q) * (1.0 - exp(-dt / ROZ_LOOPBACK_TAU_S));
+        jt->q += (target - jt->q) * (1.0 - roz_math_exp(-dt / ROZ_LOOPBACK_TAU_S));
         jt->dq = (jt->q - q0) / dt;
         jt->tau = 0.0;
     } else if (jt->vel_cmd >= 0) {
@@ -172,11 +177,11 @@ static void step_base(roz_loopback_t *lb)
     for (int a = 0; a < 4; a++)
         v[a] = cmd_or(lb, lb->base_cmd[a], 0.0);
     double yaw = lb->base[3];
-    lb->base[0] += (v[0] * cos(yaw) - v[1] * sin(yaw)) * lb->dt;
-    lb->base[1] += (v[0] * sin(yaw) + v[1] * cos(yaw)) * lb->dt;
+    lb->base[0] += (v[0] * roz_math_cos(yaw) - v[1] * roz_math_sin(yaw)) * lb->dt;
+    lb->base[1] += (v[0] * roz_math_sin(yaw) + v[1] * roz_math_cos(yaw)) * lb->dt;
     lb->base[2] += v[2] * lb->dt;
     yaw += v[3] * lb->dt;
-    lb->base[3] = atan2(sin(yaw), cos(yaw)); /* wrap to [-pi, pi] */
+    lb->base[3] = roz_math_atan2(roz_math_sin(yaw), roz_math_cos(yaw)); /* wrap to [-pi, pi] */
 }
 
 void roz_lbsim_compose(const roz_loopback_t *lb, double *state)

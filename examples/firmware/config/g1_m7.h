@@ -1,0 +1,21 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* roz's configuration for the Unitree G1 image on the Cortex-M7
+ * (ROZ_CONFIG_FILE): sized for this robot and controller, from the verify
+ * report and the image's measured high-water marks (README, "Firmware"). */
+#ifndef ROZ_FW_G1_M7_CONFIG_H
+#define ROZ_FW_G1_M7_CONFIG_H
+
+#define ROZ_CFG_MAX_COMMANDS          145   /* the G1's table: 29 joints x 5 */
+#define ROZ_CFG_MAX_STATES            97    /* 29 joints x 3, the IMU's 10 */
+#define ROZ_CFG_NAME_ARENA_BYTES      64    /* no manifest is built at run time */
+#define ROZ_CFG_MAX_JOINTS            0
+#define ROZ_CFG_MAX_PARAMS            0
+#define ROZ_CFG_WASM_STACK_BYTES      8192  /* the PD controller's calls are shallow */
+#define ROZ_CFG_NATIVE_STACK_BYTES    6144  /* process()'s C stack, below the main stack */
+#define ROZ_CFG_WASM_MAX_PAGES        1
+#define ROZ_CFG_WASM_MAX_MODULE_BYTES 16384
+#define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 16
+#define ROZ_CFG_WASM_MAX_BLOCK_DEPTH  16
+#define ROZ_CFG_TELEMETRY_RING        16
+
+#endif /* ROZ_FW_G1_M7_CONFIG_H */

@@ -1,0 +1,21 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* roz's configuration for the UR5 image on the Cortex-M4F (ROZ_CONFIG_FILE):
+ * sized for this robot and controller, from the verify report and the
+ * image's measured high-water marks (README, "Firmware"). */
+#ifndef ROZ_FW_UR5_M4F_CONFIG_H
+#define ROZ_FW_UR5_M4F_CONFIG_H
+
+#define ROZ_CFG_MAX_COMMANDS          6     /* the UR5's table */
+#define ROZ_CFG_MAX_STATES            12
+#define ROZ_CFG_NAME_ARENA_BYTES      64    /* no manifest is built at run time */
+#define ROZ_CFG_MAX_JOINTS            0
+#define ROZ_CFG_MAX_PARAMS            0
+#define ROZ_CFG_WASM_STACK_BYTES      4096  /* the sine controller's calls are shallow */
+#define ROZ_CFG_NATIVE_STACK_BYTES    6144  /* process()'s C stack, below the main stack */
+#define ROZ_CFG_WASM_MAX_PAGES        1
+#define ROZ_CFG_WASM_MAX_MODULE_BYTES 16384
+#define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 16
+#define ROZ_CFG_WASM_MAX_BLOCK_DEPTH  16
+#define ROZ_CFG_TELEMETRY_RING        16
+
+#endif /* ROZ_FW_UR5_M4F_CONFIG_H */
