@@ -105,4 +105,11 @@ target_compile_options(roz_wasm3 PRIVATE
   $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-w -fno-strict-aliasing> ${ROZ_WASM3_OPT_FLAGS}
   ${ROZ_SANITIZE_DEP_FLAGS})
 target_link_libraries(roz_wasm3 PRIVATE m)
+# wasm3's own configuration (m3_config.h), e.g. for a firmware
+# "d_m3CodePageAlignSize=1024;d_m3VerboseErrorMessages=0": smaller code pages
+# on the heap, no formatted error texts (roz reports wasm3's result strings,
+# never those). PUBLIC: roz's controller.c reads wasm3's structs, whose
+# layout some of these options change.
+set(ROZ_WASM3_DEFINITIONS "" CACHE STRING "wasm3 configuration macros (d_m3*=value;...)")
+target_compile_definitions(roz_wasm3 PUBLIC ${ROZ_WASM3_DEFINITIONS})
 set(ROZ_WASM3_LICENSE_FILE "${_roz_wasm3_license}")

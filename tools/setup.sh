@@ -2,7 +2,8 @@
 # SPDX-License-Identifier: Apache-2.0
 #
 # Installs everything roz needs on a Debian 12 machine, idempotently:
-#   1. Debian packages (only those missing; needs root then),
+#   1. Debian packages (only those missing; needs root then), the Cortex-M
+#      cross compiler and QEMU among them,
 #   2. a Python virtual environment in .venv with the pinned, hash-checked
 #      tools of tools/requirements.txt and rozgen itself,
 #   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
@@ -26,11 +27,15 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # clang + lld build wasm32 controllers and the fuzz targets, wabt assembles
 # .wat, cyclonedds-* serve the DDS ports, libcmocka-dev the C tests, g++ the
 # test that roz's public headers compile as C++, iproute2 the loopback of the
-# DDS tests' network namespace (test/run_netns.sh).
+# DDS tests' network namespace (test/run_netns.sh); gcc-arm-none-eabi with
+# newlib (newlib-nano) cross-builds the Cortex-M firmware images and
+# qemu-system-arm boots them (test/firmware/, make firmware). Without
+# recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2
+    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
 )
 missing=()

@@ -6,8 +6,9 @@
  * polynomial 0x04C11DB7; t[0] is the classic byte table and t[k][b] =
  * (t[k-1][b] << 8) ^ t[0][t[k-1][b] >> 24]). One word costs four
  * independent lookups. test/test_link.c checks the result against the
- * bit-by-bit definition. */
-static const uint32_t t[4][256] = {
+ * bit-by-bit definition. ROZ_CFG_CRC32_SLICES 1 keeps only t[0] (1 KiB of
+ * flash instead of 4) and shifts a word through byte by byte. */
+static const uint32_t t[ROZ_CFG_CRC32_SLICES][256] = {
     {
         0x00000000u, 0x04C11DB7u, 0x09823B6Eu, 0x0D4326D9u, 0x130476DCu, 0x17C56B6Bu,
         0x1A864DB2u, 0x1E475005u, 0x2608EDB8u, 0x22C9F00Fu, 0x2F8AD6D6u, 0x2B4BCB61u,
@@ -53,6 +54,7 @@ static const uint32_t t[4][256] = {
         0x933EB0BBu, 0x97FFAD0Cu, 0xAFB010B1u, 0xAB710D06u, 0xA6322BDFu, 0xA2F33668u,
         0xBCB4666Du, 0xB8757BDAu, 0xB5365D03u, 0xB1F740B4u,
     },
+#if ROZ_CFG_CRC32_SLICES == 4
     {
         0x00000000u, 0xD219C1DCu, 0xA0F29E0Fu, 0x72EB5FD3u, 0x452421A9u, 0x973DE075u,
         0xE5D6BFA6u, 0x37CF7E7Au, 0x8A484352u, 0x5851828Eu, 0x2ABADD5Du, 0xF8A31C81u,
@@ -187,7 +189,8 @@ static const uint32_t t[4][256] = {
         0x6A08C61Au, 0xB6655CADu, 0xD612EEC3u, 0x0A7F7474u, 0x16FD8A1Fu, 0xCA9010A8u,
         0xAAE7A2C6u, 0x768A3871u, 0x93E25E10u, 0x4F8FC4A7u, 0x2FF876C9u, 0xF395EC7Eu,
         0xEF171215u, 0x337A88A2u, 0x530D3ACCu, 0x8F60A07Bu,
-    }
+    },
+#endif
 };
 
 uint32_t roz_crc32_words(const uint32_t *words, size_t n)
@@ -195,7 +198,13 @@ uint32_t roz_crc32_words(const uint32_t *words, size_t n)
     uint32_t crc = 0xFFFFFFFFu;
     for (size_t i = 0; i < n; i++) {
         uint32_t x = crc ^ words[i];
+#if ROZ_CFG_CRC32_SLICES == 4
         crc = t[3][x >> 24] ^ t[2][(x >> 16) & 0xFFu] ^ t[1][(x >> 8) & 0xFFu] ^ t[0][x & 0xFFu];
+#else
+        for (int k = 0; k < 4; k++)
+            x = (x << 8) ^ t[0][x >> 24];
+        crc = x;
+#endif
     }
     return crc;
 }

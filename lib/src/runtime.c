@@ -698,6 +698,8 @@ int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err, size
         { "ROZ_CFG_MAX_STATES", offsetof(roz_runtime_layout_t, max_states) },
         { "ROZ_CFG_ERROR_LEN", offsetof(roz_runtime_layout_t, error_len) },
         { "ROZ_CFG_TELEMETRY_RING", offsetof(roz_runtime_layout_t, telemetry_ring) },
+        { "ROZ_CONTROLLER_SCRATCH_BYTES (the ROZ_CFG_WASM_MAX_* validator limits)",
+          offsetof(roz_runtime_layout_t, scratch_bytes) },
         { "sizeof(roz_runtime_t)", offsetof(roz_runtime_layout_t, runtime_bytes) },
         { "sizeof(roz_runtime_config_t)", offsetof(roz_runtime_layout_t, config_bytes) },
         { "sizeof(roz_controller_t)", offsetof(roz_runtime_layout_t, controller_bytes) },

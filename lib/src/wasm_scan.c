@@ -372,11 +372,14 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
  * with more than one result (multi-value), and every other opcode; each
  * refusal names the function, the offset in its body and the reason. */
 
-#define SCAN_MAX_TYPES  1024  /* function types per module */
-#define SCAN_MAX_FUNCS  4096  /* functions, imported and defined */
-#define SCAN_MAX_GLOBALS 1024 /* globals */
-#define SCAN_MAX_LOCALS 4096  /* parameters and locals per function */
-#define SCAN_MAX_STACK  1024  /* operand stack height per function */
+/* the limits (roz/config.h) */
+#define SCAN_MAX_TYPES   ROZ_CFG_WASM_MAX_TYPES   /* function types per module */
+#define SCAN_MAX_FUNCS   ROZ_CFG_WASM_MAX_FUNCS   /* functions, imported and defined */
+#define SCAN_MAX_GLOBALS ROZ_CFG_WASM_MAX_GLOBALS /* globals */
+#define SCAN_MAX_LOCALS  ROZ_CFG_WASM_MAX_LOCALS  /* parameters and locals per function */
+#define SCAN_MAX_STACK   1024                     /* operand stack height per function */
+#define SCAN_STR_(x)     #x
+#define SCAN_STR(x)      SCAN_STR_(x)
 /* control frames: the function body and its nested blocks (wasm3 compiles
  * those recursively: this bounds the loader's C stack, roz/config.h) */
 #define SCAN_MAX_DEPTH  (ROZ_CFG_WASM_MAX_BLOCK_DEPTH + 1)
@@ -391,7 +394,7 @@ typedef struct {
     uint32_t height;     /* operand stack height at entry */
 } frame_t;
 
-#define SCAN_MAX_EXPORTS 1024 /* exports per module */
+#define SCAN_MAX_EXPORTS ROZ_CFG_WASM_MAX_EXPORTS /* exports per module */
 
 typedef struct {
     uint32_t at;  /* offset of the name's length in the export section */
@@ -629,7 +632,10 @@ static int check_body(vctx_t *v, cursor_t *c)
         if (!is_valtype(t))
             return bad_body(v, "a local of an unknown type", NULL, NULL);
         if (n > SCAN_MAX_LOCALS - v->n_locals)
-            return bad_body(v, "more parameters and locals than the limit (4096)", NULL, NULL);
+            return bad_body(v,
+                            "more parameters and locals than the limit (" SCAN_STR(
+                                SCAN_MAX_LOCALS) ", ROZ_CFG_WASM_MAX_LOCALS)",
+                            NULL, NULL);
         memset(v->local_type + v->n_locals, t, n);
         v->n_locals += n;
     }
@@ -882,7 +888,8 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     v->errlen = errlen;
     /* types: functions of at most SCAN_MAX_PARAMS value parameters and one result */
     if (m->n_types > SCAN_MAX_TYPES)
-        FAIL("%u function types, more than %u", (unsigned)m->n_types, (unsigned)SCAN_MAX_TYPES);
+        FAIL("%u function types, more than %u (ROZ_CFG_WASM_MAX_TYPES)", (unsigned)m->n_types,
+             (unsigned)SCAN_MAX_TYPES);
     v->types = sec[1];
     v->types_end = sec_end[1];
     v->n_types = m->n_types;
@@ -923,7 +930,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
             if (c.bad)
                 break;
             if (v->n_funcs >= SCAN_MAX_FUNCS)
-                FAIL("more than %u functions", (unsigned)SCAN_MAX_FUNCS);
+                FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)SCAN_MAX_FUNCS);
             v->func_type[v->n_funcs++] = (uint16_t)type; /* < n_types: checked before */
         }
         if (c.bad || c.p != c.end)
@@ -939,7 +946,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
             FAIL("function %u has type %u of %u", (unsigned)v->n_funcs, (unsigned)type,
                  (unsigned)v->n_types);
         if (v->n_funcs >= SCAN_MAX_FUNCS)
-            FAIL("more than %u functions", (unsigned)SCAN_MAX_FUNCS);
+            FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)SCAN_MAX_FUNCS);
         v->func_type[v->n_funcs++] = (uint16_t)type;
     }
     if (fc.bad || fc.p != fc.end)
@@ -949,7 +956,8 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         cursor_t c = { sec[6], sec_end[6], 0 };
         v->n_globals = rd_u32(&c);
         if (!c.bad && v->n_globals > SCAN_MAX_GLOBALS)
-            FAIL("%u globals, more than %u", (unsigned)v->n_globals, (unsigned)SCAN_MAX_GLOBALS);
+            FAIL("%u globals, more than %u (ROZ_CFG_WASM_MAX_GLOBALS)", (unsigned)v->n_globals,
+                 (unsigned)SCAN_MAX_GLOBALS);
         for (uint32_t g = 0; g < v->n_globals && !c.bad; g++) {
             v->global_type[g] = rd_byte(&c);
             v->global_mut[g] = rd_byte(&c);
@@ -1094,7 +1102,7 @@ static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const
         cursor_t c = { sec, end, 0 };
         n = rd_u32(&c);
         if (n > SCAN_MAX_EXPORTS)
-            FAIL("%u exports, more than %u (a roz limitation)", (unsigned)n,
+            FAIL("%u exports, more than %u (ROZ_CFG_WASM_MAX_EXPORTS)", (unsigned)n,
                  (unsigned)SCAN_MAX_EXPORTS);
         for (uint32_t e = 0; e < n; e++) {
             const char *why;

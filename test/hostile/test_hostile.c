@@ -439,9 +439,11 @@ static const hostile_t cases[] = {
     { "data_lies", gen_data_lies, BUDGET_DEFAULT, ROZ_EINVAL, "malformed data section", 0, 0,
       NULL },
     { "locals_100k", gen_locals_100k, BUDGET_DEFAULT, ROZ_EINVAL,
-      "function 0, offset 0: more parameters and locals than the limit (4096)", 0, 0, NULL },
+      "function 0, offset 0: more parameters and locals than the limit (4096, "
+      "ROZ_CFG_WASM_MAX_LOCALS)", 0, 0, NULL },
     { "locals_4g", gen_locals_4g, BUDGET_DEFAULT, ROZ_EINVAL,
-      "function 0, offset 0: more parameters and locals than the limit (4096)", 0, 0, NULL },
+      "function 0, offset 0: more parameters and locals than the limit (4096, "
+      "ROZ_CFG_WASM_MAX_LOCALS)", 0, 0, NULL },
     /* malformed code that wasm3 would compile out of bounds */
     { "else_alone", gen_else_alone, BUDGET_DEFAULT, ROZ_EINVAL,
       "function 0, offset 3: else without its if", 0, 0, NULL },

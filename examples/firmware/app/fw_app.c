@@ -5,6 +5,7 @@
 
 #include <string.h>
 
+#include "roz/filter.h"
 #include "roz/format.h"
 #include "roz/loopback.h"
 #include "roz/monitor.h"
@@ -13,6 +14,11 @@
 static roz_runtime_t rt;
 static roz_loopback_t sim;
 static roz_port_t port;
+static roz_filter_t filter; /* the safety filter alone, for its cost */
+static double filter_out[ROZ_CFG_MAX_COMMANDS];
+
+/* Calls of the safety filter timed for its cost. */
+#define FILTER_RUNS 64
 
 /* ---- the fingerprint --------------------------------------------------------- */
 
@@ -54,16 +60,18 @@ static void say(const fw_platform_t *pf, const char *fmt, ...)
     pf->print(line);
 }
 
-/* Mean and largest of one monitored kind, in clock units (instructions
- * under QEMU's -icount shift=0: one instruction is one nanosecond). */
-static void cost(const fw_platform_t *pf, roz_monitor_kind_t kind, const char *what)
+/* Mean and largest of one monitored kind, in clock units: instructions
+ * under QEMU's -icount shift=0 (one instruction is one nanosecond of virtual
+ * time), emulation estimates of the cost on a real core. Returns the mean. */
+static uint64_t cost(const fw_platform_t *pf, roz_monitor_kind_t kind, const char *what)
 {
     static roz_monitor_stat_t s; /* 2 KiB: not the stack */
 
     if (roz_monitor_snapshot(roz_runtime_monitor(&rt), kind, &s) != ROZ_OK || s.count == 0)
-        return;
-    say(pf, "cost: %s mean %llu max %llu", what,
+        return 0;
+    say(pf, "cost: %-12s mean %6llu max %6llu", what,
         (unsigned long long)roz_monitor_stat_mean(&s), (unsigned long long)s.max_ns);
+    return roz_monitor_stat_mean(&s);
 }
 
 /* ---- public ------------------------------------------------------------------- */
@@ -147,10 +155,32 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
     say(pf, "violations: %llu", (unsigned long long)out->violations);
     say(pf, "fingerprint: %016llx", (unsigned long long)out->fingerprint);
     if (cfg.clock != NULL) {
-        cost(pf, ROZ_MON_TICK, "tick");
-        cost(pf, ROZ_MON_PROCESS, "process");
-        cost(pf, ROZ_MON_READ, "port read");
-        cost(pf, ROZ_MON_WRITE, "port write");
+        say(pf, "cost: instructions per tick, emulation estimates (QEMU -icount shift=0)");
+        uint64_t tick = cost(pf, ROZ_MON_TICK, "tick");
+        uint64_t proc = cost(pf, ROZ_MON_PROCESS, "process()");
+        uint64_t rd = cost(pf, ROZ_MON_READ, "port read");
+        uint64_t wr = cost(pf, ROZ_MON_WRITE, "port write");
+        /* the rest of the tick: the snapshot, the safety filter, the
+         * buffers, the monitor and the counters */
+        if (tick > proc + rd + wr)
+            say(pf, "cost: %-12s mean %6llu", "runtime",
+                (unsigned long long)(tick - proc - rd - wr));
+        /* of which the safety filter: the runtime's own, on the last
+         * tick's targets and state, timed alone (FILTER_RUNS calls, less
+         * as many empty clock readings) */
+        const double *targets = roz_runtime_last_targets(&rt);
+        if (targets != NULL && roz_filter_init(&filter, m) == ROZ_OK) {
+            const double *state = roz_runtime_last_state(&rt);
+            roz_filter_prime(&filter, state);
+            uint64_t t0 = pf->clock(pf->clock_ctx);
+            for (int i = 0; i < FILTER_RUNS; i++)
+                roz_filter_apply(&filter, targets, state, ROZ_STOP_NONE, filter_out);
+            uint64_t t1 = pf->clock(pf->clock_ctx);
+            uint64_t t2 = pf->clock(pf->clock_ctx);
+            uint64_t spent = (t1 - t0) > (t2 - t1) ? (t1 - t0) - (t2 - t1) : 0;
+            say(pf, "cost: %-12s mean %6llu (of the runtime's)", "filter",
+                (unsigned long long)(spent / FILTER_RUNS));
+        }
     }
     roz_runtime_deinit(&rt);
     roz_port_close(&port);

@@ -16,6 +16,13 @@
 #define ROZ_CFG_WASM_MAX_MODULE_BYTES 16384
 #define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 16
 #define ROZ_CFG_WASM_MAX_BLOCK_DEPTH  16
+/* the validator's limits: its scratch (a static buffer) is 1.5 KiB, not 22 */
+#define ROZ_CFG_WASM_MAX_TYPES        16
+#define ROZ_CFG_WASM_MAX_FUNCS        32
+#define ROZ_CFG_WASM_MAX_GLOBALS      8
+#define ROZ_CFG_WASM_MAX_LOCALS       64
+#define ROZ_CFG_WASM_MAX_EXPORTS      8
 #define ROZ_CFG_TELEMETRY_RING        16
+#define ROZ_CFG_CRC32_SLICES          1     /* the loopback's CRC: a 1 KiB table, not 4 */
 
 #endif /* ROZ_FW_UR5_M4F_CONFIG_H */

@@ -110,6 +110,37 @@
 #define ROZ_CFG_WASM_MAX_BLOCK_DEPTH 100
 #endif
 
+/** Limits of roz's module validator, which checks every controller before
+ *  the engine sees it; a module beyond one is refused at load with a
+ *  message naming the option. Together they size the validator's scratch,
+ *  ROZ_CONTROLLER_SCRATCH_BYTES (roz/controller.h): about 22 KiB with the
+ *  defaults, about 1.5 KiB with limits sized for one small controller (a
+ *  firmware's). Function types per module, 1..65535. */
+#ifndef ROZ_CFG_WASM_MAX_TYPES
+#define ROZ_CFG_WASM_MAX_TYPES 1024
+#endif
+/** Functions per module, imported and defined. Range 1..1048576. */
+#ifndef ROZ_CFG_WASM_MAX_FUNCS
+#define ROZ_CFG_WASM_MAX_FUNCS 4096
+#endif
+/** Globals per module. Range 1..1048576. */
+#ifndef ROZ_CFG_WASM_MAX_GLOBALS
+#define ROZ_CFG_WASM_MAX_GLOBALS 1024
+#endif
+/** Parameters and locals per function. Range 1..1048576. */
+#ifndef ROZ_CFG_WASM_MAX_LOCALS
+#define ROZ_CFG_WASM_MAX_LOCALS 4096
+#endif
+/** Exports per module. Range 1..1048576. */
+#ifndef ROZ_CFG_WASM_MAX_EXPORTS
+#define ROZ_CFG_WASM_MAX_EXPORTS 1024
+#endif
+/** Tables of roz_crc32_words() (roz/hal/crc32.h, the link checks): 4
+ *  (slicing by four, 4 KiB of flash, four independent lookups a word) or 1
+ *  (1 KiB, four dependent lookups a word: for a small flash). */
+#ifndef ROZ_CFG_CRC32_SLICES
+#define ROZ_CFG_CRC32_SLICES 4
+#endif
 /** Largest controller module accepted, bytes. Range 64..67108864. */
 #ifndef ROZ_CFG_WASM_MAX_MODULE_BYTES
 #define ROZ_CFG_WASM_MAX_MODULE_BYTES 1048576
@@ -178,6 +209,24 @@
 #endif
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"
+#endif
+#if ROZ_CFG_CRC32_SLICES != 1 && ROZ_CFG_CRC32_SLICES != 4
+#error "ROZ_CFG_CRC32_SLICES must be 1 or 4"
+#endif
+#if ROZ_CFG_WASM_MAX_TYPES < 1 || ROZ_CFG_WASM_MAX_TYPES > 65535
+#error "ROZ_CFG_WASM_MAX_TYPES must be in 1..65535"
+#endif
+#if ROZ_CFG_WASM_MAX_FUNCS < 1 || ROZ_CFG_WASM_MAX_FUNCS > 1048576
+#error "ROZ_CFG_WASM_MAX_FUNCS must be in 1..1048576"
+#endif
+#if ROZ_CFG_WASM_MAX_GLOBALS < 1 || ROZ_CFG_WASM_MAX_GLOBALS > 1048576
+#error "ROZ_CFG_WASM_MAX_GLOBALS must be in 1..1048576"
+#endif
+#if ROZ_CFG_WASM_MAX_LOCALS < 1 || ROZ_CFG_WASM_MAX_LOCALS > 1048576
+#error "ROZ_CFG_WASM_MAX_LOCALS must be in 1..1048576"
+#endif
+#if ROZ_CFG_WASM_MAX_EXPORTS < 1 || ROZ_CFG_WASM_MAX_EXPORTS > 1048576
+#error "ROZ_CFG_WASM_MAX_EXPORTS must be in 1..1048576"
 #endif
 #if ROZ_CFG_WASM_MAX_TABLE_ENTRIES < 0 || ROZ_CFG_WASM_MAX_TABLE_ENTRIES > 100000
 #error "ROZ_CFG_WASM_MAX_TABLE_ENTRIES must be in 0..100000"

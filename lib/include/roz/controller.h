@@ -86,7 +86,9 @@ typedef struct roz_controller {
 /**
  * @brief Bytes of scratch memory roz's module validator works in while a
  *        controller loads (its operand and control stacks, the module's
- *        type, function and global tables, the export names it sorts).
+ *        type, function and global tables, the export names it sorts), from
+ *        its limits in roz/config.h (ROZ_CFG_WASM_MAX_TYPES, _FUNCS,
+ *        _GLOBALS, _LOCALS, _EXPORTS, _BLOCK_DEPTH): 22656 with the defaults.
  *
  * The scratch is the caller's: roz_controller_load() puts it on the calling
  * thread's stack (only while it validates, before the engine compiles), and
@@ -94,7 +96,12 @@ typedef struct roz_controller {
  * buffer on a firmware that loads one controller at a time. No thread-local
  * storage is involved (bare-metal C libraries have none).
  */
-#define ROZ_CONTROLLER_SCRATCH_BYTES 22656u
+#define ROZ_CONTROLLER_SCRATCH_BYTES                                                         \
+    ((128u + 4u * ROZ_CFG_WASM_MAX_TYPES + 2u * ROZ_CFG_WASM_MAX_FUNCS +                      \
+      2u * ROZ_CFG_WASM_MAX_GLOBALS +                                                         \
+      ROZ__SCRATCH_MAX(ROZ_CFG_WASM_MAX_LOCALS + 1056u + 8u * (ROZ_CFG_WASM_MAX_BLOCK_DEPTH + 1u), \
+                       8u * ROZ_CFG_WASM_MAX_EXPORTS) + 7u) & ~7u)
+#define ROZ__SCRATCH_MAX(a, b) ((a) > (b) ? (a) : (b))
 
 /** The validator's scratch (see ROZ_CONTROLLER_SCRATCH_BYTES); one load at a
  *  time may use it. Its contents are meaningless between loads. */

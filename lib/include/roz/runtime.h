@@ -293,6 +293,8 @@ typedef struct roz_runtime_layout {
     uint32_t max_states;       /**< ROZ_CFG_MAX_STATES */
     uint32_t error_len;        /**< ROZ_CFG_ERROR_LEN */
     uint32_t telemetry_ring;   /**< ROZ_CFG_TELEMETRY_RING */
+    uint32_t scratch_bytes;    /**< sizeof(roz_load_scratch_t): the ROZ_CFG_WASM_MAX_*
+                                    limits of the validator (load_scratch) */
 } roz_runtime_layout_t;
 
 /** Raised whenever the fields of a public struct change: a manifest table
@@ -306,7 +308,8 @@ typedef struct roz_runtime_layout {
             (uint32_t)sizeof(roz_runtime_config_t), (uint32_t)sizeof(roz_controller_t),      \
             (uint32_t)sizeof(roz_filter_t), (uint32_t)sizeof(roz_abi_t),                     \
             (uint32_t)ROZ_CFG_MAX_COMMANDS, (uint32_t)ROZ_CFG_MAX_STATES,                    \
-            (uint32_t)ROZ_CFG_ERROR_LEN, (uint32_t)ROZ_CFG_TELEMETRY_RING                    \
+            (uint32_t)ROZ_CFG_ERROR_LEN, (uint32_t)ROZ_CFG_TELEMETRY_RING,                   \
+            (uint32_t)sizeof(roz_load_scratch_t)                                             \
     }
 
 /**

@@ -6,9 +6,13 @@
 #include <math.h>
 #include <string.h>
 
-/* The controller SDK's math, not the C library's: the simulator computes
- * the same bits on every target (glibc and newlib differ in the last bit
- * now and then), so a firmware image and the host agree (test/firmware/). */
+#include "roz/abi.h"
+
+/* Not the C library's math: the simulator computes the same bits on every
+ * target (glibc and newlib differ in the last bit now and then), so a
+ * firmware image and the host agree (test/firmware/). sin and cos are the
+ * core's (the controller ABI's, one copy in the image); exp and atan2 the
+ * controller SDK's roz_math.h. */
 #include "roz_math.h"
 
 enum { M_DEFAULT = 0, M_JOINT_POS, M_JOINT_VEL, M_JOINT_EFF, M_BASE };
@@ -177,11 +181,12 @@ static void step_base(roz_loopback_t *lb)
     for (int a = 0; a < 4; a++)
         v[a] = cmd_or(lb, lb->base_cmd[a], 0.0);
     double yaw = lb->base[3];
-    lb->base[0] += (v[0] * roz_math_cos(yaw) - v[1] * roz_math_sin(yaw)) * lb->dt;
-    lb->base[1] += (v[0] * roz_math_sin(yaw) + v[1] * roz_math_cos(yaw)) * lb->dt;
+    lb->base[0] += (v[0] * roz_abi_math_cos(yaw) - v[1] * roz_abi_math_sin(yaw)) * lb->dt;
+    lb->base[1] += (v[0] * roz_abi_math_sin(yaw) + v[1] * roz_abi_math_cos(yaw)) * lb->dt;
     lb->base[2] += v[2] * lb->dt;
     yaw += v[3] * lb->dt;
-    lb->base[3] = roz_math_atan2(roz_math_sin(yaw), roz_math_cos(yaw)); /* wrap to [-pi, pi] */
+    /* wrap to [-pi, pi] */
+    lb->base[3] = roz_math_atan2(roz_abi_math_sin(yaw), roz_abi_math_cos(yaw));
 }
 
 void roz_lbsim_compose(const roz_loopback_t *lb, double *state)
