@@ -25,7 +25,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build install demo test test-asan test-tsan stress bench fuzz-diff clean
+.PHONY: all setup build install demo test test-asan test-tsan firmware stress bench fuzz-diff clean
 
 all: build
 
@@ -72,7 +72,36 @@ test-tsan: setup $(BUILD)-tsan/build.ninja
 	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS)
 	cd $(BUILD)-tsan && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L threads
 
-# Every test: the sanitizer runs first, the whole suite last.
+# The firmware images (examples/firmware/), cross-built for the Cortex-M4F
+# and the Cortex-M7 and booted in QEMU: their reports (fingerprint, faults,
+# per-tick instruction counts as emulation estimates, heap and stack
+# high-water marks) and the footprint table of each against the aims.
+# `make test` builds and checks the same images in its own build tree
+# (test/firmware/, ctest label firmware).
+FW_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=MinSizeRel -DROZ_WERROR=ON \
+           -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
+           -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
+
+$(BUILD)-fw-m4f/build.ninja: | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) \
+	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m4f.cmake
+
+$(BUILD)-fw-m7/build.ninja: | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) \
+	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m7.cmake
+
+firmware: setup $(BUILD)-fw-m4f/build.ninja $(BUILD)-fw-m7/build.ninja
+	$(CMAKE) --build $(BUILD)-fw-m4f -j $(JOBS)
+	$(CMAKE) --build $(BUILD)-fw-m7 -j $(JOBS)
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_sine.elf 96 64 \
+	    "UR5, sine controller, Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_hostile.elf 96 64 \
+	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
+	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
+
+# Every test: the sanitizer runs first, the whole suite last (the firmware
+# images among it, booted in QEMU).
 test: test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
@@ -101,4 +130,4 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(BUILD)-fw-m4f $(BUILD)-fw-m7
