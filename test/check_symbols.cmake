@@ -3,9 +3,8 @@
 # Fails if the library defines a global symbol outside roz_ (roz__ included)
 # or references malloc/calloc/realloc/free, or the C library's printf family
 # (roz formats its messages with roz_format(), roz/format.h: the same text
-# on every C library, newlib-nano included, and no printf on firmware);
-# -DALLOW_PRINTF=ON for roz::toml, a host-only library whose numbers
-# round-trip through the C library's %.17g.
+# on every C library, newlib-nano included, and no printf on firmware),
+# where -DREFUSE_PRINTF=ON asks for it (the core).
 execute_process(COMMAND ${NM} -g --defined-only ${LIB} OUTPUT_VARIABLE defined RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "nm failed on ${LIB}")
@@ -33,7 +32,7 @@ foreach(line IN LISTS ulines)
   if(line MATCHES " U (malloc|calloc|realloc|free|aligned_alloc|posix_memalign)$")
     message(FATAL_ERROR "${LIB} calls ${CMAKE_MATCH_1}: the core must not allocate")
   endif()
-  if(NOT ALLOW_PRINTF AND
+  if(REFUSE_PRINTF AND
      line MATCHES " U (_*(v?s?n?printf|v?fprintf|v?dprintf|v?asprintf)(_chk)?)$")
     message(FATAL_ERROR "${LIB} calls ${CMAKE_MATCH_1}: roz's messages are formatted by "
                         "roz_format() (roz/format.h), never the C library's printf")
