@@ -4,10 +4,10 @@
 #include "roz/hal/joints.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "roz/error.h"
+#include "roz/format.h"
 
 /* ---- binding ------------------------------------------------------------------ */
 
@@ -54,7 +54,7 @@ static int find(const roz_manifest_t *m, const char *port, int is_state, const c
                 char *err, size_t errlen)
 {
     char name[160];
-    int n = snprintf(name, sizeof name, "%s/%s", joint, suffix);
+    int n = roz_format(name, sizeof name, "%s/%s", joint, suffix);
     *out = -1;
     if (n < 0 || (size_t)n >= sizeof name)
         return ROZ_OK; /* longer than any channel name can be: absent */
@@ -63,9 +63,9 @@ static int find(const roz_manifest_t *m, const char *port, int is_state, const c
         return ROZ_OK;
     const roz_channel_t *c = is_state ? &m->states[i] : &m->commands[i];
     if (c->type != type) {
-        snprintf(err, errlen, "%s: %s %d \"%s\" is a %s channel; the port serves it as %s", port,
-                 is_state ? "state" : "command", i, name, roz_interface_name(c->type),
-                 roz_interface_name(type));
+        roz_format(err, errlen, "%s: %s %d \"%s\" is a %s channel; the port serves it as %s", port,
+                   is_state ? "state" : "command", i, name, roz_interface_name(c->type),
+                   roz_interface_name(type));
         return ROZ_EINVAL;
     }
     if (is_state)
@@ -90,10 +90,10 @@ static int bind_joint(const roz_manifest_t *m, const char *port, uint16_t index,
         any |= *field[k] >= 0;
     }
     if (!any) {
-        snprintf(err, errlen,
-                 "%s: [hardware] joints[%u] \"%s\" has no channel in manifest %s (expected "
-                 "%s/position, /velocity, /effort, /stiffness, /damping)",
-                 port, (unsigned)index, joint, m->robot_id, joint);
+        roz_format(err, errlen,
+                   "%s: [hardware] joints[%u] \"%s\" has no channel in manifest %s (expected "
+                   "%s/position, /velocity, /effort, /stiffness, /damping)",
+                   port, (unsigned)index, joint, m->robot_id, joint);
         return ROZ_EINVAL;
     }
     return ROZ_OK;
@@ -113,9 +113,9 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
     for (int k = 0; imu != NULL && k < ROZ_IMU_VALUES; k++) {
         int i = roz_manifest_find_state(m, imu_states[k].name);
         if (i >= 0 && m->states[i].type != imu_states[k].type) {
-            snprintf(err, errlen, "%s: state %d \"%s\" is a %s channel; expected %s", port, i,
-                     imu_states[k].name, roz_interface_name(m->states[i].type),
-                     roz_interface_name(imu_states[k].type));
+            roz_format(err, errlen, "%s: state %d \"%s\" is a %s channel; expected %s", port, i,
+                       imu_states[k].name, roz_interface_name(m->states[i].type),
+                       roz_interface_name(imu_states[k].type));
             return ROZ_EINVAL;
         }
         if (i >= 0)
@@ -125,11 +125,11 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
     /* every channel has its place, or the port cannot serve the manifest */
     for (uint16_t i = 0; i < m->n_states; i++) {
         if (!bound.state[i]) {
-            snprintf(err, errlen,
-                     "%s: state %u \"%s\" has no source on %s (joint states are "
-                     "<joint>/position, /velocity, /effort of a [hardware] joint%s)",
-                     port, (unsigned)i, m->states[i].name, robot,
-                     imu != NULL ? "; the IMU is base_imu/orientation.x..w, "
+            roz_format(err, errlen,
+                       "%s: state %u \"%s\" has no source on %s (joint states are "
+                       "<joint>/position, /velocity, /effort of a [hardware] joint%s)",
+                       port, (unsigned)i, m->states[i].name, robot,
+                       imu != NULL ? "; the IMU is base_imu/orientation.x..w, "
                                    "angular_velocity.x..z, linear_acceleration.x..z"
                                  : "");
             return ROZ_EINVAL;
@@ -137,10 +137,10 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
     }
     for (uint16_t i = 0; i < m->n_commands; i++) {
         if (!bound.command[i]) {
-            snprintf(err, errlen,
-                     "%s: command %u \"%s\" has no place on %s (commands are <joint>/position, "
-                     "/velocity, /effort, /stiffness, /damping of a [hardware] joint)",
-                     port, (unsigned)i, m->commands[i].name, robot);
+            roz_format(err, errlen,
+                       "%s: command %u \"%s\" has no place on %s (commands are <joint>/position, "
+                       "/velocity, /effort, /stiffness, /damping of a [hardware] joint)",
+                       port, (unsigned)i, m->commands[i].name, robot);
             return ROZ_EINVAL;
         }
     }
