@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "roz/hal/cmd_watchdog.h"
 
-#include <stdio.h>
 #include <string.h>
 
 #include "roz/error.h"
+#include "roz/format.h"
 #include "roz/hal/params.h"
 
 /* ---- private ------------------------------------------------------------- */
@@ -34,22 +34,22 @@ int roz_cmd_watchdog_param(const roz_params_t *p, uint32_t control_rate_hz,
     if (def > ROZ_CMD_WATCHDOG_MAX_US)
         def = ROZ_CMD_WATCHDOG_MAX_US;
     if (min > ROZ_CMD_WATCHDOG_MAX_US) {
-        snprintf(err, errlen,
-                 "parameter %s: the tick (%lu Hz) or the command writer (%lu us) is too slow "
-                 "for any timeout up to %lu us",
-                 ROZ_CMD_WATCHDOG_KEY, (unsigned long)control_rate_hz,
-                 (unsigned long)sender_period_us, (unsigned long)ROZ_CMD_WATCHDOG_MAX_US);
+        roz_format(err, errlen,
+                   "parameter %s: the tick (%lu Hz) or the command writer (%lu us) is too slow "
+                   "for any timeout up to %lu us",
+                   ROZ_CMD_WATCHDOG_KEY, (unsigned long)control_rate_hz,
+                   (unsigned long)sender_period_us, (unsigned long)ROZ_CMD_WATCHDOG_MAX_US);
         return ROZ_EINVAL;
     }
     if (roz_params_get_u32(p, ROZ_CMD_WATCHDOG_KEY, (uint32_t)def, (uint32_t)min,
                            ROZ_CMD_WATCHDOG_MAX_US, &v, err, errlen) != ROZ_OK) {
-        snprintf(err, errlen,
-                 "parameter %s = \"%s\": expected a time in %lu..%lu us (at least %u periods "
-                 "of the tick at %lu Hz and of the command writer; default %lu)",
-                 ROZ_CMD_WATCHDOG_KEY, roz_params_get_str(p, ROZ_CMD_WATCHDOG_KEY, ""),
-                 (unsigned long)min, (unsigned long)ROZ_CMD_WATCHDOG_MAX_US,
-                 ROZ_CMD_WATCHDOG_MIN_PERIODS, (unsigned long)control_rate_hz,
-                 (unsigned long)def);
+        roz_format(err, errlen,
+                   "parameter %s = \"%s\": expected a time in %lu..%lu us (at least %u periods "
+                   "of the tick at %lu Hz and of the command writer; default %lu)",
+                   ROZ_CMD_WATCHDOG_KEY, roz_params_get_str(p, ROZ_CMD_WATCHDOG_KEY, ""),
+                   (unsigned long)min, (unsigned long)ROZ_CMD_WATCHDOG_MAX_US,
+                   ROZ_CMD_WATCHDOG_MIN_PERIODS, (unsigned long)control_rate_hz,
+                   (unsigned long)def);
         return ROZ_EINVAL;
     }
     *out_us = v;

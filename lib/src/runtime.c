@@ -197,10 +197,10 @@ static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num
                    (unsigned long)num[N_A], (unsigned long)num[N_A]);
         break;
     case ROZ_FAULT_COMMAND_TIMEOUT:
-        snprintf(buf, len,
-                 "command timeout: the tick wrote no command for %lu us, longer than the "
-                 "port's command_timeout_us (%lu): the port sent the robot its safe command",
-                 (unsigned long)num[N_A], (unsigned long)num[N_B]);
+        roz_format(buf, len,
+                   "command timeout: the tick wrote no command for %lu us, longer than the "
+                   "port's command_timeout_us (%lu): the port sent the robot its safe command",
+                   (unsigned long)num[N_A], (unsigned long)num[N_B]);
         break;
     default:
         if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
