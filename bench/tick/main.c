@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * bench/tick: what one control tick costs on the Unitree G1 manifest (145
- * commands, 97 states) with the PD controller of examples/controllers/g1_pd.c,
+ * commands, 97 states) with the PD controller of examples/controllers/g1_pd.c
+ * and on the UR5 (6 commands, 12 states) with examples/controllers/pd_hold.c,
  *   - run by wasm3 inside the full runtime tick (loopback port), and
  *   - compiled natively against the same channel API (the same source, its
  *     imports bound to roz's ABI functions directly),
@@ -17,7 +18,10 @@
  * medians, p99 and ratios side by side. A benchmark, not a test: it never
  * fails on a time.
  *
- *   roz_bench_tick [TICKS] [CONTROLLER.wasm]
+ *   roz_bench_tick [TICKS] [CONTROLLER.wasm] [--json FILE]
+ *
+ * CONTROLLER.wasm replaces the G1's controller; --json appends every figure
+ * to FILE (bench/common/bench_json.h) for bench/report.py.
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -30,12 +34,15 @@
 #include "crc32_reference.h"
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "bench_json.h"
 #include "controller_bench.h"
 #include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
 
 /* ---- the native controller's imports: roz's ABI functions, directly ------ */
 
 void roz_native_process(long long tick);
+void roz_native_process_ur5(long long tick); /* pd_hold.c, renamed by the build */
 int roz_command_set(int index, double value);
 int roz_command_count(void);
 double roz_command_limit_min(int index);
@@ -181,39 +188,33 @@ static int meter_pair(const roz_manifest_t *m, const uint8_t *wasm, size_t len, 
     return 0;
 }
 
-int main(int argc, char **argv)
+/* The runtime's tick on robot `m` with `wasm` on the (timed) loopback, and
+ * the same controller compiled natively on the same snapshots; prints the
+ * figures and adds them to `j` as "<robot_id>: ...". Returns the number of
+ * targets where wasm3 and native differ, or -1 when the run failed. */
+static long tick_bench(const roz_manifest_t *m, const uint8_t *wasm, size_t len, const char *path,
+                       void (*native)(long long), size_t ticks, const bench_json_t *j)
 {
-    size_t ticks = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
-    const char *path = argc > 2 ? argv[2] : ROZ_BENCH_CONTROLLER;
-    const roz_manifest_t *m = &roz_manifest_unitree_g1;
     roz_runtime_config_t cfg;
-    char err[128];
-    size_t len;
+    char err[128], name[96];
 
-    if (ticks < 100)
-        ticks = 100;
-    uint8_t *wasm = read_file(path, &len);
-    if (wasm == NULL) {
-        fprintf(stderr, "bench: cannot read %s\n", path);
-        return 2;
-    }
-    roz_port_t port = roz_loopback_port(&lb);
-    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
-        fprintf(stderr, "bench: %s\n", err);
-        return 2;
-    }
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
     cfg.port = (roz_port_t){ &timed_ops, &lb, 0 };
+    roz_port_t port = roz_loopback_port(&lb);
+    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "bench: %s\n", err);
+        return -1;
+    }
     if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) /* no open op */
-        return 2;
+        return -1;
     cfg.clock = roz_clock_monotonic_ns;
     cfg.monitor_jitter = 0;
     cfg.budget_ns = 1000000000; /* measure, don't fault */
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK || roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
         roz_runtime_start(&rt) != ROZ_OK) {
         fprintf(stderr, "bench: runtime: %s\n", roz_runtime_error(&rt));
-        return 2;
+        return -1;
     }
 
     uint64_t *tick_ns = calloc(ticks, sizeof(uint64_t));
@@ -223,7 +224,7 @@ int main(int argc, char **argv)
     uint64_t *port_tick_ns = calloc(ticks, sizeof(uint64_t));
     static double native_target[ROZ_CFG_MAX_COMMANDS];
     if (!tick_ns || !wasm_ns || !native_ns || !overhead_ns || !port_tick_ns)
-        return 2;
+        return -1;
     roz_abi_init(&native_abi, m, native_target, NULL);
 
     /* warm-up */
@@ -231,7 +232,7 @@ int main(int argc, char **argv)
         if (roz_runtime_tick(&rt) != ROZ_OK)
             break; /* the latch shows in the figures' check below */
     }
-    size_t mismatches = 0;
+    long mismatches = 0;
     for (size_t i = 0; i < ticks; i++) {
         port_ns = 0;
         uint64_t t0 = roz_clock_monotonic_ns(NULL);
@@ -240,7 +241,7 @@ int main(int argc, char **argv)
         roz_runtime_stats_t st;
         if (trc != ROZ_OK || roz_runtime_stats(&rt, &st) != ROZ_OK) {
             fprintf(stderr, "roz_bench_tick: a fault latched: %s\n", roz_runtime_fault_message(&rt));
-            return 1;
+            return -1;
         }
         tick_ns[i] = t1 - t0;
         wasm_ns[i] = st.last_process_ns;
@@ -250,7 +251,7 @@ int main(int argc, char **argv)
         /* the same controller, native, on the same snapshot */
         roz_abi_begin_tick(&native_abi, (int64_t)i, roz_runtime_last_state(&rt));
         t0 = roz_clock_monotonic_ns(NULL);
-        roz_native_process((long long)i);
+        native((long long)i);
         t1 = roz_clock_monotonic_ns(NULL);
         native_ns[i] = t1 - t0;
         const double *wt = roz_runtime_last_targets(&rt);
@@ -275,9 +276,53 @@ int main(int argc, char **argv)
            "%.0f us period\n",
            sn.p50 > 0 ? sw.p50 / sn.p50 : 0.0, sn.p99 > 0 ? sw.p99 / sn.p99 : 0.0,
            100.0 * st.p50 / period_us, period_us);
-    printf("outputs: wasm3 and native targets %s (%zu differing values)\n",
+    printf("outputs: wasm3 and native targets %s (%ld differing values)\n\n",
            mismatches == 0 ? "identical" : "DIFFER", mismatches);
+    static const char *const what[5] = { "process(), wasm3", "process(), native",
+                                         "runtime (tick - process - port)",
+                                         "port read + write (loopback sim)", "whole tick, wasm3" };
+    const stats_t *all[5] = { &sw, &sn, &so, &sp, &st };
+    for (int k = 0; k < 5; k++) {
+        snprintf(name, sizeof name, "%s: %s", m->robot_id, what[k]);
+        bench_json_timing(j, name, (bench_stats_t){ all[k]->p50, all[k]->p99, all[k]->max });
+    }
+    snprintf(name, sizeof name, "%s: wasm3 and native targets differing", m->robot_id);
+    bench_json_value(j, name, (double)mismatches, "values");
     roz_runtime_deinit(&rt);
+    free(tick_ns);
+    free(wasm_ns);
+    free(native_ns);
+    free(overhead_ns);
+    free(port_tick_ns);
+    return mismatches;
+}
+
+int main(int argc, char **argv)
+{
+    bench_json_t json;
+    argc = bench_json_args(&json, "tick", argc, argv);
+    if (argc < 0)
+        return 2;
+    size_t ticks = argc > 1 ? strtoul(argv[1], NULL, 10) : 20000;
+    const char *path = argc > 2 ? argv[2] : ROZ_BENCH_CONTROLLER;
+    const roz_manifest_t *m = &roz_manifest_unitree_g1;
+    size_t len, ur5_len;
+
+    if (ticks < 100)
+        ticks = 100;
+    uint8_t *wasm = read_file(path, &len);
+    uint8_t *ur5_wasm = read_file(ROZ_BENCH_UR5_CONTROLLER, &ur5_len);
+    if (wasm == NULL || ur5_wasm == NULL) {
+        fprintf(stderr, "bench: cannot read %s\n", wasm == NULL ? path : ROZ_BENCH_UR5_CONTROLLER);
+        return 2;
+    }
+    long mismatches = tick_bench(m, wasm, len, path, roz_native_process, ticks, &json);
+    long ur5_mismatches = tick_bench(&roz_manifest_ur5, ur5_wasm, ur5_len,
+                                     ROZ_BENCH_UR5_CONTROLLER, roz_native_process_ur5, ticks, &json);
+    free(ur5_wasm);
+    if (mismatches < 0 || ur5_mismatches < 0)
+        return 2;
+    mismatches += ur5_mismatches;
 
     /* metering: the same controllers under wasm3 with their fuel charges
      * (the default budget) and compiled without them (the private
@@ -313,6 +358,13 @@ int main(int argc, char **argv)
                sm.p99);
         printf("%-34s %10s %10.2f %10.2f %9.3fx  (aim: <= 1.10x)\n", "  the same, no charges", "-",
                sb.p50, sb.p99, sb.p50 > 0 ? sm.p50 / sb.p50 : 0.0);
+        char jn[96];
+        snprintf(jn, sizeof jn, "metering: %s, charged", meter_names[k]);
+        bench_json_timing(&json, jn, (bench_stats_t){ sm.p50, sm.p99, sm.max });
+        snprintf(jn, sizeof jn, "metering: %s, no charges", meter_names[k]);
+        bench_json_timing(&json, jn, (bench_stats_t){ sb.p50, sb.p99, sb.max });
+        snprintf(jn, sizeof jn, "metering: %s, units per call", meter_names[k]);
+        bench_json_value(&json, jn, (double)units, "units");
         if (k != 0)
             free(mw);
     }
@@ -342,11 +394,17 @@ int main(int argc, char **argv)
             cb[r] = t2 - t1;
         }
         stats_t sct = stats(ct, REPS), scb = stats(cb, REPS);
+        char jn[96];
+        snprintf(jn, sizeof jn, "CRC-32 %s, table", names[k]);
+        bench_json_timing(&json, jn, (bench_stats_t){ sct.p50, sct.p99, sct.max });
+        snprintf(jn, sizeof jn, "CRC-32 %s, bit by bit", names[k]);
+        bench_json_timing(&json, jn, (bench_stats_t){ scb.p50, scb.p99, scb.max });
         printf("%-34s %10.2f %10.2f %9.1fx  (p50)\n", names[k], sct.p50, scb.p50,
                sct.p50 > 0 ? scb.p50 / sct.p50 : 0.0);
     }
     free(ct);
     free(cb);
     free(wasm);
+    bench_json_close(&json);
     return mismatches == 0 ? 0 : 1;
 }
