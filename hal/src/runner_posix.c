@@ -54,6 +54,7 @@ static void *runner_main(void *arg)
             ;
         uint64_t woke = roz_clock_monotonic_ns(NULL);
         roz_monitor_periodic(&r->monitor, woke);
+        r->deadline = next;
         if (r->fn(r->ctx) != 0)
             break;
         r->ticks++;

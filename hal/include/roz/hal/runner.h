@@ -47,6 +47,9 @@ typedef struct roz_runner {
     ROZ_ATOMIC(int)     finished; /**< 1 once the thread has ended */
     uint64_t            ticks;
     uint64_t            missed;   /**< deadlines missed by more than a period */
+    uint64_t            deadline; /**< the deadline (monotonic ns) the current tick woke
+                                       for; written by the runner thread before each tick,
+                                       so the tick function may read it (wake-up latency) */
     int                 realtime; /**< 1 if SCHED_FIFO was granted */
     int                 locked;   /**< 1 if mlockall succeeded */
     roz_monitor_t       monitor;  /**< jitter of each wake-up against the period */
