@@ -10,7 +10,7 @@
  *      (its monitor's histograms); the bus figures the configuration gives.
  * Prints medians and p99. A benchmark, not a test: it never fails on a time.
  *
- *   roz_bench_can_codec [ITERATIONS] [TICKS]
+ *   roz_bench_can_codec [ITERATIONS] [TICKS] [--json FILE]
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -20,6 +20,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "bench_json.h"
 #include "can_leg_manifest.h"
 #include "fake_can.h"
 #include "roz/hal/clock.h"
@@ -39,6 +40,15 @@ static uint64_t pct(uint64_t *v, size_t n, double p)
     qsort(v, n, sizeof v[0], cmp_u64);
     size_t i = (size_t)(p / 100.0 * (double)(n - 1));
     return v[i];
+}
+
+static bench_json_t json;
+
+/* p50, p99, max of `v` (`scale` ns per unit) for the JSON output */
+static bench_stats_t pcts(uint64_t *v, size_t n, double scale)
+{
+    return (bench_stats_t){ pct(v, n, 50) * scale / 1000.0, pct(v, n, 99) * scale / 1000.0,
+                            pct(v, n, 100) * scale / 1000.0 };
 }
 
 /* ---- 1. the codec ---------------------------------------------------------------- */
@@ -86,6 +96,8 @@ static void bench_codec(long iterations)
     printf("  unpack a reply       median %6.1f ns   p99 %6.1f ns\n", u50 / 1000.0,
            pct(unpack_ns, SAMPLES, 99) / 1000.0);
     printf("  per joint and round  median %6.1f ns\n", (p50 + u50) / 1000.0);
+    bench_json_timing(&json, "codec: pack a command", pcts(pack_ns, SAMPLES, 0.001));
+    bench_json_timing(&json, "codec: unpack a reply", pcts(unpack_ns, SAMPLES, 0.001));
 }
 
 /* ---- 2. the port on the leg --------------------------------------------------------- */
@@ -160,6 +172,8 @@ static int bench_port(int ticks)
                pct(read_ns, (size_t)n, 50) / 1000.0, pct(read_ns, (size_t)n, 99) / 1000.0);
         printf("  write() in the tick  median %6.2f us   p99 %6.2f us\n",
                pct(write_ns, (size_t)n, 50) / 1000.0, pct(write_ns, (size_t)n, 99) / 1000.0);
+        bench_json_timing(&json, "leg port: read() in the tick", pcts(read_ns, (size_t)n, 1.0));
+        bench_json_timing(&json, "leg port: write() in the tick", pcts(write_ns, (size_t)n, 1.0));
     }
     print_kind("writer round", roz_socketcan_monitor(&sc), ROZ_MON_COMMAND_WRITER);
     print_kind("writer wake jitter", roz_socketcan_monitor(&sc), ROZ_MON_JITTER);
@@ -181,8 +195,13 @@ static int bench_port(int ticks)
 
 int main(int argc, char **argv)
 {
+    argc = bench_json_args(&json, "can_codec", argc, argv);
+    if (argc < 0)
+        return 2;
     long iterations = argc > 1 ? atol(argv[1]) : 4000000;
     int ticks = argc > 2 ? atoi(argv[2]) : 2000;
     bench_codec(iterations > 0 ? iterations : 4000000);
-    return bench_port(ticks > 0 ? ticks : 2000);
+    int rc = bench_port(ticks > 0 ? ticks : 2000);
+    bench_json_close(&json);
+    return rc;
 }

@@ -25,7 +25,7 @@
  *      the longest call against the deadline.
  * A benchmark, not a test: it prints, it never fails on a time.
  *
- *   roz_bench_fuel [CALLS]   (calls per figure, default 9)
+ *   roz_bench_fuel [CALLS] [--json FILE]   (calls per figure, default 9)
  */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -36,6 +36,7 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
+#include "bench_json.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/module.h"
 #include "ur5_manifest.h"
@@ -239,6 +240,11 @@ static int cmp_double(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
+    bench_json_t json;
+    char jn[96];
+    argc = bench_json_args(&json, "fuel", argc, argv);
+    if (argc < 0)
+        return 2;
     int repeats = argc > 1 ? atoi(argv[1]) : 9;
     static size_t lens[N_WORKS];
     double ns_per_k[N_WORKS], sorted[N_WORKS];
@@ -261,11 +267,14 @@ int main(int argc, char **argv)
         ns_per_k[i] = r.units ? 1000.0 * (double)r.p50 / (double)r.units : 0.0;
         sorted[i] = ns_per_k[i];
         printf("   %-18s %-44s %12.1f\n", works[i].name, works[i].what, ns_per_k[i]);
+        snprintf(jn, sizeof jn, "cost of 1000 units, %s", works[i].name);
+        bench_json_value(&json, jn, ns_per_k[i], "ns");
     }
     qsort(sorted, N_WORKS, sizeof sorted[0], cmp_double);
     double median = sorted[N_WORKS / 2], slowest = sorted[N_WORKS - 1];
     printf("   median %.1f ns, slowest %.1f ns per 1000 units (%.2fx the median)\n\n", median,
            slowest, slowest / median);
+    bench_json_value(&json, "cost of 1000 units, median over the kinds of work", median, "ns");
 
     /* the median call is the work the budget allowed; the longest also
      * holds what the machine did meanwhile (a cold cache, an interrupt) */
@@ -291,6 +300,9 @@ int main(int argc, char **argv)
                    stands_ns / 1000.0, (double)r.p50 / 1000.0, (double)r.max / 1000.0, ratio,
                    rmax);
         }
+        snprintf(jn, sizeof jn, "fuel alone, %u Hz: longest call / time the budget stands for",
+                 rates[k]);
+        bench_json_value(&json, jn, worst_max, "ratio");
         printf("   %u Hz worst: median call %.2fx, longest call %.2fx the time the budget stands "
                "for\n",
                rates[k], worst_ratio, worst_max);
@@ -315,8 +327,11 @@ int main(int argc, char **argv)
                    (double)deadline / 1000.0, (double)r.p50 / 1000.0, (double)r.max / 1000.0,
                    ratio, rmax);
         }
+        snprintf(jn, sizeof jn, "deadline alone, %u Hz: longest call / deadline", rates[k]);
+        bench_json_value(&json, jn, worst_max, "ratio");
         printf("   %u Hz worst: median call %.2fx, longest call %.2fx the deadline\n", rates[k],
                worst_ratio, worst_max);
     }
+    bench_json_close(&json);
     return 0;
 }

@@ -17,7 +17,7 @@
  * way), so both ways are event-driven. Prints p50, p99 and max of each and
  * the ratio. A benchmark, not a test: it never fails on a time.
  *
- *   roz_bench_g1_latency [ROUND_TRIPS] [DOMAIN]
+ *   roz_bench_g1_latency [ROUND_TRIPS] [DOMAIN] [--json FILE]
  */
 #define _GNU_SOURCE
 #include <errno.h>
@@ -36,6 +36,7 @@
 
 #include <dds/dds.h>
 
+#include "bench_json.h"
 #include "roz/dds.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/crc32.h"
@@ -244,6 +245,10 @@ int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "--roz") == 0)
         return child_main((uint32_t)strtoul(argv[2], NULL, 10));
+    bench_json_t json;
+    argc = bench_json_args(&json, "g1_latency", argc, argv);
+    if (argc < 0)
+        return 2;
     size_t n = argc > 1 ? strtoul(argv[1], NULL, 10) : 5000;
     uint32_t domain = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 77;
     if (n < 100)
@@ -362,6 +367,10 @@ int main(int argc, char **argv)
            "roz: unitree/G1, G1 PD under wasm3, event", z50, z99, zmax);
     printf("  ratio roz / raw                              p50 %8.2f       p99 %8.2f\n",
            z50 / r50, z99 / r99);
+    bench_json_timing(&json, "raw Cyclone ping-pong", (bench_stats_t){ r50, r99, rmax });
+    bench_json_timing(&json, "roz: unitree/G1, G1 PD under wasm3", (bench_stats_t){ z50, z99, zmax });
+    bench_json_value(&json, "lost round trips", (double)lost, "count");
+    bench_json_close(&json);
     free(raw);
     free(roz);
     return 0;

@@ -3,6 +3,7 @@
 tomllib and rozgen, on the built-in manifests and on generated large files.
 
     bench_toml.py --bench ROZ_BENCH_TOML --root REPO [--work DIR] [--keys N]
+                  [--json FILE]
 
 Generated (in DIR): ur5 with a [hardware.params] table of N keys (the
 number of keys in one table is what made the C reader quadratic), and ur5
@@ -14,10 +15,13 @@ ROZ_CFG_MAX_JOINTS): it still parses and checks them in full, then says
 Every figure is CPU time of one read, the median of several runs (C:
 roz_bench_toml; Python: tomllib.loads, and rozgen's load and validate in
 process, i.e. `rozgen --check` without the interpreter's start). A
-benchmark, not a test: it prints, it never fails on a time.
+benchmark, not a test: it prints, it never fails on a time. --json appends
+each median as a JSON line (p50 only: the runs give a median, no tail) for
+bench/report.py.
 """
 
 import argparse
+import json
 import statistics
 import subprocess
 import sys
@@ -72,6 +76,7 @@ def main() -> int:
     p.add_argument("--work", type=Path, help="where to write the generated files")
     p.add_argument("--keys", type=int, default=100_000)
     p.add_argument("--min-seconds", type=float, default=0.5)
+    p.add_argument("--json", type=Path, help="append the figures as JSON lines")
     args = p.parse_args()
     work = args.work or Path("bench-toml")
     work.mkdir(parents=True, exist_ok=True)
@@ -87,6 +92,7 @@ def main() -> int:
     print(f"{head[0]:26} {head[1]:>9} {head[2]:>10} {head[3]:>10} {head[4]:>10} {head[5]:>10}"
           f" {head[6]:>14}")
     ratios = {}
+    rows = []
     for path, (_, size, _, reader, loader, verdict) in zip(files, c_rows):
         text = path.read_text(encoding="utf-8")
         t_toml = _median_time(lambda: tomllib.loads(text), args.min_seconds)
@@ -94,12 +100,20 @@ def main() -> int:
         py_verdict = _rozgen(path)
         ratio = float(loader) / t_rozgen
         ratios[path.name] = ratio
+        for what, sec in (("C reader", float(reader)), ("C loader", float(loader)),
+                          ("tomllib", t_toml), ("rozgen", t_rozgen)):
+            rows.append({"bench": "toml", "name": f"{path.name}: {what}", "unit": "us",
+                         "p50": sec * 1e6, "bytes": int(size)})
         note = "" if verdict == py_verdict else f"  (C loader: {verdict}; rozgen: {py_verdict})"
         print(f"{path.name:26} {int(size):>9,} {_fmt(float(reader)):>10} {_fmt(float(loader)):>10}"
               f" {_fmt(t_toml):>10} {_fmt(t_rozgen):>10} {ratio:>13.3f}x{note}")
     worst = max(ratios, key=ratios.get)
     print(f"slowest C loader against rozgen: {ratios[worst]:.3f}x ({worst}); "
           f"the aim is at most 3x at 10^5 keys")
+    if args.json:
+        with args.json.open("a", encoding="utf-8") as f:
+            for row in rows:
+                f.write(json.dumps(row) + "\n")
     return 0
 
 
