@@ -111,16 +111,45 @@ stress: setup $(BUILD)-tsan/build.ninja
 	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS) --target test_latch_threads
 	$(SAN_ENV) ROZ_LATCH_STRESS_TICKS=$(STRESS_TICKS) $(BUILD)-tsan/test/test_latch_threads
 
-# Benchmarks print figures and ratios; they are not tests.
+# Benchmarks print figures and ratios; they are not tests. `make bench` runs
+# every bench with its machine-readable output into BENCH_OUT, builds and
+# runs the peer engines (bench/peers: cargo, --locked; only here), and
+# writes BENCHMARKS.md and the README's headline table from them
+# (bench/report.py). BENCH_PERIODIC_SECONDS: the 1 kHz runner's run per side
+# (60 s by default; shorter for trying it out). BENCH_NOTE: a line on the
+# machine for the banner.
+BENCH_OUT ?= $(BUILD)/bench/results
+BENCH_TICKS ?= 20000
+BENCH_ALLOC_TICKS ?= 1000000
+BENCH_PERIODIC_SECONDS ?= 60
+BENCH_NOTE ?=
 bench: build
-	$(BUILD)/bench/roz_bench_tick 20000
-	$(BUILD)/bench/roz_bench_fuel 9
-	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then $(BUILD)/bench/roz_bench_can_codec; fi
+	rm -rf $(BENCH_OUT) && mkdir -p $(BENCH_OUT)
+	$(BUILD)/bench/roz_bench_tick $(BENCH_TICKS) --json $(BENCH_OUT)/tick.jsonl
+	$(BUILD)/bench/roz_bench_fuel 9 --json $(BENCH_OUT)/fuel.jsonl
+	$(BUILD)/bench/roz_bench_alloc $(BENCH_ALLOC_TICKS) --json $(BENCH_OUT)/alloc.jsonl
+	$(BUILD)/bench/roz_bench_periodic $(BENCH_PERIODIC_SECONDS) --json $(BENCH_OUT)/periodic.jsonl
+	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then \
+	    $(BUILD)/bench/roz_bench_can_codec --json $(BENCH_OUT)/can_codec.jsonl; \
+	else echo "the socketcan port is not in this build" > $(BENCH_OUT)/can_codec.skipped; fi
+	# the recorder's figures are printed, not yet in BENCHMARKS.md
 	$(BUILD)/bench/roz_bench_record 20000 $(BUILD)/bench
 	if [ -x $(BUILD)/bench/roz_bench_g1_latency ]; then \
-	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000; fi
+	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000 77 \
+	        --json $(BENCH_OUT)/g1_latency.jsonl; \
+	else echo "the unitree/G1 port is not in this build" > $(BENCH_OUT)/g1_latency.skipped; fi
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
-	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml
+	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml \
+	    --json $(BENCH_OUT)/toml.jsonl
+	if [ -f $(BUILD)-firmware/firmware.jsonl ]; then \
+	    cp $(BUILD)-firmware/firmware.jsonl $(BENCH_OUT)/; \
+	else echo "no firmware build ($(BUILD)-firmware/firmware.jsonl)" > $(BENCH_OUT)/firmware.skipped; fi
+	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
+	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md --readme README.md \
+	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \
+	    --binary roz=$(BUILD)/bench/roz_bench_peers_roz \
+	    --binary wasmtime=bench/peers/target/release/roz-peer-wasmtime \
+	    --binary wasmi=bench/peers/target/release/roz-peer-wasmi
 
 # The long differential run (fuzz/README.md): generated and wasm-tools smith
 # modules on roz's wasm3 against wasm-interp, then fuzz_controller from them

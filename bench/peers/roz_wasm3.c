@@ -1,0 +1,267 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/*
+ * bench/peers/roz_wasm3.c: roz's side of the peer comparison. The G1 PD
+ * controller under roz's controller host (wasm3 with roz's metering), fed
+ * the state sequence the peer harnesses use (bench/peers/README.md), timed
+ * as they time theirs:
+ *   - with --reference FILE, the outputs after REF_TICKS ticks (every
+ *     target's bits and the ABI's counters), which the peers must match;
+ *   - load: roz's validator (the module scan), the whole controller load
+ *     (validator, wasm3 parse, link, compile), and the 100 verification
+ *     ticks a load runs, 20 times each;
+ *   - process() per call, metered (the runtime's default budget: fuel and
+ *     a deadline) and compiled without charges, alternating rounds;
+ *   - resident memory added by one loaded controller that ran.
+ * Prints one JSON object on stdout. A benchmark: it never fails on a time.
+ *
+ *   roz_bench_peers_roz G1_PD.wasm [--calls N] [--reference FILE]
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "roz/controller.h"
+#include "roz/hal/clock.h"
+#include "bench_json.h"
+#include "controller_bench.h"
+#include "unitree_g1_manifest.h"
+#include "wasm_scan.h"
+
+#define REF_TICKS 1000
+#define LOAD_REPS 20
+#define VERIFY_TICKS 100
+
+static double state[ROZ_CFG_MAX_STATES];
+
+/* The state of tick t (bench/peers/common/src/lib.rs, fill_state). */
+static void fill_state(double *s, size_t n, int64_t t)
+{
+    for (size_t i = 0; i < n; i++) {
+        int64_t k = ((int64_t)i * 37 + t * 11) % 2003;
+        s[i] = (double)k / 1000.0 - 1.0;
+    }
+    if (n > 0 && t % 7 == 3)
+        s[t % (int64_t)n] = NAN;
+}
+
+static uint8_t *read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return NULL;
+    uint8_t *buf = malloc(ROZ_CFG_WASM_MAX_MODULE_BYTES);
+    *len = buf ? fread(buf, 1, ROZ_CFG_WASM_MAX_MODULE_BYTES, f) : 0;
+    fclose(f);
+    return buf;
+}
+
+static long rss_kib(void)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    long kib = 0;
+    if (f == NULL)
+        return 0;
+    while (fgets(line, sizeof line, f)) {
+        if (strncmp(line, "VmRSS:", 6) == 0)
+            kib = strtol(line + 6, NULL, 10);
+    }
+    fclose(f);
+    return kib;
+}
+
+static uint64_t clock_ns(void *ctx)
+{
+    return roz_clock_monotonic_ns(ctx);
+}
+
+static const roz_manifest_t *m = &roz_manifest_unitree_g1;
+
+/* Loads `wasm`: metered with the runtime's default budget (a tick's fuel at
+ * ROZ_CFG_FUEL_PER_SECOND, the period as deadline), or without charges. */
+static int load(roz_controller_t *c, roz_abi_t *abi, double *target, const uint8_t *wasm,
+                size_t len, int metered)
+{
+    roz_budget_t b = { (uint64_t)ROZ_CFG_FUEL_PER_SECOND / m->control_rate_hz,
+                       1000000000ull / m->control_rate_hz, clock_ns, NULL };
+    roz_controller_init(c);
+    roz_abi_init(abi, m, target, NULL);
+    roz_abi_begin_tick(abi, 0, state);
+    if (!metered)
+        return roz__controller_load_unmetered(c, wasm, len, abi);
+    int rc = roz_controller_load(c, wasm, len, abi);
+    return rc == ROZ_OK ? roz_controller_set_budget(c, &b) : rc;
+}
+
+static int call(roz_controller_t *c, roz_abi_t *abi, int64_t t)
+{
+    fill_state(state, m->n_states, t);
+    roz_abi_begin_tick(abi, t, state);
+    return roz_controller_process(c, t);
+}
+
+static void print_timing(const char *name, bench_stats_t s, int *first)
+{
+    printf("%s    {\"name\": \"%s\", \"unit\": \"us\", \"p50\": %.4f, \"p99\": %.4f, "
+           "\"max\": %.4f}",
+           *first ? "" : ",\n", name, s.p50, s.p99, s.max);
+    *first = 0;
+}
+
+int main(int argc, char **argv)
+{
+    const char *path = NULL, *ref = NULL;
+    size_t calls = 20000, len;
+    static roz_controller_t ctl[2];
+    static roz_abi_t abi[2];
+    static double target[2][ROZ_CFG_MAX_COMMANDS];
+    char why[ROZ_CFG_ERROR_LEN];
+
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--calls") == 0 && i + 1 < argc)
+            calls = strtoul(argv[++i], NULL, 10);
+        else if (strcmp(argv[i], "--reference") == 0 && i + 1 < argc)
+            ref = argv[++i];
+        else
+            path = argv[i];
+    }
+    if (path == NULL || calls < 100) {
+        fprintf(stderr, "usage: %s G1_PD.wasm [--calls N>=100] [--reference FILE]\n", argv[0]);
+        return 2;
+    }
+    uint8_t *wasm = read_file(path, &len);
+    if (wasm == NULL) {
+        fprintf(stderr, "roz_bench_peers_roz: cannot read %s\n", path);
+        return 2;
+    }
+
+    /* resident memory added by one controller, loaded and run */
+    long rss0 = rss_kib();
+    if (load(&ctl[0], &abi[0], target[0], wasm, len, 1) != ROZ_OK) {
+        fprintf(stderr, "roz_bench_peers_roz: %s: %s\n", path, roz_controller_error(&ctl[0]));
+        return 2;
+    }
+    for (int64_t t = 0; t < VERIFY_TICKS; t++)
+        call(&ctl[0], &abi[0], t);
+    long rss1 = rss_kib();
+    roz_controller_unload(&ctl[0]);
+
+    /* the reference: outputs after REF_TICKS ticks, metered and not */
+    for (int k = 0; k < 2; k++) {
+        if (load(&ctl[k], &abi[k], target[k], wasm, len, k == 0) != ROZ_OK)
+            return 2;
+        for (int64_t t = 0; t < REF_TICKS; t++) {
+            if (call(&ctl[k], &abi[k], t) != ROZ_OK) {
+                fprintf(stderr, "roz_bench_peers_roz: %s\n", roz_controller_error(&ctl[k]));
+                return 2;
+            }
+        }
+    }
+    roz_abi_counters_t cnt[2];
+    roz_abi_counters_get(&abi[0], &cnt[0]);
+    roz_abi_counters_get(&abi[1], &cnt[1]);
+    if (memcmp(target[0], target[1], sizeof target[0]) != 0 ||
+        memcmp(&cnt[0], &cnt[1], sizeof cnt[0]) != 0) {
+        fprintf(stderr, "roz_bench_peers_roz: metered and unmetered outputs differ\n");
+        return 1;
+    }
+    if (ref != NULL) {
+        FILE *f = fopen(ref, "w");
+        if (f == NULL) {
+            fprintf(stderr, "roz_bench_peers_roz: cannot write %s\n", ref);
+            return 2;
+        }
+        fprintf(f, "ticks %d\nsets %llu\nset_clamped %llu\nset_bad_index %llu\n"
+                   "set_nonfinite %llu\nget_bad_index %llu\n",
+                REF_TICKS, (unsigned long long)cnt[0].sets,
+                (unsigned long long)cnt[0].set_clamped, (unsigned long long)cnt[0].set_bad_index,
+                (unsigned long long)cnt[0].set_nonfinite,
+                (unsigned long long)cnt[0].get_bad_index);
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            uint64_t bits;
+            memcpy(&bits, &target[0][i], sizeof bits);
+            fprintf(f, "target 0x%016llx\n", (unsigned long long)bits);
+        }
+        fclose(f);
+    }
+
+    /* load, LOAD_REPS times: the validator alone, the whole load, verify */
+    static uint64_t scan_ns[LOAD_REPS], load_ns[LOAD_REPS], verify_ns[LOAD_REPS];
+    static roz_controller_t lc;
+    static roz_abi_t la;
+    static double lt[ROZ_CFG_MAX_COMMANDS];
+    for (int r = 0; r < LOAD_REPS; r++) {
+        uint32_t process_index;
+        uint64_t t0 = roz_clock_monotonic_ns(NULL);
+        int rc = roz__wasm_scan(wasm, len, &process_index, why, sizeof why);
+        uint64_t t1 = roz_clock_monotonic_ns(NULL);
+        if (rc != ROZ_OK) {
+            fprintf(stderr, "roz_bench_peers_roz: %s\n", why);
+            return 2;
+        }
+        scan_ns[r] = t1 - t0;
+        t0 = roz_clock_monotonic_ns(NULL);
+        rc = load(&lc, &la, lt, wasm, len, 1);
+        t1 = roz_clock_monotonic_ns(NULL);
+        if (rc != ROZ_OK)
+            return 2;
+        load_ns[r] = t1 - t0;
+        /* the verification: 100 ticks on the current state, outputs discarded */
+        t0 = roz_clock_monotonic_ns(NULL);
+        for (int64_t t = 0; t < VERIFY_TICKS; t++) {
+            roz_abi_begin_tick(&la, t, state);
+            rc |= roz_controller_process(&lc, t);
+        }
+        t1 = roz_clock_monotonic_ns(NULL);
+        verify_ns[r] = t1 - t0;
+        roz_controller_unload(&lc);
+        if (rc != ROZ_OK)
+            return 2;
+    }
+
+    /* process(), metered and not, alternating rounds of 100 */
+    uint64_t *ns[2] = { calloc(calls, sizeof(uint64_t)), calloc(calls, sizeof(uint64_t)) };
+    if (ns[0] == NULL || ns[1] == NULL)
+        return 2;
+    for (size_t r = 0; r < calls; r += 100) {
+        for (int k = 0; k < 2; k++) {
+            for (size_t i = r; i < r + 100 && i < calls; i++) {
+                int64_t t = REF_TICKS + (int64_t)i;
+                fill_state(state, m->n_states, t);
+                roz_abi_begin_tick(&abi[k], t, state);
+                uint64_t t0 = roz_clock_monotonic_ns(NULL);
+                int rc = roz_controller_process(&ctl[k], t);
+                ns[k][i] = roz_clock_monotonic_ns(NULL) - t0;
+                if (rc != ROZ_OK) {
+                    fprintf(stderr, "roz_bench_peers_roz: %s\n", roz_controller_error(&ctl[k]));
+                    return 2;
+                }
+            }
+        }
+    }
+    uint64_t units = roz_controller_fuel_used(&ctl[0]);
+
+    int first = 1;
+    printf("{\n  \"engine\": \"roz (wasm3)\",\n  \"version\": \"0.5.0\",\n"
+           "  \"checked\": \"reference outputs after %d ticks, metered and unmetered equal\",\n"
+           "  \"figures\": [\n",
+           REF_TICKS);
+    print_timing("validate (roz's module scan)", bench_stats(scan_ns, LOAD_REPS), &first);
+    print_timing("compile (validate, parse, link, compile)", bench_stats(load_ns, LOAD_REPS),
+                 &first);
+    print_timing("verify (100 ticks)", bench_stats(verify_ns, LOAD_REPS), &first);
+    print_timing("process, metering fuel+deadline", bench_stats(ns[0], calls), &first);
+    print_timing("process, metering off", bench_stats(ns[1], calls), &first);
+    printf(",\n    {\"name\": \"fuel per call\", \"unit\": \"units\", \"value\": %llu}",
+           (unsigned long long)units);
+    printf(",\n    {\"name\": \"resident memory added\", \"unit\": \"KiB\", \"value\": %ld}\n  ]\n}\n",
+           rss1 - rss0);
+    roz_controller_unload(&ctl[0]);
+    roz_controller_unload(&ctl[1]);
+    free(ns[0]);
+    free(ns[1]);
+    free(wasm);
+    return 0;
+}
