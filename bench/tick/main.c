@@ -43,6 +43,9 @@
 
 void roz_native_process(long long tick);
 void roz_native_process_ur5(long long tick); /* pd_hold.c, renamed by the build */
+void roz_native_process_g1_bulk(long long tick); /* g1_pd_bulk.c, likewise */
+int roz_state_get_all(double *values, int count);
+int roz_command_set_all(const double *values, int count);
 int roz_command_set(int index, double value);
 int roz_command_count(void);
 double roz_command_limit_min(int index);
@@ -69,6 +72,16 @@ void roz_request_estop(void) { roz_abi_safety_request_estop(&native_abi); }
 long long roz_now_ns(void) { return roz_abi_timing_now_ns(&native_abi); }
 long long roz_sim_time_ns(void) { return roz_abi_timing_sim_time_ns(&native_abi); }
 void roz_emit_metric(double v) { roz_abi_telemetry_emit_metric(&native_abi, v); }
+/* the bulk extension: natively, the controller's memory is its own array */
+int roz_state_get_all(double *v, int n)
+{
+    return roz_abi_state_get_all(&native_abi, (uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u, 0, n);
+}
+int roz_command_set_all(const double *v, int n)
+{
+    return roz_abi_command_set_all(&native_abi, (const uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u,
+                                   0, n);
+}
 
 /* ---- helpers -------------------------------------------------------------- */
 
@@ -190,10 +203,11 @@ static int meter_pair(const roz_manifest_t *m, const uint8_t *wasm, size_t len, 
 
 /* The runtime's tick on robot `m` with `wasm` on the (timed) loopback, and
  * the same controller compiled natively on the same snapshots; prints the
- * figures and adds them to `j` as "<robot_id>: ...". Returns the number of
+ * figures and adds them to `j` as "<robot_id><tag>: ...". Returns the number of
  * targets where wasm3 and native differ, or -1 when the run failed. */
-static long tick_bench(const roz_manifest_t *m, const uint8_t *wasm, size_t len, const char *path,
-                       void (*native)(long long), size_t ticks, const bench_json_t *j)
+static long tick_bench(const roz_manifest_t *m, const char *tag, const uint8_t *wasm, size_t len,
+                       const char *path, void (*native)(long long), size_t ticks,
+                       const bench_json_t *j)
 {
     roz_runtime_config_t cfg;
     char err[128], name[96];
@@ -262,7 +276,8 @@ static long tick_bench(const roz_manifest_t *m, const uint8_t *wasm, size_t len,
             so = stats(overhead_ns, ticks), sp = stats(port_tick_ns, ticks);
     double period_us = 1e6 / m->control_rate_hz;
 
-    printf("bench/tick: %s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
+    printf("bench/tick: %s%s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
+           tag,
            (unsigned)m->n_commands, (unsigned)m->n_states, ticks, path);
     printf("%-34s %10s %10s %10s\n", "", "p50 [us]", "p99 [us]", "max [us]");
     printf("%-34s %10.2f %10.2f %10.2f\n", "process(), wasm3", sw.p50, sw.p99, sw.max);
@@ -283,10 +298,10 @@ static long tick_bench(const roz_manifest_t *m, const uint8_t *wasm, size_t len,
                                          "port read + write (loopback sim)", "whole tick, wasm3" };
     const stats_t *all[5] = { &sw, &sn, &so, &sp, &st };
     for (int k = 0; k < 5; k++) {
-        snprintf(name, sizeof name, "%s: %s", m->robot_id, what[k]);
+        snprintf(name, sizeof name, "%s%s: %s", m->robot_id, tag, what[k]);
         bench_json_timing(j, name, (bench_stats_t){ all[k]->p50, all[k]->p99, all[k]->max });
     }
-    snprintf(name, sizeof name, "%s: wasm3 and native targets differing", m->robot_id);
+    snprintf(name, sizeof name, "%s%s: wasm3 and native targets differing", m->robot_id, tag);
     bench_json_value(j, name, (double)mismatches, "values");
     roz_runtime_deinit(&rt);
     free(tick_ns);
@@ -316,13 +331,22 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench: cannot read %s\n", wasm == NULL ? path : ROZ_BENCH_UR5_CONTROLLER);
         return 2;
     }
-    long mismatches = tick_bench(m, wasm, len, path, roz_native_process, ticks, &json);
-    long ur5_mismatches = tick_bench(&roz_manifest_ur5, ur5_wasm, ur5_len,
+    size_t bulk_len;
+    uint8_t *bulk_wasm = read_file(ROZ_BENCH_BULK_CONTROLLER, &bulk_len);
+    if (bulk_wasm == NULL) {
+        fprintf(stderr, "bench: cannot read %s\n", ROZ_BENCH_BULK_CONTROLLER);
+        return 2;
+    }
+    long mismatches = tick_bench(m, "", wasm, len, path, roz_native_process, ticks, &json);
+    long bulk_mismatches = tick_bench(m, " (bulk)", bulk_wasm, bulk_len, ROZ_BENCH_BULK_CONTROLLER,
+                                      roz_native_process_g1_bulk, ticks, &json);
+    long ur5_mismatches = tick_bench(&roz_manifest_ur5, "", ur5_wasm, ur5_len,
                                      ROZ_BENCH_UR5_CONTROLLER, roz_native_process_ur5, ticks, &json);
     free(ur5_wasm);
-    if (mismatches < 0 || ur5_mismatches < 0)
+    free(bulk_wasm);
+    if (mismatches < 0 || ur5_mismatches < 0 || bulk_mismatches < 0)
         return 2;
-    mismatches += ur5_mismatches;
+    mismatches += ur5_mismatches + bulk_mismatches;
 
     /* metering: the same controllers under wasm3 with their fuel charges
      * (the default budget) and compiled without them (the private

@@ -22,6 +22,9 @@ const roz_abi_import_t roz_abi_imports[] = {
     { "timing", "now_ns", "I()" },
     { "timing", "sim_time_ns", "I()" },
     { "telemetry", "emit_metric", "v(F)" },
+    /* the bulk extension (optional for a controller; see roz/abi.h) */
+    { "state", "get_all", "i(ii)" },
+    { "command", "set_all", "i(ii)" },
 };
 const size_t roz_abi_import_count = sizeof roz_abi_imports / sizeof roz_abi_imports[0];
 
@@ -214,4 +217,67 @@ int roz_metric_ring_pop(roz_metric_ring_t *r, roz_metric_t *out)
 uint32_t roz_metric_ring_dropped(const roz_metric_ring_t *r)
 {
     return atomic_load_explicit(&r->dropped, memory_order_relaxed);
+}
+
+/* ---- the bulk extension ---------------------------------------------------- */
+
+/* Values cross linear memory as little-endian f64 (the WebAssembly byte
+ * order); on a big-endian host each one is turned around. */
+static inline uint64_t le64(uint64_t v)
+{
+#if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
+    __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+    return __builtin_bswap64(v);
+#else
+    return v;
+#endif
+}
+
+/* 1 when [ptr, ptr + 8 count) lies inside a memory of mem_len bytes;
+ * count is 0..ROZ_ABI_BULK_MAX here, so nothing overflows 64 bits. */
+static int bulk_range_ok(const uint8_t *mem, size_t mem_len, uint32_t ptr, int32_t count)
+{
+    uint64_t end = (uint64_t)ptr + 8u * (uint64_t)count;
+    return mem != NULL && end <= (uint64_t)mem_len;
+}
+
+int32_t roz_abi_state_get_all(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t ptr,
+                              int32_t count)
+{
+    if (count < 0 || count > (int32_t)abi->manifest->n_states || abi->state == NULL ||
+        !bulk_range_ok(mem, mem_len, ptr, count)) {
+        abi->counters.get_bad_index++;
+        return -1;
+    }
+    uint8_t *dst = mem + ptr;
+    for (int32_t i = 0; i < count; i++) {
+        uint64_t bits;
+        memcpy(&bits, &abi->state[i], sizeof bits);
+        bits = le64(bits);
+        memcpy(dst + 8 * (size_t)i, &bits, sizeof bits);
+    }
+    return count;
+}
+
+int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_len,
+                                uint32_t ptr, int32_t count)
+{
+    int32_t not_taken = 0;
+
+    if (count < 0 || count > (int32_t)abi->manifest->n_commands ||
+        !bulk_range_ok(mem, mem_len, ptr, count)) {
+        abi->counters.sets++;
+        abi->counters.set_bad_index++;
+        return -1;
+    }
+    const uint8_t *src = mem + ptr;
+    for (int32_t i = 0; i < count; i++) {
+        uint64_t bits;
+        double v;
+        memcpy(&bits, src + 8 * (size_t)i, sizeof bits);
+        bits = le64(bits);
+        memcpy(&v, &bits, sizeof v);
+        not_taken += roz_abi_command_set(abi, i, v) != ROZ_ABI_SET_TAKEN;
+    }
+    return not_taken;
 }

@@ -199,11 +199,67 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
     m3ApiSuccess();
 }
 
+/* The bulk extension. The call itself is charged like every call
+ * (d_m3RozCallUnits); the values it moves are charged on top, before any
+ * moves, so that fuel stays proportional to work: a value costs about what
+ * a few wasm instructions cost (bench/fuel, host_bulk). */
+#define BULK_GET_UNITS_PER_VALUE 1u
+#define BULK_SET_UNITS_PER_VALUE 2u
+
+/* Charges `units` against the running call's fuel, as the metering patch's
+ * op_roz_Charge does; a non-NULL result is the trap. */
+static M3Result charge(IM3Runtime rt, uint64_t units)
+{
+    if (rt->rozUnmetered)
+        return m3Err_none;
+    rt->rozFuel -= (int64_t)units;
+    return rt->rozFuel < 0 ? roz__wasm3_refuel(rt) : m3Err_none;
+}
+
+/* Units for `count` values: none for a count the ABI will refuse anyway. */
+static uint64_t bulk_units(int32_t count, uint32_t per_value)
+{
+    return count > 0 && count <= ROZ_ABI_BULK_MAX ? (uint64_t)count * per_value : 0u;
+}
+
+static m3ApiRawFunction(h_state_get_all)
+{
+    m3ApiReturnType(int32_t);
+    m3ApiGetArg(uint32_t, ptr);
+    m3ApiGetArg(int32_t, count);
+    uint32_t len = 0;
+    uint8_t *mem;
+    M3Result r;
+    (void)_mem;
+    r = charge(runtime, bulk_units(count, BULK_GET_UNITS_PER_VALUE));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
+    mem = m3_GetMemory(runtime, &len, 0);
+    m3ApiReturn(roz_abi_state_get_all(ABI, mem, len, ptr, count));
+}
+
+static m3ApiRawFunction(h_command_set_all)
+{
+    m3ApiReturnType(int32_t);
+    m3ApiGetArg(uint32_t, ptr);
+    m3ApiGetArg(int32_t, count);
+    uint32_t len = 0;
+    const uint8_t *mem;
+    M3Result r;
+    (void)_mem;
+    r = charge(runtime, bulk_units(count, BULK_SET_UNITS_PER_VALUE));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
+    mem = m3_GetMemory(runtime, &len, 0);
+    m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
+}
+
 /* Same order as roz_abi_imports[] (checked at load). */
 static const M3RawCall host_functions[] = {
     h_command_set,       h_command_count,   h_command_limit_min,  h_command_limit_max,
     h_state_get,         h_state_count,     h_math_sin,           h_math_cos,
     h_safety_request_estop, h_timing_now_ns, h_timing_sim_time_ns, h_telemetry_emit_metric,
+    h_state_get_all,     h_command_set_all,
 };
 
 /* wasm3 writes signatures as ret(args) with F for f64, I for i64, i for i32,
@@ -263,7 +319,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     uint32_t process_index = 0;
     char why[ROZ_CFG_ERROR_LEN];
 
-    _Static_assert(sizeof host_functions / sizeof host_functions[0] == 12,
+    _Static_assert(sizeof host_functions / sizeof host_functions[0] == 14,
                    "one host function per roz_abi_imports[] entry");
     if (c->env != NULL)
         return ROZ_ESTATE;

@@ -72,6 +72,26 @@ ROZ_IMPORT("timing", "sim_time_ns") long long roz_sim_time_ns(void);
 /** Record a scalar for observability. */
 ROZ_IMPORT("telemetry", "emit_metric") void roz_emit_metric(double value);
 
+/*
+ * The bulk extension (optional): one host call each way per tick instead of
+ * one per channel, for controllers that read or write many channels (a
+ * humanoid's 145 commands). Same results bit for bit as the calls above:
+ *   double s[ROZ_UNITREE_G1_N_STATES], c[ROZ_UNITREE_G1_N_COMMANDS];
+ *   roz_state_get_all(s, ROZ_UNITREE_G1_N_STATES);
+ *   ... fill every c[i] ...
+ *   roz_command_set_all(c, ROZ_UNITREE_G1_N_COMMANDS);
+ */
+/** Copy state channels 0..count-1 of this tick's snapshot into @p values;
+ *  returns count, or -1 (nothing copied) for a count outside 0..state
+ *  count or an array outside the controller's memory. */
+ROZ_IMPORT("state", "get_all") int roz_state_get_all(double *values, int count);
+/** Set command channels 0..count-1 from @p values, each exactly as
+ *  roz_command_set(i, values[i]) would (clamp, refusal of NaN/Inf, the
+ *  counters); returns how many were clamped or refused, or -1 (no channel
+ *  changed) for a count outside 0..command count or an array outside the
+ *  controller's memory. Channels from count on keep their values. */
+ROZ_IMPORT("command", "set_all") int roz_command_set_all(const double *values, int count);
+
 #ifdef __cplusplus
 }
 #endif

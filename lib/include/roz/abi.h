@@ -10,6 +10,15 @@
  *
  * Signatures use one letter per value: i = i32, I = i64, F = f64, v = none,
  * written "ret(args)": command.set is "i(iF)".
+ *
+ * Besides the roz ABI (the default, unchanged), an optional bulk extension
+ * of two imports moves whole arrays through the controller's linear
+ * memory, one host call each way per tick instead of one per channel:
+ * state.get_all copies the snapshot's first `count` values out, and
+ * command.set_all submits the first `count` commands, each with exactly
+ * command.set's semantics (clamp, refusal of non-finite values, counters).
+ * Values are little-endian f64, at any alignment; every (pointer, count)
+ * is checked against the module's memory before a byte moves.
  */
 #ifndef ROZ_ABI_H
 #define ROZ_ABI_H
@@ -156,6 +165,46 @@ int64_t roz_abi_timing_now_ns(const roz_abi_t *abi);
 int64_t roz_abi_timing_sim_time_ns(const roz_abi_t *abi);
 /** telemetry.emit_metric: into the ring, dropped (and counted) when full. */
 void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value);
+
+/* ---- the bulk extension; Context: inside process(), RT-safe, O(count) ---- */
+
+/** Largest count a bulk import accepts: the larger channel maximum. */
+#define ROZ_ABI_BULK_MAX                                                                   \
+    (ROZ_CFG_MAX_COMMANDS > ROZ_CFG_MAX_STATES ? ROZ_CFG_MAX_COMMANDS : ROZ_CFG_MAX_STATES)
+
+/**
+ * @brief state.get_all (i32 ptr, i32 count) -> i32: copies state channels
+ *        0..count-1 of this tick's snapshot to the controller's memory at
+ *        @p ptr, 8 bytes each, little-endian.
+ * @param[in] mem     the controller's linear memory (its engine's view)
+ * @param[in] mem_len its size in bytes
+ * @param[in] ptr     the wasm address (an unsigned i32)
+ * @param[in] count   values to copy, 0..n_states
+ * @retval count  copied
+ * @retval -1     refused, nothing written: count negative or above
+ *                n_states, [ptr, ptr + 8 count) not inside the memory, or
+ *                no snapshot; counted as get_bad_index
+ * Context: inside process(); RT-safe.
+ */
+int32_t roz_abi_state_get_all(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t ptr,
+                              int32_t count);
+
+/**
+ * @brief command.set_all (i32 ptr, i32 count) -> i32: command channel i
+ *        takes the f64 at @p ptr + 8 i for i in 0..count-1, each exactly as
+ *        command.set(i, value) would (clamped, or refused when non-finite,
+ *        which sends that channel to its safe default; every counter as for
+ *        count separate calls). Channels from count on keep their targets.
+ * @param[in] mem, mem_len, ptr  as for roz_abi_state_get_all()
+ * @param[in] count   values to submit, 0..n_commands
+ * @retval >=0  how many values were not taken as given (clamped or refused)
+ * @retval -1   refused as a whole, no target changed: count negative or
+ *              above n_commands, or the range not inside the memory;
+ *              counted as one set refused for a bad index
+ * Context: inside process(); RT-safe.
+ */
+int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_len,
+                                uint32_t ptr, int32_t count);
 
 /**
  * @brief Take the oldest metric from a ring.
