@@ -88,6 +88,10 @@ static const work_t works[] = {
     { "host_set", "host calls: command.set",
       "", "(drop (call $set (i32.const 0) (local.get $f)))", 16 },
     { "host_get", "host calls: state.get", "", "(local.set $f (call $get (i32.const 0)))", 16 },
+    { "host_get_all", "host calls: state.get_all of 12 values", "(memory 1)",
+      "(drop (call $get_all (i32.const 64) (i32.const 12)))", 16 },
+    { "host_set_all", "host calls: command.set_all of 6 values", "(memory 1)",
+      "(drop (call $set_all (i32.const 64) (i32.const 6)))", 16 },
     { "memory_fill", "memory.fill of 1 MiB", "(memory 16)",
       "(memory.fill (i32.const 0) (local.get $a) (i32.const 1048576))", 1 },
     { "memory_copy", "memory.copy of 512 KiB", "(memory 16)",
@@ -119,6 +123,8 @@ static void module_text(const work_t *w)
                          " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))\n"
                          " (import \"state\" \"get\" (func $get (param i32) (result f64)))\n"
                          " (import \"math\" \"sin\" (func $sin (param f64) (result f64)))\n"
+                         " (import \"state\" \"get_all\" (func $get_all (param i32 i32) (result i32)))\n"
+                         " (import \"command\" \"set_all\" (func $set_all (param i32 i32) (result i32)))\n"
                          " %s\n"
                          " (func (export \"process\") (param $tick i64)\n"
                          "  (local $a i32) (local $x i64) (local $y i64) (local $f f64)\n"

@@ -201,8 +201,8 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
 
 /* The bulk extension. The call itself is charged like every call
  * (d_m3RozCallUnits); the values it moves are charged on top, before any
- * moves, so that fuel stays proportional to work: a value costs about what
- * a few wasm instructions cost (bench/fuel, host_bulk). */
+ * moves, so that fuel stays proportional to work: a value moved costs
+ * about what an instruction does (bench/fuel: host_get_all, host_set_all). */
 #define BULK_GET_UNITS_PER_VALUE 1u
 #define BULK_SET_UNITS_PER_VALUE 2u
 
