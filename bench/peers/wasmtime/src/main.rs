@@ -23,21 +23,24 @@ fn engine(m: Metering) -> Result<Engine, String> {
     Engine::new(&c).map_err(|e| format!("engine: {e}"))
 }
 
+fn link_err(e: impl std::fmt::Display) -> String {
+    format!("linker: {e}")
+}
+
 fn linker(engine: &Engine) -> Result<Linker<Abi>, String> {
     let mut l = Linker::new(engine);
-    let e = |e: wasmtime::Error| format!("linker: {e}");
-    l.func_wrap("command", "set", |mut c: Caller<'_, Abi>, i: i32, v: f64| c.data_mut().command_set(i, v)).map_err(e)?;
-    l.func_wrap("command", "count", |c: Caller<'_, Abi>| c.data().command_count()).map_err(e)?;
-    l.func_wrap("command", "limit_min", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, false)).map_err(e)?;
-    l.func_wrap("command", "limit_max", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, true)).map_err(e)?;
-    l.func_wrap("state", "get", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().state_get(i)).map_err(e)?;
-    l.func_wrap("state", "count", |c: Caller<'_, Abi>| c.data().state_count()).map_err(e)?;
-    l.func_wrap("math", "sin", |x: f64| x.sin()).map_err(e)?;
-    l.func_wrap("math", "cos", |x: f64| x.cos()).map_err(e)?;
-    l.func_wrap("safety", "request_estop", |mut c: Caller<'_, Abi>| c.data_mut().request_estop()).map_err(e)?;
-    l.func_wrap("timing", "now_ns", |c: Caller<'_, Abi>| c.data().now_ns()).map_err(e)?;
-    l.func_wrap("timing", "sim_time_ns", |c: Caller<'_, Abi>| c.data().sim_time_ns()).map_err(e)?;
-    l.func_wrap("telemetry", "emit_metric", |mut c: Caller<'_, Abi>, v: f64| c.data_mut().emit_metric(v)).map_err(e)?;
+    l.func_wrap("command", "set", |mut c: Caller<'_, Abi>, i: i32, v: f64| c.data_mut().command_set(i, v)).map_err(link_err)?;
+    l.func_wrap("command", "count", |c: Caller<'_, Abi>| c.data().command_count()).map_err(link_err)?;
+    l.func_wrap("command", "limit_min", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, false)).map_err(link_err)?;
+    l.func_wrap("command", "limit_max", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, true)).map_err(link_err)?;
+    l.func_wrap("state", "get", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().state_get(i)).map_err(link_err)?;
+    l.func_wrap("state", "count", |c: Caller<'_, Abi>| c.data().state_count()).map_err(link_err)?;
+    l.func_wrap("math", "sin", |x: f64| x.sin()).map_err(link_err)?;
+    l.func_wrap("math", "cos", |x: f64| x.cos()).map_err(link_err)?;
+    l.func_wrap("safety", "request_estop", |mut c: Caller<'_, Abi>| c.data_mut().request_estop()).map_err(link_err)?;
+    l.func_wrap("timing", "now_ns", |c: Caller<'_, Abi>| c.data().now_ns()).map_err(link_err)?;
+    l.func_wrap("timing", "sim_time_ns", |c: Caller<'_, Abi>| c.data().sim_time_ns()).map_err(link_err)?;
+    l.func_wrap("telemetry", "emit_metric", |mut c: Caller<'_, Abi>, v: f64| c.data_mut().emit_metric(v)).map_err(link_err)?;
     Ok(l)
 }
 
