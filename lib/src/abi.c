@@ -223,10 +223,16 @@ uint32_t roz_metric_ring_dropped(const roz_metric_ring_t *r)
 
 /* Values cross linear memory as little-endian f64 (the WebAssembly byte
  * order); on a big-endian host each one is turned around. */
-static inline uint64_t le64(uint64_t v)
-{
 #if defined(__BYTE_ORDER__) && defined(__ORDER_BIG_ENDIAN__) && \
     __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+#define ROZ_ABI_BIG_ENDIAN 1
+#else
+#define ROZ_ABI_BIG_ENDIAN 0
+#endif
+
+static inline uint64_t le64(uint64_t v)
+{
+#if ROZ_ABI_BIG_ENDIAN
     return __builtin_bswap64(v);
 #else
     return v;
@@ -250,34 +256,51 @@ int32_t roz_abi_state_get_all(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint
         return -1;
     }
     uint8_t *dst = mem + ptr;
+#if ROZ_ABI_BIG_ENDIAN
     for (int32_t i = 0; i < count; i++) {
         uint64_t bits;
         memcpy(&bits, &abi->state[i], sizeof bits);
         bits = le64(bits);
         memcpy(dst + 8 * (size_t)i, &bits, sizeof bits);
     }
+#else
+    memcpy(dst, abi->state, 8u * (size_t)count);
+#endif
     return count;
 }
 
 int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_len,
                                 uint32_t ptr, int32_t count)
 {
-    int32_t not_taken = 0;
-
     if (count < 0 || count > (int32_t)abi->manifest->n_commands ||
         !bulk_range_ok(mem, mem_len, ptr, count)) {
         abi->counters.sets++;
         abi->counters.set_bad_index++;
         return -1;
     }
+    /* command.set's steps for each value (roz_abi_command_set), with the
+     * index known good and the counters summed once */
     const uint8_t *src = mem + ptr;
+    const roz_channel_t *c = abi->manifest->commands;
+    uint64_t clamped = 0, nonfinite = 0;
     for (int32_t i = 0; i < count; i++) {
         uint64_t bits;
         double v;
         memcpy(&bits, src + 8 * (size_t)i, sizeof bits);
         bits = le64(bits);
         memcpy(&v, &bits, sizeof v);
-        not_taken += roz_abi_command_set(abi, i, v) != ROZ_ABI_SET_TAKEN;
+        if (!isfinite(v)) {
+            nonfinite++;
+            abi->target[i] = NAN;
+        } else if (v < c[i].min || v > c[i].max) {
+            clamped++;
+            abi->target[i] = v < c[i].min ? c[i].min : c[i].max;
+        } else {
+            abi->target[i] = v;
+        }
     }
-    return not_taken;
+    abi->counters.sets += (uint64_t)count;
+    abi->counters.set_clamped += clamped;
+    abi->counters.set_nonfinite += nonfinite;
+    return (int32_t)(clamped + nonfinite);
 }
