@@ -205,6 +205,8 @@ def build(args) -> tuple[str, str]:
       "loopback port itself (it simulates the robot and moves CRC'd frames inside the tick; "
       "a hardware port does that on its own threads).\n")
     for robot, ctl in (("unitree_g1", "G1 PD, 145 commands, 97 states"),
+                       ("unitree_g1 (bulk)", "the same PD through state.get_all and "
+                        "command.set_all, one host call each way"),
                        ("ur5", "UR5 PD hold, 6 commands, 12 states")):
         w(f"**{robot}** ({ctl}):\n")
         t = Table("native process()")
@@ -270,7 +272,9 @@ def build(args) -> tuple[str, str]:
                 t.timing(f"{label} {p['version']}, {fname.removeprefix('process, ')}", f, ref,
                          "reference" if f is ref else "")
     w("**`process()` per call** (the call through the engine's API, the budget set before "
-      "each call as a tick loop does):\n")
+      "each call as a tick loop does; \"bulk\" rows run `g1_pd_bulk.wasm`, the same PD "
+      "through `state.get_all` and `command.set_all`, whose outputs are checked against the "
+      "same reference):\n")
     w(t.render())
     if rows_present:
         for key in ("roz", "wasmtime", "wasmi"):
@@ -419,6 +423,8 @@ def build(args) -> tuple[str, str]:
 
     native = tick.get("unitree_g1: process(), native")
     hrow("G1 PD `process()`, wasm3", tick.get("unitree_g1: process(), wasm3"), "native", native)
+    hrow("G1 PD `process()` through the bulk calls, wasm3", tick.get("unitree_g1 (bulk): process(), wasm3"),
+         "native", tick.get("unitree_g1 (bulk): process(), native"))
     hrow("G1 runtime overhead per tick", tick.get("unitree_g1: runtime (tick - process - port)"),
          "native process()", native)
     if wt:

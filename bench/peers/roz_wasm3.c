@@ -14,7 +14,11 @@
  *   - resident memory added by one loaded controller that ran.
  * Prints one JSON object on stdout. A benchmark: it never fails on a time.
  *
- *   roz_bench_peers_roz G1_PD.wasm [--calls N] [--reference FILE]
+ *   - with --bulk G1_PD_BULK.wasm, the same for the PD through the bulk
+ *     calls, whose outputs must equal the per-channel PD's.
+ *
+ *   roz_bench_peers_roz G1_PD.wasm [--bulk G1_PD_BULK.wasm] [--calls N]
+ *                       [--reference FILE]
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -112,11 +116,12 @@ static void print_timing(const char *name, bench_stats_t s, int *first)
 
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *ref = NULL;
-    size_t calls = 20000, len;
-    static roz_controller_t ctl[2];
-    static roz_abi_t abi[2];
-    static double target[2][ROZ_CFG_MAX_COMMANDS];
+    const char *path = NULL, *ref = NULL, *bulk_path = NULL;
+    size_t calls = 20000, len, bulk_len = 0;
+    /* 0, 1: the PD metered and not; 2, 3: the bulk PD likewise */
+    static roz_controller_t ctl[4];
+    static roz_abi_t abi[4];
+    static double target[4][ROZ_CFG_MAX_COMMANDS];
     char why[ROZ_CFG_ERROR_LEN];
 
     for (int i = 1; i < argc; i++) {
@@ -124,6 +129,8 @@ int main(int argc, char **argv)
             calls = strtoul(argv[++i], NULL, 10);
         else if (strcmp(argv[i], "--reference") == 0 && i + 1 < argc)
             ref = argv[++i];
+        else if (strcmp(argv[i], "--bulk") == 0 && i + 1 < argc)
+            bulk_path = argv[++i];
         else
             path = argv[i];
     }
@@ -132,10 +139,12 @@ int main(int argc, char **argv)
         return 2;
     }
     uint8_t *wasm = read_file(path, &len);
-    if (wasm == NULL) {
-        fprintf(stderr, "roz_bench_peers_roz: cannot read %s\n", path);
+    uint8_t *bulk = bulk_path != NULL ? read_file(bulk_path, &bulk_len) : NULL;
+    if (wasm == NULL || (bulk_path != NULL && bulk == NULL)) {
+        fprintf(stderr, "roz_bench_peers_roz: cannot read %s\n", wasm == NULL ? path : bulk_path);
         return 2;
     }
+    int n_ctl = bulk != NULL ? 4 : 2;
 
     /* resident memory added by one controller, loaded and run */
     long rss0 = rss_kib();
@@ -149,9 +158,12 @@ int main(int argc, char **argv)
     roz_controller_unload(&ctl[0]);
 
     /* the reference: outputs after REF_TICKS ticks, metered and not */
-    for (int k = 0; k < 2; k++) {
-        if (load(&ctl[k], &abi[k], target[k], wasm, len, k == 0) != ROZ_OK)
+    for (int k = 0; k < n_ctl; k++) {
+        if (load(&ctl[k], &abi[k], target[k], k < 2 ? wasm : bulk, k < 2 ? len : bulk_len,
+                 k % 2 == 0) != ROZ_OK) {
+            fprintf(stderr, "roz_bench_peers_roz: %s\n", roz_controller_error(&ctl[k]));
             return 2;
+        }
         for (int64_t t = 0; t < REF_TICKS; t++) {
             if (call(&ctl[k], &abi[k], t) != ROZ_OK) {
                 fprintf(stderr, "roz_bench_peers_roz: %s\n", roz_controller_error(&ctl[k]));
@@ -159,13 +171,15 @@ int main(int argc, char **argv)
             }
         }
     }
-    roz_abi_counters_t cnt[2];
-    roz_abi_counters_get(&abi[0], &cnt[0]);
-    roz_abi_counters_get(&abi[1], &cnt[1]);
-    if (memcmp(target[0], target[1], sizeof target[0]) != 0 ||
-        memcmp(&cnt[0], &cnt[1], sizeof cnt[0]) != 0) {
-        fprintf(stderr, "roz_bench_peers_roz: metered and unmetered outputs differ\n");
-        return 1;
+    roz_abi_counters_t cnt[4];
+    for (int k = 0; k < n_ctl; k++) {
+        roz_abi_counters_get(&abi[k], &cnt[k]);
+        if (memcmp(target[0], target[k], sizeof target[0]) != 0 ||
+            memcmp(&cnt[0], &cnt[k], sizeof cnt[0]) != 0) {
+            fprintf(stderr, "roz_bench_peers_roz: %s outputs differ from the metered PD's\n",
+                    k == 1 ? "unmetered" : k == 2 ? "the bulk PD's" : "the unmetered bulk PD's");
+            return 1;
+        }
     }
     if (ref != NULL) {
         FILE *f = fopen(ref, "w");
@@ -222,11 +236,14 @@ int main(int argc, char **argv)
     }
 
     /* process(), metered and not, alternating rounds of 100 */
-    uint64_t *ns[2] = { calloc(calls, sizeof(uint64_t)), calloc(calls, sizeof(uint64_t)) };
-    if (ns[0] == NULL || ns[1] == NULL)
-        return 2;
+    uint64_t *ns[4];
+    for (int k = 0; k < 4; k++) {
+        ns[k] = calloc(calls, sizeof(uint64_t));
+        if (ns[k] == NULL)
+            return 2;
+    }
     for (size_t r = 0; r < calls; r += 100) {
-        for (int k = 0; k < 2; k++) {
+        for (int k = 0; k < n_ctl; k++) {
             for (size_t i = r; i < r + 100 && i < calls; i++) {
                 int64_t t = REF_TICKS + (int64_t)i;
                 fill_state(state, m->n_states, t);
@@ -245,23 +262,28 @@ int main(int argc, char **argv)
 
     int first = 1;
     printf("{\n  \"engine\": \"roz (wasm3)\",\n  \"version\": \"0.5.0\",\n"
-           "  \"checked\": \"reference outputs after %d ticks, metered and unmetered equal\",\n"
+           "  \"checked\": \"reference outputs after %d ticks; metered and unmetered%s equal\",\n"
            "  \"figures\": [\n",
-           REF_TICKS);
+           REF_TICKS, bulk != NULL ? ", per channel and bulk," : "");
     print_timing("validate (roz's module scan)", bench_stats(scan_ns, LOAD_REPS), &first);
     print_timing("compile (validate, parse, link, compile)", bench_stats(load_ns, LOAD_REPS),
                  &first);
     print_timing("verify (100 ticks)", bench_stats(verify_ns, LOAD_REPS), &first);
     print_timing("process, metering fuel+deadline", bench_stats(ns[0], calls), &first);
     print_timing("process, metering off", bench_stats(ns[1], calls), &first);
+    if (bulk != NULL) {
+        print_timing("process, bulk, metering fuel+deadline", bench_stats(ns[2], calls), &first);
+        print_timing("process, bulk, metering off", bench_stats(ns[3], calls), &first);
+    }
     printf(",\n    {\"name\": \"fuel per call\", \"unit\": \"units\", \"value\": %llu}",
            (unsigned long long)units);
     printf(",\n    {\"name\": \"resident memory added\", \"unit\": \"KiB\", \"value\": %ld}\n  ]\n}\n",
            rss1 - rss0);
-    roz_controller_unload(&ctl[0]);
-    roz_controller_unload(&ctl[1]);
-    free(ns[0]);
-    free(ns[1]);
+    for (int k = 0; k < 4; k++) {
+        roz_controller_unload(&ctl[k]);
+        free(ns[k]);
+    }
     free(wasm);
+    free(bulk);
     return 0;
 }

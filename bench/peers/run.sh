@@ -13,9 +13,10 @@ build=$1 out=$2 rozgen=$3 calls=${4:-20000}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 wasm=$build/examples/controllers/g1_pd.wasm
+bulk=$build/examples/controllers/g1_pd_bulk.wasm
 
 "$rozgen" --json "$root/manifests/unitree_g1.toml" > "$out/g1.json" || exit 1
-if ! "$build/bench/roz_bench_peers_roz" "$wasm" --calls "$calls" --reference "$out/g1.ref" \
+if ! "$build/bench/roz_bench_peers_roz" "$wasm" --bulk "$bulk" --calls "$calls" --reference "$out/g1.ref" \
         > "$out/peer-roz.json" 2> "$out/peer-roz.err"; then
     echo "roz_bench_peers_roz failed: $(tail -n 1 "$out/peer-roz.err")" > "$out/peer-roz.skipped"
     rm -f "$out/peer-roz.json"
@@ -38,7 +39,7 @@ if ! (cd "$here" && cargo build --release --locked -j "${CARGO_JOBS:-2}" 2> "$ou
 fi
 for p in wasmtime wasmi; do
     bin=$here/target/release/roz-peer-$p
-    if "$bin" --wasm "$wasm" --manifest "$out/g1.json" --expect "$out/g1.ref" --calls "$calls" \
+    if "$bin" --wasm "$wasm" --wasm-bulk "$bulk" --manifest "$out/g1.json" --expect "$out/g1.ref" --calls "$calls" \
             > "$out/peer-$p.json" 2> "$out/peer-$p.err"; then
         echo "$p: $(grep -m1 '"checked"' "$out/peer-$p.json" | sed 's/.*: "//; s/",$//')"
     else

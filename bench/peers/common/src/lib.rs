@@ -169,6 +169,49 @@ impl Abi {
         self.tick.wrapping_mul(self.period_ns as i64)
     }
 
+    /// state.get_all: channels 0..count-1 of the snapshot to `mem` at `ptr`,
+    /// little-endian f64; -1 (nothing written) for a bad count or range.
+    pub fn state_get_all(&mut self, mem: Option<&mut [u8]>, ptr: u32, count: i32) -> i32 {
+        let n = self.state.len();
+        let end = ptr as u64 + 8 * count.max(0) as u64;
+        match mem {
+            Some(mem) if count >= 0 && count as usize <= n && end <= mem.len() as u64 => {
+                let dst = &mut mem[ptr as usize..end as usize];
+                for (i, v) in self.state[..count as usize].iter().enumerate() {
+                    dst[8 * i..8 * i + 8].copy_from_slice(&v.to_le_bytes());
+                }
+                count
+            }
+            _ => {
+                self.counters.get_bad_index += 1;
+                -1
+            }
+        }
+    }
+
+    /// command.set_all: command.set(i, value) for channels 0..count-1 from
+    /// `mem` at `ptr`; the number clamped or refused, or -1 (no change).
+    pub fn command_set_all(&mut self, mem: Option<&[u8]>, ptr: u32, count: i32) -> i32 {
+        let n = self.manifest.commands.len();
+        let end = ptr as u64 + 8 * count.max(0) as u64;
+        match mem {
+            Some(mem) if count >= 0 && count as usize <= n && end <= mem.len() as u64 => {
+                let src = &mem[ptr as usize..end as usize];
+                let mut not_taken = 0;
+                for i in 0..count as usize {
+                    let v = f64::from_le_bytes(src[8 * i..8 * i + 8].try_into().unwrap());
+                    not_taken += (self.command_set(i as i32, v) != SET_TAKEN) as i32;
+                }
+                not_taken
+            }
+            _ => {
+                self.counters.sets += 1;
+                self.counters.set_bad_index += 1;
+                -1
+            }
+        }
+    }
+
     /// Metrics are counted, not kept (as a roz_abi_t without a ring).
     pub fn emit_metric(&mut self, _value: f64) {
         self.counters.metrics += 1;
@@ -310,6 +353,8 @@ pub fn print_json(engine: &str, version: &str, extra: &[(&str, String)], figures
 /// Command-line options every harness takes.
 pub struct Options {
     pub wasm: String,
+    /// the same controller through the bulk calls (optional)
+    pub wasm_bulk: String,
     pub manifest: String,
     pub expect: String,
     pub calls: usize,
@@ -318,15 +363,16 @@ pub struct Options {
 pub fn options() -> Result<Options, String> {
     let args: Vec<String> = std::env::args().collect();
     let usage = format!(
-        "usage: {} --wasm G1_PD.wasm --manifest G1.json --expect REFERENCE [--calls N]",
+        "usage: {} --wasm G1_PD.wasm [--wasm-bulk G1_PD_BULK.wasm] --manifest G1.json --expect REFERENCE [--calls N]",
         args.first().map(String::as_str).unwrap_or("peer")
     );
-    let mut o = Options { wasm: String::new(), manifest: String::new(), expect: String::new(), calls: 20000 };
+    let mut o = Options { wasm: String::new(), wasm_bulk: String::new(), manifest: String::new(), expect: String::new(), calls: 20000 };
     let mut i = 1;
     while i < args.len() {
         let v = args.get(i + 1).cloned().ok_or(usage.clone())?;
         match args[i].as_str() {
             "--wasm" => o.wasm = v,
+            "--wasm-bulk" => o.wasm_bulk = v,
             "--manifest" => o.manifest = v,
             "--expect" => o.expect = v,
             "--calls" => o.calls = v.parse().map_err(|_| usage.clone())?,

@@ -5,7 +5,7 @@
 //! instantiate time; resident memory added. JSON on stdout.
 
 use roz_peer_common::{self as common, Abi, Figure, Manifest, Reference};
-use wasmtime::{Caller, Config, Engine, Instance, Linker, Module, Store, TypedFunc};
+use wasmtime::{Caller, Memory, Config, Engine, Instance, Linker, Module, Store, TypedFunc};
 
 const VERSION: &str = "48.0.8"; // the pin in Cargo.toml
 
@@ -23,29 +23,52 @@ fn engine(m: Metering) -> Result<Engine, String> {
     Engine::new(&c).map_err(|e| format!("engine: {e}"))
 }
 
+/// The store's data: roz's ABI context and the instance's memory (for the
+/// bulk calls, looked up once after instantiation).
+struct Host {
+    abi: Abi,
+    mem: Option<Memory>,
+}
+
 fn link_err(e: impl std::fmt::Display) -> String {
     format!("linker: {e}")
 }
 
-fn linker(engine: &Engine) -> Result<Linker<Abi>, String> {
+fn linker(engine: &Engine) -> Result<Linker<Host>, String> {
     let mut l = Linker::new(engine);
-    l.func_wrap("command", "set", |mut c: Caller<'_, Abi>, i: i32, v: f64| c.data_mut().command_set(i, v)).map_err(link_err)?;
-    l.func_wrap("command", "count", |c: Caller<'_, Abi>| c.data().command_count()).map_err(link_err)?;
-    l.func_wrap("command", "limit_min", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, false)).map_err(link_err)?;
-    l.func_wrap("command", "limit_max", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().command_limit(i, true)).map_err(link_err)?;
-    l.func_wrap("state", "get", |mut c: Caller<'_, Abi>, i: i32| c.data_mut().state_get(i)).map_err(link_err)?;
-    l.func_wrap("state", "count", |c: Caller<'_, Abi>| c.data().state_count()).map_err(link_err)?;
+    l.func_wrap("command", "set", |mut c: Caller<'_, Host>, i: i32, v: f64| c.data_mut().abi.command_set(i, v)).map_err(link_err)?;
+    l.func_wrap("command", "count", |c: Caller<'_, Host>| c.data().abi.command_count()).map_err(link_err)?;
+    l.func_wrap("command", "limit_min", |mut c: Caller<'_, Host>, i: i32| c.data_mut().abi.command_limit(i, false)).map_err(link_err)?;
+    l.func_wrap("command", "limit_max", |mut c: Caller<'_, Host>, i: i32| c.data_mut().abi.command_limit(i, true)).map_err(link_err)?;
+    l.func_wrap("state", "get", |mut c: Caller<'_, Host>, i: i32| c.data_mut().abi.state_get(i)).map_err(link_err)?;
+    l.func_wrap("state", "count", |c: Caller<'_, Host>| c.data().abi.state_count()).map_err(link_err)?;
     l.func_wrap("math", "sin", |x: f64| x.sin()).map_err(link_err)?;
     l.func_wrap("math", "cos", |x: f64| x.cos()).map_err(link_err)?;
-    l.func_wrap("safety", "request_estop", |mut c: Caller<'_, Abi>| c.data_mut().request_estop()).map_err(link_err)?;
-    l.func_wrap("timing", "now_ns", |c: Caller<'_, Abi>| c.data().now_ns()).map_err(link_err)?;
-    l.func_wrap("timing", "sim_time_ns", |c: Caller<'_, Abi>| c.data().sim_time_ns()).map_err(link_err)?;
-    l.func_wrap("telemetry", "emit_metric", |mut c: Caller<'_, Abi>, v: f64| c.data_mut().emit_metric(v)).map_err(link_err)?;
+    l.func_wrap("safety", "request_estop", |mut c: Caller<'_, Host>| c.data_mut().abi.request_estop()).map_err(link_err)?;
+    l.func_wrap("timing", "now_ns", |c: Caller<'_, Host>| c.data().abi.now_ns()).map_err(link_err)?;
+    l.func_wrap("timing", "sim_time_ns", |c: Caller<'_, Host>| c.data().abi.sim_time_ns()).map_err(link_err)?;
+    l.func_wrap("telemetry", "emit_metric", |mut c: Caller<'_, Host>, v: f64| c.data_mut().abi.emit_metric(v)).map_err(link_err)?;
+    l.func_wrap("state", "get_all", |mut c: Caller<'_, Host>, p: i32, n: i32| match c.data().mem {
+        Some(m) => {
+            let (data, host) = m.data_and_store_mut(&mut c);
+            host.abi.state_get_all(Some(data), p as u32, n)
+        }
+        None => c.data_mut().abi.state_get_all(None, p as u32, n),
+    })
+    .map_err(link_err)?;
+    l.func_wrap("command", "set_all", |mut c: Caller<'_, Host>, p: i32, n: i32| match c.data().mem {
+        Some(m) => {
+            let (data, host) = m.data_and_store_mut(&mut c);
+            host.abi.command_set_all(Some(&*data), p as u32, n)
+        }
+        None => c.data_mut().abi.command_set_all(None, p as u32, n),
+    })
+    .map_err(link_err)?;
     Ok(l)
 }
 
 struct Loaded {
-    store: Store<Abi>,
+    store: Store<Host>,
     process: TypedFunc<i64, ()>,
     metering: Metering,
 }
@@ -53,12 +76,13 @@ struct Loaded {
 impl Loaded {
     fn new(engine: &Engine, module: &Module, m: &Manifest, metering: Metering) -> Result<Loaded, String> {
         let l = linker(engine)?;
-        let mut store = Store::new(engine, Abi::new(m.clone()));
+        let mut store = Store::new(engine, Host { abi: Abi::new(m.clone()), mem: None });
         arm(&mut store, metering);
         let inst: Instance = l.instantiate(&mut store, module).map_err(|e| format!("instantiate: {e}"))?;
         let process = inst
             .get_typed_func::<i64, ()>(&mut store, "process")
             .map_err(|e| format!("process: {e}"))?;
+        store.data_mut().mem = inst.get_memory(&mut store, "memory");
         Ok(Loaded { store, process, metering })
     }
 
@@ -70,7 +94,7 @@ impl Loaded {
 
 /// Gives the next call its budget, as a tick loop does before each call
 /// (no thread advances the epoch: this measures the checks' cost).
-fn arm(store: &mut Store<Abi>, metering: Metering) {
+fn arm(store: &mut Store<Host>, metering: Metering) {
     match metering {
         Metering::Off => {}
         Metering::Fuel => store.set_fuel(10_000_000).unwrap(),
@@ -99,7 +123,7 @@ fn run() -> Result<(), String> {
     let module = Module::new(&e0, &wasm).map_err(|e| format!("compile: {e}"))?;
     let mut first = Loaded::new(&e0, &module, &m, Metering::Off)?;
     for t in 0..100 {
-        first.store.data_mut().begin_tick(t);
+        first.store.data_mut().abi.begin_tick(t);
         first.call(t)?;
     }
     let rss1 = common::rss_kib();
@@ -107,17 +131,27 @@ fn run() -> Result<(), String> {
 
     // Outputs first: every metering mode against roz's, bit for bit.
     let modes = [(Metering::Off, "off"), (Metering::Fuel, "fuel"), (Metering::Epoch, "epoch")];
+    let bulk = if o.wasm_bulk.is_empty() {
+        None
+    } else {
+        Some(std::fs::read(&o.wasm_bulk).map_err(|e| format!("{}: {e}", o.wasm_bulk))?)
+    };
+    let mut variants = vec![(&wasm, "")];
+    if let Some(b) = &bulk {
+        variants.push((b, "bulk, "));
+    }
     let mut loaded = Vec::new();
-    for (mode, name) in modes {
+    for ((mode, mname), (w, vname)) in modes.iter().flat_map(|m| variants.iter().map(move |v| (*m, *v))) {
+        let name = format!("{vname}metering {mname}");
         let e = engine(mode)?;
-        let module = Module::new(&e, &wasm).map_err(|e| format!("compile: {e}"))?;
+        let module = Module::new(&e, w).map_err(|e| format!("compile: {e}"))?;
         let mut l = Loaded::new(&e, &module, &m, mode)?;
         for t in 0..reference.ticks {
-            l.store.data_mut().begin_tick(t);
+            l.store.data_mut().abi.begin_tick(t);
             l.call(t)?;
         }
-        if let Some(why) = reference.compare(l.store.data()) {
-            return Err(format!("metering {name}: outputs differ from roz's after {} ticks: {why}", reference.ticks));
+        if let Some(why) = reference.compare(&l.store.data().abi) {
+            return Err(format!("{name}: outputs differ from roz's after {} ticks: {why}", reference.ticks));
         }
         loaded.push((e, l, name));
     }
@@ -141,7 +175,7 @@ fn run() -> Result<(), String> {
     let mut ns: Vec<Vec<u64>> = vec![Vec::with_capacity(o.calls); loaded.len()];
     for (_, l, _) in loaded.iter_mut() {
         for t in 0..1000 {
-            l.store.data_mut().begin_tick(t);
+            l.store.data_mut().abi.begin_tick(t);
             l.call(t)?;
         }
     }
@@ -149,7 +183,7 @@ fn run() -> Result<(), String> {
     while r < o.calls {
         for (k, (_, l, _)) in loaded.iter_mut().enumerate() {
             for t in r..(r + 100).min(o.calls) {
-                l.store.data_mut().begin_tick(t as i64);
+                l.store.data_mut().abi.begin_tick(t as i64);
                 let (res, d) = common::time_ns(|| l.call(t as i64));
                 res?;
                 ns[k].push(d);
@@ -159,7 +193,7 @@ fn run() -> Result<(), String> {
     }
     for (k, (_, _, name)) in loaded.iter().enumerate() {
         figures.push(Figure::Timing {
-            name: format!("process, metering {name}"),
+            name: format!("process, {name}"),
             stats: common::stats(&mut ns[k]),
         });
     }
@@ -167,7 +201,7 @@ fn run() -> Result<(), String> {
     common::print_json(
         "wasmtime",
         VERSION,
-        &[("checked", format!("outputs equal to roz's after {} ticks in every metering mode", reference.ticks))],
+        &[("checked", format!("outputs (the PD, and the bulk PD when given) equal to roz's after {} ticks in every metering mode", reference.ticks))],
         &figures,
     );
     Ok(())
