@@ -99,20 +99,24 @@ def ratio(a, b) -> str:
 class Table:
     """A markdown table of timed figures: name, p50, p99, max, ratio."""
 
-    def __init__(self, ref_label: str):
+    def __init__(self, ref_label: str, percent: bool = False):
         self.rows = []
         self.ref_label = ref_label
+        self.percent = percent
 
     def timing(self, label: str, fig: dict | None, ref: dict | None, note: str = ""):
         if fig is None:
             self.rows.append(f"| {label} | - | - | - | - | not measured |")
             return
         r = ratio(fig.get("p50"), ref.get("p50")) if ref else "-"
+        if self.percent and ref and fig.get("p50") is not None:
+            r = f"{100.0 * fig['p50'] / ref['p50']:.3f} %"
         self.rows.append(f"| {label} | {us(fig.get('p50'))} | {us(fig.get('p99'))} | "
                          f"{us(fig.get('max'))} | {r} | {note} |")
 
     def render(self) -> str:
-        head = (f"| | p50 [us] | p99 [us] | max [us] | p50 ratio to {self.ref_label} | |\n"
+        what = "p50 as a share of" if self.percent else "p50 ratio to"
+        head = (f"| | p50 [us] | p99 [us] | max [us] | {what} {self.ref_label} | |\n"
                 "|---|---:|---:|---:|---:|---|\n")
         return head + "\n".join(self.rows) + "\n"
 
@@ -369,7 +373,7 @@ def build(args) -> tuple[str, str]:
     if can:
         w("`bench/can_codec`: the MIT-mode codec per joint, and the socketcan port's read() and "
           "write() in the tick on the example leg against fake actuators on a socketpair.\n")
-        t = Table("the 2 ms period (500 Hz)")
+        t = Table("the 2 ms period (500 Hz)", percent=True)
         period = {"p50": 2000.0}
         for name, fig in can.items():
             t.timing(name, fig, period)
@@ -430,6 +434,10 @@ def build(args) -> tuple[str, str]:
     if wt:
         hrow("G1 PD `process()`, roz (wasm3, metered)", ref, "wasmtime, metering off",
              wt["by_name"].get("process, metering off"))
+        wi = peers["wasmi"]
+        if wi:
+            hrow("G1 PD `process()`, roz (wasm3, metered)", ref, "wasmi, fuel",
+                 wi["by_name"].get("process, metering fuel"))
         hrow("roz load + validate (wasm3)", roz["by_name"].get("compile (validate, parse, link, compile)"),
              "wasmtime compile", wt_compile)
     if periodic:
@@ -442,7 +450,8 @@ def build(args) -> tuple[str, str]:
         (v for k, v in alloc.items() if k.startswith("unitree_g1, g1_pd: heap calls in")), None)
     headline = "\n".join(h) + "\n"
     if a:
-        headline += f"\nHeap calls in the tick: {value(a)} (G1 PD, {a['name'].split(' in ')[1]}).\n"
+        n = int(a["name"].split(" in ")[1].split()[0])
+        headline += f"\nHeap calls in the tick: {value(a)} (G1 PD, {n:,} ticks).\n"
     w("## Headline (also in the README)\n")
     w(headline)
     return "\n".join(out) + "\n", headline

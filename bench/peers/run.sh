@@ -9,7 +9,7 @@
 # built, or whose outputs differ, leaves OUT_DIR/peer-NAME.skipped saying
 # why; bench/report.py prints that instead of its figures.
 set -u
-build=$1 out=$2 rozgen=$3 calls=${4:-20000}
+build=$(cd "$1" && pwd) out=$(cd "$2" && pwd) rozgen=$3 calls=${4:-20000}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 wasm=$build/examples/controllers/g1_pd.wasm
