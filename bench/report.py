@@ -93,7 +93,8 @@ def us(x) -> str:
 def ratio(a, b) -> str:
     if a is None or b is None or b == 0:
         return "-"
-    return f"{a / b:.2f}x"
+    r = a / b
+    return f"{r:.2f}x" if r >= 0.1 else f"{r:.3f}x" if r >= 0.001 else f"{r:.1e}x"
 
 
 class Table:
