@@ -6,9 +6,14 @@
  *   command.set (any i32 index, or a near one), count, limit_min/max,
  *   state.get, state.count, math.sin/cos, safety.request_estop,
  *   timing.now_ns/sim_time_ns, telemetry.emit_metric, a state value (any
- *   double, NaN and Inf included), the tick number, and "tick": the filter
+ *   double, NaN and Inf included), the tick number, the bulk calls
+ *   command.set_all and state.get_all on a 1 KiB memory (any pointer and
+ *   count, the memory's bytes from the input), and "tick": the filter
  *   runs over the targets with a stop mode from the input.
- * Checked: every command.set result against its documented meaning, and
+ * Checked: every command.set result against its documented meaning; a bulk
+ * call refused exactly when its range leaves the memory or its count the
+ * manifest, then changing nothing, else each value as command.set takes it
+ * and the snapshot copied bit for bit, nothing outside the range; and
  * every filtered command inside the manifest, within max_rate of the last
  * one unless an e-stop or a counted limit stop allowed more. */
 /* white-box: the harness drives the module's private fields directly */
@@ -79,6 +84,79 @@ static void check_set(const roz_manifest_t *m, int32_t index, double v, int32_t 
     }
 }
 
+/* ---- the bulk calls on a small memory --------------------------------------- */
+
+#define BULK_MEM 1024
+static uint8_t mem[BULK_MEM], mem_before[BULK_MEM];
+
+static int32_t bulk_count(input_t *in)
+{
+    /* mostly near the channel counts, sometimes any i32 */
+    uint8_t k = u8(in);
+    return k & 0x80 ? (int32_t)(uint32_t)u64(in, 4) : (int32_t)(k & 0x7f) - 8;
+}
+
+static uint32_t bulk_ptr(input_t *in)
+{
+    uint8_t k = u8(in);
+    return k & 0x80 ? (uint32_t)u64(in, 4) : (uint32_t)u64(in, 2) % (BULK_MEM + 64u);
+}
+
+static int bulk_fits(uint32_t ptr, int32_t count, int32_t n)
+{
+    return count >= 0 && count <= n && (uint64_t)ptr + 8u * (uint64_t)count <= BULK_MEM;
+}
+
+static void check_set_all(const roz_manifest_t *m, uint32_t ptr, int32_t count)
+{
+    static double before[ROZ_CFG_MAX_COMMANDS];
+    roz_abi_counters_t c0 = abi.counters;
+    memcpy(before, target, sizeof before);
+    int32_t rc = roz_abi_command_set_all(&abi, mem, BULK_MEM, ptr, count);
+    if (!bulk_fits(ptr, count, (int32_t)m->n_commands)) {
+        if (rc != -1 || memcmp(before, target, sizeof before) != 0 ||
+            abi.counters.sets != c0.sets + 1 || abi.counters.set_bad_index != c0.set_bad_index + 1)
+            abort();
+        return;
+    }
+    int32_t not_taken = 0;
+    for (int32_t i = 0; i < count; i++) {
+        double v;
+        memcpy(&v, mem + ptr + 8u * (uint32_t)i, sizeof v); /* little-endian hosts */
+        const roz_channel_t *c = &m->commands[i];
+        if (!isfinite(v)) {
+            not_taken++;
+            if (isfinite(target[i]))
+                abort();
+        } else if (v < c->min || v > c->max) {
+            not_taken++;
+            if (target[i] != (v < c->min ? c->min : c->max))
+                abort();
+        } else if (memcmp(&target[i], &v, sizeof v) != 0) {
+            abort();
+        }
+    }
+    if (rc != not_taken || abi.counters.sets != c0.sets + (uint64_t)count ||
+        memcmp(&target[count], &before[count], (ROZ_CFG_MAX_COMMANDS - (size_t)count) * 8u) != 0)
+        abort();
+}
+
+static void check_get_all(const roz_manifest_t *m, uint32_t ptr, int32_t count)
+{
+    memcpy(mem_before, mem, BULK_MEM);
+    int32_t rc = roz_abi_state_get_all(&abi, mem, BULK_MEM, ptr, count);
+    if (!bulk_fits(ptr, count, (int32_t)m->n_states)) {
+        if (rc != -1 || memcmp(mem, mem_before, BULK_MEM) != 0)
+            abort();
+        return;
+    }
+    if (rc != count || memcmp(mem + ptr, state, 8u * (size_t)count) != 0 ||
+        memcmp(mem, mem_before, ptr) != 0 ||
+        memcmp(mem + ptr + 8u * (size_t)count, mem_before + ptr + 8u * (size_t)count,
+               BULK_MEM - ptr - 8u * (size_t)count) != 0)
+        abort();
+}
+
 static void tick(const roz_manifest_t *m, roz_stop_t stop)
 {
     roz_filter_apply(&filt, target, state, stop, out);
@@ -115,6 +193,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     filt = fresh[which];
 
     roz_abi_init(&abi, m, target, &ring);
+    memset(mem, 0, sizeof mem); /* each input starts from the same memory */
     for (uint16_t s = 0; s < m->n_states; s++)
         state[s] = m->states[s].default_value;
     abi.state = state;
@@ -124,7 +203,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     while (in.p < in.end) {
         uint8_t op = u8(&in);
-        switch (op % 16) {
+        switch (op % 19) {
         case 0: {
             int32_t i = (int32_t)(uint32_t)u64(&in, 4);
             double v = f64(&in);
@@ -173,6 +252,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
              * tick * period_ns still fits in an int64 */
             abi.tick = (int64_t)(u64(&in, 8) % ((uint64_t)INT64_MAX / abi.period_ns + 1));
             break;
+        case 15: {
+            uint32_t ptr = bulk_ptr(&in);
+            check_set_all(m, ptr, bulk_count(&in));
+            break;
+        }
+        case 16: {
+            uint32_t ptr = bulk_ptr(&in);
+            check_get_all(m, ptr, bulk_count(&in));
+            break;
+        }
+        case 17: { /* bytes of the memory, from the input */
+            uint16_t at = (uint16_t)(u64(&in, 2) % BULK_MEM);
+            uint64_t bits = u64(&in, 8);
+            memcpy(mem + at, &bits, at + 8u <= BULK_MEM ? 8u : BULK_MEM - at);
+            break;
+        }
         default:
             tick(m, (roz_stop_t)(u8(&in) % 3));
             break;
