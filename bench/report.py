@@ -328,7 +328,9 @@ def build(args) -> tuple[str, str]:
         w(f"`bench/periodic`: the runner (`roz/hal/runner.h`) at 1 kHz running the G1 tick on the "
           f"loopback, against a bare `clock_nanosleep(TIMER_ABSTIME)` loop doing nothing else, "
           f"{value(secs)} each in alternating 5 s rounds, normal scheduling (no SCHED_FIFO, no "
-          f"mlockall). Wake-up latency is the time woken minus the deadline slept for.\n")
+          f"mlockall). Wake-up latency is the time woken minus the deadline slept for; at "
+          f"normal scheduling Linux lets a sleep end up to the thread's timer slack late (50 us "
+          f"by default; none for SCHED_FIFO threads, which rozrun asks for with --realtime).\n")
         t = Table("bare loop")
         bare = periodic.get("wake-up latency, bare clock_nanosleep loop")
         t.timing("roz runner + G1 tick", periodic.get("wake-up latency, roz runner + G1 tick"), bare,
