@@ -141,9 +141,10 @@ bench: build
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
 	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml \
 	    --json $(BENCH_OUT)/toml.jsonl
-	if [ -f $(BUILD)-firmware/firmware.jsonl ]; then \
-	    cp $(BUILD)-firmware/firmware.jsonl $(BENCH_OUT)/; \
-	else echo "no firmware build ($(BUILD)-firmware/firmware.jsonl)" > $(BENCH_OUT)/firmware.skipped; fi
+	# the firmware images' reports and footprints (make firmware: QEMU)
+	if $(MAKE) --no-print-directory firmware > $(BENCH_OUT)/firmware.txt 2>&1; then :; else \
+	    echo "make firmware failed (its output: $(BENCH_OUT)/firmware.txt)" \
+	        > $(BENCH_OUT)/firmware.skipped; rm -f $(BENCH_OUT)/firmware.txt; fi
 	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
 	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md --readme README.md \
 	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \

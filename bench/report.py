@@ -388,12 +388,20 @@ def build(args) -> tuple[str, str]:
 
     # 7. firmware
     w("## 6. Firmware\n")
+    fw_text = d / "firmware.txt"
     if fw:
         w("From the firmware build (QEMU, `-icount shift=0`):\n")
         w("| figure | value |\n|---|---:|")
         for name, fig in fw.items():
             w(f"| {name} | {value(fig) if 'value' in fig else us(fig.get('p50')) + ' us'} |")
         w("")
+    elif fw_text.exists():
+        w("`make firmware`: the images booted in QEMU (`-icount shift=0`, one instruction "
+          "per virtual nanosecond: per-tick instruction counts are emulation estimates), "
+          "their reports and their footprint against the aims, as printed:\n")
+        lines = [l for l in fw_text.read_text(encoding="utf-8").splitlines()
+                 if not l.startswith(("make[", "ninja:", "[", "PYTHON=", "cmake ", "/usr/bin/cmake"))]
+        w("```\n" + "\n".join(lines).strip() + "\n```\n")
     else:
         w(f"Not built: {skipped(d, 'firmware')}.\n")
 
