@@ -209,7 +209,8 @@ int main(int argc, char **argv)
     for (int r = 0; r < LOAD_REPS; r++) {
         uint32_t process_index;
         uint64_t t0 = roz_clock_monotonic_ns(NULL);
-        int rc = roz__wasm_scan(wasm, len, &process_index, why, sizeof why);
+        static roz_load_scratch_t scratch;
+        int rc = roz__wasm_scan(wasm, len, &scratch, &process_index, why, sizeof why);
         uint64_t t1 = roz_clock_monotonic_ns(NULL);
         if (rc != ROZ_OK) {
             fprintf(stderr, "roz_bench_peers_roz: %s\n", why);
