@@ -132,8 +132,7 @@ bench: build
 	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then \
 	    $(BUILD)/bench/roz_bench_can_codec --json $(BENCH_OUT)/can_codec.jsonl; \
 	else echo "the socketcan port is not in this build" > $(BENCH_OUT)/can_codec.skipped; fi
-	# the recorder's figures are printed, not yet in BENCHMARKS.md
-	$(BUILD)/bench/roz_bench_record 20000 $(BUILD)/bench
+	$(BUILD)/bench/roz_bench_record $(BENCH_TICKS) $(BUILD)/bench --json $(BENCH_OUT)/record.jsonl
 	if [ -x $(BUILD)/bench/roz_bench_g1_latency ]; then \
 	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000 77 \
 	        --json $(BENCH_OUT)/g1_latency.jsonl; \

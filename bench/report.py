@@ -180,6 +180,7 @@ def build(args) -> tuple[str, str]:
     can = read_lines(d / "can_codec.jsonl")
     toml = read_lines(d / "toml.jsonl")
     fw = read_lines(d / "firmware.jsonl")
+    rec = read_lines(d / "record.jsonl")
     peers = {k: read_peer(d / f"peer-{k}.json") for k in ("roz", "wasmtime", "wasmi")}
     sizes = {}
     for b in args.binary or []:
@@ -426,6 +427,37 @@ def build(args) -> tuple[str, str]:
         w("")
     else:
         w(f"Not run: {skipped(d, 'toml')}.\n")
+
+    # 9. the recorder
+    w("## 8. The flight recorder\n")
+    if rec:
+        w("`bench/record`: the same controller on two runtimes side by side on the loopback, "
+          "one recording into a ring drained into an MCAP file every few ticks, one not; "
+          "the ticks alternate, so drift hits both.\n")
+        t = Table("recorder off")
+        robots = []
+        for name in rec:
+            r = name.split(": ", 1)[0]
+            if r not in robots:
+                robots.append(r)
+        for r in robots:
+            t.timing(f"{r}: whole tick, recorder on", rec.get(f"{r}: whole tick, recorder on"),
+                     rec.get(f"{r}: whole tick, recorder off"))
+            t.timing(f"{r}: whole tick, recorder off (reference)",
+                     rec.get(f"{r}: whole tick, recorder off"),
+                     rec.get(f"{r}: whole tick, recorder off"))
+        w(t.render())
+        w("| robot | ring bytes per tick | MCAP bytes per tick | drain into MCAP [ticks/s] | "
+          "drain into a counting sink [ticks/s] | records dropped |")
+        w("|---|---:|---:|---:|---:|---:|")
+        for r in robots:
+            v = lambda what: value(rec.get(f"{r}: {what}"))
+            w(f"| {r} | {v('ring bytes per tick')} | {v('MCAP bytes per tick')} | "
+              f"{v('drain into the MCAP file')} | {v('drain into a counting sink')} | "
+              f"{v('records dropped')} |")
+        w("")
+    else:
+        w(f"Not run: {skipped(d, 'record')}.\n")
 
     # the README's headline
     h = ["| figure | p50 | p99 | reference (same run) | ratio p50 |", "|---|---:|---:|---|---:|"]

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_json.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/module.h"
 #include "roz/loopback.h"
@@ -30,6 +31,7 @@ static roz_runtime_t rt_off, rt_on;
 static roz_loopback_t lb_off, lb_on;
 static roz_recorder_t rec;
 static roz_record_file_t file;
+static bench_json_t json;
 static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
 
 static int cmp_u64(const void *a, const void *b)
@@ -144,6 +146,33 @@ static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const c
             sink_ns += roz_clock_monotonic_ns(NULL) - d0;
         }
     }
+    /* the machine-readable figures first: bench_stats() sorts its copy */
+    {
+        char name[128];
+        uint64_t *copy = malloc(ticks * sizeof copy[0]);
+        if (copy == NULL)
+            return -1;
+        memcpy(copy, t_off, ticks * sizeof copy[0]);
+        snprintf(name, sizeof name, "%s: whole tick, recorder off", m->robot_id);
+        bench_json_timing(&json, name, bench_stats(copy, ticks));
+        memcpy(copy, t_on, ticks * sizeof copy[0]);
+        snprintf(name, sizeof name, "%s: whole tick, recorder on", m->robot_id);
+        bench_json_timing(&json, name, bench_stats(copy, ticks));
+        free(copy);
+        snprintf(name, sizeof name, "%s: ring bytes per tick", m->robot_id);
+        bench_json_value(&json, name, (double)roz_recorder_slot_bytes(m), "bytes");
+        snprintf(name, sizeof name, "%s: MCAP bytes per tick", m->robot_id);
+        bench_json_value(&json, name, (double)size / (double)roz_record_file_ticks(&file),
+                         "bytes");
+        snprintf(name, sizeof name, "%s: drain into the MCAP file", m->robot_id);
+        bench_json_value(&json, name, drain_ns ? 1e9 * (double)drained / (double)drain_ns : 0.0,
+                         "ticks/s");
+        snprintf(name, sizeof name, "%s: drain into a counting sink", m->robot_id);
+        bench_json_value(&json, name, sink_ns ? 1e9 * (double)counted / (double)sink_ns : 0.0,
+                         "ticks/s");
+        snprintf(name, sizeof name, "%s: records dropped", m->robot_id);
+        bench_json_value(&json, name, (double)roz_recorder_dropped(&rec), "count");
+    }
     double off50 = pct(t_off, ticks, 50), off99 = pct(t_off, ticks, 99);
     double on50 = pct(t_on, ticks, 50), on99 = pct(t_on, ticks, 99);
     printf("%s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
@@ -171,6 +200,9 @@ static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const c
 
 int main(int argc, char **argv)
 {
+    argc = bench_json_args(&json, "record", argc, argv);
+    if (argc < 0)
+        return 1;
     size_t ticks = argc > 1 ? (size_t)strtoul(argv[1], NULL, 10) : 20000u;
     const char *dir = argc > 2 ? argv[2] : ".";
     if (ticks < DRAIN_EVERY)
@@ -179,5 +211,6 @@ int main(int argc, char **argv)
     if (bench(&roz_manifest_ur5, "sine", ticks, dir) != 0 ||
         bench(&roz_manifest_unitree_g1, "g1_pd", ticks, dir) != 0)
         return 1;
+    bench_json_close(&json);
     return 0;
 }
