@@ -400,8 +400,15 @@ def build(args) -> tuple[str, str]:
         w("`make firmware`: the images booted in QEMU (`-icount shift=0`, one instruction "
           "per virtual nanosecond: per-tick instruction counts are emulation estimates), "
           "their reports and their footprint against the aims, as printed:\n")
-        lines = [l for l in fw_text.read_text(encoding="utf-8").splitlines()
-                 if not l.startswith(("make[", "ninja:", "[", "PYTHON=", "cmake ", "/usr/bin/cmake"))]
+        # the reports only: from the first image's heading on, without the
+        # build's own lines (which name this machine's paths)
+        text = fw_text.read_text(encoding="utf-8")
+        start = text.find("==== ")
+        text = text[start:] if start >= 0 else ""
+        lines = [l for l in text.splitlines()
+                 if not l.startswith(("make[", "ninja:", "[", "PYTHON=", "cmake ", "/usr/bin/cmake",
+                                      "-- ", "setup:"))
+                 and "CMAKE_" not in l and not l.lstrip().startswith('"')]
         w("```\n" + "\n".join(lines).strip() + "\n```\n")
     else:
         w(f"Not built: {skipped(d, 'firmware')}.\n")
