@@ -11,11 +11,19 @@
  *
  * Two processes: this one plays the robot and times each round trip from
  * just before its dds_write() to its listener's call on the answer; a child
- * (this program again, --roz DOMAIN) runs roz and the raw echo. The child's
- * tick waits for a fresh frame by polling the port's counters with
- * sched_yield() (a firmware would tick from the frame's arrival the same
- * way), so both ways are event-driven. Prints p50, p99 and max of each and
- * the ratio. A benchmark, not a test: it never fails on a time.
+ * (this program again, --roz DOMAIN) runs the raw echo and two roz sides,
+ * each its own unitree/G1 port, runtime and controller: one with the plain
+ * event-driven writer (woken by the tick's write), one whose writer spins
+ * for the tick's command after each state frame (`command_writer_spin_us`),
+ * the second in domain DOMAIN + 1 (the G1's topic names are fixed). The
+ * three paths are interleaved round trip by round trip. The child's tick
+ * waits for a fresh frame by polling the port's link counters (published
+ * after the frame is in the port's buffer) with sched_yield() (a firmware
+ * would tick from the frame's arrival the same way), so every path is
+ * event-driven. Figures are given only if no roz tick ran under a fault
+ * (a faulted tick answers with the safe command, without the controller).
+ * Prints p50, p99 and max of each and the ratios. A benchmark, not a test:
+ * it never fails on a time.
  *
  *   roz_bench_g1_latency [ROUND_TRIPS] [DOMAIN] [--json FILE]
  */
@@ -68,8 +76,17 @@ static void sleep_ms(unsigned ms)
 
 /* ---- the child: roz, and the raw echo ----------------------------------------- */
 
-static roz_unitree_g1_t g1;
-static roz_runtime_t rt;
+#define SPIN_US "200" /* the spinning side's command_writer_spin_us */
+
+/* One roz side: a port, a runtime, the G1 PD. */
+typedef struct {
+    roz_unitree_g1_t g1;
+    roz_runtime_t rt;
+    roz_port_t port;
+    uint64_t seen, ticks, faulted;
+} roz_side_t;
+
+static roz_side_t sides[2];
 static dds_entity_t raw_echo_writer;
 
 /* The raw echo: a LowCmd_ back for each raw LowState_, from the listener. */
@@ -89,37 +106,81 @@ static void on_raw_state(dds_entity_t rd, void *arg)
     }
 }
 
-static int child_main(uint32_t domain)
+static int side_start(roz_side_t *z, uint32_t domain, const char *spin_us, const uint8_t *wasm,
+                      size_t len)
 {
-    static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
     char err[300] = "", dom[16];
-    size_t len = 0;
-
     snprintf(dom, sizeof dom, "%u", (unsigned)domain);
-    roz_param_t items[] = { { "network_interface", "lo" }, { "dds_domain", dom },
-                            { "command_writer_period_us", "0" }, { "enable_monitor", "false" } };
-    roz_params_t params = { items, 4 };
-    roz_port_t port = roz_unitree_g1_port(&g1, NULL, NULL);
-    if (roz_module_read_file(ROZ_BENCH_CONTROLLER, wasm, sizeof wasm, &len, err, sizeof err) !=
-            ROZ_OK ||
-        roz_port_open(&port, &roz_manifest_unitree_g1, &params, err, sizeof err) != ROZ_OK) {
+    /* the robot here sends a frame only when the last one was answered,
+     * with pauses (start-up, a busy machine): long peer and command
+     * timeouts keep a pause from reading as a robot that vanished or a
+     * tick that stopped */
+    roz_param_t items[] = { { "network_interface", "lo" },
+                            { "dds_domain", dom },
+                            { "command_writer_period_us", "0" },
+                            { "command_writer_spin_us", spin_us },
+                            { "enable_monitor", "false" },
+                            { "peer_timeout_ms", "5000" },
+                            { "command_timeout_us", "5000000" } };
+    roz_params_t params = { items, sizeof items / sizeof items[0] };
+    z->port = roz_unitree_g1_port(&z->g1, NULL, NULL);
+    if (roz_port_open(&z->port, &roz_manifest_unitree_g1, &params, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "roz side: %s\n", err);
-        return 1;
+        return -1;
     }
     roz_runtime_config_t cfg;
     roz_runtime_config_default(&cfg);
     cfg.manifest = &roz_manifest_unitree_g1;
-    cfg.port = port;
+    cfg.port = z->port;
     cfg.clock = roz_clock_monotonic_ns;
     cfg.monitor_jitter = 0;
-    if (roz_runtime_init(&rt, &cfg) != ROZ_OK || roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
-        roz_port_activate(&port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
+    if (roz_runtime_init(&z->rt, &cfg) != ROZ_OK ||
+        roz_runtime_load(&z->rt, wasm, len, NULL) != ROZ_OK ||
+        roz_port_activate(&z->port) != ROZ_OK || roz_runtime_start(&z->rt) != ROZ_OK) {
         fprintf(stderr, "roz side: cannot start\n");
+        return -1;
+    }
+    return 0;
+}
+
+/* A tick for each frame the port has taken since the last look. */
+static int side_poll(roz_side_t *z)
+{
+    roz_link_t lk;
+    roz_unitree_g1_link(&z->g1, &lk);
+    if (lk.accepted == z->seen)
+        return 0;
+    z->seen = lk.accepted;
+    z->ticks++;
+    if (roz_runtime_tick(&z->rt) != ROZ_OK)
+        z->faulted++;
+    return 1;
+}
+
+static void side_stop(roz_side_t *z)
+{
+    (void)roz_port_deactivate(&z->port);
+    roz_runtime_deinit(&z->rt);
+    roz_port_close(&z->port);
+}
+
+static int child_main(uint32_t domain)
+{
+    static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
+    char err[300] = "";
+    size_t len = 0;
+
+    if (roz_module_read_file(ROZ_BENCH_CONTROLLER, wasm, sizeof wasm, &len, err, sizeof err) !=
+        ROZ_OK) {
+        fprintf(stderr, "roz side: %s\n", err);
         return 1;
     }
+    if (side_start(&sides[0], domain, "0", wasm, len) != 0 ||
+        side_start(&sides[1], domain + 1u, SPIN_US, wasm, len) != 0)
+        return 1;
 
-    /* the raw echo, in roz's participant (the same configuration) */
-    dds_entity_t part = g1.part.participant;
+    /* the raw echo, in the first side's participant (the same configuration) */
+    dds_entity_t part = sides[0].g1.part.participant;
     dds_entity_t ts = dds_create_topic(part, &unitree_hg_msg_dds__LowState__desc, "bench/state",
                                        NULL, NULL);
     dds_entity_t tc = dds_create_topic(part, &unitree_hg_msg_dds__LowCmd__desc, "bench/cmd", NULL,
@@ -145,16 +206,9 @@ static int child_main(uint32_t domain)
      * between frames: a read of 0 bytes = EOF) */
     puts("ready");
     fflush(stdout);
-    roz_unitree_g1_counters_t c;
-    uint64_t seen = 0, ticks_faulted = 0;
     for (;;) {
-        roz_unitree_g1_counters(&g1, &c);
-        if (c.frames != seen) {
-            seen = c.frames;
-            if (roz_runtime_tick(&rt) != ROZ_OK)
-                ticks_faulted++;
+        if (side_poll(&sides[0]) | side_poll(&sides[1]))
             continue;
-        }
         fd_set fds;
         FD_ZERO(&fds);
         FD_SET(0, &fds);
@@ -166,12 +220,14 @@ static int child_main(uint32_t domain)
         }
         sched_yield();
     }
-    if (ticks_faulted != 0)
-        fprintf(stderr, "roz side: %llu ticks under a fault (%s)\n",
-                (unsigned long long)ticks_faulted, roz_runtime_fault_message(&rt));
-    (void)roz_port_deactivate(&port);
-    roz_runtime_deinit(&rt);
-    roz_port_close(&port);
+    /* the parent's verdict on the figures: ticks, and ticks under a fault */
+    for (int k = 0; k < 2; k++)
+        printf("side %d ticks %llu faulted %llu %s\n", k, (unsigned long long)sides[k].ticks,
+               (unsigned long long)sides[k].faulted,
+               sides[k].faulted ? roz_runtime_fault_message(&sides[k].rt) : "-");
+    fflush(stdout);
+    side_stop(&sides[1]);
+    side_stop(&sides[0]);
     return 0;
 }
 
@@ -241,6 +297,47 @@ static void fill_state(lowstate_t *s, uint32_t tick)
     s->crc = roz_crc32_words((const uint32_t *)(const void *)s, sizeof *s / 4u - 1u);
 }
 
+/* One way to the child and back: a writer and the reader of its answers. */
+typedef struct {
+    const char *name;
+    dds_entity_t w, r;
+    uint64_t *ns;
+    size_t n;
+} path_t;
+
+static int open_path(path_t *x, const roz_dds_participant_t *p, const char *state_topic,
+                     const char *cmd_topic)
+{
+    dds_qos_t *wq = dds_create_qos(), *rq = dds_create_qos();
+    dds_qset_reliability(wq, DDS_RELIABILITY_RELIABLE, DDS_MSECS(1));
+    dds_qset_history(wq, DDS_HISTORY_KEEP_LAST, 1);
+    dds_qset_reliability(rq, DDS_RELIABILITY_BEST_EFFORT, 0);
+    dds_qset_history(rq, DDS_HISTORY_KEEP_LAST, 1);
+    dds_listener_t *l = dds_create_listener(NULL);
+    dds_lset_data_available(l, on_answer);
+    dds_entity_t t = dds_create_topic(p->participant, &unitree_hg_msg_dds__LowState__desc,
+                                      state_topic, NULL, NULL);
+    dds_entity_t u = dds_create_topic(p->participant, &unitree_hg_msg_dds__LowCmd__desc,
+                                      cmd_topic, NULL, NULL);
+    x->w = dds_create_writer(p->participant, t, wq, NULL);
+    x->r = dds_create_reader(p->participant, u, rq, l);
+    dds_delete_listener(l);
+    dds_delete_qos(wq);
+    dds_delete_qos(rq);
+    return x->w > 0 && x->r > 0 ? 0 : -1;
+}
+
+static int path_matched(const path_t *x)
+{
+    dds_publication_matched_status_t pm;
+    dds_subscription_matched_status_t sm;
+    return dds_get_publication_matched_status(x->w, &pm) == DDS_RETCODE_OK &&
+           dds_get_subscription_matched_status(x->r, &sm) == DDS_RETCODE_OK &&
+           pm.current_count > 0 && sm.current_count > 0;
+}
+
+enum { RAW, ROZ, ROZ_SPIN, PATHS };
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "--roz") == 0)
@@ -253,6 +350,11 @@ int main(int argc, char **argv)
     uint32_t domain = argc > 2 ? (uint32_t)strtoul(argv[2], NULL, 10) : 77;
     if (n < 100)
         n = 100;
+    if (domain >= ROZ_DDS_MAX_DOMAIN) {
+        fprintf(stderr, "domain %u: the bench uses it and the next (at most %u)\n",
+                (unsigned)domain, ROZ_DDS_MAX_DOMAIN - 1u);
+        return 2;
+    }
     sem_init(&answered, 0, 0);
 
     /* the child, its stdin a pipe we close to stop it */
@@ -276,102 +378,123 @@ int main(int argc, char **argv)
     }
     close(in[0]);
     close(out[1]);
-    char line[32] = "";
+    char line[300] = "";
     FILE *from = fdopen(out[0], "r");
     if (fgets(line, sizeof line, from) == NULL || strncmp(line, "ready", 5) != 0) {
         fprintf(stderr, "the roz side did not start\n");
         return 1;
     }
 
-    /* the robot: rt/lowstate out, rt/lowcmd in; bench/state out, bench/cmd in */
-    roz_dds_participant_t p;
+    /* the robot: bench/state and rt/lowstate out in the first domain,
+     * rt/lowstate in the second; the answers back on the matching topics */
+    roz_dds_participant_t p[2];
     char err[300] = "";
-    if (roz_dds_participant_open(&p, "lo", domain, NULL, NULL, err, sizeof err) != ROZ_OK) {
-        fprintf(stderr, "%s\n", err);
+    for (int k = 0; k < 2; k++) {
+        if (roz_dds_participant_open(&p[k], "lo", domain + (uint32_t)k, NULL, NULL, err,
+                                     sizeof err) != ROZ_OK) {
+            fprintf(stderr, "%s\n", err);
+            return 1;
+        }
+    }
+    path_t path[PATHS] = {
+        [RAW] = { "raw Cyclone ping-pong", 0, 0, NULL, 0 },
+        [ROZ] = { "roz: unitree/G1, G1 PD under wasm3", 0, 0, NULL, 0 },
+        [ROZ_SPIN] = { "roz: unitree/G1, G1 PD under wasm3, writer spin", 0, 0, NULL, 0 },
+    };
+    if (open_path(&path[RAW], &p[0], "bench/state", "bench/cmd") != 0 ||
+        open_path(&path[ROZ], &p[0], "rt/lowstate", "rt/lowcmd") != 0 ||
+        open_path(&path[ROZ_SPIN], &p[1], "rt/lowstate", "rt/lowcmd") != 0) {
+        fprintf(stderr, "no reader or writer\n");
         return 1;
     }
-    dds_qos_t *wq = dds_create_qos(), *rq = dds_create_qos();
-    dds_qset_reliability(wq, DDS_RELIABILITY_RELIABLE, DDS_MSECS(1));
-    dds_qset_history(wq, DDS_HISTORY_KEEP_LAST, 1);
-    dds_qset_reliability(rq, DDS_RELIABILITY_BEST_EFFORT, 0);
-    dds_qset_history(rq, DDS_HISTORY_KEEP_LAST, 1);
-    dds_listener_t *l = dds_create_listener(NULL);
-    dds_lset_data_available(l, on_answer);
-    dds_entity_t ws[2], rs[2];
-    const char *state_topics[2] = { "rt/lowstate", "bench/state" };
-    const char *cmd_topics[2] = { "rt/lowcmd", "bench/cmd" };
-    for (int k = 0; k < 2; k++) {
-        dds_entity_t t = dds_create_topic(p.participant, &unitree_hg_msg_dds__LowState__desc,
-                                          state_topics[k], NULL, NULL);
-        dds_entity_t u = dds_create_topic(p.participant, &unitree_hg_msg_dds__LowCmd__desc,
-                                          cmd_topics[k], NULL, NULL);
-        ws[k] = dds_create_writer(p.participant, t, wq, NULL);
-        rs[k] = dds_create_reader(p.participant, u, rq, l);
-    }
-    dds_delete_listener(l);
-    dds_delete_qos(wq);
-    dds_delete_qos(rq);
-    /* both ways matched, both paths */
+    /* every way matched, then the other side's matches too */
     for (int i = 0; i < 20000; i++) {
-        dds_publication_matched_status_t pm0, pm1;
-        dds_subscription_matched_status_t sm0, sm1;
-        dds_get_publication_matched_status(ws[0], &pm0);
-        dds_get_publication_matched_status(ws[1], &pm1);
-        dds_get_subscription_matched_status(rs[0], &sm0);
-        dds_get_subscription_matched_status(rs[1], &sm1);
-        if (pm0.current_count && pm1.current_count && sm0.current_count && sm1.current_count)
+        int all = 1;
+        for (int k = 0; k < PATHS; k++)
+            all &= path_matched(&path[k]);
+        if (all)
             break;
         sleep_ms(1);
     }
-    sleep_ms(200); /* the other side's matches too */
+    sleep_ms(200);
 
-    /* warm-up: roz's first frame and write (the start-up hold), caches */
+    /* warm-up: roz's first frame and write (the start-up hold), caches;
+     * until every path has answered 200 times in a row (at most 10 s) */
     static lowstate_t s;
     uint64_t ns;
     uint32_t tick = 0;
-    for (int i = 0; i < 200; i++) {
+    int streak = 0;
+    uint64_t warm_until = now_ns() + 10000000000ull;
+    while (streak < 200 && now_ns() < warm_until) {
         fill_state(&s, tick++);
-        (void)round_trip(ws[0], &s, &ns);
-        (void)round_trip(ws[1], &s, &ns);
+        int ok = 1;
+        for (int k = 0; k < PATHS; k++)
+            ok &= round_trip(path[k].w, &s, &ns) == 0;
+        streak = ok ? streak + 1 : 0;
     }
-    uint64_t *raw = calloc(n, sizeof *raw), *roz = calloc(n, sizeof *roz);
-    size_t nr = 0, nz = 0, lost = 0;
+    size_t lost = 0;
+    for (int k = 0; k < PATHS; k++)
+        path[k].ns = calloc(n, sizeof(uint64_t));
     for (size_t i = 0; i < n; i++) {
         fill_state(&s, tick++);
-        if (round_trip(ws[1], &s, &ns) == 0)
-            raw[nr++] = ns;
-        else
-            lost++;
-        if (round_trip(ws[0], &s, &ns) == 0)
-            roz[nz++] = ns;
-        else
-            lost++;
+        for (int k = 0; k < PATHS; k++) {
+            if (round_trip(path[k].w, &s, &ns) == 0)
+                path[k].ns[path[k].n++] = ns;
+            else
+                lost++;
+        }
     }
     close(in[1]);
+
+    /* the child's account: a tick under a fault answered without the controller */
+    int valid = streak >= 200;
+    for (int k = 0; k < 2; k++) {
+        unsigned long long ticks = 0, faulted = 0;
+        if (fgets(line, sizeof line, from) == NULL ||
+            sscanf(line, "side %*d ticks %llu faulted %llu", &ticks, &faulted) != 2) {
+            fprintf(stderr, "the roz side gave no account of its ticks\n");
+            valid = 0;
+        } else if (faulted != 0) {
+            fprintf(stderr, "roz side %d (%llu of %llu ticks under a fault): %s", k, faulted,
+                    ticks, line);
+            valid = 0;
+        }
+    }
     int status = 0;
     waitpid(pid, &status, 0);
-    roz_dds_participant_close(&p);
-    if (nr < 10 || nz < 10) {
-        fprintf(stderr, "too few answers (%zu raw, %zu roz)\n", nr, nz);
+    for (int k = 0; k < 2; k++)
+        roz_dds_participant_close(&p[k]);
+    for (int k = 0; k < PATHS; k++)
+        if (path[k].n < 10)
+            valid = 0;
+    if (!valid) {
+        fprintf(stderr, "no figures: the warm-up did not settle, a path answered too few round "
+                        "trips, or roz ticked under a fault\n");
         return 1;
     }
-    double r50, r99, rmax, z50, z99, zmax;
-    stats(raw, nr, &r50, &r99, &rmax);
-    stats(roz, nz, &z50, &z99, &zmax);
+    bench_stats_t st[PATHS];
+    for (int k = 0; k < PATHS; k++)
+        stats(path[k].ns, path[k].n, &st[k].p50, &st[k].p99, &st[k].max);
     printf("G1 latency: a LowState_ out to the LowCmd_ that answers it, loopback, %zu round "
-           "trips each (%zu lost)\n",
-           nr, lost);
-    printf("  %-44s p50 %8.1f us   p99 %8.1f us   max %8.1f us\n",
-           "raw Cyclone ping-pong (2092 B out, 1004 B back)", r50, r99, rmax);
-    printf("  %-44s p50 %8.1f us   p99 %8.1f us   max %8.1f us\n",
-           "roz: unitree/G1, G1 PD under wasm3, event", z50, z99, zmax);
-    printf("  ratio roz / raw                              p50 %8.2f       p99 %8.2f\n",
-           z50 / r50, z99 / r99);
-    bench_json_timing(&json, "raw Cyclone ping-pong", (bench_stats_t){ r50, r99, rmax });
-    bench_json_timing(&json, "roz: unitree/G1, G1 PD under wasm3", (bench_stats_t){ z50, z99, zmax });
+           "trips each way, interleaved (%zu lost)\n",
+           n, lost);
+    static const char *const label[PATHS] = {
+        "raw Cyclone ping-pong (2092 B out, 1004 B back)",
+        "roz: unitree/G1, G1 PD under wasm3, event",
+        "roz: the same, writer spin " SPIN_US " us",
+    };
+    for (int k = 0; k < PATHS; k++)
+        printf("  %-48s p50 %8.1f us   p99 %8.1f us   max %8.1f us\n", label[k], st[k].p50,
+               st[k].p99, st[k].max);
+    for (int k = ROZ; k < PATHS; k++)
+        printf("  ratio %-42s p50 %8.2f       p99 %8.2f\n", k == ROZ ? "roz / raw" : "roz, spin / raw",
+               st[k].p50 / st[RAW].p50, st[k].p99 / st[RAW].p99);
+    for (int k = 0; k < PATHS; k++)
+        bench_json_timing(&json, path[k].name, st[k]);
+    bench_json_value(&json, "writer spin (us)", atof(SPIN_US), "us");
     bench_json_value(&json, "lost round trips", (double)lost, "count");
     bench_json_close(&json);
-    free(raw);
-    free(roz);
+    for (int k = 0; k < PATHS; k++)
+        free(path[k].ns);
     return 0;
 }

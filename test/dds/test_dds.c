@@ -10,7 +10,9 @@
  *    takes every sample into zeroed preallocated storage (its padding zero
  *    whatever was there), the monitor sees the writer's jitter and passes
  *    and the state handler; a stopped writer publishes no more;
- *  - the event-driven writer publishes when woken, and only then;
+ *  - the event-driven writer publishes when woken, and only then; one that
+ *    spins for the tick's command publishes nothing on a heads-up alone,
+ *    each frame once after it, and stops while spinning;
  *  - a kept reader (a type with a string and a sequence, sized at open)
  *    takes into the same buffers sample after sample, and lets Cyclone grow
  *    them for a longer one; a writer without a thread of its own publishes
@@ -84,6 +86,7 @@ static void test_dds_params(void **st)
     assert_int_equal(d.command_writer_period_us, 2000);
     assert_int_equal(d.state_decimation, 1);
     assert_int_equal(d.command_timeout_us, ROZ_CMD_WATCHDOG_DEFAULT_US); /* 50 ms at 500 Hz */
+    assert_int_equal(d.command_writer_spin_us, 0);
 
     static const struct { const char *key, *value; } bad[] = {
         { "network_interface", "eth0\"/><x" }, { "network_interface", "" },
@@ -95,6 +98,9 @@ static void test_dds_params(void **st)
         /* the watchdog: under two periods of the tick (500 Hz: 2 ms), over 60 s, not a number */
         { "command_timeout_us", "3999" }, { "command_timeout_us", "60000001" },
         { "command_timeout_us", "50ms" }, { "command_timeout_us", "0" },
+        { "command_writer_spin_us", "10001" }, { "command_writer_spin_us", "-5" },
+        /* a spin only for an event-driven writer (the default period is 2 ms) */
+        { "command_writer_spin_us", "200" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         roz_param_t item = { bad[i].key, bad[i].value };
@@ -106,8 +112,9 @@ static void test_dds_params(void **st)
     }
     roz_param_t good[] = { { "network_interface", "eth0.10" }, { "dds_domain", "232" },
                            { "command_writer_period_us", "0" }, { "state_decimation", "4" },
-                           { "enable_monitor", "false" }, { "command_timeout_us", "4000" } };
-    roz_params_t p = { good, 6 };
+                           { "enable_monitor", "false" }, { "command_timeout_us", "4000" },
+                           { "command_writer_spin_us", "200" } };
+    roz_params_t p = { good, 7 };
     assert_int_equal(roz_dds_params_parse(&d, &p, 0, 500, err, sizeof err), ROZ_OK);
     assert_string_equal(d.network_interface, "eth0.10");
     assert_int_equal(d.domain, 232);
@@ -115,6 +122,7 @@ static void test_dds_params(void **st)
     assert_int_equal(d.state_decimation, 4);
     assert_int_equal(d.enable_monitor, 0);
     assert_int_equal(d.command_timeout_us, 4000);
+    assert_int_equal(d.command_writer_spin_us, 200);
 
     /* the least timeout and the default follow the slower of the tick and
      * the writer: a 20 ms writer period allows 40 ms, defaults to 100 ms;
@@ -358,6 +366,58 @@ static void test_dds_event_writer(void **st)
     assert_int_equal(roz_dds_writer_publish(&wr, fill_frame, &b), 1);
     assert_int_equal(roz_dds_writer_flush(&wr, 2000), ROZ_OK);
     WAIT_FOR(atomic_load(&b.last_seq) == 2000u, 5000);
+    close_pair();
+}
+
+static void test_dds_spinning_writer(void **st)
+{
+    static bench_t b;
+    (void)st;
+
+    open_pair(&b);
+    b.increment = 0;
+    assert_int_equal(roz_dds_writer_spin(&wr, ROZ_DDS_MAX_SPIN_US + 1u), ROZ_EINVAL);
+    assert_int_equal(roz_dds_writer_spin(&wr, 5000), ROZ_OK);
+    roz_dds_writer_expect(&wr); /* before the start: no news once it runs */
+    assert_int_equal(roz_dds_writer_start(&wr, 0, fill_frame, &b, &mon_tx), ROZ_OK);
+    assert_int_equal(roz_dds_writer_spin(&wr, 100), ROZ_ESTATE);
+    /* a heads-up alone publishes nothing: the writer spins, then sleeps */
+    for (int i = 0; i < 20; i++) {
+        roz_dds_writer_expect(&wr);
+        sleep_ms(1);
+    }
+    sleep_ms(20);
+    assert_int_equal(atomic_load(&wr.passes), 0);
+    /* a heads-up, then the tick's wake: one frame each time, the latest */
+    for (uint32_t k = 1; k <= 100; k++) {
+        roz_dds_writer_expect(&wr);
+        atomic_store(&b.next, k);
+        roz_dds_writer_wake(&wr);
+        WAIT_FOR(atomic_load(&b.last_seq) == k, 5000);
+    }
+    /* the wake also works without a heads-up (the writer asleep) */
+    sleep_ms(20);
+    atomic_store(&b.next, 500u);
+    roz_dds_writer_wake(&wr);
+    WAIT_FOR(atomic_load(&b.last_seq) == 500u, 5000);
+    uint64_t passes = atomic_load(&wr.passes);
+    assert_true(passes >= 101 && passes <= 101 + 20);
+    /* a stop while the writer spins returns (the hang guard is ctest's) */
+    roz_dds_writer_expect(&wr);
+    roz_dds_writer_stop(&wr);
+    assert_int_equal(atomic_load(&b.bad), 0);
+    assert_int_equal(atomic_load(&wr.errors), 0);
+    close_pair();
+
+    /* a periodic writer takes no heads-up (nothing to spin for) */
+    open_pair(&b);
+    b.increment = 1;
+    assert_int_equal(roz_dds_writer_spin(&wr, 5000), ROZ_OK);
+    assert_int_equal(roz_dds_writer_start(&wr, 1000, fill_frame, &b, &mon_tx), ROZ_OK);
+    roz_dds_writer_expect(&wr);
+    WAIT_FOR(atomic_load(&b.seen) >= 5, 10000);
+    assert_int_equal(atomic_load(&wr.expects), 0);
+    roz_dds_writer_stop(&wr);
     close_pair();
 }
 
@@ -622,6 +682,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_dds_participant),
         cmocka_unit_test(test_dds_periodic_writer),
         cmocka_unit_test(test_dds_event_writer),
+        cmocka_unit_test(test_dds_spinning_writer),
         cmocka_unit_test(test_dds_kept_storage),
         cmocka_unit_test(test_dds_two_processes),
     };

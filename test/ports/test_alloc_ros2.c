@@ -60,7 +60,10 @@ static void run(const roz_port_fixture_t *fx, const roz_manifest_t *m, const cha
 
     static const char *const periodic[] = { "--period-us", "2000", NULL };
     roz_ros2fx_set_fake_args(periodic);
-    if (fx->open(m, NULL, &port, err, sizeof err) != ROZ_OK)
+    /* the writer also spins for the tick's command after each sample */
+    roz_param_t spin[] = { { "command_writer_spin_us", "200" } };
+    roz_params_t params = { spin, 1 };
+    if (fx->open(m, &params, &port, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
     midway_request = midway;
     roz_alloc_case_t c = { m, port, controller, TICKS, ros2_counters, ask_midway, fault };

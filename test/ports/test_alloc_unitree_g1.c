@@ -2,7 +2,9 @@
 /* No heap on the tick thread with the G1 port active: 100,000 ticks of the
  * G1 PD controller through unitree/G1 against the fake G1 (publishing
  * LowState_ every 2 ms), the port's writer event-driven (every write wakes
- * it) and Cyclone's threads receiving and sending meanwhile; half-way the
+ * it) and spinning for the tick's command after each frame
+ * (command_writer_spin_us), and Cyclone's threads receiving and sending
+ * meanwhile; half-way the
  * robot reports a motor fault, so the fault path (ROZ_EROBOT, the ROBOT
  * latch, the safe defaults) runs too.
  *
@@ -54,7 +56,9 @@ static void test_alloc_unitree_g1(void **st)
     /* the port, event-driven, and a robot that publishes by itself */
     static const char *const periodic[] = { "--period-us", "2000", NULL };
     roz_g1fx_set_fake_args(periodic);
-    if (roz_fixture_unitree_g1.open(&roz_manifest_unitree_g1, NULL, &port, err, sizeof err) !=
+    roz_param_t spin[] = { { "command_writer_spin_us", "200" } };
+    roz_params_t params = { spin, 1 };
+    if (roz_fixture_unitree_g1.open(&roz_manifest_unitree_g1, &params, &port, err, sizeof err) !=
         ROZ_OK)
         fail_msg("open: %s", err);
     roz_alloc_case_t c = { &roz_manifest_unitree_g1, port, "g1_pd", TICKS, g1_counters,

@@ -70,6 +70,18 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  ROZ_DDS_MAX_PERIOD_US);
         return ROZ_EINVAL;
     }
+    rc = roz_params_get_u32(p, "command_writer_spin_us", 0, 0, ROZ_DDS_MAX_SPIN_US,
+                            &out->command_writer_spin_us, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
+    if (out->command_writer_spin_us != 0 && out->command_writer_period_us != 0) {
+        snprintf(err, errlen,
+                 "parameter command_writer_spin_us = \"%s\": only with an event-driven writer "
+                 "(command_writer_period_us = 0); this one publishes every %u us",
+                 roz_params_get_str(p, "command_writer_spin_us", ""),
+                 out->command_writer_period_us);
+        return ROZ_EINVAL;
+    }
     return roz_cmd_watchdog_param(p, control_rate_hz, out->command_writer_period_us,
                                   &out->command_timeout_us, err, errlen);
 }

@@ -7,6 +7,7 @@
 
 #include <errno.h>
 #include <pthread.h>
+#include <sched.h>
 #include <semaphore.h>
 #include <string.h>
 #include <time.h>
@@ -103,28 +104,75 @@ static uint64_t next_due(roz_dds_writer_t *w)
     return due == w->fired_due ? UINT64_MAX : due;
 }
 
-/* Event-driven: every post is a frame to publish; posts that piled up
- * while a pass ran are one pass (it publishes the latest frame). With a
- * watchdog, a wait also ends when it is due. */
-static void run_events(roz_dds_writer_t *w)
+/* Whether the tick posted a frame the writer has not passed for. */
+static int posted(roz_dds_writer_t *w)
 {
-    for (;;) {
-        uint64_t due = next_due(w);
+    return atomic_load_explicit(&w->posts, memory_order_acquire) != w->handled;
+}
+
+static int heads_up(roz_dds_writer_t *w)
+{
+    return atomic_load_explicit(&w->expects, memory_order_acquire) != w->expected;
+}
+
+/* Sleep on the semaphore until a post, a heads-up or @p due (UINT64_MAX:
+ * no deadline). 1: the deadline passed. `sleeping` is set before the last
+ * look at the counters and the wakers add before they look at it (both
+ * sequentially consistent), so a post is never slept through. */
+static int sleep_until(roz_dds_writer_t *w, uint64_t due)
+{
+    int timed_out = 0;
+
+    atomic_store(&w->sleeping, 1);
+    if (!posted(w) && !heads_up(w) && !atomic_load(&w->stop)) {
         if (due == UINT64_MAX) {
             while (sem_wait(wake_sem(w)) != 0)
                 ; /* EINTR */
         } else {
             struct timespec ts = to_timespec(due);
-            if (sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts) != 0) {
-                if (errno == EINTR)
-                    continue;
-                w->fired_due = due; /* ETIMEDOUT: the watchdog's pass */
+            while (sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts) != 0) {
+                if (errno != EINTR) {
+                    timed_out = 1;
+                    break;
+                }
             }
         }
-        while (sem_trywait(wake_sem(w)) == 0)
-            ;
+    }
+    atomic_store(&w->sleeping, 0);
+    while (sem_trywait(wake_sem(w)) == 0)
+        ; /* posts that piled up: the counters say what is new */
+    return timed_out;
+}
+
+/* Event-driven: each new post is a frame to publish; posts that piled up
+ * while a pass ran are one pass (it publishes the latest frame). With a
+ * watchdog, a wait also ends when it is due. With spin_ns, a heads-up (a
+ * state frame arrived: the tick's command follows) wakes the writer while
+ * the tick runs, and it spins, yielding the CPU, until the post comes or
+ * spin_ns passes, so the tick's post costs no wake-up. */
+static void run_events(roz_dds_writer_t *w)
+{
+    for (;;) {
+        uint64_t due = next_due(w);
+        int timed_out = 0;
+        if (!posted(w))
+            timed_out = sleep_until(w, due);
         if (atomic_load_explicit(&w->stop, memory_order_acquire))
             return;
+        if (!posted(w) && heads_up(w)) {
+            w->expected = atomic_load_explicit(&w->expects, memory_order_acquire);
+            uint64_t until = roz_clock_monotonic_ns(NULL) + w->spin_ns;
+            while (!posted(w) && !atomic_load_explicit(&w->stop, memory_order_relaxed) &&
+                   roz_clock_monotonic_ns(NULL) < until)
+                sched_yield();
+        }
+        if (posted(w)) {
+            w->handled = atomic_load_explicit(&w->posts, memory_order_acquire);
+        } else if (timed_out) {
+            w->fired_due = due; /* the watchdog's pass */
+        } else {
+            continue; /* a heads-up with no command after it, or a stray post */
+        }
         timed_pass(w);
     }
 }
@@ -153,6 +201,9 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
     atomic_init(&w->published, 0u);
     atomic_init(&w->errors, 0u);
     atomic_init(&w->missed, 0u);
+    atomic_init(&w->posts, 0u);
+    atomic_init(&w->expects, 0u);
+    atomic_init(&w->sleeping, 0);
     if (p == NULL || p->participant <= 0 || topic == NULL || descriptor == NULL || qos == NULL ||
         storage == NULL || size == 0) {
         roz__dds_say(err, errlen, topic != NULL ? topic : "?", "writer", DDS_RETCODE_BAD_PARAMETER);
@@ -205,11 +256,22 @@ int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_f
     w->ctx = ctx;
     w->monitor = monitor;
     w->period_ns = (uint64_t)period_us * 1000u;
+    w->expected = atomic_load(&w->expects); /* a heads-up from before is no news */
     atomic_store(&w->stop, 0);
     if (pthread_create(&th, NULL, writer_main, w) != 0)
         return ROZ_EIO;
     w->thread = (unsigned long)th;
     atomic_store(&w->running, 1);
+    return ROZ_OK;
+}
+
+int roz_dds_writer_spin(roz_dds_writer_t *w, uint32_t spin_us)
+{
+    if (spin_us > ROZ_DDS_MAX_SPIN_US)
+        return ROZ_EINVAL;
+    if (atomic_load(&w->running))
+        return ROZ_ESTATE;
+    w->spin_ns = (uint64_t)spin_us * 1000u;
     return ROZ_OK;
 }
 
@@ -227,7 +289,19 @@ int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint
 
 void roz_dds_writer_wake(roz_dds_writer_t *w)
 {
-    if (w->period_ns == 0 && w->wake_ready)
+    if (w->period_ns != 0 || !w->wake_ready)
+        return;
+    atomic_fetch_add(&w->posts, 1u);
+    if (atomic_load(&w->sleeping))
+        (void)sem_post(wake_sem(w));
+}
+
+void roz_dds_writer_expect(roz_dds_writer_t *w)
+{
+    if (w->period_ns != 0 || w->spin_ns == 0 || !w->wake_ready)
+        return;
+    atomic_fetch_add(&w->expects, 1u);
+    if (atomic_load(&w->sleeping))
         (void)sem_post(wake_sem(w));
 }
 

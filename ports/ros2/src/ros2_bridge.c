@@ -222,6 +222,8 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     uint32_t seq = 0;
     int imu = is_imu(b, t->index);
 
+    /* a state sample: the tick's command follows (a spinning writer wakes) */
+    roz_dds_writer_expect(&b->out[primary(b)].writer);
     bump(&t->c_samples);
     if (imu) {
         const std_msgs_msg_dds__Header_ *sh = sample; /* the IMU's struct starts with it */
@@ -514,6 +516,8 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
                                      robot->command_type, robot->command_qos, o->sample,
                                      robot->command_size, err, errlen);
     }
+    if (rc == ROZ_OK)
+        rc = roz_dds_writer_spin(&b->out[primary(b)].writer, b->dds.command_writer_spin_us);
     if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
         rc = roz_dds_writer_watch(&b->out[primary(b)].writer, &b->watchdog,
                                   m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz

@@ -120,6 +120,7 @@ static void on_lowstate(void *ctx, void *sample, uint64_t now_ns)
     const roz_manifest_t *m = g1->m;
     uint32_t code;
 
+    roz_dds_writer_expect(&g1->writer); /* the tick's command follows */
     bump(&g1->c_frames);
     roz_link_verdict_t v = roz_link_check(&g1->link, roz__g1_state_crc_ok(s), s->tick, now_ns);
     if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY) {
@@ -284,6 +285,8 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
         rc = roz_dds_writer_open(&g1->writer, &g1->part, "rt/lowcmd",
                                  &unitree_hg_msg_dds__LowCmd__desc, &roz_dds_qos_robot_command,
                                  g1->tx_sample, sizeof g1->tx_sample, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_dds_writer_spin(&g1->writer, g1->dds.command_writer_spin_us);
     if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
         rc = roz_dds_writer_watch(&g1->writer, &g1->watchdog,
                                   m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz

@@ -30,9 +30,14 @@
  * Command writer. A thread of its own publishes the port's latest command:
  * periodically (every `command_writer_period_us`, absolute deadlines, jitter
  * monitored against the period), or, with a period of 0, as soon as the
- * tick hands it a frame (roz_dds_writer_wake(): a semaphore post, which
- * never blocks). The port fills each sample in the writer thread
- * (roz_dds_fill_fn) from the sample storage roz zeroes before every fill.
+ * tick hands it a frame (roz_dds_writer_wake(): an atomic add, and a
+ * semaphore post if the writer sleeps; it never blocks). The port fills
+ * each sample in the writer thread (roz_dds_fill_fn) from the sample
+ * storage roz zeroes before every fill. An event-driven writer may also
+ * spin for the tick's command (`command_writer_spin_us`): the receive path
+ * wakes it when a state frame arrives (roz_dds_writer_expect()), so the
+ * thread wake-up happens while the tick runs instead of after it, and the
+ * command goes out about as soon as the tick writes it.
  *
  * Command watchdog. Every DDS port runs roz/hal/cmd_watchdog.h between its
  * tick and its writer (`command_timeout_us`, read here with the other
@@ -80,6 +85,8 @@ extern "C" {
 #define ROZ_DDS_TAKE_MAX 64u
 /** Shortest writer period, microseconds (0 = event-driven). */
 #define ROZ_DDS_MIN_PERIOD_US 100u
+/** Longest spin of an event-driven writer for the tick's command (us). */
+#define ROZ_DDS_MAX_SPIN_US 10000u
 /** Longest writer period, microseconds. */
 #define ROZ_DDS_MAX_PERIOD_US 1000000u
 
@@ -93,12 +100,13 @@ typedef struct roz_dds_params {
     uint32_t command_writer_period_us; /**< 2000; 0: event-driven */
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
     uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
+    uint32_t command_writer_spin_us;   /**< event-driven: roz_dds_writer_spin(); 0: none */
 } roz_dds_params_t;
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
-        "state_decimation", ROZ_CMD_WATCHDOG_KEY
+        "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
 
 /**
  * @brief Read the common DDS parameters.
@@ -318,6 +326,15 @@ typedef struct roz_dds_writer {
     uint64_t             repeat_ns;  /* event-driven, tripped: the safe command's period */
     uint64_t             fired_due;  /* the last deadline a wait timed out at */
     uint64_t             last_pass_ns;
+    /* event-driven: the tick's posts and the receive path's heads-up; the
+     * writer sleeps on the semaphore only with `sleeping` set, so a post
+     * while it is awake or spinning is an atomic add, not a syscall */
+    ROZ_ATOMIC(uint64_t) posts;     /* roz_dds_writer_wake() calls */
+    ROZ_ATOMIC(uint64_t) expects;   /* roz_dds_writer_expect() calls */
+    ROZ_ATOMIC(int)      sleeping;
+    uint64_t             handled;   /* posts the writer has passed for */
+    uint64_t             expected;  /* expects it has spun for */
+    uint64_t             spin_ns;   /* 0: no spinning ahead of a command */
     unsigned long        thread;    /* pthread_t, kept opaque */
     union {
         unsigned char bytes[64];
@@ -365,9 +382,31 @@ int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_f
  */
 int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us);
 
-/** @brief Event-driven mode: publish now. Never blocks (a semaphore post);
- *  nothing in periodic mode. Context: any thread; RT-safe. */
+/** @brief Event-driven mode: publish now. Never blocks (an atomic add, and
+ *  a semaphore post when the writer sleeps); nothing in periodic mode.
+ *  Context: any thread (the tick); RT-safe. */
 void roz_dds_writer_wake(roz_dds_writer_t *w);
+
+/**
+ * @brief Event-driven mode with a spin (roz_dds_writer_spin()): a state
+ *        frame has arrived and the tick's command will follow. Wakes the
+ *        writer now, while the tick runs, so the tick's
+ *        roz_dds_writer_wake() finds it awake. Nothing is published without
+ *        that wake. Never blocks; nothing otherwise.
+ * Context: any thread (the port's receive path); RT-safe.
+ */
+void roz_dds_writer_expect(roz_dds_writer_t *w);
+
+/**
+ * @brief Let an event-driven writer, woken by roz_dds_writer_expect(), spin
+ *        (yielding the CPU between looks) for up to @p spin_us for the
+ *        tick's command instead of going back to sleep: the command then
+ *        goes out without a thread wake-up on its path, at the cost of that
+ *        CPU time per state frame. 0 (the default): no spinning.
+ * @retval ROZ_OK, ROZ_EINVAL (above ROZ_DDS_MAX_SPIN_US), ROZ_ESTATE (running)
+ * Context: start-up, before roz_dds_writer_start().
+ */
+int roz_dds_writer_spin(roz_dds_writer_t *w, uint32_t spin_us);
 
 /**
  * @brief Publish one sample now from the calling thread, through @p fill:

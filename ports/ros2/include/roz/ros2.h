@@ -80,7 +80,8 @@
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),
  * `dds_domain` (the robot's), `enable_monitor` (true),
- * `command_writer_period_us` (2000), `state_decimation` (1),
+ * `command_writer_period_us` (2000), `command_writer_spin_us` (0: see
+ * roz/dds.h; a heads-up on every state sample), `state_decimation` (1),
  * `peer_timeout_ms` (500), `startup_damping` (0), `shutdown_damping`,
  * `command_timeout_us` (50000, or 5 tick or writer periods when longer),
  * `link_check` (`sequence` or `stamp`, where the messages have a sequence),

@@ -78,7 +78,9 @@
  * Parameters (robot.toml [hardware.params], overridden by the caller's;
  * errors name the key and the value): `network_interface` (lo),
  * `dds_domain` (0), `enable_monitor` (true), `command_writer_period_us`
- * (2000; 0 = as soon as the tick writes), `state_decimation` (1), `mode_pr`
+ * (2000; 0 = as soon as the tick writes), `command_writer_spin_us` (0;
+ * with 0 above: the writer, woken when a LowState_ arrives, spins up to
+ * that long for the tick's command: roz/dds.h), `state_decimation` (1), `mode_pr`
  * (PR or AB, or 0 or 1; default PR), `peer_timeout_ms` (500),
  * `startup_damping` (0), `shutdown_damping` (the damping channels' default),
  * `command_timeout_us` (50000, or 5 tick or writer periods when longer).
