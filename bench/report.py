@@ -362,14 +362,22 @@ def build(args) -> tuple[str, str]:
     # 6. ports
     w("## 5. Ports: DDS latency, CAN codec\n")
     if g1:
+        spin_fig = g1.get("writer spin (us)")
+        spin = f"{spin_fig['value']:.0f}" if spin_fig else "?"
         w("`bench/g1_latency`: a LowState_ out to the LowCmd_ that answers it through roz (the "
-          "unitree/G1 port, the G1 PD under wasm3, the event-driven writer), against a raw "
-          "Cyclone DDS ping-pong of the same sizes, interleaved, two processes on loopback "
-          "in a network namespace of their own.\n")
+          "unitree/G1 port, the G1 PD under wasm3, the event-driven writer: woken by the "
+          f"tick's write, or spinning up to {spin} us for it after each state frame, "
+          "`command_writer_spin_us`), against a raw Cyclone DDS ping-pong of the same sizes; "
+          "the three interleaved round trip by round trip, two processes on loopback in a "
+          "network namespace of their own. Figures are given only when no roz tick ran under "
+          "a fault.\n")
         t = Table("raw ping-pong")
         raw = g1.get("raw Cyclone ping-pong")
-        t.timing("roz: unitree/G1, G1 PD under wasm3", g1.get("roz: unitree/G1, G1 PD under wasm3"), raw,
-                 f"{value(g1.get('lost round trips'))} round trips lost")
+        t.timing("roz: unitree/G1, G1 PD under wasm3, writer woken by the tick",
+                 g1.get("roz: unitree/G1, G1 PD under wasm3"), raw,
+                 f"{value(g1.get('lost round trips'))} round trips lost (all paths)")
+        t.timing(f"roz: the same, writer spinning (command_writer_spin_us={spin})",
+                 g1.get("roz: unitree/G1, G1 PD under wasm3, writer spin"), raw)
         t.timing("raw Cyclone DDS ping-pong (reference)", raw, raw)
         w(t.render())
     else:
@@ -496,6 +504,10 @@ def build(args) -> tuple[str, str]:
     if g1:
         hrow("G1 state-to-command over DDS", g1.get("roz: unitree/G1, G1 PD under wasm3"),
              "raw ping-pong", g1.get("raw Cyclone ping-pong"))
+        if g1.get("roz: unitree/G1, G1 PD under wasm3, writer spin"):
+            hrow("G1 state-to-command over DDS, writer spinning",
+                 g1.get("roz: unitree/G1, G1 PD under wasm3, writer spin"),
+                 "raw ping-pong", g1.get("raw Cyclone ping-pong"))
     a = alloc.get("unitree_g1, g1_pd: heap calls in 1000000 ticks") or next(
         (v for k, v in alloc.items() if k.startswith("unitree_g1, g1_pd: heap calls in")), None)
     headline = "\n".join(h) + "\n"
