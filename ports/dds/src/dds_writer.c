@@ -204,6 +204,7 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
     atomic_init(&w->posts, 0u);
     atomic_init(&w->expects, 0u);
     atomic_init(&w->sleeping, 0);
+    atomic_init(&w->spin_on, 0);
     if (p == NULL || p->participant <= 0 || topic == NULL || descriptor == NULL || qos == NULL ||
         storage == NULL || size == 0) {
         roz__dds_say(err, errlen, topic != NULL ? topic : "?", "writer", DDS_RETCODE_BAD_PARAMETER);
@@ -262,6 +263,8 @@ int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_f
         return ROZ_EIO;
     w->thread = (unsigned long)th;
     atomic_store(&w->running, 1);
+    atomic_store_explicit(&w->spin_on, w->period_ns == 0 && w->spin_ns != 0,
+                          memory_order_release);
     return ROZ_OK;
 }
 
@@ -298,7 +301,9 @@ void roz_dds_writer_wake(roz_dds_writer_t *w)
 
 void roz_dds_writer_expect(roz_dds_writer_t *w)
 {
-    if (w->period_ns != 0 || w->spin_ns == 0 || !w->wake_ready)
+    /* the receive path may run before the writer starts: one atomic says
+     * whether there is a spinning writer to tell */
+    if (!atomic_load_explicit(&w->spin_on, memory_order_acquire))
         return;
     atomic_fetch_add(&w->expects, 1u);
     if (atomic_load(&w->sleeping))
@@ -356,6 +361,7 @@ void roz_dds_writer_stop(roz_dds_writer_t *w)
 {
     if (!atomic_load(&w->running))
         return;
+    atomic_store_explicit(&w->spin_on, 0, memory_order_release);
     atomic_store_explicit(&w->stop, 1, memory_order_release);
     (void)sem_post(wake_sem(w));
     pthread_join((pthread_t)w->thread, NULL);

@@ -332,6 +332,7 @@ typedef struct roz_dds_writer {
     ROZ_ATOMIC(uint64_t) posts;     /* roz_dds_writer_wake() calls */
     ROZ_ATOMIC(uint64_t) expects;   /* roz_dds_writer_expect() calls */
     ROZ_ATOMIC(int)      sleeping;
+    ROZ_ATOMIC(int)      spin_on;   /* started, event-driven, spin_ns > 0 */
     uint64_t             handled;   /* posts the writer has passed for */
     uint64_t             expected;  /* expects it has spun for */
     uint64_t             spin_ns;   /* 0: no spinning ahead of a command */
