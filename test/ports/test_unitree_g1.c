@@ -873,6 +873,50 @@ static void test_g1_watchdog_event_driven(void **st)
     }
 }
 
+static void test_g1_watchdog_spinning_writer(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    /* a writer that spins for the tick's command after each LowState_,
+     * fifty times longer than the robot's period: with the robot
+     * publishing every 200 us a heads-up is always pending when a spin
+     * ends, and the watchdog must still fire when the tick stops (a writer
+     * that looked for the deadline only when a wait timed out never did,
+     * unless the frames paused for a whole spin) */
+    static const char *const periodic[] = { "--period-us", "200", NULL };
+    roz_g1fx_set_fake_args(periodic);
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "0" },
+                             { "command_writer_spin_us", "10000" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            4);
+    int fresh = 0; /* (WAIT_UNTIL looks twice: not for a read) */
+    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
+    distinct_command(0);
+    write_g1(); /* the hold */
+    fresh = 0;
+    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
+    distinct_command(1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    uint64_t written = fake_good();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)written + 5u),
+                     0);
+    for (uint64_t k = written + 1; k <= written + 5u; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (!is_damping(&c, q))
+            fail_msg("command %llu after the tick stopped: not the damping command",
+                     (unsigned long long)k);
+    }
+}
+
 static void test_g1_watchdog_latches_in_the_runtime(void **st)
 {
     roz_runtime_config_t cfg;
@@ -1041,6 +1085,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
         cmocka_unit_test(test_g1_bad_parameters),
     };

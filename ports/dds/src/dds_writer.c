@@ -116,13 +116,11 @@ static int heads_up(roz_dds_writer_t *w)
 }
 
 /* Sleep on the semaphore until a post, a heads-up or @p due (UINT64_MAX:
- * no deadline). 1: the deadline passed. `sleeping` is set before the last
- * look at the counters and the wakers add before they look at it (both
- * sequentially consistent), so a post is never slept through. */
-static int sleep_until(roz_dds_writer_t *w, uint64_t due)
+ * no deadline). `sleeping` is set before the last look at the counters and
+ * the wakers add before they look at it (both sequentially consistent), so
+ * a post is never slept through. */
+static void sleep_until(roz_dds_writer_t *w, uint64_t due)
 {
-    int timed_out = 0;
-
     atomic_store(&w->sleeping, 1);
     if (!posted(w) && !heads_up(w) && !atomic_load(&w->stop)) {
         if (due == UINT64_MAX) {
@@ -130,49 +128,46 @@ static int sleep_until(roz_dds_writer_t *w, uint64_t due)
                 ; /* EINTR */
         } else {
             struct timespec ts = to_timespec(due);
-            while (sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts) != 0) {
-                if (errno != EINTR) {
-                    timed_out = 1;
-                    break;
-                }
-            }
+            while (sem_clockwait(wake_sem(w), CLOCK_MONOTONIC, &ts) != 0 && errno == EINTR)
+                ;
         }
     }
     atomic_store(&w->sleeping, 0);
     while (sem_trywait(wake_sem(w)) == 0)
         ; /* posts that piled up: the counters say what is new */
-    return timed_out;
 }
 
 /* Event-driven: each new post is a frame to publish; posts that piled up
  * while a pass ran are one pass (it publishes the latest frame). With a
- * watchdog, a wait also ends when it is due. With spin_ns, a heads-up (a
- * state frame arrived: the tick's command follows) wakes the writer while
- * the tick runs, and it spins, yielding the CPU, until the post comes or
- * spin_ns passes, so the tick's post costs no wake-up. */
+ * watchdog, a pass is also due when the watchdog is, however the writer
+ * got there (asleep, or spinning on heads-ups that keep coming while the
+ * tick is silent). With spin_ns, a heads-up (a state frame arrived: the
+ * tick's command follows) wakes the writer while the tick runs, and it
+ * spins, yielding the CPU, until the post comes, spin_ns passes or the
+ * watchdog is due, so the tick's post costs no wake-up. */
 static void run_events(roz_dds_writer_t *w)
 {
     for (;;) {
         uint64_t due = next_due(w);
-        int timed_out = 0;
         if (!posted(w))
-            timed_out = sleep_until(w, due);
+            sleep_until(w, due);
         if (atomic_load_explicit(&w->stop, memory_order_acquire))
             return;
         if (!posted(w) && heads_up(w)) {
             w->expected = atomic_load_explicit(&w->expects, memory_order_acquire);
             uint64_t until = roz_clock_monotonic_ns(NULL) + w->spin_ns;
+            if (until > due)
+                until = due;
             while (!posted(w) && !atomic_load_explicit(&w->stop, memory_order_relaxed) &&
                    roz_clock_monotonic_ns(NULL) < until)
                 sched_yield();
         }
-        if (posted(w)) {
+        if (posted(w))
             w->handled = atomic_load_explicit(&w->posts, memory_order_acquire);
-        } else if (timed_out) {
+        else if (due != UINT64_MAX && roz_clock_monotonic_ns(NULL) >= due)
             w->fired_due = due; /* the watchdog's pass */
-        } else {
+        else
             continue; /* a heads-up with no command after it, or a stray post */
-        }
         timed_pass(w);
     }
 }
