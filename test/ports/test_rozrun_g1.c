@@ -15,7 +15,11 @@
  * port's damping command (kp 0, kd the manifest's 8). The run is recorded
  * (--record, drained by rozrun's main thread while the port's threads run)
  * and replayed: rozrun --replay gives the same targets, applied commands and
- * faults bit for bit at each of the 1500 ticks, without the robot. */
+ * faults bit for bit at each of the 1500 ticks, without the robot.
+ * And a 23-DoF G1 (the fake reporting mode_machine 10) with the
+ * unitree_g1_23dof manifest and g1_23dof_stand: no fault, no clamp, the
+ * knee's gain reaches 150, the six slots the robot lacks stay mode 0 and
+ * zero in every command seen. */
 #define _POSIX_C_SOURCE 200809L
 #include <setjmp.h>
 #include <stdarg.h>
@@ -31,7 +35,7 @@
 #include "rozrun_stand.h"
 
 #ifndef ROZRUN
-#error "ROZRUN, CONTROLLER, OUT: set by the build"
+#error "ROZRUN, CONTROLLER, CONTROLLER_23DOF, OUT: set by the build"
 #endif
 
 /* The knee's largest gain seen, and its target then. */
@@ -104,10 +108,65 @@ static void test_rozrun_g1_stand(void **st)
     roz_rozrun_replay(ROZRUN, RECORDING, CONTROLLER, 1500, OUT ".replay", text, sizeof text);
 }
 
+/* A 23-DoF G1 (mode_machine 10) and its own stand: the 23 motors it has
+ * are driven, the six slots it lacks stay mode 0 and zero throughout. */
+typedef struct {
+    roz_fake_g1_t *fake;
+    double         kp;       /* the left knee's largest gain seen */
+    int            gaps_bad; /* a command drove a slot the robot lacks */
+} g1_23dof_watch_t;
+
+static const int absent_slots[6] = { 13, 14, 20, 21, 27, 28 };
+
+static void watch_23dof(void *ctx)
+{
+    g1_23dof_watch_t *w = ctx;
+    roz_fake_g1_cmd_t c;
+    if (roz_fake_g1_command(w->fake, &c) != 1)
+        return;
+    if (c.kp[3] > w->kp)
+        w->kp = c.kp[3];
+    for (int k = 0; k < 6; k++) {
+        int j = absent_slots[k];
+        if (c.mode[j] != 0 || c.q[j] != 0.0 || c.dq[j] != 0.0 || c.kp[j] != 0.0 ||
+            c.kd[j] != 0.0 || c.tau[j] != 0.0)
+            w->gaps_bad++;
+    }
+}
+
+static void test_rozrun_g1_23dof_stand(void **st)
+{
+    roz_fake_g1_t fake;
+    roz_fake_g1_cmd_t c;
+    char err[256] = "", text[16384];
+    static const char *const extra[] = { "--period-us", "2000", "--mode-machine", "10", NULL };
+    (void)st;
+
+    if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    g1_23dof_watch_t w = { &fake, 0.0, 0 };
+    roz_rozrun_stand(ROZRUN, "unitree_g1_23dof", "unitree/G1", CONTROLLER_23DOF,
+                     ROZ_TEST_DDS_DOMAIN, 1000, OUT ".23dof", NULL, watch_23dof, &w, text,
+                     sizeof text);
+    assert_non_null(strstr(text, "faults                 none"));
+    assert_non_null(strstr(text, "clamps                 0"));
+    assert_true(w.kp == 150.0);
+    assert_int_equal(w.gaps_bad, 0);
+    assert_int_equal(roz_fake_g1_command(&fake, &c), 1);
+    for (int j = 0; j < 29; j++) {
+        int absent = 0;
+        for (int k = 0; k < 6; k++)
+            absent |= absent_slots[k] == j;
+        assert_int_equal(c.mode[j], absent ? 0 : 1);
+    }
+    assert_int_equal(roz_fake_g1_stop(&fake), 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rozrun_g1_stand),
+        cmocka_unit_test(test_rozrun_g1_23dof_stand),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
