@@ -122,7 +122,8 @@ static int heads_up(roz_dds_writer_t *w)
 static void sleep_until(roz_dds_writer_t *w, uint64_t due)
 {
     atomic_store(&w->sleeping, 1);
-    if (!posted(w) && !heads_up(w) && !atomic_load(&w->stop)) {
+    if (atomic_load(&w->posts) == w->handled && atomic_load(&w->expects) == w->expected &&
+        !atomic_load(&w->stop)) {
         if (due == UINT64_MAX) {
             while (sem_wait(wake_sem(w)) != 0)
                 ; /* EINTR */
