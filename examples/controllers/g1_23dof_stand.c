@@ -4,7 +4,7 @@
  * joints this variant has (legs, waist yaw, shoulders, elbows, wrist roll).
  * The robot's own PD runs it; the gains ramp in over the first second. It
  * does not balance: the robot hangs (README, "A real Unitree G1"). */
-#include "roz_controller.h"
+#include "stand.h"
 #include "unitree_g1_23dof_channels.h"
 
 #define JOINTS 23
@@ -13,11 +13,6 @@
 #define KP ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS
 #define KD ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING
 #define TAU ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT
-
-_Static_assert(ROZ_UNITREE_G1_23DOF_N_COMMANDS == 5 * JOINTS, "five commands a joint");
-_Static_assert(VEL == POS + JOINTS && KP == POS + 2 * JOINTS && KD == POS + 3 * JOINTS &&
-                   TAU == POS + 4 * JOINTS,
-               "commands grouped by kind, joints in the manifest's order");
 
 /* Standing pose in the manifest's joint order (rad). */
 static const double pose[JOINTS] = {
@@ -38,14 +33,6 @@ static const double kd[JOINTS] = {
 
 ROZ_PROCESS(tick)
 {
-    double ramp = (double)tick / (double)ROZ_UNITREE_G1_23DOF_CONTROL_RATE_HZ; /* seconds */
-    if (ramp > 1.0)
-        ramp = 1.0;
-    for (int j = 0; j < JOINTS; j++) {
-        roz_command_set(POS + j, pose[j]);
-        roz_command_set(VEL + j, 0.0);
-        roz_command_set(KP + j, ramp * kp[j]);
-        roz_command_set(KD + j, kd[j]);
-        roz_command_set(TAU + j, 0.0);
-    }
+    stand_step(tick, (double)ROZ_UNITREE_G1_23DOF_CONTROL_RATE_HZ,
+               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
 }

@@ -4,7 +4,7 @@
  * position target, zero velocity and feed-forward torque, and the gains, which
  * ramp in over the first second (the manifest's rate caps would ramp them
  * anyway; ramping here keeps the command equal to what was asked). */
-#include "roz_controller.h"
+#include "stand.h"
 #include "unitree_g1_channels.h"
 
 #define JOINTS 29
@@ -34,14 +34,6 @@ static const double kd[JOINTS] = {
 
 ROZ_PROCESS(tick)
 {
-    double ramp = (double)tick / (double)ROZ_UNITREE_G1_CONTROL_RATE_HZ; /* seconds */
-    if (ramp > 1.0)
-        ramp = 1.0;
-    for (int j = 0; j < JOINTS; j++) {
-        roz_command_set(POS + j, pose[j]);
-        roz_command_set(VEL + j, 0.0);
-        roz_command_set(KP + j, ramp * kp[j]);
-        roz_command_set(KD + j, kd[j]);
-        roz_command_set(TAU + j, 0.0);
-    }
+    stand_step(tick, (double)ROZ_UNITREE_G1_CONTROL_RATE_HZ,
+               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
 }

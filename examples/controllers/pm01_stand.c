@@ -5,7 +5,7 @@
  * first second. Leg gains are the vendor's RL example's (kp 70/50/50/70/20/20,
  * kd 7/5/5/7/0.2/0.2), waist, arm and head stiffness too (200, 250, 100);
  * their damping (5, 5, 2) and the pose are ours. */
-#include "roz_controller.h"
+#include "stand.h"
 #include "engineai_pm01_channels.h"
 
 #define JOINTS 24
@@ -35,14 +35,6 @@ static const double kd[JOINTS] = {
 
 ROZ_PROCESS(tick)
 {
-    double ramp = (double)tick / (double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ; /* seconds */
-    if (ramp > 1.0)
-        ramp = 1.0;
-    for (int j = 0; j < JOINTS; j++) {
-        roz_command_set(POS + j, pose[j]);
-        roz_command_set(VEL + j, 0.0);
-        roz_command_set(KP + j, ramp * kp[j]);
-        roz_command_set(KD + j, kd[j]);
-        roz_command_set(TAU + j, 0.0);
-    }
+    stand_step(tick, (double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ,
+               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
 }

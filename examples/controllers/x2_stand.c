@@ -4,7 +4,7 @@
  * and feed-forward torque, and the gains, which ramp in over the first
  * second. Leg gains are the vendor example's (kp 40/40/30/80/40/20, kd
  * 4/4/3/8/4/2); the waist, arm and head gains and the pose are ours. */
-#include "roz_controller.h"
+#include "stand.h"
 #include "agibot_x2_channels.h"
 
 #define JOINTS 30
@@ -34,14 +34,6 @@ static const double kd[JOINTS] = {
 
 ROZ_PROCESS(tick)
 {
-    double ramp = (double)tick / (double)ROZ_AGIBOT_X2_CONTROL_RATE_HZ; /* seconds */
-    if (ramp > 1.0)
-        ramp = 1.0;
-    for (int j = 0; j < JOINTS; j++) {
-        roz_command_set(POS + j, pose[j]);
-        roz_command_set(VEL + j, 0.0);
-        roz_command_set(KP + j, ramp * kp[j]);
-        roz_command_set(KD + j, kd[j]);
-        roz_command_set(TAU + j, 0.0);
-    }
+    stand_step(tick, (double)ROZ_AGIBOT_X2_CONTROL_RATE_HZ,
+               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
 }

@@ -839,6 +839,25 @@ static void test_g1_watchdog_on_the_wire(void **st)
     assert_int_equal(counters().command_timeouts, 1);
 }
 
+/* The tick has stopped after its last write (the robot has it): the
+ * watchdog trips, and the five commands after that one are the damping
+ * command holding @p q. */
+static void expect_damping_after_trip(const double *q)
+{
+    roz_fake_g1_cmd_t c;
+    uint64_t written = fake_good();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)written + 5u),
+                     0);
+    for (uint64_t k = written + 1; k <= written + 5u; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (!is_damping(&c, q))
+            fail_msg("command %llu after the tick stopped: not the damping command",
+                     (unsigned long long)k);
+    }
+}
+
 static void test_g1_watchdog_event_driven(void **st)
 {
     roz_fake_g1_cmd_t c;
@@ -860,17 +879,7 @@ static void test_g1_watchdog_event_driven(void **st)
     write_g1();
     get_command(&c);
     assert_true(is_written(&c));
-    uint64_t written = fake_good();
-    WAIT_UNTIL(counters().command_timeouts == 1);
-    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
-                                     (unsigned long long)written + 5u),
-                     0);
-    for (uint64_t k = written + 1; k <= written + 5u; k++) {
-        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (!is_damping(&c, q))
-            fail_msg("command %llu after the tick stopped: not the damping command",
-                     (unsigned long long)k);
-    }
+    expect_damping_after_trip(q);
 }
 
 static void test_g1_watchdog_spinning_writer(void **st)
@@ -904,17 +913,7 @@ static void test_g1_watchdog_spinning_writer(void **st)
     write_g1();
     get_command(&c);
     assert_true(is_written(&c));
-    uint64_t written = fake_good();
-    WAIT_UNTIL(counters().command_timeouts == 1);
-    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
-                                     (unsigned long long)written + 5u),
-                     0);
-    for (uint64_t k = written + 1; k <= written + 5u; k++) {
-        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (!is_damping(&c, q))
-            fail_msg("command %llu after the tick stopped: not the damping command",
-                     (unsigned long long)k);
-    }
+    expect_damping_after_trip(q);
 }
 
 static void test_g1_watchdog_latches_in_the_runtime(void **st)
