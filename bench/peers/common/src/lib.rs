@@ -3,7 +3,14 @@
 //! controller ABI as plain Rust over that manifest (the semantics of
 //! lib/src/abi.c: clamp, non-finite refusal, counters), the deterministic
 //! state sequence every engine is fed (bench/peers/README.md), the check
-//! against roz's own outputs, statistics, and the JSON the harnesses print.
+//! against roz's own outputs, statistics, and the JSON the harnesses print;
+//! the run itself ([`driver`]) and roz's host functions for an engine crate
+//! ([`peer!`]), so that a harness holds only what is its engine's own.
+
+mod driver;
+mod glue;
+
+pub use driver::{main, run, Peer};
 
 use std::fs;
 use std::time::Instant;
