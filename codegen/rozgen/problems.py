@@ -58,6 +58,19 @@ RULES: dict[str, str] = {
     "its joint's channels",
     "can-bus": "socketcan port: one joint's frames overrun the bus in a round, or "
     "reply_timeout_us is shorter than two command intervals",
+    "g1-joint": "unitree/G1 port: [hardware] joints lists none, more than the G1 has, a name "
+    "that is not one of its SDK joint names, or a joint without a channel",
+    "g1-channel": "unitree/G1 port: a channel that is not a listed joint's or the IMU's, or "
+    "one of another type than the port serves under its name",
+    "g1-param": "unitree/G1 port: a [hardware.params] value its parser refuses (a number out "
+    "of range, an unknown mode_pr, a damping gain a damping channel does not allow)",
+    "ros2-joint": "ROS 2 ports (agibot/X2, engineai/PM01): [hardware] joints lists none, more "
+    "than the robot has, a name that is not one of its joints, or a joint without a channel",
+    "ros2-channel": "ROS 2 ports: a channel that is not a listed joint's or the IMU's, or one "
+    "of another type than the port serves under its name",
+    "ros2-param": "ROS 2 ports: a [hardware.params] value their parser refuses (a number out "
+    "of range, an unknown link_check or layout, a damping gain a damping channel does not "
+    "allow)",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }

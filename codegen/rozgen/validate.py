@@ -40,7 +40,8 @@ Schema::
     [hardware]                port (string, required), joints (array of
                               strings, []), params (table of strings, {});
                               a port's own keys in params are checked by
-                              the port's module (``rozgen.socketcan``)
+                              the port's module (``rozgen.socketcan``,
+                              ``rozgen.dds_ports``)
 
 Rules, by id (``rozgen --list-rules`` prints them; ``--error-ids`` prefixes
 each message with ``[<id>] ``):
@@ -117,6 +118,20 @@ can-bus             ``hardware.params: command_writer_period_us "100": a joint's
                     command and reply take 270 bits, more than 80% of a 100 us
                     round ...``; ``reply_timeout_us "3000": shorter than two
                     command intervals of a joint (2 x 2000 us)``
+g1-joint            (ports ``unitree/G1``, ``agibot/X2``, ``engineai/PM01``:
+                    ``rozgen.dds_ports``; the message is the port's error)
+                    ``unitree/G1: [hardware] joints[1] "left_hip_pich_joint" is
+                    not one of the robot's joints (the port's header lists
+                    them)``, ``... has no channel in manifest <id> ...``
+g1-channel          ``unitree/G1: command 2 "right_knee_joint/position" has no
+                    place on the G1 (...)``, ``state 1 "x/velocity" is a effort
+                    channel; the port serves it as velocity``
+g1-param            ``parameter mode_pr = "PRR": expected PR (...) or AB (...)``
+                    (also unknown-key: ``unknown parameter "dds_domian" for
+                    port unitree/G1 (known: ...)``)
+ros2-joint          as g1-joint, ``agibot/X2: ...``, ``engineai/PM01: ...``
+ros2-channel        as g1-channel
+ros2-param          as g1-param, ``parameter link_check = "sequence": ...``
 duplicate-robot-id  ``manifest: robot_id "ur5": also the robot_id of <file>``
                     (several files; checked by the CLI)
 source-root         ``not under --source-root <dir>`` (checked by the CLI)
@@ -130,7 +145,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from rozgen import names, socketcan
+from rozgen import dds_ports, names, socketcan
 from rozgen.fmt import c_double, quote, toml_value
 from rozgen.model import INTERFACE_TYPES, UNPAIRED, Channel, Hardware, Manifest, Maxima
 from rozgen.problems import Problem
@@ -326,7 +341,7 @@ class _Checker:
             return None
         result = Manifest(**manifest, hardware=hardware)
         # a port's own keys, checked as the port checks them at open
-        for rule, message in socketcan.check(result):
+        for rule, message in socketcan.check(result) + dds_ports.check(result):
             self.problems.append(Problem(rule, message, (_PORT, 0, 0, len(self.problems))))
         return None if self.problems else result
 

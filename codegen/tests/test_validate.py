@@ -63,7 +63,7 @@ def test_states_are_optional():
 def test_hardware_params_sorted_joints_kept_in_order():
     m, problems = check(GOOD + """
 [hardware]
-port = "unitree/G1"
+port = "example/humanoid"
 joints = ["z", "a"]
 
 [hardware.params]
