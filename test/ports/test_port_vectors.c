@@ -1,0 +1,166 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The DDS ports refuse at open what rozgen refuses at build time, in the
+ * same words: every shared vector of manifests/invalid/ whose [hardware]
+ * port is unitree/G1, agibot/X2 or engineai/PM01 and which roz's C loader
+ * reads (the port's rules are not the loader's), opened through its port
+ * with no run-time parameter: the open fails, and "<file>: <its error>" is
+ * the one line of <vector>.expected (`rozgen --check` from the repository
+ * root; the port stops at its first problem, so each of these vectors has
+ * one). rozgen's side is test_invalid.py on the same files. */
+#define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/agibot_x2.h"
+#include "roz/engineai_pm01.h"
+#include "roz/manifest_toml.h"
+#include "roz/unitree_g1.h"
+
+#ifndef ROZ_SOURCE_DIR
+#error "ROZ_SOURCE_DIR: the repository"
+#endif
+
+#define VECTORS "manifests/invalid"
+#define MAX_VECTORS 512
+#define MAX_PROBLEMS 64
+
+static char text[1u << 20];
+static roz_manifest_storage_t storage;
+static roz_manifest_toml_problem_t problems[MAX_PROBLEMS];
+ROZ_TOML_DOC_DEFINE(doc, 1u << 16, 1u << 20);
+
+static roz_unitree_g1_t g1;
+static roz_agibot_x2_t x2;
+static roz_engineai_pm01_t pm01;
+
+static char names[MAX_VECTORS][128];
+static size_t n_names;
+
+static void quiet(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    (void)level;
+    (void)msg;
+}
+
+static int by_name(const void *a, const void *b)
+{
+    return strcmp(a, b);
+}
+
+/* the vectors' file names, sorted */
+static void list_vectors(void)
+{
+    DIR *d = opendir(ROZ_SOURCE_DIR "/" VECTORS);
+    struct dirent *e;
+
+    assert_non_null(d);
+    n_names = 0;
+    while ((e = readdir(d)) != NULL) {
+        size_t n = strlen(e->d_name);
+        if (n < 6 || strcmp(e->d_name + n - 5, ".toml") != 0)
+            continue;
+        assert_true(n < sizeof names[0] && n_names < MAX_VECTORS);
+        memcpy(names[n_names++], e->d_name, n + 1);
+    }
+    closedir(d);
+    qsort(names, n_names, sizeof names[0], by_name);
+}
+
+/* <vector>.expected, which must be one line: that line, without its newline */
+static void expected_line(const char *name, char *out, size_t len)
+{
+    char path[512];
+    size_t n = strlen(name);
+
+    snprintf(path, sizeof path, "%s/%s/%.*s.expected", ROZ_SOURCE_DIR, VECTORS, (int)(n - 5),
+             name);
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        fail_msg("%s: cannot read", path);
+    size_t got = fread(out, 1, len - 1, f);
+    fclose(f);
+    out[got] = '\0';
+    char *nl = strchr(out, '\n');
+    if (nl == NULL || nl[1] != '\0')
+        fail_msg("%s: expected one line, as the port reports one problem", path);
+    *nl = '\0';
+}
+
+/* The port a vector is for, or none (NULL). */
+static int port_of(const roz_manifest_t *m, roz_port_t *port)
+{
+    const char *name = m->hardware != NULL ? m->hardware->port : "";
+    if (strcmp(name, "unitree/G1") == 0)
+        *port = roz_unitree_g1_port(&g1, quiet, NULL);
+    else if (strcmp(name, "agibot/X2") == 0)
+        *port = roz_agibot_x2_port(&x2, quiet, NULL);
+    else if (strcmp(name, "engineai/PM01") == 0)
+        *port = roz_engineai_pm01_port(&pm01, quiet, NULL);
+    else
+        return 0;
+    return 1;
+}
+
+static void test_port_vectors_agree(void **state)
+{
+    unsigned g1_vectors = 0, ros2_vectors = 0, failed = 0;
+    (void)state;
+
+    list_vectors();
+    for (size_t i = 0; i < n_names; i++) {
+        char path[512], err[1024], want[2048], got[2048];
+        size_t found = 0;
+        roz_port_t port;
+
+        snprintf(path, sizeof path, "%s/%s/%s", ROZ_SOURCE_DIR, VECTORS, names[i]);
+        roz_toml_init(&doc, doc_nodes, sizeof doc_nodes / sizeof doc_nodes[0], doc_arena,
+                      sizeof doc_arena);
+        if (roz_manifest_toml_load_file(path, text, sizeof text, &storage, &doc, problems,
+                                        MAX_PROBLEMS, &found) != ROZ_OK)
+            continue; /* the loader's own rules */
+        if (!port_of(&storage.manifest, &port))
+            continue;
+        if (strcmp(storage.manifest.hardware->port, "unitree/G1") == 0)
+            g1_vectors++;
+        else
+            ros2_vectors++;
+
+        err[0] = '\0';
+        int rc = roz_port_open(&port, &storage.manifest, NULL, err, sizeof err);
+        if (rc == ROZ_OK) {
+            roz_port_close(&port);
+            print_error("%s: the port opens it\n", names[i]);
+            failed++;
+            continue;
+        }
+        expected_line(names[i], want, sizeof want);
+        snprintf(got, sizeof got, "%s/%s: %s", VECTORS, names[i], err);
+        if (strcmp(got, want) != 0) {
+            print_error("%s:\n  port:   %s\n  rozgen: %s\n", names[i], got, want);
+            failed++;
+        }
+    }
+    print_message("%u unitree/G1 and %u ROS 2 port vectors, %u disagreeing\n", g1_vectors,
+                  ros2_vectors, failed);
+    assert_int_equal(failed, 0);
+    /* the vectors are there: a glob that finds none proves nothing */
+    assert_true(g1_vectors >= 10);
+    assert_true(ros2_vectors >= 8);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_port_vectors_agree),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
