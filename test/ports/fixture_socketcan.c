@@ -293,6 +293,7 @@ const roz_port_fixture_t roz_fixture_socketcan = {
     .name = "socketcan",
     .manifests = leg_only,
     .start_hold = 1,
+    .watchdog = 1,
     .no_sequence = "MIT-mode frames carry no sequence number: a rebooted actuator is seen only "
                    "as a silence longer than reply_timeout_us (the vanish case)",
     .wire_command = sc_fx_wire_command,

@@ -444,6 +444,7 @@ const roz_port_fixture_t roz_fixture_unitree_g1 = {
     .name = "unitree/G1",
     .manifests = g1_manifests,
     .start_hold = 1,
+    .watchdog = 1,
     .wire_command = fx_wire_command,
     .open = fx_open,
     .peer = fx_peer,

@@ -56,6 +56,15 @@ typedef struct roz_port_fixture {
      * skips its restart case (a restart is seen, if at all, as a silence:
      * the vanish case) and prints this. */
     const char *no_sequence;
+    /* 1: the port has a command watchdog (roz/hal/cmd_watchdog.h, parameter
+     * command_timeout_us): when the tick writes nothing for longer than the
+     * timeout, the port sends its safe command by itself, which drives
+     * nothing (every stiffness, velocity and effort command 0; what it does
+     * with positions and damping is the port's), and its next read()
+     * reports the trip (ROZ_EWATCHDOG, which the runtime latches as
+     * ROZ_FAULT_COMMAND_TIMEOUT); the tick's next write goes out as the
+     * start-up hold. */
+    int watchdog;
     /* What the peer applies for a command written as @p in (n_commands
      * values), where the wire narrows them (float32, a field of 12 bits);
      * NULL: exactly that. */

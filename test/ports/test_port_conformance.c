@@ -21,7 +21,15 @@
  *    there only as a silence, and says so;
  *  - start-up hold, for a port that keeps it: the first write to a new or
  *    restarted peer reaches it as the hold of the positions it sent, with
- *    zero gains; the next write as written.
+ *    zero gains; the next write as written;
+ *  - the command watchdog, for a port that has one: the tick writes, then
+ *    stops; the peer, still sending, soon applies the port's safe command
+ *    (no stiffness, velocity or effort), which the port sends by itself;
+ *    the next read() reports the trip once (ROZ_EWATCHDOG, which the
+ *    runtime latches as ROZ_FAULT_COMMAND_TIMEOUT: test_latch.c), naming
+ *    command_timeout_us, its value and a silence at least that long; the
+ *    next write goes out as the start-up hold (no drive either), the one
+ *    after as written.
  * Each fixture runs on the manifests it serves (the loopback on UR5 and G1,
  * each robot's port on its robot, the socketcan port on the example CAN
  * leg). */
@@ -36,6 +44,7 @@
 #include <cmocka.h>
 
 #include "port_fixture.h"
+#include "roz/hal/cmd_watchdog.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -71,14 +80,20 @@ static const roz_manifest_t *const *manifests_of(const roz_port_fixture_t *fx)
     return fx->manifests != NULL ? fx->manifests : default_manifests;
 }
 
-static void open_port(conformance_t *c, const roz_port_fixture_t *fx, const roz_manifest_t *m)
+static void open_port_with(conformance_t *c, const roz_port_fixture_t *fx,
+                           const roz_manifest_t *m, const roz_params_t *params)
 {
     char err[300] = "";
     memset(c, 0, sizeof *c);
     c->fx = fx;
     c->m = m;
-    if (fx->open(m, NULL, &c->port, err, sizeof err) != ROZ_OK)
+    if (fx->open(m, params, &c->port, err, sizeof err) != ROZ_OK)
         fail_msg("%s on %s: open: %s", fx->name, m->robot_id, err);
+}
+
+static void open_port(conformance_t *c, const roz_port_fixture_t *fx, const roz_manifest_t *m)
+{
+    open_port_with(c, fx, m, NULL);
 }
 
 /* A command inside the manifest, different for each k. */
@@ -282,6 +297,81 @@ static void check_commands(conformance_t *c)
     assert_peer_applies(c, c->cmd);
 }
 
+/* The watchdog's timeout: long enough that the steps before the tick
+ * stops, on a loaded machine, are no silence. */
+#define WATCHDOG_US 500000u
+#define WATCHDOG_TEXT "500000"
+/* Peer frames the suite waits for the safe command at most: only a port
+ * that never sends it takes them all (each is a frame period or more). */
+#define WATCHDOG_FRAMES 30000
+
+/* Whether @p cmd drives the robot: a stiffness, velocity or effort command
+ * other than what the wire makes of 0 (@p zero). */
+static int drives(const conformance_t *c, const double *cmd, const double *zero)
+{
+    for (uint16_t i = 0; i < c->m->n_commands; i++) {
+        roz_interface_t t = c->m->commands[i].type;
+        if ((t == ROZ_IF_STIFFNESS || t == ROZ_IF_VELOCITY || t == ROZ_IF_EFFORT) &&
+            memcmp(&cmd[i], &zero[i], sizeof zero[i]) != 0)
+            return 1;
+    }
+    return 0;
+}
+
+static void check_watchdog(conformance_t *c)
+{
+    double nothing[ROZ_CFG_MAX_COMMANDS] = { 0 }, zero[ROZ_CFG_MAX_COMMANDS];
+    roz_port_fault_t f;
+
+    if (c->fx->wire_command != NULL)
+        c->fx->wire_command(nothing, zero);
+    else
+        memcpy(zero, nothing, sizeof zero);
+    fresh_frame(c);
+    first_write(c, 8);
+    fresh_frame(c);
+    write_checked(c, 9);
+    assert_peer_applies(c, c->cmd);
+    if (!drives(c, c->cmd, zero))
+        fail_msg("%s on %s: the suite's command drives nothing: no watchdog to see",
+                 c->fx->name, c->m->robot_id);
+
+    /* the tick stops writing (and reading); the peer goes on */
+    int k = 0;
+    for (; k < WATCHDOG_FRAMES; k++) {
+        c->fx->peer(ROZ_PEER_SEND);
+        c->fx->settle();
+        const double *got = c->fx->peer_command();
+        if (got != NULL && !drives(c, got, zero))
+            break;
+    }
+    if (k == WATCHDOG_FRAMES)
+        fail_msg("%s on %s: the peer still applies a driving command after %d of its frames "
+                 "with the tick silent (command_timeout_us %u)",
+                 c->fx->name, c->m->robot_id, k, WATCHDOG_US);
+
+    /* the tick is back: the trip reported once, named */
+    assert_int_equal(read_port(c), ROZ_EWATCHDOG);
+    assert_non_null(c->port.ops->fault);
+    assert_int_equal(c->port.ops->fault(c->port.self, &f), ROZ_OK);
+    assert_string_equal(f.what, ROZ_CMD_WATCHDOG_KEY);
+    assert_int_equal(f.limit, WATCHDOG_US);
+    assert_true(f.code >= WATCHDOG_US); /* silent at least that long */
+    fresh_frame(c);
+    /* the first write goes out as the start-up hold, which drives nothing
+     * either (its positions are the port's: the robot may stand outside
+     * the limits now), the next as written */
+    write_checked(c, 10);
+    c->fx->settle();
+    const double *got = c->fx->peer_command();
+    assert_non_null(got);
+    if (drives(c, got, zero))
+        fail_msg("%s on %s: the first write after the trip drives the robot: no hold",
+                 c->fx->name, c->m->robot_id);
+    write_checked(c, 11);
+    assert_peer_applies(c, c->cmd);
+}
+
 /* ---- every fixture, every manifest ---------------------------------------- */
 
 typedef void (*check_fn)(conformance_t *c);
@@ -331,6 +421,28 @@ static void test_port_conformance_commands(void **st)
     each(check_commands);
 }
 
+static void test_port_conformance_watchdog(void **st)
+{
+    static conformance_t c;
+    roz_param_t item = { "command_timeout_us", WATCHDOG_TEXT };
+    roz_params_t params = { &item, 1 };
+    (void)st;
+    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++) {
+        const roz_port_fixture_t *fx = fixtures[f];
+        const roz_manifest_t *const *ms = manifests_of(fx);
+        if (!fx->watchdog) {
+            print_message("%s: skipped: the command watchdog: the port has none\n", fx->name);
+            continue;
+        }
+        for (size_t k = 0; ms[k] != NULL; k++) {
+            print_message("%s on %s\n", fx->name, ms[k]->robot_id);
+            open_port_with(&c, fx, ms[k], &params);
+            check_watchdog(&c);
+            fx->close();
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -339,6 +451,7 @@ int main(void)
         cmocka_unit_test(test_port_conformance_fresh_and_stale),
         cmocka_unit_test(test_port_conformance_link),
         cmocka_unit_test(test_port_conformance_commands),
+        cmocka_unit_test(test_port_conformance_watchdog),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
