@@ -70,7 +70,7 @@ PM01_GROUPS = (
 
 #: ROZ_DDS_PARAM_KEYS (roz/dds.h)
 DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "command_writer_period_us",
-            "state_decimation", "command_timeout_us")
+            "command_writer_spin_us", "state_decimation", "command_timeout_us")
 #: known_keys of g1_port.c
 G1_KEYS = DDS_KEYS + ("mode_pr", "peer_timeout_ms", "startup_damping", "shutdown_damping")
 #: common_keys of ros2_bridge.c; a robot's own follow
@@ -82,6 +82,7 @@ IFNAME_MAX = 15  # ROZ_DDS_IFNAME_MAX
 MAX_DOMAIN = 232  # ROZ_DDS_MAX_DOMAIN
 MIN_PERIOD_US = 100  # ROZ_DDS_MIN_PERIOD_US
 MAX_PERIOD_US = 1000000  # ROZ_DDS_MAX_PERIOD_US
+MAX_SPIN_US = 10000  # ROZ_DDS_MAX_SPIN_US
 #: the command watchdog's, as roz/hal/cmd_watchdog.h has them
 WATCHDOG_DEFAULT_US = 50000
 WATCHDOG_DEFAULT_PERIODS = 5
@@ -327,6 +328,14 @@ class _Checker:
                 self.bad("command_writer_period_us", "expected 0 (publish as soon as the tick "
                          f"writes) or a period in {MIN_PERIOD_US}..{MAX_PERIOD_US} us")
                 period = None
+        spin = 0  # a spinning writer is an event-driven one
+        if "command_writer_spin_us" in params:
+            spin = u32(params["command_writer_spin_us"], 0, MAX_SPIN_US)
+            if spin is None:
+                self.bad("command_writer_spin_us", f"expected an integer in 0..{MAX_SPIN_US}")
+        if spin and period:
+            self.bad("command_writer_spin_us", "only with an event-driven writer "
+                     f"(command_writer_period_us = 0); this one publishes every {period} us")
         if period is not None:
             self.check_command_timeout(period)
         # the port's own

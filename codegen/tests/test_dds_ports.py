@@ -81,6 +81,7 @@ def test_limits_are_the_headers():
     assert dds_ports.MAX_DOMAIN == _define(dds_h, "ROZ_DDS_MAX_DOMAIN")
     assert dds_ports.MIN_PERIOD_US == _define(dds_h, "ROZ_DDS_MIN_PERIOD_US")
     assert dds_ports.MAX_PERIOD_US == _define(dds_h, "ROZ_DDS_MAX_PERIOD_US")
+    assert dds_ports.MAX_SPIN_US == _define(dds_h, "ROZ_DDS_MAX_SPIN_US")
     assert dds_ports.WATCHDOG_DEFAULT_US == _define(wd_h, "ROZ_CMD_WATCHDOG_DEFAULT_US")
     assert dds_ports.WATCHDOG_DEFAULT_PERIODS == _define(wd_h,
                                                          "ROZ_CMD_WATCHDOG_DEFAULT_PERIODS")
@@ -143,6 +144,7 @@ dds_domain = "232"
 enable_monitor = "off"
 state_decimation = "1000"
 command_writer_period_us = "0"
+command_writer_spin_us = "10000"
 command_timeout_us = "4000"
 mode_pr = "ab"
 peer_timeout_ms = "10"
