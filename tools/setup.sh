@@ -64,7 +64,9 @@ if [ ! -x "$venv/bin/python" ]; then
     say "creating the Python virtual environment in $venv"
     "$python" -m venv "$venv"
 fi
-stamp_want=$(cat tools/requirements.txt codegen/pyproject.toml | sha256sum | cut -d' ' -f1)
+# the stamp names this checkout too: rozgen is installed editable, so a venv
+# that another checkout installed into points at that checkout's codegen
+stamp_want=$( (cat tools/requirements.txt codegen/pyproject.toml; pwd -P) | sha256sum | cut -d' ' -f1)
 stamp_file=$venv/.roz-installed
 if [ "$(cat "$stamp_file" 2>/dev/null)" != "$stamp_want" ]; then
     say "installing pinned Python packages (hash-checked)"

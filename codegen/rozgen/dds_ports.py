@@ -260,8 +260,8 @@ class _Checker:
                 found = True
                 seen.add((kind, i))
                 if ch.interface_type != itype:
-                    self.say(f"{p.family}-channel", f'{p.name}: {kind} {i} "{name}" is a '
-                             f"{ch.interface_type} channel; the port serves it as {itype}")
+                    self.say(f"{p.family}-channel", f'{p.name}: {kind} {i} "{name}" has interface_type '
+                             f"{ch.interface_type}; the port serves it as {itype}")
                     ok = False
                 elif kind == "command" and itype == "damping":
                     self.damping.append((ch.min, ch.max))
@@ -277,8 +277,8 @@ class _Checker:
             i, ch = hit
             seen.add(("state", i))
             if ch.interface_type != itype:
-                self.say(f"{p.family}-channel", f'{p.name}: state {i} "{name}" is a '
-                         f"{ch.interface_type} channel; expected {itype}")
+                self.say(f"{p.family}-channel", f'{p.name}: state {i} "{name}" has interface_type '
+                         f"{ch.interface_type}; expected {itype}")
                 ok = False
         for i, ch in enumerate(m.states):
             if ("state", i) not in seen:

@@ -124,8 +124,8 @@ g1-joint            (ports ``unitree/G1``, ``agibot/X2``, ``engineai/PM01``:
                     not one of the robot's joints (the port's header lists
                     them)``, ``... has no channel in manifest <id> ...``
 g1-channel          ``unitree/G1: command 2 "right_knee_joint/position" has no
-                    place on the G1 (...)``, ``state 1 "x/velocity" is a effort
-                    channel; the port serves it as velocity``
+                    place on the G1 (...)``, ``state 1 "x/velocity" has interface_type
+                    effort; the port serves it as velocity``
 g1-param            ``parameter mode_pr = "PRR": expected PR (...) or AB (...)``
                     (also unknown-key: ``unknown parameter "dds_domian" for
                     port unitree/G1 (known: ...)``)

@@ -63,7 +63,7 @@ static int find(const roz_manifest_t *m, const char *port, int is_state, const c
         return ROZ_OK;
     const roz_channel_t *c = is_state ? &m->states[i] : &m->commands[i];
     if (c->type != type) {
-        roz_format(err, errlen, "%s: %s %d \"%s\" is a %s channel; the port serves it as %s", port,
+        roz_format(err, errlen, "%s: %s %d \"%s\" has interface_type %s; the port serves it as %s", port,
                    is_state ? "state" : "command", i, name, roz_interface_name(c->type),
                    roz_interface_name(type));
         return ROZ_EINVAL;
@@ -113,7 +113,7 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
     for (int k = 0; imu != NULL && k < ROZ_IMU_VALUES; k++) {
         int i = roz_manifest_find_state(m, imu_states[k].name);
         if (i >= 0 && m->states[i].type != imu_states[k].type) {
-            roz_format(err, errlen, "%s: state %d \"%s\" is a %s channel; expected %s", port, i,
+            roz_format(err, errlen, "%s: state %d \"%s\" has interface_type %s; expected %s", port, i,
                        imu_states[k].name, roz_interface_name(m->states[i].type),
                        roz_interface_name(imu_states[k].type));
             return ROZ_EINVAL;
