@@ -187,6 +187,37 @@ static void test_socketcan_start_up(void **st)
     roz_test_can_close(&t);
 }
 
+/* An actuator measured past its joint's limits is held at the limit: no
+ * position outside the manifest goes on the bus, even with no gains. */
+static void test_socketcan_hold_inside_the_limits(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    (void)st;
+    open_on_write(NULL);
+    /* the knee joint is -act - 1.2 rad, its limits [-2.7, -0.5]: the
+     * actuator at -1.0 rad is the joint at -0.2, past -0.5; the hip at
+     * 0.25 rad is inside its limits */
+    fake_can_set(&bus, KNEE, -1.0, 0.0);
+    fake_can_set(&bus, HIP, 0.25, 0.0);
+    bring_up();
+    ROZ_WAIT_FOR(read_leg(state) == 1);
+    assert_true(state[ROZ_CAN_LEG_STATE_KNEE_POSITION] > -0.5);
+    command(cmd, 2);
+    write_round(cmd); /* the start-up hold */
+    uint16_t want;
+    const fake_actuator_cfg_t *kc = &roz_test_leg_actuators[KNEE];
+    roz_mit_range_t r = { kc->range[FAKE_P][0], kc->range[FAKE_P][1] };
+    assert_int_equal(roz_mit_codec_encode(-(-0.5 + 1.2), &r, ROZ_MIT_POSITION_BITS, &want), 0);
+    fake_actuator_t knee = actuator(KNEE), hip = actuator(HIP);
+    assert_int_equal(knee.commands, 0);
+    assert_int_equal(knee.code[FAKE_KP], 0);
+    assert_int_equal(knee.code[FAKE_P], want); /* the limit, not the measured -0.2 */
+    assert_int_not_equal(want, (knee.last_reply[1] << 8) | knee.last_reply[2]);
+    /* inside its limits: the measured code itself */
+    assert_int_equal(hip.code[FAKE_P], (hip.last_reply[1] << 8) | hip.last_reply[2]);
+    roz_test_can_close(&t);
+}
+
 /* Commands reach their actuators in the actuator's frame; states come back
  * in the joint's. */
 static void test_socketcan_commands_and_states(void **st)
@@ -781,6 +812,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_socketcan_start_up, teardown),
+        cmocka_unit_test_teardown(test_socketcan_hold_inside_the_limits, teardown),
         cmocka_unit_test_teardown(test_socketcan_commands_and_states, teardown),
         cmocka_unit_test_teardown(test_socketcan_replays_and_strays, teardown),
         cmocka_unit_test_teardown(test_socketcan_silence_and_return, teardown),

@@ -30,6 +30,7 @@
 #include <time.h>
 
 #include "roz/hal/clock.h"
+#include "roz/hal/joints.h"
 #include "roz/mit_codec.h"
 #include "socketcan_adapt.h"
 
@@ -151,6 +152,26 @@ static int inconsistent(roz_socketcan_t *sc, size_t j, const roz_mit_reply_t *re
     return 0;
 }
 
+/* The position a hold sends: the measured one, inside the limits of the
+ * joint's position command (a hold has no gains and drives nothing, but no
+ * value outside the manifest goes on the bus: an actuator measured past
+ * its limit is held at the limit). Where the joint has no position command
+ * the measured code itself. */
+static uint16_t hold_code_of(const roz_socketcan_t *sc, const roz_can_joint_t *jt,
+                             const roz_mit_reply_t *rep)
+{
+    if (jt->pos_cmd < 0)
+        return rep->position_code;
+    double p = (double)jt->direction * rep->position + jt->zero_offset;
+    double q = roz_channel_clamp(&sc->m->commands[jt->pos_cmd], p);
+    if (q == p)
+        return rep->position_code;
+    uint16_t code = rep->position_code;
+    (void)roz_mit_codec_encode((double)jt->direction * (q - jt->zero_offset), &jt->ranges.position,
+                               ROZ_MIT_POSITION_BITS, &code);
+    return code;
+}
+
 static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, uint64_t t)
 {
     const roz_can_joint_t *jt = &sc->cfg.joints[j];
@@ -213,7 +234,7 @@ static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, u
     sc->rx_image[meta(sc, j, META_ERROR)] = (double)rep.error;
     sc->rx_image[meta(sc, j, META_INCONSISTENT)] = (double)rx->inconsistent;
 
-    atomic_store_explicit(&sh->hold_code, rep.position_code, memory_order_relaxed);
+    atomic_store_explicit(&sh->hold_code, hold_code_of(sc, jt, &rep), memory_order_relaxed);
     atomic_store_explicit(&sh->session, session, memory_order_release);
     atomic_store_explicit(&sh->answered, seq, memory_order_release);
     atomic_store_explicit(&sh->replies, replies + 1u, memory_order_release);

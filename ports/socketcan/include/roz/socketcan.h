@@ -59,7 +59,8 @@
  * Safe start-up, three layers. (1) The writer sends each actuator "enter
  * motor mode" until it replies (which also asks for its state); nothing
  * else goes to it before. (2) Until every actuator has replied once, every
- * one that has gets a hold: its measured position, velocity 0, kp 0, kd 0,
+ * one that has gets a hold: its measured position (at the joint's position
+ * limit if measured past it), velocity 0, kp 0, kd 0,
  * torque 0 (read() returns ROZ_ENOENT meanwhile: there is no whole state).
  * (3) The first command the tick writes after that goes out as the hold
  * too; the next as written. A lost actuator that answers again gets "enter
