@@ -369,8 +369,10 @@ def build(args) -> tuple[str, str]:
           f"tick's write, or spinning up to {spin} us for it after each state frame, "
           "`command_writer_spin_us`), against a raw Cyclone DDS ping-pong of the same sizes; "
           "the three interleaved round trip by round trip, two processes on loopback in a "
-          "network namespace of their own. Figures are given only when no roz tick ran under "
-          "a fault.\n")
+          "network namespace of their own, the robot's on CPU 0 and roz's on CPU 1 (as two "
+          "machines would be). Figures are given only when no roz tick ran under a fault. "
+          "The spinning writer is for a machine with a core to spare for it: here it shares "
+          "roz's one CPU with the tick.\n")
         t = Table("raw ping-pong")
         raw = g1.get("raw Cyclone ping-pong")
         t.timing("roz: unitree/G1, G1 PD under wasm3, writer woken by the tick",
