@@ -29,6 +29,124 @@ static double brake_speed(double dist, double rate, double dt)
     return v < one_step ? v : one_step;
 }
 
+/* Every rule on one value v of command i (after the stop mode chose it),
+ * with the counters: the filter's definition, step by step. `capped`: the
+ * rate cap applies (not an e-stop). */
+static double channel_apply(roz_filter_t *f, uint16_t i, double v, const double *state,
+                            int capped)
+{
+    const roz_manifest_t *m = f->manifest;
+    const roz_channel_t *c = &m->commands[i];
+    int held = 0; /* held back by position-limit enforcement this tick */
+
+    /* 1. non-finite: the safe default */
+    if (!isfinite(v)) {
+        f->counters.nonfinite++;
+        v = roz_filter_safe_default(f, i, state);
+    }
+    /* 2. clamp */
+    if (v < c->min || v > c->max) {
+        v = clampd(v, c->min, c->max);
+        f->counters.clamps++;
+        f->channel_clamps[i]++;
+    }
+    /* 3. rate cap against the last applied value; an e-stop skips it */
+    if (c->max_rate > 0.0 && capped) {
+        double lo = f->last[i] - c->max_rate, hi = f->last[i] + c->max_rate;
+        if (v < lo || v > hi) {
+            v = clampd(v, lo, hi);
+            f->counters.rate_caps++;
+            f->channel_rate_caps[i]++;
+        }
+    }
+    /* 4. position limits through the paired position state */
+    if (c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED &&
+        state != NULL) {
+        const roz_channel_t *ps = &m->states[c->position_state];
+        double p = state[c->position_state];
+        double margin = f->margin[c->position_state];
+        double lo = ps->min + margin, hi = ps->max - margin;
+        double limited = v;
+
+        if (!isfinite(p)) {
+            /* position unknown: stop, also when zero is a limit itself */
+            limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
+        } else if (v > 0.0) {
+            limited = p >= hi ? 0.0 : fmin(v, brake_speed(hi - p, c->max_rate, f->dt));
+        } else if (v < 0.0) {
+            limited = p <= lo ? 0.0 : fmax(v, -brake_speed(p - lo, c->max_rate, f->dt));
+        }
+        if (limited != v) {
+            v = limited;
+            f->counters.limit_stops++;
+            f->channel_limit_stops[i]++;
+            held = 1;
+        }
+    }
+    /* 4b. an effort paired with a position state may not push further
+     * out: at or past the limit less the margin, an effort toward the
+     * outside becomes 0; with the position unknown, 0 (no rate cap:
+     * the limit wins, as for a velocity) */
+    if (c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED &&
+        state != NULL) {
+        const roz_channel_t *ps = &m->states[c->position_state];
+        double p = state[c->position_state];
+        double margin = f->margin[c->position_state];
+        int outward = !isfinite(p) ? v != 0.0
+                                   : (v > 0.0 && p >= ps->max - margin) ||
+                                         (v < 0.0 && p <= ps->min + margin);
+        if (outward) {
+            v = 0.0;
+            f->counters.limit_stops++;
+            f->channel_limit_stops[i]++;
+            held = 1;
+        }
+    }
+    if (!held) {
+        f->channel_stop_run[i] = 0;
+    } else if (f->channel_stop_run[i] < UINT32_MAX) {
+        f->channel_stop_run[i]++;
+        if (f->channel_stop_run[i] > f->channel_stop_longest[i])
+            f->channel_stop_longest[i] = f->channel_stop_run[i];
+    }
+    /* 5. whatever happened above, the port gets a value in [min, max] */
+    if (!(v >= c->min && v <= c->max))
+        v = isfinite(v) ? clampd(v, c->min, c->max) : c->default_value;
+    return v;
+}
+
+/* Step 4 ahead of the rest: whether it may change each paired command's
+ * target this tick (pair_acts[]). It changes nothing for a velocity of 0
+ * with the position known, nor for an effort that does not push out (or is
+ * 0 while the position is unknown); every other case goes through
+ * channel_apply(). The tests are the rules' conditions, written the same
+ * way. Without a snapshot step 4 does nothing. */
+static void pairs_check(roz_filter_t *f, const double *target, const double *state)
+{
+    const roz_manifest_t *m = f->manifest;
+    size_t k = 0;
+
+    if (state == NULL) {
+        for (; k < f->n_paired; k++)
+            f->pair_acts[f->paired[k]] = 0;
+        return;
+    }
+    for (; k < f->n_velocity; k++) {
+        uint16_t i = f->paired[k];
+        double v = target[i], p = state[m->commands[i].position_state];
+        f->pair_acts[i] = !(v == 0.0 && isfinite(p));
+    }
+    for (; k < f->n_paired; k++) {
+        uint16_t i = f->paired[k];
+        int32_t s = m->commands[i].position_state;
+        const roz_channel_t *ps = &m->states[s];
+        double v = target[i], p = state[s], margin = f->margin[s];
+        f->pair_acts[i] = !isfinite(p) ? v != 0.0
+                                       : (v > 0.0 && p >= ps->max - margin) ||
+                                             (v < 0.0 && p <= ps->min + margin);
+    }
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
@@ -38,6 +156,22 @@ int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
     memset(f, 0, sizeof *f);
     f->manifest = m;
     f->dt = 1.0 / (double)m->control_rate_hz;
+    for (uint16_t s = 0; s < m->n_states; s++) {
+        if (m->states[s].type == ROZ_IF_POSITION)
+            f->margin[s] = roz_manifest_limit_margin(&m->states[s]);
+    }
+    /* a valid manifest pairs commands with position states only */
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (m->commands[i].type == ROZ_IF_VELOCITY &&
+            m->commands[i].position_state != ROZ_CHANNEL_UNPAIRED)
+            f->paired[f->n_paired++] = i;
+    }
+    f->n_velocity = f->n_paired;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (m->commands[i].type == ROZ_IF_EFFORT &&
+            m->commands[i].position_state != ROZ_CHANNEL_UNPAIRED)
+            f->paired[f->n_paired++] = i;
+    }
     return ROZ_OK;
 }
 
@@ -67,89 +201,48 @@ void roz_filter_prime(roz_filter_t *f, const double *state)
 void roz_filter_apply(roz_filter_t *f, const double *target, const double *state,
                       roz_stop_t stop, double *out)
 {
-    const roz_manifest_t *m = f->manifest;
+    size_t n = f->manifest->n_commands;
 
     if (!f->primed)
         roz_filter_prime(f, state);
     f->counters.ticks++;
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        double v = stop == ROZ_STOP_NONE ? target[i] : roz_filter_safe_default(f, i, state);
-        int held = 0; /* held back by position-limit enforcement this tick */
-
-        /* 1. non-finite: the safe default */
-        if (!isfinite(v)) {
-            f->counters.nonfinite++;
-            v = roz_filter_safe_default(f, i, state);
+    if (stop != ROZ_STOP_NONE) {
+        int capped = stop != ROZ_STOP_IMMEDIATE;
+        for (size_t i = 0; i < n; i++) {
+            double v = roz_filter_safe_default(f, (uint16_t)i, state);
+            v = channel_apply(f, (uint16_t)i, v, state, capped);
+            f->last[i] = v;
+            out[i] = v;
         }
-        /* 2. clamp */
-        if (v < c->min || v > c->max) {
-            v = clampd(v, c->min, c->max);
-            f->counters.clamps++;
-            f->channel_clamps[i]++;
-        }
-        /* 3. rate cap against the last applied value; an e-stop skips it */
-        if (c->max_rate > 0.0 && stop != ROZ_STOP_IMMEDIATE) {
-            double lo = f->last[i] - c->max_rate, hi = f->last[i] + c->max_rate;
-            if (v < lo || v > hi) {
-                v = clampd(v, lo, hi);
-                f->counters.rate_caps++;
-                f->channel_rate_caps[i]++;
+        return;
+    }
+    /* Most values on most ticks pass every rule untouched: a value within
+     * [min, max] and within the rate cap of the last one (the intersection
+     * of the two, the cap's bounds computed as step 3 computes them), on a
+     * channel step 4 leaves alone, is the output as it is. (v >= lo fails
+     * for NaN, as v >= min does.) Every other value goes through all the
+     * rules. */
+    pairs_check(f, target, state);
+    const roz_channel_t *cmd = f->manifest->commands;
+    for (size_t i = 0; i < n; i++) {
+        const roz_channel_t *c = &cmd[i];
+        double v = target[i];
+        /* step 4 first: it costs a byte, the bounds cost double arithmetic
+         * (a library call each on a core without a double FPU) */
+        if (f->pair_acts[i]) {
+            v = channel_apply(f, (uint16_t)i, v, state, 1);
+        } else {
+            double last = f->last[i], lo = c->min, hi = c->max;
+            if (c->max_rate > 0.0) {
+                double below = last - c->max_rate, above = last + c->max_rate;
+                lo = below > lo ? below : lo;
+                hi = above < hi ? above : hi;
             }
+            if (v >= lo && v <= hi)
+                f->channel_stop_run[i] = 0;
+            else
+                v = channel_apply(f, (uint16_t)i, v, state, 1);
         }
-        /* 4. position limits through the paired position state */
-        if (c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED &&
-            state != NULL) {
-            const roz_channel_t *ps = &m->states[c->position_state];
-            double p = state[c->position_state];
-            double margin = roz_manifest_limit_margin(ps);
-            double lo = ps->min + margin, hi = ps->max - margin;
-            double limited = v;
-
-            if (!isfinite(p)) {
-                /* position unknown: stop, also when zero is a limit itself */
-                limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
-            } else if (v > 0.0) {
-                limited = p >= hi ? 0.0 : fmin(v, brake_speed(hi - p, c->max_rate, f->dt));
-            } else if (v < 0.0) {
-                limited = p <= lo ? 0.0 : fmax(v, -brake_speed(p - lo, c->max_rate, f->dt));
-            }
-            if (limited != v) {
-                v = limited;
-                f->counters.limit_stops++;
-                f->channel_limit_stops[i]++;
-                held = 1;
-            }
-        }
-        /* 4b. an effort paired with a position state may not push further
-         * out: at or past the limit less the margin, an effort toward the
-         * outside becomes 0; with the position unknown, 0 (no rate cap:
-         * the limit wins, as for a velocity) */
-        if (c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED &&
-            state != NULL) {
-            const roz_channel_t *ps = &m->states[c->position_state];
-            double p = state[c->position_state];
-            double margin = roz_manifest_limit_margin(ps);
-            int outward = !isfinite(p) ? v != 0.0
-                                       : (v > 0.0 && p >= ps->max - margin) ||
-                                             (v < 0.0 && p <= ps->min + margin);
-            if (outward) {
-                v = 0.0;
-                f->counters.limit_stops++;
-                f->channel_limit_stops[i]++;
-                held = 1;
-            }
-        }
-        if (!held) {
-            f->channel_stop_run[i] = 0;
-        } else if (f->channel_stop_run[i] < UINT32_MAX) {
-            f->channel_stop_run[i]++;
-            if (f->channel_stop_run[i] > f->channel_stop_longest[i])
-                f->channel_stop_longest[i] = f->channel_stop_run[i];
-        }
-        /* 5. whatever happened above, the port gets a value in [min, max] */
-        if (!(v >= c->min && v <= c->max))
-            v = isfinite(v) ? clampd(v, c->min, c->max) : c->default_value;
         f->last[i] = v;
         out[i] = v;
     }

@@ -32,7 +32,10 @@
  * e-stop.
  *
  * Context: one filter per control loop, used only from the tick; no heap, no
- * locks, bounded by the channel count.
+ * locks, bounded by the channel count. The manifest is read as it is each
+ * tick, but what it implies (which commands are paired, each position
+ * state's margin) is worked out once, at init: the manifest must not change
+ * while a filter uses it.
  */
 #ifndef ROZ_FILTER_H
 #define ROZ_FILTER_H
@@ -81,6 +84,15 @@ typedef struct roz_filter {
     const roz_manifest_t *ROZ_PRIVATE(manifest);
     double   ROZ_PRIVATE(dt);          /* 1 / control_rate_hz */
     int      ROZ_PRIVATE(primed);      /* last[] holds applied values */
+    /* taken from the manifest at init: the commands step 4 applies to (the
+     * velocities, then the efforts, paired with a position state) and each
+     * position state's limit margin (roz_manifest_limit_margin()) */
+    uint16_t ROZ_PRIVATE(paired)[ROZ_CFG_MAX_COMMANDS];
+    uint16_t ROZ_PRIVATE(n_velocity);  /* paired[0, n_velocity): velocities */
+    uint16_t ROZ_PRIVATE(n_paired);    /* paired[n_velocity, n_paired): efforts */
+    double   ROZ_PRIVATE(margin)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    uint8_t  ROZ_PRIVATE(pair_acts)[ROZ_CFG_MAX_COMMANDS]; /* this tick: step 4 may change the
+                                                              channel's target (0 when unpaired) */
     double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
     roz_filter_counters_t ROZ_PRIVATE(counters);
     uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];
@@ -91,7 +103,9 @@ typedef struct roz_filter {
 } roz_filter_t;
 
 /**
- * @brief Prepare a filter for a (valid) manifest; counters zero, not primed.
+ * @brief Prepare a filter for a (valid) manifest; counters zero, not primed;
+ *        the paired commands and the position states' margins taken from
+ *        @p m.
  * @retval ROZ_OK     ready
  * @retval ROZ_EINVAL NULL argument or manifest failing roz_manifest_validate()
  * Context: start-up.
