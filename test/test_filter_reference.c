@@ -1,0 +1,373 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The safety filter against a reference: its rules written out plainly here,
+ * one channel at a time, straight from the manifest (no per-channel plan, no
+ * shortcut for values that pass), run side by side with roz_filter_apply()
+ * on long random sequences: targets in and out of range, at the limits and
+ * the rate caps, NaN and infinities, zero and -0; position states inside,
+ * at and past the margins, unknown; controlled stops and e-stops; a missing
+ * state snapshot; re-initialisation. Every tick's outputs must be the same
+ * bits and every counter (the totals and each channel's) the same number.
+ * Manifests: the G1 and the UR5 (built in) and a small hand-made one with
+ * every kind of channel (paired velocity and effort with and without rate
+ * caps and with their own margins, a paired position, an unpaired velocity
+ * whose limits exclude 0, gains). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/filter.h"
+#include "unitree_g1_manifest.h"
+#include "ur5_manifest.h"
+
+/* ---- the reference ---------------------------------------------------------- */
+
+typedef struct {
+    const roz_manifest_t *m;
+    double   dt;
+    int      primed;
+    double   last[ROZ_CFG_MAX_COMMANDS];
+    roz_filter_counters_t counters;
+    roz_filter_channel_counters_t ch[ROZ_CFG_MAX_COMMANDS];
+} ref_t;
+
+static double ref_clamp(double v, double lo, double hi)
+{
+    return v < lo ? lo : (v > hi ? hi : v);
+}
+
+/* the fastest speed from which braking by `rate` per tick stops within dist */
+static double ref_brake_speed(double dist, double rate, double dt)
+{
+    double one_step = dist / dt;
+    if (rate <= 0.0)
+        return one_step;
+    double d = dist - rate * dt / 4.0;
+    if (d <= 0.0)
+        return 0.0;
+    double v = rate * (-0.5 + sqrt(0.25 + 2.0 * d / (rate * dt)));
+    return v < one_step ? v : one_step;
+}
+
+static double ref_margin(const roz_channel_t *s)
+{
+    double share = ROZ_MANIFEST_MARGIN_SHARE * (s->max - s->min);
+    if (s->limit_margin > 0.0)
+        return s->limit_margin;
+    return share < ROZ_MANIFEST_MARGIN_MAX ? share : ROZ_MANIFEST_MARGIN_MAX;
+}
+
+static double ref_safe_default(const ref_t *r, uint16_t i, const double *state)
+{
+    const roz_channel_t *c = &r->m->commands[i];
+    if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED) {
+        double held = state != NULL ? state[c->position_state] : NAN;
+        if (isfinite(held))
+            return ref_clamp(held, c->min, c->max);
+        if (r->primed)
+            return r->last[i];
+    }
+    return c->default_value;
+}
+
+static void ref_init(ref_t *r, const roz_manifest_t *m)
+{
+    memset(r, 0, sizeof *r);
+    r->m = m;
+    r->dt = 1.0 / (double)m->control_rate_hz;
+}
+
+static void ref_apply(ref_t *r, const double *target, const double *state, roz_stop_t stop,
+                      double *out)
+{
+    const roz_manifest_t *m = r->m;
+
+    if (!r->primed) {
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            r->last[i] = ref_safe_default(r, i, state);
+        r->primed = 1;
+    }
+    r->counters.ticks++;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        roz_filter_channel_counters_t *k = &r->ch[i];
+        double v = stop == ROZ_STOP_NONE ? target[i] : ref_safe_default(r, i, state);
+        int held = 0;
+
+        if (!isfinite(v)) { /* 1 */
+            r->counters.nonfinite++;
+            v = ref_safe_default(r, i, state);
+        }
+        if (v < c->min || v > c->max) { /* 2 */
+            v = ref_clamp(v, c->min, c->max);
+            r->counters.clamps++;
+            k->clamps++;
+        }
+        if (c->max_rate > 0.0 && stop != ROZ_STOP_IMMEDIATE) { /* 3 */
+            double lo = r->last[i] - c->max_rate, hi = r->last[i] + c->max_rate;
+            if (v < lo || v > hi) {
+                v = ref_clamp(v, lo, hi);
+                r->counters.rate_caps++;
+                k->rate_caps++;
+            }
+        }
+        if (c->position_state != ROZ_CHANNEL_UNPAIRED && state != NULL &&
+            (c->type == ROZ_IF_VELOCITY || c->type == ROZ_IF_EFFORT)) { /* 4 */
+            const roz_channel_t *ps = &m->states[c->position_state];
+            double p = state[c->position_state];
+            double lo = ps->min + ref_margin(ps), hi = ps->max - ref_margin(ps);
+            double limited = v;
+            if (c->type == ROZ_IF_VELOCITY) {
+                if (!isfinite(p))
+                    limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
+                else if (v > 0.0)
+                    limited = p >= hi ? 0.0 : fmin(v, ref_brake_speed(hi - p, c->max_rate, r->dt));
+                else if (v < 0.0)
+                    limited = p <= lo ? 0.0 : fmax(v, -ref_brake_speed(p - lo, c->max_rate, r->dt));
+                held = limited != v;
+            } else {
+                held = !isfinite(p) ? v != 0.0 : (v > 0.0 && p >= hi) || (v < 0.0 && p <= lo);
+                if (held)
+                    limited = 0.0;
+            }
+            if (held) {
+                v = limited;
+                r->counters.limit_stops++;
+                k->limit_stops++;
+            }
+        }
+        if (!held) {
+            k->stop_run = 0;
+        } else if (k->stop_run < UINT32_MAX) {
+            k->stop_run++;
+            if (k->stop_run > k->stop_longest)
+                k->stop_longest = k->stop_run;
+        }
+        if (!(v >= c->min && v <= c->max)) /* 5 */
+            v = isfinite(v) ? ref_clamp(v, c->min, c->max) : c->default_value;
+        r->last[i] = v;
+        out[i] = v;
+    }
+}
+
+/* ---- random inputs ------------------------------------------------------------ */
+
+static uint64_t rng_state;
+
+static uint64_t rng(void)
+{
+    /* xorshift64* */
+    rng_state ^= rng_state >> 12;
+    rng_state ^= rng_state << 25;
+    rng_state ^= rng_state >> 27;
+    return rng_state * 2685821657736338717ull;
+}
+
+static double uniform(double lo, double hi)
+{
+    return lo + (hi - lo) * ((double)(rng() >> 11) / 9007199254740992.0);
+}
+
+static int chance(unsigned percent)
+{
+    return rng() % 100u < percent;
+}
+
+/* A target for command c whose last applied value is `last`: mostly a
+ * controller's ordinary output (in range, near the last value), often an
+ * edge (a limit, the rate cap exactly, just past it, 0, -0), sometimes
+ * garbage (out of range, NaN, infinities). */
+static double pick_target(const roz_channel_t *c, double last)
+{
+    double span = c->max - c->min;
+    switch (rng() % 16u) {
+    case 0: return c->min;
+    case 1: return c->max;
+    case 2: return last + c->max_rate;
+    case 3: return last - c->max_rate;
+    case 4: return last + c->max_rate * uniform(1.0, 1.5);
+    case 5: return 0.0;
+    case 6: return -0.0;
+    case 7: return uniform(c->min - span, c->max + span);
+    case 8:
+        switch (rng() % 4u) {
+        case 0: return NAN;
+        case 1: return INFINITY;
+        case 2: return -INFINITY;
+        default: return c->max + span * 1e6;
+        }
+    case 9: return last;
+    default: {
+        double step = c->max_rate > 0.0 ? c->max_rate : span * 0.01;
+        double v = last + uniform(-step, step);
+        return chance(50) ? ref_clamp(v, c->min, c->max) : v;
+    }
+    }
+}
+
+/* A value for state s, `prev` last tick: mostly a small move; often one
+ * at or around a margin edge or a limit, sometimes far out or unknown. */
+static double pick_state(const roz_channel_t *s, double prev)
+{
+    double span = s->max - s->min;
+    double margin = s->type == ROZ_IF_POSITION ? ref_margin(s) : 0.0;
+    switch (rng() % 20u) {
+    case 0: return s->max - margin;
+    case 1: return s->min + margin;
+    case 2: return s->max - margin * uniform(0.0, 3.0);
+    case 3: return s->min + margin * uniform(0.0, 3.0);
+    case 4: return uniform(s->min - 0.2 * span, s->max + 0.2 * span);
+    case 5: return chance(50) ? NAN : (chance(50) ? INFINITY : -INFINITY);
+    case 6: return s->max;
+    case 7: return s->min;
+    default: {
+        double v = isfinite(prev) ? prev : s->default_value;
+        return v + uniform(-0.02, 0.02) * span;
+    }
+    }
+}
+
+/* ---- the comparison --------------------------------------------------------- */
+
+static roz_filter_t f;
+static ref_t ref;
+static double target[ROZ_CFG_MAX_COMMANDS], state[ROZ_CFG_MAX_STATES];
+static double out[ROZ_CFG_MAX_COMMANDS], ref_out[ROZ_CFG_MAX_COMMANDS];
+
+static void same_counters(const roz_manifest_t *m, uint64_t seed, long tick)
+{
+    roz_filter_counters_t got;
+    roz_filter_counters_get(&f, &got);
+    if (memcmp(&got, &ref.counters, sizeof got) != 0)
+        fail_msg("%s, seed %llu, tick %ld: totals differ (clamps %llu/%llu, rate caps %llu/%llu, "
+                 "limit stops %llu/%llu, non-finite %llu/%llu)",
+                 m->robot_id, (unsigned long long)seed, tick, (unsigned long long)got.clamps,
+                 (unsigned long long)ref.counters.clamps, (unsigned long long)got.rate_caps,
+                 (unsigned long long)ref.counters.rate_caps, (unsigned long long)got.limit_stops,
+                 (unsigned long long)ref.counters.limit_stops, (unsigned long long)got.nonfinite,
+                 (unsigned long long)ref.counters.nonfinite);
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        roz_filter_channel_counters_t c;
+        assert_int_equal(roz_filter_channel_counters_get(&f, i, &c), ROZ_OK);
+        if (memcmp(&c, &ref.ch[i], sizeof c) != 0)
+            fail_msg("%s, seed %llu, tick %ld: %s: counters differ (clamps %u/%u, rate caps "
+                     "%u/%u, limit stops %u/%u, stop run %u/%u, longest %u/%u)",
+                     m->robot_id, (unsigned long long)seed, tick, m->commands[i].name, c.clamps,
+                     ref.ch[i].clamps, c.rate_caps, ref.ch[i].rate_caps, c.limit_stops,
+                     ref.ch[i].limit_stops, c.stop_run, ref.ch[i].stop_run, c.stop_longest,
+                     ref.ch[i].stop_longest);
+    }
+}
+
+/* `ticks` random ticks on m from `seed`; returns how many values the rules
+ * changed (so a run that exercised nothing is caught). */
+static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
+{
+    uint64_t changed = 0;
+    roz_stop_t stop = ROZ_STOP_NONE;
+
+    rng_state = seed;
+    assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+    ref_init(&ref, m);
+    for (uint16_t s = 0; s < m->n_states; s++)
+        state[s] = m->states[s].default_value;
+    for (long t = 0; t < ticks; t++) {
+        /* a stop lasts a while, as a latched fault does */
+        if (stop == ROZ_STOP_NONE ? chance(2) : chance(20))
+            stop = stop != ROZ_STOP_NONE ? ROZ_STOP_NONE
+                                         : (chance(50) ? ROZ_STOP_CONTROLLED : ROZ_STOP_IMMEDIATE);
+        if (chance(1)) { /* start over, as a new runtime would */
+            assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+            ref_init(&ref, m);
+        }
+        /* some ticks keep every value where it was: the common case */
+        int quiet = chance(30);
+        for (uint16_t s = 0; s < m->n_states; s++) {
+            if (!quiet || chance(2))
+                state[s] = pick_state(&m->states[s], state[s]);
+        }
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            const roz_channel_t *c = &m->commands[i];
+            double last = ref.primed ? ref.last[i] : c->default_value;
+            target[i] = quiet && !chance(5) ? ref_clamp(last, c->min, c->max)
+                                            : pick_target(c, last);
+        }
+        const double *snap = m->n_states > 0 && !chance(2) ? state : NULL;
+        roz_filter_apply(&f, target, snap, stop, out);
+        ref_apply(&ref, target, snap, stop, ref_out);
+        if (memcmp(out, ref_out, (size_t)m->n_commands * sizeof out[0]) != 0) {
+            for (uint16_t i = 0; i < m->n_commands; i++) {
+                if (memcmp(&out[i], &ref_out[i], sizeof out[i]) != 0)
+                    fail_msg("%s, seed %llu, tick %ld, stop %d: %s: target %.17g -> %.17g, "
+                             "reference %.17g", m->robot_id, (unsigned long long)seed, t,
+                             (int)stop, m->commands[i].name, target[i], out[i], ref_out[i]);
+            }
+        }
+        same_counters(m, seed, t);
+        for (uint16_t i = 0; i < m->n_commands; i++)
+            changed += memcmp(&out[i], &target[i], sizeof out[i]) != 0;
+    }
+    return changed;
+}
+
+/* A robot with one of each: a paired velocity with a rate cap and its own
+ * margin, one without a cap on the default margin; a paired effort with and
+ * without a cap; a paired position; an unpaired velocity whose limits exclude
+ * 0 (its default is its safe value); a gain with a rate cap. */
+static const roz_channel_t mixed_cmd[] = {
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0 },
+    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0 },
+    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0 },
+    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0 },
+    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0 },
+    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+};
+static const roz_channel_t mixed_state[] = {
+    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1 },
+    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+};
+static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL };
+
+static void test_reference_mixed(void **st)
+{
+    (void)st;
+    uint64_t changed = 0;
+    for (uint64_t seed = 1; seed <= 20; seed++)
+        changed += run(&mixed, seed * 0x9e3779b97f4a7c15ull, 20000);
+    assert_true(changed > 10000); /* the rules were at work, not idle */
+}
+
+static void test_reference_ur5(void **st)
+{
+    (void)st;
+    uint64_t changed = 0;
+    for (uint64_t seed = 1; seed <= 5; seed++)
+        changed += run(&roz_manifest_ur5, seed * 0xd1b54a32d192ed03ull, 20000);
+    assert_true(changed > 10000);
+}
+
+static void test_reference_g1(void **st)
+{
+    (void)st;
+    uint64_t changed = 0;
+    for (uint64_t seed = 1; seed <= 3; seed++)
+        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000);
+    assert_true(changed > 10000);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reference_mixed),
+        cmocka_unit_test(test_reference_ur5),
+        cmocka_unit_test(test_reference_g1),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
