@@ -407,7 +407,10 @@ static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
  * request means seeing the swap. Returns the slot that drives, -1 none. */
 static int tick_handovers(roz_runtime_t *rt)
 {
-    unsigned clear = atomic_exchange(&rt->clear_request, 0u);
+    /* a load first: on most ticks there is nothing to take, and an
+     * exchange is a locked instruction */
+    unsigned clear = atomic_load(&rt->clear_request) != 0u ? atomic_exchange(&rt->clear_request, 0u)
+                                                           : 0u;
     int pending = atomic_load(&rt->pending);
     if (pending != -1) {
         int old = atomic_load(&rt->active);
@@ -432,7 +435,8 @@ static int tick_handovers(roz_runtime_t *rt)
  * (even one already released), or the input held. */
 static void tick_estop(roz_runtime_t *rt)
 {
-    unsigned press = atomic_exchange(&rt->estop_press, 0u);
+    unsigned press = atomic_load(&rt->estop_press) != 0u ? atomic_exchange(&rt->estop_press, 0u)
+                                                         : 0u; /* as the clear request */
     unsigned level = atomic_load(&rt->estop_level);
     if (press != 0u)
         rt->rec_flags |= ROZ_RECORD_ESTOP_PRESS;
