@@ -505,14 +505,17 @@ static void latch_command_timeout(roz_runtime_t *rt)
 }
 
 /* 2. State: read into a scratch frame (the port leaves it undefined on
- * error); the state the controller and filter see is the last good one.
- * Counts staleness and latches STALE and LINK; a frame that reports a
- * robot fault is a fresh frame, and latches ROBOT. */
+ * error): the snapshot's spare slot, the tick's own until it is published,
+ * so a fresh frame is copied once, into the state the controller and filter
+ * see; that is the last good one. Counts staleness and latches STALE and
+ * LINK; a frame that reports a robot fault is a fresh frame, and latches
+ * ROBOT. */
 static void tick_read(roz_runtime_t *rt)
 {
     const roz_manifest_t *m = rt->cfg.manifest;
+    double *frame = roz_buffer_write_begin(&rt->snapshot);
     uint64_t t0 = now(rt);
-    int rc = rt->cfg.port.ops->read(rt->cfg.port.self, rt->scratch, m->n_states);
+    int rc = rt->cfg.port.ops->read(rt->cfg.port.self, frame, m->n_states);
     uint64_t t1 = now(rt);
     int bad = -1;
 
@@ -525,17 +528,17 @@ static void tick_read(roz_runtime_t *rt)
         latch_command_timeout(rt); /* no frame in this read */
     }
     if (rc == 1 && !rt->have_state) {
-        bad = first_frame_bad(rt, rt->scratch);
+        bad = first_frame_bad(rt, frame);
         if (bad >= 0 && !rt->nonfinite_warned) {
             rt->nonfinite_warned = 1;
             log_push(rt, ROZ_LOG_WARN, EV_FIRST_FRAME_NONFINITE, 0, 0, (uint64_t)bad, 0, 0, 0);
         }
     }
     if (rc == 1 && bad < 0) {
-        memcpy(rt->state, rt->scratch, (size_t)m->n_states * sizeof rt->state[0]);
+        memcpy(rt->state, frame, (size_t)m->n_states * sizeof rt->state[0]);
         rt->have_state = 1;
         rt->stale_count = 0;
-        roz_buffer_write(&rt->snapshot, rt->state, t1);
+        roz_buffer_write_commit(&rt->snapshot, t1);
         rt->rec_flags |= ROZ_RECORD_FRESH;
         return;
     }

@@ -253,9 +253,9 @@ typedef struct roz_runtime {
     int                    ROZ_PRIVATE(have_state);
     uint32_t               ROZ_PRIVATE(stale_count);
     double                 ROZ_PRIVATE(state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    double                 ROZ_PRIVATE(scratch)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1]; /* read() */
     double                 ROZ_PRIVATE(out)[ROZ_CFG_MAX_COMMANDS];
-    /* this tick's state for verification on another thread */
+    /* this tick's state for verification on another thread; read() fills
+     * its spare slot */
     roz_buffer_t           ROZ_PRIVATE(snapshot);
     double                 ROZ_PRIVATE(snapshot_slots)[3 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1)];
     double                 ROZ_PRIVATE(verify_state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
@@ -392,8 +392,8 @@ ROZ_NODISCARD int roz_runtime_start(roz_runtime_t *rt);
 /**
  * @brief One tick, in this order: hand-overs from other threads (a pending
  *        swap, then a clear), the e-stop input, the port's read() into a
- *        scratch frame, the controller unless a fault is latched, the filter,
- *        the port's write().
+ *        scratch frame (the state snapshot's spare slot), the controller
+ *        unless a fault is latched, the filter, the port's write().
  * @retval ROZ_OK     no fault latched
  * @retval ROZ_EFAULT a fault is latched (the tick still ran: defaults went out)
  * @retval ROZ_ESTATE not started (roz_runtime_start()): nothing read or sent
