@@ -38,7 +38,15 @@ static void ros2_counters(roz_alloc_port_counts_t *out)
 {
     roz_ros2_counters_t c;
     roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    out->received = c.topic[0].samples;
+    /* received: the fewest samples of any topic (the X2's port has no
+     * frame until every group has delivered, and the run's first ticks
+     * must find one: waiting on the first topic alone let them write
+     * nothing on a loaded machine) */
+    uint64_t fewest = UINT64_MAX;
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        if (c.topic[t].samples < fewest)
+            fewest = c.topic[t].samples;
+    out->received = c.n_topics > 0 ? fewest : 0;
     out->frames = c.frames;
     out->writes = c.writes;
     out->published = c.published;
