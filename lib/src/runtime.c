@@ -509,12 +509,13 @@ static void latch_command_timeout(roz_runtime_t *rt)
  * so a fresh frame is copied once, into the state the controller and filter
  * see; that is the last good one. Counts staleness and latches STALE and
  * LINK; a frame that reports a robot fault is a fresh frame, and latches
- * ROBOT. */
-static void tick_read(roz_runtime_t *rt)
+ * ROBOT. @p t0: the tick's start, which is also read()'s (the hand-overs
+ * and the e-stop's look between them take a few ns; a clock read more
+ * would cost more than they do). */
+static void tick_read(roz_runtime_t *rt, uint64_t t0)
 {
     const roz_manifest_t *m = rt->cfg.manifest;
     double *frame = roz_buffer_write_begin(&rt->snapshot);
-    uint64_t t0 = now(rt);
     int rc = rt->cfg.port.ops->read(rt->cfg.port.self, frame, m->n_states);
     uint64_t t1 = now(rt);
     int bad = -1;
@@ -925,7 +926,7 @@ int roz_runtime_tick(roz_runtime_t *rt)
     rt->rec_cleared = 0u;
     int active = tick_handovers(rt);
     tick_estop(rt);
-    tick_read(rt);
+    tick_read(rt, t_start);
     target = NULL;
     if (rt->have_state) {
         roz_stop_t stop = tick_controller(rt, active, &target);

@@ -30,7 +30,7 @@ extern "C" {
 
 /** What is measured. */
 typedef enum roz_monitor_kind {
-    ROZ_MON_READ = 0,        /**< port read, default threshold 100 us */
+    ROZ_MON_READ = 0,        /**< port read (from the tick's start), default threshold 100 us */
     ROZ_MON_WRITE,           /**< port write, 100 us */
     ROZ_MON_STATE_HANDLER,   /**< a port's state callback, 200 us */
     ROZ_MON_COMMAND_WRITER,  /**< a port's command writer pass, 200 us */
