@@ -19,10 +19,8 @@
 
 #include <cmocka.h>
 
-#include "roz/agibot_x2.h"
-#include "roz/engineai_pm01.h"
-#include "roz/manifest_toml.h"
-#include "roz/unitree_g1.h"
+#include "dds_open_file.h"
+#include "roz/error.h"
 
 #ifndef ROZ_SOURCE_DIR
 #error "ROZ_SOURCE_DIR: the repository"
@@ -30,26 +28,9 @@
 
 #define VECTORS "manifests/invalid"
 #define MAX_VECTORS 512
-#define MAX_PROBLEMS 64
-
-static char text[1u << 20];
-static roz_manifest_storage_t storage;
-static roz_manifest_toml_problem_t problems[MAX_PROBLEMS];
-ROZ_TOML_DOC_DEFINE(doc, 1u << 16, 1u << 20);
-
-static roz_unitree_g1_t g1;
-static roz_agibot_x2_t x2;
-static roz_engineai_pm01_t pm01;
 
 static char names[MAX_VECTORS][128];
 static size_t n_names;
-
-static void quiet(void *ctx, roz_log_level_t level, const char *msg)
-{
-    (void)ctx;
-    (void)level;
-    (void)msg;
-}
 
 static int by_name(const void *a, const void *b)
 {
@@ -95,21 +76,6 @@ static void expected_line(const char *name, char *out, size_t len)
     *nl = '\0';
 }
 
-/* The port a vector is for, or none (NULL). */
-static int port_of(const roz_manifest_t *m, roz_port_t *port)
-{
-    const char *name = m->hardware != NULL ? m->hardware->port : "";
-    if (strcmp(name, "unitree/G1") == 0)
-        *port = roz_unitree_g1_port(&g1, quiet, NULL);
-    else if (strcmp(name, "agibot/X2") == 0)
-        *port = roz_agibot_x2_port(&x2, quiet, NULL);
-    else if (strcmp(name, "engineai/PM01") == 0)
-        *port = roz_engineai_pm01_port(&pm01, quiet, NULL);
-    else
-        return 0;
-    return 1;
-}
-
 static void test_port_vectors_agree(void **state)
 {
     unsigned g1_vectors = 0, ros2_vectors = 0, failed = 0;
@@ -118,26 +84,17 @@ static void test_port_vectors_agree(void **state)
     list_vectors();
     for (size_t i = 0; i < n_names; i++) {
         char path[512], err[1024], want[2048], got[2048];
-        size_t found = 0;
-        roz_port_t port;
+        const char *port_name;
 
         snprintf(path, sizeof path, "%s/%s/%s", ROZ_SOURCE_DIR, VECTORS, names[i]);
-        roz_toml_init(&doc, doc_nodes, sizeof doc_nodes / sizeof doc_nodes[0], doc_arena,
-                      sizeof doc_arena);
-        if (roz_manifest_toml_load_file(path, text, sizeof text, &storage, &doc, problems,
-                                        MAX_PROBLEMS, &found) != ROZ_OK)
-            continue; /* the loader's own rules */
-        if (!port_of(&storage.manifest, &port))
-            continue;
-        if (strcmp(storage.manifest.hardware->port, "unitree/G1") == 0)
+        int rc = roz_test_dds_open_file(path, &port_name, err, sizeof err);
+        if (rc == ROZ_TEST_NOT_LOADED || rc == ROZ_TEST_NO_DDS_PORT)
+            continue; /* the loader's own rules, or another port's */
+        if (strcmp(port_name, "unitree/G1") == 0)
             g1_vectors++;
         else
             ros2_vectors++;
-
-        err[0] = '\0';
-        int rc = roz_port_open(&port, &storage.manifest, NULL, err, sizeof err);
         if (rc == ROZ_OK) {
-            roz_port_close(&port);
             print_error("%s: the port opens it\n", names[i]);
             failed++;
             continue;
