@@ -10,7 +10,11 @@
  * Manifests: the G1 and the UR5 (built in) and a small hand-made one with
  * every kind of channel (paired velocity and effort with and without rate
  * caps and with their own margins, a paired position, an unpaired velocity
- * whose limits exclude 0, gains). */
+ * whose limits exclude 0, gains). Where the filter can test a tick on AVX2
+ * vectors, every run is made twice: with them (the tests count the ticks
+ * that took that way) and with the CPU's AVX2 taken away, one value at a
+ * time (white box: the only private field the test touches). */
+#define ROZ_PRIVATE_ACCESS
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -264,6 +268,25 @@ static void same_counters(const roz_manifest_t *m, uint64_t seed, long tick)
     }
 }
 
+/* 1: the filter may use AVX2 where it can; 0: it may not. */
+static int vectors;
+/* 1: quiet ticks are a controller holding still (each value where it was,
+ * paired velocities 0) but for one value, half the time; with many
+ * channels, the only way a whole tick passes often enough to test the
+ * vector way at the edges */
+static int calm;
+/* ticks that took the vector way (the filter's flag left cleared) */
+static uint64_t vector_ticks;
+
+static void filter_init(const roz_manifest_t *m)
+{
+    assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+#if ROZ__FILTER_AVX2
+    if (!vectors)
+        f.avx2 = 0;
+#endif
+}
+
 /* `ticks` random ticks on m from `seed`; returns how many values the rules
  * changed (so a run that exercised nothing is caught). */
 static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
@@ -272,7 +295,7 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
     roz_stop_t stop = ROZ_STOP_NONE;
 
     rng_state = seed;
-    assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+    filter_init(m);
     ref_init(&ref, m);
     for (uint16_t s = 0; s < m->n_states; s++)
         state[s] = m->states[s].default_value;
@@ -282,7 +305,7 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
             stop = stop != ROZ_STOP_NONE ? ROZ_STOP_NONE
                                          : (chance(50) ? ROZ_STOP_CONTROLLED : ROZ_STOP_IMMEDIATE);
         if (chance(1)) { /* start over, as a new runtime would */
-            assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+            filter_init(m);
             ref_init(&ref, m);
         }
         /* some ticks keep every value where it was: the common case */
@@ -294,11 +317,22 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
         for (uint16_t i = 0; i < m->n_commands; i++) {
             const roz_channel_t *c = &m->commands[i];
             double last = ref.primed ? ref.last[i] : c->default_value;
-            target[i] = quiet && !chance(5) ? ref_clamp(last, c->min, c->max)
-                                            : pick_target(c, last);
+            if (quiet && calm) /* a controller holding still: paired velocities 0 */
+                target[i] = c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED
+                                ? 0.0
+                                : ref_clamp(last, c->min, c->max);
+            else
+                target[i] = quiet && !chance(5) ? ref_clamp(last, c->min, c->max)
+                                                : pick_target(c, last);
+        }
+        if (quiet && calm && chance(50)) { /* but one value anywhere: an edge, a step, garbage */
+            uint16_t i = (uint16_t)(rng() % m->n_commands);
+            target[i] = pick_target(&m->commands[i], ref.primed ? ref.last[i]
+                                                                : m->commands[i].default_value);
         }
         const double *snap = m->n_states > 0 && !chance(2) ? state : NULL;
         roz_filter_apply(&f, target, snap, stop, out);
+        vector_ticks += !f.running;
         ref_apply(&ref, target, snap, stop, ref_out);
         if (memcmp(out, ref_out, (size_t)m->n_commands * sizeof out[0]) != 0) {
             for (uint16_t i = 0; i < m->n_commands; i++) {
@@ -335,39 +369,73 @@ static const roz_channel_t mixed_state[] = {
 };
 static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL };
 
+/* Sets the mode from the test's state; after the runs, checks that the
+ * vector way was taken in that mode (where the CPU has it) and never in the
+ * other. */
+static void mode_begin(void **st)
+{
+    vectors = *(const int *)*st;
+    vector_ticks = 0;
+}
+
+static void mode_end(uint64_t min_vector_ticks)
+{
+#if ROZ__FILTER_AVX2
+    __builtin_cpu_init();
+    if (vectors && __builtin_cpu_supports("avx2"))
+        assert_true(vector_ticks >= min_vector_ticks);
+    else
+        assert_int_equal(vector_ticks, 0);
+#else
+    (void)min_vector_ticks;
+    assert_int_equal(vector_ticks, 0);
+#endif
+}
+
 static void test_reference_mixed(void **st)
 {
-    (void)st;
     uint64_t changed = 0;
+    mode_begin(st);
     for (uint64_t seed = 1; seed <= 20; seed++)
         changed += run(&mixed, seed * 0x9e3779b97f4a7c15ull, 20000);
     assert_true(changed > 10000); /* the rules were at work, not idle */
+    mode_end(1000);
 }
 
 static void test_reference_ur5(void **st)
 {
-    (void)st;
     uint64_t changed = 0;
+    mode_begin(st);
     for (uint64_t seed = 1; seed <= 5; seed++)
         changed += run(&roz_manifest_ur5, seed * 0xd1b54a32d192ed03ull, 20000);
     assert_true(changed > 10000);
+    mode_end(1000);
 }
 
 static void test_reference_g1(void **st)
 {
-    (void)st;
     uint64_t changed = 0;
+    mode_begin(st);
     for (uint64_t seed = 1; seed <= 3; seed++)
         changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000);
+    calm = 1;
+    for (uint64_t seed = 4; seed <= 6; seed++)
+        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000);
+    calm = 0;
     assert_true(changed > 10000);
+    mode_end(500);
 }
 
 int main(void)
 {
+    static int on = 1, off = 0;
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reference_mixed),
-        cmocka_unit_test(test_reference_ur5),
-        cmocka_unit_test(test_reference_g1),
+        cmocka_unit_test_prestate(test_reference_mixed, &on),
+        cmocka_unit_test_prestate(test_reference_ur5, &on),
+        cmocka_unit_test_prestate(test_reference_g1, &on),
+        cmocka_unit_test_prestate(test_reference_mixed, &off),
+        cmocka_unit_test_prestate(test_reference_ur5, &off),
+        cmocka_unit_test_prestate(test_reference_g1, &off),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -98,6 +98,19 @@ static void test_monitor_percentiles(void **st)
     for (int i = 0; i < 10; i++)
         roz_monitor_record(&mon, ROZ_MON_WRITE, 3, S);
     assert_int_equal(roz_monitor_percentile(&mon, ROZ_MON_WRITE, 50), 3);
+    /* the histogram ends at 2^38 ns: the last bucket holds the rest, and a
+     * percentile that falls in it is the largest sample, however long */
+    roz_monitor_init(&mon, "p", 2 * MS, NULL, NULL);
+    roz_monitor_record(&mon, ROZ_MON_TICK, 100 * S, S);
+    roz_monitor_record(&mon, ROZ_MON_TICK, 400 * S, S);
+    roz_monitor_record(&mon, ROZ_MON_TICK, UINT64_MAX / 4, S);
+    roz_monitor_stat_t s;
+    assert_int_equal(roz_monitor_snapshot(&mon, ROZ_MON_TICK, &s), ROZ_OK);
+    assert_int_equal(s.hist[ROZ_MONITOR_BUCKETS - 1], 2);
+    uint64_t p1 = roz_monitor_percentile(&mon, ROZ_MON_TICK, 1);
+    assert_true(p1 >= 100 * S && p1 <= 100 * S * 1.13);
+    assert_int_equal(roz_monitor_percentile(&mon, ROZ_MON_TICK, 50), UINT64_MAX / 4);
+    assert_int_equal(roz_monitor_percentile(&mon, ROZ_MON_TICK, 100), UINT64_MAX / 4);
 }
 
 static void test_monitor_jitter(void **st)

@@ -44,19 +44,23 @@ static unsigned lead_bit(uint64_t ns)
 }
 
 /* Bucket of a value: below 8 ns one bucket per ns; above, the power of two
- * and the next three bits below the leading one. */
+ * and the next three bits below the leading one, up to the last bucket,
+ * which holds the rest. */
 static unsigned bucket_of(uint64_t ns)
 {
     if (ns < ROZ_MONITOR_SUB_BUCKETS)
         return (unsigned)ns;
     unsigned lead = lead_bit(ns);
     unsigned sub = (unsigned)(ns >> (lead - 3u)) & (ROZ_MONITOR_SUB_BUCKETS - 1u);
-    return (lead - 2u) * ROZ_MONITOR_SUB_BUCKETS + sub;
+    unsigned b = (lead - 2u) * ROZ_MONITOR_SUB_BUCKETS + sub;
+    return b < ROZ_MONITOR_BUCKETS ? b : ROZ_MONITOR_BUCKETS - 1u;
 }
 
-/* Upper edge (exclusive) of a bucket. */
+/* Upper edge (exclusive) of a bucket; the last one has none. */
 static uint64_t bucket_top(unsigned b)
 {
+    if (b >= ROZ_MONITOR_BUCKETS - 1u)
+        return UINT64_MAX;
     if (b < ROZ_MONITOR_SUB_BUCKETS)
         return b + 1u;
     unsigned lead = b / ROZ_MONITOR_SUB_BUCKETS + 2u;

@@ -79,6 +79,16 @@ typedef struct roz_filter_channel_counters {
     uint32_t stop_longest; /**< the longest such run */
 } roz_filter_channel_counters_t;
 
+/* 1 where the filter can test a tick's targets on AVX2 vectors when the CPU
+ * has them (x86-64, GCC or Clang: vector extensions, a target attribute and
+ * __builtin_cpu_supports()); 0 elsewhere. Not an option: it follows the
+ * compiler, and sizes the struct below. */
+#if (defined(__GNUC__) || defined(__clang__)) && defined(__x86_64__)
+#define ROZ__FILTER_AVX2 1
+#else
+#define ROZ__FILTER_AVX2 0
+#endif
+
 /** Filter state; caller-owned storage, fields private (roz/private.h). */
 typedef struct roz_filter {
     const roz_manifest_t *ROZ_PRIVATE(manifest);
@@ -90,9 +100,21 @@ typedef struct roz_filter {
     uint16_t ROZ_PRIVATE(paired)[ROZ_CFG_MAX_COMMANDS];
     uint16_t ROZ_PRIVATE(n_velocity);  /* paired[0, n_velocity): velocities */
     uint16_t ROZ_PRIVATE(n_paired);    /* paired[n_velocity, n_paired): efforts */
+    uint16_t ROZ_PRIVATE(pair_state)[ROZ_CFG_MAX_COMMANDS]; /* paired[k]'s position state */
+    double   ROZ_PRIVATE(pair_lo)[ROZ_CFG_MAX_COMMANDS];    /* its min + margin (efforts) */
+    double   ROZ_PRIVATE(pair_hi)[ROZ_CFG_MAX_COMMANDS];    /* its max - margin (efforts) */
     double   ROZ_PRIVATE(margin)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     uint8_t  ROZ_PRIVATE(pair_acts)[ROZ_CFG_MAX_COMMANDS]; /* this tick: step 4 may change the
                                                               channel's target (0 when unpaired) */
+#if ROZ__FILTER_AVX2
+    /* each command's min, max and rate cap (+inf: none) side by side, for
+     * the test of a whole tick on vectors; avx2: the CPU has them */
+    double   ROZ_PRIVATE(pass_min)[ROZ_CFG_MAX_COMMANDS];
+    double   ROZ_PRIVATE(pass_max)[ROZ_CFG_MAX_COMMANDS];
+    double   ROZ_PRIVATE(pass_rate)[ROZ_CFG_MAX_COMMANDS];
+    int      ROZ_PRIVATE(avx2);
+#endif
+    int      ROZ_PRIVATE(running); /* channel_stop_run[] may not be all 0 */
     double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
     roz_filter_counters_t ROZ_PRIVATE(counters);
     uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];
@@ -134,7 +156,8 @@ void roz_filter_prime(roz_filter_t *f, const double *state);
  * @param[in]  target  n_commands controller targets (ignored when stopping)
  * @param[in]  state   n_states values of this tick's snapshot
  * @param[in]  stop    run, controlled stop or e-stop
- * @param[out] out     n_commands values for the port, each within [min, max]
+ * @param[out] out     n_commands values for the port, each within [min, max];
+ *                     may be @p target itself
  * Context: tick; RT-safe; O(n_commands).
  */
 void roz_filter_apply(roz_filter_t *f, const double *target, const double *state,

@@ -40,9 +40,12 @@ typedef enum roz_monitor_kind {
     ROZ_MON_KIND_COUNT_
 } roz_monitor_kind_t;
 
-/** Histogram: 8 sub-buckets per power of two of nanoseconds (12.5 % resolution). */
+/** Histogram: 8 sub-buckets per power of two of nanoseconds (12.5 %
+ *  resolution) up to 2^38 ns (about 275 s); the last bucket also holds
+ *  everything longer, and a percentile that falls in it is the largest
+ *  sample (max_ns). */
 #define ROZ_MONITOR_SUB_BUCKETS 8
-#define ROZ_MONITOR_BUCKETS (64 * ROZ_MONITOR_SUB_BUCKETS)
+#define ROZ_MONITOR_BUCKETS (36 * ROZ_MONITOR_SUB_BUCKETS)
 
 /** Figures of one kind. */
 /** The figures of one kind at one instant (roz_monitor_snapshot()). */
