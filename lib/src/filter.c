@@ -147,16 +147,41 @@ static size_t pairs_check(roz_filter_t *f, const double *target, const double *s
     return acting;
 }
 
+/* One value of an ordinary tick (no stop): as it is when it passes steps 1
+ * to 3 and step 4 leaves its channel alone, else through every rule. Step
+ * 4 is asked first: it costs a byte, the bounds cost double arithmetic (a
+ * library call each on a core without a double FPU). */
+static double tick_value(roz_filter_t *f, size_t i, double v, const double *state)
+{
+    if (!f->pair_acts[i]) {
+        const roz_channel_t *c = &f->manifest->commands[i];
+        double last = f->last[i], lo = c->min, hi = c->max;
+        if (c->max_rate > 0.0) {
+            double below = last - c->max_rate, above = last + c->max_rate;
+            lo = below > lo ? below : lo;
+            hi = above < hi ? above : hi;
+        }
+        if (v >= lo && v <= hi) {
+            f->channel_stop_run[i] = 0;
+            return v;
+        }
+    }
+    return channel_apply(f, (uint16_t)i, v, state, 1);
+}
+
 #if ROZ__FILTER_AVX2
-/* Whether every one of the n targets passes steps 1 to 3 untouched: within
- * [min, max] and within the rate cap of the last applied value, the cap's
- * bounds computed as step 3 computes them (last -/+ max_rate; a cap of
- * +inf: none). Every comparison with NaN is false, so NaN fails. Four
- * channels at a time on AVX2 vectors (GCC and Clang vector extensions);
- * called only when the CPU has them. Copies the targets to out on the way
- * (out may be target): the outputs when they all pass; otherwise the rules
- * write every one of them again, from the targets and the last values,
- * which this leaves alone. */
+/* Steps 1 to 3 on AVX2 vectors (GCC and Clang vector extensions), called
+ * only when the CPU has them, a group of four channels at a time (the last
+ * group may be shorter): whether its targets pass untouched, within [min,
+ * max] and within the rate cap of the last applied value, the cap's bounds
+ * computed as step 3 computes them (last -/+ max_rate; a cap of +inf:
+ * none). Every comparison with NaN is false, so NaN fails. The targets are
+ * copied to out on the way (out may be target): they are the outputs of
+ * the groups that pass; the rules write the others again, from the targets
+ * and the last values, which the tests leave alone. */
+#define GROUP 4u
+#define GROUP_WORDS ((ROZ_CFG_MAX_COMMANDS + GROUP - 1u) / GROUP / 64u + 1u)
+
 typedef double roz__v4d __attribute__((vector_size(32)));
 typedef long long roz__v4l __attribute__((vector_size(32)));
 
@@ -167,6 +192,34 @@ __attribute__((target("avx2"))) static inline roz__v4d load4(const double *p)
     return v;
 }
 
+/* Steps 1 to 3 on channels [i, i + 4), target copied to out. */
+__attribute__((target("avx2"))) static inline roz__v4l pass4(const roz_filter_t *f,
+                                                             const double *target, size_t i,
+                                                             double *out)
+{
+    roz__v4d v = load4(&target[i]), last = load4(&f->last[i]), rate = load4(&f->pass_rate[i]);
+    memcpy(&out[i], &v, sizeof v);
+    return (v >= load4(&f->pass_min[i])) & (v <= load4(&f->pass_max[i])) & (v >= last - rate) &
+           (v <= last + rate);
+}
+
+/* The same on the channels [i, n) of the last group, one at a time. */
+__attribute__((target("avx2"))) static inline int pass_tail(const roz_filter_t *f,
+                                                             const double *target, size_t i,
+                                                             size_t n, double *out)
+{
+    int pass = 1;
+    for (; i < n; i++) {
+        double v = target[i], last = f->last[i], rate = f->pass_rate[i];
+        pass &= (v >= f->pass_min[i]) & (v <= f->pass_max[i]) & (v >= last - rate) &
+                (v <= last + rate);
+        out[i] = v;
+    }
+    return pass;
+}
+
+/* Whether every group passes (the usual tick, so the test is kept to a few
+ * instructions a group). */
 __attribute__((target("avx2"))) static int all_pass_avx2(const roz_filter_t *f,
                                                          const double *target, size_t n,
                                                          double *out)
@@ -174,20 +227,76 @@ __attribute__((target("avx2"))) static int all_pass_avx2(const roz_filter_t *f,
     roz__v4l pass = { -1, -1, -1, -1 };
     size_t i = 0;
 
-    for (; i + 4u <= n; i += 4u) {
-        roz__v4d v = load4(&target[i]), last = load4(&f->last[i]), rate = load4(&f->pass_rate[i]);
-        pass &= (v >= load4(&f->pass_min[i])) & (v <= load4(&f->pass_max[i])) &
-                (v >= last - rate) & (v <= last + rate);
-        memcpy(&out[i], &v, sizeof v);
+    for (; i + GROUP <= n; i += GROUP)
+        pass &= pass4(f, target, i, out);
+    return ((pass[0] & pass[1] & pass[2] & pass[3]) != 0) & pass_tail(f, target, i, n, out);
+}
+
+/* Which groups do not pass, when some do not. */
+__attribute__((target("avx2"))) static void groups_check_avx2(const roz_filter_t *f,
+                                                              const double *target, size_t n,
+                                                              double *out, uint64_t *fails)
+{
+    size_t i = 0;
+
+    memset(fails, 0, GROUP_WORDS * sizeof fails[0]);
+    for (; i + GROUP <= n; i += GROUP) {
+        roz__v4l pass = pass4(f, target, i, out);
+        if (!(pass[0] & pass[1] & pass[2] & pass[3]))
+            fails[i / GROUP / 64u] |= 1ull << (i / GROUP % 64u);
     }
-    int all = (pass[0] & pass[1] & pass[2] & pass[3]) != 0;
-    for (; i < n; i++) {
-        double v = target[i], last = f->last[i], rate = f->pass_rate[i];
-        all &= (v >= f->pass_min[i]) & (v <= f->pass_max[i]) & (v >= last - rate) &
-               (v <= last + rate);
-        out[i] = v;
+    if (i < n && !pass_tail(f, target, i, n, out))
+        fails[i / GROUP / 64u] |= 1ull << (i / GROUP % 64u);
+}
+
+/* Channels [b, e) as they are: out holds their targets already. */
+static void keep(roz_filter_t *f, const double *target, size_t b, size_t e)
+{
+    if (e > b) {
+        memcpy(&f->last[b], &target[b], (e - b) * sizeof f->last[0]);
+        memset(&f->channel_stop_run[b], 0, (e - b) * sizeof f->channel_stop_run[0]);
     }
-    return all;
+}
+
+/* The ordinary tick with the vectors: the groups that pass, on channels
+ * step 4 leaves alone, keep the targets the test copied to out; the others
+ * go value by value. */
+static void tick_avx2(roz_filter_t *f, const double *target, const double *state, size_t n,
+                      size_t acting, double *out)
+{
+    uint64_t fails[GROUP_WORDS];
+
+    if (all_pass_avx2(f, target, n, out) && acting == 0) {
+        /* the whole tick passes: the outputs are the targets */
+        memcpy(f->last, out, n * sizeof out[0]);
+        if (f->running) {
+            memset(f->channel_stop_run, 0, n * sizeof f->channel_stop_run[0]);
+            f->running = 0;
+        }
+        return;
+    }
+    groups_check_avx2(f, target, n, out, fails);
+    for (size_t k = 0; acting != 0 && k < f->n_paired; k++) {
+        size_t g = f->paired[k] / GROUP;
+        if (f->pair_acts[f->paired[k]])
+            fails[g / 64u] |= 1ull << (g % 64u);
+    }
+    f->running = 1;
+    size_t kept = 0; /* channels [0, kept) are done */
+    for (size_t w = 0; w < GROUP_WORDS; w++) {
+        for (uint64_t bits = fails[w]; bits != 0u; bits &= bits - 1u) {
+            size_t b = (w * 64u + (size_t)__builtin_ctzll(bits)) * GROUP;
+            size_t e = n - b > GROUP ? b + GROUP : n;
+            keep(f, target, kept, b);
+            for (size_t i = b; i < e; i++) {
+                double v = tick_value(f, i, target[i], state);
+                f->last[i] = v;
+                out[i] = v;
+            }
+            kept = e;
+        }
+    }
+    keep(f, target, kept, n);
 }
 #endif
 
@@ -283,43 +392,20 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
      * of the two, the cap's bounds computed as step 3 computes them), on a
      * channel step 4 leaves alone, is the output as it is. (v >= lo fails
      * for NaN, as v >= min does.) Every other value goes through all the
-     * rules. Where the CPU has AVX2, a tick whose values all pass, with no
-     * paired command step 4 may change, is tested on vectors and copied. */
+     * rules. Where the CPU has AVX2, the values are tested four at a time
+     * on vectors, and a group that passes whole is copied. */
     size_t acting = pairs_check(f, target, state);
 #if ROZ__FILTER_AVX2
-    if (f->avx2 && acting == 0 && all_pass_avx2(f, target, n, out)) {
-        /* the whole tick passes: the outputs are the targets */
-        memcpy(f->last, out, n * sizeof out[0]);
-        if (f->running) {
-            memset(f->channel_stop_run, 0, n * sizeof f->channel_stop_run[0]);
-            f->running = 0;
-        }
+    if (f->avx2) {
+        tick_avx2(f, target, state, n, acting, out);
         return;
     }
 #else
     (void)acting;
 #endif
     f->running = 1;
-    const roz_channel_t *cmd = f->manifest->commands;
     for (size_t i = 0; i < n; i++) {
-        const roz_channel_t *c = &cmd[i];
-        double v = target[i];
-        /* step 4 first: it costs a byte, the bounds cost double arithmetic
-         * (a library call each on a core without a double FPU) */
-        if (f->pair_acts[i]) {
-            v = channel_apply(f, (uint16_t)i, v, state, 1);
-        } else {
-            double last = f->last[i], lo = c->min, hi = c->max;
-            if (c->max_rate > 0.0) {
-                double below = last - c->max_rate, above = last + c->max_rate;
-                lo = below > lo ? below : lo;
-                hi = above < hi ? above : hi;
-            }
-            if (v >= lo && v <= hi)
-                f->channel_stop_run[i] = 0;
-            else
-                v = channel_apply(f, (uint16_t)i, v, state, 1);
-        }
+        double v = tick_value(f, i, target[i], state);
         f->last[i] = v;
         out[i] = v;
     }
