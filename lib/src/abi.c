@@ -96,6 +96,10 @@ int32_t roz_abi_command_set(roz_abi_t *abi, int32_t index, double value)
         return ROZ_ABI_SET_REFUSED;
     }
     c = &abi->manifest->commands[index];
+    if (value >= c->min && value <= c->max) { /* the usual value: false for NaN */
+        abi->target[index] = value;
+        return ROZ_ABI_SET_TAKEN;
+    }
     if (!isfinite(value)) {
         /* The safety filter turns a non-finite target into the channel's
          * safe default (holding the paired position for a position
@@ -104,13 +108,9 @@ int32_t roz_abi_command_set(roz_abi_t *abi, int32_t index, double value)
         abi->target[index] = NAN;
         return ROZ_ABI_SET_REFUSED;
     }
-    if (value < c->min || value > c->max) {
-        abi->counters.set_clamped++;
-        abi->target[index] = value < c->min ? c->min : c->max;
-        return ROZ_ABI_SET_CLAMPED;
-    }
-    abi->target[index] = value;
-    return ROZ_ABI_SET_TAKEN;
+    abi->counters.set_clamped++;
+    abi->target[index] = value < c->min ? c->min : c->max;
+    return ROZ_ABI_SET_CLAMPED;
 }
 
 int32_t roz_abi_command_count(const roz_abi_t *abi)
@@ -289,14 +289,14 @@ int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_l
         memcpy(&bits, src + 8 * (size_t)i, sizeof bits);
         bits = le64(bits);
         memcpy(&v, &bits, sizeof v);
-        if (!isfinite(v)) {
+        if (v >= c[i].min && v <= c[i].max) { /* the usual value: false for NaN */
+            abi->target[i] = v;
+        } else if (!isfinite(v)) {
             nonfinite++;
             abi->target[i] = NAN;
-        } else if (v < c[i].min || v > c[i].max) {
+        } else {
             clamped++;
             abi->target[i] = v < c[i].min ? c[i].min : c[i].max;
-        } else {
-            abi->target[i] = v;
         }
     }
     abi->counters.sets += (uint64_t)count;
