@@ -267,8 +267,10 @@ static void tick_avx2(roz_filter_t *f, const double *target, const double *state
     uint64_t fails[GROUP_WORDS];
 
     if (all_pass_avx2(f, target, n, out) && acting == 0) {
-        /* the whole tick passes: the outputs are the targets */
-        memcpy(f->last, out, n * sizeof out[0]);
+        /* the whole tick passes: the outputs are the targets (copied from
+         * the targets, not from out: a load just after a wider store to
+         * the same place may have to wait for it) */
+        memcpy(f->last, target, n * sizeof f->last[0]);
         if (f->running) {
             memset(f->channel_stop_run, 0, n * sizeof f->channel_stop_run[0]);
             f->running = 0;
