@@ -230,6 +230,28 @@ static void test_fuel_deadline_interval(void **st)
     assert_true(used <= 5001ull * (ROZ_CFG_DEADLINE_CHECK_UNITS + 5));
 }
 
+/* The deadline from a start the caller read: no reading of its own, and a
+ * start already a budget ago stops the call at the first check. */
+static void test_fuel_deadline_from_the_start(void **st)
+{
+    counting_clock_t clk = { 1000000, 1000, 0 }; /* 1 us a reading */
+    (void)st;
+    size_t len = module("", "(loop $l (local.set $i (i32.add (local.get $i) (i32.const 1))) "
+                            "(br $l))");
+    load(len, ROZ_BUDGET_OFF, 5000000, counting_clock, &clk);
+    assert_int_equal(roz_controller_process_from(&ctl, 0, clk.now), ROZ_ETIMEDOUT);
+    assert_int_equal(clk.reads, 5001); /* one per slice; none to set the deadline */
+    assert_true(strstr(roz_controller_error(&ctl), "deadline passed at tick 0") != NULL);
+
+    roz_controller_unload(&ctl);
+    clk.reads = 0;
+    load(len, ROZ_BUDGET_OFF, 5000000, counting_clock, &clk);
+    assert_int_equal(roz_controller_process_from(&ctl, 7, clk.now - 5000000), ROZ_ETIMEDOUT);
+    assert_int_equal(clk.reads, 1);
+    assert_true(roz_controller_fuel_used(&ctl) <= ROZ_CFG_DEADLINE_CHECK_UNITS + 5);
+    assert_true(strstr(roz_controller_error(&ctl), "deadline passed at tick 7") != NULL);
+}
+
 /* ---- budgets that allow nothing ----------------------------------------------- */
 
 static void test_fuel_zero_is_refused(void **st)
@@ -353,6 +375,7 @@ int main(void)
         cmocka_unit_test_teardown(test_fuel_straight_line, teardown),
         cmocka_unit_test_teardown(test_fuel_bulk_memory, teardown),
         cmocka_unit_test_teardown(test_fuel_deadline_interval, teardown),
+        cmocka_unit_test_teardown(test_fuel_deadline_from_the_start, teardown),
         cmocka_unit_test_teardown(test_fuel_zero_is_refused, teardown),
         cmocka_unit_test_teardown(test_fuel_verify_ignores_the_loader_clock, teardown),
         cmocka_unit_test_teardown(test_fuel_stack_at_loop_entry, teardown),

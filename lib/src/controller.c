@@ -453,6 +453,15 @@ size_t roz_controller_stack_used(const roz_controller_t *c)
 
 int roz_controller_process(roz_controller_t *c, int64_t tick)
 {
+    uint64_t start_ns = 0;
+
+    if (c->process != NULL && !c->spent && c->budget.deadline_ns != ROZ_BUDGET_OFF)
+        start_ns = c->budget.clock(c->budget.clock_ctx);
+    return roz_controller_process_from(c, tick, start_ns);
+}
+
+int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t start_ns)
+{
     IM3Runtime rt = c->runtime;
     M3Result r;
 
@@ -462,7 +471,7 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
     c->meter_used = 0;
     c->meter_deadline = 0;
     if (c->budget.deadline_ns != ROZ_BUDGET_OFF)
-        c->meter_deadline = c->budget.clock(c->budget.clock_ctx) + c->budget.deadline_ns;
+        c->meter_deadline = start_ns + c->budget.deadline_ns;
     c->meter_slice = next_slice(c);
     rt->rozFuel = (int64_t)c->meter_slice;
     c->stack_base = STACK_HERE();

@@ -571,7 +571,8 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
     rt->rec_flags |= ROZ_RECORD_RAN;
     rt->rec_ctrl_tick = rt->ctrl_tick;
     uint64_t t0 = now(rt);
-    int rc = roz_controller_process(&s->ctrl, rt->ctrl_tick);
+    /* the deadline counts from t0: the budget has the same clock (load_slot()) */
+    int rc = roz_controller_process_from(&s->ctrl, rt->ctrl_tick, t0);
     uint64_t t1 = now(rt);
     rt->last_process_ns = t1 - t0;
     roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);

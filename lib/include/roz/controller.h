@@ -174,6 +174,18 @@ size_t roz_controller_stack_used(const roz_controller_t *c);
  */
 ROZ_NODISCARD int roz_controller_process(roz_controller_t *c, int64_t tick);
 
+/**
+ * @brief roz_controller_process() with the start already read: the deadline
+ *        counts from @p start_ns, a reading of the budget's clock taken just
+ *        before the call, instead of a reading of its own (roz_runtime
+ *        passes the reading it times process() from: one clock read a tick
+ *        less). Ignored without a deadline.
+ * @return as roz_controller_process()
+ * Context: the tick; RT-safe.
+ */
+ROZ_NODISCARD int roz_controller_process_from(roz_controller_t *c, int64_t tick,
+                                              uint64_t start_ns);
+
 /** @brief Free the instance; idempotent. Context: outside the tick. */
 void roz_controller_unload(roz_controller_t *c);
 
