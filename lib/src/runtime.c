@@ -663,26 +663,42 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
 }
 
-/* The stats are published straight from the struct, word by word. */
-_Static_assert(sizeof(roz_runtime_stats_t) % 4u == 0u,
-               "roz_runtime_stats_t is a whole number of 32-bit words");
+/* The stats are published from where the tick keeps them, field by field
+ * into their words: no copy of the whole struct to build first. The fields
+ * tile the struct, so every published word is one of them. */
+#define STATS_FIELD_END(f) (offsetof(roz_runtime_stats_t, f) + sizeof(((roz_runtime_stats_t *)0)->f))
+_Static_assert(offsetof(roz_runtime_stats_t, runtime) == 0u &&
+                   offsetof(roz_runtime_stats_t, filter) == STATS_FIELD_END(runtime) &&
+                   offsetof(roz_runtime_stats_t, abi) == STATS_FIELD_END(filter) &&
+                   offsetof(roz_runtime_stats_t, controller_tick) == STATS_FIELD_END(abi) &&
+                   offsetof(roz_runtime_stats_t, last_process_ns) ==
+                       STATS_FIELD_END(controller_tick) &&
+                   sizeof(roz_runtime_stats_t) == STATS_FIELD_END(last_process_ns),
+               "roz_runtime_stats_t's fields follow each other with no gap");
+_Static_assert(sizeof(roz_runtime_counters_t) % 8u == 0u && sizeof(roz_filter_counters_t) % 8u == 0u &&
+                   sizeof(roz_abi_counters_t) % 8u == 0u,
+               "the counters are whole 64-bit words");
+
+/* Field f of the stats, from src, into its words. */
+#define PUBLISH(rt, f, src)                                                                    \
+    roz__seq_store((rt)->stats_words + offsetof(roz_runtime_stats_t, f) / 4u, (src),           \
+                   sizeof(((roz_runtime_stats_t *)0)->f) / 4u)
 
 /* 6. What the tick counted, for roz_runtime_stats() on any thread. */
 static void tick_publish(roz_runtime_t *rt)
 {
-    roz_runtime_stats_t st;
     int active = atomic_load_explicit(&rt->active, memory_order_relaxed);
+    roz_abi_counters_t abi = rt->abi_retired;
+    int64_t controller_tick = rt->ctrl_tick;
 
-    memset(&st, 0, sizeof st); /* padding too: every published word is defined */
-    st.runtime = rt->counters;
-    st.filter = rt->filter.counters;
-    st.abi = rt->abi_retired;
     if (active >= 0)
-        abi_add(&st.abi, &rt->slot[active].abi.counters);
-    st.controller_tick = rt->ctrl_tick;
-    st.last_process_ns = rt->last_process_ns;
+        abi_add(&abi, &rt->slot[active].abi.counters);
     roz__seq_begin(&rt->stats_seq);
-    roz__seq_store(rt->stats_words, &st, ROZ_RUNTIME_STATS_WORDS);
+    PUBLISH(rt, runtime, &rt->counters);
+    PUBLISH(rt, filter, &rt->filter.counters);
+    PUBLISH(rt, abi, &abi);
+    PUBLISH(rt, controller_tick, &controller_tick);
+    PUBLISH(rt, last_process_ns, &rt->last_process_ns);
     roz__seq_end(&rt->stats_seq);
 }
 
