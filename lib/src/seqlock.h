@@ -30,17 +30,7 @@ static inline void roz__seq_end(_Atomic uint32_t *seq)
 static inline void roz__seq_store(_Atomic uint32_t *dst, const void *src, size_t n)
 {
     const unsigned char *p = (const unsigned char *)src;
-    size_t i = 0;
-    /* four words a round: the stores are the work, not the loop */
-    for (; i + 4u <= n; i += 4u) {
-        uint32_t w[4];
-        memcpy(w, p + 4u * i, sizeof w);
-        atomic_store_explicit(&dst[i], w[0], memory_order_relaxed);
-        atomic_store_explicit(&dst[i + 1u], w[1], memory_order_relaxed);
-        atomic_store_explicit(&dst[i + 2u], w[2], memory_order_relaxed);
-        atomic_store_explicit(&dst[i + 3u], w[3], memory_order_relaxed);
-    }
-    for (; i < n; i++) {
+    for (size_t i = 0; i < n; i++) {
         uint32_t w;
         memcpy(&w, p + 4u * i, sizeof w);
         atomic_store_explicit(&dst[i], w, memory_order_relaxed);
