@@ -34,8 +34,14 @@
  * Context: one filter per control loop, used only from the tick; no heap, no
  * locks, bounded by the channel count. The manifest is read as it is each
  * tick, but what it implies (which commands are paired, each position
- * state's margin) is worked out once, at init: the manifest must not change
- * while a filter uses it.
+ * state's margin, the limits side by side) is worked out once, at init: the
+ * manifest must not change while a filter uses it.
+ *
+ * A value that steps 1 to 4 would leave as it is goes out as it is; the
+ * filter finds those first, cheaply, and sends only the others through the
+ * rules. On x86-64 with AVX2 (GCC or Clang) it tests four channels at a
+ * time on vectors; elsewhere one at a time. The outputs are the same bits
+ * either way (test_filter_reference runs both against a plain reference).
  */
 #ifndef ROZ_FILTER_H
 #define ROZ_FILTER_H
