@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* No heap after start: malloc, calloc, realloc and free are wrapped at link
- * time (-Wl,--wrap=...), which covers roz and the statically linked wasm3, and
+ * time (support_heap.h), which covers roz and the statically linked wasm3, and
  * counted over 100,000 ticks of the G1 PD controller (145 commands, 97 states)
  * and of the UR5 sine controller, with faults and their clearing between. */
 #include <setjmp.h>
@@ -14,46 +14,11 @@
 
 #include "roz/loopback.h"
 #include "roz/runtime.h"
+#include "support_heap.h"
 #include "support_stats.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void __real_free(void *p);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-void __wrap_free(void *p);
-
-static int counting;
-static uint64_t allocations, frees;
-
-void *__wrap_malloc(size_t n)
-{
-    allocations += counting;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    allocations += counting;
-    return __real_calloc(n, size);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    allocations += counting;
-    return __real_realloc(p, n);
-}
-
-void __wrap_free(void *p)
-{
-    frees += counting && p != NULL;
-    __real_free(p);
-}
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
@@ -88,9 +53,8 @@ static void run_rec(const roz_manifest_t *m, const char *controller, int ticks, 
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     roz_test_tick(&rt); /* the swap-in happens here */
 
-    allocations = frees = 0;
     drained = 0;
-    counting = 1;
+    roz_heap_count_start();
     for (int t = 0; t < ticks; t++) {
         roz_test_tick(&rt);
         if (t == ticks / 2)
@@ -100,7 +64,7 @@ static void run_rec(const roz_manifest_t *m, const char *controller, int ticks, 
     }
     if (record)
         (void)roz_recorder_drain(&rec, count_record, NULL, 0);
-    counting = 0;
+    roz_heap_count_stop();
     if (record) {
         /* every tick recorded (the swap-in tick too), none dropped */
         assert_int_equal(roz_recorder_dropped(&rec), 0);
@@ -109,9 +73,10 @@ static void run_rec(const roz_manifest_t *m, const char *controller, int ticks, 
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
     assert_true(RT_COUNT(&rt, controller_ticks) >= (uint64_t)ticks / 2);
     print_message("%s: %d ticks, %llu allocations, %llu frees\n", controller, ticks,
-                  (unsigned long long)allocations, (unsigned long long)frees);
-    assert_int_equal(allocations, 0);
-    assert_int_equal(frees, 0);
+                  (unsigned long long)roz_heap_allocations(),
+                  (unsigned long long)roz_heap_frees());
+    assert_int_equal(roz_heap_allocations(), 0);
+    assert_int_equal(roz_heap_frees(), 0);
     assert_int_equal(lb.violations, 0);
     roz_runtime_deinit(&rt);
 }
@@ -150,11 +115,10 @@ static void test_alloc_counter_works(void **st)
     (void)st;
     roz_controller_init(&c);
     roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
-    allocations = 0;
-    counting = 1;
+    roz_heap_count_start();
     assert_int_equal(roz_controller_load(&c, w, len, &abi), ROZ_OK);
-    counting = 0;
-    assert_true(allocations > 0);
+    roz_heap_count_stop();
+    assert_true(roz_heap_allocations() > 0);
     roz_controller_unload(&c);
 }
 

@@ -3,7 +3,7 @@
  * bench/alloc: heap calls in the tick path over many ticks (10^6 by
  * default): the runtime's tick with the G1 PD and with the UR5's PD hold
  * on the loopback simulator, malloc/calloc/realloc/free wrapped by the
- * linker and counted only while ticks run (a load, counted too, shows the
+ * linker and counted only while ticks run (test/support_heap.h) (a load, counted too, shows the
  * counter is live). The figure must be 0; test_alloc proves it over 10^5
  * ticks in the test suite, this is the long count for BENCHMARKS.md.
  *
@@ -17,44 +17,9 @@
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
+#include "support_heap.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void __real_free(void *p);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-void __wrap_free(void *p);
-
-static int counting;
-static unsigned long long calls;
-
-void *__wrap_malloc(size_t n)
-{
-    calls += (unsigned)counting;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    calls += (unsigned)counting;
-    return __real_calloc(n, size);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    calls += (unsigned)counting;
-    return __real_realloc(p, n);
-}
-
-void __wrap_free(void *p)
-{
-    calls += (unsigned)counting && p != NULL;
-    __real_free(p);
-}
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
@@ -84,29 +49,27 @@ static int run(const roz_manifest_t *m, const char *path, unsigned long ticks,
     cfg.clock = roz_clock_monotonic_ns;
     cfg.monitor_jitter = 0;
     cfg.budget_ns = ROZ_BUDGET_OFF; /* count heap calls; no deadline to miss when preempted */
-    calls = 0;
-    counting = 1;
+    roz_heap_count_start();
     int rc = roz_runtime_init(&rt, &cfg);
     if (rc == ROZ_OK)
         rc = roz_runtime_load(&rt, wasm, len, NULL);
-    counting = 0;
-    *load_calls = calls;
+    roz_heap_count_stop();
+    *load_calls = roz_heap_allocations() + roz_heap_frees();
     if (rc != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK || roz_runtime_tick(&rt) != ROZ_OK) {
         fprintf(stderr, "roz_bench_alloc: runtime: %s\n", roz_runtime_error(&rt));
         return -1;
     }
-    calls = 0;
-    counting = 1;
+    roz_heap_count_start();
     for (unsigned long t = 0; t < ticks; t++) {
         if (roz_runtime_tick(&rt) != ROZ_OK) {
-            counting = 0;
+            roz_heap_count_stop();
             fprintf(stderr, "roz_bench_alloc: a fault latched: %s\n",
                     roz_runtime_fault_message(&rt));
             return -1;
         }
     }
-    counting = 0;
-    *tick_calls = calls;
+    roz_heap_count_stop();
+    *tick_calls = roz_heap_allocations() + roz_heap_frees();
     roz_runtime_deinit(&rt);
     return 0;
 }

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* No heap while the socketcan port runs: malloc, calloc, realloc and free
- * are wrapped at link time (-Wl,--wrap=...) and counted over 1000 ticks of
+ * are wrapped at link time (support_heap.h) and counted over 1000 ticks of
  * the leg's PD controller on the runtime, with the port's receive thread
  * and command writer running against fake actuators on a socketpair, an
  * actuator going silent and coming back in between (the stale fault, the
@@ -23,42 +23,7 @@
 #include "roz/hal/clock.h"
 #include "roz/runtime.h"
 #include "support.h"
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t n, size_t size);
-void *__real_realloc(void *p, size_t n);
-void __real_free(void *p);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t n, size_t size);
-void *__wrap_realloc(void *p, size_t n);
-void __wrap_free(void *p);
-
-static _Atomic int counting;
-static _Atomic unsigned long long allocations, frees;
-
-void *__wrap_malloc(size_t n)
-{
-    allocations += (unsigned long long)counting;
-    return __real_malloc(n);
-}
-
-void *__wrap_calloc(size_t n, size_t size)
-{
-    allocations += (unsigned long long)counting;
-    return __real_calloc(n, size);
-}
-
-void *__wrap_realloc(void *p, size_t n)
-{
-    allocations += (unsigned long long)counting;
-    return __real_realloc(p, n);
-}
-
-void __wrap_free(void *p)
-{
-    frees += (unsigned long long)(counting && p != NULL);
-    __real_free(p);
-}
+#include "support_heap.h"
 
 static roz_socketcan_t sc;
 static fake_can_t bus;
@@ -95,7 +60,7 @@ static void test_alloc_socketcan_ticks(void **st)
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     ticks(50); /* the swap-in, the start-up */
 
-    counting = 1;
+    roz_heap_count_start();
     ticks(400);
     fake_can_mute(&bus, 2, 1);
     ticks(100); /* silent: STALE */
@@ -103,7 +68,7 @@ static void test_alloc_socketcan_ticks(void **st)
     ticks(100); /* back: LINK */
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     ticks(400);
-    counting = 0;
+    roz_heap_count_stop();
 
     roz_socketcan_counters_t c;
     roz_socketcan_counters(&sc, &c);
@@ -114,9 +79,10 @@ static void test_alloc_socketcan_ticks(void **st)
     assert_true(stats.runtime.faults[2] >= 1); /* STALE */
     assert_true(stats.runtime.faults[5] >= 1); /* LINK */
     print_message("%llu allocations, %llu frees over 1000 ticks, every thread\n",
-                  (unsigned long long)allocations, (unsigned long long)frees);
-    assert_int_equal(allocations, 0);
-    assert_int_equal(frees, 0);
+                  (unsigned long long)roz_heap_allocations(),
+                  (unsigned long long)roz_heap_frees());
+    assert_int_equal(roz_heap_allocations(), 0);
+    assert_int_equal(roz_heap_frees(), 0);
     roz_test_can_close(&t);
     roz_runtime_deinit(&rt);
 }
