@@ -287,6 +287,15 @@ def build(args) -> tuple[str, str]:
             if peers[key]:
                 w(f"- {peers[key]['engine']}: {peers[key].get('checked', '')}.")
         w("")
+        rounds = {k: peers[k]["rounds"] for k in ("roz", "wasmtime", "wasmi")
+                  if peers[k] and "rounds" in peers[k]}
+        if rounds:
+            runs = max(r["runs"] for r in rounds.values())
+            spread = "; ".join(f"{peers[k]['engine']} " + ", ".join(f"{v:.3g}" for v in r["p50s"])
+                               for k, r in rounds.items())
+            w(f"The engines run in processes of their own, so each ran {runs} times, taking "
+              "turns (roz, wasmtime, wasmi, roz, ...), and its figures are those of its median "
+              f"run by `process()` p50 with metering off (those p50s, us: {spread}).\n")
         w("Metering modes: roz charges fuel per run of straight-line code and reads the clock "
           "for the deadline every 4096 units (the runtime's default budget: a tick's fuel and "
           "the period); wasmtime's fuel counts instructions in compiled code and its epoch "
