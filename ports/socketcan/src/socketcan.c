@@ -238,9 +238,11 @@ static void on_reply(roz_socketcan_t *sc, size_t j, const roz__can_frame_t *f, u
     atomic_store_explicit(&sh->session, session, memory_order_release);
     atomic_store_explicit(&sh->answered, seq, memory_order_release);
     atomic_store_explicit(&sh->replies, replies + 1u, memory_order_release);
-    link_bump(sc, L_ACCEPTED, 1);
-    bump(sc, C(replies), 1);
     roz_buffer_write(&sc->state_buf, sc->rx_image, t);
+    /* counted once published, with release (roz_socketcan_counters() loads
+     * with acquire): whoever sees the count can read the frame */
+    link_bump(sc, L_ACCEPTED, 1);
+    atomic_fetch_add_explicit(&sc->n[C(replies)], 1u, memory_order_release);
 }
 
 static void on_frame(roz_socketcan_t *sc, const roz__can_frame_t *f, uint64_t t)
