@@ -211,13 +211,21 @@ static uint64_t counting_clock(void *ctx)
     return c->now;
 }
 
+/* An endless loop, loaded on fuel without limit and a 5 ms deadline read
+ * from @p clk; returns the module's length (to load it again). */
+static size_t load_endless(counting_clock_t *clk)
+{
+    size_t len = module("", "(loop $l (local.set $i (i32.add (local.get $i) (i32.const 1))) "
+                            "(br $l))");
+    load(len, ROZ_BUDGET_OFF, 5000000, counting_clock, clk);
+    return len;
+}
+
 static void test_fuel_deadline_interval(void **st)
 {
     counting_clock_t clk = { 1000000, 1000, 0 }; /* 1 us a reading */
     (void)st;
-    size_t len = module("", "(loop $l (local.set $i (i32.add (local.get $i) (i32.const 1))) "
-                            "(br $l))");
-    load(len, ROZ_BUDGET_OFF, 5000000, counting_clock, &clk);
+    (void)load_endless(&clk);
     assert_int_equal(roz_controller_process(&ctl, 0), ROZ_ETIMEDOUT);
     assert_true(strstr(roz_controller_error(&ctl), "deadline passed") != NULL);
     uint64_t used = roz_controller_fuel_used(&ctl);
@@ -236,9 +244,7 @@ static void test_fuel_deadline_from_the_start(void **st)
 {
     counting_clock_t clk = { 1000000, 1000, 0 }; /* 1 us a reading */
     (void)st;
-    size_t len = module("", "(loop $l (local.set $i (i32.add (local.get $i) (i32.const 1))) "
-                            "(br $l))");
-    load(len, ROZ_BUDGET_OFF, 5000000, counting_clock, &clk);
+    size_t len = load_endless(&clk);
     assert_int_equal(roz_controller_process_from(&ctl, 0, clk.now), ROZ_ETIMEDOUT);
     assert_int_equal(clk.reads, 5001); /* one per slice; none to set the deadline */
     assert_true(strstr(roz_controller_error(&ctl), "deadline passed at tick 0") != NULL);
