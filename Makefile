@@ -51,7 +51,7 @@ DEMO_DIR = $(BUILD)/demo
 # of commanded vs applied velocity and joint positions land in $(DEMO_DIR).
 demo: build
 	@mkdir -p $(DEMO_DIR)
-	$(BUILD)/examples/rozrun/rozrun --robot ur5 \
+	$(BUILD)/tools/rozrun/rozrun --robot ur5 \
 	    --controller $(BUILD)/examples/controllers/sine.wasm --port loopback \
 	    --ticks 500 --trace $(DEMO_DIR)/ur5_sine.csv
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/ur5_sine.csv $(DEMO_DIR)/ur5_sine.png \
@@ -109,7 +109,7 @@ test: test-asan test-tsan build
 STRESS_TICKS ?= 1000000
 stress: setup $(BUILD)-tsan/build.ninja
 	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS) --target test_latch_threads
-	$(SAN_ENV) ROZ_LATCH_STRESS_TICKS=$(STRESS_TICKS) $(BUILD)-tsan/test/test_latch_threads
+	$(SAN_ENV) ROZ_LATCH_STRESS_TICKS=$(STRESS_TICKS) $(BUILD)-tsan/test/core/test_latch_threads
 
 # Benchmarks print figures and ratios; they are not tests. `make bench` runs
 # every bench with its machine-readable output into BENCH_OUT, builds and

@@ -17,7 +17,7 @@ include(CMakePackageConfigHelpers)
 
 set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
 set(_roz_targets roz_core roz_hal roz_sdk)
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples/controllers/include/
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
 if(TARGET roz_port_loopback)
   list(APPEND _roz_targets roz_port_loopback)
@@ -78,9 +78,13 @@ if(TARGET roz_wasm3)
 endif()
 if(TARGET roz_toml)
   list(APPEND _roz_targets roz_toml)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/toml/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
 endif()
 if(TARGET roz_record)
   list(APPEND _roz_targets roz_record)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/record/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
 endif()
 if(TARGET roz_manifests)
   list(APPEND _roz_targets roz_manifests)
@@ -100,7 +104,7 @@ install(FILES ${PROJECT_BINARY_DIR}/lib/include/roz/features.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz)
 install(EXPORT rozTargets NAMESPACE roz:: DESTINATION ${ROZ_INSTALL_CMAKEDIR})
 
-# The host tools (built with the examples).
+# The host tools (tools/).
 foreach(tool IN ITEMS rozrun roz_manifest_json roz_manifest_info)
   if(TARGET ${tool})
     install(TARGETS ${tool} RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})

@@ -2,7 +2,7 @@
 /* The frame CRC as Unitree's SDK defines it (crc32_core), one bit at a
  * time: shift left, XOR the polynomial if the bit shifted out was 1, XOR it
  * again if the data bit is 1. The reference roz_crc32_words() is checked
- * against (test/test_link.c) and timed against (bench/tick). */
+ * against (test/hal/test_link.c) and timed against (bench/tick). */
 #ifndef ROZ_TEST_CRC32_REFERENCE_H
 #define ROZ_TEST_CRC32_REFERENCE_H
 

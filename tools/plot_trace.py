@@ -4,7 +4,7 @@
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>..., faults, events (see examples/rozrun/trace.h). Up to six
+state:<state>..., faults, events (see tools/rozrun/trace.h). Up to six
 commands and six position states are drawn. Ticks with a fault latched are
 shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before

@@ -7,7 +7,7 @@ rozrun's CSV trace, plot it, or plot two recordings side by side.
     python tools/recording.py plot run.mcap out.png [--title TEXT]
     python tools/recording.py compare a.mcap b.mcap out.png [--title TEXT]
 
-The CSV has the columns of rozrun's --trace (examples/rozrun/trace.h): tick,
+The CSV has the columns of rozrun's --trace (tools/rozrun/trace.h): tick,
 time_s, target:<command>..., applied:<command>..., state:<state>..., faults,
 events; the plots are tools/plot_trace.py's. `check` reads every record with
 the `mcap` readers, chunk and data-section CRCs checked, decodes every

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """What roz refuses in TOML although Python's tomllib reads it.
 
-Two things, refused by rozgen and by roz's C reader (lib/src/toml.c) alike,
+Two things, refused by rozgen and by roz's C reader (host/toml/src/toml.c) alike,
 at the same place and in the same words:
 
 - an integer outside 64 bits: TOML requires an error for an integer that

@@ -14,7 +14,7 @@ import pytest
 
 from conftest import DATA, LIB_INCLUDE, MY_ARM, REPO, builtin_manifests, run_rozgen
 
-JSON_PRINTER = REPO / "examples" / "manifest_json" / "json.c"
+JSON_PRINTER = REPO / "tools" / "manifest_json" / "json.c"
 
 FLAGS = ["-std=c11", "-Wall", "-Wextra", "-Werror", "-Wundef", "-pedantic"]
 FEATURES_STUB = """/* SPDX-License-Identifier: Apache-2.0 */
@@ -110,7 +110,7 @@ def test_c_tables_print_the_same_json(build):
     computes the interface hash `rozgen --identity` prints."""
     root, out = build
     exe = root / "print_manifest_json"
-    # the JSON printer of examples/manifest_json, and the core's interface names
+    # the JSON printer of tools/manifest_json, and the core's interface names
     _compile(COMPILERS[0], [*FLAGS, *_includes(root, out), f"-I{JSON_PRINTER.parent}",
                             "-o", str(exe), str(DATA / "print_manifest_json.c"),
                             str(JSON_PRINTER), str(REPO / "lib" / "src" / "manifest.c"),

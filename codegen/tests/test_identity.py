@@ -224,7 +224,7 @@ def _controller(clang, tmp_path, sources: dict[str, str]) -> bytes:
     # as cmake/RozWasm.cmake builds a controller (--strip-all keeps it)
     result = subprocess.run(
         [clang, "--target=wasm32", "-O2", "-nostdlib", "-std=c11", "-Wall", "-Wextra",
-         "-Werror", "-pedantic", f"-I{REPO / 'examples' / 'controllers' / 'include'}",
+         "-Werror", "-pedantic", f"-I{REPO / 'sdk' / 'include'}",
          f"-I{out}", "-Wl,--no-entry", "-Wl,--strip-all", "-o", str(wasm), *paths],
         capture_output=True, text=True)
     assert result.returncode == 0, result.stderr

@@ -5,7 +5,7 @@
  * k zero bytes, through it MSB first (b << 24, 8 * (k + 1) steps of the
  * polynomial 0x04C11DB7; t[0] is the classic byte table and t[k][b] =
  * (t[k-1][b] << 8) ^ t[0][t[k-1][b] >> 24]). One word costs four
- * independent lookups. test/test_link.c checks the result against the
+ * independent lookups. test/hal/test_link.c checks the result against the
  * bit-by-bit definition. ROZ_CFG_CRC32_SLICES 1 keeps only t[0] (1 KiB of
  * flash instead of 4) and shifts a word through byte by byte. */
 static const uint32_t t[ROZ_CFG_CRC32_SLICES][256] = {

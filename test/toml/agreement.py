@@ -14,7 +14,7 @@ random byte. Inserted anywhere, these also land inside strings, comments,
 keys and broken documents, where neither reader may see them as values.
 
 For each file, ``rozgen.load.load`` (tomllib and rozgen.toml_limits) and
-roz_toml_decoder (lib/src/toml.c) must both accept it, or both refuse it at
+roz_toml_decoder (host/toml/src/toml.c) must both accept it, or both refuse it at
 the same line and column (bytes); for the refusals that rozgen words as the
 C reader does (integers beyond 64 bits, nesting beyond the limit), with the
 same message. Exit status 0 when all agree, 1 otherwise.

@@ -2,7 +2,7 @@
 /*
  * Test helper for codegen/tests/test_compile.py: prints a manifest of the
  * generated registry in rozgen's canonical JSON with the printer of
- * examples/manifest_json/json.c, to show that the generated C tables hold
+ * tools/manifest_json/json.c, to show that the generated C tables hold
  * exactly what `rozgen --json` prints.
  *
  *   print_manifest_json <robot_id>   the manifest's JSON
