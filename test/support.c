@@ -15,7 +15,7 @@ const uint8_t *roz_test_controller(const char *name, size_t *len)
 {
     static uint8_t bufs[SLOTS][MAX_MODULE];
     static unsigned next;
-    char path[512];
+    char path[4096]; /* a clone may sit at any depth */
     uint8_t *buf = bufs[next++ % SLOTS];
 
     snprintf(path, sizeof path, "%s/%s.wasm", ROZ_CONTROLLER_DIR, name);

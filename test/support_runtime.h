@@ -1,5 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Helpers for tests that run the runtime on the loopback simulator. */
+/* The runtime fixture: how every C test brings a runtime up, on the
+ * loopback simulator or on a port of the test's own. A test fills a config
+ * with one of the two config functions, changes what it tests (fuel, stale
+ * ticks, a recorder, a log sink), then starts the runtime with
+ * roz_test_runtime_start(). Each fails the test with the port's or the
+ * runtime's own message, naming the manifest. */
 #ifndef ROZ_TEST_SUPPORT_RUNTIME_H
 #define ROZ_TEST_SUPPORT_RUNTIME_H
 
@@ -7,11 +12,22 @@
 #include "roz/runtime.h"
 #include "support.h"
 
-/* Opens the loopback port over lb for m (with params, may be NULL) and fills
- * cfg with the runtime defaults, that port and the test clock clk. Fails the
- * test, naming the manifest and the port's message, if the port refuses. */
+/* Opens @p port for @p m (no parameters) unless it is open already, and
+ * fills @p cfg with the runtime's defaults, @p m, that port and, when @p clk
+ * is not NULL, the test clock over it (NULL: the clock is the test's to set). */
+void roz_test_runtime_config(roz_runtime_config_t *cfg, const roz_manifest_t *m,
+                             roz_port_t port, roz_test_clock_t *clk);
+
+/* Opens the loopback port over @p lb for @p m with @p params (may be NULL)
+ * and fills @p cfg as roz_test_runtime_config() does, with that port. */
 void roz_test_loopback_config(roz_runtime_config_t *cfg, roz_loopback_t *lb,
                               const roz_manifest_t *m, const roz_params_t *params,
                               roz_test_clock_t *clk);
+
+/* roz_runtime_init() on @p cfg; then, when @p controller is not NULL, loads
+ * ROZ_CONTROLLER_DIR/<controller>.wasm (verified, as every load is); then
+ * roz_runtime_start(). */
+void roz_test_runtime_start(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
+                            const char *controller);
 
 #endif /* ROZ_TEST_SUPPORT_RUNTIME_H */

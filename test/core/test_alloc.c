@@ -40,17 +40,13 @@ static void run_rec(const roz_manifest_t *m, const char *controller, int ticks, 
 {
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 1, 100 };
-    size_t len;
-    const uint8_t *w = roz_test_controller(controller, &len);
 
     roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
     if (record) {
         assert_int_equal(roz_recorder_init(&rec, m, rec_storage, sizeof rec_storage, 1), ROZ_OK);
         cfg.recorder = &rec;
     }
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, controller);
     roz_test_tick(&rt); /* the swap-in happens here */
 
     drained = 0;

@@ -29,6 +29,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "ur5_manifest.h"
 
 static roz_runtime_t rt;
@@ -39,19 +40,11 @@ static roz_test_clock_t clk;
 static void start(uint64_t fuel, uint64_t clock_step)
 {
     roz_runtime_config_t cfg;
-    char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
 
-    assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
     clk = (roz_test_clock_t){ 1000, clock_step };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &roz_manifest_ur5;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
     cfg.fuel_per_tick = fuel;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
 }
 
 static int load(const char *name, roz_verify_report_t *rep)
@@ -189,20 +182,11 @@ static void test_budget_loop_keeps_its_period(void **st)
 {
     roz_runtime_config_t cfg;
     roz_runner_config_t rc = { .period_ns = 10000000, .max_ticks = 300 };
-    char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
-    size_t len;
-    const uint8_t *w = roz_test_controller("bad_infinite_loop", &len);
     (void)st;
-    assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &roz_manifest_ur5;
-    cfg.port = port;
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, NULL);
     cfg.clock = roz_clock_monotonic_ns;
     cfg.fuel_per_tick = UINT64_MAX; /* the deadline alone must stop it */
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, "bad_infinite_loop");
     assert_int_equal(roz_runner_start(&runner, &rc, tick, NULL), ROZ_OK);
     roz_runner_join(&runner);
     assert_int_equal(runner.ticks, 300);

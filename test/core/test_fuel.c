@@ -40,6 +40,7 @@
 #include "roz/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "support_wat.h"
 #include "ur5_manifest.h"
 
@@ -283,16 +284,11 @@ static void test_fuel_zero_is_refused(void **st)
     static roz_runtime_t rt;
     static roz_loopback_t lb;
     roz_runtime_config_t cfg;
-    char err[128];
     fast = roz_manifest_ur5;
     fast.control_rate_hz = (uint32_t)ROZ_CFG_FUEL_PER_SECOND + 1u;
-    roz_port_t port = roz_loopback_port(&lb);
-    assert_int_equal(roz_port_open(&port, &fast, NULL, err, sizeof err), ROZ_OK);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &fast;
-    cfg.port = port;
+    roz_test_loopback_config(&cfg, &lb, &fast, NULL, NULL);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_EINVAL);
-    roz_port_close(&port);
+    roz_port_close(&cfg.port);
 }
 
 /* ---- verification judges by fuel ----------------------------------------------- */
@@ -304,20 +300,12 @@ static void test_fuel_verify_ignores_the_loader_clock(void **st)
     roz_test_clock_t clk = { 1000, 10000000 }; /* 10 ms a reading */
     roz_runtime_config_t cfg;
     roz_verify_report_t rep;
-    char err[128];
     size_t len;
     const uint8_t *w = roz_test_controller("sine", &len);
     (void)st;
 
-    roz_port_t port = roz_loopback_port(&lb);
-    assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &roz_manifest_ur5;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
+    roz_test_runtime_start(&rt, &cfg, NULL);
     if (roz_runtime_load(&rt, w, len, &rep) != ROZ_OK)
         fail_msg("refused: %s", roz_runtime_error(&rt));
     /* every verify call "took" 10 ms or more on the loader's clock, twice
@@ -325,7 +313,7 @@ static void test_fuel_verify_ignores_the_loader_clock(void **st)
     assert_int_equal(rep.ticks_run, ROZ_RUNTIME_VERIFY_TICKS);
     assert_true(rep.max_process_ns >= 10000000);
     roz_runtime_deinit(&rt);
-    roz_port_close(&port);
+    roz_port_close(&cfg.port);
 }
 
 /* ---- the C stack at loop entry ---------------------------------------------------- */

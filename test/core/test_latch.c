@@ -28,6 +28,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "support_wat.h"
 
 /* ---- a small robot ------------------------------------------------------- */
@@ -273,15 +274,11 @@ static void setup_rt(void)
     st[2] = -1.0;
     st[3] = ACT_NONE;
     clk = (roz_test_clock_t){ 1000000, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &latch_manifest;
-    cfg.port = (roz_port_t){ &hook_ops, NULL, 0 };
-    assert_int_equal(roz_port_open(&cfg.port, &latch_manifest, NULL, NULL, 0), ROZ_OK);
+    roz_test_runtime_config(&cfg, &latch_manifest, (roz_port_t){ &hook_ops, NULL, 0 }, NULL);
     cfg.clock = hook_clock;
     cfg.clock_ctx = &clk;
     cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
     if (wasm_len == 0)
         wasm_len = roz_test_wat(controller_wat, wasm, sizeof wasm);
     assert_int_equal(roz_runtime_load(&rt, wasm, wasm_len, NULL), ROZ_OK);
@@ -729,8 +726,7 @@ static void test_latch_log_drained_outside_tick(void **s)
     cfg.log = log_sink;
     cfg.budget_ns = UINT64_MAX; /* the monitor warns above the period */
     roz_runtime_deinit(&rt);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
     assert_int_equal(roz_runtime_load(&rt, wasm, wasm_len, NULL), ROZ_OK);
     log_calls = log_in_tick = 0;
     uint64_t t = arm(ACT_TRAP, 0);

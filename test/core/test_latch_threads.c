@@ -29,6 +29,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "support_wat.h"
 
 static const roz_channel_t commands[] = {
@@ -251,10 +252,7 @@ static void test_latch_threads_stress(void **st)
     if (env != NULL && strtoull(env, NULL, 10) > 0)
         n = strtoull(env, NULL, 10);
     wasm_len = roz_test_wat(controller_wat, wasm, sizeof wasm);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &manifest;
-    cfg.port = (roz_port_t){ &stress_ops, NULL, 0 };
-    assert_int_equal(roz_port_open(&cfg.port, &manifest, NULL, NULL, 0), ROZ_OK);
+    roz_test_runtime_config(&cfg, &manifest, (roz_port_t){ &stress_ops, NULL, 0 }, NULL);
     cfg.clock = roz_clock_monotonic_ns;
     cfg.budget_ns = 500000000; /* sanitizers are slow; this test is about races */
     cfg.monitor_jitter = 0;

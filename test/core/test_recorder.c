@@ -76,9 +76,7 @@ static const uint8_t *start(size_t slots, uint32_t decimation, size_t *len)
                      ROZ_OK);
     roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
     cfg.recorder = &rec;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, *len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, "sine");
     return w;
 }
 

@@ -36,8 +36,7 @@ static void start(const roz_manifest_t *m, const roz_params_t *params)
 
     clk = (roz_test_clock_t){ 1000000, 1000 }; /* every reading advances 1 us */
     roz_test_loopback_config(&cfg, &lb, m, params, &clk);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
 }
 
 static void load(const char *name, int expect)
@@ -131,8 +130,7 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, &params, &clk);
     cfg.log = capture;
     warnings = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
     load("constant_velocity", ROZ_OK);
     ticks(300);
     assert_int_equal(roz_runtime_faults(&rt), 0);

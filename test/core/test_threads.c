@@ -23,6 +23,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 
 /* ---- a port with a simulator thread ---------------------------------------- */
@@ -110,18 +111,14 @@ static void test_threads_runtime_under_load(void **st)
     atomic_store(&sim_stop, 0);
     assert_int_equal(pthread_create(&th, NULL, sim_main, NULL), 0);
 
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = &roz_manifest_unitree_g1;
-    cfg.port = (roz_port_t){ &threaded_ops, NULL, 0 };
-    assert_int_equal(roz_port_open(&cfg.port, &roz_manifest_unitree_g1, NULL, err, sizeof err),
-                     ROZ_OK); /* no open op: nothing to open */
+    /* the port has no open op: nothing to open */
+    roz_test_runtime_config(&cfg, &roz_manifest_unitree_g1,
+                            (roz_port_t){ &threaded_ops, NULL, 0 }, NULL);
     cfg.clock = roz_clock_monotonic_ns;
     cfg.stale_ticks = 1000000; /* the simulator thread's pace is not the tick's */
     cfg.budget_ns = 500000000; /* sanitizers are slow; this test is about races */
     cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, pd, len_pd, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, "g1_pd");
     assert_int_equal(roz_runner_start(&runner, &rc, tick, NULL), ROZ_OK);
 
     int loads = 0, refused = 0;

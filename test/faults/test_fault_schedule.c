@@ -30,6 +30,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -86,27 +87,15 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
 {
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 1000000, 1000 };
-    char err[200] = "";
-    size_t len;
-    const uint8_t *w = roz_test_controller(controller, &len);
-    roz_port_t port = roz_loopback_port(&lb);
     double applied[ROZ_CFG_MAX_COMMANDS];
     uint32_t stops[ROZ_CFG_MAX_COMMANDS];
     int have_applied = 0, cleared = 0, jumped = 0, started = 0;
     uint64_t applied_at = 0, quiet = 0;
 
     rng = seed * 2 + salt;
-    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
+    roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
     random_faults(m);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, controller);
     memset(stops, 0, sizeof stops);
 
     for (uint64_t t = 0; t < TICKS; t++) {

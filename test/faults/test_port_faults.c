@@ -50,6 +50,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "ur5_manifest.h"
 
 /* ---- the runtime on the loopback port ------------------------------------ */
@@ -70,21 +71,13 @@ static uint32_t stops_before[ROZ_CFG_MAX_COMMANDS];
 static void start_port(const roz_port_t *port, const char *controller)
 {
     roz_runtime_config_t cfg;
-    size_t len;
-    const uint8_t *w = roz_test_controller(controller, &len);
 
     clk = (roz_test_clock_t){ 1000000, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = *port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_runtime_config(&cfg, m, *port, &clk);
     assert_int_equal(cfg.stale_ticks, 10);
     if (stale_ticks != 0)
         cfg.stale_ticks = stale_ticks;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, controller);
     have_prev = 0;
     memset(stops_before, 0, sizeof stops_before);
 }

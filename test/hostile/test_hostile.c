@@ -34,6 +34,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "ur5_manifest.h"
 
 /* ---- the runtime under test ---------------------------------------------- */
@@ -52,23 +53,14 @@ enum { BUDGET_DEFAULT = 0, BUDGET_NONE };
 static void start(int budget)
 {
     roz_runtime_config_t cfg;
-    char err[160] = "";
-    roz_port_t port = roz_loopback_port(&lb);
 
-    if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
-        fail_msg("open: %s", err);
     clk = (roz_test_clock_t){ 1000000, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
     if (budget == BUDGET_NONE) {
         cfg.fuel_per_tick = UINT64_MAX;
         cfg.budget_ns = UINT64_MAX;
     }
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
     have_prev = 0;
 }
 

@@ -441,8 +441,7 @@ static void start(const roz_manifest_t *m, int allow)
     clk = (roz_test_clock_t){ 1000000, 1000 };
     roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
     cfg.allow_foreign_controller = allow;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
 }
 
 static int teardown(void **st)

@@ -29,13 +29,9 @@ static void run_builtin(const roz_manifest_t *m, const char *ctl, int ticks, dou
 {
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 1, 10 };
-    size_t len;
-    const uint8_t *w = roz_test_controller(ctl, &len);
 
     roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, ctl);
     for (int t = 0; t < ticks; t++)
         roz_test_tick(&rt);
     if (roz_runtime_faults(&rt) != 0)
@@ -108,15 +104,11 @@ static void test_loopback_effort_stops_at_limit(void **st)
         const roz_manifest_t *m = roz_builtin_at(i);
         roz_runtime_config_t cfg;
         roz_test_clock_t clk = { 1, 10 };
-        size_t len;
-        const uint8_t *w = roz_test_controller("constant_velocity", &len);
         uint64_t cut = 0;
         double worst = 0.0;
 
         roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
-        assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-        assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-        assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+        roz_test_runtime_start(&rt, &cfg, "constant_velocity");
         for (int t = 0; t < 2000; t++) {
             roz_test_tick(&rt);
             roz_loopback_true_state(&lb, st_a);

@@ -37,8 +37,7 @@ static void start(void)
     roz_runtime_config_t cfg;
     clk = (roz_test_clock_t){ 1000000, 1000 };
     roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, NULL);
 }
 
 static const uint8_t *read_module(const char *path, size_t *len)
