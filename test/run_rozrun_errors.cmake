@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # rozrun's errors for bad arguments: each exits 2 with a message naming the
-# problem; and runs that latch faults exit 1 and name them. cmake -DROZRUN=... -DCTL=<controller dir> -P
+# problem; and runs that latch faults exit 1 and name them.
+# cmake -DROZRUN=... -DCTL=<controller dir> -DDEEP=<scratch dir> -P
 function(expect_error args want)
   execute_process(COMMAND ${ROZRUN} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   if(NOT rc EQUAL 2)
@@ -36,10 +37,21 @@ expect_error("${S};--estop-release-at;12abc" "--estop-release-at \"12abc\": expe
 expect_error("${S};--clear-at;99999999999999999999999" "--clear-at \"99999999999999999999999\": the tick is too large")
 expect_error("${S};--swap-at;50" "--swap-at \"50\": expected TICK:FILE")
 expect_error("${S};--swap-at;50:" "--swap-at \"50:\": expected TICK:FILE")
-expect_error("${S};--swap-at;0:${CTL}/sine.wasm" "--swap-at 0:${CTL}/sine.wasm: tick 0 runs --controller")
-expect_error("${S};--swap-at;50:${CTL}/nope.wasm" "--swap-at 50:${CTL}/nope.wasm: cannot read")
-expect_error("${S};--swap-at;50:${CTL}/sine.wasm;--swap-at;50:${CTL}/hold.wasm"
-             "--swap-at 50:${CTL}/hold.wasm: --swap-at 50:${CTL}/sine.wasm is at the same tick; one swap a tick")
+# the same messages whatever the depth of the path: here as built, then
+# from a folder 1,000 characters deep (a clone can sit anywhere)
+set(deep ${DEEP})
+foreach(i RANGE 1 10)
+  string(APPEND deep "/folder_${i}_of_a_clone_that_sits_at_a_deep_path_on_some_machine_somewhere")
+endforeach()
+file(MAKE_DIRECTORY ${deep})
+file(COPY ${CTL}/sine.wasm ${CTL}/hold.wasm DESTINATION ${deep})
+foreach(dir IN ITEMS "${CTL}" "${deep}")
+  expect_error("${S};--swap-at;0:${dir}/sine.wasm" "--swap-at 0:${dir}/sine.wasm: tick 0 runs --controller")
+  expect_error("${S};--swap-at;50:${dir}/nope.wasm" "--swap-at 50:${dir}/nope.wasm: cannot read")
+  expect_error("${S};--swap-at;50:${dir}/sine.wasm;--swap-at;50:${dir}/hold.wasm"
+               "--swap-at 50:${dir}/hold.wasm: --swap-at 50:${dir}/sine.wasm is at the same tick; one swap a tick")
+  expect_error("--robot;ur5;--controller;${dir}/nope.wasm" "cannot read ${dir}/nope.wasm")
+endforeach()
 expect_error("${S};--clear-at;70;--clear-at;70" "--clear-at 70: given twice")
 expect_error("${S};--estop-release-at;40" "--estop-release-at 40: the e-stop is not pressed then")
 expect_error("${S};--estop-at;40;--estop-at;60" "--estop-at 60: the e-stop is still pressed then (--estop-at 40, no release between)")

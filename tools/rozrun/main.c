@@ -846,7 +846,7 @@ int main(int argc, char **argv)
     options_t o;
     roz_runtime_config_t cfg;
     roz_verify_report_t rep;
-    char err[256] = "";
+    static char err[ROZRUN_PATH_MAX + 256]; /* start-up; messages quote paths whole */
     size_t len = 0;
 
     if (parse_args(argc, argv, &o) != 0)

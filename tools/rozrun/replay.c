@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "replay.h"
+#include "schedule.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -159,7 +160,7 @@ static const roz_manifest_t *replay_robot(const roz_record_run_t *run, const cha
 int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
 {
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
-    char err[512] = "", what[512] = "";
+    static char err[ROZRUN_PATH_MAX + 256], what[ROZRUN_PATH_MAX + 256]; /* start-up */
     size_t len = 0;
     int status = 0, tracing = 0, recording = 0;
 

@@ -14,6 +14,9 @@ static const char *const opt_names[] = {
 };
 
 /* The option and value of an action, as the user wrote it. */
+/* An action as given ("--swap-at 50:path/to/ctl.wasm"): room for any path. */
+#define WHAT_MAX (ROZRUN_PATH_MAX + 64)
+
 static void describe(const rozrun_action_t *a, char *buf, size_t len)
 {
     if (a->kind == ROZRUN_SWAP)
@@ -79,7 +82,7 @@ static int before(const rozrun_action_t *x, const rozrun_action_t *y)
 
 int rozrun_schedule_check(rozrun_schedule_t *s, uint64_t ticks)
 {
-    char what[96], other[96];
+    static char what[WHAT_MAX], other[WHAT_MAX]; /* start-up, one thread */
     int pressed = 0;
     const rozrun_action_t *press = NULL;
 
@@ -145,7 +148,7 @@ int rozrun_schedule_check(rozrun_schedule_t *s, uint64_t ticks)
 
 int rozrun_schedule_read_modules(rozrun_schedule_t *s)
 {
-    char err[256], what[96];
+    static char err[WHAT_MAX], what[WHAT_MAX]; /* start-up, one thread */
 
     for (size_t i = 0; i < s->n; i++) {
         rozrun_action_t *a = &s->a[i];

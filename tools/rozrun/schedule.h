@@ -24,6 +24,8 @@
 #include "roz/runtime.h"
 
 #define ROZRUN_MAX_ACTIONS 64
+/* The longest path rozrun's messages quote whole (Linux's PATH_MAX). */
+#define ROZRUN_PATH_MAX 4096
 
 typedef enum rozrun_action_kind {
     /* in the order they are carried out at one tick */
