@@ -381,7 +381,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     r = m3_CompileModule(mod);
     if (r != m3Err_none)
         return fail(c, ROZ_EINVAL, "cannot compile module", r);
-    /* Names (audit, issue 10): nothing roz runs is found by a name wasm3
+    /* Names (SAFETY.md §3, test_names): nothing roz runs is found by a name wasm3
      * resolves on its own.
      *  - process is called as the function index roz__wasm_scan checked,
      *    never through m3_FindFunction (which returns the first function

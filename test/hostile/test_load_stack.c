@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Loading a controller fits a small C stack (issue 10, 4b). wasm3 compiles
+/* Loading a controller fits a small C stack (docs/budget.md, "The C stack"). wasm3 compiles
  * nested blocks recursively, so the C stack the loader needs grows with the
  * nesting depth; roz bounds the depth (ROZ_CFG_WASM_MAX_BLOCK_DEPTH) so that
  * loading any accepted module fits a documented thread stack (64 KiB, 256 KiB
