@@ -138,9 +138,11 @@ def do_block(args, b: Block, cwd: Path, n: int):
         if err:
             return err
         sdk = args.source / "examples" / "controllers" / "include"
-        return run([args.clang, "--target=wasm32", "-O2", "-nostdlib", "-std=c11", "-Wall",
-                    "-Wextra", "-Wno-unused-parameter", "-Werror", "-Wl,--no-entry", f"-I{sdk}", f"-I{gen}",
-                    "-o", f".block{n}.wasm", src.name], cwd, "clang wasm32")
+        # the flags of roz_add_wasm_controller() (cmake/RozWasm.cmake)
+        return run([args.clang, "--target=wasm32", "-O2", "-nostdlib", "-fno-builtin", "-std=c11",
+                    "-Wall", "-Wextra", "-Werror", f"-I{sdk}", f"-I{gen}", "-Wl,--no-entry",
+                    "-Wl,--strip-all", "-Wl,-z,stack-size=16384", "-o", f".block{n}.wasm",
+                    src.name], cwd, "clang wasm32")
     return f"marker {b.marker.group(0)!r} does not fit a {b.lang or 'plain'} block"
 
 
