@@ -39,7 +39,7 @@ build: setup $(BUILD)/build.ninja
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 
 # Installs the build into PREFIX: libraries, headers, the CMake package, the
-# controller SDK, rozgen and the tools (README, "Installing roz").
+# controller SDK, rozgen and the tools (docs/install.md).
 PREFIX ?= /usr/local
 install: build
 	$(CMAKE) --install $(BUILD) --prefix $(PREFIX)

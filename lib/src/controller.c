@@ -293,7 +293,7 @@ const char *roz_controller_error(const roz_controller_t *c)
 
 /* The validator with its scratch on this frame's stack: a call of its own,
  * so that the scratch is gone before the engine compiles (which recurses,
- * README: the loader's C stack), and the two never add up. */
+ * docs/budget.md: the loader's C stack), and the two never add up. */
 #if defined(__GNUC__) || defined(__clang__)
 __attribute__((noinline))
 #endif

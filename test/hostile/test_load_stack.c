@@ -27,7 +27,7 @@
 #include "roz/controller.h"
 #include "ur5_manifest.h"
 
-/* The documented thread stack for loading (README, controller rules):
+/* The documented thread stack for loading (docs/budget.md, "The C stack"):
  * 64 KiB in the normal build, 256 KiB under ASan, the thread's static TLS
  * (about 22 KiB of it roz's validator) included. */
 #if defined(__SANITIZE_ADDRESS__)
