@@ -114,6 +114,9 @@ def do_block(args, b: Block, cwd: Path, n: int):
     mode = words[0]
     if mode == "file" and len(words) == 2:
         target = cwd / words[1]
+        real = target.parent.resolve()
+        if real != cwd.resolve() and cwd.resolve() not in real.parents:
+            return f"file {words[1]}: outside the page's folder (in the source tree?)"
         target.parent.mkdir(parents=True, exist_ok=True)
         if target.is_symlink():
             target.unlink()
