@@ -39,7 +39,7 @@ build: setup $(BUILD)/build.ninja
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 
 # Installs the build into PREFIX: libraries, headers, the CMake package, the
-# controller SDK, rozgen and the tools (README, "Installing roz").
+# controller SDK, rozgen and the tools (docs/install.md).
 PREFIX ?= /usr/local
 install: build
 	$(CMAKE) --install $(BUILD) --prefix $(PREFIX)
@@ -114,7 +114,7 @@ stress: setup $(BUILD)-tsan/build.ninja
 # Benchmarks print figures and ratios; they are not tests. `make bench` runs
 # every bench with its machine-readable output into BENCH_OUT, builds and
 # runs the peer engines (bench/peers: cargo, --locked; only here), and
-# writes BENCHMARKS.md and the README's headline table from them
+# writes BENCHMARKS.md from them, and no other file
 # (bench/report.py). BENCH_PERIODIC_SECONDS: the 1 kHz runner's run per side
 # (60 s by default; shorter for trying it out). BENCH_NOTE: a line on the
 # machine for the banner.
@@ -145,7 +145,7 @@ bench: build
 	    echo "make firmware failed (its output: $(BENCH_OUT)/firmware.txt)" \
 	        > $(BENCH_OUT)/firmware.skipped; rm -f $(BENCH_OUT)/firmware.txt; fi
 	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
-	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md --readme README.md \
+	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md \
 	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \
 	    --binary roz=$(BUILD)/bench/roz_bench_peers_roz \
 	    --binary wasmtime=bench/peers/target/release/roz-peer-wasmtime \

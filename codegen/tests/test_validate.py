@@ -227,7 +227,7 @@ def test_limit_margin_default_and_own():
     assert problems == []
     assert m.states[0].limit_margin == 0.0 and m.commands[0].limit_margin == 0.0
     assert m.states[0].margin == 0.05  # 5 % of 6.28 rad is more: capped at 0.05
-    # the gripper of issue 12: 5 % of its 8 cm, not 5 cm of them
+    # the gripper of docs/robot-toml.md (limit_margin): 5 % of its 8 cm, not 5 cm of them
     m, problems = check(_with_state(unit='"m"', limits="[0, 0.08]", default="0.04"))
     assert problems == []
     assert m.states[0].margin == 0.05 * 0.08 and m.states[0].margin < 0.0041

@@ -3,7 +3,7 @@
  * joint-space PD toward a slightly crouched pose as g1_stand, on the 23
  * joints this variant has (legs, waist yaw, shoulders, elbows, wrist roll).
  * The robot's own PD runs it; the gains ramp in over the first second. It
- * does not balance: the robot hangs (README, "A real Unitree G1"). */
+ * does not balance: the robot hangs (docs/ports/unitree_g1.md). */
 #include "stand.h"
 #include "unitree_g1_23dof_channels.h"
 

@@ -293,7 +293,7 @@ const char *roz_controller_error(const roz_controller_t *c)
 
 /* The validator with its scratch on this frame's stack: a call of its own,
  * so that the scratch is gone before the engine compiles (which recurses,
- * README: the loader's C stack), and the two never add up. */
+ * docs/budget.md: the loader's C stack), and the two never add up. */
 #if defined(__GNUC__) || defined(__clang__)
 __attribute__((noinline))
 #endif
@@ -381,7 +381,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     r = m3_CompileModule(mod);
     if (r != m3Err_none)
         return fail(c, ROZ_EINVAL, "cannot compile module", r);
-    /* Names (audit, issue 10): nothing roz runs is found by a name wasm3
+    /* Names (SAFETY.md §3, test_names): nothing roz runs is found by a name wasm3
      * resolves on its own.
      *  - process is called as the function index roz__wasm_scan checked,
      *    never through m3_FindFunction (which returns the first function

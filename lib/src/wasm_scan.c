@@ -359,7 +359,7 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
 
 /* wasm3 does not validate function bodies before it compiles them: it
  * compiles some malformed ones out of bounds (found by fuzz/fuzz_controller:
- * an `else` outside an `if`, blocks with parameters, README Known issues)
+ * an `else` outside an `if`, blocks with parameters, docs/known-issues.md)
  * and accepts operands of the wrong type. So roz validates every body as
  * the WebAssembly 1.0 specification does (its validation algorithm: an
  * operand type stack and a stack of control frames) before the engine sees

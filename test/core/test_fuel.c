@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Fuel is work done (issue 10, item 3). The modules are WAT written here and
+/* Fuel is work done (docs/budget.md). The modules are WAT written here and
  * assembled with wabt's wat2wasm (support_wat.h). The tests
  * prove that
  *  - the unit is what roz/controller.h says: exact fuel for small bodies

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* roz_runtime_init() refuses a port that was never opened (issue 11,
- * defect 6): the README's firmware snippet, followed literally, never
+/* roz_runtime_init() refuses a port that was never opened (SAFETY.md
+ * §4): the firmware snippet in docs/firmware.md, followed literally, never
  * called roz_port_open(), init accepted the port, and the first tick
  * crashed in the loopback's read() on an instance never set up. Now init
  * returns ROZ_ESTATE and says why; after roz_port_open() it succeeds; after

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Faults, e-stop and clear against the tick's steps (issue 11), on one
+/* Faults, e-stop and clear against the tick's steps (SAFETY.md §4), on one
  * thread and deterministically: a test port and a test clock fire e-stop
  * presses and releases, clears and swaps at exact points inside a tick
  * (before the port's read, after it, inside process(), after the write)

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Faults, e-stop and clear from four threads at once, for ThreadSanitizer
- * (issue 11): the tick; an ISR-like thread pressing and releasing the
+ * (SAFETY.md §4): the tick; an ISR-like thread pressing and releasing the
  * e-stop; a supervisor clearing faults and reading the fault message; a
  * loader swapping controllers. The controller traps on purpose at random
  * ticks. Asserted: a trapped instance never runs again (its next call would

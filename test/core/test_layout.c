@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* An application built with other ROZ_CFG_* options than libroz_core
- * (issue 11, defect 5). This file is compiled with ROZ_CFG_MAX_COMMANDS=16
+ * (SAFETY.md §4; docs/install.md). This file is compiled with ROZ_CFG_MAX_COMMANDS=16
  * against a library built with the default 256: its roz_runtime_t is
  * smaller than the library's. roz_runtime_init() passes the caller's view
  * of the layout (ROZ_RUNTIME_LAYOUT_INIT, expanded here) and the library

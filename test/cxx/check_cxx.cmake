@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-# roz from C++ (STYLE 12; issue 11): every public header compiles alone in
+# roz from C++ (docs/install.md, "Compile-time sizes"): every public header compiles alone in
 # C++11, 14, 17 and 20 (-Wall -Wextra -Werror -pedantic), and consumer.cpp,
 # which includes them all, builds against the libraries and runs.
 # cmake -DCXX=... -DINCLUDES="a;b" -DHEADERS="roz/x.h;..." -DLIBS="lib.a;..."

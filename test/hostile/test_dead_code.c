@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Dead code (issue 10, 4b: valid modules wrongly refused). The instructions
+/* Dead code (docs/known-issues.md: valid modules wrongly refused). The instructions
  * after a br, br_table, return or unreachable, up to the end or else of
  * their block, never run and may pop values their block never pushed (the
  * operand stack is polymorphic there). wasm3 0.5.0 compiled them, and

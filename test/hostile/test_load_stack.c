@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Loading a controller fits a small C stack (issue 10, 4b). wasm3 compiles
+/* Loading a controller fits a small C stack (docs/budget.md, "The C stack"). wasm3 compiles
  * nested blocks recursively, so the C stack the loader needs grows with the
  * nesting depth; roz bounds the depth (ROZ_CFG_WASM_MAX_BLOCK_DEPTH) so that
  * loading any accepted module fits a documented thread stack (64 KiB, 256 KiB
@@ -27,7 +27,7 @@
 #include "roz/controller.h"
 #include "ur5_manifest.h"
 
-/* The documented thread stack for loading (README, controller rules):
+/* The documented thread stack for loading (docs/budget.md, "The C stack"):
  * 64 KiB in the normal build, 256 KiB under ASan, the thread's static TLS
  * (about 22 KiB of it roz's validator) included. */
 #if defined(__SANITIZE_ADDRESS__)

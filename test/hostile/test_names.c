@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Names never choose what runs (issue 10, item 2), and valid modules that
- * wasm3 0.5.0 refused load (issue 10, 4b). This file proves that:
+/* Names never choose what runs (SAFETY.md §3), and valid modules that
+ * wasm3 0.5.0 refused load (docs/known-issues.md). This file proves that:
  *  - roz calls exactly the function exported as "process" that its scan
  *    checked: a name section naming another function "process", a second
  *    export "process", an export "process\0x", all aimed at an impostor of a

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* wasm3's slot bookkeeping against valid, hostile modules (issue 10). Every
+/* wasm3's slot bookkeeping against valid, hostile modules (docs/known-issues.md). Every
  * module here is generated in memory by a small wasm binary builder, passes
  * roz's validator (WebAssembly 1.0) and runs through roz_controller_load and
  * roz_controller_process. The sweeps prove that

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* wasm3's execution edge cases, checked against the WebAssembly spec
- * (issue 10, items 4 and 4b). What this proves:
+ * (docs/known-issues.md, the wasm3 table). What this proves:
  *  - every integer op gives the spec's result at INT_MIN / INT_MAX and the
  *    other edges (add/sub/mul wrap round, div_s and rem_s by -1, shifts and
  *    rotates by >= the width and by negative counts, clz/ctz/popcnt of 0,

@@ -2,8 +2,8 @@
 /* What the port conformance suite (test_port_conformance.c) needs from a
  * port's test fixture: the port, and a robot peer on the other end that the
  * suite can drive frame by frame. Every port provides one fixture; the
- * suite runs the same checks against each (STYLE 3: one conformance suite
- * for every port). The loopback's fixture is fixture_loopback.c; a hardware
+ * suite runs the same checks against each (docs/ports/adding-a-port.md: one
+ * conformance suite for every port). The loopback's fixture is fixture_loopback.c; a hardware
  * port's fixture wraps its fake robot peer, which speaks the real wire
  * protocol over loopback networking.
  *

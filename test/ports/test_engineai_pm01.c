@@ -215,7 +215,7 @@ static const roz_manifest_t *manifest_with_parser(const char *value)
 
 /* ParallelParserType (interface_protocol): CLASSIC_PARSER 0, RL_PARSER 1;
  * the parameter's default is RL_PARSER, as the vendor's RL example sends;
- * each spelling the README gives reaches the wire as its number, in every
+ * each spelling docs/ports/ros2.md gives reaches the wire as its number, in every
  * command; robot.toml's [hardware.params] sets it, the caller's overrides;
  * anything else is refused at open naming the key and the value. */
 static void test_pm01_parallel_parser_type(void **st)

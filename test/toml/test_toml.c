@@ -519,7 +519,7 @@ static void test_toml_long_floats(void **state)
         size_t      zeros;  /* then this many zeros */
         const char *tail;   /* then this */
     } cases[] = {
-        { "0.", 518, "1" },                         /* the 521 characters of issue 12 */
+        { "0.", 518, "1" },                         /* 521 characters, once misrounded */
         { "0.", 5000, "1" },
         { "1", 3000, ".0" },                        /* inf */
         { "-0.", 600, "1e600" },                    /* 0.1 */

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* roz's configuration for the Unitree G1 image on the Cortex-M7
  * (ROZ_CONFIG_FILE): sized for this robot and controller, from the verify
- * report and the image's measured high-water marks (README, "Firmware"). */
+ * report and the image's measured high-water marks (docs/firmware.md). */
 #ifndef ROZ_FW_G1_M7_CONFIG_H
 #define ROZ_FW_G1_M7_CONFIG_H
 

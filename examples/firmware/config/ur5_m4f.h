@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* roz's configuration for the UR5 image on the Cortex-M4F (ROZ_CONFIG_FILE):
  * sized for this robot and controller, from the verify report and the
- * image's measured high-water marks (README, "Firmware"). */
+ * image's measured high-water marks (docs/firmware.md). */
 #ifndef ROZ_FW_UR5_M4F_CONFIG_H
 #define ROZ_FW_UR5_M4F_CONFIG_H
 

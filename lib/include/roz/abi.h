@@ -4,21 +4,11 @@
  * @brief The controller ABI, engine-neutral.
  *
  * Each import a controller may use is a plain C function over a roz_abi_t
- * context; an engine (wasm3 today) only marshals arguments into these. The
- * import table roz_abi_imports[] lists every (module, name, signature) so an
- * engine can link them and refuse anything else.
- *
- * Signatures use one letter per value: i = i32, I = i64, F = f64, v = none,
- * written "ret(args)": command.set is "i(iF)".
- *
- * Besides the roz ABI (the default, unchanged), an optional bulk extension
- * of two imports moves whole arrays through the controller's linear
- * memory, one host call each way per tick instead of one per channel:
- * state.get_all copies the snapshot's first `count` values out, and
- * command.set_all submits the first `count` commands, each with exactly
- * command.set's semantics (clamp, refusal of non-finite values, counters).
- * Values are little-endian f64, at any alignment; every (pointer, count)
- * is checked against the module's memory before a byte moves.
+ * context; an engine (wasm3 today) only marshals arguments into these, and
+ * links them from roz_abi_imports[], refusing anything else. The imports,
+ * their meaning and the optional bulk pair (state.get_all, command.set_all,
+ * bounds-checked against the module's memory before a byte moves):
+ * docs/controllers.md.
  */
 #ifndef ROZ_ABI_H
 #define ROZ_ABI_H
@@ -89,7 +79,9 @@ typedef struct roz_abi {
     roz_metric_ring_t    *ROZ_PRIVATE(metrics);  /* may be NULL: metrics are counted, not kept */
 } roz_abi_t;
 
-/** One entry of the import table. */
+/** One entry of the import table. Signatures use one letter per value:
+ *  i = i32, I = i64, F = f64, v = none, written "ret(args)": command.set is
+ *  "i(iF)". */
 typedef struct roz_abi_import {
     const char *module;
     const char *name;

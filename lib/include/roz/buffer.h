@@ -11,14 +11,7 @@
  * frame or the whole of the one it had. Each frame carries a sequence number
  * (1, 2, ... per commit) and a time stamp set by the producer, so the
  * consumer can tell a fresh frame from the one it already had (staleness).
- *
- * Fields and who writes them:
- * - slots, n:            set by roz_buffer_init(), then read-only
- * - seq[], stamp_ns[]:   written by the producer in its back slot only
- * - back, produced:      producer only
- * - front, consumed_seq: consumer only
- * - middle:              both, through atomic exchange only (wrapped in a
- *                        struct so plain access does not compile)
+ * Who writes which field: roz_buffer_t.
  */
 #ifndef ROZ_BUFFER_H
 #define ROZ_BUFFER_H
@@ -42,7 +35,12 @@ typedef struct roz_buffer_xchg {
 } roz_buffer_xchg_t;
 
 /** A latest-value buffer; storage is the caller's (see ROZ_BUFFER_DEFINE);
- *  fields private (roz/private.h). */
+ *  fields private (roz/private.h). Who writes them: slots and n are set by
+ *  roz_buffer_init(), then read-only; seq[] and stamp_ns[] are written by
+ *  the producer in its back slot only; back and produced by the producer
+ *  only; front and consumed_seq by the consumer only; middle by both,
+ *  through atomic exchange only (wrapped in a struct so plain access does
+ *  not compile). */
 typedef struct roz_buffer {
     double           *ROZ_PRIVATE(slots);      /* 3 * n doubles */
     uint32_t          ROZ_PRIVATE(n);          /* values per frame */

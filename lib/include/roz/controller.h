@@ -3,33 +3,9 @@
  * @file roz/controller.h
  * @brief One instance of a WebAssembly controller: load, link, call process().
  *
- * The engine is wasm3 (linked PRIVATE; no wasm3 type appears here). Before
- * the engine sees a module, roz checks it itself: size, magic, that every
- * import is a function of the roz ABI with its exact signature
- * (roz/abi.h), that process(i64) is exported, and that there is no start
- * function. Every function is compiled at load, so calling process() never
- * compiles or allocates; linear memory is fixed at its declared initial size
- * (at most ROZ_CFG_WASM_MAX_PAGES) and memory.grow returns -1.
- *
- * Budget: every process() call runs on fuel, counted in units of work:
- * one unit per WebAssembly instruction executed, more for those that cost
- * more (a call 8 more, host imports included; entering a loop 6 more; a
- * branch back to a loop's start 1 more; br_table, float sqrt and div, memory.fill, memory.copy and saturating
- * truncation 2 more), one per 16 bytes of memory.fill and memory.copy, and one per 16 bytes of the locals and constants a
- * called function sets up in its frame,
- * so that a unit stands for about the same time whatever the work
- * (bench/fuel measures it). Fuel is charged
- * before the work runs (a straight-line run of instructions at its start, a
- * bulk memory op before it touches memory), so the same controller on the
- * same inputs stops at the same instruction on any machine and in any
- * build, and a call never does work its budget does not cover (roz's patch
- * cmake/wasm3/02-metering.patch). A wall-clock deadline, where the
- * platform has a clock, is checked whenever ROZ_CFG_DEADLINE_CHECK_UNITS
- * units have been charged since the last check. A call stopped by either
- * ends with ROZ_ETIMEDOUT, and the instance is spent: it refuses to run
- * again (its memory may be half-updated) until it is unloaded and loaded
- * anew. The C stack is checked at every wasm call and loop entry (the only
- * places wasm3 nests a C frame) against ROZ_CFG_NATIVE_STACK_BYTES.
+ * The engine is wasm3 (linked PRIVATE; no wasm3 type appears here). What a
+ * module must be to load: docs/controllers.md. The budget every process()
+ * call runs on (fuel, the deadline, the C stack): docs/budget.md.
  *
  * Load and unload allocate (wasm3's heap, or its fixed heap on firmware):
  * do them outside the tick. The module bytes must outlive the instance

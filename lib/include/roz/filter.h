@@ -4,44 +4,14 @@
  *        every command before it reaches a port.
  * @file roz/filter.h
  *
- * Runs after the controller, on every command channel, every tick, in this
- * order:
- *  1. non-finite targets become the channel's safe default (the controller
- *     ABI already refuses them at command.set; this is the backstop),
- *  2. clamp to [min, max],
- *  3. rate cap: |target - last applied| <= max_rate (skipped for an e-stop),
- *  4. position-limit enforcement for a velocity channel paired with a
- *     position state p: p + v*dt must stay inside the state's limits less
- *     the state's limit margin (roz_manifest_limit_margin(): its
- *     limit_margin in robot.toml, by default the smaller of 0.05 and 5 % of
- *     its range), looking ahead far enough that the rate cap can still
- *     brake to zero before the limit; when p is already outside, only
- *     motion back toward the range passes; likewise an effort command
- *     paired with a position state p may not push further out: at or past
- *     the state's limit less its margin, an effort toward the outside is 0
- *     (and any effort is 0 while p is unknown), so a feed-forward torque
- *     cannot hold a joint against its end stop,
- *  5. a final clamp to [min, max], so the output is inside the manifest
- *     whatever the steps before did.
- * Steps 3 and 4 can disagree (a position state that jumps out of range while
- * the joint moves fast, an effort cut at a limit): then the position limit wins and the extra change is
- * counted as a limit stop. Safe defaults: the manifest's default, except a
- * position command paired with a position state, which holds that state's
- * current value (or its last target while the state reads NaN/Inf). With a stop requested (a latched fault) every target is the
- * safe default: ramped by the rate caps for a controlled stop, at once for an
- * e-stop.
+ * docs/architecture.md ("The safety filter") gives its five steps in order
+ * (non-finite, clamp, rate cap, position limits with the limit margin, a
+ * final clamp), the safe defaults, and how a stop is ramped; SAFETY.md §1
+ * its promises with their tests.
  *
  * Context: one filter per control loop, used only from the tick; no heap, no
- * locks, bounded by the channel count. The manifest is read as it is each
- * tick, but what it implies (which commands are paired, each position
- * state's margin, the limits side by side) is worked out once, at init: the
- * manifest must not change while a filter uses it.
- *
- * A value that steps 1 to 4 would leave as it is goes out as it is; the
- * filter finds those first, cheaply, and sends only the others through the
- * rules. On x86-64 with AVX2 (GCC or Clang) it tests four channels at a
- * time on vectors; elsewhere one at a time. The outputs are the same bits
- * either way (test_filter_reference runs both against a plain reference).
+ * locks, bounded by the channel count. What the manifest implies is worked
+ * out once, at init: the manifest must not change while a filter uses it.
  */
 #ifndef ROZ_FILTER_H
 #define ROZ_FILTER_H

@@ -7,23 +7,8 @@
  * errors) itself instead of through the C library's snprintf: the text is
  * then the same on every target (a bare-metal C library such as newlib-nano
  * prints no `%lld`, `%zu` or `%g`, and mis-reads the arguments after one),
- * and a firmware that prints nothing else links no printf at all.
- *
- * The conversions are a subset of C's, with C's meaning:
- *  - `%d %i %u %x %X` with the length modifiers `hh h l ll z j t`,
- *  - `%s`, `%.*s` / `%.Ns` (at most N characters), `%c`, `%p`, `%%`,
- *  - `%g` with an optional precision (significant digits, 6 by default, at
- *    most 15: a larger one prints 15):
- *    as C prints it (correctly rounded) where the value times 10^(digits -
- *    1 - its decimal exponent) is a product with a power of ten up to 10^22,
- *    i.e. with 6 digits for values from 1e-17 to 1e27; beyond, the last
- *    digit of a value within one rounding of a half-way point may differ
- *    (the same on every target: it is computed in IEEE double arithmetic),
- *  - flags `-` (left-justify) and `0` (pad with zeros), a width (a number
- *    or `*`).
- * Anything else (`%f`, `%e`, `%a`, `%n`, `+`, ` `, `#`, ...) prints as `%?`
- * and consumes no argument, so a mistake shows in the text instead of
- * shifting the arguments after it; build with -Wformat to catch it first.
+ * and a firmware that prints nothing else links no printf at all. The
+ * conversions it takes: roz_format().
  */
 #ifndef ROZ_FORMAT_H
 #define ROZ_FORMAT_H
@@ -47,6 +32,23 @@ extern "C" {
  * @brief Format into @p buf, at most @p len bytes with the terminating NUL:
  *        text past the end is cut; with @p len >= 1 the buffer is always
  *        terminated. No allocation, no locale, bounded stack.
+ *
+ * The conversions are a subset of C's, with C's meaning:
+ *  - `%d %i %u %x %X` with the length modifiers `hh h l ll z j t`,
+ *  - `%s`, `%.*s` / `%.Ns` (at most N characters), `%c`, `%p`, `%%`,
+ *  - `%g` with an optional precision (significant digits, 6 by default, at
+ *    most 15: a larger one prints 15):
+ *    as C prints it (correctly rounded) where the value times 10^(digits -
+ *    1 - its decimal exponent) is a product with a power of ten up to 10^22,
+ *    i.e. with 6 digits for values from 1e-17 to 1e27; beyond, the last
+ *    digit of a value within one rounding of a half-way point may differ
+ *    (the same on every target: it is computed in IEEE double arithmetic),
+ *  - flags `-` (left-justify) and `0` (pad with zeros), a width (a number
+ *    or `*`).
+ * Anything else (`%f`, `%e`, `%a`, `%n`, `+`, ` `, `#`, ...) prints as `%?`
+ * and consumes no argument, so a mistake shows in the text instead of
+ * shifting the arguments after it; build with -Wformat to catch it first.
+ *
  * @return the length the whole text would have (as snprintf), so a result
  *         >= @p len means it was cut.
  * Context: any thread; reentrant. Not for the tick path (roz formats nothing

@@ -4,21 +4,12 @@
  * @brief Which robot a controller was built for: a manifest's identity, and
  *        the record a controller carries in its "roz.manifest" custom section.
  *
- * A manifest's identity is its robot_id and its interface hash: FNV-1a 64
- * over a canonical byte string of the channel table (every command, then
- * every state, in index order: name, interface type, unit, limits). That is
- * what a controller is written against; the byte string is defined in
- * codegen/README.md ("Manifest identity"), so anyone can recompute it.
- * Properties of the filter (defaults, rate caps, pairings, margins), the
- * class, the control rate and the [hardware] table are not hashed.
- *
- * The hash guards against accidents (a controller for one robot run on
- * another, or on a robot.toml edited since); it is not an authentication
- * mechanism: anyone can write any identity into a module.
- *
- * A controller compiled for wasm32 with a generated <robot_id>_channels.h
- * carries the identity (see that header); roz_runtime_load() compares it
- * with the robot's (roz/runtime.h, allow_foreign_controller).
+ * A manifest's identity is its robot_id and its interface hash (FNV-1a 64
+ * over a canonical byte string of the channel table, defined in
+ * codegen/README.md, "Manifest identity"). docs/architecture.md ("A
+ * controller and its robot") says what is hashed and what is not, and how
+ * roz_runtime_load() compares it; it guards against accidents, it is not
+ * authentication.
  */
 #ifndef ROZ_IDENTITY_H
 #define ROZ_IDENTITY_H

@@ -4,27 +4,10 @@
  * @brief The flight recorder: what every tick did, in a fixed ring the tick
  *        writes and another thread drains.
  *
- * A runtime whose configuration names a recorder (roz_runtime_config_t's
- * recorder) pushes one record at the end of each tick it records: the tick
- * number, simulated and wall time, the state the controller saw and whether
- * it was fresh, the port's read() result, the controller's targets, the
- * commands the filter applied, the latched faults (and the first fault's
- * account when they change), fuel, process() and tick time, the driving
- * controller's hash and the inputs of the tick (e-stop, clear, swap). What
- * a run records once (the manifest, the runtime's configuration) is the
- * drain side's: roz_runtime_config() and roz_manifest_interface_hash() have it.
- *
- * The ring is single-producer (the tick) single-consumer (roz_recorder_drain()
- * on one thread: a writer thread, or the firmware's idle loop), wait-free on
- * both sides with 32-bit atomics only: the tick never blocks and never
- * allocates; a record the full ring has no room for is dropped and counted
- * (roz_recorder_dropped()); the next record that gets in still carries the
- * fault change the dropped one had. Storage is the caller's, sized with
- * roz_recorder_slot_bytes(): a UR5 record is 0.6 KiB, a G1 record 3.5 KiB.
- *
- * Decimation N records every Nth tick, and every tick at which the faults
- * changed or an input arrived (an e-stop press or release, a clear, a
- * swap). Replay needs N = 1.
+ * docs/recording.md says what a record holds, how the ring stays off the
+ * tick (single producer, single consumer, 32-bit atomics, records dropped
+ * and counted when it is full), and decimation (replay needs 1). Storage is
+ * the caller's, sized with roz_recorder_slot_bytes().
  */
 #ifndef ROZ_RECORDER_H
 #define ROZ_RECORDER_H

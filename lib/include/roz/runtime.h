@@ -4,36 +4,12 @@
  * @brief The tick runtime: snapshot the state,
  *        run the controller, filter, hand the commands to the port, record.
  *
- * Firmware calls roz_runtime_tick() from its own timer or RTOS task; hosts
- * drive it from a periodic thread (roz/hal/runner.h). All storage is in
- * roz_runtime_t, which the caller owns (make it static: it is large). After
- * roz_runtime_start() the tick never allocates.
- *
- * Threads (each function's Context: line says where it may run):
- *  - the tick: roz_runtime_tick(), on one thread (timer task, RT thread);
- *  - the loader: roz_runtime_load(), roz_runtime_clear_faults() (which may
- *    rebuild a controller); any non-tick thread, and two of them may race:
- *    the second gets ROZ_ESTATE while the first loads;
- *  - the e-stop input: roz_runtime_estop_set() and roz_runtime_estop(),
- *    any thread or an ISR (atomic stores only);
- *  - readers: roz_runtime_faults(), roz_runtime_fault_message_copy(),
- *    any thread; roz_runtime_log_drain(), one non-real-time thread at a time.
- * Hand-overs go through atomics at the next tick boundary; the tick never
- * waits for another thread.
- *
- * Faults latch: a trap, an overrun of the
- * tick's time budget, a stale state stream, the e-stop input or the
- * controller's safety.request_estop. While any is latched the controller does
- * not run and every command goes to its safe default, ramped by the rate
- * caps for a controlled stop (trap, overrun, stale) or at once for an e-stop.
- * Only roz_runtime_clear_faults() unlatches them, and only those it saw:
- * a fault that latches after the clear looked stays latched. A controller
- * instance that trapped or was stopped by its budget never runs again.
- *
- * The log callback never runs in the tick: the tick queues events (codes
- * and numbers) in a bounded ring, and roz_runtime_log_drain(), called from a
- * non-real-time thread, formats them and calls it. Events the ring had no
- * room for are counted (roz_runtime_log_dropped()).
+ * Firmware calls roz_runtime_tick() from its own timer or RTOS task
+ * (docs/firmware.md); hosts drive it from a periodic thread
+ * (roz/hal/runner.h). All storage is in roz_runtime_t, which the caller owns
+ * (make it static: it is large). docs/architecture.md describes one tick,
+ * the threads and contexts (each function's Context: line says where it may
+ * run), the faults and how they latch and clear, and the log ring.
  */
 #ifndef ROZ_RUNTIME_H
 #define ROZ_RUNTIME_H

@@ -4,34 +4,13 @@
  * @brief The command watchdog every hardware port runs between the tick and
  *        the thread that sends its commands.
  *
- * A port's sender (a command writer thread) sends the tick's latest command
- * again and again. If the tick stops writing (a killed or stuck control
- * loop), the robot would go on tracking that stale target with full gains.
- * The watchdog stops that: once the latest command is older than the
- * timeout (the parameter `command_timeout_us`), the sender sends the port's
- * safe command instead (a damping or zero-gain hold), on its own, counts
- * the trip, and the tick's next read() reports it (ROZ_EWATCHDOG: the
- * runtime latches ROZ_FAULT_COMMAND_TIMEOUT, naming how long the tick was
- * silent).
+ * docs/ports/README.md ("The command watchdog") says what it does when the
+ * tick stops writing, how commands resume (epochs, the start-up hold), and
+ * which side calls what: the tick roz_cmd_watchdog_report() and
+ * roz_cmd_watchdog_write(), the sender roz_cmd_watchdog_judge() and
+ * roz_cmd_watchdog_next_ns().
  *
- * Commands resume only through the start-up rule of roz/port.h: every trip
- * starts a new epoch; a command frame carries the epoch the tick wrote it
- * in; the sender sends only frames of the current epoch. After a trip the
- * tick writes the start-up hold instead of its command until the sender has
- * sent one such hold (a latest-value hand-over may skip a frame, so the
- * first one alone is not enough). A frame the tick wrote while the sender
- * was tripping (an older epoch) is never sent.
- *
- * | who    | calls                                  | when                    |
- * |--------|----------------------------------------|-------------------------|
- * | tick   | roz_cmd_watchdog_report()              | in read(), first        |
- * | tick   | roz_cmd_watchdog_write()               | in write(), for a frame |
- * | sender | roz_cmd_watchdog_judge()               | for each frame it sends |
- * | sender | roz_cmd_watchdog_next_ns()             | to know when to look again |
- *
- * Times are the caller's monotonic nanoseconds, the same clock on both
- * sides. Portable: no OS, no heap, O(1); the two sides share 32-bit
- * atomics only (64-bit atomics are not lock-free everywhere).
+ * Portable: no OS, no heap, O(1); the two sides share 32-bit atomics only.
  */
 #ifndef ROZ_HAL_CMD_WATCHDOG_H
 #define ROZ_HAL_CMD_WATCHDOG_H

@@ -4,36 +4,9 @@
  * @brief The checks a port runs on every frame it receives from its peer
  *        (the robot), before the frame may reach the state buffer.
  *
- * A frame carries a CRC and a sequence number (the G1's LowState tick, a
- * ROS 2 header's sequence, the loopback's frame counter). roz_link_check()
- * takes the CRC's verdict and the sequence number and decides:
- *
- * | verdict            | when                                            | the port    |
- * |--------------------|-------------------------------------------------|-------------|
- * | ROZ_LINK_FIRST     | the first good frame since roz_link_init()       | accepts it; arms its safe start-up |
- * | ROZ_LINK_FRESH     | newer than the last accepted frame               | accepts it  |
- * | ROZ_LINK_BAD_CRC   | the CRC failed                                   | drops it    |
- * | ROZ_LINK_REPLAY    | not newer and at most `window` behind: the last frame again, a replay, a frame overtaken in transit; also after a silence | drops it |
- * | ROZ_LINK_RESTART   | newer, after the peer was silent for `lost_after_ns` or more; or more than `window` behind: the peer came back, or restarted | accepts it as the new peer's first frame and reports a link fault: read() returns ROZ_ELINK once, the runtime latches ROZ_FAULT_LINK (an immediate stop). A hardware port also starts its safe start-up layers (roz/port.h) over for the new peer. |
- *
- * What the sequence cannot tell apart, and how it errs:
- * - A peer that restarts within `lost_after_ns` with its old sequence at
- *   most `window` (counting from 0: in its first `window` frames) is taken
- *   for a replay until its sequence passes the old one: its frames are
- *   dropped meanwhile, so the runtime's STALE fault stops the robot unless
- *   the restart and the dropped frames together last less than stale_ticks.
- *   (Taking older frames in order for a restart instead would let replayed
- *   old frames pass, and stop the robot on two frames overtaken in transit.)
- * - A peer that restarts within `lost_after_ns` and numbers its frames on
- *   from above its old sequence looks like one that skipped frames.
- * - Old frames replayed in order from more than `window` back look like a
- *   restarted peer: LINK latches, and after the application clears it they
- *   are its stream. Replay by an attacker needs an authenticated transport.
- * A port whose robot reports a boot counter or session id should check it.
- *
- * Sequence numbers are compared modulo 2^32 (serial number arithmetic), so
- * a counter wrapping around is not a restart. Dropped frames show as gaps,
- * counted in `missing`.
+ * docs/ports/README.md ("Link checks") gives the verdicts of
+ * roz_link_check() (first, fresh, bad CRC, replay, restart), what the port
+ * does with each, and what a sequence number cannot tell apart.
  *
  * One roz_link_t per direction and peer, used by one thread (the port's
  * receive thread or the tick). Portable: no OS, no heap, O(1).

@@ -4,35 +4,11 @@
  * @brief Flight recordings as MCAP files (host builds; roz/mcap.h): the
  *        recorder's drain side, and the reader replay uses.
  *
- * One channel per record kind, every message ROS 2 CDR (little endian) with
- * a `ros2msg` schema, so Foxglove plots any field by name and the `mcap`
- * ROS 2 readers decode them:
- *
- * | topic | schema | when |
- * |---|---|---|
- * | /roz/run | roz_msgs/msg/Run | once, first: robot, interface hash, channel names, configuration |
- * | /roz/controller | roz_msgs/msg/Controller | when the driving controller changes: hash, name |
- * | /roz/tick | roz_msgs/msg/Tick | every recorded tick: numbers, times, flags, faults |
- * | /roz/state | roz_<robot_id>/msg/State | every recorded tick: one float64 per state channel |
- * | /roz/target | roz_<robot_id>/msg/Commands | the controller's targets |
- * | /roz/applied | roz_<robot_id>/msg/Commands | what the filter handed the port |
- * | /roz/fault | roz_msgs/msg/Fault | when the latched faults change: bits and message |
- *
- * A channel's field name is its manifest name in lower case with every run
- * of other characters made one '_' ("shoulder_pan_joint/velocity" is
- * shoulder_pan_joint_velocity); a name taken already gets "_<index>".
- * Every message's log and publish time is the tick's simulated time
- * (tick x period, from 0), so a recording of a deterministic run is the
- * same file every time but for the wall-clock fields of /roz/tick.
- *
- * Chunks are closed at 64 KiB (about 100 UR5 or 20 G1 ticks), so a
- * recording whose writer died (a crash, a power cut) is readable up to its
- * last complete chunk.
- *
- * Writing: roz_record_file_open() after roz_runtime_init() with a recorder,
- * roz_record_file_drain() from a non-real-time thread (or between ticks),
- * roz_record_file_close() at the end. Reading: roz_record_reader_open(),
- * roz_record_reader_next() tick by tick.
+ * docs/recording.md lists the topics and schemas, the field names, the
+ * chunks, and the calls: roz_record_file_open() after roz_runtime_init()
+ * with a recorder, roz_record_file_drain() from a non-real-time thread (or
+ * between ticks), roz_record_file_close() at the end; roz_record_reader_open()
+ * and roz_record_reader_next() to read a file tick by tick.
  */
 #ifndef ROZ_RECORD_FILE_H
 #define ROZ_RECORD_FILE_H

@@ -4,33 +4,10 @@
  * @brief Read a robot.toml at run time into a roz_manifest_storage_t, with
  *        exactly rozgen's rules, rule ids and messages (host builds).
  *
- * Part of roz::toml (CMake option ROZ_TOML). Host tools and Linux ECU
- * applications load any robot.toml this way without generating C tables;
- * firmware keeps using the tables rozgen generates.
- *
- * Every problem is reported the way `rozgen --check` prints it, one line
- * per problem: `<file><text>`, where @c text starts with ": " (or with
- * ":<line>:<col>: " for TOML errors), and `[<rule>] <file><text>` in the
- * form of `rozgen --error-ids`. The rules, their ids and wording are those
- * of codegen/rozgen/validate.py (see codegen/README.md); the C loader keeps
- * the first @c max_problems problems in rozgen's order. TOML syntax errors
- * have tomllib's line and column with roz's own wording.
- *
- * Limits of this build rather than rules of robot.toml are reported under
- * the rule id "storage": a document larger than the caller's TOML storage,
- * more joints or parameters than ROZ_CFG_MAX_JOINTS / ROZ_CFG_MAX_PARAMS,
- * names and units beyond ROZ_CFG_NAME_ARENA_BYTES, a file larger than the
- * caller's buffer. The channel maxima are ROZ_CFG_MAX_COMMANDS,
- * ROZ_CFG_MAX_STATES and ROZ_CFG_MAX_NAME_LEN (rozgen's defaults). Joints
- * beyond ROZ_CFG_MAX_JOINTS are not compared with each other for
- * duplicates (the file is refused anyway; comparing every pair of a long
- * list would take quadratic time).
- *
- * TOML that one of Python's tomllib and roz/toml.h reads and the other
- * cannot hold is refused by both, at the same place: an integer beyond 64
- * bits and nesting beyond ROZ_TOML_MAX_DEPTH ("invalid TOML" and
- * "unsupported TOML" in rozgen too, word for word), a leap second and year
- * 0000 ("unsupported TOML" here, tomllib's own words in rozgen).
+ * Part of roz::toml (CMake option ROZ_TOML); firmware keeps using the
+ * tables rozgen generates. docs/robot-toml.md ("The loader") says how
+ * problems are reported, which limits of the build are problems with the
+ * rule id "storage", and what both rozgen and this loader refuse.
  */
 #ifndef ROZ_MANIFEST_TOML_H
 #define ROZ_MANIFEST_TOML_H

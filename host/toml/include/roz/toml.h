@@ -2,53 +2,12 @@
 /**
  * @file roz/toml.h
  * @brief A small TOML 1.0 reader for host builds, into caller-provided
- *        storage (no heap).
+ *        storage (no heap, no recursion).
  *
- * Part of the roz::toml target, built when the CMake option ROZ_TOML is ON
- * (the default on hosts, OFF when cross-compiling: firmware uses tables that
- * rozgen generates at build time and never parses TOML).
- *
- * What it reads: all of TOML 1.0.0 -- comments, bare, quoted and dotted keys,
- * [tables], [[arrays of tables]], basic and literal strings, single- and
- * multi-line, with every escape (\\uXXXX, \\UXXXXXXXX), integers (decimal,
- * 0x, 0o, 0b, with underscores), floats (exponents, underscores, inf, nan),
- * booleans, offset and local date-times, local dates and times, arrays
- * (nested, multi-line, trailing comma) and inline tables, with LF or CRLF
- * line ends. It passes every case of toml-test v1.6.0, the official TOML
- * suite (test/toml/). Floats of any length are read correctly rounded.
- * Integers outside 64 bits are refused as TOML demands. Fractions of a
- * second beyond nanoseconds are truncated, as TOML allows. Dates are
- * checked against the calendar.
- *
- * What it refuses although TOML allows it, each with a message that says
- * so (ROZ_ENOTSUP), so that it refuses exactly what rozgen (Python's
- * tomllib) refuses: a leap second (":60"), year 0000 (Python's dates start
- * at year 1), and arrays and inline tables nested more than
- * ROZ_TOML_MAX_DEPTH deep (rozgen applies the same limit).
- *
- * Storage: a pool of nodes and a byte arena, both the caller's. Every value,
- * table and array is one node. Strings and keys are not copied when they can
- * be read straight from the text (no escape, no CRLF inside): they point
- * into the text, which must therefore outlive the document. Others are
- * decoded into the arena. Strings are counted (they may hold NUL) and are
- * not NUL-terminated.
- *
- * The reader never recurses: nested arrays and inline tables are parsed with
- * the node tree itself as the stack (each node knows its parent). Walk a
- * document the same way with roz_toml_first(), roz_toml_next() and
- * roz_toml_parent().
- *
- * Time: linear in the text, times the logarithm of the largest table. Every
- * table keeps its members in a balanced search tree by key, built in the
- * nodes themselves (the fields marked "not API"), so finding a key -- to
- * refuse a duplicate while parsing, or in roz_toml_get() -- takes
- * O(log n) key comparisons in a table of n members, never a scan.
- *
- * Error positions are those of Python's tomllib (what rozgen uses) for the
- * same error -- checked on all of toml-test's cases and the shared vectors
- * of test/vectors -- with the column counted in bytes; the wording is roz's
- * own, except for the refusals that rozgen makes itself (an integer beyond
- * 64 bits, nesting beyond ROZ_TOML_MAX_DEPTH), whose messages are the same.
+ * Part of roz::toml (CMake option ROZ_TOML). docs/robot-toml.md ("The
+ * reader") says what it reads and refuses, how the document lives in the
+ * caller's node pool and arena (strings may point into the text, which must
+ * outlive the document), its O(n log n) time, and its error positions.
  */
 #ifndef ROZ_TOML_H
 #define ROZ_TOML_H

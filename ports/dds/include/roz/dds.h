@@ -5,55 +5,10 @@
  *        participant and its configuration, QoS profiles, a receive path into
  *        preallocated storage, and the command writer thread.
  *
- * Participant. Built from two parameters: `network_interface` (default
- * `lo`) and `dds_domain`. roz passes Cyclone its configuration as an XML
- * string when it creates the domain (roz_dds_config_xml()):
- * - on `lo`: that interface only, multicast off, 127.0.0.1 as the discovery
- *   peer, participant indices assigned automatically up to
- *   ROZ_DDS_MAX_PARTICIPANT_INDEX (Cyclone's default allows 10 participants
- *   per host and domain; with multicast off and no peer, discovery fails, and
- *   Cyclone's defaults would multicast out of other interfaces);
- * - on any other interface: that interface only, Cyclone's defaults
- *   otherwise (multicast discovery, as the robots' own DDS stacks use).
- * A user's own CYCLONEDDS_URI wins when it is set: roz then leaves the
- * configuration to Cyclone and says so through the log callback.
- *
- * Receive path. A reader calls the port's function for each valid sample,
- * on Cyclone's receive thread, with the sample taken (dds_take) into storage
- * the port preallocated at open and zeroed before every take: no heap in
- * roz's code. A type with sequences or strings (a ROS 2 message) keeps its
- * storage between takes instead (roz_dds_reader_open_kept()): the port sizes
- * its sequences and strings once at open (roz_dds_seq_reserve(),
- * roz_dds_string_reserve()) and Cyclone's deserializer fills them in place;
- * it allocates only for a sample longer than they are (on its own thread).
- *
- * Command writer. A thread of its own publishes the port's latest command:
- * periodically (every `command_writer_period_us`, absolute deadlines, jitter
- * monitored against the period), or, with a period of 0, as soon as the
- * tick hands it a frame (roz_dds_writer_wake(): an atomic add, and a
- * semaphore post if the writer sleeps; it never blocks). The port fills
- * each sample in the writer thread (roz_dds_fill_fn) from the sample
- * storage roz zeroes before every fill. An event-driven writer may also
- * spin for the tick's command (`command_writer_spin_us`): the receive path
- * wakes it when a state frame arrives (roz_dds_writer_expect()), so the
- * thread wake-up happens while the tick runs instead of after it, and the
- * command goes out about as soon as the tick writes it.
- *
- * Command watchdog. Every DDS port runs roz/hal/cmd_watchdog.h between its
- * tick and its writer (`command_timeout_us`, read here with the other
- * common parameters): its fill judges each frame and fills the port's safe
- * command when the tick has gone silent. A periodic writer looks every
- * period anyway; an event-driven one, given the watchdog
- * (roz_dds_writer_watch()), also wakes on its own when the last frame it
- * sent expires, and then repeats the safe command every repeat period
- * until the tick writes again.
- *
- * Threads: a reader's function runs on a Cyclone thread, the fill function
- * on the writer thread; they hand frames to the tick through roz/buffer.h
- * and atomics, never a lock the tick could wait on.
- *
- * Only the .c files of this library include Cyclone's headers: entities are
- * kept as int32_t (dds_entity_t), topic descriptors as opaque pointers.
+ * docs/ports/dds.md describes it: the participant's configuration on `lo`
+ * and elsewhere (CYCLONEDDS_URI wins), the receive path, the periodic and
+ * event-driven writer, the command watchdog, the spin for low latency, the
+ * threads, and why entities are int32_t here (no Cyclone header is public).
  */
 #ifndef ROZ_DDS_H
 #define ROZ_DDS_H

@@ -5,46 +5,9 @@
  *        bridge" mode, driven through its ROS 2 topics spoken directly over
  *        Cyclone DDS (roz/ros2.h), as a ROS 2 node on rmw_cyclonedds would.
  *
- * Topics (package interface_protocol; ROS name, DDS name, type):
- * - `/hardware/joint_state` = `rt/hardware/joint_state`,
- *   `interface_protocol::msg::dds_::JointState_`: header, position,
- *   velocity, torque, each 24 values in the robot's joint order;
- * - `/hardware/imu_info` = `rt/hardware/imu_info`, `ImuInfo_`: header,
- *   quaternion (x, y, z, w), rpy, linear_acceleration, angular_velocity;
- * - `/hardware/joint_command` = `rt/hardware/joint_command`,
- *   `JointCommand_`: header, position, velocity, feed_forward_torque,
- *   torque, stiffness, damping (24 each), parallel_parser_type.
- * QoS as the vendor's own client: KEEP_LAST 3, BEST_EFFORT, VOLATILE, both
- * ways. Domain: `dds_domain`, by default the robot's ROS_DOMAIN_ID 69.
- *
- * Binding: each of the manifest's `[hardware] joints` is found by name
- * among the robot's (roz_engineai_pm01_joints: J00_HIP_PITCH_L ..
- * J23_HEAD_YAW, the arrays' index order), in any order and any subset; a
- * name that is not the robot's is refused at open. The names are not on
- * the wire, so only this check keeps a joint from driving another's index.
- * States: position, velocity, effort from joint_state's position, velocity,
- * torque; the IMU from imu_info (rpy is not used). Commands: position,
- * velocity, stiffness, damping to the arrays of those names, effort to
- * feed_forward_torque; `torque` is always 0 (the vendor's example sends 0 in
- * both; which of the two the robot adds to its PD is not documented). An
- * index without a manifest joint gets its measured position and 0 gains.
- *
- * `parallel_parser_type` (parameter: `rl` or 1, default; `classic` or 0):
- * the vendor's ParallelParserType (CLASSIC_PARSER 0, RL_PARSER 1), which
- * of the robot's two conversions between the interface's serial ankle
- * joints (pitch, roll) and the parallel ankle actuators handles the command.
- * The vendor's RL deploy example sends RL_PARSER; what the two do
- * differently is not documented.
- *
- * Checks: every joint_state sample must carry exactly 24 values in each
- * array (else dropped, counted, logged once); its header stamp and the
- * IMU's must increase strictly (link_check = stamp: std_msgs/Header has no
- * sequence and the messages no CRC). The PM01 reports no fault of its own
- * on these topics: read() never returns ROZ_EROBOT.
- *
- * Everything else (the fresh frame of both topics, start-up layers,
- * decimation, the writer, the parameters common to ROS 2 ports) is
- * roz/ros2.h's. Own parameter: `parallel_parser_type`.
+ * docs/ports/ros2.md describes the port: its topics and QoS, the joints
+ * (roz_engineai_pm01_joints), the checks, `parallel_parser_type`, and what
+ * is not known about the robot.
  */
 #ifndef ROZ_ENGINEAI_PM01_H
 #define ROZ_ENGINEAI_PM01_H

@@ -5,49 +5,10 @@
  *        fault injection. No OS, no threads: every read() advances simulated
  *        time by one control period (1 / control_rate_hz).
  *
- * Models, bound by channel name at open (joint = the name before the last
- * '/'):
- * - MIT-mode joint (a joint with stiffness or damping commands, as on the
- *   humanoids): torque = kp*(q_cmd - q) + kd*(dq_cmd - dq) + effort_cmd,
- *   clamped to the effort command's limits, drives a unit-inertia joint with
- *   light viscous friction; states position, velocity and effort follow.
- * - position-commanded joint: a first-order lag (time constant
- *   ROZ_LOOPBACK_TAU_S) toward the target.
- * - velocity-commanded joint (a velocity command paired with a position
- *   state): the position integrates the velocity; the joint's velocity
- *   state reads it.
- * - effort-only joint: torque drives the unit-inertia joint.
- * - planar base (quadcopter, diff_drive): body-frame velocities
- *   (`X/velocity.x|y|z` or `X/linear.x|y`) and a yaw rate (`X/yaw_rate` or
- *   `X/angular.z`) integrate into world-frame `X/position.x|y|z` or
- *   `X/odom.x|y` and `X/yaw` or `X/odom.yaw`.
- * Every other state (an IMU, say) holds its manifest default: a robot at rest.
- *
- * The port and the simulated robot talk as a hardware port and its robot
- * do: the robot (the peer) sends each state frame as a word image with a
- * sequence number and a CRC-32 (roz/hal/crc32.h), and the port receives it
- * through the link checks every hardware port runs (roz/hal/link.h): bad
- * CRC and replayed or overtaken frames are dropped and counted, a peer that
- * restarts or comes back after ROZ_LOOPBACK_PEER_TIMEOUT_NS of silence is
- * reported (read() returns ROZ_ELINK once; the runtime latches
- * ROZ_FAULT_LINK). Commands travel the same way; the robot drops commands
- * that fail their CRC and keeps the last good one. As on a hardware port,
- * nothing is sent before the peer's first state frame.
- *
- * Fault injection, for tests (also as parameters, see roz_loopback_ops),
- * each over ticks [from, to):
- * - drop: frames sent are lost in transit (the peer's sequence goes on);
- * - freeze: the peer sends nothing;
- * - delay: frames sent arrive k ticks late (after a gap of k ticks at the
- *   start; at the end, frames overtaken by newer ones are dropped as stale);
- * - nan: the peer sends NaN in a state channel;
- * - range: the peer sends 0.5 beyond a position state's upper limit;
- * - duplicate: the transport delivers the frame it delivered before again,
- *   in place of the new one (a stuck bridge, a replay);
- * - corrupt: one bit of every state frame flips in transit;
- * - corrupt_cmd: one bit of every command frame flips in transit;
- * - restart: the peer dies at `from` (sends and receives nothing, its joints
- *   stop) and boots again at `to` with its sequence back at 0 and no command.
+ * docs/ports/loopback.md describes the port: the models bound to the
+ * manifest's channels, the CRC'd, numbered frames between the port and its
+ * simulated robot, and every fault it injects (roz_loopback_inject(), or
+ * the parameters of roz_loopback_ops).
  */
 #ifndef ROZ_LOOPBACK_H
 #define ROZ_LOOPBACK_H

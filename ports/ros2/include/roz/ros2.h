@@ -6,91 +6,12 @@
  *        Cyclone DDS, and the bridge between a robot's joint-group topics
  *        and roz's port contract. No ROS 2 installation is involved.
  *
- * ROS 2 on DDS (rmw_cyclonedds): a topic `/a/b` is the DDS topic `rt/a/b`;
- * a message `pkg/M` is the type `pkg::msg::dds_::M_`, every struct @final
- * and written as XCDR1 (roz/dds.h's QoS asks for XCDR1); standard messages
- * in `ros2_msgs.idl` (builtin_interfaces/Time, std_msgs/Header,
- * geometry_msgs/Quaternion and Vector3, sensor_msgs/Imu), a robot's own in
- * its port's IDL. rmw_cyclonedds sends no XTypes type information, so a ROS
- * 2 node matches roz's topics by topic and type name alone.
- *
- * The bridge. A robot (roz_ros2_robot_t, the port's constant description)
- * has joint groups, each a state topic in and a command topic out, and an
- * IMU topic in; the PM01 has one group (24 joints), the X2 four (leg, waist,
- * arm, head). The manifest's `[hardware] joints` are bound to the groups'
- * slots at open by name, among the robot's joint names (whether or not the
- * names go on the wire: a manifest that lists a joint under another name, or
- * in another order, can never drive the wrong actuator). Each joint's states
- * `{joint}/position`, `/velocity`, `/effort` and commands `/position`,
- * `/velocity`, `/effort`, `/stiffness`, `/damping`; the IMU's
- * `base_imu/orientation.{x,y,z,w}`, `angular_velocity.{x,y,z}`,
- * `linear_acceleration.{x,y,z}` (geometry_msgs order, as the manifest's).
- *
- * State. Each state topic (the groups that have a bound joint, and the IMU
- * when the manifest has an IMU channel) is checked on Cyclone's receive
- * thread before anything of it is used: its shape (the port's decode: the
- * arrays' lengths, the joints' names where the wire has them; a malformed
- * sample is dropped, counted and logged once), then its header through
- * roz/hal/link.h. ROS 2 messages carry no CRC; the link checks take the
- * header's `sequence` where the message has one (the X2's), or its stamp
- * (`link_check = stamp`; std_msgs/Header has no sequence): the stamp in
- * microseconds modulo 2^32 must increase strictly; one a second or less
- * behind the last is a replay, further behind a restart. A frame is fresh
- * when every state topic delivered a new sample since the last fresh frame:
- * read() returns 1 then, 0 meanwhile (with the last fresh frame), so one
- * silent topic makes the state stale on its own, and the runtime's STALE
- * fault stops the robot. A fault the robot reports in a topic (the port's
- * decode: the X2's DomainErrorState, a joint's error code) makes every fresh
- * frame read ROZ_EROBOT while it lasts; fault() names the group or joint.
- * One reported in a single sample is not lost to the samples after it: the
- * receive thread holds it until the tick took a frame carrying it, and the
- * tick until the next fresh frame reports it.
- * A topic whose peer restarts or comes back after `peer_timeout_ms` makes
- * read() return ROZ_ELINK, and the start-up layers begin again. Velocities,
- * efforts and the IMU are converted every `state_decimation`-th sample of a
- * topic; positions, faults and the checks every sample.
- *
- * Commands. write() hands the frame to the command writer through a
- * latest-value buffer (never blocks); one writer thread publishes every
- * group's command topic in each pass (periodic at
- * `command_writer_period_us`, or as soon as the tick writes when 0), each
- * sample filled by the port's encode: stamped with the system clock (ROS
- * time), every slot of the group, q, dq, tau, kp, kd from the manifest's
- * channels; a slot without a bound joint, or a joint without a position
- * command, gets its measured position, and 0 elsewhere (no torque).
- *
- * Safe start-up, three layers: nothing before the first fresh frame; the
- * first frame of a robot (at open, after a restart) sets the command to
- * hold every joint's measured position with zero gains (kd =
- * `startup_damping`, 0 unless set); the first write after it is published
- * as that hold. A robot that restarted gets nothing until the tick writes
- * for it. On deactivate, the damping command (kp 0, kd `shutdown_damping`,
- * by default each joint's damping default, q the last commanded) when
- * anything was sent, repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS
- * (roz_dds_writer_publish_final()).
- *
- * Command watchdog (roz/hal/cmd_watchdog.h): when the latest command the
- * tick wrote is older than `command_timeout_us` (the tick stopped), the
- * writer publishes that same damping command to every group instead, every
- * pass (event-driven: every tick period), on its own; the tick's next read()
- * returns ROZ_EWATCHDOG (the runtime latches ROZ_FAULT_COMMAND_TIMEOUT
- * naming how long the tick was silent) and its next write is published as
- * the start-up hold; a command written before the trip is never published.
- *
- * Parameters (robot.toml [hardware.params], overridden by the caller's;
- * errors name the key and the value): `network_interface` (lo),
- * `dds_domain` (the robot's), `enable_monitor` (true),
- * `command_writer_period_us` (2000), `command_writer_spin_us` (0: see
- * roz/dds.h; a heads-up on every state sample), `state_decimation` (1),
- * `peer_timeout_ms` (500), `startup_damping` (0), `shutdown_damping`,
- * `command_timeout_us` (50000, or 5 tick or writer periods when longer),
- * `link_check` (`sequence` or `stamp`, where the messages have a sequence),
- * and the port's own.
- *
- * Threads: open, activate, deactivate and close from the application's
- * thread; read, write and fault from the tick; each state topic's listener
- * on a Cyclone thread (one call at a time per topic), the writer's passes
- * on its thread; they meet the tick through roz/buffer.h and atomics only.
+ * A robot is a constant description (roz_ros2_robot_t: joint groups, the
+ * IMU topic, the types, the QoS) and four conversions; the bridge binds the
+ * manifest by joint name, checks every state topic, gathers the topics into
+ * one frame, runs the start-up layers and the command watchdog, and
+ * publishes every group's command in one pass. docs/ports/ros2.md
+ * describes it all, with the parameters common to ROS 2 ports.
  */
 #ifndef ROZ_ROS2_H
 #define ROZ_ROS2_H

@@ -5,65 +5,10 @@
  *        its keys, their rules, and the per-joint settings and bus figures
  *        they give. Portable (no OS, no heap): firmware can use it too.
  *
- * ```toml
- * [hardware]
- * port = "socketcan"
- * joints = ["hip", "thigh", "knee"]          # the actuators, one per joint
- *
- * [hardware.params]
- * network_interface = "can0"
- * bitrate = "1000000"
- * reply = "temperature_error"
- * position_range = "-12.5:12.5"              # the actuators' firmware ranges
- * velocity_range = "-45:45"
- * stiffness_range = "0:500"
- * damping_range = "0:5"
- * effort_range = "-18:18, knee=-24:24"       # every joint, and one exception
- * can_id = "hip=1, thigh=2, knee=3"
- * direction = "knee=-1"
- * zero_offset = "thigh=0.35, knee=-1.2"
- * ```
- *
- * Per-joint keys hold comma-separated entries: `VALUE` for every joint,
- * `JOINT=VALUE` for one (which wins over the former). A joint may appear
- * once per key, and so may the entry for every joint.
- *
- * | key | value | default |
- * |-----|-------|---------|
- * | can_id | the actuator's 11-bit CAN id, 1..2047 (decimal or 0x hex), per joint; the low byte must be unique (a reply names its actuator by it) and none may be master_id | required |
- * | reply | the reply layout (roz/mit_codec.h): `basic` or `temperature_error` | required |
- * | position_range, velocity_range, stiffness_range, damping_range, effort_range | `MIN:MAX`, the actuator firmware's ranges for position (rad), velocity (rad/s), kp (N.m/rad), kd (N.m.s/rad), torque (N.m); all but position hold 0 (a hold sends 0); they must hold the manifest's limits of the joint's channels, seen from the actuator | required |
- * | direction | 1, or -1 when the actuator turns against the joint | 1 |
- * | zero_offset | the joint's position (rad) when the actuator reads 0 | 0 |
- * | network_interface | the CAN interface, at most 15 bytes | can0 |
- * | bitrate | the bus's bit rate as set on the interface (`ip link set can0 type can bitrate ...`; roz does not set it), 10000..1000000 | 1000000 |
- * | command_writer_period_us | the command writer's period; 0 sends a round when the tick writes; else 100..1000000 | 2000 |
- * | max_bus_load_percent | the share of the bus a period's frames may take, worst case, 10..100 | 80 |
- * | reply_timeout_us | a command unanswered this long makes its joint stale; at least two command intervals of a joint, 1000..10000000 | 20000 or three intervals, whichever is longer |
- * | command_timeout_us | the command watchdog (roz/hal/cmd_watchdog.h): the tick silent this long, the writer holds every actuator without gains; at least two command intervals of a joint and two ticks, 1000..60000000 | 50000 or five intervals or ticks, whichever is longer |
- * | master_id | the CAN id replies may come from besides the actuator's own, 0..2047 | 0 |
- * | consistency_margin | rad: a position that moves this much more (or less) than its velocity says is a fault; 0 = off | 0.2 |
- * | enable_monitor | true/false (1/0, yes/no, on/off): jitter warnings | true |
- * | state_decimation | 1 (every reply is converted) | 1 |
- *
- * Joints: the joint of a channel is the name before its last '/', the part
- * after it must be the channel's interface type. Per joint the port reads
- * the states `position`, `velocity`, `effort` and takes the commands
- * `position`, `velocity`, `stiffness`, `damping`, `effort`; any other
- * channel, a channel of a joint not in `hardware.joints`, and a joint
- * without a channel are errors. Seen from the actuator, position is
- * direction * (joint position - zero_offset), velocity and effort are
- * direction * the joint's, gains are the same.
- *
- * The bus: a joint's command is an 8-byte frame and its reply 6 or 8 bytes;
- * worst case (every stuff bit) a standard frame of n bytes takes 47 + 8n +
- * floor((33 + 8n) / 4) bits: 135 for 8 bytes, 115 for 6. When the joints'
- * frames take more than max_bus_load_percent of a period, the joints are
- * commanded round-robin in `groups` (joint i in group i mod groups, one
- * group a period) and each joint every `groups` periods.
- *
- * The rules are rozgen's as well (codegen/rozgen/socketcan.py): the same
- * problems, rule ids and words, for every fixture in manifests/invalid/.
+ * docs/ports/socketcan.md lists every key with its values and default, the
+ * channels a joint takes, and the bus load and round-robin rule. The rules
+ * are rozgen's as well (codegen/rozgen/socketcan.py): the same problems,
+ * rule ids and words, for every fixture in manifests/invalid/.
  */
 #ifndef ROZ_CAN_CONFIG_H
 #define ROZ_CAN_CONFIG_H

@@ -5,56 +5,10 @@
  *        command, unpacking a reply, the special frames. Pure and portable:
  *        no OS, no heap, no state; it builds for a microcontroller as well.
  *
- * A command is one 8-byte frame to the actuator's CAN id: position (16 bits),
- * velocity (12), kp (12), kd (12), feed-forward torque (12), big-endian in
- * that order:
- *
- * | byte | 0        | 1       | 2        | 3                   | 4        | 5         | 6                   | 7       |
- * |------|----------|---------|----------|---------------------|----------|-----------|---------------------|---------|
- * | bits | p[15:8]  | p[7:0]  | v[11:4]  | v[3:0] kp[11:8]     | kp[7:0]  | kd[11:4]  | kd[3:0] t[11:8]     | t[7:0]  |
- *
- * A reply starts with the actuator's id byte, then position (16), velocity
- * (12) and torque (12) the same way (bytes 1-5); what follows depends on
- * the actuator's model and firmware (roz_mit_reply_layout_t).
- *
- * Each value maps linearly from its range [min, max] onto the codes
- * 0 .. 2^bits - 1: code = round((x - min) * (2^bits - 1) / (max - min)),
- * halves rounding up; back: x = min + code * (max - min) / (2^bits - 1),
- * with the top code giving max exactly. The ranges are the actuator
- * firmware's own (they differ by model and by firmware version) and come
- * from the robot's configuration, never from a default.
- *
- * Round trips: decoding a code and encoding the value gives the same code,
- * for every code of every width (exact). Encoding a value and decoding the
- * code is within half a step of it, where step = (max - min) / (2^bits - 1):
- *
- * | range           | bits | step            | worst error |
- * |-----------------|------|-----------------|-------------|
- * | +-12.5 rad      | 16   | 3.81e-4 rad     | 1.91e-4 rad |
- * | +-45 rad/s      | 12   | 0.0220 rad/s    | 0.0110 rad/s|
- * | 0..500 N.m/rad  | 12   | 0.122           | 0.0611      |
- * | 0..5 N.m.s/rad  | 12   | 1.22e-3         | 6.11e-4     |
- * | +-18 N.m        | 12   | 8.79e-3 N.m     | 4.40e-3 N.m |
- *
- * The ends of a range are codes (exact); with an odd number of steps the
- * middle is not: in a range symmetric about 0, zero velocity or torque goes
- * out as +half a step (the code above the middle). Gains ranges start at 0,
- * which is exact.
- *
- * Values outside a range are saturated to its end and reported
- * (ROZ_MIT_SAT_*): roz's safety filter keeps commands within the manifest's
- * limits and the configuration check keeps those within the actuator's
- * ranges, so a saturation means a configuration that escaped both. A value
- * that is not finite goes out as the code nearest 0 within its range and is
- * reported (ROZ_MIT_NONFINITE_*); a non-finite position also sends kp's
- * lowest code, a non-finite velocity kd's: no gain pulls toward a target
- * that is not a number.
- *
- * Special frames: seven 0xFF bytes, then 0xFC (enter motor mode), 0xFD (exit
- * motor mode) or 0xFE (set the present position as zero). A command whose
- * codes are all at the top of their ranges with torque code 0xFFC..0xFFE
- * would read as one of them; its torque code goes out as 0xFFB instead
- * (at most three steps less torque) and is reported (ROZ_MIT_AVOIDED_SPECIAL).
+ * docs/ports/socketcan.md ("The frames") gives the bit layout, the linear
+ * quantisation and its round-trip error, saturation (ROZ_MIT_SAT_*),
+ * non-finite values (ROZ_MIT_NONFINITE_*) and the special frames a command
+ * must never look like (ROZ_MIT_AVOIDED_SPECIAL).
  *
  * Context: every function is pure; any thread, ISR, tick; RT-safe.
  */

@@ -5,99 +5,11 @@
  *        mode" (roz/mit_codec.h) on a Linux SocketCAN bus, one actuator per
  *        joint of the manifest's `[hardware]` table (roz/can_config.h).
  *
- * Threads. A receive thread reads every frame of a CAN_RAW socket bound to
- * `network_interface`; a command writer thread sends, every
- * `command_writer_period_us`, one frame to each joint of this round's
- * round-robin group (every joint each round when the bus has room), or,
- * with a period of 0, one round each time the tick writes (and on
- * roz_socketcan_send_round()). They meet the tick through latest-value
- * buffers (roz/buffer.h) and atomics only; nothing blocks the tick, nothing
- * in the tick allocates or formats text.
- *
- * Replies. A reply is a standard data frame, not RTR, from the actuator's
- * own CAN id or from `master_id`, whose first byte is the low byte of the
- * actuator's id and which is as long as its reply layout; each is unpacked
- * with that actuator's ranges and turned into the joint's position,
- * velocity and effort (direction, zero_offset). Every other frame is
- * counted and dropped: frames of other ids (roz_socketcan_counters_t
- * `unknown`), too short (`short_frames`), RTR or 29-bit frames (`unknown`),
- * error frames (`bus_errors`, and the CRC errors the controller reports in
- * the link's `crc_errors`).
- *
- * What the wire cannot tell, and what the port does instead. MIT-mode
- * frames carry no CRC of their own and no sequence number. The bus
- * checksums every frame in hardware: a frame damaged in transit never
- * reaches software, the controller reports an error frame (counted as a
- * CRC error) and the sender retransmits it. In place of a sequence the
- * port uses what the protocol promises, that a reply follows each command:
- * a reply is taken only while a frame to its actuator is unanswered (the
- * number of frames sent to it is the reply's "sequence", roz/hal/link.h);
- * one more is a replay, dropped and counted (a frame the bus delivered
- * twice, a stuck gateway). A reply that the receive thread reads only after
- * the next frame to its actuator went out answers that frame, and the
- * reply to it is then counted as a replay: under load the values can lag a
- * round, never go back further. A frozen actuator that still answers at
- * rest with its last values cannot be told from a resting one; the port
- * checks that position follows velocity (`consistency_margin`): a position
- * that stays put while the velocity says it moves, or that jumps further
- * than the velocity explains (the time between the replies counted in
- * command intervals; as much travel allowed for timing as the faster
- * velocity covers in one interval, or in the time by which the host's clock
- * disagrees with that count, if longer: a late thread is not a jump), is
- * a fault of that actuator (read() returns ROZ_EROBOT once per detection;
- * fault() names the joint). An actuator that reboots answers again out of
- * motor mode: the port sees that only as a silence (below), so a reboot
- * faster than `reply_timeout_us` goes unseen until its position jumps.
- *
- * Silence. An actuator whose oldest unanswered frame is older than
- * `reply_timeout_us` is lost: read() returns 0 (nothing fresh) while any
- * is, the runtime latches STALE after stale_ticks, and fault() names the
- * joint and its CAN id. When a lost actuator answers again, read()
- * returns ROZ_ELINK once (the runtime latches LINK) and its start-up
- * begins again.
- *
- * Safe start-up, three layers. (1) The writer sends each actuator "enter
- * motor mode" until it replies (which also asks for its state); nothing
- * else goes to it before. (2) Until every actuator has replied once, every
- * one that has gets a hold: its measured position (at the joint's position
- * limit if measured past it), velocity 0, kp 0, kd 0,
- * torque 0 (read() returns ROZ_ENOENT meanwhile: there is no whole state).
- * (3) The first command the tick writes after that goes out as the hold
- * too; the next as written. A lost actuator that answers again gets "enter
- * motor mode" once, then the hold, and the first command written after it
- * as the hold.
- *
- * Errors. With the `temperature_error` layout, a reply whose error byte is
- * not 0 makes read() return ROZ_EROBOT for every fresh frame while any
- * actuator reports one (a level); fault() names the joint, "actuator error
- * code" and the code (the runtime latches ROBOT).
- *
- * Commands. Per joint, the commands `position`, `velocity`, `stiffness`,
- * `damping`, `effort` become the actuator's p, v, kp, kd, t (p =
- * direction * (position - zero_offset), v and t times direction); a joint
- * without a position command sends its measured position, without the
- * others 0. Values outside the actuator's ranges are saturated and counted
- * (`saturated`; the configuration check and the safety filter keep it at 0).
- *
- * Command watchdog (roz/hal/cmd_watchdog.h). When the latest command the
- * tick wrote is older than `command_timeout_us` (the tick stopped: a killed
- * or stuck control loop), the writer sends every actuator the zero-gain
- * hold at its measured position in place of that command, every round (with
- * a period of 0, a round every control period, on its own); read() returns
- * ROZ_EWATCHDOG once (the runtime latches COMMAND_TIMEOUT naming how long
- * the tick was silent), and the tick's writes go out as the hold until
- * every round-robin group got one; a command written before the trip is
- * never sent.
- *
- * Shutdown. deactivate() stops the writer, then sends every actuator that
- * answered a zero-gain hold and "exit motor mode", then stops the receive
- * thread. The port never sends "set zero".
- *
- * The socket layer is the only part that sees Linux's CAN headers
- * (socketcan_adapt.c). For tests the port takes a file descriptor instead
- * of opening the interface: one end of a socketpair(AF_UNIX,
- * SOCK_SEQPACKET) carrying `struct can_frame` records reads and writes as
- * a CAN_RAW socket does.
+ * docs/ports/socketcan.md describes the port: its threads, which replies it
+ * takes, what the wire cannot tell and what the port does instead (replays,
+ * a stuck, silent or rebooted actuator), the three start-up layers, error
+ * codes, the command watchdog and shutdown. Only socketcan_adapt.c sees
+ * Linux's CAN headers.
  *
  * Context: open, activate, deactivate, close, set_log from the
  * application's thread; read, write, fault from the tick; counters, info,

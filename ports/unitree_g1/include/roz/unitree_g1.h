@@ -5,90 +5,10 @@
  *        `rt/lowcmd` and `rt/lowstate` (unitree_hg LowCmd_ / LowState_) over
  *        Cyclone DDS, as Unitree's own SDKs do on the wire.
  *
- * Binding (at open, by name, never in the tick): each of the manifest's
- * `[hardware] joints` is bound to its motor slot by its SDK joint name, in
- * any order and any subset (the 29-DoF order: left_hip_pitch_joint,
- * left_hip_roll_joint, left_hip_yaw_joint, left_knee_joint,
- * left_ankle_pitch_joint, left_ankle_roll_joint = 0-5; the right leg's six
- * = 6-11; waist_yaw_joint, waist_roll_joint, waist_pitch_joint = 12-14;
- * left_shoulder_pitch_joint, left_shoulder_roll_joint,
- * left_shoulder_yaw_joint, left_elbow_joint, left_wrist_roll_joint,
- * left_wrist_pitch_joint, left_wrist_yaw_joint = 15-21; the right arm's
- * seven = 22-28; roz_unitree_g1_joint_slot()). A name that is not one of
- * these, or one listed twice, is an error at open naming it; a slot with no
- * joint listed is never driven (nor are 29-34). For each joint the
- * states `{joint}/position`, `/velocity`, `/effort` come from the motor's q,
- * dq, tau_est, and the commands `{joint}/position`, `/velocity`, `/effort`,
- * `/stiffness`, `/damping` go to its q, dq, tau, kp, kd. The IMU states
- * `base_imu/orientation.{x,y,z,w}` come from Unitree's quaternion, which is
- * w, x, y, z; `base_imu/angular_velocity.*` from the gyroscope,
- * `base_imu/linear_acceleration.*` from the accelerometer. A manifest
- * channel the G1 has no place for is an error at open naming it.
- *
- * State (Cyclone's receive thread, roz/dds.h): every LowState_ is checked
- * before anything of it is used: its CRC (crc32_core over the native struct,
- * roz/hal/crc32.h), then its `tick` through roz/hal/link.h (bad CRC and
- * replays dropped and counted; a robot that restarts, or comes back after
- * `peer_timeout_ms` of silence, makes read() return ROZ_ELINK once and the
- * start-up layers begin again). Every frame's safety fields are converted:
- * the motors' fault codes, mode_machine and the joint positions; the rest
- * (velocities, efforts, IMU) every `state_decimation`-th frame (the first
- * frame of a robot always). A joint whose motor reports a fault code
- * (`motorstate` != 0) makes read() return ROZ_EROBOT for every frame that
- * reports it; fault() names the joint and the code (the runtime latches
- * ROZ_FAULT_ROBOT).
- *
- * Commands: write() hands the frame to the command writer thread through a
- * latest-value buffer (never blocks); the writer publishes at
- * `command_writer_period_us` (2000), or at once when that is 0. Every
- * publish fills a freshly zeroed LowCmd_ (stale padding under the CRC makes
- * the robot drop a command without a word): mode 1 for the manifest's
- * joints, 0 and all zero for the other slots; q, dq, tau, kp, kd from the
- * command channels (a joint without one sends 0 there); `mode_pr` from the
- * parameter; `mode_machine` echoed from the latest LowState_; the CRC over
- * the native struct. A robot whose `mode_machine` names a variant without a
- * motor for a listed joint (4, 10: 23-DoF, no slots 13, 14, 20, 21, 27, 28;
- * 6, 12, 14, 16: waist locked, no 13, 14) gets nothing, and read() returns
- * ROZ_EROBOT with fault() naming the joint and the mode_machine (0,
- * simulation, and every other value take the whole body). The
- * mode_machine of the first command sent is kept:
- * while the robot reports another, nothing is sent and read() returns
- * ROZ_EROBOT (fault(): "mode_machine changed under a running controller").
- *
- * Safe start-up, three layers: nothing is sent before the first LowState_
- * (writes before it are counted and dropped); the first frame of a robot
- * (at open, or after a restart) sets the command to hold each joint's
- * measured position with zero gains (kd = `startup_damping`, 0 unless set:
- * a damping hold as the vendor's deploy code uses); and the first write
- * after it is published as that hold, not as what was written. A robot that
- * restarted gets nothing until the tick writes again. On deactivate, the
- * writer stops, then the damping command (kp 0, kd `shutdown_damping`,
- * default the manifest's damping default) goes out, when anything was sent,
- * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (roz_dds_writer_publish_final()).
- *
- * Command watchdog (roz/hal/cmd_watchdog.h): when the latest command the
- * tick wrote is older than `command_timeout_us` (the tick stopped: a killed
- * or stuck control loop), the writer publishes that same damping command
- * instead, every period (event-driven: every tick period), on its own; the
- * tick's next read() returns ROZ_EWATCHDOG (the runtime latches
- * ROZ_FAULT_COMMAND_TIMEOUT naming how long the tick was silent), and its
- * next write is published as the start-up hold; a command written before
- * the trip is never published.
- *
- * Parameters (robot.toml [hardware.params], overridden by the caller's;
- * errors name the key and the value): `network_interface` (lo),
- * `dds_domain` (0), `enable_monitor` (true), `command_writer_period_us`
- * (2000; 0 = as soon as the tick writes), `command_writer_spin_us` (0;
- * with 0 above: the writer, woken when a LowState_ arrives, spins up to
- * that long for the tick's command: roz/dds.h), `state_decimation` (1), `mode_pr`
- * (PR or AB, or 0 or 1; default PR), `peer_timeout_ms` (500),
- * `startup_damping` (0), `shutdown_damping` (the damping channels' default),
- * `command_timeout_us` (50000, or 5 tick or writer periods when longer).
- *
- * Threads: open, activate, deactivate and close from the application's
- * thread; read, write and fault from the tick; the rest runs on Cyclone's
- * receive thread and the writer thread, which meet the tick through
- * roz/buffer.h and atomics only.
+ * docs/ports/unitree_g1.md describes the port: bringing a robot up, the
+ * joints and motor slots, the checks on every LowState_, the commands, the
+ * three start-up layers, the exit and watchdog damping, every parameter,
+ * and which thread runs what.
  */
 #ifndef ROZ_UNITREE_G1_H
 #define ROZ_UNITREE_G1_H

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The README's firmware block, compiled as printed (this directory's
- * CMakeLists.txt cuts it out of README.md into firmware_snippet.c) and run:
+/* The firmware block of docs/firmware.md, compiled as printed (this
+ * directory's CMakeLists.txt cuts it out into firmware_snippet.c) and run:
  * the smallest controller, 100 periods on the loopback, no fault, one frame
  * a period; then the e-stop pressed (the fault cannot be cleared), released
- * and cleared. A README that stops compiling or running fails this test. */
+ * and cleared. A page whose block stops compiling or running fails this
+ * test. */
 #include <stdio.h>
 
 #include "roz/hal/clock.h"
@@ -31,7 +32,7 @@ int main(void)
 
     if (controller_start(idle_wasm, sizeof idle_wasm, roz_clock_monotonic_ns, err, sizeof err)
         != 0) {
-        fprintf(stderr, "readme firmware: controller_start: %s\n", err);
+        fprintf(stderr, "docs firmware: controller_start: %s\n", err);
         return 1;
     }
     for (int t = 0; t < 100; t++)
@@ -39,7 +40,7 @@ int main(void)
     roz_runtime_stats_t st;
     if (roz_runtime_stats(&rt, &st) != ROZ_OK || roz_runtime_faults(&rt) != 0 ||
         st.runtime.writes != 100 || sim.violations != 0) {
-        fprintf(stderr, "readme firmware: faults 0x%x, %llu frames\n", roz_runtime_faults(&rt),
+        fprintf(stderr, "docs firmware: faults 0x%x, %llu frames\n", roz_runtime_faults(&rt),
                 (unsigned long long)st.runtime.writes);
         return 1;
     }
@@ -49,7 +50,7 @@ int main(void)
     controller_supervise(1);
     controller_period();
     if (!(roz_runtime_faults(&rt) & ROZ_FAULT_ESTOP)) {
-        fprintf(stderr, "readme firmware: ESTOP cleared while pressed\n");
+        fprintf(stderr, "docs firmware: ESTOP cleared while pressed\n");
         return 1;
     }
     estop_isr(0);
@@ -57,10 +58,10 @@ int main(void)
     for (int t = 0; t < 3; t++)
         controller_period();
     if (roz_runtime_faults(&rt) != 0) {
-        fprintf(stderr, "readme firmware: faults 0x%x after release and clear\n",
+        fprintf(stderr, "docs firmware: faults 0x%x after release and clear\n",
                 roz_runtime_faults(&rt));
         return 1;
     }
-    printf("readme firmware: 100 periods, no fault; e-stop held, released, cleared\n");
+    printf("docs firmware: 100 periods, no fault; e-stop held, released, cleared\n");
     return 0;
 }
