@@ -356,29 +356,23 @@ typedef struct roz_ros2_bridge {
     /* ---- tick ---- */
     int                   tick_has_state;
     uint32_t              tick_robot;    /* robots seen by the tick: first, each restart */
-    uint32_t              write_robot;   /* robot of the last write */
     uint32_t              delivered;     /* topics fresh since the last fresh frame */
-    uint64_t              write_seq;
     double                tick_frame[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     double                tick_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_port_fault_t      tick_fault;
 
-    /* ---- tick <-> writer thread ---- */
-    roz_cmd_watchdog_t    watchdog;
-    roz_buffer_t          cmd_buf;
+    /* ---- tick <-> writer thread: roz/dds.h's command path ---- */
+    roz_dds_cmd_t         cmd;
     double                cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_ROS2_CMD_META)];
 
     /* ---- writer thread ---- */
-    ROZ_ATOMIC(int)       shutdown;      /* 1: publish the damping command */
-    int                   sent_any;
     double                tx_last_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_ros2_joint_cmd_t  tx_joint[ROZ_ROS2_MAX_ROBOT_SLOTS];
     int32_t               tx_sec;
     uint32_t              tx_nanosec;
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
-    ROZ_ATOMIC(uint64_t)  c_frames, c_writes, c_withheld, c_holds, c_clamped;
-    ROZ_ATOMIC(uint64_t)  c_stale_session, c_handled_seq, c_written_seq, c_safe;
+    ROZ_ATOMIC(uint64_t)  c_frames;
 } roz_ros2_bridge_t;
 
 /**

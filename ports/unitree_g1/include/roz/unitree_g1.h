@@ -200,27 +200,21 @@ typedef struct roz_unitree_g1 {
     /* ---- tick ---- */
     int                    tick_has_state;
     uint32_t               tick_session;   /* robot session of the last frame read */
-    uint32_t               write_session;  /* robot session of the last write */
-    uint64_t               write_seq;
     double                 tick_q[ROZ_UNITREE_G1_SLOTS];
     roz_port_fault_t       tick_fault;
 
-    /* ---- tick <-> writer thread ---- */
-    roz_cmd_watchdog_t     watchdog;
-    roz_buffer_t           cmd_buf;
+    /* ---- tick <-> writer thread: roz/dds.h's command path ---- */
+    roz_dds_cmd_t          cmd;
     double                 cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_UNITREE_G1_CMD_META)];
 
     /* ---- writer thread ---- */
     ROZ_ATOMIC(uint32_t)   locked_mode_machine; /* 0x100 | value once a command went out */
-    ROZ_ATOMIC(int)        shutdown;       /* 1: publish the damping command */
+    uint32_t               tx_mode_machine; /* this pass's, for its fill */
     double                 tx_last_q[ROZ_UNITREE_G1_SLOTS]; /* positions last commanded,
                                                                by manifest joint */
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)   c_frames, c_full, c_motor_fault, c_sessions;
-    ROZ_ATOMIC(uint64_t)   c_writes, c_withheld, c_holds, c_clamped;
-    ROZ_ATOMIC(uint64_t)   c_stale_session, c_refused_mm, c_handled_seq, c_written_seq;
-    ROZ_ATOMIC(uint64_t)   c_safe;
 } roz_unitree_g1_t;
 
 /** The ops table (name "unitree/G1"). */
