@@ -828,3 +828,28 @@ void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_
     *cmd_readers = readers == UINT32_MAX ? 0 : readers;
     *state_writers = writers == UINT32_MAX ? 0 : writers;
 }
+
+const roz_ros2_robot_t *roz_ros2_robot(const roz_ros2_bridge_t *b)
+{
+    return b->robot;
+}
+
+const roz_dds_params_t *roz_ros2_dds_params(const roz_ros2_bridge_t *b)
+{
+    return &b->dds;
+}
+
+const roz_dds_participant_t *roz_ros2_participant(const roz_ros2_bridge_t *b)
+{
+    return &b->part;
+}
+
+const roz_monitor_t *roz_ros2_writer_monitor(const roz_ros2_bridge_t *b)
+{
+    return &b->mon_tx;
+}
+
+const roz_monitor_t *roz_ros2_topic_monitor(const roz_ros2_bridge_t *b, uint16_t t)
+{
+    return t < b->n_topics && reads(b, t) ? &b->topic[t].mon : NULL;
+}

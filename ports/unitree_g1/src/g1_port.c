@@ -476,3 +476,18 @@ void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
     *cmd_readers = roz_dds_writer_matched(&g1->writer);
     *state_writers = roz_dds_reader_matched(&g1->reader);
 }
+
+const roz_dds_participant_t *roz_unitree_g1_participant(const roz_unitree_g1_t *g1)
+{
+    return &g1->part;
+}
+
+const roz_monitor_t *roz_unitree_g1_writer_monitor(const roz_unitree_g1_t *g1)
+{
+    return &g1->mon_tx;
+}
+
+const roz_monitor_t *roz_unitree_g1_state_monitor(const roz_unitree_g1_t *g1)
+{
+    return &g1->mon_rx;
+}
