@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The bridge between a robot's ROS 2 joint-group topics and roz's port
  * contract: parameters, the receive path of each state topic (a Cyclone
- * thread), the tick's read (gathering the topics into one frame) and write,
- * the writer's pass over every command topic (its thread), start-up and
- * shutdown. roz/ros2.h says what it does; here is how. */
+ * thread), the tick's read (gathering the topics into one frame), what the
+ * joint-group topics bring to roz/dds.h's command path (one pass publishes
+ * every group's), start-up and shutdown. roz/ros2.h says what it does; here
+ * is how. */
 #include "roz/ros2.h"
 
 #include <math.h>
@@ -308,7 +309,7 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     roz_link_shared_publish(&t->link_shared, &t->link);
 }
 
-/* ---- the command writer (its thread; after it stopped, the caller's) ------------ */
+/* ---- the command path's hooks (roz/dds.h says which thread runs each) ---------- */
 
 static void encode_group(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
 {
@@ -338,8 +339,6 @@ static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
     encode_group(b, o, sample);
     return 1;
 }
-
-/* ---- the command path's hooks (roz/dds.h says which thread runs each) ---------- */
 
 static void bridge_hold(void *port, double *cmd)
 {

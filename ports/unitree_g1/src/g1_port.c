@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port unitree/G1: parameters, the receive path (Cyclone's thread), the
- * tick's read and write, the command writer's fill (its thread), start-up
- * and shutdown. roz/unitree_g1.h says what it does; here is how. */
+ * tick's read, what LowCmd_ brings to roz/dds.h's command path (the hold,
+ * the fill, the damping, mode_machine's lock), start-up and shutdown.
+ * roz/unitree_g1.h says what it does; here is how. */
 #include "roz/unitree_g1.h"
 
 #include <math.h>
