@@ -640,7 +640,7 @@ int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monit
  * @param[in] t   what the port's read() saw
  * @retval ROZ_OK     written, held, or withheld before the first state frame
  * @retval ROZ_EINVAL @p n is not the manifest's n_commands
- * Context: the tick; RT-safe, wait-free; no heap.
+ * Context: the tick; RT-safe, never blocks; no heap.
  */
 int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_dds_cmd_tick_t *t);
 
@@ -662,6 +662,7 @@ int roz_dds_cmd_report(roz_dds_cmd_t *c, int rc, roz_port_fault_t *fault);
  *        command from here (roz_dds_writer_publish_final()), if the robot
  *        ever got a command.
  * @return roz_dds_writer_publish_final()'s: 1 published, 0 nothing to send
+ *         (the robot never got a command), ROZ_EIO every write failed
  * Context: shutdown (a port's deactivate); sleeps, bounded.
  */
 int roz_dds_cmd_stop(roz_dds_cmd_t *c);
