@@ -684,7 +684,8 @@ int roz_ros2_write(void *self, const double *cmd, size_t n)
         if (reads(b, t))
             sessions += b->topic[t].tick_session;
     }
-    roz_dds_cmd_tick_t t = { b->tick_has_state, b->tick_robot, sessions, b->tick_q };
+    roz_dds_cmd_tick_t t = { .has_state = b->tick_has_state, .robot = b->tick_robot,
+                             .session = sessions, .extra = b->tick_q };
     return roz_dds_cmd_write(&b->cmd, cmd, n, &t);
 }
 

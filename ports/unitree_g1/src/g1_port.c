@@ -384,7 +384,10 @@ static int g1_write(void *self, const double *cmd, size_t n)
 
     if (!g1->open)
         return ROZ_EINVAL;
-    roz_dds_cmd_tick_t t = { g1->tick_has_state, g1->tick_session, g1->tick_session, NULL };
+    /* a robot is a session of LowState_: a restart, or a return after
+     * peer_timeout_ms, is a new one */
+    roz_dds_cmd_tick_t t = { .has_state = g1->tick_has_state, .robot = g1->tick_session,
+                             .session = g1->tick_session, .extra = NULL };
     return roz_dds_cmd_write(&g1->cmd, cmd, n, &t);
 }
 
