@@ -214,7 +214,7 @@ static int child_main(uint32_t domain)
         return 1;
 
     /* the raw echo, in the first side's participant (the same configuration) */
-    dds_entity_t part = sides[0].g1.part.participant;
+    dds_entity_t part = roz_unitree_g1_participant(&sides[0].g1)->participant;
     dds_entity_t ts = dds_create_topic(part, &unitree_hg_msg_dds__LowState__desc, "bench/state",
                                        NULL, NULL);
     dds_entity_t tc = dds_create_topic(part, &unitree_hg_msg_dds__LowCmd__desc, "bench/cmd", NULL,

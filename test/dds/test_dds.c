@@ -17,6 +17,11 @@
  *    takes into the same buffers sample after sample, and lets Cyclone grow
  *    them for a longer one; a writer without a thread of its own publishes
  *    from another writer's pass;
+ *  - the command path (roz_dds_cmd) over a port's hooks: nothing before
+ *    the first state frame, the start-up hold for each robot, frames
+ *    clamped, a frame for a robot that restarted not sent, the port's
+ *    refusal, the watchdog's damping and its report, the damping on stop
+ *    only to a robot that got a command;
  *  - two processes find each other with roz's configuration for lo (no
  *    multicast: through the peer) and echo frames both ways.
  * Timeouts here guard against a hang; no test asserts a time. */
@@ -554,6 +559,208 @@ static void test_dds_kept_storage(void **st)
     roz_dds_sample_free(&joints_rx, sizeof joints_rx, &roz_dds_test_Joints_desc);
 }
 
+/* ---- the command path -------------------------------------------------------- */
+
+/* A port of two command channels, its hooks counting what they are asked
+ * (hold: the tick's; send, safe: the writer thread's, or the caller's on
+ * stop): the command path alone, without a port's wire. */
+static const roz_channel_t cp_commands[2] = {
+    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "j/damping", ROZ_IF_DAMPING, "N.m.s/rad", 0.0, 10.0, 1.0, 0.0, ROZ_CHANNEL_UNPAIRED,
+      0.0 },
+};
+static const roz_manifest_t cp_manifest = { "cmd_path", "test", 100, cp_commands, 2, NULL, 0,
+                                            NULL };
+
+typedef struct {
+    ROZ_ATOMIC(uint32_t) rx_session; /* the receive path's, as the hooks see it */
+    ROZ_ATOMIC(int)      refuse;
+    ROZ_ATOMIC(uint32_t) sends, safes, refuse_asked;
+    uint32_t             holds;      /* the tick's */
+    double               sent[2], extra; /* the last send's (writer thread) */
+} cmd_port_t;
+
+static cmd_port_t cp;
+static roz_dds_cmd_t cmdp;
+static double cmd_slots[3 * (2 + ROZ_DDS_CMD_META + 1)];
+
+static void cp_hold(void *port, double *cmd)
+{
+    cmd_port_t *p = port;
+    p->holds++;
+    cmd[0] = 0.25; /* "the measured position" */
+    cmd[1] = 0.0;
+}
+
+static uint32_t cp_rx_session(void *port)
+{
+    cmd_port_t *p = port;
+    return atomic_load(&p->rx_session);
+}
+
+static int cp_refuse(void *port)
+{
+    cmd_port_t *p = port;
+    atomic_fetch_add(&p->refuse_asked, 1u);
+    return atomic_load(&p->refuse);
+}
+
+static int cp_send(void *port, void *sample, const double *cmd, const double *extra)
+{
+    cmd_port_t *p = port;
+    roz_dds_test_Frame *f = sample;
+    p->sent[0] = cmd[0];
+    p->sent[1] = cmd[1];
+    p->extra = extra[0];
+    f->seq = 1;
+    atomic_fetch_add(&p->sends, 1u);
+    return 1;
+}
+
+static int cp_safe(void *port, void *sample)
+{
+    cmd_port_t *p = port;
+    roz_dds_test_Frame *f = sample;
+    f->seq = 2;
+    atomic_fetch_add(&p->safes, 1u);
+    return 1;
+}
+
+static const roz_dds_cmd_ops_t cp_ops = { cp_hold, cp_rx_session, cp_refuse, cp_send, cp_safe };
+
+/* A participant, a writer (event-driven, no reader needed) and the path. */
+static void cp_open(uint32_t timeout_us)
+{
+    char err[256] = "";
+    memset(&cp, 0, sizeof cp);
+    atomic_store(&cp.rx_session, 1u);
+    memset(&tx_storage, 0x55, sizeof tx_storage);
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, err,
+                                 sizeof err) != ROZ_OK ||
+        roz_dds_writer_open(&wr, &part, "roz_test/command", &roz_dds_test_Frame_desc,
+                            &roz_dds_qos_robot_command, &tx_storage, sizeof tx_storage, err,
+                            sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    roz_dds_cmd_config_t cfg = { &cp_manifest, &cp_ops, &cp, &wr, cmd_slots, 1, timeout_us };
+    roz_dds_cmd_init(&cmdp, &cfg);
+    assert_int_equal(roz_dds_cmd_attach(&cmdp, 0), ROZ_OK);
+    assert_int_equal(roz_dds_cmd_start(&cmdp, 0, NULL), ROZ_OK);
+}
+
+static void cp_close(void)
+{
+    roz_dds_writer_close(&wr);
+    roz_dds_participant_close(&part);
+}
+
+static uint64_t cp_count(roz_dds_cmd_counter_t k)
+{
+    return roz_dds_cmd_count(&cmdp, k);
+}
+
+/* A write as the tick makes it after a read that saw @p robot's frames of
+ * @p session; the writer's pass over it has ended when this returns. */
+static void cp_write(double q, double kd, uint32_t robot, uint32_t session)
+{
+    const double cmd[2] = { q, kd };
+    const double extra = 7.5;
+    roz_dds_cmd_tick_t t = { 1, robot, session, &extra };
+    uint64_t written = cp_count(ROZ_DDS_CMD_WRITTEN_SEQ);
+    assert_int_equal(roz_dds_cmd_write(&cmdp, cmd, 2, &t), ROZ_OK);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_WRITTEN_SEQ), written + 1);
+    WAIT_FOR(cp_count(ROZ_DDS_CMD_HANDLED_SEQ) == written + 1 &&
+                 atomic_load(&wr.passes) == atomic_load(&wr.done),
+             5000);
+}
+
+static void test_dds_command_path(void **st)
+{
+    const double cmd[2] = { 0.5, 2.0 };
+    roz_port_fault_t fault;
+    (void)st;
+
+    cp_open(ROZ_CMD_WATCHDOG_MAX_US); /* no trip while this part runs */
+    /* nothing before the first state frame; a frame of the wrong length refused */
+    roz_dds_cmd_tick_t none = { 0, 0, 0, NULL };
+    assert_int_equal(roz_dds_cmd_write(&cmdp, cmd, 2, &none), ROZ_OK);
+    assert_int_equal(roz_dds_cmd_write(&cmdp, cmd, 3, &none), ROZ_EINVAL);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_WRITES), 1);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_WITHHELD), 1);
+    sleep_ms(20);
+    assert_int_equal(atomic_load(&wr.passes), 0);
+    /* the first write for a robot is the start-up hold, sent with the
+     * port's own values */
+    cp_write(0.5, 2.0, 1, 1);
+    assert_int_equal(cp.holds, 1);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_HOLDS), 1);
+    assert_int_equal(atomic_load(&cp.sends), 1);
+    assert_true(cp.sent[0] == 0.25 && cp.sent[1] == 0.0 && cp.extra == 7.5);
+    /* then the tick's frames, clamped to their channels */
+    cp_write(0.5, 2.0, 1, 1);
+    assert_true(cp.sent[0] == 0.5 && cp.sent[1] == 2.0);
+    cp_write(5.0, -3.0, 1, 1);
+    assert_true(cp.sent[0] == 1.0 && cp.sent[1] == 0.0);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_CLAMPED), 2);
+    assert_int_equal(atomic_load(&cp.sends), 3);
+    assert_int_equal(atomic_load(&wr.published), 3);
+    /* the robot restarted (its receive path says so) before the tick read
+     * it: a frame for the old one is not sent; the tick's first write for
+     * the new one is its hold */
+    atomic_store(&cp.rx_session, 2u);
+    cp_write(0.5, 2.0, 1, 1);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_STALE), 1);
+    assert_int_equal(atomic_load(&cp.sends), 3);
+    cp_write(0.5, 2.0, 2, 2);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_HOLDS), 2);
+    assert_true(cp.sent[0] == 0.25 && cp.sent[1] == 0.0);
+    assert_int_equal(atomic_load(&cp.sends), 4);
+    /* the port refuses: nothing, counted; asked on every pass with a frame */
+    atomic_store(&cp.refuse, 1);
+    cp_write(0.5, 2.0, 2, 2);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_REFUSED), 1);
+    assert_int_equal(atomic_load(&cp.sends), 4);
+    assert_int_equal(atomic_load(&cp.refuse_asked), 6);
+    atomic_store(&cp.refuse, 0);
+    /* no trip: read()'s own result */
+    assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), 1);
+    assert_int_equal(roz_dds_cmd_report(&cmdp, ROZ_ELINK, &fault), ROZ_ELINK);
+    assert_int_equal(roz_dds_cmd_timeouts(&cmdp), 0);
+    assert_int_equal(atomic_load(&cp.safes), 0);
+    /* deactivate: the damping command from this thread */
+    assert_int_equal(roz_dds_cmd_stop(&cmdp), 1);
+    assert_true(atomic_load(&cp.safes) >= 1);
+    assert_int_equal(atomic_load(&cp.sends), 4);
+    cp_close();
+
+    /* the tick goes silent: the watchdog's damping command on the writer's
+     * own, read() reports the trip once, and the next write is a hold */
+    cp_open(20000u); /* two ticks at 100 Hz */
+    cp_write(0.5, 2.0, 1, 1);
+    assert_int_equal(atomic_load(&cp.sends), 1);
+    WAIT_FOR(roz_dds_cmd_timeouts(&cmdp) == 1 && cp_count(ROZ_DDS_CMD_SAFE) >= 2, 10000);
+    assert_true(atomic_load(&cp.safes) >= 2);
+    assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), ROZ_EWATCHDOG);
+    assert_string_equal(fault.what, ROZ_CMD_WATCHDOG_KEY);
+    assert_true(fault.code >= 20000u);
+    assert_int_equal(fault.limit, 20000u);
+    assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), 1);
+    uint32_t holds = cp.holds;
+    const double q[2] = { 0.5, 2.0 };
+    roz_dds_cmd_tick_t t = { 1, 1, 1, q };
+    assert_int_equal(roz_dds_cmd_write(&cmdp, q, 2, &t), ROZ_OK);
+    assert_int_equal(cp.holds, holds + 1);
+    assert_int_equal(roz_dds_cmd_stop(&cmdp), 1);
+    cp_close();
+
+    /* a robot that never got a command gets no damping either */
+    cp_open(ROZ_CMD_WATCHDOG_MAX_US);
+    assert_int_equal(roz_dds_cmd_write(&cmdp, cmd, 2, &none), ROZ_OK);
+    assert_int_equal(roz_dds_cmd_stop(&cmdp), 0);
+    assert_int_equal(atomic_load(&cp.safes), 0);
+    assert_int_equal(atomic_load(&wr.published), 0);
+    cp_close();
+}
+
 /* ---- two processes -------------------------------------------------------- */
 
 /* The echo peer: a frame on roz_test/ping comes back on roz_test/pong, made
@@ -684,6 +891,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_dds_event_writer),
         cmocka_unit_test(test_dds_spinning_writer),
         cmocka_unit_test(test_dds_kept_storage),
+        cmocka_unit_test(test_dds_command_path),
         cmocka_unit_test(test_dds_two_processes),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -366,7 +366,7 @@ static int fake_matched(void)
         if (drives[g] && (v[2 * g] < 1 || v[2 * g + 1] < 1))
             return 0;
     }
-    int imu = roz_ros2_topic_link(robot->bridge, robot->bridge->robot->n_groups, &l) == ROZ_OK;
+    int imu = roz_ros2_topic_link(robot->bridge, roz_ros2_robot(robot->bridge)->n_groups, &l) == ROZ_OK;
     return !imu || v[2 * fake.n_groups] >= 1;
 }
 

@@ -406,14 +406,14 @@ static void test_pm01_domain(void **st)
     roz_params_t p = { &lo, 1 };
     roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
     assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_OK);
-    assert_int_equal(pm.b.dds.domain, 69);
-    assert_int_equal(pm.b.part.domain, 69);
+    assert_int_equal(roz_ros2_dds_params(&pm.b)->domain, 69);
+    assert_int_equal(roz_ros2_participant(&pm.b)->domain, 69);
     roz_port_close(&pt);
     /* overridden */
     roz_param_t items[2] = { { "network_interface", "lo" }, { "dds_domain", "7" } };
     p = (roz_params_t){ items, 2 };
     assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_OK);
-    assert_int_equal(pm.b.part.domain, 7);
+    assert_int_equal(roz_ros2_participant(&pm.b)->domain, 7);
     roz_port_close(&pt);
     /* refused */
     items[1].value = "233";
@@ -586,11 +586,13 @@ static void test_pm01_periodic_writer(void **st)
     assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
 
     roz_monitor_stat_t s;
-    assert_int_equal(roz_monitor_snapshot(&roz_ros2fx_bridge()->mon_tx, ROZ_MON_JITTER, &s),
+    assert_int_equal(roz_monitor_snapshot(roz_ros2_writer_monitor(roz_ros2fx_bridge()),
+                                          ROZ_MON_JITTER, &s),
                      ROZ_OK);
     assert_true(s.count >= 50);
     assert_int_equal(
-        roz_monitor_snapshot(&roz_ros2fx_bridge()->topic[0].mon, ROZ_MON_STATE_HANDLER, &s),
+        roz_monitor_snapshot(roz_ros2_topic_monitor(roz_ros2fx_bridge(), 0),
+                             ROZ_MON_STATE_HANDLER, &s),
         ROZ_OK);
     assert_true(s.count >= 1);
 }

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The bridge between a robot's ROS 2 joint-group topics and roz's port
  * contract: parameters, the receive path of each state topic (a Cyclone
- * thread), the tick's read (gathering the topics into one frame) and write,
- * the writer's pass over every command topic (its thread), start-up and
- * shutdown. roz/ros2.h says what it does; here is how. */
+ * thread), the tick's read (gathering the topics into one frame), what the
+ * joint-group topics bring to roz/dds.h's command path (one pass publishes
+ * every group's), start-up and shutdown. roz/ros2.h says what it does; here
+ * is how. */
 #include "roz/ros2.h"
 
 #include <math.h>
@@ -12,17 +13,18 @@
 
 #include "ros2_map.h"
 #include "ros2_msgs.h"
-#include "roz/hal/clock.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
 enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE, M_FAULT_SERIAL };
-/* Command frame (tick -> writer thread): n_commands values, then: */
-enum { C_SESSION = 0, C_HOLD, C_SEQ, C_EPOCH, C_Q };
+/* Command frame (tick -> writer thread): roz/dds.h's command path, n_commands
+ * values and its meta words, then the bridge's own: each robot slot's
+ * measured position (a slot the frame does not command holds it). */
 
 _Static_assert(M_FAULT_SERIAL + 1 == ROZ_ROS2_STATE_META, "state frame meta");
-_Static_assert(C_Q + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META, "command frame meta");
+_Static_assert(ROZ_DDS_CMD_META + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META,
+               "command frame meta");
 _Static_assert(ROZ_ROS2_MAX_TOPICS <= 32, "a bit per topic");
 
 #define MAX_KEYS 32
@@ -307,7 +309,7 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     roz_link_shared_publish(&t->link_shared, &t->link);
 }
 
-/* ---- the command writer (its thread; after it stopped, the caller's) ------------ */
+/* ---- the command path's hooks (roz/dds.h says which thread runs each) ---------- */
 
 static void encode_group(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
 {
@@ -338,8 +340,16 @@ static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
     return 1;
 }
 
-static uint32_t rx_sessions(roz_ros2_bridge_t *b)
+static void bridge_hold(void *port, double *cmd)
 {
+    roz_ros2_bridge_t *b = port;
+    roz__ros2_hold(b, b->tick_q, b->startup_kd, cmd);
+}
+
+/* every topic's session, summed: any topic's peer restarting changes it */
+static uint32_t bridge_rx_session(void *port)
+{
+    roz_ros2_bridge_t *b = port;
     uint32_t sum = 0;
     for (uint16_t t = 0; t < b->n_topics; t++) {
         if (reads(b, t))
@@ -348,49 +358,29 @@ static uint32_t rx_sessions(roz_ros2_bridge_t *b)
     return sum;
 }
 
-static int fill_primary(void *ctx, void *sample, uint64_t now_ns)
+static int bridge_send(void *port, void *sample, const double *cmd, const double *q)
 {
-    roz_ros2_out_t *o = ctx;
-    roz_ros2_bridge_t *b = o->bridge;
-    const roz_manifest_t *m = b->m;
-    roz_buffer_frame_t f;
-
-    if (atomic_load_explicit(&b->shutdown, memory_order_acquire)) {
-        /* the last command: damping, if the robot ever got one */
-        if (!b->sent_any)
-            return 0;
-        roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
-        return publish_all(b, o, sample);
-    }
-    if (roz_buffer_read(&b->cmd_buf, &f) == ROZ_ENOENT)
-        return 0;
-    const double *meta = f.values + m->n_commands;
-    uint64_t seq = (uint64_t)meta[C_SEQ];
-    int rc = 0;
-    if ((uint32_t)meta[C_SESSION] != rx_sessions(b)) {
-        /* written for a robot that restarted since: the new one gets
-         * nothing until the tick writes for it */
-        bump(&b->c_stale_session);
-    } else if (roz_cmd_watchdog_judge(&b->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
-                                      f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
-        /* the tick went silent (or this was written before it was found
-         * so): the damping command, as on shutdown, until it writes again;
-         * nothing to a robot that never got a command */
-        if (b->sent_any) {
-            roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
-            rc = publish_all(b, o, sample);
-            bump(&b->c_safe);
-        }
-    } else {
-        roz__ros2_joints(b, f.values, meta + C_Q, b->tx_joint);
-        for (uint16_t s = 0; s < b->n_slots; s++)
-            b->tx_last_q[s] = b->tx_joint[s].q;
-        rc = publish_all(b, o, sample);
-        b->sent_any = 1;
-    }
-    atomic_store_explicit(&b->c_handled_seq, seq, memory_order_release);
-    return rc;
+    roz_ros2_bridge_t *b = port;
+    roz__ros2_joints(b, cmd, q, b->tx_joint);
+    for (uint16_t s = 0; s < b->n_slots; s++)
+        b->tx_last_q[s] = b->tx_joint[s].q;
+    return publish_all(b, &b->out[primary(b)], sample);
 }
+
+static int bridge_safe(void *port, void *sample)
+{
+    roz_ros2_bridge_t *b = port;
+    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
+    return publish_all(b, &b->out[primary(b)], sample);
+}
+
+static const roz_dds_cmd_ops_t bridge_cmd_ops = {
+    .hold = bridge_hold,
+    .rx_session = bridge_rx_session,
+    .refuse = NULL,
+    .send = bridge_send,
+    .safe = bridge_safe,
+};
 
 /* ---- open -------------------------------------------------------------------------- */
 
@@ -492,18 +482,16 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
         return rc;
     }
 
-    roz_buffer_init(&b->cmd_buf, b->cmd_slots, (uint32_t)(m->n_commands + ROZ_ROS2_CMD_META));
     uint64_t period_ns = b->dds.command_writer_period_us != 0
                              ? (uint64_t)b->dds.command_writer_period_us * 1000u
                              : 1000000000u / m->control_rate_hz;
     roz_monitor_init(&b->mon_tx, robot->port, period_ns, log, log_ctx);
-    atomic_init(&b->shutdown, 0);
-    roz_cmd_watchdog_init(&b->watchdog, b->dds.command_timeout_us);
-    ROZ_ATOMIC(uint64_t) *counters[] = { &b->c_frames,  &b->c_writes,          &b->c_withheld,
-                                         &b->c_holds,   &b->c_clamped,         &b->c_stale_session,
-                                         &b->c_handled_seq, &b->c_written_seq, &b->c_safe };
-    for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
-        atomic_init(counters[i], 0u);
+    roz_dds_cmd_config_t cmd = { .m = m, .ops = &bridge_cmd_ops, .port = b,
+                                 .writer = &b->out[primary(b)].writer, .slots = b->cmd_slots,
+                                 .n_extra = ROZ_ROS2_MAX_ROBOT_SLOTS,
+                                 .timeout_us = b->dds.command_timeout_us };
+    roz_dds_cmd_init(&b->cmd, &cmd);
+    atomic_init(&b->c_frames, 0u);
 
     rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain, log,
                                   log_ctx, err, errlen);
@@ -517,11 +505,7 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
                                      robot->command_size, err, errlen);
     }
     if (rc == ROZ_OK)
-        rc = roz_dds_writer_spin(&b->out[primary(b)].writer, b->dds.command_writer_spin_us);
-    if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
-        rc = roz_dds_writer_watch(&b->out[primary(b)].writer, &b->watchdog,
-                                  m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz
-                                                                : 1u);
+        rc = roz_dds_cmd_attach(&b->cmd, b->dds.command_writer_spin_us);
     if (rc != ROZ_OK)
         roz_ros2_close(b);
     return rc;
@@ -541,7 +525,6 @@ int roz_ros2_activate(void *self)
     if (b->active)
         return ROZ_OK;
     r = b->robot;
-    atomic_store(&b->shutdown, 0);
     for (uint16_t t = 0; t < b->n_topics && rc == ROZ_OK; t++) {
         roz_ros2_topic_t *tp = &b->topic[t];
         if (!reads(b, t))
@@ -550,11 +533,9 @@ int roz_ros2_activate(void *self)
                                       tp->sample, tp->size, on_sample, tp,
                                       b->dds.enable_monitor ? &tp->mon : NULL, err, sizeof err);
     }
-    uint16_t g0 = primary(b);
     if (rc == ROZ_OK)
-        rc = roz_dds_writer_start(&b->out[g0].writer, b->dds.command_writer_period_us,
-                                  fill_primary, &b->out[g0],
-                                  b->dds.enable_monitor ? &b->mon_tx : NULL);
+        rc = roz_dds_cmd_start(&b->cmd, b->dds.command_writer_period_us,
+                               b->dds.enable_monitor ? &b->mon_tx : NULL);
     else
         b->log(b->log_ctx, ROZ_LOG_ERROR, err);
     if (rc != ROZ_OK) {
@@ -688,64 +669,24 @@ int roz_ros2_read(void *self, double *state, size_t n)
 
     if (!b->open || n != b->m->n_states)
         return ROZ_EINVAL;
-    int rc = read_frame(b, state, n);
-    /* a trip of the watchdog in place of a plain frame (the frame is read:
-     * the hold that follows holds its positions); after a link or robot
-     * fault, at the next read */
-    if ((rc == 0 || rc == 1) &&
-        roz_cmd_watchdog_report(&b->watchdog, roz_clock_monotonic_ns(NULL),
-                                &b->tick_fault.code)) {
-        b->tick_fault.what = ROZ_CMD_WATCHDOG_KEY;
-        b->tick_fault.kind = "the tick wrote no command for (us)";
-        b->tick_fault.limit = b->dds.command_timeout_us;
-        return ROZ_EWATCHDOG;
-    }
-    return rc;
+    return roz_dds_cmd_report(&b->cmd, read_frame(b, state, n), &b->tick_fault);
 }
 
 int roz_ros2_write(void *self, const double *cmd, size_t n)
 {
     roz_ros2_bridge_t *b = self;
-    const roz_manifest_t *m = b->m;
 
-    if (!b->open || n != m->n_commands)
+    if (!b->open)
         return ROZ_EINVAL;
-    bump(&b->c_writes);
-    if (!b->tick_has_state) {
-        bump(&b->c_withheld); /* nothing before the first state frame */
-        return ROZ_OK;
-    }
-    uint64_t now = roz_clock_monotonic_ns(NULL);
-    uint32_t epoch;
-    double *f = roz_buffer_write_begin(&b->cmd_buf);
-    /* the first write for this robot, or since the watchdog tripped */
-    int hold = roz_cmd_watchdog_write(&b->watchdog, now, &epoch);
-    hold |= b->tick_robot != b->write_robot;
-    if (hold) {
-        /* the start-up hold instead */
-        roz__ros2_hold(b, b->tick_q, b->startup_kd, f);
-        b->write_robot = b->tick_robot;
-        bump(&b->c_holds);
-    } else {
-        uint32_t changed = roz_commands_clamp(m, cmd, f);
-        if (changed != 0)
-            atomic_fetch_add_explicit(&b->c_clamped, changed, memory_order_relaxed);
-    }
-    double *meta = f + m->n_commands;
+    /* the session every topic's frames came from, summed (bridge_rx_session()) */
     uint32_t sessions = 0;
     for (uint16_t t = 0; t < b->n_topics; t++) {
         if (reads(b, t))
             sessions += b->topic[t].tick_session;
     }
-    meta[C_SESSION] = sessions;
-    meta[C_HOLD] = hold;
-    meta[C_SEQ] = (double)++b->write_seq;
-    meta[C_EPOCH] = epoch;
-    memcpy(meta + C_Q, b->tick_q, sizeof b->tick_q);
-    roz_buffer_write_commit(&b->cmd_buf, now); /* the watchdog judges its age */
-    atomic_store_explicit(&b->c_written_seq, b->write_seq, memory_order_release);
-    roz_dds_writer_wake(&b->out[primary(b)].writer);
-    return ROZ_OK;
+    roz_dds_cmd_tick_t t = { .has_state = b->tick_has_state, .robot = b->tick_robot,
+                             .session = sessions, .extra = b->tick_q };
+    return roz_dds_cmd_write(&b->cmd, cmd, n, &t);
 }
 
 int roz_ros2_deactivate(void *self)
@@ -755,11 +696,9 @@ int roz_ros2_deactivate(void *self)
     if (!b->active)
         return ROZ_OK;
     roz_ros2_out_t *o = &b->out[primary(b)];
-    roz_dds_writer_stop(&o->writer);
-    /* the last command: damping, published here now the thread is gone */
-    atomic_store_explicit(&b->shutdown, 1, memory_order_release);
-    /* (the primary's pass publishes every other group's damping too) */
-    if (roz_dds_writer_publish_final(&o->writer, fill_primary, o) == 1) {
+    /* the last command: damping; the primary's pass publishes every other
+     * group's too, and they are flushed as the primary's is */
+    if (roz_dds_cmd_stop(&b->cmd) == 1) {
         for (uint16_t g = 0; g < b->robot->n_groups; g++) {
             if (g != o->group && reads(b, g))
                 (void)roz_dds_writer_flush(&b->out[g].writer, ROZ_DDS_SHUTDOWN_FLUSH_MS);
@@ -853,10 +792,10 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
     }
     const roz_dds_writer_t *w = &b->out[primary(b)].writer;
     out->frames = load(&b->c_frames);
-    out->writes = load(&b->c_writes);
-    out->writes_withheld = load(&b->c_withheld);
-    out->holds = load(&b->c_holds);
-    out->clamped = load(&b->c_clamped);
+    out->writes = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_WRITES);
+    out->writes_withheld = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_WITHHELD);
+    out->holds = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_HOLDS);
+    out->clamped = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_CLAMPED);
     /* done before passes: a pass that ends between the two loads shows as
      * open, never the other way round */
     out->writer_done = load(&w->done);
@@ -864,11 +803,11 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
     out->published = load(&w->published);
     for (uint16_t g = 0; g < b->robot->n_groups; g++)
         out->publish_errors += load(&b->out[g].writer.errors);
-    out->stale_session = load(&b->c_stale_session);
-    out->handled_seq = load(&b->c_handled_seq);
-    out->written_seq = load(&b->c_written_seq);
-    out->command_timeouts = roz_cmd_watchdog_trips(&b->watchdog);
-    out->safe_published = load(&b->c_safe);
+    out->stale_session = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_STALE);
+    out->handled_seq = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_HANDLED_SEQ);
+    out->written_seq = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_WRITTEN_SEQ);
+    out->command_timeouts = roz_dds_cmd_timeouts(&b->cmd);
+    out->safe_published = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_SAFE);
 }
 
 void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers)
@@ -888,4 +827,29 @@ void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_
     }
     *cmd_readers = readers == UINT32_MAX ? 0 : readers;
     *state_writers = writers == UINT32_MAX ? 0 : writers;
+}
+
+const roz_ros2_robot_t *roz_ros2_robot(const roz_ros2_bridge_t *b)
+{
+    return b->robot;
+}
+
+const roz_dds_params_t *roz_ros2_dds_params(const roz_ros2_bridge_t *b)
+{
+    return &b->dds;
+}
+
+const roz_dds_participant_t *roz_ros2_participant(const roz_ros2_bridge_t *b)
+{
+    return &b->part;
+}
+
+const roz_monitor_t *roz_ros2_writer_monitor(const roz_ros2_bridge_t *b)
+{
+    return &b->mon_tx;
+}
+
+const roz_monitor_t *roz_ros2_topic_monitor(const roz_ros2_bridge_t *b, uint16_t t)
+{
+    return t < b->n_topics && reads(b, t) ? &b->topic[t].mon : NULL;
 }

@@ -192,11 +192,6 @@ void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double
     roz_joints_hold(g1->m, g1->joint, g1->n_joints, jq, kd, cmd);
 }
 
-uint32_t roz__g1_clamp(const roz_unitree_g1_t *g1, const double *in, double *out)
-{
-    return roz_commands_clamp(g1->m, in, out);
-}
-
 static float value(const double *cmd, int16_t ch)
 {
     return ch >= 0 ? (float)cmd[ch] : 0.0f;

@@ -47,10 +47,6 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
  * a damping command, everything else 0; each value clamped to its channel. */
 void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd);
 
-/* Clamps every value to its channel (NaN: the channel's default); returns
- * how many it changed. */
-uint32_t roz__g1_clamp(const roz_unitree_g1_t *g1, const double *in, double *out);
-
 /* Fills a zeroed LowCmd_ from a command frame and sets its CRC. */
 void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_machine,
                   g1_cmd_t *out);

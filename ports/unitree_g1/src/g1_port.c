@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port unitree/G1: parameters, the receive path (Cyclone's thread), the
- * tick's read and write, the command writer's fill (its thread), start-up
- * and shutdown. roz/unitree_g1.h says what it does; here is how. */
+ * tick's read, what LowCmd_ brings to roz/dds.h's command path (the hold,
+ * the fill, the damping, mode_machine's lock), start-up and shutdown.
+ * roz/unitree_g1.h says what it does; here is how. */
 #include "roz/unitree_g1.h"
 
 #include <math.h>
@@ -9,17 +10,16 @@
 #include <string.h>
 
 #include "g1_map.h"
-#include "roz/hal/clock.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts ----------------------------------------------------------
  * State frame (receive thread -> tick): n_states values, then: */
 enum { M_SESSION = 0, M_FAULT_SLOT, M_FAULT_CODE, M_MODE_MACHINE, M_TICK, M_Q };
-/* Command frame (tick -> writer thread): n_commands values, then: */
-enum { C_SESSION = 0, C_HOLD, C_SEQ, C_EPOCH };
+/* Command frame (tick -> writer thread): roz/dds.h's command path, n_commands
+ * values and its meta words, none of the port's own. */
 
 _Static_assert(M_Q + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_STATE_META, "state frame meta");
-_Static_assert(C_EPOCH + 1 == ROZ_UNITREE_G1_CMD_META, "command frame meta");
+_Static_assert(ROZ_DDS_CMD_META == ROZ_UNITREE_G1_CMD_META, "command frame meta");
 _Static_assert(sizeof(g1_cmd_t) == 4u * ROZ_UNITREE_G1_CMD_WORDS, "LowCmd_ storage");
 _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_ storage");
 
@@ -167,61 +167,63 @@ static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
     return roz__g1_variant_refuses(g1, mm, &why) >= 0;
 }
 
-/* ---- the command writer (its thread; after it stopped, the caller's) -------- */
+/* ---- the command path's hooks (roz/dds.h says which thread runs each) -------- */
 
-static int fill_lowcmd(void *ctx, void *sample, uint64_t now_ns)
+static void g1_hold(void *port, double *cmd)
 {
-    roz_unitree_g1_t *g1 = ctx;
-    g1_cmd_t *out = sample;
-    const roz_manifest_t *m = g1->m;
-    roz_buffer_frame_t f;
+    roz_unitree_g1_t *g1 = port;
+    roz__g1_hold(g1, g1->tick_q, g1->startup_kd, cmd);
+}
 
+static uint32_t g1_rx_session(void *port)
+{
+    roz_unitree_g1_t *g1 = port;
+    return atomic_load_explicit(&g1->rx_session, memory_order_acquire);
+}
+
+/* mode_machine changed under the controller, or the robot is a variant
+ * without a motor the manifest drives; mode_machine is loaded before the
+ * session (the receive path stores it after), and kept for g1_send() */
+static int g1_refuse(void *port)
+{
+    roz_unitree_g1_t *g1 = port;
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
-    if (atomic_load_explicit(&g1->shutdown, memory_order_acquire)) {
-        /* the last command: damping, if the robot ever got one */
-        if (!locked)
-            return 0;
-        roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu), out);
-        return 1;
-    }
-    if (roz_buffer_read(&g1->cmd_buf, &f) == ROZ_ENOENT)
-        return 0;
-    const double *meta = f.values + m->n_commands;
-    uint64_t seq = (uint64_t)meta[C_SEQ];
-    int rc = 0;
     uint32_t mm = atomic_load_explicit(&g1->rx_mode_machine, memory_order_acquire);
 
-    if ((uint32_t)meta[C_SESSION] !=
-        atomic_load_explicit(&g1->rx_session, memory_order_acquire)) {
-        /* written for a robot that restarted since: the new one gets
-         * nothing until the tick writes for it */
-        bump(&g1->c_stale_session);
-    } else if ((locked && (locked & 0xffu) != mm) || g1_variant_refuses(g1, mm)) {
-        /* mode_machine changed under the controller, or the robot is a
-         * variant without a motor the manifest drives */
-        bump(&g1->c_refused_mm);
-    } else if (roz_cmd_watchdog_judge(&g1->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
-                                      f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
-        /* the tick went silent (or this was written before it was found
-         * so): the damping command, as on shutdown, until it writes again;
-         * nothing to a robot that never got a command */
-        if (locked) {
-            roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu),
-                                 out);
-            bump(&g1->c_safe);
-            rc = 1;
-        }
-    } else {
-        if (!locked)
-            atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
-        roz__g1_fill(g1, f.values, (uint8_t)mm, out);
-        for (uint16_t k = 0; k < g1->n_joints; k++)
-            g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
-        rc = 1;
-    }
-    atomic_store_explicit(&g1->c_handled_seq, seq, memory_order_release);
-    return rc;
+    g1->tx_mode_machine = mm;
+    return (locked && (locked & 0xffu) != mm) || g1_variant_refuses(g1, mm);
 }
+
+static int g1_send(void *port, void *sample, const double *cmd, const double *extra)
+{
+    roz_unitree_g1_t *g1 = port;
+    g1_cmd_t *out = sample;
+    uint32_t mm = g1->tx_mode_machine;
+    (void)extra;
+
+    if (!atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed))
+        atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
+    roz__g1_fill(g1, cmd, (uint8_t)mm, out);
+    for (uint16_t k = 0; k < g1->n_joints; k++)
+        g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
+    return 1;
+}
+
+static int g1_safe(void *port, void *sample)
+{
+    roz_unitree_g1_t *g1 = port;
+    uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
+    roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu), sample);
+    return 1;
+}
+
+static const roz_dds_cmd_ops_t g1_cmd_ops = {
+    .hold = g1_hold,
+    .rx_session = g1_rx_session,
+    .refuse = g1_refuse,
+    .send = g1_send,
+    .safe = g1_safe,
+};
 
 /* ---- ops ------------------------------------------------------------------------ */
 
@@ -259,8 +261,6 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     roz_link_shared_publish(&g1->link_shared, &g1->link);
     roz_buffer_init(&g1->state_buf, g1->state_slots,
                     (uint32_t)(m->n_states + ROZ_UNITREE_G1_STATE_META));
-    roz_buffer_init(&g1->cmd_buf, g1->cmd_slots,
-                    (uint32_t)(m->n_commands + ROZ_UNITREE_G1_CMD_META));
     uint64_t period_ns = g1->dds.command_writer_period_us != 0
                              ? (uint64_t)g1->dds.command_writer_period_us * 1000u
                              : 1000000000u / m->control_rate_hz;
@@ -269,13 +269,12 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     atomic_init(&g1->rx_session, 0u);
     atomic_init(&g1->rx_mode_machine, 0u);
     atomic_init(&g1->locked_mode_machine, 0u);
-    atomic_init(&g1->shutdown, 0);
-    roz_cmd_watchdog_init(&g1->watchdog, g1->dds.command_timeout_us);
+    roz_dds_cmd_config_t cmd = { .m = m, .ops = &g1_cmd_ops, .port = g1, .writer = &g1->writer,
+                                 .slots = g1->cmd_slots, .n_extra = 0,
+                                 .timeout_us = g1->dds.command_timeout_us };
+    roz_dds_cmd_init(&g1->cmd, &cmd);
     ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
-                                         &g1->c_sessions, &g1->c_writes, &g1->c_withheld,
-                                         &g1->c_holds, &g1->c_clamped, &g1->c_stale_session,
-                                         &g1->c_refused_mm, &g1->c_handled_seq,
-                                         &g1->c_written_seq, &g1->c_safe };
+                                         &g1->c_sessions };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
@@ -286,11 +285,7 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
                                  &unitree_hg_msg_dds__LowCmd__desc, &roz_dds_qos_robot_command,
                                  g1->tx_sample, sizeof g1->tx_sample, err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_dds_writer_spin(&g1->writer, g1->dds.command_writer_spin_us);
-    if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
-        rc = roz_dds_writer_watch(&g1->writer, &g1->watchdog,
-                                  m->control_rate_hz < 1000000u ? 1000000u / m->control_rate_hz
-                                                                : 1u);
+        rc = roz_dds_cmd_attach(&g1->cmd, g1->dds.command_writer_spin_us);
     g1->open = 1;
     if (rc != ROZ_OK)
         g1_close(g1);
@@ -306,7 +301,6 @@ static int g1_activate(void *self)
         return ROZ_ESTATE;
     if (g1->active)
         return ROZ_OK;
-    atomic_store(&g1->shutdown, 0);
     int rc = roz_dds_reader_open(&g1->reader, &g1->part, "rt/lowstate",
                                  &unitree_hg_msg_dds__LowState__desc, &roz_dds_qos_robot_state,
                                  g1->rx_sample, sizeof g1->rx_sample, on_lowstate, g1,
@@ -315,8 +309,8 @@ static int g1_activate(void *self)
         g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
         return rc;
     }
-    rc = roz_dds_writer_start(&g1->writer, g1->dds.command_writer_period_us, fill_lowcmd, g1,
-                              g1->dds.enable_monitor ? &g1->mon_tx : NULL);
+    rc = roz_dds_cmd_start(&g1->cmd, g1->dds.command_writer_period_us,
+                           g1->dds.enable_monitor ? &g1->mon_tx : NULL);
     if (rc != ROZ_OK) {
         roz_dds_reader_close(&g1->reader);
         return rc;
@@ -381,58 +375,20 @@ static int g1_read(void *self, double *state, size_t n)
 
     if (!g1->open || n != g1->m->n_states)
         return ROZ_EINVAL;
-    int rc = read_frame(g1, state, n);
-    /* a trip of the watchdog in place of a plain frame (the frame is read:
-     * the hold that follows holds its positions); after a link or robot
-     * fault, at the next read */
-    if ((rc == 0 || rc == 1) &&
-        roz_cmd_watchdog_report(&g1->watchdog, roz_clock_monotonic_ns(NULL),
-                                &g1->tick_fault.code)) {
-        g1->tick_fault.what = ROZ_CMD_WATCHDOG_KEY;
-        g1->tick_fault.kind = "the tick wrote no command for (us)";
-        g1->tick_fault.limit = g1->dds.command_timeout_us;
-        return ROZ_EWATCHDOG;
-    }
-    return rc;
+    return roz_dds_cmd_report(&g1->cmd, read_frame(g1, state, n), &g1->tick_fault);
 }
 
 static int g1_write(void *self, const double *cmd, size_t n)
 {
     roz_unitree_g1_t *g1 = self;
-    const roz_manifest_t *m = g1->m;
 
-    if (!g1->open || n != m->n_commands)
+    if (!g1->open)
         return ROZ_EINVAL;
-    bump(&g1->c_writes);
-    if (!g1->tick_has_state) {
-        bump(&g1->c_withheld); /* nothing before the first state frame */
-        return ROZ_OK;
-    }
-    uint64_t now = roz_clock_monotonic_ns(NULL);
-    uint32_t epoch;
-    double *f = roz_buffer_write_begin(&g1->cmd_buf);
-    /* the first write for this robot, or since the watchdog tripped */
-    int hold = roz_cmd_watchdog_write(&g1->watchdog, now, &epoch);
-    hold |= g1->tick_session != g1->write_session;
-    if (hold) {
-        /* the start-up hold instead */
-        roz__g1_hold(g1, g1->tick_q, g1->startup_kd, f);
-        g1->write_session = g1->tick_session;
-        bump(&g1->c_holds);
-    } else {
-        uint32_t changed = roz__g1_clamp(g1, cmd, f);
-        if (changed != 0)
-            atomic_fetch_add_explicit(&g1->c_clamped, changed, memory_order_relaxed);
-    }
-    double *meta = f + m->n_commands;
-    meta[C_SESSION] = g1->tick_session;
-    meta[C_HOLD] = hold;
-    meta[C_SEQ] = (double)++g1->write_seq;
-    meta[C_EPOCH] = epoch;
-    roz_buffer_write_commit(&g1->cmd_buf, now); /* the watchdog judges its age */
-    atomic_store_explicit(&g1->c_written_seq, g1->write_seq, memory_order_release);
-    roz_dds_writer_wake(&g1->writer);
-    return ROZ_OK;
+    /* a robot is a session of LowState_: a restart, or a return after
+     * peer_timeout_ms, is a new one */
+    roz_dds_cmd_tick_t t = { .has_state = g1->tick_has_state, .robot = g1->tick_session,
+                             .session = g1->tick_session, .extra = NULL };
+    return roz_dds_cmd_write(&g1->cmd, cmd, n, &t);
 }
 
 static int g1_deactivate(void *self)
@@ -441,10 +397,7 @@ static int g1_deactivate(void *self)
 
     if (!g1->active)
         return ROZ_OK;
-    roz_dds_writer_stop(&g1->writer);
-    /* the last command: damping, published here now the thread is gone */
-    atomic_store_explicit(&g1->shutdown, 1, memory_order_release);
-    (void)roz_dds_writer_publish_final(&g1->writer, fill_lowcmd, g1);
+    (void)roz_dds_cmd_stop(&g1->cmd); /* the last command: damping */
     roz_dds_reader_close(&g1->reader);
     g1->active = 0;
     return ROZ_OK;
@@ -503,22 +456,22 @@ void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters
     out->full_conversions = load(&g1->c_full);
     out->motor_fault_frames = load(&g1->c_motor_fault);
     out->sessions = load(&g1->c_sessions);
-    out->writes = load(&g1->c_writes);
-    out->writes_withheld = load(&g1->c_withheld);
-    out->holds = load(&g1->c_holds);
-    out->clamped = load(&g1->c_clamped);
+    out->writes = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_WRITES);
+    out->writes_withheld = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_WITHHELD);
+    out->holds = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_HOLDS);
+    out->clamped = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_CLAMPED);
     /* done before passes: a pass that ends between the two loads shows as
      * open, never the other way round */
     out->writer_done = load(&g1->writer.done);
     out->writer_passes = load(&g1->writer.passes);
     out->published = load(&g1->writer.published);
     out->publish_errors = load(&g1->writer.errors);
-    out->stale_session = load(&g1->c_stale_session);
-    out->refused_mode_machine = load(&g1->c_refused_mm);
-    out->handled_seq = load(&g1->c_handled_seq);
-    out->written_seq = load(&g1->c_written_seq);
-    out->command_timeouts = roz_cmd_watchdog_trips(&g1->watchdog);
-    out->safe_published = load(&g1->c_safe);
+    out->stale_session = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_STALE);
+    out->refused_mode_machine = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_REFUSED);
+    out->handled_seq = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_HANDLED_SEQ);
+    out->written_seq = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_WRITTEN_SEQ);
+    out->command_timeouts = roz_dds_cmd_timeouts(&g1->cmd);
+    out->safe_published = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_SAFE);
 }
 
 void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
@@ -526,4 +479,19 @@ void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
 {
     *cmd_readers = roz_dds_writer_matched(&g1->writer);
     *state_writers = roz_dds_reader_matched(&g1->reader);
+}
+
+const roz_dds_participant_t *roz_unitree_g1_participant(const roz_unitree_g1_t *g1)
+{
+    return &g1->part;
+}
+
+const roz_monitor_t *roz_unitree_g1_writer_monitor(const roz_unitree_g1_t *g1)
+{
+    return &g1->mon_tx;
+}
+
+const roz_monitor_t *roz_unitree_g1_state_monitor(const roz_unitree_g1_t *g1)
+{
+    return &g1->mon_rx;
 }

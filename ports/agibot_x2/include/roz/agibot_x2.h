@@ -20,6 +20,7 @@
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/port.h"
+#include "roz/private.h"
 #include "roz/ros2.h"
 
 #ifdef __cplusplus
@@ -34,14 +35,16 @@ extern "C" {
 #define ROZ_AGIBOT_X2_CMD_WORDS 6
 
 /** The port's instance; caller-owned (give it static storage). The bridge
- *  comes first: the port's self is the bridge. Fields private. */
+ *  comes first: the port's self is the bridge, and roz/ros2.h's functions
+ *  take it; the other fields are private (roz/private.h). */
 typedef struct roz_agibot_x2 {
     roz_ros2_bridge_t b;
-    int               docs_layout;  /* joint_state_layout = docs */
-    void             *docs_type;    /* the docs layout's descriptor, made at open */
+    int               ROZ_PRIVATE(docs_layout); /* joint_state_layout = docs */
+    void             *ROZ_PRIVATE(docs_type); /* the docs layout's descriptor, made at open */
     /* the writer thread's: each group's JointCommand_ elements */
-    uint64_t          tx[ROZ_AGIBOT_X2_GROUPS][ROZ_AGIBOT_X2_MAX_GROUP * ROZ_AGIBOT_X2_CMD_WORDS];
-    char              tx_frame_id[1];
+    uint64_t          ROZ_PRIVATE(tx)[ROZ_AGIBOT_X2_GROUPS]
+                                 [ROZ_AGIBOT_X2_MAX_GROUP * ROZ_AGIBOT_X2_CMD_WORDS];
+    char              ROZ_PRIVATE(tx_frame_id)[1];
 } roz_agibot_x2_t;
 
 /** The ops table (name "agibot/X2"). */

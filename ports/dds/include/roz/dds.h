@@ -19,10 +19,13 @@
 #include <stdint.h>
 
 #include "roz/atomic.h"
+#include "roz/buffer.h"
 #include "roz/hal/cmd_watchdog.h"
 #include "roz/log.h"
+#include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/port.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -416,6 +419,214 @@ void roz_dds_writer_stop(roz_dds_writer_t *w);
 
 /** @brief Stop, then delete the writer. Idempotent. Context: shutdown. */
 void roz_dds_writer_close(roz_dds_writer_t *w);
+
+/* ---- command path: the tick's write and the writer's pass ---------------------- */
+
+/*
+ * What every DDS port does with the tick's commands, written once for all
+ * of them (roz_dds_cmd_t): the tick's write(), the writer thread's pass over
+ * the latest command frame, the watchdog's report in read(), and the last
+ * command on deactivate. The port supplies what belongs to its wire
+ * (roz_dds_cmd_ops_t): how the start-up hold, the tick's frame and the
+ * damping command become its messages, and which robot session its
+ * receive path sees.
+ *
+ * The tick (roz_dds_cmd_write()): nothing before the first state frame
+ * (counted withheld; roz/port.h's first layer). The first write for a
+ * robot, its first or a restarted one as the port's read() saw it, is the
+ * start-up hold (ops->hold: every joint at its measured position, zero
+ * stiffness), and so is every write while the command watchdog asks for one
+ * after a trip (roz/hal/cmd_watchdog.h); any other write is the tick's frame
+ * clamped to its channels (roz_commands_clamp()). The frame goes into a
+ * latest-value buffer with the meta words below, the port's own after them,
+ * and the writer is woken.
+ *
+ * The writer thread (its pass): the latest frame is sent (ops->send) unless
+ * it was written for another session than the receive path's now (counted
+ * stale: a robot that restarted gets nothing until the tick writes for it),
+ * the port refuses it (ops->refuse, counted refused), or the watchdog judges
+ * it too old or of an earlier epoch: then the damping command (ops->safe,
+ * counted safe), nothing to a robot that never got a command.
+ *
+ * Deactivate (roz_dds_cmd_stop()): the writer thread stopped, the damping
+ * command is published from the caller's thread for
+ * ROZ_DDS_SHUTDOWN_REPEAT_MS (roz_dds_writer_publish_final()), if the robot
+ * ever got a command.
+ *
+ * Memory ordering: frames go through roz/buffer.h (wait-free, never torn).
+ * written_seq is stored with release after the frame is committed, and
+ * handled_seq with release at the end of the pass that took it, before the
+ * writer publishes the sample: a reader that loads both with acquire and
+ * finds them equal, and the writer's passes equal to its done, knows the
+ * pass over the last frame written has ended (the settle() of the port
+ * tests' fixtures). shutdown is stored with release after the writer
+ * thread was joined and loaded with acquire by the pass; the writer
+ * thread's own fields (sent_any, the port's last positions) reach the
+ * final pass through that join. The watchdog's hand-over is
+ * roz/hal/cmd_watchdog.h's. The other counters are relaxed adds, loaded
+ * with acquire.
+ *
+ * No heap, no lock: the tick's write is O(n_commands + n_extra) and never
+ * blocks (the writer's wake is an atomic add, and a semaphore post when it
+ * sleeps); a pass is one frame and the port's hooks.
+ */
+
+/** Values after the commands in a command frame that the command path
+ *  writes: the robot session, hold (1: the frame is the start-up hold),
+ *  sequence, watchdog epoch. The port's own n_extra values follow. */
+#define ROZ_DDS_CMD_META 4
+
+/** What the port supplies; every hook gets the port's instance first. */
+typedef struct roz_dds_cmd_ops {
+    /** The start-up hold into @p cmd (n_commands, manifest order): every
+     *  joint's position command its measured position, kd the port's
+     *  `startup_damping`, everything else 0, each value clamped.
+     *  Context: the tick; RT-safe. */
+    void (*hold)(void *port, double *cmd);
+    /** The robot session the receive path has seen, compared with the one
+     *  the tick wrote a frame for. Context: the writer thread; RT-safe. */
+    uint32_t (*rx_session)(void *port);
+    /** Optional (NULL: never refuses): 1 to send nothing for this frame.
+     *  Called at the start of every pass that has a frame, before
+     *  rx_session: what it loads (acquire) that the receive path stores
+     *  after the session comes with that session or a later one.
+     *  Context: the writer thread; RT-safe. */
+    int (*refuse)(void *port);
+    /** The tick's frame into @p sample (zeroed): @p cmd its n_commands
+     *  values, @p extra the port's n_extra values the tick gave with it.
+     *  Other topics' samples of the pass are published from here
+     *  (roz_dds_writer_publish()). @return 1 to publish @p sample.
+     *  Context: the writer thread; RT-safe. */
+    int (*send)(void *port, void *sample, const double *cmd, const double *extra);
+    /** The damping command into @p sample (zeroed): kp 0, kd the port's
+     *  `shutdown_damping`, q the positions last sent. @return 1 to publish.
+     *  Context: the writer thread, or the caller's once it stopped; RT-safe. */
+    int (*safe)(void *port, void *sample);
+} roz_dds_cmd_ops_t;
+
+/** How roz_dds_cmd_init() sets a command path up. */
+typedef struct roz_dds_cmd_config {
+    const roz_manifest_t    *m;
+    const roz_dds_cmd_ops_t *ops;
+    void                    *port;       /**< the hooks' first argument */
+    roz_dds_writer_t        *writer;     /**< the writer whose thread passes (open
+                                              before roz_dds_cmd_attach()) */
+    double                  *slots;      /**< the frames' storage: 3 * (n_commands +
+                                              ROZ_DDS_CMD_META + n_extra) doubles */
+    uint16_t                 n_extra;    /**< the port's values after the meta words */
+    uint32_t                 timeout_us; /**< `command_timeout_us` */
+} roz_dds_cmd_config_t;
+
+/** What the tick's read() saw of the robot, for roz_dds_cmd_write(). */
+typedef struct roz_dds_cmd_tick {
+    int           has_state; /**< a fresh state frame was read: before, nothing is sent */
+    uint32_t      robot;     /**< which robot it came from: a new value makes this
+                                  write the start-up hold */
+    uint32_t      session;   /**< the session the pass compares with ops->rx_session() */
+    const double *extra;     /**< n_extra values for ops->send(); NULL when n_extra is 0 */
+} roz_dds_cmd_tick_t;
+
+/** The command path's counters (roz_dds_cmd_count()). */
+typedef enum roz_dds_cmd_counter {
+    ROZ_DDS_CMD_WRITES = 0,  /**< write() calls */
+    ROZ_DDS_CMD_WITHHELD,    /**< writes before the first state frame (nothing sent) */
+    ROZ_DDS_CMD_HOLDS,       /**< writes that became the start-up hold */
+    ROZ_DDS_CMD_CLAMPED,     /**< written values outside their channel (clamped) */
+    ROZ_DDS_CMD_STALE,       /**< passes that sent nothing: written for another session */
+    ROZ_DDS_CMD_REFUSED,     /**< passes that sent nothing: ops->refuse() */
+    ROZ_DDS_CMD_HANDLED_SEQ, /**< sequence of the last frame a pass judged */
+    ROZ_DDS_CMD_WRITTEN_SEQ, /**< sequence of the last frame the tick wrote */
+    ROZ_DDS_CMD_SAFE,        /**< watchdog passes that sent the damping command */
+    ROZ_DDS_CMD_COUNTERS
+} roz_dds_cmd_counter_t;
+
+/** A command path; caller-owned (a member of the port's instance). Fields
+ *  are private (roz/private.h). */
+typedef struct roz_dds_cmd {
+    /* set at init, then read-only */
+    const roz_manifest_t    *ROZ_PRIVATE(m);
+    const roz_dds_cmd_ops_t *ROZ_PRIVATE(ops);
+    void                    *ROZ_PRIVATE(port);
+    roz_dds_writer_t        *ROZ_PRIVATE(writer);
+    uint16_t                 ROZ_PRIVATE(n_extra);
+    uint32_t                 ROZ_PRIVATE(timeout_us);
+    /* the tick's */
+    uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
+    uint64_t                 ROZ_PRIVATE(write_seq);
+    /* tick <-> writer thread */
+    roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
+    roz_buffer_t             ROZ_PRIVATE(buf);
+    ROZ_ATOMIC(int)          ROZ_PRIVATE(shutdown);    /* 1: the pass sends the damping */
+    /* the writer thread's */
+    int                      ROZ_PRIVATE(sent_any);    /* ops->send() was called */
+    /* written by one thread each, read by any */
+    ROZ_ATOMIC(uint64_t)     ROZ_PRIVATE(count)[ROZ_DDS_CMD_COUNTERS];
+} roz_dds_cmd_t;
+
+/**
+ * @brief Set a command path up over @p cfg: its buffer, its watchdog (armed,
+ *        epoch 0), its counters at 0, no robot written for, nothing sent.
+ * Context: start-up (a port's open), before the port's threads run; no I/O.
+ */
+void roz_dds_cmd_init(roz_dds_cmd_t *c, const roz_dds_cmd_config_t *cfg);
+
+/**
+ * @brief Wire the command path to its writer (open by now): the spin ahead
+ *        of the tick's command (roz_dds_writer_spin()), and the watchdog
+ *        kept by an event-driven writer, repeating the safe command at the
+ *        tick's rate (roz_dds_writer_watch()).
+ * @retval ROZ_OK, or the writer's error
+ * Context: start-up (a port's open), after roz_dds_writer_open().
+ */
+int roz_dds_cmd_attach(roz_dds_cmd_t *c, uint32_t spin_us);
+
+/**
+ * @brief Start the writer thread with the command path's pass
+ *        (roz_dds_writer_start()); the shutdown of a previous activation is
+ *        forgotten.
+ * @retval ROZ_OK, or roz_dds_writer_start()'s error
+ * Context: start-up (a port's activate).
+ */
+int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monitor);
+
+/**
+ * @brief The tick's write (see above); the port checked it is open.
+ * @param[in] cmd n values, manifest order
+ * @param[in] t   what the port's read() saw
+ * @retval ROZ_OK     written, held, or withheld before the first state frame
+ * @retval ROZ_EINVAL @p n is not the manifest's n_commands
+ * Context: the tick; RT-safe, never blocks; no heap.
+ */
+int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_dds_cmd_tick_t *t);
+
+/**
+ * @brief The watchdog's side of the tick's read(): a trip not yet reported
+ *        takes the place of a plain frame (@p rc 0 or 1; the frame is read,
+ *        and the hold that follows holds its positions); after a link or
+ *        robot fault, at the next read.
+ * @param[in]  rc    what the port's read would return
+ * @param[out] fault filled for a trip: ROZ_CMD_WATCHDOG_KEY, how long the
+ *                   tick was silent (code, us), the timeout (limit)
+ * @return ROZ_EWATCHDOG for a trip, else @p rc
+ * Context: the tick (read()); RT-safe.
+ */
+int roz_dds_cmd_report(roz_dds_cmd_t *c, int rc, roz_port_fault_t *fault);
+
+/**
+ * @brief The last command: stop the writer thread, then publish the damping
+ *        command from here (roz_dds_writer_publish_final()), if the robot
+ *        ever got a command.
+ * @return roz_dds_writer_publish_final()'s: 1 published, 0 nothing to send
+ *         (the robot never got a command), ROZ_EIO every write failed
+ * Context: shutdown (a port's deactivate); sleeps, bounded.
+ */
+int roz_dds_cmd_stop(roz_dds_cmd_t *c);
+
+/** @brief Counter @p k (one atomic load). Context: any thread. */
+uint64_t roz_dds_cmd_count(const roz_dds_cmd_t *c, roz_dds_cmd_counter_t k);
+
+/** @brief Command watchdog trips: the tick went silent. Context: any thread. */
+uint32_t roz_dds_cmd_timeouts(const roz_dds_cmd_t *c);
 
 #ifdef __cplusplus
 }

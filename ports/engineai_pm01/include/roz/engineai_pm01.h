@@ -17,6 +17,7 @@
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/port.h"
+#include "roz/private.h"
 #include "roz/ros2.h"
 
 #ifdef __cplusplus
@@ -29,13 +30,14 @@ extern "C" {
 #define ROZ_ENGINEAI_PM01_DOMAIN 69u
 
 /** The port's instance; caller-owned (large: give it static storage). The
- *  bridge comes first: the port's self is the bridge. Fields private. */
+ *  bridge comes first: the port's self is the bridge, and roz/ros2.h's
+ *  functions take it; the other fields are private (roz/private.h). */
 typedef struct roz_engineai_pm01 {
     roz_ros2_bridge_t b;
-    uint8_t           parallel_parser_type;
+    uint8_t           ROZ_PRIVATE(parallel_parser_type);
     /* the writer thread's: the command's six arrays */
-    double            tx[6][ROZ_ENGINEAI_PM01_JOINTS];
-    char              tx_frame_id[1];
+    double            ROZ_PRIVATE(tx)[6][ROZ_ENGINEAI_PM01_JOINTS];
+    char              ROZ_PRIVATE(tx_frame_id)[1];
 } roz_engineai_pm01_t;
 
 /** The ops table (name "engineai/PM01"). */

@@ -31,6 +31,7 @@
 #include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/port.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -171,47 +172,51 @@ typedef struct roz_ros2_place {
 } roz_ros2_place_t;
 
 /** One state topic: its reader and checks (a receive thread), its frames to
- *  the tick. Private. */
+ *  the tick. Fields private (roz/private.h). */
 typedef struct roz_ros2_topic {
-    struct roz_ros2_bridge *bridge;
-    uint16_t             index;     /* < n_groups: a group; n_groups: the IMU */
-    uint16_t             n_values;
-    const char          *name;      /* DDS topic */
-    const void          *type;
-    size_t               size;
-    roz_dds_reader_t     reader;
-    uint64_t             sample[ROZ_ROS2_SAMPLE_WORDS];
-    roz_monitor_t        mon;       /* this listener's handler times */
+    struct roz_ros2_bridge *ROZ_PRIVATE(bridge);
+    uint16_t             ROZ_PRIVATE(index); /* < n_groups: a group; n_groups: the IMU */
+    uint16_t             ROZ_PRIVATE(n_values);
+    const char          *ROZ_PRIVATE(name); /* DDS topic */
+    const void          *ROZ_PRIVATE(type);
+    size_t               ROZ_PRIVATE(size);
+    roz_dds_reader_t     ROZ_PRIVATE(reader);
+    uint64_t             ROZ_PRIVATE(sample)[ROZ_ROS2_SAMPLE_WORDS];
+    roz_monitor_t        ROZ_PRIVATE(mon); /* this listener's handler times */
     /* the receive thread's */
-    roz_link_t           link;
-    uint32_t             session, since_full;
-    double               values[3 * ROZ_ROS2_MAX_SLOTS]; /* accepted: q, dq, tau (or IMU) */
-    double               scratch[3 * ROZ_ROS2_MAX_SLOTS]; /* a sample being checked */
-    roz_link_shared_t    link_shared;
-    uint32_t             held_kind, held_code, held_serial; /* a fault not yet taken */
-    int32_t              held_slot;
-    ROZ_ATOMIC(uint32_t) fault_ack;  /* tick -> receive thread: the serial it took */
-    ROZ_ATOMIC(uint32_t) rx_session; /* for the writer */
-    ROZ_ATOMIC(uint32_t) said;       /* bad kinds logged once (a bit each) */
-    ROZ_ATOMIC(uint64_t) c_samples, c_malformed, c_full, c_fault, c_sessions;
+    roz_link_t           ROZ_PRIVATE(link);
+    uint32_t             ROZ_PRIVATE(session), ROZ_PRIVATE(since_full);
+    /* accepted: q, dq, tau (or IMU) */
+    double               ROZ_PRIVATE(values)[3 * ROZ_ROS2_MAX_SLOTS];
+    double               ROZ_PRIVATE(scratch)[3 * ROZ_ROS2_MAX_SLOTS]; /* a sample being checked */
+    roz_link_shared_t    ROZ_PRIVATE(link_shared);
+    /* a fault not yet taken */
+    uint32_t             ROZ_PRIVATE(held_kind), ROZ_PRIVATE(held_code), ROZ_PRIVATE(held_serial);
+    int32_t              ROZ_PRIVATE(held_slot);
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(fault_ack); /* tick -> receive thread: the serial it took */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(rx_session); /* for the writer */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(said); /* bad kinds logged once (a bit each) */
+    ROZ_ATOMIC(uint64_t) ROZ_PRIVATE(c_samples), ROZ_PRIVATE(c_malformed), ROZ_PRIVATE(c_full),
+                         ROZ_PRIVATE(c_fault), ROZ_PRIVATE(c_sessions);
     /* receive thread -> tick */
-    roz_buffer_t         buf;
-    double               slots[3 * (3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META)];
+    roz_buffer_t         ROZ_PRIVATE(buf);
+    double               ROZ_PRIVATE(slots)[3 * (3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META)];
     /* the tick's */
-    double               staged[3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META];
-    uint32_t             tick_session;
-    uint32_t             tick_fault_kind, tick_fault_code; /* the first since the last frame */
-    int32_t              tick_fault_slot;
+    double               ROZ_PRIVATE(staged)[3 * ROZ_ROS2_MAX_SLOTS + ROZ_ROS2_STATE_META];
+    uint32_t             ROZ_PRIVATE(tick_session);
+    /* the first since the last frame */
+    uint32_t             ROZ_PRIVATE(tick_fault_kind), ROZ_PRIVATE(tick_fault_code);
+    int32_t              ROZ_PRIVATE(tick_fault_slot);
 } roz_ros2_topic_t;
 
 /** One command topic: its writer (only the first group's has a thread; it
- *  publishes the others in its pass). Private. */
+ *  publishes the others in its pass). Fields private (roz/private.h). */
 typedef struct roz_ros2_out {
-    struct roz_ros2_bridge *bridge;
-    uint16_t             group;
-    roz_dds_writer_t     writer;
-    uint64_t             sample[ROZ_ROS2_SAMPLE_WORDS];
-    uint32_t             sequence;  /* the writer thread's */
+    struct roz_ros2_bridge *ROZ_PRIVATE(bridge);
+    uint16_t             ROZ_PRIVATE(group);
+    roz_dds_writer_t     ROZ_PRIVATE(writer);
+    uint64_t             ROZ_PRIVATE(sample)[ROZ_ROS2_SAMPLE_WORDS];
+    uint32_t             ROZ_PRIVATE(sequence); /* the writer thread's */
 } roz_ros2_out_t;
 
 /** The bridge's counters (roz_ros2_counters()). */
@@ -244,62 +249,60 @@ typedef struct roz_ros2_counters {
 } roz_ros2_counters_t;
 
 /** The bridge's instance: the first member of a ROS 2 port's instance.
- *  Caller-owned (large: give it static storage); fields private. */
+ *  Caller-owned (large: give it static storage); fields private
+ *  (roz/private.h): the tests and tools read them through the functions
+ *  below. */
 typedef struct roz_ros2_bridge {
     /* ---- set at open, then read-only ---- */
-    const roz_ros2_robot_t *robot;
-    void                 *vendor;        /* the port's instance */
-    const roz_manifest_t *m;
-    roz_dds_params_t      dds;
-    uint32_t              peer_timeout_ms;
-    int                   link_by_stamp;
-    double                startup_kd, shutdown_kd;
-    roz_log_fn            log;
-    void                 *log_ctx;
-    uint16_t              n_joints;
-    roz_joint_channels_t  joint[ROZ_CFG_MAX_JOINTS];                /* channels */
-    roz_ros2_place_t      place[ROZ_CFG_MAX_JOINTS];
-    int16_t               slot_joint[ROZ_ROS2_MAX_ROBOT_SLOTS]; /* robot slot -> joint, -1 */
-    uint16_t              group_base[ROZ_ROS2_MAX_GROUPS];      /* first robot slot */
-    uint16_t              n_slots;                               /* robot slots */
-    int16_t               imu[ROZ_IMU_VALUES];              /* state index or -1 */
-    uint16_t              n_topics;      /* state topics read */
-    uint32_t              required;      /* a bit per topic read */
-    roz_param_t           params[ROZ_ROS2_MAX_PARAMS];
-    int                   open, active;
+    const roz_ros2_robot_t *ROZ_PRIVATE(robot);
+    void                 *ROZ_PRIVATE(vendor); /* the port's instance */
+    const roz_manifest_t *ROZ_PRIVATE(m);
+    roz_dds_params_t      ROZ_PRIVATE(dds);
+    uint32_t              ROZ_PRIVATE(peer_timeout_ms);
+    int                   ROZ_PRIVATE(link_by_stamp);
+    double                ROZ_PRIVATE(startup_kd), ROZ_PRIVATE(shutdown_kd);
+    roz_log_fn            ROZ_PRIVATE(log);
+    void                 *ROZ_PRIVATE(log_ctx);
+    uint16_t              ROZ_PRIVATE(n_joints);
+    roz_joint_channels_t  ROZ_PRIVATE(joint)[ROZ_CFG_MAX_JOINTS]; /* channels */
+    roz_ros2_place_t      ROZ_PRIVATE(place)[ROZ_CFG_MAX_JOINTS];
+    /* robot slot -> joint, -1 */
+    int16_t               ROZ_PRIVATE(slot_joint)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    uint16_t              ROZ_PRIVATE(group_base)[ROZ_ROS2_MAX_GROUPS]; /* first robot slot */
+    uint16_t              ROZ_PRIVATE(n_slots); /* robot slots */
+    int16_t               ROZ_PRIVATE(imu)[ROZ_IMU_VALUES]; /* state index or -1 */
+    uint16_t              ROZ_PRIVATE(n_topics); /* state topics read */
+    uint32_t              ROZ_PRIVATE(required); /* a bit per topic read */
+    roz_param_t           ROZ_PRIVATE(params)[ROZ_ROS2_MAX_PARAMS];
+    int                   ROZ_PRIVATE(open), ROZ_PRIVATE(active);
 
     /* ---- DDS ---- */
-    roz_dds_participant_t part;
-    roz_ros2_topic_t      topic[ROZ_ROS2_MAX_TOPICS];
-    roz_ros2_out_t        out[ROZ_ROS2_MAX_GROUPS];
-    roz_monitor_t         mon_tx;
+    roz_dds_participant_t ROZ_PRIVATE(part);
+    roz_ros2_topic_t      ROZ_PRIVATE(topic)[ROZ_ROS2_MAX_TOPICS];
+    roz_ros2_out_t        ROZ_PRIVATE(out)[ROZ_ROS2_MAX_GROUPS];
+    roz_monitor_t         ROZ_PRIVATE(mon_tx);
 
     /* ---- tick ---- */
-    int                   tick_has_state;
-    uint32_t              tick_robot;    /* robots seen by the tick: first, each restart */
-    uint32_t              write_robot;   /* robot of the last write */
-    uint32_t              delivered;     /* topics fresh since the last fresh frame */
-    uint64_t              write_seq;
-    double                tick_frame[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    double                tick_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
-    roz_port_fault_t      tick_fault;
+    int                   ROZ_PRIVATE(tick_has_state);
+    /* robots seen by the tick: first, each restart */
+    uint32_t              ROZ_PRIVATE(tick_robot);
+    uint32_t              ROZ_PRIVATE(delivered); /* topics fresh since the last fresh frame */
+    double                ROZ_PRIVATE(tick_frame)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                ROZ_PRIVATE(tick_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    roz_port_fault_t      ROZ_PRIVATE(tick_fault);
 
-    /* ---- tick <-> writer thread ---- */
-    roz_cmd_watchdog_t    watchdog;
-    roz_buffer_t          cmd_buf;
-    double                cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_ROS2_CMD_META)];
+    /* ---- tick <-> writer thread: roz/dds.h's command path ---- */
+    roz_dds_cmd_t         ROZ_PRIVATE(cmd);
+    double                ROZ_PRIVATE(cmd_slots)[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_ROS2_CMD_META)];
 
     /* ---- writer thread ---- */
-    ROZ_ATOMIC(int)       shutdown;      /* 1: publish the damping command */
-    int                   sent_any;
-    double                tx_last_q[ROZ_ROS2_MAX_ROBOT_SLOTS];
-    roz_ros2_joint_cmd_t  tx_joint[ROZ_ROS2_MAX_ROBOT_SLOTS];
-    int32_t               tx_sec;
-    uint32_t              tx_nanosec;
+    double                ROZ_PRIVATE(tx_last_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    roz_ros2_joint_cmd_t  ROZ_PRIVATE(tx_joint)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    int32_t               ROZ_PRIVATE(tx_sec);
+    uint32_t              ROZ_PRIVATE(tx_nanosec);
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
-    ROZ_ATOMIC(uint64_t)  c_frames, c_writes, c_withheld, c_holds, c_clamped;
-    ROZ_ATOMIC(uint64_t)  c_stale_session, c_handled_seq, c_written_seq, c_safe;
+    ROZ_ATOMIC(uint64_t)  ROZ_PRIVATE(c_frames);
 } roz_ros2_bridge_t;
 
 /**
@@ -339,6 +342,25 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out);
  *  writers matched by any state reader (a test waits for both to be >= 1).
  *  Context: any thread. */
 void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers);
+
+/** @brief The robot the bridge was opened for. Context: any thread, open. */
+const roz_ros2_robot_t *roz_ros2_robot(const roz_ros2_bridge_t *b);
+
+/** @brief The common DDS parameters as open read them. Context: any thread,
+ *  open. */
+const roz_dds_params_t *roz_ros2_dds_params(const roz_ros2_bridge_t *b);
+
+/** @brief The bridge's DDS participant (its entity, domain and
+ *  configuration). Context: any thread, open. */
+const roz_dds_participant_t *roz_ros2_participant(const roz_ros2_bridge_t *b);
+
+/** @brief The command writer's monitor (jitter against its period, each
+ *  pass's time), for roz_monitor_snapshot(). Context: any thread. */
+const roz_monitor_t *roz_ros2_writer_monitor(const roz_ros2_bridge_t *b);
+
+/** @brief State topic @p t's monitor (its handler's times), for
+ *  roz_monitor_snapshot(); NULL for a topic not read. Context: any thread. */
+const roz_monitor_t *roz_ros2_topic_monitor(const roz_ros2_bridge_t *b, uint16_t t);
 
 #ifdef __cplusplus
 }

@@ -27,6 +27,7 @@
 #include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/port.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -76,71 +77,74 @@ typedef struct roz_unitree_g1_counters {
 } roz_unitree_g1_counters_t;
 
 /** The port's instance; caller-owned (large: give it static storage).
- *  Fields are private; the tests and tools read them through the functions
- *  below. */
+ *  Fields are private (roz/private.h); the tests and tools read them
+ *  through the functions below. */
 typedef struct roz_unitree_g1 {
     /* ---- set at open, then read-only ---- */
-    const roz_manifest_t  *m;
-    roz_dds_params_t       dds;
-    uint8_t                mode_pr;
-    uint32_t               peer_timeout_ms;
-    double                 startup_kd, shutdown_kd;
-    roz_log_fn             log;
-    void                  *log_ctx;
-    uint16_t               n_joints;
-    roz_unitree_g1_joint_t joint[ROZ_UNITREE_G1_SLOTS]; /* by manifest joint */
-    uint8_t                slot[ROZ_UNITREE_G1_BODY];   /* manifest joint -> motor slot */
-    uint32_t               listed;                      /* bit s: slot s has a joint */
-    int16_t                imu[ROZ_IMU_VALUES]; /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
-    roz_param_t            params[ROZ_UNITREE_G1_MAX_PARAMS];
-    int                    open, active;
+    const roz_manifest_t  *ROZ_PRIVATE(m);
+    roz_dds_params_t       ROZ_PRIVATE(dds);
+    uint8_t                ROZ_PRIVATE(mode_pr);
+    uint32_t               ROZ_PRIVATE(peer_timeout_ms);
+    double                 ROZ_PRIVATE(startup_kd), ROZ_PRIVATE(shutdown_kd);
+    roz_log_fn             ROZ_PRIVATE(log);
+    void                  *ROZ_PRIVATE(log_ctx);
+    uint16_t               ROZ_PRIVATE(n_joints);
+    roz_unitree_g1_joint_t ROZ_PRIVATE(joint)[ROZ_UNITREE_G1_SLOTS]; /* by manifest joint */
+    /* manifest joint -> motor slot */
+    uint8_t                ROZ_PRIVATE(slot)[ROZ_UNITREE_G1_BODY];
+    uint32_t               ROZ_PRIVATE(listed); /* bit s: slot s has a joint */
+    /* quat x,y,z,w; gyro x,y,z; acc x,y,z: state or -1 */
+    int16_t                ROZ_PRIVATE(imu)[ROZ_IMU_VALUES];
+    roz_param_t            ROZ_PRIVATE(params)[ROZ_UNITREE_G1_MAX_PARAMS];
+    int                    ROZ_PRIVATE(open), ROZ_PRIVATE(active);
 
     /* ---- DDS ---- */
-    roz_dds_participant_t  part;
-    roz_dds_reader_t       reader;
-    roz_dds_writer_t       writer;
-    roz_monitor_t          mon_rx, mon_tx; /* one per thread that records */
-    uint32_t               rx_sample[ROZ_UNITREE_G1_STATE_WORDS]; /* LowState_, receive thread */
-    uint32_t               tx_sample[ROZ_UNITREE_G1_CMD_WORDS];   /* LowCmd_, writer thread */
+    roz_dds_participant_t  ROZ_PRIVATE(part);
+    roz_dds_reader_t       ROZ_PRIVATE(reader);
+    roz_dds_writer_t       ROZ_PRIVATE(writer);
+    /* one per thread that records */
+    roz_monitor_t          ROZ_PRIVATE(mon_rx), ROZ_PRIVATE(mon_tx);
+    /* LowState_, receive thread */
+    uint32_t               ROZ_PRIVATE(rx_sample)[ROZ_UNITREE_G1_STATE_WORDS];
+    /* LowCmd_, writer thread */
+    uint32_t               ROZ_PRIVATE(tx_sample)[ROZ_UNITREE_G1_CMD_WORDS];
 
     /* ---- receive thread ---- */
-    roz_link_t             link;
-    uint32_t               session;        /* robots seen */
-    uint32_t               since_full;     /* frames since the last full conversion */
-    double                 rx_values[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    roz_link_shared_t      link_shared;
-    ROZ_ATOMIC(uint32_t)   rx_session;     /* for the writer */
-    ROZ_ATOMIC(uint32_t)   rx_mode_machine;
+    roz_link_t             ROZ_PRIVATE(link);
+    uint32_t               ROZ_PRIVATE(session); /* robots seen */
+    uint32_t               ROZ_PRIVATE(since_full); /* frames since the last full conversion */
+    double                 ROZ_PRIVATE(rx_values)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    roz_link_shared_t      ROZ_PRIVATE(link_shared);
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(rx_session); /* for the writer */
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(rx_mode_machine);
 
     /* ---- receive thread -> tick ---- */
-    roz_buffer_t           state_buf;
-    double                 state_slots[3 * ((ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1) +
-                                            ROZ_UNITREE_G1_STATE_META)];
+    roz_buffer_t           ROZ_PRIVATE(state_buf);
+    double                 ROZ_PRIVATE(state_slots)[3 * ((ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES
+                                                                                 : 1) +
+                                                         ROZ_UNITREE_G1_STATE_META)];
 
     /* ---- tick ---- */
-    int                    tick_has_state;
-    uint32_t               tick_session;   /* robot session of the last frame read */
-    uint32_t               write_session;  /* robot session of the last write */
-    uint64_t               write_seq;
-    double                 tick_q[ROZ_UNITREE_G1_SLOTS];
-    roz_port_fault_t       tick_fault;
+    int                    ROZ_PRIVATE(tick_has_state);
+    uint32_t               ROZ_PRIVATE(tick_session); /* robot session of the last frame read */
+    double                 ROZ_PRIVATE(tick_q)[ROZ_UNITREE_G1_SLOTS];
+    roz_port_fault_t       ROZ_PRIVATE(tick_fault);
 
-    /* ---- tick <-> writer thread ---- */
-    roz_cmd_watchdog_t     watchdog;
-    roz_buffer_t           cmd_buf;
-    double                 cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + ROZ_UNITREE_G1_CMD_META)];
+    /* ---- tick <-> writer thread: roz/dds.h's command path ---- */
+    roz_dds_cmd_t          ROZ_PRIVATE(cmd);
+    double                 ROZ_PRIVATE(cmd_slots)[3 * (ROZ_CFG_MAX_COMMANDS +
+                                                       ROZ_UNITREE_G1_CMD_META)];
 
     /* ---- writer thread ---- */
-    ROZ_ATOMIC(uint32_t)   locked_mode_machine; /* 0x100 | value once a command went out */
-    ROZ_ATOMIC(int)        shutdown;       /* 1: publish the damping command */
-    double                 tx_last_q[ROZ_UNITREE_G1_SLOTS]; /* positions last commanded,
-                                                               by manifest joint */
+    /* 0x100 | value once a command went out */
+    ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(locked_mode_machine);
+    uint32_t               ROZ_PRIVATE(tx_mode_machine); /* this pass's, for its fill */
+    /* positions last commanded, by manifest joint */
+    double                 ROZ_PRIVATE(tx_last_q)[ROZ_UNITREE_G1_SLOTS];
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
-    ROZ_ATOMIC(uint64_t)   c_frames, c_full, c_motor_fault, c_sessions;
-    ROZ_ATOMIC(uint64_t)   c_writes, c_withheld, c_holds, c_clamped;
-    ROZ_ATOMIC(uint64_t)   c_stale_session, c_refused_mm, c_handled_seq, c_written_seq;
-    ROZ_ATOMIC(uint64_t)   c_safe;
+    ROZ_ATOMIC(uint64_t)   ROZ_PRIVATE(c_frames), ROZ_PRIVATE(c_full), ROZ_PRIVATE(c_motor_fault),
+                           ROZ_PRIVATE(c_sessions);
 } roz_unitree_g1_t;
 
 /** The ops table (name "unitree/G1"). */
@@ -169,6 +173,18 @@ void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters
  *  test waits for both before it speaks). Context: any thread. */
 void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,
                             uint32_t *state_writers);
+
+/** @brief The port's DDS participant (its entity, domain and configuration),
+ *  valid while the port is open. Context: any thread. */
+const roz_dds_participant_t *roz_unitree_g1_participant(const roz_unitree_g1_t *g1);
+
+/** @brief The command writer's monitor (jitter against its period, each
+ *  pass's time), for roz_monitor_snapshot(). Context: any thread. */
+const roz_monitor_t *roz_unitree_g1_writer_monitor(const roz_unitree_g1_t *g1);
+
+/** @brief The receive path's monitor (the state handler's times), for
+ *  roz_monitor_snapshot(). Context: any thread. */
+const roz_monitor_t *roz_unitree_g1_state_monitor(const roz_unitree_g1_t *g1);
 
 #ifdef __cplusplus
 }
