@@ -1,18 +1,22 @@
 # SPDX-License-Identifier: Apache-2.0
 # cmake -DROOT=<source tree> -P check_no_printf.cmake
-# The sources a firmware links (the core, roz::hal, the loopback port) call
-# no printf-family function: their messages go through roz_format()
+# The sources a firmware links (the core, roz::hal, the loopback port and
+# roz::can, the SocketCAN port's portable half) call no printf-family
+# function: their messages go through roz_format()
 # (roz/format.h), whose text is the same under every C library (newlib-nano
 # prints no %lld, %zu or %g, and shifts the arguments after one). Also
 # refused: conversions roz_format() does not have (%f, %e, %a, %n), which
 # it would print as "%?". Not checked: the host-only libraries a firmware
-# never builds: roz::toml (lib/src/toml.c, manifest_toml.c), whose numbers
-# must round-trip exactly through the C library's %.17g, and roz::record
+# never builds: roz::toml (lib/src/toml.c, manifest_toml.c), which reads
+# numbers with the C library's strtod, and roz::record
 # (lib/src/mcap.c, record_file.c), which writes files with stdio.
 file(GLOB sources ${ROOT}/lib/src/*.c ${ROOT}/lib/src/*.h ${ROOT}/lib/include/roz/*.h
                   ${ROOT}/hal/src/*.c ${ROOT}/hal/include/roz/hal/*.h
                   ${ROOT}/ports/loopback/src/*.c ${ROOT}/ports/loopback/src/*.h
-                  ${ROOT}/ports/loopback/include/roz/*.h)
+                  ${ROOT}/ports/loopback/include/roz/*.h
+                  ${ROOT}/ports/socketcan/src/mit_codec.c ${ROOT}/ports/socketcan/src/can_config.c
+                  ${ROOT}/ports/socketcan/include/roz/mit_codec.h
+                  ${ROOT}/ports/socketcan/include/roz/can_config.h)
 list(FILTER sources EXCLUDE REGEX "/lib/src/(toml|manifest_toml|mcap|record_file)\\.c$")
 list(LENGTH sources n)
 if(n LESS 20)

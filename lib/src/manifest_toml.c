@@ -2,7 +2,6 @@
 #include "roz/manifest_toml.h"
 
 #include <errno.h>
-#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -69,51 +68,12 @@ static void put_quoted(roz_text_t *sb, const char *s, size_t n)
     roz_text_put_quoted(sb, s, n);
 }
 
-/* "%.*g" with '.' as the decimal point whatever the locale; *exact tells
- * whether the text reads back as x. */
-static void fmt_g(char *buf, size_t cap, int prec, double x, int *exact)
-{
-    const char *point = localeconv()->decimal_point;
-    snprintf(buf, cap, "%.*g", prec, x);
-    if (exact != NULL)
-        *exact = strtod(buf, NULL) == x;
-    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
-        char *at = strstr(buf, point);
-        if (at != NULL) {
-            size_t plen = strlen(point);
-            *at = '.';
-            memmove(at + 1, at + plen, strlen(at + plen) + 1);
-        }
-    }
-}
-
-/* rozgen.fmt.shortest_g: the shortest round-trip %g, integral values below
- * 1e16 without exponent. */
-static void shortest_g(double x, char out[40])
-{
-    int exact = 0;
-    const char *e;
-    if (isnan(x)) {
-        strcpy(out, "nan");
-        return;
-    }
-    if (isinf(x)) {
-        strcpy(out, x > 0 ? "inf" : "-inf");
-        return;
-    }
-    for (int p = 1; p <= 17 && !exact; p++)
-        fmt_g(out, 40, p, x, &exact);
-    e = strchr(out, 'e');
-    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
-        fmt_g(out, 40, atoi(e + 1) + 1, x, NULL);
-}
-
-/* rozgen.fmt.c_double: shortest_g with ".0" when it looks like an integer. */
+/* rozgen.fmt.c_double (roz/text.h). */
 static void c_double(double x, char out[44])
 {
-    shortest_g(x, out);
-    if (strpbrk(out, ".eni") == NULL)
-        strcat(out, ".0");
+    roz_text_t t;
+    roz_text_init(&t, out, 44);
+    roz_text_put_double(&t, x);
 }
 
 /* Python's isoformat() of what tomllib makes of a date/time. */

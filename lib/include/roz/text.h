@@ -56,6 +56,11 @@ void roz_text_put_i64(roz_text_t *t, int64_t v);
  */
 void roz_text_put_quoted(roz_text_t *t, const char *s, size_t n);
 
+/** @brief Append @p x as roz_format_double() writes it, with ".0" after a
+ *  number that would read as an integer (a C double literal: rozgen's
+ *  fmt.c_double). Context: not the tick. */
+void roz_text_put_double(roz_text_t *t, double x);
+
 /** @brief Append through roz_format(). Context: not the tick (roz formats
  *  nothing there). */
 void roz_text_format(roz_text_t *t, const char *fmt, ...) ROZ_FORMAT_CHECK(2, 3);

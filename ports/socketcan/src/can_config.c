@@ -4,10 +4,6 @@
  * which test/toml/compare_vectors.py checks on every fixture. */
 #include "roz/can_config.h"
 
-#include <locale.h>
-#include <math.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "roz/hal/cmd_watchdog.h"
@@ -59,53 +55,12 @@ static void put_quoted(roz_text_t *t, roz_params_span_t s)
     roz_text_put_quoted(t, s.s, s.n);
 }
 
-/* "%.*g" with '.' as the decimal point whatever the locale */
-static void fmt_g(char *buf, size_t cap, int prec, double x)
-{
-    const char *point = localeconv()->decimal_point;
-    snprintf(buf, cap, "%.*g", prec, x);
-    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
-        char *at = strstr(buf, point);
-        if (at != NULL) {
-            size_t plen = strlen(point);
-            *at = '.';
-            memmove(at + 1, at + plen, strlen(at + plen) + 1);
-        }
-    }
-}
-
-/* rozgen.fmt.c_double: the shortest round-trip %g, integral values below
- * 1e16 without exponent, ".0" when it looks like an integer. */
-static void put_double(roz_text_t *sb, double x)
-{
-    char out[48];
-    if (isnan(x)) {
-        roz_text_put(sb, "nan");
-        return;
-    }
-    if (isinf(x)) {
-        roz_text_put(sb, x > 0 ? "inf" : "-inf");
-        return;
-    }
-    for (int p = 1; p <= 17; p++) {
-        fmt_g(out, 40, p, x);
-        if (strtod(out, NULL) == x)
-            break;
-    }
-    const char *e = strchr(out, 'e');
-    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
-        fmt_g(out, 40, atoi(e + 1) + 1, x);
-    if (strpbrk(out, ".eni") == NULL)
-        strcat(out, ".0");
-    roz_text_put(sb, out);
-}
-
 static void put_interval(roz_text_t *sb, double lo, double hi)
 {
     roz_text_put(sb, "[");
-    put_double(sb, lo);
+    roz_text_put_double(sb, lo);
     roz_text_put(sb, ", ");
-    put_double(sb, hi);
+    roz_text_put_double(sb, hi);
     roz_text_put(sb, "]");
 }
 
