@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "roz/format.h"
+#include "roz/text.h"
 
 /* ---- values -------------------------------------------------------------- */
 
@@ -228,16 +229,19 @@ int roz_params_check_known(const roz_params_t *p, const char *const *known, cons
         int found = 0;
         for (const char *const *k = known; *k != NULL && !found; k++)
             found = strcmp(*k, p->items[i].key) == 0;
-        if (!found) {
-            size_t used = (size_t)roz_format(err, errlen,
-                                             "unknown parameter \"%s\" for port %s (known:",
-                                             p->items[i].key, port);
-            for (const char *const *k = known; *k != NULL && used < errlen; k++)
-                used += (size_t)roz_format(err + used, errlen - used, " %s", *k);
-            if (used < errlen)
-                roz_format(err + used, errlen - used, ")");
-            return ROZ_ENOENT;
+        if (!found && errlen > 0u) {
+            roz_text_t t;
+            roz_text_init(&t, err, errlen);
+            roz_text_format(&t, "unknown parameter \"%s\" for port %s (known:", p->items[i].key,
+                            port);
+            for (const char *const *k = known; *k != NULL; k++) {
+                roz_text_put(&t, " ");
+                roz_text_put(&t, *k);
+            }
+            roz_text_put(&t, ")");
         }
+        if (!found)
+            return ROZ_ENOENT;
     }
     return ROZ_OK;
 }
