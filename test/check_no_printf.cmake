@@ -1,18 +1,21 @@
 # SPDX-License-Identifier: Apache-2.0
 # cmake -DROOT=<source tree> -P check_no_printf.cmake
-# The sources a firmware links (the core, roz::hal, the loopback port) call
-# no printf-family function: their messages go through roz_format()
+# The sources a firmware links (the core, roz::hal, the loopback port and
+# roz::can, the SocketCAN port's portable half) call no printf-family
+# function: their messages go through roz_format()
 # (roz/format.h), whose text is the same under every C library (newlib-nano
 # prints no %lld, %zu or %g, and shifts the arguments after one). Also
 # refused: conversions roz_format() does not have (%f, %e, %a, %n), which
 # it would print as "%?". Not checked: the host-only libraries a firmware
-# never builds (host/): roz::toml, whose numbers must round-trip exactly
-# through the C library's %.17g, and roz::record, which writes files with
-# stdio.
+# never builds (host/): roz::toml, which reads numbers with the C
+# library's strtod, and roz::record, which writes files with stdio.
 file(GLOB sources ${ROOT}/lib/src/*.c ${ROOT}/lib/src/*.h ${ROOT}/lib/include/roz/*.h
                   ${ROOT}/hal/src/*.c ${ROOT}/hal/include/roz/hal/*.h
                   ${ROOT}/ports/loopback/src/*.c ${ROOT}/ports/loopback/src/*.h
-                  ${ROOT}/ports/loopback/include/roz/*.h)
+                  ${ROOT}/ports/loopback/include/roz/*.h
+                  ${ROOT}/ports/socketcan/src/mit_codec.c ${ROOT}/ports/socketcan/src/can_config.c
+                  ${ROOT}/ports/socketcan/include/roz/mit_codec.h
+                  ${ROOT}/ports/socketcan/include/roz/can_config.h)
 list(LENGTH sources n)
 if(n LESS 20)
   message(FATAL_ERROR "only ${n} sources found under ${ROOT}: is ROOT right?")

@@ -4,7 +4,8 @@
 # or references malloc/calloc/realloc/free, or the C library's printf family
 # (roz formats its messages with roz_format(), roz/format.h: the same text
 # on every C library, newlib-nano included, and no printf on firmware),
-# where -DREFUSE_PRINTF=ON asks for it (the core).
+# where -DREFUSE_PRINTF=ON asks for it (the core, roz::can), and with it the
+# locale functions (a message's text never depends on the locale).
 execute_process(COMMAND ${NM} -g --defined-only ${LIB} OUTPUT_VARIABLE defined RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "nm failed on ${LIB}")
@@ -36,6 +37,10 @@ foreach(line IN LISTS ulines)
      line MATCHES " U (_*(v?s?n?printf|v?fprintf|v?dprintf|v?asprintf)(_chk)?)$")
     message(FATAL_ERROR "${LIB} calls ${CMAKE_MATCH_1}: roz's messages are formatted by "
                         "roz_format() (roz/format.h), never the C library's printf")
+  endif()
+  if(REFUSE_PRINTF AND line MATCHES " U (localeconv|setlocale|newlocale|uselocale)$")
+    message(FATAL_ERROR "${LIB} calls ${CMAKE_MATCH_1}: roz's text is the same in every "
+                        "locale (roz/format.h)")
   endif()
 endforeach()
 message(STATUS "${LIB}: ${count} exported symbols, all roz_; no heap calls, no printf")

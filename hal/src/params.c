@@ -1,12 +1,212 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "roz/hal/params.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "roz/format.h"
+#include "roz/text.h"
+
+/* ---- values -------------------------------------------------------------- */
+
+static int is_blank(char c)
+{
+    return c == ' ' || c == '\t';
+}
+
+static int is_digit(char c)
+{
+    return c >= '0' && c <= '9';
+}
+
+roz_params_span_t roz_params_span(const char *z)
+{
+    roz_params_span_t sp = { z != NULL ? z : "", z != NULL ? strlen(z) : 0u };
+    return sp;
+}
+
+roz_params_span_t roz_params_trim(roz_params_span_t s)
+{
+    while (s.n > 0 && is_blank(s.s[0])) {
+        s.s++;
+        s.n--;
+    }
+    while (s.n > 0 && is_blank(s.s[s.n - 1]))
+        s.n--;
+    return s;
+}
+
+int roz_params_span_is(roz_params_span_t s, const char *z)
+{
+    return strlen(z) == s.n && memcmp(s.s, z, s.n) == 0;
+}
+
+int roz_params_list_next(roz_params_span_t *rest, roz_params_span_t *entry)
+{
+    const char *comma;
+
+    if (rest->s == NULL)
+        return 0;
+    comma = rest->n > 0 ? memchr(rest->s, ',', rest->n) : NULL;
+    entry->s = rest->s;
+    entry->n = comma != NULL ? (size_t)(comma - rest->s) : rest->n;
+    *entry = roz_params_trim(*entry);
+    if (comma != NULL) {
+        rest->n -= (size_t)(comma + 1 - rest->s);
+        rest->s = comma + 1;
+    } else {
+        rest->s = NULL; /* used up */
+        rest->n = 0;
+    }
+    return 1;
+}
+
+int roz_params_parse_u32(roz_params_span_t s, unsigned flags, uint32_t min, uint32_t max,
+                         uint32_t *out)
+{
+    unsigned base = 10;
+    uint64_t v = 0;
+    size_t i = 0;
+
+    if ((flags & ROZ_PARAMS_HEX) != 0u && s.n > 2 && s.s[0] == '0' &&
+        (s.s[1] == 'x' || s.s[1] == 'X')) {
+        base = 16;
+        i = 2;
+    }
+    if (i >= s.n)
+        return ROZ_EINVAL;
+    for (; i < s.n; i++) {
+        char c = s.s[i];
+        unsigned d;
+        if (is_digit(c))
+            d = (unsigned)(c - '0');
+        else if (base == 16 && c >= 'a' && c <= 'f')
+            d = (unsigned)(c - 'a' + 10);
+        else if (base == 16 && c >= 'A' && c <= 'F')
+            d = (unsigned)(c - 'A' + 10);
+        else
+            return ROZ_EINVAL;
+        v = v * base + d;
+        if (v > UINT32_MAX)
+            return ROZ_EINVAL;
+    }
+    if (v < min || v > max)
+        return ROZ_EINVAL;
+    *out = (uint32_t)v;
+    return ROZ_OK;
+}
+
+int roz_params_parse_number(roz_params_span_t s, double *out)
+{
+    /* the digits without their point, and the exponent moved by as many
+     * places: strtod then reads no decimal point, whose character is the
+     * locale's ("12.5e3" is read as "125e2") */
+    char buf[ROZ_PARAMS_NUMBER_MAX + 16];
+    size_t i = 0, digits = 0, n = 0;
+    long exp10 = 0, frac = 0;
+    int neg_exp = 0;
+    double x;
+
+    if (s.n == 0 || s.n > ROZ_PARAMS_NUMBER_MAX)
+        return ROZ_EINVAL;
+    if (s.s[i] == '+' || s.s[i] == '-')
+        buf[n++] = s.s[i++];
+    while (i < s.n && is_digit(s.s[i])) {
+        buf[n++] = s.s[i++];
+        digits++;
+    }
+    if (i < s.n && s.s[i] == '.') {
+        i++;
+        while (i < s.n && is_digit(s.s[i])) {
+            buf[n++] = s.s[i++];
+            digits++;
+            frac++;
+        }
+    }
+    if (digits == 0)
+        return ROZ_EINVAL;
+    if (i < s.n && (s.s[i] == 'e' || s.s[i] == 'E')) {
+        size_t exp_digits = 0;
+        i++;
+        if (i < s.n && (s.s[i] == '+' || s.s[i] == '-'))
+            neg_exp = s.s[i++] == '-';
+        while (i < s.n && is_digit(s.s[i])) {
+            if (exp10 < 1000000L) /* far past any double either way */
+                exp10 = exp10 * 10 + (s.s[i] - '0');
+            i++;
+            exp_digits++;
+        }
+        if (exp_digits == 0)
+            return ROZ_EINVAL;
+    }
+    if (i != s.n)
+        return ROZ_EINVAL;
+    exp10 = (neg_exp ? -exp10 : exp10) - frac;
+    buf[n] = '\0';
+    (void)roz_format(buf + n, sizeof buf - n, "e%ld", exp10);
+    x = strtod(buf, NULL);
+    if (!isfinite(x))
+        return ROZ_EINVAL;
+    *out = x;
+    return ROZ_OK;
+}
+
+int roz_params_parse_range(roz_params_span_t s, double *min, double *max)
+{
+    const char *colon = s.n > 0 ? memchr(s.s, ':', s.n) : NULL;
+    roz_params_span_t lo, hi;
+    double a, b;
+
+    if (colon == NULL)
+        return ROZ_EINVAL;
+    lo.s = s.s;
+    lo.n = (size_t)(colon - s.s);
+    hi.s = colon + 1;
+    hi.n = s.n - lo.n - 1;
+    if (roz_params_parse_number(roz_params_trim(lo), &a) != ROZ_OK ||
+        roz_params_parse_number(roz_params_trim(hi), &b) != ROZ_OK)
+        return ROZ_EINVAL;
+    *min = a;
+    *max = b;
+    return ROZ_OK;
+}
+
+int roz_params_parse_bool(roz_params_span_t s, int *out)
+{
+    static const char *const yes[] = { "true", "1", "yes", "on" };
+    static const char *const no[] = { "false", "0", "no", "off" };
+
+    for (size_t i = 0; i < 4; i++) {
+        if (roz_params_span_is(s, yes[i])) {
+            *out = 1;
+            return ROZ_OK;
+        }
+        if (roz_params_span_is(s, no[i])) {
+            *out = 0;
+            return ROZ_OK;
+        }
+    }
+    return ROZ_EINVAL;
+}
+
+int roz_params_ifname_valid(roz_params_span_t s, size_t max, roz_params_ifname_t rule)
+{
+    if (s.n == 0 || s.n > max)
+        return 0;
+    for (size_t i = 0; i < s.n; i++) {
+        unsigned char c = (unsigned char)s.s[i];
+        int ok = rule == ROZ_PARAMS_IFNAME_LINUX
+                     ? c > 0x20 && c < 0x7F && c != '/'
+                     : (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || is_digit((char)c) ||
+                           c == '_' || c == '.' || c == ':' || c == '-';
+        if (!ok)
+            return 0;
+    }
+    return 1;
+}
+
+/* ---- keys ---------------------------------------------------------------- */
 
 const char *roz_params_find(const roz_params_t *p, const char *key)
 {
@@ -29,16 +229,19 @@ int roz_params_check_known(const roz_params_t *p, const char *const *known, cons
         int found = 0;
         for (const char *const *k = known; *k != NULL && !found; k++)
             found = strcmp(*k, p->items[i].key) == 0;
-        if (!found) {
-            size_t used = (size_t)roz_format(err, errlen,
-                                             "unknown parameter \"%s\" for port %s (known:",
-                                             p->items[i].key, port);
-            for (const char *const *k = known; *k != NULL && used < errlen; k++)
-                used += (size_t)roz_format(err + used, errlen - used, " %s", *k);
-            if (used < errlen)
-                roz_format(err + used, errlen - used, ")");
-            return ROZ_ENOENT;
+        if (!found && errlen > 0u) {
+            roz_text_t t;
+            roz_text_init(&t, err, errlen);
+            roz_text_format(&t, "unknown parameter \"%s\" for port %s (known:", p->items[i].key,
+                            port);
+            for (const char *const *k = known; *k != NULL; k++) {
+                roz_text_put(&t, " ");
+                roz_text_put(&t, *k);
+            }
+            roz_text_put(&t, ")");
         }
+        if (!found)
+            return ROZ_ENOENT;
     }
     return ROZ_OK;
 }
@@ -47,23 +250,13 @@ int roz_params_get_u32(const roz_params_t *p, const char *key, uint32_t def, uin
                        uint32_t max, uint32_t *out, char *err, size_t errlen)
 {
     const char *v = roz_params_find(p, key);
-    char *end = NULL;
-    unsigned long long x;
 
     if (v == NULL) {
         *out = def;
         return ROZ_OK;
     }
-    /* strtoull accepts a sign and leading blanks; a parameter may not. */
-    if (v[0] < '0' || v[0] > '9')
-        goto bad;
-    errno = 0; /* strtoull reports overflow only through errno */
-    x = strtoull(v, &end, 10);
-    if (errno != 0 || end == v || *end != '\0' || x < min || x > max)
-        goto bad;
-    *out = (uint32_t)x;
-    return ROZ_OK;
-bad:
+    if (roz_params_parse_u32(roz_params_span(v), 0u, min, max, out) == ROZ_OK)
+        return ROZ_OK;
     roz_format(err, errlen, "parameter %s = \"%s\": expected an integer in %lu..%lu", key, v,
                (unsigned long)min, (unsigned long)max);
     return ROZ_EINVAL;
@@ -93,24 +286,14 @@ int roz_params_get_double(const roz_params_t *p, const char *key, double def, do
 int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *out, char *err,
                         size_t errlen)
 {
-    static const char *const yes[] = { "true", "1", "yes", "on" };
-    static const char *const no[] = { "false", "0", "no", "off" };
     const char *v = roz_params_find(p, key);
 
     if (v == NULL) {
         *out = def;
         return ROZ_OK;
     }
-    for (size_t i = 0; i < 4; i++) {
-        if (strcmp(v, yes[i]) == 0) {
-            *out = 1;
-            return ROZ_OK;
-        }
-        if (strcmp(v, no[i]) == 0) {
-            *out = 0;
-            return ROZ_OK;
-        }
-    }
+    if (roz_params_parse_bool(roz_params_span(v), out) == ROZ_OK)
+        return ROZ_OK;
     roz_format(err, errlen, "parameter %s = \"%s\": expected true or false", key, v);
     return ROZ_EINVAL;
 }

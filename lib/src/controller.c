@@ -8,11 +8,11 @@
 #include <string.h>
 
 #include "roz/format.h"
+#include "roz/text.h"
 
 #include "wasm3.h"
 #include "m3_env.h"
 #include "controller_bench.h"
-#include "text.h"
 #include "wasm_scan.h"
 
 /* ---- private: metering ----------------------------------------------------- */
@@ -484,36 +484,37 @@ int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t star
      * runtime never runs a trapped instance again). */
     if (r == m3Err_none)
         return ROZ_OK;
-    roz__text_t t = roz__text(c->error, sizeof c->error);
+    roz_text_t t;
+    roz_text_init(&t, c->error, sizeof c->error);
     if (r == fuel_trap || r == deadline_trap) {
         c->spent = 1;
-        roz__text_str(&t, r == fuel_trap ? "fuel exhausted at tick " : "deadline passed at tick ");
-        roz__text_i64(&t, tick);
+        roz_text_put(&t, r == fuel_trap ? "fuel exhausted at tick " : "deadline passed at tick ");
+        roz_text_put_i64(&t, tick);
         if (r == fuel_trap) {
-            roz__text_str(&t, ": ");
-            roz__text_u64(&t, c->fuel_used);
-            roz__text_str(&t, " units, budget ");
-            roz__text_u64(&t, c->budget.fuel);
+            roz_text_put(&t, ": ");
+            roz_text_put_u64(&t, c->fuel_used);
+            roz_text_put(&t, " units, budget ");
+            roz_text_put_u64(&t, c->budget.fuel);
         } else {
-            roz__text_str(&t, ": ");
-            roz__text_u64(&t, c->budget.deadline_ns / 1000u);
-            roz__text_str(&t, " us budget, stopped after ");
-            roz__text_u64(&t, c->fuel_used);
-            roz__text_str(&t, " units");
+            roz_text_put(&t, ": ");
+            roz_text_put_u64(&t, c->budget.deadline_ns / 1000u);
+            roz_text_put(&t, " us budget, stopped after ");
+            roz_text_put_u64(&t, c->fuel_used);
+            roz_text_put(&t, " units");
         }
         return ROZ_ETIMEDOUT;
     }
-    roz__text_str(&t, "trap at tick ");
-    roz__text_i64(&t, tick);
+    roz_text_put(&t, "trap at tick ");
+    roz_text_put_i64(&t, tick);
     if (r == stack_trap) {
-        roz__text_str(&t, ": native stack limit: ");
-        roz__text_u64(&t, c->stack_used);
-        roz__text_str(&t, " bytes deep, limit ");
-        roz__text_u64(&t, ROZ_CFG_NATIVE_STACK_BYTES);
-        roz__text_str(&t, " (ROZ_CFG_NATIVE_STACK_BYTES)");
+        roz_text_put(&t, ": native stack limit: ");
+        roz_text_put_u64(&t, c->stack_used);
+        roz_text_put(&t, " bytes deep, limit ");
+        roz_text_put_u64(&t, ROZ_CFG_NATIVE_STACK_BYTES);
+        roz_text_put(&t, " (ROZ_CFG_NATIVE_STACK_BYTES)");
     } else {
-        roz__text_str(&t, ": ");
-        roz__text_str(&t, r);
+        roz_text_put(&t, ": ");
+        roz_text_put(&t, r);
     }
     return ROZ_ETRAP;
     return ROZ_OK;

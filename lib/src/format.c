@@ -6,6 +6,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "format_internal.h"
+
 /* ---- private: output ------------------------------------------------------ */
 
 typedef struct {
@@ -101,6 +103,46 @@ static double product_error(double a, double b, double p)
     return ((ah * bh - p) + ah * bl + al * bh) + al * bl;
 }
 
+size_t roz__format_layout_g(char *s, const char *ds, int prec, int e)
+{
+    size_t n = 0;
+    /* significant digits without trailing zeros (at least one) */
+    size_t sig = (size_t)prec;
+    while (sig > 1u && ds[sig - 1u] == '0')
+        sig--;
+    if (e < -4 || e >= prec) {
+        s[n++] = ds[0];
+        if (sig > 1u) {
+            s[n++] = '.';
+            memcpy(s + n, ds + 1, sig - 1u);
+            n += sig - 1u;
+        }
+        s[n++] = 'e';
+        s[n++] = e < 0 ? '-' : '+';
+        unsigned ae = (unsigned)(e < 0 ? -e : e);
+        if (ae >= 100u)
+            s[n++] = (char)('0' + ae / 100u);
+        s[n++] = (char)('0' + ae / 10u % 10u);
+        s[n++] = (char)('0' + ae % 10u);
+    } else if (e >= 0) {
+        memcpy(s + n, ds, (size_t)e + 1u);
+        n += (size_t)e + 1u;
+        if (sig > (size_t)e + 1u) {
+            s[n++] = '.';
+            memcpy(s + n, ds + e + 1, sig - ((size_t)e + 1u));
+            n += sig - ((size_t)e + 1u);
+        }
+    } else {
+        s[n++] = '0';
+        s[n++] = '.';
+        for (int i = -1; i > e; i--)
+            s[n++] = '0';
+        memcpy(s + n, ds, sig);
+        n += sig;
+    }
+    return n;
+}
+
 /* %g of x with `prec` significant digits into s (at least 32 bytes);
  * returns its length. */
 static size_t fmt_g(char *s, double x, int prec)
@@ -165,41 +207,7 @@ static size_t fmt_g(char *s, double x, int prec)
         memset(ds, '0', (size_t)prec);
         memcpy(ds + ((size_t)prec - nd), p, nd);
     }
-    /* significant digits without trailing zeros (at least one) */
-    size_t sig = (size_t)prec;
-    while (sig > 1u && ds[sig - 1u] == '0')
-        sig--;
-    if (e < -4 || e >= prec) {
-        s[n++] = ds[0];
-        if (sig > 1u) {
-            s[n++] = '.';
-            memcpy(s + n, ds + 1, sig - 1u);
-            n += sig - 1u;
-        }
-        s[n++] = 'e';
-        s[n++] = e < 0 ? '-' : '+';
-        unsigned ae = (unsigned)(e < 0 ? -e : e);
-        if (ae >= 100u)
-            s[n++] = (char)('0' + ae / 100u);
-        s[n++] = (char)('0' + ae / 10u % 10u);
-        s[n++] = (char)('0' + ae % 10u);
-    } else if (e >= 0) {
-        memcpy(s + n, ds, (size_t)e + 1u);
-        n += (size_t)e + 1u;
-        if (sig > (size_t)e + 1u) {
-            s[n++] = '.';
-            memcpy(s + n, ds + e + 1, sig - ((size_t)e + 1u));
-            n += sig - ((size_t)e + 1u);
-        }
-    } else {
-        s[n++] = '0';
-        s[n++] = '.';
-        for (int i = -1; i > e; i--)
-            s[n++] = '0';
-        memcpy(s + n, ds, sig);
-        n += sig;
-    }
-    return n;
+    return n + roz__format_layout_g(s + n, ds, prec, e);
 }
 
 /* ---- public ---------------------------------------------------------------- */
@@ -346,3 +354,4 @@ int roz_format(char *buf, size_t len, const char *fmt, ...)
     va_end(ap);
     return n;
 }
+

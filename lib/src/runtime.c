@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "roz/format.h"
+#include "roz/text.h"
 
 #include "recorder_push.h"
 #include "seqlock.h"
@@ -446,27 +447,18 @@ static void tick_estop(roz_runtime_t *rt)
         latch(rt, ROZ_FAULT_ESTOP, 0, 0, NULL);
 }
 
-/* Appends @p s to @p buf (capacity @p cap, NUL kept) without formatting. */
-static size_t append(char *buf, size_t used, size_t cap, const char *s)
-{
-    while (s != NULL && *s != '\0' && used + 1u < cap)
-        buf[used++] = *s++;
-    buf[used] = '\0';
-    return used;
-}
-
 /* The port's account of its last read (fault() op), "<what>: <kind>" in
  * @p text, copied; "" when it has none. */
 static void port_account(roz_runtime_t *rt, roz_port_fault_t *f, char *text, size_t cap)
 {
-    size_t used = 0;
+    roz_text_t t;
 
-    text[0] = '\0';
+    roz_text_init(&t, text, cap);
     if (rt->cfg.port.ops->fault != NULL &&
         rt->cfg.port.ops->fault(rt->cfg.port.self, f) == ROZ_OK && f->what != NULL) {
-        used = append(text, used, cap, f->what);
-        used = append(text, used, cap, ": ");
-        used = append(text, used, cap, f->kind != NULL ? f->kind : "code");
+        roz_text_put(&t, f->what);
+        roz_text_put(&t, ": ");
+        roz_text_put(&t, f->kind != NULL ? f->kind : "code");
     }
 }
 

@@ -11,6 +11,7 @@
 #include <stdint.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <cmocka.h>
@@ -90,6 +91,65 @@ static void test_format_g_many(void **st)
     }
 }
 
+/* The C library's shortest round-trip %g (rozgen's fmt.shortest_g), the
+ * reference for roz_format_double(). */
+static void shortest_libc(double x, char out[48])
+{
+    if (isnan(x)) {
+        strcpy(out, "nan");
+        return;
+    }
+    if (isinf(x)) {
+        strcpy(out, x > 0 ? "inf" : "-inf");
+        return;
+    }
+    for (int p = 1; p <= 17; p++) {
+        snprintf(out, 48, "%.*g", p, x);
+        if (strtod(out, NULL) == x)
+            break;
+    }
+    const char *e = strchr(out, 'e');
+    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
+        snprintf(out, 48, "%.*g", atoi(e + 1) + 1, x);
+}
+
+/* roz_format_double() against the C library: chosen values (16 and 17
+ * digits, ties, integral values written out, the extremes), then 50,000
+ * from a fixed generator, raw bit patterns among them. */
+static void test_format_double(void **st)
+{
+    static const double v[] = { 0.0, -0.0, 1.0, 0.1, 0.3, 6.283185307179586, -3.14, 12.5,
+                                1500.0, 1e15, 1e16, 1e17, 123456789012345678.0, 0.025, 2.5,
+                                5e-324, 2.2250738585072014e-308, 1.7976931348623157e308,
+                                9.999999999999999e22, 1e23, 1e-5, 1e-4, 4.35, -1.2, 2047.0 };
+    uint64_t r = 0x2545f4914f6cdd1du;
+    char a[48], b[48];
+    (void)st;
+    for (int i = 0; i < 50000 + (int)(sizeof v / sizeof v[0]); i++) {
+        double x;
+        if (i < (int)(sizeof v / sizeof v[0])) {
+            x = v[i];
+        } else {
+            r ^= r << 13;
+            r ^= r >> 7;
+            r ^= r << 17;
+            if (i % 3 == 0)
+                memcpy(&x, &r, sizeof x);
+            else if (i % 3 == 1)
+                x = (double)(int64_t)(r % 2000000u) / 1000.0;
+            else
+                x = ldexp((double)(r >> 11), (int)(r % 120u) - 100);
+        }
+        int n = roz_format_double(a, sizeof a, x);
+        assert_int_equal(n, (int)strlen(a));
+        shortest_libc(x, b);
+        if (strcmp(a, b) != 0)
+            fail_msg("%.17g: roz_format_double gives %s, the C library %s", x, a, b);
+    }
+    assert_int_equal(roz_format_double(a, 4, 6.283185307179586), 17);
+    assert_string_equal(a, "6.2");
+}
+
 static void test_format_cut(void **st)
 {
     char b[8];
@@ -123,6 +183,7 @@ int main(void)
         cmocka_unit_test(test_format_strings),
         cmocka_unit_test(test_format_g),
         cmocka_unit_test(test_format_g_many),
+        cmocka_unit_test(test_format_double),
         cmocka_unit_test(test_format_cut),
         cmocka_unit_test(test_format_unsupported),
     };

@@ -2,12 +2,13 @@
 #include "roz/manifest_toml.h"
 
 #include <errno.h>
-#include <locale.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "roz/text.h"
 
 /*
  * The robot.toml rules of codegen/rozgen/validate.py, in C.
@@ -33,14 +34,6 @@ typedef struct place {
     const char *const *keys;  /* known keys, in reporting order */
     size_t             n_keys;
 } place_t;
-
-/* A bounded string builder: text past the end is dropped and marked. */
-typedef struct sb {
-    char  *buf;
-    size_t cap;
-    size_t len;
-    int    cut;
-} sb_t;
 
 typedef struct checker {
     const roz_toml_doc_t        *doc;
@@ -69,203 +62,90 @@ static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 /* ---- private: text ------------------------------------------------------------- */
 
-static void sb_init(sb_t *sb, char *buf, size_t cap)
-{
-    sb->buf = buf;
-    sb->cap = cap;
-    sb->len = 0;
-    sb->cut = 0;
-    buf[0] = '\0';
-}
-
-static void sb_putn(sb_t *sb, const char *s, size_t n)
-{
-    size_t room = sb->cap - 1 - sb->len;
-    if (n > room) {
-        n = room;
-        sb->cut = 1;
-    }
-    memcpy(sb->buf + sb->len, s, n);
-    sb->len += n;
-    sb->buf[sb->len] = '\0';
-}
-
-static void sb_puts(sb_t *sb, const char *s)
-{
-    sb_putn(sb, s, strlen(s));
-}
-
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((format(printf, 2, 3)))
-#endif
-static void sb_printf(sb_t *sb, const char *fmt, ...)
-{
-    char tmp[160];
-    va_list ap;
-    int n;
-    va_start(ap, fmt);
-    n = vsnprintf(tmp, sizeof tmp, fmt, ap);
-    va_end(ap);
-    if (n < 0)
-        return;
-    if ((size_t)n >= sizeof tmp) {
-        n = (int)sizeof tmp - 1;
-        sb->cut = 1;
-    }
-    sb_putn(sb, tmp, (size_t)n);
-}
-
-/* Ends a cut text in "..." so that nobody takes it for the whole message. */
-static void sb_finish(sb_t *sb)
-{
-    if (sb->cut && sb->cap >= 4) {
-        size_t at = sb->len >= 3 ? sb->len - 3 : 0;
-        memcpy(sb->buf + at, "...", 3);
-        sb->buf[at + 3] = '\0';
-    }
-}
-
 /* rozgen.fmt.quote: a TOML basic string for messages. */
-static void put_quoted(sb_t *sb, const char *s, size_t n)
+static void put_quoted(roz_text_t *sb, const char *s, size_t n)
 {
-    sb_puts(sb, "\"");
-    for (size_t i = 0; i < n; i++) {
-        unsigned char c = (unsigned char)s[i];
-        switch (c) {
-        case '"':  sb_puts(sb, "\\\""); break;
-        case '\\': sb_puts(sb, "\\\\"); break;
-        case '\n': sb_puts(sb, "\\n"); break;
-        case '\t': sb_puts(sb, "\\t"); break;
-        case '\r': sb_puts(sb, "\\r"); break;
-        case '\b': sb_puts(sb, "\\b"); break;
-        case '\f': sb_puts(sb, "\\f"); break;
-        default:
-            if (c < 0x20 || c == 0x7F)
-                sb_printf(sb, "\\u%04X", (unsigned)c);
-            else
-                sb_putn(sb, (const char *)&c, 1);
-        }
-    }
-    sb_puts(sb, "\"");
+    roz_text_put_quoted(sb, s, n);
 }
 
-/* "%.*g" with '.' as the decimal point whatever the locale; *exact tells
- * whether the text reads back as x. */
-static void fmt_g(char *buf, size_t cap, int prec, double x, int *exact)
-{
-    const char *point = localeconv()->decimal_point;
-    snprintf(buf, cap, "%.*g", prec, x);
-    if (exact != NULL)
-        *exact = strtod(buf, NULL) == x;
-    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
-        char *at = strstr(buf, point);
-        if (at != NULL) {
-            size_t plen = strlen(point);
-            *at = '.';
-            memmove(at + 1, at + plen, strlen(at + plen) + 1);
-        }
-    }
-}
-
-/* rozgen.fmt.shortest_g: the shortest round-trip %g, integral values below
- * 1e16 without exponent. */
-static void shortest_g(double x, char out[40])
-{
-    int exact = 0;
-    const char *e;
-    if (isnan(x)) {
-        strcpy(out, "nan");
-        return;
-    }
-    if (isinf(x)) {
-        strcpy(out, x > 0 ? "inf" : "-inf");
-        return;
-    }
-    for (int p = 1; p <= 17 && !exact; p++)
-        fmt_g(out, 40, p, x, &exact);
-    e = strchr(out, 'e');
-    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
-        fmt_g(out, 40, atoi(e + 1) + 1, x, NULL);
-}
-
-/* rozgen.fmt.c_double: shortest_g with ".0" when it looks like an integer. */
+/* rozgen.fmt.c_double (roz/text.h). */
 static void c_double(double x, char out[44])
 {
-    shortest_g(x, out);
-    if (strpbrk(out, ".eni") == NULL)
-        strcat(out, ".0");
+    roz_text_t t;
+    roz_text_init(&t, out, 44);
+    roz_text_put_double(&t, x);
 }
 
 /* Python's isoformat() of what tomllib makes of a date/time. */
-static void put_isoformat(sb_t *sb, const roz_toml_node_t *v)
+static void put_isoformat(roz_text_t *sb, const roz_toml_node_t *v)
 {
     const roz_toml_datetime_t *t = &v->as.datetime;
     uint32_t micro = t->nanosecond / 1000u;
     if (v->type != ROZ_TOML_TIME_LOCAL)
-        sb_printf(sb, "%04u-%02u-%02u", (unsigned)t->year, (unsigned)t->month, (unsigned)t->day);
+        roz_text_format(sb, "%04u-%02u-%02u", (unsigned)t->year, (unsigned)t->month, (unsigned)t->day);
     if (v->type == ROZ_TOML_DATE_LOCAL)
         return;
     if (v->type != ROZ_TOML_TIME_LOCAL)
-        sb_puts(sb, "T");
-    sb_printf(sb, "%02u:%02u:%02u", (unsigned)t->hour, (unsigned)t->minute, (unsigned)t->second);
+        roz_text_put(sb, "T");
+    roz_text_format(sb, "%02u:%02u:%02u", (unsigned)t->hour, (unsigned)t->minute, (unsigned)t->second);
     if (micro != 0)
-        sb_printf(sb, ".%06lu", (unsigned long)micro);
+        roz_text_format(sb, ".%06lu", (unsigned long)micro);
     if (v->type == ROZ_TOML_DATETIME) {
         int off = t->offset_min < 0 ? -t->offset_min : t->offset_min;
-        sb_printf(sb, "%c%02d:%02d", t->offset_min < 0 ? '-' : '+', off / 60, off % 60);
+        roz_text_format(sb, "%c%02d:%02d", t->offset_min < 0 ? '-' : '+', off / 60, off % 60);
     }
 }
 
 /* A value that toml_value() shows without looking inside. */
-static void put_brief(sb_t *sb, const roz_toml_node_t *v)
+static void put_brief(roz_text_t *sb, const roz_toml_node_t *v)
 {
     char num[44];
     switch (v->type) {
-    case ROZ_TOML_TABLE:   sb_puts(sb, "{...}"); break;
-    case ROZ_TOML_ARRAY:   sb_puts(sb, "[...]"); break;
+    case ROZ_TOML_TABLE:   roz_text_put(sb, "{...}"); break;
+    case ROZ_TOML_ARRAY:   roz_text_put(sb, "[...]"); break;
     case ROZ_TOML_STRING:  put_quoted(sb, v->as.str.ptr, v->as.str.len); break;
-    case ROZ_TOML_INTEGER: sb_printf(sb, "%lld", (long long)v->as.integer); break;
-    case ROZ_TOML_BOOL:    sb_puts(sb, v->as.boolean ? "true" : "false"); break;
+    case ROZ_TOML_INTEGER: roz_text_format(sb, "%lld", (long long)v->as.integer); break;
+    case ROZ_TOML_BOOL:    roz_text_put(sb, v->as.boolean ? "true" : "false"); break;
     case ROZ_TOML_FLOAT:
         c_double(v->as.real, num);
-        sb_puts(sb, num);
+        roz_text_put(sb, num);
         break;
     default:               put_isoformat(sb, v); break;
     }
 }
 
 /* An array's first MSG_ARRAY_ITEMS items, each shown briefly. */
-static void put_array_brief(sb_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *a)
+static void put_array_brief(roz_text_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *a)
 {
     size_t i = 0;
-    sb_puts(sb, "[");
+    roz_text_put(sb, "[");
     for (const roz_toml_node_t *c = roz_toml_first(d, a); c != NULL; c = roz_toml_next(d, c)) {
         if (i > 0)
-            sb_puts(sb, ", ");
+            roz_text_put(sb, ", ");
         if (i++ == MSG_ARRAY_ITEMS) {
-            sb_puts(sb, "...");
+            roz_text_put(sb, "...");
             break;
         }
         put_brief(sb, c);
     }
-    sb_puts(sb, "]");
+    roz_text_put(sb, "]");
 }
 
 /* rozgen.fmt.toml_value: a value as written, for messages; arrays show two
  * levels, deeper ones as "[...]". */
-static void put_value(sb_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *v)
+static void put_value(roz_text_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *v)
 {
     size_t i = 0;
     if (v->type != ROZ_TOML_ARRAY) {
         put_brief(sb, v);
         return;
     }
-    sb_puts(sb, "[");
+    roz_text_put(sb, "[");
     for (const roz_toml_node_t *c = roz_toml_first(d, v); c != NULL; c = roz_toml_next(d, c)) {
         if (i > 0)
-            sb_puts(sb, ", ");
+            roz_text_put(sb, ", ");
         if (i++ == MSG_ARRAY_ITEMS) {
-            sb_puts(sb, "...");
+            roz_text_put(sb, "...");
             break;
         }
         if (c->type == ROZ_TOML_ARRAY)
@@ -273,11 +153,11 @@ static void put_value(sb_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *
         else
             put_brief(sb, c);
     }
-    sb_puts(sb, "]");
+    roz_text_put(sb, "]");
 }
 
 /* rozgen's _key_text: a key bare when it can be, else quoted. */
-static void put_key(sb_t *sb, roz_toml_string_t k)
+static void put_key(roz_text_t *sb, roz_toml_string_t k)
 {
     int bare = k.len > 0;
     for (uint32_t i = 0; i < k.len && bare; i++) {
@@ -286,7 +166,7 @@ static void put_key(sb_t *sb, roz_toml_string_t k)
                c == '_' || c == '-';
     }
     if (bare)
-        sb_putn(sb, k.ptr, k.len);
+        roz_text_putn(sb, k.ptr, k.len);
     else
         put_quoted(sb, k.ptr, k.len);
 }
@@ -408,27 +288,27 @@ static void report(checker_t *ck, const char *rule, const place_t *pl, const cha
     roz_manifest_toml_problem_t p;
     const char *rk = rank_key != NULL ? rank_key : key;
     uint32_t rank = 0; /* unknown keys (rank -1) first */
-    sb_t sb;
+    roz_text_t sb;
 
     for (size_t i = 0; i < pl->n_keys; i++) {
         if (strcmp(pl->keys[i], rk) == 0)
             rank = (uint32_t)i + 1u;
     }
     p.rule = rule;
-    sb_init(&sb, p.text, sizeof p.text);
-    sb_puts(&sb, ": ");
+    roz_text_init(&sb, p.text, sizeof p.text);
+    roz_text_put(&sb, ": ");
     if (pl->where[0] != '\0') {
-        sb_puts(&sb, pl->where);
-        sb_puts(&sb, ": ");
+        roz_text_put(&sb, pl->where);
+        roz_text_put(&sb, ": ");
     }
-    sb_puts(&sb, key);
+    roz_text_put(&sb, key);
     if (value != NULL) {
-        sb_puts(&sb, " ");
+        roz_text_put(&sb, " ");
         put_value(&sb, ck->doc, value);
     }
-    sb_puts(&sb, ": ");
-    sb_puts(&sb, what);
-    sb_finish(&sb);
+    roz_text_put(&sb, ": ");
+    roz_text_put(&sb, what);
+    roz_text_finish(&sb);
     p.order[0] = pl->section;
     p.order[1] = pl->index;
     p.order[2] = rank;
@@ -458,22 +338,22 @@ static void unknown_keys(checker_t *ck, const place_t *pl, const roz_toml_node_t
     for (const roz_toml_node_t *c = roz_toml_first(ck->doc, table); c != NULL;
          c = roz_toml_next(ck->doc, c)) {
         char key[ROZ_CFG_PROBLEM_LEN], what[ROZ_CFG_PROBLEM_LEN];
-        sb_t kb, wb;
+        roz_text_t kb, wb;
         int known = 0;
         for (size_t i = 0; i < pl->n_keys && !known; i++)
             known = str_eq(c->key, pl->keys[i]);
         if (known)
             continue;
-        sb_init(&kb, key, sizeof key);
+        roz_text_init(&kb, key, sizeof key);
         put_key(&kb, c->key);
-        sb_finish(&kb);
-        sb_init(&wb, what, sizeof what);
-        sb_puts(&wb, "unknown key (known keys: ");
+        roz_text_finish(&kb);
+        roz_text_init(&wb, what, sizeof what);
+        roz_text_put(&wb, "unknown key (known keys: ");
         for (size_t i = 0; i < pl->n_keys; i++) {
-            sb_puts(&wb, i > 0 ? ", " : "");
-            sb_puts(&wb, pl->keys[i]);
+            roz_text_put(&wb, i > 0 ? ", " : "");
+            roz_text_put(&wb, pl->keys[i]);
         }
-        sb_puts(&wb, ")");
+        roz_text_put(&wb, ")");
         report(ck, "unknown-key", pl, key, what, NULL, "");
     }
 }
@@ -651,12 +531,12 @@ static int channel_interface(const roz_toml_doc_t *d, const roz_toml_node_t *tab
 static void channel_where(const roz_toml_doc_t *d, const char *kind, uint32_t index,
                           const roz_toml_node_t *table, int with_name, char *buf, size_t cap)
 {
-    sb_t sb;
+    roz_text_t sb;
     const roz_toml_node_t *name = with_name ? channel_name(NULL, d, NULL, table) : NULL;
-    sb_init(&sb, buf, cap);
-    sb_printf(&sb, "manifest.%s[%lu]", kind, (unsigned long)index);
+    roz_text_init(&sb, buf, cap);
+    roz_text_format(&sb, "manifest.%s[%lu]", kind, (unsigned long)index);
     if (name != NULL) {
-        sb_puts(&sb, " ");
+        roz_text_put(&sb, " ");
         put_quoted(&sb, name->as.str.ptr, name->as.str.len);
     }
 }
@@ -737,14 +617,14 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     unknown_keys(ck, &pl, t);
 
     if (check_string(ck, &pl, t, "interface_type", 1, &s) && interface_of(s->as.str) < 0) {
-        sb_t sb;
-        sb_init(&sb, what, sizeof what);
-        sb_puts(&sb, "unknown type (known types: ");
+        roz_text_t sb;
+        roz_text_init(&sb, what, sizeof what);
+        roz_text_put(&sb, "unknown type (known types: ");
         for (int i = 0; i < (int)ROZ_IF_COUNT_; i++) {
-            sb_puts(&sb, i > 0 ? ", " : "");
-            sb_puts(&sb, roz_interface_name((roz_interface_t)i));
+            roz_text_put(&sb, i > 0 ? ", " : "");
+            roz_text_put(&sb, roz_interface_name((roz_interface_t)i));
         }
-        sb_puts(&sb, ")");
+        roz_text_put(&sb, ")");
         report(ck, "interface-type", &pl, "interface_type", what, s, NULL);
     }
     (void)check_string(ck, &pl, t, "unit", 1, &s);
@@ -815,24 +695,24 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
             report(ck, "duplicate-name", &pl, "name", what, name, NULL);
         } else if (clash != NULL) {
             char other_where[ROZ_CFG_PROBLEM_LEN];
-            sb_t sb;
+            roz_text_t sb;
             channel_where(d, kind, clash_j, clash, 1, other_where, sizeof other_where);
-            sb_init(&sb, what, sizeof what);
-            sb_puts(&sb, "C constant ROZ_");
+            roz_text_init(&sb, what, sizeof what);
+            roz_text_put(&sb, "C constant ROZ_");
             if (ck->robot_id != NULL) {
                 for (uint32_t k = 0; k < ck->robot_id->as.str.len; k++) {
                     char c = ck->robot_id->as.str.ptr[k];
                     char up = (char)(c >= 'a' && c <= 'z' ? c - 'a' + 'A' : c);
-                    sb_putn(&sb, &up, 1);
+                    roz_text_putn(&sb, &up, 1);
                 }
             } else {
-                sb_puts(&sb, "<ID>");
+                roz_text_put(&sb, "<ID>");
             }
-            sb_puts(&sb, tag);
-            sb_puts(&sb, mine);
-            sb_puts(&sb, " is also that of ");
-            sb_puts(&sb, other_where);
-            sb_finish(&sb);
+            roz_text_put(&sb, tag);
+            roz_text_put(&sb, mine);
+            roz_text_put(&sb, " is also that of ");
+            roz_text_put(&sb, other_where);
+            roz_text_finish(&sb);
             report(ck, "constant-collision", &pl, "name", what, name, NULL);
         }
     }
@@ -922,14 +802,14 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
             continue; /* a broken target is reported where it is */
         {
             char target_where[ROZ_CFG_PROBLEM_LEN];
-            sb_t sb;
+            roz_text_t sb;
             channel_where(d, "states", (uint32_t)pair, target, 1, target_where,
                           sizeof target_where);
-            sb_init(&sb, what, sizeof what);
-            sb_puts(&sb, target_where);
-            sb_printf(&sb, " is a %s state, not a position state",
+            roz_text_init(&sb, what, sizeof what);
+            roz_text_put(&sb, target_where);
+            roz_text_format(&sb, " is a %s state, not a position state",
                       roz_interface_name((roz_interface_t)type));
-            sb_finish(&sb);
+            roz_text_finish(&sb);
         }
         report(ck, "pairing-type", &pl, "position_state_index", what, value, NULL);
     }
@@ -1045,10 +925,10 @@ static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
         for (const roz_toml_node_t *v = roz_toml_first(d, params); v != NULL;
              v = roz_toml_next(d, v)) {
             char key[ROZ_CFG_PROBLEM_LEN];
-            sb_t kb;
-            sb_init(&kb, key, sizeof key);
+            roz_text_t kb;
+            roz_text_init(&kb, key, sizeof key);
             put_key(&kb, v->key);
-            sb_finish(&kb);
+            roz_text_finish(&kb);
             if (v->type != ROZ_TOML_STRING)
                 report(ck, "type", &ppl, key, "expected a string", v, NULL);
             else if (has_nul(v->key))

@@ -59,6 +59,18 @@ int roz_format(char *buf, size_t len, const char *fmt, ...) ROZ_FORMAT_CHECK(3, 
 /** @brief roz_format() with a va_list. Context: as roz_format(). */
 int roz_vformat(char *buf, size_t len, const char *fmt, va_list ap) ROZ_FORMAT_CHECK(3, 0);
 
+/**
+ * @brief The shortest text that reads back as @p x: `%g` with the fewest
+ *        significant digits (1..17) that give @p x again, correctly rounded
+ *        (half to even) from its exact value; an integral value below 1e16
+ *        is written out without an exponent ("1500", not "1.5e+03");
+ *        "nan", "inf", "-inf", "-0". The numbers of rozgen's messages
+ *        (codegen/rozgen/fmt.py, shortest_g), the same on every target.
+ * @return the length of the whole text (as roz_format()).
+ * Context: any thread; reentrant; about 1 KiB of stack. Not for the tick path.
+ */
+int roz_format_double(char *buf, size_t len, double x);
+
 #ifdef __cplusplus
 }
 #endif

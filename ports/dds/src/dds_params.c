@@ -8,24 +8,12 @@
 
 #include "roz/hal/params.h"
 
-/* ---- private ------------------------------------------------------------- */
-
-static int ifname_char(char c)
-{
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-           c == '_' || c == '.' || c == ':' || c == '-';
-}
-
 /* ---- public -------------------------------------------------------------- */
 
 int roz_dds_check_interface(const char *name, char *err, size_t errlen)
 {
-    size_t n = name != NULL ? strlen(name) : 0;
-    size_t i = 0;
-
-    while (i < n && ifname_char(name[i]))
-        i++;
-    if (n == 0 || n > ROZ_DDS_IFNAME_MAX || i != n) {
+    if (!roz_params_ifname_valid(roz_params_span(name), ROZ_DDS_IFNAME_MAX,
+                                 ROZ_PARAMS_IFNAME_PORTABLE)) {
         snprintf(err, errlen,
                  "parameter network_interface = \"%s\": expected an interface name "
                  "(1..%d characters from A-Z a-z 0-9 _ . : -), such as lo or eth0",

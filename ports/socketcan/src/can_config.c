@@ -4,34 +4,19 @@
  * which test/toml/compare_vectors.py checks on every fixture. */
 #include "roz/can_config.h"
 
-#include <locale.h>
-#include <math.h>
-#include <stdarg.h>
-#include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "roz/hal/cmd_watchdog.h"
+#include "roz/hal/params.h"
+#include "roz/text.h"
 
 /* ---- types ------------------------------------------------------------------ */
-
-typedef struct {
-    const char *s;
-    size_t      n;
-} span_t;
 
 typedef struct {
     roz_can_problem_fn fn;
     void              *ctx;
     unsigned           count;
 } reporter_t;
-
-/* A string under construction, cut (with "...") at the end of its buffer. */
-typedef struct {
-    char  *buf;
-    size_t cap, len;
-    int    cut;
-} sb_t;
 
 enum { K_NETWORK_INTERFACE, K_BITRATE, K_PERIOD, K_MAX_LOAD, K_REPLY_TIMEOUT, K_CMD_TIMEOUT,
        K_MASTER_ID, K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
@@ -56,7 +41,6 @@ static const char *const rule_names[] = {
     "reply, position_range, velocity_range, stiffness_range, damping_range, effort_range, "      \
     "direction, zero_offset"
 
-#define MAX_NUMBER_TEXT 63 /* longer numbers are refused (rozgen too) */
 #define DEFAULT_TIMEOUT_US 20000u
 
 /* the five ranges, in roz_mit_ranges_t order, and the channel kinds they hold */
@@ -65,315 +49,65 @@ static const roz_interface_t range_types[5] = { ROZ_IF_POSITION, ROZ_IF_VELOCITY
 
 /* ---- text -------------------------------------------------------------------- */
 
-static span_t span_of(const char *s)
-{
-    span_t sp = { s, strlen(s) };
-    return sp;
-}
-
-static int is_space(char c)
-{
-    return c == ' ' || c == '\t';
-}
-
-static span_t trim(span_t s)
-{
-    while (s.n > 0 && is_space(s.s[0])) {
-        s.s++;
-        s.n--;
-    }
-    while (s.n > 0 && is_space(s.s[s.n - 1]))
-        s.n--;
-    return s;
-}
-
-static int span_is(span_t s, const char *z)
-{
-    return strlen(z) == s.n && memcmp(s.s, z, s.n) == 0;
-}
-
-static void sb_init(sb_t *sb, char *buf, size_t cap)
-{
-    sb->buf = buf;
-    sb->cap = cap;
-    sb->len = 0;
-    sb->cut = 0;
-    buf[0] = '\0';
-}
-
-static void sb_putn(sb_t *sb, const char *s, size_t n)
-{
-    for (size_t i = 0; i < n; i++) {
-        if (sb->len + 1 >= sb->cap) {
-            sb->cut = 1;
-            break;
-        }
-        sb->buf[sb->len++] = s[i];
-    }
-    sb->buf[sb->len] = '\0';
-}
-
-static void sb_puts(sb_t *sb, const char *s)
-{
-    sb_putn(sb, s, strlen(s));
-}
-
-#if defined(__GNUC__) || defined(__clang__)
-__attribute__((format(printf, 2, 3)))
-#endif
-static void sb_printf(sb_t *sb, const char *fmt, ...)
-{
-    char tmp[128];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(tmp, sizeof tmp, fmt, ap);
-    va_end(ap);
-    sb_puts(sb, tmp);
-}
-
 /* rozgen.fmt.quote */
-static void sb_quoted(sb_t *sb, span_t s)
+static void put_quoted(roz_text_t *t, roz_params_span_t s)
 {
-    sb_puts(sb, "\"");
-    for (size_t i = 0; i < s.n; i++) {
-        unsigned char c = (unsigned char)s.s[i];
-        switch (c) {
-        case '"': sb_puts(sb, "\\\""); break;
-        case '\\': sb_puts(sb, "\\\\"); break;
-        case '\n': sb_puts(sb, "\\n"); break;
-        case '\t': sb_puts(sb, "\\t"); break;
-        case '\r': sb_puts(sb, "\\r"); break;
-        case '\b': sb_puts(sb, "\\b"); break;
-        case '\f': sb_puts(sb, "\\f"); break;
-        default:
-            if (c < 0x20 || c == 0x7F)
-                sb_printf(sb, "\\u%04X", (unsigned)c);
-            else
-                sb_putn(sb, (const char *)&c, 1);
-        }
-    }
-    sb_puts(sb, "\"");
+    roz_text_put_quoted(t, s.s, s.n);
 }
 
-/* "%.*g" with '.' as the decimal point whatever the locale */
-static void fmt_g(char *buf, size_t cap, int prec, double x)
+static void put_interval(roz_text_t *sb, double lo, double hi)
 {
-    const char *point = localeconv()->decimal_point;
-    snprintf(buf, cap, "%.*g", prec, x);
-    if (point != NULL && point[0] != '\0' && strcmp(point, ".") != 0) {
-        char *at = strstr(buf, point);
-        if (at != NULL) {
-            size_t plen = strlen(point);
-            *at = '.';
-            memmove(at + 1, at + plen, strlen(at + plen) + 1);
-        }
-    }
+    roz_text_put(sb, "[");
+    roz_text_put_double(sb, lo);
+    roz_text_put(sb, ", ");
+    roz_text_put_double(sb, hi);
+    roz_text_put(sb, "]");
 }
 
-/* rozgen.fmt.c_double: the shortest round-trip %g, integral values below
- * 1e16 without exponent, ".0" when it looks like an integer. */
-static void sb_double(sb_t *sb, double x)
+static void report(reporter_t *r, const char *rule, roz_text_t *sb)
 {
-    char out[48];
-    if (isnan(x)) {
-        sb_puts(sb, "nan");
-        return;
-    }
-    if (isinf(x)) {
-        sb_puts(sb, x > 0 ? "inf" : "-inf");
-        return;
-    }
-    for (int p = 1; p <= 17; p++) {
-        fmt_g(out, 40, p, x);
-        if (strtod(out, NULL) == x)
-            break;
-    }
-    const char *e = strchr(out, 'e');
-    if (e != NULL && atoi(e + 1) >= 0 && atoi(e + 1) < 16)
-        fmt_g(out, 40, atoi(e + 1) + 1, x);
-    if (strpbrk(out, ".eni") == NULL)
-        strcat(out, ".0");
-    sb_puts(sb, out);
-}
-
-static void sb_interval(sb_t *sb, double lo, double hi)
-{
-    sb_puts(sb, "[");
-    sb_double(sb, lo);
-    sb_puts(sb, ", ");
-    sb_double(sb, hi);
-    sb_puts(sb, "]");
-}
-
-static void report(reporter_t *r, const char *rule, sb_t *sb)
-{
-    if (sb->cut && sb->cap >= 4)
-        memcpy(sb->buf + sb->cap - 4, "...", 4);
+    roz_text_finish(sb);
     r->count++;
     if (r->fn != NULL)
         r->fn(r->ctx, rule, sb->buf);
 }
 
 /* ": hardware.params: KEY "ENTRY": WHAT" */
-static void say_entry(reporter_t *r, const char *rule, const char *key, span_t entry,
+static void say_entry(reporter_t *r, const char *rule, const char *key, roz_params_span_t entry,
                       const char *what)
 {
     char buf[ROZ_CFG_PROBLEM_LEN];
-    sb_t sb;
-    sb_init(&sb, buf, sizeof buf);
-    sb_puts(&sb, ": hardware.params: ");
-    sb_puts(&sb, key);
-    sb_puts(&sb, " ");
-    sb_quoted(&sb, entry);
-    sb_puts(&sb, ": ");
-    sb_puts(&sb, what);
+    roz_text_t sb;
+    roz_text_init(&sb, buf, sizeof buf);
+    roz_text_put(&sb, ": hardware.params: ");
+    roz_text_put(&sb, key);
+    roz_text_put(&sb, " ");
+    put_quoted(&sb, entry);
+    roz_text_put(&sb, ": ");
+    roz_text_put(&sb, what);
     report(r, rule, &sb);
 }
 
 /* ---- values ------------------------------------------------------------------ */
 
-/* Decimal digits, or 0x and hex digits; saturates at UINT32_MAX. */
-static int parse_uint(span_t s, uint32_t *out)
+/* The grammar of the values is the hal's (roz/hal/params.h); CAN ids and
+ * every other integer may be written in hex too. */
+static int parse_uint_in(roz_params_span_t s, uint32_t lo, uint32_t hi, uint32_t *out)
 {
-    unsigned base = 10;
-    uint64_t v = 0;
-    size_t i = 0;
-
-    if (s.n > 2 && s.s[0] == '0' && (s.s[1] == 'x' || s.s[1] == 'X')) {
-        base = 16;
-        i = 2;
-    }
-    if (i >= s.n)
-        return 0;
-    for (; i < s.n; i++) {
-        char c = s.s[i];
-        unsigned d;
-        if (c >= '0' && c <= '9')
-            d = (unsigned)(c - '0');
-        else if (base == 16 && c >= 'a' && c <= 'f')
-            d = (unsigned)(c - 'a' + 10);
-        else if (base == 16 && c >= 'A' && c <= 'F')
-            d = (unsigned)(c - 'A' + 10);
-        else
-            return 0;
-        v = v * base + d;
-        if (v > UINT32_MAX)
-            v = UINT32_MAX + (uint64_t)1;
-    }
-    *out = v > UINT32_MAX ? UINT32_MAX : (uint32_t)v;
-    return 1;
+    return roz_params_parse_u32(s, ROZ_PARAMS_HEX, lo, hi, out) == ROZ_OK;
 }
 
-static int parse_uint_in(span_t s, uint32_t lo, uint32_t hi, uint32_t *out)
+static int parse_number(roz_params_span_t s, double *out)
 {
-    uint32_t v;
-    if (!parse_uint(s, &v) || v < lo || v > hi)
-        return 0;
-    *out = v;
-    return 1;
+    return roz_params_parse_number(s, out) == ROZ_OK;
 }
 
-/* [+-]?(digits[.digits?]|.digits)([eE][+-]?digits)?, finite */
-static int parse_number(span_t s, double *out)
+static int parse_range(roz_params_span_t s, roz_mit_range_t *out)
 {
-    char buf[MAX_NUMBER_TEXT + 16];
-    size_t i = 0, digits = 0;
-
-    if (s.n == 0 || s.n > MAX_NUMBER_TEXT)
-        return 0;
-    if (s.s[i] == '+' || s.s[i] == '-')
-        i++;
-    while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
-        i++;
-        digits++;
-    }
-    if (i < s.n && s.s[i] == '.') {
-        i++;
-        while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
-            i++;
-            digits++;
-        }
-    }
-    if (digits == 0)
-        return 0;
-    if (i < s.n && (s.s[i] == 'e' || s.s[i] == 'E')) {
-        size_t exp_digits = 0;
-        i++;
-        if (i < s.n && (s.s[i] == '+' || s.s[i] == '-'))
-            i++;
-        while (i < s.n && s.s[i] >= '0' && s.s[i] <= '9') {
-            i++;
-            exp_digits++;
-        }
-        if (exp_digits == 0)
-            return 0;
-    }
-    if (i != s.n)
-        return 0;
-    /* strtod follows the C locale's decimal point; the host may have set one */
-    const char *point = localeconv()->decimal_point;
-    size_t plen = point != NULL && point[0] != '\0' ? strlen(point) : 1u;
-    size_t n = 0;
-    if (plen > 8)
-        return 0;
-    for (i = 0; i < s.n; i++) {
-        if (s.s[i] == '.' && point != NULL && point[0] != '\0') {
-            memcpy(buf + n, point, plen);
-            n += plen;
-        } else {
-            buf[n++] = s.s[i];
-        }
-    }
-    buf[n] = '\0';
-    *out = strtod(buf, NULL);
-    return isfinite(*out);
-}
-
-static int parse_range(span_t s, roz_mit_range_t *out)
-{
-    const char *colon = memchr(s.s, ':', s.n);
-    span_t lo, hi;
     roz_mit_range_t r;
-
-    if (colon == NULL)
-        return 0;
-    lo.s = s.s;
-    lo.n = (size_t)(colon - s.s);
-    hi.s = colon + 1;
-    hi.n = s.n - lo.n - 1;
-    if (!parse_number(trim(lo), &r.min) || !parse_number(trim(hi), &r.max) ||
-        !roz_mit_codec_range_valid(&r))
+    if (roz_params_parse_range(s, &r.min, &r.max) != ROZ_OK || !roz_mit_codec_range_valid(&r))
         return 0;
     *out = r;
-    return 1;
-}
-
-static int parse_bool(span_t s, int *out)
-{
-    static const char *const yes[] = { "true", "1", "yes", "on" };
-    static const char *const no[] = { "false", "0", "no", "off" };
-    for (size_t i = 0; i < 4; i++) {
-        if (span_is(s, yes[i])) {
-            *out = 1;
-            return 1;
-        }
-        if (span_is(s, no[i])) {
-            *out = 0;
-            return 1;
-        }
-    }
-    return 0;
-}
-
-static int interface_name_ok(span_t s)
-{
-    if (s.n == 0 || s.n > ROZ_CAN_IFNAME_MAX)
-        return 0;
-    for (size_t i = 0; i < s.n; i++) {
-        unsigned char c = (unsigned char)s.s[i];
-        if (c <= 0x20 || c >= 0x7F || c == '/')
-            return 0;
-    }
     return 1;
 }
 
@@ -419,9 +153,9 @@ static int known_key(const char *key)
 
 /* ---- per-joint keys ------------------------------------------------------------ */
 
-typedef int (*entry_fn)(span_t v, roz_can_joint_t *j, int key);
+typedef int (*entry_fn)(roz_params_span_t v, roz_can_joint_t *j, int key);
 
-static int entry_can_id(span_t v, roz_can_joint_t *j, int key)
+static int entry_can_id(roz_params_span_t v, roz_can_joint_t *j, int key)
 {
     uint32_t id;
     (void)key;
@@ -431,7 +165,7 @@ static int entry_can_id(span_t v, roz_can_joint_t *j, int key)
     return 1;
 }
 
-static int entry_reply(span_t v, roz_can_joint_t *j, int key)
+static int entry_reply(roz_params_span_t v, roz_can_joint_t *j, int key)
 {
     char name[32];
     (void)key;
@@ -456,7 +190,7 @@ static const roz_mit_range_t *range_of(const roz_can_joint_t *j, int key)
     return slots[key - K_POSITION_RANGE];
 }
 
-static int entry_range(span_t v, roz_can_joint_t *j, int key)
+static int entry_range(roz_params_span_t v, roz_can_joint_t *j, int key)
 {
     roz_mit_range_t r;
     if (!parse_range(v, &r))
@@ -468,19 +202,19 @@ static int entry_range(span_t v, roz_can_joint_t *j, int key)
     return 1;
 }
 
-static int entry_direction(span_t v, roz_can_joint_t *j, int key)
+static int entry_direction(roz_params_span_t v, roz_can_joint_t *j, int key)
 {
     (void)key;
-    if (span_is(v, "1") || span_is(v, "+1"))
+    if (roz_params_span_is(v, "1") || roz_params_span_is(v, "+1"))
         j->direction = 1;
-    else if (span_is(v, "-1"))
+    else if (roz_params_span_is(v, "-1"))
         j->direction = -1;
     else
         return 0;
     return 1;
 }
 
-static int entry_zero_offset(span_t v, roz_can_joint_t *j, int key)
+static int entry_zero_offset(roz_params_span_t v, roz_can_joint_t *j, int key)
 {
     (void)key;
     return parse_number(v, &j->zero_offset);
@@ -499,10 +233,10 @@ static const char *entry_expected(int key)
     }
 }
 
-static int joint_index(const roz_can_config_t *cfg, span_t name)
+static int joint_index(const roz_can_config_t *cfg, roz_params_span_t name)
 {
     for (uint16_t j = 0; j < cfg->n_joints; j++) {
-        if (span_is(name, cfg->joints[j].name))
+        if (roz_params_span_is(name, cfg->joints[j].name))
             return j;
     }
     return -1;
@@ -517,7 +251,7 @@ static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *
     uint8_t have[ROZ_CAN_MAX_JOINTS]; /* 1 valid, 2 invalid */
     roz_can_joint_t scratch;
     int ok = 1, have_default = 0;     /* 1 valid, 2 invalid */
-    span_t all, deflt = { NULL, 0 };
+    roz_params_span_t all, deflt = { NULL, 0 };
     const char *name = key_names[key];
     char what[200];
 
@@ -525,19 +259,16 @@ static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *
         if (!required)
             return 1;
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_printf(&sb, ": hardware.params: %s: required key is missing", name);
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_format(&sb, ": hardware.params: %s: required key is missing", name);
         report(r, "can-param", &sb);
         return 0;
     }
     memset(have, 0, sizeof have);
-    all = span_of(value);
-    const char *p = all.s, *end = all.s + all.n;
-    for (;;) {
-        const char *comma = memchr(p, ',', (size_t)(end - p));
-        span_t e = { p, (size_t)((comma != NULL ? comma : end) - p) };
-        e = trim(e);
+    all = roz_params_span(value);
+    roz_params_span_t rest = all, e;
+    while (roz_params_list_next(&rest, &e)) {
         const char *eq = e.n > 0 ? memchr(e.s, '=', e.n) : NULL;
         if (e.n == 0) {
             say_entry(r, "can-param", name, all, "an entry is empty");
@@ -555,22 +286,22 @@ static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *
                 deflt = e;
             }
         } else {
-            span_t jn = { e.s, (size_t)(eq - e.s) };
-            span_t v = { eq + 1, (size_t)(e.s + e.n - eq - 1) };
-            int j = joint_index(cfg, trim(jn));
+            roz_params_span_t jn = { e.s, (size_t)(eq - e.s) };
+            roz_params_span_t v = { eq + 1, (size_t)(e.s + e.n - eq - 1) };
+            int j = joint_index(cfg, roz_params_trim(jn));
             if (j < 0) {
                 char q[ROZ_CFG_MAX_NAME_LEN * 2 + 8];
-                sb_t sb;
-                sb_init(&sb, q, sizeof q);
-                sb_quoted(&sb, trim(jn));
-                snprintf(what, sizeof what, "%s is not a joint of hardware.joints", q);
+                roz_text_t sb;
+                roz_text_init(&sb, q, sizeof q);
+                put_quoted(&sb, roz_params_trim(jn));
+                roz_format(what, sizeof what, "%s is not a joint of hardware.joints", q);
                 say_entry(r, "can-param", name, e, what);
                 ok = 0;
             } else if (have[j] != 0) {
-                snprintf(what, sizeof what, "joint \"%s\" is given twice", cfg->joints[j].name);
+                roz_format(what, sizeof what, "joint \"%s\" is given twice", cfg->joints[j].name);
                 say_entry(r, "can-param", name, e, what);
                 ok = 0;
-            } else if (!fn(trim(v), &cfg->joints[j], key)) {
+            } else if (!fn(roz_params_trim(v), &cfg->joints[j], key)) {
                 say_entry(r, "can-param", name, e, entry_expected(key));
                 have[j] = 2;
                 ok = 0;
@@ -578,9 +309,6 @@ static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *
                 have[j] = 1;
             }
         }
-        if (comma == NULL)
-            break;
-        p = comma + 1;
     }
     for (uint16_t j = 0; j < cfg->n_joints; j++) {
         if (have[j] != 0)
@@ -588,8 +316,8 @@ static int per_joint(reporter_t *r, roz_can_config_t *cfg, int key, const char *
         if (have_default == 1) {
             (void)fn(deflt, &cfg->joints[j], key);
         } else if (required && have_default == 0) {
-            snprintf(what, sizeof what, "no value for joint \"%s\", and none for every joint",
-                     cfg->joints[j].name);
+            roz_format(what, sizeof what, "no value for joint \"%s\", and none for every joint",
+                       cfg->joints[j].name);
             say_entry(r, "can-param", name, all, what);
             ok = 0;
         }
@@ -611,16 +339,16 @@ static const entry_fn entry_fns[N_KEYS] = {
 static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char *value,
                       int *timeout_given)
 {
-    span_t v;
+    roz_params_span_t v;
     int ok = 1, b;
     const char *what = NULL;
 
     if (value == NULL)
         return 1;
-    v = span_of(value);
+    v = roz_params_span(value);
     switch (key) {
     case K_NETWORK_INTERFACE:
-        ok = interface_name_ok(v);
+        ok = roz_params_ifname_valid(v, ROZ_CAN_IFNAME_MAX, ROZ_PARAMS_IFNAME_LINUX);
         if (ok) {
             memcpy(cfg->network_interface, v.s, v.n);
             cfg->network_interface[v.n] = '\0';
@@ -632,7 +360,7 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
         what = "expected an integer in 10000..1000000 (bit/s)";
         break;
     case K_PERIOD:
-        ok = span_is(v, "0") ? (cfg->command_writer_period_us = 0, 1)
+        ok = roz_params_span_is(v, "0") ? (cfg->command_writer_period_us = 0, 1)
                              : parse_uint_in(v, 100, 1000000, &cfg->command_writer_period_us);
         what = "expected 0 (a round per write) or an integer in 100..1000000 (us)";
         break;
@@ -658,13 +386,13 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
         what = "expected a finite number, 0 or more (rad; 0 = off)";
         break;
     case K_MONITOR:
-        ok = parse_bool(v, &b);
+        ok = roz_params_parse_bool(v, &b) == ROZ_OK;
         if (ok)
             cfg->enable_monitor = b;
         what = "expected true or false (1/0, yes/no, on/off)";
         break;
     case K_DECIMATION:
-        ok = span_is(v, "1");
+        ok = roz_params_span_is(v, "1");
         what = "must be 1: the socketcan port converts every reply";
         break;
     default:
@@ -680,12 +408,12 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
 static void say_joint(reporter_t *r, size_t index, const char *name, const char *what)
 {
     char buf[ROZ_CFG_PROBLEM_LEN];
-    sb_t sb;
-    sb_init(&sb, buf, sizeof buf);
-    sb_printf(&sb, ": hardware: joints[%lu] ", (unsigned long)index);
-    sb_quoted(&sb, span_of(name));
-    sb_puts(&sb, ": ");
-    sb_puts(&sb, what);
+    roz_text_t sb;
+    roz_text_init(&sb, buf, sizeof buf);
+    roz_text_format(&sb, ": hardware: joints[%lu] ", (unsigned long)index);
+    put_quoted(&sb, roz_params_span(name));
+    roz_text_put(&sb, ": ");
+    roz_text_put(&sb, what);
     report(r, "can-joint", &sb);
 }
 
@@ -694,26 +422,26 @@ static int check_joints(reporter_t *r, roz_can_config_t *cfg, const roz_hardware
     int ok = 1;
     if (hw->n_joints == 0) {
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_puts(&sb, ": hardware: joints: the socketcan port drives the joints listed here, "
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_put(&sb, ": hardware: joints: the socketcan port drives the joints listed here, "
                      "one actuator each, and none is");
         report(r, "can-joint", &sb);
         return 0;
     }
     if (hw->n_joints > ROZ_CAN_MAX_JOINTS) {
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_printf(&sb, ": hardware: joints: %u joints, more than the maximum of %d "
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_format(&sb, ": hardware: joints: %u joints, more than the maximum of %d "
                        "(ROZ_CFG_MAX_JOINTS)", (unsigned)hw->n_joints, (int)ROZ_CAN_MAX_JOINTS);
         report(r, "can-joint", &sb);
         return 0;
     }
     for (uint16_t j = 0; j < hw->n_joints; j++) {
         const char *n = hw->joints[j];
-        size_t len = strlen(n);
-        if (strpbrk(n, ",=") != NULL || len == 0 || is_space(n[0]) || is_space(n[len - 1])) {
+        roz_params_span_t sp = roz_params_span(n);
+        if (strpbrk(n, ",=") != NULL || sp.n == 0 || roz_params_trim(sp).n != sp.n) {
             say_joint(r, j, n, "the socketcan port needs joint names without ',' and '=' "
                                "and without spaces around them");
             ok = 0;
@@ -729,27 +457,26 @@ static void check_ids(reporter_t *r, const roz_can_config_t *cfg)
     for (uint16_t j = 0; j < cfg->n_joints; j++) {
         const roz_can_joint_t *a = &cfg->joints[j];
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_printf(&sb, ": hardware.params: can_id: joint \"%s\": id %u", a->name,
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_format(&sb, ": hardware.params: can_id: joint \"%s\": id %u", a->name,
                   (unsigned)a->can_id);
         size_t head = sb.len;
         if (a->can_id == cfg->master_id) {
-            sb_printf(&sb, " is master_id, where replies come from");
+            roz_text_format(&sb, " is master_id, where replies come from");
             report(r, "can-id", &sb);
             continue;
         }
         for (uint16_t k = 0; k < j; k++) {
             const roz_can_joint_t *b = &cfg->joints[k];
-            sb.len = head;
-            sb.buf[head] = '\0';
+            roz_text_truncate(&sb, head);
             if (b->can_id == a->can_id) {
-                sb_printf(&sb, " is also that of joint \"%s\"", b->name);
+                roz_text_format(&sb, " is also that of joint \"%s\"", b->name);
                 report(r, "can-id", &sb);
                 break;
             }
             if ((b->can_id & 0xFFu) == (a->can_id & 0xFFu)) {
-                sb_printf(&sb, " (0x%03X) answers with id byte 0x%02X, as joint \"%s\" "
+                roz_text_format(&sb, " (0x%03X) answers with id byte 0x%02X, as joint \"%s\" "
                                "(id %u) does", (unsigned)a->can_id, (unsigned)(a->can_id & 0xFFu),
                           b->name, (unsigned)b->can_id);
                 report(r, "can-id", &sb);
@@ -767,7 +494,7 @@ static int bind_channel(roz_can_config_t *cfg, const roz_channel_t *ch, int32_t 
     const char *slash = strrchr(ch->name, '/');
     if (slash == NULL)
         return 0;
-    span_t jn = { ch->name, (size_t)(slash - ch->name) };
+    roz_params_span_t jn = { ch->name, (size_t)(slash - ch->name) };
     int j = joint_index(cfg, jn);
     if (j < 0 || strcmp(slash + 1, roz_interface_name(ch->type)) != 0)
         return 0;
@@ -802,11 +529,11 @@ static int check_channels(reporter_t *r, roz_can_config_t *cfg, const roz_manife
             if (bind_channel(cfg, &chs[i], i, pass == 1))
                 continue;
             char buf[ROZ_CFG_PROBLEM_LEN];
-            sb_t sb;
-            sb_init(&sb, buf, sizeof buf);
-            sb_printf(&sb, ": manifest.%s[%u] ", pass == 0 ? "commands" : "states", (unsigned)i);
-            sb_quoted(&sb, span_of(chs[i].name));
-            sb_puts(&sb, pass == 0 ? ": the socketcan port takes JOINT/position, /velocity, "
+            roz_text_t sb;
+            roz_text_init(&sb, buf, sizeof buf);
+            roz_text_format(&sb, ": manifest.%s[%u] ", pass == 0 ? "commands" : "states", (unsigned)i);
+            put_quoted(&sb, roz_params_span(chs[i].name));
+            roz_text_put(&sb, pass == 0 ? ": the socketcan port takes JOINT/position, /velocity, "
                                      "/stiffness, /damping and /effort commands, of a joint of "
                                      "hardware.joints, each of its type"
                                    : ": the socketcan port gives JOINT/position, /velocity and "
@@ -851,20 +578,20 @@ static void check_range(reporter_t *r, const roz_can_joint_t *jt, const roz_chan
     if (lo >= range->min && hi <= range->max)
         return;
     char buf[ROZ_CFG_PROBLEM_LEN];
-    sb_t sb;
-    sb_init(&sb, buf, sizeof buf);
-    sb_printf(&sb, ": hardware.params: %s: joint \"%s\": the actuator's range ", key_names[key],
+    roz_text_t sb;
+    roz_text_init(&sb, buf, sizeof buf);
+    roz_text_format(&sb, ": hardware.params: %s: joint \"%s\": the actuator's range ", key_names[key],
               jt->name);
-    sb_interval(&sb, range->min, range->max);
-    sb_printf(&sb, " does not hold manifest.%s[%u] ", is_state ? "states" : "commands",
+    put_interval(&sb, range->min, range->max);
+    roz_text_format(&sb, " does not hold manifest.%s[%u] ", is_state ? "states" : "commands",
               (unsigned)index);
-    sb_quoted(&sb, span_of(ch->name));
-    sb_puts(&sb, " limits ");
-    sb_interval(&sb, ch->min, ch->max);
+    put_quoted(&sb, roz_params_span(ch->name));
+    roz_text_put(&sb, " limits ");
+    put_interval(&sb, ch->min, ch->max);
     if (lo != ch->min || hi != ch->max) {
-        sb_puts(&sb, " (the actuator sees ");
-        sb_interval(&sb, lo, hi);
-        sb_puts(&sb, ")");
+        roz_text_put(&sb, " (the actuator sees ");
+        put_interval(&sb, lo, hi);
+        roz_text_put(&sb, ")");
     }
     report(r, "can-range", &sb);
 }
@@ -876,7 +603,7 @@ static void check_ranges(reporter_t *r, const roz_can_config_t *cfg, const roz_m
         uint16_t n = pass == 0 ? m->n_commands : m->n_states;
         for (uint16_t i = 0; i < n; i++) {
             const char *slash = strrchr(chs[i].name, '/');
-            span_t jn = { chs[i].name, (size_t)(slash - chs[i].name) };
+            roz_params_span_t jn = { chs[i].name, (size_t)(slash - chs[i].name) };
             int j = joint_index(cfg, jn);
             check_range(r, &cfg->joints[j], &chs[i], i, pass == 1);
         }
@@ -905,11 +632,11 @@ static int check_command_timeout(reporter_t *r, roz_can_config_t *cfg, const roz
     if ((uint64_t)cfg->command_timeout_us >= least)
         return 1;
     char buf[ROZ_CFG_PROBLEM_LEN];
-    sb_t sb;
-    sb_init(&sb, buf, sizeof buf);
-    sb_puts(&sb, ": hardware.params: command_timeout_us ");
-    sb_quoted(&sb, span_of(text));
-    sb_printf(&sb, ": shorter than two command intervals of a joint or two ticks (2 x %lu us)",
+    roz_text_t sb;
+    roz_text_init(&sb, buf, sizeof buf);
+    roz_text_put(&sb, ": hardware.params: command_timeout_us ");
+    put_quoted(&sb, roz_params_span(text));
+    roz_text_format(&sb, ": shorter than two command intervals of a joint or two ticks (2 x %lu us)",
               (unsigned long)slowest);
     report(r, "can-bus", &sb);
     return 0;
@@ -943,14 +670,14 @@ static int check_bus(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t 
     }
     if (groups == 0) {
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_puts(&sb, ": hardware.params: command_writer_period_us");
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_put(&sb, ": hardware.params: command_writer_period_us");
         if (period_text != NULL) {
-            sb_puts(&sb, " ");
-            sb_quoted(&sb, span_of(period_text));
+            roz_text_put(&sb, " ");
+            put_quoted(&sb, roz_params_span(period_text));
         }
-        sb_printf(&sb, ": a joint's command and reply take %u bits, more than %u%% of a "
+        roz_text_format(&sb, ": a joint's command and reply take %u bits, more than %u%% of a "
                        "%lu us round at %u bit/s (%lu bits)",
                   (unsigned)worst, (unsigned)cfg->max_bus_load_percent, (unsigned long)round_us,
                   (unsigned)cfg->bitrate, (unsigned long)budget);
@@ -967,11 +694,11 @@ static int check_bus(reporter_t *r, roz_can_config_t *cfg, const roz_manifest_t 
         cfg->reply_timeout_us = three > DEFAULT_TIMEOUT_US ? (uint32_t)three : DEFAULT_TIMEOUT_US;
     } else if ((uint64_t)cfg->reply_timeout_us < 2u * (uint64_t)cfg->joint_interval_us) {
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_puts(&sb, ": hardware.params: reply_timeout_us ");
-        sb_quoted(&sb, span_of(timeout_text));
-        sb_printf(&sb, ": shorter than two command intervals of a joint (2 x %u us)",
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_put(&sb, ": hardware.params: reply_timeout_us ");
+        put_quoted(&sb, roz_params_span(timeout_text));
+        roz_text_format(&sb, ": shorter than two command intervals of a joint (2 x %u us)",
                   (unsigned)cfg->joint_interval_us);
         report(r, "can-bus", &sb);
         return 0;
@@ -1008,15 +735,15 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
     }
     if (hw == NULL || hw->port == NULL || strcmp(hw->port, "socketcan") != 0) {
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
         if (hw == NULL) {
-            sb_puts(&sb, ": hardware: the socketcan port needs the [hardware] table "
+            roz_text_put(&sb, ": hardware: the socketcan port needs the [hardware] table "
                          "(port = \"socketcan\", joints, the CAN keys in params)");
         } else {
-            sb_puts(&sb, ": hardware: port ");
-            sb_quoted(&sb, span_of(hw->port != NULL ? hw->port : ""));
-            sb_puts(&sb, ": this robot is not one for the socketcan port");
+            roz_text_put(&sb, ": hardware: port ");
+            put_quoted(&sb, roz_params_span(hw->port != NULL ? hw->port : ""));
+            roz_text_put(&sb, ": this robot is not one for the socketcan port");
         }
         report(&r, "can-joint", &sb);
         return ROZ_EINVAL;
@@ -1039,10 +766,10 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
         if (!first || known_key(key) >= 0)
             continue;
         char buf[ROZ_CFG_PROBLEM_LEN];
-        sb_t sb;
-        sb_init(&sb, buf, sizeof buf);
-        sb_puts(&sb, ": hardware.params: ");
-        span_t ks = span_of(key);
+        roz_text_t sb;
+        roz_text_init(&sb, buf, sizeof buf);
+        roz_text_put(&sb, ": hardware.params: ");
+        roz_params_span_t ks = roz_params_span(key);
         int bare = ks.n > 0;
         for (size_t c = 0; c < ks.n; c++) {
             char ch = ks.s[c];
@@ -1050,10 +777,10 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
                     (ch >= '0' && ch <= '9') || ch == '_' || ch == '-';
         }
         if (bare)
-            sb_puts(&sb, key);
+            roz_text_put(&sb, key);
         else
-            sb_quoted(&sb, ks);
-        sb_puts(&sb, ": unknown key of the socketcan port (known keys: " KNOWN_KEYS ")");
+            put_quoted(&sb, ks);
+        roz_text_put(&sb, ": unknown key of the socketcan port (known keys: " KNOWN_KEYS ")");
         report(&r, "unknown-key", &sb);
     }
 

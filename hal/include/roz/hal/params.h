@@ -8,6 +8,10 @@
  * (true), command_writer_period_us (2000), state_decimation (1), dds_domain
  * (0). Each port lists the keys it knows; roz_params_check_known() refuses
  * any other, so a misspelt key is an error, not a silent default.
+ *
+ * The roz_params_get_*() functions read one key with the common message;
+ * the roz_params_parse_*() ones are the grammar of a value alone, for ports
+ * whose keys hold lists or ranges and say their own words about them.
  */
 #ifndef ROZ_HAL_PARAMS_H
 #define ROZ_HAL_PARAMS_H
@@ -58,6 +62,82 @@ int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *ou
 /** @brief String parameter; @p out = @p def when absent. Never fails.
  *  Context: a port's open(); not the tick. */
 const char *roz_params_get_str(const roz_params_t *p, const char *key, const char *def);
+
+/* ---- values: the grammar of one value, without a message ---------------- */
+
+/** A piece of a parameter's text (not NUL-terminated). */
+typedef struct roz_params_span {
+    const char *s;
+    size_t      n;
+} roz_params_span_t;
+
+/** Longest number roz_params_parse_number() reads, characters. */
+#define ROZ_PARAMS_NUMBER_MAX 63
+
+/** roz_params_parse_u32() flag: also `0x` followed by hex digits. */
+#define ROZ_PARAMS_HEX 1u
+
+/** The interface-name rules of roz_params_ifname_valid(). */
+typedef enum {
+    /** A-Z a-z 0-9 _ . : - (a name any DDS stack and OS accept) */
+    ROZ_PARAMS_IFNAME_PORTABLE,
+    /** printable ASCII without spaces or '/' (Linux's rule) */
+    ROZ_PARAMS_IFNAME_LINUX
+} roz_params_ifname_t;
+
+/** @brief The span of NUL-terminated @p z (NULL: empty). Context: any. */
+roz_params_span_t roz_params_span(const char *z);
+
+/** @brief @p s without leading and trailing spaces and tabs. Context: any. */
+roz_params_span_t roz_params_trim(roz_params_span_t s);
+
+/** @brief Whether @p s is exactly @p z. Context: any. */
+int roz_params_span_is(roz_params_span_t s, const char *z);
+
+/**
+ * @brief The next entry of a comma-separated list: @p entry is the text up
+ *        to the next ',' (trimmed, possibly empty), @p rest what follows it.
+ * @retval 1 an entry was taken (the last one has no ',' after it)
+ * @retval 0 @p rest was already used up
+ * Context: any. Start with rest = roz_params_span(value); an empty value
+ * gives one empty entry.
+ */
+int roz_params_list_next(roz_params_span_t *rest, roz_params_span_t *entry);
+
+/**
+ * @brief An unsigned integer in [min, max]: decimal digits (with
+ *        ROZ_PARAMS_HEX also `0x`/`0X` and hex digits); no sign, no blanks.
+ * @retval ROZ_OK     @p out set
+ * @retval ROZ_EINVAL anything else, out of range included; @p out untouched
+ * Context: any.
+ */
+int roz_params_parse_u32(roz_params_span_t s, unsigned flags, uint32_t min, uint32_t max,
+                         uint32_t *out);
+
+/**
+ * @brief A finite number: [+-]?(digits[.digits]|.digits)([eE][+-]?digits)?,
+ *        at most ROZ_PARAMS_NUMBER_MAX characters, '.' whatever the locale.
+ * @retval ROZ_OK     @p out set (correctly rounded)
+ * @retval ROZ_EINVAL anything else; @p out untouched
+ * Context: any.
+ */
+int roz_params_parse_number(roz_params_span_t s, double *out);
+
+/**
+ * @brief "MIN:MAX", two roz_params_parse_number() numbers (blanks around
+ *        each allowed). MIN below MAX is the caller's to check.
+ * @retval ROZ_OK / ROZ_EINVAL
+ * Context: any.
+ */
+int roz_params_parse_range(roz_params_span_t s, double *min, double *max);
+
+/** @brief true/false, 1/0, yes/no, on/off. @retval ROZ_OK / ROZ_EINVAL.
+ *  Context: any. */
+int roz_params_parse_bool(roz_params_span_t s, int *out);
+
+/** @brief Whether @p s is an interface name of 1..@p max characters under
+ *         @p rule. Context: any. */
+int roz_params_ifname_valid(roz_params_span_t s, size_t max, roz_params_ifname_t rule);
 
 /**
  * @brief Split "key=value" in place into @p out (key and value point into
