@@ -40,7 +40,7 @@ static void start(uint64_t fuel, uint64_t clock_step)
 {
     roz_runtime_config_t cfg;
     char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
 
     assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
     clk = (roz_test_clock_t){ 1000, clock_step };
@@ -190,7 +190,7 @@ static void test_budget_loop_keeps_its_period(void **st)
     roz_runtime_config_t cfg;
     roz_runner_config_t rc = { .period_ns = 10000000, .max_ticks = 300 };
     char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     size_t len;
     const uint8_t *w = roz_test_controller("bad_infinite_loop", &len);
     (void)st;

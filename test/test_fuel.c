@@ -286,7 +286,7 @@ static void test_fuel_zero_is_refused(void **st)
     char err[128];
     fast = roz_manifest_ur5;
     fast.control_rate_hz = (uint32_t)ROZ_CFG_FUEL_PER_SECOND + 1u;
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     assert_int_equal(roz_port_open(&port, &fast, NULL, err, sizeof err), ROZ_OK);
     roz_runtime_config_default(&cfg);
     cfg.manifest = &fast;
@@ -309,7 +309,7 @@ static void test_fuel_verify_ignores_the_loader_clock(void **st)
     const uint8_t *w = roz_test_controller("sine", &len);
     (void)st;
 
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     assert_int_equal(roz_port_open(&port, &roz_manifest_ur5, NULL, err, sizeof err), ROZ_OK);
     roz_runtime_config_default(&cfg);
     cfg.manifest = &roz_manifest_ur5;

@@ -569,14 +569,14 @@ static void test_socketcan_open_errors(void **st)
     (void)st;
 
     item = (roz_param_t){ "can_id", "hip=1, thigh=2, knee=2048" };
-    p = roz_socketcan_port(&sc, -1);
+    p = roz_socketcan_port(&sc, NULL, NULL);
     assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_EINVAL);
     assert_string_equal(err, "socketcan: hardware.params: can_id \"knee=2048\": expected an "
                              "actuator's CAN id, 1..2047 (11 bits; decimal or 0x hex)");
     assert_int_equal(p.opened, 0);
 
     item = (roz_param_t){ "network_interface", "nosuchcan7" };
-    p = roz_socketcan_port(&sc, -1);
+    p = roz_socketcan_port(&sc, NULL, NULL);
     assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_ENOENT);
     assert_non_null(strstr(err, "socketcan: network_interface \"nosuchcan7\": no such interface"));
 

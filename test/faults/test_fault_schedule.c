@@ -89,7 +89,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
     char err[200] = "";
     size_t len;
     const uint8_t *w = roz_test_controller(controller, &len);
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     double applied[ROZ_CFG_MAX_COMMANDS];
     uint32_t stops[ROZ_CFG_MAX_COMMANDS];
     int have_applied = 0, cleared = 0, jumped = 0, started = 0;

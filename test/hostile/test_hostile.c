@@ -53,7 +53,7 @@ static void start(int budget)
 {
     roz_runtime_config_t cfg;
     char err[160] = "";
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
 
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
