@@ -87,10 +87,9 @@ typedef struct roz_port_fixture_entry {
 
 extern const roz_port_fixture_entry_t roz_port_fixtures[];
 
-extern const roz_port_fixture_t roz_fixture_loopback;
+/* The fixtures the ports' own tests use besides the suite. */
 extern const roz_port_fixture_t roz_fixture_unitree_g1;
 extern const roz_port_fixture_t roz_fixture_engineai_pm01;
 extern const roz_port_fixture_t roz_fixture_agibot_x2;
-extern const roz_port_fixture_t roz_fixture_socketcan;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */
