@@ -2,10 +2,10 @@
 /* What the port conformance suite (test_port_conformance.c) needs from a
  * port's test fixture: the port, and a robot peer on the other end that the
  * suite can drive frame by frame. Every port provides one fixture; the
- * suite runs the same checks against each (DESIGN.md: one conformance
- * suite for every port). The loopback's fixture is fixture_loopback.c; a hardware
- * port's fixture wraps its fake robot peer, which speaks the real wire
- * protocol over loopback networking.
+ * suite runs the same checks against each (docs/ports/adding-a-port.md).
+ * The loopback's fixture is fixture_loopback.c; a hardware port's fixture
+ * wraps its fake robot peer, which speaks the real wire protocol over
+ * loopback networking.
  *
  * The suite calls a fixture from one thread. A port with threads of its own
  * (a DDS port) makes each call synchronous: peer() waits until the port's
