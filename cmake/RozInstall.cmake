@@ -19,11 +19,6 @@ set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
 set(_roz_targets roz_core roz_hal roz_sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
-if(TARGET roz_port_loopback)
-  list(APPEND _roz_targets roz_port_loopback)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/loopback/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
 # The DDS ports (hosts with Cyclone DDS): rozConfig.cmake then finds
@@ -35,13 +30,6 @@ if(TARGET roz_dds)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/dds/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
 endif()
-if(TARGET roz_port_unitree_g1)
-  # roz_unitree_hg: the idlc-generated types, linked privately by the port
-  list(APPEND _roz_targets roz_unitree_hg roz_port_unitree_g1)
-  set_target_properties(roz_unitree_hg PROPERTIES EXPORT_NAME unitree_hg)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/unitree_g1/include/roz
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-endif()
 if(TARGET roz_ros2)
   # roz::ros2 and ROS 2's standard messages (idlc-generated, linked privately
   # by it and by the ports' own generated types)
@@ -50,24 +38,9 @@ if(TARGET roz_ros2)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/ros2/include/roz
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 endif()
-if(TARGET roz_port_engineai_pm01)
-  list(APPEND _roz_targets roz_interface_protocol roz_port_engineai_pm01)
-  set_target_properties(roz_interface_protocol PROPERTIES EXPORT_NAME interface_protocol)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/engineai_pm01/include/roz
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_port_agibot_x2)
-  list(APPEND _roz_targets roz_aimdk_msgs roz_port_agibot_x2)
-  set_target_properties(roz_aimdk_msgs PROPERTIES EXPORT_NAME aimdk_msgs)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/agibot_x2/include/roz
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-endif()
 if(TARGET roz_can)
-  # the SocketCAN port's portable half (codec, keys), and the Linux port
+  # the SocketCAN port's portable half (codec, keys)
   list(APPEND _roz_targets roz_can)
-  if(TARGET roz_port_socketcan)
-    list(APPEND _roz_targets roz_port_socketcan)
-  endif()
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/socketcan/include/roz
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
 endif()
@@ -95,6 +68,10 @@ if(TARGET roz_manifests)
           FILES_MATCHING PATTERN "*.h")
 endif()
 
+# Every registered port, what it exports with it, and the registry
+# (roz_add_port(), cmake/RozPort.cmake, which installs their headers).
+get_property(_roz_port_targets GLOBAL PROPERTY ROZ_PORT_EXPORTS)
+list(APPEND _roz_targets ${_roz_port_targets})
 install(TARGETS ${_roz_targets} EXPORT rozTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})

@@ -92,6 +92,13 @@ execute_process(COMMAND ${ROZRUN} --help RESULT_VARIABLE rc OUTPUT_VARIABLE out)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: rozrun")
   message(FATAL_ERROR "--help")
 endif()
+# --port NAME --help adds the port's own section, from the port's info
+execute_process(COMMAND ${ROZRUN} --port loopback --help RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: rozrun"
+   OR NOT out MATCHES "Port loopback: a deterministic simulator"
+   OR NOT out MATCHES "\n    corrupt_cmd +FROM:TO\n")
+  message(FATAL_ERROR "--port loopback --help:\n${out}")
+endif()
 # a run whose controller traps exits 1 and names the fault
 execute_process(COMMAND ${ROZRUN} --robot ur5 --controller ${CTL}/bad_trap_run.wasm --ticks 300
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)

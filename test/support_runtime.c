@@ -28,7 +28,7 @@ void roz_test_loopback_config(roz_runtime_config_t *cfg, roz_loopback_t *lb,
                               roz_test_clock_t *clk)
 {
     char err[200] = "";
-    roz_port_t port = roz_loopback_port(lb);
+    roz_port_t port = roz_loopback_port(lb, NULL, NULL);
 
     if (roz_port_open(&port, m, params, err, sizeof err) != ROZ_OK)
         fail_msg("%s: loopback open: %s", m->robot_id, err);

@@ -41,7 +41,7 @@ static int run(const roz_manifest_t *m, const char *path, unsigned long ticks,
     fclose(f);
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
-    cfg.port = roz_loopback_port(&lb);
+    cfg.port = roz_loopback_port(&lb, NULL, NULL);
     if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "roz_bench_alloc: %s\n", err);
         return -1;

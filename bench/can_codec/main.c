@@ -141,7 +141,8 @@ static int bench_port(int ticks)
         fprintf(stderr, "roz_bench_can_codec: no socketpair\n");
         return 1;
     }
-    roz_port_t port = roz_socketcan_port(&sc, fds[0]);
+    roz_port_t port = roz_socketcan_port(&sc, NULL, NULL);
+    roz_socketcan_set_fd(&sc, fds[0]);
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK ||
         roz_port_activate(&port) != ROZ_OK) {
         fprintf(stderr, "roz_bench_can_codec: %s\n", err);

@@ -97,7 +97,7 @@ int main(int argc, char **argv)
     fclose(f);
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
-    cfg.port = roz_loopback_port(&lb);
+    cfg.port = roz_loopback_port(&lb, NULL, NULL);
     if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "roz_bench_periodic: %s\n", err);
         return 2;

@@ -51,7 +51,7 @@ static int setup(roz_runtime_t *rt, roz_loopback_t *lb, const roz_manifest_t *m,
 {
     char err[256];
     roz_runtime_config_t cfg;
-    roz_port_t port = roz_loopback_port(lb);
+    roz_port_t port = roz_loopback_port(lb, NULL, NULL);
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "bench: %s\n", err);
         return -1;

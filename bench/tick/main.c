@@ -206,7 +206,7 @@ static long tick_bench(const roz_manifest_t *m, const char *tag, const uint8_t *
 
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
-    cfg.port = roz_loopback_port(&lb);
+    cfg.port = roz_loopback_port(&lb, NULL, NULL);
     if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "bench: %s\n", err);
         return -1;

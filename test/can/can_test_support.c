@@ -43,7 +43,8 @@ void roz_test_can_open(roz_test_can_t *t, roz_socketcan_t *sc, fake_can_t *bus,
     for (; params != NULL && params[2 * k] != NULL && k < 16; k++)
         items[k] = (roz_param_t){ params[2 * k], params[2 * k + 1] };
     roz_params_t p = { items, k };
-    t->port = roz_socketcan_port(sc, t->fds[0]);
+    t->port = roz_socketcan_port(sc, NULL, NULL);
+    roz_socketcan_set_fd(sc, t->fds[0]);
     if (roz_port_open(&t->port, m, &p, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
     assert_int_equal(roz_port_activate(&t->port), ROZ_OK);

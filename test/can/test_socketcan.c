@@ -523,6 +523,65 @@ static void test_socketcan_round_robin(void **st)
     roz_test_can_close(&t);
 }
 
+/* ---- the device: what a consumer learns without knowing the port ---------------------- */
+
+/* rozrun prints the port's lines and its link from the port's own ops
+ * (roz_port_report(), roz_port_link_counters()); no other test runs rozrun
+ * on a bus, so this checks them against the port's own functions. */
+static void test_socketcan_device(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS];
+    static char text[2048];
+    char want[128];
+    roz_socketcan_info_t info;
+    roz_port_link_counters_t pc;
+    roz_link_t before;
+    (void)st;
+    open_on_write(NULL);
+    uint32_t caps = roz_port_caps(&t.port);
+    assert_true(caps & ROZ_PORT_CAP_CRC);
+    assert_true(caps & ROZ_PORT_CAP_WATCHDOG);
+    assert_true(caps & ROZ_PORT_CAP_START_HOLD);
+    assert_true(caps & ROZ_PORT_CAP_ROBOT);
+    assert_false(caps & ROZ_PORT_CAP_SEQUENCE);
+    assert_false(caps & ROZ_PORT_CAP_SIMULATOR);
+    const roz_port_info_t *pi = roz_port_info(&t.port);
+    assert_non_null(pi->no_sequence);
+    assert_null(pi->no_crc);
+    int keys = 0;
+    for (size_t i = 0; i < pi->n_params; i++)
+        keys += !strcmp(pi->params[i].key, "can_id") || !strcmp(pi->params[i].key, "bitrate");
+    assert_int_equal(keys, 2);
+
+    bring_up();
+    command(cmd, 1);
+    write_round(cmd);
+    roz_socketcan_info(&sc, &info);
+    int n = roz_port_report(&t.port, ROZ_PORT_REPORT_OPENED, text, sizeof text);
+    assert_true(n > 0 && (size_t)n < sizeof text);
+    snprintf(want, sizeof want, "socketcan: %u actuators on %s at %u kbit/s; ",
+             (unsigned)info.n_joints, info.network_interface, (unsigned)(info.bitrate / 1000u));
+    assert_int_equal(strncmp(text, want, strlen(want)), 0);
+    assert_null(strchr(text, '\n'));
+    n = roz_port_report(&t.port, ROZ_PORT_REPORT_SUMMARY, text, sizeof text);
+    assert_true(n > 0 && (size_t)n < sizeof text);
+    assert_int_equal(strncmp(text, "CAN bus                ", 23), 0);
+    snprintf(want, sizeof want, "; %llu frames sent (", (unsigned long long)counters().frames_sent);
+    assert_non_null(strstr(text, want));
+    assert_non_null(strstr(text, " fields saturated"));
+    assert_non_null(strstr(text, "\nCAN replies            "));
+    /* a text that does not fit is cut and terminated; the length it needs */
+    assert_int_equal(roz_port_report(&t.port, ROZ_PORT_REPORT_SUMMARY, want, 8), n);
+    assert_int_equal(strlen(want), 7);
+
+    roz_socketcan_link(&sc, &before);
+    assert_int_equal(roz_port_link_counters(&t.port, &pc), ROZ_OK);
+    assert_true(pc.accepted >= before.accepted && pc.accepted > 0);
+    assert_int_equal(pc.malformed, 0);
+    assert_int_equal(pc.restarts, before.restarts);
+    roz_test_can_close(&t);
+}
+
 /* ---- shutdown ------------------------------------------------------------------------- */
 
 static void test_socketcan_shutdown(void **st)
@@ -569,14 +628,14 @@ static void test_socketcan_open_errors(void **st)
     (void)st;
 
     item = (roz_param_t){ "can_id", "hip=1, thigh=2, knee=2048" };
-    p = roz_socketcan_port(&sc, -1);
+    p = roz_socketcan_port(&sc, NULL, NULL);
     assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_EINVAL);
     assert_string_equal(err, "socketcan: hardware.params: can_id \"knee=2048\": expected an "
                              "actuator's CAN id, 1..2047 (11 bits; decimal or 0x hex)");
     assert_int_equal(p.opened, 0);
 
     item = (roz_param_t){ "network_interface", "nosuchcan7" };
-    p = roz_socketcan_port(&sc, -1);
+    p = roz_socketcan_port(&sc, NULL, NULL);
     assert_int_equal(roz_port_open(&p, leg, &params, err, sizeof err), ROZ_ENOENT);
     assert_non_null(strstr(err, "socketcan: network_interface \"nosuchcan7\": no such interface"));
 
@@ -833,6 +892,7 @@ int main(void)
         cmocka_unit_test_teardown(test_socketcan_silence_and_return, teardown),
         cmocka_unit_test_teardown(test_socketcan_error_code_and_consistency, teardown),
         cmocka_unit_test_teardown(test_socketcan_round_robin, teardown),
+        cmocka_unit_test_teardown(test_socketcan_device, teardown),
         cmocka_unit_test_teardown(test_socketcan_shutdown, teardown),
         cmocka_unit_test_teardown(test_socketcan_open_errors, teardown),
         cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),

@@ -50,7 +50,7 @@ static void test_socketcan_vcan(void **st)
     int fd = fake_can_open_raw("vcan0");
     assert_true(fd >= 0);
     assert_int_equal(fake_can_start(&bus, fd, roz_test_leg_actuators, 3, 0.001, 0), 0);
-    roz_port_t port = roz_socketcan_port(&sc, -1);
+    roz_port_t port = roz_socketcan_port(&sc, NULL, NULL);
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);
     roz_socketcan_info(&sc, &info);

@@ -14,6 +14,7 @@
 #include "roz/hal/module.h"
 #include "roz/loopback.h"
 #include "roz/manifest.h"
+#include "roz/ports.h"
 #include "roz/runtime.h"
 
 #define CHECK(cond)                                                   \
@@ -64,7 +65,10 @@ int main(int argc, char **argv)
 #endif    /* the runtime on the loopback port, as an installed package gives it */
     roz_runtime_config_t cfg;
     char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    /* the loopback from the registry of the ports the package holds */
+    const roz_port_entry_t *pe = roz_ports_find("loopback");
+    CHECK(pe != NULL && pe->size == sizeof lb && pe->ops == &roz_loopback_ops);
+    roz_port_t port = pe->construct(&lb, NULL, NULL);
     CHECK(roz_port_open(&port, m, NULL, err, sizeof err) == ROZ_OK);
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;

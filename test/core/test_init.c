@@ -34,7 +34,7 @@ static void test_init_refuses_an_unopened_port(void **st)
 {
     roz_runtime_config_t cfg;
     char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     (void)st;
 
     roz_runtime_config_default(&cfg);

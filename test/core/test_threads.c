@@ -38,7 +38,7 @@ static void *sim_main(void *arg)
 {
     double state[ROZ_UNITREE_G1_N_STATES];
     roz_buffer_frame_t f;
-    roz_port_t p = roz_loopback_port(&sim);
+    roz_port_t p = roz_loopback_port(&sim, NULL, NULL);
     (void)arg;
     while (!atomic_load(&sim_stop)) {
         if (roz_buffer_read(&cmd_buf, &f) == 1)
@@ -101,7 +101,7 @@ static void test_threads_runtime_under_load(void **st)
     const uint8_t *pd = roz_test_controller("g1_pd", &len_pd);
     const uint8_t *stand = roz_test_controller("g1_stand", &len_stand);
     const uint8_t *bad = roz_test_controller("bad_trap_verify", &len_bad);
-    roz_port_t simport = roz_loopback_port(&sim);
+    roz_port_t simport = roz_loopback_port(&sim, NULL, NULL);
     (void)st;
 
     assert_int_equal(roz_port_open(&simport, &roz_manifest_unitree_g1, NULL, err, sizeof err),

@@ -53,7 +53,7 @@ int main()
         return fail("no ur5");
     roz_runtime_config_t cfg;
     char err[128];
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
     if (roz_port_open(&port, m, nullptr, err, sizeof err) != ROZ_OK)
         return fail(err);
     roz_runtime_config_default(&cfg);

@@ -85,7 +85,7 @@ static void start_port(const roz_port_t *port, const char *controller)
 static void start(const char *controller, const roz_loopback_fault_t *faults, size_t n)
 {
     char err[160] = "";
-    roz_port_t port = roz_loopback_port(&lb);
+    roz_port_t port = roz_loopback_port(&lb, NULL, NULL);
 
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK)
         fail_msg("open: %s", err);

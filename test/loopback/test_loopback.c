@@ -147,7 +147,7 @@ static void test_loopback_effort_stops_at_limit(void **st)
 /* Fault injection, read straight from the port. */
 static void test_loopback_faults(void **st)
 {
-    roz_port_t p = roz_loopback_port(&lb);
+    roz_port_t p = roz_loopback_port(&lb, NULL, NULL);
     roz_param_t items[] = { { "drop", "2:4" }, { "nan", "shoulder_pan_joint/position@5:6" },
                             { "range", "1@6:7" }, { "delay", "2@8:10" }, { "freeze", "12" } };
     roz_params_t params = { items, 5 };
@@ -193,7 +193,7 @@ static void test_loopback_faults(void **st)
  * a replaying transport, a peer that dies and boots again. */
 static void test_loopback_wire_faults(void **st)
 {
-    roz_port_t p = roz_loopback_port(&lb);
+    roz_port_t p = roz_loopback_port(&lb, NULL, NULL);
     roz_param_t items[] = { { "corrupt", "2:4" }, { "corrupt_cmd", "5:7" },
                             { "duplicate", "8:10" }, { "restart", "100:160" } };
     roz_params_t params = { items, 4 };
@@ -269,7 +269,7 @@ static void test_loopback_wire_faults(void **st)
  * ones make room for new ones. */
 static void test_loopback_fault_table(void **st)
 {
-    roz_port_t p = roz_loopback_port(&lb);
+    roz_port_t p = roz_loopback_port(&lb, NULL, NULL);
     double s[12];
     char err[160];
     (void)st;
@@ -318,7 +318,7 @@ static void test_loopback_bad_params(void **st)
         { &roz_manifest_ur5, "range", "12@1:", "parameter range = \"12@1:\": state 12 does not exist (12 states)" },
         { &roz_manifest_ur5, "range", "6@1:", "state 6 (shoulder_pan_joint/velocity) is not a position state" },
     };
-    roz_port_t p = roz_loopback_port(&lb);
+    roz_port_t p = roz_loopback_port(&lb, NULL, NULL);
     char err[320];
     (void)st;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {

@@ -13,7 +13,7 @@ static roz_port_t the_port;
 static int lb_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                       char *err, size_t errlen)
 {
-    the_port = roz_loopback_port(&lb);
+    the_port = roz_loopback_port(&lb, NULL, NULL);
     *port = the_port;
     int rc = roz_port_open(port, m, params, err, errlen);
     return rc != ROZ_OK ? rc : roz_port_activate(port);

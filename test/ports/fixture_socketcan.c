@@ -95,7 +95,8 @@ static int sc_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_p
         snprintf(err, errlen, "socketcan fixture: no socketpair or fake bus");
         return ROZ_EIO;
     }
-    t.port = roz_socketcan_port(&sc, t.fds[0]);
+    t.port = roz_socketcan_port(&sc, NULL, NULL);
+    roz_socketcan_set_fd(&sc, t.fds[0]);
     *port = t.port;
     int rc = roz_port_open(&t.port, m, &p, err, errlen);
     *port = t.port;
@@ -292,10 +293,6 @@ static const roz_manifest_t *const leg_only[] = { &roz_manifest_can_leg, NULL };
 const roz_port_fixture_t roz_fixture_socketcan = {
     .name = "socketcan",
     .manifests = leg_only,
-    .start_hold = 1,
-    .watchdog = 1,
-    .no_sequence = "MIT-mode frames carry no sequence number: a rebooted actuator is seen only "
-                   "as a silence longer than reply_timeout_us (the vanish case)",
     .wire_command = sc_fx_wire_command,
     .open = sc_fx_open,
     .peer = sc_fx_peer,

@@ -2,10 +2,10 @@
 /* What the port conformance suite (test_port_conformance.c) needs from a
  * port's test fixture: the port, and a robot peer on the other end that the
  * suite can drive frame by frame. Every port provides one fixture; the
- * suite runs the same checks against each (docs/ports/adding-a-port.md: one
- * conformance suite for every port). The loopback's fixture is fixture_loopback.c; a hardware
- * port's fixture wraps its fake robot peer, which speaks the real wire
- * protocol over loopback networking.
+ * suite runs the same checks against each (docs/ports/adding-a-port.md).
+ * The loopback's fixture is fixture_loopback.c; a hardware port's fixture
+ * wraps its fake robot peer, which speaks the real wire protocol over
+ * loopback networking.
  *
  * The suite calls a fixture from one thread. A port with threads of its own
  * (a DDS port) makes each call synchronous: peer() waits until the port's
@@ -25,7 +25,7 @@
 typedef enum {
     ROZ_PEER_SEND = 0, /* a good frame, newer than the last */
     ROZ_PEER_SILENT,   /* nothing for one frame period */
-    ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC (not for no_crc) */
+    ROZ_PEER_CORRUPT,  /* a frame with one bit flipped after its CRC (ROZ_PORT_CAP_CRC) */
     ROZ_PEER_REPLAY,   /* the frame it sent last, again */
     ROZ_PEER_RESTART,  /* the peer restarts (sequence from 0); then its first frame */
     ROZ_PEER_VANISH,   /* silent for longer than the port's peer timeout; then a
@@ -37,34 +37,14 @@ typedef struct roz_port_fixture {
     /* The manifests the port serves, NULL-terminated; NULL: the suite's
      * own (UR5 and G1). */
     const roz_manifest_t *const *manifests;
-    /* 1: the port keeps the start-up hold (roz/port.h): its first write to
-     * a peer that has just sent its first frame (a new or restarted peer)
-     * goes out as every position command holding its paired position
-     * state, every other command 0 (each clamped to its channel), not as
-     * what was written. */
-    int start_hold;
-    /* Non-NULL: the wire has no CRC, and this says what the port checks
-     * instead; the suite skips its CRC cases (a corrupted state frame, a
-     * corrupted command frame) and prints this. */
-    const char *no_crc;
+    /* What the port keeps and what its wire can express (the start-up hold,
+     * a CRC, a sequence that restarts with the peer, a command watchdog) is
+     * the port's own: its ops' caps and info (roz/port.h), which the suite
+     * reads; a fixture does not restate it. */
     /* A state frame is this many samples on topics of their own, each with
      * its own link checks (0 counts as 1): a replayed, restarted or returning
      * peer counts once per topic. */
     int state_topics;
-    /* Non-NULL: the wire has no sequence number that starts over when the
-     * peer restarts, and this says what the port sees instead; the suite
-     * skips its restart case (a restart is seen, if at all, as a silence:
-     * the vanish case) and prints this. */
-    const char *no_sequence;
-    /* 1: the port has a command watchdog (roz/hal/cmd_watchdog.h, parameter
-     * command_timeout_us): when the tick writes nothing for longer than the
-     * timeout, the port sends its safe command by itself, which drives
-     * nothing (every stiffness, velocity and effort command 0; what it does
-     * with positions and damping is the port's), and its next read()
-     * reports the trip (ROZ_EWATCHDOG, which the runtime latches as
-     * ROZ_FAULT_COMMAND_TIMEOUT); the tick's next write goes out as the
-     * start-up hold. */
-    int watchdog;
     /* What the peer applies for a command written as @p in (n_commands
      * values), where the wire narrows them (float32, a field of 12 bits);
      * NULL: exactly that. */
@@ -86,7 +66,7 @@ typedef struct roz_port_fixture {
     /* The command the peer applies (n_commands values), NULL before its
      * first good command frame (and after a restart). Call settle() first. */
     const double *(*peer_command)(void);
-    /* Flip one bit of the next command frame in transit (not for no_crc). */
+    /* Flip one bit of the next command frame in transit (ROZ_PORT_CAP_CRC). */
     void (*corrupt_next_command)(void);
     /* A copy of the port's checks on state frames, taken consistently. */
     void (*link)(roz_link_t *out);
@@ -94,10 +74,22 @@ typedef struct roz_port_fixture {
     void (*close)(void);
 } roz_port_fixture_t;
 
-extern const roz_port_fixture_t roz_fixture_loopback;
+/* The fixtures this build holds, by port (its roz_add_port() NAME): one row
+ * per fixture that test/ports/CMakeLists.txt builds, generated there
+ * (conformance_fixtures.c); a row with a NULL fixture says why it is not
+ * built here. The table ends with a row whose port is NULL. The suite runs
+ * every registered port's (roz/ports.h) and fails for a port without a row. */
+typedef struct roz_port_fixture_entry {
+    const char               *port;
+    const roz_port_fixture_t *fixture;
+    const char               *unavailable;
+} roz_port_fixture_entry_t;
+
+extern const roz_port_fixture_entry_t roz_port_fixtures[];
+
+/* The fixtures the ports' own tests use besides the suite. */
 extern const roz_port_fixture_t roz_fixture_unitree_g1;
 extern const roz_port_fixture_t roz_fixture_engineai_pm01;
 extern const roz_port_fixture_t roz_fixture_agibot_x2;
-extern const roz_port_fixture_t roz_fixture_socketcan;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */

@@ -45,11 +45,13 @@
 
 #include "port_fixture.h"
 #include "roz/hal/cmd_watchdog.h"
+#include "roz/ports.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
 typedef struct {
     const roz_port_fixture_t *fx;
+    const roz_port_ops_t     *ops; /* the port's, from the registry: caps, info */
     const roz_manifest_t     *m;
     roz_port_t                port;
     double                    state[ROZ_CFG_MAX_STATES];
@@ -57,21 +59,38 @@ typedef struct {
     double                    cmd[ROZ_CFG_MAX_COMMANDS];
 } conformance_t;
 
-static const roz_port_fixture_t *const fixtures[] = {
-    &roz_fixture_loopback,
-#ifdef ROZ_TEST_HAVE_UNITREE_G1
-    &roz_fixture_unitree_g1,
-#endif
-#ifdef ROZ_TEST_HAVE_ENGINEAI_PM01
-    &roz_fixture_engineai_pm01,
-#endif
-#ifdef ROZ_TEST_HAVE_AGIBOT_X2
-    &roz_fixture_agibot_x2,
-#endif
-#ifdef ROZ_TEST_HAVE_SOCKETCAN
-    &roz_fixture_socketcan,
-#endif
-};
+/* Every registered port (roz/ports.h) with its fixture, found by name in
+ * the fixture table (port_fixture.h); filled by main(). */
+typedef struct {
+    const roz_port_ops_t     *ops;
+    const roz_port_fixture_t *fx;
+} port_under_test_t;
+
+static port_under_test_t fixtures[ROZ_PORTS_COUNT > 0 ? ROZ_PORTS_COUNT : 1];
+static size_t n_fixtures;
+
+/* What the port's caps say (roz/port.h), as the checks ask it. */
+static int has(const roz_port_ops_t *ops, uint32_t cap)
+{
+    return (ops->caps & cap) != 0;
+}
+
+/* Without a CRC (a sequence): what the port checks (sees) instead, from its
+ * info; NULL when the wire has one. */
+static const char *no_crc(const roz_port_ops_t *ops)
+{
+    const char *why = roz_port_ops_info(ops)->no_crc;
+    return has(ops, ROZ_PORT_CAP_CRC) ? NULL : why != NULL ? why : "the port has no CRC";
+}
+
+static const char *no_sequence(const roz_port_ops_t *ops)
+{
+    const char *why = roz_port_ops_info(ops)->no_sequence;
+    return has(ops, ROZ_PORT_CAP_SEQUENCE) ? NULL
+           : why != NULL                   ? why
+                                           : "the port has no sequence";
+}
+
 static const roz_manifest_t *const default_manifests[] = { &roz_manifest_ur5,
                                                            &roz_manifest_unitree_g1, NULL };
 
@@ -80,20 +99,22 @@ static const roz_manifest_t *const *manifests_of(const roz_port_fixture_t *fx)
     return fx->manifests != NULL ? fx->manifests : default_manifests;
 }
 
-static void open_port_with(conformance_t *c, const roz_port_fixture_t *fx,
+static void open_port_with(conformance_t *c, const port_under_test_t *pt,
                            const roz_manifest_t *m, const roz_params_t *params)
 {
+    const roz_port_fixture_t *fx = pt->fx;
     char err[300] = "";
     memset(c, 0, sizeof *c);
     c->fx = fx;
+    c->ops = pt->ops;
     c->m = m;
     if (fx->open(m, params, &c->port, err, sizeof err) != ROZ_OK)
         fail_msg("%s on %s: open: %s", fx->name, m->robot_id, err);
 }
 
-static void open_port(conformance_t *c, const roz_port_fixture_t *fx, const roz_manifest_t *m)
+static void open_port(conformance_t *c, const port_under_test_t *pt, const roz_manifest_t *m)
 {
-    open_port_with(c, fx, m, NULL);
+    open_port_with(c, pt, m, NULL);
 }
 
 /* A command inside the manifest, different for each k. */
@@ -156,7 +177,7 @@ static double clamp_to(const roz_channel_t *ch, double v)
 static void first_write(conformance_t *c, int k)
 {
     write_checked(c, k);
-    if (c->fx->start_hold) {
+    if (has(c->ops, ROZ_PORT_CAP_START_HOLD)) {
         double hold[ROZ_CFG_MAX_COMMANDS];
         for (uint16_t i = 0; i < c->m->n_commands; i++) {
             const roz_channel_t *ch = &c->m->commands[i];
@@ -234,7 +255,7 @@ static void check_link(conformance_t *c)
     write_checked(c, 2);
     memcpy(before, c->state, c->m->n_states * sizeof before[0]);
 
-    if (c->fx->no_crc == NULL) {
+    if (no_crc(c->ops) == NULL) {
         uint64_t crc = link_now(c).crc_errors;
         c->fx->peer(ROZ_PEER_CORRUPT);
         assert_int_equal(read_port(c), 0);
@@ -243,7 +264,7 @@ static void check_link(conformance_t *c)
         fresh_frame(c);
     } else {
         print_message("%s on %s: skipped: a state frame failing its CRC: %s\n", c->fx->name,
-                      c->m->robot_id, c->fx->no_crc);
+                      c->m->robot_id, no_crc(c->ops));
     }
 
     uint64_t replays = link_now(c).replays;
@@ -255,7 +276,7 @@ static void check_link(conformance_t *c)
     fresh_frame(c);
 
     /* restarted: its sequence went back beyond the window */
-    if (c->fx->no_sequence == NULL) {
+    if (no_sequence(c->ops) == NULL) {
         uint64_t restarts = link_now(c).restarts;
         c->fx->peer(ROZ_PEER_RESTART);
         assert_int_equal(read_port(c), ROZ_ELINK);
@@ -266,7 +287,7 @@ static void check_link(conformance_t *c)
         first_write(c, 3);
     } else {
         print_message("%s on %s: skipped: a restarted peer: %s\n", c->fx->name, c->m->robot_id,
-                      c->fx->no_sequence);
+                      no_sequence(c->ops));
     }
 
     /* gone past the peer timeout, then back */
@@ -284,14 +305,14 @@ static void check_commands(conformance_t *c)
     first_write(c, 4);
     memcpy(first, c->cmd, c->m->n_commands * sizeof first[0]);
     fresh_frame(c);
-    if (c->fx->no_crc == NULL) {
+    if (no_crc(c->ops) == NULL) {
         c->fx->corrupt_next_command();
         write_checked(c, 5);
         assert_peer_applies(c, first); /* dropped: the last good one stays */
         fresh_frame(c);
     } else {
         print_message("%s on %s: skipped: a command frame corrupted in transit: %s\n",
-                      c->fx->name, c->m->robot_id, c->fx->no_crc);
+                      c->fx->name, c->m->robot_id, no_crc(c->ops));
     }
     write_checked(c, 6);
     assert_peer_applies(c, c->cmd);
@@ -379,13 +400,13 @@ typedef void (*check_fn)(conformance_t *c);
 static void each(check_fn check)
 {
     static conformance_t c;
-    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++) {
-        const roz_manifest_t *const *ms = manifests_of(fixtures[f]);
+    for (size_t f = 0; f < n_fixtures; f++) {
+        const roz_manifest_t *const *ms = manifests_of(fixtures[f].fx);
         for (size_t k = 0; ms[k] != NULL; k++) {
-            print_message("%s on %s\n", fixtures[f]->name, ms[k]->robot_id);
-            open_port(&c, fixtures[f], ms[k]);
+            print_message("%s on %s\n", fixtures[f].fx->name, ms[k]->robot_id);
+            open_port(&c, &fixtures[f], ms[k]);
             check(&c);
-            fixtures[f]->close();
+            fixtures[f].fx->close();
         }
     }
 }
@@ -393,8 +414,8 @@ static void each(check_fn check)
 static void test_port_conformance_params(void **st)
 {
     (void)st;
-    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++)
-        check_params(fixtures[f], manifests_of(fixtures[f])[0]);
+    for (size_t f = 0; f < n_fixtures; f++)
+        check_params(fixtures[f].fx, manifests_of(fixtures[f].fx)[0]);
 }
 
 static void test_port_conformance_start(void **st)
@@ -427,25 +448,54 @@ static void test_port_conformance_watchdog(void **st)
     roz_param_t item = { "command_timeout_us", WATCHDOG_TEXT };
     roz_params_t params = { &item, 1 };
     (void)st;
-    for (size_t f = 0; f < sizeof fixtures / sizeof fixtures[0]; f++) {
-        const roz_port_fixture_t *fx = fixtures[f];
+    for (size_t f = 0; f < n_fixtures; f++) {
+        const roz_port_fixture_t *fx = fixtures[f].fx;
         const roz_manifest_t *const *ms = manifests_of(fx);
-        if (!fx->watchdog) {
+        if (!has(fixtures[f].ops, ROZ_PORT_CAP_WATCHDOG)) {
             print_message("%s: skipped: the command watchdog: the port has none\n", fx->name);
             continue;
         }
         for (size_t k = 0; ms[k] != NULL; k++) {
             print_message("%s on %s\n", fx->name, ms[k]->robot_id);
-            open_port_with(&c, fx, ms[k], &params);
+            open_port_with(&c, &fixtures[f], ms[k], &params);
             check_watchdog(&c);
             fx->close();
         }
     }
 }
 
+/* Every registered port (roz/ports.h) must have a fixture (port_fixture.h),
+ * found by name: one built, or one that says why it cannot be here. A port
+ * registered without one fails. */
+static void test_port_conformance_registry(void **st)
+{
+    (void)st;
+    for (size_t i = 0; i < ROZ_PORTS_COUNT; i++) {
+        const roz_port_entry_t *pe = &roz_ports[i];
+        const roz_port_fixture_entry_t *e = roz_port_fixtures;
+        while (e->port != NULL && strcmp(e->port, pe->id) != 0)
+            e++;
+        if (e->port == NULL)
+            fail_msg("port %s (%s) is registered but has no conformance fixture "
+                     "(test/ports/port_fixture.h)", pe->ops->name, pe->id);
+        if (e->fixture == NULL) {
+            print_message("%s: skipped: its fixture is not built here: %s\n", pe->ops->name,
+                          e->unavailable);
+            continue;
+        }
+        if (strcmp(e->fixture->name, pe->ops->name) != 0)
+            fail_msg("port %s: its fixture says it is %s", pe->ops->name, e->fixture->name);
+        fixtures[n_fixtures].ops = pe->ops;
+        fixtures[n_fixtures].fx = e->fixture;
+        n_fixtures++;
+    }
+    assert_true(n_fixtures > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_port_conformance_registry),
         cmocka_unit_test(test_port_conformance_params),
         cmocka_unit_test(test_port_conformance_start),
         cmocka_unit_test(test_port_conformance_fresh_and_stale),

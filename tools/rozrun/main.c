@@ -28,6 +28,8 @@
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,21 +42,9 @@
 #include "roz/hal/module.h"
 #include "roz/hal/params.h"
 #include "roz/hal/runner.h"
-#include "roz/loopback.h"
+#include "roz/ports.h"
 #include "roz/record_file.h"
 #include "roz/runtime.h"
-#if ROZRUN_HAS_UNITREE_G1
-#include "roz/unitree_g1.h"
-#endif
-#if ROZRUN_HAS_ENGINEAI_PM01
-#include "roz/engineai_pm01.h"
-#endif
-#if ROZRUN_HAS_AGIBOT_X2
-#include "roz/agibot_x2.h"
-#endif
-#if ROZRUN_HAS_SOCKETCAN
-#include "roz/socketcan.h"
-#endif
 #include "replay.h"
 #include "schedule.h"
 #include "trace.h"
@@ -68,6 +58,7 @@ typedef struct {
     const char *robot;
     const char *controller;
     const char *port;
+    int         port_given; /* --port was named: --help adds the port's section */
     const char *trace;
     const char *record;
     const char *replay;
@@ -86,181 +77,64 @@ typedef struct {
 } options_t;
 
 static roz_runtime_t rt;
-static roz_loopback_t loopback;
-#if ROZRUN_HAS_UNITREE_G1
-static roz_unitree_g1_t g1;
-#endif
-#if ROZRUN_HAS_ENGINEAI_PM01
-static roz_engineai_pm01_t pm01;
-#endif
-#if ROZRUN_HAS_AGIBOT_X2
-static roz_agibot_x2_t x2;
-#endif
-#if ROZRUN_HAS_SOCKETCAN
-static roz_socketcan_t can;
-#endif
 
-/* ---- the ports rozrun knows ------------------------------------------------ */
-
-static roz_port_t make_loopback(void)
-{
-    return roz_loopback_port(&loopback);
-}
-
-static void link_loopback(roz_link_t *out)
-{
-    *out = loopback.link;
-}
+/* ---- the ports this build holds (roz/ports.h) ------------------------------ */
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg);
 
-#if ROZRUN_HAS_UNITREE_G1
-static roz_port_t make_g1(void)
+static const roz_port_entry_t *find_port(const char *name)
 {
-    return roz_unitree_g1_port(&g1, log_stderr, NULL);
-}
-
-static void link_g1(roz_link_t *out)
-{
-    roz_unitree_g1_link(&g1, out);
-}
-#endif
-
-#if ROZRUN_HAS_ENGINEAI_PM01
-static roz_port_t make_pm01(void)
-{
-    return roz_engineai_pm01_port(&pm01, log_stderr, NULL);
-}
-
-static void link_pm01(roz_link_t *out)
-{
-    roz_ros2_link(&pm01.b, out);
-}
-
-static uint64_t malformed_pm01(void)
-{
-    roz_ros2_counters_t c;
-    uint64_t n = 0;
-    roz_ros2_counters(&pm01.b, &c);
-    for (uint16_t t = 0; t < c.n_topics; t++)
-        n += c.topic[t].malformed;
-    return n;
-}
-#endif
-
-#if ROZRUN_HAS_AGIBOT_X2
-static roz_port_t make_x2(void)
-{
-    return roz_agibot_x2_port(&x2, log_stderr, NULL);
-}
-
-static void link_x2(roz_link_t *out)
-{
-    roz_ros2_link(&x2.b, out);
-}
-
-static uint64_t malformed_x2(void)
-{
-    roz_ros2_counters_t c;
-    uint64_t n = 0;
-    roz_ros2_counters(&x2.b, &c);
-    for (uint16_t t = 0; t < c.n_topics; t++)
-        n += c.topic[t].malformed;
-    return n;
-}
-#endif
-
-#if ROZRUN_HAS_SOCKETCAN
-static roz_port_t make_socketcan(void)
-{
-    roz_socketcan_set_log(&can, log_stderr, NULL);
-    return roz_socketcan_port(&can, -1);
-}
-
-static void link_socketcan(roz_link_t *out)
-{
-    roz_socketcan_link(&can, out);
-}
-
-/* Before the run: the bus the configuration gives. */
-static void opened_socketcan(void)
-{
-    roz_socketcan_info_t info;
-    roz_socketcan_info(&can, &info);
-    printf("rozrun: socketcan: %u actuators on %s at %u kbit/s; rounds of %u us, %u group%s (each "
-           "actuator every %u us); worst-case bus load %.1f %%; an actuator silent for %u us "
-           "is stale; a tick silent for %u us, every actuator held without gains\n",
-           (unsigned)info.n_joints, info.network_interface, (unsigned)(info.bitrate / 1000u),
-           (unsigned)info.round_us, (unsigned)info.groups, info.groups == 1 ? "" : "s",
-           (unsigned)info.joint_interval_us, 100.0 * info.bus_load,
-           (unsigned)info.reply_timeout_us, (unsigned)info.command_timeout_us);
-}
-
-/* In the summary: what went over the bus. */
-static void summary_socketcan(void)
-{
-    roz_socketcan_counters_t c;
-    roz_socketcan_info_t info;
-    roz_socketcan_counters(&can, &c);
-    roz_socketcan_info(&can, &info);
-    printf("  CAN bus                %s, %u group%s, worst-case load %.1f %%; %llu frames sent "
-           "(%llu commands, %llu holds, %llu enter, %llu exit), %llu refused by the socket\n",
-           info.network_interface, (unsigned)info.groups, info.groups == 1 ? "" : "s",
-           100.0 * info.bus_load, (unsigned long long)c.frames_sent,
-           (unsigned long long)c.commands_sent, (unsigned long long)c.holds_sent,
-           (unsigned long long)c.enter_sent, (unsigned long long)c.exit_sent,
-           (unsigned long long)c.send_errors);
-    printf("  CAN replies            %llu taken, %llu with an error code, %llu inconsistent; "
-           "%llu unknown, %llu short, %llu bus errors (%llu bus-off); actuators lost %llu "
-           "times; %llu fields saturated\n",
-           (unsigned long long)c.replies, (unsigned long long)c.error_replies,
-           (unsigned long long)c.inconsistent, (unsigned long long)c.unknown,
-           (unsigned long long)c.short_frames, (unsigned long long)c.bus_errors,
-           (unsigned long long)c.bus_off, (unsigned long long)c.lost,
-           (unsigned long long)c.saturated);
-}
-#endif
-
-typedef struct {
-    const char *name;
-    int         robot; /* a robot's port: ticks at the manifest's rate, always */
-    roz_port_t (*make)(void);
-    void (*link)(roz_link_t *out); /* the checks on the state frames it received */
-    /* A ROS 2 port (no CRC on the wire): the samples it dropped as malformed;
-     * NULL for a port whose frames carry a CRC. */
-    uint64_t (*malformed)(void);
-    void (*opened)(void);  /* optional: says what it opened */
-    void (*summary)(void); /* optional: its own lines in the summary */
-} port_entry_t;
-
-static const port_entry_t ports[] = {
-    { "loopback", 0, make_loopback, link_loopback, NULL, NULL, NULL },
-#if ROZRUN_HAS_UNITREE_G1
-    { "unitree/G1", 1, make_g1, link_g1, NULL, NULL, NULL },
-#endif
-#if ROZRUN_HAS_ENGINEAI_PM01
-    { "engineai/PM01", 1, make_pm01, link_pm01, malformed_pm01, NULL, NULL },
-#endif
-#if ROZRUN_HAS_AGIBOT_X2
-    { "agibot/X2", 1, make_x2, link_x2, malformed_x2, NULL, NULL },
-#endif
-#if ROZRUN_HAS_SOCKETCAN
-    { "socketcan", 1, make_socketcan, link_socketcan, NULL, opened_socketcan, summary_socketcan },
-#endif
-};
-
-static const port_entry_t *find_port(const char *name)
-{
-    for (size_t i = 0; i < sizeof ports / sizeof ports[0]; i++) {
-        if (strcmp(ports[i].name, name) == 0)
-            return &ports[i];
-    }
+    const roz_port_entry_t *pe = roz_ports_find(name);
+    if (pe != NULL && strcmp(pe->ops->name, name) == 0)
+        return pe;
     fprintf(stderr, "rozrun: --port \"%s\": not available in this build; known:", name);
-    for (size_t i = 0; i < sizeof ports / sizeof ports[0]; i++)
-        fprintf(stderr, " %s", ports[i].name);
+    for (size_t i = 0; i < ROZ_PORTS_COUNT; i++)
+        fprintf(stderr, " %s", roz_ports[i].ops->name);
     fprintf(stderr, "\n");
     return NULL;
 }
+
+/* The chosen port's instance: allocated once, at start-up, as the registry
+ * says (size and alignment); nothing in the tick allocates. Kept here until
+ * the end of main(). */
+static void *port_self;
+
+static int make_port(const roz_port_entry_t *pe, roz_port_t *out)
+{
+    size_t align = pe->align > 0 ? pe->align : 1;
+    size_t size = (pe->size + align - 1) / align * align;
+    void *self = NULL;
+    if (align <= _Alignof(max_align_t))
+        self = calloc(1, size > 0 ? size : 1);
+    if (self == NULL || (uintptr_t)self % align != 0) {
+        fprintf(stderr, "rozrun: no memory for port %s (%lu bytes)\n", pe->ops->name,
+                (unsigned long)pe->size);
+        free(self);
+        return -1;
+    }
+    port_self = self;
+    *out = pe->construct(self, log_stderr, NULL);
+    return 0;
+}
+
+/* The port's own lines (roz_port_report()): after open, "rozrun: " and the
+ * line; in the summary, each line indented as the summary's. */
+static void print_report(const roz_port_t *port, roz_port_report_when_t when)
+{
+    static char text[2048];
+    if (roz_port_report(port, when, text, sizeof text) <= 0)
+        return;
+    for (char *line = text; *line != '\0';) {
+        char *end = strchr(line, '\n');
+        if (end != NULL)
+            *end = '\0';
+        printf("%s%s\n", when == ROZ_PORT_REPORT_OPENED ? "rozrun: " : "  ", line);
+        if (end == NULL)
+            break;
+        line = end + 1;
+    }
+}
+
 static rozrun_trace_t trace;
 static int tracing;
 /* the flight recorder: ring storage (the heap, at start-up), its file */
@@ -274,8 +148,33 @@ static atomic_int interrupted; /* lock-free: set by the signal handler */
 static atomic_uint loader_events; /* trace events of the loader's actions, taken by the tick */
 static _Atomic uint64_t ticks_done; /* written by the tick's thread after each tick */
 
-static void usage(FILE *f)
+/* The port's own section of --help: what it is and its parameters, from
+ * the port itself (roz_port_info_t). */
+static void usage_port(FILE *f, const roz_port_ops_t *ops)
 {
+    const roz_port_info_t *info = roz_port_ops_info(ops);
+    fprintf(f, "\nPort %s: %s (%s)\n", ops->name, info->summary, info->header);
+    if (info->n_params > 0)
+        fprintf(f, "  parameters (--param KEY=VALUE):\n");
+    for (size_t i = 0; i < info->n_params; i++) {
+        const roz_port_param_info_t *pi = &info->params[i];
+        fprintf(f, "    %-24s %s%s%s%s\n", pi->key, pi->range,
+                pi->def[0] != '\0' ? " (default " : "", pi->def, pi->def[0] != '\0' ? ")" : "");
+        fprintf(f, "    %-24s %s\n", "", pi->help);
+    }
+}
+
+static void usage(FILE *f, const char *port)
+{
+    char known[256] = "";
+    size_t used = 0;
+    for (size_t i = 0; i < ROZ_PORTS_COUNT; i++) {
+        int n = snprintf(known + used, sizeof known - used, "%s%s", i > 0 ? ", " : "",
+                         roz_ports[i].ops->name);
+        if (n < 0 || (size_t)n >= sizeof known - used)
+            break;
+        used += (size_t)n;
+    }
     fprintf(f,
         "usage: rozrun --robot ID|FILE --controller FILE [options]\n"
         "\n"
@@ -285,35 +184,17 @@ static void usage(FILE *f)
         "  --robot ID|FILE      built-in manifest id (see roz_manifest_info), or a\n"
         "                       robot.toml read at run time (a path with / or .toml)\n"
         "  --controller FILE    controller module, .wasm or .wat\n"
-        "  --port NAME          port to drive (default loopback; known: loopback"
-#if ROZRUN_HAS_UNITREE_G1
-        ", unitree/G1"
-#endif
-#if ROZRUN_HAS_ENGINEAI_PM01
-        ", engineai/PM01"
-#endif
-#if ROZRUN_HAS_AGIBOT_X2
-        ", agibot/X2"
-#endif
-#if ROZRUN_HAS_SOCKETCAN
-        ", socketcan"
-#endif
-        ")\n"
+        "  --port NAME          port to drive (default loopback; known: %s)\n",
+        known);
+    fprintf(f,
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
         "  --allow-other-robot  run a controller built for another robot, or for an older\n"
         "                       channel table of this one (refused by default)\n"
-        "  --param KEY=VALUE    port parameter, repeatable (loopback fault injection:\n"
-        "                       drop, freeze, delay, nan, range, duplicate, corrupt,\n"
-        "                       corrupt_cmd, restart; see roz/loopback.h; unitree/G1:\n"
-        "                       network_interface, dds_domain, command_writer_period_us,\n"
-        "                       command_timeout_us (the command watchdog; default 50000),\n"
-        "                       ...; see roz/unitree_g1.h; engineai/PM01, agibot/X2: the\n"
-        "                       same and roz/ros2.h, roz/engineai_pm01.h, roz/agibot_x2.h;\n"
-        "                       socketcan: network_interface, can_id, ...; see\n"
-        "                       roz/can_config.h)\n"
+        "  --param KEY=VALUE    port parameter, repeatable; --port NAME --help lists\n"
+        "                       the port's\n"
         "  --budget-us US|off   controller wall-clock deadline per tick (default: half the\n"
         "                       period with --realtime; off in simulated time, where the\n"
         "                       fuel alone decides, so a run is the same on any machine)\n"
@@ -356,6 +237,9 @@ static void usage(FILE *f)
         "arguments or refused controller, 3 the trace or recording could not be written;\n"
         "--replay: 0 identical (or another controller ran through), 4 diverged, 2 a\n"
         "recording that cannot be read.\n");
+    const roz_port_entry_t *pe = port != NULL ? roz_ports_find(port) : NULL;
+    if (pe != NULL)
+        usage_port(f, pe->ops);
 }
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
@@ -402,7 +286,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         uint64_t x;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
+            usage(stdout, o->port_given ? o->port : NULL);
             exit(0);
         } else if (!strcmp(a, "--realtime")) {
             o->realtime = 1;
@@ -435,6 +319,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->controller = v;
         } else if (!strcmp(a, "--port")) {
             o->port = v;
+            o->port_given = 1;
         } else if (!strcmp(a, "--trace")) {
             o->trace = v;
         } else if (!strcmp(a, "--record")) {
@@ -736,11 +621,12 @@ static void print_cleared(const roz_runtime_counters_t *c)
         printf(")");
 }
 
-static void summary(const options_t *o, const port_entry_t *pe, const roz_verify_report_t *rep,
+static void summary(const options_t *o, const roz_port_t *port, const roz_verify_report_t *rep,
                     const roz_runner_t *runner)
 {
-    roz_link_t link;
-    pe->link(&link);
+    roz_port_link_counters_t link;
+    (void)roz_port_link_counters(port, &link);
+    int robot = (roz_port_caps(port) & ROZ_PORT_CAP_ROBOT) != 0;
     const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
     roz_runtime_stats_t st;
     if (roz_runtime_stats(&rt, &st) != ROZ_OK)
@@ -759,7 +645,7 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     printf("  controller             %s\n", o->controller);
     print_identity(rep);
     printf("  port                   %s%s\n", o->port,
-           o->realtime ? " (realtime)" : pe->robot ? " (the robot's time)" : " (simulated time)");
+           o->realtime ? " (realtime)" : robot ? " (the robot's time)" : " (simulated time)");
     printf("  verify                 %u ticks, max %.1f us, mean %.1f us per tick\n",
            (unsigned)rep->ticks_run, rep->max_process_ns / 1000.0,
            rep->ticks_run ? rep->total_process_ns / 1000.0 / rep->ticks_run : 0.0);
@@ -784,7 +670,7 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     printf("  refused values         %llu non-finite, %llu bad indices\n",
            (unsigned long long)nonfinite, (unsigned long long)bad_index);
     printf("  stale reads            %llu\n", (unsigned long long)st.runtime.stale_reads);
-    if (pe->malformed == NULL)
+    if (roz_port_caps(port) & ROZ_PORT_CAP_CRC)
         printf("  state link             %llu frames taken, %llu bad CRC, %llu replays, %llu "
                "missing, %llu peer restarts\n",
                (unsigned long long)link.accepted, (unsigned long long)link.crc_errors,
@@ -793,7 +679,7 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
     else /* ROS 2 topics: no CRC; what the port checks instead */
         printf("  state link             %llu samples taken, no CRC on the wire, %llu malformed, "
                "%llu replays, %llu missing, %llu peer restarts\n",
-               (unsigned long long)link.accepted, (unsigned long long)pe->malformed(),
+               (unsigned long long)link.accepted, (unsigned long long)link.malformed,
                (unsigned long long)link.replays, (unsigned long long)link.missing,
                (unsigned long long)(link.restarts + link.returns));
     drain_metrics();
@@ -827,8 +713,7 @@ static void summary(const options_t *o, const port_entry_t *pe, const roz_verify
                runner->locked ? "locked" : "not locked",
                (unsigned long long)runner->missed);
     }
-    if (pe->summary != NULL)
-        pe->summary();
+    print_report(port, ROZ_PORT_REPORT_SUMMARY);
     if (recording)
         printf("  recording              %s (%llu ticks, %lu dropped: the ring was full)%s\n",
                o->record, (unsigned long long)roz_record_file_ticks(&recfile),
@@ -860,7 +745,7 @@ int main(int argc, char **argv)
     const roz_manifest_t *m = find_robot(o.robot);
     if (m == NULL)
         return 2;
-    const port_entry_t *pe = find_port(o.port);
+    const roz_port_entry_t *pe = find_port(o.port);
     if (pe == NULL)
         return 2;
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
@@ -871,21 +756,23 @@ int main(int argc, char **argv)
     if (rozrun_schedule_read_modules(&sched) != 0)
         return 2;
 
-    roz_port_t port = pe->make();
+    roz_port_t port;
+    if (make_port(pe, &port) != 0)
+        return 2;
     roz_params_t params = { o.params, o.n_params };
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
         return 2;
     }
-    if (pe->opened != NULL)
-        pe->opened();
+    print_report(&port, ROZ_PORT_REPORT_OPENED);
     roz_runtime_config_default(&cfg);
     cfg.manifest = m;
     cfg.port = port;
     cfg.clock = roz_clock_monotonic_ns;
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;
-    int paced = o.realtime || pe->robot; /* a robot keeps its own time */
+    /* a robot keeps its own time */
+    int paced = o.realtime || (roz_port_caps(&port) & ROZ_PORT_CAP_ROBOT) != 0;
     /* the deadline is wall-clock time, which simulated time is not: there
      * the fuel alone decides unless asked, so a run is deterministic */
     if (o.budget_set)
@@ -1002,10 +889,12 @@ int main(int argc, char **argv)
             fprintf(stderr, "rozrun: %s\n", err);
         record_failed = 1;
     }
-    summary(&o, pe, &rep, paced ? &runner : NULL);
+    summary(&o, &port, &rep, paced ? &runner : NULL);
     unsigned faults = roz_runtime_faults(&rt);
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
+    free(port_self);
+    port_self = NULL;
     rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
     if ((tracing && trace.error[0] != '\0') || record_failed)
         return 3; /* the run's record is incomplete: not a success, whatever latched */

@@ -90,7 +90,7 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
     say(pf, "roz firmware: %s on %s, controller %s (%zu bytes), %u ticks", m->robot_id, pf->name,
         img->controller, img->wasm_len, (unsigned)img->ticks);
 
-    port = roz_loopback_port(&sim);
+    port = roz_loopback_port(&sim, NULL, NULL);
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
         say(pf, "error: port: %s", err);
         return 1;

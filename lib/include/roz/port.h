@@ -45,6 +45,75 @@ typedef struct roz_port_fault {
                             microseconds; 0 otherwise */
 } roz_port_fault_t;
 
+/** @name Capabilities (roz_port_ops_t::caps): what a port's wire and its
+ *  implementation offer, so that a consumer (rozrun, the conformance suite
+ *  test/ports/test_port_conformance.c) need not know the port.
+ *  @{ */
+/** Every state and command frame carries a CRC that the receiver checks. */
+#define ROZ_PORT_CAP_CRC         (1u << 0)
+/** State frames carry a sequence number that starts over when the peer
+ *  restarts: a restarted peer is told apart from a silent one. */
+#define ROZ_PORT_CAP_SEQUENCE    (1u << 1)
+/** A command watchdog (roz/hal/cmd_watchdog.h, parameter
+ *  command_timeout_us): a silent tick trips it, read() reports
+ *  ROZ_EWATCHDOG once. */
+#define ROZ_PORT_CAP_WATCHDOG    (1u << 2)
+/** The start-up hold: the first write to a new or restarted peer goes out
+ *  as every position command holding its paired position state, every
+ *  other command 0. */
+#define ROZ_PORT_CAP_START_HOLD  (1u << 3)
+/** deactivate() then activate() runs the port again without a close. */
+#define ROZ_PORT_CAP_RESTART     (1u << 4)
+/** A simulator: no robot on the other end; read() advances its time. */
+#define ROZ_PORT_CAP_SIMULATOR   (1u << 5)
+/** Paced by a robot that keeps its own time: the tick runs at the
+ *  manifest's rate, always. */
+#define ROZ_PORT_CAP_ROBOT       (1u << 6)
+/** Talks over the host's network stack: a test against a real transport
+ *  runs in a network namespace of its own (root, or user namespaces). */
+#define ROZ_PORT_CAP_NEEDS_NETNS (1u << 7)
+/** @} */
+
+/** One parameter a port takes (roz_port_info_t::params). */
+typedef struct roz_port_param_info {
+    const char *key;   /**< "command_timeout_us" */
+    const char *range; /**< the values it takes: "1..1000000", "FROM:TO" */
+    const char *def;   /**< its default as text; "" when it has none */
+    const char *help;  /**< one short line */
+} roz_port_param_info_t;
+
+/** What a port says about itself (roz_port_ops_t::info): static, const. */
+typedef struct roz_port_info {
+    const char *summary; /**< one line: "Unitree G1 over Cyclone DDS" */
+    const char *header;  /**< the header that documents it: "roz/unitree_g1.h" */
+    const roz_port_param_info_t *params; /**< the parameters it takes */
+    size_t      n_params;
+    /** Without ROZ_PORT_CAP_CRC: what the port checks instead, else NULL. */
+    const char *no_crc;
+    /** Without ROZ_PORT_CAP_SEQUENCE: what the port sees of a restarted
+     *  peer instead, else NULL. */
+    const char *no_sequence;
+} roz_port_info_t;
+
+/** The checks on the state frames a port received (roz/hal/link.h keeps
+ *  them per port), as one struct for every port. */
+typedef struct roz_port_link_counters {
+    uint64_t accepted;   /**< frames (samples) taken */
+    uint64_t crc_errors; /**< dropped: bad CRC */
+    uint64_t replays;    /**< dropped: a frame seen before, or overtaken */
+    uint64_t missing;    /**< frames lost on the way (sequence gaps) */
+    uint64_t restarts;   /**< the peer restarted (its sequence went back) */
+    uint64_t returns;    /**< the peer came back after a silence */
+    uint64_t malformed;  /**< dropped: not a frame of the expected shape
+                              (a port without a CRC: what it checks instead) */
+} roz_port_link_counters_t;
+
+/** When roz_port_report() is asked for a port's own lines. */
+typedef enum roz_port_report_when {
+    ROZ_PORT_REPORT_OPENED = 0, /**< after open: what it opened, one line */
+    ROZ_PORT_REPORT_SUMMARY = 1 /**< after the run: lines "label  text" for a summary */
+} roz_port_report_when_t;
+
 /** The operations of one kind of port. Optional ops may be NULL. */
 typedef struct roz_port_ops {
     const char *name; /**< "loopback", "unitree/G1", ... */
@@ -87,6 +156,18 @@ typedef struct roz_port_ops {
      *  has a code of 0 and no name).
      *  Context: the tick; RT-safe. */
     int (*fault)(void *self, roz_port_fault_t *out);
+    /** ROZ_PORT_CAP_* flags. */
+    uint32_t caps;
+    /** What the port says about itself; NULL: nothing. */
+    const roz_port_info_t *info;
+    /** A consistent copy of the checks on the state frames received so far.
+     *  Optional. Context: any thread; RT-safe, never blocks. */
+    int (*link_counters)(const void *self, roz_port_link_counters_t *out);
+    /** The port's own lines of text at @p when, '\n' between lines, into
+     *  @p buf of @p len bytes (always terminated when len > 0). Returns the
+     *  length the whole text needs (as snprintf does), 0 for none. Optional.
+     *  Context: start-up or shut-down, never the tick; may format text. */
+    int (*report)(const void *self, roz_port_report_when_t when, char *buf, size_t len);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -144,6 +225,49 @@ static inline void roz_port_close(roz_port_t *p)
     if (p->ops->close != NULL)
         p->ops->close(p->self);
     p->opened = 0;
+}
+
+/** @brief The port's ROZ_PORT_CAP_* flags. Context: any. */
+static inline uint32_t roz_port_caps(const roz_port_t *p)
+{
+    return p->ops->caps;
+}
+
+/** @brief What the port says about itself; an empty info when it says
+ *  nothing (never NULL). Context: any. */
+static inline const roz_port_info_t *roz_port_ops_info(const roz_port_ops_t *ops)
+{
+    static const roz_port_info_t none = { "", "", NULL, 0, NULL, NULL };
+    return ops->info != NULL ? ops->info : &none;
+}
+
+/** @brief roz_port_ops_info() of @p p's ops. Context: any. */
+static inline const roz_port_info_t *roz_port_info(const roz_port_t *p)
+{
+    return roz_port_ops_info(p->ops);
+}
+
+/** @brief link_counters(); all 0 and ROZ_ENOTSUP when the port has none.
+ *  Context: any thread; RT-safe. */
+static inline int roz_port_link_counters(const roz_port_t *p, roz_port_link_counters_t *out)
+{
+    if (p->ops->link_counters != NULL)
+        return p->ops->link_counters(p->self, out);
+    out->accepted = out->crc_errors = out->replays = out->missing = 0;
+    out->restarts = out->returns = out->malformed = 0;
+    return ROZ_ENOTSUP;
+}
+
+/** @brief report(); an empty text (0) when the port has none.
+ *  Context: start-up or shut-down, never the tick. */
+static inline int roz_port_report(const roz_port_t *p, roz_port_report_when_t when, char *buf,
+                                  size_t len)
+{
+    if (p->ops->report != NULL)
+        return p->ops->report(p->self, when, buf, len);
+    if (len > 0)
+        buf[0] = '\0';
+    return 0;
 }
 
 #ifdef __cplusplus

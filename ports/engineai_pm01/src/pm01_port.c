@@ -200,6 +200,45 @@ static int pm01_open(void *self, const roz_manifest_t *m, const roz_params_t *p,
     return roz_ros2_open(&pm->b, &pm01_robot, pm, m, p, err, errlen);
 }
 
+
+/* The parameters every ROS 2 port takes (roz/ros2.h), then the port's own. */
+#define ROS2_PARAM_INFO                                                                        \
+    ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
+    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
+    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },      \
+    { "shutdown_damping", "the damping channels' range", "the channels' default",              \
+      "kd of the damping command at shut-down and on a watchdog trip" },                       \
+    { "link_check", "sequence|stamp", "sequence where the messages have one",                  \
+      "what the link checks run on" }
+
+static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
+{
+    const roz_engineai_pm01_t *x = self;
+    roz_ros2_counters_t c;
+    roz_link_t l;
+    uint64_t malformed = 0;
+    roz_ros2_link(&x->b, &l);
+    roz_ros2_counters(&x->b, &c);
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        malformed += c.topic[t].malformed;
+    roz_link_port_counters(&l, malformed, out);
+    return ROZ_OK;
+}
+
+static const roz_port_param_info_t pm01_param_info[] = {
+    ROS2_PARAM_INFO,
+    { "parallel_parser_type", "rl|classic|1|0", "rl", "the ankle parser: rl (the vendor's RL example) or classic" },
+};
+
+static const roz_port_info_t pm01_info = {
+    .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
+    .header = "roz/engineai_pm01.h",
+    .params = pm01_param_info,
+    .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
+    .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",
+    .no_sequence = NULL,
+};
+
 const roz_port_ops_t roz_engineai_pm01_ops = {
     .name = "engineai/PM01",
     .open = pm01_open,
@@ -209,6 +248,10 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .deactivate = roz_ros2_deactivate,
     .close = roz_ros2_close,
     .fault = roz_ros2_fault,
+    .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
+            ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
+    .info = &pm01_info,
+    .link_counters = pm01_link_counters,
 };
 
 roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log, void *log_ctx)

@@ -435,6 +435,35 @@ static int lb_write(void *self, const double *cmd, size_t n)
     return ROZ_OK;
 }
 
+static int lb_link_counters(const void *self, roz_port_link_counters_t *out)
+{
+    const roz_loopback_t *lb = self;
+    roz_link_port_counters(&lb->link, 0, out);
+    return ROZ_OK;
+}
+
+/* Every fault runs over ticks [FROM, TO); TO may be empty: forever. */
+static const roz_port_param_info_t lb_params[] = {
+    { "drop", "FROM:TO", "", "frames sent are lost in transit" },
+    { "freeze", "FROM[:TO]", "", "the peer sends nothing" },
+    { "delay", "K@FROM:TO", "", "frames arrive K ticks late" },
+    { "nan", "CH@FROM:TO", "", "the peer sends NaN in state CH (an index or a name)" },
+    { "range", "CH@FROM:TO", "", "the peer sends 0.5 beyond state CH's upper limit" },
+    { "duplicate", "FROM:TO", "", "the frame delivered before, again" },
+    { "corrupt", "FROM:TO", "", "one bit of every state frame flips" },
+    { "corrupt_cmd", "FROM:TO", "", "one bit of every command frame flips" },
+    { "restart", "FROM:TO", "", "the peer dies at FROM, boots again at TO" },
+};
+
+static const roz_port_info_t lb_info = {
+    .summary = "a deterministic simulator for any manifest, with fault injection",
+    .header = "roz/loopback.h",
+    .params = lb_params,
+    .n_params = sizeof lb_params / sizeof lb_params[0],
+    .no_crc = NULL,
+    .no_sequence = NULL,
+};
+
 const roz_port_ops_t roz_loopback_ops = {
     .name = "loopback",
     .open = lb_open,
@@ -443,6 +472,10 @@ const roz_port_ops_t roz_loopback_ops = {
     .write = lb_write,
     .deactivate = NULL,
     .close = NULL,
+    .caps = ROZ_PORT_CAP_CRC | ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_RESTART |
+            ROZ_PORT_CAP_SIMULATOR,
+    .info = &lb_info,
+    .link_counters = lb_link_counters,
 };
 
 /* ---- public -------------------------------------------------------------- */

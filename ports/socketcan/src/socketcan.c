@@ -850,6 +850,89 @@ static void sc_close(void *self)
     sc->opened = 0;
 }
 
+static int sc_link_counters(const void *self, roz_port_link_counters_t *out)
+{
+    roz_link_t l;
+    roz_socketcan_link(self, &l);
+    roz_link_port_counters(&l, 0, out);
+    return ROZ_OK;
+}
+
+/* Opened: the bus the configuration gives; the summary: what went over it.
+ * Start-up and shut-down only: this formats text. */
+static int sc_report(const void *self, roz_port_report_when_t when, char *buf, size_t len)
+{
+    const roz_socketcan_t *sc = self;
+    roz_socketcan_info_t info;
+    roz_socketcan_info(sc, &info);
+    if (when == ROZ_PORT_REPORT_OPENED)
+        return snprintf(buf, len,
+                        "socketcan: %u actuators on %s at %u kbit/s; rounds of %u us, %u group%s "
+                        "(each actuator every %u us); worst-case bus load %.1f %%; an actuator "
+                        "silent for %u us is stale; a tick silent for %u us, every actuator "
+                        "held without gains",
+                        (unsigned)info.n_joints, info.network_interface,
+                        (unsigned)(info.bitrate / 1000u), (unsigned)info.round_us,
+                        (unsigned)info.groups, info.groups == 1 ? "" : "s",
+                        (unsigned)info.joint_interval_us, 100.0 * info.bus_load,
+                        (unsigned)info.reply_timeout_us, (unsigned)info.command_timeout_us);
+    roz_socketcan_counters_t c;
+    roz_socketcan_counters(sc, &c);
+    return snprintf(buf, len,
+                    "CAN bus                %s, %u group%s, worst-case load %.1f %%; %llu frames "
+                    "sent (%llu commands, %llu holds, %llu enter, %llu exit), %llu refused by "
+                    "the socket\n"
+                    "CAN replies            %llu taken, %llu with an error code, %llu "
+                    "inconsistent; %llu unknown, %llu short, %llu bus errors (%llu bus-off); "
+                    "actuators lost %llu times; %llu fields saturated",
+                    info.network_interface, (unsigned)info.groups, info.groups == 1 ? "" : "s",
+                    100.0 * info.bus_load, (unsigned long long)c.frames_sent,
+                    (unsigned long long)c.commands_sent, (unsigned long long)c.holds_sent,
+                    (unsigned long long)c.enter_sent, (unsigned long long)c.exit_sent,
+                    (unsigned long long)c.send_errors, (unsigned long long)c.replies,
+                    (unsigned long long)c.error_replies, (unsigned long long)c.inconsistent,
+                    (unsigned long long)c.unknown, (unsigned long long)c.short_frames,
+                    (unsigned long long)c.bus_errors, (unsigned long long)c.bus_off,
+                    (unsigned long long)c.lost, (unsigned long long)c.saturated);
+}
+
+/* roz/can_config.h's table, one row a key. */
+static const roz_port_param_info_t sc_params[] = {
+    { "can_id", "1..2047 per joint", "required", "each actuator's 11-bit CAN id" },
+    { "reply", "basic|temperature_error", "required", "the reply layout (roz/mit_codec.h)" },
+    { "position_range", "MIN:MAX", "required", "the actuators' position range, rad" },
+    { "velocity_range", "MIN:MAX", "required", "the actuators' velocity range, rad/s" },
+    { "stiffness_range", "MIN:MAX", "required", "the actuators' kp range, N.m/rad" },
+    { "damping_range", "MIN:MAX", "required", "the actuators' kd range, N.m.s/rad" },
+    { "effort_range", "MIN:MAX", "required", "the actuators' torque range, N.m" },
+    { "direction", "1|-1 per joint", "1", "-1: the actuator turns against the joint" },
+    { "zero_offset", "rad per joint", "0", "the joint's position when the actuator reads 0" },
+    { "network_interface", "at most 15 bytes", "can0", "the CAN interface" },
+    { "bitrate", "10000..1000000", "1000000", "the bus's bit rate as set on the interface" },
+    { "command_writer_period_us", "0, 100..1000000", "2000",
+      "the command writer's period; 0: a round when the tick writes" },
+    { "max_bus_load_percent", "10..100", "80", "the share of the bus a period may take" },
+    { "reply_timeout_us", "1000..10000000", "20000 or three intervals",
+      "a command unanswered this long makes its joint stale" },
+    { "command_timeout_us", "1000..60000000", "50000 or five intervals or ticks",
+      "the command watchdog: the tick silent this long, every actuator held without gains" },
+    { "master_id", "0..2047", "0", "the CAN id replies may come from besides the actuator's" },
+    { "consistency_margin", "rad, 0 = off", "0.2",
+      "a position that moves this much more than its velocity says is a fault" },
+    { "enable_monitor", "true|false", "true", "jitter warnings" },
+    { "state_decimation", "1", "1", "every reply is converted" },
+};
+
+static const roz_port_info_t sc_info = {
+    .summary = "CAN actuators speaking the MIT-mode frame, over Linux SocketCAN",
+    .header = "roz/can_config.h",
+    .params = sc_params,
+    .n_params = sizeof sc_params / sizeof sc_params[0],
+    .no_crc = NULL,
+    .no_sequence = "MIT-mode frames carry no sequence number: a rebooted actuator is seen only "
+                   "as a silence longer than reply_timeout_us (the vanish case)",
+};
+
 const roz_port_ops_t roz_socketcan_ops = {
     .name = "socketcan",
     .open = sc_open,
@@ -859,22 +942,29 @@ const roz_port_ops_t roz_socketcan_ops = {
     .deactivate = sc_deactivate,
     .close = sc_close,
     .fault = sc_fault,
+    .caps = ROZ_PORT_CAP_CRC | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
+            ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
+    .info = &sc_info,
+    .link_counters = sc_link_counters,
+    .report = sc_report,
 };
 
 /* ---- public ---------------------------------------------------------------------- */
 
-roz_port_t roz_socketcan_port(roz_socketcan_t *sc, int fd)
+roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx)
 {
     roz_port_t p = { &roz_socketcan_ops, sc, 0 };
     if (!sc->opened)
-        sc->given_fd = fd;
+        sc->given_fd = -1;
+    sc->log = log;
+    sc->log_ctx = log_ctx;
     return p;
 }
 
-void roz_socketcan_set_log(roz_socketcan_t *sc, roz_log_fn log, void *ctx)
+void roz_socketcan_set_fd(roz_socketcan_t *sc, int fd)
 {
-    sc->log = log;
-    sc->log_ctx = ctx;
+    if (!sc->opened)
+        sc->given_fd = fd;
 }
 
 void roz_socketcan_counters(const roz_socketcan_t *sc, roz_socketcan_counters_t *out)

@@ -422,6 +422,32 @@ static int g1_fault(void *self, roz_port_fault_t *out)
     return ROZ_OK;
 }
 
+static int g1_link_counters(const void *self, roz_port_link_counters_t *out)
+{
+    roz_link_t l;
+    roz_unitree_g1_link(self, &l);
+    roz_link_port_counters(&l, 0, out);
+    return ROZ_OK;
+}
+
+static const roz_port_param_info_t g1_params[] = {
+    ROZ_DDS_PARAM_INFO("0"),
+    { "mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode" },
+    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },
+    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },
+    { "shutdown_damping", "the damping channels' range", "the channels' default",
+      "kd of the damping command at shut-down and on a watchdog trip" },
+};
+
+static const roz_port_info_t g1_info = {
+    .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",
+    .header = "roz/unitree_g1.h",
+    .params = g1_params,
+    .n_params = sizeof g1_params / sizeof g1_params[0],
+    .no_crc = NULL,
+    .no_sequence = NULL,
+};
+
 const roz_port_ops_t roz_unitree_g1_ops = {
     .name = "unitree/G1",
     .open = g1_open,
@@ -431,6 +457,10 @@ const roz_port_ops_t roz_unitree_g1_ops = {
     .deactivate = g1_deactivate,
     .close = g1_close,
     .fault = g1_fault,
+    .caps = ROZ_PORT_CAP_CRC | ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG |
+            ROZ_PORT_CAP_START_HOLD | ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
+    .info = &g1_info,
+    .link_counters = g1_link_counters,
 };
 
 /* ---- public ------------------------------------------------------------------------ */

@@ -20,6 +20,7 @@
 
 #include "roz/atomic.h"
 #include "roz/error.h"
+#include "roz/port.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -112,6 +113,22 @@ int roz_link_shared_read(const roz_link_shared_t *s, roz_link_t *out);
 /** @brief "first", "fresh", "bad crc", "replay", "restart".
  *  Context: any. */
 const char *roz_link_verdict_name(roz_link_verdict_t v);
+
+/** @brief @p l's counters as a port reports them (roz_port_link_counters()),
+ *  with @p malformed: the frames the port dropped before the link checks
+ *  because they had not the expected shape (0 for a port with a CRC).
+ *  Context: any. */
+static inline void roz_link_port_counters(const roz_link_t *l, uint64_t malformed,
+                                          roz_port_link_counters_t *out)
+{
+    out->accepted = l->accepted;
+    out->crc_errors = l->crc_errors;
+    out->replays = l->replays;
+    out->missing = l->missing;
+    out->restarts = l->restarts;
+    out->returns = l->returns;
+    out->malformed = malformed;
+}
 
 #ifdef __cplusplus
 }

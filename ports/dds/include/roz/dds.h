@@ -66,6 +66,20 @@ typedef struct roz_dds_params {
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
         "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
 
+/** The rows of roz_dds_params_parse()'s keys in a port's parameter table
+ *  (roz_port_info_t::params), with @p domain: dds_domain's default, text. */
+#define ROZ_DDS_PARAM_INFO(domain)                                                           \
+    { "network_interface", "an interface name", "lo", "the interface DDS talks on" },         \
+    { "dds_domain", "0..232", domain, "the DDS domain" },                                    \
+    { "enable_monitor", "true|false", "true", "latency and jitter monitored and warned" },    \
+    { "command_writer_period_us", "0, 100..1000000", "2000",                                 \
+      "the command writer's period; 0: as soon as the tick writes" },                        \
+    { "command_writer_spin_us", "0..10000", "0",                                             \
+      "with period 0: how long the writer spins for the tick's command" },                   \
+    { "state_decimation", "1..1000", "1", "every Nth state frame converted in full" },        \
+    { ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                                        \
+      "the command watchdog: the tick silent this long, the port sends its safe command" }
+
 /**
  * @brief Read the common DDS parameters.
  * @param[out] out            the values (defaults where absent)

@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "roz/hal/link.h"
+#include "roz/log.h"
 #include "roz/port.h"
 #include "roz/manifest.h"
 
@@ -133,11 +134,15 @@ typedef struct roz_loopback {
  *  state index or name. */
 extern const roz_port_ops_t roz_loopback_ops;
 
-/** @brief A roz_port_t over @p lb, not yet open (roz_port_open()).
+/** @brief A roz_port_t over @p lb, not yet open (roz_port_open()). The
+ *  simulator has nothing to log: @p log and @p log_ctx are taken for the
+ *  one constructor shape every port has, and ignored.
  *  Context: start-up. */
-static inline roz_port_t roz_loopback_port(roz_loopback_t *lb)
+static inline roz_port_t roz_loopback_port(roz_loopback_t *lb, roz_log_fn log, void *log_ctx)
 {
     roz_port_t p = { &roz_loopback_ops, lb, 0 };
+    (void)log;
+    (void)log_ctx;
     return p;
 }
 

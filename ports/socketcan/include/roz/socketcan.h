@@ -127,7 +127,7 @@ typedef struct roz_socketcan_tx_joint {
 typedef struct roz_socketcan {
     roz_can_config_t          cfg;
     const roz_manifest_t     *m;
-    int                       given_fd;  /* from roz_socketcan_port(); -1 = open the interface */
+    int                       given_fd;  /* from roz_socketcan_set_fd(); -1 = open the interface */
     int                       fd;
     int                       own_fd;
     roz_log_fn                log;
@@ -183,15 +183,17 @@ typedef struct roz_socketcan {
  *  caller's over them (roz/can_config.h). */
 extern const roz_port_ops_t roz_socketcan_ops;
 
-/** @brief A roz_port_t over @p sc, not yet open. @p fd: a socket to use
- *  instead of opening `network_interface` (a CAN_RAW socket the caller
- *  bound, or a socketpair end for tests; the port does not close it), or -1.
+/** @brief A roz_port_t over @p sc, not yet open. @p log: where the
+ *  writer's jitter warnings go (roz/monitor.h); NULL: none.
  *  Context: start-up. */
-roz_port_t roz_socketcan_port(roz_socketcan_t *sc, int fd);
+roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx);
 
-/** @brief Where the writer's jitter warnings go (roz/monitor.h); NULL:
- *  none. Call before roz_port_open(). Context: start-up. */
-void roz_socketcan_set_log(roz_socketcan_t *sc, roz_log_fn log, void *ctx);
+/** @brief A socket to use instead of opening `network_interface` (a
+ *  CAN_RAW socket the caller bound, or a socketpair end for tests; the
+ *  port does not close it), or -1 (the default) to open the interface.
+ *  Call after roz_socketcan_port(), before roz_port_open().
+ *  Context: start-up. */
+void roz_socketcan_set_fd(roz_socketcan_t *sc, int fd);
 
 /** @brief A copy of the counters. Context: any thread; wait-free; each
  *  counter exact, not a snapshot of all at one instant. */
