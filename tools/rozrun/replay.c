@@ -219,8 +219,10 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         return 2;
     }
     if (o->record != NULL) {
-        if (roz_record_file_open(&rfile, o->record, &rrt, &rrec, o->controller, err,
-                                 sizeof err) != ROZ_OK) {
+        /* on the recorded run's timeline */
+        roz_record_file_options_t ro = { o->controller, run->start_time_ns,
+                                         o->record_compression };
+        if (roz_record_file_open(&rfile, o->record, &rrt, &rrec, &ro, err, sizeof err) != ROZ_OK) {
             fprintf(stderr, "rozrun: cannot record: %s\n", err);
             return 2;
         }

@@ -21,13 +21,16 @@
  * A channel's field name is its manifest name in lower case with every run
  * of other characters made one '_' ("shoulder_pan_joint/velocity" is
  * shoulder_pan_joint_velocity); a name taken already gets "_<index>".
- * Every message's log and publish time is the tick's simulated time
- * (tick x period, from 0), so a recording of a deterministic run is the
- * same file every time but for the wall-clock fields of /roz/tick.
+ * Every message's log and publish time is the run's wall-clock start
+ * (/roz/run's start_time_ns) plus the tick's simulated time (tick x
+ * period), so viewers show when the run happened; given the same start, a
+ * deterministic run gives the same file but for the wall-clock fields of
+ * /roz/tick.
  *
- * Chunks are closed at 64 KiB (about 100 UR5 or 20 G1 ticks), so a
- * recording whose writer died (a crash, a power cut) is readable up to its
- * last complete chunk.
+ * Chunks are closed at 64 KiB (about 100 UR5 or 20 G1 ticks), between two
+ * ticks (a tick's messages are in one chunk), zstd-compressed when asked, so
+ * a recording whose writer died (a crash, a power cut) is readable up to its
+ * last complete chunk. docs/recording-format.md has the layout and limits.
  *
  * Writing: roz_record_file_open() after roz_runtime_init() with a recorder,
  * roz_record_file_drain() from a non-real-time thread (or between ticks),
@@ -65,20 +68,30 @@ typedef struct roz_record_file {
     unsigned char         *ROZ_PRIVATE(msg);    /* one message being encoded */
     size_t                 ROZ_PRIVATE(msg_cap);
     uint64_t               ROZ_PRIVATE(ticks), ROZ_PRIVATE(bytes_before);
+    uint64_t               ROZ_PRIVATE(start_ns);
     int                    ROZ_PRIVATE(failed);
 } roz_record_file_t;
+
+/** How a recording is written. */
+typedef struct roz_record_file_options {
+    const char *controller_name; /**< named in /roz/controller (e.g. the file's path) */
+    uint64_t    start_time_ns;   /**< the wall clock at tick 0, Unix time in ns (0: 1970) */
+    int         compression;     /**< ROZ_MCAP_COMPRESS_NONE or _ZSTD */
+} roz_record_file_options_t;
 
 /**
  * @brief Create @p path, write the schemas, the channels and the run's
  *        /roz/run message (from @p rt's configuration and manifest, and
  *        @p rec's decimation).
- * @param[in] controller_name  named in /roz/controller (e.g. the file's path)
+ * @param[in] opt  NULL: no controller name, start 0, uncompressed
  * @retval ROZ_OK, ROZ_EIO (err names the file), ROZ_ENOMEM, ROZ_EINVAL (no recorder)
+ * @retval ROZ_ENOTSUP the compression asked for is not in this build
  * Context: start-up, a non-real-time thread; allocates.
  */
 ROZ_NODISCARD int roz_record_file_open(roz_record_file_t *f, const char *path,
                                        const roz_runtime_t *rt, roz_recorder_t *rec,
-                                       const char *controller_name, char *err, size_t errlen);
+                                       const roz_record_file_options_t *opt, char *err,
+                                       size_t errlen);
 
 /**
  * @brief Drain the recorder into the file.
@@ -114,6 +127,7 @@ typedef struct roz_record_run {
     uint64_t budget_ns;
     uint32_t decimation;
     int      allow_foreign_controller;
+    uint64_t start_time_ns; /**< wall clock at tick 0 (Unix ns); 0 in files before it */
 } roz_record_run_t;
 
 /** A recording being read. Fields are private to record_file.c. */
