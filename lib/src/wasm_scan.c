@@ -298,21 +298,53 @@ static int32_t rd_s32(cursor_t *c)
     return 0;
 }
 
+/* A signed LEB128 of at most 64 bits, skipped (an i64.const immediate). */
+static void skip_s64(cursor_t *c);
+
+/* A constant expression (WebAssembly 1.0, 3.3.10): exactly one constant
+ * instruction of value type `type`, then end. `global.get` of an imported
+ * immutable global is one too, but a controller imports no globals. NULL
+ * when it is one, else what is wrong. */
+static const char *const_expr_problem(cursor_t *c, uint8_t type)
+{
+    static const uint8_t types[4] = { 0x7f, 0x7e, 0x7d, 0x7c }; /* i32 i64 f32 f64 */
+    uint8_t op = rd_byte(c);
+    switch (op) {
+    case 0x41: (void)rd_s32(c); break;
+    case 0x42: skip_s64(c); break;
+    case 0x43: skip(c, 4); break;
+    case 0x44: skip(c, 8); break;
+    case 0x23:
+        return "is a global.get, which needs an imported global (a controller imports none)";
+    default:
+        return c->bad ? "is cut short" : "is not a constant instruction";
+    }
+    if (c->bad)
+        return "is cut short";
+    if (rd_byte(c) != 0x0b)
+        return c->bad ? "is cut short" : "is more than one instruction (a constant, then end)";
+    if (types[op - 0x41] != type)
+        return "has a constant of another type";
+    return NULL;
+}
+
 /* Tables: wasm3 skips the table section and sizes its table from the
  * element segments instead (up to 100,000 entries), so a segment written
  * past the declared table is not refused there. Bound the declared size by
  * ROZ_CFG_WASM_MAX_TABLE_ENTRIES and require every segment (MVP form:
  * table 0, constant offset) to fit the declared table. */
 static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const uint8_t *elems,
-                        const uint8_t *elems_end, char *err, size_t errlen)
+                        const uint8_t *elems_end, uint32_t n_funcs, char *err, size_t errlen)
 {
     uint32_t size = 0;
+    int have_table = 0;
 
     if (tables != NULL) {
         cursor_t tc = { tables, tables_end, 0 };
         uint32_t n = rd_u32(&tc);
         if (n > 1 && !tc.bad)
             FAIL("%u tables; a controller may have one", (unsigned)n);
+        have_table = n == 1;
         if (n == 1) {
             (void)rd_byte(&tc); /* element type */
             uint8_t flags = rd_byte(&tc);
@@ -327,6 +359,9 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
     }
     if (elems == NULL)
         return ROZ_OK;
+    /* WebAssembly 1.0, 5.5.12: a vector of segments (table 0, an offset that
+     * is one i32 constant then end, a vector of function indices), and
+     * nothing after the last: the rest of the section is never skipped */
     cursor_t ec = { elems, elems_end, 0 };
     uint32_t n = rd_u32(&ec);
     for (uint32_t i = 0; i < n && !ec.bad; i++) {
@@ -336,22 +371,33 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
         if (form != 0)
             FAIL("element segment %u: only the MVP form (table 0, constant offset) is accepted",
                  (unsigned)i);
-        if (rd_byte(&ec) != 0x41)
-            FAIL("element segment %u: the offset must be an i32.const", (unsigned)i);
-        int32_t offset = rd_s32(&ec);
-        uint8_t end = rd_byte(&ec);
+        if (!have_table)
+            FAIL("element segment %u without a table", (unsigned)i);
+        cursor_t at = ec;
+        const char *why = const_expr_problem(&ec, 0x7f);
+        if (why != NULL)
+            FAIL("element segment %u: its offset %s", (unsigned)i, why);
+        at.p++; /* the i32.const */
+        int32_t offset = rd_s32(&at);
         uint32_t count = rd_u32(&ec);
-        if (ec.bad || end != 0x0b)
+        if (ec.bad)
             break;
         if (offset < 0 || (uint64_t)(uint32_t)offset + count > size)
             FAIL("element segment %u at offset %lld needs a table of %llu entries; the table "
                  "has %u", (unsigned)i, (long long)offset,
                  (unsigned long long)((int64_t)offset + count), (unsigned)size);
-        for (uint32_t k = 0; k < count && !ec.bad; k++)
-            (void)rd_u32(&ec);
+        for (uint32_t k = 0; k < count && !ec.bad; k++) {
+            uint32_t f = rd_u32(&ec);
+            if (!ec.bad && f >= n_funcs)
+                FAIL("element segment %u, entry %u: function %u, of %u functions", (unsigned)i,
+                     (unsigned)k, (unsigned)f, (unsigned)n_funcs);
+        }
     }
     if (ec.bad)
         FAIL("malformed element section");
+    if (ec.p != ec.end)
+        FAIL("element section: %u bytes after its %u segments", (unsigned)(ec.end - ec.p),
+             (unsigned)n);
     return ROZ_OK;
 }
 
@@ -857,23 +903,6 @@ static int check_body(vctx_t *v, cursor_t *c)
     return bad_body(v, "the body runs past its end", NULL, NULL);
 }
 
-/* A constant expression: one const instruction of value type `type`, end. */
-static int const_expr(cursor_t *c, uint8_t type)
-{
-    static const uint8_t types[4] = { T_I32, T_I64, T_F32, T_F64 };
-    uint8_t op = rd_byte(c);
-    switch (op) {
-    case 0x41: (void)rd_s32(c); break;
-    case 0x42: skip_s64(c); break;
-    case 0x43: skip(c, 4); break;
-    case 0x44: skip(c, 8); break;
-    default: return ROZ_EINVAL;
-    }
-    if (rd_byte(c) != 0x0b || c->bad || types[op - 0x41] != type)
-        return ROZ_EINVAL;
-    return ROZ_OK;
-}
-
 /* Types, globals, memory, data and code: everything the engine would
  * otherwise take on trust. `sec`/`sec_end` are the sections by id; imports
  * were checked before (all functions of the ABI). */
@@ -961,10 +990,11 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         for (uint32_t g = 0; g < v->n_globals && !c.bad; g++) {
             v->global_type[g] = rd_byte(&c);
             v->global_mut[g] = rd_byte(&c);
-            if (c.bad || !is_valtype(v->global_type[g]) || v->global_mut[g] > 1 ||
-                const_expr(&c, v->global_type[g]) != ROZ_OK)
-                FAIL("global %u: malformed (a value type, 0 or 1, and one constant of its type)",
-                     (unsigned)g);
+            if (c.bad || !is_valtype(v->global_type[g]) || v->global_mut[g] > 1)
+                FAIL("global %u: malformed (a value type, then 0 or 1)", (unsigned)g);
+            const char *why = const_expr_problem(&c, v->global_type[g]);
+            if (why != NULL)
+                FAIL("global %u: its initialiser %s", (unsigned)g, why);
         }
         if (c.bad || c.p != c.end)
             FAIL("malformed global section");
@@ -999,13 +1029,18 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         if (n > 0 && !v->has_memory)
             FAIL("data segments without a memory");
         for (uint32_t d = 0; d < n && !c.bad; d++) {
-            if (rd_u32(&c) != 0 || const_expr(&c, T_I32) != ROZ_OK)
-                FAIL("data segment %u: only memory 0 with an i32.const offset is accepted",
-                     (unsigned)d);
+            if (rd_u32(&c) != 0)
+                FAIL("data segment %u: only memory 0 is accepted", (unsigned)d);
+            const char *why = const_expr_problem(&c, T_I32);
+            if (why != NULL)
+                FAIL("data segment %u: its offset %s", (unsigned)d, why);
             skip(&c, rd_u32(&c));
         }
-        if (c.bad || c.p != c.end)
+        if (c.bad)
             FAIL("malformed data section");
+        if (c.p != c.end)
+            FAIL("data section: %u bytes after its %u segments", (unsigned)(c.end - c.p),
+                 (unsigned)n);
     }
     /* code: one valid body per defined function */
     cursor_t cc = { sec[10], sec_end[10], 0 };
@@ -1227,8 +1262,6 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     }
     if (has_start)
         FAIL("the module has a start function; a controller must do its set-up in process()");
-    if (check_tables(tables, tables_end, elems, elems_end, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
 
     /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
      * by the same bytes, see lib/src/controller.c). */
@@ -1273,6 +1306,19 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
             m.n_func_imports++;
         }
     }
+
+    /* The table and the element segments, their function indices against
+     * the imported and defined functions. */
+    uint32_t n_defined = 0;
+    if (m.funcs != NULL) {
+        cursor_t fc = { m.funcs, m.funcs_end, 0 };
+        n_defined = rd_u32(&fc);
+        if (n_defined > SCAN_MAX_FUNCS)
+            n_defined = SCAN_MAX_FUNCS; /* refused by check_code() */
+    }
+    if (check_tables(tables, tables_end, elems, elems_end, m.n_func_imports + n_defined, err,
+                     errlen) != ROZ_OK)
+        return ROZ_EINVAL;
 
     /* Pass 3: types, globals, memory, data, function bodies. */
     if (check_code(v, &m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)
