@@ -15,7 +15,15 @@
 typedef struct {
     const uint8_t *p, *end;
     int            bad; /* set on any read past the end or malformed LEB */
+    int            leb; /* ... and this too when it was a malformed LEB */
 } cursor_t;
+
+/* A LEB128 longer than its type allows, or with bits past its width. */
+static void bad_leb(cursor_t *c)
+{
+    c->bad = 1;
+    c->leb = 1;
+}
 
 static uint8_t rd_byte(cursor_t *c)
 {
@@ -39,7 +47,7 @@ static uint32_t rd_u32(cursor_t *c)
         if ((b & 0x80) == 0)
             return v;
     }
-    c->bad = 1;
+    bad_leb(c);
     return 0;
 }
 
@@ -182,7 +190,7 @@ typedef struct {
 /* Writes the signature of type `idx` as "ret(args)" (roz/abi.h notation). */
 static int type_signature(const module_t *m, uint32_t idx, char *out, size_t outlen)
 {
-    cursor_t c = { m->types, m->types_end, 0 };
+    cursor_t c = { m->types, m->types_end, 0, 0 };
     if (m->types == NULL || idx >= m->n_types)
         return ROZ_EINVAL;
     (void)rd_u32(&c); /* count */
@@ -249,7 +257,7 @@ static const char *wasm_notation(const char *sig, char *out, size_t outlen)
 /* The type index of function `fidx` (imports first, then the function section). */
 static int func_type(const module_t *m, uint32_t fidx, uint32_t *type_idx)
 {
-    cursor_t c = { m->funcs, m->funcs_end, 0 };
+    cursor_t c = { m->funcs, m->funcs_end, 0, 0 };
     if (m->funcs == NULL || fidx < m->n_func_imports)
         return ROZ_EINVAL;
     uint32_t n = rd_u32(&c), want = fidx - m->n_func_imports;
@@ -294,7 +302,7 @@ static int32_t rd_s32(cursor_t *c)
             return (int32_t)v;
         }
     }
-    c->bad = 1;
+    bad_leb(c);
     return 0;
 }
 
@@ -340,7 +348,7 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
     int have_table = 0;
 
     if (tables != NULL) {
-        cursor_t tc = { tables, tables_end, 0 };
+        cursor_t tc = { tables, tables_end, 0, 0 };
         uint32_t n = rd_u32(&tc);
         if (n > 1 && !tc.bad)
             FAIL("%u tables; a controller may have one", (unsigned)n);
@@ -362,7 +370,7 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
     /* WebAssembly 1.0, 5.5.12: a vector of segments (table 0, an offset that
      * is one i32 constant then end, a vector of function indices), and
      * nothing after the last: the rest of the section is never skipped */
-    cursor_t ec = { elems, elems_end, 0 };
+    cursor_t ec = { elems, elems_end, 0, 0 };
     uint32_t n = rd_u32(&ec);
     for (uint32_t i = 0; i < n && !ec.bad; i++) {
         uint32_t form = rd_u32(&ec);
@@ -499,7 +507,7 @@ static void skip_s64(cursor_t *c)
         if ((b & 0x80) == 0)
             return;
     }
-    c->bad = 1;
+    bad_leb(c);
 }
 
 static const char *type_name(uint8_t t)
@@ -614,7 +622,7 @@ static void type_sig(const vctx_t *v, uint32_t type, uint8_t *params, uint32_t *
                      uint8_t *result)
 {
     /* the type section was checked whole before any body */
-    cursor_t c = { v->types + v->type_at[type], v->types_end, 0 };
+    cursor_t c = { v->types + v->type_at[type], v->types_end, 0, 0 };
     (void)rd_byte(&c);
     *np = rd_u32(&c);
     for (uint32_t i = 0; i < *np; i++)
@@ -821,7 +829,9 @@ static int check_body(vctx_t *v, cursor_t *c)
                 t = rd_byte(c);
                 if (c->bad)
                     break;
-                if (!v->has_table || t != 0)
+                if (t != 0) /* 1.0: the byte 0x00, not a LEB128 (0x80 0x00 is not it) */
+                    return bad_body(v, "call_indirect's reserved byte is not 0x00", NULL, NULL);
+                if (!v->has_table)
                     return bad_body(v, "call_indirect without a table", NULL, NULL);
                 if (idx >= v->n_types)
                     return bad_body(v, "call_indirect of a type that does not exist", NULL, NULL);
@@ -862,7 +872,14 @@ static int check_body(vctx_t *v, cursor_t *c)
                 rc = op == 0x23 ? push(v, v->global_type[idx]) : pop(v, v->global_type[idx], NULL);
                 break;
             case 0x3f: case 0x40: /* memory.size, memory.grow */
-                if (rd_byte(c) != 0 || !v->has_memory)
+                t = rd_byte(c);
+                if (c->bad)
+                    break;
+                if (t != 0)
+                    return bad_body(v, op == 0x3f ? "memory.size's reserved byte is not 0x00"
+                                                  : "memory.grow's reserved byte is not 0x00",
+                                    NULL, NULL);
+                if (!v->has_memory)
                     return bad_body(v, "memory.size or memory.grow without a memory", NULL, NULL);
                 rc = apply(v, op == 0x3f ? ":i" : "i:i");
                 break;
@@ -900,6 +917,9 @@ static int check_body(vctx_t *v, cursor_t *c)
         if (rc != ROZ_OK)
             return ROZ_EINVAL;
     }
+    if (c->leb)
+        return bad_body(v, "a malformed LEB128 immediate (longer than its type allows, or bits "
+                           "past its width)", NULL, NULL);
     return bad_body(v, "the body runs past its end", NULL, NULL);
 }
 
@@ -923,7 +943,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     v->types_end = sec_end[1];
     v->n_types = m->n_types;
     if (sec[1] != NULL) {
-        cursor_t c = { sec[1], sec_end[1], 0 };
+        cursor_t c = { sec[1], sec_end[1], 0, 0 };
         (void)rd_u32(&c);
         for (uint32_t t = 0; t < v->n_types && !c.bad; t++) {
             v->type_at[t] = (uint32_t)(c.p - sec[1]);
@@ -949,7 +969,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     }
     /* functions: the imported ones, then the function section */
     if (imports != NULL) {
-        cursor_t c = { imports, imports_end, 0 };
+        cursor_t c = { imports, imports_end, 0, 0 };
         n = rd_u32(&c);
         for (uint32_t i = 0; i < n && !c.bad; i++) {
             skip(&c, rd_u32(&c));
@@ -965,7 +985,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         if (c.bad || c.p != c.end)
             FAIL("malformed import section");
     }
-    cursor_t fc = { m->funcs, m->funcs_end, 0 };
+    cursor_t fc = { m->funcs, m->funcs_end, 0, 0 };
     uint32_t n_defined = m->funcs != NULL ? rd_u32(&fc) : 0;
     for (uint32_t i = 0; i < n_defined && !fc.bad; i++) {
         uint32_t type = rd_u32(&fc);
@@ -982,7 +1002,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         FAIL("malformed function section");
     /* globals: a value type, mutability and one constant of that type */
     if (sec[6] != NULL) {
-        cursor_t c = { sec[6], sec_end[6], 0 };
+        cursor_t c = { sec[6], sec_end[6], 0, 0 };
         v->n_globals = rd_u32(&c);
         if (!c.bad && v->n_globals > SCAN_MAX_GLOBALS)
             FAIL("%u globals, more than %u (ROZ_CFG_WASM_MAX_GLOBALS)", (unsigned)v->n_globals,
@@ -1000,11 +1020,11 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
             FAIL("malformed global section");
     }
     if (sec[4] != NULL) {
-        cursor_t c = { sec[4], sec_end[4], 0 };
+        cursor_t c = { sec[4], sec_end[4], 0, 0 };
         v->has_table = rd_u32(&c) == 1;
     }
     if (sec[5] != NULL) {
-        cursor_t c = { sec[5], sec_end[5], 0 };
+        cursor_t c = { sec[5], sec_end[5], 0, 0 };
         n = rd_u32(&c);
         if (n > 1)
             FAIL("%u memories; a controller may have one", (unsigned)n);
@@ -1024,7 +1044,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     }
     /* data: memory 0, an i32.const offset, bytes within the section */
     if (sec[11] != NULL) {
-        cursor_t c = { sec[11], sec_end[11], 0 };
+        cursor_t c = { sec[11], sec_end[11], 0, 0 };
         n = rd_u32(&c);
         if (n > 0 && !v->has_memory)
             FAIL("data segments without a memory");
@@ -1043,7 +1063,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
                  (unsigned)n);
     }
     /* code: one valid body per defined function */
-    cursor_t cc = { sec[10], sec_end[10], 0 };
+    cursor_t cc = { sec[10], sec_end[10], 0, 0 };
     n = sec[10] != NULL ? rd_u32(&cc) : 0;
     if (cc.bad || n != n_defined)
         FAIL("%u function bodies for %u functions", (unsigned)n, (unsigned)n_defined);
@@ -1051,7 +1071,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         uint32_t size = rd_u32(&cc);
         if (cc.bad || (size_t)(cc.end - cc.p) < size)
             FAIL("malformed code section");
-        cursor_t body = { cc.p, cc.p + size, 0 };
+        cursor_t body = { cc.p, cc.p + size, 0, 0 };
         v->f = m->n_func_imports + i;
         v->at = 0;
         if (check_body(v, &body) != ROZ_OK)
@@ -1062,7 +1082,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         FAIL("malformed code section");
     /* exports: of things that exist (process itself is checked below) */
     if (sec[7] != NULL) {
-        cursor_t c = { sec[7], sec_end[7], 0 };
+        cursor_t c = { sec[7], sec_end[7], 0, 0 };
         n = rd_u32(&c);
         for (uint32_t e = 0; e < n && !c.bad; e++) {
             skip(&c, rd_u32(&c));
@@ -1091,7 +1111,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
 
 static name_t export_name(const uint8_t *sec, const uint8_t *end, const export_ref_t *r)
 {
-    cursor_t c = { sec + r->at, end, 0 };
+    cursor_t c = { sec + r->at, end, 0, 0 };
     return rd_name(&c);
 }
 
@@ -1134,7 +1154,7 @@ static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const
     char shown[48], sig[40];
 
     if (sec != NULL) {
-        cursor_t c = { sec, end, 0 };
+        cursor_t c = { sec, end, 0, 0 };
         n = rd_u32(&c);
         if (n > SCAN_MAX_EXPORTS)
             FAIL("%u exports, more than %u (ROZ_CFG_WASM_MAX_EXPORTS)", (unsigned)n,
@@ -1213,7 +1233,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
         FAIL("not a WebAssembly 1.0 binary (bad magic or version)");
 
     /* Pass 1: find the sections. */
-    cursor_t c = { wasm + sizeof magic, wasm + len, 0 };
+    cursor_t c = { wasm + sizeof magic, wasm + len, 0, 0 };
     while (c.p < c.end) {
         uint8_t id = rd_byte(&c);
         uint32_t size = rd_u32(&c);
@@ -1235,7 +1255,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
         case 9: elems = body; elems_end = body + size; break;
         case 0: { /* custom: a well-formed name; the content never reaches wasm3
                    (roz.manifest's is read below) */
-            cursor_t cc = { body, body + size, 0 };
+            cursor_t cc = { body, body + size, 0, 0 };
             char shown[48];
             const char *why;
             name_t nm = rd_name(&cc);
@@ -1257,7 +1277,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     if (roz_identity_read(wasm, len, &identity, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
     if (m.types != NULL) {
-        cursor_t t = { m.types, m.types_end, 0 };
+        cursor_t t = { m.types, m.types_end, 0, 0 };
         m.n_types = rd_u32(&t);
     }
     if (has_start)
@@ -1266,7 +1286,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
      * by the same bytes, see lib/src/controller.c). */
     if (imports != NULL) {
-        cursor_t ic = { imports, imports_end, 0 };
+        cursor_t ic = { imports, imports_end, 0, 0 };
         uint32_t n = rd_u32(&ic);
         for (uint32_t i = 0; i < n; i++) {
             char mod[48], name[48], sig[40];
@@ -1311,7 +1331,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
      * the imported and defined functions. */
     uint32_t n_defined = 0;
     if (m.funcs != NULL) {
-        cursor_t fc = { m.funcs, m.funcs_end, 0 };
+        cursor_t fc = { m.funcs, m.funcs_end, 0, 0 };
         n_defined = rd_u32(&fc);
         if (n_defined > SCAN_MAX_FUNCS)
             n_defined = SCAN_MAX_FUNCS; /* refused by check_code() */

@@ -49,8 +49,8 @@ static void put_section(buf_t *w, uint8_t id, const uint8_t *body, size_t n)
 
 /* What a case puts in the optional sections (NULL: none). */
 typedef struct {
-    const uint8_t *table, *global, *elem, *data;
-    size_t         table_n, global_n, elem_n, data_n;
+    const uint8_t *table, *global, *elem, *data, *code;
+    size_t         table_n, global_n, elem_n, data_n, code_n;
     int            memory;
 } spec_t;
 
@@ -79,7 +79,9 @@ static const uint8_t *build(const spec_t *s, size_t *len)
     SEC(&mod, 7, 1, 7, 'p', 'r', 'o', 'c', 'e', 's', 's', 0, 1);
     if (s->elem != NULL)
         put_section(&mod, 9, s->elem, s->elem_n);
-    if (s->table != NULL) /* process calls entry 0 of the table */
+    if (s->code != NULL)
+        put_section(&mod, 10, s->code, s->code_n);
+    else if (s->table != NULL) /* process calls entry 0 of the table */
         SEC(&mod, 10, 2, 2, 0, 0x0b, 7, 0, 0x41, 0, 0x11, 0, 0, 0x0b);
     else
         SEC(&mod, 10, 2, 2, 0, 0x0b, 2, 0, 0x0b);
@@ -226,6 +228,35 @@ static void test_sections_globals(void **st)
     refused(&cut, "global 0: its initialiser is cut short");
 }
 
+/* ---- what a refusal says ----------------------------------------------------- */
+
+/* The code section: $nop, then process's body (its size first). */
+#define CODE(size, ...) PART(code, 2, 2, 0, 0x0b, size, 0, __VA_ARGS__)
+
+static void test_sections_messages(void **st)
+{
+    (void)st;
+    /* call_indirect's reserved byte as the LEB128 "0x80 0x00": the module
+     * has a table, the byte is what is wrong */
+    spec_t ind = { TABLE1, CODE(8, 0x41, 0, 0x11, 0, 0x80, 0, 0x0b) };
+    refused(&ind, "function 1, offset 3: call_indirect's reserved byte is not 0x00");
+    spec_t notab = { CODE(7, 0x41, 0, 0x11, 0, 0, 0x0b) };
+    refused(&notab, "call_indirect without a table");
+    /* memory.size with reserved byte 1, with a memory */
+    spec_t msz = { .memory = 1, CODE(5, 0x3f, 1, 0x1a, 0x0b) };
+    refused(&msz, "function 1, offset 1: memory.size's reserved byte is not 0x00");
+    spec_t nomem = { CODE(5, 0x3f, 0, 0x1a, 0x0b) };
+    refused(&nomem, "memory.size or memory.grow without a memory");
+    /* a junk bit in the last byte of a LEB128: i32.const's (signed) and
+     * local.get's (unsigned); a body that really ends early says so */
+    spec_t sleb = { CODE(9, 0x41, 0x80, 0x80, 0x80, 0x80, 0x70, 0x1a, 0x0b) };
+    refused(&sleb, "function 1, offset 1: a malformed LEB128 immediate");
+    spec_t uleb = { CODE(9, 0x20, 0x80, 0x80, 0x80, 0x80, 0x10, 0x1a, 0x0b) };
+    refused(&uleb, "function 1, offset 1: a malformed LEB128 immediate");
+    spec_t cut = { CODE(2, 0x41) };
+    refused(&cut, "the body runs past its end");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -239,6 +270,7 @@ int main(void)
                                         teardown),
         cmocka_unit_test_setup_teardown(test_sections_data, setup, teardown),
         cmocka_unit_test_setup_teardown(test_sections_globals, setup, teardown),
+        cmocka_unit_test_setup_teardown(test_sections_messages, setup, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
