@@ -465,6 +465,7 @@ typedef struct {
     uint8_t  global_type[SCAN_MAX_GLOBALS];
     uint8_t  global_mut[SCAN_MAX_GLOBALS];
     int      has_memory, has_table;
+    uint64_t compile_work;                   /* the engine's, so far (roz/config.h) */
     union {
         struct { /* the function being checked */
             uint32_t f, at;
@@ -702,6 +703,25 @@ static int check_body(vctx_t *v, cursor_t *c)
         uint8_t op = rd_byte(c);
         const char *sig = numeric_sig(op);
         int rc = ROZ_OK;
+        /* wasm3's compile work (ROZ_CFG_WASM_MAX_COMPILE_WORK): a step per
+         * instruction; at a block, loop or if entered with values on the
+         * stack it compares every local with them (PreserveArgsAndLocals),
+         * at a local.set or tee every value with the local */
+        v->compile_work += 1u;
+        if (op >= 0x02 && op <= 0x04)
+            v->compile_work += (uint64_t)v->n_locals * v->height;
+        else if (op == 0x21 || op == 0x22)
+            v->compile_work += v->height;
+        if (v->compile_work > ROZ_CFG_WASM_MAX_COMPILE_WORK) {
+            roz_format(v->err, v->errlen,
+                       "function %u, offset %u: compile work past "
+                       "ROZ_CFG_WASM_MAX_COMPILE_WORK (%llu): %u locals, %u values on the "
+                       "stack (docs/load-bound.md)",
+                       (unsigned)v->f, (unsigned)v->at,
+                       (unsigned long long)ROZ_CFG_WASM_MAX_COMPILE_WORK,
+                       (unsigned)v->n_locals, (unsigned)v->height);
+            return ROZ_EINVAL;
+        }
         if (sig != NULL) {
             rc = apply(v, sig);
         } else if (op >= 0x28 && op <= 0x3e) {
@@ -1282,12 +1302,20 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     }
     if (has_start)
         FAIL("the module has a start function; a controller must do its set-up in process()");
+    /* The counts the import pass walks are bounded before it walks them:
+     * each import's type is looked up in the type section (docs/load-bound.md) */
+    if (m.n_types > SCAN_MAX_TYPES)
+        FAIL("%u function types, more than %u (ROZ_CFG_WASM_MAX_TYPES)", (unsigned)m.n_types,
+             (unsigned)SCAN_MAX_TYPES);
 
     /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
      * by the same bytes, see lib/src/controller.c). */
     if (imports != NULL) {
         cursor_t ic = { imports, imports_end, 0, 0 };
         uint32_t n = rd_u32(&ic);
+        if (!ic.bad && n > roz_abi_import_count)
+            FAIL("%u imports, more than the %u functions of the roz ABI", (unsigned)n,
+                 (unsigned)roz_abi_import_count);
         for (uint32_t i = 0; i < n; i++) {
             char mod[48], name[48], sig[40];
             const char *why;
