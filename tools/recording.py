@@ -20,6 +20,7 @@ C reader's ROZ_MCAP_MAX_RECORD): a file claiming more is refused, naming the
 offset, before anything is allocated for it (docs/recording-format.md).
 """
 import argparse
+import datetime
 import importlib.util
 import math
 import pathlib
@@ -238,7 +239,10 @@ def main(argv=None):
     try:
         if a.cmd == "check":
             run, ticks, counts = read(a.mcap)
-            print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks, "
+            start = getattr(run, "start_time_ns", 0)  # absent in older files
+            when = (datetime.datetime.fromtimestamp(start / 1e9, datetime.timezone.utc)
+                    .isoformat(timespec="seconds") if start else "no wall-clock start")
+            print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks from {when}, "
                   + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
         elif a.cmd == "csv":
             write_csv(*table(*read(a.mcap)[:2]), a.csv)

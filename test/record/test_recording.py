@@ -358,6 +358,14 @@ def test_compressed_chunks(tmp_path):
     assert z.stat().st_size * 2 < n.stat().st_size
     p = rozrun("--replay", z, "--controller", CTL / "g1_pd.wasm")
     assert "result                 identical" in p.stdout
+    # a flipped byte inside the first compressed chunk: refused at its offset
+    data = bytearray(z.read_bytes())
+    chunk_at = 8 + 9 + struct.unpack_from("<Q", data, 9)[0]
+    data[chunk_at + 500] ^= 0x10
+    bad = tmp_path / "z_bad.mcap"
+    bad.write_bytes(bytes(data))
+    p = rozrun("--replay", bad, "--controller", CTL / "g1_pd.wasm", ok=(2,))
+    assert f"at offset {chunk_at}: " in p.stderr, p.stderr
     p = rozrun("--robot", "ur5", "--controller", CTL / "sine.wasm", "--record", "x.mcap",
                "--record-compress", "lz4", ok=(2,))
     assert '--record-compress "lz4": zstd or none' in p.stderr

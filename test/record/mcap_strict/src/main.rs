@@ -107,6 +107,11 @@ impl File {
                     return Err(format!("chunk at offset {offset}: {} bytes of records, its \
                                         header says {}", records.len(), header.uncompressed_size));
                 }
+                let crc = crc32fast::hash(&records);
+                if header.uncompressed_crc != 0 && crc != header.uncompressed_crc {
+                    return Err(format!("chunk at offset {offset}: CRC {crc:08x}, its header \
+                                        says {:08x}", header.uncompressed_crc));
+                }
                 let mut messages = Vec::new();
                 let mut at = 0usize;
                 while at < records.len() {
@@ -183,10 +188,11 @@ fn scan(buf: &[u8], cut: bool) -> Res<File> {
     while let Some(ev) = r.next_event() {
         match ev {
             Err(e) => {
-                if cut {
-                    break; // the cut: what came before it is checked below
+                // a file cut short ends inside a record: only that is taken
+                if cut && matches!(e, mcap::McapError::UnexpectedEof) {
+                    break; // what came before the cut is checked below
                 }
-                return Err(format!("at offset {next}: {e}"));
+                return Err(format!("at offset {next}: {e} ({e:?})"));
             }
             Ok(LinearReadEvent::ReadRequest(need)) => {
                 let n = need.min(rest.len());
