@@ -387,7 +387,8 @@ int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
     if (w->error[0] != '\0')
         return ROZ_EIO;
     /* a chunk no reader refuses: its records stay within ROZ_MCAP_MAX_RECORD */
-    if (len > ROZ_MCAP_MAX_RECORD - 64u - w->chunk_len)
+    if (w->chunk_len + 64u > ROZ_MCAP_MAX_RECORD ||
+        len > ROZ_MCAP_MAX_RECORD - 64u - w->chunk_len)
         return ROZ_ENOSPC;
     /* the message index: (log time, offset in the chunk's records) */
     if (w->index_len[channel] + 2u > w->index_cap[channel]) {
