@@ -323,7 +323,9 @@ def test_log_times_from_the_wall_clock(tmp_path):
     assert min(m.log_time for _, _, m in msgs) == run.start_time_ns
     assert max(m.log_time for _, _, m in msgs) == run.start_time_ns + 49 * 10_000_000
     new = tmp_path / "replayed.mcap"
-    rozrun("--replay", path, "--controller", CTL / "hold.wasm", "--record", new)
+    p = rozrun("--replay", path, "--controller", CTL / "hold.wasm", "--record", new)
+    when = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(run.start_time_ns // 10**9))
+    assert f"  recorded at            {when}\n" in p.stdout
     assert recording.read(new)[0].start_time_ns == run.start_time_ns
 
 

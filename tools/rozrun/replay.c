@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
@@ -306,6 +307,13 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
     printf("  recording              %s (%s, %u Hz, %u commands, %u states)\n", o->recording,
            m->robot_id, (unsigned)m->control_rate_hz, (unsigned)m->n_commands,
            (unsigned)m->n_states);
+    /* the log times are this plus simulated time (docs/recording-format.md) */
+    time_t start = (time_t)(run->start_time_ns / 1000000000u);
+    const struct tm *utc = run->start_time_ns != 0 ? gmtime(&start) : NULL;
+    char when[32] = "unknown (an older file)";
+    if (utc != NULL)
+        strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", utc);
+    printf("  recorded at            %s\n", when);
     printf("  controller             %s (hash %016llx): %s\n", o->controller,
            (unsigned long long)hash,
            same == 1   ? "the recorded one"
