@@ -13,8 +13,14 @@ events; the plots are tools/plot_trace.py's. `check` reads every record with
 the `mcap` readers, chunk and data-section CRCs checked, decodes every
 message with mcap-ros2-support, checks the counts against the summary and
 prints them; any problem exits non-zero.
+
+Before the `mcap` readers see a file, every top-level record's length, and
+every chunk's uncompressed size, is checked against MAX_RECORD (16 MiB, the
+C reader's ROZ_MCAP_MAX_RECORD): a file claiming more is refused, naming the
+offset, before anything is allocated for it (docs/recording-format.md).
 """
 import argparse
+import datetime
 import importlib.util
 import math
 import pathlib
@@ -40,14 +46,47 @@ FAULT_NAMES = ["trap", "overrun", "stale-state", "e-stop", "controller-e-stop-re
                "port-link", "robot-fault"]
 
 
+# the largest record, and chunk once decompressed, read (roz/mcap.h)
+MAX_RECORD = 16 * 1024 * 1024
+MAGIC = b"\x89MCAP0\r\n"
+
+
 class RecordingError(Exception):
     pass
+
+
+def check_limits(path):
+    """Every top-level record's length and every chunk's uncompressed size
+    against MAX_RECORD, reading only record headers."""
+    with open(path, "rb") as f:
+        size = f.seek(0, 2)
+        f.seek(0)
+        if f.read(8) != MAGIC:
+            raise RecordingError(f"{path}: at offset 0: not an MCAP file (no MCAP magic)")
+        at = 8
+        while size - at >= 9:
+            f.seek(at)
+            head = f.read(9 + 24)
+            op, n = head[0], int.from_bytes(head[1:9], "little")
+            if n > MAX_RECORD:
+                raise RecordingError(f"{path}: at offset {at}: a record (opcode 0x{op:02x}) of {n} "
+                                     f"bytes, past this reader's limit of {MAX_RECORD} bytes")
+            if op == 0x06 and len(head) >= 33:
+                usize = int.from_bytes(head[25:33], "little")
+                if usize > MAX_RECORD:
+                    raise RecordingError(f"{path}: at offset {at}: a chunk of {usize} bytes "
+                                         f"uncompressed, past this reader's limit of "
+                                         f"{MAX_RECORD} bytes")
+            if op == 0x02:
+                break
+            at += 9 + n
 
 
 def read(path):
     """The run's account and its ticks: (run, ticks, counts), ticks a list of
     dicts with tick, time_s, target, applied, state, faults, flags, message."""
     run, ticks, counts, by_time = None, [], {}, {}
+    check_limits(path)
     with open(path, "rb") as f:
         reader = make_reader(f, decoder_factories=[DecoderFactory()], validate_crcs=True)
         summary = reader.get_summary()
@@ -96,15 +135,30 @@ def read(path):
 
 
 def _check_summary_crc(path):
-    """The footer's summary CRC, which the readers do not check."""
-    data = pathlib.Path(path).read_bytes()
-    footer = data[-8 - 29:-8]
-    if footer[0] != 0x02:
-        raise RecordingError(f"{path}: no footer record before the trailing magic")
-    summary_start = int.from_bytes(footer[9:17], "little")
-    crc = int.from_bytes(footer[25:29], "little")
-    if summary_start and crc and zlib.crc32(data[summary_start:len(data) - 8 - 4]) != crc:
-        raise RecordingError(f"{path}: summary CRC mismatch")
+    """The footer's summary CRC, which the readers do not check (the
+    summary read in pieces: a file may be large)."""
+    with open(path, "rb") as f:
+        size = f.seek(0, 2)
+        f.seek(size - 8 - 29)
+        footer = f.read(29)
+        # 20 bytes; roz's files before it said 16 for the same 20 (its CRC too)
+        if footer[0] != 0x02 or int.from_bytes(footer[1:9], "little") not in (16, 20):
+            raise RecordingError(f"{path}: no footer record before the trailing magic")
+        summary_start = int.from_bytes(footer[9:17], "little")
+        crc = int.from_bytes(footer[25:29], "little")
+        if not summary_start or not crc:
+            return
+        if summary_start > size - 8 - 4:
+            raise RecordingError(f"{path}: the footer's summary start {summary_start} is past "
+                                 "the footer")
+        f.seek(summary_start)
+        left, got = size - 8 - 4 - summary_start, 0
+        while left > 0:
+            piece = f.read(min(left, 1 << 20))
+            got = zlib.crc32(piece, got)
+            left -= len(piece)
+        if got != crc:
+            raise RecordingError(f"{path}: summary CRC mismatch")
 
 
 def events(prev, t):
@@ -185,7 +239,10 @@ def main(argv=None):
     try:
         if a.cmd == "check":
             run, ticks, counts = read(a.mcap)
-            print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks, "
+            start = getattr(run, "start_time_ns", 0)  # absent in older files
+            when = (datetime.datetime.fromtimestamp(start / 1e9, datetime.timezone.utc)
+                    .isoformat(timespec="seconds") if start else "no wall-clock start")
+            print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks from {when}, "
                   + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
         elif a.cmd == "csv":
             write_csv(*table(*read(a.mcap)[:2]), a.csv)
@@ -200,7 +257,7 @@ def main(argv=None):
             plot_trace.plot(runs, a.png, a.title)
     except RecordingError as e:
         sys.exit(f"recording: {e}")
-    except (McapError, EOFError, ValueError) as e:
+    except (McapError, EOFError, ValueError, MemoryError) as e:
         sys.exit(f"recording: {getattr(a, 'mcap', None) or a.a}: cannot be read: {e}")
 
 

@@ -13,7 +13,9 @@
 #      hash-checked) in .cache/wheels, which `cmake --install` installs beside
 #      rozgen without a network,
 #   5. the runner of toml-test, the official TOML test suite (a Go program),
-#      built into .cache/go/bin from the module pinned in tools/toml-test/.
+#      built into .cache/go/bin from the module pinned in tools/toml-test/,
+#   6. the crates of the strict MCAP checker (test/record/mcap_strict),
+#      pinned by its Cargo.lock, fetched so the build compiles it offline.
 # Run from anywhere; a second run changes nothing and takes a second or two.
 set -euo pipefail
 
@@ -29,12 +31,13 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # test that roz's public headers compile as C++, iproute2 the loopback of the
 # DDS tests' network namespace (test/run_netns.sh); gcc-arm-none-eabi with
 # newlib (newlib-nano) cross-builds the Cortex-M firmware images and
-# qemu-system-arm boots them (test/firmware/, make firmware). Without
+# qemu-system-arm boots them (test/firmware/, make firmware); libzstd-dev
+# compresses recordings' chunks (host/record/). Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt
-    libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2
+    libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
 )
@@ -150,6 +153,27 @@ if [ ! -x "$toml_test" ] || [ "$(cat "$toml_test_stamp" 2>/dev/null)" != "$toml_
             "$go_bin" install github.com/toml-lang/toml-test/cmd/toml-test) ||
             die "building toml-test failed (see above)"
         echo "$toml_test_want" > "$toml_test_stamp"
+    fi
+fi
+# ---- 6. the strict MCAP checker's crates ----------------------------------------
+# Every recording the tests write is read by the mcap crate's strict reader
+# (test/record/mcap_strict). Its crates come from crates.io, pinned by its
+# Cargo.lock; fetched here (cargo's own cache), the test build compiles them
+# with --offline. Without cargo those checks are skipped.
+strict=test/record/mcap_strict
+strict_stamp=.cache/.mcap-strict-fetched
+strict_want=$(sha256sum "$strict/Cargo.lock" | cut -d' ' -f1)
+if [ "$(cat "$strict_stamp" 2>/dev/null)" != "$strict_want" ]; then
+    cargo_bin=$(command -v cargo || echo "$HOME/.cargo/bin/cargo")
+    if [ ! -x "$cargo_bin" ]; then
+        say "warning: no cargo; the strict MCAP checks of the recording tests will be skipped." \
+            "Install Rust (rustup.rs, or Debian's cargo) and run this again."
+    else
+        say "fetching the strict MCAP checker's crates (cargo fetch --locked)"
+        (cd "$strict" && "$cargo_bin" fetch --locked -q) ||
+            die "cargo fetch failed for $strict (see above)"
+        mkdir -p .cache
+        echo "$strict_want" > "$strict_stamp"
     fi
 fi
 say "ready"

@@ -53,6 +53,10 @@ typedef struct {
     int         reps;  /* repetitions inside the loop body */
 } work_t;
 
+/* six f64 1e9 (0x41cdcd6500000000), little-endian, as a WAT string */
+#define F64_1E9  "\\00\\00\\00\\65\\cd\\cd\\cd\\41"
+#define CLAMPED6 F64_1E9 F64_1E9 F64_1E9 F64_1E9 F64_1E9 F64_1E9
+
 static const work_t works[] = {
     { "i32_arith", "i32.add/mul/xor on locals", "",
       "(local.set $a (i32.xor (i32.mul (i32.add (local.get $a) (i32.const 7)) (local.get $a)) "
@@ -85,12 +89,31 @@ static const work_t works[] = {
       "(type $t (func)) (func $nop) (table 1 funcref) (elem (i32.const 0) $nop)",
       "(call_indirect (type $t) (i32.const 0))", 16 },
     { "host_sin", "host calls: math.sin", "", "(local.set $f (call $sin (local.get $f)))", 16 },
+    { "host_sin_large", "host calls: math.sin of 1e22 (range reduction)", "",
+      "(local.set $f (call $sin (f64.add (local.get $f) (f64.const 1e22))))", 16 },
+    { "host_cos", "host calls: math.cos", "", "(local.set $f (call $cos (local.get $f)))", 16 },
+    { "host_cos_large", "host calls: math.cos of -3e300 (range reduction)", "",
+      "(local.set $f (call $cos (f64.sub (local.get $f) (f64.const 3e300))))", 16 },
+    { "host_count", "host calls: command.count, state.count", "",
+      "(local.set $a (i32.add (call $ccount) (call $scount)))", 16 },
+    { "host_limits", "host calls: command.limit_min, limit_max", "",
+      "(local.set $f (f64.add (call $lmin (i32.const 1)) (call $lmax (i32.const 1))))", 16 },
+    { "host_now", "host calls: timing.now_ns", "", "(local.set $x (call $now))", 16 },
+    { "host_sim_time", "host calls: timing.sim_time_ns", "", "(local.set $x (call $sim))", 16 },
+    { "host_metric", "host calls: telemetry.emit_metric", "", "(call $metric (local.get $f))",
+      16 },
+    { "host_estop", "host calls: safety.request_estop", "", "(call $estop)", 16 },
+    { "host_set_clamped", "host calls: command.set, clamped", "",
+      "(drop (call $set (i32.const 0) (f64.const 1e9)))", 16 },
     { "host_set", "host calls: command.set",
       "", "(drop (call $set (i32.const 0) (local.get $f)))", 16 },
     { "host_get", "host calls: state.get", "", "(local.set $f (call $get (i32.const 0)))", 16 },
     { "host_get_all", "host calls: state.get_all of 12 values", "(memory 1)",
       "(drop (call $get_all (i32.const 64) (i32.const 12)))", 16 },
     { "host_set_all", "host calls: command.set_all of 6 values", "(memory 1)",
+      "(drop (call $set_all (i32.const 64) (i32.const 6)))", 16 },
+    { "host_set_all_clamped", "host calls: command.set_all of 6 values, all clamped",
+      "(memory 1) (data (i32.const 64) \"" CLAMPED6 "\")",
       "(drop (call $set_all (i32.const 64) (i32.const 6)))", 16 },
     { "memory_fill", "memory.fill of 1 MiB", "(memory 16)",
       "(memory.fill (i32.const 0) (local.get $a) (i32.const 1048576))", 1 },
@@ -123,6 +146,15 @@ static void module_text(const work_t *w)
                          " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))\n"
                          " (import \"state\" \"get\" (func $get (param i32) (result f64)))\n"
                          " (import \"math\" \"sin\" (func $sin (param f64) (result f64)))\n"
+                         " (import \"math\" \"cos\" (func $cos (param f64) (result f64)))\n"
+                         " (import \"command\" \"count\" (func $ccount (result i32)))\n"
+                         " (import \"state\" \"count\" (func $scount (result i32)))\n"
+                         " (import \"command\" \"limit_min\" (func $lmin (param i32) (result f64)))\n"
+                         " (import \"command\" \"limit_max\" (func $lmax (param i32) (result f64)))\n"
+                         " (import \"timing\" \"now_ns\" (func $now (result i64)))\n"
+                         " (import \"timing\" \"sim_time_ns\" (func $sim (result i64)))\n"
+                         " (import \"telemetry\" \"emit_metric\" (func $metric (param f64)))\n"
+                         " (import \"safety\" \"request_estop\" (func $estop))\n"
                          " (import \"state\" \"get_all\" (func $get_all (param i32 i32) (result i32)))\n"
                          " (import \"command\" \"set_all\" (func $set_all (param i32 i32) (result i32)))\n"
                          " %s\n"
@@ -216,6 +248,7 @@ static run_t run(const work_t *w, size_t len, uint64_t fuel, uint64_t deadline_n
     for (int i = 0; i < repeats; i++) {
         roz_controller_init(&ctl);
         roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+        roz_abi_set_clock(&abi, roz_clock_monotonic_ns, NULL, 0); /* now_ns as on a host */
         roz_abi_begin_tick(&abi, 0, state);
         if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK) {
             fprintf(stderr, "roz_bench_fuel: %s: %s\n", w->name, roz_controller_error(&ctl));

@@ -5,7 +5,8 @@
  * off, in the same run (two runtimes ticked alternately, so both see the
  * same machine load); the bytes a tick takes in the ring and in the MCAP
  * file; and how fast a drain empties the ring, into a sink that only counts
- * and into the MCAP file (CDR, chunking, stdio). A benchmark, not a test:
+ * and into the MCAP file (CDR, chunking, stdio), uncompressed and with zstd
+ * (the drain compresses, off the tick). A benchmark, not a test:
  * it never fails on a time.
  *
  *   roz_bench_record [TICKS] [DIR]   (the recordings are written in DIR)
@@ -78,9 +79,10 @@ static int count_sink(void *ctx, const roz_record_t *r)
     return 0;
 }
 
-static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const char *dir)
+static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const char *dir,
+                 int compression)
 {
-    char path[512], err[256];
+    char path[512], err[256], label[96];
     size_t len;
     uint64_t *t_off = malloc(ticks * sizeof *t_off), *t_on = malloc(ticks * sizeof *t_on);
     size_t bytes = RING_TICKS * roz_recorder_slot_bytes(m);
@@ -96,8 +98,12 @@ static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const c
     if (roz_recorder_init(&rec, m, ring, bytes, 1) != ROZ_OK ||
         setup(&rt_off, &lb_off, m, NULL, len) != 0 || setup(&rt_on, &lb_on, m, &rec, len) != 0)
         return -1;
-    snprintf(path, sizeof path, "%s/bench_record_%s.mcap", dir, m->robot_id);
-    if (roz_record_file_open(&file, path, &rt_on, &rec, ctl, err, sizeof err) != ROZ_OK) {
+    snprintf(label, sizeof label, "%s%s", m->robot_id,
+             compression == ROZ_MCAP_COMPRESS_ZSTD ? " (zstd)" : "");
+    snprintf(path, sizeof path, "%s/bench_record_%s%s.mcap", dir, m->robot_id,
+             compression == ROZ_MCAP_COMPRESS_ZSTD ? "_zstd" : "");
+    roz_record_file_options_t fo = { ctl, 0, compression };
+    if (roz_record_file_open(&file, path, &rt_on, &rec, &fo, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "bench: %s\n", err);
         return -1;
     }
@@ -153,29 +159,29 @@ static int bench(const roz_manifest_t *m, const char *ctl, size_t ticks, const c
         if (copy == NULL)
             return -1;
         memcpy(copy, t_off, ticks * sizeof copy[0]);
-        snprintf(name, sizeof name, "%s: whole tick, recorder off", m->robot_id);
+        snprintf(name, sizeof name, "%s: whole tick, recorder off", label);
         bench_json_timing(&json, name, bench_stats(copy, ticks));
         memcpy(copy, t_on, ticks * sizeof copy[0]);
-        snprintf(name, sizeof name, "%s: whole tick, recorder on", m->robot_id);
+        snprintf(name, sizeof name, "%s: whole tick, recorder on", label);
         bench_json_timing(&json, name, bench_stats(copy, ticks));
         free(copy);
-        snprintf(name, sizeof name, "%s: ring bytes per tick", m->robot_id);
+        snprintf(name, sizeof name, "%s: ring bytes per tick", label);
         bench_json_value(&json, name, (double)roz_recorder_slot_bytes(m), "bytes");
-        snprintf(name, sizeof name, "%s: MCAP bytes per tick", m->robot_id);
+        snprintf(name, sizeof name, "%s: MCAP bytes per tick", label);
         bench_json_value(&json, name, (double)size / (double)roz_record_file_ticks(&file),
                          "bytes");
-        snprintf(name, sizeof name, "%s: drain into the MCAP file", m->robot_id);
+        snprintf(name, sizeof name, "%s: drain into the MCAP file", label);
         bench_json_value(&json, name, drain_ns ? 1e9 * (double)drained / (double)drain_ns : 0.0,
                          "ticks/s");
-        snprintf(name, sizeof name, "%s: drain into a counting sink", m->robot_id);
+        snprintf(name, sizeof name, "%s: drain into a counting sink", label);
         bench_json_value(&json, name, sink_ns ? 1e9 * (double)counted / (double)sink_ns : 0.0,
                          "ticks/s");
-        snprintf(name, sizeof name, "%s: records dropped", m->robot_id);
+        snprintf(name, sizeof name, "%s: records dropped", label);
         bench_json_value(&json, name, (double)roz_recorder_dropped(&rec), "count");
     }
     double off50 = pct(t_off, ticks, 50), off99 = pct(t_off, ticks, 99);
     double on50 = pct(t_on, ticks, 50), on99 = pct(t_on, ticks, 99);
-    printf("%s, %u commands, %u states, %zu ticks, controller %s\n", m->robot_id,
+    printf("%s, %u commands, %u states, %zu ticks, controller %s\n", label,
            (unsigned)m->n_commands, (unsigned)m->n_states, ticks, ctl);
     printf("  whole tick, recorder off      p50 %7.2f us   p99 %7.2f us\n", off50, off99);
     printf("  whole tick, recorder on       p50 %7.2f us   p99 %7.2f us   (+%.2f us p50, "
@@ -208,9 +214,16 @@ int main(int argc, char **argv)
     if (ticks < DRAIN_EVERY)
         ticks = DRAIN_EVERY;
     printf("bench/record: the flight recorder on the loopback (figures, not a test)\n");
-    if (bench(&roz_manifest_ur5, "sine", ticks, dir) != 0 ||
-        bench(&roz_manifest_unitree_g1, "g1_pd", ticks, dir) != 0)
-        return 1;
+    /* uncompressed, then zstd when this build has it (the drain compresses:
+     * the tick only fills the ring) */
+    for (int z = 0; z < 2; z++) {
+        int c = z ? ROZ_MCAP_COMPRESS_ZSTD : ROZ_MCAP_COMPRESS_NONE;
+        if (!roz_mcap_compression_supported(c))
+            continue;
+        if (bench(&roz_manifest_ur5, "sine", ticks, dir, c) != 0 ||
+            bench(&roz_manifest_unitree_g1, "g1_pd", ticks, dir, c) != 0)
+            return 1;
+    }
     bench_json_close(&json);
     return 0;
 }

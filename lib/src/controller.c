@@ -145,13 +145,42 @@ static m3ApiRawFunction(h_state_count)
     m3ApiReturn(roz_abi_state_count(ABI));
 }
 
+/* Charges `units` against the running call's fuel, as the metering patch's
+ * op_roz_Charge does; a non-NULL result is the trap. */
+static M3Result charge(IM3Runtime rt, uint64_t units)
+{
+    if (rt->rozUnmetered)
+        return m3Err_none;
+    rt->rozFuel -= (int64_t)units;
+    return rt->rozFuel < 0 ? roz__wasm3_refuel(rt) : m3Err_none;
+}
+
+/* The imports whose work is more than a call's (d_m3RozCallUnits), charged
+ * on top before the work, so that a unit stays about the same time whatever
+ * the controller calls (bench/fuel, host_*): sin and cos run a polynomial
+ * after a Cody-Waite reduction, and below |x| = 2^24 that is about 40 units'
+ * worth; from 2^24 on the reduction multiplies the mantissa by 192 bits of
+ * 2/pi, about three times that (BENCHMARKS.md, bench/fuel has the figures). */
+#define MATH_UNITS       32u
+/* timing.now_ns reads the host's clock (a vDSO clock_gettime, ~30 ns here);
+ * charged the same with or without a clock: fuel never depends on the target */
+#define NOW_UNITS        48u
+#define MATH_LARGE_UNITS 96u /* more, for |x| >= 2^24 (and inf, NaN: cheap, rare) */
+
+static uint64_t math_units(double x)
+{
+    return (x < 0x1p24 && x > -0x1p24) ? MATH_UNITS : MATH_UNITS + MATH_LARGE_UNITS;
+}
+
 static m3ApiRawFunction(h_math_sin)
 {
     m3ApiReturnType(double);
     m3ApiGetArg(double, x);
-    (void)runtime;
     (void)_mem;
     (void)_ctx;
+    M3Result r = charge(runtime, math_units(x));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
     m3ApiReturn(roz_abi_math_sin(x));
 }
 
@@ -159,9 +188,11 @@ static m3ApiRawFunction(h_math_cos)
 {
     m3ApiReturnType(double);
     m3ApiGetArg(double, x);
-    (void)runtime;
     (void)_mem;
     (void)_ctx;
+    M3Result r = charge(runtime, math_units(x));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
     m3ApiReturn(roz_abi_math_cos(x));
 }
 
@@ -177,8 +208,10 @@ static m3ApiRawFunction(h_safety_request_estop)
 static m3ApiRawFunction(h_timing_now_ns)
 {
     m3ApiReturnType(int64_t);
-    (void)runtime;
     (void)_mem;
+    M3Result r = charge(runtime, NOW_UNITS);
+    if (r != m3Err_none)
+        m3ApiTrap(r);
     m3ApiReturn(roz_abi_timing_now_ns(ABI));
 }
 
@@ -205,16 +238,6 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
  * about what an instruction does (bench/fuel: host_get_all, host_set_all). */
 #define BULK_GET_UNITS_PER_VALUE 1u
 #define BULK_SET_UNITS_PER_VALUE 2u
-
-/* Charges `units` against the running call's fuel, as the metering patch's
- * op_roz_Charge does; a non-NULL result is the trap. */
-static M3Result charge(IM3Runtime rt, uint64_t units)
-{
-    if (rt->rozUnmetered)
-        return m3Err_none;
-    rt->rozFuel -= (int64_t)units;
-    return rt->rozFuel < 0 ? roz__wasm3_refuel(rt) : m3Err_none;
-}
 
 /* Units for `count` values: none for a count the ABI will refuse anyway. */
 static uint64_t bulk_units(int32_t count, uint32_t per_value)

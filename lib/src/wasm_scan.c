@@ -15,7 +15,15 @@
 typedef struct {
     const uint8_t *p, *end;
     int            bad; /* set on any read past the end or malformed LEB */
+    int            leb; /* ... and this too when it was a malformed LEB */
 } cursor_t;
+
+/* A LEB128 longer than its type allows, or with bits past its width. */
+static void bad_leb(cursor_t *c)
+{
+    c->bad = 1;
+    c->leb = 1;
+}
 
 static uint8_t rd_byte(cursor_t *c)
 {
@@ -39,7 +47,7 @@ static uint32_t rd_u32(cursor_t *c)
         if ((b & 0x80) == 0)
             return v;
     }
-    c->bad = 1;
+    bad_leb(c);
     return 0;
 }
 
@@ -182,7 +190,7 @@ typedef struct {
 /* Writes the signature of type `idx` as "ret(args)" (roz/abi.h notation). */
 static int type_signature(const module_t *m, uint32_t idx, char *out, size_t outlen)
 {
-    cursor_t c = { m->types, m->types_end, 0 };
+    cursor_t c = { m->types, m->types_end, 0, 0 };
     if (m->types == NULL || idx >= m->n_types)
         return ROZ_EINVAL;
     (void)rd_u32(&c); /* count */
@@ -249,7 +257,7 @@ static const char *wasm_notation(const char *sig, char *out, size_t outlen)
 /* The type index of function `fidx` (imports first, then the function section). */
 static int func_type(const module_t *m, uint32_t fidx, uint32_t *type_idx)
 {
-    cursor_t c = { m->funcs, m->funcs_end, 0 };
+    cursor_t c = { m->funcs, m->funcs_end, 0, 0 };
     if (m->funcs == NULL || fidx < m->n_func_imports)
         return ROZ_EINVAL;
     uint32_t n = rd_u32(&c), want = fidx - m->n_func_imports;
@@ -294,8 +302,38 @@ static int32_t rd_s32(cursor_t *c)
             return (int32_t)v;
         }
     }
-    c->bad = 1;
+    bad_leb(c);
     return 0;
+}
+
+/* A signed LEB128 of at most 64 bits, skipped (an i64.const immediate). */
+static void skip_s64(cursor_t *c);
+
+/* A constant expression (WebAssembly 1.0, 3.3.10): exactly one constant
+ * instruction of value type `type`, then end. `global.get` of an imported
+ * immutable global is one too, but a controller imports no globals. NULL
+ * when it is one, else what is wrong. */
+static const char *const_expr_problem(cursor_t *c, uint8_t type)
+{
+    static const uint8_t types[4] = { 0x7f, 0x7e, 0x7d, 0x7c }; /* i32 i64 f32 f64 */
+    uint8_t op = rd_byte(c);
+    switch (op) {
+    case 0x41: (void)rd_s32(c); break;
+    case 0x42: skip_s64(c); break;
+    case 0x43: skip(c, 4); break;
+    case 0x44: skip(c, 8); break;
+    case 0x23:
+        return "is a global.get, which needs an imported global (a controller imports none)";
+    default:
+        return c->bad ? "is cut short" : "is not a constant instruction";
+    }
+    if (c->bad)
+        return "is cut short";
+    if (rd_byte(c) != 0x0b)
+        return c->bad ? "is cut short" : "is more than one instruction (a constant, then end)";
+    if (types[op - 0x41] != type)
+        return "has a constant of another type";
+    return NULL;
 }
 
 /* Tables: wasm3 skips the table section and sizes its table from the
@@ -304,15 +342,17 @@ static int32_t rd_s32(cursor_t *c)
  * ROZ_CFG_WASM_MAX_TABLE_ENTRIES and require every segment (MVP form:
  * table 0, constant offset) to fit the declared table. */
 static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const uint8_t *elems,
-                        const uint8_t *elems_end, char *err, size_t errlen)
+                        const uint8_t *elems_end, uint32_t n_funcs, char *err, size_t errlen)
 {
     uint32_t size = 0;
+    int have_table = 0;
 
     if (tables != NULL) {
-        cursor_t tc = { tables, tables_end, 0 };
+        cursor_t tc = { tables, tables_end, 0, 0 };
         uint32_t n = rd_u32(&tc);
         if (n > 1 && !tc.bad)
             FAIL("%u tables; a controller may have one", (unsigned)n);
+        have_table = n == 1;
         if (n == 1) {
             (void)rd_byte(&tc); /* element type */
             uint8_t flags = rd_byte(&tc);
@@ -327,7 +367,10 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
     }
     if (elems == NULL)
         return ROZ_OK;
-    cursor_t ec = { elems, elems_end, 0 };
+    /* WebAssembly 1.0, 5.5.12: a vector of segments (table 0, an offset that
+     * is one i32 constant then end, a vector of function indices), and
+     * nothing after the last: the rest of the section is never skipped */
+    cursor_t ec = { elems, elems_end, 0, 0 };
     uint32_t n = rd_u32(&ec);
     for (uint32_t i = 0; i < n && !ec.bad; i++) {
         uint32_t form = rd_u32(&ec);
@@ -336,22 +379,33 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
         if (form != 0)
             FAIL("element segment %u: only the MVP form (table 0, constant offset) is accepted",
                  (unsigned)i);
-        if (rd_byte(&ec) != 0x41)
-            FAIL("element segment %u: the offset must be an i32.const", (unsigned)i);
-        int32_t offset = rd_s32(&ec);
-        uint8_t end = rd_byte(&ec);
+        if (!have_table)
+            FAIL("element segment %u without a table", (unsigned)i);
+        cursor_t at = ec;
+        const char *why = const_expr_problem(&ec, 0x7f);
+        if (why != NULL)
+            FAIL("element segment %u: its offset %s", (unsigned)i, why);
+        at.p++; /* the i32.const */
+        int32_t offset = rd_s32(&at);
         uint32_t count = rd_u32(&ec);
-        if (ec.bad || end != 0x0b)
+        if (ec.bad)
             break;
         if (offset < 0 || (uint64_t)(uint32_t)offset + count > size)
             FAIL("element segment %u at offset %lld needs a table of %llu entries; the table "
                  "has %u", (unsigned)i, (long long)offset,
                  (unsigned long long)((int64_t)offset + count), (unsigned)size);
-        for (uint32_t k = 0; k < count && !ec.bad; k++)
-            (void)rd_u32(&ec);
+        for (uint32_t k = 0; k < count && !ec.bad; k++) {
+            uint32_t f = rd_u32(&ec);
+            if (!ec.bad && f >= n_funcs)
+                FAIL("element segment %u, entry %u: function %u, of %u functions", (unsigned)i,
+                     (unsigned)k, (unsigned)f, (unsigned)n_funcs);
+        }
     }
     if (ec.bad)
         FAIL("malformed element section");
+    if (ec.p != ec.end)
+        FAIL("element section: %u bytes after its %u segments", (unsigned)(ec.end - ec.p),
+             (unsigned)n);
     return ROZ_OK;
 }
 
@@ -411,6 +465,7 @@ typedef struct {
     uint8_t  global_type[SCAN_MAX_GLOBALS];
     uint8_t  global_mut[SCAN_MAX_GLOBALS];
     int      has_memory, has_table;
+    uint64_t compile_work;                   /* the engine's, so far (roz/config.h) */
     union {
         struct { /* the function being checked */
             uint32_t f, at;
@@ -453,7 +508,7 @@ static void skip_s64(cursor_t *c)
         if ((b & 0x80) == 0)
             return;
     }
-    c->bad = 1;
+    bad_leb(c);
 }
 
 static const char *type_name(uint8_t t)
@@ -568,7 +623,7 @@ static void type_sig(const vctx_t *v, uint32_t type, uint8_t *params, uint32_t *
                      uint8_t *result)
 {
     /* the type section was checked whole before any body */
-    cursor_t c = { v->types + v->type_at[type], v->types_end, 0 };
+    cursor_t c = { v->types + v->type_at[type], v->types_end, 0, 0 };
     (void)rd_byte(&c);
     *np = rd_u32(&c);
     for (uint32_t i = 0; i < *np; i++)
@@ -648,6 +703,25 @@ static int check_body(vctx_t *v, cursor_t *c)
         uint8_t op = rd_byte(c);
         const char *sig = numeric_sig(op);
         int rc = ROZ_OK;
+        /* wasm3's compile work (ROZ_CFG_WASM_MAX_COMPILE_WORK): a step per
+         * instruction; at a block, loop or if entered with values on the
+         * stack it compares every local with them (PreserveArgsAndLocals),
+         * at a local.set or tee every value with the local */
+        v->compile_work += 1u;
+        if (op >= 0x02 && op <= 0x04)
+            v->compile_work += (uint64_t)v->n_locals * v->height;
+        else if (op == 0x21 || op == 0x22)
+            v->compile_work += v->height;
+        if (v->compile_work > ROZ_CFG_WASM_MAX_COMPILE_WORK) {
+            roz_format(v->err, v->errlen,
+                       "function %u, offset %u: compile work past "
+                       "ROZ_CFG_WASM_MAX_COMPILE_WORK (%llu): %u locals, %u values on the "
+                       "stack (docs/load-bound.md)",
+                       (unsigned)v->f, (unsigned)v->at,
+                       (unsigned long long)ROZ_CFG_WASM_MAX_COMPILE_WORK,
+                       (unsigned)v->n_locals, (unsigned)v->height);
+            return ROZ_EINVAL;
+        }
         if (sig != NULL) {
             rc = apply(v, sig);
         } else if (op >= 0x28 && op <= 0x3e) {
@@ -775,7 +849,9 @@ static int check_body(vctx_t *v, cursor_t *c)
                 t = rd_byte(c);
                 if (c->bad)
                     break;
-                if (!v->has_table || t != 0)
+                if (t != 0) /* 1.0: the byte 0x00, not a LEB128 (0x80 0x00 is not it) */
+                    return bad_body(v, "call_indirect's reserved byte is not 0x00", NULL, NULL);
+                if (!v->has_table)
                     return bad_body(v, "call_indirect without a table", NULL, NULL);
                 if (idx >= v->n_types)
                     return bad_body(v, "call_indirect of a type that does not exist", NULL, NULL);
@@ -816,7 +892,14 @@ static int check_body(vctx_t *v, cursor_t *c)
                 rc = op == 0x23 ? push(v, v->global_type[idx]) : pop(v, v->global_type[idx], NULL);
                 break;
             case 0x3f: case 0x40: /* memory.size, memory.grow */
-                if (rd_byte(c) != 0 || !v->has_memory)
+                t = rd_byte(c);
+                if (c->bad)
+                    break;
+                if (t != 0)
+                    return bad_body(v, op == 0x3f ? "memory.size's reserved byte is not 0x00"
+                                                  : "memory.grow's reserved byte is not 0x00",
+                                    NULL, NULL);
+                if (!v->has_memory)
                     return bad_body(v, "memory.size or memory.grow without a memory", NULL, NULL);
                 rc = apply(v, op == 0x3f ? ":i" : "i:i");
                 break;
@@ -854,24 +937,10 @@ static int check_body(vctx_t *v, cursor_t *c)
         if (rc != ROZ_OK)
             return ROZ_EINVAL;
     }
+    if (c->leb)
+        return bad_body(v, "a malformed LEB128 immediate (longer than its type allows, or bits "
+                           "past its width)", NULL, NULL);
     return bad_body(v, "the body runs past its end", NULL, NULL);
-}
-
-/* A constant expression: one const instruction of value type `type`, end. */
-static int const_expr(cursor_t *c, uint8_t type)
-{
-    static const uint8_t types[4] = { T_I32, T_I64, T_F32, T_F64 };
-    uint8_t op = rd_byte(c);
-    switch (op) {
-    case 0x41: (void)rd_s32(c); break;
-    case 0x42: skip_s64(c); break;
-    case 0x43: skip(c, 4); break;
-    case 0x44: skip(c, 8); break;
-    default: return ROZ_EINVAL;
-    }
-    if (rd_byte(c) != 0x0b || c->bad || types[op - 0x41] != type)
-        return ROZ_EINVAL;
-    return ROZ_OK;
 }
 
 /* Types, globals, memory, data and code: everything the engine would
@@ -894,7 +963,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     v->types_end = sec_end[1];
     v->n_types = m->n_types;
     if (sec[1] != NULL) {
-        cursor_t c = { sec[1], sec_end[1], 0 };
+        cursor_t c = { sec[1], sec_end[1], 0, 0 };
         (void)rd_u32(&c);
         for (uint32_t t = 0; t < v->n_types && !c.bad; t++) {
             v->type_at[t] = (uint32_t)(c.p - sec[1]);
@@ -920,7 +989,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     }
     /* functions: the imported ones, then the function section */
     if (imports != NULL) {
-        cursor_t c = { imports, imports_end, 0 };
+        cursor_t c = { imports, imports_end, 0, 0 };
         n = rd_u32(&c);
         for (uint32_t i = 0; i < n && !c.bad; i++) {
             skip(&c, rd_u32(&c));
@@ -936,7 +1005,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         if (c.bad || c.p != c.end)
             FAIL("malformed import section");
     }
-    cursor_t fc = { m->funcs, m->funcs_end, 0 };
+    cursor_t fc = { m->funcs, m->funcs_end, 0, 0 };
     uint32_t n_defined = m->funcs != NULL ? rd_u32(&fc) : 0;
     for (uint32_t i = 0; i < n_defined && !fc.bad; i++) {
         uint32_t type = rd_u32(&fc);
@@ -953,7 +1022,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         FAIL("malformed function section");
     /* globals: a value type, mutability and one constant of that type */
     if (sec[6] != NULL) {
-        cursor_t c = { sec[6], sec_end[6], 0 };
+        cursor_t c = { sec[6], sec_end[6], 0, 0 };
         v->n_globals = rd_u32(&c);
         if (!c.bad && v->n_globals > SCAN_MAX_GLOBALS)
             FAIL("%u globals, more than %u (ROZ_CFG_WASM_MAX_GLOBALS)", (unsigned)v->n_globals,
@@ -961,20 +1030,21 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         for (uint32_t g = 0; g < v->n_globals && !c.bad; g++) {
             v->global_type[g] = rd_byte(&c);
             v->global_mut[g] = rd_byte(&c);
-            if (c.bad || !is_valtype(v->global_type[g]) || v->global_mut[g] > 1 ||
-                const_expr(&c, v->global_type[g]) != ROZ_OK)
-                FAIL("global %u: malformed (a value type, 0 or 1, and one constant of its type)",
-                     (unsigned)g);
+            if (c.bad || !is_valtype(v->global_type[g]) || v->global_mut[g] > 1)
+                FAIL("global %u: malformed (a value type, then 0 or 1)", (unsigned)g);
+            const char *why = const_expr_problem(&c, v->global_type[g]);
+            if (why != NULL)
+                FAIL("global %u: its initialiser %s", (unsigned)g, why);
         }
         if (c.bad || c.p != c.end)
             FAIL("malformed global section");
     }
     if (sec[4] != NULL) {
-        cursor_t c = { sec[4], sec_end[4], 0 };
+        cursor_t c = { sec[4], sec_end[4], 0, 0 };
         v->has_table = rd_u32(&c) == 1;
     }
     if (sec[5] != NULL) {
-        cursor_t c = { sec[5], sec_end[5], 0 };
+        cursor_t c = { sec[5], sec_end[5], 0, 0 };
         n = rd_u32(&c);
         if (n > 1)
             FAIL("%u memories; a controller may have one", (unsigned)n);
@@ -994,21 +1064,26 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     }
     /* data: memory 0, an i32.const offset, bytes within the section */
     if (sec[11] != NULL) {
-        cursor_t c = { sec[11], sec_end[11], 0 };
+        cursor_t c = { sec[11], sec_end[11], 0, 0 };
         n = rd_u32(&c);
         if (n > 0 && !v->has_memory)
             FAIL("data segments without a memory");
         for (uint32_t d = 0; d < n && !c.bad; d++) {
-            if (rd_u32(&c) != 0 || const_expr(&c, T_I32) != ROZ_OK)
-                FAIL("data segment %u: only memory 0 with an i32.const offset is accepted",
-                     (unsigned)d);
+            if (rd_u32(&c) != 0)
+                FAIL("data segment %u: only memory 0 is accepted", (unsigned)d);
+            const char *why = const_expr_problem(&c, T_I32);
+            if (why != NULL)
+                FAIL("data segment %u: its offset %s", (unsigned)d, why);
             skip(&c, rd_u32(&c));
         }
-        if (c.bad || c.p != c.end)
+        if (c.bad)
             FAIL("malformed data section");
+        if (c.p != c.end)
+            FAIL("data section: %u bytes after its %u segments", (unsigned)(c.end - c.p),
+                 (unsigned)n);
     }
     /* code: one valid body per defined function */
-    cursor_t cc = { sec[10], sec_end[10], 0 };
+    cursor_t cc = { sec[10], sec_end[10], 0, 0 };
     n = sec[10] != NULL ? rd_u32(&cc) : 0;
     if (cc.bad || n != n_defined)
         FAIL("%u function bodies for %u functions", (unsigned)n, (unsigned)n_defined);
@@ -1016,7 +1091,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         uint32_t size = rd_u32(&cc);
         if (cc.bad || (size_t)(cc.end - cc.p) < size)
             FAIL("malformed code section");
-        cursor_t body = { cc.p, cc.p + size, 0 };
+        cursor_t body = { cc.p, cc.p + size, 0, 0 };
         v->f = m->n_func_imports + i;
         v->at = 0;
         if (check_body(v, &body) != ROZ_OK)
@@ -1027,7 +1102,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         FAIL("malformed code section");
     /* exports: of things that exist (process itself is checked below) */
     if (sec[7] != NULL) {
-        cursor_t c = { sec[7], sec_end[7], 0 };
+        cursor_t c = { sec[7], sec_end[7], 0, 0 };
         n = rd_u32(&c);
         for (uint32_t e = 0; e < n && !c.bad; e++) {
             skip(&c, rd_u32(&c));
@@ -1056,7 +1131,7 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
 
 static name_t export_name(const uint8_t *sec, const uint8_t *end, const export_ref_t *r)
 {
-    cursor_t c = { sec + r->at, end, 0 };
+    cursor_t c = { sec + r->at, end, 0, 0 };
     return rd_name(&c);
 }
 
@@ -1099,7 +1174,7 @@ static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const
     char shown[48], sig[40];
 
     if (sec != NULL) {
-        cursor_t c = { sec, end, 0 };
+        cursor_t c = { sec, end, 0, 0 };
         n = rd_u32(&c);
         if (n > SCAN_MAX_EXPORTS)
             FAIL("%u exports, more than %u (ROZ_CFG_WASM_MAX_EXPORTS)", (unsigned)n,
@@ -1178,7 +1253,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
         FAIL("not a WebAssembly 1.0 binary (bad magic or version)");
 
     /* Pass 1: find the sections. */
-    cursor_t c = { wasm + sizeof magic, wasm + len, 0 };
+    cursor_t c = { wasm + sizeof magic, wasm + len, 0, 0 };
     while (c.p < c.end) {
         uint8_t id = rd_byte(&c);
         uint32_t size = rd_u32(&c);
@@ -1200,7 +1275,7 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
         case 9: elems = body; elems_end = body + size; break;
         case 0: { /* custom: a well-formed name; the content never reaches wasm3
                    (roz.manifest's is read below) */
-            cursor_t cc = { body, body + size, 0 };
+            cursor_t cc = { body, body + size, 0, 0 };
             char shown[48];
             const char *why;
             name_t nm = rd_name(&cc);
@@ -1222,19 +1297,25 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     if (roz_identity_read(wasm, len, &identity, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
     if (m.types != NULL) {
-        cursor_t t = { m.types, m.types_end, 0 };
+        cursor_t t = { m.types, m.types_end, 0, 0 };
         m.n_types = rd_u32(&t);
     }
     if (has_start)
         FAIL("the module has a start function; a controller must do its set-up in process()");
-    if (check_tables(tables, tables_end, elems, elems_end, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
+    /* The counts the import pass walks are bounded before it walks them:
+     * each import's type is looked up in the type section (docs/load-bound.md) */
+    if (m.n_types > SCAN_MAX_TYPES)
+        FAIL("%u function types, more than %u (ROZ_CFG_WASM_MAX_TYPES)", (unsigned)m.n_types,
+             (unsigned)SCAN_MAX_TYPES);
 
     /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
      * by the same bytes, see lib/src/controller.c). */
     if (imports != NULL) {
-        cursor_t ic = { imports, imports_end, 0 };
+        cursor_t ic = { imports, imports_end, 0, 0 };
         uint32_t n = rd_u32(&ic);
+        if (!ic.bad && n > roz_abi_import_count)
+            FAIL("%u imports, more than the %u functions of the roz ABI", (unsigned)n,
+                 (unsigned)roz_abi_import_count);
         for (uint32_t i = 0; i < n; i++) {
             char mod[48], name[48], sig[40];
             const char *why;
@@ -1273,6 +1354,19 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
             m.n_func_imports++;
         }
     }
+
+    /* The table and the element segments, their function indices against
+     * the imported and defined functions. */
+    uint32_t n_defined = 0;
+    if (m.funcs != NULL) {
+        cursor_t fc = { m.funcs, m.funcs_end, 0, 0 };
+        n_defined = rd_u32(&fc);
+        if (n_defined > SCAN_MAX_FUNCS)
+            n_defined = SCAN_MAX_FUNCS; /* refused by check_code() */
+    }
+    if (check_tables(tables, tables_end, elems, elems_end, m.n_func_imports + n_defined, err,
+                     errlen) != ROZ_OK)
+        return ROZ_EINVAL;
 
     /* Pass 3: types, globals, memory, data, function bodies. */
     if (check_code(v, &m, imports, imports_end, sec, sec_end, err, errlen) != ROZ_OK)

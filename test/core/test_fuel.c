@@ -56,6 +56,9 @@ static size_t module(const char *decls, const char *body)
              "(module\n"
              " (import \"math\" \"sin\" (func $sin (param f64) (result f64)))\n"
              " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))\n"
+             " (import \"math\" \"cos\" (func $cos (param f64) (result f64)))\n"
+             " (import \"timing\" \"now_ns\" (func $now (result i64)))\n"
+             " (import \"timing\" \"sim_time_ns\" (func $sim (result i64)))\n"
              " %s\n"
              " (func (export \"process\") (param $tick i64) (local $i i32)\n%s))\n",
              decls, body);
@@ -106,8 +109,9 @@ static void test_fuel_unit(void **st)
     /* the body's end */
     assert_int_equal(fuel_of("", ""), 1);
     assert_int_equal(fuel_of("", "(nop) (nop) (nop)"), 4);
-    /* f64.const, call (1 + 8), drop, end: a call does not end the run */
-    assert_int_equal(fuel_of("", "(drop (call $sin (f64.const 1)))"), 12);
+    /* f64.const, call (1 + 8), drop, end: a call does not end the run; sin's
+     * own work on top (test_fuel_imports) */
+    assert_int_equal(fuel_of("", "(drop (call $sin (f64.const 1)))"), 12 + 32);
     /* a callee with 4 i64 locals zeroes 32 bytes (2 units) and runs its end:
      * call (9), end (1), callee (2 + 1) */
     assert_int_equal(fuel_of("(func $f (local i64 i64 i64 i64))", "(call $f)"), 13);
@@ -137,6 +141,37 @@ static void test_fuel_unit(void **st)
     print_message("if: then arm %llu units, else arm %llu\n", (unsigned long long)then_arm,
                   (unsigned long long)else_arm);
     assert_true(else_arm > then_arm);
+}
+
+/* ---- imports that do more than a call's work ------------------------------------- */
+
+/* Charged before the work, in proportion to its worst case (bench/fuel's
+ * host_* rows): sin and cos 32 units more than a call, 96 more again from
+ * |x| = 2^24 on (the range reduction through 192 bits of 2/pi: 57 ns for
+ * what 11 units stood for before), timing.now_ns 48 (the host's clock);
+ * timing.sim_time_ns is a call's. The same on every target. */
+static void test_fuel_imports(void **st)
+{
+    (void)st;
+    /* each against the same body without the call (the frame's constants
+     * cost the same): the call's 1 + 8 units and the import's own */
+    static const struct { const char *fn, *arg; uint64_t own; } cases[] = {
+        { "$sin", "1", 32 },           { "$sin", "-16777215", 32 },
+        { "$sin", "16777216", 32 + 96 }, { "$sin", "1e22", 32 + 96 },
+        { "$cos", "-3e300", 32 + 96 },   { "$cos", "0.5", 32 },
+        { "$cos", "inf", 32 + 96 },      { "$sin", "nan", 32 + 96 },
+    };
+    char body[128], base[128];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        snprintf(body, sizeof body, "(drop (call %s (f64.const %s)))", cases[i].fn, cases[i].arg);
+        snprintf(base, sizeof base, "(drop (f64.const %s))", cases[i].arg);
+        uint64_t got = fuel_of("", body) - fuel_of("", base);
+        if (got != 9 + cases[i].own)
+            fail_msg("%s: %llu units more than without the call, want %llu", body,
+                     (unsigned long long)got, (unsigned long long)(9 + cases[i].own));
+    }
+    assert_int_equal(fuel_of("", "(drop (call $now))"), 11 + 48);
+    assert_int_equal(fuel_of("", "(drop (call $sim))"), 11);
 }
 
 /* ---- straight-line code, bulk memory --------------------------------------------- */
@@ -370,6 +405,7 @@ int main(void)
         cmocka_unit_test_teardown(test_fuel_bulk_memory, teardown),
         cmocka_unit_test_teardown(test_fuel_deadline_interval, teardown),
         cmocka_unit_test_teardown(test_fuel_deadline_from_the_start, teardown),
+        cmocka_unit_test_teardown(test_fuel_imports, teardown),
         cmocka_unit_test_teardown(test_fuel_zero_is_refused, teardown),
         cmocka_unit_test_teardown(test_fuel_verify_ignores_the_loader_clock, teardown),
         cmocka_unit_test_teardown(test_fuel_stack_at_loop_entry, teardown),

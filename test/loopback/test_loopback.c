@@ -298,6 +298,11 @@ static void test_loopback_bad_params(void **st)
         { &roz_manifest_ur5, "dropp", "1:2", "unknown parameter \"dropp\" for port loopback" },
         { &roz_manifest_ur5, "drop", "300:100", "parameter drop = \"300:100\": FROM 300 after TO 100" },
         { &roz_manifest_ur5, "drop", "5:5", "FROM 5 equals TO" },
+        /* a TO of 0 is written, so it is not "forever" (that is "5:") */
+        { &roz_manifest_ur5, "restart", "5:0", "parameter restart = \"5:0\": FROM 5 after TO 0" },
+        { &roz_manifest_ur5, "drop", "0:0", "FROM 0 equals TO" },
+        { &roz_manifest_ur5, "drop", "0:00", "FROM 0 equals TO" },
+        { &roz_manifest_ur5, "restart", "5:", NULL },
         { &roz_manifest_ur5, "drop", "99999999999999999999999:",
           "FROM 99999999999999999999999 is too large (at most 18446744073709551615)" },
         { &roz_manifest_ur5, "freeze", "1:18446744073709551616", "TO 18446744073709551616 is too large" },

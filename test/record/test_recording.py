@@ -9,9 +9,11 @@ short or corrupted named by offset. ROZRUN and CTL come from the build."""
 import os
 import pathlib
 import re
+import resource
 import struct
 import subprocess
 import sys
+import time
 
 import pytest
 from mcap.reader import make_reader
@@ -22,6 +24,8 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 ROZRUN = os.environ.get("ROZRUN", "")
 CTL = pathlib.Path(os.environ.get("CTL", "."))
 TOOL = ROOT / "tools" / "recording.py"
+# the strict checker (test/record/mcap_strict), "" when the build has no cargo
+STRICT = os.environ.get("MCAP_STRICT", "")
 
 pytestmark = pytest.mark.skipif(not ROZRUN, reason="ROZRUN not set (run through ctest)")
 
@@ -44,6 +48,18 @@ def rozrun(*args, ok=(0,)):
     return p
 
 
+def strict(*paths, cut=False):
+    """The mcap crate's strict reader and roz-mcap-strict's checks of its
+    indexes, statistics, footer and chunk times; its report (None without
+    the checker)."""
+    if not STRICT:
+        return None
+    p = subprocess.run([STRICT, *(["--cut"] if cut else []), *map(str, paths)],
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stdout + p.stderr
+    return p.stdout
+
+
 def decode_all(path):
     """Every message decoded by mcap-ros2-support, CRCs checked; counts per
     topic, checked against the summary's statistics."""
@@ -64,6 +80,7 @@ def decode_all(path):
         indexed = sum(1 for _ in reader.iter_messages(log_time_order=True))
     assert indexed == sum(counts.values())
     recording._check_summary_crc(path)  # the footer's CRC of the summary
+    strict(path)
     return counts
 
 
@@ -104,10 +121,10 @@ def test_fields_named_after_channels(tmp_path):
     assert run.command_names[0] == "shoulder_pan_joint/velocity"
     tick = msgs["/roz/tick"][2]
     assert tick.fresh and tick.ran and tick.wrote and tick.fuel > 0
-    # log time is simulated time: tick x 10 ms
+    # log time: the run's wall-clock start plus simulated time (tick x 10 ms)
     with open(path, "rb") as f:
         times = [m.log_time for _, c, m in make_reader(f).iter_messages(topics=["/roz/tick"])]
-    assert times == [i * 10_000_000 for i in range(20)]
+    assert times == [run.start_time_ns + i * 10_000_000 for i in range(20)]
 
 
 def test_faults_replayed(tmp_path):
@@ -173,12 +190,12 @@ def test_divergence_reported_exactly(tmp_path):
     """One applied command changed in the recording: replay names that tick,
     that channel and both values, and exits 4."""
     path = record(tmp_path, "ur5", "sine", 300)
-    _, ticks, _ = recording.read(path)
+    run, ticks, _ = recording.read(path)
     original = ticks[123]["applied"][2]
     bad = tmp_path / "bad.mcap"
 
     def patch(topic, log_time, data):
-        if topic == "/roz/applied" and log_time == 123 * 10_000_000:
+        if topic == "/roz/applied" and log_time == run.start_time_ns + 123 * 10_000_000:
             return data[:4 + 8 * 2] + struct.pack("<d", 0.25) + data[4 + 8 * 3:]
         return data
 
@@ -227,7 +244,7 @@ def test_another_controller(tmp_path):
 
 
 def test_cut_short_and_corrupt(tmp_path):
-    path = record(tmp_path, "ur5", "sine", 3000)
+    path = record(tmp_path, "ur5", "sine", 3000, "--record-compress", "none")
     data = path.read_bytes()
     # cut short (a writer that died): replayed up to there, and said where
     cut = tmp_path / "cut.mcap"
@@ -239,6 +256,7 @@ def test_cut_short_and_corrupt(tmp_path):
     assert "identical" in p.stdout
     with pytest.raises(SystemExit):
         recording.main(["check", str(cut)])
+    strict(cut, cut=True)  # every complete chunk before the cut
     # one byte flipped inside the first chunk: its CRC names the chunk's offset
     header_len = struct.unpack_from("<Q", data, 9)[0]
     chunk_at = 8 + 9 + header_len
@@ -277,3 +295,191 @@ def test_record_every(tmp_path):
     assert ticks[10]["faults"] == 0
     p = rozrun("--replay", path, "--controller", CTL / "sine.wasm", ok=(2,))
     assert "recorded every 10 ticks: replay needs every tick" in p.stderr
+
+
+def footer_length(path):
+    data = pathlib.Path(path).read_bytes()
+    assert data[-8 - 29] == 0x02  # the footer, before the CRC and the magic
+    return struct.unpack_from("<Q", data, len(data) - 8 - 29 + 1)[0]
+
+
+def test_footer_is_the_specifications(tmp_path):
+    """Summary start u64, summary offset start u64, summary CRC u32: the
+    footer record says 20 bytes (mcap doctor refused 16)."""
+    assert footer_length(record(tmp_path, "ur5", "sine", 20)) == 20
+
+
+def test_log_times_from_the_wall_clock(tmp_path):
+    """/roz/run carries the wall clock at tick 0; every log time is it plus
+    simulated time, so viewers show the day of the run, not 1970; a replay's
+    new recording keeps the recorded timeline."""
+    before = time.time_ns()
+    path = record(tmp_path, "ur5", "sine", 50)
+    after = time.time_ns()
+    run, _, _ = recording.read(path)
+    assert before - 10**9 <= run.start_time_ns <= after + 10**9
+    with open(path, "rb") as f:
+        msgs = list(make_reader(f).iter_messages())
+    assert min(m.log_time for _, _, m in msgs) == run.start_time_ns
+    assert max(m.log_time for _, _, m in msgs) == run.start_time_ns + 49 * 10_000_000
+    new = tmp_path / "replayed.mcap"
+    p = rozrun("--replay", path, "--controller", CTL / "hold.wasm", "--record", new)
+    when = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime(run.start_time_ns // 10**9))
+    assert f"  recorded at            {when}\n" in p.stdout
+    assert recording.read(new)[0].start_time_ns == run.start_time_ns
+
+
+@pytest.mark.parametrize("robot,ctl,extra", [("agibot_x2", "x2_stand", ()),
+                                             ("quadcopter", "sine", ()),
+                                             ("agibot_x2", "x2_stand", ("--record-compress",
+                                                                        "none"))])
+def test_a_tick_in_one_chunk(tmp_path, robot, ctl, extra):
+    """Chunks close between ticks: no two chunks overlap in log time (a chunk
+    closed inside a tick left the rest of it to the next one)."""
+    path = record(tmp_path, robot, ctl, 1000, *extra)
+    with open(path, "rb") as f:
+        chunks = sorted(make_reader(f).get_summary().chunk_indexes,
+                        key=lambda c: c.message_start_time)
+    assert len(chunks) >= 3
+    for a, b in zip(chunks, chunks[1:]):
+        assert b.message_start_time > a.message_end_time, (a, b)
+    decode_all(path)
+
+
+def test_compressed_chunks(tmp_path):
+    """zstd chunks by default (the drain compresses, never the tick): the
+    PyPI readers decode them, replay reads them, and they are a fraction of
+    the uncompressed file."""
+    z = record(tmp_path, "unitree_g1", "g1_pd", 300, name="z")
+    n = record(tmp_path, "unitree_g1", "g1_pd", 300, "--record-compress", "none", name="n")
+    with open(z, "rb") as f:
+        assert {c.compression for c in make_reader(f).get_summary().chunk_indexes} == {"zstd"}
+    with open(n, "rb") as f:
+        assert {c.compression for c in make_reader(f).get_summary().chunk_indexes} == {""}
+    assert decode_all(z) == decode_all(n)
+    assert z.stat().st_size * 2 < n.stat().st_size
+    p = rozrun("--replay", z, "--controller", CTL / "g1_pd.wasm")
+    assert "result                 identical" in p.stdout
+    # a flipped byte inside the first compressed chunk: refused at its offset
+    data = bytearray(z.read_bytes())
+    chunk_at = 8 + 9 + struct.unpack_from("<Q", data, 9)[0]
+    data[chunk_at + 500] ^= 0x10
+    bad = tmp_path / "z_bad.mcap"
+    bad.write_bytes(bytes(data))
+    p = rozrun("--replay", bad, "--controller", CTL / "g1_pd.wasm", ok=(2,))
+    assert f"at offset {chunk_at}: " in p.stderr, p.stderr
+    p = rozrun("--robot", "ur5", "--controller", CTL / "sine.wasm", "--record", "x.mcap",
+               "--record-compress", "lz4", ok=(2,))
+    assert '--record-compress "lz4": zstd or none' in p.stderr
+
+
+@pytest.mark.skipif(not STRICT, reason="no strict MCAP checker in this build (cargo)")
+def test_strict_reader_every_kind(tmp_path):
+    """Every kind of file roz writes, through the strict reader: UR5 and G1,
+    compressed or not, faults, decimated, a replay's new run, and files cut
+    short (a writer that died) read up to their last complete chunk."""
+    files = [record(tmp_path, "ur5", "sine", 3000, name="ur5"),
+             record(tmp_path, "ur5", "sine", 3000, "--record-compress", "none", name="ur5n"),
+             record(tmp_path, "unitree_g1", "g1_pd", 600, name="g1"),
+             record(tmp_path, "unitree_g1", "g1_pd", 600, "--record-compress", "none",
+                    name="g1n"),
+             record(tmp_path, "ur5", "sine", 400, "--estop-at", 50, "--estop-release-at", 80,
+                    "--clear-at", 100, "--param", "drop=150:170", "--param", "nan=2@200:205",
+                    "--param", "restart=240:250", "--clear-at", 230, name="faults"),
+             record(tmp_path, "ur5", "bad_trap_run", 300, "--clear-at", 200, name="trap"),
+             record(tmp_path, "ur5", "sine", 1000, "--record-every", 10, "--estop-at", 55,
+                    name="decimated")]
+    new = tmp_path / "new.mcap"
+    rozrun("--replay", files[0], "--controller", CTL / "constant_velocity.wasm", "--record", new)
+    files.append(new)
+    out = strict(*files)
+    assert out.count(": ok: ") == len(files), out
+    assert re.search(r'g1.mcap: ok: \d+ messages in \d\d+ chunks \(compression \["zstd"\]\)', out)
+    cuts = []
+    for f in (files[0], files[3]):
+        data = f.read_bytes()
+        for frac in (0.3, 0.77):
+            cut = tmp_path / f"{f.stem}_cut{frac}.mcap"
+            cut.write_bytes(data[: int(len(data) * frac)])
+            cuts.append(cut)
+    assert strict(*cuts, cut=True).count(": ok: ") == len(cuts)
+
+
+def limit(gib):
+    """A child's address space, for the tests of the readers' limits."""
+    def set_limit():
+        resource.setrlimit(resource.RLIMIT_AS, (gib << 30, gib << 30))
+    return set_limit
+
+
+def bomb(tmp_path, src):
+    """@p src copied by the Python writer with zstd chunks whose frames do not
+    state their size, then the first chunk made to claim 4 GiB of records."""
+    import mcap.writer
+    import zstandard
+
+    class NoSize:
+        @staticmethod
+        def compress(data):
+            return zstandard.ZstdCompressor(write_content_size=False).compress(data)
+
+    out = tmp_path / "bomb.mcap"
+    real = mcap.writer.zstandard
+    mcap.writer.zstandard = NoSize
+    try:
+        with open(src, "rb") as f, open(out, "wb") as o:
+            reader = make_reader(f)
+            summary = reader.get_summary()
+            w = Writer(o, compression=CompressionType.ZSTD)
+            w.start(profile="ros2", library="test")
+            for sid, sc in sorted(summary.schemas.items()):
+                w.register_schema(sc.name, sc.encoding, sc.data)
+            for cid, c in sorted(summary.channels.items()):
+                w.register_channel(c.topic, c.message_encoding, c.schema_id)
+            for _, _, m in reader.iter_messages(log_time_order=False):
+                w.add_message(m.channel_id, m.log_time, m.data, m.publish_time, m.sequence)
+            w.finish()
+    finally:
+        mcap.writer.zstandard = real
+    data = bytearray(out.read_bytes())
+    with open(out, "rb") as f:
+        at = make_reader(f).get_summary().chunk_indexes[0].chunk_start_offset
+    assert data[at] == 0x06
+    struct.pack_into("<Q", data, at + 9 + 16, 4 << 30)  # uncompressed_size
+    out.write_bytes(bytes(data))
+    return out, at
+
+
+def test_readers_refuse_records_past_their_limit(tmp_path):
+    """A 4 GiB chunk claim and a 5 GiB record: refused by tools/recording.py
+    and by rozrun's reader before they allocate, naming the offset, under a
+    2 GiB address space (the claim once grew the tool to 4.26 GB)."""
+    src = record(tmp_path, "ur5", "sine", 100)
+    path, at = bomb(tmp_path, src)
+    p = subprocess.run([sys.executable, TOOL, "check", path], capture_output=True, text=True,
+                       timeout=120, preexec_fn=limit(2))
+    assert p.returncode != 0
+    assert (f"at offset {at}: a chunk of {4 << 30} bytes uncompressed, past this reader's limit "
+            f"of {16 << 20} bytes") in p.stderr, p.stderr
+    assert "Traceback" not in p.stderr
+    p = subprocess.run([ROZRUN, "--replay", path, "--controller", CTL / "sine.wasm"],
+                       capture_output=True, text=True, timeout=120, preexec_fn=limit(2))
+    assert p.returncode == 2
+    assert f"at offset {at}: a chunk of {4 << 30} bytes uncompressed" in p.stderr, p.stderr
+    # a record claiming 5 GiB in a (sparse) file that long
+    data = bytearray(src.read_bytes())
+    header_len = struct.unpack_from("<Q", data, 9)[0]
+    chunk_at = 8 + 9 + header_len
+    struct.pack_into("<Q", data, chunk_at + 1, 5 << 30)
+    big = tmp_path / "big.mcap"
+    with open(big, "wb") as f:
+        f.write(data)
+        f.truncate(chunk_at + 9 + (5 << 30) + 1024)
+    p = subprocess.run([ROZRUN, "--replay", big, "--controller", CTL / "sine.wasm"],
+                       capture_output=True, text=True, timeout=120, preexec_fn=limit(2))
+    assert p.returncode == 2
+    assert (f"at offset {chunk_at}: a record (opcode 0x06) of {5 << 30} bytes, past this "
+            "reader's limit") in p.stderr, p.stderr
+    p = subprocess.run([sys.executable, TOOL, "check", big], capture_output=True, text=True,
+                       timeout=120, preexec_fn=limit(2))
+    assert f"at offset {chunk_at}: a record (opcode 0x06) of {5 << 30} bytes" in p.stderr

@@ -72,6 +72,7 @@ typedef struct {
     int         fuel_set;
     uint32_t    stale_ticks;
     uint32_t    record_every;
+    int         record_compression; /* ROZ_MCAP_COMPRESS_*; -1: zstd when built with it */
     roz_param_t params[MAX_PARAMS];
     size_t      n_params;
 } options_t;
@@ -210,6 +211,8 @@ static void usage(FILE *f, const char *port)
         "  --record-every N     record every Nth tick only (and every tick where the faults\n"
         "                       change or an input arrives); such a recording is not\n"
         "                       replayed (default 1)\n"
+        "  --record-compress C  the recording's chunks: zstd (the default when built with\n"
+        "                       libzstd) or none\n"
         "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
         "                       (no port; --robot optional, checked against the recording)\n"
         "                       and compare its targets and applied commands bit for bit:\n"
@@ -274,9 +277,19 @@ static int parse_u64(const char *opt, const char *v, uint64_t max, uint64_t *out
     return 0;
 }
 
+/* --record-compress, or zstd when this build has it */
+static int record_compression(const options_t *o)
+{
+    if (o->record_compression >= 0)
+        return o->record_compression;
+    return roz_mcap_compression_supported(ROZ_MCAP_COMPRESS_ZSTD) ? ROZ_MCAP_COMPRESS_ZSTD
+                                                                   : ROZ_MCAP_COMPRESS_NONE;
+}
+
 static int parse_args(int argc, char **argv, options_t *o)
 {
     memset(o, 0, sizeof *o);
+    o->record_compression = -1;
     o->port = "loopback";
     o->ticks = 1000;
     o->priority = 80;
@@ -296,7 +309,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
-                                              "--record", "--replay", "--record-every",
+                                              "--record", "--replay", "--record-every", "--record-compress",
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel",
                                               "--estop-at", "--estop-release-at", "--clear-at",
@@ -330,6 +343,16 @@ static int parse_args(int argc, char **argv, options_t *o)
                 return -1;
             }
             o->record_every = (uint32_t)x;
+        } else if (!strcmp(a, "--record-compress")) {
+            o->record_compression = !strcmp(v, "zstd") ? ROZ_MCAP_COMPRESS_ZSTD
+                                    : !strcmp(v, "none") ? ROZ_MCAP_COMPRESS_NONE : -2;
+            if (o->record_compression == -2 ||
+                !roz_mcap_compression_supported(o->record_compression)) {
+                fprintf(stderr, "rozrun: --record-compress \"%s\": %s\n", v,
+                        o->record_compression == -2 ? "zstd or none"
+                                                    : "this build has no libzstd");
+                return -1;
+            }
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--ticks")) {
@@ -737,7 +760,8 @@ int main(int argc, char **argv)
     if (parse_args(argc, argv, &o) != 0)
         return 2;
     if (o.replay != NULL) {
-        rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace };
+        rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace,
+                                       record_compression(&o) };
         if (o.robot != NULL && find_robot(o.robot) == NULL)
             return 2;
         return rozrun_replay(&ro, o.robot != NULL ? find_robot(o.robot) : NULL);
@@ -809,7 +833,14 @@ int main(int argc, char **argv)
         return 2;
     }
     if (o.record != NULL) {
-        if (roz_record_file_open(&recfile, o.record, &rt, &recorder, o.controller, err,
+        /* log times: the wall clock now plus simulated time (docs/recording-format.md) */
+        struct timespec now = { 0, 0 };
+        (void)timespec_get(&now, TIME_UTC);
+        roz_record_file_options_t ro = {
+            o.controller, (uint64_t)now.tv_sec * 1000000000u + (uint64_t)now.tv_nsec,
+            record_compression(&o)
+        };
+        if (roz_record_file_open(&recfile, o.record, &rt, &recorder, &ro, err,
                                  sizeof err) != ROZ_OK) {
             fprintf(stderr, "rozrun: cannot record: %s\n", err);
             return 2;

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
@@ -220,8 +221,10 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         return 2;
     }
     if (o->record != NULL) {
-        if (roz_record_file_open(&rfile, o->record, &rrt, &rrec, o->controller, err,
-                                 sizeof err) != ROZ_OK) {
+        /* on the recorded run's timeline */
+        roz_record_file_options_t ro = { o->controller, run->start_time_ns,
+                                         o->record_compression };
+        if (roz_record_file_open(&rfile, o->record, &rrt, &rrec, &ro, err, sizeof err) != ROZ_OK) {
             fprintf(stderr, "rozrun: cannot record: %s\n", err);
             return 2;
         }
@@ -305,6 +308,13 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
     printf("  recording              %s (%s, %u Hz, %u commands, %u states)\n", o->recording,
            m->robot_id, (unsigned)m->control_rate_hz, (unsigned)m->n_commands,
            (unsigned)m->n_states);
+    /* the log times are this plus simulated time (docs/recording-format.md) */
+    time_t start = (time_t)(run->start_time_ns / 1000000000u);
+    const struct tm *utc = run->start_time_ns != 0 ? gmtime(&start) : NULL;
+    char when[32] = "unknown (an older file)";
+    if (utc != NULL)
+        strftime(when, sizeof when, "%Y-%m-%dT%H:%M:%SZ", utc);
+    printf("  recorded at            %s\n", when);
     printf("  controller             %s (hash %016llx): %s\n", o->controller,
            (unsigned long long)hash,
            same == 1   ? "the recorded one"

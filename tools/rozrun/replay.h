@@ -14,6 +14,7 @@ typedef struct rozrun_replay_options {
     const char *robot;      /* --robot, or NULL: the recording's robot, built in */
     const char *record;     /* --record: the new run as MCAP, or NULL */
     const char *trace;      /* --trace: the new run as CSV, or NULL */
+    int         record_compression; /* the new recording's (ROZ_MCAP_COMPRESS_*) */
 } rozrun_replay_options_t;
 
 /* Runs the replay and prints its report. @p robot: the manifest --robot

@@ -1,4 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
+#define _POSIX_C_SOURCE 200809L /* fseeko, ftello: files past 2 GiB */
+#define _FILE_OFFSET_BITS 64
 /* MCAP, written and read from the public specification (format version 0):
  * records are an opcode byte, a little-endian u64 length and the content;
  * strings and byte arrays have a u32 length prefix, maps a u32 byte length. */
@@ -8,6 +10,17 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+
+#ifndef ROZ_MCAP_ZSTD
+#define ROZ_MCAP_ZSTD 0 /* 1: chunks compressed and read with zstd (host/record/CMakeLists.txt) */
+#endif
+#if ROZ_MCAP_ZSTD
+#include <zstd.h>
+#endif
+
+/* zstd's level for chunks: 1, its fastest; a G1's float64 channels shrink
+ * about as much at level 3 for twice the time (bench/record) */
+#define ROZ_MCAP_ZSTD_LEVEL 1
 
 /* ---- types ------------------------------------------------------------------ */
 
@@ -182,6 +195,37 @@ static buf_t chunk_buf(roz_mcap_writer_t *w)
     return b;
 }
 
+/* Compresses the open chunk's records into w->zbuf (zstd, one frame that
+ * states its content size). */
+static int compress_chunk(roz_mcap_writer_t *w, size_t *out_len)
+{
+#if ROZ_MCAP_ZSTD
+    size_t bound = ZSTD_compressBound(w->chunk_len);
+    if (bound > w->zbuf_cap) {
+        unsigned char *n = realloc(w->zbuf, bound);
+        if (n == NULL)
+            return ROZ_ENOMEM;
+        w->zbuf = n;
+        w->zbuf_cap = bound;
+    }
+    if (w->zctx == NULL && (w->zctx = ZSTD_createCCtx()) == NULL)
+        return ROZ_ENOMEM;
+    size_t z = ZSTD_compressCCtx(w->zctx, w->zbuf, bound, w->chunk, w->chunk_len,
+                                 ROZ_MCAP_ZSTD_LEVEL);
+    if (ZSTD_isError(z)) {
+        if (w->error[0] == '\0')
+            snprintf(w->error, sizeof w->error, "%s: zstd: %s", w->path, ZSTD_getErrorName(z));
+        return ROZ_EIO;
+    }
+    *out_len = z;
+    return ROZ_OK;
+#else
+    (void)w;
+    (void)out_len;
+    return ROZ_ENOTSUP;
+#endif
+}
+
 /* Writes the open chunk and its message indexes; adds its chunk index. */
 static int flush_chunk(roz_mcap_writer_t *w)
 {
@@ -193,12 +237,22 @@ static int flush_chunk(roz_mcap_writer_t *w)
 
     if (w->chunk_messages == 0)
         return ROZ_OK;
-    /* the chunk */
+    /* the chunk: its records, compressed when asked (the CRC is theirs) */
+    const unsigned char *body = w->chunk;
+    size_t body_len = w->chunk_len;
+    const char *compression = "";
+    if (w->compression == ROZ_MCAP_COMPRESS_ZSTD) {
+        rc = compress_chunk(w, &body_len);
+        if (rc != ROZ_OK)
+            return rc;
+        body = w->zbuf;
+        compression = "zstd";
+    }
     size_t s = rec_begin(b, OP_CHUNK);
     int e = put_le(b, w->chunk_start, 8) | put_le(b, w->chunk_end, 8) |
             put_le(b, w->chunk_len, 8) |
-            put_le(b, roz_mcap_crc32(0, w->chunk, w->chunk_len), 4) | put_str(b, "") |
-            put_le(b, w->chunk_len, 8) | put(b, w->chunk, w->chunk_len);
+            put_le(b, roz_mcap_crc32(0, w->chunk, w->chunk_len), 4) | put_str(b, compression) |
+            put_le(b, body_len, 8) | put(b, body, body_len);
     rec_end(b, s);
     if (e != 0) {
         free(rec);
@@ -239,7 +293,7 @@ static int flush_chunk(roz_mcap_writer_t *w)
             if (w->index_len[c] != 0)
                 e |= put_le(ci, c, 2) | put_le(ci, index_at[c], 8);
         }
-        e |= put_le(ci, index_len, 8) | put_str(ci, "") | put_le(ci, w->chunk_len, 8) |
+        e |= put_le(ci, index_len, 8) | put_str(ci, compression) | put_le(ci, body_len, 8) |
              put_le(ci, w->chunk_len, 8);
         rec_end(ci, s);
         if (e != 0)
@@ -332,6 +386,10 @@ int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
         return ROZ_EINVAL;
     if (w->error[0] != '\0')
         return ROZ_EIO;
+    /* a chunk no reader refuses: its records stay within ROZ_MCAP_MAX_RECORD */
+    if (w->chunk_len + 64u > ROZ_MCAP_MAX_RECORD ||
+        len > ROZ_MCAP_MAX_RECORD - 64u - w->chunk_len)
+        return ROZ_ENOSPC;
     /* the message index: (log time, offset in the chunk's records) */
     if (w->index_len[channel] + 2u > w->index_cap[channel]) {
         size_t cap = w->index_cap[channel] ? 2u * w->index_cap[channel] : 512u;
@@ -360,9 +418,32 @@ int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
     w->chunk_messages++;
     w->n_messages++;
     w->channel_messages[channel]++;
+    return ROZ_OK;
+}
+
+int roz_mcap_boundary(roz_mcap_writer_t *w)
+{
+    if (w->out == NULL || w->error[0] != '\0')
+        return ROZ_EIO;
     if (w->chunk_len >= w->chunk_target)
         return flush_chunk(w);
     return ROZ_OK;
+}
+
+int roz_mcap_set_compression(roz_mcap_writer_t *w, int compression)
+{
+    if (compression == ROZ_MCAP_COMPRESS_NONE || (compression == ROZ_MCAP_COMPRESS_ZSTD &&
+                                                  roz_mcap_compression_supported(compression))) {
+        w->compression = compression;
+        return ROZ_OK;
+    }
+    return compression == ROZ_MCAP_COMPRESS_ZSTD ? ROZ_ENOTSUP : ROZ_EINVAL;
+}
+
+int roz_mcap_compression_supported(int compression)
+{
+    return compression == ROZ_MCAP_COMPRESS_NONE ||
+           (compression == ROZ_MCAP_COMPRESS_ZSTD && ROZ_MCAP_ZSTD);
 }
 
 /* One summary group: its records, and a summary offset pointing at them. */
@@ -422,10 +503,12 @@ int roz_mcap_close(roz_mcap_writer_t *w)
         rc = emit(w, offs, olen, 0);
     /* the footer */
     len = 0;
-    s = rec_begin(b, OP_FOOTER);
+    /* summary start u64, summary offset start u64, summary CRC u32: 20 bytes,
+     * the CRC covering everything from the summary's start to just before it */
+    (void)put_u8(b, OP_FOOTER);
+    (void)put_le(b, 20, 8);
     (void)put_le(b, summary_start, 8);
     (void)put_le(b, offsets_start, 8);
-    rec_end(b, s);
     if (rc == ROZ_OK)
         rc = emit(w, rec, len, 0); /* without its CRC field yet */
     /* the summary CRC: re-read what was written since summary_start */
@@ -460,6 +543,12 @@ int roz_mcap_close(roz_mcap_writer_t *w)
     free(w->schemas);
     free(w->channels);
     free(w->chunk_indexes);
+    free(w->zbuf);
+#if ROZ_MCAP_ZSTD
+    ZSTD_freeCCtx(w->zctx);
+#endif
+    w->zbuf = NULL;
+    w->zctx = NULL;
     for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
         free(w->index[c]);
     w->chunk = w->schemas = w->channels = w->chunk_indexes = NULL;
@@ -509,49 +598,61 @@ static int get_str(const unsigned char *p, size_t *at, size_t end, char *dst, si
     return 0;
 }
 
+/* Reads @p n bytes at @p at into *dst (grown as needed, never past
+ * ROZ_MCAP_MAX_RECORD: the caller checked n against it). */
+static int read_at(roz_mcap_reader_t *r, uint64_t at, size_t n, unsigned char **dst,
+                   size_t *cap)
+{
+    if (n > *cap) {
+        unsigned char *p = realloc(*dst, n);
+        if (p == NULL)
+            return ROZ_ENOMEM;
+        *dst = p;
+        *cap = n;
+    }
+    if (fseeko(r->in, (off_t)at, SEEK_SET) != 0 || fread(*dst, 1, n, r->in) != n)
+        return ROZ_EIO;
+    return ROZ_OK;
+}
+
 int roz_mcap_reader_open(roz_mcap_reader_t *r, const char *path, char *err, size_t errlen)
 {
+    unsigned char head[17], tail[8];
+
     memset(r, 0, sizeof *r);
     r->path = path;
-    FILE *in = fopen(path, "rb");
-    if (in == NULL) {
+    r->in = fopen(path, "rb");
+    if (r->in == NULL) {
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
         return ROZ_EIO;
     }
-    if (fseek(in, 0, SEEK_END) != 0 || ftell(in) < 0) {
+    off_t size;
+    if (fseeko(r->in, 0, SEEK_END) != 0 || (size = ftello(r->in)) < 0) {
         snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
-        fclose(in);
-        return ROZ_EIO;
-    }
-    r->len = (size_t)ftell(in);
-    rewind(in);
-    r->buf = malloc(r->len ? r->len : 1u);
-    if (r->buf == NULL) {
-        fclose(in);
-        snprintf(err, errlen, "%s: out of memory for %lu bytes", path, (unsigned long)r->len);
-        return ROZ_ENOMEM;
-    }
-    if (fread(r->buf, 1, r->len, in) != r->len) {
-        snprintf(err, errlen, "%s: cannot read: %s", path, strerror(errno));
-        fclose(in);
         roz_mcap_reader_close(r);
         return ROZ_EIO;
     }
-    fclose(in);
-    if (r->len < sizeof magic || memcmp(r->buf, magic, sizeof magic) != 0) {
+    r->size = (uint64_t)size;
+    size_t got = 0;
+    if (fseeko(r->in, 0, SEEK_SET) == 0)
+        got = fread(head, 1, sizeof head, r->in);
+    if (got < sizeof magic || memcmp(head, magic, sizeof magic) != 0) {
         rerr(r, err, errlen, 0, "not an MCAP file (no MCAP magic)");
         roz_mcap_reader_close(r);
         return ROZ_EINVAL;
     }
-    if (r->len < 17u || r->buf[8] != OP_HEADER ||
-        get_le(r->buf + 9, 8) > r->len - 17u) {
+    uint64_t n = got == sizeof head ? get_le(head + 9, 8) : 0;
+    if (got < sizeof head || head[8] != OP_HEADER || n > r->size - 17u ||
+        n > ROZ_MCAP_MAX_RECORD) {
         rerr(r, err, errlen, 8, "no complete header record");
         roz_mcap_reader_close(r);
         return ROZ_EINVAL;
     }
-    r->pos = 17u + (size_t)get_le(r->buf + 9, 8);
-    r->complete = r->len >= 2u * sizeof magic + 17u &&
-                  memcmp(r->buf + r->len - sizeof magic, magic, sizeof magic) == 0;
+    r->pos = 17u + n;
+    r->complete = r->size >= 2u * sizeof magic + 17u &&
+                  fseeko(r->in, (off_t)(r->size - sizeof tail), SEEK_SET) == 0 &&
+                  fread(tail, 1, sizeof tail, r->in) == sizeof tail &&
+                  memcmp(tail, magic, sizeof magic) == 0;
     return ROZ_OK;
 }
 
@@ -585,6 +686,83 @@ static int take_definition(roz_mcap_reader_t *r, uint8_t op, const unsigned char
     return 0;
 }
 
+/* A chunk record at @p at (content p, n bytes, in r->rec): its records
+ * (decompressed into r->chunk when compressed, never past the limit) checked
+ * against its CRC, then read one by one by roz_mcap_reader_next(). */
+static int open_chunk(roz_mcap_reader_t *r, uint64_t at, const unsigned char *p, size_t n,
+                      char *err, size_t errlen)
+{
+    if (n < 8u * 3u + 4u + 4u + 8u) {
+        rerr(r, err, errlen, at, "a chunk record of %lu bytes", (unsigned long)n);
+        return ROZ_EINVAL;
+    }
+    uint64_t usize = get_le(p + 16, 8);
+    uint32_t crc = (uint32_t)get_le(p + 24, 4);
+    size_t q = 28;
+    char comp[32];
+    if (get_str(p, &q, n, comp, sizeof comp) != 0 || q + 8u > n) {
+        rerr(r, err, errlen, at, "a malformed chunk record");
+        return ROZ_EINVAL;
+    }
+    uint64_t clen = get_le(p + q, 8);
+    q += 8u;
+    if (clen > n - q) {
+        rerr(r, err, errlen, at, "a chunk whose records (%llu bytes) do not fit it",
+             (unsigned long long)clen);
+        return ROZ_EINVAL;
+    }
+    if (usize > ROZ_MCAP_MAX_RECORD) {
+        rerr(r, err, errlen, at, "a chunk of %llu bytes uncompressed, past this reader's "
+             "limit of %lu bytes", (unsigned long long)usize, (unsigned long)ROZ_MCAP_MAX_RECORD);
+        return ROZ_EINVAL;
+    }
+    const unsigned char *records = p + q;
+    if (comp[0] == '\0') {
+        if (clen != usize) {
+            rerr(r, err, errlen, at, "a chunk whose records (%llu bytes) do not fit it",
+                 (unsigned long long)clen);
+            return ROZ_EINVAL;
+        }
+    } else if (strcmp(comp, "zstd") == 0 && ROZ_MCAP_ZSTD) {
+#if ROZ_MCAP_ZSTD
+        if (usize > r->chunk_cap) {
+            unsigned char *b = realloc(r->chunk, usize ? (size_t)usize : 1u);
+            if (b == NULL) {
+                rerr(r, err, errlen, at, "out of memory for a chunk of %llu bytes",
+                     (unsigned long long)usize);
+                return ROZ_ENOMEM;
+            }
+            r->chunk = b;
+            r->chunk_cap = (size_t)usize;
+        }
+        size_t z = ZSTD_decompress(r->chunk, (size_t)usize, records, (size_t)clen);
+        if (ZSTD_isError(z) || z != usize) {
+            rerr(r, err, errlen, at, "a zstd chunk that does not decompress to the %llu bytes it "
+                 "states (%s)", (unsigned long long)usize,
+                 ZSTD_isError(z) ? ZSTD_getErrorName(z) : "another size");
+            return ROZ_EINVAL;
+        }
+        records = r->chunk;
+#endif
+    } else {
+        rerr(r, err, errlen, at, "a chunk compressed with \"%s\", which this reader "
+             "does not decompress", comp);
+        return ROZ_EINVAL;
+    }
+    uint32_t got = roz_mcap_crc32(0, records, (size_t)usize);
+    if (crc != 0 && got != crc) {
+        rerr(r, err, errlen, at, "chunk CRC mismatch (stored %08lx, computed %08lx): "
+             "the file is corrupt", (unsigned long)crc, (unsigned long)got);
+        return ROZ_EINVAL;
+    }
+    r->chunk_data = records;
+    r->chunk_pos = 0;
+    r->chunk_end = (size_t)usize;
+    r->chunk_base = at;
+    r->in_chunk = 1;
+    return ROZ_OK;
+}
+
 int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *err,
                          size_t errlen)
 {
@@ -600,17 +778,17 @@ int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *er
             uint64_t file_at = r->chunk_base;
             if (r->chunk_end - at < 9u) {
                 rerr(r, err, errlen, file_at, "chunk: a record cut short at byte %lu of its records",
-                     (unsigned long)(at - (size_t)(r->chunk_data - r->buf)));
+                     (unsigned long)at);
                 return ROZ_EINVAL;
             }
-            uint8_t op = r->buf[at];
-            uint64_t n = get_le(r->buf + at + 1, 8);
+            uint8_t op = r->chunk_data[at];
+            uint64_t n = get_le(r->chunk_data + at + 1, 8);
             if (n > r->chunk_end - at - 9u) {
                 rerr(r, err, errlen, file_at, "chunk: a record of %llu bytes runs past its end",
                      (unsigned long long)n);
                 return ROZ_EINVAL;
             }
-            const unsigned char *p = r->buf + at + 9;
+            const unsigned char *p = r->chunk_data + at + 9;
             r->chunk_pos = at + 9u + (size_t)n;
             if (op == OP_SCHEMA || op == OP_CHANNEL) {
                 if (take_definition(r, op, p, (size_t)n) != 0) {
@@ -645,36 +823,53 @@ int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *er
             out->schema = sc >= 1u && sc <= ROZ_MCAP_MAX_CHANNELS ? r->schema_names[sc] : "";
             return 1;
         }
-        /* the data section, record by record */
-        size_t at = r->pos;
-        if (r->len - at < 9u) {
+        /* the data section, record by record: the header first, the length
+         * checked against the limit and the file before anything is read */
+        uint64_t at = r->pos;
+        unsigned char head[9];
+        if (r->size - at < 9u || fseeko(r->in, (off_t)at, SEEK_SET) != 0 ||
+            fread(head, 1, sizeof head, r->in) != sizeof head) {
             r->done = 1;
             snprintf(r->warning, sizeof r->warning,
-                     "%s: cut short at offset %lu (no data end, summary or footer): read up "
-                     "to there", r->path, (unsigned long)at);
+                     "%s: cut short at offset %llu (no data end, summary or footer): read up "
+                     "to there", r->path, (unsigned long long)at);
             return 0;
         }
-        uint8_t op = r->buf[at];
-        uint64_t n = get_le(r->buf + at + 1, 8);
-        if (n > r->len - at - 9u) {
+        uint8_t op = head[0];
+        uint64_t n = get_le(head + 1, 8);
+        int wanted = op == OP_CHUNK || op == OP_SCHEMA || op == OP_CHANNEL || op == OP_MESSAGE;
+        if (wanted && n > ROZ_MCAP_MAX_RECORD) {
+            rerr(r, err, errlen, at, "a record (opcode 0x%02x) of %llu bytes, past this "
+                 "reader's limit of %lu bytes", (unsigned)op, (unsigned long long)n,
+                 (unsigned long)ROZ_MCAP_MAX_RECORD);
+            return ROZ_EINVAL;
+        }
+        if (n > r->size - at - 9u) {
             r->done = 1;
             snprintf(r->warning, sizeof r->warning,
-                     "%s: cut short at offset %lu (a record of %llu bytes runs past the end "
-                     "of the file): read up to there", r->path, (unsigned long)at,
+                     "%s: cut short at offset %llu (a record of %llu bytes runs past the end "
+                     "of the file): read up to there", r->path, (unsigned long long)at,
                      (unsigned long long)n);
             return 0;
         }
-        const unsigned char *p = r->buf + at + 9;
-        r->pos = at + 9u + (size_t)n;
-        switch (op) {
-        case OP_DATA_END:
-        case OP_FOOTER:
+        r->pos = at + 9u + n;
+        if (op == OP_DATA_END || op == OP_FOOTER) {
             r->done = 1;
             if (!r->complete)
                 snprintf(r->warning, sizeof r->warning,
-                         "%s: no trailing magic: the file is cut short after offset %lu",
-                         r->path, (unsigned long)at);
+                         "%s: no trailing magic: the file is cut short after offset %llu",
+                         r->path, (unsigned long long)at);
             return 0;
+        }
+        if (!wanted)
+            continue; /* message indexes, attachments, metadata: not needed here */
+        int rc = read_at(r, at + 9u, (size_t)n, &r->rec, &r->rec_cap);
+        if (rc != ROZ_OK) {
+            rerr(r, err, errlen, at, "%s", rc == ROZ_ENOMEM ? "out of memory" : "cannot read");
+            return rc;
+        }
+        const unsigned char *p = r->rec;
+        switch (op) {
         case OP_SCHEMA:
         case OP_CHANNEL:
             if (take_definition(r, op, p, (size_t)n) != 0) {
@@ -684,54 +879,25 @@ int roz_mcap_reader_next(roz_mcap_reader_t *r, roz_mcap_message_t *out, char *er
             }
             break;
         case OP_CHUNK: {
-            if (n < 8u * 3u + 4u + 4u + 8u) {
-                rerr(r, err, errlen, at, "a chunk record of %llu bytes", (unsigned long long)n);
-                return ROZ_EINVAL;
-            }
-            uint64_t usize = get_le(p + 16, 8);
-            uint32_t crc = (uint32_t)get_le(p + 24, 4);
-            size_t q = 28;
-            char comp[32];
-            if (get_str(p, &q, (size_t)n, comp, sizeof comp) != 0 || q + 8u > n) {
-                rerr(r, err, errlen, at, "a malformed chunk record");
-                return ROZ_EINVAL;
-            }
-            if (comp[0] != '\0') {
-                rerr(r, err, errlen, at, "a chunk compressed with \"%s\", which this reader "
-                     "does not decompress", comp);
-                return ROZ_EINVAL;
-            }
-            uint64_t rlen = get_le(p + q, 8);
-            q += 8u;
-            if (rlen > n - q || rlen != usize) {
-                rerr(r, err, errlen, at, "a chunk whose records (%llu bytes) do not fit it",
-                     (unsigned long long)rlen);
-                return ROZ_EINVAL;
-            }
-            uint32_t got = roz_mcap_crc32(0, p + q, (size_t)rlen);
-            if (crc != 0 && got != crc) {
-                rerr(r, err, errlen, at, "chunk CRC mismatch (stored %08lx, computed %08lx): "
-                     "the file is corrupt", (unsigned long)crc, (unsigned long)got);
-                return ROZ_EINVAL;
-            }
-            r->chunk_data = r->buf + (p - r->buf) + q;
-            r->chunk_pos = (size_t)(r->chunk_data - r->buf);
-            r->chunk_end = r->chunk_pos + (size_t)rlen;
-            r->chunk_base = at;
-            r->in_chunk = 1;
+            rc = open_chunk(r, at, p, (size_t)n, err, errlen);
+            if (rc != ROZ_OK)
+                return rc;
             break;
         }
-        case OP_MESSAGE:
+        default: /* OP_MESSAGE */
             rerr(r, err, errlen, at, "a message outside a chunk (roz writes none)");
             return ROZ_EINVAL;
-        default:
-            break; /* message indexes, attachments, metadata: not needed here */
         }
     }
 }
 
 void roz_mcap_reader_close(roz_mcap_reader_t *r)
 {
-    free(r->buf);
-    r->buf = NULL;
+    if (r->in != NULL)
+        fclose(r->in);
+    r->in = NULL;
+    free(r->rec);
+    free(r->chunk);
+    r->rec = r->chunk = NULL;
+    r->rec_cap = r->chunk_cap = 0;
 }

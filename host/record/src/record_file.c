@@ -50,7 +50,10 @@ static const char run_schema[] =
     "uint64 fuel_per_tick\n"
     "uint64 budget_ns\n"
     "uint32 decimation\n"
-    "bool allow_foreign_controller\n";
+    "bool allow_foreign_controller\n"
+    "# the wall clock (Unix time, ns) at tick 0: every message's log time is\n"
+    "# start_time_ns + sim_time_ns\n"
+    "uint64 start_time_ns\n";
 
 static const char controller_schema[] =
     "# the controller that drives from this tick on\n"
@@ -199,11 +202,12 @@ static char *values_schema(const roz_channel_t *chs, uint16_t n, const char *wha
 
 /* ---- writing ------------------------------------------------------------------- */
 
+/* @p t: the tick's simulated time; logged at the run's wall-clock start plus it */
 static int put_msg(roz_record_file_t *f, uint16_t ch, uint64_t t, cdr_t *c)
 {
     if (c->oom)
         return ROZ_ENOMEM;
-    return roz_mcap_message(&f->w, ch, t, t, *c->p, c->len);
+    return roz_mcap_message(&f->w, ch, f->start_ns + t, f->start_ns + t, *c->p, c->len);
 }
 
 static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
@@ -226,13 +230,15 @@ static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
     cdr_u(&c, cfg->budget_ns, 8);
     cdr_u(&c, roz_recorder_decimation(f->rec), 4);
     cdr_u(&c, cfg->allow_foreign_controller ? 1u : 0u, 1);
+    cdr_u(&c, f->start_ns, 8);
     return put_msg(f, f->ch_run, 0, &c);
 }
 
 int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
-                         roz_recorder_t *rec, const char *controller_name, char *err,
+                         roz_recorder_t *rec, const roz_record_file_options_t *opt, char *err,
                          size_t errlen)
 {
+    static const roz_record_file_options_t none = { NULL, 0, ROZ_MCAP_COMPRESS_NONE };
     const roz_runtime_config_t *cfg = roz_runtime_config(rt);
     char pkg[96];
     int rc;
@@ -242,13 +248,24 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
         snprintf(err, errlen, "%s: the runtime records into no recorder, or another one", path);
         return ROZ_EINVAL;
     }
+    if (opt == NULL)
+        opt = &none;
     f->rec = rec;
     f->m = cfg->manifest;
-    f->controller_name = controller_name != NULL ? controller_name : "";
+    f->controller_name = opt->controller_name != NULL ? opt->controller_name : "";
+    f->start_ns = opt->start_time_ns;
+    if (!roz_mcap_compression_supported(opt->compression)) {
+        snprintf(err, errlen, "%s: this build cannot compress with %s", path,
+                 opt->compression == ROZ_MCAP_COMPRESS_ZSTD ? "zstd (no libzstd)" : "that");
+        return ROZ_ENOTSUP;
+    }
     /* 64 KiB chunks: a recording whose writer died loses at most the last */
     rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
+    if (rc == ROZ_OK)
+        rc = roz_mcap_set_compression(&f->w, opt->compression);
     if (rc != ROZ_OK) {
-        snprintf(err, errlen, "%s", f->w.error);
+        snprintf(err, errlen, "%s", f->w.error[0] ? f->w.error : "cannot compress");
+        (void)roz_mcap_close(&f->w);
         return rc;
     }
     char *state_text = values_schema(f->m->states, f->m->n_states, "the state channels");
@@ -282,6 +299,8 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
         rc = ROZ_ENOMEM;
     if (rc == ROZ_OK)
         rc = write_run(f, cfg);
+    if (rc == ROZ_OK)
+        rc = roz_mcap_boundary(&f->w);
     if (rc != ROZ_OK) {
         snprintf(err, errlen, "%s: %s", path, f->w.error[0] ? f->w.error : "out of memory");
         (void)roz_mcap_close(&f->w);
@@ -351,6 +370,9 @@ static int write_record(void *ctx, const roz_record_t *r)
         cdr_str(&c, r->fault_message);
         rc = put_msg(f, f->ch_fault, t, &c);
     }
+    /* a tick's messages share one chunk: chunks never overlap in time */
+    if (rc == ROZ_OK)
+        rc = roz_mcap_boundary(&f->w);
     if (rc != ROZ_OK)
         f->failed = 1;
     else
@@ -496,6 +518,7 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     run->budget_ns = rd_u(&d, 8);
     run->decimation = (uint32_t)rd_u(&d, 4);
     run->allow_foreign_controller = (int)rd_u(&d, 1);
+    run->start_time_ns = d.at < d.len ? rd_u(&d, 8) : 0; /* absent in older files */
     if (d.bad || nc > ROZ_CFG_MAX_COMMANDS || ns > ROZ_CFG_MAX_STATES ||
         run->control_rate_hz == 0) {
         snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/run message", path,

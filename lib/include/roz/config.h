@@ -135,6 +135,15 @@
 #ifndef ROZ_CFG_WASM_MAX_EXPORTS
 #define ROZ_CFG_WASM_MAX_EXPORTS 1024
 #endif
+/** The engine's compile work a module may need, in steps: one per
+ *  instruction, plus at every block, loop and if entered with values on the
+ *  operand stack (locals x values: wasm3 compares each local with the
+ *  stack there), plus at every local.set and local.tee (values). Refused at
+ *  validation, before the engine compiles (docs/load-bound.md). Range
+ *  1024..2^40; the default, 2^24, is about 30 ms of wasm3's compiler here. */
+#ifndef ROZ_CFG_WASM_MAX_COMPILE_WORK
+#define ROZ_CFG_WASM_MAX_COMPILE_WORK 16777216
+#endif
 /** Tables of roz_crc32_words() (roz/hal/crc32.h, the link checks): 4
  *  (slicing by four, 4 KiB of flash, four independent lookups a word) or 1
  *  (1 KiB, four dependent lookups a word: for a small flash). */
@@ -212,6 +221,9 @@
 #endif
 #if ROZ_CFG_CRC32_SLICES != 1 && ROZ_CFG_CRC32_SLICES != 4
 #error "ROZ_CFG_CRC32_SLICES must be 1 or 4"
+#endif
+#if ROZ_CFG_WASM_MAX_COMPILE_WORK < 1024 || ROZ_CFG_WASM_MAX_COMPILE_WORK > 1099511627776
+#error "ROZ_CFG_WASM_MAX_COMPILE_WORK must be in 1024..2^40"
 #endif
 #if ROZ_CFG_WASM_MAX_TYPES < 1 || ROZ_CFG_WASM_MAX_TYPES > 65535
 #error "ROZ_CFG_WASM_MAX_TYPES must be in 1..65535"

@@ -73,26 +73,29 @@ static int parse_tick(const char **s, const char *what, uint64_t *out, char *why
 /* Parses "FROM:TO", "FROM:" or "FROM"; TO empty = forever (to = 0). */
 static int parse_range(const char *s, uint64_t *from, uint64_t *to, char *why, size_t whylen)
 {
-    int rc;
+    int rc, have_to = 0;
 
-    *to = 0;
+    *to = 0; /* 0: forever, when TO is left out (never when it is written) */
     if ((rc = parse_tick(&s, "FROM", from, why, whylen)) != 0)
         return rc;
     if (*s == ':') {
         s++;
-        if (*s != '\0' && (rc = parse_tick(&s, "TO", to, why, whylen)) != 0)
-            return rc;
+        if (*s != '\0') {
+            if ((rc = parse_tick(&s, "TO", to, why, whylen)) != 0)
+                return rc;
+            have_to = 1;
+        }
     }
     if (*s != '\0') {
         roz_format(why, whylen, "unexpected \"%s\" after the ticks", s);
         return SYNTAX;
     }
-    if (*to != 0 && *to < *from) {
+    if (have_to && *to < *from) {
         roz_format(why, whylen, "FROM %llu after TO %llu", (unsigned long long)*from,
                    (unsigned long long)*to);
         return BAD;
     }
-    if (*to != 0 && *to == *from) {
+    if (have_to && *to == *from) {
         roz_format(why, whylen, "FROM %llu equals TO: the ticks [FROM, TO) are none",
                  (unsigned long long)*from);
         return BAD;

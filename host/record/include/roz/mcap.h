@@ -6,12 +6,15 @@
  *
  * MCAP (format version 0) is the container ROS 2 bags, Foxglove and many
  * robotics tools read. This writer puts schemas, channels and messages in
- * uncompressed chunks, each followed by its message indexes; the summary
+ * chunks (zstd-compressed when asked), each followed by its message
+ * indexes, a chunk closed only at a boundary its caller marks; the summary
  * repeats the schemas and channels and holds the statistics and a chunk
  * index, with summary offsets; the data section and the summary carry their
  * CRC-32, and every chunk the CRC of its records. The reader is what replay
  * needs: the messages in file order, every chunk's CRC checked, and every
- * error naming the byte offset at fault.
+ * error naming the byte offset at fault. It reads one record at a time and
+ * refuses any record, and any chunk's records once decompressed, larger
+ * than ROZ_MCAP_MAX_RECORD before it allocates for it (docs/recording-format.md).
  */
 #ifndef ROZ_MCAP_H
 #define ROZ_MCAP_H
@@ -31,6 +34,16 @@ extern "C" {
 
 /** Channels (and schemas) one file may have. */
 #define ROZ_MCAP_MAX_CHANNELS 16
+
+/** The largest record (and chunk, decompressed) the reader takes and the
+ *  writer writes, in bytes: 16 MiB (roz's chunks are 64 KiB and a tick). */
+#define ROZ_MCAP_MAX_RECORD (16ul * 1024ul * 1024ul)
+
+/** Chunk compression (roz_mcap_set_compression()). */
+enum {
+    ROZ_MCAP_COMPRESS_NONE = 0,
+    ROZ_MCAP_COMPRESS_ZSTD = 1, /**< zstd, level 1 (built with Debian's libzstd) */
+};
 
 /** A writer. Fields are private to mcap.c. */
 typedef struct roz_mcap_writer {
@@ -54,13 +67,17 @@ typedef struct roz_mcap_writer {
     uint64_t       ROZ_PRIVATE(n_messages), ROZ_PRIVATE(first_time), ROZ_PRIVATE(last_time);
     uint64_t       ROZ_PRIVATE(channel_messages)[ROZ_MCAP_MAX_CHANNELS + 1];
     uint32_t       ROZ_PRIVATE(sequence)[ROZ_MCAP_MAX_CHANNELS + 1];
+    int            ROZ_PRIVATE(compression);
+    void          *ROZ_PRIVATE(zctx);        /* zstd's context, made at the first chunk */
+    unsigned char *ROZ_PRIVATE(zbuf);        /* a compressed chunk */
+    size_t         ROZ_PRIVATE(zbuf_cap);
     char           ROZ_PRIVATE(error)[192]; /* the first error, "" none */
 } roz_mcap_writer_t;
 
 /**
  * @brief Create @p path and write the magic and the header (profile "ros2").
- * @param[in] chunk_bytes  a chunk is closed once its records pass this size
- *                         (0: 1 MiB)
+ * @param[in] chunk_bytes  a chunk is closed at the first roz_mcap_boundary()
+ *                         once its records pass this size (0: 1 MiB)
  * @retval ROZ_OK    open
  * @retval ROZ_EIO   the file could not be created (w->error says why)
  * @retval ROZ_ENOMEM
@@ -82,10 +99,32 @@ uint16_t roz_mcap_channel(roz_mcap_writer_t *w, uint16_t schema_id, const char *
 /**
  * @brief Add one message (its bytes copied into the open chunk).
  * @retval ROZ_OK, ROZ_EINVAL (unknown channel), ROZ_EIO (w->error), ROZ_ENOMEM
+ * @retval ROZ_ENOSPC the open chunk would pass ROZ_MCAP_MAX_RECORD (no
+ *                    roz_mcap_boundary() for too long)
  * Context: as roz_mcap_open().
  */
 ROZ_NODISCARD int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
                                    uint64_t publish_time, const void *data, size_t len);
+
+/**
+ * @brief Mark a place where a chunk may end (after a tick's messages): the
+ *        open chunk is written (compressed, when asked) if it passed
+ *        chunk_bytes. Messages between two boundaries share one chunk, so
+ *        chunks never overlap in time when each group has its own time.
+ * @retval ROZ_OK, ROZ_EIO (w->error), ROZ_ENOMEM
+ * Context: as roz_mcap_open().
+ */
+int roz_mcap_boundary(roz_mcap_writer_t *w);
+
+/**
+ * @brief Compress the chunks written from now on (ROZ_MCAP_COMPRESS_*).
+ * @retval ROZ_OK, ROZ_ENOTSUP (built without zstd), ROZ_EINVAL
+ * Context: as roz_mcap_open().
+ */
+int roz_mcap_set_compression(roz_mcap_writer_t *w, int compression);
+
+/** @brief 1 when this build writes and reads @p compression. Context: any. */
+int roz_mcap_compression_supported(int compression);
 
 /**
  * @brief Close the last chunk, write the data end, the summary, its offsets,
@@ -109,14 +148,17 @@ typedef struct roz_mcap_message {
                                          file (inside a chunk: the chunk's offset) */
 } roz_mcap_message_t;
 
-/** A reader: the file in memory. Fields are private to mcap.c. */
+/** A reader: one record in memory at a time. Fields are private to mcap.c. */
 typedef struct roz_mcap_reader {
     const char    *ROZ_PRIVATE(path);
-    unsigned char *ROZ_PRIVATE(buf);
-    size_t         ROZ_PRIVATE(len);
-    size_t         ROZ_PRIVATE(pos);        /* next record of the data section */
-    size_t         ROZ_PRIVATE(chunk_pos), ROZ_PRIVATE(chunk_end), ROZ_PRIVATE(chunk_base); /* inside a chunk's records */
-    unsigned char *ROZ_PRIVATE(chunk_data); /* the chunk's records (in buf) */
+    FILE          *ROZ_PRIVATE(in);
+    uint64_t       ROZ_PRIVATE(size);       /* the file's */
+    uint64_t       ROZ_PRIVATE(pos);        /* next record of the data section */
+    unsigned char *ROZ_PRIVATE(rec), *ROZ_PRIVATE(chunk); /* a record; a chunk decompressed */
+    size_t         ROZ_PRIVATE(rec_cap), ROZ_PRIVATE(chunk_cap);
+    size_t         ROZ_PRIVATE(chunk_pos), ROZ_PRIVATE(chunk_end); /* inside a chunk's records */
+    uint64_t       ROZ_PRIVATE(chunk_base); /* the chunk record's offset */
+    const unsigned char *ROZ_PRIVATE(chunk_data); /* the chunk's records (rec or chunk) */
     int            ROZ_PRIVATE(in_chunk), ROZ_PRIVATE(done), ROZ_PRIVATE(complete);
     uint16_t       ROZ_PRIVATE(channel_schema)[ROZ_MCAP_MAX_CHANNELS + 1];
     char           ROZ_PRIVATE(topics)[ROZ_MCAP_MAX_CHANNELS + 1][64];
@@ -125,8 +167,8 @@ typedef struct roz_mcap_reader {
 } roz_mcap_reader_t;
 
 /**
- * @brief Read @p path into memory and check its magic, header and (when the
- *        file is complete) its footer and trailing magic. A file cut short
+ * @brief Open @p path and check its magic, header and trailing magic. A
+ *        file cut short
  *        (a recording whose writer died) is readable up to its last whole
  *        record; r->warning says where it ends.
  * @retval ROZ_OK     open

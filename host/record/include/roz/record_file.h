@@ -8,7 +8,8 @@
  * chunks, and the calls: roz_record_file_open() after roz_runtime_init()
  * with a recorder, roz_record_file_drain() from a non-real-time thread (or
  * between ticks), roz_record_file_close() at the end; roz_record_reader_open()
- * and roz_record_reader_next() to read a file tick by tick.
+ * and roz_record_reader_next() to read a file tick by tick;
+ * docs/recording-format.md has the file's layout and limits.
  */
 #ifndef ROZ_RECORD_FILE_H
 #define ROZ_RECORD_FILE_H
@@ -41,20 +42,30 @@ typedef struct roz_record_file {
     unsigned char         *ROZ_PRIVATE(msg);    /* one message being encoded */
     size_t                 ROZ_PRIVATE(msg_cap);
     uint64_t               ROZ_PRIVATE(ticks), ROZ_PRIVATE(bytes_before);
+    uint64_t               ROZ_PRIVATE(start_ns);
     int                    ROZ_PRIVATE(failed);
 } roz_record_file_t;
+
+/** How a recording is written. */
+typedef struct roz_record_file_options {
+    const char *controller_name; /**< named in /roz/controller (e.g. the file's path) */
+    uint64_t    start_time_ns;   /**< the wall clock at tick 0, Unix time in ns (0: 1970) */
+    int         compression;     /**< ROZ_MCAP_COMPRESS_NONE or _ZSTD */
+} roz_record_file_options_t;
 
 /**
  * @brief Create @p path, write the schemas, the channels and the run's
  *        /roz/run message (from @p rt's configuration and manifest, and
  *        @p rec's decimation).
- * @param[in] controller_name  named in /roz/controller (e.g. the file's path)
+ * @param[in] opt  NULL: no controller name, start 0, uncompressed
  * @retval ROZ_OK, ROZ_EIO (err names the file), ROZ_ENOMEM, ROZ_EINVAL (no recorder)
+ * @retval ROZ_ENOTSUP the compression asked for is not in this build
  * Context: start-up, a non-real-time thread; allocates.
  */
 ROZ_NODISCARD int roz_record_file_open(roz_record_file_t *f, const char *path,
                                        const roz_runtime_t *rt, roz_recorder_t *rec,
-                                       const char *controller_name, char *err, size_t errlen);
+                                       const roz_record_file_options_t *opt, char *err,
+                                       size_t errlen);
 
 /**
  * @brief Drain the recorder into the file.
@@ -90,6 +101,7 @@ typedef struct roz_record_run {
     uint64_t budget_ns;
     uint32_t decimation;
     int      allow_foreign_controller;
+    uint64_t start_time_ns; /**< wall clock at tick 0 (Unix ns); 0 in files before it */
 } roz_record_run_t;
 
 /** A recording being read. Fields are private to record_file.c. */
