@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # The port registry. Each port's CMakeLists.txt registers its library once:
 #
-#   roz_add_port(NAME socketcan TARGET roz_port_socketcan HEADER roz/socketcan.h
+#   roz_add_port(NAME socketcan TARGET roz_port_socketcan HEADER roz/port/socketcan.h
 #                TYPE roz_socketcan_t CONSTRUCTOR roz_socketcan_port
 #                [OPS roz_socketcan_ops] [EXPORT roz_extra_target ...])
 #

@@ -12,10 +12,10 @@
 file(GLOB sources ${ROOT}/lib/src/*.c ${ROOT}/lib/src/*.h ${ROOT}/lib/include/roz/*.h
                   ${ROOT}/hal/src/*.c ${ROOT}/hal/include/roz/hal/*.h
                   ${ROOT}/ports/loopback/src/*.c ${ROOT}/ports/loopback/src/*.h
-                  ${ROOT}/ports/loopback/include/roz/*.h
+                  ${ROOT}/ports/loopback/include/roz/*.h ${ROOT}/ports/loopback/include/roz/port/*.h
                   ${ROOT}/ports/socketcan/src/mit_codec.c ${ROOT}/ports/socketcan/src/can_config.c
-                  ${ROOT}/ports/socketcan/include/roz/mit_codec.h
-                  ${ROOT}/ports/socketcan/include/roz/can_config.h)
+                  ${ROOT}/ports/socketcan/include/roz/port/mit_codec.h
+                  ${ROOT}/ports/socketcan/include/roz/port/can_config.h)
 list(LENGTH sources n)
 if(n LESS 20)
   message(FATAL_ERROR "only ${n} sources found under ${ROOT}: is ROOT right?")

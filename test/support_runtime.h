@@ -8,7 +8,7 @@
 #ifndef ROZ_TEST_SUPPORT_RUNTIME_H
 #define ROZ_TEST_SUPPORT_RUNTIME_H
 
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"
 

@@ -14,7 +14,7 @@
 #include <stdlib.h>
 
 #include "roz/hal/clock.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
 #include "support_heap.h"

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * bench/can_codec: what the socketcan port costs.
- *   1. The MIT-mode codec (roz/mit_codec.h): packing a command and
+ *   1. The MIT-mode codec (roz/port/mit_codec.h): packing a command and
  *      unpacking a reply, per joint, over varied values, in ns.
  *   2. The port on the example leg (examples/can_leg/leg.toml, 3 joints),
  *      fake actuators (test/fakes/can) on a socketpair, the writer at 2 ms,
@@ -24,8 +24,8 @@
 #include "can_leg_manifest.h"
 #include "fake_can.h"
 #include "roz/hal/clock.h"
-#include "roz/mit_codec.h"
-#include "roz/socketcan.h"
+#include "roz/port/mit_codec.h"
+#include "roz/port/socketcan.h"
 
 #define SAMPLES 4096
 

@@ -49,12 +49,12 @@
 #include <dds/dds.h>
 
 #include "bench_json.h"
-#include "roz/dds.h"
+#include "roz/port/dds.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/crc32.h"
 #include "roz/hal/module.h"
 #include "roz/runtime.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 #include "unitree_g1_manifest.h"
 #include "unitree_hg.h"
 

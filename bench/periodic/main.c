@@ -23,7 +23,7 @@
 
 #include "roz/hal/clock.h"
 #include "roz/hal/runner.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
 #include "unitree_g1_manifest.h"

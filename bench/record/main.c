@@ -19,7 +19,7 @@
 #include "bench_json.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/module.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/record_file.h"
 #include "roz/runtime.h"
 #include "unitree_g1_manifest.h"

@@ -32,7 +32,7 @@
 #include "roz/hal/clock.h"
 #include "roz/hal/crc32.h"
 #include "crc32_reference.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
 #include "controller_bench.h"

@@ -68,7 +68,7 @@ PM01_GROUPS = (
               "J21_ELBOW_PITCH_R", "J22_ELBOW_YAW_R", "J23_HEAD_YAW")),
 )
 
-#: ROZ_DDS_PARAM_KEYS (roz/dds.h)
+#: ROZ_DDS_PARAM_KEYS (roz/port/dds.h)
 DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "command_writer_period_us",
             "command_writer_spin_us", "state_decimation", "command_timeout_us")
 #: known_keys of g1_port.c

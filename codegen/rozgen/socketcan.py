@@ -3,7 +3,7 @@
 "MIT mode"): the rules of ``ports/socketcan/src/can_config.c``, the same
 problems with the same words in the same order, so that rozgen refuses at
 build time what the port would refuse at open. The keys, their values and
-defaults are documented in ``ports/socketcan/include/roz/can_config.h``.
+defaults are documented in ``ports/socketcan/include/roz/port/can_config.h``.
 
 ``check(manifest)`` runs on a manifest that passed every other rule and
 returns ``(rule, message)`` pairs, messages starting with ``": "``.

@@ -57,7 +57,7 @@ def test_pm01_joints_are_the_ports():
 
 
 def test_keys_are_the_ports():
-    dds_h = _c("ports/dds/include/roz/dds.h")
+    dds_h = _c("ports/dds/include/roz/port/dds.h")
     macro = re.search(r"#define ROZ_DDS_PARAM_KEYS(.*?)\n\n", dds_h, re.S).group(1)
     keys = _strings(macro)
     assert "ROZ_CMD_WATCHDOG_KEY" in macro
@@ -75,7 +75,7 @@ def test_keys_are_the_ports():
 
 
 def test_limits_are_the_headers():
-    dds_h = _c("ports/dds/include/roz/dds.h")
+    dds_h = _c("ports/dds/include/roz/port/dds.h")
     wd_h = _c("hal/include/roz/hal/cmd_watchdog.h")
     assert dds_ports.IFNAME_MAX == _define(dds_h, "ROZ_DDS_IFNAME_MAX")
     assert dds_ports.MAX_DOMAIN == _define(dds_h, "ROZ_DDS_MAX_DOMAIN")
@@ -88,7 +88,7 @@ def test_limits_are_the_headers():
     assert dds_ports.WATCHDOG_MIN_PERIODS == _define(wd_h, "ROZ_CMD_WATCHDOG_MIN_PERIODS")
     assert dds_ports.WATCHDOG_MAX_US == _define(wd_h, "ROZ_CMD_WATCHDOG_MAX_US")
     assert dds_ports.MAX_JOINTS == _define(_c("lib/include/roz/config.h"), "ROZ_CFG_MAX_JOINTS")
-    assert len(dds_ports.G1_JOINTS) == _define(_c("ports/unitree_g1/include/roz/unitree_g1.h"),
+    assert len(dds_ports.G1_JOINTS) == _define(_c("ports/unitree_g1/include/roz/port/unitree_g1.h"),
                                                "ROZ_UNITREE_G1_BODY")
 
 

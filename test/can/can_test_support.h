@@ -9,7 +9,7 @@
 #include <stdint.h>
 
 #include "fake_can.h"
-#include "roz/socketcan.h"
+#include "roz/port/socketcan.h"
 
 /* The leg's actuators as fake_can sees them: ids 1, 2, 3; the knee answers
  * from the host's id 0 (as the reference firmware does), the others from

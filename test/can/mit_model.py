@@ -2,7 +2,7 @@
 """An independent model of the MIT-mode CAN frames, and the test vectors
 the C codec (ports/socketcan/src/mit_codec.c) is checked against.
 
-Written from the protocol's description (roz/mit_codec.h repeats it), not
+Written from the protocol's description (roz/port/mit_codec.h repeats it), not
 from the C code: values are mapped with exact rational arithmetic
 (fractions.Fraction), fields are laid out one bit at a time.
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The [hardware] keys of a CAN robot (roz/can_config.h) beyond what the
+/* The [hardware] keys of a CAN robot (roz/port/can_config.h) beyond what the
  * shared fixtures check (their messages agree with rozgen's, compare_vectors):
  * what a valid table gives (the leg example's joints, channels, ranges,
  * directions, offsets), the caller's parameters over robot.toml's, the bus
@@ -16,7 +16,7 @@
 
 #include <cmocka.h>
 
-#include "roz/can_config.h"
+#include "roz/port/can_config.h"
 #include "roz/manifest_toml.h"
 
 #ifndef ROZ_SOURCE_DIR

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The MIT-mode codec (roz/mit_codec.h) against the vectors of an independent
+/* The MIT-mode codec (roz/port/mit_codec.h) against the vectors of an independent
  * model (mit_model.py: exact rational arithmetic, bit-by-bit layout; the
  * table is mit_vectors.txt, which test_mit_model.py keeps current), then
  * the codec's own properties: every code of every width round-trips
@@ -16,7 +16,7 @@
 
 #include <cmocka.h>
 
-#include "roz/mit_codec.h"
+#include "roz/port/mit_codec.h"
 
 #ifndef ROZ_CAN_VECTORS
 #error "ROZ_CAN_VECTORS: the path of mit_vectors.txt"

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The MIT-mode model itself (mit_model.py): the byte layout against the
 protocol's description, exact round trips, the quantisation table of
-roz/mit_codec.h, and the committed vector table being the model's."""
+roz/port/mit_codec.h, and the committed vector table being the model's."""
 
 import math
 import os

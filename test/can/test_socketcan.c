@@ -41,7 +41,7 @@
 #include "can_leg_manifest.h"
 #include "can_test_support.h"
 #include "roz/hal/clock.h"
-#include "roz/mit_codec.h"
+#include "roz/port/mit_codec.h"
 #include "roz/runtime.h"
 #include "support.h"
 

@@ -4,7 +4,7 @@
  * DDS ports without their dependencies fails here. */
 #include <stdio.h>
 
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 
 int main(void)
 {

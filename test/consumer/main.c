@@ -12,7 +12,7 @@
 #include "roz/builtin.h"
 #endif
 #include "roz/hal/module.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/manifest.h"
 #include "roz/ports.h"
 #include "roz/runtime.h"

@@ -5,8 +5,8 @@
  * here. */
 #include <stdio.h>
 
-#include "roz/agibot_x2.h"
-#include "roz/engineai_pm01.h"
+#include "roz/port/agibot_x2.h"
+#include "roz/port/engineai_pm01.h"
 
 int main(void)
 {

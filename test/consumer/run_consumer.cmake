@@ -51,10 +51,10 @@ if(PHASE STREQUAL "installed")
   endif()
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
   run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
-  if(EXISTS ${prefix}/include/roz/unitree_g1.h)
+  if(EXISTS ${prefix}/include/roz/port/unitree_g1.h)
     run(${WORK_DIR}/build/consumer_g1) # the DDS ports came with the package
   endif()
-  if(EXISTS ${prefix}/include/roz/engineai_pm01.h)
+  if(EXISTS ${prefix}/include/roz/port/engineai_pm01.h)
     run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
   endif()
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml

@@ -25,7 +25,7 @@
 
 #include "roz/hal/clock.h"
 #include "roz/hal/runner.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"

@@ -37,7 +37,7 @@
 #include "roz/abi.h"
 #include "roz/controller.h"
 #include "roz/hal/module.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"
 #include "support_runtime.h"

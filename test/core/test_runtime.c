@@ -13,7 +13,7 @@
 
 #include <cmocka.h>
 
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support_runtime.h"

@@ -21,7 +21,7 @@
 #include "roz/port.h"
 #include "roz/hal/runner.h"
 #include "roz/log.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/runtime.h"

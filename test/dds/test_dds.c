@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* roz::dds (roz/dds.h), on loopback only, inside a private network namespace
+/* roz::dds (roz/port/dds.h), on loopback only, inside a private network namespace
  * where permitted (run_netns.sh):
  *  - parameters: defaults, and every bad value refused naming key and value;
  *  - the configuration: lo alone, multicast off, peer 127.0.0.1, participant
@@ -42,7 +42,7 @@
 
 #include <cmocka.h>
 
-#include "roz/dds.h"
+#include "roz/port/dds.h"
 #include "roz/hal/clock.h"
 #include "roz_dds_test.h"
 

@@ -46,7 +46,7 @@
 #include <cmocka.h>
 
 #include "roz/buffer.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support.h"

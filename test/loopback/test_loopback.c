@@ -14,7 +14,7 @@
 #include "diff_drive_manifest.h"
 #include "quadcopter_manifest.h"
 #include "roz/builtin.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support_runtime.h"

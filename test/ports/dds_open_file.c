@@ -4,10 +4,10 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "roz/agibot_x2.h"
-#include "roz/engineai_pm01.h"
+#include "roz/port/agibot_x2.h"
+#include "roz/port/engineai_pm01.h"
 #include "roz/manifest_toml.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 
 #define MAX_PROBLEMS 64
 

@@ -5,7 +5,7 @@
 #include <string.h>
 
 #include "port_fixture.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 
 static roz_loopback_t lb;
 static roz_port_t the_port;

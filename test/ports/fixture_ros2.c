@@ -29,11 +29,11 @@
 #include "fake_ros2_client.h"
 #include "port_fixture.h"
 #include "ros2_fixture.h"
-#include "roz/engineai_pm01.h"
+#include "roz/port/engineai_pm01.h"
 #include "engineai_pm01_manifest.h"
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
 #include "agibot_x2_manifest.h"
-#include "roz/agibot_x2.h"
+#include "roz/port/agibot_x2.h"
 #endif
 
 #ifndef ROZ_TEST_DDS_DOMAIN

@@ -45,7 +45,7 @@
 #include "can_leg_manifest.h"
 #include "can_test_support.h"
 #include "port_fixture.h"
-#include "roz/mit_codec.h"
+#include "roz/port/mit_codec.h"
 
 static roz_socketcan_t sc;
 static fake_can_t bus;

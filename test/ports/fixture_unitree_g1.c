@@ -26,7 +26,7 @@
 
 #include "fake_g1_client.h"
 #include "port_fixture.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"

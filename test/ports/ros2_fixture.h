@@ -10,7 +10,7 @@
 
 #include "fake_ros2_client.h"
 #include "roz/hal/link.h"
-#include "roz/ros2.h"
+#include "roz/port/ros2.h"
 
 roz_ros2_bridge_t *roz_ros2fx_bridge(void);
 roz_fake_ros2_t *roz_ros2fx_fake(void);

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The X2 port (roz/agibot_x2.h) against the fake robot (fake_ros2 --robot
+/* The X2 port (roz/port/agibot_x2.h) against the fake robot (fake_ros2 --robot
  * x2: its own IDL and robot description, a separate process) over loopback
  * DDS, beyond the conformance suite:
  *  - all 30 joints map both ways by name, a distinct value per joint and
@@ -42,7 +42,7 @@
 #include "port_fixture.h"
 #include "port_test.h"
 #include "ros2_fixture.h"
-#include "roz/agibot_x2.h"
+#include "roz/port/agibot_x2.h"
 #include "roz/runtime.h"
 
 static const roz_manifest_t *const m = &roz_manifest_agibot_x2;

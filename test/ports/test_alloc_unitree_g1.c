@@ -26,7 +26,7 @@
 #include "alloc_ticks.h"
 #include "port_fixture.h"
 #include "roz/runtime.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_manifest.h"
 

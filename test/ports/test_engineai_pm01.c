@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The PM01 port (roz/engineai_pm01.h) against the fake robot (fake_ros2
+/* The PM01 port (roz/port/engineai_pm01.h) against the fake robot (fake_ros2
  * --robot pm01: its own IDL and robot description, a separate process) over
  * loopback DDS, beyond the conformance suite:
  *  - all 24 joints map both ways, a distinct value per joint and field: the
@@ -49,7 +49,7 @@
 #include "port_fixture.h"
 #include "port_test.h"
 #include "ros2_fixture.h"
-#include "roz/engineai_pm01.h"
+#include "roz/port/engineai_pm01.h"
 #include "ur5_manifest.h"
 
 #define N ROZ_ENGINEAI_PM01_JOINTS

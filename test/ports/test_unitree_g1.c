@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The G1 port (roz/unitree_g1.h) against the fake robot (fake_g1, its own
+/* The G1 port (roz/port/unitree_g1.h) against the fake robot (fake_g1, its own
  * IDL and CRC, a separate process) over loopback DDS, beyond the conformance
  * suite:
  *  - all 29 joints map both ways, a distinct value per joint and field: the
@@ -56,7 +56,7 @@
 #include "port_fixture.h"
 #include "port_test.h"
 #include "roz/runtime.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 #include "../support.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_23dof_manifest.h"

@@ -9,7 +9,7 @@
 
 #include "fake_g1_client.h"
 #include "roz/hal/link.h"
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 
 roz_unitree_g1_t *roz_g1fx_port(void);
 /* The motor slot of G1 joint @p joint (the SDK's name); fails the test for

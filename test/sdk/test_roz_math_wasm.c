@@ -21,7 +21,7 @@
 #include <cmocka.h>
 
 #include "math_probe.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_runtime.h"
 #include "ur5_manifest.h"

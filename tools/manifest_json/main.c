@@ -5,7 +5,7 @@
  * for byte: the canonical JSON (codegen/rozgen/canonical.py) on stdout, or
  * the problems on stderr, one per line, as rozgen prints them. A robot for
  * the socketcan port (hardware.port = "socketcan") also passes that port's
- * checks of its [hardware] keys (roz/can_config.h), as in rozgen. The DDS
+ * checks of its [hardware] keys (roz/port/can_config.h), as in rozgen. The DDS
  * ports check theirs at open (test/ports/test_port_vectors.c holds them to
  * rozgen on the same vectors).
  *
@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include "json.h"
-#include "roz/can_config.h"
+#include "roz/port/can_config.h"
 #include "roz/identity.h"
 #include "roz/manifest_toml.h"
 

@@ -7,7 +7,7 @@
 
 #include "roz/filter.h"
 #include "roz/format.h"
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 #include "roz/monitor.h"
 
 /* Large: static storage, never the stack. */

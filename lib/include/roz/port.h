@@ -85,7 +85,7 @@ typedef struct roz_port_param_info {
 /** What a port says about itself (roz_port_ops_t::info): static, const. */
 typedef struct roz_port_info {
     const char *summary; /**< one line: "Unitree G1 over Cyclone DDS" */
-    const char *header;  /**< the header that documents it: "roz/unitree_g1.h" */
+    const char *header;  /**< the header that documents it: "roz/port/unitree_g1.h" */
     const roz_port_param_info_t *params; /**< the parameters it takes */
     size_t      n_params;
     /** Without ROZ_PORT_CAP_CRC: what the port checks instead, else NULL. */

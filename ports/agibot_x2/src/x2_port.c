@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port agibot/X2: the robot's description for roz::ros2 (four joint
  * groups, the torso IMU, topics, types, QoS) and its conversions between
- * aimdk_msgs messages and joint values. roz/agibot_x2.h says what it does. */
-#include "roz/agibot_x2.h"
+ * aimdk_msgs messages and joint values. roz/port/agibot_x2.h says what it does. */
+#include "roz/port/agibot_x2.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -312,7 +312,7 @@ static int x2_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
 }
 
 
-/* The parameters every ROS 2 port takes (roz/ros2.h), then the port's own. */
+/* The parameters every ROS 2 port takes (roz/port/ros2.h), then the port's own. */
 #define ROS2_PARAM_INFO                                                                        \
     ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
     { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
@@ -343,7 +343,7 @@ static const roz_port_param_info_t x2_param_info[] = {
 
 static const roz_port_info_t x2_info = {
     .summary = "the AgiBot X2 over its AimDK ROS 2 topics on Cyclone DDS",
-    .header = "roz/agibot_x2.h",
+    .header = "roz/port/agibot_x2.h",
     .params = x2_param_info,
     .n_params = sizeof x2_param_info / sizeof x2_param_info[0],
     .no_crc = "ROS 2 messages carry no CRC (the headers' sequence numbers are checked instead)",

@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The command path of every DDS port: the tick's write, the writer thread's
- * pass, the watchdog's report, the last command. roz/dds.h says what it
+ * pass, the watchdog's report, the last command. roz/port/dds.h says what it
  * does and which thread runs what; the port's hooks put it on its wire. */
-#include "roz/dds.h"
+#include "roz/port/dds.h"
 
 #include <string.h>
 

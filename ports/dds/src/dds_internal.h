@@ -7,7 +7,7 @@
 
 #include <dds/dds.h>
 
-#include "roz/dds.h"
+#include "roz/port/dds.h"
 
 /* A Cyclone return code as a roz code. */
 int roz__dds_error(dds_return_t rc);

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The common DDS parameters and the Cyclone configuration built from them:
  * pure functions, no Cyclone call. */
-#include "roz/dds.h"
+#include "roz/port/dds.h"
 
 #include <stdio.h>
 #include <string.h>

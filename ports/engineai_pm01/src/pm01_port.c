@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port engineai/PM01: the robot's description for roz::ros2 (its one
  * joint group, topics, types, QoS) and its conversions between
- * interface_protocol messages and joint values. roz/engineai_pm01.h says
+ * interface_protocol messages and joint values. roz/port/engineai_pm01.h says
  * what it does. */
-#include "roz/engineai_pm01.h"
+#include "roz/port/engineai_pm01.h"
 
 #include <stddef.h>
 #include <stdio.h>
@@ -201,7 +201,7 @@ static int pm01_open(void *self, const roz_manifest_t *m, const roz_params_t *p,
 }
 
 
-/* The parameters every ROS 2 port takes (roz/ros2.h), then the port's own. */
+/* The parameters every ROS 2 port takes (roz/port/ros2.h), then the port's own. */
 #define ROS2_PARAM_INFO                                                                        \
     ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
     { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
@@ -232,7 +232,7 @@ static const roz_port_param_info_t pm01_param_info[] = {
 
 static const roz_port_info_t pm01_info = {
     .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
-    .header = "roz/engineai_pm01.h",
+    .header = "roz/port/engineai_pm01.h",
     .params = pm01_param_info,
     .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
     .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",

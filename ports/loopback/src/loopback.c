@@ -2,7 +2,7 @@
 /* The loopback port: the wire between the port and the simulated robot
  * (sim.c), its faults, and the port's end with the link checks every
  * hardware port runs. */
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -460,7 +460,7 @@ static const roz_port_param_info_t lb_params[] = {
 
 static const roz_port_info_t lb_info = {
     .summary = "a deterministic simulator for any manifest, with fault injection",
-    .header = "roz/loopback.h",
+    .header = "roz/port/loopback.h",
     .params = lb_params,
     .n_params = sizeof lb_params / sizeof lb_params[0],
     .no_crc = NULL,

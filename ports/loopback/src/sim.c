@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The simulated robot of the loopback port: channel binding by name and the
- * joint and base models (roz/loopback.h lists them). */
+ * joint and base models (roz/port/loopback.h lists them). */
 #include "sim.h"
 
 #include <math.h>

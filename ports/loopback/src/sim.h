@@ -3,7 +3,7 @@
 #ifndef ROZ_LOOPBACK_SIM_H
 #define ROZ_LOOPBACK_SIM_H
 
-#include "roz/loopback.h"
+#include "roz/port/loopback.h"
 
 /** Bind the manifest's channels to the models; every joint at its default. */
 void roz_lbsim_open(roz_loopback_t *lb);

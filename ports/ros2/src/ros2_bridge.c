@@ -2,10 +2,10 @@
 /* The bridge between a robot's ROS 2 joint-group topics and roz's port
  * contract: parameters, the receive path of each state topic (a Cyclone
  * thread), the tick's read (gathering the topics into one frame), what the
- * joint-group topics bring to roz/dds.h's command path (one pass publishes
- * every group's), start-up and shutdown. roz/ros2.h says what it does; here
+ * joint-group topics bring to roz/port/dds.h's command path (one pass publishes
+ * every group's), start-up and shutdown. roz/port/ros2.h says what it does; here
  * is how. */
-#include "roz/ros2.h"
+#include "roz/port/ros2.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -18,7 +18,7 @@
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
 enum { M_SESSION = 0, M_FAULT_KIND, M_FAULT_SLOT, M_FAULT_CODE, M_FAULT_SERIAL };
-/* Command frame (tick -> writer thread): roz/dds.h's command path, n_commands
+/* Command frame (tick -> writer thread): roz/port/dds.h's command path, n_commands
  * values and its meta words, then the bridge's own: each robot slot's
  * measured position (a slot the frame does not command holds it). */
 
@@ -309,7 +309,7 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     roz_link_shared_publish(&t->link_shared, &t->link);
 }
 
-/* ---- the command path's hooks (roz/dds.h says which thread runs each) ---------- */
+/* ---- the command path's hooks (roz/port/dds.h says which thread runs each) ---------- */
 
 static void encode_group(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
 {

@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "roz/ros2.h"
+#include "roz/port/ros2.h"
 
 /* Binds the manifest's joints and IMU to the robot's slots and channels;
  * every channel must find its place. ROZ_EINVAL with err naming the joint

@@ -2,7 +2,7 @@
 /* ROS time: the system clock as a builtin_interfaces/Time, and a header
  * stamp as the sequence number the link checks take. */
 #define _POSIX_C_SOURCE 200809L
-#include "roz/ros2.h"
+#include "roz/port/ros2.h"
 
 #include <time.h>
 

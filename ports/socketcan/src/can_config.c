@@ -2,7 +2,7 @@
 /* The CAN keys of [hardware]: parsing, checking, binding, the bus figures.
  * Every message and its order match rozgen's (codegen/rozgen/socketcan.py),
  * which test/toml/compare_vectors.py checks on every fixture. */
-#include "roz/can_config.h"
+#include "roz/port/can_config.h"
 
 #include <string.h>
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The MIT-mode codec: pure arithmetic over caller storage, no OS. */
-#include "roz/mit_codec.h"
+#include "roz/port/mit_codec.h"
 
 #include <math.h>
 #include <string.h>

@@ -19,7 +19,7 @@
  * The tick reads the receive thread's frames through state_buf and the
  * writer reads the tick's commands through cmd_buf (roz/buffer.h). */
 #define _GNU_SOURCE /* sem_clockwait */
-#include "roz/socketcan.h"
+#include "roz/port/socketcan.h"
 
 #include <errno.h>
 #include <math.h>
@@ -31,7 +31,7 @@
 
 #include "roz/hal/clock.h"
 #include "roz/hal/joints.h"
-#include "roz/mit_codec.h"
+#include "roz/port/mit_codec.h"
 #include "socketcan_adapt.h"
 
 _Static_assert(sizeof(pthread_t) <= sizeof(unsigned long), "pthread_t must fit the opaque field");
@@ -896,10 +896,10 @@ static int sc_report(const void *self, roz_port_report_when_t when, char *buf, s
                     (unsigned long long)c.lost, (unsigned long long)c.saturated);
 }
 
-/* roz/can_config.h's table, one row a key. */
+/* roz/port/can_config.h's table, one row a key. */
 static const roz_port_param_info_t sc_params[] = {
     { "can_id", "1..2047 per joint", "required", "each actuator's 11-bit CAN id" },
-    { "reply", "basic|temperature_error", "required", "the reply layout (roz/mit_codec.h)" },
+    { "reply", "basic|temperature_error", "required", "the reply layout (roz/port/mit_codec.h)" },
     { "position_range", "MIN:MAX", "required", "the actuators' position range, rad" },
     { "velocity_range", "MIN:MAX", "required", "the actuators' velocity range, rad/s" },
     { "stiffness_range", "MIN:MAX", "required", "the actuators' kp range, N.m/rad" },
@@ -925,7 +925,7 @@ static const roz_port_param_info_t sc_params[] = {
 
 static const roz_port_info_t sc_info = {
     .summary = "CAN actuators speaking the MIT-mode frame, over Linux SocketCAN",
-    .header = "roz/can_config.h",
+    .header = "roz/port/can_config.h",
     .params = sc_params,
     .n_params = sizeof sc_params / sizeof sc_params[0],
     .no_crc = NULL,

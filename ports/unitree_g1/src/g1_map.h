@@ -7,7 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "roz/unitree_g1.h"
+#include "roz/port/unitree_g1.h"
 #include "unitree_hg.h"
 
 typedef unitree_hg_msg_dds__LowCmd_ g1_cmd_t;

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port unitree/G1: parameters, the receive path (Cyclone's thread), the
- * tick's read, what LowCmd_ brings to roz/dds.h's command path (the hold,
+ * tick's read, what LowCmd_ brings to roz/port/dds.h's command path (the hold,
  * the fill, the damping, mode_machine's lock), start-up and shutdown.
- * roz/unitree_g1.h says what it does; here is how. */
-#include "roz/unitree_g1.h"
+ * roz/port/unitree_g1.h says what it does; here is how. */
+#include "roz/port/unitree_g1.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,7 +15,7 @@
 /* ---- frame layouts ----------------------------------------------------------
  * State frame (receive thread -> tick): n_states values, then: */
 enum { M_SESSION = 0, M_FAULT_SLOT, M_FAULT_CODE, M_MODE_MACHINE, M_TICK, M_Q };
-/* Command frame (tick -> writer thread): roz/dds.h's command path, n_commands
+/* Command frame (tick -> writer thread): roz/port/dds.h's command path, n_commands
  * values and its meta words, none of the port's own. */
 
 _Static_assert(M_Q + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_STATE_META, "state frame meta");
@@ -167,7 +167,7 @@ static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
     return roz__g1_variant_refuses(g1, mm, &why) >= 0;
 }
 
-/* ---- the command path's hooks (roz/dds.h says which thread runs each) -------- */
+/* ---- the command path's hooks (roz/port/dds.h says which thread runs each) -------- */
 
 static void g1_hold(void *port, double *cmd)
 {
@@ -441,7 +441,7 @@ static const roz_port_param_info_t g1_params[] = {
 
 static const roz_port_info_t g1_info = {
     .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",
-    .header = "roz/unitree_g1.h",
+    .header = "roz/port/unitree_g1.h",
     .params = g1_params,
     .n_params = sizeof g1_params / sizeof g1_params[0],
     .no_crc = NULL,
