@@ -127,6 +127,9 @@ bench: build
 	rm -rf $(BENCH_OUT) && mkdir -p $(BENCH_OUT)
 	$(BUILD)/bench/roz_bench_tick $(BENCH_TICKS) --json $(BENCH_OUT)/tick.jsonl
 	$(BUILD)/bench/roz_bench_fuel 9 --json $(BENCH_OUT)/fuel.jsonl
+	if [ -x $(BUILD)/bench/roz_bench_nn ]; then \
+	    $(BUILD)/bench/roz_bench_nn 5000 --json $(BENCH_OUT)/nn.jsonl; \
+	else echo "no Python for rozgen.nn in this build" > $(BENCH_OUT)/nn.skipped; fi
 	$(BUILD)/bench/roz_bench_alloc $(BENCH_ALLOC_TICKS) --json $(BENCH_OUT)/alloc.jsonl
 	$(BUILD)/bench/roz_bench_periodic $(BENCH_PERIODIC_SECONDS) --json $(BENCH_OUT)/periodic.jsonl
 	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then \

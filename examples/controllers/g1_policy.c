@@ -25,9 +25,9 @@
 
 #include "policy_net.h"
 
-/* An inference tick costs about 37,000 units, the others about 1,200;
+/* An inference tick costs about 46,700 units, the others about 1,300;
  * the G1's default budget is 20,000 (roz_controller.h, ROZ_FUEL_PER_TICK). */
-ROZ_FUEL_PER_TICK(50000);
+ROZ_FUEL_PER_TICK(55000);
 
 #define JOINTS 29
 #define LEGS 12

@@ -18,12 +18,13 @@
  * steps here are float arithmetic that wasm32 never fuses. Built natively
  * (not for wasm32), the two imports are the plain loops below, which give
  * those same bits when compiled with -ffp-contract=off: a C reference for
- * tests and benchmarks.
+ * tests and benchmarks. ROZ_NN_NO_IMPORTS compiles those loops into a
+ * wasm32 module too (for comparison: about 17 times the fuel).
  *
- * Fuel: one unit per multiply-add and 2 per output row (nn.matvec), 12 per
- * tanh/sigmoid/ELU/exp element and 1 per ReLU (nn.act), plus the wasm the
+ * Fuel: one unit per multiply-add and 2 per output row (nn.matvec), 24 per
+ * tanh/sigmoid/ELU/exp element and 2 per ReLU (nn.act), plus the wasm the
  * layer runs itself: the G1 policy (47 -> LSTM 64 -> 32 ELU -> 12) costs
- * about 36,000 units an inference.
+ * about 47,000 units an inference (bench/nn; 590,000 as plain wasm).
  */
 #ifndef ROZ_NN_H
 #define ROZ_NN_H
@@ -47,7 +48,7 @@ extern "C" {
 #define ROZ_NN_ELU     3    /**< alpha 1, PyTorch's default */
 #define ROZ_NN_EXP     4
 
-#ifdef __wasm__
+#if defined(__wasm__) && !defined(ROZ_NN_NO_IMPORTS)
 /** y = W x (+ b) (or y += ...), W rows x cols row-major; y must not overlap
  *  W, x or b. Returns 0, or -1 (nothing written) for arrays outside the
  *  memory, overlapping, or bad counts or flags. */

@@ -234,8 +234,8 @@ typedef enum roz_abi_nn_act {
  *  nn.matvec rows * cols * MAC + rows * ROW; nn.act count * the kind's. */
 #define ROZ_ABI_NN_UNITS_PER_MAC 1u
 #define ROZ_ABI_NN_UNITS_PER_ROW 2u
-#define ROZ_ABI_NN_UNITS_RELU    1u
-#define ROZ_ABI_NN_UNITS_CURVE   12u /**< tanh, sigmoid, elu, exp: per element */
+#define ROZ_ABI_NN_UNITS_RELU    2u
+#define ROZ_ABI_NN_UNITS_CURVE   24u /**< tanh, sigmoid, elu, exp: per element */
 
 /** Largest memory any module can have, bytes: counts that need more are
  *  refused before any fuel is charged. */
