@@ -9,13 +9,22 @@ floats, the layers, a reset and a forward function).
 
 writes a random network (PyTorch's initialisation ranges) and, with
 --vectors, <name>_vectors.h: inputs and the numpy reference's outputs,
-step by step, for tests. Readers of trained files (TorchScript, ONNX) build
-the same model (rozgen.nn_export).
+step by step, for tests.
+
+    python -m rozgen.nn npz --spec lstm:47:64,dense:64:32:elu,dense:32:12 \
+        --weights policy.npz --name policy -o policy_net.h
+
+writes a trained network from a numpy .npz of its arrays, named l<k>.weight
+and l<k>.bias for a dense layer k, l<k>.weight_ih, l<k>.weight_hh,
+l<k>.bias_ih and l<k>.bias_hh for an LSTM or GRU (PyTorch's names without
+the _l0; docs/policies.md). Read with allow_pickle=False: a file that holds
+anything but plain numeric arrays is refused, never executed.
 """
 from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 from dataclasses import dataclass, field
 
@@ -241,6 +250,35 @@ def vectors_header(layers: list[Layer], name: str, steps: int, seed: int) -> str
     return "\n".join(o) + "\n"
 
 
+def read_npz(spec: str, path: str) -> list[Layer]:
+    """A network of the shape `spec` with its arrays from an .npz file;
+    refuses missing, extra, non-numeric or misshapen arrays."""
+    layers = random_network(spec, 0)  # the shapes; every array replaced below
+    names = {"w": "weight", "b": "bias", "w_ih": "weight_ih", "w_hh": "weight_hh",
+             "b_ih": "bias_ih", "b_hh": "bias_hh"}
+    with np.load(path, allow_pickle=False) as z:
+        keys = set(z.files)
+        for k, l in enumerate(layers):
+            for ours, theirs in names.items():
+                if ours not in l.arrays:
+                    continue
+                key = f"l{k}.{theirs}"
+                if key not in keys:
+                    if ours.startswith("b"):
+                        del l.arrays[ours]
+                        continue
+                    raise ValueError(f"{path}: layer {k} ({l.kind}): no array '{key}'")
+                keys.discard(key)
+                a = z[key]
+                if a.dtype.kind not in "fiu":
+                    raise ValueError(f"{path}: '{key}' is {a.dtype}, not numbers")
+                l.arrays[ours] = a.astype(np.float32)
+        if keys:
+            raise ValueError(f"{path}: arrays the spec has no place for: {', '.join(sorted(keys))}")
+    check(layers)
+    return layers
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(prog="python -m rozgen.nn", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -250,11 +288,22 @@ def main(argv=None) -> int:
     r.add_argument("--name", default="policy")
     r.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
     r.add_argument("-o", "--output", required=True)
+    n = sub.add_parser("npz", help="a trained network from a numpy .npz of its arrays")
+    n.add_argument("--spec", required=True)
+    n.add_argument("--weights", required=True)
+    n.add_argument("--name", default="policy")
+    n.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
+    n.add_argument("-o", "--output", required=True)
     a = ap.parse_args(argv)
     try:
-        layers = random_network(a.spec, a.seed)
-        text = header(layers, a.name, f"random '{a.spec}' seed {a.seed}")
-    except (ValueError, KeyError, IndexError) as e:
+        if a.cmd == "random":
+            layers = random_network(a.spec, a.seed)
+            text = header(layers, a.name, f"random '{a.spec}' seed {a.seed}")
+        else:
+            layers = read_npz(a.spec, a.weights)
+            text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+        a.seed = getattr(a, "seed", 1)
+    except (ValueError, KeyError, IndexError, OSError) as e:
         print(f"rozgen.nn: {e}", file=sys.stderr)
         return 2
     with open(a.output, "w") as f:
