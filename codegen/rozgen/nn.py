@@ -19,6 +19,13 @@ and l<k>.bias for a dense layer k, l<k>.weight_ih, l<k>.weight_hh,
 l<k>.bias_ih and l<k>.bias_hh for an LSTM or GRU (PyTorch's names without
 the _l0; docs/policies.md). Read with allow_pickle=False: a file that holds
 anything but plain numeric arrays is refused, never executed.
+
+    python -m rozgen.nn pt --spec lstm:47:64,dense:64:32:elu,dense:32:12 \
+        --weights policy.pt -o policy_net.h
+    python -m rozgen.nn onnx --weights policy.onnx -o policy_net.h
+
+read TorchScript (and torch.save) archives and ONNX files (rozgen.nn_export:
+read, never run).
 """
 from __future__ import annotations
 
@@ -280,7 +287,7 @@ def read_npz(spec: str, path: str) -> list[Layer]:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m rozgen.nn", description=__doc__.split("\n\n")[0])
+    ap = argparse.ArgumentParser(prog="rozgen-nn", description=__doc__.split("\n\n")[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
     r = sub.add_parser("random", help="a random network (tests, examples, benchmarks)")
     r.add_argument("--spec", required=True)
@@ -294,14 +301,34 @@ def main(argv=None) -> int:
     n.add_argument("--name", default="policy")
     n.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
     n.add_argument("-o", "--output", required=True)
+    t = sub.add_parser("pt", help="a trained network from a TorchScript or torch.save .pt "
+                                  "(read, never run; activations from --spec)")
+    t.add_argument("--spec", required=True)
+    t.add_argument("--weights", required=True)
+    o = sub.add_parser("onnx", help="a trained network from an ONNX file (layers and "
+                                    "activations from its graph)")
+    o.add_argument("--weights", required=True)
+    for q in (t, o):
+        q.add_argument("--name", default="policy")
+        q.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
+        q.add_argument("-o", "--output", required=True)
     a = ap.parse_args(argv)
     try:
         if a.cmd == "random":
             layers = random_network(a.spec, a.seed)
             text = header(layers, a.name, f"random '{a.spec}' seed {a.seed}")
-        else:
+        elif a.cmd == "npz":
             layers = read_npz(a.spec, a.weights)
             text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+        elif a.cmd == "pt":
+            from . import nn_export
+            tensors = nn_export.read_torchscript(a.weights)
+            layers = nn_export.layers_from_tensors(tensors, a.spec, a.weights)
+            text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+        else:
+            from . import nn_export
+            layers = nn_export.read_onnx(a.weights)
+            text = header(layers, a.name, os.path.basename(a.weights))
         a.seed = getattr(a, "seed", 1)
     except (ValueError, KeyError, IndexError, OSError) as e:
         print(f"rozgen.nn: {e}", file=sys.stderr)
