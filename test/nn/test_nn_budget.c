@@ -172,6 +172,7 @@ static void test_nn_budget_malformed(void **st)
     assert_non_null(strstr(roz_runtime_error(&rt), "two custom sections"));
 }
 
+#if ROZ_NN_HAVE_POLICY
 /* The example policy: its declaration is what its inference ticks need;
  * 1,000 ticks (2 s) on the loopback G1 without a fault. */
 static void test_nn_budget_policy_example(void **st)
@@ -197,6 +198,7 @@ static void test_nn_budget_policy_example(void **st)
     assert_int_equal(stats.abi.nn_calls, 100u * 9u); /* 9 calls an inference, 50 Hz */
     assert_true(stats.runtime.max_fuel <= rep.fuel_declared);
 }
+#endif
 
 int main(void)
 {
@@ -204,7 +206,9 @@ int main(void)
         cmocka_unit_test_teardown(test_nn_budget_declared_fuel, teardown),
         cmocka_unit_test_teardown(test_nn_budget_configured_ceiling, teardown),
         cmocka_unit_test_teardown(test_nn_budget_malformed, teardown),
+#if ROZ_NN_HAVE_POLICY
         cmocka_unit_test_teardown(test_nn_budget_policy_example, teardown),
+#endif
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
