@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* roz's configuration for the G1 policy image on the Cortex-M7
+/* roz's configuration for the G1 policy images (Cortex-M7 and M4F)
  * (ROZ_CONFIG_FILE): sized for this robot and controller, from the verify
  * report and the image's measured high-water marks (README, "Firmware"). */
-#ifndef ROZ_FW_G1_POLICY_M7_CONFIG_H
-#define ROZ_FW_G1_POLICY_M7_CONFIG_H
+#ifndef ROZ_FW_G1_POLICY_CONFIG_H
+#define ROZ_FW_G1_POLICY_CONFIG_H
 
 #define ROZ_CFG_MAX_COMMANDS          145   /* the G1's table: 29 joints x 5 */
 #define ROZ_CFG_MAX_STATES            97    /* 29 joints x 3, the IMU's 10 */
@@ -25,4 +25,4 @@
 #define ROZ_CFG_TELEMETRY_RING        16
 
 
-#endif /* ROZ_FW_G1_POLICY_M7_CONFIG_H */
+#endif /* ROZ_FW_G1_POLICY_CONFIG_H */
