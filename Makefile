@@ -90,15 +90,33 @@ $(BUILD)-fw-m7/build.ninja: | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) \
 	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m7.cmake
 
-firmware: setup $(BUILD)-fw-m4f/build.ninja $(BUILD)-fw-m7/build.ninja
+# The learned-policy images embed the host build's g1_policy.wasm (the
+# bytes the host's fingerprint is computed from).
+FW_POLICY = -DROZ_FW_VARIANT=policy \
+            -DROZ_FW_POLICY_WASM=$(CURDIR)/$(BUILD)/examples/controllers/g1_policy.wasm
+$(BUILD)-fw-m7p/build.ninja: | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7p $(FW_FLAGS) $(FW_POLICY) \
+	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m7.cmake
+$(BUILD)-fw-m4fp/build.ninja: | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) \
+	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m4f.cmake
+
+firmware: setup $(BUILD)-fw-m4f/build.ninja $(BUILD)-fw-m7/build.ninja $(BUILD)-fw-m7p/build.ninja \
+          $(BUILD)-fw-m4fp/build.ninja
 	$(CMAKE) --build $(BUILD)-fw-m4f -j $(JOBS)
 	$(CMAKE) --build $(BUILD)-fw-m7 -j $(JOBS)
+	$(CMAKE) --build $(BUILD)-fw-m7p -j $(JOBS)
+	$(CMAKE) --build $(BUILD)-fw-m4fp -j $(JOBS)
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_hostile.elf 96 64 \
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
 	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7p/roz_fw_g1_policy.elf 320 512 \
+	    "Unitree G1, learned policy (LSTM, nn imports), Cortex-M7 (mps2-an500); process() max: an inference tick"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4fp/roz_fw_g1_policy.elf 320 512 \
+	    "Unitree G1, learned policy, Cortex-M4F (mps2-an386), fuel alone (no clock)"
 
 # Every test: the sanitizer runs first, the whole suite last (the firmware
 # images among it, booted in QEMU).
@@ -127,6 +145,9 @@ bench: build
 	rm -rf $(BENCH_OUT) && mkdir -p $(BENCH_OUT)
 	$(BUILD)/bench/roz_bench_tick $(BENCH_TICKS) --json $(BENCH_OUT)/tick.jsonl
 	$(BUILD)/bench/roz_bench_fuel 9 --json $(BENCH_OUT)/fuel.jsonl
+	if [ -x $(BUILD)/bench/roz_bench_nn ]; then \
+	    $(BUILD)/bench/roz_bench_nn 5000 --json $(BENCH_OUT)/nn.jsonl; \
+	else echo "no Python for rozgen.nn in this build" > $(BENCH_OUT)/nn.skipped; fi
 	$(BUILD)/bench/roz_bench_alloc $(BENCH_ALLOC_TICKS) --json $(BENCH_OUT)/alloc.jsonl
 	$(BUILD)/bench/roz_bench_periodic $(BENCH_PERIODIC_SECONDS) --json $(BENCH_OUT)/periodic.jsonl
 	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then \

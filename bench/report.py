@@ -177,6 +177,7 @@ def build(args) -> tuple[str, str]:
     toml = read_lines(d / "toml.jsonl")
     fw = read_lines(d / "firmware.jsonl")
     rec = read_lines(d / "record.jsonl")
+    nn = read_lines(d / "nn.jsonl")
     peers = {k: read_peer(d / f"peer-{k}.json") for k in ("roz", "wasmtime", "wasmi")}
     sizes = {}
     for b in args.binary or []:
@@ -248,6 +249,30 @@ def build(args) -> tuple[str, str]:
             if "longest call" in name:
                 w(f"- {name}: {fig['value']:.2f}x")
         w("")
+
+    # a learned policy's inference
+    w("**A learned policy** (`bench/nn`: one inference of the G1 policy's shape, 47 -> LSTM 64 "
+      "-> 32 ELU -> 12, random weights; CPU time per call; the nn imports, roz_nn.h):\n")
+    if nn:
+        t = Table("native C")
+        native = nn.get("policy inference, native C")
+        f_sdk = nn.get("policy inference fuel, nn imports")
+        f_plain = nn.get("policy inference fuel, plain wasm")
+        t.timing("wasm3, roz_nn.h + nn imports", nn.get("policy inference, wasm3 + nn imports"),
+                 native, f"fuel: {value(f_sdk)}" if f_sdk else "")
+        t.timing("wasm3, the same loops as plain wasm", nn.get("policy inference, wasm3, plain wasm"),
+                 native, f"fuel: {value(f_plain)}" if f_plain else "")
+        t.timing("native C (reference)", native, native)
+        w(t.render())
+        w("What the nn imports' work costs the host per fuel unit (CPU time; a unit of wasm "
+          "costs the median above):\n")
+        w("| work | ns per unit |\n|---|---:|")
+        for name, fig in nn.items():
+            if name.endswith(", ns per unit"):
+                w(f"| {name.removesuffix(', ns per unit')} | {fig['value']:.2f} |")
+        w("")
+    else:
+        w(f"Not run: {skipped(d, 'nn')}.\n")
 
     # 2 + 3. peers
     w("## 2. Peer engines: the same controller under wasmtime and wasmi\n")

@@ -8,8 +8,10 @@
  *   timing.now_ns/sim_time_ns, telemetry.emit_metric, a state value (any
  *   double, NaN and Inf included), the tick number, the bulk calls
  *   command.set_all and state.get_all on a 1 KiB memory (any pointer and
- *   count, the memory's bytes from the input), and "tick": the filter
- *   runs over the targets with a stop mode from the input.
+ *   count, the memory's bytes from the input), the NN calls nn.matvec and
+ *   nn.act on the same memory (any pointers, counts, flags and kinds), and
+ *   "tick": the filter runs over the targets with a stop mode from the
+ *   input.
  * Checked: every command.set result against its documented meaning; a bulk
  * call refused exactly when its range leaves the memory or its count the
  * manifest, then changing nothing, else each value as command.set takes it
@@ -157,6 +159,81 @@ static void check_get_all(const roz_manifest_t *m, uint32_t ptr, int32_t count)
         abort();
 }
 
+/* ---- the NN calls on the same memory ------------------------------------------ */
+
+static int nn_fits(uint32_t at, uint64_t bytes)
+{
+    return bytes <= BULK_MEM && at <= BULK_MEM - bytes;
+}
+
+static int nn_overlap(uint32_t a, uint64_t an, uint32_t b, uint64_t bn)
+{
+    return an && bn && (uint64_t)a < b + bn && (uint64_t)b < a + an;
+}
+
+static float ldf(uint32_t at)
+{
+    float f;
+    memcpy(&f, mem_before + at, 4);
+    return f;
+}
+
+static void check_matvec(uint32_t w, uint32_t x, uint32_t b, uint32_t y, int32_t rows,
+                         int32_t cols, int32_t flags)
+{
+    memcpy(mem_before, mem, BULK_MEM);
+    int32_t rc = roz_abi_nn_matvec(&abi, mem, BULK_MEM, w, x, b, y, rows, cols, flags);
+    int ok = rows >= 0 && cols >= 0 && (flags & ~3) == 0;
+    uint64_t wn = ok ? 4u * (uint64_t)rows * (uint64_t)cols : 0, xn = ok ? 4u * (uint64_t)cols : 0;
+    uint64_t yn = ok ? 4u * (uint64_t)rows : 0, bn = (flags & 1) ? yn : 0;
+    ok = ok && nn_fits(w, wn) && nn_fits(x, xn) && (bn == 0 || nn_fits(b, bn)) &&
+         nn_fits(y, yn) && !nn_overlap(y, yn, w, wn) && !nn_overlap(y, yn, x, xn) &&
+         !nn_overlap(y, yn, b, bn);
+    if (!ok) {
+        if (rc != -1 || memcmp(mem, mem_before, BULK_MEM) != 0)
+            abort();
+        return;
+    }
+    if (rc != 0 || memcmp(mem, mem_before, y) != 0 ||
+        memcmp(mem + y + yn, mem_before + y + yn, BULK_MEM - y - yn) != 0)
+        abort();
+    for (int32_t i = 0; i < rows; i++) {
+        float s = 0.0f, got;
+        for (int32_t j = 0; j < cols; j++)
+            s = s + ldf(w + 4u * (uint32_t)(i * cols + j)) * ldf(x + 4u * (uint32_t)j);
+        if (flags & 1)
+            s = s + ldf(b + 4u * (uint32_t)i);
+        if (flags & 2)
+            s = ldf(y + 4u * (uint32_t)i) + s;
+        memcpy(&got, mem + y + 4u * (uint32_t)i, 4);
+        if (isnan(s) ? !isnan(got) : memcmp(&got, &s, 4) != 0)
+            abort();
+    }
+}
+
+static void check_act(int32_t kind, uint32_t ptr, int32_t count)
+{
+    memcpy(mem_before, mem, BULK_MEM);
+    int32_t rc = roz_abi_nn_act(&abi, mem, BULK_MEM, kind, ptr, count);
+    if (kind < 0 || kind >= ROZ_ABI_NN_ACT_COUNT || count < 0 ||
+        !nn_fits(ptr, 4u * (uint64_t)count)) {
+        if (rc != -1 || memcmp(mem, mem_before, BULK_MEM) != 0)
+            abort();
+        return;
+    }
+    if (rc != count || memcmp(mem, mem_before, ptr) != 0 ||
+        memcmp(mem + ptr + 4u * (uint32_t)count, mem_before + ptr + 4u * (uint32_t)count,
+               BULK_MEM - ptr - 4u * (uint32_t)count) != 0)
+        abort();
+}
+
+static int32_t nn_dim(input_t *in)
+{
+    /* mostly small, sometimes any i32 */
+    uint8_t k = u8(in);
+    return k & 0x80 ? (int32_t)(uint32_t)u64(in, 4) : (int32_t)(k & 0x3f) - 2;
+}
+
 static void tick(const roz_manifest_t *m, roz_stop_t stop)
 {
     roz_filter_apply(&filt, target, state, stop, out);
@@ -203,7 +280,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     while (in.p < in.end) {
         uint8_t op = u8(&in);
-        switch (op % 19) {
+        switch (op % 21) {
         case 0: {
             int32_t i = (int32_t)(uint32_t)u64(&in, 4);
             double v = f64(&in);
@@ -266,6 +343,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             uint16_t at = (uint16_t)(u64(&in, 2) % BULK_MEM);
             uint64_t bits = u64(&in, 8);
             memcpy(mem + at, &bits, at + 8u <= BULK_MEM ? 8u : BULK_MEM - at);
+            break;
+        }
+        case 19: {
+            uint32_t w = bulk_ptr(&in), x = bulk_ptr(&in), b = bulk_ptr(&in), y = bulk_ptr(&in);
+            int32_t rows = nn_dim(&in), cols = nn_dim(&in);
+            check_matvec(w, x, b, y, rows, cols, (int32_t)(u8(&in) % 5));
+            break;
+        }
+        case 20: {
+            int32_t kind = (int32_t)(u8(&in) % 7) - 1;
+            uint32_t ptr = bulk_ptr(&in);
+            check_act(kind, ptr, nn_dim(&in));
             break;
         }
         default:

@@ -25,6 +25,9 @@ const roz_abi_import_t roz_abi_imports[] = {
     /* the bulk extension (optional for a controller; see roz/abi.h) */
     { "state", "get_all", "i(ii)" },
     { "command", "set_all", "i(ii)" },
+    /* the neural-network extension (optional; see roz/abi.h) */
+    { "nn", "matvec", "i(iiiiiii)" },
+    { "nn", "act", "i(iii)" },
 };
 const size_t roz_abi_import_count = sizeof roz_abi_imports / sizeof roz_abi_imports[0];
 
@@ -303,4 +306,160 @@ int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_l
     abi->counters.set_clamped += clamped;
     abi->counters.set_nonfinite += nonfinite;
     return (int32_t)(clamped + nonfinite);
+}
+
+/* ---- the neural-network extension ---------------------------------------- */
+
+static inline float ld_f32(const uint8_t *p)
+{
+    uint32_t u;
+    float f;
+    memcpy(&u, p, sizeof u);
+#if ROZ_ABI_BIG_ENDIAN
+    u = __builtin_bswap32(u);
+#endif
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+static inline void st_f32(uint8_t *p, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+#if ROZ_ABI_BIG_ENDIAN
+    u = __builtin_bswap32(u);
+#endif
+    memcpy(p, &u, sizeof u);
+}
+
+/* 1 when [at, at + bytes) lies inside the memory; no sum can wrap */
+static int nn_range_ok(size_t mem_len, uint32_t at, uint64_t bytes)
+{
+    return bytes <= (uint64_t)mem_len && (uint64_t)at <= (uint64_t)mem_len - bytes;
+}
+
+/* 1 when two ranges share a byte (empty ones share none) */
+static int nn_overlap(uint32_t a, uint64_t an, uint32_t b, uint64_t bn)
+{
+    return an != 0 && bn != 0 && (uint64_t)a < (uint64_t)b + bn && (uint64_t)b < (uint64_t)a + an;
+}
+
+static int32_t nn_refuse(roz_abi_t *abi)
+{
+    abi->counters.nn_refused++;
+    return -1;
+}
+
+uint64_t roz_abi_nn_matvec_units(int32_t rows, int32_t cols)
+{
+    if (rows < 0 || cols < 0)
+        return 0;
+    uint64_t macs = (uint64_t)rows * (uint64_t)cols; /* < 2^62 */
+    if (macs > ROZ_ABI_NN_MAX_BYTES / 4u || (uint64_t)rows > ROZ_ABI_NN_MAX_BYTES / 4u)
+        return 0;
+    return macs * ROZ_ABI_NN_UNITS_PER_MAC + (uint64_t)rows * ROZ_ABI_NN_UNITS_PER_ROW;
+}
+
+uint64_t roz_abi_nn_act_units(int32_t kind, int32_t count)
+{
+    if (kind < 0 || kind >= ROZ_ABI_NN_ACT_COUNT || count < 0 ||
+        (uint64_t)count > ROZ_ABI_NN_MAX_BYTES / 4u)
+        return 0;
+    return (uint64_t)count * (kind == ROZ_ABI_NN_RELU ? ROZ_ABI_NN_UNITS_RELU
+                                                      : ROZ_ABI_NN_UNITS_CURVE);
+}
+
+/* Rows side by side: NN_BLOCK independent sums, each in its own fixed
+ * order (that of the plain loop in roz/abi.h), so a compiler may keep them
+ * in vector lanes or registers but never changes a result. Float arithmetic
+ * throughout; the core is built with -ffp-contract=off, so no product is
+ * fused into its sum. */
+#define NN_BLOCK 8
+
+static float nn_finish(float s, const uint8_t *b, const uint8_t *y, int32_t flags)
+{
+    if (flags & ROZ_ABI_NN_BIAS)
+        s = s + ld_f32(b);
+    if (flags & ROZ_ABI_NN_ACCUMULATE)
+        s = ld_f32(y) + s;
+    return s;
+}
+
+int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t w,
+                          uint32_t x, uint32_t b, uint32_t y, int32_t rows, int32_t cols,
+                          int32_t flags)
+{
+    abi->counters.nn_calls++;
+    if (mem == NULL || rows < 0 || cols < 0 ||
+        (flags & ~(ROZ_ABI_NN_BIAS | ROZ_ABI_NN_ACCUMULATE)) != 0)
+        return nn_refuse(abi);
+    uint64_t wn = 4u * (uint64_t)rows * (uint64_t)cols; /* < 2^64: both < 2^31 */
+    uint64_t xn = 4u * (uint64_t)cols, yn = 4u * (uint64_t)rows;
+    uint64_t bn = (flags & ROZ_ABI_NN_BIAS) ? yn : 0u;
+    if (!nn_range_ok(mem_len, w, wn) || !nn_range_ok(mem_len, x, xn) ||
+        (bn != 0 && !nn_range_ok(mem_len, b, bn)) || !nn_range_ok(mem_len, y, yn) ||
+        nn_overlap(y, yn, w, wn) || nn_overlap(y, yn, x, xn) || nn_overlap(y, yn, b, bn))
+        return nn_refuse(abi);
+
+    const uint8_t *W = mem + w, *X = mem + x, *B = mem + b;
+    uint8_t *Y = mem + y;
+    size_t stride = 4u * (size_t)cols, n = (size_t)cols;
+    int32_t i = 0;
+    for (; rows - i >= NN_BLOCK; i += NN_BLOCK) {
+        float s[NN_BLOCK] = { 0 };
+        const uint8_t *row = W + (size_t)i * stride;
+        for (size_t j = 0; j < n; j++) {
+            float xj = ld_f32(X + 4u * j);
+            for (int r = 0; r < NN_BLOCK; r++)
+                s[r] = s[r] + ld_f32(row + (size_t)r * stride + 4u * j) * xj;
+        }
+        for (int r = 0; r < NN_BLOCK; r++) {
+            size_t o = 4u * ((size_t)i + (size_t)r);
+            st_f32(Y + o, nn_finish(s[r], B + o, Y + o, flags));
+        }
+    }
+    for (; i < rows; i++) {
+        float s = 0.0f;
+        const uint8_t *row = W + (size_t)i * stride;
+        for (size_t j = 0; j < n; j++)
+            s = s + ld_f32(row + 4u * j) * ld_f32(X + 4u * j);
+        size_t o = 4u * (size_t)i;
+        st_f32(Y + o, nn_finish(s, B + o, Y + o, flags));
+    }
+    return 0;
+}
+
+int32_t roz_abi_nn_act(roz_abi_t *abi, uint8_t *mem, size_t mem_len, int32_t kind, uint32_t ptr,
+                       int32_t count)
+{
+    abi->counters.nn_calls++;
+    if (mem == NULL || kind < 0 || kind >= ROZ_ABI_NN_ACT_COUNT || count < 0 ||
+        !nn_range_ok(mem_len, ptr, 4u * (uint64_t)count))
+        return nn_refuse(abi);
+    uint8_t *v = mem + ptr;
+    size_t n = (size_t)count;
+    switch ((roz_abi_nn_act_t)kind) {
+    case ROZ_ABI_NN_RELU:
+        for (size_t i = 0; i < n; i++)
+            st_f32(v + 4u * i, roz_math_reluf(ld_f32(v + 4u * i)));
+        break;
+    case ROZ_ABI_NN_TANH:
+        for (size_t i = 0; i < n; i++)
+            st_f32(v + 4u * i, roz_math_tanhf(ld_f32(v + 4u * i)));
+        break;
+    case ROZ_ABI_NN_SIGMOID:
+        for (size_t i = 0; i < n; i++)
+            st_f32(v + 4u * i, roz_math_sigmoidf(ld_f32(v + 4u * i)));
+        break;
+    case ROZ_ABI_NN_ELU:
+        for (size_t i = 0; i < n; i++)
+            st_f32(v + 4u * i, roz_math_eluf(ld_f32(v + 4u * i)));
+        break;
+    case ROZ_ABI_NN_EXP:
+    default:
+        for (size_t i = 0; i < n; i++)
+            st_f32(v + 4u * i, roz_math_expf(ld_f32(v + 4u * i)));
+        break;
+    }
+    return count;
 }

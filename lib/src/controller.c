@@ -277,12 +277,53 @@ static m3ApiRawFunction(h_command_set_all)
     m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
 }
 
+/* The neural-network extension: its work (multiply-adds, activation
+ * elements; roz/abi.h has the units) is charged from the counts before
+ * anything is read, so a budget stops a flood of large calls. */
+static m3ApiRawFunction(h_nn_matvec)
+{
+    m3ApiReturnType(int32_t);
+    m3ApiGetArg(uint32_t, w);
+    m3ApiGetArg(uint32_t, x);
+    m3ApiGetArg(uint32_t, b);
+    m3ApiGetArg(uint32_t, y);
+    m3ApiGetArg(int32_t, rows);
+    m3ApiGetArg(int32_t, cols);
+    m3ApiGetArg(int32_t, flags);
+    uint32_t len = 0;
+    uint8_t *mem;
+    M3Result r;
+    (void)_mem;
+    r = charge(runtime, roz_abi_nn_matvec_units(rows, cols));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
+    mem = m3_GetMemory(runtime, &len, 0);
+    m3ApiReturn(roz_abi_nn_matvec(ABI, mem, len, w, x, b, y, rows, cols, flags));
+}
+
+static m3ApiRawFunction(h_nn_act)
+{
+    m3ApiReturnType(int32_t);
+    m3ApiGetArg(int32_t, kind);
+    m3ApiGetArg(uint32_t, ptr);
+    m3ApiGetArg(int32_t, count);
+    uint32_t len = 0;
+    uint8_t *mem;
+    M3Result r;
+    (void)_mem;
+    r = charge(runtime, roz_abi_nn_act_units(kind, count));
+    if (r != m3Err_none)
+        m3ApiTrap(r);
+    mem = m3_GetMemory(runtime, &len, 0);
+    m3ApiReturn(roz_abi_nn_act(ABI, mem, len, kind, ptr, count));
+}
+
 /* Same order as roz_abi_imports[] (checked at load). */
 static const M3RawCall host_functions[] = {
     h_command_set,       h_command_count,   h_command_limit_min,  h_command_limit_max,
     h_state_get,         h_state_count,     h_math_sin,           h_math_cos,
     h_safety_request_estop, h_timing_now_ns, h_timing_sim_time_ns, h_telemetry_emit_metric,
-    h_state_get_all,     h_command_set_all,
+    h_state_get_all,     h_command_set_all, h_nn_matvec,          h_nn_act,
 };
 
 /* wasm3 writes signatures as ret(args) with F for f64, I for i64, i for i32,
@@ -342,7 +383,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     uint32_t process_index = 0;
     char why[ROZ_CFG_ERROR_LEN];
 
-    _Static_assert(sizeof host_functions / sizeof host_functions[0] == 14,
+    _Static_assert(sizeof host_functions / sizeof host_functions[0] == 16,
                    "one host function per roz_abi_imports[] entry");
     if (c->env != NULL)
         return ROZ_ESTATE;

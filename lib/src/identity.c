@@ -268,3 +268,78 @@ roz_identity_match_t roz_identity_check(const roz_identity_t *id, const roz_mani
     }
     return ROZ_IDENTITY_SAME;
 }
+
+/* The same walk as roz_identity_read(), for the section "roz.fuel": a
+ * declaration is a record of 9 bytes, repeated once per object file that
+ * made it (wasm-ld joins them), all equal. */
+int roz_identity_read_fuel(const uint8_t *wasm, size_t len, uint64_t *fuel, char *err,
+                           size_t errlen)
+{
+    static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
+    static const char name[] = ROZ_FUEL_SECTION;
+    size_t at = sizeof magic, found_at = 0;
+
+    if (fuel == NULL)
+        return ROZ_EINVAL;
+    *fuel = 0;
+    if (err != NULL && errlen > 0)
+        err[0] = '\0';
+    if (wasm == NULL || len < sizeof magic || memcmp(wasm, magic, sizeof magic) != 0) {
+        ERR("not a WebAssembly 1.0 binary (bad magic or version)");
+        return ROZ_EINVAL;
+    }
+    while (at < len) {
+        size_t sec_at = at;
+        uint8_t sec = wasm[at++];
+        uint32_t size = 0, name_len = 0;
+        if (!rd_u32(wasm, len, &at, &size) || size > len - at) {
+            ERR("malformed module: section %u at offset %zu runs past the end", (unsigned)sec,
+                sec_at);
+            goto refused;
+        }
+        size_t body = at, end = at + size, p = at;
+        at = end;
+        if (sec != 0)
+            continue;
+        if (!rd_u32(wasm, end, &p, &name_len) || name_len > end - p) {
+            ERR("custom section at offset %zu: malformed name", body);
+            goto refused;
+        }
+        if (name_len != sizeof name - 1 || memcmp(wasm + p, name, name_len) != 0)
+            continue;
+        if (found_at != 0) {
+            ERR("two custom sections \"%s\" (at offsets %zu and %zu)", name, found_at, body);
+            goto refused;
+        }
+        found_at = body;
+        p += name_len;
+        if (p == end) {
+            ERR("custom section \"%s\" at offset %zu: empty", name, body);
+            goto refused;
+        }
+        for (; p < end; p += 9) {
+            uint64_t units = 0;
+            if (wasm[p] != ROZ_FUEL_VERSION) {
+                ERR("custom section \"%s\" at offset %zu: record version %u; this roz reads "
+                    "version %u", name, body, (unsigned)wasm[p], ROZ_FUEL_VERSION);
+                goto refused;
+            }
+            if (end - p < 9) {
+                ERR("custom section \"%s\" at offset %zu: a record cut short", name, body);
+                goto refused;
+            }
+            for (unsigned i = 0; i < 8; i++)
+                units |= (uint64_t)wasm[p + 1 + i] << (8 * i);
+            if (units == 0 || (*fuel != 0 && units != *fuel)) {
+                ERR("custom section \"%s\" at offset %zu: %s", name, body,
+                    units == 0 ? "0 units declared" : "two different declarations");
+                goto refused;
+            }
+            *fuel = units;
+        }
+    }
+    return ROZ_OK;
+refused:
+    *fuel = 0;
+    return ROZ_EINVAL;
+}

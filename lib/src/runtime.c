@@ -284,8 +284,7 @@ static void verify_state(roz_runtime_t *rt, double *state)
 static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wasm, size_t len,
                      int for_verify)
 {
-    roz_budget_t budget = { rt->cfg.fuel_per_tick, rt->cfg.budget_ns, rt->cfg.clock,
-                            rt->cfg.clock_ctx };
+    roz_budget_t budget = { s->fuel, rt->cfg.budget_ns, rt->cfg.clock, rt->cfg.clock_ctx };
     int rc;
 
     if (for_verify || rt->cfg.clock == NULL)
@@ -303,6 +302,34 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
     return rc;
+}
+
+/* The fuel per tick a module gets: what it declares it needs (roz.fuel),
+ * up to the configured ceiling, else the runtime's budget. The declaration
+ * is per module, so a heavy policy gets its inference ticks' fuel without
+ * raising the budget of any other controller this runtime loads; the
+ * ceiling is the integrator's (it bounds a tick's time with the fuel). */
+static int grant_fuel(roz_runtime_t *rt, const uint8_t *wasm, size_t len, uint64_t *declared,
+                      uint64_t *fuel)
+{
+    char why[ROZ_CFG_ERROR_LEN];
+
+    *fuel = rt->cfg.fuel_per_tick;
+    if (roz_identity_read_fuel(wasm, len, declared, why, sizeof why) != ROZ_OK) {
+        roz_format(rt->error, sizeof rt->error, "load: %s", why);
+        return ROZ_EINVAL;
+    }
+    if (*declared == 0 || rt->cfg.fuel_per_tick == ROZ_BUDGET_OFF)
+        return ROZ_OK;
+    if (rt->cfg.fuel_per_tick_max != ROZ_BUDGET_OFF && *declared > rt->cfg.fuel_per_tick_max) {
+        roz_format(rt->error, sizeof rt->error,
+                   "load: the controller declares %llu fuel units per tick (roz.fuel), more "
+                   "than this runtime allows (fuel_per_tick_max %llu)",
+                   (unsigned long long)*declared, (unsigned long long)rt->cfg.fuel_per_tick_max);
+        return ROZ_EINVAL;
+    }
+    *fuel = *declared;
+    return ROZ_OK;
 }
 
 /* Runs a freshly loaded slot for ROZ_RUNTIME_VERIFY_TICKS ticks against a
@@ -400,6 +427,8 @@ static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
     sum->get_bad_index += c->get_bad_index;
     sum->estop_requests += c->estop_requests;
     sum->metrics += c->metrics;
+    sum->nn_calls += c->nn_calls;
+    sum->nn_refused += c->nn_refused;
 }
 
 /* 0. Hand-overs from other threads, at the tick boundary, each taken with an
@@ -796,6 +825,8 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
         if (rt->cfg.fuel_per_tick == 0)
             return ROZ_EINVAL;
     }
+    if (rt->cfg.fuel_per_tick_max == 0)
+        rt->cfg.fuel_per_tick_max = (uint64_t)ROZ_CFG_FUEL_MAX_PER_SECOND / m->control_rate_hz;
     /* the monitor's warnings are queued as numbers, formatted by log_drain */
     roz_monitor_init(&rt->monitor, "roz runtime", period_ns, NULL, NULL);
     roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
@@ -845,6 +876,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     roz_runtime_slot_t *s;
     roz_identity_t identity;
     roz_identity_match_t match = ROZ_IDENTITY_NONE;
+    uint64_t declared = 0;
     int spare, rc;
 
     if (atomic_load(&rt->pending) != -1) {
@@ -861,6 +893,13 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     memset(report, 0, sizeof *report);
     rt->error[0] = '\0';
 
+    /* 0. its fuel: declared, within the ceiling, or the default */
+    rc = grant_fuel(rt, wasm, len, &declared, &s->fuel);
+    if (rc != ROZ_OK) {
+        report->fuel_declared = declared;
+        atomic_fetch_add(&rt->swaps_refused, 1u);
+        return rc;
+    }
     /* 1. a separate instance for verification; its telemetry is discarded */
     rc = load_slot(rt, s, wasm, len, 1);
     s->abi.metrics = NULL;
@@ -880,6 +919,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
     }
     verify_state(rt, vstate);
     rc = verify_slot(rt, s, vstate, report);
+    report->fuel_declared = declared;
     report->identity = identity;
     report->identity_match = match;
     roz_controller_unload(&s->ctrl);

@@ -92,6 +92,26 @@ ROZ_IMPORT("state", "get_all") int roz_state_get_all(double *values, int count);
  *  controller's memory. Channels from count on keep their values. */
 ROZ_IMPORT("command", "set_all") int roz_command_set_all(const double *values, int count);
 
+/*
+ * The fuel a heavy controller needs per tick (a learned policy's inference
+ * tick), in work units: roz runs it, and verifies it, under that budget
+ * instead of the runtime's default, up to the most the runtime allows
+ * (roz/runtime.h, fuel_per_tick_max; a declaration above it is refused at
+ * load). Once, in one file, at file scope, with a plain integer:
+ *   ROZ_FUEL_PER_TICK(60000);
+ * It lands in the module's custom section "roz.fuel". Natively it is
+ * nothing.
+ */
+#define ROZ__STR(x) #x
+#define ROZ__XSTR(x) ROZ__STR(x)
+#ifdef __wasm__
+#define ROZ_FUEL_PER_TICK(units)                                                           \
+    __asm__(".section .custom_section.roz.fuel,\"\",@\n.int8 1\n.int64 " ROZ__XSTR(units) \
+            "\n.text")
+#else
+#define ROZ_FUEL_PER_TICK(units) typedef char roz__fuel_per_tick_declared
+#endif
+
 #ifdef __cplusplus
 }
 #endif

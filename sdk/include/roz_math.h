@@ -748,6 +748,114 @@ static inline double roz_math_tanh(double x)
     return roz_math_copysign(q, x);
 }
 
+/* ---- float32, for neural-network activations ------------------------------------ */
+
+/* The activations of roz_nn.h (and of the host's nn.act import, which uses
+ * these very functions): float in, float out, computed in double and
+ * rounded once to float, so that each result is the correctly rounded one
+ * but for rare ties within 2^-40 of a float's half ulp (< 1 ulp in all;
+ * test/sdk/test_roz_math_f32.c sweeps every finite float against libm).
+ * Double arithmetic only, no FMA: the same bits on every target. NaN comes
+ * back as given, bit for bit.
+ *
+ *   function        bound   special values
+ *   expf            < 1     inf above 88.73, +0 below -103.98
+ *   expm1f          < 1     -1 below -17.33
+ *   tanhf           < 1     +-1 beyond |x| = 9.01; tanhf(-0) = -0
+ *   sigmoidf        < 1     1 / (1 + e^-x): 0 below -103.98, 1 above 16.64
+ *   eluf            < 1     x for x > 0, else expm1f(x) (alpha 1); eluf(-0) = -0
+ *   reluf           exact   x < 0: +0; NaN and -0 stay */
+
+/* e^x = 2^k (1 + p) for |x| <= 110 in double: r = x - k log 2 (|r| <=
+ * 0.347), p = e^r - 1 by Taylor to r^12 (the rest below 2^-50 of p) */
+static inline double roz__math_expm1_f32(double x, int *k)
+{
+    double kd = (x * ROZ__MATH_INV_LN2 + ROZ__MATH_ROUNDER) - ROZ__MATH_ROUNDER;
+    double r = (x - kd * ROZ__MATH_LN2_1) - kd * ROZ__MATH_LN2_2;
+    double q = 1.0 / 2.0 + r * (1.0 / 6.0 + r * (1.0 / 24.0 + r * (1.0 / 120.0 +
+               r * (1.0 / 720.0 + r * (1.0 / 5040.0 + r * (1.0 / 40320.0 +
+               r * (1.0 / 362880.0 + r * (1.0 / 3628800.0 + r * (1.0 / 39916800.0 +
+               r * (1.0 / 479001600.0))))))))));
+    *k = (int)kd;
+    return r + r * r * q;
+}
+
+/* e^x - 1 in double for -110 <= x <= 110, relative error about 2^-52 */
+static inline double roz__math_expm1_d32(double x)
+{
+    int k;
+    double p = roz__math_expm1_f32(x, &k);
+    if (k == 0)
+        return p;
+    return (roz__math_pow2(k) - 1.0) + roz__math_pow2(k) * p;
+}
+
+/** @brief e^x in float. < 1 ulp. */
+static inline float roz_math_expf(float x)
+{
+    int k;
+    double p;
+    if (x != x)
+        return x;
+    if (x > 89.0f)
+        return (float)roz__math_from_bits(ROZ__MATH_INF);
+    if (x < -104.0f)
+        return 0.0f;
+    p = roz__math_expm1_f32((double)x, &k);
+    return (float)((1.0 + p) * roz__math_pow2(k));
+}
+
+/** @brief e^x - 1 in float. < 1 ulp. */
+static inline float roz_math_expm1f(float x)
+{
+    if (x != x || x == 0.0f)
+        return x;
+    if (x > 89.0f)
+        return (float)roz__math_from_bits(ROZ__MATH_INF);
+    if (x < -104.0f)
+        return -1.0f;
+    return (float)roz__math_expm1_d32((double)x);
+}
+
+/** @brief Hyperbolic tangent in float. < 1 ulp. */
+static inline float roz_math_tanhf(float x)
+{
+    double ax = roz_math_fabs((double)x), e;
+    if (x != x)
+        return x;
+    if (ax > 9.5)
+        return x < 0.0f ? -1.0f : 1.0f;
+    e = roz__math_expm1_d32(2.0 * ax); /* tanh |x| = e / (e + 2) */
+    return (float)roz_math_copysign(e / (e + 2.0), (double)x);
+}
+
+/** @brief The logistic function 1 / (1 + e^-x) in float. < 1 ulp. */
+static inline float roz_math_sigmoidf(float x)
+{
+    int k;
+    double p;
+    if (x != x)
+        return x;
+    if (x < -104.0f)
+        return 0.0f;
+    if (x > 104.0f)
+        return 1.0f;
+    p = roz__math_expm1_f32(-(double)x, &k);
+    return (float)(1.0 / (1.0 + (1.0 + p) * roz__math_pow2(k)));
+}
+
+/** @brief ELU with alpha 1: x for x > 0, else e^x - 1. < 1 ulp. */
+static inline float roz_math_eluf(float x)
+{
+    return x > 0.0f ? x : roz_math_expm1f(x);
+}
+
+/** @brief ReLU: +0 for x < 0, else x (NaN and -0 as given). Exact. */
+static inline float roz_math_reluf(float x)
+{
+    return x < 0.0f ? 0.0f : x;
+}
+
 #ifdef __cplusplus
 }
 #endif

@@ -34,7 +34,9 @@ static int setup(void **st)
 static void test_abi_import_table(void **st)
 {
     (void)st;
-    assert_int_equal(roz_abi_import_count, 14);
+    assert_int_equal(roz_abi_import_count, 16);
+    assert_string_equal(roz_abi_find_import("nn", "matvec")->signature, "i(iiiiiii)");
+    assert_string_equal(roz_abi_find_import("nn", "act")->signature, "i(iii)");
     assert_string_equal(roz_abi_find_import("state", "get_all")->signature, "i(ii)");
     assert_string_equal(roz_abi_find_import("command", "set_all")->signature, "i(ii)");
     assert_string_equal(roz_abi_find_import("command", "set")->signature, "i(iF)");

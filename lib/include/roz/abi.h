@@ -7,8 +7,9 @@
  * context; an engine (wasm3 today) only marshals arguments into these, and
  * links them from roz_abi_imports[], refusing anything else. The imports,
  * their meaning and the optional bulk pair (state.get_all, command.set_all,
- * bounds-checked against the module's memory before a byte moves):
- * docs/controllers.md.
+ * bounds-checked against the module's memory before a byte moves) and the
+ * neural-network pair (nn.matvec, nn.act; roz_abi_nn_matvec()):
+ * docs/controllers.md and docs/policies.md.
  */
 #ifndef ROZ_ABI_H
 #define ROZ_ABI_H
@@ -55,6 +56,8 @@ typedef struct roz_abi_counters {
     uint64_t get_bad_index;    /**< state.get / limit_* with a bad index */
     uint64_t estop_requests;   /**< safety.request_estop calls */
     uint64_t metrics;          /**< telemetry.emit_metric calls */
+    uint64_t nn_calls;         /**< nn.matvec and nn.act calls, refused ones included */
+    uint64_t nn_refused;       /**< ... refused: nothing written */
 } roz_abi_counters_t;
 
 /** Wall-clock source: nanoseconds from an arbitrary epoch. */
@@ -197,6 +200,72 @@ int32_t roz_abi_state_get_all(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint
  */
 int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_len,
                                 uint32_t ptr, int32_t count);
+
+/* ---- the neural-network extension; Context: inside process(), RT-safe ----- */
+
+/** nn.matvec flags. */
+#define ROZ_ABI_NN_BIAS       1 /**< add b; without it b is not read */
+#define ROZ_ABI_NN_ACCUMULATE 2 /**< y += W x (+ b), else y = W x (+ b) */
+
+/** nn.act kinds (each element by roz_math.h's float function of that name). */
+typedef enum roz_abi_nn_act {
+    ROZ_ABI_NN_RELU = 0,    /**< roz_math_reluf */
+    ROZ_ABI_NN_TANH = 1,    /**< roz_math_tanhf */
+    ROZ_ABI_NN_SIGMOID = 2, /**< roz_math_sigmoidf */
+    ROZ_ABI_NN_ELU = 3,     /**< roz_math_eluf (alpha 1) */
+    ROZ_ABI_NN_EXP = 4,     /**< roz_math_expf */
+    ROZ_ABI_NN_ACT_COUNT = 5
+} roz_abi_nn_act_t;
+
+/** Fuel of the NN imports, charged before the work on top of the call's own
+ *  units, from the counts alone (measured per unit in docs/policies.md):
+ *  nn.matvec rows * cols * MAC + rows * ROW; nn.act count * the kind's. */
+#define ROZ_ABI_NN_UNITS_PER_MAC 1u
+#define ROZ_ABI_NN_UNITS_PER_ROW 2u
+#define ROZ_ABI_NN_UNITS_RELU    2u
+#define ROZ_ABI_NN_UNITS_CURVE   24u /**< tanh, sigmoid, elu, exp: per element */
+
+/** Largest memory any module can have, bytes: counts that need more are
+ *  refused before any fuel is charged. */
+#define ROZ_ABI_NN_MAX_BYTES ((uint64_t)ROZ_CFG_WASM_MAX_PAGES * 65536u)
+
+/**
+ * @brief nn.matvec (i32 w, i32 x, i32 b, i32 y, i32 rows, i32 cols,
+ *        i32 flags) -> i32: y[i] (=|+=) sum_j W[i cols + j] x[j] (+ b[i]),
+ *        float32 little-endian at any alignment, W row-major.
+ *
+ * Each output in exactly this order, in float arithmetic without fused
+ * multiply-add: s = 0; s = s + W[i,j] * x[j] for j = 0, 1, ..., cols - 1;
+ * s = s + b[i] (BIAS); y[i] = y[i] + s (ACCUMULATE) or s. Outputs are
+ * computed side by side, never a sum reordered, so the result is the same
+ * bits on every target and equal to that plain loop.
+ * @retval 0   done
+ * @retval -1  refused, nothing written (counted as nn_refused): rows or
+ *             cols negative, flags unknown, W (4 rows cols bytes), x, b
+ *             (with BIAS) or y outside the memory, y overlapping W, x or b,
+ *             or no memory
+ */
+int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t w,
+                          uint32_t x, uint32_t b, uint32_t y, int32_t rows, int32_t cols,
+                          int32_t flags);
+
+/**
+ * @brief nn.act (i32 kind, i32 ptr, i32 count) -> i32: v[i] = f(v[i]) for
+ *        the count float32 values at ptr, f the kind's (roz_abi_nn_act_t).
+ * @retval count  done
+ * @retval -1     refused, nothing written (nn_refused): unknown kind, count
+ *                negative, the range outside the memory, or no memory
+ */
+int32_t roz_abi_nn_act(roz_abi_t *abi, uint8_t *mem, size_t mem_len, int32_t kind, uint32_t ptr,
+                       int32_t count);
+
+/** @brief Fuel units an engine charges for nn.matvec before the call: 0
+ *  for counts refused whatever the pointers. Context: any. */
+uint64_t roz_abi_nn_matvec_units(int32_t rows, int32_t cols);
+
+/** @brief Fuel units for nn.act: 0 for a kind or count refused whatever
+ *  the pointer. Context: any. */
+uint64_t roz_abi_nn_act_units(int32_t kind, int32_t count);
 
 /**
  * @brief Take the oldest metric from a ring.

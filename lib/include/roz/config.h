@@ -169,6 +169,17 @@
 #define ROZ_CFG_FUEL_PER_SECOND 10000000
 #endif
 
+/** The most fuel a controller may declare it needs (ROZ_FUEL_PER_TICK),
+ *  for one second of control time: a tick's ceiling is this divided by
+ *  control_rate_hz unless the runtime configuration sets its own
+ *  (fuel_per_tick_max). Four times the default budget: a 50 Hz policy in a
+ *  500 Hz loop gets up to 80,000 units on its inference ticks, about 100 us
+ *  of a host core, within the default deadline of half the period.
+ *  Range ROZ_CFG_FUEL_PER_SECOND..4000000000. */
+#ifndef ROZ_CFG_FUEL_MAX_PER_SECOND
+#define ROZ_CFG_FUEL_MAX_PER_SECOND 40000000
+#endif
+
 /** Fuel units between two wall-clock deadline checks: the clock is read
  *  once this many units have been charged since the last reading (the work
  *  between two readings is at most this plus one charge: a run of at most
@@ -252,6 +263,9 @@
 
 #if ROZ_CFG_FUEL_PER_SECOND < 1000 || ROZ_CFG_FUEL_PER_SECOND > 4000000000
 #error "ROZ_CFG_FUEL_PER_SECOND must be in 1000..4000000000"
+#endif
+#if ROZ_CFG_FUEL_MAX_PER_SECOND < ROZ_CFG_FUEL_PER_SECOND || ROZ_CFG_FUEL_MAX_PER_SECOND > 4000000000
+#error "ROZ_CFG_FUEL_MAX_PER_SECOND must be in ROZ_CFG_FUEL_PER_SECOND..4000000000"
 #endif
 #if ROZ_CFG_DEADLINE_CHECK_UNITS < 1 || ROZ_CFG_DEADLINE_CHECK_UNITS > 65536 || \
     (ROZ_CFG_DEADLINE_CHECK_UNITS & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) != 0

@@ -86,6 +86,27 @@ ROZ_NODISCARD int roz_identity_read(const uint8_t *wasm, size_t len, roz_identit
 roz_identity_match_t roz_identity_check(const roz_identity_t *id, const roz_manifest_t *m,
                                         char *msg, size_t len);
 
+/** Name of the custom section in which a controller declares the fuel it
+ *  needs per tick (roz_controller.h, ROZ_FUEL_PER_TICK). */
+#define ROZ_FUEL_SECTION "roz.fuel"
+/** The version of its record: u8 version, u64 fuel units little-endian. */
+#define ROZ_FUEL_VERSION 1u
+
+/**
+ * @brief Read the fuel a module declares it needs per tick: its custom
+ *        section "roz.fuel", one or more copies of one record.
+ * @param[out] fuel  the units declared; 0 when the module declares none
+ * @param[out] err   on ROZ_EINVAL, why (names the section); may be NULL
+ * @retval ROZ_OK     read (declared or not)
+ * @retval ROZ_EINVAL not a WebAssembly 1.0 module, a section runs past the
+ *                    end, two such sections, or a malformed record (empty,
+ *                    unknown version, cut short, 0 units, or two different
+ *                    declarations)
+ * Context: any; no heap; linear in the number of sections.
+ */
+ROZ_NODISCARD int roz_identity_read_fuel(const uint8_t *wasm, size_t len, uint64_t *fuel,
+                                         char *err, size_t errlen);
+
 #ifdef __cplusplus
 }
 #endif

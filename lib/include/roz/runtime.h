@@ -86,6 +86,14 @@ typedef struct roz_runtime_config {
                                      roz/controller.h); 0: ROZ_CFG_FUEL_PER_SECOND /
                                      control_rate_hz (refused if that rounds to 0);
                                      ROZ_BUDGET_OFF: unmetered */
+    uint64_t     fuel_per_tick_max; /**< the most fuel per tick a controller may declare
+                                     it needs (roz.fuel, ROZ_FUEL_PER_TICK of
+                                     roz_controller.h), which it then gets instead of
+                                     fuel_per_tick, verification included; a larger
+                                     declaration is refused at load. 0:
+                                     ROZ_CFG_FUEL_MAX_PER_SECOND / control_rate_hz;
+                                     ROZ_BUDGET_OFF: any. Unmetered runtimes ignore
+                                     declarations */
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
     void        *clock_ctx;
@@ -121,6 +129,8 @@ typedef struct roz_verify_report {
     uint64_t fuel[ROZ_RUNTIME_VERIFY_TICKS]; /**< fuel each verify tick used */
     uint64_t max_fuel;         /**< the most any verify tick used */
     uint64_t fuel_budget;      /**< the per-tick fuel budget it ran under */
+    uint64_t fuel_declared;    /**< what the controller declared it needs (roz.fuel); 0
+                                    none */
     uint64_t max_stack;        /**< deepest C stack of any verify tick, bytes */
     roz_identity_t identity;   /**< the robot the controller says it was built for */
     roz_identity_match_t identity_match; /**< that against this robot: OTHER_ROBOT or
@@ -170,6 +180,7 @@ typedef struct roz_runtime_slot {
     const uint8_t   *ROZ_PRIVATE(wasm);     /* bytes (caller's), kept to rebuild after a trap */
     size_t           ROZ_PRIVATE(wasm_len);
     uint64_t         ROZ_PRIVATE(hash);     /* roz_recorder_hash() of the bytes, for the recorder */
+    uint64_t         ROZ_PRIVATE(fuel);     /* its fuel per tick (declared or the default) */
     ROZ_ATOMIC(int)  ROZ_PRIVATE(dead);     /* 1: trapped or stopped by its budget; set by the tick
                                   before the fault is published, never run again */
 } roz_runtime_slot_t;

@@ -1,0 +1,157 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/*
+ * One inference of the G1 policy's shape (47 -> LSTM 64 -> 32 ELU -> 12),
+ * in the same run: through roz_nn.h and the nn imports under wasm3
+ * (metered), as plain wasm (roz_nn.h's loops compiled into the module),
+ * and natively (the same header, its plain-C imports, -O2
+ * -ffp-contract=off): p50 of CPU time per call, and the fuel of one
+ * inference. Then what the nn imports' work costs the host per fuel unit
+ * (nn.matvec on the LSTM's matrices, nn.act on 64 elements), to set
+ * against bench/fuel's cost of a unit of wasm.
+ *
+ *   roz_bench_nn [calls] [--json FILE]
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "bench_json.h"
+#include "roz/abi.h"
+#include "roz/controller.h"
+#include "roz/hal/module.h"
+#include "ur5_manifest.h"
+
+#include "policy.h" /* natively: roz_nn.h's plain-C imports */
+
+static roz_controller_t ctl;
+static roz_abi_t abi;
+static double state[ROZ_CFG_MAX_STATES];
+static double targets[ROZ_CFG_MAX_COMMANDS];
+static uint64_t t_ns[100000];
+static volatile float sink;
+
+static uint64_t cpu_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
+}
+
+/* p50 of `calls` calls of process() of the module at path; *fuel that of
+ * the last call (every inference costs the same). */
+static bench_stats_t run_wasm(const char *path, int calls, uint64_t *fuel)
+{
+    static uint8_t wasm[1 << 20];
+    size_t len = 0;
+    roz_budget_t b = { 100000000, ROZ_BUDGET_OFF, NULL, NULL };
+    char err[256];
+    if (roz_module_read_file(path, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "roz_bench_nn: %s\n", err);
+        exit(1);
+    }
+    roz_controller_init(&ctl);
+    roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+    if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK ||
+        roz_controller_set_budget(&ctl, &b) != ROZ_OK) {
+        fprintf(stderr, "roz_bench_nn: %s: %s\n", path, roz_controller_error(&ctl));
+        exit(1);
+    }
+    for (int t = 0; t < calls; t++) {
+        roz_abi_begin_tick(&abi, t, state);
+        uint64_t t0 = cpu_ns();
+        int rc = roz_controller_process(&ctl, t);
+        t_ns[t] = cpu_ns() - t0;
+        if (rc != ROZ_OK) {
+            fprintf(stderr, "roz_bench_nn: %s: %s\n", path, roz_controller_error(&ctl));
+            exit(1);
+        }
+    }
+    *fuel = roz_controller_fuel_used(&ctl);
+    roz_controller_unload(&ctl);
+    return bench_stats(t_ns, (size_t)calls);
+}
+
+static bench_stats_t run_native(int calls)
+{
+    for (int t = 0; t < calls; t++) {
+        uint64_t t0 = cpu_ns();
+        sink = bench_infer(t);
+        t_ns[t] = cpu_ns() - t0;
+    }
+    return bench_stats(t_ns, (size_t)calls);
+}
+
+/* ns per fuel unit of the host's nn work: the LSTM's two products, then
+ * each activation on 64 values, `reps` times */
+static uint8_t mem[65536 * 2];
+static void unit_costs(const bench_json_t *j, int reps)
+{
+    static const char *names[] = { "relu", "tanh", "sigmoid", "elu", "exp" };
+    uint64_t t0, units = roz_abi_nn_matvec_units(256, 47) + roz_abi_nn_matvec_units(256, 64);
+    for (size_t i = 0; i + 4 <= sizeof mem; i += 4) {
+        float f = (float)(i % 397) * 0.005f - 1.0f;
+        memcpy(mem + i, &f, 4);
+    }
+    roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+    t0 = cpu_ns();
+    for (int r = 0; r < reps; r++) {
+        (void)roz_abi_nn_matvec(&abi, mem, sizeof mem, 0, 114000, 115000, 117000, 256, 47, 1);
+        (void)roz_abi_nn_matvec(&abi, mem, sizeof mem, 48128, 114000, 115000, 117000, 256, 64, 3);
+    }
+    double ns = (double)(cpu_ns() - t0) / reps;
+    printf("  nn.matvec 256x47 + 256x64 (%llu units): %.2f us, %.3f ns a unit\n",
+           (unsigned long long)units, ns / 1000.0, ns / (double)units);
+    bench_json_value(j, "nn.matvec, ns per unit", ns / (double)units, "ns");
+    for (int k = 0; k < ROZ_ABI_NN_ACT_COUNT; k++) {
+        uint64_t u = roz_abi_nn_act_units(k, 64);
+        t0 = cpu_ns();
+        for (int r = 0; r < reps * 4; r++) {
+            (void)roz_abi_nn_act(&abi, mem, sizeof mem, k, 120000, 64);
+            /* the same inputs each time: restore them */
+            memcpy(mem + 120000, mem + 125000, 256);
+        }
+        ns = (double)(cpu_ns() - t0) / (reps * 4);
+        printf("  nn.act %-7s x64 (%llu units): %.3f us, %.3f ns a unit\n", names[k],
+               (unsigned long long)u, ns / 1000.0, ns / (double)u);
+        char name[64];
+        snprintf(name, sizeof name, "nn.act %s, ns per unit", names[k]);
+        bench_json_value(j, name, ns / (double)u, "ns");
+    }
+}
+
+int main(int argc, char **argv)
+{
+    bench_json_t j;
+    argc = bench_json_args(&j, "nn", argc, argv);
+    if (argc < 0)
+        return 1;
+    int calls = argc > 1 ? atoi(argv[1]) : 5000;
+    if (calls < 100 || calls > 100000)
+        calls = 5000;
+    uint64_t fuel_sdk = 0, fuel_plain = 0;
+    bench_stats_t nat = run_native(calls);
+    bench_stats_t sdk = run_wasm(ROZ_BENCH_NN_POLICY, calls, &fuel_sdk);
+    bench_stats_t plain = run_wasm(ROZ_BENCH_NN_POLICY_PLAIN, calls / 10 + 100, &fuel_plain);
+    bench_stats_t nat2 = run_native(calls); /* again, after: the host's speed drifts */
+    if (nat2.p50 < nat.p50)
+        nat = nat2;
+    printf("G1 policy inference (47 -> LSTM 64 -> 32 ELU -> 12), p50 CPU time, %d calls:\n",
+           calls);
+    printf("  native C (roz_nn.h, plain loops)   %8.2f us\n", nat.p50);
+    printf("  wasm3, roz_nn.h + nn imports       %8.2f us  (%.2fx native)  %llu fuel units\n",
+           sdk.p50, sdk.p50 / nat.p50, (unsigned long long)fuel_sdk);
+    printf("  wasm3, the same loops in wasm      %8.2f us  (%.2fx native)  %llu fuel units\n",
+           plain.p50, plain.p50 / nat.p50, (unsigned long long)fuel_plain);
+    bench_json_timing(&j, "policy inference, native C", nat);
+    bench_json_timing(&j, "policy inference, wasm3 + nn imports", sdk);
+    bench_json_timing(&j, "policy inference, wasm3, plain wasm", plain);
+    bench_json_value(&j, "policy inference fuel, nn imports", (double)fuel_sdk, "units");
+    bench_json_value(&j, "policy inference fuel, plain wasm", (double)fuel_plain, "units");
+    printf("What the nn imports' work costs per fuel unit (CPU time):\n");
+    unit_costs(&j, calls / 5 + 50);
+    bench_json_close(&j);
+    return 0;
+}

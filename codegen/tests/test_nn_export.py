@@ -1,0 +1,299 @@
+# SPDX-License-Identifier: Apache-2.0
+"""rozgen.nn_export on networks made here: TorchScript-style archives
+written without torch (the pickle torch.jit.save writes: __torch__ module
+objects, tensors through torch._utils._rebuild_tensor_v2 and persistent
+storages) and ONNX graphs built with onnx.helper; each read back against
+the arrays it was made from, or run against ONNX's own equations; hostile
+files refused, never run."""
+import collections
+import io
+import os
+import pickle
+import sys
+import types
+import zipfile
+
+import numpy as np
+import pytest
+
+from rozgen import nn, nn_export
+
+SPEC = "lstm:5:4,dense:4:3:elu,dense:3:2"
+
+
+# ---- writing a TorchScript-style archive without torch ---------------------------
+
+class _Fake:
+    """Modules for the pickler to name: torch, torch._utils, __torch__..."""
+
+    def __enter__(self):
+        self.mods = {}
+        for name in ("torch", "torch._utils", "__torch__", "__torch__.torch.nn.modules.rnn",
+                     "__torch__.torch.nn.modules.linear",
+                     "__torch__.torch.nn.modules.container"):
+            self.mods[name] = sys.modules.get(name)
+            sys.modules[name] = types.ModuleType(name)
+
+        def _rebuild_tensor_v2(*a):
+            raise AssertionError("never called while writing")
+        _rebuild_tensor_v2.__module__ = "torch._utils"
+        _rebuild_tensor_v2.__qualname__ = "_rebuild_tensor_v2"
+        sys.modules["torch._utils"]._rebuild_tensor_v2 = _rebuild_tensor_v2
+        self.rebuild = _rebuild_tensor_v2
+        self.FloatStorage = type("FloatStorage", (), {"__module__": "torch"})
+        sys.modules["torch"].FloatStorage = self.FloatStorage
+
+        def cls(mod, name):
+            c = type(name, (), {"__module__": mod})
+            setattr(sys.modules[mod], name, c)
+            return c
+        self.Policy = cls("__torch__", "Policy")
+        self.LSTM = cls("__torch__.torch.nn.modules.rnn", "LSTM")
+        self.Linear = cls("__torch__.torch.nn.modules.linear", "Linear")
+        self.Sequential = cls("__torch__.torch.nn.modules.container", "Sequential")
+        return self
+
+    def __exit__(self, *exc):
+        for name, m in self.mods.items():
+            if m is None:
+                sys.modules.pop(name, None)
+            else:
+                sys.modules[name] = m
+
+
+class _Storage:
+    def __init__(self, key, array):
+        self.key, self.array = key, array
+
+
+def write_pt(path, ref, *, tamper=None, key=str):
+    """A TorchScript-style archive of the random network `ref` (SPEC);
+    tamper(name, shape, stride, numel) may lie about a tensor."""
+    storages = []
+    with _Fake() as f:
+        class Tensor:
+            def __init__(self, name, a):
+                self.name, self.a = name, np.ascontiguousarray(a, dtype=np.float32)
+
+            def __reduce__(self):
+                st = _Storage(key(len(storages)), self.a.ravel())
+                storages.append(st)
+                shape, stride = list(self.a.shape), [int(s // 4) for s in self.a.strides]
+                if tamper:
+                    shape, stride = tamper(self.name, shape, stride)
+                return (f.rebuild, (st, 0, tuple(shape), tuple(stride), False,
+                                    collections.OrderedDict()))
+
+        class P(pickle.Pickler):
+            def persistent_id(self, obj):
+                if isinstance(obj, _Storage):
+                    return ("storage", f.FloatStorage, obj.key, "cpu", obj.array.size)
+                return None
+
+        pol, mem, seq = f.Policy(), f.LSTM(), f.Sequential()
+        for ours, theirs in (("w_ih", "weight_ih_l0"), ("w_hh", "weight_hh_l0"),
+                             ("b_ih", "bias_ih_l0"), ("b_hh", "bias_hh_l0")):
+            setattr(mem, theirs, Tensor(theirs, ref[0].arrays[ours]))
+        mem.hidden_size = 4
+        for k, idx in ((1, "0"), (2, "2")):
+            lin = f.Linear()
+            lin.weight = Tensor("weight", ref[k].arrays["w"])
+            lin.bias = Tensor("bias", ref[k].arrays["b"])
+            setattr(seq, idx, lin)
+        pol.memory, pol.actor, pol.training = mem, seq, False
+        buf = io.BytesIO()
+        P(buf, protocol=2).dump(pol)
+    with zipfile.ZipFile(path, "w") as z:
+        z.writestr("policy/data.pkl", buf.getvalue())
+        z.writestr("policy/version", "3\n")
+        for i, st in enumerate(storages):  # files by index; key() may lie in the pickle
+            z.writestr(f"policy/data/{i}", st.array.astype("<f4").tobytes())
+
+
+def test_torchscript_round_trip(tmp_path):
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    write_pt(p, ref)
+    t = nn_export.read_torchscript(str(p))
+    assert list(t)[:2] == ["memory.weight_ih_l0", "memory.weight_hh_l0"]
+    assert "actor.2.bias" in t
+    got = nn_export.layers_from_tensors(t, SPEC, str(p))
+    assert nn.header(got, "p", "x") == nn.header(ref, "p", "x")
+    out = tmp_path / "policy_net.h"
+    assert nn.main(["pt", "--spec", SPEC, "--weights", str(p), "-o", str(out)]) == 0
+    assert "ROZ_NN_LSTM_DEFINE(policy_l0, 5, 4" in out.read_text()
+
+
+def _archive(tmp_path, pkl: bytes, files=None):
+    p = tmp_path / "evil.pt"
+    with zipfile.ZipFile(p, "w") as z:
+        z.writestr("evil/data.pkl", pkl)
+        for n, b in (files or {}).items():
+            z.writestr(f"evil/data/{n}", b)
+    return str(p)
+
+
+def test_torchscript_hostile(tmp_path):
+    marker = tmp_path / "ran"
+    for pkl in (b"cos\nsystem\n(S'touch " + str(marker).encode() + b"'\ntR.",
+                b"cbuiltins\neval\n(S'1+1'\ntR.",
+                b"\x80\x04\x95\x10\x00\x00\x00\x00\x00\x00\x00\x8c\x02os\x8c\x06getpid\x93)R.",
+                b"csubprocess\nPopen\n(S'true'\ntR."):
+        with pytest.raises(ValueError, match="refused"):
+            nn_export.read_torchscript(_archive(tmp_path, pkl))
+    assert not marker.exists()
+    (tmp_path / "nope.pt").write_bytes(b"PK junk")
+    with pytest.raises(ValueError, match="not a zip"):
+        nn_export.read_torchscript(str(tmp_path / "nope.pt"))
+    with pytest.raises(ValueError, match="malformed data.pkl"):
+        nn_export.read_torchscript(_archive(tmp_path, b"\x80\x02}q\x00(X"))
+    # a storage that is not there, or outside the archive's folder
+    ref = nn.random_network(SPEC, 4)
+    for key in (lambda i: f"{i}x" if i == 3 else str(i), lambda i: "../../etc/passwd"):
+        write_pt(tmp_path / "k.pt", ref, key=key)
+        with pytest.raises(ValueError, match="no storage"):
+            nn_export.read_torchscript(str(tmp_path / "k.pt"))
+
+
+def test_torchscript_lying_shapes(tmp_path):
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "lie.pt"
+    write_pt(p, ref, tamper=lambda n, s, st: ([1000, 1000], st) if n == "weight" else (s, st))
+    with pytest.raises(ValueError, match="reaches past its storage"):
+        nn_export.read_torchscript(str(p))
+    write_pt(p, ref, tamper=lambda n, s, st: (s, [0 - 1] + st[1:]) if n == "bias_ih_l0" else (s, st))
+    with pytest.raises(ValueError, match="a tensor of size"):
+        nn_export.read_torchscript(str(p))
+    # a storage shorter than the pickle claims
+    write_pt(p, ref)
+    q = tmp_path / "short.pt"
+    with zipfile.ZipFile(p) as zi, zipfile.ZipFile(q, "w") as zo:
+        for n in zi.namelist():
+            b = zi.read(n)
+            zo.writestr(n, b[:-4] if n.endswith("/data/0") else b)
+    with pytest.raises(ValueError, match="the pickle says"):
+        nn_export.read_torchscript(str(q))
+
+
+def test_torchscript_unmappable(tmp_path):
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    write_pt(p, ref)
+    t = nn_export.read_torchscript(str(p))
+    with pytest.raises(ValueError, match="expected a 'weight_ih_l0'"):
+        nn_export.layers_from_tensors(t, "gru:5:4," + SPEC, str(p))
+    with pytest.raises(ValueError, match="no place for"):
+        nn_export.layers_from_tensors(t, "lstm:5:4,dense:4:3:elu", str(p))
+    t2 = dict(t)
+    t2["memory.weight_ih_l1"] = t2.pop("actor.2.bias")
+    with pytest.raises(ValueError):
+        nn_export.layers_from_tensors(t2, SPEC, str(p))
+
+
+# ---- ONNX -----------------------------------------------------------------------
+
+onnx = pytest.importorskip("onnx")
+from onnx import TensorProto, helper, numpy_helper  # noqa: E402
+
+
+def _model(nodes, inits, path):
+    g = helper.make_graph(nodes, "g", [helper.make_tensor_value_info("x", TensorProto.FLOAT, None)],
+                          [helper.make_tensor_value_info("y", TensorProto.FLOAT, None)],
+                          [numpy_helper.from_array(np.asarray(a, dtype=np.float32), n)
+                           for n, a in inits.items()])
+    onnx.save(helper.make_model(g), path)
+    return str(path)
+
+
+def _sig(v):
+    return 1.0 / (1.0 + np.exp(-v))
+
+
+def test_onnx_mlp(tmp_path):
+    rng = np.random.default_rng(1)
+    w1, b1, w2, b2 = (rng.normal(size=s).astype(np.float32) for s in ((6, 4), (6,), (3, 6), (3,)))
+    p = _model([helper.make_node("Gemm", ["x", "w1", "b1"], ["h"], transB=1),
+                helper.make_node("Elu", ["h"], ["e"]),
+                helper.make_node("MatMul", ["e", "w2t"], ["m"]),
+                helper.make_node("Add", ["m", "b2"], ["t"]),
+                helper.make_node("Tanh", ["t"], ["y"])],
+               {"w1": w1, "b1": b1, "w2t": w2.T, "b2": b2}, tmp_path / "mlp.onnx")
+    layers = nn_export.read_onnx(p)
+    x = rng.normal(size=(3, 4)).astype(np.float32)
+    h = x.astype(np.float64) @ w1.T.astype(np.float64) + b1
+    want = np.tanh(np.where(h > 0, h, np.expm1(np.minimum(h, 0))) @ w2.T.astype(np.float64) + b2)
+    assert np.allclose(nn.forward(layers, x), want, rtol=1e-6, atol=1e-9)
+
+
+def test_onnx_lstm_gate_order(tmp_path):
+    rng = np.random.default_rng(2)
+    I, H = 3, 2
+    W, R, B = rng.normal(size=(1, 4 * H, I)), rng.normal(size=(1, 4 * H, H)), rng.normal(size=(1, 8 * H))
+    p = _model([helper.make_node("LSTM", ["x", "W", "R", "B"], ["Y", "Yh", "Yc"], hidden_size=H),
+                helper.make_node("Squeeze", ["Yh"], ["y"])],
+               {"W": W, "R": R, "B": B}, tmp_path / "lstm.onnx")
+    layers = nn_export.read_onnx(p)
+    xs = rng.normal(size=(4, I)).astype(np.float32)
+    W32, R32, B32 = (a.astype(np.float32).astype(np.float64) for a in (W[0], R[0], B[0]))
+    h, c, want = np.zeros(H), np.zeros(H), []
+    for x in xs.astype(np.float64):  # ONNX's equations, gates i, o, f, c
+        g = W32 @ x + R32 @ h + B32[:4 * H] + B32[4 * H:]
+        i, o, f, cc = _sig(g[:H]), _sig(g[H:2 * H]), _sig(g[2 * H:3 * H]), np.tanh(g[3 * H:])
+        c = f * c + i * cc
+        h = o * np.tanh(c)
+        want.append(h)
+    assert np.allclose(nn.forward(layers, xs), np.array(want), rtol=1e-12, atol=1e-12)
+
+
+def test_onnx_gru_gate_order(tmp_path):
+    rng = np.random.default_rng(3)
+    I, H = 3, 2
+    W, R, B = rng.normal(size=(1, 3 * H, I)), rng.normal(size=(1, 3 * H, H)), rng.normal(size=(1, 6 * H))
+    p = _model([helper.make_node("GRU", ["x", "W", "R", "B"], ["Y", "y"], hidden_size=H,
+                                 linear_before_reset=1)],
+               {"W": W, "R": R, "B": B}, tmp_path / "gru.onnx")
+    layers = nn_export.read_onnx(p)
+    xs = rng.normal(size=(4, I)).astype(np.float32)
+    W32, R32, B32 = (a.astype(np.float32).astype(np.float64) for a in (W[0], R[0], B[0]))
+    Wb, Rb = B32[:3 * H], B32[3 * H:]
+    h, want = np.zeros(H), []
+    for x in xs.astype(np.float64):  # ONNX's equations, gates z, r, h
+        z = _sig(W32[:H] @ x + R32[:H] @ h + Wb[:H] + Rb[:H])
+        r = _sig(W32[H:2 * H] @ x + R32[H:2 * H] @ h + Wb[H:2 * H] + Rb[H:2 * H])
+        n = np.tanh(W32[2 * H:] @ x + r * (R32[2 * H:] @ h + Rb[2 * H:]) + Wb[2 * H:])
+        h = (1 - z) * n + z * h
+        want.append(h)
+    assert np.allclose(nn.forward(layers, xs), np.array(want), rtol=1e-12, atol=1e-12)
+
+
+def test_onnx_refusals(tmp_path):
+    w = np.ones((2, 2))
+    cases = [
+        ([helper.make_node("Conv", ["x", "w"], ["y"])], "operator Conv"),
+        ([helper.make_node("Gemm", ["x", "w"], ["h"], transB=1),
+          helper.make_node("Elu", ["h"], ["y"], alpha=0.5)], "alpha 0.5"),
+        ([helper.make_node("Gemm", ["x", "w"], ["y"], alpha=2.0)], "alpha, beta"),
+        ([helper.make_node("Relu", ["x"], ["y"])], "follows no dense layer"),
+        ([helper.make_node("Gemm", ["x", "x"], ["y"])], "not a constant"),
+    ]
+    for nodes, why in cases:
+        with pytest.raises(ValueError, match=why):
+            nn_export.read_onnx(_model(nodes, {"w": w}, tmp_path / "bad.onnx"))
+    W, R = np.ones((1, 6, 2)), np.ones((1, 6, 2))
+    with pytest.raises(ValueError, match="linear_before_reset"):
+        nn_export.read_onnx(_model([helper.make_node("GRU", ["x", "W", "R"], ["Y", "y"],
+                                                     hidden_size=2)],
+                                   {"W": W, "R": R}, tmp_path / "bad.onnx"))
+    # external data: refused, never opened
+    g = helper.make_graph([helper.make_node("Gemm", ["x", "w"], ["y"], transB=1)], "g",
+                          [helper.make_tensor_value_info("x", TensorProto.FLOAT, None)],
+                          [helper.make_tensor_value_info("y", TensorProto.FLOAT, None)],
+                          [numpy_helper.from_array(np.ones((2, 2), np.float32), "w")])
+    m = helper.make_model(g)
+    t = m.graph.initializer[0]
+    t.ClearField("raw_data")
+    t.data_location = TensorProto.EXTERNAL
+    t.external_data.add(key="location", value="/etc/passwd")
+    onnx.save(m, tmp_path / "ext.onnx")
+    with pytest.raises(ValueError, match="external data"):
+        nn_export.read_onnx(str(tmp_path / "ext.onnx"))

@@ -1,0 +1,28 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* roz's configuration for the G1 policy images (Cortex-M7 and M4F)
+ * (ROZ_CONFIG_FILE): sized for this robot and controller, from the verify
+ * report and the image's measured high-water marks (README, "Firmware"). */
+#ifndef ROZ_FW_G1_POLICY_CONFIG_H
+#define ROZ_FW_G1_POLICY_CONFIG_H
+
+#define ROZ_CFG_MAX_COMMANDS          145   /* the G1's table: 29 joints x 5 */
+#define ROZ_CFG_MAX_STATES            97    /* 29 joints x 3, the IMU's 10 */
+#define ROZ_CFG_NAME_ARENA_BYTES      64    /* no manifest is built at run time */
+#define ROZ_CFG_MAX_JOINTS            0
+#define ROZ_CFG_MAX_PARAMS            0
+#define ROZ_CFG_WASM_STACK_BYTES      8192  /* the policy's calls are shallow */
+#define ROZ_CFG_NATIVE_STACK_BYTES    6144  /* process()'s C stack, below the main stack */
+#define ROZ_CFG_WASM_MAX_PAGES        3     /* the LSTM's weights: 123 KiB of data */
+#define ROZ_CFG_WASM_MAX_MODULE_BYTES 139264
+#define ROZ_CFG_WASM_MAX_TABLE_ENTRIES 16
+#define ROZ_CFG_WASM_MAX_BLOCK_DEPTH  16
+/* the validator's limits: its scratch (a static buffer) is 1.5 KiB, not 22 */
+#define ROZ_CFG_WASM_MAX_TYPES        16
+#define ROZ_CFG_WASM_MAX_FUNCS        32
+#define ROZ_CFG_WASM_MAX_GLOBALS      8
+#define ROZ_CFG_WASM_MAX_LOCALS       64
+#define ROZ_CFG_WASM_MAX_EXPORTS      8
+#define ROZ_CFG_TELEMETRY_RING        16
+
+
+#endif /* ROZ_FW_G1_POLICY_CONFIG_H */
