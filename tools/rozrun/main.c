@@ -55,6 +55,9 @@
 #if ROZRUN_HAS_SOCKETCAN
 #include "roz/socketcan.h"
 #endif
+#if ROZRUN_HAS_MUJOCO
+#include "roz/mujoco.h"
+#endif
 #include "replay.h"
 #include "schedule.h"
 #include "trace.h"
@@ -99,6 +102,10 @@ static roz_agibot_x2_t x2;
 #if ROZRUN_HAS_SOCKETCAN
 static roz_socketcan_t can;
 #endif
+#if ROZRUN_HAS_MUJOCO
+static roz_mujoco_t mujoco;
+#endif
+static const char *robot_file; /* --robot when it names a robot.toml, else NULL */
 
 /* ---- the ports rozrun knows ------------------------------------------------ */
 
@@ -221,6 +228,40 @@ static void summary_socketcan(void)
 }
 #endif
 
+#if ROZRUN_HAS_MUJOCO
+static roz_port_t make_mujoco(void)
+{
+    roz_mujoco_set_robot_file(&mujoco, robot_file); /* a model path is relative to it */
+    return roz_mujoco_port(&mujoco, log_stderr, NULL);
+}
+
+/* The physics has no wire: nothing is checked on the way */
+static void link_mujoco(roz_link_t *out)
+{
+    memset(out, 0, sizeof *out);
+    out->accepted = mujoco.frames;
+}
+
+/* In the summary: the simulator's truth, so standing is told from fallen. */
+static void summary_mujoco(void)
+{
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mujoco, &b);
+    printf("  physics                %.3f s simulated in %llu steps of %g s; %llu torques "
+           "saturated at the effort limit; %llu values outside the manifest written\n",
+           b.sim_time, (unsigned long long)b.steps, mujoco.timestep,
+           (unsigned long long)mujoco.saturated, (unsigned long long)mujoco.clamped);
+    if (b.floating)
+        printf("  base                   height %.3f m (lowest %.3f), roll %.1f, pitch %.1f deg "
+               "(largest tilt %.1f)\n", b.pos[2], b.min_height, b.roll * 57.29578,
+               b.pitch * 57.29578, b.max_tilt * 57.29578);
+    printf("  ground contacts        %u", (unsigned)b.contacts);
+    for (uint32_t i = 0; i < b.n_bodies; i++)
+        printf("%s%s", i == 0 ? ": " : ", ", b.bodies[i]);
+    printf("\n");
+}
+#endif
+
 typedef struct {
     const char *name;
     int         robot; /* a robot's port: ticks at the manifest's rate, always */
@@ -246,6 +287,9 @@ static const port_entry_t ports[] = {
 #endif
 #if ROZRUN_HAS_SOCKETCAN
     { "socketcan", 1, make_socketcan, link_socketcan, NULL, opened_socketcan, summary_socketcan },
+#endif
+#if ROZRUN_HAS_MUJOCO
+    { "mujoco", 0, make_mujoco, link_mujoco, NULL, NULL, summary_mujoco },
 #endif
 };
 
@@ -297,6 +341,9 @@ static void usage(FILE *f)
 #endif
 #if ROZRUN_HAS_SOCKETCAN
         ", socketcan"
+#endif
+#if ROZRUN_HAS_MUJOCO
+        ", mujoco"
 #endif
         ")\n"
         "  --ticks N            ticks to run (default 1000; 0 = until Ctrl-C)\n"
@@ -860,6 +907,8 @@ int main(int argc, char **argv)
     const roz_manifest_t *m = find_robot(o.robot);
     if (m == NULL)
         return 2;
+    if (roz_builtin_find(o.robot) == NULL)
+        robot_file = o.robot;
     const port_entry_t *pe = find_port(o.port);
     if (pe == NULL)
         return 2;
