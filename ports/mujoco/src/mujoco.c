@@ -382,7 +382,8 @@ static int model_path(roz_mujoco_t *s, const char *model, char *err, size_t errl
                    "bytes", origin(s), ROZ_MUJOCO_PATH_MAX - 1);
         return ROZ_EINVAL;
     }
-    memcpy(s->model_path, s->robot_file, dir);
+    if (dir > 0)
+        memcpy(s->model_path, s->robot_file, dir);
     memcpy(s->model_path + dir, model, strlen(model) + 1);
     return ROZ_OK;
 }
