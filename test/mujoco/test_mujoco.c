@@ -337,6 +337,76 @@ static void test_mujoco_g1_imu_and_faults(void **state)
     roz_port_close(&p);
 }
 
+/* A built-in robot on the port alone: open it, @p ticks of @p cmd. */
+static void run_builtin(const char *id, roz_port_t *p, const double *cmd, int ticks, double *st)
+{
+    const roz_manifest_t *m = roz_builtin_find(id);
+    char err[512];
+    if (ticks < 0) {
+        roz_mujoco_set_robot_file(&mj, NULL);
+        *p = roz_mujoco_port(&mj, NULL, NULL);
+        if (open_with(p, m, err, sizeof err, 0) != ROZ_OK)
+            fail_msg("%s", err);
+        assert_int_equal(roz_port_read(p, st, m->n_states), 1);
+        return;
+    }
+    for (int t = 0; t < ticks; t++) {
+        assert_int_equal(roz_port_write(p, cmd, m->n_commands), ROZ_OK);
+        assert_int_equal(roz_port_read(p, st, m->n_states), 1);
+    }
+}
+
+/* The diff drive's wheels follow the twist; its odometry is the wheel
+ * encoders', and agrees with the simulator's truth while nothing slips. */
+static void test_mujoco_diff_drive(void **state)
+{
+    (void)state;
+    roz_port_t p;
+    double st[3], go[2] = { 0.5, 0.0 }, turn[2] = { 0.0, 1.0 };
+    run_builtin("diff_drive", &p, NULL, -1, st);
+    run_builtin("diff_drive", &p, go, 200, st); /* 2 s at 0.5 m/s */
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mj, &b);
+    print_message("diff_drive: 2 s at 0.5 m/s: odom x %.3f y %.3f yaw %.3f; truth x %.3f y %.3f\n",
+                  st[0], st[1], st[2], b.pos[0], b.pos[1]);
+    assert_true(st[0] > 0.85 && st[0] < 1.05);
+    assert_true(fabs(st[1]) < 0.02 && fabs(st[2]) < 0.02);
+    assert_near(b.pos[0], st[0], 0.03);
+    run_builtin("diff_drive", &p, turn, 100, st); /* 1 s at 1 rad/s */
+    print_message("diff_drive: then 1 s at 1 rad/s: odom yaw %.3f\n", st[2]);
+    assert_true(st[2] > 0.8 && st[2] < 1.05);
+    roz_port_close(&p);
+}
+
+/* The quadcopter's autopilot climbs, holds and flies where it is told. */
+static void test_mujoco_quadcopter(void **state)
+{
+    (void)state;
+    roz_port_t p;
+    double st[4], up[4] = { 0.0, 0.0, 1.0, 0.0 }, hold[4] = { 0, 0, 0, 0 };
+    double fwd[4] = { 1.0, 0.0, 0.0, 0.5 };
+    run_builtin("quadcopter", &p, NULL, -1, st);
+    assert_near(st[2], 0.05, 0.01); /* on the ground */
+    run_builtin("quadcopter", &p, up, 150, st);
+    run_builtin("quadcopter", &p, hold, 100, st);
+    print_message("quadcopter: 1.5 s at 1 m/s up, 1 s holding: z %.3f m\n", st[2]);
+    assert_true(st[2] > 1.2 && st[2] < 1.7);
+    double z = st[2];
+    run_builtin("quadcopter", &p, hold, 100, st);
+    assert_near(st[2], z, 0.05);
+    run_builtin("quadcopter", &p, fwd, 200, st);
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mj, &b);
+    print_message("quadcopter: 2 s at 1 m/s forward turning 0.5 rad/s: x %.3f y %.3f z %.3f "
+                  "yaw %.3f, largest tilt %.1f deg\n", st[0], st[1], st[2], st[3],
+                  b.max_tilt * 57.2958);
+    assert_true(st[0] > 0.8);
+    assert_near(st[3], 1.0, 0.15);
+    assert_near(st[2], z, 0.2);
+    assert_true(b.max_tilt < 0.6);
+    roz_port_close(&p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -347,6 +417,8 @@ int main(void)
         cmocka_unit_test(test_mujoco_gantry),
         cmocka_unit_test(test_mujoco_g1_stands),
         cmocka_unit_test(test_mujoco_deterministic),
+        cmocka_unit_test(test_mujoco_diff_drive),
+        cmocka_unit_test(test_mujoco_quadcopter),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

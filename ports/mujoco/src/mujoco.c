@@ -22,51 +22,108 @@ enum {
     LAW_VELOCITY, /* velocity commanded: a servo on the integrated velocity */
     LAW_POSITION, /* position commanded without gains: a position servo */
     LAW_EFFORT,   /* effort only: tau = ff */
+    LAW_WHEEL,    /* a diff drive's wheel: the velocity servo on (v -+ w b/2) / r */
 };
 
+/* A robot commanded by body velocities (roz_mujoco_t.mobile). */
+enum {
+    MOBILE_NONE = 0,
+    MOBILE_WHEELS,    /* X/linear.x, X/angular.z -> X/odom.x, .y, .yaw */
+    MOBILE_AUTOPILOT, /* X/velocity.x, .y, .z, X/yaw_rate -> X/position.x, .y, .z, X/yaw */
+};
+
+/* The quadcopter autopilot's gains (docs/ports/mujoco.md): velocity loops,
+ * the tilt it allows, the attitude loop's natural frequency and damping,
+ * the yaw-rate loop's bandwidth, and the torques the rotors can give. */
+#define AP_KV_XY 2.0       /* 1/s */
+#define AP_KV_Z 3.0        /* 1/s */
+#define AP_MAX_TILT 0.5236 /* rad, 30 deg */
+#define AP_OMEGA 15.0      /* rad/s */
+#define AP_ZETA 0.8
+#define AP_YAW_BW 8.0      /* rad/s */
+#define AP_MAX_TORQUE_XY 2.0 /* N.m */
+#define AP_MAX_TORQUE_Z 0.3  /* N.m */
+
 #define PORT "mujoco"
+#define PI 3.14159265358979323846
 #define DEPTH (ROZ_MUJOCO_MAX_DELAY + 1)
 
 static const char *const known_keys[] = {
     "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
     "servo_kp", "servo_kd", "unbound", "latency_ticks", "noise_seed", "noise_position",
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
-    "drop", "freeze", "delay", "push", "gantry", "restart", NULL,
+    "drop", "freeze", "delay", "push", "gantry", "restart",
+    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
 };
 
-/* The built-in robots' models, where this build found them (CMake: the model
- * wheels' folders), and what each needs besides. */
-typedef struct {
-    const char *robot_id;
-    const char *model;
-    const char *keyframe;
-    const char *gyro, *accelerometer;
-    const char *timestep;
-} builtin_t;
-
+/* The built-in robots' models, where this build found them (CMake: the
+ * model wheels' folders, and this port's models/), and the parameters each
+ * needs, as defaults a robot.toml's or the caller's parameters override. */
 #ifndef ROZ_MUJOCO_G1_SCENE
-#define ROZ_MUJOCO_G1_SCENE NULL
+#define ROZ_MUJOCO_G1_SCENE ""
 #endif
 #ifndef ROZ_MUJOCO_UR5E_MODEL
-#define ROZ_MUJOCO_UR5E_MODEL NULL
+#define ROZ_MUJOCO_UR5E_MODEL ""
+#endif
+#ifndef ROZ_MUJOCO_MODELS
+#define ROZ_MUJOCO_MODELS ""
 #endif
 
-/* The G1's timestep: 1 ms, two steps a 2 ms tick, as Unitree's own simulator
- * runs its joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the
- * explicit law's stability bound (docs/ports/mujoco.md, "Time"). The G1 reports
- * its pelvis IMU (rt/lowstate's imu_state); the torso's is rt/secondary_imu. */
+/* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
+ * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
+ * law's stability bound (docs/ports/mujoco.md, "The actuator law"). It
+ * reports its pelvis IMU (rt/lowstate's imu_state; the torso's is
+ * rt/secondary_imu). */
+static const roz_param_t g1_defaults[] = {
+    { "model", ROZ_MUJOCO_G1_SCENE },
+    { "keyframe", "stand" },
+    { "timestep", "0.001" },
+    { "imu_gyro", "imu-pelvis-angular-velocity" },
+    { "imu_accelerometer", "imu-pelvis-linear-acceleration" },
+};
+static const roz_param_t ur5_defaults[] = {
+    { "model", ROZ_MUJOCO_UR5E_MODEL },
+    { "keyframe", "home" },
+};
+/* geared wheel motors: a light servo (the wheel's inertia is the gearbox's) */
+static const roz_param_t diff_drive_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "diff_drive.xml" },
+    { "wheel_left", "wheel_left_joint" },
+    { "wheel_right", "wheel_right_joint" },
+    { "wheel_radius", "0.035" },
+    { "wheel_separation", "0.230" },
+    { "servo_kp", "20" },
+    { "servo_kd", "1" },
+};
+/* four rotors of 8 N each: a thrust-to-weight ratio of 2.2 at 1.5 kg */
+static const roz_param_t quadcopter_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "quadcopter.xml" },
+    { "max_thrust", "32" },
+};
+
+typedef struct {
+    const char        *robot_id;
+    const roz_param_t *defaults;
+    size_t             n;
+} builtin_t;
+
+#define BUILTIN(id, d) { id, d, sizeof d / sizeof d[0] }
 static const builtin_t builtins[] = {
-    { "unitree_g1", ROZ_MUJOCO_G1_SCENE, "stand", "imu-pelvis-angular-velocity",
-      "imu-pelvis-linear-acceleration", "0.001" },
-    { "unitree_g1_23dof", ROZ_MUJOCO_G1_SCENE, "stand", "imu-pelvis-angular-velocity",
-      "imu-pelvis-linear-acceleration", "0.001" },
-    { "ur5", ROZ_MUJOCO_UR5E_MODEL, "home", NULL, NULL, NULL },
+    BUILTIN("unitree_g1", g1_defaults),
+    BUILTIN("unitree_g1_23dof", g1_defaults),
+    BUILTIN("ur5", ur5_defaults),
+    BUILTIN("diff_drive", diff_drive_defaults),
+    BUILTIN("quadcopter", quadcopter_defaults),
 };
 
 static const builtin_t *find_builtin(const char *robot_id)
 {
     for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++) {
-        if (strcmp(builtins[i].robot_id, robot_id) == 0 && builtins[i].model != NULL)
+        /* defaults[0] is the model; "" (or a folder) when this build has none */
+        const char *model = builtins[i].defaults[0].value;
+        size_t n = strlen(model);
+        if (strcmp(builtins[i].robot_id, robot_id) == 0 && n > 4 &&
+            strcmp(model + n - 4, ".xml") == 0 && model[0] == '/')
             return &builtins[i];
     }
     return NULL;
@@ -75,7 +132,7 @@ static const builtin_t *find_builtin(const char *robot_id)
 const char *roz_mujoco_builtin_model(const char *robot_id)
 {
     const builtin_t *b = find_builtin(robot_id);
-    return b != NULL ? b->model : NULL;
+    return b != NULL ? b->defaults[0].value : NULL;
 }
 
 /* MuJoCo's warnings (an unstable simulation, a full arena) go to stdout by
@@ -110,6 +167,15 @@ static int merge_params(const roz_manifest_t *m, const roz_params_t *extra, merg
 {
     size_t n = 0;
     const size_t cap = sizeof out->items / sizeof out->items[0];
+    /* a built-in robot's defaults first, unless a model of its own is named */
+    const builtin_t *b = find_builtin(m->robot_id);
+    int own_model = roz_params_find(extra, "model") != NULL;
+    if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
+        roz_params_t hw = { m->hardware->params, m->hardware->n_params };
+        own_model |= roz_params_find(&hw, "model") != NULL;
+    }
+    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++)
+        out->items[n++] = b->defaults[i];
     if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
         for (uint16_t i = 0; i < m->hardware->n_params && n < cap; i++)
             out->items[n++] = m->hardware->params[i];
@@ -251,6 +317,53 @@ static int manifest_joints(const roz_mujoco_t *s, joint_names_t *jn, char *err, 
             return ROZ_ENOSPC;
     }
     return ROZ_OK;
+}
+
+/* Channel "<prefix>/<suffix>" of interface @p type among @p c; -1: none. */
+static int16_t find_channel(const roz_channel_t *c, uint16_t n, const char *prefix, size_t plen,
+                            const char *suffix, roz_interface_t type)
+{
+    for (uint16_t i = 0; i < n; i++) {
+        const char *name = c[i].name;
+        if (strncmp(name, prefix, plen) == 0 && name[plen] == '/' &&
+            strcmp(name + plen + 1, suffix) == 0 && c[i].type == type)
+            return (int16_t)i;
+    }
+    return -1;
+}
+
+/* A robot commanded by body velocities, as the built-in diff_drive and
+ * quadcopter are: every channel one of a mobile base's (roz/loopback.h has
+ * the same names). */
+static int detect_mobile(roz_mujoco_t *s)
+{
+    const roz_manifest_t *m = s->m;
+    const char *slash = strchr(m->commands[0].name, '/');
+    if (slash == NULL)
+        return MOBILE_NONE;
+    const char *pre = m->commands[0].name;
+    size_t pl = (size_t)(slash - pre);
+    static const char *const wheel_cmd[2] = { "linear.x", "angular.z" };
+    static const char *const wheel_st[3] = { "odom.x", "odom.y", "odom.yaw" };
+    static const char *const ap_cmd[4] = { "velocity.x", "velocity.y", "velocity.z", "yaw_rate" };
+    static const char *const ap_st[4] = { "position.x", "position.y", "position.z", "yaw" };
+    int ok = m->n_commands == 2 && m->n_states == 3;
+    for (int k = 0; ok && k < 2; k++)
+        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, wheel_cmd[k],
+                                           ROZ_IF_VELOCITY)) >= 0;
+    for (int k = 0; ok && k < 3; k++)
+        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, wheel_st[k],
+                                             ROZ_IF_POSITION)) >= 0;
+    if (ok)
+        return MOBILE_WHEELS;
+    ok = m->n_commands == 4 && m->n_states == 4;
+    for (int k = 0; ok && k < 4; k++)
+        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, ap_cmd[k],
+                                           ROZ_IF_VELOCITY)) >= 0;
+    for (int k = 0; ok && k < 4; k++)
+        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, ap_st[k],
+                                             ROZ_IF_POSITION)) >= 0;
+    return ok ? MOBILE_AUTOPILOT : MOBILE_NONE;
 }
 
 /* "A:B" ticks, B may be empty (forever) or absent when @p open_end. */
@@ -564,7 +677,7 @@ static int find_sensor(const mjModel *mm, const char *name, int type, int *adr, 
     return ROZ_ENOENT;
 }
 
-static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, const builtin_t *b, char *err,
+static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
                     size_t errlen)
 {
     int want = 0;
@@ -573,8 +686,8 @@ static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, const builtin_t *b, 
     s->gyro_adr = s->acc_adr = s->imu_site = -1;
     if (!want)
         return ROZ_OK;
-    const char *gyro = roz_params_get_str(p, "imu_gyro", b != NULL ? b->gyro : NULL);
-    const char *acc = roz_params_get_str(p, "imu_accelerometer", b != NULL ? b->accelerometer : NULL);
+    const char *gyro = roz_params_get_str(p, "imu_gyro", NULL);
+    const char *acc = roz_params_get_str(p, "imu_accelerometer", NULL);
     int rc = find_sensor(s->model, gyro, mjSENS_GYRO, &s->gyro_adr, &s->imu_site);
     if (rc != ROZ_OK || s->imu_site < 0) {
         roz_format(err, errlen, PORT ": %s: hardware.params.imu_gyro%s%s%s: %s in %s (the "
@@ -644,8 +757,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     const roz_params_t *p = &merged.p;
     if (roz_params_check_known(p, known_keys, PORT, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
-    const builtin_t *b = roz_params_find(p, "model") == NULL ? find_builtin(m->robot_id) : NULL;
-    const char *model = roz_params_get_str(p, "model", b != NULL ? b->model : NULL);
+    const char *model = roz_params_get_str(p, "model", NULL);
     if (model == NULL || model[0] == '\0') {
         roz_format(err, errlen, PORT ": %s: hardware.params.model: missing, and this build has "
                    "no built-in model for robot %s (docs/ports/mujoco.md)", origin(s), m->robot_id);
@@ -655,14 +767,48 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         return ROZ_EINVAL;
 
     /* the joints, and what they are called in the model */
-    if (manifest_joints(s, &jn, err, errlen) != ROZ_OK)
+    s->mobile = (uint8_t)detect_mobile(s);
+    for (int k = 0; k < ROZ_IMU_VALUES; k++)
+        s->imu[k] = -1;
+    if (s->mobile == MOBILE_WHEELS) {
+        static const char *const wheel_keys[2] = { "wheel_left", "wheel_right" };
+        for (int k = 0; k < 2; k++) {
+            jn.names[k] = roz_params_get_str(p, wheel_keys[k], NULL);
+            if (jn.names[k] == NULL || jn.names[k][0] == '\0') {
+                roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing: a "
+                           "differential drive names its wheels' joints", origin(s), wheel_keys[k]);
+                return ROZ_EINVAL;
+            }
+            mj_names[k] = jn.names[k];
+            memset(&s->joints[k].ch, 0xff, sizeof s->joints[k].ch); /* no channel: -1 */
+        }
+        jn.n = 2;
+        s->n_joints = 2;
+        if (roz_params_get_double(p, "wheel_radius", 0.0, 1e-4, 10.0, &s->wheel_radius, err,
+                                  errlen) != ROZ_OK ||
+            roz_params_get_double(p, "wheel_separation", 0.0, 1e-3, 100.0, &s->wheel_separation,
+                                  err, errlen) != ROZ_OK)
+            return ROZ_EINVAL;
+        if (s->wheel_radius == 0.0 || s->wheel_separation == 0.0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing (m)", origin(s),
+                       s->wheel_radius == 0.0 ? "wheel_radius" : "wheel_separation");
+            return ROZ_EINVAL;
+        }
+    } else if (s->mobile == MOBILE_AUTOPILOT) {
+        jn.n = 0;
+        s->n_joints = 0;
+        if (roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
+            ROZ_OK)
+            return ROZ_EINVAL;
+    } else if (manifest_joints(s, &jn, err, errlen) != ROZ_OK) {
         return ROZ_EINVAL;
+    }
     const char *map = roz_params_find(p, "joint_names");
     if (check_map_keys(s, map, jn.names, jn.n, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
-    for (uint16_t j = 0; j < jn.n; j++)
+    for (uint16_t j = 0; j < jn.n && s->mobile == MOBILE_NONE; j++)
         mj_names[j] = map_name(map, jn.names[j], mj_buf[j], sizeof mj_buf[j]);
-    {
+    if (s->mobile == MOBILE_NONE) {
         roz_joint_channels_t ch[ROZ_MUJOCO_MAX_JOINTS];
         if (roz_joints_bind(m, PORT, "this robot", jn.names, jn.n, ch, s->imu, err, errlen) !=
             ROZ_OK)
@@ -729,6 +875,8 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
             close_model(s);
             return ROZ_EINVAL;
         }
+        if (s->mobile == MOBILE_WHEELS)
+            s->joints[j].law = LAW_WHEEL;
     }
     for (int j = 0; j < mm->njnt; j++) {
         if (mm->jnt_type[j] == mjJNT_FREE) {
@@ -746,7 +894,23 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                 s->gantry_eq = e;
         }
     }
-    if (bind_imu(s, p, b, err, errlen) != ROZ_OK) {
+    if (s->mobile == MOBILE_AUTOPILOT) {
+        if (s->base_body < 0) {
+            roz_format(err, errlen, PORT ": %s: %s: a quadcopter needs a free joint (the "
+                       "airframe's)", origin(s), s->model_path);
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+        s->mass = mm->body_subtreemass[s->base_body];
+        if (!(s->max_thrust > s->mass * 9.81)) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.max_thrust = %g N: it must lift "
+                       "the %.3f kg airframe (more than %.2f N)", origin(s), s->max_thrust,
+                       s->mass, s->mass * 9.81);
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+    }
+    if (bind_imu(s, p, err, errlen) != ROZ_OK) {
         close_model(s);
         return ROZ_EINVAL;
     }
@@ -755,7 +919,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     double dt;
     char dflt[32];
     roz_format(dflt, sizeof dflt, "%.17g", mm->opt.timestep);
-    const char *ts = roz_params_get_str(p, "timestep", b != NULL && b->timestep ? b->timestep : dflt);
+    const char *ts = roz_params_get_str(p, "timestep", dflt);
     roz_param_t one = { "timestep", ts };
     roz_params_t onep = { &one, 1 };
     if (roz_params_get_double(&onep, "timestep", mm->opt.timestep, 1e-6, 1.0, &dt, err, errlen) !=
@@ -782,7 +946,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         close_model(s);
         return ROZ_EINVAL;
     }
-    const char *key = roz_params_get_str(p, "keyframe", b != NULL ? b->keyframe : NULL);
+    const char *key = roz_params_get_str(p, "keyframe", NULL);
     if (key != NULL && key[0] != '\0') {
         int k = mj_name2id(mm, mjOBJ_KEY, key);
         if (k < 0) {
@@ -864,12 +1028,16 @@ static void drive(roz_mujoco_t *s)
             }
             break;
         case LAW_VELOCITY:
+        case LAW_WHEEL:
         case LAW_POSITION: {
             /* the drive's own servo, with the arm's gravity compensation; it
              * holds where it is until the first command, as a powered arm does */
             double dqd = 0.0;
             if (on && j->law == LAW_VELOCITY)
                 dqd = c[ch->dq_cmd];
+            if (on && j->law == LAW_WHEEL) /* joints[0] is the left wheel */
+                dqd = (c[s->mob_cmd[0]] + (k == 0 ? -0.5 : 0.5) * s->wheel_separation *
+                                              c[s->mob_cmd[1]]) / s->wheel_radius;
             if (on && j->law == LAW_POSITION)
                 j->q_ref = c[ch->q_cmd];
             else
@@ -878,9 +1046,9 @@ static void drive(roz_mujoco_t *s)
                 break;
             /* the reference never runs further ahead than the torque can pull */
             double lead = s->velocity_kp > 0.0 ? fmax(-j->tau_lo, j->tau_hi) / s->velocity_kp : 0.0;
-            if (j->law == LAW_VELOCITY && j->q_ref - q > lead)
+            if (j->law != LAW_POSITION && j->q_ref - q > lead)
                 j->q_ref = q + lead;
-            if (j->law == LAW_VELOCITY && q - j->q_ref > lead)
+            if (j->law != LAW_POSITION && q - j->q_ref > lead)
                 j->q_ref = q - lead;
             tau = d->qfrc_bias[j->dadr] + s->velocity_kp * (j->q_ref - q) +
                   s->velocity_kd * (dqd - dq);
@@ -899,6 +1067,70 @@ static void drive(roz_mujoco_t *s)
         s->tau[k] = tau;
         d->ctrl[j->act] = tau / j->gear;
     }
+}
+
+/* The quadcopter's autopilot, one physics step: body velocities (x, y in
+ * the heading frame, z up) and a yaw rate become a total thrust along the
+ * body's z axis and body torques, as a flight controller's velocity mode
+ * does over its rotors; the wrench it gives the airframe (world frame) goes
+ * in @p out. Nothing before the first command, nor while the board is down. */
+static void autopilot(const roz_mujoco_t *s, mjtNum out[6])
+{
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    mju_zero(out, 6);
+    if (!s->have_cmd || s->dead)
+        return;
+    const mjtNum *R = d->xmat + 9 * s->base_body; /* body to world, row-major */
+    const mjtNum *v = d->qvel + s->base_dadr, *w = d->qvel + s->base_dadr + 3; /* world, body */
+    double yaw = atan2(R[3], R[0]), cy = cos(yaw), sy = sin(yaw);
+    const double *c = s->cmd;
+    double vx = c[s->mob_cmd[0]], vy = c[s->mob_cmd[1]];
+    double vw[3] = { cy * vx - sy * vy, sy * vx + cy * vy, c[s->mob_cmd[2]] };
+    double a[3] = { AP_KV_XY * (vw[0] - v[0]), AP_KV_XY * (vw[1] - v[1]), AP_KV_Z * (vw[2] - v[2]) };
+    double ah = sqrt(a[0] * a[0] + a[1] * a[1]), amax = 9.81 * tan(AP_MAX_TILT);
+    if (ah > amax) {
+        a[0] *= amax / ah;
+        a[1] *= amax / ah;
+    }
+    mjtNum F[3] = { s->mass * a[0], s->mass * a[1], s->mass * (a[2] + 9.81) };
+    if (F[2] < 0.0)
+        F[2] = 0.0;
+    mjtNum zb[3] = { R[2], R[5], R[8] }, zd[3], e[3], eb[3];
+    mju_copy3(zd, F);
+    if (mju_normalize3(zd) < 1e-9)
+        mju_copy3(zd, zb);
+    mju_cross(e, zb, zd);    /* the tilt that brings the body's z to zd, world frame */
+    mju_mulMatTVec3(eb, R, e); /* in the body's frame */
+    const mjtNum *I = mm->body_inertia + 3 * s->base_body;
+    mjtNum tb[3];
+    for (int k = 0; k < 2; k++) {
+        tb[k] = I[k] * (AP_OMEGA * AP_OMEGA * eb[k] - 2.0 * AP_ZETA * AP_OMEGA * w[k]);
+        tb[k] = tb[k] > AP_MAX_TORQUE_XY ? AP_MAX_TORQUE_XY : tb[k] < -AP_MAX_TORQUE_XY ? -AP_MAX_TORQUE_XY : tb[k];
+    }
+    tb[2] = I[2] * AP_YAW_BW * (c[s->mob_cmd[3]] - w[2]);
+    tb[2] = tb[2] > AP_MAX_TORQUE_Z ? AP_MAX_TORQUE_Z : tb[2] < -AP_MAX_TORQUE_Z ? -AP_MAX_TORQUE_Z : tb[2];
+    double thrust = mju_dot3(F, zb); /* what the rotors give: along the body's z only */
+    thrust = thrust < 0.0 ? 0.0 : thrust > s->max_thrust ? s->max_thrust : thrust;
+    mju_scl3(out, zb, thrust);
+    mju_mulMatVec3(out + 3, R, tb);
+}
+
+/* A diff drive's odometry, one physics step: its wheel encoders integrated,
+ * as the base's firmware does (wheel slip shows as odometry error). */
+static void odometry(roz_mujoco_t *s)
+{
+    const mjData *d = s->data;
+    double wl = d->qvel[s->joints[0].dadr], wr = d->qvel[s->joints[1].dadr];
+    double v = 0.5 * s->wheel_radius * (wl + wr);
+    double w = s->wheel_radius * (wr - wl) / s->wheel_separation;
+    s->odom[2] += w * s->timestep;
+    if (s->odom[2] > PI)
+        s->odom[2] -= 2.0 * PI;
+    if (s->odom[2] < -PI)
+        s->odom[2] += 2.0 * PI;
+    s->odom[0] += v * cos(s->odom[2]) * s->timestep;
+    s->odom[1] += v * sin(s->odom[2]) * s->timestep;
 }
 
 static void advance(roz_mujoco_t *s, uint64_t t)
@@ -940,9 +1172,18 @@ static void advance(roz_mujoco_t *s, uint64_t t)
         }
         d->eq_active[s->gantry_eq] = (mjtByte)gantry;
     }
+    mjtNum ap[6] = { 0, 0, 0, 0, 0, 0 };
     for (uint32_t k = 0; k < s->steps_per_tick; k++) {
         drive(s);
+        if (s->mobile == MOBILE_AUTOPILOT) {
+            mjtNum *x = d->xfrc_applied + 6 * s->base_body;
+            mju_subFrom(x, ap, 6); /* the pushes stay, the last step's wrench goes */
+            autopilot(s, ap);
+            mju_addTo(x, ap, 6);
+        }
         mj_step(mm, d);
+        if (s->mobile == MOBILE_WHEELS)
+            odometry(s);
         s->steps++;
     }
 }
@@ -963,6 +1204,16 @@ static void sample(roz_mujoco_t *s, double *out)
             out[j->ch.dq_state] = d->qvel[j->dadr] + gauss(s, s->noise_dq);
         if (j->ch.tau_state >= 0)
             out[j->ch.tau_state] = s->tau[k] + gauss(s, s->noise_tau);
+    }
+    if (s->mobile == MOBILE_WHEELS) {
+        for (int k = 0; k < 3; k++)
+            out[s->mob_state[k]] = s->odom[k] + gauss(s, k < 2 ? s->noise_q : s->noise_q);
+    }
+    if (s->mobile == MOBILE_AUTOPILOT) {
+        const mjtNum *p = d->qpos + s->base_qadr, *R = d->xmat + 9 * s->base_body;
+        for (int k = 0; k < 3; k++)
+            out[s->mob_state[k]] = p[k] + gauss(s, s->noise_q);
+        out[s->mob_state[3]] = atan2(R[3], R[0]) + gauss(s, s->noise_q);
     }
     if (s->imu_site >= 0) {
         mjtNum q[4]; /* w, x, y, z */

@@ -112,6 +112,14 @@ typedef struct roz_mujoco {
     int32_t               base_jnt, base_body, base_qadr, base_dadr; /**< -1: fixed base */
     int32_t               gantry_eq;  /**< the gantry's weld, -1 none */
     double                velocity_kp, velocity_kd;
+    /* a mobile base driven by body velocities (diff_drive, quadcopter) */
+    uint8_t               mobile;       /**< private: none, wheels or autopilot (mujoco.c) */
+    int16_t               mob_cmd[4];   /**< v, w (wheels); vx, vy, vz, yaw rate (autopilot) */
+    int16_t               mob_state[4]; /**< x, y, yaw (wheels); x, y, z, yaw (autopilot) */
+    double                wheel_radius, wheel_separation; /**< m */
+    double                odom[3];      /**< wheels: x, y, yaw from the encoders */
+    double                max_thrust;   /**< autopilot: N */
+    double                mass;         /**< autopilot: the airframe's, kg */
     uint32_t              unbound;    /**< model joints locked because no channel binds them */
 
     double                cmd[ROZ_CFG_MAX_COMMANDS]; /**< the command the drivers apply */
