@@ -56,6 +56,10 @@ typedef struct roz_port_fixture {
      * skips its restart case (a restart is seen, if at all, as a silence:
      * the vanish case) and prints this. */
     const char *no_sequence;
+    /* Non-NULL: there is no link at all (a simulator in the same process),
+     * and this says why; the suite skips its link case (replays, restarts,
+     * a vanished peer) and prints this. */
+    const char *no_link;
     /* 1: the port has a command watchdog (roz/hal/cmd_watchdog.h, parameter
      * command_timeout_us): when the tick writes nothing for longer than the
      * timeout, the port sends its safe command by itself, which drives
@@ -99,5 +103,6 @@ extern const roz_port_fixture_t roz_fixture_unitree_g1;
 extern const roz_port_fixture_t roz_fixture_engineai_pm01;
 extern const roz_port_fixture_t roz_fixture_agibot_x2;
 extern const roz_port_fixture_t roz_fixture_socketcan;
+extern const roz_port_fixture_t roz_fixture_mujoco;
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */

@@ -1311,8 +1311,10 @@ static int mj_write(void *self, const double *cmd, size_t n)
     if (s->data == NULL || n != s->m->n_commands)
         return ROZ_EINVAL;
     s->writes++;
-    if (s->dead)
-        return ROZ_OK; /* nobody listens */
+    if (s->dead || s->frames == 0) {
+        s->writes_withheld += s->frames == 0;
+        return ROZ_OK; /* nobody listens, or nothing is sent before the first state */
+    }
     /* the runtime's filter is upstream; the drivers see nothing outside the
      * manifest whoever calls write() */
     s->clamped += roz_commands_clamp(s->m, cmd, s->cmd);
@@ -1374,6 +1376,11 @@ int roz_mujoco_inject(roz_mujoco_t *s, const roz_mujoco_fault_t *f)
     }
     s->faults[s->n_faults++] = *f;
     return ROZ_OK;
+}
+
+const double *roz_mujoco_last_command(const roz_mujoco_t *s)
+{
+    return s->have_cmd && !s->dead ? s->cmd : NULL;
 }
 
 void roz_mujoco_base(const roz_mujoco_t *s, roz_mujoco_base_t *out)

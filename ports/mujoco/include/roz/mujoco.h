@@ -139,6 +139,7 @@ typedef struct roz_mujoco {
 
     /* counters */
     uint64_t              writes;
+    uint64_t              writes_withheld; /**< before the first state frame: not applied */
     uint64_t              frames;          /**< fresh frames read() gave */
     uint64_t              frames_dropped;  /**< DROP, FREEZE, RESTART */
     uint64_t              clamped;         /**< written values clamped to the manifest */
@@ -173,6 +174,11 @@ int roz_mujoco_inject(roz_mujoco_t *self, const roz_mujoco_fault_t *f);
 /** @brief The simulated base pose and contacts after the last read().
  *  Context: the tick's thread between ticks, or after it stopped. */
 void roz_mujoco_base(const roz_mujoco_t *self, roz_mujoco_base_t *out);
+
+/** @brief The command the simulated drivers apply (n_commands), or NULL
+ *         before the first (and while a restarted board boots).
+ *  Context: the tick's thread between ticks. */
+const double *roz_mujoco_last_command(const roz_mujoco_t *self);
 
 /** @brief The built-in model of robot @p robot_id ("unitree_g1", "ur5"):
  *  its MJCF path, or NULL when this build has none. Context: any. */
