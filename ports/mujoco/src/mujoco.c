@@ -757,6 +757,44 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     const roz_params_t *p = &merged.p;
     if (roz_params_check_known(p, known_keys, PORT, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
+    /* the numbers and words that need no model, in rozgen's order
+     * (codegen/rozgen/mujoco.py), so both refuse a file alike */
+    double kp, kd, ts_check;
+    uint32_t latency, seed;
+    if (roz_params_get_double(p, "wheel_radius", 0.0, 1e-4, 10.0, &s->wheel_radius, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "wheel_separation", 0.0, 1e-3, 100.0, &s->wheel_separation, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "servo_kp", 400.0, 0.0, 1e7, &kp, err, errlen) != ROZ_OK ||
+        roz_params_get_double(p, "servo_kd", 20.0, 0.0, 1e6, &kd, err, errlen) != ROZ_OK ||
+        roz_params_get_double(p, "noise_position", 0.0, 0.0, 1.0, &s->noise_q, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_velocity", 0.0, 0.0, 10.0, &s->noise_dq, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_effort", 0.0, 0.0, 100.0, &s->noise_tau, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_gyro", 0.0, 0.0, 10.0, &s->noise_gyro, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_accelerometer", 0.0, 0.0, 100.0, &s->noise_acc, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "timestep", 0.001, 1e-6, 1.0, &ts_check, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_u32(p, "latency_ticks", 0, 0, ROZ_MUJOCO_MAX_DELAY, &latency, err,
+                           errlen) != ROZ_OK ||
+        roz_params_get_u32(p, "noise_seed", 1, 0, UINT32_MAX, &seed, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    const char *unbound = roz_params_get_str(p, "unbound", "lock");
+    if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
+        roz_format(err, errlen, "parameter unbound = \"%s\": expected lock or limp", unbound);
+        return ROZ_EINVAL;
+    }
+    s->velocity_kp = kp;
+    s->velocity_kd = kd;
+    s->latency = latency;
+    s->rng = 0x9E3779B97F4A7C15ull ^ seed;
+
     const char *model = roz_params_get_str(p, "model", NULL);
     if (model == NULL || model[0] == '\0') {
         roz_format(err, errlen, PORT ": %s: hardware.params.model: missing, and this build has "
@@ -784,11 +822,6 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         }
         jn.n = 2;
         s->n_joints = 2;
-        if (roz_params_get_double(p, "wheel_radius", 0.0, 1e-4, 10.0, &s->wheel_radius, err,
-                                  errlen) != ROZ_OK ||
-            roz_params_get_double(p, "wheel_separation", 0.0, 1e-3, 100.0, &s->wheel_separation,
-                                  err, errlen) != ROZ_OK)
-            return ROZ_EINVAL;
         if (s->wheel_radius == 0.0 || s->wheel_separation == 0.0) {
             roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing (m)", origin(s),
                        s->wheel_radius == 0.0 ? "wheel_radius" : "wheel_separation");
@@ -797,9 +830,6 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     } else if (s->mobile == MOBILE_AUTOPILOT) {
         jn.n = 0;
         s->n_joints = 0;
-        if (roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
-            ROZ_OK)
-            return ROZ_EINVAL;
     } else if (manifest_joints(s, &jn, err, errlen) != ROZ_OK) {
         return ROZ_EINVAL;
     }
@@ -817,35 +847,6 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
             s->joints[j].ch = ch[j];
         s->n_joints = jn.n;
     }
-
-    const char *unbound = roz_params_get_str(p, "unbound", "lock");
-    if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
-        roz_format(err, errlen, PORT ": %s: hardware.params.unbound = \"%s\": expected lock or "
-                   "limp", origin(s), unbound);
-        return ROZ_EINVAL;
-    }
-    double kp, kd;
-    uint32_t latency, seed;
-    if (roz_params_get_double(p, "servo_kp", 400.0, 0.0, 1e7, &kp, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "servo_kd", 20.0, 0.0, 1e6, &kd, err, errlen) != ROZ_OK ||
-        roz_params_get_u32(p, "latency_ticks", 0, 0, ROZ_MUJOCO_MAX_DELAY, &latency, err,
-                           errlen) != ROZ_OK ||
-        roz_params_get_u32(p, "noise_seed", 1, 0, UINT32_MAX, &seed, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "noise_position", 0.0, 0.0, 1.0, &s->noise_q, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_double(p, "noise_velocity", 0.0, 0.0, 10.0, &s->noise_dq, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_double(p, "noise_effort", 0.0, 0.0, 100.0, &s->noise_tau, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_double(p, "noise_gyro", 0.0, 0.0, 10.0, &s->noise_gyro, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_double(p, "noise_accelerometer", 0.0, 0.0, 100.0, &s->noise_acc, err,
-                              errlen) != ROZ_OK)
-        return ROZ_EINVAL;
-    s->velocity_kp = kp;
-    s->velocity_kd = kd;
-    s->latency = latency;
-    s->rng = 0x9E3779B97F4A7C15ull ^ seed;
 
     /* parse, make it roz's, compile: the heap's busiest moments, all here */
     mjSpec *spec = mj_parseXML(s->model_path, NULL, mjerr, sizeof mjerr);
