@@ -13,6 +13,7 @@
 #                         simulation's bits, and the golden hashes, depend on it)
 #   ROZ_MUJOCO_G1_DIR     Menagerie's unitree_g1 folder (scene.xml, LICENSE), or empty
 #   ROZ_MUJOCO_UR5E_DIR   Menagerie's universal_robots_ur5e folder, or empty
+#   ROZ_MUJOCO_LIBRARY, ROZ_MUJOCO_LICENSE_DIR  the library, the wheel's licences
 set(ROZ_MUJOCO_WANT 3.3.7)
 set(ROZ_MUJOCO_FOUND OFF)
 
@@ -76,6 +77,9 @@ if(_roz_mj_dir)
     endif()
     set(ROZ_MUJOCO_FOUND ON)
     set(ROZ_MUJOCO_LIBRARY ${_roz_mj_lib})
+    # the wheel's licences (Apache-2.0, and its third parties'), shipped with it
+    get_filename_component(ROZ_MUJOCO_LICENSE_DIR
+      ${_roz_mj_dir}/../mujoco-${ROZ_MUJOCO_VERSION}.dist-info/licenses ABSOLUTE)
     message(STATUS "MuJoCo ${ROZ_MUJOCO_VERSION}: ${_roz_mj_lib}")
   endif()
 endif()

@@ -134,7 +134,9 @@ static void test_mujoco_pendulum_law(void **state)
 {
     (void)state;
     const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *file = mj.robot_file;
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    roz_mujoco_set_robot_file(&mj, file);
     char err[512];
     assert_int_equal(open_with(&p, m, err, sizeof err, 0), ROZ_OK);
     assert_int_equal(mj.steps_per_tick, 10); /* 100 Hz, 1 ms steps */
@@ -192,7 +194,6 @@ static void run_g1(int ticks, const char *param, g1_run_t *out)
 {
     const roz_manifest_t *m = roz_builtin_find("unitree_g1");
     assert_non_null(m);
-    roz_mujoco_set_robot_file(&mj, NULL);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     char err[512];
     double t0 = now_s();
@@ -285,7 +286,6 @@ static void test_mujoco_gantry(void **state)
 {
     (void)state;
     const roz_manifest_t *m = roz_builtin_find("unitree_g1");
-    roz_mujoco_set_robot_file(&mj, NULL);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     char err[512];
     if (open_with(&p, m, err, sizeof err, 1, "gantry=0:400") != ROZ_OK)
@@ -313,7 +313,6 @@ static void test_mujoco_g1_imu_and_faults(void **state)
 {
     (void)state;
     const roz_manifest_t *m = roz_builtin_find("unitree_g1");
-    roz_mujoco_set_robot_file(&mj, NULL);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     char err[512];
     if (open_with(&p, m, err, sizeof err, 2, "drop=5:8", "restart=20:30") != ROZ_OK)
@@ -343,7 +342,6 @@ static void run_builtin(const char *id, roz_port_t *p, const double *cmd, int ti
     const roz_manifest_t *m = roz_builtin_find(id);
     char err[512];
     if (ticks < 0) {
-        roz_mujoco_set_robot_file(&mj, NULL);
         *p = roz_mujoco_port(&mj, NULL, NULL);
         if (open_with(p, m, err, sizeof err, 0) != ROZ_OK)
             fail_msg("%s", err);

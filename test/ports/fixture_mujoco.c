@@ -15,7 +15,6 @@ static roz_port_t the_port;
 static int mj_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                       char *err, size_t errlen)
 {
-    roz_mujoco_set_robot_file(&mj, NULL);
     the_port = roz_mujoco_port(&mj, NULL, NULL);
     *port = the_port;
     int rc = roz_port_open(port, m, params, err, errlen);

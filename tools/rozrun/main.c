@@ -231,8 +231,9 @@ static void summary_socketcan(void)
 #if ROZRUN_HAS_MUJOCO
 static roz_port_t make_mujoco(void)
 {
+    roz_port_t p = roz_mujoco_port(&mujoco, log_stderr, NULL);
     roz_mujoco_set_robot_file(&mujoco, robot_file); /* a model path is relative to it */
-    return roz_mujoco_port(&mujoco, log_stderr, NULL);
+    return p;
 }
 
 /* The physics has no wire: nothing is checked on the way */

@@ -1343,6 +1343,7 @@ const roz_port_ops_t roz_mujoco_ops = {
 
 roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
 {
+    memset(self, 0, sizeof *self); /* open frees a model only if it made one */
     self->log = log;
     self->log_ctx = log_ctx;
     roz_port_t p = { &roz_mujoco_ops, self, 0 };

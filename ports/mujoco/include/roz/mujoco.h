@@ -30,6 +30,10 @@
 extern "C" {
 #endif
 
+/* MuJoCo's own types, only pointed to (its headers stay out of roz's). */
+struct mjModel_;
+struct mjData_;
+
 /** Most joints one robot binds. */
 #define ROZ_MUJOCO_MAX_JOINTS (ROZ_CFG_MAX_JOINTS > 0 ? ROZ_CFG_MAX_JOINTS : 1)
 /** Most ticks of sensor latency (`latency_ticks`, the `delay` fault). */
@@ -154,12 +158,15 @@ extern const roz_port_ops_t roz_mujoco_ops;
  * @brief A roz_port_t over @p self, not yet open (roz_port_open()).
  * @param log  open's notes (a model's servos made motors, locked joints);
  *             NULL: none. Never called from the tick.
+ * Zeroes @p self: call it before roz_mujoco_set_robot_file(), and not on a
+ * port that is open (close it first).
  * Context: start-up.
  */
 roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx);
 
 /** @brief The robot.toml a relative `model` path is read from (its folder);
- *  NULL: the working directory. Before open. Context: start-up. */
+ *  NULL: the working directory. After roz_mujoco_port(), before open.
+ *  Context: start-up. */
 void roz_mujoco_set_robot_file(roz_mujoco_t *self, const char *robot_toml);
 
 /**
