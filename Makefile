@@ -158,6 +158,9 @@ bench: build
 	    test/run_netns.sh $(BUILD)/bench/roz_bench_g1_latency 5000 77 \
 	        --json $(BENCH_OUT)/g1_latency.jsonl; \
 	else echo "the unitree/G1 port is not in this build" > $(BENCH_OUT)/g1_latency.skipped; fi
+	if [ -x $(BUILD)/bench/roz_bench_mujoco ]; then \
+	    $(BUILD)/bench/roz_bench_mujoco 1000 --json $(BENCH_OUT)/mujoco.jsonl; \
+	else echo "the mujoco port is not in this build" > $(BENCH_OUT)/mujoco.skipped; fi
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
 	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml \
 	    --json $(BENCH_OUT)/toml.jsonl

@@ -178,6 +178,7 @@ def build(args) -> tuple[str, str]:
     fw = read_lines(d / "firmware.jsonl")
     rec = read_lines(d / "record.jsonl")
     nn = read_lines(d / "nn.jsonl")
+    mujoco = read_lines(d / "mujoco.jsonl")
     peers = {k: read_peer(d / f"peer-{k}.json") for k in ("roz", "wasmtime", "wasmi")}
     sizes = {}
     for b in args.binary or []:
@@ -505,6 +506,27 @@ def build(args) -> tuple[str, str]:
         w("")
     else:
         w(f"Not run: {skipped(d, 'record')}.\n")
+
+    # 10. physics
+    w("## 9. Physics (the mujoco port)\n")
+    if mujoco:
+        w("`bench/mujoco`: the whole roz tick on the MuJoCo G1 (the example stand controller, "
+          "the filter, the port's actuator law and sensors, one 2 ms step a tick) against a bare "
+          "loop of the same `mj_step` calls on the same model in the same run, replaying the "
+          "controls the roz run applied (the same states, the same contacts); the two alternate "
+          "in blocks of 100. Aim: roz adds at most 5 %, and the G1 runs at least 10x real time.\n")
+        t = Table("bare mj_step")
+        t.timing("G1: whole roz tick", mujoco.get("unitree_g1: whole roz tick"),
+                 mujoco.get("unitree_g1: bare mj_step"))
+        t.timing("G1: bare mj_step (reference)", mujoco.get("unitree_g1: bare mj_step"),
+                 mujoco.get("unitree_g1: bare mj_step"))
+        w(t.render())
+        v = lambda what: value(mujoco.get(f"unitree_g1: {what}"), "{:,.1f}")
+        w(f"Simulated time: {v('real-time factor (roz)')} real time through roz, "
+          f"{v('real-time factor (bare)')} bare; the port's open (parse, spec edits, compile, "
+          f"data): {v('open')}.\n")
+    else:
+        w(f"Not run: {skipped(d, 'mujoco')}.\n")
 
     # the headline
     h = ["| figure | p50 | p99 | reference (same run) | ratio p50 |", "|---|---:|---:|---|---:|"]

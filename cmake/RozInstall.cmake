@@ -23,6 +23,13 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INST
         FILES_MATCHING PATTERN "*.h")
 # The DDS ports (hosts with Cyclone DDS): rozConfig.cmake then finds
 # CycloneDDS first, since the static libraries link it.
+# The mujoco port: rozConfig.cmake gives MuJoCo::mujoco from lib/roz.
+set(ROZ_INSTALL_WITH_MUJOCO OFF)
+set(ROZ_MUJOCO_SONAME "")
+if(TARGET roz_port_mujoco)
+  set(ROZ_INSTALL_WITH_MUJOCO ON)
+  get_target_property(ROZ_MUJOCO_SONAME MuJoCo::mujoco IMPORTED_SONAME)
+endif()
 set(ROZ_INSTALL_WITH_DDS OFF)
 if(TARGET roz_dds)
   set(ROZ_INSTALL_WITH_DDS ON)

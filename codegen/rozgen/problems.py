@@ -71,6 +71,8 @@ RULES: dict[str, str] = {
     "ros2-param": "ROS 2 ports: a [hardware.params] value their parser refuses (a number out "
     "of range, an unknown link_check or layout, a damping gain a damping channel does not "
     "allow)",
+    "mujoco-param": "mujoco port: a [hardware.params] value its parser refuses before it "
+    "loads the model (a number out of range, an unknown unbound)",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }

@@ -118,6 +118,10 @@ can-bus             ``hardware.params: command_writer_period_us "100": a joint's
                     command and reply take 270 bits, more than 80% of a 100 us
                     round ...``; ``reply_timeout_us "3000": shorter than two
                     command intervals of a joint (2 x 2000 us)``
+mujoco-param        (port ``mujoco``: ``rozgen.mujoco``; the message is the port's
+                    error) ``parameter servo_kp = "fast": expected a number in
+                    0..1e+07`` (also unknown-key: ``unknown parameter "modle"
+                    for port mujoco (known: ...)``)
 g1-joint            (ports ``unitree/G1``, ``agibot/X2``, ``engineai/PM01``:
                     ``rozgen.dds_ports``; the message is the port's error)
                     ``unitree/G1: [hardware] joints[1] "left_hip_pich_joint" is
@@ -145,7 +149,7 @@ import math
 import re
 from dataclasses import dataclass
 
-from rozgen import dds_ports, names, socketcan
+from rozgen import dds_ports, mujoco, names, socketcan
 from rozgen.fmt import c_double, quote, toml_value
 from rozgen.model import INTERFACE_TYPES, UNPAIRED, Channel, Hardware, Manifest, Maxima
 from rozgen.problems import Problem
@@ -341,7 +345,7 @@ class _Checker:
             return None
         result = Manifest(**manifest, hardware=hardware)
         # a port's own keys, checked as the port checks them at open
-        for rule, message in socketcan.check(result) + dds_ports.check(result):
+        for rule, message in socketcan.check(result) + dds_ports.check(result) + mujoco.check(result):
             self.problems.append(Problem(rule, message, (_PORT, 0, 0, len(self.problems))))
         return None if self.problems else result
 

@@ -8,6 +8,9 @@
 #include "roz/port/engineai_pm01.h"
 #include "roz/manifest_toml.h"
 #include "roz/port/unitree_g1.h"
+#ifdef ROZ_TEST_HAVE_MUJOCO
+#include "roz/port/mujoco.h"
+#endif
 
 #define MAX_PROBLEMS 64
 
@@ -19,6 +22,9 @@ ROZ_TOML_DOC_DEFINE(doc, 1u << 16, 1u << 20);
 static roz_unitree_g1_t g1;
 static roz_agibot_x2_t x2;
 static roz_engineai_pm01_t pm01;
+#ifdef ROZ_TEST_HAVE_MUJOCO
+static roz_mujoco_t mujoco;
+#endif
 
 static void quiet(void *ctx, roz_log_level_t level, const char *msg)
 {
@@ -52,8 +58,13 @@ int roz_test_dds_open_file(const char *file, const char **port_name, char *err, 
         port = roz_agibot_x2_port(&x2, quiet, NULL);
     else if (strcmp(name, "engineai/PM01") == 0)
         port = roz_engineai_pm01_port(&pm01, quiet, NULL);
+#ifdef ROZ_TEST_HAVE_MUJOCO
+    else if (strcmp(name, "mujoco") == 0) /* the physics port's keys, checked alike */
+        port = roz_mujoco_port(&mujoco, quiet, NULL);
+#endif
     else
         return ROZ_TEST_NO_DDS_PORT;
+    roz_port_set_origin(&port, file); /* a model path is relative to the robot.toml */
     int rc = roz_port_open(&port, m, NULL, err, errlen);
     if (rc == ROZ_OK)
         roz_port_close(&port);

@@ -18,7 +18,8 @@
  *  - a port whose wire has no CRC (ROS 2 messages) skips the two CRC cases
  *    and says so in the output, with what it checks instead; one whose wire
  *    has no sequence number (MIT-mode CAN) skips the restart case, seen
- *    there only as a silence, and says so;
+ *    there only as a silence, and says so; one with no link at all (a
+ *    simulator in the same process, its info's no_link) skips the link case;
  *  - start-up hold, for a port that keeps it: the first write to a new or
  *    restarted peer reaches it as the hold of the positions it sent, with
  *    zero gains; the next write as written;
@@ -249,6 +250,13 @@ static roz_link_t link_now(const conformance_t *c)
 static void check_link(conformance_t *c)
 {
     double before[ROZ_CFG_MAX_STATES];
+
+    const char *no_link = roz_port_ops_info(c->ops)->no_link;
+    if (no_link != NULL) {
+        print_message("%s on %s: skipped: the link: %s\n", c->fx->name, c->m->robot_id,
+                      no_link);
+        return;
+    }
 
     for (int i = 0; i < 100; i++) /* past the replay window */
         fresh_frame(c);

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The DDS ports refuse at open what rozgen refuses at build time, in the
- * same words: every shared vector of manifests/invalid/ whose [hardware]
- * port is unitree/G1, agibot/X2 or engineai/PM01 and which roz's C loader
+/* The DDS ports and the mujoco port refuse at open what rozgen refuses at
+ * build time, in the same words: every shared vector of manifests/invalid/
+ * whose [hardware] port is unitree/G1, agibot/X2, engineai/PM01 or mujoco
+ * (where the build has it) and which roz's C loader
  * reads (the port's rules are not the loader's), opened through its port
  * with no run-time parameter: the open fails, and "<file>: <its error>" is
  * the one line of <vector>.expected (`rozgen --check` from the repository
@@ -78,7 +79,7 @@ static void expected_line(const char *name, char *out, size_t len)
 
 static void test_port_vectors_agree(void **state)
 {
-    unsigned g1_vectors = 0, ros2_vectors = 0, failed = 0;
+    unsigned g1_vectors = 0, ros2_vectors = 0, mujoco_vectors = 0, failed = 0;
     (void)state;
 
     list_vectors();
@@ -92,6 +93,8 @@ static void test_port_vectors_agree(void **state)
             continue; /* the loader's own rules, or another port's */
         if (strcmp(port_name, "unitree/G1") == 0)
             g1_vectors++;
+        else if (strcmp(port_name, "mujoco") == 0)
+            mujoco_vectors++;
         else
             ros2_vectors++;
         if (rc == ROZ_OK) {
@@ -106,12 +109,15 @@ static void test_port_vectors_agree(void **state)
             failed++;
         }
     }
-    print_message("%u unitree/G1 and %u ROS 2 port vectors, %u disagreeing\n", g1_vectors,
-                  ros2_vectors, failed);
+    print_message("%u unitree/G1, %u ROS 2 and %u mujoco port vectors, %u disagreeing\n",
+                  g1_vectors, ros2_vectors, mujoco_vectors, failed);
     assert_int_equal(failed, 0);
     /* the vectors are there: a glob that finds none proves nothing */
     assert_true(g1_vectors >= 10);
     assert_true(ros2_vectors >= 8);
+#ifdef ROZ_TEST_HAVE_MUJOCO
+    assert_true(mujoco_vectors >= 3);
+#endif
 }
 
 int main(void)

@@ -21,7 +21,8 @@ lines, the same rule id on each, and the same text, except that
   a prefix of rozgen's.
 
 The C tool checks a port's own [hardware] keys for the socketcan port only.
-A bad vector for a DDS port (unitree/G1, agibot/X2, engineai/PM01) that
+A bad vector for a DDS port (unitree/G1, agibot/X2, engineai/PM01) or the
+mujoco port that
 rozgen refuses by that port's rules alone is one the C loader must read
 (exit 0): the port refuses it at open, and test_port_vectors checks that it
 does so in rozgen's words.
@@ -45,9 +46,9 @@ _SYNTAX = re.compile(r"^(?P<where>.*?:\d+:\d+): ")
 _SHARED_WORDING = ("integer does not fit in 64 bits", "nested more than")
 # ports whose [hardware] keys are checked at open (test_port_vectors), and
 # the rules rozgen refuses their keys by
-_DDS_PORTS = ("unitree/G1", "agibot/X2", "engineai/PM01")
+_DDS_PORTS = ("unitree/G1", "agibot/X2", "engineai/PM01", "mujoco")
 _DDS_PORT_RULES = ("g1-joint", "g1-channel", "g1-param", "ros2-joint", "ros2-channel",
-                   "ros2-param", "unknown-key")
+                   "ros2-param", "mujoco-param", "unknown-key")
 
 
 def _vectors(root: str, patterns: list[str]) -> list[str]:

@@ -783,6 +783,8 @@ int main(int argc, char **argv)
     roz_port_t port;
     if (make_port(pe, &port) != 0)
         return 2;
+    if (roz_builtin_find(o.robot) == NULL)
+        roz_port_set_origin(&port, o.robot); /* a robot.toml: its paths are relative to it */
     roz_params_t params = { o.params, o.n_params };
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);

@@ -93,6 +93,9 @@ typedef struct roz_port_info {
     /** Without ROZ_PORT_CAP_SEQUENCE: what the port sees of a restarted
      *  peer instead, else NULL. */
     const char *no_sequence;
+    /** A port with no link to check at all (a simulator in the same
+     *  process): why, else NULL. */
+    const char *no_link;
 } roz_port_info_t;
 
 /** The checks on the state frames a port received (roz/hal/link.h keeps
@@ -168,6 +171,11 @@ typedef struct roz_port_ops {
      *  length the whole text needs (as snprintf does), 0 for none. Optional.
      *  Context: start-up or shut-down, never the tick; may format text. */
     int (*report)(const void *self, roz_port_report_when_t when, char *buf, size_t len);
+    /** The file the manifest was read from (a robot.toml), so that paths
+     *  its parameters name (a model file) are taken relative to it; called
+     *  before open(). Optional: a port whose parameters name no file has
+     *  none. Context: start-up. */
+    void (*set_origin)(void *self, const char *robot_toml);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -237,7 +245,7 @@ static inline uint32_t roz_port_caps(const roz_port_t *p)
  *  nothing (never NULL). Context: any. */
 static inline const roz_port_info_t *roz_port_ops_info(const roz_port_ops_t *ops)
 {
-    static const roz_port_info_t none = { "", "", NULL, 0, NULL, NULL };
+    static const roz_port_info_t none = { "", "", NULL, 0, NULL, NULL, NULL };
     return ops->info != NULL ? ops->info : &none;
 }
 
@@ -260,6 +268,14 @@ static inline int roz_port_link_counters(const roz_port_t *p, roz_port_link_coun
 
 /** @brief report(); an empty text (0) when the port has none.
  *  Context: start-up or shut-down, never the tick. */
+/** @brief set_origin(), if any: @p robot_toml is the file the manifest was
+ *  read from (it must outlive the port). Context: start-up, before open. */
+static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_toml)
+{
+    if (p->ops->set_origin != NULL)
+        p->ops->set_origin(p->self, robot_toml);
+}
+
 static inline int roz_port_report(const roz_port_t *p, roz_port_report_when_t when, char *buf,
                                   size_t len)
 {

@@ -1,0 +1,198 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/**
+ * @file roz/port/mujoco.h
+ * @brief The mujoco port: a robot in physics (MuJoCo's C API), driven as the
+ *        real robot is: its joints' drivers run the robot's own actuator law
+ *        at every physics step, its sensors give what the real ones give.
+ *
+ * Everything is allocated at open (the model parsed and compiled, its data
+ * made); read() and write() never allocate (test/mujoco: the heap counted
+ * through the tick). Time is simulated: each read() but the first advances
+ * the physics by one control period, period / timestep steps, so the same
+ * build gives the same trace bit for bit on every run. docs/ports/mujoco.md
+ * has the parameters, the actuator law, time, faults and the built-in
+ * robots; this header keeps the types.
+ */
+#ifndef ROZ_PORT_MUJOCO_H
+#define ROZ_PORT_MUJOCO_H
+
+#include "roz/config.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "roz/hal/joints.h"
+#include "roz/log.h"
+#include "roz/manifest.h"
+#include "roz/port.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* MuJoCo's own types, only pointed to (its headers stay out of roz's). */
+struct mjModel_;
+struct mjData_;
+
+/** Most joints one robot binds. */
+#define ROZ_MUJOCO_MAX_JOINTS (ROZ_CFG_MAX_JOINTS > 0 ? ROZ_CFG_MAX_JOINTS : 1)
+/** Most ticks of sensor latency (`latency_ticks`, the `delay` fault). */
+#define ROZ_MUJOCO_MAX_DELAY 15
+/** Fault injections and pushes at once. */
+#define ROZ_MUJOCO_MAX_FAULTS 8
+/** Longest model path, bytes. */
+#define ROZ_MUJOCO_PATH_MAX 1024
+/** Longest MuJoCo name the port keeps (a body in the report). */
+#define ROZ_MUJOCO_NAME_MAX 64
+/** Bodies touching the ground the report names. */
+#define ROZ_MUJOCO_MAX_CONTACT_BODIES 4
+
+/** What a fault injection does, each over ticks [from, to). */
+typedef enum roz_mujoco_fault_kind {
+    ROZ_MUJOCO_DROP = 1, /**< state frames are lost: read() gives nothing fresh */
+    ROZ_MUJOCO_FREEZE,   /**< the robot sends nothing (read() as for drop) */
+    ROZ_MUJOCO_DELAY,    /**< state frames arrive `arg` ticks late */
+    ROZ_MUJOCO_PUSH,     /**< force `force` (N, world frame) on body `body` at its centre of mass */
+    ROZ_MUJOCO_GANTRY,   /**< the floating base hung where it is (a weld to the world) */
+    ROZ_MUJOCO_RESTART,  /**< the robot's board is dead (motors limp, no state) and boots at `to` */
+} roz_mujoco_fault_kind_t;
+
+/** One injected fault; `to` = 0: forever. */
+typedef struct roz_mujoco_fault {
+    roz_mujoco_fault_kind_t kind;
+    uint64_t from, to;
+    uint32_t arg;      /**< DELAY: ticks, 1..ROZ_MUJOCO_MAX_DELAY */
+    int32_t  body;     /**< PUSH: MuJoCo body id */
+    double   force[3]; /**< PUSH: N, world frame */
+} roz_mujoco_fault_t;
+
+/** One bound joint. */
+typedef struct roz_mujoco_joint {
+    roz_joint_channels_t ch;   /**< its manifest channels (roz/hal/joints.h) */
+    int32_t jnt, qadr, dadr;   /**< MuJoCo joint id, qpos and qvel addresses */
+    int32_t act;               /**< the actuator driving it */
+    double  gear;              /**< the actuator's gear: joint torque = gear * ctrl */
+    double  tau_lo, tau_hi;    /**< the joint's effort limit, N.m (the manifest's) */
+    uint8_t law;               /**< private: how it is driven (mujoco.c) */
+    double  q_ref;             /**< velocity servo: the integrated reference */
+} roz_mujoco_joint_t;
+
+/** The simulated base and contacts, the simulator's truth (not a sensor). */
+typedef struct roz_mujoco_base {
+    int    floating;           /**< 1: the robot has a floating base (a free joint) */
+    double pos[3];             /**< m, world */
+    double quat[4];            /**< w, x, y, z (MuJoCo's order) */
+    double roll, pitch, yaw;   /**< rad, Z-Y-X */
+    double lin_vel[3];         /**< m/s, world */
+    double ang_vel[3];         /**< rad/s, body frame */
+    double min_height;         /**< lowest base height since open, m */
+    double max_tilt;           /**< largest |roll| or |pitch| since open, rad */
+    uint32_t contacts;         /**< contacts between the robot and the world */
+    uint32_t n_bodies;         /**< robot bodies touching the world (at most the names kept) */
+    char   bodies[ROZ_MUJOCO_MAX_CONTACT_BODIES][ROZ_MUJOCO_NAME_MAX];
+    double sim_time;           /**< s */
+    uint64_t steps;            /**< physics steps since open */
+} roz_mujoco_base_t;
+
+/** The port's data; caller-owned. Fields are private to the port; tests
+ *  read the counters. */
+typedef struct roz_mujoco {
+    roz_log_fn            log;
+    void                 *log_ctx;
+    const char           *robot_file; /**< robot.toml the model path is relative to; NULL: none */
+    const roz_manifest_t *m;
+    struct mjModel_      *model;
+    struct mjData_       *data;
+    char                  model_path[ROZ_MUJOCO_PATH_MAX];
+    double                timestep;
+    uint32_t              steps_per_tick;
+    uint64_t              tick;       /**< reads so far */
+    uint64_t              steps;      /**< physics steps so far */
+
+    roz_mujoco_joint_t    joints[ROZ_MUJOCO_MAX_JOINTS];
+    uint16_t              n_joints;
+    int16_t               imu[ROZ_IMU_VALUES];
+    int32_t               gyro_adr, acc_adr, imu_site; /**< sensordata addresses, site id */
+    int32_t               base_jnt, base_body, base_qadr, base_dadr; /**< -1: fixed base */
+    int32_t               gantry_eq;  /**< the gantry's weld, -1 none */
+    double                velocity_kp, velocity_kd;
+    /* a mobile base driven by body velocities (diff_drive, quadcopter) */
+    uint8_t               mobile;       /**< private: none, wheels or autopilot (mujoco.c) */
+    int16_t               mob_cmd[4];   /**< v, w (wheels); vx, vy, vz, yaw rate (autopilot) */
+    int16_t               mob_state[4]; /**< x, y, yaw (wheels); x, y, z, yaw (autopilot) */
+    double                wheel_radius, wheel_separation; /**< m */
+    double                odom[3];      /**< wheels: x, y, yaw from the encoders */
+    double                max_thrust;   /**< autopilot: N */
+    double                mass;         /**< autopilot: the airframe's, kg */
+    uint32_t              unbound;    /**< model joints locked because no channel binds them */
+
+    double                cmd[ROZ_CFG_MAX_COMMANDS]; /**< the command the drivers apply */
+    int                   have_cmd;
+    int                   dead;       /**< RESTART: the board is down */
+    int                   rebooted;   /**< RESTART: read() reports ROZ_ELINK once */
+
+    roz_mujoco_fault_t    faults[ROZ_MUJOCO_MAX_FAULTS];
+    uint32_t              n_faults;
+    uint32_t              latency;    /**< ticks */
+    double                noise_q, noise_dq, noise_tau, noise_gyro, noise_acc;
+    uint64_t              rng;        /**< the noise's state (seeded: deterministic) */
+    double                hist[ROZ_MUJOCO_MAX_DELAY + 1][ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                tau[ROZ_MUJOCO_MAX_JOINTS]; /**< last torque applied per joint */
+
+    roz_mujoco_base_t     base;
+
+    /* counters */
+    uint64_t              writes;
+    uint64_t              writes_withheld; /**< before the first state frame: not applied */
+    uint64_t              frames;          /**< fresh frames read() gave */
+    uint64_t              frames_dropped;  /**< DROP, FREEZE, RESTART */
+    uint64_t              clamped;         /**< written values clamped to the manifest */
+    uint64_t              saturated;       /**< physics steps x joints whose torque was saturated */
+    uint64_t              violations;      /**< values outside the manifest that reached the drivers: stays 0 */
+} roz_mujoco_t;
+
+/** The ops table ("mujoco"). */
+extern const roz_port_ops_t roz_mujoco_ops;
+
+/**
+ * @brief A roz_port_t over @p self, not yet open (roz_port_open()).
+ * @param log  open's notes (a model's servos made motors, locked joints);
+ *             NULL: none. Never called from the tick.
+ * Zeroes @p self: call it before roz_mujoco_set_robot_file(), and not on a
+ * port that is open (close it first).
+ * Context: start-up.
+ */
+roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx);
+
+/** @brief The robot.toml a relative `model` path is read from (its folder);
+ *  NULL: the working directory. After roz_mujoco_port(), before open.
+ *  Context: start-up. */
+void roz_mujoco_set_robot_file(roz_mujoco_t *self, const char *robot_toml);
+
+/**
+ * @brief Add a fault injection (before or while running), from the tick's
+ *        thread between ticks.
+ * @retval ROZ_ENOSPC ROZ_MUJOCO_MAX_FAULTS active already
+ * @retval ROZ_EINVAL a bad kind, delay or body
+ * Context: the tick's thread; no heap.
+ */
+int roz_mujoco_inject(roz_mujoco_t *self, const roz_mujoco_fault_t *f);
+
+/** @brief The simulated base pose and contacts after the last read().
+ *  Context: the tick's thread between ticks, or after it stopped. */
+void roz_mujoco_base(const roz_mujoco_t *self, roz_mujoco_base_t *out);
+
+/** @brief The command the simulated drivers apply (n_commands), or NULL
+ *         before the first (and while a restarted board boots).
+ *  Context: the tick's thread between ticks. */
+const double *roz_mujoco_last_command(const roz_mujoco_t *self);
+
+/** @brief The built-in model of robot @p robot_id ("unitree_g1", "ur5"):
+ *  its MJCF path, or NULL when this build has none. Context: any. */
+const char *roz_mujoco_builtin_model(const char *robot_id);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* ROZ_PORT_MUJOCO_H */

@@ -1,0 +1,1516 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The mujoco port: roz/port/mujoco.h says what, docs/ports/mujoco.md how to use
+ * it; here is how it works. The only file that includes MuJoCo's headers. */
+#include "roz/port/mujoco.h"
+
+#include <math.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <mujoco/mujoco.h>
+
+#include "roz/error.h"
+#include "roz/format.h"
+#include "roz/hal/params.h"
+
+/* ---- types and tables --------------------------------------------------------- */
+
+/* How a joint is driven (roz_mujoco_joint_t.law). */
+enum {
+    LAW_MIT = 1, /* gains commanded: tau = ff + kp(q* - q) + kd(dq* - dq) */
+    LAW_VELOCITY, /* velocity commanded: a servo on the integrated velocity */
+    LAW_POSITION, /* position commanded without gains: a position servo */
+    LAW_EFFORT,   /* effort only: tau = ff */
+    LAW_WHEEL,    /* a diff drive's wheel: the velocity servo on (v -+ w b/2) / r */
+};
+
+/* A robot commanded by body velocities (roz_mujoco_t.mobile). */
+enum {
+    MOBILE_NONE = 0,
+    MOBILE_WHEELS,    /* X/linear.x, X/angular.z -> X/odom.x, .y, .yaw */
+    MOBILE_AUTOPILOT, /* X/velocity.x, .y, .z, X/yaw_rate -> X/position.x, .y, .z, X/yaw */
+};
+
+/* The quadcopter autopilot's gains (docs/ports/mujoco.md): velocity loops,
+ * the tilt it allows, the attitude loop's natural frequency and damping,
+ * the yaw-rate loop's bandwidth, and the torques the rotors can give. */
+#define AP_KV_XY 2.0       /* 1/s */
+#define AP_KV_Z 3.0        /* 1/s */
+#define AP_MAX_TILT 0.5236 /* rad, 30 deg */
+#define AP_OMEGA 15.0      /* rad/s */
+#define AP_ZETA 0.8
+#define AP_YAW_BW 8.0      /* rad/s */
+#define AP_MAX_TORQUE_XY 2.0 /* N.m */
+#define AP_MAX_TORQUE_Z 0.3  /* N.m */
+
+#define PORT "mujoco"
+#define PI 3.14159265358979323846
+#define DEPTH (ROZ_MUJOCO_MAX_DELAY + 1)
+
+static const char *const known_keys[] = {
+    "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
+    "servo_kp", "servo_kd", "unbound", "latency_ticks", "noise_seed", "noise_position",
+    "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
+    "drop", "freeze", "delay", "push", "gantry", "restart",
+    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
+};
+
+/* The built-in robots' models, where this build found them (CMake: the
+ * model wheels' folders, and this port's models/), and the parameters each
+ * needs, as defaults a robot.toml's or the caller's parameters override. */
+#ifndef ROZ_MUJOCO_G1_SCENE
+#define ROZ_MUJOCO_G1_SCENE ""
+#endif
+#ifndef ROZ_MUJOCO_UR5E_MODEL
+#define ROZ_MUJOCO_UR5E_MODEL ""
+#endif
+#ifndef ROZ_MUJOCO_MODELS
+#define ROZ_MUJOCO_MODELS ""
+#endif
+
+/* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
+ * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
+ * law's stability bound (docs/ports/mujoco.md, "The actuator law"). It
+ * reports its pelvis IMU (rt/lowstate's imu_state; the torso's is
+ * rt/secondary_imu). */
+static const roz_param_t g1_defaults[] = {
+    { "model", ROZ_MUJOCO_G1_SCENE },
+    { "keyframe", "stand" },
+    { "timestep", "0.001" },
+    { "imu_gyro", "imu-pelvis-angular-velocity" },
+    { "imu_accelerometer", "imu-pelvis-linear-acceleration" },
+};
+static const roz_param_t ur5_defaults[] = {
+    { "model", ROZ_MUJOCO_UR5E_MODEL },
+    { "keyframe", "home" },
+};
+/* geared wheel motors: a light servo (the wheel's inertia is the gearbox's) */
+static const roz_param_t diff_drive_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "diff_drive.xml" },
+    { "wheel_left", "wheel_left_joint" },
+    { "wheel_right", "wheel_right_joint" },
+    { "wheel_radius", "0.035" },
+    { "wheel_separation", "0.230" },
+    { "servo_kp", "20" },
+    { "servo_kd", "1" },
+};
+/* four rotors of 8 N each: a thrust-to-weight ratio of 2.2 at 1.5 kg */
+static const roz_param_t quadcopter_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "quadcopter.xml" },
+    { "max_thrust", "32" },
+};
+
+typedef struct {
+    const char        *robot_id;
+    const roz_param_t *defaults;
+    size_t             n;
+} builtin_t;
+
+#define BUILTIN(id, d) { id, d, sizeof d / sizeof d[0] }
+static const builtin_t builtins[] = {
+    BUILTIN("unitree_g1", g1_defaults),
+    BUILTIN("unitree_g1_23dof", g1_defaults),
+    BUILTIN("ur5", ur5_defaults),
+    BUILTIN("diff_drive", diff_drive_defaults),
+    BUILTIN("quadcopter", quadcopter_defaults),
+};
+
+static const builtin_t *find_builtin(const char *robot_id)
+{
+    for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++) {
+        /* defaults[0] is the model; "" (or a folder) when this build has none */
+        const char *model = builtins[i].defaults[0].value;
+        size_t n = strlen(model);
+        if (strcmp(builtins[i].robot_id, robot_id) == 0 && n > 4 &&
+            strcmp(model + n - 4, ".xml") == 0 && model[0] == '/')
+            return &builtins[i];
+    }
+    return NULL;
+}
+
+const char *roz_mujoco_builtin_model(const char *robot_id)
+{
+    const builtin_t *b = find_builtin(robot_id);
+    return b != NULL ? b->defaults[0].value : NULL;
+}
+
+/* MuJoCo's warnings (an unstable simulation, a full arena) go to stdout by
+ * default, from the tick; here they are counted instead, and the port turns
+ * them into a counter the tests read. */
+static _Atomic uint64_t mj_warnings;
+
+static void count_warning(const char *msg)
+{
+    (void)msg;
+    atomic_fetch_add_explicit(&mj_warnings, 1u, memory_order_relaxed);
+}
+
+/* ---- private: open ------------------------------------------------------------- */
+
+/* How errors name where the robot came from: its robot.toml, or the
+ * manifest's id for a built-in one. */
+static const char *origin(const roz_mujoco_t *s)
+{
+    return s->robot_file != NULL ? s->robot_file : s->m->robot_id;
+}
+
+/* The parameters that apply: robot.toml's [hardware.params] when its port is
+ * this one (a built-in manifest's are another port's), then the caller's
+ * over them (the last one wins). */
+typedef struct {
+    roz_param_t  items[2 * ROZ_CFG_MAX_PARAMS + 64];
+    roz_params_t p;
+} merged_t;
+
+static int merge_params(const roz_manifest_t *m, const roz_params_t *extra, merged_t *out)
+{
+    size_t n = 0;
+    const size_t cap = sizeof out->items / sizeof out->items[0];
+    /* a built-in robot's defaults first, unless a model of its own is named */
+    const builtin_t *b = find_builtin(m->robot_id);
+    int own_model = roz_params_find(extra, "model") != NULL;
+    if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
+        roz_params_t hw = { m->hardware->params, m->hardware->n_params };
+        own_model |= roz_params_find(&hw, "model") != NULL;
+    }
+    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++)
+        out->items[n++] = b->defaults[i];
+    if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
+        for (uint16_t i = 0; i < m->hardware->n_params && n < cap; i++)
+            out->items[n++] = m->hardware->params[i];
+    }
+    for (size_t i = 0; extra != NULL && i < extra->n; i++) {
+        if (n == cap)
+            return ROZ_ENOSPC;
+        out->items[n++] = extra->items[i];
+    }
+    out->p.items = out->items;
+    out->p.n = n;
+    return ROZ_OK;
+}
+
+/* Looks @p name up in a "A=B, C=D" list: *out (into @p buf) the B of A =
+ * @p name, or @p name itself. */
+static const char *map_name(const char *list, const char *name, char *buf, size_t cap)
+{
+    size_t nl = strlen(name);
+    for (const char *p = list; p != NULL && *p != '\0';) {
+        while (*p == ' ' || *p == ',')
+            p++;
+        const char *eq = strchr(p, '=');
+        const char *end = strchr(p, ',');
+        if (end == NULL)
+            end = p + strlen(p);
+        if (eq != NULL && eq < end) {
+            const char *k = p, *ke = eq;
+            while (ke > k && ke[-1] == ' ')
+                ke--;
+            if ((size_t)(ke - k) == nl && strncmp(k, name, nl) == 0) {
+                const char *v = eq + 1;
+                while (*v == ' ')
+                    v++;
+                const char *ve = end;
+                while (ve > v && ve[-1] == ' ')
+                    ve--;
+                size_t vl = (size_t)(ve - v) < cap - 1 ? (size_t)(ve - v) : cap - 1;
+                memcpy(buf, v, vl);
+                buf[vl] = '\0';
+                return buf;
+            }
+        }
+        p = end;
+    }
+    return name;
+}
+
+/* Every "A=" of a "A=B, C=D" list must be a joint of the manifest. */
+static int check_map_keys(const roz_mujoco_t *s, const char *list, const char *const *names,
+                          uint16_t n, char *err, size_t errlen)
+{
+    for (const char *p = list; p != NULL && *p != '\0';) {
+        while (*p == ' ' || *p == ',')
+            p++;
+        if (*p == '\0')
+            break;
+        const char *end = strchr(p, ',');
+        if (end == NULL)
+            end = p + strlen(p);
+        const char *eq = memchr(p, '=', (size_t)(end - p));
+        if (eq == NULL) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.joint_names: \"%.*s\": "
+                       "expected MANIFEST_JOINT=MJCF_JOINT", origin(s), (int)(end - p), p);
+            return ROZ_EINVAL;
+        }
+        const char *ke = eq;
+        while (ke > p && ke[-1] == ' ')
+            ke--;
+        int found = 0;
+        for (uint16_t j = 0; j < n && !found; j++)
+            found = strlen(names[j]) == (size_t)(ke - p) && strncmp(names[j], p, (size_t)(ke - p)) == 0;
+        if (!found) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.joint_names: \"%.*s\" is not a "
+                       "joint of manifest %s", origin(s), (int)(ke - p), p, s->m->robot_id);
+            return ROZ_EINVAL;
+        }
+        p = end;
+    }
+    return ROZ_OK;
+}
+
+/* The manifest's joints: [hardware] joints when it has them, else the joints
+ * its channels name (the name before the last '/'), in order of appearance.
+ * The IMU's channels (base_imu/...) are not joints. */
+typedef struct {
+    char        buf[ROZ_MUJOCO_MAX_JOINTS][ROZ_MUJOCO_NAME_MAX];
+    const char *names[ROZ_MUJOCO_MAX_JOINTS];
+    uint16_t    n;
+} joint_names_t;
+
+static int add_joint_of(const roz_mujoco_t *s, const char *channel, joint_names_t *jn, char *err,
+                        size_t errlen)
+{
+    const char *slash = strrchr(channel, '/');
+    if (slash == NULL)
+        return ROZ_OK; /* roz_joints_bind() names it: no place for it */
+    size_t len = (size_t)(slash - channel);
+    if (len == 8 && strncmp(channel, "base_imu", 8) == 0)
+        return ROZ_OK;
+    for (uint16_t j = 0; j < jn->n; j++) {
+        if (strlen(jn->names[j]) == len && strncmp(jn->names[j], channel, len) == 0)
+            return ROZ_OK;
+    }
+    if (jn->n == ROZ_MUJOCO_MAX_JOINTS || len >= ROZ_MUJOCO_NAME_MAX) {
+        roz_format(err, errlen, PORT ": %s: channel \"%s\": more than %d joints, or a joint name "
+                   "longer than %d bytes", origin(s), channel, ROZ_MUJOCO_MAX_JOINTS,
+                   ROZ_MUJOCO_NAME_MAX - 1);
+        return ROZ_ENOSPC;
+    }
+    memcpy(jn->buf[jn->n], channel, len);
+    jn->buf[jn->n][len] = '\0';
+    jn->names[jn->n] = jn->buf[jn->n];
+    jn->n++;
+    return ROZ_OK;
+}
+
+static int manifest_joints(const roz_mujoco_t *s, joint_names_t *jn, char *err, size_t errlen)
+{
+    const roz_manifest_t *m = s->m;
+    jn->n = 0;
+    if (m->hardware != NULL && m->hardware->n_joints > 0) {
+        if (m->hardware->n_joints > ROZ_MUJOCO_MAX_JOINTS) {
+            roz_format(err, errlen, PORT ": %s: %u joints; at most %d", origin(s),
+                       (unsigned)m->hardware->n_joints, ROZ_MUJOCO_MAX_JOINTS);
+            return ROZ_ENOSPC;
+        }
+        for (uint16_t j = 0; j < m->hardware->n_joints; j++)
+            jn->names[j] = m->hardware->joints[j];
+        jn->n = m->hardware->n_joints;
+        return ROZ_OK;
+    }
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (add_joint_of(s, m->commands[i].name, jn, err, errlen) != ROZ_OK)
+            return ROZ_ENOSPC;
+    }
+    for (uint16_t i = 0; i < m->n_states; i++) {
+        if (add_joint_of(s, m->states[i].name, jn, err, errlen) != ROZ_OK)
+            return ROZ_ENOSPC;
+    }
+    return ROZ_OK;
+}
+
+/* Channel "<prefix>/<suffix>" of interface @p type among @p c; -1: none. */
+static int16_t find_channel(const roz_channel_t *c, uint16_t n, const char *prefix, size_t plen,
+                            const char *suffix, roz_interface_t type)
+{
+    for (uint16_t i = 0; i < n; i++) {
+        const char *name = c[i].name;
+        if (strncmp(name, prefix, plen) == 0 && name[plen] == '/' &&
+            strcmp(name + plen + 1, suffix) == 0 && c[i].type == type)
+            return (int16_t)i;
+    }
+    return -1;
+}
+
+/* A robot commanded by body velocities, as the built-in diff_drive and
+ * quadcopter are: every channel one of a mobile base's (roz/loopback.h has
+ * the same names). */
+static int detect_mobile(roz_mujoco_t *s)
+{
+    const roz_manifest_t *m = s->m;
+    const char *slash = strchr(m->commands[0].name, '/');
+    if (slash == NULL)
+        return MOBILE_NONE;
+    const char *pre = m->commands[0].name;
+    size_t pl = (size_t)(slash - pre);
+    static const char *const wheel_cmd[2] = { "linear.x", "angular.z" };
+    static const char *const wheel_st[3] = { "odom.x", "odom.y", "odom.yaw" };
+    static const char *const ap_cmd[4] = { "velocity.x", "velocity.y", "velocity.z", "yaw_rate" };
+    static const char *const ap_st[4] = { "position.x", "position.y", "position.z", "yaw" };
+    int ok = m->n_commands == 2 && m->n_states == 3;
+    for (int k = 0; ok && k < 2; k++)
+        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, wheel_cmd[k],
+                                           ROZ_IF_VELOCITY)) >= 0;
+    for (int k = 0; ok && k < 3; k++)
+        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, wheel_st[k],
+                                             ROZ_IF_POSITION)) >= 0;
+    if (ok)
+        return MOBILE_WHEELS;
+    ok = m->n_commands == 4 && m->n_states == 4;
+    for (int k = 0; ok && k < 4; k++)
+        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, ap_cmd[k],
+                                           ROZ_IF_VELOCITY)) >= 0;
+    for (int k = 0; ok && k < 4; k++)
+        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, ap_st[k],
+                                             ROZ_IF_POSITION)) >= 0;
+    return ok ? MOBILE_AUTOPILOT : MOBILE_NONE;
+}
+
+/* "A:B" ticks, B may be empty (forever) or absent when @p open_end. */
+static int parse_range(const char *v, uint64_t *from, uint64_t *to)
+{
+    char *end;
+    *from = strtoull(v, &end, 10);
+    if (end == v)
+        return ROZ_EINVAL;
+    if (*end == '\0') {
+        *to = 0;
+        return ROZ_OK;
+    }
+    if (*end != ':')
+        return ROZ_EINVAL;
+    const char *t = end + 1;
+    while (*t == ' ')
+        t++;
+    if (*t == '\0' || *t == ';') {
+        *to = 0;
+        return ROZ_OK;
+    }
+    *to = strtoull(t, &end, 10);
+    if (end == t || (*end != '\0' && *end != ';' && *end != ' '))
+        return ROZ_EINVAL;
+    return *to != 0 && *to <= *from ? ROZ_EINVAL : ROZ_OK;
+}
+
+/* One fault entry (a ';'-separated part of the key's value). */
+static int parse_fault(roz_mujoco_t *s, roz_mujoco_fault_kind_t kind, const char *v,
+                       roz_mujoco_fault_t *f)
+{
+    memset(f, 0, sizeof *f);
+    f->kind = kind;
+    f->body = -1;
+    const char *range = v;
+    if (kind == ROZ_MUJOCO_DELAY) {
+        char *end;
+        unsigned long k = strtoul(v, &end, 10);
+        if (end == v || *end != '@' || k < 1 || k > ROZ_MUJOCO_MAX_DELAY)
+            return ROZ_EINVAL;
+        f->arg = (uint32_t)k;
+        range = end + 1;
+    } else if (kind == ROZ_MUJOCO_PUSH) {
+        char *end;
+        const char *p = v;
+        for (int k = 0; k < 3; k++) {
+            f->force[k] = strtod(p, &end);
+            if (end == p || !isfinite(f->force[k]) || *end != (k < 2 ? ',' : '@'))
+                return ROZ_EINVAL;
+            p = end + 1;
+        }
+        const char *at = strchr(p, '@');
+        if (at == NULL || at == p || (size_t)(at - p) >= ROZ_MUJOCO_NAME_MAX)
+            return ROZ_EINVAL;
+        char body[ROZ_MUJOCO_NAME_MAX];
+        memcpy(body, p, (size_t)(at - p));
+        body[at - p] = '\0';
+        f->body = mj_name2id(s->model, mjOBJ_BODY, body);
+        if (f->body <= 0)
+            return ROZ_ENOENT;
+        range = at + 1;
+    }
+    return parse_range(range, &f->from, &f->to);
+}
+
+static int parse_faults(roz_mujoco_t *s, const roz_params_t *p, char *err, size_t errlen)
+{
+    static const struct {
+        const char *key;
+        roz_mujoco_fault_kind_t kind;
+        const char *form;
+    } keys[] = {
+        { "drop", ROZ_MUJOCO_DROP, "FROM:TO" },
+        { "freeze", ROZ_MUJOCO_FREEZE, "FROM[:TO]" },
+        { "delay", ROZ_MUJOCO_DELAY, "K@FROM:TO, K in 1..15" },
+        { "push", ROZ_MUJOCO_PUSH, "FX,FY,FZ@BODY@FROM:TO (N, world frame)" },
+        { "gantry", ROZ_MUJOCO_GANTRY, "FROM[:TO]" },
+        { "restart", ROZ_MUJOCO_RESTART, "FROM:TO" },
+    };
+    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
+        const char *v = roz_params_find(p, keys[k].key);
+        for (const char *e = v; e != NULL && *e != '\0';) {
+            while (*e == ' ' || *e == ';')
+                e++;
+            if (*e == '\0')
+                break;
+            roz_mujoco_fault_t f;
+            int rc = parse_fault(s, keys[k].kind, e, &f);
+            if (rc == ROZ_OK && keys[k].kind == ROZ_MUJOCO_RESTART && f.to == 0)
+                rc = ROZ_EINVAL;
+            if (rc == ROZ_OK && keys[k].kind == ROZ_MUJOCO_GANTRY && s->gantry_eq < 0) {
+                roz_format(err, errlen, PORT ": %s: hardware.params.gantry = \"%s\": %s has no "
+                           "floating base to hang", origin(s), v, s->model_path);
+                return ROZ_EINVAL;
+            }
+            if (rc == ROZ_ENOENT) {
+                roz_format(err, errlen, PORT ": %s: hardware.params.push = \"%s\": no body of "
+                           "that name in %s (the world cannot be pushed)", origin(s), v,
+                           s->model_path);
+                return ROZ_EINVAL;
+            }
+            if (rc != ROZ_OK) {
+                roz_format(err, errlen, PORT ": %s: hardware.params.%s = \"%s\": expected %s, "
+                           "';' between entries", origin(s), keys[k].key, v, keys[k].form);
+                return ROZ_EINVAL;
+            }
+            if (roz_mujoco_inject(s, &f) != ROZ_OK) {
+                roz_format(err, errlen, PORT ": %s: hardware.params.%s: more than %d fault "
+                           "injections", origin(s), keys[k].key, ROZ_MUJOCO_MAX_FAULTS);
+                return ROZ_EINVAL;
+            }
+            e = strchr(e, ';');
+        }
+    }
+    return ROZ_OK;
+}
+
+/* The model's path: `model`, relative to the robot.toml's folder. */
+static int model_path(roz_mujoco_t *s, const char *model, char *err, size_t errlen)
+{
+    size_t dir = 0;
+    if (model[0] != '/' && s->robot_file != NULL) {
+        const char *slash = strrchr(s->robot_file, '/');
+        dir = slash != NULL ? (size_t)(slash - s->robot_file) + 1 : 0;
+    }
+    if (dir + strlen(model) + 1 > sizeof s->model_path) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.model: the path is longer than %d "
+                   "bytes", origin(s), ROZ_MUJOCO_PATH_MAX - 1);
+        return ROZ_EINVAL;
+    }
+    if (dir > 0)
+        memcpy(s->model_path, s->robot_file, dir);
+    memcpy(s->model_path + dir, model, strlen(model) + 1);
+    return ROZ_OK;
+}
+
+static const char *spec_name(mjsElement *e)
+{
+    const char *n = mjs_getString(mjs_getName(e));
+    return n != NULL ? n : "";
+}
+
+/* The model as roz drives it: every actuator a motor (roz runs the robot's
+ * own law at every step), each model joint no channel binds locked (or
+ * limp), and a weld that hangs the floating base (the gantry), off. */
+static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names, uint16_t n,
+                     int lock_unbound, uint32_t *servos, char *err, size_t errlen)
+{
+    *servos = 0;
+    for (mjsElement *e = mjs_firstElement(spec, mjOBJ_ACTUATOR); e != NULL;
+         e = mjs_nextElement(spec, e)) {
+        mjsActuator *a = mjs_asActuator(e);
+        int motor = a->gaintype == mjGAIN_FIXED && a->biastype == mjBIAS_NONE &&
+                    a->dyntype == mjDYN_NONE;
+        if (!motor) {
+            const char *why = mjs_setToMotor(a);
+            if (why != NULL && why[0] != '\0') {
+                roz_format(err, errlen, PORT ": %s: %s: actuator \"%s\" cannot be made a "
+                           "motor: %s", origin(s), s->model_path, spec_name(e), why);
+                return ROZ_EINVAL;
+            }
+            (*servos)++;
+        }
+        a->inheritrange = 0;
+        a->ctrllimited = mjLIMITED_FALSE; /* roz saturates the torque itself */
+    }
+    s->gantry_eq = -1;
+    for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL;
+         e = mjs_nextElement(spec, e)) {
+        mjsJoint *j = mjs_asJoint(e);
+        const char *name = spec_name(e);
+        if (j->type == mjJNT_FREE) {
+            if (s->gantry_eq >= 0)
+                continue; /* the first free joint is the robot's base */
+            mjsBody *b = mjs_getParent(e);
+            mjsEquality *w = mjs_addEquality(spec, NULL);
+            w->type = mjEQ_WELD;
+            w->objtype = mjOBJ_BODY;
+            mjs_setString(w->name1, spec_name(b->element));
+            w->active = 0;
+            s->gantry_eq = 1; /* its id is known after compiling */
+            continue;
+        }
+        if (j->type == mjJNT_BALL)
+            continue;
+        int bound = 0;
+        for (uint16_t k = 0; k < n && !bound; k++)
+            bound = strcmp(mj_names[k], name) == 0;
+        if (!bound && lock_unbound && name[0] != '\0') {
+            mjsEquality *q = mjs_addEquality(spec, NULL);
+            q->type = mjEQ_JOINT;
+            q->objtype = mjOBJ_JOINT;
+            mjs_setString(q->name1, name);
+            memset(q->data, 0, sizeof q->data); /* held at its reference position */
+            q->active = 1;
+        }
+        if (!bound)
+            s->unbound++;
+    }
+    return ROZ_OK;
+}
+
+/* The effort a joint's channels allow: its effort command's limits, else
+ * its effort state's; 0 when neither. */
+static int manifest_effort(const roz_manifest_t *m, const roz_joint_channels_t *ch, double *lo,
+                           double *hi)
+{
+    const roz_channel_t *c = ch->tau_cmd >= 0   ? &m->commands[ch->tau_cmd]
+                             : ch->tau_state >= 0 ? &m->states[ch->tau_state]
+                                                  : NULL;
+    if (c == NULL)
+        return 0;
+    *lo = c->min;
+    *hi = c->max;
+    return 1;
+}
+
+static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char *mj_name,
+                      char *err, size_t errlen)
+{
+    const mjModel *mm = s->model;
+    roz_mujoco_joint_t *j = &s->joints[k];
+    j->jnt = mj_name2id(mm, mjOBJ_JOINT, mj_name);
+    if (j->jnt < 0) {
+        roz_format(err, errlen, PORT ": %s: joint \"%s\"%s%s%s: no joint of that name in %s "
+                   "(hardware.params.joint_names maps manifest joints to the model's)",
+                   origin(s), name, strcmp(name, mj_name) ? " (\"" : "",
+                   strcmp(name, mj_name) ? mj_name : "", strcmp(name, mj_name) ? "\")" : "",
+                   s->model_path);
+        return ROZ_EINVAL;
+    }
+    int type = mm->jnt_type[j->jnt];
+    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
+        roz_format(err, errlen, PORT ": %s: joint \"%s\": %s's joint \"%s\" is not a hinge or "
+                   "a slide", origin(s), name, s->model_path, mj_name);
+        return ROZ_EINVAL;
+    }
+    j->qadr = mm->jnt_qposadr[j->jnt];
+    j->dadr = mm->jnt_dofadr[j->jnt];
+    j->act = -1;
+    for (int a = 0; a < mm->nu && j->act < 0; a++) {
+        if (mm->actuator_trntype[a] == mjTRN_JOINT && mm->actuator_trnid[2 * a] == j->jnt)
+            j->act = a;
+    }
+    if (j->act < 0) {
+        roz_format(err, errlen, PORT ": %s: joint \"%s\": no actuator drives %s's joint \"%s\"",
+                   origin(s), name, s->model_path, mj_name);
+        return ROZ_EINVAL;
+    }
+    int a = j->act;
+    j->gear = mm->actuator_gear[6 * a] * mm->actuator_gainprm[a * mjNGAIN];
+    /* what the actuator can give, in joint torque */
+    double lo = -INFINITY, hi = INFINITY;
+    if (mm->actuator_forcelimited[a]) {
+        double g = mm->actuator_gear[6 * a];
+        double f0 = g * mm->actuator_forcerange[2 * a], f1 = g * mm->actuator_forcerange[2 * a + 1];
+        lo = fmin(f0, f1);
+        hi = fmax(f0, f1);
+    }
+    if (mm->jnt_actfrclimited[j->jnt]) {
+        lo = fmax(lo, mm->jnt_actfrcrange[2 * j->jnt]);
+        hi = fmin(hi, mm->jnt_actfrcrange[2 * j->jnt + 1]);
+    }
+    const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
+    double mlo, mhi;
+    if (manifest_effort(s->m, &j->ch, &mlo, &mhi)) {
+        if (mlo < lo || mhi > hi) {
+            roz_format(err, errlen, PORT ": %s: joint \"%s\": the manifest's effort limits "
+                       "[%g, %g] N.m exceed what %s's actuator \"%s\" can give, [%g, %g]",
+                       origin(s), name, mlo, mhi, s->model_path, an != NULL ? an : "?", lo, hi);
+            return ROZ_EINVAL;
+        }
+        j->tau_lo = mlo;
+        j->tau_hi = mhi;
+    } else if (isfinite(lo) && isfinite(hi)) {
+        j->tau_lo = lo; /* the manifest has none: the actuator's own */
+        j->tau_hi = hi;
+    } else {
+        roz_format(err, errlen, PORT ": %s: joint \"%s\": no effort limit: the manifest has no "
+                   "%s/effort channel and %s's actuator \"%s\" has no force range", origin(s),
+                   name, name, s->model_path, an != NULL ? an : "?");
+        return ROZ_EINVAL;
+    }
+    if (!(j->gear != 0.0) || !isfinite(j->gear)) {
+        roz_format(err, errlen, PORT ": %s: joint \"%s\": %s's actuator \"%s\" has a zero gain "
+                   "or gear", origin(s), name, s->model_path, an != NULL ? an : "?");
+        return ROZ_EINVAL;
+    }
+    const roz_joint_channels_t *c = &j->ch;
+    j->law = c->kp_cmd >= 0 || c->kd_cmd >= 0 ? LAW_MIT
+             : c->dq_cmd >= 0                 ? LAW_VELOCITY
+             : c->q_cmd >= 0                  ? LAW_POSITION
+                                              : LAW_EFFORT;
+    return ROZ_OK;
+}
+
+static int find_sensor(const mjModel *mm, const char *name, int type, int *adr, int *site)
+{
+    for (int i = 0; i < mm->nsensor; i++) {
+        const char *n = mj_id2name(mm, mjOBJ_SENSOR, i);
+        if (name != NULL ? (n != NULL && strcmp(n, name) == 0) : mm->sensor_type[i] == type) {
+            if (mm->sensor_type[i] != type)
+                return ROZ_EINVAL;
+            *adr = mm->sensor_adr[i];
+            if (site != NULL && mm->sensor_objtype[i] == mjOBJ_SITE)
+                *site = mm->sensor_objid[i];
+            return ROZ_OK;
+        }
+    }
+    return ROZ_ENOENT;
+}
+
+static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
+                    size_t errlen)
+{
+    int want = 0;
+    for (int k = 0; k < ROZ_IMU_VALUES; k++)
+        want |= s->imu[k] >= 0;
+    s->gyro_adr = s->acc_adr = s->imu_site = -1;
+    if (!want)
+        return ROZ_OK;
+    const char *gyro = roz_params_get_str(p, "imu_gyro", NULL);
+    const char *acc = roz_params_get_str(p, "imu_accelerometer", NULL);
+    int rc = find_sensor(s->model, gyro, mjSENS_GYRO, &s->gyro_adr, &s->imu_site);
+    if (rc != ROZ_OK || s->imu_site < 0) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.imu_gyro%s%s%s: %s in %s (the "
+                   "manifest has base_imu channels)", origin(s), gyro ? " = \"" : "",
+                   gyro ? gyro : "", gyro ? "\"" : "",
+                   rc == ROZ_EINVAL ? "not a gyro sensor" : "no gyro sensor on a site", s->model_path);
+        return ROZ_EINVAL;
+    }
+    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, NULL);
+    if (rc != ROZ_OK) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.imu_accelerometer%s%s%s: %s in %s "
+                   "(the manifest has base_imu channels)", origin(s), acc ? " = \"" : "",
+                   acc ? acc : "", acc ? "\"" : "",
+                   rc == ROZ_EINVAL ? "not an accelerometer" : "no accelerometer sensor",
+                   s->model_path);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+static void note(const roz_mujoco_t *s, roz_log_level_t level, const char *msg)
+{
+    if (s->log != NULL)
+        s->log(s->log_ctx, level, msg);
+}
+
+static void close_model(roz_mujoco_t *s)
+{
+    if (s->data != NULL)
+        mj_deleteData(s->data);
+    if (s->model != NULL)
+        mj_deleteModel(s->model);
+    s->data = NULL;
+    s->model = NULL;
+}
+
+static void update_base(roz_mujoco_t *s);
+
+static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extra, char *err,
+                   size_t errlen)
+{
+    roz_mujoco_t *s = self;
+    static merged_t merged; /* open is start-up, one at a time */
+    joint_names_t jn;
+    char mj_buf[ROZ_MUJOCO_MAX_JOINTS][ROZ_MUJOCO_NAME_MAX];
+    const char *mj_names[ROZ_MUJOCO_MAX_JOINTS];
+    char mjerr[1024] = "";
+    char msg[512];
+
+    close_model(s);
+    roz_log_fn log = s->log;
+    void *log_ctx = s->log_ctx;
+    const char *robot_file = s->robot_file;
+    memset(s, 0, sizeof *s);
+    s->log = log;
+    s->log_ctx = log_ctx;
+    s->robot_file = robot_file;
+    s->m = m;
+    s->base_jnt = s->base_body = s->base_qadr = s->base_dadr = -1;
+    s->gantry_eq = -1;
+
+    if (merge_params(m, extra, &merged) != ROZ_OK) {
+        roz_format(err, errlen, PORT ": more than %u parameters",
+                   (unsigned)(sizeof merged.items / sizeof merged.items[0]));
+        return ROZ_EINVAL;
+    }
+    const roz_params_t *p = &merged.p;
+    if (roz_params_check_known(p, known_keys, PORT, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    /* the numbers and words that need no model, in rozgen's order
+     * (codegen/rozgen/mujoco.py), so both refuse a file alike */
+    double kp, kd, ts_check;
+    uint32_t latency, seed;
+    if (roz_params_get_double(p, "wheel_radius", 0.0, 1e-4, 10.0, &s->wheel_radius, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "wheel_separation", 0.0, 1e-3, 100.0, &s->wheel_separation, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "servo_kp", 400.0, 0.0, 1e7, &kp, err, errlen) != ROZ_OK ||
+        roz_params_get_double(p, "servo_kd", 20.0, 0.0, 1e6, &kd, err, errlen) != ROZ_OK ||
+        roz_params_get_double(p, "noise_position", 0.0, 0.0, 1.0, &s->noise_q, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_velocity", 0.0, 0.0, 10.0, &s->noise_dq, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_effort", 0.0, 0.0, 100.0, &s->noise_tau, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_gyro", 0.0, 0.0, 10.0, &s->noise_gyro, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_double(p, "noise_accelerometer", 0.0, 0.0, 100.0, &s->noise_acc, err,
+                              errlen) != ROZ_OK ||
+        roz_params_get_double(p, "timestep", 0.001, 1e-6, 1.0, &ts_check, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_u32(p, "latency_ticks", 0, 0, ROZ_MUJOCO_MAX_DELAY, &latency, err,
+                           errlen) != ROZ_OK ||
+        roz_params_get_u32(p, "noise_seed", 1, 0, UINT32_MAX, &seed, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    const char *unbound = roz_params_get_str(p, "unbound", "lock");
+    if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
+        roz_format(err, errlen, "parameter unbound = \"%s\": expected lock or limp", unbound);
+        return ROZ_EINVAL;
+    }
+    s->velocity_kp = kp;
+    s->velocity_kd = kd;
+    s->latency = latency;
+    s->rng = 0x9E3779B97F4A7C15ull ^ seed;
+
+    const char *model = roz_params_get_str(p, "model", NULL);
+    if (model == NULL || model[0] == '\0') {
+        roz_format(err, errlen, PORT ": %s: hardware.params.model: missing, and this build has "
+                   "no built-in model for robot %s (docs/ports/mujoco.md)", origin(s), m->robot_id);
+        return ROZ_EINVAL;
+    }
+    if (model_path(s, model, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+
+    /* the joints, and what they are called in the model */
+    s->mobile = (uint8_t)detect_mobile(s);
+    for (int k = 0; k < ROZ_IMU_VALUES; k++)
+        s->imu[k] = -1;
+    if (s->mobile == MOBILE_WHEELS) {
+        static const char *const wheel_keys[2] = { "wheel_left", "wheel_right" };
+        for (int k = 0; k < 2; k++) {
+            jn.names[k] = roz_params_get_str(p, wheel_keys[k], NULL);
+            if (jn.names[k] == NULL || jn.names[k][0] == '\0') {
+                roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing: a "
+                           "differential drive names its wheels' joints", origin(s), wheel_keys[k]);
+                return ROZ_EINVAL;
+            }
+            mj_names[k] = jn.names[k];
+            memset(&s->joints[k].ch, 0xff, sizeof s->joints[k].ch); /* no channel: -1 */
+        }
+        jn.n = 2;
+        s->n_joints = 2;
+        if (s->wheel_radius == 0.0 || s->wheel_separation == 0.0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing (m)", origin(s),
+                       s->wheel_radius == 0.0 ? "wheel_radius" : "wheel_separation");
+            return ROZ_EINVAL;
+        }
+    } else if (s->mobile == MOBILE_AUTOPILOT) {
+        jn.n = 0;
+        s->n_joints = 0;
+    } else if (manifest_joints(s, &jn, err, errlen) != ROZ_OK) {
+        return ROZ_EINVAL;
+    }
+    const char *map = roz_params_find(p, "joint_names");
+    if (check_map_keys(s, map, jn.names, jn.n, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    for (uint16_t j = 0; j < jn.n && s->mobile == MOBILE_NONE; j++)
+        mj_names[j] = map_name(map, jn.names[j], mj_buf[j], sizeof mj_buf[j]);
+    if (s->mobile == MOBILE_NONE) {
+        roz_joint_channels_t ch[ROZ_MUJOCO_MAX_JOINTS];
+        if (roz_joints_bind(m, PORT, "this robot", jn.names, jn.n, ch, s->imu, err, errlen) !=
+            ROZ_OK)
+            return ROZ_EINVAL;
+        for (uint16_t j = 0; j < jn.n; j++)
+            s->joints[j].ch = ch[j];
+        s->n_joints = jn.n;
+    }
+
+    /* parse, make it roz's, compile: the heap's busiest moments, all here */
+    mjSpec *spec = mj_parseXML(s->model_path, NULL, mjerr, sizeof mjerr);
+    if (spec == NULL) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
+                   s->model_path, mjerr[0] ? mjerr : "cannot be read");
+        return ROZ_EINVAL;
+    }
+    uint32_t servos = 0;
+    if (edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, &servos, err, errlen) !=
+        ROZ_OK) {
+        mj_deleteSpec(spec);
+        return ROZ_EINVAL;
+    }
+    s->model = mj_compile(spec, NULL);
+    if (s->model == NULL) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
+                   s->model_path, mjs_getError(spec));
+        mj_deleteSpec(spec);
+        return ROZ_EINVAL;
+    }
+    mj_deleteSpec(spec);
+    mjModel *mm = s->model;
+
+    for (uint16_t j = 0; j < jn.n; j++) {
+        if (bind_joint(s, j, jn.names[j], mj_names[j], err, errlen) != ROZ_OK) {
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+        if (s->mobile == MOBILE_WHEELS)
+            s->joints[j].law = LAW_WHEEL;
+    }
+    for (int j = 0; j < mm->njnt; j++) {
+        if (mm->jnt_type[j] == mjJNT_FREE) {
+            s->base_jnt = j;
+            s->base_body = mm->jnt_bodyid[j];
+            s->base_qadr = mm->jnt_qposadr[j];
+            s->base_dadr = mm->jnt_dofadr[j];
+            break;
+        }
+    }
+    if (s->gantry_eq >= 0) {
+        s->gantry_eq = -1;
+        for (int e = mm->neq - 1; e >= 0 && s->gantry_eq < 0; e--) {
+            if (mm->eq_type[e] == mjEQ_WELD && mm->eq_obj1id[e] == s->base_body)
+                s->gantry_eq = e;
+        }
+    }
+    if (s->mobile == MOBILE_AUTOPILOT) {
+        if (s->base_body < 0) {
+            roz_format(err, errlen, PORT ": %s: %s: a quadcopter needs a free joint (the "
+                       "airframe's)", origin(s), s->model_path);
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+        s->mass = mm->body_subtreemass[s->base_body];
+        if (!(s->max_thrust > s->mass * 9.81)) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.max_thrust = %g N: it must lift "
+                       "the %.3f kg airframe (more than %.2f N)", origin(s), s->max_thrust,
+                       s->mass, s->mass * 9.81);
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+    }
+    if (bind_imu(s, p, err, errlen) != ROZ_OK) {
+        close_model(s);
+        return ROZ_EINVAL;
+    }
+
+    /* time: one tick is a whole number of steps */
+    double dt;
+    char dflt[32];
+    roz_format(dflt, sizeof dflt, "%.17g", mm->opt.timestep);
+    const char *ts = roz_params_get_str(p, "timestep", dflt);
+    roz_param_t one = { "timestep", ts };
+    roz_params_t onep = { &one, 1 };
+    if (roz_params_get_double(&onep, "timestep", mm->opt.timestep, 1e-6, 1.0, &dt, err, errlen) !=
+        ROZ_OK) {
+        close_model(s);
+        return ROZ_EINVAL;
+    }
+    double period = 1.0 / m->control_rate_hz;
+    double steps = floor(period / dt + 0.5);
+    if (steps < 1.0 || fabs(steps * dt - period) > 1e-9 * period) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.timestep = %g s: the control period "
+                   "(%g s, %u Hz) must be a whole number of timesteps", origin(s), dt, period,
+                   (unsigned)m->control_rate_hz);
+        close_model(s);
+        return ROZ_EINVAL;
+    }
+    mm->opt.timestep = dt;
+    s->timestep = dt;
+    s->steps_per_tick = (uint32_t)steps;
+
+    s->data = mj_makeData(mm);
+    if (s->data == NULL) {
+        roz_format(err, errlen, PORT ": %s: %s: no memory for its data", origin(s), s->model_path);
+        close_model(s);
+        return ROZ_EINVAL;
+    }
+    const char *key = roz_params_get_str(p, "keyframe", NULL);
+    if (key != NULL && key[0] != '\0') {
+        int k = mj_name2id(mm, mjOBJ_KEY, key);
+        if (k < 0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.keyframe = \"%s\": no keyframe of "
+                       "that name in %s", origin(s), key, s->model_path);
+            close_model(s);
+            return ROZ_EINVAL;
+        }
+        mj_resetDataKeyframe(mm, s->data, k);
+    }
+    mju_zero(s->data->ctrl, mm->nu);
+    mj_forward(mm, s->data);
+    for (uint16_t j = 0; j < s->n_joints; j++)
+        s->joints[j].q_ref = s->data->qpos[s->joints[j].qadr];
+
+    if (parse_faults(s, p, err, errlen) != ROZ_OK) {
+        close_model(s);
+        return ROZ_EINVAL;
+    }
+    mju_user_warning = count_warning;
+    s->base.min_height = INFINITY;
+    update_base(s);
+
+    roz_format(msg, sizeof msg, PORT ": %s: %u joints bound, %u actuator%s turned from servos "
+               "into motors (roz applies the robot's own law), %u model joint%s %s; %u steps of "
+               "%g s a tick", s->model_path, (unsigned)s->n_joints, (unsigned)servos,
+               servos == 1 ? "" : "s", (unsigned)s->unbound, s->unbound == 1 ? "" : "s",
+               strcmp(unbound, "lock") == 0 ? "locked (no channel binds them)" : "limp",
+               (unsigned)s->steps_per_tick, dt);
+    note(s, ROZ_LOG_INFO, msg);
+    return ROZ_OK;
+}
+
+/* ---- private: the tick ------------------------------------------------------------ */
+
+static int active(const roz_mujoco_fault_t *f, uint64_t t)
+{
+    return t >= f->from && (f->to == 0 || t < f->to);
+}
+
+/* Gaussian noise from a seeded splitmix64: the same run, the same bits. */
+static double uniform01(roz_mujoco_t *s)
+{
+    uint64_t z = (s->rng += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return ((double)(z >> 11) + 0.5) * (1.0 / 9007199254740992.0);
+}
+
+static double gauss(roz_mujoco_t *s, double sigma)
+{
+    if (sigma == 0.0)
+        return 0.0;
+    double u = uniform01(s), v = uniform01(s);
+    return sigma * sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
+}
+
+/* The joint drivers, one physics step: the robot's own law from the last
+ * command, saturated at the joint's effort limit. */
+static void drive(roz_mujoco_t *s)
+{
+    mjData *d = s->data;
+    const double *c = s->cmd;
+    for (uint16_t k = 0; k < s->n_joints; k++) {
+        roz_mujoco_joint_t *j = &s->joints[k];
+        const roz_joint_channels_t *ch = &j->ch;
+        double q = d->qpos[j->qadr], dq = d->qvel[j->dadr], tau = 0.0;
+        int on = s->have_cmd && !s->dead;
+        switch (j->law) {
+        case LAW_MIT:
+            if (on) {
+                double kp = ch->kp_cmd >= 0 ? c[ch->kp_cmd] : 0.0;
+                double kd = ch->kd_cmd >= 0 ? c[ch->kd_cmd] : 0.0;
+                double qd = ch->q_cmd >= 0 ? c[ch->q_cmd] : q;
+                double dqd = ch->dq_cmd >= 0 ? c[ch->dq_cmd] : 0.0;
+                double ff = ch->tau_cmd >= 0 ? c[ch->tau_cmd] : 0.0;
+                tau = ff + kp * (qd - q) + kd * (dqd - dq);
+            }
+            break;
+        case LAW_VELOCITY:
+        case LAW_WHEEL:
+        case LAW_POSITION: {
+            /* the drive's own servo, with the arm's gravity compensation; it
+             * holds where it is until the first command, as a powered arm does */
+            double dqd = 0.0;
+            if (on && j->law == LAW_VELOCITY)
+                dqd = c[ch->dq_cmd];
+            if (on && j->law == LAW_WHEEL) /* joints[0] is the left wheel */
+                dqd = (c[s->mob_cmd[0]] + (k == 0 ? -0.5 : 0.5) * s->wheel_separation *
+                                              c[s->mob_cmd[1]]) / s->wheel_radius;
+            if (on && j->law == LAW_POSITION)
+                j->q_ref = c[ch->q_cmd];
+            else
+                j->q_ref += dqd * s->timestep;
+            if (s->dead)
+                break;
+            /* the reference never runs further ahead than the torque can pull */
+            double lead = s->velocity_kp > 0.0 ? fmax(-j->tau_lo, j->tau_hi) / s->velocity_kp : 0.0;
+            if (j->law != LAW_POSITION && j->q_ref - q > lead)
+                j->q_ref = q + lead;
+            if (j->law != LAW_POSITION && q - j->q_ref > lead)
+                j->q_ref = q - lead;
+            tau = d->qfrc_bias[j->dadr] + s->velocity_kp * (j->q_ref - q) +
+                  s->velocity_kd * (dqd - dq);
+            break;
+        }
+        default:
+            tau = on && ch->tau_cmd >= 0 ? c[ch->tau_cmd] : 0.0;
+            break;
+        }
+        if (tau > j->tau_hi || tau < j->tau_lo) {
+            tau = tau > j->tau_hi ? j->tau_hi : j->tau_lo;
+            s->saturated++;
+        }
+        if (!isfinite(tau))
+            tau = 0.0;
+        s->tau[k] = tau;
+        d->ctrl[j->act] = tau / j->gear;
+    }
+}
+
+/* The quadcopter's autopilot, one physics step: body velocities (x, y in
+ * the heading frame, z up) and a yaw rate become a total thrust along the
+ * body's z axis and body torques, as a flight controller's velocity mode
+ * does over its rotors; the wrench it gives the airframe (world frame) goes
+ * in @p out. Nothing before the first command, nor while the board is down. */
+static void autopilot(const roz_mujoco_t *s, mjtNum out[6])
+{
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    mju_zero(out, 6);
+    if (!s->have_cmd || s->dead)
+        return;
+    const mjtNum *R = d->xmat + 9 * s->base_body; /* body to world, row-major */
+    const mjtNum *v = d->qvel + s->base_dadr, *w = d->qvel + s->base_dadr + 3; /* world, body */
+    double yaw = atan2(R[3], R[0]), cy = cos(yaw), sy = sin(yaw);
+    const double *c = s->cmd;
+    double vx = c[s->mob_cmd[0]], vy = c[s->mob_cmd[1]];
+    double vw[3] = { cy * vx - sy * vy, sy * vx + cy * vy, c[s->mob_cmd[2]] };
+    double a[3] = { AP_KV_XY * (vw[0] - v[0]), AP_KV_XY * (vw[1] - v[1]), AP_KV_Z * (vw[2] - v[2]) };
+    double ah = sqrt(a[0] * a[0] + a[1] * a[1]), amax = 9.81 * tan(AP_MAX_TILT);
+    if (ah > amax) {
+        a[0] *= amax / ah;
+        a[1] *= amax / ah;
+    }
+    mjtNum F[3] = { s->mass * a[0], s->mass * a[1], s->mass * (a[2] + 9.81) };
+    if (F[2] < 0.0)
+        F[2] = 0.0;
+    mjtNum zb[3] = { R[2], R[5], R[8] }, zd[3], e[3], eb[3];
+    mju_copy3(zd, F);
+    if (mju_normalize3(zd) < 1e-9)
+        mju_copy3(zd, zb);
+    mju_cross(e, zb, zd);    /* the tilt that brings the body's z to zd, world frame */
+    mju_mulMatTVec3(eb, R, e); /* in the body's frame */
+    const mjtNum *I = mm->body_inertia + 3 * s->base_body;
+    mjtNum tb[3];
+    for (int k = 0; k < 2; k++) {
+        tb[k] = I[k] * (AP_OMEGA * AP_OMEGA * eb[k] - 2.0 * AP_ZETA * AP_OMEGA * w[k]);
+        tb[k] = tb[k] > AP_MAX_TORQUE_XY ? AP_MAX_TORQUE_XY : tb[k] < -AP_MAX_TORQUE_XY ? -AP_MAX_TORQUE_XY : tb[k];
+    }
+    tb[2] = I[2] * AP_YAW_BW * (c[s->mob_cmd[3]] - w[2]);
+    tb[2] = tb[2] > AP_MAX_TORQUE_Z ? AP_MAX_TORQUE_Z : tb[2] < -AP_MAX_TORQUE_Z ? -AP_MAX_TORQUE_Z : tb[2];
+    double thrust = mju_dot3(F, zb); /* what the rotors give: along the body's z only */
+    thrust = thrust < 0.0 ? 0.0 : thrust > s->max_thrust ? s->max_thrust : thrust;
+    mju_scl3(out, zb, thrust);
+    mju_mulMatVec3(out + 3, R, tb);
+}
+
+/* A diff drive's odometry, one physics step: its wheel encoders integrated,
+ * as the base's firmware does (wheel slip shows as odometry error). */
+static void odometry(roz_mujoco_t *s)
+{
+    const mjData *d = s->data;
+    double wl = d->qvel[s->joints[0].dadr], wr = d->qvel[s->joints[1].dadr];
+    double v = 0.5 * s->wheel_radius * (wl + wr);
+    double w = s->wheel_radius * (wr - wl) / s->wheel_separation;
+    s->odom[2] += w * s->timestep;
+    if (s->odom[2] > PI)
+        s->odom[2] -= 2.0 * PI;
+    if (s->odom[2] < -PI)
+        s->odom[2] += 2.0 * PI;
+    s->odom[0] += v * cos(s->odom[2]) * s->timestep;
+    s->odom[1] += v * sin(s->odom[2]) * s->timestep;
+}
+
+static void advance(roz_mujoco_t *s, uint64_t t)
+{
+    const mjModel *mm = s->model;
+    mjData *d = s->data;
+    int gantry = 0;
+    mju_zero(d->xfrc_applied, 6 * mm->nbody);
+    for (uint32_t i = 0; i < s->n_faults; i++) {
+        const roz_mujoco_fault_t *f = &s->faults[i];
+        if (f->kind == ROZ_MUJOCO_PUSH && active(f, t)) {
+            for (int k = 0; k < 3; k++)
+                d->xfrc_applied[6 * f->body + k] += f->force[k];
+        }
+        gantry |= f->kind == ROZ_MUJOCO_GANTRY && active(f, t);
+        if (f->kind == ROZ_MUJOCO_RESTART) {
+            if (t == f->from) {
+                s->dead = 1;
+                s->have_cmd = 0; /* a board that boots knows no command */
+            }
+            if (t == f->to && s->dead) {
+                s->dead = 0;
+                s->rebooted = 1;
+            }
+        }
+    }
+    if (s->gantry_eq >= 0) {
+        if (gantry && !d->eq_active[s->gantry_eq]) {
+            /* hung where it is now: the world's pose in the base's frame */
+            mjtNum *e = s->model->eq_data + mjNEQDATA * s->gantry_eq;
+            const mjtNum *pos = d->xpos + 3 * s->base_body, *q = d->xquat + 4 * s->base_body;
+            mjtNum qi[4], rel[3];
+            mju_negQuat(qi, q);
+            mju_rotVecQuat(rel, pos, qi);
+            mju_zero3(e);             /* anchor */
+            mju_scl3(e + 3, rel, -1); /* relpose position */
+            mju_copy4(e + 6, qi);     /* relpose orientation */
+            e[10] = 1.0;              /* torque scale */
+        }
+        d->eq_active[s->gantry_eq] = (mjtByte)gantry;
+    }
+    mjtNum ap[6] = { 0, 0, 0, 0, 0, 0 };
+    for (uint32_t k = 0; k < s->steps_per_tick; k++) {
+        drive(s);
+        if (s->mobile == MOBILE_AUTOPILOT) {
+            mjtNum *x = d->xfrc_applied + 6 * s->base_body;
+            mju_subFrom(x, ap, 6); /* the pushes stay, the last step's wrench goes */
+            autopilot(s, ap);
+            mju_addTo(x, ap, 6);
+        }
+        mj_step(mm, d);
+        if (s->mobile == MOBILE_WHEELS)
+            odometry(s);
+        s->steps++;
+    }
+}
+
+/* The state a real robot's sensors give now (manifest order), noise added. */
+static void sample(roz_mujoco_t *s, double *out)
+{
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    const roz_manifest_t *m = s->m;
+    for (uint16_t i = 0; i < m->n_states; i++)
+        out[i] = m->states[i].default_value;
+    for (uint16_t k = 0; k < s->n_joints; k++) {
+        const roz_mujoco_joint_t *j = &s->joints[k];
+        if (j->ch.q_state >= 0)
+            out[j->ch.q_state] = d->qpos[j->qadr] + gauss(s, s->noise_q);
+        if (j->ch.dq_state >= 0)
+            out[j->ch.dq_state] = d->qvel[j->dadr] + gauss(s, s->noise_dq);
+        if (j->ch.tau_state >= 0)
+            out[j->ch.tau_state] = s->tau[k] + gauss(s, s->noise_tau);
+    }
+    if (s->mobile == MOBILE_WHEELS) {
+        for (int k = 0; k < 3; k++)
+            out[s->mob_state[k]] = s->odom[k] + gauss(s, k < 2 ? s->noise_q : s->noise_q);
+    }
+    if (s->mobile == MOBILE_AUTOPILOT) {
+        const mjtNum *p = d->qpos + s->base_qadr, *R = d->xmat + 9 * s->base_body;
+        for (int k = 0; k < 3; k++)
+            out[s->mob_state[k]] = p[k] + gauss(s, s->noise_q);
+        out[s->mob_state[3]] = atan2(R[3], R[0]) + gauss(s, s->noise_q);
+    }
+    if (s->imu_site >= 0) {
+        mjtNum q[4]; /* w, x, y, z */
+        mju_mat2Quat(q, d->site_xmat + 9 * s->imu_site);
+        const double v[ROZ_IMU_VALUES] = {
+            q[1], q[2], q[3], q[0],
+            d->sensordata[s->gyro_adr] + gauss(s, s->noise_gyro),
+            d->sensordata[s->gyro_adr + 1] + gauss(s, s->noise_gyro),
+            d->sensordata[s->gyro_adr + 2] + gauss(s, s->noise_gyro),
+            d->sensordata[s->acc_adr] + gauss(s, s->noise_acc),
+            d->sensordata[s->acc_adr + 1] + gauss(s, s->noise_acc),
+            d->sensordata[s->acc_adr + 2] + gauss(s, s->noise_acc),
+        };
+        for (int k = 0; k < ROZ_IMU_VALUES; k++) {
+            if (s->imu[k] >= 0)
+                out[s->imu[k]] = v[k];
+        }
+    }
+    (void)mm;
+}
+
+static void update_base(roz_mujoco_t *s)
+{
+    const mjData *d = s->data;
+    roz_mujoco_base_t *b = &s->base;
+    b->sim_time = d->time;
+    b->steps = s->steps;
+    b->floating = s->base_qadr >= 0;
+    if (!b->floating)
+        return;
+    const mjtNum *p = d->qpos + s->base_qadr, *v = d->qvel + s->base_dadr;
+    for (int k = 0; k < 3; k++) {
+        b->pos[k] = p[k];
+        b->lin_vel[k] = v[k];
+        b->ang_vel[k] = v[3 + k];
+    }
+    for (int k = 0; k < 4; k++)
+        b->quat[k] = p[3 + k];
+    double w = p[3], x = p[4], y = p[5], z = p[6];
+    b->roll = atan2(2.0 * (w * x + y * z), 1.0 - 2.0 * (x * x + y * y));
+    double sp = 2.0 * (w * y - z * x);
+    b->pitch = asin(sp > 1.0 ? 1.0 : sp < -1.0 ? -1.0 : sp);
+    b->yaw = atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z));
+    if (b->pos[2] < b->min_height)
+        b->min_height = b->pos[2];
+    double tilt = fmax(fabs(b->roll), fabs(b->pitch));
+    if (tilt > b->max_tilt)
+        b->max_tilt = tilt;
+}
+
+static int mj_read(void *self, double *state, size_t n)
+{
+    roz_mujoco_t *s = self;
+    const roz_manifest_t *m = s->m;
+    if (s->data == NULL || n != m->n_states)
+        return ROZ_EINVAL;
+    uint64_t t = s->tick++;
+    if (t > 0)
+        advance(s, t);
+    update_base(s);
+
+    double *slot = s->hist[t % DEPTH];
+    sample(s, slot);
+    uint32_t delay = s->latency;
+    int lost = s->dead;
+    for (uint32_t i = 0; i < s->n_faults; i++) {
+        const roz_mujoco_fault_t *f = &s->faults[i];
+        if (!active(f, t))
+            continue;
+        if (f->kind == ROZ_MUJOCO_DROP || f->kind == ROZ_MUJOCO_FREEZE)
+            lost = 1;
+        if (f->kind == ROZ_MUJOCO_DELAY && delay + f->arg > delay)
+            delay += f->arg;
+    }
+    if (delay > ROZ_MUJOCO_MAX_DELAY)
+        delay = ROZ_MUJOCO_MAX_DELAY;
+    if (lost || t < delay) {
+        s->frames_dropped += lost;
+        if (s->frames == 0)
+            return ROZ_ENOENT;
+        return 0; /* state holds the previous frame: the caller's */
+    }
+    memcpy(state, s->hist[(t - delay) % DEPTH], n * sizeof *state);
+    s->frames++;
+    if (s->rebooted) {
+        s->rebooted = 0;
+        return ROZ_ELINK; /* the robot's board came back: a new link */
+    }
+    return 1;
+}
+
+static int mj_write(void *self, const double *cmd, size_t n)
+{
+    roz_mujoco_t *s = self;
+    if (s->data == NULL || n != s->m->n_commands)
+        return ROZ_EINVAL;
+    s->writes++;
+    if (s->dead || s->frames == 0) {
+        s->writes_withheld += s->frames == 0;
+        return ROZ_OK; /* nobody listens, or nothing is sent before the first state */
+    }
+    /* the runtime's filter is upstream; the drivers see nothing outside the
+     * manifest whoever calls write() */
+    s->clamped += roz_commands_clamp(s->m, cmd, s->cmd);
+    s->have_cmd = 1;
+    return ROZ_OK;
+}
+
+static void mj_close(void *self)
+{
+    close_model(self);
+}
+
+/* ---- public ------------------------------------------------------------------------ */
+
+/* The physics has no wire: every frame read() gave is one taken. */
+static int mj_link_counters(const void *self, roz_port_link_counters_t *out)
+{
+    const roz_mujoco_t *s = self;
+    memset(out, 0, sizeof *out);
+    out->accepted = s->frames;
+    return ROZ_OK;
+}
+
+/* In the summary: the simulator's truth, so that standing is told from
+ * fallen. Shut-down only: it formats. */
+static int mj_report(const void *self, roz_port_report_when_t when, char *buf, size_t len)
+{
+    const roz_mujoco_t *s = self;
+    roz_mujoco_base_t b;
+    int n, at;
+
+    if (when != ROZ_PORT_REPORT_SUMMARY || s->model == NULL) {
+        if (len > 0)
+            buf[0] = '\0';
+        return 0;
+    }
+    roz_mujoco_base(s, &b);
+    n = snprintf(buf, len,
+                 "physics                %.3f s simulated in %llu steps of %g s; %llu torques "
+                 "saturated at the effort limit; %llu values outside the manifest written\n",
+                 b.sim_time, (unsigned long long)b.steps, s->timestep,
+                 (unsigned long long)s->saturated, (unsigned long long)s->clamped);
+    at = n;
+    if (b.floating) {
+        n = snprintf(at >= 0 && (size_t)at < len ? buf + at : NULL,
+                     at >= 0 && (size_t)at < len ? len - (size_t)at : 0,
+                     "base                   height %.3f m (lowest %.3f), roll %.1f, pitch "
+                     "%.1f deg (largest tilt %.1f)\n",
+                     b.pos[2], b.min_height, b.roll * 57.29578, b.pitch * 57.29578,
+                     b.max_tilt * 57.29578);
+        at += n;
+    }
+    n = snprintf(at >= 0 && (size_t)at < len ? buf + at : NULL,
+                 at >= 0 && (size_t)at < len ? len - (size_t)at : 0,
+                 "ground contacts        %u", (unsigned)b.contacts);
+    at += n;
+    for (uint32_t i = 0; i < b.n_bodies; i++) {
+        n = snprintf(at >= 0 && (size_t)at < len ? buf + at : NULL,
+                     at >= 0 && (size_t)at < len ? len - (size_t)at : 0, "%s%s",
+                     i == 0 ? ": " : ", ", b.bodies[i]);
+        at += n;
+    }
+    return at;
+}
+
+static void mj_set_origin(void *self, const char *robot_toml)
+{
+    roz_mujoco_set_robot_file(self, robot_toml);
+}
+
+/* docs/ports/mujoco.md's table, one row a key. */
+static const roz_port_param_info_t mj_params[] = {
+    { "model", "an MJCF file", "the built-in robot's", "relative to the robot.toml" },
+    { "joint_names", "MANIFEST=MJCF,...", "the same names", "manifest joints bound to MJCF joints" },
+    { "keyframe", "a keyframe's name", "the built-in robot's", "the pose to start from" },
+    { "timestep", "1e-6..1 s", "the built-in robot's", "the physics step; a whole number a tick" },
+    { "imu_gyro", "a sensor's name", "the model's first gyro", "the IMU's angular velocity" },
+    { "imu_accelerometer", "a sensor's name", "the model's first", "the IMU's acceleration" },
+    { "servo_kp", "0..1e7", "400", "the velocity servo's stiffness, N m/rad" },
+    { "servo_kd", "0..1e6", "20", "the velocity servo's damping, N m s/rad" },
+    { "unbound", "lock|limp", "lock", "model joints no channel binds" },
+    { "wheel_left", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
+    { "wheel_right", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
+    { "wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels" },
+    { "wheel_separation", "1e-3..100 m", "0.230", "a differential drive's track" },
+    { "max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust" },
+    { "latency_ticks", "0..15", "0", "sensor latency" },
+    { "noise_seed", "0..4294967295", "1", "the noise's seed" },
+    { "noise_position", "0..1", "0", "Gaussian noise, standard deviation, channel unit" },
+    { "noise_velocity", "0..10", "0", "Gaussian noise on velocities" },
+    { "noise_effort", "0..100", "0", "Gaussian noise on efforts" },
+    { "noise_gyro", "0..10", "0", "Gaussian noise on the gyro" },
+    { "noise_accelerometer", "0..100", "0", "Gaussian noise on the accelerometer" },
+    { "drop", "FROM:TO", "", "state frames lost" },
+    { "freeze", "FROM[:TO]", "", "the robot sends nothing" },
+    { "delay", "K@FROM:TO", "", "frames K ticks late (1..15)" },
+    { "push", "FX,FY,FZ@BODY@FROM:TO", "", "a force, N, world frame, on a body" },
+    { "gantry", "FROM[:TO]", "", "the floating base hung where it is" },
+    { "restart", "FROM:TO", "", "the robot's board dies and boots at TO" },
+};
+
+static const roz_port_info_t mj_info = {
+    .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",
+    .header = "roz/port/mujoco.h",
+    .params = mj_params,
+    .n_params = sizeof mj_params / sizeof mj_params[0],
+    .no_crc = "physics in the same process: no wire, no CRC",
+    .no_sequence = "physics in the same process: no sequence numbers",
+    .no_link = "physics in the same process: no link to replay, restart or lose",
+};
+
+const roz_port_ops_t roz_mujoco_ops = {
+    .name = PORT,
+    .open = mj_open,
+    .activate = NULL,
+    .read = mj_read,
+    .write = mj_write,
+    .deactivate = NULL,
+    .close = mj_close,
+    .fault = NULL,
+    .caps = ROZ_PORT_CAP_SIMULATOR,
+    .info = &mj_info,
+    .link_counters = mj_link_counters,
+    .report = mj_report,
+    .set_origin = mj_set_origin,
+};
+
+roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
+{
+    memset(self, 0, sizeof *self); /* open frees a model only if it made one */
+    self->log = log;
+    self->log_ctx = log_ctx;
+    roz_port_t p = { &roz_mujoco_ops, self, 0 };
+    return p;
+}
+
+void roz_mujoco_set_robot_file(roz_mujoco_t *self, const char *robot_toml)
+{
+    self->robot_file = robot_toml;
+}
+
+int roz_mujoco_inject(roz_mujoco_t *s, const roz_mujoco_fault_t *f)
+{
+    if (f->kind < ROZ_MUJOCO_DROP || f->kind > ROZ_MUJOCO_RESTART)
+        return ROZ_EINVAL;
+    if (f->kind == ROZ_MUJOCO_DELAY && (f->arg < 1 || f->arg > ROZ_MUJOCO_MAX_DELAY))
+        return ROZ_EINVAL;
+    if (f->kind == ROZ_MUJOCO_PUSH &&
+        (s->model == NULL || f->body <= 0 || f->body >= s->model->nbody))
+        return ROZ_EINVAL;
+    if (f->kind == ROZ_MUJOCO_GANTRY && s->gantry_eq < 0)
+        return ROZ_EINVAL;
+    if (s->n_faults == ROZ_MUJOCO_MAX_FAULTS) {
+        uint32_t w = 0; /* forget the injections that are over */
+        for (uint32_t i = 0; i < s->n_faults; i++) {
+            if (s->faults[i].to == 0 || s->faults[i].to > s->tick)
+                s->faults[w++] = s->faults[i];
+        }
+        s->n_faults = w;
+        if (w == ROZ_MUJOCO_MAX_FAULTS)
+            return ROZ_ENOSPC;
+    }
+    s->faults[s->n_faults++] = *f;
+    return ROZ_OK;
+}
+
+const double *roz_mujoco_last_command(const roz_mujoco_t *s)
+{
+    return s->have_cmd && !s->dead ? s->cmd : NULL;
+}
+
+void roz_mujoco_base(const roz_mujoco_t *s, roz_mujoco_base_t *out)
+{
+    *out = s->base;
+    out->contacts = 0;
+    out->n_bodies = 0;
+    if (s->data == NULL)
+        return;
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    for (int i = 0; i < d->ncon; i++) {
+        int b1 = mm->geom_bodyid[d->contact[i].geom[0]], b2 = mm->geom_bodyid[d->contact[i].geom[1]];
+        if ((b1 == 0) == (b2 == 0))
+            continue; /* the robot with itself, or the world with itself */
+        int b = b1 == 0 ? b2 : b1;
+        out->contacts++;
+        const char *name = mj_id2name(mm, mjOBJ_BODY, b);
+        int seen = 0;
+        for (uint32_t k = 0; k < out->n_bodies && !seen; k++)
+            seen = strcmp(out->bodies[k], name != NULL ? name : "?") == 0;
+        if (!seen && out->n_bodies < ROZ_MUJOCO_MAX_CONTACT_BODIES) {
+            roz_format(out->bodies[out->n_bodies], ROZ_MUJOCO_NAME_MAX, "%s",
+                       name != NULL ? name : "?");
+            out->n_bodies++;
+        }
+    }
+}
