@@ -312,32 +312,14 @@ static int x2_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
 }
 
 
-/* The parameters every ROS 2 port takes (roz/port/ros2.h), then the port's own. */
-#define ROS2_PARAM_INFO                                                                        \
-    ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
-    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
-    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },      \
-    { "shutdown_damping", "the damping channels' range", "the channels' default",              \
-      "kd of the damping command at shut-down and on a watchdog trip" },                       \
-    { "link_check", "sequence|stamp", "sequence where the messages have one",                  \
-      "what the link checks run on" }
-
 static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
 {
     const roz_agibot_x2_t *x = self;
-    roz_ros2_counters_t c;
-    roz_link_t l;
-    uint64_t malformed = 0;
-    roz_ros2_link(&x->b, &l);
-    roz_ros2_counters(&x->b, &c);
-    for (uint16_t t = 0; t < c.n_topics; t++)
-        malformed += c.topic[t].malformed;
-    roz_link_port_counters(&l, malformed, out);
-    return ROZ_OK;
+    return roz_ros2_link_counters(&x->b, out);
 }
 
 static const roz_port_param_info_t x2_param_info[] = {
-    ROS2_PARAM_INFO,
+    ROZ_ROS2_PARAM_INFO,
     { "joint_state_layout", "sdk|docs", "sdk", "the joint_state messages' layout" },
 };
 

@@ -778,6 +778,19 @@ void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out)
         out->alive = 0;
 }
 
+int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t *out)
+{
+    roz_ros2_counters_t c;
+    roz_link_t l;
+    uint64_t malformed = 0;
+    roz_ros2_link(b, &l);
+    roz_ros2_counters(b, &c);
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        malformed += c.topic[t].malformed;
+    roz_link_port_counters(&l, malformed, out);
+    return ROZ_OK;
+}
+
 void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
 {
     memset(out, 0, sizeof *out);

@@ -338,6 +338,21 @@ int roz_ros2_topic_link(const roz_ros2_bridge_t *b, uint16_t t, roz_link_t *out)
 /** @brief The counters. Context: any thread (each value one atomic load). */
 void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out);
 
+/** @brief roz_ros2_link() and every topic's malformed samples, as a port's
+ *  link counters (roz_port_link_counters_t). Context: any thread. */
+int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t *out);
+
+/** The rows of the parameters every ROS 2 port takes in a port's parameter
+ *  table (roz_port_info_t::params): the DDS ports' own, then the bridge's. */
+#define ROZ_ROS2_PARAM_INFO                                                                    \
+    ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
+    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
+    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },      \
+    { "shutdown_damping", "the damping channels' range", "the channels' default",              \
+      "kd of the damping command at shut-down and on a watchdog trip" },                       \
+    { "link_check", "sequence|stamp", "sequence where the messages have one",                  \
+      "what the link checks run on" }
+
 /** @brief The fewest readers matched by any command writer, and the fewest
  *  writers matched by any state reader (a test waits for both to be >= 1).
  *  Context: any thread. */
