@@ -4,6 +4,8 @@
  * to lose, so the suite's link cases are skipped; a silent peer is a
  * one-tick freeze of the port's own fault injection, for the read that
  * follows. */
+/* white-box: the peer is the port's own simulated robot, read in place (roz/private.h) */
+#define ROZ_PRIVATE_ACCESS
 #include <string.h>
 
 #include "port_fixture.h"

@@ -1458,6 +1458,17 @@ void roz_mujoco_set_robot_file(roz_mujoco_t *self, const char *robot_toml)
     self->robot_file = robot_toml;
 }
 
+void roz_mujoco_counters(const roz_mujoco_t *self, roz_mujoco_counters_t *out)
+{
+    out->writes = self->writes;
+    out->writes_withheld = self->writes_withheld;
+    out->frames = self->frames;
+    out->frames_dropped = self->frames_dropped;
+    out->clamped = self->clamped;
+    out->saturated = self->saturated;
+    out->violations = self->violations;
+}
+
 int roz_mujoco_inject(roz_mujoco_t *s, const roz_mujoco_fault_t *f)
 {
     if (f->kind < ROZ_MUJOCO_DROP || f->kind > ROZ_MUJOCO_RESTART)

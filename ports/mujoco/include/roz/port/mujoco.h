@@ -25,6 +25,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/port.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -94,61 +95,72 @@ typedef struct roz_mujoco_base {
     uint64_t steps;            /**< physics steps since open */
 } roz_mujoco_base_t;
 
-/** The port's data; caller-owned. Fields are private to the port; tests
- *  read the counters. */
+/** The port's counters (roz_mujoco_counters()). */
+typedef struct roz_mujoco_counters {
+    uint64_t writes;
+    uint64_t writes_withheld; /**< before the first state frame: not applied */
+    uint64_t frames;          /**< fresh frames read() gave */
+    uint64_t frames_dropped;  /**< DROP, FREEZE, RESTART */
+    uint64_t clamped;         /**< written values clamped to the manifest */
+    uint64_t saturated;       /**< physics steps x joints whose torque was saturated */
+    uint64_t violations;      /**< values outside the manifest that reached the drivers: stays 0 */
+} roz_mujoco_counters_t;
+
+/** The port's data; caller-owned (give it static storage). Its fields are
+ *  private (roz/private.h): read it through the functions below. */
 typedef struct roz_mujoco {
-    roz_log_fn            log;
-    void                 *log_ctx;
-    const char           *robot_file; /**< robot.toml the model path is relative to; NULL: none */
-    const roz_manifest_t *m;
-    struct mjModel_      *model;
-    struct mjData_       *data;
-    char                  model_path[ROZ_MUJOCO_PATH_MAX];
-    double                timestep;
-    uint32_t              steps_per_tick;
-    uint64_t              tick;       /**< reads so far */
-    uint64_t              steps;      /**< physics steps so far */
+    roz_log_fn            ROZ_PRIVATE(log);
+    void                 *ROZ_PRIVATE(log_ctx);
+    const char           *ROZ_PRIVATE(robot_file); /**< robot.toml the model path is relative to; NULL: none */
+    const roz_manifest_t *ROZ_PRIVATE(m);
+    struct mjModel_      *ROZ_PRIVATE(model);
+    struct mjData_       *ROZ_PRIVATE(data);
+    char                  ROZ_PRIVATE(model_path)[ROZ_MUJOCO_PATH_MAX];
+    double                ROZ_PRIVATE(timestep);
+    uint32_t              ROZ_PRIVATE(steps_per_tick);
+    uint64_t              ROZ_PRIVATE(tick);       /**< reads so far */
+    uint64_t              ROZ_PRIVATE(steps);      /**< physics steps so far */
 
-    roz_mujoco_joint_t    joints[ROZ_MUJOCO_MAX_JOINTS];
-    uint16_t              n_joints;
-    int16_t               imu[ROZ_IMU_VALUES];
-    int32_t               gyro_adr, acc_adr, imu_site; /**< sensordata addresses, site id */
-    int32_t               base_jnt, base_body, base_qadr, base_dadr; /**< -1: fixed base */
-    int32_t               gantry_eq;  /**< the gantry's weld, -1 none */
-    double                velocity_kp, velocity_kd;
+    roz_mujoco_joint_t    ROZ_PRIVATE(joints)[ROZ_MUJOCO_MAX_JOINTS];
+    uint16_t              ROZ_PRIVATE(n_joints);
+    int16_t               ROZ_PRIVATE(imu)[ROZ_IMU_VALUES];
+    int32_t               ROZ_PRIVATE(gyro_adr), ROZ_PRIVATE(acc_adr), ROZ_PRIVATE(imu_site); /**< sensordata addresses, site id */
+    int32_t               ROZ_PRIVATE(base_jnt), ROZ_PRIVATE(base_body), ROZ_PRIVATE(base_qadr), ROZ_PRIVATE(base_dadr); /**< -1: fixed base */
+    int32_t               ROZ_PRIVATE(gantry_eq);  /**< the gantry's weld, -1 none */
+    double                ROZ_PRIVATE(velocity_kp), ROZ_PRIVATE(velocity_kd);
     /* a mobile base driven by body velocities (diff_drive, quadcopter) */
-    uint8_t               mobile;       /**< private: none, wheels or autopilot (mujoco.c) */
-    int16_t               mob_cmd[4];   /**< v, w (wheels); vx, vy, vz, yaw rate (autopilot) */
-    int16_t               mob_state[4]; /**< x, y, yaw (wheels); x, y, z, yaw (autopilot) */
-    double                wheel_radius, wheel_separation; /**< m */
-    double                odom[3];      /**< wheels: x, y, yaw from the encoders */
-    double                max_thrust;   /**< autopilot: N */
-    double                mass;         /**< autopilot: the airframe's, kg */
-    uint32_t              unbound;    /**< model joints locked because no channel binds them */
+    uint8_t               ROZ_PRIVATE(mobile);       /**< private: none, wheels or autopilot (mujoco.c) */
+    int16_t               ROZ_PRIVATE(mob_cmd)[4];   /**< v, w (wheels); vx, vy, vz, yaw rate (autopilot) */
+    int16_t               ROZ_PRIVATE(mob_state)[4]; /**< x, y, yaw (wheels); x, y, z, yaw (autopilot) */
+    double                ROZ_PRIVATE(wheel_radius), ROZ_PRIVATE(wheel_separation); /**< m */
+    double                ROZ_PRIVATE(odom)[3];      /**< wheels: x, y, yaw from the encoders */
+    double                ROZ_PRIVATE(max_thrust);   /**< autopilot: N */
+    double                ROZ_PRIVATE(mass);         /**< autopilot: the airframe's, kg */
+    uint32_t              ROZ_PRIVATE(unbound);    /**< model joints locked because no channel binds them */
 
-    double                cmd[ROZ_CFG_MAX_COMMANDS]; /**< the command the drivers apply */
-    int                   have_cmd;
-    int                   dead;       /**< RESTART: the board is down */
-    int                   rebooted;   /**< RESTART: read() reports ROZ_ELINK once */
+    double                ROZ_PRIVATE(cmd)[ROZ_CFG_MAX_COMMANDS]; /**< the command the drivers apply */
+    int                   ROZ_PRIVATE(have_cmd);
+    int                   ROZ_PRIVATE(dead);       /**< RESTART: the board is down */
+    int                   ROZ_PRIVATE(rebooted);   /**< RESTART: read() reports ROZ_ELINK once */
 
-    roz_mujoco_fault_t    faults[ROZ_MUJOCO_MAX_FAULTS];
-    uint32_t              n_faults;
-    uint32_t              latency;    /**< ticks */
-    double                noise_q, noise_dq, noise_tau, noise_gyro, noise_acc;
-    uint64_t              rng;        /**< the noise's state (seeded: deterministic) */
-    double                hist[ROZ_MUJOCO_MAX_DELAY + 1][ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    double                tau[ROZ_MUJOCO_MAX_JOINTS]; /**< last torque applied per joint */
+    roz_mujoco_fault_t    ROZ_PRIVATE(faults)[ROZ_MUJOCO_MAX_FAULTS];
+    uint32_t              ROZ_PRIVATE(n_faults);
+    uint32_t              ROZ_PRIVATE(latency);    /**< ticks */
+    double                ROZ_PRIVATE(noise_q), ROZ_PRIVATE(noise_dq), ROZ_PRIVATE(noise_tau), ROZ_PRIVATE(noise_gyro), ROZ_PRIVATE(noise_acc);
+    uint64_t              ROZ_PRIVATE(rng);        /**< the noise's state (seeded: deterministic) */
+    double                ROZ_PRIVATE(hist)[ROZ_MUJOCO_MAX_DELAY + 1][ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    double                ROZ_PRIVATE(tau)[ROZ_MUJOCO_MAX_JOINTS]; /**< last torque applied per joint */
 
-    roz_mujoco_base_t     base;
+    roz_mujoco_base_t     ROZ_PRIVATE(base);
 
     /* counters */
-    uint64_t              writes;
-    uint64_t              writes_withheld; /**< before the first state frame: not applied */
-    uint64_t              frames;          /**< fresh frames read() gave */
-    uint64_t              frames_dropped;  /**< DROP, FREEZE, RESTART */
-    uint64_t              clamped;         /**< written values clamped to the manifest */
-    uint64_t              saturated;       /**< physics steps x joints whose torque was saturated */
-    uint64_t              violations;      /**< values outside the manifest that reached the drivers: stays 0 */
+    uint64_t              ROZ_PRIVATE(writes);
+    uint64_t              ROZ_PRIVATE(writes_withheld); /**< before the first state frame: not applied */
+    uint64_t              ROZ_PRIVATE(frames);          /**< fresh frames read() gave */
+    uint64_t              ROZ_PRIVATE(frames_dropped);  /**< DROP, FREEZE, RESTART */
+    uint64_t              ROZ_PRIVATE(clamped);         /**< written values clamped to the manifest */
+    uint64_t              ROZ_PRIVATE(saturated);       /**< physics steps x joints whose torque was saturated */
+    uint64_t              ROZ_PRIVATE(violations);      /**< values outside the manifest that reached the drivers: stays 0 */
 } roz_mujoco_t;
 
 /** The ops table ("mujoco"). */
@@ -168,6 +180,10 @@ roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx);
  *  NULL: the working directory. After roz_mujoco_port(), before open.
  *  Context: start-up. */
 void roz_mujoco_set_robot_file(roz_mujoco_t *self, const char *robot_toml);
+
+/** @brief The counters. Context: the thread that ticks (the port has no
+ *  threads of its own), or after the tick stopped. */
+void roz_mujoco_counters(const roz_mujoco_t *self, roz_mujoco_counters_t *out);
 
 /**
  * @brief Add a fault injection (before or while running), from the tick's

@@ -32,6 +32,7 @@
 #include "roz/manifest.h"
 #include "roz/monitor.h"
 #include "roz/port.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -122,61 +123,61 @@ typedef struct roz_socketcan_tx_joint {
     uint64_t oldest_ns;      /* loss: when the oldest unanswered frame went out; 0 = none */
 } roz_socketcan_tx_joint_t;
 
-/** The port's data; caller-owned (static storage: it is large). Fields are
- *  private to the port: use the functions below. */
+/** The port's data; caller-owned (static storage: it is large). Its fields
+ *  are private (roz/private.h): use the functions below. */
 typedef struct roz_socketcan {
-    roz_can_config_t          cfg;
-    const roz_manifest_t     *m;
-    int                       given_fd;  /* from roz_socketcan_set_fd(); -1 = open the interface */
-    int                       fd;
-    int                       own_fd;
-    roz_log_fn                log;
-    void                     *log_ctx;
-    int                       opened, active;
-    roz_socketcan_shared_t    shared[ROZ_CAN_MAX_JOINTS];
-    roz_mit_codes_t           zero_codes[ROZ_CAN_MAX_JOINTS]; /* v, kp, kd, t codes of 0 */
-    char                      stale_text[ROZ_CAN_MAX_JOINTS][ROZ_SOCKETCAN_TEXT];
-    char                      jump_text[ROZ_CAN_MAX_JOINTS][ROZ_SOCKETCAN_TEXT];
+    roz_can_config_t          ROZ_PRIVATE(cfg);
+    const roz_manifest_t     *ROZ_PRIVATE(m);
+    int                       ROZ_PRIVATE(given_fd);  /* from roz_socketcan_set_fd(); -1 = open the interface */
+    int                       ROZ_PRIVATE(fd);
+    int                       ROZ_PRIVATE(own_fd);
+    roz_log_fn                ROZ_PRIVATE(log);
+    void                     *ROZ_PRIVATE(log_ctx);
+    int                       ROZ_PRIVATE(opened), ROZ_PRIVATE(active);
+    roz_socketcan_shared_t    ROZ_PRIVATE(shared)[ROZ_CAN_MAX_JOINTS];
+    roz_mit_codes_t           ROZ_PRIVATE(zero_codes)[ROZ_CAN_MAX_JOINTS]; /* v, kp, kd, t codes of 0 */
+    char                      ROZ_PRIVATE(stale_text)[ROZ_CAN_MAX_JOINTS][ROZ_SOCKETCAN_TEXT];
+    char                      ROZ_PRIVATE(jump_text)[ROZ_CAN_MAX_JOINTS][ROZ_SOCKETCAN_TEXT];
 
     /* receive thread */
-    roz_socketcan_rx_joint_t  rx[ROZ_CAN_MAX_JOINTS];
-    double                    rx_image[ROZ_SOCKETCAN_IMAGE];
-    roz_buffer_t              state_buf;
-    double                    state_slots[3 * ROZ_SOCKETCAN_IMAGE];
-    roz_link_t                link_total;  /* the sums of the joints' links, published */
+    roz_socketcan_rx_joint_t  ROZ_PRIVATE(rx)[ROZ_CAN_MAX_JOINTS];
+    double                    ROZ_PRIVATE(rx_image)[ROZ_SOCKETCAN_IMAGE];
+    roz_buffer_t              ROZ_PRIVATE(state_buf);
+    double                    ROZ_PRIVATE(state_slots)[3 * ROZ_SOCKETCAN_IMAGE];
+    roz_link_t                ROZ_PRIVATE(link_total);  /* the sums of the joints' links, published */
 
     /* writer thread */
-    roz_socketcan_tx_joint_t  tx[ROZ_CAN_MAX_JOINTS];
-    roz_buffer_t              cmd_buf;  /* the commands, then the watchdog's epoch and hold */
-    double                    cmd_slots[3 * (ROZ_CFG_MAX_COMMANDS + 2)];
-    double                    tx_cmd[ROZ_CFG_MAX_COMMANDS];
-    uint64_t                  tx_cmd_seq;
-    uint32_t                  tx_epoch;     /* the watchdog: the frame's epoch, */
-    int                       tx_hold;      /* whether it is a hold, */
-    uint64_t                  tx_stamp;     /* when the tick wrote it, */
-    uint32_t                  hold_rounds;  /* rounds that sent it (a group each) */
-    uint64_t                  last_round_ns;
-    roz_cmd_watchdog_t        watchdog;
-    uint32_t                  round;
-    roz_monitor_t             monitor;
+    roz_socketcan_tx_joint_t  ROZ_PRIVATE(tx)[ROZ_CAN_MAX_JOINTS];
+    roz_buffer_t              ROZ_PRIVATE(cmd_buf);  /* the commands, then the watchdog's epoch and hold */
+    double                    ROZ_PRIVATE(cmd_slots)[3 * (ROZ_CFG_MAX_COMMANDS + 2)];
+    double                    ROZ_PRIVATE(tx_cmd)[ROZ_CFG_MAX_COMMANDS];
+    uint64_t                  ROZ_PRIVATE(tx_cmd_seq);
+    uint32_t                  ROZ_PRIVATE(tx_epoch);     /* the watchdog: the frame's epoch, */
+    int                       ROZ_PRIVATE(tx_hold);      /* whether it is a hold, */
+    uint64_t                  ROZ_PRIVATE(tx_stamp);     /* when the tick wrote it, */
+    uint32_t                  ROZ_PRIVATE(hold_rounds);  /* rounds that sent it (a group each) */
+    uint64_t                  ROZ_PRIVATE(last_round_ns);
+    roz_cmd_watchdog_t        ROZ_PRIVATE(watchdog);
+    uint32_t                  ROZ_PRIVATE(round);
+    roz_monitor_t             ROZ_PRIVATE(monitor);
 
     /* the tick */
-    uint32_t                  tick_session[ROZ_CAN_MAX_JOINTS];
-    uint32_t                  tick_inconsistent[ROZ_CAN_MAX_JOINTS];
-    int                       fault_joint;  /* fault(): the joint, -1 none */
-    int                       fault_kind;   /* 1 error code, 2 consistency, 3 silent,
+    uint32_t                  ROZ_PRIVATE(tick_session)[ROZ_CAN_MAX_JOINTS];
+    uint32_t                  ROZ_PRIVATE(tick_inconsistent)[ROZ_CAN_MAX_JOINTS];
+    int                       ROZ_PRIVATE(fault_joint);  /* fault(): the joint, -1 none */
+    int                       ROZ_PRIVATE(fault_kind);   /* 1 error code, 2 consistency, 3 silent,
                                                4 command timeout */
-    uint32_t                  fault_code;
+    uint32_t                  ROZ_PRIVATE(fault_code);
 
     /* threads, counters */
-    ROZ_ATOMIC(int)           stop_rx;
-    ROZ_ATOMIC(int)           stop_tx;
-    ROZ_ATOMIC(uint64_t)      n[sizeof(roz_socketcan_counters_t) / sizeof(uint64_t)];
-    ROZ_ATOMIC(uint64_t)      link_n[6]; /* accepted, crc, replays, restarts, returns, missing */
-    unsigned long             rx_thread, tx_thread; /* pthread_t, kept opaque */
-    int                       rx_started, tx_started;
-    struct { long double align; unsigned char bytes[64]; } wake; /* sem_t, kept opaque */
-    int                       wake_ready;
+    ROZ_ATOMIC(int)           ROZ_PRIVATE(stop_rx);
+    ROZ_ATOMIC(int)           ROZ_PRIVATE(stop_tx);
+    ROZ_ATOMIC(uint64_t)      ROZ_PRIVATE(n)[sizeof(roz_socketcan_counters_t) / sizeof(uint64_t)];
+    ROZ_ATOMIC(uint64_t)      ROZ_PRIVATE(link_n)[6]; /* accepted, crc, replays, restarts, returns, missing */
+    unsigned long             ROZ_PRIVATE(rx_thread), ROZ_PRIVATE(tx_thread); /* pthread_t, kept opaque */
+    int                       ROZ_PRIVATE(rx_started), ROZ_PRIVATE(tx_started);
+    struct { long double align; unsigned char bytes[64]; } ROZ_PRIVATE(wake); /* sem_t, kept opaque */
+    int                       ROZ_PRIVATE(wake_ready);
 } roz_socketcan_t;
 
 /** The ops table. Parameters: robot.toml's [hardware.params] with the
