@@ -47,7 +47,7 @@ typedef struct roz_port_fault {
 
 /** @name Capabilities (roz_port_ops_t::caps): what a port's wire and its
  *  implementation offer, so that a consumer (rozrun, the conformance suite
- *  test/ports/test_port_conformance.c) need not know the port.
+ *  test/ports/common/test_port_conformance.c) need not know the port.
  *  @{ */
 /** Every state and command frame carries a CRC that the receiver checks. */
 #define ROZ_PORT_CAP_CRC         (1u << 0)

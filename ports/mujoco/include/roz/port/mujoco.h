@@ -6,7 +6,7 @@
  *        at every physics step, its sensors give what the real ones give.
  *
  * Everything is allocated at open (the model parsed and compiled, its data
- * made); read() and write() never allocate (test/mujoco: the heap counted
+ * made); read() and write() never allocate (test/ports/mujoco: the heap counted
  * through the tick). Time is simulated: each read() but the first advances
  * the physics by one control period, period / timestep steps, so the same
  * build gives the same trace bit for bit on every run. docs/ports/mujoco.md

@@ -8,7 +8,7 @@
  * one line per file on stdout: "FILE: ok" when the port opens (and is
  * closed again), "FILE: <the port's error>" when it refuses,
  * "FILE: [loader] ..." when roz's C loader refuses the file, "FILE: [no DDS
- * port]" for a robot of another port. test/ports/port_agreement.py compares
+ * port]" for a robot of another port. test/ports/common/port_agreement.py compares
  * these with rozgen's verdict on the same files. Exit status 0, or 2 on a
  * usage error.
  */

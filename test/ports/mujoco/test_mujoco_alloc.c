@@ -2,7 +2,7 @@
 /* No heap through the tick on the mujoco port: the G1 on the example stand
  * controller, every allocation of the process counted while it ticks (this
  * file defines malloc and its kin over glibc's own, so libmujoco's, a shared
- * library's, are seen too; test/ports/alloc_ticks.c does the same for
+ * library's, are seen too; test/ports/common/alloc_ticks.c does the same for
  * Cyclone's, around a port with threads of its own). */
 #define _GNU_SOURCE
 #include <errno.h>

@@ -29,7 +29,7 @@
  *    again, here nothing does, and each actuator keeps its last command.
  * A stuck actuator that still answers with its last values cannot be told
  * from a resting one by any of this; the port's check that position
- * follows velocity is tested in test/can/test_socketcan.c. */
+ * follows velocity is tested in test/ports/socketcan/test_socketcan.c. */
 /* white-box: the fake bus answers as the port's own joint table says (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #define _POSIX_C_SOURCE 200809L /* socketpair */

@@ -22,12 +22,12 @@
 
 #include <cmocka.h>
 
-#include "../support.h"
 #include "alloc_ticks.h"
 #include "engineai_pm01_manifest.h"
 #include "port_fixture.h"
 #include "ros2_fixture.h"
 #include "roz/runtime.h"
+#include "support.h"
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
 #include "agibot_x2_manifest.h"
 #endif

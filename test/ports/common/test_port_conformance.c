@@ -485,7 +485,7 @@ static void test_port_conformance_registry(void **st)
             e++;
         if (e->port == NULL)
             fail_msg("port %s (%s) is registered but has no conformance fixture "
-                     "(test/ports/port_fixture.h)", pe->ops->name, pe->id);
+                     "(test/ports/common/port_fixture.h)", pe->ops->name, pe->id);
         if (e->fixture == NULL) {
             print_message("%s: skipped: its fixture is not built here: %s\n", pe->ops->name,
                           e->unavailable);

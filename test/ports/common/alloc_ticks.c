@@ -14,9 +14,9 @@
 
 #include <cmocka.h>
 
-#include "../support.h"
 #include "roz/error.h"
 #include "roz/runtime.h"
+#include "support.h"
 
 /* ---- every allocation of the process ------------------------------------------ */
 

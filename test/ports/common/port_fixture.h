@@ -75,7 +75,7 @@ typedef struct roz_port_fixture {
 } roz_port_fixture_t;
 
 /* The fixtures this build holds, by port (its roz_add_port() NAME): one row
- * per fixture that test/ports/CMakeLists.txt builds, generated there
+ * per fixture that test/ports/common/CMakeLists.txt builds, generated there
  * (conformance_fixtures.c); a row with a NULL fixture says why it is not
  * built here. The table ends with a row whose port is NULL. The suite runs
  * every registered port's (roz/ports.h) and fails for a port without a row. */

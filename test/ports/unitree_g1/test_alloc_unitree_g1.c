@@ -22,11 +22,11 @@
 
 #include <cmocka.h>
 
-#include "../support.h"
 #include "alloc_ticks.h"
 #include "port_fixture.h"
-#include "roz/runtime.h"
 #include "roz/port/unitree_g1.h"
+#include "roz/runtime.h"
+#include "support.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_manifest.h"
 

@@ -11,7 +11,7 @@ import sys
 import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(HERE)))
 sys.path.insert(0, HERE)
 
 import mit_model as mm  # noqa: E402
@@ -101,4 +101,4 @@ def test_documented_quantisation_table():
 def test_vector_table_is_the_models():
     with open(os.path.join(HERE, "mit_vectors.txt"), encoding="ascii") as f:
         assert f.read() == "\n".join(mm.vectors()) + "\n", \
-            "stale: python test/can/mit_model.py --write test/can/mit_vectors.txt"
+            "stale: python test/ports/socketcan/mit_model.py --write test/ports/socketcan/mit_vectors.txt"

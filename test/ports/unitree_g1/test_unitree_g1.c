@@ -52,12 +52,12 @@
 #include <cmocka.h>
 #include <dds/dds.h>
 
-#include "../crc32_reference.h"
+#include "crc32_reference.h"
 #include "port_fixture.h"
 #include "port_test.h"
 #include "roz/runtime.h"
 #include "roz/port/unitree_g1.h"
-#include "../support.h"
+#include "support.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"

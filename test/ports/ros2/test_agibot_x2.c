@@ -37,13 +37,13 @@
 
 #include <cmocka.h>
 
-#include "../support.h"
 #include "agibot_x2_manifest.h"
 #include "port_fixture.h"
 #include "port_test.h"
 #include "ros2_fixture.h"
 #include "roz/port/agibot_x2.h"
 #include "roz/runtime.h"
+#include "support.h"
 
 static const roz_manifest_t *const m = &roz_manifest_agibot_x2;
 static roz_port_t port;
