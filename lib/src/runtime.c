@@ -681,6 +681,15 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.target = target;
     rec.applied = rt->out;
     rec.fault_message = NULL;
+    rec.truth = NULL;
+    /* a simulator's truth (roz/port.h): plain numbers copied, after the
+     * tick's read() and write(); test_recorder_truth and test_mujoco_alloc
+     * (no heap) prove it */
+    roz_port_truth_t truth;
+    if (roz_port_has_truth(&rt->cfg.port) && roz_port_truth(&rt->cfg.port, &truth) == ROZ_OK) {
+        rec.truth = &truth;
+        rec.flags |= ROZ_RECORD_TRUTH;
+    }
     roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
 }
 

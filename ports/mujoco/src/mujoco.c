@@ -1266,6 +1266,32 @@ static void update_base(roz_mujoco_t *s)
         b->max_tilt = tilt;
 }
 
+/* The contacts between the robot and the world (body 0) now, and the first
+ * @p cap distinct robot bodies in them, as ids into @p ids. Bounded by the
+ * model's contacts; no heap, no text: the tick may call it (mj_truth). */
+static uint32_t contact_bodies(const roz_mujoco_t *s, int32_t *ids, uint32_t cap, uint32_t *n_ids)
+{
+    uint32_t contacts = 0;
+    *n_ids = 0;
+    if (s->data == NULL)
+        return 0;
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    for (int i = 0; i < d->ncon; i++) {
+        int b1 = mm->geom_bodyid[d->contact[i].geom[0]], b2 = mm->geom_bodyid[d->contact[i].geom[1]];
+        if ((b1 == 0) == (b2 == 0))
+            continue; /* the robot with itself, or the world with itself */
+        int32_t b = b1 == 0 ? b2 : b1;
+        contacts++;
+        int seen = 0;
+        for (uint32_t k = 0; k < *n_ids && !seen; k++)
+            seen = ids[k] == b;
+        if (!seen && *n_ids < cap)
+            ids[(*n_ids)++] = b;
+    }
+    return contacts;
+}
+
 static int mj_read(void *self, double *state, size_t n)
 {
     roz_mujoco_t *s = self;
@@ -1382,6 +1408,37 @@ static int mj_report(const void *self, roz_port_report_when_t when, char *buf, s
     return at;
 }
 
+/* The recorder's /roz/truth (roz/port.h): the base as the last read() left
+ * it, the contacts of the physics now (read() stepped it; write() does
+ * not). Copies and one bounded loop: the tick calls it. */
+static int mj_truth(const void *self, roz_port_truth_t *out)
+{
+    const roz_mujoco_t *s = self;
+    const roz_mujoco_base_t *b = &s->base;
+    if (s->data == NULL)
+        return ROZ_ESTATE;
+    out->floating = b->floating ? 1u : 0u;
+    for (int k = 0; k < 3; k++)
+        out->pos[k] = b->floating ? b->pos[k] : NAN;
+    for (int k = 0; k < 4; k++)
+        out->quat[k] = b->floating ? b->quat[k] : NAN;
+    out->roll = b->floating ? b->roll : NAN;
+    out->pitch = b->floating ? b->pitch : NAN;
+    out->yaw = b->floating ? b->yaw : NAN;
+    out->contacts = contact_bodies(s, out->bodies, ROZ_PORT_TRUTH_MAX_BODIES, &out->n_bodies);
+    return ROZ_OK;
+}
+
+/* A body's name from the compiled model: read-only while the port is open,
+ * so the recorder's drain may ask from its own thread. */
+static const char *mj_truth_body(const void *self, int32_t id)
+{
+    const roz_mujoco_t *s = self;
+    if (s->model == NULL || id < 0 || id >= s->model->nbody)
+        return NULL;
+    return mj_id2name(s->model, mjOBJ_BODY, id);
+}
+
 static void mj_set_origin(void *self, const char *robot_toml)
 {
     roz_mujoco_set_robot_file(self, robot_toml);
@@ -1442,6 +1499,8 @@ const roz_port_ops_t roz_mujoco_ops = {
     .link_counters = mj_link_counters,
     .report = mj_report,
     .set_origin = mj_set_origin,
+    .truth = mj_truth,
+    .truth_body = mj_truth_body,
 };
 
 roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
@@ -1501,27 +1560,11 @@ const double *roz_mujoco_last_command(const roz_mujoco_t *s)
 
 void roz_mujoco_base(const roz_mujoco_t *s, roz_mujoco_base_t *out)
 {
+    int32_t ids[ROZ_MUJOCO_MAX_CONTACT_BODIES];
     *out = s->base;
-    out->contacts = 0;
-    out->n_bodies = 0;
-    if (s->data == NULL)
-        return;
-    const mjModel *mm = s->model;
-    const mjData *d = s->data;
-    for (int i = 0; i < d->ncon; i++) {
-        int b1 = mm->geom_bodyid[d->contact[i].geom[0]], b2 = mm->geom_bodyid[d->contact[i].geom[1]];
-        if ((b1 == 0) == (b2 == 0))
-            continue; /* the robot with itself, or the world with itself */
-        int b = b1 == 0 ? b2 : b1;
-        out->contacts++;
-        const char *name = mj_id2name(mm, mjOBJ_BODY, b);
-        int seen = 0;
-        for (uint32_t k = 0; k < out->n_bodies && !seen; k++)
-            seen = strcmp(out->bodies[k], name != NULL ? name : "?") == 0;
-        if (!seen && out->n_bodies < ROZ_MUJOCO_MAX_CONTACT_BODIES) {
-            roz_format(out->bodies[out->n_bodies], ROZ_MUJOCO_NAME_MAX, "%s",
-                       name != NULL ? name : "?");
-            out->n_bodies++;
-        }
+    out->contacts = contact_bodies(s, ids, ROZ_MUJOCO_MAX_CONTACT_BODIES, &out->n_bodies);
+    for (uint32_t k = 0; k < out->n_bodies; k++) {
+        const char *name = mj_id2name(s->model, mjOBJ_BODY, ids[k]);
+        roz_format(out->bodies[k], ROZ_MUJOCO_NAME_MAX, "%s", name != NULL ? name : "?");
     }
 }
