@@ -841,6 +841,16 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
     roz_monitor_set_threshold(&rt->monitor, ROZ_MON_PROCESS,
                               rt->cfg.budget_ns == ROZ_BUDGET_OFF ? 0 : rt->cfg.budget_ns);
+    /* A simulator's read() is where its time passes (the mujoco port steps
+     * its physics there, as a robot's time passes between a command and the
+     * next state), so its length is computation, not a transport's delay:
+     * the read threshold, meant for a wire, would warn on every tick. The
+     * read stays measured; a simulator slower than real time still warns
+     * through the tick threshold (the period). Stepping in write() instead
+     * would stop time whenever no command is written (before the first
+     * state, under a latency fault). test_runtime_simulator_read_not_warned. */
+    if (roz_port_caps(&rt->cfg.port) & ROZ_PORT_CAP_SIMULATOR)
+        roz_monitor_set_threshold(&rt->monitor, ROZ_MON_READ, 0);
     for (int i = 0; i < 2; i++) {
         roz_controller_init(&rt->slot[i].ctrl);
         roz_abi_init(&rt->slot[i].abi, m, rt->slot[i].target, &rt->metrics);
