@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The mujoco port: roz/port/mujoco.h says what, docs/ports/mujoco.md how to use
  * it; here is how it works. The only file that includes MuJoCo's headers. */
+#define _POSIX_C_SOURCE 200809L /* readlink() */
 #include "roz/port/mujoco.h"
 
 #include <math.h>
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <mujoco/mujoco.h>
 
@@ -57,9 +59,12 @@ static const char *const known_keys[] = {
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
 };
 
-/* The built-in robots' models, where this build found them (CMake: the
- * model wheels' folders, and this port's models/), and the parameters each
- * needs, as defaults a robot.toml's or the caller's parameters override. */
+/* The built-in robots' models: under the install prefix's share/roz/models
+ * (cmake --install puts them there, docs/ports/mujoco.md), found from the
+ * running program (<prefix>/bin/rozrun), else where this build found them
+ * (CMake: the model wheels' folders, and this port's models/). Each robot's
+ * parameters are defaults a robot.toml's or the caller's override; the
+ * model, defaults[0], is resolved by builtin_model(). */
 #ifndef ROZ_MUJOCO_G1_SCENE
 #define ROZ_MUJOCO_G1_SCENE ""
 #endif
@@ -69,6 +74,8 @@ static const char *const known_keys[] = {
 #ifndef ROZ_MUJOCO_MODELS
 #define ROZ_MUJOCO_MODELS ""
 #endif
+/* below the program's folder: <prefix>/bin/../share/roz/models/ */
+#define INSTALLED_MODELS "/../share/roz/models/"
 
 /* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
  * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
@@ -104,36 +111,72 @@ static const roz_param_t quadcopter_defaults[] = {
 
 typedef struct {
     const char        *robot_id;
+    const char        *installed; /* the model under share/roz/models/ */
     const roz_param_t *defaults;
     size_t             n;
 } builtin_t;
 
-#define BUILTIN(id, d) { id, d, sizeof d / sizeof d[0] }
+#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] }
 static const builtin_t builtins[] = {
-    BUILTIN("unitree_g1", g1_defaults),
-    BUILTIN("unitree_g1_23dof", g1_defaults),
-    BUILTIN("ur5", ur5_defaults),
-    BUILTIN("diff_drive", diff_drive_defaults),
-    BUILTIN("quadcopter", quadcopter_defaults),
+    BUILTIN("unitree_g1", "unitree_g1/scene.xml", g1_defaults),
+    BUILTIN("unitree_g1_23dof", "unitree_g1/scene.xml", g1_defaults),
+    BUILTIN("ur5", "universal_robots_ur5e/ur5e.xml", ur5_defaults),
+    BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
+    BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
 };
+#define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 
-static const builtin_t *find_builtin(const char *robot_id)
+static int readable(const char *path)
 {
-    for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++) {
-        /* defaults[0] is the model; "" (or a folder) when this build has none */
-        const char *model = builtins[i].defaults[0].value;
-        size_t n = strlen(model);
-        if (strcmp(builtins[i].robot_id, robot_id) == 0 && n > 4 &&
-            strcmp(model + n - 4, ".xml") == 0 && model[0] == '/')
-            return &builtins[i];
+    FILE *f = path[0] == '/' ? fopen(path, "rb") : NULL;
+    if (f != NULL)
+        fclose(f);
+    return f != NULL;
+}
+
+/* Where built-in robot @p i's model is: installed beside the program, else
+ * this build's; NULL: neither is there. Start-up only (open, and
+ * roz_mujoco_builtin_model()): it reads the file system, and its answers
+ * are kept in static storage. */
+static const char *builtin_model(size_t i)
+{
+    static char installed[N_BUILTINS][ROZ_MUJOCO_PATH_MAX];
+    char exe[ROZ_MUJOCO_PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        char *slash = strrchr(exe, '/');
+        if (slash != NULL) {
+            *slash = '\0';
+            int len = snprintf(installed[i], sizeof installed[i], "%s" INSTALLED_MODELS "%s",
+                               exe, builtins[i].installed);
+            if (len > 0 && (size_t)len < sizeof installed[i] && readable(installed[i]))
+                return installed[i];
+        }
+    }
+    const char *model = builtins[i].defaults[0].value;
+    size_t len = strlen(model);
+    if (len > 4 && strcmp(model + len - 4, ".xml") == 0 && readable(model))
+        return model;
+    return NULL;
+}
+
+/* Built-in robot @p robot_id and its model (*model), or NULL. */
+static const builtin_t *find_builtin(const char *robot_id, const char **model)
+{
+    for (size_t i = 0; i < N_BUILTINS; i++) {
+        if (strcmp(builtins[i].robot_id, robot_id) == 0) {
+            *model = builtin_model(i);
+            return *model != NULL ? &builtins[i] : NULL;
+        }
     }
     return NULL;
 }
 
 const char *roz_mujoco_builtin_model(const char *robot_id)
 {
-    const builtin_t *b = find_builtin(robot_id);
-    return b != NULL ? b->defaults[0].value : NULL;
+    const char *model = NULL;
+    return find_builtin(robot_id, &model) != NULL ? model : NULL;
 }
 
 /* MuJoCo's warnings (an unstable simulation, a full arena) go to stdout by
@@ -169,14 +212,19 @@ static int merge_params(const roz_manifest_t *m, const roz_params_t *extra, merg
     size_t n = 0;
     const size_t cap = sizeof out->items / sizeof out->items[0];
     /* a built-in robot's defaults first, unless a model of its own is named */
-    const builtin_t *b = find_builtin(m->robot_id);
+    const char *model = NULL;
+    const builtin_t *b = find_builtin(m->robot_id, &model);
     int own_model = roz_params_find(extra, "model") != NULL;
     if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
         roz_params_t hw = { m->hardware->params, m->hardware->n_params };
         own_model |= roz_params_find(&hw, "model") != NULL;
     }
-    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++)
-        out->items[n++] = b->defaults[i];
+    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++) {
+        out->items[n] = b->defaults[i];
+        if (i == 0)
+            out->items[n].value = model; /* installed, or this build's */
+        n++;
+    }
     if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
         for (uint16_t i = 0; i < m->hardware->n_params && n < cap; i++)
             out->items[n++] = m->hardware->params[i];
