@@ -100,7 +100,7 @@ def check(m: Manifest) -> list[tuple[str, str]]:
 #: the robots the port has built-in models for (mujoco.c's builtins): a
 #: robot.toml of one of them may leave ``model`` out, and the port loads
 #: the model of its build
-BUILTIN = ("unitree_g1", "unitree_g1_23dof", "ur5", "diff_drive", "quadcopter")
+BUILTIN = ("unitree_g1", "unitree_g1_23dof", "ur5", "diff_drive", "quadcopter", "engineai_pm01")
 
 _WHEELS = (("linear.x", "angular.z"), ("odom.x", "odom.y", "odom.yaw"))
 _AUTOPILOT = (("velocity.x", "velocity.y", "velocity.z", "yaw_rate"),

@@ -46,6 +46,9 @@ def _builtin_models() -> dict[str, tuple[Path | None, tuple]]:
                        (("wheel_left", "wheel_left_joint"), ("wheel_right", "wheel_right_joint"),
                         ("wheel_radius", "0.035"), ("wheel_separation", "0.230"))),
         "quadcopter": (TEAM_MODELS / "quadcopter.xml", (("max_thrust", "32"),)),
+        "engineai_pm01": (TEAM_MODELS / "engineai_pm01.xml",
+                          (("imu_accelerometer", "imu-linear-acceleration"),
+                           ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
     }
 
 

@@ -109,6 +109,16 @@ static const roz_param_t quadcopter_defaults[] = {
     { "max_thrust", "32" },
 };
 
+/* The PM01: 1 ms steps as the G1's, its base link's IMU (our placement:
+ * models/engineai_pm01.xml says what is EngineAI's and what is ours). */
+static const roz_param_t pm01_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "engineai_pm01.xml" },
+    { "keyframe", "stand" },
+    { "timestep", "0.001" },
+    { "imu_gyro", "imu-angular-velocity" },
+    { "imu_accelerometer", "imu-linear-acceleration" },
+};
+
 typedef struct {
     const char        *robot_id;
     const char        *installed; /* the model under share/roz/models/ */
@@ -123,6 +133,7 @@ static const builtin_t builtins[] = {
     BUILTIN("ur5", "universal_robots_ur5e/ur5e.xml", ur5_defaults),
     BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
     BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
+    BUILTIN("engineai_pm01", "engineai_pm01.xml", pm01_defaults),
 };
 #define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 
