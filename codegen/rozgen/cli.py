@@ -20,6 +20,7 @@ from rozgen.canonical import to_json
 from rozgen.load import load, source_label
 from rozgen.model import Manifest, Maxima
 from rozgen.output import write_if_changed
+from rozgen import mujoco
 from rozgen.problems import RULES, Problem
 from rozgen.render import REGISTRY_FILE, Source, render_registry, render_robot
 from rozgen.validate import validate
@@ -134,6 +135,12 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter) -> list[tuple
         manifest, problems = None, loaded.problems
         if loaded.doc is not None:
             manifest, problems = validate(loaded.doc, maxima)
+        if manifest is not None:
+            # what the file's model must hold (the mujoco port's, read from disk)
+            problems = [Problem(rule, message)
+                        for rule, message in mujoco.check_model(manifest, path)]
+            if problems:
+                manifest = None
         report(path, problems)
         if not problems:
             robots.append((path, manifest, loaded.sha256))

@@ -681,6 +681,15 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.target = target;
     rec.applied = rt->out;
     rec.fault_message = NULL;
+    rec.truth = NULL;
+    /* a simulator's truth (roz/port.h): plain numbers copied, after the
+     * tick's read() and write(); test_recorder_truth and test_mujoco_alloc
+     * (no heap) prove it */
+    roz_port_truth_t truth;
+    if (roz_port_has_truth(&rt->cfg.port) && roz_port_truth(&rt->cfg.port, &truth) == ROZ_OK) {
+        rec.truth = &truth;
+        rec.flags |= ROZ_RECORD_TRUTH;
+    }
     roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
 }
 
@@ -832,6 +841,16 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
     roz_monitor_set_threshold(&rt->monitor, ROZ_MON_PROCESS,
                               rt->cfg.budget_ns == ROZ_BUDGET_OFF ? 0 : rt->cfg.budget_ns);
+    /* A simulator's read() is where its time passes (the mujoco port steps
+     * its physics there, as a robot's time passes between a command and the
+     * next state), so its length is computation, not a transport's delay:
+     * the read threshold, meant for a wire, would warn on every tick. The
+     * read stays measured; a simulator slower than real time still warns
+     * through the tick threshold (the period). Stepping in write() instead
+     * would stop time whenever no command is written (before the first
+     * state, under a latency fault). test_runtime_simulator_read_not_warned. */
+    if (roz_port_caps(&rt->cfg.port) & ROZ_PORT_CAP_SIMULATOR)
+        roz_monitor_set_threshold(&rt->monitor, ROZ_MON_READ, 0);
     for (int i = 0; i < 2; i++) {
         roz_controller_init(&rt->slot[i].ctrl);
         roz_abi_init(&rt->slot[i].abi, m, rt->slot[i].target, &rt->metrics);

@@ -16,8 +16,9 @@
 # permitted (unshare -m, or -rm), the source tree, the build tree and the
 # virtual environment hidden under empty tmpfs mounts, the consumer is
 # configured (it must find <prefix>/bin/rozgen), built and run; the installed
-# rozrun runs the consumer's controller on the consumer's robot.toml, and the
-# installed roz_manifest_json and rozgen --json must print the same manifest.
+# rozrun runs the consumer's controller on the consumer's robot.toml (and, with
+# the mujoco port, on the built-in G1 in physics from the installed model), and
+# the installed roz_manifest_json and rozgen --json must print the same manifest.
 cmake_minimum_required(VERSION 3.25)
 
 function(run)
@@ -60,6 +61,24 @@ if(PHASE STREQUAL "installed")
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
       --controller ${WORK_DIR}/build/reach.wasm --ticks 100)
   run(${prefix}/bin/roz_manifest_info ur5)
+  # the mujoco port's built-in models, from the prefix alone (share/roz/models)
+  if(EXISTS ${prefix}/share/roz/models/unitree_g1/scene.xml)
+    execute_process(COMMAND ${prefix}/bin/rozrun --robot unitree_g1 --port mujoco --ticks 50
+                            --controller ${WORK_DIR}/build/reach.wasm --allow-other-robot
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT err MATCHES "${prefix}/bin/../share/roz/models/unitree_g1/scene.xml"
+       OR NOT out MATCHES "physics +0\\.098 s simulated.*faults +none|faults +none.*physics +0\\.098 s simulated")
+      message(FATAL_ERROR "the installed rozrun on the built-in G1 in physics (${rc}):\n"
+                          "${out}\n${err}")
+    endif()
+    foreach(f IN ITEMS unitree_g1/LICENSE universal_robots_ur5e/LICENSE
+                       universal_robots_ur5e/ur5e.xml diff_drive.xml quadcopter.xml)
+      if(NOT EXISTS ${prefix}/share/roz/models/${f})
+        message(FATAL_ERROR "the install has no share/roz/models/${f}")
+      endif()
+    endforeach()
+    message(STATUS "installed rozrun runs the built-in G1 on the installed model")
+  endif()
   foreach(tool IN ITEMS roz_manifest_json rozgen)
     set(json_flag "")
     if(tool STREQUAL "rozgen")

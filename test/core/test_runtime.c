@@ -319,6 +319,47 @@ static void test_runtime_nan_and_range_states(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* A read() that takes 200 us (of the test clock): a simulator's physics
+ * (ROZ_PORT_CAP_SIMULATOR) is measured but not warned about; the same read
+ * on a port with a wire exceeds the 100 us read threshold. */
+static roz_port_ops_t slow_ops;
+
+static int slow_read(void *self, double *state, size_t n)
+{
+    clk.now += 200000;
+    return roz_loopback_ops.read(self, state, n);
+}
+
+static void run_slow(uint32_t caps, roz_monitor_stat_t *out)
+{
+    roz_runtime_config_t cfg;
+    clk = (roz_test_clock_t){ 1000000, 1000 };
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
+    slow_ops = roz_loopback_ops;
+    slow_ops.read = slow_read;
+    slow_ops.caps = caps;
+    cfg.port.ops = &slow_ops;
+    roz_test_runtime_start(&rt, &cfg, NULL);
+    ticks(20);
+    assert_int_equal(roz_monitor_snapshot(roz_runtime_monitor(&rt), ROZ_MON_READ, out), ROZ_OK);
+    roz_runtime_deinit(&rt);
+}
+
+static void test_runtime_simulator_read_not_warned(void **st)
+{
+    roz_monitor_stat_t sim, wire;
+    (void)st;
+    run_slow(ROZ_PORT_CAP_SIMULATOR, &sim);
+    assert_int_equal(sim.count, 20);
+    assert_true(sim.max_ns >= 200000);
+    assert_int_equal(sim.exceeded, 0);
+    assert_int_equal(sim.warned, 0);
+    run_slow(0, &wire);
+    assert_int_equal(wire.count, 20);
+    assert_int_equal(wire.exceeded, 20);
+    assert_true(wire.warned >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -334,6 +375,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
+        cmocka_unit_test(test_runtime_simulator_read_not_warned),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

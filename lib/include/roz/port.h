@@ -111,6 +111,26 @@ typedef struct roz_port_link_counters {
                               (a port without a CRC: what it checks instead) */
 } roz_port_link_counters_t;
 
+/** Most bodies one truth sample names (roz_port_truth_t::bodies). */
+#define ROZ_PORT_TRUTH_MAX_BODIES 8
+
+/** A simulator's truth at a tick (roz_port_ops_t::truth): what no sensor
+ *  gives, so that a recording tells standing from fallen
+ *  (docs/recording.md, /roz/truth). Plain numbers: filled in the tick. */
+typedef struct roz_port_truth {
+    uint32_t floating;   /**< 1: the robot has a free-floating base, and the pose
+                              below is its; 0: fixed base, pose NaN */
+    double   pos[3];     /**< base position, m, world (pos[2]: its height above
+                              the world's origin, the ground) */
+    double   quat[4];    /**< base orientation w, x, y, z */
+    double   roll, pitch, yaw; /**< rad, Z-Y-X from quat */
+    uint32_t contacts;   /**< contacts between the robot and the world */
+    uint32_t n_bodies;   /**< robot bodies touching the world, at most
+                              ROZ_PORT_TRUTH_MAX_BODIES named */
+    int32_t  bodies[ROZ_PORT_TRUTH_MAX_BODIES]; /**< the port's body ids
+                              (roz_port_ops_t::truth_body names them) */
+} roz_port_truth_t;
+
 /** When roz_port_report() is asked for a port's own lines. */
 typedef enum roz_port_report_when {
     ROZ_PORT_REPORT_OPENED = 0, /**< after open: what it opened, one line */
@@ -176,6 +196,16 @@ typedef struct roz_port_ops {
      *  before open(). Optional: a port whose parameters name no file has
      *  none. Context: start-up. */
     void (*set_origin)(void *self, const char *robot_toml);
+    /** A simulator's truth after the last read() (roz_port_truth_t), which
+     *  the runtime copies into the flight recorder's record of the tick.
+     *  Optional: a real robot's port has none. Context: the tick, after
+     *  read(); RT-safe: no heap, no formatting, bounded. */
+    int (*truth)(const void *self, roz_port_truth_t *out);
+    /** The name of body @p id of a truth sample, in storage that lives as
+     *  long as the port is open; NULL for an id it does not know. Optional
+     *  (with truth). Context: any thread while the port is open (the
+     *  recorder's drain); never formats in the tick. */
+    const char *(*truth_body)(const void *self, int32_t id);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -266,8 +296,6 @@ static inline int roz_port_link_counters(const roz_port_t *p, roz_port_link_coun
     return ROZ_ENOTSUP;
 }
 
-/** @brief report(); an empty text (0) when the port has none.
- *  Context: start-up or shut-down, never the tick. */
 /** @brief set_origin(), if any: @p robot_toml is the file the manifest was
  *  read from (it must outlive the port). Context: start-up, before open. */
 static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_toml)
@@ -276,6 +304,28 @@ static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_to
         p->ops->set_origin(p->self, robot_toml);
 }
 
+/** @brief 1 when the port gives truth samples (a simulator). Context: any. */
+static inline int roz_port_has_truth(const roz_port_t *p)
+{
+    return p->ops->truth != NULL;
+}
+
+/** @brief truth(); ROZ_ENOTSUP when the port has none.
+ *  Context: the tick, after read(); RT-safe. */
+static inline int roz_port_truth(const roz_port_t *p, roz_port_truth_t *out)
+{
+    return p->ops->truth != NULL ? p->ops->truth(p->self, out) : ROZ_ENOTSUP;
+}
+
+/** @brief truth_body(): a truth sample's body name; NULL when unknown.
+ *  Context: any thread while the port is open. */
+static inline const char *roz_port_truth_body(const roz_port_t *p, int32_t id)
+{
+    return p->ops->truth_body != NULL ? p->ops->truth_body(p->self, id) : NULL;
+}
+
+/** @brief report(); an empty text (0) when the port has none.
+ *  Context: start-up or shut-down, never the tick. */
 static inline int roz_port_report(const roz_port_t *p, roz_port_report_when_t when, char *buf,
                                   size_t len)
 {

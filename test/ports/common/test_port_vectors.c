@@ -77,6 +77,37 @@ static void expected_line(const char *name, char *out, size_t len)
     *nl = '\0';
 }
 
+/* The mujoco port's errors name the robot.toml it opened ("mujoco: FILE: ")
+ * and the model by the path it resolved; rozgen's name them as the file
+ * was given, from the repository root: the port's words without the
+ * prefix, the paths taken from the source root. */
+static void mujoco_words(const char *path, char *err)
+{
+    char buf[1024];
+    const char *e = err;
+    size_t pl = strlen(path);
+    if (strncmp(e, "mujoco: ", 8) == 0 && strncmp(e + 8, path, pl) == 0 && e[8 + pl] == ':')
+        e += 8 + pl + 2;
+    const char *root = ROZ_SOURCE_DIR "/";
+    size_t rl = strlen(root), k = 0;
+    while (*e != '\0' && k + 1 < sizeof buf) {
+        if (strncmp(e, root, rl) == 0) {
+            e += rl;
+            continue;
+        }
+        buf[k++] = *e++;
+    }
+    buf[k] = '\0';
+    memcpy(err, buf, k + 1);
+}
+
+/* Vectors of a model MuJoCo's own reader refuses (not there, an include
+ * not there): both refuse them, each in its reader's words. */
+static int read_by_mujoco(const char *name)
+{
+    return strncmp(name, "mujoco-model", 12) == 0 && strcmp(name, "mujoco-model--missing.toml") != 0;
+}
+
 static void test_port_vectors_agree(void **state)
 {
     unsigned g1_vectors = 0, ros2_vectors = 0, mujoco_vectors = 0, failed = 0;
@@ -102,7 +133,11 @@ static void test_port_vectors_agree(void **state)
             failed++;
             continue;
         }
+        if (read_by_mujoco(names[i]))
+            continue; /* refused (above), in MuJoCo's words */
         expected_line(names[i], want, sizeof want);
+        if (strcmp(port_name, "mujoco") == 0)
+            mujoco_words(path, err);
         snprintf(got, sizeof got, "%s/%s: %s", VECTORS, names[i], err);
         if (strcmp(got, want) != 0) {
             print_error("%s:\n  port:   %s\n  rozgen: %s\n", names[i], got, want);
@@ -116,7 +151,7 @@ static void test_port_vectors_agree(void **state)
     assert_true(g1_vectors >= 10);
     assert_true(ros2_vectors >= 8);
 #ifdef ROZ_TEST_HAVE_MUJOCO
-    assert_true(mujoco_vectors >= 3);
+    assert_true(mujoco_vectors >= 14);
 #endif
 }
 

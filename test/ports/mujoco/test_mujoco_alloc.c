@@ -18,6 +18,7 @@
 
 #include "roz/builtin.h"
 #include "roz/port/mujoco.h"
+#include "roz/recorder.h"
 #include "roz/runtime.h"
 #include "support.h"
 
@@ -91,6 +92,15 @@ void free(void *p)
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
+static int truths;
+
+static int truth_seen(void *ctx, const roz_record_t *r)
+{
+    (void)ctx;
+    truths += r->truth != NULL && r->truth->floating == 1u && r->truth->pos[2] > 0.5;
+    return 0;
+}
+
 static void test_mujoco_alloc_none_in_the_tick(void **state)
 {
     (void)state;
@@ -115,6 +125,12 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     cfg.clock_ctx = &clk;
     cfg.budget_ns = UINT64_MAX;
     cfg.monitor_jitter = 0;
+    /* the recorder on: the tick copies the port's truth sample too (its
+     * drain, which names the bodies, runs after the counted ticks) */
+    static roz_recorder_t rec;
+    static uint64_t ring[(4u << 20) / 8u];
+    assert_int_equal(roz_recorder_init(&rec, m, ring, sizeof ring, 1), ROZ_OK);
+    cfg.recorder = &rec;
     size_t len;
     const uint8_t *w = roz_test_controller("g1_stand", &len);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
@@ -148,6 +164,9 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     assert_true(b.steps >= 2u * ticks);
     assert_true(at_open > 0);
     assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(roz_recorder_dropped(&rec), 0);
+    assert_int_equal(roz_recorder_drain(&rec, truth_seen, NULL, 0), ticks + 1);
+    assert_int_equal(truths, ticks + 1);
     roz_runtime_deinit(&rt);
     roz_port_close(&p);
 }

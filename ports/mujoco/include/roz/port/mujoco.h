@@ -204,7 +204,10 @@ void roz_mujoco_base(const roz_mujoco_t *self, roz_mujoco_base_t *out);
 const double *roz_mujoco_last_command(const roz_mujoco_t *self);
 
 /** @brief The built-in model of robot @p robot_id ("unitree_g1", "ur5"):
- *  its MJCF path, or NULL when this build has none. Context: any. */
+ *  its MJCF path, under the install prefix of the running program
+ *  (<prefix>/bin/../share/roz/models/) when it is there, else where this
+ *  build found it; NULL when neither is there. Context: start-up (it reads
+ *  the file system; the path is kept in static storage). */
 const char *roz_mujoco_builtin_model(const char *robot_id);
 
 #ifdef __cplusplus
