@@ -16,8 +16,10 @@
 # permitted (unshare -m, or -rm), the source tree, the build tree and the
 # virtual environment hidden under empty tmpfs mounts, the consumer is
 # configured (it must find <prefix>/bin/rozgen), built and run; the installed
-# rozrun runs the consumer's controller on the consumer's robot.toml, and the
-# installed roz_manifest_json and rozgen --json must print the same manifest.
+# rozrun runs the consumer's controller on the consumer's robot.toml (with a
+# trace and a recording, which the installed roz-plot and roz-recording read
+# and plot), and the installed roz_manifest_json and rozgen --json must print
+# the same manifest.
 cmake_minimum_required(VERSION 3.25)
 
 function(run)
@@ -58,7 +60,18 @@ if(PHASE STREQUAL "installed")
     run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
   endif()
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
-      --controller ${WORK_DIR}/build/reach.wasm --ticks 100)
+      --controller ${WORK_DIR}/build/reach.wasm --ticks 100
+      --trace ${WORK_DIR}/run.csv --record ${WORK_DIR}/run.mcap)
+  # The Python tools, from the prefix alone, on what that run wrote.
+  run(${prefix}/bin/roz-plot ${WORK_DIR}/run.csv ${WORK_DIR}/run.png)
+  run(${prefix}/bin/roz-recording check ${WORK_DIR}/run.mcap)
+  run(${prefix}/bin/roz-recording plot ${WORK_DIR}/run.mcap ${WORK_DIR}/run_mcap.png)
+  foreach(png IN ITEMS run.png run_mcap.png)
+    file(READ ${WORK_DIR}/${png} magic LIMIT 8 HEX)
+    if(NOT magic STREQUAL "89504e470d0a1a0a")
+      message(FATAL_ERROR "the installed tools wrote no PNG ${png} (${magic})")
+    endif()
+  endforeach()
   run(${prefix}/bin/roz_manifest_info ur5)
   foreach(tool IN ITEMS roz_manifest_json rozgen)
     set(json_flag "")
@@ -75,7 +88,8 @@ if(PHASE STREQUAL "installed")
     message(FATAL_ERROR "roz_manifest_json and rozgen --json disagree:\n"
                         "${json_roz_manifest_json}\n---\n${json_rozgen}")
   endif()
-  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info and rozgen work")
+  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, roz-plot "
+                 "and roz-recording work")
   return()
 endif()
 
@@ -160,6 +174,7 @@ foreach(f IN LISTS installed)
   math(EXPR scanned "${scanned} + 1")
 endforeach()
 foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
+                      bin/roz-plot bin/roz-recording
                       include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${must})
     message(FATAL_ERROR "the install has no ${must}")
