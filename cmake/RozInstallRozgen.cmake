@@ -7,6 +7,7 @@
 #                             (codegen/requirements.txt: jinja2, markupsafe),
 #                             which pip puts there at install time
 #   <prefix>/bin/rozgen       a launcher that runs rozgen from ../lib/roz/python
+#                             (and bin/rozgen-urdf, rozgen's URDF importer)
 #                             with the Python it was installed for
 #                             (ROZ_ROZGEN_PYTHON)
 # The dependencies' wheels come from the folder ROZ_PYTHON_WHEELS without a
@@ -70,8 +71,15 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/rozgen DESTINATION ${_roz_pydir}
 cmake_path(ABSOLUTE_PATH CMAKE_INSTALL_BINDIR BASE_DIRECTORY /prefix OUTPUT_VARIABLE _bin)
 cmake_path(ABSOLUTE_PATH _roz_pydir BASE_DIRECTORY /prefix OUTPUT_VARIABLE _py)
 file(RELATIVE_PATH ROZ_ROZGEN_PYDIR_FROM_BIN ${_bin} ${_py})
-configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in ${PROJECT_BINARY_DIR}/roz_install/rozgen @ONLY)
-install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/rozgen DESTINATION ${CMAKE_INSTALL_BINDIR})
+# rozgen-urdf (URDF to robot.toml) needs nothing more than rozgen.
+foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf")
+  list(GET _cmd 0 ROZ_ROZGEN_COMMAND)
+  list(GET _cmd 1 ROZ_ROZGEN_MODULE)
+  configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in
+                 ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND} @ONLY)
+  install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND}
+          DESTINATION ${CMAKE_INSTALL_BINDIR})
+endforeach()
 
 set(_roz_requirements "-r \"${PROJECT_SOURCE_DIR}/codegen/requirements.txt\"")
 set(_roz_requirements_what "codegen/requirements.txt")

@@ -88,8 +88,11 @@ if(PHASE STREQUAL "installed")
     message(FATAL_ERROR "roz_manifest_json and rozgen --json disagree:\n"
                         "${json_roz_manifest_json}\n---\n${json_rozgen}")
   endif()
-  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, roz-plot "
-                 "and roz-recording work")
+  # rozgen-urdf: a robot.toml from a URDF, which the installed rozgen accepts
+  run(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
+  run(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
+  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, rozgen-urdf, "
+                 "roz-plot and roz-recording work")
   return()
 endif()
 
@@ -111,6 +114,7 @@ foreach(f IN ITEMS CMakeLists.txt main.c reach.c g1_link.c ros2_link.c small_con
 endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
 file(COPY_FILE ${ROZ_SOURCE_DIR}/manifests/unitree_g1.toml ${WORK_DIR}/src/big_robot.toml)
+file(COPY_FILE ${ROZ_SOURCE_DIR}/codegen/tests/data/urdf/lift.urdf ${WORK_DIR}/src/lift.urdf)
 
 if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
   run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
@@ -174,7 +178,7 @@ foreach(f IN LISTS installed)
   math(EXPR scanned "${scanned} + 1")
 endforeach()
 foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
-                      bin/roz-plot bin/roz-recording
+                      bin/rozgen-urdf bin/roz-plot bin/roz-recording
                       include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${must})
     message(FATAL_ERROR "the install has no ${must}")
