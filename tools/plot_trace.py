@@ -2,10 +2,14 @@
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
+                               [--channels REGEX]
+    roz-plot ...                 (the same, installed with roz)
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>..., faults, events (see tools/rozrun/trace.h). Up to six
-commands and six position states are drawn. Ticks with a fault latched are
+state:<state>..., faults, events (see tools/rozrun/trace.h). Every command
+and every position state is drawn, six to a pair of axes (commands above,
+positions below), in as many pairs as it takes; --channels REGEX draws only
+those whose names match. Ticks with a fault latched are
 shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before
 the faults and events columns existed plot without them. With --compare, a
@@ -15,6 +19,7 @@ side; tools/recording.py compare does the same for two recordings).
 import argparse
 import csv
 import math
+import re
 import sys
 
 import matplotlib
@@ -94,46 +99,98 @@ def mark(axes, t, cols):
                          bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7))
 
 
-def draw(ax1, ax2, header, cols, label=""):
-    """One run: commanded vs applied on ax1, the position states on ax2."""
+#: Channels drawn on one pair of axes; more make more pairs (rows).
+PER_AXES = 6
+
+
+def channels(header, pattern=None):
+    """The trace's commands and position states, in file order, those whose
+    name (without its target:/applied:/state: prefix) matches the regular
+    expression pattern (re.search) when one is given."""
+    commands = [h[len("applied:"):] for h in header if h.startswith("applied:")]
+    positions = [h[len("state:"):] for h in header
+                 if h.startswith("state:") and h.endswith("/position")]
+    if pattern:
+        commands = [n for n in commands if pattern.search(n)]
+        positions = [n for n in positions if pattern.search(n)]
+    return commands, positions
+
+
+def rows_needed(header, pattern=None):
+    """Pairs of axes (command row, position row) one run needs: every channel
+    is drawn, PER_AXES to a pair."""
+    commands, positions = channels(header, pattern)
+    return max(1, math.ceil(len(commands) / PER_AXES), math.ceil(len(positions) / PER_AXES))
+
+
+def draw(axes, header, cols, label="", pattern=None):
+    """One run on a column of axes: pairs of (commanded vs applied, position
+    states), PER_AXES channels to each, until every channel is drawn."""
     t = cols["time_s"]
-    commands = [h[len("applied:"):] for h in header if h.startswith("applied:")][:6]
-    positions = [h for h in header if h.startswith("state:") and h.endswith("/position")][:6]
+    commands, positions = channels(header, pattern)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for i, name in enumerate(commands):
-        c = colors[i % len(colors)]
-        target = cols[f"target:{name}"]
-        if not all(math.isnan(v) for v in target):
-            ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
-        ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
-    mark((ax1, ax2), t, cols)
-    ax1.set_ylabel("command")
+    pairs = len(axes) // 2
+    for g in range(pairs):
+        ax1, ax2 = axes[2 * g], axes[2 * g + 1]
+        group = commands[g * PER_AXES:(g + 1) * PER_AXES]
+        for i, name in enumerate(group):
+            c = colors[i % len(colors)]
+            target = cols[f"target:{name}"]
+            if not all(math.isnan(v) for v in target):
+                ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
+            ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
+        for i, name in enumerate(positions[g * PER_AXES:(g + 1) * PER_AXES]):
+            ax2.plot(t, cols[f"state:{name}"], color=colors[i % len(colors)], label=name)
+        part = f" {g * PER_AXES + 1}-{min((g + 1) * PER_AXES, max(len(commands), len(positions)))}"
+        ax1.set_ylabel("command" + (part if pairs > 1 else ""))
+        ax2.set_ylabel("position state" + (part if pairs > 1 else ""))
+        for ax in (ax1, ax2):
+            if ax.lines:
+                ax.legend(fontsize=7, ncol=3, loc="upper right")
+            ax.grid(alpha=0.3)
+    mark(axes, t, cols)
     what = "commanded (dotted) vs applied after the safety filter (solid)"
-    ax1.set_title(f"{label}: {what}" if label else what, fontsize=9 if label else None)
-    ax1.legend(fontsize=7, ncol=3, loc="upper right")
-    ax1.grid(alpha=0.3)
-    for i, name in enumerate(positions):
-        ax2.plot(t, cols[name], color=colors[i % len(colors)], label=name[len("state:"):])
-    ax2.set_ylabel("position state")
-    ax2.set_xlabel("time [s]")
-    ax2.legend(fontsize=7, ncol=3, loc="upper right")
-    ax2.grid(alpha=0.3)
+    axes[0].set_title(f"{label}: {what}" if label else what, fontsize=9 if label else None)
+    axes[-1].set_xlabel("time [s]")
 
 
-def plot(runs, png, title=""):
-    """Plots one run, or several side by side (same axes): runs is a list of
-    (header, cols, label)."""
+def figure(runs, title="", pattern=None):
+    """The figure of one run, or several side by side (same axes): runs is a
+    list of (header, cols, label); pattern a compiled regular expression
+    that picks channels, or None for all."""
     n = len(runs)
-    fig, axes = plt.subplots(2, n, figsize=(11 * n if n == 1 else 8 * n, 7.5), sharex=True,
-                             sharey="row", squeeze=False)
+    pairs = max(rows_needed(header, pattern) for header, _, _ in runs)
+    fig, axes = plt.subplots(2 * pairs, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * 2 * pairs),
+                             sharex=True, sharey="row", squeeze=False)
     for k, (header, cols, label) in enumerate(runs):
-        draw(axes[0][k], axes[1][k], header, cols, label)
+        draw([axes[r][k] for r in range(2 * pairs)], header, cols, label, pattern)
     if title:
         fig.suptitle(title)
     fig.tight_layout()
+    return fig
+
+
+def plot(runs, png, title="", pattern=None):
+    """Draws runs (figure()) into png."""
+    fig = figure(runs, title, pattern)
     fig.savefig(png, dpi=100)
     plt.close(fig)
     print(f"plot: {png}")
+
+
+def channel_filter(text, headers):
+    """--channels REGEX compiled; exits naming the channels when it is not a
+    regular expression or matches none of them."""
+    if text is None:
+        return None
+    try:
+        pattern = re.compile(text)
+    except re.error as e:
+        sys.exit(f"--channels {text!r}: not a regular expression: {e}")
+    if not any(any(channels(h, pattern)) for h in headers):
+        names = sorted({n for h in headers for part in channels(h) for n in part})
+        sys.exit(f"--channels {text!r} matches no channel; the trace has: {', '.join(names)}")
+    return pattern
 
 
 def main():
@@ -143,11 +200,14 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--compare", metavar="TRACE",
                     help="a second trace, drawn beside the first on the same axes")
+    ap.add_argument("--channels", metavar="REGEX",
+                    help="draw only the commands and position states whose names match "
+                         "(re.search), e.g. 'joint[67]|gripper'; default: all")
     a = ap.parse_args()
     runs = [(*read(a.trace), a.trace if a.compare else "")]
     if a.compare:
         runs.append((*read(a.compare), a.compare))
-    plot(runs, a.png, a.title)
+    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]))
 
 
 if __name__ == "__main__":

@@ -7,6 +7,9 @@ rozrun's CSV trace, plot it, or plot two recordings side by side.
     python tools/recording.py plot run.mcap out.png [--title TEXT]
     python tools/recording.py compare a.mcap b.mcap out.png [--title TEXT]
     python tools/recording.py truth run.mcap [out.csv]
+    roz-recording ...                 (the same, installed with roz)
+
+plot and compare take --channels REGEX (tools/plot_trace.py's).
 
 The CSV has the columns of rozrun's --trace (tools/rozrun/trace.h): tick,
 time_s, target:<command>..., applied:<command>..., state:<state>..., faults,
@@ -274,11 +277,13 @@ def main(argv=None):
     c.add_argument("mcap")
     c.add_argument("png")
     c.add_argument("--title", default="")
+    c.add_argument("--channels", metavar="REGEX", help="as plot_trace.py --channels")
     c = sub.add_parser("compare")
     c.add_argument("a")
     c.add_argument("b")
     c.add_argument("png")
     c.add_argument("--title", default="")
+    c.add_argument("--channels", metavar="REGEX", help="as plot_trace.py --channels")
     c = sub.add_parser("truth")
     c.add_argument("mcap")
     c.add_argument("csv", nargs="?")
@@ -300,13 +305,15 @@ def main(argv=None):
             write_csv(*table(*read(a.mcap)[:2]), a.csv)
         elif a.cmd == "plot":
             header, cols = table(*read(a.mcap)[:2])
-            plot_trace.plot([(header, cols, "")], a.png, a.title)
+            plot_trace.plot([(header, cols, "")], a.png, a.title,
+                            plot_trace.channel_filter(a.channels, [header]))
         else:
             runs = []
             for path in (a.a, a.b):
                 header, cols = table(*read(path)[:2])
                 runs.append((header, cols, pathlib.Path(path).name))
-            plot_trace.plot(runs, a.png, a.title)
+            plot_trace.plot(runs, a.png, a.title,
+                            plot_trace.channel_filter(a.channels, [r[0] for r in runs]))
     except RecordingError as e:
         sys.exit(f"recording: {e}")
     except (McapError, EOFError, ValueError, MemoryError) as e:

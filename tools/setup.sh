@@ -9,9 +9,10 @@
 #   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
 #      into .cache/ and checked against its sha256 (CMake checks it again
 #      before it extracts it into the build tree),
-#   4. the wheels of rozgen's run-time dependencies (codegen/requirements.txt,
-#      hash-checked) in .cache/wheels, which `cmake --install` installs beside
-#      rozgen without a network,
+#   4. the wheels of rozgen's and the installed tools' run-time dependencies
+#      (codegen/requirements.txt, tools/requirements-run.txt, hash-checked) in
+#      .cache/wheels, which `cmake --install` installs beside rozgen without a
+#      network,
 #   5. the runner of toml-test, the official TOML test suite (a Go program),
 #      built into .cache/go/bin from the module pinned in tools/toml-test/,
 #   6. the crates of the strict MCAP checker (test/record/mcap_strict),
@@ -99,17 +100,19 @@ if [ ! -f "$sdist" ]; then
     check_sdist || die "$sdist: sha256 mismatch (want $wasm3_sha256)"
 fi
 
-# ---- 4. rozgen's dependencies, for the installed package ---------------------
-# `cmake --install` puts rozgen and these wheels in <prefix>/lib/roz/python
-# (cmake/RozInstallRozgen.cmake); having them here lets it work offline.
+# ---- 4. rozgen's and the tools' dependencies, for the installed package -------
+# `cmake --install` puts rozgen, roz-plot, roz-recording and these wheels in
+# <prefix>/lib/roz/python (cmake/RozInstallRozgen.cmake); having them here
+# lets it work offline.
 wheels=.cache/wheels
-wheels_want=$(sha256sum codegen/requirements.txt | cut -d' ' -f1)
+wheels_want=$(cat codegen/requirements.txt tools/requirements-run.txt | sha256sum | cut -d' ' -f1)
 wheels_stamp=$wheels/.roz-downloaded
 if [ "$(cat "$wheels_stamp" 2>/dev/null)" != "$wheels_want" ]; then
     say "fetching the wheels of rozgen's dependencies into $wheels"
     mkdir -p "$wheels"
     "$venv/bin/python" -m pip download -q --disable-pip-version-check \
-        --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt -d "$wheels"
+        --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt \
+        -r tools/requirements-run.txt -d "$wheels"
     echo "$wheels_want" > "$wheels_stamp"
 fi
 

@@ -240,6 +240,20 @@ def test_another_controller(tmp_path):
     png1 = tmp_path / "one.png"
     recording.main(["plot", str(new), str(png1)])
     assert png1.stat().st_size > 10000
+    # --channels picks channels in plot and compare, as in plot_trace.py
+    fig = recording.plot_trace.figure(
+        [(*recording.table(*recording.read(new)[:2]), "")],
+        pattern=recording.plot_trace.channel_filter("elbow", [recording.table(
+            *recording.read(new)[:2])[0]]))
+    assert sorted(line.get_label() for ax in fig.axes for line in ax.lines
+                  if not line.get_label().startswith("_")) == \
+        ["elbow_joint/position", "elbow_joint/velocity"]
+    recording.plot_trace.plt.close(fig)
+    png2 = tmp_path / "elbow.png"
+    recording.main(["compare", str(path), str(new), str(png2), "--channels", "elbow"])
+    assert png2.stat().st_size > 10000
+    with pytest.raises(SystemExit, match="matches no channel"):
+        recording.main(["plot", str(new), str(png2), "--channels", "no_such_joint"])
     out = tmp_path / "new_from_recording.csv"
     recording.main(["csv", str(new), str(out)])
     # the replay's trace and its recording agree (the trace has no events)

@@ -207,7 +207,8 @@ static void usage(FILE *f, const char *port)
         "                       faults, events) as CSV\n"
         "  --record FILE        record every tick as MCAP (state, freshness, targets,\n"
         "                       applied commands, faults, fuel, times; the manifest and\n"
-        "                       configuration once): tools/recording.py, Foxglove, ros2 bag\n"
+        "                       configuration once): roz-recording (tools/recording.py),\n"
+        "                       Foxglove, ros2 bag\n"
         "  --record-every N     record every Nth tick only (and every tick where the faults\n"
         "                       change or an input arrives); such a recording is not\n"
         "                       replayed (default 1)\n"
@@ -737,8 +738,13 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                (unsigned long long)runner->missed);
     }
     print_report(port, ROZ_PORT_REPORT_SUMMARY);
-    if (recording)
-        printf("  recording              %s (%llu ticks, %lu dropped: the ring was full)%s\n",
+    if (recording && roz_recorder_dropped(&recorder) == 0)
+        printf("  recording              %s (%llu ticks, none dropped)%s\n", o->record,
+               (unsigned long long)roz_record_file_ticks(&recfile),
+               record_failed ? ", incomplete" : "");
+    else if (recording)
+        printf("  recording              %s (%llu ticks; %lu dropped, the ring had no room for "
+               "them)%s\n",
                o->record, (unsigned long long)roz_record_file_ticks(&recfile),
                (unsigned long)roz_recorder_dropped(&recorder),
                record_failed ? ", incomplete" : "");

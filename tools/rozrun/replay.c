@@ -346,7 +346,7 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         fprintf(stderr, "rozrun: %s\n", err);
         status = status ? status : 3;
     } else if (recording) {
-        printf("  new recording          %s (compare: python tools/recording.py compare %s %s "
+        printf("  new recording          %s (compare: roz-recording compare %s %s "
                "out.png)\n", o->record, o->recording, o->record);
     }
     roz_runtime_deinit(&rrt);

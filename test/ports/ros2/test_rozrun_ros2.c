@@ -124,7 +124,7 @@ static void run_stand(const robot_case_t *rc)
 
     /* the run was recorded; it replays bit for bit, without the robot */
     char want_rec[4200];
-    snprintf(want_rec, sizeof want_rec, "recording              %s (1500 ticks, 0 dropped", rec);
+    snprintf(want_rec, sizeof want_rec, "recording              %s (1500 ticks, none dropped)", rec);
     assert_non_null(strstr(text, want_rec));
     snprintf(out, sizeof out, "%s/rozrun_%s.replay.txt", OUT_DIR, rc->robot);
     roz_rozrun_replay(ROZRUN, rec, controller, 1500, out, text, sizeof text);

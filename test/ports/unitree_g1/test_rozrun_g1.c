@@ -102,7 +102,7 @@ static void test_rozrun_g1_stand(void **st)
     for (int j = 29; j < 35; j++)
         assert_int_equal(c.mode[j], 0);
     assert_int_equal(roz_fake_g1_stop(&fake), 0);
-    assert_non_null(strstr(text, "recording              " RECORDING " (1500 ticks, 0 dropped"));
+    assert_non_null(strstr(text, "recording              " RECORDING " (1500 ticks, none dropped)"));
 
     /* the recording replays bit for bit, without the robot */
     roz_rozrun_replay(ROZRUN, RECORDING, CONTROLLER, 1500, OUT ".replay", text, sizeof text);
