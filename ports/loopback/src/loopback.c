@@ -518,3 +518,38 @@ const double *roz_loopback_last_command(const roz_loopback_t *lb)
 {
     return lb->have_cmd ? lb->cmd : NULL;
 }
+
+roz_loopback_counters_t roz_loopback_counters(const roz_loopback_t *lb)
+{
+    roz_loopback_counters_t c;
+    c.tick = lb->tick;
+    c.faults = lb->n_faults;
+    c.frames_sent = lb->frames_sent;
+    c.frames_delivered = lb->frames_delivered;
+    c.frames_dropped = lb->frames_dropped;
+    c.frames_duplicated = lb->frames_duplicated;
+    c.frames_corrupted = lb->frames_corrupted;
+    c.link_events = lb->link_events;
+    c.writes = lb->writes;
+    c.writes_withheld = lb->writes_withheld;
+    c.cmds_corrupted = lb->cmds_corrupted;
+    c.cmds_lost = lb->cmds_lost;
+    c.violations = lb->violations;
+    c.first_write_tick = lb->first_write_tick;
+    return c;
+}
+
+roz_link_t roz_loopback_link(const roz_loopback_t *lb)
+{
+    return lb->link;
+}
+
+roz_link_t roz_loopback_peer_link(const roz_loopback_t *lb)
+{
+    return lb->peer_link;
+}
+
+void roz_loopback_clear_faults(roz_loopback_t *lb)
+{
+    lb->n_faults = 0;
+}
