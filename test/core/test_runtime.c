@@ -27,7 +27,7 @@ static roz_test_clock_t clk;
 /* Every command the port got is inside the manifest. */
 static void assert_port_safe(void)
 {
-    assert_int_equal(lb.violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
 }
 
 static void start(const roz_manifest_t *m, const roz_params_t *params)
@@ -98,10 +98,10 @@ static void test_runtime_nothing_before_first_state(void **st)
     start(&roz_manifest_ur5, &params);
     load("constant_velocity", ROZ_OK);
     ticks(5);
-    assert_int_equal(lb.writes, 0);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 0);
     assert_int_equal(RT_COUNT(&rt, waiting_ticks), 5);
     ticks(1);
-    assert_int_equal(lb.writes, 1);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 1);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
@@ -134,7 +134,7 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     load("constant_velocity", ROZ_OK);
     ticks(300);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(lb.writes, 0);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 0);
     assert_int_equal(RT_COUNT(&rt, waiting_ticks), 300);
     assert_int_equal(RT_COUNT(&rt, stale_reads), 0);
     assert_int_equal(warnings, 0); /* the tick never calls the log callback */
@@ -142,7 +142,7 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     assert_int_equal(warnings, 1);
     assert_non_null(strstr(last_warning, "no state from the port yet after 10 ticks"));
     ticks(10); /* frames from 300 */
-    assert_int_equal(lb.writes, 10);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 10);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     ticks(10); /* frozen again from 310: STALE on the tenth */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
@@ -184,7 +184,7 @@ static void test_runtime_controlled_stop_ramps(void **st)
     ticks(20);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.628, 1e-12);
     /* freeze the state stream: stale after 10 ticks, then a ramp down */
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, lb.tick, 0, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, roz_loopback_counters(&lb).tick, 0, -1, 0 };
     assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);
     ticks(9);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -194,7 +194,7 @@ static void test_runtime_controlled_stop_ramps(void **st)
     ticks(1);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
     /* still latched after the stream comes back, until cleared */
-    lb.n_faults = 0;
+    roz_loopback_clear_faults(&lb);
     ticks(20);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
@@ -261,7 +261,7 @@ static void test_runtime_verify_refuses(void **st)
     assert_non_null(strstr(roz_runtime_error(&rt), "env.open_valve"));
     assert_int_equal(RT_COUNT(&rt, swaps_refused), 3);
     ticks(5); /* no controller: defaults go out, no fault */
-    assert_int_equal(lb.writes, 5);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 

@@ -74,13 +74,46 @@ typedef struct roz_port_fault {
 #define ROZ_PORT_CAP_NEEDS_NETNS (1u << 7)
 /** @} */
 
-/** One parameter a port takes (roz_port_info_t::params). */
+/** How a port's parser reads a parameter (roz_port_param_info_t::kind). */
+typedef enum roz_port_param_kind {
+    /** its own way: the row's range and default are text for people */
+    ROZ_PORT_PARAM_TEXT = 0,
+    /** an integer in [min, max], dflt when absent (roz_params_get_row_u32()) */
+    ROZ_PORT_PARAM_U32,
+    /** a finite number in [min, max], dflt when absent (roz_params_get_row_double()) */
+    ROZ_PORT_PARAM_DOUBLE
+} roz_port_param_kind_t;
+
+/** One parameter a port takes (roz_port_info_t::params). A numeric row
+ *  (ROZ_PORT_PARAM_U32_ROW(), ROZ_PORT_PARAM_DOUBLE_ROW()) is also what the
+ *  port's parser reads its bounds and default from: the text shown and the
+ *  numbers checked are written once. */
 typedef struct roz_port_param_info {
     const char *key;   /**< "command_timeout_us" */
     const char *range; /**< the values it takes: "1..1000000", "FROM:TO" */
     const char *def;   /**< its default as text; "" when it has none */
     const char *help;  /**< one short line */
+    roz_port_param_kind_t kind; /**< TEXT: the port parses it; the numbers below are 0 */
+    double      min, max, dflt; /**< U32, DOUBLE: the bounds and the default */
 } roz_port_param_info_t;
+
+/** @cond */
+#define ROZ_PORT_PARAM_STR_(x) #x
+#define ROZ_PORT_PARAM_STR(x)  ROZ_PORT_PARAM_STR_(x)
+/** @endcond */
+/** A row of a parameter the port parses its own way (ROZ_PORT_PARAM_TEXT). */
+#define ROZ_PORT_PARAM_TEXT_ROW(key, range, def, help) \
+    { key, range, def, help, ROZ_PORT_PARAM_TEXT, 0.0, 0.0, 0.0 }
+/** A row of an integer parameter: @p min, @p max and @p def are plain
+ *  numbers or macros of plain numbers (no suffix): the range and default
+ *  shown are their text. */
+#define ROZ_PORT_PARAM_U32_ROW(key, min, max, def, help)                                   \
+    { key, ROZ_PORT_PARAM_STR(min) ".." ROZ_PORT_PARAM_STR(max), ROZ_PORT_PARAM_STR(def), \
+      help, ROZ_PORT_PARAM_U32, (min), (max), (def) }
+/** A row of a real parameter; @p unit ("", " m") follows the range shown. */
+#define ROZ_PORT_PARAM_DOUBLE_ROW(key, min, max, def, unit, help)                               \
+    { key, ROZ_PORT_PARAM_STR(min) ".." ROZ_PORT_PARAM_STR(max) unit, ROZ_PORT_PARAM_STR(def), \
+      help, ROZ_PORT_PARAM_DOUBLE, (min), (max), (def) }
 
 /** What a port says about itself (roz_port_ops_t::info): static, const. */
 typedef struct roz_port_info {

@@ -320,7 +320,8 @@ static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
 
 static const roz_port_param_info_t x2_param_info[] = {
     ROZ_ROS2_PARAM_INFO,
-    { "joint_state_layout", "sdk|docs", "sdk", "the joint_state messages' layout" },
+    ROZ_PORT_PARAM_TEXT_ROW("joint_state_layout", "sdk|docs", "sdk",
+                            "the joint_state messages' layout"),
 };
 
 static const roz_port_info_t x2_info = {

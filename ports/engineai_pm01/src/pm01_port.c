@@ -209,7 +209,8 @@ static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
 
 static const roz_port_param_info_t pm01_param_info[] = {
     ROZ_ROS2_PARAM_INFO,
-    { "parallel_parser_type", "rl|classic|1|0", "rl", "the ankle parser: rl (the vendor's RL example) or classic" },
+    ROZ_PORT_PARAM_TEXT_ROW("parallel_parser_type", "rl|classic|1|0", "rl",
+                            "the ankle parser: rl (the vendor's RL example) or classic"),
 };
 
 static const roz_port_info_t pm01_info = {

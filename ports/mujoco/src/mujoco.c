@@ -786,6 +786,52 @@ static void close_model(roz_mujoco_t *s)
 
 static void update_base(roz_mujoco_t *s);
 
+/* docs/ports/mujoco.md's table, one row a key. */
+static const roz_port_param_info_t mj_params[] = {
+    ROZ_PORT_PARAM_TEXT_ROW("model", "an MJCF file", "the built-in robot's",
+                            "relative to the robot.toml"),
+    ROZ_PORT_PARAM_TEXT_ROW("joint_names", "MANIFEST=MJCF,...", "the same names",
+                            "manifest joints bound to MJCF joints"),
+    ROZ_PORT_PARAM_TEXT_ROW("keyframe", "a keyframe's name", "the built-in robot's",
+                            "the pose to start from"),
+    ROZ_PORT_PARAM_TEXT_ROW("timestep", "1e-6..1 s", "the built-in robot's",
+                            "the physics step; a whole number a tick"),
+    ROZ_PORT_PARAM_TEXT_ROW("imu_gyro", "a sensor's name", "the model's first gyro",
+                            "the IMU's angular velocity"),
+    ROZ_PORT_PARAM_TEXT_ROW("imu_accelerometer", "a sensor's name", "the model's first",
+                            "the IMU's acceleration"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kp", 0, 1e7, 400, "",
+                              "the velocity servo's stiffness, N m/rad"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kd", 0, 1e6, 20, "",
+                              "the velocity servo's damping, N m s/rad"),
+    ROZ_PORT_PARAM_TEXT_ROW("unbound", "lock|limp", "lock", "model joints no channel binds"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_left", "a joint's name", "the built-in diff_drive's",
+                            "a differential drive's wheel"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_right", "a joint's name", "the built-in diff_drive's",
+                            "a differential drive's wheel"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_separation", "1e-3..100 m", "0.230",
+                            "a differential drive's track"),
+    ROZ_PORT_PARAM_TEXT_ROW("max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust"),
+    ROZ_PORT_PARAM_U32_ROW("latency_ticks", 0, ROZ_MUJOCO_MAX_DELAY, 0, "sensor latency"),
+    ROZ_PORT_PARAM_U32_ROW("noise_seed", 0, 4294967295, 1, "the noise's seed"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_position", 0, 1, 0, "",
+                              "Gaussian noise, standard deviation, channel unit"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_velocity", 0, 10, 0, "", "Gaussian noise on velocities"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_effort", 0, 100, 0, "", "Gaussian noise on efforts"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_gyro", 0, 10, 0, "", "Gaussian noise on the gyro"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_accelerometer", 0, 100, 0, "",
+                              "Gaussian noise on the accelerometer"),
+    ROZ_PORT_PARAM_TEXT_ROW("drop", "FROM:TO", "", "state frames lost"),
+    ROZ_PORT_PARAM_TEXT_ROW("freeze", "FROM[:TO]", "", "the robot sends nothing"),
+    ROZ_PORT_PARAM_TEXT_ROW("delay", "K@FROM:TO", "", "frames K ticks late (1..15)"),
+    ROZ_PORT_PARAM_TEXT_ROW("push", "FX,FY,FZ@BODY@FROM:TO", "",
+                            "a force, N, world frame, on a body"),
+    ROZ_PORT_PARAM_TEXT_ROW("gantry", "FROM[:TO]", "", "the floating base hung where it is"),
+    ROZ_PORT_PARAM_TEXT_ROW("restart", "FROM:TO", "", "the robot's board dies and boots at TO"),
+};
+#define MJ_PARAMS mj_params, sizeof mj_params / sizeof mj_params[0]
+
 static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extra, char *err,
                    size_t errlen)
 {
@@ -827,23 +873,22 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                               errlen) != ROZ_OK ||
         roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "servo_kp", 400.0, 0.0, 1e7, &kp, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "servo_kd", 20.0, 0.0, 1e6, &kd, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "noise_position", 0.0, 0.0, 1.0, &s->noise_q, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "servo_kp", &kp, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "servo_kd", &kd, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_position", &s->noise_q, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_velocity", 0.0, 0.0, 10.0, &s->noise_dq, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_velocity", &s->noise_dq, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_effort", 0.0, 0.0, 100.0, &s->noise_tau, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_effort", &s->noise_tau, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_gyro", 0.0, 0.0, 10.0, &s->noise_gyro, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_gyro", &s->noise_gyro, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_accelerometer", 0.0, 0.0, 100.0, &s->noise_acc, err,
-                              errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_accelerometer", &s->noise_acc, err,
+                                  errlen) != ROZ_OK ||
         roz_params_get_double(p, "timestep", 0.001, 1e-6, 1.0, &ts_check, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_u32(p, "latency_ticks", 0, 0, ROZ_MUJOCO_MAX_DELAY, &latency, err,
-                           errlen) != ROZ_OK ||
-        roz_params_get_u32(p, "noise_seed", 1, 0, UINT32_MAX, &seed, err, errlen) != ROZ_OK)
+        roz_params_get_row_u32(p, MJ_PARAMS, "latency_ticks", &latency, err, errlen) != ROZ_OK ||
+        roz_params_get_row_u32(p, MJ_PARAMS, "noise_seed", &seed, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
     const char *unbound = roz_params_get_str(p, "unbound", "lock");
     if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
@@ -1503,36 +1548,6 @@ static void mj_set_origin(void *self, const char *robot_toml)
     roz_mujoco_set_robot_file(self, robot_toml);
 }
 
-/* docs/ports/mujoco.md's table, one row a key. */
-static const roz_port_param_info_t mj_params[] = {
-    { "model", "an MJCF file", "the built-in robot's", "relative to the robot.toml" },
-    { "joint_names", "MANIFEST=MJCF,...", "the same names", "manifest joints bound to MJCF joints" },
-    { "keyframe", "a keyframe's name", "the built-in robot's", "the pose to start from" },
-    { "timestep", "1e-6..1 s", "the built-in robot's", "the physics step; a whole number a tick" },
-    { "imu_gyro", "a sensor's name", "the model's first gyro", "the IMU's angular velocity" },
-    { "imu_accelerometer", "a sensor's name", "the model's first", "the IMU's acceleration" },
-    { "servo_kp", "0..1e7", "400", "the velocity servo's stiffness, N m/rad" },
-    { "servo_kd", "0..1e6", "20", "the velocity servo's damping, N m s/rad" },
-    { "unbound", "lock|limp", "lock", "model joints no channel binds" },
-    { "wheel_left", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
-    { "wheel_right", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
-    { "wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels" },
-    { "wheel_separation", "1e-3..100 m", "0.230", "a differential drive's track" },
-    { "max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust" },
-    { "latency_ticks", "0..15", "0", "sensor latency" },
-    { "noise_seed", "0..4294967295", "1", "the noise's seed" },
-    { "noise_position", "0..1", "0", "Gaussian noise, standard deviation, channel unit" },
-    { "noise_velocity", "0..10", "0", "Gaussian noise on velocities" },
-    { "noise_effort", "0..100", "0", "Gaussian noise on efforts" },
-    { "noise_gyro", "0..10", "0", "Gaussian noise on the gyro" },
-    { "noise_accelerometer", "0..100", "0", "Gaussian noise on the accelerometer" },
-    { "drop", "FROM:TO", "", "state frames lost" },
-    { "freeze", "FROM[:TO]", "", "the robot sends nothing" },
-    { "delay", "K@FROM:TO", "", "frames K ticks late (1..15)" },
-    { "push", "FX,FY,FZ@BODY@FROM:TO", "", "a force, N, world frame, on a body" },
-    { "gantry", "FROM[:TO]", "", "the floating base hung where it is" },
-    { "restart", "FROM:TO", "", "the robot's board dies and boots at TO" },
-};
 
 static const roz_port_info_t mj_info = {
     .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",

@@ -117,6 +117,10 @@ static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *e
     return ROZ_OK;
 }
 
+/* The rows the ports' info shows (ROZ_ROS2_BRIDGE_PARAM_INFO): the bounds
+ * and defaults read here. */
+static const roz_port_param_info_t bridge_rows[] = { ROZ_ROS2_BRIDGE_PARAM_INFO };
+
 static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
 {
     const roz_ros2_robot_t *r = b->robot;
@@ -134,8 +138,8 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
         rc = roz_dds_params_parse(&b->dds, p, r->default_domain, b->m->control_rate_hz, err,
                                   errlen);
     if (rc == ROZ_OK)
-        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &b->peer_timeout_ms, err,
-                                errlen);
+        rc = roz_params_get_row_u32(p, bridge_rows, sizeof bridge_rows / sizeof bridge_rows[0],
+                                    "peer_timeout_ms", &b->peer_timeout_ms, err, errlen);
     if (rc == ROZ_OK)
         rc = parse_link_check(b, p, err, errlen);
     if (rc != ROZ_OK)

@@ -86,6 +86,19 @@ static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t 
     return ROZ_OK;
 }
 
+/* The port's parameters: the rows its info shows, the bounds and defaults
+ * parse_params() reads. */
+static const roz_port_param_info_t g1_params[] = {
+    ROZ_DDS_PARAM_INFO("0"),
+    ROZ_PORT_PARAM_TEXT_ROW("mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode"),
+    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500, "the robot silent this long is lost"),
+    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",
+                            "kd of the start-up hold"),
+    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",
+                            "the channels' default",
+                            "kd of the damping command at shut-down and on a watchdog trip"),
+};
+
 static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
 {
     double lo, hi;
@@ -95,8 +108,8 @@ static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, 
     if (rc == ROZ_OK)
         rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &g1->peer_timeout_ms, err,
-                                errlen);
+        rc = roz_params_get_row_u32(p, g1_params, sizeof g1_params / sizeof g1_params[0],
+                                    "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen);
     if (rc != ROZ_OK)
         return rc;
     /* gains the damping channels allow, for every joint */
@@ -430,14 +443,6 @@ static int g1_link_counters(const void *self, roz_port_link_counters_t *out)
     return ROZ_OK;
 }
 
-static const roz_port_param_info_t g1_params[] = {
-    ROZ_DDS_PARAM_INFO("0"),
-    { "mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode" },
-    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },
-    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },
-    { "shutdown_damping", "the damping channels' range", "the channels' default",
-      "kd of the damping command at shut-down and on a watchdog trip" },
-};
 
 static const roz_port_info_t g1_info = {
     .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",

@@ -2,8 +2,6 @@
 #define _GNU_SOURCE
 #include "alloc_ticks.h"
 
-#include <errno.h>
-#include <malloc.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -14,75 +12,10 @@
 
 #include <cmocka.h>
 
+#include "libc_heap.h"
 #include "roz/error.h"
 #include "roz/runtime.h"
 #include "support.h"
-
-/* ---- every allocation of the process ------------------------------------------ */
-
-void *__libc_malloc(size_t n);
-void *__libc_calloc(size_t n, size_t size);
-void *__libc_realloc(void *p, size_t n);
-void *__libc_memalign(size_t align, size_t n);
-void __libc_free(void *p);
-
-static _Thread_local int on_tick; /* this thread is the tick, ticking */
-static _Atomic uint64_t tick_allocations, tick_frees, other_allocations;
-
-static void count(void)
-{
-    if (on_tick)
-        atomic_fetch_add_explicit(&tick_allocations, 1u, memory_order_relaxed);
-    else
-        atomic_fetch_add_explicit(&other_allocations, 1u, memory_order_relaxed);
-}
-
-void *malloc(size_t n)
-{
-    count();
-    return __libc_malloc(n);
-}
-
-void *calloc(size_t n, size_t size)
-{
-    count();
-    return __libc_calloc(n, size);
-}
-
-void *realloc(void *p, size_t n)
-{
-    count();
-    return __libc_realloc(p, n);
-}
-
-void *memalign(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-void *aligned_alloc(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-int posix_memalign(void **out, size_t align, size_t n)
-{
-    count();
-    void *p = __libc_memalign(align, n);
-    if (p == NULL)
-        return ENOMEM;
-    *out = p;
-    return 0;
-}
-
-void free(void *p)
-{
-    if (on_tick && p != NULL)
-        atomic_fetch_add_explicit(&tick_frees, 1u, memory_order_relaxed);
-    __libc_free(p);
-}
 
 /* ---- the run -------------------------------------------------------------------- */
 
@@ -97,12 +30,12 @@ static void *tick_main(void *arg)
 {
     run_t *r = arg;
     int rc = roz_runtime_tick(&rt); /* the controller's swap-in, before counting */
-    on_tick = 1;
+    roz_libc_heap_count_thread(1);
     for (int t = 0; t < r->ticks; t++) {
         rc = roz_runtime_tick(&rt); /* ROZ_EFAULT once a fault latched */
         atomic_store_explicit(&r->done, t + 1, memory_order_release);
     }
-    on_tick = 0;
+    roz_libc_heap_count_thread(0);
     (void)rc;
     return NULL;
 }
@@ -141,28 +74,25 @@ void roz_alloc_run(const roz_alloc_case_t *c)
     assert_true(c0.received >= 10);
 
     /* the counters themselves: an allocation made while ticking is seen */
-    atomic_store(&tick_allocations, 0u);
-    atomic_store(&tick_frees, 0u);
-    on_tick = 1;
+    roz_libc_heap_reset();
+    roz_libc_heap_count_thread(1);
     void *volatile probe = malloc(8);
     free(probe);
-    on_tick = 0;
-    assert_int_equal(atomic_load(&tick_allocations), 1);
-    assert_int_equal(atomic_load(&tick_frees), 1);
+    roz_libc_heap_count_thread(0);
+    assert_int_equal(roz_libc_heap_counts().allocations, 1);
+    assert_int_equal(roz_libc_heap_counts().frees, 1);
 
     r.ticks = c->ticks;
     atomic_store(&r.done, 0);
-    atomic_store(&tick_allocations, 0u);
-    atomic_store(&tick_frees, 0u);
-    atomic_store(&other_allocations, 0u);
+    roz_libc_heap_reset();
     assert_int_equal(pthread_create(&th, NULL, tick_main, &r), 0);
     while (atomic_load_explicit(&r.done, memory_order_acquire) < c->ticks / 2)
         sleep_1ms();
     c->midway();
     assert_int_equal(pthread_join(th, NULL), 0);
 
-    uint64_t allocs = atomic_load(&tick_allocations), frees = atomic_load(&tick_frees);
-    uint64_t others = atomic_load(&other_allocations);
+    roz_libc_heap_counts_t heap = roz_libc_heap_counts();
+    uint64_t allocs = heap.allocations, frees = heap.frees, others = heap.others;
     c->counters(&c1);
     print_message("%s through %s: %d ticks: %llu allocations and %llu frees on the tick thread; "
                   "%llu elsewhere (Cyclone's threads, the test); %llu frames in, %llu "

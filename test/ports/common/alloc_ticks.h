@@ -1,11 +1,10 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* No heap on the tick thread, with a hardware port's threads and Cyclone's
- * busy around it: alloc_ticks.c defines malloc, calloc, realloc, free and
- * the aligned allocators over glibc's own (__libc_*), so every allocation
- * of the process is seen, Cyclone's in its shared library included, and
- * counts those made on the tick thread while it ticks. Cyclone's own
- * threads may allocate; the tick thread may not. (Not in the sanitizer
- * builds, whose runtimes own malloc.) */
+ * busy around it: every allocation of the process is seen (libc_heap.h),
+ * Cyclone's in its shared library included, and those made on the tick
+ * thread while it ticks are counted. Cyclone's own threads may allocate;
+ * the tick thread may not. (Not in the sanitizer builds, whose runtimes
+ * own malloc.) */
 #ifndef ROZ_TEST_ALLOC_TICKS_H
 #define ROZ_TEST_ALLOC_TICKS_H
 

@@ -2,15 +2,11 @@
 #include "dds_open_file.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
-#include "roz/port/agibot_x2.h"
-#include "roz/port/engineai_pm01.h"
 #include "roz/manifest_toml.h"
-#include "roz/port/unitree_g1.h"
-#ifdef ROZ_TEST_HAVE_MUJOCO
-#include "roz/port/mujoco.h"
-#endif
+#include "roz/ports.h"
 
 #define MAX_PROBLEMS 64
 
@@ -19,12 +15,24 @@ static roz_manifest_storage_t storage;
 static roz_manifest_toml_problem_t problems[MAX_PROBLEMS];
 ROZ_TOML_DOC_DEFINE(doc, 1u << 16, 1u << 20);
 
-static roz_unitree_g1_t g1;
-static roz_agibot_x2_t x2;
-static roz_engineai_pm01_t pm01;
+/* The ports whose open this checks against rozgen's words, found in the
+ * registry (roz/ports.h) by the names rozgen knows: the DDS ones, and the
+ * mujoco port where the test asks for it (its keys are checked alike). */
+static const char *const checked_ports[] = { "unitree/G1", "agibot/X2", "engineai/PM01",
 #ifdef ROZ_TEST_HAVE_MUJOCO
-static roz_mujoco_t mujoco;
+                                             "mujoco",
 #endif
+};
+
+static const roz_port_entry_t *checked(const char *name)
+{
+    for (size_t i = 0; i < sizeof checked_ports / sizeof checked_ports[0]; i++) {
+        const roz_port_entry_t *e = roz_ports_find(checked_ports[i]);
+        if (e != NULL && strcmp(e->ops->name, name) == 0)
+            return e;
+    }
+    return NULL;
+}
 
 static void quiet(void *ctx, roz_log_level_t level, const char *msg)
 {
@@ -36,7 +44,6 @@ static void quiet(void *ctx, roz_log_level_t level, const char *msg)
 int roz_test_dds_open_file(const char *file, const char **port_name, char *err, size_t errlen)
 {
     size_t found = 0;
-    roz_port_t port;
 
     if (port_name != NULL)
         *port_name = "";
@@ -52,21 +59,21 @@ int roz_test_dds_open_file(const char *file, const char **port_name, char *err, 
     const char *name = m->hardware != NULL ? m->hardware->port : "";
     if (port_name != NULL)
         *port_name = name;
-    if (strcmp(name, "unitree/G1") == 0)
-        port = roz_unitree_g1_port(&g1, quiet, NULL);
-    else if (strcmp(name, "agibot/X2") == 0)
-        port = roz_agibot_x2_port(&x2, quiet, NULL);
-    else if (strcmp(name, "engineai/PM01") == 0)
-        port = roz_engineai_pm01_port(&pm01, quiet, NULL);
-#ifdef ROZ_TEST_HAVE_MUJOCO
-    else if (strcmp(name, "mujoco") == 0) /* the physics port's keys, checked alike */
-        port = roz_mujoco_port(&mujoco, quiet, NULL);
-#endif
-    else
+    const roz_port_entry_t *e = checked(name);
+    if (e == NULL)
         return ROZ_TEST_NO_DDS_PORT;
+    size_t size = (e->size + e->align - 1) / e->align * e->align;
+    void *self = aligned_alloc(e->align, size);
+    if (self == NULL) {
+        snprintf(err, errlen, "no memory for a %s instance", name);
+        return ROZ_TEST_NOT_LOADED;
+    }
+    memset(self, 0, size);
+    roz_port_t port = e->construct(self, quiet, NULL);
     roz_port_set_origin(&port, file); /* a model path is relative to the robot.toml */
     int rc = roz_port_open(&port, m, NULL, err, errlen);
     if (rc == ROZ_OK)
         roz_port_close(&port);
+    free(self);
     return rc;
 }

@@ -2,8 +2,8 @@
 /* What test_port_vectors and port_open_check share: a robot.toml loaded by
  * roz's C loader and opened through the DDS port its [hardware] names
  * (unitree/G1, agibot/X2, engineai/PM01; and mujoco where the test defines
- * ROZ_TEST_HAVE_MUJOCO), with no run-time parameter, as
- * rozrun would; closed again when it opens. */
+ * ROZ_TEST_HAVE_MUJOCO), constructed from the registry (roz/ports.h) with
+ * no run-time parameter, as rozrun would; closed again when it opens. */
 #ifndef ROZ_TEST_DDS_OPEN_FILE_H
 #define ROZ_TEST_DDS_OPEN_FILE_H
 

@@ -9,11 +9,13 @@
 
 static roz_loopback_t lb;
 static roz_port_t the_port;
+static const roz_manifest_t *the_m;
 
 static int lb_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                       char *err, size_t errlen)
 {
     the_port = roz_loopback_port(&lb, NULL, NULL);
+    the_m = m;
     *port = the_port;
     int rc = roz_port_open(port, m, params, err, errlen);
     return rc != ROZ_OK ? rc : roz_port_activate(port);
@@ -22,7 +24,8 @@ static int lb_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_p
 /* A fault over the next read only (spent injections make room). */
 static void one_tick(roz_loopback_fault_kind_t kind)
 {
-    roz_loopback_fault_t f = { kind, lb.tick, lb.tick + 1, -1, 0 };
+    uint64_t t = roz_loopback_counters(&lb).tick;
+    roz_loopback_fault_t f = { kind, t, t + 1, -1, 0 };
     (void)roz_loopback_inject(&lb, &f);
 }
 
@@ -30,7 +33,7 @@ static void spend_reads(uint64_t n)
 {
     double scratch[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     for (uint64_t i = 0; i < n; i++)
-        (void)roz_port_read(&the_port, scratch, lb.m->n_states);
+        (void)roz_port_read(&the_port, scratch, the_m->n_states);
 }
 
 static void lb_fx_peer(roz_peer_frame_t what)
@@ -55,8 +58,10 @@ static void lb_fx_peer(roz_peer_frame_t what)
         break;
     case ROZ_PEER_VANISH: {
         /* silent past the peer timeout, a read of ours a tick */
-        uint64_t n = ROZ_LOOPBACK_PEER_TIMEOUT_NS / lb.period_ns + 1;
-        roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, lb.tick, lb.tick + n, -1, 0 };
+        uint64_t period_ns = 1000000000u / the_m->control_rate_hz; /* the port's */
+        uint64_t n = ROZ_LOOPBACK_PEER_TIMEOUT_NS / period_ns + 1;
+        uint64_t t = roz_loopback_counters(&lb).tick;
+        roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, t, t + n, -1, 0 };
         (void)roz_loopback_inject(&lb, &f);
         spend_reads(n);
         break;
@@ -82,14 +87,14 @@ static const double *lb_fx_peer_command(void)
 static void lb_fx_corrupt_next_command(void)
 {
     /* write() follows the read of this tick */
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, lb.tick > 0 ? lb.tick - 1 : 0, lb.tick,
-                               -1, 0 };
+    uint64_t t = roz_loopback_counters(&lb).tick;
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, t > 0 ? t - 1 : 0, t, -1, 0 };
     (void)roz_loopback_inject(&lb, &f);
 }
 
 static void lb_fx_link(roz_link_t *out)
 {
-    *out = lb.link;
+    *out = roz_loopback_link(&lb);
 }
 
 static void lb_fx_close(void)

@@ -36,8 +36,8 @@ static void run_builtin(const roz_manifest_t *m, const char *ctl, int ticks, dou
         roz_test_tick(&rt);
     if (roz_runtime_faults(&rt) != 0)
         fail_msg("%s: fault %s", m->robot_id, roz_runtime_fault_message(&rt));
-    assert_int_equal(lb.violations, 0);
-    assert_int_equal(lb.writes, (uint64_t)ticks);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).writes, (uint64_t)ticks);
     roz_loopback_true_state(&lb, final);
     roz_runtime_deinit(&rt);
 }
@@ -180,13 +180,14 @@ static void test_loopback_faults(void **st)
     assert_near(s[0], 0.10, 1e-12);
     assert_int_equal(roz_port_read(&p, s, 12), 1); /* 11 */
     assert_near(s[0], 0.11, 1e-12);
-    assert_int_equal(lb.link.replays, 1);
+    assert_int_equal(roz_loopback_link(&lb).replays, 1);
     for (int t = 12; t < 20; t++) /* frozen from 12: nothing new, ever */
         assert_int_equal(roz_port_read(&p, s, 12), 0);
-    assert_int_equal(lb.frames_dropped, 2);
-    assert_int_equal(lb.frames_sent, 12);
-    assert_int_equal(lb.link.missing, 3); /* the two dropped, and 9, overtaken by 10 */
-    assert_int_equal(lb.link.crc_errors, 0);
+    assert_int_equal(roz_loopback_counters(&lb).frames_dropped, 2);
+    assert_int_equal(roz_loopback_counters(&lb).frames_sent, 12);
+    /* the two dropped, and 9, overtaken by 10 */
+    assert_int_equal(roz_loopback_link(&lb).missing, 3);
+    assert_int_equal(roz_loopback_link(&lb).crc_errors, 0);
 }
 
 /* The wire faults, read straight from the port: CRC corruption both ways,
@@ -203,7 +204,7 @@ static void test_loopback_wire_faults(void **st)
     (void)st;
     assert_int_equal(roz_port_open(&p, &roz_manifest_ur5, &params, err, sizeof err), ROZ_OK);
     assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK); /* before any state: withheld */
-    assert_int_equal(lb.writes_withheld, 1);
+    assert_int_equal(roz_loopback_counters(&lb).writes_withheld, 1);
     assert_null(roz_loopback_last_command(&lb));
     for (; t < 2; t++) {
         assert_int_equal(roz_port_read(&p, s, 12), 1);
@@ -215,8 +216,8 @@ static void test_loopback_wire_faults(void **st)
         assert_near(s[0], 0.01, 1e-12);
         assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
     }
-    assert_int_equal(lb.frames_corrupted, 2);
-    assert_int_equal(lb.link.crc_errors, 2);
+    assert_int_equal(roz_loopback_counters(&lb).frames_corrupted, 2);
+    assert_int_equal(roz_loopback_link(&lb).crc_errors, 2);
     assert_int_equal(roz_port_read(&p, s, 12), 1); /* 4 */
     assert_near(s[0], 0.04, 1e-12);
     assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
@@ -227,8 +228,8 @@ static void test_loopback_wire_faults(void **st)
         assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
         assert_true(roz_loopback_last_command(&lb)[0] == 1.0);
     }
-    assert_int_equal(lb.cmds_corrupted, 2);
-    assert_int_equal(lb.peer_link.crc_errors, 2);
+    assert_int_equal(roz_loopback_counters(&lb).cmds_corrupted, 2);
+    assert_int_equal(roz_loopback_peer_link(&lb).crc_errors, 2);
     assert_int_equal(roz_port_read(&p, s, 12), 1); /* 7: still moving at 1 rad/s */
     assert_near(s[0], 0.07, 1e-12);
     assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
@@ -239,8 +240,8 @@ static void test_loopback_wire_faults(void **st)
         assert_near(s[0], 0.07, 1e-12);
         assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
     }
-    assert_int_equal(lb.frames_duplicated, 2);
-    assert_int_equal(lb.link.replays, 2);
+    assert_int_equal(roz_loopback_counters(&lb).frames_duplicated, 2);
+    assert_int_equal(roz_loopback_link(&lb).replays, 2);
     for (t = 10; t < 100; t++) {
         assert_int_equal(roz_port_read(&p, s, 12), 1);
         assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
@@ -251,18 +252,18 @@ static void test_loopback_wire_faults(void **st)
         assert_int_equal(roz_port_read(&p, s, 12), 0);
         assert_int_equal(roz_port_write(&p, cmd, 6), ROZ_OK);
     }
-    assert_int_equal(lb.cmds_lost, 60);
+    assert_int_equal(roz_loopback_counters(&lb).cmds_lost, 60);
     /* 160: it boots, its sequence back at 0 (from 99): the port reports the
      * link fault once and takes the frame */
     assert_int_equal(roz_port_read(&p, s, 12), ROZ_ELINK);
-    assert_int_equal(lb.link_events, 1);
-    assert_int_equal(lb.link.restarts, 1);
+    assert_int_equal(roz_loopback_counters(&lb).link_events, 1);
+    assert_int_equal(roz_loopback_link(&lb).restarts, 1);
     assert_null(roz_loopback_last_command(&lb)); /* it forgot its command */
     assert_int_equal(roz_port_write(&p, zero, 6), ROZ_OK);
     assert_int_equal(roz_port_read(&p, s, 12), 1); /* 161 */
     roz_loopback_true_state(&lb, s);
     assert_near(s[0], before, 1e-12); /* it stopped where it died; the new command is 0 */
-    assert_int_equal(lb.violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
 }
 
 /* The fault table holds ROZ_LOOPBACK_MAX_FAULTS active injections; spent
@@ -285,7 +286,7 @@ static void test_loopback_fault_table(void **st)
     for (uint32_t k = 0; k < 3; k++) /* three spent: room for three */
         assert_int_equal(roz_loopback_inject(&lb, &forever), ROZ_OK);
     assert_int_equal(roz_loopback_inject(&lb, &forever), ROZ_ENOSPC);
-    assert_int_equal(lb.n_faults, ROZ_LOOPBACK_MAX_FAULTS);
+    assert_int_equal(roz_loopback_counters(&lb).faults, ROZ_LOOPBACK_MAX_FAULTS);
 }
 
 static void test_loopback_bad_params(void **st)

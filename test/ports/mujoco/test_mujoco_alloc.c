@@ -1,91 +1,21 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* No heap through the tick on the mujoco port: the G1 on the example stand
- * controller, every allocation of the process counted while it ticks (this
- * file defines malloc and its kin over glibc's own, so libmujoco's, a shared
- * library's, are seen too; test/ports/common/alloc_ticks.c does the same for
- * Cyclone's, around a port with threads of its own). */
-#define _GNU_SOURCE
-#include <errno.h>
-#include <malloc.h>
+ * controller, every allocation of the process counted while it ticks
+ * (libc_heap.h: libmujoco's, a shared library's, are seen too). */
 #include <setjmp.h>
 #include <stdarg.h>
-#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 
 #include <cmocka.h>
 
+#include "libc_heap.h"
 #include "roz/builtin.h"
 #include "roz/port/mujoco.h"
 #include "roz/recorder.h"
 #include "roz/runtime.h"
 #include "support.h"
-
-/* ---- every allocation of the process ------------------------------------------ */
-
-void *__libc_malloc(size_t n);
-void *__libc_calloc(size_t n, size_t size);
-void *__libc_realloc(void *p, size_t n);
-void *__libc_memalign(size_t align, size_t n);
-void __libc_free(void *p);
-
-static _Atomic int counting;
-static _Atomic uint64_t allocations, frees, all_allocations;
-
-static void count(void)
-{
-    atomic_fetch_add_explicit(&all_allocations, 1u, memory_order_relaxed);
-    if (atomic_load_explicit(&counting, memory_order_relaxed))
-        atomic_fetch_add_explicit(&allocations, 1u, memory_order_relaxed);
-}
-
-void *malloc(size_t n)
-{
-    count();
-    return __libc_malloc(n);
-}
-
-void *calloc(size_t n, size_t size)
-{
-    count();
-    return __libc_calloc(n, size);
-}
-
-void *realloc(void *p, size_t n)
-{
-    count();
-    return __libc_realloc(p, n);
-}
-
-void *memalign(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-void *aligned_alloc(size_t align, size_t n)
-{
-    count();
-    return __libc_memalign(align, n);
-}
-
-int posix_memalign(void **out, size_t align, size_t n)
-{
-    count();
-    void *p = __libc_memalign(align, n);
-    if (p == NULL)
-        return ENOMEM;
-    *out = p;
-    return 0;
-}
-
-void free(void *p)
-{
-    if (p != NULL && atomic_load_explicit(&counting, memory_order_relaxed))
-        atomic_fetch_add_explicit(&frees, 1u, memory_order_relaxed);
-    __libc_free(p);
-}
 
 /* ---- the run -------------------------------------------------------------------- */
 
@@ -108,13 +38,13 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     assert_non_null(m);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     char err[512] = "";
-    uint64_t before = atomic_load(&all_allocations);
+    uint64_t before = roz_libc_heap_counts().total;
     /* a push and the gantry on the way: their paths count too */
     roz_param_t items[2] = { { "push", "0,40,0@torso_link@100:150" }, { "gantry", "300:350" } };
     roz_params_t params = { items, 2 };
     if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
         fail_msg("%s", err);
-    uint64_t at_open = atomic_load(&all_allocations) - before;
+    uint64_t at_open = roz_libc_heap_counts().total - before;
 
     roz_runtime_config_t cfg;
     roz_test_clock_t clk = { 0, 1000 };
@@ -139,21 +69,21 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     { int rc_ = roz_runtime_tick(&rt); (void)rc_; } /* the controller's swap-in, before counting */
 
     /* the counter itself sees an allocation */
-    atomic_store(&allocations, 0u);
-    atomic_store(&counting, 1);
+    roz_libc_heap_reset();
+    roz_libc_heap_count_all(1);
     void *volatile probe = malloc(8);
     free(probe);
-    atomic_store(&counting, 0);
-    assert_int_equal(atomic_load(&allocations), 1);
+    roz_libc_heap_count_all(0);
+    assert_int_equal(roz_libc_heap_counts().allocations, 1);
 
     const int ticks = 500;
-    atomic_store(&allocations, 0u);
-    atomic_store(&frees, 0u);
-    atomic_store(&counting, 1);
+    roz_libc_heap_reset();
+    roz_libc_heap_count_all(1);
     for (int t = 0; t < ticks; t++)
         { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
-    atomic_store(&counting, 0);
-    uint64_t a = atomic_load(&allocations), f = atomic_load(&frees);
+    roz_libc_heap_count_all(0);
+    roz_libc_heap_counts_t heap = roz_libc_heap_counts();
+    uint64_t a = heap.allocations, f = heap.frees;
     roz_mujoco_base_t b;
     roz_mujoco_base(&mj, &b);
     print_message("G1 on mujoco: open made %llu heap calls; %d ticks (%llu physics steps): %llu "

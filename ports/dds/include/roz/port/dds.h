@@ -44,7 +44,7 @@ extern "C" {
 /** Shortest writer period, microseconds (0 = event-driven). */
 #define ROZ_DDS_MIN_PERIOD_US 100u
 /** Longest spin of an event-driven writer for the tick's command (us). */
-#define ROZ_DDS_MAX_SPIN_US 10000u
+#define ROZ_DDS_MAX_SPIN_US 10000
 /** Longest writer period, microseconds. */
 #define ROZ_DDS_MAX_PERIOD_US 1000000u
 
@@ -67,18 +67,23 @@ typedef struct roz_dds_params {
         "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
 
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
- *  (roz_port_info_t::params), with @p domain: dds_domain's default, text. */
-#define ROZ_DDS_PARAM_INFO(domain)                                                           \
-    { "network_interface", "an interface name", "lo", "the interface DDS talks on" },         \
-    { "dds_domain", "0..232", domain, "the DDS domain" },                                    \
-    { "enable_monitor", "true|false", "true", "latency and jitter monitored and warned" },    \
-    { "command_writer_period_us", "0, 100..1000000", "2000",                                 \
-      "the command writer's period; 0: as soon as the tick writes" },                        \
-    { "command_writer_spin_us", "0..10000", "0",                                             \
-      "with period 0: how long the writer spins for the tick's command" },                   \
-    { "state_decimation", "1..1000", "1", "every Nth state frame converted in full" },        \
-    { ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                                        \
-      "the command watchdog: the tick silent this long, the port sends its safe command" }
+ *  (roz_port_info_t::params), with @p domain: dds_domain's default, text.
+ *  roz_dds_params_parse() reads its numeric rows' bounds and defaults. */
+#define ROZ_DDS_PARAM_INFO(domain)                                                              \
+    ROZ_PORT_PARAM_TEXT_ROW("network_interface", "an interface name", "lo",                     \
+                            "the interface DDS talks on"),                                      \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_domain", "0..232", domain, "the DDS domain"),                  \
+    ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true",                             \
+                            "latency and jitter monitored and warned"),                         \
+    ROZ_PORT_PARAM_TEXT_ROW("command_writer_period_us", "0, 100..1000000", "2000",              \
+                            "the command writer's period; 0: as soon as the tick writes"),      \
+    ROZ_PORT_PARAM_U32_ROW("command_writer_spin_us", 0, ROZ_DDS_MAX_SPIN_US, 0,                 \
+                           "with period 0: how long the writer spins for the tick's command"),  \
+    ROZ_PORT_PARAM_U32_ROW("state_decimation", 1, 1000, 1,                                      \
+                           "every Nth state frame converted in full"),                          \
+    ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
+                            "the command watchdog: the tick silent this long, the port sends "  \
+                            "its safe command")
 
 /**
  * @brief Read the common DDS parameters.
