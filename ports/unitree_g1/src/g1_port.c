@@ -465,8 +465,11 @@ const roz_port_ops_t roz_unitree_g1_ops = {
 
 /* ---- public ------------------------------------------------------------------------ */
 
-roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx)
+roz_port_t roz__unitree_g1_port(roz_unitree_g1_t *g1, const roz_port_layout_t *caller,
+                                size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *g1)
+        return roz_port_misbuilt(); /* nothing written to *g1 */
     roz_port_t p = { &roz_unitree_g1_ops, g1, 0 };
     g1->open = 0;
     g1->log = log;
