@@ -32,6 +32,7 @@ static uint64_t now(const roz_runtime_t *rt)
 
 #define FAULT_BITS 0xffu
 #define SEQ_MASK   0xffffffu
+#define STAMP_WINDOW ((SEQ_MASK + 1u) / 4u) /* how far a latched bit's number lags */
 
 /* Log event codes (the ring carries numbers; log_drain formats them). */
 enum { EV_FAULT = 1, EV_WAITING, EV_FIRST_FRAME_NONFINITE, EV_MONITOR };
@@ -123,6 +124,18 @@ static void latch(roz_runtime_t *rt, roz_fault_t fault, uint32_t a, uint32_t b, 
 
     rt->latch_seq = (rt->latch_seq + 1u) & SEQ_MASK;
     rt->latch_stamp[idx] = rt->latch_seq;
+    /* The numbers are 24 bits and compared in serial arithmetic: a bit
+     * latched more than half the range of latches ago (a persistent robot
+     * fault re-latches every frame: 2^23 frames are 4.7 h at 500 Hz) would
+     * look newer than any clear. Every other latched bit's number is kept
+     * within a quarter of the range behind: no clear looks that far back (a
+     * clear is applied at the next tick) (test_latch_old_fault_clears_
+     * after_many_relatches). */
+    for (unsigned i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
+        uint32_t oldest = (rt->latch_seq - STAMP_WINDOW) & SEQ_MASK;
+        if ((bits & (1u << i)) && i != idx && seq_le(rt->latch_stamp[i], oldest))
+            rt->latch_stamp[i] = oldest;
+    }
     if (bits == 0)
         record_first_fault(rt, (unsigned)fault, rt->latch_seq, num, text);
     atomic_store_explicit(&rt->faults, (bits | (unsigned)fault) | (rt->latch_seq << 8),
