@@ -794,6 +794,31 @@ static void test_pm01_joints_by_name(void **st)
         assert_true(c.kp[i] == 0.0 && c.kd[i] == 0.0 && c.tau[i] == 0.0);
     }
     assert_true(c.q[0] == 0.125 && c.q[5] == 0.375);
+
+    /* NaN and Inf from the robot never go back out: the joint without a
+     * position command keeps its last finite position under its stiffness,
+     * a slot of no manifest joint its last finite one */
+    roz_ros2fx_ask("joint body 1 nan 0 0");
+    roz_ros2fx_ask("joint body 0 inf 0 0");
+    rc = 0;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 500 == 0)
+            roz_ros2fx_ask("send body");
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&port, st2, 2);
+    }
+    assert_int_equal(rc, 1);
+    assert_true(isnan(st2[1])); /* the runtime sees what the robot said */
+    assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
+    get_command(&c);
+    for (unsigned i = 0; i < N; i++) {
+        if (!isfinite(c.q[i]) || !isfinite(c.kp[i]) || !isfinite(c.kd[i]) ||
+            !isfinite(c.dq[i]) || !isfinite(c.tau[i]))
+            fail_msg("slot %u: q %g kp %g kd %g: not finite on the wire", i, c.q[i], c.kp[i],
+                     c.kd[i]);
+    }
+    assert_true(c.q[1] == 0.25 && c.kp[1] == 80.0);
+    assert_true(c.q[0] == 0.125 && c.kp[0] == 0.0);
 }
 
 /* ---- refusals ------------------------------------------------------------------------------- */

@@ -752,6 +752,64 @@ static int is_written(const roz_fake_g1_cmd_t *c)
     return 1;
 }
 
+/* Every value on the wire is inside the manifest as the robot compares it
+ * (float): a position limit of 2.8798 (2.87980008 as the nearest float)
+ * narrows toward the inside, and the damping command after a watchdog trip
+ * keeps the stiffness at the channel's minimum when that is above 0. */
+static roz_channel_t tight_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t tight;
+
+static void test_g1_wire_inside_the_manifest(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    memcpy(tight_commands, g1->commands, g1->n_commands * sizeof tight_commands[0]);
+    tight = *g1;
+    tight.commands = tight_commands;
+    int q0 = roz_port_test_command(g1, g1->hardware->joints[0], "position", 1);
+    tight_commands[q0].max = 2.8798;
+    assert_true((double)(float)2.8798 > 2.8798); /* the case at hand */
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        roz_channel_t *kp =
+            &tight_commands[roz_port_test_command(g1, g1->hardware->joints[j], "stiffness", 1)];
+        kp->min = 5.0;
+        kp->default_value = 5.0;
+    }
+    assert_int_equal(roz_manifest_validate(&tight, NULL), ROZ_OK);
+    roz_port_test_open(&roz_fixture_unitree_g1, &tight,
+                       (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                        { "peer_timeout_ms", "60000" } },
+                       2, &port);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_port_test_distinct_command(&tight, 1, cmd);
+    cmd[q0] = 2.8798;
+    write_g1(); /* the hold */
+    roz_g1fx_settle();
+    write_g1();
+    get_command(&c);
+    int s0 = roz_g1fx_slot(g1->hardware->joints[0]);
+    if ((double)c.q[s0] > 2.8798)
+        fail_msg("q %.9g on the wire: outside the limit 2.8798", (double)c.q[s0]);
+    assert_true(c.q[s0] == nextafterf((float)2.8798, 0.0f));
+
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    uint64_t tripped = fake_good();
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)tripped + 2u),
+                     0);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        int sj = roz_g1fx_slot(g1->hardware->joints[j]);
+        if (c.kp[sj] != 5.0f || !(c.kd[sj] > 0.0f))
+            fail_msg("%s in the damping command: kp %g kd %g: kp outside [5, ...]",
+                     g1->hardware->joints[j], (double)c.kp[sj], (double)c.kd[sj]);
+    }
+    assert_true((double)c.q[s0] <= 2.8798);
+}
+
 static void test_g1_watchdog_on_the_wire(void **st)
 {
     roz_fake_g1_cmd_t c;
@@ -1095,6 +1153,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
