@@ -26,6 +26,7 @@
  *  - a manifest of the leg alone reads and drives the leg topic alone;
  *  - bad parameters and joints not on the X2 are refused by name. */
 #define _POSIX_C_SOURCE 200809L
+#define ROZ_PRIVATE_ACCESS /* the command path's test hook */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -557,6 +558,7 @@ static void test_x2_part_of_the_robot(void **st)
     assert_int_equal(rc, 1); /* the leg alone makes the frame */
     assert_true(s1[0] == 0.75);
     assert_int_equal(roz_port_write(&port, c1, 2), ROZ_OK); /* the hold */
+    roz_ros2fx_settle(); /* the writes after it are holds until it went out */
     assert_int_equal(roz_port_write(&port, c1, 2), ROZ_OK);
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
@@ -691,6 +693,40 @@ static void test_x2_nonfinite_state_never_on_the_wire(void **st)
     assert_all_finite(&c, "damping");
     assert_true(c.kp[3] == 10.0 && c.kp[0] == 0.0 && c.kp[9] == 0.0);
     assert_true(c.kd[0] >= 1.0 && c.kd[0] <= 5.0);
+}
+
+/* The start-up hold reaches every group before the controller's command,
+ * however soon the tick writes again (the writer held back across it). */
+static void test_x2_hold_reaches_the_wire_first(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    roz_dds_cmd_t *path = &roz_ros2fx_bridge()->cmd;
+    (void)st;
+    open_x2(NULL, 0);
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1);
+    atomic_store(&path->held_back, 1);
+    distinct_command(1);
+    write_x2(); /* the hold */
+    write_x2(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    write_x2();
+    roz_ros2fx_settle();
+    roz_fake_ros2_t *fk = roz_ros2fx_fake();
+    for (unsigned g = 0; g < fk->n_groups; g++) {
+        assert_int_equal(roz_fake_ros2_command(fk, g, &c), 1);
+        for (unsigned s = 0; s < c.n; s++) {
+            if (c.kp[s] != 0.0)
+                fail_msg("%s: the robot's first command is not the hold (kp %g)", c.name[s],
+                         c.kp[s]);
+        }
+    }
+    write_x2();
+    roz_ros2fx_settle();
+    int g, s;
+    assert_int_equal(roz_ros2fx_place(0, &g, &s), 0);
+    assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
+    assert_true(c.kp[s] == cmd[cmd_of(m->hardware->joints[0], "stiffness")]);
 }
 
 /* The built-in manifest leaves head_pitch_joint out: whatever the robot
@@ -850,6 +886,7 @@ int main(void)
         cmocka_unit_test_teardown(test_x2_part_of_the_robot, teardown),
         cmocka_unit_test_teardown(test_x2_nonfinite_state_never_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_x2_head_pitch_nan, teardown),
+        cmocka_unit_test_teardown(test_x2_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_x2_watchdog_every_group, teardown),
         cmocka_unit_test(test_x2_bad_parameters),
     };

@@ -783,6 +783,7 @@ static void test_pm01_joints_by_name(void **st)
     assert_int_equal(rc, 1);
     assert_true(st2[0] == -0.5 && st2[1] == 0.25);
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK); /* the hold */
+    roz_ros2fx_settle(); /* the writes after it are holds until it went out */
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
     get_command(&c);
     assert_int_equal(c.min_len, N);

@@ -752,6 +752,42 @@ static int is_written(const roz_fake_g1_cmd_t *c)
     return 1;
 }
 
+/* The start-up hold is one frame of the latest-value hand-off: the tick
+ * writing again before the writer sent it must not make the controller's
+ * command the robot's first. The writer is held back (the command path's
+ * test hook) across the hold and two writes more. */
+static void test_g1_hold_reaches_the_wire_first(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_dds_cmd_t *path = &roz_g1fx_port()->cmd;
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(sent);
+    atomic_store(&path->held_back, 1);
+    distinct_command(1);
+    write_g1(); /* the hold */
+    write_g1(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    write_g1(); /* wakes the writer */
+    roz_g1fx_settle();
+    WAIT_UNTIL(fake_good() >= 1);
+    assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        if (c.kp[j] != 0.0 || c.q[j] != (float)sent[state_index(name)])
+            fail_msg("the robot's first command is not the hold: %s q %g kp %g",
+                     m->hardware->joints[j], c.q[j], c.kp[j]);
+    }
+    write_g1(); /* the hold went out: the controller drives now */
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().holds, 1);
+}
+
 /* Every value on the wire is inside the manifest as the robot compares it
  * (float): a position limit of 2.8798 (2.87980008 as the nearest float)
  * narrows toward the inside, and the damping command after a watchdog trip
@@ -1153,6 +1189,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),

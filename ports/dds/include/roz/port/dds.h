@@ -551,6 +551,7 @@ typedef enum roz_dds_cmd_counter {
     ROZ_DDS_CMD_HANDLED_SEQ, /**< sequence of the last frame a pass judged */
     ROZ_DDS_CMD_WRITTEN_SEQ, /**< sequence of the last frame the tick wrote */
     ROZ_DDS_CMD_SAFE,        /**< watchdog passes that sent the damping command */
+    ROZ_DDS_CMD_HOLD_SENT_SEQ, /**< sequence of the last start-up hold a pass sent */
     ROZ_DDS_CMD_COUNTERS
 } roz_dds_cmd_counter_t;
 
@@ -567,10 +568,15 @@ typedef struct roz_dds_cmd {
     /* the tick's */
     uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
     uint64_t                 ROZ_PRIVATE(write_seq);
+    uint64_t                 ROZ_PRIVATE(hold_seq);    /* the last hold's sequence */
     /* tick <-> writer thread */
     roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
     roz_buffer_t             ROZ_PRIVATE(buf);
     ROZ_ATOMIC(int)          ROZ_PRIVATE(shutdown);    /* 1: the pass sends the damping */
+    /* a test's hook: 1 holds the writer back (its passes send nothing and
+     * leave the frame), so that the tick writes again before a frame went
+     * out (test_g1_hold_reaches_the_wire_first) */
+    ROZ_ATOMIC(int)          ROZ_PRIVATE(held_back);
     /* the writer thread's */
     int                      ROZ_PRIVATE(sent_any);    /* ops->send() was called */
     /* written by one thread each, read by any */
