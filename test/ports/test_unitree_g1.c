@@ -925,7 +925,9 @@ static void test_g1_watchdog_on_the_wire(void **st)
     assert_true(state[state_index("left_knee_joint/position")] ==
                 sent[state_index("left_knee_joint/position")]); /* read with the report */
     assert_int_equal(read_g1(), 0);
-    /* its first write is the hold: the measured positions, no gains */
+    /* its first write is the hold: the measured positions, no stiffness,
+     * and the damping the robot is in already (not kd 0 between two
+     * damping commands) */
     distinct_command(7);
     write_g1();
     get_command(&c);
@@ -934,7 +936,10 @@ static void test_g1_watchdog_on_the_wire(void **st)
         char name[160];
         snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
         assert_true(c.q[j] == sent[state_index(name)]);
-        assert_true(c.kp[j] == 0.0 && c.kd[j] == 0.0);
+        assert_true(c.kp[j] == 0.0);
+        if (c.kd[j] != (float)m->commands[cmd_index(j, "damping")].default_value)
+            fail_msg("%s: kd %g in the hold after the trip: not the damping command's",
+                     m->hardware->joints[j], (double)c.kd[j]);
     }
     /* then as written again */
     roz_g1fx_send();
@@ -1077,7 +1082,8 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     get_command(&c);
     roz_g1fx_sent(sent);
     assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
-    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+    assert_true(c.kp[3] == 0.0); /* and the damping command's kd, not 0 */
+    assert_true(c.kd[3] == (float)m->commands[cmd_index(3, "damping")].default_value);
     assert_true(counters().holds >= 2);
 
     /* latched (an immediate stop: the safe defaults) until cleared; then

@@ -122,8 +122,11 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
     uint32_t epoch;
     double *f = roz_buffer_write_begin(&c->buf);
     /* the first write for this robot, or since the watchdog tripped */
-    int hold = roz_cmd_watchdog_write(&c->watchdog, now, &epoch);
-    hold |= t->robot != c->write_robot;
+    int tripped = roz_cmd_watchdog_write(&c->watchdog, now, &epoch);
+    int fresh = t->robot != c->write_robot; /* a robot new or restarted */
+    int hold = tripped | fresh;
+    if (hold) /* test_x2_watchdog_every_group, test_g1_watchdog_on_the_wire */
+        c->hold_after_trip = tripped && !fresh;
     /* The hold is one frame of a latest-value hand-off: a write before the
      * writer sent it would overwrite it, and the robot's first command would
      * be the controller's. Until a pass sent it, every write is the hold
@@ -134,7 +137,7 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
                                                   memory_order_acquire);
     if (hold || again) {
         /* the start-up hold instead */
-        c->ops->hold(c->port, f);
+        c->ops->hold(c->port, c->hold_after_trip, f);
         c->write_robot = t->robot;
         c->hold_seq = c->write_seq + 1u;
         if (hold)

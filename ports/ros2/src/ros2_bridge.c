@@ -340,10 +340,10 @@ static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
     return 1;
 }
 
-static void bridge_hold(void *port, double *cmd)
+static void bridge_hold(void *port, int after_trip, double *cmd)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_hold(b, b->tick_q, b->startup_kd, cmd);
+    roz__ros2_hold(b, b->tick_q, after_trip ? b->shutdown_kd : b->startup_kd, cmd);
 }
 
 /* every topic's session, summed: any topic's peer restarting changes it */

@@ -169,10 +169,10 @@ static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
 
 /* ---- the command path's hooks (roz/port/dds.h says which thread runs each) -------- */
 
-static void g1_hold(void *port, double *cmd)
+static void g1_hold(void *port, int after_trip, double *cmd)
 {
     roz_unitree_g1_t *g1 = port;
-    roz__g1_hold(g1, g1->tick_q, g1->startup_kd, cmd);
+    roz__g1_hold(g1, g1->tick_q, after_trip ? g1->shutdown_kd : g1->startup_kd, cmd);
 }
 
 static uint32_t g1_rx_session(void *port)

@@ -494,9 +494,12 @@ void roz_dds_writer_close(roz_dds_writer_t *w);
 typedef struct roz_dds_cmd_ops {
     /** The start-up hold into @p cmd (n_commands, manifest order): every
      *  joint's position command its measured position, kd the port's
-     *  `startup_damping`, everything else 0, each value clamped.
+     *  `startup_damping`, everything else 0, each value clamped. With
+     *  @p after_trip (the tick back after a watchdog trip) kd is the
+     *  damping command's (`shutdown_damping`): the robot is damped already,
+     *  and a kd of 0 between two damping commands would let it go limp.
      *  Context: the tick; RT-safe. */
-    void (*hold)(void *port, double *cmd);
+    void (*hold)(void *port, int after_trip, double *cmd);
     /** The robot session the receive path has seen, compared with the one
      *  the tick wrote a frame for. Context: the writer thread; RT-safe. */
     uint32_t (*rx_session)(void *port);
@@ -569,6 +572,7 @@ typedef struct roz_dds_cmd {
     uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
     uint64_t                 ROZ_PRIVATE(write_seq);
     uint64_t                 ROZ_PRIVATE(hold_seq);    /* the last hold's sequence */
+    int                      ROZ_PRIVATE(hold_after_trip); /* it follows a watchdog trip */
     /* tick <-> writer thread */
     roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
     roz_buffer_t             ROZ_PRIVATE(buf);
