@@ -444,6 +444,25 @@ static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
     sum->nn_refused += c->nn_refused;
 }
 
+/* A controller swapped in starts from the hold: each position command
+ * paired with a position state targets that state's last good value, inside
+ * the channel, not its default (the G1's 0 rad would pull every joint to
+ * zero through the rate cap); a non-finite one leaves the default
+ * (test_runtime_swap_starts_at_the_hold). */
+static void hold_targets(roz_runtime_t *rt, roz_runtime_slot_t *s)
+{
+    const roz_manifest_t *m = rt->cfg.manifest;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        if (c->type != ROZ_IF_POSITION || c->position_state < 0 ||
+            c->position_state >= (int32_t)m->n_states)
+            continue;
+        double q = rt->state[c->position_state];
+        if (q - q == 0.0) /* finite */
+            s->target[i] = q < c->min ? c->min : q > c->max ? c->max : q;
+    }
+}
+
 /* 0. Hand-overs from other threads, at the tick boundary, each taken with an
  * exchange. The clear request is taken first: a clear that rebuilt the
  * controller scheduled it before it asked for the clear, so seeing the
@@ -463,6 +482,7 @@ static int tick_handovers(roz_runtime_t *rt)
          * swap pending then sees the new active slot, and never takes the
          * slot being installed for its spare (only a loader sets pending,
          * and only while it is -1: nothing is lost between the two) */
+        hold_targets(rt, &rt->slot[pending]);
         atomic_store(&rt->active, pending);
         atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
