@@ -369,6 +369,43 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     assert_int_equal(read_pm01(), 0);
 }
 
+/* A documented limit (SAFETY.md, docs/ports/ros2.md): the PM01's header has
+ * no sequence, so a step back of the robot's clock (NTP, PTP, `date`) is not
+ * told from a replay. 20 ms back: every sample is dropped as a replay until
+ * the robot's clock passes the last stamp taken: as long as stale_ticks
+ * periods (10 at 500 Hz) of nothing fresh, so the runtime latches STALE. */
+static void test_pm01_clock_step_back_is_a_replay(void **st)
+{
+    roz_link_t l;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    roz_ros2fx_ask("stamp 1800000000 500000000");
+    send_judged();
+    assert_int_equal(read_pm01(), 1);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    uint64_t replays = l.replays, restarts = l.restarts;
+    /* the clock steps 20 ms back; it advances 1 ms a sample (on either
+     * topic) from there */
+    roz_ros2fx_ask("stamp 1800000000 480000000");
+    int fresh = 0, sends = 0;
+    for (; sends < 40 && fresh == 0; sends++) {
+        send_judged();
+        fresh = read_pm01() == 1;
+    }
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.restarts, restarts); /* no restart: within the window */
+    assert_int_equal(fresh, 1);
+    /* the samples before it dropped, on both topics (the last one on one of
+     * them only): 2 ms of the robot's clock a send, so 20 ms are 10 sends
+     * lost, as many ticks of nothing fresh as stale_ticks */
+    print_message("clock 20 ms back: %d sends until fresh, %llu replays\n", sends,
+                  (unsigned long long)(l.replays - replays));
+    assert_true(l.replays >= replays + 2u * (uint64_t)(sends - 2));
+    assert_true(sends - 1 >= 9);
+}
+
 /* ---- shapes ----------------------------------------------------------------------------- */
 
 static void test_pm01_arrays_must_be_24_long(void **st)
@@ -894,6 +931,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
         cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
         cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
+        cmocka_unit_test_teardown(test_pm01_clock_step_back_is_a_replay, teardown),
         cmocka_unit_test_teardown(test_pm01_arrays_must_be_24_long, teardown),
         cmocka_unit_test(test_pm01_domain),
         cmocka_unit_test(test_pm01_traffic_on_69),
