@@ -846,6 +846,70 @@ static void test_g1_wire_inside_the_manifest(void **st)
     assert_true((double)c.q[s0] <= 2.8798);
 }
 
+/* A joint without a position command (the knee here: stiffness, damping
+ * alone) is sent its measured position, the last finite one: NaN from the
+ * robot never goes out, and a joint never measured finite gets no
+ * stiffness against a made-up target. */
+static roz_channel_t no_q_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t no_q;
+
+static void send_raw(void)
+{
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 1);
+}
+
+static void test_g1_joint_without_position_command(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    int knee_q = roz_port_test_command(g1, "left_knee_joint", "position", 1);
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < g1->n_commands; i++) {
+        if (i != knee_q)
+            no_q_commands[n++] = g1->commands[i];
+    }
+    no_q = *g1;
+    no_q.commands = no_q_commands;
+    no_q.n_commands = n;
+    assert_int_equal(roz_manifest_validate(&no_q, NULL), ROZ_OK);
+    int kp = roz_port_test_command(&no_q, "left_knee_joint", "stiffness", 1);
+    int slot = roz_g1fx_slot("left_knee_joint");
+    roz_port_test_open(&roz_fixture_unitree_g1, &no_q, NULL, 0, &port);
+
+    roz_g1fx_set_state(1);
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    roz_port_test_distinct_command(&no_q, 1, cmd);
+    cmd[kp] = 80.0;
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK); /* the hold */
+    roz_g1fx_settle();
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.0f && c.kp[slot] == 0.0f); /* never measured */
+
+    roz_g1fx_ask("motor %d 0.75 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.75f && c.kp[slot] == 80.0f);
+
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    if (!(c.q[slot] == 0.75f && c.kp[slot] == 80.0f))
+        fail_msg("NaN measured: q %g kp %g on the wire; expected the last finite 0.75",
+                 (double)c.q[slot], (double)c.kp[slot]);
+}
+
 static void test_g1_watchdog_on_the_wire(void **st)
 {
     roz_fake_g1_cmd_t c;
@@ -1197,6 +1261,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
         cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
+        cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),

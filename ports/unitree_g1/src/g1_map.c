@@ -4,6 +4,7 @@
  * (binding) and on the port's threads (the rest): no heap, no I/O. */
 #include "g1_map.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -210,9 +211,10 @@ static void seal(g1_cmd_t *out)
     out->crc = roz_crc32_words((const uint32_t *)(const void *)out, G1_CMD_CRC_WORDS);
 }
 
-void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_machine,
-                  g1_cmd_t *out)
+void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q,
+                  uint8_t mode_machine, g1_cmd_t *out)
 {
+    const roz_manifest_t *m = g1->m;
     out->mode_pr = g1->mode_pr;
     out->mode_machine = mode_machine;
     /* slots without a manifest joint stay as zeroed: mode 0, disabled */
@@ -220,11 +222,25 @@ void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_ma
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
-        mc->q = value(g1->m, cmd, j->q_cmd);
-        mc->dq = value(g1->m, cmd, j->dq_cmd);
-        mc->tau = value(g1->m, cmd, j->tau_cmd);
-        mc->kp = value(g1->m, cmd, j->kp_cmd);
-        mc->kd = value(g1->m, cmd, j->kd_cmd);
+        mc->q = value(m, cmd, j->q_cmd);
+        mc->dq = value(m, cmd, j->dq_cmd);
+        mc->tau = value(m, cmd, j->tau_cmd);
+        mc->kp = value(m, cmd, j->kp_cmd);
+        mc->kd = value(m, cmd, j->kd_cmd);
+        if (j->q_cmd < 0) {
+            /* no position command: the measured position, inside its
+             * state's limits, under the stiffness; never measured (or not
+             * a number): 0, and no stiffness the manifest can avoid */
+            double qk = q[g1->slot[k]];
+            if (isfinite(qk) && j->q_state >= 0)
+                qk = roz_channel_clamp_float(&m->states[j->q_state], qk);
+            if (fabs(qk) <= FLT_MAX) { /* finite, as a float too */
+                mc->q = (float)qk;
+            } else {
+                mc->q = 0.0f;
+                mc->kp = neutral(m, j->kp_cmd);
+            }
+        }
     }
     seal(out);
 }

@@ -44,8 +44,8 @@ extern "C" {
  *  its code, mode_machine, tick, then each slot's measured q. */
 #define ROZ_UNITREE_G1_STATE_META (5 + ROZ_UNITREE_G1_SLOTS)
 /** Values after the commands in a command frame: session, hold, sequence,
- *  watchdog epoch. */
-#define ROZ_UNITREE_G1_CMD_META 4
+ *  watchdog epoch, then each slot's last finite measured q (NaN: none yet). */
+#define ROZ_UNITREE_G1_CMD_META (4 + ROZ_UNITREE_G1_SLOTS)
 /** Largest number of merged parameters (robot.toml's and the caller's). */
 #define ROZ_UNITREE_G1_MAX_PARAMS 48
 
