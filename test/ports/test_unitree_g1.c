@@ -1081,6 +1081,7 @@ static void test_g1_watchdog_spinning_writer(void **st)
     WAIT_UNTIL((fresh = fresh || read_g1() == 1));
     distinct_command(0);
     write_g1(); /* the hold */
+    roz_g1fx_settle(); /* the writes after it are holds until it went out */
     fresh = 0;
     WAIT_UNTIL((fresh = fresh || read_g1() == 1));
     distinct_command(1);
@@ -1123,7 +1124,8 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     roz_g1fx_settle();
     get_command(&c);
     assert_true(c.kp[3] > 0.0);
-    assert_int_equal(roz_runtime_faults(&rt), 0);
+    if (roz_runtime_faults(&rt) != 0)
+        fail_msg("a fault before the tick stopped: %s", roz_runtime_fault_message(&rt));
 
     /* the tick stops; the watchdog trips; the tick is back */
     WAIT_UNTIL(counters().command_timeouts == 1);
