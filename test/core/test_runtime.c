@@ -17,6 +17,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support_runtime.h"
+#include "support_wat.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -286,6 +287,39 @@ static void test_runtime_swap_keeps_old_on_failure(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* A controller that sets nothing: every target is where the runtime
+ * started it. */
+static const char idle_wat[] = "(module (func (export \"process\") (param i64)))";
+
+/* A swapped-in controller starts with its paired position targets at the
+ * hold (the measured positions), not at the manifest's defaults: after the
+ * stand, the knees stay at 0.3 rad under the idle controller. */
+static void test_runtime_swap_starts_at_the_hold(void **st)
+{
+    static uint8_t idle[256];
+    (void)st;
+    start(&roz_manifest_unitree_g1, NULL);
+    load("g1_stand", ROZ_OK);
+    ticks(1500);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    const double *state = roz_runtime_last_state(&rt);
+    double knee = state[ROZ_UNITREE_G1_STATE_LEFT_KNEE_JOINT_POSITION];
+    assert_near(knee, 0.3, 0.02);
+    size_t len = roz_test_wat(idle_wat, idle, sizeof idle);
+    assert_int_equal(roz_runtime_load(&rt, idle, len, NULL), ROZ_OK);
+    ticks(1);
+    assert_int_equal(RT_COUNT(&rt, swaps), 2);
+    const double *tgt = roz_runtime_last_targets(&rt);
+    const roz_channel_t *c =
+        &roz_manifest_unitree_g1.commands[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION];
+    assert_true(c->default_value != knee);
+    assert_near(tgt[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION], knee, 0.01);
+    ticks(500);
+    assert_near(roz_runtime_last_commands(&rt)[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION], knee,
+                0.01);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 static void test_runtime_g1_stand(void **st)
 {
     (void)st;
@@ -374,6 +408,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_verify_refuses, teardown),
         cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
+        cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
         cmocka_unit_test(test_runtime_simulator_read_not_warned),
     };

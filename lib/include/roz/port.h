@@ -251,12 +251,59 @@ typedef struct roz_port {
     int                   opened;
 } roz_port_t;
 
+/**
+ * The ROZ_CFG_* options a port's instance is laid out by, as a translation
+ * unit sees them. A port instance is the application's storage, written by
+ * the library: an application built with other options than the library
+ * would have it written past its end. The port constructors and
+ * roz_port_open() pass the caller's view, and the library refuses a
+ * mismatch before it writes anything (test/core/test_port_layout.c).
+ */
+typedef struct roz_port_layout {
+    uint32_t max_commands, max_states, max_joints, max_params, error_len, max_name_len,
+        name_arena_bytes, problem_len;
+} roz_port_layout_t;
+
+/** The layout of the translation unit that expands it. */
+#define ROZ_PORT_LAYOUT_INIT                                                                 \
+    {                                                                                        \
+        (uint32_t)ROZ_CFG_MAX_COMMANDS, (uint32_t)ROZ_CFG_MAX_STATES,                        \
+            (uint32_t)ROZ_CFG_MAX_JOINTS, (uint32_t)ROZ_CFG_MAX_PARAMS,                      \
+            (uint32_t)ROZ_CFG_ERROR_LEN, (uint32_t)ROZ_CFG_MAX_NAME_LEN,                     \
+            (uint32_t)ROZ_CFG_NAME_ARENA_BYTES, (uint32_t)ROZ_CFG_PROBLEM_LEN                \
+    }
+
+/**
+ * @brief Compare a caller's port layout with the library's.
+ * @param[out] err  names the first difference ("ROZ_CFG_MAX_COMMANDS is 16
+ *                  in the application, 256 in libroz_core: ..."); may be NULL
+ * @retval ROZ_OK the same; ROZ_ECONFIG different
+ * Context: any; no I/O.
+ */
+ROZ_NODISCARD int roz_port_layout_check(const roz_port_layout_t *caller, char *err,
+                                        size_t errlen);
+
+/**
+ * @brief What a port constructor returns for an instance it must not write
+ *        (the caller's layout is not the library's, or its instance has
+ *        another size): a port whose open() fails with ROZ_ECONFIG saying
+ *        so; nothing written.
+ * Context: start-up.
+ */
+roz_port_t roz_port_misbuilt(void);
+
 /** @brief open(); a port without the op has nothing to open and is open at
- *  once. Marks @p p open on success. Context: start-up; may allocate. */
+ *  once. Marks @p p open on success. Refuses (ROZ_ECONFIG, @p err naming
+ *  the option) an application built with other ROZ_CFG_* options than the
+ *  library, before the port's open() writes its instance.
+ *  Context: start-up; may allocate. */
 static inline int roz_port_open(roz_port_t *p, const roz_manifest_t *m,
                                 const roz_params_t *params, char *err, size_t errlen)
 {
-    int rc = p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_OK;
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    int rc = roz_port_layout_check(&caller, err, errlen);
+    if (rc == ROZ_OK)
+        rc = p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_OK;
     p->opened = rc == ROZ_OK;
     return rc;
 }

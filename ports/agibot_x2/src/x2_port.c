@@ -348,8 +348,11 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .link_counters = x2_link_counters,
 };
 
-roz_port_t roz_agibot_x2_port(roz_agibot_x2_t *x2, roz_log_fn log, void *log_ctx)
+roz_port_t roz__agibot_x2_port(roz_agibot_x2_t *x2, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *x2)
+        return roz_port_misbuilt(); /* nothing written to *x2 */
     roz_port_t p = { &roz_agibot_x2_ops, x2, 0 };
     x2->b.open = 0;
     x2->b.log = log;

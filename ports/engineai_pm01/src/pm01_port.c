@@ -237,8 +237,11 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .link_counters = pm01_link_counters,
 };
 
-roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log, void *log_ctx)
+roz_port_t roz__engineai_pm01_port(roz_engineai_pm01_t *pm, const roz_port_layout_t *caller,
+                                   size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *pm)
+        return roz_port_misbuilt(); /* nothing written to *pm */
     roz_port_t p = { &roz_engineai_pm01_ops, pm, 0 };
     pm->b.open = 0;
     pm->b.log = log;

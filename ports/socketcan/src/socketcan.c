@@ -966,8 +966,11 @@ const roz_port_ops_t roz_socketcan_ops = {
 
 /* ---- public ---------------------------------------------------------------------- */
 
-roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx)
+roz_port_t roz__socketcan_port(roz_socketcan_t *sc, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *sc)
+        return roz_port_misbuilt(); /* nothing written to *sc */
     roz_port_t p = { &roz_socketcan_ops, sc, 0 };
     if (!sc->opened)
         sc->given_fd = -1;

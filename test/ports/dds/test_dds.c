@@ -584,9 +584,10 @@ static cmd_port_t cp;
 static roz_dds_cmd_t cmdp;
 static double cmd_slots[3 * (2 + ROZ_DDS_CMD_META + 1)];
 
-static void cp_hold(void *port, double *cmd)
+static void cp_hold(void *port, int after_trip, double *cmd)
 {
     cmd_port_t *p = port;
+    (void)after_trip;
     p->holds++;
     cmd[0] = 0.25; /* "the measured position" */
     cmd[1] = 0.0;

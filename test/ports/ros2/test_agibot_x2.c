@@ -26,6 +26,7 @@
  *  - a manifest of the leg alone reads and drives the leg topic alone;
  *  - bad parameters and joints not on the X2 are refused by name. */
 #define _POSIX_C_SOURCE 200809L
+#define ROZ_PRIVATE_ACCESS /* the command path's test hook */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -557,6 +558,7 @@ static void test_x2_part_of_the_robot(void **st)
     assert_int_equal(rc, 1); /* the leg alone makes the frame */
     assert_true(s1[0] == 0.75);
     assert_int_equal(roz_port_write(&port, c1, 2), ROZ_OK); /* the hold */
+    roz_ros2fx_settle(); /* the writes after it are holds until it went out */
     assert_int_equal(roz_port_write(&port, c1, 2), ROZ_OK);
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
@@ -567,6 +569,184 @@ static void test_x2_part_of_the_robot(void **st)
     assert_int_equal(counts[WAIST], 0);
     assert_int_equal(counts[ARM], 0);
     assert_int_equal(counts[HEAD], 0);
+}
+
+/* ---- non-finite robot state never on the wire --------------------------------------------- */
+
+/* Every value of every group's last command is finite; the manifest's
+ * channels inside their limits (checked by the caller). */
+static void assert_all_finite(const roz_fake_ros2_cmd_t *c, const char *when)
+{
+    for (unsigned s = 0; s < c->n; s++) {
+        if (!isfinite(c->q[s]) || !isfinite(c->dq[s]) || !isfinite(c->tau[s]) ||
+            !isfinite(c->kp[s]) || !isfinite(c->kd[s]))
+            fail_msg("%s: slot %u (%s): q %g dq %g tau %g kp %g kd %g: not finite", when, s,
+                     c->name[s], c->q[s], c->dq[s], c->tau[s], c->kp[s], c->kd[s]);
+    }
+}
+
+/* The left knee driven by stiffness alone (no position command: the port
+ * sends its measured position), the left hip pitch by position; the robot
+ * reports NaN and Inf positions for the knee, an unlisted leg slot and the
+ * built-in manifest's missing head_pitch_joint. */
+static const roz_channel_t stiff_commands[] = {
+    { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 10.0, 100.0, 10.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_hip_pitch_joint/damping", ROZ_IF_DAMPING, "", 1.0, 5.0, 2.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+};
+static const roz_channel_t stiff_states[] = {
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0 },
+};
+static const char *const stiff_joints[] = { "left_knee_joint", "left_hip_pitch_joint" };
+static const roz_hardware_t stiff_hw = { "agibot/X2", stiff_joints, 2, NULL, 0 };
+static const roz_manifest_t stiff_only = { "stiff_only", "humanoid", 500, stiff_commands, 3,
+                                           stiff_states, 2, &stiff_hw };
+
+static void read_leg(double *s2)
+{
+    int rc = ROZ_ENOENT;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 500 == 0)
+            roz_ros2fx_ask("send leg");
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&port, s2, 2);
+    }
+    assert_int_equal(rc, 1);
+}
+
+static void test_x2_nonfinite_state_never_on_the_wire(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    double s2[2], c3[3] = { 80.0, 0.5, 3.0 };
+    (void)st;
+
+    open_x2_on(&stiff_only,
+               (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                { "peer_timeout_ms", "60000" } },
+               2);
+    /* never a finite position: the knee gets no stiffness it could use
+     * against a made-up target, the unlisted slot nothing */
+    roz_ros2fx_ask("joint leg 3 nan 0 0");
+    roz_ros2fx_ask("joint leg 9 inf 0 0");
+    read_leg(s2);
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK); /* the hold */
+    roz_ros2fx_settle();
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK);
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
+    assert_all_finite(&c, "never measured");
+    assert_true(c.q[3] == 0.0 && c.kp[3] == 10.0); /* the stiffness channel's minimum */
+    assert_true(c.q[0] == 0.5 && c.kd[0] == 3.0);
+    assert_true(c.kp[9] == 0.0);
+
+    /* a finite position, then NaN and -Inf: the last finite one (inside
+     * the state's limits) stays the target the stiffness acts on */
+    roz_ros2fx_ask("joint leg 3 0.75 0 0");
+    read_leg(s2);
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK);
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
+    assert_true(c.q[3] == 0.75 && c.kp[3] == 80.0);
+    roz_ros2fx_ask("joint leg 3 nan 0 0");
+    read_leg(s2);
+    assert_true(isnan(s2[0])); /* the runtime sees what the robot said */
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK);
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
+    assert_all_finite(&c, "NaN measured");
+    assert_true(c.q[3] == 0.75 && c.kp[3] == 80.0);
+    roz_ros2fx_ask("joint leg 3 -inf 0 0");
+    read_leg(s2);
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK);
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
+    assert_all_finite(&c, "-Inf measured");
+    roz_ros2fx_ask("joint leg 3 7.5 0 0"); /* beyond the state's limit of 2.4 */
+    read_leg(s2);
+    assert_int_equal(roz_port_write(&port, c3, 3), ROZ_OK);
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), LEG, &c), 1);
+    assert_true(c.q[3] == 2.4);
+
+    /* the tick stops: the damping command, finite, its stiffness the
+     * channel's minimum (not 0, outside the manifest), its damping inside */
+    roz_ros2fx_ask("joint leg 3 nan 0 0");
+    read_leg(s2);
+    for (int ms = 0; roz_ros2fx_counters().command_timeouts != 1; ms++) {
+        if (ms >= 60000)
+            fail_msg("the watchdog did not trip in 60 s");
+        roz_fake_sleep_ms(1);
+    }
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    roz_fake_ros2_t *fk = roz_ros2fx_fake();
+    assert_int_equal(roz_fake_ros2_commands(fk, n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(fk, "wait_commands leg %llu 60000",
+                                       (unsigned long long)n0[LEG] + 2u),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(fk, LEG, &c), 1);
+    assert_all_finite(&c, "damping");
+    assert_true(c.kp[3] == 10.0 && c.kp[0] == 0.0 && c.kp[9] == 0.0);
+    assert_true(c.kd[0] >= 1.0 && c.kd[0] <= 5.0);
+}
+
+/* The start-up hold reaches every group before the controller's command,
+ * however soon the tick writes again (the writer held back across it). */
+static void test_x2_hold_reaches_the_wire_first(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    roz_dds_cmd_t *path = &roz_ros2fx_bridge()->cmd;
+    (void)st;
+    open_x2(NULL, 0);
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1);
+    atomic_store(&path->held_back, 1);
+    distinct_command(1);
+    write_x2(); /* the hold */
+    write_x2(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    write_x2();
+    roz_ros2fx_settle();
+    roz_fake_ros2_t *fk = roz_ros2fx_fake();
+    for (unsigned g = 0; g < fk->n_groups; g++) {
+        assert_int_equal(roz_fake_ros2_command(fk, g, &c), 1);
+        for (unsigned s = 0; s < c.n; s++) {
+            if (c.kp[s] != 0.0)
+                fail_msg("%s: the robot's first command is not the hold (kp %g)", c.name[s],
+                         c.kp[s]);
+        }
+    }
+    write_x2();
+    roz_ros2fx_settle();
+    int g, s;
+    assert_int_equal(roz_ros2fx_place(0, &g, &s), 0);
+    assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
+    assert_true(c.kp[s] == cmd[cmd_of(m->hardware->joints[0], "stiffness")]);
+}
+
+/* The built-in manifest leaves head_pitch_joint out: whatever the robot
+ * reports there never goes back out. */
+static void test_x2_head_pitch_nan(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    (void)st;
+    open_x2(NULL, 0);
+    roz_ros2fx_ask("joint head 1 nan nan nan");
+    start();
+    roz_ros2fx_send();
+    assert_int_equal(read_x2(), 1);
+    distinct_command(1);
+    write_x2();
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), HEAD, &c), 1);
+    assert_string_equal(c.name[1], "head_pitch_joint");
+    assert_all_finite(&c, "head");
+    assert_true(c.kp[1] == 0.0 && c.kd[1] == 0.0);
 }
 
 /* ---- refusals ------------------------------------------------------------------------------- */
@@ -685,7 +865,10 @@ static void test_x2_watchdog_every_group(void **st)
     char name[160];
     snprintf(name, sizeof name, "%s/position", m->hardware->joints[0]);
     assert_true(c.q[s] == sent[state_index(name)]);
-    assert_true(c.kp[s] == 0.0 && c.kd[s] == 0.0);
+    /* no stiffness, and the damping the robot is in already (not kd 0
+     * between two damping commands) */
+    assert_true(c.kp[s] == 0.0);
+    assert_true(c.kd[s] == m->commands[cmd_of(m->hardware->joints[0], "damping")].default_value);
 }
 
 int main(void)
@@ -704,6 +887,9 @@ int main(void)
         cmocka_unit_test_teardown(test_x2_names_and_lengths, teardown),
         cmocka_unit_test_teardown(test_x2_link_by_stamp, teardown),
         cmocka_unit_test_teardown(test_x2_part_of_the_robot, teardown),
+        cmocka_unit_test_teardown(test_x2_nonfinite_state_never_on_the_wire, teardown),
+        cmocka_unit_test_teardown(test_x2_head_pitch_nan, teardown),
+        cmocka_unit_test_teardown(test_x2_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_x2_watchdog_every_group, teardown),
         cmocka_unit_test(test_x2_bad_parameters),
     };

@@ -369,6 +369,43 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     assert_int_equal(read_pm01(), 0);
 }
 
+/* A documented limit (SAFETY.md, docs/ports/ros2.md): the PM01's header has
+ * no sequence, so a step back of the robot's clock (NTP, PTP, `date`) is not
+ * told from a replay. 20 ms back: every sample is dropped as a replay until
+ * the robot's clock passes the last stamp taken: as long as stale_ticks
+ * periods (10 at 500 Hz) of nothing fresh, so the runtime latches STALE. */
+static void test_pm01_clock_step_back_is_a_replay(void **st)
+{
+    roz_link_t l;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    roz_ros2fx_ask("stamp 1800000000 500000000");
+    send_judged();
+    assert_int_equal(read_pm01(), 1);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    uint64_t replays = l.replays, restarts = l.restarts;
+    /* the clock steps 20 ms back; it advances 1 ms a sample (on either
+     * topic) from there */
+    roz_ros2fx_ask("stamp 1800000000 480000000");
+    int fresh = 0, sends = 0;
+    for (; sends < 40 && fresh == 0; sends++) {
+        send_judged();
+        fresh = read_pm01() == 1;
+    }
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.restarts, restarts); /* no restart: within the window */
+    assert_int_equal(fresh, 1);
+    /* the samples before it dropped, on both topics (the last one on one of
+     * them only): 2 ms of the robot's clock a send, so 20 ms are 10 sends
+     * lost, as many ticks of nothing fresh as stale_ticks */
+    print_message("clock 20 ms back: %d sends until fresh, %llu replays\n", sends,
+                  (unsigned long long)(l.replays - replays));
+    assert_true(l.replays >= replays + 2u * (uint64_t)(sends - 2));
+    assert_true(sends - 1 >= 9);
+}
+
 /* ---- shapes ----------------------------------------------------------------------------- */
 
 static void test_pm01_arrays_must_be_24_long(void **st)
@@ -675,7 +712,10 @@ static void test_pm01_watchdog(void **st)
     get_command(&c);
     roz_ros2fx_sent(sent);
     assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
-    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+    /* the hold after the trip keeps the damping command's kd (no kd 0
+     * between two damping commands) */
+    assert_true(c.kp[3] == 0.0);
+    assert_true(c.kd[3] == m->commands[cmd_index(3, "damping")].default_value);
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
     distinct_command(3);
@@ -783,6 +823,7 @@ static void test_pm01_joints_by_name(void **st)
     assert_int_equal(rc, 1);
     assert_true(st2[0] == -0.5 && st2[1] == 0.25);
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK); /* the hold */
+    roz_ros2fx_settle(); /* the writes after it are holds until it went out */
     assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
     get_command(&c);
     assert_int_equal(c.min_len, N);
@@ -794,6 +835,31 @@ static void test_pm01_joints_by_name(void **st)
         assert_true(c.kp[i] == 0.0 && c.kd[i] == 0.0 && c.tau[i] == 0.0);
     }
     assert_true(c.q[0] == 0.125 && c.q[5] == 0.375);
+
+    /* NaN and Inf from the robot never go back out: the joint without a
+     * position command keeps its last finite position under its stiffness,
+     * a slot of no manifest joint its last finite one */
+    roz_ros2fx_ask("joint body 1 nan 0 0");
+    roz_ros2fx_ask("joint body 0 inf 0 0");
+    rc = 0;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 500 == 0)
+            roz_ros2fx_ask("send body");
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&port, st2, 2);
+    }
+    assert_int_equal(rc, 1);
+    assert_true(isnan(st2[1])); /* the runtime sees what the robot said */
+    assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
+    get_command(&c);
+    for (unsigned i = 0; i < N; i++) {
+        if (!isfinite(c.q[i]) || !isfinite(c.kp[i]) || !isfinite(c.kd[i]) ||
+            !isfinite(c.dq[i]) || !isfinite(c.tau[i]))
+            fail_msg("slot %u: q %g kp %g kd %g: not finite on the wire", i, c.q[i], c.kp[i],
+                     c.kd[i]);
+    }
+    assert_true(c.q[1] == 0.25 && c.kp[1] == 80.0);
+    assert_true(c.q[0] == 0.125 && c.kp[0] == 0.0);
 }
 
 /* ---- refusals ------------------------------------------------------------------------------- */
@@ -865,6 +931,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
         cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
         cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
+        cmocka_unit_test_teardown(test_pm01_clock_step_back_is_a_replay, teardown),
         cmocka_unit_test_teardown(test_pm01_arrays_must_be_24_long, teardown),
         cmocka_unit_test(test_pm01_domain),
         cmocka_unit_test(test_pm01_traffic_on_69),

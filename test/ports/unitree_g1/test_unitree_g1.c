@@ -752,6 +752,164 @@ static int is_written(const roz_fake_g1_cmd_t *c)
     return 1;
 }
 
+/* The start-up hold is one frame of the latest-value hand-off: the tick
+ * writing again before the writer sent it must not make the controller's
+ * command the robot's first. The writer is held back (the command path's
+ * test hook) across the hold and two writes more. */
+static void test_g1_hold_reaches_the_wire_first(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_dds_cmd_t *path = &roz_g1fx_port()->cmd;
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(sent);
+    atomic_store(&path->held_back, 1);
+    distinct_command(1);
+    write_g1(); /* the hold */
+    write_g1(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    write_g1(); /* wakes the writer */
+    roz_g1fx_settle();
+    WAIT_UNTIL(fake_good() >= 1);
+    assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        if (c.kp[j] != 0.0 || c.q[j] != (float)sent[state_index(name)])
+            fail_msg("the robot's first command is not the hold: %s q %g kp %g",
+                     m->hardware->joints[j], c.q[j], c.kp[j]);
+    }
+    write_g1(); /* the hold went out: the controller drives now */
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().holds, 1);
+}
+
+/* Every value on the wire is inside the manifest as the robot compares it
+ * (float): a position limit of 2.8798 (2.87980008 as the nearest float)
+ * narrows toward the inside, and the damping command after a watchdog trip
+ * keeps the stiffness at the channel's minimum when that is above 0. */
+static roz_channel_t tight_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t tight;
+
+static void test_g1_wire_inside_the_manifest(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    memcpy(tight_commands, g1->commands, g1->n_commands * sizeof tight_commands[0]);
+    tight = *g1;
+    tight.commands = tight_commands;
+    int q0 = roz_port_test_command(g1, g1->hardware->joints[0], "position", 1);
+    tight_commands[q0].max = 2.8798;
+    assert_true((double)(float)2.8798 > 2.8798); /* the case at hand */
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        roz_channel_t *kp =
+            &tight_commands[roz_port_test_command(g1, g1->hardware->joints[j], "stiffness", 1)];
+        kp->min = 5.0;
+        kp->default_value = 5.0;
+    }
+    assert_int_equal(roz_manifest_validate(&tight, NULL), ROZ_OK);
+    roz_port_test_open(&roz_fixture_unitree_g1, &tight,
+                       (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                        { "peer_timeout_ms", "60000" } },
+                       2, &port);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_port_test_distinct_command(&tight, 1, cmd);
+    cmd[q0] = 2.8798;
+    write_g1(); /* the hold */
+    roz_g1fx_settle();
+    write_g1();
+    get_command(&c);
+    int s0 = roz_g1fx_slot(g1->hardware->joints[0]);
+    if ((double)c.q[s0] > 2.8798)
+        fail_msg("q %.9g on the wire: outside the limit 2.8798", (double)c.q[s0]);
+    assert_true(c.q[s0] == nextafterf((float)2.8798, 0.0f));
+
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    uint64_t tripped = fake_good();
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)tripped + 2u),
+                     0);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        int sj = roz_g1fx_slot(g1->hardware->joints[j]);
+        if (c.kp[sj] != 5.0f || !(c.kd[sj] > 0.0f))
+            fail_msg("%s in the damping command: kp %g kd %g: kp outside [5, ...]",
+                     g1->hardware->joints[j], (double)c.kp[sj], (double)c.kd[sj]);
+    }
+    assert_true((double)c.q[s0] <= 2.8798);
+}
+
+/* A joint without a position command (the knee here: stiffness, damping
+ * alone) is sent its measured position, the last finite one: NaN from the
+ * robot never goes out, and a joint never measured finite gets no
+ * stiffness against a made-up target. */
+static roz_channel_t no_q_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t no_q;
+
+static void send_raw(void)
+{
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 1);
+}
+
+static void test_g1_joint_without_position_command(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    int knee_q = roz_port_test_command(g1, "left_knee_joint", "position", 1);
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < g1->n_commands; i++) {
+        if (i != knee_q)
+            no_q_commands[n++] = g1->commands[i];
+    }
+    no_q = *g1;
+    no_q.commands = no_q_commands;
+    no_q.n_commands = n;
+    assert_int_equal(roz_manifest_validate(&no_q, NULL), ROZ_OK);
+    int kp = roz_port_test_command(&no_q, "left_knee_joint", "stiffness", 1);
+    int slot = roz_g1fx_slot("left_knee_joint");
+    roz_port_test_open(&roz_fixture_unitree_g1, &no_q, NULL, 0, &port);
+
+    roz_g1fx_set_state(1);
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    roz_port_test_distinct_command(&no_q, 1, cmd);
+    cmd[kp] = 80.0;
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK); /* the hold */
+    roz_g1fx_settle();
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.0f && c.kp[slot] == 0.0f); /* never measured */
+
+    roz_g1fx_ask("motor %d 0.75 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.75f && c.kp[slot] == 80.0f);
+
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    if (!(c.q[slot] == 0.75f && c.kp[slot] == 80.0f))
+        fail_msg("NaN measured: q %g kp %g on the wire; expected the last finite 0.75",
+                 (double)c.q[slot], (double)c.kp[slot]);
+}
+
 static void test_g1_watchdog_on_the_wire(void **st)
 {
     roz_fake_g1_cmd_t c;
@@ -831,7 +989,9 @@ static void test_g1_watchdog_on_the_wire(void **st)
     assert_true(state[state_index("left_knee_joint/position")] ==
                 sent[state_index("left_knee_joint/position")]); /* read with the report */
     assert_int_equal(read_g1(), 0);
-    /* its first write is the hold: the measured positions, no gains */
+    /* its first write is the hold: the measured positions, no stiffness,
+     * and the damping the robot is in already (not kd 0 between two
+     * damping commands) */
     distinct_command(7);
     write_g1();
     get_command(&c);
@@ -840,7 +1000,10 @@ static void test_g1_watchdog_on_the_wire(void **st)
         char name[160];
         snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
         assert_true(c.q[j] == sent[state_index(name)]);
-        assert_true(c.kp[j] == 0.0 && c.kd[j] == 0.0);
+        assert_true(c.kp[j] == 0.0);
+        if (c.kd[j] != (float)m->commands[cmd_index(j, "damping")].default_value)
+            fail_msg("%s: kd %g in the hold after the trip: not the damping command's",
+                     m->hardware->joints[j], (double)c.kd[j]);
     }
     /* then as written again */
     roz_g1fx_send();
@@ -918,6 +1081,7 @@ static void test_g1_watchdog_spinning_writer(void **st)
     WAIT_UNTIL((fresh = fresh || read_g1() == 1));
     distinct_command(0);
     write_g1(); /* the hold */
+    roz_g1fx_settle(); /* the writes after it are holds until it went out */
     fresh = 0;
     WAIT_UNTIL((fresh = fresh || read_g1() == 1));
     distinct_command(1);
@@ -960,7 +1124,8 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     roz_g1fx_settle();
     get_command(&c);
     assert_true(c.kp[3] > 0.0);
-    assert_int_equal(roz_runtime_faults(&rt), 0);
+    if (roz_runtime_faults(&rt) != 0)
+        fail_msg("a fault before the tick stopped: %s", roz_runtime_fault_message(&rt));
 
     /* the tick stops; the watchdog trips; the tick is back */
     WAIT_UNTIL(counters().command_timeouts == 1);
@@ -983,7 +1148,8 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     get_command(&c);
     roz_g1fx_sent(sent);
     assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
-    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+    assert_true(c.kp[3] == 0.0); /* and the damping command's kd, not 0 */
+    assert_true(c.kd[3] == (float)m->commands[cmd_index(3, "damping")].default_value);
     assert_true(counters().holds >= 2);
 
     /* latched (an immediate stop: the safe defaults) until cleared; then
@@ -1095,6 +1261,9 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
+        cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
+        cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),

@@ -499,9 +499,12 @@ void roz_dds_writer_close(roz_dds_writer_t *w);
 typedef struct roz_dds_cmd_ops {
     /** The start-up hold into @p cmd (n_commands, manifest order): every
      *  joint's position command its measured position, kd the port's
-     *  `startup_damping`, everything else 0, each value clamped.
+     *  `startup_damping`, everything else 0, each value clamped. With
+     *  @p after_trip (the tick back after a watchdog trip) kd is the
+     *  damping command's (`shutdown_damping`): the robot is damped already,
+     *  and a kd of 0 between two damping commands would let it go limp.
      *  Context: the tick; RT-safe. */
-    void (*hold)(void *port, double *cmd);
+    void (*hold)(void *port, int after_trip, double *cmd);
     /** The robot session the receive path has seen, compared with the one
      *  the tick wrote a frame for. Context: the writer thread; RT-safe. */
     uint32_t (*rx_session)(void *port);
@@ -556,6 +559,7 @@ typedef enum roz_dds_cmd_counter {
     ROZ_DDS_CMD_HANDLED_SEQ, /**< sequence of the last frame a pass judged */
     ROZ_DDS_CMD_WRITTEN_SEQ, /**< sequence of the last frame the tick wrote */
     ROZ_DDS_CMD_SAFE,        /**< watchdog passes that sent the damping command */
+    ROZ_DDS_CMD_HOLD_SENT_SEQ, /**< sequence of the last start-up hold a pass sent */
     ROZ_DDS_CMD_COUNTERS
 } roz_dds_cmd_counter_t;
 
@@ -572,10 +576,16 @@ typedef struct roz_dds_cmd {
     /* the tick's */
     uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
     uint64_t                 ROZ_PRIVATE(write_seq);
+    uint64_t                 ROZ_PRIVATE(hold_seq);    /* the last hold's sequence */
+    int                      ROZ_PRIVATE(hold_after_trip); /* it follows a watchdog trip */
     /* tick <-> writer thread */
     roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
     roz_buffer_t             ROZ_PRIVATE(buf);
     ROZ_ATOMIC(int)          ROZ_PRIVATE(shutdown);    /* 1: the pass sends the damping */
+    /* a test's hook: 1 holds the writer back (its passes send nothing and
+     * leave the frame), so that the tick writes again before a frame went
+     * out (test_g1_hold_reaches_the_wire_first) */
+    ROZ_ATOMIC(int)          ROZ_PRIVATE(held_back);
     /* the writer thread's */
     int                      ROZ_PRIVATE(sent_any);    /* ops->send() was called */
     /* written by one thread each, read by any */

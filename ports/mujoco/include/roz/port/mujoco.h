@@ -166,6 +166,11 @@ typedef struct roz_mujoco {
 /** The ops table ("mujoco"). */
 extern const roz_port_ops_t roz_mujoco_ops;
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
+                            size_t bytes, roz_log_fn log, void *log_ctx);
+
 /**
  * @brief A roz_port_t over @p self, not yet open (roz_port_open()).
  * @param log  open's notes (a model's servos made motors, locked joints);
@@ -174,7 +179,12 @@ extern const roz_port_ops_t roz_mujoco_ops;
  * port that is open (close it first).
  * Context: start-up.
  */
-roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__mujoco_port(self, &caller, sizeof *self, log, log_ctx);
+}
 
 /** @brief The robot.toml a relative `model` path is read from (its folder);
  *  NULL: the working directory. After roz_mujoco_port(), before open.
