@@ -2,10 +2,15 @@
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
+                               [--span FROM:TO:LABEL]
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>..., faults, events (see tools/rozrun/trace.h). Up to six
-commands and six position states are drawn. Ticks with a fault latched are
+state:<state>..., from a simulator truth:base.x..yaw, faults, events (see
+tools/rozrun/trace.h). Up to six commands and six position states are
+drawn, each position state with its joint's applied position command
+(dotted, where it has one: the tracking). A trace with the truth columns
+gets a third plot: the base's height and its roll and pitch. --span shades
+FROM..TO (seconds) on every plot with LABEL (a push, say). Ticks with a fault latched are
 shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before
 the faults and events columns existed plot without them. With --compare, a
@@ -94,6 +99,24 @@ def mark(axes, t, cols):
                          bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7))
 
 
+def draw_truth(ax, cols):
+    """The simulator's truth: base height (left axis), roll and pitch (right)."""
+    t = cols["time_s"]
+    ax.plot(t, cols["truth:base.z"], color="k", linewidth=1.4, label="base height [m]")
+    ax.set_ylim(0.0, max(1.0, max(cols["truth:base.z"]) * 1.1))
+    ax.set_ylabel("base height [m]")
+    ax.grid(alpha=0.3)
+    tilt = ax.twinx()
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.roll"]], color="tab:blue",
+              linewidth=1.0, label="roll [deg]")
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.pitch"]], color="tab:orange",
+              linewidth=1.0, label="pitch [deg]")
+    tilt.set_ylabel("tilt [deg]")
+    lines = ax.get_lines() + tilt.get_lines()
+    ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, ncol=3, loc="lower right")
+    ax.set_title("the simulator's truth (not a sensor)", fontsize=9)
+
+
 def draw(ax1, ax2, header, cols, label=""):
     """One run: commanded vs applied on ax1, the position states on ax2."""
     t = cols["time_s"]
@@ -113,21 +136,36 @@ def draw(ax1, ax2, header, cols, label=""):
     ax1.legend(fontsize=7, ncol=3, loc="upper right")
     ax1.grid(alpha=0.3)
     for i, name in enumerate(positions):
-        ax2.plot(t, cols[name], color=colors[i % len(colors)], label=name[len("state:"):])
-    ax2.set_ylabel("position state")
-    ax2.set_xlabel("time [s]")
+        c = colors[i % len(colors)]
+        ax2.plot(t, cols[name], color=c, label=name[len("state:"):])
+        applied = "applied:" + name[len("state:"):]
+        if applied in cols:
+            ax2.plot(t, cols[applied], color=c, linestyle=":", linewidth=1.2)
+    ax2.set_ylabel("position state (dotted: its command)")
     ax2.legend(fontsize=7, ncol=3, loc="upper right")
     ax2.grid(alpha=0.3)
 
 
-def plot(runs, png, title=""):
+def plot(runs, png, title="", spans=()):
     """Plots one run, or several side by side (same axes): runs is a list of
-    (header, cols, label)."""
+    (header, cols, label); spans (from_s, to_s, label) are shaded."""
     n = len(runs)
-    fig, axes = plt.subplots(2, n, figsize=(11 * n if n == 1 else 8 * n, 7.5), sharex=True,
-                             sharey="row", squeeze=False)
+    truth = all("truth:base.z" in cols for _, cols, _ in runs)
+    rows = 3 if truth else 2
+    fig, axes = plt.subplots(rows, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * rows),
+                             sharex=True, sharey="row", squeeze=False)
     for k, (header, cols, label) in enumerate(runs):
         draw(axes[0][k], axes[1][k], header, cols, label)
+        if truth:
+            draw_truth(axes[2][k], cols)
+        axes[rows - 1][k].set_xlabel("time [s]")
+        for a, b, what in spans:
+            for r in range(rows):
+                axes[r][k].axvspan(a, b, color="tab:purple", alpha=0.25, linewidth=0,
+                                   label=what if r == rows - 1 else None)
+            axes[0][k].annotate(what, xy=(a, 1.0), xycoords=("data", "axes fraction"),
+                                xytext=(2, -12), textcoords="offset points", fontsize=8,
+                                color="tab:purple")
     if title:
         fig.suptitle(title)
     fig.tight_layout()
@@ -143,11 +181,20 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--compare", metavar="TRACE",
                     help="a second trace, drawn beside the first on the same axes")
+    ap.add_argument("--span", action="append", default=[], metavar="FROM:TO:LABEL",
+                    help="shade FROM..TO seconds with LABEL (repeatable)")
     a = ap.parse_args()
+    spans = []
+    for text in a.span:
+        parts = text.split(":", 2)
+        try:
+            spans.append((float(parts[0]), float(parts[1]), parts[2] if len(parts) > 2 else ""))
+        except (ValueError, IndexError):
+            sys.exit(f"--span {text!r}: expected FROM:TO:LABEL, seconds")
     runs = [(*read(a.trace), a.trace if a.compare else "")]
     if a.compare:
         runs.append((*read(a.compare), a.compare))
-    plot(runs, a.png, a.title)
+    plot(runs, a.png, a.title, spans)
 
 
 if __name__ == "__main__":

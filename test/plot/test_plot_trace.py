@@ -74,3 +74,31 @@ def test_plots_a_trace(tmp_path, monkeypatch, with_marks):
     monkeypatch.setattr(sys, "argv", ["plot_trace.py", str(path), str(png)])
     plot_trace.main()
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_truth_and_span(tmp_path, monkeypatch):
+    """A trace with a simulator's truth gets a third plot, the base's height
+    with its roll and pitch; --span shades the same interval on every plot."""
+    path, png = tmp_path / "trace.csv", tmp_path / "plot.png"
+    header = ["tick", "time_s", "target:j/position", "applied:j/position", "state:j/position",
+              "truth:base.x", "truth:base.y", "truth:base.z", "truth:base.roll",
+              "truth:base.pitch", "truth:base.yaw", "faults", "events"]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for t in range(10):
+            w.writerow([t, t / 10, 0.1, 0.1, t / 100, 0, 0, 0.78 - t / 1000, 0, 0.01 * t, 0, 0, ""])
+    made = []
+    real = plt.subplots
+    monkeypatch.setattr(plt, "subplots", lambda *a, **k: made.append(real(*a, **k)) or made[-1])
+    monkeypatch.setattr(sys, "argv", ["plot_trace.py", str(path), str(png), "--span", "0.3:0.4:push"])
+    plot_trace.main()
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fig, axes = made[0]
+    assert axes.shape == (3, 1)
+    height = axes[2][0].lines[0]
+    assert list(height.get_ydata())[0] == 0.78
+    for row in axes:
+        assert [(p.get_x(), round(p.get_x() + p.get_width(), 6)) for p in row[0].patches] == [(0.3, 0.4)]
+    # the position state's own command, dotted beside it: the tracking
+    assert [ln.get_linestyle() for ln in axes[1][0].lines] == ["-", ":"]

@@ -117,6 +117,12 @@ typedef enum roz_port_report_when {
     ROZ_PORT_REPORT_SUMMARY = 1 /**< after the run: lines "label  text" for a summary */
 } roz_port_report_when_t;
 
+/** A simulator's truth about the robot's base (roz_port_ops_t::truth):
+ *  position, m, world frame, and orientation, rad (roll, pitch, yaw,
+ *  Z-Y-X), in this order. Not a sensor: what a trace or a test judges a
+ *  run by (a humanoid standing or fallen). */
+#define ROZ_PORT_TRUTH_VALUES 6
+
 /** The operations of one kind of port. Optional ops may be NULL. */
 typedef struct roz_port_ops {
     const char *name; /**< "loopback", "unitree/G1", ... */
@@ -176,6 +182,11 @@ typedef struct roz_port_ops {
      *  before open(). Optional: a port whose parameters name no file has
      *  none. Context: start-up. */
     void (*set_origin)(void *self, const char *robot_toml);
+    /** A simulator's truth about the base after the last read(), the
+     *  ROZ_PORT_TRUTH_VALUES values into @p out; ROZ_ENOTSUP when the robot
+     *  has no floating base. Optional (a real robot has none).
+     *  Context: the tick's thread, between ticks; RT-safe. */
+    int (*truth)(const void *self, double *out);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -233,6 +244,13 @@ static inline void roz_port_close(roz_port_t *p)
     if (p->ops->close != NULL)
         p->ops->close(p->self);
     p->opened = 0;
+}
+
+/** @brief truth(); ROZ_ENOTSUP when the port has none.
+ *  Context: the tick's thread, between ticks; RT-safe. */
+static inline int roz_port_truth(const roz_port_t *p, double out[ROZ_PORT_TRUTH_VALUES])
+{
+    return p->ops->truth != NULL ? p->ops->truth(p->self, out) : ROZ_ENOTSUP;
 }
 
 /** @brief The port's ROZ_PORT_CAP_* flags. Context: any. */

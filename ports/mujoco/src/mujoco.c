@@ -1428,6 +1428,21 @@ static const roz_port_info_t mj_info = {
     .no_link = "physics in the same process: no link to replay, restart or lose",
 };
 
+/* The base's pose for a trace (roz_port_ops_t::truth): no heap, no text. */
+static int mj_truth(const void *self, double *out)
+{
+    const roz_mujoco_t *s = self;
+    if (s->data == NULL || !s->base.floating)
+        return ROZ_ENOTSUP;
+    out[0] = s->base.pos[0];
+    out[1] = s->base.pos[1];
+    out[2] = s->base.pos[2];
+    out[3] = s->base.roll;
+    out[4] = s->base.pitch;
+    out[5] = s->base.yaw;
+    return ROZ_OK;
+}
+
 const roz_port_ops_t roz_mujoco_ops = {
     .name = PORT,
     .open = mj_open,
@@ -1442,6 +1457,7 @@ const roz_port_ops_t roz_mujoco_ops = {
     .link_counters = mj_link_counters,
     .report = mj_report,
     .set_origin = mj_set_origin,
+    .truth = mj_truth,
 };
 
 roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
