@@ -49,8 +49,9 @@ DEMO_DIR = $(BUILD)/demo
 # The main job: the balancing stand (examples/controllers/g1_stand.c) holds a
 # Unitree G1 up in MuJoCo for 10 s (5000 ticks at 500 Hz) behind the safety
 # filter, pushed forward at the pelvis with 80 N for 0.1 s half-way; the
-# trace (with the simulator's base pose), the recording and a plot of the
-# joints and the pelvis height land in $(DEMO_DIR). test/run_demo.cmake runs
+# trace (with the simulator's base pose), the recording, a plot of the
+# joints and the pelvis height, and frames of the robot rendered offscreen
+# (where EGL works) land in $(DEMO_DIR). test/run_demo.cmake runs
 # the same and checks the G1 stands at the end.
 DEMO_PUSH = 80,0,0@pelvis@2500:2550
 demo: build
@@ -62,6 +63,10 @@ demo: build
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/g1_stand.csv $(DEMO_DIR)/g1_stand.png \
 	    --span "5:5.1:push 80 N" \
 	    --title "Unitree G1, balancing stand, MuJoCo, pushed at 5 s"
+	.venv/bin/python tools/render_frames.py $(DEMO_DIR)/g1_stand.csv \
+	    $(DEMO_DIR)/g1_stand_frames.png --at 0,1,4.9,5.2,5.6,10 \
+	    --title "Unitree G1 in MuJoCo: 5 s in, pushed forward with 80 N for 0.1 s" \
+	    || echo "demo: no offscreen OpenGL here: frames not rendered (tools/render_frames.py)"
 
 # The first demo: the sine controller drives a UR5 on the loopback simulator
 # for 5 s (500 ticks at 100 Hz); commanded vs applied velocity and the joint

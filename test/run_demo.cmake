@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 # The demos end to end (the Makefile's demo and demo-loopback): rozrun writes
 # a trace (and for the G1 a recording), the plot script turns it into a PNG.
-#   cmake -DDEMO=g1|ur5 -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=... -DOUT=... -P
+#   cmake -DDEMO=g1|ur5 -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=... -DOUT=...
+#         [-DRENDER=tools/render_frames.py] -P
 # DEMO=g1: the balancing stand in MuJoCo, pushed half-way; the G1 must be
 # standing at the end (pelvis above 0.7 m, only its feet on the ground).
 # DEMO=ur5: the sine controller on the loopback UR5.
@@ -57,3 +58,21 @@ if(NOT head STREQUAL "89504e470d0a1a0a" OR size LESS 20000)
   message(FATAL_ERROR "plot.png is not a real PNG (${size} bytes)")
 endif()
 message(STATUS "demo ${DEMO}: ${n} trace lines, plot ${size} bytes")
+# Frames of the robot, rendered offscreen: exit 3 says there is no offscreen
+# OpenGL here (the demo goes on without them); anything else must work.
+if(RENDER)
+  execute_process(COMMAND ${PYTHON} ${RENDER} ${OUT}/trace.csv ${OUT}/frames.png --at 0,5.2,10
+                  RESULT_VARIABLE rc ERROR_VARIABLE err)
+  if(rc EQUAL 3)
+    message(STATUS "demo ${DEMO}: frames not rendered: ${err}")
+  elseif(NOT rc EQUAL 0)
+    message(FATAL_ERROR "render_frames failed (${rc}): ${err}")
+  else()
+    file(READ ${OUT}/frames.png head LIMIT 8 HEX)
+    file(SIZE ${OUT}/frames.png size)
+    if(NOT head STREQUAL "89504e470d0a1a0a" OR size LESS 50000)
+      message(FATAL_ERROR "frames.png is not a real PNG (${size} bytes)")
+    endif()
+    message(STATUS "demo ${DEMO}: frames ${size} bytes")
+  endif()
+endif()

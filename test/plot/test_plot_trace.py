@@ -2,6 +2,7 @@
 """tools/plot_trace.py: the fault spans and event marks it draws from a
 trace's faults and events columns, and traces without those columns."""
 import csv
+import math
 import importlib.util
 import pathlib
 import sys
@@ -102,3 +103,20 @@ def test_truth_and_span(tmp_path, monkeypatch):
         assert [(p.get_x(), round(p.get_x() + p.get_width(), 6)) for p in row[0].patches] == [(0.3, 0.4)]
     # the position state's own command, dotted beside it: the tracking
     assert [ln.get_linestyle() for ln in axes[1][0].lines] == ["-", ":"]
+
+
+def test_render_frames_quaternion():
+    """tools/render_frames.py turns the trace's Z-Y-X angles into MuJoCo's
+    w, x, y, z quaternion."""
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        pytest.fail("mujoco (tools/requirements.txt) is not installed")
+    spec_r = importlib.util.spec_from_file_location("render_frames", TOOL.parent / "render_frames.py")
+    rf = importlib.util.module_from_spec(spec_r)
+    spec_r.loader.exec_module(rf)
+    assert rf.quat(0.0, 0.0, 0.0) == pytest.approx((1.0, 0.0, 0.0, 0.0))
+    h = math.sqrt(0.5)
+    assert rf.quat(0.0, 0.0, math.pi / 2) == pytest.approx((h, 0.0, 0.0, h))
+    assert rf.quat(0.0, math.pi / 2, 0.0) == pytest.approx((h, 0.0, h, 0.0))
+    assert rf.quat(math.pi / 2, 0.0, 0.0) == pytest.approx((h, h, 0.0, 0.0))
