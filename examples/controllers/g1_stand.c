@@ -56,12 +56,14 @@ ROZ_PROCESS(tick)
     for (int j = 0; j < JOINTS; j++)
         target[j] = pose[j];
 #if STAND_BALANCE
-    static double sway_prev;
+    static double sway_prev; /* the last valid sway, for its rate */
+    static int have_prev;
     double ramp = (double)tick / RATE_HZ;
     stand_lean_t lean = stand_lean(ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_X,
                                    ROZ_UNITREE_G1_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
                                    ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_POSITION);
-    double sway_rate = tick > 0 ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
+    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
+    have_prev = lean.valid;
     sway_prev = lean.sway;
     stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
 #endif

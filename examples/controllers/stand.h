@@ -42,10 +42,12 @@ static inline void stand_step(long long tick, double rate_hz, int joints, const 
  * - sway: the pelvis over the ankles, the angle of the line from the ankles
  *   to the hips (a sagittal two-link leg, thigh and shank STAND_LEG_M
  *   long; > 0: in front), the legs' mean; what the ankles balance.
- * A bad or missing reading (NaN) gives no lean. rad, rad/s. */
+ * rad, rad/s. A bad reading (NaN, or the pelvis upside down) leaves
+ * `valid` 0, and stand_balance() then moves nothing. */
 #define STAND_LEG_M 0.3
 typedef struct {
     double roll, pitch, roll_rate, pitch_rate, sway;
+    int valid;
 } stand_lean_t;
 
 static inline double stand__sway(double pitch, double hip, double knee)
@@ -64,19 +66,18 @@ static inline stand_lean_t stand_lean(int quat, int gyro, int legs)
 {
     double x = roz_state_get(quat), y = roz_state_get(quat + 1);
     double z = roz_state_get(quat + 2), w = roz_state_get(quat + 3);
-    stand_lean_t l = { 0.0, 0.0, 0.0, 0.0, 0.0 };
+    stand_lean_t l = { 0.0, 0.0, 0.0, 0.0, 0.0, 0 };
     /* world up in the body frame: the third row of the body's rotation */
     double ux = 2.0 * (x * z - w * y), uy = 2.0 * (y * z + w * x);
     double uz = 1.0 - 2.0 * (x * x + y * y);
-    if (stand__finite(ux) && stand__finite(uy) && uz > 0.0) {
-        l.roll = roz_math_atan2(uy, uz);
-        l.pitch = roz_math_atan2(-ux, uz);
-    }
     double gx = roz_state_get(gyro), gy = roz_state_get(gyro + 1);
-    if (stand__finite(gx) && stand__finite(gy)) {
-        l.roll_rate = gx;
-        l.pitch_rate = gy;
-    }
+    if (!stand__finite(ux) || !stand__finite(uy) || !(uz > 0.0) || !stand__finite(gx) ||
+        !stand__finite(gy))
+        return l;
+    l.roll = roz_math_atan2(uy, uz);
+    l.pitch = roz_math_atan2(-ux, uz);
+    l.roll_rate = gx;
+    l.pitch_rate = gy;
     double sway = 0.0;
     for (int leg = 0; leg < 12; leg += 6) {
         double hip = roz_state_get(legs + leg), knee = roz_state_get(legs + leg + 3);
@@ -85,6 +86,7 @@ static inline stand_lean_t stand_lean(int quat, int gyro, int legs)
         sway += 0.5 * stand__sway(l.pitch, hip, knee);
     }
     l.sway = sway;
+    l.valid = 1;
     return l;
 }
 
@@ -105,6 +107,8 @@ typedef struct {
 static inline void stand_balance(double *target, const double *pose, const stand_lean_t *lean,
                                  double sway_rate, const stand_balance_t *g, double ramp)
 {
+    if (!lean->valid)
+        return; /* no reading to balance on: the pose alone */
     double sway0 = 0.5 * (stand__sway(0.0, pose[0], pose[3]) + stand__sway(0.0, pose[6], pose[9]));
     double ap = g->ankle_pitch * (lean->sway - sway0 - g->sway) + g->ankle_pitch_rate * sway_rate;
     double ar = g->ankle_roll * lean->roll + g->ankle_roll_rate * lean->roll_rate;
