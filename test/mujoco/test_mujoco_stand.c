@@ -86,11 +86,12 @@ static stand_run_t run_stand(const char *robot, const char *controller, int tick
             fail_msg("%s on %s: tick %ld: %s", controller, robot, t, roz_strerror(rc));
         roz_mujoco_base_t b;
         roz_mujoco_base(&mj, &b);
-        if (getenv("ROZ_TEST_MUJOCO_TRACE") != NULL && t % 50 == 0)
+        if (getenv("ROZ_TEST_MUJOCO_TRACE") != NULL && t % 50 == 0) {
+            const double *q = roz_runtime_last_state(&rt); /* left leg first */
             print_message("  tick %4ld: pelvis %.3f m, roll %6.2f, pitch %6.2f deg; left hip, "
                           "knee, ankle %.3f %.3f %.3f rad, ankle %.1f N.m\n", t, b.pos[2],
-                          b.roll * 57.2958, b.pitch * 57.2958, mj.hist[0][0], mj.hist[0][3],
-                          mj.hist[0][4], mj.tau[4]);
+                          b.roll * 57.2958, b.pitch * 57.2958, q[0], q[3], q[4], mj.tau[4]);
+        }
         if (b.pos[2] < r.min_height)
             r.min_height = b.pos[2];
         if (b.pos[2] < MIN_HEIGHT) {
