@@ -2,15 +2,18 @@
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
-                               [--channels REGEX]
+                               [--channels REGEX] [--span FROM:TO:LABEL]
     roz-plot ...                 (the same, installed with roz)
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>..., faults, events (see tools/rozrun/trace.h). Every command
-and every position state is drawn, six to a pair of axes (commands above,
-positions below), in as many pairs as it takes; --channels REGEX draws only
-those whose names match. Ticks with a fault latched are
-shaded, and each event (e-stop press and release, clear, swap, refused swap,
+state:<state>..., from a simulator truth:base.x..yaw, faults, events (see
+tools/rozrun/trace.h). Every command and every position state is drawn, six
+to a pair of axes (commands above, positions below, each position with its
+joint's applied position command dotted where it has one: the tracking), in
+as many pairs as it takes; --channels REGEX draws only those whose names
+match. A trace with the truth columns gets one more plot: the base's height
+and its roll and pitch. --span shades FROM..TO (seconds) on every plot with
+LABEL (a push, say). Ticks with a fault latched are shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before
 the faults and events columns existed plot without them. With --compare, a
 second trace is drawn beside the first on the same axes (two runs side by
@@ -140,12 +143,15 @@ def draw(axes, header, cols, label="", pattern=None):
                 ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
             ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
         for i, name in enumerate(positions[g * PER_AXES:(g + 1) * PER_AXES]):
-            ax2.plot(t, cols[f"state:{name}"], color=colors[i % len(colors)], label=name)
+            c = colors[i % len(colors)]
+            ax2.plot(t, cols[f"state:{name}"], color=c, label=name)
+            if f"applied:{name}" in cols:  # its command, unlabelled: the tracking
+                ax2.plot(t, cols[f"applied:{name}"], color=c, linestyle=":", linewidth=1.2)
         part = f" {g * PER_AXES + 1}-{min((g + 1) * PER_AXES, max(len(commands), len(positions)))}"
         ax1.set_ylabel("command" + (part if pairs > 1 else ""))
-        ax2.set_ylabel("position state" + (part if pairs > 1 else ""))
+        ax2.set_ylabel("position state (dotted: its command)" + (part if pairs > 1 else ""))
         for ax in (ax1, ax2):
-            if ax.lines:
+            if any(not ln.get_label().startswith("_") for ln in ax.lines):
                 ax.legend(fontsize=7, ncol=3, loc="upper right")
             ax.grid(alpha=0.3)
     mark(axes, t, cols)
@@ -154,25 +160,57 @@ def draw(axes, header, cols, label="", pattern=None):
     axes[-1].set_xlabel("time [s]")
 
 
-def figure(runs, title="", pattern=None):
+def draw_truth(ax, cols):
+    """The simulator's truth: base height (left axis), roll and pitch (right)."""
+    t = cols["time_s"]
+    ax.plot(t, cols["truth:base.z"], color="k", linewidth=1.4, label="base height [m]")
+    finite = [v for v in cols["truth:base.z"] if not math.isnan(v)]
+    ax.set_ylim(0.0, max([1.0] + [v * 1.1 for v in finite]))
+    ax.set_ylabel("base height [m]")
+    ax.grid(alpha=0.3)
+    tilt = ax.twinx()
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.roll"]], color="tab:blue",
+              linewidth=1.0, label="roll [deg]")
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.pitch"]], color="tab:orange",
+              linewidth=1.0, label="pitch [deg]")
+    tilt.set_ylabel("tilt [deg]")
+    lines = ax.get_lines() + tilt.get_lines()
+    ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, ncol=3, loc="lower right")
+    ax.set_title("the simulator's truth (not a sensor)", fontsize=9)
+
+
+def figure(runs, title="", pattern=None, spans=()):
     """The figure of one run, or several side by side (same axes): runs is a
     list of (header, cols, label); pattern a compiled regular expression
-    that picks channels, or None for all."""
+    that picks channels, or None for all; spans (from_s, to_s, label) are
+    shaded."""
     n = len(runs)
     pairs = max(rows_needed(header, pattern) for header, _, _ in runs)
-    fig, axes = plt.subplots(2 * pairs, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * 2 * pairs),
+    truth = all("truth:base.z" in cols for _, cols, _ in runs)
+    rows = 2 * pairs + (1 if truth else 0)
+    fig, axes = plt.subplots(rows, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * rows),
                              sharex=True, sharey="row", squeeze=False)
     for k, (header, cols, label) in enumerate(runs):
         draw([axes[r][k] for r in range(2 * pairs)], header, cols, label, pattern)
+        if truth:
+            draw_truth(axes[rows - 1][k], cols)
+            axes[rows - 1][k].set_xlabel("time [s]")
+        for a, b, what in spans:
+            for r in range(rows):
+                axes[r][k].axvspan(a, b, color="tab:purple", alpha=0.25, linewidth=0,
+                                   label=what if r == rows - 1 else None)
+            axes[0][k].annotate(what, xy=(a, 1.0), xycoords=("data", "axes fraction"),
+                                xytext=(2, -12), textcoords="offset points", fontsize=8,
+                                color="tab:purple")
     if title:
         fig.suptitle(title)
     fig.tight_layout()
     return fig
 
 
-def plot(runs, png, title="", pattern=None):
+def plot(runs, png, title="", pattern=None, spans=()):
     """Draws runs (figure()) into png."""
-    fig = figure(runs, title, pattern)
+    fig = figure(runs, title, pattern, spans)
     fig.savefig(png, dpi=100)
     plt.close(fig)
     print(f"plot: {png}")
@@ -203,11 +241,20 @@ def main():
     ap.add_argument("--channels", metavar="REGEX",
                     help="draw only the commands and position states whose names match "
                          "(re.search), e.g. 'joint[67]|gripper'; default: all")
+    ap.add_argument("--span", action="append", default=[], metavar="FROM:TO:LABEL",
+                    help="shade FROM..TO seconds with LABEL (repeatable)")
     a = ap.parse_args()
+    spans = []
+    for text in a.span:
+        parts = text.split(":", 2)
+        try:
+            spans.append((float(parts[0]), float(parts[1]), parts[2] if len(parts) > 2 else ""))
+        except (ValueError, IndexError):
+            sys.exit(f"--span {text!r}: expected FROM:TO:LABEL, seconds")
     runs = [(*read(a.trace), a.trace if a.compare else "")]
     if a.compare:
         runs.append((*read(a.compare), a.compare))
-    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]))
+    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]), spans)
 
 
 if __name__ == "__main__":

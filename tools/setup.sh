@@ -33,7 +33,9 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # DDS tests' network namespace (test/run_netns.sh); gcc-arm-none-eabi with
 # newlib (newlib-nano) cross-builds the Cortex-M firmware images and
 # qemu-system-arm boots them (test/firmware/, make firmware); libzstd-dev
-# compresses recordings' chunks (host/record/). Without
+# compresses recordings' chunks (host/record/); libegl1 with Mesa's EGL and
+# drivers renders MuJoCo's frames offscreen (tools/render_frames.py, make
+# demo). Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
@@ -41,6 +43,7 @@ apt_packages=(
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
+    libegl1 libegl-mesa0 libgl1-mesa-dri
 )
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -2,6 +2,7 @@
 """tools/plot_trace.py: the fault spans and event marks it draws from a
 trace's faults and events columns, and traces without those columns."""
 import csv
+import math
 import importlib.util
 import pathlib
 import sys
@@ -172,3 +173,48 @@ def test_compare_draws_every_channel_of_both_runs(tmp_path):
         columns = sorted(k % 2 for k, _ in drawn(fig)[name])
         assert columns.count(0) == columns.count(1) >= 1, name
     plt.close(fig)
+
+
+def test_truth_and_span(tmp_path, monkeypatch):
+    """A trace with a simulator's truth gets a third plot, the base's height
+    with its roll and pitch; --span shades the same interval on every plot."""
+    path, png = tmp_path / "trace.csv", tmp_path / "plot.png"
+    header = ["tick", "time_s", "target:j/position", "applied:j/position", "state:j/position",
+              "truth:base.x", "truth:base.y", "truth:base.z", "truth:base.roll",
+              "truth:base.pitch", "truth:base.yaw", "faults", "events"]
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for t in range(10):
+            w.writerow([t, t / 10, 0.1, 0.1, t / 100, 0, 0, 0.78 - t / 1000, 0, 0.01 * t, 0, 0, ""])
+    made = []
+    real = plt.subplots
+    monkeypatch.setattr(plt, "subplots", lambda *a, **k: made.append(real(*a, **k)) or made[-1])
+    monkeypatch.setattr(sys, "argv", ["plot_trace.py", str(path), str(png), "--span", "0.3:0.4:push"])
+    plot_trace.main()
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fig, axes = made[0]
+    assert axes.shape == (3, 1)
+    height = axes[2][0].lines[0]
+    assert list(height.get_ydata())[0] == 0.78
+    for row in axes:
+        assert [(p.get_x(), round(p.get_x() + p.get_width(), 6)) for p in row[0].patches] == [(0.3, 0.4)]
+    # the position state's own command, dotted beside it: the tracking
+    assert [ln.get_linestyle() for ln in axes[1][0].lines] == ["-", ":"]
+
+
+def test_render_frames_quaternion():
+    """tools/render_frames.py turns the trace's Z-Y-X angles into MuJoCo's
+    w, x, y, z quaternion."""
+    try:
+        import mujoco  # noqa: F401
+    except ImportError:
+        pytest.fail("mujoco (tools/requirements.txt) is not installed")
+    spec_r = importlib.util.spec_from_file_location("render_frames", TOOL.parent / "render_frames.py")
+    rf = importlib.util.module_from_spec(spec_r)
+    spec_r.loader.exec_module(rf)
+    assert rf.quat(0.0, 0.0, 0.0) == pytest.approx((1.0, 0.0, 0.0, 0.0))
+    h = math.sqrt(0.5)
+    assert rf.quat(0.0, 0.0, math.pi / 2) == pytest.approx((h, 0.0, 0.0, h))
+    assert rf.quat(0.0, math.pi / 2, 0.0) == pytest.approx((h, 0.0, h, 0.0))
+    assert rf.quat(math.pi / 2, 0.0, 0.0) == pytest.approx((h, h, 0.0, 0.0))

@@ -492,11 +492,15 @@ static void record_tick(unsigned events)
 {
     if (!tracing)
         return;
-    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    const roz_runtime_config_t *cfg = roz_runtime_config(&rt);
+    const roz_manifest_t *m = cfg->manifest;
     uint64_t tick = ticks_run - 1;
+    double truth[ROZRUN_TRUTH_VALUES];
+    int have_truth = trace.truth && rozrun_trace_truth(&cfg->port, truth);
     rozrun_trace_push(&trace, tick, (double)tick / m->control_rate_hz,
                       roz_runtime_last_targets(&rt), roz_runtime_last_commands(&rt),
-                      roz_runtime_last_state(&rt), roz_runtime_faults(&rt), events);
+                      roz_runtime_last_state(&rt), have_truth ? truth : NULL,
+                      roz_runtime_faults(&rt), events);
 }
 
 /* The tick's thread: the events of this tick are the e-stop input set after
@@ -856,7 +860,9 @@ int main(int argc, char **argv)
         recording = 1;
     }
     if (o.trace != NULL) {
-        if (rozrun_trace_open(&trace, o.trace, m, err, sizeof err) != 0) {
+        double truth[ROZRUN_TRUTH_VALUES]; /* a simulator's base pose: traced too */
+        int has_truth = rozrun_trace_truth(&port, truth);
+        if (rozrun_trace_open(&trace, o.trace, m, has_truth, err, sizeof err) != 0) {
             fprintf(stderr, "rozrun: %s\n", err);
             return 2;
         }
