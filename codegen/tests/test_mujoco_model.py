@@ -19,7 +19,7 @@ from rozgen import mjcf, mujoco
 from rozgen.model import Hardware
 from rozgen.validate import validate
 
-PENDULUM = REPO / "test" / "mujoco" / "pendulum.toml"
+PENDULUM = REPO / "test" / "ports" / "mujoco" / "pendulum.toml"
 TEAM_MODELS = REPO / "ports" / "mujoco" / "models"
 
 
