@@ -17,7 +17,7 @@ if(DEMO STREQUAL "g1")
   set(wants "ticks                  5000" "faults                 none"
             "ground contacts        [0-9]+: left_ankle_roll_link, right_ankle_roll_link\n"
             "base                   height 0\\.[7-9][0-9]* m \\(lowest 0\\.[7-9]"
-            "recording              [^\n]*\\(5000 ticks, 0 dropped")
+            "recording              [^\n]*\\(5000 ticks, none dropped")
 else()
   set(ticks 500)
   set(cmd ${ROZRUN} --robot ur5 --controller ${CONTROLLER} --port loopback

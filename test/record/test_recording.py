@@ -505,12 +505,12 @@ def test_readers_refuse_records_past_their_limit(tmp_path):
 
 @pytest.mark.skipif(not MUJOCO, reason="this build has no mujoco port")
 def test_mujoco_truth_tells_standing_from_fallen(tmp_path):
-    """The G1 on g1_stand stands for about 1.5 s, then falls by 2.4 s
-    (docs/ports/mujoco.md): the recording alone says which, tick by tick,
+    """The G1 on g1_stand_pd (the stand without its balance) stands for about
+    1.5 s, then falls (docs/ports/mujoco.md): the recording alone says which, tick by tick,
     and its heights are the summary's."""
     path = tmp_path / "g1.mcap"
     p = rozrun("--robot", "unitree_g1", "--port", "mujoco", "--ticks", 1400,
-               "--controller", CTL / "g1_stand.wasm", "--record", path)
+               "--controller", CTL / "g1_stand_pd.wasm", "--record", path)
     m = re.search(r"base +height (-?[0-9.]+) m \(lowest (-?[0-9.]+)\), roll (-?[0-9.]+), "
                   r"pitch (-?[0-9.]+) deg", p.stdout)
     assert m, p.stdout
@@ -547,7 +547,7 @@ def test_mujoco_truth_tells_standing_from_fallen(tmp_path):
     assert rows[0].startswith("tick,time_s,floating,x,y,height") and len(rows) == 1401
     strict(path)
     # the controller never sees the truth: replay is bit for bit
-    p = rozrun("--replay", path, "--controller", CTL / "g1_stand.wasm")
+    p = rozrun("--replay", path, "--controller", CTL / "g1_stand_pd.wasm")
     assert "ticks replayed         1400\n" in p.stdout
     assert "result                 identical" in p.stdout
 
