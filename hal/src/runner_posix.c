@@ -40,14 +40,6 @@ static void *runner_main(void *arg)
     roz_runner_t *r = arg;
     uint64_t next = roz_clock_monotonic_ns(NULL);
 
-    if (r->cfg.realtime_priority > 0) {
-        struct sched_param sp = { .sched_priority = r->cfg.realtime_priority };
-        int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
-        if (rc == 0)
-            r->realtime = 1;
-        else
-            warn(r, "SCHED_FIFO", rc);
-    }
     while (!atomic_load(&r->stop)) {
         struct timespec ts = to_timespec(next);
         while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
@@ -94,6 +86,28 @@ int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner
             r->locked = 1;
         else
             warn(r, "mlockall", errno);
+    }
+    /* SCHED_FIFO is asked for at creation, so that a refusal is said here,
+     * on the caller's thread: the runner's own thread never calls the log
+     * (test_runner: blocking_log) */
+    if (cfg->realtime_priority > 0) {
+        pthread_attr_t attr;
+        struct sched_param sp = { .sched_priority = cfg->realtime_priority };
+        int rc = pthread_attr_init(&attr);
+        if (rc == 0) {
+            (void)pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
+            (void)pthread_attr_setschedpolicy(&attr, SCHED_FIFO);
+            (void)pthread_attr_setschedparam(&attr, &sp);
+            rc = pthread_create(&th, &attr, runner_main, r);
+            pthread_attr_destroy(&attr);
+        }
+        if (rc == 0) {
+            r->realtime = 1;
+            r->thread = (unsigned long)th;
+            r->started = 1;
+            return ROZ_OK;
+        }
+        warn(r, "SCHED_FIFO", rc);
     }
     if (pthread_create(&th, NULL, runner_main, r) != 0)
         return ROZ_EIO;

@@ -1133,6 +1133,12 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
         if (rt->cfg.log != NULL)
             rt->cfg.log(rt->cfg.log_ctx, (roz_log_level_t)e.level, line);
     }
+    /* what the port's threads kept for the log (roz/port.h drain) */
+    if (rt->cfg.port.ops != NULL)
+        n += roz_port_drain(&rt->cfg.port);
+    for (unsigned i = 0; i < ROZ_RUNTIME_WATCHED; i++)
+        if (rt->watched[i] != NULL)
+            n += roz_monitor_drain(rt->watched[i]);
     uint32_t dropped = atomic_load(&rt->log_dropped);
     if (dropped != rt->log_dropped_seen) {
         roz_format(line, sizeof line, "%lu log events dropped (the log ring was full)",
@@ -1142,6 +1148,21 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
             rt->cfg.log(rt->cfg.log_ctx, ROZ_LOG_WARN, line);
     }
     return n;
+}
+
+int roz_runtime_watch_monitor(roz_runtime_t *rt, roz_monitor_t *m)
+{
+    if (rt == NULL || m == NULL)
+        return ROZ_EINVAL;
+    for (unsigned i = 0; i < ROZ_RUNTIME_WATCHED; i++) {
+        if (rt->watched[i] == m)
+            return ROZ_OK;
+        if (rt->watched[i] == NULL) {
+            rt->watched[i] = m;
+            return ROZ_OK;
+        }
+    }
+    return ROZ_ENOSPC;
 }
 
 uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt)

@@ -933,6 +933,13 @@ static const roz_port_info_t sc_info = {
                    "as a silence longer than reply_timeout_us (the vanish case)",
 };
 
+/* The receive and send threads' warnings, said here (roz/port.h drain). */
+static size_t sc_drain(void *self)
+{
+    roz_socketcan_t *sc = self;
+    return roz_monitor_drain(&sc->monitor);
+}
+
 const roz_port_ops_t roz_socketcan_ops = {
     .name = "socketcan",
     .open = sc_open,
@@ -947,6 +954,7 @@ const roz_port_ops_t roz_socketcan_ops = {
     .info = &sc_info,
     .link_counters = sc_link_counters,
     .report = sc_report,
+    .drain = sc_drain,
 };
 
 /* ---- public ---------------------------------------------------------------------- */

@@ -448,6 +448,13 @@ static const roz_port_info_t g1_info = {
     .no_sequence = NULL,
 };
 
+/* The receive and writer threads' warnings, said here (roz/port.h drain). */
+static size_t g1_drain(void *self)
+{
+    roz_unitree_g1_t *g1 = self;
+    return roz_monitor_drain(&g1->mon_rx) + roz_monitor_drain(&g1->mon_tx);
+}
+
 const roz_port_ops_t roz_unitree_g1_ops = {
     .name = "unitree/G1",
     .open = g1_open,
@@ -461,6 +468,7 @@ const roz_port_ops_t roz_unitree_g1_ops = {
             ROZ_PORT_CAP_START_HOLD | ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &g1_info,
     .link_counters = g1_link_counters,
+    .drain = g1_drain,
 };
 
 /* ---- public ------------------------------------------------------------------------ */

@@ -1,0 +1,71 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The host runner's thread never calls the log: with a log callback that
+ * blocks forever and every wake-up over its jitter threshold, the ticks go
+ * on, and the warnings come out where the application drains the runner's
+ * monitor. The waits are bounded, as timeouts; no time is asserted. */
+#define _POSIX_C_SOURCE 200809L
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "roz/hal/runner.h"
+#include "support_blocking_log.h"
+
+static atomic_uint ticks;
+
+static int count_tick(void *ctx)
+{
+    (void)ctx;
+    atomic_fetch_add(&ticks, 1u);
+    return 0;
+}
+
+/* Wait until @p n ticks ran, at most about 20 s; 1 if they did. */
+static int wait_ticks(unsigned n)
+{
+    struct timespec ms = { 0, 1000000 };
+    for (int i = 0; i < 20000; i++) {
+        if (atomic_load(&ticks) >= n)
+            return 1;
+        nanosleep(&ms, NULL);
+    }
+    return 0;
+}
+
+static void test_runner_blocking_log(void **st)
+{
+    static roz_runner_t r;
+    roz_runner_config_t cfg = { .period_ns = 1000000, .log = roz_test_blocking_log };
+    (void)st;
+    atomic_store(&ticks, 0u);
+    roz_test_blocking_log_arm();
+    assert_int_equal(roz_runner_start(&r, &cfg, count_tick, NULL), ROZ_OK);
+    /* every wake-up a warning: the thread's first one already */
+    roz_monitor_set_threshold(&r.monitor, ROZ_MON_JITTER, 1);
+    int went_on = wait_ticks(200);
+    unsigned blocked = roz_test_blocking_log_blocked();
+    size_t said = roz_monitor_drain(&r.monitor); /* the application's thread */
+    roz_test_blocking_log_release();
+    roz_runner_stop(&r);
+    roz_runner_join(&r);
+    assert_int_equal(blocked, 0);
+    assert_true(went_on);
+    roz_monitor_stat_t s;
+    assert_int_equal(roz_monitor_snapshot(&r.monitor, ROZ_MON_JITTER, &s), ROZ_OK);
+    assert_true(s.warned >= 1);
+    assert_int_equal(said, 1);
+    assert_true(roz_test_blocking_log_saw("runner: jitter took"));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_runner_blocking_log),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
