@@ -101,6 +101,14 @@ typedef struct roz_runtime_config {
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
     void        *clock_ctx;
+    roz_clock_fn deadline_clock; /**< what the process() deadline (budget_ns) counts, read
+                                     on the tick's thread only; NULL (default): @c clock,
+                                     the wall clock, which also counts the time other
+                                     threads preempt the tick. A host whose tick is not
+                                     real-time passes the tick thread's CPU time
+                                     (roz_clock_thread_cpu_ns(), roz/hal/clock.h):
+                                     docs/budget.md */
+    void        *deadline_clock_ctx;
     int          monitor_jitter; /**< 1: check each tick's start against the period
                                      (ticks driven by a timer; default); 0: ticks run
                                      back to back in simulated time */
