@@ -3,7 +3,8 @@
  * blocks forever and every wake-up over its jitter threshold, the ticks go
  * on, and the warnings come out where the application drains the runner's
  * monitor. The waits are bounded, as timeouts; no time is asserted. */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity */
+#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stdatomic.h>
@@ -14,6 +15,7 @@
 #include <cmocka.h>
 
 #include "roz/hal/runner.h"
+#include "roz/hal/thread.h"
 #include "support_blocking_log.h"
 
 static atomic_uint ticks;
@@ -62,10 +64,39 @@ static void test_runner_blocking_log(void **st)
     assert_true(roz_test_blocking_log_saw("runner: jitter took"));
 }
 
+/* The runner's thread carries the CPUs and stack it was given (and
+ * SCHED_FIFO where permitted), read back from the running thread. */
+static void test_runner_thread(void **st)
+{
+    static roz_runner_t r;
+    roz_runner_config_t cfg = { .period_ns = 1000000, .stack_kib = 448, .realtime_priority = 3 };
+    roz_thread_config_t got;
+    cpu_set_t set;
+    int cpu = 0;
+    (void)st;
+    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
+    while (cpu < ROZ_THREAD_MAX_CPUS - 1 && !CPU_ISSET(cpu, &set))
+        cpu++;
+    cfg.cpus = 1ull << cpu;
+    atomic_store(&ticks, 0u);
+    assert_int_equal(roz_runner_start(&r, &cfg, count_tick, NULL), ROZ_OK);
+    assert_int_equal(roz_thread_describe(r.thread, &got), ROZ_OK);
+    int went_on = wait_ticks(5);
+    roz_runner_stop(&r);
+    roz_runner_join(&r);
+    assert_true(went_on);
+    assert_int_equal(got.cpus, 1ull << cpu);
+    assert_int_equal(got.stack_kib, 448);
+    assert_int_equal(got.sched, r.realtime ? ROZ_THREAD_FIFO : ROZ_THREAD_OTHER);
+    if (!r.realtime)
+        print_message("SCHED_FIFO not permitted here: the runner's CPUs and stack only\n");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_runner_blocking_log),
+        cmocka_unit_test(test_runner_thread),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -70,6 +70,9 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  out->command_writer_period_us);
         return ROZ_EINVAL;
     }
+    rc = roz_thread_params(p, "command_writer", &out->writer_thread, err, errlen);
+    if (rc != ROZ_OK)
+        return rc;
     return roz_cmd_watchdog_param(p, control_rate_hz, out->command_writer_period_us,
                                   &out->command_timeout_us, err, errlen);
 }

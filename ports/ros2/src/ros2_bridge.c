@@ -572,11 +572,18 @@ int roz_ros2_activate(void *self)
                                       tp->sample, tp->size, on_sample, tp,
                                       b->dds.enable_monitor ? &tp->mon : NULL, err, sizeof err);
     }
-    if (rc == ROZ_OK)
+    if (rc == ROZ_OK) {
+        roz_dds_writer_t *w = &b->out[primary(b)].writer;
+        roz_dds_writer_set_thread(w, &b->dds.writer_thread);
         rc = roz_dds_cmd_start(&b->cmd, b->dds.command_writer_period_us,
                                b->dds.enable_monitor ? &b->mon_tx : NULL);
-    else
+        if (rc != ROZ_OK && roz_dds_writer_thread_error(w)[0] != '\0') {
+            snprintf(err, sizeof err, "%s: %s", b->robot->port, roz_dds_writer_thread_error(w));
+            b->log(b->log_ctx, ROZ_LOG_ERROR, err);
+        }
+    } else {
         b->log(b->log_ctx, ROZ_LOG_ERROR, err);
+    }
     if (rc != ROZ_OK) {
         for (uint16_t t = 0; t < b->n_topics; t++)
             roz_dds_reader_close(&b->topic[t].reader);

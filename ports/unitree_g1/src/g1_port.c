@@ -309,9 +309,14 @@ static int g1_activate(void *self)
         g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
         return rc;
     }
+    roz_dds_writer_set_thread(&g1->writer, &g1->dds.writer_thread);
     rc = roz_dds_cmd_start(&g1->cmd, g1->dds.command_writer_period_us,
                            g1->dds.enable_monitor ? &g1->mon_tx : NULL);
     if (rc != ROZ_OK) {
+        if (roz_dds_writer_thread_error(&g1->writer)[0] != '\0') {
+            snprintf(err, sizeof err, "unitree/G1: %s", roz_dds_writer_thread_error(&g1->writer));
+            g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
+        }
         roz_dds_reader_close(&g1->reader);
         return rc;
     }

@@ -24,6 +24,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
+#include "roz/hal/thread.h"
 #include "roz/port.h"
 #include "roz/private.h"
 
@@ -59,12 +60,16 @@ typedef struct roz_dds_params {
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
     uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
     uint32_t command_writer_spin_us;   /**< event-driven: roz_dds_writer_spin(); 0: none */
+    roz_thread_config_t writer_thread; /**< the command writer thread's scheduling
+                                            (command_writer_sched, ..., roz/hal/thread.h) */
 } roz_dds_params_t;
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
-        "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
+        "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
+        "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
+        ROZ_CMD_WATCHDOG_KEY
 
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
  *  (roz_port_info_t::params), with @p domain: dds_domain's default, text. */
@@ -77,6 +82,7 @@ typedef struct roz_dds_params {
     { "command_writer_spin_us", "0..10000", "0",                                             \
       "with period 0: how long the writer spins for the tick's command" },                   \
     { "state_decimation", "1..1000", "1", "every Nth state frame converted in full" },        \
+    ROZ_THREAD_PARAM_INFO("command_writer", "the command writer thread"),                   \
     { ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                                        \
       "the command watchdog: the tick silent this long, the port sends its safe command" }
 
@@ -309,6 +315,8 @@ typedef struct roz_dds_writer {
     uint64_t             expected;  /* expects it has spun for */
     uint64_t             spin_ns;   /* 0: no spinning ahead of a command */
     unsigned long        thread;    /* pthread_t, kept opaque */
+    roz_thread_config_t  thread_cfg; /* how the thread is started (roz_dds_writer_set_thread()) */
+    char                 thread_err[160]; /* why it was not, after ROZ_EIO */
     union {
         unsigned char bytes[64];
         long double   align;
@@ -339,6 +347,18 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
  */
 int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
                          void *ctx, roz_monitor_t *monitor);
+
+/** @brief How roz_dds_writer_start() creates the thread (roz/hal/thread.h);
+ *  NULL or never called: the system's defaults. Context: start-up. */
+void roz_dds_writer_set_thread(roz_dds_writer_t *w, const roz_thread_config_t *cfg);
+
+/** @brief Why the last roz_dds_writer_start() could not start the thread
+ *  ("" when it did). Context: start-up. */
+const char *roz_dds_writer_thread_error(const roz_dds_writer_t *w);
+
+/** @brief What the running writer thread carries (roz_thread_describe()).
+ *  @retval ROZ_OK, ROZ_ESTATE (not running), ROZ_EIO. Context: any thread. */
+int roz_dds_writer_thread(const roz_dds_writer_t *w, roz_thread_config_t *out);
 
 /**
  * @brief Let an event-driven writer keep the port's command watchdog: it
