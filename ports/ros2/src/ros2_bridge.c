@@ -532,7 +532,8 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     roz_dds_cmd_init(&b->cmd, &cmd);
     atomic_init(&b->c_frames, 0u);
 
-    rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain, log,
+    rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain,
+                                  &b->dds.cyclone_threads, log,
                                   log_ctx, err, errlen);
     for (uint16_t g = 0; g < robot->n_groups && rc == ROZ_OK; g++) {
         roz_ros2_out_t *o = &b->out[g];

@@ -278,7 +278,8 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
-    rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain, log,
+    rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain,
+                                  &g1->dds.cyclone_threads, log,
                                   log_ctx, err, errlen);
     if (rc == ROZ_OK)
         rc = roz_dds_writer_open(&g1->writer, &g1->part, "rt/lowcmd",

@@ -39,7 +39,7 @@ extern "C" {
 /** Highest participant index on `lo`: 64 participants per host and domain. */
 #define ROZ_DDS_MAX_PARTICIPANT_INDEX 63
 /** Room for the configuration XML. */
-#define ROZ_DDS_CONFIG_MAX 640
+#define ROZ_DDS_CONFIG_MAX 1600
 /** Samples one data-available call takes at most before it yields. */
 #define ROZ_DDS_TAKE_MAX 64u
 /** Shortest writer period, microseconds (0 = event-driven). */
@@ -62,6 +62,9 @@ typedef struct roz_dds_params {
     uint32_t command_writer_spin_us;   /**< event-driven: roz_dds_writer_spin(); 0: none */
     roz_thread_config_t writer_thread; /**< the command writer thread's scheduling
                                             (command_writer_sched, ..., roz/hal/thread.h) */
+    roz_thread_config_t cyclone_threads; /**< Cyclone's receive, delivery and timed-event
+                                            threads (dds_threads_sched, _priority,
+                                            _stack_kib), through its configuration */
 } roz_dds_params_t;
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
@@ -69,6 +72,7 @@ typedef struct roz_dds_params {
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
         "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
         "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
+        "dds_threads_sched", "dds_threads_priority", "dds_threads_stack_kib",             \
         ROZ_CMD_WATCHDOG_KEY
 
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
@@ -83,6 +87,10 @@ typedef struct roz_dds_params {
       "with period 0: how long the writer spins for the tick's command" },                   \
     { "state_decimation", "1..1000", "1", "every Nth state frame converted in full" },        \
     ROZ_THREAD_PARAM_INFO("command_writer", "the command writer thread"),                   \
+    { "dds_threads_sched", "other|fifo", "other",                                            \
+      "scheduling of Cyclone's receive, delivery and timed-event threads" },                 \
+    { "dds_threads_priority", "1..99", "", "their priority with fifo" },                     \
+    { "dds_threads_stack_kib", "64..65536", "", "their stack size (default: the system's)" }, \
     { ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                                        \
       "the command watchdog: the tick silent this long, the port sends its safe command" }
 
@@ -110,13 +118,22 @@ int roz_dds_check_interface(const char *name, char *err, size_t errlen);
 
 /* ---- participant ------------------------------------------------------------ */
 
+/** Cyclone's threads that roz_dds_config_xml() configures: the receive
+ *  threads, the user data's delivery and the timed events (retransmits,
+ *  heartbeats); NULL-terminated. */
+extern const char *const roz_dds_cyclone_threads[];
+
 /**
- * @brief The Cyclone configuration for @p iface (see the file comment).
- * @return the length written, or ROZ_EINVAL for a bad name,
- *         ROZ_ENOSPC when @p len is too small
+ * @brief The Cyclone configuration for @p iface (see the file comment), with
+ *        @p threads for Cyclone's threads (roz_dds_cyclone_threads;
+ *        Threads/Thread[@Name]/Scheduling/Class, Priority and StackSize;
+ *        NULL or all zero: Cyclone's defaults; Cyclone sets no affinity).
+ * @return the length written, or ROZ_EINVAL for a bad name or an rr
+ *         policy (Cyclone has none), ROZ_ENOSPC when @p len is too small
  * Context: any; pure.
  */
-int roz_dds_config_xml(const char *iface, char *out, size_t len);
+int roz_dds_config_xml(const char *iface, const roz_thread_config_t *threads, char *out,
+                       size_t len);
 
 /** A participant; caller-owned. */
 typedef struct roz_dds_participant {
@@ -131,6 +148,7 @@ typedef struct roz_dds_participant {
 /**
  * @brief Create the domain with roz's configuration (or the user's) and a
  *        participant in it.
+ * @param[in] threads Cyclone's threads (roz_dds_config_xml()); NULL: defaults
  * @param[in] log  where to say which configuration is used (NULL: silent)
  * @retval ROZ_OK     open
  * @retval ROZ_EINVAL a bad interface name or domain; @p err says which
@@ -139,7 +157,8 @@ typedef struct roz_dds_participant {
  * Context: start-up; allocates (Cyclone), starts Cyclone's threads.
  */
 int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32_t domain,
-                             roz_log_fn log, void *log_ctx, char *err, size_t errlen);
+                             const roz_thread_config_t *threads, roz_log_fn log,
+                             void *log_ctx, char *err, size_t errlen);
 
 /** @brief Delete the participant (and every entity in it) and the domain.
  *  Idempotent. Context: shutdown, after the writer and readers stopped. */
