@@ -7,10 +7,10 @@
 #include <errno.h>
 #include <pthread.h>
 #include <sched.h>
-#include <stdio.h>
 #include <string.h>
 
 #include "roz/error.h"
+#include "roz/format.h"
 
 _Static_assert(sizeof(pthread_t) <= sizeof(unsigned long), "pthread_t must fit the handle");
 
@@ -27,7 +27,7 @@ int roz_thread_start(unsigned long *handle, const roz_thread_config_t *cfg, cons
     if (cfg == NULL)
         cfg = &none;
     if (pthread_attr_init(&attr) != 0) {
-        snprintf(err, errlen, "%s: no thread attributes", prefix);
+        roz_format(err, errlen, "%s: no thread attributes", prefix);
         return ROZ_EIO;
     }
     rc = 0;
@@ -54,13 +54,13 @@ int roz_thread_start(unsigned long *handle, const roz_thread_config_t *cfg, cons
     }
     if (rc != 0) {
         pthread_attr_destroy(&attr);
-        snprintf(err, errlen, "%s: the thread's attributes are refused: %s", prefix, strerror(rc));
+        roz_format(err, errlen, "%s: the thread's attributes are refused: %s", prefix, strerror(rc));
         return ROZ_EINVAL;
     }
     rc = pthread_create(&th, &attr, fn, arg);
     pthread_attr_destroy(&attr);
     if (rc != 0) {
-        snprintf(err, errlen, "%s: thread not created: %s%s", prefix, strerror(rc),
+        roz_format(err, errlen, "%s: thread not created: %s%s", prefix, strerror(rc),
                  rc == EPERM ? " (fifo and rr need CAP_SYS_NICE or an RLIMIT_RTPRIO)"
                  : rc == EINVAL && cfg->cpus != 0 ? " (a CPU the system does not offer?)"
                  : "");
