@@ -145,11 +145,16 @@ firmware: setup $(BUILD)-fw-m4f/build.ninja $(BUILD)-fw-m7/build.ninja $(BUILD)-
 test: test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
-# The fault latch under four threads for STRESS_TICKS ticks, under TSan.
+# The fault latch under four threads for STRESS_TICKS ticks, under TSan;
+# then every port's threads and the runner's with a log callback that
+# blocks forever (test_port_conformance's blocking_log, test_runner).
 STRESS_TICKS ?= 1000000
 stress: setup $(BUILD)-tsan/build.ninja
-	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS) --target test_latch_threads
+	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS) --target test_latch_threads \
+	  test_runner test_port_conformance
 	$(SAN_ENV) ROZ_LATCH_STRESS_TICKS=$(STRESS_TICKS) $(BUILD)-tsan/test/core/test_latch_threads
+	cd $(BUILD)-tsan && $(SAN_ENV) ctest --output-on-failure \
+	  -R '^(test_runner|test_port_conformance)$$'
 
 # Benchmarks print figures and ratios; they are not tests. `make bench` runs
 # every bench with its machine-readable output into BENCH_OUT, builds and

@@ -422,7 +422,7 @@ int main(int argc, char **argv)
     roz_dds_participant_t p[2];
     char err[300] = "";
     for (int k = 0; k < 2; k++) {
-        if (roz_dds_participant_open(&p[k], "lo", domain + (uint32_t)k, NULL, NULL, err,
+        if (roz_dds_participant_open(&p[k], "lo", domain + (uint32_t)k, NULL, NULL, NULL, err,
                                      sizeof err) != ROZ_OK) {
             fprintf(stderr, "%s\n", err);
             return 1;

@@ -70,7 +70,11 @@ PM01_GROUPS = (
 
 #: ROZ_DDS_PARAM_KEYS (roz/port/dds.h)
 DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "command_writer_period_us",
-            "command_writer_spin_us", "state_decimation", "command_timeout_us")
+            "command_writer_spin_us", "state_decimation",
+            # the writer thread's (roz/hal/thread.h): checked by the port when it opens
+            "command_writer_sched", "command_writer_priority", "command_writer_cpus",
+            "command_writer_stack_kib", "dds_threads_sched", "dds_threads_priority",
+            "dds_threads_stack_kib", "command_timeout_us")
 #: known_keys of g1_port.c
 G1_KEYS = DDS_KEYS + ("mode_pr", "peer_timeout_ms", "startup_damping", "shutdown_damping")
 #: common_keys of ros2_bridge.c; a robot's own follow

@@ -40,7 +40,11 @@ JOINT_KEYS = (
     "direction",
     "zero_offset",
 )
-KEYS = GLOBAL_KEYS + JOINT_KEYS
+#: the port's two threads (roz/hal/thread.h): their values are checked by the
+#: port when it opens, not here
+THREAD_KEYS = tuple(f"{thread}_{what}" for thread in ("receive_thread", "command_writer")
+                    for what in ("sched", "priority", "cpus", "stack_kib"))
+KEYS = GLOBAL_KEYS + THREAD_KEYS + JOINT_KEYS
 OPTIONAL_JOINT_KEYS = ("direction", "zero_offset")
 RANGE_KEYS = JOINT_KEYS[2:7]
 #: the interface type each range holds
@@ -168,6 +172,8 @@ class _Checker:
         parsed = {}
         for key in KEYS:
             value = self.params.get(key)
+            if key in THREAD_KEYS:
+                continue
             if key in GLOBAL_KEYS:
                 parsed[key] = self.global_key(key, value)
             elif joints_ok:

@@ -12,12 +12,12 @@
 #include "roz/error.h"
 #include "roz/format.h"
 #include "roz/hal/clock.h"
+#include "roz/hal/thread.h"
 
 /* ---- private ------------------------------------------------------------- */
 
 #define NS_PER_S 1000000000ull
 
-_Static_assert(sizeof(pthread_t) <= sizeof(unsigned long), "pthread_t must fit the opaque field");
 
 static void warn(const roz_runner_t *r, const char *what, int err)
 {
@@ -40,14 +40,6 @@ static void *runner_main(void *arg)
     roz_runner_t *r = arg;
     uint64_t next = roz_clock_monotonic_ns(NULL);
 
-    if (r->cfg.realtime_priority > 0) {
-        struct sched_param sp = { .sched_priority = r->cfg.realtime_priority };
-        int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
-        if (rc == 0)
-            r->realtime = 1;
-        else
-            warn(r, "SCHED_FIFO", rc);
-    }
     while (!atomic_load(&r->stop)) {
         struct timespec ts = to_timespec(next);
         while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR)
@@ -77,10 +69,9 @@ static void *runner_main(void *arg)
 int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner_tick_fn fn,
                      void *ctx)
 {
-    pthread_t th;
-
     if (r == NULL || cfg == NULL || fn == NULL || cfg->period_ns == 0 ||
-        cfg->realtime_priority < 0 || cfg->realtime_priority > 99)
+        cfg->realtime_priority < 0 || cfg->realtime_priority > 99 ||
+        (cfg->stack_kib != 0 && (cfg->stack_kib < 64 || cfg->stack_kib > 65536)))
         return ROZ_EINVAL;
     memset(r, 0, sizeof *r);
     r->cfg = *cfg;
@@ -95,9 +86,30 @@ int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner
         else
             warn(r, "mlockall", errno);
     }
-    if (pthread_create(&th, NULL, runner_main, r) != 0)
-        return ROZ_EIO;
-    r->thread = (unsigned long)th;
+    /* SCHED_FIFO is asked for at creation, so that a refusal is said here,
+     * on the caller's thread: the runner's own thread never calls the log
+     * (test_runner: blocking_log) */
+    roz_thread_config_t tc = { ROZ_THREAD_OTHER, 0, cfg->cpus, cfg->stack_kib };
+    char err[200];
+    if (cfg->realtime_priority > 0) {
+        tc.sched = ROZ_THREAD_FIFO;
+        tc.priority = cfg->realtime_priority;
+        if (roz_thread_start(&r->thread, &tc, "runner", runner_main, r, err, sizeof err) ==
+            ROZ_OK) {
+            r->realtime = 1;
+            r->started = 1;
+            return ROZ_OK;
+        }
+        warn(r, "SCHED_FIFO", EPERM);
+        tc.sched = ROZ_THREAD_OTHER;
+        tc.priority = 0;
+    }
+    int rc = roz_thread_start(&r->thread, &tc, "runner", runner_main, r, err, sizeof err);
+    if (rc != ROZ_OK) {
+        if (cfg->log != NULL)
+            cfg->log(cfg->log_ctx, ROZ_LOG_ERROR, err);
+        return rc;
+    }
     r->started = 1;
     return ROZ_OK;
 }
@@ -111,6 +123,6 @@ void roz_runner_join(roz_runner_t *r)
 {
     if (!r->started)
         return;
-    pthread_join((pthread_t)r->thread, NULL);
+    roz_thread_join(r->thread);
     r->started = 0;
 }

@@ -70,7 +70,8 @@ static uint64_t bucket_top(unsigned b)
 }
 
 /* The published words of a cell: 64-bit values as lo, hi. */
-enum { W_COUNT = 0, W_EXCEEDED = 2, W_WARNED = 4, W_MAX = 6, W_SUM = 8 };
+enum { W_COUNT = 0, W_EXCEEDED = 2, W_WARNED = 4, W_MAX = 6, W_SUM = 8, W_LAST = 10,
+       W_LAST_EXCEEDED = 12, W_WORDS = 14 };
 
 /* Writer side: the only writer of a cell reads its own words relaxed. */
 static uint64_t ld64(const roz_monitor_cell_t *c, unsigned w)
@@ -95,35 +96,42 @@ void roz_monitor_init(roz_monitor_t *m, const char *name, uint64_t period_ns,
     m->period_ns = period_ns;
     m->log = log;
     m->log_ctx = log_ctx;
-    m->threshold_ns[ROZ_MON_READ] = 100000;
-    m->threshold_ns[ROZ_MON_WRITE] = 100000;
-    m->threshold_ns[ROZ_MON_STATE_HANDLER] = 200000;
-    m->threshold_ns[ROZ_MON_COMMAND_WRITER] = 200000;
-    m->threshold_ns[ROZ_MON_JITTER] = 500000;
-    m->threshold_ns[ROZ_MON_PROCESS] = period_ns;
-    m->threshold_ns[ROZ_MON_TICK] = period_ns;
+    roz_monitor_set_threshold(m, ROZ_MON_READ, 100000);
+    roz_monitor_set_threshold(m, ROZ_MON_WRITE, 100000);
+    roz_monitor_set_threshold(m, ROZ_MON_STATE_HANDLER, 200000);
+    roz_monitor_set_threshold(m, ROZ_MON_COMMAND_WRITER, 200000);
+    roz_monitor_set_threshold(m, ROZ_MON_JITTER, 500000);
+    roz_monitor_set_threshold(m, ROZ_MON_PROCESS, period_ns);
+    roz_monitor_set_threshold(m, ROZ_MON_TICK, period_ns);
 }
 
 void roz_monitor_set_threshold(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns)
 {
-    if ((unsigned)kind < (unsigned)ROZ_MON_KIND_COUNT_)
-        m->threshold_ns[kind] = ns;
+    if ((unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
+        return;
+    atomic_store_explicit(&m->cell[kind].threshold[0], (uint32_t)ns, memory_order_relaxed);
+    atomic_store_explicit(&m->cell[kind].threshold[1], (uint32_t)(ns >> 32), memory_order_relaxed);
 }
 
 uint64_t roz_monitor_threshold(const roz_monitor_t *m, roz_monitor_kind_t kind)
 {
-    return (unsigned)kind < (unsigned)ROZ_MON_KIND_COUNT_ ? m->threshold_ns[kind] : 0;
+    if ((unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
+        return 0;
+    const roz_monitor_cell_t *c = &m->cell[kind];
+    return (uint64_t)atomic_load_explicit(&c->threshold[0], memory_order_relaxed) |
+           (uint64_t)atomic_load_explicit(&c->threshold[1], memory_order_relaxed) << 32;
 }
 
 void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns, uint64_t now_ns)
 {
     roz_monitor_cell_t *c;
-    uint64_t exceeded = 0;
+    uint64_t exceeded = 0, threshold;
     int warn = 0;
 
     if ((unsigned)kind >= (unsigned)ROZ_MON_KIND_COUNT_)
         return;
     c = &m->cell[kind];
+    threshold = roz_monitor_threshold(m, kind);
     unsigned b = bucket_of(ns);
     roz__seq_begin(&c->seq);
     st64(c, W_COUNT, ld64(c, W_COUNT) + 1u);
@@ -132,27 +140,60 @@ void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns, 
         st64(c, W_MAX, ns);
     atomic_store_explicit(&c->hist[b], atomic_load_explicit(&c->hist[b], memory_order_relaxed) + 1u,
                           memory_order_relaxed);
-    if (m->threshold_ns[kind] != 0 && ns > m->threshold_ns[kind]) {
+    if (threshold != 0 && ns > threshold) {
         uint64_t warned = ld64(c, W_WARNED);
         exceeded = ld64(c, W_EXCEEDED) + 1u;
         st64(c, W_EXCEEDED, exceeded);
         if (warned == 0 || now_ns - c->last_warn_ns >= NS_PER_S) {
             st64(c, W_WARNED, warned + 1u);
+            st64(c, W_LAST, ns);
+            st64(c, W_LAST_EXCEEDED, exceeded);
             c->last_warn_ns = now_ns;
             warn = 1;
         }
     }
     roz__seq_end(&c->seq);
-    if (!warn)
-        return;
-    if (m->warn != NULL) {
-        m->warn(m->warn_ctx, kind, ns, m->threshold_ns[kind], exceeded);
-    } else if (m->log != NULL) {
+    /* Without a hook the warning stays in the figures just published, for
+     * roz_monitor_drain(): this thread may be the only one that puts
+     * commands on the wire, so it never calls into the application. */
+    if (warn && m->warn != NULL)
+        m->warn(m->warn_ctx, kind, ns, threshold, exceeded);
+}
+
+size_t roz_monitor_drain(roz_monitor_t *m)
+{
+    size_t n = 0;
+
+    if (m == NULL)
+        return 0;
+    for (unsigned k = 0; k < (unsigned)ROZ_MON_KIND_COUNT_; k++) {
+        roz_monitor_cell_t *c = &m->cell[k];
+        uint32_t w[W_WORDS];
+        unsigned tries = 0;
+        for (; tries < 1000u; tries++) {
+            uint32_t q = roz__seq_read_begin(&c->seq);
+            roz__seq_load(w, c->w, W_WORDS);
+            if (roz__seq_read_ok(&c->seq, q))
+                break;
+        }
+        if (tries == 1000u)
+            continue; /* the writer kept updating it: next drain */
+        uint64_t warned = (uint64_t)w[W_WARNED] | (uint64_t)w[W_WARNED + 1] << 32;
+        if (warned == c->drained)
+            continue;
+        c->drained = warned;
+        if (m->log == NULL)
+            continue;
         char msg[160];
-        roz_monitor_format_warning(msg, sizeof msg, m->name, kind, ns, m->threshold_ns[kind],
-                                   exceeded);
+        roz_monitor_format_warning(msg, sizeof msg, m->name, (roz_monitor_kind_t)k,
+                                   (uint64_t)w[W_LAST] | (uint64_t)w[W_LAST + 1] << 32,
+                                   roz_monitor_threshold(m, (roz_monitor_kind_t)k),
+                                   (uint64_t)w[W_LAST_EXCEEDED] |
+                                       (uint64_t)w[W_LAST_EXCEEDED + 1] << 32);
         m->log(m->log_ctx, ROZ_LOG_WARN, msg);
+        n++;
     }
+    return n;
 }
 
 void roz_monitor_set_warn(roz_monitor_t *m, roz_monitor_warn_fn warn, void *ctx)
@@ -187,8 +228,8 @@ int roz_monitor_snapshot(const roz_monitor_t *m, roz_monitor_kind_t kind, roz_mo
         return ROZ_EINVAL;
     const roz_monitor_cell_t *c = &m->cell[kind];
     for (unsigned tries = 0; tries < 1000u; tries++) {
-        uint32_t q = roz__seq_read_begin(&c->seq), w[10];
-        roz__seq_load(w, c->w, 10u);
+        uint32_t q = roz__seq_read_begin(&c->seq), w[W_WORDS];
+        roz__seq_load(w, c->w, W_WORDS);
         roz__seq_load(out->hist, c->hist, ROZ_MONITOR_BUCKETS);
         if (!roz__seq_read_ok(&c->seq, q))
             continue;

@@ -22,6 +22,12 @@ static uint64_t now(const roz_runtime_t *rt)
     return rt->cfg.clock != NULL ? rt->cfg.clock(rt->cfg.clock_ctx) : 0;
 }
 
+/* The deadline's clock (roz_runtime_config_t deadline_clock, set). */
+static uint64_t deadline_now(const roz_runtime_t *rt)
+{
+    return rt->cfg.deadline_clock(rt->cfg.deadline_clock_ctx);
+}
+
 /* ---- faults: one word, written by the tick ---------------------------------
  *
  * rt->faults holds the latched bits (low 8) and a latch sequence number
@@ -298,9 +304,13 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
                      int for_verify)
 {
     roz_budget_t budget = { s->fuel, rt->cfg.budget_ns, rt->cfg.clock, rt->cfg.clock_ctx };
+    if (rt->cfg.deadline_clock != NULL) {
+        budget.clock = rt->cfg.deadline_clock;
+        budget.clock_ctx = rt->cfg.deadline_clock_ctx;
+    }
     int rc;
 
-    if (for_verify || rt->cfg.clock == NULL)
+    if (for_verify || budget.clock == NULL)
         budget.deadline_ns = ROZ_BUDGET_OFF;
 
     roz_controller_unload(&s->ctrl);
@@ -625,9 +635,11 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
     rt->rec_flags |= ROZ_RECORD_RAN;
     rt->rec_ctrl_tick = rt->ctrl_tick;
     uint64_t t0 = now(rt);
-    /* the deadline counts from t0: the budget has the same clock (load_slot()) */
-    int rc = roz_controller_process_from(&s->ctrl, rt->ctrl_tick, t0);
+    /* the deadline counts from d0, on the budget's clock (load_slot()) */
+    uint64_t d0 = rt->cfg.deadline_clock != NULL ? deadline_now(rt) : t0;
+    int rc = roz_controller_process_from(&s->ctrl, rt->ctrl_tick, d0);
     uint64_t t1 = now(rt);
+    uint64_t d1 = rt->cfg.deadline_clock != NULL ? deadline_now(rt) : t1;
     rt->last_process_ns = t1 - t0;
     roz_monitor_record(&rt->monitor, ROZ_MON_PROCESS, t1 - t0, t1);
     rt->counters.controller_ticks++;
@@ -642,8 +654,8 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
         atomic_store(&s->dead, 1);
         latch(rt, rc == ROZ_ETIMEDOUT ? ROZ_FAULT_OVERRUN : ROZ_FAULT_TRAP, 0, 0,
               roz_controller_error(&s->ctrl));
-    } else if (rt->cfg.budget_ns != ROZ_BUDGET_OFF && t1 - t0 > rt->cfg.budget_ns) {
-        uint64_t us = (t1 - t0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
+    } else if (rt->cfg.budget_ns != ROZ_BUDGET_OFF && d1 - d0 > rt->cfg.budget_ns) {
+        uint64_t us = (d1 - d0) / 1000u, budget_us = rt->cfg.budget_ns / 1000u;
         latch(rt, ROZ_FAULT_OVERRUN, us > UINT32_MAX ? UINT32_MAX : (uint32_t)us,
               budget_us > UINT32_MAX ? UINT32_MAX : (uint32_t)budget_us, NULL);
     }
@@ -1185,6 +1197,12 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
         if (rt->cfg.log != NULL)
             rt->cfg.log(rt->cfg.log_ctx, (roz_log_level_t)e.level, line);
     }
+    /* what the port's threads kept for the log (roz/port.h drain) */
+    if (rt->cfg.port.ops != NULL)
+        n += roz_port_drain(&rt->cfg.port);
+    for (unsigned i = 0; i < ROZ_RUNTIME_WATCHED; i++)
+        if (rt->watched[i] != NULL)
+            n += roz_monitor_drain(rt->watched[i]);
     uint32_t dropped = atomic_load(&rt->log_dropped);
     if (dropped != rt->log_dropped_seen) {
         roz_format(line, sizeof line, "%lu log events dropped (the log ring was full)",
@@ -1194,6 +1212,21 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
             rt->cfg.log(rt->cfg.log_ctx, ROZ_LOG_WARN, line);
     }
     return n;
+}
+
+int roz_runtime_watch_monitor(roz_runtime_t *rt, roz_monitor_t *m)
+{
+    if (rt == NULL || m == NULL)
+        return ROZ_EINVAL;
+    for (unsigned i = 0; i < ROZ_RUNTIME_WATCHED; i++) {
+        if (rt->watched[i] == m)
+            return ROZ_OK;
+        if (rt->watched[i] == NULL) {
+            rt->watched[i] = m;
+            return ROZ_OK;
+        }
+    }
+    return ROZ_ENOSPC;
 }
 
 uint32_t roz_runtime_log_dropped(const roz_runtime_t *rt)

@@ -8,13 +8,18 @@
  * go out, and the loop keeps ticking. And the C stack: a 120,000-op
  * straight-line function and an endless recursion run on a thread with a
  * 512 KiB stack, in every build (wasm3's ops must chain by tail calls, and
- * roz's guard must bound the recursion). */
-#define _POSIX_C_SOURCE 200809L
+ * roz's guard must bound the recursion). And the deadline on the tick
+ * thread's CPU time: a thread competing for the tick's CPU never makes a
+ * controller well inside its deadline overrun, and an endless loop still
+ * does. */
+#define _GNU_SOURCE /* pthread_setaffinity_np: a competitor on the tick's CPU */
 /* white-box in part: reads the runtime's controller slots (a trapped
  * instance must never run again), which no public function exposes */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
 #include <pthread.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -286,6 +291,81 @@ static void test_budget_stack_on_a_small_thread(void **st)
     assert_true(recursion_stack <= ROZ_CFG_NATIVE_STACK_BYTES + 4096);
 }
 
+/* A thread that spins on the tick's CPU until told to stop. */
+static atomic_int compete_stop;
+
+static void *compete(void *arg)
+{
+    (void)arg;
+    while (!atomic_load_explicit(&compete_stop, memory_order_relaxed))
+        ;
+    return NULL;
+}
+
+/* Ticks @p ctrl with a 500 us deadline and the fuel off, on this thread
+ * pinned to one CPU with a competitor pinned there too; the deadline on
+ * the thread's CPU time (@p cpu_time) or the wall clock. Returns the ticks
+ * run before the first fault (at most @p ticks); *faults the faults then. */
+static int contended(const char *ctrl, int cpu_time, int ticks, unsigned *faults)
+{
+    roz_runtime_config_t cfg;
+    cpu_set_t was, one;
+    pthread_t th;
+    int cpu = 0, t = 0;
+
+    assert_int_equal(pthread_getaffinity_np(pthread_self(), sizeof was, &was), 0);
+    while (cpu < CPU_SETSIZE && !CPU_ISSET(cpu, &was))
+        cpu++;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, NULL);
+    cfg.clock = roz_clock_monotonic_ns;
+    if (cpu_time)
+        cfg.deadline_clock = roz_clock_thread_cpu_ns;
+    cfg.fuel_per_tick = ROZ_BUDGET_OFF; /* the deadline alone */
+    cfg.budget_ns = 500000;
+    roz_test_runtime_start(&rt, &cfg, ctrl);
+    assert_int_equal(pthread_setaffinity_np(pthread_self(), sizeof one, &one), 0);
+    atomic_store(&compete_stop, 0);
+    assert_int_equal(pthread_create(&th, NULL, compete, NULL), 0);
+    assert_int_equal(pthread_setaffinity_np(th, sizeof one, &one), 0);
+    for (; t < ticks; t++) {
+        roz_test_tick(&rt);
+        if (roz_runtime_faults(&rt) != 0)
+            break;
+    }
+    atomic_store(&compete_stop, 1);
+    pthread_join(th, NULL);
+    assert_int_equal(pthread_setaffinity_np(pthread_self(), sizeof was, &was), 0);
+    *faults = roz_runtime_faults(&rt);
+    return t;
+}
+
+static void test_budget_deadline_counts_the_controller(void **st)
+{
+    unsigned faults;
+    (void)st;
+    /* busy.wat: a few microseconds a tick, well inside 500 us; preempted
+     * for a scheduler's slice (milliseconds) many times over the run */
+    int ran = contended("bad_busy", 1, 20000, &faults);
+    if (faults != 0)
+        print_message("%s\n", roz_runtime_fault_message(&rt));
+    assert_int_equal(faults, 0);
+    assert_int_equal(ran, 20000);
+    roz_runtime_deinit(&rt);
+    /* for comparison, not asserted (it depends on the scheduler): the same
+     * on the wall clock */
+    ran = contended("bad_busy", 0, 20000, &faults);
+    print_message("on the wall clock: %s after %d ticks\n",
+                  faults != 0 ? "an overrun latched" : "no fault", ran);
+    roz_runtime_deinit(&rt);
+    /* really over its deadline: stopped on the thread's CPU time too */
+    ran = contended("bad_infinite_loop", 1, 20000, &faults);
+    assert_int_equal(faults, ROZ_FAULT_OVERRUN);
+    assert_int_equal(ran, 150); /* it loops from tick 150 on */
+    assert_non_null(strstr(roz_runtime_fault_message(&rt), "deadline passed at tick 150"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -296,6 +376,7 @@ int main(void)
         cmocka_unit_test_teardown(test_budget_deadline, teardown),
         cmocka_unit_test_teardown(test_budget_loop_keeps_its_period, teardown),
         cmocka_unit_test_teardown(test_budget_stack_on_a_small_thread, teardown),
+        cmocka_unit_test_teardown(test_budget_deadline_counts_the_controller, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

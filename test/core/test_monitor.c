@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The monitor: warnings only above a threshold, throttled to one per second
- * per kind, through the log callback; counters, histogram percentiles and
- * jitter against the period. Time is given, never read. */
+ * per kind, kept as numbers by the recording thread and passed to the log
+ * callback only by roz_monitor_drain() (never by roz_monitor_record());
+ * counters, histogram percentiles and jitter against the period. Time is
+ * given, never read. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -55,22 +57,41 @@ static void test_monitor_threshold_and_throttle(void **st)
     assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).exceeded, 0);
     /* above: one warning, then silence for a second */
     roz_monitor_record(&mon, ROZ_MON_READ, 150000, 20 * S);
+    assert_int_equal(warnings, 0); /* the recording thread never calls the log */
+    assert_int_equal(roz_monitor_drain(&mon), 1);
     assert_int_equal(warnings, 1);
     assert_non_null(strstr(last, "port: read took 150 us, threshold 100 us"));
+    assert_int_equal(roz_monitor_drain(&mon), 0); /* passed on once */
     for (int i = 1; i <= 50; i++)
         roz_monitor_record(&mon, ROZ_MON_READ, 150000, 20 * S + (uint64_t)i * 10 * MS);
+    assert_int_equal(roz_monitor_drain(&mon), 0);
     assert_int_equal(warnings, 1);
     assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).exceeded, 51);
     /* another kind has its own throttle */
     roz_monitor_record(&mon, ROZ_MON_WRITE, 150000, 20 * S + 1);
+    assert_int_equal(roz_monitor_drain(&mon), 1);
     assert_int_equal(warnings, 2);
     /* a second later: the next warning, with the running count */
     roz_monitor_record(&mon, ROZ_MON_READ, 300000, 21 * S);
+    assert_int_equal(warnings, 2);
+    assert_int_equal(roz_monitor_drain(&mon), 1);
     assert_int_equal(warnings, 3);
+    assert_non_null(strstr(last, "read took 300 us"));
     assert_non_null(strstr(last, "(52 times so far)"));
-    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).warned, 2);
-    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).count, 152);
-    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).max_ns, 300000);
+    /* two warnings between drains: the latest is passed on, with its count */
+    roz_monitor_record(&mon, ROZ_MON_READ, 400000, 22 * S);
+    roz_monitor_record(&mon, ROZ_MON_READ, 500000, 23 * S);
+    assert_int_equal(roz_monitor_drain(&mon), 1);
+    assert_non_null(strstr(last, "read took 500 us, threshold 100 us (54 times so far)"));
+    /* a threshold set while the writer runs is used from its next sample */
+    roz_monitor_set_threshold(&mon, ROZ_MON_WRITE, 1);
+    roz_monitor_record(&mon, ROZ_MON_WRITE, 2, 30 * S);
+    assert_int_equal(roz_monitor_drain(&mon), 1);
+    assert_non_null(strstr(last, "write took 0 us, threshold 0 us"));
+    warnings = 3;
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).warned, 4);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).count, 154);
+    assert_int_equal(roz_test_monitor(&mon, ROZ_MON_READ).max_ns, 500000);
     /* without a sink: counted, silent */
     roz_monitor_init(&mon, "quiet", 2 * MS, NULL, NULL);
     roz_monitor_record(&mon, ROZ_MON_READ, 999999, S);
@@ -130,6 +151,8 @@ static void test_monitor_jitter(void **st)
     assert_int_equal(warnings, 0);
     t += 2 * MS + 600000; /* 600 us late: above 500 us */
     roz_monitor_periodic(&mon, t);
+    assert_int_equal(warnings, 0);
+    assert_int_equal(roz_monitor_drain(&mon), 1);
     assert_int_equal(warnings, 1);
     assert_non_null(strstr(last, "jitter took 600 us"));
     t += 2 * MS - 700000; /* early counts too */

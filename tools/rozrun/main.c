@@ -42,6 +42,7 @@
 #include "roz/hal/module.h"
 #include "roz/hal/params.h"
 #include "roz/hal/runner.h"
+#include "roz/hal/thread.h"
 #include "roz/ports.h"
 #include "roz/record_file.h"
 #include "roz/runtime.h"
@@ -759,6 +760,42 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                (unsigned long long)trace.written, (unsigned long long)trace.dropped);
 }
 
+static void *no_work(void *arg)
+{
+    return arg;
+}
+
+/* --realtime: the port's threads that take a scheduling (roz/hal/thread.h)
+ * run SCHED_FIFO one below the tick's priority, unless the command line
+ * says otherwise; only where the process may have SCHED_FIFO (elsewhere
+ * the runner warns, and the port would refuse to start them). */
+static void realtime_thread_defaults(options_t *o, const roz_port_info_t *info)
+{
+    static const char *const threads[] = { "command_writer", "receive_thread", "dds_threads" };
+    static char keys[3][2][40], prio[8];
+    roz_thread_config_t probe = { ROZ_THREAD_FIFO, o->priority > 1 ? o->priority - 1 : 1, 0, 0 };
+    roz_params_t given = { o->params, o->n_params };
+    unsigned long th;
+    char err[160];
+
+    if (roz_thread_start(&th, &probe, "probe", no_work, NULL, err, sizeof err) != ROZ_OK)
+        return;
+    roz_thread_join(th);
+    snprintf(prio, sizeof prio, "%d", probe.priority);
+    for (size_t t = 0; t < sizeof threads / sizeof threads[0]; t++) {
+        snprintf(keys[t][0], sizeof keys[t][0], "%s_sched", threads[t]);
+        snprintf(keys[t][1], sizeof keys[t][1], "%s_priority", threads[t]);
+        int takes = 0;
+        for (size_t i = 0; i < info->n_params; i++)
+            takes |= strcmp(info->params[i].key, keys[t][0]) == 0;
+        if (!takes || roz_params_find(&given, keys[t][0]) != NULL ||
+            roz_params_find(&given, keys[t][1]) != NULL || o->n_params + 2 > MAX_PARAMS)
+            continue;
+        o->params[o->n_params++] = (roz_param_t){ keys[t][0], "fifo" };
+        o->params[o->n_params++] = (roz_param_t){ keys[t][1], prio };
+    }
+}
+
 int main(int argc, char **argv)
 {
     options_t o;
@@ -795,6 +832,8 @@ int main(int argc, char **argv)
         return 2;
     if (roz_builtin_find(o.robot) == NULL)
         roz_port_set_origin(&port, o.robot); /* a robot.toml: its paths are relative to it */
+    if (o.realtime)
+        realtime_thread_defaults(&o, roz_port_ops_info(pe->ops));
     roz_params_t params = { o.params, o.n_params };
     if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
@@ -805,6 +844,10 @@ int main(int argc, char **argv)
     cfg.manifest = m;
     cfg.port = port;
     cfg.clock = roz_clock_monotonic_ns;
+    /* the deadline counts the controller's own time unless the tick is
+     * real-time, where the wall clock is the requirement (docs/budget.md) */
+    if (!o.realtime)
+        cfg.deadline_clock = roz_clock_thread_cpu_ns;
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;
     /* a robot keeps its own time */

@@ -21,8 +21,9 @@ typedef enum roz_log_level {
     ROZ_LOG_INFO,
 } roz_log_level_t;
 
-/** Called from the context that detected the event (maybe the tick): it must
- *  not block; a host sink writing a line to stderr is fine. */
+/** Called only from the application's own calls (start-up, shut-down,
+ *  roz_runtime_log_drain()), never from the tick or a thread roz runs: it may
+ *  block (a host sink writing a line to stderr). */
 typedef void (*roz_log_fn)(void *ctx, roz_log_level_t level, const char *msg);
 
 #ifdef __cplusplus

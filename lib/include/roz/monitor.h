@@ -5,6 +5,13 @@
  *        histograms in static memory, warnings only when a threshold is
  *        exceeded, throttled to one per second per kind.
  *
+ * A warning leaves the recording thread as numbers, never as a call into
+ * the application: through the warn hook when one is set (the runtime
+ * queues it in its log ring), else kept in the kind's figures until
+ * roz_monitor_drain() formats it on the application's thread. A port
+ * thread that records never formats text and never calls the log callback
+ * (test_port_conformance: blocking_log).
+ *
  * Each kind has one writer thread (a monitor may be shared by a port's
  * threads when each records its own kinds). Any thread reads a kind's
  * figures with roz_monitor_snapshot(): the writer publishes each sample
@@ -65,15 +72,19 @@ typedef void (*roz_monitor_warn_fn)(void *ctx, roz_monitor_kind_t kind, uint64_t
  *  as two 32-bit words (no 64-bit atomics on 32-bit MCUs), under @c seq. */
 typedef struct roz_monitor_cell {
     ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(seq);      /* odd while the writer updates */
-    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(w)[10];    /* count, exceeded, warned, max, sum: lo, hi */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(w)[14];    /* count, exceeded, warned, max, sum, the
+                                                   last warned sample and the exceeded
+                                                   count then: lo, hi */
     ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(hist)[ROZ_MONITOR_BUCKETS];
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(threshold)[2]; /* ns lo, hi: set by any thread */
     uint64_t             ROZ_PRIVATE(last_warn_ns); /* writer only */
+    uint64_t             ROZ_PRIVATE(drained);      /* roz_monitor_drain() only: warnings
+                                                       passed on */
 } roz_monitor_cell_t;
 
 /** A monitor; caller-owned storage, fields private. */
 typedef struct roz_monitor {
     const char        *ROZ_PRIVATE(name);
-    uint64_t           ROZ_PRIVATE(threshold_ns)[ROZ_MON_KIND_COUNT_];
     roz_monitor_cell_t ROZ_PRIVATE(cell)[ROZ_MON_KIND_COUNT_];
     roz_log_fn         ROZ_PRIVATE(log);
     void              *ROZ_PRIVATE(log_ctx);
@@ -86,14 +97,17 @@ typedef struct roz_monitor {
 /**
  * @brief Zero a monitor and set the default thresholds (roz_monitor_kind_t)
  *        (PROCESS and TICK default to @p period_ns).
+ * @param[in] log where roz_monitor_drain() passes the warnings (NULL: none);
+ *                never called by roz_monitor_record()
  * Context: start-up; no I/O.
  */
 void roz_monitor_init(roz_monitor_t *m, const char *name, uint64_t period_ns,
                       roz_log_fn log, void *log_ctx);
 
 /**
- * @brief Send warnings as numbers to @p warn instead of formatting them for
- *        the log callback (NULL: back to the log callback).
+ * @brief Send warnings as numbers to @p warn, on the recording thread,
+ *        instead of keeping them for roz_monitor_drain() (NULL: kept).
+ *        @p warn must not block (the runtime's queues the numbers).
  * Context: start-up.
  */
 void roz_monitor_set_warn(roz_monitor_t *m, roz_monitor_warn_fn warn, void *ctx);
@@ -107,11 +121,12 @@ int roz_monitor_format_warning(char *buf, size_t len, const char *name, roz_moni
                                uint64_t ns, uint64_t threshold_ns, uint64_t exceeded);
 
 /**
- * @brief Record one sample; warn (through the warn hook when set, else the
- *        log callback) if it exceeds the threshold and the last warning of
- *        that kind is a second old or more.
+ * @brief Record one sample; warn (through the warn hook when set, else kept
+ *        for roz_monitor_drain()) if it exceeds the threshold and the last
+ *        warning of that kind is a second old or more.
  * @param[in] now_ns the clock now, for throttling
- * Context: the monitor's writer thread; RT-safe; O(1).
+ * Context: the monitor's writer thread; RT-safe; O(1); formats nothing,
+ *          calls no application code but the warn hook.
  */
 void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns,
                         uint64_t now_ns);
@@ -124,8 +139,19 @@ void roz_monitor_record(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns,
 void roz_monitor_periodic(roz_monitor_t *m, uint64_t start_ns);
 
 /**
+ * @brief Format each kind's warning kept since the last drain (the latest
+ *        sample that warned, with how many warnings there were) and pass it
+ *        to the log callback given to roz_monitor_init().
+ * @return the number of lines passed on
+ * Context: one application thread, never the writer's; formats text; the
+ *          writer goes on recording meanwhile (it never waits for a drain).
+ */
+size_t roz_monitor_drain(roz_monitor_t *m);
+
+/**
  * @brief Set the threshold of a kind, in ns (warnings above it); 0 = none.
- * Context: start-up, before the kind's writer records.
+ * Context: any thread; the writer uses it from its next sample (the two
+ *          halves of a threshold above 2^32 ns are stored one at a time).
  */
 void roz_monitor_set_threshold(roz_monitor_t *m, roz_monitor_kind_t kind, uint64_t ns);
 

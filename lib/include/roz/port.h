@@ -239,6 +239,15 @@ typedef struct roz_port_ops {
      *  (with truth). Context: any thread while the port is open (the
      *  recorder's drain); never formats in the tick. */
     const char *(*truth_body)(const void *self, int32_t id);
+    /** Format what the port's own threads kept as numbers for the log (its
+     *  monitors' threshold warnings, notices about samples it dropped) and
+     *  pass each line to the port's log callback; returns the lines passed
+     *  on. A port's threads never call the log callback themselves: it may
+     *  block (a paused terminal, a full pipe), and a port thread may be the
+     *  one that puts commands on the wire (test_port_conformance:
+     *  blocking_log). roz_runtime_log_drain() calls it. Optional.
+     *  Context: the application's thread that drains the log; formats text. */
+    size_t (*drain)(void *self);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -374,6 +383,13 @@ static inline int roz_port_link_counters(const roz_port_t *p, roz_port_link_coun
     out->accepted = out->crc_errors = out->replays = out->missing = 0;
     out->restarts = out->returns = out->malformed = 0;
     return ROZ_ENOTSUP;
+}
+
+/** @brief drain(); 0 when the port has none (nothing kept).
+ *  Context: the application's thread that drains the log, never the tick. */
+static inline size_t roz_port_drain(const roz_port_t *p)
+{
+    return p->ops->drain != NULL ? p->ops->drain(p->self) : 0;
 }
 
 /** @brief set_origin(), if any: @p robot_toml is the file the manifest was

@@ -73,6 +73,10 @@ typedef enum roz_fault {
 #error "ROZ_RUNTIME_LOG_RING must be a power of two, at least 2"
 #endif
 
+/** Monitors of the application's own threads (a host runner's) that
+ *  roz_runtime_log_drain() drains besides the runtime's and the port's. */
+#define ROZ_RUNTIME_WATCHED 2
+
 /** Configuration; roz_runtime_config_default() fills the defaults. */
 typedef struct roz_runtime_config {
     const roz_manifest_t *manifest;
@@ -97,6 +101,14 @@ typedef struct roz_runtime_config {
     roz_clock_fn clock;         /**< monotonic clock for budgets and the monitor; NULL = none
                                      (then no overrun is detected and times read 0) */
     void        *clock_ctx;
+    roz_clock_fn deadline_clock; /**< what the process() deadline (budget_ns) counts, read
+                                     on the tick's thread only; NULL (default): @c clock,
+                                     the wall clock, which also counts the time other
+                                     threads preempt the tick. A host whose tick is not
+                                     real-time passes the tick thread's CPU time
+                                     (roz_clock_thread_cpu_ns(), roz/hal/clock.h):
+                                     docs/budget.md */
+    void        *deadline_clock_ctx;
     int          monitor_jitter; /**< 1: check each tick's start against the period
                                      (ticks driven by a timer; default); 0: ticks run
                                      back to back in simulated time */
@@ -230,6 +242,7 @@ typedef struct roz_runtime {
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(log_tail);     /* written by the drain */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(log_dropped);  /* events the ring had no room for */
     uint32_t               ROZ_PRIVATE(log_dropped_seen); /* drain: drops already reported */
+    roz_monitor_t         *ROZ_PRIVATE(watched)[ROZ_RUNTIME_WATCHED]; /* drain: more monitors */
     int                    ROZ_PRIVATE(nonfinite_warned); /* tick: the first-frame warning went out */
     int64_t                ROZ_PRIVATE(ctrl_tick);    /* tick number the controller sees */
     /* tick: this tick's account for the recorder (roz_record_t) */
@@ -286,7 +299,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 5u
+#define ROZ_RUNTIME_LAYOUT_VERSION 6u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \
@@ -456,12 +469,27 @@ const char *roz_runtime_fault_message(roz_runtime_t *rt);
 /**
  * @brief Format the queued log events (faults, warnings, the monitor's
  *        threshold warnings) and pass each to the configured log callback,
- *        with a line for events dropped since the last drain.
- * @return the number of events drained
+ *        with a line for events dropped since the last drain; then what the
+ *        port's threads kept (roz_port_drain(), to the port's own log
+ *        callback) and the watched monitors (roz_runtime_watch_monitor()).
+ *        The one call an application makes: no thread roz runs (the tick,
+ *        a port's) formats text or calls the log callback.
+ * @return the number of events and lines drained
  * Context: one non-real-time thread at a time (never the tick's RT thread;
  *          an application's idle loop between ticks is fine); formats text.
  */
 size_t roz_runtime_log_drain(roz_runtime_t *rt);
+
+/**
+ * @brief Drain @p m too in roz_runtime_log_drain() (roz_monitor_drain():
+ *        its warnings go to the log callback given to its init), e.g. a
+ *        host runner's (roz/hal/runner.h).
+ * @retval ROZ_OK     watched (also when it already was)
+ * @retval ROZ_EINVAL NULL
+ * @retval ROZ_ENOSPC ROZ_RUNTIME_WATCHED monitors are watched already
+ * Context: the thread that drains, before it drains.
+ */
+int roz_runtime_watch_monitor(roz_runtime_t *rt, roz_monitor_t *m);
 
 /** @brief Log events dropped because the ring was full, since init.
  *  Context: any thread. */

@@ -75,17 +75,65 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  out->command_writer_period_us);
         return ROZ_EINVAL;
     }
+    rc = roz_thread_params(p, "command_writer", &out->writer_thread, err, errlen);
+    if (rc == ROZ_OK)
+        rc = roz_thread_params(p, "dds_threads", &out->cyclone_threads, err, errlen);
+    if (rc == ROZ_OK && out->cyclone_threads.sched == ROZ_THREAD_RR) {
+        snprintf(err, errlen, "parameter dds_threads_sched = \"rr\": expected other or fifo "
+                              "(Cyclone DDS has no round-robin class)");
+        rc = ROZ_EINVAL;
+    }
+    if (rc != ROZ_OK)
+        return rc;
     return roz_cmd_watchdog_param(p, control_rate_hz, out->command_writer_period_us,
                                   &out->command_timeout_us, err, errlen);
 }
 
-int roz_dds_config_xml(const char *iface, char *out, size_t len)
+/* Cyclone knows recv, not the recvUC and recvMC of several receive threads
+ * (test_dds_cyclone_threads: it refuses a name it does not know) */
+const char *const roz_dds_cyclone_threads[] = { "recv", "dq.user", "tev", NULL };
+
+/* <Threads> for roz_dds_cyclone_threads, as @p t asks; "" when it asks
+ * nothing. Returns the length, or < 0. */
+static int threads_xml(const roz_thread_config_t *t, char *out, size_t len)
 {
-    char err[8];
+    char sched[96] = "", stack[48] = "";
+    size_t at = 0;
+
+    out[0] = '\0';
+    if (t == NULL || (t->sched == ROZ_THREAD_OTHER && t->stack_kib == 0))
+        return 0;
+    if (t->sched == ROZ_THREAD_RR)
+        return ROZ_EINVAL;
+    if (t->sched == ROZ_THREAD_FIFO)
+        snprintf(sched, sizeof sched,
+                 "<Scheduling><Class>realtime</Class><Priority>%d</Priority></Scheduling>",
+                 t->priority);
+    if (t->stack_kib != 0)
+        snprintf(stack, sizeof stack, "<StackSize>%lukB</StackSize>",
+                 (unsigned long)t->stack_kib);
+    int n = snprintf(out, len, "<Threads>");
+    for (size_t i = 0; roz_dds_cyclone_threads[i] != NULL && n >= 0 && (size_t)n < len; i++) {
+        at = (size_t)n;
+        n += snprintf(out + at, len - at, "<Thread Name=\"%s\">%s%s</Thread>",
+                      roz_dds_cyclone_threads[i], sched, stack);
+    }
+    if (n >= 0 && (size_t)n < len)
+        n += snprintf(out + n, len - (size_t)n, "</Threads>");
+    return n < 0 || (size_t)n >= len ? ROZ_ENOSPC : n;
+}
+
+int roz_dds_config_xml(const char *iface, const roz_thread_config_t *threads, char *out,
+                       size_t len)
+{
+    char err[8], th[ROZ_DDS_CONFIG_MAX];
     int n;
 
     if (roz_dds_check_interface(iface, err, sizeof err) != ROZ_OK)
         return ROZ_EINVAL;
+    n = threads_xml(threads, th, sizeof th);
+    if (n < 0)
+        return n;
     if (strcmp(iface, "lo") == 0)
         n = snprintf(out, len,
                      "<CycloneDDS><Domain Id=\"any\">"
@@ -93,15 +141,15 @@ int roz_dds_config_xml(const char *iface, char *out, size_t len)
                      "<AllowMulticast>false</AllowMulticast></General>"
                      "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
                      "<MaxAutoParticipantIndex>%d</MaxAutoParticipantIndex>"
-                     "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>"
+                     "<Peers><Peer address=\"127.0.0.1\"/></Peers></Discovery>%s"
                      "</Domain></CycloneDDS>",
-                     ROZ_DDS_MAX_PARTICIPANT_INDEX);
+                     ROZ_DDS_MAX_PARTICIPANT_INDEX, th);
     else
         n = snprintf(out, len,
                      "<CycloneDDS><Domain Id=\"any\">"
                      "<General><Interfaces><NetworkInterface name=\"%s\"/></Interfaces></General>"
-                     "</Domain></CycloneDDS>",
-                     iface);
+                     "%s</Domain></CycloneDDS>",
+                     iface, th);
     if (n < 0 || (size_t)n >= len)
         return ROZ_ENOSPC;
     return n;

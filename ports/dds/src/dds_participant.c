@@ -15,7 +15,8 @@ static void say(roz_log_fn log, void *ctx, roz_log_level_t level, const char *ms
 }
 
 int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32_t domain,
-                             roz_log_fn log, void *log_ctx, char *err, size_t errlen)
+                             const roz_thread_config_t *threads, roz_log_fn log,
+                             void *log_ctx, char *err, size_t errlen)
 {
     const char *uri = getenv("CYCLONEDDS_URI");
     char msg[ROZ_DDS_CONFIG_MAX + 160];
@@ -48,7 +49,7 @@ int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32
                      iface);
             return ROZ_ENOENT;
         }
-        rc = roz_dds_config_xml(iface, p->config, sizeof p->config);
+        rc = roz_dds_config_xml(iface, threads, p->config, sizeof p->config);
         if (rc < 0) {
             snprintf(err, errlen, "parameter network_interface = \"%s\": %s", iface,
                      roz_strerror(rc));

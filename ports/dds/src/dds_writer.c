@@ -242,8 +242,6 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
 int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
                          void *ctx, roz_monitor_t *monitor)
 {
-    pthread_t th;
-
     if (w->writer <= 0 || fill == NULL ||
         (period_us != 0 && (period_us < ROZ_DDS_MIN_PERIOD_US || period_us > ROZ_DDS_MAX_PERIOD_US)))
         return ROZ_EINVAL;
@@ -255,9 +253,11 @@ int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_f
     w->period_ns = (uint64_t)period_us * 1000u;
     w->expected = atomic_load(&w->expects); /* a heads-up from before is no news */
     atomic_store(&w->stop, 0);
-    if (pthread_create(&th, NULL, writer_main, w) != 0)
-        return ROZ_EIO;
-    w->thread = (unsigned long)th;
+    w->thread_err[0] = '\0';
+    int rc = roz_thread_start(&w->thread, &w->thread_cfg, "command_writer", writer_main, w,
+                              w->thread_err, sizeof w->thread_err);
+    if (rc != ROZ_OK)
+        return rc;
     atomic_store(&w->running, 1);
     atomic_store_explicit(&w->spin_on, w->period_ns == 0 && w->spin_ns != 0,
                           memory_order_release);
@@ -353,6 +353,25 @@ uint32_t roz_dds_writer_matched(const roz_dds_writer_t *w)
     return st.current_count;
 }
 
+void roz_dds_writer_set_thread(roz_dds_writer_t *w, const roz_thread_config_t *cfg)
+{
+    memset(&w->thread_cfg, 0, sizeof w->thread_cfg);
+    if (cfg != NULL)
+        w->thread_cfg = *cfg;
+}
+
+const char *roz_dds_writer_thread_error(const roz_dds_writer_t *w)
+{
+    return w->thread_err;
+}
+
+int roz_dds_writer_thread(const roz_dds_writer_t *w, roz_thread_config_t *out)
+{
+    if (!atomic_load(&w->running))
+        return ROZ_ESTATE;
+    return roz_thread_describe(w->thread, out);
+}
+
 void roz_dds_writer_stop(roz_dds_writer_t *w)
 {
     if (!atomic_load(&w->running))
@@ -360,7 +379,7 @@ void roz_dds_writer_stop(roz_dds_writer_t *w)
     atomic_store_explicit(&w->spin_on, 0, memory_order_release);
     atomic_store_explicit(&w->stop, 1, memory_order_release);
     (void)sem_post(wake_sem(w));
-    pthread_join((pthread_t)w->thread, NULL);
+    roz_thread_join(w->thread);
     atomic_store(&w->running, 0);
 }
 

@@ -160,40 +160,74 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
 
 /* ---- the receive path (a Cyclone thread per topic, one call at a time) --------- */
 
-/* A malformed sample: said once per topic and kind, from this thread (the
- * tick never formats text). */
+/* A malformed sample: kept once per topic and kind as numbers, for
+ * roz_ros2_drain() to say on the application's thread (this thread never
+ * formats text nor calls the log: test_port_conformance blocking_log). The
+ * numbers are published before the bit that announces them. */
 static void say_once(roz_ros2_topic_t *t, roz_ros2_bad_t why, const roz_ros2_rx_t *rx)
 {
-    roz_ros2_bridge_t *b = t->bridge;
     uint32_t bit = 1u << (unsigned)why;
-    char msg[320];
 
-    if (atomic_fetch_or_explicit(&t->said, bit, memory_order_relaxed) & bit)
+    if (atomic_load_explicit(&t->said, memory_order_relaxed) & bit)
         return;
+    atomic_store_explicit(&t->said_a[why], rx->bad_a, memory_order_relaxed);
+    atomic_store_explicit(&t->said_b[why], rx->bad_b, memory_order_relaxed);
+    atomic_fetch_or_explicit(&t->said, bit, memory_order_release);
+}
+
+static void format_bad(const roz_ros2_bridge_t *b, const roz_ros2_topic_t *t, roz_ros2_bad_t why,
+                       int32_t bad_a, int32_t bad_b, char *msg, size_t len)
+{
     switch (why) {
     case ROZ_ROS2_BAD_LENGTH:
-        snprintf(msg, sizeof msg,
+        snprintf(msg, len,
                  "%s: %s: a sample with %d joint values, expected %d: dropped (counted; said "
                  "once)",
-                 b->robot->port, t->name, (int)rx->bad_a, (int)rx->bad_b);
+                 b->robot->port, t->name, (int)bad_a, (int)bad_b);
         break;
     case ROZ_ROS2_BAD_NAME:
-        snprintf(msg, sizeof msg,
+        snprintf(msg, len,
                  "%s: %s: the joint in slot %d is not named \"%s\": the robot's joint order is "
                  "not the port's; dropped (counted; said once)",
-                 b->robot->port, t->name, (int)rx->bad_a,
-                 rx->bad_a >= 0 && rx->bad_a < (int32_t)b->robot->groups[t->index].n_slots
-                     ? b->robot->groups[t->index].slots[rx->bad_a]
+                 b->robot->port, t->name, (int)bad_a,
+                 bad_a >= 0 && bad_a < (int32_t)b->robot->groups[t->index].n_slots
+                     ? b->robot->groups[t->index].slots[bad_a]
                      : "?");
         break;
     default:
-        snprintf(msg, sizeof msg,
+        snprintf(msg, len,
                  "%s: %s: a header stamp that is not a time (sec < 0 or nanosec > 999999999): "
                  "dropped (counted; said once)",
                  b->robot->port, t->name);
         break;
     }
-    b->log(b->log_ctx, ROZ_LOG_ERROR, msg);
+}
+
+size_t roz_ros2_drain(void *self)
+{
+    roz_ros2_bridge_t *b = self;
+    size_t n = 0;
+    char msg[320];
+
+    if (!b->open)
+        return 0;
+    for (uint16_t i = 0; i < b->n_topics; i++) {
+        roz_ros2_topic_t *t = &b->topic[i];
+        uint32_t said = atomic_load_explicit(&t->said, memory_order_acquire) & ~t->told;
+        for (unsigned why = ROZ_ROS2_BAD_LENGTH; why <= ROZ_ROS2_BAD_STAMP; why++) {
+            if (!(said & (1u << why)))
+                continue;
+            format_bad(b, t, (roz_ros2_bad_t)why,
+                       atomic_load_explicit(&t->said_a[why], memory_order_relaxed),
+                       atomic_load_explicit(&t->said_b[why], memory_order_relaxed), msg,
+                       sizeof msg);
+            b->log(b->log_ctx, ROZ_LOG_ERROR, msg);
+            n++;
+        }
+        t->told |= said;
+        n += roz_monitor_drain(&t->mon);
+    }
+    return n + roz_monitor_drain(&b->mon_tx);
 }
 
 /* Checks and converts the sample into t->scratch (rx): the port's decode for
@@ -417,6 +451,11 @@ static int setup_topic(roz_ros2_bridge_t *b, uint16_t t, const char *name, const
     atomic_init(&tp->rx_session, 0u);
     atomic_init(&tp->fault_ack, 0u);
     atomic_init(&tp->said, 0u);
+    tp->told = 0;
+    for (unsigned k = 0; k < ROZ_ROS2_BAD_COUNT_; k++) {
+        atomic_init(&tp->said_a[k], 0);
+        atomic_init(&tp->said_b[k], 0);
+    }
     ROZ_ATOMIC(uint64_t) *counters[] = { &tp->c_samples, &tp->c_malformed, &tp->c_full,
                                          &tp->c_fault, &tp->c_sessions };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
@@ -499,7 +538,8 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     roz_dds_cmd_init(&b->cmd, &cmd);
     atomic_init(&b->c_frames, 0u);
 
-    rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain, log,
+    rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain,
+                                  &b->dds.cyclone_threads, log,
                                   log_ctx, err, errlen);
     for (uint16_t g = 0; g < robot->n_groups && rc == ROZ_OK; g++) {
         roz_ros2_out_t *o = &b->out[g];
@@ -539,11 +579,18 @@ int roz_ros2_activate(void *self)
                                       tp->sample, tp->size, on_sample, tp,
                                       b->dds.enable_monitor ? &tp->mon : NULL, err, sizeof err);
     }
-    if (rc == ROZ_OK)
+    if (rc == ROZ_OK) {
+        roz_dds_writer_t *w = &b->out[primary(b)].writer;
+        roz_dds_writer_set_thread(w, &b->dds.writer_thread);
         rc = roz_dds_cmd_start(&b->cmd, b->dds.command_writer_period_us,
                                b->dds.enable_monitor ? &b->mon_tx : NULL);
-    else
+        if (rc != ROZ_OK && roz_dds_writer_thread_error(w)[0] != '\0') {
+            snprintf(err, sizeof err, "%s: %s", b->robot->port, roz_dds_writer_thread_error(w));
+            b->log(b->log_ctx, ROZ_LOG_ERROR, err);
+        }
+    } else {
         b->log(b->log_ctx, ROZ_LOG_ERROR, err);
+    }
     if (rc != ROZ_OK) {
         for (uint16_t t = 0; t < b->n_topics; t++)
             roz_dds_reader_close(&b->topic[t].reader);

@@ -19,14 +19,16 @@ typedef struct {
 } reporter_t;
 
 enum { K_NETWORK_INTERFACE, K_BITRATE, K_PERIOD, K_MAX_LOAD, K_REPLY_TIMEOUT, K_CMD_TIMEOUT,
-       K_MASTER_ID, K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
+       K_MASTER_ID, K_CONSISTENCY, K_MONITOR, K_DECIMATION, K_THREAD_FIRST,
+       K_THREAD_LAST = K_THREAD_FIRST + 7, K_CAN_ID, K_REPLY, K_POSITION_RANGE,
        K_VELOCITY_RANGE, K_STIFFNESS_RANGE, K_DAMPING_RANGE, K_EFFORT_RANGE, K_DIRECTION,
        K_ZERO_OFFSET, N_KEYS };
 
 static const char *const key_names[N_KEYS + 1] = {
     "network_interface", "bitrate", "command_writer_period_us", "max_bus_load_percent",
     "reply_timeout_us", ROZ_CMD_WATCHDOG_KEY, "master_id", "consistency_margin", "enable_monitor",
-    "state_decimation", "can_id", "reply", "position_range", "velocity_range", "stiffness_range", "damping_range",
+    "state_decimation", ROZ_THREAD_PARAM_KEYS("receive_thread"),
+    ROZ_THREAD_PARAM_KEYS("command_writer"), "can_id", "reply", "position_range", "velocity_range", "stiffness_range", "damping_range",
     "effort_range", "direction", "zero_offset", NULL,
 };
 
@@ -37,7 +39,9 @@ static const char *const rule_names[] = {
 #define KNOWN_KEYS                                                                               \
     "network_interface, bitrate, command_writer_period_us, max_bus_load_percent, "               \
     "reply_timeout_us, command_timeout_us, master_id, consistency_margin, enable_monitor, "     \
-    "state_decimation, can_id, "                                                                 \
+    "state_decimation, receive_thread_sched, receive_thread_priority, receive_thread_cpus, "    \
+    "receive_thread_stack_kib, command_writer_sched, command_writer_priority, "                \
+    "command_writer_cpus, command_writer_stack_kib, can_id, "                                  \
     "reply, position_range, velocity_range, stiffness_range, damping_range, effort_range, "      \
     "direction, zero_offset"
 
@@ -794,6 +798,30 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
                                   entry_fns[k]);
         else
             parsed[k] = 0;
+    }
+
+    /* the two threads' keys (roz/hal/thread.h) */
+    {
+        roz_param_t tp[K_THREAD_LAST - K_THREAD_FIRST + 1];
+        size_t n = 0;
+        for (int k = K_THREAD_FIRST; k <= K_THREAD_LAST; k++) {
+            const char *value = param_value(&p, key_names[k]);
+            if (value != NULL)
+                tp[n++] = (roz_param_t){ key_names[k], value };
+        }
+        roz_params_t tps = { tp, n };
+        char terr[ROZ_CFG_PROBLEM_LEN / 2];
+        if (roz_thread_params(&tps, "receive_thread", &cfg->receive_thread, terr, sizeof terr) !=
+                ROZ_OK ||
+            roz_thread_params(&tps, "command_writer", &cfg->writer_thread, terr, sizeof terr) !=
+                ROZ_OK) {
+            char buf[ROZ_CFG_PROBLEM_LEN];
+            roz_text_t sb;
+            roz_text_init(&sb, buf, sizeof buf);
+            roz_text_put(&sb, ": hardware.params: ");
+            roz_text_put(&sb, terr);
+            report(&r, "can-param", &sb);
+        }
     }
 
     if (joints_ok && parsed[K_CAN_ID] && parsed[K_MASTER_ID])

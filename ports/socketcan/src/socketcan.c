@@ -675,7 +675,6 @@ static int sc_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
 static int sc_activate(void *self)
 {
     roz_socketcan_t *sc = self;
-    pthread_t th;
 
     if (!sc->opened)
         return ROZ_ESTATE;
@@ -683,17 +682,25 @@ static int sc_activate(void *self)
         return ROZ_OK;
     atomic_store(&sc->stop_rx, 0);
     atomic_store(&sc->stop_tx, 0);
-    if (pthread_create(&th, NULL, rx_main, sc) != 0)
-        return ROZ_EIO;
-    sc->rx_thread = (unsigned long)th;
-    sc->rx_started = 1;
-    if (pthread_create(&th, NULL, tx_main, sc) != 0) {
-        atomic_store(&sc->stop_rx, 1);
-        pthread_join((pthread_t)sc->rx_thread, NULL);
-        sc->rx_started = 0;
-        return ROZ_EIO;
+    char err[200];
+    int rc = roz_thread_start(&sc->rx_thread, &sc->cfg.receive_thread, "receive_thread", rx_main,
+                              sc, err, sizeof err);
+    if (rc != ROZ_OK) {
+        if (sc->log != NULL)
+            sc->log(sc->log_ctx, ROZ_LOG_ERROR, err);
+        return rc;
     }
-    sc->tx_thread = (unsigned long)th;
+    sc->rx_started = 1;
+    rc = roz_thread_start(&sc->tx_thread, &sc->cfg.writer_thread, "command_writer", tx_main, sc,
+                          err, sizeof err);
+    if (rc != ROZ_OK) {
+        if (sc->log != NULL)
+            sc->log(sc->log_ctx, ROZ_LOG_ERROR, err);
+        atomic_store(&sc->stop_rx, 1);
+        roz_thread_join(sc->rx_thread);
+        sc->rx_started = 0;
+        return rc;
+    }
     sc->tx_started = 1;
     sc->active = 1;
     return ROZ_OK;
@@ -935,6 +942,8 @@ static const roz_port_param_info_t sc_params[] = {
                             "a position that moves this much more than its velocity says is "
                             "a fault"),
     ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true", "jitter warnings"),
+    ROZ_THREAD_PARAM_INFO("receive_thread", "the CAN receive thread"),
+    ROZ_THREAD_PARAM_INFO("command_writer", "the CAN command writer thread"),
     ROZ_PORT_PARAM_TEXT_ROW("state_decimation", "1", "1", "every reply is converted"),
 };
 
@@ -947,6 +956,13 @@ static const roz_port_info_t sc_info = {
     .no_sequence = "MIT-mode frames carry no sequence number: a rebooted actuator is seen only "
                    "as a silence longer than reply_timeout_us (the vanish case)",
 };
+
+/* The receive and send threads' warnings, said here (roz/port.h drain). */
+static size_t sc_drain(void *self)
+{
+    roz_socketcan_t *sc = self;
+    return roz_monitor_drain(&sc->monitor);
+}
 
 const roz_port_ops_t roz_socketcan_ops = {
     .name = "socketcan",
@@ -962,6 +978,7 @@ const roz_port_ops_t roz_socketcan_ops = {
     .info = &sc_info,
     .link_counters = sc_link_counters,
     .report = sc_report,
+    .drain = sc_drain,
 };
 
 /* ---- public ---------------------------------------------------------------------- */

@@ -294,7 +294,8 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
-    rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain, log,
+    rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain,
+                                  &g1->dds.cyclone_threads, log,
                                   log_ctx, err, errlen);
     if (rc == ROZ_OK)
         rc = roz_dds_writer_open(&g1->writer, &g1->part, "rt/lowcmd",
@@ -325,9 +326,14 @@ static int g1_activate(void *self)
         g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
         return rc;
     }
+    roz_dds_writer_set_thread(&g1->writer, &g1->dds.writer_thread);
     rc = roz_dds_cmd_start(&g1->cmd, g1->dds.command_writer_period_us,
                            g1->dds.enable_monitor ? &g1->mon_tx : NULL);
     if (rc != ROZ_OK) {
+        if (roz_dds_writer_thread_error(&g1->writer)[0] != '\0') {
+            snprintf(err, sizeof err, "unitree/G1: %s", roz_dds_writer_thread_error(&g1->writer));
+            g1->log(g1->log_ctx, ROZ_LOG_ERROR, err);
+        }
         roz_dds_reader_close(&g1->reader);
         return rc;
     }
@@ -461,6 +467,13 @@ static const roz_port_info_t g1_info = {
     .no_sequence = NULL,
 };
 
+/* The receive and writer threads' warnings, said here (roz/port.h drain). */
+static size_t g1_drain(void *self)
+{
+    roz_unitree_g1_t *g1 = self;
+    return roz_monitor_drain(&g1->mon_rx) + roz_monitor_drain(&g1->mon_tx);
+}
+
 const roz_port_ops_t roz_unitree_g1_ops = {
     .name = "unitree/G1",
     .open = g1_open,
@@ -474,6 +487,7 @@ const roz_port_ops_t roz_unitree_g1_ops = {
             ROZ_PORT_CAP_START_HOLD | ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &g1_info,
     .link_counters = g1_link_counters,
+    .drain = g1_drain,
 };
 
 /* ---- public ------------------------------------------------------------------------ */

@@ -16,8 +16,11 @@
 #define ROZ_TEST_PORT_FIXTURE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "roz/hal/link.h"
+#include "roz/log.h"
+#include "roz/monitor.h"
 #include "roz/port.h"
 #include "roz/manifest.h"
 
@@ -72,6 +75,13 @@ typedef struct roz_port_fixture {
     void (*link)(roz_link_t *out);
     /* Deactivate and close the port, stop the peer. */
     void (*close)(void);
+    /* The log callback the next open() constructs the port with (NULL: the
+     * fixture's own). NULL for a port that takes none. */
+    void (*set_log)(roz_log_fn log);
+    /* Set every threshold of the open port's monitors to 1 ns, so that each
+     * sample its threads record warns (the first of each kind at once).
+     * NULL for a port without threads of its own. */
+    void (*strict_monitors)(void);
 } roz_port_fixture_t;
 
 /* The fixtures this build holds, by port (its roz_add_port() NAME): one row
@@ -91,5 +101,18 @@ extern const roz_port_fixture_entry_t roz_port_fixtures[];
 extern const roz_port_fixture_t roz_fixture_unitree_g1;
 extern const roz_port_fixture_t roz_fixture_engineai_pm01;
 extern const roz_port_fixture_t roz_fixture_agibot_x2;
+
+/* Every threshold of @p m to 1 ns (port_fixture.h strict_monitors): the
+ * thresholds may be set while the port's threads record. The ports hand
+ * their monitors out const (for reading); the monitor itself is the port
+ * instance's, which is not const. */
+static inline void roz_fixture_strict(const roz_monitor_t *m)
+{
+    roz_monitor_t *w = (roz_monitor_t *)(uintptr_t)m;
+    if (w == NULL)
+        return;
+    for (unsigned k = 0; k < (unsigned)ROZ_MON_KIND_COUNT_; k++)
+        roz_monitor_set_threshold(w, (roz_monitor_kind_t)k, 1);
+}
 
 #endif /* ROZ_TEST_PORT_FIXTURE_H */

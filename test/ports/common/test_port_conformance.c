@@ -30,7 +30,14 @@
  *    runtime latches as ROZ_FAULT_COMMAND_TIMEOUT: test_latch.c), naming
  *    command_timeout_us, its value and a silence at least that long; the
  *    next write goes out as the start-up hold (no drive either), the one
- *    after as written.
+ *    after as written;
+ *  - a blocking log, for a port with threads of its own: with a log
+ *    callback that blocks forever on any thread but the suite's, and every
+ *    threshold of the port's monitors at 1 ns (each sample its threads
+ *    record warns), the command watchdog case passes as above and twenty
+ *    more commands reach the peer in order; no port thread called the log
+ *    (roz/port.h drain); the warnings come out of roz_port_drain() on the
+ *    suite's thread.
  * Each fixture runs on the manifests it serves (the loopback on UR5 and G1,
  * each robot's port on its robot, the socketcan port on the example CAN
  * leg). */
@@ -47,6 +54,7 @@
 #include "port_fixture.h"
 #include "roz/hal/cmd_watchdog.h"
 #include "roz/ports.h"
+#include "support_blocking_log.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -472,6 +480,49 @@ static void test_port_conformance_watchdog(void **st)
     }
 }
 
+static void check_blocking_log(conformance_t *c)
+{
+    c->fx->strict_monitors();
+    check_watchdog(c);
+    for (int i = 0; i < 20; i++) {
+        fresh_frame(c);
+        write_checked(c, 12 + i);
+        assert_peer_applies(c, c->cmd);
+    }
+    assert_int_equal(roz_test_blocking_log_blocked(), 0);
+    /* the warnings the port's threads kept, said on this thread */
+    assert_true(roz_port_drain(&c->port) >= 1);
+    assert_true(roz_test_blocking_log_saw(" took "));
+}
+
+static void test_port_conformance_blocking_log(void **st)
+{
+    static conformance_t c;
+    roz_param_t item = { "command_timeout_us", WATCHDOG_TEXT };
+    roz_params_t params = { &item, 1 };
+    (void)st;
+    for (size_t f = 0; f < n_fixtures; f++) {
+        const roz_port_fixture_t *fx = fixtures[f].fx;
+        const roz_manifest_t *const *ms = manifests_of(fx);
+        if (fx->set_log == NULL || fx->strict_monitors == NULL ||
+            !has(fixtures[f].ops, ROZ_PORT_CAP_WATCHDOG)) {
+            print_message("%s: skipped: a blocking log: the port has no threads of its own\n",
+                          fx->name);
+            continue;
+        }
+        for (size_t k = 0; ms[k] != NULL; k++) {
+            print_message("%s on %s\n", fx->name, ms[k]->robot_id);
+            roz_test_blocking_log_arm();
+            fx->set_log(roz_test_blocking_log);
+            open_port_with(&c, &fixtures[f], ms[k], &params);
+            check_blocking_log(&c);
+            roz_test_blocking_log_release();
+            fx->close();
+            fx->set_log(NULL);
+        }
+    }
+}
+
 /* Every registered port (roz/ports.h) must have a fixture (port_fixture.h),
  * found by name: one built, or one that says why it cannot be here. A port
  * registered without one fails. */
@@ -510,6 +561,7 @@ int main(void)
         cmocka_unit_test(test_port_conformance_link),
         cmocka_unit_test(test_port_conformance_commands),
         cmocka_unit_test(test_port_conformance_watchdog),
+        cmocka_unit_test(test_port_conformance_blocking_log),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,7 +26,9 @@
  *    multicast: through the peer) and echo frames both ways.
  * Timeouts here guard against a hang; no test asserts a time. */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
 #include <errno.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <signal.h>
 #include <spawn.h>
@@ -149,20 +151,109 @@ static void test_dds_config_xml(void **st)
     char xml[ROZ_DDS_CONFIG_MAX], small[64];
     (void)st;
 
-    assert_true(roz_dds_config_xml("lo", xml, sizeof xml) > 0);
+    assert_true(roz_dds_config_xml("lo", NULL, xml, sizeof xml) > 0);
     assert_non_null(strstr(xml, "<NetworkInterface name=\"lo\"/>"));
     assert_non_null(strstr(xml, "<AllowMulticast>false</AllowMulticast>"));
     assert_non_null(strstr(xml, "<Peer address=\"127.0.0.1\"/>"));
     assert_non_null(strstr(xml, "<ParticipantIndex>auto</ParticipantIndex>"));
     assert_non_null(strstr(xml, "<MaxAutoParticipantIndex>63</MaxAutoParticipantIndex>"));
 
-    assert_true(roz_dds_config_xml("eth0", xml, sizeof xml) > 0);
+    assert_true(roz_dds_config_xml("eth0", NULL, xml, sizeof xml) > 0);
     assert_non_null(strstr(xml, "<NetworkInterface name=\"eth0\"/>"));
     assert_null(strstr(xml, "lo\""));
     assert_null(strstr(xml, "Peer"));
 
-    assert_int_equal(roz_dds_config_xml("eth0\"><", xml, sizeof xml), ROZ_EINVAL);
-    assert_int_equal(roz_dds_config_xml("lo", small, sizeof small), ROZ_ENOSPC);
+    assert_int_equal(roz_dds_config_xml("eth0\"><", NULL, xml, sizeof xml), ROZ_EINVAL);
+    assert_int_equal(roz_dds_config_xml("lo", NULL, small, sizeof small), ROZ_ENOSPC);
+}
+
+/* Cyclone's threads from roz's configuration: the XML names each of them,
+ * and where the process may have SCHED_FIFO the running "recv" thread has
+ * it at the priority asked for (read back through /proc). */
+static void *nothing(void *arg)
+{
+    return arg;
+}
+
+/* The policy and priority of this process's thread named @p name; 0 if
+ * found. */
+static int thread_sched(const char *name, int *policy, int *prio)
+{
+    DIR *d = opendir("/proc/self/task");
+    struct dirent *e;
+    int found = -1;
+    while (d != NULL && found != 0 && (e = readdir(d)) != NULL) {
+        char path[64], comm[32] = "";
+        if (e->d_name[0] == '.')
+            continue;
+        snprintf(path, sizeof path, "/proc/self/task/%s/comm", e->d_name);
+        FILE *f = fopen(path, "r");
+        if (f == NULL)
+            continue;
+        if (fgets(comm, sizeof comm, f) != NULL)
+            comm[strcspn(comm, "\n")] = '\0';
+        fclose(f);
+        if (strcmp(comm, name) != 0)
+            continue;
+        pid_t tid = (pid_t)atoi(e->d_name);
+        struct sched_param sp;
+        *policy = sched_getscheduler(tid);
+        if (*policy >= 0 && sched_getparam(tid, &sp) == 0) {
+            *prio = sp.sched_priority;
+            found = 0;
+        }
+    }
+    if (d != NULL)
+        closedir(d);
+    return found;
+}
+
+static void test_dds_cyclone_threads(void **st)
+{
+    char xml[ROZ_DDS_CONFIG_MAX], err[256];
+    roz_thread_config_t t = { ROZ_THREAD_FIFO, 4, 0, 512 };
+    roz_dds_participant_t p;
+    unsigned long th;
+    (void)st;
+
+    assert_true(roz_dds_config_xml("lo", &t, xml, sizeof xml) > 0);
+    for (size_t i = 0; roz_dds_cyclone_threads[i] != NULL; i++) {
+        char want[200];
+        snprintf(want, sizeof want,
+                 "<Thread Name=\"%s\"><Scheduling><Class>realtime</Class><Priority>4</Priority>"
+                 "</Scheduling><StackSize>512kB</StackSize></Thread>",
+                 roz_dds_cyclone_threads[i]);
+        assert_non_null(strstr(xml, want));
+    }
+    t.sched = ROZ_THREAD_RR;
+    assert_int_equal(roz_dds_config_xml("lo", &t, xml, sizeof xml), ROZ_EINVAL);
+    t = (roz_thread_config_t){ ROZ_THREAD_OTHER, 0, 0, 0 };
+    assert_true(roz_dds_config_xml("lo", &t, xml, sizeof xml) > 0);
+    assert_null(strstr(xml, "<Threads>"));
+
+    /* the running threads: the stack always (Cyclone takes the
+     * configuration), SCHED_FIFO where permitted */
+    t = (roz_thread_config_t){ ROZ_THREAD_FIFO, 4, 0, 512 };
+    int may_fifo = roz_thread_start(&th, &t, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
+    if (may_fifo)
+        roz_thread_join(th);
+    else
+        t = (roz_thread_config_t){ ROZ_THREAD_OTHER, 0, 0, 512 };
+    int rc = roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, &t, NULL, NULL, err,
+                                      sizeof err);
+    if (rc != ROZ_OK)
+        fail_msg("%s", err);
+    int policy = -1, prio = -1;
+    int found = thread_sched("recv", &policy, &prio);
+    roz_dds_participant_close(&p);
+    assert_int_equal(found, 0);
+    if (may_fifo) {
+        assert_int_equal(policy, SCHED_FIFO);
+        assert_int_equal(prio, 4);
+    } else {
+        print_message("SCHED_FIFO not permitted here: Cyclone's threads at normal priority\n");
+        assert_int_equal(policy, SCHED_OTHER);
+    }
 }
 
 static char logged[1024];
@@ -181,16 +272,16 @@ static void test_dds_participant(void **st)
     char err[256] = "";
     (void)st;
 
-    assert_int_equal(roz_dds_participant_open(&p, "roznosuch0", ROZ_TEST_DDS_DOMAIN, NULL, NULL,
+    assert_int_equal(roz_dds_participant_open(&p, "roznosuch0", ROZ_TEST_DDS_DOMAIN, NULL, NULL, NULL,
                                               err, sizeof err),
                      ROZ_ENOENT);
     assert_non_null(strstr(err, "network_interface = \"roznosuch0\""));
-    assert_int_equal(roz_dds_participant_open(&p, "lo", 300, NULL, NULL, err, sizeof err),
+    assert_int_equal(roz_dds_participant_open(&p, "lo", 300, NULL, NULL, NULL, err, sizeof err),
                      ROZ_EINVAL);
     assert_non_null(strstr(err, "dds_domain"));
 
     logged[0] = '\0';
-    assert_int_equal(roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, log_capture, NULL,
+    assert_int_equal(roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, NULL, log_capture, NULL,
                                               err, sizeof err),
                      ROZ_OK);
     assert_int_equal(p.user_config, 0);
@@ -205,7 +296,7 @@ static void test_dds_participant(void **st)
            "<CycloneDDS><Domain Id=\"any\"><General><Interfaces><NetworkInterface name=\"lo\"/>"
            "</Interfaces><AllowMulticast>false</AllowMulticast></General></Domain></CycloneDDS>",
            1);
-    assert_int_equal(roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, log_capture, NULL,
+    assert_int_equal(roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, NULL, log_capture, NULL,
                                               err, sizeof err),
                      ROZ_OK);
     unsetenv("CYCLONEDDS_URI");
@@ -282,7 +373,7 @@ static void open_pair(bench_t *b)
     memset(&tx_storage, 0x55, sizeof tx_storage);
     roz_monitor_init(&mon_rx, "test_dds rx", 1000000u, NULL, NULL);
     roz_monitor_init(&mon_tx, "test_dds tx", 1000000u, NULL, NULL);
-    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, err,
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, NULL, err,
                                  sizeof err) != ROZ_OK)
         fail_msg("participant: %s", err);
     if (roz_dds_reader_open(&rd, &part, "roz_test/frame", &roz_dds_test_Frame_desc,
@@ -513,7 +604,7 @@ static void test_dds_kept_storage(void **st)
     jt.last_buf = joints_rx.values._buffer;
     jt.last_name = joints_rx.name;
 
-    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, err,
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, NULL, err,
                                  sizeof err) != ROZ_OK ||
         roz_dds_reader_open_kept(&rd, &part, "roz_test/joints", &roz_dds_test_Joints_desc,
                                  &roz_dds_qos_ros2_default, &joints_rx, sizeof joints_rx,
@@ -636,7 +727,7 @@ static void cp_open(uint32_t timeout_us)
     memset(&cp, 0, sizeof cp);
     atomic_store(&cp.rx_session, 1u);
     memset(&tx_storage, 0x55, sizeof tx_storage);
-    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, err,
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN, NULL, NULL, NULL, err,
                                  sizeof err) != ROZ_OK ||
         roz_dds_writer_open(&wr, &part, "roz_test/command", &roz_dds_test_Frame_desc,
                             &roz_dds_qos_robot_command, &tx_storage, sizeof tx_storage, err,
@@ -807,7 +898,7 @@ static int echo_main(uint32_t domain)
 
     atomic_init(&echo_have, 0u);
     atomic_init(&echo_seq, 0u);
-    if (roz_dds_participant_open(&p, "lo", domain, NULL, NULL, err, sizeof err) != ROZ_OK ||
+    if (roz_dds_participant_open(&p, "lo", domain, NULL, NULL, NULL, err, sizeof err) != ROZ_OK ||
         roz_dds_writer_open(&echo_wr, &p, "roz_test/pong", &roz_dds_test_Frame_desc,
                             &roz_dds_qos_robot_command, &echo_tx, sizeof echo_tx, err,
                             sizeof err) != ROZ_OK ||
@@ -848,7 +939,7 @@ static void test_dds_two_processes(void **st)
 
     memset(&b, 0, sizeof b);
     memset(&rx_storage, 0xAA, sizeof rx_storage);
-    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN + 1, NULL, NULL, err,
+    if (roz_dds_participant_open(&part, "lo", ROZ_TEST_DDS_DOMAIN + 1, NULL, NULL, NULL, err,
                                  sizeof err) != ROZ_OK ||
         roz_dds_reader_open(&rd, &part, "roz_test/pong", &roz_dds_test_Frame_desc,
                             &roz_dds_qos_robot_state, &rx_storage, sizeof rx_storage, on_frame,
@@ -888,6 +979,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_dds_params),
         cmocka_unit_test(test_dds_config_xml),
         cmocka_unit_test(test_dds_participant),
+        cmocka_unit_test(test_dds_cyclone_threads),
         cmocka_unit_test(test_dds_periodic_writer),
         cmocka_unit_test(test_dds_event_writer),
         cmocka_unit_test(test_dds_spinning_writer),

@@ -65,6 +65,13 @@ static void quiet_log(void *ctx, roz_log_level_t level, const char *msg)
         fprintf(stderr, "port: %s\n", msg);
 }
 
+static roz_log_fn fx_log;
+
+static void fx_set_log(roz_log_fn log)
+{
+    fx_log = log;
+}
+
 static roz_engineai_pm01_t pm01;
 
 static roz_port_t make_pm01(roz_log_fn log)
@@ -406,7 +413,7 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
             peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
     }
     roz_params_t all = { items, n };
-    the_port = r->make(quiet_log);
+    the_port = r->make(fx_log != NULL ? fx_log : quiet_log);
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)
         port_open = 1;
@@ -524,6 +531,15 @@ static void fx_close(void)
 
 static const roz_manifest_t *const pm01_manifests[] = { &roz_manifest_engineai_pm01, NULL };
 
+static void fx_strict_monitors(void)
+{
+    roz_ros2_counters_t c;
+    roz_ros2_counters(robot->bridge, &c);
+    roz_fixture_strict(roz_ros2_writer_monitor(robot->bridge));
+    for (uint16_t t = 0; t < c.n_topics; t++)
+        roz_fixture_strict(roz_ros2_topic_monitor(robot->bridge, t));
+}
+
 const roz_port_fixture_t roz_fixture_engineai_pm01 = {
     .name = "engineai/PM01",
     .manifests = pm01_manifests,
@@ -537,6 +553,8 @@ const roz_port_fixture_t roz_fixture_engineai_pm01 = {
     .corrupt_next_command = fx_corrupt_next_command,
     .link = fx_link,
     .close = fx_close,
+    .set_log = fx_set_log,
+    .strict_monitors = fx_strict_monitors,
 };
 
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
@@ -561,5 +579,7 @@ const roz_port_fixture_t roz_fixture_agibot_x2 = {
     .corrupt_next_command = fx_corrupt_next_command,
     .link = fx_link,
     .close = fx_close,
+    .set_log = fx_set_log,
+    .strict_monitors = fx_strict_monitors,
 };
 #endif

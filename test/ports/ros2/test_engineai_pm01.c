@@ -48,6 +48,7 @@
 #include "interface_protocol.h"
 #include "port_fixture.h"
 #include "port_test.h"
+#include "support_blocking_log.h"
 #include "ros2_fixture.h"
 #include "roz/port/engineai_pm01.h"
 #include "ur5_manifest.h"
@@ -411,7 +412,12 @@ static void test_pm01_clock_step_back_is_a_replay(void **st)
 static void test_pm01_arrays_must_be_24_long(void **st)
 {
     (void)st;
+    /* the notice is kept by the receive thread and said by the drain, on
+     * this thread: a log that blocks every other thread never stops it */
+    roz_test_blocking_log_arm();
+    roz_fixture_engineai_pm01.set_log(roz_test_blocking_log);
     open_pm01(NULL, 0);
+    roz_fixture_engineai_pm01.set_log(NULL);
     start();
     static const unsigned lengths[] = { 23, 25, 0, 12 };
     for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
@@ -428,6 +434,14 @@ static void test_pm01_arrays_must_be_24_long(void **st)
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
     assert_state_is_sent();
+    unsigned blocked = roz_test_blocking_log_blocked();
+    int said = roz_port_drain(&port) >= 1 &&
+               roz_test_blocking_log_saw("a sample with 23 joint values, expected 24: dropped");
+    int once = !roz_test_blocking_log_saw("a sample with 25 joint values");
+    roz_test_blocking_log_release();
+    assert_int_equal(blocked, 0);
+    assert_true(said);
+    assert_true(once);
 }
 
 /* ---- the domain -------------------------------------------------------------------------- */

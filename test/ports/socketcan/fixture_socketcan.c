@@ -50,6 +50,7 @@
 #include "roz/port/mit_codec.h"
 
 static roz_socketcan_t sc;
+static roz_log_fn sc_fx_log; /* sc_fx_set_log(); NULL: silent */
 static fake_can_t bus;
 static roz_test_can_t t;
 static double applied[ROZ_CFG_MAX_COMMANDS];
@@ -97,7 +98,7 @@ static int sc_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_p
         snprintf(err, errlen, "socketcan fixture: no socketpair or fake bus");
         return ROZ_EIO;
     }
-    t.port = roz_socketcan_port(&sc, NULL, NULL);
+    t.port = roz_socketcan_port(&sc, sc_fx_log, NULL);
     roz_socketcan_set_fd(&sc, t.fds[0]);
     *port = t.port;
     int rc = roz_port_open(&t.port, m, &p, err, errlen);
@@ -292,6 +293,16 @@ static void sc_fx_close(void)
 
 static const roz_manifest_t *const leg_only[] = { &roz_manifest_can_leg, NULL };
 
+static void sc_fx_set_log(roz_log_fn log)
+{
+    sc_fx_log = log;
+}
+
+static void sc_fx_strict_monitors(void)
+{
+    roz_fixture_strict(roz_socketcan_monitor(&sc));
+}
+
 const roz_port_fixture_t roz_fixture_socketcan = {
     .name = "socketcan",
     .manifests = leg_only,
@@ -304,4 +315,6 @@ const roz_port_fixture_t roz_fixture_socketcan = {
     .corrupt_next_command = sc_fx_corrupt_next_command,
     .link = sc_fx_link,
     .close = sc_fx_close,
+    .set_log = sc_fx_set_log,
+    .strict_monitors = sc_fx_strict_monitors,
 };

@@ -28,8 +28,9 @@
  * time. */
 /* white-box in part: a teardown reads whether the port is open (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity: test_socketcan_threads */
 #include <math.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -39,6 +40,8 @@
 #include <time.h>
 
 #include <cmocka.h>
+
+#include "roz/hal/thread.h"
 
 #include "can_leg_manifest.h"
 #include "can_test_support.h"
@@ -620,6 +623,48 @@ static void test_socketcan_shutdown(void **st)
 
 /* ---- opening ---------------------------------------------------------------------------- */
 
+/* Both threads carry the scheduling their parameters ask for: affinity and
+ * stack size always, SCHED_FIFO where permitted (roz/hal/thread.h); read
+ * back from the running threads. */
+static void *nothing(void *arg)
+{
+    return arg;
+}
+
+static void test_socketcan_threads(void **st)
+{
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 7, 0, 0 }, rx, tx;
+    unsigned long th;
+    char err[200], cpus[8];
+    cpu_set_t set;
+    int cpu = 0;
+    (void)st;
+    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
+    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
+        if (CPU_ISSET(c, &set))
+            cpu = c;
+    snprintf(cpus, sizeof cpus, "%d", cpu);
+    int may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
+    if (may_fifo)
+        roz_thread_join(th);
+    else
+        print_message("SCHED_FIFO not permitted here: the threads' affinity and stack only\n");
+    const char *more[] = { "receive_thread_cpus", cpus, "receive_thread_stack_kib", "256",
+                           "command_writer_stack_kib", "512",
+                           may_fifo ? "command_writer_sched" : NULL, "fifo",
+                           "command_writer_priority", "7", NULL };
+    open_on_write(more);
+    bring_up(); /* frames flow both ways */
+    assert_int_equal(roz_thread_describe(sc.rx_thread, &rx), ROZ_OK);
+    assert_int_equal(roz_thread_describe(sc.tx_thread, &tx), ROZ_OK);
+    assert_int_equal(rx.cpus, 1ull << cpu);
+    assert_int_equal(rx.stack_kib, 256);
+    assert_int_equal(rx.sched, ROZ_THREAD_OTHER);
+    assert_int_equal(tx.stack_kib, 512);
+    assert_int_equal(tx.sched, may_fifo ? ROZ_THREAD_FIFO : ROZ_THREAD_OTHER);
+    assert_int_equal(tx.priority, may_fifo ? 7 : 0);
+}
+
 static void test_socketcan_open_errors(void **st)
 {
     roz_port_t p;
@@ -896,6 +941,7 @@ int main(void)
         cmocka_unit_test_teardown(test_socketcan_round_robin, teardown),
         cmocka_unit_test_teardown(test_socketcan_device, teardown),
         cmocka_unit_test_teardown(test_socketcan_shutdown, teardown),
+        cmocka_unit_test_teardown(test_socketcan_threads, teardown),
         cmocka_unit_test_teardown(test_socketcan_open_errors, teardown),
         cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),
         cmocka_unit_test_teardown(test_socketcan_silent_actuator_latches_stale, teardown),

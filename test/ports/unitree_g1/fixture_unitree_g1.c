@@ -76,6 +76,19 @@ static void quiet_log(void *ctx, roz_log_level_t level, const char *msg)
         fprintf(stderr, "unitree/G1: %s\n", msg);
 }
 
+static roz_log_fn fx_log;
+
+static void fx_set_log(roz_log_fn log)
+{
+    fx_log = log;
+}
+
+static void fx_strict_monitors(void)
+{
+    roz_fixture_strict(roz_unitree_g1_writer_monitor(&g1));
+    roz_fixture_strict(roz_unitree_g1_state_monitor(&g1));
+}
+
 void roz_g1fx_ask(const char *fmt, ...)
 {
     char req[512];
@@ -294,7 +307,7 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
             peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
     }
     roz_params_t all = { items, n };
-    the_port = roz_unitree_g1_port(&g1, quiet_log, NULL);
+    the_port = roz_unitree_g1_port(&g1, fx_log != NULL ? fx_log : quiet_log, NULL);
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)
         port_open = 1;
@@ -452,4 +465,6 @@ const roz_port_fixture_t roz_fixture_unitree_g1 = {
     .corrupt_next_command = fx_corrupt_next_command,
     .link = fx_link,
     .close = fx_close,
+    .set_log = fx_set_log,
+    .strict_monitors = fx_strict_monitors,
 };

@@ -35,13 +35,17 @@
  *    latches COMMAND_TIMEOUT naming the silence and the timeout; the first
  *    command after it is the start-up hold, a clear lets the stand's gains
  *    through again;
+ *  - the command writer thread carries the affinity, stack size and
+ *    scheduling its parameters ask for;
  *  - bad parameters and manifests are refused naming the key and value, or
  *    the joint or channel. */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity: test_g1_writer_thread */
 /* white-box: test_g1_padding_and_crc fills the port's sample storage with
- * garbage before its writer runs (roz/private.h) */
+ * garbage before its writer runs, test_g1_writer_thread reads its writer
+ * (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -1213,6 +1217,45 @@ static const roz_channel_t typo_commands[] = {
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
                                      &real_hw };
 
+static void *nothing(void *arg)
+{
+    return arg;
+}
+
+/* The command writer thread carries the scheduling its parameters ask for:
+ * affinity and stack size always, SCHED_FIFO where the process may have it
+ * (roz/hal/thread.h); read back from the running thread. */
+static void test_g1_writer_thread(void **st)
+{
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 5, 0, 0 }, got;
+    unsigned long th;
+    char err[200], cpus[8];
+    cpu_set_t set;
+    int cpu = 0;
+    (void)st;
+    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
+    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
+        if (CPU_ISSET(c, &set))
+            cpu = c;
+    snprintf(cpus, sizeof cpus, "%d", cpu);
+    int may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
+    if (may_fifo)
+        roz_thread_join(th);
+    else
+        print_message("SCHED_FIFO not permitted here: the writer's affinity and stack only\n");
+    roz_param_t items[] = { { "command_writer_cpus", cpus },
+                            { "command_writer_stack_kib", "384" },
+                            { "command_writer_sched", "fifo" },
+                            { "command_writer_priority", "5" } };
+    open_g1(items, may_fifo ? 4 : 2);
+    start(); /* commands reach the robot */
+    assert_int_equal(roz_dds_writer_thread(&roz_g1fx_port()->writer, &got), ROZ_OK);
+    assert_int_equal(got.cpus, 1ull << cpu);
+    assert_int_equal(got.stack_kib, 384);
+    assert_int_equal(got.sched, may_fifo ? ROZ_THREAD_FIFO : ROZ_THREAD_OTHER);
+    assert_int_equal(got.priority, may_fifo ? 5 : 0);
+}
+
 static void test_g1_bad_parameters(void **st)
 {
     (void)st;
@@ -1224,6 +1267,8 @@ static void test_g1_bad_parameters(void **st)
         { "startup_damping", "11" },        { "shutdown_damping", "-1" },
         { "startup_damping", "nan" },       { "command_timeout_us", "3999" },
         { "command_timeout_us", "60000001" }, { "command_timeout_us", "fast" },
+        { "command_writer_sched", "fast" },   { "command_writer_cpus", "64" },
+        { "command_writer_stack_kib", "1" },
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
         expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
@@ -1268,6 +1313,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
+        cmocka_unit_test_teardown(test_g1_writer_thread, teardown),
         cmocka_unit_test(test_g1_bad_parameters),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

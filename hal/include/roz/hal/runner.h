@@ -6,9 +6,12 @@
  *        the period does not drift with the tick's own duration.
  *
  * Optional real-time set-up: SCHED_FIFO at a priority, and mlockall(). When
- * the process may not do either, the runner warns through the log callback
- * and carries on without it. A deadline missed by more than a whole period
- * is counted and the schedule skips ahead (no burst of catch-up ticks).
+ * the process may not do either, roz_runner_start() warns through the log
+ * callback (on the caller's thread) and carries on without it. A deadline
+ * missed by more than a whole period is counted and the schedule skips
+ * ahead (no burst of catch-up ticks). The runner's thread never calls the
+ * log: its jitter warnings wait in @c monitor for roz_monitor_drain() (or
+ * roz_runtime_watch_monitor()).
  */
 #ifndef ROZ_HAL_RUNNER_H
 #define ROZ_HAL_RUNNER_H
@@ -33,7 +36,9 @@ typedef struct roz_runner_config {
     uint64_t   max_ticks;    /**< stop after this many ticks; 0 = until stopped */
     int        realtime_priority; /**< SCHED_FIFO priority 1..99; 0 = normal scheduling */
     int        lock_memory;  /**< mlockall(MCL_CURRENT | MCL_FUTURE) before starting */
-    roz_log_fn log;
+    uint64_t   cpus;         /**< the CPUs the thread may run on, bit i CPU i; 0: any */
+    uint32_t   stack_kib;    /**< its stack, 64..65536 KiB; 0: the system's default */
+    roz_log_fn log;          /**< start-up warnings, and roz_monitor_drain() of @c monitor */
     void      *log_ctx;
 } roz_runner_config_t;
 

@@ -24,6 +24,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
+#include "roz/hal/thread.h"
 #include "roz/port.h"
 #include "roz/private.h"
 
@@ -38,7 +39,7 @@ extern "C" {
 /** Highest participant index on `lo`: 64 participants per host and domain. */
 #define ROZ_DDS_MAX_PARTICIPANT_INDEX 63
 /** Room for the configuration XML. */
-#define ROZ_DDS_CONFIG_MAX 640
+#define ROZ_DDS_CONFIG_MAX 1600
 /** Samples one data-available call takes at most before it yields. */
 #define ROZ_DDS_TAKE_MAX 64u
 /** Shortest writer period, microseconds (0 = event-driven). */
@@ -59,12 +60,20 @@ typedef struct roz_dds_params {
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
     uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
     uint32_t command_writer_spin_us;   /**< event-driven: roz_dds_writer_spin(); 0: none */
+    roz_thread_config_t writer_thread; /**< the command writer thread's scheduling
+                                            (command_writer_sched, ..., roz/hal/thread.h) */
+    roz_thread_config_t cyclone_threads; /**< Cyclone's receive, delivery and timed-event
+                                            threads (dds_threads_sched, _priority,
+                                            _stack_kib), through its configuration */
 } roz_dds_params_t;
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
     "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
-        "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
+        "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
+        "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
+        "dds_threads_sched", "dds_threads_priority", "dds_threads_stack_kib",             \
+        ROZ_CMD_WATCHDOG_KEY
 
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
  *  (roz_port_info_t::params), with @p domain: dds_domain's default, text.
@@ -81,6 +90,13 @@ typedef struct roz_dds_params {
                            "with period 0: how long the writer spins for the tick's command"),  \
     ROZ_PORT_PARAM_U32_ROW("state_decimation", 1, 1000, 1,                                      \
                            "every Nth state frame converted in full"),                          \
+    ROZ_THREAD_PARAM_INFO("command_writer", "the command writer thread"),                       \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_sched", "other|fifo", "other",                         \
+                            "scheduling of Cyclone's receive, delivery and timed-event "        \
+                            "threads"),                                                         \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_priority", "1..99", "", "their priority with fifo"),   \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", "64..65536", "",                           \
+                            "their stack size (default: the system's)"),                        \
     ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
                             "the command watchdog: the tick silent this long, the port sends "  \
                             "its safe command")
@@ -109,13 +125,22 @@ int roz_dds_check_interface(const char *name, char *err, size_t errlen);
 
 /* ---- participant ------------------------------------------------------------ */
 
+/** Cyclone's threads that roz_dds_config_xml() configures: the receive
+ *  threads, the user data's delivery and the timed events (retransmits,
+ *  heartbeats); NULL-terminated. */
+extern const char *const roz_dds_cyclone_threads[];
+
 /**
- * @brief The Cyclone configuration for @p iface (see the file comment).
- * @return the length written, or ROZ_EINVAL for a bad name,
- *         ROZ_ENOSPC when @p len is too small
+ * @brief The Cyclone configuration for @p iface (see the file comment), with
+ *        @p threads for Cyclone's threads (roz_dds_cyclone_threads;
+ *        Threads/Thread[@Name]/Scheduling/Class, Priority and StackSize;
+ *        NULL or all zero: Cyclone's defaults; Cyclone sets no affinity).
+ * @return the length written, or ROZ_EINVAL for a bad name or an rr
+ *         policy (Cyclone has none), ROZ_ENOSPC when @p len is too small
  * Context: any; pure.
  */
-int roz_dds_config_xml(const char *iface, char *out, size_t len);
+int roz_dds_config_xml(const char *iface, const roz_thread_config_t *threads, char *out,
+                       size_t len);
 
 /** A participant; caller-owned. */
 typedef struct roz_dds_participant {
@@ -130,6 +155,7 @@ typedef struct roz_dds_participant {
 /**
  * @brief Create the domain with roz's configuration (or the user's) and a
  *        participant in it.
+ * @param[in] threads Cyclone's threads (roz_dds_config_xml()); NULL: defaults
  * @param[in] log  where to say which configuration is used (NULL: silent)
  * @retval ROZ_OK     open
  * @retval ROZ_EINVAL a bad interface name or domain; @p err says which
@@ -138,7 +164,8 @@ typedef struct roz_dds_participant {
  * Context: start-up; allocates (Cyclone), starts Cyclone's threads.
  */
 int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32_t domain,
-                             roz_log_fn log, void *log_ctx, char *err, size_t errlen);
+                             const roz_thread_config_t *threads, roz_log_fn log,
+                             void *log_ctx, char *err, size_t errlen);
 
 /** @brief Delete the participant (and every entity in it) and the domain.
  *  Idempotent. Context: shutdown, after the writer and readers stopped. */
@@ -314,6 +341,8 @@ typedef struct roz_dds_writer {
     uint64_t             expected;  /* expects it has spun for */
     uint64_t             spin_ns;   /* 0: no spinning ahead of a command */
     unsigned long        thread;    /* pthread_t, kept opaque */
+    roz_thread_config_t  thread_cfg; /* how the thread is started (roz_dds_writer_set_thread()) */
+    char                 thread_err[160]; /* why it was not, after ROZ_EIO */
     union {
         unsigned char bytes[64];
         long double   align;
@@ -344,6 +373,18 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
  */
 int roz_dds_writer_start(roz_dds_writer_t *w, uint32_t period_us, roz_dds_fill_fn fill,
                          void *ctx, roz_monitor_t *monitor);
+
+/** @brief How roz_dds_writer_start() creates the thread (roz/hal/thread.h);
+ *  NULL or never called: the system's defaults. Context: start-up. */
+void roz_dds_writer_set_thread(roz_dds_writer_t *w, const roz_thread_config_t *cfg);
+
+/** @brief Why the last roz_dds_writer_start() could not start the thread
+ *  ("" when it did). Context: start-up. */
+const char *roz_dds_writer_thread_error(const roz_dds_writer_t *w);
+
+/** @brief What the running writer thread carries (roz_thread_describe()).
+ *  @retval ROZ_OK, ROZ_ESTATE (not running), ROZ_EIO. Context: any thread. */
+int roz_dds_writer_thread(const roz_dds_writer_t *w, roz_thread_config_t *out);
 
 /**
  * @brief Let an event-driven writer keep the port's command watchdog: it

@@ -98,6 +98,7 @@ typedef enum roz_ros2_bad {
     ROZ_ROS2_BAD_LENGTH, /**< an array's length is not the group's (a: got, b: expected) */
     ROZ_ROS2_BAD_NAME,   /**< a joint's name is not its slot's (a: slot) */
     ROZ_ROS2_BAD_STAMP,  /**< the header's stamp is not a time */
+    ROZ_ROS2_BAD_COUNT_
 } roz_ros2_bad_t;
 
 /** What the port's decode makes of one group's state sample. */
@@ -195,7 +196,10 @@ typedef struct roz_ros2_topic {
     int32_t              ROZ_PRIVATE(held_slot);
     ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(fault_ack); /* tick -> receive thread: the serial it took */
     ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(rx_session); /* for the writer */
-    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(said); /* bad kinds logged once (a bit each) */
+    ROZ_ATOMIC(uint32_t) ROZ_PRIVATE(said); /* bad kinds kept to say once (a bit each) */
+    ROZ_ATOMIC(int32_t)  ROZ_PRIVATE(said_a)[ROZ_ROS2_BAD_COUNT_]; /* their bad_a, bad_b */
+    ROZ_ATOMIC(int32_t)  ROZ_PRIVATE(said_b)[ROZ_ROS2_BAD_COUNT_];
+    uint32_t             ROZ_PRIVATE(told);  /* roz_ros2_drain(): the kinds it said */
     ROZ_ATOMIC(uint64_t) ROZ_PRIVATE(c_samples), ROZ_PRIVATE(c_malformed), ROZ_PRIVATE(c_full),
                          ROZ_PRIVATE(c_fault), ROZ_PRIVATE(c_sessions);
     /* receive thread -> tick */
@@ -324,6 +328,7 @@ int  roz_ros2_write(void *self, const double *cmd, size_t n);
 int  roz_ros2_deactivate(void *self);
 void roz_ros2_close(void *self);
 int  roz_ros2_fault(void *self, roz_port_fault_t *out);
+size_t roz_ros2_drain(void *self);
 
 /** @brief The link checks of every state topic, summed (alive: every topic
  *  has a peer; last_seq, last_ns: the first topic's; missing: only topics

@@ -21,6 +21,7 @@
 #include "roz/manifest.h"
 #include "roz/port/mit_codec.h"
 #include "roz/port.h"
+#include "roz/hal/thread.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -56,6 +57,8 @@ typedef struct roz_can_config {
     uint32_t        master_id;
     double          consistency_margin;       /**< rad; 0 = off */
     int             enable_monitor;
+    roz_thread_config_t receive_thread; /**< receive_thread_sched, ... (roz/hal/thread.h) */
+    roz_thread_config_t writer_thread;  /**< command_writer_sched, ... */
     uint16_t        n_joints;
     roz_can_joint_t joints[ROZ_CAN_MAX_JOINTS];
     /* the bus */
