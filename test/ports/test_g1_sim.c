@@ -12,6 +12,9 @@
  *    the setting at open and in its summary;
  *  - without it nothing is sent, every frame is dropped for its CRC, and
  *    the summary names the setting;
+ *  - with it, what remains of the link checks: the simulator silent for
+ *    longer than peer_timeout_ms (200 ms here, the silence 350 ms, less than
+ *    --stale-ticks' 500 ms) and back latches LINK, counted as a return;
  *  - with it, a peer that answers as a robot (the fake G1 as it is: a CRC,
  *    a tick, mode_machine 5) gets nothing and the run stops with ROBOT
  *    naming the setting;
@@ -37,10 +40,11 @@
 
 #define KNEE 3 /* left_knee_joint's motor slot */
 
-/* rozrun against the G1 with @p p1, @p p2 (extra --param values, or NULL)
- * for @p ticks; output in @p text; returns rozrun's exit status. */
-static int run(const char *p1, const char *p2, int ticks, const char *out, void (*watch)(void *),
-               void *ctx, char *text, size_t len)
+/* rozrun against the G1 with @p p1, @p p2, @p p3 (extra --param values, or
+ * NULL; a later one wins) for @p ticks; output in @p text; returns rozrun's
+ * exit status. */
+static int run3(const char *p1, const char *p2, const char *p3, int ticks, const char *out,
+                void (*watch)(void *), void *ctx, char *text, size_t len)
 {
     char nticks[16];
     snprintf(nticks, sizeof nticks, "%d", ticks);
@@ -64,8 +68,18 @@ static int run(const char *p1, const char *p2, int ticks, const char *out, void 
         argv[n++] = "--param";
         argv[n++] = p2;
     }
+    if (p3 != NULL) {
+        argv[n++] = "--param";
+        argv[n++] = p3;
+    }
     argv[n] = NULL;
     return roz_rozrun_spawn(argv, out, watch, ctx, text, len);
+}
+
+static int run(const char *p1, const char *p2, int ticks, const char *out, void (*watch)(void *),
+               void *ctx, char *text, size_t len)
+{
+    return run3(p1, p2, NULL, ticks, out, watch, ctx, text, len);
 }
 
 static void start_fake(roz_fake_g1_t *fake, int sim)
@@ -166,6 +180,51 @@ static void test_g1_sim_refused_without_the_setting(void **st)
     assert_int_equal(roz_fake_g1_stop(&fake), 0);
 }
 
+/* Once the robot has had commands, the simulator falls silent once. */
+typedef struct {
+    roz_fake_g1_t *fake;
+    int            paused;
+} pause_t;
+
+static void pause_once(void *ctx)
+{
+    pause_t *p = ctx;
+    uint64_t good = 0, bad = 0;
+    if (p->paused || roz_fake_g1_commands(p->fake, &good, &bad) != 0 || good < 100)
+        return;
+    assert_int_equal(roz_fake_g1_ask(p->fake, "pause 350"), 0);
+    p->paused = 1;
+}
+
+static void test_g1_sim_silence_latches_link(void **st)
+{
+    roz_fake_g1_t fake;
+    char text[16384];
+    (void)st;
+
+    start_fake(&fake, 1);
+    pause_t p = { &fake, 0 };
+    assert_int_equal(run3("peer=unitree_mujoco", "dds_domain=1", "peer_timeout_ms=200", 1500,
+                          OUT ".silence", pause_once, &p, text, sizeof text),
+                     1);
+    assert_true(p.paused);
+    const char *faults = strstr(text, "faults                 latched:");
+    assert_non_null(faults);
+    assert_non_null(strstr(faults, "port link"));
+    unsigned long long taken = 0, bad = 1, replays = 1, missing = 1, restarts = 0;
+    const char *link = strstr(text, "state link");
+    assert_non_null(link);
+    assert_int_equal(sscanf(link, "state link %llu frames taken, %llu bad CRC, %llu replays, "
+                                  "%llu missing, %llu peer restarts",
+                            &taken, &bad, &replays, &missing, &restarts),
+                     5);
+    assert_int_equal(bad, 0);
+    assert_int_equal(replays, 0);
+    assert_int_equal(missing, 0); /* arrivals have no gaps: no tick to count them by */
+    assert_true(restarts >= 1);
+    assert_int_equal(roz_fake_g1_stop(&fake), 0);
+}
+
 static void test_g1_sim_refuses_a_robot(void **st)
 {
     roz_fake_g1_t fake;
@@ -214,6 +273,7 @@ int main(void)
         cmocka_unit_test(test_g1_sim_runs_with_the_setting),
         cmocka_unit_test(test_g1_sim_refused_without_the_setting),
         cmocka_unit_test(test_g1_sim_refuses_a_robot),
+        cmocka_unit_test(test_g1_sim_silence_latches_link),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

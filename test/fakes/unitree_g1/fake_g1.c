@@ -48,6 +48,7 @@ typedef struct fake {
     dds_qos_t *state_qos;
     uint32_t period_us;
     int sim; /* --unitree-mujoco */
+    struct timespec pause_until; /* the periodic publisher is silent until then; lock */
 
     /* publishing; pub_lock */
     pthread_mutex_t pub_lock;
@@ -252,9 +253,12 @@ static void *period_main(void *arg)
             break;
         if (f->sim)
             sim_step(f, f->period_us * 1e-6);
+        struct timespec at;
+        clock_gettime(CLOCK_MONOTONIC, &at);
+        int paused = before(&at, &f->pause_until);
         pthread_mutex_unlock(&f->lock);
         uint32_t tick;
-        if (publish(f, FRAME_GOOD, &tick, err, sizeof err) != 0)
+        if (!paused && publish(f, FRAME_GOOD, &tick, err, sizeof err) != 0)
             fprintf(stderr, "fake_g1: periodic frame: %s\n", err);
         struct timespec now;
         clock_gettime(CLOCK_MONOTONIC, &now);
@@ -453,6 +457,15 @@ static int handle(fake_t *f, const g1_request_t *q)
         uint32_t w = writers_matched(f->cmd_reader), r = readers_matched(f->state_writer);
         pthread_mutex_unlock(&f->pub_lock);
         return reply("ok %" PRIu32 " %" PRIu32, w, r);
+    }
+    case G1_REQ_PAUSE: {
+        struct timespec until;
+        clock_gettime(CLOCK_MONOTONIC, &until);
+        deadline_after(&until, q->u[0] * 1000u);
+        pthread_mutex_lock(&f->lock);
+        f->pause_until = until;
+        pthread_mutex_unlock(&f->lock);
+        return reply("ok");
     }
     case G1_REQ_MOTOR_STATE: {
         pthread_mutex_lock(&f->lock);

@@ -41,6 +41,7 @@ static const verb_t verbs[] = {
     { "flip_next_command", G1_REQ_FLIP_NEXT, "", "flip_next_command" },
     { "matched", G1_REQ_MATCHED, "", "matched" },
     { "motor_state", G1_REQ_MOTOR_STATE, "i", "motor_state I" },
+    { "pause", G1_REQ_PAUSE, "t", "pause MS" },
     { "quit", G1_REQ_QUIT, "", "quit" },
 };
 
