@@ -302,7 +302,9 @@ def build(args) -> tuple[str, str]:
     w("**`process()` per call** (the call through the engine's API, the budget set before "
       "each call as a tick loop does; \"bulk\" rows run `g1_pd_bulk.wasm`, the same PD "
       "through `state.get_all` and `command.set_all`, whose outputs are checked against the "
-      "same reference):\n")
+      "same reference; \"nn policy\" rows run `bench_nn_policy.wasm`, one inference of the "
+      "G1 policy's shape through `nn.matvec` and `nn.act` a call, its outputs checked against "
+      "roz's bit for bit):\n")
     w(t.render())
     if rows_present:
         for key in ("roz", "wasmtime", "wasmi"):

@@ -16,9 +16,15 @@
  *
  *   - with --bulk G1_PD_BULK.wasm, the same for the PD through the bulk
  *     calls, whose outputs must equal the per-channel PD's.
+ *   - with --nn POLICY.wasm (bench/nn/policy.c: one inference through the
+ *     nn imports a call), process() per call metered and not, and with
+ *     --nn-reference FILE its outputs after REF_TICKS ticks (the metrics'
+ *     count and FNV-1a, the ABI's counters), which the peers must match.
+ *     Metered with NN_FUEL a tick (an inference needs more than the G1's
+ *     default budget, as docs/policies.md says) and a deadline of a second.
  *
  *   roz_bench_peers_roz G1_PD.wasm [--bulk G1_PD_BULK.wasm] [--calls N]
- *                       [--reference FILE]
+ *                       [--reference FILE] [--nn POLICY.wasm [--nn-reference FILE]]
  */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -36,6 +42,10 @@
 #define REF_TICKS 1000
 #define LOAD_REPS 20
 #define VERIFY_TICKS 100
+#define NN_FUEL 100000u /* a tick's fuel for the nn policy (about 47,000 an inference) */
+/* its deadline: checked as the PD's is, but long, so that a loaded machine
+ * cannot stop the reference run (a benchmark never fails on a time) */
+#define NN_DEADLINE_NS 1000000000ull
 
 static double state[ROZ_CFG_MAX_STATES];
 
@@ -85,18 +95,26 @@ static const roz_manifest_t *m = &roz_manifest_unitree_g1;
 
 /* Loads `wasm`: metered with the runtime's default budget (a tick's fuel at
  * ROZ_CFG_FUEL_PER_SECOND, the period as deadline), or without charges. */
-static int load(roz_controller_t *c, roz_abi_t *abi, double *target, const uint8_t *wasm,
-                size_t len, int metered)
+static int load_with(roz_controller_t *c, roz_abi_t *abi, double *target,
+                     roz_metric_ring_t *ring, const uint8_t *wasm, size_t len, int metered,
+                     uint64_t fuel, uint64_t deadline_ns)
 {
-    roz_budget_t b = { (uint64_t)ROZ_CFG_FUEL_PER_SECOND / m->control_rate_hz,
-                       1000000000ull / m->control_rate_hz, clock_ns, NULL };
+    roz_budget_t b = { fuel, deadline_ns, clock_ns, NULL };
     roz_controller_init(c);
-    roz_abi_init(abi, m, target, NULL);
+    roz_abi_init(abi, m, target, ring);
     roz_abi_begin_tick(abi, 0, state);
     if (!metered)
         return roz__controller_load_unmetered(c, wasm, len, abi);
     int rc = roz_controller_load(c, wasm, len, abi);
     return rc == ROZ_OK ? roz_controller_set_budget(c, &b) : rc;
+}
+
+static int load(roz_controller_t *c, roz_abi_t *abi, double *target, const uint8_t *wasm,
+                size_t len, int metered)
+{
+    return load_with(c, abi, target, NULL, wasm, len, metered,
+                     (uint64_t)ROZ_CFG_FUEL_PER_SECOND / m->control_rate_hz,
+                     1000000000ull / m->control_rate_hz);
 }
 
 static int call(roz_controller_t *c, roz_abi_t *abi, int64_t t)
@@ -114,9 +132,102 @@ static void print_timing(const char *name, bench_stats_t s, int *first)
     *first = 0;
 }
 
+/* The nn policy: its reference outputs (metered and not, which must
+ * agree) into @p ref (NULL: none), then process() per call metered and
+ * not, alternating rounds of 100, into @p ns[0], ns[1]. 0, or 2. */
+static int nn_side(const char *path, const char *ref, size_t calls, uint64_t *ns[2])
+{
+    static roz_controller_t c[2];
+    static roz_abi_t a[2];
+    static double target[2][ROZ_CFG_MAX_COMMANDS];
+    static roz_metric_ring_t ring[2];
+    uint64_t fnv[2] = { 0xcbf29ce484222325ull, 0xcbf29ce484222325ull };
+    size_t len;
+    uint8_t *wasm = read_file(path, &len);
+    if (wasm == NULL) {
+        fprintf(stderr, "roz_bench_peers_roz: cannot read %s\n", path);
+        return 2;
+    }
+    for (int k = 0; k < 2; k++) {
+        if (load_with(&c[k], &a[k], target[k], &ring[k], wasm, len, k == 0, NN_FUEL,
+                      NN_DEADLINE_NS) != ROZ_OK) {
+            fprintf(stderr, "roz_bench_peers_roz: %s: %s\n", path, roz_controller_error(&c[k]));
+            return 2;
+        }
+        for (int64_t t = 0; t < REF_TICKS; t++) {
+            roz_metric_t mt;
+            if (call(&c[k], &a[k], t) != ROZ_OK) {
+                fprintf(stderr, "roz_bench_peers_roz: %s: %s\n", path,
+                        roz_controller_error(&c[k]));
+                return 2;
+            }
+            while (roz_metric_ring_pop(&ring[k], &mt) == 1) {
+                uint64_t bits;
+                memcpy(&bits, &mt.value, sizeof bits);
+                for (int i = 0; i < 8; i++)
+                    fnv[k] = (fnv[k] ^ ((bits >> (8 * i)) & 0xffu)) * 0x100000001b3ull;
+            }
+        }
+    }
+    roz_abi_counters_t cnt[2];
+    roz_abi_counters_get(&a[0], &cnt[0]);
+    roz_abi_counters_get(&a[1], &cnt[1]);
+    if (fnv[0] != fnv[1] || memcmp(&cnt[0], &cnt[1], sizeof cnt[0]) != 0 ||
+        roz_metric_ring_dropped(&ring[0]) != 0) {
+        fprintf(stderr, "roz_bench_peers_roz: %s: unmetered outputs differ from metered\n", path);
+        return 1;
+    }
+    if (ref != NULL) {
+        FILE *f = fopen(ref, "w");
+        if (f == NULL) {
+            fprintf(stderr, "roz_bench_peers_roz: cannot write %s\n", ref);
+            return 2;
+        }
+        fprintf(f, "ticks %d\nsets %llu\nset_clamped %llu\nset_bad_index %llu\n"
+                   "set_nonfinite %llu\nget_bad_index %llu\nmetrics %llu\nnn_calls %llu\n"
+                   "nn_refused %llu\nmetric_fnv 0x%016llx\n",
+                REF_TICKS, (unsigned long long)cnt[0].sets,
+                (unsigned long long)cnt[0].set_clamped, (unsigned long long)cnt[0].set_bad_index,
+                (unsigned long long)cnt[0].set_nonfinite,
+                (unsigned long long)cnt[0].get_bad_index, (unsigned long long)cnt[0].metrics,
+                (unsigned long long)cnt[0].nn_calls, (unsigned long long)cnt[0].nn_refused,
+                (unsigned long long)fnv[0]);
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            uint64_t bits;
+            memcpy(&bits, &target[0][i], sizeof bits);
+            fprintf(f, "target 0x%016llx\n", (unsigned long long)bits);
+        }
+        fclose(f);
+    }
+    roz_metric_t drop;
+    for (size_t r = 0; r < calls; r += 100) {
+        for (int k = 0; k < 2; k++) {
+            for (size_t i = r; i < r + 100 && i < calls; i++) {
+                int64_t t = REF_TICKS + (int64_t)i;
+                fill_state(state, m->n_states, t);
+                roz_abi_begin_tick(&a[k], t, state);
+                uint64_t t0 = roz_clock_monotonic_ns(NULL);
+                int rc = roz_controller_process(&c[k], t);
+                ns[k][i] = roz_clock_monotonic_ns(NULL) - t0;
+                while (roz_metric_ring_pop(&ring[k], &drop) == 1)
+                    ;
+                if (rc != ROZ_OK) {
+                    fprintf(stderr, "roz_bench_peers_roz: %s: %s\n", path,
+                            roz_controller_error(&c[k]));
+                    return 2;
+                }
+            }
+        }
+    }
+    roz_controller_unload(&c[0]);
+    roz_controller_unload(&c[1]);
+    free(wasm);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    const char *path = NULL, *ref = NULL, *bulk_path = NULL;
+    const char *path = NULL, *ref = NULL, *bulk_path = NULL, *nn_path = NULL, *nn_ref = NULL;
     size_t calls = 20000, len, bulk_len = 0;
     /* 0, 1: the PD metered and not; 2, 3: the bulk PD likewise */
     static roz_controller_t ctl[4];
@@ -131,6 +242,10 @@ int main(int argc, char **argv)
             ref = argv[++i];
         else if (strcmp(argv[i], "--bulk") == 0 && i + 1 < argc)
             bulk_path = argv[++i];
+        else if (strcmp(argv[i], "--nn") == 0 && i + 1 < argc)
+            nn_path = argv[++i];
+        else if (strcmp(argv[i], "--nn-reference") == 0 && i + 1 < argc)
+            nn_ref = argv[++i];
         else
             path = argv[i];
     }
@@ -260,12 +375,23 @@ int main(int argc, char **argv)
         }
     }
     uint64_t units = roz_controller_fuel_used(&ctl[0]);
+    uint64_t *nn_ns[2] = { NULL, NULL };
+    if (nn_path != NULL) {
+        nn_ns[0] = calloc(calls, sizeof(uint64_t));
+        nn_ns[1] = calloc(calls, sizeof(uint64_t));
+        if (nn_ns[0] == NULL || nn_ns[1] == NULL)
+            return 2;
+        int rc = nn_side(nn_path, nn_ref, calls, nn_ns);
+        if (rc != 0)
+            return rc;
+    }
 
     int first = 1;
     printf("{\n  \"engine\": \"roz (wasm3)\",\n  \"version\": \"0.5.0\",\n"
-           "  \"checked\": \"reference outputs after %d ticks; metered and unmetered%s equal\",\n"
+           "  \"checked\": \"reference outputs after %d ticks; metered and unmetered%s equal%s\",\n"
            "  \"figures\": [\n",
-           REF_TICKS, bulk != NULL ? ", per channel and bulk," : "");
+           REF_TICKS, bulk != NULL ? ", per channel and bulk," : "",
+           nn_path != NULL ? "; the nn policy's likewise" : "");
     print_timing("validate (roz's module scan)", bench_stats(scan_ns, LOAD_REPS), &first);
     print_timing("compile (validate, parse, link, compile)", bench_stats(load_ns, LOAD_REPS),
                  &first);
@@ -275,6 +401,13 @@ int main(int argc, char **argv)
     if (bulk != NULL) {
         print_timing("process, bulk, metering fuel+deadline", bench_stats(ns[2], calls), &first);
         print_timing("process, bulk, metering off", bench_stats(ns[3], calls), &first);
+    }
+    if (nn_path != NULL) {
+        print_timing("process, nn policy, metering fuel+deadline", bench_stats(nn_ns[0], calls),
+                     &first);
+        print_timing("process, nn policy, metering off", bench_stats(nn_ns[1], calls), &first);
+        free(nn_ns[0]);
+        free(nn_ns[1]);
     }
     printf(",\n    {\"name\": \"fuel per call\", \"unit\": \"units\", \"value\": %llu}",
            (unsigned long long)units);

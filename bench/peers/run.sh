@@ -19,6 +19,14 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 wasm=$build/examples/controllers/g1_pd.wasm
 bulk=$build/examples/controllers/g1_pd_bulk.wasm
+# the nn policy (bench/nn/policy.c), built where rozgen.nn ran: every engine
+# runs it too, checked against roz's outputs
+nn=$build/bench/bench_nn_policy.wasm
+roz_nn=() peer_nn=()
+if [ -e "$nn" ]; then
+    roz_nn=(--nn "$nn" --nn-reference "$out/nn.ref")
+    peer_nn=(--wasm-nn "$nn" --expect-nn "$out/nn.ref")
+fi
 
 "$rozgen" --json "$root/manifests/unitree_g1.toml" > "$out/g1.json" || exit 1
 rounds=${PEER_ROUNDS:-3}
@@ -27,7 +35,8 @@ rm -f "$out"/peer-*.json "$out"/peer-*.skipped
 # roz's round r; 1 when it failed (peer-roz.skipped says why)
 roz_round() {
     if ! "$build/bench/roz_bench_peers_roz" "$wasm" --bulk "$bulk" --calls "$calls" \
-            --reference "$out/g1.ref" > "$out/peer-roz.$1.json" 2> "$out/peer-roz.err"; then
+            --reference "$out/g1.ref" "${roz_nn[@]}" > "$out/peer-roz.$1.json" \
+            2> "$out/peer-roz.err"; then
         echo "roz_bench_peers_roz failed: $(tail -n 1 "$out/peer-roz.err")" > "$out/peer-roz.skipped"
         for p in wasmtime wasmi; do
             echo "no reference outputs from roz to check it against" > "$out/peer-$p.skipped"
@@ -58,7 +67,8 @@ for r in $(seq 1 "$rounds"); do
     for p in $peers; do
         [ -e "$out/peer-$p.skipped" ] && continue
         if ! "$here/target/release/roz-peer-$p" --wasm "$wasm" --wasm-bulk "$bulk" --manifest "$out/g1.json" \
-                --expect "$out/g1.ref" --calls "$calls" > "$out/peer-$p.$r.json" 2> "$out/peer-$p.err"; then
+                --expect "$out/g1.ref" "${peer_nn[@]}" --calls "$calls" > "$out/peer-$p.$r.json" \
+                2> "$out/peer-$p.err"; then
             tail -n 1 "$out/peer-$p.err" > "$out/peer-$p.skipped"
             cat "$out/peer-$p.skipped" >&2
         fi

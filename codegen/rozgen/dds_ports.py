@@ -76,7 +76,8 @@ DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "command_writer
             "command_writer_stack_kib", "dds_threads_sched", "dds_threads_priority",
             "dds_threads_stack_kib", "command_timeout_us")
 #: known_keys of g1_port.c
-G1_KEYS = DDS_KEYS + ("mode_pr", "peer_timeout_ms", "startup_damping", "shutdown_damping")
+G1_KEYS = DDS_KEYS + ("mode_pr", "peer_timeout_ms", "startup_damping", "shutdown_damping",
+                      "peer")
 #: common_keys of ros2_bridge.c; a robot's own follow
 ROS2_KEYS = DDS_KEYS + ("peer_timeout_ms", "startup_damping", "shutdown_damping", "link_check")
 
@@ -142,6 +143,9 @@ PORTS = {p.name: p for p in (G1, X2, PM01)}
 
 #: the robots' own keys: accepted values, and what the port says otherwise
 OWN_VALUES = {
+    "peer": (("robot", "unitree_mujoco"),
+             "expected robot (a G1: every check, the default) or unitree_mujoco (Unitree's "
+             "simulator on lo: no state CRC or tick checks; never a robot)"),
     "mode_pr": (("PR", "pr", "0", "AB", "ab", "1"),
                 "expected PR (0: ankles and waist in serial pitch/roll joint space) or AB "
                 "(1: the parallel actuators directly)"),
@@ -316,6 +320,8 @@ class _Checker:
             if key not in p.keys:
                 self.say("unknown-key", f'unknown parameter "{key}" for port {p.name} (known: '
                          f"{' '.join(p.keys)})")
+        if p is G1:
+            self.check_own("peer")
         # roz_dds_params_parse()
         iface = params.get("network_interface")
         if iface is not None and not _IFNAME.fullmatch(iface):
@@ -344,6 +350,7 @@ class _Checker:
             self.check_command_timeout(period)
         # the port's own
         if p is G1:
+            self.check_sim_network()
             self.check_own("mode_pr")
             self.check_u32("peer_timeout_ms", 10, 60000)
             self.check_damping()
@@ -371,6 +378,17 @@ class _Checker:
             self.bad(key, f"expected a time in {least}..{WATCHDOG_MAX_US} us (at least "
                      f"{WATCHDOG_MIN_PERIODS} periods of the tick at {rate} Hz and of the "
                      f"command writer; default {default})")
+
+    def check_sim_network(self) -> None:
+        """g1_port.c check_sim_network(): the simulator's relaxed checks on lo only
+        (CYCLONEDDS_URI is the port's to see, at open)."""
+        iface = self.params.get("network_interface", "lo")
+        if self.params.get("peer") == "unitree_mujoco" and iface != "lo" and \
+                _IFNAME.fullmatch(iface):
+            self.say(f"{self.port.family}-param",
+                     f'parameter peer = "unitree_mujoco" with network_interface = "{iface}": the '
+                     "simulator's checks are off, so roz takes them only on lo (unitree_mujoco's "
+                     "INTERFACE); a robot's network is refused")
 
     def check_own(self, key: str) -> None:
         values, what = OWN_VALUES[key]

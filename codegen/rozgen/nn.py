@@ -20,12 +20,13 @@ l<k>.bias_ih and l<k>.bias_hh for an LSTM or GRU (PyTorch's names without
 the _l0; docs/policies.md). Read with allow_pickle=False: a file that holds
 anything but plain numeric arrays is refused, never executed.
 
-    python -m rozgen.nn pt --spec lstm:47:64,dense:64:32:elu,dense:32:12 \
+    python -m rozgen.nn pt [--spec lstm:47:64,dense:64:32:elu,dense:32:12] \
         --weights policy.pt -o policy_net.h
     python -m rozgen.nn onnx --weights policy.onnx -o policy_net.h
 
 read TorchScript (and torch.save) archives and ONNX files (rozgen.nn_export:
-read, never run).
+read, never run); without --spec a TorchScript archive's layers and
+activations come from its code/ folder.
 """
 from __future__ import annotations
 
@@ -302,8 +303,9 @@ def main(argv=None) -> int:
     n.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
     n.add_argument("-o", "--output", required=True)
     t = sub.add_parser("pt", help="a trained network from a TorchScript or torch.save .pt "
-                                  "(read, never run; activations from --spec)")
-    t.add_argument("--spec", required=True)
+                                  "(read, never run; layers and activations from --spec, or "
+                                  "without it from the archive's code/)")
+    t.add_argument("--spec")
     t.add_argument("--weights", required=True)
     o = sub.add_parser("onnx", help="a trained network from an ONNX file (layers and "
                                     "activations from its graph)")
@@ -322,9 +324,13 @@ def main(argv=None) -> int:
             text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
         elif a.cmd == "pt":
             from . import nn_export
-            tensors = nn_export.read_torchscript(a.weights)
-            layers = nn_export.layers_from_tensors(tensors, a.spec, a.weights)
-            text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+            if a.spec is None:
+                layers = nn_export.read_torchscript_layers(a.weights)
+                text = header(layers, a.name, f"{os.path.basename(a.weights)} (its code/)")
+            else:
+                tensors = nn_export.read_torchscript(a.weights)
+                layers = nn_export.layers_from_tensors(tensors, a.spec, a.weights)
+                text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
         else:
             from . import nn_export
             layers = nn_export.read_onnx(a.weights)

@@ -170,6 +170,19 @@ startup_damping = "0"
     assert got[3][1] == ': parameter startup_damping = "0": expected a number in 0.5..10'
 
 
+def test_peer_unitree_mujoco_on_lo_only():
+    assert _problems(params='[hardware.params]\npeer = "unitree_mujoco"\n') == []
+    got = _problems(params='[hardware.params]\npeer = "unitree_mujoco"\n'
+                    'network_interface = "eth0"\n')
+    assert got == [("g1-param", ': parameter peer = "unitree_mujoco" with network_interface = '
+                    '"eth0": the simulator\'s checks are off, so roz takes them only on lo '
+                    "(unitree_mujoco's INTERFACE); a robot's network is refused")]
+    got = _problems(params='[hardware.params]\npeer = "sim"\n')
+    assert got == [("g1-param", ': parameter peer = "sim": expected robot (a G1: every check, '
+                    "the default) or unitree_mujoco (Unitree's simulator on lo: no state CRC "
+                    "or tick checks; never a robot)")]
+
+
 def test_parameters_wait_for_the_binding():
     # the port binds joints and channels first and stops there
     got = _problems(joints='"left_knee_joint", "left_knee"',

@@ -66,9 +66,10 @@ class _Storage:
         self.key, self.array = key, array
 
 
-def write_pt(path, ref, *, tamper=None, key=str):
+def write_pt(path, ref, *, tamper=None, key=str, code=None):
     """A TorchScript-style archive of the random network `ref` (SPEC);
-    tamper(name, shape, stride, numel) may lie about a tensor."""
+    tamper(name, shape, stride, numel) may lie about a tensor; code: the
+    files of its code/ folder ({'__torch__.py': text}), none by default."""
     storages = []
     with _Fake() as f:
         class Tensor:
@@ -108,6 +109,8 @@ def write_pt(path, ref, *, tamper=None, key=str):
         z.writestr("policy/version", "3\n")
         for i, st in enumerate(storages):  # files by index; key() may lie in the pickle
             z.writestr(f"policy/data/{i}", st.array.astype("<f4").tobytes())
+        for name, text in (code or {}).items():
+            z.writestr(f"policy/code/{name}", text)
 
 
 def test_torchscript_round_trip(tmp_path):
@@ -188,6 +191,138 @@ def test_torchscript_unmappable(tmp_path):
     t2["memory.weight_ih_l1"] = t2.pop("actor.2.bias")
     with pytest.raises(ValueError):
         nn_export.layers_from_tensors(t2, SPEC, str(p))
+
+
+# ---- the activations from the archive's code/ folder ------------------------------
+# The serialized forward as torch.jit.save writes it (Python syntax: classes
+# per module, submodules as annotations, forward unrolled), written here.
+
+_HEAD = """class {name}(Module):
+  __parameters__ = []
+  __buffers__ = []
+  training : bool
+  _is_full_backward_hook : Optional[bool]
+"""
+_MODULES = "__torch__.torch.nn.modules"
+_POLICY = _HEAD.format(name="Policy") + f"""  memory : {_MODULES}.rnn.LSTM
+  actor : {_MODULES}.container.Sequential
+  def forward(self: __torch__.Policy,
+    obs: Tensor) -> Tensor:
+    memory = self.memory
+    _0 = (memory).forward(torch.unsqueeze(obs, 0), )
+    out, _1, = _0
+    actor = self.actor
+    return (actor).forward(torch.squeeze(out, 0), )
+"""
+
+
+def _sequential(act_class):
+    return {"__torch__/torch/nn/modules/container.py": _HEAD.format(name="Sequential") + f"""\
+  __annotations__["0"] = {_MODULES}.linear.Linear
+  __annotations__["1"] = {_MODULES}.activation.{act_class}
+  __annotations__["2"] = {_MODULES}.linear.Linear
+  def forward(self: {_MODULES}.container.Sequential,
+    input: Tensor) -> Tensor:
+    _0 = getattr(self, "0")
+    _1 = getattr(self, "1")
+    _2 = getattr(self, "2")
+    input0 = (_0).forward(input, )
+    input1 = (_1).forward(input0, )
+    return (_2).forward(input1, )
+"""}
+
+
+_ELU = {"__torch__/torch/nn/modules/activation.py": _HEAD.format(name="ELU") + f"""\
+  alpha : Final[float] = {{alpha}}
+  inplace : Final[bool] = False
+  def forward(self: {_MODULES}.activation.ELU,
+    input: Tensor) -> Tensor:
+    return torch.elu(input, {{alpha}}, 1, 1)
+"""}
+
+
+def _code(policy=_POLICY, act_class="ELU", alpha="1."):
+    code = {"__torch__.py": policy}
+    code.update(_sequential(act_class))
+    code.update({k: v.format(alpha=alpha) for k, v in _ELU.items()})
+    return code
+
+
+def test_torchscript_layers_from_code(tmp_path):
+    ref = nn.random_network(SPEC, 4)  # lstm:5:4, dense:4:3:elu, dense:3:2
+    p = tmp_path / "policy.pt"
+    write_pt(p, ref, code=_code())
+    got = nn_export.read_torchscript_layers(str(p))
+    assert [(l.kind, l.n_in, l.n_out, l.act) for l in got] == \
+        [("lstm", 5, 4, "linear"), ("dense", 4, 3, "elu"), ("dense", 3, 2, "linear")]
+    assert nn.header(got, "p", "x") == nn.header(ref, "p", "x")
+    out = tmp_path / "policy_net.h"
+    assert nn.main(["pt", "--weights", str(p), "-o", str(out)]) == 0  # no --spec
+    assert "ROZ_NN_ELU" in out.read_text() and "(its code/)" in out.read_text()
+    # an activation module of another kind, and one written as an operator
+    write_pt(p, ref, code=_code(act_class="Tanh"))
+    assert [l.act for l in nn_export.read_torchscript_layers(str(p))] == \
+        ["linear", "tanh", "linear"]
+    functional = _POLICY.replace(
+        "return (actor).forward(torch.squeeze(out, 0), )",
+        '_2 = getattr(actor, "0")\n    h = torch.sigmoid((_2).forward(out, ))\n'
+        '    return (getattr(actor, "2")).forward(h, )')
+    write_pt(p, ref, code=_code(policy=functional))
+    assert [l.act for l in nn_export.read_torchscript_layers(str(p))] == \
+        ["linear", "sigmoid", "linear"]
+    method = functional.replace("h = torch.sigmoid((_2).forward(out, ))",
+                                "h = torch.relu((_2).forward(out, )).view([-1])")
+    write_pt(p, ref, code=_code(policy=method))
+    assert [l.act for l in nn_export.read_torchscript_layers(str(p))] == \
+        ["linear", "relu", "linear"]
+
+
+def test_torchscript_code_refusals(tmp_path):
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+
+    def refused(code, match):
+        write_pt(p, ref, code=code)
+        with pytest.raises(ValueError, match=match):
+            nn_export.read_torchscript_layers(str(p))
+        assert nn.main(["pt", "--weights", str(p), "-o", str(tmp_path / "x.h")]) == 2
+
+    refused(None, "no code/ folder .* give the layers with --spec")
+    softmax = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                              "return torch.softmax((actor).forward(out, ), -1)")
+    refused(_code(policy=softmax), r"code/__torch__.py: Policy.forward: operator "
+                                   r"torch.softmax is not one roz_nn.h runs")
+    added = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                            "return torch.add((actor).forward(out, ), 1)")
+    refused(_code(policy=added), "operator torch.add is not one")
+    plus = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                           "return (actor).forward(out, ) * 2.")
+    refused(_code(policy=plus), "operator Mult")
+    branch = _POLICY.replace("    actor = self.actor\n",
+                             "    actor = self.actor\n    if self.training:\n      pass\n")
+    refused(_code(policy=branch), "a If statement")
+    refused(_code(alpha="0.5"), "ELU alpha 0.5")
+    refused(_code(act_class="GELU"), "a torch.nn.modules.activation.GELU, whose code is not in")
+    twice = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                            "return torch.tanh(torch.relu((actor).forward(out, )))")
+    refused(_code(policy=twice), "activation tanh .* after relu: one activation per layer")
+    first = _POLICY.replace("_0 = (memory).forward(torch.unsqueeze(obs, 0), )",
+                            "_0 = (memory).forward(torch.tanh(obs), )")
+    refused(_code(policy=first), "activation tanh .* follows no dense layer")
+    # a layer the forward never calls leaves its tensors over
+    skip = _sequential("ELU")["__torch__/torch/nn/modules/container.py"].replace(
+        "return (_2).forward(input1, )", "return input1")
+    code = _code()
+    code["__torch__/torch/nn/modules/container.py"] = skip
+    refused(code, "tensors the forward has no place for: actor.2.weight")
+    refused(_code(policy="class Policy(Module):\n  def forward(self x):\n"),
+            "not TorchScript's code")
+    # nothing in code/ runs: a call that would, if executed, is only a name here
+    marker = tmp_path / "ran"
+    evil = _POLICY.replace("memory = self.memory",
+                           f"__import__('os').system('touch {marker}')\n    memory = self.memory")
+    refused(_code(policy=evil), "operator __import__.* is not one roz_nn.h runs")
+    assert not marker.exists()
 
 
 # ---- ONNX -----------------------------------------------------------------------

@@ -71,6 +71,8 @@ typedef struct {
     int         budget_set;
     uint64_t    fuel;
     int         fuel_set;
+    uint64_t    fuel_max;
+    int         fuel_max_set;
     uint32_t    stale_ticks;
     uint32_t    record_every;
     int         record_compression; /* ROZ_MCAP_COMPRESS_*; -1: zstd when built with it */
@@ -203,6 +205,9 @@ static void usage(FILE *f, const char *port)
         "  --fuel N|off         controller fuel per tick, in work units (about one wasm\n"
         "                       instruction each; default ROZ_CFG_FUEL_PER_SECOND / rate);\n"
         "                       off: unmetered\n"
+        "  --fuel-max N|off     the most fuel per tick a controller may declare it needs\n"
+        "                       (ROZ_FUEL_PER_TICK; default ROZ_CFG_FUEL_MAX_PER_SECOND /\n"
+        "                       rate); a larger declaration is refused at load; off: any\n"
         "  --stale-ticks N      ticks without fresh state before the stale fault (default 10)\n"
         "  --trace FILE         write every tick (targets, applied commands, state, latched\n"
         "                       faults, events) as CSV\n"
@@ -313,7 +318,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
                                               "--record", "--replay", "--record-every", "--record-compress",
                                               "--ticks", "--priority", "--budget-us",
-                                              "--stale-ticks", "--param", "--fuel",
+                                              "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
                                               "--swap-at", NULL };
         int known = 0;
@@ -385,6 +390,16 @@ static int parse_args(int argc, char **argv, options_t *o)
                 return -1;
             }
             o->fuel_set = 1;
+        } else if (!strcmp(a, "--fuel-max")) {
+            /* as --fuel: "off" lets any declaration through, 0 none */
+            if (v != NULL && !strcmp(v, "off")) {
+                o->fuel_max = UINT64_MAX;
+            } else if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel_max) || o->fuel_max == 0) {
+                fprintf(stderr, "rozrun: --fuel-max must be in 1..%llu, or off\n",
+                        (unsigned long long)(UINT64_MAX - 1));
+                return -1;
+            }
+            o->fuel_max_set = 1;
         } else if (!strcmp(a, "--stale-ticks")) {
             if (parse_u64(a, v, 1000000, &x) || x == 0) {
                 fprintf(stderr, "rozrun: --stale-ticks must be in 1..1000000\n");
@@ -860,6 +875,8 @@ int main(int argc, char **argv)
         cfg.budget_ns = UINT64_MAX;
     if (o.fuel_set)
         cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
+    if (o.fuel_max_set)
+        cfg.fuel_per_tick_max = o.fuel_max; /* UINT64_MAX: any declaration */
     cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
     cfg.allow_foreign_controller = o.allow_other_robot;
     if (o.record != NULL) {

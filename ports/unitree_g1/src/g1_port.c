@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "g1_map.h"
@@ -28,7 +29,8 @@ _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_
 #define LOCKED 0x100u /* locked_mode_machine: a command went out */
 
 static const char *const known_keys[] = { ROZ_DDS_PARAM_KEYS, "mode_pr", "peer_timeout_ms",
-                                          "startup_damping", "shutdown_damping", NULL };
+                                          "startup_damping", "shutdown_damping", "peer", NULL };
+
 
 /* ---- private ----------------------------------------------------------------- */
 
@@ -99,14 +101,64 @@ static const roz_port_param_info_t g1_params[] = {
     ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",
                             "the channels' default",
                             "kd of the damping command at shut-down and on a watchdog trip"),
+    ROZ_PORT_PARAM_TEXT_ROW("peer", "robot|unitree_mujoco", "robot",
+                            "unitree_mujoco: Unitree's simulator on lo (no state CRC, no tick); "
+                            "never a robot"),
 };
+
+/* What answers on rt/lowstate. unitree_mujoco never sets crc, tick or
+ * mode_machine, so the CRC and the tick's link checks would drop all of it;
+ * the relaxation stays on the loopback, where no robot can be
+ * (docs/ports/unitree_g1.md, "In Unitree's simulator"; test_g1_sim). */
+static int parse_peer(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
+{
+    const char *v = roz_params_get_str(p, "peer", "robot");
+    if (strcmp(v, "robot") == 0) {
+        g1->peer = ROZ_UNITREE_G1_PEER_ROBOT;
+    } else if (strcmp(v, "unitree_mujoco") == 0) {
+        g1->peer = ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO;
+    } else {
+        snprintf(err, errlen,
+                 "parameter peer = \"%s\": expected robot (a G1: every check, the default) or "
+                 "unitree_mujoco (Unitree's simulator on lo: no state CRC or tick checks; never "
+                 "a robot)",
+                 v);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+static int check_sim_network(const roz_unitree_g1_t *g1, char *err, size_t errlen)
+{
+    if (g1->peer != ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO)
+        return ROZ_OK;
+    if (strcmp(g1->dds.network_interface, "lo") != 0) {
+        snprintf(err, errlen,
+                 "parameter peer = \"unitree_mujoco\" with network_interface = \"%s\": the "
+                 "simulator's checks are off, so roz takes them only on lo (unitree_mujoco's "
+                 "INTERFACE); a robot's network is refused",
+                 g1->dds.network_interface);
+        return ROZ_EINVAL;
+    }
+    if (getenv("CYCLONEDDS_URI") != NULL) {
+        snprintf(err, errlen,
+                 "parameter peer = \"unitree_mujoco\": CYCLONEDDS_URI is set, so roz cannot "
+                 "keep the participant on lo; unset it to run the simulator");
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
 
 static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
 {
     double lo, hi;
     int rc = roz_params_check_known(p, known_keys, "unitree/G1", err, errlen);
     if (rc == ROZ_OK)
+        rc = parse_peer(g1, p, err, errlen);
+    if (rc == ROZ_OK)
         rc = roz_dds_params_parse(&g1->dds, p, 0, g1->m->control_rate_hz, err, errlen);
+    if (rc == ROZ_OK)
+        rc = check_sim_network(g1, err, errlen);
     if (rc == ROZ_OK)
         rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
     if (rc == ROZ_OK)
@@ -137,7 +189,19 @@ static void on_lowstate(void *ctx, void *sample, uint64_t now_ns)
 
     roz_dds_writer_expect(&g1->writer); /* the tick's command follows */
     bump(&g1->c_frames);
-    roz_link_verdict_t v = roz_link_check(&g1->link, roz__g1_state_crc_ok(s), s->tick, now_ns);
+    roz_link_verdict_t v;
+    if (g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO) {
+        /* no CRC, no tick: each arrival is the next frame, so what remains
+         * of the link checks is the silence (peer_timeout_ms) and the
+         * return after it; read_frame() stops a peer that sends a tick or
+         * a mode_machine, as only a robot does */
+        v = roz_link_check(&g1->link, 1, ++g1->arrivals, now_ns);
+    } else {
+        int crc_ok = roz__g1_state_crc_ok(s);
+        if (!crc_ok && s->crc == 0u && s->tick == 0u && s->mode_machine == 0u)
+            bump(&g1->c_sim_like); /* reported after the run (g1_report) */
+        v = roz_link_check(&g1->link, crc_ok, s->tick, now_ns);
+    }
     if (v == ROZ_LINK_BAD_CRC || v == ROZ_LINK_REPLAY) {
         roz_link_shared_publish(&g1->link_shared, &g1->link);
         return;
@@ -206,6 +270,9 @@ static int g1_refuse(void *port)
     uint32_t mm = atomic_load_explicit(&g1->rx_mode_machine, memory_order_acquire);
 
     g1->tx_mode_machine = mm;
+    /* peer = unitree_mujoco, and a robot answers: nothing at all for it */
+    if (g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO && mm != 0u)
+        return 1;
     return (locked && (locked & 0xffu) != mm) || g1_variant_refuses(g1, mm);
 }
 
@@ -290,10 +357,14 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
                                  .timeout_us = g1->dds.command_timeout_us };
     roz_dds_cmd_init(&g1->cmd, &cmd);
     ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
-                                         &g1->c_sessions };
+                                         &g1->c_sessions, &g1->c_sim_like };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
+    if (g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO)
+        log(log_ctx, ROZ_LOG_WARN,
+            "peer = unitree_mujoco: no state CRC and no tick checks (the link is judged by "
+            "arrival alone), for Unitree's simulator on lo; never use it with a robot");
     rc = roz_dds_participant_open(&g1->part, g1->dds.network_interface, g1->dds.domain,
                                   &g1->dds.cyclone_threads, log,
                                   log_ctx, err, errlen);
@@ -377,6 +448,16 @@ static int read_frame(roz_unitree_g1_t *g1, double *state, size_t n)
     }
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_acquire);
     uint32_t mm = (uint32_t)meta[M_MODE_MACHINE];
+    if (g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO && (mm != 0u || meta[M_TICK] != 0.0)) {
+        /* a peer that counts ticks or names its variant is a robot: the
+         * checks it would need are off (test_g1_sim) */
+        g1->tick_fault.what = "peer = unitree_mujoco";
+        g1->tick_fault.kind = mm != 0u ? "but the peer reports a robot's mode_machine"
+                                       : "but the peer counts ticks as a robot does; tick";
+        g1->tick_fault.code = mm != 0u ? mm : (uint32_t)meta[M_TICK];
+        g1->tick_fault.limit = 0;
+        return ROZ_EROBOT;
+    }
     const char *why;
     int absent = roz__g1_variant_refuses(g1, mm, &why);
     if (absent >= 0) {
@@ -457,6 +538,34 @@ static int g1_link_counters(const void *self, roz_port_link_counters_t *out)
     return ROZ_OK;
 }
 
+/* peer = unitree_mujoco at open and after the run; a run that dropped the
+ * simulator's frames names the setting (test_g1_sim) */
+static int g1_report(const void *self, roz_port_report_when_t when, char *buf, size_t len)
+{
+    const roz_unitree_g1_t *g1 = self;
+    int sim = g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO;
+    uint64_t like = load(&g1->c_sim_like);
+    int n = 0;
+
+    if (when == ROZ_PORT_REPORT_OPENED && sim)
+        n = snprintf(buf, len, "unitree/G1: peer = unitree_mujoco (Unitree's simulator, "
+                               "domain %u on lo): no state CRC, no tick checks; never a robot",
+                     (unsigned)g1->dds.domain);
+    else if (when == ROZ_PORT_REPORT_SUMMARY && sim)
+        n = snprintf(buf, len,
+                     "peer                   unitree_mujoco (simulator): frames taken without "
+                     "a CRC or tick check, the link judged by arrival alone");
+    else if (when == ROZ_PORT_REPORT_SUMMARY && like > 0u)
+        n = snprintf(buf, len,
+                     "warning                %llu state frames dropped for their CRC had crc, "
+                     "tick and mode_machine all 0, as unitree_mujoco sends them: for that "
+                     "simulator, --param peer=unitree_mujoco",
+                     (unsigned long long)like);
+    else if (len > 0)
+        buf[0] = '\0';
+    return n;
+}
+
 
 static const roz_port_info_t g1_info = {
     .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",
@@ -488,6 +597,7 @@ const roz_port_ops_t roz_unitree_g1_ops = {
     .info = &g1_info,
     .link_counters = g1_link_counters,
     .drain = g1_drain,
+    .report = g1_report,
 };
 
 /* ---- public ------------------------------------------------------------------------ */
@@ -532,6 +642,7 @@ void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters
     out->written_seq = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_WRITTEN_SEQ);
     out->command_timeouts = roz_dds_cmd_timeouts(&g1->cmd);
     out->safe_published = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_SAFE);
+    out->sim_like_frames = load(&g1->c_sim_like);
 }
 
 void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,

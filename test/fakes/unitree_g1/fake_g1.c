@@ -4,7 +4,8 @@
  * LowState_ on rt/lowstate when told to (or every --period-us), receives
  * LowCmd_ on rt/lowcmd, checks each command's CRC as the robot does and
  * keeps the last good one; a test drives it over stdin/stdout, one request
- * line in, one reply line out.
+ * line in, one reply line out. With --unitree-mujoco it behaves as Unitree's
+ * simulator does on the same topics (README.md, "As unitree_mujoco").
  *
  * Threads: main (requests, publishing), the command reader (a waitset on
  * rt/lowcmd), the periodic publisher (with --period-us). Lock order:
@@ -46,6 +47,8 @@ typedef struct fake {
     dds_entity_t waitset, stop_guard;
     dds_qos_t *state_qos;
     uint32_t period_us;
+    int sim; /* --unitree-mujoco */
+    struct timespec pause_until; /* the periodic publisher is silent until then; lock */
 
     /* publishing; pub_lock */
     pthread_mutex_t pub_lock;
@@ -125,7 +128,10 @@ static int publish(fake_t *f, frame_kind_t kind, uint32_t *tick, char *err, size
     int rc = 0;
     pthread_mutex_lock(&f->pub_lock);
     pthread_mutex_lock(&f->lock);
-    g1_state_frame(&f->frame, &f->model, f->next_tick);
+    if (f->sim) /* the simulator sets none of tick, crc, mode_machine */
+        g1_lowstate_copy(&f->frame, &f->model);
+    else
+        g1_state_frame(&f->frame, &f->model, f->next_tick);
     pthread_mutex_unlock(&f->lock);
     if (kind == FRAME_CORRUPT)
         flip_one_bit(&f->frame);
@@ -205,6 +211,30 @@ static int restart(fake_t *f, char *err, size_t errlen)
     return rc;
 }
 
+/* ---- as unitree_mujoco ---------------------------------------------------- */
+
+/* One step of @p dt s, as the simulator applies a command: each motor's
+ * torque tau + kp (q_cmd - q) + kd (dq_cmd - dq) from the last command
+ * received, kept while no new one comes, whatever its mode; here on a unit
+ * inertia per joint, no gravity, no contact. Under lock. */
+static void sim_step(fake_t *f, double dt)
+{
+    if (!f->have_cmd)
+        return;
+    for (size_t i = 0; i < G1_MOTORS; i++) {
+        const g1_motorcmd_t *c = &f->last_cmd.motor_cmd[i];
+        g1_motorstate_t *m = &f->model.motor_state[i];
+        double q = m->q, dq = m->dq;
+        double tau = (double)c->tau + (double)c->kp * ((double)c->q - q) +
+                     (double)c->kd * ((double)c->dq - dq);
+        dq += tau * dt; /* semi-implicit Euler */
+        q += dq * dt;
+        m->q = (float)q;
+        m->dq = (float)dq;
+        m->tau_est = (float)tau;
+    }
+}
+
 /* ---- the periodic publisher ---------------------------------------------- */
 
 static void *period_main(void *arg)
@@ -221,9 +251,14 @@ static void *period_main(void *arg)
             r = pthread_cond_timedwait(&f->changed, &f->lock, &next);
         if (f->stopping)
             break;
+        if (f->sim)
+            sim_step(f, f->period_us * 1e-6);
+        struct timespec at;
+        clock_gettime(CLOCK_MONOTONIC, &at);
+        int paused = before(&at, &f->pause_until);
         pthread_mutex_unlock(&f->lock);
         uint32_t tick;
-        if (publish(f, FRAME_GOOD, &tick, err, sizeof err) != 0)
+        if (!paused && publish(f, FRAME_GOOD, &tick, err, sizeof err) != 0)
             fprintf(stderr, "fake_g1: periodic frame: %s\n", err);
         struct timespec now;
         clock_gettime(CLOCK_MONOTONIC, &now);
@@ -251,8 +286,9 @@ static void take_commands(fake_t *f)
         for (dds_return_t i = 0; i < n; i++) {
             if (!info[i].valid_data)
                 continue;
-            /* a flipped bit fails the CRC, whichever bit it is */
-            int ok = !f->flip_next && g1_lowcmd_crc_ok(&f->rx[i]);
+            /* a flipped bit fails the CRC, whichever bit it is; the
+             * simulator looks at no CRC */
+            int ok = !f->flip_next && (f->sim || g1_lowcmd_crc_ok(&f->rx[i]));
             f->flip_next = 0;
             if (ok) {
                 f->good++;
@@ -422,6 +458,21 @@ static int handle(fake_t *f, const g1_request_t *q)
         pthread_mutex_unlock(&f->pub_lock);
         return reply("ok %" PRIu32 " %" PRIu32, w, r);
     }
+    case G1_REQ_PAUSE: {
+        struct timespec until;
+        clock_gettime(CLOCK_MONOTONIC, &until);
+        deadline_after(&until, q->u[0] * 1000u);
+        pthread_mutex_lock(&f->lock);
+        f->pause_until = until;
+        pthread_mutex_unlock(&f->lock);
+        return reply("ok");
+    }
+    case G1_REQ_MOTOR_STATE: {
+        pthread_mutex_lock(&f->lock);
+        g1_motorstate_t m = f->model.motor_state[q->u[0]];
+        pthread_mutex_unlock(&f->lock);
+        return reply("ok %.17g %.17g %.17g", (double)m.q, (double)m.dq, (double)m.tau_est);
+    }
     case G1_REQ_QUIT:
         return reply("ok") != 0 ? -1 : 1;
     }
@@ -486,7 +537,7 @@ static int serve(fake_t *f)
 static void usage(FILE *to)
 {
     fprintf(to, "usage: fake_g1 --domain N [--interface lo] [--mode-machine M] [--period-us P]\n"
-                "               [--allow-any-interface]\n"
+                "               [--allow-any-interface] [--unitree-mujoco]\n"
                 "A fake Unitree G1 on Cyclone DDS; requests on stdin (see README.md).\n");
 }
 
@@ -497,6 +548,7 @@ typedef struct options {
     uint32_t mode_machine;
     uint32_t period_us;
     int any_iface;
+    int sim;
 } options_t;
 
 static int number_arg(const char *opt, const char *val, uint32_t max, uint32_t *out)
@@ -547,6 +599,8 @@ static int parse_options(int argc, char **argv, options_t *o)
             i++;
         } else if (strcmp(a, "--allow-any-interface") == 0) {
             o->any_iface = 1;
+        } else if (strcmp(a, "--unitree-mujoco") == 0) {
+            o->sim = 1;
         } else if (strcmp(a, "--help") == 0) {
             usage(stdout);
             exit(0);
@@ -681,9 +735,10 @@ int main(int argc, char **argv)
 
     /* the robot at rest, upright: an identity attitude, nothing moving */
     memset(&f->model, 0, sizeof f->model);
-    f->model.mode_machine = (uint8_t)o.mode_machine;
+    f->model.mode_machine = o.sim ? 0u : (uint8_t)o.mode_machine;
     f->model.imu_state.quaternion[0] = 1.0f;
     f->period_us = o.period_us;
+    f->sim = o.sim;
 
     int rc = start(f, &o);
     if (rc == 0 && reply("ready") != 0)

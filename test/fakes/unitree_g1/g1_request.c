@@ -40,6 +40,8 @@ static const verb_t verbs[] = {
     { "command_at", G1_REQ_COMMAND_AT, "n", "command_at K" },
     { "flip_next_command", G1_REQ_FLIP_NEXT, "", "flip_next_command" },
     { "matched", G1_REQ_MATCHED, "", "matched" },
+    { "motor_state", G1_REQ_MOTOR_STATE, "i", "motor_state I" },
+    { "pause", G1_REQ_PAUSE, "t", "pause MS" },
     { "quit", G1_REQ_QUIT, "", "quit" },
 };
 

@@ -26,6 +26,8 @@ typedef enum g1_req_kind {
     G1_REQ_COMMAND_AT,    /* command_at K */
     G1_REQ_FLIP_NEXT,     /* flip_next_command */
     G1_REQ_MATCHED,       /* matched */
+    G1_REQ_MOTOR_STATE,   /* motor_state I */
+    G1_REQ_PAUSE,         /* pause MS */
     G1_REQ_QUIT,          /* quit */
 } g1_req_kind_t;
 

@@ -55,6 +55,7 @@ VALUES = {
     "command_timeout_us": ["0", "1999", "3999", "4000", "4001", "20000", "50000", "60000000",
                            "60000001", "2e4", ""],
     "mode_pr": ["PR", "pr", "0", "AB", "ab", "1", "PRR", "Pr", ""],
+    "peer": ["robot", "unitree_mujoco", "unitree_mujoco", "mujoco", "Robot", ""],
     "peer_timeout_ms": ["9", "10", "500", "60000", "60001", "1e3"],
     "startup_damping": ["0", "0.5", "1", "5", "10", "10.0001", "-0", "-0.1", "1e1", "0x1p3",
                         " 2", "2 ", "nan", "inf", "abc", ""],

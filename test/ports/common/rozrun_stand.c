@@ -48,12 +48,18 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                            "--stale-ticks", "250",
                            record != NULL ? "--record" : NULL, record,
                            NULL };
+    assert_int_equal(roz_rozrun_spawn(argv, out, watch, ctx, text, len), 0);
+}
+
+int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(void *ctx),
+                     void *ctx, char *text, size_t len)
+{
     posix_spawn_file_actions_t fa;
     pid_t pid;
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    assert_int_equal(posix_spawn(&pid, rozrun, &fa, NULL, (char *const *)(uintptr_t)argv,
+    assert_int_equal(posix_spawn(&pid, argv[0], &fa, NULL, (char *const *)(uintptr_t)argv,
                                  environ),
                      0);
     posix_spawn_file_actions_destroy(&fa);
@@ -65,13 +71,14 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
             done = 1;
             break;
         }
-        watch(ctx);
+        if (watch != NULL)
+            watch(ctx);
         sleep_20ms();
     }
     if (!done) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);
-        fail_msg("rozrun did not finish %d ticks in 60 s", ticks);
+        fail_msg("%s did not finish in 60 s", argv[0]);
     }
     FILE *f = fopen(out, "r");
     assert_non_null(f);
@@ -80,7 +87,7 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
     fclose(f);
     print_message("%s", text);
     assert_true(WIFEXITED(status));
-    assert_int_equal(WEXITSTATUS(status), 0);
+    return WEXITSTATUS(status);
 }
 
 /* Reads @p out into @p text (printed). */

@@ -24,6 +24,13 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
                       const char *record, void (*watch)(void *ctx), void *ctx, char *text,
                       size_t len);
 
+/* Runs @p argv (argv[0] the program, NULL-terminated) as
+ * roz_rozrun_stand() runs rozrun: output to @p out and @p text (printed),
+ * @p watch (may be NULL) every 20 ms, a hang guard of 60 s. Returns its
+ * exit status; the test has failed if it was killed. */
+int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(void *ctx),
+                     void *ctx, char *text, size_t len);
+
 /* rozrun --replay @p recording --controller @p controller, its output to
  * @p out and @p text (printed); the test has failed unless it exited 0
  * having replayed @p ticks ticks identically. */

@@ -56,6 +56,14 @@ int roz_fake_g1_commands(roz_fake_g1_t *f, uint64_t *good, uint64_t *bad)
     return 0;
 }
 
+int roz_fake_g1_motor_state(roz_fake_g1_t *f, unsigned slot, double *q, double *dq, double *tau)
+{
+    if (roz_fake_g1_ask(f, "motor_state %u", slot) != 0 ||
+        sscanf(f->line, "ok %lf %lf %lf", q, dq, tau) != 3)
+        return -1;
+    return 0;
+}
+
 static int parse_command(roz_fake_g1_t *f, int rc, roz_fake_g1_cmd_t *out);
 
 int roz_fake_g1_command(roz_fake_g1_t *f, roz_fake_g1_cmd_t *out)

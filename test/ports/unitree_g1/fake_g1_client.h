@@ -45,6 +45,10 @@ int roz_fake_g1_command(roz_fake_g1_t *f, roz_fake_g1_cmd_t *out);
  * them), while the fake keeps it (the last 2048). 1, or -1. */
 int roz_fake_g1_command_at(roz_fake_g1_t *f, uint64_t k, roz_fake_g1_cmd_t *out);
 
+/* Motor slot @p slot as the fake's model has it (motor_state): q, dq,
+ * tau_est. 0 or -1. */
+int roz_fake_g1_motor_state(roz_fake_g1_t *f, unsigned slot, double *q, double *dq, double *tau);
+
 /* Sleep @p ms milliseconds. */
 void roz_fake_g1_sleep_ms(unsigned ms);
 

@@ -106,6 +106,29 @@ pub fn run<P: Peer>() -> Result<(), String> {
             loaded.push((e, l, name));
         }
     }
+    // The nn policy (bench/nn/policy.c: nn.matvec and nn.act every call),
+    // its metrics against roz's, bit for bit, in every metering mode.
+    let nn = if o.wasm_nn.is_empty() {
+        None
+    } else {
+        Some((read(&o.wasm_nn)?, Reference::read(&o.expect_nn)?))
+    };
+    if let Some((w, nn_ref)) = &nn {
+        for &(mode, mname) in P::MODES {
+            let name = format!("nn policy, metering {mname}");
+            let e = P::engine(mode)?;
+            let module = P::compile(&e, w)?;
+            let mut l = P::load(&e, &module, &m, mode)?;
+            ticks::<P>(&mut l, 0, nn_ref.ticks)?;
+            if let Some(why) = nn_ref.compare(P::abi(&mut l)) {
+                return Err(format!(
+                    "{name}: outputs differ from roz's after {} ticks: {why}",
+                    nn_ref.ticks
+                ));
+            }
+            loaded.push((e, l, name));
+        }
+    }
 
     // Compile and instantiate, 20 times each.
     let reps = 20;
@@ -151,7 +174,7 @@ pub fn run<P: Peer>() -> Result<(), String> {
         unit: "KiB",
     });
     let checked = format!(
-        "outputs (the PD, and the bulk PD when given) equal to roz's after {} ticks in every metering mode",
+        "outputs (the PD, the bulk PD and the nn policy when given) equal to roz's after {} ticks in every metering mode",
         reference.ticks
     );
     print_json(P::ENGINE, P::VERSION, &[("checked", checked)], &figures);

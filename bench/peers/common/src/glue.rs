@@ -67,6 +67,22 @@ macro_rules! peer {
                 None => c.data_mut().abi.command_set_all(None, p as u32, n),
             })
             .map_err(err)?;
+            l.func_wrap("nn", "matvec", |mut c: Caller<'_, Host>, w: i32, x: i32, b: i32, y: i32, rows: i32, cols: i32, flags: i32| match c.data().mem {
+                Some(m) => {
+                    let (data, host) = m.data_and_store_mut(&mut c);
+                    host.abi.nn_matvec(Some(data), w as u32, x as u32, b as u32, y as u32, rows, cols, flags)
+                }
+                None => c.data_mut().abi.nn_matvec(None, 0, 0, 0, 0, rows, cols, flags),
+            })
+            .map_err(err)?;
+            l.func_wrap("nn", "act", |mut c: Caller<'_, Host>, kind: i32, p: i32, n: i32| match c.data().mem {
+                Some(m) => {
+                    let (data, host) = m.data_and_store_mut(&mut c);
+                    host.abi.nn_act(Some(data), kind, p as u32, n)
+                }
+                None => c.data_mut().abi.nn_act(None, kind, p as u32, n),
+            })
+            .map_err(err)?;
             Ok(l)
         }
 

@@ -9,6 +9,7 @@
 
 mod driver;
 mod glue;
+mod nn;
 
 pub use driver::{main, run, Peer};
 
@@ -71,6 +72,8 @@ pub struct Counters {
     pub get_bad_index: u64,
     pub estop_requests: u64,
     pub metrics: u64,
+    pub nn_calls: u64,
+    pub nn_refused: u64,
 }
 
 /// The context every import works on (roz_abi_t).
@@ -82,8 +85,13 @@ pub struct Abi {
     pub period_ns: u64,
     pub estop_requested: bool,
     pub counters: Counters,
+    /// FNV-1a over every emitted metric's bits, in order (the nn policy's
+    /// output is its metric)
+    pub metric_fnv: u64,
     epoch: Instant,
 }
+
+pub const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
 
 pub const SET_TAKEN: i32 = 0;
 pub const SET_CLAMPED: i32 = 1;
@@ -102,6 +110,7 @@ impl Abi {
             period_ns,
             estop_requested: false,
             counters: Counters::default(),
+            metric_fnv: FNV_START,
             epoch: Instant::now(),
         }
     }
@@ -219,9 +228,13 @@ impl Abi {
         }
     }
 
-    /// Metrics are counted, not kept (as a roz_abi_t without a ring).
-    pub fn emit_metric(&mut self, _value: f64) {
+    /// Metrics are counted and hashed, not kept (as a roz_abi_t without a
+    /// ring).
+    pub fn emit_metric(&mut self, value: f64) {
         self.counters.metrics += 1;
+        for b in value.to_bits().to_le_bytes() {
+            self.metric_fnv = (self.metric_fnv ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
     }
 }
 
@@ -247,12 +260,19 @@ pub struct Reference {
     pub ticks: i64,
     pub counters: Counters,
     pub target_bits: Vec<u64>,
+    /// the nn policy's reference: its metrics' count and FNV-1a
+    pub metric_fnv: Option<u64>,
 }
 
 impl Reference {
     pub fn read(path: &str) -> Result<Reference, String> {
         let text = fs::read_to_string(path).map_err(|e| format!("{path}: {e}"))?;
-        let mut r = Reference { ticks: 0, counters: Counters::default(), target_bits: Vec::new() };
+        let mut r = Reference {
+            ticks: 0,
+            counters: Counters::default(),
+            target_bits: Vec::new(),
+            metric_fnv: None,
+        };
         for (n, line) in text.lines().enumerate() {
             let mut it = line.split_whitespace();
             let key = it.next().unwrap_or("");
@@ -266,6 +286,12 @@ impl Reference {
                 "set_bad_index" => r.counters.set_bad_index = u()?,
                 "set_nonfinite" => r.counters.set_nonfinite = u()?,
                 "get_bad_index" => r.counters.get_bad_index = u()?,
+                "metrics" => r.counters.metrics = u()?,
+                "nn_calls" => r.counters.nn_calls = u()?,
+                "nn_refused" => r.counters.nn_refused = u()?,
+                "metric_fnv" => r.metric_fnv = Some(
+                    u64::from_str_radix(val.trim_start_matches("0x"), 16).map_err(|_| bad())?,
+                ),
                 "target" => r.target_bits.push(
                     u64::from_str_radix(val.trim_start_matches("0x"), 16).map_err(|_| bad())?,
                 ),
@@ -278,7 +304,9 @@ impl Reference {
 
     /// None when `abi` holds exactly roz's outputs, else what differs.
     pub fn compare(&self, abi: &Abi) -> Option<String> {
-        let mine = Counters { estop_requests: 0, metrics: 0, ..abi.counters };
+        // metrics are compared where the reference has them (the nn policy)
+        let metrics = if self.metric_fnv.is_some() { abi.counters.metrics } else { 0 };
+        let mine = Counters { estop_requests: 0, metrics, ..abi.counters };
         if mine != self.counters {
             return Some(format!("counters differ: roz {:?}, here {:?}", self.counters, mine));
         }
@@ -288,6 +316,14 @@ impl Reference {
                 self.target_bits.len(),
                 abi.target.len()
             ));
+        }
+        if let Some(want) = self.metric_fnv {
+            if want != abi.metric_fnv {
+                return Some(format!(
+                    "the metrics' FNV-1a: roz 0x{want:016x}, here 0x{:016x}",
+                    abi.metric_fnv
+                ));
+            }
         }
         for (i, (&want, got)) in self.target_bits.iter().zip(&abi.target).enumerate() {
             if want != got.to_bits() {
@@ -364,16 +400,27 @@ pub struct Options {
     pub wasm_bulk: String,
     pub manifest: String,
     pub expect: String,
+    /// the nn policy (bench/nn/policy.c) and roz's reference for it (optional)
+    pub wasm_nn: String,
+    pub expect_nn: String,
     pub calls: usize,
 }
 
 pub fn options() -> Result<Options, String> {
     let args: Vec<String> = std::env::args().collect();
     let usage = format!(
-        "usage: {} --wasm G1_PD.wasm [--wasm-bulk G1_PD_BULK.wasm] --manifest G1.json --expect REFERENCE [--calls N]",
+        "usage: {} --wasm G1_PD.wasm [--wasm-bulk G1_PD_BULK.wasm] --manifest G1.json --expect REFERENCE [--wasm-nn POLICY.wasm --expect-nn REFERENCE] [--calls N]",
         args.first().map(String::as_str).unwrap_or("peer")
     );
-    let mut o = Options { wasm: String::new(), wasm_bulk: String::new(), manifest: String::new(), expect: String::new(), calls: 20000 };
+    let mut o = Options {
+        wasm: String::new(),
+        wasm_bulk: String::new(),
+        manifest: String::new(),
+        expect: String::new(),
+        wasm_nn: String::new(),
+        expect_nn: String::new(),
+        calls: 20000,
+    };
     let mut i = 1;
     while i < args.len() {
         let v = args.get(i + 1).cloned().ok_or(usage.clone())?;
@@ -382,12 +429,16 @@ pub fn options() -> Result<Options, String> {
             "--wasm-bulk" => o.wasm_bulk = v,
             "--manifest" => o.manifest = v,
             "--expect" => o.expect = v,
+            "--wasm-nn" => o.wasm_nn = v,
+            "--expect-nn" => o.expect_nn = v,
             "--calls" => o.calls = v.parse().map_err(|_| usage.clone())?,
             _ => return Err(usage),
         }
         i += 2;
     }
-    if o.wasm.is_empty() || o.manifest.is_empty() || o.expect.is_empty() || o.calls < 100 {
+    if o.wasm.is_empty() || o.manifest.is_empty() || o.expect.is_empty() || o.calls < 100
+        || o.wasm_nn.is_empty() != o.expect_nn.is_empty()
+    {
         return Err(usage);
     }
     Ok(o)

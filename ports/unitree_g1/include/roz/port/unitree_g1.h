@@ -74,7 +74,17 @@ typedef struct roz_unitree_g1_counters {
     uint64_t written_seq;       /**< sequence of the last command frame written */
     uint64_t command_timeouts;  /**< command watchdog trips: the tick went silent */
     uint64_t safe_published;    /**< damping commands the watchdog published */
+    uint64_t sim_like_frames;   /**< frames dropped for their CRC that look like
+                                     unitree_mujoco's (crc, tick and mode_machine
+                                     all 0): the simulator without peer = unitree_mujoco */
 } roz_unitree_g1_counters_t;
+
+/** What is at the other end of rt/lowstate (the parameter `peer`). */
+typedef enum roz_unitree_g1_peer {
+    ROZ_UNITREE_G1_PEER_ROBOT = 0,      /**< a G1: every check (the default) */
+    ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO, /**< Unitree's simulator: no state CRC, no
+                                             tick; docs/ports/unitree_g1.md */
+} roz_unitree_g1_peer_t;
 
 /** The port's instance; caller-owned (large: give it static storage).
  *  Fields are private (roz/private.h); the tests and tools read them
@@ -84,6 +94,7 @@ typedef struct roz_unitree_g1 {
     const roz_manifest_t  *ROZ_PRIVATE(m);
     roz_dds_params_t       ROZ_PRIVATE(dds);
     uint8_t                ROZ_PRIVATE(mode_pr);
+    roz_unitree_g1_peer_t  ROZ_PRIVATE(peer);
     uint32_t               ROZ_PRIVATE(peer_timeout_ms);
     double                 ROZ_PRIVATE(startup_kd), ROZ_PRIVATE(shutdown_kd);
     roz_log_fn             ROZ_PRIVATE(log);
@@ -113,6 +124,7 @@ typedef struct roz_unitree_g1 {
     roz_link_t             ROZ_PRIVATE(link);
     uint32_t               ROZ_PRIVATE(session); /* robots seen */
     uint32_t               ROZ_PRIVATE(since_full); /* frames since the last full conversion */
+    uint32_t               ROZ_PRIVATE(arrivals); /* peer unitree_mujoco: the link's sequence */
     double                 ROZ_PRIVATE(rx_values)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     roz_link_shared_t      ROZ_PRIVATE(link_shared);
     ROZ_ATOMIC(uint32_t)   ROZ_PRIVATE(rx_session); /* for the writer */
@@ -144,7 +156,7 @@ typedef struct roz_unitree_g1 {
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)   ROZ_PRIVATE(c_frames), ROZ_PRIVATE(c_full), ROZ_PRIVATE(c_motor_fault),
-                           ROZ_PRIVATE(c_sessions);
+                           ROZ_PRIVATE(c_sessions), ROZ_PRIVATE(c_sim_like);
 } roz_unitree_g1_t;
 
 /** The ops table (name "unitree/G1"). */

@@ -1,0 +1,201 @@
+// SPDX-License-Identifier: Apache-2.0
+//! roz's neural-network imports (`nn.matvec`, `nn.act`) as lib/src/abi.c
+//! has them, over an instance's linear memory: the same range and overlap
+//! refusals (nothing written, counted), each output row summed in the same
+//! order (float32, a product then a sum, never fused), and the activations
+//! of sdk/include/roz_math.h restated (double arithmetic, rounded once to
+//! float), so that the results are roz's bit for bit.
+
+use crate::Abi;
+
+pub const NN_BIAS: i32 = 1;
+pub const NN_ACCUMULATE: i32 = 2;
+/// ROZ_ABI_NN_RELU .. ROZ_ABI_NN_EXP
+pub const NN_ACT_COUNT: i32 = 5;
+
+const INV_LN2: u64 = 0x3ff7_1547_652b_82fe; // 0x1.71547652b82fep+0
+const LN2_1: u64 = 0x3fe6_2e42_fefa_3800; // 0x1.62e42fefa38p-1
+const LN2_2: u64 = 0x3d2e_f357_93c7_6730; // 0x1.ef35793c7673p-45
+const ROUNDER: u64 = 0x4338_0000_0000_0000; // 0x1.8p52
+
+fn pow2(k: i32) -> f64 {
+    f64::from_bits(((k + 1023) as u64) << 52)
+}
+
+/// roz__math_expm1_f32: e^x = 2^k (1 + p) for |x| <= 110.
+fn expm1_f32(x: f64) -> (f64, i32) {
+    let rounder = f64::from_bits(ROUNDER);
+    let kd = (x * f64::from_bits(INV_LN2) + rounder) - rounder;
+    let r = (x - kd * f64::from_bits(LN2_1)) - kd * f64::from_bits(LN2_2);
+    let q = 1.0 / 2.0
+        + r * (1.0 / 6.0
+            + r * (1.0 / 24.0
+                + r * (1.0 / 120.0
+                    + r * (1.0 / 720.0
+                        + r * (1.0 / 5040.0
+                            + r * (1.0 / 40320.0
+                                + r * (1.0 / 362880.0
+                                    + r * (1.0 / 3628800.0
+                                        + r * (1.0 / 39916800.0 + r * (1.0 / 479001600.0))))))))));
+    (r + r * r * q, kd as i32)
+}
+
+fn expm1_d32(x: f64) -> f64 {
+    let (p, k) = expm1_f32(x);
+    if k == 0 {
+        return p;
+    }
+    (pow2(k) - 1.0) + pow2(k) * p
+}
+
+pub fn expf(x: f32) -> f32 {
+    if x.is_nan() {
+        return x;
+    }
+    if x > 89.0 {
+        return f32::INFINITY;
+    }
+    if x < -104.0 {
+        return 0.0;
+    }
+    let (p, k) = expm1_f32(x as f64);
+    ((1.0 + p) * pow2(k)) as f32
+}
+
+pub fn expm1f(x: f32) -> f32 {
+    if x.is_nan() || x == 0.0 {
+        return x;
+    }
+    if x > 89.0 {
+        return f32::INFINITY;
+    }
+    if x < -104.0 {
+        return -1.0;
+    }
+    expm1_d32(x as f64) as f32
+}
+
+pub fn tanhf(x: f32) -> f32 {
+    if x.is_nan() {
+        return x;
+    }
+    let ax = (x as f64).abs();
+    if ax > 9.5 {
+        return if x < 0.0 { -1.0 } else { 1.0 };
+    }
+    let e = expm1_d32(2.0 * ax);
+    (e / (e + 2.0)).copysign(x as f64) as f32
+}
+
+pub fn sigmoidf(x: f32) -> f32 {
+    if x.is_nan() {
+        return x;
+    }
+    if x < -104.0 {
+        return 0.0;
+    }
+    if x > 104.0 {
+        return 1.0;
+    }
+    let (p, k) = expm1_f32(-(x as f64));
+    (1.0 / (1.0 + (1.0 + p) * pow2(k))) as f32
+}
+
+pub fn eluf(x: f32) -> f32 {
+    if x > 0.0 {
+        x
+    } else {
+        expm1f(x)
+    }
+}
+
+pub fn reluf(x: f32) -> f32 {
+    if x < 0.0 {
+        0.0
+    } else {
+        x
+    }
+}
+
+fn range_ok(len: usize, at: u32, bytes: u64) -> bool {
+    bytes <= len as u64 && at as u64 <= len as u64 - bytes
+}
+
+fn overlap(a: u32, an: u64, b: u32, bn: u64) -> bool {
+    an != 0 && bn != 0 && (a as u64) < b as u64 + bn && (b as u64) < a as u64 + an
+}
+
+fn ld(mem: &[u8], at: usize) -> f32 {
+    f32::from_le_bytes(mem[at..at + 4].try_into().unwrap())
+}
+
+fn st(mem: &mut [u8], at: usize, v: f32) {
+    mem[at..at + 4].copy_from_slice(&v.to_le_bytes());
+}
+
+impl Abi {
+    fn nn_refuse(&mut self) -> i32 {
+        self.counters.nn_refused += 1;
+        -1
+    }
+
+    /// nn.matvec: y = W x (+ b) (y +=, with ACCUMULATE); 0, or -1 with
+    /// nothing written.
+    #[allow(clippy::too_many_arguments)]
+    pub fn nn_matvec(&mut self, mem: Option<&mut [u8]>, w: u32, x: u32, b: u32, y: u32,
+                     rows: i32, cols: i32, flags: i32) -> i32 {
+        self.counters.nn_calls += 1;
+        let mem = match mem {
+            Some(m) if rows >= 0 && cols >= 0 && flags & !(NN_BIAS | NN_ACCUMULATE) == 0 => m,
+            _ => return self.nn_refuse(),
+        };
+        let wn = 4 * rows as u64 * cols as u64;
+        let (xn, yn) = (4 * cols as u64, 4 * rows as u64);
+        let bn = if flags & NN_BIAS != 0 { yn } else { 0 };
+        let len = mem.len();
+        if !range_ok(len, w, wn) || !range_ok(len, x, xn) || (bn != 0 && !range_ok(len, b, bn))
+            || !range_ok(len, y, yn) || overlap(y, yn, w, wn) || overlap(y, yn, x, xn)
+            || overlap(y, yn, b, bn)
+        {
+            return self.nn_refuse();
+        }
+        let (w, x, b, y, cols) = (w as usize, x as usize, b as usize, y as usize, cols as usize);
+        for i in 0..rows as usize {
+            let row = w + 4 * i * cols;
+            let mut s = 0.0f32;
+            for j in 0..cols {
+                s = s + ld(mem, row + 4 * j) * ld(mem, x + 4 * j);
+            }
+            if flags & NN_BIAS != 0 {
+                s = s + ld(mem, b + 4 * i);
+            }
+            if flags & NN_ACCUMULATE != 0 {
+                s = ld(mem, y + 4 * i) + s;
+            }
+            st(mem, y + 4 * i, s);
+        }
+        0
+    }
+
+    /// nn.act: an activation in place on `count` floats; count, or -1.
+    pub fn nn_act(&mut self, mem: Option<&mut [u8]>, kind: i32, ptr: u32, count: i32) -> i32 {
+        self.counters.nn_calls += 1;
+        let mem = match mem {
+            Some(m) if (0..NN_ACT_COUNT).contains(&kind) && count >= 0
+                && range_ok(m.len(), ptr, 4 * count as u64) => m,
+            _ => return self.nn_refuse(),
+        };
+        let f: fn(f32) -> f32 = match kind {
+            0 => reluf,
+            1 => tanhf,
+            2 => sigmoidf,
+            3 => eluf,
+            _ => expf,
+        };
+        for i in 0..count as usize {
+            let at = ptr as usize + 4 * i;
+            st(mem, at, f(ld(mem, at)));
+        }
+        count
+    }
+}
