@@ -524,13 +524,13 @@ static void test_x2_link_by_stamp(void **st)
 /* The left leg's six joints alone: the leg topic read (no IMU, no other
  * group), the leg commanded, the other groups never. */
 static const roz_channel_t leg_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0, 0, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
     { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t leg_states[] = {
     { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const char *const leg_joints[] = { "left_knee_joint" };
 static const roz_hardware_t leg_hw = { "agibot/X2", leg_joints, 1, NULL, 0 };
@@ -590,7 +590,7 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 static const char *const alien_joints[] = { "tail_joint" };
 static const roz_channel_t alien_commands[] = {
     { "tail_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0 },
+      0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_hardware_t alien_hw = { "agibot/X2", alien_joints, 1, NULL, 0 };
 static const roz_manifest_t alien = { "alien", "humanoid", 500, alien_commands, 1, NULL, 0,
