@@ -660,13 +660,14 @@ static void test_x2_watchdog_every_group(void **st)
     unsigned checked = 0;
     for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
         int g, s, kd = cmd_of(m->hardware->joints[j], "damping");
-        if (isnan(q[j]) || kd < 0 || roz_ros2fx_place(j, &g, &s) != 0)
+        int kp = cmd_of(m->hardware->joints[j], "stiffness"); /* the hold gain */
+        if (isnan(q[j]) || kd < 0 || kp < 0 || roz_ros2fx_place(j, &g, &s) != 0)
             continue;
         assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
-        if (c.q[s] != q[j] || c.kp[s] != 0.0 || c.dq[s] != 0.0 || c.tau[s] != 0.0 ||
-            c.kd[s] != m->commands[kd].default_value)
-            fail_msg("%s after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the damping "
-                     "command",
+        if (c.q[s] != q[j] || c.kp[s] != m->commands[kp].default_value || c.dq[s] != 0.0 ||
+            c.tau[s] != 0.0 || c.kd[s] != m->commands[kd].default_value)
+            fail_msg("%s after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
+                     "watchdog's hold",
                      m->hardware->joints[j], c.q[s], c.kp[s], c.kd[s], c.dq[s], c.tau[s]);
         checked++;
     }

@@ -651,10 +651,11 @@ static void test_pm01_watchdog(void **st)
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
-        if (c.q[j] != q[j] || c.kp[j] != 0.0 || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")]; /* the hold gain */
+        if (c.q[j] != q[j] || c.kp[j] != kp->default_value || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
             c.extra[j] != 0.0 || c.kd[j] != kd->default_value)
             fail_msg("joint %u after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
-                     "damping command",
+                     "watchdog's hold",
                      (unsigned)j, c.q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
     }
     assert_true(counters().safe_published >= 5);

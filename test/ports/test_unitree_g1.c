@@ -29,8 +29,8 @@
  *    startup_damping; the damping command on shutdown;
  *  - the command watchdog: the tick stops writing; the robot gets the
  *    last command for at most the timeout's worth of writer periods, then
- *    the damping command (kp 0, kd the damping default, the last commanded
- *    positions), on the writer's own (periodic, and event-driven where
+ *    the watchdog's hold (kp the stiffness default, the hold gain; kd the
+ *    damping default; the last commanded positions), on the writer's own (periodic, and event-driven where
  *    nothing wakes it); read() reports the trip once and the runtime
  *    latches COMMAND_TIMEOUT naming the silence and the timeout; the first
  *    command after it is the start-up hold, a clear lets the stand's gains
@@ -722,14 +722,18 @@ static uint64_t fake_good(void)
     return good;
 }
 
-/* Whether @p c is the damping command over the positions @p q (manifest
- * order of the joints): mode 1, q, kp 0, dq 0, tau 0, kd the damping
- * channel's default, for every joint; the unused slots zero. */
-static int is_damping(const roz_fake_g1_cmd_t *c, const double *q)
+/* Whether @p c is the watchdog's hold over the positions @p q (manifest
+ * order of the joints): mode 1, q, kp the stiffness channel's default,
+ * dq 0, tau 0, kd the damping channel's default, for every joint; the
+ * unused slots zero. */
+static int is_watchdog_hold(const roz_fake_g1_cmd_t *c, const double *q)
 {
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
-        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != 0.0 || c->dq[j] != 0.0 ||
+        /* the watchdog's hold: kp the manifest's hold gain (test_mujoco_stops) */
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
+        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != (float)kp->default_value ||
+            c->dq[j] != 0.0 ||
             c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value)
             return 0;
     }
@@ -797,7 +801,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
     unsigned last = 0, damping = 0;
     for (uint64_t k = before + 1; k <= now; k++) {
         assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (is_damping(&c, q)) {
+        if (is_watchdog_hold(&c, q)) {
             damping++;
         } else if (is_written(&c)) {
             if (damping != 0)
@@ -865,8 +869,8 @@ static void expect_damping_after_trip(const double *q)
                      0);
     for (uint64_t k = written + 1; k <= written + 5u; k++) {
         assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (!is_damping(&c, q))
-            fail_msg("command %llu after the tick stopped: not the damping command",
+        if (!is_watchdog_hold(&c, q))
+            fail_msg("command %llu after the tick stopped: not the watchdog's hold",
                      (unsigned long long)k);
     }
 }
@@ -951,8 +955,9 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    /* past verification: the stand's gains reach the robot */
-    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+    /* past verification: the stand's gains reach the robot (before the
+     * first tick the runtime's commands are the manifest's defaults) */
+    for (int t = 0; t < 400 && (t == 0 || roz_runtime_last_commands(&rt)[knee_kp] <= 0.0); t++) {
         roz_g1fx_send();
         tick_rt();
     }
@@ -993,8 +998,11 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
         tick_rt();
     }
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    /* the stop holds: the knee at its hold gain */
+    assert_true(roz_runtime_last_commands(&rt)[knee_kp] == m->commands[knee_kp].default_value);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] ==
+                                   m->commands[knee_kp].default_value; t++) {
         roz_g1fx_send();
         tick_rt();
     }
