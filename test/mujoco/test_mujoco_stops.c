@@ -241,10 +241,95 @@ static void test_mujoco_stops_g1(void **state)
     assert_int_equal(bad, 0);
 }
 
+/* The filter's limit stops in physics: constant_velocity drives every
+ * command at a fifth of its upper limit, so every joint runs toward its
+ * upper limit, on @p robot (@p param: the port's, or NULL) for @p ticks.
+ * Each paired joint must stay inside its limit plus its margin (the margin
+ * covers a velocity servo's lag against gravity, or the coasting of an
+ * effort cut, which is reactive: SAFETY.md section 1); returns the closest any came to its
+ * limit less margin, so the caller knows the limit was reached. */
+static double run_into_limits(const char *robot, const char *param, int ticks)
+{
+    const roz_manifest_t *m = roz_builtin_find(robot);
+    assert_non_null(m);
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512] = "", kv[128];
+    roz_param_t item = { NULL, NULL };
+    roz_params_t params = { &item, 0 };
+    if (param != NULL) {
+        snprintf(kv, sizeof kv, "%s", param);
+        char *eq = strchr(kv, '=');
+        *eq = '\0';
+        item.key = kv;
+        item.value = eq + 1;
+        params.n = 1;
+    }
+    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 0, 1000 };
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.budget_ns = UINT64_MAX;
+    cfg.monitor_jitter = 0;
+    size_t len;
+    const uint8_t *w = roz_test_controller("constant_velocity", &len);
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    double closest = INFINITY, worst = -INFINITY;
+    const char *worst_name = "";
+    for (int t = 0; t < ticks; t++) {
+        { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
+        const double *s = truth();
+        for (uint16_t c = 0; c < m->n_commands; c++) {
+            const roz_channel_t *cc = &m->commands[c];
+            if ((cc->type != ROZ_IF_VELOCITY && cc->type != ROZ_IF_EFFORT) ||
+                cc->position_state == ROZ_CHANNEL_UNPAIRED)
+                continue;
+            const roz_channel_t *ps = &m->states[cc->position_state];
+            double over = s[cc->position_state] - ps->max; /* > 0: past the limit */
+            double left = ps->max - roz_manifest_limit_margin(ps) - s[cc->position_state];
+            if (over > worst) {
+                worst = over;
+                worst_name = ps->name;
+            }
+            if (left < closest)
+                closest = left;
+            if (over > roz_manifest_limit_margin(ps))
+                fail_msg("%s tick %d: %s at %.4f, %.4f past its limit %.4f", robot, t,
+                         ps->name, s[cc->position_state], over, ps->max);
+        }
+    }
+    assert_int_equal(mj.violations, 0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    print_message("%s into its limits: closest %.4f inside the limit less margin, furthest "
+                  "%.4f past a limit (%s)\n", robot, closest, worst, worst_name);
+    roz_runtime_deinit(&rt);
+    roz_port_close(&p);
+    return closest;
+}
+
+/* A velocity-commanded UR5 joint stops inside its limit less margin (the
+ * filter brakes in time); the G1 hung on a gantry, every joint pushed by a
+ * feed-forward effort toward its upper limit, gets no effort past it. */
+static void test_mujoco_stops_at_limits(void **state)
+{
+    (void)state;
+    double ur5 = run_into_limits("ur5", NULL, 2500);
+    assert_true(ur5 < 0.05); /* a joint got there */
+    double g1 = run_into_limits("unitree_g1", "gantry=0", 1000);
+    assert_true(g1 < 0.1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_stops_g1),
+        cmocka_unit_test(test_mujoco_stops_at_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
