@@ -7,16 +7,26 @@
 #                             (codegen/requirements.txt: jinja2, markupsafe),
 #                             which pip puts there at install time
 #   <prefix>/bin/rozgen       a launcher that runs rozgen from ../lib/roz/python
+#                             (and bin/rozgen-urdf, rozgen's URDF importer)
 #                             with the Python it was installed for
 #                             (ROZ_ROZGEN_PYTHON)
 # The dependencies' wheels come from the folder ROZ_PYTHON_WHEELS without a
 # network (tools/setup.sh fills .cache/wheels, the default when it exists),
 # else from the package index. ROZ_INSTALL_ROZGEN=OFF leaves rozgen out: an
 # installed roz then looks for rozgen on PATH (`pip install codegen/`).
+#
+# The Python tools come the same way (ROZ_INSTALL_TOOLS, with rozgen):
+#   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py
+#   <prefix>/bin/roz-plot, roz-recording launchers that run them, as bin/rozgen
+#                                        runs rozgen
+# with their pinned dependencies (tools/requirements-run.txt: matplotlib, mcap
+# and theirs) in lib/roz/python too.
 option(ROZ_INSTALL_ROZGEN "Install rozgen and its pinned Python dependencies with roz" ON)
 if(NOT ROZ_INSTALL_ROZGEN)
   return()
 endif()
+option(ROZ_INSTALL_TOOLS
+       "Install roz-plot and roz-recording (tools/) and their pinned Python dependencies" ON)
 
 if(NOT DEFINED CACHE{ROZ_PYTHON_WHEELS} AND EXISTS ${PROJECT_SOURCE_DIR}/.cache/wheels)
   set(_roz_wheels ${PROJECT_SOURCE_DIR}/.cache/wheels)
@@ -61,8 +71,33 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/rozgen DESTINATION ${_roz_pydir}
 cmake_path(ABSOLUTE_PATH CMAKE_INSTALL_BINDIR BASE_DIRECTORY /prefix OUTPUT_VARIABLE _bin)
 cmake_path(ABSOLUTE_PATH _roz_pydir BASE_DIRECTORY /prefix OUTPUT_VARIABLE _py)
 file(RELATIVE_PATH ROZ_ROZGEN_PYDIR_FROM_BIN ${_bin} ${_py})
-configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in ${PROJECT_BINARY_DIR}/roz_install/rozgen @ONLY)
-install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/rozgen DESTINATION ${CMAKE_INSTALL_BINDIR})
+# rozgen-urdf (URDF to robot.toml) needs nothing more than rozgen.
+foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf")
+  list(GET _cmd 0 ROZ_ROZGEN_COMMAND)
+  list(GET _cmd 1 ROZ_ROZGEN_MODULE)
+  configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in
+                 ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND} @ONLY)
+  install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND}
+          DESTINATION ${CMAKE_INSTALL_BINDIR})
+endforeach()
+
+set(_roz_requirements "-r \"${PROJECT_SOURCE_DIR}/codegen/requirements.txt\"")
+set(_roz_requirements_what "codegen/requirements.txt")
+if(ROZ_INSTALL_TOOLS)
+  # recording.py finds plot_trace.py beside itself, as in tools/.
+  install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py
+          DESTINATION ${_roz_pydir}/roz_tools)
+  foreach(_tool IN ITEMS "roz-plot;plot_trace.py" "roz-recording;recording.py")
+    list(GET _tool 0 ROZ_TOOL_NAME)
+    list(GET _tool 1 ROZ_TOOL_FILE)
+    configure_file(${CMAKE_CURRENT_LIST_DIR}/roz_tool.py.in
+                   ${PROJECT_BINARY_DIR}/roz_install/${ROZ_TOOL_NAME} @ONLY)
+    install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${ROZ_TOOL_NAME}
+            DESTINATION ${CMAKE_INSTALL_BINDIR})
+  endforeach()
+  string(APPEND _roz_requirements " -r \"${PROJECT_SOURCE_DIR}/tools/requirements-run.txt\"")
+  string(APPEND _roz_requirements_what ", tools/requirements-run.txt")
+endif()
 
 # The dependencies: pip, at install time, into the same folder (DESTDIR is
 # honoured). What pip wrote is added to install_manifest.txt.
@@ -76,15 +111,15 @@ set(_roz_install_deps [=[
     set(_dest "${CMAKE_INSTALL_PREFIX}/${_dest}")
   endif()
   set(_dest "$ENV{DESTDIR}${_dest}")
-  message(STATUS "Installing: rozgen's dependencies (codegen/requirements.txt) to ${_dest}")
+  message(STATUS "Installing: the Python dependencies (@_roz_requirements_what@) to ${_dest}")
   execute_process(
     COMMAND "@ROZ_ROZGEN_PYTHON@" -m pip install --quiet --disable-pip-version-check
             --root-user-action=ignore --no-cache-dir --no-compile --no-deps --only-binary :all:
             --require-hashes --upgrade @_roz_index_args@
-            --target "${_dest}" -r "@PROJECT_SOURCE_DIR@/codegen/requirements.txt"
+            --target "${_dest}" @_roz_requirements@
     RESULT_VARIABLE _rc ERROR_VARIABLE _err)
   if(NOT _rc EQUAL 0)
-    message(FATAL_ERROR "installing rozgen's dependencies with @ROZ_ROZGEN_PYTHON@ -m pip "
+    message(FATAL_ERROR "installing the Python dependencies with @ROZ_ROZGEN_PYTHON@ -m pip "
       "failed:\n${_err}\nWheels came from: @ROZ_PYTHON_WHEELS@ (empty: the package index). "
       "Run tools/setup.sh (it downloads them into .cache/wheels) and configure with "
       "-DROZ_PYTHON_WHEELS=<that folder>, or -DROZ_INSTALL_ROZGEN=OFF.")
@@ -92,7 +127,7 @@ set(_roz_install_deps [=[
   file(GLOB _tops LIST_DIRECTORIES true "${_dest}/*")
   foreach(_top IN LISTS _tops)
     cmake_path(GET _top FILENAME _name)
-    if(_name STREQUAL "rozgen") # install(DIRECTORY) listed rozgen's own files
+    if(_name STREQUAL "rozgen" OR _name STREQUAL "roz_tools") # install() listed roz's own
     elseif(IS_DIRECTORY "${_top}")
       file(GLOB_RECURSE _files LIST_DIRECTORIES false "${_top}/*")
       list(APPEND CMAKE_INSTALL_MANIFEST_FILES ${_files})

@@ -2,8 +2,8 @@
 /* A test helper: the bytes of a WebAssembly binary, written into caller
  * storage (b, cap, *n): a byte, unsigned and signed LEB128, a name, and a
  * size placeholder filled in when its contents are written. The tests that
- * build modules byte by byte (test/hostile/) wrap these for their own
- * buffers. Needs <cmocka.h> (a full buffer fails the test). */
+ * build modules byte by byte (test/hostile/) use them on buffers of their
+ * own, or on a roz_wb_buf_t through roz_wb_put*(). Needs <cmocka.h> (a full buffer fails the test). */
 #ifndef ROZ_TEST_WASM_BYTES_H
 #define ROZ_TEST_WASM_BYTES_H
 
@@ -79,6 +79,36 @@ static inline void roz_wb_sized_end(uint8_t *b, size_t n, size_t at)
     size_t size = n - at - 5;
     for (int i = 0; i < 5; i++)
         b[at + (size_t)i] = (uint8_t)(((size >> (7 * i)) & 0x7f) | (i < 4 ? 0x80 : 0));
+}
+
+/* A module, or a section's body, being written: a buffer of its own and the
+ * bytes used, for the tests that need no other storage. */
+typedef struct roz_wb_buf {
+    uint8_t b[4096];
+    size_t  n;
+} roz_wb_buf_t;
+
+static inline void roz_wb_put(roz_wb_buf_t *w, uint8_t v)
+{
+    roz_wb_byte(w->b, sizeof w->b, &w->n, v);
+}
+
+static inline void roz_wb_put_u32(roz_wb_buf_t *w, uint32_t v)
+{
+    roz_wb_u32(w->b, sizeof w->b, &w->n, v);
+}
+
+static inline void roz_wb_put_bytes(roz_wb_buf_t *w, const void *p, size_t n)
+{
+    roz_wb_bytes(w->b, sizeof w->b, &w->n, p, n);
+}
+
+/* A section: its id, its size, its body of n bytes. */
+static inline void roz_wb_put_section(roz_wb_buf_t *w, uint8_t id, const void *body, size_t n)
+{
+    roz_wb_put(w, id);
+    roz_wb_put_u32(w, (uint32_t)n);
+    roz_wb_put_bytes(w, body, n);
 }
 
 #endif /* ROZ_TEST_WASM_BYTES_H */

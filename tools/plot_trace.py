@@ -2,11 +2,18 @@
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
+                               [--channels REGEX] [--span FROM:TO:LABEL]
+    roz-plot ...                 (the same, installed with roz)
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
-state:<state>..., faults, events (see tools/rozrun/trace.h). Up to six
-commands and six position states are drawn. Ticks with a fault latched are
-shaded, and each event (e-stop press and release, clear, swap, refused swap,
+state:<state>..., from a simulator truth:base.x..yaw, faults, events (see
+tools/rozrun/trace.h). Every command and every position state is drawn, six
+to a pair of axes (commands above, positions below, each position with its
+joint's applied position command dotted where it has one: the tracking), in
+as many pairs as it takes; --channels REGEX draws only those whose names
+match. A trace with the truth columns gets one more plot: the base's height
+and its roll and pitch. --span shades FROM..TO (seconds) on every plot with
+LABEL (a push, say). Ticks with a fault latched are shaded, and each event (e-stop press and release, clear, swap, refused swap,
 rebuild, a fault latching) is a labelled vertical line. Traces written before
 the faults and events columns existed plot without them. With --compare, a
 second trace is drawn beside the first on the same axes (two runs side by
@@ -15,6 +22,7 @@ side; tools/recording.py compare does the same for two recordings).
 import argparse
 import csv
 import math
+import re
 import sys
 
 import matplotlib
@@ -94,46 +102,133 @@ def mark(axes, t, cols):
                          bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.7))
 
 
-def draw(ax1, ax2, header, cols, label=""):
-    """One run: commanded vs applied on ax1, the position states on ax2."""
+#: Channels drawn on one pair of axes; more make more pairs (rows).
+PER_AXES = 6
+
+
+def channels(header, pattern=None):
+    """The trace's commands and position states, in file order, those whose
+    name (without its target:/applied:/state: prefix) matches the regular
+    expression pattern (re.search) when one is given."""
+    commands = [h[len("applied:"):] for h in header if h.startswith("applied:")]
+    positions = [h[len("state:"):] for h in header
+                 if h.startswith("state:") and h.endswith("/position")]
+    if pattern:
+        commands = [n for n in commands if pattern.search(n)]
+        positions = [n for n in positions if pattern.search(n)]
+    return commands, positions
+
+
+def rows_needed(header, pattern=None):
+    """Pairs of axes (command row, position row) one run needs: every channel
+    is drawn, PER_AXES to a pair."""
+    commands, positions = channels(header, pattern)
+    return max(1, math.ceil(len(commands) / PER_AXES), math.ceil(len(positions) / PER_AXES))
+
+
+def draw(axes, header, cols, label="", pattern=None):
+    """One run on a column of axes: pairs of (commanded vs applied, position
+    states), PER_AXES channels to each, until every channel is drawn."""
     t = cols["time_s"]
-    commands = [h[len("applied:"):] for h in header if h.startswith("applied:")][:6]
-    positions = [h for h in header if h.startswith("state:") and h.endswith("/position")][:6]
+    commands, positions = channels(header, pattern)
     colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
-    for i, name in enumerate(commands):
-        c = colors[i % len(colors)]
-        target = cols[f"target:{name}"]
-        if not all(math.isnan(v) for v in target):
-            ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
-        ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
-    mark((ax1, ax2), t, cols)
-    ax1.set_ylabel("command")
+    pairs = len(axes) // 2
+    for g in range(pairs):
+        ax1, ax2 = axes[2 * g], axes[2 * g + 1]
+        group = commands[g * PER_AXES:(g + 1) * PER_AXES]
+        for i, name in enumerate(group):
+            c = colors[i % len(colors)]
+            target = cols[f"target:{name}"]
+            if not all(math.isnan(v) for v in target):
+                ax1.plot(t, target, color=c, linestyle=":", linewidth=1.2)
+            ax1.plot(t, cols[f"applied:{name}"], color=c, linewidth=1.4, label=name)
+        for i, name in enumerate(positions[g * PER_AXES:(g + 1) * PER_AXES]):
+            c = colors[i % len(colors)]
+            ax2.plot(t, cols[f"state:{name}"], color=c, label=name)
+            if f"applied:{name}" in cols:  # its command, unlabelled: the tracking
+                ax2.plot(t, cols[f"applied:{name}"], color=c, linestyle=":", linewidth=1.2)
+        part = f" {g * PER_AXES + 1}-{min((g + 1) * PER_AXES, max(len(commands), len(positions)))}"
+        ax1.set_ylabel("command" + (part if pairs > 1 else ""))
+        ax2.set_ylabel("position state (dotted: its command)" + (part if pairs > 1 else ""))
+        for ax in (ax1, ax2):
+            if any(not ln.get_label().startswith("_") for ln in ax.lines):
+                ax.legend(fontsize=7, ncol=3, loc="upper right")
+            ax.grid(alpha=0.3)
+    mark(axes, t, cols)
     what = "commanded (dotted) vs applied after the safety filter (solid)"
-    ax1.set_title(f"{label}: {what}" if label else what, fontsize=9 if label else None)
-    ax1.legend(fontsize=7, ncol=3, loc="upper right")
-    ax1.grid(alpha=0.3)
-    for i, name in enumerate(positions):
-        ax2.plot(t, cols[name], color=colors[i % len(colors)], label=name[len("state:"):])
-    ax2.set_ylabel("position state")
-    ax2.set_xlabel("time [s]")
-    ax2.legend(fontsize=7, ncol=3, loc="upper right")
-    ax2.grid(alpha=0.3)
+    axes[0].set_title(f"{label}: {what}" if label else what, fontsize=9 if label else None)
+    axes[-1].set_xlabel("time [s]")
 
 
-def plot(runs, png, title=""):
-    """Plots one run, or several side by side (same axes): runs is a list of
-    (header, cols, label)."""
+def draw_truth(ax, cols):
+    """The simulator's truth: base height (left axis), roll and pitch (right)."""
+    t = cols["time_s"]
+    ax.plot(t, cols["truth:base.z"], color="k", linewidth=1.4, label="base height [m]")
+    finite = [v for v in cols["truth:base.z"] if not math.isnan(v)]
+    ax.set_ylim(0.0, max([1.0] + [v * 1.1 for v in finite]))
+    ax.set_ylabel("base height [m]")
+    ax.grid(alpha=0.3)
+    tilt = ax.twinx()
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.roll"]], color="tab:blue",
+              linewidth=1.0, label="roll [deg]")
+    tilt.plot(t, [math.degrees(v) for v in cols["truth:base.pitch"]], color="tab:orange",
+              linewidth=1.0, label="pitch [deg]")
+    tilt.set_ylabel("tilt [deg]")
+    lines = ax.get_lines() + tilt.get_lines()
+    ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, ncol=3, loc="lower right")
+    ax.set_title("the simulator's truth (not a sensor)", fontsize=9)
+
+
+def figure(runs, title="", pattern=None, spans=()):
+    """The figure of one run, or several side by side (same axes): runs is a
+    list of (header, cols, label); pattern a compiled regular expression
+    that picks channels, or None for all; spans (from_s, to_s, label) are
+    shaded."""
     n = len(runs)
-    fig, axes = plt.subplots(2, n, figsize=(11 * n if n == 1 else 8 * n, 7.5), sharex=True,
-                             sharey="row", squeeze=False)
+    pairs = max(rows_needed(header, pattern) for header, _, _ in runs)
+    truth = all("truth:base.z" in cols for _, cols, _ in runs)
+    rows = 2 * pairs + (1 if truth else 0)
+    fig, axes = plt.subplots(rows, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * rows),
+                             sharex=True, sharey="row", squeeze=False)
     for k, (header, cols, label) in enumerate(runs):
-        draw(axes[0][k], axes[1][k], header, cols, label)
+        draw([axes[r][k] for r in range(2 * pairs)], header, cols, label, pattern)
+        if truth:
+            draw_truth(axes[rows - 1][k], cols)
+            axes[rows - 1][k].set_xlabel("time [s]")
+        for a, b, what in spans:
+            for r in range(rows):
+                axes[r][k].axvspan(a, b, color="tab:purple", alpha=0.25, linewidth=0,
+                                   label=what if r == rows - 1 else None)
+            axes[0][k].annotate(what, xy=(a, 1.0), xycoords=("data", "axes fraction"),
+                                xytext=(2, -12), textcoords="offset points", fontsize=8,
+                                color="tab:purple")
     if title:
         fig.suptitle(title)
     fig.tight_layout()
+    return fig
+
+
+def plot(runs, png, title="", pattern=None, spans=()):
+    """Draws runs (figure()) into png."""
+    fig = figure(runs, title, pattern, spans)
     fig.savefig(png, dpi=100)
     plt.close(fig)
     print(f"plot: {png}")
+
+
+def channel_filter(text, headers):
+    """--channels REGEX compiled; exits naming the channels when it is not a
+    regular expression or matches none of them."""
+    if text is None:
+        return None
+    try:
+        pattern = re.compile(text)
+    except re.error as e:
+        sys.exit(f"--channels {text!r}: not a regular expression: {e}")
+    if not any(any(channels(h, pattern)) for h in headers):
+        names = sorted({n for h in headers for part in channels(h) for n in part})
+        sys.exit(f"--channels {text!r} matches no channel; the trace has: {', '.join(names)}")
+    return pattern
 
 
 def main():
@@ -143,11 +238,23 @@ def main():
     ap.add_argument("--title", default="")
     ap.add_argument("--compare", metavar="TRACE",
                     help="a second trace, drawn beside the first on the same axes")
+    ap.add_argument("--channels", metavar="REGEX",
+                    help="draw only the commands and position states whose names match "
+                         "(re.search), e.g. 'joint[67]|gripper'; default: all")
+    ap.add_argument("--span", action="append", default=[], metavar="FROM:TO:LABEL",
+                    help="shade FROM..TO seconds with LABEL (repeatable)")
     a = ap.parse_args()
+    spans = []
+    for text in a.span:
+        parts = text.split(":", 2)
+        try:
+            spans.append((float(parts[0]), float(parts[1]), parts[2] if len(parts) > 2 else ""))
+        except (ValueError, IndexError):
+            sys.exit(f"--span {text!r}: expected FROM:TO:LABEL, seconds")
     runs = [(*read(a.trace), a.trace if a.compare else "")]
     if a.compare:
         runs.append((*read(a.compare), a.compare))
-    plot(runs, a.png, a.title)
+    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]), spans)
 
 
 if __name__ == "__main__":

@@ -6,13 +6,19 @@ rozrun's CSV trace, plot it, or plot two recordings side by side.
     python tools/recording.py csv run.mcap out.csv
     python tools/recording.py plot run.mcap out.png [--title TEXT]
     python tools/recording.py compare a.mcap b.mcap out.png [--title TEXT]
+    python tools/recording.py truth run.mcap [out.csv]
+    roz-recording ...                 (the same, installed with roz)
+
+plot and compare take --channels REGEX (tools/plot_trace.py's).
 
 The CSV has the columns of rozrun's --trace (tools/rozrun/trace.h): tick,
 time_s, target:<command>..., applied:<command>..., state:<state>..., faults,
 events; the plots are tools/plot_trace.py's. `check` reads every record with
 the `mcap` readers, chunk and data-section CRCs checked, decodes every
 message with mcap-ros2-support, checks the counts against the summary and
-prints them; any problem exits non-zero.
+prints them; any problem exits non-zero. `truth` prints what a simulator's
+/roz/truth says of the base (height, roll, pitch at the end and the worst
+over the run; the bodies touching the ground) and writes it per tick as CSV.
 
 Before the `mcap` readers see a file, every top-level record's length, and
 every chunk's uncompressed size, is checked against MAX_RECORD (16 MiB, the
@@ -44,6 +50,11 @@ FLAG_SWAP = 1 << 7
 # roz_fault_name(), with '-' for spaces, as rozrun's trace writes them
 FAULT_NAMES = ["trap", "overrun", "stale-state", "e-stop", "controller-e-stop-request",
                "port-link", "robot-fault"]
+
+
+# /roz/truth's fields (roz_msgs/msg/Truth, docs/recording.md)
+TRUTH_FIELDS = ("floating", "x", "y", "height", "qw", "qx", "qy", "qz", "roll", "pitch", "yaw",
+                "contacts", "bodies")
 
 
 # the largest record, and chunk once decompressed, read (roz/mcap.h)
@@ -115,6 +126,10 @@ def read(path):
                 current[channel.topic[len("/roz/"):]] = values
             elif channel.topic == "/roz/fault" and current is not None:
                 current["message"] = decoded.message
+            elif channel.topic == "/roz/truth":
+                if current is None:
+                    raise RecordingError(f"{path}: /roz/truth before any /roz/tick")
+                current["truth"] = {f: getattr(decoded, f) for f in TRUTH_FIELDS}
     if run is None:
         raise RecordingError(f"{path}: no /roz/run message: not a roz recording")
     stats = summary.statistics
@@ -205,6 +220,38 @@ def table(run, ticks):
     return header, cols
 
 
+def truth_summary(run, ticks):
+    """One line on the simulator's truth of a run: the base's height, roll
+    and pitch at the last tick and the worst of the run, the contacts."""
+    samples = [t["truth"] for t in ticks if "truth" in t]
+    if not samples:
+        raise RecordingError(f"{run.robot_id}: no /roz/truth messages (not a simulator's run)")
+    last = samples[-1]
+    bodies = ", ".join(last["bodies"]) or "none"
+    if not last["floating"]:
+        return (f"{run.robot_id}: fixed base; {len(samples)} truth samples; at the end "
+                f"{last['contacts']} ground contacts ({bodies})")
+    lowest = min(t["height"] for t in samples)
+    tilt = max(max(abs(t["roll"]), abs(t["pitch"])) for t in samples)
+    return (f"{run.robot_id}: {len(samples)} truth samples; at the end base height "
+            f"{last['height']:.3f} m, roll {math.degrees(last['roll']):.1f} deg, pitch "
+            f"{math.degrees(last['pitch']):.1f} deg, {last['contacts']} ground contacts "
+            f"({bodies}); lowest {lowest:.3f} m, largest tilt {math.degrees(tilt):.1f} deg")
+
+
+def write_truth_csv(ticks, out):
+    with open(out, "w") as f:
+        f.write("tick,time_s," + ",".join(TRUTH_FIELDS) + "\n")
+        for t in ticks:
+            if "truth" not in t:
+                continue
+            tr = t["truth"]
+            row = [f"{t['tick']}", f"{t['time_s']:.6f}", f"{int(tr['floating'])}"]
+            row += ["nan" if math.isnan(tr[k]) else f"{tr[k]:.9g}" for k in TRUTH_FIELDS[1:-2]]
+            row += [f"{tr['contacts']}", " ".join(tr["bodies"])]
+            f.write(",".join(row) + "\n")
+
+
 def write_csv(header, cols, out):
     with open(out, "w") as f:
         f.write(",".join(header) + "\n")
@@ -230,11 +277,16 @@ def main(argv=None):
     c.add_argument("mcap")
     c.add_argument("png")
     c.add_argument("--title", default="")
+    c.add_argument("--channels", metavar="REGEX", help="as plot_trace.py --channels")
     c = sub.add_parser("compare")
     c.add_argument("a")
     c.add_argument("b")
     c.add_argument("png")
     c.add_argument("--title", default="")
+    c.add_argument("--channels", metavar="REGEX", help="as plot_trace.py --channels")
+    c = sub.add_parser("truth")
+    c.add_argument("mcap")
+    c.add_argument("csv", nargs="?")
     a = ap.parse_args(argv)
     try:
         if a.cmd == "check":
@@ -244,17 +296,24 @@ def main(argv=None):
                     .isoformat(timespec="seconds") if start else "no wall-clock start")
             print(f"{a.mcap}: {run.robot_id}, {len(ticks)} ticks from {when}, "
                   + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+        elif a.cmd == "truth":
+            run, ticks, _ = read(a.mcap)
+            print(truth_summary(run, ticks))
+            if a.csv:
+                write_truth_csv(ticks, a.csv)
         elif a.cmd == "csv":
             write_csv(*table(*read(a.mcap)[:2]), a.csv)
         elif a.cmd == "plot":
             header, cols = table(*read(a.mcap)[:2])
-            plot_trace.plot([(header, cols, "")], a.png, a.title)
+            plot_trace.plot([(header, cols, "")], a.png, a.title,
+                            plot_trace.channel_filter(a.channels, [header]))
         else:
             runs = []
             for path in (a.a, a.b):
                 header, cols = table(*read(path)[:2])
                 runs.append((header, cols, pathlib.Path(path).name))
-            plot_trace.plot(runs, a.png, a.title)
+            plot_trace.plot(runs, a.png, a.title,
+                            plot_trace.channel_filter(a.channels, [r[0] for r in runs]))
     except RecordingError as e:
         sys.exit(f"recording: {e}")
     except (McapError, EOFError, ValueError, MemoryError) as e:

@@ -9,9 +9,10 @@
 #   3. wasm3's C core: the pywasm3 0.5.0 source distribution, fetched with pip
 #      into .cache/ and checked against its sha256 (CMake checks it again
 #      before it extracts it into the build tree),
-#   4. the wheels of rozgen's run-time dependencies (codegen/requirements.txt,
-#      hash-checked) in .cache/wheels, which `cmake --install` installs beside
-#      rozgen without a network,
+#   4. the wheels of rozgen's and the installed tools' run-time dependencies
+#      (codegen/requirements.txt, tools/requirements-run.txt, hash-checked) in
+#      .cache/wheels, which `cmake --install` installs beside rozgen without a
+#      network,
 #   5. the runner of toml-test, the official TOML test suite (a Go program),
 #      built into .cache/go/bin from the module pinned in tools/toml-test/,
 #   6. the crates of the strict MCAP checker (test/record/mcap_strict),
@@ -32,7 +33,9 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # DDS tests' network namespace (test/run_netns.sh); gcc-arm-none-eabi with
 # newlib (newlib-nano) cross-builds the Cortex-M firmware images and
 # qemu-system-arm boots them (test/firmware/, make firmware); libzstd-dev
-# compresses recordings' chunks (host/record/). Without
+# compresses recordings' chunks (host/record/); libegl1 with Mesa's EGL and
+# drivers renders MuJoCo's frames offscreen (tools/render_frames.py, make
+# demo). Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
@@ -40,6 +43,7 @@ apt_packages=(
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
+    libegl1 libegl-mesa0 libgl1-mesa-dri
 )
 missing=()
 for p in "${apt_packages[@]}"; do
@@ -99,17 +103,19 @@ if [ ! -f "$sdist" ]; then
     check_sdist || die "$sdist: sha256 mismatch (want $wasm3_sha256)"
 fi
 
-# ---- 4. rozgen's dependencies, for the installed package ---------------------
-# `cmake --install` puts rozgen and these wheels in <prefix>/lib/roz/python
-# (cmake/RozInstallRozgen.cmake); having them here lets it work offline.
+# ---- 4. rozgen's and the tools' dependencies, for the installed package -------
+# `cmake --install` puts rozgen, roz-plot, roz-recording and these wheels in
+# <prefix>/lib/roz/python (cmake/RozInstallRozgen.cmake); having them here
+# lets it work offline.
 wheels=.cache/wheels
-wheels_want=$(sha256sum codegen/requirements.txt | cut -d' ' -f1)
+wheels_want=$(cat codegen/requirements.txt tools/requirements-run.txt | sha256sum | cut -d' ' -f1)
 wheels_stamp=$wheels/.roz-downloaded
 if [ "$(cat "$wheels_stamp" 2>/dev/null)" != "$wheels_want" ]; then
     say "fetching the wheels of rozgen's dependencies into $wheels"
     mkdir -p "$wheels"
     "$venv/bin/python" -m pip download -q --disable-pip-version-check \
-        --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt -d "$wheels"
+        --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt \
+        -r tools/requirements-run.txt -d "$wheels"
     echo "$wheels_want" > "$wheels_stamp"
 fi
 

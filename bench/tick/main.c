@@ -33,6 +33,7 @@
 #include "roz/hal/crc32.h"
 #include "crc32_reference.h"
 #include "roz/port/loopback.h"
+#include "roz/ports.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
 #include "controller_bench.h"
@@ -302,6 +303,77 @@ static long tick_bench(const roz_manifest_t *m, const char *tag, const uint8_t *
     return mismatches;
 }
 
+/* The whole tick on every port of this build that runs here without a peer
+ * (the registry, roz/ports.h: ROZ_PORT_CAP_SIMULATOR), the UR5 holding
+ * with `wasm`: what a port's read() and write() add to the same runtime
+ * and controller. Adds "ports: <id>: whole tick" to `j`. Returns the
+ * number of ports that failed to run. */
+static int ports_bench(const uint8_t *wasm, size_t len, size_t ticks, const bench_json_t *j)
+{
+    const roz_manifest_t *m = &roz_manifest_ur5;
+    uint64_t *tick_ns = calloc(ticks, sizeof(uint64_t));
+    int failed = 0;
+    if (tick_ns == NULL)
+        return 1;
+    printf("\nthe whole tick on every simulator port of this build (UR5, %s):\n",
+           "pd_hold under wasm3");
+    printf("%-34s %10s %10s %10s %10s\n", "port", "p50 [us]", "p99 [us]", "max [us]", "faults");
+    for (size_t i = 0; i < ROZ_PORTS_COUNT; i++) {
+        const roz_port_entry_t *e = &roz_ports[i];
+        if ((e->ops->caps & ROZ_PORT_CAP_SIMULATOR) == 0)
+            continue;
+        size_t size = (e->size + e->align - 1) / e->align * e->align;
+        void *self = aligned_alloc(e->align, size);
+        char err[256] = "";
+        if (self == NULL) {
+            failed++;
+            continue;
+        }
+        memset(self, 0, size);
+        roz_runtime_config_t cfg;
+        roz_runtime_config_default(&cfg);
+        cfg.manifest = m;
+        cfg.port = e->construct(self, NULL, NULL);
+        cfg.clock = roz_clock_monotonic_ns;
+        cfg.monitor_jitter = 0;
+        cfg.budget_ns = 1000000000; /* measure, don't fault */
+        if (roz_port_open(&cfg.port, m, NULL, err, sizeof err) != ROZ_OK) {
+            printf("%-34s cannot open: %s\n", e->id, err);
+            free(self);
+            failed++;
+            continue;
+        }
+        if (roz_runtime_init(&rt, &cfg) != ROZ_OK ||
+            roz_runtime_load(&rt, wasm, len, NULL) != ROZ_OK ||
+            roz_port_activate(&cfg.port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
+            printf("%-34s runtime: %s\n", e->id, roz_runtime_error(&rt));
+            roz_port_close(&cfg.port);
+            free(self);
+            failed++;
+            continue;
+        }
+        for (size_t t = 0; t < ticks; t++) {
+            uint64_t t0 = roz_clock_monotonic_ns(NULL);
+            int rc = roz_runtime_tick(&rt); /* a latched fault is counted below */
+            (void)rc;
+            tick_ns[t] = roz_clock_monotonic_ns(NULL) - t0;
+        }
+        stats_t s = stats(tick_ns, ticks);
+        unsigned faults = roz_runtime_faults(&rt);
+        printf("%-34s %10.2f %10.2f %10.2f %10s\n", e->id, s.p50, s.p99, s.max,
+               faults == 0 ? "none" : "LATCHED");
+        char jn[96];
+        snprintf(jn, sizeof jn, "ports: %s: whole tick, UR5 pd_hold", e->id);
+        bench_json_timing(j, jn, (bench_stats_t){ s.p50, s.p99, s.max });
+        roz_runtime_deinit(&rt);
+        roz_port_close(&cfg.port);
+        free(self);
+        failed += faults != 0;
+    }
+    free(tick_ns);
+    return failed;
+}
+
 int main(int argc, char **argv)
 {
     bench_json_t json;
@@ -332,6 +404,7 @@ int main(int argc, char **argv)
                                       roz_native_process_g1_bulk, ticks, &json);
     long ur5_mismatches = tick_bench(&roz_manifest_ur5, "", ur5_wasm, ur5_len,
                                      ROZ_BENCH_UR5_CONTROLLER, roz_native_process_ur5, ticks, &json);
+    int ports_failed = ports_bench(ur5_wasm, ur5_len, ticks, &json);
     free(ur5_wasm);
     free(bulk_wasm);
     if (mismatches < 0 || ur5_mismatches < 0 || bulk_mismatches < 0)
@@ -420,5 +493,5 @@ int main(int argc, char **argv)
     free(cb);
     free(wasm);
     bench_json_close(&json);
-    return mismatches == 0 ? 0 : 1;
+    return mismatches == 0 && ports_failed == 0 ? 0 : 1;
 }

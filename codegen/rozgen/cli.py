@@ -3,12 +3,14 @@
 
     rozgen [-o DIR] [--check | --json | --identity] [--registry] [--source-root DIR]
            [--max-commands N] [--max-states N] [--max-name-len N]
-           [--error-ids] [--list-rules] [--version] FILE...
+           [--strict] [--error-ids] [--list-rules] [--version] FILE...
 
 Every FILE is loaded and validated first; nothing is written unless all of
 them are valid. Problems go to stderr, one per line, as ``<file>: ...``
-(see ``rozgen.validate``). Exit status: 0 when all is well, 2 on any
-problem, usage error or I/O error.
+(see ``rozgen.validate``); so do warnings about valid files
+(``<file>: warning: ...``, ``rozgen.lint``), which ``--strict`` makes
+errors. Exit status: 0 when all is well (warnings or not), 2 on any
+problem, warning under --strict, usage error or I/O error.
 """
 
 import argparse
@@ -17,9 +19,11 @@ import sys
 
 from rozgen import __version__, identity
 from rozgen.canonical import to_json
+from rozgen.lint import lint
 from rozgen.load import load, source_label
 from rozgen.model import Manifest, Maxima
 from rozgen.output import write_if_changed
+from rozgen import mujoco
 from rozgen.problems import RULES, Problem
 from rozgen.render import REGISTRY_FILE, Source, render_registry, render_robot
 from rozgen.validate import validate
@@ -68,6 +72,9 @@ def _parser() -> argparse.ArgumentParser:
                    metavar="N", help=f"ROZ_CFG_MAX_STATES (default {defaults.states})")
     p.add_argument("--max-name-len", type=_positive_int, default=defaults.name_len,
                    metavar="N", help=f"ROZ_CFG_MAX_NAME_LEN (default {defaults.name_len})")
+    p.add_argument("--strict", action="store_true",
+                   help="treat warnings (a command paired with another joint's position "
+                        "state, ...) as errors: exit 2, write nothing")
     p.add_argument("--error-ids", action="store_true",
                    help="prefix every problem with its rule id: [limits-order] ...")
     p.add_argument("--list-rules", action="store_true",
@@ -77,14 +84,22 @@ def _parser() -> argparse.ArgumentParser:
 
 
 class _Reporter:
-    def __init__(self, with_ids: bool) -> None:
+    def __init__(self, with_ids: bool, strict: bool = False) -> None:
         self.with_ids = with_ids
+        self.strict = strict
         self.count = 0
 
     def __call__(self, file: str, problems: list[Problem]) -> None:
         for problem in problems:
             print(problem.render(file, self.with_ids), file=sys.stderr)
         self.count += len(problems)
+
+    def warn(self, file: str, warnings: list) -> None:
+        """Warnings (rozgen.lint): errors only under --strict."""
+        for warning in warnings:
+            print(warning.render(file, self.with_ids, self.strict), file=sys.stderr)
+        if self.strict:
+            self.count += len(warnings)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -102,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     if (args.json or args.identity) and args.registry:
         parser.error(f"--{'json' if args.json else 'identity'} and --registry do not go together")
 
-    report = _Reporter(args.error_ids)
+    report = _Reporter(args.error_ids, args.strict)
     robots = _load_all(args.files, Maxima(args.max_commands, args.max_states,
                                           args.max_name_len), report)
     if report.count:
@@ -134,8 +149,15 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter) -> list[tuple
         manifest, problems = None, loaded.problems
         if loaded.doc is not None:
             manifest, problems = validate(loaded.doc, maxima)
+        if manifest is not None:
+            # what the file's model must hold (the mujoco port's, read from disk)
+            problems = [Problem(rule, message)
+                        for rule, message in mujoco.check_model(manifest, path)]
+            if problems:
+                manifest = None
         report(path, problems)
         if not problems:
+            report.warn(path, lint(manifest))
             robots.append((path, manifest, loaded.sha256))
     first_with_id: dict[str, int] = {}
     for i, (path, manifest, _) in enumerate(robots):

@@ -75,6 +75,14 @@ RULES: dict[str, str] = {
     "allow)",
     "mujoco-param": "mujoco port: a [hardware.params] value its parser refuses before it "
     "loads the model (a number out of range, an unknown unbound)",
+    "mujoco-model": "mujoco port: the model the file names cannot be read (missing, not "
+    "XML, an include that cannot be read), or none is named for a robot without a built-in one",
+    "mujoco-joint": "mujoco port: a manifest joint with no joint of that name in the model "
+    "(or joint_names), not a hinge or slide, or driven by no actuator",
+    "mujoco-imu": "mujoco port: base_imu channels, and the model has no such gyro (on a "
+    "site) or accelerometer",
+    "mujoco-effort": "mujoco port: a joint's effort limit that its actuator's force range "
+    "cannot give, or no effort limit at all",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }

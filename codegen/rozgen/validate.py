@@ -122,6 +122,15 @@ mujoco-param        (port ``mujoco``: ``rozgen.mujoco``; the message is the port
                     error) ``parameter servo_kp = "fast": expected a number in
                     0..1e+07`` (also unknown-key: ``unknown parameter "modle"
                     for port mujoco (known: ...)``)
+mujoco-model        (port ``mujoco``, the model read: ``rozgen.mujoco.check_model``,
+                    after every other rule, by the CLI) ``hardware.params.model =
+                    "arm.xml": <path>: cannot be read: No such file or directory``
+mujoco-joint        ``joint "elbow": no joint of that name in <model> (...)``,
+                    ``joint "elbow": no actuator drives <model>'s joint "elbow"``
+mujoco-imu          ``hardware.params.imu_gyro = "gyro": no gyro sensor on a site in
+                    <model> (the manifest has base_imu channels)``
+mujoco-effort       ``joint "elbow": the manifest's effort limits [-40, 40] N.m exceed
+                    what <model>'s actuator "elbow" can give, [-30, 30]``
 g1-joint            (ports ``unitree/G1``, ``agibot/X2``, ``engineai/PM01``:
                     ``rozgen.dds_ports``; the message is the port's error)
                     ``unitree/G1: [hardware] joints[1] "left_hip_pich_joint" is

@@ -44,3 +44,20 @@ def test_requirements_cover_rozgen_and_what_it_pulls_in():
     for name, (_, _, vias) in tools.items():
         assert not (vias & rozgen.keys()) or name in rozgen, \
             f"{name} is pulled in by {sorted(vias & rozgen.keys())}; codegen/requirements.txt lacks it"
+
+
+def test_tools_run_requirements_match_and_cover_the_tools():
+    """tools/requirements-run.txt (what the installed roz-plot and
+    roz-recording run on) pins what tools/requirements.txt pins, and holds
+    everything matplotlib, mcap and mcap-ros2-support pull in."""
+    run = pins(REPO / "tools" / "requirements-run.txt")
+    tools = pins(REPO / "tools" / "requirements.txt")
+    for name, (version, hashes, _) in run.items():
+        assert name in tools, f"{name} is not in tools/requirements.txt"
+        assert (version, hashes) == tools[name][:2], f"{name}: pins differ"
+        assert hashes, f"{name} has no hashes"
+    for root in ("matplotlib", "mcap", "mcap-ros2-support"):
+        assert root in run, f"the tools import {root}; tools/requirements-run.txt lacks it"
+    for name, (_, _, vias) in tools.items():
+        assert not (vias & run.keys()) or name in run, \
+            f"{name} is pulled in by {sorted(vias & run.keys())}; tools/requirements-run.txt lacks it"

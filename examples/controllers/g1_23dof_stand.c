@@ -1,11 +1,17 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Stand for the 23-DoF Unitree G1 (manifest unitree_g1_23dof): the same
- * joint-space PD toward a slightly crouched pose as g1_stand, on the 23
- * joints this variant has (legs, waist yaw, shoulders, elbows, wrist roll).
- * The robot's own PD runs it; the gains ramp in over the first second. It
- * does not balance: the robot hangs (docs/ports/unitree_g1.md). */
+/* Stand for the 23-DoF Unitree G1 (manifest unitree_g1_23dof) that balances:
+ * the same joint-space PD toward a slightly crouched pose and the same ankle
+ * and hip strategy on the pelvis IMU as g1_stand (stand.h), on the 23 joints
+ * this variant has (legs, waist yaw, shoulders, elbows, wrist roll). The
+ * robot's own PD runs it; the gains ramp in over the first second. Built a
+ * second time with STAND_BALANCE 0 as g1_23dof_stand_pd (the tests'
+ * baseline, test/ports/mujoco/test_mujoco_stand.c). */
 #include "stand.h"
 #include "unitree_g1_23dof_channels.h"
+
+#ifndef STAND_BALANCE
+#define STAND_BALANCE 1
+#endif
 
 #define JOINTS 23
 #define POS ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_POSITION
@@ -13,6 +19,7 @@
 #define KP ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS
 #define KD ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING
 #define TAU ROZ_UNITREE_G1_23DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT
+#define RATE_HZ ((double)ROZ_UNITREE_G1_23DOF_CONTROL_RATE_HZ)
 
 /* Standing pose in the manifest's joint order (rad). */
 static const double pose[JOINTS] = {
@@ -30,9 +37,30 @@ static const double kp[JOINTS] = {
 static const double kd[JOINTS] = {
     2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2, 2, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
 };
+/* Target offsets per rad of lean and per rad/s (stand.h): g1_stand's. */
+static const stand_balance_t balance = {
+    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
+    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
+    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
+    .limit = 0.4, .sway = -0.05,
+};
 
 ROZ_PROCESS(tick)
 {
-    stand_step(tick, (double)ROZ_UNITREE_G1_23DOF_CONTROL_RATE_HZ,
-               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
+    double target[JOINTS];
+    for (int j = 0; j < JOINTS; j++)
+        target[j] = pose[j];
+#if STAND_BALANCE
+    static double sway_prev; /* the last valid sway, for its rate */
+    static int have_prev;
+    double ramp = (double)tick / RATE_HZ;
+    stand_lean_t lean = stand_lean(ROZ_UNITREE_G1_23DOF_STATE_BASE_IMU_ORIENTATION_X,
+                                   ROZ_UNITREE_G1_23DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
+                                   ROZ_UNITREE_G1_23DOF_STATE_LEFT_HIP_PITCH_JOINT_POSITION);
+    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
+    have_prev = lean.valid;
+    sway_prev = lean.sway;
+    stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
+#endif
+    stand_step(tick, RATE_HZ, JOINTS, target, kp, kd, POS, VEL, KP, KD, TAU);
 }

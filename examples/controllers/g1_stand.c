@@ -1,11 +1,21 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Humanoid stand for the Unitree G1: joint-space PD on all 29 joints toward a
- * slightly crouched standing pose. The robot's own PD runs it: we send the
- * position target, zero velocity and feed-forward torque, and the gains, which
- * ramp in over the first second (the manifest's rate caps would ramp them
- * anyway; ramping here keeps the command equal to what was asked). */
+/* Humanoid stand for the Unitree G1 (29 DoF) that balances: joint-space PD on
+ * all 29 joints toward a slightly crouched standing pose, with unitree_rl_gym's
+ * gains (hips 100, knees 150, ankles 40), plus an ankle and hip strategy on
+ * the pelvis IMU: the lean (roll, pitch) and its rate move the ankles' and
+ * hip pitches' targets so the feet push the body back over them (stand.h).
+ * The robot's own PD runs it: we send the targets, zero velocity and
+ * feed-forward torque, and the gains, ramped in over the first second.
+ * Alone, the joint PD does not hold the G1 up: its ankles' kp 40 give both
+ * feet 80 N.m a radian of lean against gravity's ~240 (docs/ports/mujoco.md).
+ * Built a second time with STAND_BALANCE 0 as g1_stand_pd (the tests'
+ * baseline, test/ports/mujoco/test_mujoco_stand.c). */
 #include "stand.h"
 #include "unitree_g1_channels.h"
+
+#ifndef STAND_BALANCE
+#define STAND_BALANCE 1
+#endif
 
 #define JOINTS 29
 #define POS ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_POSITION
@@ -13,6 +23,7 @@
 #define KP ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS
 #define KD ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_DAMPING
 #define TAU ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_EFFORT
+#define RATE_HZ ((double)ROZ_UNITREE_G1_CONTROL_RATE_HZ)
 
 /* Standing pose in SDK joint order (rad). */
 static const double pose[JOINTS] = {
@@ -31,9 +42,30 @@ static const double kd[JOINTS] = {
     2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2, 2, 2, 2,
     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
 };
+/* Target offsets per rad of lean and per rad/s (stand.h). */
+static const stand_balance_t balance = {
+    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
+    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
+    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
+    .limit = 0.4, .sway = -0.05,
+};
 
 ROZ_PROCESS(tick)
 {
-    stand_step(tick, (double)ROZ_UNITREE_G1_CONTROL_RATE_HZ,
-               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
+    double target[JOINTS];
+    for (int j = 0; j < JOINTS; j++)
+        target[j] = pose[j];
+#if STAND_BALANCE
+    static double sway_prev; /* the last valid sway, for its rate */
+    static int have_prev;
+    double ramp = (double)tick / RATE_HZ;
+    stand_lean_t lean = stand_lean(ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_X,
+                                   ROZ_UNITREE_G1_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
+                                   ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_POSITION);
+    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
+    have_prev = lean.valid;
+    sway_prev = lean.sway;
+    stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
+#endif
+    stand_step(tick, RATE_HZ, JOINTS, target, kp, kd, POS, VEL, KP, KD, TAU);
 }

@@ -5,11 +5,17 @@
  * ramped in over the first second (the manifests' rate caps would ramp it
  * anyway; ramping here keeps the command equal to what was asked). The
  * robot's own PD runs it. Each command kind's channels are consecutive,
- * one per joint, from the first joint's (pos, vel, kp, kd, tau). */
+ * one per joint, from the first joint's (pos, vel, kp, kd, tau).
+ *
+ * The G1 stands add balance (stand_lean, stand_balance): the lean seen by
+ * the pelvis IMU and the legs' joints, and its rate, move the ankles' and
+ * hips' targets (an ankle and hip strategy), so the feet push the body back
+ * over them and the hips keep the pelvis upright. */
 #ifndef ROZ_EXAMPLE_STAND_H
 #define ROZ_EXAMPLE_STAND_H
 
 #include "roz_controller.h"
+#include "roz_math.h"
 
 static inline void stand_step(long long tick, double rate_hz, int joints, const double *pose,
                               const double *kp, const double *kd, int pos, int vel, int kp0,
@@ -24,6 +30,96 @@ static inline void stand_step(long long tick, double rate_hz, int joints, const 
         roz_command_set(kp0 + j, ramp * kp[j]);
         roz_command_set(kd0 + j, kd[j]);
         roz_command_set(tau + j, 0.0);
+    }
+}
+
+/* The body's lean, from the pelvis IMU (states from @p quat: orientation x,
+ * y, z, w, then angular velocity x, y, z, body frame) and the legs' joint
+ * positions (from @p legs: per leg hip pitch, roll, yaw, knee, ankle pitch,
+ * roll; the left leg first, as on the G1):
+ * - pitch, roll: the pelvis's tilt (gravity seen in its x-z and y-z planes;
+ *   pitch > 0 leans forward), and their rates from the gyro;
+ * - sway: the pelvis over the ankles, the angle of the line from the ankles
+ *   to the hips (a sagittal two-link leg, thigh and shank STAND_LEG_M
+ *   long; > 0: in front), the legs' mean; what the ankles balance.
+ * rad, rad/s. A bad reading (NaN, or the pelvis upside down) leaves
+ * `valid` 0, and stand_balance() then moves nothing. */
+#define STAND_LEG_M 0.3
+typedef struct {
+    double roll, pitch, roll_rate, pitch_rate, sway;
+    int valid;
+} stand_lean_t;
+
+static inline double stand__sway(double pitch, double hip, double knee)
+{
+    double x = STAND_LEG_M * (roz_math_sin(pitch + hip) + roz_math_sin(pitch + hip + knee));
+    double z = STAND_LEG_M * (roz_math_cos(pitch + hip) + roz_math_cos(pitch + hip + knee));
+    return roz_math_atan2(x, z);
+}
+
+static inline int stand__finite(double v)
+{
+    return v == v && v - v == 0.0;
+}
+
+static inline stand_lean_t stand_lean(int quat, int gyro, int legs)
+{
+    double x = roz_state_get(quat), y = roz_state_get(quat + 1);
+    double z = roz_state_get(quat + 2), w = roz_state_get(quat + 3);
+    stand_lean_t l = { 0.0, 0.0, 0.0, 0.0, 0.0, 0 };
+    /* world up in the body frame: the third row of the body's rotation */
+    double ux = 2.0 * (x * z - w * y), uy = 2.0 * (y * z + w * x);
+    double uz = 1.0 - 2.0 * (x * x + y * y);
+    double gx = roz_state_get(gyro), gy = roz_state_get(gyro + 1);
+    if (!stand__finite(ux) || !stand__finite(uy) || !(uz > 0.0) || !stand__finite(gx) ||
+        !stand__finite(gy))
+        return l;
+    l.roll = roz_math_atan2(uy, uz);
+    l.pitch = roz_math_atan2(-ux, uz);
+    l.roll_rate = gx;
+    l.pitch_rate = gy;
+    double sway = 0.0;
+    for (int leg = 0; leg < 12; leg += 6) {
+        double hip = roz_state_get(legs + leg), knee = roz_state_get(legs + leg + 3);
+        if (!stand__finite(hip) || !stand__finite(knee))
+            return l;
+        sway += 0.5 * stand__sway(l.pitch, hip, knee);
+    }
+    l.sway = sway;
+    l.valid = 1;
+    return l;
+}
+
+/* Balance gains: target offsets (rad) per rad of sway (ankle pitch), of
+ * roll (ankle roll) and of pelvis pitch (hip pitch), and per rad/s of their
+ * rates; and the largest offset. */
+typedef struct {
+    double ankle_pitch, ankle_pitch_rate, ankle_roll, ankle_roll_rate;
+    double hip_pitch, hip_pitch_rate, limit;
+    double sway; /* rad: the sway held, from the pose's (< 0: back, the body's mass over the feet) */
+} stand_balance_t;
+
+/* Moves the leg targets in @p target (a copy of @p pose) for @p lean, by
+ * @p g, faded in by @p ramp (0..1): the ankles push the pelvis back over
+ * them (toward the pose's own sway, from the pose upright), the hips hold
+ * the pelvis upright. @p sway_rate: the sway's rate (rad/s). Legs as in
+ * stand_lean(), from joint 0. */
+static inline void stand_balance(double *target, const double *pose, const stand_lean_t *lean,
+                                 double sway_rate, const stand_balance_t *g, double ramp)
+{
+    if (!lean->valid)
+        return; /* no reading to balance on: the pose alone */
+    double sway0 = 0.5 * (stand__sway(0.0, pose[0], pose[3]) + stand__sway(0.0, pose[6], pose[9]));
+    double ap = g->ankle_pitch * (lean->sway - sway0 - g->sway) + g->ankle_pitch_rate * sway_rate;
+    double ar = g->ankle_roll * lean->roll + g->ankle_roll_rate * lean->roll_rate;
+    double hp = g->hip_pitch * lean->pitch + g->hip_pitch_rate * lean->pitch_rate;
+    ap = ramp * roz_math_clamp(ap, -g->limit, g->limit);
+    ar = ramp * roz_math_clamp(ar, -g->limit, g->limit);
+    hp = ramp * roz_math_clamp(hp, -g->limit, g->limit);
+    for (int leg = 0; leg < 12; leg += 6) {
+        target[leg + 0] += hp;
+        target[leg + 4] += ap;
+        target[leg + 5] += ar;
     }
 }
 

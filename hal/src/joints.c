@@ -173,6 +173,17 @@ double roz_channel_clamp(const roz_channel_t *c, double v)
     return v < c->min ? c->min : v > c->max ? c->max : v;
 }
 
+float roz_channel_clamp_float(const roz_channel_t *c, double v)
+{
+    double d = roz_channel_clamp(c, v);
+    float f = (float)d;
+    if ((double)f > c->max)
+        f = nextafterf(f, -INFINITY);
+    else if ((double)f < c->min)
+        f = nextafterf(f, INFINITY);
+    return f;
+}
+
 void roz_joints_hold(const roz_manifest_t *m, const roz_joint_channels_t *j, uint16_t n,
                      const double *q, double kd, double *cmd)
 {

@@ -283,6 +283,38 @@ int roz_params_get_double(const roz_params_t *p, const char *key, double def, do
     return ROZ_OK;
 }
 
+/* The row of key with the kind asked for, or NULL (err says so). */
+static const roz_port_param_info_t *row_of(const roz_port_param_info_t *rows, size_t n,
+                                           const char *key, roz_port_param_kind_t kind,
+                                           char *err, size_t errlen)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(rows[i].key, key) == 0 && rows[i].kind == kind)
+            return &rows[i];
+    }
+    roz_format(err, errlen, "parameter %s: the port's table has no numeric row for it", key);
+    return NULL;
+}
+
+int roz_params_get_row_u32(const roz_params_t *p, const roz_port_param_info_t *rows, size_t n,
+                           const char *key, uint32_t *out, char *err, size_t errlen)
+{
+    const roz_port_param_info_t *r = row_of(rows, n, key, ROZ_PORT_PARAM_U32, err, errlen);
+    if (r == NULL)
+        return ROZ_EINVAL;
+    return roz_params_get_u32(p, key, (uint32_t)r->dflt, (uint32_t)r->min, (uint32_t)r->max, out,
+                              err, errlen);
+}
+
+int roz_params_get_row_double(const roz_params_t *p, const roz_port_param_info_t *rows, size_t n,
+                              const char *key, double *out, char *err, size_t errlen)
+{
+    const roz_port_param_info_t *r = row_of(rows, n, key, ROZ_PORT_PARAM_DOUBLE, err, errlen);
+    if (r == NULL)
+        return ROZ_EINVAL;
+    return roz_params_get_double(p, key, r->dflt, r->min, r->max, out, err, errlen);
+}
+
 int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *out, char *err,
                         size_t errlen)
 {

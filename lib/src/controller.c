@@ -155,6 +155,15 @@ static M3Result charge(IM3Runtime rt, uint64_t units)
     return rt->rozFuel < 0 ? roz__wasm3_refuel(rt) : m3Err_none;
 }
 
+/* In a host function: charge `units` before any work, and trap when the
+ * fuel is out. */
+#define CHARGE_OR_TRAP(units)                        \
+    do {                                             \
+        M3Result charge_r_ = charge(runtime, units); \
+        if (charge_r_ != m3Err_none)                 \
+            m3ApiTrap(charge_r_);                    \
+    } while (0)
+
 /* The imports whose work is more than a call's (d_m3RozCallUnits), charged
  * on top before the work, so that a unit stays about the same time whatever
  * the controller calls (bench/fuel, host_*): sin and cos run a polynomial
@@ -178,9 +187,7 @@ static m3ApiRawFunction(h_math_sin)
     m3ApiGetArg(double, x);
     (void)_mem;
     (void)_ctx;
-    M3Result r = charge(runtime, math_units(x));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(math_units(x));
     m3ApiReturn(roz_abi_math_sin(x));
 }
 
@@ -190,9 +197,7 @@ static m3ApiRawFunction(h_math_cos)
     m3ApiGetArg(double, x);
     (void)_mem;
     (void)_ctx;
-    M3Result r = charge(runtime, math_units(x));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(math_units(x));
     m3ApiReturn(roz_abi_math_cos(x));
 }
 
@@ -209,9 +214,7 @@ static m3ApiRawFunction(h_timing_now_ns)
 {
     m3ApiReturnType(int64_t);
     (void)_mem;
-    M3Result r = charge(runtime, NOW_UNITS);
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(NOW_UNITS);
     m3ApiReturn(roz_abi_timing_now_ns(ABI));
 }
 
@@ -252,11 +255,8 @@ static m3ApiRawFunction(h_state_get_all)
     m3ApiGetArg(int32_t, count);
     uint32_t len = 0;
     uint8_t *mem;
-    M3Result r;
     (void)_mem;
-    r = charge(runtime, bulk_units(count, BULK_GET_UNITS_PER_VALUE));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(bulk_units(count, BULK_GET_UNITS_PER_VALUE));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_state_get_all(ABI, mem, len, ptr, count));
 }
@@ -268,11 +268,8 @@ static m3ApiRawFunction(h_command_set_all)
     m3ApiGetArg(int32_t, count);
     uint32_t len = 0;
     const uint8_t *mem;
-    M3Result r;
     (void)_mem;
-    r = charge(runtime, bulk_units(count, BULK_SET_UNITS_PER_VALUE));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(bulk_units(count, BULK_SET_UNITS_PER_VALUE));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
 }
@@ -292,11 +289,8 @@ static m3ApiRawFunction(h_nn_matvec)
     m3ApiGetArg(int32_t, flags);
     uint32_t len = 0;
     uint8_t *mem;
-    M3Result r;
     (void)_mem;
-    r = charge(runtime, roz_abi_nn_matvec_units(rows, cols));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(roz_abi_nn_matvec_units(rows, cols));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_nn_matvec(ABI, mem, len, w, x, b, y, rows, cols, flags));
 }
@@ -309,11 +303,8 @@ static m3ApiRawFunction(h_nn_act)
     m3ApiGetArg(int32_t, count);
     uint32_t len = 0;
     uint8_t *mem;
-    M3Result r;
     (void)_mem;
-    r = charge(runtime, roz_abi_nn_act_units(kind, count));
-    if (r != m3Err_none)
-        m3ApiTrap(r);
+    CHARGE_OR_TRAP(roz_abi_nn_act_units(kind, count));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_nn_act(ABI, mem, len, kind, ptr, count));
 }

@@ -409,7 +409,7 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
     } else if (!f->stopping) {
         /* the stop's first tick: the hold channels keep the setpoint the
          * joint was held at, not the measured position, which sags under
-         * gravity (test/mujoco/test_mujoco_stops.c) */
+         * gravity (test/ports/mujoco/test_mujoco_stops.c) */
         for (uint16_t i = 0; i < n; i++) {
             if (f->manifest->commands[i].safe_default == ROZ_SAFE_HOLD)
                 f->hold[i] = hold_latch(f, i, state);

@@ -21,6 +21,7 @@ typedef struct slot {
     roz_record_t     rec; /* pointers not used: the arrays follow */
     roz__fault_raw_t fault;
     char             fault_text[ROZ_CFG_ERROR_LEN];
+    roz_port_truth_t truth; /* with ROZ_RECORD_TRUTH */
 } slot_t;
 
 #define INPUT_FLAGS                                                                          \
@@ -74,6 +75,11 @@ void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
     double *v = slot_values(s);
     s->rec = *rec;
     s->rec.fault_message = NULL;
+    s->rec.truth = NULL;
+    if (rec->truth != NULL)
+        s->truth = *rec->truth;
+    else
+        s->rec.flags &= ~(uint32_t)ROZ_RECORD_TRUTH;
     if (changed) {
         s->rec.flags |= ROZ_RECORD_FAULT_CHANGED;
         /* the tick is the record's only writer: plain loads of its own data */
@@ -167,6 +173,7 @@ size_t roz_recorder_drain(roz_recorder_t *r, roz_record_sink_fn sink, void *ctx,
         rec.state = v;
         rec.target = v + m->n_states;
         rec.applied = v + m->n_states + m->n_commands;
+        rec.truth = (rec.flags & ROZ_RECORD_TRUTH) ? &s->truth : NULL;
         if (rec.flags & ROZ_RECORD_FAULT_CHANGED) {
             msg[0] = '\0';
             if (rec.faults != 0u) {

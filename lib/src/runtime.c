@@ -32,6 +32,7 @@ static uint64_t now(const roz_runtime_t *rt)
 
 #define FAULT_BITS 0xffu
 #define SEQ_MASK   0xffffffu
+#define STAMP_WINDOW ((SEQ_MASK + 1u) / 4u) /* how far a latched bit's number lags */
 
 /* Log event codes (the ring carries numbers; log_drain formats them). */
 enum { EV_FAULT = 1, EV_WAITING, EV_FIRST_FRAME_NONFINITE, EV_MONITOR };
@@ -123,6 +124,18 @@ static void latch(roz_runtime_t *rt, roz_fault_t fault, uint32_t a, uint32_t b, 
 
     rt->latch_seq = (rt->latch_seq + 1u) & SEQ_MASK;
     rt->latch_stamp[idx] = rt->latch_seq;
+    /* The numbers are 24 bits and compared in serial arithmetic: a bit
+     * latched more than half the range of latches ago (a persistent robot
+     * fault re-latches every frame: 2^23 frames are 4.7 h at 500 Hz) would
+     * look newer than any clear. Every other latched bit's number is kept
+     * within a quarter of the range behind: no clear looks that far back (a
+     * clear is applied at the next tick) (test_latch_old_fault_clears_
+     * after_many_relatches). */
+    for (unsigned i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
+        uint32_t oldest = (rt->latch_seq - STAMP_WINDOW) & SEQ_MASK;
+        if ((bits & (1u << i)) && i != idx && seq_le(rt->latch_stamp[i], oldest))
+            rt->latch_stamp[i] = oldest;
+    }
     if (bits == 0)
         record_first_fault(rt, (unsigned)fault, rt->latch_seq, num, text);
     atomic_store_explicit(&rt->faults, (bits | (unsigned)fault) | (rt->latch_seq << 8),
@@ -431,6 +444,25 @@ static void abi_add(roz_abi_counters_t *sum, const roz_abi_counters_t *c)
     sum->nn_refused += c->nn_refused;
 }
 
+/* A controller swapped in starts from the hold: each position command
+ * paired with a position state targets that state's last good value, inside
+ * the channel, not its default (the G1's 0 rad would pull every joint to
+ * zero through the rate cap); a non-finite one leaves the default
+ * (test_runtime_swap_starts_at_the_hold). */
+static void hold_targets(roz_runtime_t *rt, roz_runtime_slot_t *s)
+{
+    const roz_manifest_t *m = rt->cfg.manifest;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        if (c->type != ROZ_IF_POSITION || c->position_state < 0 ||
+            c->position_state >= (int32_t)m->n_states)
+            continue;
+        double q = rt->state[c->position_state];
+        if (q - q == 0.0) /* finite */
+            s->target[i] = q < c->min ? c->min : q > c->max ? c->max : q;
+    }
+}
+
 /* 0. Hand-overs from other threads, at the tick boundary, each taken with an
  * exchange. The clear request is taken first: a clear that rebuilt the
  * controller scheduled it before it asked for the clear, so seeing the
@@ -450,6 +482,7 @@ static int tick_handovers(roz_runtime_t *rt)
          * swap pending then sees the new active slot, and never takes the
          * slot being installed for its spare (only a loader sets pending,
          * and only while it is -1: nothing is lost between the two) */
+        hold_targets(rt, &rt->slot[pending]);
         atomic_store(&rt->active, pending);
         atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
@@ -681,6 +714,15 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.target = target;
     rec.applied = rt->out;
     rec.fault_message = NULL;
+    rec.truth = NULL;
+    /* a simulator's truth (roz/port.h): plain numbers copied, after the
+     * tick's read() and write(); test_recorder_truth and test_mujoco_alloc
+     * (no heap) prove it */
+    roz_port_truth_t truth;
+    if (roz_port_has_truth(&rt->cfg.port) && roz_port_truth(&rt->cfg.port, &truth) == ROZ_OK) {
+        rec.truth = &truth;
+        rec.flags |= ROZ_RECORD_TRUTH;
+    }
     roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
 }
 
@@ -832,6 +874,16 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     roz_monitor_set_warn(&rt->monitor, monitor_warn, rt);
     roz_monitor_set_threshold(&rt->monitor, ROZ_MON_PROCESS,
                               rt->cfg.budget_ns == ROZ_BUDGET_OFF ? 0 : rt->cfg.budget_ns);
+    /* A simulator's read() is where its time passes (the mujoco port steps
+     * its physics there, as a robot's time passes between a command and the
+     * next state), so its length is computation, not a transport's delay:
+     * the read threshold, meant for a wire, would warn on every tick. The
+     * read stays measured; a simulator slower than real time still warns
+     * through the tick threshold (the period). Stepping in write() instead
+     * would stop time whenever no command is written (before the first
+     * state, under a latency fault). test_runtime_simulator_read_not_warned. */
+    if (roz_port_caps(&rt->cfg.port) & ROZ_PORT_CAP_SIMULATOR)
+        roz_monitor_set_threshold(&rt->monitor, ROZ_MON_READ, 0);
     for (int i = 0; i < 2; i++) {
         roz_controller_init(&rt->slot[i].ctrl);
         roz_abi_init(&rt->slot[i].abi, m, rt->slot[i].target, &rt->metrics);

@@ -34,8 +34,9 @@
  * The inexact functions use double arithmetic only (an argument reduction
  * exact enough, then a Taylor polynomial, with sums and products kept as
  * pairs of doubles where the last bits matter), so one wasm module gives the
- * same bits on every host -- unlike roz_sin() and roz_cos() of
- * roz_controller.h, which call the host's libm through an import.
+ * same bits on every host. roz_sin() and roz_cos() of roz_controller.h are
+ * imports, and the host answers them with these same roz_math_sin() and
+ * roz_math_cos() (lib/src/abi.c), not with its libm: the same bits too.
  *
  * On wasm32 fabs, sqrt, floor, ceil and trunc are single instructions
  * (f64.abs, f64.sqrt, f64.floor, f64.ceil, f64.trunc, exact by the

@@ -80,7 +80,7 @@ int main(int argc, char **argv)
         CHECK(roz_runtime_tick(&rt) == ROZ_OK);
     roz_runtime_stats_t st;
     CHECK(roz_runtime_stats(&rt, &st) == ROZ_OK);
-    CHECK(st.runtime.writes == 10 && lb.violations == 0);
+    CHECK(st.runtime.writes == 10 && roz_loopback_counters(&lb).violations == 0);
     roz_runtime_deinit(&rt);
 
     /* endless recursion is refused at verification: by wasm3's value stack,
@@ -108,7 +108,7 @@ int main(int argc, char **argv)
     roz_loopback_true_state(&lb, q);
     CHECK(q[ROZ_MY_ARM_STATE_JOINT2_POSITION] > 0.99 && q[ROZ_MY_ARM_STATE_JOINT2_POSITION] < 1.01);
     CHECK(q[ROZ_MY_ARM_STATE_JOINT1_POSITION] == 0.0);
-    CHECK(roz_runtime_faults(&rt) == 0 && lb.violations == 0);
+    CHECK(roz_runtime_faults(&rt) == 0 && roz_loopback_counters(&lb).violations == 0);
     printf("consumer: reach.wasm (%zu bytes) took joint2 to %.4f rad in 300 ticks\n", len,
            q[ROZ_MY_ARM_STATE_JOINT2_POSITION]);
     roz_runtime_deinit(&rt);

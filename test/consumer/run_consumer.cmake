@@ -16,8 +16,11 @@
 # permitted (unshare -m, or -rm), the source tree, the build tree and the
 # virtual environment hidden under empty tmpfs mounts, the consumer is
 # configured (it must find <prefix>/bin/rozgen), built and run; the installed
-# rozrun runs the consumer's controller on the consumer's robot.toml, and the
-# installed roz_manifest_json and rozgen --json must print the same manifest.
+# rozrun runs the consumer's controller on the consumer's robot.toml (with a
+# trace and a recording, which the installed roz-plot and roz-recording read
+# and plot; and, with the mujoco port, on the built-in G1 in physics from the
+# installed model), and the installed roz_manifest_json and rozgen --json must
+# print the same manifest.
 cmake_minimum_required(VERSION 3.25)
 
 function(run)
@@ -58,8 +61,37 @@ if(PHASE STREQUAL "installed")
     run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
   endif()
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
-      --controller ${WORK_DIR}/build/reach.wasm --ticks 100)
+      --controller ${WORK_DIR}/build/reach.wasm --ticks 100
+      --trace ${WORK_DIR}/run.csv --record ${WORK_DIR}/run.mcap)
+  # The Python tools, from the prefix alone, on what that run wrote.
+  run(${prefix}/bin/roz-plot ${WORK_DIR}/run.csv ${WORK_DIR}/run.png)
+  run(${prefix}/bin/roz-recording check ${WORK_DIR}/run.mcap)
+  run(${prefix}/bin/roz-recording plot ${WORK_DIR}/run.mcap ${WORK_DIR}/run_mcap.png)
+  foreach(png IN ITEMS run.png run_mcap.png)
+    file(READ ${WORK_DIR}/${png} magic LIMIT 8 HEX)
+    if(NOT magic STREQUAL "89504e470d0a1a0a")
+      message(FATAL_ERROR "the installed tools wrote no PNG ${png} (${magic})")
+    endif()
+  endforeach()
   run(${prefix}/bin/roz_manifest_info ur5)
+  # the mujoco port's built-in models, from the prefix alone (share/roz/models)
+  if(EXISTS ${prefix}/share/roz/models/unitree_g1/scene.xml)
+    execute_process(COMMAND ${prefix}/bin/rozrun --robot unitree_g1 --port mujoco --ticks 50
+                            --controller ${WORK_DIR}/build/reach.wasm --allow-other-robot
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT rc EQUAL 0 OR NOT err MATCHES "${prefix}/bin/../share/roz/models/unitree_g1/scene.xml"
+       OR NOT out MATCHES "physics +0\\.098 s simulated.*faults +none|faults +none.*physics +0\\.098 s simulated")
+      message(FATAL_ERROR "the installed rozrun on the built-in G1 in physics (${rc}):\n"
+                          "${out}\n${err}")
+    endif()
+    foreach(f IN ITEMS unitree_g1/LICENSE universal_robots_ur5e/LICENSE
+                       universal_robots_ur5e/ur5e.xml diff_drive.xml quadcopter.xml)
+      if(NOT EXISTS ${prefix}/share/roz/models/${f})
+        message(FATAL_ERROR "the install has no share/roz/models/${f}")
+      endif()
+    endforeach()
+    message(STATUS "installed rozrun runs the built-in G1 on the installed model")
+  endif()
   foreach(tool IN ITEMS roz_manifest_json rozgen)
     set(json_flag "")
     if(tool STREQUAL "rozgen")
@@ -75,7 +107,11 @@ if(PHASE STREQUAL "installed")
     message(FATAL_ERROR "roz_manifest_json and rozgen --json disagree:\n"
                         "${json_roz_manifest_json}\n---\n${json_rozgen}")
   endif()
-  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info and rozgen work")
+  # rozgen-urdf: a robot.toml from a URDF, which the installed rozgen accepts
+  run(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
+  run(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
+  message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, rozgen-urdf, "
+                 "roz-plot and roz-recording work")
   return()
 endif()
 
@@ -97,6 +133,7 @@ foreach(f IN ITEMS CMakeLists.txt main.c reach.c g1_link.c ros2_link.c small_con
 endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
 file(COPY_FILE ${ROZ_SOURCE_DIR}/manifests/unitree_g1.toml ${WORK_DIR}/src/big_robot.toml)
+file(COPY_FILE ${ROZ_SOURCE_DIR}/codegen/tests/data/urdf/lift.urdf ${WORK_DIR}/src/lift.urdf)
 
 if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
   run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
@@ -160,6 +197,7 @@ foreach(f IN LISTS installed)
   math(EXPR scanned "${scanned} + 1")
 endforeach()
 foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
+                      bin/rozgen-urdf bin/roz-plot bin/roz-recording
                       include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${must})
     message(FATAL_ERROR "the install has no ${must}")

@@ -648,6 +648,31 @@ static void test_latch_robot_fault(void **s)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* A fault the robot keeps reporting re-latches every frame, and every latch
+ * takes a number of the 24-bit sequence: after 2^23 of them an older fault
+ * (here an e-stop press) must still clear once the robot stops reporting. */
+static void test_latch_old_fault_clears_after_many_relatches(void **s)
+{
+    (void)s;
+    setup_rt();
+    ticks(110);
+    roz_runtime_estop(&rt);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    /* 2^23 - 8 latches of the robot's report, taken as one step of the
+     * sequence (ticking them all takes minutes under ASan); then 16 real ones
+     * carry the e-stop's number past half the range behind the newest. */
+    rt.latch_seq = (rt.latch_seq + (1u << 23) - 8u) & 0xffffffu;
+    read_rc = ROZ_EROBOT;
+    ticks(16);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP | ROZ_FAULT_ROBOT);
+    read_rc = 1;
+    ticks(1);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 /* The port's command watchdog fired (the tick was silent past the port's
  * timeout, and the port sent the robot its safe command): COMMAND_TIMEOUT
  * latches once with the silence and the timeout, as an immediate stop; the
@@ -770,6 +795,7 @@ int main(void)
         cmocka_unit_test_teardown(test_latch_read_error_keeps_state, teardown),
         cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
         cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
+        cmocka_unit_test_teardown(test_latch_old_fault_clears_after_many_relatches, teardown),
         cmocka_unit_test_teardown(test_latch_stale_names_the_part, teardown),
         cmocka_unit_test_teardown(test_latch_command_timeout, teardown),
         cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown),

@@ -2,8 +2,9 @@
 /* The flight recorder's ring (roz/recorder.h) behind the runtime on the
  * loopback: what a record holds against what the runtime did, wrap-around,
  * overflow (dropped and counted, the fault change carried to the next
- * record), decimation (events always kept), refusals, and a drain thread
- * racing the tick (run under TSan: label threads). */
+ * record), decimation (events always kept), refusals, a simulator's truth
+ * samples carried through the ring, and a drain thread racing the tick (run
+ * under TSan: label threads). */
 #include <math.h>
 #include <pthread.h>
 #include <sched.h>
@@ -126,6 +127,84 @@ static void test_recorder_fields(void **st)
     assert_string_equal(got[0].msg, "");
     assert_int_equal(roz_recorder_dropped(&rec), 0);
     assert_int_equal(roz_recorder_recorded(&rec), 20);
+    /* the loopback gives no truth: none recorded */
+    for (size_t i = 0; i < 20; i++) {
+        assert_null(got[i].r.truth);
+        assert_int_equal(got[i].r.flags & ROZ_RECORD_TRUTH, 0);
+    }
+    roz_runtime_deinit(&rt);
+}
+
+/* ---- a simulator's truth (roz_port_ops_t::truth) ------------------------- */
+
+static roz_port_ops_t truth_ops;
+static roz_port_truth_t want_truth[MAX_TICKS];
+static roz_port_truth_t got_truth[MAX_TICKS];
+static uint64_t truth_calls;
+
+/* A truth made of the tick's state: the recorder must carry each tick's own. */
+static int fake_truth(const void *self, roz_port_truth_t *out)
+{
+    (void)self;
+    const double *st = roz_runtime_last_state(&rt);
+    memset(out, 0, sizeof *out);
+    out->floating = 1;
+    for (int k = 0; k < 3; k++)
+        out->pos[k] = st[k];
+    out->quat[0] = 1.0;
+    out->roll = st[3];
+    out->pitch = st[4];
+    out->contacts = (uint32_t)truth_calls;
+    out->n_bodies = (uint32_t)(truth_calls % (ROZ_PORT_TRUTH_MAX_BODIES + 1u));
+    for (uint32_t k = 0; k < out->n_bodies; k++)
+        out->bodies[k] = (int32_t)(k + 1u);
+    if (truth_calls < MAX_TICKS)
+        want_truth[truth_calls] = *out;
+    truth_calls++;
+    return ROZ_OK;
+}
+
+static int truth_sink(void *ctx, const roz_record_t *r)
+{
+    (void)ctx;
+    assert_true(n_got < MAX_TICKS);
+    assert_non_null(r->truth);
+    assert_true(r->flags & ROZ_RECORD_TRUTH);
+    got_truth[n_got++] = *r->truth;
+    return 0;
+}
+
+/* Every tick's truth sample, through a ring of 8 drained every 5 ticks. */
+static void test_recorder_truth(void **st)
+{
+    roz_runtime_config_t cfg;
+    static roz_test_clock_t clk;
+    (void)st;
+
+    clk.now = 1;
+    clk.step = 100;
+    n_got = 0;
+    truth_calls = 0;
+    assert_int_equal(roz_recorder_init(&rec, &roz_manifest_ur5, storage,
+                                       8 * roz_recorder_slot_bytes(&roz_manifest_ur5), 1),
+                     ROZ_OK);
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
+    truth_ops = *cfg.port.ops;
+    truth_ops.truth = fake_truth;
+    cfg.port.ops = &truth_ops;
+    cfg.recorder = &rec;
+    roz_test_runtime_start(&rt, &cfg, "sine");
+    for (uint64_t t = 0; t < 40; t++) {
+        roz_test_tick(&rt);
+        if (t % 5u == 4u)
+            (void)roz_recorder_drain(&rec, truth_sink, NULL, 0);
+    }
+    assert_int_equal(truth_calls, 40);
+    assert_int_equal(n_got, 40);
+    assert_int_equal(roz_recorder_dropped(&rec), 0);
+    for (size_t i = 0; i < 40; i++)
+        assert_memory_equal(&got_truth[i], &want_truth[i], sizeof got_truth[i]);
+    assert_true(got_truth[39].n_bodies == 39u % (ROZ_PORT_TRUTH_MAX_BODIES + 1u));
     roz_runtime_deinit(&rt);
 }
 
@@ -307,6 +386,7 @@ int main(void)
         cmocka_unit_test(test_recorder_fields),     cmocka_unit_test(test_recorder_wrap),
         cmocka_unit_test(test_recorder_overflow),   cmocka_unit_test(test_recorder_decimation),
         cmocka_unit_test(test_recorder_refusals),   cmocka_unit_test(test_recorder_threads),
+        cmocka_unit_test(test_recorder_truth),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

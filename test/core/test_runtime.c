@@ -17,6 +17,7 @@
 #include "roz/runtime.h"
 #include "support_stats.h"
 #include "support_runtime.h"
+#include "support_wat.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -27,7 +28,7 @@ static roz_test_clock_t clk;
 /* Every command the port got is inside the manifest. */
 static void assert_port_safe(void)
 {
-    assert_int_equal(lb.violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
 }
 
 static void start(const roz_manifest_t *m, const roz_params_t *params)
@@ -98,10 +99,10 @@ static void test_runtime_nothing_before_first_state(void **st)
     start(&roz_manifest_ur5, &params);
     load("constant_velocity", ROZ_OK);
     ticks(5);
-    assert_int_equal(lb.writes, 0);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 0);
     assert_int_equal(RT_COUNT(&rt, waiting_ticks), 5);
     ticks(1);
-    assert_int_equal(lb.writes, 1);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 1);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
@@ -134,7 +135,7 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     load("constant_velocity", ROZ_OK);
     ticks(300);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(lb.writes, 0);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 0);
     assert_int_equal(RT_COUNT(&rt, waiting_ticks), 300);
     assert_int_equal(RT_COUNT(&rt, stale_reads), 0);
     assert_int_equal(warnings, 0); /* the tick never calls the log callback */
@@ -142,7 +143,7 @@ static void test_runtime_waiting_is_not_a_fault(void **st)
     assert_int_equal(warnings, 1);
     assert_non_null(strstr(last_warning, "no state from the port yet after 10 ticks"));
     ticks(10); /* frames from 300 */
-    assert_int_equal(lb.writes, 10);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 10);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     ticks(10); /* frozen again from 310: STALE on the tenth */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
@@ -184,7 +185,7 @@ static void test_runtime_controlled_stop_ramps(void **st)
     ticks(20);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.628, 1e-12);
     /* freeze the state stream: stale after 10 ticks, then a ramp down */
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, lb.tick, 0, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, roz_loopback_counters(&lb).tick, 0, -1, 0 };
     assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);
     ticks(9);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -194,7 +195,7 @@ static void test_runtime_controlled_stop_ramps(void **st)
     ticks(1);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
     /* still latched after the stream comes back, until cleared */
-    lb.n_faults = 0;
+    roz_loopback_clear_faults(&lb);
     ticks(20);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.0, 1e-12);
@@ -261,7 +262,7 @@ static void test_runtime_verify_refuses(void **st)
     assert_non_null(strstr(roz_runtime_error(&rt), "env.open_valve"));
     assert_int_equal(RT_COUNT(&rt, swaps_refused), 3);
     ticks(5); /* no controller: defaults go out, no fault */
-    assert_int_equal(lb.writes, 5);
+    assert_int_equal(roz_loopback_counters(&lb).writes, 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
@@ -283,6 +284,39 @@ static void test_runtime_swap_keeps_old_on_failure(void **st)
     assert_near(roz_runtime_last_commands(&rt)[0], 0.128, 1e-12); /* ramped down */
     ticks(2);
     assert_true(roz_runtime_last_commands(&rt)[0] == 0.0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+/* A controller that sets nothing: every target is where the runtime
+ * started it. */
+static const char idle_wat[] = "(module (func (export \"process\") (param i64)))";
+
+/* A swapped-in controller starts with its paired position targets at the
+ * hold (the measured positions), not at the manifest's defaults: after the
+ * stand, the knees stay at 0.3 rad under the idle controller. */
+static void test_runtime_swap_starts_at_the_hold(void **st)
+{
+    static uint8_t idle[256];
+    (void)st;
+    start(&roz_manifest_unitree_g1, NULL);
+    load("g1_stand", ROZ_OK);
+    ticks(1500);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    const double *state = roz_runtime_last_state(&rt);
+    double knee = state[ROZ_UNITREE_G1_STATE_LEFT_KNEE_JOINT_POSITION];
+    assert_near(knee, 0.3, 0.02);
+    size_t len = roz_test_wat(idle_wat, idle, sizeof idle);
+    assert_int_equal(roz_runtime_load(&rt, idle, len, NULL), ROZ_OK);
+    ticks(1);
+    assert_int_equal(RT_COUNT(&rt, swaps), 2);
+    const double *tgt = roz_runtime_last_targets(&rt);
+    const roz_channel_t *c =
+        &roz_manifest_unitree_g1.commands[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION];
+    assert_true(c->default_value != knee);
+    assert_near(tgt[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION], knee, 0.01);
+    ticks(500);
+    assert_near(roz_runtime_last_commands(&rt)[ROZ_UNITREE_G1_CMD_LEFT_KNEE_JOINT_POSITION], knee,
+                0.01);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
@@ -319,6 +353,47 @@ static void test_runtime_nan_and_range_states(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* A read() that takes 200 us (of the test clock): a simulator's physics
+ * (ROZ_PORT_CAP_SIMULATOR) is measured but not warned about; the same read
+ * on a port with a wire exceeds the 100 us read threshold. */
+static roz_port_ops_t slow_ops;
+
+static int slow_read(void *self, double *state, size_t n)
+{
+    clk.now += 200000;
+    return roz_loopback_ops.read(self, state, n);
+}
+
+static void run_slow(uint32_t caps, roz_monitor_stat_t *out)
+{
+    roz_runtime_config_t cfg;
+    clk = (roz_test_clock_t){ 1000000, 1000 };
+    roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
+    slow_ops = roz_loopback_ops;
+    slow_ops.read = slow_read;
+    slow_ops.caps = caps;
+    cfg.port.ops = &slow_ops;
+    roz_test_runtime_start(&rt, &cfg, NULL);
+    ticks(20);
+    assert_int_equal(roz_monitor_snapshot(roz_runtime_monitor(&rt), ROZ_MON_READ, out), ROZ_OK);
+    roz_runtime_deinit(&rt);
+}
+
+static void test_runtime_simulator_read_not_warned(void **st)
+{
+    roz_monitor_stat_t sim, wire;
+    (void)st;
+    run_slow(ROZ_PORT_CAP_SIMULATOR, &sim);
+    assert_int_equal(sim.count, 20);
+    assert_true(sim.max_ns >= 200000);
+    assert_int_equal(sim.exceeded, 0);
+    assert_int_equal(sim.warned, 0);
+    run_slow(0, &wire);
+    assert_int_equal(wire.count, 20);
+    assert_int_equal(wire.exceeded, 20);
+    assert_true(wire.warned >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -333,7 +408,9 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_verify_refuses, teardown),
         cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
+        cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
+        cmocka_unit_test(test_runtime_simulator_read_not_warned),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

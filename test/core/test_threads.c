@@ -45,7 +45,7 @@ static void *sim_main(void *arg)
             roz_port_write(&p, f.values, ROZ_UNITREE_G1_N_COMMANDS);
         if (roz_port_read(&p, state, ROZ_UNITREE_G1_N_STATES) == 1)
             roz_buffer_write(&state_buf, state, roz_clock_monotonic_ns(NULL));
-        atomic_store(&sim_violations, sim.violations);
+        atomic_store(&sim_violations, roz_loopback_counters(&sim).violations);
         struct timespec ts = { 0, 500000 };
         nanosleep(&ts, NULL);
     }

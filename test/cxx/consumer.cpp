@@ -72,7 +72,8 @@ int main()
     roz_runtime_stats_t st;
     if (roz_runtime_stats(&rt, &st) != ROZ_OK)
         return fail("stats");
-    if (roz_runtime_faults(&rt) != 0 || st.runtime.writes != 100 || lb.violations != 0)
+    if (roz_runtime_faults(&rt) != 0 || st.runtime.writes != 100 ||
+        roz_loopback_counters(&lb).violations != 0)
         return fail("100 ticks without a fault, one frame each");
     roz_runtime_deinit(&rt);
     std::printf("cxx consumer: %zu bytes of roz_runtime_t, 100 ticks, no fault\n", sizeof rt);

@@ -39,7 +39,7 @@ int main(void)
         controller_period();
     roz_runtime_stats_t st;
     if (roz_runtime_stats(&rt, &st) != ROZ_OK || roz_runtime_faults(&rt) != 0 ||
-        st.runtime.writes != 100 || sim.violations != 0) {
+        st.runtime.writes != 100 || roz_loopback_counters(&sim).violations != 0) {
         fprintf(stderr, "docs firmware: faults 0x%x, %llu frames\n", roz_runtime_faults(&rt),
                 (unsigned long long)st.runtime.writes);
         return 1;

@@ -99,8 +99,10 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
     memset(stops, 0, sizeof stops);
 
     for (uint64_t t = 0; t < TICKS; t++) {
-        uint64_t delivered = lb.frames_delivered, events = lb.link_events;
-        uint64_t good_cmds = lb.peer_link.accepted, ran = RT_COUNT(&rt, controller_ticks);
+        roz_loopback_counters_t was = roz_loopback_counters(&lb);
+        uint64_t delivered = was.frames_delivered, events = was.link_events;
+        uint64_t good_cmds = roz_loopback_peer_link(&lb).accepted;
+        uint64_t ran = RT_COUNT(&rt, controller_ticks);
         unsigned before = roz_runtime_faults(&rt);
         int rc = roz_runtime_tick(&rt);
         unsigned faults = roz_runtime_faults(&rt);
@@ -108,17 +110,18 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
         if (rc != ROZ_OK && rc != ROZ_EFAULT)
             fail_msg("seed %llu tick %llu: tick returned %d", (unsigned long long)seed,
                      (unsigned long long)t, rc);
-        if (lb.violations != 0)
+        roz_loopback_counters_t now = roz_loopback_counters(&lb);
+        if (now.violations != 0)
             fail_msg("seed %llu tick %llu: a value outside the manifest reached the port",
                      (unsigned long long)seed, (unsigned long long)t);
         /* staleness and link faults */
-        int fresh = lb.frames_delivered != delivered && lb.link_events == events;
+        int fresh = now.frames_delivered != delivered && now.link_events == events;
         started |= fresh; /* staleness counts from the first frame */
         quiet = fresh || cleared || !started ? 0 : quiet + 1; /* a clear restarts the count */
         if (quiet >= cfg.stale_ticks && (faults & ROZ_FAULT_STALE) == 0)
             fail_msg("seed %llu tick %llu: %llu reads without a fresh frame, no STALE",
                      (unsigned long long)seed, (unsigned long long)t, (unsigned long long)quiet);
-        if (lb.link_events != events && (faults & ROZ_FAULT_LINK) == 0)
+        if (now.link_events != events && (faults & ROZ_FAULT_LINK) == 0)
             fail_msg("seed %llu tick %llu: the port reported a restart, no LINK",
                      (unsigned long long)seed, (unsigned long long)t);
         /* (a clear takes effect at the start of the next tick) */
@@ -131,7 +134,7 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
         if (cmd == NULL) {
             have_applied = 0; /* not started, or rebooted: it forgot */
         } else {
-            int changed = lb.peer_link.accepted != good_cmds;
+            int changed = roz_loopback_peer_link(&lb).accepted != good_cmds;
             for (uint16_t i = 0; i < m->n_commands; i++) {
                 const roz_channel_t *c = &m->commands[i];
                 if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
@@ -167,11 +170,12 @@ static void run(const roz_manifest_t *m, const char *controller, uint64_t seed, 
     }
     seen.stale += RT_COUNT(&rt, faults[2]);
     seen.link += RT_COUNT(&rt, faults[5]);
-    seen.crc += lb.link.crc_errors;
-    seen.replays += lb.link.replays;
-    seen.restarts += lb.link.restarts + lb.link.returns;
-    seen.cmd_crc += lb.peer_link.crc_errors;
-    seen.cmds_lost += lb.cmds_lost;
+    roz_link_t link = roz_loopback_link(&lb);
+    seen.crc += link.crc_errors;
+    seen.replays += link.replays;
+    seen.restarts += link.restarts + link.returns;
+    seen.cmd_crc += roz_loopback_peer_link(&lb).crc_errors;
+    seen.cmds_lost += roz_loopback_counters(&lb).cmds_lost;
     seen.limit_stops += FILTER_COUNT(&rt, limit_stops);
     roz_runtime_deinit(&rt);
 }

@@ -118,7 +118,7 @@ static int tick(void)
 {
     int rc = roz_runtime_tick(&rt);
     check_frame(roz_runtime_last_commands(&rt));
-    assert_int_equal(lb.violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
     return rc;
 }
 
@@ -160,7 +160,7 @@ static void test_faults_short_drop_is_counted(void **st)
     ticks(45);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
-    assert_int_equal(lb.frames_dropped, 5);
+    assert_int_equal(roz_loopback_counters(&lb).frames_dropped, 5);
     assert_int_equal(RT_COUNT(&rt, controller_ticks), 100);
     assert_int_equal(RT_COUNT(&rt, writes), 100);
     assert_near(out()[0], V, 1e-12);
@@ -239,7 +239,7 @@ static void test_faults_delay_is_latency(void **st)
             assert_true(seen[s] == truth[sent][s]);
     }
     assert_int_equal(RT_COUNT(&rt, stale_reads), K);
-    assert_int_equal(lb.link.replays, K - 1);
+    assert_int_equal(roz_loopback_link(&lb).replays, K - 1);
     assert_int_equal(RT_COUNT(&rt, controller_ticks), N);
 }
 
@@ -294,8 +294,8 @@ static void test_faults_duplicate_is_rejected(void **st)
     tick();
     roz_loopback_true_state(&lb, q);
     assert_memory_equal(roz_runtime_last_state(&rt), q, m->n_states * sizeof q[0]);
-    assert_int_equal(lb.frames_duplicated, 5);
-    assert_int_equal(lb.link.replays, 5);
+    assert_int_equal(roz_loopback_counters(&lb).frames_duplicated, 5);
+    assert_int_equal(roz_loopback_link(&lb).replays, 5);
     assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 
@@ -308,8 +308,8 @@ static void test_faults_duplicate_is_rejected(void **st)
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     ticks(100);
     assert_true(out()[0] == 0.0);
-    assert_int_equal(lb.link.replays, 110); /* even after 0.5 s of silence */
-    assert_int_equal(lb.link.returns, 0);
+    assert_int_equal(roz_loopback_link(&lb).replays, 110); /* even after 0.5 s of silence */
+    assert_int_equal(roz_loopback_link(&lb).returns, 0);
 }
 
 /* State frames failing their CRC: dropped and counted; five are a short
@@ -321,7 +321,7 @@ static void test_faults_corrupt_state(void **st)
     (void)st;
     start("constant_velocity", f, 2);
     ticks(100);
-    assert_int_equal(lb.link.crc_errors, 5);
+    assert_int_equal(roz_loopback_link(&lb).crc_errors, 5);
     assert_int_equal(RT_COUNT(&rt, stale_reads), 5);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_near(out()[0], V, 1e-12);
@@ -331,8 +331,8 @@ static void test_faults_corrupt_state(void **st)
     ticks(30); /* good frames again from 120: still latched */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     assert_true(out()[0] == 0.0);
-    assert_int_equal(lb.frames_corrupted, 25);
-    assert_int_equal(lb.link.crc_errors, 25);
+    assert_int_equal(roz_loopback_counters(&lb).frames_corrupted, 25);
+    assert_int_equal(roz_loopback_link(&lb).crc_errors, 25);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     ticks(2);
     assert_near(out()[0], V, 1e-12);
@@ -354,8 +354,8 @@ static void test_faults_corrupt_command(void **st)
         tick();
         assert_memory_equal(roz_loopback_last_command(&lb), good, m->n_commands * sizeof good[0]);
     }
-    assert_int_equal(lb.cmds_corrupted, 20);
-    assert_int_equal(lb.peer_link.crc_errors, 20);
+    assert_int_equal(roz_loopback_counters(&lb).cmds_corrupted, 20);
+    assert_int_equal(roz_loopback_peer_link(&lb).crc_errors, 20);
     tick(); /* tick 70: the stop gets through */
     assert_true(roz_loopback_last_command(&lb)[0] == 0.0);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
@@ -377,13 +377,13 @@ static void test_faults_peer_restart(void **st)
     assert_int_equal(tick(), ROZ_EFAULT); /* tick 109 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     ticks(90);
-    assert_int_equal(lb.cmds_lost, 100);
+    assert_int_equal(roz_loopback_counters(&lb).cmds_lost, 100);
     roz_loopback_true_state(&lb, q);
     for (uint16_t s = 0; s < m->n_states; s++) /* stopped where it died */
         assert_true(m->states[s].type == ROZ_IF_POSITION ? q[s] == where[s] : q[s] == 0.0);
     assert_int_equal(tick(), ROZ_EFAULT); /* tick 200: back, sequence 0 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE | ROZ_FAULT_LINK);
-    assert_int_equal(lb.link.restarts, 1);
+    assert_int_equal(roz_loopback_link(&lb).restarts, 1);
     assert_int_equal(RT_COUNT(&rt, faults[5]), 1);
     uint64_t ran = RT_COUNT(&rt, controller_ticks);
     for (int t = 201; t < 250; t++) {
@@ -410,7 +410,7 @@ static void test_faults_quick_restart(void **st)
     assert_int_equal(tick(), ROZ_EFAULT); /* tick 305 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_LINK);
     assert_true(out()[0] == 0.0); /* an immediate stop: no ramp from 0.628 */
-    assert_int_equal(lb.link.restarts, 1);
+    assert_int_equal(roz_loopback_link(&lb).restarts, 1);
     assert_non_null(strstr(roz_runtime_fault_message(&rt), "port link fault"));
     ticks(20);
     assert_true(out()[0] == 0.0);
@@ -436,8 +436,8 @@ static void test_faults_early_restart_is_stale(void **st)
     assert_int_equal(tick(), ROZ_EFAULT); /* tick 29 */
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
     ticks(30);
-    assert_int_equal(lb.link.replays, 20); /* sequence 0..19 at ticks 25..44 */
-    assert_int_equal(lb.link.restarts + lb.link.returns, 0);
+    assert_int_equal(roz_loopback_link(&lb).replays, 20); /* sequence 0..19 at ticks 25..44 */
+    assert_int_equal(roz_loopback_link(&lb).restarts + roz_loopback_link(&lb).returns, 0);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_STALE);
 }
 

@@ -88,6 +88,50 @@ static void test_params_unknown_keys(void **st)
     assert_int_equal(roz_params_check_known(NULL, few, "x", err, sizeof err), ROZ_OK);
 }
 
+/* A port's table is the one source: the row's text is the numbers the
+ * parser checks (roz_params_get_row_u32(), roz_params_get_row_double()). */
+static const roz_port_param_info_t rows[] = {
+    ROZ_PORT_PARAM_U32_ROW("state_decimation", 1, 1000, 1, "every Nth frame"),
+    ROZ_PORT_PARAM_U32_ROW("dds_domain", 0, 232, 3, "the domain"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("gain", 0, 1e1, 2.5, " N", "a gain"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("absent_gain", -1, 1, 0.5, "", "a gain nobody sets"),
+    ROZ_PORT_PARAM_TEXT_ROW("network_interface", "a name", "lo", "text only"),
+};
+#define ROWS rows, sizeof rows / sizeof rows[0]
+
+static void test_params_rows(void **st)
+{
+    char err[160] = "";
+    uint32_t u = 0;
+    double d = 0;
+    (void)st;
+    /* the text the port's info shows */
+    assert_string_equal(rows[0].range, "1..1000");
+    assert_string_equal(rows[0].def, "1");
+    assert_string_equal(rows[2].range, "0..1e1 N");
+    assert_string_equal(rows[2].def, "2.5");
+    assert_int_equal(rows[4].kind, ROZ_PORT_PARAM_TEXT);
+    /* the numbers the parser reads from the same rows */
+    assert_int_equal(roz_params_get_row_u32(&p, ROWS, "dds_domain", &u, err, sizeof err), ROZ_OK);
+    assert_int_equal(u, 7);
+    assert_int_equal(roz_params_get_row_double(&p, ROWS, "absent_gain", &d, err, sizeof err),
+                     ROZ_OK);
+    assert_true(d == 0.5);
+    assert_int_equal(roz_params_get_row_u32(&p, ROWS, "state_decimation", &u, err, sizeof err),
+                     ROZ_EINVAL);
+    assert_string_equal(err, "parameter state_decimation = \"0\": expected an integer in 1..1000");
+    assert_int_equal(roz_params_get_row_double(&p, ROWS, "gain", &d, err, sizeof err),
+                     ROZ_EINVAL);
+    assert_string_equal(err, "parameter gain = \"1.5e1\": expected a number in 0..10");
+    /* a key without a numeric row of that kind is the port's bug, said so */
+    assert_int_equal(roz_params_get_row_u32(&p, ROWS, "network_interface", &u, err, sizeof err),
+                     ROZ_EINVAL);
+    assert_string_equal(err, "parameter network_interface: the port's table has no numeric row "
+                             "for it");
+    assert_int_equal(roz_params_get_row_double(&p, ROWS, "dds_domain", &d, err, sizeof err),
+                     ROZ_EINVAL);
+}
+
 static void test_params_split(void **st)
 {
     char a[] = "drop=10:20", b[] = "novalue", c[] = "=x", d[] = "k=";
@@ -108,6 +152,7 @@ int main(void)
         cmocka_unit_test(test_params_values),
         cmocka_unit_test(test_params_errors_name_key_and_value),
         cmocka_unit_test(test_params_unknown_keys),
+        cmocka_unit_test(test_params_rows),
         cmocka_unit_test(test_params_split),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

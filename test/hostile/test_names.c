@@ -35,18 +35,13 @@
 
 /* ---- a byte-by-byte module builder ---------------------------------------- */
 
-typedef struct {
-    uint8_t b[4096];
-    size_t  n;
-} buf_t;
+typedef roz_wb_buf_t buf_t;
 
-/* The test's wrappers of test/wasm_bytes.h around one buffer. */
-static void put(buf_t *w, uint8_t v) { roz_wb_byte(w->b, sizeof w->b, &w->n, v); }
-static void put_u32(buf_t *w, uint32_t v) { roz_wb_u32(w->b, sizeof w->b, &w->n, v); }
-static void put_bytes(buf_t *w, const void *p, size_t n)
-{
-    roz_wb_bytes(w->b, sizeof w->b, &w->n, p, n);
-}
+/* Short names for test/wasm_bytes.h's roz_wb_put*(), the cases being
+ * written byte by byte. */
+static void put(buf_t *w, uint8_t v) { roz_wb_put(w, v); }
+static void put_u32(buf_t *w, uint32_t v) { roz_wb_put_u32(w, v); }
+static void put_bytes(buf_t *w, const void *p, size_t n) { roz_wb_put_bytes(w, p, n); }
 /* A name of n bytes (may hold NUL bytes). */
 static void put_name(buf_t *w, const char *s, size_t n)
 {
@@ -55,9 +50,7 @@ static void put_name(buf_t *w, const char *s, size_t n)
 
 static void put_section(buf_t *w, uint8_t id, const buf_t *body)
 {
-    put(w, id);
-    put_u32(w, (uint32_t)body->n);
-    put_bytes(w, body->b, body->n);
+    roz_wb_put_section(w, id, body->b, body->n);
 }
 
 #define NAME(lit) lit, sizeof lit - 1

@@ -22,29 +22,12 @@
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
 
-typedef struct {
-    uint8_t b[1024];
-    size_t  n;
-} buf_t;
-
-static void put(buf_t *w, uint8_t v) { roz_wb_byte(w->b, sizeof w->b, &w->n, v); }
-static void put_u32(buf_t *w, uint32_t v) { roz_wb_u32(w->b, sizeof w->b, &w->n, v); }
-static void put_bytes(buf_t *w, const void *p, size_t n)
-{
-    roz_wb_bytes(w->b, sizeof w->b, &w->n, p, n);
-}
-
-static void put_section(buf_t *w, uint8_t id, const uint8_t *body, size_t n)
-{
-    put(w, id);
-    put_u32(w, (uint32_t)n);
-    put_bytes(w, body, n);
-}
+typedef roz_wb_buf_t buf_t;
 
 #define SEC(w, id, ...)                                           \
     do {                                                          \
         static const uint8_t body_[] = { __VA_ARGS__ };           \
-        put_section(w, id, body_, sizeof body_);                  \
+        roz_wb_put_section(w, id, body_, sizeof body_);                  \
     } while (0)
 
 /* What a case puts in the optional sections (NULL: none). */
@@ -67,26 +50,26 @@ static buf_t mod;
 static const uint8_t *build(const spec_t *s, size_t *len)
 {
     mod.n = 0;
-    put_bytes(&mod, "\0asm\1\0\0\0", 8);
+    roz_wb_put_bytes(&mod, "\0asm\1\0\0\0", 8);
     SEC(&mod, 1, 2, 0x60, 0, 0, 0x60, 1, 0x7e, 0);
     SEC(&mod, 3, 2, 0, 1);
     if (s->table != NULL)
-        put_section(&mod, 4, s->table, s->table_n);
+        roz_wb_put_section(&mod, 4, s->table, s->table_n);
     if (s->memory)
         SEC(&mod, 5, 1, 0, 1);
     if (s->global != NULL)
-        put_section(&mod, 6, s->global, s->global_n);
+        roz_wb_put_section(&mod, 6, s->global, s->global_n);
     SEC(&mod, 7, 1, 7, 'p', 'r', 'o', 'c', 'e', 's', 's', 0, 1);
     if (s->elem != NULL)
-        put_section(&mod, 9, s->elem, s->elem_n);
+        roz_wb_put_section(&mod, 9, s->elem, s->elem_n);
     if (s->code != NULL)
-        put_section(&mod, 10, s->code, s->code_n);
+        roz_wb_put_section(&mod, 10, s->code, s->code_n);
     else if (s->table != NULL) /* process calls entry 0 of the table */
         SEC(&mod, 10, 2, 2, 0, 0x0b, 7, 0, 0x41, 0, 0x11, 0, 0, 0x0b);
     else
         SEC(&mod, 10, 2, 2, 0, 0x0b, 2, 0, 0x0b);
     if (s->data != NULL)
-        put_section(&mod, 11, s->data, s->data_n);
+        roz_wb_put_section(&mod, 11, s->data, s->data_n);
     *len = mod.n;
     return mod.b;
 }

@@ -472,7 +472,7 @@ static void run(int ticks)
     for (int i = 0; i < ticks; i++)
         roz_test_tick(&rt);
     assert_int_equal(roz_runtime_faults(&rt), 0);
-    assert_int_equal(lb.violations, 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
 }
 
 static void test_identity_runtime_refuses_another_robot(void **st)

@@ -34,7 +34,7 @@ static void run(const char *controller, double *q)
         fail_msg("%s: %s", controller, roz_runtime_error(&rt));
     for (int i = 0; i < 800; i++) { /* 8 s */
         assert_int_equal(roz_runtime_tick(&rt), ROZ_OK);
-        assert_int_equal(lb.violations, 0);
+        assert_int_equal(roz_loopback_counters(&lb).violations, 0);
     }
     assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_loopback_true_state(&lb, state);

@@ -5,7 +5,9 @@ decodes, chunk and data-section CRCs checked, counts against the summary),
 rozrun --replay of every example controller identical bit for bit, faults
 and interventions replayed, a deliberate divergence reported exactly (tick,
 channel, both values), another controller compared and plotted, a file cut
-short or corrupted named by offset. ROZRUN and CTL come from the build."""
+short or corrupted named by offset, a mujoco G1's /roz/truth against the
+summary. ROZRUN and CTL come from the build."""
+import math
 import os
 import pathlib
 import re
@@ -26,6 +28,8 @@ CTL = pathlib.Path(os.environ.get("CTL", "."))
 TOOL = ROOT / "tools" / "recording.py"
 # the strict checker (test/record/mcap_strict), "" when the build has no cargo
 STRICT = os.environ.get("MCAP_STRICT", "")
+# "1" when the build has the mujoco port (a simulator with /roz/truth)
+MUJOCO = os.environ.get("ROZ_MUJOCO", "0") == "1"
 
 pytestmark = pytest.mark.skipif(not ROZRUN, reason="ROZRUN not set (run through ctest)")
 
@@ -236,6 +240,20 @@ def test_another_controller(tmp_path):
     png1 = tmp_path / "one.png"
     recording.main(["plot", str(new), str(png1)])
     assert png1.stat().st_size > 10000
+    # --channels picks channels in plot and compare, as in plot_trace.py
+    fig = recording.plot_trace.figure(
+        [(*recording.table(*recording.read(new)[:2]), "")],
+        pattern=recording.plot_trace.channel_filter("elbow", [recording.table(
+            *recording.read(new)[:2])[0]]))
+    assert sorted(line.get_label() for ax in fig.axes for line in ax.lines
+                  if not line.get_label().startswith("_")) == \
+        ["elbow_joint/position", "elbow_joint/velocity"]
+    recording.plot_trace.plt.close(fig)
+    png2 = tmp_path / "elbow.png"
+    recording.main(["compare", str(path), str(new), str(png2), "--channels", "elbow"])
+    assert png2.stat().st_size > 10000
+    with pytest.raises(SystemExit, match="matches no channel"):
+        recording.main(["plot", str(new), str(png2), "--channels", "no_such_joint"])
     out = tmp_path / "new_from_recording.csv"
     recording.main(["csv", str(new), str(out)])
     # the replay's trace and its recording agree (the trace has no events)
@@ -483,3 +501,76 @@ def test_readers_refuse_records_past_their_limit(tmp_path):
     p = subprocess.run([sys.executable, TOOL, "check", big], capture_output=True, text=True,
                        timeout=120, preexec_fn=limit(2))
     assert f"at offset {chunk_at}: a record (opcode 0x06) of {5 << 30} bytes" in p.stderr
+
+
+@pytest.mark.skipif(not MUJOCO, reason="this build has no mujoco port")
+def test_mujoco_truth_tells_standing_from_fallen(tmp_path):
+    """The G1 on g1_stand stands for about 1.5 s, then falls by 2.4 s
+    (docs/ports/mujoco.md): the recording alone says which, tick by tick,
+    and its heights are the summary's."""
+    path = tmp_path / "g1.mcap"
+    p = rozrun("--robot", "unitree_g1", "--port", "mujoco", "--ticks", 1400,
+               "--controller", CTL / "g1_stand.wasm", "--record", path)
+    m = re.search(r"base +height (-?[0-9.]+) m \(lowest (-?[0-9.]+)\), roll (-?[0-9.]+), "
+                  r"pitch (-?[0-9.]+) deg", p.stdout)
+    assert m, p.stdout
+    counts = decode_all(path)
+    assert counts["/roz/truth"] == counts["/roz/tick"] == 1400
+    run, ticks, _ = recording.read(path)
+    truth = [t["truth"] for t in ticks]
+    assert all(t["floating"] for t in truth)
+    # the summary's figures, from the last tick's sample and the lowest
+    assert f"{truth[-1]['height']:.3f}" == m.group(1)
+    assert f"{min(t['height'] for t in truth):.3f}" == m.group(2)
+    assert f"{truth[-1]['roll'] * 57.29578:.1f}" == m.group(3)  # as the summary
+    assert f"{truth[-1]['pitch'] * 57.29578:.1f}" == m.group(4)
+    c = re.search(r"ground contacts +([0-9]+)", p.stdout)
+    assert c and int(c.group(1)) == truth[-1]["contacts"], p.stdout
+    # standing at 1.2 s: pelvis up, level, on its two feet only
+    up = truth[600]
+    assert up["height"] > 0.7
+    assert max(abs(up["roll"]), abs(up["pitch"])) < 0.3
+    assert sorted(up["bodies"]) == ["left_ankle_roll_link", "right_ankle_roll_link"]
+    assert up["contacts"] >= 2
+    for t in truth:  # a unit quaternion, the angles its own
+        assert abs(t["qw"] ** 2 + t["qx"] ** 2 + t["qy"] ** 2 + t["qz"] ** 2 - 1.0) < 1e-9
+    # fallen at 2.8 s: low, and more than the feet on the ground
+    down = truth[-1]
+    assert down["height"] < 0.4
+    assert set(down["bodies"]) - {"left_ankle_roll_link", "right_ankle_roll_link"}
+    # the tool says the same, and writes the samples
+    out = subprocess.run([sys.executable, TOOL, "truth", path, tmp_path / "truth.csv"],
+                         capture_output=True, text=True, check=True).stdout
+    assert f"at the end base height {m.group(1)} m" in out
+    assert f"lowest {m.group(2)} m" in out
+    rows = (tmp_path / "truth.csv").read_text().splitlines()
+    assert rows[0].startswith("tick,time_s,floating,x,y,height") and len(rows) == 1401
+    strict(path)
+    # the controller never sees the truth: replay is bit for bit
+    p = rozrun("--replay", path, "--controller", CTL / "g1_stand.wasm")
+    assert "ticks replayed         1400\n" in p.stdout
+    assert "result                 identical" in p.stdout
+
+
+@pytest.mark.skipif(not MUJOCO, reason="this build has no mujoco port")
+def test_mujoco_truth_fixed_base(tmp_path):
+    """A fixed-base arm: no pose (NaN), the contacts still counted."""
+    path = tmp_path / "ur5.mcap"
+    rozrun("--robot", "ur5", "--port", "mujoco", "--ticks", 50,
+           "--controller", CTL / "sine.wasm", "--record", path)
+    run, ticks, counts = recording.read(path)
+    assert counts["/roz/truth"] == 50
+    for t in ticks:
+        assert not t["truth"]["floating"]
+        assert math.isnan(t["truth"]["height"]) and math.isnan(t["truth"]["roll"])
+    strict(path)
+
+
+def test_no_truth_without_a_simulator_that_gives_it(tmp_path):
+    """The loopback gives no truth samples: no /roz/truth channel at all."""
+    path = record(tmp_path, "ur5", "sine", 20)
+    counts = decode_all(path)
+    assert "/roz/truth" not in counts
+    with open(path, "rb") as f:
+        summary = make_reader(f).get_summary()
+    assert "/roz/truth" not in {c.topic for c in summary.channels.values()}

@@ -48,7 +48,8 @@ _SHARED_WORDING = ("integer does not fit in 64 bits", "nested more than")
 # the rules rozgen refuses their keys by
 _DDS_PORTS = ("unitree/G1", "agibot/X2", "engineai/PM01", "mujoco")
 _DDS_PORT_RULES = ("g1-joint", "g1-channel", "g1-param", "ros2-joint", "ros2-channel",
-                   "ros2-param", "mujoco-param", "unknown-key")
+                   "ros2-param", "mujoco-param", "mujoco-model", "mujoco-joint", "mujoco-imu",
+                   "mujoco-effort", "unknown-key")
 
 
 def _vectors(root: str, patterns: list[str]) -> list[str]:

@@ -6,7 +6,7 @@
  * the problems on stderr, one per line, as rozgen prints them. A robot for
  * the socketcan port (hardware.port = "socketcan") also passes that port's
  * checks of its [hardware] keys (roz/port/can_config.h), as in rozgen. The DDS
- * ports check theirs at open (test/ports/test_port_vectors.c holds them to
+ * ports check theirs at open (test/ports/common/test_port_vectors.c holds them to
  * rozgen on the same vectors).
  *
  *   roz_manifest_json [--check | --identity] [--error-ids] FILE

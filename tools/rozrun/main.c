@@ -207,7 +207,8 @@ static void usage(FILE *f, const char *port)
         "                       faults, events) as CSV\n"
         "  --record FILE        record every tick as MCAP (state, freshness, targets,\n"
         "                       applied commands, faults, fuel, times; the manifest and\n"
-        "                       configuration once): tools/recording.py, Foxglove, ros2 bag\n"
+        "                       configuration once): roz-recording (tools/recording.py),\n"
+        "                       Foxglove, ros2 bag\n"
         "  --record-every N     record every Nth tick only (and every tick where the faults\n"
         "                       change or an input arrives); such a recording is not\n"
         "                       replayed (default 1)\n"
@@ -491,11 +492,15 @@ static void record_tick(unsigned events)
 {
     if (!tracing)
         return;
-    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    const roz_runtime_config_t *cfg = roz_runtime_config(&rt);
+    const roz_manifest_t *m = cfg->manifest;
     uint64_t tick = ticks_run - 1;
+    double truth[ROZRUN_TRUTH_VALUES];
+    int have_truth = trace.truth && rozrun_trace_truth(&cfg->port, truth);
     rozrun_trace_push(&trace, tick, (double)tick / m->control_rate_hz,
                       roz_runtime_last_targets(&rt), roz_runtime_last_commands(&rt),
-                      roz_runtime_last_state(&rt), roz_runtime_faults(&rt), events);
+                      roz_runtime_last_state(&rt), have_truth ? truth : NULL,
+                      roz_runtime_faults(&rt), events);
 }
 
 /* The tick's thread: the events of this tick are the e-stop input set after
@@ -737,8 +742,13 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                (unsigned long long)runner->missed);
     }
     print_report(port, ROZ_PORT_REPORT_SUMMARY);
-    if (recording)
-        printf("  recording              %s (%llu ticks, %lu dropped: the ring was full)%s\n",
+    if (recording && roz_recorder_dropped(&recorder) == 0)
+        printf("  recording              %s (%llu ticks, none dropped)%s\n", o->record,
+               (unsigned long long)roz_record_file_ticks(&recfile),
+               record_failed ? ", incomplete" : "");
+    else if (recording)
+        printf("  recording              %s (%llu ticks; %lu dropped, the ring had no room for "
+               "them)%s\n",
                o->record, (unsigned long long)roz_record_file_ticks(&recfile),
                (unsigned long)roz_recorder_dropped(&recorder),
                record_failed ? ", incomplete" : "");
@@ -850,7 +860,9 @@ int main(int argc, char **argv)
         recording = 1;
     }
     if (o.trace != NULL) {
-        if (rozrun_trace_open(&trace, o.trace, m, err, sizeof err) != 0) {
+        double truth[ROZRUN_TRUTH_VALUES]; /* a simulator's base pose: traced too */
+        int has_truth = rozrun_trace_truth(&port, truth);
+        if (rozrun_trace_open(&trace, o.trace, m, has_truth, err, sizeof err) != 0) {
             fprintf(stderr, "rozrun: %s\n", err);
             return 2;
         }

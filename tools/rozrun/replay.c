@@ -231,7 +231,7 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         recording = 1;
     }
     if (o->trace != NULL) {
-        if (rozrun_trace_open(&rtrace, o->trace, m, err, sizeof err) != 0) {
+        if (rozrun_trace_open(&rtrace, o->trace, m, 0, err, sizeof err) != 0) {
             fprintf(stderr, "rozrun: %s\n", err);
             return 2;
         }
@@ -282,7 +282,7 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         if (tracing)
             rozrun_trace_push(&rtrace, rec.tick, (double)rec.tick / m->control_rate_hz,
                               roz_runtime_last_targets(&rrt), roz_runtime_last_commands(&rrt),
-                              roz_runtime_last_state(&rrt), roz_runtime_faults(&rrt), 0);
+                              roz_runtime_last_state(&rrt), NULL, roz_runtime_faults(&rrt), 0);
         if (compare(m, &rec, what, sizeof what)) {
             if (differing++ == 0) {
                 first_tick = rec.tick;
@@ -346,7 +346,7 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         fprintf(stderr, "rozrun: %s\n", err);
         status = status ? status : 3;
     } else if (recording) {
-        printf("  new recording          %s (compare: python tools/recording.py compare %s %s "
+        printf("  new recording          %s (compare: roz-recording compare %s %s "
                "out.png)\n", o->record, o->recording, o->record);
     }
     roz_runtime_deinit(&rrt);

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "roz/port.h"
 #include "roz/runtime.h"
 
 static const char *const event_names[ROZRUN_EV_COUNT] = {
@@ -22,13 +23,28 @@ static void write_failed(rozrun_trace_t *t, const char *what, int err)
                  err != 0 ? strerror(err) : "write error");
 }
 
-int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t *m, char *err,
-                      size_t errlen)
+int rozrun_trace_truth(const roz_port_t *port, double out[ROZRUN_TRUTH_VALUES])
+{
+    roz_port_truth_t t;
+    if (!roz_port_has_truth(port) || roz_port_truth(port, &t) != ROZ_OK || !t.floating)
+        return 0;
+    out[0] = t.pos[0];
+    out[1] = t.pos[1];
+    out[2] = t.pos[2];
+    out[3] = t.roll;
+    out[4] = t.pitch;
+    out[5] = t.yaw;
+    return 1;
+}
+
+int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t *m, int truth,
+                      char *err, size_t errlen)
 {
     memset(t, 0, sizeof *t);
     t->m = m;
     t->path = path;
-    t->width = 2u + 2u * m->n_commands + m->n_states + 2u;
+    t->truth = truth != 0;
+    t->width = 2u + 2u * m->n_commands + m->n_states + (t->truth ? ROZRUN_TRUTH_VALUES : 0u) + 2u;
     t->capacity = 4096;
     t->rows = calloc(t->capacity * t->width, sizeof(double));
     if (t->rows == NULL) {
@@ -51,13 +67,16 @@ int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t 
         fprintf(t->out, ",applied:%s", m->commands[i].name);
     for (uint16_t i = 0; i < m->n_states; i++)
         fprintf(t->out, ",state:%s", m->states[i].name);
+    if (t->truth)
+        fprintf(t->out, ",truth:base.x,truth:base.y,truth:base.z,truth:base.roll,"
+                        "truth:base.pitch,truth:base.yaw");
     fprintf(t->out, ",faults,events\n");
     return 0;
 }
 
 void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const double *targets,
-                       const double *applied, const double *state, unsigned faults,
-                       unsigned events)
+                       const double *applied, const double *state, const double *truth,
+                       unsigned faults, unsigned events)
 {
     size_t head = atomic_load_explicit(&t->head, memory_order_relaxed);
     size_t tail = atomic_load_explicit(&t->tail, memory_order_acquire);
@@ -77,6 +96,8 @@ void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const do
         row[k++] = applied[i];
     for (uint16_t i = 0; i < m->n_states; i++)
         row[k++] = state[i];
+    for (size_t i = 0; t->truth && i < ROZRUN_TRUTH_VALUES; i++)
+        row[k++] = truth != NULL ? truth[i] : NAN;
     row[k++] = (double)faults; /* small integers: exact in a double */
     row[k++] = (double)events;
     atomic_store_explicit(&t->head, head + 1, memory_order_release);

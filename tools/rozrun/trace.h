@@ -4,7 +4,9 @@
  * A full ring drops the row and counts it; the tick never blocks on I/O.
  *
  * Columns: tick, time_s, target:<command>... (NaN without a controller),
- * applied:<command>..., state:<state>..., faults (the latched roz_fault_t
+ * applied:<command>..., state:<state>..., when the port has a simulator's
+ * floating base's truth (roz_port_truth()) truth:base.x, .y, .z (m), .roll, .pitch, .yaw
+ * (rad), then faults (the latched roz_fault_t
  * bits after the tick, a decimal integer), events (what happened at this
  * tick, tokens separated by spaces, empty if nothing: the ROZRUN_EV_* names
  * below, and fault:<name> / cleared:<name> when a fault bit latched or was
@@ -17,6 +19,7 @@
 #include <stdio.h>
 
 #include "roz/manifest.h"
+#include "roz/port.h"
 
 /* Events of a tick (bits), and their names in the trace. */
 enum rozrun_event {
@@ -33,11 +36,20 @@ enum rozrun_event {
 };
 #define ROZRUN_EV_COUNT 9
 
+/* The truth columns: base x, y, z (m, world), roll, pitch, yaw (rad). */
+#define ROZRUN_TRUTH_VALUES 6
+
+/* The port's truth about a floating base into @p out (ROZRUN_TRUTH_VALUES):
+ * 1, or 0 when the port has no truth or the robot no floating base. No heap,
+ * no text: the tick calls it. */
+int rozrun_trace_truth(const roz_port_t *port, double out[ROZRUN_TRUTH_VALUES]);
+
 typedef struct rozrun_trace {
     FILE                *out;
     const char          *path;
     const roz_manifest_t *m;
     size_t               width;    /* doubles per row */
+    int                  truth;    /* 1: the rows carry the truth columns */
     size_t               capacity; /* rows, a power of two */
     double              *rows;     /* capacity * width, allocated at open */
     atomic_size_t        head;     /* producer */
@@ -49,15 +61,16 @@ typedef struct rozrun_trace {
     char                 error[160]; /* consumer: the first write error, "" none */
 } rozrun_trace_t;
 
-/* Opens path and writes the header; allocates the ring. 0 or -1 (errno-free
- * message in err). */
-int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t *m, char *err,
-                      size_t errlen);
+/* Opens path and writes the header, with the truth columns when @p truth;
+ * allocates the ring. 0 or -1 (errno-free message in err). */
+int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t *m, int truth,
+                      char *err, size_t errlen);
 /* Producer: one row: tick, time, targets (NaN without a controller),
- * applied commands, state, the latched faults, the tick's events. */
+ * applied commands, state, the truth (ROZRUN_TRUTH_VALUES; NaN when
+ * NULL), the latched faults, the tick's events. */
 void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const double *targets,
-                       const double *applied, const double *state, unsigned faults,
-                       unsigned events);
+                       const double *applied, const double *state, const double *truth,
+                       unsigned faults, unsigned events);
 /* Consumer: writes every queued row. 0, or -1 once a write failed (the
  * first failure is in t->error; rows after it are counted as lost). */
 int rozrun_trace_drain(rozrun_trace_t *t);

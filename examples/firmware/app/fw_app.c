@@ -151,7 +151,7 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
             "returned an error", (unsigned long)out->fault_tick,
             (unsigned long)out->faulted_ticks, (unsigned long)out->tick_errors);
     }
-    out->violations = sim.violations;
+    out->violations = roz_loopback_counters(&sim).violations;
     say(pf, "violations: %llu", (unsigned long long)out->violations);
     say(pf, "fingerprint: %016llx", (unsigned long long)out->fingerprint);
     if (cfg.clock != NULL) {

@@ -66,6 +66,23 @@ static const char fault_schema[] =
     "uint32 cleared\n"
     "string message\n";
 
+static const char truth_schema[] =
+    "# a simulator's truth at this tick (roz/port.h, roz_port_truth_t): not a\n"
+    "# sensor; what tells standing from fallen\n"
+    "bool floating  # false: a fixed base, the pose fields NaN\n"
+    "float64 x  # base position, m, world\n"
+    "float64 y\n"
+    "float64 height  # base height above the ground (world z), m\n"
+    "float64 qw  # base orientation\n"
+    "float64 qx\n"
+    "float64 qy\n"
+    "float64 qz\n"
+    "float64 roll  # rad, Z-Y-X\n"
+    "float64 pitch\n"
+    "float64 yaw\n"
+    "uint32 contacts  # contacts between the robot and the ground\n"
+    "string[] bodies  # the robot's bodies touching the ground (at most 8)\n";
+
 /* ---- CDR ---------------------------------------------------------------------- */
 
 static void cdr_begin(cdr_t *c, unsigned char **p, size_t *cap)
@@ -297,6 +314,13 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
     f->ch_fault = roz_mcap_channel(&f->w, s_fault, "/roz/fault", "cdr");
     if (f->ch_fault == 0)
         rc = ROZ_ENOMEM;
+    f->port = cfg->port;
+    if (rc == ROZ_OK && roz_port_has_truth(&f->port)) {
+        uint16_t s_truth = roz_mcap_schema(&f->w, "roz_msgs/msg/Truth", "ros2msg", truth_schema);
+        f->ch_truth = roz_mcap_channel(&f->w, s_truth, "/roz/truth", "cdr");
+        if (f->ch_truth == 0)
+            rc = ROZ_ENOMEM;
+    }
     if (rc == ROZ_OK)
         rc = write_run(f, cfg);
     if (rc == ROZ_OK)
@@ -363,6 +387,24 @@ static int write_record(void *ctx, const roz_record_t *r)
         rc = write_values(f, f->ch_target, t, r->target, m->n_commands);
     if (rc == ROZ_OK)
         rc = write_values(f, f->ch_applied, t, r->applied, m->n_commands);
+    if (rc == ROZ_OK && f->ch_truth != 0 && r->truth != NULL) {
+        const roz_port_truth_t *tr = r->truth;
+        uint32_t nb = tr->n_bodies < ROZ_PORT_TRUTH_MAX_BODIES ? tr->n_bodies
+                                                               : ROZ_PORT_TRUTH_MAX_BODIES;
+        cdr_begin(&c, &f->msg, &f->msg_cap);
+        cdr_u(&c, tr->floating ? 1u : 0u, 1);
+        const double v[10] = { tr->pos[0], tr->pos[1], tr->pos[2], tr->quat[0], tr->quat[1],
+                               tr->quat[2], tr->quat[3], tr->roll, tr->pitch, tr->yaw };
+        for (int k = 0; k < 10; k++)
+            cdr_f64(&c, v[k]);
+        cdr_u(&c, tr->contacts, 4);
+        cdr_u(&c, nb, 4);
+        for (uint32_t k = 0; k < nb; k++) {
+            const char *name = roz_port_truth_body(&f->port, tr->bodies[k]);
+            cdr_str(&c, name != NULL ? name : "?");
+        }
+        rc = put_msg(f, f->ch_truth, t, &c);
+    }
     if (rc == ROZ_OK && r->fault_message != NULL) {
         cdr_begin(&c, &f->msg, &f->msg_cap);
         cdr_u(&c, r->faults, 4);
@@ -650,6 +692,10 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
     out->target = rd->target;
     out->applied = rd->applied;
     out->fault_message = (rd->tick.flags & ROZ_RECORD_FAULT_CHANGED) ? rd->fault_message : NULL;
+    /* /roz/truth is not read back (replay never feeds it to a controller):
+     * the flag goes with it, so a record never says "truth" without one */
+    out->flags &= ~(uint32_t)ROZ_RECORD_TRUTH;
+    out->truth = NULL;
     if (offset != NULL)
         *offset = rd->tick_offset;
     return 1;

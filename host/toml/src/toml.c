@@ -357,6 +357,21 @@ static void append_child(roz_toml_doc_t *d, uint32_t parent, uint32_t child)
         index_insert(d, parent, child);
 }
 
+/* A new table or array under @parent, named @key (NULL: an array's
+ * element), with the reader's @flags. */
+static int new_child(parser_t *p, uint32_t parent, uint8_t type, uint8_t flags,
+                     const roz_toml_string_t *key, uint32_t *out)
+{
+    int rc = new_node(p, type, out);
+    if (rc != ROZ_OK)
+        return rc;
+    p->doc->nodes[*out].flags = flags;
+    if (key != NULL)
+        p->doc->nodes[*out].key = *key;
+    append_child(p->doc, parent, *out);
+    return ROZ_OK;
+}
+
 /* ---- private: whitespace and comments --------------------------------------- */
 
 static void skip_ws(parser_t *p)
@@ -718,12 +733,9 @@ static int place(parser_t *p, uint32_t base, int top, const char *key_at, uint32
             break;
         }
         if (c == ROZ_TOML_NONE) {
-            rc = new_node(p, ROZ_TOML_TABLE, &c);
+            rc = new_child(p, cur, ROZ_TOML_TABLE, F_DOTTED, &k, &c);
             if (rc != ROZ_OK)
                 return rc;
-            d->nodes[c].flags = F_DOTTED;
-            d->nodes[c].key = k;
-            append_child(d, cur, c);
         } else {
             roz_toml_node_t *t = &d->nodes[c];
             d->arena_used = mark;
@@ -771,12 +783,9 @@ static int open_table(parser_t *p, size_t key_at, size_t after, int aot)
             d->arena_used = mark;
         if (!last) {
             if (t == NULL) {
-                rc = new_node(p, ROZ_TOML_TABLE, &c);
+                rc = new_child(p, cur, ROZ_TOML_TABLE, F_IMPLICIT, &k, &c);
                 if (rc != ROZ_OK)
                     return rc;
-                d->nodes[c].flags = F_IMPLICIT;
-                d->nodes[c].key = k;
-                append_child(d, cur, c);
             } else if (t->type == ROZ_TOML_TABLE && !(t->flags & F_INLINE)) {
                 /* a table of any other kind: go in */
             } else if (t->type == ROZ_TOML_ARRAY && (t->flags & F_AOT)) {
@@ -792,11 +801,9 @@ static int open_table(parser_t *p, size_t key_at, size_t after, int aot)
         }
         if (!aot) {
             if (t == NULL) {
-                rc = new_node(p, ROZ_TOML_TABLE, &c);
+                rc = new_child(p, cur, ROZ_TOML_TABLE, 0, &k, &c);
                 if (rc != ROZ_OK)
                     return rc;
-                d->nodes[c].key = k;
-                append_child(d, cur, c);
             } else if (!(t->type == ROZ_TOML_TABLE && t->flags == F_IMPLICIT)) {
                 return fail(p, after, ROZ_TOML_ERR_SYNTAX, "%s is already defined",
                             key_text(k, kb, sizeof kb));
@@ -805,22 +812,17 @@ static int open_table(parser_t *p, size_t key_at, size_t after, int aot)
         } else {
             uint32_t elem;
             if (t == NULL) {
-                rc = new_node(p, ROZ_TOML_ARRAY, &c);
+                rc = new_child(p, cur, ROZ_TOML_ARRAY, F_AOT, &k, &c);
                 if (rc != ROZ_OK)
                     return rc;
-                d->nodes[c].flags = F_AOT;
-                d->nodes[c].key = k;
-                append_child(d, cur, c);
             } else if (!(t->type == ROZ_TOML_ARRAY && (t->flags & F_AOT))) {
                 return fail(p, after, ROZ_TOML_ERR_SYNTAX,
                             "%s is already defined, and not as an array of tables",
                             key_text(k, kb, sizeof kb));
             }
-            rc = new_node(p, ROZ_TOML_TABLE, &elem);
+            rc = new_child(p, c, ROZ_TOML_TABLE, F_EXPLICIT, NULL, &elem);
             if (rc != ROZ_OK)
                 return rc;
-            d->nodes[elem].flags = F_EXPLICIT;
-            append_child(d, c, elem);
             c = elem;
         }
         p->table = c;

@@ -31,7 +31,7 @@ extern "C" {
 /** A hold (ROZ_SAFE_HOLD) keeps the last setpoint no further from the
  *  measured position than this many rate caps (max_rate) of its channel:
  *  enough for the sag of a standing humanoid's joints under gravity
- *  (test/mujoco/test_mujoco_stops.c), little against a joint held back. */
+ *  (test/ports/mujoco/test_mujoco_stops.c), little against a joint held back. */
 #define ROZ_FILTER_HOLD_TICKS 5.0
 
 /** How the filter treats the controller's targets this tick. */

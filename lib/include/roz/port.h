@@ -47,7 +47,7 @@ typedef struct roz_port_fault {
 
 /** @name Capabilities (roz_port_ops_t::caps): what a port's wire and its
  *  implementation offer, so that a consumer (rozrun, the conformance suite
- *  test/ports/test_port_conformance.c) need not know the port.
+ *  test/ports/common/test_port_conformance.c) need not know the port.
  *  @{ */
 /** Every state and command frame carries a CRC that the receiver checks. */
 #define ROZ_PORT_CAP_CRC         (1u << 0)
@@ -74,13 +74,46 @@ typedef struct roz_port_fault {
 #define ROZ_PORT_CAP_NEEDS_NETNS (1u << 7)
 /** @} */
 
-/** One parameter a port takes (roz_port_info_t::params). */
+/** How a port's parser reads a parameter (roz_port_param_info_t::kind). */
+typedef enum roz_port_param_kind {
+    /** its own way: the row's range and default are text for people */
+    ROZ_PORT_PARAM_TEXT = 0,
+    /** an integer in [min, max], dflt when absent (roz_params_get_row_u32()) */
+    ROZ_PORT_PARAM_U32,
+    /** a finite number in [min, max], dflt when absent (roz_params_get_row_double()) */
+    ROZ_PORT_PARAM_DOUBLE
+} roz_port_param_kind_t;
+
+/** One parameter a port takes (roz_port_info_t::params). A numeric row
+ *  (ROZ_PORT_PARAM_U32_ROW(), ROZ_PORT_PARAM_DOUBLE_ROW()) is also what the
+ *  port's parser reads its bounds and default from: the text shown and the
+ *  numbers checked are written once. */
 typedef struct roz_port_param_info {
     const char *key;   /**< "command_timeout_us" */
     const char *range; /**< the values it takes: "1..1000000", "FROM:TO" */
     const char *def;   /**< its default as text; "" when it has none */
     const char *help;  /**< one short line */
+    roz_port_param_kind_t kind; /**< TEXT: the port parses it; the numbers below are 0 */
+    double      min, max, dflt; /**< U32, DOUBLE: the bounds and the default */
 } roz_port_param_info_t;
+
+/** @cond */
+#define ROZ_PORT_PARAM_STR_(x) #x
+#define ROZ_PORT_PARAM_STR(x)  ROZ_PORT_PARAM_STR_(x)
+/** @endcond */
+/** A row of a parameter the port parses its own way (ROZ_PORT_PARAM_TEXT). */
+#define ROZ_PORT_PARAM_TEXT_ROW(key, range, def, help) \
+    { key, range, def, help, ROZ_PORT_PARAM_TEXT, 0.0, 0.0, 0.0 }
+/** A row of an integer parameter: @p min, @p max and @p def are plain
+ *  numbers or macros of plain numbers (no suffix): the range and default
+ *  shown are their text. */
+#define ROZ_PORT_PARAM_U32_ROW(key, min, max, def, help)                                   \
+    { key, ROZ_PORT_PARAM_STR(min) ".." ROZ_PORT_PARAM_STR(max), ROZ_PORT_PARAM_STR(def), \
+      help, ROZ_PORT_PARAM_U32, (min), (max), (def) }
+/** A row of a real parameter; @p unit ("", " m") follows the range shown. */
+#define ROZ_PORT_PARAM_DOUBLE_ROW(key, min, max, def, unit, help)                               \
+    { key, ROZ_PORT_PARAM_STR(min) ".." ROZ_PORT_PARAM_STR(max) unit, ROZ_PORT_PARAM_STR(def), \
+      help, ROZ_PORT_PARAM_DOUBLE, (min), (max), (def) }
 
 /** What a port says about itself (roz_port_ops_t::info): static, const. */
 typedef struct roz_port_info {
@@ -110,6 +143,26 @@ typedef struct roz_port_link_counters {
     uint64_t malformed;  /**< dropped: not a frame of the expected shape
                               (a port without a CRC: what it checks instead) */
 } roz_port_link_counters_t;
+
+/** Most bodies one truth sample names (roz_port_truth_t::bodies). */
+#define ROZ_PORT_TRUTH_MAX_BODIES 8
+
+/** A simulator's truth at a tick (roz_port_ops_t::truth): what no sensor
+ *  gives, so that a recording tells standing from fallen
+ *  (docs/recording.md, /roz/truth). Plain numbers: filled in the tick. */
+typedef struct roz_port_truth {
+    uint32_t floating;   /**< 1: the robot has a free-floating base, and the pose
+                              below is its; 0: fixed base, pose NaN */
+    double   pos[3];     /**< base position, m, world (pos[2]: its height above
+                              the world's origin, the ground) */
+    double   quat[4];    /**< base orientation w, x, y, z */
+    double   roll, pitch, yaw; /**< rad, Z-Y-X from quat */
+    uint32_t contacts;   /**< contacts between the robot and the world */
+    uint32_t n_bodies;   /**< robot bodies touching the world, at most
+                              ROZ_PORT_TRUTH_MAX_BODIES named */
+    int32_t  bodies[ROZ_PORT_TRUTH_MAX_BODIES]; /**< the port's body ids
+                              (roz_port_ops_t::truth_body names them) */
+} roz_port_truth_t;
 
 /** When roz_port_report() is asked for a port's own lines. */
 typedef enum roz_port_report_when {
@@ -176,6 +229,16 @@ typedef struct roz_port_ops {
      *  before open(). Optional: a port whose parameters name no file has
      *  none. Context: start-up. */
     void (*set_origin)(void *self, const char *robot_toml);
+    /** A simulator's truth after the last read() (roz_port_truth_t), which
+     *  the runtime copies into the flight recorder's record of the tick.
+     *  Optional: a real robot's port has none. Context: the tick, after
+     *  read(); RT-safe: no heap, no formatting, bounded. */
+    int (*truth)(const void *self, roz_port_truth_t *out);
+    /** The name of body @p id of a truth sample, in storage that lives as
+     *  long as the port is open; NULL for an id it does not know. Optional
+     *  (with truth). Context: any thread while the port is open (the
+     *  recorder's drain); never formats in the tick. */
+    const char *(*truth_body)(const void *self, int32_t id);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -188,12 +251,59 @@ typedef struct roz_port {
     int                   opened;
 } roz_port_t;
 
+/**
+ * The ROZ_CFG_* options a port's instance is laid out by, as a translation
+ * unit sees them. A port instance is the application's storage, written by
+ * the library: an application built with other options than the library
+ * would have it written past its end. The port constructors and
+ * roz_port_open() pass the caller's view, and the library refuses a
+ * mismatch before it writes anything (test/core/test_port_layout.c).
+ */
+typedef struct roz_port_layout {
+    uint32_t max_commands, max_states, max_joints, max_params, error_len, max_name_len,
+        name_arena_bytes, problem_len;
+} roz_port_layout_t;
+
+/** The layout of the translation unit that expands it. */
+#define ROZ_PORT_LAYOUT_INIT                                                                 \
+    {                                                                                        \
+        (uint32_t)ROZ_CFG_MAX_COMMANDS, (uint32_t)ROZ_CFG_MAX_STATES,                        \
+            (uint32_t)ROZ_CFG_MAX_JOINTS, (uint32_t)ROZ_CFG_MAX_PARAMS,                      \
+            (uint32_t)ROZ_CFG_ERROR_LEN, (uint32_t)ROZ_CFG_MAX_NAME_LEN,                     \
+            (uint32_t)ROZ_CFG_NAME_ARENA_BYTES, (uint32_t)ROZ_CFG_PROBLEM_LEN                \
+    }
+
+/**
+ * @brief Compare a caller's port layout with the library's.
+ * @param[out] err  names the first difference ("ROZ_CFG_MAX_COMMANDS is 16
+ *                  in the application, 256 in libroz_core: ..."); may be NULL
+ * @retval ROZ_OK the same; ROZ_ECONFIG different
+ * Context: any; no I/O.
+ */
+ROZ_NODISCARD int roz_port_layout_check(const roz_port_layout_t *caller, char *err,
+                                        size_t errlen);
+
+/**
+ * @brief What a port constructor returns for an instance it must not write
+ *        (the caller's layout is not the library's, or its instance has
+ *        another size): a port whose open() fails with ROZ_ECONFIG saying
+ *        so; nothing written.
+ * Context: start-up.
+ */
+roz_port_t roz_port_misbuilt(void);
+
 /** @brief open(); a port without the op has nothing to open and is open at
- *  once. Marks @p p open on success. Context: start-up; may allocate. */
+ *  once. Marks @p p open on success. Refuses (ROZ_ECONFIG, @p err naming
+ *  the option) an application built with other ROZ_CFG_* options than the
+ *  library, before the port's open() writes its instance.
+ *  Context: start-up; may allocate. */
 static inline int roz_port_open(roz_port_t *p, const roz_manifest_t *m,
                                 const roz_params_t *params, char *err, size_t errlen)
 {
-    int rc = p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_OK;
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    int rc = roz_port_layout_check(&caller, err, errlen);
+    if (rc == ROZ_OK)
+        rc = p->ops->open != NULL ? p->ops->open(p->self, m, params, err, errlen) : ROZ_OK;
     p->opened = rc == ROZ_OK;
     return rc;
 }
@@ -266,8 +376,6 @@ static inline int roz_port_link_counters(const roz_port_t *p, roz_port_link_coun
     return ROZ_ENOTSUP;
 }
 
-/** @brief report(); an empty text (0) when the port has none.
- *  Context: start-up or shut-down, never the tick. */
 /** @brief set_origin(), if any: @p robot_toml is the file the manifest was
  *  read from (it must outlive the port). Context: start-up, before open. */
 static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_toml)
@@ -276,6 +384,28 @@ static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_to
         p->ops->set_origin(p->self, robot_toml);
 }
 
+/** @brief 1 when the port gives truth samples (a simulator). Context: any. */
+static inline int roz_port_has_truth(const roz_port_t *p)
+{
+    return p->ops->truth != NULL;
+}
+
+/** @brief truth(); ROZ_ENOTSUP when the port has none.
+ *  Context: the tick, after read(); RT-safe. */
+static inline int roz_port_truth(const roz_port_t *p, roz_port_truth_t *out)
+{
+    return p->ops->truth != NULL ? p->ops->truth(p->self, out) : ROZ_ENOTSUP;
+}
+
+/** @brief truth_body(): a truth sample's body name; NULL when unknown.
+ *  Context: any thread while the port is open. */
+static inline const char *roz_port_truth_body(const roz_port_t *p, int32_t id)
+{
+    return p->ops->truth_body != NULL ? p->ops->truth_body(p->self, id) : NULL;
+}
+
+/** @brief report(); an empty text (0) when the port has none.
+ *  Context: start-up or shut-down, never the tick. */
 static inline int roz_port_report(const roz_port_t *p, roz_port_report_when_t when, char *buf,
                                   size_t len)
 {

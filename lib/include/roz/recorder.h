@@ -20,6 +20,7 @@
 #include "roz/atomic.h"
 #include "roz/error.h"
 #include "roz/manifest.h"
+#include "roz/port.h"
 #include "roz/private.h"
 
 #ifdef __cplusplus
@@ -39,6 +40,8 @@ enum roz_record_flag {
     ROZ_RECORD_SWAP = 1u << 7,        /**< another controller drives from this tick */
     ROZ_RECORD_FAULT_CHANGED = 1u << 8, /**< the faults differ from the last record's:
                                            fault_message is set */
+    ROZ_RECORD_TRUTH = 1u << 9,       /**< the port is a simulator with a truth sample
+                                           of this tick: truth is set */
 };
 
 /** One tick as the recorder hands it to a drain callback. The pointers are
@@ -61,6 +64,8 @@ typedef struct roz_record {
     const double *applied;         /**< n_commands: what the filter handed the port */
     const char   *fault_message;   /**< with ROZ_RECORD_FAULT_CHANGED: the first fault's
                                         message ("" when none is latched); else NULL */
+    const roz_port_truth_t *truth; /**< with ROZ_RECORD_TRUTH: the simulator's truth
+                                        after this tick's read(); else NULL */
 } roz_record_t;
 
 /** A drain callback: one record; return 0 to go on, non-zero to stop the

@@ -320,7 +320,8 @@ static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
 
 static const roz_port_param_info_t x2_param_info[] = {
     ROZ_ROS2_PARAM_INFO,
-    { "joint_state_layout", "sdk|docs", "sdk", "the joint_state messages' layout" },
+    ROZ_PORT_PARAM_TEXT_ROW("joint_state_layout", "sdk|docs", "sdk",
+                            "the joint_state messages' layout"),
 };
 
 static const roz_port_info_t x2_info = {
@@ -347,8 +348,11 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .link_counters = x2_link_counters,
 };
 
-roz_port_t roz_agibot_x2_port(roz_agibot_x2_t *x2, roz_log_fn log, void *log_ctx)
+roz_port_t roz__agibot_x2_port(roz_agibot_x2_t *x2, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *x2)
+        return roz_port_misbuilt(); /* nothing written to *x2 */
     roz_port_t p = { &roz_agibot_x2_ops, x2, 0 };
     x2->b.open = 0;
     x2->b.log = log;

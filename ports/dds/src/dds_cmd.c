@@ -37,6 +37,8 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
             return 0;
         return ops->safe(c->port, sample);
     }
+    if (atomic_load_explicit(&c->held_back, memory_order_acquire))
+        return 0;
     if (roz_buffer_read(&c->buf, &f) == ROZ_ENOENT)
         return 0;
     const double *meta = f.values + c->m->n_commands;
@@ -55,7 +57,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
         /* the tick went silent (or this was written before it was found
          * so): the hold at the positions last sent, with the manifest's
          * hold gains, until it writes again (a standing humanoid given
-         * the damping command falls: test/mujoco/test_mujoco_stops.c);
+         * the damping command falls: test/ports/mujoco/test_mujoco_stops.c);
          * nothing to a robot that never got a command */
         if (c->sent_any) {
             rc = ops->watchdog != NULL ? ops->watchdog(c->port, sample) : ops->safe(c->port, sample);
@@ -64,6 +66,9 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     } else {
         rc = ops->send(c->port, sample, f.values, meta + ROZ_DDS_CMD_META);
         c->sent_any = 1;
+        if (meta[C_HOLD] != 0.0) /* the tick's writes are holds until then */
+            atomic_store_explicit(&c->count[ROZ_DDS_CMD_HOLD_SENT_SEQ], seq,
+                                  memory_order_release);
     }
     atomic_store_explicit(&c->count[ROZ_DDS_CMD_HANDLED_SEQ], seq, memory_order_release);
     return rc;
@@ -83,6 +88,7 @@ void roz_dds_cmd_init(roz_dds_cmd_t *c, const roz_dds_cmd_config_t *cfg)
     roz_buffer_init(&c->buf, cfg->slots,
                     (uint32_t)(cfg->m->n_commands + ROZ_DDS_CMD_META + cfg->n_extra));
     atomic_init(&c->shutdown, 0);
+    atomic_init(&c->held_back, 0);
     roz_cmd_watchdog_init(&c->watchdog, cfg->timeout_us);
     for (size_t k = 0; k < ROZ_DDS_CMD_COUNTERS; k++)
         atomic_init(&c->count[k], 0u);
@@ -118,13 +124,27 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
     uint32_t epoch;
     double *f = roz_buffer_write_begin(&c->buf);
     /* the first write for this robot, or since the watchdog tripped */
-    int hold = roz_cmd_watchdog_write(&c->watchdog, now, &epoch);
-    hold |= t->robot != c->write_robot;
-    if (hold) {
+    int tripped = roz_cmd_watchdog_write(&c->watchdog, now, &epoch);
+    int fresh = t->robot != c->write_robot; /* a robot new or restarted */
+    int hold = tripped | fresh;
+    if (hold) /* test_x2_watchdog_every_group, test_g1_watchdog_on_the_wire */
+        c->hold_after_trip = tripped && !fresh;
+    /* The hold is one frame of a latest-value hand-off: a write before the
+     * writer sent it would overwrite it, and the robot's first command would
+     * be the controller's. Until a pass sent it, every write is the hold
+     * again (test_g1_hold_reaches_the_wire_first, test_x2_hold_reaches_the_
+     * wire_first, test_pm01_hold_reaches_the_wire_first). */
+    int again = !hold && c->hold_seq >
+                             atomic_load_explicit(&c->count[ROZ_DDS_CMD_HOLD_SENT_SEQ],
+                                                  memory_order_acquire);
+    if (hold || again) {
         /* the start-up hold instead */
-        c->ops->hold(c->port, f);
+        c->ops->hold(c->port, c->hold_after_trip, f);
         c->write_robot = t->robot;
-        bump(c, ROZ_DDS_CMD_HOLDS);
+        c->hold_seq = c->write_seq + 1u;
+        if (hold)
+            bump(c, ROZ_DDS_CMD_HOLDS);
+        hold = 1;
     } else {
         uint32_t changed = roz_commands_clamp(m, cmd, f);
         if (changed != 0)

@@ -23,6 +23,11 @@ int roz_dds_check_interface(const char *name, char *err, size_t errlen)
     return ROZ_OK;
 }
 
+/* The rows the ports' info shows (ROZ_DDS_PARAM_INFO()): the bounds and
+ * defaults read here. */
+static const roz_port_param_info_t rows[] = { ROZ_DDS_PARAM_INFO("") };
+#define ROWS rows, sizeof rows / sizeof rows[0]
+
 int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t default_domain,
                          uint32_t control_rate_hz, char *err, size_t errlen)
 {
@@ -41,8 +46,8 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
     if (rc == ROZ_OK)
         rc = roz_params_get_bool(p, "enable_monitor", 1, &out->enable_monitor, err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_params_get_u32(p, "state_decimation", 1, 1, 1000, &out->state_decimation, err,
-                                errlen);
+        rc = roz_params_get_row_u32(p, ROWS, "state_decimation", &out->state_decimation, err,
+                                    errlen);
     if (rc != ROZ_OK)
         return rc;
     rc = roz_params_get_u32(p, "command_writer_period_us", 2000, 0, ROZ_DDS_MAX_PERIOD_US,
@@ -58,8 +63,8 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  ROZ_DDS_MAX_PERIOD_US);
         return ROZ_EINVAL;
     }
-    rc = roz_params_get_u32(p, "command_writer_spin_us", 0, 0, ROZ_DDS_MAX_SPIN_US,
-                            &out->command_writer_spin_us, err, errlen);
+    rc = roz_params_get_row_u32(p, ROWS, "command_writer_spin_us", &out->command_writer_spin_us,
+                                err, errlen);
     if (rc != ROZ_OK)
         return rc;
     if (out->command_writer_spin_us != 0 && out->command_writer_period_us != 0) {

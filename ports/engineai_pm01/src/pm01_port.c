@@ -209,7 +209,8 @@ static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
 
 static const roz_port_param_info_t pm01_param_info[] = {
     ROZ_ROS2_PARAM_INFO,
-    { "parallel_parser_type", "rl|classic|1|0", "rl", "the ankle parser: rl (the vendor's RL example) or classic" },
+    ROZ_PORT_PARAM_TEXT_ROW("parallel_parser_type", "rl|classic|1|0", "rl",
+                            "the ankle parser: rl (the vendor's RL example) or classic"),
 };
 
 static const roz_port_info_t pm01_info = {
@@ -236,8 +237,11 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .link_counters = pm01_link_counters,
 };
 
-roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log, void *log_ctx)
+roz_port_t roz__engineai_pm01_port(roz_engineai_pm01_t *pm, const roz_port_layout_t *caller,
+                                   size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *pm)
+        return roz_port_misbuilt(); /* nothing written to *pm */
     roz_port_t p = { &roz_engineai_pm01_ops, pm, 0 };
     pm->b.open = 0;
     pm->b.log = log;

@@ -447,15 +447,17 @@ static int lb_link_counters(const void *self, roz_port_link_counters_t *out)
 
 /* Every fault runs over ticks [FROM, TO); TO may be empty: forever. */
 static const roz_port_param_info_t lb_params[] = {
-    { "drop", "FROM:TO", "", "frames sent are lost in transit" },
-    { "freeze", "FROM[:TO]", "", "the peer sends nothing" },
-    { "delay", "K@FROM:TO", "", "frames arrive K ticks late" },
-    { "nan", "CH@FROM:TO", "", "the peer sends NaN in state CH (an index or a name)" },
-    { "range", "CH@FROM:TO", "", "the peer sends 0.5 beyond state CH's upper limit" },
-    { "duplicate", "FROM:TO", "", "the frame delivered before, again" },
-    { "corrupt", "FROM:TO", "", "one bit of every state frame flips" },
-    { "corrupt_cmd", "FROM:TO", "", "one bit of every command frame flips" },
-    { "restart", "FROM:TO", "", "the peer dies at FROM, boots again at TO" },
+    ROZ_PORT_PARAM_TEXT_ROW("drop", "FROM:TO", "", "frames sent are lost in transit"),
+    ROZ_PORT_PARAM_TEXT_ROW("freeze", "FROM[:TO]", "", "the peer sends nothing"),
+    ROZ_PORT_PARAM_TEXT_ROW("delay", "K@FROM:TO", "", "frames arrive K ticks late"),
+    ROZ_PORT_PARAM_TEXT_ROW("nan", "CH@FROM:TO", "",
+                            "the peer sends NaN in state CH (an index or a name)"),
+    ROZ_PORT_PARAM_TEXT_ROW("range", "CH@FROM:TO", "",
+                            "the peer sends 0.5 beyond state CH's upper limit"),
+    ROZ_PORT_PARAM_TEXT_ROW("duplicate", "FROM:TO", "", "the frame delivered before, again"),
+    ROZ_PORT_PARAM_TEXT_ROW("corrupt", "FROM:TO", "", "one bit of every state frame flips"),
+    ROZ_PORT_PARAM_TEXT_ROW("corrupt_cmd", "FROM:TO", "", "one bit of every command frame flips"),
+    ROZ_PORT_PARAM_TEXT_ROW("restart", "FROM:TO", "", "the peer dies at FROM, boots again at TO"),
 };
 
 static const roz_port_info_t lb_info = {
@@ -517,4 +519,39 @@ void roz_loopback_true_state(const roz_loopback_t *lb, double *state)
 const double *roz_loopback_last_command(const roz_loopback_t *lb)
 {
     return lb->have_cmd ? lb->cmd : NULL;
+}
+
+roz_loopback_counters_t roz_loopback_counters(const roz_loopback_t *lb)
+{
+    roz_loopback_counters_t c;
+    c.tick = lb->tick;
+    c.faults = lb->n_faults;
+    c.frames_sent = lb->frames_sent;
+    c.frames_delivered = lb->frames_delivered;
+    c.frames_dropped = lb->frames_dropped;
+    c.frames_duplicated = lb->frames_duplicated;
+    c.frames_corrupted = lb->frames_corrupted;
+    c.link_events = lb->link_events;
+    c.writes = lb->writes;
+    c.writes_withheld = lb->writes_withheld;
+    c.cmds_corrupted = lb->cmds_corrupted;
+    c.cmds_lost = lb->cmds_lost;
+    c.violations = lb->violations;
+    c.first_write_tick = lb->first_write_tick;
+    return c;
+}
+
+roz_link_t roz_loopback_link(const roz_loopback_t *lb)
+{
+    return lb->link;
+}
+
+roz_link_t roz_loopback_peer_link(const roz_loopback_t *lb)
+{
+    return lb->peer_link;
+}
+
+void roz_loopback_clear_faults(roz_loopback_t *lb)
+{
+    lb->n_faults = 0;
 }

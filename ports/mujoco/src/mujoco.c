@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The mujoco port: roz/port/mujoco.h says what, docs/ports/mujoco.md how to use
  * it; here is how it works. The only file that includes MuJoCo's headers. */
+#define _POSIX_C_SOURCE 200809L /* readlink() */
 #include "roz/port/mujoco.h"
 
 #include <math.h>
@@ -8,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <mujoco/mujoco.h>
 
@@ -57,9 +59,12 @@ static const char *const known_keys[] = {
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
 };
 
-/* The built-in robots' models, where this build found them (CMake: the
- * model wheels' folders, and this port's models/), and the parameters each
- * needs, as defaults a robot.toml's or the caller's parameters override. */
+/* The built-in robots' models: under the install prefix's share/roz/models
+ * (cmake --install puts them there, docs/ports/mujoco.md), found from the
+ * running program (<prefix>/bin/rozrun), else where this build found them
+ * (CMake: the model wheels' folders, and this port's models/). Each robot's
+ * parameters are defaults a robot.toml's or the caller's override; the
+ * model, defaults[0], is resolved by builtin_model(). */
 #ifndef ROZ_MUJOCO_G1_SCENE
 #define ROZ_MUJOCO_G1_SCENE ""
 #endif
@@ -69,6 +74,8 @@ static const char *const known_keys[] = {
 #ifndef ROZ_MUJOCO_MODELS
 #define ROZ_MUJOCO_MODELS ""
 #endif
+/* below the program's folder: <prefix>/bin/../share/roz/models/ */
+#define INSTALLED_MODELS "/../share/roz/models/"
 
 /* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
  * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
@@ -102,38 +109,85 @@ static const roz_param_t quadcopter_defaults[] = {
     { "max_thrust", "32" },
 };
 
+/* The PM01: 1 ms steps as the G1's, its base link's IMU (our placement:
+ * models/engineai_pm01.xml says what is EngineAI's and what is ours). */
+static const roz_param_t pm01_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "engineai_pm01.xml" },
+    { "keyframe", "stand" },
+    { "timestep", "0.001" },
+    { "imu_gyro", "imu-angular-velocity" },
+    { "imu_accelerometer", "imu-linear-acceleration" },
+};
+
 typedef struct {
     const char        *robot_id;
+    const char        *installed; /* the model under share/roz/models/ */
     const roz_param_t *defaults;
     size_t             n;
 } builtin_t;
 
-#define BUILTIN(id, d) { id, d, sizeof d / sizeof d[0] }
+#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] }
 static const builtin_t builtins[] = {
-    BUILTIN("unitree_g1", g1_defaults),
-    BUILTIN("unitree_g1_23dof", g1_defaults),
-    BUILTIN("ur5", ur5_defaults),
-    BUILTIN("diff_drive", diff_drive_defaults),
-    BUILTIN("quadcopter", quadcopter_defaults),
+    BUILTIN("unitree_g1", "unitree_g1/scene.xml", g1_defaults),
+    BUILTIN("unitree_g1_23dof", "unitree_g1/scene.xml", g1_defaults),
+    BUILTIN("ur5", "universal_robots_ur5e/ur5e.xml", ur5_defaults),
+    BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
+    BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
+    BUILTIN("engineai_pm01", "engineai_pm01.xml", pm01_defaults),
 };
+#define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 
-static const builtin_t *find_builtin(const char *robot_id)
+static int readable(const char *path)
 {
-    for (size_t i = 0; i < sizeof builtins / sizeof builtins[0]; i++) {
-        /* defaults[0] is the model; "" (or a folder) when this build has none */
-        const char *model = builtins[i].defaults[0].value;
-        size_t n = strlen(model);
-        if (strcmp(builtins[i].robot_id, robot_id) == 0 && n > 4 &&
-            strcmp(model + n - 4, ".xml") == 0 && model[0] == '/')
-            return &builtins[i];
+    FILE *f = path[0] == '/' ? fopen(path, "rb") : NULL;
+    if (f != NULL)
+        fclose(f);
+    return f != NULL;
+}
+
+/* Where built-in robot @p i's model is: installed beside the program, else
+ * this build's; NULL: neither is there. Start-up only (open, and
+ * roz_mujoco_builtin_model()): it reads the file system, and its answers
+ * are kept in static storage. */
+static const char *builtin_model(size_t i)
+{
+    static char installed[N_BUILTINS][ROZ_MUJOCO_PATH_MAX];
+    char exe[ROZ_MUJOCO_PATH_MAX];
+    ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (n > 0) {
+        exe[n] = '\0';
+        char *slash = strrchr(exe, '/');
+        if (slash != NULL) {
+            *slash = '\0';
+            int len = snprintf(installed[i], sizeof installed[i], "%s" INSTALLED_MODELS "%s",
+                               exe, builtins[i].installed);
+            if (len > 0 && (size_t)len < sizeof installed[i] && readable(installed[i]))
+                return installed[i];
+        }
+    }
+    const char *model = builtins[i].defaults[0].value;
+    size_t len = strlen(model);
+    if (len > 4 && strcmp(model + len - 4, ".xml") == 0 && readable(model))
+        return model;
+    return NULL;
+}
+
+/* Built-in robot @p robot_id and its model (*model), or NULL. */
+static const builtin_t *find_builtin(const char *robot_id, const char **model)
+{
+    for (size_t i = 0; i < N_BUILTINS; i++) {
+        if (strcmp(builtins[i].robot_id, robot_id) == 0) {
+            *model = builtin_model(i);
+            return *model != NULL ? &builtins[i] : NULL;
+        }
     }
     return NULL;
 }
 
 const char *roz_mujoco_builtin_model(const char *robot_id)
 {
-    const builtin_t *b = find_builtin(robot_id);
-    return b != NULL ? b->defaults[0].value : NULL;
+    const char *model = NULL;
+    return find_builtin(robot_id, &model) != NULL ? model : NULL;
 }
 
 /* MuJoCo's warnings (an unstable simulation, a full arena) go to stdout by
@@ -169,14 +223,19 @@ static int merge_params(const roz_manifest_t *m, const roz_params_t *extra, merg
     size_t n = 0;
     const size_t cap = sizeof out->items / sizeof out->items[0];
     /* a built-in robot's defaults first, unless a model of its own is named */
-    const builtin_t *b = find_builtin(m->robot_id);
+    const char *model = NULL;
+    const builtin_t *b = find_builtin(m->robot_id, &model);
     int own_model = roz_params_find(extra, "model") != NULL;
     if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
         roz_params_t hw = { m->hardware->params, m->hardware->n_params };
         own_model |= roz_params_find(&hw, "model") != NULL;
     }
-    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++)
-        out->items[n++] = b->defaults[i];
+    for (size_t i = 0; b != NULL && !own_model && i < b->n && n < cap; i++) {
+        out->items[n] = b->defaults[i];
+        if (i == 0)
+            out->items[n].value = model; /* installed, or this build's */
+        n++;
+    }
     if (m->hardware != NULL && m->hardware->port != NULL && strcmp(m->hardware->port, PORT) == 0) {
         for (uint16_t i = 0; i < m->hardware->n_params && n < cap; i++)
             out->items[n++] = m->hardware->params[i];
@@ -727,6 +786,52 @@ static void close_model(roz_mujoco_t *s)
 
 static void update_base(roz_mujoco_t *s);
 
+/* docs/ports/mujoco.md's table, one row a key. */
+static const roz_port_param_info_t mj_params[] = {
+    ROZ_PORT_PARAM_TEXT_ROW("model", "an MJCF file", "the built-in robot's",
+                            "relative to the robot.toml"),
+    ROZ_PORT_PARAM_TEXT_ROW("joint_names", "MANIFEST=MJCF,...", "the same names",
+                            "manifest joints bound to MJCF joints"),
+    ROZ_PORT_PARAM_TEXT_ROW("keyframe", "a keyframe's name", "the built-in robot's",
+                            "the pose to start from"),
+    ROZ_PORT_PARAM_TEXT_ROW("timestep", "1e-6..1 s", "the built-in robot's",
+                            "the physics step; a whole number a tick"),
+    ROZ_PORT_PARAM_TEXT_ROW("imu_gyro", "a sensor's name", "the model's first gyro",
+                            "the IMU's angular velocity"),
+    ROZ_PORT_PARAM_TEXT_ROW("imu_accelerometer", "a sensor's name", "the model's first",
+                            "the IMU's acceleration"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kp", 0, 1e7, 400, "",
+                              "the velocity servo's stiffness, N m/rad"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kd", 0, 1e6, 20, "",
+                              "the velocity servo's damping, N m s/rad"),
+    ROZ_PORT_PARAM_TEXT_ROW("unbound", "lock|limp", "lock", "model joints no channel binds"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_left", "a joint's name", "the built-in diff_drive's",
+                            "a differential drive's wheel"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_right", "a joint's name", "the built-in diff_drive's",
+                            "a differential drive's wheel"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels"),
+    ROZ_PORT_PARAM_TEXT_ROW("wheel_separation", "1e-3..100 m", "0.230",
+                            "a differential drive's track"),
+    ROZ_PORT_PARAM_TEXT_ROW("max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust"),
+    ROZ_PORT_PARAM_U32_ROW("latency_ticks", 0, ROZ_MUJOCO_MAX_DELAY, 0, "sensor latency"),
+    ROZ_PORT_PARAM_U32_ROW("noise_seed", 0, 4294967295, 1, "the noise's seed"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_position", 0, 1, 0, "",
+                              "Gaussian noise, standard deviation, channel unit"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_velocity", 0, 10, 0, "", "Gaussian noise on velocities"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_effort", 0, 100, 0, "", "Gaussian noise on efforts"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_gyro", 0, 10, 0, "", "Gaussian noise on the gyro"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("noise_accelerometer", 0, 100, 0, "",
+                              "Gaussian noise on the accelerometer"),
+    ROZ_PORT_PARAM_TEXT_ROW("drop", "FROM:TO", "", "state frames lost"),
+    ROZ_PORT_PARAM_TEXT_ROW("freeze", "FROM[:TO]", "", "the robot sends nothing"),
+    ROZ_PORT_PARAM_TEXT_ROW("delay", "K@FROM:TO", "", "frames K ticks late (1..15)"),
+    ROZ_PORT_PARAM_TEXT_ROW("push", "FX,FY,FZ@BODY@FROM:TO", "",
+                            "a force, N, world frame, on a body"),
+    ROZ_PORT_PARAM_TEXT_ROW("gantry", "FROM[:TO]", "", "the floating base hung where it is"),
+    ROZ_PORT_PARAM_TEXT_ROW("restart", "FROM:TO", "", "the robot's board dies and boots at TO"),
+};
+#define MJ_PARAMS mj_params, sizeof mj_params / sizeof mj_params[0]
+
 static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extra, char *err,
                    size_t errlen)
 {
@@ -768,23 +873,22 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                               errlen) != ROZ_OK ||
         roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "servo_kp", 400.0, 0.0, 1e7, &kp, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "servo_kd", 20.0, 0.0, 1e6, &kd, err, errlen) != ROZ_OK ||
-        roz_params_get_double(p, "noise_position", 0.0, 0.0, 1.0, &s->noise_q, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "servo_kp", &kp, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "servo_kd", &kd, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_position", &s->noise_q, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_velocity", 0.0, 0.0, 10.0, &s->noise_dq, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_velocity", &s->noise_dq, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_effort", 0.0, 0.0, 100.0, &s->noise_tau, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_effort", &s->noise_tau, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_gyro", 0.0, 0.0, 10.0, &s->noise_gyro, err, errlen) !=
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_gyro", &s->noise_gyro, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_double(p, "noise_accelerometer", 0.0, 0.0, 100.0, &s->noise_acc, err,
-                              errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "noise_accelerometer", &s->noise_acc, err,
+                                  errlen) != ROZ_OK ||
         roz_params_get_double(p, "timestep", 0.001, 1e-6, 1.0, &ts_check, err, errlen) !=
             ROZ_OK ||
-        roz_params_get_u32(p, "latency_ticks", 0, 0, ROZ_MUJOCO_MAX_DELAY, &latency, err,
-                           errlen) != ROZ_OK ||
-        roz_params_get_u32(p, "noise_seed", 1, 0, UINT32_MAX, &seed, err, errlen) != ROZ_OK)
+        roz_params_get_row_u32(p, MJ_PARAMS, "latency_ticks", &latency, err, errlen) != ROZ_OK ||
+        roz_params_get_row_u32(p, MJ_PARAMS, "noise_seed", &seed, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
     const char *unbound = roz_params_get_str(p, "unbound", "lock");
     if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
@@ -1266,6 +1370,32 @@ static void update_base(roz_mujoco_t *s)
         b->max_tilt = tilt;
 }
 
+/* The contacts between the robot and the world (body 0) now, and the first
+ * @p cap distinct robot bodies in them, as ids into @p ids. Bounded by the
+ * model's contacts; no heap, no text: the tick may call it (mj_truth). */
+static uint32_t contact_bodies(const roz_mujoco_t *s, int32_t *ids, uint32_t cap, uint32_t *n_ids)
+{
+    uint32_t contacts = 0;
+    *n_ids = 0;
+    if (s->data == NULL)
+        return 0;
+    const mjModel *mm = s->model;
+    const mjData *d = s->data;
+    for (int i = 0; i < d->ncon; i++) {
+        int b1 = mm->geom_bodyid[d->contact[i].geom[0]], b2 = mm->geom_bodyid[d->contact[i].geom[1]];
+        if ((b1 == 0) == (b2 == 0))
+            continue; /* the robot with itself, or the world with itself */
+        int32_t b = b1 == 0 ? b2 : b1;
+        contacts++;
+        int seen = 0;
+        for (uint32_t k = 0; k < *n_ids && !seen; k++)
+            seen = ids[k] == b;
+        if (!seen && *n_ids < cap)
+            ids[(*n_ids)++] = b;
+    }
+    return contacts;
+}
+
 static int mj_read(void *self, double *state, size_t n)
 {
     roz_mujoco_t *s = self;
@@ -1382,41 +1512,42 @@ static int mj_report(const void *self, roz_port_report_when_t when, char *buf, s
     return at;
 }
 
+/* The recorder's /roz/truth (roz/port.h): the base as the last read() left
+ * it, the contacts of the physics now (read() stepped it; write() does
+ * not). Copies and one bounded loop: the tick calls it. */
+static int mj_truth(const void *self, roz_port_truth_t *out)
+{
+    const roz_mujoco_t *s = self;
+    const roz_mujoco_base_t *b = &s->base;
+    if (s->data == NULL)
+        return ROZ_ESTATE;
+    out->floating = b->floating ? 1u : 0u;
+    for (int k = 0; k < 3; k++)
+        out->pos[k] = b->floating ? b->pos[k] : NAN;
+    for (int k = 0; k < 4; k++)
+        out->quat[k] = b->floating ? b->quat[k] : NAN;
+    out->roll = b->floating ? b->roll : NAN;
+    out->pitch = b->floating ? b->pitch : NAN;
+    out->yaw = b->floating ? b->yaw : NAN;
+    out->contacts = contact_bodies(s, out->bodies, ROZ_PORT_TRUTH_MAX_BODIES, &out->n_bodies);
+    return ROZ_OK;
+}
+
+/* A body's name from the compiled model: read-only while the port is open,
+ * so the recorder's drain may ask from its own thread. */
+static const char *mj_truth_body(const void *self, int32_t id)
+{
+    const roz_mujoco_t *s = self;
+    if (s->model == NULL || id < 0 || id >= s->model->nbody)
+        return NULL;
+    return mj_id2name(s->model, mjOBJ_BODY, id);
+}
+
 static void mj_set_origin(void *self, const char *robot_toml)
 {
     roz_mujoco_set_robot_file(self, robot_toml);
 }
 
-/* docs/ports/mujoco.md's table, one row a key. */
-static const roz_port_param_info_t mj_params[] = {
-    { "model", "an MJCF file", "the built-in robot's", "relative to the robot.toml" },
-    { "joint_names", "MANIFEST=MJCF,...", "the same names", "manifest joints bound to MJCF joints" },
-    { "keyframe", "a keyframe's name", "the built-in robot's", "the pose to start from" },
-    { "timestep", "1e-6..1 s", "the built-in robot's", "the physics step; a whole number a tick" },
-    { "imu_gyro", "a sensor's name", "the model's first gyro", "the IMU's angular velocity" },
-    { "imu_accelerometer", "a sensor's name", "the model's first", "the IMU's acceleration" },
-    { "servo_kp", "0..1e7", "400", "the velocity servo's stiffness, N m/rad" },
-    { "servo_kd", "0..1e6", "20", "the velocity servo's damping, N m s/rad" },
-    { "unbound", "lock|limp", "lock", "model joints no channel binds" },
-    { "wheel_left", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
-    { "wheel_right", "a joint's name", "the built-in diff_drive's", "a differential drive's wheel" },
-    { "wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels" },
-    { "wheel_separation", "1e-3..100 m", "0.230", "a differential drive's track" },
-    { "max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust" },
-    { "latency_ticks", "0..15", "0", "sensor latency" },
-    { "noise_seed", "0..4294967295", "1", "the noise's seed" },
-    { "noise_position", "0..1", "0", "Gaussian noise, standard deviation, channel unit" },
-    { "noise_velocity", "0..10", "0", "Gaussian noise on velocities" },
-    { "noise_effort", "0..100", "0", "Gaussian noise on efforts" },
-    { "noise_gyro", "0..10", "0", "Gaussian noise on the gyro" },
-    { "noise_accelerometer", "0..100", "0", "Gaussian noise on the accelerometer" },
-    { "drop", "FROM:TO", "", "state frames lost" },
-    { "freeze", "FROM[:TO]", "", "the robot sends nothing" },
-    { "delay", "K@FROM:TO", "", "frames K ticks late (1..15)" },
-    { "push", "FX,FY,FZ@BODY@FROM:TO", "", "a force, N, world frame, on a body" },
-    { "gantry", "FROM[:TO]", "", "the floating base hung where it is" },
-    { "restart", "FROM:TO", "", "the robot's board dies and boots at TO" },
-};
 
 static const roz_port_info_t mj_info = {
     .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",
@@ -1442,10 +1573,15 @@ const roz_port_ops_t roz_mujoco_ops = {
     .link_counters = mj_link_counters,
     .report = mj_report,
     .set_origin = mj_set_origin,
+    .truth = mj_truth,
+    .truth_body = mj_truth_body,
 };
 
-roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
+roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
+                            size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *self)
+        return roz_port_misbuilt(); /* nothing written to *self */
     memset(self, 0, sizeof *self); /* open frees a model only if it made one */
     self->log = log;
     self->log_ctx = log_ctx;
@@ -1501,27 +1637,11 @@ const double *roz_mujoco_last_command(const roz_mujoco_t *s)
 
 void roz_mujoco_base(const roz_mujoco_t *s, roz_mujoco_base_t *out)
 {
+    int32_t ids[ROZ_MUJOCO_MAX_CONTACT_BODIES];
     *out = s->base;
-    out->contacts = 0;
-    out->n_bodies = 0;
-    if (s->data == NULL)
-        return;
-    const mjModel *mm = s->model;
-    const mjData *d = s->data;
-    for (int i = 0; i < d->ncon; i++) {
-        int b1 = mm->geom_bodyid[d->contact[i].geom[0]], b2 = mm->geom_bodyid[d->contact[i].geom[1]];
-        if ((b1 == 0) == (b2 == 0))
-            continue; /* the robot with itself, or the world with itself */
-        int b = b1 == 0 ? b2 : b1;
-        out->contacts++;
-        const char *name = mj_id2name(mm, mjOBJ_BODY, b);
-        int seen = 0;
-        for (uint32_t k = 0; k < out->n_bodies && !seen; k++)
-            seen = strcmp(out->bodies[k], name != NULL ? name : "?") == 0;
-        if (!seen && out->n_bodies < ROZ_MUJOCO_MAX_CONTACT_BODIES) {
-            roz_format(out->bodies[out->n_bodies], ROZ_MUJOCO_NAME_MAX, "%s",
-                       name != NULL ? name : "?");
-            out->n_bodies++;
-        }
+    out->contacts = contact_bodies(s, ids, ROZ_MUJOCO_MAX_CONTACT_BODIES, &out->n_bodies);
+    for (uint32_t k = 0; k < out->n_bodies; k++) {
+        const char *name = mj_id2name(s->model, mjOBJ_BODY, ids[k]);
+        roz_format(out->bodies[k], ROZ_MUJOCO_NAME_MAX, "%s", name != NULL ? name : "?");
     }
 }

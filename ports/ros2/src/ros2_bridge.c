@@ -117,6 +117,10 @@ static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *e
     return ROZ_OK;
 }
 
+/* The rows the ports' info shows (ROZ_ROS2_BRIDGE_PARAM_INFO): the bounds
+ * and defaults read here. */
+static const roz_port_param_info_t bridge_rows[] = { ROZ_ROS2_BRIDGE_PARAM_INFO };
+
 static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
 {
     const roz_ros2_robot_t *r = b->robot;
@@ -134,8 +138,8 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
         rc = roz_dds_params_parse(&b->dds, p, r->default_domain, b->m->control_rate_hz, err,
                                   errlen);
     if (rc == ROZ_OK)
-        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &b->peer_timeout_ms, err,
-                                errlen);
+        rc = roz_params_get_row_u32(p, bridge_rows, sizeof bridge_rows / sizeof bridge_rows[0],
+                                    "peer_timeout_ms", &b->peer_timeout_ms, err, errlen);
     if (rc == ROZ_OK)
         rc = parse_link_check(b, p, err, errlen);
     if (rc != ROZ_OK)
@@ -340,10 +344,10 @@ static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
     return 1;
 }
 
-static void bridge_hold(void *port, double *cmd)
+static void bridge_hold(void *port, int after_trip, double *cmd)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_hold(b, b->tick_q, b->startup_kd, cmd);
+    roz__ros2_hold(b, b->tick_q, after_trip ? b->shutdown_kd : b->startup_kd, cmd);
 }
 
 /* every topic's session, summed: any topic's peer restarting changes it */
@@ -457,6 +461,8 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
         return ROZ_EINVAL;
     }
     b->m = m;
+    for (uint16_t s = 0; s < ROZ_ROS2_MAX_ROBOT_SLOTS; s++)
+        b->tick_q[s] = NAN; /* no position measured yet */
     rc = roz__ros2_bind(b, m, err, errlen);
     if (rc == ROZ_OK)
         rc = merge_params(b, m, p, &params, err, errlen);
@@ -563,7 +569,15 @@ static void assemble(roz_ros2_bridge_t *b)
         if (!reads(b, g))
             continue;
         uint16_t n = r->groups[g].n_slots;
-        memcpy(&b->tick_q[b->group_base[g]], b->topic[g].staged, n * sizeof b->tick_q[0]);
+        /* the positions the command path falls back on: the latest finite
+         * one of each slot (NaN until the robot reported one), never what
+         * the robot sent when it is not a number (test_x2_nonfinite_state_
+         * never_on_the_wire) */
+        for (uint16_t s = 0; s < n; s++) {
+            double q = b->topic[g].staged[s];
+            if (isfinite(q))
+                b->tick_q[b->group_base[g] + s] = q;
+        }
     }
     for (uint16_t k = 0; k < b->n_joints; k++) {
         const roz_joint_channels_t *j = &b->joint[k];

@@ -4,6 +4,7 @@
  * open; the rest on the tick and the writer thread: no heap, no I/O. */
 #include "ros2_map.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -112,22 +113,51 @@ static double value(const double *cmd, int16_t ch)
     return ch >= 0 ? cmd[ch] : 0.0;
 }
 
+/* A command the port makes up for a channel (0 where the channel allows
+ * it, else its end nearest 0); 0 without a channel. */
+static double neutral(const roz_manifest_t *m, int16_t ch)
+{
+    return ch >= 0 ? roz_channel_clamp(&m->commands[ch], 0.0) : 0.0;
+}
+
+/* The position sent to slot @p s of joint @p k (-1: none) that the
+ * manifest does not command: the measured one @p q, inside the joint's
+ * position state limits; *known 0 when there is none (never measured, or
+ * not a number): the slot then gets 0 and no stiffness. Every value on the
+ * wire is finite and inside the manifest (test_x2_nonfinite_state_never_on_
+ * the_wire, test_pm01_joints_by_name). */
+static double measured(const roz_ros2_bridge_t *b, int16_t k, double q, int *known)
+{
+    *known = isfinite(q);
+    if (!*known)
+        return 0.0;
+    if (k >= 0 && b->joint[k].q_state >= 0) {
+        const roz_channel_t *c = &b->m->states[b->joint[k].q_state];
+        q = q < c->min ? c->min : q > c->max ? c->max : q;
+    }
+    return q;
+}
+
 void roz__ros2_joints(const roz_ros2_bridge_t *b, const double *cmd, const double *q,
                       roz_ros2_joint_cmd_t *out)
 {
+    const roz_manifest_t *m = b->m;
     for (uint16_t s = 0; s < b->n_slots; s++) {
         roz_ros2_joint_cmd_t *o = &out[s];
         int16_t k = b->slot_joint[s];
+        int known;
         memset(o, 0, sizeof *o);
-        o->q = q[s];
+        o->q = measured(b, k, q[s], &known);
         if (k < 0)
             continue; /* no joint of the manifest: no gains, no torque */
         const roz_joint_channels_t *j = &b->joint[k];
-        if (j->q_cmd >= 0)
+        if (j->q_cmd >= 0) {
             o->q = cmd[j->q_cmd];
+            known = 1;
+        }
         o->dq = value(cmd, j->dq_cmd);
         o->tau = value(cmd, j->tau_cmd);
-        o->kp = value(cmd, j->kp_cmd);
+        o->kp = known ? value(cmd, j->kp_cmd) : neutral(m, j->kp_cmd);
         o->kd = value(cmd, j->kd_cmd);
     }
 }
@@ -139,13 +169,18 @@ void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd, i
     for (uint16_t s = 0; s < b->n_slots; s++) {
         roz_ros2_joint_cmd_t *o = &out[s];
         int16_t k = b->slot_joint[s];
+        int known;
         memset(o, 0, sizeof *o);
-        o->q = q[s];
+        o->q = measured(b, k, q[s], &known);
         if (k < 0)
             continue;
+        /* no stiffness, velocity or torque, as far as the manifest allows */
         const roz_joint_channels_t *j = &b->joint[k];
         if (j->q_cmd >= 0)
-            o->q = roz_channel_clamp(&m->commands[j->q_cmd], q[s]);
+            o->q = roz_channel_clamp(&m->commands[j->q_cmd], o->q);
+        o->dq = neutral(m, j->dq_cmd);
+        o->tau = neutral(m, j->tau_cmd);
+        o->kp = neutral(m, j->kp_cmd);
         if (j->kd_cmd >= 0) {
             const roz_channel_t *c = &m->commands[j->kd_cmd];
             o->kd = roz_channel_clamp(c, kd == kd ? kd : c->default_value);

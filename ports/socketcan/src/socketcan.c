@@ -898,29 +898,44 @@ static int sc_report(const void *self, roz_port_report_when_t when, char *buf, s
 
 /* roz/port/can_config.h's table, one row a key. */
 static const roz_port_param_info_t sc_params[] = {
-    { "can_id", "1..2047 per joint", "required", "each actuator's 11-bit CAN id" },
-    { "reply", "basic|temperature_error", "required", "the reply layout (roz/port/mit_codec.h)" },
-    { "position_range", "MIN:MAX", "required", "the actuators' position range, rad" },
-    { "velocity_range", "MIN:MAX", "required", "the actuators' velocity range, rad/s" },
-    { "stiffness_range", "MIN:MAX", "required", "the actuators' kp range, N.m/rad" },
-    { "damping_range", "MIN:MAX", "required", "the actuators' kd range, N.m.s/rad" },
-    { "effort_range", "MIN:MAX", "required", "the actuators' torque range, N.m" },
-    { "direction", "1|-1 per joint", "1", "-1: the actuator turns against the joint" },
-    { "zero_offset", "rad per joint", "0", "the joint's position when the actuator reads 0" },
-    { "network_interface", "at most 15 bytes", "can0", "the CAN interface" },
-    { "bitrate", "10000..1000000", "1000000", "the bus's bit rate as set on the interface" },
-    { "command_writer_period_us", "0, 100..1000000", "2000",
-      "the command writer's period; 0: a round when the tick writes" },
-    { "max_bus_load_percent", "10..100", "80", "the share of the bus a period may take" },
-    { "reply_timeout_us", "1000..10000000", "20000 or three intervals",
-      "a command unanswered this long makes its joint stale" },
-    { "command_timeout_us", "1000..60000000", "50000 or five intervals or ticks",
-      "the command watchdog: the tick silent this long, every actuator held without gains" },
-    { "master_id", "0..2047", "0", "the CAN id replies may come from besides the actuator's" },
-    { "consistency_margin", "rad, 0 = off", "0.2",
-      "a position that moves this much more than its velocity says is a fault" },
-    { "enable_monitor", "true|false", "true", "jitter warnings" },
-    { "state_decimation", "1", "1", "every reply is converted" },
+    ROZ_PORT_PARAM_TEXT_ROW("can_id", "1..2047 per joint", "required",
+                            "each actuator's 11-bit CAN id"),
+    ROZ_PORT_PARAM_TEXT_ROW("reply", "basic|temperature_error", "required",
+                            "the reply layout (roz/port/mit_codec.h)"),
+    ROZ_PORT_PARAM_TEXT_ROW("position_range", "MIN:MAX", "required",
+                            "the actuators' position range, rad"),
+    ROZ_PORT_PARAM_TEXT_ROW("velocity_range", "MIN:MAX", "required",
+                            "the actuators' velocity range, rad/s"),
+    ROZ_PORT_PARAM_TEXT_ROW("stiffness_range", "MIN:MAX", "required",
+                            "the actuators' kp range, N.m/rad"),
+    ROZ_PORT_PARAM_TEXT_ROW("damping_range", "MIN:MAX", "required",
+                            "the actuators' kd range, N.m.s/rad"),
+    ROZ_PORT_PARAM_TEXT_ROW("effort_range", "MIN:MAX", "required",
+                            "the actuators' torque range, N.m"),
+    ROZ_PORT_PARAM_TEXT_ROW("direction", "1|-1 per joint", "1",
+                            "-1: the actuator turns against the joint"),
+    ROZ_PORT_PARAM_TEXT_ROW("zero_offset", "rad per joint", "0",
+                            "the joint's position when the actuator reads 0"),
+    ROZ_PORT_PARAM_TEXT_ROW("network_interface", "at most 15 bytes", "can0", "the CAN interface"),
+    ROZ_PORT_PARAM_TEXT_ROW("bitrate", "10000..1000000", "1000000",
+                            "the bus's bit rate as set on the interface"),
+    ROZ_PORT_PARAM_TEXT_ROW("command_writer_period_us", "0, 100..1000000", "2000",
+                            "the command writer's period; 0: a round when the tick writes"),
+    ROZ_PORT_PARAM_TEXT_ROW("max_bus_load_percent", "10..100", "80",
+                            "the share of the bus a period may take"),
+    ROZ_PORT_PARAM_TEXT_ROW("reply_timeout_us", "1000..10000000", "20000 or three intervals",
+                            "a command unanswered this long makes its joint stale"),
+    ROZ_PORT_PARAM_TEXT_ROW("command_timeout_us", "1000..60000000",
+                            "50000 or five intervals or ticks",
+                            "the command watchdog: the tick silent this long, every actuator "
+                            "held without gains"),
+    ROZ_PORT_PARAM_TEXT_ROW("master_id", "0..2047", "0",
+                            "the CAN id replies may come from besides the actuator's"),
+    ROZ_PORT_PARAM_TEXT_ROW("consistency_margin", "rad, 0 = off", "0.2",
+                            "a position that moves this much more than its velocity says is "
+                            "a fault"),
+    ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true", "jitter warnings"),
+    ROZ_PORT_PARAM_TEXT_ROW("state_decimation", "1", "1", "every reply is converted"),
 };
 
 static const roz_port_info_t sc_info = {
@@ -951,8 +966,11 @@ const roz_port_ops_t roz_socketcan_ops = {
 
 /* ---- public ---------------------------------------------------------------------- */
 
-roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx)
+roz_port_t roz__socketcan_port(roz_socketcan_t *sc, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *sc)
+        return roz_port_misbuilt(); /* nothing written to *sc */
     roz_port_t p = { &roz_socketcan_ops, sc, 0 };
     if (!sc->opened)
         sc->given_fd = -1;

@@ -4,6 +4,7 @@
  * (binding) and on the port's threads (the rest): no heap, no I/O. */
 #include "g1_map.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -192,9 +193,17 @@ void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double
     roz_joints_hold(g1->m, g1->joint, g1->n_joints, jq, kd, cmd);
 }
 
-static float value(const double *cmd, int16_t ch)
+/* Channel @p ch's command as a float inside its limits (0 without one):
+ * the robot compares floats (test_g1_wire_inside_the_manifest). */
+static float value(const roz_manifest_t *m, const double *cmd, int16_t ch)
 {
-    return ch >= 0 ? (float)cmd[ch] : 0.0f;
+    return ch >= 0 ? roz_channel_clamp_float(&m->commands[ch], cmd[ch]) : 0.0f;
+}
+
+/* A command the port makes up: 0, or the channel's end nearest 0. */
+static float neutral(const roz_manifest_t *m, int16_t ch)
+{
+    return ch >= 0 ? roz_channel_clamp_float(&m->commands[ch], 0.0) : 0.0f;
 }
 
 static void seal(g1_cmd_t *out)
@@ -202,9 +211,10 @@ static void seal(g1_cmd_t *out)
     out->crc = roz_crc32_words((const uint32_t *)(const void *)out, G1_CMD_CRC_WORDS);
 }
 
-void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_machine,
-                  g1_cmd_t *out)
+void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q,
+                  uint8_t mode_machine, g1_cmd_t *out)
 {
+    const roz_manifest_t *m = g1->m;
     out->mode_pr = g1->mode_pr;
     out->mode_machine = mode_machine;
     /* slots without a manifest joint stay as zeroed: mode 0, disabled */
@@ -212,11 +222,25 @@ void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_ma
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
-        mc->q = value(cmd, j->q_cmd);
-        mc->dq = value(cmd, j->dq_cmd);
-        mc->tau = value(cmd, j->tau_cmd);
-        mc->kp = value(cmd, j->kp_cmd);
-        mc->kd = value(cmd, j->kd_cmd);
+        mc->q = value(m, cmd, j->q_cmd);
+        mc->dq = value(m, cmd, j->dq_cmd);
+        mc->tau = value(m, cmd, j->tau_cmd);
+        mc->kp = value(m, cmd, j->kp_cmd);
+        mc->kd = value(m, cmd, j->kd_cmd);
+        if (j->q_cmd < 0) {
+            /* no position command: the measured position, inside its
+             * state's limits, under the stiffness; never measured (or not
+             * a number): 0, and no stiffness the manifest can avoid */
+            double qk = q[g1->slot[k]];
+            if (isfinite(qk) && j->q_state >= 0)
+                qk = roz_channel_clamp_float(&m->states[j->q_state], qk);
+            if (fabs(qk) <= FLT_MAX) { /* finite, as a float too */
+                mc->q = (float)qk;
+            } else {
+                mc->q = 0.0f;
+                mc->kp = neutral(m, j->kp_cmd);
+            }
+        }
     }
     seal(out);
 }
@@ -231,10 +255,14 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
-        mc->q = j->q_cmd >= 0 ? (float)roz_channel_clamp(&m->commands[j->q_cmd], q[k]) : 0.0f;
+        /* no stiffness, velocity or torque, as far as the manifest allows */
+        mc->q = j->q_cmd >= 0 ? roz_channel_clamp_float(&m->commands[j->q_cmd], q[k]) : 0.0f;
+        mc->dq = neutral(m, j->dq_cmd);
+        mc->tau = neutral(m, j->tau_cmd);
+        mc->kp = neutral(m, j->kp_cmd);
         if (j->kd_cmd >= 0) {
             const roz_channel_t *c = &m->commands[j->kd_cmd];
-            mc->kd = (float)roz_channel_clamp(c, kd == kd ? kd : c->default_value);
+            mc->kd = roz_channel_clamp_float(c, kd == kd ? kd : c->default_value);
         }
         if (hold && j->kp_cmd >= 0)
             mc->kp = (float)m->commands[j->kp_cmd].default_value; /* within it: a valid manifest */

@@ -47,9 +47,11 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
  * a damping command, everything else 0; each value clamped to its channel. */
 void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd);
 
-/* Fills a zeroed LowCmd_ from a command frame and sets its CRC. */
-void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, uint8_t mode_machine,
-                  g1_cmd_t *out);
+/* Fills a zeroed LowCmd_ from a command frame and sets its CRC; a joint
+ * without a position command gets @p q[slot] (each slot's last finite
+ * measured position, NaN: none: then 0 and no stiffness). */
+void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q,
+                  uint8_t mode_machine, g1_cmd_t *out);
 
 /* Fills a zeroed LowCmd_ with the damping command: kp 0 (@p hold: each
  * joint's stiffness default, the hold gain), kd (each joint's damping

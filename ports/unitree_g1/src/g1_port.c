@@ -16,10 +16,12 @@
  * State frame (receive thread -> tick): n_states values, then: */
 enum { M_SESSION = 0, M_FAULT_SLOT, M_FAULT_CODE, M_MODE_MACHINE, M_TICK, M_Q };
 /* Command frame (tick -> writer thread): roz/port/dds.h's command path, n_commands
- * values and its meta words, none of the port's own. */
+ * values and its meta words, then the port's own: each slot's last finite
+ * measured position (a joint without a position command is sent it). */
 
 _Static_assert(M_Q + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_STATE_META, "state frame meta");
-_Static_assert(ROZ_DDS_CMD_META == ROZ_UNITREE_G1_CMD_META, "command frame meta");
+_Static_assert(ROZ_DDS_CMD_META + ROZ_UNITREE_G1_SLOTS == ROZ_UNITREE_G1_CMD_META,
+               "command frame meta");
 _Static_assert(sizeof(g1_cmd_t) == 4u * ROZ_UNITREE_G1_CMD_WORDS, "LowCmd_ storage");
 _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_ storage");
 
@@ -86,6 +88,19 @@ static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t 
     return ROZ_OK;
 }
 
+/* The port's parameters: the rows its info shows, the bounds and defaults
+ * parse_params() reads. */
+static const roz_port_param_info_t g1_params[] = {
+    ROZ_DDS_PARAM_INFO("0"),
+    ROZ_PORT_PARAM_TEXT_ROW("mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode"),
+    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500, "the robot silent this long is lost"),
+    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",
+                            "kd of the start-up hold"),
+    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",
+                            "the channels' default",
+                            "kd of the damping command at shut-down and on a watchdog trip"),
+};
+
 static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
 {
     double lo, hi;
@@ -95,8 +110,8 @@ static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, 
     if (rc == ROZ_OK)
         rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
     if (rc == ROZ_OK)
-        rc = roz_params_get_u32(p, "peer_timeout_ms", 500, 10, 60000, &g1->peer_timeout_ms, err,
-                                errlen);
+        rc = roz_params_get_row_u32(p, g1_params, sizeof g1_params / sizeof g1_params[0],
+                                    "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen);
     if (rc != ROZ_OK)
         return rc;
     /* gains the damping channels allow, for every joint */
@@ -169,10 +184,10 @@ static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
 
 /* ---- the command path's hooks (roz/port/dds.h says which thread runs each) -------- */
 
-static void g1_hold(void *port, double *cmd)
+static void g1_hold(void *port, int after_trip, double *cmd)
 {
     roz_unitree_g1_t *g1 = port;
-    roz__g1_hold(g1, g1->tick_q, g1->startup_kd, cmd);
+    roz__g1_hold(g1, g1->tick_q, after_trip ? g1->shutdown_kd : g1->startup_kd, cmd);
 }
 
 static uint32_t g1_rx_session(void *port)
@@ -199,11 +214,10 @@ static int g1_send(void *port, void *sample, const double *cmd, const double *ex
     roz_unitree_g1_t *g1 = port;
     g1_cmd_t *out = sample;
     uint32_t mm = g1->tx_mode_machine;
-    (void)extra;
 
     if (!atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed))
         atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
-    roz__g1_fill(g1, cmd, (uint8_t)mm, out);
+    roz__g1_fill(g1, cmd, extra, (uint8_t)mm, out);
     for (uint16_t k = 0; k < g1->n_joints; k++)
         g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
     return 1;
@@ -254,6 +268,8 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     memset(g1, 0, sizeof *g1);
     g1->log = log;
     g1->log_ctx = log_ctx;
+    for (uint16_t k = 0; k < ROZ_UNITREE_G1_SLOTS; k++)
+        g1->tick_q[k] = NAN; /* no position measured yet */
     if (m == NULL || roz_manifest_validate(m, NULL) != ROZ_OK) {
         snprintf(err, errlen, "unitree/G1: invalid manifest");
         return ROZ_EINVAL;
@@ -281,7 +297,7 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     atomic_init(&g1->rx_mode_machine, 0u);
     atomic_init(&g1->locked_mode_machine, 0u);
     roz_dds_cmd_config_t cmd = { .m = m, .ops = &g1_cmd_ops, .port = g1, .writer = &g1->writer,
-                                 .slots = g1->cmd_slots, .n_extra = 0,
+                                 .slots = g1->cmd_slots, .n_extra = ROZ_UNITREE_G1_SLOTS,
                                  .timeout_us = g1->dds.command_timeout_us };
     roz_dds_cmd_init(&g1->cmd, &cmd);
     ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
@@ -342,7 +358,12 @@ static int read_frame(roz_unitree_g1_t *g1, double *state, size_t n)
         return 0;
     const double *meta = f.values + n;
     g1->tick_has_state = 1;
-    memcpy(g1->tick_q, meta + M_Q, sizeof g1->tick_q);
+    /* the positions a joint without a position command is sent: the last
+     * finite one of each slot (test_g1_wire_inside_the_manifest) */
+    for (uint16_t k = 0; k < ROZ_UNITREE_G1_SLOTS; k++) {
+        if (isfinite(meta[M_Q + k]))
+            g1->tick_q[k] = meta[M_Q + k];
+    }
 
     uint32_t session = (uint32_t)meta[M_SESSION];
     if (session != g1->tick_session) {
@@ -398,7 +419,7 @@ static int g1_write(void *self, const double *cmd, size_t n)
     /* a robot is a session of LowState_: a restart, or a return after
      * peer_timeout_ms, is a new one */
     roz_dds_cmd_tick_t t = { .has_state = g1->tick_has_state, .robot = g1->tick_session,
-                             .session = g1->tick_session, .extra = NULL };
+                             .session = g1->tick_session, .extra = g1->tick_q };
     return roz_dds_cmd_write(&g1->cmd, cmd, n, &t);
 }
 
@@ -441,14 +462,6 @@ static int g1_link_counters(const void *self, roz_port_link_counters_t *out)
     return ROZ_OK;
 }
 
-static const roz_port_param_info_t g1_params[] = {
-    ROZ_DDS_PARAM_INFO("0"),
-    { "mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode" },
-    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },
-    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },
-    { "shutdown_damping", "the damping channels' range", "the channels' default",
-      "kd of the damping command at shut-down and on a watchdog trip" },
-};
 
 static const roz_port_info_t g1_info = {
     .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",
@@ -476,8 +489,11 @@ const roz_port_ops_t roz_unitree_g1_ops = {
 
 /* ---- public ------------------------------------------------------------------------ */
 
-roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx)
+roz_port_t roz__unitree_g1_port(roz_unitree_g1_t *g1, const roz_port_layout_t *caller,
+                                size_t bytes, roz_log_fn log, void *log_ctx)
 {
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *g1)
+        return roz_port_misbuilt(); /* nothing written to *g1 */
     roz_port_t p = { &roz_unitree_g1_ops, g1, 0 };
     g1->open = 0;
     g1->log = log;

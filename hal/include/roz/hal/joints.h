@@ -68,6 +68,12 @@ int roz_joints_damping_range(const roz_manifest_t *m, const roz_joint_channels_t
  *  Context: any; pure, RT-safe. */
 double roz_channel_clamp(const roz_channel_t *c, double v);
 
+/** @brief @p v clamped to channel @p c (roz_channel_clamp()) and narrowed
+ *  to float toward the inside: the float is never outside [min, max] as a
+ *  double compares it (2.8798 narrows to 2.87979984, not 2.87980008).
+ *  Context: any; pure, RT-safe. */
+float roz_channel_clamp_float(const roz_channel_t *c, double v);
+
 /**
  * @brief The start-up hold as a command frame (n_commands, manifest order):
  *        each joint's position command holds @p q (n joints' measured

@@ -54,6 +54,24 @@ int roz_params_get_u32(const roz_params_t *p, const char *key, uint32_t def, uin
 int roz_params_get_double(const roz_params_t *p, const char *key, double def, double min,
                           double max, double *out, char *err, size_t errlen);
 
+/**
+ * @brief A numeric parameter by its row in the port's own table (the rows
+ *        its info shows, roz_port_param_info_t): roz_params_get_u32() or
+ *        roz_params_get_double() with the row's bounds and default, so the
+ *        parser and `rozrun --port NAME --help` cannot disagree.
+ * @retval ROZ_OK     parsed (or the row's default)
+ * @retval ROZ_EINVAL not a value in the row's range ("key = value: ..."), or
+ *                    no row of that kind for @p key (a port's bug: err says so)
+ * Context: a port's open(); not the tick.
+ */
+int roz_params_get_row_u32(const roz_params_t *p, const roz_port_param_info_t *rows, size_t n,
+                           const char *key, uint32_t *out, char *err, size_t errlen);
+
+/** @brief roz_params_get_row_u32() for a ROZ_PORT_PARAM_DOUBLE row.
+ *  Context: a port's open(); not the tick. */
+int roz_params_get_row_double(const roz_params_t *p, const roz_port_param_info_t *rows, size_t n,
+                              const char *key, double *out, char *err, size_t errlen);
+
 /** @brief Boolean parameter: true/false, 1/0, yes/no, on/off.
  *  Context: a port's open(); not the tick. */
 int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *out, char *err,

@@ -35,7 +35,8 @@ typedef struct roz_record_file {
     const roz_manifest_t  *ROZ_PRIVATE(m);
     uint16_t               ROZ_PRIVATE(ch_run), ROZ_PRIVATE(ch_controller), ROZ_PRIVATE(ch_tick),
                            ROZ_PRIVATE(ch_state), ROZ_PRIVATE(ch_target), ROZ_PRIVATE(ch_applied),
-                           ROZ_PRIVATE(ch_fault);
+                           ROZ_PRIVATE(ch_fault), ROZ_PRIVATE(ch_truth); /* ch_truth 0: none */
+    roz_port_t             ROZ_PRIVATE(port);   /* names a truth sample's bodies */
     uint64_t               ROZ_PRIVATE(last_hash);
     int                    ROZ_PRIVATE(have_hash);
     const char            *ROZ_PRIVATE(controller_name);

@@ -53,13 +53,23 @@ extern const roz_port_ops_t roz_agibot_x2_ops;
 /** The groups (name, topics, joint names), in the port's order. */
 extern const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS];
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__agibot_x2_port(roz_agibot_x2_t *x2, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx);
+
 /**
  * @brief A roz_port_t over @p x2, not yet open (roz_port_open()).
  * @param log  where the port says which DDS configuration it uses, what it
  *             drops and what the monitors see (from its threads); NULL: stderr
  * Context: start-up.
  */
-roz_port_t roz_agibot_x2_port(roz_agibot_x2_t *x2, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_agibot_x2_port(roz_agibot_x2_t *x2, roz_log_fn log, void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__agibot_x2_port(x2, &caller, sizeof *x2, log, log_ctx);
+}
 
 /** @brief The checks on the state topics, summed (roz_ros2_link()).
  *  Context: any thread. */

@@ -44,7 +44,7 @@ extern "C" {
 /** Shortest writer period, microseconds (0 = event-driven). */
 #define ROZ_DDS_MIN_PERIOD_US 100u
 /** Longest spin of an event-driven writer for the tick's command (us). */
-#define ROZ_DDS_MAX_SPIN_US 10000u
+#define ROZ_DDS_MAX_SPIN_US 10000
 /** Longest writer period, microseconds. */
 #define ROZ_DDS_MAX_PERIOD_US 1000000u
 
@@ -67,18 +67,23 @@ typedef struct roz_dds_params {
         "command_writer_spin_us", "state_decimation", ROZ_CMD_WATCHDOG_KEY
 
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
- *  (roz_port_info_t::params), with @p domain: dds_domain's default, text. */
-#define ROZ_DDS_PARAM_INFO(domain)                                                           \
-    { "network_interface", "an interface name", "lo", "the interface DDS talks on" },         \
-    { "dds_domain", "0..232", domain, "the DDS domain" },                                    \
-    { "enable_monitor", "true|false", "true", "latency and jitter monitored and warned" },    \
-    { "command_writer_period_us", "0, 100..1000000", "2000",                                 \
-      "the command writer's period; 0: as soon as the tick writes" },                        \
-    { "command_writer_spin_us", "0..10000", "0",                                             \
-      "with period 0: how long the writer spins for the tick's command" },                   \
-    { "state_decimation", "1..1000", "1", "every Nth state frame converted in full" },        \
-    { ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                                        \
-      "the command watchdog: the tick silent this long, the port sends its safe command" }
+ *  (roz_port_info_t::params), with @p domain: dds_domain's default, text.
+ *  roz_dds_params_parse() reads its numeric rows' bounds and defaults. */
+#define ROZ_DDS_PARAM_INFO(domain)                                                              \
+    ROZ_PORT_PARAM_TEXT_ROW("network_interface", "an interface name", "lo",                     \
+                            "the interface DDS talks on"),                                      \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_domain", "0..232", domain, "the DDS domain"),                  \
+    ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true",                             \
+                            "latency and jitter monitored and warned"),                         \
+    ROZ_PORT_PARAM_TEXT_ROW("command_writer_period_us", "0, 100..1000000", "2000",              \
+                            "the command writer's period; 0: as soon as the tick writes"),      \
+    ROZ_PORT_PARAM_U32_ROW("command_writer_spin_us", 0, ROZ_DDS_MAX_SPIN_US, 0,                 \
+                           "with period 0: how long the writer spins for the tick's command"),  \
+    ROZ_PORT_PARAM_U32_ROW("state_decimation", 1, 1000, 1,                                      \
+                           "every Nth state frame converted in full"),                          \
+    ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
+                            "the command watchdog: the tick silent this long, the port sends "  \
+                            "its safe command")
 
 /**
  * @brief Read the common DDS parameters.
@@ -494,9 +499,12 @@ void roz_dds_writer_close(roz_dds_writer_t *w);
 typedef struct roz_dds_cmd_ops {
     /** The start-up hold into @p cmd (n_commands, manifest order): every
      *  joint's position command its measured position, kd the port's
-     *  `startup_damping`, everything else 0, each value clamped.
+     *  `startup_damping`, everything else 0, each value clamped. With
+     *  @p after_trip (the tick back after a watchdog trip) kd is the
+     *  damping command's (`shutdown_damping`): the robot is damped already,
+     *  and a kd of 0 between two damping commands would let it go limp.
      *  Context: the tick; RT-safe. */
-    void (*hold)(void *port, double *cmd);
+    void (*hold)(void *port, int after_trip, double *cmd);
     /** The robot session the receive path has seen, compared with the one
      *  the tick wrote a frame for. Context: the writer thread; RT-safe. */
     uint32_t (*rx_session)(void *port);
@@ -558,6 +566,7 @@ typedef enum roz_dds_cmd_counter {
     ROZ_DDS_CMD_HANDLED_SEQ, /**< sequence of the last frame a pass judged */
     ROZ_DDS_CMD_WRITTEN_SEQ, /**< sequence of the last frame the tick wrote */
     ROZ_DDS_CMD_SAFE,        /**< watchdog passes that sent the damping command */
+    ROZ_DDS_CMD_HOLD_SENT_SEQ, /**< sequence of the last start-up hold a pass sent */
     ROZ_DDS_CMD_COUNTERS
 } roz_dds_cmd_counter_t;
 
@@ -574,10 +583,16 @@ typedef struct roz_dds_cmd {
     /* the tick's */
     uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
     uint64_t                 ROZ_PRIVATE(write_seq);
+    uint64_t                 ROZ_PRIVATE(hold_seq);    /* the last hold's sequence */
+    int                      ROZ_PRIVATE(hold_after_trip); /* it follows a watchdog trip */
     /* tick <-> writer thread */
     roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
     roz_buffer_t             ROZ_PRIVATE(buf);
     ROZ_ATOMIC(int)          ROZ_PRIVATE(shutdown);    /* 1: the pass sends the damping */
+    /* a test's hook: 1 holds the writer back (its passes send nothing and
+     * leave the frame), so that the tick writes again before a frame went
+     * out (test_g1_hold_reaches_the_wire_first) */
+    ROZ_ATOMIC(int)          ROZ_PRIVATE(held_back);
     /* the writer thread's */
     int                      ROZ_PRIVATE(sent_any);    /* ops->send() was called */
     /* written by one thread each, read by any */

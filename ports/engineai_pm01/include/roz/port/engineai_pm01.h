@@ -46,13 +46,24 @@ extern const roz_port_ops_t roz_engineai_pm01_ops;
 /** The robot's joint names, index order (for logs and tools). */
 extern const char *const roz_engineai_pm01_joints[ROZ_ENGINEAI_PM01_JOINTS];
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__engineai_pm01_port(roz_engineai_pm01_t *pm, const roz_port_layout_t *caller,
+                                   size_t bytes, roz_log_fn log, void *log_ctx);
+
 /**
  * @brief A roz_port_t over @p pm, not yet open (roz_port_open()).
  * @param log  where the port says which DDS configuration it uses, what it
  *             drops and what the monitors see (from its threads); NULL: stderr
  * Context: start-up.
  */
-roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_engineai_pm01_port(roz_engineai_pm01_t *pm, roz_log_fn log,
+                                                void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__engineai_pm01_port(pm, &caller, sizeof *pm, log, log_ctx);
+}
 
 /** @brief The checks on joint_state and imu_info, summed (roz_ros2_link()).
  *  Context: any thread. */

@@ -21,6 +21,7 @@
 #include "roz/log.h"
 #include "roz/port.h"
 #include "roz/manifest.h"
+#include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -83,50 +84,70 @@ typedef struct roz_loopback_frame {
 /** The port's data; caller-owned. Fields are private to the loopback port;
  *  tests read the counters. */
 typedef struct roz_loopback {
-    const roz_manifest_t  *m;
-    double                 dt;
-    uint64_t               period_ns;
-    uint64_t               tick;         /* reads so far */
-    roz_loopback_fault_t   faults[ROZ_LOOPBACK_MAX_FAULTS];
-    uint32_t               n_faults;
+    const roz_manifest_t  *ROZ_PRIVATE(m);
+    double                 ROZ_PRIVATE(dt);
+    uint64_t               ROZ_PRIVATE(period_ns);
+    uint64_t               ROZ_PRIVATE(tick);         /* reads so far */
+    roz_loopback_fault_t   ROZ_PRIVATE(faults)[ROZ_LOOPBACK_MAX_FAULTS];
+    uint32_t               ROZ_PRIVATE(n_faults);
 
     /* the simulated robot (sim.c) and its end of the wire */
-    roz_loopback_joint_t   joints[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    uint16_t               n_joints;
-    roz_loopback_binding_t bind[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    int32_t                base_cmd[4];  /* vx, vy, vz, yaw rate */
-    int32_t                base_state[4];/* x, y, z, yaw */
-    double                 base[4];
-    double                 cmd[ROZ_CFG_MAX_COMMANDS]; /* the command the robot applies */
-    int                    have_cmd;
-    int                    peer_dead;
-    uint32_t               peer_seq;     /* next state frame's sequence number */
-    roz_link_t             peer_link;    /* the robot's checks on command frames */
+    roz_loopback_joint_t   ROZ_PRIVATE(joints)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    uint16_t               ROZ_PRIVATE(n_joints);
+    roz_loopback_binding_t ROZ_PRIVATE(bind)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    int32_t                ROZ_PRIVATE(base_cmd)[4];  /* vx, vy, vz, yaw rate */
+    int32_t                ROZ_PRIVATE(base_state)[4];/* x, y, z, yaw */
+    double                 ROZ_PRIVATE(base)[4];
+    /* the command the robot applies */
+    double                 ROZ_PRIVATE(cmd)[ROZ_CFG_MAX_COMMANDS];
+    int                    ROZ_PRIVATE(have_cmd);
+    int                    ROZ_PRIVATE(peer_dead);
+    uint32_t               ROZ_PRIVATE(peer_seq);     /* next state frame's sequence number */
+    roz_link_t             ROZ_PRIVATE(peer_link);    /* the robot's checks on command frames */
 
     /* the wire: state frames in flight, by sent tick modulo the depth */
-    roz_loopback_frame_t   flight[ROZ_LOOPBACK_MAX_DELAY + 1];
-    uint32_t               cmd_image[ROZ_LOOPBACK_CMD_WORDS];
-    uint32_t               cmd_seq;
+    roz_loopback_frame_t   ROZ_PRIVATE(flight)[ROZ_LOOPBACK_MAX_DELAY + 1];
+    uint32_t               ROZ_PRIVATE(cmd_image)[ROZ_LOOPBACK_CMD_WORDS];
+    uint32_t               ROZ_PRIVATE(cmd_seq);
 
     /* the port's end */
-    roz_link_t             link;         /* the port's checks on state frames */
-    uint32_t               last_image[ROZ_LOOPBACK_STATE_WORDS]; /* last frame accepted */
-    double                 rx[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    roz_link_t             ROZ_PRIVATE(link);         /* the port's checks on state frames */
+    /* the last frame accepted */
+    uint32_t               ROZ_PRIVATE(last_image)[ROZ_LOOPBACK_STATE_WORDS];
+    double                 ROZ_PRIVATE(rx)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
 
-    /* counters */
-    uint64_t               frames_sent;      /* by the robot */
-    uint64_t               frames_delivered; /* accepted by the port */
-    uint64_t               frames_dropped;   /* lost in transit (DROP) */
-    uint64_t               frames_duplicated;/* delivered again (DUPLICATE) */
-    uint64_t               frames_corrupted; /* state frames with a bit flipped (CORRUPT) */
-    uint64_t               link_events;      /* reads that returned ROZ_ELINK: the peer restarted */
-    uint64_t               writes;           /* write() calls */
-    uint64_t               writes_withheld;  /* before the peer's first state frame */
-    uint64_t               cmds_corrupted;   /* command frames with a bit flipped (CORRUPT_CMD) */
-    uint64_t               cmds_lost;        /* command frames sent to a dead peer */
-    uint64_t               violations;      /* written values outside [min, max] or non-finite: must stay 0 */
-    uint64_t               first_write_tick; /* tick the robot applied its first command, 0 = none */
+    /* counters (roz_loopback_counters_t says what each counts) */
+    uint64_t               ROZ_PRIVATE(frames_sent);
+    uint64_t               ROZ_PRIVATE(frames_delivered);
+    uint64_t               ROZ_PRIVATE(frames_dropped);
+    uint64_t               ROZ_PRIVATE(frames_duplicated);
+    uint64_t               ROZ_PRIVATE(frames_corrupted);
+    uint64_t               ROZ_PRIVATE(link_events);
+    uint64_t               ROZ_PRIVATE(writes);
+    uint64_t               ROZ_PRIVATE(writes_withheld);
+    uint64_t               ROZ_PRIVATE(cmds_corrupted);
+    uint64_t               ROZ_PRIVATE(cmds_lost);
+    uint64_t               ROZ_PRIVATE(violations);
+    uint64_t               ROZ_PRIVATE(first_write_tick);
 } roz_loopback_t;
+
+/** What the loopback counted since open (roz_loopback_counters()). */
+typedef struct roz_loopback_counters {
+    uint64_t tick;              /**< reads so far: the tick the next read simulates */
+    uint32_t faults;            /**< fault injections in the table, spent ones included */
+    uint64_t frames_sent;       /**< state frames the robot sent */
+    uint64_t frames_delivered;  /**< accepted by the port */
+    uint64_t frames_dropped;    /**< lost in transit (DROP) */
+    uint64_t frames_duplicated; /**< delivered again (DUPLICATE) */
+    uint64_t frames_corrupted;  /**< state frames with a bit flipped (CORRUPT) */
+    uint64_t link_events;       /**< reads that returned ROZ_ELINK: the peer restarted */
+    uint64_t writes;            /**< write() calls */
+    uint64_t writes_withheld;   /**< before the peer's first state frame */
+    uint64_t cmds_corrupted;    /**< command frames with a bit flipped (CORRUPT_CMD) */
+    uint64_t cmds_lost;         /**< command frames sent to a dead peer */
+    uint64_t violations;        /**< written values outside [min, max] or non-finite: stays 0 */
+    uint64_t first_write_tick;  /**< tick the robot applied its first command, 0: none */
+} roz_loopback_counters_t;
 
 /** The ops table. Parameters: drop=FROM:TO, freeze=FROM[:TO], delay=K@FROM:TO,
  *  nan=CH@FROM:TO, range=CH@FROM:TO, duplicate=FROM:TO, corrupt=FROM:TO,
@@ -165,6 +186,23 @@ void roz_loopback_true_state(const roz_loopback_t *lb, double *state);
  * Context: the tick's thread between ticks, or after it stopped.
  */
 const double *roz_loopback_last_command(const roz_loopback_t *lb);
+
+/** @brief A copy of @p lb's counters (a value, so that a test reads one in
+ *         an expression). Context: the tick's thread between ticks, or
+ *         after it stopped. */
+roz_loopback_counters_t roz_loopback_counters(const roz_loopback_t *lb);
+
+/** @brief A copy of the port's checks on the state frames it received
+ *         (roz/hal/link.h). Context: as roz_loopback_counters(). */
+roz_link_t roz_loopback_link(const roz_loopback_t *lb);
+
+/** @brief A copy of the simulated robot's checks on the command frames it
+ *         received. Context: as roz_loopback_counters(). */
+roz_link_t roz_loopback_peer_link(const roz_loopback_t *lb);
+
+/** @brief Forget every fault injection, active or not: the wire is clean
+ *         from the next read on. Context: the tick's thread. */
+void roz_loopback_clear_faults(roz_loopback_t *lb);
 
 #ifdef __cplusplus
 }

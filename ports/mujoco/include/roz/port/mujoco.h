@@ -6,7 +6,7 @@
  *        at every physics step, its sensors give what the real ones give.
  *
  * Everything is allocated at open (the model parsed and compiled, its data
- * made); read() and write() never allocate (test/mujoco: the heap counted
+ * made); read() and write() never allocate (test/ports/mujoco: the heap counted
  * through the tick). Time is simulated: each read() but the first advances
  * the physics by one control period, period / timestep steps, so the same
  * build gives the same trace bit for bit on every run. docs/ports/mujoco.md
@@ -166,6 +166,11 @@ typedef struct roz_mujoco {
 /** The ops table ("mujoco"). */
 extern const roz_port_ops_t roz_mujoco_ops;
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
+                            size_t bytes, roz_log_fn log, void *log_ctx);
+
 /**
  * @brief A roz_port_t over @p self, not yet open (roz_port_open()).
  * @param log  open's notes (a model's servos made motors, locked joints);
@@ -174,7 +179,12 @@ extern const roz_port_ops_t roz_mujoco_ops;
  * port that is open (close it first).
  * Context: start-up.
  */
-roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_mujoco_port(roz_mujoco_t *self, roz_log_fn log, void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__mujoco_port(self, &caller, sizeof *self, log, log_ctx);
+}
 
 /** @brief The robot.toml a relative `model` path is read from (its folder);
  *  NULL: the working directory. After roz_mujoco_port(), before open.
@@ -204,7 +214,10 @@ void roz_mujoco_base(const roz_mujoco_t *self, roz_mujoco_base_t *out);
 const double *roz_mujoco_last_command(const roz_mujoco_t *self);
 
 /** @brief The built-in model of robot @p robot_id ("unitree_g1", "ur5"):
- *  its MJCF path, or NULL when this build has none. Context: any. */
+ *  its MJCF path, under the install prefix of the running program
+ *  (<prefix>/bin/../share/roz/models/) when it is there, else where this
+ *  build found it; NULL when neither is there. Context: start-up (it reads
+ *  the file system; the path is kept in static storage). */
 const char *roz_mujoco_builtin_model(const char *robot_id);
 
 #ifdef __cplusplus

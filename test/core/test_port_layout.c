@@ -1,0 +1,96 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* A port instance of an application built with other ROZ_CFG_* options
+ * than the library (roz/port.h, roz_port_layout_t). This file is compiled
+ * with ROZ_CFG_MAX_COMMANDS=16 against libraries built with the default
+ * 256: its roz_loopback_t (and roz_socketcan_t) is smaller than the
+ * library's. roz_port_open() and the port constructors pass the caller's
+ * layout; the library refuses it with ROZ_ECONFIG naming the option,
+ * without writing the instance (ASan: before, lb_open wrote 57,504 bytes
+ * past it). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/port.h"
+#include "roz/port/loopback.h"
+#ifdef ROZ_TEST_HAVE_SOCKETCAN
+#include "roz/port/socketcan.h"
+#endif
+
+#if ROZ_CFG_MAX_COMMANDS != 16
+#error "test_port_layout is compiled with ROZ_CFG_MAX_COMMANDS=16"
+#endif
+
+static const roz_channel_t commands[] = {
+    { "j/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_manifest_t one = { "one", "generic", 100, commands, 1, NULL, 0, NULL };
+
+static void assert_untouched(const void *p, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        assert_int_equal(((const unsigned char *)p)[i], 0x5a);
+}
+
+static void test_port_layout_loopback_refused(void **st)
+{
+    static roz_loopback_t lb; /* sized for 16 commands */
+    char err[ROZ_CFG_ERROR_LEN] = "";
+    (void)st;
+    memset(&lb, 0x5a, sizeof lb);
+    roz_port_t p = roz_loopback_port(&lb, NULL, NULL);
+    assert_int_equal(roz_port_open(&p, &one, NULL, err, sizeof err), ROZ_ECONFIG);
+    print_message("%s\n", err);
+    assert_non_null(strstr(err, "ROZ_CFG_MAX_COMMANDS is 16 in the application, 256 in "
+                                "libroz_core"));
+    assert_int_equal(p.opened, 0);
+    assert_untouched(&lb, sizeof lb);
+}
+
+#ifdef ROZ_TEST_HAVE_SOCKETCAN
+/* A constructor that writes its instance refuses it too: the port it gives
+ * back opens to ROZ_ECONFIG, and nothing was written. */
+static void test_port_layout_constructor_refused(void **st)
+{
+    static roz_socketcan_t sc;
+    char err[ROZ_CFG_ERROR_LEN] = "";
+    (void)st;
+    memset(&sc, 0x5a, sizeof sc);
+    roz_port_t p = roz_socketcan_port(&sc, NULL, NULL);
+    assert_untouched(&sc, sizeof sc);
+    assert_int_equal(roz_port_open(&p, &one, NULL, err, sizeof err), ROZ_ECONFIG);
+    assert_non_null(strstr(err, "ROZ_CFG_MAX_COMMANDS"));
+    assert_untouched(&sc, sizeof sc);
+}
+#endif
+
+static void test_port_layout_check_names_the_difference(void **st)
+{
+    roz_port_layout_t mine = ROZ_PORT_LAYOUT_INIT;
+    char err[ROZ_CFG_ERROR_LEN];
+    (void)st;
+    assert_int_equal(roz_port_layout_check(&mine, err, sizeof err), ROZ_ECONFIG);
+    assert_non_null(strstr(err, "ROZ_CFG_MAX_COMMANDS"));
+    mine.max_commands = 256;
+    assert_int_equal(roz_port_layout_check(&mine, err, sizeof err), ROZ_OK);
+    mine.max_joints++;
+    assert_int_equal(roz_port_layout_check(&mine, err, sizeof err), ROZ_ECONFIG);
+    assert_non_null(strstr(err, "ROZ_CFG_MAX_JOINTS"));
+    assert_int_equal(roz_port_layout_check(NULL, err, sizeof err), ROZ_EINVAL);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_port_layout_loopback_refused),
+#ifdef ROZ_TEST_HAVE_SOCKETCAN
+        cmocka_unit_test(test_port_layout_constructor_refused),
+#endif
+        cmocka_unit_test(test_port_layout_check_names_the_difference),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,421 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The mujoco port: what open refuses and how it says so; the robot's own
+ * actuator law; the G1 standing on the example stand controller; the same
+ * bits on every run; the gantry and a push. Simulated time throughout: a
+ * few simulated seconds a case. */
+/* white-box in part: reads the port's command, history and counters (roz/private.h) */
+#define ROZ_PRIVATE_ACCESS
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <cmocka.h>
+
+#include "roz/builtin.h"
+#include "roz/manifest_toml.h"
+#include "roz/port/mujoco.h"
+#include "roz/runtime.h"
+#include "support.h"
+
+/* ---- fixtures ------------------------------------------------------------------ */
+
+static roz_mujoco_t mj;
+static roz_runtime_t rt;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts); /* figures only; nothing is judged by them */
+    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* The pendulum's robot.toml (pendulum.toml, or another beside it). */
+static const roz_manifest_t *pendulum(const char *file)
+{
+    static roz_manifest_storage_t st;
+    static roz_toml_doc_t doc;
+    static roz_toml_node_t nodes[4096];
+    static char arena[65536], text[65536];
+    static roz_manifest_toml_problem_t problems[4];
+    static char path[512];
+    size_t found = 0;
+    snprintf(path, sizeof path, "%s/%s", ROZ_TEST_MUJOCO_DIR, file);
+    roz_toml_init(&doc, nodes, sizeof nodes / sizeof nodes[0], arena, sizeof arena);
+    int rc = roz_manifest_toml_load_file(path, text, sizeof text, &st, &doc, problems, 4, &found);
+    if (rc != ROZ_OK)
+        fail_msg("%s%s", path, found ? problems[0].text : ": cannot load");
+    roz_mujoco_set_robot_file(&mj, path);
+    return &st.manifest;
+}
+
+/* Opens @p m on the port with @p n "key=value" parameters; returns open's
+ * result, its message in @p err. */
+static int open_with(roz_port_t *p, const roz_manifest_t *m, char *err, size_t errlen, int n, ...)
+{
+    static roz_param_t items[8];
+    static char buf[8][256];
+    va_list ap;
+    va_start(ap, n);
+    for (int i = 0; i < n; i++) {
+        snprintf(buf[i], sizeof buf[i], "%s", va_arg(ap, const char *));
+        char *eq = strchr(buf[i], '=');
+        *eq = '\0';
+        items[i].key = buf[i];
+        items[i].value = eq + 1;
+    }
+    va_end(ap);
+    roz_params_t params = { items, (size_t)n };
+    err[0] = '\0';
+    return roz_port_open(p, m, &params, err, errlen);
+}
+
+static void expect_refused(const roz_manifest_t *m, const char *file, const char *want1,
+                           const char *want2, int n, ...)
+{
+    char err[512];
+    static roz_param_t items[8];
+    static char buf[8][256];
+    va_list ap;
+    va_start(ap, n);
+    for (int i = 0; i < n; i++) {
+        snprintf(buf[i], sizeof buf[i], "%s", va_arg(ap, const char *));
+        char *eq = strchr(buf[i], '=');
+        *eq = '\0';
+        items[i].key = buf[i];
+        items[i].value = eq + 1;
+    }
+    va_end(ap);
+    roz_params_t params = { items, (size_t)n };
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    if (file != NULL)
+        roz_mujoco_set_robot_file(&mj, file);
+    int rc = roz_port_open(&p, m, &params, err, sizeof err);
+    print_message("refused: %s\n", err);
+    assert_int_not_equal(rc, ROZ_OK);
+    assert_non_null(strstr(err, want1));
+    if (want2 != NULL)
+        assert_non_null(strstr(err, want2));
+    roz_port_close(&p);
+}
+
+/* ---- open --------------------------------------------------------------------- */
+
+static void test_mujoco_refusals(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *f = mj.robot_file;
+    expect_refused(m, f, "\"modle\"", NULL, 1, "modle=x.xml");
+    expect_refused(m, f, "pendulum.toml", "nothere.xml", 1, "model=nothere.xml");
+    expect_refused(m, f, "joint \"swing\"", "\"nohinge\"", 1, "joint_names=swing=nohinge");
+    expect_refused(m, f, "joint_names", "\"elbow\" is not a joint", 1, "joint_names=elbow=hinge");
+    expect_refused(m, f, "keyframe = \"nokey\"", "pendulum.xml", 1, "keyframe=nokey");
+    expect_refused(m, f, "timestep = 0.003", "whole number", 1, "timestep=0.003");
+    expect_refused(m, f, "push", "no body", 1, "push=1,0,0@nobody@0:10");
+    expect_refused(m, f, "gantry", "no floating base", 1, "gantry=0");
+    expect_refused(m, f, "delay", "K@FROM:TO", 1, "delay=99@0:10");
+}
+
+static void test_mujoco_refuses_effort_beyond_the_actuator(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum_strong.toml");
+    expect_refused(m, mj.robot_file, "pendulum_strong.toml", "[-8, 8] N.m exceed", 0);
+}
+
+/* ---- the actuator law ------------------------------------------------------------ */
+
+static void test_mujoco_pendulum_law(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *file = mj.robot_file;
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    roz_mujoco_set_robot_file(&mj, file);
+    char err[512];
+    assert_int_equal(open_with(&p, m, err, sizeof err, 0), ROZ_OK);
+    assert_int_equal(mj.steps_per_tick, 10); /* 100 Hz, 1 ms steps */
+    double st[3], cmd[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
+    assert_int_equal(roz_port_read(&p, st, 3), 1);
+    assert_near(st[0], 1.0, 1e-12); /* the keyframe "out" */
+    /* no command yet: the motor is limp, the bob falls toward 0 */
+    assert_int_equal(roz_port_read(&p, st, 3), 1);
+    assert_true(st[0] < 1.0);
+    assert_near(st[2], 0.0, 0.0);
+    /* a stiff hold at 1 rad: kp 100, kd 5, which needs more than 4 N.m at first
+     * (saturated at the manifest's limit) and then holds against gravity */
+    cmd[0] = 1.0;
+    cmd[2] = 100.0;
+    cmd[3] = 5.0;
+    for (int t = 0; t < 300; t++) {
+        assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
+        assert_int_equal(roz_port_read(&p, st, 3), 1);
+        assert_true(fabs(st[2]) <= 4.0);
+    }
+    /* gravity's torque at 1 rad: m g l sin(q) = 1.01 * 9.81 * ~0.5 * sin(1) ~ 4.1 N.m
+     * > 4: the hold sags until kp * error plus 4 N.m balances it */
+    print_message("pendulum held at %.4f rad with %.3f N.m (%llu saturated steps)\n", st[0], st[2],
+                  (unsigned long long)mj.saturated);
+    assert_true(st[0] < 1.0 && st[0] > 0.8);
+    assert_true(mj.saturated > 0);
+    /* a value outside the manifest never reaches the motor */
+    cmd[4] = 50.0;
+    assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
+    assert_int_equal(mj.clamped, 1);
+    assert_near(mj.cmd[4], 4.0, 0.0);
+    roz_port_close(&p);
+}
+
+/* ---- the G1 ------------------------------------------------------------------------ */
+
+typedef struct {
+    double   height, roll, pitch, min_height;
+    uint64_t hash;
+    double   open_s, run_s;
+    uint64_t steps;
+} g1_run_t;
+
+static uint64_t fnv(uint64_t h, const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 0x100000001B3ull;
+    return h;
+}
+
+/* The G1 on the example stand controller for @p ticks (500 a simulated
+ * second), with @p param (NULL: none). */
+static void run_g1(int ticks, const char *param, g1_run_t *out)
+{
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    assert_non_null(m);
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512];
+    double t0 = now_s();
+    int rc = param != NULL ? open_with(&p, m, err, sizeof err, 1, param)
+                           : open_with(&p, m, err, sizeof err, 0);
+    if (rc != ROZ_OK)
+        fail_msg("%s", err);
+    out->open_s = now_s() - t0;
+
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 0, 1000 };
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.budget_ns = UINT64_MAX;
+    cfg.monitor_jitter = 0;
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    uint64_t h = 0xCBF29CE484222325ull;
+    double st[ROZ_CFG_MAX_STATES];
+    t0 = now_s();
+    for (int t = 0; t < ticks; t++) {
+        { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
+        roz_mujoco_base_t b;
+        roz_mujoco_base(&mj, &b);
+        h = fnv(h, b.pos, sizeof b.pos);
+        if (getenv("ROZ_TEST_MUJOCO_TRACE") != NULL && t % 100 == 0)
+            print_message("  tick %4d: pelvis %.3f m, roll %6.2f, pitch %6.2f deg\n", t, b.pos[2],
+                          b.roll * 57.2958, b.pitch * 57.2958);
+        h = fnv(h, mj.hist[mj.tick > 0 ? (mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1) : 0],
+                m->n_states * sizeof(double));
+    }
+    out->run_s = now_s() - t0;
+    (void)st;
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mj, &b);
+    out->height = b.pos[2];
+    out->roll = b.roll;
+    out->pitch = b.pitch;
+    out->min_height = b.min_height;
+    out->hash = h;
+    out->steps = b.steps;
+    print_message("G1 %s: open %.2f s; %d ticks (%.1f s simulated, %llu steps) in %.3f s: "
+                  "%.1f us a step, %.1fx real time; pelvis %.3f m (lowest %.3f), roll %.2f, "
+                  "pitch %.2f deg; %u ground contacts (%s%s%s); %llu saturated; trace %016llx\n",
+                  param != NULL ? param : "", out->open_s, ticks, ticks / 500.0,
+                  (unsigned long long)b.steps, out->run_s, 1e6 * out->run_s / (double)b.steps,
+                  ticks / 500.0 / out->run_s, b.pos[2], b.min_height, b.roll * 57.2958,
+                  b.pitch * 57.2958, (unsigned)b.contacts, b.n_bodies > 0 ? b.bodies[0] : "",
+                  b.n_bodies > 1 ? ", " : "", b.n_bodies > 1 ? b.bodies[1] : "",
+                  (unsigned long long)mj.saturated, (unsigned long long)h);
+    roz_runtime_deinit(&rt);
+    roz_port_close(&p);
+}
+
+/* The example stand (examples/controllers/g1_stand.c), let go at tick 0, limp
+ * while its gains ramp in over its first second: the first 1.4 s, pelvis up
+ * and level (test_mujoco_stand.c judges it over 30 s and pushed). */
+static void test_mujoco_g1_stands(void **state)
+{
+    (void)state;
+    g1_run_t r;
+    run_g1(700, NULL, &r);
+    assert_true(r.height > 0.6);
+    assert_true(r.min_height > 0.6);
+    assert_true(fabs(r.roll) < 0.2 && fabs(r.pitch) < 0.2);
+}
+
+static void test_mujoco_deterministic(void **state)
+{
+    (void)state;
+    g1_run_t a, b;
+    run_g1(500, "push=0,60,0@torso_link@200:260", &a);
+    run_g1(500, "push=0,60,0@torso_link@200:260", &b);
+    assert_true(a.hash == b.hash);
+    assert_true(a.height == b.height);
+}
+
+/* Hung by its pelvis, limp (no controller), the G1 stays where it hangs. */
+static void test_mujoco_gantry(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512];
+    if (open_with(&p, m, err, sizeof err, 1, "gantry=0:400") != ROZ_OK)
+        fail_msg("%s", err);
+    static double st[ROZ_CFG_MAX_STATES];
+    roz_mujoco_base_t b0, b;
+    assert_int_equal(roz_port_read(&p, st, m->n_states), 1);
+    roz_mujoco_base(&mj, &b0);
+    for (int t = 1; t < 400; t++)
+        assert_int_equal(roz_port_read(&p, st, m->n_states), 1);
+    roz_mujoco_base(&mj, &b);
+    print_message("gantry: pelvis %.4f -> %.4f m over 0.8 s, limp\n", b0.pos[2], b.pos[2]);
+    assert_true(fabs(b.pos[2] - b0.pos[2]) < 0.01);
+    /* let go: it falls */
+    for (int t = 0; t < 500; t++)
+        assert_int_equal(roz_port_read(&p, st, m->n_states), 1);
+    roz_mujoco_base(&mj, &b);
+    print_message("let go: pelvis %.3f m after 1 s\n", b.pos[2]);
+    assert_true(b.pos[2] < 0.5);
+    roz_port_close(&p);
+}
+
+/* The IMU reads as the real one: level and still, gravity up. */
+static void test_mujoco_g1_imu_and_faults(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512];
+    if (open_with(&p, m, err, sizeof err, 2, "drop=5:8", "restart=20:30") != ROZ_OK)
+        fail_msg("%s", err);
+    static double st[ROZ_CFG_MAX_STATES];
+    int base = m->n_states - 10;
+    assert_int_equal(roz_port_read(&p, st, m->n_states), 1);
+    assert_near(st[base + 3], 1.0, 1e-3); /* w: level */
+    assert_true(st[base + 9] > 5.0);       /* specific force: gravity up (and the landing) */
+    int rcs[40];
+    for (int t = 1; t < 40; t++)
+        rcs[t] = roz_port_read(&p, st, m->n_states);
+    assert_int_equal(rcs[4], 1);
+    assert_int_equal(rcs[5], 0);
+    assert_int_equal(rcs[7], 0);
+    assert_int_equal(rcs[8], 1);
+    assert_int_equal(rcs[20], 0);
+    assert_int_equal(rcs[29], 0);
+    assert_int_equal(rcs[30], ROZ_ELINK);
+    assert_int_equal(rcs[31], 1);
+    roz_port_close(&p);
+}
+
+/* A built-in robot on the port alone: open it, @p ticks of @p cmd. */
+static void run_builtin(const char *id, roz_port_t *p, const double *cmd, int ticks, double *st)
+{
+    const roz_manifest_t *m = roz_builtin_find(id);
+    char err[512];
+    if (ticks < 0) {
+        *p = roz_mujoco_port(&mj, NULL, NULL);
+        if (open_with(p, m, err, sizeof err, 0) != ROZ_OK)
+            fail_msg("%s", err);
+        assert_int_equal(roz_port_read(p, st, m->n_states), 1);
+        return;
+    }
+    for (int t = 0; t < ticks; t++) {
+        assert_int_equal(roz_port_write(p, cmd, m->n_commands), ROZ_OK);
+        assert_int_equal(roz_port_read(p, st, m->n_states), 1);
+    }
+}
+
+/* The diff drive's wheels follow the twist; its odometry is the wheel
+ * encoders', and agrees with the simulator's truth while nothing slips. */
+static void test_mujoco_diff_drive(void **state)
+{
+    (void)state;
+    roz_port_t p;
+    double st[3], go[2] = { 0.5, 0.0 }, turn[2] = { 0.0, 1.0 };
+    run_builtin("diff_drive", &p, NULL, -1, st);
+    run_builtin("diff_drive", &p, go, 200, st); /* 2 s at 0.5 m/s */
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mj, &b);
+    print_message("diff_drive: 2 s at 0.5 m/s: odom x %.3f y %.3f yaw %.3f; truth x %.3f y %.3f\n",
+                  st[0], st[1], st[2], b.pos[0], b.pos[1]);
+    assert_true(st[0] > 0.85 && st[0] < 1.05);
+    assert_true(fabs(st[1]) < 0.02 && fabs(st[2]) < 0.02);
+    assert_near(b.pos[0], st[0], 0.03);
+    run_builtin("diff_drive", &p, turn, 100, st); /* 1 s at 1 rad/s */
+    print_message("diff_drive: then 1 s at 1 rad/s: odom yaw %.3f\n", st[2]);
+    assert_true(st[2] > 0.8 && st[2] < 1.05);
+    roz_port_close(&p);
+}
+
+/* The quadcopter's autopilot climbs, holds and flies where it is told. */
+static void test_mujoco_quadcopter(void **state)
+{
+    (void)state;
+    roz_port_t p;
+    double st[4], up[4] = { 0.0, 0.0, 1.0, 0.0 }, hold[4] = { 0, 0, 0, 0 };
+    double fwd[4] = { 1.0, 0.0, 0.0, 0.5 };
+    run_builtin("quadcopter", &p, NULL, -1, st);
+    assert_near(st[2], 0.05, 0.01); /* on the ground */
+    run_builtin("quadcopter", &p, up, 150, st);
+    run_builtin("quadcopter", &p, hold, 100, st);
+    print_message("quadcopter: 1.5 s at 1 m/s up, 1 s holding: z %.3f m\n", st[2]);
+    assert_true(st[2] > 1.2 && st[2] < 1.7);
+    double z = st[2];
+    run_builtin("quadcopter", &p, hold, 100, st);
+    assert_near(st[2], z, 0.05);
+    run_builtin("quadcopter", &p, fwd, 200, st);
+    roz_mujoco_base_t b;
+    roz_mujoco_base(&mj, &b);
+    print_message("quadcopter: 2 s at 1 m/s forward turning 0.5 rad/s: x %.3f y %.3f z %.3f "
+                  "yaw %.3f, largest tilt %.1f deg\n", st[0], st[1], st[2], st[3],
+                  b.max_tilt * 57.2958);
+    assert_true(st[0] > 0.8);
+    assert_near(st[3], 1.0, 0.15);
+    assert_near(st[2], z, 0.2);
+    assert_true(b.max_tilt < 0.6);
+    roz_port_close(&p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mujoco_refusals),
+        cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
+        cmocka_unit_test(test_mujoco_pendulum_law),
+        cmocka_unit_test(test_mujoco_g1_imu_and_faults),
+        cmocka_unit_test(test_mujoco_gantry),
+        cmocka_unit_test(test_mujoco_g1_stands),
+        cmocka_unit_test(test_mujoco_deterministic),
+        cmocka_unit_test(test_mujoco_diff_drive),
+        cmocka_unit_test(test_mujoco_quadcopter),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,948 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The PM01 port (roz/port/engineai_pm01.h) against the fake robot (fake_ros2
+ * --robot pm01: its own IDL and robot description, a separate process) over
+ * loopback DDS, beyond the conformance suite:
+ *  - all 24 joints map both ways, a distinct value per joint and field: the
+ *    states the port reads from joint_state, the JointCommand the robot
+ *    gets (position, velocity, feed_forward_torque from effort, stiffness,
+ *    damping; torque 0); every array of every command is 24 long;
+ *  - parallel_parser_type: RL_PARSER (1) by default, each documented
+ *    spelling as its number in every command (hold, commands, damping),
+ *    from robot.toml or the caller; anything else refused by key and value;
+ *  - the IMU: imu_info's quaternion x, y, z, w, angular velocity and linear
+ *    acceleration reach the manifest's channels in order;
+ *  - header stamps: every command is stamped with the system clock, stamps
+ *    never go back; the state's stamps are its link checks: a stamp not
+ *    newer than the last is a replay (dropped), one more than a second back
+ *    a restart (ROZ_ELINK), one that is not a time malformed (dropped);
+ *  - a joint_state whose arrays are not 24 long is dropped and counted;
+ *  - the domain: 69 from the manifest's parameters (traffic flows on it),
+ *    overridden by dds_domain, a bad one refused;
+ *  - a peer that speaks as rmw_cyclonedds (no type information: matched by
+ *    topic and type name alone) exchanges samples with the port both ways;
+ *    an endpoint whose type name lacks ROS 2's "dds_" never matches;
+ *  - decimation 4, the periodic writer and a restarted robot, the start-up
+ *    hold with startup_damping, the damping command on shutdown;
+ *  - a manifest's joints are found by name, in any order and any subset
+ *    (the other indices passive); a joint not on the PM01 is refused;
+ *  - the command watchdog (roz::ros2, shared with the X2): the tick stops
+ *    writing, the event-driven writer wakes by itself and the robot gets
+ *    the damping command, repeatedly; read() reports the trip once naming
+ *    the silence and the timeout; the next write is the hold, then the
+ *    commands as written;
+ *  - bad parameters and manifests are refused naming the key and value. */
+#define _POSIX_C_SOURCE 200809L
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include <cmocka.h>
+#include <dds/dds.h>
+
+#include "engineai_pm01_manifest.h"
+#include "interface_protocol.h"
+#include "port_fixture.h"
+#include "port_test.h"
+#include "ros2_fixture.h"
+#include "roz/port/engineai_pm01.h"
+#include "ur5_manifest.h"
+
+#define N ROZ_ENGINEAI_PM01_JOINTS
+
+static const roz_manifest_t *const m = &roz_manifest_engineai_pm01;
+static roz_port_t port;
+static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
+static double cmd[ROZ_CFG_MAX_COMMANDS];
+
+static void open_pm01_on(const roz_manifest_t *man, const roz_param_t *items, size_t n)
+{
+    roz_port_test_open(&roz_fixture_engineai_pm01, man, items, n, &port);
+}
+
+static void open_pm01(const roz_param_t *items, size_t n)
+{
+    open_pm01_on(m, items, n);
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_fixture_engineai_pm01.close();
+    return 0;
+}
+
+static int read_pm01(void)
+{
+    return roz_port_read(&port, state, m->n_states);
+}
+
+static void write_pm01(void)
+{
+    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
+}
+
+static int cmd_index(uint16_t joint, const char *suffix)
+{
+    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
+}
+
+static int state_index(const char *name)
+{
+    return roz_port_test_state(m, name);
+}
+
+static void distinct_command(int k)
+{
+    roz_port_test_distinct_command(m, k, cmd);
+}
+
+static void start(void)
+{
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(0);
+    write_pm01();
+    roz_ros2fx_settle();
+}
+
+static void get_command(roz_fake_ros2_cmd_t *c)
+{
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, c), 1);
+}
+
+static void assert_state_is_sent(void)
+{
+    roz_ros2fx_sent(sent);
+    roz_port_test_assert_state(m, state, sent);
+}
+
+
+/* ---- mapping ---------------------------------------------------------------------- */
+
+static void test_pm01_joints_map_both_ways(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    for (int k = 1; k <= 3; k++) {
+        roz_ros2fx_send();
+        assert_int_equal(read_pm01(), 1);
+        assert_state_is_sent();
+        distinct_command(k);
+        write_pm01();
+        get_command(&c);
+        assert_int_equal(c.n, N);       /* every array 24 long */
+        assert_int_equal(c.min_len, N);
+        assert_int_equal(c.ppt, 1);     /* RL_PARSER */
+        for (uint16_t j = 0; j < N; j++) {
+            assert_true(c.q[j] == cmd[cmd_index(j, "position")]);
+            assert_true(c.dq[j] == cmd[cmd_index(j, "velocity")]);
+            assert_true(c.tau[j] == cmd[cmd_index(j, "effort")]); /* feed_forward_torque */
+            assert_true(c.kp[j] == cmd[cmd_index(j, "stiffness")]);
+            assert_true(c.kd[j] == cmd[cmd_index(j, "damping")]);
+            assert_true(c.extra[j] == 0.0); /* torque */
+        }
+    }
+}
+
+/* ---- parallel_parser_type ------------------------------------------------------------ */
+
+/* The last command the robot got, once it counted @p n0 + 1 on its topic. */
+static void next_command(uint64_t n0, roz_fake_ros2_cmd_t *c)
+{
+    uint64_t n[FAKE_ROS2_MAX_GROUPS] = { 0 };
+    for (int i = 0; i < 5000 && n[0] <= n0; i++) {
+        assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
+        if (n[0] <= n0)
+            roz_fake_sleep_ms(1);
+    }
+    assert_true(n[0] > n0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, c), 1);
+}
+
+/* Every JointCommand of a session carries @p want: the start-up hold, the
+ * commands after it, the damping command on deactivate. */
+static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param_t *items,
+                                      size_t n, unsigned want)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t counts[FAKE_ROS2_MAX_GROUPS];
+    open_pm01_on(man, items, n);
+    roz_ros2fx_send();
+    assert_int_equal(roz_port_read(&port, state, man->n_states), 1);
+    distinct_command(2);
+    for (int k = 0; k < 3; k++) { /* the hold, then two commands */
+        assert_int_equal(roz_port_write(&port, cmd, man->n_commands), ROZ_OK);
+        get_command(&c);
+        assert_int_equal(c.ppt, want);
+    }
+    assert_int_equal(roz_ros2fx_counters().holds, 1);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), counts), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    next_command(counts[0], &c);
+    assert_true(c.kp[0] == 0.0); /* the damping command */
+    assert_int_equal(c.ppt, want);
+    roz_fixture_engineai_pm01.close();
+}
+
+/* The PM01's manifest with parallel_parser_type in its [hardware.params]. */
+static roz_param_t hw_params[4];
+static roz_hardware_t hw_with_parser;
+static roz_manifest_t with_parser;
+
+static const roz_manifest_t *manifest_with_parser(const char *value)
+{
+    const roz_hardware_t *hw = m->hardware;
+    size_t n = hw->n_params;
+    assert_true(n < 4);
+    memcpy(hw_params, hw->params, n * sizeof hw_params[0]);
+    hw_params[n] = (roz_param_t){ "parallel_parser_type", value };
+    hw_with_parser = *hw;
+    hw_with_parser.params = hw_params;
+    hw_with_parser.n_params = (uint16_t)(n + 1);
+    with_parser = *m;
+    with_parser.hardware = &hw_with_parser;
+    return &with_parser;
+}
+
+/* ParallelParserType (interface_protocol): CLASSIC_PARSER 0, RL_PARSER 1;
+ * the parameter's default is RL_PARSER, as the vendor's RL example sends;
+ * each spelling docs/ports/ros2.md gives reaches the wire as its number, in every
+ * command; robot.toml's [hardware.params] sets it, the caller's overrides;
+ * anything else is refused at open naming the key and the value. */
+static void test_pm01_parallel_parser_type(void **st)
+{
+    (void)st;
+    expect_parser_on_the_wire(m, NULL, 0, 1);
+    static const struct { const char *value; unsigned wire; } spellings[] = {
+        { "rl", 1 },     { "RL_PARSER", 1 },     { "1", 1 },
+        { "classic", 0 }, { "CLASSIC_PARSER", 0 }, { "0", 0 },
+    };
+    for (size_t i = 0; i < sizeof spellings / sizeof spellings[0]; i++) {
+        roz_param_t p = { "parallel_parser_type", spellings[i].value };
+        expect_parser_on_the_wire(m, &p, 1, spellings[i].wire);
+    }
+    expect_parser_on_the_wire(manifest_with_parser("classic"), NULL, 0, 0);
+    roz_param_t rl = { "parallel_parser_type", "rl" };
+    expect_parser_on_the_wire(manifest_with_parser("classic"), &rl, 1, 1);
+
+    static const char *const bad[] = { "2", "RL", "Classic", "rl ", "-1", "01", "0x1",
+                                       "parallel", "" };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        static roz_engineai_pm01_t pm;
+        roz_param_t item = { "parallel_parser_type", bad[i] };
+        roz_params_t p = { &item, 1 };
+        roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+        char err[400] = "", want[64];
+        assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_EINVAL);
+        snprintf(want, sizeof want, "parallel_parser_type = \"%s\"", bad[i]);
+        if (strstr(err, want) == NULL || strstr(err, "RL_PARSER") == NULL)
+            fail_msg("\"%s\": the error \"%s\" names neither the key and value nor the "
+                     "choices",
+                     bad[i], err);
+        roz_port_close(&pt);
+    }
+    /* and from robot.toml */
+    static roz_engineai_pm01_t pm;
+    roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+    char err[400] = "";
+    assert_int_equal(roz_port_open(&pt, manifest_with_parser("2"), NULL, err, sizeof err),
+                     ROZ_EINVAL);
+    assert_non_null(strstr(err, "parallel_parser_type = \"2\""));
+    roz_port_close(&pt);
+}
+
+static void test_pm01_imu_order(void **st)
+{
+    (void)st;
+    open_pm01(NULL, 0);
+    start();
+    roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
+    roz_ros2fx_ask_judged(0, "send");
+    assert_int_equal(read_pm01(), 1);
+    assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
+    assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
+    assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
+    assert_true(state[state_index("base_imu/orientation.w")] == 0.5);
+    assert_true(state[state_index("base_imu/angular_velocity.x")] == 1.5);
+    assert_true(state[state_index("base_imu/angular_velocity.y")] == -2.5);
+    assert_true(state[state_index("base_imu/angular_velocity.z")] == 3.5);
+    assert_true(state[state_index("base_imu/linear_acceleration.x")] == 0.75);
+    assert_true(state[state_index("base_imu/linear_acceleration.y")] == -1.25);
+    assert_true(state[state_index("base_imu/linear_acceleration.z")] == 9.75);
+}
+
+/* ---- stamps --------------------------------------------------------------------------- */
+
+static void test_pm01_command_stamps(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t last = 0;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    for (int k = 1; k <= 20; k++) {
+        roz_ros2fx_send();
+        (void)read_pm01();
+        distinct_command(k);
+        uint64_t before = roz_port_test_realtime_ns();
+        write_pm01();
+        get_command(&c);
+        uint64_t after = roz_port_test_realtime_ns();
+        uint64_t stamp = (uint64_t)c.sec * 1000000000u + c.nanosec;
+        /* the system clock (ROS time) when the writer published it */
+        assert_true(c.nanosec <= 999999999u);
+        assert_true(stamp >= before && stamp <= after);
+        assert_true(stamp >= last);
+        last = stamp;
+        assert_string_equal(c.frame_id, "-"); /* empty */
+    }
+}
+
+static void send_judged(void)
+{
+    roz_ros2fx_ask_judged(0, "send");
+}
+
+static void test_pm01_state_stamps_are_the_link(void **st)
+{
+    roz_link_t l;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    for (int k = 0; k < 10; k++)
+        roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    uint64_t replays = l.replays, restarts = l.restarts;
+
+    /* the same stamp again, new values: a replay on both topics, dropped */
+    roz_ros2fx_ask("stamp 1800000000 500000000");
+    roz_ros2fx_set_state(50);
+    send_judged();
+    assert_int_equal(read_pm01(), 1);
+    assert_state_is_sent();
+    roz_ros2fx_ask("stamp 1800000000 500000000");
+    roz_ros2fx_set_state(51);
+    send_judged();
+    assert_int_equal(read_pm01(), 0);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.replays, replays + 2);
+    /* half a second back: still a replay */
+    roz_ros2fx_ask("stamp 1800000000 0");
+    send_judged();
+    assert_int_equal(read_pm01(), 0);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.replays, replays + 4);
+    /* newer again: fresh */
+    roz_ros2fx_ask("stamp 1800000001 0");
+    roz_ros2fx_set_state(52);
+    send_judged();
+    assert_int_equal(read_pm01(), 1);
+    assert_state_is_sent();
+    /* five seconds back: the robot's clock restarted */
+    roz_ros2fx_ask("stamp 1799999996 0");
+    send_judged();
+    assert_int_equal(read_pm01(), ROZ_ELINK);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.restarts, restarts + 2);
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+
+    /* a stamp that is not a time: malformed, dropped, counted */
+    uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
+    roz_ros2fx_ask("stamp 1799999997 1000000000");
+    roz_ros2fx_ask("send");
+    for (int i = 0; i < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; i++)
+        roz_fake_sleep_ms(1);
+    assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
+    assert_int_equal(read_pm01(), 0);
+}
+
+/* A documented limit (SAFETY.md, docs/ports/ros2.md): the PM01's header has
+ * no sequence, so a step back of the robot's clock (NTP, PTP, `date`) is not
+ * told from a replay. 20 ms back: every sample is dropped as a replay until
+ * the robot's clock passes the last stamp taken: as long as stale_ticks
+ * periods (10 at 500 Hz) of nothing fresh, so the runtime latches STALE. */
+static void test_pm01_clock_step_back_is_a_replay(void **st)
+{
+    roz_link_t l;
+    (void)st;
+
+    open_pm01(NULL, 0);
+    start();
+    roz_ros2fx_ask("stamp 1800000000 500000000");
+    send_judged();
+    assert_int_equal(read_pm01(), 1);
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    uint64_t replays = l.replays, restarts = l.restarts;
+    /* the clock steps 20 ms back; it advances 1 ms a sample (on either
+     * topic) from there */
+    roz_ros2fx_ask("stamp 1800000000 480000000");
+    int fresh = 0, sends = 0;
+    for (; sends < 40 && fresh == 0; sends++) {
+        send_judged();
+        fresh = read_pm01() == 1;
+    }
+    roz_ros2_link(roz_ros2fx_bridge(), &l);
+    assert_int_equal(l.restarts, restarts); /* no restart: within the window */
+    assert_int_equal(fresh, 1);
+    /* the samples before it dropped, on both topics (the last one on one of
+     * them only): 2 ms of the robot's clock a send, so 20 ms are 10 sends
+     * lost, as many ticks of nothing fresh as stale_ticks */
+    print_message("clock 20 ms back: %d sends until fresh, %llu replays\n", sends,
+                  (unsigned long long)(l.replays - replays));
+    assert_true(l.replays >= replays + 2u * (uint64_t)(sends - 2));
+    assert_true(sends - 1 >= 9);
+}
+
+/* ---- shapes ----------------------------------------------------------------------------- */
+
+static void test_pm01_arrays_must_be_24_long(void **st)
+{
+    (void)st;
+    open_pm01(NULL, 0);
+    start();
+    static const unsigned lengths[] = { 23, 25, 0, 12 };
+    for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
+        uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
+        roz_ros2fx_ask("length body %u", lengths[i]);
+        roz_ros2fx_set_state(60 + (uint32_t)i);
+        roz_ros2fx_ask("send body");
+        for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; w++)
+            roz_fake_sleep_ms(1);
+        assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
+        assert_int_equal(read_pm01(), 0); /* nothing new, the old frame stays */
+    }
+    roz_ros2fx_ask("length body 24");
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    assert_state_is_sent();
+}
+
+/* ---- the domain -------------------------------------------------------------------------- */
+
+static void test_pm01_domain(void **st)
+{
+    static roz_engineai_pm01_t pm;
+    char err[300] = "";
+    (void)st;
+
+    /* the manifest's hardware parameters say 69 */
+    roz_param_t lo = { "network_interface", "lo" };
+    roz_params_t p = { &lo, 1 };
+    roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+    assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_ros2_dds_params(&pm.b)->domain, 69);
+    assert_int_equal(roz_ros2_participant(&pm.b)->domain, 69);
+    roz_port_close(&pt);
+    /* overridden */
+    roz_param_t items[2] = { { "network_interface", "lo" }, { "dds_domain", "7" } };
+    p = (roz_params_t){ items, 2 };
+    assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_ros2_participant(&pm.b)->domain, 7);
+    roz_port_close(&pt);
+    /* refused */
+    items[1].value = "233";
+    assert_true(roz_port_open(&pt, m, &p, err, sizeof err) < 0);
+    assert_non_null(strstr(err, "dds_domain"));
+    assert_non_null(strstr(err, "233"));
+    roz_port_close(&pt);
+}
+
+/* The robot on its own domain, 69: the port finds it there with nothing but
+ * the manifest's parameters. */
+static void test_pm01_traffic_on_69(void **st)
+{
+    roz_fake_ros2_t fake;
+    static roz_engineai_pm01_t pm;
+    char err[300] = "";
+    (void)st;
+
+    assert_int_equal(roz_fake_ros2_start(&fake, "pm01", 69, NULL, err, sizeof err), 0);
+    roz_param_t items[2] = { { "network_interface", "lo" }, { "command_writer_period_us", "0" } };
+    roz_params_t p = { items, 2 };
+    roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+    assert_int_equal(roz_port_open(&pt, m, &p, err, sizeof err), ROZ_OK);
+    assert_int_equal(roz_port_activate(&pt), ROZ_OK);
+    int rc = ROZ_ENOENT;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 200 == 0)
+            assert_int_equal(roz_fake_ros2_ask(&fake, "send"), 0);
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&pt, state, m->n_states);
+    }
+    assert_int_equal(rc, 1);
+    distinct_command(1);
+    assert_int_equal(roz_port_write(&pt, cmd, m->n_commands), ROZ_OK);
+    assert_int_equal(roz_fake_ros2_ask(&fake, "wait_commands body 1 10000"), 0);
+    (void)roz_port_deactivate(&pt);
+    roz_port_close(&pt);
+    assert_int_equal(roz_fake_ros2_stop(&fake), 0);
+}
+
+/* ---- ROS 2's names ---------------------------------------------------------------------- */
+
+/* A peer as rmw_cyclonedds is: no type information, so the topics match by
+ * their names alone (rt/hardware/..., interface_protocol::msg::dds_::...). */
+static void test_pm01_ros2_names(void **st)
+{
+    static const char *const as_ros2[] = { "--typeinfo", "off", NULL };
+    roz_fake_ros2_cmd_t c;
+    (void)st;
+
+    roz_ros2fx_set_fake_args(as_ros2);
+    open_pm01(NULL, 0); /* matched both ways, or it fails */
+    start();
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    assert_state_is_sent();
+    distinct_command(2);
+    write_pm01();
+    get_command(&c);
+    assert_true(c.q[7] == cmd[cmd_index(7, "position")]);
+
+    /* the port's bytes under another type name: never matched */
+    const dds_topic_descriptor_t *d = &interface_protocol_msg_dds__JointCommand__desc;
+    const struct dds_type_meta_ser none = { NULL, 0 };
+    const dds_topic_descriptor_t wrong = {
+        .m_size = d->m_size, .m_align = d->m_align,
+        .m_flagset = d->m_flagset & ~DDS_TOPIC_XTYPES_METADATA, .m_nkeys = d->m_nkeys,
+        .m_typename = "interface_protocol::msg::JointCommand", .m_keys = d->m_keys,
+        .m_nops = d->m_nops, .m_ops = d->m_ops, .m_meta = d->m_meta,
+        .type_information = none, .type_mapping = none,
+        .restrict_data_representation = d->restrict_data_representation,
+    };
+    dds_entity_t part = dds_create_participant(ROZ_TEST_DDS_DOMAIN, NULL, NULL);
+    assert_true(part > 0);
+    dds_entity_t topic = dds_create_topic(part, &wrong, "rt/hardware/joint_command", NULL, NULL);
+    assert_true(topic > 0);
+    dds_qos_t *q = dds_create_qos();
+    dds_qset_reliability(q, DDS_RELIABILITY_BEST_EFFORT, 0);
+    dds_entity_t rd = dds_create_reader(part, topic, q, NULL);
+    dds_delete_qos(q);
+    assert_true(rd > 0);
+    roz_fake_sleep_ms(500); /* discovery on loopback takes milliseconds */
+    dds_subscription_matched_status_t sm;
+    assert_int_equal(dds_get_subscription_matched_status(rd, &sm), 0);
+    assert_int_equal(sm.total_count, 0);
+    uint32_t readers, writers;
+    roz_ros2_matched(roz_ros2fx_bridge(), &readers, &writers);
+    assert_int_equal(readers, 1); /* the fake's alone */
+    dds_delete(part);
+}
+
+/* ---- decimation ------------------------------------------------------------------------- */
+
+static void test_pm01_decimation(void **st)
+{
+    double full[ROZ_CFG_MAX_STATES];
+    int dq0 = state_index("J00_HIP_PITCH_L/velocity");
+    int q0 = state_index("J00_HIP_PITCH_L/position");
+    int ow = state_index("base_imu/orientation.w");
+    (void)st;
+
+    open_pm01((roz_param_t[]){ { "state_decimation", "4" } }, 1);
+    for (int k = 0; k < 12; k++) {
+        roz_ros2fx_send();
+        assert_int_equal(read_pm01(), 1);
+        roz_ros2fx_sent(sent);
+        if (k % 4 == 0)
+            memcpy(full, sent, sizeof full);
+        assert_true(state[q0] == sent[q0]);
+        assert_true(state[dq0] == full[dq0]);
+        assert_true(state[ow] == full[ow]);
+        if (k % 4 != 0)
+            assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
+    }
+    assert_int_equal(roz_ros2fx_counters().topic[0].full, 3);
+    assert_int_equal(roz_ros2fx_counters().topic[1].full, 3);
+    assert_int_equal(roz_ros2fx_counters().frames, 12);
+    /* every sample is still checked: a replay between two whole conversions */
+    roz_ros2fx_ask_judged(0, "replay");
+    assert_int_equal(read_pm01(), 0);
+}
+
+/* ---- the writer ---------------------------------------------------------------------------- */
+
+static void test_pm01_periodic_writer(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS], n[FAKE_ROS2_MAX_GROUPS];
+    (void)st;
+
+    open_pm01((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
+    start();
+    for (int k = 0; k < 5; k++)
+        roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(3);
+    write_pm01();
+    get_command(&c);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    n[0] = n0[0];
+    for (int i = 0; i < 5000 && n[0] < n0[0] + 50; i++) {
+        roz_fake_sleep_ms(2);
+        assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
+    }
+    assert_true(n[0] >= n0[0] + 50);
+    get_command(&c);
+    assert_true(c.q[5] == cmd[cmd_index(5, "position")]);
+
+    /* a restarted robot gets nothing until the tick writes for it */
+    roz_link_t before[ROZ_ROS2_MAX_TOPICS];
+    roz_ros2fx_ask("restart");
+    roz_ros2fx_links(before);
+    roz_ros2fx_set_state(100);
+    roz_ros2fx_ask("send");
+    roz_ros2fx_wait_judged(before, 0, 1); /* the new writers: again until discovered */
+    assert_int_equal(read_pm01(), ROZ_ELINK);
+    roz_fake_sleep_ms(10);
+    uint64_t after[FAKE_ROS2_MAX_GROUPS], later[FAKE_ROS2_MAX_GROUPS];
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), after), 0);
+    roz_fake_sleep_ms(50);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), later), 0);
+    assert_int_equal(later[0], after[0]);
+    assert_true(roz_ros2fx_counters().stale_session >= 1);
+    /* the tick writes: the hold of the restarted robot's positions */
+    distinct_command(4);
+    write_pm01();
+    get_command(&c);
+    roz_ros2fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
+    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+
+    roz_monitor_stat_t s;
+    assert_int_equal(roz_monitor_snapshot(roz_ros2_writer_monitor(roz_ros2fx_bridge()),
+                                          ROZ_MON_JITTER, &s),
+                     ROZ_OK);
+    assert_true(s.count >= 50);
+    assert_int_equal(
+        roz_monitor_snapshot(roz_ros2_topic_monitor(roz_ros2fx_bridge(), 0),
+                             ROZ_MON_STATE_HANDLER, &s),
+        ROZ_OK);
+    assert_true(s.count >= 1);
+}
+
+/* Until @p cond, or fail after a hang guard (20 s: a loaded machine is slow,
+ * never this slow). */
+#define WAIT_UNTIL(cond)                                                                  \
+    do {                                                                                  \
+        int ms_ = 0;                                                                      \
+        while (!(cond) && ms_ < 20000) {                                                  \
+            roz_fake_sleep_ms(1);                                                         \
+            ms_++;                                                                        \
+        }                                                                                 \
+        if (!(cond))                                                                      \
+            fail_msg("waited 20 s for %s", #cond);                                        \
+    } while (0)
+
+static roz_ros2_counters_t counters(void)
+{
+    roz_ros2_counters_t c;
+    roz_ros2_counters(roz_ros2fx_bridge(), &c);
+    return c;
+}
+
+static void test_pm01_watchdog(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    double q[N];
+    (void)st;
+
+    /* event-driven (the fixture's): once the tick stops nothing wakes the
+     * writer but the watchdog; the robot says nothing meanwhile either (no
+     * link fault for it) */
+    open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
+                               { "peer_timeout_ms", "60000" } },
+              2);
+    start();
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(1);
+    for (uint16_t j = 0; j < N; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
+    assert_int_equal(counters().command_timeouts, 0);
+
+    /* the tick stops */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
+                                       roz_ros2fx_fake()->group[0],
+                                       (unsigned long long)n0[0] + 5u),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    for (uint16_t j = 0; j < N; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")]; /* the hold gain */
+        if (c.q[j] != q[j] || c.kp[j] != kp->default_value || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
+            c.extra[j] != 0.0 || c.kd[j] != kd->default_value)
+            fail_msg("joint %u after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
+                     "watchdog's hold",
+                     (unsigned)j, c.q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
+    }
+    assert_true(counters().safe_published >= 5);
+    assert_int_equal(counters().command_timeouts, 1);
+
+    /* the tick is back: reported once with the silence; the hold; then as
+     * written */
+    roz_port_fault_t f;
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_engineai_pm01_ops.fault(port.self, &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.limit, 100000);
+    assert_true(f.code >= 100000);
+    assert_int_equal(read_pm01(), 0);
+    distinct_command(2);
+    write_pm01();
+    get_command(&c);
+    roz_ros2fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
+    /* the hold after the trip keeps the damping command's kd (no kd 0
+     * between two damping commands) */
+    assert_true(c.kp[3] == 0.0);
+    assert_true(c.kd[3] == m->commands[cmd_index(3, "damping")].default_value);
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    distinct_command(3);
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
+    assert_true(c.q[3] == cmd[cmd_index(3, "position")]);
+}
+
+static void test_pm01_startup_and_shutdown_damping(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    (void)st;
+
+    open_pm01((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    /* nothing before the first frame */
+    distinct_command(0);
+    write_pm01();
+    roz_ros2fx_settle();
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 0);
+    assert_int_equal(roz_ros2fx_counters().writes_withheld, 1);
+    roz_ros2fx_send();
+    assert_int_equal(read_pm01(), 1);
+    roz_ros2fx_sent(sent);
+    distinct_command(1);
+    write_pm01(); /* the first write: the hold */
+    get_command(&c);
+    for (uint16_t j = 0; j < N; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        assert_true(c.q[j] == sent[state_index(name)]);
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == 2.5);
+    }
+    assert_int_equal(roz_ros2fx_counters().holds, 1);
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[0] == cmd[cmd_index(0, "stiffness")]);
+
+    /* shutdown: the damping command, kd the manifest's damping default,
+     * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (the robot's reader may be best
+     * effort and lose one): all of them, or on a loaded machine most */
+    const uint64_t repeats = ROZ_DDS_SHUTDOWN_REPEAT_MS * 1000u / ROZ_DDS_SHUTDOWN_REPEAT_US;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS], n[FAKE_ROS2_MAX_GROUPS];
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    n[0] = n0[0];
+    for (int i = 0; i < 2000 && n[0] < n0[0] + repeats; i++) {
+        roz_fake_sleep_ms(1);
+        assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n), 0);
+    }
+    assert_true(n[0] > n0[0] && n[0] <= n0[0] + repeats);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    assert_int_equal(c.min_len, N);
+    for (uint16_t j = 0; j < N; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == kd->default_value);
+        assert_true(c.q[j] == cmd[cmd_index(j, "position")]);
+    }
+}
+
+/* ---- a manifest of fewer joints, in another order ------------------------------------------ */
+
+/* Two joints, listed right hip roll first, then left hip roll (indices 7 and
+ * 1): each found by its name, not by its place in the list (the names are
+ * not on the wire; by place, the left hip roll would get the right's
+ * command, outside its own limits). The rest of the robot's 24 get their
+ * measured positions and zero gains. */
+static const roz_channel_t two_commands[] = {
+    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "J01_HIP_ROLL_L/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_channel_t two_states[] = {
+    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+    { "J01_HIP_ROLL_L/position", ROZ_IF_POSITION, "rad", -0.436, 2.094, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const char *const two_joints[] = { "J07_HIP_ROLL_R", "J01_HIP_ROLL_L" };
+static const roz_hardware_t two_hw = { "engineai/PM01", two_joints, 2, NULL, 0 };
+static const roz_manifest_t two = { "two", "humanoid", 500, two_commands, 2, two_states, 2,
+                                    &two_hw };
+
+static void test_pm01_joints_by_name(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    char err[300] = "";
+    (void)st;
+    if (roz_fixture_engineai_pm01.open(&two, NULL, &port, err, sizeof err) != ROZ_OK)
+        fail_msg("open: %s", err);
+    roz_ros2fx_ask("joint body 5 0.375 0 0");
+    roz_ros2fx_ask("joint body 0 0.125 0 0");
+    roz_ros2fx_ask("joint body 1 0.25 0 0");
+    roz_ros2fx_ask("joint body 7 -0.5 0 0");
+    double st2[2], cmd2[2] = { -1.5, 80.0 };
+    int rc = ROZ_ENOENT;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 500 == 0) /* until the fake's writer found the port's reader */
+            roz_ros2fx_ask("send body");
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&port, st2, 2); /* no IMU channel: joint_state alone */
+    }
+    assert_int_equal(rc, 1);
+    assert_true(st2[0] == -0.5 && st2[1] == 0.25);
+    assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK); /* the hold */
+    roz_ros2fx_settle(); /* the writes after it are holds until it went out */
+    assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
+    get_command(&c);
+    assert_int_equal(c.min_len, N);
+    assert_true(c.q[7] == -1.5 && c.kp[7] == 0.0);
+    assert_true(c.q[1] == 0.25 && c.kp[1] == 80.0); /* no position command: its own */
+    for (unsigned i = 0; i < N; i++) {
+        if (i == 1 || i == 7)
+            continue;
+        assert_true(c.kp[i] == 0.0 && c.kd[i] == 0.0 && c.tau[i] == 0.0);
+    }
+    assert_true(c.q[0] == 0.125 && c.q[5] == 0.375);
+
+    /* NaN and Inf from the robot never go back out: the joint without a
+     * position command keeps its last finite position under its stiffness,
+     * a slot of no manifest joint its last finite one */
+    roz_ros2fx_ask("joint body 1 nan 0 0");
+    roz_ros2fx_ask("joint body 0 inf 0 0");
+    rc = 0;
+    for (int ms = 0; ms < 10000 && rc != 1; ms += 10) {
+        if (ms % 500 == 0)
+            roz_ros2fx_ask("send body");
+        roz_fake_sleep_ms(10);
+        rc = roz_port_read(&port, st2, 2);
+    }
+    assert_int_equal(rc, 1);
+    assert_true(isnan(st2[1])); /* the runtime sees what the robot said */
+    assert_int_equal(roz_port_write(&port, cmd2, 2), ROZ_OK);
+    get_command(&c);
+    for (unsigned i = 0; i < N; i++) {
+        if (!isfinite(c.q[i]) || !isfinite(c.kp[i]) || !isfinite(c.kd[i]) ||
+            !isfinite(c.dq[i]) || !isfinite(c.tau[i]))
+            fail_msg("slot %u: q %g kp %g kd %g: not finite on the wire", i, c.q[i], c.kp[i],
+                     c.kd[i]);
+    }
+    assert_true(c.q[1] == 0.25 && c.kp[1] == 80.0);
+    assert_true(c.q[0] == 0.125 && c.kp[0] == 0.0);
+}
+
+/* ---- refusals ------------------------------------------------------------------------------- */
+
+static void expect_refused(const roz_manifest_t *man, const char *key, const char *value,
+                           const char *want1, const char *want2)
+{
+    static roz_engineai_pm01_t pm;
+    roz_param_t item = { key, value };
+    roz_params_t p = { &item, key != NULL ? 1u : 0u };
+    roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
+    char err[400] = "";
+    assert_true(roz_port_open(&pt, man, &p, err, sizeof err) < 0);
+    if (strstr(err, want1) == NULL || (want2 != NULL && strstr(err, want2) == NULL))
+        fail_msg("%s = \"%s\": the error \"%s\" does not name \"%s\" and \"%s\"",
+                 key != NULL ? key : "(manifest)", value != NULL ? value : "", err, want1,
+                 want2 != NULL ? want2 : "");
+    roz_port_close(&pt);
+}
+
+static const char *const many_joints[25] = { "j0",  "j1",  "j2",  "j3",  "j4",  "j5",  "j6",
+                                             "j7",  "j8",  "j9",  "j10", "j11", "j12", "j13",
+                                             "j14", "j15", "j16", "j17", "j18", "j19", "j20",
+                                             "j21", "j22", "j23", "j24" };
+static const roz_channel_t many_commands[] = {
+    { "j24/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_hardware_t many_hw = { "engineai/PM01", many_joints, 25, NULL, 0 };
+static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, NULL, 0,
+                                     &many_hw };
+/* a joint that is not the robot's, where a PM01 joint would be by place */
+static const char *const stranger_joints[] = { "J00_HIP_PITCH_L", "left_knee" };
+static const roz_channel_t stranger_commands[] = {
+    { "J00_HIP_PITCH_L/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+    { "left_knee/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_hardware_t stranger_hw = { "engineai/PM01", stranger_joints, 2, NULL, 0 };
+static const roz_manifest_t stranger = { "stranger", "humanoid", 500, stranger_commands, 2,
+                                         NULL, 0, &stranger_hw };
+
+static void test_pm01_bad_parameters(void **st)
+{
+    (void)st;
+    static const struct { const char *key, *value; } bad[] = {
+        { "network_interface", "eth0;rm" }, { "network_interface", "roznosuch0" },
+        { "dds_domain", "999" },            { "command_writer_period_us", "10" },
+        { "state_decimation", "0" },        { "enable_monitor", "maybe" },
+        { "peer_timeout_ms", "5" },         { "startup_damping", "11" },
+        { "shutdown_damping", "-1" },       { "parallel_parser_type", "2" },
+        { "link_check", "sequence" },       { "link_check", "crc" },
+        { "command_timeout_us", "1000" },   { "command_timeout_us", "60000001" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
+    expect_refused(m, "no_such_key", "1", "no_such_key", "engineai/PM01");
+    expect_refused(m, "mode_pr", "PR", "mode_pr", "engineai/PM01"); /* the G1's, not ours */
+    expect_refused(&roz_manifest_ur5, NULL, NULL, "[hardware] joints", NULL);
+    expect_refused(&many, NULL, NULL, "25 joints", "24");
+    expect_refused(&stranger, NULL, NULL, "joints[1] \"left_knee\"", "not one of the robot's");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_pm01_joints_map_both_ways, teardown),
+        cmocka_unit_test_teardown(test_pm01_parallel_parser_type, teardown),
+        cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
+        cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
+        cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
+        cmocka_unit_test_teardown(test_pm01_clock_step_back_is_a_replay, teardown),
+        cmocka_unit_test_teardown(test_pm01_arrays_must_be_24_long, teardown),
+        cmocka_unit_test(test_pm01_domain),
+        cmocka_unit_test(test_pm01_traffic_on_69),
+        cmocka_unit_test_teardown(test_pm01_ros2_names, teardown),
+        cmocka_unit_test_teardown(test_pm01_decimation, teardown),
+        cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
+        cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
+        cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
+        cmocka_unit_test(test_pm01_bad_parameters),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

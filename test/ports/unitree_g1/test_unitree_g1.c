@@ -1,0 +1,1282 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The G1 port (roz/port/unitree_g1.h) against the fake robot (fake_g1, its own
+ * IDL and CRC, a separate process) over loopback DDS, beyond the conformance
+ * suite:
+ *  - all 29 joints map both ways, a distinct value per joint and field: the
+ *    states the port reads, the LowCmd_ the robot gets (mode 1 for the
+ *    joints, slots 29-34 mode 0 and all zero, mode_pr PR);
+ *  - joints bound by name: a manifest listing the 29 joints in reverse
+ *    order drives each joint's motor slot (a distinct value per joint); the
+ *    23-DoF manifest drives its 23 slots and leaves 13, 14, 20, 21, 27, 28
+ *    mode 0 and zero; an unknown or repeated name is refused at open;
+ *  - a robot whose mode_machine says it lacks a listed joint (23-DoF 4/10,
+ *    locked waist 6/12/14/16) gets no command, and the runtime latches
+ *    ROZ_FAULT_ROBOT naming the joint and the mode_machine; 0 takes all;
+ *  - the IMU: Unitree's w, x, y, z quaternion reaches the manifest's x, y,
+ *    z, w; gyroscope and accelerometer in order;
+ *  - padding zero under the CRC: the port's sample storage starts as
+ *    garbage and the robot (which recomputes the CRC over a freshly zeroed
+ *    struct) counts no bad CRC; the published CRC equals a bit-by-bit
+ *    reference computed here from a raw subscription;
+ *  - mode_machine is echoed, and a change under a running controller stops
+ *    the commands and makes read() report it, until it changes back;
+ *  - a motor fault code latches ROZ_FAULT_ROBOT in the runtime naming the
+ *    joint and the code;
+ *  - decimation 4 converts every 4th frame whole, checks every frame (bad
+ *    CRC, fault codes) and converts the positions of every frame;
+ *  - the periodic writer keeps publishing the last command, and a restarted
+ *    robot gets nothing until the tick writes; the start-up hold with
+ *    startup_damping; the damping command on shutdown;
+ *  - the command watchdog: the tick stops writing; the robot gets the
+ *    last command for at most the timeout's worth of writer periods, then
+ *    the watchdog's hold (kp the stiffness default, the hold gain; kd the
+ *    damping default; the last commanded positions), on the writer's own (periodic, and event-driven where
+ *    nothing wakes it); read() reports the trip once and the runtime
+ *    latches COMMAND_TIMEOUT naming the silence and the timeout; the first
+ *    command after it is the start-up hold, a clear lets the stand's gains
+ *    through again;
+ *  - bad parameters and manifests are refused naming the key and value, or
+ *    the joint or channel. */
+#define _POSIX_C_SOURCE 200809L
+/* white-box: test_g1_padding_and_crc fills the port's sample storage with
+ * garbage before its writer runs (roz/private.h) */
+#define ROZ_PRIVATE_ACCESS
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <cmocka.h>
+#include <dds/dds.h>
+
+#include "crc32_reference.h"
+#include "port_fixture.h"
+#include "port_test.h"
+#include "roz/runtime.h"
+#include "roz/port/unitree_g1.h"
+#include "support.h"
+#include "unitree_g1_fixture.h"
+#include "unitree_g1_23dof_manifest.h"
+#include "unitree_g1_manifest.h"
+#include "unitree_hg.h"
+#include "ur5_manifest.h"
+
+/* the manifest the test opens the port with (teardown restores the G1's) */
+static const roz_manifest_t *m = &roz_manifest_unitree_g1;
+static roz_port_t port;
+static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
+static double cmd[ROZ_CFG_MAX_COMMANDS];
+
+/* Until @p cond, or fail after a hang guard: 60 s, far beyond what a loaded
+ * machine takes (a full parallel ctest, sanitizers), so only a hang fails;
+ * nothing here asserts a time. */
+#define WAIT_UNTIL(cond)                                                                  \
+    do {                                                                                  \
+        int ms_ = 0;                                                                      \
+        while (!(cond) && ms_ < 60000) {                                                  \
+            roz_fake_g1_sleep_ms(1);                                                      \
+            ms_++;                                                                        \
+        }                                                                                 \
+        if (!(cond))                                                                      \
+            fail_msg("%s:%d: waited 60 s for %s", __FILE__, __LINE__, #cond);             \
+    } while (0)
+
+static void open_g1(const roz_param_t *items, size_t n)
+{
+    roz_port_test_open(&roz_fixture_unitree_g1, m, items, n, &port);
+}
+
+static int teardown(void **st)
+{
+    (void)st;
+    roz_fixture_unitree_g1.close();
+    m = &roz_manifest_unitree_g1;
+    return 0;
+}
+
+static int read_g1(void)
+{
+    return roz_port_read(&port, state, m->n_states);
+}
+
+static void write_g1(void)
+{
+    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
+}
+
+static roz_unitree_g1_counters_t counters(void)
+{
+    roz_unitree_g1_counters_t c;
+    roz_unitree_g1_counters(roz_g1fx_port(), &c);
+    return c;
+}
+
+/* Readers matched with the port's rt/lowcmd writer now. */
+static uint32_t cmd_readers(void)
+{
+    uint32_t readers, writers;
+    roz_unitree_g1_matched(roz_g1fx_port(), &readers, &writers);
+    return readers;
+}
+
+static int cmd_index(uint16_t joint, const char *suffix)
+{
+    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
+}
+
+static int state_index(const char *name)
+{
+    return roz_port_test_state(m, name);
+}
+
+/* A command with a distinct value in every channel, inside its limits. */
+static void distinct_command(int k)
+{
+    roz_port_test_distinct_command(m, k, cmd);
+}
+
+/* The first frame, and the first write (the start-up hold) behind us. */
+static void start(void)
+{
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(0);
+    write_g1();
+    roz_g1fx_settle();
+}
+
+static void get_command(roz_fake_g1_cmd_t *c)
+{
+    roz_g1fx_settle();
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), c), 1);
+}
+
+/* ---- mapping ------------------------------------------------------------------ */
+
+static void test_g1_joints_map_both_ways(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    open_g1(NULL, 0);
+    start();
+    for (int k = 1; k <= 3; k++) {
+        /* state: every joint's q, dq, tau_est distinct, and the IMU */
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        roz_port_test_assert_state(m, state, sent);
+        /* command: every joint's five fields distinct */
+        distinct_command(k);
+        write_g1();
+        get_command(&c);
+        assert_int_equal(c.mode_pr, 0);      /* PR */
+        assert_int_equal(c.mode_machine, 5); /* the fake's, echoed */
+        for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+            assert_int_equal(c.mode[j], 1);
+            assert_true(c.q[j] == (float)cmd[cmd_index(j, "position")]);
+            assert_true(c.dq[j] == (float)cmd[cmd_index(j, "velocity")]);
+            assert_true(c.tau[j] == (float)cmd[cmd_index(j, "effort")]);
+            assert_true(c.kp[j] == (float)cmd[cmd_index(j, "stiffness")]);
+            assert_true(c.kd[j] == (float)cmd[cmd_index(j, "damping")]);
+        }
+        for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
+            assert_int_equal(c.mode[j], 0);
+            assert_true(c.q[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0 && c.kp[j] == 0.0 &&
+                        c.kd[j] == 0.0);
+        }
+    }
+}
+
+/* The command the fake got, joint by joint at the slot of its name: mode 1
+ * and the five fields of cmd; every other slot mode 0 and zero. */
+static void assert_command_by_name(const roz_fake_g1_cmd_t *c)
+{
+    int driven[ROZ_UNITREE_G1_SLOTS] = { 0 };
+    for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
+        int s = roz_g1fx_slot(m->hardware->joints[j]);
+        driven[s] = 1;
+        assert_int_equal(c->mode[s], 1);
+        assert_true(c->q[s] == (float)cmd[cmd_index(j, "position")]);
+        assert_true(c->dq[s] == (float)cmd[cmd_index(j, "velocity")]);
+        assert_true(c->tau[s] == (float)cmd[cmd_index(j, "effort")]);
+        assert_true(c->kp[s] == (float)cmd[cmd_index(j, "stiffness")]);
+        assert_true(c->kd[s] == (float)cmd[cmd_index(j, "damping")]);
+    }
+    for (int s = 0; s < ROZ_UNITREE_G1_SLOTS; s++) {
+        if (driven[s])
+            continue;
+        assert_int_equal(c->mode[s], 0);
+        assert_true(c->q[s] == 0.0 && c->dq[s] == 0.0 && c->tau[s] == 0.0 && c->kp[s] == 0.0 &&
+                    c->kd[s] == 0.0);
+    }
+}
+
+/* Both ways through @p man, three frames and commands, the fake reporting
+ * @p mode_machine (< 0: its default, 5). */
+static void map_both_ways(const roz_manifest_t *man, int mode_machine)
+{
+    roz_fake_g1_cmd_t c;
+
+    m = man;
+    open_g1(NULL, 0);
+    if (mode_machine >= 0)
+        roz_g1fx_ask("mode_machine %d", mode_machine);
+    start();
+    for (int k = 1; k <= 3; k++) {
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        roz_port_test_assert_state(m, state, sent);
+        distinct_command(k);
+        write_g1();
+        get_command(&c);
+        if (mode_machine >= 0)
+            assert_int_equal(c.mode_machine, mode_machine);
+        assert_command_by_name(&c);
+    }
+}
+
+/* The G1's manifest with its joints listed in reverse: the same channels,
+ * so joint i's channels belong to motor 28 - i's name. */
+static const char *reversed_joints[ROZ_UNITREE_G1_BODY];
+static roz_hardware_t reversed_hw;
+static roz_manifest_t reversed;
+
+static const roz_manifest_t *reversed_g1(void)
+{
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    assert_int_equal(g1->hardware->n_joints, ROZ_UNITREE_G1_BODY);
+    for (int j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        reversed_joints[j] = g1->hardware->joints[ROZ_UNITREE_G1_BODY - 1 - j];
+    reversed_hw = *g1->hardware;
+    reversed_hw.joints = reversed_joints;
+    reversed = *g1;
+    reversed.hardware = &reversed_hw;
+    return &reversed;
+}
+
+static void test_g1_joints_by_name_reordered(void **st)
+{
+    (void)st;
+    map_both_ways(reversed_g1(), -1);
+    /* the first listed joint is the right wrist's yaw: motor 28 */
+    assert_int_equal(roz_g1fx_slot(m->hardware->joints[0]), 28);
+}
+
+static void test_g1_23dof(void **st)
+{
+    static const int absent[6] = { 13, 14, 20, 21, 27, 28 };
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    assert_int_equal(roz_manifest_unitree_g1_23dof.hardware->n_joints, 23);
+    /* a 23-DoF robot (10) gets commands for its 23 motors */
+    map_both_ways(&roz_manifest_unitree_g1_23dof, 10);
+    get_command(&c);
+    for (int i = 0; i < 6; i++) {
+        assert_int_equal(c.mode[absent[i]], 0);
+        assert_true(c.q[absent[i]] == 0.0 && c.dq[absent[i]] == 0.0 &&
+                    c.tau[absent[i]] == 0.0 && c.kp[absent[i]] == 0.0 &&
+                    c.kd[absent[i]] == 0.0);
+    }
+    teardown(NULL);
+    /* so do 4 (23-DoF rev 1.0), a locked waist, simulation */
+    static const int others[] = { 4, 6, 0 };
+    for (size_t i = 0; i < sizeof others / sizeof others[0]; i++) {
+        map_both_ways(&roz_manifest_unitree_g1_23dof, others[i]);
+        teardown(NULL);
+    }
+}
+
+static void test_g1_imu_order(void **st)
+{
+    (void)st;
+    open_g1(NULL, 0);
+    start();
+    roz_g1fx_ask("imu 0.5 0.25 -0.125 0.0625 1.5 -2.5 3.5 0.75 -1.25 9.75");
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 0);
+    assert_int_equal(read_g1(), 1);
+    assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
+    assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
+    assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
+    assert_true(state[state_index("base_imu/orientation.w")] == 0.5);
+    assert_true(state[state_index("base_imu/angular_velocity.x")] == 1.5);
+    assert_true(state[state_index("base_imu/angular_velocity.y")] == -2.5);
+    assert_true(state[state_index("base_imu/angular_velocity.z")] == 3.5);
+    assert_true(state[state_index("base_imu/linear_acceleration.x")] == 0.75);
+    assert_true(state[state_index("base_imu/linear_acceleration.y")] == -1.25);
+    assert_true(state[state_index("base_imu/linear_acceleration.z")] == 9.75);
+}
+
+/* ---- the wire: padding and CRC ------------------------------------------------- */
+
+static ROZ_ATOMIC(uint32_t) crc_checked, crc_bad;
+
+static void on_raw_lowcmd(dds_entity_t rd, void *arg)
+{
+    unitree_hg_msg_dds__LowCmd_ s;
+    void *ptr[1] = { &s };
+    dds_sample_info_t info[1];
+    (void)arg;
+    for (;;) {
+        memset(&s, 0, sizeof s); /* the robot's way: a zeroed struct, filled */
+        if (dds_take(rd, ptr, info, 1, 1) != 1)
+            return;
+        if (!info[0].valid_data)
+            continue;
+        uint32_t words[sizeof s / 4];
+        memcpy(words, &s, sizeof s);
+        if (roz_crc32_reference(words, sizeof s / 4 - 1) != s.crc)
+            atomic_fetch_add(&crc_bad, 1u);
+        atomic_fetch_add(&crc_checked, 1u);
+    }
+}
+
+static void test_g1_padding_and_crc(void **st)
+{
+    uint64_t good = 0, bad = 0;
+    (void)st;
+
+    atomic_store(&crc_checked, 0u);
+    atomic_store(&crc_bad, 0u);
+    /* the port, with garbage in its sample storage before its writer runs
+     * (event-driven: one sample per write) */
+    open_g1(NULL, 0);
+    roz_unitree_g1_t *g1 = roz_g1fx_port();
+    (void)roz_port_deactivate(&port);
+    memset(g1->tx_sample, 0xA5, sizeof g1->tx_sample);
+    assert_int_equal(roz_port_activate(&port), ROZ_OK);
+    /* a raw subscriber of our own beside the fake (in the port's domain):
+     * the CRC bit by bit */
+    dds_entity_t part = dds_create_participant(ROZ_TEST_DDS_DOMAIN, NULL, NULL);
+    assert_true(part > 0);
+    dds_entity_t topic = dds_create_topic(part, &unitree_hg_msg_dds__LowCmd__desc, "rt/lowcmd",
+                                          NULL, NULL);
+    dds_qos_t *q = dds_create_qos();
+    dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+    dds_qset_history(q, DDS_HISTORY_KEEP_ALL, 0);
+    dds_listener_t *l = dds_create_listener(NULL);
+    dds_lset_data_available(l, on_raw_lowcmd);
+    dds_entity_t rd = dds_create_reader(part, topic, q, l);
+    dds_delete_qos(q);
+    dds_delete_listener(l);
+    assert_true(rd > 0);
+
+    /* matched both ways before the port speaks: the fake and this reader
+     * see the port's writer, and it sees them */
+    dds_subscription_matched_status_t sm;
+    WAIT_UNTIL(cmd_readers() >= 2 && dds_get_subscription_matched_status(rd, &sm) == 0 &&
+               sm.current_count >= 1);
+    start();
+    for (int k = 1; k <= 50; k++) {
+        roz_g1fx_send();
+        (void)read_g1();
+        distinct_command(k);
+        write_g1();
+        roz_g1fx_settle(); /* one sample per write: none coalesced */
+    }
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_true(good >= 50);
+    assert_int_equal(bad, 0); /* stale padding under the CRC would show here */
+    WAIT_UNTIL(atomic_load(&crc_checked) >= 50u);
+    assert_int_equal(atomic_load(&crc_bad), 0);
+    dds_delete(part);
+}
+
+/* ---- mode_machine ------------------------------------------------------------------ */
+
+static void test_g1_mode_machine(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_fault_t f;
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_g1fx_ask("mode_machine 9");
+    start();
+    distinct_command(1);
+    write_g1();
+    get_command(&c);
+    assert_int_equal(c.mode_machine, 9); /* echoed */
+
+    /* changed under a running controller: reported, nothing sent */
+    roz_g1fx_ask("mode_machine 11"); /* another 29-DoF variant */
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EROBOT);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "mode_machine");
+    assert_int_equal(f.code, 11);
+    uint64_t published = counters().published;
+    for (int k = 2; k < 6; k++) {
+        distinct_command(k);
+        write_g1();
+    }
+    roz_g1fx_settle();
+    assert_int_equal(counters().published, published);
+    assert_true(counters().refused_mode_machine >= 1);
+    get_command(&c);
+    assert_int_equal(c.mode_machine, 9); /* the robot kept the last good one */
+
+    /* back: reads and commands again */
+    roz_g1fx_ask("mode_machine 9");
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(7);
+    write_g1();
+    get_command(&c);
+    assert_true(c.q[0] == (float)cmd[cmd_index(0, "position")]);
+    assert_true(counters().published > published);
+}
+
+/* ---- a motor fault in the runtime -------------------------------------------------- */
+
+static roz_runtime_t rt;
+
+/* One tick; ROZ_EFAULT while a fault is latched, which the test checks
+ * through roz_runtime_faults(). */
+static void tick_rt(void)
+{
+    int rc = roz_runtime_tick(&rt);
+    assert_true(rc == ROZ_OK || rc == ROZ_EFAULT);
+}
+
+static void test_g1_motor_fault_latches(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_g1fx_ask("motorstate 3 33"); /* left_knee_joint */
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    if (strstr(msg, "left_knee_joint") == NULL || strstr(msg, "33") == NULL)
+        fail_msg("the fault names neither the joint nor the code: \"%s\"", msg);
+    assert_true(counters().motor_fault_frames >= 1);
+    /* a level: while the motor reports it, a clear does not take */
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
+    roz_g1fx_ask("motorstate 3 0");
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_runtime_deinit(&rt);
+}
+
+/* ---- the robot's variant ------------------------------------------------------------ */
+
+/* The 29-DoF manifest on a robot whose @p mode_machine lacks @p joint: the
+ * runtime latches ROZ_FAULT_ROBOT naming the joint and the mode_machine, and
+ * the robot gets no command at all. */
+static void expect_variant_refused(int mode_machine, const char *joint)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    roz_port_fault_t f;
+    uint64_t good = 1, bad = 1;
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    char code[16];
+
+    open_g1(NULL, 0);
+    roz_g1fx_ask("mode_machine %d", mode_machine);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt) & ROZ_FAULT_ROBOT, ROZ_FAULT_ROBOT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    snprintf(code, sizeof code, "%d", mode_machine);
+    if (strstr(msg, joint) == NULL || strstr(msg, "mode_machine") == NULL ||
+        strstr(msg, code) == NULL)
+        fail_msg("the fault names not the joint %s and mode_machine %d: \"%s\"", joint,
+                 mode_machine, msg);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, joint);
+    assert_int_equal(f.code, (uint32_t)mode_machine);
+    /* written to the port straight, past the latch: still nothing goes out */
+    distinct_command(3);
+    write_g1();
+    roz_g1fx_settle();
+    assert_int_equal(counters().published, 0);
+    assert_true(counters().refused_mode_machine >= 1);
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_int_equal(good, 0);
+    assert_int_equal(bad, 0);
+    roz_runtime_deinit(&rt);
+}
+
+static void test_g1_variant_mismatch(void **st)
+{
+    (void)st;
+    /* 23-DoF: the first listed joint of slots 13, 14, 20, 21, 27, 28 */
+    expect_variant_refused(10, "waist_roll_joint");
+    teardown(NULL);
+    expect_variant_refused(4, "waist_roll_joint");
+    teardown(NULL);
+    /* a locked waist */
+    expect_variant_refused(12, "waist_roll_joint");
+    teardown(NULL);
+    /* listed in reverse, the first absent one is the right wrist's yaw */
+    m = reversed_g1();
+    expect_variant_refused(10, "right_wrist_yaw_joint");
+}
+
+/* ---- decimation ----------------------------------------------------------------------- */
+
+static void test_g1_decimation(void **st)
+{
+    double full[ROZ_CFG_MAX_STATES];
+    int dq0 = state_index("left_hip_pitch_joint/velocity");
+    int q0 = state_index("left_hip_pitch_joint/position");
+    int ow = state_index("base_imu/orientation.w");
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "state_decimation", "4" } }, 1);
+    for (int k = 0; k < 12; k++) {
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        roz_g1fx_sent(sent);
+        if (k % 4 == 0)
+            memcpy(full, sent, sizeof full); /* converted whole */
+        /* positions: every frame; the rest: the last whole conversion */
+        assert_true(state[q0] == sent[q0]);
+        assert_true(state[dq0] == full[dq0]);
+        assert_true(state[ow] == full[ow]);
+        if (k % 4 != 0)
+            assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
+    }
+    assert_int_equal(counters().full_conversions, 3);
+    assert_int_equal(counters().frames, 12);
+    /* every frame is still checked: a bad CRC on a frame between two whole
+     * conversions, and a fault code */
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("corrupt");
+    roz_g1fx_wait_judged(&before, 0);
+    assert_int_equal(read_g1(), 0);
+    roz_g1fx_ask("motorstate 20 7");
+    roz_g1fx_send(); /* frame 13: not converted whole */
+    assert_int_equal(read_g1(), ROZ_EROBOT);
+    roz_port_fault_t f;
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "left_wrist_pitch_joint");
+    assert_int_equal(f.code, 7);
+    assert_int_equal(counters().full_conversions, 4); /* frames 1, 5, 9, 13 of the robot */
+}
+
+/* ---- the writer -------------------------------------------------------------------- */
+
+static void test_g1_periodic_writer(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    uint64_t good = 0, bad = 0, good0 = 0;
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
+    start();
+    for (int k = 0; k < 70; k++) /* past the replay window: a restart shows */
+        roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(3);
+    write_g1();
+    get_command(&c);
+    /* no more writes: the writer goes on publishing the last command */
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good >= good0 + 50);
+    assert_int_equal(bad, 0);
+    get_command(&c);
+    assert_true(c.q[5] == (float)cmd[cmd_index(5, "position")]);
+
+    /* a restarted robot gets nothing until the tick writes for it */
+    roz_g1fx_ask("restart");
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_set_state(100);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 2); /* the new writer: again until discovered */
+    assert_int_equal(read_g1(), ROZ_ELINK);
+    /* (until its first frame reached the port, the port could not know:
+     * the old command went on; from then on, nothing) */
+    roz_fake_g1_sleep_ms(10);
+    uint64_t after = 0, later = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &after, &bad), 0);
+    roz_fake_g1_sleep_ms(50); /* 25 periods of the writer */
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &later, &bad), 0);
+    assert_int_equal(later, after);
+    assert_true(counters().stale_session >= 1);
+    /* the tick writes: the hold of the restarted robot's positions */
+    distinct_command(4);
+    write_g1();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
+    assert_true(c.kp[3] == 0.0 && c.kd[3] == 0.0);
+
+    /* the monitors saw the writer's periods and the state handler */
+    roz_monitor_stat_t s;
+    assert_int_equal(
+        roz_monitor_snapshot(roz_unitree_g1_writer_monitor(roz_g1fx_port()), ROZ_MON_JITTER, &s),
+        ROZ_OK);
+    assert_true(s.count >= 50);
+    assert_int_equal(
+        roz_monitor_snapshot(roz_unitree_g1_state_monitor(roz_g1fx_port()), ROZ_MON_STATE_HANDLER,
+                             &s),
+        ROZ_OK);
+    assert_true(s.count >= 1);
+}
+
+static void test_g1_startup_and_shutdown_damping(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    (void)st;
+
+    open_g1((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(sent);
+    distinct_command(1);
+    write_g1(); /* the first write: the hold, with the damping asked for */
+    get_command(&c);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        assert_true(c.q[j] == sent[state_index(name)]);
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == 2.5);
+    }
+    assert_int_equal(counters().holds, 1);
+    write_g1(); /* the next goes out as written */
+    get_command(&c);
+    assert_true(c.kp[0] == (float)cmd[cmd_index(0, "stiffness")]);
+
+    /* shutdown: the damping command, kd the manifest's damping default,
+     * repeated for ROZ_DDS_SHUTDOWN_REPEAT_MS (the robot's reader may be best
+     * effort and lose one): all of them, or on a loaded machine most */
+    const uint64_t repeats = ROZ_DDS_SHUTDOWN_REPEAT_MS * 1000u / ROZ_DDS_SHUTDOWN_REPEAT_US;
+    uint64_t good0 = 0, good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
+    for (int i = 0; i < 2000 && good < good0 + repeats; i++) {
+        roz_fake_g1_sleep_ms(1);
+        assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    }
+    assert_true(good > good0 && good <= good0 + repeats);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        assert_int_equal(c.mode[j], 1);
+        assert_true(c.kp[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0);
+        assert_true(c.kd[j] == (float)kd->default_value);
+        assert_true(c.q[j] == (float)cmd[cmd_index(j, "position")]);
+    }
+}
+
+/* ---- the command watchdog --------------------------------------------------------------- */
+
+static uint64_t fake_good(void)
+{
+    uint64_t good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
+    assert_int_equal(bad, 0);
+    return good;
+}
+
+/* Whether @p c is the watchdog's hold over the positions @p q (manifest
+ * order of the joints): mode 1, q, kp the stiffness channel's default,
+ * dq 0, tau 0, kd the damping channel's default, for every joint; the
+ * unused slots zero. */
+static int is_watchdog_hold(const roz_fake_g1_cmd_t *c, const double *q)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        /* the watchdog's hold: kp the manifest's hold gain (test_mujoco_stops) */
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
+        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != (float)kp->default_value ||
+            c->dq[j] != 0.0 ||
+            c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value)
+            return 0;
+    }
+    for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
+        if (c->mode[j] != 0 || c->kp[j] != 0.0 || c->kd[j] != 0.0 || c->q[j] != 0.0)
+            return 0;
+    }
+    return 1;
+}
+
+/* Whether @p c carries the command in cmd[] (every joint's five fields). */
+static int is_written(const roz_fake_g1_cmd_t *c)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        if (c->q[j] != (float)cmd[cmd_index(j, "position")] ||
+            c->kp[j] != (float)cmd[cmd_index(j, "stiffness")] ||
+            c->kd[j] != (float)cmd[cmd_index(j, "damping")])
+            return 0;
+    }
+    return 1;
+}
+
+/* The start-up hold is one frame of the latest-value hand-off: the tick
+ * writing again before the writer sent it must not make the controller's
+ * command the robot's first. The writer is held back (the command path's
+ * test hook) across the hold and two writes more. */
+static void test_g1_hold_reaches_the_wire_first(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_dds_cmd_t *path = &roz_g1fx_port()->cmd;
+    (void)st;
+
+    open_g1(NULL, 0);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(sent);
+    atomic_store(&path->held_back, 1);
+    distinct_command(1);
+    write_g1(); /* the hold */
+    write_g1(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    write_g1(); /* wakes the writer */
+    roz_g1fx_settle();
+    WAIT_UNTIL(fake_good() >= 1);
+    assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        if (c.kp[j] != 0.0 || c.q[j] != (float)sent[state_index(name)])
+            fail_msg("the robot's first command is not the hold: %s q %g kp %g",
+                     m->hardware->joints[j], c.q[j], c.kp[j]);
+    }
+    write_g1(); /* the hold went out: the controller drives now */
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().holds, 1);
+}
+
+/* Every value on the wire is inside the manifest as the robot compares it
+ * (float): a position limit of 2.8798 (2.87980008 as the nearest float)
+ * narrows toward the inside, and the damping command after a watchdog trip
+ * keeps the stiffness at the channel's minimum when that is above 0. */
+static roz_channel_t tight_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t tight;
+
+static void test_g1_wire_inside_the_manifest(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    memcpy(tight_commands, g1->commands, g1->n_commands * sizeof tight_commands[0]);
+    tight = *g1;
+    tight.commands = tight_commands;
+    int q0 = roz_port_test_command(g1, g1->hardware->joints[0], "position", 1);
+    tight_commands[q0].max = 2.8798;
+    assert_true((double)(float)2.8798 > 2.8798); /* the case at hand */
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        roz_channel_t *kp =
+            &tight_commands[roz_port_test_command(g1, g1->hardware->joints[j], "stiffness", 1)];
+        kp->min = 5.0;
+        kp->default_value = 5.0;
+    }
+    assert_int_equal(roz_manifest_validate(&tight, NULL), ROZ_OK);
+    roz_port_test_open(&roz_fixture_unitree_g1, &tight,
+                       (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                        { "peer_timeout_ms", "60000" } },
+                       2, &port);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_port_test_distinct_command(&tight, 1, cmd);
+    cmd[q0] = 2.8798;
+    write_g1(); /* the hold */
+    roz_g1fx_settle();
+    write_g1();
+    get_command(&c);
+    int s0 = roz_g1fx_slot(g1->hardware->joints[0]);
+    if ((double)c.q[s0] > 2.8798)
+        fail_msg("q %.9g on the wire: outside the limit 2.8798", (double)c.q[s0]);
+    assert_true(c.q[s0] == nextafterf((float)2.8798, 0.0f));
+
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    uint64_t tripped = fake_good();
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)tripped + 2u),
+                     0);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        int sj = roz_g1fx_slot(g1->hardware->joints[j]);
+        if (c.kp[sj] != 5.0f || !(c.kd[sj] > 0.0f))
+            fail_msg("%s in the damping command: kp %g kd %g: kp outside [5, ...]",
+                     g1->hardware->joints[j], (double)c.kp[sj], (double)c.kd[sj]);
+    }
+    assert_true((double)c.q[s0] <= 2.8798);
+}
+
+/* A joint without a position command (the knee here: stiffness, damping
+ * alone) is sent its measured position, the last finite one: NaN from the
+ * robot never goes out, and a joint never measured finite gets no
+ * stiffness against a made-up target. */
+static roz_channel_t no_q_commands[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t no_q;
+
+static void send_raw(void)
+{
+    roz_link_t before;
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("send");
+    roz_g1fx_wait_judged(&before, 1);
+}
+
+static void test_g1_joint_without_position_command(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    const roz_manifest_t *g1 = &roz_manifest_unitree_g1;
+    (void)st;
+
+    int knee_q = roz_port_test_command(g1, "left_knee_joint", "position", 1);
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < g1->n_commands; i++) {
+        if (i != knee_q)
+            no_q_commands[n++] = g1->commands[i];
+    }
+    no_q = *g1;
+    no_q.commands = no_q_commands;
+    no_q.n_commands = n;
+    assert_int_equal(roz_manifest_validate(&no_q, NULL), ROZ_OK);
+    int kp = roz_port_test_command(&no_q, "left_knee_joint", "stiffness", 1);
+    int slot = roz_g1fx_slot("left_knee_joint");
+    roz_port_test_open(&roz_fixture_unitree_g1, &no_q, NULL, 0, &port);
+
+    roz_g1fx_set_state(1);
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    roz_port_test_distinct_command(&no_q, 1, cmd);
+    cmd[kp] = 80.0;
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK); /* the hold */
+    roz_g1fx_settle();
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.0f && c.kp[slot] == 0.0f); /* never measured */
+
+    roz_g1fx_ask("motor %d 0.75 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    assert_true(c.q[slot] == 0.75f && c.kp[slot] == 80.0f);
+
+    roz_g1fx_ask("motor %d nan 0 0", slot);
+    send_raw();
+    assert_int_equal(roz_port_read(&port, state, m->n_states), 1);
+    assert_int_equal(roz_port_write(&port, cmd, no_q.n_commands), ROZ_OK);
+    get_command(&c);
+    if (!(c.q[slot] == 0.75f && c.kp[slot] == 80.0f))
+        fail_msg("NaN measured: q %g kp %g on the wire; expected the last finite 0.75",
+                 (double)c.q[slot], (double)c.kp[slot]);
+}
+
+static void test_g1_watchdog_on_the_wire(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    /* 100 ms: long enough that the steps of a test on a loaded machine do
+     * not trip it while the tick is meant to be alive */
+    const unsigned period_us = 2000, timeout_us = 100000;
+    (void)st;
+
+    /* the robot says nothing while the tick is away: no link fault meanwhile */
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            3);
+    start();
+    for (int k = 1; k <= 5; k++) { /* a tick alive: commands as written */
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        distinct_command(k);
+        write_g1();
+    }
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 0);
+
+    /* the last write, then the tick stops */
+    uint64_t before = fake_good();
+    distinct_command(6);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    uint64_t tripped = fake_good();
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)tripped + 5u),
+                     0);
+    uint64_t now = fake_good();
+
+    /* what the robot got after the last write: the command before it (in
+     * flight), the last command, then only damping: the last command for no
+     * more than the timeout's writer periods (and up to two late ones
+     * caught up), however slow the machine */
+    unsigned last = 0, damping = 0;
+    for (uint64_t k = before + 1; k <= now; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (is_watchdog_hold(&c, q)) {
+            damping++;
+        } else if (is_written(&c)) {
+            if (damping != 0)
+                fail_msg("command %llu: the written command after the damping one",
+                         (unsigned long long)k);
+            last++;
+        } else {
+            if (last != 0 || damping != 0)
+                fail_msg("command %llu: neither the last command nor damping",
+                         (unsigned long long)k);
+        }
+    }
+    assert_true(last >= 1);
+    if (last > timeout_us / period_us + 3u)
+        fail_msg("the last command went out %u times after the tick stopped: more than the "
+                 "timeout allows (%u)",
+                 last, timeout_us / period_us + 3u);
+    assert_true(damping >= 5);
+    assert_true(counters().safe_published >= damping);
+    assert_int_equal(counters().command_timeouts, 1); /* once, however long */
+
+    /* the tick is back: read() reports the trip once, naming the silence */
+    roz_port_fault_t f;
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.limit, timeout_us);
+    assert_true(f.code >= timeout_us); /* silent for longer than the timeout */
+    roz_g1fx_sent(sent);
+    assert_true(state[state_index("left_knee_joint/position")] ==
+                sent[state_index("left_knee_joint/position")]); /* read with the report */
+    assert_int_equal(read_g1(), 0);
+    /* its first write is the hold: the measured positions, no stiffness,
+     * and the damping the robot is in already (not kd 0 between two
+     * damping commands) */
+    distinct_command(7);
+    write_g1();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
+        assert_true(c.q[j] == sent[state_index(name)]);
+        assert_true(c.kp[j] == 0.0);
+        if (c.kd[j] != (float)m->commands[cmd_index(j, "damping")].default_value)
+            fail_msg("%s: kd %g in the hold after the trip: not the damping command's",
+                     m->hardware->joints[j], (double)c.kd[j]);
+    }
+    /* then as written again */
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(8);
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 1);
+}
+
+/* The tick has stopped after its last write (the robot has it): the
+ * watchdog trips, and the five commands after that one are the damping
+ * command holding @p q. */
+static void expect_damping_after_trip(const double *q)
+{
+    roz_fake_g1_cmd_t c;
+    uint64_t written = fake_good();
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)written + 5u),
+                     0);
+    for (uint64_t k = written + 1; k <= written + 5u; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (!is_watchdog_hold(&c, q))
+            fail_msg("command %llu after the tick stopped: not the watchdog's hold",
+                     (unsigned long long)k);
+    }
+}
+
+static void test_g1_watchdog_event_driven(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    /* event-driven: nothing wakes the writer once the tick stops but the
+     * watchdog itself, which then repeats the damping at the tick's rate */
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "0" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            3);
+    start();
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    expect_damping_after_trip(q);
+}
+
+static void test_g1_watchdog_spinning_writer(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    /* a writer that spins for the tick's command after each LowState_,
+     * fifty times longer than the robot's period: with the robot
+     * publishing every 200 us a heads-up is always pending when a spin
+     * ends, and the watchdog must still fire when the tick stops (a writer
+     * that looked for the deadline only when a wait timed out never did,
+     * unless the frames paused for a whole spin) */
+    static const char *const periodic[] = { "--period-us", "200", NULL };
+    roz_g1fx_set_fake_args(periodic);
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "0" },
+                             { "command_writer_spin_us", "10000" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            4);
+    int fresh = 0; /* (WAIT_UNTIL looks twice: not for a read) */
+    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
+    distinct_command(0);
+    write_g1(); /* the hold */
+    roz_g1fx_settle(); /* the writes after it are holds until it went out */
+    fresh = 0;
+    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
+    distinct_command(1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
+        q[j] = cmd[cmd_index(j, "position")];
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    expect_damping_after_trip(q);
+}
+
+static void test_g1_watchdog_latches_in_the_runtime(void **st)
+{
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 1000 };
+    roz_fake_g1_cmd_t c;
+    size_t len;
+    const uint8_t *w = roz_test_controller("g1_stand", &len);
+    int knee_kp = cmd_index(3, "stiffness");
+    (void)st;
+
+    /* 300 ms: the test's ticks wait for the fake, slowly on a loaded machine */
+    open_g1((roz_param_t[]){ { "command_timeout_us", "300000" }, { "peer_timeout_ms", "60000" } },
+            2);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = port;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    /* past verification: the stand's gains reach the robot (before the
+     * first tick the runtime's commands are the manifest's defaults) */
+    for (int t = 0; t < 400 && (t == 0 || roz_runtime_last_commands(&rt)[knee_kp] <= 0.0); t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_true(roz_runtime_last_commands(&rt)[knee_kp] > 0.0);
+    roz_g1fx_settle();
+    get_command(&c);
+    assert_true(c.kp[3] > 0.0);
+    if (roz_runtime_faults(&rt) != 0)
+        fail_msg("a fault before the tick stopped: %s", roz_runtime_fault_message(&rt));
+
+    /* the tick stops; the watchdog trips; the tick is back */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    const char *msg = roz_runtime_fault_message(&rt);
+    unsigned long silent = 0, limit = 0;
+    const char *at = strstr(msg, "the tick wrote no command for ");
+    if (strstr(msg, "command timeout") == NULL || at == NULL ||
+        sscanf(at, "the tick wrote no command for %lu us, longer than the port's "
+                   "command_timeout_us (%lu)",
+               &silent, &limit) != 2)
+        fail_msg("the fault names neither the timeout nor the silence: \"%s\"", msg);
+    assert_int_equal(limit, 300000);
+    assert_true(silent >= 300000);
+    assert_int_equal(roz_fault_name(ROZ_FAULT_COMMAND_TIMEOUT)[0], 'c');
+    /* the tick's write after the trip: the start-up hold */
+    roz_g1fx_settle();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
+    assert_true(c.kp[3] == 0.0); /* and the damping command's kd, not 0 */
+    assert_true(c.kd[3] == (float)m->commands[cmd_index(3, "damping")].default_value);
+    assert_true(counters().holds >= 2);
+
+    /* latched (an immediate stop: the safe defaults) until cleared; then
+     * the stand drives again */
+    for (int t = 0; t < 20; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    /* the stop holds: the knee at its hold gain */
+    assert_true(roz_runtime_last_commands(&rt)[knee_kp] == m->commands[knee_kp].default_value);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] ==
+                                   m->commands[knee_kp].default_value; t++) {
+        roz_g1fx_send();
+        tick_rt();
+    }
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_g1fx_settle();
+    get_command(&c);
+    assert_true(c.kp[3] > 0.0);
+    assert_int_equal(counters().command_timeouts, 1);
+    roz_runtime_deinit(&rt);
+}
+
+/* ---- refusals ----------------------------------------------------------------------- */
+
+static void expect_refused(const roz_manifest_t *man, const char *key, const char *value,
+                           const char *want1, const char *want2)
+{
+    static roz_unitree_g1_t g1;
+    roz_param_t item = { key, value };
+    roz_params_t p = { &item, key != NULL ? 1u : 0u };
+    roz_port_t pt = roz_unitree_g1_port(&g1, NULL, NULL);
+    char err[400] = "";
+    assert_true(roz_port_open(&pt, man, &p, err, sizeof err) < 0);
+    if (strstr(err, want1) == NULL || (want2 != NULL && strstr(err, want2) == NULL))
+        fail_msg("%s = \"%s\": the error \"%s\" does not name \"%s\" and \"%s\"",
+                 key != NULL ? key : "(manifest)", value != NULL ? value : "", err, want1,
+                 want2 != NULL ? want2 : "");
+    roz_port_close(&pt);
+}
+
+/* a robot whose manifest has a channel the G1 has no place for */
+static const roz_channel_t odd_commands[] = {
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_channel_t odd_states[] = {
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const char *const odd_joints[] = { "j1" };
+static const char *const real_joints[] = { "left_knee_joint" };
+static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
+static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
+static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
+                                    &real_hw };
+/* joint j1 is not a G1's */
+static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
+                                        1, &odd_hw };
+static const roz_channel_t typo_commands[] = {
+    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+};
+static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
+                                     &real_hw };
+
+static void test_g1_bad_parameters(void **st)
+{
+    (void)st;
+    static const struct { const char *key, *value; } bad[] = {
+        { "network_interface", "eth0;rm" }, { "network_interface", "roznosuch0" },
+        { "dds_domain", "999" },            { "command_writer_period_us", "10" },
+        { "state_decimation", "0" },        { "enable_monitor", "maybe" },
+        { "mode_pr", "XY" },                { "peer_timeout_ms", "5" },
+        { "startup_damping", "11" },        { "shutdown_damping", "-1" },
+        { "startup_damping", "nan" },       { "command_timeout_us", "3999" },
+        { "command_timeout_us", "60000001" }, { "command_timeout_us", "fast" },
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+        expect_refused(m, bad[i].key, bad[i].value, bad[i].key, bad[i].value);
+    expect_refused(m, "no_such_key", "1", "no_such_key", "unitree/G1");
+    /* manifests the G1 cannot serve */
+    expect_refused(&roz_manifest_ur5, NULL, NULL, "[hardware] joints", NULL);
+    expect_refused(&odd, NULL, NULL, "base/velocity.x", NULL);
+    expect_refused(&typo, NULL, NULL, "left_knee_joint/stiffness", "damping");
+    /* a joint by a name the G1 does not have, or twice */
+    expect_refused(&unknown, NULL, NULL, "[hardware] joints[0] \"j1\"",
+                   "is not one of the robot's joints");
+    static const char *twice[29];
+    static roz_hardware_t twice_hw;
+    static roz_manifest_t twice_m;
+    twice_m = *reversed_g1();
+    memcpy(twice, reversed_joints, sizeof twice);
+    twice[5] = twice[4];
+    twice_hw = reversed_hw;
+    twice_hw.joints = twice;
+    twice_m.hardware = &twice_hw;
+    expect_refused(&twice_m, NULL, NULL, "joints[5]", "duplicate of joints[4]");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test_teardown(test_g1_joints_map_both_ways, teardown),
+        cmocka_unit_test_teardown(test_g1_joints_by_name_reordered, teardown),
+        cmocka_unit_test_teardown(test_g1_23dof, teardown),
+        cmocka_unit_test_teardown(test_g1_variant_mismatch, teardown),
+        cmocka_unit_test_teardown(test_g1_imu_order, teardown),
+        cmocka_unit_test_teardown(test_g1_padding_and_crc, teardown),
+        cmocka_unit_test_teardown(test_g1_mode_machine, teardown),
+        cmocka_unit_test_teardown(test_g1_motor_fault_latches, teardown),
+        cmocka_unit_test_teardown(test_g1_decimation, teardown),
+        cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
+        cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
+        cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
+        cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
+        cmocka_unit_test(test_g1_bad_parameters),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
