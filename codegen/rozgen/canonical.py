@@ -10,11 +10,11 @@ byte for byte. A C program can write it with printf() alone. The format::
       "robot_class": "manipulator",
       "control_rate_hz": 100,
       "commands": [
-        {"name": "a/velocity", "interface_type": "velocity", "unit": "rad/s", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0.5, "position_state_index": 0, "limit_margin": null},
+        {"name": "a/velocity", "interface_type": "velocity", "unit": "rad/s", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0.5, "position_state_index": 0, "limit_margin": null, "safe_default": "follow"},
         {"name": "b/velocity", ...}
       ],
       "states": [
-        {"name": "a/position", "interface_type": "position", "unit": "rad", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0, "position_state_index": -1, "limit_margin": 0.05}
+        {"name": "a/position", "interface_type": "position", "unit": "rad", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0, "position_state_index": -1, "limit_margin": 0.05, "safe_default": "follow"}
       ],
       "hardware": {"port": "unitree/G1", "joints": ["a", "b"], "params": {"dds_domain": "0"}}
     }
@@ -27,7 +27,8 @@ byte for byte. A C program can write it with printf() alone. The format::
   ``"position_state_index": -1``. ``"limit_margin"`` is the margin the
   filter keeps inside a position state's limits, the default worked out
   (``Channel.margin``, roz_manifest_limit_margin()), and ``null`` on
-  commands and on states of other types.
+  commands and on states of other types. ``"safe_default"`` is
+  ``"follow"`` unless the channel says ``"hold"``.
 - ``"hardware"`` is ``null`` without a ``[hardware]`` table, else one line
   with ``"joints"`` (``[]`` when absent) in the given order and ``"params"``
   (``{}`` when absent) sorted by key (byte order of UTF-8 = code point order).
@@ -81,6 +82,7 @@ def _channel(c: Channel, state: bool) -> str:
         ("max_rate_of_change", shortest_g(c.max_rate)),
         ("position_state_index", str(c.position_state)),
         ("limit_margin", shortest_g(c.margin) if has_margin else "null"),
+        ("safe_default", json_string(c.safe_default)),
     ]
     return "{" + ", ".join(f'"{k}": {v}' for k, v in fields) + "}"
 

@@ -52,6 +52,7 @@ class Channel:
     max_rate: float  # max change per tick; 0.0 = no cap
     position_state: int  # paired state index or UNPAIRED
     limit_margin: float  # position states: as written; 0.0 = the default
+    safe_default: str = "follow"  # paired position commands: "follow" or "hold"
 
     @property
     def margin(self) -> float:

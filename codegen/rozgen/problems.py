@@ -41,6 +41,8 @@ RULES: dict[str, str] = {
     "margin-channel": "limit_margin on a channel other than a position state",
     "margin-range": "limit_margin is not above 0, or leaves no room to move (twice the "
     "margin is not below max - min)",
+    "safe-default": 'safe_default is neither "follow" nor "hold", or "hold" on a channel '
+    "other than a position command paired with a position state",
     "no-commands": "the manifest has no command channel",
     "too-many-channels": "more commands or states than ROZ_CFG_MAX_COMMANDS "
     "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",

@@ -174,7 +174,10 @@ CHANNEL_KEYS = (
     "max_rate_of_change",
     "position_state_index",
     "limit_margin",
+    "safe_default",
 )
+#: What a paired position command holds during a stop (roz_safe_default_t).
+SAFE_DEFAULTS = ("follow", "hold")
 HARDWARE_KEYS = ("port", "joints", "params")
 
 ROBOT_ID_RE = re.compile(r"[a-z][a-z0-9_]*")
@@ -216,6 +219,7 @@ class _Draft:
     max_rate: float | None = None
     position_state: int | None = None
     limit_margin: float | None = None
+    safe_default: str | None = None
 
     def complete(self) -> bool:
         return None not in (
@@ -227,6 +231,7 @@ class _Draft:
             self.max_rate,
             self.position_state,
             self.limit_margin,
+            self.safe_default,
         )
 
 
@@ -468,7 +473,27 @@ class _Checker:
             pair = None
         draft.position_state = pair
         draft.limit_margin = self.margin(place, kind, table, itype, draft.limits)
+        draft.safe_default = self.safe_default(place, kind, table, itype, pair)
         return draft
+
+    def safe_default(self, place: _Place, kind: str, table: dict, itype: str | None,
+                     pair: int | None) -> str | None:
+        """safe_default: "follow" (the default) or "hold", which only a
+        position command paired with a position state can do."""
+        value = self.string(place, table, "safe_default", "follow")
+        if value is None:
+            return None
+        if value not in SAFE_DEFAULTS:
+            self.report("safe-default", place, "safe_default", 'must be "follow" or "hold"',
+                        value)
+            return None
+        if value == "hold" and (kind == "states" or (itype is not None and itype != "position")
+                                or pair == UNPAIRED):
+            self.report("safe-default", place, "safe_default",
+                        "only a position command paired with a position state can hold (the "
+                        "setpoint a stop latched)", value)
+            return None
+        return value
 
     def margin(self, place: _Place, kind: str, table: dict, itype: str | None,
                limits: tuple[float, float] | None) -> float | None:
@@ -672,4 +697,5 @@ def _channel(draft: _Draft) -> Channel:
         max_rate=draft.max_rate,
         position_state=draft.position_state,
         limit_margin=draft.limit_margin,
+        safe_default=draft.safe_default,
     )

@@ -51,6 +51,7 @@ def json_to_toml(text: str) -> str:
             # the margin worked out, written as the state's own: same JSON
             if c["limit_margin"] is not None:
                 out.append(f"limit_margin = {toml_float(c['limit_margin'])}")
+            out.append(f"safe_default = {toml_string(c['safe_default'])}")
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",
@@ -70,13 +71,13 @@ def test_my_arm_values():
     assert doc["commands"] == [
         {"name": f"joint{i}/velocity", "interface_type": "velocity", "unit": "rad/s",
          "limits": [-2.0, 2.0], "default": 0, "max_rate_of_change": 0.2,
-         "position_state_index": i - 1, "limit_margin": None}
+         "position_state_index": i - 1, "limit_margin": None, "safe_default": "follow"}
         for i in (1, 2)
     ]
     assert doc["states"] == [
         {"name": f"joint{i}/position", "interface_type": "position", "unit": "rad",
          "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0,
-         "position_state_index": -1, "limit_margin": margin}
+         "position_state_index": -1, "limit_margin": margin, "safe_default": "follow"}
         for i, margin in ((1, 0.05), (2, 0.1))  # the default; joint2's own
     ]
     assert doc["hardware"] is None
@@ -85,7 +86,7 @@ def test_my_arm_values():
     assert result.stdout.splitlines()[5] == (
         '    {"name": "joint1/velocity", "interface_type": "velocity", "unit": "rad/s", '
         '"limits": [-2, 2], "default": 0, "max_rate_of_change": 0.2, "position_state_index": 0, '
-        '"limit_margin": null},')
+        '"limit_margin": null, "safe_default": "follow"},')
 
 
 @pytest.mark.parametrize("toml", [MY_ARM, DATA / "tricky.toml", VECTORS / "margins.toml",

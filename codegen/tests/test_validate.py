@@ -282,5 +282,7 @@ def test_canonical_json_shows_the_margin_worked_out():
     from rozgen.canonical import to_json
     m, _ = check(_with_state(unit='"m"', limits="[0, 0.08]", default="0.04"))
     lines = to_json(m).splitlines()
-    assert lines[5].endswith('"position_state_index": -1, "limit_margin": null}')  # command
-    assert lines[8].endswith('"position_state_index": -1, "limit_margin": 0.004}')  # state
+    assert lines[5].endswith('"position_state_index": -1, "limit_margin": null, '
+                             '"safe_default": "follow"}')  # command
+    assert lines[8].endswith('"position_state_index": -1, "limit_margin": 0.004, '
+                             '"safe_default": "follow"}')  # state

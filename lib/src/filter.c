@@ -302,6 +302,24 @@ static void tick_avx2(roz_filter_t *f, const double *target, const double *state
 }
 #endif
 
+/* What a hold channel keeps from a stop's first tick on: its last applied
+ * value, the setpoint the joint was held at, brought within
+ * ROZ_FILTER_HOLD_TICKS rate caps of the measured position (a joint held
+ * back, by an obstacle or a person, is not pushed on with the whole lag);
+ * the measured position alone without a rate cap; the follow rule's value
+ * while the position is unknown. The filter is primed: last[] holds values. */
+static double hold_latch(const roz_filter_t *f, uint16_t i, const double *state)
+{
+    const roz_channel_t *c = &f->manifest->commands[i];
+    double measured = roz_filter_safe_default(f, i, state); /* not stopping yet: follow */
+    double p = state != NULL ? state[c->position_state] : NAN;
+    double band = ROZ_FILTER_HOLD_TICKS * c->max_rate;
+
+    if (!isfinite(p))
+        return measured;
+    return clampd(f->last[i], measured - band, measured + band);
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
@@ -351,6 +369,8 @@ double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *
 {
     const roz_channel_t *c = &f->manifest->commands[i];
 
+    if (f->stopping && c->safe_default == ROZ_SAFE_HOLD)
+        return f->hold[i]; /* latched at the stop: test_filter_hold_latches */
     if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED) {
         double held = state != NULL ? state[c->position_state] : NAN;
         if (isfinite(held))
@@ -365,8 +385,14 @@ double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *
 
 void roz_filter_prime(roz_filter_t *f, const double *state)
 {
-    for (uint16_t i = 0; i < f->manifest->n_commands; i++)
-        f->last[i] = roz_filter_safe_default(f, i, state);
+    for (uint16_t i = 0; i < f->manifest->n_commands; i++) {
+        const roz_channel_t *c = &f->manifest->commands[i];
+        /* gains start where the ports' start-up hold has them, at zero (a
+         * hold gain is for stops, not for the first tick) */
+        f->last[i] = c->type == ROZ_IF_STIFFNESS || c->type == ROZ_IF_DAMPING
+                         ? clampd(0.0, c->min, c->max)
+                         : roz_filter_safe_default(f, i, state);
+    }
     f->primed = 1;
 }
 
@@ -378,6 +404,18 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
     if (!f->primed)
         roz_filter_prime(f, state);
     f->counters.ticks++;
+    if (stop == ROZ_STOP_NONE) {
+        f->stopping = 0;
+    } else if (!f->stopping) {
+        /* the stop's first tick: the hold channels keep the setpoint the
+         * joint was held at, not the measured position, which sags under
+         * gravity (test/ports/mujoco/test_mujoco_stops.c) */
+        for (uint16_t i = 0; i < n; i++) {
+            if (f->manifest->commands[i].safe_default == ROZ_SAFE_HOLD)
+                f->hold[i] = hold_latch(f, i, state);
+        }
+        f->stopping = 1;
+    }
     if (stop != ROZ_STOP_NONE) {
         int capped = stop != ROZ_STOP_IMMEDIATE;
         f->running = 1;

@@ -92,6 +92,11 @@ static int check_channels(const roz_manifest_t *m, int is_state,
             (!is_state || c->type != ROZ_IF_POSITION || !isfinite(c->limit_margin) ||
              c->limit_margin < 0.0 || !(2.0 * c->limit_margin < c->max - c->min)))
             return set_problem(p, ROZ_MANIFEST_RULE_MARGIN, is_state, idx);
+        /* a hold latches a measured position: a paired position command's */
+        if (c->safe_default != ROZ_SAFE_FOLLOW &&
+            (c->safe_default != ROZ_SAFE_HOLD || is_state || c->type != ROZ_IF_POSITION ||
+             c->position_state == ROZ_CHANNEL_UNPAIRED))
+            return set_problem(p, ROZ_MANIFEST_RULE_SAFE_DEFAULT, is_state, idx);
     }
     return ROZ_OK;
 }

@@ -161,8 +161,11 @@ static void check_humanoid(const roz_manifest_t *m, uint16_t joints, const char 
         assert_int_equal(pos_state->type, ROZ_IF_POSITION);
         assert_true(pos_cmd->min == pos_state->min && pos_cmd->max == pos_state->max);
         assert_true(pos_cmd->max_rate > 0.0); /* position targets never jump */
-        /* fault defaults: damping mode, no stiffness, no effort */
-        assert_true(m->commands[2 * joints + j].default_value == 0.0);
+        /* stop defaults: a hold (SAFETY.md, "Stops in physics"): the position
+         * setpoint latched, a hold stiffness inside the channel, no effort */
+        assert_int_equal(pos_cmd->safe_default, ROZ_SAFE_HOLD);
+        assert_true(m->commands[2 * joints + j].default_value > 0.0);
+        assert_true(m->commands[2 * joints + j].default_value <= m->commands[2 * joints + j].max);
         assert_true(m->commands[2 * joints + j].min == 0.0);
         assert_true(m->commands[3 * joints + j].default_value == kd_default);
         assert_true(m->commands[4 * joints + j].default_value == 0.0);

@@ -67,8 +67,8 @@ static void run_rows(const roz_manifest_t *m, const row_t *rows, size_t n)
         if (c->position_state >= 0)
             state[c->position_state] = row->pos;
         roz_filter_prime(&f, state);
-        for (uint16_t i = 0; i < m->n_commands; i++)
-            target[i] = f.last[i];
+        for (uint16_t i = 0; i < m->n_commands; i++) /* every channel at its safe default */
+            target[i] = f.last[i] = roz_filter_safe_default(&f, i, state);
         f.last[row->ch] = row->last;
         target[row->ch] = row->target;
         roz_filter_apply(&f, target, state, row->stop, out);
@@ -100,16 +100,17 @@ static const row_t g1_rows[] = {
     { "position clamp to URDF upper",    G1_KNEE_POS, 2.87, 2.87, 3.5,  ROZ_STOP_NONE,       2.8798, 1, 0, 0, 0 },
     { "position target rate cap",        G1_KNEE_POS, 0.0,  0.0,  1.0,  ROZ_STOP_NONE,       0.04,  0, 1, 0, 0 },
     { "NaN position holds the state",    G1_KNEE_POS, 0.5,  0.5,  NAN,  ROZ_STOP_NONE,       0.5,   0, 0, 0, 1 },
-    { "stop: position holds the state",  G1_KNEE_POS, 0.51, 0.5,  2.0,  ROZ_STOP_CONTROLLED, 0.5,   0, 0, 0, 0 },
-    { "e-stop: position holds state",    G1_KNEE_POS, 2.0,  0.7,  2.0,  ROZ_STOP_IMMEDIATE,  0.7,   0, 0, 0, 0 },
+    /* safe_default "hold": the setpoint, within 5 rate caps (0.2 rad) of the joint */
+    { "stop: position holds its setpoint", G1_KNEE_POS, 0.51, 0.5, 2.0, ROZ_STOP_CONTROLLED, 0.51,  0, 0, 0, 0 },
+    { "e-stop: setpoint near the joint", G1_KNEE_POS, 2.0,  0.7,  2.0,  ROZ_STOP_IMMEDIATE,  0.9,   0, 0, 0, 0 },
     { "stop, NaN position: keeps target", G1_KNEE_POS, 1.2, NAN,  2.0,  ROZ_STOP_CONTROLLED, 1.2,   0, 0, 0, 0 },
     { "e-stop, NaN position: keeps target", G1_KNEE_POS, 1.2, NAN, 2.0, ROZ_STOP_IMMEDIATE,  1.2,   0, 0, 0, 0 },
     { "stiffness never negative",        G1_KNEE_KP,  0.0,  0.0,  -5.0, ROZ_STOP_NONE,       0.0,   1, 0, 0, 0 },
     { "stiffness ramps in",              G1_KNEE_KP,  0.0,  0.0,  150.0, ROZ_STOP_NONE,      0.8,   0, 1, 0, 0 },
-    { "stop: stiffness ramps out",       G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_CONTROLLED, 99.2, 0, 1, 0, 0 },
-    { "e-stop: stiffness drops to 0",    G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_IMMEDIATE,  0.0,  0, 0, 0, 0 },
+    { "stop: stiffness ramps to hold",   G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_CONTROLLED, 100.8, 0, 1, 0, 0 },
+    { "e-stop: stiffness at hold gain",  G1_KNEE_KP,  100.0, 0.0, 100.0, ROZ_STOP_IMMEDIATE,  200.0, 0, 0, 0, 0 },
     { "damping has no cap",              G1_KNEE_KD,  0.0,  0.0,  9.0,  ROZ_STOP_NONE,       9.0,   0, 0, 0, 0 },
-    { "stop: damping mode kd",           G1_KNEE_KD,  1.0,  0.0,  1.0,  ROZ_STOP_CONTROLLED, 8.0,   0, 0, 0, 0 },
+    { "stop: hold kd",                   G1_KNEE_KD,  1.0,  0.0,  1.0,  ROZ_STOP_CONTROLLED, 8.0,   0, 0, 0, 0 },
     { "effort clamp",                    G1_KNEE_TAU, 139.0, 0.0, 500.0, ROZ_STOP_NONE,      139.0, 1, 0, 0, 0 },
     { "effort rate cap",                 G1_KNEE_TAU, 0.0,  0.0,  50.0, ROZ_STOP_NONE,       1.39,  0, 1, 0, 0 },
     { "velocity stopped at knee limit",  G1_KNEE_VEL, 0.0,  2.8798 - 0.05, 1.0, ROZ_STOP_NONE, 0.0, 0, 0, 1, 0 },
@@ -159,10 +160,10 @@ static void test_filter_brakes_before_limit(void **st)
 /* A gripper, limits [0, 0.08] m. roz's old margin, 0.05 whatever the unit,
  * stopped it at 0.03 m for good; now each position state has its own. */
 static roz_channel_t grip_cmd[] = {
-    { "gripper/velocity", ROZ_IF_VELOCITY, "m/s", -0.05, 0.05, 0.0, 0.0, 0, 0.0 },
+    { "gripper/velocity", ROZ_IF_VELOCITY, "m/s", -0.05, 0.05, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
 };
 static roz_channel_t grip_state[] = {
-    { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_manifest_t gripper = { "gripper", "gripper", 100, grip_cmd, 1, grip_state, 1,
                                         NULL };
@@ -241,6 +242,53 @@ static void test_filter_margin_per_channel(void **st)
     grip_cmd[0].max_rate = 0.0;
 }
 
+/* A hold (the G1's position commands: safe_default "hold") latches at a
+ * stop's first tick and keeps that value while the joint moves under it,
+ * whatever the stop; the first tick without a stop releases it, and the
+ * next stop latches again. Before, the stop's position followed the joint
+ * down (the damping mode). */
+static void test_filter_hold_latches(void **st)
+{
+    const roz_manifest_t *m = &roz_manifest_unitree_g1;
+    const uint16_t knee = G1_KNEE_POS;
+    const int s = m->commands[knee].position_state;
+    (void)st;
+    assert_int_equal(m->commands[knee].safe_default, ROZ_SAFE_HOLD);
+    assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
+    for (uint16_t i = 0; i < m->n_states; i++)
+        state[i] = 0.0;
+    state[s] = 0.3;
+    roz_filter_prime(&f, state);
+    memcpy(target, f.last, sizeof target);
+    target[knee] = 0.34; /* the setpoint; the joint sags below it */
+    roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+    const double sp = out[knee];
+    assert_near(sp, 0.34, 1e-12);
+    for (int t = 0; t < 50; t++) { /* the joint sinks; the hold stays */
+        state[s] = 0.3 - 0.01 * t;
+        roz_filter_apply(&f, target, state, t < 25 ? ROZ_STOP_IMMEDIATE : ROZ_STOP_CONTROLLED,
+                         out);
+        assert_near(out[knee], sp, 0.0);
+        assert_near(roz_filter_safe_default(&f, knee, state), sp, 0.0);
+        target[knee] = NAN; /* a non-finite target during the stop is the hold too */
+    }
+    /* released: the running rule again, the safe default follows the joint */
+    target[knee] = 0.1;
+    state[s] = -0.05;
+    roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+    assert_near(out[knee], 0.30, 1e-12); /* 0.34 less one rate cap toward 0.1 */
+    assert_near(roz_filter_safe_default(&f, knee, state), -0.05, 0.0);
+    /* the next stop latches the new setpoint, within 5 rate caps of the joint */
+    roz_filter_apply(&f, target, state, ROZ_STOP_IMMEDIATE, out);
+    assert_near(out[knee], -0.05 + 5 * 0.04, 1e-12);
+    /* the position unknown at the latch: the last setpoint, as the follow rule */
+    roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+    state[s] = NAN;
+    roz_filter_apply(&f, target, state, ROZ_STOP_CONTROLLED, out);
+    assert_near(out[knee], f.hold[knee], 0.0);
+    assert_true(isfinite(out[knee]));
+}
+
 static void test_filter_init_errors(void **st)
 {
     roz_manifest_t bad = roz_manifest_ur5;
@@ -265,6 +313,7 @@ int main(void)
         cmocka_unit_test(test_filter_g1),
         cmocka_unit_test(test_filter_brakes_before_limit),
         cmocka_unit_test(test_filter_margin_per_channel),
+        cmocka_unit_test(test_filter_hold_latches),
         cmocka_unit_test(test_filter_init_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

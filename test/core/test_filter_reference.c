@@ -35,6 +35,8 @@ typedef struct {
     const roz_manifest_t *m;
     double   dt;
     int      primed;
+    int      stopping;                    /* a stop is on: hold[] latched */
+    double   hold[ROZ_CFG_MAX_COMMANDS];  /* ROZ_SAFE_HOLD channels' setpoints */
     double   last[ROZ_CFG_MAX_COMMANDS];
     roz_filter_counters_t counters;
     roz_filter_channel_counters_t ch[ROZ_CFG_MAX_COMMANDS];
@@ -69,6 +71,8 @@ static double ref_margin(const roz_channel_t *s)
 static double ref_safe_default(const ref_t *r, uint16_t i, const double *state)
 {
     const roz_channel_t *c = &r->m->commands[i];
+    if (r->stopping && c->safe_default == ROZ_SAFE_HOLD)
+        return r->hold[i];
     if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED) {
         double held = state != NULL ? state[c->position_state] : NAN;
         if (isfinite(held))
@@ -92,11 +96,33 @@ static void ref_apply(ref_t *r, const double *target, const double *state, roz_s
     const roz_manifest_t *m = r->m;
 
     if (!r->primed) {
-        for (uint16_t i = 0; i < m->n_commands; i++)
-            r->last[i] = ref_safe_default(r, i, state);
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            const roz_channel_t *c = &m->commands[i];
+            r->last[i] = c->type == ROZ_IF_STIFFNESS || c->type == ROZ_IF_DAMPING
+                             ? ref_clamp(0.0, c->min, c->max) /* the start-up hold's gains */
+                             : ref_safe_default(r, i, state);
+        }
         r->primed = 1;
     }
     r->counters.ticks++;
+    /* a stop's first tick latches each hold: the last setpoint, within
+     * ROZ_FILTER_HOLD_TICKS rate caps of the measured position (that alone
+     * while the position is unknown) */
+    if (stop == ROZ_STOP_NONE) {
+        r->stopping = 0;
+    } else if (!r->stopping) {
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            const roz_channel_t *c = &m->commands[i];
+            if (c->safe_default != ROZ_SAFE_HOLD)
+                continue;
+            double measured = ref_safe_default(r, i, state);
+            double p = state != NULL ? state[c->position_state] : NAN;
+            double band = ROZ_FILTER_HOLD_TICKS * c->max_rate;
+            r->hold[i] = isfinite(p) ? ref_clamp(r->last[i], measured - band, measured + band)
+                                     : measured;
+        }
+        r->stopping = 1;
+    }
     for (uint16_t i = 0; i < m->n_commands; i++) {
         const roz_channel_t *c = &m->commands[i];
         roz_filter_channel_counters_t *k = &r->ch[i];
@@ -354,18 +380,18 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
  * without a cap; a paired position; an unpaired velocity whose limits exclude
  * 0 (its default is its safe value); a gain with a rate cap. */
 static const roz_channel_t mixed_cmd[] = {
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0 },
-    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0 },
-    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0 },
-    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0 },
-    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0 },
-    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0 },
-    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW },
+    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW },
+    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t mixed_state[] = {
-    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1 },
-    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1, ROZ_SAFE_FOLLOW },
+    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL };
 

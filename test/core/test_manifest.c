@@ -23,15 +23,15 @@ static int setup_manifest(void **state)
 {
     (void)state;
     cmds[0] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 0, 0.0 };
+                               0.2, 0, 0.0, ROZ_SAFE_FOLLOW };
     cmds[1] = (roz_channel_t){ "joint2/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 1, 0.0 };
+                               0.2, 1, 0.0, ROZ_SAFE_FOLLOW };
     states[0] = (roz_channel_t){ "joint1/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW };
     states[1] = (roz_channel_t){ "joint2/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW };
     states[2] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW };
     m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL };
     return 0;
 }
@@ -129,6 +129,16 @@ static void b_margin_more(void) { states[1].limit_margin = 5.0; }
 static void b_margin_huge(void) { states[1].limit_margin = 1e308; }
 static void b_margin_command(void) { cmds[0].limit_margin = 0.01; }
 static void b_margin_vel_state(void) { states[2].limit_margin = 0.01; }
+/* a hold latches a setpoint: only a paired position command has one */
+static void b_hold_velocity(void) { cmds[0].safe_default = ROZ_SAFE_HOLD; }
+static void b_hold_state(void) { states[0].safe_default = ROZ_SAFE_HOLD; }
+static void b_hold_unknown(void) { cmds[1].safe_default = (roz_safe_default_t)7; }
+static void b_hold_unpaired(void)
+{
+    cmds[1].type = ROZ_IF_POSITION;
+    cmds[1].position_state = ROZ_CHANNEL_UNPAIRED;
+    cmds[1].safe_default = ROZ_SAFE_HOLD;
+}
 
 static const rule_case_t rule_cases[] = {
     { "robot_id upper case", b_id_upper, ROZ_MANIFEST_RULE_ID, 0, -1 },
@@ -163,6 +173,10 @@ static const rule_case_t rule_cases[] = {
     { "margin whose double overflows", b_margin_huge, ROZ_MANIFEST_RULE_MARGIN, 1, 1 },
     { "margin on a command", b_margin_command, ROZ_MANIFEST_RULE_MARGIN, 0, 0 },
     { "margin on a velocity state", b_margin_vel_state, ROZ_MANIFEST_RULE_MARGIN, 1, 2 },
+    { "hold on a velocity command", b_hold_velocity, ROZ_MANIFEST_RULE_SAFE_DEFAULT, 0, 0 },
+    { "hold on a state", b_hold_state, ROZ_MANIFEST_RULE_SAFE_DEFAULT, 1, 0 },
+    { "safe_default not a kind", b_hold_unknown, ROZ_MANIFEST_RULE_SAFE_DEFAULT, 0, 1 },
+    { "hold on an unpaired position", b_hold_unpaired, ROZ_MANIFEST_RULE_SAFE_DEFAULT, 0, 1 },
 };
 
 /* 0 is the default: the smaller of 0.05 and 5 % of the range; a margin
@@ -170,7 +184,7 @@ static const rule_case_t rule_cases[] = {
 static void test_manifest_limit_margin(void **state)
 {
     roz_channel_t gripper = { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0,
-                              ROZ_CHANNEL_UNPAIRED, 0.0 };
+                              ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW };
     (void)state;
     assert_true(roz_manifest_limit_margin(&states[0]) == 0.05);      /* [-3.14, 3.14] rad */
     assert_true(roz_manifest_limit_margin(&gripper) == 0.05 * 0.08); /* [0, 0.08] m */
@@ -214,6 +228,8 @@ static void test_manifest_validate_rules(void **state)
     }
     setup_manifest(state);
     b_pair_position_no_zero();
+    assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_OK);
+    cmds[1].safe_default = ROZ_SAFE_HOLD; /* a paired position command may hold */
     assert_int_equal(roz_manifest_validate(&m, NULL), ROZ_OK);
     setup_manifest(state);
 }

@@ -83,7 +83,9 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
             put_double(roz_manifest_limit_margin(&c[i]));
         else
             fputs("null", stdout);
-        putchar('}');
+        fputs(c[i].safe_default == ROZ_SAFE_HOLD ? ", \"safe_default\": \"hold\"}"
+                                                 : ", \"safe_default\": \"follow\"}",
+              stdout);
     }
     fputs(n == 0 ? "],\n" : "\n  ],\n", stdout);
 }

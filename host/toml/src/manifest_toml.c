@@ -55,7 +55,8 @@ static const char *const manifest_keys[] = { "robot_id", "robot_class", "control
                                              "commands", "states" };
 static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
                                             "limits",  "default",            "max_rate_of_change",
-                                            "position_state_index",          "limit_margin" };
+                                            "position_state_index",          "limit_margin",
+                                            "safe_default" };
 static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
@@ -599,6 +600,29 @@ static void check_margin(checker_t *ck, const place_t *pl, uint32_t section,
     }
 }
 
+/* rozgen's safe_default(): "follow" or "hold", and "hold" only on a
+ * position command paired with a position state (@pair as written, valid
+ * when @pair_ok). */
+static void check_safe_default(checker_t *ck, const place_t *pl, uint32_t section,
+                               const roz_toml_node_t *t, int pair_ok, int64_t pair)
+{
+    const roz_toml_node_t *v;
+    int type = channel_interface(ck->doc, t);
+
+    if (!check_string(ck, pl, t, "safe_default", 0, &v) || v == NULL)
+        return;
+    if (!str_eq(v->as.str, "follow") && !str_eq(v->as.str, "hold")) {
+        report(ck, "safe-default", pl, "safe_default", "must be \"follow\" or \"hold\"", v,
+               NULL);
+    } else if (str_eq(v->as.str, "hold") &&
+               (section == SEC_STATES || (type >= 0 && type != ROZ_IF_POSITION) ||
+                (pair_ok && pair == ROZ_CHANNEL_UNPAIRED))) {
+        report(ck, "safe-default", pl, "safe_default",
+               "only a position command paired with a position state can hold (the setpoint a "
+               "stop latched)", v, NULL);
+    }
+}
+
 static void check_channel(checker_t *ck, uint32_t section, const char *kind, uint32_t index,
                           const roz_toml_node_t *t)
 {
@@ -639,12 +663,14 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     if (check_number(ck, &pl, t, "max_rate_of_change", 0, 0.0, &rate) && rate < 0)
         report(ck, "max-rate", &pl, "max_rate_of_change", "must not be negative",
                roz_toml_get(d, t, "max_rate_of_change"), NULL);
-    if (check_integer(ck, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED, &pair) &&
-        section == SEC_STATES && pair != ROZ_CHANNEL_UNPAIRED)
+    int pair_ok = check_integer(ck, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED,
+                                &pair);
+    if (pair_ok && section == SEC_STATES && pair != ROZ_CHANNEL_UNPAIRED)
         report(ck, "pairing-on-state", &pl, "position_state_index",
                "only commands are paired with a position state; must be -1 or left out",
                roz_toml_get(d, t, "position_state_index"), NULL);
     check_margin(ck, &pl, section, t, lim, lo, hi);
+    check_safe_default(ck, &pl, section, t, pair_ok, pair);
 }
 
 /* rozgen's unique_names(): names, and the C constants made of them, once
@@ -991,6 +1017,7 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         const roz_toml_node_t *rate = roz_toml_get(d, t, "max_rate_of_change");
         const roz_toml_node_t *pair = roz_toml_get(d, t, "position_state_index");
         const roz_toml_node_t *margin = roz_toml_get(d, t, "limit_margin");
+        const roz_toml_node_t *safe = roz_toml_get(d, t, "safe_default");
         roz_channel_t *c = &out[i];
         c->name = intern_key(st, d, t, "name");
         c->unit = intern_key(st, d, t, "unit");
@@ -1003,6 +1030,8 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         c->max_rate = rate != NULL ? number_of(rate) : 0.0;
         c->position_state = pair != NULL ? (int32_t)pair->as.integer : ROZ_CHANNEL_UNPAIRED;
         c->limit_margin = margin != NULL ? number_of(margin) : 0.0; /* 0: the default */
+        c->safe_default = safe != NULL && str_eq(safe->as.str, "hold") ? ROZ_SAFE_HOLD
+                                                                             : ROZ_SAFE_FOLLOW;
     }
     return ROZ_OK;
 }

@@ -28,6 +28,12 @@
 extern "C" {
 #endif
 
+/** A hold (ROZ_SAFE_HOLD) keeps the last setpoint no further from the
+ *  measured position than this many rate caps (max_rate) of its channel:
+ *  enough for the sag of a standing humanoid's joints under gravity
+ *  (test/ports/mujoco/test_mujoco_stops.c), little against a joint held back. */
+#define ROZ_FILTER_HOLD_TICKS 5.0
+
 /** How the filter treats the controller's targets this tick. */
 typedef enum roz_stop {
     ROZ_STOP_NONE = 0,    /**< run: filter the controller's targets */
@@ -91,6 +97,9 @@ typedef struct roz_filter {
     int      ROZ_PRIVATE(avx2);
 #endif
     int      ROZ_PRIVATE(running); /* channel_stop_run[] may not be all 0 */
+    int      ROZ_PRIVATE(stopping); /* a stop is on: hold[] latched at its first tick */
+    double   ROZ_PRIVATE(hold)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: the safe
+                                                         default the stop latched */
     double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
     roz_filter_counters_t ROZ_PRIVATE(counters);
     uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];
@@ -115,14 +124,22 @@ ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
  *        position command paired with a position state, that state's value
  *        (clamped to the command's limits), or the last applied value when
  *        the state is not finite (position unknown: hold, don't jump); for
- *        every other channel the manifest default.
+ *        every other channel the manifest default. While a stop is on, a
+ *        channel whose safe_default is ROZ_SAFE_HOLD gives instead the
+ *        value latched at the stop's first tick by roz_filter_apply(): its
+ *        last applied value (the setpoint the joint was held at), moved
+ *        within ROZ_FILTER_HOLD_TICKS times its max_rate of the value the
+ *        rule above gives then (that value itself while the position is
+ *        unknown); released by the first tick without a stop.
  * Context: RT-safe.
  */
 double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *state);
 
 /**
  * @brief Start from the safe defaults: the "last applied" values become the
- *        safe defaults for @p state, so the first rate cap ramps from there.
+ *        safe defaults for @p state, so the first rate cap ramps from there;
+ *        stiffness and damping channels start at 0 (clamped to the channel),
+ *        as the ports' start-up hold sends them.
  * Context: RT-safe.
  */
 void roz_filter_prime(roz_filter_t *f, const double *state);
@@ -131,7 +148,9 @@ void roz_filter_prime(roz_filter_t *f, const double *state);
  * @brief Filter one tick.
  * @param[in]  target  n_commands controller targets (ignored when stopping)
  * @param[in]  state   n_states values of this tick's snapshot
- * @param[in]  stop    run, controlled stop or e-stop
+ * @param[in]  stop    run, controlled stop or e-stop; the first tick of a
+ *                     stop (after one without) latches the ROZ_SAFE_HOLD
+ *                     channels' safe defaults (roz_filter_safe_default())
  * @param[out] out     n_commands values for the port, each within [min, max];
  *                     may be @p target itself
  * Context: tick; RT-safe; O(n_commands).

@@ -46,6 +46,15 @@ typedef enum roz_interface {
  *  a tenth of a joint's travel (both ends), in radians or in metres. */
 #define ROZ_MANIFEST_MARGIN_SHARE 0.05
 
+/** What a position command paired with a position state holds while the
+ *  safety filter stops (roz/filter.h; robot.toml's `safe_default`). */
+typedef enum roz_safe_default {
+    ROZ_SAFE_FOLLOW = 0, /**< "follow": the position measured now, tick by tick (with zero
+                              stiffness, the damping mode: a standing humanoid falls) */
+    ROZ_SAFE_HOLD,       /**< "hold": the position measured when the stop latched, frozen
+                              until the stop ends (a category 2 stop, with hold gains) */
+} roz_safe_default_t;
+
 /** One command or state channel. */
 typedef struct roz_channel {
     const char     *name;          /**< "shoulder_pan_joint/velocity" */
@@ -62,6 +71,10 @@ typedef struct roz_channel {
      *  other channel. A property of the filter, not of the channel
      *  interface a controller sees. */
     double          limit_margin;
+    /** Position commands paired with a position state only: what their
+     *  safe default holds during a stop; ROZ_SAFE_FOLLOW on every other
+     *  channel. A property of the filter, as limit_margin is. */
+    roz_safe_default_t safe_default;
 } roz_channel_t;
 
 /** A string key/value, as in robot.toml's [hardware.params]. */
@@ -121,6 +134,8 @@ typedef enum roz_manifest_rule {
     ROZ_MANIFEST_RULE_MARGIN,        /**< limit_margin not finite, negative, leaving no room to
                                           move (2 * margin >= max - min), or not 0 on a channel
                                           other than a position state */
+    ROZ_MANIFEST_RULE_SAFE_DEFAULT,  /**< safe_default not a roz_safe_default_t, or "hold" on
+                                          a channel other than a paired position command */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */

@@ -55,10 +55,12 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     } else if (roz_cmd_watchdog_judge(&c->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
                                       f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
         /* the tick went silent (or this was written before it was found
-         * so): the damping command, as on shutdown, until it writes again;
+         * so): the hold at the positions last sent, with the manifest's
+         * hold gains, until it writes again (a standing humanoid given
+         * the damping command falls: test/ports/mujoco/test_mujoco_stops.c);
          * nothing to a robot that never got a command */
         if (c->sent_any) {
-            rc = ops->safe(c->port, sample);
+            rc = ops->watchdog != NULL ? ops->watchdog(c->port, sample) : ops->safe(c->port, sample);
             bump(c, ROZ_DDS_CMD_SAFE);
         }
     } else {

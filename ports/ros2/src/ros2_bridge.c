@@ -408,7 +408,14 @@ static int bridge_send(void *port, void *sample, const double *cmd, const double
 static int bridge_safe(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, b->tx_joint);
+    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 0, b->tx_joint);
+    return publish_all(b, &b->out[primary(b)], sample);
+}
+
+static int bridge_watchdog(void *port, void *sample)
+{
+    roz_ros2_bridge_t *b = port;
+    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 1, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
@@ -418,6 +425,7 @@ static const roz_dds_cmd_ops_t bridge_cmd_ops = {
     .refuse = NULL,
     .send = bridge_send,
     .safe = bridge_safe,
+    .watchdog = bridge_watchdog,
 };
 
 /* ---- open -------------------------------------------------------------------------- */

@@ -162,7 +162,7 @@ void roz__ros2_joints(const roz_ros2_bridge_t *b, const double *cmd, const doubl
     }
 }
 
-void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd,
+void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd, int hold,
                        roz_ros2_joint_cmd_t *out)
 {
     const roz_manifest_t *m = b->m;
@@ -185,5 +185,7 @@ void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd,
             const roz_channel_t *c = &m->commands[j->kd_cmd];
             o->kd = roz_channel_clamp(c, kd == kd ? kd : c->default_value);
         }
+        if (hold && j->kp_cmd >= 0)
+            o->kp = m->commands[j->kp_cmd].default_value; /* within it: a valid manifest */
     }
 }

@@ -27,10 +27,11 @@ void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, double kd, doub
 void roz__ros2_joints(const roz_ros2_bridge_t *b, const double *cmd, const double *q,
                       roz_ros2_joint_cmd_t *out);
 
-/* The damping command per robot slot: q the given positions (clamped), kp 0,
- * kd @p kd (NaN: each joint's damping default; clamped) where the joint has
- * a damping command, 0 elsewhere. */
-void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd,
+/* The damping command per robot slot: q the given positions (clamped), kp 0
+ * (@p hold: the joint's stiffness default, the hold gain), kd @p kd (NaN:
+ * each joint's damping default; clamped) where the joint has a damping
+ * command, 0 elsewhere. */
+void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd, int hold,
                        roz_ros2_joint_cmd_t *out);
 
 #endif /* ROZ_ROS2_MAP_H */

@@ -245,7 +245,7 @@ void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q
     seal(out);
 }
 
-void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd,
+void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd, int hold,
                           uint8_t mode_machine, g1_cmd_t *out)
 {
     const roz_manifest_t *m = g1->m;
@@ -264,6 +264,8 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
             const roz_channel_t *c = &m->commands[j->kd_cmd];
             mc->kd = roz_channel_clamp_float(c, kd == kd ? kd : c->default_value);
         }
+        if (hold && j->kp_cmd >= 0)
+            mc->kp = (float)m->commands[j->kp_cmd].default_value; /* within it: a valid manifest */
     }
     seal(out);
 }

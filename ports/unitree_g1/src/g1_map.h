@@ -53,9 +53,10 @@ void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double
 void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q,
                   uint8_t mode_machine, g1_cmd_t *out);
 
-/* Fills a zeroed LowCmd_ with the damping command: kp 0, kd (each joint's
- * damping default when NaN; clamped), q the given positions; and its CRC. */
-void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd,
+/* Fills a zeroed LowCmd_ with the damping command: kp 0 (@p hold: each
+ * joint's stiffness default, the hold gain), kd (each joint's damping
+ * default when NaN; clamped), q the given positions; and its CRC. */
+void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd, int hold,
                           uint8_t mode_machine, g1_cmd_t *out);
 
 #endif /* ROZ_G1_MAP_H */

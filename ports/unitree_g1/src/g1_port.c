@@ -294,7 +294,17 @@ static int g1_safe(void *port, void *sample)
 {
     roz_unitree_g1_t *g1 = port;
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
-    roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, (uint8_t)(locked & 0xffu), sample);
+    roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, 0, (uint8_t)(locked & 0xffu),
+                         sample);
+    return 1;
+}
+
+static int g1_watchdog(void *port, void *sample)
+{
+    roz_unitree_g1_t *g1 = port;
+    uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
+    roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, 1, (uint8_t)(locked & 0xffu),
+                         sample);
     return 1;
 }
 
@@ -304,6 +314,7 @@ static const roz_dds_cmd_ops_t g1_cmd_ops = {
     .refuse = g1_refuse,
     .send = g1_send,
     .safe = g1_safe,
+    .watchdog = g1_watchdog,
 };
 
 /* ---- ops ------------------------------------------------------------------------ */

@@ -343,13 +343,19 @@ static void check_commands(conformance_t *c)
 #define WATCHDOG_FRAMES 30000
 
 /* Whether @p cmd drives the robot: a stiffness, velocity or effort command
- * other than what the wire makes of 0 (@p zero). */
-static int drives(const conformance_t *c, const double *cmd, const double *zero)
+ * other than what the wire makes of 0 (@p zero); with @p hold (what the
+ * wire makes of each stiffness channel's default, the manifest's hold
+ * gain, else 0), a stiffness at its hold gain is no drive either: the
+ * watchdog's hold keeps the positions last sent (SAFETY.md, section 7). */
+static int drives(const conformance_t *c, const double *cmd, const double *zero,
+                  const double *hold)
 {
     for (uint16_t i = 0; i < c->m->n_commands; i++) {
         roz_interface_t t = c->m->commands[i].type;
         if ((t == ROZ_IF_STIFFNESS || t == ROZ_IF_VELOCITY || t == ROZ_IF_EFFORT) &&
-            memcmp(&cmd[i], &zero[i], sizeof zero[i]) != 0)
+            memcmp(&cmd[i], &zero[i], sizeof zero[i]) != 0 &&
+            !(t == ROZ_IF_STIFFNESS && hold != NULL &&
+              memcmp(&cmd[i], &hold[i], sizeof hold[i]) == 0))
             return 1;
     }
     return 0;
@@ -358,18 +364,26 @@ static int drives(const conformance_t *c, const double *cmd, const double *zero)
 static void check_watchdog(conformance_t *c)
 {
     double nothing[ROZ_CFG_MAX_COMMANDS] = { 0 }, zero[ROZ_CFG_MAX_COMMANDS];
+    double gains[ROZ_CFG_MAX_COMMANDS] = { 0 }, hold[ROZ_CFG_MAX_COMMANDS];
     roz_port_fault_t f;
 
-    if (c->fx->wire_command != NULL)
+    for (uint16_t i = 0; i < c->m->n_commands; i++) {
+        if (c->m->commands[i].type == ROZ_IF_STIFFNESS)
+            gains[i] = c->m->commands[i].default_value;
+    }
+    if (c->fx->wire_command != NULL) {
         c->fx->wire_command(nothing, zero);
-    else
+        c->fx->wire_command(gains, hold);
+    } else {
         memcpy(zero, nothing, sizeof zero);
+        memcpy(hold, gains, sizeof hold);
+    }
     fresh_frame(c);
     first_write(c, 8);
     fresh_frame(c);
     write_checked(c, 9);
     assert_peer_applies(c, c->cmd);
-    if (!drives(c, c->cmd, zero))
+    if (!drives(c, c->cmd, zero, hold))
         fail_msg("%s on %s: the suite's command drives nothing: no watchdog to see",
                  c->fx->name, c->m->robot_id);
 
@@ -379,7 +393,7 @@ static void check_watchdog(conformance_t *c)
         c->fx->peer(ROZ_PEER_SEND);
         c->fx->settle();
         const double *got = c->fx->peer_command();
-        if (got != NULL && !drives(c, got, zero))
+        if (got != NULL && !drives(c, got, zero, hold))
             break;
     }
     if (k == WATCHDOG_FRAMES)
@@ -402,7 +416,7 @@ static void check_watchdog(conformance_t *c)
     c->fx->settle();
     const double *got = c->fx->peer_command();
     assert_non_null(got);
-    if (drives(c, got, zero))
+    if (drives(c, got, zero, NULL))
         fail_msg("%s on %s: the first write after the trip drives the robot: no hold",
                  c->fx->name, c->m->robot_id);
     write_checked(c, 11);

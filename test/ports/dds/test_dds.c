@@ -656,9 +656,9 @@ static void test_dds_kept_storage(void **st)
  * (hold: the tick's; send, safe: the writer thread's, or the caller's on
  * stop): the command path alone, without a port's wire. */
 static const roz_channel_t cp_commands[2] = {
-    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "j/damping", ROZ_IF_DAMPING, "N.m.s/rad", 0.0, 10.0, 1.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0 },
+      0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_manifest_t cp_manifest = { "cmd_path", "test", 100, cp_commands, 2, NULL, 0,
                                             NULL };
@@ -718,7 +718,8 @@ static int cp_safe(void *port, void *sample)
     return 1;
 }
 
-static const roz_dds_cmd_ops_t cp_ops = { cp_hold, cp_rx_session, cp_refuse, cp_send, cp_safe };
+static const roz_dds_cmd_ops_t cp_ops = { cp_hold, cp_rx_session, cp_refuse, cp_send, cp_safe,
+                                          NULL };
 
 /* A participant, a writer (event-driven, no reader needed) and the path. */
 static void cp_open(uint32_t timeout_us)

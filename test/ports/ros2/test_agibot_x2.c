@@ -525,13 +525,13 @@ static void test_x2_link_by_stamp(void **st)
 /* The left leg's six joints alone: the leg topic read (no IMU, no other
  * group), the leg commanded, the other groups never. */
 static const roz_channel_t leg_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0, 0, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
     { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t leg_states[] = {
     { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const char *const leg_joints[] = { "left_knee_joint" };
 static const roz_hardware_t leg_hw = { "agibot/X2", leg_joints, 1, NULL, 0 };
@@ -591,17 +591,17 @@ static void assert_all_finite(const roz_fake_ros2_cmd_t *c, const char *when)
  * built-in manifest's missing head_pitch_joint. */
 static const roz_channel_t stiff_commands[] = {
     { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 10.0, 100.0, 10.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "left_hip_pitch_joint/damping", ROZ_IF_DAMPING, "", 1.0, 5.0, 2.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t stiff_states[] = {
     { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const char *const stiff_joints[] = { "left_knee_joint", "left_hip_pitch_joint" };
 static const roz_hardware_t stiff_hw = { "agibot/X2", stiff_joints, 2, NULL, 0 };
@@ -770,7 +770,7 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 static const char *const alien_joints[] = { "tail_joint" };
 static const roz_channel_t alien_commands[] = {
     { "tail_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0 },
+      0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_hardware_t alien_hw = { "agibot/X2", alien_joints, 1, NULL, 0 };
 static const roz_manifest_t alien = { "alien", "humanoid", 500, alien_commands, 1, NULL, 0,
@@ -840,13 +840,14 @@ static void test_x2_watchdog_every_group(void **st)
     unsigned checked = 0;
     for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
         int g, s, kd = cmd_of(m->hardware->joints[j], "damping");
-        if (isnan(q[j]) || kd < 0 || roz_ros2fx_place(j, &g, &s) != 0)
+        int kp = cmd_of(m->hardware->joints[j], "stiffness"); /* the hold gain */
+        if (isnan(q[j]) || kd < 0 || kp < 0 || roz_ros2fx_place(j, &g, &s) != 0)
             continue;
         assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
-        if (c.q[s] != q[j] || c.kp[s] != 0.0 || c.dq[s] != 0.0 || c.tau[s] != 0.0 ||
-            c.kd[s] != m->commands[kd].default_value)
-            fail_msg("%s after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the damping "
-                     "command",
+        if (c.q[s] != q[j] || c.kp[s] != m->commands[kp].default_value || c.dq[s] != 0.0 ||
+            c.tau[s] != 0.0 || c.kd[s] != m->commands[kd].default_value)
+            fail_msg("%s after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
+                     "watchdog's hold",
                      m->hardware->joints[j], c.q[s], c.kp[s], c.kd[s], c.dq[s], c.tau[s]);
         checked++;
     }

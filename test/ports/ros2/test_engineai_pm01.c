@@ -702,10 +702,11 @@ static void test_pm01_watchdog(void **st)
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
-        if (c.q[j] != q[j] || c.kp[j] != 0.0 || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")]; /* the hold gain */
+        if (c.q[j] != q[j] || c.kp[j] != kp->default_value || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
             c.extra[j] != 0.0 || c.kd[j] != kd->default_value)
             fail_msg("joint %u after the tick stopped: q %g kp %g kd %g dq %g tau %g: not the "
-                     "damping command",
+                     "watchdog's hold",
                      (unsigned)j, c.q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
     }
     assert_true(counters().safe_published >= 5);
@@ -800,15 +801,15 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
  * command, outside its own limits). The rest of the robot's 24 get their
  * measured positions and zero gains. */
 static const roz_channel_t two_commands[] = {
-    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0, 0, 0.0 },
+    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
     { "J01_HIP_ROLL_L/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t two_states[] = {
     { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "J01_HIP_ROLL_L/position", ROZ_IF_POSITION, "rad", -0.436, 2.094, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const char *const two_joints[] = { "J07_HIP_ROLL_R", "J01_HIP_ROLL_L" };
 static const roz_hardware_t two_hw = { "engineai/PM01", two_joints, 2, NULL, 0 };
@@ -899,7 +900,7 @@ static const char *const many_joints[25] = { "j0",  "j1",  "j2",  "j3",  "j4",  
                                              "j14", "j15", "j16", "j17", "j18", "j19", "j20",
                                              "j21", "j22", "j23", "j24" };
 static const roz_channel_t many_commands[] = {
-    { "j24/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "j24/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_hardware_t many_hw = { "engineai/PM01", many_joints, 25, NULL, 0 };
 static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, NULL, 0,
@@ -908,9 +909,9 @@ static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, 
 static const char *const stranger_joints[] = { "J00_HIP_PITCH_L", "left_knee" };
 static const roz_channel_t stranger_commands[] = {
     { "J00_HIP_PITCH_L/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0 },
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
     { "left_knee/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0 },
+      0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_hardware_t stranger_hw = { "engineai/PM01", stranger_joints, 2, NULL, 0 };
 static const roz_manifest_t stranger = { "stranger", "humanoid", 500, stranger_commands, 2,

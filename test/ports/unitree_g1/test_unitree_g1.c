@@ -29,8 +29,8 @@
  *    startup_damping; the damping command on shutdown;
  *  - the command watchdog: the tick stops writing; the robot gets the
  *    last command for at most the timeout's worth of writer periods, then
- *    the damping command (kp 0, kd the damping default, the last commanded
- *    positions), on the writer's own (periodic, and event-driven where
+ *    the watchdog's hold (kp the stiffness default, the hold gain; kd the
+ *    damping default; the last commanded positions), on the writer's own (periodic, and event-driven where
  *    nothing wakes it); read() reports the trip once and the runtime
  *    latches COMMAND_TIMEOUT naming the silence and the timeout; the first
  *    command after it is the start-up hold, a clear lets the stand's gains
@@ -726,14 +726,18 @@ static uint64_t fake_good(void)
     return good;
 }
 
-/* Whether @p c is the damping command over the positions @p q (manifest
- * order of the joints): mode 1, q, kp 0, dq 0, tau 0, kd the damping
- * channel's default, for every joint; the unused slots zero. */
-static int is_damping(const roz_fake_g1_cmd_t *c, const double *q)
+/* Whether @p c is the watchdog's hold over the positions @p q (manifest
+ * order of the joints): mode 1, q, kp the stiffness channel's default,
+ * dq 0, tau 0, kd the damping channel's default, for every joint; the
+ * unused slots zero. */
+static int is_watchdog_hold(const roz_fake_g1_cmd_t *c, const double *q)
 {
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
-        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != 0.0 || c->dq[j] != 0.0 ||
+        /* the watchdog's hold: kp the manifest's hold gain (test_mujoco_stops) */
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
+        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != (float)kp->default_value ||
+            c->dq[j] != 0.0 ||
             c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value)
             return 0;
     }
@@ -959,7 +963,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
     unsigned last = 0, damping = 0;
     for (uint64_t k = before + 1; k <= now; k++) {
         assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (is_damping(&c, q)) {
+        if (is_watchdog_hold(&c, q)) {
             damping++;
         } else if (is_written(&c)) {
             if (damping != 0)
@@ -1032,8 +1036,8 @@ static void expect_damping_after_trip(const double *q)
                      0);
     for (uint64_t k = written + 1; k <= written + 5u; k++) {
         assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
-        if (!is_damping(&c, q))
-            fail_msg("command %llu after the tick stopped: not the damping command",
+        if (!is_watchdog_hold(&c, q))
+            fail_msg("command %llu after the tick stopped: not the watchdog's hold",
                      (unsigned long long)k);
     }
 }
@@ -1119,8 +1123,9 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    /* past verification: the stand's gains reach the robot */
-    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+    /* past verification: the stand's gains reach the robot (before the
+     * first tick the runtime's commands are the manifest's defaults) */
+    for (int t = 0; t < 400 && (t == 0 || roz_runtime_last_commands(&rt)[knee_kp] <= 0.0); t++) {
         roz_g1fx_send();
         tick_rt();
     }
@@ -1163,8 +1168,11 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
         tick_rt();
     }
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
+    /* the stop holds: the knee at its hold gain */
+    assert_true(roz_runtime_last_commands(&rt)[knee_kp] == m->commands[knee_kp].default_value);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] <= 0.0; t++) {
+    for (int t = 0; t < 400 && roz_runtime_last_commands(&rt)[knee_kp] ==
+                                   m->commands[knee_kp].default_value; t++) {
         roz_g1fx_send();
         tick_rt();
     }
@@ -1196,11 +1204,11 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 /* a robot whose manifest has a channel the G1 has no place for */
 static const roz_channel_t odd_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0 },
-    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW },
+    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_channel_t odd_states[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const char *const odd_joints[] = { "j1" };
 static const char *const real_joints[] = { "left_knee_joint" };
@@ -1212,7 +1220,7 @@ static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
                                         1, &odd_hw };
 static const roz_channel_t typo_commands[] = {
-    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0 },
+    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
                                      &real_hw };

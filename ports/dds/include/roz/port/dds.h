@@ -505,7 +505,7 @@ void roz_dds_writer_close(roz_dds_writer_t *w);
  * it was written for another session than the receive path's now (counted
  * stale: a robot that restarted gets nothing until the tick writes for it),
  * the port refuses it (ops->refuse, counted refused), or the watchdog judges
- * it too old or of an earlier epoch: then the damping command (ops->safe,
+ * it too old or of an earlier epoch: then the watchdog's hold (ops->watchdog,
  * counted safe), nothing to a robot that never got a command.
  *
  * Deactivate (roz_dds_cmd_stop()): the writer thread stopped, the damping
@@ -565,6 +565,13 @@ typedef struct roz_dds_cmd_ops {
      *  `shutdown_damping`, q the positions last sent. @return 1 to publish.
      *  Context: the writer thread, or the caller's once it stopped; RT-safe. */
     int (*safe)(void *port, void *sample);
+    /** The watchdog's command into @p sample (zeroed), once the tick has
+     *  been silent for the timeout: the hold, q the positions last sent,
+     *  kp each joint's stiffness default (the manifest's hold gain; 0 in a
+     *  damping-mode manifest, which makes it the damping command), kd the
+     *  port's `shutdown_damping`. NULL: safe(). @return 1 to publish.
+     *  Context: the writer thread; RT-safe. */
+    int (*watchdog)(void *port, void *sample);
 } roz_dds_cmd_ops_t;
 
 /** How roz_dds_cmd_init() sets a command path up. */

@@ -1,0 +1,335 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Every stop judged by what it does to a standing G1 (SAFETY.md, "Stops in
+ * physics"): the 29-DoF G1 stands on a stiff stand for 2 simulated seconds,
+ * then each stop in turn (e-stop, the controller's e-stop request, a
+ * dropped stream, a trap, an overrun, the robot's board restarting, the
+ * tick falling silent under the command watchdog, a controller swap); 2 s
+ * later the pelvis must be up and no joint may have moved fast. Simulated
+ * time: the same numbers on every run. */
+/* white-box in part: reads the port's truth history (roz/private.h) */
+#define ROZ_PRIVATE_ACCESS
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/builtin.h"
+#include "roz/hal/joints.h"
+#include "roz/port/mujoco.h"
+#include "roz/runtime.h"
+#include "support.h"
+
+/* ---- the cases ------------------------------------------------------------------ */
+
+#define RATE 500
+#define STOP_TICK 1000      /* stops_stand.h: 2 s, the stand has settled */
+#define AFTER (2 * RATE)    /* judged 2 s after the stop */
+#define WATCHDOG_TICKS 25   /* command_timeout_us' default, 50 ms, in ticks */
+
+typedef enum {
+    STOP_NONE,     /* the baseline: no stop */
+    STOP_ESTOP,    /* the application's e-stop input, pressed and held */
+    STOP_FROM_CTL, /* the controller stops itself (request, trap, overrun) */
+    STOP_PORT,     /* the port's fault parameter (drop, restart) */
+    STOP_SILENT,   /* the tick stops; the port's watchdog acts */
+    STOP_SWAP,     /* another controller swapped in */
+} stop_how_t;
+
+typedef struct {
+    const char *name;
+    stop_how_t  how;
+    const char *controller; /* test/ports/mujoco/controllers, or the examples' */
+    const char *param;      /* the port's, or NULL */
+    const char *swap_in;    /* STOP_SWAP: the controller swapped in */
+    unsigned    fault;      /* the fault that latches, 0: none */
+} stop_case_t;
+
+typedef struct {
+    double   height;      /* pelvis, 2 s after the stop, m */
+    double   lowest;      /* the lowest pelvis over those 2 s, m */
+    double   peak_speed;  /* the fastest joint over those 2 s, rad/s (simulator's truth) */
+    int      peak_joint;
+    unsigned faults;
+} stop_outcome_t;
+
+static roz_mujoco_t mj;
+static roz_runtime_t rt;
+
+static const uint8_t *stops_controller(const char *name, size_t *len)
+{
+    static uint8_t buf[2][256 * 1024];
+    static unsigned next;
+    char path[4096];
+    uint8_t *b = buf[next++ % 2];
+    snprintf(path, sizeof path, "%s/%s.wasm", ROZ_TEST_STOPS_DIR, name);
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return roz_test_controller(name, len);
+    *len = fread(b, 1, sizeof buf[0], f);
+    fclose(f);
+    if (*len == 0 || *len == sizeof buf[0])
+        fail_msg("%s: empty or too large", path);
+    return b;
+}
+
+/* The truth sample of the last read (before any fault or latency). */
+static const double *truth(void)
+{
+    return mj.hist[(mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1)];
+}
+
+/* What the G1 port's command watchdog sends once the tick has been silent
+ * for command_timeout_us (g1_watchdog() in ports/unitree_g1, through the
+ * command path every DDS port shares, ports/dds/src/dds_cmd.c): the
+ * positions last sent, kp each joint's stiffness default (the hold gain),
+ * kd its damping default (shutdown_damping's default), nothing else. The
+ * mujoco port has no sender of its own: the test writes it in the port's
+ * place, every tick. */
+static void watchdog_command(const roz_manifest_t *m, const double *last, double *cmd)
+{
+    static roz_joint_channels_t j[ROZ_MUJOCO_MAX_JOINTS];
+    double q[ROZ_MUJOCO_MAX_JOINTS];
+    for (uint16_t k = 0; k < mj.n_joints; k++) {
+        j[k] = mj.joints[k].ch;
+        q[k] = last[j[k].q_cmd];
+    }
+    roz_joints_hold(m, j, mj.n_joints, q, m->commands[j[0].kd_cmd].default_value, cmd);
+    for (uint16_t k = 0; k < mj.n_joints; k++)
+        cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
+}
+
+static void run_case(const stop_case_t *c, stop_outcome_t *o)
+{
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    assert_non_null(m);
+    uint16_t n = (uint16_t)(m->n_commands / 5);
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512] = "";
+    roz_param_t item = { NULL, NULL };
+    char kv[128];
+    roz_params_t params = { &item, 0 };
+    if (c->param != NULL) {
+        snprintf(kv, sizeof kv, "%s", c->param);
+        char *eq = strchr(kv, '=');
+        *eq = '\0';
+        item.key = kv;
+        item.value = eq + 1;
+        params.n = 1;
+    }
+    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 0, 1000 };
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.budget_ns = UINT64_MAX; /* fuel alone: the same on every machine */
+    cfg.monitor_jitter = 0;
+    size_t len;
+    const uint8_t *w = stops_controller(c->controller, &len);
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+
+    static double st[ROZ_CFG_MAX_STATES], wd[ROZ_CFG_MAX_COMMANDS];
+    roz_mujoco_base_t b;
+    memset(o, 0, sizeof *o);
+    o->lowest = INFINITY;
+    for (int t = 0; t < STOP_TICK + AFTER; t++) {
+        if (t == STOP_TICK && c->how == STOP_ESTOP)
+            roz_runtime_estop_set(&rt, 1);
+        if (t == STOP_TICK && c->how == STOP_SWAP) {
+            const uint8_t *w2 = stops_controller(c->swap_in, &len);
+            assert_int_equal(roz_runtime_load(&rt, w2, len, NULL), ROZ_OK);
+        }
+        if (c->how == STOP_SILENT && t >= STOP_TICK) {
+            /* the tick is gone: the robot keeps the last command until the
+             * watchdog trips, then gets the watchdog's, every period */
+            if (t == STOP_TICK + WATCHDOG_TICKS)
+                watchdog_command(m, roz_runtime_last_commands(&rt), wd);
+            if (t >= STOP_TICK + WATCHDOG_TICKS)
+                assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
+            (void)roz_port_read(&p, st, m->n_states);
+        } else {
+            { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
+        }
+        if (getenv("ROZ_TEST_MUJOCO_TRACE") != NULL && t % 100 == 0) {
+            roz_mujoco_base(&mj, &b);
+            print_message("  %s, tick %4d: pelvis %.3f m, roll %6.2f, pitch %6.2f deg\n", c->name,
+                          t, b.pos[2], b.roll * 57.2958, b.pitch * 57.2958);
+        }
+        if (t == STOP_TICK - 1) {
+            roz_mujoco_base(&mj, &b);
+            if (!(b.pos[2] > 0.7))
+                fail_msg("%s: the stand is down before the stop: pelvis %.3f m", c->name,
+                         b.pos[2]);
+            assert_int_equal(roz_runtime_faults(&rt), 0);
+        }
+        if (t >= STOP_TICK) {
+            roz_mujoco_base(&mj, &b);
+            if (b.pos[2] < o->lowest)
+                o->lowest = b.pos[2];
+            const double *s = truth();
+            for (uint16_t k = 0; k < n; k++) {
+                if (fabs(s[n + k]) > o->peak_speed) {
+                    o->peak_speed = fabs(s[n + k]);
+                    o->peak_joint = k;
+                }
+            }
+        }
+    }
+    roz_mujoco_base(&mj, &b);
+    o->height = b.pos[2];
+    o->faults = roz_runtime_faults(&rt);
+    assert_int_equal(mj.violations, 0);
+    print_message("%-26s pelvis %.3f m 2 s later (lowest %.3f), peak joint speed %.2f rad/s (%s), "
+                  "faults 0x%02x\n",
+                  c->name, o->height, o->lowest, o->peak_speed,
+                  m->states[n + o->peak_joint].name, o->faults);
+    roz_runtime_deinit(&rt);
+    roz_port_close(&p);
+}
+
+/* ---- tests ------------------------------------------------------------------------ */
+
+static const stop_case_t cases[] = {
+    { "no stop", STOP_NONE, "stops_stand", NULL, NULL, 0 },
+    { "e-stop", STOP_ESTOP, "stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "e-stop request", STOP_FROM_CTL, "stops_estop_request", NULL, NULL,
+      ROZ_FAULT_ESTOP_REQUEST },
+    { "stale (stream dropped)", STOP_PORT, "stops_stand", "drop=1000:1100", NULL,
+      ROZ_FAULT_STALE },
+    { "trap", STOP_FROM_CTL, "stops_trap", NULL, NULL, ROZ_FAULT_TRAP },
+    { "overrun (fuel)", STOP_FROM_CTL, "stops_overrun", NULL, NULL, ROZ_FAULT_OVERRUN },
+    { "link (board restart)", STOP_PORT, "stops_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "command watchdog", STOP_SILENT, "stops_stand", NULL, NULL, 0 },
+    { "swap (stiff stand)", STOP_SWAP, "stops_stand", NULL, "stops_swap_in", 0 },
+};
+
+static void test_mujoco_stops_g1(void **state)
+{
+    (void)state;
+    int bad = 0;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        stop_outcome_t o;
+        run_case(&cases[i], &o);
+        if ((o.faults & cases[i].fault) != cases[i].fault || (cases[i].fault == 0 && o.faults)) {
+            print_error("%s: faults 0x%02x, expected 0x%02x\n", cases[i].name, o.faults,
+                        cases[i].fault);
+            bad++;
+        }
+        if (!(o.height > 0.7 && o.lowest > 0.65)) {
+            print_error("%s: the G1 fell: pelvis %.3f m (lowest %.3f)\n", cases[i].name,
+                        o.height, o.lowest);
+            bad++;
+        }
+        if (!(o.peak_speed < 1.0)) {
+            print_error("%s: a joint moved at %.2f rad/s\n", cases[i].name, o.peak_speed);
+            bad++;
+        }
+    }
+    assert_int_equal(bad, 0);
+}
+
+/* The filter's limit stops in physics: constant_velocity drives every
+ * command at a fifth of its upper limit, so every joint runs toward its
+ * upper limit, on @p robot (@p param: the port's, or NULL) for @p ticks.
+ * Each paired joint must stay inside its limit plus its margin (the margin
+ * covers a velocity servo's lag against gravity, or the coasting of an
+ * effort cut, which is reactive: SAFETY.md section 1); returns the closest any came to its
+ * limit less margin, so the caller knows the limit was reached. */
+static double run_into_limits(const char *robot, const char *param, int ticks)
+{
+    const roz_manifest_t *m = roz_builtin_find(robot);
+    assert_non_null(m);
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    char err[512] = "", kv[128];
+    roz_param_t item = { NULL, NULL };
+    roz_params_t params = { &item, 0 };
+    if (param != NULL) {
+        snprintf(kv, sizeof kv, "%s", param);
+        char *eq = strchr(kv, '=');
+        *eq = '\0';
+        item.key = kv;
+        item.value = eq + 1;
+        params.n = 1;
+    }
+    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 0, 1000 };
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.budget_ns = UINT64_MAX;
+    cfg.monitor_jitter = 0;
+    size_t len;
+    const uint8_t *w = roz_test_controller("constant_velocity", &len);
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    double closest = INFINITY, worst = -INFINITY;
+    const char *worst_name = "";
+    for (int t = 0; t < ticks; t++) {
+        { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
+        const double *s = truth();
+        for (uint16_t c = 0; c < m->n_commands; c++) {
+            const roz_channel_t *cc = &m->commands[c];
+            if ((cc->type != ROZ_IF_VELOCITY && cc->type != ROZ_IF_EFFORT) ||
+                cc->position_state == ROZ_CHANNEL_UNPAIRED)
+                continue;
+            const roz_channel_t *ps = &m->states[cc->position_state];
+            double over = s[cc->position_state] - ps->max; /* > 0: past the limit */
+            double left = ps->max - roz_manifest_limit_margin(ps) - s[cc->position_state];
+            if (over > worst) {
+                worst = over;
+                worst_name = ps->name;
+            }
+            if (left < closest)
+                closest = left;
+            if (over > roz_manifest_limit_margin(ps))
+                fail_msg("%s tick %d: %s at %.4f, %.4f past its limit %.4f", robot, t,
+                         ps->name, s[cc->position_state], over, ps->max);
+        }
+    }
+    assert_int_equal(mj.violations, 0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    print_message("%s into its limits: closest %.4f inside the limit less margin, furthest "
+                  "%.4f past a limit (%s)\n", robot, closest, worst, worst_name);
+    roz_runtime_deinit(&rt);
+    roz_port_close(&p);
+    return closest;
+}
+
+/* A velocity-commanded UR5 joint stops inside its limit less margin (the
+ * filter brakes in time); the G1 hung on a gantry, every joint pushed by a
+ * feed-forward effort toward its upper limit, gets no effort past it. */
+static void test_mujoco_stops_at_limits(void **state)
+{
+    (void)state;
+    double ur5 = run_into_limits("ur5", NULL, 2500);
+    assert_true(ur5 < 0.05); /* a joint got there */
+    double g1 = run_into_limits("unitree_g1", "gantry=0", 1000);
+    assert_true(g1 < 0.1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_mujoco_stops_g1),
+        cmocka_unit_test(test_mujoco_stops_at_limits),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
