@@ -317,7 +317,47 @@ static double hold_latch(const roz_filter_t *f, uint16_t i, const double *state)
 
     if (!isfinite(p))
         return measured;
-    return clampd(f->last[i], measured - band, measured + band);
+    double setpoint = f->last[i];
+    uint16_t k = f->hold_kp[i];
+    if (k != UINT16_MAX) {
+        /* the torque the joint was held with, kept under the hold gain: a
+         * soft balancing stand's setpoints are far from where its joints
+         * are, and a stiffer gain on them would push it over
+         * (test_mujoco_stops_g1, the balancing stand's rows) */
+        double kp_was = f->last[k];
+        double kp_hold = roz_filter_safe_default(f, k, state);
+        kp_hold = clampd(kp_hold, f->manifest->commands[k].min, f->manifest->commands[k].max);
+        setpoint = roz_hold_keep_torque(setpoint, measured, kp_was, kp_hold);
+    }
+    return clampd(setpoint, measured - band, measured + band);
+}
+
+/* The length of a channel name's joint part, before its last '/'; the
+ * whole name without one. */
+static size_t joint_part(const char *name)
+{
+    const char *slash = strrchr(name, '/');
+    return slash != NULL ? (size_t)(slash - name) : strlen(name);
+}
+
+/* Each hold channel's stiffness command: the one of its joint (the same
+ * name before the '/'). Start-up only: a loop over the channels each. */
+static void find_hold_gains(roz_filter_t *f, const roz_manifest_t *m)
+{
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        f->hold_kp[i] = UINT16_MAX;
+        if (m->commands[i].safe_default != ROZ_SAFE_HOLD)
+            continue;
+        size_t len = joint_part(m->commands[i].name);
+        for (uint16_t k = 0; k < m->n_commands; k++) {
+            if (m->commands[k].type == ROZ_IF_STIFFNESS &&
+                joint_part(m->commands[k].name) == len &&
+                strncmp(m->commands[k].name, m->commands[i].name, len) == 0) {
+                f->hold_kp[i] = k;
+                break;
+            }
+        }
+    }
 }
 
 /* ---- public -------------------------------------------------------------- */
@@ -345,6 +385,7 @@ int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
             m->commands[i].position_state != ROZ_CHANNEL_UNPAIRED)
             f->paired[f->n_paired++] = i;
     }
+    find_hold_gains(f, m);
     /* each one's position state, and its limits less the margin as step 4
      * computes them */
     for (uint16_t k = 0; k < f->n_paired; k++) {

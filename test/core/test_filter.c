@@ -259,6 +259,13 @@ static void test_filter_hold_latches(void **st)
         state[i] = 0.0;
     state[s] = 0.3;
     roz_filter_prime(&f, state);
+    /* the knee held at the hold gain (its stiffness's safe default): the
+     * torque kept is the setpoint's own */
+    const uint16_t kpi = f.hold_kp[knee];
+    assert_int_equal(m->commands[kpi].type, ROZ_IF_STIFFNESS);
+    const double kp_hold = m->commands[kpi].default_value;
+    assert_true(kp_hold > 0.0);
+    f.last[kpi] = kp_hold;
     memcpy(target, f.last, sizeof target);
     target[knee] = 0.34; /* the setpoint; the joint sags below it */
     roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
@@ -287,6 +294,18 @@ static void test_filter_hold_latches(void **st)
     roz_filter_apply(&f, target, state, ROZ_STOP_CONTROLLED, out);
     assert_near(out[knee], f.hold[knee], 0.0);
     assert_true(isfinite(out[knee]));
+    /* a soft gain (a quarter of the hold gain): the hold keeps its torque,
+     * kp_hold * (hold - q) = kp_was * (setpoint - q), so a balancing stand's
+     * offset setpoints do not push it over (test_mujoco_stops_g1) */
+    state[s] = 0.3;
+    target[knee] = 0.34;
+    target[kpi] = kp_hold / 4.0;
+    roz_filter_apply(&f, target, state, ROZ_STOP_NONE, out);
+    f.last[kpi] = kp_hold / 4.0; /* past its rate cap, as a controller that ramped it */
+    f.last[knee] = 0.34;
+    roz_filter_apply(&f, target, state, ROZ_STOP_IMMEDIATE, out);
+    assert_near(out[knee], 0.3 + 0.04 / 4.0, 1e-12);
+    assert_near(out[kpi], kp_hold, 0.0);
 }
 
 static void test_filter_init_errors(void **st)

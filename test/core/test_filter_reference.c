@@ -118,7 +118,23 @@ static void ref_apply(ref_t *r, const double *target, const double *state, roz_s
             double measured = ref_safe_default(r, i, state);
             double p = state != NULL ? state[c->position_state] : NAN;
             double band = ROZ_FILTER_HOLD_TICKS * c->max_rate;
-            r->hold[i] = isfinite(p) ? ref_clamp(r->last[i], measured - band, measured + band)
+            double sp = r->last[i];
+            /* the joint's stiffness command (same name up to the '/'): the
+             * setpoint keeps the torque under the hold gain */
+            const char *slash = strrchr(c->name, '/');
+            size_t len = slash != NULL ? (size_t)(slash - c->name) : strlen(c->name);
+            for (uint16_t k = 0; k < m->n_commands; k++) {
+                const roz_channel_t *g = &m->commands[k];
+                if (g->type != ROZ_IF_STIFFNESS || strncmp(g->name, c->name, len) != 0 ||
+                    g->name[len] != '/')
+                    continue;
+                double kp_hold = ref_clamp(g->default_value, g->min, g->max);
+                double v = measured + r->last[k] / kp_hold * (sp - measured);
+                if (kp_hold > 0.0 && isfinite(v))
+                    sp = v;
+                break;
+            }
+            r->hold[i] = isfinite(p) ? ref_clamp(sp, measured - band, measured + band)
                                      : measured;
         }
         r->stopping = 1;

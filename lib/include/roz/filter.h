@@ -28,11 +28,29 @@
 extern "C" {
 #endif
 
-/** A hold (ROZ_SAFE_HOLD) keeps the last setpoint no further from the
+/** A hold (ROZ_SAFE_HOLD) keeps the torque the joint was held with: where
+ *  the joint has a stiffness command (the same name before its '/'), the
+ *  setpoint moves toward the measured position by the ratio of the last
+ *  applied stiffness to the stiffness's safe default (the hold gain), so
+ *  kp * (setpoint - position) is what it was when the stop latched, however
+ *  soft the controller's gains were. The setpoint stays no further from the
  *  measured position than this many rate caps (max_rate) of its channel:
  *  enough for the sag of a standing humanoid's joints under gravity
  *  (test/ports/mujoco/test_mujoco_stops.c), little against a joint held back. */
 #define ROZ_FILTER_HOLD_TICKS 5.0
+
+/** The setpoint that keeps a joint's torque when its stiffness changes
+ *  from @p kp_was to @p kp_hold: measured + (kp_was / kp_hold) * (setpoint -
+ *  measured), so kp_hold * (result - measured) = kp_was * (setpoint -
+ *  measured). @p setpoint as it is when a value is not finite or kp_hold is
+ *  not above 0. The filter's hold and the ports' watchdog holds use it.
+ *  Context: any; RT-safe. */
+static inline double roz_hold_keep_torque(double setpoint, double measured, double kp_was,
+                                          double kp_hold)
+{
+    double v = measured + (kp_was / kp_hold) * (setpoint - measured);
+    return kp_hold > 0.0 && v - v == 0.0 ? v : setpoint; /* v - v: NaN unless finite */
+}
 
 /** How the filter treats the controller's targets this tick. */
 typedef enum roz_stop {
@@ -100,6 +118,9 @@ typedef struct roz_filter {
     int      ROZ_PRIVATE(stopping); /* a stop is on: hold[] latched at its first tick */
     double   ROZ_PRIVATE(hold)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: the safe
                                                          default the stop latched */
+    uint16_t ROZ_PRIVATE(hold_kp)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: their
+                                                        joint's stiffness command, or
+                                                        UINT16_MAX: none */
     double   ROZ_PRIVATE(last)[ROZ_CFG_MAX_COMMANDS]; /* last applied value per channel */
     roz_filter_counters_t ROZ_PRIVATE(counters);
     uint32_t ROZ_PRIVATE(channel_clamps)[ROZ_CFG_MAX_COMMANDS];

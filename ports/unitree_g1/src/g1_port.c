@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "g1_map.h"
+#include "roz/filter.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts ----------------------------------------------------------
@@ -285,8 +286,11 @@ static int g1_send(void *port, void *sample, const double *cmd, const double *ex
     if (!atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed))
         atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
     roz__g1_fill(g1, cmd, extra, (uint8_t)mm, out);
-    for (uint16_t k = 0; k < g1->n_joints; k++)
+    for (uint16_t k = 0; k < g1->n_joints; k++) {
         g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
+        g1->tx_last_kp[k] = out->motor_cmd[g1->slot[k]].kp;
+        g1->tx_meas_q[k] = extra[g1->slot[k]];
+    }
     return 1;
 }
 
@@ -299,12 +303,23 @@ static int g1_safe(void *port, void *sample)
     return 1;
 }
 
+/* The tick is silent: each joint held at the hold gain (its stiffness
+ * default) with the torque it last went out with, as the filter's hold
+ * does (roz_hold_keep_torque(); test_mujoco_stops_g1, the balancing stand's
+ * watchdog row) */
 static int g1_watchdog(void *port, void *sample)
 {
     roz_unitree_g1_t *g1 = port;
+    const roz_manifest_t *m = g1->m;
+    double q[ROZ_UNITREE_G1_SLOTS];
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
-    roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, 1, (uint8_t)(locked & 0xffu),
-                         sample);
+    for (uint16_t k = 0; k < g1->n_joints; k++) {
+        int32_t kp = g1->joint[k].kp_cmd;
+        q[k] = kp >= 0 ? roz_hold_keep_torque(g1->tx_last_q[k], g1->tx_meas_q[k],
+                                              g1->tx_last_kp[k], m->commands[kp].default_value)
+                       : g1->tx_last_q[k];
+    }
+    roz__g1_fill_damping(g1, q, g1->shutdown_kd, 1, (uint8_t)(locked & 0xffu), sample);
     return 1;
 }
 

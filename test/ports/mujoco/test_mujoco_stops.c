@@ -87,17 +87,21 @@ static const double *truth(void)
 /* What the G1 port's command watchdog sends once the tick has been silent
  * for command_timeout_us (g1_watchdog() in ports/unitree_g1, through the
  * command path every DDS port shares, ports/dds/src/dds_cmd.c): the
- * positions last sent, kp each joint's stiffness default (the hold gain),
+ * positions last sent moved to keep the torque they held the joint with
+ * (roz_hold_keep_torque()), kp each joint's stiffness default (the hold gain),
  * kd its damping default (shutdown_damping's default), nothing else. The
  * mujoco port has no sender of its own: the test writes it in the port's
  * place, every tick. */
-static void watchdog_command(const roz_manifest_t *m, const double *last, double *cmd)
+static void watchdog_command(const roz_manifest_t *m, const double *last, const double *state,
+                             double *cmd)
 {
     static roz_joint_channels_t j[ROZ_MUJOCO_MAX_JOINTS];
     double q[ROZ_MUJOCO_MAX_JOINTS];
     for (uint16_t k = 0; k < mj.n_joints; k++) {
         j[k] = mj.joints[k].ch;
-        q[k] = last[j[k].q_cmd];
+        /* the torque the last command held the joint with, at the hold gain */
+        q[k] = roz_hold_keep_torque(last[j[k].q_cmd], state[j[k].q_state], last[j[k].kp_cmd],
+                                    m->commands[j[k].kp_cmd].default_value);
     }
     roz_joints_hold(m, j, mj.n_joints, q, m->commands[j[0].kd_cmd].default_value, cmd);
     for (uint16_t k = 0; k < mj.n_joints; k++)
@@ -155,7 +159,8 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
             /* the tick is gone: the robot keeps the last command until the
              * watchdog trips, then gets the watchdog's, every period */
             if (t == STOP_TICK + WATCHDOG_TICKS)
-                watchdog_command(m, roz_runtime_last_commands(&rt), wd);
+                watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
+                                 wd);
             if (t >= STOP_TICK + WATCHDOG_TICKS)
                 assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
             (void)roz_port_read(&p, st, m->n_states);
@@ -214,6 +219,14 @@ static const stop_case_t cases[] = {
       ROZ_FAULT_LINK },
     { "command watchdog", STOP_SILENT, "stops_stand", NULL, NULL, 0 },
     { "swap (stiff stand)", STOP_SWAP, "stops_stand", NULL, "stops_swap_in", 0 },
+    /* the example's balancing stand: soft ankles (kp 40) whose setpoints sit
+     * away from where the joints are; the hold keeps the torque it had */
+    { "e-stop (balancing stand)", STOP_ESTOP, "g1_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "stale (balancing stand)", STOP_PORT, "g1_stand", "drop=1000:1100", NULL,
+      ROZ_FAULT_STALE },
+    { "link (balancing stand)", STOP_PORT, "g1_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "watchdog (balancing stand)", STOP_SILENT, "g1_stand", NULL, NULL, 0 },
 };
 
 static void test_mujoco_stops_g1(void **state)

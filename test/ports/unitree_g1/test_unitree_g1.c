@@ -60,6 +60,7 @@
 #include "port_fixture.h"
 #include "port_test.h"
 #include "roz/runtime.h"
+#include "roz/filter.h"
 #include "roz/port/unitree_g1.h"
 #include "support.h"
 #include "unitree_g1_fixture.h"
@@ -730,6 +731,23 @@ static uint64_t fake_good(void)
  * order of the joints): mode 1, q, kp the stiffness channel's default,
  * dq 0, tau 0, kd the damping channel's default, for every joint; the
  * unused slots zero. */
+/* The positions the watchdog's hold sends after the command in cmd[] went
+ * out against the state last read: each joint's setpoint moved to keep
+ * the torque it went out with at the hold gain (roz_hold_keep_torque()),
+ * from the values as the wire carried them. */
+static void watchdog_positions(double *q)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
+        const roz_channel_t *kc = &m->commands[cmd_index(j, "stiffness")];
+        double sent_q = (float)cmd[cmd_index(j, "position")];
+        double sent_kp = (float)cmd[cmd_index(j, "stiffness")];
+        double measured = (float)state[qc->position_state];
+        q[j] = roz_channel_clamp_float(qc, roz_hold_keep_torque(sent_q, measured, sent_kp,
+                                                                kc->default_value));
+    }
+}
+
 static int is_watchdog_hold(const roz_fake_g1_cmd_t *c, const double *q)
 {
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
@@ -946,8 +964,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
     /* the last write, then the tick stops */
     uint64_t before = fake_good();
     distinct_command(6);
-    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
-        q[j] = cmd[cmd_index(j, "position")];
+    watchdog_positions(q);
     write_g1();
     WAIT_UNTIL(counters().command_timeouts == 1);
     uint64_t tripped = fake_good();
@@ -1058,8 +1075,7 @@ static void test_g1_watchdog_event_driven(void **st)
     roz_g1fx_send();
     assert_int_equal(read_g1(), 1);
     distinct_command(1);
-    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
-        q[j] = cmd[cmd_index(j, "position")];
+    watchdog_positions(q);
     write_g1();
     get_command(&c);
     assert_true(is_written(&c));
@@ -1093,8 +1109,7 @@ static void test_g1_watchdog_spinning_writer(void **st)
     fresh = 0;
     WAIT_UNTIL((fresh = fresh || read_g1() == 1));
     distinct_command(1);
-    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++)
-        q[j] = cmd[cmd_index(j, "position")];
+    watchdog_positions(q);
     write_g1();
     get_command(&c);
     assert_true(is_written(&c));

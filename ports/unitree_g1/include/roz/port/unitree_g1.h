@@ -153,6 +153,9 @@ typedef struct roz_unitree_g1 {
     uint32_t               ROZ_PRIVATE(tx_mode_machine); /* this pass's, for its fill */
     /* positions last commanded, by manifest joint */
     double                 ROZ_PRIVATE(tx_last_q)[ROZ_UNITREE_G1_SLOTS];
+    /* and the stiffness and the measured position they went out with */
+    double                 ROZ_PRIVATE(tx_last_kp)[ROZ_UNITREE_G1_SLOTS];
+    double                 ROZ_PRIVATE(tx_meas_q)[ROZ_UNITREE_G1_SLOTS];
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)   ROZ_PRIVATE(c_frames), ROZ_PRIVATE(c_full), ROZ_PRIVATE(c_motor_fault),
