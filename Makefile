@@ -54,6 +54,8 @@ DEMO_DIR = $(BUILD)/demo
 # (where EGL works) land in $(DEMO_DIR). test/run_demo.cmake runs
 # the same and checks the G1 stands at the end.
 DEMO_PUSH = 80,0,0@pelvis@2500:2550
+# the plot's joints: the legs' pitch chain, where the push shows
+DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
 demo: build
 	@mkdir -p $(DEMO_DIR)
 	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1 --port mujoco \
@@ -61,7 +63,7 @@ demo: build
 	    --param push=$(DEMO_PUSH) \
 	    --trace $(DEMO_DIR)/g1_stand.csv --record $(DEMO_DIR)/g1_stand.mcap
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/g1_stand.csv $(DEMO_DIR)/g1_stand.png \
-	    --span "5:5.1:push 80 N" \
+	    --span "5:5.1:push 80 N" --channels '$(DEMO_CHANNELS)' \
 	    --title "Unitree G1, balancing stand, MuJoCo, pushed at 5 s"
 	.venv/bin/python tools/render_frames.py $(DEMO_DIR)/g1_stand.csv \
 	    $(DEMO_DIR)/g1_stand_frames.png --at 0,1,4.9,5.2,5.6,10 \

@@ -13,7 +13,7 @@ if(DEMO STREQUAL "g1")
   set(cmd ${ROZRUN} --robot unitree_g1 --port mujoco --controller ${CONTROLLER}
           --ticks ${ticks} --param push=80,0,0@pelvis@2500:2550
           --trace ${OUT}/trace.csv --record ${OUT}/run.mcap)
-  set(plot_args --span "5:5.1:push 80 N")
+  set(plot_args --span "5:5.1:push 80 N" --channels "(hip_pitch|knee|ankle_pitch)_joint/position")
   set(wants "ticks                  5000" "faults                 none"
             "ground contacts        [0-9]+: left_ankle_roll_link, right_ankle_roll_link\n"
             "base                   height 0\\.[7-9][0-9]* m \\(lowest 0\\.[7-9]"

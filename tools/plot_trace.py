@@ -194,6 +194,7 @@ def figure(runs, title="", pattern=None, spans=()):
         draw([axes[r][k] for r in range(2 * pairs)], header, cols, label, pattern)
         if truth:
             draw_truth(axes[rows - 1][k], cols)
+            axes[rows - 2][k].set_xlabel("")  # the time axis is the truth's, below
             axes[rows - 1][k].set_xlabel("time [s]")
         for a, b, what in spans:
             for r in range(rows):
