@@ -1,12 +1,19 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Stand for the EngineAI PM01: joint-space PD on all 24 joints toward a
- * slightly crouched pose, run by the robot's own PD: position target, zero
+ * slightly crouched pose, run by the robot's own PD (position target, zero
  * velocity and feed-forward torque, and the gains, which ramp in over the
- * first second. Leg gains are the vendor's RL example's (kp 70/50/50/70/20/20,
- * kd 7/5/5/7/0.2/0.2), waist, arm and head stiffness too (200, 250, 100);
- * their damping (5, 5, 2) and the pose are ours. */
+ * first second), with the G1 stand's balance (stand.h): ankle pitch from
+ * the pelvis's sway over the ankles, hip pitch from its tilt, read off the
+ * IMU. Hip and knee gains are the vendor's RL example's (kp 70/50/50/70,
+ * kd 7/5/5/7), waist, arm and head stiffness too (200, 250, 100); the
+ * ankles' (kp 100, kd 3: the example's 20 lets the robot fall within 2 s in
+ * MuJoCo), the damping of the rest (5, 5, 2) and the pose are ours. */
 #include "stand.h"
 #include "engineai_pm01_channels.h"
+
+#ifndef STAND_BALANCE
+#define STAND_BALANCE 1
+#endif
 
 #define JOINTS 24
 #define POS ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_POSITION
@@ -14,6 +21,7 @@
 #define KP ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_STIFFNESS
 #define KD ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_DAMPING
 #define TAU ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_EFFORT
+#define RATE_HZ ((double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ)
 
 /* Standing pose in the robot's joint order (rad). */
 static const double pose[JOINTS] = {
@@ -25,16 +33,40 @@ static const double pose[JOINTS] = {
     0.0,                               /* head yaw */
 };
 static const double kp[JOINTS] = {
-    70, 50, 50, 70, 20, 20, 70, 50, 50, 70, 20, 20, 200,
+    70, 50, 50, 70, 100, 100, 70, 50, 50, 70, 100, 100, 200,
     250, 250, 250, 250, 250, 250, 250, 250, 250, 250, 100,
 };
 static const double kd[JOINTS] = {
-    7, 5, 5, 7, 0.2, 0.2, 7, 5, 5, 7, 0.2, 0.2, 5,
+    7, 5, 5, 7, 3, 3, 7, 5, 5, 7, 3, 3, 5,
     5, 5, 5, 5, 5, 5, 5, 5, 5, 5, 2,
+};
+
+/* Target offsets per rad of lean and per rad/s (stand.h): the G1's
+ * ankle and hip strategy, on the PM01's legs (the same joint order:
+ * hip pitch, roll, yaw, knee, ankle pitch, roll). */
+static const stand_balance_t balance = {
+    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
+    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
+    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
+    .limit = 0.4, .sway = -0.05,
 };
 
 ROZ_PROCESS(tick)
 {
-    stand_step(tick, (double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ,
-               JOINTS, pose, kp, kd, POS, VEL, KP, KD, TAU);
+    double target[JOINTS];
+    for (int j = 0; j < JOINTS; j++)
+        target[j] = pose[j];
+#if STAND_BALANCE
+    static double sway_prev; /* the last valid sway, for its rate */
+    static int have_prev;
+    double ramp = (double)tick / RATE_HZ;
+    stand_lean_t lean = stand_lean(ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ORIENTATION_X,
+                                   ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
+                                   ROZ_ENGINEAI_PM01_STATE_J00_HIP_PITCH_L_POSITION);
+    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
+    have_prev = lean.valid;
+    sway_prev = lean.sway;
+    stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
+#endif
+    stand_step(tick, RATE_HZ, JOINTS, target, kp, kd, POS, VEL, KP, KD, TAU);
 }
