@@ -90,7 +90,10 @@ int main(int argc, char **argv)
     uint8_t *gantry = malloc((size_t)ticks);
     uint64_t *roz_ns = malloc((size_t)ticks * sizeof *roz_ns);
     uint64_t *bare_ns = malloc((size_t)ticks * sizeof *bare_ns);
-    if (ctrl == NULL || gantry == NULL || roz_ns == NULL || bare_ns == NULL)
+    uint64_t *ctl_ns = malloc((size_t)ticks * sizeof *ctl_ns); /* process() of each tick */
+    uint64_t *own_ns = malloc((size_t)ticks * sizeof *own_ns); /* the tick less process() */
+    if (ctrl == NULL || gantry == NULL || roz_ns == NULL || bare_ns == NULL || ctl_ns == NULL ||
+        own_ns == NULL)
         return 2;
     int rc = roz_runtime_tick(&rt); /* tick 0: the first read steps nothing */
     uint64_t steps0 = mj.steps, roz_total = 0, bare_total = 0;
@@ -100,6 +103,9 @@ int main(int argc, char **argv)
             rc = roz_runtime_tick(&rt);
             roz_ns[t] = now() - a;
             roz_total += roz_ns[t];
+            roz_runtime_stats_t st;
+            ctl_ns[t] = roz_runtime_stats(&rt, &st) == ROZ_OK ? st.last_process_ns : 0u;
+            own_ns[t] = roz_ns[t] > ctl_ns[t] ? roz_ns[t] - ctl_ns[t] : 0u;
             memcpy(ctrl + (size_t)t * nu, mj.data->ctrl, (size_t)nu * sizeof *ctrl);
             gantry[t] = mj.gantry_eq >= 0 ? mj.data->eq_active[mj.gantry_eq] : 0;
         }
@@ -136,10 +142,19 @@ int main(int argc, char **argv)
            100.0 * ((double)roz_total / (double)bare_total - 1.0),
            (roz_total - (double)bare_total) / 1e3 / ticks, sim_s / (roz_total / 1e9),
            sim_s / (bare_total / 1e9));
+    uint64_t ctl_total = 0;
+    for (int t = 0; t < ticks; t++)
+        ctl_total += ctl_ns[t];
+    printf("  of the roz tick, process() (the controller) %.1f us; the rest adds %.1f %%\n",
+           ctl_total / 1e3 / ticks,
+           100.0 * ((double)(roz_total - ctl_total) / (double)bare_total - 1.0));
     printf("  the bare loop's state differs from roz's by %g (sum |qpos|): %s; pelvis %.3f m\n",
            drift, drift == 0.0 ? "the same steps" : "NOT the same steps", base.pos[2]);
     bench_json_timing(&json, "unitree_g1: whole roz tick", bench_stats(roz_ns, (size_t)ticks));
     bench_json_timing(&json, "unitree_g1: bare mj_step", bench_stats(bare_ns, (size_t)ticks));
+    bench_json_timing(&json, "unitree_g1: process()", bench_stats(ctl_ns, (size_t)ticks));
+    bench_json_timing(&json, "unitree_g1: roz tick less process()",
+                      bench_stats(own_ns, (size_t)ticks));
     bench_json_value(&json, "unitree_g1: real-time factor (roz)", sim_s / (roz_total / 1e9), "x");
     bench_json_value(&json, "unitree_g1: real-time factor (bare)", sim_s / (bare_total / 1e9), "x");
     bench_json_value(&json, "unitree_g1: open", open_ns / 1e6, "ms");
@@ -152,5 +167,7 @@ int main(int argc, char **argv)
     free(gantry);
     free(roz_ns);
     free(bare_ns);
+    free(ctl_ns);
+    free(own_ns);
     return 0;
 }
