@@ -6,15 +6,32 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "layout.h"
 #include "roz/format.h"
+
+int roz__layout_compare(const void *caller, const void *mine, const roz__layout_field_t *fields,
+                        size_t n, const char *why, char *err, size_t errlen)
+{
+    for (size_t i = 0; i < n; i++) {
+        uint32_t theirs, ours;
+        memcpy(&theirs, (const char *)caller + fields[i].at, sizeof theirs);
+        memcpy(&ours, (const char *)mine + fields[i].at, sizeof ours);
+        if (theirs != ours) {
+            if (err != NULL && errlen > 0)
+                roz_format(err, errlen,
+                           "%s is %lu in the application, %lu in libroz_core: build both with the "
+                           "same ROZ_CONFIG_FILE (%s)",
+                           fields[i].name, (unsigned long)theirs, (unsigned long)ours, why);
+            return ROZ_ECONFIG;
+        }
+    }
+    return ROZ_OK;
+}
 
 int roz_port_layout_check(const roz_port_layout_t *caller, char *err, size_t errlen)
 {
     static const roz_port_layout_t mine = ROZ_PORT_LAYOUT_INIT;
-    static const struct {
-        const char *name;
-        size_t      at;
-    } fields[] = {
+    static const roz__layout_field_t fields[] = {
         { "ROZ_CFG_MAX_COMMANDS", offsetof(roz_port_layout_t, max_commands) },
         { "ROZ_CFG_MAX_STATES", offsetof(roz_port_layout_t, max_states) },
         { "ROZ_CFG_MAX_JOINTS", offsetof(roz_port_layout_t, max_joints) },
@@ -27,21 +44,8 @@ int roz_port_layout_check(const roz_port_layout_t *caller, char *err, size_t err
 
     if (caller == NULL)
         return ROZ_EINVAL;
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
-        uint32_t theirs, ours;
-        memcpy(&theirs, (const char *)caller + fields[i].at, sizeof theirs);
-        memcpy(&ours, (const char *)&mine + fields[i].at, sizeof ours);
-        if (theirs != ours) {
-            if (err != NULL && errlen > 0)
-                roz_format(err, errlen,
-                           "%s is %lu in the application, %lu in libroz_core: build both with the "
-                           "same ROZ_CONFIG_FILE (the port's instance would be written past its "
-                           "end)",
-                           fields[i].name, (unsigned long)theirs, (unsigned long)ours);
-            return ROZ_ECONFIG;
-        }
-    }
-    return ROZ_OK;
+    return roz__layout_compare(caller, &mine, fields, sizeof fields / sizeof fields[0],
+                               "the port's instance would be written past its end", err, errlen);
 }
 
 /* The misbuilt port's open(): the instance is not touched (self is NULL). */

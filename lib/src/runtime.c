@@ -7,6 +7,7 @@
 #include "roz/format.h"
 #include "roz/text.h"
 
+#include "layout.h"
 #include "recorder_push.h"
 #include "seqlock.h"
 
@@ -791,10 +792,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg);
 int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err, size_t errlen)
 {
     static const roz_runtime_layout_t mine = ROZ_RUNTIME_LAYOUT_INIT;
-    static const struct {
-        const char *name;
-        size_t      at;
-    } fields[] = {
+    static const roz__layout_field_t fields[] = {
         { "the layout version", offsetof(roz_runtime_layout_t, version) },
         { "ROZ_CFG_MAX_COMMANDS", offsetof(roz_runtime_layout_t, max_commands) },
         { "ROZ_CFG_MAX_STATES", offsetof(roz_runtime_layout_t, max_states) },
@@ -813,19 +811,9 @@ int roz_runtime_layout_check(const roz_runtime_layout_t *caller, char *err, size
         return ROZ_EINVAL;
     /* the options first: they say what to change; a size alone differs
      * when another option or a compiler setting changed the layout */
-    for (size_t i = 0; i < sizeof fields / sizeof fields[0]; i++) {
-        uint32_t theirs, ours;
-        memcpy(&theirs, (const char *)caller + fields[i].at, sizeof theirs);
-        memcpy(&ours, (const char *)&mine + fields[i].at, sizeof ours);
-        if (theirs != ours) {
-            if (err != NULL && errlen > 0)
-                roz_format(err, errlen,
-                           "%s is %lu in the application, %lu in libroz_core: build both with the "
-                           "same ROZ_CONFIG_FILE (and compiler settings)",
-                           fields[i].name, (unsigned long)theirs, (unsigned long)ours);
-            return ROZ_ECONFIG;
-        }
-    }
+    if (roz__layout_compare(caller, &mine, fields, sizeof fields / sizeof fields[0],
+                            "and compiler settings", err, errlen) != ROZ_OK)
+        return ROZ_ECONFIG;
     if (err != NULL && errlen > 0)
         err[0] = '\0';
     return ROZ_OK;
