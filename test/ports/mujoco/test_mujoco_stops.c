@@ -86,7 +86,7 @@ static const double *truth(void)
     return mj.hist[(mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1)];
 }
 
-/* What the G1 port's command watchdog sends once the tick has been silent
+/* What the DDS ports' command watchdogs send once the tick has been silent
  * for command_timeout_us (g1_watchdog() in ports/unitree_g1, and the ROS 2
  * ports' bridge_watchdog() in ports/ros2, the PM01's, through the command
  * path every DDS port shares, ports/dds/src/dds_cmd.c): the
@@ -112,7 +112,8 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
 }
 
 /* The pelvis height (m) the stand stands above before the stop: the G1's
- * 0.783 m, the PM01's crouch about 0.68 m (test_mujoco_stand.c). */
+ * stand is at 0.783 m, the PM01's crouch lower (0.68 m its lowest in 30 s,
+ * test_mujoco_stand.c). */
 static double standing_height(const char *robot)
 {
     return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : 0.7;
