@@ -13,6 +13,7 @@
 
 #include "ros2_map.h"
 #include "ros2_msgs.h"
+#include "roz/filter.h"
 #include "roz/hal/params.h"
 
 /* ---- frame layouts -------------------------------------------------------------
@@ -400,8 +401,11 @@ static int bridge_send(void *port, void *sample, const double *cmd, const double
 {
     roz_ros2_bridge_t *b = port;
     roz__ros2_joints(b, cmd, q, b->tx_joint);
-    for (uint16_t s = 0; s < b->n_slots; s++)
+    for (uint16_t s = 0; s < b->n_slots; s++) {
         b->tx_last_q[s] = b->tx_joint[s].q;
+        b->tx_last_kp[s] = b->tx_joint[s].kp;
+        b->tx_meas_q[s] = q[s]; /* the latest finite one, NaN until there is one */
+    }
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
@@ -412,10 +416,27 @@ static int bridge_safe(void *port, void *sample)
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
+/* The tick is silent: each joint held at the hold gain (its stiffness
+ * default) with the torque it last went out with, as the filter's hold and
+ * the G1 port's watchdog do (roz_hold_keep_torque(): a soft balancing
+ * stand's setpoints sit away from its joints, and the hold gain on them
+ * would push it over; test_pm01_watchdog_keeps_the_torque,
+ * test_mujoco_stops_pm01); the positions then clamped inside the manifest
+ * by roz__ros2_damping(). A position never measured finite keeps the
+ * setpoint last sent. */
 static int bridge_watchdog(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 1, b->tx_joint);
+    const roz_manifest_t *m = b->m;
+    double q[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    for (uint16_t s = 0; s < b->n_slots; s++) {
+        int16_t k = b->slot_joint[s];
+        int16_t kp = k >= 0 && b->joint[k].q_cmd >= 0 ? b->joint[k].kp_cmd : -1;
+        q[s] = kp >= 0 ? roz_hold_keep_torque(b->tx_last_q[s], b->tx_meas_q[s], b->tx_last_kp[s],
+                                              m->commands[kp].default_value)
+                       : b->tx_last_q[s];
+    }
+    roz__ros2_damping(b, q, b->shutdown_kd, 1, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
 }
 

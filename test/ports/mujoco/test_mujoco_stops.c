@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Every stop judged by what it does to a standing G1 (SAFETY.md, "Stops in
- * physics"): the 29-DoF G1 stands on a stiff stand for 2 simulated seconds,
- * then each stop in turn (e-stop, the controller's e-stop request, a
- * dropped stream, a trap, an overrun, the robot's board restarting, the
- * tick falling silent under the command watchdog, a controller swap); 2 s
- * later the pelvis must be up and no joint may have moved fast. Simulated
- * time: the same numbers on every run. */
+/* Every stop judged by what it does to a standing humanoid (SAFETY.md,
+ * "Stops in physics"): the 29-DoF G1 stands on a stiff stand for 2
+ * simulated seconds, then each stop in turn (e-stop, the controller's
+ * e-stop request, a dropped stream, a trap, an overrun, the robot's board
+ * restarting, the tick falling silent under the command watchdog, a
+ * controller swap); 2 s later the pelvis must be up and no joint may have
+ * moved fast. The PM01 the same, on its example balancing stand
+ * (test_mujoco_stops_pm01). Simulated time: the same numbers on every
+ * run. */
 /* white-box in part: reads the port's truth history (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
@@ -84,9 +86,10 @@ static const double *truth(void)
     return mj.hist[(mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1)];
 }
 
-/* What the G1 port's command watchdog sends once the tick has been silent
- * for command_timeout_us (g1_watchdog() in ports/unitree_g1, through the
- * command path every DDS port shares, ports/dds/src/dds_cmd.c): the
+/* What the DDS ports' command watchdogs send once the tick has been silent
+ * for command_timeout_us (g1_watchdog() in ports/unitree_g1, and the ROS 2
+ * ports' bridge_watchdog() in ports/ros2, the PM01's, through the command
+ * path every DDS port shares, ports/dds/src/dds_cmd.c): the
  * positions last sent moved to keep the torque they held the joint with
  * (roz_hold_keep_torque()), kp each joint's stiffness default (the hold gain),
  * kd its damping default (shutdown_damping's default), nothing else. The
@@ -108,9 +111,18 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
         cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
 }
 
-static void run_case(const stop_case_t *c, stop_outcome_t *o)
+/* The pelvis height (m) the stand stands above before the stop: the G1's
+ * stand is at 0.783 m, the PM01's crouch lower (0.68 m its lowest in 30 s,
+ * test_mujoco_stand.c). */
+static double standing_height(const char *robot)
 {
-    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : 0.7;
+}
+
+/* Case @p c on built-in @p robot. */
+static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t *o)
+{
+    const roz_manifest_t *m = roz_builtin_find(robot);
     assert_non_null(m);
     uint16_t n = (uint16_t)(m->n_commands / 5);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
@@ -174,7 +186,7 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
         }
         if (t == STOP_TICK - 1) {
             roz_mujoco_base(&mj, &b);
-            if (!(b.pos[2] > 0.7))
+            if (!(b.pos[2] > standing_height(robot)))
                 fail_msg("%s: the stand is down before the stop: pelvis %.3f m", c->name,
                          b.pos[2]);
             assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -202,6 +214,11 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
                   m->states[n + o->peak_joint].name, o->faults);
     roz_runtime_deinit(&rt);
     roz_port_close(&p);
+}
+
+static void run_case(const stop_case_t *c, stop_outcome_t *o)
+{
+    run_case_on("unitree_g1", c, o);
 }
 
 /* ---- tests ------------------------------------------------------------------------ */
@@ -251,6 +268,63 @@ static void test_mujoco_stops_g1(void **state)
             bad++;
         }
     }
+    assert_int_equal(bad, 0);
+}
+
+/* The PM01 on its example balancing stand (pm01_stand: ankles kp 100, its
+ * setpoints moved by the IMU balance), each stop at 2 s; the controllers
+ * that stop themselves wrap it (controllers/stops_pm01.h). The watchdog's
+ * hold is the ROS 2 ports' (bridge_watchdog() in ports/ros2), written in
+ * the mujoco port's place. */
+#define PM01 "engineai_pm01"
+static const stop_case_t pm01_cases[] = {
+    { "pm01: no stop", STOP_NONE, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: e-stop", STOP_ESTOP, "pm01_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "pm01: e-stop request", STOP_FROM_CTL, "stops_pm01_estop_request", NULL, NULL,
+      ROZ_FAULT_ESTOP_REQUEST },
+    { "pm01: stale", STOP_PORT, "pm01_stand", "drop=1000:1100", NULL, ROZ_FAULT_STALE },
+    { "pm01: trap", STOP_FROM_CTL, "stops_pm01_trap", NULL, NULL, ROZ_FAULT_TRAP },
+    { "pm01: overrun (fuel)", STOP_FROM_CTL, "stops_pm01_overrun", NULL, NULL,
+      ROZ_FAULT_OVERRUN },
+    { "pm01: link (restart)", STOP_PORT, "pm01_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "pm01: command watchdog", STOP_SILENT, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: swap", STOP_SWAP, "pm01_stand", NULL, "stops_pm01_swap_in", 0 },
+};
+
+/* The PM01's crouch on pm01_stand settles slowly (0.75 m at 4 s, 0.68 m
+ * its lowest in 30 s: test_mujoco_stand.c): each stop must leave its
+ * pelvis, over the 2 s after the stop, within PM01_SAG (m) of where the
+ * stand without a stop has it 2 s after (the first case), the fault
+ * latched, no joint fast. */
+#define PM01_SAG 0.03
+static void test_mujoco_stops_pm01(void **state)
+{
+    (void)state;
+    int bad = 0;
+    double up = NAN;
+    for (size_t i = 0; i < sizeof pm01_cases / sizeof pm01_cases[0]; i++) {
+        stop_outcome_t o;
+        run_case_on(PM01, &pm01_cases[i], &o);
+        if (i == 0)
+            up = o.height; /* no stop: where the stand stands */
+        if ((o.faults & pm01_cases[i].fault) != pm01_cases[i].fault ||
+            (pm01_cases[i].fault == 0 && o.faults)) {
+            print_error("%s: faults 0x%02x, expected 0x%02x\n", pm01_cases[i].name, o.faults,
+                        pm01_cases[i].fault);
+            bad++;
+        }
+        if (!(o.height > up - PM01_SAG && o.lowest > up - PM01_SAG)) {
+            print_error("%s: the PM01 sank: pelvis %.3f m (lowest %.3f), %.3f m unstopped\n",
+                        pm01_cases[i].name, o.height, o.lowest, up);
+            bad++;
+        }
+        if (!(o.peak_speed < 1.0)) {
+            print_error("%s: a joint moved at %.2f rad/s\n", pm01_cases[i].name, o.peak_speed);
+            bad++;
+        }
+    }
+    assert_true(up > standing_height(PM01));
     assert_int_equal(bad, 0);
 }
 
@@ -338,10 +412,13 @@ static void test_mujoco_stops_at_limits(void **state)
     assert_true(g1 < 0.1);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1) /* a test's name (a pattern): that one only */
+        cmocka_set_test_filter(argv[1]);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_stops_g1),
+        cmocka_unit_test(test_mujoco_stops_pm01),
         cmocka_unit_test(test_mujoco_stops_at_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
