@@ -96,8 +96,8 @@ test-tsan: setup $(BUILD)-tsan/build.ninja
 	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS)
 	cd $(BUILD)-tsan && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L threads
 
-# The firmware images (examples/firmware/), cross-built for the Cortex-M4F
-# and the Cortex-M7 and booted in QEMU: their reports (fingerprint, faults,
+# The firmware images (examples/firmware/), cross-built for each board
+# (boards/: Cortex-M4F, M7, M33) and booted in QEMU: their reports (fingerprint, faults,
 # per-tick instruction counts as emulation estimates, heap and stack
 # high-water marks) and the footprint table of each against the aims.
 # `make test` builds and checks the same images in its own build tree
@@ -115,6 +115,9 @@ $(BUILD)-fw-m7/build.ninja: | setup
 $(BUILD)-fw-stm32/build.ninja: | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-stm32 $(FW_FLAGS) -DFW_BOARD=netduinoplus2
 
+$(BUILD)-fw-m33/build.ninja: | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33 $(FW_FLAGS) -DFW_BOARD=mps2-an505
+
 # The learned-policy images embed the host build's g1_policy.wasm (the
 # bytes the host's fingerprint is computed from).
 FW_POLICY = -DROZ_FW_VARIANT=policy \
@@ -124,7 +127,7 @@ $(BUILD)-fw-m7p/build.ninja: | setup build
 $(BUILD)-fw-m4fp/build.ninja: | setup build
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an386
 
-FW_TREES = m4f m7 stm32 m7p m4fp
+FW_TREES = m4f m7 stm32 m33 m7p m4fp
 firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	for t in $(FW_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_sine.elf 96 64 \
@@ -133,6 +136,8 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh netduinoplus2 $(BUILD)-fw-stm32/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F at 168 MHz (netduinoplus2, STM32F405)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an505 $(BUILD)-fw-m33/roz_fw_ur5_sine.elf 96 64 \
+	    "UR5, sine controller, Cortex-M33 (mps2-an505, Secure state)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
 	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7p/roz_fw_g1_policy.elf 320 512 \

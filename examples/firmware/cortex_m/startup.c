@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Start-up for ARMv7-M (Cortex-M4F, Cortex-M7) under the boards' linker
- * scripts (boards/): the vector table, the reset handler (FPU on, .data
+/* Start-up for ARMv7-M and ARMv8-M Mainline (Cortex-M4F, M7, M33; on the
+ * M33 in the Secure state it resets in) under the boards' linker scripts
+ * (boards/): the vector table, the reset handler (FPU on, .data
  * copied, .bss zeroed, the stack painted), fault handlers that say what
  * happened and stop the run, and SysTick as the clock. */
 #include <stdint.h>
@@ -42,7 +43,8 @@ static void (*const vectors[16])(void) = {
     Fault_Handler, /* MemManage */
     Fault_Handler, /* BusFault */
     Fault_Handler, /* UsageFault */
-    0, 0, 0, 0,
+    Fault_Handler, /* SecureFault (ARMv8-M; reserved on ARMv7-M) */
+    0, 0, 0,
     Fault_Handler, /* SVCall */
     Fault_Handler, /* DebugMon */
     0,
