@@ -32,7 +32,7 @@ static void check(uint32_t hz)
     assert_int_equal(fw_cycles_to_ns(limit, hz), reference(limit, hz));
 }
 
-static void test_25mhz(void **state)
+static void test_fw_clock_25mhz(void **state)
 {
     (void)state;
     check(25000000u);
@@ -40,7 +40,7 @@ static void test_25mhz(void **state)
     assert_int_equal(fw_cycles_to_ns(25000000u, 25000000u), 1000000000u);
 }
 
-static void test_168mhz_no_drift(void **state)
+static void test_fw_clock_168mhz_no_drift(void **state)
 {
     (void)state;
     check(168000000u);
@@ -51,7 +51,7 @@ static void test_168mhz_no_drift(void **state)
     assert_int_equal(fw_cycles_to_ns(168000000ull * 3600u + 1u, 168000000u), 3600000000005ull);
 }
 
-static void test_odd_frequencies(void **state)
+static void test_fw_clock_odd_frequencies(void **state)
 {
     (void)state;
     check(7372800u);    /* a UART crystal */
@@ -63,7 +63,7 @@ static void test_odd_frequencies(void **state)
 }
 
 /* the clock never goes back: each count's nanoseconds at least the last's */
-static void test_monotonic(void **state)
+static void test_fw_clock_monotonic(void **state)
 {
     (void)state;
     uint64_t last = 0;
@@ -77,10 +77,10 @@ static void test_monotonic(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_25mhz),
-        cmocka_unit_test(test_168mhz_no_drift),
-        cmocka_unit_test(test_odd_frequencies),
-        cmocka_unit_test(test_monotonic),
+        cmocka_unit_test(test_fw_clock_25mhz),
+        cmocka_unit_test(test_fw_clock_168mhz_no_drift),
+        cmocka_unit_test(test_fw_clock_odd_frequencies),
+        cmocka_unit_test(test_fw_clock_monotonic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
