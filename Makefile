@@ -134,6 +134,8 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	    "UR5, sine controller, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_hostile.elf 96 64 \
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs.elf 96 64 \
+	    "UR5, sine controller on a port of the firmware's own (no simulator), Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh netduinoplus2 $(BUILD)-fw-stm32/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F at 168 MHz (netduinoplus2, STM32F405)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an505 $(BUILD)-fw-m33/roz_fw_ur5_sine.elf 96 64 \
