@@ -251,9 +251,10 @@ static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
     return put_msg(f, f->ch_run, 0, &c);
 }
 
-int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
-                         roz_recorder_t *rec, const roz_record_file_options_t *opt, char *err,
-                         size_t errlen)
+/* A file (@p sink NULL) or a stream to @p sink. */
+static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
+                    roz_recorder_t *rec, const roz_record_file_options_t *opt,
+                    roz_mcap_sink_fn sink, void *ctx, char *err, size_t errlen)
 {
     static const roz_record_file_options_t none = { NULL, 0, ROZ_MCAP_COMPRESS_NONE };
     const roz_runtime_config_t *cfg = roz_runtime_config(rt);
@@ -276,8 +277,12 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
                  opt->compression == ROZ_MCAP_COMPRESS_ZSTD ? "zstd (no libzstd)" : "that");
         return ROZ_ENOTSUP;
     }
-    /* 64 KiB chunks: a recording whose writer died loses at most the last */
-    rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
+    /* 64 KiB chunks: a recording whose writer died loses at most the last;
+     * a stream's chunk is one tick, so a viewer loses or gets whole ticks */
+    if (sink != NULL)
+        rc = roz_mcap_open_stream(&f->w, path, "roz", 1u, sink, ctx);
+    else
+        rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
     if (rc == ROZ_OK)
         rc = roz_mcap_set_compression(&f->w, opt->compression);
     if (rc != ROZ_OK) {
@@ -333,6 +338,24 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
         return rc;
     }
     return ROZ_OK;
+}
+
+int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
+                         roz_recorder_t *rec, const roz_record_file_options_t *opt, char *err,
+                         size_t errlen)
+{
+    return open_any(f, path, rt, rec, opt, NULL, NULL, err, errlen);
+}
+
+int roz_record_file_open_stream(roz_record_file_t *f, const char *name, const roz_runtime_t *rt,
+                                roz_recorder_t *rec, const roz_record_file_options_t *opt,
+                                roz_mcap_sink_fn sink, void *ctx, char *err, size_t errlen)
+{
+    if (sink == NULL) {
+        snprintf(err, errlen, "%s: a stream needs a sink", name);
+        return ROZ_EINVAL;
+    }
+    return open_any(f, name, rt, rec, opt, sink, ctx, err, errlen);
 }
 
 static int write_values(roz_record_file_t *f, uint16_t ch, uint64_t t, const double *v,
@@ -420,6 +443,12 @@ static int write_record(void *ctx, const roz_record_t *r)
     else
         f->ticks++;
     return 0;
+}
+
+int roz_record_file_put(roz_record_file_t *f, const roz_record_t *r)
+{
+    (void)write_record(f, r);
+    return f->failed ? ROZ_EIO : ROZ_OK;
 }
 
 int roz_record_file_drain(roz_record_file_t *f)
