@@ -193,7 +193,7 @@ void roz_record_live_close(roz_record_live_t *l, unsigned wait_ms)
             roz_record_live_flush(l);
         }
         if (l->ent_n > 0)
-            lose(l, "the viewer did not take the last ticks in time", 0);
+            lose(l, "the viewer was still behind at the end", 0);
     } else {
         (void)roz_mcap_close(&l->f.w);
     }

@@ -95,7 +95,7 @@ uint64_t roz_record_live_sent(const roz_record_live_t *l);
 uint64_t roz_record_live_dropped(const roz_record_live_t *l);
 
 /** @brief Why the stream ended early ("" it did not): the viewer went
- *  away, a write failed, the last ticks were not taken in time. Context: as
+ *  away, a write failed, it was still behind when the stream closed. Context: as
  *  roz_record_live_put(). */
 const char *roz_record_live_error(const roz_record_live_t *l);
 
