@@ -379,3 +379,27 @@ def test_shipped_layout_is_the_runs(tmp_path, robot, ctl):
         assert topic in channels, path
         if field:
             assert re.search(rf"^\S+ {re.escape(field)}\b", channels[topic]["schema"], re.M), path
+
+
+def test_viewer_survives_a_stream_cut_short_or_not_mcap(tmp_path):
+    """roz-live on a stream whose writer died mid-tick, and on bytes that
+    are no MCAP: it says so and exits cleanly (--exit), serving what came."""
+    p = rozrun("--robot", "ur5", "--ticks", 50, "--controller", CTL / "sine.wasm", "--live",
+               tmp_path / "whole.live")
+    assert p.returncode == 0, p.stdout + p.stderr
+    whole = (tmp_path / "whole.live").read_bytes()
+    # 50 ticks of /roz/tick, state, target and applied; /roz/run, /roz/controller
+    # and the first tick's /roz/fault (none latched)
+    cases = {"whole": (whole, "the run ended: 203 messages"), "cut": (whole[:len(whole) // 2 + 7],
+                                                            "the run ended early"),
+             "garbage": (b"not an mcap stream at all" * 10, "the run ended early")}
+    for name, (data, said) in cases.items():
+        q = subprocess.run([sys.executable, LIVE, "-", "--port", "0", "--exit"], input=data,
+                           capture_output=True, timeout=120)
+        out = q.stdout.decode() + q.stderr.decode()
+        assert q.returncode == 0, f"{name}: {out}"
+        assert said in out, f"{name}: {out}"
+    (tmp_path / "plain").write_text("x")
+    q = subprocess.run([sys.executable, LIVE, tmp_path / "plain", "--port", "0", "--exit"],
+                       capture_output=True, text=True, timeout=120)
+    assert q.returncode == 1 and "not a FIFO" in q.stderr
