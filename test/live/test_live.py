@@ -354,6 +354,10 @@ def test_fifo_without_a_reader_is_refused(tmp_path):
                "--live", fifo)
     assert p.returncode == 2
     assert f"{fifo}: nobody reads this FIFO yet" in p.stderr
+    p = rozrun("--robot", "ur5", "--ticks", 10, "--controller", CTL / "sine.wasm",
+               "--live", "-", cwd=tmp_path)
+    assert p.returncode == 2 and "not standard output" in p.stderr
+    assert not (tmp_path / "-").exists()
     p = rozrun("--replay", tmp_path / "x.mcap", "--controller", CTL / "sine.wasm",
                "--live", fifo)
     assert p.returncode == 2 and "--live streams a run on a port" in p.stderr

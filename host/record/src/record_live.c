@@ -78,6 +78,10 @@ int roz_record_live_open(roz_record_live_t *l, const char *path, const roz_runti
     memset(l, 0, sizeof *l);
     l->path = path;
     l->fd = -1;
+    if (strcmp(path, "-") == 0) { /* rozrun's standard output carries its summary */
+        snprintf(err, errlen, "-: name a FIFO or a pipe (/dev/fd/N), not standard output");
+        return ROZ_EINVAL;
+    }
     /* a FIFO or a pipe: its reader must be there (a FIFO's open would
      * otherwise wait for one); anything else is a file, created */
     int fifo = stat(path, &st) == 0 && S_ISFIFO(st.st_mode);

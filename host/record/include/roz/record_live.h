@@ -64,7 +64,8 @@ typedef struct roz_record_live {
  * @param[in] rec  the runtime's recorder; records reach the stream through
  *                 roz_record_live_put() from the caller's drain
  * @retval ROZ_OK, ROZ_EIO (err names the path: cannot open, no reader on the
- *         FIFO yet), ROZ_ENOMEM, ROZ_EINVAL
+ *         FIFO yet), ROZ_ENOMEM, ROZ_EINVAL (@p path "-": standard output
+ *         is not taken, it carries the application's own output)
  * Context: start-up, a non-real-time thread; allocates.
  */
 ROZ_NODISCARD int roz_record_live_open(roz_record_live_t *l, const char *path,
