@@ -90,8 +90,8 @@ int roz_record_live_open(roz_record_live_t *l, const char *path, const roz_runti
     if (l->fd < 0) {
         int e = errno;
         if (fifo && e == ENXIO)
-            snprintf(err, errlen, "%s: nobody reads this FIFO yet: start the viewer "
-                                  "(roz-live %s) first", path, path);
+            snprintf(err, errlen, "%s: nobody reads this FIFO yet: start the viewer on it "
+                                  "(roz-live) first", path);
         else
             snprintf(err, errlen, "%s: cannot open: %s", path, strerror(e));
         return ROZ_EIO;

@@ -5,18 +5,14 @@
  *        FIFO (host builds; docs/live.md): the MCAP of roz/record_file.h,
  *        one chunk per tick, written without ever waiting for the reader.
  *
- * The stream is opened non-blocking. Each tick's chunk goes into a bounded
- * queue whole, or not at all: a tick the queue has no room for (the viewer
- * is slow, stalled or gone) is dropped and counted, never waited for, so
- * neither the tick nor the drain that feeds a file recording beside it is
- * slowed by a viewer. roz_record_live_flush() writes what the pipe takes,
- * after each drain: the viewer is at most one drain interval behind.
- * test/record/test_live.py holds these rules (a reader that never reads, a
- * reader that goes away, every tick received equal to the recording's).
- *
- * Writing to a pipe whose reader has gone raises SIGPIPE: the application
- * ignores it (rozrun does, signal(SIGPIPE, SIG_IGN)); the stream then ends
- * and the ticks after it count as dropped.
+ * The pipe is written non-blocking; each tick's chunk goes into a bounded
+ * queue whole or is dropped and counted (the viewer is slow, stalled or
+ * gone), so a viewer slows neither the tick nor the drain that feeds a file
+ * recording beside it. roz_record_live_flush() after each drain writes what
+ * the pipe takes. test/record/test_record_live.c and test/live/test_live.py
+ * hold these rules. A write to a pipe whose reader has gone raises SIGPIPE:
+ * the application ignores it (rozrun does); the stream then ends and the
+ * ticks after it count as dropped.
  */
 #ifndef ROZ_RECORD_LIVE_H
 #define ROZ_RECORD_LIVE_H
