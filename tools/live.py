@@ -33,7 +33,7 @@ import stat
 import sys
 import threading
 
-from mcap.exceptions import McapError
+from mcap.exceptions import EndOfFile, McapError
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 
@@ -87,6 +87,13 @@ class Server:
 
     def port(self):
         return self.server.port
+
+    def app_url(self):
+        """The SDK's link that opens this server in Foxglove's app."""
+        try:
+            return self.server.app_url()
+        except Exception:  # noqa: BLE001 - a convenience only
+            return None
 
     def take(self, record):
         fg = self.foxglove
@@ -192,6 +199,9 @@ def serve(args):
     server = Server(args.host, args.port)
     print(f"roz-live: serving ws://{args.host}:{server.port()} (Foxglove: open connection, "
           f"Foxglove WebSocket); reading {args.input}", flush=True)
+    url = server.app_url()
+    if url:
+        print(f"roz-live: or open {url}", flush=True)
     if isinstance(src, int):
         src = wait_for_writer(src, stop)
     written_layout = False
@@ -210,8 +220,10 @@ def serve(args):
                         break
                 else:
                     ended = "ended"
-            except McapError as e:  # the stream cut short (rozrun killed) or corrupt
-                ended = f"ended early ({type(e).__name__}: {e})"
+            except EndOfFile:  # rozrun killed, or closed while the viewer was behind
+                ended = "ended early: the stream stops inside a record"
+            except McapError as e:  # not MCAP, or corrupt
+                ended = f"ended early: a bad stream ({type(e).__name__}: {e})"
             except (EOFError, OSError) as e:
                 ended = f"ended early ({e})"
         print(f"roz-live: the run {ended}: {server.messages} messages served", flush=True)
