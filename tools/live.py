@@ -20,8 +20,8 @@ time. When the run ends the server stays up until Ctrl-C (--exit: it stops).
 
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
-latched faults, fuel and freshness, and the truth's base height when the
-run has one (docs/live.md).
+latched faults, fuel and freshness, the safety filter's counters, and the
+truth's base height when the run has one (docs/live.md).
 """
 import argparse
 import json
@@ -128,11 +128,22 @@ def fields(schema_text):
     return out
 
 
+def fields_any(schema_text):
+    """Every field name of a ros2msg schema, in order."""
+    out = []
+    for line in schema_text.splitlines():
+        line = line.split("#", 1)[0].split()
+        if len(line) == 2:
+            out.append(line[1])
+    return out
+
+
 def layout(schemas, joints=LAYOUT_JOINTS):
     """A Foxglove layout (the SDK's foxglove.layouts, version 1) for a run
     whose schemas are {topic: (schema name, text)}: per joint the targets,
     applied commands and the state field of the same name; the faults, fuel
-    and freshness; the truth's base height when the run has /roz/truth."""
+    and freshness; the safety filter's counters; the truth's base height
+    when the run has /roz/truth."""
     import foxglove.layouts as fl
     commands = fields(schemas["/roz/target"][1])
     states = set(fields(schemas["/roz/state"][1]))
@@ -148,11 +159,22 @@ def layout(schemas, joints=LAYOUT_JOINTS):
         fl.PlotSeries(value="/roz/tick.faults", label="latched faults (bits)"),
         fl.PlotSeries(value="/roz/tick.fresh", label="fresh state"),
         fl.PlotSeries(value="/roz/tick.wrote", label="commands written")]))
+    # the filter's counters (totals since the start): a rising line is the
+    # filter at work; absent from recordings made before them
+    tick_fields = set(fields_any(schemas["/roz/tick"][1]))
+    counters = [(f, label) for f, label in (("clamps", "clamps"), ("rate_caps", "rate caps"),
+                                            ("limit_stops", "limit stops"),
+                                            ("nonfinite", "refused non-finite"))
+                if f in tick_fields]
     side = [fl.SplitItem(content=safety),
             fl.SplitItem(content=fl.PlotPanel(title="fuel per tick", config=fl.PlotConfig(
                 paths=[fl.PlotSeries(value="/roz/tick.fuel", label="fuel")]))),
             fl.SplitItem(content=fl.RawMessagesPanel(
                 title="last fault", config=fl.RawMessagesConfig(topic_path="/roz/fault")))]
+    if counters:
+        side.insert(1, fl.SplitItem(content=fl.PlotPanel(
+            title="safety filter (totals)", config=fl.PlotConfig(paths=[
+                fl.PlotSeries(value=f"/roz/tick.{f}", label=label) for f, label in counters]))))
     if "/roz/truth" in schemas:
         side.insert(0, fl.SplitItem(content=fl.PlotPanel(
             title="base height (truth)", config=fl.PlotConfig(paths=[

@@ -131,6 +131,27 @@ def test_fields_named_after_channels(tmp_path):
     assert times == [run.start_time_ns + i * 10_000_000 for i in range(20)]
 
 
+def test_tick_counts_are_the_summarys(tmp_path):
+    """/roz/tick carries the safety filter's counters after each tick: they
+    never go down, and the last tick's are rozrun's summary (clamps, rate
+    caps, limit stops, refused non-finite values)."""
+    path = tmp_path / "run.mcap"
+    p = rozrun("--robot", "ur5", "--port", "loopback", "--ticks", 1000, "--controller",
+               CTL / "constant_velocity.wasm", "--record", path)
+    want = {k: int(re.search(rf"^  {label} +(\d+)", p.stdout, re.M).group(1))
+            for k, label in (("clamps", "clamps"), ("rate_caps", "rate caps"),
+                             ("limit_stops", "limit stops"), ("nonfinite", "refused values"))}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        ticks = [d for _, _, _, d in reader.iter_decoded_messages(topics=["/roz/tick"])]
+    assert len(ticks) == 1000
+    for k in want:
+        seq = [getattr(t, k) for t in ticks]
+        assert seq == sorted(seq), k
+        assert seq[-1] == want[k], (k, seq[-1], p.stdout)
+    assert want["rate_caps"] > 0 and want["limit_stops"] > 0  # a joint driven to its limit
+
+
 def test_faults_replayed(tmp_path):
     """E-stop pressed, released, cleared; frames dropped (stale), NaN state, a
     peer restart (link): recorded, read back, and replayed identically; the

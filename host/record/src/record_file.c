@@ -36,7 +36,13 @@ static const char tick_schema[] =
     "uint32 flags\n"
     "bool fresh\n"
     "bool ran\n"
-    "bool wrote\n";
+    "bool wrote\n"
+    "# the safety filter's counters after this tick, totals since the start (as\n"
+    "# rozrun's summary counts them; absent in files before them)\n"
+    "uint64 clamps  # values moved into [min, max], at command.set or by the filter\n"
+    "uint64 rate_caps  # values held back by max_rate\n"
+    "uint64 limit_stops  # values held back by position-limit enforcement\n"
+    "uint64 nonfinite  # non-finite targets replaced by the safe default\n";
 
 static const char run_schema[] =
     "# a roz run, once per recording\n"
@@ -402,6 +408,10 @@ static int write_record(void *ctx, const roz_record_t *r)
     cdr_u(&c, (r->flags & ROZ_RECORD_FRESH) ? 1u : 0u, 1);
     cdr_u(&c, (r->flags & ROZ_RECORD_RAN) ? 1u : 0u, 1);
     cdr_u(&c, (r->flags & ROZ_RECORD_WROTE) ? 1u : 0u, 1);
+    cdr_u(&c, r->clamps, 8);
+    cdr_u(&c, r->rate_caps, 8);
+    cdr_u(&c, r->limit_stops, 8);
+    cdr_u(&c, r->nonfinite, 8);
     if (rc == ROZ_OK)
         rc = put_msg(f, f->ch_tick, t, &c);
     if (rc == ROZ_OK)
@@ -637,6 +647,15 @@ static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, ch
     t->cleared = (uint32_t)rd_u(&d, 4);
     t->read_rc = (int32_t)(uint32_t)rd_u(&d, 4);
     t->flags = (uint32_t)rd_u(&d, 4);
+    (void)rd_u(&d, 1); /* fresh, ran, wrote: the flags say it */
+    (void)rd_u(&d, 1);
+    (void)rd_u(&d, 1);
+    if (!d.bad && d.at < d.len) { /* absent in files before the filter's counters */
+        t->clamps = rd_u(&d, 8);
+        t->rate_caps = rd_u(&d, 8);
+        t->limit_stops = rd_u(&d, 8);
+        t->nonfinite = rd_u(&d, 8);
+    }
     if (d.bad) {
         snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/tick message", rd->r.path,
                  (unsigned long long)msg->offset);
