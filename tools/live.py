@@ -30,6 +30,7 @@ import pathlib
 import select
 import signal
 import stat
+import struct
 import sys
 import threading
 
@@ -242,7 +243,8 @@ def serve(args):
                         break
                 else:
                     ended = "ended"
-            except EndOfFile:  # rozrun killed, or closed while the viewer was behind
+            except (EndOfFile, struct.error):  # rozrun killed, or closed while the
+                # viewer was behind: the last record cut (the reader sees a short read)
                 ended = "ended early: the stream stops inside a record"
             except McapError as e:  # not MCAP, or corrupt
                 ended = f"ended early: a bad stream ({type(e).__name__}: {e})"
