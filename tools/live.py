@@ -16,7 +16,8 @@ free port; the line "roz-live: serving ws://HOST:PORT" says which.
 Each record of the stream is served as it comes: a schema and channel become
 a Foxglove channel of the same topic, schema name, schema text (ros2msg) and
 message encoding (cdr); each message is logged on it with its recorded log
-time. When the run ends the server stays up until Ctrl-C (--exit: it stops).
+time. On a FIFO, one run follows another (the channels stay while the robot
+does) until Ctrl-C; --exit stops after the first run.
 
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
@@ -24,6 +25,7 @@ latched faults, fuel and freshness, the safety filter's counters, and the
 truth's base height when the run has one (docs/live.md).
 """
 import argparse
+import contextlib
 import json
 import os
 import pathlib
@@ -32,7 +34,7 @@ import signal
 import stat
 import struct
 import sys
-import threading
+import time
 
 from mcap.exceptions import EndOfFile, McapError
 from mcap.records import Channel, Message, Schema
@@ -48,31 +50,27 @@ class LiveError(Exception):
     pass
 
 
-def open_input(path):
-    """The stream as a binary file: standard input, or a FIFO (made when
-    missing) opened so that rozrun finds a reader on it at once."""
-    if path == "-":
-        return sys.stdin.buffer
+def open_fifo(path):
+    """The FIFO rozrun writes (made when missing), opened for reading
+    without waiting for a writer: while it is open, rozrun finds a reader
+    on it, between runs too."""
     p = pathlib.Path(path)
     if not p.exists():
         os.mkfifo(p, 0o600)
     elif not stat.S_ISFIFO(p.stat().st_mode):
         raise LiveError(f"{path}: not a FIFO (rozrun --live writes one; remove the file or "
                         f"name another path)")
-    # non-blocking, so the open does not wait for the writer; then wait for
-    # its first bytes and read blocking
-    fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)
-    return fd
+    return os.open(p, os.O_RDONLY | os.O_NONBLOCK)
 
 
-def wait_for_writer(fd, stop):
-    """Waits until the FIFO has bytes or an end (a writer came), or stop."""
-    while not stop.is_set():
-        r, _, _ = select.select([fd], [], [], 0.2)
-        if r:
-            os.set_blocking(fd, True)
-            return os.fdopen(fd, "rb")
-    return None
+def next_run(path):
+    """The next run's stream on the FIFO: a read end of its own, handed out
+    once a writer has written (or come and gone), read blocking."""
+    fd = open_fifo(path)
+    while not select.select([fd], [], [], 0.5)[0]:
+        pass
+    os.set_blocking(fd, True)
+    return os.fdopen(fd, "rb")
 
 
 class Server:
@@ -82,9 +80,16 @@ class Server:
         import foxglove
         self.foxglove = foxglove
         self.server = foxglove.start_server(name="roz-live", host=host, port=port)
-        self.schemas = {}
-        self.channels = {}
+        self.schemas = {}     # this stream's schema id -> record
+        self.channels = {}    # this stream's channel id -> Foxglove channel
+        self.by_topic = {}    # topic -> (what it advertises, Foxglove channel), across runs
         self.messages = 0
+
+    def new_stream(self):
+        """A stream starts over: its ids are its own; the channels stay
+        advertised while a topic keeps its schema (the next run of the same
+        robot), and are replaced when it does not."""
+        self.schemas, self.channels, self.messages = {}, {}, 0
 
     def port(self):
         return self.server.port
@@ -105,9 +110,17 @@ class Server:
             if sc is None:
                 raise LiveError(f"channel {record.topic}: schema {record.schema_id} was never "
                                 f"defined")
+            key = (record.message_encoding, sc.name, sc.encoding, bytes(sc.data))
+            known = self.by_topic.get(record.topic)
+            if known is not None and known[0] == key:
+                self.channels[record.id] = known[1]
+                return
+            if known is not None:
+                known[1].close()  # another robot on the topic: unadvertised
             schema = fg.Schema(name=sc.name, encoding=sc.encoding, data=bytes(sc.data))
-            self.channels[record.id] = fg.Channel(record.topic, schema=schema,
-                                                  message_encoding=record.message_encoding)
+            ch = fg.Channel(record.topic, schema=schema, message_encoding=record.message_encoding)
+            self.channels[record.id] = ch
+            self.by_topic[record.topic] = (key, ch)
         elif isinstance(record, Message):
             ch = self.channels.get(record.channel_id)
             if ch is None:
@@ -210,52 +223,61 @@ def layout_of_recording(path):
     return out
 
 
-def serve(args):
-    stop = threading.Event()
-
-    def on_signal(signum, frame):
-        stop.set()
-
-    signal.signal(signal.SIGINT, on_signal)
-    signal.signal(signal.SIGTERM, on_signal)
-    src = open_input(args.input)
-    server = Server(args.host, args.port)
-    print(f"roz-live: serving ws://{args.host}:{server.port()} (Foxglove: open connection, "
-          f"Foxglove WebSocket); reading {args.input}", flush=True)
-    url = server.app_url()
-    if url:
-        print(f"roz-live: or open {url}", flush=True)
-    if isinstance(src, int):
-        src = wait_for_writer(src, stop)
-    written_layout = False
-    ended = "stopped"
+def read_run(server, src, args):
+    """Serves one run's stream; what ended it."""
+    server.new_stream()
+    written_layout = not args.layout
+    reader = StreamReader(src, validate_crcs=True, record_size_limit=MAX_RECORD)
     try:
-        if src is not None:
-            reader = StreamReader(src, validate_crcs=True, record_size_limit=MAX_RECORD)
-            try:
-                for rec in reader.records:
-                    server.take(rec)
-                    if args.layout and not written_layout and isinstance(rec, Message):
-                        pathlib.Path(args.layout).write_text(layout(schemas_of(server)))
-                        print(f"roz-live: layout {args.layout}", flush=True)
-                        written_layout = True
-                    if stop.is_set():
-                        break
-                else:
-                    ended = "ended"
-            except (EndOfFile, struct.error):  # rozrun killed, or closed while the
-                # viewer was behind: the last record cut (the reader sees a short read)
-                ended = "ended early: the stream stops inside a record"
-            except McapError as e:  # not MCAP, or corrupt
-                ended = f"ended early: a bad stream ({type(e).__name__}: {e})"
-            except (EOFError, OSError) as e:
-                ended = f"ended early ({e})"
-        print(f"roz-live: the run {ended}: {server.messages} messages served", flush=True)
-        if not args.exit:
-            while not stop.is_set():
-                stop.wait(0.2)
+        for rec in reader.records:
+            server.take(rec)
+            if not written_layout and isinstance(rec, Message):
+                pathlib.Path(args.layout).write_text(layout(schemas_of(server)))
+                print(f"roz-live: layout {args.layout}", flush=True)
+                written_layout = True
+    except (EndOfFile, struct.error):  # rozrun killed, or closed while the viewer
+        # was behind: the last record cut (the reader sees a short read)
+        return "ended early: the stream stops inside a record"
+    except McapError as e:  # not MCAP, or corrupt
+        return f"ended early: a bad stream ({type(e).__name__}: {e})"
+    except (EOFError, OSError) as e:
+        return f"ended early ({e})"
+    return "ended"
+
+
+def serve(args):
+    def interrupt(signum, frame):
+        raise KeyboardInterrupt
+
+    # Ctrl-C and SIGTERM end a blocking read too
+    signal.signal(signal.SIGINT, interrupt)
+    signal.signal(signal.SIGTERM, interrupt)
+    fifo = args.input != "-"
+    anchor = open_fifo(args.input) if fifo else None  # a reader between runs
+    server = Server(args.host, args.port)
+    try:
+        print(f"roz-live: serving ws://{args.host}:{server.port()} (Foxglove: open "
+              f"connection, Foxglove WebSocket); reading {args.input}", flush=True)
+        url = server.app_url()
+        if url:
+            print(f"roz-live: or open {url}", flush=True)
+        while True:
+            src = next_run(args.input) if fifo else sys.stdin.buffer
+            with src if fifo else contextlib.nullcontext(src):
+                ended = read_run(server, src, args)
+            print(f"roz-live: the run {ended}: {server.messages} messages served", flush=True)
+            if args.exit or not fifo:
+                break
+            print(f"roz-live: waiting for the next run on {args.input} (Ctrl-C stops)",
+                  flush=True)
+        while not args.exit:  # standard input: the viewer stays up
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        pass
     finally:
         server.stop()
+        if anchor is not None:
+            os.close(anchor)
     return 0
 
 

@@ -207,54 +207,70 @@ class StrictClient:
         self._conn.__exit__(None, None, None)
 
 
+def watch(client, viewer, ticks, record, fifo):
+    """One run at the UR5's rate through the viewer while the client pumps;
+    rozrun's stdout."""
+    run = subprocess.Popen([ROZRUN, "--robot", "ur5", "--port", "loopback", "--realtime",
+                            "--ticks", str(ticks), "--controller", CTL / "sine.wasm",
+                            "--record", record, "--live", fifo],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    ended = False
+    while time.monotonic() < deadline:
+        got = client.pump(1.0)
+        if not ended and run.poll() is not None:
+            viewer.wait_for("roz-live: the run ended")
+            ended = True
+        if ended and not got:
+            break  # the run is over and nothing came for a second
+    out, err = run.communicate(timeout=60)
+    assert run.returncode == 0, out + err
+    return out
+
+
 def test_live_run_equals_its_recording(tmp_path):
     """Every channel roz-live advertises is the recording's (topic, cdr,
     schema name and ros2msg text); every message the client receives is a
     recorded one, byte for byte, and decodes with the advertised schema to
-    the recording's values."""
+    the recording's values. A second run on the same FIFO follows on the
+    same channels, its /roz/run included."""
     fifo = tmp_path / "run.live"
     viewer = Viewer(fifo)
     client = StrictClient(viewer.port)
     try:
         while client.info is None:
             assert client.pump(30), "no serverInfo"
-        # at the rate of the UR5 (100 Hz): a few seconds of ticks, so the
-        # client has subscribed while most of them are still to come
-        run = subprocess.Popen([ROZRUN, "--robot", "ur5", "--port", "loopback", "--realtime",
-                                "--ticks", "300", "--controller", CTL / "sine.wasm",
-                                "--record", tmp_path / "run.mcap", "--live", fifo],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        deadline = time.monotonic() + 120
-        ended = False
-        while time.monotonic() < deadline:
-            got = client.pump(1.0)
-            if not ended and run.poll() is not None:
-                viewer.wait_for("roz-live: the run ended")
-                ended = True
-            if ended and not got:
-                break  # the run is over and nothing came for a second
-        out, err = run.communicate(timeout=60)
-        assert run.returncode == 0, out + err
+        # a few seconds of ticks, so the client has subscribed while most
+        # of them are still to come
+        out1 = watch(client, viewer, 300, tmp_path / "run.mcap", fifo)
+        viewer.wait_for("roz-live: waiting for the next run")
+        first = len(client.received)
+        out2 = watch(client, viewer, 150, tmp_path / "run2.mcap", fifo)
     finally:
         client.close()
         viewer.stop()
 
     channels, messages = recorded(tmp_path / "run.mcap")
+    channels2, messages2 = recorded(tmp_path / "run2.mcap")
+    assert channels2 == channels
     advertised = {ch["topic"]: {k: ch.get(k) for k in ("encoding", "schemaName", "schema",
                                                        "schemaEncoding")}
                   for ch in client.channels.values()}
-    assert advertised == channels
+    assert advertised == channels  # once each: the second run kept them
     assert set(channels) == {"/roz/run", "/roz/controller", "/roz/tick", "/roz/state",
                              "/roz/target", "/roz/applied", "/roz/fault"}
+    assert live_counts(out1) == (300, 300, 0), out1
+    assert live_counts(out2) == (150, 150, 0), out2
+    assert not set(messages) & set(messages2)  # the second run starts later
 
-    sent, ticks, dropped = live_counts(out)
-    assert (sent, ticks, dropped) == (300, 300, 0), out
     factory = DecoderFactory()
     decoders = {}
-    ticks_seen = set()
-    for topic, ts, payload in client.received:
-        assert (topic, ts) in messages, f"{topic} at {ts}: not in the recording"
-        data, dec = messages[(topic, ts)]
+    ticks_seen = [set(), set()]
+    for n, (topic, ts, payload) in enumerate(client.received):
+        run = 0 if n < first else 1
+        recorded_run = (messages, messages2)[run]
+        assert (topic, ts) in recorded_run, f"{topic} at {ts}: not in run {run + 1}'s recording"
+        data, dec = recorded_run[(topic, ts)]
         assert payload == data, f"{topic} at {ts}: not the recorded bytes"
         if topic not in decoders:
             ch = next(c for c in client.channels.values() if c["topic"] == topic)
@@ -268,12 +284,14 @@ def test_live_run_equals_its_recording(tmp_path):
         for k in rec:
             assert same_value(live[k], rec[k]), f"{topic}.{k} at {ts}: {live[k]} != {rec[k]}"
         if topic == "/roz/tick":
-            ticks_seen.add(live["tick"])
-    # the client subscribed within a few ticks of the start: most ticks are
-    # there, each with its state, targets and applied commands
-    assert len(ticks_seen) >= 150, f"only {len(ticks_seen)} of 300 ticks reached the client"
+            ticks_seen[run].add(live["tick"])
+    # the client subscribed within a few ticks of the first run's start, and
+    # before the second run: most ticks of one, and the other's /roz/run
+    assert len(ticks_seen[0]) >= 150, f"only {len(ticks_seen[0])} of 300 ticks reached the client"
+    assert len(ticks_seen[1]) >= 140, f"only {len(ticks_seen[1])} of 150 ticks reached the client"
+    assert any(t == "/roz/run" for t, _, _ in client.received[first:])
     per_topic = {}
-    for topic, ts, _ in client.received:
+    for topic, ts, _ in client.received[:first]:
         per_topic.setdefault(topic, set()).add(ts)
     tick_times = per_topic["/roz/tick"]
     for topic in ("/roz/state", "/roz/target", "/roz/applied"):
