@@ -25,7 +25,6 @@ latched faults, fuel and freshness, the safety filter's counters, and the
 truth's base height when the run has one (docs/live.md).
 """
 import argparse
-import contextlib
 import json
 import os
 import pathlib
@@ -63,6 +62,28 @@ def open_fifo(path):
     return os.open(p, os.O_RDONLY | os.O_NONBLOCK)
 
 
+class ExactReader:
+    """A FIFO's read end that reads what is asked and no more: a buffered
+    reader would read ahead into the next run's stream, already in the FIFO
+    when one run follows another at once, and lose its start."""
+
+    def __init__(self, fd):
+        self.fd = fd
+
+    def read(self, n):
+        parts = []
+        while n > 0:
+            b = os.read(self.fd, n)
+            if not b:
+                break
+            parts.append(b)
+            n -= len(b)
+        return b"".join(parts)
+
+    def close(self):
+        os.close(self.fd)
+
+
 def next_run(path):
     """The next run's stream on the FIFO: a read end of its own, handed out
     once a writer has written (or come and gone), read blocking."""
@@ -70,7 +91,7 @@ def next_run(path):
     while not select.select([fd], [], [], 0.5)[0]:
         pass
     os.set_blocking(fd, True)
-    return os.fdopen(fd, "rb")
+    return ExactReader(fd)
 
 
 class Server:
@@ -263,8 +284,11 @@ def serve(args):
             print(f"roz-live: or open {url}", flush=True)
         while True:
             src = next_run(args.input) if fifo else sys.stdin.buffer
-            with src if fifo else contextlib.nullcontext(src):
+            try:
                 ended = read_run(server, src, args)
+            finally:
+                if fifo:
+                    src.close()
             print(f"roz-live: the run {ended}: {server.messages} messages served", flush=True)
             if args.exit or not fifo:
                 break

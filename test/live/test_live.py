@@ -415,6 +415,32 @@ def cut_in_header(data):
     return last + 9 + 26
 
 
+def test_runs_back_to_back_on_one_fifo(tmp_path):
+    """Runs whose streams are in the FIFO at once, one right behind the
+    other: roz-live reads each to its end and no further, so every one is
+    served whole (a reader that read ahead would lose the next one's
+    start)."""
+    streams = []
+    for n in range(3):
+        p = rozrun("--robot", "ur5", "--ticks", 50, "--controller", CTL / "sine.wasm",
+                   "--live", tmp_path / f"{n}.live")
+        assert p.returncode == 0, p.stdout + p.stderr
+        streams.append((tmp_path / f"{n}.live").read_bytes())
+    fifo = tmp_path / "run.live"
+    viewer = Viewer(fifo)
+    try:
+        with open(fifo, "wb") as f:  # roz-live holds the read end: no wait
+            f.write(b"".join(streams))
+        for n in range(3):
+            # 50 ticks of /roz/tick, state, target, applied; /roz/run,
+            # /roz/controller and the first tick's /roz/fault
+            line = viewer.wait_for("roz-live: the run ")
+            assert line.startswith("roz-live: the run ended: 203 messages served"), \
+                "".join(viewer.out)
+    finally:
+        viewer.stop()
+
+
 def test_viewer_survives_a_stream_cut_short_or_not_mcap(tmp_path):
     """roz-live on a stream whose writer died mid-tick, and on bytes that
     are no MCAP: it says so and exits cleanly (--exit), serving what came."""
