@@ -16,17 +16,20 @@
 # installed roz then looks for rozgen on PATH (`pip install codegen/`).
 #
 # The Python tools come the same way (ROZ_INSTALL_TOOLS, with rozgen):
-#   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py
-#   <prefix>/bin/roz-plot, roz-recording launchers that run them, as bin/rozgen
-#                                        runs rozgen
-# with their pinned dependencies (tools/requirements-run.txt: matplotlib, mcap
-# and theirs) in lib/roz/python too.
+#   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py,
+#                                       tools/live.py
+#   <prefix>/bin/roz-plot, roz-recording, roz-live
+#                                       launchers that run them, as bin/rozgen
+#                                       runs rozgen
+#   <prefix>/share/roz/layouts/         the Foxglove layouts of tools/layouts/
+# with their pinned dependencies (tools/requirements-run.txt: matplotlib, mcap,
+# foxglove-sdk and theirs) in lib/roz/python too.
 option(ROZ_INSTALL_ROZGEN "Install rozgen and its pinned Python dependencies with roz" ON)
 if(NOT ROZ_INSTALL_ROZGEN)
   return()
 endif()
 option(ROZ_INSTALL_TOOLS
-       "Install roz-plot and roz-recording (tools/) and their pinned Python dependencies" ON)
+       "Install roz-plot, roz-recording and roz-live (tools/) and their pinned Python dependencies" ON)
 
 if(NOT DEFINED CACHE{ROZ_PYTHON_WHEELS} AND EXISTS ${PROJECT_SOURCE_DIR}/.cache/wheels)
   set(_roz_wheels ${PROJECT_SOURCE_DIR}/.cache/wheels)
@@ -86,8 +89,11 @@ set(_roz_requirements_what "codegen/requirements.txt")
 if(ROZ_INSTALL_TOOLS)
   # recording.py finds plot_trace.py beside itself, as in tools/.
   install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py
+                ${PROJECT_SOURCE_DIR}/tools/live.py
           DESTINATION ${_roz_pydir}/roz_tools)
-  foreach(_tool IN ITEMS "roz-plot;plot_trace.py" "roz-recording;recording.py")
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/layouts/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/layouts
+          FILES_MATCHING PATTERN "*.json")
+  foreach(_tool IN ITEMS "roz-plot;plot_trace.py" "roz-recording;recording.py" "roz-live;live.py")
     list(GET _tool 0 ROZ_TOOL_NAME)
     list(GET _tool 1 ROZ_TOOL_FILE)
     configure_file(${CMAKE_CURRENT_LIST_DIR}/roz_tool.py.in

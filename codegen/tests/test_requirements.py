@@ -47,16 +47,17 @@ def test_requirements_cover_rozgen_and_what_it_pulls_in():
 
 
 def test_tools_run_requirements_match_and_cover_the_tools():
-    """tools/requirements-run.txt (what the installed roz-plot and
-    roz-recording run on) pins what tools/requirements.txt pins, and holds
-    everything matplotlib, mcap and mcap-ros2-support pull in."""
+    """tools/requirements-run.txt (what the installed roz-plot,
+    roz-recording and roz-live run on) pins what tools/requirements.txt
+    pins, and holds everything matplotlib, mcap, mcap-ros2-support and
+    foxglove-sdk pull in."""
     run = pins(REPO / "tools" / "requirements-run.txt")
     tools = pins(REPO / "tools" / "requirements.txt")
     for name, (version, hashes, _) in run.items():
         assert name in tools, f"{name} is not in tools/requirements.txt"
         assert (version, hashes) == tools[name][:2], f"{name}: pins differ"
         assert hashes, f"{name} has no hashes"
-    for root in ("matplotlib", "mcap", "mcap-ros2-support"):
+    for root in ("matplotlib", "mcap", "mcap-ros2-support", "foxglove-sdk"):
         assert root in run, f"the tools import {root}; tools/requirements-run.txt lacks it"
     for name, (_, _, vias) in tools.items():
         assert not (vias & run.keys()) or name in run, \

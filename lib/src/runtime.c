@@ -723,6 +723,15 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.cleared = rt->rec_cleared;
     rec.read_rc = rt->rec_read_rc;
     rec.flags = rt->rec_flags | (target != NULL ? (uint32_t)ROZ_RECORD_TARGETS : 0u);
+    /* the filter's counters as rozrun's summary counts them, clamps at
+     * command.set included (test_recorder_fields) */
+    uint64_t set_clamped = rt->abi_retired.set_clamped;
+    if (active >= 0)
+        set_clamped += rt->slot[active].abi.counters.set_clamped;
+    rec.clamps = rt->filter.counters.clamps + set_clamped;
+    rec.rate_caps = rt->filter.counters.rate_caps;
+    rec.limit_stops = rt->filter.counters.limit_stops;
+    rec.nonfinite = rt->filter.counters.nonfinite;
     rec.state = rt->state;
     rec.target = target;
     rec.applied = rt->out;

@@ -67,6 +67,13 @@ if(PHASE STREQUAL "installed")
   run(${prefix}/bin/roz-plot ${WORK_DIR}/run.csv ${WORK_DIR}/run.png)
   run(${prefix}/bin/roz-recording check ${WORK_DIR}/run.mcap)
   run(${prefix}/bin/roz-recording plot ${WORK_DIR}/run.mcap ${WORK_DIR}/run_mcap.png)
+  # roz-live's layout of that run, with the installed foxglove-sdk
+  run(${prefix}/bin/roz-live layout ${WORK_DIR}/run.mcap ${WORK_DIR}/layout.json)
+  file(READ ${WORK_DIR}/layout.json layout)
+  if(NOT layout MATCHES "\"/roz/target\\.[a-z_0-9]+\"" OR NOT EXISTS ${prefix}/share/roz/layouts/ur5.json)
+    message(FATAL_ERROR "the installed roz-live wrote no layout, or the install has no "
+                        "share/roz/layouts/ur5.json:\n${layout}")
+  endif()
   foreach(png IN ITEMS run.png run_mcap.png)
     file(READ ${WORK_DIR}/${png} magic LIMIT 8 HEX)
     if(NOT magic STREQUAL "89504e470d0a1a0a")
@@ -111,7 +118,7 @@ if(PHASE STREQUAL "installed")
   run(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
   run(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
   message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, rozgen-urdf, "
-                 "roz-plot and roz-recording work")
+                 "roz-plot, roz-recording and roz-live work")
   return()
 endif()
 
@@ -197,7 +204,8 @@ foreach(f IN LISTS installed)
   math(EXPR scanned "${scanned} + 1")
 endforeach()
 foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
-                      bin/rozgen-urdf bin/roz-plot bin/roz-recording
+                      bin/rozgen-urdf bin/roz-plot bin/roz-recording bin/roz-live
+                      share/roz/layouts/ur5.json
                       include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${must})
     message(FATAL_ERROR "the install has no ${must}")

@@ -36,6 +36,7 @@ static uint64_t storage[(1u << 20) / 8u];
 /* what the runtime did at each tick, read between ticks */
 static double want_state[MAX_TICKS][NS], want_applied[MAX_TICKS][NC];
 static uint64_t want_fuel[MAX_TICKS];
+static uint64_t want_counts[MAX_TICKS][4]; /* clamps, rate caps, limit stops, non-finite */
 
 /* what the drain got */
 typedef struct {
@@ -88,6 +89,12 @@ static void tick(uint64_t t)
         memcpy(want_state[t], roz_runtime_last_state(&rt), sizeof want_state[t]);
         memcpy(want_applied[t], roz_runtime_last_commands(&rt), sizeof want_applied[t]);
         want_fuel[t] = RT_COUNT(&rt, last_fuel);
+        /* as rozrun's summary counts them: clamps at command.set too */
+        roz_runtime_stats_t st = roz_test_stats(&rt);
+        want_counts[t][0] = st.filter.clamps + st.abi.set_clamped;
+        want_counts[t][1] = st.filter.rate_caps;
+        want_counts[t][2] = st.filter.limit_stops;
+        want_counts[t][3] = st.filter.nonfinite;
     }
 }
 
@@ -115,6 +122,10 @@ static void test_recorder_fields(void **st)
         assert_int_equal(r->faults, 0);
         assert_int_equal(r->fuel, want_fuel[i]);
         assert_true(r->fuel > 0);
+        assert_int_equal(r->clamps, want_counts[i][0]);
+        assert_int_equal(r->rate_caps, want_counts[i][1]);
+        assert_int_equal(r->limit_stops, want_counts[i][2]);
+        assert_int_equal(r->nonfinite, want_counts[i][3]);
         assert_true(r->wall_ns > 0 && r->tick_ns > 0 && r->process_ns > 0);
         assert_memory_equal(got[i].state, want_state[i], sizeof want_state[i]);
         assert_memory_equal(got[i].applied, want_applied[i], sizeof want_applied[i]);
@@ -125,6 +136,12 @@ static void test_recorder_fields(void **st)
         assert_int_equal(got[i].has_msg, i == 0);
     }
     assert_string_equal(got[0].msg, "");
+    /* the sine controller starts faster than max_rate lets it: the counts
+     * move, and the record follows them */
+    print_message("recorder: after 20 ticks %llu clamps, %llu rate caps, %llu limit stops\n",
+                  (unsigned long long)got[19].r.clamps, (unsigned long long)got[19].r.rate_caps,
+                  (unsigned long long)got[19].r.limit_stops);
+    assert_true(got[19].r.clamps + got[19].r.rate_caps + got[19].r.limit_stops > 0);
     assert_int_equal(roz_recorder_dropped(&rec), 0);
     assert_int_equal(roz_recorder_recorded(&rec), 20);
     /* the loopback gives no truth: none recorded */

@@ -4,6 +4,7 @@
  *
  *   rozrun --robot ur5 --controller sine.wasm --port loopback --ticks 500
  *          [--realtime] [--param k=v]... [--trace out.csv] [--record run.mcap]
+ *          [--live FIFO]
  *          [--allow-other-robot]
  *          [--estop-at T] [--estop-release-at T] [--clear-at T] [--swap-at T:FILE]...
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
@@ -45,6 +46,7 @@
 #include "roz/hal/thread.h"
 #include "roz/ports.h"
 #include "roz/record_file.h"
+#include "roz/record_live.h"
 #include "roz/runtime.h"
 #include "replay.h"
 #include "schedule.h"
@@ -62,6 +64,7 @@ typedef struct {
     int         port_given; /* --port was named: --help adds the port's section */
     const char *trace;
     const char *record;
+    const char *live;   /* --live: the recording streamed to a viewer (docs/live.md) */
     const char *replay;
     uint64_t    ticks;
     int         realtime;
@@ -146,6 +149,10 @@ static roz_recorder_t recorder;
 static roz_record_file_t recfile;
 static int recording;
 static int record_failed; /* main thread: the recording's first write error was reported */
+static roz_record_live_t live;
+static int living;
+/* after the run: how long the viewer may take to read the last ticks */
+#define LIVE_CLOSE_WAIT_MS 2000u
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
@@ -215,6 +222,11 @@ static void usage(FILE *f, const char *port)
         "                       applied commands, faults, fuel, times; the manifest and\n"
         "                       configuration once): roz-recording (tools/recording.py),\n"
         "                       Foxglove, ros2 bag\n"
+        "  --live PATH          stream what --record writes (the same MCAP channels and\n"
+        "                       messages, a chunk per tick) to a FIFO or pipe a viewer\n"
+        "                       reads, roz-live (tools/live.py) serving it to Foxglove:\n"
+        "                       never waited for; ticks the viewer is too slow for are\n"
+        "                       dropped from the stream and counted (docs/live.md)\n"
         "  --record-every N     record every Nth tick only (and every tick where the faults\n"
         "                       change or an input arrives); such a recording is not\n"
         "                       replayed (default 1)\n"
@@ -316,7 +328,7 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
-                                              "--record", "--replay", "--record-every", "--record-compress",
+                                              "--record", "--live", "--replay", "--record-every", "--record-compress",
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
@@ -344,6 +356,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->trace = v;
         } else if (!strcmp(a, "--record")) {
             o->record = v;
+        } else if (!strcmp(a, "--live")) {
+            o->live = v;
         } else if (!strcmp(a, "--record-every")) {
             if (parse_u64(a, v, 1000000, &x) || x == 0) {
                 fprintf(stderr, "rozrun: --record-every must be in 1..1000000\n");
@@ -543,14 +557,29 @@ static void loader_step(uint64_t done)
         atomic_fetch_or(&loader_events, rozrun_schedule_loader(&sched, &rt, done));
 }
 
-/* Writes the recorder's queued ticks (main thread); says once if it broke. */
-static void record_drain(void)
+/* One drained tick: to the file and to the live stream. */
+static int record_one(void *ctx, const roz_record_t *r)
 {
-    if (recording && roz_record_file_drain(&recfile) < 0 && !record_failed) {
+    (void)ctx;
+    if (recording && roz_record_file_put(&recfile, r) != ROZ_OK && !record_failed) {
         record_failed = 1;
         fprintf(stderr, "rozrun: %s; the rest of the run goes on without it\n",
                 roz_record_file_error(&recfile));
     }
+    if (living)
+        roz_record_live_put(&live, r);
+    return 0;
+}
+
+/* Writes the recorder's queued ticks (main thread), then what the live
+ * stream's pipe takes without waiting; says once if the file broke. */
+static void record_drain(void)
+{
+    if (!recording && !living)
+        return;
+    (void)roz_recorder_drain(&recorder, record_one, NULL, 0);
+    if (living)
+        roz_record_live_flush(&live);
 }
 
 /* Writes the queued trace rows (main thread); says once if the file broke. */
@@ -768,6 +797,20 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                o->record, (unsigned long long)roz_record_file_ticks(&recfile),
                (unsigned long)roz_recorder_dropped(&recorder),
                record_failed ? ", incomplete" : "");
+    if (living) {
+        uint64_t ld = roz_record_live_dropped(&live);
+        printf("  live                   %s: %llu of %llu ticks sent, %llu dropped", o->live,
+               (unsigned long long)roz_record_live_sent(&live),
+               (unsigned long long)roz_record_live_ticks(&live), (unsigned long long)ld);
+        if (roz_record_live_error(&live)[0] != '\0')
+            printf(" (%s)", roz_record_live_error(&live));
+        else if (ld != 0)
+            printf(" (the viewer did not keep up)");
+        if (!recording && roz_recorder_dropped(&recorder) != 0)
+            printf("; %lu more the ring had no room for",
+                   (unsigned long)roz_recorder_dropped(&recorder));
+        printf("\n");
+    }
     if (tracing && trace.error[0] != '\0')
         printf("  trace                  %s is incomplete: %s\n", o->trace, trace.error);
     else if (tracing)
@@ -821,6 +864,10 @@ int main(int argc, char **argv)
 
     if (parse_args(argc, argv, &o) != 0)
         return 2;
+    if (o.replay != NULL && o.live != NULL) {
+        fprintf(stderr, "rozrun: --live streams a run on a port, not a --replay\n");
+        return 2;
+    }
     if (o.replay != NULL) {
         rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace,
                                        record_compression(&o) };
@@ -879,7 +926,7 @@ int main(int argc, char **argv)
         cfg.fuel_per_tick_max = o.fuel_max; /* UINT64_MAX: any declaration */
     cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
     cfg.allow_foreign_controller = o.allow_other_robot;
-    if (o.record != NULL) {
+    if (o.record != NULL || o.live != NULL) {
         /* 1024 ticks of room: the main thread drains every 20 ms at most */
         size_t bytes = 1024u * roz_recorder_slot_bytes(m);
         void *ring = malloc(bytes);
@@ -904,20 +951,30 @@ int main(int argc, char **argv)
         roz_port_close(&port);
         return 2;
     }
+    /* log times: the wall clock now plus simulated time
+     * (docs/recording-format.md), the same in the file and the live stream */
+    struct timespec now = { 0, 0 };
+    (void)timespec_get(&now, TIME_UTC);
+    uint64_t start_ns = (uint64_t)now.tv_sec * 1000000000u + (uint64_t)now.tv_nsec;
     if (o.record != NULL) {
-        /* log times: the wall clock now plus simulated time (docs/recording-format.md) */
-        struct timespec now = { 0, 0 };
-        (void)timespec_get(&now, TIME_UTC);
-        roz_record_file_options_t ro = {
-            o.controller, (uint64_t)now.tv_sec * 1000000000u + (uint64_t)now.tv_nsec,
-            record_compression(&o)
-        };
+        roz_record_file_options_t ro = { o.controller, start_ns, record_compression(&o) };
         if (roz_record_file_open(&recfile, o.record, &rt, &recorder, &ro, err,
                                  sizeof err) != ROZ_OK) {
             fprintf(stderr, "rozrun: cannot record: %s\n", err);
             return 2;
         }
         recording = 1;
+    }
+    if (o.live != NULL) {
+        /* uncompressed: a chunk a tick has little to gain */
+        roz_record_file_options_t lo = { o.controller, start_ns, ROZ_MCAP_COMPRESS_NONE };
+        /* a viewer that went away must end the stream, not the run */
+        signal(SIGPIPE, SIG_IGN);
+        if (roz_record_live_open(&live, o.live, &rt, &recorder, &lo, err, sizeof err) != ROZ_OK) {
+            fprintf(stderr, "rozrun: --live: %s\n", err);
+            return 2;
+        }
+        living = 1;
     }
     if (o.trace != NULL) {
         double truth[ROZRUN_TRUTH_VALUES]; /* a simulator's base pose: traced too */
@@ -989,6 +1046,9 @@ int main(int argc, char **argv)
     roz_port_deactivate(&port);
     if (tracing && rozrun_trace_close(&trace) != 0 && !trace_failed)
         fprintf(stderr, "rozrun: %s\n", trace.error);
+    record_drain(); /* the rest, into the file and the stream */
+    if (living)
+        roz_record_live_close(&live, LIVE_CLOSE_WAIT_MS);
     if (recording && roz_record_file_close(&recfile, err, sizeof err) != ROZ_OK) {
         if (!record_failed)
             fprintf(stderr, "rozrun: %s\n", err);

@@ -177,7 +177,12 @@ static int emit(roz_mcap_writer_t *w, const void *p, size_t n, int data_section)
 {
     if (w->error[0] != '\0')
         return ROZ_EIO;
-    if (n != 0 && fwrite(p, 1, n, w->out) != n) {
+    if (w->sink != NULL) {
+        if (n != 0 && w->sink(w->sink_ctx, p, n) != 0) {
+            fail(w, "the stream took no more", 0);
+            return ROZ_EIO;
+        }
+    } else if (n != 0 && fwrite(p, 1, n, w->out) != n) {
         fail(w, "write failed", errno);
         return ROZ_EIO;
     }
@@ -263,7 +268,7 @@ static int flush_chunk(roz_mcap_writer_t *w)
     /* its message indexes, and where each went */
     uint64_t index_at[ROZ_MCAP_MAX_CHANNELS + 1] = { 0 };
     uint64_t index_start = w->offset;
-    for (uint16_t c = 1; c <= w->n_channels && rc == ROZ_OK; c++) {
+    for (uint16_t c = 1; c <= w->n_channels && rc == ROZ_OK && w->sink == NULL; c++) {
         if (w->index_len[c] == 0)
             continue;
         len = 0;
@@ -280,8 +285,8 @@ static int flush_chunk(roz_mcap_writer_t *w)
         rc = emit(w, rec, len, 1);
     }
     uint64_t index_len = w->offset - index_start;
-    /* the chunk index, for the summary */
-    if (rc == ROZ_OK) {
+    /* the chunk index, for the summary (a stream has none) */
+    if (rc == ROZ_OK && w->sink == NULL) {
         buf_t ci = { &w->chunk_indexes, &w->chunk_indexes_len, &w->chunk_indexes_cap };
         uint32_t n_idx = 0;
         for (uint16_t c = 1; c <= w->n_channels; c++)
@@ -310,21 +315,13 @@ static int flush_chunk(roz_mcap_writer_t *w)
 
 /* ---- writer: public ---------------------------------------------------------- */
 
-int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
-                  size_t chunk_bytes)
+/* The magic and the header, once w->out or w->sink is set. */
+static int write_start(roz_mcap_writer_t *w, const char *library)
 {
     unsigned char *rec = NULL;
     size_t len = 0, cap = 0;
     buf_t b = { &rec, &len, &cap };
 
-    memset(w, 0, sizeof *w);
-    w->path = path;
-    w->chunk_target = chunk_bytes != 0 ? chunk_bytes : (size_t)1 << 20;
-    w->out = fopen(path, "wb");
-    if (w->out == NULL) {
-        fail(w, "cannot create", errno);
-        return ROZ_EIO;
-    }
     size_t s = rec_begin(b, OP_HEADER);
     int e = put_str(b, "ros2") | put_str(b, library);
     rec_end(b, s);
@@ -337,6 +334,31 @@ int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
         rc = emit(w, rec, len, 1);
     free(rec);
     return rc;
+}
+
+int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
+                  size_t chunk_bytes)
+{
+    memset(w, 0, sizeof *w);
+    w->path = path;
+    w->chunk_target = chunk_bytes != 0 ? chunk_bytes : (size_t)1 << 20;
+    w->out = fopen(path, "wb");
+    if (w->out == NULL) {
+        fail(w, "cannot create", errno);
+        return ROZ_EIO;
+    }
+    return write_start(w, library);
+}
+
+int roz_mcap_open_stream(roz_mcap_writer_t *w, const char *name, const char *library,
+                         size_t chunk_bytes, roz_mcap_sink_fn sink, void *ctx)
+{
+    memset(w, 0, sizeof *w);
+    w->path = name;
+    w->chunk_target = chunk_bytes != 0 ? chunk_bytes : (size_t)1 << 20;
+    w->sink = sink;
+    w->sink_ctx = ctx;
+    return write_start(w, library);
 }
 
 uint16_t roz_mcap_schema(roz_mcap_writer_t *w, const char *name, const char *encoding,
@@ -390,17 +412,20 @@ int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
     if (w->chunk_len + 64u > ROZ_MCAP_MAX_RECORD ||
         len > ROZ_MCAP_MAX_RECORD - 64u - w->chunk_len)
         return ROZ_ENOSPC;
-    /* the message index: (log time, offset in the chunk's records) */
-    if (w->index_len[channel] + 2u > w->index_cap[channel]) {
-        size_t cap = w->index_cap[channel] ? 2u * w->index_cap[channel] : 512u;
-        uint64_t *n = realloc(w->index[channel], cap * sizeof n[0]);
-        if (n == NULL)
-            return ROZ_ENOMEM;
-        w->index[channel] = n;
-        w->index_cap[channel] = cap;
+    /* the message index: (log time, offset in the chunk's records); none
+     * in a stream */
+    if (w->sink == NULL) {
+        if (w->index_len[channel] + 2u > w->index_cap[channel]) {
+            size_t cap = w->index_cap[channel] ? 2u * w->index_cap[channel] : 512u;
+            uint64_t *n = realloc(w->index[channel], cap * sizeof n[0]);
+            if (n == NULL)
+                return ROZ_ENOMEM;
+            w->index[channel] = n;
+            w->index_cap[channel] = cap;
+        }
+        w->index[channel][w->index_len[channel]++] = log_time;
+        w->index[channel][w->index_len[channel]++] = w->chunk_len;
     }
-    w->index[channel][w->index_len[channel]++] = log_time;
-    w->index[channel][w->index_len[channel]++] = w->chunk_len;
     size_t s = rec_begin(b, OP_MESSAGE);
     int e = put_le(b, channel, 2) | put_le(b, w->sequence[channel]++, 4) |
             put_le(b, log_time, 8) | put_le(b, publish_time, 8) | put(b, data, len);
@@ -423,7 +448,7 @@ int roz_mcap_message(roz_mcap_writer_t *w, uint16_t channel, uint64_t log_time,
 
 int roz_mcap_boundary(roz_mcap_writer_t *w)
 {
-    if (w->out == NULL || w->error[0] != '\0')
+    if ((w->out == NULL && w->sink == NULL) || w->error[0] != '\0')
         return ROZ_EIO;
     if (w->chunk_len >= w->chunk_target)
         return flush_chunk(w);
@@ -460,6 +485,47 @@ static int summary_group(roz_mcap_writer_t *w, buf_t offsets, uint8_t op, const 
     return emit(w, p, n, 0);
 }
 
+/* Frees what a writer holds. */
+static void free_writer(roz_mcap_writer_t *w)
+{
+    free(w->chunk);
+    free(w->schemas);
+    free(w->channels);
+    free(w->chunk_indexes);
+    free(w->zbuf);
+#if ROZ_MCAP_ZSTD
+    ZSTD_freeCCtx(w->zctx);
+#endif
+    w->zbuf = NULL;
+    w->zctx = NULL;
+    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
+        free(w->index[c]);
+    w->chunk = w->schemas = w->channels = w->chunk_indexes = NULL;
+    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
+        w->index[c] = NULL;
+}
+
+/* A stream's end: the data end (CRC 0, "not computed"), a footer with no
+ * summary (both offsets and the CRC 0), the magic. */
+static int close_stream(roz_mcap_writer_t *w, int rc)
+{
+    /* data end: opcode, length 4, CRC; footer: opcode, length 20, 20 zeros */
+    unsigned char end[13 + 29] = { 0 };
+    end[0] = OP_DATA_END;
+    end[1] = 4;
+    end[13] = OP_FOOTER;
+    end[14] = 20;
+    if (rc == ROZ_OK)
+        rc = emit(w, end, sizeof end, 0);
+    if (rc == ROZ_OK)
+        rc = emit(w, magic, sizeof magic, 0);
+    w->sink = NULL;
+    free_writer(w);
+    if (rc != ROZ_OK && w->error[0] == '\0')
+        fail(w, rc == ROZ_ENOMEM ? "out of memory" : "write failed", 0);
+    return rc == ROZ_OK ? ROZ_OK : ROZ_EIO;
+}
+
 int roz_mcap_close(roz_mcap_writer_t *w)
 {
     unsigned char *rec = NULL, *offs = NULL;
@@ -467,9 +533,11 @@ int roz_mcap_close(roz_mcap_writer_t *w)
     buf_t b = { &rec, &len, &cap }, ob = { &offs, &olen, &ocap };
     int rc = ROZ_OK;
 
-    if (w->out == NULL)
+    if (w->out == NULL && w->sink == NULL)
         return w->error[0] != '\0' ? ROZ_EIO : ROZ_OK;
     rc = flush_chunk(w);
+    if (w->sink != NULL)
+        return close_stream(w, rc);
     /* the data end, with the data section's CRC */
     size_t s = rec_begin(b, OP_DATA_END);
     (void)put_le(b, w->data_crc, 4);
@@ -539,21 +607,7 @@ int roz_mcap_close(roz_mcap_writer_t *w)
     w->out = NULL;
     free(rec);
     free(offs);
-    free(w->chunk);
-    free(w->schemas);
-    free(w->channels);
-    free(w->chunk_indexes);
-    free(w->zbuf);
-#if ROZ_MCAP_ZSTD
-    ZSTD_freeCCtx(w->zctx);
-#endif
-    w->zbuf = NULL;
-    w->zctx = NULL;
-    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
-        free(w->index[c]);
-    w->chunk = w->schemas = w->channels = w->chunk_indexes = NULL;
-    for (int c = 0; c <= ROZ_MCAP_MAX_CHANNELS; c++)
-        w->index[c] = NULL;
+    free_writer(w);
     if (rc != ROZ_OK && w->error[0] == '\0')
         fail(w, rc == ROZ_ENOMEM ? "out of memory" : "write failed", 0);
     return rc == ROZ_OK ? ROZ_OK : ROZ_EIO;

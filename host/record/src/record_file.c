@@ -36,7 +36,13 @@ static const char tick_schema[] =
     "uint32 flags\n"
     "bool fresh\n"
     "bool ran\n"
-    "bool wrote\n";
+    "bool wrote\n"
+    "# the safety filter's counters after this tick, totals since the start (as\n"
+    "# rozrun's summary counts them; absent in files before them)\n"
+    "uint64 clamps  # values moved into [min, max], at command.set or by the filter\n"
+    "uint64 rate_caps  # values held back by max_rate\n"
+    "uint64 limit_stops  # values held back by position-limit enforcement\n"
+    "uint64 nonfinite  # non-finite targets replaced by the safe default\n";
 
 static const char run_schema[] =
     "# a roz run, once per recording\n"
@@ -251,9 +257,10 @@ static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
     return put_msg(f, f->ch_run, 0, &c);
 }
 
-int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
-                         roz_recorder_t *rec, const roz_record_file_options_t *opt, char *err,
-                         size_t errlen)
+/* A file (@p sink NULL) or a stream to @p sink. */
+static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
+                    roz_recorder_t *rec, const roz_record_file_options_t *opt,
+                    roz_mcap_sink_fn sink, void *ctx, char *err, size_t errlen)
 {
     static const roz_record_file_options_t none = { NULL, 0, ROZ_MCAP_COMPRESS_NONE };
     const roz_runtime_config_t *cfg = roz_runtime_config(rt);
@@ -276,8 +283,12 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
                  opt->compression == ROZ_MCAP_COMPRESS_ZSTD ? "zstd (no libzstd)" : "that");
         return ROZ_ENOTSUP;
     }
-    /* 64 KiB chunks: a recording whose writer died loses at most the last */
-    rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
+    /* 64 KiB chunks: a recording whose writer died loses at most the last;
+     * a stream's chunk is one tick, so a viewer loses or gets whole ticks */
+    if (sink != NULL)
+        rc = roz_mcap_open_stream(&f->w, path, "roz", 1u, sink, ctx);
+    else
+        rc = roz_mcap_open(&f->w, path, "roz", 64u * 1024u);
     if (rc == ROZ_OK)
         rc = roz_mcap_set_compression(&f->w, opt->compression);
     if (rc != ROZ_OK) {
@@ -335,6 +346,24 @@ int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runti
     return ROZ_OK;
 }
 
+int roz_record_file_open(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
+                         roz_recorder_t *rec, const roz_record_file_options_t *opt, char *err,
+                         size_t errlen)
+{
+    return open_any(f, path, rt, rec, opt, NULL, NULL, err, errlen);
+}
+
+int roz_record_file_open_stream(roz_record_file_t *f, const char *name, const roz_runtime_t *rt,
+                                roz_recorder_t *rec, const roz_record_file_options_t *opt,
+                                roz_mcap_sink_fn sink, void *ctx, char *err, size_t errlen)
+{
+    if (sink == NULL) {
+        snprintf(err, errlen, "%s: a stream needs a sink", name);
+        return ROZ_EINVAL;
+    }
+    return open_any(f, name, rt, rec, opt, sink, ctx, err, errlen);
+}
+
 static int write_values(roz_record_file_t *f, uint16_t ch, uint64_t t, const double *v,
                         uint16_t n)
 {
@@ -379,6 +408,10 @@ static int write_record(void *ctx, const roz_record_t *r)
     cdr_u(&c, (r->flags & ROZ_RECORD_FRESH) ? 1u : 0u, 1);
     cdr_u(&c, (r->flags & ROZ_RECORD_RAN) ? 1u : 0u, 1);
     cdr_u(&c, (r->flags & ROZ_RECORD_WROTE) ? 1u : 0u, 1);
+    cdr_u(&c, r->clamps, 8);
+    cdr_u(&c, r->rate_caps, 8);
+    cdr_u(&c, r->limit_stops, 8);
+    cdr_u(&c, r->nonfinite, 8);
     if (rc == ROZ_OK)
         rc = put_msg(f, f->ch_tick, t, &c);
     if (rc == ROZ_OK)
@@ -420,6 +453,12 @@ static int write_record(void *ctx, const roz_record_t *r)
     else
         f->ticks++;
     return 0;
+}
+
+int roz_record_file_put(roz_record_file_t *f, const roz_record_t *r)
+{
+    (void)write_record(f, r);
+    return f->failed ? ROZ_EIO : ROZ_OK;
 }
 
 int roz_record_file_drain(roz_record_file_t *f)
@@ -608,6 +647,15 @@ static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, ch
     t->cleared = (uint32_t)rd_u(&d, 4);
     t->read_rc = (int32_t)(uint32_t)rd_u(&d, 4);
     t->flags = (uint32_t)rd_u(&d, 4);
+    (void)rd_u(&d, 1); /* fresh, ran, wrote: the flags say it */
+    (void)rd_u(&d, 1);
+    (void)rd_u(&d, 1);
+    if (!d.bad && d.at < d.len) { /* absent in files before the filter's counters */
+        t->clamps = rd_u(&d, 8);
+        t->rate_caps = rd_u(&d, 8);
+        t->limit_stops = rd_u(&d, 8);
+        t->nonfinite = rd_u(&d, 8);
+    }
     if (d.bad) {
         snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/tick message", rd->r.path,
                  (unsigned long long)msg->offset);

@@ -59,6 +59,13 @@ typedef struct roz_record {
     uint32_t      cleared;         /**< the bits a clear cleared at this tick */
     int32_t       read_rc;         /**< the port's read() result (1 fresh, 0, ROZ_E*) */
     uint32_t      flags;           /**< roz_record_flag bits */
+    /* the safety filter's counters after this tick, totals since init, as
+     * rozrun's summary counts them */
+    uint64_t      clamps;          /**< values moved into [min, max], at command.set or
+                                        by the filter */
+    uint64_t      rate_caps;       /**< values held back by max_rate */
+    uint64_t      limit_stops;     /**< values held back by position-limit enforcement */
+    uint64_t      nonfinite;       /**< non-finite targets replaced by the safe default */
     const double *state;           /**< n_states: the state the controller and filter saw */
     const double *target;          /**< n_commands: the controller's targets */
     const double *applied;         /**< n_commands: what the filter handed the port */

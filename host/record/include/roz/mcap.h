@@ -45,9 +45,15 @@ enum {
     ROZ_MCAP_COMPRESS_ZSTD = 1, /**< zstd, level 1 (built with Debian's libzstd) */
 };
 
+/** Where a stream's bytes go (roz_mcap_open_stream()): all @p n bytes, or
+ *  non-zero when it cannot take them (the writer then fails). */
+typedef int (*roz_mcap_sink_fn)(void *ctx, const void *data, size_t n);
+
 /** A writer. Fields are private to mcap.c. */
 typedef struct roz_mcap_writer {
     FILE          *ROZ_PRIVATE(out);
+    roz_mcap_sink_fn ROZ_PRIVATE(sink);      /* a stream's (roz_mcap_open_stream()), else NULL */
+    void          *ROZ_PRIVATE(sink_ctx);
     const char    *ROZ_PRIVATE(path);
     uint64_t       ROZ_PRIVATE(offset);      /* bytes written */
     uint32_t       ROZ_PRIVATE(data_crc);    /* CRC-32 state of the data section so far */
@@ -85,6 +91,21 @@ typedef struct roz_mcap_writer {
  */
 ROZ_NODISCARD int roz_mcap_open(roz_mcap_writer_t *w, const char *path, const char *library,
                                 size_t chunk_bytes);
+
+/**
+ * @brief Start a stream (a pipe to a live viewer, docs/live.md): the magic
+ *        and the header go to @p sink now, every record after them as it is
+ *        made. A stream keeps no indexes: its chunks have no message indexes,
+ *        roz_mcap_close() writes the data end (CRC 0: a stream may lose whole
+ *        chunks on the way), a footer that says there is no summary, and the
+ *        magic. Its memory is the open chunk's, whatever the length of the run.
+ * @param[in] name  names the stream in w->error
+ * @retval ROZ_OK, ROZ_EIO (the sink refused), ROZ_ENOMEM
+ * Context: a non-real-time thread.
+ */
+ROZ_NODISCARD int roz_mcap_open_stream(roz_mcap_writer_t *w, const char *name,
+                                       const char *library, size_t chunk_bytes,
+                                       roz_mcap_sink_fn sink, void *ctx);
 
 /** @brief Add a schema (encoding "ros2msg"): ids from 1, in order of the
  *  calls. @return the id, or 0 on error. Context: as roz_mcap_open(). */

@@ -69,6 +69,28 @@ ROZ_NODISCARD int roz_record_file_open(roz_record_file_t *f, const char *path,
                                        size_t errlen);
 
 /**
+ * @brief As roz_record_file_open(), but a stream to @p sink (a live viewer's
+ *        pipe, roz/record_live.h): the same schemas, channels and messages,
+ *        one chunk per tick, no indexes and no summary (roz_mcap_open_stream()).
+ * @param[in] name  names the stream in errors
+ * Context: start-up, a non-real-time thread; allocates.
+ */
+ROZ_NODISCARD int roz_record_file_open_stream(roz_record_file_t *f, const char *name,
+                                              const roz_runtime_t *rt, roz_recorder_t *rec,
+                                              const roz_record_file_options_t *opt,
+                                              roz_mcap_sink_fn sink, void *ctx, char *err,
+                                              size_t errlen);
+
+/**
+ * @brief Write one record that the caller's own drain handed out (when one
+ *        drain feeds a file and a stream: roz_recorder_drain() with a sink
+ *        that calls this for each). Its messages end at a chunk boundary.
+ * @retval ROZ_OK, ROZ_EIO once a write failed (roz_record_file_error())
+ * Context: the recorder's one consumer thread.
+ */
+int roz_record_file_put(roz_record_file_t *f, const roz_record_t *r);
+
+/**
  * @brief Drain the recorder into the file.
  * @return records written (>= 0), or ROZ_EIO once a write failed (the
  *         records are still drained, so the tick's ring never fills)

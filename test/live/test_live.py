@@ -1,0 +1,466 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Watching a run live (docs/live.md): rozrun --live on the loopback UR5,
+roz-live (tools/live.py) serving it on 127.0.0.1, and a client that speaks
+the Foxglove WebSocket protocol (subprotocol foxglove.websocket.v1) strictly
+with PyPI's `websockets`: the subprotocol negotiated, serverInfo first,
+every text message a JSON object with its op, the advertised channels and
+schemas those of the run's own recording, every binary message a Message
+Data frame (opcode 1, a subscription id the client chose, the log time) whose
+payload decodes with the advertised ros2msg schema to the recording's
+values. And the stream never holds up the tick: a reader that never reads,
+or one that went away, costs dropped ticks of the stream, counted, while
+the run and its file recording go on whole. ROZRUN and CTL come from the
+build; only 127.0.0.1 is used."""
+import json
+import math
+import os
+import pathlib
+import queue
+import re
+import signal
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+from mcap.exceptions import EndOfFile
+from mcap.reader import make_reader
+from mcap.records import Message, Schema
+from mcap.stream_reader import StreamReader
+from mcap_ros2.decoder import DecoderFactory
+from websockets.sync.client import connect
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+ROZRUN = os.environ.get("ROZRUN", "")
+CTL = pathlib.Path(os.environ.get("CTL", "."))
+LIVE = ROOT / "tools" / "live.py"
+SUBPROTOCOL = "foxglove.sdk.v1"
+SERVER_OPS = {"serverInfo", "status", "removeStatus", "advertise", "unadvertise",
+              "subscriptionResponse"}
+
+pytestmark = pytest.mark.skipif(not ROZRUN, reason="ROZRUN not set (run through ctest)")
+
+
+def rozrun(*args, **kw):
+    return subprocess.run([ROZRUN, *map(str, args)], capture_output=True, text=True,
+                          timeout=300, **kw)
+
+
+def summary_line(out, key):
+    m = re.search(rf"^  {key} +(.*)$", out, re.M)
+    assert m, f"no '{key}' line in the summary:\n{out}"
+    return m.group(1)
+
+
+def live_counts(out):
+    m = re.search(r"(\d+) of (\d+) ticks sent, (\d+) dropped", summary_line(out, "live"))
+    assert m, out
+    return tuple(int(g) for g in m.groups())
+
+
+def recorded(path):
+    """The recording's channels {topic: advertised fields} and its messages
+    {(topic, log_time): (bytes, decoded)}."""
+    channels, messages = {}, {}
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()], validate_crcs=True)
+        summary = reader.get_summary()
+        for ch in summary.channels.values():
+            sc = summary.schemas[ch.schema_id]
+            channels[ch.topic] = {"encoding": ch.message_encoding, "schemaName": sc.name,
+                                  "schema": sc.data.decode(), "schemaEncoding": sc.encoding}
+        for _, ch, msg, dec in reader.iter_decoded_messages(log_time_order=False):
+            key = (ch.topic, msg.log_time)
+            assert key not in messages, f"two {ch.topic} messages at {msg.log_time}"
+            messages[key] = (bytes(msg.data), dec)
+    return channels, messages
+
+
+def same_value(a, b):
+    if isinstance(a, float) and isinstance(b, float):
+        return struct.pack("<d", a) == struct.pack("<d", b) or (math.isnan(a) and math.isnan(b))
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(same_value(x, y) for x, y in zip(a, b))
+    return a == b
+
+
+def fields_of(decoded):
+    return {n: getattr(decoded, n) for n in type(decoded).__slots__}
+
+
+class Viewer:
+    """roz-live on a FIFO, port 0, its output lines in a queue."""
+
+    def __init__(self, fifo, *extra):
+        self.p = subprocess.Popen([sys.executable, str(LIVE), str(fifo), "--host", "127.0.0.1",
+                                   "--port", "0", *extra], stdout=subprocess.PIPE,
+                                  stderr=subprocess.STDOUT, text=True)
+        self.lines = queue.Queue()
+        self.out = []
+        threading.Thread(target=self._read, daemon=True).start()
+        line = self.wait_for("roz-live: serving ")
+        m = re.match(r"roz-live: serving ws://127\.0\.0\.1:(\d+) ", line)
+        assert m, line
+        self.port = int(m.group(1))
+
+    def _read(self):
+        for line in self.p.stdout:
+            self.out.append(line)
+            self.lines.put(line)
+
+    def wait_for(self, prefix, timeout=60):
+        end = time.monotonic() + timeout
+        while time.monotonic() < end:
+            try:
+                line = self.lines.get(timeout=0.2)
+            except queue.Empty:
+                assert self.p.poll() is None, f"roz-live exited {self.p.returncode}: " \
+                                              f"{''.join(self.out)}"
+                continue
+            if line.startswith(prefix):
+                return line
+        pytest.fail(f"roz-live never said '{prefix}': {''.join(self.out)}")
+
+    def stop(self):
+        if self.p.poll() is None:
+            self.p.send_signal(signal.SIGINT)
+        try:
+            assert self.p.wait(timeout=30) == 0, "".join(self.out)
+        finally:
+            if self.p.poll() is None:
+                self.p.kill()
+
+
+class StrictClient:
+    """A Foxglove WebSocket protocol v1 client that fails on anything the
+    specification does not allow a server to send."""
+
+    def __init__(self, port):
+        self._conn = connect(f"ws://127.0.0.1:{port}", subprotocols=[SUBPROTOCOL],
+                             open_timeout=30, max_size=None, proxy=None, compression=None)
+        self.ws = self._conn.__enter__()
+        assert self.ws.subprotocol == SUBPROTOCOL, "the server did not select the subprotocol"
+        self.info = None
+        self.channels = {}     # channel id -> advertised channel
+        self.subs = {}         # subscription id -> channel id
+        self.next_sub = 1000   # the client's own ids, unlike the channels'
+        self.received = []     # (topic, timestamp, payload)
+
+    def _text(self, text):
+        msg = json.loads(text)
+        assert isinstance(msg, dict) and isinstance(msg.get("op"), str), text
+        op = msg["op"]
+        assert op in SERVER_OPS, f"a server op the client never asked for: {text[:200]}"
+        if self.info is None:
+            assert op == "serverInfo", f"the first message is {op}, not serverInfo"
+        if op == "serverInfo":
+            assert self.info is None, "a second serverInfo"
+            assert isinstance(msg.get("name"), str)
+            caps = msg.get("capabilities")
+            assert isinstance(caps, list) and all(isinstance(c, str) for c in caps)
+            self.info = msg
+        elif op == "advertise":
+            assert isinstance(msg.get("channels"), list)
+            subscribe = []
+            for ch in msg["channels"]:
+                for key in ("topic", "encoding", "schemaName", "schema"):
+                    assert isinstance(ch.get(key), str), f"advertise: {key} in {ch}"
+                assert isinstance(ch.get("id"), int)
+                if "schemaEncoding" in ch:
+                    assert isinstance(ch["schemaEncoding"], str)
+                assert ch["id"] not in self.channels, f"channel {ch['id']} advertised twice"
+                self.channels[ch["id"]] = ch
+                subscribe.append({"id": self.next_sub, "channelId": ch["id"]})
+                self.subs[self.next_sub] = ch["id"]
+                self.next_sub += 1
+            if subscribe:
+                self.ws.send(json.dumps({"op": "subscribe", "subscriptions": subscribe}))
+        elif op == "subscriptionResponse":  # the SDK's: the subscriptions it took
+            for sub in msg["subscriptions"]:
+                assert self.subs.get(sub["id"]) == sub["channelId"], text
+        elif op == "unadvertise":
+            pytest.fail(f"channels withdrawn during the run: {text}")
+
+    def _binary(self, data):
+        assert len(data) >= 1 + 4 + 8, f"a binary message of {len(data)} bytes"
+        assert data[0] == 0x01, f"binary opcode {data[0]}: only Message Data (1) is expected"
+        sub, ts = struct.unpack_from("<IQ", data, 1)
+        assert sub in self.subs, f"Message Data for subscription {sub}, never made"
+        self.received.append((self.channels[self.subs[sub]]["topic"], ts, bytes(data[13:])))
+
+    def pump(self, timeout):
+        """Handles what arrives within @p timeout seconds; False when nothing did."""
+        try:
+            m = self.ws.recv(timeout=timeout)
+        except TimeoutError:
+            return False
+        if isinstance(m, str):
+            self._text(m)
+        else:
+            assert self.info is not None, "binary data before serverInfo"
+            self._binary(m)
+        return True
+
+    def close(self):
+        self._conn.__exit__(None, None, None)
+
+
+def watch(client, viewer, ticks, record, fifo):
+    """One run at the UR5's rate through the viewer while the client pumps;
+    rozrun's stdout."""
+    run = subprocess.Popen([ROZRUN, "--robot", "ur5", "--port", "loopback", "--realtime",
+                            "--ticks", str(ticks), "--controller", CTL / "sine.wasm",
+                            "--record", record, "--live", fifo],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    ended = False
+    while time.monotonic() < deadline:
+        got = client.pump(1.0)
+        if not ended and run.poll() is not None:
+            viewer.wait_for("roz-live: the run ended")
+            ended = True
+        if ended and not got:
+            break  # the run is over and nothing came for a second
+    out, err = run.communicate(timeout=60)
+    assert run.returncode == 0, out + err
+    return out
+
+
+def test_live_run_equals_its_recording(tmp_path):
+    """Every channel roz-live advertises is the recording's (topic, cdr,
+    schema name and ros2msg text); every message the client receives is a
+    recorded one, byte for byte, and decodes with the advertised schema to
+    the recording's values. A second run on the same FIFO follows on the
+    same channels, its /roz/run included."""
+    fifo = tmp_path / "run.live"
+    viewer = Viewer(fifo)
+    client = StrictClient(viewer.port)
+    try:
+        while client.info is None:
+            assert client.pump(30), "no serverInfo"
+        # a few seconds of ticks, so the client has subscribed while most
+        # of them are still to come
+        out1 = watch(client, viewer, 300, tmp_path / "run.mcap", fifo)
+        viewer.wait_for("roz-live: waiting for the next run")
+        first = len(client.received)
+        out2 = watch(client, viewer, 150, tmp_path / "run2.mcap", fifo)
+    finally:
+        client.close()
+        viewer.stop()
+
+    channels, messages = recorded(tmp_path / "run.mcap")
+    channels2, messages2 = recorded(tmp_path / "run2.mcap")
+    assert channels2 == channels
+    advertised = {ch["topic"]: {k: ch.get(k) for k in ("encoding", "schemaName", "schema",
+                                                       "schemaEncoding")}
+                  for ch in client.channels.values()}
+    assert advertised == channels  # once each: the second run kept them
+    assert set(channels) == {"/roz/run", "/roz/controller", "/roz/tick", "/roz/state",
+                             "/roz/target", "/roz/applied", "/roz/fault"}
+    assert live_counts(out1) == (300, 300, 0), out1
+    assert live_counts(out2) == (150, 150, 0), out2
+    assert not set(messages) & set(messages2)  # the second run starts later
+
+    factory = DecoderFactory()
+    decoders = {}
+    ticks_seen = [set(), set()]
+    for n, (topic, ts, payload) in enumerate(client.received):
+        run = 0 if n < first else 1
+        recorded_run = (messages, messages2)[run]
+        assert (topic, ts) in recorded_run, f"{topic} at {ts}: not in run {run + 1}'s recording"
+        data, dec = recorded_run[(topic, ts)]
+        assert payload == data, f"{topic} at {ts}: not the recorded bytes"
+        if topic not in decoders:
+            ch = next(c for c in client.channels.values() if c["topic"] == topic)
+            decoders[topic] = factory.decoder_for(
+                ch["encoding"], Schema(id=ch["id"], name=ch["schemaName"],
+                                       encoding=ch["schemaEncoding"],
+                                       data=ch["schema"].encode()))
+        live = fields_of(decoders[topic](payload))
+        rec = fields_of(dec)
+        assert live.keys() == rec.keys()
+        for k in rec:
+            assert same_value(live[k], rec[k]), f"{topic}.{k} at {ts}: {live[k]} != {rec[k]}"
+        if topic == "/roz/tick":
+            ticks_seen[run].add(live["tick"])
+    # the client subscribed within a few ticks of the first run's start, and
+    # before the second run: most ticks of one, and the other's /roz/run
+    assert len(ticks_seen[0]) >= 150, f"only {len(ticks_seen[0])} of 300 ticks reached the client"
+    assert len(ticks_seen[1]) >= 140, f"only {len(ticks_seen[1])} of 150 ticks reached the client"
+    assert any(t == "/roz/run" for t, _, _ in client.received[first:])
+    per_topic = {}
+    for topic, ts, _ in client.received[:first]:
+        per_topic.setdefault(topic, set()).add(ts)
+    tick_times = per_topic["/roz/tick"]
+    for topic in ("/roz/state", "/roz/target", "/roz/applied"):
+        assert len(per_topic[topic] ^ tick_times) <= 2, topic  # a subscription mid-tick
+
+
+def stream_ticks(data):
+    """The /roz/tick messages in a live stream's bytes, and whether it ended
+    with its footer."""
+    import io
+    n, complete = 0, False
+    reader = StreamReader(io.BytesIO(data), validate_crcs=True)
+    topics = {}
+    try:
+        for rec in reader.records:
+            if type(rec).__name__ == "Channel":
+                topics[rec.id] = rec.topic
+            elif isinstance(rec, Message) and topics[rec.channel_id] == "/roz/tick":
+                n += 1
+            elif type(rec).__name__ == "Footer":
+                complete = True
+    except (EndOfFile, struct.error):  # the last chunk cut at the close
+        pass
+    return n, complete
+
+
+@pytest.mark.parametrize("realtime", [False, True], ids=["simulated", "realtime"])
+def test_reader_that_never_reads_costs_stream_ticks_only(tmp_path, realtime):
+    """A pipe nobody reads: every tick runs, the file recording beside the
+    stream is whole, and the stream drops whole ticks, counted; what sits in
+    the pipe is the stream's start and exactly the ticks counted as sent."""
+    r, w = os.pipe()
+    ticks = 300 if realtime else 20000
+    try:
+        p = rozrun("--robot", "ur5", "--port", "loopback", "--ticks", ticks, *(
+            ["--realtime"] if realtime else []), "--controller", CTL / "sine.wasm",
+            "--record", tmp_path / "run.mcap", "--live", f"/dev/fd/{w}", pass_fds=(w,))
+        os.close(w)
+        w = -1
+        assert p.returncode == 0, p.stdout + p.stderr
+        assert summary_line(p.stdout, "ticks").startswith(f"{ticks} "), p.stdout
+        assert f"({ticks} ticks, none dropped)" in summary_line(p.stdout, "recording")
+        sent, total, dropped = live_counts(p.stdout)
+        assert total == ticks and sent + dropped == ticks
+        if not realtime:  # 20,000 ticks in a blink: the pipe and the queue fill
+            assert dropped > 0 and "the viewer was still behind at the end" in p.stdout
+        data = b""
+        while chunk := os.read(r, 1 << 20):
+            data += chunk
+    finally:
+        os.close(r)
+        if w >= 0:
+            os.close(w)
+    n, complete = stream_ticks(data)
+    assert n == sent
+    assert not complete or dropped == 0
+
+
+def test_viewer_that_went_away_ends_the_stream_not_the_run(tmp_path):
+    r, w = os.pipe()
+    os.close(r)
+    try:
+        p = rozrun("--robot", "ur5", "--port", "loopback", "--ticks", 2000, "--controller",
+                   CTL / "sine.wasm", "--record", tmp_path / "run.mcap", "--live",
+                   f"/dev/fd/{w}", pass_fds=(w,))
+    finally:
+        os.close(w)
+    assert p.returncode == 0, p.stdout + p.stderr
+    assert live_counts(p.stdout) == (0, 2000, 2000)
+    assert "the viewer went away" in summary_line(p.stdout, "live")
+    assert "(2000 ticks, none dropped)" in summary_line(p.stdout, "recording")
+
+
+def test_fifo_without_a_reader_is_refused(tmp_path):
+    fifo = tmp_path / "nobody.live"
+    os.mkfifo(fifo)
+    p = rozrun("--robot", "ur5", "--ticks", 10, "--controller", CTL / "sine.wasm",
+               "--live", fifo)
+    assert p.returncode == 2
+    assert f"{fifo}: nobody reads this FIFO yet" in p.stderr
+    p = rozrun("--robot", "ur5", "--ticks", 10, "--controller", CTL / "sine.wasm",
+               "--live", "-", cwd=tmp_path)
+    assert p.returncode == 2 and "not standard output" in p.stderr
+    assert not (tmp_path / "-").exists()
+    p = rozrun("--replay", tmp_path / "x.mcap", "--controller", CTL / "sine.wasm",
+               "--live", fifo)
+    assert p.returncode == 2 and "--live streams a run on a port" in p.stderr
+
+
+@pytest.mark.parametrize("robot,ctl", [("ur5", "sine"), ("unitree_g1", "g1_stand")])
+def test_shipped_layout_is_the_runs(tmp_path, robot, ctl):
+    """tools/layouts/<robot>.json is what `roz-live layout` writes for a run
+    of that robot, and every path it plots is a field of the run's schemas."""
+    p = rozrun("--robot", robot, "--ticks", 5, "--controller", CTL / f"{ctl}.wasm", "--record",
+               tmp_path / "run.mcap")
+    assert p.returncode in (0, 1), p.stdout + p.stderr
+    q = subprocess.run([sys.executable, LIVE, "layout", tmp_path / "run.mcap",
+                        tmp_path / "layout.json"], capture_output=True, text=True, timeout=120)
+    assert q.returncode == 0, q.stderr
+    made = (tmp_path / "layout.json").read_text()
+    assert made == (ROOT / "tools" / "layouts" / f"{robot}.json").read_text()
+    channels, _ = recorded(tmp_path / "run.mcap")
+    paths = re.findall(r'"(?:value|topicPath)": "([^"]+)"', made)
+    assert len(paths) >= 10
+    for path in paths:
+        topic, _, field = path.partition(".")
+        assert topic in channels, path
+        if field:
+            assert re.search(rf"^\S+ {re.escape(field)}\b", channels[topic]["schema"], re.M), path
+
+
+def cut_in_header(data):
+    """An offset inside the fixed fields of the stream's last chunk record
+    (after its opcode and length, within its times and sizes)."""
+    at, last = 8, None
+    while at + 9 <= len(data):
+        if data[at] == 0x06:
+            last = at
+        at += 9 + int.from_bytes(data[at + 1:at + 9], "little")
+    assert last is not None
+    return last + 9 + 26
+
+
+def test_runs_back_to_back_on_one_fifo(tmp_path):
+    """Runs whose streams are in the FIFO at once, one right behind the
+    other: roz-live reads each to its end and no further, so every one is
+    served whole (a reader that read ahead would lose the next one's
+    start)."""
+    streams = []
+    for n in range(3):
+        p = rozrun("--robot", "ur5", "--ticks", 50, "--controller", CTL / "sine.wasm",
+                   "--live", tmp_path / f"{n}.live")
+        assert p.returncode == 0, p.stdout + p.stderr
+        streams.append((tmp_path / f"{n}.live").read_bytes())
+    fifo = tmp_path / "run.live"
+    viewer = Viewer(fifo)
+    try:
+        with open(fifo, "wb") as f:  # roz-live holds the read end: no wait
+            f.write(b"".join(streams))
+        for n in range(3):
+            # 50 ticks of /roz/tick, state, target, applied; /roz/run,
+            # /roz/controller and the first tick's /roz/fault
+            line = viewer.wait_for("roz-live: the run ")
+            assert line.startswith("roz-live: the run ended: 203 messages served"), \
+                "".join(viewer.out)
+    finally:
+        viewer.stop()
+
+
+def test_viewer_survives_a_stream_cut_short_or_not_mcap(tmp_path):
+    """roz-live on a stream whose writer died mid-tick, and on bytes that
+    are no MCAP: it says so and exits cleanly (--exit), serving what came."""
+    p = rozrun("--robot", "ur5", "--ticks", 50, "--controller", CTL / "sine.wasm", "--live",
+               tmp_path / "whole.live")
+    assert p.returncode == 0, p.stdout + p.stderr
+    whole = (tmp_path / "whole.live").read_bytes()
+    # 50 ticks of /roz/tick, state, target and applied; /roz/run, /roz/controller
+    # and the first tick's /roz/fault (none latched)
+    cases = {"whole": (whole, "the run ended: 203 messages"),
+             "cut": (whole[:len(whole) // 2 + 7], "the run ended early"),
+             "cut in a chunk's header": (whole[:cut_in_header(whole)], "the run ended early"),
+             "garbage": (b"not an mcap stream at all" * 10, "the run ended early")}
+    for name, (data, said) in cases.items():
+        q = subprocess.run([sys.executable, LIVE, "-", "--port", "0", "--exit"], input=data,
+                           capture_output=True, timeout=120)
+        out = q.stdout.decode() + q.stderr.decode()
+        assert q.returncode == 0, f"{name}: {out}"
+        assert said in out, f"{name}: {out}"
+    (tmp_path / "plain").write_text("x")
+    q = subprocess.run([sys.executable, LIVE, tmp_path / "plain", "--port", "0", "--exit"],
+                       capture_output=True, text=True, timeout=120)
+    assert q.returncode == 1 and "not a FIFO" in q.stderr
