@@ -35,11 +35,14 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # qemu-system-arm boots them (test/firmware/, make firmware); libzstd-dev
 # compresses recordings' chunks (host/record/); libegl1 with Mesa's EGL and
 # drivers renders MuJoCo's frames offscreen (tools/render_frames.py, make
-# demo). Without
+# demo); rustc with libstd-rust-dev-wasm32 (its wasm32-unknown-unknown
+# target) builds the Rust controllers (sdk/rust, cmake/RozRust.cmake picks
+# the rustc on PATH that has the target, so a rustup one first on PATH
+# without it does no harm). Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
-    clang lld llvm libclang-rt-14-dev wabt
+    clang lld llvm libclang-rt-14-dev wabt rustc libstd-rust-dev-wasm32
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
