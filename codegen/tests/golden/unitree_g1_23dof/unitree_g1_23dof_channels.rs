@@ -17,8 +17,9 @@
  * unitree_g1_23dof_channels.h puts there (record version 1: version, length of
  * robot_id, robot_id, hash little-endian). roz refuses to load it on another
  * robot, or on this one once its channel table has changed. Build with
- * `--cfg roz_no_robot_identity` for a controller that runs on any robot. */
-#[allow(dead_code)]
+ * `--cfg roz_no_robot_identity` for a controller that runs on any robot
+ * (a cfg cargo's check-cfg does not know, hence the allow). */
+#[allow(dead_code, unexpected_cfgs)]
 pub mod unitree_g1_23dof_channels {
     pub const ROZ_UNITREE_G1_23DOF_N_COMMANDS:                                usize = 115;
     pub const ROZ_UNITREE_G1_23DOF_N_STATES:                                  usize = 79;
