@@ -11,9 +11,10 @@
 //! in decimal, each the shortest form that reads back as the C header's
 //! constant, which its comment names. Rust 1.63's `core` has no square root
 //! or rounding instruction that a stable crate may call (`f64::sqrt` and
-//! `f64::floor` are `std`), so `sqrt`, `floor`, `ceil` and `trunc` are the
-//! C header's portable versions on every target: exact, hence the same
-//! bits as `f64.sqrt` and friends, at a higher fuel cost (docs/rust.md).
+//! `f64::floor` are `std`), so `sqrt`, `floor`, `ceil` and `trunc` are
+//! portable code on every target: exact, hence the bits of `f64.sqrt` and
+//! friends (test/sdk/rust_math_native.rs checks them against the host's),
+//! at a higher fuel cost (docs/rust.md).
 //!
 //! Every function is pure: no state, no side effect.
 
@@ -134,11 +135,15 @@ pub fn copysign(x: f64, s: f64) -> f64 {
     from_bits((to_bits(x) & !SIGN) | (to_bits(s) & SIGN))
 }
 
-/// Square root, correctly rounded (digit by digit); NaN for x < 0, -0 for -0.
+/// Square root, correctly rounded; NaN for x < 0, -0 for -0.
+///
+/// roz_math.h's portable square root finds r = floor(sqrt(m * 2^54)) for
+/// the mantissa m digit by digit, 54 steps (about 3,500 units of fuel in
+/// wasm3); here the same r comes from a double estimate corrected in exact
+/// 128-bit integers (a few hundred units), then both round it alike: the
+/// same bits, which are f64.sqrt's.
 pub fn sqrt(x: f64) -> f64 {
     let u = to_bits(x);
-    let mut r: u64 = 0;
-    let mut rem: u64 = 0;
     if is_nan(x) || x == 0.0 || x == from_bits(INF) {
         return x;
     }
@@ -163,18 +168,31 @@ pub fn sqrt(x: f64) -> f64 {
         m <<= 1;
         e -= 1;
     }
-    // r = floor(sqrt(m * 2^54)): 54 bits, from the 27 pairs of bits of m
-    // then 27 pairs of zeros
-    let mut i = 0;
-    while i < 54 {
-        rem = (rem << 2) | if i < 27 { (m >> (52 - 2 * i)) & 3 } else { 0 };
-        let t = (r << 2) | 1;
-        r <<= 1;
-        if rem >= t {
-            rem -= t;
-            r |= 1;
-        }
-        i += 1;
+    // r = floor(sqrt(n)), n = m * 2^54 in [2^106, 2^108): 54 bits. The
+    // estimate: 1/sqrt(m) from the exponent halved, four Newton steps
+    // (relative error below 2^-50), times m, a Newton step on the root, and
+    // 2^27: off by a few units, which the loops take back exactly, keeping
+    // d = n - r^2.
+    let y = m as f64; // exact: m has at most 53 significant bits
+    let mut g = from_bits(0x5FE6_EB50_C7B5_37A9 - (to_bits(y) >> 1));
+    let mut k = 0;
+    while k < 4 {
+        g = g * (1.5 - 0.5 * y * g * g);
+        k += 1;
+    }
+    let s = y * g; // sqrt(m), and one Newton step on it with g = 1/s
+    let s = s + (y - s * s) * (0.5 * g);
+    let mut r = (s * 134217728.0) as u64; // 2^27
+    let mut d = ((m as u128) << 54) as i128 - (r as u128 * r as u128) as i128;
+    while d < 0 {
+        // (r - 1)^2 = r^2 - 2r + 1
+        d += 2 * r as i128 - 1;
+        r -= 1;
+    }
+    while d >= 2 * r as i128 + 1 {
+        // (r + 1)^2 = r^2 + 2r + 1 is still at most n
+        d -= 2 * r as i128 + 1;
+        r += 1;
     }
     r = (r >> 1) + (r & 1); // to 53 bits, to nearest
     from_bits((((e - 54) / 2 + 1076) as u64) << 52 | (r & MANT))
@@ -183,11 +201,18 @@ pub fn sqrt(x: f64) -> f64 {
 /// x rounded toward zero. Exact.
 #[inline]
 pub fn trunc(x: f64) -> f64 {
-    if !(fabs(x) < 4503599627370496.0) {
+    let a = fabs(x);
+    if !(a < 4503599627370496.0) {
         // 0x1p52: already integral, or inf or NaN
         return x;
     }
-    copysign(x as i64 as f64, x)
+    // |x| + 2^52 is in [2^52, 2^53), where doubles are the integers: the
+    // sum rounds |x| to the nearest one, exactly; one less if that is above
+    let mut t = (a + 4503599627370496.0) - 4503599627370496.0;
+    if t > a {
+        t -= 1.0;
+    }
+    copysign(t, x)
 }
 
 /// The largest integer not above x. Exact.
