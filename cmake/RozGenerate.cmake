@@ -5,7 +5,8 @@
 #
 # Runs rozgen on each robot.toml at build time and adds the generated C tables
 # (<id>_manifest.c) to <target>, with the folder holding <id>_manifest.h and
-# <id>_channels.h on its PUBLIC include path. That folder is OUTPUT_DIR,
+# <id>_channels.h (and <id>_channels.rs, for Rust controllers) on its PUBLIC
+# include path. That folder is OUTPUT_DIR,
 # by default ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/<target>. MANIFEST is
 # accepted as a synonym of MANIFESTS. REGISTRY also generates
 # roz_builtin_registry.c, the roz/builtin.h registry over these manifests.
@@ -50,7 +51,7 @@ function(roz__rozgen_command outputs_var sources_var output_dir source_root regi
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${toml})
     list(APPEND inputs ${toml})
     list(APPEND outputs ${output_dir}/${id}_manifest.c ${output_dir}/${id}_manifest.h
-                        ${output_dir}/${id}_channels.h)
+                        ${output_dir}/${id}_channels.h ${output_dir}/${id}_channels.rs)
     list(APPEND sources ${output_dir}/${id}_manifest.c)
   endforeach()
   set(registry_flag "")

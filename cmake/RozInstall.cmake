@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # Install rules: find_package(roz CONFIG) gives a consumer the same roz::
-# targets, roz_generate() and roz_add_wasm_controller() that
+# targets, roz_generate(), roz_add_wasm_controller() and
+# roz_add_rust_controller() that
 # add_subdirectory(roz) does, and nothing in the prefix names the tree it
 # was built in. What goes where (under the prefix):
 #   include/roz/             the public headers (roz/features.h included)
@@ -10,9 +11,10 @@
 #                            among them where built) (roz::dds and the DDS ports where
 #                            Cyclone DDS was found: the package then needs it too)
 #   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake,
-#                            toolchains/ (the Cortex-M toolchain files)
+#                            RozRust.cmake, toolchains/ (the Cortex-M toolchain files)
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
 #   bin/                     rozgen, rozrun, roz_manifest_json, roz_manifest_info
+#   share/roz/sdk/rust/      the Rust controller SDK's crate (roz_controller)
 #   share/doc/roz/           licences
 include(CMakePackageConfigHelpers)
 
@@ -20,6 +22,11 @@ set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
 set(_roz_targets roz_core roz_hal roz_sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
+# the Rust controller SDK's crate (roz_add_rust_controller(), docs/rust.md)
+set(ROZ_INSTALL_RUSTDIR ${CMAKE_INSTALL_DATADIR}/roz/sdk/rust)
+install(FILES ${PROJECT_SOURCE_DIR}/sdk/rust/Cargo.toml DESTINATION ${ROZ_INSTALL_RUSTDIR})
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/rust/src DESTINATION ${ROZ_INSTALL_RUSTDIR}
+        FILES_MATCHING PATTERN "*.rs")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
 # The DDS ports (hosts with Cyclone DDS): rozConfig.cmake then finds
@@ -105,11 +112,12 @@ include(RozInstallRozgen)
 set(ROZ_INSTALL_BINDIR ${CMAKE_INSTALL_BINDIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/rozConfig.cmake.in
   ${PROJECT_BINARY_DIR}/rozConfig.cmake INSTALL_DESTINATION ${ROZ_INSTALL_CMAKEDIR}
-  PATH_VARS ROZ_INSTALL_BINDIR)
+  PATH_VARS ROZ_INSTALL_BINDIR ROZ_INSTALL_RUSTDIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/rozConfig.cmake ${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
               ${PROJECT_SOURCE_DIR}/cmake/RozGenerate.cmake ${PROJECT_SOURCE_DIR}/cmake/RozWasm.cmake
+              ${PROJECT_SOURCE_DIR}/cmake/RozRust.cmake
         DESTINATION ${ROZ_INSTALL_CMAKEDIR})
 
 # the Cortex-M toolchain files, for a firmware that finds this package

@@ -35,11 +35,15 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # qemu-system-arm boots them (test/firmware/, make firmware); libzstd-dev
 # compresses recordings' chunks (host/record/); libegl1 with Mesa's EGL and
 # drivers renders MuJoCo's frames offscreen (tools/render_frames.py, make
-# demo). Without
+# demo); rustc with libstd-rust-dev-wasm32 (its wasm32-unknown-unknown
+# target) builds the Rust controllers (sdk/rust, cmake/RozRust.cmake picks
+# the rustc on PATH that has the target, so a rustup one first on PATH
+# without it does no harm), and cargo beside it runs docs/rust.md's cargo
+# recipe. Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
-    clang lld llvm libclang-rt-14-dev wabt
+    clang lld llvm libclang-rt-14-dev wabt rustc libstd-rust-dev-wasm32 cargo
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
@@ -171,9 +175,15 @@ strict_stamp=.cache/.mcap-strict-fetched
 strict_want=$(sha256sum "$strict/Cargo.lock" | cut -d' ' -f1)
 if [ "$(cat "$strict_stamp" 2>/dev/null)" != "$strict_want" ]; then
     cargo_bin=$(command -v cargo || echo "$HOME/.cargo/bin/cargo")
-    if [ ! -x "$cargo_bin" ]; then
-        say "warning: no cargo; the strict MCAP checks of the recording tests will be skipped." \
-            "Install Rust (rustup.rs, or Debian's cargo) and run this again."
+    # its Cargo.lock (version 4) needs cargo 1.78 or later: Debian 12's is
+    # 1.65 (installed above for docs/rust.md), rustup's is newer
+    cargo_minor() { "$1" --version 2>/dev/null | sed -n 's/^cargo 1\.\([0-9]*\).*/\1/p'; }
+    if [ -x "$HOME/.cargo/bin/cargo" ] && [ "$(cargo_minor "$cargo_bin")" -lt 78 ] 2>/dev/null; then
+        cargo_bin=$HOME/.cargo/bin/cargo
+    fi
+    if [ ! -x "$cargo_bin" ] || ! [ "$(cargo_minor "$cargo_bin")" -ge 78 ] 2>/dev/null; then
+        say "warning: no cargo 1.78 or later; the strict MCAP checks of the recording tests" \
+            "will be skipped. Install Rust (rustup.rs) and run this again."
     else
         say "fetching the strict MCAP checker's crates (cargo fetch --locked)"
         (cd "$strict" && "$cargo_bin" fetch --locked -q) ||

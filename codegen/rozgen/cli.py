@@ -50,8 +50,8 @@ def _parser() -> argparse.ArgumentParser:
     )
     p.add_argument("files", nargs="*", metavar="FILE", help="robot.toml files")
     p.add_argument("-o", "--output-dir", default=".", metavar="DIR",
-                   help="where to write <id>_manifest.h/.c and <id>_channels.h "
-                        "(created if missing; default: .)")
+                   help="where to write <id>_manifest.h/.c, <id>_channels.h and the "
+                        "Rust module <id>_channels.rs (created if missing; default: .)")
     mode = p.add_mutually_exclusive_group()
     mode.add_argument("--check", action="store_true",
                       help="validate only; write nothing")

@@ -27,15 +27,21 @@ REGISTRY_FILE = "roz_builtin_registry.c"
 
 
 def robot_files(manifest: Manifest) -> tuple[str, str, str]:
-    """Names of the files generated for one robot."""
+    """Names of the C files generated for one robot."""
     rid = manifest.robot_id
     return f"{rid}_channels.h", f"{rid}_manifest.h", f"{rid}_manifest.c"
 
 
+def rust_file(manifest: Manifest) -> str:
+    """Name of the Rust module generated for one robot (docs/rust.md)."""
+    return f"{manifest.robot_id}_channels.rs"
+
+
 def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
-    """File name -> content of the three files of one robot."""
+    """File name -> content of the four files of one robot: three C, one Rust."""
     env = _environment()
     channels_h, manifest_h, manifest_c = robot_files(manifest)
+    channels_rs = rust_file(manifest)
     cmd_macros = [names.command_constant(manifest.robot_id, c.name) for c in manifest.commands]
     state_macros = [names.state_constant(manifest.robot_id, c.name) for c in manifest.states]
     count_macros = [manifest.prefix + s for s in ("_N_COMMANDS", "_N_STATES", "_CONTROL_RATE_HZ",
@@ -45,6 +51,7 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
         "m": manifest,
         "sources": [source],
         "channels_h": channels_h,
+        "channels_rs": channels_rs,
         "manifest_h": manifest_h,
         "cmd_macros": cmd_macros,
         "state_macros": state_macros,
@@ -54,11 +61,13 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
         "interface_hash": "0x%016x" % identity.interface_hash(manifest),
         "section": identity.SECTION,
         "record_version": identity.RECORD_VERSION,
+        "identity_record": list(identity.record(manifest)),
     }
     return {
         channels_h: env.get_template("channels.h.j2").render(context),
         manifest_h: env.get_template("manifest.h.j2").render(context),
         manifest_c: env.get_template("manifest.c.j2").render(context),
+        channels_rs: env.get_template("channels.rs.j2").render(context),
     }
 
 

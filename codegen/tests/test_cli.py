@@ -118,12 +118,12 @@ def test_json_prints_and_writes_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_generate_creates_directory_and_three_files(tmp_path):
+def test_generate_creates_directory_and_four_files(tmp_path):
     out = tmp_path / "a" / "b"
     result = run_rozgen("-o", out, MY_ARM)
     assert (result.returncode, result.stdout, result.stderr) == (0, "", "")
     assert sorted(p.name for p in out.iterdir()) == [
-        "my_arm_channels.h", "my_arm_manifest.c", "my_arm_manifest.h"]
+        "my_arm_channels.h", "my_arm_channels.rs", "my_arm_manifest.c", "my_arm_manifest.h"]
 
 
 def test_unchanged_files_are_not_rewritten(tmp_path):

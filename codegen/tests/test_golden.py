@@ -2,7 +2,8 @@
 """Generated files of the built-in manifests, byte for byte.
 
 codegen/tests/golden/<id>/ holds <id>_channels.h, <id>_manifest.h,
-<id>_manifest.c and <id>.json for every manifests/*.toml, and
+<id>_manifest.c, <id>_channels.rs (the Rust module) and <id>.json for every
+manifests/*.toml, and
 golden/roz_builtin_registry.c the registry over all of them. After an
 intended change, regenerate them and review the diff:
 
@@ -34,7 +35,8 @@ def generate(out, cwd=REPO) -> dict[str, bytes]:
         assert shown.returncode == 0, shown.stderr
         rid = json.loads(shown.stdout)["robot_id"]
         files[f"{rid}/{rid}.json"] = shown.stdout.encode("utf-8")
-        for name in (f"{rid}_channels.h", f"{rid}_manifest.h", f"{rid}_manifest.c"):
+        for name in (f"{rid}_channels.h", f"{rid}_manifest.h", f"{rid}_manifest.c",
+                     f"{rid}_channels.rs"):
             files[f"{rid}/{name}"] = (out / name).read_bytes()
     return files
 
@@ -58,7 +60,7 @@ def test_there_are_builtin_manifests():
 def test_golden(generated, toml):
     rid = json.loads(run_rozgen("--json", toml).stdout)["robot_id"]
     rels = sorted(rel for rel in generated if rel.startswith(f"{rid}/"))
-    assert len(rels) == 4
+    assert len(rels) == 5
     for rel in rels:
         golden = GOLDEN / rel
         assert golden.is_file(), f"missing golden {golden}; run with ROZGEN_UPDATE_GOLDEN=1"

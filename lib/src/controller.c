@@ -408,7 +408,11 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
         return fail(c, ROZ_EINVAL, "malformed module", r);
     if (mod->memoryInfo.initPages > ROZ_CFG_WASM_MAX_PAGES) {
         /* the message first: freeing the module frees memoryInfo too */
-        roz_format(why, sizeof why, "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)",
+        /* most often the stack a linker reserved, not data: rustc's default
+         * is 1 MiB (docs/rust.md, test_rust_controller) */
+        roz_format(why, sizeof why,
+                   "%u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u); if it is "
+                   "the stack, link with -z stack-size=16384",
                    (unsigned)mod->memoryInfo.initPages, (unsigned)ROZ_CFG_WASM_MAX_PAGES);
         m3_FreeModule(mod);
         return fail(c, ROZ_EINVAL, "linear memory too large", why);

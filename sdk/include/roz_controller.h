@@ -4,7 +4,9 @@
  * @brief The roz controller ABI for controllers written in C.
  *
  * Compile for WebAssembly with clang:
- *   clang --target=wasm32 -O2 -nostdlib -Wl,--no-entry -o ctl.wasm ctl.c
+ *   clang --target=wasm32 -O2 -nostdlib -Wl,--no-entry -Wl,-z,stack-size=16384 \
+ *       -o ctl.wasm ctl.c
+ * (the stack as roz_add_wasm_controller() sets it; Rust: docs/rust.md)
  * and export the entry point with ROZ_PROCESS:
  *   ROZ_PROCESS(tick) { roz_command_set(0, 0.1); }
  *

@@ -15,7 +15,8 @@
 # PATH without the virtual environment, and, where a mount namespace is
 # permitted (unshare -m, or -rm), the source tree, the build tree and the
 # virtual environment hidden under empty tmpfs mounts, the consumer is
-# configured (it must find <prefix>/bin/rozgen), built and run; the installed
+# configured (it must find <prefix>/bin/rozgen), built and run (its C
+# controller, and its Rust one where rustc has the wasm32 target); the installed
 # rozrun runs the consumer's controller on the consumer's robot.toml (with a
 # trace and a recording, which the installed roz-plot and roz-recording read
 # and plot; and, with the mujoco port, on the built-in G1 in physics from the
@@ -54,6 +55,9 @@ if(PHASE STREQUAL "installed")
   endif()
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
   run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  if(EXISTS ${WORK_DIR}/build/reach_rs.wasm) # built where rustc has the wasm32 target
+    run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
+  endif()
   if(EXISTS ${prefix}/include/roz/port/unitree_g1.h)
     run(${WORK_DIR}/build/consumer_g1) # the DDS ports came with the package
   endif()
@@ -135,7 +139,7 @@ if(MODE STREQUAL "find_package")
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR}/src)
-foreach(f IN ITEMS CMakeLists.txt main.c reach.c g1_link.c ros2_link.c small_config.h)
+foreach(f IN ITEMS CMakeLists.txt main.c reach.c reach.rs g1_link.c ros2_link.c small_config.h)
   file(COPY ${CMAKE_CURRENT_LIST_DIR}/${f} DESTINATION ${WORK_DIR}/src)
 endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
@@ -149,6 +153,9 @@ if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
       -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR})
   run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
   run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  if(EXISTS ${WORK_DIR}/build/reach_rs.wasm)
+    run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
+  endif()
   if(MODE STREQUAL "small_config")
     # 145 commands in a 16-command build: the generated table must not compile
     execute_process(COMMAND ${CMAKE_COMMAND} --build ${WORK_DIR}/build --target too_big

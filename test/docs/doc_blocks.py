@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
-"""test/docs/doc_blocks.py: every ```sh and ```c block of README.md and docs/
-is run or compiled, or says why it cannot be.
+"""test/docs/doc_blocks.py: every ```sh, ```c and ```rust block of README.md
+and docs/ is run or compiled, or says why it cannot be.
 
     doc_blocks.py --source DIR --build DIR --work DIR [--cc CC] [--clang CLANG]
                   [--include DIR ...] [--check-only] [FILE ...]
@@ -27,7 +27,9 @@ and `build`, a link to the build tree: `build/tools/rozrun/rozrun`,
 `.venv/bin/rozgen` and `manifests/ur5.toml` mean there what they mean in a
 checkout after `make build`. A block without a marker, a marker without a
 block, or a block that fails fails the test, naming the file and line.
-Blocks of other languages (toml, cmake, text) need no marker.
+Blocks of other languages (toml, cmake, text) need no marker. A run block
+finds RUSTC and CARGO in its environment where the test was given them (a
+rustc with the wasm32 target, docs/rust.md).
 
 With --installed PREFIX (the docs_getting_started test, run_installed.cmake)
 only the `getting_started` blocks of FILE run, in order, in an empty folder
@@ -50,7 +52,7 @@ from pathlib import Path
 
 MARK = re.compile(r"^<!--\s*(test:\s*(\S+)(.*?)|not run:\s*(.+?))\s*-->\s*$")
 FENCE = re.compile(r"^\s*```(\S*)\s*$")
-CHECKED = {"sh", "c"}
+CHECKED = {"sh", "c", "rust"}
 # A path into a checkout, as a block run from the installed package must not
 # name one: the venv, the build tree's parts, the source tree's folders.
 CHECKOUT = re.compile(r"(?<![\w./-])(\.venv|build/(tools|examples|manifests|lib|test|ports)"
