@@ -34,6 +34,7 @@
 #define PUSH_TICKS  50   /* 0.1 s */
 #define AFTER_PUSH  1000 /* ticks judged after the push: 2 s */
 #define MIN_HEIGHT  0.7  /* m, the pelvis */
+#define X2_MIN_HEIGHT 0.55 /* m, the X2's pelvis */
 
 /* The largest forward (+x) and sideways (+y) pushes, N for 0.1 s, that each
  * balanced stand survives (test_mujoco_stand --bisect, to 1 N; backward:
@@ -42,6 +43,10 @@
 #define G1_PUSH_Y          95.0
 #define G1_23DOF_PUSH_X    114.0
 #define G1_23DOF_PUSH_Y    91.0
+/* The X2 (the team's model from AgiBot's URDF facts) on x2_stand: forward
+ * and sideways (+y), N for 0.1 s (backward 287 N, -y 101 N). */
+#define X2_PUSH_X          172.0
+#define X2_PUSH_Y          99.0
 
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
@@ -59,9 +64,13 @@ static int is_foot(const char *body)
 }
 
 /* The pelvis height below which @p robot is down: the G1's 0.7 m; the
- * PM01's stand crouches lower (its pelvis from 0.80 m to about 0.68 m). */
+ * PM01's stand crouches lower (its pelvis from 0.80 m to about 0.68 m);
+ * the X2 is smaller (its pelvis 0.675 m up with straight legs, 0.647 m in
+ * x2_stand's crouch). */
 static double min_height(const char *robot)
 {
+    if (strcmp(robot, "agibot_x2") == 0)
+        return X2_MIN_HEIGHT;
     return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : MIN_HEIGHT;
 }
 
@@ -211,6 +220,27 @@ static void test_mujoco_stand_pm01_30_s(void **state)
     stands_30_s("engineai_pm01", "pm01_stand", "pm01_stand_pd");
 }
 
+/* The X2 (the team's model from AgiBot's URDF facts): the same ankle and
+ * hip strategy, with an ankle roll term, stands it 30 s and takes its
+ * pushes; its PD alone falls unpushed (by 1.7 s). */
+static void test_mujoco_stand_x2_30_s(void **state)
+{
+    (void)state;
+    stands_30_s("agibot_x2", "x2_stand", "x2_stand_pd");
+}
+
+static void test_mujoco_stand_x2_push_forward(void **state)
+{
+    (void)state;
+    survives_push("agibot_x2", "x2_stand", "x2_stand_pd", X2_PUSH_X, 0.0);
+}
+
+static void test_mujoco_stand_x2_push_sideways(void **state)
+{
+    (void)state;
+    survives_push("agibot_x2", "x2_stand", "x2_stand_pd", 0.0, X2_PUSH_Y);
+}
+
 static double largest_push(const char *robot, const char *controller, double dx, double dy)
 {
     int ticks = PUSH_AT + PUSH_TICKS + AFTER_PUSH;
@@ -235,6 +265,7 @@ static void bisect(void **state)
     static const char *const runs[][2] = {
         { "unitree_g1", "g1_stand" },           { "unitree_g1", "g1_stand_pd" },
         { "unitree_g1_23dof", "g1_23dof_stand" }, { "unitree_g1_23dof", "g1_23dof_stand_pd" },
+        { "agibot_x2", "x2_stand" },            { "agibot_x2", "x2_stand_pd" },
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++)
         print_message("%s on %s: largest 0.1 s pelvis push survived: forward %.0f N, "
@@ -264,6 +295,9 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_mujoco_stand_g1_23dof_push_forward),
         cmocka_unit_test(test_mujoco_stand_g1_23dof_push_sideways),
         cmocka_unit_test(test_mujoco_stand_pm01_30_s),
+        cmocka_unit_test(test_mujoco_stand_x2_30_s),
+        cmocka_unit_test(test_mujoco_stand_x2_push_forward),
+        cmocka_unit_test(test_mujoco_stand_x2_push_sideways),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
