@@ -4,10 +4,12 @@
  * target, zero velocity and feed-forward torque, and the gains, which ramp
  * in over the first second), with the G1 stand's balance (stand.h): ankle
  * pitch from the pelvis's sway over the ankles, hip pitch from its tilt,
- * read off the IMU. Hip roll and yaw gains are the vendor example's (kp
- * 40/30, kd 4/3); the hip pitch, knee and ankle gains (kp 100/150/80, kd
- * 4/6/3: the example's 40/80/40 let the robot sink and fall within 2 s in
- * MuJoCo), the waist, arm and head gains and the pose are ours. Built a
+ * read off the IMU, and ankle roll from its roll (sideways pushes). Hip yaw
+ * gains are the vendor example's (kp 30, kd 3); the hip pitch, hip roll,
+ * knee and ankle gains (kp 100/100/150/80/40, kd 4/4/6/3/2: the example's
+ * 40/40/80/40/20 let the robot sink and fall within 2 s in MuJoCo, and take
+ * a third of the sideways push), the waist, arm and head gains and the
+ * pose are ours. Built a
  * second time with STAND_BALANCE 0 as x2_stand_pd (the tests' baseline,
  * test/ports/mujoco/test_mujoco_stand.c). */
 #include "stand.h"

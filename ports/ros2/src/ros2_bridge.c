@@ -14,6 +14,7 @@
 #include "ros2_map.h"
 #include "ros2_msgs.h"
 #include "roz/hal/params.h"
+#include "roz/filter.h"
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
@@ -400,8 +401,11 @@ static int bridge_send(void *port, void *sample, const double *cmd, const double
 {
     roz_ros2_bridge_t *b = port;
     roz__ros2_joints(b, cmd, q, b->tx_joint);
-    for (uint16_t s = 0; s < b->n_slots; s++)
+    for (uint16_t s = 0; s < b->n_slots; s++) {
         b->tx_last_q[s] = b->tx_joint[s].q;
+        b->tx_meas_q[s] = q[s];
+        b->tx_last_kp[s] = b->tx_joint[s].kp;
+    }
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
@@ -412,10 +416,24 @@ static int bridge_safe(void *port, void *sample)
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
+/* The tick is silent: each joint held at the hold gain (its stiffness
+ * default) with the torque it last went out with, as the filter's hold
+ * does (roz_hold_keep_torque(); test_mujoco_stops_x2, the balancing stand's
+ * watchdog row: the positions last sent at the stiffer gain push it over);
+ * a joint that went out limp (kp 0), at the positions last sent. */
 static int bridge_watchdog(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 1, b->tx_joint);
+    double q[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    for (uint16_t s = 0; s < b->n_slots; s++) {
+        int16_t k = b->slot_joint[s];
+        int32_t kp = k >= 0 ? b->joint[k].kp_cmd : -1;
+        q[s] = kp >= 0 && b->tx_last_kp[s] > 0.0
+                   ? roz_hold_keep_torque(b->tx_last_q[s], b->tx_meas_q[s], b->tx_last_kp[s],
+                                          b->m->commands[kp].default_value)
+                   : b->tx_last_q[s];
+    }
+    roz__ros2_damping(b, q, b->shutdown_kd, 1, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
 }
 

@@ -61,6 +61,11 @@ typedef struct {
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
+/* The robot the cases run on, and the pelvis height it stands above when
+ * the stop comes; the G1's unless a test sets them. */
+static const char *stops_robot = "unitree_g1";
+static double stops_up = 0.7;
+
 static const uint8_t *stops_controller(const char *name, size_t *len)
 {
     static uint8_t buf[2][256 * 1024];
@@ -108,9 +113,33 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
         cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
 }
 
+/* What the X2 port's command watchdog sends once the tick has been silent
+ * for command_timeout_us (bridge_watchdog() in ports/ros2, through the
+ * command path every DDS port shares): the positions last sent moved to
+ * keep the torque they held the joint with (roz_hold_keep_torque()), kp
+ * each joint's stiffness default (the hold gain), kd its damping default
+ * (shutdown_damping's default), no velocity or torque. */
+static void x2_watchdog_command(const roz_manifest_t *m, const double *last, const double *state,
+                                double *cmd)
+{
+    for (uint16_t c = 0; c < m->n_commands; c++)
+        cmd[c] = m->commands[c].default_value;
+    for (uint16_t k = 0; k < mj.n_joints; k++) {
+        const roz_joint_channels_t *j = &mj.joints[k].ch;
+        double kp_hold = m->commands[j->kp_cmd].default_value;
+        cmd[j->q_cmd] = last[j->kp_cmd] > 0.0
+                            ? roz_hold_keep_torque(last[j->q_cmd], state[j->q_state],
+                                                   last[j->kp_cmd], kp_hold)
+                            : last[j->q_cmd];
+    }
+}
+
+static void (*stops_watchdog)(const roz_manifest_t *, const double *, const double *,
+                              double *) = watchdog_command;
+
 static void run_case(const stop_case_t *c, stop_outcome_t *o)
 {
-    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    const roz_manifest_t *m = roz_builtin_find(stops_robot);
     assert_non_null(m);
     uint16_t n = (uint16_t)(m->n_commands / 5);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
@@ -159,8 +188,8 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
             /* the tick is gone: the robot keeps the last command until the
              * watchdog trips, then gets the watchdog's, every period */
             if (t == STOP_TICK + WATCHDOG_TICKS)
-                watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
-                                 wd);
+                stops_watchdog(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
+                               wd);
             if (t >= STOP_TICK + WATCHDOG_TICKS)
                 assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
             (void)roz_port_read(&p, st, m->n_states);
@@ -174,7 +203,7 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
         }
         if (t == STOP_TICK - 1) {
             roz_mujoco_base(&mj, &b);
-            if (!(b.pos[2] > 0.7))
+            if (!(b.pos[2] > stops_up))
                 fail_msg("%s: the stand is down before the stop: pelvis %.3f m", c->name,
                          b.pos[2]);
             assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -251,6 +280,64 @@ static void test_mujoco_stops_g1(void **state)
             bad++;
         }
     }
+    assert_int_equal(bad, 0);
+}
+
+/* The same stops on the standing X2 (the team's model from AgiBot's URDF
+ * facts, models/agibot_x2.xml): its stiff stand (controllers/
+ * x2_stops_stand.h) and x2_stand, the example's balancing stand. */
+static const stop_case_t x2_cases[] = {
+    { "X2 no stop", STOP_NONE, "x2_stops_stand", NULL, NULL, 0 },
+    { "X2 e-stop", STOP_ESTOP, "x2_stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "X2 e-stop request", STOP_FROM_CTL, "x2_stops_estop_request", NULL, NULL,
+      ROZ_FAULT_ESTOP_REQUEST },
+    { "X2 stale (stream dropped)", STOP_PORT, "x2_stops_stand", "drop=1000:1100", NULL,
+      ROZ_FAULT_STALE },
+    { "X2 trap", STOP_FROM_CTL, "x2_stops_trap", NULL, NULL, ROZ_FAULT_TRAP },
+    { "X2 overrun (fuel)", STOP_FROM_CTL, "x2_stops_overrun", NULL, NULL, ROZ_FAULT_OVERRUN },
+    { "X2 link (board restart)", STOP_PORT, "x2_stops_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "X2 command watchdog", STOP_SILENT, "x2_stops_stand", NULL, NULL, 0 },
+    { "X2 swap (stiff stand)", STOP_SWAP, "x2_stops_stand", NULL, "x2_stops_swap_in", 0 },
+    { "X2 e-stop (balancing)", STOP_ESTOP, "x2_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "X2 stale (balancing)", STOP_PORT, "x2_stand", "drop=1000:1100", NULL, ROZ_FAULT_STALE },
+    { "X2 link (balancing)", STOP_PORT, "x2_stand", "restart=1000:1002", NULL, ROZ_FAULT_LINK },
+    { "X2 watchdog (balancing)", STOP_SILENT, "x2_stand", NULL, NULL, 0 },
+};
+
+/* The X2 stands 0.647 m up (x2_stand's crouch; 0.55 m is down in
+ * test_mujoco_stand): 2 s after each stop it must still be above that,
+ * and no joint may have moved at 1 rad/s. */
+#define X2_UP 0.55
+
+static void test_mujoco_stops_x2(void **state)
+{
+    (void)state;
+    int bad = 0;
+    stops_robot = "agibot_x2";
+    stops_up = X2_UP;
+    stops_watchdog = x2_watchdog_command;
+    for (size_t i = 0; i < sizeof x2_cases / sizeof x2_cases[0]; i++) {
+        const stop_case_t *c = &x2_cases[i];
+        stop_outcome_t o;
+        run_case(c, &o);
+        if ((o.faults & c->fault) != c->fault || (c->fault == 0 && o.faults)) {
+            print_error("%s: faults 0x%02x, expected 0x%02x\n", c->name, o.faults, c->fault);
+            bad++;
+        }
+        if (!(o.height > X2_UP && o.lowest > X2_UP)) {
+            print_error("%s: the X2 fell: pelvis %.3f m (lowest %.3f)\n", c->name, o.height,
+                        o.lowest);
+            bad++;
+        }
+        if (!(o.peak_speed < 1.0)) {
+            print_error("%s: a joint moved at %.2f rad/s\n", c->name, o.peak_speed);
+            bad++;
+        }
+    }
+    stops_robot = "unitree_g1";
+    stops_up = 0.7;
+    stops_watchdog = watchdog_command;
     assert_int_equal(bad, 0);
 }
 
@@ -342,6 +429,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_stops_g1),
+        cmocka_unit_test(test_mujoco_stops_x2),
         cmocka_unit_test(test_mujoco_stops_at_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -301,6 +301,8 @@ typedef struct roz_ros2_bridge {
 
     /* ---- writer thread ---- */
     double                ROZ_PRIVATE(tx_last_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    double                ROZ_PRIVATE(tx_meas_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];  /* measured then */
+    double                ROZ_PRIVATE(tx_last_kp)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_ros2_joint_cmd_t  ROZ_PRIVATE(tx_joint)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     int32_t               ROZ_PRIVATE(tx_sec);
     uint32_t              ROZ_PRIVATE(tx_nanosec);
