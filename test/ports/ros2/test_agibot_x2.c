@@ -42,6 +42,7 @@
 #include "port_fixture.h"
 #include "port_test.h"
 #include "ros2_fixture.h"
+#include "roz/filter.h"
 #include "roz/port/agibot_x2.h"
 #include "roz/runtime.h"
 #include "support.h"
@@ -816,8 +817,16 @@ static void test_x2_watchdog_every_group(void **st)
     assert_int_equal(read_x2(), 1);
     distinct_command(1);
     for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
+        /* the positions sent, moved to keep the torque they went out with
+         * at the hold gain (roz_hold_keep_torque(), bridge_watchdog()) */
         int i = cmd_of(m->hardware->joints[j], "position");
+        int kp = cmd_of(m->hardware->joints[j], "stiffness");
         q[j] = i >= 0 ? cmd[i] : NAN;
+        if (i >= 0 && kp >= 0 && cmd[kp] > 0.0)
+            q[j] = roz_channel_clamp(&m->commands[i],
+                                     roz_hold_keep_torque(cmd[i],
+                                                          state[m->commands[i].position_state],
+                                                          cmd[kp], m->commands[kp].default_value));
     }
     write_x2();
     roz_ros2fx_settle();

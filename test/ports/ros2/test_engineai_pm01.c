@@ -50,6 +50,7 @@
 #include "port_test.h"
 #include "support_blocking_log.h"
 #include "ros2_fixture.h"
+#include "roz/filter.h"
 #include "roz/port/engineai_pm01.h"
 #include "ur5_manifest.h"
 
@@ -685,8 +686,17 @@ static void test_pm01_watchdog(void **st)
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
     distinct_command(1);
-    for (uint16_t j = 0; j < N; j++)
+    for (uint16_t j = 0; j < N; j++) {
+        /* the positions sent, moved to keep the torque they went out with
+         * at the hold gain (roz_hold_keep_torque(), bridge_watchdog()) */
+        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
+        double kp = cmd[cmd_index(j, "stiffness")];
         q[j] = cmd[cmd_index(j, "position")];
+        if (kp > 0.0)
+            q[j] = roz_channel_clamp(qc, roz_hold_keep_torque(q[j], state[qc->position_state], kp,
+                                                              m->commands[cmd_index(j, "stiffness")]
+                                                                  .default_value));
+    }
     write_pm01();
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
