@@ -5,7 +5,7 @@
  * 0.1 s push at its pelvis that the same joint PD without the IMU feedback
  * (g1_stand_pd, g1_23dof_stand_pd) does not. Standing means, at every tick:
  * the pelvis above 0.7 m and nothing but the feet (the ankle roll links) on
- * the ground.
+ * the ground. The PM01 and the X2 below, on the team's models.
  *
  * The largest push each survives was found by bisection with
  * `test_mujoco_stand --bisect` (docs/ports/mujoco.md, "Built-in robots");

@@ -4,8 +4,9 @@
  * then each stop in turn (e-stop, the controller's e-stop request, a
  * dropped stream, a trap, an overrun, the robot's board restarting, the
  * tick falling silent under the command watchdog, a controller swap); 2 s
- * later the pelvis must be up and no joint may have moved fast. Simulated
- * time: the same numbers on every run. */
+ * later the pelvis must be up and no joint may have moved fast. The same
+ * on the standing X2 (test_mujoco_stops_x2). Simulated time: the same
+ * numbers on every run. */
 /* white-box in part: reads the port's truth history (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
