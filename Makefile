@@ -96,45 +96,50 @@ test-tsan: setup $(BUILD)-tsan/build.ninja
 	$(CMAKE) --build $(BUILD)-tsan -j $(JOBS)
 	cd $(BUILD)-tsan && $(SAN_ENV) ctest --output-on-failure -j $(JOBS) -L threads
 
-# The firmware images (examples/firmware/), cross-built for the Cortex-M4F
-# and the Cortex-M7 and booted in QEMU: their reports (fingerprint, faults,
+# The firmware images (examples/firmware/), cross-built for each board
+# (boards/: Cortex-M4F, M7, M33) and booted in QEMU: their reports (fingerprint, faults,
 # per-tick instruction counts as emulation estimates, heap and stack
 # high-water marks) and the footprint table of each against the aims.
 # `make test` builds and checks the same images in its own build tree
 # (test/firmware/, ctest label firmware).
-FW_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=MinSizeRel -DROZ_WERROR=ON \
+FW_FLAGS = -G Ninja -DROZ_SOURCE_DIR=$(CURDIR) -DROZ_WERROR=ON \
            -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
            -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 
 $(BUILD)-fw-m4f/build.ninja: | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) \
-	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m4f.cmake
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) -DFW_BOARD=mps2-an386
 
 $(BUILD)-fw-m7/build.ninja: | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) \
-	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m7.cmake
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) -DFW_BOARD=mps2-an500
+
+$(BUILD)-fw-stm32/build.ninja: | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-stm32 $(FW_FLAGS) -DFW_BOARD=netduinoplus2
+
+$(BUILD)-fw-m33/build.ninja: | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33 $(FW_FLAGS) -DFW_BOARD=mps2-an505
 
 # The learned-policy images embed the host build's g1_policy.wasm (the
 # bytes the host's fingerprint is computed from).
 FW_POLICY = -DROZ_FW_VARIANT=policy \
             -DROZ_FW_POLICY_WASM=$(CURDIR)/$(BUILD)/examples/controllers/g1_policy.wasm
 $(BUILD)-fw-m7p/build.ninja: | setup build
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7p $(FW_FLAGS) $(FW_POLICY) \
-	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m7.cmake
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7p $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an500
 $(BUILD)-fw-m4fp/build.ninja: | setup build
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) \
-	    -DCMAKE_TOOLCHAIN_FILE=$(CURDIR)/cmake/toolchains/cortex-m4f.cmake
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an386
 
-firmware: setup $(BUILD)-fw-m4f/build.ninja $(BUILD)-fw-m7/build.ninja $(BUILD)-fw-m7p/build.ninja \
-          $(BUILD)-fw-m4fp/build.ninja
-	$(CMAKE) --build $(BUILD)-fw-m4f -j $(JOBS)
-	$(CMAKE) --build $(BUILD)-fw-m7 -j $(JOBS)
-	$(CMAKE) --build $(BUILD)-fw-m7p -j $(JOBS)
-	$(CMAKE) --build $(BUILD)-fw-m4fp -j $(JOBS)
+FW_TREES = m4f m7 stm32 m33 m7p m4fp
+firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
+	for t in $(FW_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_hostile.elf 96 64 \
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs.elf 96 64 \
+	    "UR5, sine controller on a port of the firmware's own (no simulator), Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh netduinoplus2 $(BUILD)-fw-stm32/roz_fw_ur5_sine.elf 96 64 \
+	    "UR5, sine controller, Cortex-M4F at 168 MHz (netduinoplus2, STM32F405)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an505 $(BUILD)-fw-m33/roz_fw_ur5_sine.elf 96 64 \
+	    "UR5, sine controller, Cortex-M33 (mps2-an505, Secure state)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
 	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7p/roz_fw_g1_policy.elf 320 512 \
@@ -212,4 +217,4 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(BUILD)-fw-m4f $(BUILD)-fw-m7
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t))

@@ -9,7 +9,8 @@
 #   lib/                     the static libraries (roz::can and roz::port_socketcan
 #                            among them where built) (roz::dds and the DDS ports where
 #                            Cyclone DDS was found: the package then needs it too)
-#   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake
+#   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake,
+#                            toolchains/ (the Cortex-M toolchain files)
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
 #   bin/                     rozgen, rozrun, roz_manifest_json, roz_manifest_info
 #   share/doc/roz/           licences
@@ -77,6 +78,11 @@ endif()
 
 # Every registered port, what it exports with it, and the registry
 # (roz_add_port(), cmake/RozPort.cmake, which installs their headers).
+# A build for one firmware (ROZ_CONFIG_HEADER): its configuration, roz::config.
+if(ROZ_CONFIG_HEADER AND TARGET roz_config)
+  list(APPEND _roz_targets roz_config)
+  install(FILES ${ROZ_CONFIG_HEADER} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/config)
+endif()
 get_property(_roz_port_targets GLOBAL PROPERTY ROZ_PORT_EXPORTS)
 list(APPEND _roz_targets ${_roz_port_targets})
 install(TARGETS ${_roz_targets} EXPORT rozTargets
@@ -105,6 +111,10 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
 install(FILES ${PROJECT_BINARY_DIR}/rozConfig.cmake ${PROJECT_BINARY_DIR}/rozConfigVersion.cmake
               ${PROJECT_SOURCE_DIR}/cmake/RozGenerate.cmake ${PROJECT_SOURCE_DIR}/cmake/RozWasm.cmake
         DESTINATION ${ROZ_INSTALL_CMAKEDIR})
+
+# the Cortex-M toolchain files, for a firmware that finds this package
+# (examples/firmware/CMakeLists.txt looks for them here)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/cmake/toolchains DESTINATION ${ROZ_INSTALL_CMAKEDIR})
 
 install(FILES ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR})
 if(ROZ_WASM3_LICENSE_FILE)

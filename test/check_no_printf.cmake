@@ -14,8 +14,10 @@ file(GLOB sources ${ROOT}/lib/src/*.c ${ROOT}/lib/src/*.h ${ROOT}/lib/include/ro
                   ${ROOT}/ports/loopback/src/*.c ${ROOT}/ports/loopback/src/*.h
                   ${ROOT}/ports/loopback/include/roz/*.h ${ROOT}/ports/loopback/include/roz/port/*.h
                   ${ROOT}/ports/socketcan/src/mit_codec.c ${ROOT}/ports/socketcan/src/can_config.c
+                  ${ROOT}/ports/socketcan/src/can_hold.c
                   ${ROOT}/ports/socketcan/include/roz/port/mit_codec.h
-                  ${ROOT}/ports/socketcan/include/roz/port/can_config.h)
+                  ${ROOT}/ports/socketcan/include/roz/port/can_config.h
+                  ${ROOT}/ports/socketcan/include/roz/port/can_hold.h)
 list(LENGTH sources n)
 if(n LESS 20)
   message(FATAL_ERROR "only ${n} sources found under ${ROOT}: is ROOT right?")

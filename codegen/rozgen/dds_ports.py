@@ -24,6 +24,7 @@ import math
 import re
 from dataclasses import dataclass
 
+from rozgen import threads
 from rozgen.model import Manifest
 
 # ---- the robots (the ports' tables, in their order) ----------------------------
@@ -346,6 +347,10 @@ class _Checker:
         if spin and period:
             self.bad("command_writer_spin_us", "only with an event-driven writer "
                      f"(command_writer_period_us = 0); this one publishes every {period} us")
+        # roz_thread_params(): the writer's, then Cyclone's
+        found = threads.problem(params, "command_writer") or threads.cyclone_problem(params)
+        if found is not None:
+            self.say(f"{p.family}-param", found)
         if period is not None:
             self.check_command_timeout(period)
         # the port's own

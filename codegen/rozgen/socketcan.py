@@ -12,6 +12,7 @@ returns ``(rule, message)`` pairs, messages starting with ``": "``.
 import math
 import re
 
+from rozgen import threads
 from rozgen.fmt import c_double, quote
 from rozgen.model import Manifest
 
@@ -40,8 +41,7 @@ JOINT_KEYS = (
     "direction",
     "zero_offset",
 )
-#: the port's two threads (roz/hal/thread.h): their values are checked by the
-#: port when it opens, not here
+#: the port's two threads (roz/hal/thread.h; threads.py)
 THREAD_KEYS = tuple(f"{thread}_{what}" for thread in ("receive_thread", "command_writer")
                     for what in ("sched", "priority", "cpus", "stack_kib"))
 KEYS = GLOBAL_KEYS + THREAD_KEYS + JOINT_KEYS
@@ -180,6 +180,10 @@ class _Checker:
                 parsed[key] = self.per_joint(key, value, key not in OPTIONAL_JOINT_KEYS)
             else:
                 parsed[key] = False
+        found = threads.problem(self.params, "receive_thread") or \
+            threads.problem(self.params, "command_writer")
+        if found is not None:
+            self.say("can-param", f": hardware.params: {found}")
         if joints_ok and parsed["can_id"] and parsed["master_id"]:
             self.check_ids()
         bound = joints_ok and self.check_channels()

@@ -66,6 +66,14 @@ int roz_thread_start(unsigned long *handle, const roz_thread_config_t *cfg, cons
                  : "");
         return rc == EINVAL ? ROZ_EINVAL : ROZ_EIO;
     }
+    /* named for ps -L, top -H and the tests that find it in /proc
+     * (test_rozrun_g1_realtime): the prefix, cut to Linux's 15 bytes */
+    char name[16];
+    size_t n = strlen(prefix);
+    n = n < sizeof name - 1u ? n : sizeof name - 1u;
+    memcpy(name, prefix, n);
+    name[n] = '\0';
+    (void)pthread_setname_np(th, name);
     *handle = (unsigned long)th;
     return ROZ_OK;
 }

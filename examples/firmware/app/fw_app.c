@@ -7,12 +7,10 @@
 
 #include "roz/filter.h"
 #include "roz/format.h"
-#include "roz/port/loopback.h"
 #include "roz/monitor.h"
 
 /* Large: static storage, never the stack. */
 static roz_runtime_t rt;
-static roz_loopback_t sim;
 static roz_port_t port;
 static roz_filter_t filter; /* the safety filter alone, for its cost */
 static double filter_out[ROZ_CFG_MAX_COMMANDS];
@@ -90,7 +88,7 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
     say(pf, "roz firmware: %s on %s, controller %s (%zu bytes), %u ticks", m->robot_id, pf->name,
         img->controller, img->wasm_len, (unsigned)img->ticks);
 
-    port = roz_loopback_port(&sim, NULL, NULL);
+    port = fw_plant.port();
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
         say(pf, "error: port: %s", err);
         return 1;
@@ -151,7 +149,7 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
             "returned an error", (unsigned long)out->fault_tick,
             (unsigned long)out->faulted_ticks, (unsigned long)out->tick_errors);
     }
-    out->violations = roz_loopback_counters(&sim).violations;
+    out->violations = fw_plant.violations();
     say(pf, "violations: %llu", (unsigned long long)out->violations);
     say(pf, "fingerprint: %016llx", (unsigned long long)out->fingerprint);
     if (cfg.clock != NULL) {

@@ -3,7 +3,7 @@
  * boards (cortex_m/) and, unchanged, on the host (host/), which is how the
  * host's fingerprint of the same controller, manifest and tick count is
  * computed for comparison. It loads a controller (verified), runs it for a
- * number of ticks through roz_runtime_tick() on the loopback simulator, and
+ * number of ticks through roz_runtime_tick() on the image's plant, and
  * prints what it saw, one line at a time, through the platform's print. */
 #ifndef ROZ_FW_APP_H
 #define ROZ_FW_APP_H
@@ -13,7 +13,20 @@
 
 #include "roz/controller.h"
 #include "roz/manifest.h"
+#include "roz/port.h"
 #include "roz/runtime.h"
+
+/** The robot the application drives: a port, and the count of values
+ *  outside the manifest that reached the robot through it. Each image links
+ *  one definition of fw_plant: the loopback simulator (fw_plant_loopback.c)
+ *  or a drive's registers in memory with no simulator (fw_plant_regs.c, the
+ *  shape of a firmware's own port). */
+typedef struct fw_plant {
+    roz_port_t (*port)(void);       /* the port, constructed, not yet open */
+    uint64_t (*violations)(void);   /* after the run */
+} fw_plant_t;
+
+extern const fw_plant_t fw_plant;
 
 /** What the platform gives the application. */
 typedef struct fw_platform {

@@ -10,7 +10,8 @@
 /** Starts SysTick on the processor clock, free-running. */
 void fw_clock_start(void);
 
-/** Monotonic nanoseconds from SysTick (roz_clock_fn). Under QEMU's
+/** Monotonic nanoseconds from SysTick at the board's core clock
+ *  (FW_CLOCK_HZ, cortex_m/clock_ns.h; roz_clock_fn). Under QEMU's
  *  -icount shift=0 one nanosecond is one instruction. */
 uint64_t fw_clock_ns(void *ctx);
 

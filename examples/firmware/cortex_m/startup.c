@@ -1,13 +1,20 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Start-up for ARMv7-M (Cortex-M4F, Cortex-M7) under the linker scripts
- * here: the vector table, the reset handler (FPU on, .data copied, .bss
- * zeroed, the stack painted), fault handlers that say what happened and
- * stop the run, and SysTick as the clock. */
+/* Start-up for ARMv7-M and ARMv8-M Mainline (Cortex-M4F, M7, M33; on the
+ * M33 in the Secure state it resets in) under the boards' linker scripts
+ * (boards/): the vector table, the reset handler (FPU on, .data
+ * copied, .bss zeroed, the stack painted), fault handlers that say what
+ * happened and stop the run, and SysTick as the clock. */
 #include <stdint.h>
 #include <string.h>
 
 #include "board.h"
+#include "clock_ns.h"
 #include "semihosting.h"
+
+/* The core's clock, from the board file (boards/<board>.cmake). */
+#ifndef FW_CLOCK_HZ
+#error "FW_CLOCK_HZ: the board's core clock in Hz (set by the board file)"
+#endif
 
 extern uint32_t __stack_top[], __stack_bottom[];
 extern uint32_t _sidata[], _sdata[], _edata[], _sbss[], _ebss[];
@@ -36,7 +43,8 @@ static void (*const vectors[16])(void) = {
     Fault_Handler, /* MemManage */
     Fault_Handler, /* BusFault */
     Fault_Handler, /* UsageFault */
-    0, 0, 0, 0,
+    Fault_Handler, /* SecureFault (ARMv8-M; reserved on ARMv7-M) */
+    0, 0, 0,
     Fault_Handler, /* SVCall */
     Fault_Handler, /* DebugMon */
     0,
@@ -117,7 +125,6 @@ void Fault_Handler(void)
 
 /* SysTick counts the processor clock down from 2^24 - 1; each wrap is
  * counted here. */
-#define SYSCLK_HZ 25000000u /* the MPS2 boards' processor clock */
 static volatile uint32_t wraps;
 
 void SysTick_Handler(void)
@@ -143,5 +150,5 @@ uint64_t fw_clock_ns(void *ctx)
         w2 = wraps;
     } while (w1 != w2);
     uint64_t cycles = ((uint64_t)w1 << 24) + (0x00ffffffu - v);
-    return cycles * (1000000000u / SYSCLK_HZ);
+    return fw_cycles_to_ns(cycles, (uint32_t)FW_CLOCK_HZ);
 }

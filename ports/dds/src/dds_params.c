@@ -94,7 +94,11 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
 const char *const roz_dds_cyclone_threads[] = { "recv", "dq.user", "tev", NULL };
 
 /* <Threads> for roz_dds_cyclone_threads, as @p t asks; "" when it asks
- * nothing. Returns the length, or < 0. */
+ * nothing. Returns the length, or < 0. With several receive threads
+ * Cyclone puts the data on one named recvUC, which its 0.10 refuses to
+ * configure: one receive thread, "recv", takes all traffic instead, so
+ * that what is asked reaches the thread that runs the ports' state path
+ * (test_dds_cyclone_threads). */
 static int threads_xml(const roz_thread_config_t *t, char *out, size_t len)
 {
     char sched[96] = "", stack[48] = "";
@@ -119,7 +123,9 @@ static int threads_xml(const roz_thread_config_t *t, char *out, size_t len)
                       roz_dds_cyclone_threads[i], sched, stack);
     }
     if (n >= 0 && (size_t)n < len)
-        n += snprintf(out + n, len - (size_t)n, "</Threads>");
+        n += snprintf(out + n, len - (size_t)n,
+                      "</Threads><Internal><MultipleReceiveThreads>false</MultipleReceiveThreads>"
+                      "</Internal>");
     return n < 0 || (size_t)n >= len ? ROZ_ENOSPC : n;
 }
 

@@ -13,8 +13,8 @@
 
 #include "ros2_map.h"
 #include "ros2_msgs.h"
-#include "roz/hal/params.h"
 #include "roz/filter.h"
+#include "roz/hal/params.h"
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
@@ -403,8 +403,8 @@ static int bridge_send(void *port, void *sample, const double *cmd, const double
     roz__ros2_joints(b, cmd, q, b->tx_joint);
     for (uint16_t s = 0; s < b->n_slots; s++) {
         b->tx_last_q[s] = b->tx_joint[s].q;
-        b->tx_meas_q[s] = q[s];
         b->tx_last_kp[s] = b->tx_joint[s].kp;
+        b->tx_meas_q[s] = q[s]; /* the latest finite one, NaN until there is one */
     }
     return publish_all(b, &b->out[primary(b)], sample);
 }
@@ -417,21 +417,24 @@ static int bridge_safe(void *port, void *sample)
 }
 
 /* The tick is silent: each joint held at the hold gain (its stiffness
- * default) with the torque it last went out with, as the filter's hold
- * does (roz_hold_keep_torque(); test_mujoco_stops_x2, the balancing stand's
- * watchdog row: the positions last sent at the stiffer gain push it over);
- * a joint that went out limp (kp 0), at the positions last sent. */
+ * default) with the torque it last went out with, as the filter's hold and
+ * the G1 port's watchdog do (roz_hold_keep_torque(): a soft balancing
+ * stand's setpoints sit away from its joints, and the hold gain on them
+ * would push it over; test_pm01_watchdog_keeps_the_torque,
+ * test_mujoco_stops_pm01); the positions then clamped inside the manifest
+ * by roz__ros2_damping(). A position never measured finite keeps the
+ * setpoint last sent. */
 static int bridge_watchdog(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
+    const roz_manifest_t *m = b->m;
     double q[ROZ_ROS2_MAX_ROBOT_SLOTS];
     for (uint16_t s = 0; s < b->n_slots; s++) {
         int16_t k = b->slot_joint[s];
-        int32_t kp = k >= 0 ? b->joint[k].kp_cmd : -1;
-        q[s] = kp >= 0 && b->tx_last_kp[s] > 0.0
-                   ? roz_hold_keep_torque(b->tx_last_q[s], b->tx_meas_q[s], b->tx_last_kp[s],
-                                          b->m->commands[kp].default_value)
-                   : b->tx_last_q[s];
+        int16_t kp = k >= 0 && b->joint[k].q_cmd >= 0 ? b->joint[k].kp_cmd : -1;
+        q[s] = kp >= 0 ? roz_hold_keep_torque(b->tx_last_q[s], b->tx_meas_q[s], b->tx_last_kp[s],
+                                              m->commands[kp].default_value)
+                       : b->tx_last_q[s];
     }
     roz__ros2_damping(b, q, b->shutdown_kd, 1, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);

@@ -323,12 +323,55 @@ static void special_to(roz_socketcan_t *sc, size_t j, roz_mit_special_t which, s
 }
 
 /* The measured position, velocity 0, no gains, no torque. */
+/* The start-up hold: the measured position, no gains, no torque. */
 static void hold_to(roz_socketcan_t *sc, size_t j, uint64_t t)
 {
     roz_mit_codes_t codes = sc->zero_codes[j];
     uint8_t data[8];
     codes.position = (uint16_t)atomic_load_explicit(&sc->shared[j].hold_code, memory_order_relaxed);
     (void)roz_mit_codec_pack_codes(&codes, data);
+    send_to(sc, j, data, C(holds_sent), t);
+}
+
+/* The measured position the holds use (inside the position command's
+ * limits: hold_code_of()), in the joint's frame. */
+static double held_position(const roz_socketcan_t *sc, size_t j)
+{
+    const roz_can_joint_t *jt = &sc->cfg.joints[j];
+    uint16_t code = (uint16_t)atomic_load_explicit(&sc->shared[j].hold_code, memory_order_relaxed);
+    double p = roz_mit_codec_decode(code, &jt->ranges.position, ROZ_MIT_POSITION_BITS);
+    return (double)jt->direction * p + jt->zero_offset;
+}
+
+/* The hold after a trip, until every group got one: the start-up hold,
+ * with the watchdog hold's damping kept (no frame of kd 0 between two of
+ * the watchdog's: test_socketcan_watchdog_on_write). */
+static void damped_hold_to(roz_socketcan_t *sc, size_t j, uint64_t t)
+{
+    const roz_can_joint_t *jt = &sc->cfg.joints[j];
+    roz_mit_codes_t codes = sc->zero_codes[j];
+    roz_mit_command_t c = { 0.0, 0.0, 0.0, roz_can_hold_damping(sc->m, jt), 0.0 };
+    roz_mit_codes_t damped;
+    uint8_t data[8];
+    (void)roz_mit_codec_quantize(&jt->ranges, &c, &damped);
+    codes.kd = damped.kd;
+    codes.position = (uint16_t)atomic_load_explicit(&sc->shared[j].hold_code, memory_order_relaxed);
+    (void)roz_mit_codec_pack_codes(&codes, data);
+    send_to(sc, j, data, C(holds_sent), t);
+}
+
+/* The tick is silent: the watchdog's hold (roz/port/can_hold.h), each
+ * joint at its hold gains keeping the torque of its last command. */
+static void watchdog_to(roz_socketcan_t *sc, size_t j, uint64_t t)
+{
+    const roz_can_joint_t *jt = &sc->cfg.joints[j];
+    roz_mit_command_t c;
+    uint8_t data[8];
+    roz_can_watchdog_hold(sc->m, jt, &sc->tx[j].last, held_position(sc, j), &c);
+    uint32_t what = roz_mit_codec_pack(&jt->ranges, &c, data);
+    if ((what & (ROZ_MIT_SAT_ANY | ROZ_MIT_NONFINITE_ANY)) != 0)
+        bump(sc, C(saturated), (uint64_t)__builtin_popcount(what & (ROZ_MIT_SAT_ANY |
+                                                                    ROZ_MIT_NONFINITE_ANY)));
     send_to(sc, j, data, C(holds_sent), t);
 }
 
@@ -355,6 +398,11 @@ static void command_to(roz_socketcan_t *sc, size_t j, uint64_t t)
     uint32_t fields = what & (ROZ_MIT_SAT_ANY | ROZ_MIT_NONFINITE_ANY);
     if (fields != 0)
         bump(sc, C(saturated), (uint64_t)__builtin_popcount(fields));
+    roz_can_last_t *last = &sc->tx[j].last;
+    last->sent = 1;
+    last->position = dir * c.position + jt->zero_offset;
+    last->stiffness = c.kp;
+    last->measured = held_position(sc, j);
     send_to(sc, j, data, C(commands_sent), t);
 }
 
@@ -438,6 +486,7 @@ static void round_pass(roz_socketcan_t *sc, uint64_t t)
             tx->enter_pending = session > 1; /* back after a silence: maybe rebooted */
             tx->ready_seq = UINT64_MAX;
             tx->hold_seq = 0;
+            tx->last.sent = 0; /* a new session: nothing of it was commanded */
         }
         if (tx->enter_pending) {
             tx->enter_pending = 0;
@@ -456,10 +505,10 @@ static void round_pass(roz_socketcan_t *sc, uint64_t t)
             tx->hold_seq = sc->tx_cmd_seq; /* layer 3: the first command after is a hold */
             hold_to(sc, j, t);
         } else if (verdict == ROZ_CMD_SAFE) {
-            hold_to(sc, j, t); /* the tick went silent: no gains until it is back */
+            watchdog_to(sc, j, t); /* the tick went silent: the hold until it is back */
             bump(sc, C(watchdog_holds), 1);
         } else if (sc->tx_hold) {
-            hold_to(sc, j, t); /* back after a trip: the hold first */
+            damped_hold_to(sc, j, t); /* back after a trip: the hold first */
         } else {
             command_to(sc, j, t);
         }

@@ -188,7 +188,7 @@ static void on_frame(fake_can_t *bus, const struct can_frame *f)
                     a->cmd[k] = from_code(a->code[k], a->cfg.range[k], widths[k]);
                 a->have_cmd = 1;
             }
-            if (gains) {
+            if (a->code[FAKE_KP] != 0) { /* stiffness: it drives toward a position */
                 a->commands++;
                 log_kind(bus, j, FAKE_COMMAND);
             } else {

@@ -34,6 +34,8 @@ typedef struct fake_actuator {
     int      have_cmd;
     uint16_t code[FAKE_FIELDS];            /* the last command applied, as sent */
     double   cmd[FAKE_FIELDS];             /* and decoded */
+    /* holds: command frames without stiffness (damping at most);
+     * commands: the ones with stiffness */
     uint64_t frames, enters, exits, zeros, holds, commands, outside_motor_mode;
     uint64_t replies;
     uint64_t before_first_reply;           /* frames other than "enter" before its first reply */

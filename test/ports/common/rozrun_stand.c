@@ -51,6 +51,13 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
     assert_int_equal(roz_rozrun_spawn(argv, out, watch, ctx, text, len), 0);
 }
 
+static pid_t running;
+
+long roz_rozrun_pid(void)
+{
+    return (long)running;
+}
+
 int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(void *ctx),
                      void *ctx, char *text, size_t len)
 {
@@ -63,6 +70,7 @@ int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(voi
                                  environ),
                      0);
     posix_spawn_file_actions_destroy(&fa);
+    running = pid;
 
     /* while it runs: what the robot gets (a hang guard of 60 s) */
     int status = 0, done = 0;
@@ -75,6 +83,7 @@ int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(voi
             watch(ctx);
         sleep_20ms();
     }
+    running = 0;
     if (!done) {
         kill(pid, SIGKILL);
         waitpid(pid, &status, 0);

@@ -31,6 +31,10 @@ void roz_rozrun_stand(const char *rozrun, const char *robot, const char *port,
 int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(void *ctx),
                      void *ctx, char *text, size_t len);
 
+/* The process roz_rozrun_spawn() runs, for its @p watch (its threads are in
+ * /proc/PID/task); 0 when it runs none. */
+long roz_rozrun_pid(void);
+
 /* rozrun --replay @p recording --controller @p controller, its output to
  * @p out and @p text (printed); the test has failed unless it exited 0
  * having replayed @p ticks ticks identically. */

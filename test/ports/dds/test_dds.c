@@ -208,6 +208,44 @@ static int thread_sched(const char *name, int *policy, int *prio)
     return found;
 }
 
+/* Of this process's threads whose name starts with @p prefix, how many run
+ * with another policy or priority; @p seen counts them all. */
+static int threads_off(const char *prefix, int policy, int prio, int *seen)
+{
+    DIR *d = opendir("/proc/self/task");
+    struct dirent *e;
+    int off = 0;
+    *seen = 0;
+    while (d != NULL && (e = readdir(d)) != NULL) {
+        char path[64], comm[32] = "";
+        if (e->d_name[0] == '.')
+            continue;
+        snprintf(path, sizeof path, "/proc/self/task/%s/comm", e->d_name);
+        FILE *f = fopen(path, "r");
+        if (f == NULL)
+            continue;
+        if (fgets(comm, sizeof comm, f) != NULL)
+            comm[strcspn(comm, "\n")] = '\0';
+        fclose(f);
+        if (strncmp(comm, prefix, strlen(prefix)) != 0)
+            continue;
+        pid_t tid = (pid_t)atoi(e->d_name);
+        struct sched_param sp;
+        int pol = sched_getscheduler(tid);
+        (*seen)++;
+        if (sched_getparam(tid, &sp) != 0)
+            sp.sched_priority = -1;
+        if (pol != policy || sp.sched_priority != prio) {
+            print_message("thread %s (%d): policy %d priority %d\n", comm, (int)tid, pol,
+                          sp.sched_priority);
+            off++;
+        }
+    }
+    if (d != NULL)
+        closedir(d);
+    return off;
+}
+
 static void test_dds_cyclone_threads(void **st)
 {
     char xml[ROZ_DDS_CONFIG_MAX], err[256];
@@ -225,11 +263,14 @@ static void test_dds_cyclone_threads(void **st)
                  roz_dds_cyclone_threads[i]);
         assert_non_null(strstr(xml, want));
     }
+    assert_non_null(strstr(xml, "<Internal><MultipleReceiveThreads>false</MultipleReceiveThreads>"
+                                "</Internal>"));
     t.sched = ROZ_THREAD_RR;
     assert_int_equal(roz_dds_config_xml("lo", &t, xml, sizeof xml), ROZ_EINVAL);
     t = (roz_thread_config_t){ ROZ_THREAD_OTHER, 0, 0, 0 };
     assert_true(roz_dds_config_xml("lo", &t, xml, sizeof xml) > 0);
     assert_null(strstr(xml, "<Threads>"));
+    assert_null(strstr(xml, "MultipleReceiveThreads")); /* Cyclone's defaults */
 
     /* the running threads: the stack always (Cyclone takes the
      * configuration), SCHED_FIFO where permitted */
@@ -245,8 +286,21 @@ static void test_dds_cyclone_threads(void **st)
         fail_msg("%s", err);
     int policy = -1, prio = -1;
     int found = thread_sched("recv", &policy, &prio);
+    /* every thread that receives (one: several receive threads would put
+     * the data on "recvUC", which Cyclone 0.10 lets no configuration
+     * reach), and the delivery and event threads */
+    int off = 0, seen = 0, all = 0;
+    static const char *const data_path[] = { "recv", "dq.user", "tev", NULL };
+    for (size_t i = 0; data_path[i] != NULL; i++) {
+        off += threads_off(data_path[i], may_fifo ? SCHED_FIFO : SCHED_OTHER, may_fifo ? 4 : 0,
+                           &seen);
+        assert_true(seen >= 1);
+        all += seen;
+    }
     roz_dds_participant_close(&p);
     assert_int_equal(found, 0);
+    assert_int_equal(off, 0);
+    assert_int_equal(all, 3);
     if (may_fifo) {
         assert_int_equal(policy, SCHED_FIFO);
         assert_int_equal(prio, 4);

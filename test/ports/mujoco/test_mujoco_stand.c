@@ -1,14 +1,15 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The G1 stand controllers judged by motion (examples/controllers/g1_stand.c,
- * g1_23dof_stand.c, stand.h): behind the runtime and its filter, in MuJoCo's
- * simulated time, each G1 stands 30 s from its keyframe, and survives a
- * 0.1 s push at its pelvis that the same joint PD without the IMU feedback
- * (g1_stand_pd, g1_23dof_stand_pd) does not. Standing means, at every tick:
- * the pelvis above 0.7 m and nothing but the feet (the ankle roll links) on
- * the ground. The PM01 and the X2 below, on the team's models.
+/* The humanoid stand controllers judged by motion (examples/controllers/
+ * g1_stand.c, g1_23dof_stand.c, pm01_stand.c, x2_stand.c, stand.h): behind
+ * the runtime and its filter, in MuJoCo's simulated time, each G1, the PM01
+ * and the X2 stands 30 s from its keyframe, and survives a 0.1 s push at its
+ * pelvis that the same joint PD without the IMU feedback (g1_stand_pd,
+ * g1_23dof_stand_pd, pm01_stand_pd, x2_stand_pd) does not. Standing means,
+ * at every tick: the pelvis above 0.7 m (the PM01's crouch: 0.6 m; the X2's, on x2_stand: 0.55 m) and
+ * nothing but the feet (the ankle roll links) on the ground.
  *
  * The largest push each survives was found by bisection with
- * `test_mujoco_stand --bisect` (docs/ports/mujoco.md, "Built-in robots");
+ * `test_mujoco_stand --bisect [ROBOT]` (docs/ports/mujoco.md, "Built-in robots");
  * the tests push with 0.9 times it. */
 /* white-box in part: reads the port's fields (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
@@ -43,8 +44,12 @@
 #define G1_PUSH_Y          95.0
 #define G1_23DOF_PUSH_X    114.0
 #define G1_23DOF_PUSH_Y    91.0
+/* The PM01 on pm01_stand, pushed at its base link (backward: 143 N); its
+ * balance moves no ankle roll, so it gives sideways first. */
+#define PM01_PUSH_X        260.0
+#define PM01_PUSH_Y        57.0
 /* The X2 (the team's model from AgiBot's URDF facts) on x2_stand: forward
- * and sideways (+y), N for 0.1 s (test_mujoco_stand --bisect agibot_x2;
+ * and sideways (+y), N for 0.1 s (--bisect agibot_x2;
  * backward 287 N, -y 101 N). */
 #define X2_PUSH_X          172.0
 #define X2_PUSH_Y          100.0
@@ -75,6 +80,12 @@ static double min_height(const char *robot)
     return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : MIN_HEIGHT;
 }
 
+/* The body pushed: the pelvis (the PM01's is its base link). */
+static const char *pelvis(const char *robot)
+{
+    return strcmp(robot, "engineai_pm01") == 0 ? "LINK_BASE" : "pelvis";
+}
+
 /* @p controller on built-in @p robot for @p ticks, pushed at the pelvis by
  * (fx, fy) N over [PUSH_AT, PUSH_AT + PUSH_TICKS) when either is not 0. */
 static stand_run_t run_stand(const char *robot, const char *controller, int ticks, double fx,
@@ -83,7 +94,8 @@ static stand_run_t run_stand(const char *robot, const char *controller, int tick
     const roz_manifest_t *m = roz_builtin_find(robot);
     assert_non_null(m);
     char push[128], err[512] = "";
-    snprintf(push, sizeof push, "%.3f,%.3f,0@pelvis@%d:%d", fx, fy, PUSH_AT, PUSH_AT + PUSH_TICKS);
+    snprintf(push, sizeof push, "%.3f,%.3f,0@%s@%d:%d", fx, fy, pelvis(robot), PUSH_AT,
+             PUSH_AT + PUSH_TICKS);
     roz_param_t item = { "push", push };
     roz_params_t params = { &item, fx != 0.0 || fy != 0.0 ? 1u : 0u };
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
@@ -210,16 +222,27 @@ static void test_mujoco_stand_g1_23dof_push_sideways(void **state)
     survives_push("unitree_g1_23dof", "g1_23dof_stand", "g1_23dof_stand_pd", 0.0, G1_23DOF_PUSH_Y);
 }
 
-/* ---- --bisect: the largest pushes, for the constants above ----------------------- */
-
 /* The PM01 (the team's model from EngineAI's URDF facts): the same ankle
- * and hip strategy stands it 30 s; its PD alone falls. Its pushes are not
- * measured yet. */
+ * and hip strategy stands it 30 s and takes its pushes; its PD alone
+ * falls. */
 static void test_mujoco_stand_pm01_30_s(void **state)
 {
     (void)state;
     stands_30_s("engineai_pm01", "pm01_stand", "pm01_stand_pd");
 }
+
+static void test_mujoco_stand_pm01_push_forward(void **state)
+{
+    (void)state;
+    survives_push("engineai_pm01", "pm01_stand", "pm01_stand_pd", PM01_PUSH_X, 0.0);
+}
+
+static void test_mujoco_stand_pm01_push_sideways(void **state)
+{
+    (void)state;
+    survives_push("engineai_pm01", "pm01_stand", "pm01_stand_pd", 0.0, PM01_PUSH_Y);
+}
+
 
 /* The X2 (the team's model from AgiBot's URDF facts): the same ankle and
  * hip strategy, with an ankle roll term, stands it 30 s and takes its
@@ -241,6 +264,8 @@ static void test_mujoco_stand_x2_push_sideways(void **state)
     (void)state;
     survives_push("agibot_x2", "x2_stand", "x2_stand_pd", 0.0, X2_PUSH_Y);
 }
+
+/* ---- --bisect: the largest pushes, for the constants above ----------------------- */
 
 static double largest_push(const char *robot, const char *controller, double dx, double dy)
 {
@@ -268,6 +293,7 @@ static void bisect(void **state)
     static const char *const runs[][2] = {
         { "unitree_g1", "g1_stand" },           { "unitree_g1", "g1_stand_pd" },
         { "unitree_g1_23dof", "g1_23dof_stand" }, { "unitree_g1_23dof", "g1_23dof_stand_pd" },
+        { "engineai_pm01", "pm01_stand" },      { "engineai_pm01", "pm01_stand_pd" },
         { "agibot_x2", "x2_stand" },            { "agibot_x2", "x2_stand_pd" },
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++)
@@ -300,6 +326,8 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_mujoco_stand_g1_23dof_push_forward),
         cmocka_unit_test(test_mujoco_stand_g1_23dof_push_sideways),
         cmocka_unit_test(test_mujoco_stand_pm01_30_s),
+        cmocka_unit_test(test_mujoco_stand_pm01_push_forward),
+        cmocka_unit_test(test_mujoco_stand_pm01_push_sideways),
         cmocka_unit_test(test_mujoco_stand_x2_30_s),
         cmocka_unit_test(test_mujoco_stand_x2_push_forward),
         cmocka_unit_test(test_mujoco_stand_x2_push_sideways),

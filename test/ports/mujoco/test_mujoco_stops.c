@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Every stop judged by what it does to a standing G1 (SAFETY.md, "Stops in
- * physics"): the 29-DoF G1 stands on a stiff stand for 2 simulated seconds,
- * then each stop in turn (e-stop, the controller's e-stop request, a
- * dropped stream, a trap, an overrun, the robot's board restarting, the
- * tick falling silent under the command watchdog, a controller swap); 2 s
- * later the pelvis must be up and no joint may have moved fast. The same
- * on the standing X2 (test_mujoco_stops_x2). Simulated time: the same
- * numbers on every run. */
+/* Every stop judged by what it does to a standing humanoid (SAFETY.md,
+ * "Stops in physics"): the 29-DoF G1 stands on a stiff stand for 2
+ * simulated seconds, then each stop in turn (e-stop, the controller's
+ * e-stop request, a dropped stream, a trap, an overrun, the robot's board
+ * restarting, the tick falling silent under the command watchdog, a
+ * controller swap); 2 s later the pelvis must be up and no joint may have
+ * moved fast. The PM01 the same, on its example balancing stand
+ * (test_mujoco_stops_pm01), and the X2 on its stiff stand and its example
+ * balancing stand (test_mujoco_stops_x2). Simulated time: the same numbers
+ * on every run. */
 /* white-box in part: reads the port's truth history (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
@@ -62,11 +64,6 @@ typedef struct {
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
-/* The robot the cases run on, and the pelvis height it stands above when
- * the stop comes; the G1's unless a test sets them. */
-static const char *stops_robot = "unitree_g1";
-static double stops_up = 0.7;
-
 static const uint8_t *stops_controller(const char *name, size_t *len)
 {
     static uint8_t buf[2][256 * 1024];
@@ -90,9 +87,10 @@ static const double *truth(void)
     return mj.hist[(mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1)];
 }
 
-/* What the G1 port's command watchdog sends once the tick has been silent
- * for command_timeout_us (g1_watchdog() in ports/unitree_g1, through the
- * command path every DDS port shares, ports/dds/src/dds_cmd.c): the
+/* What the DDS ports' command watchdogs send once the tick has been silent
+ * for command_timeout_us (g1_watchdog() in ports/unitree_g1, and the ROS 2
+ * ports' bridge_watchdog() in ports/ros2, the PM01's, through the command
+ * path every DDS port shares, ports/dds/src/dds_cmd.c): the
  * positions last sent moved to keep the torque they held the joint with
  * (roz_hold_keep_torque()), kp each joint's stiffness default (the hold gain),
  * kd its damping default (shutdown_damping's default), nothing else. The
@@ -114,33 +112,21 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
         cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
 }
 
-/* What the X2 port's command watchdog sends once the tick has been silent
- * for command_timeout_us (bridge_watchdog() in ports/ros2, through the
- * command path every DDS port shares): the positions last sent moved to
- * keep the torque they held the joint with (roz_hold_keep_torque()), kp
- * each joint's stiffness default (the hold gain), kd its damping default
- * (shutdown_damping's default), no velocity or torque. */
-static void x2_watchdog_command(const roz_manifest_t *m, const double *last, const double *state,
-                                double *cmd)
+/* The pelvis height (m) the stand stands above before the stop: the G1's
+ * stand is at 0.783 m, the PM01's crouch lower (0.68 m its lowest in 30 s,
+ * test_mujoco_stand.c), the smaller X2's at 0.640 m (down below 0.55 m in
+ * test_mujoco_stand.c). */
+static double standing_height(const char *robot)
 {
-    for (uint16_t c = 0; c < m->n_commands; c++)
-        cmd[c] = m->commands[c].default_value;
-    for (uint16_t k = 0; k < mj.n_joints; k++) {
-        const roz_joint_channels_t *j = &mj.joints[k].ch;
-        double kp_hold = m->commands[j->kp_cmd].default_value;
-        cmd[j->q_cmd] = last[j->kp_cmd] > 0.0
-                            ? roz_hold_keep_torque(last[j->q_cmd], state[j->q_state],
-                                                   last[j->kp_cmd], kp_hold)
-                            : last[j->q_cmd];
-    }
+    if (strcmp(robot, "agibot_x2") == 0)
+        return 0.55;
+    return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : 0.7;
 }
 
-static void (*stops_watchdog)(const roz_manifest_t *, const double *, const double *,
-                              double *) = watchdog_command;
-
-static void run_case(const stop_case_t *c, stop_outcome_t *o)
+/* Case @p c on built-in @p robot. */
+static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t *o)
 {
-    const roz_manifest_t *m = roz_builtin_find(stops_robot);
+    const roz_manifest_t *m = roz_builtin_find(robot);
     assert_non_null(m);
     uint16_t n = (uint16_t)(m->n_commands / 5);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
@@ -189,8 +175,8 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
             /* the tick is gone: the robot keeps the last command until the
              * watchdog trips, then gets the watchdog's, every period */
             if (t == STOP_TICK + WATCHDOG_TICKS)
-                stops_watchdog(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
-                               wd);
+                watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
+                                 wd);
             if (t >= STOP_TICK + WATCHDOG_TICKS)
                 assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
             (void)roz_port_read(&p, st, m->n_states);
@@ -204,7 +190,7 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
         }
         if (t == STOP_TICK - 1) {
             roz_mujoco_base(&mj, &b);
-            if (!(b.pos[2] > stops_up))
+            if (!(b.pos[2] > standing_height(robot)))
                 fail_msg("%s: the stand is down before the stop: pelvis %.3f m", c->name,
                          b.pos[2]);
             assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -232,6 +218,11 @@ static void run_case(const stop_case_t *c, stop_outcome_t *o)
                   m->states[n + o->peak_joint].name, o->faults);
     roz_runtime_deinit(&rt);
     roz_port_close(&p);
+}
+
+static void run_case(const stop_case_t *c, stop_outcome_t *o)
+{
+    run_case_on("unitree_g1", c, o);
 }
 
 /* ---- tests ------------------------------------------------------------------------ */
@@ -284,9 +275,69 @@ static void test_mujoco_stops_g1(void **state)
     assert_int_equal(bad, 0);
 }
 
+/* The PM01 on its example balancing stand (pm01_stand: ankles kp 100, its
+ * setpoints moved by the IMU balance), each stop at 2 s; the controllers
+ * that stop themselves wrap it (controllers/stops_pm01.h). The watchdog's
+ * hold is the ROS 2 ports' (bridge_watchdog() in ports/ros2), written in
+ * the mujoco port's place. */
+#define PM01 "engineai_pm01"
+static const stop_case_t pm01_cases[] = {
+    { "pm01: no stop", STOP_NONE, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: e-stop", STOP_ESTOP, "pm01_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "pm01: e-stop request", STOP_FROM_CTL, "stops_pm01_estop_request", NULL, NULL,
+      ROZ_FAULT_ESTOP_REQUEST },
+    { "pm01: stale", STOP_PORT, "pm01_stand", "drop=1000:1100", NULL, ROZ_FAULT_STALE },
+    { "pm01: trap", STOP_FROM_CTL, "stops_pm01_trap", NULL, NULL, ROZ_FAULT_TRAP },
+    { "pm01: overrun (fuel)", STOP_FROM_CTL, "stops_pm01_overrun", NULL, NULL,
+      ROZ_FAULT_OVERRUN },
+    { "pm01: link (restart)", STOP_PORT, "pm01_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "pm01: command watchdog", STOP_SILENT, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: swap", STOP_SWAP, "pm01_stand", NULL, "stops_pm01_swap_in", 0 },
+};
+
+/* The PM01's crouch on pm01_stand settles slowly (0.75 m at 4 s, 0.68 m
+ * its lowest in 30 s: test_mujoco_stand.c): each stop must leave its
+ * pelvis, over the 2 s after the stop, within PM01_SAG (m) of where the
+ * stand without a stop has it 2 s after (the first case), the fault
+ * latched, no joint fast. */
+#define PM01_SAG 0.03
+static void test_mujoco_stops_pm01(void **state)
+{
+    (void)state;
+    int bad = 0;
+    double up = NAN;
+    for (size_t i = 0; i < sizeof pm01_cases / sizeof pm01_cases[0]; i++) {
+        stop_outcome_t o;
+        run_case_on(PM01, &pm01_cases[i], &o);
+        if (i == 0)
+            up = o.height; /* no stop: where the stand stands */
+        if ((o.faults & pm01_cases[i].fault) != pm01_cases[i].fault ||
+            (pm01_cases[i].fault == 0 && o.faults)) {
+            print_error("%s: faults 0x%02x, expected 0x%02x\n", pm01_cases[i].name, o.faults,
+                        pm01_cases[i].fault);
+            bad++;
+        }
+        if (!(o.height > up - PM01_SAG && o.lowest > up - PM01_SAG)) {
+            print_error("%s: the PM01 sank: pelvis %.3f m (lowest %.3f), %.3f m unstopped\n",
+                        pm01_cases[i].name, o.height, o.lowest, up);
+            bad++;
+        }
+        if (!(o.peak_speed < 1.0)) {
+            print_error("%s: a joint moved at %.2f rad/s\n", pm01_cases[i].name, o.peak_speed);
+            bad++;
+        }
+    }
+    assert_true(up > standing_height(PM01));
+    assert_int_equal(bad, 0);
+}
+
 /* The same stops on the standing X2 (the team's model from AgiBot's URDF
  * facts, models/agibot_x2.xml): its stiff stand (controllers/
- * x2_stops_stand.h) and x2_stand, the example's balancing stand. */
+ * x2_stops_stand.h: x2_stand's pose at the hold gains) and x2_stand, the
+ * example's balancing stand. The watchdog's hold is the ROS 2 ports'
+ * (bridge_watchdog() in ports/ros2), written in the mujoco port's place. */
+#define X2 "agibot_x2"
 static const stop_case_t x2_cases[] = {
     { "X2 no stop", STOP_NONE, "x2_stops_stand", NULL, NULL, 0 },
     { "X2 e-stop", STOP_ESTOP, "x2_stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
@@ -306,27 +357,22 @@ static const stop_case_t x2_cases[] = {
     { "X2 watchdog (balancing)", STOP_SILENT, "x2_stand", NULL, NULL, 0 },
 };
 
-/* The X2 stands 0.647 m up (x2_stand's crouch; 0.55 m is down in
- * test_mujoco_stand): 2 s after each stop it must still be above that,
- * and no joint may have moved at 1 rad/s. */
-#define X2_UP 0.55
-
+/* 2 s after each stop the X2's pelvis must still be above
+ * standing_height() all along, the fault latched, no joint at 1 rad/s. */
 static void test_mujoco_stops_x2(void **state)
 {
     (void)state;
     int bad = 0;
-    stops_robot = "agibot_x2";
-    stops_up = X2_UP;
-    stops_watchdog = x2_watchdog_command;
+    double up = standing_height(X2);
     for (size_t i = 0; i < sizeof x2_cases / sizeof x2_cases[0]; i++) {
         const stop_case_t *c = &x2_cases[i];
         stop_outcome_t o;
-        run_case(c, &o);
+        run_case_on(X2, c, &o);
         if ((o.faults & c->fault) != c->fault || (c->fault == 0 && o.faults)) {
             print_error("%s: faults 0x%02x, expected 0x%02x\n", c->name, o.faults, c->fault);
             bad++;
         }
-        if (!(o.height > X2_UP && o.lowest > X2_UP)) {
+        if (!(o.height > up && o.lowest > up)) {
             print_error("%s: the X2 fell: pelvis %.3f m (lowest %.3f)\n", c->name, o.height,
                         o.lowest);
             bad++;
@@ -336,9 +382,6 @@ static void test_mujoco_stops_x2(void **state)
             bad++;
         }
     }
-    stops_robot = "unitree_g1";
-    stops_up = 0.7;
-    stops_watchdog = watchdog_command;
     assert_int_equal(bad, 0);
 }
 
@@ -426,10 +469,13 @@ static void test_mujoco_stops_at_limits(void **state)
     assert_true(g1 < 0.1);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1) /* a test's name (a pattern): that one only */
+        cmocka_set_test_filter(argv[1]);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_stops_g1),
+        cmocka_unit_test(test_mujoco_stops_pm01),
         cmocka_unit_test(test_mujoco_stops_x2),
         cmocka_unit_test(test_mujoco_stops_at_limits),
     };

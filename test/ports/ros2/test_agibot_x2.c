@@ -794,7 +794,8 @@ static void test_x2_bad_parameters(void **st)
 }
 
 /* The command watchdog (roz::ros2, tested whole on the PM01): once the tick
- * stops, every group's topic gets the damping command in the X2's messages,
+ * stops, every group's topic gets the watchdog's hold (the hold gains, the
+ * torque kept) in the X2's messages,
  * repeatedly, by the writer alone; read() reports it once; the next write
  * is the hold. */
 static roz_ros2_counters_t counters(void)
@@ -815,18 +816,20 @@ static void test_x2_watchdog_every_group(void **st)
     start();
     roz_ros2fx_send();
     assert_int_equal(read_x2(), 1);
+    roz_ros2fx_sent(sent);
     distinct_command(1);
+    /* each setpoint moved to keep the torque it went out with at the hold
+     * gain, inside the limits (test_pm01_watchdog_keeps_the_torque) */
     for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
-        /* the positions sent, moved to keep the torque they went out with
-         * at the hold gain (roz_hold_keep_torque(), bridge_watchdog()) */
         int i = cmd_of(m->hardware->joints[j], "position");
         int kp = cmd_of(m->hardware->joints[j], "stiffness");
-        q[j] = i >= 0 ? cmd[i] : NAN;
-        if (i >= 0 && kp >= 0 && cmd[kp] > 0.0)
-            q[j] = roz_channel_clamp(&m->commands[i],
-                                     roz_hold_keep_torque(cmd[i],
-                                                          state[m->commands[i].position_state],
-                                                          cmd[kp], m->commands[kp].default_value));
+        q[j] = NAN;
+        if (i < 0 || kp < 0)
+            continue;
+        const roz_channel_t *qc = &m->commands[i];
+        double v = roz_hold_keep_torque(cmd[i], sent[qc->position_state], cmd[kp],
+                                        m->commands[kp].default_value);
+        q[j] = roz_channel_clamp(qc, roz_channel_clamp(&m->states[qc->position_state], v));
     }
     write_x2();
     roz_ros2fx_settle();

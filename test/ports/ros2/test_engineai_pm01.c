@@ -27,9 +27,12 @@
  *    (the other indices passive); a joint not on the PM01 is refused;
  *  - the command watchdog (roz::ros2, shared with the X2): the tick stops
  *    writing, the event-driven writer wakes by itself and the robot gets
- *    the damping command, repeatedly; read() reports the trip once naming
- *    the silence and the timeout; the next write is the hold, then the
- *    commands as written;
+ *    the watchdog's hold, repeatedly: the hold gains, each setpoint moved to
+ *    keep the torque it last went out with (a joint held with kp 80 at s,
+ *    measured at q, gets q + 80 (s - q) / kh), clamped inside the limits,
+ *    about the last finite position when the robot last said NaN; read()
+ *    reports the trip once naming the silence and the timeout; the next
+ *    write is the hold, then the commands as written;
  *  - bad parameters and manifests are refused naming the key and value. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>
@@ -124,6 +127,24 @@ static void assert_state_is_sent(void)
     roz_port_test_assert_state(m, state, sent);
 }
 
+
+/* The setpoints the watchdog's hold sends after the command in cmd[] went
+ * out against the measured positions @p measured (state order): each
+ * joint's setpoint moved to keep the torque it went out with at the hold
+ * gain (roz_hold_keep_torque()), inside the position state's and the
+ * command's limits. */
+static void watchdog_positions(const double *measured, double *q)
+{
+    for (uint16_t j = 0; j < N; j++) {
+        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
+        const roz_channel_t *kc = &m->commands[cmd_index(j, "stiffness")];
+        const roz_channel_t *qs = &m->states[qc->position_state];
+        double v = roz_hold_keep_torque(cmd[cmd_index(j, "position")],
+                                        measured[qc->position_state],
+                                        cmd[cmd_index(j, "stiffness")], kc->default_value);
+        q[j] = roz_channel_clamp(qc, roz_channel_clamp(qs, v));
+    }
+}
 
 /* ---- mapping ---------------------------------------------------------------------- */
 
@@ -685,18 +706,9 @@ static void test_pm01_watchdog(void **st)
     start();
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
+    roz_ros2fx_sent(sent);
     distinct_command(1);
-    for (uint16_t j = 0; j < N; j++) {
-        /* the positions sent, moved to keep the torque they went out with
-         * at the hold gain (roz_hold_keep_torque(), bridge_watchdog()) */
-        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
-        double kp = cmd[cmd_index(j, "stiffness")];
-        q[j] = cmd[cmd_index(j, "position")];
-        if (kp > 0.0)
-            q[j] = roz_channel_clamp(qc, roz_hold_keep_torque(q[j], state[qc->position_state], kp,
-                                                              m->commands[cmd_index(j, "stiffness")]
-                                                                  .default_value));
-    }
+    watchdog_positions(sent, q);
     write_pm01();
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
@@ -748,6 +760,95 @@ static void test_pm01_watchdog(void **st)
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
     assert_true(c.q[3] == cmd[cmd_index(3, "position")]);
+}
+
+/* Joint @p j's position in the fake's next frame (its velocity and
+ * effort 0). */
+static void fake_position(uint16_t j, const char *q)
+{
+    int g, s;
+    assert_int_equal(roz_ros2fx_place(j, &g, &s), 0);
+    roz_ros2fx_ask("joint %s %d %s 0 0", roz_ros2fx_fake()->group[g], s, q);
+}
+
+/* The watchdog's hold keeps the torque each joint went out with, as the
+ * filter's hold and the G1 port's watchdog do (SAFETY.md, section 7): the
+ * left knee held with kp 80 at 0.5 rad, measured at 0.9, goes on at its
+ * hold gain kh (200) at 0.9 + 80 (0.5 - 0.9) / 200 = 0.74; the left hip
+ * pitch held hard (kp 500) near its upper limit, from 0.2 rad below it,
+ * gets its limit, not the setpoint past it; the right knee, NaN in the
+ * last frame, keeps its torque about its last finite position (0.6); every
+ * joint by the same rule, every value finite. */
+static void test_pm01_watchdog_keeps_the_torque(void **st)
+{
+    roz_fake_ros2_cmd_t c;
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    double q[N], measured[ROZ_CFG_MAX_STATES];
+    const uint16_t knee_l = 3, hip_l = 0, knee_r = 9;
+    const roz_channel_t *hip_q = &m->commands[cmd_index(hip_l, "position")];
+    char hip_at[64];
+    (void)st;
+
+    open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
+                               { "peer_timeout_ms", "60000" } },
+              2);
+    start();
+    /* the frame the command goes out against: the right knee at 0.6, then
+     * NaN (the port keeps 0.6, the last finite one) */
+    roz_ros2fx_send();
+    snprintf(hip_at, sizeof hip_at, "%.17g", hip_q->max - 0.2);
+    fake_position(knee_l, "0.9");
+    fake_position(hip_l, hip_at);
+    fake_position(knee_r, "0.6");
+    roz_ros2fx_ask_judged(0, "send");
+    assert_int_equal(read_pm01(), 1);
+    fake_position(knee_r, "nan");
+    roz_ros2fx_ask_judged(0, "send");
+    assert_int_equal(read_pm01(), 1);
+    assert_true(isnan(state[m->commands[cmd_index(knee_r, "position")].position_state]));
+    memcpy(measured, state, sizeof measured);
+    measured[m->commands[cmd_index(knee_r, "position")].position_state] = 0.6;
+
+    distinct_command(1);
+    cmd[cmd_index(knee_l, "position")] = 0.5;
+    cmd[cmd_index(knee_l, "stiffness")] = 80.0;
+    cmd[cmd_index(hip_l, "position")] = hip_q->max - 0.01;
+    cmd[cmd_index(hip_l, "stiffness")] = 500.0;
+    watchdog_positions(measured, q);
+    write_pm01();
+    get_command(&c);
+    assert_true(c.kp[knee_l] == 80.0 && c.q[knee_l] == 0.5);
+
+    /* the tick stops */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
+                                       roz_ros2fx_fake()->group[0],
+                                       (unsigned long long)n0[0] + 2u),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    double kh = m->commands[cmd_index(knee_l, "stiffness")].default_value;
+    print_message("left knee: kp 80 at 0.5, measured 0.9: the watchdog's hold kp %g at %.6f; "
+                  "left hip pitch: kp 500 at %.4f, measured %.4f: at %.4f (its limit %.4f)\n",
+                  c.kp[knee_l], c.q[knee_l], cmd[cmd_index(hip_l, "position")],
+                  hip_q->max - 0.2, c.q[hip_l], hip_q->max);
+    assert_true(c.kp[knee_l] == kh && kh == 200.0);
+    assert_true(fabs(c.q[knee_l] - (0.9 + 80.0 * (0.5 - 0.9) / kh)) < 1e-12);
+    assert_true(c.q[hip_l] == hip_q->max);
+    assert_true(fabs(c.q[knee_r] - roz_hold_keep_torque(cmd[cmd_index(knee_r, "position")], 0.6,
+                                                        cmd[cmd_index(knee_r, "stiffness")],
+                                                        kh)) < 1e-12);
+    for (uint16_t j = 0; j < N; j++) {
+        const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
+        const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
+        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
+        if (!isfinite(c.q[j]) || c.q[j] != q[j] || c.q[j] < qc->min || c.q[j] > qc->max ||
+            c.kp[j] != kp->default_value || c.dq[j] != 0.0 || c.tau[j] != 0.0 ||
+            c.kd[j] != kd->default_value)
+            fail_msg("joint %u after the tick stopped: q %g (expected %g) kp %g kd %g dq %g "
+                     "tau %g: not the watchdog's hold",
+                     (unsigned)j, c.q[j], q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
+    }
 }
 
 static void test_pm01_startup_and_shutdown_damping(void **st)
@@ -964,6 +1065,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_decimation, teardown),
         cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
+        cmocka_unit_test_teardown(test_pm01_watchdog_keeps_the_torque, teardown),
         cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
         cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
         cmocka_unit_test(test_pm01_bad_parameters),

@@ -4,7 +4,9 @@
  * what a valid table gives (the leg example's joints, channels, ranges,
  * directions, offsets), the caller's parameters over robot.toml's, the bus
  * figures worked out by hand (frames, groups, load, intervals, timeouts),
- * manifests that are no CAN robot, numbers under another C locale. */
+ * manifests that are no CAN robot, numbers under another C locale; and the
+ * holds the port sends (roz/port/can_hold.h): the command watchdog's keeps
+ * the last command's torque at the hold gains, inside every channel. */
 #include <locale.h>
 #include <math.h>
 #include <setjmp.h>
@@ -17,6 +19,7 @@
 #include <cmocka.h>
 
 #include "roz/port/can_config.h"
+#include "roz/port/can_hold.h"
 #include "roz/manifest_toml.h"
 
 #ifndef ROZ_SOURCE_DIR
@@ -309,6 +312,105 @@ static void test_can_config_rules_and_keys(void **state)
     assert_string_equal(keys[26], "zero_offset");
 }
 
+/* ---- the holds (roz/port/can_hold.h) ------------------------------------- */
+
+static roz_channel_t hold_cmds[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t hold_leg;
+
+/* The leg with stiffness channels whose default (the hold stiffness) is
+ * @p kp: the leg's own is 0 (its stop is damping only). */
+static const roz_can_joint_t *leg_with_hold(double kp, const char *joint)
+{
+    const roz_manifest_t *m = load_leg();
+    assert_int_equal(roz_can_config_load(&cfg, m, NULL, NULL, NULL), ROZ_OK);
+    memcpy(hold_cmds, m->commands, m->n_commands * sizeof hold_cmds[0]);
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (hold_cmds[i].type == ROZ_IF_STIFFNESS)
+            hold_cmds[i].default_value = kp;
+    }
+    hold_leg = *m;
+    hold_leg.commands = hold_cmds;
+    for (uint16_t j = 0; j < cfg.n_joints; j++) {
+        if (strcmp(cfg.joints[j].name, joint) == 0)
+            return &cfg.joints[j];
+    }
+    fail_msg("the leg has no joint %s", joint);
+    return NULL;
+}
+
+/* Joint-frame position of an actuator-frame one. */
+static double joint_position(const roz_can_joint_t *jt, double actuator)
+{
+    return (double)jt->direction * actuator + jt->zero_offset;
+}
+
+static void test_can_hold_keeps_the_torque(void **state)
+{
+    roz_mit_command_t c;
+    (void)state;
+    /* the knee: direction -1, zero offset -1.2, limits [-2.7, -0.5]; held at
+     * 20 after kp 30 at -1.0 measured at -1.2: 20 (q - -1.2) = 30 (-1.0 - -1.2) */
+    const roz_can_joint_t *knee = leg_with_hold(20.0, "knee");
+    roz_can_last_t last = { 1, -1.0, 30.0, -1.2 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.25, &c);
+    assert_float_equal(joint_position(knee, c.position), -0.9, 1e-12);
+    assert_float_equal(c.kp, 20.0, 0.0);
+    assert_float_equal(c.kd, 0.5, 0.0); /* the damping channel's default */
+    assert_float_equal(c.velocity, 0.0, 0.0);
+    assert_float_equal(c.torque, 0.0, 0.0);
+    assert_float_equal(20.0 * (joint_position(knee, c.position) - -1.2), 30.0 * (-1.0 - -1.2),
+                       1e-12);
+
+    /* a setpoint that would keep it lies outside the limits: at the limit */
+    last = (roz_can_last_t){ 1, -0.6, 60.0, -1.0 }; /* -1.0 + 3 * 0.4 = 0.2 */
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.0, &c);
+    assert_float_equal(joint_position(knee, c.position), -0.5, 1e-12);
+
+    /* the leg's own hold stiffness, 0: damping at the position last sent */
+    knee = leg_with_hold(0.0, "knee");
+    last = (roz_can_last_t){ 1, -1.0, 30.0, -1.2 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.25, &c);
+    assert_float_equal(c.kp, 0.0, 0.0);
+    assert_float_equal(c.kd, 0.5, 0.0);
+    assert_float_equal(joint_position(knee, c.position), -1.0, 1e-12);
+}
+
+static void test_can_hold_without_a_command_or_finite_values(void **state)
+{
+    roz_mit_command_t c;
+    (void)state;
+    const roz_can_joint_t *knee = leg_with_hold(20.0, "knee");
+    /* nothing commanded yet: at the measured position */
+    roz_can_last_t last = { 0, 0.0, 0.0, 0.0 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.7, &c);
+    assert_float_equal(joint_position(knee, c.position), -1.7, 1e-12);
+    assert_float_equal(c.kp, 20.0, 0.0);
+    /* a measurement that is not finite: the position last sent */
+    last = (roz_can_last_t){ 1, -1.0, 30.0, NAN };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, NAN, &c);
+    assert_float_equal(joint_position(knee, c.position), -1.0, 1e-12);
+    last = (roz_can_last_t){ 1, -1.0, INFINITY, -1.2 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.2, &c);
+    assert_float_equal(joint_position(knee, c.position), -1.0, 1e-12);
+    /* nothing known at all: the position channel's default */
+    last = (roz_can_last_t){ 0, 0.0, 0.0, 0.0 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, NAN, &c);
+    assert_float_equal(joint_position(knee, c.position), -1.4, 1e-12);
+    /* every value of every joint finite and inside its channel */
+    static const double measured[] = { -3.0, -0.6, 0.0, 0.9, 5.0, NAN, INFINITY, -INFINITY };
+    for (uint16_t j = 0; j < cfg.n_joints; j++) {
+        const roz_can_joint_t *jt = &cfg.joints[j];
+        for (size_t k = 0; k < sizeof measured / sizeof measured[0]; k++) {
+            last = (roz_can_last_t){ 1, measured[(k + 3) % 8], 60.0, measured[k] };
+            roz_can_watchdog_hold(&hold_leg, jt, &last, measured[(k + 1) % 8], &c);
+            const roz_channel_t *p = &hold_leg.commands[jt->pos_cmd];
+            double q = joint_position(jt, c.position);
+            assert_true(q >= p->min - 1e-12 && q <= p->max + 1e-12);
+            assert_true(isfinite(c.velocity) && isfinite(c.torque) && isfinite(c.kd));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -319,6 +421,8 @@ int main(void)
         cmocka_unit_test(test_can_config_any_locale),
         cmocka_unit_test(test_can_config_command_timeout),
         cmocka_unit_test(test_can_config_rules_and_keys),
+        cmocka_unit_test(test_can_hold_keeps_the_torque),
+        cmocka_unit_test(test_can_hold_without_a_command_or_finite_values),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

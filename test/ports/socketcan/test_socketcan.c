@@ -803,21 +803,40 @@ static void test_socketcan_error_code_latches_robot(void **st)
 
 /* ---- the command watchdog --------------------------------------------------------- */
 
-/* Whether actuator j's last frame was a hold: no gains, no velocity, no
- * torque (at the measured position, which the joint left since, moving
- * under no gains: not compared). */
-static int last_is_hold(unsigned j)
+/* The leg's hold damping: its damping channels' default (0.5 N.m.s/rad,
+ * the same for every joint of the leg). */
+static double hold_damping(void)
+{
+    for (uint16_t i = 0; i < leg->n_commands; i++) {
+        if (leg->commands[i].type == ROZ_IF_DAMPING)
+            return leg->commands[i].default_value;
+    }
+    fail_msg("the leg has no damping command");
+    return 0.0;
+}
+
+/* Whether actuator j's last frame was a hold: no stiffness (the leg's hold
+ * stiffness, its stiffness channels' default, is 0), the hold damping, no
+ * velocity, no torque. The watchdog's hold is at the position last
+ * commanded (@p p_code; with no stiffness no torque is kept), the hold after
+ * a trip at the measured one (@p p_code UINT32_MAX: not compared; the joint
+ * moved since). */
+static int last_is_hold(unsigned j, uint32_t p_code)
 {
     fake_actuator_t a = actuator(j);
-    return a.code[FAKE_KP] == 0 && a.code[FAKE_KD] == 0 &&
+    uint32_t p = a.code[FAKE_P];
+    return a.code[FAKE_KP] == 0 &&
+           fabs(a.cmd[FAKE_KD] - hold_damping()) <= step_of(FAKE_KD, j) / 2 + 1e-12 &&
            fabs(a.cmd[FAKE_V]) <= step_of(FAKE_V, j) / 2 + 1e-12 &&
-           fabs(a.cmd[FAKE_T]) <= step_of(FAKE_T, j) / 2 + 1e-12;
+           fabs(a.cmd[FAKE_T]) <= step_of(FAKE_T, j) / 2 + 1e-12 &&
+           (p_code == UINT32_MAX || (p + 1u >= p_code && p <= p_code + 1u));
 }
 
 static void test_socketcan_watchdog_on_write(void **st)
 {
     double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
     uint64_t commands[3], holds[3];
+    uint32_t p_code[3];
     roz_port_fault_t f;
     (void)st;
     /* a round per write: once the tick stops, nothing wakes the writer but
@@ -833,13 +852,15 @@ static void test_socketcan_watchdog_on_write(void **st)
     write_round(cmd);
     for (unsigned j = 0; j < 3; j++) {
         commands[j] = actuator(j).commands;
+        p_code[j] = actuator(j).code[FAKE_P];
         assert_int_equal(commands[j], 1);
         assert_true(actuator(j).code[FAKE_KP] != 0);
     }
     assert_int_equal(counters().command_timeouts, 0);
 
     /* the tick stops: the writer holds every actuator by itself, again and
-     * again, and sends no command */
+     * again, at the hold gains (damping, kd 0.5: not limp), and sends no
+     * command */
     ROZ_WAIT_FOR(counters().command_timeouts == 1);
     for (unsigned j = 0; j < 3; j++)
         holds[j] = actuator(j).holds;
@@ -847,7 +868,7 @@ static void test_socketcan_watchdog_on_write(void **st)
                  actuator(KNEE).holds >= holds[KNEE] + 3);
     for (unsigned j = 0; j < 3; j++) {
         assert_int_equal(actuator(j).commands, commands[j]); /* one round per write, no more */
-        assert_true(last_is_hold(j));
+        assert_true(last_is_hold(j, p_code[j]));
     }
     assert_true(counters().watchdog_holds >= 9);
     assert_int_equal(counters().command_timeouts, 1);
@@ -859,12 +880,13 @@ static void test_socketcan_watchdog_on_write(void **st)
     assert_int_equal(f.limit, 100000);
     assert_true(f.code >= 100000);
     assert_true(read_leg(state) >= 0);
-    /* the first write goes out as the hold, the next as written */
+    /* the first write goes out as the hold (the damping kept: no frame of
+     * kd 0 between the watchdog's and the tick's), the next as written */
     command(cmd, 3);
     write_round(cmd);
     for (unsigned j = 0; j < 3; j++) {
         assert_int_equal(actuator(j).commands, commands[j]);
-        assert_true(last_is_hold(j));
+        assert_true(last_is_hold(j, UINT32_MAX));
     }
     write_round(cmd);
     for (unsigned j = 0; j < 3; j++) {
@@ -890,7 +912,7 @@ static void test_socketcan_watchdog_latches_on_the_runtime(void **st)
     ROZ_WAIT_FOR(counters().command_timeouts == 1);
     uint64_t holds = actuator(KNEE).holds;
     ROZ_WAIT_FOR(actuator(KNEE).holds >= holds + 5); /* every period, by itself */
-    assert_true(last_is_hold(KNEE));
+    assert_true(last_is_hold(KNEE, UINT32_MAX)); /* the stand's last position: not known here */
     uint64_t at_trip = actuator(KNEE).commands;
     tick_for(1);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);

@@ -19,8 +19,14 @@
  * And a 23-DoF G1 (the fake reporting mode_machine 10) with the
  * unitree_g1_23dof manifest and g1_23dof_stand: no fault, no clamp, the
  * knee's gain reaches 150, the six slots the robot lacks stay mode 0 and
- * zero in every command seen. */
+ * zero in every command seen.
+ * And rozrun --realtime: the tick on SCHED_FIFO at its priority (80), and
+ * every thread that carries the robot's commands and state one below it by
+ * default (the port's command writer; Cyclone's receive, delivery and event
+ * threads), read from /proc while it runs. */
 #define _POSIX_C_SOURCE 200809L
+#include <dirent.h>
+#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -32,6 +38,7 @@
 #include <cmocka.h>
 
 #include "fake_g1_client.h"
+#include "roz/hal/thread.h"
 #include "rozrun_stand.h"
 
 #ifndef ROZRUN
@@ -162,11 +169,130 @@ static void test_rozrun_g1_23dof_stand(void **st)
     assert_int_equal(roz_fake_g1_stop(&fake), 0);
 }
 
+/* rozrun's threads by name, as last seen while it ran. */
+#define MAX_SEEN 32
+typedef struct {
+    int  n;
+    char name[MAX_SEEN][16];
+    int  policy[MAX_SEEN], prio[MAX_SEEN];
+} threads_seen_t;
+
+static void watch_threads(void *ctx)
+{
+    threads_seen_t *w = ctx;
+    char dir[64];
+    long pid = roz_rozrun_pid();
+    if (pid == 0)
+        return;
+    snprintf(dir, sizeof dir, "/proc/%ld/task", pid);
+    DIR *d = opendir(dir);
+    struct dirent *e;
+    while (d != NULL && (e = readdir(d)) != NULL) {
+        char path[96], comm[16] = "";
+        struct sched_param sp;
+        if (e->d_name[0] == '.')
+            continue;
+        snprintf(path, sizeof path, "%s/%s/comm", dir, e->d_name);
+        FILE *f = fopen(path, "r");
+        if (f == NULL)
+            continue;
+        if (fgets(comm, sizeof comm, f) != NULL)
+            comm[strcspn(comm, "\n")] = '\0';
+        fclose(f);
+        pid_t tid = (pid_t)atoi(e->d_name);
+        int policy = sched_getscheduler(tid);
+        if (policy < 0 || sched_getparam(tid, &sp) != 0)
+            continue; /* gone meanwhile */
+        int k = 0;
+        while (k < w->n && strcmp(w->name[k], comm) != 0)
+            k++;
+        if (k == MAX_SEEN)
+            continue;
+        if (k == w->n)
+            snprintf(w->name[w->n++], sizeof w->name[0], "%s", comm);
+        w->policy[k] = policy;
+        w->prio[k] = sp.sched_priority;
+    }
+    if (d != NULL)
+        closedir(d);
+}
+
+/* The policy of the thread named @p name (-1: never seen), its priority in
+ * @p prio. */
+static int seen(const threads_seen_t *w, const char *name, int *prio)
+{
+    for (int k = 0; k < w->n; k++) {
+        if (strcmp(w->name[k], name) == 0) {
+            *prio = w->prio[k];
+            return w->policy[k];
+        }
+    }
+    return -1;
+}
+
+static void *no_work(void *arg)
+{
+    return arg;
+}
+
+static void test_rozrun_g1_realtime(void **st)
+{
+    roz_fake_g1_t fake;
+    static threads_seen_t w;
+    char err[256] = "", text[16384], dom[32];
+    static const char *const extra[] = { "--period-us", "2000", NULL };
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 80, 0, 0 };
+    unsigned long th;
+    (void)st;
+
+    int may_fifo = roz_thread_start(&th, &fifo, "probe", no_work, NULL, err, sizeof err) == ROZ_OK;
+    if (may_fifo)
+        roz_thread_join(th);
+    if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, sizeof err) != 0)
+        fail_msg("%s", err);
+    snprintf(dom, sizeof dom, "dds_domain=%u", (unsigned)ROZ_TEST_DDS_DOMAIN);
+    const char *argv[] = { ROZRUN, "--robot", "unitree_g1", "--port", "unitree/G1",
+                           "--param", "network_interface=lo", "--param", dom,
+                           "--param", "peer_timeout_ms=5000",
+                           "--param", "command_timeout_us=60000000",
+                           "--controller", CONTROLLER, "--ticks", "1000", "--realtime",
+                           "--budget-us", "off", "--stale-ticks", "250", NULL };
+    int rc = roz_rozrun_spawn(argv, OUT ".realtime", watch_threads, &w, text, sizeof text);
+    assert_int_equal(roz_fake_g1_stop(&fake), 0);
+    assert_int_equal(rc, 0);
+    assert_non_null(strstr(text, "faults                 none"));
+    for (int k = 0; k < w.n; k++)
+        print_message("thread %-15s policy %d priority %d\n", w.name[k], w.policy[k], w.prio[k]);
+
+    static const char *const below[] = { "command_writer", "recv", "dq.user", "tev", NULL };
+    int prio = -1;
+    if (!may_fifo) {
+        print_message("SCHED_FIFO not permitted here: every thread at normal priority\n");
+        assert_non_null(strstr(text, "normal (SCHED_FIFO not permitted)"));
+        assert_int_equal(seen(&w, "runner", &prio), SCHED_OTHER);
+        for (size_t i = 0; below[i] != NULL; i++)
+            assert_int_equal(seen(&w, below[i], &prio), SCHED_OTHER);
+        return;
+    }
+    assert_non_null(strstr(text, "SCHED_FIFO, memory locked"));
+    assert_int_equal(seen(&w, "runner", &prio), SCHED_FIFO);
+    assert_int_equal(prio, 80);
+    for (size_t i = 0; below[i] != NULL; i++) {
+        int policy = seen(&w, below[i], &prio);
+        if (policy != SCHED_FIFO || prio != 79)
+            fail_msg("thread %s: policy %d priority %d, want SCHED_FIFO 79", below[i], policy,
+                     prio);
+    }
+    /* no second receive thread that no setting reaches */
+    assert_int_equal(seen(&w, "recvUC", &prio), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_rozrun_g1_stand),
         cmocka_unit_test(test_rozrun_g1_23dof_stand),
+        cmocka_unit_test(test_rozrun_g1_realtime),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

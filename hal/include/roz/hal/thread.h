@@ -72,7 +72,8 @@ int roz_thread_params(const roz_params_t *p, const char *prefix, roz_thread_conf
 /**
  * @brief Create a thread that runs @p fn(@p arg) as @p cfg says.
  * @param[out] handle the thread (a pthread_t), for roz_thread_join()
- * @param[in]  prefix the parameters' prefix, for the error message
+ * @param[in]  prefix the parameters' prefix, for the error message; also the
+ *                    thread's name (its first 15 bytes: ps -L, top -H)
  * @retval ROZ_OK     running, as asked
  * @retval ROZ_EINVAL a configuration the system refuses (a CPU it has not)
  * @retval ROZ_EIO    not created (not permitted: SCHED_FIFO without the

@@ -301,8 +301,10 @@ typedef struct roz_ros2_bridge {
 
     /* ---- writer thread ---- */
     double                ROZ_PRIVATE(tx_last_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
-    double                ROZ_PRIVATE(tx_meas_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];  /* measured then */
+    /* the stiffness each slot last went out with, and its position measured
+     * then: the watchdog's hold keeps that torque (roz_hold_keep_torque()) */
     double                ROZ_PRIVATE(tx_last_kp)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    double                ROZ_PRIVATE(tx_meas_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_ros2_joint_cmd_t  ROZ_PRIVATE(tx_joint)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     int32_t               ROZ_PRIVATE(tx_sec);
     uint32_t              ROZ_PRIVATE(tx_nanosec);

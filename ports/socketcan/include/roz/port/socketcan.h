@@ -26,6 +26,7 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/port/can_config.h"
+#include "roz/port/can_hold.h"
 #include "roz/hal/cmd_watchdog.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
@@ -121,6 +122,7 @@ typedef struct roz_socketcan_tx_joint {
     uint64_t sent_ns[ROZ_SOCKETCAN_SENT_RING]; /* loss: when frame k went out, at k mod ring */
     uint32_t answered_seen;  /* loss: `answered` when it last looked */
     uint64_t oldest_ns;      /* loss: when the oldest unanswered frame went out; 0 = none */
+    roz_can_last_t last;     /* the last command frame: what the watchdog's hold keeps */
 } roz_socketcan_tx_joint_t;
 
 /** The port's data; caller-owned (static storage: it is large). Its fields

@@ -1,0 +1,55 @@
+# SPDX-License-Identifier: Apache-2.0
+"""rozgen's reading of a thread's keys (rozgen/threads.py) against what
+roz_thread_params() (hal/src/thread.c) accepts and says; the C side of the
+same words is checked on the shared vectors (manifests/invalid/*thread*)."""
+import pytest
+
+from rozgen import threads
+
+OK = [
+    {},
+    {"w_sched": "other"},
+    {"w_sched": " fifo ", "w_priority": "80"},
+    {"w_sched": "rr", "w_priority": "1"},
+    {"w_sched": "fifo", "w_priority": "99", "w_cpus": "0,2-3, 63", "w_stack_kib": "64"},
+    {"w_cpus": "5-5"},
+    {"w_stack_kib": "65536"},
+]
+
+BAD = [
+    ({"w_sched": "realtime"}, 'parameter w_sched = "realtime": expected other, fifo or rr'),
+    ({"w_sched": "FIFO", "w_priority": "3"}, 'parameter w_sched = "FIFO": expected other, fifo or rr'),
+    ({"w_sched": "fifo", "w_priority": "0"}, 'parameter w_priority = "0": expected an integer in 1..99'),
+    ({"w_sched": "fifo", "w_priority": " 5"}, 'parameter w_priority = " 5": expected an integer in 1..99'),
+    ({"w_sched": "fifo", "w_priority": "100"}, 'parameter w_priority = "100": expected an integer in 1..99'),
+    ({"w_priority": "5"}, "parameter w_priority: only with w_sched = fifo or rr"),
+    ({"w_sched": "other", "w_priority": "5"}, "parameter w_priority: only with w_sched = fifo or rr"),
+    ({"w_sched": "rr"}, "parameter w_sched = rr: needs w_priority (1..99)"),
+    ({"w_cpus": ""}, 'parameter w_cpus = "": expected CPUs 0..63 as a list such as 0,2-3'),
+    ({"w_cpus": "3-1"}, 'parameter w_cpus = "3-1": expected CPUs 0..63 as a list such as 0,2-3'),
+    ({"w_cpus": "64"}, 'parameter w_cpus = "64": expected CPUs 0..63 as a list such as 0,2-3'),
+    ({"w_cpus": "0,"}, 'parameter w_cpus = "0,": expected CPUs 0..63 as a list such as 0,2-3'),
+    ({"w_stack_kib": "63"}, 'parameter w_stack_kib = "63": expected an integer in 64..65536'),
+    ({"w_stack_kib": "1e3"}, 'parameter w_stack_kib = "1e3": expected an integer in 64..65536'),
+]
+
+
+@pytest.mark.parametrize("params", OK)
+def test_threads_accepts(params):
+    assert threads.problem(params, "w") is None
+
+
+@pytest.mark.parametrize("params,said", BAD)
+def test_threads_refuses_in_the_c_words(params, said):
+    assert threads.problem(params, "w") == said
+
+
+def test_threads_cyclone_has_no_round_robin():
+    said = threads.cyclone_problem({"dds_threads_sched": "rr", "dds_threads_priority": "4"})
+    assert said == ('parameter dds_threads_sched = "rr": expected other or fifo (Cyclone DDS '
+                    "has no round-robin class)")
+    assert threads.cyclone_problem({"dds_threads_sched": "fifo", "dds_threads_priority": "4"}) \
+        is None
+    # the priority's problem first, as the port finds it
+    assert threads.cyclone_problem({"dds_threads_sched": "rr"}) == \
+        "parameter dds_threads_sched = rr: needs dds_threads_priority (1..99)"
