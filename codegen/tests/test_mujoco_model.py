@@ -49,6 +49,9 @@ def _builtin_models() -> dict[str, tuple[Path | None, tuple]]:
         "engineai_pm01": (TEAM_MODELS / "engineai_pm01.xml",
                           (("imu_accelerometer", "imu-linear-acceleration"),
                            ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
+        "agibot_x2": (TEAM_MODELS / "agibot_x2.xml",
+                      (("imu_accelerometer", "imu-linear-acceleration"),
+                       ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
     }
 
 

@@ -119,6 +119,17 @@ static const roz_param_t pm01_defaults[] = {
     { "imu_accelerometer", "imu-linear-acceleration" },
 };
 
+/* The X2: 1 ms steps as the G1's, its pelvis IMU (the URDF's place, the
+ * pelvis's axes: models/agibot_x2.xml says what is AgiBot's and what is
+ * ours). */
+static const roz_param_t x2_defaults[] = {
+    { "model", ROZ_MUJOCO_MODELS "agibot_x2.xml" },
+    { "keyframe", "stand" },
+    { "timestep", "0.001" },
+    { "imu_gyro", "imu-angular-velocity" },
+    { "imu_accelerometer", "imu-linear-acceleration" },
+};
+
 typedef struct {
     const char        *robot_id;
     const char        *installed; /* the model under share/roz/models/ */
@@ -134,6 +145,7 @@ static const builtin_t builtins[] = {
     BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
     BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
     BUILTIN("engineai_pm01", "engineai_pm01.xml", pm01_defaults),
+    BUILTIN("agibot_x2", "agibot_x2.xml", x2_defaults),
 };
 #define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 

@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The humanoid stand controllers judged by motion (examples/controllers/
- * g1_stand.c, g1_23dof_stand.c, pm01_stand.c, stand.h): behind the runtime
- * and its filter, in MuJoCo's simulated time, each G1 and the PM01 stands
- * 30 s from its keyframe, and survives a 0.1 s push at its pelvis that the
- * same joint PD without the IMU feedback (g1_stand_pd, g1_23dof_stand_pd,
- * pm01_stand_pd) does not. Standing means, at every tick: the pelvis above
- * 0.7 m (the PM01's crouch: 0.6 m) and nothing but the feet (the ankle roll
- * links) on the ground.
+ * g1_stand.c, g1_23dof_stand.c, pm01_stand.c, x2_stand.c, stand.h): behind
+ * the runtime and its filter, in MuJoCo's simulated time, each G1, the PM01
+ * and the X2 stands 30 s from its keyframe, and survives a 0.1 s push at its
+ * pelvis that the same joint PD without the IMU feedback (g1_stand_pd,
+ * g1_23dof_stand_pd, pm01_stand_pd, x2_stand_pd) does not. Standing means,
+ * at every tick: the pelvis above 0.7 m (the PM01's crouch: 0.6 m; the X2's, on x2_stand: 0.55 m) and
+ * nothing but the feet (the ankle roll links) on the ground.
  *
  * The largest push each survives was found by bisection with
  * `test_mujoco_stand --bisect [ROBOT]` (docs/ports/mujoco.md, "Built-in robots");
@@ -35,6 +35,7 @@
 #define PUSH_TICKS  50   /* 0.1 s */
 #define AFTER_PUSH  1000 /* ticks judged after the push: 2 s */
 #define MIN_HEIGHT  0.7  /* m, the pelvis */
+#define X2_MIN_HEIGHT 0.55 /* m, the X2's pelvis */
 
 /* The largest forward (+x) and sideways (+y) pushes, N for 0.1 s, that each
  * balanced stand survives (test_mujoco_stand --bisect, to 1 N; backward:
@@ -47,6 +48,11 @@
  * balance moves no ankle roll, so it gives sideways first. */
 #define PM01_PUSH_X        260.0
 #define PM01_PUSH_Y        57.0
+/* The X2 (the team's model from AgiBot's URDF facts) on x2_stand: forward
+ * and sideways (+y), N for 0.1 s (--bisect agibot_x2;
+ * backward 287 N, -y 101 N). */
+#define X2_PUSH_X          172.0
+#define X2_PUSH_Y          100.0
 
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
@@ -64,9 +70,13 @@ static int is_foot(const char *body)
 }
 
 /* The pelvis height below which @p robot is down: the G1's 0.7 m; the
- * PM01's stand crouches lower (its pelvis from 0.80 m to about 0.68 m). */
+ * PM01's stand crouches lower (its pelvis from 0.80 m to about 0.68 m);
+ * the X2 is smaller (its pelvis 0.675 m up with straight legs, 0.647 m in
+ * x2_stand's crouch). */
 static double min_height(const char *robot)
 {
+    if (strcmp(robot, "agibot_x2") == 0)
+        return X2_MIN_HEIGHT;
     return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : MIN_HEIGHT;
 }
 
@@ -233,6 +243,28 @@ static void test_mujoco_stand_pm01_push_sideways(void **state)
     survives_push("engineai_pm01", "pm01_stand", "pm01_stand_pd", 0.0, PM01_PUSH_Y);
 }
 
+
+/* The X2 (the team's model from AgiBot's URDF facts): the same ankle and
+ * hip strategy, with an ankle roll term, stands it 30 s and takes its
+ * pushes; its PD alone falls unpushed (by 1.7 s). */
+static void test_mujoco_stand_x2_30_s(void **state)
+{
+    (void)state;
+    stands_30_s("agibot_x2", "x2_stand", "x2_stand_pd");
+}
+
+static void test_mujoco_stand_x2_push_forward(void **state)
+{
+    (void)state;
+    survives_push("agibot_x2", "x2_stand", "x2_stand_pd", X2_PUSH_X, 0.0);
+}
+
+static void test_mujoco_stand_x2_push_sideways(void **state)
+{
+    (void)state;
+    survives_push("agibot_x2", "x2_stand", "x2_stand_pd", 0.0, X2_PUSH_Y);
+}
+
 /* ---- --bisect: the largest pushes, for the constants above ----------------------- */
 
 static double largest_push(const char *robot, const char *controller, double dx, double dy)
@@ -262,6 +294,7 @@ static void bisect(void **state)
         { "unitree_g1", "g1_stand" },           { "unitree_g1", "g1_stand_pd" },
         { "unitree_g1_23dof", "g1_23dof_stand" }, { "unitree_g1_23dof", "g1_23dof_stand_pd" },
         { "engineai_pm01", "pm01_stand" },      { "engineai_pm01", "pm01_stand_pd" },
+        { "agibot_x2", "x2_stand" },            { "agibot_x2", "x2_stand_pd" },
     };
     for (size_t i = 0; i < sizeof runs / sizeof runs[0]; i++)
         if (bisect_robot == NULL || strcmp(bisect_robot, runs[i][0]) == 0)
@@ -295,6 +328,9 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_mujoco_stand_pm01_30_s),
         cmocka_unit_test(test_mujoco_stand_pm01_push_forward),
         cmocka_unit_test(test_mujoco_stand_pm01_push_sideways),
+        cmocka_unit_test(test_mujoco_stand_x2_30_s),
+        cmocka_unit_test(test_mujoco_stand_x2_push_forward),
+        cmocka_unit_test(test_mujoco_stand_x2_push_sideways),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

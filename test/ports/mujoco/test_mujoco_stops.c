@@ -6,8 +6,9 @@
  * restarting, the tick falling silent under the command watchdog, a
  * controller swap); 2 s later the pelvis must be up and no joint may have
  * moved fast. The PM01 the same, on its example balancing stand
- * (test_mujoco_stops_pm01). Simulated time: the same numbers on every
- * run. */
+ * (test_mujoco_stops_pm01), and the X2 on its stiff stand and its example
+ * balancing stand (test_mujoco_stops_x2). Simulated time: the same numbers
+ * on every run. */
 /* white-box in part: reads the port's truth history (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
@@ -113,9 +114,12 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
 
 /* The pelvis height (m) the stand stands above before the stop: the G1's
  * stand is at 0.783 m, the PM01's crouch lower (0.68 m its lowest in 30 s,
+ * test_mujoco_stand.c), the smaller X2's at 0.640 m (down below 0.55 m in
  * test_mujoco_stand.c). */
 static double standing_height(const char *robot)
 {
+    if (strcmp(robot, "agibot_x2") == 0)
+        return 0.55;
     return strcmp(robot, "engineai_pm01") == 0 ? 0.6 : 0.7;
 }
 
@@ -328,6 +332,59 @@ static void test_mujoco_stops_pm01(void **state)
     assert_int_equal(bad, 0);
 }
 
+/* The same stops on the standing X2 (the team's model from AgiBot's URDF
+ * facts, models/agibot_x2.xml): its stiff stand (controllers/
+ * x2_stops_stand.h: x2_stand's pose at the hold gains) and x2_stand, the
+ * example's balancing stand. The watchdog's hold is the ROS 2 ports'
+ * (bridge_watchdog() in ports/ros2), written in the mujoco port's place. */
+#define X2 "agibot_x2"
+static const stop_case_t x2_cases[] = {
+    { "X2 no stop", STOP_NONE, "x2_stops_stand", NULL, NULL, 0 },
+    { "X2 e-stop", STOP_ESTOP, "x2_stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "X2 e-stop request", STOP_FROM_CTL, "x2_stops_estop_request", NULL, NULL,
+      ROZ_FAULT_ESTOP_REQUEST },
+    { "X2 stale (stream dropped)", STOP_PORT, "x2_stops_stand", "drop=1000:1100", NULL,
+      ROZ_FAULT_STALE },
+    { "X2 trap", STOP_FROM_CTL, "x2_stops_trap", NULL, NULL, ROZ_FAULT_TRAP },
+    { "X2 overrun (fuel)", STOP_FROM_CTL, "x2_stops_overrun", NULL, NULL, ROZ_FAULT_OVERRUN },
+    { "X2 link (board restart)", STOP_PORT, "x2_stops_stand", "restart=1000:1002", NULL,
+      ROZ_FAULT_LINK },
+    { "X2 command watchdog", STOP_SILENT, "x2_stops_stand", NULL, NULL, 0 },
+    { "X2 swap (stiff stand)", STOP_SWAP, "x2_stops_stand", NULL, "x2_stops_swap_in", 0 },
+    { "X2 e-stop (balancing)", STOP_ESTOP, "x2_stand", NULL, NULL, ROZ_FAULT_ESTOP },
+    { "X2 stale (balancing)", STOP_PORT, "x2_stand", "drop=1000:1100", NULL, ROZ_FAULT_STALE },
+    { "X2 link (balancing)", STOP_PORT, "x2_stand", "restart=1000:1002", NULL, ROZ_FAULT_LINK },
+    { "X2 watchdog (balancing)", STOP_SILENT, "x2_stand", NULL, NULL, 0 },
+};
+
+/* 2 s after each stop the X2's pelvis must still be above
+ * standing_height() all along, the fault latched, no joint at 1 rad/s. */
+static void test_mujoco_stops_x2(void **state)
+{
+    (void)state;
+    int bad = 0;
+    double up = standing_height(X2);
+    for (size_t i = 0; i < sizeof x2_cases / sizeof x2_cases[0]; i++) {
+        const stop_case_t *c = &x2_cases[i];
+        stop_outcome_t o;
+        run_case_on(X2, c, &o);
+        if ((o.faults & c->fault) != c->fault || (c->fault == 0 && o.faults)) {
+            print_error("%s: faults 0x%02x, expected 0x%02x\n", c->name, o.faults, c->fault);
+            bad++;
+        }
+        if (!(o.height > up && o.lowest > up)) {
+            print_error("%s: the X2 fell: pelvis %.3f m (lowest %.3f)\n", c->name, o.height,
+                        o.lowest);
+            bad++;
+        }
+        if (!(o.peak_speed < 1.0)) {
+            print_error("%s: a joint moved at %.2f rad/s\n", c->name, o.peak_speed);
+            bad++;
+        }
+    }
+    assert_int_equal(bad, 0);
+}
+
 /* The filter's limit stops in physics: constant_velocity drives every
  * command at a fifth of its upper limit, so every joint runs toward its
  * upper limit, on @p robot (@p param: the port's, or NULL) for @p ticks.
@@ -419,6 +476,7 @@ int main(int argc, char **argv)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_stops_g1),
         cmocka_unit_test(test_mujoco_stops_pm01),
+        cmocka_unit_test(test_mujoco_stops_x2),
         cmocka_unit_test(test_mujoco_stops_at_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -143,7 +143,7 @@ static void test_rozrun_x2_stand(void **st)
 {
     /* the head's second slot is a placeholder: no joint of the manifest */
     static const robot_case_t x2 = { "x2", "agibot_x2", "agibot/X2", "x2_stand.wasm", "leg", 3,
-                                     80.0, 0.6, 4.0, "head_pitch_joint" };
+                                     150.0, 0.6, 4.0, "head_pitch_joint" };
     (void)st;
     run_stand(&x2);
 }
