@@ -26,7 +26,6 @@
  *    multicast: through the peer) and echo frames both ways.
  * Timeouts here guard against a hang; no test asserts a time. */
 #define _POSIX_C_SOURCE 200809L
-#include <dirent.h>
 #include <errno.h>
 #include <sched.h>
 #include <setjmp.h>
@@ -43,6 +42,8 @@
 #include <unistd.h>
 
 #include <cmocka.h>
+
+#include "proc_threads.h"
 
 #include "roz/port/dds.h"
 #include "roz/hal/clock.h"
@@ -175,75 +176,24 @@ static void *nothing(void *arg)
     return arg;
 }
 
-/* The policy and priority of this process's thread named @p name; 0 if
- * found. */
-static int thread_sched(const char *name, int *policy, int *prio)
-{
-    DIR *d = opendir("/proc/self/task");
-    struct dirent *e;
-    int found = -1;
-    while (d != NULL && found != 0 && (e = readdir(d)) != NULL) {
-        char path[64], comm[32] = "";
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(path, sizeof path, "/proc/self/task/%s/comm", e->d_name);
-        FILE *f = fopen(path, "r");
-        if (f == NULL)
-            continue;
-        if (fgets(comm, sizeof comm, f) != NULL)
-            comm[strcspn(comm, "\n")] = '\0';
-        fclose(f);
-        if (strcmp(comm, name) != 0)
-            continue;
-        pid_t tid = (pid_t)atoi(e->d_name);
-        struct sched_param sp;
-        *policy = sched_getscheduler(tid);
-        if (*policy >= 0 && sched_getparam(tid, &sp) == 0) {
-            *prio = sp.sched_priority;
-            found = 0;
-        }
-    }
-    if (d != NULL)
-        closedir(d);
-    return found;
-}
+/* Of this process's threads whose name starts with a prefix, how many run
+ * with another policy or priority than asked, and how many there are. */
+typedef struct {
+    const char *prefix;
+    int         policy, prio;
+    int         seen, off;
+} threads_want_t;
 
-/* Of this process's threads whose name starts with @p prefix, how many run
- * with another policy or priority; @p seen counts them all. */
-static int threads_off(const char *prefix, int policy, int prio, int *seen)
+static void want_thread(void *ctx, const char *name, int policy, int prio)
 {
-    DIR *d = opendir("/proc/self/task");
-    struct dirent *e;
-    int off = 0;
-    *seen = 0;
-    while (d != NULL && (e = readdir(d)) != NULL) {
-        char path[64], comm[32] = "";
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(path, sizeof path, "/proc/self/task/%s/comm", e->d_name);
-        FILE *f = fopen(path, "r");
-        if (f == NULL)
-            continue;
-        if (fgets(comm, sizeof comm, f) != NULL)
-            comm[strcspn(comm, "\n")] = '\0';
-        fclose(f);
-        if (strncmp(comm, prefix, strlen(prefix)) != 0)
-            continue;
-        pid_t tid = (pid_t)atoi(e->d_name);
-        struct sched_param sp;
-        int pol = sched_getscheduler(tid);
-        (*seen)++;
-        if (sched_getparam(tid, &sp) != 0)
-            sp.sched_priority = -1;
-        if (pol != policy || sp.sched_priority != prio) {
-            print_message("thread %s (%d): policy %d priority %d\n", comm, (int)tid, pol,
-                          sp.sched_priority);
-            off++;
-        }
+    threads_want_t *w = ctx;
+    if (strncmp(name, w->prefix, strlen(w->prefix)) != 0)
+        return;
+    w->seen++;
+    if (policy != w->policy || prio != w->prio) {
+        print_message("thread %s: policy %d priority %d\n", name, policy, prio);
+        w->off++;
     }
-    if (d != NULL)
-        closedir(d);
-    return off;
 }
 
 static void test_dds_cyclone_threads(void **st)
@@ -284,30 +234,25 @@ static void test_dds_cyclone_threads(void **st)
                                       sizeof err);
     if (rc != ROZ_OK)
         fail_msg("%s", err);
-    int policy = -1, prio = -1;
-    int found = thread_sched("recv", &policy, &prio);
     /* every thread that receives (one: several receive threads would put
      * the data on "recvUC", which Cyclone 0.10 lets no configuration
      * reach), and the delivery and event threads */
-    int off = 0, seen = 0, all = 0;
+    int off = 0, all = 0;
     static const char *const data_path[] = { "recv", "dq.user", "tev", NULL };
     for (size_t i = 0; data_path[i] != NULL; i++) {
-        off += threads_off(data_path[i], may_fifo ? SCHED_FIFO : SCHED_OTHER, may_fifo ? 4 : 0,
-                           &seen);
-        assert_true(seen >= 1);
-        all += seen;
+        threads_want_t w = { data_path[i], may_fifo ? SCHED_FIFO : SCHED_OTHER, may_fifo ? 4 : 0,
+                             0, 0 };
+        roz_test_proc_threads(0, want_thread, &w);
+        if (w.seen == 0)
+            fail_msg("no thread %s: is this Cyclone's configuration taken?", data_path[i]);
+        off += w.off;
+        all += w.seen;
     }
     roz_dds_participant_close(&p);
-    assert_int_equal(found, 0);
     assert_int_equal(off, 0);
     assert_int_equal(all, 3);
-    if (may_fifo) {
-        assert_int_equal(policy, SCHED_FIFO);
-        assert_int_equal(prio, 4);
-    } else {
+    if (!may_fifo)
         print_message("SCHED_FIFO not permitted here: Cyclone's threads at normal priority\n");
-        assert_int_equal(policy, SCHED_OTHER);
-    }
 }
 
 static char logged[1024];

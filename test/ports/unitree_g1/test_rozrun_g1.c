@@ -25,7 +25,6 @@
  * default (the port's command writer; Cyclone's receive, delivery and event
  * threads), read from /proc while it runs. */
 #define _POSIX_C_SOURCE 200809L
-#include <dirent.h>
 #include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -38,6 +37,7 @@
 #include <cmocka.h>
 
 #include "fake_g1_client.h"
+#include "proc_threads.h"
 #include "roz/hal/thread.h"
 #include "rozrun_stand.h"
 
@@ -177,44 +177,25 @@ typedef struct {
     int  policy[MAX_SEEN], prio[MAX_SEEN];
 } threads_seen_t;
 
-static void watch_threads(void *ctx)
+static void keep_thread(void *ctx, const char *name, int policy, int prio)
 {
     threads_seen_t *w = ctx;
-    char dir[64];
-    long pid = roz_rozrun_pid();
-    if (pid == 0)
+    int k = 0;
+    while (k < w->n && strcmp(w->name[k], name) != 0)
+        k++;
+    if (k == MAX_SEEN)
         return;
-    snprintf(dir, sizeof dir, "/proc/%ld/task", pid);
-    DIR *d = opendir(dir);
-    struct dirent *e;
-    while (d != NULL && (e = readdir(d)) != NULL) {
-        char path[96], comm[16] = "";
-        struct sched_param sp;
-        if (e->d_name[0] == '.')
-            continue;
-        snprintf(path, sizeof path, "%s/%s/comm", dir, e->d_name);
-        FILE *f = fopen(path, "r");
-        if (f == NULL)
-            continue;
-        if (fgets(comm, sizeof comm, f) != NULL)
-            comm[strcspn(comm, "\n")] = '\0';
-        fclose(f);
-        pid_t tid = (pid_t)atoi(e->d_name);
-        int policy = sched_getscheduler(tid);
-        if (policy < 0 || sched_getparam(tid, &sp) != 0)
-            continue; /* gone meanwhile */
-        int k = 0;
-        while (k < w->n && strcmp(w->name[k], comm) != 0)
-            k++;
-        if (k == MAX_SEEN)
-            continue;
-        if (k == w->n)
-            snprintf(w->name[w->n++], sizeof w->name[0], "%s", comm);
-        w->policy[k] = policy;
-        w->prio[k] = sp.sched_priority;
-    }
-    if (d != NULL)
-        closedir(d);
+    if (k == w->n)
+        snprintf(w->name[w->n++], sizeof w->name[0], "%s", name);
+    w->policy[k] = policy;
+    w->prio[k] = prio;
+}
+
+static void watch_threads(void *ctx)
+{
+    long pid = roz_rozrun_pid();
+    if (pid != 0)
+        roz_test_proc_threads(pid, keep_thread, ctx);
 }
 
 /* The policy of the thread named @p name (-1: never seen), its priority in
