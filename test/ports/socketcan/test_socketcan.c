@@ -347,6 +347,16 @@ static void test_socketcan_replays_and_strays(void **st)
 
 /* ---- silence, return, faults -------------------------------------------------------- */
 
+/* Until the port has taken every reply the actuators sent. MIT-mode
+ * replies carry no sequence: a reply the port takes after the next frame
+ * went out answers that frame, so a test that silences an actuator waits
+ * here first, or the silence may go unseen until a later frame. */
+static void replies_taken(void)
+{
+    ROZ_WAIT_FOR(counters().replies >=
+                 actuator(HIP).replies + actuator(THIGH).replies + actuator(KNEE).replies);
+}
+
 static void test_socketcan_silence_and_return(void **st)
 {
     double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
@@ -360,6 +370,7 @@ static void test_socketcan_silence_and_return(void **st)
     write_round(cmd);
     assert_int_equal(actuator(KNEE).commands, 1);
 
+    replies_taken();
     fake_can_mute(&bus, KNEE, 1);
     write_round(cmd); /* the knee's frame goes unanswered ... */
     ROZ_WAIT_FOR(counters().lost >= 1); /* ... longer than the timeout */
