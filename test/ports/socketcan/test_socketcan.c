@@ -223,6 +223,18 @@ static void test_socketcan_hold_inside_the_limits(void **st)
     roz_test_can_close(&t);
 }
 
+/* Until the port has taken every reply the actuators sent. MIT-mode
+ * replies carry no sequence: a reply the port takes after the next frame
+ * went out answers that frame, and its own reply is then dropped as a replay
+ * (SAFETY.md: the state lags a round), or a silence goes unseen until a
+ * later frame: with one round per write, a test waits here before a round
+ * whose replies it looks at. */
+static void replies_taken(void)
+{
+    ROZ_WAIT_FOR(counters().replies + link_now().replays >=
+                 actuator(HIP).replies + actuator(THIGH).replies + actuator(KNEE).replies);
+}
+
 /* Whether @p state holds what the knee and the hip answer now, each within
  * half a code step (the assertions below say which one does not). */
 static int states_are_the_fakes(const double *state)
@@ -262,6 +274,7 @@ static void test_socketcan_commands_and_states(void **st)
     }
     /* states: the knee's actuator at +1.0 rad and 2 rad/s is the joint at
      * -1 * 1.0 + (-1.2) rad, -2 rad/s */
+    replies_taken();
     fake_can_mute(&bus, HIP, 1); /* hold the physics still: set, then one reply each */
     fake_can_set(&bus, KNEE, 1.0, 2.0);
     fake_can_set(&bus, HIP, -0.25, 0.0);
@@ -347,15 +360,6 @@ static void test_socketcan_replays_and_strays(void **st)
 
 /* ---- silence, return, faults -------------------------------------------------------- */
 
-/* Until the port has taken every reply the actuators sent. MIT-mode
- * replies carry no sequence: a reply the port takes after the next frame
- * went out answers that frame, so a test that silences an actuator waits
- * here first, or the silence may go unseen until a later frame. */
-static void replies_taken(void)
-{
-    ROZ_WAIT_FOR(counters().replies >=
-                 actuator(HIP).replies + actuator(THIGH).replies + actuator(KNEE).replies);
-}
 
 static void test_socketcan_silence_and_return(void **st)
 {
