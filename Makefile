@@ -21,6 +21,11 @@ CONFIGURE_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROZ_WERROR=ON \
 SAN_FLAGS = -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DROZ_WERROR=ON \
             -DROZ_INSTALL=OFF -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
             -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
+# A tree is configured again, with these flags, when the template's
+# CMakeLists.txt is newer: a tree configured by an older template may lack
+# what the new one needs (ROZ_SOURCE_DIR), which ninja's own re-run of
+# CMake would not give it.
+FW_CONF = examples/firmware/CMakeLists.txt
 SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
@@ -106,25 +111,25 @@ FW_FLAGS = -G Ninja -DROZ_SOURCE_DIR=$(CURDIR) -DROZ_WERROR=ON \
            -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
            -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 
-$(BUILD)-fw-m4f/build.ninja: | setup
+$(BUILD)-fw-m4f/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) -DFW_BOARD=mps2-an386
 
-$(BUILD)-fw-m7/build.ninja: | setup
+$(BUILD)-fw-m7/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) -DFW_BOARD=mps2-an500
 
-$(BUILD)-fw-stm32/build.ninja: | setup
+$(BUILD)-fw-stm32/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-stm32 $(FW_FLAGS) -DFW_BOARD=netduinoplus2
 
-$(BUILD)-fw-m33/build.ninja: | setup
+$(BUILD)-fw-m33/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33 $(FW_FLAGS) -DFW_BOARD=mps2-an505
 
 # The learned-policy images embed the host build's g1_policy.wasm (the
 # bytes the host's fingerprint is computed from).
 FW_POLICY = -DROZ_FW_VARIANT=policy \
             -DROZ_FW_POLICY_WASM=$(CURDIR)/$(BUILD)/examples/controllers/g1_policy.wasm
-$(BUILD)-fw-m7p/build.ninja: | setup build
+$(BUILD)-fw-m7p/build.ninja: $(FW_CONF) | setup build
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7p $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an500
-$(BUILD)-fw-m4fp/build.ninja: | setup build
+$(BUILD)-fw-m4fp/build.ninja: $(FW_CONF) | setup build
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an386
 
 FW_TREES = m4f m7 stm32 m33 m7p m4fp
