@@ -4,7 +4,7 @@
  *   manifests/diff_drive.toml (sha256 451fa750584a25cdca9867845bf954dd328d6b2dfd3b04c8769ea9088c11c6bb)
  *   manifests/engineai_pm01.toml (sha256 861ba12ad542a956dabf8cec1327bc4c8e5739e26ac2e70d5d69479af23f9806)
  *   manifests/quadcopter.toml (sha256 6b7d084160f1dd382cde31a66c45a948e414d47c358dce50a2a124bf8a26967d)
- *   manifests/unitree_g1.toml (sha256 437794f377499a441793df38480bb8739dab6a13ed250eb98f250437da1acbd4)
+ *   manifests/unitree_g1.toml (sha256 4a8a52b1ca85c275879f4abf168a7779c2373815063a40d27d9b36b27bab1beb)
  *   manifests/unitree_g1_23dof.toml (sha256 86a8f8256da7bb69722ee12a3d6dc3e7aa74b5f63aaf10120d51e1791ccc74c9)
  *   manifests/ur5.toml (sha256 e5c738d6f3d073b6177ae149f16acda64f96522dcbf15f1fbfce2000bcb0650d)
  * DO NOT EDIT: edit the sources and regenerate. */
