@@ -709,3 +709,72 @@ def parse_command(text: str) -> list[float]:
     if len(v) != 3 or not all(math.isfinite(x) for x in v):
         raise DeployError(f"--command {text!r}: not three numbers vx,vy,wz (m/s, m/s, rad/s)")
     return v
+
+
+# ---- the numpy reference of the runner ------------------------------------------------
+
+def reference(p: Plan, states) -> "list":
+    """What roz_policy.h sends, computed in numpy over a state frame per
+    tick from tick 0 (float64 arithmetic, the observations rounded to
+    float32 as the runner does; the network by rozgen.nn.forward): a list of
+    command vectors. For tests: the C agrees within the network's float32
+    rounding."""
+    import numpy as np
+    from .nn import forward
+    m = p.manifest
+    ch = [_joint_channels(m, j.name, "", "", "") for j in p.joints]
+    hc = [_joint_channels(m, j.name, "", "", "") for j in p.held]
+    quat = [_state(m, f"/orientation.{a}") for a in "xyzw"]
+    gyro = [_state(m, f"/angular_velocity.{a}") for a in "xyz"]
+    rate = m.control_rate_hz
+    clip = lambda v, c: np.float32(min(max(v, -c), c) if c > 0 else v)  # noqa: E731
+    cmd = np.array([c.default for c in m.commands], dtype=np.float64)
+    action = np.zeros(len(p.joints), dtype=np.float32)
+    inputs, hist, out = [], None, []
+    for tick, s in enumerate(states):
+        ramp = min(1.0, tick / (rate * p.ramp)) if p.ramp > 0 else 1.0
+        if tick == 0:
+            for j, c in enumerate(ch):
+                cmd[c["pos"]] = p.joints[j].default
+            for j, c in enumerate(hc):
+                cmd[c["pos"]] = p.held[j].default
+        if tick % p.decimation == 0:
+            x, y, z, w = (s[i] for i in quat)
+            frame = []
+            for t in p.terms:
+                if t.name == "ang_vel":
+                    v = [s[i] for i in gyro]
+                elif t.name == "gravity":
+                    v = [2.0 * (w * y - x * z), -2.0 * (y * z + w * x), -1.0 + 2.0 * (x * x + y * y)]
+                elif t.name == "command":
+                    v = []
+                    for k in range(3):
+                        u = s[p.command_ch[k]] if p.command_ch[k] >= 0 else p.command_const[k]
+                        u = u if math.isfinite(u) else 0.0
+                        mx = p.command_max[k]
+                        v.append(min(max(u, -mx), mx) if mx > 0 else u)
+                elif t.name == "joint_pos":
+                    v = [s[c["q"]] - p.joints[j].default for j, c in enumerate(ch)]
+                elif t.name == "joint_vel":
+                    v = [s[c["dq"]] for c in ch]
+                elif t.name == "last_action":
+                    v = [float(a) for a in action]
+                else:
+                    cycles = (tick // p.decimation + 1) * p.decimation / (rate * p.gait_period)
+                    ph = cycles - math.floor(cycles)
+                    v = [math.sin(2 * math.pi * ph), math.cos(2 * math.pi * ph)]
+                frame += [clip(a * b, p.obs_clip) for a, b in zip(v, t.scale)]
+            frame = np.array(frame, dtype=np.float32)
+            hist = np.tile(frame, p.history) if hist is None else np.concatenate(
+                [hist[len(frame):], frame])
+            inputs.append(hist.copy())
+            a = forward(p.layers, np.array(inputs))[-1]
+            action = np.array([clip(v, p.action_clip) for v in a], dtype=np.float32)
+            for j, c in enumerate(ch):
+                cmd[c["pos"]] = p.joints[j].default + p.joints[j].action_scale * float(action[j])
+        for j, c in enumerate(ch):
+            cmd[c["kp"]], cmd[c["kd"]] = ramp * p.joints[j].kp, p.joints[j].kd
+        for j, c in enumerate(hc):
+            cmd[c["kp"]], cmd[c["kd"]] = ramp * p.held[j].kp, p.held[j].kd
+        out.append(cmd.copy())
+    return out
