@@ -201,16 +201,19 @@ def _per_joint(v, n):
 
 # ---- the robot ------------------------------------------------------------------
 
-def _builtin_dirs() -> list[Path]:
+def _up(*rel: str) -> list[Path]:
+    """``rel`` under each folder above this package: in a checkout the
+    repository, installed the prefix (whatever its libdir's depth)."""
     here = Path(__file__).resolve().parent
-    return [here.parent.parent / "manifests",                       # a checkout
-            here.parent.parent.parent.parent / "share" / "roz" / "manifests"]  # installed
+    return [p.joinpath(*rel) for p in here.parents if p.joinpath(*rel).is_dir()]
+
+
+def _builtin_dirs() -> list[Path]:
+    return _up("manifests") + _up("share", "roz", "manifests")
 
 
 def sdk_dirs() -> list[Path]:
-    here = Path(__file__).resolve().parent
-    return [here.parent.parent / "sdk" / "include",
-            here.parent.parent.parent.parent / "include" / "roz" / "sdk"]
+    return _up("sdk", "include") + _up("include", "roz", "sdk")
 
 
 def load_robot(robot: str):
