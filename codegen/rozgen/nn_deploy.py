@@ -578,10 +578,9 @@ def source(p: Plan, name: str = "policy") -> str:
           " * sha256 of the policy file (custom section \"roz.policy\": version 1, 32 bytes). */",
           "#if defined(__wasm__)",
           f'__asm__(".section .custom_section.{identity.SECTION},\\"\\",@\\n"']
-    o += [f'        ".int8 {b}\\n"' for b in rec]
-    o += ['        ".text");', '__asm__(".section .custom_section.roz.policy,\\"\\",@\\n"',
-          '        ".int8 1\\n"']
-    o += [f'        ".int8 {b}\\n"' for b in sha]
+    o += _int8s(rec)
+    o += ['        ".text");', '__asm__(".section .custom_section.roz.policy,\\"\\",@\\n"']
+    o += _int8s(bytes([1]) + sha)
     o += ['        ".text");', "#endif", "", "/* ---- the network ---- */", net,
           "/* ---- the tables ---- */",
           f"#define {up}_N_STATES {len(m.states)}", f"#define {up}_N_COMMANDS {len(m.commands)}",
@@ -634,6 +633,12 @@ def source(p: Plan, name: str = "policy") -> str:
           "ROZ_PROCESS(tick)", "{", "    if (roz_policy_tick(&config, &ws, tick) != 0)",
           "        roz_request_estop(); /* the host refused an nn call: a broken build */", "}"]
     return "\n".join(o) + "\n"
+
+
+def _int8s(data: bytes) -> list[str]:
+    """Assembler lines of ``data``, 16 bytes a line."""
+    return [f'        ".byte {", ".join(str(b) for b in data[i:i + 16])}\\n"'
+            for i in range(0, len(data), 16)]
 
 
 def _state(m, suffix):
