@@ -279,3 +279,54 @@ def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
         s[97:100] = 0.0
     want0 = nn_deploy.reference(p, other)
     assert np.max(np.abs(want0[10] - want[10])) > 1e-4
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_native_history_and_own_terms_against_the_reference(tmp_path):
+    """roz's own keys: the terms in another order with per-element scales, a
+    history of 3 frames, a GRU, no phase; the joints by name, the command
+    constant."""
+    from rozgen.nn import random_network
+    layers = random_network("gru:135:8,dense:8:12", 9)
+    names = {"w": "weight", "b": "bias", "w_ih": "weight_ih", "w_hh": "weight_hh",
+             "b_ih": "bias_ih", "b_hh": "bias_hh"}
+    np.savez(tmp_path / "gru.npz", **{f"l{k}.{names[n]}": a for k, l in enumerate(layers)
+                                       for n, a in l.arrays.items()})
+    joints = ["right_hip_pitch_joint", "right_hip_roll_joint", "right_hip_yaw_joint",
+              "right_knee_joint", "right_ankle_pitch_joint", "right_ankle_roll_joint",
+              "left_hip_pitch_joint", "left_hip_roll_joint", "left_hip_yaw_joint",
+              "left_knee_joint", "left_ankle_pitch_joint", "left_ankle_roll_joint"]
+    cfg = tmp_path / "own.yaml"
+    cfg.write_text(
+        "control_decimation: 4\njoint_names: [" + ", ".join(joints) + "]\n"
+        "kps: [80, 80, 80, 120, 30, 30, 80, 80, 80, 120, 30, 30]\n"
+        "kds: [2, 2, 2, 3, 1, 1, 2, 2, 2, 3, 1, 1]\n"
+        "default_angles: [-0.2, 0, 0, 0.4, -0.2, 0, -0.2, 0, 0, 0.4, -0.2, 0]\n"
+        "action_scale: [0.5, 0.5, 0.5, 0.5, 0.25, 0.25, 0.5, 0.5, 0.5, 0.5, 0.25, 0.25]\n"
+        "cmd_init: [0.3, -0.1, 0.2]\nhistory: 3\nclip_observations: 5\nclip_actions: 4\n"
+        "gain_ramp: 0.01\n"
+        "observations: [{name: projected_gravity, scale: [1, 2, 3]}, base_ang_vel,\n"
+        "               velocity_commands, {name: joint_vel_rel, scale: 0.1},\n"
+        "               actions, {name: joint_pos, scale: 2}]\n")
+    p = nn_deploy.deploy(str(tmp_path / "gru.npz"), str(cfg), "unitree_g1",
+                         str(tmp_path / "p.wasm"), spec="gru:135:8,dense:8:12",
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    assert [t.name for t in p.terms] == ["gravity", "ang_vel", "command", "joint_vel",
+                                         "last_action", "joint_pos"]
+    assert p.history == 3 and p.decimation == 4 and len(p.held) == 17
+    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
+    exe = tmp_path / "harness"
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
+                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
+    rng = np.random.default_rng(11)
+    states = [rng.normal(size=ns) for _ in range(40)]   # large enough to clip
+    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
+    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
+    got = [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
+    want = nn_deploy.reference(p, states)
+    assert len(got) == 40
+    for t, (g, w) in enumerate(zip(got, want)):
+        assert np.max(np.abs(g - w)) < 0.5 * 2.0 ** -14, f"tick {t}: {np.max(np.abs(g - w))}"
+    # the driven joints are the named ones: right hip pitch (command 6) moved
+    assert any(abs(g[6] - (-0.2)) > 1e-6 for g in got)
