@@ -58,6 +58,9 @@ TERMS = {
     "last_action": ("ROZ_POLICY_OBS_LAST_ACTION", ("actions", "action", "last_actions")),
     "phase": ("ROZ_POLICY_OBS_PHASE", ("gait_phase", "sin_cos_phase")),
 }
+#: roz/config.h's default ROZ_CFG_FUEL_MAX_PER_SECOND: the default ceiling on a
+#: controller's declared fuel is this over the control rate
+FUEL_MAX_PER_SECOND = 40000000
 UNITREE_ORDER = ("ang_vel", "gravity", "command", "joint_pos", "joint_vel", "last_action", "phase")
 
 
@@ -466,10 +469,17 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
             notes.append(f"velocity command: the constant {_vec(const)} (no command_channels in "
                          "the configuration)")
     gait = c.number("gait_period", 0.8, lo=1e-3)
-    return Plan(m, layers, joints, held, terms, dec, history, gait,
+    p = Plan(m, layers, joints, held, terms, dec, history, gait,
                 c.number("clip_observations", 100.0, lo=0.0),
                 c.number("clip_actions", 100.0, lo=0.0), c.number("gain_ramp", 1.0, lo=0.0),
                 command_ch, const, cmax, notes)
+    ceiling = FUEL_MAX_PER_SECOND // rate
+    if fuel(p) > ceiling:
+        notes.append(f"the controller declares {fuel(p)} fuel units a tick, above the default "
+                     f"ceiling of {ceiling} on a {rate} Hz robot (ROZ_CFG_FUEL_MAX_PER_SECOND / "
+                     "rate): the runtime refuses it at load unless its fuel_per_tick_max (rozrun "
+                     "--fuel-max) allows it")
+    return p
 
 
 def _vec(v):

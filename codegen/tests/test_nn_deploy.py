@@ -330,3 +330,24 @@ def test_native_history_and_own_terms_against_the_reference(tmp_path):
         assert np.max(np.abs(g - w)) < 0.5 * 2.0 ** -14, f"tick {t}: {np.max(np.abs(g - w))}"
     # the driven joints are the named ones: right hip pitch (command 6) moved
     assert any(abs(g[6] - (-0.2)) > 1e-6 for g in got)
+
+
+def test_a_network_above_the_fuel_ceiling_is_said(tmp_path):
+    from rozgen.nn import random_network
+    layers = random_network("dense:47:1024:elu,dense:1024:12", 2)
+    np.savez(tmp_path / "big.npz", **{f"l{k}.{n}": a for k, l in enumerate(layers)
+                                      for n, a in (("weight", l.arrays["w"]),
+                                                   ("bias", l.arrays["b"]))})
+    cfg = tmp_path / "d.yaml"
+    cfg.write_text(yaml_text("deploy_real.yaml"))
+    p = nn_deploy.deploy(str(tmp_path / "big.npz"), str(cfg), "unitree_g1",
+                         str(tmp_path / "b.wasm"), spec="dense:47:1024:elu,dense:1024:12",
+                         wasm=False)
+    assert nn_deploy.fuel(p) > 80000
+    assert any("above the default ceiling of 80000" in n for n in p.notes)
+    small = deploy(tmp_path, yaml_text("deploy_real.yaml"))
+    assert not any("ceiling" in n for n in small.notes)
+    # the ceiling is roz/config.h's
+    config_h = (REPO / "lib" / "include" / "roz" / "config.h").read_text()
+    m = re.search(r"#define ROZ_CFG_FUEL_MAX_PER_SECOND (\d+)", config_h)
+    assert int(m.group(1)) == nn_deploy.FUEL_MAX_PER_SECOND
