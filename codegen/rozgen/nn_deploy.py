@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from . import __version__, identity
+from .fmt import c_double
 from .nn import Layer, check, header, read_npz
 
 #: unitree_rl_gym's keys that roz reads, in both shapes
@@ -526,17 +527,12 @@ def _terms(c: _Cfg, n) -> list[Term]:
 
 # ---- the controller's C -----------------------------------------------------------
 
-def _d(x: float) -> str:
-    s = repr(float(x))
-    return s if ("." in s or "e" in s or "inf" in s or "nan" in s) else s + ".0"
-
-
 def _ints(v) -> str:
     return "{ " + ", ".join(str(i) for i in v) + " }"
 
 
 def _dbls(v) -> str:
-    return "{ " + ", ".join(_d(x) for x in v) + " }"
+    return "{ " + ", ".join(c_double(x) for x in v) + " }"
 
 
 def fuel(p: Plan) -> int:
@@ -634,7 +630,7 @@ def source(p: Plan, name: str = "policy") -> str:
           "    command_init,", f"    {_ints(quat)}, {_ints(gyro)},",
           f"    {_ints(p.command_ch)}, {_dbls(p.command_const)}, {_dbls(p.command_max)},",
           f"    terms, {len(p.terms)}, POLICY_FRAME, POLICY_HISTORY,",
-          f"    {_d(p.gait_period)}, {_d(p.obs_clip)}, {_d(p.action_clip)}, {_d(p.ramp)},",
+          f"    {c_double(p.gait_period)}, {c_double(p.obs_clip)}, {c_double(p.action_clip)}, {c_double(p.ramp)},",
           f"    {name.upper()}_N_IN, {name.upper()}_N_OUT, {name}_reset, {name}_forward,", "};", "",
           f"static double s[{up}_N_STATES], cmd[{up}_N_COMMANDS];",
           "static float frame[POLICY_FRAME], obs[POLICY_FRAME * POLICY_HISTORY], "
