@@ -156,11 +156,27 @@ def _onnx_metadata(path: str) -> dict:
 
 
 def read_config(path: str) -> dict:
-    """A deploy YAML as a dict; safe_load (no objects, no code)."""
+    """A deploy YAML as a dict: PyYAML's safe loader (no objects, no code),
+    refusing a key given twice (YAML would keep the last silently)."""
     import yaml
+
+    class Loader(yaml.SafeLoader):
+        pass
+
+    def mapping(loader, node, deep=False):
+        seen = {}
+        for k, _ in node.value:
+            key = loader.construct_object(k, deep=deep)
+            if key in seen:
+                raise yaml.constructor.ConstructorError(
+                    None, None, f"key '{key}' given twice (lines {seen[key]} and "
+                    f"{k.start_mark.line + 1})", k.start_mark)
+            seen[key] = k.start_mark.line + 1
+        return loader.construct_mapping(node, deep=deep)
+    Loader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, mapping)
     try:
         with open(path, encoding="utf-8") as f:
-            doc = yaml.safe_load(f)
+            doc = yaml.load(f, Loader=Loader)  # noqa: S506 (a SafeLoader)
     except OSError as e:
         raise DeployError(f"{path}: cannot read: {e.strerror or e}") from None
     except yaml.YAMLError as e:

@@ -176,6 +176,9 @@ def test_refusals_mujoco_shape(tmp_path):
         deploy(tmp_path, "- 1\n- 2\n")
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML"):
         deploy(tmp_path, "kps: [1, 2\n")
+    with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML: .*key 'kps' given twice "
+                                          r"\(lines 11 and 26\)"):
+        deploy(tmp_path, text + "\nkps: [1]\n")
     # safe_load: a YAML object tag is refused, never constructed
     with pytest.raises(DeployError, match=r"not valid YAML"):
         deploy(tmp_path, "kps: !!python/object/apply:os.system ['true']\n")
