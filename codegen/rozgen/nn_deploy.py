@@ -653,7 +653,7 @@ def source(p: Plan, name: str = "policy") -> str:
           "action[POLICY_JOINTS];",
           "static roz_policy_ws_t ws = { s, cmd, frame, obs, action };", "",
           "ROZ_PROCESS(tick)", "{", "    if (roz_policy_tick(&config, &ws, tick) != 0)",
-          "        roz_request_estop(); /* the host refused an nn call: a broken build */", "}"]
+          "        roz_request_estop(); /* the host refused a call: a broken build or another robot */", "}"]
     return "\n".join(o) + "\n"
 
 

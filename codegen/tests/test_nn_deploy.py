@@ -225,7 +225,14 @@ HARNESS = r"""
 #include <string.h>
 static double harness_state[%(ns)d], harness_cmd[%(nc)d];
 static int harness_estop;
-int roz_state_get_all(double *v, int n) { memcpy(v, harness_state, sizeof(double) * n); return n; }
+#ifndef HARNESS_STATES_SHORT
+#define HARNESS_STATES_SHORT 0
+#endif
+int roz_state_get_all(double *v, int n)
+{
+    memcpy(v, harness_state, sizeof(double) * n);
+    return n - HARNESS_STATES_SHORT; /* the host refuses a count above its states */
+}
 int roz_command_set_all(const double *v, int n) { memcpy(harness_cmd, v, sizeof(double) * n); return 0; }
 void roz_request_estop(void) { harness_estop = 1; }
 #include "policy.c"
@@ -354,3 +361,21 @@ def test_a_network_above_the_fuel_ceiling_is_said(tmp_path):
     config_h = (REPO / "lib" / "include" / "roz" / "config.h").read_text()
     m = re.search(r"#define ROZ_CFG_FUEL_MAX_PER_SECOND (\d+)", config_h)
     assert int(m.group(1)) == nn_deploy.FUEL_MAX_PER_SECOND
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_a_refused_state_read_asks_for_an_estop(tmp_path):
+    cfg = tmp_path / "d.yaml"
+    cfg.write_text(yaml_text("deploy_real.yaml"))
+    p = nn_deploy.deploy(str(G1 / "policy.npz"), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
+                         spec=SPEC, c_out=str(tmp_path / "policy.c"), wasm=False)
+    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
+    line = " ".join(["0x0p+0"] * ns) + "\n"
+    for short, estop in ((0, 0), (1, 1)):
+        exe = tmp_path / f"harness{short}"
+        subprocess.run(["cc", "-std=c11", "-O2", f"-DHARNESS_STATES_SHORT={short}", f"-I{SDK}",
+                        f"-I{tmp_path}", "-o", str(exe), str(tmp_path / "harness.c"), "-lm"],
+                       check=True)
+        r = subprocess.run([str(exe)], input=line * 3, capture_output=True, text=True)
+        assert r.returncode == estop

@@ -156,8 +156,9 @@ static inline void roz_policy_observe(const roz_policy_config_t *c, roz_policy_w
 /**
  * @brief One tick: reads the state (state.get_all), infers on every
  *        decimation-th tick, writes every command (command.set_all).
- * @return 0, or -1 when the host refused an nn call (a broken build: the
- *         caller asks for an e-stop; nothing is written that tick)
+ * @return 0, or -1 when the host refused a call (state.get_all of the
+ *         tables' state count, or an nn call: a broken build or another
+ *         robot; the caller asks for an e-stop; nothing is written that tick)
  * Context: the controller's process(); no heap; bounded by the tables.
  */
 static inline int roz_policy_tick(const roz_policy_config_t *c, roz_policy_ws_t *ws, long long tick)
@@ -165,7 +166,8 @@ static inline int roz_policy_tick(const roz_policy_config_t *c, roz_policy_ws_t 
     double ramp = c->ramp_s > 0.0 ? (double)tick / (c->control_rate_hz * c->ramp_s) : 1.0;
     if (ramp > 1.0)
         ramp = 1.0;
-    roz_state_get_all(ws->s, c->n_states);
+    if (roz_state_get_all(ws->s, c->n_states) != c->n_states)
+        return -1; /* a robot of fewer states than the tables: not the one built for */
     if (tick == 0) {
         c->reset();
         for (int i = 0; i < c->n_commands; i++)
