@@ -268,7 +268,7 @@ def build(args) -> tuple[str, str]:
         dep_native = nn.get("deployed inference tick, native C")
         if dep_native:
             w("The same shape deployed by `rozgen-nn deploy` (`roz_policy.h` over the G1's "
-              "deploy_real configuration, `bench_nn_deployed`): an inference tick, observations "
+              "deploy_real configuration, `g1_deployed_full`): an inference tick, observations "
               "from 97 states, the network, 145 targets:\n")
             t = Table("native C")
             f_dep = nn.get("deployed inference tick fuel")

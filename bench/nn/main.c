@@ -6,9 +6,10 @@
  * and natively (the same header, its plain-C imports, -O2
  * -ffp-contract=off): p50 of CPU time per call, and the fuel of one
  * inference. The same shape deployed by rozgen-nn deploy (roz_policy.h
- * over the G1's deploy_real configuration, bench_nn_deployed): its
- * inference tick (every 10th tick: observations, the network, 145 targets)
- * under wasm3 and natively. Then what the nn imports' work costs the host per fuel unit
+ * over the G1's deploy_real configuration: g1_deployed_full of
+ * examples/controllers): its inference tick (every 10th tick: observations,
+ * the network, 145 targets) under wasm3 and natively. Then what the nn
+ * imports' work costs the host per fuel unit
  * (nn.matvec on the LSTM's matrices, nn.act on 64 elements), to set
  * against bench/fuel's cost of a unit of wasm.
  *
@@ -85,7 +86,7 @@ static bench_stats_t run_wasm(const char *path, const roz_manifest_t *m, int cal
     return bench_stats(t_ns, (size_t)calls);
 }
 
-/* The deployed controller built natively (bench_nn_deployed.c): its imports */
+/* The deployed controller built natively (g1_deployed_full.c): its imports */
 int roz_state_get_all(double *values, int count)
 {
     memcpy(values, state, sizeof values[0] * (size_t)count);

@@ -9,7 +9,8 @@
  * No fault, nothing outside the manifest reaches the model, and no gain of
  * the vendor's hold is clamped (the manifest carries Unitree's own deploy
  * gains). The small network walks nowhere: it is the mechanics; the figures
- * of a trained policy are on docs/policies.md. */
+ * of a trained policy are on docs/policies.md. g1_deployed_full, the same at
+ * the real policy's size, runs within the fuel the tool declared. */
 /* white-box in part: reads the port's counters (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <math.h>
@@ -57,9 +58,29 @@ void roz_request_estop(void)
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
+/* @p controller on the built-in G1 for @p ticks; with @p native, every
+ * tick's targets against the native build of the same C. Returns the most
+ * fuel a tick took. */
+static uint64_t run(const char *controller, long long ticks, int native);
+
 static void test_mujoco_deploy_g1(void **state)
 {
     (void)state;
+    (void)run("g1_deployed", TICKS, 1);
+}
+
+/* The same configuration at the real policy's size (47 -> LSTM 64 -> 32 ELU
+ * -> 12, random weights): its declared fuel holds the inference tick under
+ * verification and in the run (a shortfall latches a fault). */
+static void test_mujoco_deploy_g1_full_size(void **state)
+{
+    (void)state;
+    uint64_t fuel = run("g1_deployed_full", 500, 0);
+    assert_true(fuel > 40000); /* the inference ticks ran the whole network */
+}
+
+static uint64_t run(const char *controller, long long ticks, int native)
+{
     const roz_manifest_t *m = roz_builtin_find("unitree_g1");
     assert_non_null(m);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
@@ -76,21 +97,22 @@ static void test_mujoco_deploy_g1(void **state)
     cfg.budget_ns = UINT64_MAX; /* the fuel alone decides */
     cfg.monitor_jitter = 0;
     size_t len;
-    const uint8_t *w = roz_test_controller("g1_deployed", &len);
+    const uint8_t *w = roz_test_controller(controller, &len);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     if (roz_runtime_load(&rt, w, len, NULL) != ROZ_OK) /* its identity: this G1's */
-        fail_msg("g1_deployed: %s", roz_runtime_error(&rt));
+        fail_msg("%s: %s", controller, roz_runtime_error(&rt));
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
 
     int inferences = 0;
     double last_target = NAN, lowest = INFINITY;
-    for (long long t = 0; t < TICKS; t++) {
+    for (long long t = 0; t < ticks; t++) {
         assert_int_equal(roz_runtime_tick(&rt), ROZ_OK);
         const double *targets = roz_runtime_last_targets(&rt);
         assert_non_null(targets);
         native_state = roz_runtime_last_state(&rt);
-        roz_native_process(t);
-        if (memcmp(native_cmd, targets, sizeof targets[0] * m->n_commands) != 0) {
+        if (native)
+            roz_native_process(t);
+        if (native && memcmp(native_cmd, targets, sizeof targets[0] * m->n_commands) != 0) {
             for (size_t i = 0; i < m->n_commands; i++)
                 if (memcmp(&native_cmd[i], &targets[i], sizeof targets[i]) != 0)
                     fail_msg("tick %lld: %s: wasm %a, native %a", t, m->commands[i].name,
@@ -105,10 +127,10 @@ static void test_mujoco_deploy_g1(void **state)
     }
     roz_runtime_stats_t st;
     assert_int_equal(roz_runtime_stats(&rt, &st), ROZ_OK);
-    print_message("g1_deployed: %d target changes in %d ticks (an inference every 10), "
-                  "pelvis lowest %.3f m, fuel max %llu units a tick\n",
-                  inferences, TICKS, lowest, (unsigned long long)st.runtime.max_fuel);
-    assert_true(inferences > TICKS / 10 / 2);
+    print_message("%s: %d target changes in %lld ticks (an inference every 10), "
+                  "pelvis lowest %.3f m, fuel max %llu units a tick\n", controller,
+                  inferences, ticks, lowest, (unsigned long long)st.runtime.max_fuel);
+    assert_true(inferences > ticks / 10 / 2);
     assert_int_equal(native_estop, 0);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_int_equal(mj.violations, 0);
@@ -123,12 +145,14 @@ static void test_mujoco_deploy_g1(void **state)
     }
     roz_runtime_deinit(&rt);
     roz_port_close(&p);
+    return st.runtime.max_fuel;
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_deploy_g1),
+        cmocka_unit_test(test_mujoco_deploy_g1_full_size),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

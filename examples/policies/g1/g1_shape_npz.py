@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Writes a random network of the G1 walking policy's shape (rozgen.nn's
-random_network, seed 11 as bench/nn's header) as an .npz under roz's array
-names, for the deployed controller that bench/nn times:
+"""Writes a random network of the G1 walking policy's full shape (47 -> LSTM
+64 -> 32 ELU -> 12; rozgen.nn's random_network, seed 11 as bench/nn's
+header) as an .npz under roz's array names, for g1_deployed_full
+(examples/controllers): the fuel and time of a deployed inference tick at
+the real policy's size (test_mujoco_deploy, bench/nn). It walks nowhere.
 
     python g1_shape_npz.py OUT.npz
 """
