@@ -265,6 +265,18 @@ def build(args) -> tuple[str, str]:
                  native, f"fuel: {value(f_plain)}" if f_plain else "")
         t.timing("native C (reference)", native, native)
         w(t.render())
+        dep_native = nn.get("deployed inference tick, native C")
+        if dep_native:
+            w("The same shape deployed by `rozgen-nn deploy` (`roz_policy.h` over the G1's "
+              "deploy_real configuration, `g1_deployed_full`): an inference tick, observations "
+              "from 97 states, the network, 145 targets:\n")
+            t = Table("native C")
+            f_dep = nn.get("deployed inference tick fuel")
+            t.timing("wasm3 + nn imports, deployed controller",
+                     nn.get("deployed inference tick, wasm3 + nn imports"), dep_native,
+                     f"fuel: {value(f_dep)}" if f_dep else "")
+            t.timing("native C (the same generated C)", dep_native, dep_native)
+            w(t.render())
         w("What the nn imports' work costs the host per fuel unit (CPU time; a unit of wasm "
           "costs the median above):\n")
         w("| work | ns per unit |\n|---|---:|")

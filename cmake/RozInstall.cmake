@@ -15,6 +15,7 @@
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
 #   bin/                     rozgen, rozrun, roz_manifest_json, roz_manifest_info
 #   share/roz/sdk/rust/      the Rust controller SDK's crate (roz_controller)
+#   share/roz/manifests/     the built-in manifests' robot.toml files
 #   share/doc/roz/           licences
 include(CMakePackageConfigHelpers)
 
@@ -22,6 +23,9 @@ set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
 set(_roz_targets roz_core roz_hal roz_sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
+# the built-in manifests, which `rozgen-nn deploy --robot <name>` reads
+file(GLOB _roz_tomls ${PROJECT_SOURCE_DIR}/manifests/*.toml)
+install(FILES ${_roz_tomls} DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/manifests)
 # the Rust controller SDK's crate (roz_add_rust_controller(), docs/rust.md)
 set(ROZ_INSTALL_RUSTDIR ${CMAKE_INSTALL_DATADIR}/roz/sdk/rust)
 install(FILES ${PROJECT_SOURCE_DIR}/sdk/rust/Cargo.toml DESTINATION ${ROZ_INSTALL_RUSTDIR})

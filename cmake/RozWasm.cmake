@@ -84,3 +84,64 @@ function(roz_add_wasm_controller name)
   endif()
   add_dependencies(roz_controllers roz_wasm_${name})
 endfunction()
+
+# roz_add_policy_controller(<name> POLICY <file> ROBOT <name|robot.toml>
+#                           [CONFIG <deploy.yaml>] [SPEC <layers>]
+#                           [COMMAND <vx,vy,wz>])
+#
+# A learned policy deployed as `rozgen-nn deploy` does it (docs/policies.md):
+# the policy file (.pt, .onnx, .npz with SPEC) and its deploy configuration
+# (unitree_rl_gym's YAML; without CONFIG, the ONNX file's metadata), checked
+# against ROBOT (a built-in manifest's name or a robot.toml), become
+# ${CMAKE_CURRENT_BINARY_DIR}/<name>.c (generated) and <name>.wasm, built by
+# roz_add_wasm_controller() as the target roz_wasm_<name>. COMMAND is the
+# constant velocity command when the robot has no command channels. rozgen-nn
+# is ROZGEN_NN_EXECUTABLE (default: beside rozgen, else on PATH); it needs
+# numpy and PyYAML (pip install rozgen[nn]).
+function(roz_add_policy_controller name)
+  cmake_parse_arguments(PARSE_ARGV 1 arg "" "POLICY;ROBOT;CONFIG;SPEC;COMMAND" "")
+  if(NOT arg_POLICY OR NOT arg_ROBOT)
+    message(FATAL_ERROR "roz_add_policy_controller(${name}): POLICY and ROBOT are required")
+  endif()
+  if(NOT ROZGEN_NN_EXECUTABLE)
+    set(_hint "")
+    if(ROZGEN_EXECUTABLE)
+      cmake_path(GET ROZGEN_EXECUTABLE PARENT_PATH _hint)
+    endif()
+    find_program(ROZGEN_NN_EXECUTABLE rozgen-nn HINTS ${_hint}
+                 DOC "rozgen-nn, roz's policy exporter and deployer")
+    if(NOT ROZGEN_NN_EXECUTABLE)
+      message(FATAL_ERROR "roz_add_policy_controller(${name}): rozgen-nn not found; "
+                          "pip install rozgen[nn] or pass -DROZGEN_NN_EXECUTABLE=...")
+    endif()
+  endif()
+  set(args "")
+  set(deps "")
+  foreach(f IN ITEMS POLICY CONFIG)
+    if(arg_${f})
+      cmake_path(ABSOLUTE_PATH arg_${f} BASE_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR} NORMALIZE)
+      list(APPEND deps ${arg_${f}})
+    endif()
+  endforeach()
+  if(arg_CONFIG)
+    list(APPEND args --config ${arg_CONFIG})
+  endif()
+  if(arg_ROBOT MATCHES "\\.toml$")
+    cmake_path(ABSOLUTE_PATH arg_ROBOT BASE_DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR} NORMALIZE)
+    list(APPEND deps ${arg_ROBOT})
+  endif()
+  if(arg_SPEC)
+    list(APPEND args --spec ${arg_SPEC})
+  endif()
+  if(arg_COMMAND)
+    list(APPEND args --command ${arg_COMMAND})
+  endif()
+  set(src ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/policy_${name}/${name}.c)
+  add_custom_command(OUTPUT ${src}
+    COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_CURRENT_BINARY_DIR}/roz_generated/policy_${name}
+    COMMAND ${ROZGEN_NN_EXECUTABLE} deploy ${arg_POLICY} ${args} --robot ${arg_ROBOT}
+            --no-wasm --source ${src} -o ${CMAKE_CURRENT_BINARY_DIR}/${name}.wasm
+    DEPENDS ${deps} ${ROZGEN_NN_EXECUTABLE} ${ROZGEN_DEPENDS}
+    VERBATIM COMMENT "rozgen-nn deploy ${name}.c")
+  roz_add_wasm_controller(${name} SOURCE ${src})
+endfunction()

@@ -5,7 +5,11 @@
  * (metered), as plain wasm (roz_nn.h's loops compiled into the module),
  * and natively (the same header, its plain-C imports, -O2
  * -ffp-contract=off): p50 of CPU time per call, and the fuel of one
- * inference. Then what the nn imports' work costs the host per fuel unit
+ * inference. The same shape deployed by rozgen-nn deploy (roz_policy.h
+ * over the G1's deploy_real configuration: g1_deployed_full of
+ * examples/controllers): its inference tick (every 10th tick: observations,
+ * the network, 145 targets) under wasm3 and natively. Then what the nn
+ * imports' work costs the host per fuel unit
  * (nn.matvec on the LSTM's matrices, nn.act on 64 elements), to set
  * against bench/fuel's cost of a unit of wasm.
  *
@@ -22,6 +26,8 @@
 #include "roz/abi.h"
 #include "roz/controller.h"
 #include "roz/hal/module.h"
+#include "unitree_g1_channels.h"
+#include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
 #include "policy.h" /* natively: roz_nn.h's plain-C imports */
@@ -40,9 +46,12 @@ static uint64_t cpu_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-/* p50 of `calls` calls of process() of the module at path; *fuel that of
- * the last call (every inference costs the same). */
-static bench_stats_t run_wasm(const char *path, int calls, uint64_t *fuel)
+/* p50 of `calls` timed calls of process() of the module at path on
+ * manifest m: every call, or (every > 1) the calls of ticks k * every, k > 0
+ * (a deployed policy's inference ticks; the others run untimed); *fuel that
+ * of the last timed call (every inference costs the same). */
+static bench_stats_t run_wasm(const char *path, const roz_manifest_t *m, int calls, int every,
+                              uint64_t *fuel)
 {
     static uint8_t wasm[1 << 20];
     size_t len = 0;
@@ -53,24 +62,58 @@ static bench_stats_t run_wasm(const char *path, int calls, uint64_t *fuel)
         exit(1);
     }
     roz_controller_init(&ctl);
-    roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+    roz_abi_init(&abi, m, targets, NULL);
     if (roz_controller_load(&ctl, wasm, len, &abi) != ROZ_OK ||
         roz_controller_set_budget(&ctl, &b) != ROZ_OK) {
         fprintf(stderr, "roz_bench_nn: %s: %s\n", path, roz_controller_error(&ctl));
         exit(1);
     }
-    for (int t = 0; t < calls; t++) {
+    for (int t = 0, n = 0; n < calls; t++) {
         roz_abi_begin_tick(&abi, t, state);
         uint64_t t0 = cpu_ns();
         int rc = roz_controller_process(&ctl, t);
-        t_ns[t] = cpu_ns() - t0;
+        uint64_t dt = cpu_ns() - t0;
         if (rc != ROZ_OK) {
             fprintf(stderr, "roz_bench_nn: %s: %s\n", path, roz_controller_error(&ctl));
             exit(1);
         }
+        if (every == 1 || (t > 0 && t % every == 0)) {
+            t_ns[n++] = dt;
+            *fuel = roz_controller_fuel_used(&ctl);
+        }
     }
-    *fuel = roz_controller_fuel_used(&ctl);
     roz_controller_unload(&ctl);
+    return bench_stats(t_ns, (size_t)calls);
+}
+
+/* The deployed controller built natively (g1_deployed_full.c): its imports */
+int roz_state_get_all(double *values, int count)
+{
+    memcpy(values, state, sizeof values[0] * (size_t)count);
+    return count;
+}
+
+int roz_command_set_all(const double *values, int count)
+{
+    memcpy(targets, values, sizeof values[0] * (size_t)count);
+    return 0;
+}
+
+void roz_request_estop(void)
+{
+    fprintf(stderr, "roz_bench_nn: the native deployed controller asked for an e-stop\n");
+    exit(1);
+}
+
+static bench_stats_t run_deployed_native(int calls)
+{
+    for (int t = 0, n = 0; n < calls; t++) {
+        uint64_t t0 = cpu_ns();
+        roz_native_process(t);
+        uint64_t dt = cpu_ns() - t0;
+        if (t > 0 && t % 10 == 0)
+            t_ns[n++] = dt;
+    }
     return bench_stats(t_ns, (size_t)calls);
 }
 
@@ -133,11 +176,21 @@ int main(int argc, char **argv)
         calls = 5000;
     uint64_t fuel_sdk = 0, fuel_plain = 0;
     bench_stats_t nat = run_native(calls);
-    bench_stats_t sdk = run_wasm(ROZ_BENCH_NN_POLICY, calls, &fuel_sdk);
-    bench_stats_t plain = run_wasm(ROZ_BENCH_NN_POLICY_PLAIN, calls / 10 + 100, &fuel_plain);
+    bench_stats_t sdk = run_wasm(ROZ_BENCH_NN_POLICY, &roz_manifest_ur5, calls, 1, &fuel_sdk);
+    bench_stats_t plain = run_wasm(ROZ_BENCH_NN_POLICY_PLAIN, &roz_manifest_ur5, calls / 10 + 100, 1, &fuel_plain);
     bench_stats_t nat2 = run_native(calls); /* again, after: the host's speed drifts */
     if (nat2.p50 < nat.p50)
         nat = nat2;
+    /* the deployed controller: a standing G1's state (the IMU level) */
+    uint64_t fuel_dep = 0;
+    memset(state, 0, sizeof state);
+    state[ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_W] = 1.0;
+    bench_stats_t dep_nat = run_deployed_native(calls);
+    bench_stats_t dep = run_wasm(ROZ_BENCH_NN_DEPLOYED, &roz_manifest_unitree_g1, calls, 10,
+                                 &fuel_dep);
+    bench_stats_t dep_nat2 = run_deployed_native(calls);
+    if (dep_nat2.p50 < dep_nat.p50)
+        dep_nat = dep_nat2;
     printf("G1 policy inference (47 -> LSTM 64 -> 32 ELU -> 12), p50 CPU time, %d calls:\n",
            calls);
     printf("  native C (roz_nn.h, plain loops)   %8.2f us\n", nat.p50);
@@ -145,6 +198,13 @@ int main(int argc, char **argv)
            sdk.p50, sdk.p50 / nat.p50, (unsigned long long)fuel_sdk);
     printf("  wasm3, the same loops in wasm      %8.2f us  (%.2fx native)  %llu fuel units\n",
            plain.p50, plain.p50 / nat.p50, (unsigned long long)fuel_plain);
+    printf("The same shape deployed (rozgen-nn deploy, roz_policy.h on the G1), an inference tick:\n");
+    printf("  native C                           %8.2f us\n", dep_nat.p50);
+    printf("  wasm3 + nn imports                 %8.2f us  (%.2fx native)  %llu fuel units\n",
+           dep.p50, dep.p50 / dep_nat.p50, (unsigned long long)fuel_dep);
+    bench_json_timing(&j, "deployed inference tick, native C", dep_nat);
+    bench_json_timing(&j, "deployed inference tick, wasm3 + nn imports", dep);
+    bench_json_value(&j, "deployed inference tick fuel", (double)fuel_dep, "units");
     bench_json_timing(&j, "policy inference, native C", nat);
     bench_json_timing(&j, "policy inference, wasm3 + nn imports", sdk);
     bench_json_timing(&j, "policy inference, wasm3, plain wasm", plain);

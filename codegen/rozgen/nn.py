@@ -27,6 +27,11 @@ anything but plain numeric arrays is refused, never executed.
 read TorchScript (and torch.save) archives and ONNX files (rozgen.nn_export:
 read, never run); without --spec a TorchScript archive's layers and
 activations come from its code/ folder.
+
+    python -m rozgen.nn deploy POLICY --config DEPLOY.yaml --robot ROBOT -o OUT.wasm
+
+a ready controller from a policy and its deploy configuration, checked
+against the robot's manifest (rozgen.nn_deploy; docs/policies.md).
 """
 from __future__ import annotations
 
@@ -314,7 +319,39 @@ def main(argv=None) -> int:
         q.add_argument("--name", default="policy")
         q.add_argument("--vectors", type=int, default=0, help="steps of test vectors to write")
         q.add_argument("-o", "--output", required=True)
+    d = sub.add_parser("deploy", help="a ready controller (.wasm and its C) from a policy and "
+                                      "its deploy configuration, checked against a robot")
+    d.add_argument("policy", metavar="POLICY", help=".pt, .onnx or .npz")
+    d.add_argument("--config", metavar="DEPLOY.yaml",
+                   help="unitree_rl_gym's deploy YAML (without it: the ONNX file's metadata)")
+    d.add_argument("--robot", required=True, metavar="ROBOT",
+                   help="a built-in manifest's name (unitree_g1) or a robot.toml")
+    d.add_argument("--spec", help="the layers, for an .npz or a .pt without code/")
+    d.add_argument("--command", metavar="VX,VY,WZ",
+                   help="the constant velocity command when the robot has no command channels "
+                        "(m/s, m/s, rad/s; default: the configuration's cmd_init, else 0)")
+    d.add_argument("--source", metavar="OUT.c", help="where the C goes (default: beside -o)")
+    d.add_argument("--sdk", metavar="DIR", help="the controller SDK's headers (default: found)")
+    d.add_argument("--no-wasm", action="store_true", help="write the C only")
+    d.add_argument("-o", "--output", required=True, metavar="OUT.wasm")
     a = ap.parse_args(argv)
+    if a.cmd == "deploy":
+        from . import nn_deploy
+        try:
+            cmd = nn_deploy.parse_command(a.command) if a.command else None
+            p = nn_deploy.deploy(a.policy, a.config, a.robot, a.output, spec=a.spec, command=cmd,
+                                 c_out=a.source, sdk=a.sdk, wasm=not a.no_wasm)
+        except (ValueError, KeyError, IndexError, OSError) as e:
+            print(f"rozgen-nn deploy: {e}", file=sys.stderr)
+            return 2
+        for note in p.notes:
+            print(f"rozgen-nn deploy: {note}")
+        m = p.manifest
+        print(f"rozgen-nn deploy: {a.output}: {m.robot_id}, {len(p.joints)} joints driven, "
+              f"{len(p.held)} held, inference every {p.decimation} ticks "
+              f"({m.control_rate_hz / p.decimation:g} Hz), fuel {nn_deploy.fuel(p)} units a tick "
+              f"declared")
+        return 0
     try:
         if a.cmd == "random":
             layers = random_network(a.spec, a.seed)
