@@ -33,14 +33,22 @@ import signal
 import stat
 import struct
 import sys
+import importlib.util
 import time
 
 from mcap.exceptions import EndOfFile, McapError
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 
+# chunks decompressed within their stated size (tools/mcap_chunks.py)
+_spec = importlib.util.spec_from_file_location(
+    "mcap_chunks", pathlib.Path(__file__).resolve().parent / "mcap_chunks.py")
+mcap_chunks = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mcap_chunks)
+mcap_chunks.install()
+
 # the largest record the stream may hold (roz/mcap.h, ROZ_MCAP_MAX_RECORD)
-MAX_RECORD = 16 * 1024 * 1024
+MAX_RECORD = mcap_chunks.MAX_RECORD
 # joints the layout plots
 LAYOUT_JOINTS = 3
 
@@ -230,14 +238,17 @@ def layout_of_recording(path):
     """{topic: (schema name, text)} of a recording (a file, or a stream)."""
     out, sch = {}, {}
     with open(path, "rb") as f:
-        for rec in StreamReader(f, record_size_limit=MAX_RECORD).records:
-            if isinstance(rec, Schema):
-                sch[rec.id] = rec
-            elif isinstance(rec, Channel):
-                s = sch[rec.schema_id]
-                out[rec.topic] = (s.name, bytes(s.data).decode())
-            elif isinstance(rec, Message):
-                break  # the schemas and channels come first
+        try:
+            for rec in StreamReader(f, record_size_limit=MAX_RECORD).records:
+                if isinstance(rec, Schema):
+                    sch[rec.id] = rec
+                elif isinstance(rec, Channel):
+                    s = sch[rec.schema_id]
+                    out[rec.topic] = (s.name, bytes(s.data).decode())
+                elif isinstance(rec, Message):
+                    break  # the schemas and channels come first
+        except mcap_chunks.ChunkError as e:
+            raise LiveError(f"{path}: {e}") from None
     for topic in ("/roz/target", "/roz/state"):
         if topic not in out:
             raise LiveError(f"{path}: no {topic} channel: not a roz recording")
