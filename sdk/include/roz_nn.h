@@ -19,12 +19,12 @@
  * (not for wasm32), the two imports are the plain loops below, which give
  * those same bits when compiled with -ffp-contract=off: a C reference for
  * tests and benchmarks. ROZ_NN_NO_IMPORTS compiles those loops into a
- * wasm32 module too (for comparison: about 17 times the fuel).
+ * wasm32 module too (for comparison: about 33 times the fuel).
  *
  * Fuel: one unit per multiply-add and 2 per output row (nn.matvec), 24 per
  * tanh/sigmoid/ELU/exp element and 2 per ReLU (nn.act), plus the wasm the
  * layer runs itself: the G1 policy (47 -> LSTM 64 -> 32 ELU -> 12) costs
- * about 47,000 units an inference (bench/nn; 590,000 as plain wasm).
+ * about 47,000 units an inference (bench/nn; 1,540,000 as plain wasm).
  */
 #ifndef ROZ_NN_H
 #define ROZ_NN_H
