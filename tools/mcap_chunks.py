@@ -33,6 +33,14 @@ def _name(chunk):
 
 def chunk_data(chunk):
     """The chunk's records, decompressed to at most its stated size."""
+    try:
+        return _chunk_data(chunk)
+    except (zstandard.ZstdError, RuntimeError) as e:  # lz4's errors are RuntimeErrors
+        raise ChunkError(f"{_name(chunk)}: its data cannot be decompressed: "
+                         f"{str(e) or type(e).__name__}") from None
+
+
+def _chunk_data(chunk):
     cap = chunk.uncompressed_size
     if cap > MAX_RECORD:
         raise ChunkError(f"{_name(chunk)}: {cap} bytes uncompressed, past this reader's "

@@ -5,7 +5,8 @@ and refuse it naming the file, the chunk and the limit, under an address
 space of 2 GiB. The files are written here by the PyPI mcap writer, its
 compressor swapped for one that lies: a zstd frame whose header states
 4 GiB (python-zstandard once allocated that), and zstd and lz4 frames that
-decompress past the chunk's stated size."""
+decompress past the chunk's stated size, and frames that are not zstd or
+lz4 at all."""
 import pathlib
 import resource
 import subprocess
@@ -39,6 +40,10 @@ LIARS = {
                   lambda d: zstandard.ZstdCompressor(write_content_size=False).compress(d + EXTRA)),
     "lz4-more": (CompressionType.LZ4, "lz4",
                  lambda d: lz4.frame.compress(d + EXTRA, store_size=False)),
+    "zstd-garbage": (CompressionType.ZSTD, "zstandard",
+                     lambda d: b"\x28\xb5\x2f\xfd" + bytes(range(7, 250))),
+    "lz4-garbage": (CompressionType.LZ4, "lz4",
+                    lambda d: b"\x04\x22\x4d\x18" + bytes(range(7, 250))),
 }
 
 
@@ -71,6 +76,7 @@ def test_readers_refuse_chunks_that_lie(tmp_path, liar):
     write(path, liar)
     assert path.stat().st_size < 64 << 10
     want = ("its zstd frame states 4294967296 bytes" if liar == "zstd-header"
+            else "its data cannot be decompressed: " if liar.endswith("garbage")
             else "decompresses past its stated size, the limit of")
     for cmd in ([sys.executable, TOOL, "check", path],
                 [sys.executable, LIVE, "layout", path, tmp_path / "layout.json"]):
