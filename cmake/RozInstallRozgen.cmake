@@ -17,7 +17,7 @@
 #
 # The Python tools come the same way (ROZ_INSTALL_TOOLS, with rozgen):
 #   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py,
-#                                       tools/live.py
+#                                       tools/live.py, tools/mcap_chunks.py
 #   <prefix>/bin/roz-plot, roz-recording, roz-live
 #                                       launchers that run them, as bin/rozgen
 #                                       runs rozgen
@@ -89,7 +89,7 @@ set(_roz_requirements_what "codegen/requirements.txt")
 if(ROZ_INSTALL_TOOLS)
   # recording.py finds plot_trace.py beside itself, as in tools/.
   install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py
-                ${PROJECT_SOURCE_DIR}/tools/live.py
+                ${PROJECT_SOURCE_DIR}/tools/live.py ${PROJECT_SOURCE_DIR}/tools/mcap_chunks.py
           DESTINATION ${_roz_pydir}/roz_tools)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/layouts/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/layouts
           FILES_MATCHING PATTERN "*.json")

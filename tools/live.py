@@ -25,24 +25,36 @@ latched faults, fuel and freshness, the safety filter's counters, and the
 truth's base height when the run has one (docs/live.md).
 """
 import argparse
+import importlib.util
 import json
 import os
 import pathlib
 import select
 import signal
+import socket
 import stat
 import struct
 import sys
+import threading
 import time
 
 from mcap.exceptions import EndOfFile, McapError
 from mcap.records import Channel, Message, Schema
 from mcap.stream_reader import StreamReader
 
+# chunks decompressed within their stated size (tools/mcap_chunks.py)
+_spec = importlib.util.spec_from_file_location(
+    "mcap_chunks", pathlib.Path(__file__).resolve().parent / "mcap_chunks.py")
+mcap_chunks = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mcap_chunks)
+mcap_chunks.install()
+
 # the largest record the stream may hold (roz/mcap.h, ROZ_MCAP_MAX_RECORD)
-MAX_RECORD = 16 * 1024 * 1024
+MAX_RECORD = mcap_chunks.MAX_RECORD
 # joints the layout plots
 LAYOUT_JOINTS = 3
+# viewers connected at once (docs/live.md): each costs the server about 190 KB
+MAX_VIEWERS = 8
 
 
 class LiveError(Exception):
@@ -94,13 +106,85 @@ def next_run(path):
     return ExactReader(fd)
 
 
+class Gate:
+    """The address viewers connect to, at most MAX_VIEWERS at a time, each
+    relayed to the Foxglove server on a port of 127.0.0.1 of its own: the
+    server has no cap of its own and holds about 190 KB per connection, idle
+    ones too. A connection past the cap is closed at once."""
+
+    def __init__(self, host, port, backend_port):
+        self.backend = backend_port
+        self.lock = threading.Lock()
+        self.open = 0
+        self.refused = 0
+        self.sock = socket.create_server((host, port))
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    def port(self):
+        return self.sock.getsockname()[1]
+
+    def _accept(self):
+        while True:
+            try:
+                conn, _ = self.sock.accept()
+            except OSError:
+                return  # closed
+            with self.lock:
+                full = self.open >= MAX_VIEWERS
+                if full:
+                    self.refused += 1
+                else:
+                    self.open += 1
+            if full:
+                conn.close()
+                continue
+            try:
+                back = socket.create_connection(("127.0.0.1", self.backend))
+            except OSError:
+                conn.close()
+                self._done()
+                continue
+            once = threading.Event()
+            for a, b in ((conn, back), (back, conn)):
+                threading.Thread(target=self._pump, args=(a, b, conn, back, once),
+                                 daemon=True).start()
+
+    def _done(self):
+        with self.lock:
+            self.open -= 1
+
+    def _pump(self, src, dst, conn, back, once):
+        try:
+            while True:
+                data = src.recv(65536)
+                if not data:
+                    break
+                dst.sendall(data)
+        except OSError:
+            pass
+        # either side gone: both sockets closed, the slot freed once
+        if not once.is_set():
+            once.set()
+            for s in (conn, back):
+                try:
+                    s.shutdown(socket.SHUT_RDWR)
+                except OSError:
+                    pass
+            self._done()
+        src.close()
+
+    def close(self):
+        self.sock.close()
+
+
 class Server:
     """The Foxglove WebSocket server and the channels of one stream."""
 
     def __init__(self, host, port):
         import foxglove
         self.foxglove = foxglove
-        self.server = foxglove.start_server(name="roz-live", host=host, port=port)
+        self.server = foxglove.start_server(name="roz-live", host="127.0.0.1", port=0)
+        self.gate = Gate(host, port, self.server.port)
         self.schemas = {}     # this stream's schema id -> record
         self.channels = {}    # this stream's channel id -> Foxglove channel
         self.by_topic = {}    # topic -> (what it advertises, Foxglove channel), across runs
@@ -113,14 +197,17 @@ class Server:
         self.schemas, self.channels, self.messages = {}, {}, 0
 
     def port(self):
-        return self.server.port
+        return self.gate.port()
 
     def app_url(self):
-        """The SDK's link that opens this server in Foxglove's app."""
+        """The SDK's link that opens this server in Foxglove's app, at the
+        gate's port."""
         try:
-            return self.server.app_url()
+            url = self.server.app_url()
         except Exception:  # noqa: BLE001 - a convenience only
             return None
+        return url.replace(f"%3A{self.server.port}", f"%3A{self.port()}").replace(
+            f":{self.server.port}", f":{self.port()}") if url else url
 
     def take(self, record):
         fg = self.foxglove
@@ -150,6 +237,7 @@ class Server:
             self.messages += 1
 
     def stop(self):
+        self.gate.close()
         self.server.stop()
 
 
@@ -230,14 +318,17 @@ def layout_of_recording(path):
     """{topic: (schema name, text)} of a recording (a file, or a stream)."""
     out, sch = {}, {}
     with open(path, "rb") as f:
-        for rec in StreamReader(f, record_size_limit=MAX_RECORD).records:
-            if isinstance(rec, Schema):
-                sch[rec.id] = rec
-            elif isinstance(rec, Channel):
-                s = sch[rec.schema_id]
-                out[rec.topic] = (s.name, bytes(s.data).decode())
-            elif isinstance(rec, Message):
-                break  # the schemas and channels come first
+        try:
+            for rec in StreamReader(f, record_size_limit=MAX_RECORD).records:
+                if isinstance(rec, Schema):
+                    sch[rec.id] = rec
+                elif isinstance(rec, Channel):
+                    s = sch[rec.schema_id]
+                    out[rec.topic] = (s.name, bytes(s.data).decode())
+                elif isinstance(rec, Message):
+                    break  # the schemas and channels come first
+        except mcap_chunks.ChunkError as e:
+            raise LiveError(f"{path}: {e}") from None
     for topic in ("/roz/target", "/roz/state"):
         if topic not in out:
             raise LiveError(f"{path}: no {topic} channel: not a roz recording")

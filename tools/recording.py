@@ -36,11 +36,16 @@ import zlib
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
 from mcap_ros2.decoder import DecoderFactory
+from zstandard import ZstdError as zstd_error
 
 _here = pathlib.Path(__file__).resolve().parent
 _spec = importlib.util.spec_from_file_location("plot_trace", _here / "plot_trace.py")
 plot_trace = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(plot_trace)
+_spec = importlib.util.spec_from_file_location("mcap_chunks", _here / "mcap_chunks.py")
+mcap_chunks = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(mcap_chunks)
+mcap_chunks.install()
 
 # roz_record_flag (lib/include/roz/recorder.h)
 FLAG_ESTOP_LEVEL = 1 << 4
@@ -58,7 +63,7 @@ TRUTH_FIELDS = ("floating", "x", "y", "height", "qw", "qx", "qy", "qz", "roll", 
 
 
 # the largest record, and chunk once decompressed, read (roz/mcap.h)
-MAX_RECORD = 16 * 1024 * 1024
+MAX_RECORD = mcap_chunks.MAX_RECORD
 MAGIC = b"\x89MCAP0\r\n"
 
 
@@ -96,6 +101,13 @@ def check_limits(path):
 def read(path):
     """The run's account and its ticks: (run, ticks, counts), ticks a list of
     dicts with tick, time_s, target, applied, state, faults, flags, message."""
+    try:
+        return _read(path)
+    except mcap_chunks.ChunkError as e:
+        raise RecordingError(f"{path}: {e}") from None
+
+
+def _read(path):
     run, ticks, counts, by_time = None, [], {}, {}
     check_limits(path)
     with open(path, "rb") as f:
@@ -316,8 +328,9 @@ def main(argv=None):
                             plot_trace.channel_filter(a.channels, [r[0] for r in runs]))
     except RecordingError as e:
         sys.exit(f"recording: {e}")
-    except (McapError, EOFError, ValueError, MemoryError) as e:
-        sys.exit(f"recording: {getattr(a, 'mcap', None) or a.a}: cannot be read: {e}")
+    except (McapError, EOFError, ValueError, MemoryError, zstd_error, RuntimeError) as e:
+        why = str(e) or type(e).__name__
+        sys.exit(f"recording: {getattr(a, 'mcap', None) or a.a}: cannot be read: {why}")
 
 
 if __name__ == "__main__":

@@ -68,6 +68,23 @@ static const work_t works[] = {
       64 },
     { "f64_sqrt_div", "f64.sqrt and f64.div", "",
       "(local.set $f (f64.div (f64.sqrt (local.get $f)) (f64.const 0.999)))", 64 },
+    /* float arithmetic on normal numbers, and the same on subnormal ones
+     * (many CPUs' slow path; each value stays subnormal: 1e-39 x 0.999 +
+     * 1e-45 converges to about 1e-42) */
+    { "f32_arith", "f32.mul and f32.add", "(global $g (mut f32) (f32.const 0.5))",
+      "(global.set $g (f32.add (f32.mul (global.get $g) (f32.const 0.999)) (f32.const 1e-3)))",
+      64 },
+    { "f32_subnormal", "f32.mul and f32.add on subnormal numbers",
+      "(global $g (mut f32) (f32.const 1e-39))",
+      "(global.set $g (f32.add (f32.mul (global.get $g) (f32.const 0.999)) (f32.const 1e-45)))",
+      64 },
+    { "f64_arith", "f64.mul and f64.add", "(global $g (mut f64) (f64.const 0.5))",
+      "(global.set $g (f64.add (f64.mul (global.get $g) (f64.const 0.999)) (f64.const 1e-3)))",
+      64 },
+    { "f64_subnormal", "f64.mul and f64.add on subnormal numbers",
+      "(global $g (mut f64) (f64.const 1e-310))",
+      "(global.set $g (f64.add (f64.mul (global.get $g) (f64.const 0.999)) (f64.const 5e-324)))",
+      64 },
     { "f64_trunc", "checked float to int conversions", "",
       "(local.set $a (i32.trunc_f64_s (f64.const 12345.5)))", 64 },
     { "load_store", "i64 loads and stores", "(memory 1)",

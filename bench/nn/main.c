@@ -165,6 +165,55 @@ static void unit_costs(const bench_json_t *j, int reps)
     }
 }
 
+/* The same work on the numbers that take a CPU's slow path (subnormal
+ * floats, in or out; roz/abi.h's rule for tiny numbers): one row of 16,000
+ * with W and x at 1e-20 (each product 1e-40, one chain of sums), and each
+ * activation on subnormal inputs and on inputs whose exp or sigmoid is
+ * subnormal (-87.5). */
+static void tiny_costs(const bench_json_t *j, int reps)
+{
+    static const char *names[] = { "relu", "tanh", "sigmoid", "elu", "exp" };
+    const int32_t cols = 16000;
+    const float one_row[2] = { 0.5f, 1e-20f }, sub[2] = { 3e-39f, -87.5f };
+    static const char *const row_names[2] = { "nn.matvec, one row, ns per unit",
+                                              "nn.matvec, one row, subnormal products, ns per unit" };
+    uint64_t units = roz_abi_nn_matvec_units(1, cols), t0;
+    double ns;
+    roz_abi_init(&abi, &roz_manifest_ur5, targets, NULL);
+    for (int k = 0; k < 2; k++) {
+        for (size_t i = 0; i + 4 <= sizeof mem; i += 4)
+            memcpy(mem + i, &one_row[k], 4);
+        t0 = cpu_ns();
+        for (int r = 0; r < reps; r++)
+            (void)roz_abi_nn_matvec(&abi, mem, sizeof mem, 0, 64000, 0, 128000, 1, cols, 0);
+        ns = (double)(cpu_ns() - t0) / reps;
+        printf("  nn.matvec 1x%d of %g (%llu units): %.2f us, %.3f ns a unit\n", (int)cols,
+               (double)one_row[k], (unsigned long long)units, ns / 1000.0, ns / (double)units);
+        bench_json_value(j, row_names[k], ns / (double)units, "ns");
+    }
+    for (int k = 0; k < ROZ_ABI_NN_ACT_COUNT; k++) {
+        uint64_t u = roz_abi_nn_act_units(k, 64);
+        double worst = 0.0;
+        for (int s = 0; s < 2; s++) {
+            for (uint32_t i = 0; i < 64; i++)
+                memcpy(mem + 125000 + 4u * i, &sub[s], 4);
+            t0 = cpu_ns();
+            for (int r = 0; r < reps * 4; r++) {
+                (void)roz_abi_nn_act(&abi, mem, sizeof mem, k, 120000, 64);
+                memcpy(mem + 120000, mem + 125000, 256);
+            }
+            ns = (double)(cpu_ns() - t0) / (reps * 4);
+            if (ns > worst)
+                worst = ns;
+        }
+        printf("  nn.act %-7s x64 subnormal in or out (%llu units): %.3f us, %.3f ns a unit\n",
+               names[k], (unsigned long long)u, worst / 1000.0, worst / (double)u);
+        char name[80];
+        snprintf(name, sizeof name, "nn.act %s, subnormal in or out, ns per unit", names[k]);
+        bench_json_value(j, name, worst / (double)u, "ns");
+    }
+}
+
 int main(int argc, char **argv)
 {
     bench_json_t j;
@@ -212,6 +261,7 @@ int main(int argc, char **argv)
     bench_json_value(&j, "policy inference fuel, plain wasm", (double)fuel_plain, "units");
     printf("What the nn imports' work costs per fuel unit (CPU time):\n");
     unit_costs(&j, calls / 5 + 50);
+    tiny_costs(&j, calls / 50 + 20);
     bench_json_close(&j);
     return 0;
 }

@@ -13,6 +13,7 @@ text names the file (and the include) that cannot be read.
 """
 
 import os
+import stat
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 
@@ -21,6 +22,11 @@ ACTUATORS = ("general", "motor", "position", "velocity", "intvelocity", "damper"
              "muscle", "adhesion")
 #: includes followed at most this deep (a file that includes itself stops here)
 MAX_DEPTH = 16
+#: includes followed in all, and the bytes of XML read in all (the model and
+#: every include): a few files including each other many times would
+#: otherwise make billions of elements (docs/policies.md, the readers' limits)
+MAX_INCLUDES = 256
+MAX_BYTES = 32 * 1024 * 1024
 
 
 class ModelError(Exception):
@@ -57,20 +63,41 @@ class Model:
     sensors: list[Sensor] = field(default_factory=list)
 
 
-def _parse(path: str, shown: str) -> ET.Element:
+@dataclass
+class _Read:
+    """What a model's files have used of MAX_INCLUDES and MAX_BYTES."""
+    includes: int = 0
+    bytes: int = 0
+
+
+def _read_bounded(path: str, shown: str, used: _Read) -> bytes:
+    """A regular file's bytes, within what MAX_BYTES leaves (/dev/zero, a
+    FIFO or a folder refused before a byte is read)."""
+    left = MAX_BYTES - used.bytes
+    with open(path, "rb") as f:
+        if not stat.S_ISREG(os.fstat(f.fileno()).st_mode):
+            raise ModelError(f"{shown}: not a regular file")
+        data = f.read(left + 1)
+    if len(data) > left:
+        raise ModelError(f"{shown}: the model's XML passes {MAX_BYTES} bytes in all "
+                         f"(the model and its includes; this reader's limit)")
+    used.bytes += len(data)
+    return data
+
+
+def _parse(path: str, shown: str, used: _Read | None = None) -> ET.Element:
     try:
-        with open(path, "rb") as f:
-            return ET.fromstring(f.read())
+        return ET.fromstring(_read_bounded(path, shown, used if used is not None else _Read()))
     except OSError as e:
         raise ModelError(f"{shown}: cannot be read: {e.strerror or e}") from None
     except ET.ParseError as e:
         raise ModelError(f"{shown}: not XML: {e}") from None
 
 
-def _expand(root: ET.Element, base_dir: str, shown: str, depth: int) -> None:
+def _expand(root: ET.Element, base_dir: str, shown: str, depth: int, used: _Read) -> None:
     """Replace every <include file=...> below @p root by the children of
     the included file's root, in place (MuJoCo's include: paths relative to
-    the main model's folder)."""
+    the main model's folder), within MAX_DEPTH, MAX_INCLUDES and MAX_BYTES."""
     for parent in list(root.iter()):
         for i, child in reversed(list(enumerate(list(parent)))):
             if child.tag != "include":
@@ -81,9 +108,13 @@ def _expand(root: ET.Element, base_dir: str, shown: str, depth: int) -> None:
                 raise ModelError(f"{shown}: an <include> without a file")
             if depth >= MAX_DEPTH:
                 raise ModelError(f"{where}: includes nested more than {MAX_DEPTH} deep")
+            used.includes += 1
+            if used.includes > MAX_INCLUDES:
+                raise ModelError(f"{where}: more than {MAX_INCLUDES} includes in all (this "
+                                 "reader's limit)")
             path = name if os.path.isabs(name) else os.path.join(base_dir, name)
-            sub = _parse(path, where)
-            _expand(sub, base_dir, where, depth + 1)
+            sub = _parse(path, where, used)
+            _expand(sub, base_dir, where, depth + 1, used)
             parent.remove(child)
             for k, node in enumerate(list(sub)):
                 parent.insert(i + k, node)
@@ -140,10 +171,11 @@ def _limited(flag: str | None, rng: list[float] | None) -> tuple[float, float] |
 
 def load(path: str) -> Model:
     """The model at @p path (as the robot.toml names it, resolved)."""
-    root = _parse(path, path)
+    used = _Read()
+    root = _parse(path, path, used)
     if root.tag != "mujoco":
         raise ModelError(f"{path}: not an MJCF model (its root is <{root.tag}>, not <mujoco>)")
-    _expand(root, os.path.dirname(path), path, 0)
+    _expand(root, os.path.dirname(path), path, 0, used)
     defaults = _Defaults(root)
     model = Model(path)
 

@@ -115,7 +115,35 @@ def random_network(spec: str, seed: int) -> list[Layer]:
 
 # ---- the numpy reference (float64, PyTorch's equations) ------------------------
 
+#: the nn imports read a value below this as zero of its sign (roz_math.h,
+#: roz_math_nn_inputf); exp and sigmoid give +0 below ROZ_MATH_NN_EXP_MIN
+TINY = 2.0 ** -51
+FLT_MIN = 2.0 ** -126
+
+
+def _tiny0(a):
+    """The value the nn imports read (roz_math_nn_inputf)."""
+    if a is None:
+        return None
+    return np.where(np.abs(a) < TINY, np.copysign(0.0, a), a)
+
+
+def _mv(w: np.ndarray, x: np.ndarray, b) -> np.ndarray:
+    """nn.matvec: W x (+ b), each operand read as the import reads it."""
+    y = _tiny0(w) @ _tiny0(x)
+    return y if b is None else y + _tiny0(b)
+
+
 def _act(name: str, x: np.ndarray) -> np.ndarray:
+    x = _tiny0(x)
+    if name in ("sigmoid", "exp"):
+        with np.errstate(over="ignore"):
+            y = _act_exact(name, x)
+        return np.where(np.abs(y) < FLT_MIN, 0.0, y)
+    return _act_exact(name, x)
+
+
+def _act_exact(name: str, x: np.ndarray) -> np.ndarray:
     if name == "relu":
         return np.maximum(x, 0.0)
     if name == "tanh":
@@ -140,23 +168,23 @@ def forward(layers: list[Layer], inputs: np.ndarray) -> np.ndarray:
             a = {n: d(v) for n, v in l.arrays.items()}
             H = l.n_out
             if l.kind == "dense":
-                x = _act(l.act, a["w"] @ x + (a["b"] if a.get("b") is not None else 0.0))
+                x = _act(l.act, _mv(a["w"], x, a.get("b")))
                 continue
-            gi = a["w_ih"] @ x + (a["b_ih"] if a.get("b_ih") is not None else 0.0)
+            gi = _mv(a["w_ih"], x, a.get("b_ih"))
             if l.kind == "lstm":
                 h, c = state[k] if state[k] is not None else (np.zeros(H), np.zeros(H))
-                g = gi + a["w_hh"] @ h + (a["b_hh"] if a.get("b_hh") is not None else 0.0)
+                g = _tiny0(gi) + _mv(a["w_hh"], h, a.get("b_hh"))  # nn.matvec's ACCUMULATE
                 i, f, gg, o = (_act("sigmoid", g[:H]), _act("sigmoid", g[H:2 * H]),
-                               np.tanh(g[2 * H:3 * H]), _act("sigmoid", g[3 * H:]))
+                               _act("tanh", g[2 * H:3 * H]), _act("sigmoid", g[3 * H:]))
                 c = f * c + i * gg
-                h = o * np.tanh(c)
+                h = o * _act("tanh", c)
                 state[k] = (h, c)
             else:
                 h = state[k] if state[k] is not None else np.zeros(H)
-                gh = a["w_hh"] @ h + (a["b_hh"] if a.get("b_hh") is not None else 0.0)
+                gh = _mv(a["w_hh"], h, a.get("b_hh"))
                 r = _act("sigmoid", gi[:H] + gh[:H])
                 z = _act("sigmoid", gi[H:2 * H] + gh[H:2 * H])
-                n = np.tanh(gi[2 * H:] + r * gh[2 * H:])
+                n = _act("tanh", gi[2 * H:] + r * gh[2 * H:])
                 h = (1.0 - z) * n + z * h
                 state[k] = h
             x = h

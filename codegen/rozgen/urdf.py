@@ -99,6 +99,9 @@ def parse_xml(data: bytes) -> Element:
     parser = xml.parsers.expat.ParserCreate()
     stack: list[Element] = []
     root: list[Element] = []
+    # each open element's text in pieces, joined once at its end: expat hands
+    # text over line by line, and adding each to a string is quadratic
+    pieces: list[list[str]] = []
 
     def start(tag, attrib):
         el = Element(tag, dict(attrib), parser.CurrentLineNumber)
@@ -107,13 +110,14 @@ def parse_xml(data: bytes) -> Element:
         else:
             root.append(el)
         stack.append(el)
+        pieces.append([])
 
     def end(_tag):
-        stack.pop()
+        stack.pop().text = "".join(pieces.pop())
 
     def chars(text):
-        if stack:
-            stack[-1].text += text
+        if pieces:
+            pieces[-1].append(text)
 
     def no_entities(*_args):
         raise UrdfError(parser.CurrentLineNumber, "the file declares an entity; a URDF has none")

@@ -112,6 +112,39 @@ def test_include_that_includes_itself(tmp_path):
         mjcf.load(str(tmp_path / "loop.xml"))
 
 
+def test_include_fan_out_bounded(tmp_path):
+    """Fifteen files each including the next four times (4^15 includes, once
+    past 60 s): refused at the count, naming the include and the limit."""
+    for k in range(15):
+        inc = f'<include file="f{k + 1}.xml"/>' * 4 if k < 14 else "<body/>"
+        (tmp_path / f"f{k}.xml").write_text(f"<mujoco><worldbody>{inc}</worldbody></mujoco>")
+    with pytest.raises(mjcf.ModelError, match=r'f\d+\.xml">: more than 256 includes in all '
+                                               r"\(this reader's limit\)"):
+        mjcf.load(str(tmp_path / "f0.xml"))
+
+
+def test_include_total_size_bounded(tmp_path, monkeypatch):
+    """Every file's bytes count against one total: an include read twice
+    counts twice."""
+    monkeypatch.setattr(mjcf, "MAX_BYTES", 4096)
+    (tmp_path / "big.xml").write_text("<mujoco>" + " " * 3000 + "</mujoco>")
+    (tmp_path / "m.xml").write_text('<mujoco><include file="big.xml"/>'
+                                    '<include file="big.xml"/></mujoco>')
+    with pytest.raises(mjcf.ModelError, match='big.xml">: the model\'s XML passes 4096 bytes'):
+        mjcf.load(str(tmp_path / "m.xml"))
+
+
+def test_include_of_a_device_refused(tmp_path):
+    """/dev/zero (read until memory runs out) and a folder: not regular files."""
+    (tmp_path / "m.xml").write_text('<mujoco><include file="/dev/zero"/></mujoco>')
+    with pytest.raises(mjcf.ModelError, match='"/dev/zero">: not a regular file'):
+        mjcf.load(str(tmp_path / "m.xml"))
+    (tmp_path / "d").mkdir()
+    (tmp_path / "m.xml").write_text('<mujoco><include file="d"/></mujoco>')
+    with pytest.raises(mjcf.ModelError, match='"d">: (not a regular file|cannot be read)'):
+        mjcf.load(str(tmp_path / "m.xml"))
+
+
 def test_not_mjcf(tmp_path):
     (tmp_path / "robot.urdf").write_text('<robot name="r"/>')
     with pytest.raises(mjcf.ModelError, match=r"not an MJCF model \(its root is <robot>"):

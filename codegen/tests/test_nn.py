@@ -70,3 +70,20 @@ def test_npz_round_trip_and_hostile(tmp_path):
     np.savez(q, **arrays, extra=np.zeros(2))
     with pytest.raises(ValueError, match="extra"):
         nn.read_npz("lstm:5:4,dense:4:3:relu", str(q))
+
+
+def test_reference_reads_tiny_numbers_as_the_imports_do():
+    """roz_math.h's rule: a value below 2^-51 is read as zero of its sign,
+    exp and sigmoid give +0 where they would be subnormal."""
+    layers = nn.random_network("dense:2:1:exp", 1)
+    layers[0].arrays["w"] = np.array([[1e-20, 0.5]], dtype=np.float32)
+    layers[0].arrays["b"] = np.array([-3e-39], dtype=np.float32)
+    y = nn.forward(layers, np.array([[1e20, 0.0]], dtype=np.float32))
+    assert y[0, 0] == 1.0  # W's 1e-20 read as 0: e^0, not e^1
+    layers[0].arrays["w"] = np.array([[2.0**-51, 0.5]], dtype=np.float32)
+    y = nn.forward(layers, np.array([[2.0**51, 0.0]], dtype=np.float32))
+    assert y[0, 0] == np.exp(1.0)  # 2^-51 is kept
+    y = nn.forward(layers, np.array([[0.0, -175.0]], dtype=np.float32))
+    assert y[0, 0] == 0.0  # e^-87.5 would be subnormal in float
+    y = nn.forward(layers, np.array([[0.0, -174.0]], dtype=np.float32))
+    assert y[0, 0] == math.exp(-87.0)

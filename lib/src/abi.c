@@ -322,6 +322,21 @@ static inline float ld_f32(const uint8_t *p)
     return f;
 }
 
+/* a float the nn imports read: roz_math_nn_inputf()'s rule (zero of its
+ * sign below 2^-51), on the bits, branch-free so that rows stay in lanes */
+static inline float ld_nn(const uint8_t *p)
+{
+    uint32_t u;
+    float f;
+    memcpy(&u, p, sizeof u);
+#if ROZ_ABI_BIG_ENDIAN
+    u = __builtin_bswap32(u);
+#endif
+    u &= (u & 0x7FFFFFFFu) < ROZ_MATH_NN_TINY_BITS ? 0x80000000u : 0xFFFFFFFFu;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
 static inline void st_f32(uint8_t *p, float f)
 {
     uint32_t u;
@@ -379,9 +394,9 @@ uint64_t roz_abi_nn_act_units(int32_t kind, int32_t count)
 static float nn_finish(float s, const uint8_t *b, const uint8_t *y, int32_t flags)
 {
     if (flags & ROZ_ABI_NN_BIAS)
-        s = s + ld_f32(b);
+        s = s + ld_nn(b);
     if (flags & ROZ_ABI_NN_ACCUMULATE)
-        s = ld_f32(y) + s;
+        s = ld_nn(y) + s;
     return s;
 }
 
@@ -409,9 +424,9 @@ int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t
         float s[NN_BLOCK] = { 0 };
         const uint8_t *row = W + (size_t)i * stride;
         for (size_t j = 0; j < n; j++) {
-            float xj = ld_f32(X + 4u * j);
+            float xj = ld_nn(X + 4u * j);
             for (int r = 0; r < NN_BLOCK; r++)
-                s[r] = s[r] + ld_f32(row + (size_t)r * stride + 4u * j) * xj;
+                s[r] = s[r] + ld_nn(row + (size_t)r * stride + 4u * j) * xj;
         }
         for (int r = 0; r < NN_BLOCK; r++) {
             size_t o = 4u * ((size_t)i + (size_t)r);
@@ -422,11 +437,23 @@ int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t
         float s = 0.0f;
         const uint8_t *row = W + (size_t)i * stride;
         for (size_t j = 0; j < n; j++)
-            s = s + ld_f32(row + 4u * j) * ld_f32(X + 4u * j);
+            s = s + ld_nn(row + 4u * j) * ld_nn(X + 4u * j);
         size_t o = 4u * (size_t)i;
         st_f32(Y + o, nn_finish(s, B + o, Y + o, flags));
     }
     return 0;
+}
+
+/* roz_math_nn_actf() takes the kinds by number */
+_Static_assert(ROZ_ABI_NN_RELU == 0 && ROZ_ABI_NN_TANH == 1 && ROZ_ABI_NN_SIGMOID == 2 &&
+                   ROZ_ABI_NN_ELU == 3 && ROZ_ABI_NN_EXP == 4 && ROZ_ABI_NN_ACT_COUNT == 5,
+               "nn.act kinds");
+
+/* each kind its own loop: the kind a constant in roz_math_nn_actf() */
+static inline __attribute__((always_inline)) void nn_act_run(uint8_t *v, size_t n, int kind)
+{
+    for (size_t i = 0; i < n; i++)
+        st_f32(v + 4u * i, roz_math_nn_actf(kind, ld_f32(v + 4u * i)));
 }
 
 int32_t roz_abi_nn_act(roz_abi_t *abi, uint8_t *mem, size_t mem_len, int32_t kind, uint32_t ptr,
@@ -440,25 +467,20 @@ int32_t roz_abi_nn_act(roz_abi_t *abi, uint8_t *mem, size_t mem_len, int32_t kin
     size_t n = (size_t)count;
     switch ((roz_abi_nn_act_t)kind) {
     case ROZ_ABI_NN_RELU:
-        for (size_t i = 0; i < n; i++)
-            st_f32(v + 4u * i, roz_math_reluf(ld_f32(v + 4u * i)));
+        nn_act_run(v, n, ROZ_ABI_NN_RELU);
         break;
     case ROZ_ABI_NN_TANH:
-        for (size_t i = 0; i < n; i++)
-            st_f32(v + 4u * i, roz_math_tanhf(ld_f32(v + 4u * i)));
+        nn_act_run(v, n, ROZ_ABI_NN_TANH);
         break;
     case ROZ_ABI_NN_SIGMOID:
-        for (size_t i = 0; i < n; i++)
-            st_f32(v + 4u * i, roz_math_sigmoidf(ld_f32(v + 4u * i)));
+        nn_act_run(v, n, ROZ_ABI_NN_SIGMOID);
         break;
     case ROZ_ABI_NN_ELU:
-        for (size_t i = 0; i < n; i++)
-            st_f32(v + 4u * i, roz_math_eluf(ld_f32(v + 4u * i)));
+        nn_act_run(v, n, ROZ_ABI_NN_ELU);
         break;
     case ROZ_ABI_NN_EXP:
     default:
-        for (size_t i = 0; i < n; i++)
-            st_f32(v + 4u * i, roz_math_expf(ld_f32(v + 4u * i)));
+        nn_act_run(v, n, ROZ_ABI_NN_EXP);
         break;
     }
     return count;

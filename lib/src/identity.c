@@ -330,9 +330,14 @@ int roz_identity_read_fuel(const uint8_t *wasm, size_t len, uint64_t *fuel, char
             }
             for (unsigned i = 0; i < 8; i++)
                 units |= (uint64_t)wasm[p + 1 + i] << (8 * i);
-            if (units == 0 || (*fuel != 0 && units != *fuel)) {
+            /* 2^64 - 1 is ROZ_BUDGET_OFF: only the integrator runs a module
+             * unmetered (test_nn_budget_malformed) */
+            if (units == 0 || units == UINT64_MAX || (*fuel != 0 && units != *fuel)) {
                 ERR("custom section \"%s\" at offset %zu: %s", name, body,
-                    units == 0 ? "0 units declared" : "two different declarations");
+                    units == 0            ? "0 units declared"
+                    : units == UINT64_MAX ? "18446744073709551615 units declared (the budget "
+                                            "'off': a module cannot declare itself unmetered)"
+                                          : "two different declarations");
                 goto refused;
             }
             *fuel = units;

@@ -857,6 +857,56 @@ static inline float roz_math_reluf(float x)
     return x < 0.0f ? 0.0f : x;
 }
 
+/* ---- the nn imports' rule for tiny numbers ------------------------------------- */
+
+/* The nn imports (roz/abi.h) and roz_nn.h's native loops read every float32
+ * of magnitude below 2^-51 (the subnormals among them) as zero of its sign,
+ * and nn.act's exp and sigmoid give +0 wherever their result would be
+ * subnormal (x below ROZ_MATH_NN_EXP_MIN). So no float operation of theirs
+ * ever takes or makes a subnormal number (the slow path of many CPUs): a
+ * product of two numbers of 2^-51 or more is 2^-102 or more, a multiple of
+ * 2^-126 as every sum of such numbers is, and a nonzero multiple of 2^-126
+ * is a normal float. The rest is plain float arithmetic, the same bits on
+ * every target (test/nn/test_nn_abi.c, test_nn_tiny_numbers). */
+#define ROZ_MATH_NN_TINY_BITS 0x26000000u       /**< 2^-51, as float32 bits */
+#define ROZ_MATH_NN_EXP_MIN   (-0x1.5d589ep+6f) /**< exp, sigmoid: below, +0 */
+
+typedef union roz__math_bits_f32 {
+    float        f;
+    unsigned int u;
+} roz__math_bits_f32_t;
+
+typedef char roz__math_check_f32[sizeof(unsigned int) == 4 && sizeof(float) == 4 ? 1 : -1];
+
+/** @brief x as the nn imports read it: zero of its sign below 2^-51. */
+static inline float roz_math_nn_inputf(float x)
+{
+    roz__math_bits_f32_t b;
+    b.f = x;
+    if ((b.u & 0x7FFFFFFFu) < ROZ_MATH_NN_TINY_BITS)
+        b.u &= 0x80000000u;
+    return b.f;
+}
+
+/** @brief One element of nn.act: kind 0 relu, 1 tanh, 2 sigmoid, 3 elu,
+ *  4 exp (roz/abi.h's roz_abi_nn_act_t), on roz_math_nn_inputf(x). */
+static inline float roz_math_nn_actf(int kind, float x)
+{
+    x = roz_math_nn_inputf(x);
+    switch (kind) {
+    case 0:
+        return roz_math_reluf(x);
+    case 1:
+        return roz_math_tanhf(x);
+    case 2:
+        return x < ROZ_MATH_NN_EXP_MIN ? 0.0f : roz_math_sigmoidf(x);
+    case 3:
+        return roz_math_eluf(x);
+    default:
+        return x < ROZ_MATH_NN_EXP_MIN ? 0.0f : roz_math_expf(x);
+    }
+}
+
 #ifdef __cplusplus
 }
 #endif

@@ -19,12 +19,12 @@
  * (not for wasm32), the two imports are the plain loops below, which give
  * those same bits when compiled with -ffp-contract=off: a C reference for
  * tests and benchmarks. ROZ_NN_NO_IMPORTS compiles those loops into a
- * wasm32 module too (for comparison: about 17 times the fuel).
+ * wasm32 module too (for comparison: about 33 times the fuel).
  *
  * Fuel: one unit per multiply-add and 2 per output row (nn.matvec), 24 per
  * tanh/sigmoid/ELU/exp element and 2 per ReLU (nn.act), plus the wasm the
  * layer runs itself: the G1 policy (47 -> LSTM 64 -> 32 ELU -> 12) costs
- * about 47,000 units an inference (bench/nn; 590,000 as plain wasm).
+ * about 47,000 units an inference (bench/nn; 1,540,000 as plain wasm).
  */
 #ifndef ROZ_NN_H
 #define ROZ_NN_H
@@ -60,7 +60,7 @@ int roz_nn_matvec(const float *w, const float *x, const float *b, float *y, int 
 ROZ_IMPORT("nn", "act") int roz_nn_act(int kind, float *v, int count);
 #else
 /* The host's imports as plain C: each output in the order roz/abi.h
- * defines. */
+ * defines, each value read as roz_math_nn_inputf() reads it. */
 static inline int roz_nn_matvec(const float *w, const float *x, const float *b, float *y,
                                 int rows, int cols, int flags)
 {
@@ -69,10 +69,10 @@ static inline int roz_nn_matvec(const float *w, const float *x, const float *b, 
     for (int i = 0; i < rows; i++) {
         float s = 0.0f;
         for (int j = 0; j < cols; j++)
-            s = s + w[(long)i * cols + j] * x[j];
+            s = s + roz_math_nn_inputf(w[(long)i * cols + j]) * roz_math_nn_inputf(x[j]);
         if (flags & ROZ_NN_BIAS)
-            s = s + b[i];
-        y[i] = (flags & ROZ_NN_ACCUMULATE) ? y[i] + s : s;
+            s = s + roz_math_nn_inputf(b[i]);
+        y[i] = (flags & ROZ_NN_ACCUMULATE) ? roz_math_nn_inputf(y[i]) + s : s;
     }
     return 0;
 }
@@ -81,14 +81,8 @@ static inline int roz_nn_act(int kind, float *v, int count)
 {
     if (kind < ROZ_NN_RELU || kind > ROZ_NN_EXP || count < 0)
         return -1;
-    for (int i = 0; i < count; i++) {
-        float x = v[i];
-        v[i] = kind == ROZ_NN_RELU      ? roz_math_reluf(x)
-               : kind == ROZ_NN_TANH    ? roz_math_tanhf(x)
-               : kind == ROZ_NN_SIGMOID ? roz_math_sigmoidf(x)
-               : kind == ROZ_NN_ELU     ? roz_math_eluf(x)
-                                        : roz_math_expf(x);
-    }
+    for (int i = 0; i < count; i++)
+        v[i] = roz_math_nn_actf(kind, v[i]);
     return count;
 }
 #endif

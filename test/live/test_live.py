@@ -365,6 +365,35 @@ def test_viewer_that_went_away_ends_the_stream_not_the_run(tmp_path):
     assert "(2000 ticks, none dropped)" in summary_line(p.stdout, "recording")
 
 
+def test_viewers_are_capped(tmp_path):
+    """At most MAX_VIEWERS (8) connections at a time, idle ones included (the
+    server holds about 190 KB for each): the ninth is closed at once, and a
+    slot freed takes a viewer again. Counted by what the viewers get, never
+    by time."""
+    viewers = 8  # tools/live.py's MAX_VIEWERS, as docs/live.md says
+    v = Viewer(tmp_path / "cap.live")
+    try:
+        held = [StrictClient(v.port) for _ in range(viewers)]
+        for c in held:
+            assert c.ws.recv(timeout=30)  # serverInfo: each one served
+        with pytest.raises(Exception):  # noqa: B017 - refused, however the client says it
+            StrictClient(v.port)
+        held.pop()._conn.__exit__(None, None, None)
+        for _ in range(100):  # the freed slot: the relay sees the close
+            try:
+                again = StrictClient(v.port)
+                break
+            except Exception:  # noqa: BLE001
+                time.sleep(0.05)
+        else:
+            pytest.fail("a freed slot never took a viewer again")
+        assert again.ws.recv(timeout=30)
+        for c in held + [again]:
+            c._conn.__exit__(None, None, None)
+    finally:
+        v.stop()
+
+
 def test_fifo_without_a_reader_is_refused(tmp_path):
     fifo = tmp_path / "nobody.live"
     os.mkfifo(fifo)

@@ -6,9 +6,12 @@
  * (pointers past the memory, wrap-around, huge and negative counts, y
  * overlapping an input, unknown flags and kinds, no memory) are refused
  * without writing a byte, and counted; under wasm3 the work is charged as
- * fuel before it runs, so a budget stops a flood. */
+ * fuel before it runs, so a budget stops a flood. Tiny numbers follow
+ * roz_math.h's rule: no float operation of the imports takes or makes a
+ * subnormal number (the slow path), on any input. */
 /* white-box: this test reads the private fields of the module it tests */
 #define ROZ_PRIVATE_ACCESS
+#include <fenv.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,6 +21,9 @@
 #include <string.h>
 
 #include <cmocka.h>
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
 
 #include "roz/abi.h"
 #include "roz/controller.h"
@@ -73,6 +79,12 @@ static int setup(void **st)
     return 0;
 }
 
+/* a value as the imports read it (roz_math_nn_inputf) */
+static float in(uint32_t at)
+{
+    return roz_math_nn_inputf(get(at));
+}
+
 /* The reference: roz/abi.h's loop, one row at a time. */
 static void ref_matvec(uint32_t w, uint32_t x, uint32_t b, uint32_t y, int rows, int cols,
                        int flags, float *out)
@@ -80,10 +92,10 @@ static void ref_matvec(uint32_t w, uint32_t x, uint32_t b, uint32_t y, int rows,
     for (int i = 0; i < rows; i++) {
         float s = 0.0f;
         for (int j = 0; j < cols; j++)
-            s = s + get(w + 4u * (uint32_t)(i * cols + j)) * get(x + 4u * (uint32_t)j);
+            s = s + in(w + 4u * (uint32_t)(i * cols + j)) * in(x + 4u * (uint32_t)j);
         if (flags & ROZ_ABI_NN_BIAS)
-            s = s + get(b + 4u * (uint32_t)i);
-        out[i] = (flags & ROZ_ABI_NN_ACCUMULATE) ? get(y + 4u * (uint32_t)i) + s : s;
+            s = s + in(b + 4u * (uint32_t)i);
+        out[i] = (flags & ROZ_ABI_NN_ACCUMULATE) ? in(y + 4u * (uint32_t)i) + s : s;
     }
 }
 
@@ -139,7 +151,9 @@ static void test_nn_act_equals_roz_math(void **st)
         for (uint32_t k = 0; k < 4000; k += 4) {
             float x, got = get(k + 1), want;
             memcpy(&x, before + k + 1, 4);
-            want = fn[kind](x);
+            want = fn[kind](roz_math_nn_inputf(x));
+            if (want != 0.0f && fabsf(want) < 0x1p-126f) /* exp, sigmoid */
+                want = 0.0f;
             assert_memory_equal(&got, &want, 4);
         }
     }
@@ -155,6 +169,114 @@ static void test_nn_act_equals_roz_math(void **st)
         memcpy(&got, mem + 8, 4);
         assert_int_equal(got, nan_bits);
     }
+}
+
+/* 1 when a float operation since the last call took or made a subnormal
+ * number: the underflow flag, and on x86 its denormal-operand flag. */
+static void fp_flags_clear(void)
+{
+    feclearexcept(FE_ALL_EXCEPT);
+#if defined(__SSE2__)
+    _mm_setcsr(_mm_getcsr() & ~0x3Fu);
+#endif
+}
+
+static int fp_flags_subnormal(void)
+{
+    int hit = fetestexcept(FE_UNDERFLOW) != 0;
+#if defined(__SSE2__)
+    hit |= (_mm_getcsr() & 0x12u) != 0; /* DE, UE */
+#endif
+    return hit;
+}
+
+static int is_subnormal(float f)
+{
+    return f != 0.0f && fabsf(f) < 0x1p-126f;
+}
+
+/* Tiny numbers: read as zero below 2^-51, no subnormal result, no float
+ * operation on or to a subnormal (the slow path that made a 1 x 88,000
+ * call of 1e-20 cost 65 times its fuel); NaN, infinities and the signs of
+ * zeros as plain float arithmetic gives them. */
+static void test_nn_tiny_numbers(void **st)
+{
+    static const float pick[] = { 1e-20f, -1e-20f, 3e-39f, -1e-45f, 0x1p-51f, -0x1p-51f,
+                                  0x1.fffffep-52f, 0x1p-63f, 1e-30f, 0x1.8p-126f, -0x1p-126f,
+                                  0x1p-50f, 0.5f, -2.0f, 0.0f, -0.0f, INFINITY, NAN };
+    static float want[64];
+    (void)st;
+    /* the case: W and x at 1e-20, each product 1e-40 */
+    for (uint32_t k = 0; k < 4000; k += 4)
+        put(k, 1e-20f);
+    fp_flags_clear();
+    assert_int_equal(roz_abi_nn_matvec(&abi, mem, MEM, 0, 2000, 0, 8000, 1, 500, 0), 0);
+    assert_false(fp_flags_subnormal());
+    assert_true(get(8000) == 0.0f && !signbit(get(8000)));
+    /* a row of 2^-51 times 2^-51: each product 2^-102, kept */
+    for (uint32_t k = 0; k < 4000; k += 4)
+        put(k, 0x1p-51f);
+    assert_int_equal(roz_abi_nn_matvec(&abi, mem, MEM, 0, 2000, 0, 8000, 1, 500, 0), 0);
+    assert_true(get(8000) == 500.0f * 0x1p-102f);
+    /* every mix of them, every shape and flag, against the reference, flags
+     * clear and no subnormal out */
+    for (int round = 0; round < 400; round++) {
+        int rows = 1 + (int)(next32() % 20), cols = 1 + (int)(next32() % 40);
+        int flags = (int)(next32() % 4);
+        uint32_t w = 0, x = 4u * (uint32_t)(rows * cols), b = x + 4u * (uint32_t)cols;
+        uint32_t y = b + 4u * (uint32_t)rows;
+        for (uint32_t k = 0; k < y + 4u * (uint32_t)rows; k += 4) {
+            uint32_t r = next32();
+            put(k, r % 3 == 0 ? rand_float() : pick[r % (sizeof pick / sizeof pick[0])]);
+        }
+        ref_matvec(w, x, b, y, rows, cols, flags, want);
+        fp_flags_clear();
+        assert_int_equal(roz_abi_nn_matvec(&abi, mem, MEM, w, x, b, y, rows, cols, flags), 0);
+        assert_false(fp_flags_subnormal());
+        for (int i = 0; i < rows; i++) {
+            float got = get(y + 4u * (uint32_t)i);
+            assert_false(is_subnormal(got));
+            if (isnan(want[i]) ? !isnan(got) : memcmp(&got, &want[i], 4) != 0)
+                fail_msg("rows %d cols %d flags %d: y[%d] = %a, reference %a", rows, cols,
+                         flags, i, (double)got, (double)want[i]);
+        }
+    }
+    /* activations: tiny inputs, and exp and sigmoid where the result would
+     * be subnormal (below ROZ_MATH_NN_EXP_MIN), +0 */
+    for (int kind = 0; kind < ROZ_ABI_NN_ACT_COUNT; kind++) {
+        for (uint32_t k = 0; k < 64; k++) {
+            uint32_t r = next32();
+            put(4u * k, r % 2 ? pick[r % (sizeof pick / sizeof pick[0])]
+                              : -87.0f - (float)(r % 1000) * 0.017f);
+        }
+        fp_flags_clear();
+        assert_int_equal(roz_abi_nn_act(&abi, mem, MEM, kind, 0, 64), 64);
+        assert_false(fp_flags_subnormal());
+        for (uint32_t k = 0; k < 64; k++)
+            assert_false(is_subnormal(get(4u * k)));
+    }
+    put(0, -87.5f);
+    put(4, ROZ_MATH_NN_EXP_MIN);
+    put(8, nextafterf(ROZ_MATH_NN_EXP_MIN, -INFINITY));
+    assert_int_equal(roz_abi_nn_act(&abi, mem, MEM, ROZ_ABI_NN_EXP, 0, 3), 3);
+    assert_true(get(0) == 0.0f && get(4) >= 0x1p-126f && get(8) == 0.0f);
+    put(0, 3e-39f);
+    put(4, -1e-20f);
+    assert_int_equal(roz_abi_nn_act(&abi, mem, MEM, ROZ_ABI_NN_TANH, 0, 2), 2);
+    assert_true(get(0) == 0.0f && !signbit(get(0)) && get(4) == 0.0f && signbit(get(4)));
+}
+
+/* The threshold is the exact one: at and above it exp and sigmoid are
+ * normal, just below they are subnormal, for every float between -104 and
+ * -87 (where they are monotonic). */
+static void test_nn_exp_threshold(void **st)
+{
+    (void)st;
+    for (float x = ROZ_MATH_NN_EXP_MIN; x > -87.0f; x = nextafterf(x, 0.0f))
+        assert_true(roz_math_expf(x) >= 0x1p-126f && roz_math_sigmoidf(x) >= 0x1p-126f);
+    for (float x = nextafterf(ROZ_MATH_NN_EXP_MIN, -INFINITY); x >= -104.0f;
+         x = nextafterf(x, -INFINITY))
+        assert_true(roz_math_expf(x) < 0x1p-126f && roz_math_sigmoidf(x) < 0x1p-126f);
 }
 
 /* Every refusal: -1, not a byte of the memory changed, one nn_refused. */
@@ -359,6 +481,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test_setup(test_nn_matvec_equals_plain_loop, setup),
         cmocka_unit_test_setup(test_nn_act_equals_roz_math, setup),
+        cmocka_unit_test_setup(test_nn_tiny_numbers, setup),
+        cmocka_unit_test(test_nn_exp_threshold),
         cmocka_unit_test_setup(test_nn_refusals, setup),
         cmocka_unit_test(test_nn_units),
         cmocka_unit_test_teardown(test_nn_wasm_refusals_and_fuel, teardown),

@@ -170,6 +170,17 @@ static void test_nn_budget_malformed(void **st)
     len = declare(declare(heavy_module(10), 10000), 10000);
     assert_int_equal(roz_runtime_load(&rt, wasm, len, &rep), ROZ_EINVAL);
     assert_non_null(strstr(roz_runtime_error(&rt), "two custom sections"));
+    /* 2^64 - 1 units is ROZ_BUDGET_OFF: a module never declares itself
+     * unmetered, not even without a ceiling (rozrun --fuel-max off) */
+    roz_runtime_deinit(&rt);
+    start(ROZ_BUDGET_OFF);
+    len = declare(heavy_module(10), UINT64_MAX);
+    assert_int_equal(roz_runtime_load(&rt, wasm, len, &rep), ROZ_EINVAL);
+    if (strstr(roz_runtime_error(&rt), "18446744073709551615 units declared") == NULL)
+        fail_msg("%s", roz_runtime_error(&rt));
+    len = declare(heavy_module(10), UINT64_MAX - 1);
+    assert_int_equal(roz_runtime_load(&rt, wasm, len, &rep), ROZ_OK);
+    assert_int_equal(rep.fuel_budget, UINT64_MAX - 1);
 }
 
 #if ROZ_NN_HAVE_POLICY

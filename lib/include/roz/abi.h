@@ -238,7 +238,10 @@ typedef enum roz_abi_nn_act {
  * multiply-add: s = 0; s = s + W[i,j] * x[j] for j = 0, 1, ..., cols - 1;
  * s = s + b[i] (BIAS); y[i] = y[i] + s (ACCUMULATE) or s. Outputs are
  * computed side by side, never a sum reordered, so the result is the same
- * bits on every target and equal to that plain loop.
+ * bits on every target and equal to that plain loop. Every value read
+ * (W, x, b, y) is first roz_math_nn_inputf()'s (roz_math.h): zero of its
+ * sign below 2^-51, subnormals included, so that no product or sum is ever
+ * subnormal (a CPU's slow path, which fuel would not bound).
  * @retval 0   done
  * @retval -1  refused, nothing written (counted as nn_refused): rows or
  *             cols negative, flags unknown, W (4 rows cols bytes), x, b
@@ -251,7 +254,9 @@ int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t
 
 /**
  * @brief nn.act (i32 kind, i32 ptr, i32 count) -> i32: v[i] = f(v[i]) for
- *        the count float32 values at ptr, f the kind's (roz_abi_nn_act_t).
+ *        the count float32 values at ptr, f the kind's (roz_abi_nn_act_t),
+ *        as roz_math_nn_actf(): each value read as nn.matvec reads it, and
+ *        exp and sigmoid +0 where their result would be subnormal.
  * @retval count  done
  * @retval -1     refused, nothing written (nn_refused): unknown kind, count
  *                negative, the range outside the memory, or no memory

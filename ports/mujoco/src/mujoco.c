@@ -16,6 +16,7 @@
 #include "roz/error.h"
 #include "roz/format.h"
 #include "roz/hal/params.h"
+#include "mjcf_scan.h"
 
 /* ---- types and tables --------------------------------------------------------- */
 
@@ -965,6 +966,13 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         s->n_joints = jn.n;
     }
 
+    /* its include tree within rozgen's limits before MuJoCo reads it */
+    char why[ROZ_MUJOCO_PATH_MAX + 160];
+    if (roz__mjcf_scan(s->model_path, why, sizeof why) != ROZ_OK) {
+        roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
+                   s->model_path, why);
+        return ROZ_EINVAL;
+    }
     /* parse, make it roz's, compile: the heap's busiest moments, all here */
     mjSpec *spec = mj_parseXML(s->model_path, NULL, mjerr, sizeof mjerr);
     if (spec == NULL) {

@@ -123,6 +123,56 @@ static void test_mujoco_refusals(void **state)
     expect_refused(m, f, "delay", "K@FROM:TO", 1, "delay=99@0:10");
 }
 
+/* The model's includes within rozgen's limits, checked before MuJoCo reads
+ * them (fifteen files each including the next four times once grew MuJoCo
+ * to 4 GB and std::bad_alloc; /dev/zero was read until memory ran out). */
+static void write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static void test_mujoco_include_bounds(void **state)
+{
+    char dir[] = "/tmp/roz_mjcf_XXXXXX", path[256], text[512], param[300];
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *f = mj.robot_file;
+    assert_non_null(mkdtemp(dir));
+    for (int k = 0; k < 15; k++) {
+        char inc[200] = "<body/>";
+        if (k < 14)
+            snprintf(inc, sizeof inc, "<!-- <include file=\"x.xml\"/> -->"
+                     "%s<include file=\"f%d.xml\"/><include file='f%d.xml' />"
+                     "<include\n file=\"f%d.xml\"/><include file=\"f%d.xml\"/>", "", k + 1,
+                     k + 1, k + 1, k + 1);
+        snprintf(path, sizeof path, "%s/f%d.xml", dir, k);
+        snprintf(text, sizeof text, "<mujoco><worldbody>%s</worldbody></mujoco>", inc);
+        write_file(path, text);
+    }
+    snprintf(param, sizeof param, "model=%s/f0.xml", dir);
+    expect_refused(m, f, "more than 256 includes in all", "f0.xml", 1, param);
+    snprintf(path, sizeof path, "%s/zero.xml", dir);
+    write_file(path, "<mujoco><include file=\"/dev/zero\"/></mujoco>");
+    snprintf(param, sizeof param, "model=%s", path);
+    expect_refused(m, f, "<include file=\"/dev/zero\">: not a regular file", NULL, 1, param);
+    snprintf(path, sizeof path, "%s/loop.xml", dir);
+    write_file(path, "<mujoco><include file=\"loop.xml\"/></mujoco>");
+    snprintf(param, sizeof param, "model=%s", path);
+    expect_refused(m, f, "includes nested more than 16 deep", NULL, 1, param);
+    for (int k = 0; k < 15; k++) {
+        snprintf(path, sizeof path, "%s/f%d.xml", dir, k);
+        remove(path);
+    }
+    snprintf(path, sizeof path, "%s/zero.xml", dir);
+    remove(path);
+    snprintf(path, sizeof path, "%s/loop.xml", dir);
+    remove(path);
+    remove(dir);
+}
+
 static void test_mujoco_refuses_effort_beyond_the_actuator(void **state)
 {
     (void)state;
@@ -408,6 +458,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_refusals),
+        cmocka_unit_test(test_mujoco_include_bounds),
         cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
         cmocka_unit_test(test_mujoco_pendulum_law),
         cmocka_unit_test(test_mujoco_g1_imu_and_faults),

@@ -4,7 +4,8 @@
 //! refusals (nothing written, counted), each output row summed in the same
 //! order (float32, a product then a sum, never fused), and the activations
 //! of sdk/include/roz_math.h restated (double arithmetic, rounded once to
-//! float), so that the results are roz's bit for bit.
+//! float), every value read by roz_math.h's rule for tiny numbers, so that
+//! the results are roz's bit for bit.
 
 use crate::Abi;
 
@@ -125,8 +126,33 @@ fn overlap(a: u32, an: u64, b: u32, bn: u64) -> bool {
     an != 0 && bn != 0 && (a as u64) < b as u64 + bn && (b as u64) < a as u64 + an
 }
 
+/// A value as the imports read it (roz_math.h, roz_math_nn_inputf): zero
+/// of its sign below 2^-51, subnormals included.
 fn ld(mem: &[u8], at: usize) -> f32 {
-    f32::from_le_bytes(mem[at..at + 4].try_into().unwrap())
+    let u = u32::from_le_bytes(mem[at..at + 4].try_into().unwrap());
+    f32::from_bits(if u & 0x7fff_ffff < 0x2600_0000 { u & 0x8000_0000 } else { u })
+}
+
+/// ROZ_MATH_NN_EXP_MIN (-0x1.5d589ep+6): exp and sigmoid below it are +0
+/// (their result would be subnormal).
+fn exp_min() -> f32 {
+    f32::from_bits(0xc2ae_ac4f)
+}
+
+fn nn_sigmoidf(x: f32) -> f32 {
+    if x < exp_min() {
+        0.0
+    } else {
+        sigmoidf(x)
+    }
+}
+
+fn nn_expf(x: f32) -> f32 {
+    if x < exp_min() {
+        0.0
+    } else {
+        expf(x)
+    }
 }
 
 fn st(mem: &mut [u8], at: usize, v: f32) {
@@ -188,9 +214,9 @@ impl Abi {
         let f: fn(f32) -> f32 = match kind {
             0 => reluf,
             1 => tanhf,
-            2 => sigmoidf,
+            2 => nn_sigmoidf,
             3 => eluf,
-            _ => expf,
+            _ => nn_expf,
         };
         for i in 0..count as usize {
             let at = ptr as usize + 4 * i;
