@@ -21,6 +21,7 @@ import io
 import json
 import os
 import zipfile
+import zlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -240,8 +241,11 @@ def read_npz_arrays(path: str) -> dict:
             if total > NPZ_LIMITS["total bytes"]:
                 raise ValueError(f"{path}: over the limit of {NPZ_LIMITS['total bytes']} bytes "
                                  "of arrays")
-            with z.open(info) as f:
-                data = f.read(info.file_size + 1)
+            try:
+                with z.open(info) as f:
+                    data = f.read(info.file_size + 1)
+            except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as e:
+                raise ValueError(f"{path}: '{name[:60]}' is corrupt ({e})") from None
             if len(data) != info.file_size:
                 raise ValueError(f"{path}: '{name[:60]}' inflates to more or less than the "
                                  f"{info.file_size} bytes it declares")

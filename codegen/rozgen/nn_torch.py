@@ -25,6 +25,7 @@ import collections
 import io
 import pickle
 import zipfile
+import zlib
 
 import numpy as np
 
@@ -257,8 +258,11 @@ def read_archive(path: str):
                 if size > LIMITS["code bytes"]:
                     raise ValueError(f"{path}: more than {LIMITS['code bytes']} bytes of code: "
                                      "over the limit of code bytes")
-                code[n[len(root) + 6:]] = _read_capped(
-                    z, n, z.getinfo(n).file_size).decode("utf-8", "replace")
+                try:
+                    text = _read_capped(z, n, z.getinfo(n).file_size)
+                except ValueError as e:
+                    raise ValueError(f"{path}: {e}") from None
+                code[n[len(root) + 6:]] = text.decode("utf-8", "replace")
     out = _flatten(obj, path)
     if not out:
         raise ValueError(f"{path}: no tensors")
@@ -269,8 +273,11 @@ def read_archive(path: str):
 def _read_capped(z: zipfile.ZipFile, name: str, size: int) -> bytes:
     """A member's bytes, inflating no more than its declared @p size (a
     deflate bomb that lies about its size stops there)."""
-    with z.open(name) as f:
-        data = f.read(size + 1)
+    try:
+        with z.open(name) as f:
+            data = f.read(size + 1)
+    except (zipfile.BadZipFile, zlib.error, EOFError, NotImplementedError) as e:
+        raise ValueError(f"{name}: corrupt ({e})") from None
     if len(data) != size:
         raise ValueError(f"{name}: {len(data)} bytes inflated, the archive declares {size}")
     return data
