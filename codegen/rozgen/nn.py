@@ -302,17 +302,13 @@ def main(argv=None) -> int:
             layers = read_npz(a.spec, a.weights)
             text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
         elif a.cmd == "pt":
-            from . import nn_export
-            if a.spec is None:
-                layers = nn_export.read_torchscript_layers(a.weights)
-                text = header(layers, a.name, f"{os.path.basename(a.weights)} (its code/)")
-            else:
-                tensors = nn_export.read_torchscript(a.weights)
-                layers = nn_export.layers_from_tensors(tensors, a.spec, a.weights)
-                text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+            from . import nn_export  # the reader follows the file's bytes, not its suffix
+            layers = nn_export.read_policy(a.weights, a.spec).layers
+            text = header(layers, a.name, f"{os.path.basename(a.weights)} "
+                          + ("(its code/)" if a.spec is None else f"as '{a.spec}'"))
         else:
             from . import nn_export
-            layers = nn_export.read_onnx(a.weights)
+            layers = nn_export.read_policy(a.weights).layers
             text = header(layers, a.name, os.path.basename(a.weights))
         a.seed = getattr(a, "seed", 1)
     except (ValueError, KeyError, IndexError, OSError) as e:

@@ -20,6 +20,7 @@ import hashlib
 import io
 import json
 import os
+import struct
 import zipfile
 import zlib
 from dataclasses import dataclass, field
@@ -82,6 +83,19 @@ def read_policy(path: str, spec: str | None = None) -> Policy:
         raise ValueError(f"{path}: {size} bytes: over the limit of {256 << 20} file bytes")
     with open(path, "rb") as f:
         raw = f.read()
+    try:
+        return _read(path, raw, head, spec)
+    except ValueError as e:  # UnicodeDecodeError from a zip's names, among others
+        if str(e).startswith(f"{path}: "):
+            raise
+        raise ValueError(f"{path}: malformed ({str(e)[:120]})") from None
+    except (KeyError, IndexError, TypeError, AttributeError, OverflowError, RecursionError,
+            MemoryError, zipfile.BadZipFile, EOFError, NotImplementedError, zlib.error,
+            struct.error) as e:  # a file malformed past the rules
+        raise ValueError(f"{path}: malformed ({type(e).__name__}: {str(e)[:80]})") from None
+
+
+def _read(path: str, raw: bytes, head: bytes, spec: str | None) -> Policy:
     sha = hashlib.sha256(raw).hexdigest()
     metadata: dict = {}
     if head[:4] == b"PK\x03\x04":

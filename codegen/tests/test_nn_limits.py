@@ -279,3 +279,24 @@ def test_onnx_counts_bounded(tmp_path):
     (tmp_path / "junk.onnx").write_bytes(b"\x0a\xff\xff\xff\xff\x0f")
     with pytest.raises(ValueError, match="junk.onnx: not an ONNX model"):
         nn_export.read_onnx(str(tmp_path / "junk.onnx"))
+
+
+@pytest.mark.parametrize("name", ["lstm_exporter.pt", "mlp_state.pt", "gru.onnx", "mlp.onnx"])
+def test_mutated_files_refused_cleanly(tmp_path, name):
+    """Files torch wrote, with bytes flipped at random: each read either
+    succeeds or ends in a ValueError naming the file, never another
+    exception."""
+    from conftest import DATA
+    raw = (DATA / "nn" / name).read_bytes()
+    rng = np.random.default_rng(11)
+    p = tmp_path / name
+    spec = "dense:7:16:elu,dense:16:8:relu,dense:8:4" if name == "mlp_state.pt" else None
+    for _ in range(60):
+        b = bytearray(raw)
+        for at in rng.integers(0, len(b), size=int(rng.integers(1, 8))):
+            b[at] = int(rng.integers(0, 256))
+        p.write_bytes(bytes(b))
+        try:
+            nn_export.read_policy(str(p), spec)
+        except ValueError as e:
+            assert str(p) in str(e)
