@@ -48,7 +48,10 @@ LIMITS = {
 }
 
 _STORAGE_DTYPES = {"FloatStorage": np.float32, "DoubleStorage": np.float64,
-                   "HalfStorage": np.float16, "BFloat16Storage": None}
+                   "HalfStorage": np.float16, "BFloat16Storage": None,
+                   # counters a module may hold (a normalizer's count): read, so that
+                   # the module is refused by what it does, not by its storage type
+                   "LongStorage": np.int64, "IntStorage": np.int32}
 #: torch.jit._pickle's list builders: they return their argument
 _JIT_LISTS = {"build_intlist", "build_doublelist", "build_boollist", "build_tensorlist",
               "build_complexlist"}
@@ -497,11 +500,11 @@ class _Walk:
         if self.depth > LIMITS["module depth"]:
             self.refuse(c, f"calls nested deeper than {LIMITS['module depth']} (module depth "
                            "limit)")
-        params = [a.arg for a in fn.args.args][1:]
-        if len(args) > len(params):
-            self.refuse(c, f"{len(args)} arguments to {method}, which takes {len(params)}")
-        env = {"self": mod}
-        env.update(dict(zip(params, args)))
+        params = [a.arg for a in fn.args.args]
+        if not params or len(args) > len(params) - 1:
+            self.refuse(c, f"{len(args)} arguments to {method}, which takes {len(params) - 1}")
+        env = {params[0]: mod, "$self": mod}  # the receiver, whatever the code names it
+        env.update(dict(zip(params[1:], args)))
         out = self.body(fn, env, c)
         self.depth -= 1
         return out
@@ -595,6 +598,9 @@ class _Walk:
         d = depth + 1
         if isinstance(node, ast.Name):
             return env.get(node.id)
+        if isinstance(node, ast.Attribute) and (_dotted(node) or "").startswith(
+                ("torch.", "__torch__.", "ops.")):
+            return ("fn", _dotted(node))  # _0 = __torch__.torch.nn.functional.dropout
         if isinstance(node, ast.Constant) or (isinstance(node, ast.UnaryOp)
                                               and isinstance(node.operand, ast.Constant)):
             return None  # an argument: 0, -1, 1.
@@ -634,6 +640,9 @@ class _Walk:
     def call_expr(self, node, env, c, d):
         fn = node.func
         name = _dotted(fn) or ""
+        if isinstance(fn, ast.Name) and (env.get(fn.id) or ("",))[0] == "fn":
+            name = env[fn.id][1]  # a function bound to a name first, then called
+            fn = ast.parse(name, mode="eval").body
         if name == "getattr" and len(node.args) == 2 and isinstance(node.args[1], ast.Constant):
             base = self.expr(node.args[0], env, c, d)
             got = self.attr(base, str(node.args[1].value))
@@ -681,7 +690,7 @@ class _Walk:
                                    for a in node.args[1:2]):
                 self.refuse(c, f"operator {name} with alpha {_text(node.args[1])} (roz_nn.h's "
                                "ELU has alpha 1)")
-            self.ops.append(("act", env["self"][1], _TS_ACTS[op]))
+            self.ops.append(("act", env["$self"][1], _TS_ACTS[op]))
             return self._new_data()
         self.refuse(c, f"operator {name or _text(fn)} is not one roz_nn.h runs (Linear, LSTM, "
                        f"GRU modules; {', '.join(_TS_ACTS)}; shape-only operators)")

@@ -475,3 +475,20 @@ def test_onnx_refusals(tmp_path):
     onnx.save(m, tmp_path / "ext.onnx")
     with pytest.raises(ValueError, match="external data"):
         nn_export.read_onnx(str(tmp_path / "ext.onnx"))
+
+
+def test_torchscript_receiver_and_aliases(tmp_path):
+    """The receiver keeps the name the user's code gave it (`s`, not
+    `self`), and a function bound to a name before it is called is
+    refused by the function's own name."""
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    renamed = _POLICY.replace("forward(self:", "forward(s:").replace("self.", "s.")
+    write_pt(p, ref, code=_code(policy=renamed))
+    assert [l.kind for l in nn_export.read_torchscript_layers(str(p))] == ["lstm", "dense", "dense"]
+    alias = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                            "_9 = __torch__.torch.nn.functional.dropout\n"
+                            "    return (actor).forward(_9(out, 0.1, False, False), )")
+    write_pt(p, ref, code=_code(policy=alias))
+    with pytest.raises(ValueError, match="operator __torch__.torch.nn.functional.dropout is not"):
+        nn_export.read_torchscript_layers(str(p))
