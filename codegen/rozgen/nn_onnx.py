@@ -145,18 +145,24 @@ def read_onnx_model(model, path: str) -> list[Layer]:
         return None
 
     attrs = lambda nd: {a.name: onnx.helper.get_attribute_value(a) for a in nd.attribute}  # noqa
+    shapes = _shapes(model)
     inputs = [i.name for i in g.input if i.name not in init]
     outputs = [o.name for o in g.output]
     # kinds of values: ("data", version) | ("meta",) | ("const",) |
     # ("state_in", name) | ("state_out", layer, slot)
     kind: dict = {n: ("const",) for n in init}
     state_in = set()
-    # the state inputs are the ones that feed a recurrent layer's initial state
+    # the state inputs are the ones that feed a recurrent layer's initial state,
+    # directly or through operators that keep its values (torch's dynamo export
+    # slices h_in[0:1] first)
+    origin = {n: n for n in inputs}
     for nd in g.node:
+        if nd.op_type in _NOOPS | {"Slice"} and nd.input and nd.input[0] in origin:
+            origin[nd.output[0]] = origin[nd.input[0]]
         if nd.op_type in ("LSTM", "GRU"):
             for i in range(5, min(len(nd.input), 7)):
-                if nd.input[i] in inputs:
-                    state_in.add(nd.input[i])
+                if nd.input[i] in origin:
+                    state_in.add(origin[nd.input[i]])
     data_in = [n for n in inputs if n not in state_in]
     if len(data_in) != 1:
         raise ValueError(f"{path}: {len(data_in)} data inputs ({', '.join(data_in)[:80]}); "
@@ -169,6 +175,31 @@ def read_onnx_model(model, path: str) -> list[Layer]:
     pending = [None]  # a MatMul's layer waiting for its Add
     state_of: dict = {}  # layer index -> [state input names or None]
     state_out: dict = {}  # output name -> (layer, slot)
+
+    def flat(name):
+        """True when @p name's inferred shape has at most one dimension
+        above 1, so that a Transpose keeps its values in order."""
+        dims = shapes.get(name)
+        return dims is not None and sum(1 for d in dims if d != 1) <= 1
+
+    def whole(nd):
+        """True when the Slice @p nd keeps all of its input (starts 0, ends
+        past every dimension, steps 1), by constants and the inferred shape."""
+        dims = shapes.get(nd.input[0])
+        if dims is None or len(nd.input) < 3:
+            return False
+        vals = [value_of(i, path) if i else None for i in nd.input[1:5]] + [None] * 4
+        starts, ends, axes, steps = vals[:4]
+        if starts is None or ends is None:
+            return False
+        axes = list(range(len(starts))) if axes is None else list(axes)
+        steps = [1] * len(starts) if steps is None else list(steps)
+        for st, en, ax, sp in zip(starts, ends, axes, steps):
+            if not -len(dims) <= ax < len(dims) or dims[ax] is None:
+                return False
+            if st != 0 or sp != 1 or en < dims[ax]:
+                return False
+        return True
 
     def new_data(out):
         version[0] += 1
@@ -212,11 +243,19 @@ def read_onnx_model(model, path: str) -> list[Layer]:
         if op == "Shape" and on_data:
             kind[nd.output[0]] = ("meta",)  # the data's shape: arithmetic on it never
             continue                         # reaches the data's values
+        on_state = bool(kinds) and kinds[0][0] == "state_in"
+        if not on_data and on_state and (op in _NOOPS or (op == "Slice" and whole(nd))):
+            kind[nd.output[0]] = kinds[0]  # the state, its values where they were
+            continue
         if not on_data:
             raise ValueError(f"{where}: operator {op} on the recurrent state or constants is not "
                              "one roz_nn.h runs")
         if len(layers) >= LIMITS["layers"]:
             raise ValueError(f"{path}: more than {LIMITS['layers']} layers: over the limit")
+        if op == "Transpose" and flat(nd.input[0]) or op == "Slice" and whole(nd):
+            take(nd, nd.input[0], where)  # values where they were: a no-op on one vector
+            kind[nd.output[0]] = kind[nd.input[0]]
+            continue
         if op in _NOOPS:
             take(nd, nd.input[0], where)
             if any(k[0] == "data" for k in kinds[1:]):
@@ -301,6 +340,24 @@ def read_onnx_model(model, path: str) -> list[Layer]:
             raise ValueError(f"{path}: layer {k_layer}: activation {l.act}")
     check(layers)
     return layers
+
+
+def _shapes(model) -> dict:
+    """Static shapes by value name, from onnx's shape inference (None for a
+    dimension it cannot fix); {} when inference fails."""
+    import onnx
+    try:
+        inferred = onnx.shape_inference.infer_shapes(model)
+    except Exception:  # a graph inference cannot follow: no shape is then known
+        return {}
+    out = {}
+    g = inferred.graph
+    for vi in list(g.input) + list(g.value_info) + list(g.output):
+        t = vi.type.tensor_type
+        if t.HasField("shape"):
+            out[vi.name] = [d.dim_value if d.HasField("dim_value") else None
+                            for d in t.shape.dim]
+    return out
 
 
 def _recurrent(nd, at, where, weight, value_of, kind, state_of, index) -> Layer:

@@ -522,7 +522,8 @@ class _Walk:
                         self.refuse(c_from, f"{path}: {key} {c.consts[key]} (roz_nn.h runs one "
                                             "layer, forward)")
         elif method != "forward":
-            self.refuse(c_from, f"{path}.{method}: only forward of a {_plain(c.name if c else kind)}")
+            what = _plain(c.name) if c is not None else kind
+            self.refuse(c_from, f"{path}.{method}: only forward of a {what}")
         if not args:
             self.refuse(c_from, f"{path or 'the root'}.{method} without an input")
         self._take(args[0], c_from, f"{path}.{method}")

@@ -139,7 +139,8 @@ def test_npz_bombs_refused_before_inflating(tmp_path):
     # a lie: declares 4 KiB, inflates to 8 MiB: the inflate stops at 4 KiB + 1
     p = _deflated_npz(tmp_path / "lie.npz", 8 << 20, declared=4096)
     assert (tmp_path / "lie.npz").stat().st_size < 64 << 10
-    with pytest.raises(ValueError, match="lie.npz: 'l0.weight.npy' (inflates to more or less|is corrupt)"):
+    with pytest.raises(ValueError,
+                       match="lie.npz: 'l0.weight.npy' (inflates to more or less|is corrupt)"):
         nn.read_npz("dense:4:4", p)
     # a header whose shape claims more than the bytes stored
     p = _deflated_npz(tmp_path / "shape.npz", 64)
@@ -223,17 +224,33 @@ def test_onnx_value_changing_operators_refused(tmp_path):
                                          r"roz_nn.h runs"):
         nn_export.read_policy(p)
     for op, extra, kw in (("Cast", [], {"to": TensorProto.FLOAT16}),
-                          ("Transpose", [], {"perm": [1, 0]}),
+                          ("Transpose", [], {"perm": [1, 0]}),  # on a 2 x 3 view below
                           ("Concat", ["a"], {"axis": 1}),
-                          ("Slice", ["st", "en"], {})):
+                          ("Slice", ["st", "en", "ax1"], {})):
+        view = op == "Transpose"  # a real transpose: of a 2 x 3 view, back to 1 x 6
         q = _graph([helper.make_node("MatMul", ["x", "w1"], ["m"]),
-                    helper.make_node("Add", ["m", "b1"], ["a"]),
-                    helper.make_node(op, ["a"] + extra, ["g"], **kw),
+                    helper.make_node("Add", ["m", "b1"], ["a0"]),
+                    helper.make_node("Reshape", ["a0", "s23" if view else "s16"], ["a"]),
+                    helper.make_node(op, ["a"] + extra, ["g0"], **kw),
+                    helper.make_node("Reshape", ["g0", "s16"], ["g"]),
                     helper.make_node("MatMul", ["g", "w2"], ["y"])],
-                   {**inits, "st": np.array([0], np.int64), "en": np.array([3], np.int64)},
+                   {**inits, "st": np.array([0], np.int64), "en": np.array([3], np.int64),
+                    "ax1": np.array([1], np.int64),
+                    "s23": np.array([2, 3], np.int64), "s16": np.array([1, 6], np.int64)},
                    tmp_path / f"{op}.onnx")
         with pytest.raises(ValueError, match=f"{op} '': (operator {op} is not one|the data)"):
             nn_export.read_onnx(q)
+    # a Transpose or a Slice that keeps every value where it was is no operator at all
+    for op, extra, kw in (("Transpose", [], {"perm": [1, 0]}), ("Slice", ["st", "en6"], {})):
+        q = _graph([helper.make_node("MatMul", ["x", "w1"], ["m"]),
+                    helper.make_node("Add", ["m", "b1"], ["a"]),
+                    helper.make_node(op, ["a"] + extra, ["g0"], **kw),
+                    helper.make_node("Reshape", ["g0", "s16"], ["g"]),
+                    helper.make_node("MatMul", ["g", "w2"], ["y"])],
+                   {**inits, "st": np.array([0, 0], np.int64), "en6": np.array([1, 6], np.int64),
+                    "s16": np.array([1, 6], np.int64)}, tmp_path / f"keep_{op}.onnx")
+        layers = nn_export.read_onnx(q)
+        assert np.allclose(nn.forward(layers, x), _ref(q, x), rtol=1e-5, atol=1e-6)
 
 
 def test_onnx_graph_followed_not_listed(tmp_path):

@@ -37,6 +37,10 @@ FILES = [
      [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
     ("gru.onnx", "gru_exporter", None,
      [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")]),
+    ("lstm_dynamo.onnx", "lstm_exporter", None,
+     [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
+    ("gru_dynamo.onnx", "gru_exporter", None,
+     [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")]),
 ]
 IDS = [f"{f}{'+spec' if s else ''}" for f, _, s, _ in FILES]
 
@@ -105,7 +109,9 @@ onnx = pytest.importorskip("onnx")
 
 
 @pytest.mark.parametrize("name,io", [("mlp.onnx", "mlp"), ("gru.onnx", "gru_exporter"),
-                                     ("lstm.onnx", "lstm_exporter")])
+                                     ("lstm.onnx", "lstm_exporter"),
+                                     ("gru_dynamo.onnx", "gru_exporter"),
+                                     ("lstm_dynamo.onnx", "lstm_exporter")])
 def test_onnx_files_against_onnx_reference(name, io):
     """Every ONNX file torch exported: onnx.reference's outputs (the state
     carried through h_in -> h_out) equal rozgen's numpy forward pass. An
@@ -114,7 +120,7 @@ def test_onnx_files_against_onnx_reference(name, io):
     from test_nn_export import run_reference
     ref = np.load(NN / f"{io}.io.npz")
     layers = nn_export.read_policy(str(NN / name)).layers
-    if name == "lstm.onnx":
+    if name.startswith("lstm"):
         from onnx.reference import ReferenceEvaluator
         x = ref["x"][:1]
         z = np.zeros((1, 1, 12), np.float32)

@@ -26,6 +26,10 @@ are those training stacks export:
                     as inputs and outputs (obs, h_in, c_in -> actions, h_out,
                     c_out), and mjlab's metadata_props (comma-separated
                     values, three decimals)
+  lstm_dynamo.onnx, gru_dynamo.onnx
+                    the same recurrent policies through torch.onnx.export's
+                    newer exporter (dynamo=True, opset 20, tensors inside the
+                    file), which slices the state and transposes the output
   <name>.io.npz     x: inputs (steps x n_in), y: torch's outputs, the state
                     carried from step to step
 """
@@ -165,7 +169,13 @@ def main() -> int:
     torch.onnx.export(gru_o, (torch.zeros(1, 5), torch.zeros(1, 1, 10)), out("gru.onnx"),
                       input_names=["obs", "h_in"], output_names=["actions", "h_out"], **kw)
     metadata(out("gru.onnx"), 2)
-    for n in ("lstm_exporter.pt", "gru_exporter.pt", "mlp.pt", "mlp_state.pt", "mlp.onnx",
+    dyn = dict(export_params=True, dynamo=True, external_data=False)
+    torch.onnx.export(lstm_o, (torch.zeros(1, 6), torch.zeros(1, 1, 12), torch.zeros(1, 1, 12)),
+                      out("lstm_dynamo.onnx"), input_names=["obs", "h_in", "c_in"],
+                      output_names=["actions", "h_out", "c_out"], **dyn)
+    torch.onnx.export(gru_o, (torch.zeros(1, 5), torch.zeros(1, 1, 10)), out("gru_dynamo.onnx"),
+                      input_names=["obs", "h_in"], output_names=["actions", "h_out"], **dyn)
+    for n in ("lstm_dynamo.onnx", "gru_dynamo.onnx", "lstm_exporter.pt", "gru_exporter.pt", "mlp.pt", "mlp_state.pt", "mlp.onnx",
               "lstm.onnx", "gru.onnx"):
         print(f"{n}: {os.path.getsize(out(n))} bytes")
     return 0
