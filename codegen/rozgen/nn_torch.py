@@ -465,9 +465,11 @@ class _Walk:
         self.stored: dict = {}       # buffer path -> (layer index, slot)
         self.calls = 0
         self.depth = 0
+        self.stack: list = []        # the methods being walked, innermost last
 
     def refuse(self, c: _Class | None, what: str):
-        name = f"code/{c.file}: {_plain(c.name)}.forward" if c is not None else "code/"
+        method = self.stack[-1] if self.stack else "forward"
+        name = f"code/{c.file}: {_plain(c.name)}.{method}" if c is not None else "code/"
         raise ValueError(f"{self.where}: {name}: {what}")
 
     def _new_data(self):
@@ -505,7 +507,9 @@ class _Walk:
             self.refuse(c, f"{len(args)} arguments to {method}, which takes {len(params) - 1}")
         env = {params[0]: mod, "$self": mod}  # the receiver, whatever the code names it
         env.update(dict(zip(params[1:], args)))
+        self.stack.append(method)
         out = self.body(fn, env, c)
+        self.stack.pop()
         self.depth -= 1
         return out
 
@@ -661,6 +665,12 @@ class _Walk:
             return self.call(recv, args, c, fn.attr)
         method = isinstance(fn, ast.Attribute) and not name.startswith(("torch.", "ops."))
         recv = self.expr(fn.value, env, c, d) if method else None
+        if recv is not None and recv[0] == "mod" and _OPAQUE.get(_plain(recv[2])) is None:
+            sub = self.classes.get(recv[2])
+            if sub is not None and fn.attr in sub.methods:  # a helper method of the module
+                if node.keywords:
+                    self.refuse(c, f"{fn.attr} with keyword arguments ({_text(node)})")
+                return self.call(recv, [self.expr(a, env, c, d) for a in node.args], c, fn.attr)
         args = [self.expr(a, env, c, d) for a in node.args]
         for k in node.keywords:
             self.expr(k.value, env, c, d)

@@ -492,3 +492,22 @@ def test_torchscript_receiver_and_aliases(tmp_path):
     write_pt(p, ref, code=_code(policy=alias))
     with pytest.raises(ValueError, match="operator __torch__.torch.nn.functional.dropout is not"):
         nn_export.read_torchscript_layers(str(p))
+
+
+def test_torchscript_helper_methods_walked(tmp_path):
+    """A module's own helper method (self.act(x)) is walked like forward;
+    one that does something roz_nn.h does not is refused inside it."""
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    helper_ok = _POLICY.replace(
+        "    actor = self.actor\n    return (actor).forward(torch.squeeze(out, 0), )",
+        "    return (self).head(torch.squeeze(out, 0), )") + (
+        "  def head(self: __torch__.Policy,\n    x: Tensor) -> Tensor:\n"
+        "    return (self.actor).forward(x, )\n")
+    write_pt(p, ref, code=_code(policy=helper_ok))
+    assert [l.kind for l in nn_export.read_torchscript_layers(str(p))] == ["lstm", "dense", "dense"]
+    helper_bad = helper_ok.replace("return (self.actor).forward(x, )",
+                                   "return (self.actor).forward(torch.neg(x), )")
+    write_pt(p, ref, code=_code(policy=helper_bad))
+    with pytest.raises(ValueError, match="Policy.head: operator torch.neg is not one"):
+        nn_export.read_torchscript_layers(str(p))
