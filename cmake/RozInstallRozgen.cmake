@@ -4,10 +4,13 @@
 # nothing from the tree it was built in (no virtual environment, no source):
 #   <prefix>/lib/roz/python/  rozgen's package (codegen/rozgen) and its pinned,
 #                             hash-checked run-time dependencies
-#                             (codegen/requirements.txt: jinja2, markupsafe),
-#                             which pip puts there at install time
+#                             (codegen/requirements.txt: jinja2, markupsafe;
+#                             codegen/requirements-nn.txt: numpy, onnx and
+#                             theirs, for rozgen-nn), which pip puts there at
+#                             install time
 #   <prefix>/bin/rozgen       a launcher that runs rozgen from ../lib/roz/python
-#                             (and bin/rozgen-urdf, rozgen's URDF importer)
+#                             (and bin/rozgen-urdf, rozgen's URDF importer, and
+#                             bin/rozgen-nn, networks to roz_nn.h headers)
 #                             with the Python it was installed for
 #                             (ROZ_ROZGEN_PYTHON)
 # The dependencies' wheels come from the folder ROZ_PYTHON_WHEELS without a
@@ -74,8 +77,9 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/codegen/rozgen DESTINATION ${_roz_pydir}
 cmake_path(ABSOLUTE_PATH CMAKE_INSTALL_BINDIR BASE_DIRECTORY /prefix OUTPUT_VARIABLE _bin)
 cmake_path(ABSOLUTE_PATH _roz_pydir BASE_DIRECTORY /prefix OUTPUT_VARIABLE _py)
 file(RELATIVE_PATH ROZ_ROZGEN_PYDIR_FROM_BIN ${_bin} ${_py})
-# rozgen-urdf (URDF to robot.toml) needs nothing more than rozgen.
-foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf")
+# rozgen-urdf (URDF to robot.toml) needs nothing more than rozgen; rozgen-nn
+# (policy files to roz_nn.h headers) needs codegen/requirements-nn.txt too.
+foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf" "rozgen-nn;nn")
   list(GET _cmd 0 ROZ_ROZGEN_COMMAND)
   list(GET _cmd 1 ROZ_ROZGEN_MODULE)
   configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in
@@ -84,8 +88,8 @@ foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf")
           DESTINATION ${CMAKE_INSTALL_BINDIR})
 endforeach()
 
-set(_roz_requirements "-r \"${PROJECT_SOURCE_DIR}/codegen/requirements.txt\"")
-set(_roz_requirements_what "codegen/requirements.txt")
+set(_roz_requirements "-r \"${PROJECT_SOURCE_DIR}/codegen/requirements.txt\" -r \"${PROJECT_SOURCE_DIR}/codegen/requirements-nn.txt\"")
+set(_roz_requirements_what "codegen/requirements.txt, codegen/requirements-nn.txt")
 if(ROZ_INSTALL_TOOLS)
   # recording.py finds plot_trace.py beside itself, as in tools/.
   install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py

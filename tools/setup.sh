@@ -112,14 +112,15 @@ fi
 # <prefix>/lib/roz/python (cmake/RozInstallRozgen.cmake); having them here
 # lets it work offline.
 wheels=.cache/wheels
-wheels_want=$(cat codegen/requirements.txt tools/requirements-run.txt | sha256sum | cut -d' ' -f1)
+wheels_want=$(cat codegen/requirements.txt codegen/requirements-nn.txt tools/requirements-run.txt \
+               | sha256sum | cut -d' ' -f1)
 wheels_stamp=$wheels/.roz-downloaded
 if [ "$(cat "$wheels_stamp" 2>/dev/null)" != "$wheels_want" ]; then
     say "fetching the wheels of rozgen's dependencies into $wheels"
     mkdir -p "$wheels"
     "$venv/bin/python" -m pip download -q --disable-pip-version-check \
         --no-deps --only-binary :all: --require-hashes -r codegen/requirements.txt \
-        -r tools/requirements-run.txt -d "$wheels"
+        -r codegen/requirements-nn.txt -r tools/requirements-run.txt -d "$wheels"
     echo "$wheels_want" > "$wheels_stamp"
 fi
 

@@ -293,31 +293,10 @@ def vectors_header(layers: list[Layer], name: str, steps: int, seed: int) -> str
 
 def read_npz(spec: str, path: str) -> list[Layer]:
     """A network of the shape `spec` with its arrays from an .npz file;
-    refuses missing, extra, non-numeric or misshapen arrays."""
-    layers = random_network(spec, 0)  # the shapes; every array replaced below
-    names = {"w": "weight", "b": "bias", "w_ih": "weight_ih", "w_hh": "weight_hh",
-             "b_ih": "bias_ih", "b_hh": "bias_hh"}
-    with np.load(path, allow_pickle=False) as z:
-        keys = set(z.files)
-        for k, l in enumerate(layers):
-            for ours, theirs in names.items():
-                if ours not in l.arrays:
-                    continue
-                key = f"l{k}.{theirs}"
-                if key not in keys:
-                    if ours.startswith("b"):
-                        del l.arrays[ours]
-                        continue
-                    raise ValueError(f"{path}: layer {k} ({l.kind}): no array '{key}'")
-                keys.discard(key)
-                a = z[key]
-                if a.dtype.kind not in "fiu":
-                    raise ValueError(f"{path}: '{key}' is {a.dtype}, not numbers")
-                l.arrays[ours] = a.astype(np.float32)
-        if keys:
-            raise ValueError(f"{path}: arrays the spec has no place for: {', '.join(sorted(keys))}")
-    check(layers)
-    return layers
+    refuses missing, extra, non-numeric or misshapen arrays, and checks
+    every array's declared size before inflating it (rozgen.nn_export)."""
+    from . import nn_export
+    return nn_export.read_npz(spec, path)
 
 
 def main(argv=None) -> int:
@@ -388,17 +367,13 @@ def main(argv=None) -> int:
             layers = read_npz(a.spec, a.weights)
             text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
         elif a.cmd == "pt":
-            from . import nn_export
-            if a.spec is None:
-                layers = nn_export.read_torchscript_layers(a.weights)
-                text = header(layers, a.name, f"{os.path.basename(a.weights)} (its code/)")
-            else:
-                tensors = nn_export.read_torchscript(a.weights)
-                layers = nn_export.layers_from_tensors(tensors, a.spec, a.weights)
-                text = header(layers, a.name, f"{os.path.basename(a.weights)} as '{a.spec}'")
+            from . import nn_export  # the reader follows the file's bytes, not its suffix
+            layers = nn_export.read_policy(a.weights, a.spec).layers
+            text = header(layers, a.name, f"{os.path.basename(a.weights)} "
+                          + ("(its code/)" if a.spec is None else f"as '{a.spec}'"))
         else:
             from . import nn_export
-            layers = nn_export.read_onnx(a.weights)
+            layers = nn_export.read_policy(a.weights).layers
             text = header(layers, a.name, os.path.basename(a.weights))
         a.seed = getattr(a, "seed", 1)
     except (ValueError, KeyError, IndexError, OSError) as e:

@@ -92,6 +92,9 @@ def write_pt(path, ref, *, tamper=None, key=str, code=None):
                 return None
 
         pol, mem, seq = f.Policy(), f.LSTM(), f.Sequential()
+        if code:  # the state buffers of legged_gym's exporter (its code names them)
+            pol.hidden_state = Tensor("hidden_state", np.zeros((1, 1, 4), np.float32))
+            pol.cell_state = Tensor("cell_state", np.zeros((1, 1, 4), np.float32))
         for ours, theirs in (("w_ih", "weight_ih_l0"), ("w_hh", "weight_hh_l0"),
                              ("b_ih", "bias_ih_l0"), ("b_hh", "bias_hh_l0")):
             setattr(mem, theirs, Tensor(theirs, ref[0].arrays[ours]))
@@ -162,6 +165,9 @@ def test_torchscript_lying_shapes(tmp_path):
     ref = nn.random_network(SPEC, 4)
     p = tmp_path / "lie.pt"
     write_pt(p, ref, tamper=lambda n, s, st: ([1000, 1000], st) if n == "weight" else (s, st))
+    with pytest.raises(ValueError, match="more than its storage's 12"):
+        nn_export.read_torchscript(str(p))
+    write_pt(p, ref, tamper=lambda n, s, st: ([2, 2], [5, 9]) if n == "weight" else (s, st))
     with pytest.raises(ValueError, match="reaches past its storage"):
         nn_export.read_torchscript(str(p))
     write_pt(p, ref, tamper=lambda n, s, st: (s, [0 - 1] + st[1:]) if n == "bias_ih_l0" else (s, st))
@@ -204,13 +210,22 @@ _HEAD = """class {name}(Module):
   _is_full_backward_hook : Optional[bool]
 """
 _MODULES = "__torch__.torch.nn.modules"
-_POLICY = _HEAD.format(name="Policy") + f"""  memory : {_MODULES}.rnn.LSTM
+_POLICY = _HEAD.format(name="Policy").replace(
+    "__buffers__ = []", '__buffers__ = ["hidden_state", "cell_state", ]') + f"""\
+  hidden_state : Tensor
+  cell_state : Tensor
+  memory : {_MODULES}.rnn.LSTM
   actor : {_MODULES}.container.Sequential
   def forward(self: __torch__.Policy,
     obs: Tensor) -> Tensor:
     memory = self.memory
-    _0 = (memory).forward(torch.unsqueeze(obs, 0), )
+    hidden_state = self.hidden_state
+    cell_state = self.cell_state
+    _0 = (memory).forward__0(torch.unsqueeze(obs, 0), (hidden_state, cell_state), )
     out, _1, = _0
+    h, c, = _1
+    _2 = torch.copy_(torch.slice(self.hidden_state), h)
+    _3 = torch.copy_(torch.slice(self.cell_state), c)
     actor = self.actor
     return (actor).forward(torch.squeeze(out, 0), )
 """
@@ -302,12 +317,12 @@ def test_torchscript_code_refusals(tmp_path):
                              "    actor = self.actor\n    if self.training:\n      pass\n")
     refused(_code(policy=branch), "a If statement")
     refused(_code(alpha="0.5"), "ELU alpha 0.5")
-    refused(_code(act_class="GELU"), "a torch.nn.modules.activation.GELU, whose code is not in")
+    refused(_code(act_class="GELU"), "a torch.nn.modules.activation.GELU, whose forward is not in")
     twice = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
                             "return torch.tanh(torch.relu((actor).forward(out, )))")
     refused(_code(policy=twice), "activation tanh .* after relu: one activation per layer")
-    first = _POLICY.replace("_0 = (memory).forward(torch.unsqueeze(obs, 0), )",
-                            "_0 = (memory).forward(torch.tanh(obs), )")
+    first = _POLICY.replace("(memory).forward__0(torch.unsqueeze(obs, 0),",
+                            "(memory).forward__0(torch.tanh(obs),")
     refused(_code(policy=first), "activation tanh .* follows no dense layer")
     # a layer the forward never calls leaves its tensors over
     skip = _sequential("ELU")["__torch__/torch/nn/modules/container.py"].replace(
@@ -360,45 +375,72 @@ def test_onnx_mlp(tmp_path):
     assert np.allclose(nn.forward(layers, x), want, rtol=1e-6, atol=1e-9)
 
 
-def test_onnx_lstm_gate_order(tmp_path):
+def run_reference(path, xs):
+    """onnx.reference's outputs over the steps @p xs, the recurrent state
+    (inputs after the first, zero at the start) carried from each step's
+    state outputs (the outputs after the first) to the next step."""
+    from onnx.reference import ReferenceEvaluator
+    m = onnx.load(str(path))
+    ev = ReferenceEvaluator(m)
+    init = {t.name for t in m.graph.initializer}
+    names = [i.name for i in m.graph.input if i.name not in init]
+    state = {}
+    for i in m.graph.input:
+        if i.name in names[1:]:
+            shape = [d.dim_value for d in i.type.tensor_type.shape.dim]
+            state[i.name] = np.zeros(shape, np.float32)
+    out = []
+    for x in xs:
+        feeds = {names[0]: x.reshape(1, -1).astype(np.float32), **state}
+        got = ev.run(None, feeds)
+        out.append(np.asarray(got[0]).reshape(-1))
+        state = dict(zip(names[1:], got[1:]))
+    return np.array(out)
+
+
+def _rnn_model(op, I, H, rng, path, carried):
+    """An LSTM or GRU graph: @p carried, one step per call, the state
+    through h_in/c_in -> h_out/c_out (Isaac Lab's export); else a whole
+    sequence per call (x: steps x 1 x I), from a zero state."""
+    g_n = 4 if op == "LSTM" else 3
+    W, R, B = (rng.normal(size=(1, g_n * H, I)), rng.normal(size=(1, g_n * H, H)),
+               rng.normal(size=(1, 2 * g_n * H)))
+    st = (["h_in"] + (["c_in"] if op == "LSTM" else [])) if carried else []
+    ins = ["xs" if carried else "x", "W", "R", "B", "", *st]
+    outs = ["Y"] + ((["h_out"] + (["c_out"] if op == "LSTM" else [])) if carried else [])
+    kw = {"linear_before_reset": 1} if op == "GRU" else {}
+    nodes = ([helper.make_node("Reshape", ["x", "shape"], ["xs"])] if carried else []) + [
+        helper.make_node(op, ins, outs, hidden_size=H, **kw),
+        helper.make_node("Squeeze", ["Y"], ["y"])]
+    vi = lambda n, s: helper.make_tensor_value_info(n, TensorProto.FLOAT, s)  # noqa: E731
+    g = helper.make_graph(nodes, "g", [vi("x", [1, I] if carried else None)]
+                          + [vi(n, [1, 1, H]) for n in st],
+                          [vi("y", None)] + [vi(n, [1, 1, H]) for n in outs[1:]],
+                          [numpy_helper.from_array(np.asarray(a, np.float32), n)
+                           for n, a in (("W", W), ("R", R), ("B", B))]
+                          + [numpy_helper.from_array(np.array([1, 1, I], np.int64), "shape")])
+    onnx.save(helper.make_model(g), path)
+    return str(path)
+
+
+@pytest.mark.parametrize("op,carried", [("LSTM", False), ("GRU", False), ("GRU", True)])
+def test_onnx_rnn_gate_order_against_onnx_reference(tmp_path, op, carried):
+    """ONNX's gate orders (LSTM i, o, f, c; GRU z, r, h) reordered to
+    roz_nn.h's: the numpy reference equals onnx.reference over the steps,
+    one sequence per call or one step per call with the state carried
+    through h_in -> h_out (onnx.reference's LSTM gives no Y_c, so an LSTM
+    is checked over a sequence)."""
+    from onnx.reference import ReferenceEvaluator
     rng = np.random.default_rng(2)
-    I, H = 3, 2
-    W, R, B = rng.normal(size=(1, 4 * H, I)), rng.normal(size=(1, 4 * H, H)), rng.normal(size=(1, 8 * H))
-    p = _model([helper.make_node("LSTM", ["x", "W", "R", "B"], ["Y", "Yh", "Yc"], hidden_size=H),
-                helper.make_node("Squeeze", ["Yh"], ["y"])],
-               {"W": W, "R": R, "B": B}, tmp_path / "lstm.onnx")
+    p = _rnn_model(op, 3, 2, rng, tmp_path / "rnn.onnx", carried)
     layers = nn_export.read_onnx(p)
-    xs = rng.normal(size=(4, I)).astype(np.float32)
-    W32, R32, B32 = (a.astype(np.float32).astype(np.float64) for a in (W[0], R[0], B[0]))
-    h, c, want = np.zeros(H), np.zeros(H), []
-    for x in xs.astype(np.float64):  # ONNX's equations, gates i, o, f, c
-        g = W32 @ x + R32 @ h + B32[:4 * H] + B32[4 * H:]
-        i, o, f, cc = _sig(g[:H]), _sig(g[H:2 * H]), _sig(g[2 * H:3 * H]), np.tanh(g[3 * H:])
-        c = f * c + i * cc
-        h = o * np.tanh(c)
-        want.append(h)
-    assert np.allclose(nn.forward(layers, xs), np.array(want), rtol=1e-12, atol=1e-12)
-
-
-def test_onnx_gru_gate_order(tmp_path):
-    rng = np.random.default_rng(3)
-    I, H = 3, 2
-    W, R, B = rng.normal(size=(1, 3 * H, I)), rng.normal(size=(1, 3 * H, H)), rng.normal(size=(1, 6 * H))
-    p = _model([helper.make_node("GRU", ["x", "W", "R", "B"], ["Y", "y"], hidden_size=H,
-                                 linear_before_reset=1)],
-               {"W": W, "R": R, "B": B}, tmp_path / "gru.onnx")
-    layers = nn_export.read_onnx(p)
-    xs = rng.normal(size=(4, I)).astype(np.float32)
-    W32, R32, B32 = (a.astype(np.float32).astype(np.float64) for a in (W[0], R[0], B[0]))
-    Wb, Rb = B32[:3 * H], B32[3 * H:]
-    h, want = np.zeros(H), []
-    for x in xs.astype(np.float64):  # ONNX's equations, gates z, r, h
-        z = _sig(W32[:H] @ x + R32[:H] @ h + Wb[:H] + Rb[:H])
-        r = _sig(W32[H:2 * H] @ x + R32[H:2 * H] @ h + Wb[H:2 * H] + Rb[H:2 * H])
-        n = np.tanh(W32[2 * H:] @ x + r * (R32[2 * H:] @ h + Rb[2 * H:]) + Wb[2 * H:])
-        h = (1 - z) * n + z * h
-        want.append(h)
-    assert np.allclose(nn.forward(layers, xs), np.array(want), rtol=1e-12, atol=1e-12)
+    assert [l.kind for l in layers] == [op.lower()]
+    xs = rng.normal(size=(5, 3)).astype(np.float32)
+    if carried:
+        want = run_reference(p, xs)
+    else:
+        want = ReferenceEvaluator(p).run(None, {"x": xs.reshape(5, 1, 3)})[0].reshape(5, -1)
+    assert np.allclose(nn.forward(layers, xs), want, rtol=1e-5, atol=1e-6)
 
 
 def test_onnx_refusals(tmp_path):
@@ -409,7 +451,8 @@ def test_onnx_refusals(tmp_path):
           helper.make_node("Elu", ["h"], ["y"], alpha=0.5)], "alpha 0.5"),
         ([helper.make_node("Gemm", ["x", "w"], ["y"], alpha=2.0)], "alpha, beta"),
         ([helper.make_node("Relu", ["x"], ["y"])], "follows no dense layer"),
-        ([helper.make_node("Gemm", ["x", "x"], ["y"])], "not a constant"),
+        ([helper.make_node("Gemm", ["x", "x"], ["y"])], "data path as a second operand"),
+        ([helper.make_node("Gemm", ["x", "u"], ["y"])], "'u' comes from no earlier node"),
     ]
     for nodes, why in cases:
         with pytest.raises(ValueError, match=why):
@@ -432,3 +475,39 @@ def test_onnx_refusals(tmp_path):
     onnx.save(m, tmp_path / "ext.onnx")
     with pytest.raises(ValueError, match="external data"):
         nn_export.read_onnx(str(tmp_path / "ext.onnx"))
+
+
+def test_torchscript_receiver_and_aliases(tmp_path):
+    """The receiver keeps the name the user's code gave it (`s`, not
+    `self`), and a function bound to a name before it is called is
+    refused by the function's own name."""
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    renamed = _POLICY.replace("forward(self:", "forward(s:").replace("self.", "s.")
+    write_pt(p, ref, code=_code(policy=renamed))
+    assert [l.kind for l in nn_export.read_torchscript_layers(str(p))] == ["lstm", "dense", "dense"]
+    alias = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
+                            "_9 = __torch__.torch.nn.functional.dropout\n"
+                            "    return (actor).forward(_9(out, 0.1, False, False), )")
+    write_pt(p, ref, code=_code(policy=alias))
+    with pytest.raises(ValueError, match="operator __torch__.torch.nn.functional.dropout is not"):
+        nn_export.read_torchscript_layers(str(p))
+
+
+def test_torchscript_helper_methods_walked(tmp_path):
+    """A module's own helper method (self.act(x)) is walked like forward;
+    one that does something roz_nn.h does not is refused inside it."""
+    ref = nn.random_network(SPEC, 4)
+    p = tmp_path / "policy.pt"
+    helper_ok = _POLICY.replace(
+        "    actor = self.actor\n    return (actor).forward(torch.squeeze(out, 0), )",
+        "    return (self).head(torch.squeeze(out, 0), )") + (
+        "  def head(self: __torch__.Policy,\n    x: Tensor) -> Tensor:\n"
+        "    return (self.actor).forward(x, )\n")
+    write_pt(p, ref, code=_code(policy=helper_ok))
+    assert [l.kind for l in nn_export.read_torchscript_layers(str(p))] == ["lstm", "dense", "dense"]
+    helper_bad = helper_ok.replace("return (self.actor).forward(x, )",
+                                   "return (self.actor).forward(torch.neg(x), )")
+    write_pt(p, ref, code=_code(policy=helper_bad))
+    with pytest.raises(ValueError, match="Policy.head: operator torch.neg is not one"):
+        nn_export.read_torchscript_layers(str(p))

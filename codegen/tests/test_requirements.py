@@ -62,3 +62,22 @@ def test_tools_run_requirements_match_and_cover_the_tools():
     for name, (_, _, vias) in tools.items():
         assert not (vias & run.keys()) or name in run, \
             f"{name} is pulled in by {sorted(vias & run.keys())}; tools/requirements-run.txt lacks it"
+
+
+def test_nn_requirements_match_and_cover_rozgen_nn():
+    """codegen/requirements-nn.txt (what the installed rozgen-nn runs on)
+    pins what tools/requirements.txt pins, and holds rozgen's `nn` extra
+    and everything onnx pulls in."""
+    nn = pins(CODEGEN / "requirements-nn.txt")
+    tools = pins(REPO / "tools" / "requirements.txt")
+    for name, (version, hashes, _) in nn.items():
+        assert name in tools, f"{name} is not in tools/requirements.txt"
+        assert (version, hashes) == tools[name][:2], f"{name}: pins differ"
+        assert hashes, f"{name} has no hashes"
+    extra = tomllib.loads((CODEGEN / "pyproject.toml").read_text())["project"][
+        "optional-dependencies"]["nn"]
+    for dep in extra:
+        assert re.match(r"[A-Za-z0-9_.-]+", dep).group(0).lower() in nn, dep
+    for name, (_, _, vias) in tools.items():
+        assert not (vias & {"onnx", "ml-dtypes"}) or name in nn, \
+            f"{name} is pulled in by {sorted(vias & nn.keys())}; requirements-nn.txt lacks it"

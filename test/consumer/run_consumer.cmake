@@ -121,8 +121,19 @@ if(PHASE STREQUAL "installed")
   # rozgen-urdf: a robot.toml from a URDF, which the installed rozgen accepts
   run(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
   run(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
+  # rozgen-nn: headers from policy files torch wrote (a TorchScript archive
+  # in legged_gym's exporter shape, an ONNX export), with numpy and onnx
+  # from the prefix alone
+  run(${prefix}/bin/rozgen-nn pt --weights ${WORK_DIR}/src/lstm_exporter.pt -o ${WORK_DIR}/pt_net.h)
+  run(${prefix}/bin/rozgen-nn onnx --weights ${WORK_DIR}/src/gru.onnx -o ${WORK_DIR}/onnx_net.h)
+  file(READ ${WORK_DIR}/pt_net.h pt_net)
+  file(READ ${WORK_DIR}/onnx_net.h onnx_net)
+  if(NOT pt_net MATCHES "ROZ_NN_LSTM_DEFINE\\(policy_l0, 6, 12"
+     OR NOT onnx_net MATCHES "ROZ_NN_GRU_DEFINE\\(policy_l0, 5, 10")
+    message(FATAL_ERROR "the installed rozgen-nn wrote unexpected headers:\n${pt_net}\n${onnx_net}")
+  endif()
   message(STATUS "installed rozrun, roz_manifest_json, roz_manifest_info, rozgen, rozgen-urdf, "
-                 "roz-plot, roz-recording and roz-live work")
+                 "rozgen-nn, roz-plot, roz-recording and roz-live work")
   return()
 endif()
 
@@ -145,6 +156,9 @@ endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)
 file(COPY_FILE ${ROZ_SOURCE_DIR}/manifests/unitree_g1.toml ${WORK_DIR}/src/big_robot.toml)
 file(COPY_FILE ${ROZ_SOURCE_DIR}/codegen/tests/data/urdf/lift.urdf ${WORK_DIR}/src/lift.urdf)
+foreach(f IN ITEMS lstm_exporter.pt gru.onnx)
+  file(COPY_FILE ${ROZ_SOURCE_DIR}/codegen/tests/data/nn/${f} ${WORK_DIR}/src/${f})
+endforeach()
 
 if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
   run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
@@ -211,7 +225,7 @@ foreach(f IN LISTS installed)
   math(EXPR scanned "${scanned} + 1")
 endforeach()
 foreach(must IN ITEMS bin/rozgen bin/rozrun bin/roz_manifest_json bin/roz_manifest_info
-                      bin/rozgen-urdf bin/roz-plot bin/roz-recording bin/roz-live
+                      bin/rozgen-urdf bin/rozgen-nn bin/roz-plot bin/roz-recording bin/roz-live
                       share/roz/layouts/ur5.json
                       include/roz/sdk/roz_controller.h lib/cmake/roz/RozWasm.cmake)
   if(NOT EXISTS ${WORK_DIR}/prefix/${must})
