@@ -59,77 +59,13 @@ static const char *const known_keys[] = {
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
 };
 
-/* The built-in robots' models: under the install prefix's share/roz/models
- * (cmake --install puts them there, docs/ports/mujoco.md), found from the
- * running program (<prefix>/bin/rozrun), else where this build found them
- * (CMake: the model wheels' folders, and this port's models/). Each robot's
- * parameters are defaults a robot.toml's or the caller's override; the
- * model, defaults[0], is resolved by builtin_model(). */
-#ifndef ROZ_MUJOCO_G1_SCENE
-#define ROZ_MUJOCO_G1_SCENE ""
-#endif
-#ifndef ROZ_MUJOCO_UR5E_MODEL
-#define ROZ_MUJOCO_UR5E_MODEL ""
-#endif
-#ifndef ROZ_MUJOCO_MODELS
-#define ROZ_MUJOCO_MODELS ""
-#endif
-/* below the program's folder: <prefix>/bin/../share/roz/models/ */
-#define INSTALLED_MODELS "/../share/roz/models/"
-
-/* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
- * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
- * law's stability bound (docs/ports/mujoco.md, "The actuator law"). It
- * reports its pelvis IMU (rt/lowstate's imu_state; the torso's is
- * rt/secondary_imu). */
-static const roz_param_t g1_defaults[] = {
-    { "model", ROZ_MUJOCO_G1_SCENE },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-pelvis-angular-velocity" },
-    { "imu_accelerometer", "imu-pelvis-linear-acceleration" },
-};
-static const roz_param_t ur5_defaults[] = {
-    { "model", ROZ_MUJOCO_UR5E_MODEL },
-    { "keyframe", "home" },
-};
-/* geared wheel motors: a light servo (the wheel's inertia is the gearbox's) */
-static const roz_param_t diff_drive_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "diff_drive.xml" },
-    { "wheel_left", "wheel_left_joint" },
-    { "wheel_right", "wheel_right_joint" },
-    { "wheel_radius", "0.035" },
-    { "wheel_separation", "0.230" },
-    { "servo_kp", "20" },
-    { "servo_kd", "1" },
-};
-/* four rotors of 8 N each: a thrust-to-weight ratio of 2.2 at 1.5 kg */
-static const roz_param_t quadcopter_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "quadcopter.xml" },
-    { "max_thrust", "32" },
-};
-
-/* The PM01: 1 ms steps as the G1's, its base link's IMU (our placement:
- * models/engineai_pm01.xml says what is EngineAI's and what is ours). */
-static const roz_param_t pm01_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "engineai_pm01.xml" },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-angular-velocity" },
-    { "imu_accelerometer", "imu-linear-acceleration" },
-};
-
-/* The X2: 1 ms steps as the G1's, its pelvis IMU (the URDF's place, the
- * pelvis's axes: models/agibot_x2.xml says what is AgiBot's and what is
- * ours). */
-static const roz_param_t x2_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "agibot_x2.xml" },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-angular-velocity" },
-    { "imu_accelerometer", "imu-linear-acceleration" },
-};
-
+/* The built-in robots, one descriptor each (models/<robot_id>.model.toml,
+ * made into builtins.h by this port's CMakeLists.txt): each robot's
+ * parameters are defaults a robot.toml's or the caller's override. Its
+ * model, defaults[0], is found by builtin_model(): under the install
+ * prefix's share/roz/models (cmake --install puts them there,
+ * docs/ports/mujoco.md), from the running program (<prefix>/bin/rozrun),
+ * else where this build found it. */
 typedef struct {
     const char        *robot_id;
     const char        *installed; /* the model under share/roz/models/ */
@@ -137,16 +73,14 @@ typedef struct {
     size_t             n;
 } builtin_t;
 
-#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] }
-static const builtin_t builtins[] = {
-    BUILTIN("unitree_g1", "unitree_g1/scene.xml", g1_defaults),
-    BUILTIN("unitree_g1_23dof", "unitree_g1/scene.xml", g1_defaults),
-    BUILTIN("ur5", "universal_robots_ur5e/ur5e.xml", ur5_defaults),
-    BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
-    BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
-    BUILTIN("engineai_pm01", "engineai_pm01.xml", pm01_defaults),
-    BUILTIN("agibot_x2", "agibot_x2.xml", x2_defaults),
-};
+/* below the program's folder: <prefix>/bin/../share/roz/models/ */
+#define INSTALLED_MODELS "/../share/roz/models/"
+
+#include "builtins.h"
+
+#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] },
+static const builtin_t builtins[] = { ROZ_MUJOCO_BUILTINS };
+#undef BUILTIN
 #define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 
 static int readable(const char *path)
