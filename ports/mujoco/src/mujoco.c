@@ -513,6 +513,52 @@ static const char *spec_name(mjsElement *e)
     return n != NULL ? n : "";
 }
 
+/* Every mesh file the model names is there, before the compile looks for
+ * it: a model copied without its meshes (or with another folder layout)
+ * gets the file, the place looked in and what to set, rather than the
+ * compiler's first "Error opening file". MuJoCo's rule: <compiler meshdir>
+ * (absolute, or relative to the model's folder), then the mesh's file.
+ * Test: test_mujoco_models.c. */
+static int check_meshes(const roz_mujoco_t *s, mjSpec *spec, char *err, size_t errlen)
+{
+    const char *dir = mjs_getString(spec->modelfiledir);
+    const char *meshdir = mjs_getString(spec->compiler.meshdir);
+    dir = dir != NULL ? dir : "";
+    meshdir = meshdir != NULL ? meshdir : "";
+    char path[ROZ_MUJOCO_PATH_MAX], first[ROZ_MUJOCO_PATH_MAX] = "";
+    const char *first_name = "", *first_file = "";
+    unsigned missing = 0, meshes = 0;
+    for (mjsElement *e = mjs_firstElement(spec, mjOBJ_MESH); e != NULL;
+         e = mjs_nextElement(spec, e)) {
+        const char *file = mjs_getString(mjs_asMesh(e)->file);
+        if (file == NULL || file[0] == '\0')
+            continue; /* its vertices are in the model */
+        meshes++;
+        size_t md = strlen(meshdir);
+        roz_format(path, sizeof path, "%s%s%s%s", file[0] == '/' || meshdir[0] == '/' ? "" : dir,
+                   file[0] == '/' ? "" : meshdir,
+                   file[0] != '/' && md > 0 && meshdir[md - 1] != '/' ? "/" : "", file);
+        FILE *f = fopen(path, "rb");
+        if (f != NULL) {
+            fclose(f);
+            continue;
+        }
+        if (missing++ == 0) {
+            roz_format(first, sizeof first, "%s", path);
+            first_name = spec_name(e);
+            first_file = file;
+        }
+    }
+    if (missing == 0)
+        return ROZ_OK;
+    roz_format(err, errlen, PORT ": %s: %s: <mesh name=\"%s\" file=\"%s\">: no file %s (%u of "
+               "the model's %u mesh files are missing): a mesh file is looked for in the "
+               "model's <compiler meshdir=\"%s\">, relative to the model's folder; put the "
+               "meshes there, or set meshdir to the folder that holds them",
+               origin(s), s->model_path, first_name, first_file, first, missing, meshes, meshdir);
+    return ROZ_EINVAL;
+}
+
 /* The model as roz drives it: every actuator a motor (roz runs the robot's
  * own law at every step), each model joint no channel binds locked (or
  * limp), and a weld that hangs the floating base (the gantry), off. */
@@ -533,9 +579,11 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
                 return ROZ_EINVAL;
             }
             (*servos)++;
+            a->ctrllimited = mjLIMITED_FALSE; /* a servo's range was its set-point's */
         }
         a->inheritrange = 0;
-        a->ctrllimited = mjLIMITED_FALSE; /* roz saturates the torque itself */
+        /* a motor's ctrlrange bounds its torque: bind_joint() reads it from
+         * the compiled model, then open clears it (roz saturates the torque) */
     }
     s->gantry_eq = -1;
     for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL;
@@ -573,19 +621,42 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
     return ROZ_OK;
 }
 
-/* The effort a joint's channels allow: its effort command's limits, else
- * its effort state's; 0 when neither. */
-static int manifest_effort(const roz_manifest_t *m, const roz_joint_channels_t *ch, double *lo,
-                           double *hi)
+/* The channel that bounds a joint's effort: its effort command, else its
+ * effort state; NULL when neither. */
+static const roz_channel_t *manifest_effort(const roz_manifest_t *m, const roz_joint_channels_t *ch)
 {
-    const roz_channel_t *c = ch->tau_cmd >= 0   ? &m->commands[ch->tau_cmd]
-                             : ch->tau_state >= 0 ? &m->states[ch->tau_state]
-                                                  : NULL;
-    if (c == NULL)
-        return 0;
-    *lo = c->min;
-    *hi = c->max;
-    return 1;
+    return ch->tau_cmd >= 0     ? &m->commands[ch->tau_cmd]
+           : ch->tau_state >= 0 ? &m->states[ch->tau_state]
+                                : NULL;
+}
+
+/* A motor's ctrlrange (edit_spec() keeps it limited through the compile) is
+ * a torque range too: gear x gain x ctrl. The manifest's effort channel @p c
+ * must lie inside it (a tighter channel is the law roz applies); [*lo, *hi]
+ * narrows to it. Test: test_mujoco_models.c, the ctrlrange cases. */
+static int check_ctrlrange(const roz_mujoco_t *s, const roz_mujoco_joint_t *j, const char *name,
+                           const roz_channel_t *c, double *lo, double *hi, char *err,
+                           size_t errlen)
+{
+    const mjModel *mm = s->model;
+    int a = j->act;
+    if (!mm->actuator_ctrllimited[a] || !(j->gear != 0.0) || !isfinite(j->gear))
+        return ROZ_OK; /* a zero gear: bind_joint() refuses it */
+    double c0 = mm->actuator_ctrlrange[2 * a], c1 = mm->actuator_ctrlrange[2 * a + 1];
+    double t0 = j->gear * c0, t1 = j->gear * c1;
+    double clo = fmin(t0, t1), chi = fmax(t0, t1);
+    if (c != NULL && (c->min < clo || c->max > chi)) {
+        const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
+        roz_format(err, errlen, PORT ": %s: channel \"%s\": limits [%g, %g] N.m exceed what %s's "
+                   "actuator \"%s\" (joint \"%s\") can give, [%g, %g]: its ctrlrange [%g, %g] "
+                   "times gear and gain %g; narrow the channel's limits to the actuator's",
+                   origin(s), c->name, c->min, c->max, s->model_path, an != NULL ? an : "?",
+                   name, clo, chi, c0, c1, j->gear);
+        return ROZ_EINVAL;
+    }
+    *lo = fmax(*lo, clo);
+    *hi = fmin(*hi, chi);
+    return ROZ_OK;
 }
 
 static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char *mj_name,
@@ -635,8 +706,11 @@ static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char 
         hi = fmin(hi, mm->jnt_actfrcrange[2 * j->jnt + 1]);
     }
     const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
-    double mlo, mhi;
-    if (manifest_effort(s->m, &j->ch, &mlo, &mhi)) {
+    const roz_channel_t *effort = manifest_effort(s->m, &j->ch);
+    if (check_ctrlrange(s, j, name, effort, &lo, &hi, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (effort != NULL) {
+        double mlo = effort->min, mhi = effort->max;
         if (mlo < lo || mhi > hi) {
             roz_format(err, errlen, PORT ": %s: joint \"%s\": the manifest's effort limits "
                        "[%g, %g] N.m exceed what %s's actuator \"%s\" can give, [%g, %g]",
@@ -683,6 +757,29 @@ static int find_sensor(const mjModel *mm, const char *name, int type, int *adr, 
     return ROZ_ENOENT;
 }
 
+/* What a model without an IMU needs, after open's refusal in @p err: the
+ * lines to add (a site on the base body, a gyro and an accelerometer on
+ * it). Only where no sensor was named: a named one that is wrong is the
+ * robot.toml's mistake, not the model's. Test: test_mujoco_models.c. */
+static void imu_help(const roz_mujoco_t *s, int gyro_too, char *err, size_t errlen)
+{
+    const mjModel *mm = s->model;
+    const char *body = s->base_body >= 0 ? mj_id2name(mm, mjOBJ_BODY, s->base_body) : NULL;
+    const char *site = s->imu_site >= 0 ? mj_id2name(mm, mjOBJ_SITE, s->imu_site) : NULL;
+    size_t n = strlen(err);
+    if (gyro_too || site == NULL)
+        roz_format(err + n, errlen - n, ": the port reads base_imu from a <gyro> and an "
+                   "<accelerometer> on one <site> (the orientation is the site's frame); add "
+                   "to %s%s%s <site name=\"imu\"/>, and to <sensor> <gyro name=\"imu-gyro\" "
+                   "site=\"imu\"/> <accelerometer name=\"imu-accelerometer\" site=\"imu\"/>",
+                   body != NULL ? "<body name=\"" : "the base body", body != NULL ? body : "",
+                   body != NULL ? "\">" : "");
+    else
+        roz_format(err + n, errlen - n, ": the port reads the acceleration from an "
+                   "<accelerometer> on the gyro's site; add to <sensor> <accelerometer "
+                   "name=\"imu-accelerometer\" site=\"%s\"/>", site);
+}
+
 static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
                     size_t errlen)
 {
@@ -700,16 +797,32 @@ static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
                    "manifest has base_imu channels)", origin(s), gyro ? " = \"" : "",
                    gyro ? gyro : "", gyro ? "\"" : "",
                    rc == ROZ_EINVAL ? "not a gyro sensor" : "no gyro sensor on a site", s->model_path);
+        if (gyro == NULL)
+            imu_help(s, 1, err, errlen);
         return ROZ_EINVAL;
     }
-    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, NULL);
+    int acc_site = -1;
+    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, &acc_site);
     if (rc != ROZ_OK) {
         roz_format(err, errlen, PORT ": %s: hardware.params.imu_accelerometer%s%s%s: %s in %s "
                    "(the manifest has base_imu channels)", origin(s), acc ? " = \"" : "",
                    acc ? acc : "", acc ? "\"" : "",
                    rc == ROZ_EINVAL ? "not an accelerometer" : "no accelerometer sensor",
                    s->model_path);
+        if (acc == NULL)
+            imu_help(s, 0, err, errlen);
         return ROZ_EINVAL;
+    }
+    if (acc_site != s->imu_site && s->log != NULL) {
+        char msg[512];
+        const char *gs = mj_id2name(s->model, mjOBJ_SITE, s->imu_site);
+        const char *as = acc_site >= 0 ? mj_id2name(s->model, mjOBJ_SITE, acc_site) : NULL;
+        roz_format(msg, sizeof msg, PORT ": %s: warning: %s: the accelerometer is on %s%s%s, "
+                   "the gyro on site \"%s\": base_imu's orientation and rate are the gyro's "
+                   "site's, its acceleration another place's", origin(s), s->model_path,
+                   as != NULL ? "site \"" : "no site", as != NULL ? as : "", as != NULL ? "\"" : "",
+                   gs != NULL ? gs : "?");
+        s->log(s->log_ctx, ROZ_LOG_WARN, msg);
     }
     return ROZ_OK;
 }
@@ -906,6 +1019,10 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                    s->model_path, mjerr[0] ? mjerr : "cannot be read");
         return ROZ_EINVAL;
     }
+    if (check_meshes(s, spec, err, errlen) != ROZ_OK) {
+        mj_deleteSpec(spec);
+        return ROZ_EINVAL;
+    }
     uint32_t servos = 0;
     if (edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, &servos, err, errlen) !=
         ROZ_OK) {
@@ -930,6 +1047,8 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         if (s->mobile == MOBILE_WHEELS)
             s->joints[j].law = LAW_WHEEL;
     }
+    for (int a = 0; a < mm->nu; a++)
+        mm->actuator_ctrllimited[a] = 0; /* read by bind_joint(); roz saturates the torque */
     for (int j = 0; j < mm->njnt; j++) {
         if (mm->jnt_type[j] == mjJNT_FREE) {
             s->base_jnt = j;
