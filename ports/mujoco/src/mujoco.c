@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L /* readlink() */
 #include "roz/port/mujoco.h"
 
+#include <fnmatch.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -53,7 +54,7 @@ enum {
 
 static const char *const known_keys[] = {
     "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
-    "servo_kp", "servo_kd", "unbound", "latency_ticks", "noise_seed", "noise_position",
+    "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
     "drop", "freeze", "delay", "push", "gantry", "restart",
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
@@ -559,13 +560,77 @@ static int check_meshes(const roz_mujoco_t *s, mjSpec *spec, char *err, size_t e
     return ROZ_EINVAL;
 }
 
+/* Whether model joint @p name is one the `lock` parameter names (@p list:
+ * "PATTERN, ..." of fnmatch(3) patterns); -1: a pattern too long. */
+static int lock_names(const char *list, const char *name)
+{
+    char pat[ROZ_MUJOCO_NAME_MAX];
+    for (const char *p = list; p != NULL && *p != '\0';) {
+        while (*p == ' ' || *p == ',')
+            p++;
+        const char *end = strchr(p, ',');
+        if (end == NULL)
+            end = p + strlen(p);
+        size_t len = (size_t)(end - p);
+        while (len > 0 && p[len - 1] == ' ')
+            len--;
+        if (len >= sizeof pat)
+            return -1;
+        memcpy(pat, p, len);
+        pat[len] = '\0';
+        if (len > 0 && fnmatch(pat, name, 0) == 0)
+            return 1;
+        p = end;
+    }
+    return 0;
+}
+
+/* Every pattern of `lock` names a hinge or slide of the model: a pattern
+ * that names none is a typo that would leave a joint free. */
+static int check_lock(const roz_mujoco_t *s, mjSpec *spec, const char *list, char *err,
+                      size_t errlen)
+{
+    char pat[ROZ_MUJOCO_NAME_MAX];
+    for (const char *p = list; p != NULL && *p != '\0';) {
+        while (*p == ' ' || *p == ',')
+            p++;
+        const char *end = strchr(p, ',');
+        if (end == NULL)
+            end = p + strlen(p);
+        size_t len = (size_t)(end - p);
+        while (len > 0 && p[len - 1] == ' ')
+            len--;
+        int found = len >= sizeof pat ? -1 : 0;
+        if (found == 0) {
+            memcpy(pat, p, len);
+            pat[len] = '\0';
+        }
+        for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL && found == 0;
+             e = mjs_nextElement(spec, e)) {
+            int type = mjs_asJoint(e)->type;
+            found = (type == mjJNT_HINGE || type == mjJNT_SLIDE) && len > 0 &&
+                    fnmatch(pat, spec_name(e), 0) == 0;
+        }
+        if (found != 1 && len > 0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": \"%.*s\" %s",
+                       origin(s), list, (int)len, p,
+                       found < 0 ? "is longer than a joint name"
+                                 : "names no hinge or slide joint of the model");
+            return ROZ_EINVAL;
+        }
+        p = end;
+    }
+    return ROZ_OK;
+}
+
 /* The model as roz drives it: every actuator a motor (roz runs the robot's
  * own law at every step), each model joint no channel binds locked (or
  * limp), and a weld that hangs the floating base (the gantry), off. */
 static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names, uint16_t n,
-                     int lock_unbound, uint32_t *servos, char *err, size_t errlen)
+                     int lock_unbound, const char *lock, uint32_t *servos, uint32_t *locked,
+                     char *err, size_t errlen)
 {
-    *servos = 0;
+    *servos = *locked = 0;
     for (mjsElement *e = mjs_firstElement(spec, mjOBJ_ACTUATOR); e != NULL;
          e = mjs_nextElement(spec, e)) {
         mjsActuator *a = mjs_asActuator(e);
@@ -607,7 +672,12 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
         int bound = 0;
         for (uint16_t k = 0; k < n && !bound; k++)
             bound = strcmp(mj_names[k], name) == 0;
-        if (!bound && lock_unbound && name[0] != '\0') {
+        /* `lock`: held even where a channel binds it (its drive then pushes
+         * against the lock), as a training model's fixed joints are */
+        int held = lock_names(lock, name) == 1;
+        if (bound && held)
+            (*locked)++;
+        if (((!bound && lock_unbound) || held) && name[0] != '\0') {
             mjsEquality *q = mjs_addEquality(spec, NULL);
             q->type = mjEQ_JOINT;
             q->objtype = mjOBJ_JOINT;
@@ -864,6 +934,8 @@ static const roz_port_param_info_t mj_params[] = {
     ROZ_PORT_PARAM_DOUBLE_ROW("servo_kd", 0, 1e6, 20, "",
                               "the velocity servo's damping, N m s/rad"),
     ROZ_PORT_PARAM_TEXT_ROW("unbound", "lock|limp", "lock", "model joints no channel binds"),
+    ROZ_PORT_PARAM_TEXT_ROW("lock", "PATTERN,...", "the built-in robot's",
+                            "model joints held rigid, bound or not"),
     ROZ_PORT_PARAM_TEXT_ROW("wheel_left", "a joint's name", "the built-in diff_drive's",
                             "a differential drive's wheel"),
     ROZ_PORT_PARAM_TEXT_ROW("wheel_right", "a joint's name", "the built-in diff_drive's",
@@ -1023,9 +1095,11 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         mj_deleteSpec(spec);
         return ROZ_EINVAL;
     }
-    uint32_t servos = 0;
-    if (edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, &servos, err, errlen) !=
-        ROZ_OK) {
+    uint32_t servos = 0, locked = 0;
+    const char *lock = roz_params_find(p, "lock");
+    if (check_lock(s, spec, lock, err, errlen) != ROZ_OK ||
+        edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, lock, &servos, &locked,
+                  err, errlen) != ROZ_OK) {
         mj_deleteSpec(spec);
         return ROZ_EINVAL;
     }
@@ -1141,9 +1215,13 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     s->base.min_height = INFINITY;
     update_base(s);
 
-    roz_format(msg, sizeof msg, PORT ": %s: %u joints bound, %u actuator%s turned from servos "
+    char held[64] = "";
+    if (locked > 0)
+        roz_format(held, sizeof held, ", %u bound joint%s locked (lock)", (unsigned)locked,
+                   locked == 1 ? "" : "s");
+    roz_format(msg, sizeof msg, PORT ": %s: %u joints bound%s, %u actuator%s turned from servos "
                "into motors (roz applies the robot's own law), %u model joint%s %s; %u steps of "
-               "%g s a tick", s->model_path, (unsigned)s->n_joints, (unsigned)servos,
+               "%g s a tick", s->model_path, (unsigned)s->n_joints, held, (unsigned)servos,
                servos == 1 ? "" : "s", (unsigned)s->unbound, s->unbound == 1 ? "" : "s",
                strcmp(unbound, "lock") == 0 ? "locked (no channel binds them)" : "limp",
                (unsigned)s->steps_per_tick, dt);

@@ -2,12 +2,14 @@
 /* What the mujoco port reads from a model at open and how it tells a user
  * what to fix: a motor's ctrlrange against the manifest's effort channel
  * (refused past it, taken when the manifest is tighter), mesh files that
- * are not there, a model without the IMU the manifest reads; and the
- * built-in robots' descriptors (ports/mujoco/models/<id>.model.toml).
- * Open only: no step is simulated. */
+ * are not there, a model without the IMU the manifest reads; `lock`
+ * holding a bound joint rigid; and the built-in robots' descriptors
+ * (ports/mujoco/models/<id>.model.toml). Open, and 0.2 simulated seconds
+ * of the G1 for the lock. */
 /* white-box in part: reads the bound joints' torque limits (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #define _POSIX_C_SOURCE 200809L
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -17,6 +19,7 @@
 
 #include <cmocka.h>
 
+#include "roz/builtin.h"
 #include "roz/manifest_toml.h"
 #include "roz/port/mujoco.h"
 
@@ -123,6 +126,74 @@ static void test_mujoco_models_no_imu_says_what_to_add(void **state)
     expect_refused("calf_imu.toml", "calf_gyro.xml", acc);
 }
 
+/* ---- lock: model joints held rigid, bound or not ------------------------------------ */
+
+/* The 29-DoF G1 with its upper body locked as unitree_g1_12dof's is: its
+ * left elbow commanded to 1 rad at kp 40 for 0.2 s; the elbow's angle
+ * after it (*q), and open's note (@p note). @p lock: the parameter, or
+ * NULL (the elbow then moves). */
+static char note_text[1024];
+static void keep_note(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    if (level == ROZ_LOG_INFO)
+        snprintf(note_text, sizeof note_text, "%s", msg);
+}
+
+static void run_g1_elbow(const char *lock, double *q)
+{
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    assert_non_null(m);
+    static double cmd[ROZ_CFG_MAX_COMMANDS], st[ROZ_CFG_MAX_STATES];
+    roz_param_t items[2] = { { "keyframe", "" }, { "lock", lock } };
+    roz_params_t params = { items, lock != NULL ? 2u : 1u };
+    char err[1024];
+    roz_port_t p = roz_mujoco_port(&mj, keep_note, NULL);
+    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
+        fail_msg("%s", err);
+    int elbow = roz_manifest_find_command(m, "left_elbow_joint/position");
+    int kp = roz_manifest_find_command(m, "left_elbow_joint/stiffness");
+    int state = roz_manifest_find_state(m, "left_elbow_joint/position");
+    assert_true(elbow >= 0 && kp >= 0 && state >= 0);
+    for (uint16_t i = 0; i < m->n_commands; i++)
+        cmd[i] = 0.0; /* every other joint limp: only the elbow is driven */
+    cmd[elbow] = 1.0;
+    cmd[kp] = 40.0;
+    for (int t = 0; t < 100; t++) {
+        assert_int_equal(roz_port_write(&p, cmd, m->n_commands), ROZ_OK);
+        assert_int_equal(roz_port_read(&p, st, m->n_states), 1);
+    }
+    *q = st[state];
+    roz_port_close(&p);
+}
+
+static void test_mujoco_models_lock_holds_a_bound_joint(void **state)
+{
+    (void)state;
+    if (roz_mujoco_builtin_model("unitree_g1") == NULL)
+        skip(); /* the model wheel is not installed (tools/setup.sh) */
+    double free_q, locked_q;
+    run_g1_elbow(NULL, &free_q);
+    assert_true(free_q > 0.5); /* without the lock the drive moves it */
+    run_g1_elbow("waist_*, *_shoulder_*, *_elbow_*, *_wrist_*", &locked_q);
+    print_message("elbow after 0.2 s at kp 40 toward 1 rad: %.4f free, %.4f locked\n", free_q,
+                  locked_q);
+    assert_true(fabs(locked_q) < 0.05);
+    assert_non_null(strstr(note_text, "29 joints bound, 17 bound joints locked (lock)"));
+    static const char *const typo[] = {
+        "hardware.params.lock = \"*_elbw_*\": \"*_elbw_*\" names no hinge or slide joint", NULL,
+    };
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    roz_param_t item = { "lock", "*_elbw_*" };
+    roz_params_t params = { &item, 1 };
+    char err[1024];
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    assert_int_not_equal(roz_port_open(&p, m, &params, err, sizeof err), ROZ_OK);
+    print_message("refused: %s\n", err);
+    assert_non_null(strstr(err, typo[0]));
+    roz_port_close(&p);
+}
+
 /* ---- the built-in robots' descriptors --------------------------------------------- */
 
 static void test_mujoco_models_g1_12dof_is_the_g1_model(void **state)
@@ -144,6 +215,7 @@ int main(void)
         cmocka_unit_test(test_mujoco_models_ctrlrange_takes_a_tighter_manifest),
         cmocka_unit_test(test_mujoco_models_missing_meshes_say_where),
         cmocka_unit_test(test_mujoco_models_no_imu_says_what_to_add),
+        cmocka_unit_test(test_mujoco_models_lock_holds_a_bound_joint),
         cmocka_unit_test(test_mujoco_models_g1_12dof_is_the_g1_model),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
