@@ -560,65 +560,70 @@ static int check_meshes(const roz_mujoco_t *s, mjSpec *spec, char *err, size_t e
     return ROZ_EINVAL;
 }
 
-/* Whether model joint @p name is one the `lock` parameter names (@p list:
- * "PATTERN, ..." of fnmatch(3) patterns); -1: a pattern too long. */
-static int lock_names(const char *list, const char *name)
+/* The next pattern of the `lock` parameter ("PATTERN, ..." of fnmatch(3)
+ * patterns) from *@p p into @p pat: 1, 0 at the end, -1 when it does not
+ * fit (@p len: its length, for the message). */
+static int next_pattern(const char **p, char *pat, size_t cap, size_t *len)
+{
+    const char *q = *p;
+    while (q != NULL && (*q == ' ' || *q == ','))
+        q++;
+    if (q == NULL || *q == '\0')
+        return 0;
+    const char *end = strchr(q, ',');
+    if (end == NULL)
+        end = q + strlen(q);
+    *len = (size_t)(end - q);
+    while (*len > 0 && q[*len - 1] == ' ')
+        (*len)--;
+    *p = end;
+    if (*len >= cap)
+        return -1;
+    memcpy(pat, q, *len);
+    pat[*len] = '\0';
+    return 1;
+}
+
+/* Whether model joint @p name is one @p lock names. */
+static int lock_names(const char *lock, const char *name)
 {
     char pat[ROZ_MUJOCO_NAME_MAX];
-    for (const char *p = list; p != NULL && *p != '\0';) {
-        while (*p == ' ' || *p == ',')
-            p++;
-        const char *end = strchr(p, ',');
-        if (end == NULL)
-            end = p + strlen(p);
-        size_t len = (size_t)(end - p);
-        while (len > 0 && p[len - 1] == ' ')
-            len--;
-        if (len >= sizeof pat)
-            return -1;
-        memcpy(pat, p, len);
-        pat[len] = '\0';
-        if (len > 0 && fnmatch(pat, name, 0) == 0)
+    size_t len;
+    int rc;
+    while ((rc = next_pattern(&lock, pat, sizeof pat, &len)) != 0) {
+        if (rc > 0 && fnmatch(pat, name, 0) == 0)
             return 1;
-        p = end;
     }
     return 0;
 }
 
 /* Every pattern of `lock` names a hinge or slide of the model: a pattern
  * that names none is a typo that would leave a joint free. */
-static int check_lock(const roz_mujoco_t *s, mjSpec *spec, const char *list, char *err,
+static int check_lock(const roz_mujoco_t *s, mjSpec *spec, const char *lock, char *err,
                       size_t errlen)
 {
     char pat[ROZ_MUJOCO_NAME_MAX];
-    for (const char *p = list; p != NULL && *p != '\0';) {
-        while (*p == ' ' || *p == ',')
-            p++;
-        const char *end = strchr(p, ',');
-        if (end == NULL)
-            end = p + strlen(p);
-        size_t len = (size_t)(end - p);
-        while (len > 0 && p[len - 1] == ' ')
-            len--;
-        int found = len >= sizeof pat ? -1 : 0;
-        if (found == 0) {
-            memcpy(pat, p, len);
-            pat[len] = '\0';
-        }
-        for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL && found == 0;
+    size_t len;
+    int rc;
+    for (const char *p = lock; (rc = next_pattern(&p, pat, sizeof pat, &len)) != 0;) {
+        int found = 0;
+        for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL && rc > 0 && !found;
              e = mjs_nextElement(spec, e)) {
             int type = mjs_asJoint(e)->type;
-            found = (type == mjJNT_HINGE || type == mjJNT_SLIDE) && len > 0 &&
+            found = (type == mjJNT_HINGE || type == mjJNT_SLIDE) &&
                     fnmatch(pat, spec_name(e), 0) == 0;
         }
-        if (found != 1 && len > 0) {
-            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": \"%.*s\" %s",
-                       origin(s), list, (int)len, p,
-                       found < 0 ? "is longer than a joint name"
-                                 : "names no hinge or slide joint of the model");
+        if (rc < 0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": a pattern of %u "
+                       "bytes; a joint name has at most %d", origin(s), lock, (unsigned)len,
+                       ROZ_MUJOCO_NAME_MAX - 1);
             return ROZ_EINVAL;
         }
-        p = end;
+        if (!found) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": \"%s\" names no "
+                       "hinge or slide joint of the model", origin(s), lock, pat);
+            return ROZ_EINVAL;
+        }
     }
     return ROZ_OK;
 }

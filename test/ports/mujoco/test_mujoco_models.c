@@ -192,6 +192,13 @@ static void test_mujoco_models_lock_holds_a_bound_joint(void **state)
     print_message("refused: %s\n", err);
     assert_non_null(strstr(err, typo[0]));
     roz_port_close(&p);
+    static char longer[300]; /* a pattern no joint name could match, refused, not cut */
+    memset(longer, 'x', 200);
+    item.value = longer;
+    p = roz_mujoco_port(&mj, NULL, NULL);
+    assert_int_not_equal(roz_port_open(&p, m, &params, err, sizeof err), ROZ_OK);
+    assert_non_null(strstr(err, "a pattern of 200 bytes"));
+    roz_port_close(&p);
 }
 
 /* ---- the built-in robots' descriptors --------------------------------------------- */
