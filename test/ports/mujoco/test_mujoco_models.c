@@ -83,6 +83,29 @@ static void test_mujoco_models_ctrlrange_refuses_a_wider_manifest(void **state)
     expect_refused("calf.toml", NULL, want);
 }
 
+/* The same on a model its producer wrote: Menagerie's H1 states its motors'
+ * limits as ctrlrange alone (the ankles 40 N.m). It is in the model wheel
+ * beside the built-in G1 (unitree_g1/ and unitree_h1/ in one folder). */
+static void test_mujoco_models_ctrlrange_of_menageries_h1(void **state)
+{
+    (void)state;
+    const char *g1 = roz_mujoco_builtin_model("unitree_g1");
+    static char h1[4096];
+    const char *dir_end = g1 != NULL ? strstr(g1, "/unitree_g1/scene.xml") : NULL;
+    if (dir_end == NULL)
+        skip(); /* the model wheel is not installed (tools/setup.sh) */
+    snprintf(h1, sizeof h1, "%.*s/unitree_h1/h1.xml", (int)(dir_end - g1), g1);
+    FILE *f = fopen(h1, "rb");
+    if (f == NULL)
+        skip(); /* an installed G1 has no H1 beside it */
+    fclose(f);
+    static const char *const want[] = {
+        "h1_ankle.toml", "channel \"left_ankle/effort\": limits [-50, 50] N.m", "h1.xml",
+        "actuator \"left_ankle\" (joint \"left_ankle\") can give, [-40, 40]", NULL,
+    };
+    expect_refused("h1_ankle.toml", h1, want);
+}
+
 static void test_mujoco_models_ctrlrange_takes_a_tighter_manifest(void **state)
 {
     (void)state;
@@ -219,6 +242,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_models_ctrlrange_refuses_a_wider_manifest),
+        cmocka_unit_test(test_mujoco_models_ctrlrange_of_menageries_h1),
         cmocka_unit_test(test_mujoco_models_ctrlrange_takes_a_tighter_manifest),
         cmocka_unit_test(test_mujoco_models_missing_meshes_say_where),
         cmocka_unit_test(test_mujoco_models_no_imu_says_what_to_add),
