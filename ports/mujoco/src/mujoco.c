@@ -842,7 +842,20 @@ static void imu_help(const roz_mujoco_t *s, int gyro_too, char *err, size_t errl
     const char *body = s->base_body >= 0 ? mj_id2name(mm, mjOBJ_BODY, s->base_body) : NULL;
     const char *site = s->imu_site >= 0 ? mj_id2name(mm, mjOBJ_SITE, s->imu_site) : NULL;
     size_t n = strlen(err);
-    if (gyro_too || site == NULL)
+    /* a site meant for the IMU (its name says so) that has no sensors yet */
+    const char *named = NULL;
+    for (int i = 0; i < mm->nsite && named == NULL && (gyro_too || site == NULL); i++) {
+        const char *sn = mj_id2name(mm, mjOBJ_SITE, i);
+        if (sn != NULL && (strstr(sn, "imu") != NULL || strstr(sn, "IMU") != NULL))
+            named = sn;
+    }
+    if (named != NULL)
+        roz_format(err + n, errlen - n, ": the port reads base_imu from a <gyro> and an "
+                   "<accelerometer> on one <site> (the orientation is the site's frame); the "
+                   "model has site \"%s\": add to <sensor> <gyro name=\"imu-gyro\" "
+                   "site=\"%s\"/> <accelerometer name=\"imu-accelerometer\" site=\"%s\"/>",
+                   named, named, named);
+    else if (gyro_too || site == NULL)
         roz_format(err + n, errlen - n, ": the port reads base_imu from a <gyro> and an "
                    "<accelerometer> on one <site> (the orientation is the site's frame); add "
                    "to %s%s%s <site name=\"imu\"/>, and to <sensor> <gyro name=\"imu-gyro\" "

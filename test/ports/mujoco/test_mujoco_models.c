@@ -84,9 +84,10 @@ static void test_mujoco_models_ctrlrange_refuses_a_wider_manifest(void **state)
 }
 
 /* The same on a model its producer wrote: Menagerie's H1 states its motors'
- * limits as ctrlrange alone (the ankles 40 N.m). It is in the model wheel
- * beside the built-in G1 (unitree_g1/ and unitree_h1/ in one folder). */
-static void test_mujoco_models_ctrlrange_of_menageries_h1(void **state)
+ * limits as ctrlrange alone (the ankles 40 N.m), and has an IMU site but no
+ * sensors. It is in the model wheel beside the built-in G1 (unitree_g1/ and
+ * unitree_h1/ in one folder). */
+static void test_mujoco_models_menageries_h1(void **state)
 {
     (void)state;
     const char *g1 = roz_mujoco_builtin_model("unitree_g1");
@@ -104,6 +105,13 @@ static void test_mujoco_models_ctrlrange_of_menageries_h1(void **state)
         "actuator \"left_ankle\" (joint \"left_ankle\") can give, [-40, 40]", NULL,
     };
     expect_refused("h1_ankle.toml", h1, want);
+    /* inside the ctrlrange the ankle binds; the H1 has an IMU site and no
+     * sensors: the help names that site */
+    static const char *const imu[] = {
+        "h1_imu.toml", "no gyro sensor on a site in", "h1.xml", "the model has site \"imu\"",
+        "<gyro name=\"imu-gyro\" site=\"imu\"/>", NULL,
+    };
+    expect_refused("h1_imu.toml", h1, imu);
 }
 
 static void test_mujoco_models_ctrlrange_takes_a_tighter_manifest(void **state)
@@ -242,7 +250,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_mujoco_models_ctrlrange_refuses_a_wider_manifest),
-        cmocka_unit_test(test_mujoco_models_ctrlrange_of_menageries_h1),
+        cmocka_unit_test(test_mujoco_models_menageries_h1),
         cmocka_unit_test(test_mujoco_models_ctrlrange_takes_a_tighter_manifest),
         cmocka_unit_test(test_mujoco_models_missing_meshes_say_where),
         cmocka_unit_test(test_mujoco_models_no_imu_says_what_to_add),
