@@ -28,7 +28,7 @@ PORT = "mujoco"
 #: in the order of mujoco.c's known_keys (its error lists them so)
 KEYS = (
     "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
-    "servo_kp", "servo_kd", "unbound", "latency_ticks", "noise_seed", "noise_position",
+    "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
     "drop", "freeze", "delay", "push", "gantry", "restart",
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust",

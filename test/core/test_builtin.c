@@ -16,6 +16,7 @@
 #include "quadcopter_manifest.h"
 #include "roz/builtin.h"
 #include "roz/manifest.h"
+#include "unitree_g1_12dof_manifest.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -23,7 +24,8 @@
 static void test_builtin_registry(void **state)
 {
     static const char *const ids[] = { "agibot_x2", "diff_drive", "engineai_pm01",
-                                       "quadcopter", "unitree_g1", "unitree_g1_23dof",
+                                       "quadcopter", "unitree_g1", "unitree_g1_12dof",
+                                       "unitree_g1_23dof",
                                        "ur5" };
     (void)state;
     assert_int_equal(roz_builtin_count(), sizeof ids / sizeof ids[0]);
@@ -191,6 +193,26 @@ static void test_builtin_humanoids(void **state)
                    "head_yaw_joint", 4.0);
     check_humanoid(&roz_manifest_engineai_pm01, 24, "engineai/PM01", "J00_HIP_PITCH_L",
                    "J23_HEAD_YAW", 5.0);
+
+    /* the 12-joint G1 (a simulation robot: no [hardware]): the 29-DoF G1's
+     * leg channels, block by block, and its IMU */
+    const roz_manifest_t *g12 = &roz_manifest_unitree_g1_12dof;
+    const roz_manifest_t *g29 = &roz_manifest_unitree_g1;
+    assert_null(g12->hardware);
+    assert_int_equal(g12->n_commands, 5 * 12);
+    assert_int_equal(g12->n_states, 3 * 12 + 10);
+    for (int i = 0; i < g12->n_commands + g12->n_states; i++) {
+        int st = i >= g12->n_commands, k = st ? i - g12->n_commands : i;
+        const roz_channel_t *c = st ? &g12->states[k] : &g12->commands[k];
+        int k29 = k < (st ? 36 : 60) ? k / 12 * 29 + k % 12 : k - 36 + 87;
+        const roz_channel_t *c29 = st ? &g29->states[k29] : &g29->commands[k29];
+        assert_string_equal(c->name, c29->name);
+        assert_int_equal(c->type, c29->type);
+        assert_true(c->min == c29->min && c->max == c29->max && c->max_rate == c29->max_rate);
+        assert_true(c->default_value == c29->default_value);
+        assert_int_equal(c->position_state, c29->position_state);
+        assert_int_equal(c->safe_default, c29->safe_default);
+    }
 
     /* G1 spot checks from reference/robots.md 1.6 */
     const roz_manifest_t *g1 = &roz_manifest_unitree_g1;

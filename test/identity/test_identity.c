@@ -36,6 +36,7 @@
 #include "roz/runtime.h"
 #include "support_runtime.h"
 #include "support_stats.h"
+#include "unitree_g1_12dof_manifest.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -56,6 +57,8 @@ static void test_identity_hash_is_rozgens(void **st)
           ROZ_ENGINEAI_PM01_INTERFACE_HASH },
         { &roz_manifest_quadcopter, ROZ_QUADCOPTER_ROBOT_ID, ROZ_QUADCOPTER_INTERFACE_HASH },
         { &roz_manifest_unitree_g1, ROZ_UNITREE_G1_ROBOT_ID, ROZ_UNITREE_G1_INTERFACE_HASH },
+        { &roz_manifest_unitree_g1_12dof, ROZ_UNITREE_G1_12DOF_ROBOT_ID,
+          ROZ_UNITREE_G1_12DOF_INTERFACE_HASH },
         { &roz_manifest_unitree_g1_23dof, ROZ_UNITREE_G1_23DOF_ROBOT_ID,
           ROZ_UNITREE_G1_23DOF_INTERFACE_HASH },
         { &roz_manifest_ur5, ROZ_UR5_ROBOT_ID, ROZ_UR5_INTERFACE_HASH },

@@ -4,6 +4,7 @@
 #define _POSIX_C_SOURCE 200809L /* readlink() */
 #include "roz/port/mujoco.h"
 
+#include <fnmatch.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdio.h>
@@ -54,83 +55,19 @@ enum {
 
 static const char *const known_keys[] = {
     "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
-    "servo_kp", "servo_kd", "unbound", "latency_ticks", "noise_seed", "noise_position",
+    "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
     "drop", "freeze", "delay", "push", "gantry", "restart",
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
 };
 
-/* The built-in robots' models: under the install prefix's share/roz/models
- * (cmake --install puts them there, docs/ports/mujoco.md), found from the
- * running program (<prefix>/bin/rozrun), else where this build found them
- * (CMake: the model wheels' folders, and this port's models/). Each robot's
- * parameters are defaults a robot.toml's or the caller's override; the
- * model, defaults[0], is resolved by builtin_model(). */
-#ifndef ROZ_MUJOCO_G1_SCENE
-#define ROZ_MUJOCO_G1_SCENE ""
-#endif
-#ifndef ROZ_MUJOCO_UR5E_MODEL
-#define ROZ_MUJOCO_UR5E_MODEL ""
-#endif
-#ifndef ROZ_MUJOCO_MODELS
-#define ROZ_MUJOCO_MODELS ""
-#endif
-/* below the program's folder: <prefix>/bin/../share/roz/models/ */
-#define INSTALLED_MODELS "/../share/roz/models/"
-
-/* The G1: 1 ms steps, two a 2 ms tick, as Unitree's own simulator runs its
- * joint PD; with Menagerie's 2 ms, kd = 10 on a wrist is near the explicit
- * law's stability bound (docs/ports/mujoco.md, "The actuator law"). It
- * reports its pelvis IMU (rt/lowstate's imu_state; the torso's is
- * rt/secondary_imu). */
-static const roz_param_t g1_defaults[] = {
-    { "model", ROZ_MUJOCO_G1_SCENE },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-pelvis-angular-velocity" },
-    { "imu_accelerometer", "imu-pelvis-linear-acceleration" },
-};
-static const roz_param_t ur5_defaults[] = {
-    { "model", ROZ_MUJOCO_UR5E_MODEL },
-    { "keyframe", "home" },
-};
-/* geared wheel motors: a light servo (the wheel's inertia is the gearbox's) */
-static const roz_param_t diff_drive_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "diff_drive.xml" },
-    { "wheel_left", "wheel_left_joint" },
-    { "wheel_right", "wheel_right_joint" },
-    { "wheel_radius", "0.035" },
-    { "wheel_separation", "0.230" },
-    { "servo_kp", "20" },
-    { "servo_kd", "1" },
-};
-/* four rotors of 8 N each: a thrust-to-weight ratio of 2.2 at 1.5 kg */
-static const roz_param_t quadcopter_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "quadcopter.xml" },
-    { "max_thrust", "32" },
-};
-
-/* The PM01: 1 ms steps as the G1's, its base link's IMU (our placement:
- * models/engineai_pm01.xml says what is EngineAI's and what is ours). */
-static const roz_param_t pm01_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "engineai_pm01.xml" },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-angular-velocity" },
-    { "imu_accelerometer", "imu-linear-acceleration" },
-};
-
-/* The X2: 1 ms steps as the G1's, its pelvis IMU (the URDF's place, the
- * pelvis's axes: models/agibot_x2.xml says what is AgiBot's and what is
- * ours). */
-static const roz_param_t x2_defaults[] = {
-    { "model", ROZ_MUJOCO_MODELS "agibot_x2.xml" },
-    { "keyframe", "stand" },
-    { "timestep", "0.001" },
-    { "imu_gyro", "imu-angular-velocity" },
-    { "imu_accelerometer", "imu-linear-acceleration" },
-};
-
+/* The built-in robots, one descriptor each (models/<robot_id>.model.toml,
+ * made into builtins.h by this port's CMakeLists.txt): each robot's
+ * parameters are defaults a robot.toml's or the caller's override. Its
+ * model, defaults[0], is found by builtin_model(): under the install
+ * prefix's share/roz/models (cmake --install puts them there,
+ * docs/ports/mujoco.md), from the running program (<prefix>/bin/rozrun),
+ * else where this build found it. */
 typedef struct {
     const char        *robot_id;
     const char        *installed; /* the model under share/roz/models/ */
@@ -138,16 +75,14 @@ typedef struct {
     size_t             n;
 } builtin_t;
 
-#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] }
-static const builtin_t builtins[] = {
-    BUILTIN("unitree_g1", "unitree_g1/scene.xml", g1_defaults),
-    BUILTIN("unitree_g1_23dof", "unitree_g1/scene.xml", g1_defaults),
-    BUILTIN("ur5", "universal_robots_ur5e/ur5e.xml", ur5_defaults),
-    BUILTIN("diff_drive", "diff_drive.xml", diff_drive_defaults),
-    BUILTIN("quadcopter", "quadcopter.xml", quadcopter_defaults),
-    BUILTIN("engineai_pm01", "engineai_pm01.xml", pm01_defaults),
-    BUILTIN("agibot_x2", "agibot_x2.xml", x2_defaults),
-};
+/* below the program's folder: <prefix>/bin/../share/roz/models/ */
+#define INSTALLED_MODELS "/../share/roz/models/"
+
+#include "builtins.h"
+
+#define BUILTIN(id, rel, d) { id, rel, d, sizeof d / sizeof d[0] },
+static const builtin_t builtins[] = { ROZ_MUJOCO_BUILTINS };
+#undef BUILTIN
 #define N_BUILTINS (sizeof builtins / sizeof builtins[0])
 
 static int readable(const char *path)
@@ -580,13 +515,128 @@ static const char *spec_name(mjsElement *e)
     return n != NULL ? n : "";
 }
 
+/* Every mesh file the model names is there, before the compile looks for
+ * it: a model copied without its meshes (or with another folder layout)
+ * gets the file, the place looked in and what to set, rather than the
+ * compiler's first "Error opening file". MuJoCo's rule: <compiler meshdir>
+ * (absolute, or relative to the model's folder), then the mesh's file.
+ * Test: test_mujoco_models.c. */
+static int check_meshes(const roz_mujoco_t *s, mjSpec *spec, char *err, size_t errlen)
+{
+    const char *dir = mjs_getString(spec->modelfiledir);
+    const char *meshdir = mjs_getString(spec->compiler.meshdir);
+    dir = dir != NULL ? dir : "";
+    meshdir = meshdir != NULL ? meshdir : "";
+    char path[ROZ_MUJOCO_PATH_MAX], first[ROZ_MUJOCO_PATH_MAX] = "";
+    const char *first_name = "", *first_file = "";
+    unsigned missing = 0, meshes = 0;
+    for (mjsElement *e = mjs_firstElement(spec, mjOBJ_MESH); e != NULL;
+         e = mjs_nextElement(spec, e)) {
+        const char *file = mjs_getString(mjs_asMesh(e)->file);
+        if (file == NULL || file[0] == '\0')
+            continue; /* its vertices are in the model */
+        meshes++;
+        size_t md = strlen(meshdir);
+        roz_format(path, sizeof path, "%s%s%s%s", file[0] == '/' || meshdir[0] == '/' ? "" : dir,
+                   file[0] == '/' ? "" : meshdir,
+                   file[0] != '/' && md > 0 && meshdir[md - 1] != '/' ? "/" : "", file);
+        FILE *f = fopen(path, "rb");
+        if (f != NULL) {
+            fclose(f);
+            continue;
+        }
+        if (missing++ == 0) {
+            roz_format(first, sizeof first, "%s", path);
+            first_name = spec_name(e);
+            first_file = file;
+        }
+    }
+    if (missing == 0)
+        return ROZ_OK;
+    roz_format(err, errlen, PORT ": %s: %s: <mesh name=\"%s\" file=\"%s\">: no file %s (%u of "
+               "the model's %u mesh files are missing): a mesh file is looked for in the "
+               "model's <compiler meshdir=\"%s\">, relative to the model's folder; put the "
+               "meshes there, or set meshdir to the folder that holds them",
+               origin(s), s->model_path, first_name, first_file, first, missing, meshes, meshdir);
+    return ROZ_EINVAL;
+}
+
+/* The next pattern of the `lock` parameter ("PATTERN, ..." of fnmatch(3)
+ * patterns) from *@p p into @p pat: 1, 0 at the end, -1 when it does not
+ * fit (@p len: its length, for the message). */
+static int next_pattern(const char **p, char *pat, size_t cap, size_t *len)
+{
+    const char *q = *p;
+    while (q != NULL && (*q == ' ' || *q == ','))
+        q++;
+    if (q == NULL || *q == '\0')
+        return 0;
+    const char *end = strchr(q, ',');
+    if (end == NULL)
+        end = q + strlen(q);
+    *len = (size_t)(end - q);
+    while (*len > 0 && q[*len - 1] == ' ')
+        (*len)--;
+    *p = end;
+    if (*len >= cap)
+        return -1;
+    memcpy(pat, q, *len);
+    pat[*len] = '\0';
+    return 1;
+}
+
+/* Whether model joint @p name is one @p lock names. */
+static int lock_names(const char *lock, const char *name)
+{
+    char pat[ROZ_MUJOCO_NAME_MAX];
+    size_t len;
+    int rc;
+    while ((rc = next_pattern(&lock, pat, sizeof pat, &len)) != 0) {
+        if (rc > 0 && fnmatch(pat, name, 0) == 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* Every pattern of `lock` names a hinge or slide of the model: a pattern
+ * that names none is a typo that would leave a joint free. */
+static int check_lock(const roz_mujoco_t *s, mjSpec *spec, const char *lock, char *err,
+                      size_t errlen)
+{
+    char pat[ROZ_MUJOCO_NAME_MAX];
+    size_t len;
+    int rc;
+    for (const char *p = lock; (rc = next_pattern(&p, pat, sizeof pat, &len)) != 0;) {
+        int found = 0;
+        for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL && rc > 0 && !found;
+             e = mjs_nextElement(spec, e)) {
+            int type = mjs_asJoint(e)->type;
+            found = (type == mjJNT_HINGE || type == mjJNT_SLIDE) &&
+                    fnmatch(pat, spec_name(e), 0) == 0;
+        }
+        if (rc < 0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": a pattern of %u "
+                       "bytes; a joint name has at most %d", origin(s), lock, (unsigned)len,
+                       ROZ_MUJOCO_NAME_MAX - 1);
+            return ROZ_EINVAL;
+        }
+        if (!found) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.lock = \"%s\": \"%s\" names no "
+                       "hinge or slide joint of the model", origin(s), lock, pat);
+            return ROZ_EINVAL;
+        }
+    }
+    return ROZ_OK;
+}
+
 /* The model as roz drives it: every actuator a motor (roz runs the robot's
  * own law at every step), each model joint no channel binds locked (or
  * limp), and a weld that hangs the floating base (the gantry), off. */
 static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names, uint16_t n,
-                     int lock_unbound, uint32_t *servos, char *err, size_t errlen)
+                     int lock_unbound, const char *lock, uint32_t *servos, uint32_t *locked,
+                     char *err, size_t errlen)
 {
-    *servos = 0;
+    *servos = *locked = 0;
     for (mjsElement *e = mjs_firstElement(spec, mjOBJ_ACTUATOR); e != NULL;
          e = mjs_nextElement(spec, e)) {
         mjsActuator *a = mjs_asActuator(e);
@@ -600,9 +650,11 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
                 return ROZ_EINVAL;
             }
             (*servos)++;
+            a->ctrllimited = mjLIMITED_FALSE; /* a servo's range was its set-point's */
         }
         a->inheritrange = 0;
-        a->ctrllimited = mjLIMITED_FALSE; /* roz saturates the torque itself */
+        /* a motor's ctrlrange bounds its torque: bind_joint() reads it from
+         * the compiled model, then open clears it (roz saturates the torque) */
     }
     s->gantry_eq = -1;
     for (mjsElement *e = mjs_firstElement(spec, mjOBJ_JOINT); e != NULL;
@@ -626,7 +678,12 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
         int bound = 0;
         for (uint16_t k = 0; k < n && !bound; k++)
             bound = strcmp(mj_names[k], name) == 0;
-        if (!bound && lock_unbound && name[0] != '\0') {
+        /* `lock`: held even where a channel binds it (its drive then pushes
+         * against the lock), as a training model's fixed joints are */
+        int held = lock_names(lock, name) == 1;
+        if (bound && held)
+            (*locked)++;
+        if (((!bound && lock_unbound) || held) && name[0] != '\0') {
             mjsEquality *q = mjs_addEquality(spec, NULL);
             q->type = mjEQ_JOINT;
             q->objtype = mjOBJ_JOINT;
@@ -640,19 +697,42 @@ static int edit_spec(roz_mujoco_t *s, mjSpec *spec, const char *const *mj_names,
     return ROZ_OK;
 }
 
-/* The effort a joint's channels allow: its effort command's limits, else
- * its effort state's; 0 when neither. */
-static int manifest_effort(const roz_manifest_t *m, const roz_joint_channels_t *ch, double *lo,
-                           double *hi)
+/* The channel that bounds a joint's effort: its effort command, else its
+ * effort state; NULL when neither. */
+static const roz_channel_t *manifest_effort(const roz_manifest_t *m, const roz_joint_channels_t *ch)
 {
-    const roz_channel_t *c = ch->tau_cmd >= 0   ? &m->commands[ch->tau_cmd]
-                             : ch->tau_state >= 0 ? &m->states[ch->tau_state]
-                                                  : NULL;
-    if (c == NULL)
-        return 0;
-    *lo = c->min;
-    *hi = c->max;
-    return 1;
+    return ch->tau_cmd >= 0     ? &m->commands[ch->tau_cmd]
+           : ch->tau_state >= 0 ? &m->states[ch->tau_state]
+                                : NULL;
+}
+
+/* A motor's ctrlrange (edit_spec() keeps it limited through the compile) is
+ * a torque range too: gear x gain x ctrl. The manifest's effort channel @p c
+ * must lie inside it (a tighter channel is the law roz applies); [*lo, *hi]
+ * narrows to it. Test: test_mujoco_models.c, the ctrlrange cases. */
+static int check_ctrlrange(const roz_mujoco_t *s, const roz_mujoco_joint_t *j, const char *name,
+                           const roz_channel_t *c, double *lo, double *hi, char *err,
+                           size_t errlen)
+{
+    const mjModel *mm = s->model;
+    int a = j->act;
+    if (!mm->actuator_ctrllimited[a] || !(j->gear != 0.0) || !isfinite(j->gear))
+        return ROZ_OK; /* a zero gear: bind_joint() refuses it */
+    double c0 = mm->actuator_ctrlrange[2 * a], c1 = mm->actuator_ctrlrange[2 * a + 1];
+    double t0 = j->gear * c0, t1 = j->gear * c1;
+    double clo = fmin(t0, t1), chi = fmax(t0, t1);
+    if (c != NULL && (c->min < clo || c->max > chi)) {
+        const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
+        roz_format(err, errlen, PORT ": %s: channel \"%s\": limits [%g, %g] N.m exceed what %s's "
+                   "actuator \"%s\" (joint \"%s\") can give, [%g, %g]: its ctrlrange [%g, %g] "
+                   "times gear and gain %g; narrow the channel's limits to the actuator's",
+                   origin(s), c->name, c->min, c->max, s->model_path, an != NULL ? an : "?",
+                   name, clo, chi, c0, c1, j->gear);
+        return ROZ_EINVAL;
+    }
+    *lo = fmax(*lo, clo);
+    *hi = fmin(*hi, chi);
+    return ROZ_OK;
 }
 
 static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char *mj_name,
@@ -702,8 +782,11 @@ static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char 
         hi = fmin(hi, mm->jnt_actfrcrange[2 * j->jnt + 1]);
     }
     const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
-    double mlo, mhi;
-    if (manifest_effort(s->m, &j->ch, &mlo, &mhi)) {
+    const roz_channel_t *effort = manifest_effort(s->m, &j->ch);
+    if (check_ctrlrange(s, j, name, effort, &lo, &hi, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (effort != NULL) {
+        double mlo = effort->min, mhi = effort->max;
         if (mlo < lo || mhi > hi) {
             roz_format(err, errlen, PORT ": %s: joint \"%s\": the manifest's effort limits "
                        "[%g, %g] N.m exceed what %s's actuator \"%s\" can give, [%g, %g]",
@@ -750,6 +833,42 @@ static int find_sensor(const mjModel *mm, const char *name, int type, int *adr, 
     return ROZ_ENOENT;
 }
 
+/* What a model without an IMU needs, after open's refusal in @p err: the
+ * lines to add (a site on the base body, a gyro and an accelerometer on
+ * it). Only where no sensor was named: a named one that is wrong is the
+ * robot.toml's mistake, not the model's. Test: test_mujoco_models.c. */
+static void imu_help(const roz_mujoco_t *s, int gyro_too, char *err, size_t errlen)
+{
+    const mjModel *mm = s->model;
+    const char *body = s->base_body >= 0 ? mj_id2name(mm, mjOBJ_BODY, s->base_body) : NULL;
+    const char *site = s->imu_site >= 0 ? mj_id2name(mm, mjOBJ_SITE, s->imu_site) : NULL;
+    size_t n = strlen(err);
+    /* a site meant for the IMU (its name says so) that has no sensors yet */
+    const char *named = NULL;
+    for (int i = 0; i < mm->nsite && named == NULL && (gyro_too || site == NULL); i++) {
+        const char *sn = mj_id2name(mm, mjOBJ_SITE, i);
+        if (sn != NULL && (strstr(sn, "imu") != NULL || strstr(sn, "IMU") != NULL))
+            named = sn;
+    }
+    if (named != NULL)
+        roz_format(err + n, errlen - n, ": the port reads base_imu from a <gyro> and an "
+                   "<accelerometer> on one <site> (the orientation is the site's frame); the "
+                   "model has site \"%s\": add to <sensor> <gyro name=\"imu-gyro\" "
+                   "site=\"%s\"/> <accelerometer name=\"imu-accelerometer\" site=\"%s\"/>",
+                   named, named, named);
+    else if (gyro_too || site == NULL)
+        roz_format(err + n, errlen - n, ": the port reads base_imu from a <gyro> and an "
+                   "<accelerometer> on one <site> (the orientation is the site's frame); add "
+                   "to %s%s%s <site name=\"imu\"/>, and to <sensor> <gyro name=\"imu-gyro\" "
+                   "site=\"imu\"/> <accelerometer name=\"imu-accelerometer\" site=\"imu\"/>",
+                   body != NULL ? "<body name=\"" : "the base body", body != NULL ? body : "",
+                   body != NULL ? "\">" : "");
+    else
+        roz_format(err + n, errlen - n, ": the port reads the acceleration from an "
+                   "<accelerometer> on the gyro's site; add to <sensor> <accelerometer "
+                   "name=\"imu-accelerometer\" site=\"%s\"/>", site);
+}
+
 static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
                     size_t errlen)
 {
@@ -767,16 +886,32 @@ static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
                    "manifest has base_imu channels)", origin(s), gyro ? " = \"" : "",
                    gyro ? gyro : "", gyro ? "\"" : "",
                    rc == ROZ_EINVAL ? "not a gyro sensor" : "no gyro sensor on a site", s->model_path);
+        if (gyro == NULL)
+            imu_help(s, 1, err, errlen);
         return ROZ_EINVAL;
     }
-    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, NULL);
+    int acc_site = -1;
+    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, &acc_site);
     if (rc != ROZ_OK) {
         roz_format(err, errlen, PORT ": %s: hardware.params.imu_accelerometer%s%s%s: %s in %s "
                    "(the manifest has base_imu channels)", origin(s), acc ? " = \"" : "",
                    acc ? acc : "", acc ? "\"" : "",
                    rc == ROZ_EINVAL ? "not an accelerometer" : "no accelerometer sensor",
                    s->model_path);
+        if (acc == NULL)
+            imu_help(s, 0, err, errlen);
         return ROZ_EINVAL;
+    }
+    if (acc_site != s->imu_site && s->log != NULL) {
+        char msg[512];
+        const char *gs = mj_id2name(s->model, mjOBJ_SITE, s->imu_site);
+        const char *as = acc_site >= 0 ? mj_id2name(s->model, mjOBJ_SITE, acc_site) : NULL;
+        roz_format(msg, sizeof msg, PORT ": %s: warning: %s: the accelerometer is on %s%s%s, "
+                   "the gyro on site \"%s\": base_imu's orientation and rate are the gyro's "
+                   "site's, its acceleration another place's", origin(s), s->model_path,
+                   as != NULL ? "site \"" : "no site", as != NULL ? as : "", as != NULL ? "\"" : "",
+                   gs != NULL ? gs : "?");
+        s->log(s->log_ctx, ROZ_LOG_WARN, msg);
     }
     return ROZ_OK;
 }
@@ -818,6 +953,8 @@ static const roz_port_param_info_t mj_params[] = {
     ROZ_PORT_PARAM_DOUBLE_ROW("servo_kd", 0, 1e6, 20, "",
                               "the velocity servo's damping, N m s/rad"),
     ROZ_PORT_PARAM_TEXT_ROW("unbound", "lock|limp", "lock", "model joints no channel binds"),
+    ROZ_PORT_PARAM_TEXT_ROW("lock", "PATTERN,...", "the built-in robot's",
+                            "model joints held rigid, bound or not"),
     ROZ_PORT_PARAM_TEXT_ROW("wheel_left", "a joint's name", "the built-in diff_drive's",
                             "a differential drive's wheel"),
     ROZ_PORT_PARAM_TEXT_ROW("wheel_right", "a joint's name", "the built-in diff_drive's",
@@ -980,9 +1117,15 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                    s->model_path, mjerr[0] ? mjerr : "cannot be read");
         return ROZ_EINVAL;
     }
-    uint32_t servos = 0;
-    if (edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, &servos, err, errlen) !=
-        ROZ_OK) {
+    if (check_meshes(s, spec, err, errlen) != ROZ_OK) {
+        mj_deleteSpec(spec);
+        return ROZ_EINVAL;
+    }
+    uint32_t servos = 0, locked = 0;
+    const char *lock = roz_params_find(p, "lock");
+    if (check_lock(s, spec, lock, err, errlen) != ROZ_OK ||
+        edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, lock, &servos, &locked,
+                  err, errlen) != ROZ_OK) {
         mj_deleteSpec(spec);
         return ROZ_EINVAL;
     }
@@ -1004,6 +1147,8 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         if (s->mobile == MOBILE_WHEELS)
             s->joints[j].law = LAW_WHEEL;
     }
+    for (int a = 0; a < mm->nu; a++)
+        mm->actuator_ctrllimited[a] = 0; /* read by bind_joint(); roz saturates the torque */
     for (int j = 0; j < mm->njnt; j++) {
         if (mm->jnt_type[j] == mjJNT_FREE) {
             s->base_jnt = j;
@@ -1096,9 +1241,13 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     s->base.min_height = INFINITY;
     update_base(s);
 
-    roz_format(msg, sizeof msg, PORT ": %s: %u joints bound, %u actuator%s turned from servos "
+    char held[64] = "";
+    if (locked > 0)
+        roz_format(held, sizeof held, ", %u bound joint%s locked (lock)", (unsigned)locked,
+                   locked == 1 ? "" : "s");
+    roz_format(msg, sizeof msg, PORT ": %s: %u joints bound%s, %u actuator%s turned from servos "
                "into motors (roz applies the robot's own law), %u model joint%s %s; %u steps of "
-               "%g s a tick", s->model_path, (unsigned)s->n_joints, (unsigned)servos,
+               "%g s a tick", s->model_path, (unsigned)s->n_joints, held, (unsigned)servos,
                servos == 1 ? "" : "s", (unsigned)s->unbound, s->unbound == 1 ? "" : "s",
                strcmp(unbound, "lock") == 0 ? "locked (no channel binds them)" : "limp",
                (unsigned)s->steps_per_tick, dt);
