@@ -674,10 +674,10 @@ static cmd_port_t cp;
 static roz_dds_cmd_t cmdp;
 static double cmd_slots[3 * (2 + ROZ_DDS_CMD_META + 1)];
 
-static void cp_hold(void *port, int after_trip, double *cmd)
+static void cp_hold(void *port, const double *last, double *cmd)
 {
     cmd_port_t *p = port;
-    (void)after_trip;
+    (void)last;
     p->holds++;
     cmd[0] = 0.25; /* "the measured position" */
     cmd[1] = 0.0;
@@ -696,9 +696,10 @@ static int cp_refuse(void *port)
     return atomic_load(&p->refuse);
 }
 
-static int cp_send(void *port, void *sample, const double *cmd, const double *extra)
+static int cp_send(void *port, void *sample, const double *cmd, const double *extra, int hold)
 {
     cmd_port_t *p = port;
+    (void)hold;
     roz_dds_test_Frame *f = sample;
     p->sent[0] = cmd[0];
     p->sent[1] = cmd[1];

@@ -88,14 +88,12 @@ static const double *truth(void)
 }
 
 /* What the DDS ports' command watchdogs send once the tick has been silent
- * for command_timeout_us (g1_watchdog() in ports/unitree_g1, and the ROS 2
- * ports' bridge_watchdog() in ports/ros2, the PM01's, through the command
- * path every DDS port shares, ports/dds/src/dds_cmd.c): the
- * positions last sent moved to keep the torque they held the joint with
- * (roz_hold_keep_torque()), kp each joint's stiffness default (the hold gain),
- * kd its damping default (shutdown_damping's default), nothing else. The
- * mujoco port has no sender of its own: the test writes it in the port's
- * place, every tick. */
+ * for command_timeout_us: the ports' own hold (roz_joints_hold_keep(), the
+ * hold the DDS ports send when the tick comes back after a trip, each
+ * joint's setpoint roz_joints_hold_setpoint() as g1_watchdog() and the ROS 2
+ * ports' bridge_watchdog() compute it) from the last command, kd the
+ * damping default (shutdown_damping's default). The mujoco port has no
+ * sender of its own: the test writes it in the port's place, every tick. */
 static void watchdog_command(const roz_manifest_t *m, const double *last, const double *state,
                              double *cmd)
 {
@@ -103,13 +101,9 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
     double q[ROZ_MUJOCO_MAX_JOINTS];
     for (uint16_t k = 0; k < mj.n_joints; k++) {
         j[k] = mj.joints[k].ch;
-        /* the torque the last command held the joint with, at the hold gain */
-        q[k] = roz_hold_keep_torque(last[j[k].q_cmd], state[j[k].q_state], last[j[k].kp_cmd],
-                                    m->commands[j[k].kp_cmd].default_value);
+        q[k] = state[j[k].q_state];
     }
-    roz_joints_hold(m, j, mj.n_joints, q, m->commands[j[0].kd_cmd].default_value, cmd);
-    for (uint16_t k = 0; k < mj.n_joints; k++)
-        cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
+    roz_joints_hold_keep(m, j, mj.n_joints, last, q, m->commands[j[0].kd_cmd].default_value, cmd);
 }
 
 /* The pelvis height (m) the stand stands above before the stop: the G1's

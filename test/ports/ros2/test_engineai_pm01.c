@@ -54,6 +54,7 @@
 #include "support_blocking_log.h"
 #include "ros2_fixture.h"
 #include "roz/filter.h"
+#include "roz/hold.h"
 #include "roz/port/engineai_pm01.h"
 #include "ur5_manifest.h"
 
@@ -131,17 +132,17 @@ static void assert_state_is_sent(void)
 /* The setpoints the watchdog's hold sends after the command in cmd[] went
  * out against the measured positions @p measured (state order): each
  * joint's setpoint moved to keep the torque it went out with at the hold
- * gain (roz_hold_keep_torque()), inside the position state's and the
- * command's limits. */
+ * gain, within the band of the measured position (roz/hold.h), inside the
+ * position state's and the command's limits. */
 static void watchdog_positions(const double *measured, double *q)
 {
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
         const roz_channel_t *kc = &m->commands[cmd_index(j, "stiffness")];
         const roz_channel_t *qs = &m->states[qc->position_state];
-        double v = roz_hold_keep_torque(cmd[cmd_index(j, "position")],
-                                        measured[qc->position_state],
-                                        cmd[cmd_index(j, "stiffness")], kc->default_value);
+        roz_hold_from_t from = { cmd[cmd_index(j, "position")], cmd[cmd_index(j, "stiffness")],
+                                 measured[qc->position_state] };
+        double v = roz_hold_setpoint(&from, kc->default_value, roz_hold_band(qc));
         q[j] = roz_channel_clamp(qc, roz_channel_clamp(qs, v));
     }
 }
@@ -744,14 +745,26 @@ static void test_pm01_watchdog(void **st)
     assert_int_equal(f.limit, 100000);
     assert_true(f.code >= 100000);
     assert_int_equal(read_pm01(), 0);
+    /* the stop's hold from the last command before the trip, at the hold
+     * gains and the damping command's kd: never a frame without stiffness
+     * between the watchdog's hold and the tick's */
+    double before_trip[ROZ_CFG_MAX_COMMANDS];
+    memcpy(before_trip, cmd, sizeof before_trip);
     distinct_command(2);
     write_pm01();
     get_command(&c);
     roz_ros2fx_sent(sent);
-    assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
-    /* the hold after the trip keeps the damping command's kd (no kd 0
-     * between two damping commands) */
-    assert_true(c.kp[3] == 0.0);
+    {
+        const roz_channel_t *qc = &m->commands[cmd_index(3, "position")];
+        const roz_channel_t *kc = &m->commands[cmd_index(3, "stiffness")];
+        roz_hold_from_t from = { before_trip[cmd_index(3, "position")],
+                                 before_trip[cmd_index(3, "stiffness")],
+                                 sent[qc->position_state] };
+        double want = roz_channel_clamp(qc, roz_hold_setpoint(&from, kc->default_value,
+                                                              roz_hold_band(qc)));
+        assert_true(fabs(c.q[3] - want) < 1e-12);
+        assert_true(c.kp[3] == kc->default_value);
+    }
     assert_true(c.kd[3] == m->commands[cmd_index(3, "damping")].default_value);
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
@@ -775,8 +788,9 @@ static void fake_position(uint16_t j, const char *q)
  * filter's hold and the G1 port's watchdog do (SAFETY.md, section 7): the
  * left knee held with kp 80 at 0.5 rad, measured at 0.9, goes on at its
  * hold gain kh (200) at 0.9 + 80 (0.5 - 0.9) / 200 = 0.74; the left hip
- * pitch held hard (kp 500) near its upper limit, from 0.2 rad below it,
- * gets its limit, not the setpoint past it; the right knee, NaN in the
+ * pitch held hard (kp 500) near its upper limit, from 0.5 rad below it,
+ * gets the band's edge (5 rate caps above where it is: roz_hold_band()),
+ * not the limit the torque would push it to; the right knee, NaN in the
  * last frame, keeps its torque about its last finite position (0.6); every
  * joint by the same rule, every value finite. */
 static void test_pm01_watchdog_keeps_the_torque(void **st)
@@ -796,7 +810,7 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     /* the frame the command goes out against: the right knee at 0.6, then
      * NaN (the port keeps 0.6, the last finite one) */
     roz_ros2fx_send();
-    snprintf(hip_at, sizeof hip_at, "%.17g", hip_q->max - 0.2);
+    snprintf(hip_at, sizeof hip_at, "%.17g", hip_q->max - 0.5);
     fake_position(knee_l, "0.9");
     fake_position(hip_l, hip_at);
     fake_position(knee_r, "0.6");
@@ -831,13 +845,18 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     print_message("left knee: kp 80 at 0.5, measured 0.9: the watchdog's hold kp %g at %.6f; "
                   "left hip pitch: kp 500 at %.4f, measured %.4f: at %.4f (its limit %.4f)\n",
                   c.kp[knee_l], c.q[knee_l], cmd[cmd_index(hip_l, "position")],
-                  hip_q->max - 0.2, c.q[hip_l], hip_q->max);
+                  hip_q->max - 0.5, c.q[hip_l], hip_q->max);
     assert_true(c.kp[knee_l] == kh && kh == 200.0);
     assert_true(fabs(c.q[knee_l] - (0.9 + 80.0 * (0.5 - 0.9) / kh)) < 1e-12);
-    assert_true(c.q[hip_l] == hip_q->max);
-    assert_true(fabs(c.q[knee_r] - roz_hold_keep_torque(cmd[cmd_index(knee_r, "position")], 0.6,
-                                                        cmd[cmd_index(knee_r, "stiffness")],
-                                                        kh)) < 1e-12);
+    assert_true(fabs(c.q[hip_l] - (hip_q->max - 0.5 + roz_hold_band(hip_q))) < 1e-12);
+    assert_true(c.q[hip_l] < hip_q->max - 0.2);
+    {
+        roz_hold_from_t from = { cmd[cmd_index(knee_r, "position")],
+                                 cmd[cmd_index(knee_r, "stiffness")], 0.6 };
+        assert_true(fabs(c.q[knee_r] - roz_hold_setpoint(&from, kh, roz_hold_band(&m->commands[
+                                                                 cmd_index(knee_r, "position")]))) <
+                    1e-12);
+    }
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
         const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
