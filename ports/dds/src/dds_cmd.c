@@ -32,7 +32,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     roz_buffer_frame_t f;
 
     if (atomic_load_explicit(&c->shutdown, memory_order_acquire)) {
-        /* the last command: damping, if the robot ever got one */
+        /* the last command: the port's exit (safe()), if the robot ever got one */
         if (!c->sent_any)
             return 0;
         return ops->safe(c->port, sample);
@@ -182,7 +182,7 @@ int roz_dds_cmd_report(roz_dds_cmd_t *c, int rc, roz_port_fault_t *fault)
 int roz_dds_cmd_stop(roz_dds_cmd_t *c)
 {
     roz_dds_writer_stop(c->writer);
-    /* the last command: damping, published here now the thread is gone */
+    /* the last command (the port's exit), published here now the thread is gone */
     atomic_store_explicit(&c->shutdown, 1, memory_order_release);
     return roz_dds_writer_publish_final(c->writer, pass, c);
 }

@@ -415,9 +415,15 @@ static int bridge_send(void *port, void *sample, const double *cmd, const double
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
+static int bridge_watchdog(void *port, void *sample);
+
+/* The last command on the way out: the stop's hold (the humanoid's stop),
+ * or damping where exit_stop chose it */
 static int bridge_safe(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
+    if (!b->dds.exit_damping)
+        return bridge_watchdog(port, sample);
     roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 0, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
 }
@@ -788,7 +794,7 @@ int roz_ros2_deactivate(void *self)
     if (!b->active)
         return ROZ_OK;
     roz_ros2_out_t *o = &b->out[primary(b)];
-    /* the last command: damping; the primary's pass publishes every other
+    /* the last command: the exit stop; the primary's pass publishes every other
      * group's too, and they are flushed as the primary's is */
     if (roz_dds_cmd_stop(&b->cmd) == 1) {
         for (uint16_t g = 0; g < b->robot->n_groups; g++) {

@@ -299,9 +299,15 @@ static int g1_send(void *port, void *sample, const double *cmd, const double *ex
     return 1;
 }
 
+static int g1_watchdog(void *port, void *sample);
+
+/* The last command on the way out: the stop's hold (the humanoid's stop,
+ * test_g1_exit_is_the_hold), or damping where exit_stop chose it */
 static int g1_safe(void *port, void *sample)
 {
     roz_unitree_g1_t *g1 = port;
+    if (!g1->dds.exit_damping)
+        return g1_watchdog(port, sample);
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
     roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, 0, (uint8_t)(locked & 0xffu),
                          sample);
@@ -533,7 +539,7 @@ static int g1_deactivate(void *self)
 
     if (!g1->active)
         return ROZ_OK;
-    (void)roz_dds_cmd_stop(&g1->cmd); /* the last command: damping */
+    (void)roz_dds_cmd_stop(&g1->cmd); /* the last command: the exit stop */
     roz_dds_reader_close(&g1->reader);
     g1->active = 0;
     return ROZ_OK;

@@ -212,7 +212,7 @@ static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), counts), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
     next_command(counts[0], &c);
-    assert_true(c.kp[0] == 0.0); /* the damping command */
+    assert_true(c.kp[0] > 0.0); /* the exit's hold */
     assert_int_equal(c.ppt, want);
     roz_fixture_engineai_pm01.close();
 }
@@ -875,7 +875,8 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     roz_fake_ros2_cmd_t c;
     (void)st;
 
-    open_pm01((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    /* damping on exit, chosen (the default is the hold) */
+    open_pm01((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     /* nothing before the first frame */
     distinct_command(0);
     write_pm01();

@@ -677,7 +677,9 @@ static void test_g1_startup_and_shutdown_damping(void **st)
     roz_fake_g1_cmd_t c;
     (void)st;
 
-    open_g1((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    /* damping on exit is a choice (the default is the hold:
+     * test_g1_exit_is_the_hold) */
+    open_g1((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     roz_g1fx_send();
     assert_int_equal(read_g1(), 1);
     roz_g1fx_sent(sent);
@@ -1107,6 +1109,36 @@ static void test_g1_watchdog_event_driven(void **st)
     expect_damping_after_trip(q);
 }
 
+/* The port's exit is the robot class's stop: the hold, as the watchdog
+ * sends it, from the controller's last command (the damping command the
+ * exit sent before drops a standing humanoid: SAFETY.md section 8). */
+static void test_g1_exit_is_the_hold(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    open_g1(NULL, 0);
+    start();
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(1);
+    watchdog_positions(q);
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    uint64_t good0 = 0, good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
+    roz_fake_g1_sleep_ms(20);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    if (!is_watchdog_hold(&c, q))
+        fail_msg("the last command on the way out is not the stop's hold: kp %g q %g (want %g)",
+                 (double)c.kp[3], (double)c.q[3], q[3]);
+    assert_true(c.kp[3] > 0.0f);
+}
+
 /* The watchdog's hold on a G1 whose left knee has a stiffness command but
  * no position command: the knee holds the position measured with the last
  * command, at its hold gain, never 0 rad (a knee at 0.75 rad once got q 0
@@ -1453,6 +1485,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_exit_is_the_hold, teardown),
         cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
         cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),

@@ -56,6 +56,8 @@ typedef struct roz_dds_params {
     char     network_interface[ROZ_DDS_IFNAME_MAX + 1]; /**< "lo" */
     uint32_t domain;                   /**< dds_domain, 0..ROZ_DDS_MAX_DOMAIN */
     int      enable_monitor;           /**< 1: latency and jitter monitored and warned */
+    int      exit_damping;             /**< exit_stop = damping: the last command on the way
+                                            out is damping, not the stop's hold */
     uint32_t command_writer_period_us; /**< 2000; 0: event-driven */
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
     uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
@@ -69,7 +71,7 @@ typedef struct roz_dds_params {
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
-    "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
+    "network_interface", "dds_domain", "enable_monitor", "exit_stop", "command_writer_period_us", \
         "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
         "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
         "dds_threads_sched", "dds_threads_priority", "dds_threads_stack_kib",             \
@@ -84,6 +86,9 @@ typedef struct roz_dds_params {
     ROZ_PORT_PARAM_TEXT_ROW("dds_domain", "0..232", domain, "the DDS domain"),                  \
     ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true",                             \
                             "latency and jitter monitored and warned"),                         \
+    ROZ_PORT_PARAM_TEXT_ROW("exit_stop", "hold|damping", "hold",                                \
+                            "the last command when the port closes: the stop's hold, or "       \
+                            "damping (kp 0)"),                                                  \
     ROZ_PORT_PARAM_TEXT_ROW("command_writer_period_us", "0, 100..1000000", "2000",              \
                             "the command writer's period; 0: as soon as the tick writes"),      \
     ROZ_PORT_PARAM_U32_ROW("command_writer_spin_us", 0, ROZ_DDS_MAX_SPIN_US, 0,                 \
@@ -565,8 +570,10 @@ typedef struct roz_dds_cmd_ops {
      *  published from here (roz_dds_writer_publish()). @return 1 to publish
      *  @p sample. Context: the writer thread; RT-safe. */
     int (*send)(void *port, void *sample, const double *cmd, const double *extra, int hold);
-    /** The damping command into @p sample (zeroed): kp 0, kd the port's
-     *  `shutdown_damping`, q the positions last sent. @return 1 to publish.
+    /** The last command on the way out (the port's deactivate) into
+     *  @p sample (zeroed): the stop's hold as the watchdog sends it, or
+     *  with `exit_stop = damping` the damping command (kp 0, kd the port's
+     *  `shutdown_damping`, q the positions last sent). @return 1 to publish.
      *  Context: the writer thread, or the caller's once it stopped; RT-safe. */
     int (*safe)(void *port, void *sample);
     /** The watchdog's command into @p sample (zeroed), once the tick has
