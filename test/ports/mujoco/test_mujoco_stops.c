@@ -42,6 +42,8 @@ typedef enum {
     STOP_PORT,     /* the port's fault parameter (drop, restart) */
     STOP_SILENT,   /* the tick stops; the port's watchdog acts */
     STOP_SWAP,     /* another controller swapped in */
+    STOP_EXIT,     /* the application exits: the port's exit, the stop's hold, at once */
+    STOP_TWICE,    /* the tick stops, comes back for one write, and stops again */
 } stop_how_t;
 
 typedef struct {
@@ -165,14 +167,28 @@ static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t 
             const uint8_t *w2 = stops_controller(c->swap_in, &len);
             assert_int_equal(roz_runtime_load(&rt, w2, len, NULL), ROZ_OK);
         }
-        if (c->how == STOP_SILENT && t >= STOP_TICK) {
+        if ((c->how == STOP_SILENT || c->how == STOP_TWICE) && t >= STOP_TICK) {
             /* the tick is gone: the robot keeps the last command until the
              * watchdog trips, then gets the watchdog's, every period */
             if (t == STOP_TICK + WATCHDOG_TICKS)
                 watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
                                  wd);
+            /* twice: 100 ms later the tick writes once (the port sends the
+             * stop's hold from the controller's last command, about where
+             * the joints are then) and is gone again: the second trip's
+             * hold is the same, from the controller's last command */
+            if (c->how == STOP_TWICE && t == STOP_TICK + WATCHDOG_TICKS + 50)
+                watchdog_command(m, roz_runtime_last_commands(&rt), st, wd);
             if (t >= STOP_TICK + WATCHDOG_TICKS)
                 assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
+            (void)roz_port_read(&p, st, m->n_states);
+        } else if (c->how == STOP_EXIT && t >= STOP_TICK) {
+            /* the application exits: the DDS ports' exit, the stop's hold
+             * (g1_safe(), bridge_safe()), every period from then on */
+            if (t == STOP_TICK)
+                watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
+                                 wd);
+            assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
             (void)roz_port_read(&p, st, m->n_states);
         } else {
             { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
@@ -242,6 +258,8 @@ static const stop_case_t cases[] = {
     { "link (balancing stand)", STOP_PORT, "g1_stand", "restart=1000:1002", NULL,
       ROZ_FAULT_LINK },
     { "watchdog (balancing stand)", STOP_SILENT, "g1_stand", NULL, NULL, 0 },
+    { "watchdog twice (balancing)", STOP_TWICE, "g1_stand", NULL, NULL, 0 },
+    { "exit (balancing stand)", STOP_EXIT, "g1_stand", NULL, NULL, 0 },
 };
 
 static void test_mujoco_stops_g1(void **state)
@@ -288,6 +306,8 @@ static const stop_case_t pm01_cases[] = {
       ROZ_FAULT_LINK },
     { "pm01: command watchdog", STOP_SILENT, "pm01_stand", NULL, NULL, 0 },
     { "pm01: swap", STOP_SWAP, "pm01_stand", NULL, "stops_pm01_swap_in", 0 },
+    { "pm01: watchdog twice", STOP_TWICE, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: exit", STOP_EXIT, "pm01_stand", NULL, NULL, 0 },
 };
 
 /* The PM01's crouch on pm01_stand settles slowly (0.75 m at 4 s, 0.68 m
