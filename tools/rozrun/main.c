@@ -826,11 +826,6 @@ static void *no_work(void *arg)
     return arg;
 }
 
-static void *probe_thread(void *arg)
-{
-    return arg;
-}
-
 /* --realtime asks for SCHED_FIFO at @p priority and locked memory; where
  * either is refused the tick would run at normal priority on the wall
  * clock's deadline, which a loaded machine passes by itself. Asked here,
@@ -841,7 +836,7 @@ static int realtime_refused(int priority, char *why, size_t len)
     roz_thread_config_t tc = { ROZ_THREAD_FIFO, priority, 0, 0 };
     unsigned long t;
     char err[200];
-    int fifo = roz_thread_start(&t, &tc, "probe", probe_thread, NULL, err, sizeof err) == ROZ_OK;
+    int fifo = roz_thread_start(&t, &tc, "probe", no_work, NULL, err, sizeof err) == ROZ_OK;
     if (fifo)
         roz_thread_join(t);
     int locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
@@ -875,6 +870,15 @@ static void realtime_thread_defaults(options_t *o, const roz_port_info_t *info)
         int takes = 0;
         for (size_t i = 0; i < info->n_params; i++)
             takes |= strcmp(info->params[i].key, keys[t][0]) == 0;
+        /* with CYCLONEDDS_URI set, Cyclone's threads are that file's to
+         * set: the port would refuse roz's (docs/ports/dds.md) */
+        if (t == 2 && takes && getenv("CYCLONEDDS_URI") != NULL &&
+            getenv("CYCLONEDDS_URI")[0] != '\0') {
+            fprintf(stderr, "rozrun: --realtime: CYCLONEDDS_URI is set: Cyclone DDS's own "
+                            "threads run as that file sets them (<Threads>), not at "
+                            "SCHED_FIFO\n");
+            continue;
+        }
         if (!takes || roz_params_find(&given, keys[t][0]) != NULL ||
             roz_params_find(&given, keys[t][1]) != NULL || o->n_params + 2 > MAX_PARAMS)
             continue;

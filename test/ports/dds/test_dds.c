@@ -303,6 +303,21 @@ static void test_dds_participant(void **st)
     assert_string_equal(p.config, "");
     assert_non_null(strstr(logged, "CYCLONEDDS_URI"));
     roz_dds_participant_close(&p);
+
+    /* settings for Cyclone's threads that the user's file would drop
+     * without a word are refused, naming the file's variable
+     * (test_dds_participant) */
+    setenv("CYCLONEDDS_URI", "<CycloneDDS/>", 1);
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 10, 0, 0 }, stack = { ROZ_THREAD_OTHER, 0, 0, 256 };
+    int rc_fifo = roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, &fifo, log_capture, NULL,
+                                           err, sizeof err);
+    int rc_stack = roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, &stack, log_capture,
+                                            NULL, err, sizeof err);
+    unsetenv("CYCLONEDDS_URI");
+    assert_int_equal(rc_fifo, ROZ_EINVAL);
+    assert_int_equal(rc_stack, ROZ_EINVAL);
+    assert_non_null(strstr(err, "CYCLONEDDS_URI is set"));
+    assert_non_null(strstr(err, "dds_threads_sched"));
 }
 
 /* ---- one process: writer thread, receive path ------------------------------ */
