@@ -870,6 +870,49 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     }
 }
 
+/* A joint with a stiffness command but no position command, whose position
+ * the robot reports NaN when the tick goes silent: the watchdog's hold keeps
+ * it at the last position measured finite (the fixture's first frames), at
+ * its hold gain, inside its position state's limits; never at 0 rad for
+ * want of a command. */
+static void test_pm01_watchdog_without_a_position_command(void **st)
+{
+    static roz_channel_t cmds[ROZ_CFG_MAX_COMMANDS];
+    static roz_manifest_t kneeless;
+    static double kcmd[ROZ_CFG_MAX_COMMANDS], kstate[ROZ_CFG_MAX_STATES];
+    roz_fake_ros2_cmd_t c;
+    const uint16_t knee = 3, hip = 0;
+    (void)st;
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (strcmp(m->commands[i].name, "J03_KNEE_PITCH_L/position") != 0)
+            cmds[n++] = m->commands[i];
+    }
+    kneeless = *m;
+    kneeless.commands = cmds;
+    kneeless.n_commands = n;
+    open_pm01_on(&kneeless, (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                             { "peer_timeout_ms", "60000" } },
+                 2);
+    fake_position(knee, "nan");
+    roz_ros2fx_send();
+    assert_int_equal(roz_port_read(&port, kstate, kneeless.n_states), 1);
+    roz_port_test_distinct_command(&kneeless, 1, kcmd);
+    for (int k = 0; k < 2; k++) /* the start-up hold, then the command */
+        assert_int_equal(roz_port_write(&port, kcmd, kneeless.n_commands), ROZ_OK);
+    get_command(&c);
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_ros2fx_settle();
+    WAIT_UNTIL(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c) == 1 && c.kp[hip] == 200.0);
+    const roz_channel_t *ks = &kneeless.states[roz_port_test_state(&kneeless,
+                                                                    "J03_KNEE_PITCH_L/position")];
+    print_message("left knee without a position command, reported NaN: the watchdog's hold q %g "
+                  "kp %g (the hip's kp %g)\n", c.q[knee], c.kp[knee], c.kp[hip]);
+    assert_true(c.kp[knee] == 200.0);
+    assert_true(isfinite(c.q[knee]) && c.q[knee] >= ks->min && c.q[knee] <= ks->max);
+    assert_true(c.q[knee] != 0.0);
+}
+
 static void test_pm01_startup_and_shutdown_damping(void **st)
 {
     roz_fake_ros2_cmd_t c;
@@ -1087,6 +1130,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
         cmocka_unit_test_teardown(test_pm01_watchdog_keeps_the_torque, teardown),
         cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_pm01_watchdog_without_a_position_command, teardown),
         cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
         cmocka_unit_test(test_pm01_bad_parameters),
     };
