@@ -75,3 +75,32 @@ if(cleared EQUAL -1 OR swapped EQUAL -1)
   message(FATAL_ERROR "the clear (row ${cleared}) or the swap (row ${swapped}) is not in ${csv}")
 endif()
 message(STATUS "realtime: cleared at tick ${cleared} (asked for 60), swapped at ${swapped} (asked for 80)")
+
+# --realtime without the privilege fails closed: with SCHED_FIFO and locked
+# memory refused (no CAP_SYS_NICE or CAP_IPC_LOCK, RLIMIT_RTPRIO and
+# RLIMIT_MEMLOCK 0), rozrun says so before the first tick and judges the
+# deadline on the controller's CPU time, never the wall clock at normal
+# priority (where a loaded machine latched spurious overruns). ThreadSanitizer
+# makes mlockall() a no-op that succeeds: there only SCHED_FIFO is refused.
+find_program(SETPRIV setpriv)
+find_program(PRLIMIT prlimit)
+if(SETPRIV AND PRLIMIT)
+  # dropping capabilities takes CAP_SETPCAP (root); a user without it has
+  # none of the two to drop, and the limits alone refuse
+  set(drop ${SETPRIV} --inh-caps=-all --bounding-set=-sys_nice,-ipc_lock)
+  execute_process(COMMAND ${drop} true RESULT_VARIABLE can_drop OUTPUT_QUIET ERROR_QUIET)
+  if(NOT can_drop EQUAL 0)
+    set(drop)
+  endif()
+  execute_process(COMMAND ${PRLIMIT} --rtprio=0 --memlock=0 ${drop}
+                          ${ROZRUN} --robot ur5 --controller ${CTL}/sine.wasm --realtime --ticks 50
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0
+     OR NOT err MATCHES "--realtime: SCHED_FIFO( and locked memory)? refused: the tick runs at normal priority, and its deadline counts the controller's CPU time"
+     OR NOT out MATCHES "scheduling +normal \\(SCHED_FIFO not permitted\\), memory (not )?locked, [0-9]+ deadlines missed; the deadline on the controller's CPU time")
+    message(FATAL_ERROR "--realtime refused: exit ${rc}\n${out}${err}")
+  endif()
+  message(STATUS "realtime refused: said at start, the deadline on the CPU time")
+else()
+  message(STATUS "realtime refused: not checked (no setpriv or prlimit)")
+endif()

@@ -70,7 +70,8 @@ PM01_GROUPS = (
 )
 
 #: ROZ_DDS_PARAM_KEYS (roz/port/dds.h)
-DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "command_writer_period_us",
+DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "exit_stop",
+            "command_writer_period_us",
             "command_writer_spin_us", "state_decimation",
             # the writer thread's (roz/hal/thread.h): checked by the port when it opens
             "command_writer_sched", "command_writer_priority", "command_writer_cpus",
@@ -331,6 +332,9 @@ class _Checker:
         self.check_u32("dds_domain", 0, MAX_DOMAIN)
         if "enable_monitor" in params and params["enable_monitor"] not in BOOLS:
             self.bad("enable_monitor", "expected true or false")
+        if "exit_stop" in params and params["exit_stop"] not in ("hold", "damping"):
+            self.bad("exit_stop", "expected hold (the stop's hold at the hold gains, the "
+                     "default) or damping (kp 0, kd shutdown_damping)")
         self.check_u32("state_decimation", 1, 1000)
         period = 2000
         if "command_writer_period_us" in params:

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "roz/error.h"
+#include "roz/hold.h"
 #include "roz/format.h"
 
 /* ---- binding ------------------------------------------------------------------ */
@@ -194,6 +195,35 @@ void roz_joints_hold(const roz_manifest_t *m, const roz_joint_channels_t *j, uin
             cmd[j[k].q_cmd] = roz_channel_clamp(&m->commands[j[k].q_cmd], q[k]);
         if (j[k].kd_cmd >= 0)
             cmd[j[k].kd_cmd] = roz_channel_clamp(&m->commands[j[k].kd_cmd], kd);
+    }
+}
+
+double roz_joints_hold_setpoint(const roz_manifest_t *m, const roz_joint_channels_t *j,
+                                double last_q, double last_kp, double measured)
+{
+    roz_hold_from_t from = { j->q_cmd >= 0 ? last_q : NAN, j->kp_cmd >= 0 ? last_kp : NAN,
+                             measured };
+    double kp_hold = j->kp_cmd >= 0 ? m->commands[j->kp_cmd].default_value : NAN;
+    double band = j->q_cmd >= 0 ? roz_hold_band(&m->commands[j->q_cmd]) : 0.0;
+    double v = roz_hold_setpoint(&from, kp_hold, band);
+    if (!(v == v))
+        return NAN;
+    if (j->q_cmd >= 0)
+        return roz_channel_clamp(&m->commands[j->q_cmd], v);
+    return j->q_state >= 0 ? roz_channel_clamp(&m->states[j->q_state], v) : v;
+}
+
+void roz_joints_hold_keep(const roz_manifest_t *m, const roz_joint_channels_t *j, uint16_t n,
+                          const double *last, const double *q, double kd, double *cmd)
+{
+    roz_joints_hold(m, j, n, q, kd, cmd);
+    for (uint16_t k = 0; k < n; k++) {
+        if (j[k].kp_cmd >= 0)
+            cmd[j[k].kp_cmd] = roz_channel_clamp(&m->commands[j[k].kp_cmd],
+                                                 m->commands[j[k].kp_cmd].default_value);
+        if (j[k].q_cmd >= 0)
+            cmd[j[k].q_cmd] = roz_joints_hold_setpoint(
+                m, &j[k], last[j[k].q_cmd], j[k].kp_cmd >= 0 ? last[j[k].kp_cmd] : NAN, q[k]);
     }
 }
 

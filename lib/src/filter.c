@@ -302,34 +302,47 @@ static void tick_avx2(roz_filter_t *f, const double *target, const double *state
 }
 #endif
 
-/* What a hold channel keeps from a stop's first tick on: its last applied
- * value, the setpoint the joint was held at, brought within
- * ROZ_FILTER_HOLD_TICKS rate caps of the measured position (a joint held
- * back, by an obstacle or a person, is not pushed on with the whole lag);
- * the measured position alone without a rate cap; the follow rule's value
- * while the position is unknown. The filter is primed: last[] holds values. */
-static double hold_latch(const roz_filter_t *f, uint16_t i, const double *state)
+/* What a hold channel keeps from a stop's first tick on (roz/hold.h): its
+ * last applied value, the setpoint the joint was held at, with its
+ * stiffness's last applied value (the torque to keep) and the measured
+ * position, the follow rule's value (clamped to the channel); while the
+ * position is unknown, the follow rule's value alone. Sets hold[i] for the
+ * channel's own stiffness's hold gain; a stop's ticks recompute it for the
+ * stiffness they send. The filter is primed: last[] holds values. */
+static void hold_latch(roz_filter_t *f, uint16_t i, const double *state)
 {
     const roz_channel_t *c = &f->manifest->commands[i];
     double measured = roz_filter_safe_default(f, i, state); /* not stopping yet: follow */
     double p = state != NULL ? state[c->position_state] : NAN;
-    double band = ROZ_FILTER_HOLD_TICKS * c->max_rate;
-
-    if (!isfinite(p))
-        return measured;
-    double setpoint = f->last[i];
+    roz_hold_from_t *h = &f->hold_from[i];
     uint16_t k = f->hold_kp[i];
-    if (k != UINT16_MAX) {
-        /* the torque the joint was held with, kept under the hold gain: a
-         * soft balancing stand's setpoints are far from where its joints
-         * are, and a stiffer gain on them would push it over
-         * (test_mujoco_stops_g1, the balancing stand's rows) */
-        double kp_was = f->last[k];
-        double kp_hold = roz_filter_safe_default(f, k, state);
-        kp_hold = clampd(kp_hold, f->manifest->commands[k].min, f->manifest->commands[k].max);
-        setpoint = roz_hold_keep_torque(setpoint, measured, kp_was, kp_hold);
-    }
-    return clampd(setpoint, measured - band, measured + band);
+
+    h->setpoint = isfinite(p) ? f->last[i] : measured;
+    h->measured = isfinite(p) ? measured : NAN;
+    h->kp = k != UINT16_MAX ? f->last[k] : NAN;
+    double kp_hold = k != UINT16_MAX ? roz_filter_safe_default(f, k, state) : NAN;
+    f->hold[i] = roz_hold_setpoint(h, kp_hold, roz_hold_band(c));
+}
+
+/* A hold channel with a stiffness command, one tick of a stop: the
+ * stiffness first (toward its hold gain, by its rate cap unless @p capped
+ * is 0), the setpoint that keeps the torque under it, and, where the
+ * setpoint's own rate cap left it short of that, the stiffness held back
+ * so the torque stays what the controller's last command gave
+ * (test_hold_filter_property). */
+static void hold_joint(roz_filter_t *f, uint16_t i, const double *state, int capped, double *out)
+{
+    uint16_t k = f->hold_kp[i];
+    const roz_channel_t *kc = &f->manifest->commands[k];
+    double floor = kc->min;
+    if (capped && kc->max_rate > 0.0 && f->last[k] - kc->max_rate > floor)
+        floor = f->last[k] - kc->max_rate;
+    double kp = channel_apply(f, k, roz_filter_safe_default(f, k, state), state, capped);
+    f->hold[i] = roz_hold_setpoint(&f->hold_from[i], kp, roz_hold_band(&f->manifest->commands[i]));
+    double q = channel_apply(f, i, f->hold[i], state, capped);
+    kp = roz_hold_gain_cap(&f->hold_from[i], q, kp, floor);
+    f->last[k] = out[k] = kp;
+    f->last[i] = out[i] = q;
 }
 
 /* The length of a channel name's joint part, before its last '/'; the
@@ -346,6 +359,9 @@ static void find_hold_gains(roz_filter_t *f, const roz_manifest_t *m)
 {
     for (uint16_t i = 0; i < m->n_commands; i++) {
         f->hold_kp[i] = UINT16_MAX;
+        f->hold_gain[i] = 0;
+    }
+    for (uint16_t i = 0; i < m->n_commands; i++) {
         if (m->commands[i].safe_default != ROZ_SAFE_HOLD)
             continue;
         size_t len = joint_part(m->commands[i].name);
@@ -354,6 +370,7 @@ static void find_hold_gains(roz_filter_t *f, const roz_manifest_t *m)
                 joint_part(m->commands[k].name) == len &&
                 strncmp(m->commands[k].name, m->commands[i].name, len) == 0) {
                 f->hold_kp[i] = k;
+                f->hold_gain[k] = 1;
                 break;
             }
         }
@@ -453,14 +470,23 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
          * gravity (test/ports/mujoco/test_mujoco_stops.c) */
         for (uint16_t i = 0; i < n; i++) {
             if (f->manifest->commands[i].safe_default == ROZ_SAFE_HOLD)
-                f->hold[i] = hold_latch(f, i, state);
+                hold_latch(f, i, state);
         }
         f->stopping = 1;
     }
     if (stop != ROZ_STOP_NONE) {
         int capped = stop != ROZ_STOP_IMMEDIATE;
         f->running = 1;
+        /* the joints held with a stiffness: both channels together */
+        for (uint16_t i = 0; i < n; i++) {
+            if (f->manifest->commands[i].safe_default == ROZ_SAFE_HOLD &&
+                f->hold_kp[i] != UINT16_MAX)
+                hold_joint(f, i, state, capped, out);
+        }
         for (size_t i = 0; i < n; i++) {
+            if (f->hold_gain[i] || (f->manifest->commands[i].safe_default == ROZ_SAFE_HOLD &&
+                                    f->hold_kp[i] != UINT16_MAX))
+                continue;
             double v = roz_filter_safe_default(f, (uint16_t)i, state);
             v = channel_apply(f, (uint16_t)i, v, state, capped);
             f->last[i] = v;

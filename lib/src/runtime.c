@@ -631,6 +631,11 @@ static void tick_read(roz_runtime_t *rt, uint64_t t0)
 /* One process() call of the driving slot and what it latches. */
 static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
 {
+    /* its first tick (after start, or a swap): what it does not write
+     * holds where the joints are now, this tick's snapshot
+     * (test_runtime_first_tick_holds) */
+    if (rt->ctrl_tick == 0)
+        hold_targets(rt, s);
     s->abi.state = rt->state;
     s->abi.tick = rt->ctrl_tick;
     rt->rec_flags |= ROZ_RECORD_RAN;

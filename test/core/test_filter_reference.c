@@ -37,6 +37,10 @@ typedef struct {
     int      primed;
     int      stopping;                    /* a stop is on: hold[] latched */
     double   hold[ROZ_CFG_MAX_COMMANDS];  /* ROZ_SAFE_HOLD channels' setpoints */
+    double   hold_sp[ROZ_CFG_MAX_COMMANDS], hold_kp[ROZ_CFG_MAX_COMMANDS],
+             hold_p[ROZ_CFG_MAX_COMMANDS]; /* what the stop latched: setpoint, its
+                                              stiffness, the measured position */
+    int      gain[ROZ_CFG_MAX_COMMANDS];  /* a hold channel's stiffness command, -1: none */
     double   last[ROZ_CFG_MAX_COMMANDS];
     roz_filter_counters_t counters;
     roz_filter_channel_counters_t ch[ROZ_CFG_MAX_COMMANDS];
@@ -88,6 +92,102 @@ static void ref_init(ref_t *r, const roz_manifest_t *m)
     memset(r, 0, sizeof *r);
     r->m = m;
     r->dt = 1.0 / (double)m->control_rate_hz;
+    /* each hold channel's stiffness command: its joint's (same name up to
+     * the '/') */
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        const char *slash = strrchr(c->name, '/');
+        size_t len = slash != NULL ? (size_t)(slash - c->name) : strlen(c->name);
+        r->gain[i] = -1;
+        for (uint16_t k = 0; c->safe_default == ROZ_SAFE_HOLD && k < m->n_commands; k++) {
+            const roz_channel_t *g = &m->commands[k];
+            if (g->type == ROZ_IF_STIFFNESS && strncmp(g->name, c->name, len) == 0 &&
+                g->name[len] == '/') {
+                r->gain[i] = k;
+                break;
+            }
+        }
+    }
+}
+
+/* Every rule on one value v of command i (the filter's channel_apply()). */
+static double ref_channel(ref_t *r, uint16_t i, double v, const double *state, roz_stop_t stop)
+{
+    const roz_manifest_t *m = r->m;
+    const roz_channel_t *c = &m->commands[i];
+    roz_filter_channel_counters_t *k = &r->ch[i];
+    int held = 0;
+
+    if (!isfinite(v)) { /* 1 */
+        r->counters.nonfinite++;
+        v = ref_safe_default(r, i, state);
+    }
+    if (v < c->min || v > c->max) { /* 2 */
+        v = ref_clamp(v, c->min, c->max);
+        r->counters.clamps++;
+        k->clamps++;
+    }
+    if (c->max_rate > 0.0 && stop != ROZ_STOP_IMMEDIATE) { /* 3 */
+        double lo = r->last[i] - c->max_rate, hi = r->last[i] + c->max_rate;
+        if (v < lo || v > hi) {
+            v = ref_clamp(v, lo, hi);
+            r->counters.rate_caps++;
+            k->rate_caps++;
+        }
+    }
+    if (c->position_state != ROZ_CHANNEL_UNPAIRED && state != NULL &&
+        (c->type == ROZ_IF_VELOCITY || c->type == ROZ_IF_EFFORT)) { /* 4 */
+        const roz_channel_t *ps = &m->states[c->position_state];
+        double p = state[c->position_state];
+        double lo = ps->min + ref_margin(ps), hi = ps->max - ref_margin(ps);
+        double limited = v;
+        if (c->type == ROZ_IF_VELOCITY) {
+            if (!isfinite(p))
+                limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
+            else if (v > 0.0)
+                limited = p >= hi ? 0.0 : fmin(v, ref_brake_speed(hi - p, c->max_rate, r->dt));
+            else if (v < 0.0)
+                limited = p <= lo ? 0.0 : fmax(v, -ref_brake_speed(p - lo, c->max_rate, r->dt));
+            held = limited != v;
+        } else {
+            held = !isfinite(p) ? v != 0.0 : (v > 0.0 && p >= hi) || (v < 0.0 && p <= lo);
+            if (held)
+                limited = 0.0;
+        }
+        if (held) {
+            v = limited;
+            r->counters.limit_stops++;
+            k->limit_stops++;
+        }
+    }
+    if (!held) {
+        k->stop_run = 0;
+    } else if (k->stop_run < UINT32_MAX) {
+        k->stop_run++;
+        if (k->stop_run > k->stop_longest)
+            k->stop_longest = k->stop_run;
+    }
+    if (!(v >= c->min && v <= c->max)) /* 5 */
+        v = isfinite(v) ? ref_clamp(v, c->min, c->max) : c->default_value;
+    return v;
+}
+
+/* The hold's setpoint under stiffness kp_sent, restated: the latched
+ * setpoint moved so kp_sent * (setpoint - p) = kp * (latched - p), then
+ * within the band of p; p unknown: the latched value; no rate cap: p. */
+static double ref_hold_setpoint(const ref_t *r, uint16_t i, double kp_sent)
+{
+    const roz_channel_t *c = &r->m->commands[i];
+    double p = r->hold_p[i], sp = r->hold_sp[i];
+    double band = c->max_rate > 0.0 ? 5.0 * c->max_rate : 0.0;
+    if (!isfinite(p))
+        return sp;
+    if (isfinite(r->hold_kp[i]) && kp_sent > 0.0) {
+        double v = p + r->hold_kp[i] / kp_sent * (sp - p);
+        if (isfinite(v))
+            sp = v;
+    }
+    return ref_clamp(sp, p - band, p + band);
 }
 
 static void ref_apply(ref_t *r, const double *target, const double *state, roz_stop_t stop,
@@ -105,9 +205,9 @@ static void ref_apply(ref_t *r, const double *target, const double *state, roz_s
         r->primed = 1;
     }
     r->counters.ticks++;
-    /* a stop's first tick latches each hold: the last setpoint, within
-     * ROZ_FILTER_HOLD_TICKS rate caps of the measured position (that alone
-     * while the position is unknown) */
+    /* a stop's first tick latches each hold: the last setpoint, the last
+     * stiffness of its joint (same name up to the '/') and the measured
+     * position (the follow rule's value; unknown: that value alone) */
     if (stop == ROZ_STOP_NONE) {
         r->stopping = 0;
     } else if (!r->stopping) {
@@ -117,85 +217,49 @@ static void ref_apply(ref_t *r, const double *target, const double *state, roz_s
                 continue;
             double measured = ref_safe_default(r, i, state);
             double p = state != NULL ? state[c->position_state] : NAN;
-            double band = ROZ_FILTER_HOLD_TICKS * c->max_rate;
-            double sp = r->last[i];
-            /* the joint's stiffness command (same name up to the '/'): the
-             * setpoint keeps the torque under the hold gain */
-            const char *slash = strrchr(c->name, '/');
-            size_t len = slash != NULL ? (size_t)(slash - c->name) : strlen(c->name);
-            for (uint16_t k = 0; k < m->n_commands; k++) {
-                const roz_channel_t *g = &m->commands[k];
-                if (g->type != ROZ_IF_STIFFNESS || strncmp(g->name, c->name, len) != 0 ||
-                    g->name[len] != '/')
-                    continue;
-                double kp_hold = ref_clamp(g->default_value, g->min, g->max);
-                double v = measured + r->last[k] / kp_hold * (sp - measured);
-                if (kp_hold > 0.0 && isfinite(v))
-                    sp = v;
-                break;
-            }
-            r->hold[i] = isfinite(p) ? ref_clamp(sp, measured - band, measured + band)
-                                     : measured;
+            r->hold_sp[i] = isfinite(p) ? r->last[i] : measured;
+            r->hold_p[i] = isfinite(p) ? measured : NAN;
+            r->hold_kp[i] = r->gain[i] >= 0 ? r->last[r->gain[i]] : NAN;
+            r->hold[i] = ref_hold_setpoint(r, i, r->gain[i] >= 0
+                                                     ? ref_clamp(m->commands[r->gain[i]].default_value,
+                                                                 m->commands[r->gain[i]].min,
+                                                                 m->commands[r->gain[i]].max)
+                                                     : NAN);
         }
         r->stopping = 1;
     }
+    int done[ROZ_CFG_MAX_COMMANDS] = { 0 };
+    if (stop != ROZ_STOP_NONE) {
+        /* a held joint with a stiffness: the stiffness toward its hold gain,
+         * the setpoint keeping the torque under it, then the stiffness no
+         * higher than keeps the torque at the setpoint sent (not below its
+         * rate cap) */
+        for (uint16_t i = 0; i < m->n_commands; i++) {
+            int k = r->gain[i];
+            if (m->commands[i].safe_default != ROZ_SAFE_HOLD || k < 0)
+                continue;
+            const roz_channel_t *kc = &m->commands[k];
+            double floor = kc->min;
+            if (stop != ROZ_STOP_IMMEDIATE && kc->max_rate > 0.0)
+                floor = fmax(floor, r->last[k] - kc->max_rate);
+            double kp = ref_channel(r, (uint16_t)k, ref_safe_default(r, (uint16_t)k, state), state,
+                                    stop);
+            r->hold[i] = ref_hold_setpoint(r, i, kp);
+            double q = ref_channel(r, i, r->hold[i], state, stop);
+            double torque = fabs(r->hold_kp[i] * (r->hold_sp[i] - r->hold_p[i]));
+            double d = fabs(q - r->hold_p[i]);
+            if (isfinite(torque) && isfinite(d) && kp * d > torque * (1.0 + 1e-9) + 1e-9)
+                kp = fmin(kp, fmax(floor, torque / d));
+            r->last[k] = out[k] = kp;
+            r->last[i] = out[i] = q;
+            done[i] = done[k] = 1;
+        }
+    }
     for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        roz_filter_channel_counters_t *k = &r->ch[i];
+        if (done[i])
+            continue;
         double v = stop == ROZ_STOP_NONE ? target[i] : ref_safe_default(r, i, state);
-        int held = 0;
-
-        if (!isfinite(v)) { /* 1 */
-            r->counters.nonfinite++;
-            v = ref_safe_default(r, i, state);
-        }
-        if (v < c->min || v > c->max) { /* 2 */
-            v = ref_clamp(v, c->min, c->max);
-            r->counters.clamps++;
-            k->clamps++;
-        }
-        if (c->max_rate > 0.0 && stop != ROZ_STOP_IMMEDIATE) { /* 3 */
-            double lo = r->last[i] - c->max_rate, hi = r->last[i] + c->max_rate;
-            if (v < lo || v > hi) {
-                v = ref_clamp(v, lo, hi);
-                r->counters.rate_caps++;
-                k->rate_caps++;
-            }
-        }
-        if (c->position_state != ROZ_CHANNEL_UNPAIRED && state != NULL &&
-            (c->type == ROZ_IF_VELOCITY || c->type == ROZ_IF_EFFORT)) { /* 4 */
-            const roz_channel_t *ps = &m->states[c->position_state];
-            double p = state[c->position_state];
-            double lo = ps->min + ref_margin(ps), hi = ps->max - ref_margin(ps);
-            double limited = v;
-            if (c->type == ROZ_IF_VELOCITY) {
-                if (!isfinite(p))
-                    limited = 0.0 >= c->min && 0.0 <= c->max ? 0.0 : c->default_value;
-                else if (v > 0.0)
-                    limited = p >= hi ? 0.0 : fmin(v, ref_brake_speed(hi - p, c->max_rate, r->dt));
-                else if (v < 0.0)
-                    limited = p <= lo ? 0.0 : fmax(v, -ref_brake_speed(p - lo, c->max_rate, r->dt));
-                held = limited != v;
-            } else {
-                held = !isfinite(p) ? v != 0.0 : (v > 0.0 && p >= hi) || (v < 0.0 && p <= lo);
-                if (held)
-                    limited = 0.0;
-            }
-            if (held) {
-                v = limited;
-                r->counters.limit_stops++;
-                k->limit_stops++;
-            }
-        }
-        if (!held) {
-            k->stop_run = 0;
-        } else if (k->stop_run < UINT32_MAX) {
-            k->stop_run++;
-            if (k->stop_run > k->stop_longest)
-                k->stop_longest = k->stop_run;
-        }
-        if (!(v >= c->min && v <= c->max)) /* 5 */
-            v = isfinite(v) ? ref_clamp(v, c->min, c->max) : c->default_value;
+        v = ref_channel(r, i, v, state, stop);
         r->last[i] = v;
         out[i] = v;
     }

@@ -320,6 +320,32 @@ static void test_runtime_swap_starts_at_the_hold(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* A controller loaded before the first tick starts its paired position
+ * targets at the hold too: at the positions of its first tick's snapshot,
+ * not the manifest's defaults (a Go2's thigh at 0.9 rad was targeted at 0
+ * and the robot tipped). The loopback's left elbow reads 0.5 rad past its
+ * upper limit from the first frame: the idle controller's elbow target on
+ * tick 0 is the command's upper limit, where the joint is, not 0. */
+static void test_runtime_first_tick_holds(void **st)
+{
+    static uint8_t idle[256];
+    char range[64];
+    (void)st;
+    snprintf(range, sizeof range, "%d@0:5", ROZ_UNITREE_G1_STATE_LEFT_ELBOW_JOINT_POSITION);
+    roz_param_t p[] = { { "range", range } };
+    roz_params_t params = { p, 1 };
+    start(&roz_manifest_unitree_g1, &params);
+    size_t len = roz_test_wat(idle_wat, idle, sizeof idle);
+    assert_int_equal(roz_runtime_load(&rt, idle, len, NULL), ROZ_OK);
+    ticks(1);
+    const roz_channel_t *c =
+        &roz_manifest_unitree_g1.commands[ROZ_UNITREE_G1_CMD_LEFT_ELBOW_JOINT_POSITION];
+    assert_true(c->default_value != c->max);
+    assert_true(roz_runtime_last_targets(&rt)[ROZ_UNITREE_G1_CMD_LEFT_ELBOW_JOINT_POSITION] ==
+                c->max);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 static void test_runtime_g1_stand(void **st)
 {
     (void)st;
@@ -409,6 +435,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
         cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
+        cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
         cmocka_unit_test(test_runtime_simulator_read_not_warned),
     };

@@ -34,6 +34,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 
 #include <stdatomic.h>
 #include <time.h>
@@ -156,6 +157,7 @@ static int living;
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
+static int realtime_degraded; /* --realtime refused: the deadline on the CPU time */
 static atomic_uint loader_events; /* trace events of the loader's actions, taken by the tick */
 static _Atomic uint64_t ticks_done; /* written by the tick's thread after each tick */
 
@@ -779,12 +781,13 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
     print_ns("tick time", roz_runtime_monitor(&rt), ROZ_MON_TICK);
     if (runner != NULL) {
         print_ns("wake-up jitter", &runner->monitor, ROZ_MON_JITTER);
-        printf("  scheduling             %s, memory %s, %llu deadlines missed\n",
+        printf("  scheduling             %s, memory %s, %llu deadlines missed%s\n",
                runner->realtime ? "SCHED_FIFO"
                : o->realtime   ? "normal (SCHED_FIFO not permitted)"
                                : "normal (no --realtime)",
                runner->locked ? "locked" : "not locked",
-               (unsigned long long)runner->missed);
+               (unsigned long long)runner->missed,
+               realtime_degraded ? "; the deadline on the controller's CPU time" : "");
     }
     print_report(port, ROZ_PORT_REPORT_SUMMARY);
     if (recording && roz_recorder_dropped(&recorder) == 0)
@@ -823,6 +826,27 @@ static void *no_work(void *arg)
     return arg;
 }
 
+/* --realtime asks for SCHED_FIFO at @p priority and locked memory; where
+ * either is refused the tick would run at normal priority on the wall
+ * clock's deadline, which a loaded machine passes by itself. Asked here,
+ * before the runtime is set up: 0 when both are granted (the memory stays
+ * locked), else 1 with @p why naming what was refused. */
+static int realtime_refused(int priority, char *why, size_t len)
+{
+    roz_thread_config_t tc = { ROZ_THREAD_FIFO, priority, 0, 0 };
+    unsigned long t;
+    char err[200];
+    int fifo = roz_thread_start(&t, &tc, "probe", no_work, NULL, err, sizeof err) == ROZ_OK;
+    if (fifo)
+        roz_thread_join(t);
+    int locked = mlockall(MCL_CURRENT | MCL_FUTURE) == 0;
+    if (fifo && locked)
+        return 0;
+    snprintf(why, len, "%s%s%s refused", fifo ? "" : "SCHED_FIFO", fifo || locked ? "" : " and ",
+             locked ? "" : "locked memory");
+    return 1;
+}
+
 /* --realtime: the port's threads that take a scheduling (roz/hal/thread.h)
  * run SCHED_FIFO one below the tick's priority, unless the command line
  * says otherwise; only where the process may have SCHED_FIFO (elsewhere
@@ -846,6 +870,15 @@ static void realtime_thread_defaults(options_t *o, const roz_port_info_t *info)
         int takes = 0;
         for (size_t i = 0; i < info->n_params; i++)
             takes |= strcmp(info->params[i].key, keys[t][0]) == 0;
+        /* with CYCLONEDDS_URI set, Cyclone's threads are that file's to
+         * set: the port would refuse roz's (docs/ports/dds.md) */
+        if (t == 2 && takes && getenv("CYCLONEDDS_URI") != NULL &&
+            getenv("CYCLONEDDS_URI")[0] != '\0') {
+            fprintf(stderr, "rozrun: --realtime: CYCLONEDDS_URI is set: Cyclone DDS's own "
+                            "threads run as that file sets them (<Threads>), not at "
+                            "SCHED_FIFO\n");
+            continue;
+        }
         if (!takes || roz_params_find(&given, keys[t][0]) != NULL ||
             roz_params_find(&given, keys[t][1]) != NULL || o->n_params + 2 > MAX_PARAMS)
             continue;
@@ -907,8 +940,17 @@ int main(int argc, char **argv)
     cfg.port = port;
     cfg.clock = roz_clock_monotonic_ns;
     /* the deadline counts the controller's own time unless the tick is
-     * real-time, where the wall clock is the requirement (docs/budget.md) */
-    if (!o.realtime)
+     * real-time, where the wall clock is the requirement (docs/budget.md);
+     * --realtime without the privilege fails closed: said now, and judged
+     * on the CPU time (rozrun_realtime_refused) */
+    char why[80];
+    if (o.realtime && realtime_refused(o.priority, why, sizeof why)) {
+        fprintf(stderr, "rozrun: --realtime: %s: the tick runs at normal priority, and its "
+                        "deadline counts the controller's CPU time, not the wall clock\n",
+                why);
+        realtime_degraded = 1;
+    }
+    if (!o.realtime || realtime_degraded)
         cfg.deadline_clock = roz_clock_thread_cpu_ns;
     cfg.log = log_stderr;
     cfg.stale_ticks = o.stale_ticks;

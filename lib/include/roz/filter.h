@@ -21,36 +21,13 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/hold.h"
 #include "roz/manifest.h"
 #include "roz/private.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/** A hold (ROZ_SAFE_HOLD) keeps the torque the joint was held with: where
- *  the joint has a stiffness command (the same name before its '/'), the
- *  setpoint moves toward the measured position by the ratio of the last
- *  applied stiffness to the stiffness's safe default (the hold gain), so
- *  kp * (setpoint - position) is what it was when the stop latched, however
- *  soft the controller's gains were. The setpoint stays no further from the
- *  measured position than this many rate caps (max_rate) of its channel:
- *  enough for the sag of a standing humanoid's joints under gravity
- *  (test/ports/mujoco/test_mujoco_stops.c), little against a joint held back. */
-#define ROZ_FILTER_HOLD_TICKS 5.0
-
-/** The setpoint that keeps a joint's torque when its stiffness changes
- *  from @p kp_was to @p kp_hold: measured + (kp_was / kp_hold) * (setpoint -
- *  measured), so kp_hold * (result - measured) = kp_was * (setpoint -
- *  measured). @p setpoint as it is when a value is not finite or kp_hold is
- *  not above 0. The filter's hold and the ports' watchdog holds use it.
- *  Context: any; RT-safe. */
-static inline double roz_hold_keep_torque(double setpoint, double measured, double kp_was,
-                                          double kp_hold)
-{
-    double v = measured + (kp_was / kp_hold) * (setpoint - measured);
-    return kp_hold > 0.0 && v - v == 0.0 ? v : setpoint; /* v - v: NaN unless finite */
-}
 
 /** How the filter treats the controller's targets this tick. */
 typedef enum roz_stop {
@@ -117,7 +94,10 @@ typedef struct roz_filter {
     int      ROZ_PRIVATE(running); /* channel_stop_run[] may not be all 0 */
     int      ROZ_PRIVATE(stopping); /* a stop is on: hold[] latched at its first tick */
     double   ROZ_PRIVATE(hold)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: the safe
-                                                         default the stop latched */
+                                                         default this tick of the stop */
+    roz_hold_from_t ROZ_PRIVATE(hold_from)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels:
+                                                         what the stop latched */
+    uint8_t  ROZ_PRIVATE(hold_gain)[ROZ_CFG_MAX_COMMANDS]; /* 1: a hold channel's stiffness */
     uint16_t ROZ_PRIVATE(hold_kp)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: their
                                                         joint's stiffness command, or
                                                         UINT16_MAX: none */
@@ -146,12 +126,13 @@ ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
  *        (clamped to the command's limits), or the last applied value when
  *        the state is not finite (position unknown: hold, don't jump); for
  *        every other channel the manifest default. While a stop is on, a
- *        channel whose safe_default is ROZ_SAFE_HOLD gives instead the
- *        value latched at the stop's first tick by roz_filter_apply(): its
- *        last applied value (the setpoint the joint was held at), moved
- *        within ROZ_FILTER_HOLD_TICKS times its max_rate of the value the
- *        rule above gives then (that value itself while the position is
- *        unknown); released by the first tick without a stop.
+ *        channel whose safe_default is ROZ_SAFE_HOLD gives instead its
+ *        hold (roz/hold.h), latched at the stop's first tick by
+ *        roz_filter_apply() from its last applied value (the setpoint the
+ *        joint was held at), its stiffness's last applied value and the
+ *        rule above's value then (the measured position), and computed
+ *        each tick for the stiffness the stop sends; released by the first
+ *        tick without a stop.
  * Context: RT-safe.
  */
 double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *state);

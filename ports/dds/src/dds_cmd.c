@@ -32,7 +32,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     roz_buffer_frame_t f;
 
     if (atomic_load_explicit(&c->shutdown, memory_order_acquire)) {
-        /* the last command: damping, if the robot ever got one */
+        /* the last command: the port's exit (safe()), if the robot ever got one */
         if (!c->sent_any)
             return 0;
         return ops->safe(c->port, sample);
@@ -64,7 +64,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
             bump(c, ROZ_DDS_CMD_SAFE);
         }
     } else {
-        rc = ops->send(c->port, sample, f.values, meta + ROZ_DDS_CMD_META);
+        rc = ops->send(c->port, sample, f.values, meta + ROZ_DDS_CMD_META, meta[C_HOLD] != 0.0);
         c->sent_any = 1;
         if (meta[C_HOLD] != 0.0) /* the tick's writes are holds until then */
             atomic_store_explicit(&c->count[ROZ_DDS_CMD_HOLD_SENT_SEQ], seq,
@@ -138,8 +138,9 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
                              atomic_load_explicit(&c->count[ROZ_DDS_CMD_HOLD_SENT_SEQ],
                                                   memory_order_acquire);
     if (hold || again) {
-        /* the start-up hold instead */
-        c->ops->hold(c->port, c->hold_after_trip, f);
+        /* the start-up hold instead, or after a trip the stop's hold from
+         * the tick's last command before it */
+        c->ops->hold(c->port, c->hold_after_trip && c->has_last ? c->last_cmd : NULL, f);
         c->write_robot = t->robot;
         c->hold_seq = c->write_seq + 1u;
         if (hold)
@@ -147,6 +148,8 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
         hold = 1;
     } else {
         uint32_t changed = roz_commands_clamp(m, cmd, f);
+        memcpy(c->last_cmd, f, m->n_commands * sizeof f[0]);
+        c->has_last = 1;
         if (changed != 0)
             atomic_fetch_add_explicit(&c->count[ROZ_DDS_CMD_CLAMPED], changed,
                                       memory_order_relaxed);
@@ -179,7 +182,7 @@ int roz_dds_cmd_report(roz_dds_cmd_t *c, int rc, roz_port_fault_t *fault)
 int roz_dds_cmd_stop(roz_dds_cmd_t *c)
 {
     roz_dds_writer_stop(c->writer);
-    /* the last command: damping, published here now the thread is gone */
+    /* the last command (the port's exit), published here now the thread is gone */
     atomic_store_explicit(&c->shutdown, 1, memory_order_release);
     return roz_dds_writer_publish_final(c->writer, pass, c);
 }

@@ -45,6 +45,19 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                             err, errlen);
     if (rc == ROZ_OK)
         rc = roz_params_get_bool(p, "enable_monitor", 1, &out->enable_monitor, err, errlen);
+    if (rc == ROZ_OK) {
+        /* the last command on the way out: the robot class's stop (the
+         * hold) unless damping is chosen (test_g1_exit_is_the_hold) */
+        const char *v = roz_params_get_str(p, "exit_stop", "hold");
+        out->exit_damping = strcmp(v, "damping") == 0;
+        if (!out->exit_damping && strcmp(v, "hold") != 0) {
+            snprintf(err, errlen,
+                     "parameter exit_stop = \"%s\": expected hold (the stop's hold at the hold "
+                     "gains, the default) or damping (kp 0, kd shutdown_damping)",
+                     v);
+            return ROZ_EINVAL;
+        }
+    }
     if (rc == ROZ_OK)
         rc = roz_params_get_row_u32(p, ROWS, "state_decimation", &out->state_decimation, err,
                                     errlen);

@@ -36,7 +36,17 @@ int roz_dds_participant_open(roz_dds_participant_t *p, const char *iface, uint32
 
     if (uri != NULL && uri[0] != '\0') {
         /* The user's configuration wins: Cyclone reads CYCLONEDDS_URI itself
-         * when the participant creates the domain. */
+         * when the participant creates the domain, and roz's settings for
+         * Cyclone's threads would be dropped without a word: refused
+         * (test_dds_participant) */
+        if (threads != NULL && (threads->sched != ROZ_THREAD_OTHER || threads->priority != 0 ||
+                                threads->stack_kib != 0 || threads->cpus != 0)) {
+            snprintf(err, errlen,
+                     "parameter dds_threads_sched/_priority/_stack_kib: CYCLONEDDS_URI is set, "
+                     "and Cyclone DDS takes its threads' settings from that file, not from "
+                     "roz: set them there (<Threads>) or unset CYCLONEDDS_URI");
+            return ROZ_EINVAL;
+        }
         p->user_config = 1;
         snprintf(msg, sizeof msg,
                  "dds: CYCLONEDDS_URI is set: Cyclone DDS uses that configuration for domain "

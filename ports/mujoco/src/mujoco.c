@@ -1138,6 +1138,10 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     }
     mj_deleteSpec(spec);
     mjModel *mm = s->model;
+    /* a diverged simulation is never reset behind the test's back (it read
+     * back as a robot standing at its start): it warns, and the warning
+     * fails every read after it (test_mujoco_warning_fails_the_run) */
+    mm->opt.disableflags |= mjDSBL_AUTORESET;
 
     for (uint16_t j = 0; j < jn.n; j++) {
         if (bind_joint(s, j, jn.names[j], mj_names[j], err, errlen) != ROZ_OK) {
@@ -1457,6 +1461,12 @@ static void advance(roz_mujoco_t *s, uint64_t t)
             mju_addTo(x, ap, 6);
         }
         mj_step(mm, d);
+        for (int w = 0; s->warned == 0 && w < mjNWARNING; w++) {
+            if (d->warning[w].number > 0) {
+                s->warned = w + 1;
+                s->warned_step = s->steps;
+            }
+        }
         if (s->mobile == MOBILE_WHEELS)
             odometry(s);
         s->steps++;
@@ -1599,6 +1609,8 @@ static int mj_read(void *self, double *state, size_t n)
     }
     memcpy(state, s->hist[(t - delay) % DEPTH], n * sizeof *state);
     s->frames++;
+    if (s->warned != 0)
+        return ROZ_EROBOT; /* the physics is no robot any more: mj_fault() names why */
     if (s->rebooted) {
         s->rebooted = 0;
         return ROZ_ELINK; /* the robot's board came back: a new link */
@@ -1612,6 +1624,12 @@ static int mj_write(void *self, const double *cmd, size_t n)
     if (s->data == NULL || n != s->m->n_commands)
         return ROZ_EINVAL;
     s->writes++;
+    /* what the filter upstream must never let through, counted before
+     * anything else (test_mujoco_pendulum breaks it on purpose) */
+    for (uint16_t i = 0; i < s->m->n_commands; i++) {
+        if (!(cmd[i] >= s->m->commands[i].min && cmd[i] <= s->m->commands[i].max))
+            s->violations++;
+    }
     if (s->dead || s->frames == 0) {
         s->writes_withheld += s->frames == 0;
         return ROZ_OK; /* nobody listens, or nothing is sent before the first state */
@@ -1620,6 +1638,33 @@ static int mj_write(void *self, const double *cmd, size_t n)
      * manifest whoever calls write() */
     s->clamped += roz_commands_clamp(s->m, cmd, s->cmd);
     s->have_cmd = 1;
+    return ROZ_OK;
+}
+
+/* MuJoCo's warnings by mjtWarning, for the fault's account. */
+_Static_assert(mjNWARNING == 8, "MuJoCo's warnings as named below");
+static const char *const warning_names[mjNWARNING] = {
+    "MuJoCo warning: (near) singular inertia matrix",
+    "MuJoCo warning: too many contacts",
+    "MuJoCo warning: too many constraints",
+    "MuJoCo warning: too many visual geoms",
+    "MuJoCo warning: bad number in qpos (the simulation diverged)",
+    "MuJoCo warning: bad number in qvel (the simulation diverged)",
+    "MuJoCo warning: bad number in qacc (the simulation diverged)",
+    "MuJoCo warning: bad number in ctrl",
+};
+
+/* After read() returned ROZ_EROBOT: MuJoCo's first warning, named, with
+ * the physics step that raised it. */
+static int mj_fault(void *self, roz_port_fault_t *out)
+{
+    roz_mujoco_t *s = self;
+    if (s->warned == 0)
+        return ROZ_ENOENT;
+    out->what = "physics";
+    out->kind = warning_names[s->warned - 1];
+    out->code = s->warned_step > UINT32_MAX ? UINT32_MAX : (uint32_t)s->warned_step;
+    out->limit = 0;
     return ROZ_OK;
 }
 
@@ -1736,7 +1781,7 @@ const roz_port_ops_t roz_mujoco_ops = {
     .write = mj_write,
     .deactivate = NULL,
     .close = mj_close,
-    .fault = NULL,
+    .fault = mj_fault,
     .caps = ROZ_PORT_CAP_SIMULATOR,
     .info = &mj_info,
     .link_counters = mj_link_counters,
@@ -1772,6 +1817,7 @@ void roz_mujoco_counters(const roz_mujoco_t *self, roz_mujoco_counters_t *out)
     out->clamped = self->clamped;
     out->saturated = self->saturated;
     out->violations = self->violations;
+    out->warnings = self->warned != 0;
 }
 
 int roz_mujoco_inject(roz_mujoco_t *s, const roz_mujoco_fault_t *f)

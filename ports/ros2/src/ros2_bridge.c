@@ -379,10 +379,10 @@ static int publish_all(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
     return 1;
 }
 
-static void bridge_hold(void *port, int after_trip, double *cmd)
+static void bridge_hold(void *port, const double *last, double *cmd)
 {
     roz_ros2_bridge_t *b = port;
-    roz__ros2_hold(b, b->tick_q, after_trip ? b->shutdown_kd : b->startup_kd, cmd);
+    roz__ros2_hold(b, b->tick_q, last, last != NULL ? b->shutdown_kd : b->startup_kd, cmd);
 }
 
 /* every topic's session, summed: any topic's peer restarting changes it */
@@ -397,44 +397,52 @@ static uint32_t bridge_rx_session(void *port)
     return sum;
 }
 
-static int bridge_send(void *port, void *sample, const double *cmd, const double *q)
+static int bridge_send(void *port, void *sample, const double *cmd, const double *q, int hold)
 {
     roz_ros2_bridge_t *b = port;
     roz__ros2_joints(b, cmd, q, b->tx_joint);
+    /* the watchdog's hold is the controller's last command's, never that
+     * of a hold the port made up; until the controller's first, the
+     * start-up hold's (the measured positions) */
     for (uint16_t s = 0; s < b->n_slots; s++) {
+        b->tx_meas_q[s] = q[s]; /* the latest finite one, NaN until there is one */
+        if (hold && b->tx_ctrl)
+            continue;
         b->tx_last_q[s] = b->tx_joint[s].q;
         b->tx_last_kp[s] = b->tx_joint[s].kp;
-        b->tx_meas_q[s] = q[s]; /* the latest finite one, NaN until there is one */
     }
+    b->tx_ctrl |= !hold;
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
+static int bridge_watchdog(void *port, void *sample);
+
+/* The last command on the way out: the stop's hold (the humanoid's stop),
+ * or damping where exit_stop chose it */
 static int bridge_safe(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
+    if (!b->dds.exit_damping)
+        return bridge_watchdog(port, sample);
     roz__ros2_damping(b, b->tx_last_q, b->shutdown_kd, 0, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
 }
 
-/* The tick is silent: each joint held at the hold gain (its stiffness
- * default) with the torque it last went out with, as the filter's hold and
- * the G1 port's watchdog do (roz_hold_keep_torque(): a soft balancing
- * stand's setpoints sit away from its joints, and the hold gain on them
- * would push it over; test_pm01_watchdog_keeps_the_torque,
- * test_mujoco_stops_pm01); the positions then clamped inside the manifest
- * by roz__ros2_damping(). A position never measured finite keeps the
- * setpoint last sent. */
+/* The tick is silent: the stop's hold from the controller's last command
+ * (roz_joints_hold_setpoint(): the hold gain, the torque kept within the
+ * band of the measured position, a joint without a position command at its
+ * measured position; test_pm01_watchdog_keeps_the_torque,
+ * test_mujoco_stops_pm01); a slot without a hold (nothing measured, no
+ * position command) gets no stiffness from roz__ros2_damping(). */
 static int bridge_watchdog(void *port, void *sample)
 {
     roz_ros2_bridge_t *b = port;
-    const roz_manifest_t *m = b->m;
     double q[ROZ_ROS2_MAX_ROBOT_SLOTS];
     for (uint16_t s = 0; s < b->n_slots; s++) {
         int16_t k = b->slot_joint[s];
-        int16_t kp = k >= 0 && b->joint[k].q_cmd >= 0 ? b->joint[k].kp_cmd : -1;
-        q[s] = kp >= 0 ? roz_hold_keep_torque(b->tx_last_q[s], b->tx_meas_q[s], b->tx_last_kp[s],
-                                              m->commands[kp].default_value)
-                       : b->tx_last_q[s];
+        q[s] = k >= 0 ? roz_joints_hold_setpoint(b->m, &b->joint[k], b->tx_last_q[s],
+                                                 b->tx_last_kp[s], b->tx_meas_q[s])
+                      : b->tx_last_q[s];
     }
     roz__ros2_damping(b, q, b->shutdown_kd, 1, b->tx_joint);
     return publish_all(b, &b->out[primary(b)], sample);
@@ -786,7 +794,7 @@ int roz_ros2_deactivate(void *self)
     if (!b->active)
         return ROZ_OK;
     roz_ros2_out_t *o = &b->out[primary(b)];
-    /* the last command: damping; the primary's pass publishes every other
+    /* the last command: the exit stop; the primary's pass publishes every other
      * group's too, and they are flushed as the primary's is */
     if (roz_dds_cmd_stop(&b->cmd) == 1) {
         for (uint16_t g = 0; g < b->robot->n_groups; g++) {

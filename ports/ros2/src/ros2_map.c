@@ -100,12 +100,16 @@ static uint16_t robot_slot(const roz_ros2_bridge_t *b, uint16_t k)
     return (uint16_t)(b->group_base[b->place[k].group] + b->place[k].slot);
 }
 
-void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, double kd, double *cmd)
+void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, const double *last, double kd,
+                    double *cmd)
 {
     double qj[ROZ_CFG_MAX_JOINTS];
     for (uint16_t k = 0; k < b->n_joints; k++)
         qj[k] = q[robot_slot(b, k)];
-    roz_joints_hold(b->m, b->joint, b->n_joints, qj, kd, cmd);
+    if (last != NULL)
+        roz_joints_hold_keep(b->m, b->joint, b->n_joints, last, qj, kd, cmd);
+    else
+        roz_joints_hold(b->m, b->joint, b->n_joints, qj, kd, cmd);
 }
 
 static double value(const double *cmd, int16_t ch)
@@ -185,7 +189,9 @@ void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd, i
             const roz_channel_t *c = &m->commands[j->kd_cmd];
             o->kd = roz_channel_clamp(c, kd == kd ? kd : c->default_value);
         }
-        if (hold && j->kp_cmd >= 0)
+        /* the hold gain only where there is a position to hold: never 0
+         * rad under it (test_pm01_watchdog_keeps_the_torque) */
+        if (hold && j->kp_cmd >= 0 && known)
             o->kp = m->commands[j->kp_cmd].default_value; /* within it: a valid manifest */
     }
 }

@@ -18,8 +18,10 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
 /* The start-up hold as a command frame (n_commands, manifest order): every
  * joint's position command holds q[robot slot], kd is @p kd where the joint
  * has a damping command, everything else 0; each value clamped
- * (roz_joints_hold() on the joints' positions). */
-void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, double kd, double *cmd);
+ * (roz_joints_hold() on the joints' positions). With @p last (the
+ * controller's last command) the stop's hold from it (roz_joints_hold_keep()). */
+void roz__ros2_hold(const roz_ros2_bridge_t *b, const double *q, const double *last, double kd,
+                    double *cmd);
 
 /* Every robot slot's joint command from a command frame: a bound joint's
  * channels (a joint without a position command: @p q, its measured

@@ -2,7 +2,7 @@
 /* The socketcan port's holds (roz/port/can_hold.h). */
 #include "roz/port/can_hold.h"
 
-#include "roz/filter.h"
+#include "roz/hold.h"
 #include "roz/hal/joints.h"
 
 #include <math.h>
@@ -34,16 +34,27 @@ void roz_can_watchdog_hold(const roz_manifest_t *m, const roz_can_joint_t *jt,
 {
     double dir = (double)jt->direction;
     double kp = hold_value(m, jt->kp_cmd);
-    double q = measured;
-
-    if (last->sent)
-        q = roz_hold_keep_torque(last->position, last->measured, last->stiffness, kp);
-    if (!finite(q))
-        q = finite(measured) ? measured : last->sent ? last->position : NAN;
-    if (jt->pos_cmd >= 0)
-        q = roz_channel_clamp(&m->commands[jt->pos_cmd], q); /* NaN: the default */
-    else if (!finite(q))
-        q = jt->zero_offset; /* no position command: no stiffness either */
+    /* roz/hold.h's hold from the last command that went out: its torque
+     * kept under the hold gain, within the band of the position measured
+     * with it (now, without one); the measured position without a command */
+    roz_hold_from_t from = { NAN, NAN, measured };
+    if (last->sent) {
+        from.setpoint = jt->pos_cmd >= 0 ? last->position : NAN;
+        from.kp = jt->kp_cmd >= 0 ? last->stiffness : NAN;
+        if (finite(last->measured))
+            from.measured = last->measured;
+    }
+    double band = jt->pos_cmd >= 0 ? roz_hold_band(&m->commands[jt->pos_cmd]) : 0.0;
+    double q = roz_hold_setpoint(&from, jt->kp_cmd >= 0 ? kp : NAN, band);
+    if (!finite(q)) {
+        /* nothing to hold: no stiffness (test_can_hold_without_a_command_
+         * or_finite_values) */
+        q = jt->pos_cmd >= 0 ? roz_channel_clamp(&m->commands[jt->pos_cmd], jt->zero_offset)
+                             : jt->zero_offset;
+        kp = neutral(m, jt->kp_cmd);
+    } else if (jt->pos_cmd >= 0) {
+        q = roz_channel_clamp(&m->commands[jt->pos_cmd], q);
+    }
     out->position = dir * (q - jt->zero_offset);
     out->velocity = dir * neutral(m, jt->vel_cmd);
     out->kp = kp;

@@ -508,7 +508,12 @@ static void round_pass(roz_socketcan_t *sc, uint64_t t)
             watchdog_to(sc, j, t); /* the tick went silent: the hold until it is back */
             bump(sc, C(watchdog_holds), 1);
         } else if (sc->tx_hold) {
-            damped_hold_to(sc, j, t); /* back after a trip: the hold first */
+            /* back after a trip: the stop's hold first, never a frame
+             * without stiffness (test_socketcan_watchdog_on_write) */
+            if (tx->last.sent)
+                watchdog_to(sc, j, t);
+            else
+                damped_hold_to(sc, j, t);
         } else {
             command_to(sc, j, t);
         }

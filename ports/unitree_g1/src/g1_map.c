@@ -185,12 +185,16 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
 
 /* ---- commands ------------------------------------------------------------------ */
 
-void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd)
+void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, const double *last, double kd,
+                  double *cmd)
 {
     double jq[ROZ_UNITREE_G1_BODY];
     for (uint16_t k = 0; k < g1->n_joints; k++)
         jq[k] = q[g1->slot[k]];
-    roz_joints_hold(g1->m, g1->joint, g1->n_joints, jq, kd, cmd);
+    if (last != NULL)
+        roz_joints_hold_keep(g1->m, g1->joint, g1->n_joints, last, jq, kd, cmd);
+    else
+        roz_joints_hold(g1->m, g1->joint, g1->n_joints, jq, kd, cmd);
 }
 
 /* Channel @p ch's command as a float inside its limits (0 without one):
@@ -255,8 +259,19 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
         mc->mode = 1;
-        /* no stiffness, velocity or torque, as far as the manifest allows */
-        mc->q = j->q_cmd >= 0 ? roz_channel_clamp_float(&m->commands[j->q_cmd], q[k]) : 0.0f;
+        /* no stiffness, velocity or torque, as far as the manifest allows;
+         * a joint without a position command at @p q, its measured position
+         * (inside its state's limits): never 0 rad under a hold gain, and
+         * no stiffness where nothing was measured (test_g1_watchdog_hold_
+         * rules) */
+        double qk = q[k];
+        int known = fabs(qk) <= FLT_MAX; /* finite, as a float too */
+        if (j->q_cmd >= 0)
+            mc->q = roz_channel_clamp_float(&m->commands[j->q_cmd], qk);
+        else if (known && j->q_state >= 0)
+            mc->q = roz_channel_clamp_float(&m->states[j->q_state], qk);
+        else
+            mc->q = known ? (float)qk : 0.0f;
         mc->dq = neutral(m, j->dq_cmd);
         mc->tau = neutral(m, j->tau_cmd);
         mc->kp = neutral(m, j->kp_cmd);
@@ -264,7 +279,7 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
             const roz_channel_t *c = &m->commands[j->kd_cmd];
             mc->kd = roz_channel_clamp_float(c, kd == kd ? kd : c->default_value);
         }
-        if (hold && j->kp_cmd >= 0)
+        if (hold && j->kp_cmd >= 0 && (known || j->q_cmd >= 0))
             mc->kp = (float)m->commands[j->kp_cmd].default_value; /* within it: a valid manifest */
     }
     seal(out);

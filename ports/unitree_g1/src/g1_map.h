@@ -44,8 +44,11 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
 
 /* The start-up hold as a command frame (n_commands, manifest order): every
  * joint's position command holds q[slot], kd is @p kd where the joint has
- * a damping command, everything else 0; each value clamped to its channel. */
-void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, double kd, double *cmd);
+ * a damping command, everything else 0; each value clamped to its channel.
+ * With @p last (the controller's last command) the stop's hold from it
+ * instead (roz_joints_hold_keep()). */
+void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, const double *last, double kd,
+                  double *cmd);
 
 /* Fills a zeroed LowCmd_ from a command frame and sets its CRC; a joint
  * without a position command gets @p q[slot] (each slot's last finite

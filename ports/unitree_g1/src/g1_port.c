@@ -249,10 +249,10 @@ static int g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mm)
 
 /* ---- the command path's hooks (roz/port/dds.h says which thread runs each) -------- */
 
-static void g1_hold(void *port, int after_trip, double *cmd)
+static void g1_hold(void *port, const double *last, double *cmd)
 {
     roz_unitree_g1_t *g1 = port;
-    roz__g1_hold(g1, g1->tick_q, after_trip ? g1->shutdown_kd : g1->startup_kd, cmd);
+    roz__g1_hold(g1, g1->tick_q, last, last != NULL ? g1->shutdown_kd : g1->startup_kd, cmd);
 }
 
 static uint32_t g1_rx_session(void *port)
@@ -277,7 +277,7 @@ static int g1_refuse(void *port)
     return (locked && (locked & 0xffu) != mm) || g1_variant_refuses(g1, mm);
 }
 
-static int g1_send(void *port, void *sample, const double *cmd, const double *extra)
+static int g1_send(void *port, void *sample, const double *cmd, const double *extra, int hold)
 {
     roz_unitree_g1_t *g1 = port;
     g1_cmd_t *out = sample;
@@ -286,39 +286,47 @@ static int g1_send(void *port, void *sample, const double *cmd, const double *ex
     if (!atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed))
         atomic_store_explicit(&g1->locked_mode_machine, LOCKED | mm, memory_order_release);
     roz__g1_fill(g1, cmd, extra, (uint8_t)mm, out);
+    /* the watchdog's hold is the controller's last command's, never that
+     * of a hold the port made up (test_g1_trip_write_trip_keeps_the_torque) */
     for (uint16_t k = 0; k < g1->n_joints; k++) {
+        g1->tx_meas_q[k] = extra[g1->slot[k]];
+        if (hold && g1->tx_ctrl)
+            continue;
         g1->tx_last_q[k] = out->motor_cmd[g1->slot[k]].q;
         g1->tx_last_kp[k] = out->motor_cmd[g1->slot[k]].kp;
-        g1->tx_meas_q[k] = extra[g1->slot[k]];
     }
+    g1->tx_ctrl |= !hold; /* until then the start-up hold's: the measured positions */
     return 1;
 }
 
+static int g1_watchdog(void *port, void *sample);
+
+/* The last command on the way out: the stop's hold (the humanoid's stop,
+ * test_g1_exit_is_the_hold), or damping where exit_stop chose it */
 static int g1_safe(void *port, void *sample)
 {
     roz_unitree_g1_t *g1 = port;
+    if (!g1->dds.exit_damping)
+        return g1_watchdog(port, sample);
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
     roz__g1_fill_damping(g1, g1->tx_last_q, g1->shutdown_kd, 0, (uint8_t)(locked & 0xffu),
                          sample);
     return 1;
 }
 
-/* The tick is silent: each joint held at the hold gain (its stiffness
- * default) with the torque it last went out with, as the filter's hold
- * does (roz_hold_keep_torque(); test_mujoco_stops_g1, the balancing stand's
- * watchdog row) */
+/* The tick is silent: the stop's hold from the controller's last command
+ * (roz_joints_hold_setpoint(): the hold gain, the torque kept within the
+ * band of the measured position, a joint without a position command at its
+ * measured position; test_mujoco_stops_g1, the balancing stand's watchdog
+ * row; test_g1_watchdog_hold_rules) */
 static int g1_watchdog(void *port, void *sample)
 {
     roz_unitree_g1_t *g1 = port;
-    const roz_manifest_t *m = g1->m;
     double q[ROZ_UNITREE_G1_SLOTS];
     uint32_t locked = atomic_load_explicit(&g1->locked_mode_machine, memory_order_relaxed);
-    for (uint16_t k = 0; k < g1->n_joints; k++) {
-        int32_t kp = g1->joint[k].kp_cmd;
-        q[k] = kp >= 0 ? roz_hold_keep_torque(g1->tx_last_q[k], g1->tx_meas_q[k],
-                                              g1->tx_last_kp[k], m->commands[kp].default_value)
-                       : g1->tx_last_q[k];
-    }
+    for (uint16_t k = 0; k < g1->n_joints; k++)
+        q[k] = roz_joints_hold_setpoint(g1->m, &g1->joint[k], g1->tx_last_q[k],
+                                        g1->tx_last_kp[k], g1->tx_meas_q[k]);
     roz__g1_fill_damping(g1, q, g1->shutdown_kd, 1, (uint8_t)(locked & 0xffu), sample);
     return 1;
 }
@@ -531,7 +539,7 @@ static int g1_deactivate(void *self)
 
     if (!g1->active)
         return ROZ_OK;
-    (void)roz_dds_cmd_stop(&g1->cmd); /* the last command: damping */
+    (void)roz_dds_cmd_stop(&g1->cmd); /* the last command: the exit stop */
     roz_dds_reader_close(&g1->reader);
     g1->active = 0;
     return ROZ_OK;

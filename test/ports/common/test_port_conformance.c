@@ -409,16 +409,24 @@ static void check_watchdog(conformance_t *c)
     assert_int_equal(f.limit, WATCHDOG_US);
     assert_true(f.code >= WATCHDOG_US); /* silent at least that long */
     fresh_frame(c);
-    /* the first write goes out as the start-up hold, which drives nothing
+    /* the first write goes out as the stop's hold, which drives nothing
      * either (its positions are the port's: the robot may stand outside
-     * the limits now), the next as written */
+     * the limits now) and keeps the hold gains: never a frame without
+     * stiffness between the watchdog's hold and the tick's, the next as
+     * written */
     write_checked(c, 10);
     c->fx->settle();
     const double *got = c->fx->peer_command();
     assert_non_null(got);
-    if (drives(c, got, zero, NULL))
+    if (drives(c, got, zero, hold))
         fail_msg("%s on %s: the first write after the trip drives the robot: no hold",
                  c->fx->name, c->m->robot_id);
+    for (uint16_t i = 0; i < c->m->n_commands; i++) {
+        if (c->m->commands[i].type == ROZ_IF_STIFFNESS &&
+            memcmp(&got[i], &hold[i], sizeof hold[i]) != 0)
+            fail_msg("%s on %s: the first write after the trip sends %s %g, not its hold gain "
+                     "%g", c->fx->name, c->m->robot_id, c->m->commands[i].name, got[i], hold[i]);
+    }
     write_checked(c, 11);
     assert_peer_applies(c, c->cmd);
 }

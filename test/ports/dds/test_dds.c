@@ -303,6 +303,21 @@ static void test_dds_participant(void **st)
     assert_string_equal(p.config, "");
     assert_non_null(strstr(logged, "CYCLONEDDS_URI"));
     roz_dds_participant_close(&p);
+
+    /* settings for Cyclone's threads that the user's file would drop
+     * without a word are refused, naming the file's variable
+     * (test_dds_participant) */
+    setenv("CYCLONEDDS_URI", "<CycloneDDS/>", 1);
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 10, 0, 0 }, stack = { ROZ_THREAD_OTHER, 0, 0, 256 };
+    int rc_fifo = roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, &fifo, log_capture, NULL,
+                                           err, sizeof err);
+    int rc_stack = roz_dds_participant_open(&p, "lo", ROZ_TEST_DDS_DOMAIN, &stack, log_capture,
+                                            NULL, err, sizeof err);
+    unsetenv("CYCLONEDDS_URI");
+    assert_int_equal(rc_fifo, ROZ_EINVAL);
+    assert_int_equal(rc_stack, ROZ_EINVAL);
+    assert_non_null(strstr(err, "CYCLONEDDS_URI is set"));
+    assert_non_null(strstr(err, "dds_threads_sched"));
 }
 
 /* ---- one process: writer thread, receive path ------------------------------ */
@@ -674,10 +689,10 @@ static cmd_port_t cp;
 static roz_dds_cmd_t cmdp;
 static double cmd_slots[3 * (2 + ROZ_DDS_CMD_META + 1)];
 
-static void cp_hold(void *port, int after_trip, double *cmd)
+static void cp_hold(void *port, const double *last, double *cmd)
 {
     cmd_port_t *p = port;
-    (void)after_trip;
+    (void)last;
     p->holds++;
     cmd[0] = 0.25; /* "the measured position" */
     cmd[1] = 0.0;
@@ -696,9 +711,10 @@ static int cp_refuse(void *port)
     return atomic_load(&p->refuse);
 }
 
-static int cp_send(void *port, void *sample, const double *cmd, const double *extra)
+static int cp_send(void *port, void *sample, const double *cmd, const double *extra, int hold)
 {
     cmd_port_t *p = port;
+    (void)hold;
     roz_dds_test_Frame *f = sample;
     p->sent[0] = cmd[0];
     p->sent[1] = cmd[1];

@@ -215,11 +215,51 @@ static void test_mujoco_pendulum_law(void **state)
                   (unsigned long long)mj.saturated);
     assert_true(st[0] < 1.0 && st[0] > 0.8);
     assert_true(mj.saturated > 0);
-    /* a value outside the manifest never reaches the motor */
+    /* a value outside the manifest never reaches the motor, and is
+     * counted as one the filter upstream should have stopped: the count
+     * the physics tests assert 0 can fail */
+    assert_int_equal(mj.violations, 0);
     cmd[4] = 50.0;
     assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
     assert_int_equal(mj.clamped, 1);
-    assert_near(mj.cmd[4], 4.0, 0.0);
+    assert_int_equal(mj.violations, 1);
+    cmd[4] = NAN;
+    assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
+    assert_int_equal(mj.violations, 2);
+    roz_mujoco_counters_t c;
+    roz_mujoco_counters(&mj, &c);
+    assert_int_equal(c.violations, 2);
+    assert_near(mj.cmd[4], 0.0, 0.0);
+    roz_port_close(&p);
+}
+
+/* A simulation that diverges is never reset behind the run's back (MuJoCo's
+ * automatic reset is off): its warning fails every read after it, named. A
+ * spring far too stiff for the time step (pendulum_diverge.xml). */
+static void test_mujoco_warning_fails_the_run(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *file = mj.robot_file;
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    roz_mujoco_set_robot_file(&mj, file);
+    char err[512];
+    assert_int_equal(open_with(&p, m, err, sizeof err, 1, "model=pendulum_diverge.xml"), ROZ_OK);
+    double st[3];
+    int rc = 1, t = 0;
+    for (; t < 100 && rc == 1; t++)
+        rc = roz_port_read(&p, st, 3);
+    assert_int_equal(rc, ROZ_EROBOT);
+    roz_port_fault_t f;
+    assert_int_equal(p.ops->fault(p.self, &f), ROZ_OK);
+    print_message("after %d reads: %s, %s (step %u); the swing read back at %g rad\n", t, f.what,
+                  f.kind, (unsigned)f.code, st[0]);
+    assert_non_null(strstr(f.kind, "MuJoCo warning"));
+    assert_false(fabs(st[0] - 1.0) < 0.5); /* not reset to the keyframe's start */
+    assert_int_equal(roz_port_read(&p, st, 3), ROZ_EROBOT); /* and it stays failed */
+    roz_mujoco_counters_t c;
+    roz_mujoco_counters(&mj, &c);
+    assert_int_equal(c.warnings, 1);
     roz_port_close(&p);
 }
 
@@ -461,6 +501,7 @@ int main(void)
         cmocka_unit_test(test_mujoco_include_bounds),
         cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
         cmocka_unit_test(test_mujoco_pendulum_law),
+        cmocka_unit_test(test_mujoco_warning_fails_the_run),
         cmocka_unit_test(test_mujoco_g1_imu_and_faults),
         cmocka_unit_test(test_mujoco_gantry),
         cmocka_unit_test(test_mujoco_g1_stands),

@@ -42,6 +42,8 @@ typedef enum {
     STOP_PORT,     /* the port's fault parameter (drop, restart) */
     STOP_SILENT,   /* the tick stops; the port's watchdog acts */
     STOP_SWAP,     /* another controller swapped in */
+    STOP_EXIT,     /* the application exits: the port's exit, the stop's hold, at once */
+    STOP_TWICE,    /* the tick stops, comes back for one write, and stops again */
 } stop_how_t;
 
 typedef struct {
@@ -88,14 +90,12 @@ static const double *truth(void)
 }
 
 /* What the DDS ports' command watchdogs send once the tick has been silent
- * for command_timeout_us (g1_watchdog() in ports/unitree_g1, and the ROS 2
- * ports' bridge_watchdog() in ports/ros2, the PM01's, through the command
- * path every DDS port shares, ports/dds/src/dds_cmd.c): the
- * positions last sent moved to keep the torque they held the joint with
- * (roz_hold_keep_torque()), kp each joint's stiffness default (the hold gain),
- * kd its damping default (shutdown_damping's default), nothing else. The
- * mujoco port has no sender of its own: the test writes it in the port's
- * place, every tick. */
+ * for command_timeout_us: the ports' own hold (roz_joints_hold_keep(), the
+ * hold the DDS ports send when the tick comes back after a trip, each
+ * joint's setpoint roz_joints_hold_setpoint() as g1_watchdog() and the ROS 2
+ * ports' bridge_watchdog() compute it) from the last command, kd the
+ * damping default (shutdown_damping's default). The mujoco port has no
+ * sender of its own: the test writes it in the port's place, every tick. */
 static void watchdog_command(const roz_manifest_t *m, const double *last, const double *state,
                              double *cmd)
 {
@@ -103,13 +103,9 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
     double q[ROZ_MUJOCO_MAX_JOINTS];
     for (uint16_t k = 0; k < mj.n_joints; k++) {
         j[k] = mj.joints[k].ch;
-        /* the torque the last command held the joint with, at the hold gain */
-        q[k] = roz_hold_keep_torque(last[j[k].q_cmd], state[j[k].q_state], last[j[k].kp_cmd],
-                                    m->commands[j[k].kp_cmd].default_value);
+        q[k] = state[j[k].q_state];
     }
-    roz_joints_hold(m, j, mj.n_joints, q, m->commands[j[0].kd_cmd].default_value, cmd);
-    for (uint16_t k = 0; k < mj.n_joints; k++)
-        cmd[j[k].kp_cmd] = m->commands[j[k].kp_cmd].default_value;
+    roz_joints_hold_keep(m, j, mj.n_joints, last, q, m->commands[j[0].kd_cmd].default_value, cmd);
 }
 
 /* The pelvis height (m) the stand stands above before the stop: the G1's
@@ -171,14 +167,28 @@ static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t 
             const uint8_t *w2 = stops_controller(c->swap_in, &len);
             assert_int_equal(roz_runtime_load(&rt, w2, len, NULL), ROZ_OK);
         }
-        if (c->how == STOP_SILENT && t >= STOP_TICK) {
+        if ((c->how == STOP_SILENT || c->how == STOP_TWICE) && t >= STOP_TICK) {
             /* the tick is gone: the robot keeps the last command until the
              * watchdog trips, then gets the watchdog's, every period */
             if (t == STOP_TICK + WATCHDOG_TICKS)
                 watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
                                  wd);
+            /* twice: 100 ms later the tick writes once (the port sends the
+             * stop's hold from the controller's last command, about where
+             * the joints are then) and is gone again: the second trip's
+             * hold is the same, from the controller's last command */
+            if (c->how == STOP_TWICE && t == STOP_TICK + WATCHDOG_TICKS + 50)
+                watchdog_command(m, roz_runtime_last_commands(&rt), st, wd);
             if (t >= STOP_TICK + WATCHDOG_TICKS)
                 assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
+            (void)roz_port_read(&p, st, m->n_states);
+        } else if (c->how == STOP_EXIT && t >= STOP_TICK) {
+            /* the application exits: the DDS ports' exit, the stop's hold
+             * (g1_safe(), bridge_safe()), every period from then on */
+            if (t == STOP_TICK)
+                watchdog_command(m, roz_runtime_last_commands(&rt), roz_runtime_last_state(&rt),
+                                 wd);
+            assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
             (void)roz_port_read(&p, st, m->n_states);
         } else {
             { int rc_ = roz_runtime_tick(&rt); (void)rc_; }
@@ -248,6 +258,8 @@ static const stop_case_t cases[] = {
     { "link (balancing stand)", STOP_PORT, "g1_stand", "restart=1000:1002", NULL,
       ROZ_FAULT_LINK },
     { "watchdog (balancing stand)", STOP_SILENT, "g1_stand", NULL, NULL, 0 },
+    { "watchdog twice (balancing)", STOP_TWICE, "g1_stand", NULL, NULL, 0 },
+    { "exit (balancing stand)", STOP_EXIT, "g1_stand", NULL, NULL, 0 },
 };
 
 static void test_mujoco_stops_g1(void **state)
@@ -294,6 +306,8 @@ static const stop_case_t pm01_cases[] = {
       ROZ_FAULT_LINK },
     { "pm01: command watchdog", STOP_SILENT, "pm01_stand", NULL, NULL, 0 },
     { "pm01: swap", STOP_SWAP, "pm01_stand", NULL, "stops_pm01_swap_in", 0 },
+    { "pm01: watchdog twice", STOP_TWICE, "pm01_stand", NULL, NULL, 0 },
+    { "pm01: exit", STOP_EXIT, "pm01_stand", NULL, NULL, 0 },
 };
 
 /* The PM01's crouch on pm01_stand settles slowly (0.75 m at 4 s, 0.68 m

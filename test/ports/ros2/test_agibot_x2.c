@@ -43,6 +43,7 @@
 #include "port_test.h"
 #include "ros2_fixture.h"
 #include "roz/filter.h"
+#include "roz/hold.h"
 #include "roz/port/agibot_x2.h"
 #include "roz/runtime.h"
 #include "support.h"
@@ -819,7 +820,8 @@ static void test_x2_watchdog_every_group(void **st)
     roz_ros2fx_sent(sent);
     distinct_command(1);
     /* each setpoint moved to keep the torque it went out with at the hold
-     * gain, inside the limits (test_pm01_watchdog_keeps_the_torque) */
+     * gain, within the band of the measured position, inside the limits
+     * (test_pm01_watchdog_keeps_the_torque) */
     for (uint16_t j = 0; j < m->hardware->n_joints; j++) {
         int i = cmd_of(m->hardware->joints[j], "position");
         int kp = cmd_of(m->hardware->joints[j], "stiffness");
@@ -827,8 +829,8 @@ static void test_x2_watchdog_every_group(void **st)
         if (i < 0 || kp < 0)
             continue;
         const roz_channel_t *qc = &m->commands[i];
-        double v = roz_hold_keep_torque(cmd[i], sent[qc->position_state], cmd[kp],
-                                        m->commands[kp].default_value);
+        roz_hold_from_t from = { cmd[i], cmd[kp], sent[qc->position_state] };
+        double v = roz_hold_setpoint(&from, m->commands[kp].default_value, roz_hold_band(qc));
         q[j] = roz_channel_clamp(qc, roz_channel_clamp(&m->states[qc->position_state], v));
     }
     write_x2();
@@ -868,6 +870,8 @@ static void test_x2_watchdog_every_group(void **st)
 
     roz_ros2fx_send();
     assert_int_equal(read_x2(), ROZ_EWATCHDOG);
+    double before_trip[ROZ_CFG_MAX_COMMANDS];
+    memcpy(before_trip, cmd, sizeof before_trip);
     distinct_command(2);
     write_x2();
     roz_ros2fx_settle();
@@ -877,10 +881,19 @@ static void test_x2_watchdog_every_group(void **st)
     assert_int_equal(roz_fake_ros2_command(fk, (unsigned)g, &c), 1);
     char name[160];
     snprintf(name, sizeof name, "%s/position", m->hardware->joints[0]);
-    assert_true(c.q[s] == sent[state_index(name)]);
-    /* no stiffness, and the damping the robot is in already (not kd 0
-     * between two damping commands) */
-    assert_true(c.kp[s] == 0.0);
+    /* the stop's hold from the last command before the trip, at the hold
+     * gain and the damping the robot is in already: never a frame without
+     * stiffness between the watchdog's hold and the tick's */
+    {
+        int qi = cmd_of(m->hardware->joints[0], "position");
+        int ki = cmd_of(m->hardware->joints[0], "stiffness");
+        const roz_channel_t *qc = &m->commands[qi];
+        roz_hold_from_t from = { before_trip[qi], before_trip[ki], sent[state_index(name)] };
+        double want = roz_channel_clamp(qc, roz_hold_setpoint(&from, m->commands[ki].default_value,
+                                                              roz_hold_band(qc)));
+        assert_true(fabs(c.q[s] - want) < 1e-12);
+        assert_true(c.kp[s] == m->commands[ki].default_value);
+    }
     assert_true(c.kd[s] == m->commands[cmd_of(m->hardware->joints[0], "damping")].default_value);
 }
 

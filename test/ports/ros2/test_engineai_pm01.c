@@ -54,6 +54,7 @@
 #include "support_blocking_log.h"
 #include "ros2_fixture.h"
 #include "roz/filter.h"
+#include "roz/hold.h"
 #include "roz/port/engineai_pm01.h"
 #include "ur5_manifest.h"
 
@@ -131,17 +132,17 @@ static void assert_state_is_sent(void)
 /* The setpoints the watchdog's hold sends after the command in cmd[] went
  * out against the measured positions @p measured (state order): each
  * joint's setpoint moved to keep the torque it went out with at the hold
- * gain (roz_hold_keep_torque()), inside the position state's and the
- * command's limits. */
+ * gain, within the band of the measured position (roz/hold.h), inside the
+ * position state's and the command's limits. */
 static void watchdog_positions(const double *measured, double *q)
 {
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
         const roz_channel_t *kc = &m->commands[cmd_index(j, "stiffness")];
         const roz_channel_t *qs = &m->states[qc->position_state];
-        double v = roz_hold_keep_torque(cmd[cmd_index(j, "position")],
-                                        measured[qc->position_state],
-                                        cmd[cmd_index(j, "stiffness")], kc->default_value);
+        roz_hold_from_t from = { cmd[cmd_index(j, "position")], cmd[cmd_index(j, "stiffness")],
+                                 measured[qc->position_state] };
+        double v = roz_hold_setpoint(&from, kc->default_value, roz_hold_band(qc));
         q[j] = roz_channel_clamp(qc, roz_channel_clamp(qs, v));
     }
 }
@@ -211,7 +212,7 @@ static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), counts), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
     next_command(counts[0], &c);
-    assert_true(c.kp[0] == 0.0); /* the damping command */
+    assert_true(c.kp[0] > 0.0); /* the exit's hold */
     assert_int_equal(c.ppt, want);
     roz_fixture_engineai_pm01.close();
 }
@@ -744,14 +745,26 @@ static void test_pm01_watchdog(void **st)
     assert_int_equal(f.limit, 100000);
     assert_true(f.code >= 100000);
     assert_int_equal(read_pm01(), 0);
+    /* the stop's hold from the last command before the trip, at the hold
+     * gains and the damping command's kd: never a frame without stiffness
+     * between the watchdog's hold and the tick's */
+    double before_trip[ROZ_CFG_MAX_COMMANDS];
+    memcpy(before_trip, cmd, sizeof before_trip);
     distinct_command(2);
     write_pm01();
     get_command(&c);
     roz_ros2fx_sent(sent);
-    assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
-    /* the hold after the trip keeps the damping command's kd (no kd 0
-     * between two damping commands) */
-    assert_true(c.kp[3] == 0.0);
+    {
+        const roz_channel_t *qc = &m->commands[cmd_index(3, "position")];
+        const roz_channel_t *kc = &m->commands[cmd_index(3, "stiffness")];
+        roz_hold_from_t from = { before_trip[cmd_index(3, "position")],
+                                 before_trip[cmd_index(3, "stiffness")],
+                                 sent[qc->position_state] };
+        double want = roz_channel_clamp(qc, roz_hold_setpoint(&from, kc->default_value,
+                                                              roz_hold_band(qc)));
+        assert_true(fabs(c.q[3] - want) < 1e-12);
+        assert_true(c.kp[3] == kc->default_value);
+    }
     assert_true(c.kd[3] == m->commands[cmd_index(3, "damping")].default_value);
     roz_ros2fx_send();
     assert_int_equal(read_pm01(), 1);
@@ -775,8 +788,9 @@ static void fake_position(uint16_t j, const char *q)
  * filter's hold and the G1 port's watchdog do (SAFETY.md, section 7): the
  * left knee held with kp 80 at 0.5 rad, measured at 0.9, goes on at its
  * hold gain kh (200) at 0.9 + 80 (0.5 - 0.9) / 200 = 0.74; the left hip
- * pitch held hard (kp 500) near its upper limit, from 0.2 rad below it,
- * gets its limit, not the setpoint past it; the right knee, NaN in the
+ * pitch held hard (kp 500) near its upper limit, from 0.5 rad below it,
+ * gets the band's edge (5 rate caps above where it is: roz_hold_band()),
+ * not the limit the torque would push it to; the right knee, NaN in the
  * last frame, keeps its torque about its last finite position (0.6); every
  * joint by the same rule, every value finite. */
 static void test_pm01_watchdog_keeps_the_torque(void **st)
@@ -796,7 +810,7 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     /* the frame the command goes out against: the right knee at 0.6, then
      * NaN (the port keeps 0.6, the last finite one) */
     roz_ros2fx_send();
-    snprintf(hip_at, sizeof hip_at, "%.17g", hip_q->max - 0.2);
+    snprintf(hip_at, sizeof hip_at, "%.17g", hip_q->max - 0.5);
     fake_position(knee_l, "0.9");
     fake_position(hip_l, hip_at);
     fake_position(knee_r, "0.6");
@@ -831,13 +845,18 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     print_message("left knee: kp 80 at 0.5, measured 0.9: the watchdog's hold kp %g at %.6f; "
                   "left hip pitch: kp 500 at %.4f, measured %.4f: at %.4f (its limit %.4f)\n",
                   c.kp[knee_l], c.q[knee_l], cmd[cmd_index(hip_l, "position")],
-                  hip_q->max - 0.2, c.q[hip_l], hip_q->max);
+                  hip_q->max - 0.5, c.q[hip_l], hip_q->max);
     assert_true(c.kp[knee_l] == kh && kh == 200.0);
     assert_true(fabs(c.q[knee_l] - (0.9 + 80.0 * (0.5 - 0.9) / kh)) < 1e-12);
-    assert_true(c.q[hip_l] == hip_q->max);
-    assert_true(fabs(c.q[knee_r] - roz_hold_keep_torque(cmd[cmd_index(knee_r, "position")], 0.6,
-                                                        cmd[cmd_index(knee_r, "stiffness")],
-                                                        kh)) < 1e-12);
+    assert_true(fabs(c.q[hip_l] - (hip_q->max - 0.5 + roz_hold_band(hip_q))) < 1e-12);
+    assert_true(c.q[hip_l] < hip_q->max - 0.2);
+    {
+        roz_hold_from_t from = { cmd[cmd_index(knee_r, "position")],
+                                 cmd[cmd_index(knee_r, "stiffness")], 0.6 };
+        assert_true(fabs(c.q[knee_r] - roz_hold_setpoint(&from, kh, roz_hold_band(&m->commands[
+                                                                 cmd_index(knee_r, "position")]))) <
+                    1e-12);
+    }
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
         const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
@@ -851,12 +870,56 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     }
 }
 
+/* A joint with a stiffness command but no position command, whose position
+ * the robot reports NaN when the tick goes silent: the watchdog's hold keeps
+ * it at the last position measured finite (the fixture's first frames), at
+ * its hold gain, inside its position state's limits; never at 0 rad for
+ * want of a command. */
+static void test_pm01_watchdog_without_a_position_command(void **st)
+{
+    static roz_channel_t cmds[ROZ_CFG_MAX_COMMANDS];
+    static roz_manifest_t kneeless;
+    static double kcmd[ROZ_CFG_MAX_COMMANDS], kstate[ROZ_CFG_MAX_STATES];
+    roz_fake_ros2_cmd_t c;
+    const uint16_t knee = 3, hip = 0;
+    (void)st;
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        if (strcmp(m->commands[i].name, "J03_KNEE_PITCH_L/position") != 0)
+            cmds[n++] = m->commands[i];
+    }
+    kneeless = *m;
+    kneeless.commands = cmds;
+    kneeless.n_commands = n;
+    open_pm01_on(&kneeless, (roz_param_t[]){ { "command_timeout_us", "100000" },
+                                             { "peer_timeout_ms", "60000" } },
+                 2);
+    fake_position(knee, "nan");
+    roz_ros2fx_send();
+    assert_int_equal(roz_port_read(&port, kstate, kneeless.n_states), 1);
+    roz_port_test_distinct_command(&kneeless, 1, kcmd);
+    for (int k = 0; k < 2; k++) /* the start-up hold, then the command */
+        assert_int_equal(roz_port_write(&port, kcmd, kneeless.n_commands), ROZ_OK);
+    get_command(&c);
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_ros2fx_settle();
+    WAIT_UNTIL(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c) == 1 && c.kp[hip] == 200.0);
+    const roz_channel_t *ks = &kneeless.states[roz_port_test_state(&kneeless,
+                                                                    "J03_KNEE_PITCH_L/position")];
+    print_message("left knee without a position command, reported NaN: the watchdog's hold q %g "
+                  "kp %g (the hip's kp %g)\n", c.q[knee], c.kp[knee], c.kp[hip]);
+    assert_true(c.kp[knee] == 200.0);
+    assert_true(isfinite(c.q[knee]) && c.q[knee] >= ks->min && c.q[knee] <= ks->max);
+    assert_true(c.q[knee] != 0.0);
+}
+
 static void test_pm01_startup_and_shutdown_damping(void **st)
 {
     roz_fake_ros2_cmd_t c;
     (void)st;
 
-    open_pm01((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    /* damping on exit, chosen (the default is the hold) */
+    open_pm01((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     /* nothing before the first frame */
     distinct_command(0);
     write_pm01();
@@ -1067,6 +1130,7 @@ int main(void)
         cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
         cmocka_unit_test_teardown(test_pm01_watchdog_keeps_the_torque, teardown),
         cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_pm01_watchdog_without_a_position_command, teardown),
         cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
         cmocka_unit_test(test_pm01_bad_parameters),
     };

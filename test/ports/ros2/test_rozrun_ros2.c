@@ -12,7 +12,7 @@
  * samples with none malformed; while it runs, the robot receives the
  * stand's commands on every group (a knee's gain reaches the controller's,
  * its target the pose's); after it, every group's last command is the
- * port's damping command (kp 0, kd the manifest's damping default). The
+ * port's exit, the stop's hold (the hold gains, kd the manifest's damping default). The
  * run is recorded (--record) and replayed: rozrun --replay gives the same
  * targets, applied commands and faults bit for bit at each tick. */
 #define _POSIX_C_SOURCE 200809L
@@ -57,8 +57,9 @@ static void watch_knee(void *ctx)
 {
     knee_t *k = ctx;
     roz_fake_ros2_cmd_t c;
+    /* kp 200, the knee's hold gain, is only the exit's hold: not the stand's */
     if (roz_fake_ros2_command(k->fake, (unsigned)k->group, &c) == 1 &&
-        c.kp[k->rc->knee_slot] > k->kp) {
+        c.kp[k->rc->knee_slot] > k->kp && c.kp[k->rc->knee_slot] != 200.0) {
         k->kp = c.kp[k->rc->knee_slot];
         k->q = c.q[k->rc->knee_slot];
     }
@@ -101,22 +102,27 @@ static void run_stand(const robot_case_t *rc)
     assert_int_equal(roz_fake_ros2_commands(&fake, counts), 0);
     for (unsigned g = 0; g < fake.n_groups; g++) {
         assert_true(counts[g] > 500);
-        /* the last command of every group: the port's damping (acknowledged
-         * before rozrun exited, it may still be on its way through the
-         * fake's own process on a loaded machine: look again a while) */
+        /* the last command of every group: the port's exit, the stop's hold
+         * at the hold gains (acknowledged before rozrun exited, it may still
+         * be on its way through the fake's own process on a loaded machine:
+         * look again a while) */
         for (int ms = 0; ms < 5000; ms += 20) {
             assert_int_equal(roz_fake_ros2_command(&fake, g, &c), 1);
-            int all_zero = 1;
-            for (unsigned j = 0; j < c.n; j++)
-                all_zero &= c.kp[j] == 0.0;
-            if (all_zero)
+            int held = 1;
+            for (unsigned j = 0; j < c.n; j++) {
+                int idle = rc->placeholder != NULL &&
+                           strcmp(fake.joint[g][j], rc->placeholder) == 0;
+                held &= idle || c.kd[j] == rc->damping;
+            }
+            if (held)
                 break;
             roz_fake_sleep_ms(20);
         }
         assert_int_equal(c.min_len, fake.n_joints[g]);
         for (unsigned j = 0; j < c.n; j++) {
             int idle = rc->placeholder != NULL && strcmp(fake.joint[g][j], rc->placeholder) == 0;
-            assert_true(c.kp[j] == 0.0 && c.tau[j] == 0.0 && c.dq[j] == 0.0);
+            assert_true(c.tau[j] == 0.0 && c.dq[j] == 0.0);
+            assert_true(idle ? c.kp[j] == 0.0 : c.kp[j] > 0.0);
             assert_true(c.kd[j] == (idle ? 0.0 : rc->damping));
         }
     }

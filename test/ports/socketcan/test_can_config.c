@@ -318,7 +318,9 @@ static roz_channel_t hold_cmds[ROZ_CFG_MAX_COMMANDS];
 static roz_manifest_t hold_leg;
 
 /* The leg with stiffness channels whose default (the hold stiffness) is
- * @p kp: the leg's own is 0 (its stop is damping only). */
+ * @p kp: the leg's own is 0 (its stop is damping only); its position
+ * commands capped at 0.1 rad a tick, so a hold stays within 0.5 rad of the
+ * measured position (roz_hold_band()). */
 static const roz_can_joint_t *leg_with_hold(double kp, const char *joint)
 {
     const roz_manifest_t *m = load_leg();
@@ -327,6 +329,8 @@ static const roz_can_joint_t *leg_with_hold(double kp, const char *joint)
     for (uint16_t i = 0; i < m->n_commands; i++) {
         if (hold_cmds[i].type == ROZ_IF_STIFFNESS)
             hold_cmds[i].default_value = kp;
+        if (hold_cmds[i].type == ROZ_IF_POSITION)
+            hold_cmds[i].max_rate = 0.1;
     }
     hold_leg = *m;
     hold_leg.commands = hold_cmds;
@@ -361,6 +365,14 @@ static void test_can_hold_keeps_the_torque(void **state)
     assert_float_equal(20.0 * (joint_position(knee, c.position) - -1.2), 30.0 * (-1.0 - -1.2),
                        1e-12);
 
+    /* far from the joint: within the band (0.5 rad) of the position
+     * measured with the last command: 20 (q + 1.2) = 30 (-0.3 + 1.2) gives
+     * 0.15, past the last setpoint, and the band stops it at -0.7 */
+    last = (roz_can_last_t){ 1, -0.3, 30.0, -1.2 };
+    roz_can_watchdog_hold(&hold_leg, knee, &last, -1.25, &c);
+    assert_float_equal(joint_position(knee, c.position), -0.7, 1e-12);
+    assert_true(20.0 * (joint_position(knee, c.position) - -1.2) <= 30.0 * (-0.3 - -1.2));
+
     /* a setpoint that would keep it lies outside the limits: at the limit */
     last = (roz_can_last_t){ 1, -0.6, 60.0, -1.0 }; /* -1.0 + 3 * 0.4 = 0.2 */
     roz_can_watchdog_hold(&hold_leg, knee, &last, -1.0, &c);
@@ -392,10 +404,10 @@ static void test_can_hold_without_a_command_or_finite_values(void **state)
     last = (roz_can_last_t){ 1, -1.0, INFINITY, -1.2 };
     roz_can_watchdog_hold(&hold_leg, knee, &last, -1.2, &c);
     assert_float_equal(joint_position(knee, c.position), -1.0, 1e-12);
-    /* nothing known at all: the position channel's default */
+    /* nothing known at all: no hold to compute, no stiffness */
     last = (roz_can_last_t){ 0, 0.0, 0.0, 0.0 };
     roz_can_watchdog_hold(&hold_leg, knee, &last, NAN, &c);
-    assert_float_equal(joint_position(knee, c.position), -1.4, 1e-12);
+    assert_float_equal(c.kp, 0.0, 0.0);
     /* every value of every joint finite and inside its channel */
     static const double measured[] = { -3.0, -0.6, 0.0, 0.9, 5.0, NAN, INFINITY, -INFINITY };
     for (uint16_t j = 0; j < cfg.n_joints; j++) {

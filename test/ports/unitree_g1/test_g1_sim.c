@@ -8,7 +8,7 @@
  * Asserted:
  *  - with the setting (and dds_domain 1) the stand runs with no fault, the robot receives its commands (the
  *    knee's gain reaches 150), the simulated knee ends within 0.1 rad of the
- *    pose's 0.3, the last command is the port's damping, and rozrun says
+ *    pose's 0.3, the last command is the port's exit hold, and rozrun says
  *    the setting at open and in its summary;
  *  - without it nothing is sent, every frame is dropped for its CRC, and
  *    the summary names the setting;
@@ -101,7 +101,8 @@ static void watch_knee(void *ctx)
 {
     watch_t *w = ctx;
     roz_fake_g1_cmd_t c;
-    if (roz_fake_g1_command(w->fake, &c) == 1 && c.kp[KNEE] > w->kp)
+    /* kp 200, the knee's hold gain, is only the exit's hold: not the stand's */
+    if (roz_fake_g1_command(w->fake, &c) == 1 && c.kp[KNEE] > w->kp && c.kp[KNEE] != 200.0f)
         w->kp = c.kp[KNEE];
 }
 
@@ -138,16 +139,17 @@ static void test_g1_sim_runs_with_the_setting(void **st)
     assert_int_equal(roz_fake_g1_motor_state(&fake, KNEE, &q, &dq, &tau), 0);
     print_message("simulated knee at the end: q %.4f rad (pose 0.3), dq %.4f rad/s\n", q, dq);
     assert_true(q > 0.2 && q < 0.4);
-    /* the last command is the port's damping, which the simulator holds */
+    /* the last command is the port's exit, the stop's hold, which the
+     * simulator holds */
     for (int ms = 0; ms < 5000; ms += 20) {
         assert_int_equal(roz_fake_g1_command(&fake, &c), 1);
-        if (c.kp[KNEE] == 0.0)
+        if (c.kp[KNEE] == 200.0f)
             break;
         roz_fake_g1_sleep_ms(20);
     }
     for (int j = 0; j < 29; j++)
-        if (!(c.mode[j] == 1 && c.kp[j] == 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0))
-            fail_msg("the last command, joint %d: mode %u kp %g kd %g tau %g (want damping)", j,
+        if (!(c.mode[j] == 1 && c.kp[j] > 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0))
+            fail_msg("the last command, joint %d: mode %u kp %g kd %g tau %g (want the hold)", j,
                      c.mode[j], c.kp[j], c.kd[j], c.tau[j]);
     assert_int_equal(c.mode_machine, 0);
     assert_int_equal(roz_fake_g1_stop(&fake), 0);

@@ -55,7 +55,8 @@ static void watch_knee(void *ctx)
 {
     knee_t *k = ctx;
     roz_fake_g1_cmd_t c;
-    if (roz_fake_g1_command(k->fake, &c) == 1 && c.kp[3] > k->kp) {
+    /* kp 200, the knee's hold gain, is only the exit's hold: not the stand's */
+    if (roz_fake_g1_command(k->fake, &c) == 1 && c.kp[3] > k->kp && c.kp[3] != 200.0f) {
         k->kp = c.kp[3];
         k->q = c.q[3];
     }
@@ -90,20 +91,21 @@ static void test_rozrun_g1_stand(void **st)
     assert_int_equal(roz_fake_g1_commands(&fake, &good, &badcrc), 0);
     assert_true(good > 500);
     assert_int_equal(badcrc, 0);
-    /* and its last command was the port's damping: acknowledged before
-     * rozrun exited, it may still be on its way through the fake's own
-     * process on a loaded machine, so look again a while */
+    /* and its last command was the port's exit, the stop's hold (the
+     * knee at its hold gain 200, every joint's kd the damping default 8):
+     * acknowledged before rozrun exited, it may still be on its way through
+     * the fake's own process on a loaded machine, so look again a while */
     for (int ms = 0; ms < 5000; ms += 20) {
         assert_int_equal(roz_fake_g1_command(&fake, &c), 1);
-        if (c.kp[3] == 0.0)
+        if (c.kp[3] == 200.0f)
             break;
         roz_fake_g1_sleep_ms(20);
     }
     for (int j = 0; j < 29; j++) {
         assert_int_equal(c.mode[j], 1);
-        if (!(c.kp[j] == 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0 && c.dq[j] == 0.0))
+        if (!(c.kp[j] > 0.0 && c.kd[j] == 8.0 && c.tau[j] == 0.0 && c.dq[j] == 0.0))
             fail_msg("the last command, joint %d: kp %g kd %g tau %g dq %g q %g (want the "
-                     "damping: kp 0, kd 8, tau 0, dq 0)",
+                     "hold: the hold gain, kd 8, tau 0, dq 0)",
                      j, c.kp[j], c.kd[j], c.tau[j], c.dq[j], c.q[j]);
     }
     for (int j = 29; j < 35; j++)
@@ -131,7 +133,7 @@ static void watch_23dof(void *ctx)
     roz_fake_g1_cmd_t c;
     if (roz_fake_g1_command(w->fake, &c) != 1)
         return;
-    if (c.kp[3] > w->kp)
+    if (c.kp[3] > w->kp && c.kp[3] != 200.0f) /* 200: the exit's hold, not the stand */
         w->kp = c.kp[3];
     for (int k = 0; k < 6; k++) {
         int j = absent_slots[k];

@@ -44,6 +44,7 @@
  * garbage before its writer runs, test_g1_writer_thread reads its writer
  * (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
+#include <float.h>
 #include <math.h>
 #include <sched.h>
 #include <setjmp.h>
@@ -61,6 +62,7 @@
 #include "port_test.h"
 #include "roz/runtime.h"
 #include "roz/filter.h"
+#include "roz/hold.h"
 #include "roz/port/unitree_g1.h"
 #include "support.h"
 #include "unitree_g1_fixture.h"
@@ -675,7 +677,9 @@ static void test_g1_startup_and_shutdown_damping(void **st)
     roz_fake_g1_cmd_t c;
     (void)st;
 
-    open_g1((roz_param_t[]){ { "startup_damping", "2.5" } }, 1);
+    /* damping on exit is a choice (the default is the hold:
+     * test_g1_exit_is_the_hold) */
+    open_g1((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     roz_g1fx_send();
     assert_int_equal(read_g1(), 1);
     roz_g1fx_sent(sent);
@@ -733,8 +737,8 @@ static uint64_t fake_good(void)
  * unused slots zero. */
 /* The positions the watchdog's hold sends after the command in cmd[] went
  * out against the state last read: each joint's setpoint moved to keep
- * the torque it went out with at the hold gain (roz_hold_keep_torque()),
- * from the values as the wire carried them. */
+ * the torque it went out with at the hold gain, within the band of the
+ * measured position (roz/hold.h), from the values as the wire carried them. */
 static void watchdog_positions(double *q)
 {
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
@@ -743,8 +747,35 @@ static void watchdog_positions(double *q)
         double sent_q = (float)cmd[cmd_index(j, "position")];
         double sent_kp = (float)cmd[cmd_index(j, "stiffness")];
         double measured = (float)state[qc->position_state];
-        q[j] = roz_channel_clamp_float(qc, roz_hold_keep_torque(sent_q, measured, sent_kp,
-                                                                kc->default_value));
+        roz_hold_from_t from = { sent_q, sent_kp, measured };
+        q[j] = roz_channel_clamp_float(qc, roz_hold_setpoint(&from, kc->default_value,
+                                                             roz_hold_band(qc)));
+    }
+}
+
+/* Whether @p c is the stop's hold the port sends when the tick comes back
+ * after a trip (roz_joints_hold_keep()): from @p last, the tick's last
+ * command before it, and @p measured (state order), each joint at its hold
+ * gain, the setpoint keeping the torque of @p last within the band, kd the
+ * damping command's: never a frame without stiffness between the
+ * watchdog's hold and the tick's (test_g1_trip_write_trip_keeps_the_torque). */
+static void assert_hold_after_trip(const roz_fake_g1_cmd_t *c, const double *last,
+                                   const double *measured)
+{
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
+        const roz_channel_t *qc = &m->commands[cmd_index(j, "position")];
+        const roz_channel_t *kc = &m->commands[cmd_index(j, "stiffness")];
+        roz_hold_from_t from = { roz_channel_clamp(qc, last[cmd_index(j, "position")]),
+                                 roz_channel_clamp(kc, last[cmd_index(j, "stiffness")]),
+                                 measured[qc->position_state] };
+        double q = roz_channel_clamp_float(qc, roz_channel_clamp(qc, roz_hold_setpoint(
+                                                   &from, kc->default_value, roz_hold_band(qc))));
+        if (fabs(c->q[j] - q) > 4.0 * FLT_EPSILON * (1.0 + fabs(q)) ||
+            c->kp[j] != (float)kc->default_value ||
+            c->kd[j] != (float)m->commands[cmd_index(j, "damping")].default_value)
+            fail_msg("%s: q %g kp %g kd %g after the trip: not the stop's hold (q %g kp %g)",
+                     m->hardware->joints[j], (double)c->q[j], (double)c->kp[j],
+                     (double)c->kd[j], q, kc->default_value);
     }
 }
 
@@ -754,10 +785,13 @@ static int is_watchdog_hold(const roz_fake_g1_cmd_t *c, const double *q)
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
         /* the watchdog's hold: kp the manifest's hold gain (test_mujoco_stops) */
         const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")];
-        if (c->mode[j] != 1 || c->q[j] != (float)q[j] || c->kp[j] != (float)kp->default_value ||
+        /* q within a float's rounding of the double arithmetic */
+        if (c->mode[j] != 1 || fabs(c->q[j] - q[j]) > 4.0 * FLT_EPSILON * (1.0 + fabs(q[j])) ||
+            c->kp[j] != (float)kp->default_value ||
             c->dq[j] != 0.0 ||
-            c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value)
+            c->tau[j] != 0.0 || c->kd[j] != (float)kd->default_value) {
             return 0;
+        }
     }
     for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
         if (c->mode[j] != 0 || c->kp[j] != 0.0 || c->kd[j] != 0.0 || c->q[j] != 0.0)
@@ -1014,22 +1048,15 @@ static void test_g1_watchdog_on_the_wire(void **st)
     assert_true(state[state_index("left_knee_joint/position")] ==
                 sent[state_index("left_knee_joint/position")]); /* read with the report */
     assert_int_equal(read_g1(), 0);
-    /* its first write is the hold: the measured positions, no stiffness,
-     * and the damping the robot is in already (not kd 0 between two
-     * damping commands) */
+    /* its first write is the stop's hold from the last command before the
+     * trip, at the hold gains, the damping the robot is in already */
+    static double before_trip[ROZ_CFG_MAX_COMMANDS];
+    memcpy(before_trip, cmd, sizeof before_trip);
     distinct_command(7);
     write_g1();
     get_command(&c);
     roz_g1fx_sent(sent);
-    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
-        char name[160];
-        snprintf(name, sizeof name, "%s/position", m->hardware->joints[j]);
-        assert_true(c.q[j] == sent[state_index(name)]);
-        assert_true(c.kp[j] == 0.0);
-        if (c.kd[j] != (float)m->commands[cmd_index(j, "damping")].default_value)
-            fail_msg("%s: kd %g in the hold after the trip: not the damping command's",
-                     m->hardware->joints[j], (double)c.kd[j]);
-    }
+    assert_hold_after_trip(&c, before_trip, sent);
     /* then as written again */
     roz_g1fx_send();
     assert_int_equal(read_g1(), 1);
@@ -1080,6 +1107,126 @@ static void test_g1_watchdog_event_driven(void **st)
     get_command(&c);
     assert_true(is_written(&c));
     expect_damping_after_trip(q);
+}
+
+/* The port's exit is the robot class's stop: the hold, as the watchdog
+ * sends it, from the controller's last command (the damping command the
+ * exit sent before drops a standing humanoid: SAFETY.md section 8). */
+static void test_g1_exit_is_the_hold(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    double q[ROZ_UNITREE_G1_BODY];
+    (void)st;
+
+    open_g1(NULL, 0);
+    start();
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(1);
+    watchdog_positions(q);
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    uint64_t good0 = 0, good = 0, bad = 0;
+    assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
+    roz_fake_g1_sleep_ms(20);
+    assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+    if (!is_watchdog_hold(&c, q))
+        fail_msg("the last command on the way out is not the stop's hold: kp %g q %g (want %g)",
+                 (double)c.kp[3], (double)c.q[3], q[3]);
+    assert_true(c.kp[3] > 0.0f);
+}
+
+/* The watchdog's hold on a G1 whose left knee has a stiffness command but
+ * no position command: the knee holds the position measured with the last
+ * command, at its hold gain, never 0 rad (a knee at 0.75 rad once got q 0
+ * at kp 200). And a tick that comes back for one write and stalls again:
+ * its write goes out as the stop's hold (hold gains, never kp 0), and the
+ * second trip holds the controller's last command's torque again, not that
+ * of the frame the port made up: each joint gets what the first trip gave
+ * it. */
+static void test_g1_trip_write_trip_keeps_the_torque(void **st)
+{
+    static roz_channel_t cmds[ROZ_CFG_MAX_COMMANDS];
+    static roz_manifest_t kneeless;
+    roz_fake_g1_cmd_t c, first;
+    double measured[ROZ_CFG_MAX_STATES];
+    roz_port_fault_t f;
+    (void)st;
+    uint16_t n = 0;
+    for (uint16_t i = 0; i < roz_manifest_unitree_g1.n_commands; i++) {
+        if (strcmp(roz_manifest_unitree_g1.commands[i].name, "left_knee_joint/position") != 0)
+            cmds[n++] = roz_manifest_unitree_g1.commands[i];
+    }
+    kneeless = roz_manifest_unitree_g1;
+    kneeless.commands = cmds;
+    kneeless.n_commands = n;
+    m = &kneeless; /* the teardown puts the G1 back */
+    int knee = roz_g1fx_slot("left_knee_joint"), hip = roz_g1fx_slot("left_hip_pitch_joint");
+    int knee_q = state_index("left_knee_joint/position");
+    int hip_kp = cmd_index((uint16_t)hip, "stiffness"), hip_q = cmd_index((uint16_t)hip, "position");
+    int knee_kp = cmd_index((uint16_t)knee, "stiffness");
+
+    open_g1((roz_param_t[]){ { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            2);
+    start();
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    roz_g1fx_sent(measured);
+    distinct_command(1);
+    cmd[hip_kp] = 80.0;
+    double p_before = measured[m->commands[hip_q].position_state];
+    cmd[hip_q] = p_before + 0.02; /* 1.6 N*m */
+    write_g1();
+    get_command(&c);
+    assert_true(c.kp[hip] == 80.0f);
+
+    /* the first trip */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_g1fx_settle();
+    WAIT_UNTIL(roz_fake_g1_command(roz_g1fx_fake(), &first) == 1 && first.kp[hip] != 80.0f);
+    const roz_channel_t *ks = &m->states[knee_q];
+    float knee_at = roz_channel_clamp_float(ks, measured[knee_q]);
+    print_message("left knee without a position command, measured %.4f: the watchdog's hold "
+                  "q %.4f kp %g; left hip pitch kp 80 at +0.02 rad: q %+.4f kp %g\n",
+                  measured[knee_q], (double)first.q[knee], (double)first.kp[knee],
+                  first.q[hip] - measured[m->commands[hip_q].position_state],
+                  (double)first.kp[hip]);
+    assert_true(first.q[knee] == knee_at);
+    assert_true(first.kp[knee] == (float)m->commands[knee_kp].default_value);
+    double torque = 80.0 * 0.02;
+    double held = first.kp[hip] * (first.q[hip] - measured[m->commands[hip_q].position_state]);
+    assert_true(fabs(held - torque) < 1e-3 * torque);
+
+    /* back for one write: the stop's hold, at the hold gains */
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    distinct_command(2);
+    write_g1();
+    get_command(&c);
+    assert_true(c.kp[hip] == (float)m->commands[hip_kp].default_value);
+    assert_true(c.kp[knee] == (float)m->commands[knee_kp].default_value);
+
+    /* stalled again: the second trip holds the controller's torque about
+     * where the joint is now (the frame read with the report) */
+    WAIT_UNTIL(counters().command_timeouts == 2);
+    roz_g1fx_settle();
+    get_command(&c);
+    roz_g1fx_sent(measured);
+    const roz_channel_t *qc = &m->commands[hip_q];
+    double p = measured[qc->position_state];
+    roz_hold_from_t from = { (float)(p_before + 0.02), 80.0, p };
+    double want = roz_hold_setpoint(&from, m->commands[hip_kp].default_value, roz_hold_band(qc));
+    print_message("second trip: left hip pitch q %+.4f kp %g (the controller's torque kept: "
+                  "%+.4f)\n", c.q[hip] - p, (double)c.kp[hip], want - p);
+    assert_true(c.kp[hip] == (float)m->commands[hip_kp].default_value);
+    assert_true(fabs(c.q[hip] - want) < 4.0 * FLT_EPSILON * (1.0 + fabs(want)));
+    assert_true(fabs(want - p) > 1e-4); /* a torque to keep: the test can fail */
+    assert_true(c.q[knee] == roz_channel_clamp_float(ks, measured[knee_q]));
 }
 
 static void test_g1_watchdog_spinning_writer(void **st)
@@ -1176,12 +1323,12 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     assert_int_equal(limit, 300000);
     assert_true(silent >= 300000);
     assert_int_equal(roz_fault_name(ROZ_FAULT_COMMAND_TIMEOUT)[0], 'c');
-    /* the tick's write after the trip: the start-up hold */
+    /* the tick's write after the trip: the stop's hold, the knee at its
+     * hold gain (never a frame without stiffness) and the damping
+     * command's kd */
     roz_g1fx_settle();
     get_command(&c);
-    roz_g1fx_sent(sent);
-    assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
-    assert_true(c.kp[3] == 0.0); /* and the damping command's kd, not 0 */
+    assert_true(c.kp[3] == (float)m->commands[cmd_index(3, "stiffness")].default_value);
     assert_true(c.kd[3] == (float)m->commands[cmd_index(3, "damping")].default_value);
     assert_true(counters().holds >= 2);
 
@@ -1338,11 +1485,13 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),
+        cmocka_unit_test_teardown(test_g1_exit_is_the_hold, teardown),
         cmocka_unit_test_teardown(test_g1_hold_reaches_the_wire_first, teardown),
         cmocka_unit_test_teardown(test_g1_wire_inside_the_manifest, teardown),
         cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
+        cmocka_unit_test_teardown(test_g1_trip_write_trip_keeps_the_torque, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
         cmocka_unit_test_teardown(test_g1_writer_thread, teardown),

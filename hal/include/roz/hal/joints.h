@@ -84,6 +84,35 @@ float roz_channel_clamp_float(const roz_channel_t *c, double v);
 void roz_joints_hold(const roz_manifest_t *m, const roz_joint_channels_t *j, uint16_t n,
                      const double *q, double kd, double *cmd);
 
+/**
+ * @brief The stop's hold as a command frame (roz/hold.h): from @p last, the
+ *        controller's last command (n_commands), and @p q, the n joints'
+ *        measured positions: each joint's stiffness command its hold gain
+ *        (its default), its position command the setpoint that keeps the
+ *        torque of @p last under that gain within the band of the measured
+ *        position, its damping command @p kd, every other command 0; each
+ *        value clamped to its channel. The hold a port sends when the tick
+ *        comes back after its command watchdog tripped.
+ * Context: the tick; pure, RT-safe.
+ */
+void roz_joints_hold_keep(const roz_manifest_t *m, const roz_joint_channels_t *j, uint16_t n,
+                          const double *last, const double *q, double kd, double *cmd);
+
+/**
+ * @brief One joint's hold setpoint (roz_hold_setpoint()) from what last
+ *        went out to it: @p last_q its position command's value (ignored
+ *        without a position command: the hold is @p measured), @p last_kp
+ *        its stiffness's, @p measured its measured position; under the hold
+ *        gain (its stiffness command's default), within the band of its
+ *        position command, inside that command's limits (its position
+ *        state's without one). NaN when no hold can be computed (nothing
+ *        measured and no position command): the port then sends no
+ *        stiffness. The ports' watchdogs and exits use it.
+ * Context: any; pure, RT-safe.
+ */
+double roz_joints_hold_setpoint(const roz_manifest_t *m, const roz_joint_channels_t *j,
+                                double last_q, double last_kp, double measured);
+
 /** @brief Clamp every command value to its channel (NaN: its default).
  *  @return how many values it changed. Context: the tick; pure, RT-safe. */
 uint32_t roz_commands_clamp(const roz_manifest_t *m, const double *in, double *out);

@@ -56,6 +56,8 @@ typedef struct roz_dds_params {
     char     network_interface[ROZ_DDS_IFNAME_MAX + 1]; /**< "lo" */
     uint32_t domain;                   /**< dds_domain, 0..ROZ_DDS_MAX_DOMAIN */
     int      enable_monitor;           /**< 1: latency and jitter monitored and warned */
+    int      exit_damping;             /**< exit_stop = damping: the last command on the way
+                                            out is damping, not the stop's hold */
     uint32_t command_writer_period_us; /**< 2000; 0: event-driven */
     uint32_t state_decimation;         /**< 1: full conversion of every state frame */
     uint32_t command_timeout_us;       /**< the command watchdog (roz/hal/cmd_watchdog.h) */
@@ -69,7 +71,7 @@ typedef struct roz_dds_params {
 
 /** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
 #define ROZ_DDS_PARAM_KEYS                                                          \
-    "network_interface", "dds_domain", "enable_monitor", "command_writer_period_us", \
+    "network_interface", "dds_domain", "enable_monitor", "exit_stop", "command_writer_period_us", \
         "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
         "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
         "dds_threads_sched", "dds_threads_priority", "dds_threads_stack_kib",             \
@@ -84,6 +86,9 @@ typedef struct roz_dds_params {
     ROZ_PORT_PARAM_TEXT_ROW("dds_domain", "0..232", domain, "the DDS domain"),                  \
     ROZ_PORT_PARAM_TEXT_ROW("enable_monitor", "true|false", "true",                             \
                             "latency and jitter monitored and warned"),                         \
+    ROZ_PORT_PARAM_TEXT_ROW("exit_stop", "hold|damping", "hold",                                \
+                            "the last command when the port closes: the stop's hold, or "       \
+                            "damping (kp 0)"),                                                  \
     ROZ_PORT_PARAM_TEXT_ROW("command_writer_period_us", "0, 100..1000000", "2000",              \
                             "the command writer's period; 0: as soon as the tick writes"),      \
     ROZ_PORT_PARAM_U32_ROW("command_writer_spin_us", 0, ROZ_DDS_MAX_SPIN_US, 0,                 \
@@ -538,14 +543,16 @@ void roz_dds_writer_close(roz_dds_writer_t *w);
 
 /** What the port supplies; every hook gets the port's instance first. */
 typedef struct roz_dds_cmd_ops {
-    /** The start-up hold into @p cmd (n_commands, manifest order): every
-     *  joint's position command its measured position, kd the port's
-     *  `startup_damping`, everything else 0, each value clamped. With
-     *  @p after_trip (the tick back after a watchdog trip) kd is the
-     *  damping command's (`shutdown_damping`): the robot is damped already,
-     *  and a kd of 0 between two damping commands would let it go limp.
-     *  Context: the tick; RT-safe. */
-    void (*hold)(void *port, int after_trip, double *cmd);
+    /** The hold into @p cmd (n_commands, manifest order). @p last NULL:
+     *  the start-up hold, every joint's position command its measured
+     *  position, kd the port's `startup_damping`, everything else 0. Else
+     *  (the tick back after a watchdog trip) the stop's hold from @p last,
+     *  the tick's last command before the trip (roz_joints_hold_keep(): the
+     *  hold gains, the torque kept, kd `shutdown_damping`): the robot is
+     *  held already, and a frame without stiffness between two holds would
+     *  let it go limp (test_g1_trip_write_trip_keeps_the_torque). Each value
+     *  clamped. Context: the tick; RT-safe. */
+    void (*hold)(void *port, const double *last, double *cmd);
     /** The robot session the receive path has seen, compared with the one
      *  the tick wrote a frame for. Context: the writer thread; RT-safe. */
     uint32_t (*rx_session)(void *port);
@@ -556,21 +563,26 @@ typedef struct roz_dds_cmd_ops {
      *  Context: the writer thread; RT-safe. */
     int (*refuse)(void *port);
     /** The tick's frame into @p sample (zeroed): @p cmd its n_commands
-     *  values, @p extra the port's n_extra values the tick gave with it.
-     *  Other topics' samples of the pass are published from here
-     *  (roz_dds_writer_publish()). @return 1 to publish @p sample.
-     *  Context: the writer thread; RT-safe. */
-    int (*send)(void *port, void *sample, const double *cmd, const double *extra);
-    /** The damping command into @p sample (zeroed): kp 0, kd the port's
-     *  `shutdown_damping`, q the positions last sent. @return 1 to publish.
+     *  values, @p extra the port's n_extra values the tick gave with it;
+     *  @p hold 1 when the frame is a hold the port made (start-up, or after
+     *  a trip), which the port's watchdog and exit never take for the
+     *  controller's last command. Other topics' samples of the pass are
+     *  published from here (roz_dds_writer_publish()). @return 1 to publish
+     *  @p sample. Context: the writer thread; RT-safe. */
+    int (*send)(void *port, void *sample, const double *cmd, const double *extra, int hold);
+    /** The last command on the way out (the port's deactivate) into
+     *  @p sample (zeroed): the stop's hold as the watchdog sends it, or
+     *  with `exit_stop = damping` the damping command (kp 0, kd the port's
+     *  `shutdown_damping`, q the positions last sent). @return 1 to publish.
      *  Context: the writer thread, or the caller's once it stopped; RT-safe. */
     int (*safe)(void *port, void *sample);
     /** The watchdog's command into @p sample (zeroed), once the tick has
-     *  been silent for the timeout: the hold, q the positions last sent,
-     *  kp each joint's stiffness default (the manifest's hold gain; 0 in a
-     *  damping-mode manifest, which makes it the damping command), kd the
-     *  port's `shutdown_damping`. NULL: safe(). @return 1 to publish.
-     *  Context: the writer thread; RT-safe. */
+     *  been silent for the timeout: the stop's hold from the controller's
+     *  last command (roz_joints_hold_setpoint(): kp each joint's stiffness
+     *  default, the manifest's hold gain; the setpoint keeping the torque
+     *  within the band; a joint without a position command at its measured
+     *  position), kd the port's `shutdown_damping`. NULL: safe().
+     *  @return 1 to publish. Context: the writer thread; RT-safe. */
     int (*watchdog)(void *port, void *sample);
 } roz_dds_cmd_ops_t;
 
@@ -626,6 +638,9 @@ typedef struct roz_dds_cmd {
     uint64_t                 ROZ_PRIVATE(write_seq);
     uint64_t                 ROZ_PRIVATE(hold_seq);    /* the last hold's sequence */
     int                      ROZ_PRIVATE(hold_after_trip); /* it follows a watchdog trip */
+    int                      ROZ_PRIVATE(has_last);  /* last_cmd holds a tick's command */
+    double                   ROZ_PRIVATE(last_cmd)[ROZ_CFG_MAX_COMMANDS]; /* the tick's last
+                                                       command that was not a hold (tick) */
     /* tick <-> writer thread */
     roz_cmd_watchdog_t       ROZ_PRIVATE(watchdog);
     roz_buffer_t             ROZ_PRIVATE(buf);

@@ -103,7 +103,10 @@ typedef struct roz_mujoco_counters {
     uint64_t frames_dropped;  /**< DROP, FREEZE, RESTART */
     uint64_t clamped;         /**< written values clamped to the manifest */
     uint64_t saturated;       /**< physics steps x joints whose torque was saturated */
-    uint64_t violations;      /**< values outside the manifest that reached the drivers: stays 0 */
+    uint64_t violations;      /**< values written outside [min, max] or not finite (the
+                                   filter upstream lets none through): stays 0 */
+    uint64_t warnings;        /**< MuJoCo's warnings (a diverged or overfull simulation):
+                                   the first one fails every read() after it */
 } roz_mujoco_counters_t;
 
 /** The port's data; caller-owned (give it static storage). Its fields are
@@ -160,7 +163,9 @@ typedef struct roz_mujoco {
     uint64_t              ROZ_PRIVATE(frames_dropped);  /**< DROP, FREEZE, RESTART */
     uint64_t              ROZ_PRIVATE(clamped);         /**< written values clamped to the manifest */
     uint64_t              ROZ_PRIVATE(saturated);       /**< physics steps x joints whose torque was saturated */
-    uint64_t              ROZ_PRIVATE(violations);      /**< values outside the manifest that reached the drivers: stays 0 */
+    uint64_t              ROZ_PRIVATE(violations);      /**< values written outside the manifest: stays 0 */
+    int                   ROZ_PRIVATE(warned);          /**< MuJoCo's first warning + 1; 0: none */
+    uint64_t              ROZ_PRIVATE(warned_step);     /**< the physics step that raised it */
 } roz_mujoco_t;
 
 /** The ops table ("mujoco"). */

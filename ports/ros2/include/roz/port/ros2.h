@@ -304,6 +304,7 @@ typedef struct roz_ros2_bridge {
     /* the stiffness each slot last went out with, and its position measured
      * then: the watchdog's hold keeps that torque (roz_hold_keep_torque()) */
     double                ROZ_PRIVATE(tx_last_kp)[ROZ_ROS2_MAX_ROBOT_SLOTS];
+    int                    ROZ_PRIVATE(tx_ctrl);  /* tx_last_* hold a controller's frame */
     double                ROZ_PRIVATE(tx_meas_q)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     roz_ros2_joint_cmd_t  ROZ_PRIVATE(tx_joint)[ROZ_ROS2_MAX_ROBOT_SLOTS];
     int32_t               ROZ_PRIVATE(tx_sec);

@@ -9,7 +9,7 @@
  * the DDS ports send it (SAFETY.md, "Stops in physics"): each joint at its
  * hold gains, the stiffness and damping channels' defaults, its setpoint
  * moved so that it keeps the torque of the last command that went out
- * (roz_hold_keep_torque()), no velocity, no feed-forward torque. Every
+ * (roz/hold.h, within its band), no velocity, no feed-forward torque. Every
  * value is inside the joint's channel, as the manifest says.
  */
 #ifndef ROZ_PORT_CAN_HOLD_H
@@ -39,9 +39,12 @@ typedef struct roz_can_last {
  * @param last     its last command frame
  * @param measured its measured position now, in the joint's frame
  * @param[out] out the frame's values
- * With no command sent yet, or a value that is not finite, the setpoint is
- * the measured position (or, with that not finite either, the last
- * position sent, else the position channel's default).
+ * The setpoint is roz_hold_setpoint()'s from the last command and the
+ * position measured when it went out (@p measured when that is not
+ * finite): the torque kept under the hold gain, within the band of that
+ * position; with no command sent yet or no position command, the measured
+ * position; the last position sent while the position is unknown. With
+ * neither, no stiffness.
  * Context: any; RT-safe.
  */
 void roz_can_watchdog_hold(const roz_manifest_t *m, const roz_can_joint_t *jt,

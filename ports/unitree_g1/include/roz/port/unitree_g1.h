@@ -155,6 +155,7 @@ typedef struct roz_unitree_g1 {
     double                 ROZ_PRIVATE(tx_last_q)[ROZ_UNITREE_G1_SLOTS];
     /* and the stiffness and the measured position they went out with */
     double                 ROZ_PRIVATE(tx_last_kp)[ROZ_UNITREE_G1_SLOTS];
+    int                    ROZ_PRIVATE(tx_ctrl);  /* tx_last_* hold a controller's frame */
     double                 ROZ_PRIVATE(tx_meas_q)[ROZ_UNITREE_G1_SLOTS];
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
