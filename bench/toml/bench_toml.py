@@ -56,8 +56,8 @@ def _median_time(fn, min_seconds: float) -> float:
 def _rozgen(path: Path) -> str:
     loaded = load(str(path))
     problems = loaded.problems
-    if loaded.doc is not None:
-        _, problems = validate(loaded.doc)
+    if loaded.data is not None:
+        _, problems = validate(loaded.data)
     return "ok" if not problems else problems[0].rule
 
 

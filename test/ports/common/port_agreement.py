@@ -163,8 +163,8 @@ def main() -> int:
     for path in files:
         loaded = load(path)
         problems = loaded.problems
-        if loaded.doc is not None:
-            _, problems = validate(loaded.doc)
+        if loaded.data is not None:
+            _, problems = validate(loaded.data)
         said = ports.get(path, "(nothing)")
         if said.startswith("[loader]"):
             verdicts["the loader's"] += 1

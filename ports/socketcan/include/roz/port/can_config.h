@@ -6,9 +6,9 @@
  *        they give. Portable (no OS, no heap): firmware can use it too.
  *
  * docs/ports/socketcan.md lists every key with its values and default, the
- * channels a joint takes, and the bus load and round-robin rule. The rules
- * are rozgen's as well (codegen/rozgen/socketcan.py): the same problems,
- * rule ids and words, for every fixture in manifests/invalid/.
+ * channels a joint takes, and the bus load and round-robin rule. rozgen
+ * runs these rules too (through roz_manifest_json), so a robot.toml is
+ * refused at build time with the words the port says at open.
  */
 #ifndef ROZ_PORT_CAN_CONFIG_H
 #define ROZ_PORT_CAN_CONFIG_H
