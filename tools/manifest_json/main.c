@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
  * roz_manifest_json: check a robot.toml with the robot.toml rules (their one
- * implementation, roz/manifest_toml.h, and for a robot of the socketcan port
- * that port's rules of its [hardware] keys, roz/port/can_config.h) and print
+ * implementation, roz/manifest_toml.h, and the rules of its port's own
+ * [hardware] keys that the port registered, roz/port_rules.h) and print
  * the canonical JSON of `rozgen --json` on stdout, or the problems on stderr,
  * one per line, as rozgen prints them. rozgen runs it for every robot.toml
  * (--rozgen); the DDS ports check their keys at open (and rozgen with them,
@@ -29,9 +29,9 @@
 #include <string.h>
 
 #include "json.h"
-#include "roz/port/can_config.h"
 #include "roz/identity.h"
 #include "roz/manifest_toml.h"
+#include "roz/port_rules.h"
 
 #define MAX_FILE (8u << 20)
 #define MAX_PROBLEMS 4096u
@@ -57,13 +57,15 @@ static void print_problem(void *ctx, const char *rule, const char *what)
                 p->ids ? "] " : "", p->file, what);
 }
 
-/* A port's checks of its own [hardware] keys, after the generic ones. */
+/* The port's rules of its own [hardware] keys, after the robot.toml ones,
+ * when this build holds them (roz/port_rules.h). */
 static int port_checks(const roz_manifest_t *m, printer_t *p)
 {
-    static roz_can_config_t can;
-    if (m->hardware == NULL || strcmp(m->hardware->port, "socketcan") != 0)
+    const roz_port_rules_t *r = m->hardware != NULL ? roz_port_rules_find(m->hardware->port)
+                                                    : NULL;
+    if (r == NULL)
         return 0;
-    return roz_can_config_load(&can, m, NULL, print_problem, p) == ROZ_OK ? 0 : 2;
+    return r->check_hardware(m, print_problem, p) == ROZ_OK ? 0 : 2;
 }
 
 static int usage(void)

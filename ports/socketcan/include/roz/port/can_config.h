@@ -89,6 +89,16 @@ typedef void (*roz_can_problem_fn)(void *ctx, const char *rule, const char *text
 int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const roz_params_t *extra,
                         roz_can_problem_fn report, void *ctx);
 
+/**
+ * @brief roz_can_config_load() without extra parameters, into storage of its
+ *        own: the port's check_hardware (roz_add_port_rules(), roz/port_rules.h),
+ *        which roz_manifest_json and so rozgen run.
+ * @retval ROZ_OK     valid
+ * @retval ROZ_EINVAL a problem (each reported)
+ * Context: host tools; not reentrant (one static configuration); no heap.
+ */
+int roz_can_config_check(const roz_manifest_t *m, roz_can_problem_fn report, void *ctx);
+
 /** @brief The rule ids roz_can_config_load() reports, NULL-terminated.
  *  Context: any. */
 const char *const *roz_can_config_rules(void);
