@@ -17,9 +17,8 @@ Message format (after the file name)::
 
 ``<where>`` is ``manifest``, ``manifest.commands[<i>] "<name>"``,
 ``manifest.states[<i>] "<name>"``, ``hardware`` or ``hardware.params``, and
-is left out (with its ``": "``) for top-level keys. Example::
-
-    robot.toml: manifest.commands[1] "joint1/velocity": limits [2.0, -2.0]: min must be below max
+is left out (with its ``": "``) for top-level keys (examples: every
+``manifests/invalid/*.expected``).
 
 Order: by place in the file's schema -- top level, then ``[manifest]``,
 then each command in order, then each state, then ``[hardware]``, then a
