@@ -63,7 +63,10 @@ class Finding(Exception):
 
 class Runner:
     def __init__(self, work: Path) -> None:
-        from rozgen import cli  # imported late: atheris instruments it first
+        from rozgen import checker, cli  # imported late: atheris instruments it first
+        # the rules' program (roz's C loader, roz_manifest_json): found or
+        # built once, not on every run
+        os.environ[checker.ENV] = checker.find()
         self.cli = cli
         self.work = work
         self.input = work / "robot.toml"

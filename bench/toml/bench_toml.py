@@ -29,8 +29,11 @@ import time
 import tomllib
 from pathlib import Path
 
+from rozgen.checker import find
 from rozgen.load import load
 from rozgen.validate import validate
+
+_CHECKER = find()  # rozgen runs roz's C rules (roz_manifest_json) as a child process
 
 
 def _generate(work: Path, root: Path, n: int) -> list[Path]:
@@ -56,8 +59,8 @@ def _median_time(fn, min_seconds: float) -> float:
 def _rozgen(path: Path) -> str:
     loaded = load(str(path))
     problems = loaded.problems
-    if loaded.doc is not None:
-        _, problems = validate(loaded.doc)
+    if loaded.data is not None:
+        _, problems = validate(loaded.data, checker=_CHECKER)
     return "ok" if not problems else problems[0].rule
 
 

@@ -3,10 +3,10 @@
 
 Pipeline, one module per step:
 
-- ``load``:      read the file, check UTF-8, parse TOML (tomllib).
-- ``validate``:  apply the rules (listed in ``rozgen.validate``) and build the
-                 immutable model of ``rozgen.model``.
-- ``canonical``: the canonical JSON text of a model (``rozgen --json``).
+- ``load``:      read the file's bytes.
+- ``validate``:  apply the rules -- roz's C implementation of them, run by
+                 ``rozgen.checker`` -- and build the immutable model of
+                 ``rozgen.model``.
 - ``render``:    jinja2 templates in ``rozgen/templates`` -> C sources.
 - ``cli``:       the ``rozgen`` command.
 

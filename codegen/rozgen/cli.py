@@ -2,7 +2,7 @@
 """The ``rozgen`` command.
 
     rozgen [-o DIR] [--check | --json | --identity] [--registry] [--source-root DIR]
-           [--max-commands N] [--max-states N] [--max-name-len N]
+           [--max-commands N] [--max-states N] [--max-name-len N] [--checker PATH]
            [--strict] [--error-ids] [--list-rules] [--version] FILE...
 
 Every FILE is loaded and validated first; nothing is written unless all of
@@ -10,7 +10,8 @@ them are valid. Problems go to stderr, one per line, as ``<file>: ...``
 (see ``rozgen.validate``); so do warnings about valid files
 (``<file>: warning: ...``, ``rozgen.lint``), which ``--strict`` makes
 errors. Exit status: 0 when all is well (warnings or not), 2 on any
-problem, warning under --strict, usage error or I/O error.
+problem, warning under --strict, usage error or I/O error, or when roz's
+C implementation of the rules (``rozgen.checker``) cannot be found or run.
 """
 
 import argparse
@@ -18,7 +19,7 @@ import os
 import sys
 
 from rozgen import __version__, identity
-from rozgen.canonical import to_json
+from rozgen import checker as _checker
 from rozgen.lint import lint
 from rozgen.load import load, source_label
 from rozgen.model import Manifest, Maxima
@@ -75,6 +76,10 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--strict", action="store_true",
                    help="treat warnings (a command paired with another joint's position "
                         "state, ...) as errors: exit 2, write nothing")
+    p.add_argument("--checker", metavar="PATH",
+                   help="roz_manifest_json, roz's C implementation of the rules (default: "
+                        f"${_checker.ENV}, else beside rozgen, else built from the roz source "
+                        "tree rozgen is in, else on PATH)")
     p.add_argument("--error-ids", action="store_true",
                    help="prefix every problem with its rule id: [limits-order] ...")
     p.add_argument("--list-rules", action="store_true",
@@ -118,19 +123,24 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(f"--{'json' if args.json else 'identity'} and --registry do not go together")
 
     report = _Reporter(args.error_ids, args.strict)
-    robots = _load_all(args.files, Maxima(args.max_commands, args.max_states,
-                                          args.max_name_len), report)
-    if report.count:
+    try:
+        checker = _checker.find(args.checker)
+        robots = _load_all(args.files, Maxima(args.max_commands, args.max_states,
+                                              args.max_name_len), report, checker)
+        if report.count:
+            return EXIT_ERROR
+        if args.json:
+            sys.stdout.write(_checker.canonical_json(robots[0][3], checker))
+            return EXIT_OK
+    except _checker.CheckerError as e:
+        print(f"rozgen: {e}", file=sys.stderr)
         return EXIT_ERROR
-    if args.json:
-        sys.stdout.write(to_json(robots[0][1]))
-        return EXIT_OK
     if args.identity:
-        for _, manifest, _ in robots:
+        for _, manifest, _, _ in robots:
             print(f"{manifest.robot_id} {identity.interface_hash(manifest):016x}")
         return EXIT_OK
     if args.check:
-        for path, manifest, _ in robots:
+        for path, manifest, _, _ in robots:
             print(f"{path}: ok: {manifest.robot_id}, {len(manifest.commands)} commands, "
                   f"{len(manifest.states)} states")
         return EXIT_OK
@@ -141,14 +151,15 @@ def main(argv: list[str] | None = None) -> int:
     return _write_all(args.output_dir, outputs, report)
 
 
-def _load_all(files: list[str], maxima: Maxima, report: _Reporter) -> list[tuple]:
-    """Load and validate every file: [(path, manifest, sha256)] of valid ones."""
+def _load_all(files: list[str], maxima: Maxima, report: _Reporter,
+              checker: str) -> list[tuple]:
+    """Load and validate every file: [(path, manifest, sha256, bytes)] of valid ones."""
     robots = []
     for path in files:
         loaded = load(path)
         manifest, problems = None, loaded.problems
-        if loaded.doc is not None:
-            manifest, problems = validate(loaded.doc, maxima)
+        if loaded.data is not None:
+            manifest, problems = validate(loaded.data, maxima, checker)
         if manifest is not None:
             # what the file's model must hold (the mujoco port's, read from disk)
             problems = [Problem(rule, message)
@@ -158,9 +169,9 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter) -> list[tuple
         report(path, problems)
         if not problems:
             report.warn(path, lint(manifest))
-            robots.append((path, manifest, loaded.sha256))
+            robots.append((path, manifest, loaded.sha256, loaded.data))
     first_with_id: dict[str, int] = {}
-    for i, (path, manifest, _) in enumerate(robots):
+    for i, (path, manifest, _, _) in enumerate(robots):
         first = first_with_id.setdefault(manifest.robot_id, i)
         if first != i:
             report(path, [Problem(
@@ -174,7 +185,7 @@ def _render_all(robots: list[tuple], source_root: str | None, registry: bool,
     """File name -> content of everything to write."""
     outputs: dict[str, str] = {}
     sourced: list[tuple[Manifest, Source]] = []
-    for path, manifest, sha256 in robots:
+    for path, manifest, sha256, _ in robots:
         label = source_label(path, source_root)
         if label is None:
             report(path, [Problem("source-root", f": not under --source-root {source_root}")])

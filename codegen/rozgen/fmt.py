@@ -27,7 +27,7 @@ the same bytes:
   ``.``, ``e``, ``n``, ``i`` -- a C double literal (``0`` -> ``0.0``).
 - ``c_string(s)``: a C string literal of the UTF-8 bytes of ``s``.
 - ``json_string(s)``: ``json.dumps(s, ensure_ascii=True)``; see
-  ``rozgen.canonical`` for the exact escapes.
+  ``tools/manifest_json/json.c`` for the exact escapes.
 """
 
 import datetime

@@ -3,9 +3,9 @@
 
 A problem prints as ``<file><message>``; ``message`` starts with ``": "``
 (or ``":<line>:<col>: "`` for TOML syntax errors). With ``--error-ids`` the
-line is prefixed by ``[<rule>] ``. The rule ids are the contract with every
-other reader of robot.toml (a C reader must find the same rule on the same
-fixture in manifests/invalid/); their descriptions are in ``RULES``.
+line is prefixed by ``[<rule>] ``. The rules are roz's C loader's
+(``rozgen.checker``), which reports the same ids; their descriptions are
+in ``RULES``, and each has a fixture in manifests/invalid/.
 """
 
 from dataclasses import dataclass, field
@@ -83,13 +83,17 @@ RULES: dict[str, str] = {
     "site) or accelerometer",
     "mujoco-effort": "mujoco port: a joint's effort limit that its actuator's force range "
     "cannot give, or no effort limit at all",
+    "storage": "a limit of the build of roz_manifest_json that checks the file: more than "
+    "ROZ_CFG_MAX_JOINTS hardware joints or ROZ_CFG_MAX_PARAMS parameters, names beyond "
+    "ROZ_CFG_NAME_ARENA_BYTES, a document beyond its reader's room",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }
 
 #: Rules that no single robot.toml can break (they need several files, the
 #: file system or --source-root), hence without a fixture in manifests/invalid.
-RULES_WITHOUT_FIXTURE = frozenset({"io-error", "duplicate-robot-id", "source-root"})
+#: (``storage``: the limits of the checker's build, not of robot.toml.)
+RULES_WITHOUT_FIXTURE = frozenset({"io-error", "duplicate-robot-id", "source-root", "storage"})
 
 
 @dataclass(frozen=True)

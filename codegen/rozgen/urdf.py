@@ -54,7 +54,6 @@ import tomllib
 import xml.parsers.expat
 from dataclasses import dataclass, field
 
-from rozgen.model import Maxima
 from rozgen.validate import validate
 
 EXIT_OK = 0
@@ -519,7 +518,7 @@ def convert(data: bytes, source: str, robot_id: str | None = None, robot_class: 
                    root.find("ros2_control") is not None)
     # What rozgen would say of the result (a joint name too long for a
     # channel, two names giving one C constant, too many channels, ...).
-    _, problems = validate(tomllib.loads(text), Maxima())
+    _, problems = validate(text)
     if problems:
         raise UrdfError(0, "the robot.toml it makes is refused by rozgen:\n"
                         + "\n".join(p.render("  robot.toml") for p in problems))

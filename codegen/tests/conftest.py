@@ -26,6 +26,12 @@ LIB_INCLUDE = REPO / "lib" / "include"
 if str(CODEGEN) not in sys.path:
     sys.path.insert(0, str(CODEGEN))
 
+# The rules' one implementation, roz_manifest_json (rozgen.checker): found,
+# or built from this checkout, once for the session rather than per run.
+from rozgen import checker as _checker  # noqa: E402
+
+os.environ[_checker.ENV] = _checker.find()
+
 
 def builtin_manifests() -> list[Path]:
     """The built-in manifests: manifests/*.toml, sorted."""

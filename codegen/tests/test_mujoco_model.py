@@ -9,7 +9,6 @@ own limits (includes, defaults)."""
 
 import dataclasses
 import importlib.util
-import tomllib
 from pathlib import Path
 
 import pytest
@@ -56,7 +55,7 @@ def test_builtin_robots_pass_against_their_models(robot):
         pytest.skip(f"the model wheel of {robot} is not installed (tools/setup.sh)")
     assert model.is_file(), model
     path = MANIFESTS / f"{robot}.toml"
-    m, problems = validate(tomllib.loads(path.read_text(encoding="utf-8")))
+    m, problems = validate(path.read_text(encoding="utf-8"))
     assert not problems
     joints = m.hardware.joints if m.hardware is not None else ()
     hw = Hardware("mujoco", joints, tuple(sorted((("model", str(model)),) + params)))
@@ -77,7 +76,7 @@ def test_builtin_robots_pass_against_their_models(robot):
 def test_builtin_robots_leave_the_model_to_the_port():
     """A robot.toml of a built-in robot may name no model: the port loads
     its build's (docs/ports/mujoco.md)."""
-    m, _ = validate(tomllib.loads((MANIFESTS / "ur5.toml").read_text(encoding="utf-8")))
+    m, _ = validate((MANIFESTS / "ur5.toml").read_text(encoding="utf-8"))
     hw = Hardware("mujoco", (), ())
     assert mujoco.check_model(dataclasses.replace(m, hardware=hw), "ur5.toml") == []
 

@@ -2,7 +2,6 @@
 """Validation in process: defaults, the model, all problems at once."""
 
 import dataclasses
-import tomllib
 
 import pytest
 
@@ -30,7 +29,7 @@ default = 0.0
 
 
 def check(text: str, maxima: Maxima = Maxima()):
-    manifest, problems = validate(tomllib.loads(text), maxima)
+    manifest, problems = validate(text, maxima)
     return manifest, [p.render("f.toml", with_id=True) for p in problems]
 
 
@@ -279,9 +278,9 @@ def test_limit_margin_only_on_position_states(text):
 
 
 def test_canonical_json_shows_the_margin_worked_out():
-    from rozgen.canonical import to_json
-    m, _ = check(_with_state(unit='"m"', limits="[0, 0.08]", default="0.04"))
-    lines = to_json(m).splitlines()
+    from rozgen import checker
+    text = _with_state(unit='"m"', limits="[0, 0.08]", default="0.04")
+    lines = checker.canonical_json(text.encode("utf-8"), checker.find()).splitlines()
     assert lines[5].endswith('"position_state_index": -1, "limit_margin": null, '
                              '"safe_default": "follow"}')  # command
     assert lines[8].endswith('"position_state_index": -1, "limit_margin": 0.004, '

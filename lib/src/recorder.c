@@ -5,6 +5,7 @@
 #include <stdatomic.h>
 #include <string.h>
 
+#include "fault_text.h"
 #include "recorder_push.h"
 #include "roz/runtime.h"
 
@@ -178,7 +179,10 @@ size_t roz_recorder_drain(roz_recorder_t *r, roz_record_sink_fn sink, void *ctx,
             msg[0] = '\0';
             if (rec.faults != 0u) {
                 s->fault.text = s->fault_text;
-                roz__runtime_format_fault(msg, sizeof msg, &s->fault);
+                uint64_t num[4];
+                for (int k = 0; k < 4; k++)
+                    num[k] = s->fault.num[k];
+                roz__fault_format(msg, sizeof msg, s->fault.bit, num, s->fault.text);
             }
             rec.fault_message = msg;
         }

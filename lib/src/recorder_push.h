@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Between the runtime and the recorder (private to the core): the tick
- * pushes its record; the drain formats a fault's account the way the
- * runtime's readers do. */
+ * pushes its record (the drain words a fault with fault_text.h, as the
+ * runtime's readers do). */
 #ifndef ROZ_RECORDER_PUSH_H
 #define ROZ_RECORDER_PUSH_H
 
@@ -25,8 +25,5 @@ struct roz_runtime_fault_rec;
  * Wait-free; a full ring drops and counts. */
 void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
                         const struct roz_runtime_fault_rec *first);
-
-/* The runtime's message of a fault from its numbers (formats: readers only). */
-void roz__runtime_format_fault(char *buf, size_t len, const roz__fault_raw_t *fault);
 
 #endif /* ROZ_RECORDER_PUSH_H */

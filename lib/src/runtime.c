@@ -7,16 +7,12 @@
 #include "roz/format.h"
 #include "roz/text.h"
 
+#include "fault_text.h"
 #include "layout.h"
 #include "recorder_push.h"
 #include "seqlock.h"
 
 /* ---- private ------------------------------------------------------------- */
-
-static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
-    "trap", "overrun", "stale state", "e-stop", "controller e-stop request", "port link",
-    "robot fault", "command timeout",
-};
 
 static uint64_t now(const roz_runtime_t *rt)
 {
@@ -44,8 +40,6 @@ static uint64_t deadline_now(const roz_runtime_t *rt)
 /* Log event codes (the ring carries numbers; log_drain formats them). */
 enum { EV_FAULT = 1, EV_WAITING, EV_FIRST_FRAME_NONFINITE, EV_MONITOR };
 
-/* Numbers of a fault record (num[]): */
-enum { N_TICK_LO = 0, N_TICK_HI, N_A, N_B };
 
 static unsigned fault_index(unsigned bit)
 {
@@ -184,64 +178,6 @@ static void apply_clear(roz_runtime_t *rt, unsigned seen)
      * latch after all clear, before that latch is published. Readers show
      * "" while no fault is latched. */
     atomic_store_explicit(&rt->faults, bits | (word & ~FAULT_BITS), memory_order_release);
-}
-
-/* The text of a fault from its numbers (readers; formats). */
-static void format_fault(char *buf, size_t len, unsigned bit, const uint64_t num[4],
-                         const char *text)
-{
-    int64_t tick = (int64_t)(num[N_TICK_LO] | (num[N_TICK_HI] << 32));
-
-    switch (bit) {
-    case 0:
-        roz_format(buf, len, "%s", "");
-        break;
-    case ROZ_FAULT_STALE:
-        if (text != NULL && text[0] != '\0')
-            roz_format(buf, len, "no fresh state for %u ticks: %s", (unsigned)num[N_A], text);
-        else
-            roz_format(buf, len, "no fresh state for %u ticks", (unsigned)num[N_A]);
-        break;
-    case ROZ_FAULT_ESTOP:
-        roz_format(buf, len, "e-stop input");
-        break;
-    case ROZ_FAULT_ESTOP_REQUEST:
-        roz_format(buf, len, "the controller called safety.request_estop");
-        break;
-    case ROZ_FAULT_LINK:
-        roz_format(buf, len,
-                   "port link fault: the robot restarted or came back after it was lost");
-        break;
-    case ROZ_FAULT_ROBOT:
-        roz_format(buf, len, "robot fault: %s %lu (0x%lx)",
-                   text != NULL && text[0] != '\0' ? text : "the port reports a fault, code",
-                   (unsigned long)num[N_A], (unsigned long)num[N_A]);
-        break;
-    case ROZ_FAULT_COMMAND_TIMEOUT:
-        roz_format(buf, len,
-                   "command timeout: the tick wrote no command for %lu us, longer than the "
-                   "port's command_timeout_us (%lu): the port sent the robot its safe command",
-                   (unsigned long)num[N_A], (unsigned long)num[N_B]);
-        break;
-    default:
-        if (bit == ROZ_FAULT_OVERRUN && (text == NULL || text[0] == '\0') && num[N_B] != 0)
-            roz_format(buf, len, "process() took %llu us at tick %lld, budget %llu us",
-                       (unsigned long long)num[N_A], (long long)tick,
-                       (unsigned long long)num[N_B]);
-        else if (text != NULL && text[0] != '\0')
-            roz_format(buf, len, "%s", text);
-        else
-            roz_format(buf, len, "%s at tick %lld", roz_fault_name(bit), (long long)tick);
-        break;
-    }
-}
-
-void roz__runtime_format_fault(char *buf, size_t len, const roz__fault_raw_t *fault)
-{
-    uint64_t num[4];
-    for (int k = 0; k < 4; k++)
-        num[k] = fault->num[k];
-    format_fault(buf, len, fault->bit, num, fault->text);
 }
 
 /* Copy the first fault's record (readers): 1 if consistent, 0 if the tick
@@ -1112,15 +1048,6 @@ unsigned roz_runtime_faults(const roz_runtime_t *rt)
     return faults_now(rt);
 }
 
-const char *roz_fault_name(unsigned fault_bit)
-{
-    for (int i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
-        if (fault_bit == 1u << i)
-            return fault_names[i];
-    }
-    return "?";
-}
-
 int roz_runtime_fault_message_copy(const roz_runtime_t *rt, char *buf, size_t len)
 {
     char text[ROZ_CFG_ERROR_LEN];
@@ -1138,7 +1065,7 @@ int roz_runtime_fault_message_copy(const roz_runtime_t *rt, char *buf, size_t le
         buf[0] = '\0';
         return ROZ_ESTATE;
     }
-    format_fault(buf, len, bit, num, text);
+    roz__fault_format(buf, len, bit, num, text);
     return ROZ_OK;
 }
 
@@ -1171,9 +1098,9 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt)
             /* the controller's text is kept for the first fault only */
             if (read_first_fault(rt, &rbit, &rlatch, rnum, text, sizeof text) && rbit == bit &&
                 rlatch == e.latch)
-                format_fault(msg, sizeof msg, bit, num, text);
+                roz__fault_format(msg, sizeof msg, bit, num, text);
             else
-                format_fault(msg, sizeof msg, bit, num, NULL);
+                roz__fault_format(msg, sizeof msg, bit, num, NULL);
             roz_format(line, sizeof line, "fault latched: %s", msg);
             break;
         }

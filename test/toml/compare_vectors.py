@@ -42,7 +42,7 @@ import tomllib
 
 _LINE = re.compile(r"^\[(?P<rule>[a-z0-9-]+)\] (?P<text>.*)$")
 _SYNTAX = re.compile(r"^(?P<where>.*?:\d+:\d+): ")
-# rozgen.toml_limits: what roz refuses although tomllib reads it
+# refusals worded alike by both (one reader now: every text is the same)
 _SHARED_WORDING = ("integer does not fit in 64 bits", "nested more than")
 # ports whose [hardware] keys are checked at open (test_port_vectors), and
 # the rules rozgen refuses their keys by

@@ -1,7 +1,35 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* Prints a manifest in rozgen's canonical JSON (codegen/rozgen/canonical.py),
- * byte for byte. Used by roz_manifest_json (a robot.toml read at run time) and
- * by rozgen's test that the generated C tables print the same bytes. */
+/* Prints a manifest in the canonical JSON of `rozgen --json`, its one
+ * writer. Used by roz_manifest_json (a robot.toml read at run time, for
+ * rozgen too) and by rozgen's test that the generated C tables print the
+ * same bytes. The format:
+ *
+ *   {
+ *     "robot_id": "ur5",
+ *     "robot_class": "manipulator",
+ *     "control_rate_hz": 100,
+ *     "commands": [
+ *       {"name": "a/velocity", "interface_type": "velocity", "unit": "rad/s", "limits": [-3.14, 3.14], "default": 0, "max_rate_of_change": 0.5, "position_state_index": 0, "limit_margin": null, "safe_default": "follow"},
+ *       ...
+ *     ],
+ *     "states": [...],
+ *     "hardware": {"port": "unitree/G1", "joints": ["a", "b"], "params": {"dds_domain": "0"}}
+ *   }
+ *
+ * - ASCII, '\n' line ends, a final newline, two-space indent; every key
+ *   always present, in this order; channels one per line in manifest
+ *   order, ", " and ": " separators; an empty list is [] on its key's line.
+ * - Defaults written out ("generic", 0, -1). "limit_margin" is the margin
+ *   the filter keeps inside a position state's limits, the default worked
+ *   out (roz_manifest_limit_margin()), null on commands and other states.
+ * - "hardware" is null without a [hardware] table; "joints" as given,
+ *   "params" sorted by key (byte order).
+ * - Numbers (always finite) as the shortest %.{p}g, p = 1..17, that reads
+ *   back as the same double, an integral value below 1e16 without exponent:
+ *   0, -0, 0.5, 1e-05, 1e+16, 6.283185307179586.
+ * - Strings as Python's json.dumps(s, ensure_ascii=True): \" \\ \b \f \n
+ *   \r \t, every other character outside U+0020..U+007E as \u and four
+ *   lower-case hex digits of its UTF-16 code units; '/' not escaped. */
 #include "json.h"
 
 #include <stdio.h>
@@ -59,7 +87,8 @@ static void put_double(double x)
     fputs(buf, stdout);
 }
 
-static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, int states)
+static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, int states,
+                         int as_written)
 {
     printf("  \"%s\": [", key);
     for (uint16_t i = 0; i < n; i++) {
@@ -78,8 +107,11 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
         fputs(", \"max_rate_of_change\": ", stdout);
         put_double(c[i].max_rate);
         printf(", \"position_state_index\": %ld, \"limit_margin\": ", (long)c[i].position_state);
-        /* the margin the filter keeps, the default worked out */
-        if (states && c[i].type == ROZ_IF_POSITION)
+        /* the margin the filter keeps, the default worked out; or the
+         * field as written (0: the default), which rozgen's tables copy */
+        if (as_written)
+            put_double(c[i].limit_margin);
+        else if (states && c[i].type == ROZ_IF_POSITION)
             put_double(roz_manifest_limit_margin(&c[i]));
         else
             fputs("null", stdout);
@@ -90,7 +122,7 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
     fputs(n == 0 ? "],\n" : "\n  ],\n", stdout);
 }
 
-void manifest_json_print(const roz_manifest_t *m)
+void manifest_json_print(const roz_manifest_t *m, int as_written)
 {
     const roz_hardware_t *h = m->hardware;
     fputs("{\n  \"robot_id\": ", stdout);
@@ -98,8 +130,8 @@ void manifest_json_print(const roz_manifest_t *m)
     fputs(",\n  \"robot_class\": ", stdout);
     put_string(m->robot_class);
     printf(",\n  \"control_rate_hz\": %lu,\n", (unsigned long)m->control_rate_hz);
-    put_channels("commands", m->commands, m->n_commands, 0);
-    put_channels("states", m->states, m->n_states, 1);
+    put_channels("commands", m->commands, m->n_commands, 0, as_written);
+    put_channels("states", m->states, m->n_states, 1, as_written);
     fputs("  \"hardware\": ", stdout);
     if (h == NULL) {
         fputs("null", stdout);

@@ -5,7 +5,9 @@
 
 #include "roz/manifest.h"
 
-/* Writes the manifest to stdout exactly as `rozgen --json` prints it. */
-void manifest_json_print(const roz_manifest_t *m);
+/* Writes the manifest to stdout exactly as `rozgen --json` prints it; with
+ * @as_written, each channel's limit_margin as written (0: the default)
+ * instead of the margin worked out, for rozgen's model (--rozgen). */
+void manifest_json_print(const roz_manifest_t *m, int as_written);
 
 #endif

@@ -161,12 +161,13 @@ static int realtime_degraded; /* --realtime refused: the deadline on the CPU tim
 static atomic_uint loader_events; /* trace events of the loader's actions, taken by the tick */
 static _Atomic uint64_t ticks_done; /* written by the tick's thread after each tick */
 
-/* The port's own section of --help: what it is and its parameters, from
- * the port itself (roz_port_info_t). */
-static void usage_port(FILE *f, const roz_port_ops_t *ops)
+/* The port's own section of --help: what it is, its pages and its
+ * parameters, from the port itself (roz_port_info_t) and its registration. */
+static void usage_port(FILE *f, const roz_port_entry_t *pe)
 {
-    const roz_port_info_t *info = roz_port_ops_info(ops);
-    fprintf(f, "\nPort %s: %s (%s)\n", ops->name, info->summary, info->header);
+    const roz_port_info_t *info = roz_port_ops_info(pe->ops);
+    fprintf(f, "\nPort %s: %s (%s)\n", pe->ops->name, info->summary, info->header);
+    fprintf(f, "  documented in: %s\n", pe->docs);
     if (info->n_params > 0)
         fprintf(f, "  parameters (--param KEY=VALUE):\n");
     for (size_t i = 0; i < info->n_params; i++) {
@@ -263,7 +264,7 @@ static void usage(FILE *f, const char *port)
         "recording that cannot be read.\n");
     const roz_port_entry_t *pe = port != NULL ? roz_ports_find(port) : NULL;
     if (pe != NULL)
-        usage_port(f, pe->ops);
+        usage_port(f, pe);
 }
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)

@@ -63,6 +63,6 @@ int main(int argc, char **argv)
     if (m == NULL) {
         return 1;
     }
-    manifest_json_print(m);
+    manifest_json_print(m, 0);
     return 0;
 }

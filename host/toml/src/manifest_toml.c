@@ -11,15 +11,18 @@
 #include "roz/text.h"
 
 /*
- * The robot.toml rules of codegen/rozgen/validate.py, in C.
+ * The robot.toml rules: their one implementation. rozgen runs them through
+ * roz_manifest_json (tools/manifest_json), rozrun and the loader API
+ * directly; the rule ids and what each refuses are listed by
+ * `rozgen --list-rules` (docs/robot-toml.md).
  *
- * The checks run in the same order as rozgen's and each problem gets the
- * same sort key (section, channel index, rank of its key, sequence), so
- * that the problems come out in rozgen's order; only the first
- * max_problems are kept, smallest keys first. Facts that rozgen keeps in
- * "drafts" (is this channel's name valid? its interface type?) are
- * recomputed from the document where they are needed, so checking needs
- * no storage of its own. The manifest is built only when nothing is wrong.
+ * Each problem gets a sort key (section, channel index, rank of its key,
+ * sequence), so that the problems come out in the file's schema order
+ * whatever order the checks run in; only the first max_problems are kept,
+ * smallest keys first. Facts about a channel (is its name valid? its
+ * interface type?) are recomputed from the document where they are needed,
+ * so checking needs no storage of its own. The manifest is built only when
+ * nothing is wrong.
  */
 
 /* ---- types ---------------------------------------------------------------- */
@@ -43,12 +46,15 @@ typedef struct checker {
     size_t                       found;
     uint32_t                     seq;
     const roz_toml_node_t       *robot_id; /* when valid */
+    roz_manifest_toml_maxima_t   max;      /* of the target build */
 } checker_t;
 
 #define ROBOT_ID_MAX 32
 #define RATE_MAX 100000
 #define DEFAULT_RATE 100
 #define MSG_ARRAY_ITEMS 8
+/* room for a constant made of the longest name a maximum allows */
+#define NAME_ROOM (ROZ_MANIFEST_TOML_MAX_NAME_LEN + 2)
 
 static const char *const top_keys[] = { "manifest", "hardware" };
 static const char *const manifest_keys[] = { "robot_id", "robot_class", "control_rate_hz",
@@ -63,13 +69,13 @@ static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 /* ---- private: text ------------------------------------------------------------- */
 
-/* rozgen.fmt.quote: a TOML basic string for messages. */
+/* A TOML basic string, for messages. */
 static void put_quoted(roz_text_t *sb, const char *s, size_t n)
 {
     roz_text_put_quoted(sb, s, n);
 }
 
-/* rozgen.fmt.c_double (roz/text.h). */
+/* A double as C writes it (roz/text.h). */
 static void c_double(double x, char out[44])
 {
     roz_text_t t;
@@ -132,7 +138,7 @@ static void put_array_brief(roz_text_t *sb, const roz_toml_doc_t *d, const roz_t
     roz_text_put(sb, "]");
 }
 
-/* rozgen.fmt.toml_value: a value as written, for messages; arrays show two
+/* A value as written, for messages; arrays show two
  * levels, deeper ones as "[...]". */
 static void put_value(roz_text_t *sb, const roz_toml_doc_t *d, const roz_toml_node_t *v)
 {
@@ -157,7 +163,7 @@ static void put_value(roz_text_t *sb, const roz_toml_doc_t *d, const roz_toml_no
     roz_text_put(sb, "]");
 }
 
-/* rozgen's _key_text: a key bare when it can be, else quoted. */
+/* A key bare when it can be, else quoted. */
 static void put_key(roz_text_t *sb, roz_toml_string_t k)
 {
     int bare = k.len > 0;
@@ -216,7 +222,8 @@ static int interface_of(roz_toml_string_t s)
     return -1;
 }
 
-/* rozgen.names.constant_suffix: upper case, runs of anything but letters
+/* The <NAME> of a channel's C constant (as rozgen.names.constant_suffix
+ * makes it for the generated headers): upper case, runs of anything but letters
  * and digits made one '_', none at the ends. */
 static size_t constant_suffix(roz_toml_string_t name, char *out, size_t cap)
 {
@@ -281,7 +288,7 @@ static void sort_kept(checker_t *ck)
     }
 }
 
-/* rozgen's report(): "<where>: <key> <value>: <what>" under @pl; @value
+/* "<where>: <key> <value>: <what>" under @pl; @value
  * NULL for none; the key's rank is that of @rank_key (default @key). */
 static void report(checker_t *ck, const char *rule, const place_t *pl, const char *key,
                    const char *what, const roz_toml_node_t *value, const char *rank_key)
@@ -365,7 +372,7 @@ static const char *expected(const roz_toml_node_t *v, const char *what, char *bu
     return buf;
 }
 
-/* rozgen's string(): 1 and *out (NULL when absent and not @required) when
+/* A string: 1 and *out (NULL when absent and not @required) when
  * valid, else 0 with the problem reported. */
 static int check_string(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
                         const char *key, int required, const roz_toml_node_t **out)
@@ -389,7 +396,7 @@ static int check_string(checker_t *ck, const place_t *pl, const roz_toml_node_t 
     return 1;
 }
 
-/* rozgen's number(): a finite number as a double. */
+/* A finite number as a double. */
 static int check_number(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
                         const char *key, int required, double def, double *out)
 {
@@ -415,7 +422,7 @@ static int check_number(checker_t *ck, const place_t *pl, const roz_toml_node_t 
     return 1;
 }
 
-/* rozgen's integer(), quietly when @ck is NULL. */
+/* An integer, quietly when @ck is NULL. */
 static int check_integer(checker_t *ck, const roz_toml_doc_t *d, const place_t *pl,
                          const roz_toml_node_t *table, const char *key, int64_t def,
                          int64_t *out)
@@ -435,7 +442,7 @@ static int check_integer(checker_t *ck, const roz_toml_doc_t *d, const place_t *
     return 1;
 }
 
-/* rozgen's tables(): an array whose elements should be tables; *ok and the
+/* An array whose elements should be tables; *ok and the
  * array (NULL for an absent optional one, which counts as empty). */
 static const roz_toml_node_t *check_tables(checker_t *ck, const place_t *pl,
                                            const roz_toml_node_t *table, const char *key,
@@ -479,18 +486,19 @@ static void check_count(checker_t *ck, const place_t *pl, const char *key, size_
 
 /* ---- private: channels ---------------------------------------------------------------- */
 
-/* rozgen's channel_name(): the name when valid, else NULL (reported when
- * @ck is not NULL). */
-static const roz_toml_node_t *channel_name(checker_t *ck, const roz_toml_doc_t *d,
-                                           const place_t *pl, const roz_toml_node_t *table)
+/* The channel's name when valid, else NULL (reported when @pl is not
+ * NULL). */
+static const roz_toml_node_t *channel_name(checker_t *ck, const place_t *pl,
+                                           const roz_toml_node_t *table)
 {
+    const roz_toml_doc_t *d = ck->doc;
     const roz_toml_node_t *v = roz_toml_get(d, table, "name");
     const char *what = NULL;
-    char buf[128], suffix[ROZ_CFG_MAX_NAME_LEN + 2];
+    char buf[128], suffix[NAME_ROOM];
     int printable = 1;
 
     if (v == NULL || v->type != ROZ_TOML_STRING || has_nul(v->as.str)) {
-        if (ck != NULL) {
+        if (pl != NULL) {
             const roz_toml_node_t *dummy;
             (void)check_string(ck, pl, table, "name", 1, &dummy);
         }
@@ -504,15 +512,15 @@ static const roz_toml_node_t *channel_name(checker_t *ck, const roz_toml_doc_t *
         what = "must not be empty";
     } else if (!printable) {
         what = "must be printable ASCII other than \" and \\";
-    } else if (v->as.str.len > ROZ_CFG_MAX_NAME_LEN) {
-        snprintf(buf, sizeof buf, "%lu bytes, more than the maximum of %d (ROZ_CFG_MAX_NAME_LEN)",
-                 (unsigned long)v->as.str.len, ROZ_CFG_MAX_NAME_LEN);
+    } else if (v->as.str.len > ck->max.name_len) {
+        snprintf(buf, sizeof buf, "%lu bytes, more than the maximum of %lu (ROZ_CFG_MAX_NAME_LEN)",
+                 (unsigned long)v->as.str.len, (unsigned long)ck->max.name_len);
         what = buf;
     } else if (constant_suffix(v->as.str, suffix, sizeof suffix) == 0) {
         what = "must have a letter or digit (it names a C constant)";
     }
     if (what != NULL) {
-        if (ck != NULL)
+        if (pl != NULL)
             report(ck, "name", pl, "name", what, v, NULL);
         return NULL;
     }
@@ -529,11 +537,11 @@ static int channel_interface(const roz_toml_doc_t *d, const roz_toml_node_t *tab
 }
 
 /* "manifest.commands[3]", and with the name when it is valid. */
-static void channel_where(const roz_toml_doc_t *d, const char *kind, uint32_t index,
-                          const roz_toml_node_t *table, int with_name, char *buf, size_t cap)
+static void channel_where(checker_t *ck, const char *kind, uint32_t index,
+                          const roz_toml_node_t *table, char *buf, size_t cap)
 {
     roz_text_t sb;
-    const roz_toml_node_t *name = with_name ? channel_name(NULL, d, NULL, table) : NULL;
+    const roz_toml_node_t *name = channel_name(ck, NULL, table);
     roz_text_init(&sb, buf, cap);
     roz_text_format(&sb, "manifest.%s[%lu]", kind, (unsigned long)index);
     if (name != NULL) {
@@ -542,7 +550,7 @@ static void channel_where(const roz_toml_doc_t *d, const char *kind, uint32_t in
     }
 }
 
-/* rozgen's limits(): 1 with [lo, hi] when valid. */
+/* limits: 1 with [lo, hi] when valid. */
 static int check_limits(checker_t *ck, const place_t *pl, const roz_toml_node_t *table,
                         double *lo, double *hi)
 {
@@ -571,7 +579,7 @@ static int check_limits(checker_t *ck, const place_t *pl, const roz_toml_node_t 
     return 1;
 }
 
-/* rozgen's margin(): limit_margin, on a position state only, above 0 and
+/* limit_margin, on a position state only, above 0 and
  * leaving the joint room to move; @lim says whether [lo, hi] is valid. */
 static void check_margin(checker_t *ck, const place_t *pl, uint32_t section,
                          const roz_toml_node_t *t, int lim, double lo, double hi)
@@ -600,7 +608,7 @@ static void check_margin(checker_t *ck, const place_t *pl, uint32_t section,
     }
 }
 
-/* rozgen's safe_default(): "follow" or "hold", and "hold" only on a
+/* safe_default: "follow" or "hold", and "hold" only on a
  * position command paired with a position state (@pair as written, valid
  * when @pair_ok). */
 static void check_safe_default(checker_t *ck, const place_t *pl, uint32_t section,
@@ -635,8 +643,8 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     int lim;
 
     snprintf(bare, sizeof bare, "manifest.%s[%lu]", kind, (unsigned long)index);
-    (void)channel_name(ck, d, &pl, t);
-    channel_where(d, kind, index, t, 1, where, sizeof where);
+    (void)channel_name(ck, &pl, t);
+    channel_where(ck, kind, index, t, where, sizeof where);
     pl.where = where;
     unknown_keys(ck, &pl, t);
 
@@ -673,7 +681,7 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     check_safe_default(ck, &pl, section, t, pair_ok, pair);
 }
 
-/* rozgen's unique_names(): names, and the C constants made of them, once
+/* Names, and the C constants made of them, once
  * per list, among its first @max channels (a longer list is refused as too
  * long, and comparing every pair of it would take quadratic time). */
 static void unique_names(checker_t *ck, uint32_t section, const char *kind,
@@ -685,10 +693,10 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
 
     for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL && i < max;
          t = roz_toml_next(d, t), i++) {
-        const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(NULL, d, NULL, t)
+        const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(ck, NULL, t)
                                                                 : NULL;
         char bare[48], what[ROZ_CFG_PROBLEM_LEN];
-        char mine[ROZ_CFG_MAX_NAME_LEN + 2], theirs[ROZ_CFG_MAX_NAME_LEN + 2];
+        char mine[NAME_ROOM], theirs[NAME_ROOM];
         place_t pl = { section, i, bare, channel_keys, N_OF(channel_keys) };
         uint32_t j = 0;
         const roz_toml_node_t *u, *dup = NULL, *clash = NULL;
@@ -700,7 +708,7 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
         constant_suffix(name->as.str, mine, sizeof mine);
         for (u = roz_toml_first(d, list); u != t; u = roz_toml_next(d, u), j++) {
             const roz_toml_node_t *other = u->type == ROZ_TOML_TABLE
-                                               ? channel_name(NULL, d, NULL, u) : NULL;
+                                               ? channel_name(ck, NULL, u) : NULL;
             if (other == NULL)
                 continue;
             if (dup == NULL && str_eq2(other->as.str, name->as.str)) {
@@ -722,7 +730,7 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
         } else if (clash != NULL) {
             char other_where[ROZ_CFG_PROBLEM_LEN];
             roz_text_t sb;
-            channel_where(d, kind, clash_j, clash, 1, other_where, sizeof other_where);
+            channel_where(ck, kind, clash_j, clash, other_where, sizeof other_where);
             roz_text_init(&sb, what, sizeof what);
             roz_text_put(&sb, "C constant ROZ_");
             if (ck->robot_id != NULL) {
@@ -756,11 +764,10 @@ static void check_channels(checker_t *ck, uint32_t section, const char *kind,
             check_channel(ck, section, kind, i, t);
     }
     unique_names(ck, section, kind, list,
-                 section == SEC_COMMANDS ? (uint32_t)ROZ_CFG_MAX_COMMANDS
-                                         : (uint32_t)ROZ_CFG_MAX_STATES);
+                 section == SEC_COMMANDS ? ck->max.commands : ck->max.states);
 }
 
-/* rozgen's pairing(): each paired command points at a position state. */
+/* Each paired command points at a position state. */
 static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
                           const roz_toml_node_t *states)
 {
@@ -781,7 +788,7 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
                            &pair) ||
             pair == ROZ_CHANNEL_UNPAIRED)
             continue;
-        channel_where(d, "commands", i, t, 1, where, sizeof where);
+        channel_where(ck, "commands", i, t, where, sizeof where);
         value = roz_toml_get(d, t, "position_state_index");
         if (pair < 0 || (uint64_t)pair >= n_states) {
             if (n_states == 0)
@@ -799,7 +806,7 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
             continue;
         type = channel_interface(d, target);
         if (type == ROZ_IF_POSITION) {
-            /* rozgen's pairing-zero: the filter stops a paired velocity
+            /* pairing-zero: the filter stops a paired velocity
              * or effort command at a position limit by commanding 0, so 0
              * must be a value it may send. Limits that fail their own
              * checks are reported where they are. */
@@ -829,7 +836,7 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
         {
             char target_where[ROZ_CFG_PROBLEM_LEN];
             roz_text_t sb;
-            channel_where(d, "states", (uint32_t)pair, target, 1, target_where,
+            channel_where(ck, "states", (uint32_t)pair, target, target_where,
                           sizeof target_where);
             roz_text_init(&sb, what, sizeof what);
             roz_text_put(&sb, target_where);
@@ -889,11 +896,11 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
         if (roz_toml_count(commands) == 0)
             report(ck, "no-commands", &pl, "commands", "at least one command is required", NULL,
                    NULL);
-        check_count(ck, &pl, "commands", roz_toml_count(commands), ROZ_CFG_MAX_COMMANDS,
+        check_count(ck, &pl, "commands", roz_toml_count(commands), ck->max.commands,
                     "ROZ_CFG_MAX_COMMANDS");
     }
     if (states_ok)
-        check_count(ck, &pl, "states", roz_toml_count(states), ROZ_CFG_MAX_STATES,
+        check_count(ck, &pl, "states", roz_toml_count(states), ck->max.states,
                     "ROZ_CFG_MAX_STATES");
     check_channels(ck, SEC_STATES, "states", states_ok ? states : NULL);
     check_channels(ck, SEC_COMMANDS, "commands", commands_ok ? commands : NULL);
@@ -1102,7 +1109,7 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
         i = 0;
         for (const roz_toml_node_t *v = roz_toml_first(d, params); v != NULL && rc == ROZ_OK;
              v = roz_toml_next(d, v), i++) {
-            /* sorted by key, as rozgen writes them */
+            /* sorted by key, as the generated tables have them */
             roz_param_t p = { intern(st, v->key), intern(st, v->as.str) };
             size_t k = i;
             if (p.key == NULL || p.value == NULL) {
@@ -1134,6 +1141,19 @@ int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
                            const char *text, size_t len, roz_manifest_toml_problem_t *problems,
                            size_t max_problems, size_t *n_found)
 {
+    return roz_manifest_toml_load_for(storage, doc, text, len, NULL, problems, max_problems,
+                                      n_found);
+}
+
+int roz_manifest_toml_load_for(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
+                               const char *text, size_t len,
+                               const roz_manifest_toml_maxima_t *maxima,
+                               roz_manifest_toml_problem_t *problems, size_t max_problems,
+                               size_t *n_found)
+{
+    static const roz_manifest_toml_maxima_t this_build = {
+        ROZ_CFG_MAX_COMMANDS, ROZ_CFG_MAX_STATES, ROZ_CFG_MAX_NAME_LEN
+    };
     checker_t ck;
     roz_toml_error_t err;
     int rc;
@@ -1142,9 +1162,13 @@ int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_toml_doc_t *doc,
     ck.doc = doc;
     ck.out = problems;
     ck.cap = problems != NULL ? max_problems : 0u;
+    ck.max = maxima != NULL ? *maxima : this_build;
     if (n_found != NULL)
         *n_found = 0;
-    if (storage == NULL || doc == NULL)
+    if (storage == NULL || doc == NULL || ck.max.commands < 1u ||
+        ck.max.commands > ROZ_CFG_MAX_COMMANDS || ck.max.states < 1u ||
+        ck.max.states > ROZ_CFG_MAX_STATES || ck.max.name_len < 1u ||
+        ck.max.name_len > ROZ_MANIFEST_TOML_MAX_NAME_LEN)
         return ROZ_EINVAL;
 
     rc = roz_toml_parse(doc, text, len, &err);

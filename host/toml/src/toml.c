@@ -959,7 +959,6 @@ static size_t digit_run(const parser_t *p, size_t at, int base)
     return at;
 }
 
-/* rozgen says the same (codegen/rozgen/toml_limits.py) */
 #define INT_RANGE_MESSAGE \
     "integer does not fit in 64 bits (-9223372036854775808..9223372036854775807)"
 

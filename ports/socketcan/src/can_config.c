@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The CAN keys of [hardware]: parsing, checking, binding, the bus figures.
- * Every message and its order match rozgen's (codegen/rozgen/socketcan.py),
- * which test/toml/compare_vectors.py checks on every fixture. */
+ * Their one implementation: rozgen runs them through roz_manifest_json
+ * (manifests/invalid/can-*.toml hold every message). */
 #include "roz/port/can_config.h"
 
 #include <string.h>

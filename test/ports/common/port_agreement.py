@@ -9,8 +9,8 @@ does not have, or one of another robot's), some of each joint's channels
 (now and then of the wrong type), some IMU states, now and then a channel
 of no joint, and [hardware.params] drawn from every key the DDS ports know
 and a few they do not, with values valid, at the edges of their ranges and
-beyond them, at several tick rates. rozgen (``rozgen.load`` and
-``rozgen.validate``, this checkout's) and the port's open
+beyond them, at several tick rates. rozgen (``rozgen.validate``, this
+checkout's, with its DDS rules in ``rozgen.dds_ports``) and the port's open
 (port_open_check, roz's C loader and the port with no run-time parameter)
 must agree: both accept it, or the port's error is rozgen's first line.
 An interface name that passes the rules but names no interface of this
@@ -31,7 +31,7 @@ import random
 import subprocess
 import sys
 
-from rozgen import dds_ports
+from rozgen import checker, dds_ports
 from rozgen.load import load
 from rozgen.validate import validate
 
@@ -160,11 +160,12 @@ def main() -> int:
 
     verdicts = collections.Counter()
     failed = 0
+    rules = checker.find()  # once, not once per variant
     for path in files:
         loaded = load(path)
         problems = loaded.problems
-        if loaded.doc is not None:
-            _, problems = validate(loaded.doc)
+        if loaded.data is not None:
+            _, problems = validate(loaded.data, checker=rules)
         said = ports.get(path, "(nothing)")
         if said.startswith("[loader]"):
             verdicts["the loader's"] += 1

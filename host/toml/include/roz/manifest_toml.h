@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @file roz/manifest_toml.h
- * @brief Read a robot.toml at run time into a roz_manifest_storage_t, with
- *        exactly rozgen's rules, rule ids and messages (host builds).
+ * @brief Read a robot.toml into a roz_manifest_storage_t, checked by the
+ *        robot.toml rules (their one implementation; rozgen runs them
+ *        through roz_manifest_json) (host builds).
  *
  * Part of roz::toml (CMake option ROZ_TOML); firmware keeps using the
  * tables rozgen generates. docs/robot-toml.md ("The loader") says how
@@ -56,6 +57,30 @@ ROZ_NODISCARD int roz_manifest_toml_load(roz_manifest_storage_t *storage, roz_to
                                          const char *text, size_t len,
                                          roz_manifest_toml_problem_t *problems,
                                          size_t max_problems, size_t *n_found);
+
+/** The longest channel name a maximum may allow (rozgen's --max-name-len). */
+#define ROZ_MANIFEST_TOML_MAX_NAME_LEN 255
+
+/** The maxima the rules hold a manifest to: those of the build its tables
+ *  are for (rozgen's --max-commands, --max-states, --max-name-len). */
+typedef struct roz_manifest_toml_maxima {
+    uint32_t commands; /**< 1..ROZ_CFG_MAX_COMMANDS of this build */
+    uint32_t states;   /**< 1..ROZ_CFG_MAX_STATES of this build */
+    uint32_t name_len; /**< bytes, 1..ROZ_MANIFEST_TOML_MAX_NAME_LEN */
+} roz_manifest_toml_maxima_t;
+
+/**
+ * @brief roz_manifest_toml_load() with the maxima of another build (NULL:
+ *        this build's ROZ_CFG_MAX_COMMANDS, _STATES and _NAME_LEN).
+ * @retval as roz_manifest_toml_load(); ROZ_EINVAL also for maxima out of
+ *         their ranges (more channels than this build's storage holds)
+ * Context: start-up or host tools; no heap, no I/O, no recursion.
+ */
+ROZ_NODISCARD int roz_manifest_toml_load_for(roz_manifest_storage_t *storage,
+                                             roz_toml_doc_t *doc, const char *text, size_t len,
+                                             const roz_manifest_toml_maxima_t *maxima,
+                                             roz_manifest_toml_problem_t *problems,
+                                             size_t max_problems, size_t *n_found);
 
 /**
  * @brief Read a whole file into a caller buffer (host builds).

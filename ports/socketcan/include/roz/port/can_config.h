@@ -6,9 +6,9 @@
  *        they give. Portable (no OS, no heap): firmware can use it too.
  *
  * docs/ports/socketcan.md lists every key with its values and default, the
- * channels a joint takes, and the bus load and round-robin rule. The rules
- * are rozgen's as well (codegen/rozgen/socketcan.py): the same problems,
- * rule ids and words, for every fixture in manifests/invalid/.
+ * channels a joint takes, and the bus load and round-robin rule. rozgen
+ * runs these rules too (through roz_manifest_json), so a robot.toml is
+ * refused at build time with the words the port says at open.
  */
 #ifndef ROZ_PORT_CAN_CONFIG_H
 #define ROZ_PORT_CAN_CONFIG_H
@@ -88,6 +88,16 @@ typedef void (*roz_can_problem_fn)(void *ctx, const char *rule, const char *text
  */
 int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const roz_params_t *extra,
                         roz_can_problem_fn report, void *ctx);
+
+/**
+ * @brief roz_can_config_load() without extra parameters, into storage of its
+ *        own: the port's check_hardware (roz_add_port_rules(), roz/port_rules.h),
+ *        which roz_manifest_json and so rozgen run.
+ * @retval ROZ_OK     valid
+ * @retval ROZ_EINVAL a problem (each reported)
+ * Context: host tools; not reentrant (one static configuration); no heap.
+ */
+int roz_can_config_check(const roz_manifest_t *m, roz_can_problem_fn report, void *ctx);
 
 /** @brief The rule ids roz_can_config_load() reports, NULL-terminated.
  *  Context: any. */
