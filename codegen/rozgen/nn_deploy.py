@@ -252,9 +252,9 @@ def load_robot(robot: str):
             raise DeployError(f"--robot {robot}: not a built-in manifest ({', '.join(known)}) "
                               "nor a robot.toml")
     loaded = load(path)
-    if loaded.doc is None:
+    if loaded.data is None:
         raise DeployError("; ".join(f"{path}{p.message}" for p in loaded.problems))
-    manifest, problems = validate(loaded.doc)
+    manifest, problems = validate(loaded.data)
     if manifest is None:
         raise DeployError("; ".join(f"{path}{p.message}" for p in problems))
     return manifest, path, loaded.sha256

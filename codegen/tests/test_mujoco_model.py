@@ -9,6 +9,7 @@ own limits (includes, defaults)."""
 
 import dataclasses
 import importlib.util
+import tomllib
 from pathlib import Path
 
 import pytest

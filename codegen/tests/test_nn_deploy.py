@@ -216,7 +216,7 @@ def test_wasm_carries_identity_and_policy_hash(tmp_path):
     from rozgen import identity
     from rozgen.load import load
     from rozgen.validate import validate
-    m, _ = validate(load(str(MANIFESTS / "unitree_g1.toml")).doc)
+    m, _ = validate(load(str(MANIFESTS / "unitree_g1.toml")).data)
     assert b"roz.manifest" in data and identity.record(m) in data
 
 
