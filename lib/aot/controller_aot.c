@@ -185,8 +185,7 @@ void wasm_rt_free_funcref_table(wasm_rt_funcref_table_t *t)
 
 static int64_t *fuel_of(roz_controller_t *c)
 {
-    const roz_aot_module_t *m = c->aot_module;
-    return m->fuel(c->aot_slot);
+    return c->aot_fuel;
 }
 
 static void charge(roz_controller_t *c, uint64_t units)
@@ -198,8 +197,7 @@ static void charge(roz_controller_t *c, uint64_t units)
 
 static uint8_t *memory(roz_controller_t *c, size_t *len)
 {
-    const roz_aot_module_t *m = c->aot_module;
-    wasm_rt_memory_t *mem = m->memory_of(c->aot_slot);
+    const wasm_rt_memory_t *mem = c->aot_memory;
     *len = mem != NULL ? mem->size : 0u;
     return mem != NULL ? mem->data : NULL;
 }
@@ -369,7 +367,7 @@ static const char *aot_call(roz_controller_t *c, int64_t tick, int64_t slice, in
     aot_call_t call;
     aot_call_t *outer = current;
     uint32_t depth = roz__aot_depth;
-    int64_t *fuel = m->fuel(c->aot_slot);
+    int64_t *fuel = c->aot_fuel;
 
     *fuel_out = fuel;
     *fuel = slice;
@@ -453,6 +451,8 @@ int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m, roz_
         c->abi = NULL;
         return ROZ_EINVAL;
     }
+    c->aot_fuel = m->fuel(slot);
+    c->aot_memory = m->memory_of(slot);
     c->aot_call = aot_call;
     c->aot_unload = aot_unload;
     c->process = (void *)(uintptr_t)m; /* loaded */

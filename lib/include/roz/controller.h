@@ -62,6 +62,8 @@ typedef struct roz_controller {
     void       (*ROZ_PRIVATE(aot_unload))(struct roz_controller *c);
     const void *ROZ_PRIVATE(aot_module); /* its roz_aot_module_t */
     unsigned    ROZ_PRIVATE(aot_slot);   /* the instance it runs in */
+    int64_t    *ROZ_PRIVATE(aot_fuel);   /* the instance's fuel global */
+    void       *ROZ_PRIVATE(aot_memory); /* its memory object, NULL without one */
     uint64_t   ROZ_PRIVATE(calls);     /* process() calls since load */
     char       ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN]; /* last load or trap message */
 } roz_controller_t;
