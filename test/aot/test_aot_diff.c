@@ -26,7 +26,10 @@
 #include "roz/aot.h"
 #include "roz/builtin.h"
 #include "roz/controller.h"
+#include "roz/port/loopback.h"
+#include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 /* ---- the controllers ------------------------------------------------------- */
 
@@ -283,6 +286,89 @@ static void test_aot_diff_every_controller(void **state)
     assert_true(deadlines >= 4);
 }
 
+/* ---- through the runtime ------------------------------------------------------ */
+
+/* Two runtimes on two loopback simulators, one loading the module file
+ * (wasm3), the other the compiled controller: the verification report,
+ * and on every tick what roz_runtime_tick() returned, the faults, the
+ * targets, the commands the port got and the fault message. At a fault
+ * both clear it (the runtime rebuilds the trapped instance, here from the
+ * compiled controller) and run on. */
+typedef struct {
+    roz_runtime_t    rt;
+    roz_loopback_t   lb;
+    roz_test_clock_t clk;
+} rig_t;
+
+static rig_t rig_w3, rig_aot;
+
+static void rig_start(rig_t *r, const roz_manifest_t *m)
+{
+    roz_runtime_config_t cfg;
+    memset(r, 0, sizeof *r);
+    r->clk = (roz_test_clock_t){ 1000000, 1000 };
+    roz_test_loopback_config(&cfg, &r->lb, m, NULL, &r->clk);
+    roz_test_runtime_start(&r->rt, &cfg, NULL);
+}
+
+static void runtime_pair(const case_t *k)
+{
+    const roz_manifest_t *m = roz_builtin_find(k->robot);
+    size_t len;
+    const uint8_t *wasm = read_module(k->dir, k->name, &len);
+    roz_verify_report_t vw, va;
+    char mw[ROZ_CFG_ERROR_LEN], ma[ROZ_CFG_ERROR_LEN];
+
+    rig_start(&rig_w3, m);
+    rig_start(&rig_aot, m);
+    int lw = roz_runtime_load(&rig_w3.rt, wasm, len, &vw);
+    int la = roz_runtime_load_aot(&rig_aot.rt, k->aot, &va);
+    if (lw != la)
+        fail_msg("%s: load %d on wasm3 (%s), %d ahead of time (%s)", k->name, lw,
+                 roz_runtime_error(&rig_w3.rt), la, roz_runtime_error(&rig_aot.rt));
+    if (lw != ROZ_OK) {
+        assert_string_equal(roz_runtime_error(&rig_w3.rt), roz_runtime_error(&rig_aot.rt));
+    } else {
+        assert_int_equal(vw.max_fuel, va.max_fuel);
+        assert_memory_equal(vw.fuel, va.fuel, sizeof vw.fuel);
+        assert_int_equal(vw.identity_match, va.identity_match);
+        assert_int_equal(vw.fuel_declared, va.fuel_declared);
+    }
+    for (int64_t t = 0; t < TICKS; t++) {
+        int rw = roz_runtime_tick(&rig_w3.rt), ra = roz_runtime_tick(&rig_aot.rt);
+        unsigned fw = roz_runtime_faults(&rig_w3.rt), fa = roz_runtime_faults(&rig_aot.rt);
+        if (rw != ra || fw != fa)
+            fail_msg("%s tick %lld: tick %d / %d, faults %#x / %#x (wasm3 / ahead of time)",
+                     k->name, (long long)t, rw, ra, fw, fa);
+        const double *tw = roz_runtime_last_targets(&rig_w3.rt);
+        const double *ta = roz_runtime_last_targets(&rig_aot.rt);
+        if ((tw == NULL) != (ta == NULL) ||
+            (tw != NULL && memcmp(tw, ta, m->n_commands * sizeof(double)) != 0))
+            fail_msg("%s tick %lld: targets differ", k->name, (long long)t);
+        if (memcmp(roz_runtime_last_commands(&rig_w3.rt), roz_runtime_last_commands(&rig_aot.rt),
+                   m->n_commands * sizeof(double)) != 0)
+            fail_msg("%s tick %lld: applied commands differ", k->name, (long long)t);
+        if (fw != 0) {
+            assert_int_equal(roz_runtime_fault_message_copy(&rig_w3.rt, mw, sizeof mw), ROZ_OK);
+            assert_int_equal(roz_runtime_fault_message_copy(&rig_aot.rt, ma, sizeof ma), ROZ_OK);
+            if (k->known == SAME)
+                assert_string_equal(mw, ma);
+            int cw = roz_runtime_clear_faults(&rig_w3.rt), ca = roz_runtime_clear_faults(&rig_aot.rt);
+            assert_int_equal(cw, ca);
+        }
+    }
+    roz_runtime_deinit(&rig_w3.rt);
+    roz_runtime_deinit(&rig_aot.rt);
+}
+
+static void test_aot_diff_runtime(void **state)
+{
+    (void)state;
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
+        if (cases[i].known == SAME)
+            runtime_pair(&cases[i]);
+}
+
 /* Every instance of a compiled controller in use: the next load is refused
  * with a message, and an unload frees one. */
 static void test_aot_instances_bounded(void **state)
@@ -308,6 +394,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aot_diff_every_controller),
+        cmocka_unit_test(test_aot_diff_runtime),
         cmocka_unit_test(test_aot_instances_bounded),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -679,7 +679,7 @@ int main(int argc, char **argv)
             name, (unsigned long long)roz_recorder_hash(wasm, len));
     fprintf(g, "    %s, %s, TABLE, %s,\n", pages ? "memory[0]" : "NULL", pages ? "PAGES" : "0",
             table ? "table[0]" : "NULL");
-    fprintf(g, "    init_module, instantiate, release, process, fuel, mem,\n};\n");
+    fprintf(g, "    init_module, instantiate, release, process, fuel, mem, roz_controller_load_aot,\n};\n");
     if (fclose(g) != 0)
         return 1;
     roz_controller_unload(&ctl);

@@ -46,6 +46,9 @@ typedef struct roz_aot_module {
     void (*process)(unsigned i, int64_t tick);
     int64_t *(*fuel)(unsigned i);
     void *(*memory_of)(unsigned i); /**< the engine's memory object, NULL without one */
+    /** roz_controller_load_aot(): through the module, so that roz::core
+     *  (roz_runtime_load_aot()) needs no link to roz::aot */
+    int (*load)(roz_controller_t *c, const struct roz_aot_module *m, roz_abi_t *abi);
 } roz_aot_module_t;
 
 /** Declares the module roz_add_aot_controller(NAME ...) built. */
