@@ -68,12 +68,20 @@ void wasm_rt_trap(wasm_rt_trap_t code)
 
 /* ---- private: start-up state (one load at a time) ------------------------- */
 
-/* Function types by their signature letters; call_indirect compares the
- * index this returns, so equal signatures must get equal indices. */
-#define SIG_LEN 48
-static char     types[ROZ_CFG_AOT_MAX_TYPES][SIG_LEN];
-static uint32_t n_types;
+/* Function types by their signature letters ("iF:i"), in a pool;
+ * call_indirect compares the index this returns, so equal signatures must
+ * get equal indices. The registry holds the types of the controllers
+ * loaded (each registers its own at every load) and is emptied when none
+ * is, so it never fills up over swaps. */
+#define TYPE_POOL_BYTES (ROZ_CFG_AOT_MAX_TYPES * 24u)
+#define SIG_MAX         1100u /* 1000 parameters, as WebAssembly engines allow, and more */
+static struct {
+    uint16_t at, len;
+} types[ROZ_CFG_AOT_MAX_TYPES];
+static char     type_pool[TYPE_POOL_BYTES];
+static uint32_t n_types, pool_used;
 static int      types_full;
+static unsigned live; /* instances loaded, every compiled controller */
 
 /* the storage of the instance being started */
 static uint8_t           *arena_memory;
@@ -95,31 +103,31 @@ static char type_letter(wasm_rt_type_t t)
 
 uint32_t wasm_rt_register_func_type(uint32_t params, uint32_t results, ...)
 {
-    char sig[SIG_LEN];
+    char sig[SIG_MAX];
     size_t n = 0;
     va_list ap;
     va_start(ap, results);
     for (uint32_t i = 0; i < params + results; i++) {
         char l = type_letter((wasm_rt_type_t)va_arg(ap, int)); /* promoted */
-        if (i == params && n < SIG_LEN)
+        if (i == params && n < SIG_MAX)
             sig[n++] = ':';
-        if (n < SIG_LEN)
+        if (n < SIG_MAX)
             sig[n++] = l;
     }
     va_end(ap);
-    if (n >= SIG_LEN) {
-        types_full = 1;
-        return 0xffffffffu - n_types; /* never equal to a registered one */
-    }
-    sig[n] = '\0';
+    if (results == 0 && n < SIG_MAX)
+        sig[n++] = ':';
     for (uint32_t i = 0; i < n_types; i++)
-        if (strcmp(types[i], sig) == 0)
+        if (types[i].len == n && memcmp(type_pool + types[i].at, sig, n) == 0)
             return i + 1;
-    if (n_types >= ROZ_CFG_AOT_MAX_TYPES) {
+    if (n >= SIG_MAX || n_types >= ROZ_CFG_AOT_MAX_TYPES || pool_used + n > TYPE_POOL_BYTES) {
         types_full = 1;
-        return 0xffffffffu - n_types;
+        return 0xffffffffu - n_types; /* never equal to a registered one; the load fails */
     }
-    memcpy(types[n_types], sig, n + 1);
+    memcpy(type_pool + pool_used, sig, n);
+    types[n_types].at = (uint16_t)pool_used;
+    types[n_types].len = (uint16_t)n;
+    pool_used += (uint32_t)n;
     return ++n_types;
 }
 
@@ -387,6 +395,7 @@ static void aot_unload(roz_controller_t *c)
     if (m != NULL) {
         m->release(c->aot_slot);
         m->in_use[c->aot_slot] = 0;
+        live--;
     }
     c->aot_module = NULL;
 }
@@ -422,6 +431,11 @@ int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m, roz_
                    "%s: all %u instances in use (ROZ_CFG_AOT_INSTANCES)", m->name, m->instances);
         return ROZ_ENOMEM;
     }
+    if (live == 0) {
+        n_types = 0; /* no compiled controller holds an index into it */
+        pool_used = 0;
+    }
+    types_full = 0;
     m->init_module();
     arena_memory = m->memory != NULL ? m->memory + (size_t)slot * m->pages * 65536u : NULL;
     arena_pages = m->pages;
@@ -440,6 +454,7 @@ int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m, roz_
         m->instantiate(slot, c); /* data and element segments (checked by the validator) */
     current = outer;
     m->in_use[slot] = 1;
+    live++;
     int bad_types = types_full;
     __atomic_store_n(&loading, 0, __ATOMIC_RELEASE);
     if (current_trap != NULL || arena_short || bad_types) {

@@ -37,6 +37,7 @@ enum {
     SAME = 0,
     DEPTH = 1,    /* too deep a nest of calls: each engine traps at its own depth */
     INDIRECT = 2, /* call_indirect's trap: one text in wasm2c */
+    FUZZ = 3,     /* generated: may recurse too deep (DEPTH) or trap indirectly */
 };
 
 typedef struct {
@@ -50,6 +51,7 @@ typedef struct {
 #define EX(n, robot)  { #n, ROZ_CONTROLLER_DIR, robot, &roz_aot_##n, SAME }
 #define BAD(n, k)     { "bad_" #n, ROZ_CONTROLLER_DIR, "ur5", &roz_aot_bad_##n, k }
 #define HOST(n, k)    { "hostile_" #n, ROZ_HOSTILE_DIR, "ur5", &roz_aot_hostile_##n, k }
+#define FZ(n)         { "fuzz_" #n, ROZ_AOT_FUZZ_DIR, "ur5", &roz_aot_fuzz_##n, FUZZ }
 
 ROZ_AOT_DECLARE(constant_velocity);
 ROZ_AOT_DECLARE(constant_velocity_wat);
@@ -107,6 +109,32 @@ ROZ_AOT_DECLARE(hostile_stack_smash);
 ROZ_AOT_DECLARE(hostile_trap_run);
 ROZ_AOT_DECLARE(hostile_trap_verify);
 
+#if defined(ROZ_AOT_FUZZ_SEEDS)
+#if ROZ_AOT_FUZZ_SEEDS != 16
+#error "the fuzzed corpus here lists seeds 1..16"
+#endif
+ROZ_AOT_DECLARE(fuzz_1);
+ROZ_AOT_DECLARE(fuzz_2);
+ROZ_AOT_DECLARE(fuzz_3);
+ROZ_AOT_DECLARE(fuzz_4);
+ROZ_AOT_DECLARE(fuzz_5);
+ROZ_AOT_DECLARE(fuzz_6);
+ROZ_AOT_DECLARE(fuzz_7);
+ROZ_AOT_DECLARE(fuzz_8);
+ROZ_AOT_DECLARE(fuzz_9);
+ROZ_AOT_DECLARE(fuzz_10);
+ROZ_AOT_DECLARE(fuzz_11);
+ROZ_AOT_DECLARE(fuzz_12);
+ROZ_AOT_DECLARE(fuzz_13);
+ROZ_AOT_DECLARE(fuzz_14);
+ROZ_AOT_DECLARE(fuzz_15);
+ROZ_AOT_DECLARE(fuzz_16);
+#define FUZZ_CASES FZ(1), FZ(2), FZ(3), FZ(4), FZ(5), FZ(6), FZ(7), FZ(8), FZ(9), FZ(10), \
+                   FZ(11), FZ(12), FZ(13), FZ(14), FZ(15), FZ(16),
+#else
+#define FUZZ_CASES
+#endif
+
 static const case_t cases[] = {
     EX(constant_velocity, "ur5"), EX(constant_velocity_wat, "ur5"), EX(sine, "ur5"),
     EX(sine_wat, "ur5"), EX(hold, "ur5"), EX(pd_hold, "ur5"), EX(reach, "ur5"),
@@ -127,6 +155,7 @@ static const case_t cases[] = {
     HOST(oob_offset, SAME), HOST(oob_store, SAME), HOST(recursion, DEPTH),
     HOST(set_flood, SAME), HOST(stack_smash, SAME), HOST(trap_run, SAME),
     HOST(trap_verify, SAME),
+    FUZZ_CASES
 };
 
 #define TICKS 200
@@ -228,7 +257,14 @@ static uint64_t run(const case_t *k, int mode, uint64_t fuel)
         if (rw != ra)
             fail_msg("%s mode %d tick %lld: wasm3 returned %d (%s), aot %d (%s)", k->name, mode,
                      (long long)t, rw, ew, ra, ea);
-        if (rw == ROZ_ETRAP && k->known != SAME) {
+        if (rw == ROZ_ETRAP && k->known == FUZZ) {
+            /* a generated module may recurse past either engine's depth */
+            int deep = strstr(ew, "stack") != NULL || strstr(ea, "stack") != NULL;
+            int indirect = strstr(ea, "indirect call") != NULL;
+            if (deep || indirect)
+                break;
+        }
+        if (rw == ROZ_ETRAP && k->known != SAME && k->known != FUZZ) {
             /* the known differences: both trapped here, as they should */
             if (k->known == DEPTH && strstr(ea, "stack overflow") == NULL)
                 fail_msg("%s: aot trapped with %s, wasm3 with %s", k->name, ea, ew);
@@ -327,7 +363,9 @@ static void runtime_pair(const case_t *k)
         fail_msg("%s: load %d on wasm3 (%s), %d ahead of time (%s)", k->name, lw,
                  roz_runtime_error(&rig_w3.rt), la, roz_runtime_error(&rig_aot.rt));
     if (lw != ROZ_OK) {
-        assert_string_equal(roz_runtime_error(&rig_w3.rt), roz_runtime_error(&rig_aot.rt));
+        const char *ew = roz_runtime_error(&rig_w3.rt), *ea = roz_runtime_error(&rig_aot.rt);
+        if (k->known == SAME || (strstr(ew, "stack") == NULL && strstr(ea, "indirect call") == NULL))
+            assert_string_equal(ew, ea);
     } else {
         assert_int_equal(vw.max_fuel, va.max_fuel);
         assert_memory_equal(vw.fuel, va.fuel, sizeof vw.fuel);
@@ -351,7 +389,8 @@ static void runtime_pair(const case_t *k)
         if (fw != 0) {
             assert_int_equal(roz_runtime_fault_message_copy(&rig_w3.rt, mw, sizeof mw), ROZ_OK);
             assert_int_equal(roz_runtime_fault_message_copy(&rig_aot.rt, ma, sizeof ma), ROZ_OK);
-            if (k->known == SAME)
+            if (k->known == SAME || (k->known == FUZZ && strstr(mw, "stack") == NULL &&
+                                     strstr(ma, "indirect call") == NULL))
                 assert_string_equal(mw, ma);
             int cw = roz_runtime_clear_faults(&rig_w3.rt), ca = roz_runtime_clear_faults(&rig_aot.rt);
             assert_int_equal(cw, ca);
@@ -365,7 +404,7 @@ static void test_aot_diff_runtime(void **state)
 {
     (void)state;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++)
-        if (cases[i].known == SAME)
+        if (cases[i].known == SAME || cases[i].known == FUZZ)
             runtime_pair(&cases[i]);
 }
 

@@ -63,8 +63,8 @@ typedef struct roz_aot_module {
  * @retval ROZ_EINVAL more function types than ROZ_CFG_AOT_MAX_TYPES, or no
  *                    @p abi; roz_controller_error() says which
  * @retval ROZ_ESTATE already loaded
- * Context: outside the tick; one load at a time in the whole image (the
- * engine's start-up state is shared).
+ * Context: outside the tick; one load or unload of a compiled controller at
+ * a time in the whole image (the engine's start-up state is shared).
  */
 ROZ_NODISCARD int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m,
                                           roz_abi_t *abi);

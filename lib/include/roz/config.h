@@ -92,9 +92,9 @@
 #define ROZ_CFG_AOT_CALL_DEPTH 500
 #endif
 
-/** Ahead-of-time controllers: distinct function types all the compiled
- *  controllers of an image register together (call_indirect checks them).
- *  Range 8..4096. */
+/** Ahead-of-time controllers: distinct function types the compiled
+ *  controllers loaded at once register together (call_indirect checks
+ *  them); about 28 bytes of static memory each. Range 8..2048. */
 #ifndef ROZ_CFG_AOT_MAX_TYPES
 #define ROZ_CFG_AOT_MAX_TYPES 128
 #endif
@@ -256,8 +256,8 @@
 #if ROZ_CFG_AOT_CALL_DEPTH < 8 || ROZ_CFG_AOT_CALL_DEPTH > 100000
 #error "ROZ_CFG_AOT_CALL_DEPTH must be in 8..100000"
 #endif
-#if ROZ_CFG_AOT_MAX_TYPES < 8 || ROZ_CFG_AOT_MAX_TYPES > 4096
-#error "ROZ_CFG_AOT_MAX_TYPES must be in 8..4096"
+#if ROZ_CFG_AOT_MAX_TYPES < 8 || ROZ_CFG_AOT_MAX_TYPES > 2048
+#error "ROZ_CFG_AOT_MAX_TYPES must be in 8..2048"
 #endif
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"
