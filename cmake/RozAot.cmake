@@ -50,5 +50,5 @@ function(roz_add_aot_controller name)
   # wasm2c's C is its own; roz's warnings are not its contract
   target_compile_options(roz_aot_${name} PRIVATE
     $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-include roz/aot_generated.h -ffp-contract=off
-      -fno-strict-aliasing -w>)
+      -fno-strict-aliasing -w> ${ROZ_SANITIZE_DEP_FLAGS})
 endfunction()

@@ -680,8 +680,12 @@ int main(int argc, char **argv)
     fprintf(g, "    %s, %s, TABLE, %s,\n", pages ? "memory[0]" : "NULL", pages ? "PAGES" : "0",
             table ? "table[0]" : "NULL");
     fprintf(g, "    init_module, instantiate, release, process, fuel, mem, roz_controller_load_aot,\n};\n");
-    if (fclose(g) != 0)
-        return 1;
+    int rc = fclose(g) != 0;
     roz_controller_unload(&ctl);
-    return 0;
+    free(o.p);
+    free(sec.p);
+    free(custom.p);
+    free(params);
+    free(wasm);
+    return rc;
 }
