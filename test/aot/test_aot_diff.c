@@ -60,12 +60,10 @@ ROZ_AOT_DECLARE(sine_wat);
 ROZ_AOT_DECLARE(hold);
 ROZ_AOT_DECLARE(pd_hold);
 ROZ_AOT_DECLARE(reach);
-ROZ_AOT_DECLARE(ur5_bc);
 ROZ_AOT_DECLARE(g1_stand);
 ROZ_AOT_DECLARE(g1_stand_pd);
 ROZ_AOT_DECLARE(g1_pd);
 ROZ_AOT_DECLARE(g1_pd_bulk);
-ROZ_AOT_DECLARE(g1_policy);
 ROZ_AOT_DECLARE(g1_23dof_stand);
 ROZ_AOT_DECLARE(g1_23dof_stand_pd);
 ROZ_AOT_DECLARE(pm01_stand);
@@ -135,11 +133,19 @@ ROZ_AOT_DECLARE(fuzz_16);
 #define FUZZ_CASES
 #endif
 
+#if defined(ROZ_AOT_NN)
+ROZ_AOT_DECLARE(ur5_bc);
+ROZ_AOT_DECLARE(g1_policy);
+#define NN_CASES EX(ur5_bc, "ur5"), EX(g1_policy, "unitree_g1"),
+#else
+#define NN_CASES
+#endif
+
 static const case_t cases[] = {
     EX(constant_velocity, "ur5"), EX(constant_velocity_wat, "ur5"), EX(sine, "ur5"),
     EX(sine_wat, "ur5"), EX(hold, "ur5"), EX(pd_hold, "ur5"), EX(reach, "ur5"),
-    EX(ur5_bc, "ur5"), EX(g1_stand, "unitree_g1"), EX(g1_stand_pd, "unitree_g1"),
-    EX(g1_pd, "unitree_g1"), EX(g1_pd_bulk, "unitree_g1"), EX(g1_policy, "unitree_g1"),
+    NN_CASES EX(g1_stand, "unitree_g1"), EX(g1_stand_pd, "unitree_g1"),
+    EX(g1_pd, "unitree_g1"), EX(g1_pd_bulk, "unitree_g1"),
     EX(g1_23dof_stand, "unitree_g1_23dof"), EX(g1_23dof_stand_pd, "unitree_g1_23dof"),
     EX(pm01_stand, "engineai_pm01"), EX(pm01_stand_pd, "engineai_pm01"),
     EX(x2_stand, "agibot_x2"), EX(x2_stand_pd, "agibot_x2"), EX(square, "diff_drive"),

@@ -5,6 +5,7 @@
  * depth are per thread), and each trap reads right. One thread recurses
  * until the call depth traps, the other traps on unreachable, on every
  * other call. Run under TSan in the sanitizer build (label threads). */
+#define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -21,7 +22,9 @@
 ROZ_AOT_DECLARE(hostile_recursion);
 ROZ_AOT_DECLARE(hostile_trap_run);
 
-enum { CALLS = 400 };
+enum { CALLS = 20000 };
+
+static pthread_barrier_t go; /* both threads start together */
 
 typedef struct {
     const roz_aot_module_t *m;
@@ -36,6 +39,7 @@ typedef struct {
 static void *work(void *arg)
 {
     worker_t *w = arg;
+    pthread_barrier_wait(&go);
     for (int i = 0; i < CALLS; i++) {
         int64_t tick = (i & 1) ? 150 : 149;
         roz_abi_begin_tick(&w->abi, tick, w->state);
@@ -57,6 +61,7 @@ static void test_aot_threads_traps_stay_on_their_thread(void **state)
         { .m = &roz_aot_hostile_trap_run, .trap = "[trap] unreachable executed" },
     };
     pthread_t th[2];
+    assert_int_equal(pthread_barrier_init(&go, NULL, 2), 0);
     for (int k = 0; k < 2; k++) {
         roz_abi_init(&w[k].abi, m, w[k].target, NULL);
         roz_controller_init(&w[k].c);
@@ -66,6 +71,7 @@ static void test_aot_threads_traps_stay_on_their_thread(void **state)
         assert_int_equal(pthread_create(&th[k], NULL, work, &w[k]), 0);
     for (int k = 0; k < 2; k++)
         assert_int_equal(pthread_join(th[k], NULL), 0);
+    pthread_barrier_destroy(&go);
     for (int k = 0; k < 2; k++) {
         assert_int_equal(w[k].wrong, 0);
         roz_controller_unload(&w[k].c);
