@@ -84,7 +84,7 @@ function(roz_add_wasm_controller name)
     add_custom_target(roz_controllers ALL)
   endif()
   add_dependencies(roz_controllers roz_wasm_${name})
-  if(arg_AOT AND TARGET rozaot)  # a host build with wasm3 (cmake/RozAot.cmake)
+  if(arg_AOT AND TARGET rozaot AND TARGET roz::aot AND ROZ_WASM2C)  # cmake/RozAot.cmake
     roz_add_aot_controller(${name} WASM ${out} DEPENDS roz_wasm_${name})
   endif()
 endfunction()
