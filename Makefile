@@ -187,6 +187,9 @@ bench: build
 	if [ -x $(BUILD)/bench/roz_bench_nn ]; then \
 	    $(BUILD)/bench/roz_bench_nn 5000 --json $(BENCH_OUT)/nn.jsonl; \
 	else echo "no Python for rozgen.nn in this build" > $(BENCH_OUT)/nn.skipped; fi
+	if [ -x $(BUILD)/bench/roz_bench_aot ]; then \
+	    $(BUILD)/bench/roz_bench_aot 20000 --json $(BENCH_OUT)/aot.jsonl; \
+	else echo "no ahead-of-time engine in this build (wasm2c, Python)" > $(BENCH_OUT)/aot.skipped; fi
 	$(BUILD)/bench/roz_bench_alloc $(BENCH_ALLOC_TICKS) --json $(BENCH_OUT)/alloc.jsonl
 	$(BUILD)/bench/roz_bench_periodic $(BENCH_PERIODIC_SECONDS) --json $(BENCH_OUT)/periodic.jsonl
 	if [ -x $(BUILD)/bench/roz_bench_can_codec ]; then \

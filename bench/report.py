@@ -178,6 +178,7 @@ def build(args) -> tuple[str, str]:
     fw = read_lines(d / "firmware.jsonl")
     rec = read_lines(d / "record.jsonl")
     nn = read_lines(d / "nn.jsonl")
+    aot = read_lines(d / "aot.jsonl")
     mujoco = read_lines(d / "mujoco.jsonl")
     peers = {k: read_peer(d / f"peer-{k}.json") for k in ("roz", "wasmtime", "wasmi")}
     sizes = {}
@@ -286,6 +287,26 @@ def build(args) -> tuple[str, str]:
         w("")
     else:
         w(f"Not run: {skipped(d, 'nn')}.\n")
+
+    # the ahead-of-time engine
+    w("**Ahead of time** (`bench/aot`: the same module through rozaot and wasm2c, linked in, "
+      "against wasm3 and the same source compiled natively, taking turns on every call on the "
+      "same states; both engines charge fuel, and the same fuel, checked on every call; "
+      "aim: ahead of time <= 1.3x native):\n")
+    if aot:
+        for work in ("G1 PD", "G1 PD (bulk)", "G1 policy (nn)"):
+            native = aot.get(f"{work}: process(), native")
+            fuel_fig = aot.get(f"{work}: fuel per call")
+            differ = aot.get(f"{work}: targets differing")
+            t = Table("native C")
+            t.timing(f"{work}, ahead of time", aot.get(f"{work}: process(), ahead of time"), native,
+                     f"fuel: {value(fuel_fig)}" if fuel_fig else "")
+            t.timing(f"{work}, wasm3", aot.get(f"{work}: process(), wasm3"), native)
+            t.timing(f"{work}, native C (reference)", native, native,
+                     f"targets differing: {value(differ)}" if differ else "")
+            w(t.render())
+    else:
+        w(f"Not run: {skipped(d, 'aot')}.\n")
 
     # 2 + 3. peers
     w("## 2. Peer engines: the same controller under wasmtime and wasmi\n")

@@ -2,7 +2,7 @@
 #
 # roz_add_wasm_controller(<name> SOURCE <file.c|file.wat>
 #                         [MANIFEST <robot.toml>...] [SOURCE_ROOT <dir>]
-#                         [INCLUDES <dir>...] [DEPENDS <file>...])
+#                         [INCLUDES <dir>...] [DEPENDS <file>...] [AOT])
 #
 # Builds <name>.wasm into CMAKE_CURRENT_BINARY_DIR as the target
 # roz_wasm_<name>, part of roz_controllers (built by default). C is compiled
@@ -17,7 +17,8 @@
 # changes. The generated files name the manifest relative to SOURCE_ROOT
 # (default: the project's source folder), which must hold it. A C controller is also rebuilt when any header it includes changes
 # (clang writes the list). INCLUDES adds include folders, DEPENDS files to
-# rebuild on.
+# rebuild on. AOT also compiles the module ahead of time into the library
+# roz_aot_<name> (cmake/RozAot.cmake, roz_add_aot_controller()).
 #
 # Available after find_package(roz) and after add_subdirectory(roz).
 find_program(ROZ_CLANG NAMES clang clang-14 DOC "clang, to compile C controllers to wasm32")
@@ -27,7 +28,7 @@ if(NOT COMMAND roz__rozgen_command)
 endif()
 
 function(roz_add_wasm_controller name)
-  cmake_parse_arguments(PARSE_ARGV 1 arg "" "SOURCE;SOURCE_ROOT" "MANIFEST;INCLUDES;DEPENDS")
+  cmake_parse_arguments(PARSE_ARGV 1 arg "AOT" "SOURCE;SOURCE_ROOT" "MANIFEST;INCLUDES;DEPENDS")
   if(NOT arg_SOURCE)
     message(FATAL_ERROR "roz_add_wasm_controller(${name}): SOURCE is required")
   endif()
@@ -83,6 +84,9 @@ function(roz_add_wasm_controller name)
     add_custom_target(roz_controllers ALL)
   endif()
   add_dependencies(roz_controllers roz_wasm_${name})
+  if(arg_AOT AND TARGET rozaot AND TARGET roz::aot AND ROZ_WASM2C)  # cmake/RozAot.cmake
+    roz_add_aot_controller(${name} WASM ${out} DEPENDS roz_wasm_${name})
+  endif()
 endfunction()
 
 # roz_add_policy_controller(<name> POLICY <file> ROBOT <name|robot.toml>

@@ -222,6 +222,47 @@ uint32_t roz_metric_ring_dropped(const roz_metric_ring_t *r)
     return atomic_load_explicit(&r->dropped, memory_order_relaxed);
 }
 
+/* ---- fuel of the imports ------------------------------------------------- */
+
+/* The imports whose work is more than a call's, charged on top before the
+ * work, so that a unit stays about the same time whatever the controller
+ * calls (bench/fuel, host_*): sin and cos run a polynomial after a
+ * Cody-Waite reduction, and below |x| = 2^24 that is about 40 units' worth;
+ * from 2^24 on the reduction multiplies the mantissa by 192 bits of 2/pi,
+ * about three times that (BENCHMARKS.md, bench/fuel has the figures).
+ * timing.now_ns reads the host's clock (a vDSO clock_gettime, ~30 ns here):
+ * ROZ_ABI_NOW_UNITS. */
+#define MATH_UNITS       32u
+#define MATH_LARGE_UNITS 96u /* more, for |x| >= 2^24 (and inf, NaN: cheap, rare) */
+
+uint64_t roz_abi_math_units(double x)
+{
+    return (x < 0x1p24 && x > -0x1p24) ? MATH_UNITS : MATH_UNITS + MATH_LARGE_UNITS;
+}
+
+/* The bulk extension: the values a call moves are charged on top of the
+ * call, before any moves, so that fuel stays proportional to work: a value
+ * moved costs about what an instruction does (bench/fuel: host_get_all,
+ * host_set_all). */
+#define BULK_GET_UNITS_PER_VALUE 1u
+#define BULK_SET_UNITS_PER_VALUE 2u
+
+/* Units for `count` values: none for a count the ABI will refuse anyway. */
+static uint64_t bulk_units(int32_t count, uint32_t per_value)
+{
+    return count > 0 && count <= ROZ_ABI_BULK_MAX ? (uint64_t)count * per_value : 0u;
+}
+
+uint64_t roz_abi_state_get_all_units(int32_t count)
+{
+    return bulk_units(count, BULK_GET_UNITS_PER_VALUE);
+}
+
+uint64_t roz_abi_command_set_all_units(int32_t count)
+{
+    return bulk_units(count, BULK_SET_UNITS_PER_VALUE);
+}
+
 /* ---- the bulk extension ---------------------------------------------------- */
 
 /* Values cross linear memory as little-endian f64 (the WebAssembly byte

@@ -13,6 +13,7 @@
 #include "wasm3.h"
 #include "m3_env.h"
 #include "controller_bench.h"
+#include "controller_meter.h"
 #include "wasm_scan.h"
 
 /* ---- private: metering ----------------------------------------------------- */
@@ -29,9 +30,11 @@
  * instructions, or one bulk memory op, bounded by the memory's size). The
  * state lives in the controller, which the runtime's userdata points at. */
 
-static const char fuel_trap[] = "[trap] fuel exhausted";
-static const char deadline_trap[] = "[trap] deadline passed";
+const char roz__controller_fuel_trap[] = "[trap] fuel exhausted";
+const char roz__controller_deadline_trap[] = "[trap] deadline passed";
 static const char stack_trap[] = "[trap] native stack limit";
+#define fuel_trap     roz__controller_fuel_trap
+#define deadline_trap roz__controller_deadline_trap
 
 /* A slice no charge can reach below zero when nothing is metered. */
 #define UNMETERED_SLICE ((uint64_t)1 << 62)
@@ -60,22 +63,38 @@ static uint64_t next_slice(const roz_controller_t *c)
     return left < UNMETERED_SLICE ? left : UNMETERED_SLICE;
 }
 
-M3Result roz__wasm3_refuel(IM3Runtime rt)
+/* Engine-neutral (controller_meter.h): every engine keeps the slice's fuel
+ * in an int64_t of its own (wasm3: M3Runtime.rozFuel; the AOT engine: a
+ * global of the metered module) and calls this when a charge took it below
+ * zero. */
+const char *roz__controller_refuel(roz_controller_t *c, int64_t *fuel)
 {
-    roz_controller_t *c = rt->userdata;
     /* all charged so far, the charge that emptied the slice included */
-    uint64_t used = c->meter_used + c->meter_slice + (uint64_t)(-rt->rozFuel);
+    uint64_t used = c->meter_used + c->meter_slice + (uint64_t)(-*fuel);
 
     c->meter_used = used;
     c->meter_slice = 0;
-    rt->rozFuel = 0;
+    *fuel = 0;
     if (c->budget.fuel != ROZ_BUDGET_OFF && used > c->budget.fuel)
         return fuel_trap;
     if (c->meter_deadline != 0 && c->budget.clock(c->budget.clock_ctx) > c->meter_deadline)
         return deadline_trap;
     c->meter_slice = next_slice(c);
-    rt->rozFuel = (int64_t)c->meter_slice;
-    return m3Err_none;
+    *fuel = (int64_t)c->meter_slice;
+    return NULL;
+}
+
+const char *roz__controller_charge(roz_controller_t *c, int64_t *fuel, uint64_t units)
+{
+    if (c->unmetered)
+        return NULL;
+    *fuel -= (int64_t)units;
+    return *fuel < 0 ? roz__controller_refuel(c, fuel) : NULL;
+}
+
+M3Result roz__wasm3_refuel(IM3Runtime rt)
+{
+    return roz__controller_refuel(rt->userdata, &rt->rozFuel);
 }
 
 M3Result roz__wasm3_stack(IM3Runtime rt, void *here)
@@ -149,10 +168,7 @@ static m3ApiRawFunction(h_state_count)
  * op_roz_Charge does; a non-NULL result is the trap. */
 static M3Result charge(IM3Runtime rt, uint64_t units)
 {
-    if (rt->rozUnmetered)
-        return m3Err_none;
-    rt->rozFuel -= (int64_t)units;
-    return rt->rozFuel < 0 ? roz__wasm3_refuel(rt) : m3Err_none;
+    return roz__controller_charge(rt->userdata, &rt->rozFuel, units);
 }
 
 /* In a host function: charge `units` before any work, and trap when the
@@ -164,30 +180,13 @@ static M3Result charge(IM3Runtime rt, uint64_t units)
             m3ApiTrap(charge_r_);                    \
     } while (0)
 
-/* The imports whose work is more than a call's (d_m3RozCallUnits), charged
- * on top before the work, so that a unit stays about the same time whatever
- * the controller calls (bench/fuel, host_*): sin and cos run a polynomial
- * after a Cody-Waite reduction, and below |x| = 2^24 that is about 40 units'
- * worth; from 2^24 on the reduction multiplies the mantissa by 192 bits of
- * 2/pi, about three times that (BENCHMARKS.md, bench/fuel has the figures). */
-#define MATH_UNITS       32u
-/* timing.now_ns reads the host's clock (a vDSO clock_gettime, ~30 ns here);
- * charged the same with or without a clock: fuel never depends on the target */
-#define NOW_UNITS        48u
-#define MATH_LARGE_UNITS 96u /* more, for |x| >= 2^24 (and inf, NaN: cheap, rare) */
-
-static uint64_t math_units(double x)
-{
-    return (x < 0x1p24 && x > -0x1p24) ? MATH_UNITS : MATH_UNITS + MATH_LARGE_UNITS;
-}
-
 static m3ApiRawFunction(h_math_sin)
 {
     m3ApiReturnType(double);
     m3ApiGetArg(double, x);
     (void)_mem;
     (void)_ctx;
-    CHARGE_OR_TRAP(math_units(x));
+    CHARGE_OR_TRAP(roz_abi_math_units(x));
     m3ApiReturn(roz_abi_math_sin(x));
 }
 
@@ -197,7 +196,7 @@ static m3ApiRawFunction(h_math_cos)
     m3ApiGetArg(double, x);
     (void)_mem;
     (void)_ctx;
-    CHARGE_OR_TRAP(math_units(x));
+    CHARGE_OR_TRAP(roz_abi_math_units(x));
     m3ApiReturn(roz_abi_math_cos(x));
 }
 
@@ -214,7 +213,7 @@ static m3ApiRawFunction(h_timing_now_ns)
 {
     m3ApiReturnType(int64_t);
     (void)_mem;
-    CHARGE_OR_TRAP(NOW_UNITS);
+    CHARGE_OR_TRAP(ROZ_ABI_NOW_UNITS);
     m3ApiReturn(roz_abi_timing_now_ns(ABI));
 }
 
@@ -235,19 +234,6 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
     m3ApiSuccess();
 }
 
-/* The bulk extension. The call itself is charged like every call
- * (d_m3RozCallUnits); the values it moves are charged on top, before any
- * moves, so that fuel stays proportional to work: a value moved costs
- * about what an instruction does (bench/fuel: host_get_all, host_set_all). */
-#define BULK_GET_UNITS_PER_VALUE 1u
-#define BULK_SET_UNITS_PER_VALUE 2u
-
-/* Units for `count` values: none for a count the ABI will refuse anyway. */
-static uint64_t bulk_units(int32_t count, uint32_t per_value)
-{
-    return count > 0 && count <= ROZ_ABI_BULK_MAX ? (uint64_t)count * per_value : 0u;
-}
-
 static m3ApiRawFunction(h_state_get_all)
 {
     m3ApiReturnType(int32_t);
@@ -256,7 +242,7 @@ static m3ApiRawFunction(h_state_get_all)
     uint32_t len = 0;
     uint8_t *mem;
     (void)_mem;
-    CHARGE_OR_TRAP(bulk_units(count, BULK_GET_UNITS_PER_VALUE));
+    CHARGE_OR_TRAP(roz_abi_state_get_all_units(count));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_state_get_all(ABI, mem, len, ptr, count));
 }
@@ -269,7 +255,7 @@ static m3ApiRawFunction(h_command_set_all)
     uint32_t len = 0;
     const uint8_t *mem;
     (void)_mem;
-    CHARGE_OR_TRAP(bulk_units(count, BULK_SET_UNITS_PER_VALUE));
+    CHARGE_OR_TRAP(roz_abi_command_set_all_units(count));
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
 }
@@ -376,7 +362,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     _Static_assert(sizeof host_functions / sizeof host_functions[0] == 16,
                    "one host function per roz_abi_imports[] entry");
-    if (c->env != NULL)
+    if (c->env != NULL || c->aot_call != NULL)
         return ROZ_ESTATE;
     c->error[0] = '\0';
     c->calls = 0;
@@ -521,8 +507,7 @@ int roz_controller_process(roz_controller_t *c, int64_t tick)
 
 int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t start_ns)
 {
-    IM3Runtime rt = c->runtime;
-    M3Result r;
+    const char *r;
 
     if (c->process == NULL || c->spent)
         return ROZ_ESTATE;
@@ -532,16 +517,23 @@ int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t star
     if (c->budget.deadline_ns != ROZ_BUDGET_OFF)
         c->meter_deadline = start_ns + c->budget.deadline_ns;
     c->meter_slice = next_slice(c);
-    rt->rozFuel = (int64_t)c->meter_slice;
     c->stack_base = STACK_HERE();
     c->stack_used = 0;
-    rt->rozStackLow = (void *)c->stack_base;
-    r = m3_CallV((IM3Function)c->process, tick);
-    c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
+    if (c->aot_call != NULL) {
+        int64_t *fuel = NULL;
+        r = c->aot_call(c, tick, (int64_t)c->meter_slice, &fuel);
+        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)*fuel);
+    } else {
+        IM3Runtime rt = c->runtime;
+        rt->rozFuel = (int64_t)c->meter_slice;
+        rt->rozStackLow = (void *)c->stack_base;
+        r = m3_CallV((IM3Function)c->process, tick);
+        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
+    }
     /* Messages built without printf: this runs in the tick. A budget stop
      * leaves the instance spent; after a trap the caller decides (the
      * runtime never runs a trapped instance again). */
-    if (r == m3Err_none)
+    if (r == NULL)
         return ROZ_OK;
     roz_text_t t;
     roz_text_init(&t, c->error, sizeof c->error);
@@ -576,7 +568,6 @@ int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t star
         roz_text_put(&t, r);
     }
     return ROZ_ETRAP;
-    return ROZ_OK;
 }
 
 int roz_controller_spent(const roz_controller_t *c)
@@ -591,6 +582,8 @@ uint64_t roz_controller_calls(const roz_controller_t *c)
 
 void roz_controller_unload(roz_controller_t *c)
 {
+    if (c->aot_unload != NULL)
+        c->aot_unload(c);
     if (c->runtime != NULL)
         m3_FreeRuntime((IM3Runtime)c->runtime);
     if (c->env != NULL)
@@ -601,4 +594,6 @@ void roz_controller_unload(roz_controller_t *c)
     c->process = NULL;
     c->abi = NULL;
     c->spent = 0;
+    c->aot_call = NULL;
+    c->aot_unload = NULL;
 }

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "roz/aot.h"
 #include "roz/format.h"
 #include "roz/text.h"
 
@@ -238,7 +239,7 @@ static void verify_state(roz_runtime_t *rt, double *state)
  * preempted loader must not refuse a good controller); the instance that
  * drives the robot also has the wall-clock deadline, where there is a clock. */
 static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wasm, size_t len,
-                     int for_verify)
+                     const roz_aot_module_t *aot, int for_verify)
 {
     roz_budget_t budget = { s->fuel, rt->cfg.budget_ns, rt->cfg.clock, rt->cfg.clock_ctx };
     if (rt->cfg.deadline_clock != NULL) {
@@ -257,8 +258,15 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
     s->abi.clock_ctx = rt->cfg.clock_ctx;
     s->wasm = wasm;
     s->wasm_len = len;
-    s->hash = roz_recorder_hash(wasm, len);
-    rc = roz_controller_load_in(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
+    s->aot = aot;
+    if (aot != NULL) {
+        /* compiled into the image (roz/aot.h); wasm holds its roz.* sections */
+        s->hash = aot->hash;
+        rc = aot->load(&s->ctrl, aot, &s->abi);
+    } else {
+        s->hash = roz_recorder_hash(wasm, len);
+        rc = roz_controller_load_in(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
+    }
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
     return rc;
@@ -871,7 +879,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
 
 /* Load, verify and schedule a controller; the caller holds loader_busy. */
 static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
-                       roz_verify_report_t *report)
+                       const roz_aot_module_t *aot, roz_verify_report_t *report)
 {
     double *vstate = rt->verify_state;
     roz_verify_report_t local;
@@ -903,7 +911,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         return rc;
     }
     /* 1. a separate instance for verification; its telemetry is discarded */
-    rc = load_slot(rt, s, wasm, len, 1);
+    rc = load_slot(rt, s, wasm, len, aot, 1);
     s->abi.metrics = NULL;
     if (rc != ROZ_OK) {
         roz_format(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
@@ -930,7 +938,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         return rc;
     }
     /* 3. a fresh instance to drive the robot from tick 0 */
-    rc = load_slot(rt, s, wasm, len, 0);
+    rc = load_slot(rt, s, wasm, len, aot, 0);
     if (rc != ROZ_OK) {
         roz_format(rt->error, sizeof rt->error, "load: %s", roz_controller_error(&s->ctrl));
         atomic_fetch_add(&rt->swaps_refused, 1u);
@@ -949,7 +957,23 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
             memset(report, 0, sizeof *report);
         return ROZ_ESTATE; /* rt->error belongs to the running load */
     }
-    int rc = load_locked(rt, wasm, len, report);
+    int rc = load_locked(rt, wasm, len, NULL, report);
+    atomic_store(&rt->loader_busy, 0u);
+    return rc;
+}
+
+int roz_runtime_load_aot(roz_runtime_t *rt, const roz_aot_module_t *aot,
+                         roz_verify_report_t *report)
+{
+    if (aot == NULL)
+        return ROZ_EINVAL;
+    if (atomic_exchange(&rt->loader_busy, 1u)) {
+        if (report != NULL)
+            memset(report, 0, sizeof *report);
+        return ROZ_ESTATE;
+    }
+    /* the identity and the declared fuel are read from its roz.* sections */
+    int rc = load_locked(rt, aot->sections, aot->sections_len, aot, report);
     atomic_store(&rt->loader_busy, 0u);
     return rc;
 }
@@ -1028,7 +1052,7 @@ int roz_runtime_clear_faults(roz_runtime_t *rt)
          * tick swaps it in, complete, before it applies this clear. (With a
          * swap pending, the pending controller replaces it.) */
         const roz_runtime_slot_t *s = &rt->slot[active];
-        rc = load_locked(rt, s->wasm, s->wasm_len, NULL);
+        rc = load_locked(rt, s->wasm, s->wasm_len, s->aot, NULL);
         if (rc == ROZ_OK)
             atomic_fetch_add(&rt->rebuilds, 1u);
     }

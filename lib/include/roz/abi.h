@@ -161,6 +161,28 @@ int64_t roz_abi_timing_sim_time_ns(const roz_abi_t *abi);
 /** telemetry.emit_metric: into the ring, dropped (and counted) when full. */
 void roz_abi_telemetry_emit_metric(roz_abi_t *abi, double value);
 
+/* ---- fuel of the imports, engine-neutral ---------------------------------- */
+
+/* Every engine charges a call's own units (the call instruction's, the same
+ * for every import) in the caller's code, and these on top, inside the
+ * import, before any work: the same units on every engine, so a controller's
+ * fuel per tick does not depend on the engine that runs it (docs/budget.md). */
+
+/** timing.now_ns: a clock read, charged the same with or without a clock
+ *  (fuel never depends on the target). */
+#define ROZ_ABI_NOW_UNITS 48u
+
+/** @brief Units math.sin / math.cos charge for @p x. Context: any. */
+uint64_t roz_abi_math_units(double x);
+
+/** @brief Units state.get_all charges for @p count values (0 for a count it
+ *  refuses anyway). Context: any. */
+uint64_t roz_abi_state_get_all_units(int32_t count);
+
+/** @brief Units command.set_all charges for @p count values (0 for a count
+ *  it refuses anyway). Context: any. */
+uint64_t roz_abi_command_set_all_units(int32_t count);
+
 /* ---- the bulk extension; Context: inside process(), RT-safe, O(count) ---- */
 
 /** Largest count a bulk import accepts: the larger channel maximum. */

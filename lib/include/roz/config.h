@@ -76,6 +76,29 @@
 #define ROZ_CFG_NATIVE_STACK_BYTES 262144
 #endif
 
+/** Ahead-of-time controllers (roz/aot.h): instances of one compiled
+ *  controller that may exist at once, each with static storage for its
+ *  linear memory in the image (a runtime needs 2: the one driving the
+ *  robot and the one a swap verifies). Range 1..16. */
+#ifndef ROZ_CFG_AOT_INSTANCES
+#define ROZ_CFG_AOT_INSTANCES 2
+#endif
+
+/** Ahead-of-time controllers: wasm calls nested at most (wasm2c's
+ *  WASM_RT_MAX_CALL_STACK_DEPTH; a deeper call traps "[trap] stack
+ *  overflow"). Each level is one C frame of the compiled function: size the
+ *  task stack for it. Range 8..100000. */
+#ifndef ROZ_CFG_AOT_CALL_DEPTH
+#define ROZ_CFG_AOT_CALL_DEPTH 500
+#endif
+
+/** Ahead-of-time controllers: distinct function types the compiled
+ *  controllers loaded at once register together (call_indirect checks
+ *  them); about 28 bytes of static memory each. Range 8..2048. */
+#ifndef ROZ_CFG_AOT_MAX_TYPES
+#define ROZ_CFG_AOT_MAX_TYPES 128
+#endif
+
 /** Largest linear memory a controller may declare, in 64 KiB pages.
  *  Range 1..65536. Memory never grows after load (growing would allocate
  *  inside the tick): memory.grow returns -1. */
@@ -226,6 +249,15 @@
 #endif
 #if ROZ_CFG_NATIVE_STACK_BYTES < 4096 || ROZ_CFG_NATIVE_STACK_BYTES > 67108864
 #error "ROZ_CFG_NATIVE_STACK_BYTES must be in 4096..67108864"
+#endif
+#if ROZ_CFG_AOT_INSTANCES < 1 || ROZ_CFG_AOT_INSTANCES > 16
+#error "ROZ_CFG_AOT_INSTANCES must be in 1..16"
+#endif
+#if ROZ_CFG_AOT_CALL_DEPTH < 8 || ROZ_CFG_AOT_CALL_DEPTH > 100000
+#error "ROZ_CFG_AOT_CALL_DEPTH must be in 8..100000"
+#endif
+#if ROZ_CFG_AOT_MAX_TYPES < 8 || ROZ_CFG_AOT_MAX_TYPES > 2048
+#error "ROZ_CFG_AOT_MAX_TYPES must be in 8..2048"
 #endif
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"

@@ -55,6 +55,15 @@ typedef struct roz_controller {
     void      *ROZ_PRIVATE(module);
     void      *ROZ_PRIVATE(process);
     roz_abi_t *ROZ_PRIVATE(abi);       /* the context the imports run on */
+    /* the ahead-of-time engine (roz/aot.h), NULL for wasm3: its call, which
+     * returns the trap (NULL: none) and where its fuel is, and its unload */
+    const char *(*ROZ_PRIVATE(aot_call))(struct roz_controller *c, int64_t tick, int64_t slice,
+                                         int64_t **fuel);
+    void       (*ROZ_PRIVATE(aot_unload))(struct roz_controller *c);
+    const void *ROZ_PRIVATE(aot_module); /* its roz_aot_module_t */
+    unsigned    ROZ_PRIVATE(aot_slot);   /* the instance it runs in */
+    int64_t    *ROZ_PRIVATE(aot_fuel);   /* the instance's fuel global */
+    void       *ROZ_PRIVATE(aot_memory); /* its memory object, NULL without one */
     uint64_t   ROZ_PRIVATE(calls);     /* process() calls since load */
     char       ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN]; /* last load or trap message */
 } roz_controller_t;

@@ -191,6 +191,7 @@ typedef struct roz_runtime_slot {
     double           ROZ_PRIVATE(target)[ROZ_CFG_MAX_COMMANDS];
     const uint8_t   *ROZ_PRIVATE(wasm);     /* bytes (caller's), kept to rebuild after a trap */
     size_t           ROZ_PRIVATE(wasm_len);
+    const struct roz_aot_module *ROZ_PRIVATE(aot); /* the compiled controller, NULL: wasm3's */
     uint64_t         ROZ_PRIVATE(hash);     /* roz_recorder_hash() of the bytes, for the recorder */
     uint64_t         ROZ_PRIVATE(fuel);     /* its fuel per tick (declared or the default) */
     ROZ_ATOMIC(int)  ROZ_PRIVATE(dead);     /* 1: trapped or stopped by its budget; set by the tick
@@ -374,6 +375,20 @@ ROZ_NODISCARD static inline int roz_runtime_init(roz_runtime_t *rt,
  */
 ROZ_NODISCARD int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
                                    roz_verify_report_t *report);
+
+/**
+ * @brief roz_runtime_load() for a controller compiled into the image ahead
+ *        of time (roz/aot.h): the same identity and declared-fuel checks
+ *        (on the module's roz.* sections, kept by the build), the same
+ *        verification, the same swap at a tick boundary; the recorder sees
+ *        the hash of the module it was compiled from.
+ * @param[in] aot  the compiled controller (ROZ_AOT_DECLARE); static
+ * @return as roz_runtime_load(); ROZ_ENOMEM when every instance of @p aot
+ *         is in use (ROZ_CFG_AOT_INSTANCES)
+ * Context: a loader thread, not the tick; blocks while it verifies.
+ */
+ROZ_NODISCARD int roz_runtime_load_aot(roz_runtime_t *rt, const struct roz_aot_module *aot,
+                                       roz_verify_report_t *report);
 
 /**
  * @brief Arm the tick: before this call roz_runtime_tick() neither reads nor
