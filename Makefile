@@ -218,6 +218,12 @@ bench: build
 	if [ -x $(BUILD)/bench/roz_bench_mujoco ]; then \
 	    $(BUILD)/bench/roz_bench_mujoco 1000 --json $(BENCH_OUT)/mujoco.jsonl; \
 	else echo "the mujoco port is not in this build" > $(BENCH_OUT)/mujoco.skipped; fi
+	# campaigns: bare rozrun, one and two local workers, Ray (docs/campaigns.md)
+	if .venv/bin/python -c "import ray" 2>/dev/null; then \
+	    test/run_netns.sh .venv/bin/python bench/campaign/bench_campaign.py --build $(BUILD) \
+	        --ray --json $(BENCH_OUT)/campaign.jsonl; \
+	else .venv/bin/python bench/campaign/bench_campaign.py --build $(BUILD) \
+	        --json $(BENCH_OUT)/campaign.jsonl; fi
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
 	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml \
 	    --json $(BENCH_OUT)/toml.jsonl

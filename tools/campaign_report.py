@@ -141,8 +141,13 @@ def _numeric_key(rows, fam):
     its first numeric one that varies."""
     if fam.get("boundary"):
         return fam["boundary"]["value"]
+    def rank(k):  # a kind's first field first (a push's force, a payload's mass)
+        kind, field = k.split(".", 1)
+        fields = list(campaign.KINDS.get(kind.rstrip("0123456789"), {}))
+        return (fields.index(field) if field in fields else len(fields), k)
+
     keys = sorted({k for r in rows for k, v in r["values"].items()
-                   if isinstance(v, (int, float)) and not isinstance(v, bool)})
+                   if isinstance(v, (int, float)) and not isinstance(v, bool)}, key=rank)
     for k in keys:
         if len({r["values"][k] for r in rows}) > 1:
             return k
