@@ -35,6 +35,7 @@ import math
 import os
 import random
 import shutil
+import shlex
 import signal
 import subprocess
 import sys
@@ -383,7 +384,6 @@ def command(campaign, sample, rozrun):
 
 def shell(cmd):
     """A command as one line a shell takes."""
-    import shlex
     return " ".join(shlex.quote(a) for a in cmd)
 
 
