@@ -77,7 +77,7 @@ where lower is) of a sample that passed; "first failed", the least severe of one
 <h2>Worst cases</h2>
 {% for w in worst %}<div class="case" id="case-{{ loop.index }}">
 <h3>{{ w.id }}: {{ "pass" if w.passed else "FAIL" }}</h3>
-<p>{{ w.reasons }}</p><p>Values: {{ w.values }}</p>
+<p>{{ w.reasons }}</p><p>Values: {{ w.drawn }}</p>
 <figure><img src="{{ w.png }}" alt="base height of {{ w.id }}" width="600"></figure>
 <p>Run it again, bit for bit:<br><code class="command">{{ w.command }}</code></p></div>
 {% else %}<p>No samples yet.</p>{% endfor %}
@@ -301,7 +301,7 @@ def write(out):
         _plot_case(r, os.path.join(out, png), c.get("rate_hz", 500))
         worst.append({"id": r["id"], "passed": r["passed"],
                       "reasons": "; ".join(r["reasons"]) or "all invariants held",
-                      "values": ", ".join(f"{k2} = {_fmt(v)}" for k2, v in
+                      "drawn": ", ".join(f"{k2} = {_fmt(v)}" for k2, v in
                                           sorted(r["values"].items())) or "nominal",
                       "png": png, "command": campaign.shell(r["command"])})
 

@@ -59,6 +59,7 @@ def test_report_read_back(tmp_path):
     assert "1/2 (50 %)" in text and "2/2 (100 %)" in text and "2/4 (50 %)" in text and "4/4 (100 %)" in text
     assert "fwd/1: a fail, b pass" in text  # the builds compared, sample by sample
     assert text.count('class="case"') == 6 and "plots/worst-1.png" in text
+    assert "Values: push.at = 1, push.duration = 0.1, push.force = 200" in text
     # the boundary: the largest push survived, the least that failed
     assert "<td>60</td><td>200</td>" in text
 
