@@ -544,7 +544,8 @@ def build(args) -> tuple[str, str]:
         w("`bench/campaign`: G1 samples (the balancing stand, pushed from any side) run as bare "
           "rozrun commands one after another, then as a campaign (docs/campaigns.md) on one and "
           "on two local workers and on a one-node Ray cluster of two CPUs on 127.0.0.1, all in "
-          "the same run; each figure in simulated seconds per wall second. A campaign's wall "
+          "the same run, bare and local runs alternating twice (each figure the best of its "
+          "rounds); each figure in simulated seconds per wall second. A campaign's wall "
           "time includes its first one-tick run (the robot's rate) and writing the results. "
           "Aims: the engine costs at most 5 %, two workers give at least 0.9x linear.\n")
         w("| figure | value | ratio |")
