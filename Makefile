@@ -30,12 +30,17 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup build install demo demo-loopback test test-asan test-tsan firmware stress bench fuzz-diff clean
+.PHONY: all setup setup-ray build install demo demo-loopback campaign test test-asan test-tsan firmware stress bench fuzz-diff clean
 
 all: build
 
 setup:
 	@bash tools/setup.sh
+
+# Ray, roz-campaign's engine for clusters: not in the default set-up (its
+# wheel is large); the tests need it (test/campaign/test_campaign_ray.py).
+setup-ray:
+	@bash tools/setup.sh --ray
 
 $(BUILD)/build.ninja: | setup
 	$(CMAKE) -S . -B $(BUILD) $(CONFIGURE_FLAGS)
@@ -85,6 +90,19 @@ demo-loopback: build
 	    --ticks 500 --trace $(DEMO_DIR)/ur5_sine.csv
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/ur5_sine.csv $(DEMO_DIR)/ur5_sine.png \
 	    --title "UR5, sine controller, loopback simulator"
+
+# A validation campaign (docs/campaigns.md): the G1's two stands under nine
+# families of perturbations (tools/campaigns/g1_stand.toml), on every core;
+# the report lands in CAMPAIGN_OUT/index.html (build/campaign/g1_stand/).
+# Run again, it resumes; CAMPAIGN_FILE names another campaign file.
+# CAMPAIGN_SAMPLES caps the samples a family (empty: the file's).
+CAMPAIGN_FILE ?= tools/campaigns/g1_stand.toml
+CAMPAIGN_OUT ?= $(BUILD)/campaign/$(basename $(notdir $(CAMPAIGN_FILE)))
+CAMPAIGN_SAMPLES ?=
+campaign: build
+	.venv/bin/python tools/campaign.py run $(CAMPAIGN_FILE) --build $(BUILD) \
+	    --out $(CAMPAIGN_OUT) --workers $(JOBS) --quiet \
+	    $(if $(CAMPAIGN_SAMPLES),--samples $(CAMPAIGN_SAMPLES))
 
 $(BUILD)-asan/build.ninja: | setup
 	$(CMAKE) -S . -B $(BUILD)-asan $(SAN_FLAGS) -DROZ_SANITIZE=address
@@ -154,7 +172,7 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 
 # Every test: the sanitizer runs first, the whole suite last (the firmware
 # images among it, booted in QEMU).
-test: test-asan test-tsan build
+test: setup-ray test-asan test-tsan build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The fault latch under four threads for STRESS_TICKS ticks, under TSan;
@@ -203,6 +221,12 @@ bench: build
 	if [ -x $(BUILD)/bench/roz_bench_mujoco ]; then \
 	    $(BUILD)/bench/roz_bench_mujoco 1000 --json $(BENCH_OUT)/mujoco.jsonl; \
 	else echo "the mujoco port is not in this build" > $(BENCH_OUT)/mujoco.skipped; fi
+	# campaigns: bare rozrun, one and two local workers, Ray (docs/campaigns.md)
+	if .venv/bin/python -c "import ray" 2>/dev/null; then \
+	    test/run_netns.sh .venv/bin/python bench/campaign/bench_campaign.py --build $(BUILD) \
+	        --ray --json $(BENCH_OUT)/campaign.jsonl; \
+	else .venv/bin/python bench/campaign/bench_campaign.py --build $(BUILD) \
+	        --json $(BENCH_OUT)/campaign.jsonl; fi
 	PYTHONPATH=$(CURDIR)/codegen .venv/bin/python bench/toml/bench_toml.py \
 	    --bench $(BUILD)/bench/roz_bench_toml --root $(CURDIR) --work $(BUILD)/bench/toml \
 	    --json $(BENCH_OUT)/toml.jsonl

@@ -20,8 +20,10 @@
 #
 # The Python tools come the same way (ROZ_INSTALL_TOOLS, with rozgen):
 #   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py,
-#                                       tools/live.py, tools/mcap_chunks.py
-#   <prefix>/bin/roz-plot, roz-recording, roz-live
+#                                       tools/live.py, tools/mcap_chunks.py,
+#                                       tools/campaign.py (and its
+#                                       campaign_report.py)
+#   <prefix>/bin/roz-plot, roz-recording, roz-live, roz-campaign
 #                                       launchers that run them, as bin/rozgen
 #                                       runs rozgen
 #   <prefix>/share/roz/layouts/         the Foxglove layouts of tools/layouts/
@@ -94,10 +96,12 @@ if(ROZ_INSTALL_TOOLS)
   # recording.py finds plot_trace.py beside itself, as in tools/.
   install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py
                 ${PROJECT_SOURCE_DIR}/tools/live.py ${PROJECT_SOURCE_DIR}/tools/mcap_chunks.py
+                ${PROJECT_SOURCE_DIR}/tools/campaign.py ${PROJECT_SOURCE_DIR}/tools/campaign_report.py
           DESTINATION ${_roz_pydir}/roz_tools)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/layouts/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/layouts
           FILES_MATCHING PATTERN "*.json")
-  foreach(_tool IN ITEMS "roz-plot;plot_trace.py" "roz-recording;recording.py" "roz-live;live.py")
+  foreach(_tool IN ITEMS "roz-plot;plot_trace.py" "roz-recording;recording.py" "roz-live;live.py"
+                       "roz-campaign;campaign.py")
     list(GET _tool 0 ROZ_TOOL_NAME)
     list(GET _tool 1 ROZ_TOOL_FILE)
     configure_file(${CMAKE_CURRENT_LIST_DIR}/roz_tool.py.in

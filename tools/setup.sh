@@ -16,9 +16,19 @@
 #   5. the runner of toml-test, the official TOML test suite (a Go program),
 #      built into .cache/go/bin from the module pinned in tools/toml-test/,
 #   6. the crates of the strict MCAP checker (test/record/mcap_strict),
-#      pinned by its Cargo.lock, fetched so the build compiles it offline.
+#      pinned by its Cargo.lock, fetched so the build compiles it offline,
+#   7. with --ray only (make test, make campaign-ray): Ray, roz-campaign's engine
+#      for clusters (tools/requirements-ray.txt, hash-checked; some 80 MB, so
+#      not in the default set-up).
 # Run from anywhere; a second run changes nothing and takes a second or two.
 set -euo pipefail
+with_ray=0
+for arg in "$@"; do
+    case $arg in
+        --ray) with_ray=1 ;;
+        *) printf 'setup: unknown option %s (known: --ray)\n' "$arg" >&2; exit 2 ;;
+    esac
+done
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
@@ -41,13 +51,15 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # without it does no harm), and cargo beside it runs docs/rust.md's cargo
 # recipe. Without
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
+# chromium (headless) shows the campaign report in a real browser in its
+# test (test/campaign/test_report_browser.py).
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt rustc libstd-rust-dev-wasm32 cargo
     libcmocka-dev cyclonedds-dev cyclonedds-tools iproute2 libzstd-dev
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
-    libegl1 libegl-mesa0 libgl1-mesa-dri
+    libegl1 libegl-mesa0 libgl1-mesa-dri chromium
 )
 missing=()
 for p in "${apt_packages[@]}"; do
@@ -191,6 +203,19 @@ if [ "$(cat "$strict_stamp" 2>/dev/null)" != "$strict_want" ]; then
             die "cargo fetch failed for $strict (see above)"
         mkdir -p .cache
         echo "$strict_want" > "$strict_stamp"
+    fi
+fi
+# ---- 7. Ray (--ray) -------------------------------------------------------------
+# roz-campaign --ray runs a campaign on a Ray cluster (docs/campaigns.md); its
+# test starts a local cluster of two nodes. --no-deps: the file lists all.
+if [ "$with_ray" = 1 ]; then
+    ray_want=$(sha256sum tools/requirements-ray.txt | cut -d' ' -f1)
+    ray_stamp=$venv/.roz-ray-installed
+    if [ "$(cat "$ray_stamp" 2>/dev/null)" != "$ray_want" ]; then
+        say "installing Ray (tools/requirements-ray.txt, hash-checked)"
+        "$venv/bin/python" -m pip install -q --disable-pip-version-check --no-deps \
+            --require-hashes -r tools/requirements-ray.txt
+        echo "$ray_want" > "$ray_stamp"
     fi
 fi
 say "ready"

@@ -32,6 +32,9 @@ KEYS = (
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
     "drop", "freeze", "delay", "push", "gantry", "restart",
     "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust",
+    "payload", "mass_scale", "friction_scale", "strength_scale", "gains_scale", "joint_damping",
+    "joint_armature", "command_latency_ticks", "bias_position", "bias_gyro",
+    "bias_accelerometer", "bias_orientation",
 )
 
 #: numbers the port reads with roz_params_get_double(), in the order it
@@ -51,6 +54,21 @@ NUMBERS = (
 )
 #: integers (roz_params_get_u32())
 INTEGERS = (("latency_ticks", 0, 15), ("noise_seed", 0, 4294967295))
+#: the perturbations' numbers (mujoco.c's perturb_open(), read after the
+#: model loaded, in its order): (key, integer?, lo, hi); payload and
+#: strength_scale name the model's bodies and joints, checked at open
+PERTURBATIONS = (
+    ("mass_scale", False, 0.1, 10.0),
+    ("friction_scale", False, 0.01, 10.0),
+    ("gains_scale", False, 0.0, 10.0),
+    ("joint_damping", False, 0.0, 1000.0),
+    ("joint_armature", False, 0.0, 100.0),
+    ("command_latency_ticks", True, 0, 15),
+    ("bias_position", False, 0.0, 1.0),
+    ("bias_gyro", False, 0.0, 10.0),
+    ("bias_accelerometer", False, 0.0, 100.0),
+    ("bias_orientation", False, 0.0, 0.5),
+)
 
 
 def _g(x: float) -> str:
@@ -94,6 +112,18 @@ def check(m: Manifest) -> list[tuple[str, str]]:
     unbound = params.get("unbound")
     if unbound is not None and unbound not in ("lock", "limp"):
         problems.append(("mujoco-param", f': parameter unbound = "{unbound}": expected lock or limp'))
+    for key, integer, lo, hi in PERTURBATIONS:
+        v = params.get(key)
+        if v is None:
+            continue
+        if integer and not (v.isdigit() and v.isascii() and lo <= int(v) <= hi):
+            problems.append(("mujoco-param", f': parameter {key} = "{v}": expected an integer '
+                             f"in {lo}..{hi}"))
+        elif not integer:
+            x = _number(v)
+            if x is None or x < lo or x > hi:
+                problems.append(("mujoco-param", f': parameter {key} = "{v}": expected a number '
+                                 f"in {_g(lo)}..{_g(hi)}"))
     return problems
 
 

@@ -51,7 +51,11 @@
 #include "roz/runtime.h"
 #include "replay.h"
 #include "schedule.h"
+#include "summary_json.h"
 #include "trace.h"
+#if ROZRUN_HAS_MUJOCO
+#include "roz/port/mujoco.h"
+#endif
 #if ROZ_HAS_TOML
 #include "roz/manifest_toml.h"
 #endif
@@ -67,6 +71,7 @@ typedef struct {
     const char *record;
     const char *live;   /* --live: the recording streamed to a viewer (docs/live.md) */
     const char *replay;
+    const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
     int         allow_other_robot;
@@ -154,6 +159,8 @@ static roz_record_live_t live;
 static int living;
 /* after the run: how long the viewer may take to read the last ticks */
 #define LIVE_CLOSE_WAIT_MS 2000u
+static rozrun_watch_t watch; /* --summary-json: the tick's thread's, read after the run */
+static int watching;
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
@@ -235,6 +242,9 @@ static void usage(FILE *f, const char *port)
         "                       replayed (default 1)\n"
         "  --record-compress C  the recording's chunks: zstd (the default when built with\n"
         "                       libzstd) or none\n"
+        "  --summary-json FILE  write the summary as JSON too (counters, faults, the\n"
+        "                       simulator's base height: lowest, final, a series), for\n"
+        "                       programs that judge runs (roz-campaign)\n"
         "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
         "                       (no port; --robot optional, checked against the recording)\n"
         "                       and compare its targets and applied commands bit for bit:\n"
@@ -332,6 +342,7 @@ static int parse_args(int argc, char **argv, options_t *o)
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
                                               "--record", "--live", "--replay", "--record-every", "--record-compress",
+                                              "--summary-json",
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
@@ -379,6 +390,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
+        } else if (!strcmp(a, "--summary-json")) {
+            o->summary_json = v;
         } else if (!strcmp(a, "--ticks")) {
             if (parse_u64(a, v, UINT64_MAX / 2, &o->ticks))
                 return -1;
@@ -547,6 +560,11 @@ static int tick_fn(void *ctx)
     last_tick_rc = roz_runtime_tick(&rt); /* faults are read from the latch */
     ticks_run++;
     record_tick(events);
+    if (watching) {
+        const roz_runtime_config_t *cfg = roz_runtime_config(&rt);
+        rozrun_watch_tick(&watch, &cfg->port, cfg->manifest,
+                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL);
+    }
     input_events = rozrun_schedule_inputs(&sched, &rt, ticks_run);
     atomic_store(&ticks_done, ticks_run); /* after the inputs: the loader acts on top of them */
     return atomic_load(&interrupted) ? 1 : 0;
@@ -822,6 +840,132 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                (unsigned long long)trace.written, (unsigned long long)trace.dropped);
 }
 
+/* --summary-json: the summary's figures as JSON (summary_json.h), written to
+ * FILE.tmp and renamed; after the run. 0, or -1 (said on stderr). */
+static int summary_json(const options_t *o, const roz_port_t *port, const roz_verify_report_t *rep,
+                        int status)
+{
+    static char tmp[ROZRUN_PATH_MAX + 8];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp", o->summary_json) >= (int)sizeof tmp) {
+        fprintf(stderr, "rozrun: --summary-json %s: the path is too long\n", o->summary_json);
+        return -1;
+    }
+    FILE *f = fopen(tmp, "w");
+    if (f == NULL) {
+        fprintf(stderr, "rozrun: --summary-json: cannot write %s\n", tmp);
+        return -1;
+    }
+    const roz_manifest_t *m = roz_runtime_config(&rt)->manifest;
+    roz_runtime_stats_t st;
+    if (roz_runtime_stats(&rt, &st) != ROZ_OK)
+        memset(&st, 0, sizeof st);
+    unsigned faults = roz_runtime_faults(&rt);
+    int first = 1;
+    fputc('{', f);
+    rozrun_json_key(f, &first, "format");
+    rozrun_json_str(f, "rozrun-summary/1");
+    rozrun_json_key(f, &first, "robot");
+    rozrun_json_str(f, m->robot_id);
+    rozrun_json_key(f, &first, "controller");
+    rozrun_json_str(f, o->controller);
+    rozrun_json_key(f, &first, "built_for");
+    rozrun_json_str(f, rep->identity.present ? rep->identity.robot_id : "");
+    rozrun_json_key(f, &first, "port");
+    rozrun_json_str(f, o->port);
+    rozrun_json_key(f, &first, "params");
+    fputc('[', f);
+    for (size_t i = 0; i < o->n_params; i++) {
+        fputs(i > 0 ? ", " : "", f);
+        fputc('[', f);
+        rozrun_json_str(f, o->params[i].key);
+        fputs(", ", f);
+        rozrun_json_str(f, o->params[i].value);
+        fputc(']', f);
+    }
+    fputc(']', f);
+    rozrun_json_key(f, &first, "rate_hz");
+    fprintf(f, "%u", (unsigned)m->control_rate_hz);
+    rozrun_json_key(f, &first, "ticks");
+    fprintf(f, "%llu", (unsigned long long)st.runtime.ticks);
+    rozrun_json_key(f, &first, "controller_ticks");
+    fprintf(f, "%llu", (unsigned long long)st.runtime.controller_ticks);
+    rozrun_json_key(f, &first, "waiting_ticks");
+    fprintf(f, "%llu", (unsigned long long)st.runtime.waiting_ticks);
+    rozrun_json_key(f, &first, "exit_status");
+    fprintf(f, "%d", status);
+    rozrun_json_key(f, &first, "faults");
+    fputs("{\"latched\": [", f);
+    for (unsigned b = 0, n = 0; b < ROZ_FAULT_KIND_COUNT; b++) {
+        if (faults & (1u << b)) {
+            fputs(n++ > 0 ? ", " : "", f);
+            rozrun_json_str(f, roz_fault_name(1u << b));
+        }
+    }
+    fputs("], \"bits\": ", f);
+    fprintf(f, "%u", faults);
+    fputs(", \"first\": ", f);
+    rozrun_json_str(f, faults != 0 ? roz_runtime_fault_message(&rt) : "");
+    fputs(", \"times_latched\": {", f);
+    for (unsigned b = 0, n = 0; b < ROZ_FAULT_KIND_COUNT; b++) {
+        if (st.runtime.faults[b] != 0) {
+            fputs(n++ > 0 ? ", " : "", f);
+            rozrun_json_str(f, roz_fault_name(1u << b));
+            fprintf(f, ": %llu", (unsigned long long)st.runtime.faults[b]);
+        }
+    }
+    fputs("}}", f);
+    const roz_filter_counters_t *fc = &st.filter;
+    rozrun_json_key(f, &first, "counters");
+    fprintf(f, "{\"clamps\": %llu, \"rate_caps\": %llu, \"limit_stops\": %llu, "
+               "\"nonfinite\": %llu, \"bad_indices\": %llu, \"stale_reads\": %llu, "
+               "\"read_errors\": %llu, \"write_errors\": %llu, \"writes\": %llu, "
+               "\"swaps\": %llu, \"swaps_refused\": %llu, \"rebuilds\": %llu}",
+            (unsigned long long)(fc->clamps + st.abi.set_clamped),
+            (unsigned long long)fc->rate_caps, (unsigned long long)fc->limit_stops,
+            (unsigned long long)fc->nonfinite,
+            (unsigned long long)(st.abi.set_bad_index + st.abi.get_bad_index),
+            (unsigned long long)st.runtime.stale_reads, (unsigned long long)st.runtime.read_errors,
+            (unsigned long long)st.runtime.write_errors, (unsigned long long)st.runtime.writes,
+            (unsigned long long)st.runtime.swaps, (unsigned long long)st.runtime.swaps_refused,
+            (unsigned long long)st.runtime.rebuilds);
+    rozrun_json_key(f, &first, "fuel");
+    fprintf(f, "{\"verify_max\": %llu, \"run_max\": %llu, \"last\": %llu, \"budget\": ",
+            (unsigned long long)rep->max_fuel, (unsigned long long)st.runtime.max_fuel,
+            (unsigned long long)st.runtime.last_fuel);
+    if (rep->fuel_budget != ROZ_BUDGET_OFF)
+        fprintf(f, "%llu}", (unsigned long long)rep->fuel_budget);
+    else
+        fputs("null}", f);
+    roz_port_link_counters_t link;
+    (void)roz_port_link_counters(port, &link);
+    rozrun_json_key(f, &first, "link");
+    fprintf(f, "{\"accepted\": %llu, \"missing\": %llu, \"restarts\": %llu}",
+            (unsigned long long)link.accepted, (unsigned long long)link.missing,
+            (unsigned long long)(link.restarts + link.returns));
+    rozrun_json_key(f, &first, "port_counters");
+#if ROZRUN_HAS_MUJOCO
+    if (port->ops == &roz_mujoco_ops) {
+        roz_mujoco_counters_t mc;
+        roz_mujoco_counters(port->self, &mc);
+        fprintf(f, "{\"frames\": %llu, \"frames_dropped\": %llu, \"clamped\": %llu, "
+                   "\"saturated\": %llu, \"violations\": %llu}",
+                (unsigned long long)mc.frames, (unsigned long long)mc.frames_dropped,
+                (unsigned long long)mc.clamped, (unsigned long long)mc.saturated,
+                (unsigned long long)mc.violations);
+    } else
+#endif
+        fputs("null", f);
+    rozrun_watch_json(f, &first, &watch, m->control_rate_hz);
+    fputs("\n}\n", f);
+    int bad = ferror(f);
+    if (fclose(f) != 0 || bad || rename(tmp, o->summary_json) != 0) {
+        fprintf(stderr, "rozrun: --summary-json: cannot write %s\n", o->summary_json);
+        remove(tmp);
+        return -1;
+    }
+    return 0;
+}
+
 static void *no_work(void *arg)
 {
     return arg;
@@ -1028,6 +1172,10 @@ int main(int argc, char **argv)
         }
         tracing = 1;
     }
+    if (o.summary_json != NULL) {
+        rozrun_watch_init(&watch, o.ticks);
+        watching = 1;
+    }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     if (roz_port_activate(&port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
@@ -1099,12 +1247,14 @@ int main(int argc, char **argv)
     }
     summary(&o, &port, &rep, paced ? &runner : NULL);
     unsigned faults = roz_runtime_faults(&rt);
+    int status = (tracing && trace.error[0] != '\0') || record_failed ? 3 : faults != 0 ? 1 : 0;
+    if (watching && summary_json(&o, &port, &rep, status) != 0)
+        status = 3;
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
     free(port_self);
     port_self = NULL;
     rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
-    if ((tracing && trace.error[0] != '\0') || record_failed)
-        return 3; /* the run's record is incomplete: not a success, whatever latched */
-    return faults != 0 ? 1 : 0;
+    /* 3: the run's record is incomplete: not a success, whatever latched */
+    return status;
 }

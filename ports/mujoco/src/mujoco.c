@@ -58,7 +58,10 @@ static const char *const known_keys[] = {
     "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
     "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
     "drop", "freeze", "delay", "push", "gantry", "restart",
-    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust", NULL,
+    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust",
+    "payload", "mass_scale", "friction_scale", "strength_scale", "gains_scale", "joint_damping",
+    "joint_armature", "command_latency_ticks", "bias_position", "bias_gyro",
+    "bias_accelerometer", "bias_orientation", NULL,
 };
 
 /* The built-in robots, one descriptor each (models/<robot_id>.model.toml,
@@ -933,6 +936,9 @@ static void close_model(roz_mujoco_t *s)
 }
 
 static void update_base(roz_mujoco_t *s);
+static int perturb_open(roz_mujoco_t *s, const roz_params_t *p, char *err, size_t errlen);
+static int perturb_command(roz_mujoco_t *s);
+static void perturb_sample(roz_mujoco_t *s, double *out);
 
 /* docs/ports/mujoco.md's table, one row a key. */
 static const roz_port_param_info_t mj_params[] = {
@@ -979,6 +985,30 @@ static const roz_port_param_info_t mj_params[] = {
                             "a force, N, world frame, on a body"),
     ROZ_PORT_PARAM_TEXT_ROW("gantry", "FROM[:TO]", "", "the floating base hung where it is"),
     ROZ_PORT_PARAM_TEXT_ROW("restart", "FROM:TO", "", "the robot's board dies and boots at TO"),
+    /* perturbations: the robot and its world other than the model says */
+    ROZ_PORT_PARAM_TEXT_ROW("payload", "KG@BODY[@X,Y,Z];...", "",
+                            "mass added to a body, at its centre of mass or X,Y,Z m in its frame"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("mass_scale", 0.1, 10, 1, "",
+                              "every robot body's mass and inertia, times this"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("friction_scale", 0.01, 10, 1, "",
+                              "every geom's sliding friction (floor, feet), times this"),
+    ROZ_PORT_PARAM_TEXT_ROW("strength_scale", "S[@JOINT];..., S in 0..1", "1",
+                            "the effort a joint's motor gives (all, or the model's joint)"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("gains_scale", 0, 10, 1, "",
+                              "the stiffness and damping the drivers apply, times this"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("joint_damping", 0, 1000, 0, "",
+                              "damping added to every bound joint, N m s/rad"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("joint_armature", 0, 100, 0, "",
+                              "armature added to every bound joint, kg m^2"),
+    ROZ_PORT_PARAM_U32_ROW("command_latency_ticks", 0, ROZ_MUJOCO_MAX_DELAY, 0,
+                           "command latency: ticks from write() to the drivers"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("bias_position", 0, 1, 0, "",
+                              "encoder offset per joint, drawn once: standard deviation"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("bias_gyro", 0, 10, 0, "", "gyro offset per axis, drawn once"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("bias_accelerometer", 0, 100, 0, "",
+                              "accelerometer offset per axis, drawn once"),
+    ROZ_PORT_PARAM_DOUBLE_ROW("bias_orientation", 0, 0.5, 0, "",
+                              "the IMU's mounting error per axis, rad, drawn once"),
 };
 #define MJ_PARAMS mj_params, sizeof mj_params / sizeof mj_params[0]
 
@@ -1221,6 +1251,10 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         close_model(s);
         return ROZ_EINVAL;
     }
+    if (perturb_open(s, p, err, errlen) != ROZ_OK) {
+        close_model(s);
+        return ROZ_EINVAL;
+    }
     const char *key = roz_params_get_str(p, "keyframe", NULL);
     if (key != NULL && key[0] != '\0') {
         int k = mj_name2id(mm, mjOBJ_KEY, key);
@@ -1284,6 +1318,236 @@ static double gauss(roz_mujoco_t *s, double sigma)
     return sigma * sqrt(-2.0 * log(u)) * cos(6.283185307179586 * v);
 }
 
+/* ---- private: perturbations ------------------------------------------------------ */
+
+/* docs/ports/mujoco.md, "Perturbations". The model's own numbers are changed
+ * at open, before anything runs (mj_setConst() then recomputes what the
+ * compiler derived from them); the sensors' offsets are drawn once, at open,
+ * from the noise's seed (only those asked for, so a run without them draws
+ * the same noise as before); the rest acts at read() and write(). */
+
+/* Mass @p kg at body @p b, at @p at (its frame) or, NULL, its centre of
+ * mass: the body's mass, centre of mass and inertia (about the new centre,
+ * its principal axes found again). */
+static void add_payload(mjModel *mm, int b, double kg, const double *at)
+{
+    double M = mm->body_mass[b], M2 = M + kg;
+    if (!(M2 > 0.0))
+        return;
+    mjtNum c[3], p[3], c2[3], R[9], Rt[9], D[9] = { 0 }, tmp[9], I[9], d[3];
+    mju_copy3(c, mm->body_ipos + 3 * b);
+    mju_copy3(p, at != NULL ? at : c);
+    for (int k = 0; k < 3; k++)
+        c2[k] = (M * c[k] + kg * p[k]) / M2;
+    mju_quat2Mat(R, mm->body_iquat + 4 * b);
+    for (int k = 0; k < 3; k++)
+        D[4 * k] = mm->body_inertia[3 * b + k];
+    mju_transpose(Rt, R, 3, 3);
+    mju_mulMatMat(tmp, R, D, 3, 3, 3);
+    mju_mulMatMat(I, tmp, Rt, 3, 3, 3); /* about the old centre, body frame */
+    const mjtNum *pts[2] = { c, p };
+    const double mass[2] = { M, kg };
+    for (int e = 0; e < 2; e++) { /* parallel axes: each mass about the new centre */
+        mju_sub3(d, pts[e], c2);
+        double dd = mju_dot3(d, d);
+        for (int r = 0; r < 3; r++)
+            for (int q = 0; q < 3; q++)
+                I[3 * r + q] += mass[e] * ((r == q ? dd : 0.0) - d[r] * d[q]);
+    }
+    mjtNum eigval[3], eigvec[9], quat[4];
+    mju_eig3(eigval, eigvec, quat, I);
+    mm->body_mass[b] = M2;
+    mju_copy3(mm->body_ipos + 3 * b, c2);
+    mju_copy3(mm->body_inertia + 3 * b, eigval);
+    mju_copy4(mm->body_iquat + 4 * b, quat);
+}
+
+/* "ENTRY;ENTRY": the next entry into @p buf (blanks trimmed); NULL at the end. */
+static const char *next_entry(const char *e, char *buf, size_t cap)
+{
+    while (e != NULL && (*e == ' ' || *e == ';'))
+        e++;
+    if (e == NULL || *e == '\0')
+        return NULL;
+    const char *end = strchr(e, ';');
+    size_t n = end != NULL ? (size_t)(end - e) : strlen(e);
+    while (n > 0 && e[n - 1] == ' ')
+        n--;
+    n = n < cap - 1 ? n : cap - 1;
+    memcpy(buf, e, n);
+    buf[n] = '\0';
+    return end != NULL ? end : e + strlen(e);
+}
+
+static int parse_payloads(roz_mujoco_t *s, const char *v, char *err, size_t errlen)
+{
+    char e[2 * ROZ_MUJOCO_NAME_MAX + 96];
+    for (const char *rest = next_entry(v, e, sizeof e); rest != NULL;
+         rest = next_entry(rest, e, sizeof e)) {
+        char *end, *at = strchr(e, '@');
+        double kg = strtod(e, &end);
+        char *at2 = at != NULL ? strchr(at + 1, '@') : NULL;
+        double xyz[3];
+        int ok = end != e && end == at && isfinite(kg) && kg >= 0.0 && kg <= 1000.0 &&
+                 at[1] != '\0' && (at2 == NULL || at2 > at + 1);
+        if (ok && at2 != NULL) {
+            *at2 = '\0';
+            const char *q = at2 + 1;
+            for (int k = 0; ok && k < 3; k++) {
+                xyz[k] = strtod(q, &end);
+                ok = end != q && isfinite(xyz[k]) && fabs(xyz[k]) <= 10.0 &&
+                     *end == (k < 2 ? ',' : '\0');
+                q = end + 1;
+            }
+        }
+        if (!ok) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.payload = \"%s\": expected "
+                       "KG@BODY[@X,Y,Z] (kg in 0..1000, m in -10..10), ';' between entries",
+                       origin(s), v);
+            return ROZ_EINVAL;
+        }
+        int b = mj_name2id(s->model, mjOBJ_BODY, at + 1);
+        if (b <= 0) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.payload = \"%s\": no body "
+                       "\"%s\" in %s (the world carries no payload)", origin(s), v, at + 1,
+                       s->model_path);
+            return ROZ_EINVAL;
+        }
+        add_payload(s->model, b, kg, at2 != NULL ? xyz : NULL);
+    }
+    return ROZ_OK;
+}
+
+static int parse_strength(roz_mujoco_t *s, const char *v, char *err, size_t errlen)
+{
+    char e[ROZ_MUJOCO_NAME_MAX + 48];
+    for (const char *rest = next_entry(v, e, sizeof e); rest != NULL;
+         rest = next_entry(rest, e, sizeof e)) {
+        char *end, *at = strchr(e, '@');
+        double k = strtod(e, &end);
+        int ok = end != e && (end == at || (at == NULL && *end == '\0')) && isfinite(k) &&
+                 k >= 0.0 && k <= 1.0 && (at == NULL || at[1] != '\0');
+        if (!ok) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.strength_scale = \"%s\": "
+                       "expected S[@JOINT] (S in 0..1), ';' between entries", origin(s), v);
+            return ROZ_EINVAL;
+        }
+        int found = 0;
+        for (uint16_t j = 0; j < s->n_joints; j++) {
+            roz_mujoco_joint_t *jt = &s->joints[j];
+            const char *name = mj_id2name(s->model, mjOBJ_JOINT, jt->jnt);
+            if (at != NULL && (name == NULL || strcmp(name, at + 1) != 0))
+                continue;
+            jt->tau_lo *= k;
+            jt->tau_hi *= k;
+            found = 1;
+        }
+        if (!found && at != NULL) {
+            roz_format(err, errlen, PORT ": %s: hardware.params.strength_scale = \"%s\": no "
+                       "bound joint \"%s\" in %s", origin(s), v, at + 1, s->model_path);
+            return ROZ_EINVAL;
+        }
+    }
+    return ROZ_OK;
+}
+
+static int perturb_open(roz_mujoco_t *s, const roz_params_t *p, char *err, size_t errlen)
+{
+    mjModel *mm = s->model;
+    double mass, friction, damping, armature, bq, bg, ba, bo;
+    uint32_t latency;
+    if (roz_params_get_row_double(p, MJ_PARAMS, "mass_scale", &mass, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "friction_scale", &friction, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "gains_scale", &s->gains_scale, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "joint_damping", &damping, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "joint_armature", &armature, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_u32(p, MJ_PARAMS, "command_latency_ticks", &latency, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "bias_position", &bq, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "bias_gyro", &bg, err, errlen) != ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "bias_accelerometer", &ba, err, errlen) !=
+            ROZ_OK ||
+        roz_params_get_row_double(p, MJ_PARAMS, "bias_orientation", &bo, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    s->cmd_latency = latency;
+    if (mass != 1.0) {
+        for (int b = 1; b < mm->nbody; b++) {
+            mm->body_mass[b] *= mass;
+            mju_scl3(mm->body_inertia + 3 * b, mm->body_inertia + 3 * b, mass);
+        }
+    }
+    if (parse_payloads(s, roz_params_find(p, "payload"), err, errlen) != ROZ_OK ||
+        parse_strength(s, roz_params_find(p, "strength_scale"), err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
+    if (friction != 1.0) {
+        for (int g = 0; g < mm->ngeom; g++)
+            mm->geom_friction[3 * g] *= friction;
+        for (int q = 0; q < mm->npair; q++) {
+            mm->pair_friction[5 * q] *= friction;
+            mm->pair_friction[5 * q + 1] *= friction;
+        }
+    }
+    for (uint16_t j = 0; j < s->n_joints; j++) {
+        mm->dof_damping[s->joints[j].dadr] += damping;
+        mm->dof_armature[s->joints[j].dadr] += armature;
+    }
+    mj_setConst(mm, s->data); /* what the compiler derived: subtree masses, M0, ... */
+    for (uint16_t j = 0; j < s->n_joints; j++)
+        s->bias_q[j] = gauss(s, bq);
+    for (int k = 0; k < 6; k++)
+        s->bias_imu[k] = gauss(s, k < 3 ? bg : ba);
+    mjtNum r[3] = { gauss(s, bo), gauss(s, bo), gauss(s, bo) };
+    mjtNum angle = mju_normalize3(r);
+    s->bias_quat[0] = 1.0;
+    s->bias_quat[1] = s->bias_quat[2] = s->bias_quat[3] = 0.0;
+    if (angle > 0.0)
+        mju_axisAngle2Quat(s->bias_quat, r, angle);
+    return ROZ_OK;
+}
+
+/* write() under command latency: the command just clamped into s->cmd goes
+ * into the ring, the one written cmd_latency ticks ago comes out to the
+ * drivers; 0 while none is that old yet (the drivers have none). */
+static int perturb_command(roz_mujoco_t *s)
+{
+    size_t n = s->m->n_commands;
+    uint64_t w = s->cmd_count++;
+    memcpy(s->cmd_hist[w % DEPTH], s->cmd, n * sizeof s->cmd[0]);
+    if (w < s->cmd_latency)
+        return 0;
+    memcpy(s->cmd, s->cmd_hist[(w - s->cmd_latency) % DEPTH], n * sizeof s->cmd[0]);
+    return 1;
+}
+
+/* What a sampled frame carries besides the noise: the encoders' offsets,
+ * the IMU's mounting error and its offsets. */
+static void perturb_sample(roz_mujoco_t *s, double *out)
+{
+    for (uint16_t j = 0; j < s->n_joints; j++) {
+        if (s->joints[j].ch.q_state >= 0)
+            out[s->joints[j].ch.q_state] += s->bias_q[j];
+    }
+    if (s->imu_site < 0)
+        return;
+    const int16_t *ix = s->imu; /* x, y, z, w, gyro x..z, accelerometer x..z */
+    if (s->bias_quat[0] != 1.0 && ix[0] >= 0 && ix[1] >= 0 && ix[2] >= 0 && ix[3] >= 0) {
+        mjtNum q[4] = { out[ix[3]], out[ix[0]], out[ix[1]], out[ix[2]] }, r[4];
+        mju_mulQuat(r, q, s->bias_quat);
+        out[ix[3]] = r[0];
+        out[ix[0]] = r[1];
+        out[ix[1]] = r[2];
+        out[ix[2]] = r[3];
+    }
+    for (int k = 0; k < 6; k++) {
+        if (ix[4 + k] >= 0)
+            out[ix[4 + k]] += s->bias_imu[k];
+    }
+}
+
 /* The joint drivers, one physics step: the robot's own law from the last
  * command, saturated at the joint's effort limit. */
 static void drive(roz_mujoco_t *s)
@@ -1298,8 +1562,8 @@ static void drive(roz_mujoco_t *s)
         switch (j->law) {
         case LAW_MIT:
             if (on) {
-                double kp = ch->kp_cmd >= 0 ? c[ch->kp_cmd] : 0.0;
-                double kd = ch->kd_cmd >= 0 ? c[ch->kd_cmd] : 0.0;
+                double kp = ch->kp_cmd >= 0 ? c[ch->kp_cmd] * s->gains_scale : 0.0;
+                double kd = ch->kd_cmd >= 0 ? c[ch->kd_cmd] * s->gains_scale : 0.0;
                 double qd = ch->q_cmd >= 0 ? c[ch->q_cmd] : q;
                 double dqd = ch->dq_cmd >= 0 ? c[ch->dq_cmd] : 0.0;
                 double ff = ch->tau_cmd >= 0 ? c[ch->tau_cmd] : 0.0;
@@ -1588,6 +1852,7 @@ static int mj_read(void *self, double *state, size_t n)
 
     double *slot = s->hist[t % DEPTH];
     sample(s, slot);
+    perturb_sample(s, slot);
     uint32_t delay = s->latency;
     int lost = s->dead;
     for (uint32_t i = 0; i < s->n_faults; i++) {
@@ -1638,6 +1903,8 @@ static int mj_write(void *self, const double *cmd, size_t n)
      * manifest whoever calls write() */
     s->clamped += roz_commands_clamp(s->m, cmd, s->cmd);
     s->have_cmd = 1;
+    if (s->cmd_latency > 0)
+        s->have_cmd = perturb_command(s);
     return ROZ_OK;
 }
 

@@ -151,6 +151,15 @@ typedef struct roz_mujoco {
     uint32_t              ROZ_PRIVATE(latency);    /**< ticks */
     double                ROZ_PRIVATE(noise_q), ROZ_PRIVATE(noise_dq), ROZ_PRIVATE(noise_tau), ROZ_PRIVATE(noise_gyro), ROZ_PRIVATE(noise_acc);
     uint64_t              ROZ_PRIVATE(rng);        /**< the noise's state (seeded: deterministic) */
+    /* perturbations (docs/ports/mujoco.md, "Perturbations"): applied at open
+     * to the model, and at read and write to what the sensors and drivers see */
+    double                ROZ_PRIVATE(gains_scale);    /**< kp and kd the drivers apply, x */
+    uint32_t              ROZ_PRIVATE(cmd_latency);    /**< ticks a command takes to the drivers */
+    uint64_t              ROZ_PRIVATE(cmd_count);      /**< commands written since open (the ring's head) */
+    double                ROZ_PRIVATE(cmd_hist)[ROZ_MUJOCO_MAX_DELAY + 1][ROZ_CFG_MAX_COMMANDS];
+    double                ROZ_PRIVATE(bias_q)[ROZ_MUJOCO_MAX_JOINTS]; /**< encoder offsets, rad */
+    double                ROZ_PRIVATE(bias_imu)[6];    /**< gyro, accelerometer offsets */
+    double                ROZ_PRIVATE(bias_quat)[4];   /**< the IMU's mounting error, w x y z */
     double                ROZ_PRIVATE(hist)[ROZ_MUJOCO_MAX_DELAY + 1][ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     double                ROZ_PRIVATE(tau)[ROZ_MUJOCO_MAX_JOINTS]; /**< last torque applied per joint */
 
