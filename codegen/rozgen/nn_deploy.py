@@ -335,7 +335,7 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
     if n != n_out:
         raise c.err("num_actions", n, f"the network has {n_out} outputs")
     # the policy's joints: names, a motor map, or the manifest's first n
-    hw = list(m.hardware.joints) if m.hardware else []
+    hw = _motors(m)
     if c.get("joint_names") is not None:
         names = c.get("joint_names")
         if not isinstance(names, list) or len(names) != n or not all(isinstance(s, str)
@@ -349,11 +349,11 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
     else:
         if len(hw) < n:
             raise DeployError(f"{where}: no joint_names nor leg_joint2motor_idx, and the manifest "
-                              f"{m.robot_id} lists {len(hw)} [hardware] joints for {n} actions")
+                              f"{m.robot_id} has {len(hw)} joints for {n} actions")
         names = hw[:n]
         key = "(the manifest's first joints)"
         notes.append(f"{where}: no joint map: the policy's {n} joints are the manifest's first "
-                     f"{n} ({names[0]} ... {names[-1]}), in its [hardware] order")
+                     f"{n} ({names[0]} ... {names[-1]}), in motor order")
     if len(set(names)) != len(names):
         raise c.err(key, names, "a joint named twice")
     kps, kds = c.numbers("kps", n), c.numbers("kds", n)
@@ -481,12 +481,22 @@ def _vec(v):
     return "(" + ", ".join(f"{x:g}" for x in v) + ")"
 
 
+def _motors(m) -> list[str]:
+    """The robot's joints in motor order: its [hardware] joints, else (a
+    simulation robot such as unitree_g1_12dof) the joints of its position
+    commands in channel order."""
+    if m.hardware and m.hardware.joints:
+        return list(m.hardware.joints)
+    return [c.name[:-len("/position")] for c in m.commands
+            if c.name.endswith("/position") and "/" not in c.name[:-len("/position")]]
+
+
 def _motor_names(c: _Cfg, key, idx, hw, n, m):
     if not isinstance(idx, list) or (n >= 0 and len(idx) != n):
         raise c.err(key, idx, f"not a list of {n} motor indices")
     if not hw:
-        raise c.err(key, idx, f"the manifest {m.robot_id} has no [hardware] joints to map "
-                    "motor indices to: name them with joint_names")
+        raise c.err(key, idx, f"the manifest {m.robot_id} has no joints to map motor indices "
+                    "to: name them with joint_names")
     out = []
     for k, i in enumerate(idx):
         if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(hw):

@@ -83,6 +83,17 @@ def test_deploy_real_shape_holds_the_vendor_gains(tmp_path):
     assert p.command_const == [0.3, 0.0, 0.1]
 
 
+def test_deploy_mujoco_shape_on_the_12_joint_g1(tmp_path):
+    """unitree_g1_12dof has no [hardware] section: its motor order is its
+    position commands' order, the order of unitree_rl_gym's configurations."""
+    p = deploy(tmp_path, yaml_text("deploy_mujoco.yaml"), robot="unitree_g1_12dof")
+    assert [j.name for j in p.joints][::6] == ["left_hip_pitch_joint", "right_hip_pitch_joint"]
+    assert p.held == [] and [j.kp for j in p.joints][:4] == [100.0, 100.0, 100.0, 150.0]
+    with pytest.raises(DeployError, match=r"deploy\.yaml: arm_waist_joint2motor_idx\[0\]: 12: "
+                       r"not a motor index of unitree_g1_12dof \(0\.\.11\)"):
+        deploy(tmp_path, yaml_text("deploy_real.yaml"), robot="unitree_g1_12dof")
+
+
 def test_command_read_from_operator_inputs(tmp_path):
     robot = with_operator_inputs(tmp_path)
     p = deploy(tmp_path, yaml_text("deploy_real.yaml"), robot=robot)
@@ -168,7 +179,7 @@ def test_refusals_mujoco_shape(tmp_path):
     with pytest.raises(DeployError, match=r"simulation_dt: 0\.005: the policy was trained at 200 Hz"):
         deploy(tmp_path, text.replace("simulation_dt: 0.002", "simulation_dt: 0.005"))
     with pytest.raises(DeployError, match=r"no joint_names nor leg_joint2motor_idx, and the "
-                                          r"manifest ur5 lists 0 \[hardware\] joints"):
+                                          r"manifest ur5 has 0 joints for 12 actions"):
         deploy(tmp_path, text, robot="ur5")
     with pytest.raises(DeployError, match=r"--robot no_such_robot: not a built-in manifest"):
         deploy(tmp_path, text, robot="no_such_robot")
@@ -177,7 +188,7 @@ def test_refusals_mujoco_shape(tmp_path):
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML"):
         deploy(tmp_path, "kps: [1, 2\n")
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML: .*key 'kps' given twice "
-                                          r"\(lines 11 and 26\)"):
+                                          r"\(lines 12 and 27\)"):
         deploy(tmp_path, text + "\nkps: [1]\n")
     # safe_load: a YAML object tag is refused, never constructed
     with pytest.raises(DeployError, match=r"not valid YAML"):
