@@ -504,3 +504,30 @@ def test_onnx_with_metadata_deploys_without_a_config(tmp_path):
         nn_deploy.deploy(str(NN / "lstm.onnx"), None, "unitree_g1", str(tmp_path / "o.wasm"),
                          c_out=str(tmp_path / "o.c"), sdk=str(SDK))
         assert (tmp_path / "o.wasm").read_bytes()[:4] == b"\0asm"
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_torch_jit_mlp_deploys_and_matches_torch(tmp_path):
+    """A scripted Sequential MLP (7 inputs: the gyro and the four joints'
+    positions relative to their defaults) the same way."""
+    cfg = tmp_path / "mlp.yaml"
+    cfg.write_text(TORCH_CFG.replace("observations: [ang_vel, command]",
+                                     "observations: [ang_vel, joint_pos]"))
+    p = nn_deploy.deploy(str(NN / "mlp.pt"), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    states_of = {c.name: i for i, c in enumerate(p.manifest.states)}
+    gyro = [states_of[f"base_imu/angular_velocity.{a}"] for a in "xyz"]
+    q = [states_of[f"{j.name}/position"] for j in p.joints]
+    defaults = np.array([j.default for j in p.joints])
+    io = np.load(NN / "mlp.io.npz")
+    states = moving_states(p, len(io["x"]) * p.decimation, 13)
+    for t, s in enumerate(states):
+        x = io["x"][t // p.decimation].astype(np.float64)
+        s[gyro], s[q] = x[:3], x[3:] + defaults
+    want = nn_deploy.reference(p, states)
+    pos = [p.manifest.commands.index(next(c for c in p.manifest.commands
+                                          if c.name == f"{j.name}/position")) for j in p.joints]
+    for k in range(len(io["x"])):
+        action = (want[k * p.decimation][pos] - defaults) / 0.25
+        assert np.allclose(action, io["y"][k], rtol=1e-5, atol=1e-5), (k, action, io["y"][k])
+    assert_native_is_reference(run_native(tmp_path, p, states), want, 0.25)
