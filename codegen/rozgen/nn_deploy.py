@@ -32,7 +32,7 @@ from pathlib import Path
 
 from . import __version__, identity
 from .fmt import c_double
-from .nn import Layer, check, header, read_npz
+from .nn import check, header
 
 #: unitree_rl_gym's keys that roz reads, in both shapes
 KEYS = ("control_decimation", "simulation_dt", "control_dt", "kps", "kds", "default_angles",
@@ -113,46 +113,11 @@ def _sha256(path: str) -> str:
 
 
 def read_policy(path: str, spec: str | None):
-    """(layers, metadata, sha256) of a policy file. One place that knows the
-    readers: rozgen.nn_export.read_policy when there is one, else the
-    readers of today."""
+    """(layers, metadata, sha256) of a policy file: rozgen.nn_export.read_policy,
+    the one reader of every format (its refusals name the file)."""
     from . import nn_export
-    if hasattr(nn_export, "read_policy"):
-        p = nn_export.read_policy(path, spec=spec)
-        return p.layers, dict(p.metadata or {}), p.source_sha256
-    low = path.lower()
-    meta: dict = {}
-    if low.endswith(".npz"):
-        if not spec:
-            raise DeployError(f"{path}: an .npz holds no layer structure: give --spec")
-        layers = read_npz(spec, path)
-    elif low.endswith(".onnx"):
-        layers = nn_export.read_onnx(path)
-        meta = _onnx_metadata(path)
-    elif spec:
-        layers = nn_export.layers_from_tensors(nn_export.read_torchscript(path), spec, path)
-    else:
-        layers = nn_export.read_torchscript_layers(path)
-    return layers, meta, _sha256(path)
-
-
-def _onnx_metadata(path: str) -> dict:
-    """metadata_props as Isaac Lab and mjlab write them: comma-separated
-    lists or single values, keys as written."""
-    import onnx
-    model = onnx.load(path, load_external_data=False)
-    out = {}
-    for p in model.metadata_props:
-        parts = [s.strip() for s in p.value.split(",")]
-        vals = []
-        for s in parts:
-            try:
-                vals.append(float(s))
-            except ValueError:
-                vals.append(s)
-        out[p.key] = vals if len(vals) > 1 or p.key.endswith(("names", "scales", "pos",
-                                                              "stiffness", "damping")) else vals[0]
-    return out
+    p = nn_export.read_policy(path, spec=spec)
+    return p.layers, dict(p.metadata or {}), p.source_sha256
 
 
 def read_config(path: str) -> dict:
@@ -187,9 +152,18 @@ def read_config(path: str) -> dict:
     return doc
 
 
-def config_from_metadata(meta: dict, where: str) -> dict:
+#: the policy rate assumed when ONNX metadata gives none: 50 Hz, the rate
+#: legged_gym, unitree_rl_gym, Isaac Lab and mjlab train locomotion at
+#: (physics 200 Hz or 500 Hz, decimation 4 or 10)
+DEFAULT_CONTROL_DT = 0.02
+
+
+def config_from_metadata(meta: dict, where: str, notes: list[str] | None = None) -> dict:
     """The deploy configuration that ONNX metadata gives (keys normalised as
-    rozgen.nn_export.read_policy normalises them)."""
+    rozgen.nn_export.read_policy normalises them). The policy's rate is the
+    metadata's control_dt (seconds between inferences), else 50 Hz, said in
+    @p notes: Isaac Lab's and mjlab's metadata carry no rate, and their
+    'decimation' counts physics steps, not the robot's ticks."""
     def need(key):
         if key not in meta:
             raise DeployError(f"{where}: metadata has no '{key}' and there is no --config")
@@ -200,13 +174,17 @@ def config_from_metadata(meta: dict, where: str) -> dict:
     cfg = {"joint_names": names, "default_angles": _per_joint(need("default_joint_pos"), n),
            "kps": _per_joint(need("stiffness"), n), "kds": _per_joint(need("damping"), n),
            "action_scale": need("action_scale"), "num_actions": n,
-           "control_decimation": meta.get("decimation")}
-    if cfg["control_decimation"] is None:
-        raise DeployError(f"{where}: metadata has no 'decimation' and there is no --config")
+           "control_dt": meta.get("control_dt", DEFAULT_CONTROL_DT)}
+    if "control_dt" not in meta and notes is not None:
+        notes.append(f"{where}: metadata has no control_dt: the policy runs at "
+                     f"{1 / DEFAULT_CONTROL_DT:g} Hz (control_dt {DEFAULT_CONTROL_DT}); give a "
+                     "--config for another rate")
     if "observation_names" in meta:
         obs = meta["observation_names"]
         obs = obs if isinstance(obs, list) else [obs]
         scales = meta.get("observation_scales", [1.0] * len(obs))
+        if isinstance(scales, dict):  # name -> scale, a name it lacks at 1
+            scales = [scales.get(o, 1.0) for o in obs]
         scales = scales if isinstance(scales, list) else [scales]
         if len(scales) != len(obs):
             raise DeployError(f"{where}: metadata 'observation_scales' has {len(scales)} values "
@@ -357,7 +335,7 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
     if n != n_out:
         raise c.err("num_actions", n, f"the network has {n_out} outputs")
     # the policy's joints: names, a motor map, or the manifest's first n
-    hw = list(m.hardware.joints) if m.hardware else []
+    hw = _motors(m)
     if c.get("joint_names") is not None:
         names = c.get("joint_names")
         if not isinstance(names, list) or len(names) != n or not all(isinstance(s, str)
@@ -371,11 +349,11 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
     else:
         if len(hw) < n:
             raise DeployError(f"{where}: no joint_names nor leg_joint2motor_idx, and the manifest "
-                              f"{m.robot_id} lists {len(hw)} [hardware] joints for {n} actions")
+                              f"{m.robot_id} has {len(hw)} joints for {n} actions")
         names = hw[:n]
         key = "(the manifest's first joints)"
         notes.append(f"{where}: no joint map: the policy's {n} joints are the manifest's first "
-                     f"{n} ({names[0]} ... {names[-1]}), in its [hardware] order")
+                     f"{n} ({names[0]} ... {names[-1]}), in motor order")
     if len(set(names)) != len(names):
         raise c.err(key, names, "a joint named twice")
     kps, kds = c.numbers("kps", n), c.numbers("kds", n)
@@ -503,12 +481,22 @@ def _vec(v):
     return "(" + ", ".join(f"{x:g}" for x in v) + ")"
 
 
+def _motors(m) -> list[str]:
+    """The robot's joints in motor order: its [hardware] joints, else (a
+    simulation robot such as unitree_g1_12dof) the joints of its position
+    commands in channel order."""
+    if m.hardware and m.hardware.joints:
+        return list(m.hardware.joints)
+    return [c.name[:-len("/position")] for c in m.commands
+            if c.name.endswith("/position") and "/" not in c.name[:-len("/position")]]
+
+
 def _motor_names(c: _Cfg, key, idx, hw, n, m):
     if not isinstance(idx, list) or (n >= 0 and len(idx) != n):
         raise c.err(key, idx, f"not a list of {n} motor indices")
     if not hw:
-        raise c.err(key, idx, f"the manifest {m.robot_id} has no [hardware] joints to map "
-                    "motor indices to: name them with joint_names")
+        raise c.err(key, idx, f"the manifest {m.robot_id} has no joints to map motor indices "
+                    "to: name them with joint_names")
     out = []
     for k, i in enumerate(idx):
         if isinstance(i, bool) or not isinstance(i, int) or not 0 <= i < len(hw):
@@ -712,8 +700,8 @@ def deploy(policy: str, config: str | None, robot: str, out: str, *, spec: str |
     if config is not None:
         doc, where, csha = read_config(config), config, _sha256(config)
     else:
-        doc, where, csha = config_from_metadata(meta, policy), policy, None
         notes.append(f"{policy}: no --config: the configuration is the file's metadata")
+        doc, where, csha = config_from_metadata(meta, policy, notes), policy, None
     p = plan(layers, doc, where, manifest, command, notes)
     p.sources = [(os.path.basename(policy), digest)]
     if config is not None:

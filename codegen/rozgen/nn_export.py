@@ -47,6 +47,7 @@ class Policy:
         only those the file holds: joint_names (list[str]),
         default_joint_pos, stiffness, damping (list[float], one per joint
         name), action_scale (float, or list[float] one per joint),
+        control_dt (float: seconds between two inferences),
         observation_names (list[str]), observation_scales (list[float],
         one per observation name, or dict name -> float).
     source_sha256: hex sha256 of the file's bytes.
@@ -148,6 +149,7 @@ _META_KEYS = {
     "stiffness": (("joint_stiffness", "stiffness", "kps"), "floats"),
     "damping": (("joint_damping", "damping", "kds"), "floats"),
     "action_scale": (("action_scale",), "scale"),
+    "control_dt": (("control_dt", "policy_dt"), "scale"),
     "observation_names": (("observation_names", "obs_names"), "names"),
     "observation_scales": (("observation_scales", "obs_scales"), "scales"),
 }

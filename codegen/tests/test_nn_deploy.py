@@ -83,6 +83,17 @@ def test_deploy_real_shape_holds_the_vendor_gains(tmp_path):
     assert p.command_const == [0.3, 0.0, 0.1]
 
 
+def test_deploy_mujoco_shape_on_the_12_joint_g1(tmp_path):
+    """unitree_g1_12dof has no [hardware] section: its motor order is its
+    position commands' order, the order of unitree_rl_gym's configurations."""
+    p = deploy(tmp_path, yaml_text("deploy_mujoco.yaml"), robot="unitree_g1_12dof")
+    assert [j.name for j in p.joints][::6] == ["left_hip_pitch_joint", "right_hip_pitch_joint"]
+    assert p.held == [] and [j.kp for j in p.joints][:4] == [100.0, 100.0, 100.0, 150.0]
+    with pytest.raises(DeployError, match=r"deploy\.yaml: arm_waist_joint2motor_idx\[0\]: 12: "
+                       r"not a motor index of unitree_g1_12dof \(0\.\.11\)"):
+        deploy(tmp_path, yaml_text("deploy_real.yaml"), robot="unitree_g1_12dof")
+
+
 def test_command_read_from_operator_inputs(tmp_path):
     robot = with_operator_inputs(tmp_path)
     p = deploy(tmp_path, yaml_text("deploy_real.yaml"), robot=robot)
@@ -111,7 +122,7 @@ def test_onnx_metadata_is_a_configuration(tmp_path):
              "right_knee_joint", "right_ankle_pitch_joint", "right_ankle_roll_joint"]
     meta = {"joint_names": ",".join(names), "default_joint_pos": ",".join(["0.1"] * 12),
             "stiffness": ",".join(["80"] * 12), "damping": ",".join(["2"] * 12),
-            "action_scale": "0.5", "decimation": "4",
+            "action_scale": "0.5", "control_dt": "0.008",
             "observation_names": "base_ang_vel,projected_gravity,velocity_commands,"
                                  "joint_pos_rel,joint_vel_rel,actions",
             "observation_scales": "0.2,1,1,1,0.05,1"}
@@ -168,7 +179,7 @@ def test_refusals_mujoco_shape(tmp_path):
     with pytest.raises(DeployError, match=r"simulation_dt: 0\.005: the policy was trained at 200 Hz"):
         deploy(tmp_path, text.replace("simulation_dt: 0.002", "simulation_dt: 0.005"))
     with pytest.raises(DeployError, match=r"no joint_names nor leg_joint2motor_idx, and the "
-                                          r"manifest ur5 lists 0 \[hardware\] joints"):
+                                          r"manifest ur5 has 0 joints for 12 actions"):
         deploy(tmp_path, text, robot="ur5")
     with pytest.raises(DeployError, match=r"--robot no_such_robot: not a built-in manifest"):
         deploy(tmp_path, text, robot="no_such_robot")
@@ -177,7 +188,7 @@ def test_refusals_mujoco_shape(tmp_path):
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML"):
         deploy(tmp_path, "kps: [1, 2\n")
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML: .*key 'kps' given twice "
-                                          r"\(lines 11 and 26\)"):
+                                          r"\(lines 12 and 27\)"):
         deploy(tmp_path, text + "\nkps: [1]\n")
     # safe_load: a YAML object tag is refused, never constructed
     with pytest.raises(DeployError, match=r"not valid YAML"):
@@ -379,3 +390,144 @@ def test_a_refused_state_read_asks_for_an_estop(tmp_path):
                        check=True)
         r = subprocess.run([str(exe)], input=line * 3, capture_output=True, text=True)
         assert r.returncode == estop
+
+
+# ---- files real torch wrote (data/nn/make_torch_files.py) ------------------------------
+
+NN = REPO / "codegen" / "tests" / "data" / "nn"
+# the four joints the committed files' metadata names, and a configuration
+# for the torch.jit.save archive (which carries none): the 6 inputs are the
+# gyro and the operator's velocity command, both unscaled, so that the
+# observation is exactly what the states hold
+TORCH_CFG = """\
+joint_names: [left_hip_pitch_joint, left_knee_joint, right_hip_pitch_joint, right_knee_joint]
+kps: [100, 150, 100, 150]
+kds: [2, 4, 2, 4]
+default_angles: [-0.1, 0.3, -0.1, 0.3]
+action_scale: 0.25
+control_decimation: 10
+observations: [ang_vel, command]
+command_channels: [operator/velocity.x, operator/velocity.y, operator/yaw_rate]
+"""
+
+
+def run_native(tmp_path, p, states):
+    """The controller's C (tmp_path/policy.c) built natively and run over
+    @p states: the command vector it sends each tick."""
+    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
+    exe = tmp_path / "harness"
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
+                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
+    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
+    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
+    return [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
+
+
+def moving_states(p, ticks, seed):
+    """A robot that moves: every state a smooth function of time, the
+    orientation a unit quaternion."""
+    ns = len(p.manifest.states)
+    quat = [i for i, c in enumerate(p.manifest.states) if "/orientation." in c.name][:4]
+    rng = np.random.default_rng(seed)
+    phase = rng.uniform(0, 6.28, size=ns)
+    out = []
+    for t in range(ticks):
+        s = 0.3 * np.sin(0.05 * t + phase)
+        q = np.array([0.05, -0.03, 0.2 * np.sin(0.01 * t), 1.0])
+        s[quat] = q / np.linalg.norm(q)
+        out.append(s)
+    return out
+
+
+def assert_native_is_reference(got, want, scale):
+    assert len(got) == len(want)
+    for t, (g, w) in enumerate(zip(got, want)):
+        assert np.max(np.abs(g - w)) < scale * 2.0 ** -14, f"tick {t}: {np.max(np.abs(g - w))}"
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_torch_jit_lstm_exporter_deploys_and_matches_torch(tmp_path):
+    """unitree_rl_gym's exporter shape as torch.jit.save wrote it, through
+    the one command: the reference's actions are torch's recorded outputs,
+    the native build sends the reference's targets."""
+    robot = with_operator_inputs(tmp_path)
+    cfg = tmp_path / "torch.yaml"
+    cfg.write_text(TORCH_CFG)
+    p = nn_deploy.deploy(str(NN / "lstm_exporter.pt"), str(cfg), robot, str(tmp_path / "p.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    assert [(l.kind, l.n_in, l.n_out) for l in p.layers] == [("lstm", 6, 12), ("dense", 12, 8),
+                                                           ("dense", 8, 4)]
+    assert p.command_ch == [97, 98, 99] and p.decimation == 10
+    io = np.load(NN / "lstm_exporter.io.npz")
+    steps = len(io["x"])
+    gyro = [p.manifest.states.index(next(c for c in p.manifest.states
+                                         if c.name == f"base_imu/angular_velocity.{a}"))
+            for a in "xyz"]
+    states = moving_states(p, steps * p.decimation, 11)
+    for t, s in enumerate(states):  # torch's inputs, held over each inference period
+        x = io["x"][t // p.decimation].astype(np.float64)
+        s[gyro], s[97:100] = x[:3], x[3:]
+    want = nn_deploy.reference(p, states)
+    pos = [p.manifest.commands.index(next(c for c in p.manifest.commands
+                                          if c.name == f"{j.name}/position")) for j in p.joints]
+    defaults = np.array([j.default for j in p.joints])
+    for k in range(steps):
+        action = (want[k * p.decimation][pos] - defaults) / 0.25
+        assert np.allclose(action, io["y"][k], rtol=1e-5, atol=2e-6), (k, action, io["y"][k])
+    got = run_native(tmp_path, p, states)
+    assert_native_is_reference(got, want, 0.25)
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_onnx_with_metadata_deploys_without_a_config(tmp_path):
+    """torch.onnx.export's LSTM with mjlab's metadata_props: the metadata is
+    the configuration, its rate the 50 Hz default (said); the same network
+    as the torch.jit archive; the native build sends the reference's
+    targets."""
+    p = nn_deploy.deploy(str(NN / "lstm.onnx"), None, "unitree_g1", str(tmp_path / "o.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    assert [j.name for j in p.joints] == ["left_hip_pitch_joint", "left_knee_joint",
+                                          "right_hip_pitch_joint", "right_knee_joint"]
+    assert [j.kp for j in p.joints] == [100.0, 150.0, 100.0, 150.0]
+    assert [t.name for t in p.terms] == ["ang_vel", "gravity"]
+    assert p.terms[0].scale == [0.25] * 3 and p.decimation == 10
+    assert any("metadata has no control_dt: the policy runs at 50 Hz" in n for n in p.notes)
+    io = np.load(NN / "lstm_exporter.io.npz")
+    from rozgen import nn
+    assert np.allclose(nn.forward(p.layers, io["x"]), io["y"], rtol=1e-5, atol=2e-6)
+    states = moving_states(p, 60, 12)
+    got = run_native(tmp_path, p, states)
+    assert_native_is_reference(got, nn_deploy.reference(p, states), 0.25)
+    # the wasm too, when there is a clang to build it
+    if CLANG:
+        nn_deploy.deploy(str(NN / "lstm.onnx"), None, "unitree_g1", str(tmp_path / "o.wasm"),
+                         c_out=str(tmp_path / "o.c"), sdk=str(SDK))
+        assert (tmp_path / "o.wasm").read_bytes()[:4] == b"\0asm"
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+def test_torch_jit_mlp_deploys_and_matches_torch(tmp_path):
+    """A scripted Sequential MLP (7 inputs: the gyro and the four joints'
+    positions relative to their defaults) the same way."""
+    cfg = tmp_path / "mlp.yaml"
+    cfg.write_text(TORCH_CFG.replace("observations: [ang_vel, command]",
+                                     "observations: [ang_vel, joint_pos]"))
+    p = nn_deploy.deploy(str(NN / "mlp.pt"), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    states_of = {c.name: i for i, c in enumerate(p.manifest.states)}
+    gyro = [states_of[f"base_imu/angular_velocity.{a}"] for a in "xyz"]
+    q = [states_of[f"{j.name}/position"] for j in p.joints]
+    defaults = np.array([j.default for j in p.joints])
+    io = np.load(NN / "mlp.io.npz")
+    states = moving_states(p, len(io["x"]) * p.decimation, 13)
+    for t, s in enumerate(states):
+        x = io["x"][t // p.decimation].astype(np.float64)
+        s[gyro], s[q] = x[:3], x[3:] + defaults
+    want = nn_deploy.reference(p, states)
+    pos = [p.manifest.commands.index(next(c for c in p.manifest.commands
+                                          if c.name == f"{j.name}/position")) for j in p.joints]
+    for k in range(len(io["x"])):
+        action = (want[k * p.decimation][pos] - defaults) / 0.25
+        assert np.allclose(action, io["y"][k], rtol=1e-5, atol=1e-5), (k, action, io["y"][k])
+    assert_native_is_reference(run_native(tmp_path, p, states), want, 0.25)

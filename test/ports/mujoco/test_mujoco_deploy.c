@@ -1,9 +1,12 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* A policy deployed by rozgen-nn deploy, in physics: g1_deployed.wasm
+/* A policy deployed by rozgen-nn deploy, in physics, built once per
+ * controller (DEPLOYED_CONTROLLER on DEPLOYED_ROBOT): g1_deployed.wasm
  * (examples/controllers: examples/policies/g1's small network with the
  * deploy_real configuration, the waist held at kp 300) on the built-in
- * 29-DoF G1 in MuJoCo for 6 simulated seconds, behind the runtime and its
- * filter. Every tick the same generated C built natively (this test's
+ * 29-DoF G1, and g1_12dof_deployed.wasm (the same network with the
+ * deploy_mujoco configuration) on unitree_g1_12dof, the model the policy
+ * was trained on; each in MuJoCo for 6 simulated seconds, behind the
+ * runtime and its filter. Every tick the same generated C built natively (this test's
  * second source, roz_policy.h with roz_nn.h's plain-C imports) is given the
  * state the module saw, and must send the module's targets bit for bit.
  * No fault, nothing outside the manifest reaches the model, and no gain of
@@ -29,6 +32,11 @@
 #include "support.h"
 
 #define TICKS 3000 /* 6 s at 500 Hz */
+
+#ifndef DEPLOYED_CONTROLLER /* the build says which (test/ports/mujoco/CMakeLists.txt) */
+#define DEPLOYED_CONTROLLER "g1_deployed"
+#define DEPLOYED_ROBOT "unitree_g1"
+#endif
 
 /* ---- the native build's imports ------------------------------------------------ */
 
@@ -58,15 +66,15 @@ void roz_request_estop(void)
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
-/* @p controller on the built-in G1 for @p ticks; with @p native, every
- * tick's targets against the native build of the same C. Returns the most
- * fuel a tick took. */
-static uint64_t run(const char *controller, long long ticks, int native);
+/* @p controller on the built-in @p robot for @p ticks; with @p native,
+ * every tick's targets against the native build of the same C. Returns the
+ * most fuel a tick took. */
+static uint64_t run(const char *robot, const char *controller, long long ticks, int native);
 
-static void test_mujoco_deploy_g1(void **state)
+static void test_mujoco_deploy(void **state)
 {
     (void)state;
-    (void)run("g1_deployed", TICKS, 1);
+    (void)run(DEPLOYED_ROBOT, DEPLOYED_CONTROLLER, TICKS, 1);
 }
 
 /* The same configuration at the real policy's size (47 -> LSTM 64 -> 32 ELU
@@ -75,13 +83,15 @@ static void test_mujoco_deploy_g1(void **state)
 static void test_mujoco_deploy_g1_full_size(void **state)
 {
     (void)state;
-    uint64_t fuel = run("g1_deployed_full", 500, 0);
+    if (strcmp(DEPLOYED_ROBOT, "unitree_g1") != 0)
+        skip();
+    uint64_t fuel = run("unitree_g1", "g1_deployed_full", 500, 0);
     assert_true(fuel > 40000); /* the inference ticks ran the whole network */
 }
 
-static uint64_t run(const char *controller, long long ticks, int native)
+static uint64_t run(const char *robot, const char *controller, long long ticks, int native)
 {
-    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    const roz_manifest_t *m = roz_builtin_find(robot);
     assert_non_null(m);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     char err[512] = "";
@@ -127,8 +137,8 @@ static uint64_t run(const char *controller, long long ticks, int native)
     }
     roz_runtime_stats_t st;
     assert_int_equal(roz_runtime_stats(&rt, &st), ROZ_OK);
-    print_message("%s: %d target changes in %lld ticks (an inference every 10), "
-                  "pelvis lowest %.3f m, fuel max %llu units a tick\n", controller,
+    print_message("%s on %s: %d target changes in %lld ticks (an inference every 10), "
+                  "pelvis lowest %.3f m, fuel max %llu units a tick\n", controller, robot,
                   inferences, ticks, lowest, (unsigned long long)st.runtime.max_fuel);
     assert_true(inferences > ticks / 10 / 2);
     assert_int_equal(native_estop, 0);
@@ -151,7 +161,7 @@ static uint64_t run(const char *controller, long long ticks, int native)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_deploy_g1),
+        cmocka_unit_test(test_mujoco_deploy),
         cmocka_unit_test(test_mujoco_deploy_g1_full_size),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
