@@ -45,7 +45,7 @@ endif()
 set(ROZ_INSTALL_WITH_DDS OFF)
 if(TARGET roz_dds)
   set(ROZ_INSTALL_WITH_DDS ON)
-  list(APPEND _roz_targets roz_dds)
+  list(APPEND _roz_targets roz_dds_params roz_dds)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/dds/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
 endif()

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The [hardware] keys of a robot for the DDS ports: ``unitree/G1``
-(ports/unitree_g1) and the ROS 2 ports ``agibot/X2`` and ``engineai/PM01``
-(ports/ros2). They share the binding of joints and channels
-(``hal/src/joints.c``), the parameter parsers (``hal/src/params.c``) and the
-DDS parameters (``ports/dds/src/dds_params.c``); what differs is the
-robot's joints and a few keys of its own. These are the rules the ports
-apply at open, in their order and with their words, so that rozgen refuses
-at build time what the port would refuse at the robot's first start.
+"""The [hardware] keys of a robot for the ROS 2 ports ``agibot/X2`` and
+``engineai/PM01`` (ports/ros2). They share the binding of joints and
+channels (``hal/src/joints.c``), the parameter parsers
+(``hal/src/params.c``) and the DDS parameters
+(``ports/dds/src/dds_params.c``); what differs is the robot's joints and a
+key of its own. These are the rules the ports apply at open, in their
+order and with their words, so that rozgen refuses at build time what the
+port would refuse at the robot's first start.
 
 Only what the manifest alone decides: parameters given at run time
 (``rozrun --param``) come after robot.toml's and are checked by the port.
@@ -14,7 +14,9 @@ Only what the manifest alone decides: parameters given at run time
 A port's open stops at its first problem; rozgen goes on where the checks
 do not depend on each other, so its first problem is the one the port
 gives. Each message is ``": "`` and then the port's own text (the C test
-``test_port_vectors`` opens each port with the shared vectors and compares).
+``test_port_vectors`` opens each port with the shared vectors and
+compares). ``unitree/G1``'s rules are written once, in C
+(``ports/unitree_g1/src/g1_rules.c``), and run by rozgen's checker.
 
 ``check(manifest)`` runs on a manifest that passed every other rule and
 returns ``(rule, message)`` pairs.
@@ -28,20 +30,6 @@ from rozgen import threads
 from rozgen.model import Manifest
 
 # ---- the robots (the ports' tables, in their order) ----------------------------
-
-#: unitree/G1: the body's motors by SDK name, index = motor slot (g1_map.c)
-G1_JOINTS = (
-    "left_hip_pitch_joint", "left_hip_roll_joint", "left_hip_yaw_joint",
-    "left_knee_joint", "left_ankle_pitch_joint", "left_ankle_roll_joint",
-    "right_hip_pitch_joint", "right_hip_roll_joint", "right_hip_yaw_joint",
-    "right_knee_joint", "right_ankle_pitch_joint", "right_ankle_roll_joint",
-    "waist_yaw_joint", "waist_roll_joint", "waist_pitch_joint",
-    "left_shoulder_pitch_joint", "left_shoulder_roll_joint", "left_shoulder_yaw_joint",
-    "left_elbow_joint", "left_wrist_roll_joint", "left_wrist_pitch_joint",
-    "left_wrist_yaw_joint", "right_shoulder_pitch_joint", "right_shoulder_roll_joint",
-    "right_shoulder_yaw_joint", "right_elbow_joint", "right_wrist_roll_joint",
-    "right_wrist_pitch_joint", "right_wrist_yaw_joint",
-)
 
 #: agibot/X2: joint groups (x2_port.c)
 X2_GROUPS = (
@@ -77,9 +65,6 @@ DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "exit_stop",
             "command_writer_sched", "command_writer_priority", "command_writer_cpus",
             "command_writer_stack_kib", "dds_threads_sched", "dds_threads_priority",
             "dds_threads_stack_kib", "command_timeout_us")
-#: known_keys of g1_port.c
-G1_KEYS = DDS_KEYS + ("mode_pr", "peer_timeout_ms", "startup_damping", "shutdown_damping",
-                      "peer")
 #: common_keys of ros2_bridge.c; a robot's own follow
 ROS2_KEYS = DDS_KEYS + ("peer_timeout_ms", "startup_damping", "shutdown_damping", "link_check")
 
@@ -125,7 +110,7 @@ class Port:
 
     name: str  # [hardware] port
     family: str  # rule ids: <family>-joint, -channel, -param
-    groups: tuple  # ((group, (joint, ...)), ...); unitree/G1: one
+    groups: tuple  # ((group, (joint, ...)), ...)
     robot: str  # as the binding's messages call it
     keys: tuple[str, ...]  # known [hardware.params] keys, in the port's order
     has_sequence: bool = False  # ROS 2: the state headers carry a sequence
@@ -136,21 +121,14 @@ class Port:
         return tuple(j for _, group in self.groups for j in group)
 
 
-G1 = Port("unitree/G1", "g1", (("body", G1_JOINTS),), "the G1", G1_KEYS)
 X2 = Port("agibot/X2", "ros2", X2_GROUPS, "this robot", ROS2_KEYS + ("joint_state_layout",),
           has_sequence=True, own="joint_state_layout")
 PM01 = Port("engineai/PM01", "ros2", PM01_GROUPS, "this robot",
             ROS2_KEYS + ("parallel_parser_type",), own="parallel_parser_type")
-PORTS = {p.name: p for p in (G1, X2, PM01)}
+PORTS = {p.name: p for p in (X2, PM01)}
 
 #: the robots' own keys: accepted values, and what the port says otherwise
 OWN_VALUES = {
-    "peer": (("robot", "unitree_mujoco"),
-             "expected robot (a G1: every check, the default) or unitree_mujoco (Unitree's "
-             "simulator on lo: no state CRC or tick checks; never a robot)"),
-    "mode_pr": (("PR", "pr", "0", "AB", "ab", "1"),
-                "expected PR (0: ankles and waist in serial pitch/roll joint space) or AB "
-                "(1: the parallel actuators directly)"),
     "joint_state_layout": (("sdk", "docs"),
                            "expected sdk (the SDK's JointState: name, position, velocity, "
                            "effort, error_code; the default) or docs (the online "
@@ -220,13 +198,7 @@ class _Checker:
         p, joints = self.port, self.hw.joints
         rule = f"{p.family}-joint"
         n_slots = len(p.joints)
-        if p is G1:
-            if not 1 <= len(joints) <= n_slots:
-                self.say(rule, f"{p.name}: manifest {self.m.robot_id}: [hardware] joints must "
-                         f"list 1..{n_slots} of the robot's joints by their SDK names, it "
-                         f"lists {len(joints)}")
-                return False
-        elif not 1 <= len(joints) <= MAX_JOINTS:
+        if not 1 <= len(joints) <= MAX_JOINTS:
             self.say(rule, f"{p.name}: manifest {self.m.robot_id}: [hardware] joints must list "
                      f"the robot's joints (1..{n_slots}), it lists {len(joints)}")
             return False
@@ -243,9 +215,7 @@ class _Checker:
                          f"robot's joints (the port's header lists them{by_group})")
                 ok = False
             elif joint in first:  # the C loader refuses it first (duplicate-joint)
-                self.say(rule, f'{p.name}: [hardware] joints[{k}] "{joint}" is '
-                         + (f"a duplicate of joints[{first[joint]}]" if p is G1
-                            else "listed twice"))
+                self.say(rule, f'{p.name}: [hardware] joints[{k}] "{joint}" is listed twice')
                 ok = False
             else:
                 first[joint] = k
@@ -322,8 +292,6 @@ class _Checker:
             if key not in p.keys:
                 self.say("unknown-key", f'unknown parameter "{key}" for port {p.name} (known: '
                          f"{' '.join(p.keys)})")
-        if p is G1:
-            self.check_own("peer")
         # roz_dds_params_parse()
         iface = params.get("network_interface")
         if iface is not None and not _IFNAME.fullmatch(iface):
@@ -358,16 +326,10 @@ class _Checker:
         if period is not None:
             self.check_command_timeout(period)
         # the port's own
-        if p is G1:
-            self.check_sim_network()
-            self.check_own("mode_pr")
-            self.check_u32("peer_timeout_ms", 10, 60000)
-            self.check_damping()
-        else:
-            self.check_u32("peer_timeout_ms", 10, 60000)
-            self.check_link_check()
-            self.check_damping()
-            self.check_own(p.own)
+        self.check_u32("peer_timeout_ms", 10, 60000)
+        self.check_link_check()
+        self.check_damping()
+        self.check_own(p.own)
 
     def check_command_timeout(self, period: int) -> None:
         """roz_cmd_watchdog_param()."""
@@ -387,17 +349,6 @@ class _Checker:
             self.bad(key, f"expected a time in {least}..{WATCHDOG_MAX_US} us (at least "
                      f"{WATCHDOG_MIN_PERIODS} periods of the tick at {rate} Hz and of the "
                      f"command writer; default {default})")
-
-    def check_sim_network(self) -> None:
-        """g1_port.c check_sim_network(): the simulator's relaxed checks on lo only
-        (CYCLONEDDS_URI is the port's to see, at open)."""
-        iface = self.params.get("network_interface", "lo")
-        if self.params.get("peer") == "unitree_mujoco" and iface != "lo" and \
-                _IFNAME.fullmatch(iface):
-            self.say(f"{self.port.family}-param",
-                     f'parameter peer = "unitree_mujoco" with network_interface = "{iface}": the '
-                     "simulator's checks are off, so roz takes them only on lo (unitree_mujoco's "
-                     "INTERFACE); a robot's network is refused")
 
     def check_own(self, key: str) -> None:
         values, what = OWN_VALUES[key]

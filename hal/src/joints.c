@@ -95,7 +95,7 @@ static int bind_joint(const roz_manifest_t *m, const char *port, uint16_t index,
                    "%s: [hardware] joints[%u] \"%s\" has no channel in manifest %s (expected "
                    "%s/position, /velocity, /effort, /stiffness, /damping)",
                    port, (unsigned)index, joint, m->robot_id, joint);
-        return ROZ_EINVAL;
+        return ROZ_ENOENT;
     }
     return ROZ_OK;
 }
@@ -108,8 +108,9 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
 
     memset(&bound, 0, sizeof bound);
     for (uint16_t j = 0; j < n; j++) {
-        if (bind_joint(m, port, j, names[j], &out[j], &bound, err, errlen) != ROZ_OK)
-            return ROZ_EINVAL;
+        int rc = bind_joint(m, port, j, names[j], &out[j], &bound, err, errlen);
+        if (rc != ROZ_OK)
+            return rc;
     }
     for (int k = 0; imu != NULL && k < ROZ_IMU_VALUES; k++) {
         int i = roz_manifest_find_state(m, imu_states[k].name);

@@ -92,7 +92,9 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
     for (int k = 0; k < ROZ_IMU_VALUES; k++)
         b->imu[k] = -1;
     return roz_joints_bind(m, r->port, "this robot", hw->joints, hw->n_joints, b->joint,
-                           r->imu_topic != NULL ? b->imu : NULL, err, errlen);
+                           r->imu_topic != NULL ? b->imu : NULL, err, errlen) == ROZ_OK
+               ? ROZ_OK
+               : ROZ_EINVAL;
 }
 
 static uint16_t robot_slot(const roz_ros2_bridge_t *b, uint16_t k)

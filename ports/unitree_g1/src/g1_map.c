@@ -14,85 +14,6 @@
 
 /* ---- binding --------------------------------------------------------------- */
 
-/* The body's motors by their SDK joint names: index = motor_cmd/motor_state
- * slot (the 29-DoF order; a 23-DoF G1 has no motor at 13, 14, 20, 21, 27,
- * 28, a locked waist none at 13, 14). */
-static const char *const slot_names[ROZ_UNITREE_G1_BODY] = {
-    "left_hip_pitch_joint",      "left_hip_roll_joint",      "left_hip_yaw_joint",
-    "left_knee_joint",           "left_ankle_pitch_joint",   "left_ankle_roll_joint",
-    "right_hip_pitch_joint",     "right_hip_roll_joint",     "right_hip_yaw_joint",
-    "right_knee_joint",          "right_ankle_pitch_joint",  "right_ankle_roll_joint",
-    "waist_yaw_joint",           "waist_roll_joint",         "waist_pitch_joint",
-    "left_shoulder_pitch_joint", "left_shoulder_roll_joint", "left_shoulder_yaw_joint",
-    "left_elbow_joint",          "left_wrist_roll_joint",    "left_wrist_pitch_joint",
-    "left_wrist_yaw_joint",      "right_shoulder_pitch_joint", "right_shoulder_roll_joint",
-    "right_shoulder_yaw_joint",  "right_elbow_joint",        "right_wrist_roll_joint",
-    "right_wrist_pitch_joint",   "right_wrist_yaw_joint",
-};
-
-int roz_unitree_g1_joint_slot(const char *name)
-{
-    for (int s = 0; name != NULL && s < ROZ_UNITREE_G1_BODY; s++) {
-        if (strcmp(slot_names[s], name) == 0)
-            return s;
-    }
-    return -1;
-}
-
-/* Each manifest joint's motor slot, by name; every error names the joint. */
-static int place(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen)
-{
-    const roz_hardware_t *hw = m->hardware;
-    int taken[ROZ_UNITREE_G1_BODY];
-
-    for (int s = 0; s < ROZ_UNITREE_G1_BODY; s++)
-        taken[s] = -1;
-    for (uint16_t k = 0; k < hw->n_joints; k++) {
-        int s = roz_unitree_g1_joint_slot(hw->joints[k]);
-        if (s < 0) {
-            snprintf(err, errlen,
-                     "unitree/G1: [hardware] joints[%u] \"%s\" is not one of the robot's joints "
-                     "(the port's header lists them)",
-                     (unsigned)k, hw->joints[k] != NULL ? hw->joints[k] : "");
-            return ROZ_EINVAL;
-        }
-        if (taken[s] >= 0) {
-            snprintf(err, errlen,
-                     "unitree/G1: [hardware] joints[%u] \"%s\" is a duplicate of joints[%d]",
-                     (unsigned)k, hw->joints[k], taken[s]);
-            return ROZ_EINVAL;
-        }
-        taken[s] = (int)k;
-        g1->slot[k] = (uint8_t)s;
-        g1->listed |= (uint32_t)1u << s;
-    }
-    return ROZ_OK;
-}
-
-int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen)
-{
-    const roz_hardware_t *hw = m->hardware;
-
-    if (hw == NULL || hw->n_joints == 0 || hw->n_joints > ROZ_UNITREE_G1_BODY) {
-        snprintf(err, errlen,
-                 "unitree/G1: manifest %s: [hardware] joints must list 1..%d of the robot's "
-                 "joints by their SDK names, it lists %u",
-                 m->robot_id, ROZ_UNITREE_G1_BODY, hw != NULL ? (unsigned)hw->n_joints : 0u);
-        return ROZ_EINVAL;
-    }
-    for (size_t s = 0; s < ROZ_UNITREE_G1_SLOTS; s++) {
-        roz_unitree_g1_joint_t *j = &g1->joint[s];
-        j->q_state = j->dq_state = j->tau_state = -1;
-        j->q_cmd = j->dq_cmd = j->tau_cmd = j->kp_cmd = j->kd_cmd = -1;
-    }
-    g1->listed = 0;
-    if (place(g1, m, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
-    g1->n_joints = hw->n_joints;
-    return roz_joints_bind(m, "unitree/G1", "the G1", hw->joints, hw->n_joints, g1->joint,
-                           g1->imu, err, errlen);
-}
-
 /* Motor slots each hardware variant lacks (mode_machine, reference: the
  * SDK's 23-DoF enum and the locked-waist variants). */
 #define G1_SLOTS_23DOF ((1u << 13) | (1u << 14) | (1u << 20) | (1u << 21) | (1u << 27) | (1u << 28))
@@ -130,10 +51,6 @@ int roz__g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mode_machine, c
     return -1; /* not reached: listed says one is */
 }
 
-int roz__g1_damping_range(const roz_unitree_g1_t *g1, double *lo, double *hi)
-{
-    return roz_joints_damping_range(g1->m, g1->joint, g1->n_joints, lo, hi);
-}
 
 /* ---- state ----------------------------------------------------------------- */
 

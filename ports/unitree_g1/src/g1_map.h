@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "g1_rules.h"
 #include "roz/port/unitree_g1.h"
 #include "unitree_hg.h"
 
@@ -17,20 +18,12 @@ typedef unitree_hg_msg_dds__LowState_ g1_state_t;
 #define G1_CMD_CRC_WORDS (sizeof(g1_cmd_t) / 4u - 1u)
 #define G1_STATE_CRC_WORDS (sizeof(g1_state_t) / 4u - 1u)
 
-/* Binds the manifest's joints and IMU to motor slots and channels; every
- * channel must find its place. ROZ_EINVAL with err naming the joint or the
- * channel. */
-int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_t errlen);
 
 /* The manifest joint (index) the robot's hardware variant @p mode_machine
  * has no motor for (23-DoF: slots 13, 14, 20, 21, 27, 28; locked waist: 13,
  * 14), with *why saying so (static, ends "mode_machine" for the code); -1
  * when it has them all (0, simulation, has them all). */
 int roz__g1_variant_refuses(const roz_unitree_g1_t *g1, uint32_t mode_machine, const char **why);
-
-/* The damping channels' common range [lo, hi]; 0 when there are none.
- * Returns the number of damping channels. */
-int roz__g1_damping_range(const roz_unitree_g1_t *g1, double *lo, double *hi);
 
 /* Whether the frame's CRC matches. */
 int roz__g1_state_crc_ok(const g1_state_t *s);

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "g1_map.h"
+#include "g1_rules.h"
 #include "roz/filter.h"
 #include "roz/hal/params.h"
 
@@ -29,8 +30,6 @@ _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_
 
 #define LOCKED 0x100u /* locked_mode_machine: a command went out */
 
-static const char *const known_keys[] = { ROZ_DDS_PARAM_KEYS, "mode_pr", "peer_timeout_ms",
-                                          "startup_damping", "shutdown_damping", "peer", NULL };
 
 
 /* ---- private ----------------------------------------------------------------- */
@@ -74,108 +73,24 @@ static int merge_params(roz_unitree_g1_t *g1, const roz_manifest_t *m, const roz
     return ROZ_OK;
 }
 
-static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t errlen)
-{
-    const char *v = roz_params_get_str(p, "mode_pr", "PR");
-    if (strcmp(v, "PR") == 0 || strcmp(v, "pr") == 0 || strcmp(v, "0") == 0) {
-        *out = 0;
-    } else if (strcmp(v, "AB") == 0 || strcmp(v, "ab") == 0 || strcmp(v, "1") == 0) {
-        *out = 1;
-    } else {
-        snprintf(err, errlen,
-                 "parameter mode_pr = \"%s\": expected PR (0: ankles and waist in serial "
-                 "pitch/roll joint space) or AB (1: the parallel actuators directly)",
-                 v);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
 
-/* The port's parameters: the rows its info shows, the bounds and defaults
- * parse_params() reads. */
-static const roz_port_param_info_t g1_params[] = {
-    ROZ_DDS_PARAM_INFO("0"),
-    ROZ_PORT_PARAM_TEXT_ROW("mode_pr", "PR|AB|0|1", "PR", "the ankles' and waist's control mode"),
-    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500, "the robot silent this long is lost"),
-    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",
-                            "kd of the start-up hold"),
-    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",
-                            "the channels' default",
-                            "kd of the damping command at shut-down and on a watchdog trip"),
-    ROZ_PORT_PARAM_TEXT_ROW("peer", "robot|unitree_mujoco", "robot",
-                            "unitree_mujoco: Unitree's simulator on lo (no state CRC, no tick); "
-                            "never a robot"),
-};
 
-/* What answers on rt/lowstate. unitree_mujoco never sets crc, tick or
- * mode_machine, so the CRC and the tick's link checks would drop all of it;
- * the relaxation stays on the loopback, where no robot can be
- * (docs/ports/unitree_g1.md, "In Unitree's simulator"; test_g1_sim). */
-static int parse_peer(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
-{
-    const char *v = roz_params_get_str(p, "peer", "robot");
-    if (strcmp(v, "robot") == 0) {
-        g1->peer = ROZ_UNITREE_G1_PEER_ROBOT;
-    } else if (strcmp(v, "unitree_mujoco") == 0) {
-        g1->peer = ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO;
-    } else {
-        snprintf(err, errlen,
-                 "parameter peer = \"%s\": expected robot (a G1: every check, the default) or "
-                 "unitree_mujoco (Unitree's simulator on lo: no state CRC or tick checks; never "
-                 "a robot)",
-                 v);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
 
-static int check_sim_network(const roz_unitree_g1_t *g1, char *err, size_t errlen)
-{
-    if (g1->peer != ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO)
-        return ROZ_OK;
-    if (strcmp(g1->dds.network_interface, "lo") != 0) {
-        snprintf(err, errlen,
-                 "parameter peer = \"unitree_mujoco\" with network_interface = \"%s\": the "
-                 "simulator's checks are off, so roz takes them only on lo (unitree_mujoco's "
-                 "INTERFACE); a robot's network is refused",
-                 g1->dds.network_interface);
-        return ROZ_EINVAL;
-    }
-    if (getenv("CYCLONEDDS_URI") != NULL) {
-        snprintf(err, errlen,
-                 "parameter peer = \"unitree_mujoco\": CYCLONEDDS_URI is set, so roz cannot "
-                 "keep the participant on lo; unset it to run the simulator");
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
+
+
+/* The rows the port's info shows (g1_rules.h). */
+static const roz_port_param_info_t g1_params[] = { ROZ__G1_PARAM_ROWS };
 
 static int parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
 {
-    double lo, hi;
-    int rc = roz_params_check_known(p, known_keys, "unitree/G1", err, errlen);
-    if (rc == ROZ_OK)
-        rc = parse_peer(g1, p, err, errlen);
-    if (rc == ROZ_OK)
-        rc = roz_dds_params_parse(&g1->dds, p, 0, g1->m->control_rate_hz, err, errlen);
-    if (rc == ROZ_OK)
-        rc = check_sim_network(g1, err, errlen);
-    if (rc == ROZ_OK)
-        rc = parse_mode_pr(p, &g1->mode_pr, err, errlen);
-    if (rc == ROZ_OK)
-        rc = roz_params_get_row_u32(p, g1_params, sizeof g1_params / sizeof g1_params[0],
-                                    "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen);
-    if (rc != ROZ_OK)
-        return rc;
-    /* gains the damping channels allow, for every joint */
-    (void)roz__g1_damping_range(g1, &lo, &hi);
-    rc = roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
-                               &g1->startup_kd, err, errlen);
-    if (rc == ROZ_OK && roz_params_find(p, "shutdown_damping") != NULL)
-        rc = roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi, &g1->shutdown_kd, err,
-                                   errlen);
-    else
-        g1->shutdown_kd = NAN; /* each joint's damping default */
+    int rc = roz__g1_parse_params(g1, p, err, errlen, NULL, NULL);
+    if (rc == ROZ_OK && g1->peer == ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO &&
+        getenv("CYCLONEDDS_URI") != NULL) {
+        snprintf(err, errlen,
+                 "parameter peer = \"unitree_mujoco\": CYCLONEDDS_URI is set, so roz cannot "
+                 "keep the participant on lo; unset it to run the simulator");
+        rc = ROZ_EINVAL;
+    }
     return rc;
 }
 
@@ -365,7 +280,7 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
         return ROZ_EINVAL;
     }
     g1->m = m;
-    rc = roz__g1_bind(g1, m, err, errlen);
+    rc = roz__g1_bind(g1, m, err, errlen) == ROZ_OK ? ROZ_OK : ROZ_EINVAL;
     if (rc == ROZ_OK)
         rc = merge_params(g1, m, p, &params, err, errlen);
     if (rc == ROZ_OK)

@@ -10,7 +10,8 @@ does not have, or one of another robot's), some of each joint's channels
 of no joint, and [hardware.params] drawn from every key the DDS ports know
 and a few they do not, with values valid, at the edges of their ranges and
 beyond them, at several tick rates. rozgen (``rozgen.validate``, this
-checkout's, with its DDS rules in ``rozgen.dds_ports``) and the port's open
+checkout's: unitree/G1's rules in C, run by its checker, the ROS 2 ports'
+in ``rozgen.dds_ports``) and the port's open
 (port_open_check, roz's C loader and the port with no run-time parameter)
 must agree: both accept it, or the port's error is rozgen's first line.
 An interface name that passes the rules but names no interface of this
@@ -28,15 +29,32 @@ import argparse
 import collections
 import os
 import random
+import re
 import subprocess
 import sys
+from pathlib import Path
 
 from rozgen import checker, dds_ports
 from rozgen.load import load
 from rozgen.validate import validate
 
-ROBOTS = {"unitree/G1": dds_ports.G1, "agibot/X2": dds_ports.X2,
-          "engineai/PM01": dds_ports.PM01}
+
+def _g1() -> dds_ports.Port:
+    """unitree/G1 as the variants need it: its joints and keys, read from
+    its rules (ports/unitree_g1/src/g1_rules.c), which rozgen's checker runs."""
+    text = (Path(__file__).resolve().parents[3] / "ports" / "unitree_g1" / "src" /
+            "g1_rules.c").read_text(encoding="utf-8")
+
+    def strings(name: str) -> tuple[str, ...]:
+        found = re.search(name + r"\[[^\]]*\] = \{(.*?)\};", text, re.S)
+        assert found, name
+        return tuple(re.findall(r'"([^"]*)"', found.group(1)))
+
+    return dds_ports.Port("unitree/G1", "g1", (("body", strings("slot_names")),), "the G1",
+                          dds_ports.DDS_KEYS + strings("known_keys"))
+
+
+ROBOTS = {"unitree/G1": _g1(), "agibot/X2": dds_ports.X2, "engineai/PM01": dds_ports.PM01}
 OTHER_TYPES = ("position", "velocity", "effort", "stiffness", "damping", "acceleration",
                "orientation")
 ALL_KEYS = sorted({k for p in ROBOTS.values() for k in p.keys})

@@ -47,8 +47,10 @@ typedef struct roz_joint_channels {
  * @param[out] imu  NULL: the robot has no IMU; else ROZ_IMU_VALUES state
  *                  indices (-1: not in the manifest)
  * @param robot     how an error names the robot ("the G1", "this robot")
- * @retval ROZ_OK, or ROZ_EINVAL with @p err naming @p port and the joint or
- *         channel at fault
+ * @retval ROZ_OK
+ * @retval ROZ_ENOENT a joint without any channel (@p err names it)
+ * @retval ROZ_EINVAL a channel of another type than the port serves, or one
+ *         without a place (@p err names @p port and the channel)
  * Context: a port's open(); not the tick.
  */
 int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot,

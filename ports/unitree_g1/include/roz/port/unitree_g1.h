@@ -188,6 +188,23 @@ static inline roz_port_t roz_unitree_g1_port(roz_unitree_g1_t *g1, roz_log_fn lo
  *  Context: any; pure. */
 int roz_unitree_g1_joint_slot(const char *name);
 
+/** Called once per problem by roz_unitree_g1_check(): a rule id
+ *  ("g1-joint", "g1-channel", "g1-param", "unknown-key") and the text after
+ *  the file name (": unitree/G1: ..."). */
+typedef void (*roz_unitree_g1_problem_fn)(void *ctx, const char *rule, const char *text);
+
+/**
+ * @brief The port's rules of @p m's [hardware] keys, as its open applies
+ *        them to robot.toml's parameters: the joints and channels bound,
+ *        then the parameters (a problem of the joints stops there; the
+ *        parameters are each checked). No DDS: this is what
+ *        roz_manifest_json, and so rozgen, runs (roz_add_port_rules()).
+ *        Parameters given at open and CYCLONEDDS_URI are the open's alone.
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting every problem
+ * Context: host tools and start-up, one call at a time; no heap.
+ */
+int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn report, void *ctx);
+
 /** @brief A consistent copy of the checks on LowState_ frames.
  *  Context: any thread. */
 void roz_unitree_g1_link(const roz_unitree_g1_t *g1, roz_link_t *out);
