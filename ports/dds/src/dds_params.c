@@ -85,7 +85,7 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
                  "parameter command_writer_spin_us = \"%s\": only with an event-driven writer "
                  "(command_writer_period_us = 0); this one publishes every %u us",
                  roz_params_get_str(p, "command_writer_spin_us", ""),
-                 out->command_writer_period_us);
+                 (unsigned)out->command_writer_period_us);
         return ROZ_EINVAL;
     }
     rc = roz_thread_params(p, "command_writer", &out->writer_thread, err, errlen);
