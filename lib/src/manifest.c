@@ -186,7 +186,8 @@ int roz_manifest_validate(const roz_manifest_t *m, roz_manifest_problem_t *probl
         return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 0, -1);
     if (m->n_states > ROZ_CFG_MAX_STATES)
         return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 1, -1);
-    if ((uint32_t)m->n_states + m->n_inputs > ROZ_CFG_MAX_STATES)
+    if (m->n_inputs > ROZ_CFG_MAX_INPUTS ||
+        (uint32_t)m->n_states + m->n_inputs > ROZ_CFG_MAX_STATES)
         return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 2, -1);
     rc = check_channels(m, 1, problem);
     if (rc != ROZ_OK)

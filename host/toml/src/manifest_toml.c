@@ -1156,6 +1156,12 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
             return ROZ_ENOSPC;
         }
     }
+    if (roz_toml_count(inputs) > ROZ_CFG_MAX_INPUTS) {
+        report_raw(ck, "storage", ": manifest: inputs: %lu inputs, more than the maximum of %d "
+                                  "(ROZ_CFG_MAX_INPUTS)",
+                   (unsigned long)roz_toml_count(inputs), ROZ_CFG_MAX_INPUTS);
+        return ROZ_ENOSPC;
+    }
 
     man->robot_id = intern_key(st, d, m, "robot_id");
     man->robot_class = cls != NULL ? intern(st, cls->as.str) : "generic";

@@ -53,7 +53,7 @@ typedef struct roz_inputs {
     const roz_channel_t  *ch; /**< the manifest's inputs */
     uint16_t              n;
     roz_inputs_counters_t counters;
-    roz_input_slot_t      slot[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    roz_input_slot_t      slot[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1];
 } roz_inputs_t;
 
 /**

@@ -111,7 +111,8 @@ typedef struct roz_manifest {
      *  reads input k as state n_states + k; they never reach a port.
      *  NULL when n_inputs is 0. */
     const roz_channel_t *inputs;
-    uint16_t             n_inputs;     /**< n_states + n_inputs <= ROZ_CFG_MAX_STATES */
+    uint16_t             n_inputs;     /**< 0..ROZ_CFG_MAX_INPUTS, and n_states + n_inputs
+                                            <= ROZ_CFG_MAX_STATES */
 } roz_manifest_t;
 
 /** Caller-provided storage for a manifest built at run time (no heap). */
@@ -119,8 +120,9 @@ typedef struct roz_manifest_storage {
     roz_manifest_t manifest;                     /**< the result */
     roz_channel_t  commands[ROZ_CFG_MAX_COMMANDS];
     roz_channel_t  states[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
-    /** Operator inputs; they share ROZ_CFG_MAX_STATES with the states. */
-    roz_channel_t  inputs[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    /** Operator inputs (at most ROZ_CFG_MAX_INPUTS; with the states, at most
+     *  ROZ_CFG_MAX_STATES). */
+    roz_channel_t  inputs[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1];
     char           arena[ROZ_CFG_NAME_ARENA_BYTES]; /**< interned names */
     size_t         arena_used;
     /** The [hardware] table of a manifest read at run time (roz/manifest_toml.h). */

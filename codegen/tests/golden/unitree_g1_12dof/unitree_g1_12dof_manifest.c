@@ -11,6 +11,8 @@ _Static_assert(ROZ_UNITREE_G1_12DOF_N_COMMANDS <= ROZ_CFG_MAX_COMMANDS,
                "unitree_g1_12dof: 60 commands, more than ROZ_CFG_MAX_COMMANDS");
 _Static_assert(ROZ_UNITREE_G1_12DOF_N_STATES <= ROZ_CFG_MAX_STATES,
                "unitree_g1_12dof: 46 states, more than ROZ_CFG_MAX_STATES");
+_Static_assert(ROZ_UNITREE_G1_12DOF_N_INPUTS <= ROZ_CFG_MAX_INPUTS,
+               "unitree_g1_12dof: 3 inputs, more than ROZ_CFG_MAX_INPUTS");
 _Static_assert(ROZ_UNITREE_G1_12DOF_N_STATES + ROZ_UNITREE_G1_12DOF_N_INPUTS <= ROZ_CFG_MAX_STATES,
                "unitree_g1_12dof: 46 states and 3 inputs, more than ROZ_CFG_MAX_STATES");
 _Static_assert(33 <= ROZ_CFG_MAX_NAME_LEN,
