@@ -6,9 +6,13 @@
  *        reads as states n_states + k (docs/controllers.md).
  *
  * A source (a scripted operator, a gamepad, a remote) calls
- * roz_inputs_set() from any thread: it stores the value and bumps the
- * input's sequence number, two atomic stores, no lock, no heap; the latest
- * value wins. The tick calls roz_inputs_tick() and applies the rules:
+ * roz_inputs_set() from any thread: it claims the input's sequence number
+ * (one compare-and-swap: odd while it writes), stores the value as two
+ * 32-bit words (lock-free on every target roz runs on, Cortex-M included)
+ * and releases it; no lock, no heap; the latest value wins, and a set that
+ * finds another set of the same input in progress is dropped (ROZ_ESTATE).
+ * The tick takes a value only when the sequence number is even and did not
+ * change while it read (else it takes it at the next tick). The tick calls roz_inputs_tick() and applies the rules:
  *  - a non-finite value is refused and counted; the input keeps its value;
  *  - a value outside the limits is clamped and counted;
  *  - an input without a fresh value for its stale_after_ms (by the tick's
@@ -31,8 +35,8 @@ extern "C" {
 
 /** One input: written by sources (the atomics) and the tick (the rest). */
 typedef struct roz_input_slot {
-    ROZ_ATOMIC(uint64_t) bits; /**< the latest value set, as IEEE 754 bits */
-    ROZ_ATOMIC(uint32_t) seq;  /**< bumped after each set */
+    ROZ_ATOMIC(uint32_t) lo, hi; /**< the latest value set: its IEEE 754 bits */
+    ROZ_ATOMIC(uint32_t) seq;    /**< odd while a set writes; +2 a set */
     uint32_t seen;             /**< tick: the seq last taken */
     int      fresh;            /**< tick: a value was taken and is not yet stale */
     uint64_t taken_ns;         /**< tick: when the last value was taken */
@@ -67,7 +71,8 @@ void roz_inputs_init(roz_inputs_t *in, const roz_manifest_t *m);
  *        judges it).
  * @retval ROZ_OK     stored
  * @retval ROZ_EINVAL @p k is not an input of the manifest
- * Context: any thread; wait-free (two atomic stores); RT-safe.
+ * @retval ROZ_ESTATE another set of input @p k was in progress: dropped
+ * Context: any thread; wait-free (no loop); RT-safe.
  */
 int roz_inputs_set(roz_inputs_t *in, uint32_t k, double value);
 

@@ -447,7 +447,8 @@ void roz_runtime_estop(roz_runtime_t *rt);
  *        tick; no value for stale_after_ms of ticks: back to the default).
  * @retval ROZ_OK     stored
  * @retval ROZ_EINVAL @p k is not an input of the manifest
- * Context: any thread; wait-free (two atomic stores); no heap.
+ * @retval ROZ_ESTATE another thread's set of input @p k was in progress: dropped
+ * Context: any thread; wait-free (no loop, no lock; roz/inputs.h); no heap.
  */
 int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value);
 
