@@ -163,6 +163,11 @@ def canonical_json(data: bytes, checker: str) -> str:
 
 def _channel(c: dict) -> Channel:
     low, high = c["limits"]
+    if "stale_after_ms" in c:  # an operator input: none of the filter's keys
+        return Channel(name=c["name"], interface_type=c["interface_type"], unit=c["unit"],
+                       min=float(low), max=float(high), default=float(c["default"]),
+                       max_rate=float(c["max_rate_of_change"]), position_state=-1,
+                       limit_margin=0.0, stale_after_ms=int(c["stale_after_ms"]))
     return Channel(name=c["name"], interface_type=c["interface_type"], unit=c["unit"],
                    min=float(low), max=float(high), default=float(c["default"]),
                    max_rate=float(c["max_rate_of_change"]),
@@ -178,4 +183,5 @@ def _manifest(doc: dict) -> Manifest:
     return Manifest(robot_id=doc["robot_id"], robot_class=doc["robot_class"],
                     control_rate_hz=int(doc["control_rate_hz"]),
                     commands=tuple(_channel(c) for c in doc["commands"]),
-                    states=tuple(_channel(c) for c in doc["states"]), hardware=hardware)
+                    states=tuple(_channel(c) for c in doc["states"]), hardware=hardware,
+                    inputs=tuple(_channel(c) for c in doc.get("inputs", ())))

@@ -72,6 +72,9 @@ def interface_bytes(manifest: Manifest) -> bytes:
     """The canonical byte string of ``manifest``'s channel table."""
     parts = [TAG, struct.pack("<II", len(manifest.commands), len(manifest.states))]
     parts += [_channel(c) for c in manifest.commands + manifest.states]
+    if manifest.inputs:  # read as states after the states; absent: the hash is unchanged
+        parts.append(struct.pack("<I", len(manifest.inputs)))
+        parts += [_channel(c) for c in manifest.inputs]
     return b"".join(parts)
 
 

@@ -53,6 +53,7 @@ class Channel:
     position_state: int  # paired state index or UNPAIRED
     limit_margin: float  # position states: as written; 0.0 = the default
     safe_default: str = "follow"  # paired position commands: "follow" or "hold"
+    stale_after_ms: int = 0  # operator inputs: ms without an update before the default; 0 elsewhere
 
     @property
     def margin(self) -> float:
@@ -93,6 +94,8 @@ class Manifest:
     commands: tuple[Channel, ...]
     states: tuple[Channel, ...]
     hardware: Hardware | None
+    #: operator inputs, read by a controller as states len(states) + k
+    inputs: tuple[Channel, ...] = ()
 
     @property
     def prefix(self) -> str:
@@ -102,4 +105,5 @@ class Manifest:
     @property
     def longest_name(self) -> int:
         """Bytes in the longest channel name."""
-        return max(len(c.name.encode("utf-8")) for c in self.commands + self.states)
+        return max(len(c.name.encode("utf-8"))
+                   for c in self.commands + self.states + self.inputs)

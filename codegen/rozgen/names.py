@@ -28,6 +28,12 @@ def command_constant(robot_id: str, name: str) -> str:
     return id_prefix(robot_id) + "_CMD_" + constant_suffix(name)
 
 
+def input_constant(robot_id: str, name: str) -> str:
+    """Index constant of an operator input: ``ROZ_UR5_INPUT_<NAME>``, the
+    state index a controller reads it at (after the states)."""
+    return id_prefix(robot_id) + "_INPUT_" + constant_suffix(name)
+
+
 def state_constant(robot_id: str, name: str) -> str:
     """Index constant of a state channel: ``ROZ_UR5_STATE_<NAME>``."""
     return id_prefix(robot_id) + "_STATE_" + constant_suffix(name)

@@ -442,7 +442,8 @@ def plan(layers, cfg_doc: dict, where: str, manifest, command: list[float] | Non
         c.numbers("cmd_init", 3) if c.get("cmd_init") is not None else [0.0, 0.0, 0.0])
     cmax = c.numbers("max_cmd", 3) if c.get("max_cmd") is not None else [0.0] * 3
     chans = c.get("command_channels")
-    states = {s.name: i for i, s in enumerate(m.states)}
+    # the operator's inputs are read as states after the states (state.get_all covers both)
+    states = {s.name: i for i, s in enumerate(m.states + m.inputs)}
     command_ch = [-1, -1, -1]
     if chans is not None:
         if not isinstance(chans, list) or len(chans) != 3 or not all(isinstance(s, str)
@@ -579,7 +580,7 @@ def source(p: Plan, name: str = "policy") -> str:
           f" * Observations ({frame} a frame, history {p.history}): "
           + ", ".join(f"{t.name} {len(t.scale)}" for t in p.terms) + ".",
           " * Velocity command: " + ("state channels " + ", ".join(
-              m.states[i].name for i in p.command_ch) if p.command_ch[0] >= 0 else
+              (m.states + m.inputs)[i].name for i in p.command_ch) if p.command_ch[0] >= 0 else
               f"the constant {_vec(p.command_const)}") + ". */",
           '#include "roz_controller.h"', '#include "roz_policy.h"', "",
           f"ROZ_FUEL_PER_TICK({fuel(p)});", "",
@@ -593,7 +594,7 @@ def source(p: Plan, name: str = "policy") -> str:
     o += _int8s(bytes([1]) + sha)
     o += ['        ".text");', "#endif", "", "/* ---- the network ---- */", net,
           "/* ---- the tables ---- */",
-          f"#define {up}_N_STATES {len(m.states)}", f"#define {up}_N_COMMANDS {len(m.commands)}",
+          f"#define {up}_N_STATES {len(m.states) + len(m.inputs)}", f"#define {up}_N_COMMANDS {len(m.commands)}",
           f"#define POLICY_FRAME {frame}", f"#define POLICY_HISTORY {p.history}",
           f"#define POLICY_JOINTS {len(p.joints)}",
           f"_Static_assert(POLICY_FRAME * POLICY_HISTORY == {name.upper()}_N_IN, "

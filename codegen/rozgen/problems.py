@@ -30,6 +30,8 @@ RULES: dict[str, str] = {
     "limits-order": "limits min is not below max",
     "default-range": "default is outside the limits",
     "max-rate": "max_rate_of_change is negative",
+    "stale-after": "an operator input's stale_after_ms outside 1..3600000",
+    "input-rate": "an operator input's max_rate_of_change of 0 (a stale input must return to its default gradually)",
     "duplicate-name": "two channels of one list have the same name",
     "constant-collision": "two names of one list give the same C constant",
     "pairing-range": "position_state_index is neither -1 nor a state index",

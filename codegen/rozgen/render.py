@@ -44,9 +44,12 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
     channels_rs = rust_file(manifest)
     cmd_macros = [names.command_constant(manifest.robot_id, c.name) for c in manifest.commands]
     state_macros = [names.state_constant(manifest.robot_id, c.name) for c in manifest.states]
+    input_macros = [names.input_constant(manifest.robot_id, c.name) for c in manifest.inputs]
     count_macros = [manifest.prefix + s for s in ("_N_COMMANDS", "_N_STATES", "_CONTROL_RATE_HZ",
                                                   "_ROBOT_ID", "_INTERFACE_HASH")]
-    n_max = max(len(manifest.commands), len(manifest.states))
+    if manifest.inputs:
+        count_macros.append(manifest.prefix + "_N_INPUTS")
+    n_max = max(len(manifest.commands), len(manifest.states) + len(manifest.inputs))
     context = {
         "m": manifest,
         "sources": [source],
@@ -55,8 +58,9 @@ def render_robot(manifest: Manifest, source: Source) -> dict[str, str]:
         "manifest_h": manifest_h,
         "cmd_macros": cmd_macros,
         "state_macros": state_macros,
+        "input_macros": input_macros,
         # Column widths, so that values and comments line up.
-        "width": max(map(len, cmd_macros + state_macros + count_macros)),
+        "width": max(map(len, cmd_macros + state_macros + input_macros + count_macros)),
         "index_width": len(str(n_max - 1)),
         "interface_hash": "0x%016x" % identity.interface_hash(manifest),
         "section": identity.SECTION,

@@ -37,16 +37,17 @@ def deploy(tmp_path, config_text, robot="unitree_g1", **kw):
 
 
 def with_operator_inputs(tmp_path):
-    """The G1's manifest with three operator inputs after its states, as the
-    design has inputs appear to a controller."""
-    # on the loopback port: the G1 port binds no such channel yet
+    """The G1's manifest with three operator inputs, which a controller reads
+    as states after the port's (97, 98, 99)."""
+    # on the loopback port (the G1 port's parameters dropped)
     text = (MANIFESTS / "unitree_g1.toml").read_text().replace('port = "unitree/G1"',
                                                              'port = "loopback"')
     text = re.sub(r"\n\[hardware\.params\][^\[]*", "\n", text)
     for name, lim in (("operator/velocity.x", 0.8), ("operator/velocity.y", 0.5),
                       ("operator/yaw_rate", 1.57)):
-        text += (f'\n[[manifest.states]]\nname = "{name}"\ninterface_type = "velocity"\n'
-                 f'unit = "m/s"\nlimits = [{-lim}, {lim}]\ndefault = 0.0\n')
+        text += (f'\n[[manifest.inputs]]\nname = "{name}"\ninterface_type = "velocity"\n'
+                 f'unit = "m/s"\nlimits = [{-lim}, {lim}]\ndefault = 0.0\n'
+                 'max_rate_of_change = 0.002\nstale_after_ms = 500\n')
     p = tmp_path / "g1_inputs.toml"
     p.write_text(text)
     return str(p)
@@ -98,6 +99,8 @@ def test_command_read_from_operator_inputs(tmp_path):
     robot = with_operator_inputs(tmp_path)
     p = deploy(tmp_path, yaml_text("deploy_real.yaml"), robot=robot)
     assert p.command_ch == [97, 98, 99]
+    assert [c.name for c in p.manifest.inputs] == ["operator/velocity.x", "operator/velocity.y",
+                                                   "operator/yaw_rate"]
     assert any("read from the state channels operator/velocity.x" in n for n in p.notes)
     assert "{ 97, 98, 99 }" in (tmp_path / "out.c").read_text()
 
@@ -268,7 +271,7 @@ def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
     cfg.write_text(yaml_text("deploy_real.yaml"))
     p = nn_deploy.deploy(str(G1 / "policy.npz"), str(cfg), robot, str(tmp_path / "p.wasm"),
                          spec=SPEC, c_out=str(tmp_path / "policy.c"), wasm=False)
-    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
     subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
@@ -335,7 +338,7 @@ def test_native_history_and_own_terms_against_the_reference(tmp_path):
     assert [t.name for t in p.terms] == ["gravity", "ang_vel", "command", "joint_vel",
                                          "last_action", "joint_pos"]
     assert p.history == 3 and p.decimation == 4 and len(p.held) == 17
-    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
     subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
@@ -380,7 +383,7 @@ def test_a_refused_state_read_asks_for_an_estop(tmp_path):
     cfg.write_text(yaml_text("deploy_real.yaml"))
     p = nn_deploy.deploy(str(G1 / "policy.npz"), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
                          spec=SPEC, c_out=str(tmp_path / "policy.c"), wasm=False)
-    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     line = " ".join(["0x0p+0"] * ns) + "\n"
     for short, estop in ((0, 0), (1, 1)):
@@ -414,7 +417,7 @@ command_channels: [operator/velocity.x, operator/velocity.y, operator/yaw_rate]
 def run_native(tmp_path, p, states):
     """The controller's C (tmp_path/policy.c) built natively and run over
     @p states: the command vector it sends each tick."""
-    ns, nc = len(p.manifest.states), len(p.manifest.commands)
+    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
     subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
@@ -427,7 +430,7 @@ def run_native(tmp_path, p, states):
 def moving_states(p, ticks, seed):
     """A robot that moves: every state a smooth function of time, the
     orientation a unit quaternion."""
-    ns = len(p.manifest.states)
+    ns = len(p.manifest.states) + len(p.manifest.inputs)
     quat = [i for i, c in enumerate(p.manifest.states) if "/orientation." in c.name][:4]
     rng = np.random.default_rng(seed)
     phase = rng.uniform(0, 6.28, size=ns)

@@ -52,6 +52,19 @@ def json_to_toml(text: str) -> str:
             if c["limit_margin"] is not None:
                 out.append(f"limit_margin = {toml_float(c['limit_margin'])}")
             out.append(f"safe_default = {toml_string(c['safe_default'])}")
+    for c in doc.get("inputs", ()):  # present only when there are inputs
+        low, high = c["limits"]
+        out += [
+            "",
+            "[[manifest.inputs]]",
+            f"name = {toml_string(c['name'])}",
+            f"interface_type = {toml_string(c['interface_type'])}",
+            f"unit = {toml_string(c['unit'])}",
+            f"limits = [{toml_float(low)}, {toml_float(high)}]",
+            f"default = {toml_float(c['default'])}",
+            f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
+            f"stale_after_ms = {int(c['stale_after_ms'])}",
+        ]
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",

@@ -141,7 +141,7 @@ double roz_abi_command_limit_max(roz_abi_t *abi, int32_t index)
 
 double roz_abi_state_get(roz_abi_t *abi, int32_t index)
 {
-    if (index < 0 || index >= (int32_t)abi->manifest->n_states || abi->state == NULL) {
+    if (index < 0 || index >= roz_abi_state_count(abi) || abi->state == NULL) {
         abi->counters.get_bad_index++;
         return NAN;
     }
@@ -150,7 +150,8 @@ double roz_abi_state_get(roz_abi_t *abi, int32_t index)
 
 int32_t roz_abi_state_count(const roz_abi_t *abi)
 {
-    return (int32_t)abi->manifest->n_states;
+    /* the port's states, then the operator's inputs */
+    return (int32_t)abi->manifest->n_states + (int32_t)abi->manifest->n_inputs;
 }
 
 /* Not the C library's sin and cos: glibc and newlib differ in the last
@@ -294,7 +295,7 @@ static int bulk_range_ok(const uint8_t *mem, size_t mem_len, uint32_t ptr, int32
 int32_t roz_abi_state_get_all(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t ptr,
                               int32_t count)
 {
-    if (count < 0 || count > (int32_t)abi->manifest->n_states || abi->state == NULL ||
+    if (count < 0 || count > roz_abi_state_count(abi) || abi->state == NULL ||
         !bulk_range_ok(mem, mem_len, ptr, count)) {
         abi->counters.get_bad_index++;
         return -1;

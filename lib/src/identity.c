@@ -184,6 +184,13 @@ uint64_t roz_manifest_interface_hash(const roz_manifest_t *m)
     if (m != NULL) {
         fnv_channels(&h, m->commands, m->n_commands);
         fnv_channels(&h, m->states, m->n_states);
+        /* inputs are read as states n_states + k: hashed after them, and
+         * only when there are any, so a manifest without inputs keeps its
+         * hash */
+        if (m->n_inputs > 0) {
+            fnv_le(&h, m->n_inputs, 4);
+            fnv_channels(&h, m->inputs, m->n_inputs);
+        }
     }
     return h;
 }

@@ -50,8 +50,8 @@ static int set_problem(roz_manifest_problem_t *p, roz_manifest_rule_t rule,
 static int check_channels(const roz_manifest_t *m, int is_state,
                           roz_manifest_problem_t *p)
 {
-    const roz_channel_t *list = is_state ? m->states : m->commands;
-    uint16_t n = is_state ? m->n_states : m->n_commands;
+    const roz_channel_t *list = is_state == 2 ? m->inputs : is_state ? m->states : m->commands;
+    uint16_t n = is_state == 2 ? m->n_inputs : is_state ? m->n_states : m->n_commands;
 
     if (n > 0 && list == NULL)
         return set_problem(p, ROZ_MANIFEST_RULE_COUNT, is_state, -1);
@@ -68,6 +68,18 @@ static int check_channels(const roz_manifest_t *m, int is_state,
         }
         if ((unsigned)c->type >= (unsigned)ROZ_IF_COUNT_)
             return set_problem(p, ROZ_MANIFEST_RULE_TYPE, is_state, idx);
+        /* an input: a staleness rule, nothing of the filter's, and a name
+         * no state has (a policy finds its command among both by name) */
+        if ((is_state == 2) != (c->stale_after_ms > 0u) ||
+            (is_state == 2 && (!(c->max_rate > 0.0) || c->position_state != ROZ_CHANNEL_UNPAIRED ||
+                               c->limit_margin != 0.0 || c->safe_default != ROZ_SAFE_FOLLOW)))
+            return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
+        if (is_state == 2) {
+            for (uint16_t j = 0; j < m->n_states; j++) {
+                if (strcmp(m->states[j].name, c->name) == 0)
+                    return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
+            }
+        }
         if (!isfinite(c->min) || !isfinite(c->max) || !(c->min < c->max))
             return set_problem(p, ROZ_MANIFEST_RULE_LIMITS, is_state, idx);
         if (!isfinite(c->default_value) || c->default_value < c->min ||
@@ -174,7 +186,13 @@ int roz_manifest_validate(const roz_manifest_t *m, roz_manifest_problem_t *probl
         return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 0, -1);
     if (m->n_states > ROZ_CFG_MAX_STATES)
         return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 1, -1);
+    if (m->n_inputs > ROZ_CFG_MAX_INPUTS ||
+        (uint32_t)m->n_states + m->n_inputs > ROZ_CFG_MAX_STATES)
+        return set_problem(problem, ROZ_MANIFEST_RULE_COUNT, 2, -1);
     rc = check_channels(m, 1, problem);
+    if (rc != ROZ_OK)
+        return rc;
+    rc = check_channels(m, 2, problem);
     if (rc != ROZ_OK)
         return rc;
     rc = check_channels(m, 0, problem);

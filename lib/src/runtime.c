@@ -234,6 +234,14 @@ static void verify_state(roz_runtime_t *rt, double *state)
         state[i] = m->states[i].default_value;
 }
 
+/* Verification reads the inputs at their defaults (the tick owns their
+ * values). */
+static void verify_inputs(const roz_manifest_t *m, double *state)
+{
+    for (uint16_t k = 0; k < m->n_inputs; k++)
+        state[m->n_states + k] = m->inputs[k].default_value;
+}
+
 /* Loads a slot's instance. An instance that verifies runs on fuel alone:
  * verification judges by work done, never by the loader thread's clock (a
  * preempted loader must not refuse a good controller); the instance that
@@ -872,6 +880,8 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     roz_buffer_init(&rt->snapshot, rt->snapshot_slots, m->n_states > 0 ? m->n_states : 1u);
     for (uint16_t i = 0; i < m->n_states; i++)
         rt->state[i] = m->states[i].default_value;
+    roz_inputs_init(&rt->inputs, m);
+    verify_inputs(m, rt->state);
     for (uint16_t i = 0; i < m->n_commands; i++)
         rt->out[i] = m->commands[i].default_value;
     return ROZ_OK;
@@ -928,6 +938,7 @@ static int load_locked(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
         return rc;
     }
     verify_state(rt, vstate);
+    verify_inputs(rt->cfg.manifest, vstate);
     rc = verify_slot(rt, s, vstate, report);
     report->fuel_declared = declared;
     report->identity = identity;
@@ -1002,6 +1013,11 @@ int roz_runtime_tick(roz_runtime_t *rt)
     int active = tick_handovers(rt);
     tick_estop(rt);
     tick_read(rt, t_start);
+    /* the operator's inputs, after the port's states, by the tick's own
+     * time (simulated time in a simulation) */
+    roz_inputs_tick(&rt->inputs,
+                    rt->counters.ticks * (1000000000ull / rt->cfg.manifest->control_rate_hz),
+                    rt->state + rt->cfg.manifest->n_states);
     target = NULL;
     if (rt->have_state) {
         roz_stop_t stop = tick_controller(rt, active, &target);
@@ -1031,6 +1047,16 @@ void roz_runtime_estop_set(roz_runtime_t *rt, int pressed)
 void roz_runtime_estop(roz_runtime_t *rt)
 {
     atomic_store(&rt->estop_press, 1u);
+}
+
+int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value)
+{
+    return rt != NULL ? roz_inputs_set(&rt->inputs, k, value) : ROZ_EINVAL;
+}
+
+const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt)
+{
+    return &rt->inputs.counters;
 }
 
 int roz_runtime_clear_faults(roz_runtime_t *rt)

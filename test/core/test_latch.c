@@ -37,17 +37,17 @@
  * manifest default, 1.0, is far from it); command 1 a velocity of joint 1.
  * State 2 is the tick at which the controller acts, state 3 how. */
 static const roz_channel_t latch_commands[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW },
-    { "j1/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j1/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
 static const roz_channel_t latch_states[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
-    { "j1/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
-    { "trigger/effort", ROZ_IF_EFFORT, "", -1e9, 1e9, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
-    { "action/effort", ROZ_IF_EFFORT, "", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j1/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "trigger/effort", ROZ_IF_EFFORT, "", -1e9, 1e9, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "action/effort", ROZ_IF_EFFORT, "", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
 static const roz_manifest_t latch_manifest = {
-    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL,
+    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0,
 };
 
 enum { ACT_NONE = 0, ACT_TRAP = 1, ACT_FUEL = 2, ACT_ESTOP_REQUEST = 3 };

@@ -18,6 +18,7 @@
 #include "support_stats.h"
 #include "support_runtime.h"
 #include "support_wat.h"
+#include "unitree_g1_12dof_manifest.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -291,6 +292,65 @@ static void test_runtime_swap_keeps_old_on_failure(void **st)
  * started it. */
 static const char idle_wat[] = "(module (func (export \"process\") (param i64)))";
 
+/* Operator inputs are states after the port's: state.count covers them,
+ * state.get(n_states + k) reads them, and what a source sets reaches the
+ * controller at the input's rate cap, goes back to the default at it when
+ * the source falls silent, and never reaches the port. The controller
+ * traps unless state.count is 49 (46 states, 3 inputs), and targets the
+ * left hip at the operator's velocity.x (in rad: within the hip's limits). */
+static const char input_wat[] =
+    "(module"
+    " (import \"state\" \"count\" (func $count (result i32)))"
+    " (import \"state\" \"get\" (func $get (param i32) (result f64)))"
+    " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))"
+    " (func (export \"process\") (param i64)"
+    "  (if (i32.ne (call $count) (i32.const 49)) (then unreachable))"
+    "  (drop (call $set (i32.const 0) (call $get (i32.const 46))))))";
+
+static void test_runtime_operator_inputs(void **st)
+{
+    static uint8_t wasm[512];
+    const roz_manifest_t *m = &roz_manifest_unitree_g1_12dof;
+    const double *state;
+    (void)st;
+    assert_int_equal(m->n_states + m->n_inputs, 49);
+    assert_int_equal(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_X, 46);
+    start(m, NULL);
+    size_t len = roz_test_wat(input_wat, wasm, sizeof wasm);
+    assert_int_equal(roz_runtime_load(&rt, wasm, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_input_set(&rt, 3, 0.1), ROZ_EINVAL);
+    assert_int_equal(roz_runtime_input_set(&rt, 0, 0.3), ROZ_OK);
+    ticks(1);
+    state = roz_runtime_last_state(&rt);
+    assert_true(fabs(state[46] - 0.002) < 1e-12); /* the rate cap: 0.002 a tick */
+    ticks(149);
+    assert_true(state[46] == 0.3);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.3, 1e-9);
+    /* out of range and non-finite: clamped, refused, counted */
+    for (int i = 0; i < 300; i++) { /* the source repeats itself every 100 ticks */
+        if (i % 100 == 0)
+            assert_int_equal(roz_runtime_input_set(&rt, 0, 5.0), ROZ_OK);
+        ticks(1);
+    }
+    assert_true(state[46] == 0.8);
+    assert_int_equal(roz_runtime_input_set(&rt, 0, NAN), ROZ_OK);
+    ticks(1);
+    assert_true(state[46] == 0.8);
+    assert_int_equal(roz_runtime_input_counters(&rt)->clamped, 3);
+    assert_int_equal(roz_runtime_input_counters(&rt)->nonfinite, 1);
+    /* no good value since tick 351: stale 500 ms (250 ticks) later, then
+     * 0.8 back to 0 at 0.002 a tick (400 ticks), never a jump */
+    for (int i = 0; i < 600; i++) {
+        double before = state[46];
+        ticks(1);
+        assert_true(fabs(state[46] - before) <= 0.002 + 1e-12);
+    }
+    assert_true(state[46] == 0.0);
+    assert_int_equal(roz_runtime_input_counters(&rt)->stale, 1);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.0, 1e-9);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 /* A swapped-in controller starts with its paired position targets at the
  * hold (the measured positions), not at the manifest's defaults: after the
  * stand, the knees stay at 0.3 rad under the idle controller. */
@@ -435,6 +495,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
         cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
+        cmocka_unit_test_teardown(test_runtime_operator_inputs, teardown),
         cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
         cmocka_unit_test(test_runtime_simulator_read_not_warned),

@@ -106,6 +106,10 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
         put_double(c[i].default_value);
         fputs(", \"max_rate_of_change\": ", stdout);
         put_double(c[i].max_rate);
+        if (states == 2) { /* an operator input: no filter keys */
+            printf(", \"stale_after_ms\": %lu}", (unsigned long)c[i].stale_after_ms);
+            continue;
+        }
         printf(", \"position_state_index\": %ld, \"limit_margin\": ", (long)c[i].position_state);
         /* the margin the filter keeps, the default worked out; or the
          * field as written (0: the default), which rozgen's tables copy */
@@ -132,6 +136,8 @@ void manifest_json_print(const roz_manifest_t *m, int as_written)
     printf(",\n  \"control_rate_hz\": %lu,\n", (unsigned long)m->control_rate_hz);
     put_channels("commands", m->commands, m->n_commands, 0, as_written);
     put_channels("states", m->states, m->n_states, 1, as_written);
+    if (m->n_inputs > 0) /* absent without inputs: older readers' text unchanged */
+        put_channels("inputs", m->inputs, m->n_inputs, 2, as_written);
     fputs("  \"hardware\": ", stdout);
     if (h == NULL) {
         fputs("null", stdout);

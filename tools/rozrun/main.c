@@ -50,6 +50,7 @@
 #include "roz/record_live.h"
 #include "roz/runtime.h"
 #include "replay.h"
+#include "operator.h"
 #include "schedule.h"
 #include "summary_json.h"
 #include "trace.h"
@@ -71,6 +72,7 @@ typedef struct {
     const char *record;
     const char *live;   /* --live: the recording streamed to a viewer (docs/live.md) */
     const char *replay;
+    const char *operator_file; /* --operator: a scripted operator (operator.h) */
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
@@ -163,6 +165,8 @@ static rozrun_watch_t watch; /* --summary-json: the tick's thread's, read after 
 static int watching;
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
+static rozrun_operator_t op; /* --operator: set by the tick's thread */
+static int operating;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
 static int realtime_degraded; /* --realtime refused: the deadline on the CPU time */
 static atomic_uint loader_events; /* trace events of the loader's actions, taken by the tick */
@@ -252,6 +256,10 @@ static void usage(FILE *f, const char *port)
         "                       values); with another controller than the recorded one,\n"
         "                       --record and --trace keep the new run for a comparison\n");
     fprintf(f,
+        "  --operator FILE      a scripted operator: CSV, a header \"time_s\" then the\n"
+        "                       robot's input names ([[manifest.inputs]]), one row per\n"
+        "                       change (seconds of simulated time, a value per input),\n"
+        "                       each row's values held until the next (docs/rozrun.md)\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -346,7 +354,7 @@ static int parse_args(int argc, char **argv, options_t *o)
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
-                                              "--swap-at", NULL };
+                                              "--swap-at", "--operator", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -388,6 +396,8 @@ static int parse_args(int argc, char **argv, options_t *o)
                                                     : "this build has no libzstd");
                 return -1;
             }
+        } else if (!strcmp(a, "--operator")) {
+            o->operator_file = v;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--summary-json")) {
@@ -454,6 +464,11 @@ static int parse_args(int argc, char **argv, options_t *o)
             fprintf(stderr, "rozrun: unknown option \"%s\" (see --help)\n", a);
             return -1;
         }
+    }
+    if (o->replay != NULL && o->operator_file != NULL) {
+        fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
+                        "states only\n");
+        return -1;
     }
     if (o->replay != NULL && o->controller != NULL)
         return 0; /* the robot comes from the recording */
@@ -566,6 +581,8 @@ static int tick_fn(void *ctx)
                           last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL);
     }
     input_events = rozrun_schedule_inputs(&sched, &rt, ticks_run);
+    if (operating)
+        rozrun_operator_tick(&op, &rt, ticks_run, roz_runtime_config(&rt)->manifest->control_rate_hz);
     atomic_store(&ticks_done, ticks_run); /* after the inputs: the loader acts on top of them */
     return atomic_load(&interrupted) ? 1 : 0;
 }
@@ -796,6 +813,13 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
     rozrun_schedule_summary(&sched, line, sizeof line);
     if (line[0] != '\0')
         printf("  interventions          %s\n", line);
+    if (operating) {
+        const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
+        printf("  operator               %lu rows from %s; inputs clamped %llu, refused "
+               "(non-finite) %llu, gone stale %llu\n", (unsigned long)op.n_rows, op.path,
+               (unsigned long long)ic->clamped, (unsigned long long)ic->nonfinite,
+               (unsigned long long)ic->stale);
+    }
     print_ns("process() time", roz_runtime_monitor(&rt), ROZ_MON_PROCESS);
     print_ns("tick time", roz_runtime_monitor(&rt), ROZ_MON_TICK);
     if (runner != NULL) {
@@ -1066,6 +1090,11 @@ int main(int argc, char **argv)
     }
     if (rozrun_schedule_read_modules(&sched) != 0)
         return 2;
+    if (o.operator_file != NULL) {
+        if (rozrun_operator_load(&op, o.operator_file, m) != 0)
+            return 2;
+        operating = 1;
+    }
 
     roz_port_t port;
     if (make_port(pe, &port) != 0)
@@ -1186,6 +1215,8 @@ int main(int argc, char **argv)
     static roz_runner_t runner;
     sched.simulated = !paced;
     input_events = rozrun_schedule_inputs(&sched, &rt, 0); /* the e-stop input at tick 0 */
+    if (operating)
+        rozrun_operator_tick(&op, &rt, 0, m->control_rate_hz);
     if (paced) {
         roz_runner_config_t rc = {
             .period_ns = 1000000000ull / m->control_rate_hz,
@@ -1255,6 +1286,7 @@ int main(int argc, char **argv)
     free(port_self);
     port_self = NULL;
     rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
+    rozrun_operator_free(&op);
     /* 3: the run's record is incomplete: not a success, whatever latched */
     return status;
 }

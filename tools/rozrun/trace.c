@@ -44,7 +44,7 @@ int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t 
     t->m = m;
     t->path = path;
     t->truth = truth != 0;
-    t->width = 2u + 2u * m->n_commands + m->n_states + (t->truth ? ROZRUN_TRUTH_VALUES : 0u) + 2u;
+    t->width = 2u + 2u * m->n_commands + m->n_states + m->n_inputs + (t->truth ? ROZRUN_TRUTH_VALUES : 0u) + 2u;
     t->capacity = 4096;
     t->rows = calloc(t->capacity * t->width, sizeof(double));
     if (t->rows == NULL) {
@@ -67,6 +67,8 @@ int rozrun_trace_open(rozrun_trace_t *t, const char *path, const roz_manifest_t 
         fprintf(t->out, ",applied:%s", m->commands[i].name);
     for (uint16_t i = 0; i < m->n_states; i++)
         fprintf(t->out, ",state:%s", m->states[i].name);
+    for (uint16_t i = 0; i < m->n_inputs; i++) /* the runtime's state, after the port's */
+        fprintf(t->out, ",input:%s", m->inputs[i].name);
     if (t->truth)
         fprintf(t->out, ",truth:base.x,truth:base.y,truth:base.z,truth:base.roll,"
                         "truth:base.pitch,truth:base.yaw");
@@ -94,7 +96,7 @@ void rozrun_trace_push(rozrun_trace_t *t, uint64_t tick, double time_s, const do
         row[k++] = targets != NULL ? targets[i] : NAN;
     for (uint16_t i = 0; i < m->n_commands; i++)
         row[k++] = applied[i];
-    for (uint16_t i = 0; i < m->n_states; i++)
+    for (uint16_t i = 0; i < (uint16_t)(m->n_states + m->n_inputs); i++)
         row[k++] = state[i];
     for (size_t i = 0; t->truth && i < ROZRUN_TRUTH_VALUES; i++)
         row[k++] = truth != NULL ? truth[i] : NAN;

@@ -4,7 +4,8 @@
  * A full ring drops the row and counts it; the tick never blocks on I/O.
  *
  * Columns: tick, time_s, target:<command>... (NaN without a controller),
- * applied:<command>..., state:<state>..., when the port has a simulator's
+ * applied:<command>..., state:<state>..., input:<input>... (the operator's
+ * inputs as the controller read them), when the port has a simulator's
  * floating base's truth (roz_port_truth()) truth:base.x, .y, .z (m), .roll, .pitch, .yaw
  * (rad), then faults (the latched roz_fault_t
  * bits after the tick, a decimal integer), events (what happened at this

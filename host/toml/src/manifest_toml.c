@@ -27,7 +27,7 @@
 
 /* ---- types ---------------------------------------------------------------- */
 
-enum { SEC_TOP, SEC_MANIFEST, SEC_COMMANDS, SEC_STATES, SEC_HARDWARE };
+enum { SEC_TOP, SEC_MANIFEST, SEC_COMMANDS, SEC_STATES, SEC_INPUTS, SEC_HARDWARE };
 
 /* Where problems go: section and index for ordering, text for messages. */
 typedef struct place {
@@ -52,17 +52,22 @@ typedef struct checker {
 #define ROBOT_ID_MAX 32
 #define RATE_MAX 100000
 #define DEFAULT_RATE 100
+#define STALE_MAX_MS 3600000 /* an hour: longer is no staleness rule at all */
 #define MSG_ARRAY_ITEMS 8
 /* room for a constant made of the longest name a maximum allows */
 #define NAME_ROOM (ROZ_MANIFEST_TOML_MAX_NAME_LEN + 2)
 
 static const char *const top_keys[] = { "manifest", "hardware" };
 static const char *const manifest_keys[] = { "robot_id", "robot_class", "control_rate_hz",
-                                             "commands", "states" };
+                                             "commands", "states", "inputs" };
 static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
                                             "limits",  "default",            "max_rate_of_change",
                                             "position_state_index",          "limit_margin",
                                             "safe_default" };
+/* an operator input: a channel without the filter's keys, with a staleness rule */
+static const char *const input_keys[] = { "name",    "interface_type",     "unit",
+                                          "limits",  "default",            "max_rate_of_change",
+                                          "stale_after_ms" };
 static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
@@ -639,6 +644,11 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     place_t pl = { section, index, bare, channel_keys, N_OF(channel_keys) };
     const roz_toml_node_t *s;
     double lo = 0, hi = 0, def, rate;
+
+    if (section == SEC_INPUTS) {
+        pl.keys = input_keys;
+        pl.n_keys = N_OF(input_keys);
+    }
     int64_t pair;
     int lim;
 
@@ -671,6 +681,31 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
     if (check_number(ck, &pl, t, "max_rate_of_change", 0, 0.0, &rate) && rate < 0)
         report(ck, "max-rate", &pl, "max_rate_of_change", "must not be negative",
                roz_toml_get(d, t, "max_rate_of_change"), NULL);
+    if (section == SEC_INPUTS) {
+        const roz_toml_node_t *v = roz_toml_get(d, t, "max_rate_of_change");
+        int64_t ms;
+        /* a stale input returns to its default at this rate: never a jump */
+        if (v == NULL)
+            report(ck, "missing-key", &pl, "max_rate_of_change",
+                   "required on an input (a stale input returns to its default at this rate, "
+                   "never a jump)", NULL, NULL);
+        else if (is_number(v) && isfinite(number_of(v)) && number_of(v) == 0.0)
+            report(ck, "input-rate", &pl, "max_rate_of_change",
+                   "must be above 0 on an input (a stale input returns to its default at this "
+                   "rate, never a jump)", v, NULL);
+        v = roz_toml_get(d, t, "stale_after_ms");
+        if (v == NULL) {
+            report(ck, "missing-key", &pl, "stale_after_ms", "required key is missing", NULL,
+                   NULL);
+        } else if (check_integer(ck, d, &pl, t, "stale_after_ms", 0, &ms) &&
+                   !(ms >= 1 && ms <= STALE_MAX_MS)) {
+            snprintf(what, sizeof what,
+                     "must be in 1..%d (milliseconds without an update before the input "
+                     "returns to its default)", STALE_MAX_MS);
+            report(ck, "stale-after", &pl, "stale_after_ms", what, v, NULL);
+        }
+        return; /* the filter's keys are not an input's (unknown-key) */
+    }
     int pair_ok = check_integer(ck, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED,
                                 &pair);
     if (pair_ok && section == SEC_STATES && pair != ROZ_CHANNEL_UNPAIRED)
@@ -688,7 +723,8 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
                          const roz_toml_node_t *list, uint32_t max)
 {
     const roz_toml_doc_t *d = ck->doc;
-    const char *tag = section == SEC_COMMANDS ? "_CMD_" : "_STATE_";
+    const char *tag = section == SEC_COMMANDS ? "_CMD_" : section == SEC_INPUTS ? "_INPUT_"
+                                                                               : "_STATE_";
     uint32_t i = 0;
 
     for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL && i < max;
@@ -697,7 +733,8 @@ static void unique_names(checker_t *ck, uint32_t section, const char *kind,
                                                                 : NULL;
         char bare[48], what[ROZ_CFG_PROBLEM_LEN];
         char mine[NAME_ROOM], theirs[NAME_ROOM];
-        place_t pl = { section, i, bare, channel_keys, N_OF(channel_keys) };
+        place_t pl = { section, i, bare, section == SEC_INPUTS ? input_keys : channel_keys,
+                       section == SEC_INPUTS ? N_OF(input_keys) : N_OF(channel_keys) };
         uint32_t j = 0;
         const roz_toml_node_t *u, *dup = NULL, *clash = NULL;
         uint32_t dup_j = 0, clash_j = 0;
@@ -765,6 +802,38 @@ static void check_channels(checker_t *ck, uint32_t section, const char *kind,
     }
     unique_names(ck, section, kind, list,
                  section == SEC_COMMANDS ? ck->max.commands : ck->max.states);
+}
+
+/* An input is read as a state: no state may have its name (a policy finds
+ * its command among both by name). */
+static void input_names(checker_t *ck, const roz_toml_node_t *inputs,
+                        const roz_toml_node_t *states)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    uint32_t i = 0;
+
+    for (const roz_toml_node_t *t = roz_toml_first(d, inputs); t != NULL && i < ck->max.states;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(ck, NULL, t)
+                                                                : NULL;
+        uint32_t j = 0;
+        if (name == NULL)
+            continue;
+        for (const roz_toml_node_t *u = roz_toml_first(d, states);
+             u != NULL && j < ck->max.states; u = roz_toml_next(d, u), j++) {
+            const roz_toml_node_t *other = u->type == ROZ_TOML_TABLE
+                                               ? channel_name(ck, NULL, u) : NULL;
+            if (other != NULL && str_eq2(other->as.str, name->as.str)) {
+                char bare[48], what[64];
+                place_t pl = { SEC_INPUTS, i, bare, input_keys, N_OF(input_keys) };
+                snprintf(bare, sizeof bare, "manifest.inputs[%lu]", (unsigned long)i);
+                snprintf(what, sizeof what, "also the name of manifest.states[%lu]",
+                         (unsigned long)j);
+                report(ck, "duplicate-name", &pl, "name", what, name, NULL);
+                break;
+            }
+        }
+    }
 }
 
 /* Each paired command points at a position state. */
@@ -865,9 +934,9 @@ static int robot_id_ok(roz_toml_string_t s)
 static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
 {
     place_t pl = { SEC_MANIFEST, 0, "manifest", manifest_keys, N_OF(manifest_keys) };
-    const roz_toml_node_t *id, *cls, *commands, *states;
+    const roz_toml_node_t *id, *cls, *commands, *states, *inputs;
     int64_t rate;
-    int commands_ok, states_ok;
+    int commands_ok, states_ok, inputs_ok;
     char what[128];
 
     unknown_keys(ck, &pl, t);
@@ -892,6 +961,7 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
     }
     commands = check_tables(ck, &pl, t, "commands", 1, &commands_ok);
     states = check_tables(ck, &pl, t, "states", 0, &states_ok);
+    inputs = check_tables(ck, &pl, t, "inputs", 0, &inputs_ok);
     if (commands_ok) {
         if (roz_toml_count(commands) == 0)
             report(ck, "no-commands", &pl, "commands", "at least one command is required", NULL,
@@ -902,10 +972,17 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
     if (states_ok)
         check_count(ck, &pl, "states", roz_toml_count(states), ck->max.states,
                     "ROZ_CFG_MAX_STATES");
+    if (inputs_ok && states_ok && roz_toml_count(inputs) > 0 &&
+        roz_toml_count(states) <= ck->max.states)
+        check_count(ck, &pl, "inputs", roz_toml_count(states) + roz_toml_count(inputs),
+                    ck->max.states, "ROZ_CFG_MAX_STATES, shared by states and inputs");
     check_channels(ck, SEC_STATES, "states", states_ok ? states : NULL);
+    check_channels(ck, SEC_INPUTS, "inputs", inputs_ok ? inputs : NULL);
     check_channels(ck, SEC_COMMANDS, "commands", commands_ok ? commands : NULL);
     if (states_ok && commands_ok)
         check_pairing(ck, commands, states);
+    if (states_ok && inputs_ok && inputs != NULL && states != NULL)
+        input_names(ck, inputs, states);
 }
 
 static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
@@ -1025,6 +1102,7 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         const roz_toml_node_t *pair = roz_toml_get(d, t, "position_state_index");
         const roz_toml_node_t *margin = roz_toml_get(d, t, "limit_margin");
         const roz_toml_node_t *safe = roz_toml_get(d, t, "safe_default");
+        const roz_toml_node_t *stale = roz_toml_get(d, t, "stale_after_ms");
         roz_channel_t *c = &out[i];
         c->name = intern_key(st, d, t, "name");
         c->unit = intern_key(st, d, t, "unit");
@@ -1039,6 +1117,7 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         c->limit_margin = margin != NULL ? number_of(margin) : 0.0; /* 0: the default */
         c->safe_default = safe != NULL && str_eq(safe->as.str, "hold") ? ROZ_SAFE_HOLD
                                                                              : ROZ_SAFE_FOLLOW;
+        c->stale_after_ms = stale != NULL ? (uint32_t)stale->as.integer : 0u;
     }
     return ROZ_OK;
 }
@@ -1055,6 +1134,7 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
     const roz_toml_node_t *rate = roz_toml_get(d, m, "control_rate_hz");
     const roz_toml_node_t *commands = roz_toml_get(d, m, "commands");
     const roz_toml_node_t *states = roz_toml_get(d, m, "states");
+    const roz_toml_node_t *inputs = roz_toml_get(d, m, "inputs");
     roz_manifest_t *man = &st->manifest;
     int rc;
 
@@ -1076,6 +1156,12 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
             return ROZ_ENOSPC;
         }
     }
+    if (roz_toml_count(inputs) > ROZ_CFG_MAX_INPUTS) {
+        report_raw(ck, "storage", ": manifest: inputs: %lu inputs, more than the maximum of %d "
+                                  "(ROZ_CFG_MAX_INPUTS)",
+                   (unsigned long)roz_toml_count(inputs), ROZ_CFG_MAX_INPUTS);
+        return ROZ_ENOSPC;
+    }
 
     man->robot_id = intern_key(st, d, m, "robot_id");
     man->robot_class = cls != NULL ? intern(st, cls->as.str) : "generic";
@@ -1089,6 +1175,10 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
         rc = build_channels(st, d, commands, st->commands);
     if (rc == ROZ_OK && states != NULL)
         rc = build_channels(st, d, states, st->states);
+    man->inputs = roz_toml_count(inputs) > 0 ? st->inputs : NULL;
+    man->n_inputs = (uint16_t)roz_toml_count(inputs);
+    if (rc == ROZ_OK && inputs != NULL)
+        rc = build_channels(st, d, inputs, st->inputs);
 
     if (rc == ROZ_OK && hw != NULL) {
         const roz_toml_node_t *joints = roz_toml_get(d, hw, "joints");

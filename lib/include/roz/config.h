@@ -28,6 +28,13 @@
 #define ROZ_CFG_MAX_STATES 256
 #endif
 
+/** Operator inputs per manifest ([[manifest.inputs]]; they also count, with
+ *  the states, against ROZ_CFG_MAX_STATES). Range 0..4096. Each costs a
+ *  runtime about 48 bytes (roz/inputs.h). */
+#ifndef ROZ_CFG_MAX_INPUTS
+#define ROZ_CFG_MAX_INPUTS 32
+#endif
+
 /** Bytes of name storage in a roz_manifest_storage_t (channel names, units,
  *  ids of manifests built at run time). Range 64..1048576. */
 #ifndef ROZ_CFG_NAME_ARENA_BYTES
@@ -224,6 +231,9 @@
 #endif
 #if ROZ_CFG_MAX_STATES < 0 || ROZ_CFG_MAX_STATES > 4096
 #error "ROZ_CFG_MAX_STATES must be in 0..4096"
+#endif
+#if ROZ_CFG_MAX_INPUTS < 0 || ROZ_CFG_MAX_INPUTS > 4096
+#error "ROZ_CFG_MAX_INPUTS must be in 0..4096"
 #endif
 #if ROZ_CFG_NAME_ARENA_BYTES < 64 || ROZ_CFG_NAME_ARENA_BYTES > 1048576
 #error "ROZ_CFG_NAME_ARENA_BYTES must be in 64..1048576"

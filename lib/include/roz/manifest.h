@@ -75,6 +75,11 @@ typedef struct roz_channel {
      *  safe default holds during a stop; ROZ_SAFE_FOLLOW on every other
      *  channel. A property of the filter, as limit_margin is. */
     roz_safe_default_t safe_default;
+    /** Operator inputs only (roz_manifest_t.inputs): how long, in
+     *  milliseconds, an input keeps its last value without an update before
+     *  it returns to its default (at its max_rate per tick); > 0. 0 on every
+     *  command and state. */
+    uint32_t        stale_after_ms;
 } roz_channel_t;
 
 /** A string key/value, as in robot.toml's [hardware.params]. */
@@ -102,6 +107,12 @@ typedef struct roz_manifest {
     const roz_channel_t *states;       /**< NULL when n_states is 0 */
     uint16_t             n_states;     /**< 0..ROZ_CFG_MAX_STATES */
     const roz_hardware_t *hardware;    /**< NULL when the robot has no [hardware] */
+    /** Operator inputs (robot.toml's [[manifest.inputs]]): a controller
+     *  reads input k as state n_states + k; they never reach a port.
+     *  NULL when n_inputs is 0. */
+    const roz_channel_t *inputs;
+    uint16_t             n_inputs;     /**< 0..ROZ_CFG_MAX_INPUTS, and n_states + n_inputs
+                                            <= ROZ_CFG_MAX_STATES */
 } roz_manifest_t;
 
 /** Caller-provided storage for a manifest built at run time (no heap). */
@@ -109,6 +120,9 @@ typedef struct roz_manifest_storage {
     roz_manifest_t manifest;                     /**< the result */
     roz_channel_t  commands[ROZ_CFG_MAX_COMMANDS];
     roz_channel_t  states[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    /** Operator inputs (at most ROZ_CFG_MAX_INPUTS; with the states, at most
+     *  ROZ_CFG_MAX_STATES). */
+    roz_channel_t  inputs[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1];
     char           arena[ROZ_CFG_NAME_ARENA_BYTES]; /**< interned names */
     size_t         arena_used;
     /** The [hardware] table of a manifest read at run time (roz/manifest_toml.h). */
@@ -136,12 +150,15 @@ typedef enum roz_manifest_rule {
                                           other than a position state */
     ROZ_MANIFEST_RULE_SAFE_DEFAULT,  /**< safe_default not a roz_safe_default_t, or "hold" on
                                           a channel other than a paired position command */
+    ROZ_MANIFEST_RULE_INPUT,         /**< an input with stale_after_ms 0, max_rate 0, a pairing, a margin or
+                                          a hold; a command or state with stale_after_ms; an
+                                          input named as a state */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */
 typedef struct roz_manifest_problem {
     roz_manifest_rule_t rule;
-    int                 is_state;  /**< 1 if in the state list */
+    int                 is_state;  /**< 1 if in the state list, 2 if in the inputs */
     int32_t             index;     /**< channel index, -1 for manifest-level rules */
 } roz_manifest_problem_t;
 

@@ -25,6 +25,7 @@
 #include "roz/controller.h"
 #include "roz/filter.h"
 #include "roz/identity.h"
+#include "roz/inputs.h"
 #include "roz/port.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
@@ -260,6 +261,9 @@ typedef struct roz_runtime {
     roz_buffer_t           ROZ_PRIVATE(snapshot);
     double                 ROZ_PRIVATE(snapshot_slots)[3 * (ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1)];
     double                 ROZ_PRIVATE(verify_state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
+    /* the operator's inputs: set by any thread, taken by the tick into
+     * state[n_states + k] */
+    roz_inputs_t           ROZ_PRIVATE(inputs);
     uint64_t               ROZ_PRIVATE(last_process_ns);
     char                   ROZ_PRIVATE(fault_msg)[ROZ_CFG_ERROR_LEN + 64]; /* roz_runtime_fault_message() */
     char                   ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN];     /* last load/verify error */
@@ -300,7 +304,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 6u
+#define ROZ_RUNTIME_LAYOUT_VERSION 7u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \
@@ -434,6 +438,23 @@ void roz_runtime_estop_set(roz_runtime_t *rt, int pressed);
  * Context: any thread or an ISR; wait-free (one atomic store).
  */
 void roz_runtime_estop(roz_runtime_t *rt);
+
+/**
+ * @brief An operator input's latest value (robot.toml's [[manifest.inputs]],
+ *        roz/inputs.h): the next tick takes it into state n_states + @p k,
+ *        after its rules (a non-finite value refused, an out-of-range one
+ *        clamped, both counted; every change at most max_rate_of_change a
+ *        tick; no value for stale_after_ms of ticks: back to the default).
+ * @retval ROZ_OK     stored
+ * @retval ROZ_EINVAL @p k is not an input of the manifest
+ * @retval ROZ_ESTATE another thread's set of input @p k was in progress: dropped
+ * Context: any thread; wait-free (no loop, no lock; roz/inputs.h); no heap.
+ */
+int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value);
+
+/** @brief The inputs' counters as the last tick left them (roz/inputs.h).
+ *  Context: the tick's thread, or after the ticks stopped. */
+const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt);
 
 /**
  * @brief Clear the latched faults this call sees, at the next tick. A
