@@ -7,9 +7,9 @@ Written by torch 2.15.0 (+cu132 wheel, run on the CPU), onnx 1.19.1,
 numpy 2.4.6, Python 3.11. The tests never import torch; only this script
 does. To write the files again (they change only if this script does):
 
-    python3 -m venv /tmp/torchenv            # outside the repository
-    /tmp/torchenv/bin/pip install torch onnx numpy
-    /tmp/torchenv/bin/python codegen/tests/data/nn/make_torch_files.py
+    python3 -m venv "$TORCHENV"   # any folder outside the repository
+    "$TORCHENV"/bin/pip install torch onnx numpy
+    "$TORCHENV"/bin/python codegen/tests/data/nn/make_torch_files.py
 
 The networks are the team's own, random (seeded), and small; their shapes
 are those training stacks export:
@@ -125,6 +125,30 @@ def metadata(model_path, n_obs):
     onnx.save(m, model_path)
 
 
+def strip_debug(model_path):
+    """Drop the exporter's debug text (per-node stack traces and doc
+    strings name the folders of the machine that wrote the file); the
+    graph and its tensors are untouched."""
+    m = onnx.load(model_path)
+    m.doc_string = ""
+    graphs = [m.graph]
+    while graphs:
+        g = graphs.pop()
+        g.doc_string = ""
+        for n in g.node:
+            n.doc_string = ""
+            del n.metadata_props[:]
+            graphs.extend(a.g for a in n.attribute if a.HasField("g"))
+        for v in list(g.input) + list(g.output) + list(g.value_info):
+            v.doc_string = ""
+            del v.metadata_props[:]
+    for f in m.functions:
+        for n in f.node:
+            n.doc_string = ""
+            del n.metadata_props[:]
+    onnx.save(m, model_path)
+
+
 def steps(module, x):
     with torch.no_grad():
         return np.stack([module(torch.from_numpy(x[i:i + 1]))[0].numpy() for i in range(len(x))])
@@ -175,6 +199,8 @@ def main() -> int:
                       output_names=["actions", "h_out", "c_out"], **dyn)
     torch.onnx.export(gru_o, (torch.zeros(1, 5), torch.zeros(1, 1, 10)), out("gru_dynamo.onnx"),
                       input_names=["obs", "h_in"], output_names=["actions", "h_out"], **dyn)
+    strip_debug(out("lstm_dynamo.onnx"))
+    strip_debug(out("gru_dynamo.onnx"))
     for n in ("lstm_dynamo.onnx", "gru_dynamo.onnx", "lstm_exporter.pt", "gru_exporter.pt", "mlp.pt", "mlp_state.pt", "mlp.onnx",
               "lstm.onnx", "gru.onnx"):
         print(f"{n}: {os.path.getsize(out(n))} bytes")
