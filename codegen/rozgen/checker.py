@@ -167,7 +167,8 @@ def _channel(c: dict) -> Channel:
         return Channel(name=c["name"], interface_type=c["interface_type"], unit=c["unit"],
                        min=float(low), max=float(high), default=float(c["default"]),
                        max_rate=float(c["max_rate_of_change"]), position_state=-1,
-                       limit_margin=0.0, stale_after_ms=int(c["stale_after_ms"]))
+                       limit_margin=0.0, stale_after_ms=int(c["stale_after_ms"]),
+                       source=c.get("source", ""), scale=float(c.get("scale", 0.0)))
     return Channel(name=c["name"], interface_type=c["interface_type"], unit=c["unit"],
                    min=float(low), max=float(high), default=float(c["default"]),
                    max_rate=float(c["max_rate_of_change"]),

@@ -54,6 +54,8 @@ class Channel:
     limit_margin: float  # position states: as written; 0.0 = the default
     safe_default: str = "follow"  # paired position commands: "follow" or "hold"
     stale_after_ms: int = 0  # operator inputs: ms without an update before the default; 0 elsewhere
+    source: str = ""  # operator inputs: the device field ("remote.ly"); "" for none
+    scale: float = 0.0  # with a source: value = scale * field (the C checker's 1 by default)
 
     @property
     def margin(self) -> float:
@@ -68,6 +70,13 @@ class Channel:
     def constant(self) -> str:
         """``<NAME>`` part of the channel's index macro."""
         return names.constant_suffix(self.name)
+
+    @property
+    def c_source(self) -> str:
+        """roz_operator_field_t enumerator: ``remote.btn.a`` gives
+        ``ROZ_OPERATOR_REMOTE_BTN_A`` (the vocabulary is roz/operator.h's,
+        checked by the C checker before it gets here)."""
+        return "ROZ_OPERATOR_" + self.source.upper().replace(".", "_")
 
     @property
     def c_type(self) -> str:

@@ -65,6 +65,8 @@ def json_to_toml(text: str) -> str:
             f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
             f"stale_after_ms = {int(c['stale_after_ms'])}",
         ]
+        if "source" in c:  # present only on an input with a source
+            out += [f"source = {toml_string(c['source'])}", f"scale = {toml_float(c['scale'])}"]
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",

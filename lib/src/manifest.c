@@ -80,6 +80,17 @@ static int check_channels(const roz_manifest_t *m, int is_state,
                     return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
             }
         }
+        /* a source: an input's, in the vocabulary, with a usable scale,
+         * and no other input's (one field, one input) */
+        if (c->source != ROZ_OPERATOR_NONE || c->scale != 0.0) {
+            if (is_state != 2 || roz_operator_field_device(c->source) == ROZ_OPERATOR_DEVICE_NONE ||
+                !isfinite(c->scale) || c->scale == 0.0)
+                return set_problem(p, ROZ_MANIFEST_RULE_SOURCE, is_state, idx);
+            for (uint16_t j = 0; j < i; j++) {
+                if (list[j].source == c->source)
+                    return set_problem(p, ROZ_MANIFEST_RULE_SOURCE, is_state, idx);
+            }
+        }
         if (!isfinite(c->min) || !isfinite(c->max) || !(c->min < c->max))
             return set_problem(p, ROZ_MANIFEST_RULE_LIMITS, is_state, idx);
         if (!isfinite(c->default_value) || c->default_value < c->min ||

@@ -1054,6 +1054,16 @@ int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value)
     return rt != NULL ? roz_inputs_set(&rt->inputs, k, value) : ROZ_EINVAL;
 }
 
+int roz_runtime_operator_remote(roz_runtime_t *rt, const roz_operator_remote_t *r)
+{
+    return rt != NULL && r != NULL ? roz_inputs_remote(&rt->inputs, r) : ROZ_EINVAL;
+}
+
+int roz_runtime_operator_twist(roz_runtime_t *rt, const roz_operator_twist_t *t)
+{
+    return rt != NULL && t != NULL ? roz_inputs_twist(&rt->inputs, t) : ROZ_EINVAL;
+}
+
 const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt)
 {
     return &rt->inputs.counters;

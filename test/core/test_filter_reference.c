@@ -460,18 +460,28 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
  * without a cap; a paired position; an unpaired velocity whose limits exclude
  * 0 (its default is its safe value); a gain with a rate cap. */
 static const roz_channel_t mixed_cmd[] = {
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_channel_t mixed_state[] = {
-    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1, ROZ_SAFE_FOLLOW, 0 },
-    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0 };
 

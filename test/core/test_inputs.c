@@ -21,18 +21,18 @@
 
 static const roz_channel_t cmds[] = {
     { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0 },
+      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_channel_t states[] = {
     { "wheel/position", ROZ_IF_POSITION, "rad", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0 },
+      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
 };
 /* vx: rate 0.01 a tick, stale after 100 ms (50 ticks); a button: default 1 */
 static const roz_channel_t ins[] = {
     { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.01, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100 },
+      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_NONE, 0.0 },
     { "operator/mode", ROZ_IF_POSITION, "", 0.0, 3.0, 1.0, 0.5, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 20 },
+      ROZ_SAFE_FOLLOW, 20, ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, states, 1, NULL,
                                     ins, 2 };

@@ -37,14 +37,20 @@
  * manifest default, 1.0, is far from it); command 1 a velocity of joint 1.
  * State 2 is the tick at which the controller acts, state 3 how. */
 static const roz_channel_t latch_commands[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "j1/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "j1/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_channel_t latch_states[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "j1/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "trigger/effort", ROZ_IF_EFFORT, "", -1e9, 1e9, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "action/effort", ROZ_IF_EFFORT, "", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "j1/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "trigger/effort", ROZ_IF_EFFORT, "", -1e9, 1e9, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "action/effort", ROZ_IF_EFFORT, "", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t latch_manifest = {
     "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0,

@@ -33,11 +33,14 @@
 #include "support_wat.h"
 
 static const roz_channel_t commands[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_channel_t states[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "trigger/effort", ROZ_IF_EFFORT, "", -1e12, 1e12, -1.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "trigger/effort", ROZ_IF_EFFORT, "", -1e12, 1e12, -1.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t manifest = {
     "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0,

@@ -23,15 +23,18 @@ static int setup_manifest(void **state)
 {
     (void)state;
     cmds[0] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 0, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                               0.2, 0, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 };
     cmds[1] = (roz_channel_t){ "joint2/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 1, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                               0.2, 1, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 };
     states[0] = (roz_channel_t){ "joint1/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+                                   ROZ_OPERATOR_NONE, 0.0 };
     states[1] = (roz_channel_t){ "joint2/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+                                   ROZ_OPERATOR_NONE, 0.0 };
     states[2] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+                                   ROZ_OPERATOR_NONE, 0.0 };
     m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL, NULL, 0 };
     return 0;
 }
@@ -184,7 +187,8 @@ static const rule_case_t rule_cases[] = {
 static void test_manifest_limit_margin(void **state)
 {
     roz_channel_t gripper = { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0,
-                              ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 };
+                              ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+                                ROZ_OPERATOR_NONE, 0.0 };
     (void)state;
     assert_true(roz_manifest_limit_margin(&states[0]) == 0.05);      /* [-3.14, 3.14] rad */
     assert_true(roz_manifest_limit_margin(&gripper) == 0.05 * 0.08); /* [0, 0.08] m */

@@ -351,6 +351,37 @@ static void test_runtime_operator_inputs(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* The G1's remote reaches its walking command as unitree_rl_gym's deploy
+ * reads it: vx = 0.8 ly, vy = -0.5 lx, yaw rate = -1.57 rx (the 12-joint
+ * manifest's sources); a twist, which no input names, changes nothing. */
+static void test_runtime_operator_remote(void **st)
+{
+    static uint8_t wasm[512];
+    const roz_manifest_t *m = &roz_manifest_unitree_g1_12dof;
+    roz_operator_remote_t r = { .lx = 0.5f, .ly = 0.25f, .rx = -1.0f };
+    roz_operator_twist_t t = { .linear = { 1.0, 1.0, 1.0 }, .angular = { 1.0, 1.0, 1.0 } };
+    const double *state;
+    (void)st;
+    start(m, NULL);
+    size_t len = roz_test_wat(input_wat, wasm, sizeof wasm);
+    assert_int_equal(roz_runtime_load(&rt, wasm, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_operator_remote(NULL, &r), ROZ_EINVAL);
+    assert_int_equal(roz_runtime_operator_remote(&rt, NULL), ROZ_EINVAL);
+    assert_int_equal(roz_runtime_operator_twist(&rt, &t), ROZ_OK);
+    for (int i = 0; i < 500; i++) { /* the remote's rate is the port's: here every 10 ticks */
+        if (i % 10 == 0)
+            assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+        ticks(1);
+    }
+    state = roz_runtime_last_state(&rt);
+    assert_near(state[ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_X], 0.8 * 0.25, 1e-12);
+    assert_near(state[ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_Y], -0.5 * 0.5, 1e-12);
+    assert_near(state[ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_YAW_RATE], 1.57, 1e-12);
+    assert_near(roz_runtime_last_commands(&rt)[0], 0.2, 1e-9);
+    assert_int_equal(roz_runtime_input_counters(&rt)->clamped, 0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 /* A swapped-in controller starts with its paired position targets at the
  * hold (the measured positions), not at the manifest's defaults: after the
  * stand, the knees stay at 0.3 rad under the idle controller. */
@@ -496,6 +527,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
         cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
         cmocka_unit_test_teardown(test_runtime_operator_inputs, teardown),
+        cmocka_unit_test_teardown(test_runtime_operator_remote, teardown),
         cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
         cmocka_unit_test(test_runtime_simulator_read_not_warned),

@@ -107,7 +107,14 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
         fputs(", \"max_rate_of_change\": ", stdout);
         put_double(c[i].max_rate);
         if (states == 2) { /* an operator input: no filter keys */
-            printf(", \"stale_after_ms\": %lu}", (unsigned long)c[i].stale_after_ms);
+            printf(", \"stale_after_ms\": %lu", (unsigned long)c[i].stale_after_ms);
+            if (c[i].source != ROZ_OPERATOR_NONE) { /* absent without one: text unchanged */
+                fputs(", \"source\": ", stdout);
+                put_string(roz_operator_field_name(c[i].source));
+                fputs(", \"scale\": ", stdout);
+                put_double(c[i].scale);
+            }
+            fputs("}", stdout);
             continue;
         }
         printf(", \"position_state_index\": %ld, \"limit_margin\": ", (long)c[i].position_state);

@@ -67,7 +67,7 @@ static const char *const channel_keys[] = { "name",    "interface_type",     "un
 /* an operator input: a channel without the filter's keys, with a staleness rule */
 static const char *const input_keys[] = { "name",    "interface_type",     "unit",
                                           "limits",  "default",            "max_rate_of_change",
-                                          "stale_after_ms" };
+                                          "stale_after_ms", "source", "scale" };
 static const char *const hardware_keys[] = { "port", "joints", "params" };
 
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
@@ -636,6 +636,32 @@ static void check_safe_default(checker_t *ck, const place_t *pl, uint32_t sectio
     }
 }
 
+/* An input's source: a field of an operator device (roz/operator.h), and a
+ * scale only beside one, finite and not 0. */
+static void check_source(checker_t *ck, const place_t *pl, const roz_toml_node_t *t)
+{
+    const roz_toml_node_t *s, *v = roz_toml_get(ck->doc, t, "scale");
+    roz_operator_field_t f;
+    double scale;
+    int has_source = check_string(ck, pl, t, "source", 0, &s) && s != NULL;
+
+    if (has_source && roz_operator_field_parse(s->as.str.ptr, s->as.str.len, &f) != ROZ_OK) {
+        report(ck, "input-source", pl, "source",
+               "unknown source (known: remote.lx, remote.ly, remote.rx, remote.ry, remote.l2, "
+               "remote.r2, remote.btn.<r1|l1|start|select|r2|l2|f1|f2|a|b|x|y|up|right|down|"
+               "left>, twist.linear.<x|y|z>, twist.angular.<x|y|z>)", s, NULL);
+    }
+    if (v == NULL || !check_number(ck, pl, t, "scale", 0, 1.0, &scale))
+        return;
+    if (roz_toml_get(ck->doc, t, "source") == NULL)
+        report(ck, "input-scale", pl, "scale",
+               "only an input with a source has a scale (the value is scale times the field)",
+               v, NULL);
+    else if (scale == 0.0)
+        report(ck, "input-scale", pl, "scale",
+               "must not be 0 (the value is scale times the field)", v, NULL);
+}
+
 static void check_channel(checker_t *ck, uint32_t section, const char *kind, uint32_t index,
                           const roz_toml_node_t *t)
 {
@@ -704,6 +730,7 @@ static void check_channel(checker_t *ck, uint32_t section, const char *kind, uin
                      "returns to its default)", STALE_MAX_MS);
             report(ck, "stale-after", &pl, "stale_after_ms", what, v, NULL);
         }
+        check_source(ck, &pl, t);
         return; /* the filter's keys are not an input's (unknown-key) */
     }
     int pair_ok = check_integer(ck, d, &pl, t, "position_state_index", ROZ_CHANNEL_UNPAIRED,
@@ -830,6 +857,39 @@ static void input_names(checker_t *ck, const roz_toml_node_t *inputs,
                 snprintf(what, sizeof what, "also the name of manifest.states[%lu]",
                          (unsigned long)j);
                 report(ck, "duplicate-name", &pl, "name", what, name, NULL);
+                break;
+            }
+        }
+    }
+}
+
+/* One device field feeds one input: two inputs on one stick are a slip of
+ * the pen far more often than a need (a controller that wants the value
+ * twice reads the one input twice). */
+static void input_sources(checker_t *ck, const roz_toml_node_t *inputs)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    uint32_t i = 0;
+
+    for (const roz_toml_node_t *t = roz_toml_first(d, inputs); t != NULL && i < ck->max.states;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *src = t->type == ROZ_TOML_TABLE ? roz_toml_get(d, t, "source")
+                                                               : NULL;
+        uint32_t j = 0;
+        if (!is_type(src, ROZ_TOML_STRING))
+            continue;
+        for (const roz_toml_node_t *u = roz_toml_first(d, inputs); u != t && j < i;
+             u = roz_toml_next(d, u), j++) {
+            const roz_toml_node_t *other = u->type == ROZ_TOML_TABLE
+                                               ? roz_toml_get(d, u, "source") : NULL;
+            if (is_type(other, ROZ_TOML_STRING) && str_eq2(other->as.str, src->as.str)) {
+                char where[ROZ_CFG_PROBLEM_LEN], what[96];
+                place_t pl = { SEC_INPUTS, i, where, input_keys, N_OF(input_keys) };
+                channel_where(ck, "inputs", i, t, where, sizeof where);
+                snprintf(what, sizeof what,
+                         "also the source of manifest.inputs[%lu] (one field feeds one input)",
+                         (unsigned long)j);
+                report(ck, "duplicate-source", &pl, "source", what, src, NULL);
                 break;
             }
         }
@@ -983,6 +1043,8 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
         check_pairing(ck, commands, states);
     if (states_ok && inputs_ok && inputs != NULL && states != NULL)
         input_names(ck, inputs, states);
+    if (inputs_ok && inputs != NULL)
+        input_sources(ck, inputs);
 }
 
 static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
@@ -1103,6 +1165,8 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         const roz_toml_node_t *margin = roz_toml_get(d, t, "limit_margin");
         const roz_toml_node_t *safe = roz_toml_get(d, t, "safe_default");
         const roz_toml_node_t *stale = roz_toml_get(d, t, "stale_after_ms");
+        const roz_toml_node_t *source = roz_toml_get(d, t, "source");
+        const roz_toml_node_t *scale = roz_toml_get(d, t, "scale");
         roz_channel_t *c = &out[i];
         c->name = intern_key(st, d, t, "name");
         c->unit = intern_key(st, d, t, "unit");
@@ -1118,6 +1182,11 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         c->safe_default = safe != NULL && str_eq(safe->as.str, "hold") ? ROZ_SAFE_HOLD
                                                                              : ROZ_SAFE_FOLLOW;
         c->stale_after_ms = stale != NULL ? (uint32_t)stale->as.integer : 0u;
+        c->source = ROZ_OPERATOR_NONE;
+        c->scale = 0.0; /* no source: no scale */
+        if (source != NULL &&
+            roz_operator_field_parse(source->as.str.ptr, source->as.str.len, &c->source) == ROZ_OK)
+            c->scale = scale != NULL ? number_of(scale) : 1.0;
     }
     return ROZ_OK;
 }

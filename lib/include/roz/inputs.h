@@ -28,6 +28,7 @@
 
 #include "roz/atomic.h"
 #include "roz/manifest.h"
+#include "roz/operator.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -75,6 +76,18 @@ void roz_inputs_init(roz_inputs_t *in, const roz_manifest_t *m);
  * Context: any thread; wait-free (no loop); RT-safe.
  */
 int roz_inputs_set(roz_inputs_t *in, uint32_t k, double value);
+
+/**
+ * @brief A frame of an operator device: roz_inputs_set(k, scale * field)
+ *        for every input k whose source is a field of that device.
+ * @retval ROZ_OK     all stored
+ * @retval ROZ_ESTATE at least one was dropped (a set of it in progress)
+ * Context: any thread; wait-free (O(inputs), no loop on contention); RT-safe.
+ */
+int roz_inputs_remote(roz_inputs_t *in, const roz_operator_remote_t *r);
+
+/** @brief As roz_inputs_remote(), for a twist. Context: as roz_inputs_remote(). */
+int roz_inputs_twist(roz_inputs_t *in, const roz_operator_twist_t *t);
 
 /**
  * @brief One tick: takes each input's latest value, applies the rules and

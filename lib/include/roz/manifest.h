@@ -18,6 +18,7 @@
 #include <stdint.h>
 
 #include "roz/error.h"
+#include "roz/operator.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -80,6 +81,14 @@ typedef struct roz_channel {
      *  it returns to its default (at its max_rate per tick); > 0. 0 on every
      *  command and state. */
     uint32_t        stale_after_ms;
+    /** Operator inputs only: the device field the input takes its value
+     *  from (robot.toml's `source`, roz/operator.h); ROZ_OPERATOR_NONE on
+     *  every command and state, and on an input only the API and the
+     *  scripted operator set. */
+    roz_operator_field_t source;
+    /** With a source: the input's value is scale * the field; finite and
+     *  not 0 (robot.toml's default: 1). 0 without a source. */
+    double          scale;
 } roz_channel_t;
 
 /** A string key/value, as in robot.toml's [hardware.params]. */
@@ -153,6 +162,10 @@ typedef enum roz_manifest_rule {
     ROZ_MANIFEST_RULE_INPUT,         /**< an input with stale_after_ms 0, max_rate 0, a pairing, a margin or
                                           a hold; a command or state with stale_after_ms; an
                                           input named as a state */
+    ROZ_MANIFEST_RULE_SOURCE,        /**< a source outside roz_operator_field_t, or on a
+                                          command or state; an input's scale not finite or 0
+                                          with a source, or not 0 without one; two inputs
+                                          with one source */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */

@@ -30,6 +30,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
+#include "roz/operator.h"
 #include "roz/private.h"
 #include "roz/recorder.h"
 
@@ -304,7 +305,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 7u
+#define ROZ_RUNTIME_LAYOUT_VERSION 8u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \

@@ -670,9 +670,10 @@ static void test_dds_kept_storage(void **st)
  * (hold: the tick's; send, safe: the writer thread's, or the caller's on
  * stop): the command path alone, without a port's wire. */
 static const roz_channel_t cp_commands[2] = {
-    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
     { "j/damping", ROZ_IF_DAMPING, "N.m.s/rad", 0.0, 10.0, 1.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 0 },
+      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t cp_manifest = { "cmd_path", "test", 100, cp_commands, 2, NULL, 0,
                                             NULL, NULL, 0 };

@@ -1375,11 +1375,14 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 /* a robot whose manifest has a channel the G1 has no place for */
 static const roz_channel_t odd_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0 },
-    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
+    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_channel_t odd_states[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const char *const odd_joints[] = { "j1" };
 static const char *const real_joints[] = { "left_knee_joint" };
@@ -1391,7 +1394,8 @@ static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
                                         1, &odd_hw, NULL, 0 };
 static const roz_channel_t typo_commands[] = {
-    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
+    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
+      ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
                                      &real_hw, NULL, 0 };

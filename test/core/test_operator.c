@@ -1,0 +1,210 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* Operator devices (roz/operator.h): the vocabulary of fields, the
+ * manifest's rule on an input's source and scale, and a device frame
+ * reaching exactly the inputs that name its fields, scaled, through the
+ * inputs' rules (a NaN refused and counted). */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "roz/error.h"
+#include "roz/inputs.h"
+#include "roz/operator.h"
+
+#define RATE_HZ 500u
+#define TICK_NS (1000000000ull / RATE_HZ)
+
+static const roz_channel_t cmds[] = {
+    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+};
+/* vx = 0.8 ly, vy = -0.5 lx, a button, a twist's yaw, and one only the API sets */
+static const roz_channel_t ins[] = {
+    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LY, 0.8 },
+    { "operator/velocity.y", ROZ_IF_VELOCITY, "m/s", -0.5, 0.5, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LX, -0.5 },
+    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
+    { "operator/yaw_rate", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_TWIST_ANGULAR_Z, 1.0 },
+    { "operator/mode", ROZ_IF_POSITION, "", 0.0, 3.0, 1.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_NONE, 0.0 },
+};
+#define N_INS (sizeof ins / sizeof ins[0])
+static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, NULL, 0, NULL,
+                                    ins, N_INS };
+
+static roz_inputs_t in;
+static double out[N_INS];
+static uint64_t tick;
+
+static void step(void)
+{
+    tick++;
+    roz_inputs_tick(&in, tick * TICK_NS, out);
+}
+
+static int setup(void **st)
+{
+    (void)st;
+    roz_inputs_init(&in, &man);
+    tick = 0;
+    return 0;
+}
+
+static void test_vocabulary(void **st)
+{
+    roz_operator_field_t f;
+    (void)st;
+    for (int i = 1; i < (int)ROZ_OPERATOR_FIELD_COUNT_; i++) {
+        const char *name = roz_operator_field_name((roz_operator_field_t)i);
+        assert_int_equal(roz_operator_field_parse(name, strlen(name), &f), ROZ_OK);
+        assert_int_equal(f, i);
+        assert_int_not_equal(roz_operator_field_device(f), ROZ_OPERATOR_DEVICE_NONE);
+    }
+    assert_string_equal(roz_operator_field_name(ROZ_OPERATOR_REMOTE_BTN_SELECT),
+                        "remote.btn.select");
+    assert_string_equal(roz_operator_field_name(ROZ_OPERATOR_TWIST_LINEAR_Y), "twist.linear.y");
+    assert_string_equal(roz_operator_field_name(ROZ_OPERATOR_FIELD_COUNT_), "?");
+    assert_int_equal(roz_operator_field_parse("remote.lz", 9, &f), ROZ_EINVAL);
+    assert_int_equal(roz_operator_field_parse("remote.l", 8, &f), ROZ_EINVAL);
+    assert_int_equal(roz_operator_field_parse("", 0, &f), ROZ_EINVAL); /* not a source */
+    assert_int_equal(roz_operator_field_parse("remote.lxx", 9, &f), ROZ_OK); /* by length */
+    assert_int_equal(f, ROZ_OPERATOR_REMOTE_LX);
+    /* Unitree's key union: R1 bit 0, start 2, select 3, A 8, left 15 */
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_R1), 0x0001);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_START), 0x0004);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_SELECT), 0x0008);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_L2), 0x0020);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_A), 0x0100);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_B), 0x0200);
+    assert_int_equal(ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_LEFT), 0x8000);
+    assert_int_equal(roz_operator_field_device(ROZ_OPERATOR_NONE), ROZ_OPERATOR_DEVICE_NONE);
+    assert_int_equal(roz_operator_field_device(ROZ_OPERATOR_REMOTE_BTN_LEFT),
+                     ROZ_OPERATOR_DEVICE_REMOTE);
+    assert_int_equal(roz_operator_field_device(ROZ_OPERATOR_TWIST_LINEAR_X),
+                     ROZ_OPERATOR_DEVICE_TWIST);
+}
+
+static void expect_source_rule(const roz_channel_t *bad, int is_state)
+{
+    roz_manifest_problem_t p;
+    roz_channel_t list[N_INS];
+    roz_manifest_t m = man;
+    memcpy(list, ins, sizeof list);
+    if (is_state == 2) {
+        list[1] = *bad;
+        m.inputs = list;
+    } else {
+        m.commands = bad;
+    }
+    assert_int_equal(roz_manifest_validate(&m, &p), ROZ_EINVAL);
+    assert_int_equal(p.rule, ROZ_MANIFEST_RULE_SOURCE);
+    assert_int_equal(p.is_state, is_state);
+}
+
+static void test_manifest_rule(void **st)
+{
+    roz_manifest_problem_t p;
+    roz_channel_t c;
+    (void)st;
+    assert_int_equal(roz_manifest_validate(&man, &p), ROZ_OK);
+    c = ins[1];
+    c.scale = 0.0; /* it would never move */
+    expect_source_rule(&c, 2);
+    c.scale = NAN;
+    expect_source_rule(&c, 2);
+    c.scale = INFINITY;
+    expect_source_rule(&c, 2);
+    c = ins[1];
+    c.source = ROZ_OPERATOR_FIELD_COUNT_; /* outside the vocabulary */
+    expect_source_rule(&c, 2);
+    c = ins[4];
+    c.scale = 2.0; /* a scale without a source */
+    expect_source_rule(&c, 2);
+    c = ins[1];
+    c.source = ROZ_OPERATOR_REMOTE_LY; /* input 0's: one field, one input */
+    expect_source_rule(&c, 2);
+    c = cmds[0];
+    c.source = ROZ_OPERATOR_REMOTE_LY; /* a command has no source */
+    c.scale = 1.0;
+    expect_source_rule(&c, 0);
+}
+
+static void test_remote_frame_scaled(void **st)
+{
+    roz_operator_remote_t r = { .lx = 0.4f, .ly = 0.5f, .rx = -1.0f,
+                                .buttons = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_A) };
+    (void)st;
+    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    step();
+    assert_true(out[0] == 0.8 * (double)0.5f);
+    assert_true(out[1] == -0.5 * (double)0.4f);
+    assert_true(out[2] == 1.0);
+    assert_true(out[3] == 0.0); /* a twist's: untouched */
+    assert_true(out[4] == 1.0); /* no source: its default */
+    r.ly = 1.0f; /* beyond max_cmd after the scale: 0.8, no clamp */
+    r.buttons = 0;
+    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    step();
+    assert_true(out[0] == 0.8);
+    assert_true(out[2] == 0.0);
+    assert_int_equal(in.counters.clamped, 0);
+}
+
+static void test_nan_refused_and_counted(void **st)
+{
+    roz_operator_remote_t r = { .lx = 0.4f, .ly = 0.5f };
+    (void)st;
+    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    step();
+    r.ly = NAN;
+    r.lx = INFINITY;
+    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    step();
+    assert_true(out[0] == 0.8 * (double)0.5f); /* each keeps its value */
+    assert_true(out[1] == -0.5 * (double)0.4f);
+    assert_int_equal(in.counters.nonfinite, 2);
+}
+
+static void test_twist_frame(void **st)
+{
+    roz_operator_twist_t t = { .linear = { 9.0, 9.0, 9.0 }, .angular = { 0.0, 0.0, -0.75 } };
+    (void)st;
+    assert_int_equal(roz_inputs_twist(&in, &t), ROZ_OK);
+    step();
+    assert_true(out[3] == -0.75);
+    assert_true(out[0] == 0.0 && out[1] == 0.0 && out[2] == 0.0); /* the remote's: untouched */
+    assert_int_equal(in.counters.clamped, 0);
+}
+
+/* A silent remote: its inputs go stale and return to their defaults. */
+static void test_silent_remote_goes_stale(void **st)
+{
+    roz_operator_remote_t r = { .ly = 0.5f };
+    (void)st;
+    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    for (int i = 0; i < 60; i++) /* 100 ms: 50 ticks */
+        step();
+    assert_true(out[0] == 0.0);
+    assert_true(in.counters.stale >= 1);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_vocabulary),
+        cmocka_unit_test(test_manifest_rule),
+        cmocka_unit_test_setup(test_remote_frame_scaled, setup),
+        cmocka_unit_test_setup(test_nan_refused_and_counted, setup),
+        cmocka_unit_test_setup(test_twist_frame, setup),
+        cmocka_unit_test_setup(test_silent_remote_goes_stale, setup),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
