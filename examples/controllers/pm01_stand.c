@@ -16,11 +16,6 @@
 #endif
 
 #define JOINTS 24
-#define POS ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_POSITION
-#define VEL ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_VELOCITY
-#define KP ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_STIFFNESS
-#define KD ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_DAMPING
-#define TAU ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_EFFORT
 #define RATE_HZ ((double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ)
 
 /* Standing pose in the robot's joint order (rad). */
@@ -51,22 +46,20 @@ static const stand_balance_t balance = {
     .limit = 0.4, .sway = -0.05,
 };
 
+static const stand_robot_t robot = {
+    .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
+    .balance = STAND_BALANCE ? &balance : 0,
+    .quat = ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ORIENTATION_X,
+    .gyro = ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
+    .legs = ROZ_ENGINEAI_PM01_STATE_J00_HIP_PITCH_L_POSITION,
+    .pos = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_POSITION,
+    .vel = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_VELOCITY,
+    .kp0 = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_STIFFNESS,
+    .kd0 = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_DAMPING,
+    .tau = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_EFFORT,
+};
+
 ROZ_PROCESS(tick)
 {
-    double target[JOINTS];
-    for (int j = 0; j < JOINTS; j++)
-        target[j] = pose[j];
-#if STAND_BALANCE
-    static double sway_prev; /* the last valid sway, for its rate */
-    static int have_prev;
-    double ramp = (double)tick / RATE_HZ;
-    stand_lean_t lean = stand_lean(ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ORIENTATION_X,
-                                   ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-                                   ROZ_ENGINEAI_PM01_STATE_J00_HIP_PITCH_L_POSITION);
-    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
-    have_prev = lean.valid;
-    sway_prev = lean.sway;
-    stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
-#endif
-    stand_step(tick, RATE_HZ, JOINTS, target, kp, kd, POS, VEL, KP, KD, TAU);
+    stand_tick(tick, &robot);
 }

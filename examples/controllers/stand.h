@@ -123,4 +123,41 @@ static inline void stand_balance(double *target, const double *pose, const stand
     }
 }
 
+/* A stand's robot: its pose and gains per joint, its balance (NULL: the
+ * pose alone), the states stand_lean() reads (the IMU's orientation x and
+ * angular velocity x, the left hip pitch's position) and the first joint's
+ * command of each kind. */
+#define STAND_MAX_JOINTS 32
+typedef struct {
+    int joints; /* at most STAND_MAX_JOINTS */
+    double rate_hz;
+    const double *pose, *kp, *kd;
+    const stand_balance_t *balance;
+    int quat, gyro, legs;
+    int pos, vel, kp0, kd0, tau;
+} stand_robot_t;
+
+/* One tick of the balancing stand on @p r: the pose, moved by the balance
+ * (faded in over the first second), sent with the gains (stand_step). The
+ * sway's rate is the change of the last valid sway, a tick apart. */
+static inline void stand_tick(long long tick, const stand_robot_t *r)
+{
+    static double sway_prev; /* the last valid sway, for its rate */
+    static int have_prev;
+    double target[STAND_MAX_JOINTS];
+    int joints = r->joints < STAND_MAX_JOINTS ? r->joints : STAND_MAX_JOINTS;
+    for (int j = 0; j < joints; j++)
+        target[j] = r->pose[j];
+    if (r->balance) {
+        double ramp = (double)tick / r->rate_hz;
+        stand_lean_t lean = stand_lean(r->quat, r->gyro, r->legs);
+        double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * r->rate_hz : 0.0;
+        have_prev = lean.valid;
+        sway_prev = lean.sway;
+        stand_balance(target, r->pose, &lean, sway_rate, r->balance, ramp < 1.0 ? ramp : 1.0);
+    }
+    stand_step(tick, r->rate_hz, joints, target, r->kp, r->kd, r->pos, r->vel, r->kp0, r->kd0,
+               r->tau);
+}
+
 #endif /* ROZ_EXAMPLE_STAND_H */

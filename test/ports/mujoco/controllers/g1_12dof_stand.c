@@ -27,25 +27,20 @@ static const stand_balance_t balance = {
     .limit = 0.4, .sway = -0.05,
 };
 
+static const stand_robot_t robot = {
+    .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
+    .balance = &balance,
+    .quat = ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ORIENTATION_X,
+    .gyro = ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
+    .legs = ROZ_UNITREE_G1_12DOF_STATE_LEFT_HIP_PITCH_JOINT_POSITION,
+    .pos = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_POSITION,
+    .vel = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY,
+    .kp0 = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS,
+    .kd0 = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING,
+    .tau = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT,
+};
+
 ROZ_PROCESS(tick)
 {
-    static double sway_prev; /* the last valid sway, for its rate */
-    static int have_prev;
-    double target[JOINTS];
-    for (int j = 0; j < JOINTS; j++)
-        target[j] = pose[j];
-    double ramp = (double)tick / RATE_HZ;
-    stand_lean_t lean = stand_lean(ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ORIENTATION_X,
-                                   ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-                                   ROZ_UNITREE_G1_12DOF_STATE_LEFT_HIP_PITCH_JOINT_POSITION);
-    double sway_rate = have_prev && lean.valid ? (lean.sway - sway_prev) * RATE_HZ : 0.0;
-    have_prev = lean.valid;
-    sway_prev = lean.sway;
-    stand_balance(target, pose, &lean, sway_rate, &balance, ramp < 1.0 ? ramp : 1.0);
-    stand_step(tick, RATE_HZ, JOINTS, target, kp, kd,
-               ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_POSITION,
-               ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY,
-               ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS,
-               ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING,
-               ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT);
+    stand_tick(tick, &robot);
 }
