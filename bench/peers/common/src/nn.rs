@@ -3,9 +3,9 @@
 //! has them, over an instance's linear memory: the same range and overlap
 //! refusals (nothing written, counted), each output row summed in the same
 //! order (float32, a product then a sum, never fused), and the activations
-//! of sdk/include/roz_math.h restated (double arithmetic, rounded once to
-//! float), every value read by roz_math.h's rule for tiny numbers, so that
-//! the results are roz's bit for bit.
+//! the Rust SDK's math (roz_math.h's float functions, restated bit for bit),
+//! every value read by roz_math.h's rule for tiny numbers, so that the
+//! results are roz's bit for bit.
 
 use crate::Abi;
 
@@ -14,109 +14,9 @@ pub const NN_ACCUMULATE: i32 = 2;
 /// ROZ_ABI_NN_RELU .. ROZ_ABI_NN_EXP
 pub const NN_ACT_COUNT: i32 = 5;
 
-const INV_LN2: u64 = 0x3ff7_1547_652b_82fe; // 0x1.71547652b82fep+0
-const LN2_1: u64 = 0x3fe6_2e42_fefa_3800; // 0x1.62e42fefa38p-1
-const LN2_2: u64 = 0x3d2e_f357_93c7_6730; // 0x1.ef35793c7673p-45
-const ROUNDER: u64 = 0x4338_0000_0000_0000; // 0x1.8p52
-
-fn pow2(k: i32) -> f64 {
-    f64::from_bits(((k + 1023) as u64) << 52)
-}
-
-/// roz__math_expm1_f32: e^x = 2^k (1 + p) for |x| <= 110.
-fn expm1_f32(x: f64) -> (f64, i32) {
-    let rounder = f64::from_bits(ROUNDER);
-    let kd = (x * f64::from_bits(INV_LN2) + rounder) - rounder;
-    let r = (x - kd * f64::from_bits(LN2_1)) - kd * f64::from_bits(LN2_2);
-    let q = 1.0 / 2.0
-        + r * (1.0 / 6.0
-            + r * (1.0 / 24.0
-                + r * (1.0 / 120.0
-                    + r * (1.0 / 720.0
-                        + r * (1.0 / 5040.0
-                            + r * (1.0 / 40320.0
-                                + r * (1.0 / 362880.0
-                                    + r * (1.0 / 3628800.0
-                                        + r * (1.0 / 39916800.0 + r * (1.0 / 479001600.0))))))))));
-    (r + r * r * q, kd as i32)
-}
-
-fn expm1_d32(x: f64) -> f64 {
-    let (p, k) = expm1_f32(x);
-    if k == 0 {
-        return p;
-    }
-    (pow2(k) - 1.0) + pow2(k) * p
-}
-
-pub fn expf(x: f32) -> f32 {
-    if x.is_nan() {
-        return x;
-    }
-    if x > 89.0 {
-        return f32::INFINITY;
-    }
-    if x < -104.0 {
-        return 0.0;
-    }
-    let (p, k) = expm1_f32(x as f64);
-    ((1.0 + p) * pow2(k)) as f32
-}
-
-pub fn expm1f(x: f32) -> f32 {
-    if x.is_nan() || x == 0.0 {
-        return x;
-    }
-    if x > 89.0 {
-        return f32::INFINITY;
-    }
-    if x < -104.0 {
-        return -1.0;
-    }
-    expm1_d32(x as f64) as f32
-}
-
-pub fn tanhf(x: f32) -> f32 {
-    if x.is_nan() {
-        return x;
-    }
-    let ax = (x as f64).abs();
-    if ax > 9.5 {
-        return if x < 0.0 { -1.0 } else { 1.0 };
-    }
-    let e = expm1_d32(2.0 * ax);
-    (e / (e + 2.0)).copysign(x as f64) as f32
-}
-
-pub fn sigmoidf(x: f32) -> f32 {
-    if x.is_nan() {
-        return x;
-    }
-    if x < -104.0 {
-        return 0.0;
-    }
-    if x > 104.0 {
-        return 1.0;
-    }
-    let (p, k) = expm1_f32(-(x as f64));
-    (1.0 / (1.0 + (1.0 + p) * pow2(k))) as f32
-}
-
-pub fn eluf(x: f32) -> f32 {
-    if x > 0.0 {
-        x
-    } else {
-        expm1f(x)
-    }
-}
-
-pub fn reluf(x: f32) -> f32 {
-    if x < 0.0 {
-        0.0
-    } else {
-        x
-    }
-}
+// The activations are the Rust SDK's (sdk/rust/src/math.rs), which restates
+// roz_math.h's float functions bit for bit.
+use roz_controller::math::{eluf, expf, reluf, sigmoidf, tanhf};
 
 fn range_ok(len: usize, at: u32, bytes: u64) -> bool {
     bytes <= len as u64 && at as u64 <= len as u64 - bytes
