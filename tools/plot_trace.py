@@ -286,7 +286,8 @@ def figure(runs, title="", pattern=None, spans=(), operator=()):
                                 color="tab:purple")
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
+    # the figure's title above the first plot's own, never over it
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.45 / fig.get_figheight()) if title else None)
     return fig
 
 
