@@ -2,7 +2,8 @@
 #
 # The two commands of the README:
 #   make demo   set up, build, and run the main job (the G1 walking in MuJoCo
-#               under a scripted operator)
+#               under a scripted operator, given G1_WALK_POLICY; else the
+#               G1 standing, pushed)
 #   make test   set up, build, and run every test
 # Both run tools/setup.sh first, which installs what is missing (Debian
 # packages, the Python venv, wasm3's sources) and does nothing otherwise.
