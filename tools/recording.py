@@ -223,9 +223,11 @@ def events(prev, t):
 
 def table(run, ticks):
     """The trace's header and columns (plot_trace.read()'s shape)."""
+    inputs = input_names(run)
     header = (["tick", "time_s"] + [f"target:{n}" for n in run.command_names]
               + [f"applied:{n}" for n in run.command_names]
-              + [f"state:{n}" for n in run.state_names] + ["faults", "events"])
+              + [f"state:{n}" for n in run.state_names] + [f"input:{n}" for n in inputs]
+              + ["faults", "events"])
     cols = {h: [] for h in header}
     prev = None
     for t in ticks:
@@ -236,6 +238,8 @@ def table(run, ticks):
             cols[f"applied:{n}"].append(t["applied"][i])
         for i, n in enumerate(run.state_names):
             cols[f"state:{n}"].append(t["state"][i])
+        for i, n in enumerate(inputs):
+            cols[f"input:{n}"].append(t["inputs"][i])
         cols["faults"].append(float(t["faults"]))
         cols["events"].append(events(prev, t))
         prev = t

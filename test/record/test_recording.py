@@ -343,9 +343,9 @@ def test_operator_inputs_replayed(tmp_path):
     script = tmp_path / "operator.csv"
     script.write_text("time_s,operator/velocity.x,operator/yaw_rate\n"
                       "0,0.5,0\n0.4,0,0.5\n0.8,0,0\n")
-    path = tmp_path / "op.mcap"
+    path, trace = tmp_path / "op.mcap", tmp_path / "op.csv"
     rozrun("--robot", "unitree_g1_12dof", "--controller", CTL / "g1_12dof_deployed.wasm",
-           "--ticks", 600, "--operator", script, "--record", path)
+           "--ticks", 600, "--operator", script, "--record", path, "--trace", trace)
     counts = decode_all(path)
     assert counts["/roz/inputs"] == 600 and counts["/roz/tick"] == 600
     run, ticks, _ = recording.read(path)
@@ -356,6 +356,10 @@ def test_operator_inputs_replayed(tmp_path):
     # at the inputs' rate caps: 0.002 m/s and 0.004 rad/s a tick
     assert vx[0] == 0.002 and abs(max(vx) - 0.4) < 1e-9 and vx[599] == 0.0
     assert max(yaw) == 0.5 and yaw[599] == 0.0
+    # the recording's CSV is rozrun's trace, its input columns too
+    out = tmp_path / "from_recording.csv"
+    recording.main(["csv", str(path), str(out)])
+    assert out.read_bytes() == trace.read_bytes()
     p = rozrun("--replay", path, "--controller", CTL / "g1_12dof_deployed.wasm")
     assert "ticks replayed         600\n" in p.stdout
     assert "result                 identical" in p.stdout
