@@ -377,6 +377,18 @@ def test_operator_inputs_replayed(tmp_path):
     rewrite(path, cut, lambda topic, _t, data: None if topic == "/roz/inputs" else data)
     p = rozrun("--replay", cut, "--controller", CTL / "g1_12dof_deployed.wasm", ok=(2,))
     assert "tick 0 lacks its /roz/inputs message" in p.stderr, p.stderr
+    # a recording from before /roz/inputs (/roz/run ends at start_time_ns)
+    # input_names: a u32 count, then each name a u32 length, its bytes and a NUL,
+    # padded to 4 before the next length (CDR)
+    names = [b"operator/velocity.x", b"operator/velocity.y", b"operator/yaw_rate"]
+    tail = 4 + sum(4 + len(n) + 1 for n in names)
+    tail += sum((4 - (len(n) + 1) % 4) % 4 for n in names[:-1])
+    old = tmp_path / "old.mcap"
+    rewrite(path, old, lambda topic, _t, data: data[:-tail] if topic == "/roz/run"
+            else None if topic == "/roz/inputs" else data)
+    p = rozrun("--replay", old, "--controller", CTL / "g1_12dof_deployed.wasm", ok=(2,))
+    assert ('records 0 operator inputs; robot "unitree_g1_12dof" has 3 (a recording from '
+            'before /roz/inputs cannot replay a robot with inputs)') in p.stderr, p.stderr
 
 
 def test_replay_refuses(tmp_path):
