@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 #
 # The two commands of the README:
-#   make demo   set up, build, and run the main job (the G1 standing in MuJoCo)
+#   make demo   set up, build, and run the main job (the G1 walking in MuJoCo
+#               under a scripted operator, given G1_WALK_POLICY; else the
+#               G1 standing, pushed)
 #   make test   set up, build, and run every test
 # Both run tools/setup.sh first, which installs what is missing (Debian
 # packages, the Python venv, wasm3's sources) and does nothing otherwise.
@@ -30,7 +32,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo demo-loopback campaign test test-asan test-tsan firmware stress bench fuzz-diff clean
+.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware stress bench fuzz-diff clean
 
 all: build
 
@@ -56,17 +58,53 @@ install: build
 
 DEMO_DIR = $(BUILD)/demo
 
-# The main job: the balancing stand (examples/controllers/g1_stand.c) holds a
-# Unitree G1 up in MuJoCo for 10 s (5000 ticks at 500 Hz) behind the safety
-# filter, pushed forward at the pelvis with 80 N for 0.1 s half-way; the
-# trace (with the simulator's base pose), the recording, a plot of the
-# joints and the pelvis height, and frames of the robot rendered offscreen
-# (where EGL works) land in $(DEMO_DIR). test/run_demo.cmake runs
-# the same and checks the G1 stands at the end.
-DEMO_PUSH = 80,0,0@pelvis@2500:2550
-# the plot's joints: the legs' pitch chain, where the push shows
+# The main job: a learned walking policy, deployed by rozgen-nn deploy
+# (docs/policies.md), walks the 12-joint Unitree G1 in MuJoCo for 21 s
+# (10,500 ticks at 500 Hz) behind the safety filter, its velocity command
+# read from the robot's operator inputs, which a scripted operator sets
+# (examples/operators/g1_walk.csv: stand, forward 0.5 m/s, stop, turn
+# 0.5 rad/s, stop). The trace (with the simulator's base pose and the
+# inputs), the recording (the inputs in it: it replays bit for bit),
+# commanded vs achieved velocity (tools/tracking.py), a plot marking the
+# operator's commands, and frames of the robot rendered offscreen (where EGL
+# works) land in $(DEMO_DIR). G1_WALK_POLICY names the trained policy
+# (unitree_rl_gym's deploy/pre_train/g1/motion.pt; not shipped with roz,
+# whose own small network is not a walker): without it, make demo says so
+# and runs demo-stand. test/run_demo.cmake (the test demo_plot) runs the same.
+G1_WALK_POLICY ?=
+DEMO_OPERATOR = examples/operators/g1_walk.csv
+# the plot's joints: the legs' pitch chain
 DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
-demo: build
+ifeq ($(strip $(G1_WALK_POLICY)),)
+demo: demo-stand
+	@echo "demo: the walking demo needs a trained policy, which roz does not ship: make demo"
+	@echo "      G1_WALK_POLICY=motion.pt (unitree_rl_gym's deploy/pre_train/g1/motion.pt);"
+	@echo "      the balancing stand ran instead (README.md)"
+else
+demo: setup $(BUILD)/build.ninja
+	$(CMAKE) -S . -B $(BUILD) -DROZ_G1_WALK_POLICY=$(abspath $(G1_WALK_POLICY))
+	$(CMAKE) --build $(BUILD) -j $(JOBS)
+	@mkdir -p $(DEMO_DIR)
+	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1_12dof --port mujoco \
+	    --controller $(BUILD)/examples/controllers/g1_walk.wasm --ticks 10500 \
+	    --operator $(DEMO_OPERATOR) \
+	    --trace $(DEMO_DIR)/g1_walk.csv --record $(DEMO_DIR)/g1_walk.mcap
+	.venv/bin/python tools/tracking.py $(DEMO_DIR)/g1_walk.csv --operator $(DEMO_OPERATOR)
+	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/g1_walk.csv $(DEMO_DIR)/g1_walk.png \
+	    --operator $(DEMO_OPERATOR) --channels '$(DEMO_CHANNELS)' \
+	    --title "Unitree G1 (12 joints), $(notdir $(G1_WALK_POLICY)) deployed, under a scripted operator, MuJoCo"
+	.venv/bin/python tools/render_frames.py $(DEMO_DIR)/g1_walk.csv \
+	    $(DEMO_DIR)/g1_walk_frames.png --at 0,4,9,13,16,21 \
+	    --title "Unitree G1 in MuJoCo: forward 0.5 m/s from 1 s, stop at 9 s, turn 0.5 rad/s from 12 s, stop at 18 s" \
+	    || echo "demo: no offscreen OpenGL here: frames not rendered (tools/render_frames.py)"
+endif
+
+# The balancing stand (examples/controllers/g1_stand.c) holds the 29-joint
+# G1 up in MuJoCo for 10 s (5000 ticks at 500 Hz), pushed forward at the
+# pelvis with 80 N for 0.1 s half-way; test/run_demo.cmake (demo_plot_stand)
+# runs the same and checks the G1 stands at the end.
+DEMO_PUSH = 80,0,0@pelvis@2500:2550
+demo-stand: build
 	@mkdir -p $(DEMO_DIR)
 	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1 --port mujoco \
 	    --controller $(BUILD)/examples/controllers/g1_stand.wasm --ticks 5000 \

@@ -19,7 +19,8 @@
 # installed roz then looks for rozgen on PATH (`pip install codegen/`).
 #
 # The Python tools come the same way (ROZ_INSTALL_TOOLS, with rozgen):
-#   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py, tools/recording.py,
+#   <prefix>/lib/roz/python/roz_tools/  tools/plot_trace.py (and its tracking.py),
+#                                       tools/recording.py,
 #                                       tools/live.py, tools/mcap_chunks.py,
 #                                       tools/campaign.py (and its
 #                                       campaign_report.py)
@@ -97,6 +98,7 @@ if(ROZ_INSTALL_TOOLS)
   install(FILES ${PROJECT_SOURCE_DIR}/tools/plot_trace.py ${PROJECT_SOURCE_DIR}/tools/recording.py
                 ${PROJECT_SOURCE_DIR}/tools/live.py ${PROJECT_SOURCE_DIR}/tools/mcap_chunks.py
                 ${PROJECT_SOURCE_DIR}/tools/campaign.py ${PROJECT_SOURCE_DIR}/tools/campaign_report.py
+                ${PROJECT_SOURCE_DIR}/tools/tracking.py
           DESTINATION ${_roz_pydir}/roz_tools)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools/layouts/ DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/layouts
           FILES_MATCHING PATTERN "*.json")

@@ -1,14 +1,36 @@
 # SPDX-License-Identifier: Apache-2.0
-# The demos end to end (the Makefile's demo and demo-loopback): rozrun writes
-# a trace (and for the G1 a recording), the plot script turns it into a PNG.
-#   cmake -DDEMO=g1|ur5 -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=... -DOUT=...
-#         [-DRENDER=tools/render_frames.py] -P
-# DEMO=g1: the balancing stand in MuJoCo, pushed half-way; the G1 must be
+# The demos end to end (the Makefile's demo, demo-stand and demo-loopback):
+# rozrun writes a trace (and in MuJoCo a recording), the plot script turns it
+# into a PNG.
+#   cmake -DDEMO=walk|stand|ur5 -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=...
+#         -DOUT=... [-DRENDER=tools/render_frames.py]
+#         [-DOPERATOR=examples/operators/g1_walk.csv -DTRACKING=tools/tracking.py
+#          -DBOUNDS=<tracking.py's bound options>] -P run_demo.cmake
+# DEMO=walk: a trained walking policy (ROZ_G1_WALK_POLICY) on the 12-joint
+# G1 in MuJoCo under the scripted operator (forward, stop, turn, stop), 21 s:
+# the G1 up at the end, the operator's inputs in the trace and the
+# recording, the commanded vs achieved velocity within BOUNDS
+# (tools/tracking.py's options; test/CMakeLists.txt states them), the plot
+# marking the operator's commands.
+# DEMO=stand: the balancing stand in MuJoCo, pushed half-way; the G1 must be
 # standing at the end (pelvis above 0.7 m, only its feet on the ground).
 # DEMO=ur5: the sine controller on the loopback UR5.
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
-if(DEMO STREQUAL "g1")
+set(frames_at "")
+if(DEMO STREQUAL "walk")
+  set(ticks 10500)
+  set(cmd ${ROZRUN} --robot unitree_g1_12dof --port mujoco --controller ${CONTROLLER}
+          --ticks ${ticks} --operator ${OPERATOR}
+          --trace ${OUT}/trace.csv --record ${OUT}/run.mcap)
+  set(plot_args --operator ${OPERATOR} --channels "(hip_pitch|knee|ankle_pitch)_joint/position")
+  set(wants "ticks                  10500" "faults                 none"
+            "operator               5 rows from [^\n]*; inputs clamped 0, refused \\(non-finite\\) 0, gone stale 0"
+            "base                   height 0\\.[6-9][0-9]* m \\(lowest 0\\.[6-9]"
+            "0 values outside the manifest written"
+            "recording              [^\n]*\\(10500 ticks, none dropped")
+  set(frames_at 0,4,9,13,16,21)
+elseif(DEMO STREQUAL "stand")
   set(ticks 5000)
   set(cmd ${ROZRUN} --robot unitree_g1 --port mujoco --controller ${CONTROLLER}
           --ticks ${ticks} --param push=80,0,0@pelvis@2500:2550
@@ -18,6 +40,7 @@ if(DEMO STREQUAL "g1")
             "ground contacts        [0-9]+: left_ankle_roll_link, right_ankle_roll_link\n"
             "base                   height 0\\.[7-9][0-9]* m \\(lowest 0\\.[7-9]"
             "recording              [^\n]*\\(5000 ticks, none dropped")
+  set(frames_at 0,5.2,10)
 else()
   set(ticks 500)
   set(cmd ${ROZRUN} --robot ur5 --controller ${CONTROLLER} --port loopback
@@ -41,10 +64,29 @@ math(EXPR rows "${ticks} + 1")
 if(NOT n EQUAL rows)
   message(FATAL_ERROR "trace has ${n} lines, expected a header and ${ticks} rows")
 endif()
-if(DEMO STREQUAL "g1")
-  list(GET lines 0 header)
-  if(NOT header MATCHES ",truth:base\\.z,")
-    message(FATAL_ERROR "the trace of a mujoco run lacks the base's height (truth:base.z)")
+list(GET lines 0 header)
+if(NOT DEMO STREQUAL "ur5" AND NOT header MATCHES ",truth:base\\.z,")
+  message(FATAL_ERROR "the trace of a mujoco run lacks the base's height (truth:base.z)")
+endif()
+if(DEMO STREQUAL "walk")
+  foreach(input operator/velocity.x operator/velocity.y operator/yaw_rate)
+    if(NOT header MATCHES ",input:${input}")
+      message(FATAL_ERROR "the trace lacks the operator's input ${input}")
+    endif()
+  endforeach()
+  # the recording carries the inputs, every tick (a replay feeds them back)
+  get_filename_component(tools ${PLOT} DIRECTORY)
+  execute_process(COMMAND ${PYTHON} ${tools}/recording.py check ${OUT}/run.mcap
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE checked ERROR_VARIABLE err)
+  if(NOT rc EQUAL 0 OR NOT checked MATCHES "/roz/inputs 10500,")
+    message(FATAL_ERROR "the recording lacks the operator's inputs: ${checked}${err}")
+  endif()
+  # the figures, and the bounds when given (exit 1 names the one broken)
+  execute_process(COMMAND ${PYTHON} ${TRACKING} ${OUT}/trace.csv --operator ${OPERATOR} ${BOUNDS}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE track ERROR_VARIABLE err)
+  message(STATUS "commanded vs achieved (tools/tracking.py ${BOUNDS}):\n${track}${err}")
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "tracking outside its bounds: ${err}")
   endif()
 endif()
 execute_process(COMMAND ${PYTHON} ${PLOT} ${OUT}/trace.csv ${OUT}/plot.png ${plot_args}
@@ -61,7 +103,7 @@ message(STATUS "demo ${DEMO}: ${n} trace lines, plot ${size} bytes")
 # Frames of the robot, rendered offscreen: exit 3 says there is no offscreen
 # OpenGL here (the demo goes on without them); anything else must work.
 if(RENDER)
-  execute_process(COMMAND ${PYTHON} ${RENDER} ${OUT}/trace.csv ${OUT}/frames.png --at 0,5.2,10
+  execute_process(COMMAND ${PYTHON} ${RENDER} ${OUT}/trace.csv ${OUT}/frames.png --at ${frames_at}
                   RESULT_VARIABLE rc ERROR_VARIABLE err)
   if(rc EQUAL 3)
     message(STATUS "demo ${DEMO}: frames not rendered: ${err}")

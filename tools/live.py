@@ -266,7 +266,8 @@ def layout(schemas, joints=LAYOUT_JOINTS):
     whose schemas are {topic: (schema name, text)}: per joint the targets,
     applied commands and the state field of the same name; the faults, fuel
     and freshness; the safety filter's counters; the truth's base height
-    when the run has /roz/truth."""
+    when the run has /roz/truth, the operator's inputs when it has
+    /roz/inputs."""
     import foxglove.layouts as fl
     commands = fields(schemas["/roz/target"][1])
     states = set(fields(schemas["/roz/state"][1]))
@@ -298,6 +299,11 @@ def layout(schemas, joints=LAYOUT_JOINTS):
         side.insert(1, fl.SplitItem(content=fl.PlotPanel(
             title="safety filter (totals)", config=fl.PlotConfig(paths=[
                 fl.PlotSeries(value=f"/roz/tick.{f}", label=label) for f, label in counters]))))
+    if "/roz/inputs" in schemas:  # the operator's inputs, as the controller read them
+        side.insert(0, fl.SplitItem(content=fl.PlotPanel(
+            title="operator inputs", config=fl.PlotConfig(paths=[
+                fl.PlotSeries(value=f"/roz/inputs.{f}", label=f)
+                for f in fields(schemas["/roz/inputs"][1])]))))
     if "/roz/truth" in schemas:
         side.insert(0, fl.SplitItem(content=fl.PlotPanel(
             title="base height (truth)", config=fl.PlotConfig(paths=[

@@ -2,7 +2,7 @@
 """Plot a rozrun trace: commanded vs applied commands, and the position states.
 
     python tools/plot_trace.py trace.csv out.png [--title TEXT] [--compare other.csv]
-                               [--channels REGEX] [--span FROM:TO:LABEL]
+                               [--channels REGEX] [--span FROM:TO:LABEL] [--operator FILE]
     roz-plot ...                 (the same, installed with roz)
 
 The trace's columns are tick, time_s, target:<cmd>..., applied:<cmd>...,
@@ -18,10 +18,19 @@ rebuild, a fault latching) is a labelled vertical line. Traces written before
 the faults and events columns existed plot without them. With --compare, a
 second trace is drawn beside the first on the same axes (two runs side by
 side; tools/recording.py compare does the same for two recordings).
+
+A trace with the operator's inputs (`input:` columns: a walking policy's
+velocity command) and the truth columns gets two more plots: commanded vs
+achieved base velocity in the heading frame (forward, lateral) and yaw rate
+(tools/tracking.py: the truth's centred difference over one gait period).
+--operator FILE (the script rozrun --operator followed) marks each of its rows
+on every plot with the command it gives.
 """
 import argparse
 import csv
+import importlib.util
 import math
+import pathlib
 import re
 import sys
 
@@ -31,6 +40,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 TEXT_COLUMNS = ("events",)
+
+_spec = importlib.util.spec_from_file_location(
+    "tracking", pathlib.Path(__file__).resolve().parent / "tracking.py")
+tracking = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(tracking)
 
 
 def read(path):
@@ -174,24 +188,91 @@ def draw_truth(ax, cols):
     tilt.plot(t, [math.degrees(v) for v in cols["truth:base.pitch"]], color="tab:orange",
               linewidth=1.0, label="pitch [deg]")
     tilt.set_ylabel("tilt [deg]")
-    lines = ax.get_lines() + tilt.get_lines()
+    lines = [ln for ln in ax.get_lines() + tilt.get_lines() if not ln.get_label().startswith("_")]
     ax.legend(lines, [ln.get_label() for ln in lines], fontsize=7, ncol=3, loc="lower right")
     ax.set_title("the simulator's truth (not a sensor)", fontsize=9)
 
 
-def figure(runs, title="", pattern=None, spans=()):
+def has_velocity(cols):
+    """A walking run: the velocity command among the inputs, and the truth."""
+    return (f"input:{tracking.VX}" in cols and f"input:{tracking.WZ}" in cols
+            and "truth:base.yaw" in cols)
+
+
+def draw_velocity(ax_lin, ax_yaw, cols):
+    """Commanded (the inputs as the controller read them, dotted) vs achieved
+    (the truth, solid): forward and lateral velocity, then yaw rate."""
+    t, vx, vy, wz = tracking.velocity(cols)
+    ax_lin.plot(t, cols[f"input:{tracking.VX}"], color="tab:blue", linestyle=":", linewidth=1.6)
+    ax_lin.plot(t, vx, color="tab:blue", linewidth=1.4, label="forward")
+    if f"input:{tracking.VY}" in cols:
+        ax_lin.plot(t, cols[f"input:{tracking.VY}"], color="tab:orange", linestyle=":",
+                    linewidth=1.6)
+    ax_lin.plot(t, vy, color="tab:orange", linewidth=1.4, label="lateral")
+    ax_lin.set_ylabel("base velocity [m/s]")
+    ax_lin.set_title("operator's command (dotted) vs achieved, heading frame, mean over a "
+                     f"gait period ({tracking.GAIT_PERIOD:g} s)", fontsize=9)
+    ax_yaw.plot(t, cols[f"input:{tracking.WZ}"], color="tab:green", linestyle=":", linewidth=1.6)
+    ax_yaw.plot(t, wz, color="tab:green", linewidth=1.4, label="yaw rate")
+    ax_yaw.set_ylabel("yaw rate [rad/s]")
+    for ax in (ax_lin, ax_yaw):
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7, ncol=3, loc="center right")
+
+
+def operator_marks(rows):
+    """[(time_s, label)]: each row of a scripted operator and what it
+    commands (the inputs it changes; the first row says all)."""
+    marks, last = [], {}
+    units = {tracking.VX: ("forward", "m/s"), tracking.VY: ("lateral", "m/s"),
+             tracking.WZ: ("turn", "rad/s")}
+    for t, values in rows:
+        changed = {k: v for k, v in values.items() if last.get(k) != v}
+        last.update(values)
+        moving = [k for k, v in last.items() if v != 0.0]
+        if not changed and marks:
+            continue
+        if not moving:
+            words = ["stop"]
+        else:
+            words = [f"{units.get(k, (k, ''))[0]} {last[k]:g} {units.get(k, ('', ''))[1]}".rstrip()
+                     for k in moving]
+        marks.append((t, ", ".join(words)))
+    return marks
+
+
+def draw_operator(axes, marks):
+    """Each of the operator's commands: a line on every axis, its label atop
+    the first."""
+    for t, label in marks:
+        for ax in axes:
+            ax.axvline(t, color="tab:purple", linestyle="-.", linewidth=0.9)
+        axes[0].annotate(label, xy=(t, 1.0), xycoords=("data", "axes fraction"),
+                         xytext=(3, -4), textcoords="offset points", rotation=0,
+                         va="top", ha="left", fontsize=8, color="tab:purple",
+                         bbox=dict(boxstyle="square,pad=0.1", fc="white", ec="none", alpha=0.8))
+
+
+def figure(runs, title="", pattern=None, spans=(), operator=()):
     """The figure of one run, or several side by side (same axes): runs is a
     list of (header, cols, label); pattern a compiled regular expression
     that picks channels, or None for all; spans (from_s, to_s, label) are
-    shaded."""
+    shaded; operator: the rows of a scripted operator (tracking.read_operator)
+    to mark."""
     n = len(runs)
     pairs = max(rows_needed(header, pattern) for header, _, _ in runs)
     truth = all("truth:base.z" in cols for _, cols, _ in runs)
-    rows = 2 * pairs + (1 if truth else 0)
+    walk = all(has_velocity(cols) for _, cols, _ in runs)
+    top = 2 if walk else 0
+    rows = top + 2 * pairs + (1 if truth else 0)
     fig, axes = plt.subplots(rows, n, figsize=(11 * n if n == 1 else 8 * n, 3.75 * rows),
                              sharex=True, sharey="row", squeeze=False)
     for k, (header, cols, label) in enumerate(runs):
-        draw([axes[r][k] for r in range(2 * pairs)], header, cols, label, pattern)
+        if walk:
+            draw_velocity(axes[0][k], axes[1][k], cols)
+        draw([axes[r][k] for r in range(top, top + 2 * pairs)], header, cols, label, pattern)
+        if operator:
+            draw_operator([axes[r][k] for r in range(rows)], operator_marks(operator))
         if truth:
             draw_truth(axes[rows - 1][k], cols)
             axes[rows - 2][k].set_xlabel("")  # the time axis is the truth's, below
@@ -205,13 +286,14 @@ def figure(runs, title="", pattern=None, spans=()):
                                 color="tab:purple")
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
+    # the figure's title above the first plot's own, never over it
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.45 / fig.get_figheight()) if title else None)
     return fig
 
 
-def plot(runs, png, title="", pattern=None, spans=()):
+def plot(runs, png, title="", pattern=None, spans=(), operator=()):
     """Draws runs (figure()) into png."""
-    fig = figure(runs, title, pattern, spans)
+    fig = figure(runs, title, pattern, spans, operator)
     fig.savefig(png, dpi=100)
     plt.close(fig)
     print(f"plot: {png}")
@@ -244,6 +326,9 @@ def main():
                          "(re.search), e.g. 'joint[67]|gripper'; default: all")
     ap.add_argument("--span", action="append", default=[], metavar="FROM:TO:LABEL",
                     help="shade FROM..TO seconds with LABEL (repeatable)")
+    ap.add_argument("--operator", metavar="FILE",
+                    help="the scripted operator the run followed (rozrun --operator): each "
+                         "of its commands marked on every plot")
     a = ap.parse_args()
     spans = []
     for text in a.span:
@@ -255,7 +340,8 @@ def main():
     runs = [(*read(a.trace), a.trace if a.compare else "")]
     if a.compare:
         runs.append((*read(a.compare), a.compare))
-    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]), spans)
+    operator = tracking.read_operator(a.operator) if a.operator else ()
+    plot(runs, a.png, a.title, channel_filter(a.channels, [r[0] for r in runs]), spans, operator)
 
 
 if __name__ == "__main__":

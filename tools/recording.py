@@ -100,7 +100,9 @@ def check_limits(path):
 
 def read(path):
     """The run's account and its ticks: (run, ticks, counts), ticks a list of
-    dicts with tick, time_s, target, applied, state, faults, flags, message."""
+    dicts with tick, time_s, target, applied, state, faults, flags, message,
+    and inputs (the operator's, as the controller read them) when the run has
+    them."""
     try:
         return _read(path)
     except mcap_chunks.ChunkError as e:
@@ -125,12 +127,13 @@ def _read(path):
                            "faults": decoded.faults, "flags": decoded.flags, "message": None,
                            "fuel": decoded.fuel}
                 ticks.append(current)
-            elif channel.topic in ("/roz/state", "/roz/target", "/roz/applied"):
+            elif channel.topic in ("/roz/state", "/roz/inputs", "/roz/target", "/roz/applied"):
                 if current is None:
                     raise RecordingError(f"{path}: {channel.topic} before any /roz/tick")
                 # the schema's fields, in manifest order (mcap_ros2 keeps it)
                 values = [getattr(decoded, n) for n in type(decoded).__slots__]
                 want = len(run.state_names if channel.topic == "/roz/state"
+                           else input_names(run) if channel.topic == "/roz/inputs"
                            else run.command_names)
                 if len(values) != want:
                     raise RecordingError(f"{path}: {channel.topic} has {len(values)} fields, "
@@ -153,12 +156,19 @@ def _read(path):
     if sum(counts.values()) != stats.message_count:
         raise RecordingError(f"{path}: {sum(counts.values())} messages read, the summary says "
                              f"{stats.message_count}")
+    parts = ("state", "target", "applied") + (("inputs",) if input_names(run) else ())
     for t in ticks:
-        for part in ("state", "target", "applied"):
+        for part in parts:
             if part not in t:
                 raise RecordingError(f"{path}: tick {t['tick']} lacks /roz/{part}")
     _check_summary_crc(path)
     return run, ticks, counts
+
+
+def input_names(run):
+    """The run's operator inputs (/roz/run's input_names; none in files
+    before /roz/inputs)."""
+    return list(getattr(run, "input_names", None) or [])
 
 
 def _check_summary_crc(path):
@@ -213,9 +223,11 @@ def events(prev, t):
 
 def table(run, ticks):
     """The trace's header and columns (plot_trace.read()'s shape)."""
+    inputs = input_names(run)
     header = (["tick", "time_s"] + [f"target:{n}" for n in run.command_names]
               + [f"applied:{n}" for n in run.command_names]
-              + [f"state:{n}" for n in run.state_names] + ["faults", "events"])
+              + [f"state:{n}" for n in run.state_names] + [f"input:{n}" for n in inputs]
+              + ["faults", "events"])
     cols = {h: [] for h in header}
     prev = None
     for t in ticks:
@@ -226,6 +238,8 @@ def table(run, ticks):
             cols[f"applied:{n}"].append(t["applied"][i])
         for i, n in enumerate(run.state_names):
             cols[f"state:{n}"].append(t["state"][i])
+        for i, n in enumerate(inputs):
+            cols[f"input:{n}"].append(t["inputs"][i])
         cols["faults"].append(float(t["faults"]))
         cols["events"].append(events(prev, t))
         prev = t

@@ -191,7 +191,7 @@ def test_refusals_mujoco_shape(tmp_path):
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML"):
         deploy(tmp_path, "kps: [1, 2\n")
     with pytest.raises(DeployError, match=r"deploy\.yaml: not valid YAML: .*key 'kps' given twice "
-                                          r"\(lines 12 and 27\)"):
+                                          r"\(lines 12 and 32\)"):
         deploy(tmp_path, text + "\nkps: [1]\n")
     # safe_load: a YAML object tag is refused, never constructed
     with pytest.raises(DeployError, match=r"not valid YAML"):

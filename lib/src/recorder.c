@@ -12,7 +12,8 @@
 /* ---- types ----------------------------------------------------------------
  *
  * A slot: the scalars of the record, the first fault's numbers and text (set
- * only when the faults changed), then n_states + 2 x n_commands doubles. The
+ * only when the faults changed), then n_states + n_inputs + 2 x n_commands
+ * doubles (state, inputs, targets, applied). The
  * tick fills a slot the drain does not own (head - tail < capacity) and
  * publishes it with a release store of head; the drain reads it after an
  * acquire load of head and hands it back with a release store of tail. The
@@ -100,6 +101,15 @@ void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
     }
     memcpy(v, rec->state, (size_t)m->n_states * sizeof v[0]);
     v += m->n_states;
+    if (m->n_inputs > 0u) {
+        if (rec->inputs != NULL) {
+            memcpy(v, rec->inputs, (size_t)m->n_inputs * sizeof v[0]);
+        } else {
+            for (uint16_t k = 0; k < m->n_inputs; k++)
+                v[k] = NAN;
+        }
+        v += m->n_inputs;
+    }
     if (rec->target != NULL) {
         memcpy(v, rec->target, (size_t)m->n_commands * sizeof v[0]);
     } else {
@@ -120,7 +130,9 @@ size_t roz_recorder_slot_bytes(const roz_manifest_t *m)
 {
     if (m == NULL)
         return 0;
-    return head_bytes() + ((size_t)m->n_states + 2u * (size_t)m->n_commands) * sizeof(double);
+    return head_bytes() +
+           ((size_t)m->n_states + (size_t)m->n_inputs + 2u * (size_t)m->n_commands) *
+               sizeof(double);
 }
 
 int roz_recorder_init(roz_recorder_t *r, const roz_manifest_t *m, void *storage, size_t bytes,
@@ -172,8 +184,9 @@ size_t roz_recorder_drain(roz_recorder_t *r, roz_record_sink_fn sink, void *ctx,
         double *v = slot_values(s);
         roz_record_t rec = s->rec;
         rec.state = v;
-        rec.target = v + m->n_states;
-        rec.applied = v + m->n_states + m->n_commands;
+        rec.inputs = m->n_inputs > 0u ? v + m->n_states : NULL;
+        rec.target = v + m->n_states + m->n_inputs;
+        rec.applied = rec.target + m->n_commands;
         rec.truth = (rec.flags & ROZ_RECORD_TRUTH) ? &s->truth : NULL;
         if (rec.flags & ROZ_RECORD_FAULT_CHANGED) {
             msg[0] = '\0';

@@ -690,6 +690,9 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.limit_stops = rt->filter.counters.limit_stops;
     rec.nonfinite = rt->filter.counters.nonfinite;
     rec.state = rt->state;
+    /* the inputs the controller read, after the port's states: replay
+     * feeds them back (docs/recording.md) */
+    rec.inputs = rt->cfg.manifest->n_inputs > 0u ? rt->state + rt->cfg.manifest->n_states : NULL;
     rec.target = target;
     rec.applied = rt->out;
     rec.fault_message = NULL;

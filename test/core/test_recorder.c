@@ -3,8 +3,9 @@
  * loopback: what a record holds against what the runtime did, wrap-around,
  * overflow (dropped and counted, the fault change carried to the next
  * record), decimation (events always kept), refusals, a simulator's truth
- * samples carried through the ring, and a drain thread racing the tick (run
- * under TSan: label threads). */
+ * samples carried through the ring, the operator's inputs as the controller
+ * read them, and a drain thread racing the tick (run under TSan: label
+ * threads). */
 #include <math.h>
 #include <pthread.h>
 #include <sched.h>
@@ -22,6 +23,7 @@
 #include "roz/runtime.h"
 #include "support_runtime.h"
 #include "support_stats.h"
+#include "unitree_g1_12dof_manifest.h"
 #include "ur5_manifest.h"
 
 #define MAX_TICKS 64
@@ -53,6 +55,7 @@ static int sink(void *ctx, const roz_record_t *r)
     (void)ctx;
     assert_true(n_got < MAX_TICKS);
     got_t *g = &got[n_got++];
+    assert_null(r->inputs); /* the UR5 has no operator inputs */
     g->r = *r;
     memcpy(g->state, r->state, sizeof g->state);
     memcpy(g->target, r->target, sizeof g->target);
@@ -397,13 +400,63 @@ static void test_recorder_threads(void **st)
     roz_runtime_deinit(&rt);
 }
 
+/* A robot with operator inputs: each record carries them as the controller
+ * read them (after their rate cap), between the states and the targets of
+ * its slot; a robot without them records none (inputs NULL). */
+static double in_got[MAX_TICKS][3], in_want[MAX_TICKS][3];
+static size_t n_in;
+
+static int inputs_sink(void *ctx, const roz_record_t *r)
+{
+    const roz_manifest_t *m = &roz_manifest_unitree_g1_12dof;
+    (void)ctx;
+    assert_true(n_in < MAX_TICKS);
+    assert_non_null(r->inputs);
+    memcpy(in_got[n_in], r->inputs, sizeof in_got[n_in]);
+    /* the slot's arrays follow one another: states, inputs, targets, applied */
+    assert_true(r->inputs == r->state + m->n_states && r->target == r->inputs + m->n_inputs);
+    assert_true(r->applied == r->target + m->n_commands);
+    n_in++;
+    return 0;
+}
+
+static void test_recorder_inputs(void **st)
+{
+    const roz_manifest_t *m = &roz_manifest_unitree_g1_12dof;
+    roz_runtime_config_t cfg;
+    static roz_test_clock_t clk;
+    (void)st;
+
+    assert_int_equal(m->n_inputs, 3);
+    clk.now = 1;
+    clk.step = 100;
+    n_in = 0;
+    assert_int_equal(roz_recorder_init(&rec, m, storage, 64 * roz_recorder_slot_bytes(m), 1),
+                     ROZ_OK);
+    roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
+    cfg.recorder = &rec;
+    roz_test_runtime_start(&rt, &cfg, NULL);
+    assert_int_equal(roz_runtime_input_set(&rt, 0, 0.5), ROZ_OK);
+    assert_int_equal(roz_runtime_input_set(&rt, 2, -0.3), ROZ_OK);
+    for (int t = 0; t < 20; t++) {
+        roz_test_tick(&rt);
+        memcpy(in_want[t], roz_runtime_last_state(&rt) + m->n_states, sizeof in_want[t]);
+    }
+    assert_int_equal(roz_recorder_drain(&rec, inputs_sink, NULL, 0), 20);
+    for (int t = 0; t < 20; t++)
+        assert_memory_equal(in_got[t], in_want[t], sizeof in_got[t]);
+    assert_true(in_got[0][0] == 0.002 && in_got[0][2] == -0.004); /* at the rate caps */
+    assert_true(in_got[19][0] > 0.039 && in_got[19][1] == 0.0);
+    roz_runtime_deinit(&rt);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_recorder_fields),     cmocka_unit_test(test_recorder_wrap),
         cmocka_unit_test(test_recorder_overflow),   cmocka_unit_test(test_recorder_decimation),
         cmocka_unit_test(test_recorder_refusals),   cmocka_unit_test(test_recorder_threads),
-        cmocka_unit_test(test_recorder_truth),
+        cmocka_unit_test(test_recorder_truth),      cmocka_unit_test(test_recorder_inputs),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -432,6 +432,28 @@ def test_shipped_layout_is_the_runs(tmp_path, robot, ctl):
             assert re.search(rf"^\S+ {re.escape(field)}\b", channels[topic]["schema"], re.M), path
 
 
+def test_layout_plots_the_operator_inputs(tmp_path):
+    """A run driven by an operator: its layout plots the inputs as the
+    controller read them (/roz/inputs), every one a field of the schema."""
+    op = tmp_path / "operator.csv"
+    op.write_text("time_s,operator/velocity.x\n0,0.5\n")
+    p = rozrun("--robot", "unitree_g1_12dof", "--ticks", 5, "--controller",
+               CTL / "g1_12dof_deployed.wasm", "--operator", op, "--record", tmp_path / "run.mcap")
+    assert p.returncode == 0, p.stdout + p.stderr
+    q = subprocess.run([sys.executable, LIVE, "layout", tmp_path / "run.mcap",
+                        tmp_path / "layout.json"], capture_output=True, text=True, timeout=120)
+    assert q.returncode == 0, q.stderr
+    made = (tmp_path / "layout.json").read_text()
+    assert '"title": "operator inputs"' in made
+    paths = [x for x in re.findall(r'"value": "([^"]+)"', made) if x.startswith("/roz/inputs.")]
+    assert paths == ["/roz/inputs.operator_velocity_x", "/roz/inputs.operator_velocity_y",
+                     "/roz/inputs.operator_yaw_rate"]
+    channels, _ = recorded(tmp_path / "run.mcap")
+    for path in paths:
+        field = path.partition(".")[2]
+        assert re.search(rf"^float64 {field}\b", channels["/roz/inputs"]["schema"], re.M), path
+
+
 def cut_in_header(data):
     """An offset inside the fixed fields of the stream's last chunk record
     (after its opcode and length, within its times and sizes)."""

@@ -218,3 +218,110 @@ def test_render_frames_quaternion():
     assert rf.quat(0.0, 0.0, math.pi / 2) == pytest.approx((h, 0.0, 0.0, h))
     assert rf.quat(0.0, math.pi / 2, 0.0) == pytest.approx((h, 0.0, h, 0.0))
     assert rf.quat(math.pi / 2, 0.0, 0.0) == pytest.approx((h, h, 0.0, 0.0))
+
+
+# ---- a walking run: tools/tracking.py and the operator's marks -------------------
+
+OPERATOR = ("# forward, stop, turn, stop\n"
+            "time_s,operator/velocity.x,operator/velocity.y,operator/yaw_rate\n"
+            "0,0,0,0\n1,0.5,0,0\n5,0,0,0\n7,0,0,0.5\n11,0,0,0\n")
+INPUTS = ("operator/velocity.x", "operator/velocity.y", "operator/yaw_rate")
+
+
+def write_walk(path, follows=True, rate=50, end=13.0):
+    """A base that does what the operator above says (or, not following,
+    walks forward at 0.5 m/s throughout), swaying 2 cm sideways each 0.8 s
+    step as a walker does: the truth columns and the inputs' columns."""
+    spec_t = importlib.util.spec_from_file_location("tracking", TOOL.parent / "tracking.py")
+    tracking = importlib.util.module_from_spec(spec_t)
+    spec_t.loader.exec_module(tracking)
+    rows = [(0.0, {})] + tracking.commands([(1.0, {INPUTS[0]: 0.5}), (5.0, {INPUTS[0]: 0.0}),
+                                            (7.0, {INPUTS[2]: 0.5}), (11.0, {INPUTS[2]: 0.0})])
+    header = (["tick", "time_s", "state:j/position"] + [f"input:{n}" for n in INPUTS]
+              + ["truth:base.x", "truth:base.y", "truth:base.z", "truth:base.roll",
+                 "truth:base.pitch", "truth:base.yaw", "faults", "events"])
+    x = y = yaw = 0.0
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(header)
+        for k in range(int(end * rate) + 1):
+            t = k / rate
+            c = [cmd for t0, cmd in rows if t0 <= t][-1] if t >= 1.0 else (0.0, 0.0, 0.0)
+            v = c if follows else (0.5, 0.0, 0.0)
+            sway = 0.02 * math.sin(2 * math.pi * t / 0.8)
+            w.writerow([k, t, 0.0, *c, x - math.sin(yaw) * sway, y + math.cos(yaw) * sway, 0.78,
+                        0, 0, yaw, 0, ""])
+            x += (math.cos(yaw) * v[0] - math.sin(yaw) * v[1]) / rate
+            y += (math.sin(yaw) * v[0] + math.cos(yaw) * v[1]) / rate
+            yaw += v[2] / rate
+    return tracking
+
+
+def test_tracking_of_a_base_that_follows(tmp_path):
+    """Each segment's mean velocity is the command's, a stop drifts nothing
+    and the turn makes its heading; the sway averages out over whole steps."""
+    trace, op = tmp_path / "walk.csv", tmp_path / "operator.csv"
+    op.write_text(OPERATOR)
+    tracking = write_walk(trace)
+    segs = tracking.judge(tracking.read_trace(trace), tracking.read_operator(op), settle=1.0)
+    # the first second (stop) is no longer than the settling: not judged
+    assert [s["kind"] for s in segs] == ["move", "stop", "turn", "stop"]
+    move, turn = segs[0], segs[2]
+    assert move["command"] == (0.5, 0.0, 0.0)
+    assert move["vx_error"] < 0.01 and move["vy_error"] < 0.01 and move["wz_error"] < 1e-9
+    # a stop's travel is its sway at most (2 x 2 cm) over a part step
+    assert segs[1]["drift_m"] <= 0.04 + 1e-9 and segs[1]["drift_rad"] < 1e-9
+    assert turn["wz_error"] < 1e-9 and abs(turn["heading_ratio"] - 1.0) < 0.01
+    assert abs(turn["heading"] - 2.0) < 0.02  # 0.5 rad/s for 4 s
+
+
+def test_tracking_bounds_catch_a_base_blind_to_the_operator(tmp_path, monkeypatch, capsys):
+    trace, op = tmp_path / "walk.csv", tmp_path / "operator.csv"
+    op.write_text(OPERATOR)
+    tracking = write_walk(trace, follows=False)
+    monkeypatch.setattr(sys, "argv", ["tracking.py", str(trace), "--operator", str(op),
+                                      "--settle", "1", "--max-speed-error", "0.1",
+                                      "--max-yaw-rate-error", "0.1", "--max-stop-drift", "0.1",
+                                      "--max-stop-turn", "0.1", "--heading-ratio", "0.8:1.1"])
+    with pytest.raises(SystemExit) as e:
+        tracking.main()
+    assert e.value.code == 1
+    err = capsys.readouterr().err
+    assert "5-7 s (stop): drift 0.500 m above 0.1" in err
+    assert "7-11 s (turn): wz_error 0.500 above 0.1" in err
+    assert "7-11 s (turn): heading change 0.000 of the command, outside [0.8, 1.1]" in err
+    # the follower passes the same bounds
+    write_walk(trace)
+    with pytest.raises(SystemExit) as e:
+        tracking.main()
+    assert e.value.code == 0
+
+
+def test_operator_marked_and_velocity_plotted(tmp_path, monkeypatch):
+    """A walking run's plot: commanded (the inputs, dotted) vs achieved (the
+    truth) velocity and yaw rate above the joints, and each of the
+    operator's rows a line on every plot with the command it gives."""
+    trace, op, png = tmp_path / "walk.csv", tmp_path / "operator.csv", tmp_path / "walk.png"
+    op.write_text(OPERATOR)
+    write_walk(trace)
+    assert plot_trace.operator_marks(plot_trace.tracking.read_operator(op)) == [
+        (0.0, "stop"), (1.0, "forward 0.5 m/s"), (5.0, "stop"), (7.0, "turn 0.5 rad/s"),
+        (11.0, "stop")]
+    made = []
+    real = plt.subplots
+    monkeypatch.setattr(plt, "subplots", lambda *a, **k: made.append(real(*a, **k)) or made[-1])
+    monkeypatch.setattr(sys, "argv", ["plot_trace.py", str(trace), str(png), "--operator", str(op)])
+    plot_trace.main()
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fig, axes = made[0]
+    assert axes.shape == (5, 1)  # velocity, yaw rate, commands, positions, truth
+    assert axes[0][0].get_ylabel() == "base velocity [m/s]"
+    assert axes[1][0].get_ylabel() == "yaw rate [rad/s]"
+    forward = [ln for ln in axes[0][0].lines if ln.get_label() == "forward"][0]
+    ys = [v for v in forward.get_ydata() if not math.isnan(v)]
+    assert abs(max(ys) - 0.5) < 0.01
+    for row in axes:
+        marks = [ln.get_xdata()[0] for ln in row[0].lines if ln.get_linestyle() == "-."]
+        assert marks == [0.0, 1.0, 5.0, 7.0, 11.0]
+    assert [t.get_text() for t in axes[0][0].texts] == ["stop", "forward 0.5 m/s", "stop",
+                                                         "turn 0.5 rad/s", "stop"]

@@ -195,7 +195,7 @@ def test_trap_and_rebuild_replayed(tmp_path):
 
 def rewrite(src, dst, patch):
     """Copies a recording with the Python writer (uncompressed), patch(topic,
-    log_time, data) -> data applied to every message."""
+    log_time, data) -> data applied to every message (None: left out)."""
     with open(src, "rb") as f, open(dst, "wb") as out:
         reader = make_reader(f)
         summary = reader.get_summary()
@@ -206,8 +206,9 @@ def rewrite(src, dst, patch):
         for cid, c in sorted(summary.channels.items()):
             assert w.register_channel(c.topic, c.message_encoding, c.schema_id) == cid
         for _, channel, m in reader.iter_messages(log_time_order=False):
-            w.add_message(m.channel_id, m.log_time, patch(channel.topic, m.log_time, m.data),
-                          m.publish_time, m.sequence)
+            data = patch(channel.topic, m.log_time, m.data)
+            if data is not None:
+                w.add_message(m.channel_id, m.log_time, data, m.publish_time, m.sequence)
         w.finish()
 
 
@@ -331,6 +332,63 @@ def test_cut_short_and_corrupt(tmp_path):
     junk.write_bytes(b"not a recording")
     p = rozrun("--replay", junk, "--controller", CTL / "sine.wasm", ok=(2,))
     assert "at offset 0: not an MCAP file" in p.stderr
+
+
+def test_operator_inputs_replayed(tmp_path):
+    """A run driven by a scripted operator records the inputs the controller
+    read (/roz/inputs, every tick) and replays bit for bit: the 12-joint
+    G1's deployed policy reads its velocity command from them. The same
+    file with /roz/inputs put back to the inputs' defaults (what a replay
+    without them feeds) diverges: the inputs are what makes it identical."""
+    script = tmp_path / "operator.csv"
+    script.write_text("time_s,operator/velocity.x,operator/yaw_rate\n"
+                      "0,0.5,0\n0.4,0,0.5\n0.8,0,0\n")
+    path, trace = tmp_path / "op.mcap", tmp_path / "op.csv"
+    rozrun("--robot", "unitree_g1_12dof", "--controller", CTL / "g1_12dof_deployed.wasm",
+           "--ticks", 600, "--operator", script, "--record", path, "--trace", trace)
+    counts = decode_all(path)
+    assert counts["/roz/inputs"] == 600 and counts["/roz/tick"] == 600
+    run, ticks, _ = recording.read(path)
+    assert recording.input_names(run) == ["operator/velocity.x", "operator/velocity.y",
+                                          "operator/yaw_rate"]
+    vx = [t["inputs"][0] for t in ticks]
+    yaw = [t["inputs"][2] for t in ticks]
+    # at the inputs' rate caps: 0.002 m/s and 0.004 rad/s a tick
+    assert vx[0] == 0.002 and abs(max(vx) - 0.4) < 1e-9 and vx[599] == 0.0
+    assert max(yaw) == 0.5 and yaw[599] == 0.0
+    # the recording's CSV is rozrun's trace, its input columns too
+    out = tmp_path / "from_recording.csv"
+    recording.main(["csv", str(path), str(out)])
+    assert out.read_bytes() == trace.read_bytes()
+    p = rozrun("--replay", path, "--controller", CTL / "g1_12dof_deployed.wasm")
+    assert "ticks replayed         600\n" in p.stdout
+    assert "result                 identical" in p.stdout
+    # /roz/inputs at the defaults: the policy's command is not the recorded one
+    defaults = tmp_path / "defaults.mcap"
+    rewrite(path, defaults,
+            lambda topic, _t, data: data[:4] + bytes(len(data) - 4) if topic == "/roz/inputs"
+            else data)
+    p = rozrun("--replay", defaults, "--controller", CTL / "g1_12dof_deployed.wasm", ok=(4,))
+    m = re.search(r"DIVERGED at tick (\d+) \(file offset \d+\): target (\S+)", p.stdout)
+    assert m, p.stdout
+    assert int(m.group(1)) < 20  # the first inferences after the command moved
+    # a file without /roz/inputs for a robot with inputs is refused, naming it
+    cut = tmp_path / "cut.mcap"
+    rewrite(path, cut, lambda topic, _t, data: None if topic == "/roz/inputs" else data)
+    p = rozrun("--replay", cut, "--controller", CTL / "g1_12dof_deployed.wasm", ok=(2,))
+    assert "tick 0 lacks its /roz/inputs message" in p.stderr, p.stderr
+    # a recording from before /roz/inputs (/roz/run ends at start_time_ns)
+    # input_names: a u32 count, then each name a u32 length, its bytes and a NUL,
+    # padded to 4 before the next length (CDR)
+    names = [b"operator/velocity.x", b"operator/velocity.y", b"operator/yaw_rate"]
+    tail = 4 + sum(4 + len(n) + 1 for n in names)
+    tail += sum((4 - (len(n) + 1) % 4) % 4 for n in names[:-1])
+    old = tmp_path / "old.mcap"
+    rewrite(path, old, lambda topic, _t, data: data[:-tail] if topic == "/roz/run"
+            else None if topic == "/roz/inputs" else data)
+    p = rozrun("--replay", old, "--controller", CTL / "g1_12dof_deployed.wasm", ok=(2,))
+    assert ('records 0 operator inputs; robot "unitree_g1_12dof" has 3 (a recording from '
+            'before /roz/inputs cannot replay a robot with inputs)') in p.stderr, p.stderr
 
 
 def test_replay_refuses(tmp_path):

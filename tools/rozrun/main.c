@@ -467,7 +467,7 @@ static int parse_args(int argc, char **argv, options_t *o)
     }
     if (o->replay != NULL && o->operator_file != NULL) {
         fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
-                        "states only\n");
+                        "states and inputs\n");
         return -1;
     }
     if (o->replay != NULL && o->controller != NULL)

@@ -116,6 +116,14 @@ static int compare(const roz_manifest_t *m, const roz_record_t *r, char *what, s
         snprintf(what, n, "latched faults: recorded %s, replayed %s", fa, fb);
         return 1;
     }
+    /* the inputs the controller read (after the states: roz/inputs.h) */
+    const double *in = roz_runtime_last_state(&rrt) + m->n_states;
+    if (r->inputs != NULL && (i = first_diff(r->inputs, in, m->n_inputs)) >= 0) {
+        snprintf(what, n, "input %s (input %d): recorded %.17g (%s), replayed %.17g (%s)",
+                 m->inputs[i].name, i, r->inputs[i], bits_hex(r->inputs[i], a, sizeof a), in[i],
+                 bits_hex(in[i], b, sizeof b));
+        return 1;
+    }
     if ((r->flags & ROZ_RECORD_TARGETS) && target != NULL &&
         (i = first_diff(r->target, target, m->n_commands)) >= 0) {
         snprintf(what, n, "target %s (command %d): recorded %.17g (%s), replayed %.17g (%s)",
@@ -151,6 +159,14 @@ static const roz_manifest_t *replay_robot(const roz_record_run_t *run, const cha
                 path, run->robot_id, (unsigned long long)run->interface_hash,
                 (unsigned)run->n_commands, (unsigned)run->n_states, m->robot_id,
                 (unsigned long long)h, (unsigned)m->n_commands, (unsigned)m->n_states);
+        return NULL;
+    }
+    if (m->n_inputs != run->n_inputs) {
+        /* a file from before /roz/inputs: the controller's inputs are not in it */
+        fprintf(stderr, "rozrun: %s records %u operator inputs; robot \"%s\" has %u (a "
+                        "recording from before /roz/inputs cannot replay a robot with "
+                        "inputs)\n", path, (unsigned)run->n_inputs, m->robot_id,
+                (unsigned)m->n_inputs);
         return NULL;
     }
     return m;
@@ -275,6 +291,11 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         if (rec.flags & ROZ_RECORD_CLEAR)
             if (roz_runtime_clear_faults(&rrt) != ROZ_OK) { /* as it did then, or not */
             }
+        /* the operator's inputs as the controller read them then: each is
+         * within its limits and within its rate cap of the last, so the
+         * tick's rules give it back bit for bit (roz_inputs_tick()) */
+        for (uint16_t k = 0; rec.inputs != NULL && k < m->n_inputs; k++)
+            (void)roz_runtime_input_set(&rrt, k, rec.inputs[k]);
         rp.rec = &rec;
         if (roz_runtime_tick(&rrt) == ROZ_ESTATE)
             break;

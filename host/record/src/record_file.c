@@ -59,7 +59,10 @@ static const char run_schema[] =
     "bool allow_foreign_controller\n"
     "# the wall clock (Unix time, ns) at tick 0: every message's log time is\n"
     "# start_time_ns + sim_time_ns\n"
-    "uint64 start_time_ns\n";
+    "uint64 start_time_ns\n"
+    "# the operator inputs (robot.toml's [[manifest.inputs]]), in /roz/inputs\n"
+    "# (absent in files before them)\n"
+    "string[] input_names\n";
 
 static const char controller_schema[] =
     "# the controller that drives from this tick on\n"
@@ -254,6 +257,9 @@ static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
     cdr_u(&c, roz_recorder_decimation(f->rec), 4);
     cdr_u(&c, cfg->allow_foreign_controller ? 1u : 0u, 1);
     cdr_u(&c, f->start_ns, 8);
+    cdr_u(&c, m->n_inputs, 4);
+    for (uint16_t k = 0; k < m->n_inputs; k++)
+        cdr_str(&c, m->inputs[k].name);
     return put_msg(f, f->ch_run, 0, &c);
 }
 
@@ -298,9 +304,15 @@ static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t 
     }
     char *state_text = values_schema(f->m->states, f->m->n_states, "the state channels");
     char *cmd_text = values_schema(f->m->commands, f->m->n_commands, "the command channels");
-    if (state_text == NULL || cmd_text == NULL) {
+    /* the operator's inputs as the controller read them, after their rules */
+    char *input_text = f->m->n_inputs > 0u
+                           ? values_schema(f->m->inputs, f->m->n_inputs,
+                                           "the operator inputs as the controller read them")
+                           : NULL;
+    if (state_text == NULL || cmd_text == NULL || (f->m->n_inputs > 0u && input_text == NULL)) {
         free(state_text);
         free(cmd_text);
+        free(input_text);
         (void)roz_mcap_close(&f->w);
         snprintf(err, errlen, "%s: out of memory", path);
         return ROZ_ENOMEM;
@@ -314,8 +326,14 @@ static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t 
     snprintf(pkg, sizeof pkg, "roz_%s/msg/Commands", f->m->robot_id);
     uint16_t s_cmd = roz_mcap_schema(&f->w, pkg, "ros2msg", cmd_text);
     uint16_t s_fault = roz_mcap_schema(&f->w, "roz_msgs/msg/Fault", "ros2msg", fault_schema);
+    uint16_t s_inputs = 0;
+    if (input_text != NULL) {
+        snprintf(pkg, sizeof pkg, "roz_%s/msg/Inputs", f->m->robot_id);
+        s_inputs = roz_mcap_schema(&f->w, pkg, "ros2msg", input_text);
+    }
     free(state_text);
     free(cmd_text);
+    free(input_text);
     f->ch_run = roz_mcap_channel(&f->w, s_run, "/roz/run", "cdr");
     f->ch_controller = roz_mcap_channel(&f->w, s_ctl, "/roz/controller", "cdr");
     f->ch_tick = roz_mcap_channel(&f->w, s_tick, "/roz/tick", "cdr");
@@ -323,7 +341,9 @@ static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t 
     f->ch_target = roz_mcap_channel(&f->w, s_cmd, "/roz/target", "cdr");
     f->ch_applied = roz_mcap_channel(&f->w, s_cmd, "/roz/applied", "cdr");
     f->ch_fault = roz_mcap_channel(&f->w, s_fault, "/roz/fault", "cdr");
-    if (f->ch_fault == 0)
+    if (s_inputs != 0)
+        f->ch_inputs = roz_mcap_channel(&f->w, s_inputs, "/roz/inputs", "cdr");
+    if (f->ch_fault == 0 || (f->m->n_inputs > 0u && f->ch_inputs == 0))
         rc = ROZ_ENOMEM;
     f->port = cfg->port;
     if (rc == ROZ_OK && roz_port_has_truth(&f->port)) {
@@ -416,6 +436,8 @@ static int write_record(void *ctx, const roz_record_t *r)
         rc = put_msg(f, f->ch_tick, t, &c);
     if (rc == ROZ_OK)
         rc = write_values(f, f->ch_state, t, r->state, m->n_states);
+    if (rc == ROZ_OK && f->ch_inputs != 0 && r->inputs != NULL)
+        rc = write_values(f, f->ch_inputs, t, r->inputs, m->n_inputs);
     if (rc == ROZ_OK)
         rc = write_values(f, f->ch_target, t, r->target, m->n_commands);
     if (rc == ROZ_OK)
@@ -600,8 +622,11 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     run->decimation = (uint32_t)rd_u(&d, 4);
     run->allow_foreign_controller = (int)rd_u(&d, 1);
     run->start_time_ns = d.at < d.len ? rd_u(&d, 8) : 0; /* absent in older files */
+    uint64_t ni = !d.bad && d.at < d.len ? rd_u(&d, 4) : 0; /* absent in older files */
+    for (uint64_t k = 0; k < ni && k <= ROZ_CFG_MAX_INPUTS && !d.bad; k++)
+        rd_str(&d, NULL, 0);
     if (d.bad || nc > ROZ_CFG_MAX_COMMANDS || ns > ROZ_CFG_MAX_STATES ||
-        run->control_rate_hz == 0) {
+        ni > ROZ_CFG_MAX_INPUTS || run->control_rate_hz == 0) {
         snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/run message", path,
                  (unsigned long long)msg.offset);
         roz_record_reader_close(rd);
@@ -609,13 +634,15 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     }
     run->n_commands = (uint16_t)nc;
     run->n_states = (uint16_t)ns;
-    rd->state = calloc((size_t)ns + 2u * (size_t)nc + 1u, sizeof(double));
+    run->n_inputs = (uint16_t)ni;
+    rd->state = calloc((size_t)ns + (size_t)ni + 2u * (size_t)nc + 1u, sizeof(double));
     if (rd->state == NULL) {
         snprintf(err, errlen, "%s: out of memory", path);
         roz_record_reader_close(rd);
         return ROZ_ENOMEM;
     }
-    rd->target = rd->state + ns;
+    rd->inputs = rd->state + ns;
+    rd->target = rd->inputs + ni;
     rd->applied = rd->target + nc;
     return ROZ_OK;
 }
@@ -625,7 +652,7 @@ const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd)
     return &rd->run;
 }
 
-enum { HAS_STATE = 1, HAS_TARGET = 2, HAS_APPLIED = 4 };
+enum { HAS_STATE = 1, HAS_TARGET = 2, HAS_APPLIED = 4, HAS_INPUTS = 8 };
 
 /* Takes a /roz/tick message as the start of the next tick. */
 static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, char *err,
@@ -702,6 +729,9 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
         if (strcmp(msg.topic, "/roz/state") == 0) {
             bad = read_values(&msg, rd->state, run->n_states);
             rd->parts |= HAS_STATE;
+        } else if (strcmp(msg.topic, "/roz/inputs") == 0) {
+            bad = read_values(&msg, rd->inputs, run->n_inputs);
+            rd->parts |= HAS_INPUTS;
         } else if (strcmp(msg.topic, "/roz/target") == 0) {
             bad = read_values(&msg, rd->target, run->n_commands);
             rd->parts |= HAS_TARGET;
@@ -725,18 +755,22 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
     }
     if (!rd->have_tick)
         return 0;
-    if (rd->parts != (HAS_STATE | HAS_TARGET | HAS_APPLIED)) {
+    uint32_t all = HAS_STATE | HAS_TARGET | HAS_APPLIED | (run->n_inputs > 0u ? HAS_INPUTS : 0u);
+    if (rd->parts != all) {
         if (!rd->have_pending && rd->r.warning[0] != '\0')
             return 0; /* the last tick of a file cut short: incomplete, left out */
         snprintf(err, errlen, "%s: at offset %llu: tick %llu lacks its %s message",
                  rd->r.path, (unsigned long long)rd->tick_offset,
                  (unsigned long long)rd->tick.tick,
-                 !(rd->parts & HAS_STATE) ? "/roz/state"
-                 : !(rd->parts & HAS_TARGET) ? "/roz/target" : "/roz/applied");
+                 !(rd->parts & HAS_STATE)    ? "/roz/state"
+                 : !(rd->parts & HAS_INPUTS) && run->n_inputs > 0u ? "/roz/inputs"
+                 : !(rd->parts & HAS_TARGET) ? "/roz/target"
+                                             : "/roz/applied");
         return ROZ_EINVAL;
     }
     *out = rd->tick;
     out->state = rd->state;
+    out->inputs = run->n_inputs > 0u ? rd->inputs : NULL;
     out->target = rd->target;
     out->applied = rd->applied;
     out->fault_message = (rd->tick.flags & ROZ_RECORD_FAULT_CHANGED) ? rd->fault_message : NULL;

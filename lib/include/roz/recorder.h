@@ -73,6 +73,9 @@ typedef struct roz_record {
                                         message ("" when none is latched); else NULL */
     const roz_port_truth_t *truth; /**< with ROZ_RECORD_TRUTH: the simulator's truth
                                         after this tick's read(); else NULL */
+    const double *inputs;          /**< n_inputs: the operator's inputs as the controller
+                                        read them (states n_states + k), after their
+                                        rules; NULL when the manifest has none */
 } roz_record_t;
 
 /** A drain callback: one record; return 0 to go on, non-zero to stop the

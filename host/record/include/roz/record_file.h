@@ -35,7 +35,8 @@ typedef struct roz_record_file {
     const roz_manifest_t  *ROZ_PRIVATE(m);
     uint16_t               ROZ_PRIVATE(ch_run), ROZ_PRIVATE(ch_controller), ROZ_PRIVATE(ch_tick),
                            ROZ_PRIVATE(ch_state), ROZ_PRIVATE(ch_target), ROZ_PRIVATE(ch_applied),
-                           ROZ_PRIVATE(ch_fault), ROZ_PRIVATE(ch_truth); /* ch_truth 0: none */
+                           ROZ_PRIVATE(ch_fault), ROZ_PRIVATE(ch_truth), /* ch_truth 0: none */
+                           ROZ_PRIVATE(ch_inputs); /* 0: the robot has no inputs */
     roz_port_t             ROZ_PRIVATE(port);   /* names a truth sample's bodies */
     uint64_t               ROZ_PRIVATE(last_hash);
     int                    ROZ_PRIVATE(have_hash);
@@ -119,6 +120,7 @@ typedef struct roz_record_run {
     uint32_t control_rate_hz;
     uint64_t interface_hash;
     uint16_t n_commands, n_states;
+    uint16_t n_inputs;      /**< operator inputs, in /roz/inputs (0 in files before them) */
     uint32_t stale_ticks;
     uint64_t fuel_per_tick;
     uint64_t budget_ns;
@@ -134,8 +136,9 @@ typedef struct roz_record_reader {
     int               ROZ_PRIVATE(have_tick);
     roz_record_t      ROZ_PRIVATE(tick);          /* being assembled */
     uint64_t          ROZ_PRIVATE(tick_offset);
-    double           *ROZ_PRIVATE(state), *ROZ_PRIVATE(target), *ROZ_PRIVATE(applied); /* n_states, n_commands, n_commands */
-    uint32_t          ROZ_PRIVATE(parts);         /* which of state/target/applied the tick has */
+    double           *ROZ_PRIVATE(state), *ROZ_PRIVATE(inputs), *ROZ_PRIVATE(target),
+                     *ROZ_PRIVATE(applied); /* n_states, n_inputs, n_commands, n_commands */
+    uint32_t          ROZ_PRIVATE(parts);         /* which of state/inputs/target/applied the tick has */
     char              ROZ_PRIVATE(fault_message)[256];
     uint64_t          ROZ_PRIVATE(controller_hash_seen);
     roz_mcap_message_t ROZ_PRIVATE(pending);      /* a /roz/tick read ahead */
