@@ -58,6 +58,12 @@ file(WRITE ${DEEP}/deploy_key.toml "[deploy]\nmove_time = 2\n[deploy.stand]\n${s
 expect_error("${G};--deploy;${DEEP}/deploy_key.toml" "deploy_key.toml: deploy.move_time: not a key of the deploy sequence")
 file(WRITE ${DEEP}/deploy_robot.toml "[deploy]\nrobot = \"unitree_g1\"\n[deploy.stand]\n${stand_ok}")
 expect_error("${G};--deploy;${DEEP}/deploy_robot.toml" "deploy_robot.toml: deploy.robot: written for another robot than unitree_g1_12dof")
+file(WRITE ${DEEP}/deploy_joint.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\", \"tail_joint\"]\npose = [0, 0]\nkp = [1, 1]\nkd = [1, 1]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_joint.toml"
+             "deploy_joint.toml: deploy.stand.joints[1]: \"tail_joint/position\": no such command in unitree_g1_12dof")
+file(WRITE ${DEEP}/deploy_some.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\"]\npose = [0]\nkp = [1]\nkd = [1]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_some.toml"
+             "deploy_some.toml: deploy.stand.joints: \"left_hip_roll_joint/position\" is not in the stand")
 expect_error("${G};--stage-at;10:run" "--stage-at needs --deploy")
 expect_error("${G};--stage-at;10:walk" "--stage-at \"10:walk\": expected TICK:STAGE")
 # the same messages whatever the depth of the path: here as built, then

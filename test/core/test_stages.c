@@ -6,9 +6,11 @@
  * the incoming controller commands its own. The physics of it:
  * test/ports/mujoco/test_mujoco_stages.c. */
 #include <math.h>
+#include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <string.h>
@@ -325,6 +327,40 @@ static void test_stages_swap_keeps_gains(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* Requests from another thread while the tick runs (TSan in its build):
+ * each is taken whole or dropped and counted, and the stage the tick
+ * publishes is always one of the sequence's. */
+static atomic_int asking;
+static void *ask(void *arg)
+{
+    static const roz_stage_t asks[] = { ROZ_STAGE_MOVE, ROZ_STAGE_STOP, ROZ_STAGE_ZERO };
+    unsigned n = 0;
+    (void)arg;
+    while (atomic_load(&asking))
+        (void)roz_runtime_stage_request(&rt, asks[n++ % 3u]);
+    return NULL;
+}
+
+static void test_stages_request_from_thread(void **st)
+{
+    pthread_t th;
+    (void)st;
+    roz_stages_config_t c = config();
+    start(&c, NULL);
+    atomic_store(&asking, 1);
+    assert_int_equal(pthread_create(&th, NULL, ask, NULL), 0);
+    for (int t = 0; t < 20000; t++) {
+        roz_test_tick(&rt);
+        int s = (int)roz_runtime_stage(&rt);
+        assert_true(s >= ROZ_STAGE_ZERO && s <= ROZ_STAGE_STOP);
+    }
+    atomic_store(&asking, 0);
+    assert_int_equal(pthread_join(th, NULL), 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
+    assert_true(roz_runtime_stages_counters(&rt)->transitions > 0);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 static int teardown(void **st)
 {
     (void)st;
@@ -339,6 +375,7 @@ int main(void)
         cmocka_unit_test_teardown(test_stages_buttons, teardown),
         cmocka_unit_test_teardown(test_stages_requests, teardown),
         cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
+        cmocka_unit_test_teardown(test_stages_request_from_thread, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -179,6 +179,9 @@ int rozrun_deploy_load(rozrun_deploy_t *d, const char *path, const roz_manifest_
     if (joints != NULL) {
         if (joints->type != ROZ_TOML_ARRAY)
             FAIL("deploy.stand.joints: expected an array of joint names");
+        if (roz_toml_count(joints) > m->n_commands)
+            FAIL("deploy.stand.joints: %lu names, more than %s has commands",
+                 (unsigned long)roz_toml_count(joints), m->robot_id);
         for (size_t i = 0; i < roz_toml_count(joints); i++) {
             const roz_toml_node_t *j = roz_toml_at(&deploy_doc, joints, i);
             if (j->type != ROZ_TOML_STRING)
@@ -187,9 +190,9 @@ int rozrun_deploy_load(rozrun_deploy_t *d, const char *path, const roz_manifest_
             kp[n] = find_cmd(m, j->as.str.ptr, j->as.str.len, "stiffness", ROZ_IF_STIFFNESS);
             kd[n] = find_cmd(m, j->as.str.ptr, j->as.str.len, "damping", ROZ_IF_DAMPING);
             if (pos[n] < 0 || kp[n] < 0 || kd[n] < 0)
-                FAIL("deploy.stand.joints[%lu]: \"%.*s\": %s has no %s/%s command", (unsigned long)i,
-                     (int)j->as.str.len, j->as.str.ptr, m->robot_id, "joint",
-                     pos[n] < 0 ? "position" : kp[n] < 0 ? "stiffness" : "damping");
+                FAIL("deploy.stand.joints[%lu]: \"%.*s/%s\": no such command in %s",
+                     (unsigned long)i, (int)j->as.str.len, j->as.str.ptr,
+                     pos[n] < 0 ? "position" : kp[n] < 0 ? "stiffness" : "damping", m->robot_id);
             n++;
         }
     } else {

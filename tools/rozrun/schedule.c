@@ -357,11 +357,17 @@ void rozrun_schedule_summary(const rozrun_schedule_t *s, char *buf, size_t len)
         return;
     }
     snprintf(buf, len,
-             "e-stop %llu pressed, %llu released; stage requests %llu; clears %llu (%llu while "
-             "pressed, %llu refused); swaps %llu, %llu refused; rebuilds %llu",
+             "e-stop %llu pressed, %llu released; clears %llu (%llu while pressed, %llu "
+             "refused); swaps %llu, %llu refused; rebuilds %llu",
              (unsigned long long)in->presses, (unsigned long long)in->releases,
-             (unsigned long long)in->stages,
              (unsigned long long)ld->clears, (unsigned long long)ld->clears_held,
              (unsigned long long)ld->clears_refused, (unsigned long long)ld->swaps,
              (unsigned long long)ld->swaps_refused, (unsigned long long)ld->rebuilds);
+    for (size_t i = 0; i < s->n; i++) {
+        if (s->a[i].kind == ROZRUN_STAGE) { /* --stage-at given: say what it asked */
+            size_t at = strlen(buf);
+            snprintf(buf + at, len - at, "; stage requests %llu", (unsigned long long)in->stages);
+            break;
+        }
+    }
 }
