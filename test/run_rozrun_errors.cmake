@@ -37,6 +37,35 @@ expect_error("${S};--estop-release-at;12abc" "--estop-release-at \"12abc\": expe
 expect_error("${S};--clear-at;99999999999999999999999" "--clear-at \"99999999999999999999999\": the tick is too large")
 expect_error("${S};--swap-at;50" "--swap-at \"50\": expected TICK:FILE")
 expect_error("${S};--swap-at;50:" "--swap-at \"50:\": expected TICK:FILE")
+# the deploy sequence (docs/deploy.md): each refusal names the file, the key
+# and the channel or input
+set(G "--robot;unitree_g1_12dof;--controller;${CTL}/sine.wasm;--ticks;300")
+set(stand_ok "pose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
+file(WRITE ${DEEP}/deploy_knee.toml "[deploy]\n[deploy.stand]\npose = [-0.1, 0, 0, 4.0, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_knee.toml"
+             "deploy_knee.toml: deploy.stand.pose[3]: 4: outside \"left_knee_joint/position\"'s limits")
+file(WRITE ${DEEP}/deploy_kp.toml "[deploy]\n[deploy.stand]\npose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 400, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_kp.toml"
+             "deploy_kp.toml: deploy.stand.kp[5]: 400: outside \"left_ankle_roll_joint/stiffness\"'s limits")
+file(WRITE ${DEEP}/deploy_short.toml "[deploy]\n[deploy.stand]\npose = [0.0]\nkp = [100]\nkd = [2]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_short.toml" "deploy_short.toml: deploy.stand.pose: 1 values for 12 joints")
+file(WRITE ${DEEP}/deploy_move.toml "[deploy]\nmove_s = 0\n[deploy.stand]\n${stand_ok}")
+expect_error("${G};--deploy;${DEEP}/deploy_move.toml" "deploy_move.toml: move_s: 0: must be above 0 s")
+file(WRITE ${DEEP}/deploy_input.toml "[deploy]\n[deploy.inputs]\nrun = \"remote/a\"\n[deploy.stand]\n${stand_ok}")
+expect_error("${G};--deploy;${DEEP}/deploy_input.toml"
+             "deploy_input.toml: deploy.inputs.run: \"remote/a\": no such input in the manifest of unitree_g1_12dof")
+file(WRITE ${DEEP}/deploy_key.toml "[deploy]\nmove_time = 2\n[deploy.stand]\n${stand_ok}")
+expect_error("${G};--deploy;${DEEP}/deploy_key.toml" "deploy_key.toml: deploy.move_time: not a key of the deploy sequence")
+file(WRITE ${DEEP}/deploy_robot.toml "[deploy]\nrobot = \"unitree_g1\"\n[deploy.stand]\n${stand_ok}")
+expect_error("${G};--deploy;${DEEP}/deploy_robot.toml" "deploy_robot.toml: deploy.robot: written for another robot than unitree_g1_12dof")
+file(WRITE ${DEEP}/deploy_joint.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\", \"tail_joint\"]\npose = [0, 0]\nkp = [1, 1]\nkd = [1, 1]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_joint.toml"
+             "deploy_joint.toml: deploy.stand.joints[1]: \"tail_joint/position\": no such command in unitree_g1_12dof")
+file(WRITE ${DEEP}/deploy_some.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\"]\npose = [0]\nkp = [1]\nkd = [1]\n")
+expect_error("${G};--deploy;${DEEP}/deploy_some.toml"
+             "deploy_some.toml: deploy.stand.joints: \"left_hip_roll_joint/position\" is not in the stand")
+expect_error("${G};--stage-at;10:run" "--stage-at needs --deploy")
+expect_error("${G};--stage-at;10:walk" "--stage-at \"10:walk\": expected TICK:STAGE")
 # the same messages whatever the depth of the path: here as built, then
 # from a folder 1,000 characters deep (a clone can sit anywhere)
 set(deep ${DEEP})

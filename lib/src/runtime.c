@@ -12,6 +12,7 @@
 #include "layout.h"
 #include "recorder_push.h"
 #include "seqlock.h"
+#include "stages_internal.h"
 
 /* ---- private ------------------------------------------------------------- */
 
@@ -446,6 +447,12 @@ static int tick_handovers(roz_runtime_t *rt)
          * slot being installed for its spare (only a loader sets pending,
          * and only while it is -1: nothing is lost between the two) */
         hold_targets(rt, &rt->slot[pending]);
+        /* the incoming controller starts under the gains on the wire
+         * (roz/stages.h: the hand-over), when one drove them */
+        int stage = rt->stages.stage;
+        if (old >= 0 && rt->counters.writes > 0 &&
+            (stage == ROZ_STAGE_NONE || stage == ROZ_STAGE_RUN))
+            roz__stages_handover(&rt->stages, rt->out, rt->cfg.manifest->control_rate_hz);
         atomic_store(&rt->active, pending);
         atomic_store(&rt->pending, -1);
         rt->ctrl_tick = 0;
@@ -626,23 +633,48 @@ static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
     rt->ctrl_tick++;
 }
 
-/* 3. The controller, unless a fault is latched; an instance that trapped or
- * was stopped by its budget never runs again. Sets *target to the driving
- * slot's targets (NULL: none) and returns how the filter must stop. */
-static roz_stop_t tick_controller(roz_runtime_t *rt, int active, double **target)
+/* 3. The deploy sequence's stage (roz/stages.h), then the controller
+ * unless a stage drives or a fault is latched; an instance that trapped or
+ * was stopped by its budget never runs again. Sets *target to what drove
+ * (the stage's commands, the driving slot's targets; NULL: none) and *sent
+ * to what the filter takes (the targets under the hand-over's gain hold),
+ * and returns how the filter must stop. */
+static roz_stop_t tick_controller(roz_runtime_t *rt, int active, const double **target,
+                                  const double **sent)
 {
+    const roz_manifest_t *m = rt->cfg.manifest;
+    int entered;
+
     if (active >= 0 && atomic_load(&rt->slot[active].dead) && faults_now(rt) == 0u)
         latch(rt, ROZ_FAULT_TRAP, 0, 0,
               "the controller's instance trapped or ran out of budget before; "
               "clearing the faults rebuilds it");
     roz_stop_t stop = stop_mode(faults_now(rt));
+    int stage = roz__stages_step(&rt->stages, rt->state + m->n_states, rt->state,
+                                 rt->counters.writes > 0 ? rt->out : NULL, active >= 0,
+                                 stop != ROZ_STOP_NONE, &entered);
     *target = NULL;
+    *sent = NULL;
+    if (stage != ROZ_STAGE_NONE && stage != ROZ_STAGE_RUN) {
+        /* the sequence drives, through the filter like a controller */
+        *target = stop == ROZ_STOP_NONE ? roz__stages_commands(&rt->stages, rt->state)
+                                        : rt->stages.target;
+        *sent = *target;
+        return stop;
+    }
     if (active < 0) /* no controller yet: hold the safe defaults, ramped */
         return stop == ROZ_STOP_NONE ? ROZ_STOP_CONTROLLED : stop;
+    if (entered) {
+        /* RUN: the controller starts at tick 0 under the stand's gains */
+        rt->ctrl_tick = 0;
+        roz__stages_handover(&rt->stages, rt->out, m->control_rate_hz);
+    }
     *target = rt->slot[active].target;
+    *sent = *target;
     if (stop != ROZ_STOP_NONE)
         return stop;
     tick_process(rt, &rt->slot[active]);
+    *sent = roz__stages_hold_gains(&rt->stages, *target);
     return stop_mode(faults_now(rt));
 }
 
@@ -884,6 +916,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     for (uint16_t i = 0; i < m->n_states; i++)
         rt->state[i] = m->states[i].default_value;
     roz_inputs_init(&rt->inputs, m);
+    roz__stages_init(&rt->stages, m);
     verify_inputs(m, rt->state);
     for (uint16_t i = 0; i < m->n_commands; i++)
         rt->out[i] = m->commands[i].default_value;
@@ -1003,7 +1036,7 @@ int roz_runtime_start(roz_runtime_t *rt)
 int roz_runtime_tick(roz_runtime_t *rt)
 {
     uint64_t t_start;
-    double *target;
+    const double *target, *sent;
 
     if (!rt->started)
         return ROZ_ESTATE; /* not armed: the port is not touched */
@@ -1023,9 +1056,9 @@ int roz_runtime_tick(roz_runtime_t *rt)
                     rt->state + rt->cfg.manifest->n_states);
     target = NULL;
     if (rt->have_state) {
-        roz_stop_t stop = tick_controller(rt, active, &target);
+        roz_stop_t stop = tick_controller(rt, active, &target, &sent);
         /* 4. the safety filter: the last word */
-        roz_filter_apply(&rt->filter, target, rt->state, stop, rt->out);
+        roz_filter_apply(&rt->filter, sent, rt->state, stop, rt->out);
         tick_write(rt, t_start);
     } else {
         /* nothing is sent before the first usable state frame */
@@ -1070,6 +1103,38 @@ int roz_runtime_operator_twist(roz_runtime_t *rt, const roz_operator_twist_t *t)
 const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt)
 {
     return &rt->inputs.counters;
+}
+
+int roz_runtime_stages_set(roz_runtime_t *rt, const roz_stages_config_t *c, char *err,
+                           size_t errlen)
+{
+    if (rt->started)
+        return ROZ_ESTATE;
+    int rc = roz_stages_check(rt->cfg.manifest, c, err, errlen);
+    if (rc == ROZ_OK)
+        roz__stages_configure(&rt->stages, c, rt->cfg.manifest->control_rate_hz);
+    return rc;
+}
+
+int roz_runtime_stage_request(roz_runtime_t *rt, roz_stage_t stage)
+{
+    if (stage != ROZ_STAGE_MOVE && stage != ROZ_STAGE_RUN && stage != ROZ_STAGE_STOP &&
+        stage != ROZ_STAGE_ZERO)
+        return ROZ_EINVAL;
+    if (atomic_load(&rt->stages.published) == ROZ_STAGE_NONE)
+        return ROZ_ESTATE;
+    atomic_store(&rt->stages.request, (int)stage);
+    return ROZ_OK;
+}
+
+roz_stage_t roz_runtime_stage(const roz_runtime_t *rt)
+{
+    return (roz_stage_t)atomic_load(&rt->stages.published);
+}
+
+const roz_stages_counters_t *roz_runtime_stages_counters(const roz_runtime_t *rt)
+{
+    return &rt->stages.counters;
 }
 
 int roz_runtime_clear_faults(roz_runtime_t *rt)

@@ -14,7 +14,8 @@
  * Tick 0 (every fresh instance, after a swap too) resets the network's
  * state, the last action and the history, and sets every target to its
  * default. Stiffness ramps from 0 to its value over ramp_s seconds; damping
- * is its value from tick 0. Built natively the same header runs with
+ * is its value from tick 0 (a runtime taking it over from a stand or another
+ * controller keeps the gains on the wire through the ramp: roz/stages.h). Built natively the same header runs with
  * roz_nn.h's plain-C imports: the same bits as under wasm3.
  */
 #ifndef ROZ_POLICY_H

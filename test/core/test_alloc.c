@@ -100,6 +100,47 @@ static void test_alloc_ur5_sine(void **st)
     run(&roz_manifest_ur5, "sine", 100000);
 }
 
+/* The deploy sequence through every stage (zero, the move, the hold, the
+ * controller behind the hand-over's gain hold, back to the stand, the
+ * damping stop) on the G1: no heap in the tick either. */
+static void test_alloc_g1_stages(void **st)
+{
+    static double stand[ROZ_CFG_MAX_COMMANDS];
+    const roz_manifest_t *m = &roz_manifest_unitree_g1;
+    roz_runtime_config_t cfg;
+    roz_test_clock_t clk = { 1, 100 };
+    char err[128];
+    size_t len;
+    (void)st;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        stand[i] = c->type == ROZ_IF_STIFFNESS ? 100.0 : c->type == ROZ_IF_DAMPING ? 2.0 : 0.0;
+        stand[i] = stand[i] < c->min ? c->min : stand[i] > c->max ? c->max : stand[i];
+    }
+    roz_stages_config_t sc = { stand, 0.5, 8.0, -1, -1, -1, -1 };
+    roz_test_loopback_config(&cfg, &lb, m, NULL, &clk);
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_runtime_stages_set(&rt, &sc, err, sizeof err), ROZ_OK);
+    const uint8_t *w = roz_test_controller("g1_pd", &len);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    static const roz_stage_t asks[] = { ROZ_STAGE_MOVE, ROZ_STAGE_RUN, ROZ_STAGE_MOVE,
+                                        ROZ_STAGE_STOP, ROZ_STAGE_ZERO };
+    roz_heap_count_start();
+    for (int t = 0; t < 10000; t++) {
+        if (t % 2000 == 0)
+            assert_int_equal(roz_runtime_stage_request(&rt, asks[t / 2000]), ROZ_OK);
+        roz_test_tick(&rt);
+    }
+    roz_heap_count_stop();
+    assert_int_equal(roz_runtime_stages_counters(&rt)->transitions, 7);
+    assert_int_equal(roz_runtime_stages_counters(&rt)->handovers, 1);
+    assert_int_equal(roz_heap_allocations(), 0);
+    assert_int_equal(roz_heap_frees(), 0);
+    assert_int_equal(roz_loopback_counters(&lb).violations, 0);
+    roz_runtime_deinit(&rt);
+}
+
 /* The wrapper is live: loading a controller does allocate (outside the tick). */
 static void test_alloc_counter_works(void **st)
 {
@@ -124,6 +165,7 @@ int main(void)
         cmocka_unit_test(test_alloc_counter_works),
         cmocka_unit_test(test_alloc_g1_pd),
         cmocka_unit_test(test_alloc_ur5_sine),
+        cmocka_unit_test(test_alloc_g1_stages),
         cmocka_unit_test(test_alloc_g1_pd_recorded),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

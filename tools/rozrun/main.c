@@ -7,6 +7,7 @@
  *          [--live FIFO]
  *          [--allow-other-robot]
  *          [--estop-at T] [--estop-release-at T] [--clear-at T] [--swap-at T:FILE]...
+ *          [--deploy FILE] [--stage-at T:STAGE]...
  *   rozrun --robot path/to/robot.toml --controller sine.wasm ...
  *   rozrun --robot unitree_g1 --port unitree/G1 --param network_interface=eth0
  *          --controller g1_stand.wasm
@@ -50,6 +51,7 @@
 #include "roz/record_live.h"
 #include "roz/runtime.h"
 #include "replay.h"
+#include "deploy.h"
 #include "operator.h"
 #include "schedule.h"
 #include "summary_json.h"
@@ -73,6 +75,7 @@ typedef struct {
     const char *live;   /* --live: the recording streamed to a viewer (docs/live.md) */
     const char *replay;
     const char *operator_file; /* --operator: a scripted operator (operator.h) */
+    const char *deploy_file;   /* --deploy: the deploy sequence (deploy.h) */
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
@@ -260,6 +263,13 @@ static void usage(FILE *f, const char *port)
         "                       robot's input names ([[manifest.inputs]]), one row per\n"
         "                       change (seconds of simulated time, a value per input),\n"
         "                       each row's values held until the next (docs/rozrun.md)\n"
+        "  --deploy FILE        run the deploy sequence of FILE around the controller\n"
+        "                       (docs/deploy.md): zero torque until start, the stand pose\n"
+        "                       over move_s, held until run, the controller, stand back\n"
+        "                       to the pose, stop in damping; switched by the inputs FILE\n"
+        "                       names (--operator) or --stage-at\n"
+        "  --stage-at T:STAGE   ask for a stage before tick T (--deploy): move (start, or\n"
+        "                       back to the stand from run), run, stop, zero (from stop)\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -268,8 +278,8 @@ static void usage(FILE *f, const char *port)
         "                       trapped is rebuilt and verified first)\n"
         "  --swap-at T:FILE     load, verify and install another controller to drive from\n"
         "                       tick T (from 1); refused, the running one stays\n"
-        "                       These four are repeatable; at one tick the e-stop input\n"
-        "                       comes first, then the swap, then the clear. In simulated\n"
+        "                       These five are repeatable; at one tick the e-stop input\n"
+        "                       comes first, then the stage, the swap, the clear. In simulated\n"
         "                       time each takes effect exactly at tick T; with --realtime\n"
         "                       or a robot's port clears and swaps run on a loader thread\n"
         "                       once tick T-1 is done and take effect at the next tick\n"
@@ -354,7 +364,8 @@ static int parse_args(int argc, char **argv, options_t *o)
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
-                                              "--swap-at", "--operator", NULL };
+                                              "--swap-at", "--operator", "--deploy",
+                                              "--stage-at", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -398,6 +409,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
         } else if (!strcmp(a, "--operator")) {
             o->operator_file = v;
+        } else if (!strcmp(a, "--deploy")) {
+            o->deploy_file = v;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--summary-json")) {
@@ -457,7 +470,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
             o->n_params++;
         } else if (!strcmp(a, "--estop-at") || !strcmp(a, "--estop-release-at") ||
-                   !strcmp(a, "--clear-at") || !strcmp(a, "--swap-at")) {
+                   !strcmp(a, "--clear-at") || !strcmp(a, "--swap-at") ||
+                   !strcmp(a, "--stage-at")) {
             if (rozrun_schedule_add(&sched, a, v) != 0)
                 return -1;
         } else {
@@ -469,6 +483,16 @@ static int parse_args(int argc, char **argv, options_t *o)
         fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
                         "states and inputs\n");
         return -1;
+    }
+    if (o->replay != NULL && o->deploy_file != NULL) {
+        fprintf(stderr, "rozrun: --deploy and --replay: a replay runs the controller only\n");
+        return -1;
+    }
+    for (size_t k = 0; k < sched.n && o->deploy_file == NULL; k++) {
+        if (sched.a[k].kind == ROZRUN_STAGE) {
+            fprintf(stderr, "rozrun: --stage-at needs --deploy (the sequence it switches)\n");
+            return -1;
+        }
     }
     if (o->replay != NULL && o->controller != NULL)
         return 0; /* the robot comes from the recording */
@@ -813,6 +837,14 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
     rozrun_schedule_summary(&sched, line, sizeof line);
     if (line[0] != '\0')
         printf("  interventions          %s\n", line);
+    if (roz_runtime_stage(&rt) != ROZ_STAGE_NONE) {
+        const roz_stages_counters_t *sc = roz_runtime_stages_counters(&rt);
+        printf("  deploy                 stage %s at the end; %llu stage changes, %llu "
+               "requests refused; hand-overs %llu (gain targets raised %llu)\n",
+               roz_stage_name(roz_runtime_stage(&rt)), (unsigned long long)sc->transitions,
+               (unsigned long long)sc->refused, (unsigned long long)sc->handovers,
+               (unsigned long long)sc->handover_raised);
+    }
     if (operating) {
         const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
         printf("  operator               %lu rows from %s; inputs clamped %llu, refused "
@@ -1096,6 +1128,10 @@ int main(int argc, char **argv)
         operating = 1;
     }
 
+    static rozrun_deploy_t deploy;
+    if (o.deploy_file != NULL && rozrun_deploy_load(&deploy, o.deploy_file, m) != 0)
+        return 2;
+
     roz_port_t port;
     if (make_port(pe, &port) != 0)
         return 2;
@@ -1155,6 +1191,12 @@ int main(int argc, char **argv)
     }
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
+        roz_port_close(&port);
+        return 2;
+    }
+    if (o.deploy_file != NULL &&
+        roz_runtime_stages_set(&rt, &deploy.cfg, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "rozrun: %s: %s\n", o.deploy_file, err); /* checked when read */
         roz_port_close(&port);
         return 2;
     }

@@ -10,7 +10,7 @@
 
 /* The options, by kind. */
 static const char *const opt_names[] = {
-    "--estop-at", "--estop-release-at", "--swap-at", "--clear-at",
+    "--estop-at", "--estop-release-at", "--stage-at", "--swap-at", "--clear-at",
 };
 
 /* The option and value of an action, as the user wrote it. */
@@ -22,6 +22,9 @@ static void describe(const rozrun_action_t *a, char *buf, size_t len)
     if (a->kind == ROZRUN_SWAP)
         snprintf(buf, len, "%s %llu:%s", opt_names[a->kind], (unsigned long long)a->tick,
                  a->file);
+    else if (a->kind == ROZRUN_STAGE)
+        snprintf(buf, len, "%s %llu:%s", opt_names[a->kind], (unsigned long long)a->tick,
+                 roz_stage_name(a->stage));
     else
         snprintf(buf, len, "%s %llu", opt_names[a->kind], (unsigned long long)a->tick);
 }
@@ -30,7 +33,7 @@ static void describe(const rozrun_action_t *a, char *buf, size_t len)
 
 int rozrun_schedule_add(rozrun_schedule_t *s, const char *opt, const char *value)
 {
-    rozrun_action_t a = { 0, ROZRUN_ESTOP_PRESS, NULL, NULL, 0 };
+    rozrun_action_t a = { 0, ROZRUN_ESTOP_PRESS, NULL, 0, NULL, 0 };
     const char *p = value;
     int kind = -1;
 
@@ -43,8 +46,8 @@ int rozrun_schedule_add(rozrun_schedule_t *s, const char *opt, const char *value
     a.kind = (rozrun_action_kind_t)kind;
     if (s->n == ROZRUN_MAX_ACTIONS) {
         fprintf(stderr,
-                "rozrun: %s %s: at most %d of --estop-at, --estop-release-at, --clear-at and "
-                "--swap-at in all\n", opt, value, ROZRUN_MAX_ACTIONS);
+                "rozrun: %s %s: at most %d of --estop-at, --estop-release-at, --stage-at, "
+                "--clear-at and --swap-at in all\n", opt, value, ROZRUN_MAX_ACTIONS);
         return -1;
     }
     if (*p < '0' || *p > '9')
@@ -62,6 +65,11 @@ int rozrun_schedule_add(rozrun_schedule_t *s, const char *opt, const char *value
         if (*p != ':' || p[1] == '\0')
             goto bad;
         a.file = p + 1;
+    } else if (a.kind == ROZRUN_STAGE) {
+        a.stage = *p == ':' ? roz_stage_from_name(p + 1) : -1;
+        if (a.stage != ROZ_STAGE_MOVE && a.stage != ROZ_STAGE_RUN && a.stage != ROZ_STAGE_STOP &&
+            a.stage != ROZ_STAGE_ZERO)
+            goto bad;
     } else if (*p != '\0') {
         goto bad;
     }
@@ -69,8 +77,10 @@ int rozrun_schedule_add(rozrun_schedule_t *s, const char *opt, const char *value
     return 0;
 bad:
     fprintf(stderr, "rozrun: %s \"%s\": expected %s\n", opt, value,
-            a.kind == ROZRUN_SWAP ? "TICK:FILE (a tick number, a colon, a controller)"
-                                  : "TICK (a tick number, from 0)");
+            a.kind == ROZRUN_SWAP    ? "TICK:FILE (a tick number, a colon, a controller)"
+            : a.kind == ROZRUN_STAGE ? "TICK:STAGE (a tick number, a colon, one of move, run, "
+                                       "stop, zero)"
+                                     : "TICK (a tick number, from 0)");
     return -1;
 }
 
@@ -190,8 +200,15 @@ unsigned rozrun_schedule_inputs(rozrun_schedule_t *s, roz_runtime_t *rt, uint64_
 
     for (size_t i = s->next_input; i < s->n && s->a[i].tick <= tick; i++) {
         const rozrun_action_t *a = &s->a[i];
-        if (a->tick < tick || a->kind > ROZRUN_ESTOP_RELEASE)
+        if (a->tick < tick || a->kind > ROZRUN_STAGE)
             continue; /* past ones were done; the loader's are not ours */
+        if (a->kind == ROZRUN_STAGE) {
+            /* dropped by the tick when the stage it finds does not allow
+             * it: counted in the runtime's stage counters */
+            (void)roz_runtime_stage_request(rt, (roz_stage_t)a->stage);
+            s->in.stages++;
+            continue;
+        }
         roz_runtime_estop_set(rt, a->kind == ROZRUN_ESTOP_PRESS);
         if (a->kind == ROZRUN_ESTOP_PRESS) {
             s->in.presses++;
@@ -325,7 +342,7 @@ size_t rozrun_schedule_left(const rozrun_schedule_t *s)
     size_t left = 0;
 
     for (size_t i = s->next_input; i < s->n; i++)
-        left += s->a[i].kind <= ROZRUN_ESTOP_RELEASE;
+        left += s->a[i].kind <= ROZRUN_STAGE;
     for (size_t i = next_loader(s, s->next_loader); i < s->n; i = next_loader(s, i + 1))
         left++;
     return left;
@@ -346,4 +363,11 @@ void rozrun_schedule_summary(const rozrun_schedule_t *s, char *buf, size_t len)
              (unsigned long long)ld->clears, (unsigned long long)ld->clears_held,
              (unsigned long long)ld->clears_refused, (unsigned long long)ld->swaps,
              (unsigned long long)ld->swaps_refused, (unsigned long long)ld->rebuilds);
+    for (size_t i = 0; i < s->n; i++) {
+        if (s->a[i].kind == ROZRUN_STAGE) { /* --stage-at given: say what it asked */
+            size_t at = strlen(buf);
+            snprintf(buf + at, len - at, "; stage requests %llu", (unsigned long long)in->stages);
+            break;
+        }
+    }
 }

@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* rozrun's schedule: the interventions given on the command line
- * (--estop-at, --estop-release-at, --clear-at, --swap-at), each at a tick,
+ * (--estop-at, --estop-release-at, --stage-at, --clear-at, --swap-at), each
+ * at a tick,
  * so every runtime behaviour can be tried without writing a program.
  *
  * Two hands carry them out, as in a real application:
- *  - the e-stop input (press, release) is set by the tick's thread right
- *    after tick T-1 (wait-free atomic stores, as an ISR would), so tick T
- *    sees it before its controller runs;
+ *  - the e-stop input (press, release) and a stage request (roz/stages.h)
+ *    are set by the tick's thread right after tick T-1 (wait-free atomic
+ *    stores, as an ISR would), so tick T sees them before its controller
+ *    runs;
  *  - clears and swaps run on the loader (rozrun's main thread: they block,
  *    verify and allocate), once tick T-1 is done; each takes effect at the
  *    next tick boundary after it returns.
@@ -31,6 +33,7 @@ typedef enum rozrun_action_kind {
     /* in the order they are carried out at one tick */
     ROZRUN_ESTOP_PRESS = 0,
     ROZRUN_ESTOP_RELEASE,
+    ROZRUN_STAGE, /* --stage-at T:STAGE: roz_runtime_stage_request() */
     ROZRUN_SWAP,
     ROZRUN_CLEAR,
 } rozrun_action_kind_t;
@@ -39,6 +42,7 @@ typedef struct rozrun_action {
     uint64_t             tick;
     rozrun_action_kind_t kind;
     const char          *file; /* SWAP: the controller's path */
+    int                  stage; /* STAGE: the roz_stage_t asked for */
     uint8_t             *wasm; /* SWAP: its bytes, read at start-up */
     size_t               len;
 } rozrun_action_t;
@@ -46,7 +50,7 @@ typedef struct rozrun_action {
 /* What the interventions did, for the summary (written by the hand that
  * carries each out: inputs by the tick's thread, the rest by the loader). */
 typedef struct rozrun_schedule_counts {
-    uint64_t presses, releases;
+    uint64_t presses, releases, stages;
     uint64_t clears, clears_held, clears_refused;
     uint64_t swaps, swaps_refused, rebuilds;
 } rozrun_schedule_counts_t;
@@ -60,7 +64,8 @@ typedef struct rozrun_schedule {
     int             simulated;   /* 1: the loader runs between ticks (messages say so) */
 } rozrun_schedule_t;
 
-/* Adds one option's value ("TICK", or "TICK:FILE" for --swap-at). 0, or
+/* Adds one option's value ("TICK", "TICK:FILE" for --swap-at, "TICK:STAGE"
+ * for --stage-at: move, run, stop or zero). 0, or
  * -1 with a message on stderr naming the option and value. */
 int rozrun_schedule_add(rozrun_schedule_t *s, const char *opt, const char *value);
 

@@ -33,6 +33,7 @@
 #include "roz/operator.h"
 #include "roz/private.h"
 #include "roz/recorder.h"
+#include "roz/stages.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -265,6 +266,8 @@ typedef struct roz_runtime {
     /* the operator's inputs: set by any thread, taken by the tick into
      * state[n_states + k] */
     roz_inputs_t           ROZ_PRIVATE(inputs);
+    /* the deploy sequence and the hand-over's gain hold (roz/stages.h) */
+    roz_stages_t           ROZ_PRIVATE(stages);
     uint64_t               ROZ_PRIVATE(last_process_ns);
     char                   ROZ_PRIVATE(fault_msg)[ROZ_CFG_ERROR_LEN + 64]; /* roz_runtime_fault_message() */
     char                   ROZ_PRIVATE(error)[ROZ_CFG_ERROR_LEN];     /* last load/verify error */
@@ -456,6 +459,43 @@ int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value);
 /** @brief The inputs' counters as the last tick left them (roz/inputs.h).
  *  Context: the tick's thread, or after the ticks stopped. */
 const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt);
+
+/**
+ * @brief Run the deploy sequence @p c around the controller (roz/stages.h,
+ *        docs/deploy.md): the robot starts in ZERO (zero torque), and the
+ *        stages change by the inputs @p c names, roz_runtime_stage_request()
+ *        or MOVE's end. Without this call the controller drives from the
+ *        first tick, as before (ROZ_STAGE_NONE).
+ * @param[out] err  why @p c does not fit the manifest (roz_stages_check())
+ * @retval ROZ_OK     taken (copied)
+ * @retval ROZ_EINVAL @p c does not fit the manifest
+ * @retval ROZ_ESTATE the runtime is started already
+ * Context: start-up, after roz_runtime_init(), before roz_runtime_start().
+ */
+ROZ_NODISCARD int roz_runtime_stages_set(roz_runtime_t *rt, const roz_stages_config_t *c,
+                                         char *err, size_t errlen);
+
+/**
+ * @brief Ask for a stage at the next tick: MOVE (from ZERO: start; from RUN:
+ *        back to the stand), RUN (from HOLD, with a controller loaded), STOP
+ *        (from any), ZERO (from STOP). The latest request wins; one not
+ *        allowed from the stage the tick finds is dropped and counted
+ *        (roz_runtime_stages_counters()); while a fault is latched only STOP
+ *        is taken.
+ * @retval ROZ_OK     stored
+ * @retval ROZ_EINVAL not one of those stages
+ * @retval ROZ_ESTATE no sequence (roz_runtime_stages_set())
+ * Context: any thread; wait-free (one atomic store).
+ */
+int roz_runtime_stage_request(roz_runtime_t *rt, roz_stage_t stage);
+
+/** @brief The stage as of the last tick (ROZ_STAGE_NONE without a sequence).
+ *  Context: any thread; wait-free. */
+roz_stage_t roz_runtime_stage(const roz_runtime_t *rt);
+
+/** @brief The sequence's and the hand-over's counters as the last tick left
+ *  them. Context: the tick's thread, or after the ticks stopped. */
+const roz_stages_counters_t *roz_runtime_stages_counters(const roz_runtime_t *rt);
 
 /**
  * @brief Clear the latched faults this call sees, at the next tick. A
