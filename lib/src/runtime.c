@@ -1064,6 +1064,22 @@ int roz_runtime_operator_twist(roz_runtime_t *rt, const roz_operator_twist_t *t)
     return rt != NULL && t != NULL ? roz_inputs_twist(&rt->inputs, t) : ROZ_EINVAL;
 }
 
+static int sink_remote(void *ctx, const roz_operator_remote_t *r)
+{
+    return roz_runtime_operator_remote(ctx, r);
+}
+
+static int sink_twist(void *ctx, const roz_operator_twist_t *t)
+{
+    return roz_runtime_operator_twist(ctx, t);
+}
+
+roz_operator_sink_t roz_runtime_operator_sink(roz_runtime_t *rt)
+{
+    roz_operator_sink_t s = { sink_remote, sink_twist, rt };
+    return s;
+}
+
 const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt)
 {
     return &rt->inputs.counters;

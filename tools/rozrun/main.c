@@ -1207,6 +1207,14 @@ int main(int argc, char **argv)
     }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
+    /* an operator device the port reads (the G1's wireless remote) goes to
+     * the inputs that name its fields; a port that reads none says so */
+    roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
+    int sink_rc = roz_port_set_operator(&port, &sink);
+    if (sink_rc != ROZ_OK && sink_rc != ROZ_ENOTSUP) {
+        fprintf(stderr, "rozrun: port %s: cannot take the operator's devices\n", o.port);
+        return 2;
+    }
     if (roz_port_activate(&port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot start port %s\n", o.port);
         return 2;

@@ -118,6 +118,19 @@ double roz_operator_remote_field(const roz_operator_remote_t *r, roz_operator_fi
  *  Context: any; RT-safe. */
 double roz_operator_twist_field(const roz_operator_twist_t *t, roz_operator_field_t f);
 
+/**
+ * Where a device's reader (a port's receive thread, a gamepad reader)
+ * hands its frames: roz_runtime_operator_sink() makes one for a runtime; a
+ * port takes one before it is activated (roz_port_set_operator()). Each
+ * function is called from the reader's thread and must be wait-free, as
+ * the runtime's are. A NULL function: the device's frames go nowhere.
+ */
+typedef struct roz_operator_sink {
+    int (*remote)(void *ctx, const roz_operator_remote_t *r);
+    int (*twist)(void *ctx, const roz_operator_twist_t *t);
+    void *ctx;
+} roz_operator_sink_t;
+
 struct roz_runtime;
 
 /**
@@ -137,6 +150,13 @@ int roz_runtime_operator_remote(struct roz_runtime *rt, const roz_operator_remot
 /** @brief As roz_runtime_operator_remote(), for a twist.
  *  Context: as roz_runtime_operator_remote(). */
 int roz_runtime_operator_twist(struct roz_runtime *rt, const roz_operator_twist_t *t);
+
+/**
+ * @brief A sink whose functions are roz_runtime_operator_remote() and
+ *        roz_runtime_operator_twist() on @p rt.
+ * Context: start-up; the runtime must outlive every reader given the sink.
+ */
+roz_operator_sink_t roz_runtime_operator_sink(struct roz_runtime *rt);
 
 #ifdef __cplusplus
 }

@@ -19,6 +19,9 @@ roz_fake_g1_t *roz_g1fx_fake(void);
 /* Options for the fake of the next open only (NULL-terminated), such as
  * --period-us for a robot that publishes by itself. */
 void roz_g1fx_set_fake_args(const char *const *extra);
+/* The operator sink of the next open only (roz_port_set_operator(), between
+ * open and activate); NULL: none. */
+void roz_g1fx_set_operator(const roz_operator_sink_t *sink);
 /* One request to the fake; anything but "ok" fails the test. */
 void roz_g1fx_ask(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* The fake's motors and IMU for frame k (distinct per joint and frame). */
