@@ -136,7 +136,12 @@ struct roz_runtime;
 /**
  * @brief A frame of the remote: every input whose source is a field of the
  *        remote takes scale * that field (roz_runtime_input_set()'s path:
- *        the next tick judges it).
+ *        the next tick judges it). When the frame holds every button of the
+ *        manifest's remote_estop, it presses the e-stop first:
+ *        ROZ_FAULT_ESTOP latches at the next tick (a chord released before
+ *        it still latches) and stays latched until roz_runtime_clear_faults(),
+ *        which is refused (ROZ_ESTATE) while the remote's last frame held
+ *        the chord; a release or a silent remote never clears it.
  * @param rt  a roz_runtime_t
  * @retval ROZ_OK     every such input stored (none is fine)
  * @retval ROZ_EINVAL a NULL argument

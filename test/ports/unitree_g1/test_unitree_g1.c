@@ -600,6 +600,21 @@ static void test_g1_wireless_remote(void **st)
     assert_true(in[0] == 0.8 * 0.25);
     assert_true(in[3] == 0.0);
     assert_int_equal(counters().remote_frames, 2);
+
+    /* the G1's remote e-stop, L2 (bit 5) + B (bit 9), from the robot */
+    assert_int_equal(m->remote_estop, 32 | 512);
+    roz_g1fx_ask("remote 544 0 0 0 0 0");
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    roz_g1fx_ask("remote 0 0 0 0 0 0"); /* released: latched still */
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_runtime_deinit(&rt);
 }
 
@@ -1492,16 +1507,16 @@ static const char *const real_joints[] = { "left_knee_joint" };
 static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &real_hw, NULL, 0 };
+                                    &real_hw, NULL, 0, 0 };
 /* joint j1 is not a G1's */
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
-                                        1, &odd_hw, NULL, 0 };
+                                        1, &odd_hw, NULL, 0, 0 };
 static const roz_channel_t typo_commands[] = {
     { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &real_hw, NULL, 0 };
+                                     &real_hw, NULL, 0, 0 };
 
 static void *nothing(void *arg)
 {
