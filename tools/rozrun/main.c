@@ -60,6 +60,9 @@
 #if ROZ_HAS_TOML
 #include "roz/manifest_toml.h"
 #endif
+#if ROZRUN_HAS_GAMEPAD
+#include "roz/gamepad.h"
+#endif
 
 #define MAX_PARAMS 32
 
@@ -73,6 +76,7 @@ typedef struct {
     const char *live;   /* --live: the recording streamed to a viewer (docs/live.md) */
     const char *replay;
     const char *operator_file; /* --operator: a scripted operator (operator.h) */
+    const char *gamepad;       /* --gamepad: an evdev gamepad as the remote (roz/gamepad.h) */
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
@@ -92,6 +96,9 @@ typedef struct {
 } options_t;
 
 static roz_runtime_t rt;
+#if ROZRUN_HAS_GAMEPAD
+static roz_gamepad_t gamepad; /* --gamepad: its reader thread feeds rt's inputs */
+#endif
 
 /* ---- the ports this build holds (roz/ports.h) ------------------------------ */
 
@@ -260,6 +267,10 @@ static void usage(FILE *f, const char *port)
         "                       robot's input names ([[manifest.inputs]]), one row per\n"
         "                       change (seconds of simulated time, a value per input),\n"
         "                       each row's values held until the next (docs/rozrun.md)\n"
+        "  --gamepad DEV        a Linux gamepad (/dev/input/eventN) as the operator's\n"
+        "                       remote: its sticks, triggers and buttons feed the inputs\n"
+        "                       whose source is a remote.* field, and the remote's e-stop;\n"
+        "                       with a simulator, --realtime keeps its time the wall's\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -354,7 +365,7 @@ static int parse_args(int argc, char **argv, options_t *o)
                                               "--ticks", "--priority", "--budget-us",
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
-                                              "--swap-at", "--operator", NULL };
+                                              "--swap-at", "--operator", "--gamepad", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -398,6 +409,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             }
         } else if (!strcmp(a, "--operator")) {
             o->operator_file = v;
+        } else if (!strcmp(a, "--gamepad")) {
+            o->gamepad = v;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--summary-json")) {
@@ -465,6 +478,18 @@ static int parse_args(int argc, char **argv, options_t *o)
             return -1;
         }
     }
+    if (o->replay != NULL && o->gamepad != NULL) {
+        fprintf(stderr, "rozrun: --gamepad and --replay: a replay feeds the recorded states "
+                        "only\n");
+        return -1;
+    }
+#if !ROZRUN_HAS_GAMEPAD
+    if (o->gamepad != NULL) {
+        fprintf(stderr, "rozrun: --gamepad %s: this build has no gamepad support (Linux's "
+                        "linux/input.h)\n", o->gamepad);
+        return -1;
+    }
+#endif
     if (o->replay != NULL && o->operator_file != NULL) {
         fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
                         "states only\n");
@@ -1215,6 +1240,16 @@ int main(int argc, char **argv)
         fprintf(stderr, "rozrun: port %s: cannot take the operator's devices\n", o.port);
         return 2;
     }
+#if ROZRUN_HAS_GAMEPAD
+    if (o.gamepad != NULL) {
+        if (roz_gamepad_open(&gamepad, o.gamepad, err, sizeof err) != 0 ||
+            roz_gamepad_start(&gamepad, &sink, err, sizeof err) != 0) {
+            fprintf(stderr, "rozrun: --gamepad %s\n", err);
+            roz_gamepad_close(&gamepad);
+            return 2;
+        }
+    }
+#endif
     if (roz_port_activate(&port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot start port %s\n", o.port);
         return 2;
@@ -1289,6 +1324,9 @@ int main(int argc, char **argv)
     int status = (tracing && trace.error[0] != '\0') || record_failed ? 3 : faults != 0 ? 1 : 0;
     if (watching && summary_json(&o, &port, &rep, status) != 0)
         status = 3;
+#if ROZRUN_HAS_GAMEPAD
+    roz_gamepad_close(&gamepad); /* before the runtime its sink writes to */
+#endif
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
     free(port_self);
