@@ -159,7 +159,9 @@ int roz_runtime_operator_twist(struct roz_runtime *rt, const roz_operator_twist_
 /**
  * @brief A sink whose functions are roz_runtime_operator_remote() and
  *        roz_runtime_operator_twist() on @p rt.
- * Context: start-up; the runtime must outlive every reader given the sink.
+ * Context: start-up. The runtime must be set up (roz_runtime_init()) before
+ *          any reader given the sink runs (before the port's activate, the
+ *          gamepad's start) and outlive it.
  */
 roz_operator_sink_t roz_runtime_operator_sink(struct roz_runtime *rt);
 

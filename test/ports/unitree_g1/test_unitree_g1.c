@@ -534,11 +534,26 @@ static const double *inputs_now(void)
  * which a controller reads scaled; a NaN stick is refused and counted (the
  * other fields of the frame still count), a frame that fails its CRC
  * brings no remote, and the port accepts a manifest with inputs. */
+/* Between the port's open and its activate: the runtime, then the port's
+ * operator sink into it (the order rozrun keeps). */
+static void remote_runtime(const roz_port_t *p)
+{
+    static roz_test_clock_t clk = { 1, 1000 };
+    roz_runtime_config_t cfg;
+    roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = *p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_port_set_operator(p, &sink), ROZ_OK);
+}
+
 static void test_g1_wireless_remote(void **st)
 {
     static roz_manifest_t with_inputs;
-    roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 1, 1000 };
     roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
     roz_link_t before;
     /* a controller of no robot in particular (the inputs change the
@@ -552,15 +567,8 @@ static void test_g1_wireless_remote(void **st)
     with_inputs.inputs = remote_inputs;
     with_inputs.n_inputs = sizeof remote_inputs / sizeof remote_inputs[0];
     m = &with_inputs;
-    roz_g1fx_set_operator(&sink);
+    roz_g1fx_set_before_activate(remote_runtime);
     open_g1(NULL, 0);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     assert_int_equal(roz_port_set_operator(&port, &sink), ROZ_ESTATE); /* active: too late */
