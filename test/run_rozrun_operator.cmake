@@ -6,7 +6,8 @@
 # value beyond the limits (clamped to 0.8, counted), a non-finite one
 # (refused, counted: the input keeps its value), stop. A malformed file or
 # an unknown input name is refused before the robot moves, naming the file,
-# line and column; so is a robot without inputs.
+# line and column; so is a robot without inputs, and a --gamepad that is no
+# evdev device.
 #   cmake -DROZRUN=<rozrun> -DCTL=<controller dir> -DOUT=<work dir>
 #         -DPYTHON=<python> -P run_rozrun_operator.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -99,3 +100,11 @@ if(NOT rc EQUAL 2)
   message(FATAL_ERROR "ur5: exit ${rc}, expected 2\n${out}${err}")
 endif()
 expect_in("${err}" "robot ur5 has no operator inputs" "ur5 stderr")
+
+# ---- 4. --gamepad: a file that is no evdev device is refused, named, before
+# the robot moves (the device itself: test/gamepad/test_gamepad.c)
+run(gamepad --robot unitree_g1_12dof --ticks 10 --gamepad /dev/null)
+if(NOT gamepad_rc EQUAL 2)
+  message(FATAL_ERROR "gamepad: exit ${gamepad_rc}, expected 2\n${gamepad_out}${gamepad_err}")
+endif()
+expect_in("${gamepad_err}" "--gamepad /dev/null" "gamepad stderr")

@@ -185,4 +185,5 @@ def _manifest(doc: dict) -> Manifest:
                     control_rate_hz=int(doc["control_rate_hz"]),
                     commands=tuple(_channel(c) for c in doc["commands"]),
                     states=tuple(_channel(c) for c in doc["states"]), hardware=hardware,
-                    inputs=tuple(_channel(c) for c in doc.get("inputs", ())))
+                    inputs=tuple(_channel(c) for c in doc.get("inputs", ())),
+                    remote_estop=tuple(doc.get("remote_estop", ())))

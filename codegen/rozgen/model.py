@@ -105,11 +105,20 @@ class Manifest:
     hardware: Hardware | None
     #: operator inputs, read by a controller as states len(states) + k
     inputs: tuple[Channel, ...] = ()
+    #: the remote's e-stop chord: button fields ("remote.btn.l2"), all held latch the e-stop
+    remote_estop: tuple[str, ...] = ()
 
     @property
     def prefix(self) -> str:
         """Macro prefix: ``ROZ_UR5``."""
         return names.id_prefix(self.robot_id)
+
+    @property
+    def c_remote_estop(self) -> str:
+        """``remote_estop`` as a C expression of ROZ_REMOTE_KEY() bits (the
+        names are roz/operator.h's, checked by the C checker)."""
+        return " | ".join("ROZ_REMOTE_KEY(ROZ_OPERATOR_" + b.upper().replace(".", "_") + ")"
+                          for b in self.remote_estop)
 
     @property
     def longest_name(self) -> int:

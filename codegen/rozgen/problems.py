@@ -34,6 +34,7 @@ RULES: dict[str, str] = {
     "input-source": "an operator input's source is not a field of the remote or a twist",
     "input-scale": "an operator input's scale of 0, or a scale without a source",
     "duplicate-source": "two operator inputs with one source (one field feeds one input)",
+    "remote-estop": "a remote_estop that is empty, names no button of the remote, or a button twice",
     "input-rate": "an operator input's max_rate_of_change of 0 (a stale input must return to its default gradually)",
     "duplicate-name": "two channels of one list have the same name",
     "constant-collision": "two names of one list give the same C constant",

@@ -115,6 +115,7 @@ def test_c_tables_print_the_same_json(build):
                             "-o", str(exe), str(DATA / "print_manifest_json.c"),
                             str(JSON_PRINTER), str(REPO / "lib" / "src" / "manifest.c"),
                             str(REPO / "lib" / "src" / "identity.c"),
+                            str(REPO / "lib" / "src" / "operator.c"),
                             str(REPO / "lib" / "src" / "format.c"),
                             *map(str, sorted(out.glob("*.c"))), "-lm"])
     registry = subprocess.run([exe, "--registry"], capture_output=True, text=True)

@@ -30,6 +30,8 @@ def json_to_toml(text: str) -> str:
         f"robot_class = {toml_string(doc['robot_class'])}",
         f"control_rate_hz = {int(doc['control_rate_hz'])}",
     ]
+    if "remote_estop" in doc:  # present only with one
+        out.append("remote_estop = [" + ", ".join(map(toml_string, doc["remote_estop"])) + "]")
     for kind in ("commands", "states"):
         if kind == "states" and not doc[kind]:
             continue

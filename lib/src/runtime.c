@@ -470,7 +470,7 @@ static void tick_estop(roz_runtime_t *rt)
 {
     unsigned press = atomic_load(&rt->estop_press) != 0u ? atomic_exchange(&rt->estop_press, 0u)
                                                          : 0u; /* as the clear request */
-    unsigned level = atomic_load(&rt->estop_level);
+    unsigned level = atomic_load(&rt->estop_level) | atomic_load(&rt->remote_estop);
     if (press != 0u)
         rt->rec_flags |= ROZ_RECORD_ESTOP_PRESS;
     if (level != 0u)
@@ -896,6 +896,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     atomic_init(&rt->clear_request, 0u);
     atomic_init(&rt->estop_level, 0u);
     atomic_init(&rt->estop_press, 0u);
+    atomic_init(&rt->remote_estop, 0u);
     atomic_store(&rt->loader_busy, 0u);
     atomic_init(&rt->first_fault.seq, 0u);
     atomic_init(&rt->first_fault.bit, 0u);
@@ -1092,12 +1093,41 @@ int roz_runtime_input_set(roz_runtime_t *rt, uint32_t k, double value)
 
 int roz_runtime_operator_remote(roz_runtime_t *rt, const roz_operator_remote_t *r)
 {
-    return rt != NULL && r != NULL ? roz_inputs_remote(&rt->inputs, r) : ROZ_EINVAL;
+    if (rt == NULL || r == NULL)
+        return ROZ_EINVAL;
+    /* the remote's e-stop chord: a press (the press first: a chord held for
+     * less than a tick still latches) and a level of its own, beside the
+     * e-stop input's: a clear does not take while the last frame held it;
+     * a release or a silent remote clears nothing */
+    uint16_t chord = rt->cfg.manifest->remote_estop;
+    if (chord != 0u) {
+        unsigned held = (r->buttons & chord) == chord;
+        if (held)
+            atomic_store(&rt->estop_press, 1u);
+        atomic_store(&rt->remote_estop, held);
+    }
+    return roz_inputs_remote(&rt->inputs, r);
 }
 
 int roz_runtime_operator_twist(roz_runtime_t *rt, const roz_operator_twist_t *t)
 {
     return rt != NULL && t != NULL ? roz_inputs_twist(&rt->inputs, t) : ROZ_EINVAL;
+}
+
+static int sink_remote(void *ctx, const roz_operator_remote_t *r)
+{
+    return roz_runtime_operator_remote(ctx, r);
+}
+
+static int sink_twist(void *ctx, const roz_operator_twist_t *t)
+{
+    return roz_runtime_operator_twist(ctx, t);
+}
+
+roz_operator_sink_t roz_runtime_operator_sink(roz_runtime_t *rt)
+{
+    roz_operator_sink_t s = { sink_remote, sink_twist, rt };
+    return s;
 }
 
 const roz_inputs_counters_t *roz_runtime_input_counters(const roz_runtime_t *rt)
@@ -1163,7 +1193,7 @@ int roz_runtime_clear_faults(roz_runtime_t *rt)
     atomic_store(&rt->loader_busy, 0u);
     if (rc != ROZ_OK)
         return rc;
-    if (atomic_load(&rt->estop_level) != 0u) {
+    if ((atomic_load(&rt->estop_level) | atomic_load(&rt->remote_estop)) != 0u) {
         seen &= ~(unsigned)ROZ_FAULT_ESTOP; /* held: the fault stays */
         rc = ROZ_ESTATE;
     }

@@ -53,7 +53,7 @@ static const roz_channel_t latch_states[] = {
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t latch_manifest = {
-    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0,
+    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0, 0,
 };
 
 enum { ACT_NONE = 0, ACT_TRAP = 1, ACT_FUEL = 2, ACT_ESTOP_REQUEST = 3 };

@@ -382,6 +382,60 @@ static void test_runtime_operator_remote(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
+/* The remote's e-stop (the G1's remote_estop, L2 + B): the chord latches
+ * ESTOP at the next tick, one button alone does not; releasing the chord,
+ * the remote going silent or a twist never clear it; a clear while the
+ * last frame held the chord is refused; after a release the clear takes.
+ * A chord pressed and released between two ticks still latches. */
+static void test_runtime_remote_estop(void **st)
+{
+    static uint8_t wasm[512];
+    const roz_manifest_t *m = &roz_manifest_unitree_g1_12dof;
+    const uint16_t l2 = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_L2);
+    const uint16_t b = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_B);
+    roz_operator_remote_t r = { .buttons = l2 };
+    roz_operator_twist_t t = { { 0.0, 0.0, 0.0 }, { 0.0, 0.0, 0.0 } };
+    (void)st;
+    assert_int_equal(m->remote_estop, l2 | b);
+    start(m, NULL);
+    size_t len = roz_test_wat(input_wat, wasm, sizeof wasm);
+    assert_int_equal(roz_runtime_load(&rt, wasm, len, NULL), ROZ_OK);
+    ticks(5);
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK); /* L2 alone */
+    r.buttons = b | ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_A); /* B and A */
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    r.buttons = l2 | b | ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_UP); /* the chord, and more */
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    /* held: a clear is refused */
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_ESTATE);
+    ticks(2);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    /* released, then a silent remote and a twist: latched all along */
+    r.buttons = 0;
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+    assert_int_equal(roz_runtime_operator_twist(&rt, &t), ROZ_OK);
+    ticks(1000); /* 2 s: the inputs went stale meanwhile */
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    /* the operator's clear releases it */
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    /* pressed and released between two ticks: latched still */
+    r.buttons = l2 | b;
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+    r.buttons = 0;
+    assert_int_equal(roz_runtime_operator_remote(&rt, &r), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
 /* A swapped-in controller starts with its paired position targets at the
  * hold (the measured positions), not at the manifest's defaults: after the
  * stand, the knees stay at 0.3 rad under the idle controller. */
@@ -528,6 +582,7 @@ int main(void)
         cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
         cmocka_unit_test_teardown(test_runtime_operator_inputs, teardown),
         cmocka_unit_test_teardown(test_runtime_operator_remote, teardown),
+        cmocka_unit_test_teardown(test_runtime_remote_estop, teardown),
         cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
         cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
         cmocka_unit_test(test_runtime_simulator_read_not_warned),

@@ -145,6 +145,18 @@ void manifest_json_print(const roz_manifest_t *m, int as_written)
     put_channels("states", m->states, m->n_states, 1, as_written);
     if (m->n_inputs > 0) /* absent without inputs: older readers' text unchanged */
         put_channels("inputs", m->inputs, m->n_inputs, 2, as_written);
+    if (m->remote_estop != 0u) { /* absent without one: older readers' text unchanged */
+        const char *sep = "";
+        fputs("  \"remote_estop\": [", stdout);
+        for (int f = ROZ_OPERATOR_REMOTE_BTN_R1; f <= ROZ_OPERATOR_REMOTE_BTN_LEFT; f++) {
+            if ((m->remote_estop & ROZ_REMOTE_KEY(f)) != 0u) {
+                fputs(sep, stdout);
+                put_string(roz_operator_field_name((roz_operator_field_t)f));
+                sep = ", ";
+            }
+        }
+        fputs("],\n", stdout);
+    }
     fputs("  \"hardware\": ", stdout);
     if (h == NULL) {
         fputs("null", stdout);

@@ -62,6 +62,9 @@
 #if ROZ_HAS_TOML
 #include "roz/manifest_toml.h"
 #endif
+#if ROZRUN_HAS_GAMEPAD
+#include "roz/gamepad.h"
+#endif
 
 #define MAX_PARAMS 32
 
@@ -76,6 +79,7 @@ typedef struct {
     const char *replay;
     const char *operator_file; /* --operator: a scripted operator (operator.h) */
     const char *deploy_file;   /* --deploy: the deploy sequence (deploy.h) */
+    const char *gamepad;       /* --gamepad: an evdev gamepad as the remote (roz/gamepad.h) */
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
@@ -95,6 +99,9 @@ typedef struct {
 } options_t;
 
 static roz_runtime_t rt;
+#if ROZRUN_HAS_GAMEPAD
+static roz_gamepad_t gamepad; /* --gamepad: its reader thread feeds rt's inputs */
+#endif
 
 /* ---- the ports this build holds (roz/ports.h) ------------------------------ */
 
@@ -270,6 +277,10 @@ static void usage(FILE *f, const char *port)
         "                       names (--operator) or --stage-at\n"
         "  --stage-at T:STAGE   ask for a stage before tick T (--deploy): move (start, or\n"
         "                       back to the stand from run), run, stop, zero (from stop)\n"
+        "  --gamepad DEV        a Linux gamepad (/dev/input/eventN) as the operator's\n"
+        "                       remote: its sticks, triggers and buttons feed the inputs\n"
+        "                       whose source is a remote.* field, and the remote's e-stop;\n"
+        "                       with a simulator, --realtime keeps its time the wall's\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -365,7 +376,7 @@ static int parse_args(int argc, char **argv, options_t *o)
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
                                               "--swap-at", "--operator", "--deploy",
-                                              "--stage-at", NULL };
+                                              "--stage-at", "--gamepad", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -411,6 +422,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->operator_file = v;
         } else if (!strcmp(a, "--deploy")) {
             o->deploy_file = v;
+        } else if (!strcmp(a, "--gamepad")) {
+            o->gamepad = v;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--summary-json")) {
@@ -479,6 +492,18 @@ static int parse_args(int argc, char **argv, options_t *o)
             return -1;
         }
     }
+    if (o->replay != NULL && o->gamepad != NULL) {
+        fprintf(stderr, "rozrun: --gamepad and --replay: a replay feeds the recorded states "
+                        "only\n");
+        return -1;
+    }
+#if !ROZRUN_HAS_GAMEPAD
+    if (o->gamepad != NULL) {
+        fprintf(stderr, "rozrun: --gamepad %s: this build has no gamepad support (Linux's "
+                        "linux/input.h)\n", o->gamepad);
+        return -1;
+    }
+#endif
     if (o->replay != NULL && o->operator_file != NULL) {
         fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
                         "states and inputs\n");
@@ -1249,6 +1274,24 @@ int main(int argc, char **argv)
     }
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
+    /* an operator device the port reads (the G1's wireless remote) goes to
+     * the inputs that name its fields; a port that reads none says so */
+    roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
+    int sink_rc = roz_port_set_operator(&port, &sink);
+    if (sink_rc != ROZ_OK && sink_rc != ROZ_ENOTSUP) {
+        fprintf(stderr, "rozrun: port %s: cannot take the operator's devices\n", o.port);
+        return 2;
+    }
+#if ROZRUN_HAS_GAMEPAD
+    if (o.gamepad != NULL) {
+        if (roz_gamepad_open(&gamepad, o.gamepad, err, sizeof err) != 0 ||
+            roz_gamepad_start(&gamepad, &sink, err, sizeof err) != 0) {
+            fprintf(stderr, "rozrun: --gamepad %s\n", err);
+            roz_gamepad_close(&gamepad);
+            return 2;
+        }
+    }
+#endif
     if (roz_port_activate(&port) != ROZ_OK || roz_runtime_start(&rt) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot start port %s\n", o.port);
         return 2;
@@ -1323,6 +1366,9 @@ int main(int argc, char **argv)
     int status = (tracing && trace.error[0] != '\0') || record_failed ? 3 : faults != 0 ? 1 : 0;
     if (watching && summary_json(&o, &port, &rep, status) != 0)
         status = 3;
+#if ROZRUN_HAS_GAMEPAD
+    roz_gamepad_close(&gamepad); /* before the runtime its sink writes to */
+#endif
     roz_runtime_deinit(&rt);
     roz_port_close(&port);
     free(port_self);

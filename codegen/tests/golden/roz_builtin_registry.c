@@ -4,9 +4,9 @@
  *   manifests/diff_drive.toml (sha256 451fa750584a25cdca9867845bf954dd328d6b2dfd3b04c8769ea9088c11c6bb)
  *   manifests/engineai_pm01.toml (sha256 00039a4834bd1b1a332d0e1dfa96632674ded47fe9452e168670e3a2a215775d)
  *   manifests/quadcopter.toml (sha256 6b7d084160f1dd382cde31a66c45a948e414d47c358dce50a2a124bf8a26967d)
- *   manifests/unitree_g1.toml (sha256 4a8a52b1ca85c275879f4abf168a7779c2373815063a40d27d9b36b27bab1beb)
- *   manifests/unitree_g1_12dof.toml (sha256 65bffd194b7083a9b76f108bd7909fbd985715e5d464a738db54c5c2c111911a)
- *   manifests/unitree_g1_23dof.toml (sha256 86a8f8256da7bb69722ee12a3d6dc3e7aa74b5f63aaf10120d51e1791ccc74c9)
+ *   manifests/unitree_g1.toml (sha256 2558e49296525191323c898888a25454804f5cf2a46ca350b4d43d7f95b0784b)
+ *   manifests/unitree_g1_12dof.toml (sha256 e23c001fae002eaa476c41b35c8985b3690e10ed0a86e99406f9f9f5409cedce)
+ *   manifests/unitree_g1_23dof.toml (sha256 055b4f53dfc34461fcbe2834fa84cf56e195af158a7fe119dc33ad1644098e12)
  *   manifests/ur5.toml (sha256 e5c738d6f3d073b6177ae149f16acda64f96522dcbf15f1fbfce2000bcb0650d)
  * DO NOT EDIT: edit the sources and regenerate. */
 /* Registry of the built-in manifests (roz/builtin.h), sorted by robot_id. */

@@ -59,7 +59,7 @@ typedef struct checker {
 
 static const char *const top_keys[] = { "manifest", "hardware" };
 static const char *const manifest_keys[] = { "robot_id", "robot_class", "control_rate_hz",
-                                             "commands", "states", "inputs" };
+                                             "commands", "states", "inputs", "remote_estop" };
 static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
                                             "limits",  "default",            "max_rate_of_change",
                                             "position_state_index",          "limit_margin",
@@ -991,6 +991,54 @@ static int robot_id_ok(roz_toml_string_t s)
     return 1;
 }
 
+#define BUTTONS "remote.btn.<r1|l1|start|select|r2|l2|f1|f2|a|b|x|y|up|right|down|left>"
+
+/* remote_estop: an array of the remote's buttons, each once, at least one;
+ * the mask of their bits (ROZ_REMOTE_KEY), or 0 after a problem (reported
+ * when @p ck is not NULL). */
+static uint16_t remote_estop(checker_t *ck, const roz_toml_doc_t *d, const place_t *pl,
+                             const roz_toml_node_t *v)
+{
+    uint16_t mask = 0;
+    int bad = 0;
+    uint32_t i = 0;
+
+    if (v->type != ROZ_TOML_ARRAY) {
+        if (ck != NULL)
+            report(ck, "type", pl, "remote_estop", "expected an array of strings", v, NULL);
+        return 0;
+    }
+    if (roz_toml_count(v) == 0) {
+        if (ck != NULL)
+            report(ck, "remote-estop", pl, "remote_estop",
+                   "at least one button (" BUTTONS "): an empty chord is no e-stop", v, NULL);
+        return 0;
+    }
+    for (const roz_toml_node_t *b = roz_toml_first(d, v); b != NULL; b = roz_toml_next(d, b), i++) {
+        char key[40];
+        roz_operator_field_t f;
+        const char *what = NULL;
+        snprintf(key, sizeof key, "remote_estop[%lu]", (unsigned long)i);
+        if (b->type != ROZ_TOML_STRING || has_nul(b->as.str)) {
+            what = "expected the name of a button (" BUTTONS ")";
+        } else if (roz_operator_field_parse(b->as.str.ptr, b->as.str.len, &f) != ROZ_OK ||
+                   f < ROZ_OPERATOR_REMOTE_BTN_R1 || f > ROZ_OPERATOR_REMOTE_BTN_LEFT) {
+            what = "not a button of the remote (" BUTTONS ")";
+        } else if ((mask & ROZ_REMOTE_KEY(f)) != 0u) {
+            what = "listed twice";
+        } else {
+            mask = (uint16_t)(mask | ROZ_REMOTE_KEY(f));
+        }
+        if (what != NULL) {
+            bad = 1;
+            if (ck != NULL)
+                report(ck, b->type == ROZ_TOML_STRING ? "remote-estop" : "type", pl, key, what,
+                       b, "remote_estop");
+        }
+    }
+    return bad ? 0u : mask;
+}
+
 static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
 {
     place_t pl = { SEC_MANIFEST, 0, "manifest", manifest_keys, N_OF(manifest_keys) };
@@ -1045,6 +1093,8 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
         input_names(ck, inputs, states);
     if (inputs_ok && inputs != NULL)
         input_sources(ck, inputs);
+    if (roz_toml_get(ck->doc, t, "remote_estop") != NULL)
+        (void)remote_estop(ck, ck->doc, &pl, roz_toml_get(ck->doc, t, "remote_estop"));
 }
 
 static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
@@ -1236,6 +1286,8 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
     man->robot_class = cls != NULL ? intern(st, cls->as.str) : "generic";
     rc = man->robot_id != NULL && man->robot_class != NULL ? ROZ_OK : ROZ_ENOSPC;
     man->control_rate_hz = rate != NULL ? (uint32_t)rate->as.integer : DEFAULT_RATE;
+    const roz_toml_node_t *chord = roz_toml_get(d, m, "remote_estop");
+    man->remote_estop = chord != NULL ? remote_estop(NULL, d, NULL, chord) : 0u;
     man->commands = st->commands;
     man->n_commands = (uint16_t)roz_toml_count(commands);
     man->states = roz_toml_count(states) > 0 ? st->states : NULL;

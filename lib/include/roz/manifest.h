@@ -122,6 +122,11 @@ typedef struct roz_manifest {
     const roz_channel_t *inputs;
     uint16_t             n_inputs;     /**< 0..ROZ_CFG_MAX_INPUTS, and n_states + n_inputs
                                             <= ROZ_CFG_MAX_STATES */
+    /** The remote's e-stop (robot.toml's `remote_estop`): the buttons
+     *  (ROZ_REMOTE_KEY() bits of roz_operator_remote_t.buttons) that, all
+     *  held in one remote frame, latch ROZ_FAULT_ESTOP; only a clear
+     *  releases it. 0: the remote has no e-stop. */
+    uint16_t             remote_estop;
 } roz_manifest_t;
 
 /** Caller-provided storage for a manifest built at run time (no heap). */

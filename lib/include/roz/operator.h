@@ -118,12 +118,30 @@ double roz_operator_remote_field(const roz_operator_remote_t *r, roz_operator_fi
  *  Context: any; RT-safe. */
 double roz_operator_twist_field(const roz_operator_twist_t *t, roz_operator_field_t f);
 
+/**
+ * Where a device's reader (a port's receive thread, a gamepad reader)
+ * hands its frames: roz_runtime_operator_sink() makes one for a runtime; a
+ * port takes one before it is activated (roz_port_set_operator()). Each
+ * function is called from the reader's thread and must be wait-free, as
+ * the runtime's are. A NULL function: the device's frames go nowhere.
+ */
+typedef struct roz_operator_sink {
+    int (*remote)(void *ctx, const roz_operator_remote_t *r);
+    int (*twist)(void *ctx, const roz_operator_twist_t *t);
+    void *ctx;
+} roz_operator_sink_t;
+
 struct roz_runtime;
 
 /**
  * @brief A frame of the remote: every input whose source is a field of the
  *        remote takes scale * that field (roz_runtime_input_set()'s path:
- *        the next tick judges it).
+ *        the next tick judges it). When the frame holds every button of the
+ *        manifest's remote_estop, it presses the e-stop first:
+ *        ROZ_FAULT_ESTOP latches at the next tick (a chord released before
+ *        it still latches) and stays latched until roz_runtime_clear_faults(),
+ *        which is refused (ROZ_ESTATE) while the remote's last frame held
+ *        the chord; a release or a silent remote never clears it.
  * @param rt  a roz_runtime_t
  * @retval ROZ_OK     every such input stored (none is fine)
  * @retval ROZ_EINVAL a NULL argument
@@ -137,6 +155,15 @@ int roz_runtime_operator_remote(struct roz_runtime *rt, const roz_operator_remot
 /** @brief As roz_runtime_operator_remote(), for a twist.
  *  Context: as roz_runtime_operator_remote(). */
 int roz_runtime_operator_twist(struct roz_runtime *rt, const roz_operator_twist_t *t);
+
+/**
+ * @brief A sink whose functions are roz_runtime_operator_remote() and
+ *        roz_runtime_operator_twist() on @p rt.
+ * Context: start-up. The runtime must be set up (roz_runtime_init()) before
+ *          any reader given the sink runs (before the port's activate, the
+ *          gamepad's start) and outlive it.
+ */
+roz_operator_sink_t roz_runtime_operator_sink(struct roz_runtime *rt);
 
 #ifdef __cplusplus
 }

@@ -248,6 +248,11 @@ typedef struct roz_port_ops {
      *  blocking_log). roz_runtime_log_drain() calls it. Optional.
      *  Context: the application's thread that drains the log; formats text. */
     size_t (*drain)(void *self);
+    /** Where the port hands the operator devices it reads (the G1's
+     *  wireless remote: roz/operator.h); a copy is kept. Called after
+     *  open(), before activate(); ROZ_ESTATE otherwise. Optional: a port
+     *  that reads no operator device has none. Context: start-up. */
+    int (*set_operator)(void *self, const roz_operator_sink_t *sink);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
@@ -418,6 +423,13 @@ static inline int roz_port_truth(const roz_port_t *p, roz_port_truth_t *out)
 static inline const char *roz_port_truth_body(const roz_port_t *p, int32_t id)
 {
     return p->ops->truth_body != NULL ? p->ops->truth_body(p->self, id) : NULL;
+}
+
+/** @brief set_operator(); ROZ_ENOTSUP when the port reads no operator
+ *  device. Context: start-up, after open, before activate. */
+static inline int roz_port_set_operator(const roz_port_t *p, const roz_operator_sink_t *sink)
+{
+    return p->ops->set_operator != NULL ? p->ops->set_operator(p->self, sink) : ROZ_ENOTSUP;
 }
 
 /** @brief report(); an empty text (0) when the port has none.

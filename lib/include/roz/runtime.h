@@ -237,6 +237,7 @@ typedef struct roz_runtime {
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(clear_request);/* the faults word a clear saw, 0 none; taken by exchange */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(estop_level);  /* the e-stop input: 1 pressed */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(estop_press);  /* a press the tick has not seen; taken by exchange */
+    ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(remote_estop); /* the remote's last frame held its e-stop chord */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(loader_busy);  /* 1 while a load or rebuild runs; taken by exchange */
     uint32_t               ROZ_PRIVATE(latch_seq);    /* tick: last latch sequence number */
     uint32_t               ROZ_PRIVATE(latch_stamp)[ROZ_FAULT_KIND_COUNT]; /* tick: each bit's latch */
@@ -505,7 +506,8 @@ const roz_stages_counters_t *roz_runtime_stages_counters(const roz_runtime_t *rt
  *        rebuilt from its bytes and verified first (it is never run again);
  *        one that overran but returned normally is reused.
  * @retval ROZ_OK      the faults seen are cleared at the next tick
- * @retval ROZ_ESTATE  the e-stop input is still pressed: every fault seen
+ * @retval ROZ_ESTATE  the e-stop input is still pressed (or the remote's last
+ *                     frame held its e-stop chord, roz/operator.h): every fault seen
  *                     but ROZ_FAULT_ESTOP is cleared; or a load or rebuild
  *                     is running on another thread: nothing is cleared
  * @retval other       the error of rebuilding (nothing is cleared;

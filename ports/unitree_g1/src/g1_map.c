@@ -100,6 +100,31 @@ int roz__g1_motor_fault(const roz_unitree_g1_t *g1, const g1_state_t *s, uint32_
     return -1;
 }
 
+/* ---- the wireless remote ---------------------------------------------------------- */
+
+/* The little-endian float at @p b, whatever the host's byte order. */
+static float le_float(const uint8_t *b)
+{
+    uint32_t w = (uint32_t)b[0] | (uint32_t)b[1] << 8 | (uint32_t)b[2] << 16 |
+                 (uint32_t)b[3] << 24;
+    float f;
+    memcpy(&f, &w, sizeof f);
+    return f;
+}
+
+int roz__g1_remote(const uint8_t raw[40], roz_operator_remote_t *out)
+{
+    out->buttons = (uint16_t)(raw[2] | raw[3] << 8);
+    out->lx = le_float(raw + 4);
+    out->rx = le_float(raw + 8);
+    out->ry = le_float(raw + 12);
+    out->l2 = le_float(raw + 16);
+    out->ly = le_float(raw + 20);
+    out->r2 = (out->buttons & ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_R2)) != 0u ? 1.0f : 0.0f;
+    return !isfinite(out->lx) + !isfinite(out->rx) + !isfinite(out->ry) + !isfinite(out->l2) +
+           !isfinite(out->ly);
+}
+
 /* ---- commands ------------------------------------------------------------------ */
 
 void roz__g1_hold(const roz_unitree_g1_t *g1, const double *q, const double *last, double kd,

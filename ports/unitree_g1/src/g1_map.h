@@ -19,6 +19,14 @@ typedef unitree_hg_msg_dds__LowState_ g1_state_t;
 #define G1_STATE_CRC_WORDS (sizeof(g1_state_t) / 4u - 1u)
 
 
+/* LowState_.wireless_remote's bytes as Unitree's SDK lays them out (its
+ * remote data union, little-endian): 2 header bytes, the 16-bit key union
+ * (R1 bit 0 ... left bit 15), then floats lx, rx, ry, L2, ly, then 16
+ * unused bytes. The frame has no analog R2: r2 is its key bit (0 or 1).
+ * Returns the number of sticks and triggers that are not finite (they are
+ * passed on as they are: the inputs refuse and count each). */
+int roz__g1_remote(const uint8_t raw[40], roz_operator_remote_t *out);
+
 /* The manifest joint (index) the robot's hardware variant @p mode_machine
  * has no motor for (23-DoF: slots 13, 14, 20, 21, 27, 28; locked waist: 13,
  * 14), with *why saying so (static, ends "mode_machine" for the code); -1

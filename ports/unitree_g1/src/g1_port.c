@@ -138,6 +138,15 @@ static void on_lowstate(void *ctx, void *sample, uint64_t now_ns)
     if (slot >= 0)
         bump(&g1->c_motor_fault);
     atomic_store_explicit(&g1->rx_mode_machine, s->mode_machine, memory_order_release);
+    if (g1->operator_sink.remote != NULL) {
+        /* the operator's remote, from an accepted frame only: wait-free
+         * into the runtime's inputs */
+        roz_operator_remote_t r;
+        if (roz__g1_remote(s->wireless_remote, &r) > 0)
+            bump(&g1->c_remote_nonfinite);
+        (void)g1->operator_sink.remote(g1->operator_sink.ctx, &r);
+        bump(&g1->c_remote);
+    }
 
     double *f = roz_buffer_write_begin(&g1->state_buf);
     memcpy(f, g1->rx_values, (size_t)m->n_states * sizeof f[0]);
@@ -305,8 +314,9 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
                                  .slots = g1->cmd_slots, .n_extra = ROZ_UNITREE_G1_SLOTS,
                                  .timeout_us = g1->dds.command_timeout_us };
     roz_dds_cmd_init(&g1->cmd, &cmd);
-    ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames, &g1->c_full, &g1->c_motor_fault,
-                                         &g1->c_sessions, &g1->c_sim_like };
+    ROZ_ATOMIC(uint64_t) *counters[] = { &g1->c_frames,   &g1->c_full,     &g1->c_motor_fault,
+                                         &g1->c_sessions, &g1->c_sim_like, &g1->c_remote,
+                                         &g1->c_remote_nonfinite };
     for (size_t i = 0; i < sizeof counters / sizeof counters[0]; i++)
         atomic_init(counters[i], 0u);
 
@@ -472,6 +482,19 @@ static void g1_close(void *self)
     g1->open = 0;
 }
 
+/* Read by the receive thread, which activate starts: set before it. */
+static int g1_set_operator(void *self, const roz_operator_sink_t *sink)
+{
+    roz_unitree_g1_t *g1 = self;
+
+    if (sink == NULL)
+        return ROZ_EINVAL;
+    if (!g1->open || g1->active)
+        return ROZ_ESTATE;
+    g1->operator_sink = *sink;
+    return ROZ_OK;
+}
+
 static int g1_fault(void *self, roz_port_fault_t *out)
 {
     roz_unitree_g1_t *g1 = self;
@@ -547,6 +570,7 @@ const roz_port_ops_t roz_unitree_g1_ops = {
     .link_counters = g1_link_counters,
     .drain = g1_drain,
     .report = g1_report,
+    .set_operator = g1_set_operator,
 };
 
 /* ---- public ------------------------------------------------------------------------ */
@@ -592,6 +616,8 @@ void roz_unitree_g1_counters(const roz_unitree_g1_t *g1, roz_unitree_g1_counters
     out->command_timeouts = roz_dds_cmd_timeouts(&g1->cmd);
     out->safe_published = roz_dds_cmd_count(&g1->cmd, ROZ_DDS_CMD_SAFE);
     out->sim_like_frames = load(&g1->c_sim_like);
+    out->remote_frames = load(&g1->c_remote);
+    out->remote_nonfinite = load(&g1->c_remote_nonfinite);
 }
 
 void roz_unitree_g1_matched(const roz_unitree_g1_t *g1, uint32_t *cmd_readers,

@@ -370,6 +370,22 @@ static int reply_command(fake_t *f, uint64_t k)
 
 /* Carry out one request and reply; 1 when the fake should stop, -1 when
  * stdout is gone. */
+/* The remote's data as Unitree's SDK declares it (its rocker-and-button
+ * struct, the first 24 of LowState_.wireless_remote's 40 bytes): two
+ * header bytes, the 16-bit key union (bit 0 R1, 1 L1, 2 start, 3 select,
+ * 4 R2, 5 L2, 6 F1, 7 F2, 8 A, 9 B, 10 X, 11 Y, 12 up, 13 right, 14 down,
+ * 15 left), five floats, the rest unused. The robot copies its memory
+ * image (little-endian, checked in g1_frame.h). */
+typedef struct fake_remote {
+    uint8_t head[2];
+    uint16_t keys;
+    float lx, rx, ry, l2, ly;
+    uint8_t idle[16];
+} fake_remote_t;
+_Static_assert(sizeof(fake_remote_t) == 40 && offsetof(fake_remote_t, keys) == 2 &&
+                   offsetof(fake_remote_t, lx) == 4 && offsetof(fake_remote_t, ly) == 20,
+               "the SDK's remote layout");
+
 static int handle(fake_t *f, const g1_request_t *q)
 {
     char err[200];
@@ -398,6 +414,21 @@ static int handle(fake_t *f, const g1_request_t *q)
             imu->gyroscope[i] = (float)q->f[4 + i];
             imu->accelerometer[i] = (float)q->f[7 + i];
         }
+        pthread_mutex_unlock(&f->lock);
+        return reply("ok");
+    }
+    case G1_REQ_REMOTE: {
+        /* as Unitree's SDK fills it: its remote struct's memory image */
+        fake_remote_t r;
+        memset(&r, 0, sizeof r);
+        r.keys = (uint16_t)q->u[0];
+        r.lx = (float)q->f[0];
+        r.rx = (float)q->f[1];
+        r.ry = (float)q->f[2];
+        r.l2 = (float)q->f[3];
+        r.ly = (float)q->f[4];
+        pthread_mutex_lock(&f->lock);
+        memcpy(f->model.wireless_remote, &r, sizeof r);
         pthread_mutex_unlock(&f->lock);
         return reply("ok");
     }

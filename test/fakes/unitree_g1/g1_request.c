@@ -14,6 +14,7 @@
  *   i  motor slot 0..34        b  0..255 (a uint8 field)
  *   u  0..2^32-1 (a uint32)    n  a command count 0..2^32-1
  *   t  timeout 0..G1_REQ_MAX_TIMEOUT_MS ms
+ *   k  0..65535 (a uint16: the remote's keys)
  *   f  a real that fits a float32 (NaN and infinities pass: the robot may
  *      send them, and a port must cope) */
 typedef struct verb {
@@ -27,6 +28,7 @@ static const verb_t verbs[] = {
     { "motor", G1_REQ_MOTOR, "ifff", "motor I Q DQ TAU" },
     { "motorstate", G1_REQ_MOTORSTATE, "iu", "motorstate I CODE" },
     { "imu", G1_REQ_IMU, "ffffffffff", "imu W X Y Z GX GY GZ AX AY AZ" },
+    { "remote", G1_REQ_REMOTE, "kfffff", "remote KEYS LX RX RY L2 LY" },
     { "mode_machine", G1_REQ_MODE_MACHINE, "b", "mode_machine M" },
     { "mode_pr", G1_REQ_MODE_PR, "b", "mode_pr P" },
     { "send", G1_REQ_SEND, "", "send" },
@@ -86,6 +88,7 @@ static const char *arg_meaning(char kind)
     switch (kind) {
     case 'i': return "a motor slot 0..34";
     case 'b': return "an integer 0..255";
+    case 'k': return "an integer 0..65535";
     case 'u': return "an integer 0..4294967295";
     case 'n': return "a count 0..4294967295";
     case 't': return "a timeout in ms 0..600000";
@@ -133,8 +136,11 @@ int g1_request_parse(char *line, g1_request_t *req, char *err, size_t errlen)
         if (k == 'f') {
             bad = parse_real(s, &req->f[nf++]);
         } else {
-            uint64_t max = k == 'i' ? 34u : k == 'b' ? 255u : k == 't' ? G1_REQ_MAX_TIMEOUT_MS
-                                                                       : 0xFFFFFFFFu;
+            uint64_t max = k == 'i'   ? 34u
+                           : k == 'b' ? 255u
+                           : k == 'k' ? 65535u
+                           : k == 't' ? G1_REQ_MAX_TIMEOUT_MS
+                                      : 0xFFFFFFFFu;
             bad = parse_uint(s, max, &req->u[nu++]);
         }
         if (bad) {

@@ -13,6 +13,7 @@ typedef enum g1_req_kind {
     G1_REQ_MOTOR,         /* motor I Q DQ TAU */
     G1_REQ_MOTORSTATE,    /* motorstate I CODE */
     G1_REQ_IMU,           /* imu W X Y Z GX GY GZ AX AY AZ */
+    G1_REQ_REMOTE,        /* remote KEYS LX RX RY L2 LY */
     G1_REQ_MODE_MACHINE,  /* mode_machine M */
     G1_REQ_MODE_PR,       /* mode_pr P */
     G1_REQ_SEND,          /* send */

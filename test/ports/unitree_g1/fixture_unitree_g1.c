@@ -51,6 +51,7 @@ static double applied[ROZ_CFG_MAX_COMMANDS];
 static uint32_t frame_no;
 static uint32_t peer_timeout_ms;
 static const char *const *fake_args; /* the next open's, then none */
+static void (*before_activate)(const roz_port_t *port); /* the next open's, then none */
 
 /* ---- helpers for the G1 tests too (unitree_g1_fixture.h) -------------------- */
 
@@ -67,6 +68,11 @@ roz_fake_g1_t *roz_g1fx_fake(void)
 void roz_g1fx_set_fake_args(const char *const *extra)
 {
     fake_args = extra;
+}
+
+void roz_g1fx_set_before_activate(void (*fn)(const roz_port_t *port))
+{
+    before_activate = fn;
 }
 
 static void quiet_log(void *ctx, roz_log_level_t level, const char *msg)
@@ -311,6 +317,9 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)
         port_open = 1;
+    if (rc == ROZ_OK && before_activate != NULL)
+        before_activate(&the_port);
+    before_activate = NULL;
     if (rc == ROZ_OK)
         rc = roz_port_activate(&the_port);
     if (rc != ROZ_OK)

@@ -22,6 +22,9 @@
  *    the commands and makes read() report it, until it changes back;
  *  - a motor fault code latches ROZ_FAULT_ROBOT in the runtime naming the
  *    joint and the code;
+ *  - the wireless remote, laid out as Unitree's SDK does, reaches the
+ *    runtime's operator inputs scaled (a NaN stick refused and counted, a
+ *    frame with a bad CRC bringing none);
  *  - decimation 4 converts every 4th frame whole, checks every frame (bad
  *    CRC, fault codes) and converts the positions of every frame;
  *  - the periodic writer keeps publishing the last command, and a restarted
@@ -65,6 +68,7 @@
 #include "roz/hold.h"
 #include "roz/port/unitree_g1.h"
 #include "support.h"
+#include "support_wat.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
@@ -493,6 +497,128 @@ static void test_g1_motor_fault_latches(void **st)
     roz_g1fx_ask("motorstate 3 0");
     roz_g1fx_send();
     tick_rt();
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    roz_runtime_deinit(&rt);
+}
+
+/* ---- the wireless remote ------------------------------------------------------------ */
+
+/* The G1 with operator inputs on its remote: unitree_rl_gym's walking
+ * command (vx = 0.8 ly, vy = -0.5 lx, yaw rate = -1.57 rx), a button and a
+ * trigger; each input moves at most 10 a tick, so a value lands at once. */
+static const roz_channel_t remote_inputs[] = {
+    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_LY, 0.8 },
+    { "operator/velocity.y", ROZ_IF_VELOCITY, "m/s", -0.5, 0.5, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED,
+      0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_LX, -0.5 },
+    { "operator/yaw_rate", ROZ_IF_VELOCITY, "rad/s", -1.57, 1.57, 0.0, 10.0,
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_RX, -1.57 },
+    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
+    { "operator/brake", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_L2, 1.0 },
+};
+
+/* The inputs as the runtime's last tick left them. */
+static const double *inputs_now(void)
+{
+    return roz_runtime_last_state(&rt) + m->n_states;
+}
+
+/* A robot that sends a remote frame as Unitree's SDK lays it out (the
+ * fake's own struct, copied as one memory image): the port decodes it from
+ * accepted frames only and hands it, wait-free, to the runtime's inputs,
+ * which a controller reads scaled; a NaN stick is refused and counted (the
+ * other fields of the frame still count), a frame that fails its CRC
+ * brings no remote, and the port accepts a manifest with inputs. */
+/* Between the port's open and its activate: the runtime, then the port's
+ * operator sink into it (the order rozrun keeps). */
+static void remote_runtime(const roz_port_t *p)
+{
+    static roz_test_clock_t clk = { 1, 1000 };
+    roz_runtime_config_t cfg;
+    roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = m;
+    cfg.port = *p;
+    cfg.clock = roz_test_clock;
+    cfg.clock_ctx = &clk;
+    cfg.monitor_jitter = 0;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    assert_int_equal(roz_port_set_operator(p, &sink), ROZ_OK);
+}
+
+static void test_g1_wireless_remote(void **st)
+{
+    static roz_manifest_t with_inputs;
+    roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
+    roz_link_t before;
+    /* a controller of no robot in particular (the inputs change the
+     * manifest's identity): it commands nothing, the filter holds */
+    static uint8_t w[128];
+    size_t len = roz_test_wat("(module (func (export \"process\") (param i64)))", w, sizeof w);
+    const double *in;
+    (void)st;
+
+    with_inputs = roz_manifest_unitree_g1;
+    with_inputs.inputs = remote_inputs;
+    with_inputs.n_inputs = sizeof remote_inputs / sizeof remote_inputs[0];
+    m = &with_inputs;
+    roz_g1fx_set_before_activate(remote_runtime);
+    open_g1(NULL, 0);
+    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    assert_int_equal(roz_port_set_operator(&port, &sink), ROZ_ESTATE); /* active: too late */
+
+    /* A (bit 8) and L2 (bit 5) held; lx 0.4, rx -1, ry 0.25, L2 0.75, ly 0.5 */
+    roz_g1fx_ask("remote 288 0.4 -1 0.25 0.75 0.5");
+    roz_g1fx_send();
+    tick_rt();
+    in = inputs_now();
+    assert_true(in[0] == 0.8 * (double)0.5f);
+    assert_true(in[1] == -0.5 * (double)0.4f);
+    assert_true(in[2] == 1.57);
+    assert_true(in[3] == 1.0);
+    assert_true(in[4] == (double)0.75f);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+    assert_int_equal(counters().remote_frames, 1);
+
+    /* a NaN stick: that input keeps its value, counted by the inputs and by
+     * the port; the frame's other fields are taken */
+    roz_g1fx_ask("remote 0 nan -1 0.25 0.75 0.25");
+    roz_g1fx_send();
+    tick_rt();
+    in = inputs_now();
+    assert_true(in[1] == -0.5 * (double)0.4f);
+    assert_true(in[0] == 0.8 * 0.25);
+    assert_true(in[3] == 0.0); /* A released */
+    assert_int_equal(roz_runtime_input_counters(&rt)->nonfinite, 1);
+    assert_int_equal(counters().remote_nonfinite, 1);
+
+    /* a frame that fails its CRC brings no remote */
+    roz_g1fx_ask("remote 256 0.1 0.1 0.1 0.1 -0.5");
+    roz_unitree_g1_link(roz_g1fx_port(), &before);
+    roz_g1fx_ask("corrupt");
+    roz_g1fx_wait_judged(&before, 0);
+    tick_rt();
+    in = inputs_now();
+    assert_true(in[0] == 0.8 * 0.25);
+    assert_true(in[3] == 0.0);
+    assert_int_equal(counters().remote_frames, 2);
+
+    /* the G1's remote e-stop, L2 (bit 5) + B (bit 9), from the robot */
+    assert_int_equal(m->remote_estop, 32 | 512);
+    roz_g1fx_ask("remote 544 0 0 0 0 0");
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    roz_g1fx_ask("remote 0 0 0 0 0 0"); /* released: latched still */
+    roz_g1fx_send();
+    tick_rt();
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     roz_g1fx_send();
     tick_rt();
@@ -1389,16 +1515,16 @@ static const char *const real_joints[] = { "left_knee_joint" };
 static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &real_hw, NULL, 0 };
+                                    &real_hw, NULL, 0, 0 };
 /* joint j1 is not a G1's */
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
-                                        1, &odd_hw, NULL, 0 };
+                                        1, &odd_hw, NULL, 0, 0 };
 static const roz_channel_t typo_commands[] = {
     { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &real_hw, NULL, 0 };
+                                     &real_hw, NULL, 0, 0 };
 
 static void *nothing(void *arg)
 {
@@ -1486,6 +1612,7 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_padding_and_crc, teardown),
         cmocka_unit_test_teardown(test_g1_mode_machine, teardown),
         cmocka_unit_test_teardown(test_g1_motor_fault_latches, teardown),
+        cmocka_unit_test_teardown(test_g1_wireless_remote, teardown),
         cmocka_unit_test_teardown(test_g1_decimation, teardown),
         cmocka_unit_test_teardown(test_g1_periodic_writer, teardown),
         cmocka_unit_test_teardown(test_g1_startup_and_shutdown_damping, teardown),

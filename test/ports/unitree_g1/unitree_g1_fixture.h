@@ -19,6 +19,10 @@ roz_fake_g1_t *roz_g1fx_fake(void);
 /* Options for the fake of the next open only (NULL-terminated), such as
  * --period-us for a robot that publishes by itself. */
 void roz_g1fx_set_fake_args(const char *const *extra);
+/* Called by the next open only, between the port's open and its activate
+ * (a runtime set up and given as the port's operator sink before the
+ * port's receive path runs); NULL: nothing. */
+void roz_g1fx_set_before_activate(void (*fn)(const roz_port_t *port));
 /* One request to the fake; anything but "ok" fails the test. */
 void roz_g1fx_ask(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* The fake's motors and IMU for frame k (distinct per joint and frame). */

@@ -77,6 +77,10 @@ typedef struct roz_unitree_g1_counters {
     uint64_t sim_like_frames;   /**< frames dropped for their CRC that look like
                                      unitree_mujoco's (crc, tick and mode_machine
                                      all 0): the simulator without peer = unitree_mujoco */
+    uint64_t remote_frames;     /**< accepted frames whose wireless_remote went to the
+                                     operator sink (roz_port_set_operator()) */
+    uint64_t remote_nonfinite;  /**< of those, frames with a NaN or infinite stick or
+                                     trigger (the inputs refuse and count each value) */
 } roz_unitree_g1_counters_t;
 
 /** What is at the other end of rt/lowstate (the parameter `peer`). */
@@ -108,6 +112,8 @@ typedef struct roz_unitree_g1 {
     int16_t                ROZ_PRIVATE(imu)[ROZ_IMU_VALUES];
     roz_param_t            ROZ_PRIVATE(params)[ROZ_UNITREE_G1_MAX_PARAMS];
     int                    ROZ_PRIVATE(open), ROZ_PRIVATE(active);
+    /* where LowState_.wireless_remote goes (set before activate) */
+    roz_operator_sink_t    ROZ_PRIVATE(operator_sink);
 
     /* ---- DDS ---- */
     roz_dds_participant_t  ROZ_PRIVATE(part);
@@ -160,7 +166,8 @@ typedef struct roz_unitree_g1 {
 
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)   ROZ_PRIVATE(c_frames), ROZ_PRIVATE(c_full), ROZ_PRIVATE(c_motor_fault),
-                           ROZ_PRIVATE(c_sessions), ROZ_PRIVATE(c_sim_like);
+                           ROZ_PRIVATE(c_sessions), ROZ_PRIVATE(c_sim_like),
+                           ROZ_PRIVATE(c_remote), ROZ_PRIVATE(c_remote_nonfinite);
 } roz_unitree_g1_t;
 
 /** The ops table (name "unitree/G1"). */
