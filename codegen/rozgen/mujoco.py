@@ -130,7 +130,11 @@ def check(m: Manifest) -> list[tuple[str, str]]:
 #: the robots the port has built-in models for (mujoco.c's builtins): a
 #: robot.toml of one of them may leave ``model`` out, and the port loads
 #: the model of its build
-BUILTIN = ("unitree_g1", "unitree_g1_23dof", "ur5", "diff_drive", "quadcopter", "engineai_pm01")
+# The robots whose model the port's build carries: one descriptor each,
+# ports/mujoco/models/<robot_id>.model.toml (test_mujoco_model.py,
+# test_builtin_list_is_the_ports, holds the two equal).
+BUILTIN = ("agibot_x2", "diff_drive", "engineai_pm01", "quadcopter", "unitree_g1",
+           "unitree_g1_12dof", "unitree_g1_23dof", "ur5")
 
 _WHEELS = (("linear.x", "angular.z"), ("odom.x", "odom.y", "odom.yaw"))
 _AUTOPILOT = (("velocity.x", "velocity.y", "velocity.z", "yaw_rate"),

@@ -74,6 +74,21 @@ def test_builtin_robots_pass_against_their_models(robot):
         assert "can give, [-139, 139]" in problems[0][1]
 
 
+def test_builtin_list_is_the_ports():
+    """rozgen's built-in robots are the port's: one descriptor each."""
+    assert sorted(mujoco.BUILTIN) == sorted(_builtin_models())
+
+
+@pytest.mark.parametrize("robot", ["agibot_x2", "unitree_g1_12dof"])
+def test_builtin_robots_without_a_model_are_accepted(robot):
+    """A robot.toml of one of them naming no model is the port's to load
+    (it was refused: "this build has no built-in model")."""
+    m, problems = validate((MANIFESTS / f"{robot}.toml").read_text(encoding="utf-8"))
+    assert not problems
+    hw = Hardware("mujoco", m.hardware.joints if m.hardware is not None else (), ())
+    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), f"{robot}.toml") == []
+
+
 def test_builtin_robots_leave_the_model_to_the_port():
     """A robot.toml of a built-in robot may name no model: the port loads
     its build's (docs/ports/mujoco.md)."""
