@@ -247,8 +247,9 @@ static void usage(FILE *f, const char *port)
         "  --record-compress C  the recording's chunks: zstd (the default when built with\n"
         "                       libzstd) or none\n"
         "  --summary-json FILE  write the summary as JSON too (counters, faults, the\n"
-        "                       simulator's base height: lowest, final, a series), for\n"
-        "                       programs that judge runs (roz-campaign)\n"
+        "                       simulator's base height: lowest, final, a series; the\n"
+        "                       peak joint speed), for programs that judge runs\n"
+        "                       (roz-campaign)\n"
         "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
         "                       (no port; --robot optional, checked against the recording)\n"
         "                       and compare its targets and applied commands bit for bit:\n"
@@ -578,7 +579,8 @@ static int tick_fn(void *ctx)
     if (watching) {
         const roz_runtime_config_t *cfg = roz_runtime_config(&rt);
         rozrun_watch_tick(&watch, &cfg->port, cfg->manifest,
-                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL);
+                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL,
+                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_state(&rt) : NULL);
     }
     input_events = rozrun_schedule_inputs(&sched, &rt, ticks_run);
     if (operating)
@@ -979,7 +981,7 @@ static int summary_json(const options_t *o, const roz_port_t *port, const roz_ve
     } else
 #endif
         fputs("null", f);
-    rozrun_watch_json(f, &first, &watch, m->control_rate_hz);
+    rozrun_watch_json(f, &first, &watch, m, m->control_rate_hz);
     fputs("\n}\n", f);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad || rename(tmp, o->summary_json) != 0) {
