@@ -76,6 +76,7 @@ typedef struct {
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
+    int         check;      /* --check: open the port, close it, run nothing */
     int         allow_other_robot;
     int         priority;
     uint64_t    budget_us;
@@ -216,6 +217,11 @@ static void usage(FILE *f, const char *port)
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
+        "  --check              open the robot's port and close it: every check the port\n"
+        "                       makes of the robot at open (mujoco: the model compiled,\n"
+        "                       its joints, actuators and ranges), no controller, nothing\n"
+        "                       run; exit 0, or 2 with the port's refusal (rozgen --check\n"
+        "                       asks the mujoco port this way)\n"
         "  --allow-other-robot  run a controller built for another robot, or for an older\n"
         "                       channel table of this one (refused by default)\n"
         "  --param KEY=VALUE    port parameter, repeatable; --port NAME --help lists\n"
@@ -348,6 +354,9 @@ static int parse_args(int argc, char **argv, options_t *o)
         } else if (!strcmp(a, "--allow-other-robot")) {
             o->allow_other_robot = 1;
             continue;
+        } else if (!strcmp(a, "--check")) {
+            o->check = 1;
+            continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
                                               "--record", "--live", "--replay", "--record-every", "--record-compress",
@@ -473,6 +482,14 @@ static int parse_args(int argc, char **argv, options_t *o)
     }
     if (o->replay != NULL && o->controller != NULL)
         return 0; /* the robot comes from the recording */
+    if (o->check) {
+        if (o->robot == NULL || o->controller != NULL || o->replay != NULL) {
+            fprintf(stderr, "rozrun: --check takes --robot and --port (and --param), no "
+                            "controller (see --help)\n");
+            return -1;
+        }
+        return 0;
+    }
     if (o->robot == NULL || o->controller == NULL) {
         fprintf(stderr, "rozrun: --robot and --controller are required (see --help)\n");
         return -1;
@@ -1085,6 +1102,23 @@ int main(int argc, char **argv)
     const roz_port_entry_t *pe = find_port(o.port);
     if (pe == NULL)
         return 2;
+    if (o.check) {
+        /* every check the port makes of the robot at open, and nothing
+         * run: rozgen --check asks the port this way (rozgen.mujoco) */
+        roz_port_t port;
+        if (make_port(pe, &port) != 0)
+            return 2;
+        if (roz_builtin_find(o.robot) == NULL)
+            roz_port_set_origin(&port, o.robot);
+        roz_params_t params = { o.params, o.n_params };
+        if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
+            fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
+            return 2;
+        }
+        roz_port_close(&port);
+        printf("rozrun: port %s: %s opens\n", o.port, m->robot_id);
+        return 0;
+    }
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
     if (roz_module_read_file(o.controller, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: %s\n", err);
