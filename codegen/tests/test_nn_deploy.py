@@ -482,20 +482,7 @@ def test_torch_jit_lstm_exporter_deploys_and_matches_torch(tmp_path):
     assert_native_is_reference(got, want, 0.25)
 
 
-@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
-def test_torch_jit_gru_exporter_deploys(tmp_path):
-    """A GRU policy as torch.jit.save wrote it (gru_exporter.pt: a module
-    holding an nn.GRU, an actor Sequential and a hidden_state buffer; 5
-    inputs, 3 actions) through the one command: the layers deployed are
-    torch's network (their forward pass gives torch's recorded outputs), and
-    the native build sends the numpy reference's targets, the GRU's state
-    carried from one inference to the next. Its five inputs are the gyro and
-    the gait phase (the observation terms come in threes, joints and phase
-    aside), so torch's recorded inputs, random numbers, cannot be the
-    robot's: the actions are checked against the reference, which is
-    checked against torch on those inputs."""
-    cfg = tmp_path / "gru.yaml"
-    cfg.write_text("""\
+GRU_CFG = """\
 joint_names: [left_hip_pitch_joint, left_knee_joint, right_hip_pitch_joint]
 kps: [100, 150, 100]
 kds: [2, 4, 2]
@@ -504,9 +491,28 @@ action_scale: 0.25
 control_decimation: 10
 observations: [ang_vel, phase]
 gait_period: 0.8
-""")
-    p = nn_deploy.deploy(str(NN / "gru_exporter.pt"), str(cfg), "unitree_g1",
-                         str(tmp_path / "p.wasm"), c_out=str(tmp_path / "policy.c"), wasm=False)
+"""
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+@pytest.mark.parametrize("name", ["gru_exporter.pt", "gru.onnx", "gru_dynamo.onnx"])
+def test_gru_files_deploy(tmp_path, name):
+    """A GRU policy as torch wrote it (gru_exporter.pt: torch.jit.save of a
+    module holding an nn.GRU, an actor Sequential and a hidden_state
+    buffer; its ONNX exports, TorchScript's and dynamo's, whose metadata
+    names four joints for three actions, so a configuration says the
+    deploy) through the one command: the layers deployed are torch's
+    network (their forward pass gives torch's recorded outputs), the native
+    build sends the numpy reference's targets with the GRU's state carried
+    from one inference to the next, and the three files give the same
+    targets. Its five inputs are the gyro and the gait phase (the
+    observation terms come in threes, joints and phase aside), so torch's
+    recorded inputs, random numbers, cannot be the robot's: the actions are
+    checked against the reference, which is checked against torch."""
+    cfg = tmp_path / "gru.yaml"
+    cfg.write_text(GRU_CFG)
+    p = nn_deploy.deploy(str(NN / name), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
     assert [(l.kind, l.n_in, l.n_out) for l in p.layers] == [("gru", 5, 10), ("dense", 10, 8),
                                                            ("dense", 8, 3)]
     from rozgen import nn
@@ -519,9 +525,14 @@ gait_period: 0.8
     moved = {tuple(np.round(w[pos], 9)) for w in want[p.decimation::p.decimation]}
     assert len(moved) > 30  # the policy acts: its targets change from one inference to the next
     assert_native_is_reference(run_native(tmp_path, p, states), want, 0.25)
+    if name != "gru_exporter.pt":  # the archive's targets, from the same network
+        q = nn_deploy.deploy(str(NN / "gru_exporter.pt"), str(cfg), "unitree_g1",
+                             str(tmp_path / "q.wasm"), c_out=str(tmp_path / "q.c"), wasm=False)
+        theirs = nn_deploy.reference(q, states)
+        assert max(np.max(np.abs(a - b)) for a, b in zip(want, theirs)) < 1e-5
     if CLANG:  # and the controller itself
-        nn_deploy.deploy(str(NN / "gru_exporter.pt"), str(cfg), "unitree_g1",
-                         str(tmp_path / "g.wasm"), c_out=str(tmp_path / "g.c"), sdk=str(SDK))
+        nn_deploy.deploy(str(NN / name), str(cfg), "unitree_g1", str(tmp_path / "g.wasm"),
+                         c_out=str(tmp_path / "g.c"), sdk=str(SDK))
         assert (tmp_path / "g.wasm").read_bytes()[:4] == b"\0asm"
 
 
