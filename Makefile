@@ -18,9 +18,11 @@ CONFIGURE_FLAGS = -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROZ_WERROR=ON \
                   -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz \
                   -DROZ_PYTHON_WHEELS=$(CURDIR)/.cache/wheels
 
-# Sanitizer builds (clang): ASan+UBSan over every C unit test, TSan over the
+# Sanitizer builds (clang, and clang++ for the mujoco port's one C++ file:
+# one sanitizer runtime): ASan+UBSan over every C unit test, TSan over the
 # threaded ones. Any report fails the run.
-SAN_FLAGS = -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_BUILD_TYPE=Debug -DROZ_WERROR=ON \
+SAN_FLAGS = -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+            -DCMAKE_BUILD_TYPE=Debug -DROZ_WERROR=ON \
             -DROZ_INSTALL=OFF -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
             -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 # A tree is configured again, with these flags, when the template's

@@ -37,8 +37,11 @@ endif()
 
 function(roz_target_warnings target)
   target_compile_options(${target} PRIVATE
+    $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:-Wall -Wextra -Wundef -Wshadow>
+    # C only (the mujoco port has one C++ file)
+    $<$<AND:$<COMPILE_LANGUAGE:C>,$<C_COMPILER_ID:GNU,Clang,AppleClang>>:
+      -Wstrict-prototypes -Wmissing-prototypes>
     $<$<C_COMPILER_ID:GNU,Clang,AppleClang>:
-      -Wall -Wextra -Wundef -Wshadow -Wstrict-prototypes -Wmissing-prototypes
       -Wvla -Wpointer-arith -Wcast-qual -Wformat=2 -pedantic>
     # Error messages are cut to their fixed buffers on purpose.
     $<$<C_COMPILER_ID:GNU>:-Wno-format-truncation>

@@ -151,11 +151,6 @@ def load(path, build="build"):
         _fail(path, "campaign.duration_s", f"expected seconds in (0, 3600], got {c['duration_s']!r}")
     if c.get("port", "mujoco") != "mujoco":
         _fail(path, "campaign.port", f"\"{c['port']}\": campaigns run on the mujoco port only")
-    if c.get("operator"):
-        # the place of the operator's command sequence (a script of inputs):
-        # not in this version (docs/campaigns.md)
-        _fail(path, "campaign.operator", "operator scripts are not supported yet "
-              "(docs/campaigns.md, \"The operator\")")
     here = os.path.dirname(os.path.abspath(path))
 
     def resolve(p):
@@ -163,6 +158,19 @@ def load(path, build="build"):
         if p.startswith("{build}"):
             return os.path.abspath(p.replace("{build}", build, 1))
         return p if os.path.isabs(p) else os.path.normpath(os.path.join(here, p))
+
+    # the operator's command sequence: rozrun --operator's CSV, the same for
+    # every sample (docs/campaigns.md, "The operator")
+    operator = None
+    if "operator" in c:
+        if not isinstance(c["operator"], str) or not c["operator"]:
+            _fail(path, "campaign.operator", f"expected a file (rozrun --operator's CSV), got "
+                  f"{c['operator']!r}")
+        operator = resolve(c["operator"])
+        if not os.path.isfile(operator):
+            _fail(path, "campaign.operator", f"\"{c['operator']}\": no such file ({operator})")
+        with open(operator, "rb") as f:
+            operator_sha = hashlib.sha256(f.read()).hexdigest()
 
     ctls = doc.get("controllers")
     if not isinstance(ctls, list) or not ctls:
@@ -239,7 +247,8 @@ def load(path, build="build"):
     return {"name": c.get("name", os.path.splitext(os.path.basename(path))[0]),
             "file": os.path.abspath(path), "robot": c["robot"], "port": "mujoco",
             "duration_s": float(c["duration_s"]), "seed": seed, "controllers": controllers,
-            "families": families}
+            "families": families, "operator": operator,
+            "operator_sha256": operator_sha if operator else None}
 
 
 # ---- the samples ------------------------------------------------------------------
@@ -355,7 +364,9 @@ def samples(campaign):
                     "id": f"{fam['name']}/{i}/{ct['name']}", "family": fam["name"], "index": i,
                     "controller": ct["name"], "seed": seed, "values": values,
                     "args": ["--robot", campaign["robot"], "--port", campaign["port"],
-                             "--controller", "{controller}", "--ticks", str(ticks)] + args,
+                             "--controller", "{controller}", "--ticks", str(ticks)] +
+                            (["--operator", "{operator}"] if campaign.get("operator") else []) +
+                            args,
                 })
     return out
 
@@ -375,6 +386,8 @@ def command(campaign, sample, rozrun):
     out = [rozrun]
     for a in sample["args"]:
         a = a.replace("{controller}", wasm)
+        if a == "{operator}":
+            a = campaign["operator"]
         if "{swap:" in a:
             pre, rest = a.split("{swap:", 1)
             a = pre + _swap_path(campaign, rest[:-1])
@@ -409,6 +422,8 @@ def run_sample(task):
         args = []
         for a in task["args"]:
             a = a.replace("{controller}", files[task["controller_file"]])
+            if a == "{operator}":
+                a = files[task["operator_file"]]
             if "{swap:" in a:
                 pre, rest = a.split("{swap:", 1)
                 a = pre + files[rest[:-1]]
@@ -432,8 +447,11 @@ def _task(campaign, sample, rozrun, blobs):
             name = a.split("{swap:", 1)[1][:-1]
             p = _swap_path(campaign, name)
             files[name] = blobs[p]
+    op = campaign.get("operator")
+    if op:
+        files[op] = blobs[op]
     return {"id": sample["id"], "rozrun": rozrun, "args": sample["args"], "files": files,
-            "controller_file": wasm}
+            "controller_file": wasm, "operator_file": op}
 
 
 # ---- the results file ---------------------------------------------------------------
@@ -608,16 +626,18 @@ def run_ray(tasks, address, done):
 
 def _probe(campaign, rozrun):
     """The robot's rate, from a one-tick run of the first controller (which
-    also says early what rozrun refuses: a bad robot, controller or port)."""
+    also says early what rozrun refuses: a bad robot, controller, port or
+    operator script)."""
     wasm = campaign["controllers"][0]["wasm"]
+    op = ["--operator", campaign["operator"]] if campaign.get("operator") else []
     with tempfile.TemporaryDirectory(prefix="roz-campaign-") as tmp:
         out = os.path.join(tmp, "probe.json")
         p = subprocess.run([rozrun, "--robot", campaign["robot"], "--port", campaign["port"],
-                            "--controller", wasm, "--ticks", "1", "--summary-json", out],
+                            "--controller", wasm, "--ticks", "1", "--summary-json", out] + op,
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         if not os.path.exists(out):
             sys.exit(f"roz-campaign: {campaign['file']}: rozrun refuses the campaign's robot, "
-                     f"port or first controller:\n{p.stderr.strip()}")
+                     f"port, operator script or first controller:\n{p.stderr.strip()}")
         with open(out) as f:
             return json.load(f)["rate_hz"]
 
@@ -648,10 +668,11 @@ def cmd_run(a):
     os.makedirs(out, exist_ok=True)
     meta = {"format": FORMAT, "campaign": {k: campaign[k] for k in
             ("name", "file", "robot", "port", "duration_s", "seed", "rate_hz", "controllers",
-             "families")}, "rozrun": rozrun}
+             "families", "operator", "operator_sha256")}, "rozrun": rozrun}
     # what the samples are drawn from: a resumed campaign must be the same one
     meta["fingerprint"] = hashlib.sha256(json.dumps(
-        {k: meta["campaign"][k] for k in ("robot", "duration_s", "seed", "rate_hz", "families")}
+        {k: meta["campaign"][k] for k in ("robot", "duration_s", "seed", "rate_hz", "families",
+                                          "operator_sha256")}
         | {"controllers": [c["name"] for c in campaign["controllers"]]},
         sort_keys=True).encode()).hexdigest()
     old = os.path.join(out, "campaign.json")
@@ -673,6 +694,9 @@ def cmd_run(a):
     for c in campaign["controllers"]:
         with open(c["wasm"], "rb") as f:
             blobs[c["wasm"]] = f.read()
+    if campaign.get("operator"):
+        with open(campaign["operator"], "rb") as f:
+            blobs[campaign["operator"]] = f.read()
     for s in todo:
         for x in s["args"]:
             if "{swap:" in x:

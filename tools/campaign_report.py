@@ -78,6 +78,7 @@ where lower is) of a sample that passed; "first failed", the least severe of one
 {% for w in worst %}<div class="case" id="case-{{ loop.index }}">
 <h3>{{ w.id }}: {{ "pass" if w.passed else "FAIL" }}</h3>
 <p>{{ w.reasons }}</p><p>Values: {{ w.drawn }}</p>
+<p>Peak joint speed: {{ w.speed }}</p>
 <figure><img src="{{ w.png }}" alt="base height of {{ w.id }}" width="600"></figure>
 <p>Run it again, bit for bit:<br><code class="command">{{ w.command }}</code></p></div>
 {% else %}<p>No samples yet.</p>{% endfor %}
@@ -180,7 +181,8 @@ def _plot_family(fam, rows, controllers, key, path):
 
 CSV_FIXED = ("id", "family", "index", "controller", "seed", "passed", "reasons", "status",
              "attempts", "node", "wall_s", "base_height_min", "base_height_min_time_s",
-             "base_height_final", "tilt_max_deg", "faults", "wire_violations", "clamps",
+             "base_height_final", "tilt_max_deg", "joint_speed_max", "joint_speed_max_joint",
+             "joint_speed_max_time_s", "faults", "wire_violations", "clamps",
              "rate_caps", "limit_stops", "fuel_run_max", "ticks")
 
 
@@ -199,7 +201,19 @@ def _csv_row(r):
     for k in ("base_height_min", "base_height_min_time_s", "base_height_final", "tilt_max_deg"):
         v = _truth(r, k)
         out[k] = "" if v is None else repr(v)
+    speed = s.get("joint_speed_max") or {}
+    out["joint_speed_max"] = repr(speed["value"]) if speed.get("value") is not None else ""
+    out["joint_speed_max_joint"] = speed.get("joint", "")
+    out["joint_speed_max_time_s"] = repr(speed["time_s"]) if "time_s" in speed else ""
     return out
+
+
+def _speed(row):
+    """The sample's peak joint speed, as the report says it."""
+    s = ((row.get("summary") or {}).get("joint_speed_max")) or {}
+    if s.get("value") is None:
+        return "-"
+    return f"{s['value']:.2f} rad/s ({s['joint']}, at {s['time_s']:.2f} s)"
 
 
 def write(out):
@@ -303,7 +317,8 @@ def write(out):
                       "reasons": "; ".join(r["reasons"]) or "all invariants held",
                       "drawn": ", ".join(f"{k2} = {_fmt(v)}" for k2, v in
                                           sorted(r["values"].items())) or "nominal",
-                      "png": png, "command": campaign.shell(r["command"])})
+                      "png": png, "speed": _speed(r),
+                      "command": campaign.shell(r["command"])})
 
     env = jinja2.Environment(undefined=jinja2.StrictUndefined, autoescape=True)
     text = env.from_string(PAGE).render(

@@ -126,7 +126,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         checker = _checker.find(args.checker)
         robots = _load_all(args.files, Maxima(args.max_commands, args.max_states,
-                                              args.max_name_len), report, checker)
+                                              args.max_name_len), report, checker, args.check)
         if report.count:
             return EXIT_ERROR
         if args.json:
@@ -152,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _load_all(files: list[str], maxima: Maxima, report: _Reporter,
-              checker: str) -> list[tuple]:
+              checker: str, check: bool = False) -> list[tuple]:
     """Load and validate every file: [(path, manifest, sha256, bytes)] of valid ones."""
     robots = []
     for path in files:
@@ -164,6 +164,9 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter,
             # what the file's model must hold (the mujoco port's, read from disk)
             problems = [Problem(rule, message)
                         for rule, message in mujoco.check_model(manifest, path)]
+            if check and not problems:  # the port's own open (rozrun --check)
+                problems = [Problem(rule, message)
+                            for rule, message in mujoco.check_open(manifest, path)]
             if problems:
                 manifest = None
         report(path, problems)

@@ -15,10 +15,24 @@ sensors, and an actuator whose force range cannot give the manifest's
 effort limit. A model that cannot be read is an error naming it. What only
 MuJoCo's compiler can say (the timestep's fit, a keyframe) is still the
 port's to check when it loads the model.
+
+``check_open(manifest, toml_path)`` (``rozgen --check`` only) asks the port
+itself: ``rozrun --robot FILE --port mujoco --check`` opens it as a run
+would (MuJoCo compiles the model; a built-in robot's model is the port's
+build's) and reports what it refuses, in its words, for the rules no second
+implementation checks here: an effort channel wider than its motor's
+``ctrlrange`` times gear and gain, a built-in robot's effort past what its
+model gives. rozrun is ``$ROZ_ROZRUN``, else the one beside the command that
+runs rozgen (an installed roz's ``bin/``), else on PATH; without one the
+port checks at open, as before.
 """
 
 import math
 import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 
 from rozgen import mjcf
 from rozgen.model import Manifest
@@ -130,7 +144,11 @@ def check(m: Manifest) -> list[tuple[str, str]]:
 #: the robots the port has built-in models for (mujoco.c's builtins): a
 #: robot.toml of one of them may leave ``model`` out, and the port loads
 #: the model of its build
-BUILTIN = ("unitree_g1", "unitree_g1_23dof", "ur5", "diff_drive", "quadcopter", "engineai_pm01")
+# The robots whose model the port's build carries: one descriptor each,
+# ports/mujoco/models/<robot_id>.model.toml (test_mujoco_model.py,
+# test_builtin_list_is_the_ports, holds the two equal).
+BUILTIN = ("agibot_x2", "diff_drive", "engineai_pm01", "quadcopter", "unitree_g1",
+           "unitree_g1_12dof", "unitree_g1_23dof", "ur5")
 
 _WHEELS = (("linear.x", "angular.z"), ("odom.x", "odom.y", "odom.yaw"))
 _AUTOPILOT = (("velocity.x", "velocity.y", "velocity.z", "yaw_rate"),
@@ -295,3 +313,49 @@ def check_model(m: Manifest, toml_path: str) -> list[tuple[str, str]]:
             return [refusal]
     refusal = _imu(m, model, params)
     return [refusal] if refusal is not None else []
+
+
+ROZRUN_ENV = "ROZ_ROZRUN"
+
+
+def _rozrun() -> str | None:
+    """rozrun, whose --check opens a port (see the module's text), or None."""
+    given = os.environ.get(ROZRUN_ENV)
+    if given:
+        return given
+    beside = Path(os.path.realpath(sys.argv[0])).parent / "rozrun"
+    if beside.is_file() and os.access(beside, os.X_OK):
+        return str(beside)
+    return shutil.which("rozrun")
+
+
+def check_open(m: Manifest, toml_path: str) -> list[tuple[str, str]]:
+    """What the mujoco port's own open refuses of the robot.toml at
+    ``toml_path`` (rozrun --check), as (rule, message); [] when it opens, or
+    when no rozrun is found."""
+    hw = m.hardware
+    if hw is None or hw.port != PORT:
+        return []
+    exe = _rozrun()
+    if exe is None:
+        return []
+    path = os.path.abspath(toml_path)
+    try:
+        done = subprocess.run([exe, "--robot", path, "--port", PORT, "--check"],
+                              capture_output=True, text=True, errors="backslashreplace")
+    except OSError as e:
+        return [("mujoco-model", f": the port's own check (rozrun --check) cannot run: {exe}: "
+                 f"{e.strerror or e}")]
+    if done.returncode == 0:
+        return []
+    said = [line for line in done.stderr.splitlines() if line.startswith(f"rozrun: port {PORT}: ")]
+    text = said[-1][len(f"rozrun: port {PORT}: "):] if said else \
+        f"rozrun --check exit {done.returncode}: {done.stderr.strip()[-400:]}"
+    for head in (f"{PORT}: {path}", PORT):  # the port's words name the file: it is the problem's
+        if text.startswith(head + ": "):
+            text = text[len(head):]
+            break
+    else:
+        text = ": " + text
+    rule = "mujoco-effort" if "ctrlrange" in text or "effort" in text else "mujoco-model"
+    return [(rule, text)]

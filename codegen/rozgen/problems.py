@@ -88,7 +88,8 @@ RULES: dict[str, str] = {
     "mujoco-imu": "mujoco port: base_imu channels, and the model has no such gyro (on a "
     "site) or accelerometer",
     "mujoco-effort": "mujoco port: a joint's effort limit that its actuator's force range "
-    "cannot give, or no effort limit at all",
+    "cannot give, or no effort limit at all (and, under --check where a rozrun is found, "
+    "the port's own: an effort channel wider than its motor's ctrlrange times gear and gain)",
     "storage": "a limit of the build of roz_manifest_json that checks the file: more than "
     "ROZ_CFG_MAX_JOINTS hardware joints or ROZ_CFG_MAX_PARAMS parameters, names beyond "
     "ROZ_CFG_NAME_ARENA_BYTES, a document beyond its reader's room",

@@ -9,6 +9,10 @@ own limits (includes, defaults)."""
 
 import dataclasses
 import importlib.util
+import os
+import shutil
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -72,6 +76,21 @@ def test_builtin_robots_pass_against_their_models(robot):
         assert 'joint "left_knee_joint": the manifest\'s effort limits [-500, 500] N.m' \
             in problems[0][1]
         assert "can give, [-139, 139]" in problems[0][1]
+
+
+def test_builtin_list_is_the_ports():
+    """rozgen's built-in robots are the port's: one descriptor each."""
+    assert sorted(mujoco.BUILTIN) == sorted(_builtin_models())
+
+
+@pytest.mark.parametrize("robot", ["agibot_x2", "unitree_g1_12dof"])
+def test_builtin_robots_without_a_model_are_accepted(robot):
+    """A robot.toml of one of them naming no model is the port's to load
+    (it was refused: "this build has no built-in model")."""
+    m, problems = validate((MANIFESTS / f"{robot}.toml").read_text(encoding="utf-8"))
+    assert not problems
+    hw = Hardware("mujoco", m.hardware.joints if m.hardware is not None else (), ())
+    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), f"{robot}.toml") == []
 
 
 def test_builtin_robots_leave_the_model_to_the_port():
@@ -167,3 +186,52 @@ def test_defaults_inherit_and_childclass(tmp_path):
     mj, mk = model.actuators
     assert (mj.gear, mj.force_range) == (3.0, (-1.0, 1.0))
     assert (mk.gear, mk.force_range) == (1.0, (-5.0, 5.0))
+
+
+ROZRUN = os.environ.get("ROZ_ROZRUN")
+needs_rozrun = pytest.mark.skipif(
+    not ROZRUN or not os.path.exists(ROZRUN),
+    reason="ROZ_ROZRUN (a rozrun built with the mujoco port) is not given (ctest gives it)")
+
+
+@needs_rozrun
+def test_check_asks_the_port_for_the_ctrlrange(tmp_path):
+    """rozgen --check reaches the port's own open (rozrun --check): the
+    calf's effort channel, wider than its motor's ctrlrange, is refused in
+    the port's words, where rozgen's reader of the model alone passed it;
+    a channel inside it passes."""
+    calf = REPO / "test" / "ports" / "mujoco"
+    for name in ("calf.toml", "calf.xml", "calf_tight.toml"):
+        (tmp_path / name).write_bytes((calf / name).read_bytes())
+    p = run_rozgen("--check", tmp_path / "calf.toml")
+    assert p.returncode == 2, p.stdout + p.stderr
+    assert f'{tmp_path / "calf.toml"}: channel "calf_joint/effort": limits [-50, 50] ' \
+        "N.m exceed what" in p.stderr, p.stderr
+    assert "its ctrlrange [-45.43, 45.43] times gear and gain 1" in p.stderr
+    assert run_rozgen("--check", tmp_path / "calf_tight.toml").returncode == 0
+    # without the port at hand, the reader's own rules only: it passes, as before
+    if shutil.which("rozrun") is None:
+        env = dict(os.environ, ROZ_ROZRUN="",
+                   PYTHONPATH=str(REPO / "codegen") + os.pathsep + os.environ.get("PYTHONPATH", ""))
+        alone = subprocess.run([sys.executable, "-m", "rozgen", "--check", str(tmp_path / "calf.toml")],
+                               env=env, capture_output=True, text=True)
+        assert alone.returncode == 0, alone.stderr
+
+
+@needs_rozrun
+def test_check_asks_the_port_for_a_builtin_model(tmp_path):
+    """A robot.toml of a built-in robot names no model: rozgen's reader
+    never saw one, the port's open uses its build's. A knee effort of 500
+    N.m, past what the G1's model gives, is refused by rozgen --check as
+    by the port."""
+    text = (MANIFESTS / "unitree_g1.toml").read_text(encoding="utf-8")
+    body = text[:text.index("\n[hardware]")]  # its last table: the G1's own port
+    knee = body.index('name = "left_knee_joint/effort"')
+    lim = body.index("limits", knee)
+    body = body[:lim] + "limits = [-500.0, 500.0]" + body[body.index("\n", lim):]
+    path = tmp_path / "g1.toml"
+    path.write_text(body + '\n[hardware]\nport = "mujoco"\n', encoding="utf-8")
+    p = run_rozgen("--check", path)
+    assert p.returncode == 2, p.stdout + p.stderr
+    assert 'joint "left_knee_joint": the manifest\'s effort limits [-500, 500] N.m exceed' \
+        in p.stderr, p.stderr

@@ -482,6 +482,60 @@ def test_torch_jit_lstm_exporter_deploys_and_matches_torch(tmp_path):
     assert_native_is_reference(got, want, 0.25)
 
 
+GRU_CFG = """\
+joint_names: [left_hip_pitch_joint, left_knee_joint, right_hip_pitch_joint]
+kps: [100, 150, 100]
+kds: [2, 4, 2]
+default_angles: [-0.1, 0.3, -0.1]
+action_scale: 0.25
+control_decimation: 10
+observations: [ang_vel, phase]
+gait_period: 0.8
+"""
+
+
+@pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
+@pytest.mark.parametrize("name", ["gru_exporter.pt", "gru.onnx", "gru_dynamo.onnx"])
+def test_gru_files_deploy(tmp_path, name):
+    """A GRU policy as torch wrote it (gru_exporter.pt: torch.jit.save of a
+    module holding an nn.GRU, an actor Sequential and a hidden_state
+    buffer; its ONNX exports, TorchScript's and dynamo's, whose metadata
+    names four joints for three actions, so a configuration says the
+    deploy) through the one command: the layers deployed are torch's
+    network (their forward pass gives torch's recorded outputs), the native
+    build sends the numpy reference's targets with the GRU's state carried
+    from one inference to the next, and the three files give the same
+    targets. Its five inputs are the gyro and the gait phase (the
+    observation terms come in threes, joints and phase aside), so torch's
+    recorded inputs, random numbers, cannot be the robot's: the actions are
+    checked against the reference, which is checked against torch."""
+    cfg = tmp_path / "gru.yaml"
+    cfg.write_text(GRU_CFG)
+    p = nn_deploy.deploy(str(NN / name), str(cfg), "unitree_g1", str(tmp_path / "p.wasm"),
+                         c_out=str(tmp_path / "policy.c"), wasm=False)
+    assert [(l.kind, l.n_in, l.n_out) for l in p.layers] == [("gru", 5, 10), ("dense", 10, 8),
+                                                           ("dense", 8, 3)]
+    from rozgen import nn
+    io = np.load(NN / "gru_exporter.io.npz")
+    assert np.allclose(nn.forward(p.layers, io["x"]), io["y"], rtol=1e-5, atol=2e-6)
+    states = moving_states(p, 60 * p.decimation, 14)
+    want = nn_deploy.reference(p, states)
+    pos = [p.manifest.commands.index(next(c for c in p.manifest.commands
+                                          if c.name == f"{j.name}/position")) for j in p.joints]
+    moved = {tuple(np.round(w[pos], 9)) for w in want[p.decimation::p.decimation]}
+    assert len(moved) > 30  # the policy acts: its targets change from one inference to the next
+    assert_native_is_reference(run_native(tmp_path, p, states), want, 0.25)
+    if name != "gru_exporter.pt":  # the archive's targets, from the same network
+        q = nn_deploy.deploy(str(NN / "gru_exporter.pt"), str(cfg), "unitree_g1",
+                             str(tmp_path / "q.wasm"), c_out=str(tmp_path / "q.c"), wasm=False)
+        theirs = nn_deploy.reference(q, states)
+        assert max(np.max(np.abs(a - b)) for a, b in zip(want, theirs)) < 1e-5
+    if CLANG:  # and the controller itself
+        nn_deploy.deploy(str(NN / name), str(cfg), "unitree_g1", str(tmp_path / "g.wasm"),
+                         c_out=str(tmp_path / "g.c"), sdk=str(SDK))
+        assert (tmp_path / "g.wasm").read_bytes()[:4] == b"\0asm"
+
+
 @pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
 def test_onnx_with_metadata_deploys_without_a_config(tmp_path):
     """torch.onnx.export's LSTM with mjlab's metadata_props: the metadata is

@@ -24,8 +24,10 @@ def test_file_errors_name_file_and_key(tmp_path):
         ("[campaign]\nduration_s=1\n", "campaign.robot: missing"),
         ("[campaign]\nrobot='r'\nduration_s=-1\n", "campaign.duration_s: expected seconds"),
         ("[campaign]\nrobot='r'\nduration_s=1\nport='unitree/G1'\n", "mujoco port only"),
-        ("[campaign]\nrobot='r'\nduration_s=1\noperator='walk.toml'\n",
-         "operator scripts are not supported yet"),
+        ("[campaign]\nrobot='r'\nduration_s=1\noperator='walk.csv'\n",
+         "campaign.operator: \"walk.csv\": no such file"),
+        ("[campaign]\nrobot='r'\nduration_s=1\noperator=3\n",
+         "campaign.operator: expected a file"),
         ("[campaign]\nrobot='r'\nduration_s=1\n[[controllers]]\nname='a'\nwasm='a.wasm'\n"
          "[[families]]\nname='f'\n[[families.perturb]]\nkind='shove'\n",
          "families[0].perturb[0].kind: 'shove'"),
@@ -107,9 +109,14 @@ def test_run_report_and_reproduce(tiny, tmp_path):
     row = next(t for t in table if t["id"] == "push/1/pd")
     assert row["passed"] == "0" and float(row["value:push.force"]) == 1500
     assert float(row["base_height_min"]) == by["push/1/pd"]["summary"]["truth"]["base_height_min"]
+    # the peak joint speed, as rozrun's summary has it
+    speed = by["push/1/pd"]["summary"]["joint_speed_max"]
+    assert float(row["joint_speed_max"]) == speed["value"] > 1.0  # felled
+    assert row["joint_speed_max_joint"] == speed["joint"]
     # the page: pass rates, boundary, the builds compared, the worst cases
     page = open(os.path.join(out, "index.html")).read()
     for words in ('id="pass-rate"', 'id="boundaries"', 'id="compare"', "push.force",
+                  "Peak joint speed: ",
                   "1/2 (50 %)", "case-1", campaign.shell(by["push/1/stand"]["command"])
                   .replace("'", "&#39;").split(" ")[0]):
         assert words in page, words
@@ -201,3 +208,61 @@ def test_interrupted_resumes_and_killed_rozrun_retried(tiny, tmp_path):
     other = tiny(samples=2, name="other.toml")
     p = run("run", other, "--out", out)
     assert p.returncode == 2 and "another campaign" in p.stderr
+
+
+def test_operator_script_reaches_every_sample(tmp_path):
+    """[campaign] operator = "FILE.csv": every sample's rozrun runs with
+    --operator (the file shipped to the worker with the controller), the
+    probe checks the script against the robot, and the printed command
+    carries it: its trace shows the inputs the controller read, the
+    script's. (The controller here, deploy_mujoco's shape, compiles its
+    command in; it runs all the same.)"""
+    from conftest import need_mujoco, BUILD
+    need_mujoco()
+    ctl = os.path.join(BUILD, "examples", "controllers", "g1_12dof_deployed.wasm")
+    if not os.path.exists(ctl):
+        pytest.skip("the deployed 12-joint G1 policy is not built")
+    (tmp_path / "walk.csv").write_text(
+        "time_s,operator/velocity.x,operator/velocity.y,operator/yaw_rate\n"
+        "0,0,0,0\n0.2,0.4,0,0\n")
+    path = tmp_path / "walk.toml"
+    path.write_text(f"""
+[campaign]
+robot = "unitree_g1_12dof"
+duration_s = 0.6
+operator = "walk.csv"
+
+[[controllers]]
+name = "policy"
+wasm = "{ctl}"
+
+[verdict]
+min_base_height = 0.5
+
+[[families]]
+name = "nominal"
+samples = 1
+""")
+    c = campaign.load(str(path))
+    assert c["operator"] == str(tmp_path / "walk.csv")
+    out = str(tmp_path / "out")
+    p = run("run", str(path), "--out", out, "--workers", "1", "--no-report")
+    assert p.returncode == 0, p.stderr + p.stdout
+    (r,) = rows(out)
+    assert r["status"] == 0, r["stderr"]
+    cmd = r["command"]
+    assert cmd[cmd.index("--operator") + 1] == str(tmp_path / "walk.csv")
+    trace = str(tmp_path / "t.csv")
+    q = subprocess.run(cmd + ["--trace", trace, "--summary-json", str(tmp_path / "s.json")],
+                       capture_output=True, text=True)
+    assert q.returncode == 0, q.stderr
+    with open(trace, newline="") as f:
+        got = [(float(t["time_s"]), float(t["input:operator/velocity.x"]))
+               for t in csv.DictReader(f)]
+    assert all(v == 0.0 for t, v in got if t < 0.19) and got[-1][1] > 0.0
+    with open(tmp_path / "s.json") as f:
+        assert json.load(f)["truth"] == r["summary"]["truth"]  # the campaign's run, again
+    # a script the robot refuses is said at the start, naming the file
+    (tmp_path / "walk.csv").write_text("time_s,operator/nothing\n0,1\n")
+    p = run("run", str(path), "--out", str(tmp_path / "out2"), "--workers", "1", "--no-report")
+    assert p.returncode != 0 and "walk.csv" in p.stderr, p.stderr

@@ -49,6 +49,36 @@ def test_summary_json_fields(tmp_path):
     assert os.listdir(tmp_path) == ["s.json"]
 
 
+def _trace_peak(path):
+    """The largest |"<joint>/velocity" state| of a --trace file, and its joint."""
+    import csv
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    cols = [c for c in rows[0] if c.startswith("state:") and c.endswith("/velocity")]
+    return max((abs(float(r[c])), c[len("state:"):-len("/velocity")]) for r in rows
+               for c in cols)
+
+
+def test_summary_json_peak_joint_speed(tmp_path):
+    """The fastest any joint's velocity state read over the run, which joint
+    and when, as the trace's states say: a standing G1 barely moves; shoved
+    over, its joints go fast."""
+    need_mujoco()
+    p, s = rozrun(tmp_path, ticks="400", trace="still.csv")
+    assert p.returncode == 0, p.stderr
+    still = s["joint_speed_max"]
+    assert set(still) == {"value", "joint", "time_s"} and 0.0 <= still["time_s"] < 0.8
+    assert (still["value"], still["joint"]) == pytest.approx(_trace_peak(tmp_path / "still.csv"),
+                                                             rel=1e-6)
+    # the stand's first moves set its knees: about 1.6 rad/s in the first 0.3 s
+    p, s = rozrun(tmp_path, "push=2000,0,0@pelvis@20:40", ticks="400", name="fell.json",
+                  trace="fell.csv")
+    fell = s["joint_speed_max"]
+    assert (fell["value"], fell["joint"]) == pytest.approx(_trace_peak(tmp_path / "fell.csv"),
+                                                           rel=1e-6)
+    assert fell["value"] > 3.0 * still["value"], (still, fell)
+
+
 def test_summary_json_fault_and_fall(tmp_path):
     need_mujoco()
     # a stream dropped for 100 ticks latches the stale fault; a 2 kN shove fells the robot
@@ -68,6 +98,9 @@ def test_summary_json_without_truth(tmp_path):
         pytest.skip("no wat2wasm")
     assert p.returncode == 0, p.stderr
     assert s["truth"] is None and s["port_counters"] is None and s["wire_violations"] == 0
+    # the loopback's UR5 follows the sine's velocities: its velocity states
+    speed = s["joint_speed_max"]
+    assert speed["value"] > 0.0 and speed["joint"].endswith("_joint")
 
 
 def test_summary_json_unwritable(tmp_path):

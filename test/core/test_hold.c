@@ -4,8 +4,12 @@
  * command gave it, nor a setpoint further from the joint than that
  * command's or the band: over random gains, setpoints and stop kinds, on
  * every built-in manifest with a hold, through the filter (controlled stop,
- * ramped; e-stop) and through the hold as the ports' watchdogs and exits
- * send it (the hold gain at once). */
+ * ramped; e-stop) and through the DDS ports' own functions (roz/hal/
+ * joints.h): the watchdog's hold, roz_joints_hold_setpoint() joint by joint
+ * as g1_watchdog() and the ROS 2 bridges compute it, and the hold after a
+ * trip and at exit, roz_joints_hold_keep() (the hold gain at once). The
+ * socketcan port's: test/ports/socketcan/test_socketcan.c,
+ * test_socketcan_stops_keep_the_torque. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -18,6 +22,7 @@
 
 #include "roz/builtin.h"
 #include "roz/filter.h"
+#include "roz/hal/joints.h"
 #include "roz/hold.h"
 
 /* ---- random ---------------------------------------------------------------- */
@@ -80,6 +85,38 @@ static int gain_of(const roz_manifest_t *m, uint16_t i)
     return -1;
 }
 
+/* The manifest's joints bound as a port binds them (roz_joints_bind()): the
+ * names before the '/' of its channels, the IMU's aside; their number. */
+static uint16_t bind_joints(const roz_manifest_t *m, roz_joint_channels_t *ch)
+{
+    static char names[ROZ_CFG_MAX_COMMANDS][64];
+    const char *list[ROZ_CFG_MAX_COMMANDS];
+    int16_t imu[ROZ_IMU_VALUES];
+    char err[256];
+    uint16_t n = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        const roz_channel_t *chs = pass == 0 ? m->commands : m->states;
+        uint16_t count = pass == 0 ? m->n_commands : m->n_states;
+        for (uint16_t i = 0; i < count; i++) {
+            const char *slash = strrchr(chs[i].name, '/');
+            size_t len = slash != NULL ? (size_t)(slash - chs[i].name) : strlen(chs[i].name);
+            if (len == 8 && strncmp(chs[i].name, "base_imu", 8) == 0)
+                continue;
+            uint16_t k = 0;
+            while (k < n && !(strlen(names[k]) == len && strncmp(names[k], chs[i].name, len) == 0))
+                k++;
+            if (k == n) {
+                snprintf(names[n], sizeof names[n], "%.*s", (int)len, chs[i].name);
+                list[n] = names[n];
+                n++;
+            }
+        }
+    }
+    if (roz_joints_bind(m, "test", "this robot", list, n, ch, imu, err, sizeof err) != ROZ_OK)
+        fail_msg("%s: %s", m->robot_id, err);
+    return n;
+}
+
 static roz_filter_t f;
 static double target[ROZ_CFG_MAX_COMMANDS], state[ROZ_CFG_MAX_STATES];
 static double out[ROZ_CFG_MAX_COMMANDS], sent[ROZ_CFG_MAX_COMMANDS];
@@ -88,11 +125,15 @@ static double out[ROZ_CFG_MAX_COMMANDS], sent[ROZ_CFG_MAX_COMMANDS];
  * to a random setpoint and stiffness (within its limits, some far from the
  * joint, some stiffer and some softer than the hold gain), the joints stay
  * where they are, then a random stop: a controlled stop (ramped), an
- * e-stop, or the hold as a port's watchdog or exit sends it. */
+ * e-stop, the DDS ports' watchdog hold, or their hold after a trip and at
+ * exit. */
 static void one_case(const roz_manifest_t *m, int kind)
 {
-    const char *paths[3] = { "filter, controlled stop", "filter, e-stop",
-                             "watchdog or exit hold" };
+    const char *paths[4] = { "filter, controlled stop", "filter, e-stop",
+                             "the DDS ports' watchdog hold (roz_joints_hold_setpoint)",
+                             "the DDS ports' hold after a trip and exit (roz_joints_hold_keep)" };
+    static roz_joint_channels_t ch[ROZ_CFG_MAX_COMMANDS];
+    uint16_t n_joints = bind_joints(m, ch);
     assert_int_equal(roz_filter_init(&f, m), ROZ_OK);
     for (uint16_t s = 0; s < m->n_states; s++) {
         const roz_channel_t *c = &m->states[s];
@@ -119,9 +160,30 @@ static void one_case(const roz_manifest_t *m, int kind)
 
     long ticks = kind == 0 ? 800 : 3;
     for (long t = 0; t < ticks; t++) {
-        if (kind < 2)
+        if (kind < 2) {
             roz_filter_apply(&f, target, state, kind == 0 ? ROZ_STOP_CONTROLLED : ROZ_STOP_IMMEDIATE,
                              out);
+        } else {
+            double q[ROZ_CFG_MAX_COMMANDS];
+            for (uint16_t k = 0; k < n_joints; k++)
+                q[k] = ch[k].q_state >= 0 ? state[ch[k].q_state] : NAN;
+            if (kind == 3) {
+                roz_joints_hold_keep(m, ch, n_joints, sent, q, 1.0, out);
+            } else {
+                /* g1_watchdog(), bridge_watchdog(): the setpoint each, the
+                 * hold gain */
+                memcpy(out, sent, sizeof out[0] * m->n_commands);
+                for (uint16_t k = 0; k < n_joints; k++) {
+                    if (ch[k].q_cmd < 0)
+                        continue;
+                    out[ch[k].q_cmd] = roz_joints_hold_setpoint(
+                        m, &ch[k], sent[ch[k].q_cmd], ch[k].kp_cmd >= 0 ? sent[ch[k].kp_cmd] : NAN,
+                        q[k]);
+                    if (ch[k].kp_cmd >= 0)
+                        out[ch[k].kp_cmd] = m->commands[ch[k].kp_cmd].default_value;
+                }
+            }
+        }
         for (uint16_t i = 0; i < m->n_commands; i++) {
             const roz_channel_t *c = &m->commands[i];
             if (c->safe_default != ROZ_SAFE_HOLD)
@@ -129,15 +191,13 @@ static void one_case(const roz_manifest_t *m, int kind)
             int k = gain_of(m, i);
             double p = state[c->position_state], band = roz_hold_band(c);
             double kp_c = k >= 0 ? sent[k] : 1.0; /* the robot's own gain: the same */
-            double q, kp;
-            if (kind < 2) {
-                q = out[i];
-                kp = k >= 0 ? out[k] : 1.0;
-            } else {
-                roz_hold_from_t from = { sent[i], k >= 0 ? sent[k] : NAN, p };
-                kp = k >= 0 ? m->commands[k].default_value : 1.0;
-                q = clampd(roz_hold_setpoint(&from, kp, band), c->min, c->max);
-            }
+            double q = out[i], kp = k >= 0 ? out[k] : 1.0;
+            if (kind >= 2 && k >= 0 && !(fabs(kp - m->commands[k].default_value) <= 1e-12))
+                fail_msg("%s, %s, %s: stiffness %.9g, not the hold gain %.9g", m->robot_id,
+                         paths[kind], c->name, kp, m->commands[k].default_value);
+            if (!(q >= c->min && q <= c->max))
+                fail_msg("%s, %s, %s: setpoint %.9g outside [%g, %g]", m->robot_id, paths[kind],
+                         c->name, q, c->min, c->max);
             check_hold(m->robot_id, paths[kind], c->name, t, sent[i], kp_c, p, band, q, kp);
         }
     }
@@ -169,8 +229,8 @@ static void test_hold_property(void **unused)
         if (!any)
             continue;
         with_hold++;
-        for (int n = 0; n < 60; n++)
-            one_case(m, n % 3);
+        for (int n = 0; n < 80; n++)
+            one_case(m, n % 4);
     }
     assert_true(with_hold >= 3); /* the G1, the PM01, the X2 */
 }

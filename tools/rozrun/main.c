@@ -83,6 +83,7 @@ typedef struct {
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
+    int         check;      /* --check: open the port, close it, run nothing */
     int         allow_other_robot;
     int         priority;
     uint64_t    budget_us;
@@ -226,6 +227,11 @@ static void usage(FILE *f, const char *port)
         "  --realtime           run at the manifest's rate on a periodic thread,\n"
         "                       SCHED_FIFO and locked memory where permitted\n"
         "  --priority P         SCHED_FIFO priority with --realtime (default 80)\n"
+        "  --check              open the robot's port and close it: every check the port\n"
+        "                       makes of the robot at open (mujoco: the model compiled,\n"
+        "                       its joints, actuators and ranges), no controller, nothing\n"
+        "                       run; exit 0, or 2 with the port's refusal (rozgen --check\n"
+        "                       asks the mujoco port this way)\n"
         "  --allow-other-robot  run a controller built for another robot, or for an older\n"
         "                       channel table of this one (refused by default)\n"
         "  --param KEY=VALUE    port parameter, repeatable; --port NAME --help lists\n"
@@ -257,8 +263,9 @@ static void usage(FILE *f, const char *port)
         "  --record-compress C  the recording's chunks: zstd (the default when built with\n"
         "                       libzstd) or none\n"
         "  --summary-json FILE  write the summary as JSON too (counters, faults, the\n"
-        "                       simulator's base height: lowest, final, a series), for\n"
-        "                       programs that judge runs (roz-campaign)\n"
+        "                       simulator's base height: lowest, final, a series; the\n"
+        "                       peak joint speed), for programs that judge runs\n"
+        "                       (roz-campaign)\n"
         "  --replay FILE        feed a recording's states, tick by tick, to --controller\n"
         "                       (no port; --robot optional, checked against the recording)\n"
         "                       and compare its targets and applied commands bit for bit:\n"
@@ -367,6 +374,9 @@ static int parse_args(int argc, char **argv, options_t *o)
             continue;
         } else if (!strcmp(a, "--allow-other-robot")) {
             o->allow_other_robot = 1;
+            continue;
+        } else if (!strcmp(a, "--check")) {
+            o->check = 1;
             continue;
         }
         static const char *const valued[] = { "--robot", "--controller", "--port", "--trace",
@@ -521,6 +531,14 @@ static int parse_args(int argc, char **argv, options_t *o)
     }
     if (o->replay != NULL && o->controller != NULL)
         return 0; /* the robot comes from the recording */
+    if (o->check) {
+        if (o->robot == NULL || o->controller != NULL || o->replay != NULL) {
+            fprintf(stderr, "rozrun: --check takes --robot and --port (and --param), no "
+                            "controller (see --help)\n");
+            return -1;
+        }
+        return 0;
+    }
     if (o->robot == NULL || o->controller == NULL) {
         fprintf(stderr, "rozrun: --robot and --controller are required (see --help)\n");
         return -1;
@@ -627,7 +645,8 @@ static int tick_fn(void *ctx)
     if (watching) {
         const roz_runtime_config_t *cfg = roz_runtime_config(&rt);
         rozrun_watch_tick(&watch, &cfg->port, cfg->manifest,
-                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL);
+                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_commands(&rt) : NULL,
+                          last_tick_rc != ROZ_ESTATE ? roz_runtime_last_state(&rt) : NULL);
     }
     input_events = rozrun_schedule_inputs(&sched, &rt, ticks_run);
     if (operating)
@@ -1036,7 +1055,7 @@ static int summary_json(const options_t *o, const roz_port_t *port, const roz_ve
     } else
 #endif
         fputs("null", f);
-    rozrun_watch_json(f, &first, &watch, m->control_rate_hz);
+    rozrun_watch_json(f, &first, &watch, m, m->control_rate_hz);
     fputs("\n}\n", f);
     int bad = ferror(f);
     if (fclose(f) != 0 || bad || rename(tmp, o->summary_json) != 0) {
@@ -1140,6 +1159,23 @@ int main(int argc, char **argv)
     const roz_port_entry_t *pe = find_port(o.port);
     if (pe == NULL)
         return 2;
+    if (o.check) {
+        /* every check the port makes of the robot at open, and nothing
+         * run: rozgen --check asks the port this way (rozgen.mujoco) */
+        roz_port_t port;
+        if (make_port(pe, &port) != 0)
+            return 2;
+        if (roz_builtin_find(o.robot) == NULL)
+            roz_port_set_origin(&port, o.robot);
+        roz_params_t params = { o.params, o.n_params };
+        if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
+            fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
+            return 2;
+        }
+        roz_port_close(&port);
+        printf("rozrun: port %s: %s opens\n", o.port, m->robot_id);
+        return 0;
+    }
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
     if (roz_module_read_file(o.controller, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: %s\n", err);

@@ -13,12 +13,40 @@ void rozrun_watch_init(rozrun_watch_t *w, uint64_t ticks)
     w->z_min = INFINITY;
     w->z_final = w->z_start = NAN;
     w->every = ticks / ROZRUN_SERIES_MAX + 1u;
+    w->speed_max = -1.0;
+    w->speed_state = -1;
+}
+
+/* The states that are a joint's velocity: "<joint>/velocity", of type
+ * velocity (the IMU's angular velocity is "base_imu/angular_velocity.x"). */
+static void find_speeds(rozrun_watch_t *w, const roz_manifest_t *m)
+{
+    static const char suffix[] = "/velocity";
+    w->speeds_found = 1;
+    for (uint16_t i = 0; i < m->n_states; i++) {
+        const char *name = m->states[i].name;
+        size_t n = strlen(name), k = sizeof suffix - 1u;
+        if (m->states[i].type == ROZ_IF_VELOCITY && n > k && strcmp(name + n - k, suffix) == 0)
+            w->speeds[w->n_speeds++] = i;
+    }
 }
 
 void rozrun_watch_tick(rozrun_watch_t *w, const roz_port_t *port, const roz_manifest_t *m,
-                       const double *applied)
+                       const double *applied, const double *state)
 {
     uint64_t tick = w->ticks++;
+    if (!w->speeds_found)
+        find_speeds(w, m);
+    if (state != NULL) {
+        for (uint16_t k = 0; k < w->n_speeds; k++) {
+            double v = fabs(state[w->speeds[k]]);
+            if (v > w->speed_max) { /* NaN never is */
+                w->speed_max = v;
+                w->speed_state = w->speeds[k];
+                w->speed_tick = tick;
+            }
+        }
+    }
     if (applied != NULL) {
         for (uint16_t i = 0; i < m->n_commands; i++) {
             double v = applied[i];
@@ -79,10 +107,24 @@ void rozrun_json_key(FILE *f, int *first, const char *key)
     fputs(": ", f);
 }
 
-void rozrun_watch_json(FILE *f, int *first, const rozrun_watch_t *w, uint32_t rate_hz)
+void rozrun_watch_json(FILE *f, int *first, const rozrun_watch_t *w, const roz_manifest_t *m,
+                       uint32_t rate_hz)
 {
     rozrun_json_key(f, first, "wire_violations");
     fprintf(f, "%llu", (unsigned long long)w->wire_violations);
+    rozrun_json_key(f, first, "joint_speed_max");
+    if (w->speed_state < 0) {
+        fputs("null", f);
+    } else {
+        const char *name = m->states[w->speed_state].name;
+        fputs("{\"value\": ", f);
+        rozrun_json_num(f, w->speed_max);
+        fputs(", \"joint\": ", f);
+        fprintf(f, "\"%.*s\"", (int)(strlen(name) - strlen("/velocity")), name);
+        fputs(", \"time_s\": ", f);
+        rozrun_json_num(f, (double)w->speed_tick / rate_hz);
+        fputc('}', f);
+    }
     rozrun_json_key(f, first, "truth");
     if (!w->truth) {
         fputs("null", f);

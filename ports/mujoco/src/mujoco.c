@@ -17,6 +17,7 @@
 #include "roz/error.h"
 #include "roz/format.h"
 #include "roz/hal/params.h"
+#include "mj_guard.h"
 #include "mjcf_scan.h"
 
 /* ---- types and tables --------------------------------------------------------- */
@@ -1012,10 +1013,13 @@ static const roz_port_param_info_t mj_params[] = {
 };
 #define MJ_PARAMS mj_params, sizeof mj_params / sizeof mj_params[0]
 
-static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extra, char *err,
-                   size_t errlen)
+/* The spec being made into a model, for the guard's clean-up (open is
+ * start-up, one at a time). */
+static mjSpec *open_spec;
+
+static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params_t *extra,
+                      char *err, size_t errlen)
 {
-    roz_mujoco_t *s = self;
     static merged_t merged; /* open is start-up, one at a time */
     joint_names_t jn;
     char mj_buf[ROZ_MUJOCO_MAX_JOINTS][ROZ_MUJOCO_NAME_MAX];
@@ -1141,7 +1145,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         return ROZ_EINVAL;
     }
     /* parse, make it roz's, compile: the heap's busiest moments, all here */
-    mjSpec *spec = mj_parseXML(s->model_path, NULL, mjerr, sizeof mjerr);
+    mjSpec *spec = open_spec = mj_parseXML(s->model_path, NULL, mjerr, sizeof mjerr);
     if (spec == NULL) {
         roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
                    s->model_path, mjerr[0] ? mjerr : "cannot be read");
@@ -1149,6 +1153,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
     }
     if (check_meshes(s, spec, err, errlen) != ROZ_OK) {
         mj_deleteSpec(spec);
+        open_spec = NULL;
         return ROZ_EINVAL;
     }
     uint32_t servos = 0, locked = 0;
@@ -1157,6 +1162,7 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         edit_spec(s, spec, mj_names, jn.n, strcmp(unbound, "lock") == 0, lock, &servos, &locked,
                   err, errlen) != ROZ_OK) {
         mj_deleteSpec(spec);
+        open_spec = NULL;
         return ROZ_EINVAL;
     }
     s->model = mj_compile(spec, NULL);
@@ -1164,9 +1170,11 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
         roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
                    s->model_path, mjs_getError(spec));
         mj_deleteSpec(spec);
+        open_spec = NULL;
         return ROZ_EINVAL;
     }
     mj_deleteSpec(spec);
+    open_spec = NULL;
     mjModel *mm = s->model;
     /* a diverged simulation is never reset behind the test's back (it read
      * back as a robot standing at its start): it warns, and the warning
@@ -1291,6 +1299,42 @@ static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extr
                (unsigned)s->steps_per_tick, dt);
     note(s, ROZ_LOG_INFO, msg);
     return ROZ_OK;
+}
+
+typedef struct {
+    roz_mujoco_t         *s;
+    const roz_manifest_t *m;
+    const roz_params_t   *extra;
+    char                 *err;
+    size_t                errlen;
+} open_args_t;
+
+static int open_guarded(void *ctx)
+{
+    open_args_t *a = ctx;
+    return open_model(a->s, a->m, a->extra, a->err, a->errlen);
+}
+
+/* Open, with whatever MuJoCo raises or throws meanwhile (mj_guard.h) a
+ * refusal naming the model (test_mujoco_engine_error_is_a_fault). */
+static int mj_open(void *self, const roz_manifest_t *m, const roz_params_t *extra, char *err,
+                   size_t errlen)
+{
+    roz_mujoco_t *s = self;
+    open_args_t a = { s, m, extra, err, errlen };
+    char what[sizeof s->engine_error];
+    what[0] = '\0';
+    open_spec = NULL;
+    int rc = roz__mj_guard(open_guarded, &a, what, sizeof what);
+    if (what[0] == '\0')
+        return rc;
+    if (open_spec != NULL)
+        mj_deleteSpec(open_spec);
+    open_spec = NULL;
+    close_model(s);
+    roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
+               s->model_path, what);
+    return ROZ_EINVAL;
 }
 
 /* ---- private: the tick ------------------------------------------------------------ */
@@ -1839,6 +1883,18 @@ static uint32_t contact_bodies(const roz_mujoco_t *s, int32_t *ids, uint32_t cap
     return contacts;
 }
 
+typedef struct {
+    roz_mujoco_t *s;
+    uint64_t      t;
+} advance_args_t;
+
+static int advance_guarded(void *ctx)
+{
+    advance_args_t *a = ctx;
+    advance(a->s, a->t);
+    return ROZ_OK;
+}
+
 static int mj_read(void *self, double *state, size_t n)
 {
     roz_mujoco_t *s = self;
@@ -1846,8 +1902,18 @@ static int mj_read(void *self, double *state, size_t n)
     if (s->data == NULL || n != m->n_states)
         return ROZ_EINVAL;
     uint64_t t = s->tick++;
-    if (t > 0)
-        advance(s, t);
+    if (t > 0 && s->engine_error[0] == '\0') {
+        advance_args_t a = { s, t };
+        char what[sizeof s->engine_error];
+        what[0] = '\0';
+        (void)roz__mj_guard(advance_guarded, &a, what, sizeof what);
+        if (what[0] != '\0') {
+            /* once, and the physics is over: no robot to tick any more */
+            s->engine_step = s->steps;
+            roz_format(s->engine_error, sizeof s->engine_error, "%s, in %s", what,
+                       s->model_path);
+        }
+    }
     update_base(s);
 
     double *slot = s->hist[t % DEPTH];
@@ -1874,7 +1940,7 @@ static int mj_read(void *self, double *state, size_t n)
     }
     memcpy(state, s->hist[(t - delay) % DEPTH], n * sizeof *state);
     s->frames++;
-    if (s->warned != 0)
+    if (s->warned != 0 || s->engine_error[0] != '\0')
         return ROZ_EROBOT; /* the physics is no robot any more: mj_fault() names why */
     if (s->rebooted) {
         s->rebooted = 0;
@@ -1926,6 +1992,13 @@ static const char *const warning_names[mjNWARNING] = {
 static int mj_fault(void *self, roz_port_fault_t *out)
 {
     roz_mujoco_t *s = self;
+    if (s->engine_error[0] != '\0') {
+        out->what = "physics";
+        out->kind = s->engine_error;
+        out->code = s->engine_step > UINT32_MAX ? UINT32_MAX : (uint32_t)s->engine_step;
+        out->limit = 0;
+        return ROZ_OK;
+    }
     if (s->warned == 0)
         return ROZ_ENOENT;
     out->what = "physics";

@@ -362,16 +362,21 @@ static void damped_hold_to(roz_socketcan_t *sc, size_t j, uint64_t t)
 
 /* The tick is silent: the watchdog's hold (roz/port/can_hold.h), each
  * joint at its hold gains keeping the torque of its last command. */
-static void watchdog_to(roz_socketcan_t *sc, size_t j, uint64_t t)
+static void pack_watchdog_hold(roz_socketcan_t *sc, size_t j, uint8_t data[8])
 {
     const roz_can_joint_t *jt = &sc->cfg.joints[j];
     roz_mit_command_t c;
-    uint8_t data[8];
     roz_can_watchdog_hold(sc->m, jt, &sc->tx[j].last, held_position(sc, j), &c);
     uint32_t what = roz_mit_codec_pack(&jt->ranges, &c, data);
     if ((what & (ROZ_MIT_SAT_ANY | ROZ_MIT_NONFINITE_ANY)) != 0)
         bump(sc, C(saturated), (uint64_t)__builtin_popcount(what & (ROZ_MIT_SAT_ANY |
                                                                     ROZ_MIT_NONFINITE_ANY)));
+}
+
+static void watchdog_to(roz_socketcan_t *sc, size_t j, uint64_t t)
+{
+    uint8_t data[8];
+    pack_watchdog_hold(sc, j, data);
     send_to(sc, j, data, C(holds_sent), t);
 }
 
@@ -618,20 +623,28 @@ static void send_patiently(roz_socketcan_t *sc, size_t j, const uint8_t data[8],
     bump(sc, C(send_errors), 1);
 }
 
-/* Every actuator that answered: a hold without gains, then out of motor mode. */
+/* Every actuator that answered: the exit is a stop like the others
+ * (roz/hold.h): the watchdog's hold from the last command that went out
+ * (roz/port/can_hold.h: the hold gains, the torque kept within the band),
+ * and the actuators stay in motor mode, holding, as under the watchdog; an
+ * actuator never commanded keeps the start-up hold it had (no gains).
+ * "Exit motor mode" would leave a standing robot limp
+ * (test_socketcan_shutdown, test_socketcan_stops_keep_the_torque). */
 static void shutdown_frames(roz_socketcan_t *sc)
 {
     for (size_t j = 0; j < sc->cfg.n_joints; j++) {
         if (atomic_load_explicit(&sc->shared[j].session, memory_order_acquire) == 0)
             continue;
-        roz_mit_codes_t codes = sc->zero_codes[j];
         uint8_t data[8];
-        codes.position = (uint16_t)atomic_load_explicit(&sc->shared[j].hold_code,
-                                                        memory_order_relaxed);
-        (void)roz_mit_codec_pack_codes(&codes, data);
+        if (sc->tx[j].last.sent) {
+            pack_watchdog_hold(sc, j, data);
+        } else {
+            roz_mit_codes_t codes = sc->zero_codes[j];
+            codes.position = (uint16_t)atomic_load_explicit(&sc->shared[j].hold_code,
+                                                            memory_order_relaxed);
+            (void)roz_mit_codec_pack_codes(&codes, data);
+        }
         send_patiently(sc, j, data, C(holds_sent));
-        roz_mit_codec_special(ROZ_MIT_EXIT_MOTOR_MODE, data);
-        send_patiently(sc, j, data, C(exit_sent));
     }
 }
 

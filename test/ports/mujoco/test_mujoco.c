@@ -263,6 +263,49 @@ static void test_mujoco_warning_fails_the_run(void **state)
     roz_port_close(&p);
 }
 
+/* MuJoCo raises an error (mju_error, whose default handler waits for Enter
+ * and exits the process) or throws a C++ exception: the port turns either
+ * into a fault naming the model and what MuJoCo said, and the process goes
+ * on (ports/mujoco/src/mj_guard.cc): a model whose solver runs out of
+ * stack once its bob touches the floor (pendulum_arena.xml), in a tick and
+ * in open. */
+static void test_mujoco_engine_error_is_a_fault(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const char *file = mj.robot_file;
+    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+    roz_mujoco_set_robot_file(&mj, file);
+    char err[512];
+    if (open_with(&p, m, err, sizeof err, 1, "model=pendulum_arena.xml") != ROZ_OK)
+        fail_msg("%s", err);
+    double st[3], cmd[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
+    int rc = 1, t = 0;
+    for (; t < 100 && rc >= 0; t++) {
+        rc = roz_port_read(&p, st, 3);
+        if (rc >= 0)
+            assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
+    }
+    assert_int_equal(rc, ROZ_EROBOT);
+    roz_port_fault_t f;
+    assert_int_equal(p.ops->fault(p.self, &f), ROZ_OK);
+    print_message("after %d reads: %s, %s (step %u)\n", t, f.what, f.kind, (unsigned)f.code);
+    assert_string_equal(f.what, "physics");
+    assert_non_null(strstr(f.kind, "MuJoCo error: mj_stackAlloc: out of memory"));
+    assert_non_null(strstr(f.kind, "pendulum_arena.xml"));
+    assert_int_equal(roz_port_read(&p, st, 3), ROZ_EROBOT); /* and it stays failed */
+    roz_port_close(&p);
+    /* resting on the floor from the start: open's own first step fails,
+     * and open refuses, naming the model and what MuJoCo said */
+    expect_refused(m, file, "pendulum_arena.xml", "MuJoCo error: mj_stackAlloc: out of memory", 2,
+                   "model=pendulum_arena.xml", "keyframe=down");
+    /* and the port opens again afterwards: nothing of MuJoCo's was left
+     * half-done */
+    assert_int_equal(open_with(&p, m, err, sizeof err, 0), ROZ_OK);
+    assert_int_equal(roz_port_read(&p, st, 3), 1);
+    roz_port_close(&p);
+}
+
 /* ---- the G1 ------------------------------------------------------------------------ */
 
 typedef struct {
@@ -502,6 +545,7 @@ int main(void)
         cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
         cmocka_unit_test(test_mujoco_pendulum_law),
         cmocka_unit_test(test_mujoco_warning_fails_the_run),
+        cmocka_unit_test(test_mujoco_engine_error_is_a_fault),
         cmocka_unit_test(test_mujoco_g1_imu_and_faults),
         cmocka_unit_test(test_mujoco_gantry),
         cmocka_unit_test(test_mujoco_g1_stands),

@@ -89,6 +89,12 @@ static const double *truth(void)
     return mj.hist[(mj.tick - 1) % (ROZ_MUJOCO_MAX_DELAY + 1)];
 }
 
+/* The truth sample of the last read; NULL before the first. */
+static const double *truth_or_null(void)
+{
+    return mj.tick > 0 ? truth() : NULL;
+}
+
 /* What the DDS ports' command watchdogs send once the tick has been silent
  * for command_timeout_us: the ports' own hold (roz_joints_hold_keep(), the
  * hold the DDS ports send when the tick comes back after a trip, each
@@ -105,7 +111,8 @@ static void watchdog_command(const roz_manifest_t *m, const double *last, const 
         j[k] = mj.joints[k].ch;
         q[k] = state[j[k].q_state];
     }
-    roz_joints_hold_keep(m, j, mj.n_joints, last, q, m->commands[j[0].kd_cmd].default_value, cmd);
+    double kd = j[0].kd_cmd >= 0 ? m->commands[j[0].kd_cmd].default_value : 0.0;
+    roz_joints_hold_keep(m, j, mj.n_joints, last, q, kd, cmd);
 }
 
 /* The pelvis height (m) the stand stands above before the stop: the G1's
@@ -483,6 +490,103 @@ static void test_mujoco_stops_at_limits(void **state)
     assert_true(g1 < 0.1);
 }
 
+/* Joints without a position command (the UR5's: velocity only) under the
+ * stops: the arm moving every joint at a fifth of its speed limit
+ * (`constant_velocity`) is stopped by an e-stop (the filter: velocity 0 at
+ * once), by the ports' watchdog hold 50 ms after its tick fell silent, and
+ * by the ports' exit (both roz_joints_hold_keep(), written in the mujoco
+ * port's place); a second after the stop every joint is at rest where it
+ * stopped: no stop drives a joint toward a position it was never
+ * commanded (a hold without a position command holds where the joint
+ * is). */
+static void test_mujoco_stops_velocity_only(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *name;
+        stop_how_t  how;
+        unsigned    fault;
+        double      travel; /* the most a joint may move after the stop, rad */
+    } rows[] = {
+        /* the drives' own servo brakes from 0.63 rad/s in about 0.03 rad;
+         * a joint still moving would go 0.63 rad in the second */
+        { "e-stop", STOP_ESTOP, ROZ_FAULT_ESTOP, 0.05 },
+        { "command watchdog", STOP_SILENT, 0, 0.1 }, /* 50 ms more at speed first */
+        { "exit", STOP_EXIT, 0, 0.05 },
+    };
+    enum { UR5_RATE = 100, STOP = 100, JUDGED = 100 };
+    const roz_manifest_t *m = roz_builtin_find("ur5");
+    assert_non_null(m);
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
+        roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
+        char err[512] = "";
+        if (roz_port_open(&p, m, NULL, err, sizeof err) != ROZ_OK)
+            fail_msg("%s", err);
+        roz_runtime_config_t cfg;
+        roz_test_clock_t clk = { 0, 1000000000u / UR5_RATE };
+        roz_runtime_config_default(&cfg);
+        cfg.manifest = m;
+        cfg.port = p;
+        cfg.clock = roz_test_clock;
+        cfg.clock_ctx = &clk;
+        cfg.budget_ns = UINT64_MAX;
+        cfg.monitor_jitter = 0;
+        size_t len;
+        const uint8_t *w = roz_test_controller("constant_velocity", &len);
+        assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+        assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
+        assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+        static double st[ROZ_CFG_MAX_STATES], wd[ROZ_CFG_MAX_COMMANDS];
+        double at_stop[ROZ_MUJOCO_MAX_JOINTS], moving = 0.0, travel = 0.0, rest = 0.0;
+        for (int t = 0; t < STOP + JUDGED; t++) {
+            const double *s = truth_or_null();
+            if (t == STOP) {
+                for (uint16_t k = 0; k < mj.n_joints; k++) {
+                    at_stop[k] = s[mj.joints[k].ch.q_state];
+                    moving = fmax(moving, fabs(s[mj.joints[k].ch.dq_state]));
+                }
+            }
+            if (t == STOP && rows[r].how == STOP_ESTOP)
+                roz_runtime_estop_set(&rt, 1);
+            int silent = rows[r].how == STOP_SILENT && t >= STOP;
+            if ((silent && t >= STOP + WATCHDOG_TICKS / 5) ||
+                (rows[r].how == STOP_EXIT && t >= STOP)) {
+                /* the ports' hold from the last command, every period */
+                if (t == STOP || t == STOP + WATCHDOG_TICKS / 5)
+                    watchdog_command(m, roz_runtime_last_commands(&rt),
+                                     roz_runtime_last_state(&rt), wd);
+                assert_int_equal(roz_port_write(&p, wd, m->n_commands), ROZ_OK);
+                (void)roz_port_read(&p, st, m->n_states);
+            } else if (silent) {
+                (void)roz_port_read(&p, st, m->n_states); /* the last command goes on */
+            } else {
+                int rc_ = roz_runtime_tick(&rt);
+                (void)rc_;
+            }
+            s = truth_or_null();
+            if (t >= STOP && s != NULL) {
+                for (uint16_t k = 0; k < mj.n_joints; k++) {
+                    travel = fmax(travel, fabs(s[mj.joints[k].ch.q_state] - at_stop[k]));
+                    if (t >= STOP + JUDGED / 2)
+                        rest = fmax(rest, fabs(s[mj.joints[k].ch.dq_state]));
+                }
+            }
+        }
+        print_message("UR5, %-17s moving at %.2f rad/s: a joint moved %.4f rad after the stop, "
+                      "fastest %.4f rad/s from 0.5 s on, faults 0x%02x\n",
+                      rows[r].name, moving, travel, rest, roz_runtime_faults(&rt));
+        assert_true(moving > 0.5); /* it was moving: constant_velocity, a fifth of 3.14 */
+        if (!(travel < rows[r].travel))
+            fail_msg("UR5, %s: a joint moved %.4f rad after the stop (at most %.2f)",
+                     rows[r].name, travel, rows[r].travel);
+        assert_true(rest < 0.02); /* the shoulder's servo sags a little under gravity */
+        assert_int_equal(roz_runtime_faults(&rt), rows[r].fault);
+        assert_int_equal(mj.violations, 0);
+        roz_runtime_deinit(&rt);
+        roz_port_close(&p);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) /* a test's name (a pattern): that one only */
@@ -492,6 +596,7 @@ int main(int argc, char **argv)
         cmocka_unit_test(test_mujoco_stops_pm01),
         cmocka_unit_test(test_mujoco_stops_x2),
         cmocka_unit_test(test_mujoco_stops_at_limits),
+        cmocka_unit_test(test_mujoco_stops_velocity_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

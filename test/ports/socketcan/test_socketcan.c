@@ -15,7 +15,10 @@
  *    and starts over; an error code latches ROBOT naming joint and code; a
  *    frozen or jumping position is an actuator fault;
  *  - round-robin when the bus has no room for every joint each round;
- *  - shutdown: a hold without gains, then "exit motor mode", to each;
+ *  - shutdown: the stop's hold to each, in motor mode (never "exit motor
+ *    mode", which leaves a robot limp); the torque a stop leaves never
+ *    more than the controller's last command on any stop the port sends
+ *    (test_socketcan_stops_keep_the_torque);
  *  - the command watchdog: the tick stops writing; with a period of 0 the
  *    writer wakes by itself and every actuator gets holds without gains at
  *    its measured position, repeatedly, and no command; read() reports it
@@ -604,6 +607,8 @@ static void test_socketcan_device(void **st)
 
 /* ---- shutdown ------------------------------------------------------------------------- */
 
+static int last_is_hold(unsigned j, uint32_t p_code);
+
 static void test_socketcan_shutdown(void **st)
 {
     double cmd[ROZ_CAN_LEG_N_COMMANDS];
@@ -617,22 +622,22 @@ static void test_socketcan_shutdown(void **st)
     ROZ_WAIT_FOR(fake_can_received(&bus) >= counters().frames_sent);
     for (unsigned j = 0; j < 3; j++) {
         fake_actuator_t a = actuator(j);
-        unsigned last = 0, before_last = 0;
+        unsigned last = 0;
         for (unsigned i = 0; i < bus.n_log; i++) {
-            if (bus.log[i][0] == (char)('0' + j)) {
-                before_last = last;
+            if (bus.log[i][0] == (char)('0' + j))
                 last = i;
-            }
         }
-        assert_int_equal(bus.log[last][1], FAKE_EXIT);
-        assert_int_equal(bus.log[before_last][1], FAKE_HOLD);
-        assert_int_equal(a.code[FAKE_KP], 0);
-        assert_int_equal(a.code[FAKE_KD], 0);
-        assert_int_equal(a.motor_mode, 0);
-        assert_int_equal(a.exits, 1);
+        /* the exit is the stop: the leg's, damping (its hold stiffness is
+         * 0) at the measured position, in motor mode (it was a hold
+         * without gains and "exit motor mode": limp) */
+        assert_int_equal(bus.log[last][1], FAKE_HOLD);
+        assert_true(last_is_hold(j, UINT32_MAX)); /* at the position measured with the
+                                                     last command: no rate cap, no band */
+        assert_int_equal(a.motor_mode, 1);
+        assert_int_equal(a.exits, 0);
         assert_int_equal(a.zeros, 0); /* the port never sets zero */
     }
-    assert_int_equal(counters().exit_sent, 3);
+    assert_int_equal(counters().exit_sent, 0);
     roz_test_can_close(&t);
 }
 
@@ -772,15 +777,15 @@ static void test_socketcan_pd_on_the_runtime(void **st)
     /* the knee followed its target (its own PD in the fake): within 0.2 rad */
     const double *s = roz_runtime_last_state(&rt);
     assert_near(s[ROZ_CAN_LEG_STATE_KNEE_POSITION], applied[ROZ_CAN_LEG_CMD_KNEE_POSITION], 0.2);
-    /* each round: one frame to each actuator, then two more each at
-     * shutdown, nothing else */
+    /* each round: one frame to each actuator, then the exit's hold to
+     * each, nothing else */
     assert_int_equal(roz_port_deactivate(&t.port), ROZ_OK);
     roz_socketcan_counters_t c = counters();
     assert_true(c.commands_sent > 0);
     assert_int_equal(c.saturated, 0);
     assert_int_equal(c.unknown, 0);
     assert_int_equal(c.inconsistent, 0);
-    assert_int_equal(c.frames_sent + c.send_errors, 3 * c.rounds + 6);
+    assert_int_equal(c.frames_sent + c.send_errors, 3 * c.rounds + 3);
     runtime_down();
 }
 
@@ -949,6 +954,168 @@ static void test_socketcan_watchdog_latches_on_the_runtime(void **st)
 }
 
 /* A test that failed half-way leaves things open: close them. */
+/* ---- the property on the CAN path ---------------------------------------------- */
+
+/* The torque a stop leaves on a joint never exceeds what the controller
+ * last commanded (roz/hold.h), on every stop the port sends by itself: the
+ * watchdog's hold, the hold after a trip (back for one write, stalled
+ * again), the exit; over random hold gains, measured positions, setpoints,
+ * gains and stop kinds; through the real port (its writer thread, its
+ * shutdown) to the fake actuators, as they decode the frames. The leg's own
+ * hold stiffness is 0 (damping): here its stiffness channels' default, the
+ * hold gain, is random, and its position commands are capped at 0.1 rad a
+ * tick (the band: 0.5 rad). test/core/test_hold.c holds the same property
+ * for the filter and the DDS ports' hold. */
+
+static roz_channel_t prop_cmds[ROZ_CFG_MAX_COMMANDS];
+static roz_manifest_t prop_leg;
+static uint64_t prop_rng = 0x2545f4914f6cdd1dull;
+
+static double prop_uniform(double lo, double hi)
+{
+    prop_rng ^= prop_rng >> 12;
+    prop_rng ^= prop_rng << 25;
+    prop_rng ^= prop_rng >> 27;
+    uint64_t r = prop_rng * 2685821657736338717ull;
+    return lo + (hi - lo) * ((double)(r >> 11) / 9007199254740992.0);
+}
+
+/* Actuator j's last frame is the stop's hold against the command @p c (as
+ * the actuator decoded it) about position @p p (the actuator's frame): kp
+ * the hold gain, the hold damping, no velocity, no torque; no more torque
+ * about p than the command, the setpoint on its side within max(|sp - p|,
+ * band). Quantisation (the reply, the command and the hold each within half
+ * a step of the port's doubles) is the only tolerance. */
+static void check_stop(const char *path, int n, unsigned j, const double *c, double p,
+                       double kp_hold, double band)
+{
+    fake_actuator_t a = actuator(j);
+    double dp = step_of(FAKE_P, j), dk = step_of(FAKE_KP, j);
+    double sp = c[FAKE_P], kp_c = c[FAKE_KP], q = a.cmd[FAKE_P], kp = a.cmd[FAKE_KP];
+    double torque_c = fabs(kp_c * (sp - p)), torque = fabs(kp * (q - p));
+    double tol = dk * (fabs(q - p) + fabs(sp - p) + 2.0 * dp) + (kp + kp_c + dk) * 2.0 * dp + 1e-9;
+    if (torque > torque_c + tol)
+        fail_msg("case %d, %s, actuator %u: the stop's torque %.6g N*m (kp %.6g at %.6g) exceeds "
+                 "the controller's %.6g N*m (kp %.6g at %.6g), position %.6g",
+                 n, path, j, torque, kp, q, torque_c, kp_c, sp, p);
+    if (fabs(q - p) > fmax(fabs(sp - p), band) + 2.0 * dp ||
+        ((q - p) * (sp - p) < 0.0 && fabs(q - p) > 2.0 * dp))
+        fail_msg("case %d, %s, actuator %u: setpoint %.6g past the controller's %.6g by more "
+                 "than the band %.6g around the position %.6g", n, path, j, q, sp, band, p);
+    if (!(fabs(kp - kp_hold) <= dk / 2 + 1e-9 &&
+          fabs(a.cmd[FAKE_KD] - hold_damping()) <= step_of(FAKE_KD, j) / 2 + 1e-9 &&
+          fabs(a.cmd[FAKE_V]) <= step_of(FAKE_V, j) / 2 + 1e-9 &&
+          fabs(a.cmd[FAKE_T]) <= step_of(FAKE_T, j) / 2 + 1e-9 && a.motor_mode == 1))
+        fail_msg("case %d, %s, actuator %u: not the stop's hold: kp %.6g (hold %.6g), kd %.6g, "
+                 "v %.6g, t %.6g, motor mode %d", n, path, j, kp, kp_hold, a.cmd[FAKE_KD],
+                 a.cmd[FAKE_V], a.cmd[FAKE_T], a.motor_mode);
+}
+
+/* A controller's command: each joint to a random setpoint near or far from
+ * where it is, a random stiffness (some at the limit, some 0), the rest
+ * random inside the channels. */
+static void random_command(const double *p_joint, double *cmd)
+{
+    for (uint16_t i = 0; i < prop_leg.n_commands; i++) {
+        const roz_channel_t *ch = &prop_leg.commands[i];
+        cmd[i] = prop_uniform(ch->min, ch->max);
+        if (ch->type == ROZ_IF_STIFFNESS) {
+            double r = prop_uniform(0.0, 1.0);
+            cmd[i] = r < 0.2 ? ch->max : r < 0.3 ? 0.0 : cmd[i];
+        }
+        if (ch->type == ROZ_IF_POSITION) {
+            double reach = prop_uniform(0.0, 1.0) < 0.5 ? 0.05 : 1.0;
+            double v = p_joint[i / 5u] + prop_uniform(-reach, reach);
+            cmd[i] = v < ch->min ? ch->min : v > ch->max ? ch->max : v;
+        }
+    }
+}
+
+static void test_socketcan_stops_keep_the_torque(void **st)
+{
+    double cmd[ROZ_CAN_LEG_N_COMMANDS], state[ROZ_CAN_LEG_N_STATES];
+    double sent[3][FAKE_FIELDS], p_act[3], p_joint[3];
+    static const char *const paths[3] = { "the watchdog's hold", "the hold after a trip",
+                                          "the exit" };
+    (void)st;
+    for (int n = 0; n < 12; n++) {
+        int kind = n % 3;
+        double kp_hold = n % 4 == 0 ? 60.0 : prop_uniform(0.0, 60.0);
+        prop_leg = *leg;
+        memcpy(prop_cmds, leg->commands, leg->n_commands * sizeof prop_cmds[0]);
+        for (uint16_t i = 0; i < leg->n_commands; i++) {
+            if (prop_cmds[i].type == ROZ_IF_STIFFNESS)
+                prop_cmds[i].default_value = kp_hold;
+            if (prop_cmds[i].type == ROZ_IF_POSITION)
+                prop_cmds[i].max_rate = 0.1;
+        }
+        prop_leg.commands = prop_cmds;
+        double band = 5.0 * 0.1;
+        /* the joints do not move (dt 0): each stays where it is set */
+        const char *params[] = { "command_writer_period_us", "0", "reply_timeout_us", "300000",
+                                 "command_timeout_us", "200000", NULL };
+        roz_test_can_open(&t, &sc, &bus, &prop_leg, roz_test_leg_actuators, 3, 0.0, 0, params);
+        for (unsigned j = 0; j < 3; j++) {
+            const roz_can_joint_t *jt = &sc.cfg.joints[j];
+            const roz_channel_t *pc = &prop_leg.commands[jt->pos_cmd];
+            p_joint[j] = prop_uniform(pc->min, pc->max);
+            p_act[j] = (double)jt->direction * (p_joint[j] - jt->zero_offset);
+            fake_can_set(&bus, j, p_act[j], 0.0);
+        }
+        bring_up();
+        ROZ_WAIT_FOR(read_leg(state) == 1);
+        random_command(p_joint, cmd);
+        write_round(cmd); /* the start-up hold */
+        uint64_t commands = counters().commands_sent;
+        random_command(p_joint, cmd);
+        write_round(cmd);
+        /* a machine so loaded that the watchdog tripped in between: the
+         * command went out as a hold; the case says nothing, try the next */
+        if (counters().commands_sent != commands + 3u || counters().command_timeouts != 0) {
+            print_message("case %d: the watchdog tripped before the command went out\n", n);
+            roz_test_can_close(&t);
+            continue;
+        }
+        for (unsigned j = 0; j < 3; j++) {
+            fake_actuator_t a = actuator(j);
+            memcpy(sent[j], a.cmd, sizeof sent[j]);
+            p_act[j] = a.q;
+        }
+        if (kind < 2) {
+            /* the tick stops: the watchdog's hold, every round */
+            ROZ_WAIT_FOR(counters().command_timeouts == 1);
+            uint64_t holds = counters().watchdog_holds;
+            ROZ_WAIT_FOR(counters().watchdog_holds >= holds + 3u &&
+                         fake_can_received(&bus) >= counters().frames_sent);
+            for (unsigned j = 0; j < 3; j++)
+                check_stop(paths[0], n, j, sent[j], p_act[j], kp_hold, band);
+        }
+        if (kind == 1) {
+            /* back for one write: it goes out as the stop's hold from the
+             * controller's last command that went out */
+            assert_int_equal(read_leg(state), ROZ_EWATCHDOG);
+            random_command(p_joint, cmd);
+            write_round(cmd);
+            for (unsigned j = 0; j < 3; j++)
+                check_stop(paths[1], n, j, sent[j], p_act[j], kp_hold, band);
+            /* and stalls again: the second trip holds that command's torque */
+            ROZ_WAIT_FOR(counters().command_timeouts == 2);
+            uint64_t holds = counters().watchdog_holds;
+            ROZ_WAIT_FOR(counters().watchdog_holds >= holds + 3u &&
+                         fake_can_received(&bus) >= counters().frames_sent);
+            for (unsigned j = 0; j < 3; j++)
+                check_stop(paths[0], n, j, sent[j], p_act[j], kp_hold, band);
+        }
+        /* every case ends in the exit: the stop's hold again */
+        (void)roz_port_deactivate(&t.port);
+        ROZ_WAIT_FOR(fake_can_received(&bus) >= counters().frames_sent);
+        for (unsigned j = 0; j < 3; j++)
+            check_stop(paths[2], n, j, sent[j], p_act[j], kp_hold, band);
+        assert_int_equal(counters().saturated, 0);
+        roz_test_can_close(&t);
+    }
+}
+
 static int teardown(void **st)
 {
     (void)st;
@@ -983,6 +1150,7 @@ int main(void)
         cmocka_unit_test_teardown(test_socketcan_error_code_latches_robot, teardown),
         cmocka_unit_test_teardown(test_socketcan_watchdog_on_write, teardown),
         cmocka_unit_test_teardown(test_socketcan_watchdog_latches_on_the_runtime, teardown),
+        cmocka_unit_test_teardown(test_socketcan_stops_keep_the_torque, teardown),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -74,10 +74,17 @@ static void test_socketcan_vcan(void **st)
     uint64_t r = replies();
     ROZ_WAIT_FOR(replies() > r + 30);
 
-    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
-    ROZ_WAIT_FOR(actuator(0).exits == 1 && actuator(1).exits == 1 && actuator(2).exits == 1);
+    /* the exit is the leg's stop: its hold (damping), in motor mode */
+    uint64_t holds[3];
     for (unsigned j = 0; j < 3; j++)
-        assert_int_equal(actuator(j).motor_mode, 0);
+        holds[j] = actuator(j).holds;
+    assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
+    ROZ_WAIT_FOR(actuator(0).holds > holds[0] && actuator(1).holds > holds[1] &&
+                 actuator(2).holds > holds[2]);
+    for (unsigned j = 0; j < 3; j++) {
+        assert_int_equal(actuator(j).motor_mode, 1);
+        assert_int_equal(actuator(j).exits, 0);
+    }
     roz_port_close(&port);
     fake_can_stop(&bus);
     close(fd);

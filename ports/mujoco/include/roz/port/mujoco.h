@@ -145,6 +145,8 @@ typedef struct roz_mujoco {
     int                   ROZ_PRIVATE(have_cmd);
     int                   ROZ_PRIVATE(dead);       /**< RESTART: the board is down */
     int                   ROZ_PRIVATE(rebooted);   /**< RESTART: read() reports ROZ_ELINK once */
+    char                  ROZ_PRIVATE(engine_error)[ROZ_MUJOCO_PATH_MAX + 640]; /**< what MuJoCo raised or threw in a step, and the model; "": nothing */
+    uint64_t              ROZ_PRIVATE(engine_step); /**< the physics step it did so at */
 
     roz_mujoco_fault_t    ROZ_PRIVATE(faults)[ROZ_MUJOCO_MAX_FAULTS];
     uint32_t              ROZ_PRIVATE(n_faults);

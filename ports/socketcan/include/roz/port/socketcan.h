@@ -66,7 +66,7 @@ typedef struct roz_socketcan_counters {
     uint64_t enter_sent;      /**< "enter motor mode" frames */
     uint64_t holds_sent;      /**< hold frames (zero gains at the measured position) */
     uint64_t commands_sent;   /**< frames from the tick's commands */
-    uint64_t exit_sent;       /**< "exit motor mode" frames */
+    uint64_t exit_sent;       /**< "exit motor mode" frames (the port sends none: its exit is the hold) */
     uint64_t saturated;       /**< command fields outside the actuator's range */
     uint64_t writes;          /**< write() calls */
     uint64_t writer_missed;   /**< periods the writer fell a whole period behind */
