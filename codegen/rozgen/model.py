@@ -85,6 +85,16 @@ class Hardware:
 
 
 @dataclass(frozen=True)
+class Fall:
+    """The fall rule, [manifest.fall] (roz_fall_rule_t)."""
+
+    orientation: str  # the quaternion states' prefix, as written
+    quaternion: tuple[int, int, int, int]  # their state indices, x, y, z, w
+    max_tilt: float  # rad
+    for_ms: int
+
+
+@dataclass(frozen=True)
 class Manifest:
     """A whole robot.toml (roz_manifest_t)."""
 
@@ -96,6 +106,8 @@ class Manifest:
     hardware: Hardware | None
     #: operator inputs, read by a controller as states len(states) + k
     inputs: tuple[Channel, ...] = ()
+    #: the fall rule, or None
+    fall: Fall | None = None
 
     @property
     def prefix(self) -> str:

@@ -65,6 +65,11 @@ def json_to_toml(text: str) -> str:
             f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
             f"stale_after_ms = {int(c['stale_after_ms'])}",
         ]
+    fall = doc.get("fall")  # present only with a fall rule
+    if fall is not None:
+        out += ["", "[manifest.fall]", f"orientation = {toml_string(fall['orientation'])}",
+                f"max_tilt_rad = {toml_float(fall['max_tilt_rad'])}",
+                f"for_ms = {int(fall['for_ms'])}"]
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",

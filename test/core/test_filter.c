@@ -166,7 +166,7 @@ static roz_channel_t grip_state[] = {
     { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
 static const roz_manifest_t gripper = { "gripper", "gripper", 100, grip_cmd, 1, grip_state, 1,
-                                        NULL, NULL, 0 };
+                                        NULL, NULL, 0, NULL };
 
 typedef struct {
     const char *what;

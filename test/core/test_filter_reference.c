@@ -473,7 +473,7 @@ static const roz_channel_t mixed_state[] = {
     { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
     { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
-static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0 };
+static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0, NULL };
 
 /* Sets the mode from the test's state; after the runs, checks that the
  * vector way was taken in that mode (where the CPU has it) and never in the

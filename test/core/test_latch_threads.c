@@ -40,7 +40,7 @@ static const roz_channel_t states[] = {
     { "trigger/effort", ROZ_IF_EFFORT, "", -1e12, 1e12, -1.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
 static const roz_manifest_t manifest = {
-    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0,
+    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0, NULL,
 };
 
 /* Emits its own call count, traps when its tick equals state[1]. */

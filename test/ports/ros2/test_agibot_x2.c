@@ -538,7 +538,7 @@ static const roz_channel_t leg_states[] = {
 static const char *const leg_joints[] = { "left_knee_joint" };
 static const roz_hardware_t leg_hw = { "agibot/X2", leg_joints, 1, NULL, 0 };
 static const roz_manifest_t leg_only = { "leg_only", "humanoid", 500, leg_commands, 2,
-                                         leg_states, 1, &leg_hw, NULL, 0 };
+                                         leg_states, 1, &leg_hw, NULL, 0, NULL };
 
 static void test_x2_part_of_the_robot(void **st)
 {
@@ -608,7 +608,7 @@ static const roz_channel_t stiff_states[] = {
 static const char *const stiff_joints[] = { "left_knee_joint", "left_hip_pitch_joint" };
 static const roz_hardware_t stiff_hw = { "agibot/X2", stiff_joints, 2, NULL, 0 };
 static const roz_manifest_t stiff_only = { "stiff_only", "humanoid", 500, stiff_commands, 3,
-                                           stiff_states, 2, &stiff_hw, NULL, 0 };
+                                           stiff_states, 2, &stiff_hw, NULL, 0, NULL };
 
 static void read_leg(double *s2)
 {
@@ -776,7 +776,7 @@ static const roz_channel_t alien_commands[] = {
 };
 static const roz_hardware_t alien_hw = { "agibot/X2", alien_joints, 1, NULL, 0 };
 static const roz_manifest_t alien = { "alien", "humanoid", 500, alien_commands, 1, NULL, 0,
-                                      &alien_hw, NULL, 0 };
+                                      &alien_hw, NULL, 0, NULL };
 
 static void test_x2_bad_parameters(void **st)
 {

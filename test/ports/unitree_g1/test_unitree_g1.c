@@ -1386,15 +1386,15 @@ static const char *const real_joints[] = { "left_knee_joint" };
 static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &real_hw, NULL, 0 };
+                                    &real_hw, NULL, 0, NULL };
 /* joint j1 is not a G1's */
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
-                                        1, &odd_hw, NULL, 0 };
+                                        1, &odd_hw, NULL, 0, NULL };
 static const roz_channel_t typo_commands[] = {
     { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &real_hw, NULL, 0 };
+                                     &real_hw, NULL, 0, NULL };
 
 static void *nothing(void *arg)
 {
