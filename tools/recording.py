@@ -54,7 +54,7 @@ FLAG_CLEAR = 1 << 6
 FLAG_SWAP = 1 << 7
 # roz_fault_name(), with '-' for spaces, as rozrun's trace writes them
 FAULT_NAMES = ["trap", "overrun", "stale-state", "e-stop", "controller-e-stop-request",
-               "port-link", "robot-fault"]
+               "port-link", "robot-fault", "command-timeout", "fall"]
 
 
 # /roz/truth's fields (roz_msgs/msg/Truth, docs/recording.md)

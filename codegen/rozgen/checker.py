@@ -32,7 +32,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from rozgen.model import Channel, Hardware, Manifest, Maxima
+from rozgen.model import Channel, Fall, Hardware, Manifest, Maxima
 from rozgen.problems import Problem
 
 ENV = "ROZ_MANIFEST_CHECKER"
@@ -181,9 +181,13 @@ def _manifest(doc: dict) -> Manifest:
     hw = doc["hardware"]
     hardware = None if hw is None else Hardware(
         port=hw["port"], joints=tuple(hw["joints"]), params=tuple(hw["params"].items()))
+    fa = doc.get("fall")  # present only with a fall rule
+    fall = None if fa is None else Fall(
+        orientation=fa["orientation"], quaternion=tuple(int(i) for i in fa["quaternion"]),
+        max_tilt=float(fa["max_tilt_rad"]), for_ms=int(fa["for_ms"]))
     return Manifest(robot_id=doc["robot_id"], robot_class=doc["robot_class"],
                     control_rate_hz=int(doc["control_rate_hz"]),
                     commands=tuple(_channel(c) for c in doc["commands"]),
                     states=tuple(_channel(c) for c in doc["states"]), hardware=hardware,
                     inputs=tuple(_channel(c) for c in doc.get("inputs", ())),
-                    remote_estop=tuple(doc.get("remote_estop", ())))
+                    remote_estop=tuple(doc.get("remote_estop", ())), fall=fall)

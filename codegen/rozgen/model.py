@@ -94,6 +94,16 @@ class Hardware:
 
 
 @dataclass(frozen=True)
+class Fall:
+    """The fall rule, [manifest.fall] (roz_fall_rule_t)."""
+
+    orientation: str  # the quaternion states' prefix, as written
+    quaternion: tuple[int, int, int, int]  # their state indices, x, y, z, w
+    max_tilt: float  # rad
+    for_ms: int
+
+
+@dataclass(frozen=True)
 class Manifest:
     """A whole robot.toml (roz_manifest_t)."""
 
@@ -107,6 +117,8 @@ class Manifest:
     inputs: tuple[Channel, ...] = ()
     #: the remote's e-stop chord: button fields ("remote.btn.l2"), all held latch the e-stop
     remote_estop: tuple[str, ...] = ()
+    #: the fall rule, or None
+    fall: Fall | None = None
 
     @property
     def prefix(self) -> str:

@@ -49,6 +49,12 @@ RULES: dict[str, str] = {
     "margin is not below max - min)",
     "safe-default": 'safe_default is neither "follow" nor "hold", or "hold" on a channel '
     "other than a position command paired with a position state",
+    "fall-orientation": "[manifest.fall] orientation names no states <orientation>.x, .y, .z "
+    "and .w, or one of them is not an orientation state",
+    "fall-tilt": "[manifest.fall] max_tilt_rad is not above 0 and below pi",
+    "fall-time": "[manifest.fall] for_ms is not in 0..10000",
+    "fall-stiffness": "a stiffness command whose limits exclude 0 in a manifest with a fall "
+    "rule (the fallen stop sends zero stiffness)",
     "no-commands": "the manifest has no command channel",
     "too-many-channels": "more commands or states than ROZ_CFG_MAX_COMMANDS "
     "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",

@@ -69,6 +69,11 @@ def json_to_toml(text: str) -> str:
         ]
         if "source" in c:  # present only on an input with a source
             out += [f"source = {toml_string(c['source'])}", f"scale = {toml_float(c['scale'])}"]
+    fall = doc.get("fall")  # present only with a fall rule
+    if fall is not None:
+        out += ["", "[manifest.fall]", f"orientation = {toml_string(fall['orientation'])}",
+                f"max_tilt_rad = {toml_float(fall['max_tilt_rad'])}",
+                f"for_ms = {int(fall['for_ms'])}"]
     hw = doc["hardware"]
     if hw is not None:
         out += ["", "[hardware]", f"port = {toml_string(hw['port'])}",

@@ -105,7 +105,7 @@ position_state_index = 0
     assert m is None
     assert problems == [
         "[unknown-key] f.toml: manifest: typo: unknown key (known keys: robot_id, robot_class, "
-        "control_rate_hz, commands, states, inputs, remote_estop)",
+        "control_rate_hz, commands, states, inputs, remote_estop, fall)",
         '[robot-id] f.toml: manifest: robot_id "Bad": must match [a-z][a-z0-9_]* '
         "(it names C symbols and files)",
         "[type] f.toml: manifest: control_rate_hz true: expected an integer, not a boolean",

@@ -8,7 +8,7 @@
 
 static const char *const fault_names[ROZ_FAULT_KIND_COUNT] = {
     "trap", "overrun", "stale state", "e-stop", "controller e-stop request", "port link",
-    "robot fault", "command timeout",
+    "robot fault", "command timeout", "fall",
 };
 
 const char *roz_fault_name(unsigned fault_bit)
@@ -54,6 +54,13 @@ void roz__fault_format(char *buf, size_t len, unsigned bit, const uint64_t num[4
         roz_format(buf, len,
                    "command timeout: the tick wrote no command for %lu us, longer than the "
                    "port's command_timeout_us (%lu): the port sent the robot its safe command",
+                   (unsigned long)num[N_A], (unsigned long)num[N_B]);
+        break;
+    case ROZ_FAULT_FALL:
+        roz_format(buf, len,
+                   "fall: the base tilted %lu mrad from upright, beyond the fall rule's %lu "
+                   "mrad (manifest.fall): the fallen stop, zero stiffness and the manifest's "
+                   "damping",
                    (unsigned long)num[N_A], (unsigned long)num[N_B]);
         break;
     default:

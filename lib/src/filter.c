@@ -377,6 +377,30 @@ static void find_hold_gains(roz_filter_t *f, const roz_manifest_t *m)
     }
 }
 
+/* The fallen stop, every tick of it: what a vendor's damping command sends
+ * (Unitree's deploy code: kp 0, kd its damping gain, dq 0, tau 0), at once
+ * (no rate cap: a falling robot has no time for a ramp), through every other
+ * rule. Stiffness 0 (clamped to the channel: a manifest with a fall rule has
+ * 0 within every stiffness's limits), position commands follow the
+ * measured position, every other channel its safe default (the damping's
+ * is the manifest's damping gain). */
+static void fallen_stop(roz_filter_t *f, const double *state, double *out)
+{
+    const roz_manifest_t *m = f->manifest;
+
+    f->stopping = 1;
+    f->fallen = 1;
+    f->running = 1;
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        double v = c->type == ROZ_IF_STIFFNESS ? clampd(0.0, c->min, c->max)
+                                               : roz_filter_safe_default(f, i, state);
+        v = channel_apply(f, i, v, state, 0);
+        f->last[i] = v;
+        out[i] = v;
+    }
+}
+
 /* ---- public -------------------------------------------------------------- */
 
 int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m)
@@ -427,7 +451,7 @@ double roz_filter_safe_default(const roz_filter_t *f, uint16_t i, const double *
 {
     const roz_channel_t *c = &f->manifest->commands[i];
 
-    if (f->stopping && c->safe_default == ROZ_SAFE_HOLD)
+    if (f->stopping && !f->fallen && c->safe_default == ROZ_SAFE_HOLD)
         return f->hold[i]; /* latched at the stop: test_filter_hold_latches */
     if (c->type == ROZ_IF_POSITION && c->position_state != ROZ_CHANNEL_UNPAIRED) {
         double held = state != NULL ? state[c->position_state] : NAN;
@@ -464,7 +488,11 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
     f->counters.ticks++;
     if (stop == ROZ_STOP_NONE) {
         f->stopping = 0;
-    } else if (!f->stopping) {
+        f->fallen = 0;
+    } else if (stop == ROZ_STOP_FALLEN) {
+        fallen_stop(f, state, out);
+        return;
+    } else if (!f->stopping || f->fallen) {
         /* the stop's first tick: the hold channels keep the setpoint the
          * joint was held at, not the measured position, which sags under
          * gravity (test/ports/mujoco/test_mujoco_stops.c) */
@@ -473,6 +501,7 @@ void roz_filter_apply(roz_filter_t *f, const double *target, const double *state
                 hold_latch(f, i, state);
         }
         f->stopping = 1;
+        f->fallen = 0;
     }
     if (stop != ROZ_STOP_NONE) {
         int capped = stop != ROZ_STOP_IMMEDIATE;

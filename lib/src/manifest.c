@@ -124,6 +124,33 @@ static int check_channels(const roz_manifest_t *m, int is_state,
     return ROZ_OK;
 }
 
+/* The fall rule: four distinct orientation states, a tilt in (0, pi), a
+ * time within ROZ_FALL_MAX_MS, and 0 within every stiffness command's
+ * limits (the fallen stop sends it: roz/fall.h). */
+static int check_fall(const roz_manifest_t *m, roz_manifest_problem_t *p)
+{
+    const roz_fall_rule_t *r = m->fall;
+
+    for (int k = 0; k < 4; k++) {
+        int32_t s = r->quaternion[k];
+        if (s < 0 || s >= (int32_t)m->n_states || m->states[s].type != ROZ_IF_ORIENTATION)
+            return set_problem(p, ROZ_MANIFEST_RULE_FALL, 0, -1);
+        for (int j = 0; j < k; j++) {
+            if (r->quaternion[j] == s)
+                return set_problem(p, ROZ_MANIFEST_RULE_FALL, 0, -1);
+        }
+    }
+    /* 3.14159265358979 < pi: a limit at pi or beyond would never trip */
+    if (!(r->max_tilt > 0.0 && r->max_tilt < 3.14159265358979) || r->for_ms > ROZ_FALL_MAX_MS)
+        return set_problem(p, ROZ_MANIFEST_RULE_FALL, 0, -1);
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        const roz_channel_t *c = &m->commands[i];
+        if (c->type == ROZ_IF_STIFFNESS && !(c->min <= 0.0 && 0.0 <= c->max))
+            return set_problem(p, ROZ_MANIFEST_RULE_FALL, 0, (int32_t)i);
+    }
+    return ROZ_OK;
+}
+
 /* Appends the decimal digits of v to out; returns the number written. */
 static size_t put_uint(char *out, unsigned v)
 {
@@ -209,6 +236,11 @@ int roz_manifest_validate(const roz_manifest_t *m, roz_manifest_problem_t *probl
     rc = check_channels(m, 0, problem);
     if (rc != ROZ_OK)
         return rc;
+    if (m->fall != NULL) {
+        rc = check_fall(m, problem);
+        if (rc != ROZ_OK)
+            return rc;
+    }
     return set_problem(problem, ROZ_MANIFEST_RULE_OK, 0, -1);
 }
 

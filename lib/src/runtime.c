@@ -29,14 +29,17 @@ static uint64_t deadline_now(const roz_runtime_t *rt)
 
 /* ---- faults: one word, written by the tick ---------------------------------
  *
- * rt->faults holds the latched bits (low 8) and a latch sequence number
- * (24 bits, wrapping) that every latch bumps; latch_stamp[] remembers the
+ * rt->faults holds the latched bits (low ROZ_FAULT_KIND_COUNT) and a latch
+ * sequence number (the 32 - ROZ_FAULT_KIND_COUNT bits above, wrapping)
+ * that every latch bumps; latch_stamp[] remembers the
  * number of each bit's latest latch. A clear hands the tick the word it saw;
  * the tick clears a bit only if its latest latch is no newer than that word:
  * a fault latched after the clear looked, even of the same kind, stays. */
 
-#define FAULT_BITS 0xffu
-#define SEQ_MASK   0xffffffu
+#define SEQ_SHIFT  ROZ_FAULT_KIND_COUNT
+#define FAULT_BITS ((1u << SEQ_SHIFT) - 1u)
+#define SEQ_MASK   (0xffffffffu >> SEQ_SHIFT)
+_Static_assert(ROZ_FAULT_KIND_COUNT <= 12, "the faults word keeps 20 bits of latch number");
 #define STAMP_WINDOW ((SEQ_MASK + 1u) / 4u) /* how far a latched bit's number lags */
 
 /* Log event codes (the ring carries numbers; log_drain formats them). */
@@ -52,7 +55,7 @@ static unsigned fault_index(unsigned bit)
     return 0;
 }
 
-/* a is not newer than b, in 24-bit serial arithmetic */
+/* a is not newer than b, in serial arithmetic of SEQ_MASK's bits */
 static int seq_le(uint32_t a, uint32_t b)
 {
     return ((b - a) & SEQ_MASK) < (SEQ_MASK + 1u) / 2u;
@@ -127,9 +130,9 @@ static void latch(roz_runtime_t *rt, roz_fault_t fault, uint32_t a, uint32_t b, 
 
     rt->latch_seq = (rt->latch_seq + 1u) & SEQ_MASK;
     rt->latch_stamp[idx] = rt->latch_seq;
-    /* The numbers are 24 bits and compared in serial arithmetic: a bit
+    /* The numbers are 23 bits and compared in serial arithmetic: a bit
      * latched more than half the range of latches ago (a persistent robot
-     * fault re-latches every frame: 2^23 frames are 4.7 h at 500 Hz) would
+     * fault re-latches every frame: 2^22 frames are 2.3 h at 500 Hz) would
      * look newer than any clear. Every other latched bit's number is kept
      * within a quarter of the range behind: no clear looks that far back (a
      * clear is applied at the next tick) (test_latch_old_fault_clears_
@@ -141,7 +144,7 @@ static void latch(roz_runtime_t *rt, roz_fault_t fault, uint32_t a, uint32_t b, 
     }
     if (bits == 0)
         record_first_fault(rt, (unsigned)fault, rt->latch_seq, num, text);
-    atomic_store_explicit(&rt->faults, (bits | (unsigned)fault) | (rt->latch_seq << 8),
+    atomic_store_explicit(&rt->faults, (bits | (unsigned)fault) | (rt->latch_seq << SEQ_SHIFT),
                           memory_order_release);
     if (bits & (unsigned)fault)
         return;
@@ -161,7 +164,7 @@ static void apply_clear(roz_runtime_t *rt, unsigned seen)
 {
     unsigned word = atomic_load_explicit(&rt->faults, memory_order_relaxed);
     unsigned bits = word & FAULT_BITS, clear = 0;
-    uint32_t seen_seq = seen >> 8;
+    uint32_t seen_seq = seen >> SEQ_SHIFT;
 
     for (unsigned i = 0; i < ROZ_FAULT_KIND_COUNT; i++) {
         unsigned bit = 1u << i;
@@ -213,8 +216,13 @@ static int read_first_fault(const roz_runtime_t *rt, unsigned *bit, uint32_t *la
     return 0;
 }
 
+/* The stop the latched faults ask for: a fallen robot's damping over every
+ * other (a hold pushes into the ground), then an immediate one, then a
+ * ramp. */
 static roz_stop_t stop_mode(unsigned faults)
 {
+    if (faults & ROZ_FAULT_FALL)
+        return ROZ_STOP_FALLEN;
     if (faults & ROZ_FAULT_IMMEDIATE_MASK)
         return ROZ_STOP_IMMEDIATE;
     return faults != 0 ? ROZ_STOP_CONTROLLED : ROZ_STOP_NONE;
@@ -587,6 +595,19 @@ static void tick_read(roz_runtime_t *rt, uint64_t t0)
         latch(rt, ROZ_FAULT_LINK, 0, 0, NULL);
 }
 
+/* The fall rule on this tick's state (roz/fall.h): FALL latches, with the
+ * tilt and the rule's angle in mrad, when the robot is down and it is not
+ * latched yet (a level: re-latched at once after a clear while down). */
+static void tick_fall(roz_runtime_t *rt)
+{
+    if (!roz_fall_tick(&rt->fall, rt->state) || (faults_now(rt) & ROZ_FAULT_FALL))
+        return;
+    const roz_fall_rule_t *r = rt->cfg.manifest->fall;
+    double tilt = roz_fall_tilt(r, rt->state);
+    latch(rt, ROZ_FAULT_FALL, tilt == tilt ? (uint32_t)(tilt * 1000.0 + 0.5) : 0u,
+          (uint32_t)(r->max_tilt * 1000.0 + 0.5), NULL);
+}
+
 /* One process() call of the driving slot and what it latches. */
 static void tick_process(roz_runtime_t *rt, roz_runtime_slot_t *s)
 {
@@ -859,6 +880,7 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     rt->cfg = *cfg;
     if (roz_filter_init(&rt->filter, m) != ROZ_OK)
         return ROZ_EINVAL;
+    roz_fall_init(&rt->fall, m);
     uint64_t period_ns = 1000000000ull / m->control_rate_hz;
     if (rt->cfg.budget_ns == 0)
         rt->cfg.budget_ns = period_ns / 2u;
@@ -1057,6 +1079,7 @@ int roz_runtime_tick(roz_runtime_t *rt)
                     rt->state + rt->cfg.manifest->n_states);
     target = NULL;
     if (rt->have_state) {
+        tick_fall(rt);
         roz_stop_t stop = tick_controller(rt, active, &target, &sent);
         /* 4. the safety filter: the last word */
         roz_filter_apply(&rt->filter, sent, rt->state, stop, rt->out);

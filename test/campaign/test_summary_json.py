@@ -81,11 +81,12 @@ def test_summary_json_peak_joint_speed(tmp_path):
 
 def test_summary_json_fault_and_fall(tmp_path):
     need_mujoco()
-    # a stream dropped for 100 ticks latches the stale fault; a 2 kN shove fells the robot
+    # a stream dropped for 100 ticks latches the stale fault; a 2 kN shove fells the robot,
+    # which the manifest's fall rule latches once fresh states show it down
     p, s = rozrun(tmp_path, "drop=50:150", "push=2000,0,0@pelvis@20:40", ticks="600")
     assert p.returncode == 1
-    assert s["exit_status"] == 1 and s["faults"]["latched"] == ["stale state"]
-    assert s["faults"]["times_latched"] == {"stale state": 1}
+    assert s["exit_status"] == 1 and s["faults"]["latched"] == ["stale state", "fall"]
+    assert s["faults"]["times_latched"] == {"stale state": 1, "fall": 1}
     assert "no fresh state" in s["faults"]["first"]
     assert s["truth"]["base_height_min"] < 0.4
     assert s["counters"]["stale_reads"] >= 100

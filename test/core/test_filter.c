@@ -168,7 +168,7 @@ static roz_channel_t grip_state[] = {
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t gripper = { "gripper", "gripper", 100, grip_cmd, 1, grip_state, 1,
-                                        NULL, NULL, 0, 0 };
+                                        NULL, NULL, 0, 0, NULL };
 
 typedef struct {
     const char *what;

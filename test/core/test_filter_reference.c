@@ -483,7 +483,7 @@ static const roz_channel_t mixed_state[] = {
     { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
       ROZ_OPERATOR_NONE, 0.0 },
 };
-static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0, 0 };
+static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0, 0, NULL };
 
 /* Sets the mode from the test's state; after the runs, checks that the
  * vector way was taken in that mode (where the CPU has it) and never in the

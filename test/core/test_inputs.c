@@ -35,7 +35,7 @@ static const roz_channel_t ins[] = {
       ROZ_SAFE_FOLLOW, 20, ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, states, 1, NULL,
-                                    ins, 2, 0 };
+                                    ins, 2, 0, NULL };
 
 static roz_inputs_t in;
 static double out[2];

@@ -53,7 +53,7 @@ static const roz_channel_t latch_states[] = {
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t latch_manifest = {
-    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0, 0,
+    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0, 0, NULL,
 };
 
 enum { ACT_NONE = 0, ACT_TRAP = 1, ACT_FUEL = 2, ACT_ESTOP_REQUEST = 3 };
@@ -655,7 +655,7 @@ static void test_latch_robot_fault(void **s)
 }
 
 /* A fault the robot keeps reporting re-latches every frame, and every latch
- * takes a number of the 24-bit sequence: after 2^23 of them an older fault
+ * takes a number of the latch sequence: after half its range an older fault
  * (here an e-stop press) must still clear once the robot stops reporting. */
 static void test_latch_old_fault_clears_after_many_relatches(void **s)
 {
@@ -665,10 +665,13 @@ static void test_latch_old_fault_clears_after_many_relatches(void **s)
     roz_runtime_estop(&rt);
     ticks(1);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
-    /* 2^23 - 8 latches of the robot's report, taken as one step of the
-     * sequence (ticking them all takes minutes under ASan); then 16 real ones
-     * carry the e-stop's number past half the range behind the newest. */
-    rt.latch_seq = (rt.latch_seq + (1u << 23) - 8u) & 0xffffffu;
+    /* half the range of latch numbers (the bits above the
+     * ROZ_FAULT_KIND_COUNT fault bits) less 8 latches of the robot's report,
+     * taken as one step of the sequence (ticking them all takes minutes
+     * under ASan); then 16 real ones carry the e-stop's number past half
+     * the range behind the newest. */
+    rt.latch_seq = (rt.latch_seq + (1u << (31 - ROZ_FAULT_KIND_COUNT)) - 8u) &
+                   (0xffffffffu >> ROZ_FAULT_KIND_COUNT);
     read_rc = ROZ_EROBOT;
     ticks(16);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP | ROZ_FAULT_ROBOT);

@@ -43,7 +43,7 @@ static const roz_channel_t states[] = {
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t manifest = {
-    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0, 0,
+    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0, 0, NULL,
 };
 
 /* Emits its own call count, traps when its tick equals state[1]. */

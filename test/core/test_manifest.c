@@ -35,7 +35,7 @@ static int setup_manifest(void **state)
     states[2] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
                                  0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
                                    ROZ_OPERATOR_NONE, 0.0 };
-    m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL, NULL, 0, 0 };
+    m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL, NULL, 0, 0, NULL };
     return 0;
 }
 

@@ -38,7 +38,7 @@ static const roz_channel_t ins[] = {
 };
 #define N_INS (sizeof ins / sizeof ins[0])
 static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, NULL, 0, NULL,
-                                    ins, N_INS, 0 };
+                                    ins, N_INS, 0, NULL };
 
 static roz_inputs_t in;
 static double out[N_INS];

@@ -29,7 +29,7 @@ static const roz_channel_t commands[] = {
     { "j/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
       ROZ_OPERATOR_NONE, 0.0 },
 };
-static const roz_manifest_t one = { "one", "generic", 100, commands, 1, NULL, 0, NULL, NULL, 0, 0 };
+static const roz_manifest_t one = { "one", "generic", 100, commands, 1, NULL, 0, NULL, NULL, 0, 0, NULL };
 
 static void assert_untouched(const void *p, size_t n)
 {

@@ -148,7 +148,7 @@ static const roz_channel_t ins[] = {
     { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
 };
-static const roz_manifest_t man = { "pad_bot", "generic", 500, cmds, 1, NULL, 0, NULL, ins, 2, 0 };
+static const roz_manifest_t man = { "pad_bot", "generic", 500, cmds, 1, NULL, 0, NULL, ins, 2, 0, NULL };
 static roz_inputs_t in;
 
 static int to_inputs(void *ctx, const roz_operator_remote_t *r)

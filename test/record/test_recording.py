@@ -606,10 +606,11 @@ def test_readers_refuse_records_past_their_limit(tmp_path):
 def test_mujoco_truth_tells_standing_from_fallen(tmp_path):
     """The G1 on g1_stand_pd (the stand without its balance) stands for about
     1.5 s, then falls (docs/ports/mujoco.md): the recording alone says which, tick by tick,
-    and its heights are the summary's."""
+    and its heights are the summary's. The manifest's fall rule latches FALL (exit 1)."""
     path = tmp_path / "g1.mcap"
     p = rozrun("--robot", "unitree_g1", "--port", "mujoco", "--ticks", 1400,
-               "--controller", CTL / "g1_stand_pd.wasm", "--record", path)
+               "--controller", CTL / "g1_stand_pd.wasm", "--record", path, ok=(1,))
+    assert "faults                 latched: fall (first: fall: the base tilted" in p.stdout
     m = re.search(r"base +height (-?[0-9.]+) m \(lowest (-?[0-9.]+)\), roll (-?[0-9.]+), "
                   r"pitch (-?[0-9.]+) deg", p.stdout)
     assert m, p.stdout

@@ -13,6 +13,7 @@
  *       ...
  *     ],
  *     "states": [...],
+ *     "fall": {"orientation": "base_imu/orientation", "quaternion": [87, 88, 89, 90], "max_tilt_rad": 1, "for_ms": 20},
  *     "hardware": {"port": "unitree/G1", "joints": ["a", "b"], "params": {"dds_domain": "0"}}
  *   }
  *
@@ -22,6 +23,9 @@
  * - Defaults written out ("generic", 0, -1). "limit_margin" is the margin
  *   the filter keeps inside a position state's limits, the default worked
  *   out (roz_manifest_limit_margin()), null on commands and other states.
+ * - "inputs" (as "states", without the filter's keys, with
+ *   "stale_after_ms") and "fall" (the fall rule: the quaternion's state
+ *   indices x, y, z, w) only when the manifest has them.
  * - "hardware" is null without a [hardware] table; "joints" as given,
  *   "params" sorted by key (byte order).
  * - Numbers (always finite) as the shortest %.{p}g, p = 1..17, that reads
@@ -156,6 +160,15 @@ void manifest_json_print(const roz_manifest_t *m, int as_written)
             }
         }
         fputs("],\n", stdout);
+    }
+    if (m->fall != NULL) { /* absent without a fall rule, as "inputs" */
+        const roz_fall_rule_t *r = m->fall;
+        fputs("  \"fall\": {\"orientation\": ", stdout);
+        put_string(r->orientation);
+        printf(", \"quaternion\": [%ld, %ld, %ld, %ld], \"max_tilt_rad\": ", (long)r->quaternion[0],
+               (long)r->quaternion[1], (long)r->quaternion[2], (long)r->quaternion[3]);
+        put_double(r->max_tilt);
+        printf(", \"for_ms\": %lu},\n", (unsigned long)r->for_ms);
     }
     fputs("  \"hardware\": ", stdout);
     if (h == NULL) {

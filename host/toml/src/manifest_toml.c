@@ -27,7 +27,7 @@
 
 /* ---- types ---------------------------------------------------------------- */
 
-enum { SEC_TOP, SEC_MANIFEST, SEC_COMMANDS, SEC_STATES, SEC_INPUTS, SEC_HARDWARE };
+enum { SEC_TOP, SEC_MANIFEST, SEC_COMMANDS, SEC_STATES, SEC_INPUTS, SEC_FALL, SEC_HARDWARE };
 
 /* Where problems go: section and index for ordering, text for messages. */
 typedef struct place {
@@ -59,7 +59,7 @@ typedef struct checker {
 
 static const char *const top_keys[] = { "manifest", "hardware" };
 static const char *const manifest_keys[] = { "robot_id", "robot_class", "control_rate_hz",
-                                             "commands", "states", "inputs", "remote_estop" };
+                                             "commands", "states", "inputs", "remote_estop", "fall" };
 static const char *const channel_keys[] = { "name",    "interface_type",     "unit",
                                             "limits",  "default",            "max_rate_of_change",
                                             "position_state_index",          "limit_margin",
@@ -69,6 +69,9 @@ static const char *const input_keys[] = { "name",    "interface_type",     "unit
                                           "limits",  "default",            "max_rate_of_change",
                                           "stale_after_ms", "source", "scale" };
 static const char *const hardware_keys[] = { "port", "joints", "params" };
+static const char *const fall_keys[] = { "orientation", "max_tilt_rad", "for_ms" };
+/* the quaternion's states, <orientation> + these, in roz_fall_rule_t order */
+static const char *const fall_axes[4] = { ".x", ".y", ".z", ".w" };
 
 #define N_OF(a) (sizeof(a) / sizeof((a)[0]))
 
@@ -977,6 +980,111 @@ static void check_pairing(checker_t *ck, const roz_toml_node_t *commands,
     }
 }
 
+/* ---- private: the fall rule ------------------------------------------------------------ */
+
+/* The index of the state called @p prefix + @p axis among @p states, or -1
+ * (and *where names nothing). */
+static int64_t fall_state(checker_t *ck, const roz_toml_node_t *states, roz_toml_string_t prefix,
+                          const char *axis, const roz_toml_node_t **table)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    size_t n = strlen(axis);
+    int64_t i = 0;
+
+    *table = NULL;
+    for (const roz_toml_node_t *t = roz_toml_first(d, states); t != NULL;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *name = t->type == ROZ_TOML_TABLE ? channel_name(ck, NULL, t) : NULL;
+        if (name != NULL && name->as.str.len == prefix.len + n &&
+            memcmp(name->as.str.ptr, prefix.ptr, prefix.len) == 0 &&
+            memcmp(name->as.str.ptr + prefix.len, axis, n) == 0) {
+            *table = t;
+            return i;
+        }
+    }
+    return -1;
+}
+
+/* [manifest.fall]: the base's quaternion among the states, the angle, the
+ * time; and 0 within every stiffness command's limits, which the fallen
+ * stop sends (roz/fall.h). */
+static void check_fall(checker_t *ck, const roz_toml_node_t *fall, const roz_toml_node_t *states,
+                       const roz_toml_node_t *commands)
+{
+    const roz_toml_doc_t *d = ck->doc;
+    place_t pl = { SEC_FALL, 0, "manifest.fall", fall_keys, N_OF(fall_keys) };
+    const roz_toml_node_t *o;
+    char what[ROZ_CFG_PROBLEM_LEN];
+    double tilt;
+    int64_t ms;
+
+    unknown_keys(ck, &pl, fall);
+    if (check_string(ck, &pl, fall, "orientation", 1, &o)) {
+        for (int k = 0; k < 4; k++) {
+            const roz_toml_node_t *t;
+            int64_t s = fall_state(ck, states, o->as.str, fall_axes[k], &t);
+            int type = t != NULL ? channel_interface(d, t) : -1;
+            roz_text_t sb;
+            roz_text_init(&sb, what, sizeof what);
+            if (s < 0) {
+                roz_text_put(&sb, "no state \"");
+                roz_text_putn(&sb, o->as.str.ptr, o->as.str.len);
+                roz_text_put(&sb, fall_axes[k]);
+                roz_text_put(&sb, "\" (the rule reads the base's orientation quaternion from the "
+                                  "orientation states <orientation>.x, .y, .z and .w)");
+            } else if (type >= 0 && type != ROZ_IF_ORIENTATION) {
+                char where[ROZ_CFG_PROBLEM_LEN];
+                channel_where(ck, "states", (uint32_t)s, t, where, sizeof where);
+                roz_text_put(&sb, where);
+                roz_text_format(&sb, " is of type %s, not orientation",
+                                roz_interface_name((roz_interface_t)type));
+            } else {
+                continue;
+            }
+            roz_text_finish(&sb);
+            report(ck, "fall-orientation", &pl, "orientation", what, o, NULL);
+            break;
+        }
+    }
+    if (check_number(ck, &pl, fall, "max_tilt_rad", 1, 0.0, &tilt) &&
+        !(tilt > 0.0 && tilt < 3.14159265358979))
+        report(ck, "fall-tilt", &pl, "max_tilt_rad",
+               "must be above 0 and below pi (the angle, in rad, between the base's z axis and "
+               "the vertical beyond which the robot is down)",
+               roz_toml_get(d, fall, "max_tilt_rad"), NULL);
+    if (roz_toml_get(d, fall, "for_ms") == NULL) {
+        report(ck, "missing-key", &pl, "for_ms", "required key is missing", NULL, NULL);
+    } else if (check_integer(ck, d, &pl, fall, "for_ms", 0, &ms) &&
+               !(ms >= 0 && ms <= (int64_t)ROZ_FALL_MAX_MS)) {
+        snprintf(what, sizeof what,
+                 "must be in 0..%u (milliseconds the tilt must last; 0: one tick)",
+                 (unsigned)ROZ_FALL_MAX_MS);
+        report(ck, "fall-time", &pl, "for_ms", what, roz_toml_get(d, fall, "for_ms"), NULL);
+    }
+    /* the fallen stop sends stiffness 0: it must be a value the channel takes */
+    uint32_t i = 0;
+    for (const roz_toml_node_t *t = roz_toml_first(d, commands); t != NULL;
+         t = roz_toml_next(d, t), i++) {
+        const roz_toml_node_t *lim = t->type == ROZ_TOML_TABLE ? roz_toml_get(d, t, "limits")
+                                                               : NULL;
+        const roz_toml_node_t *a = lim != NULL ? roz_toml_first(d, lim) : NULL;
+        const roz_toml_node_t *b = a != NULL ? roz_toml_next(d, a) : NULL;
+        char where[ROZ_CFG_PROBLEM_LEN];
+        place_t cpl = { SEC_COMMANDS, i, where, channel_keys, N_OF(channel_keys) };
+        if (lim == NULL || channel_interface(d, t) != ROZ_IF_STIFFNESS ||
+            lim->type != ROZ_TOML_ARRAY || roz_toml_count(lim) != 2 || !is_number(a) ||
+            !is_number(b))
+            continue;
+        double lo = number_of(a), hi = number_of(b);
+        if (isfinite(lo) && isfinite(hi) && lo < hi && !(lo <= 0.0 && 0.0 <= hi)) {
+            channel_where(ck, "commands", i, t, where, sizeof where);
+            report(ck, "fall-stiffness", &cpl, "limits",
+                   "must include 0 when the manifest has a fall rule (manifest.fall): the "
+                   "fallen stop sends zero stiffness", lim, NULL);
+        }
+    }
+}
+
 /* ---- private: document ---------------------------------------------------------------- */
 
 static int robot_id_ok(roz_toml_string_t s)
@@ -1095,6 +1203,11 @@ static void check_manifest(checker_t *ck, const roz_toml_node_t *t)
         input_sources(ck, inputs);
     if (roz_toml_get(ck->doc, t, "remote_estop") != NULL)
         (void)remote_estop(ck, ck->doc, &pl, roz_toml_get(ck->doc, t, "remote_estop"));
+    const roz_toml_node_t *fall = roz_toml_get(ck->doc, t, "fall");
+    if (fall != NULL && fall->type != ROZ_TOML_TABLE)
+        report(ck, "type", &pl, "fall", "expected a table", fall, NULL);
+    else if (fall != NULL)
+        check_fall(ck, fall, states_ok ? states : NULL, commands_ok ? commands : NULL);
 }
 
 static void check_hardware(checker_t *ck, const roz_toml_node_t *t)
@@ -1300,6 +1413,18 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
     man->n_inputs = (uint16_t)roz_toml_count(inputs);
     if (rc == ROZ_OK && inputs != NULL)
         rc = build_channels(st, d, inputs, st->inputs);
+    const roz_toml_node_t *fall = roz_toml_get(d, m, "fall");
+    if (rc == ROZ_OK && fall != NULL) {
+        const roz_toml_node_t *o = roz_toml_get(d, fall, "orientation"), *t;
+        roz_fall_rule_t *r = &st->fall;
+        r->orientation = intern(st, o->as.str);
+        rc = r->orientation != NULL ? ROZ_OK : ROZ_ENOSPC;
+        for (int k = 0; k < 4; k++)
+            r->quaternion[k] = (int32_t)fall_state(ck, states, o->as.str, fall_axes[k], &t);
+        r->max_tilt = number_of(roz_toml_get(d, fall, "max_tilt_rad"));
+        r->for_ms = (uint32_t)roz_toml_get(d, fall, "for_ms")->as.integer;
+        man->fall = r;
+    }
 
     if (rc == ROZ_OK && hw != NULL) {
         const roz_toml_node_t *joints = roz_toml_get(d, hw, "joints");

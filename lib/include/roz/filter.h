@@ -34,6 +34,11 @@ typedef enum roz_stop {
     ROZ_STOP_NONE = 0,    /**< run: filter the controller's targets */
     ROZ_STOP_CONTROLLED,  /**< ramp every channel to its safe default under the rate caps */
     ROZ_STOP_IMMEDIATE,   /**< e-stop: every channel at its safe default now */
+    ROZ_STOP_FALLEN,      /**< the robot is down (ROZ_FAULT_FALL, roz/fall.h): damping
+                               now, as a vendor's damping command: every stiffness 0,
+                               every other channel at its safe default with a position
+                               command following the measured position (never a hold:
+                               no stiffness pushes into the ground) */
 } roz_stop_t;
 
 /** Counters, totals since init. */
@@ -93,6 +98,7 @@ typedef struct roz_filter {
 #endif
     int      ROZ_PRIVATE(running); /* channel_stop_run[] may not be all 0 */
     int      ROZ_PRIVATE(stopping); /* a stop is on: hold[] latched at its first tick */
+    int      ROZ_PRIVATE(fallen);   /* the stop is ROZ_STOP_FALLEN: no hold */
     double   ROZ_PRIVATE(hold)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels: the safe
                                                          default this tick of the stop */
     roz_hold_from_t ROZ_PRIVATE(hold_from)[ROZ_CFG_MAX_COMMANDS]; /* ROZ_SAFE_HOLD channels:
@@ -127,7 +133,8 @@ ROZ_NODISCARD int roz_filter_init(roz_filter_t *f, const roz_manifest_t *m);
  *        the state is not finite (position unknown: hold, don't jump); for
  *        every other channel the manifest default. While a stop is on, a
  *        channel whose safe_default is ROZ_SAFE_HOLD gives instead its
- *        hold (roz/hold.h), latched at the stop's first tick by
+ *        hold (roz/hold.h) (not in a ROZ_STOP_FALLEN stop), latched at the
+ *        stop's first tick by
  *        roz_filter_apply() from its last applied value (the setpoint the
  *        joint was held at), its stiffness's last applied value and the
  *        rule above's value then (the measured position), and computed
@@ -150,9 +157,11 @@ void roz_filter_prime(roz_filter_t *f, const double *state);
  * @brief Filter one tick.
  * @param[in]  target  n_commands controller targets (ignored when stopping)
  * @param[in]  state   n_states values of this tick's snapshot
- * @param[in]  stop    run, controlled stop or e-stop; the first tick of a
- *                     stop (after one without) latches the ROZ_SAFE_HOLD
- *                     channels' safe defaults (roz_filter_safe_default())
+ * @param[in]  stop    run, controlled stop, e-stop or the fallen stop; the
+ *                     first tick of a stop other than the fallen one (after
+ *                     a tick without a stop, or with the fallen stop)
+ *                     latches the ROZ_SAFE_HOLD channels' safe defaults
+ *                     (roz_filter_safe_default())
  * @param[out] out     n_commands values for the port, each within [min, max];
  *                     may be @p target itself
  * Context: tick; RT-safe; O(n_commands).

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
  * @brief The hold: what every stop sends a joint (the filter's stops, every
- *        port's command watchdog, the hold after a trip, the exit).
+ *        port's command watchdog, the hold after a trip, the exit), but the
+ *        fallen stop, which sends damping (ROZ_STOP_FALLEN, roz/filter.h).
  * @file roz/hold.h
  *
  * A hold is computed from the last command the controller sent (never from

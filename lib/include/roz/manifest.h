@@ -106,6 +106,26 @@ typedef struct roz_hardware {
     uint16_t           n_params;
 } roz_hardware_t;
 
+/** The longest time a fall rule may wait (robot.toml's `for_ms`): 10 s;
+ *  a robot lying longer than that is down whatever the rule says. */
+#define ROZ_FALL_MAX_MS 10000u
+
+/** The fall rule (robot.toml's [manifest.fall]): the robot is down when
+ *  its base has tilted more than @c max_tilt from upright on every tick
+ *  for @c for_ms; the runtime then latches ROZ_FAULT_FALL and sends the
+ *  fallen stop (roz/fall.h, docs/robot-toml.md "Falls"). */
+typedef struct roz_fall_rule {
+    /** the prefix of the base's orientation quaternion states, as written:
+     *  "base_imu/orientation" names "base_imu/orientation.x", ".y", ".z", ".w" */
+    const char *orientation;
+    /** those four states' indices, in the order x, y, z, w; each an
+     *  orientation state, all four different */
+    int32_t     quaternion[4];
+    double      max_tilt;  /**< rad, the angle between the base's z axis and
+                                the vertical, finite, 0 < max_tilt < pi */
+    uint32_t    for_ms;    /**< ms the tilt must last, 0..ROZ_FALL_MAX_MS (0: one tick) */
+} roz_fall_rule_t;
+
 /** A robot manifest. All pointers refer to storage that outlives it. */
 typedef struct roz_manifest {
     const char          *robot_id;     /**< "ur5"; a C identifier, lower case */
@@ -127,6 +147,8 @@ typedef struct roz_manifest {
      *  held in one remote frame, latch ROZ_FAULT_ESTOP; only a clear
      *  releases it. 0: the remote has no e-stop. */
     uint16_t             remote_estop;
+    /** The fall rule ([manifest.fall]); NULL: the runtime detects no fall. */
+    const roz_fall_rule_t *fall;
 } roz_manifest_t;
 
 /** Caller-provided storage for a manifest built at run time (no heap). */
@@ -143,6 +165,7 @@ typedef struct roz_manifest_storage {
     roz_hardware_t hardware;
     const char    *joints[ROZ_CFG_MAX_JOINTS > 0 ? ROZ_CFG_MAX_JOINTS : 1]; /**< hardware.joints */
     roz_param_t    params[ROZ_CFG_MAX_PARAMS > 0 ? ROZ_CFG_MAX_PARAMS : 1]; /**< hardware.params, by key */
+    roz_fall_rule_t fall; /**< [manifest.fall] of a manifest read at run time */
 } roz_manifest_storage_t;
 
 /** Why a manifest failed roz_manifest_validate(). */
@@ -171,6 +194,11 @@ typedef enum roz_manifest_rule {
                                           command or state; an input's scale not finite or 0
                                           with a source, or not 0 without one; two inputs
                                           with one source */
+    ROZ_MANIFEST_RULE_FALL,          /**< the fall rule: a quaternion index out of range, not an
+                                          orientation state or named twice; max_tilt not in
+                                          (0, pi); for_ms above ROZ_FALL_MAX_MS; or a stiffness
+                                          command whose limits exclude 0 (the fallen stop
+                                          sends 0); index is that command's, else -1 */
 } roz_manifest_rule_t;
 
 /** Where roz_manifest_validate() found a problem. */

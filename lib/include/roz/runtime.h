@@ -23,6 +23,7 @@
 #include "roz/abi.h"
 #include "roz/buffer.h"
 #include "roz/controller.h"
+#include "roz/fall.h"
 #include "roz/filter.h"
 #include "roz/identity.h"
 #include "roz/inputs.h"
@@ -59,8 +60,14 @@ typedef enum roz_fault {
                                             the tick wrote no command for the port's
                                             command timeout, and the port sent the robot
                                             its safe command on its own */
+    ROZ_FAULT_FALL          = 1u << 8, /**< the robot is down: its base tilted beyond the
+                                            manifest's fall rule (roz/fall.h); the fallen
+                                            stop (ROZ_STOP_FALLEN: damping, no stiffness)
+                                            wins over every other stop. A level: while the
+                                            base stays tilted, a clear is followed by the
+                                            next tick's latch */
 } roz_fault_t;
-#define ROZ_FAULT_KIND_COUNT 8
+#define ROZ_FAULT_KIND_COUNT 9
 /** Faults answered by an immediate stop; the others ramp. A robot that
  *  restarted (LINK), or that the port's command watchdog switched to its
  *  safe command (COMMAND_TIMEOUT), no longer tracks the commands a ramp
@@ -230,7 +237,8 @@ typedef struct roz_runtime {
     roz_runtime_slot_t     ROZ_PRIVATE(slot)[2];
     ROZ_ATOMIC(int)        ROZ_PRIVATE(active);       /* index of the driving slot, -1 none; written by the tick */
     ROZ_ATOMIC(int)        ROZ_PRIVATE(pending);      /* swap: slot to install at the next tick, -1 none */
-    /* Faults: latched bits (low 8) | latch sequence number << 8. Written by
+    /* Faults: latched bits (low ROZ_FAULT_KIND_COUNT) | latch sequence
+     * number << ROZ_FAULT_KIND_COUNT. Written by
      * the tick only; a new latch bumps the sequence, so a clear can tell the
      * faults it saw from those latched since. */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(faults);
@@ -256,6 +264,7 @@ typedef struct roz_runtime {
     int32_t                ROZ_PRIVATE(rec_read_rc);
     int64_t                ROZ_PRIVATE(rec_ctrl_tick);
     int                    ROZ_PRIVATE(have_state);
+    roz_fall_t             ROZ_PRIVATE(fall);         /* tick: the manifest's fall rule */
     uint32_t               ROZ_PRIVATE(stale_count);
     double                 ROZ_PRIVATE(state)[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
     double                 ROZ_PRIVATE(out)[ROZ_CFG_MAX_COMMANDS];
@@ -309,7 +318,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 9u
+#define ROZ_RUNTIME_LAYOUT_VERSION 10u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \

@@ -676,7 +676,7 @@ static const roz_channel_t cp_commands[2] = {
       0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t cp_manifest = { "cmd_path", "test", 100, cp_commands, 2, NULL, 0,
-                                            NULL, NULL, 0, 0 };
+                                            NULL, NULL, 0, 0, NULL };
 
 typedef struct {
     ROZ_ATOMIC(uint32_t) rx_session; /* the receive path's, as the hooks see it */

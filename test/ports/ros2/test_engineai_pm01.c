@@ -989,7 +989,7 @@ static const roz_channel_t two_states[] = {
 static const char *const two_joints[] = { "J07_HIP_ROLL_R", "J01_HIP_ROLL_L" };
 static const roz_hardware_t two_hw = { "engineai/PM01", two_joints, 2, NULL, 0 };
 static const roz_manifest_t two = { "two", "humanoid", 500, two_commands, 2, two_states, 2,
-                                    &two_hw, NULL, 0, 0 };
+                                    &two_hw, NULL, 0, 0, NULL };
 
 static void test_pm01_joints_by_name(void **st)
 {
@@ -1080,7 +1080,7 @@ static const roz_channel_t many_commands[] = {
 };
 static const roz_hardware_t many_hw = { "engineai/PM01", many_joints, 25, NULL, 0 };
 static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, NULL, 0,
-                                     &many_hw, NULL, 0, 0 };
+                                     &many_hw, NULL, 0, 0, NULL };
 /* a joint that is not the robot's, where a PM01 joint would be by place */
 static const char *const stranger_joints[] = { "J00_HIP_PITCH_L", "left_knee" };
 static const roz_channel_t stranger_commands[] = {
@@ -1091,7 +1091,7 @@ static const roz_channel_t stranger_commands[] = {
 };
 static const roz_hardware_t stranger_hw = { "engineai/PM01", stranger_joints, 2, NULL, 0 };
 static const roz_manifest_t stranger = { "stranger", "humanoid", 500, stranger_commands, 2,
-                                         NULL, 0, &stranger_hw, NULL, 0, 0 };
+                                         NULL, 0, &stranger_hw, NULL, 0, 0, NULL };
 
 static void test_pm01_bad_parameters(void **st)
 {

@@ -450,6 +450,17 @@ static void test_g1_mode_machine(void **st)
 
 static roz_runtime_t rt;
 
+/* The G1 without its fall rule, for the runtime: the fixture's IMU is a
+ * tilted test pattern, not a robot, and the rule would latch on it (the
+ * same channels otherwise; test_mujoco_fall judges the rule). */
+static const roz_manifest_t *without_fall(void)
+{
+    static roz_manifest_t no_fall;
+    no_fall = *m;
+    no_fall.fall = NULL;
+    return &no_fall;
+}
+
 /* One tick; ROZ_EFAULT while a fault is latched, which the test checks
  * through roz_runtime_faults(). */
 static void tick_rt(void)
@@ -468,7 +479,7 @@ static void test_g1_motor_fault_latches(void **st)
 
     open_g1(NULL, 0);
     roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
+    cfg.manifest = without_fall();
     cfg.port = port;
     cfg.clock = roz_test_clock;
     cfg.clock_ctx = &clk;
@@ -644,7 +655,7 @@ static void expect_variant_refused(int mode_machine, const char *joint)
     open_g1(NULL, 0);
     roz_g1fx_ask("mode_machine %d", mode_machine);
     roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
+    cfg.manifest = without_fall();
     cfg.port = port;
     cfg.clock = roz_test_clock;
     cfg.clock_ctx = &clk;
@@ -993,6 +1004,7 @@ static void test_g1_wire_inside_the_manifest(void **st)
     int q0 = roz_port_test_command(g1, g1->hardware->joints[0], "position", 1);
     tight_commands[q0].max = 2.8798;
     assert_true((double)(float)2.8798 > 2.8798); /* the case at hand */
+    tight.fall = NULL; /* a stiffness floor: no fallen stop (its kp 0) can be sent */
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         roz_channel_t *kp =
             &tight_commands[roz_port_test_command(g1, g1->hardware->joints[j], "stiffness", 1)];
@@ -1403,7 +1415,7 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
     open_g1((roz_param_t[]){ { "command_timeout_us", "300000" }, { "peer_timeout_ms", "60000" } },
             2);
     roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
+    cfg.manifest = without_fall();
     cfg.port = port;
     cfg.clock = roz_test_clock;
     cfg.clock_ctx = &clk;
@@ -1515,16 +1527,16 @@ static const char *const real_joints[] = { "left_knee_joint" };
 static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &real_hw, NULL, 0, 0 };
+                                    &real_hw, NULL, 0, 0, NULL };
 /* joint j1 is not a G1's */
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
-                                        1, &odd_hw, NULL, 0, 0 };
+                                        1, &odd_hw, NULL, 0, 0, NULL };
 static const roz_channel_t typo_commands[] = {
     { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
       ROZ_OPERATOR_NONE, 0.0 },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &real_hw, NULL, 0, 0 };
+                                     &real_hw, NULL, 0, 0, NULL };
 
 static void *nothing(void *arg)
 {
