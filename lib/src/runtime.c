@@ -884,6 +884,9 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     verify_inputs(m, rt->state);
     for (uint16_t i = 0; i < m->n_commands; i++)
         rt->out[i] = m->commands[i].default_value;
+    /* last: the port's operator devices may set inputs from now on */
+    if (cfg->port.ops->operator_sink != NULL)
+        cfg->port.ops->operator_sink(cfg->port.self, rt);
     return ROZ_OK;
 }
 
@@ -1292,6 +1295,8 @@ const double *roz_runtime_last_targets(const roz_runtime_t *rt)
 
 void roz_runtime_deinit(roz_runtime_t *rt)
 {
+    if (rt->cfg.port.ops != NULL && rt->cfg.port.ops->operator_sink != NULL)
+        rt->cfg.port.ops->operator_sink(rt->cfg.port.self, NULL);
     for (int i = 0; i < 2; i++)
         roz_controller_unload(&rt->slot[i].ctrl);
     atomic_store(&rt->active, -1);

@@ -170,6 +170,8 @@ typedef enum roz_port_report_when {
     ROZ_PORT_REPORT_SUMMARY = 1 /**< after the run: lines "label  text" for a summary */
 } roz_port_report_when_t;
 
+struct roz_runtime; /* roz/runtime.h */
+
 /** The operations of one kind of port. Optional ops may be NULL. */
 typedef struct roz_port_ops {
     const char *name; /**< "loopback", "unitree/G1", ... */
@@ -248,6 +250,15 @@ typedef struct roz_port_ops {
      *  blocking_log). roz_runtime_log_drain() calls it. Optional.
      *  Context: the application's thread that drains the log; formats text. */
     size_t (*drain)(void *self);
+    /** The runtime the port's operator devices hand their frames to
+     *  (roz/operator.h: a ROS 2 robot's /cmd_vel and /joy, a remote in the
+     *  robot's state), or NULL: none from now on. roz_runtime_init() calls it
+     *  with its runtime once it succeeded, roz_runtime_deinit() with NULL.
+     *  The port's threads may call roz_runtime_operator_*() on the runtime
+     *  from the first call until the one with NULL returned. Optional: a
+     *  port without operator devices has none. Context: start-up and
+     *  shut-down; the port stores it for its threads (an atomic). */
+    void (*operator_sink)(void *self, struct roz_runtime *rt);
 } roz_port_ops_t;
 
 /** A port instance: its ops and its data. */
