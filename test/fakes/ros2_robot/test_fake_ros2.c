@@ -224,34 +224,9 @@ static dds_entity_t wire_reader(const dds_topic_descriptor_t *desc, const char *
     return 0;
 }
 
-/* Asks the fake for new samples on @p what until one arrives at @p r (a
+/* Asks the fake @p request (every 500 ms) until a sample arrives at @p r (a
  * sample sent before both sides discovered each other is lost), then
  * returns its bytes: the encapsulation header, then the payload. */
-static size_t take_wire(dds_entity_t r, const char *what, uint8_t *buf, size_t cap)
-{
-    struct ddsi_serdata *sd = NULL;
-    dds_sample_info_t info;
-    for (int ms = 0; ms < WIRE_MS; ms++) {
-        if (ms % 500 == 0)
-            ask("send %s", what);
-        if (dds_takecdr(r, &sd, 1, &info, DDS_ANY_STATE) == 1) {
-            size_t n = ddsi_serdata_size(sd);
-            if (n > cap)
-                fail_msg("a serialized sample of %zu bytes", n);
-            ddsi_serdata_to_ser(sd, 0, n, buf);
-            ddsi_serdata_unref(sd);
-            /* XCDR1, little-endian: what rmw_cyclonedds reads */
-            assert_int_equal(buf[0], 0x00);
-            assert_int_equal(buf[1], 0x01);
-            return n;
-        }
-        dds_sleepfor(DDS_MSECS(1));
-    }
-    fail_msg("no sample on %s", what);
-    return 0;
-}
-
-/* As take_wire(), the fake asked @p request (an operator's message). */
 static size_t take_asked(dds_entity_t r, const char *request, uint8_t *buf, size_t cap)
 {
     struct ddsi_serdata *sd = NULL;
@@ -265,6 +240,7 @@ static size_t take_asked(dds_entity_t r, const char *request, uint8_t *buf, size
                 fail_msg("a serialized sample of %zu bytes", n);
             ddsi_serdata_to_ser(sd, 0, n, buf);
             ddsi_serdata_unref(sd);
+            /* XCDR1, little-endian: what rmw_cyclonedds reads */
             assert_int_equal(buf[0], 0x00);
             assert_int_equal(buf[1], 0x01);
             return n;
@@ -273,6 +249,14 @@ static size_t take_asked(dds_entity_t r, const char *request, uint8_t *buf, size
     }
     fail_msg("no sample after \"%s\"", request);
     return 0;
+}
+
+/* New samples on @p what ("send WHAT") until one arrives: take_asked(). */
+static size_t take_wire(dds_entity_t r, const char *what, uint8_t *buf, size_t cap)
+{
+    char request[128];
+    snprintf(request, sizeof request, "send %s", what);
+    return take_asked(r, request, buf, cap);
 }
 
 /* Takes whatever else arrived (the resends), so the next take is new. */
