@@ -593,7 +593,10 @@ const double *roz_runtime_last_state(const roz_runtime_t *rt);
  *  NULL without one. Context: as above. */
 const double *roz_runtime_last_targets(const roz_runtime_t *rt);
 
-/** @brief Stop, unload controllers; idempotent. Context: not the tick. */
+/** @brief Stop, unload controllers, tell the port to hand its operator
+ *  devices' frames to no runtime (roz_port_ops_t.operator_sink); idempotent.
+ *  Call it while the port's instance still exists (before the application
+ *  frees it). Context: not the tick. */
 void roz_runtime_deinit(roz_runtime_t *rt);
 
 #ifdef __cplusplus
