@@ -113,6 +113,7 @@ typedef struct {
     /* the operator: a ROS 2 teleop node and a joy node on this host
      * (main thread only) */
     const char         *cmd_vel_topic, *joy_topic; /* DDS names */
+    const dds_topic_descriptor_t *twist_desc, *joy_desc;
     dds_entity_t        twist_writer, joy_writer;
     uint32_t            joy_axes, joy_buttons; /* the lengths sent */
     float               joy_axis[JOY_MAX];
@@ -490,8 +491,9 @@ static int open_dds(fake_t *f, uint32_t domain)
  * and joy's): types registered without type information. */
 static int open_operator(fake_t *f)
 {
-    const dds_topic_descriptor_t *td = retype(&geometry_msgs_msg_dds__Twist__desc, NULL, 0);
-    const dds_topic_descriptor_t *jd = retype(&sensor_msgs_msg_dds__Joy__desc, NULL, 0);
+    const dds_topic_descriptor_t *td, *jd;
+    td = f->twist_desc = retype(&geometry_msgs_msg_dds__Twist__desc, NULL, 0);
+    jd = f->joy_desc = retype(&sensor_msgs_msg_dds__Joy__desc, NULL, 0);
     if (td == NULL || jd == NULL)
         return -1;
     dds_qos_t *q = dds_create_qos();
