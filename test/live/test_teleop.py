@@ -220,3 +220,28 @@ def test_teleop_from_another_machine(tmp_path, remote):
         out = p.communicate(timeout=30)[0]
         taken.close()
     assert p.returncode == 0, out
+
+
+def test_teleop_socket_refusals(tmp_path):
+    """rozrun --teleop: a path that is not a socket, or too long for one, and
+    --teleop with --replay exit 2 naming it; roz-live --teleop-remote alone
+    is refused."""
+    robot = robot_with_input(tmp_path)
+    plain = tmp_path / "not_a_socket"
+    plain.write_text("x")
+    base = [ROZRUN, "--robot", robot, "--port", "loopback", "--ticks", "10",
+            "--controller", CTL / "sine.wasm", "--allow-other-robot"]
+    r = subprocess.run([*base, "--teleop", plain], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and f"--teleop {plain}: exists and is not a socket" in r.stderr, \
+        r.stderr
+    assert plain.read_text() == "x"
+    long = tmp_path / ("s" * 120)
+    r = subprocess.run([*base, "--teleop", long], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "longer than a socket's path may be" in r.stderr, r.stderr
+    r = subprocess.run([ROZRUN, "--replay", tmp_path / "none.mcap", "--controller",
+                        CTL / "sine.wasm", "--teleop", tmp_path / "t.sock"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "--teleop and --replay" in r.stderr, r.stderr
+    r = subprocess.run([sys.executable, str(LIVE), "-", "--teleop-remote"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "--teleop-remote needs --teleop SOCKET" in r.stderr, r.stderr

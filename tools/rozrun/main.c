@@ -1118,6 +1118,10 @@ int main(int argc, char **argv)
             return 2;
         operating = 1;
     }
+    /* before the port opens: a socket that cannot be made stops the run
+     * before the robot is touched */
+    if (o.teleop != NULL && rozrun_teleop_open(&teleop, o.teleop) != 0)
+        return 2;
 
     roz_port_t port;
     if (make_port(pe, &port) != 0)
@@ -1234,8 +1238,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "rozrun: cannot start port %s\n", o.port);
         return 2;
     }
-    if (o.teleop != NULL &&
-        (rozrun_teleop_open(&teleop, o.teleop) != 0 || rozrun_teleop_start(&teleop, &rt) != 0))
+    if (o.teleop != NULL && rozrun_teleop_start(&teleop, &rt) != 0)
         return 2;
 
     static roz_runner_t runner;
