@@ -19,6 +19,15 @@ message encoding (cdr); each message is logged on it with its recorded log
 time. On a FIFO, one run follows another (the channels stay while the robot
 does) until Ctrl-C; --exit stops after the first run.
 
+Teleop (--teleop SOCKET, the socket of `rozrun --teleop SOCKET`): viewers may
+publish (Foxglove's clientPublish) a channel of json geometry_msgs/msg/Twist,
+as Foxglove's Teleop panel does; each message is checked (at most
+MAX_TELEOP_BYTES, strict JSON, linear and angular x, y, z finite numbers)
+and sent to the run, whose inputs' rules judge it; anything else is refused
+with a status message and a line here. Only viewers connected from this
+machine (a loopback address) get the capability; --teleop-remote gives it
+to every viewer.
+
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
 latched faults, fuel and freshness, the safety filter's counters, and the
@@ -26,7 +35,9 @@ truth's base height when the run has one (docs/live.md).
 """
 import argparse
 import importlib.util
+import ipaddress
 import json
+import math
 import os
 import pathlib
 import select
@@ -55,6 +66,9 @@ MAX_RECORD = mcap_chunks.MAX_RECORD
 LAYOUT_JOINTS = 3
 # viewers connected at once (docs/live.md): each costs the server about 190 KB
 MAX_VIEWERS = 8
+# teleop (docs/live.md): what a viewer may publish, and its largest message
+TELEOP_SCHEMAS = ("geometry_msgs/msg/Twist", "geometry_msgs/Twist")
+MAX_TELEOP_BYTES = 4096
 
 
 class LiveError(Exception):
@@ -106,14 +120,135 @@ def next_run(path):
     return ExactReader(fd)
 
 
+class TeleopError(Exception):
+    pass
+
+
+def _no_constant(name):
+    raise TeleopError(f"{name} is not a number")
+
+
+def _one_of_each(pairs):
+    keys = [k for k, _ in pairs]
+    if len(set(keys)) != len(keys):
+        raise TeleopError(f"a key given twice ({', '.join(sorted(keys))})")
+    return dict(pairs)
+
+
+def parse_twist(data):
+    """The six values of a geometry_msgs/msg/Twist in JSON, as Foxglove's
+    Teleop panel publishes it ({"linear": {"x", "y", "z"}, "angular": {...}}):
+    strictly that, every value a finite number; TeleopError says why not."""
+    if len(data) > MAX_TELEOP_BYTES:
+        raise TeleopError(f"{len(data)} bytes, more than {MAX_TELEOP_BYTES}")
+    try:
+        msg = json.loads(bytes(data).decode("utf-8"), parse_constant=_no_constant,
+                         object_pairs_hook=_one_of_each)
+    except (UnicodeDecodeError, ValueError) as e:
+        raise TeleopError(f"not JSON ({e})") from None
+    if not isinstance(msg, dict) or set(msg) != {"linear", "angular"}:
+        raise TeleopError("expected an object of linear and angular")
+    out = []
+    for part in ("linear", "angular"):
+        v = msg[part]
+        if not isinstance(v, dict) or set(v) != {"x", "y", "z"}:
+            raise TeleopError(f"{part}: expected an object of x, y and z")
+        for axis in "xyz":
+            x = v[axis]
+            if isinstance(x, bool) or not isinstance(x, (int, float)):
+                raise TeleopError(f"{part}.{axis}: not a number")
+            try:
+                x = float(x)
+            except OverflowError:
+                x = math.inf
+            if not math.isfinite(x):
+                raise TeleopError(f"{part}.{axis}: not finite")
+            out.append(x)
+    return out
+
+
+def loopback(address):
+    """A peer's address is this machine's loopback (127/8, ::1, or an
+    IPv4-mapped 127/8)."""
+    try:
+        a = ipaddress.ip_address(address.split("%", 1)[0])
+    except ValueError:
+        return False
+    if getattr(a, "ipv4_mapped", None) is not None:
+        a = a.ipv4_mapped
+    return a.is_loopback
+
+
+class Teleop:
+    """The teleop server's listener: the viewers' Twist channels, each
+    message checked and sent to rozrun's --teleop socket as "TWST" and six
+    little-endian float64 (tools/rozrun/teleop.h). Called on the SDK's
+    threads; each call is short and never blocks (the socket does not)."""
+
+    def __init__(self, path):
+        self.path = path
+        self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        self.sock.setblocking(False)
+        self.lock = threading.Lock()
+        self.channels = {}  # (client id, channel id) -> topic
+        self.server = None
+        self.sent = 0
+        self.refused = 0
+
+    def refuse(self, why):
+        with self.lock:
+            self.refused += 1
+        print(f"roz-live: teleop: {why}", flush=True)
+        if self.server is not None:
+            from foxglove.websocket import StatusLevel
+            self.server.publish_status(f"roz-live: {why}", StatusLevel.Error)
+
+    def on_client_advertise(self, client, channel):
+        if channel.encoding != "json" or channel.schema_name not in TELEOP_SCHEMAS:
+            self.refuse(f"channel {channel.topic} ({channel.schema_name}, {channel.encoding}): "
+                        f"roz-live takes json geometry_msgs/msg/Twist only")
+            return
+        with self.lock:
+            self.channels[(client.id, channel.id)] = channel.topic
+
+    def on_client_unadvertise(self, client, client_channel_id):
+        with self.lock:
+            self.channels.pop((client.id, client_channel_id), None)
+
+    def on_message_data(self, client, client_channel_id, data):
+        with self.lock:
+            topic = self.channels.get((client.id, client_channel_id))
+        if topic is None:
+            self.refuse(f"a message on channel {client_channel_id}, which is no advertised "
+                        f"twist: refused")
+            return
+        try:
+            twist = parse_twist(data)
+        except TeleopError as e:
+            self.refuse(f"{topic}: {e}: refused, the inputs unchanged")
+            return
+        try:
+            self.sock.sendto(b"TWST" + struct.pack("<6d", *twist), self.path)
+        except OSError as e:
+            self.refuse(f"{topic}: no run takes twists at {self.path} ({e.strerror or e})")
+            return
+        with self.lock:
+            self.sent += 1
+
+    def close(self):
+        self.sock.close()
+
+
 class Gate:
     """The address viewers connect to, at most MAX_VIEWERS at a time, each
     relayed to the Foxglove server on a port of 127.0.0.1 of its own: the
     server has no cap of its own and holds about 190 KB per connection, idle
     ones too. A connection past the cap is closed at once."""
 
-    def __init__(self, host, port, backend_port):
+    def __init__(self, host, port, backend_port, teleop_port=None, teleop_remote=False):
         self.backend = backend_port
+        self.teleop = teleop_port    # the teleop server's: loopback viewers' (or all)
+        self.teleop_remote = teleop_remote
         self.lock = threading.Lock()
         self.open = 0
         self.refused = 0
@@ -126,7 +261,7 @@ class Gate:
     def _accept(self):
         while True:
             try:
-                conn, _ = self.sock.accept()
+                conn, peer = self.sock.accept()
             except OSError:
                 return  # closed
             with self.lock:
@@ -138,8 +273,11 @@ class Gate:
             if full:
                 conn.close()
                 continue
+            backend = self.backend
+            if self.teleop is not None and (self.teleop_remote or loopback(peer[0])):
+                backend = self.teleop
             try:
-                back = socket.create_connection(("127.0.0.1", self.backend))
+                back = socket.create_connection(("127.0.0.1", backend))
             except OSError:
                 conn.close()
                 self._done()
@@ -180,11 +318,23 @@ class Gate:
 class Server:
     """The Foxglove WebSocket server and the channels of one stream."""
 
-    def __init__(self, host, port):
+    def __init__(self, host, port, teleop=None, teleop_remote=False):
         import foxglove
         self.foxglove = foxglove
         self.server = foxglove.start_server(name="roz-live", host="127.0.0.1", port=0)
-        self.gate = Gate(host, port, self.server.port)
+        # teleop: a second server, on the same channels, whose viewers may
+        # publish; the gate sends only those it allows to it
+        self.teleop = Teleop(teleop) if teleop is not None else None
+        self.teleop_server = None
+        if self.teleop is not None:
+            from foxglove.websocket import Capability
+            self.teleop_server = foxglove.start_server(
+                name="roz-live", host="127.0.0.1", port=0,
+                capabilities=[Capability.ClientPublish], supported_encodings=["json"],
+                server_listener=self.teleop)
+            self.teleop.server = self.teleop_server
+        self.gate = Gate(host, port, self.server.port,
+                         self.teleop_server.port if self.teleop_server else None, teleop_remote)
         self.schemas = {}     # this stream's schema id -> record
         self.channels = {}    # this stream's channel id -> Foxglove channel
         self.by_topic = {}    # topic -> (what it advertises, Foxglove channel), across runs
@@ -239,6 +389,9 @@ class Server:
     def stop(self):
         self.gate.close()
         self.server.stop()
+        if self.teleop_server is not None:
+            self.teleop_server.stop()
+            self.teleop.close()
 
 
 def fields(schema_text):
@@ -372,13 +525,17 @@ def serve(args):
     signal.signal(signal.SIGTERM, interrupt)
     fifo = args.input != "-"
     anchor = open_fifo(args.input) if fifo else None  # a reader between runs
-    server = Server(args.host, args.port)
+    server = Server(args.host, args.port, args.teleop, args.teleop_remote)
     try:
         print(f"roz-live: serving ws://{args.host}:{server.port()} (Foxglove: open "
               f"connection, Foxglove WebSocket); reading {args.input}", flush=True)
         url = server.app_url()
         if url:
             print(f"roz-live: or open {url}", flush=True)
+        if args.teleop:
+            print(f"roz-live: teleop to {args.teleop}, from "
+                  f"{'every viewer' if args.teleop_remote else 'viewers on this machine'}",
+                  flush=True)
         while True:
             src = next_run(args.input) if fifo else sys.stdin.buffer
             try:
@@ -425,7 +582,16 @@ def main(argv=None):
     ap.add_argument("--port", type=int, default=8765, help="port (default 8765; 0: any free)")
     ap.add_argument("--layout", help="write the run's Foxglove layout here")
     ap.add_argument("--exit", action="store_true", help="stop when the run ends")
+    ap.add_argument("--teleop", metavar="SOCKET",
+                    help="take Foxglove's Teleop panel (json geometry_msgs/msg/Twist) from "
+                         "viewers on this machine to the run's rozrun --teleop SOCKET")
+    ap.add_argument("--teleop-remote", action="store_true",
+                    help="with --teleop: from viewers on other machines too (nothing is "
+                         "authenticated)")
     a = ap.parse_args(argv)
+    if a.teleop_remote and not a.teleop:
+        print("roz-live: --teleop-remote needs --teleop SOCKET", file=sys.stderr)
+        return 2
     if not 0 <= a.port <= 65535:
         print(f"roz-live: --port {a.port}: not a port (0..65535)", file=sys.stderr)
         return 2

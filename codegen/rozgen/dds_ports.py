@@ -66,7 +66,9 @@ DDS_KEYS = ("network_interface", "dds_domain", "enable_monitor", "exit_stop",
             "command_writer_stack_kib", "dds_threads_sched", "dds_threads_priority",
             "dds_threads_stack_kib", "command_timeout_us")
 #: common_keys of ros2_bridge.c; a robot's own follow
-ROS2_KEYS = DDS_KEYS + ("peer_timeout_ms", "startup_damping", "shutdown_damping", "link_check")
+ROS2_KEYS = DDS_KEYS + ("peer_timeout_ms", "startup_damping", "shutdown_damping", "link_check",
+                        # the operator topics': checked by the port when it opens
+                        "cmd_vel_topic", "joy_topic", "joy_map")
 
 MAX_JOINTS = 64  # ROZ_CFG_MAX_JOINTS
 NAME_ROOM = 160  # joints.c: a longer "<joint>/<suffix>" is no channel's name

@@ -53,6 +53,7 @@
 #include "replay.h"
 #include "deploy.h"
 #include "operator.h"
+#include "teleop.h"
 #include "schedule.h"
 #include "summary_json.h"
 #include "trace.h"
@@ -80,6 +81,7 @@ typedef struct {
     const char *operator_file; /* --operator: a scripted operator (operator.h) */
     const char *deploy_file;   /* --deploy: the deploy sequence (deploy.h) */
     const char *gamepad;       /* --gamepad: an evdev gamepad as the remote (roz/gamepad.h) */
+    const char *teleop;        /* --teleop: an operator's twists on a socket (teleop.h) */
     const char *summary_json; /* --summary-json: the summary as JSON (summary_json.h) */
     uint64_t    ticks;
     int         realtime;
@@ -177,6 +179,7 @@ static int watching;
 static int trace_failed; /* main thread: the trace's first write error was reported */
 static rozrun_schedule_t sched;
 static rozrun_operator_t op; /* --operator: set by the tick's thread */
+static rozrun_teleop_t teleop; /* --teleop: its own thread */
 static int operating;
 static atomic_int interrupted; /* lock-free: set by the signal handler */
 static int realtime_degraded; /* --realtime refused: the deadline on the CPU time */
@@ -288,6 +291,10 @@ static void usage(FILE *f, const char *port)
         "                       remote: its sticks, triggers and buttons feed the inputs\n"
         "                       whose source is a remote.* field, and the remote's e-stop;\n"
         "                       with a simulator, --realtime keeps its time the wall's\n"
+        "  --teleop SOCKET      an operator's twists (roz-live --teleop: Foxglove's Teleop\n"
+        "                       panel): a UNIX datagram socket made here (mode 0600),\n"
+        "                       each datagram handed to the inputs whose source is a\n"
+        "                       twist field (docs/live.md)\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -386,7 +393,7 @@ static int parse_args(int argc, char **argv, options_t *o)
                                               "--stale-ticks", "--param", "--fuel", "--fuel-max",
                                               "--estop-at", "--estop-release-at", "--clear-at",
                                               "--swap-at", "--operator", "--deploy",
-                                              "--stage-at", "--gamepad", NULL };
+                                              "--stage-at", "--gamepad", "--teleop", NULL };
         int known = 0;
         for (const char *const *k = valued; *k != NULL && !known; k++)
             known = strcmp(*k, a) == 0;
@@ -434,6 +441,8 @@ static int parse_args(int argc, char **argv, options_t *o)
             o->deploy_file = v;
         } else if (!strcmp(a, "--gamepad")) {
             o->gamepad = v;
+        } else if (!strcmp(a, "--teleop")) {
+            o->teleop = v;
         } else if (!strcmp(a, "--replay")) {
             o->replay = v;
         } else if (!strcmp(a, "--summary-json")) {
@@ -514,6 +523,11 @@ static int parse_args(int argc, char **argv, options_t *o)
         return -1;
     }
 #endif
+    if (o->replay != NULL && o->teleop != NULL) {
+        fprintf(stderr, "rozrun: --teleop and --replay: a replay feeds the recorded states "
+                        "only\n");
+        return -1;
+    }
     if (o->replay != NULL && o->operator_file != NULL) {
         fprintf(stderr, "rozrun: --operator and --replay: a replay feeds the recorded "
                         "states and inputs\n");
@@ -889,6 +903,15 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
                (unsigned long long)sc->refused, (unsigned long long)sc->handovers,
                (unsigned long long)sc->handover_raised);
     }
+    if (o->teleop != NULL) {
+        const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
+        printf("  teleop                 %llu twists from %s, %llu malformed refused; inputs "
+               "clamped %llu, refused (non-finite) %llu, gone stale %llu\n",
+               (unsigned long long)atomic_load(&teleop.twists), o->teleop,
+               (unsigned long long)atomic_load(&teleop.refused),
+               (unsigned long long)ic->clamped, (unsigned long long)ic->nonfinite,
+               (unsigned long long)ic->stale);
+    }
     if (operating) {
         const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
         printf("  operator               %lu rows from %s; inputs clamped %llu, refused "
@@ -1188,6 +1211,10 @@ int main(int argc, char **argv)
             return 2;
         operating = 1;
     }
+    /* before the port opens: a socket that cannot be made stops the run
+     * before the robot is touched */
+    if (o.teleop != NULL && rozrun_teleop_open(&teleop, o.teleop) != 0)
+        return 2;
 
     static rozrun_deploy_t deploy;
     if (o.deploy_file != NULL && rozrun_deploy_load(&deploy, o.deploy_file, m) != 0)
@@ -1332,6 +1359,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "rozrun: cannot start port %s\n", o.port);
         return 2;
     }
+    if (o.teleop != NULL && rozrun_teleop_start(&teleop, &rt) != 0)
+        return 2;
 
     static roz_runner_t runner;
     sched.simulated = !paced;
@@ -1383,6 +1412,7 @@ int main(int argc, char **argv)
         }
     }
     roz_runtime_log_drain(&rt);
+    rozrun_teleop_close(&teleop); /* no twist after the last tick */
     if (rozrun_schedule_left(&sched) != 0)
         fprintf(stderr, "rozrun: %lu scheduled interventions not carried out: the run ended "
                         "first\n", (unsigned long)rozrun_schedule_left(&sched));

@@ -248,10 +248,12 @@ typedef struct roz_port_ops {
      *  blocking_log). roz_runtime_log_drain() calls it. Optional.
      *  Context: the application's thread that drains the log; formats text. */
     size_t (*drain)(void *self);
-    /** Where the port hands the operator devices it reads (the G1's
-     *  wireless remote: roz/operator.h); a copy is kept. Called after
-     *  open(), before activate(); ROZ_ESTATE otherwise. Optional: a port
-     *  that reads no operator device has none. Context: start-up. */
+    /** Where the port hands the frames of the operator devices it reads
+     *  (the G1's wireless remote, a ROS 2 robot's /cmd_vel and /joy:
+     *  roz/operator.h); a copy is kept. Called once, after open(); a port
+     *  whose reader starts at activate() (the G1's) refuses it after that,
+     *  ROZ_ESTATE. Optional: a port that reads no operator device has none.
+     *  Context: start-up. */
     int (*set_operator)(void *self, const roz_operator_sink_t *sink);
 } roz_port_ops_t;
 
@@ -426,7 +428,7 @@ static inline const char *roz_port_truth_body(const roz_port_t *p, int32_t id)
 }
 
 /** @brief set_operator(); ROZ_ENOTSUP when the port reads no operator
- *  device. Context: start-up, after open, before activate. */
+ *  device. Context: start-up, after open (roz_port_ops_t.set_operator). */
 static inline int roz_port_set_operator(const roz_port_t *p, const roz_operator_sink_t *sink)
 {
     return p->ops->set_operator != NULL ? p->ops->set_operator(p->self, sink) : ROZ_ENOTSUP;

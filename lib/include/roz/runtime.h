@@ -644,7 +644,10 @@ const double *roz_runtime_last_state(const roz_runtime_t *rt);
  *  NULL without one. Context: as above. */
 const double *roz_runtime_last_targets(const roz_runtime_t *rt);
 
-/** @brief Stop, unload controllers; idempotent. Context: not the tick. */
+/** @brief Stop and unload controllers; idempotent. A port given this
+ *  runtime's operator sink (roz_runtime_operator_sink()) must be closed
+ *  first: its threads may hand frames to the runtime until then.
+ *  Context: not the tick. */
 void roz_runtime_deinit(roz_runtime_t *rt);
 
 #ifdef __cplusplus

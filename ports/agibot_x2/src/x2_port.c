@@ -343,6 +343,7 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .close = x2_close,
     .fault = roz_ros2_fault,
     .drain = roz_ros2_drain,
+    .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &x2_info,

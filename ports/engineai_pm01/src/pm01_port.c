@@ -232,6 +232,7 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .close = roz_ros2_close,
     .fault = roz_ros2_fault,
     .drain = roz_ros2_drain,
+    .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &pm01_info,

@@ -15,6 +15,7 @@
 #include "ros2_msgs.h"
 #include "roz/filter.h"
 #include "roz/hal/params.h"
+#include "roz/runtime.h"
 
 /* ---- frame layouts -------------------------------------------------------------
  * A state topic's frame (receive thread -> tick): its values, then: */
@@ -33,7 +34,13 @@ _Static_assert(ROZ_ROS2_MAX_TOPICS <= 32, "a bit per topic");
 
 static const char *const common_keys[] = { ROZ_DDS_PARAM_KEYS, "peer_timeout_ms",
                                            "startup_damping", "shutdown_damping", "link_check",
-                                           NULL };
+                                           "cmd_vel_topic", "joy_topic", "joy_map", NULL };
+
+enum { OP_TWIST = 0, OP_JOY = 1 }; /* b->op[] */
+typedef geometry_msgs_msg_dds__Twist_ twist_t;
+typedef sensor_msgs_msg_dds__Joy_ joy_t;
+_Static_assert(sizeof(twist_t) <= sizeof(((roz_ros2_op_topic_t *)0)->sample), "Twist_ storage");
+_Static_assert(sizeof(joy_t) <= sizeof(((roz_ros2_op_topic_t *)0)->sample), "Joy_ storage");
 
 /* ---- private ---------------------------------------------------------------------- */
 
@@ -118,6 +125,55 @@ static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *e
     return ROZ_OK;
 }
 
+/* A ROS topic name: "/" then tokens of A-Z a-z 0-9 _, none starting with a
+ * digit, one "/" between two (rcl's rules for a fully qualified name). */
+static int ros_topic_name(const char *v)
+{
+    size_t len = strlen(v);
+    if (len < 2 || len + 3 > ROZ_ROS2_TOPIC_NAME_MAX || v[0] != '/' || v[len - 1] == '/')
+        return 0;
+    for (size_t i = 1; i < len; i++) {
+        char c = v[i];
+        int start = v[i - 1] == '/';
+        if (c == '/' ? start
+                     : !((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' ||
+                         (!start && c >= '0' && c <= '9')))
+            return 0;
+    }
+    return 1;
+}
+
+/* The operator topics: each read only when an input's source is a field of
+ * its device; their names and joy_map are checked whether read or not. */
+static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
+{
+    static const char *const key[2] = { "cmd_vel_topic", "joy_topic" };
+    static const char *const def[2] = { "/cmd_vel", "/joy" };
+    static const roz_operator_device_t dev[2] = { ROZ_OPERATOR_DEVICE_TWIST,
+                                                  ROZ_OPERATOR_DEVICE_REMOTE };
+    const roz_manifest_t *m = b->m;
+    for (int k = 0; k < 2; k++) {
+        const char *v = roz_params_get_str(p, key[k], def[k]);
+        int needed = 0;
+        if (!ros_topic_name(v)) {
+            snprintf(err, errlen,
+                     "parameter %s = \"%s\": expected a ROS topic name (\"/\" then names of "
+                     "A-Z a-z 0-9 _ separated by one \"/\", none starting with a digit, at most "
+                     "%d characters), such as %s",
+                     key[k], v, ROZ_ROS2_TOPIC_NAME_MAX - 3, def[k]);
+            return ROZ_EINVAL;
+        }
+        for (uint16_t i = 0; m->inputs != NULL && i < m->n_inputs; i++)
+            needed |= roz_operator_field_device(m->inputs[i].source) == dev[k];
+        b->op[k].bridge = b;
+        b->op[k].name[0] = '\0';
+        if (needed)
+            snprintf(b->op[k].name, sizeof b->op[k].name, "rt%s", v);
+    }
+    return roz_ros2_joy_map_parse(roz_params_get_str(p, "joy_map", ROZ_ROS2_JOY_MAP_DEFAULT),
+                                  &b->joy_map, err, errlen);
+}
+
 /* The rows the ports' info shows (ROZ_ROS2_BRIDGE_PARAM_INFO): the bounds
  * and defaults read here. */
 static const roz_port_param_info_t bridge_rows[] = { ROZ_ROS2_BRIDGE_PARAM_INFO };
@@ -143,6 +199,8 @@ static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, 
                                     "peer_timeout_ms", &b->peer_timeout_ms, err, errlen);
     if (rc == ROZ_OK)
         rc = parse_link_check(b, p, err, errlen);
+    if (rc == ROZ_OK)
+        rc = parse_operator(b, p, err, errlen);
     if (rc != ROZ_OK)
         return rc;
     /* gains the damping channels allow, for every joint */
@@ -348,6 +406,77 @@ static void on_sample(void *ctx, void *sample, uint64_t now_ns)
     roz_link_shared_publish(&t->link_shared, &t->link);
 }
 
+/* ---- the operator topics' receive path (a Cyclone thread each) ------------------ */
+
+/* The sink roz_ros2_set_operator() stored, once it is there (Cyclone's
+ * threads run from open, the sink comes after it), else NULL. */
+static const roz_operator_sink_t *op_sink(roz_ros2_bridge_t *b)
+{
+    return atomic_load_explicit(&b->op_set, memory_order_acquire) ? &b->op_sink : NULL;
+}
+
+/* A twist as sent; the runtime's inputs refuse what is not finite and
+ * clamp the rest (roz/inputs.h). */
+static void on_twist(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_ros2_op_topic_t *t = ctx;
+    const twist_t *tw = sample;
+    roz_operator_twist_t f = { { tw->linear.x, tw->linear.y, tw->linear.z },
+                               { tw->angular.x, tw->angular.y, tw->angular.z } };
+    const roz_operator_sink_t *sink = op_sink(t->bridge);
+    (void)now_ns;
+    bump(&t->c_samples);
+    if (sink != NULL && sink->twist != NULL && sink->twist(sink->ctx, &f) == ROZ_OK)
+        bump(&t->c_handed);
+}
+
+/* A Joy through joy_map; one that does not fit the map, or has a mapped axis
+ * that is not a number, is refused whole (no half of a pad's frame). */
+static void on_joy(void *ctx, void *sample, uint64_t now_ns)
+{
+    roz_ros2_op_topic_t *t = ctx;
+    const joy_t *j = sample;
+    roz_operator_remote_t r;
+    const roz_operator_sink_t *sink = op_sink(t->bridge);
+    (void)now_ns;
+    bump(&t->c_samples);
+    if (roz_ros2_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length,
+                            j->buttons._buffer, j->buttons._length, &r) != ROZ_OK) {
+        bump(&t->c_refused);
+        return;
+    }
+    if (sink != NULL && sink->remote != NULL && sink->remote(sink->ctx, &r) == ROZ_OK)
+        bump(&t->c_handed);
+}
+
+int roz_ros2_set_operator(void *self, const roz_operator_sink_t *sink)
+{
+    roz_ros2_bridge_t *b = self;
+
+    if (sink == NULL)
+        return ROZ_EINVAL;
+    if (!b->open || atomic_load_explicit(&b->op_set, memory_order_relaxed))
+        return ROZ_ESTATE; /* after open, once: Cyclone's threads may read it from now */
+    b->op_sink = *sink;
+    atomic_store_explicit(&b->op_set, 1, memory_order_release);
+    return ROZ_OK;
+}
+
+static int open_operator(roz_ros2_bridge_t *b, char *err, size_t errlen)
+{
+    int rc = ROZ_OK;
+    roz_ros2_op_topic_t *tw = &b->op[OP_TWIST], *jo = &b->op[OP_JOY];
+    if (tw->name[0] != '\0')
+        rc = roz_dds_reader_open(&tw->reader, &b->part, tw->name,
+                                 &geometry_msgs_msg_dds__Twist__desc, &roz_dds_qos_robot_state,
+                                 tw->sample, sizeof(twist_t), on_twist, tw, NULL, err, errlen);
+    if (rc == ROZ_OK && jo->name[0] != '\0')
+        rc = roz_dds_reader_open_kept(&jo->reader, &b->part, jo->name,
+                                      &sensor_msgs_msg_dds__Joy__desc, &roz_dds_qos_robot_state,
+                                      jo->sample, sizeof(joy_t), on_joy, jo, NULL, err, errlen);
+    return rc;
+}
+
 /* ---- the command path's hooks (roz/port/dds.h says which thread runs each) ---------- */
 
 static void encode_group(roz_ros2_bridge_t *b, roz_ros2_out_t *o, void *sample)
@@ -509,6 +638,22 @@ static int setup_topic(roz_ros2_bridge_t *b, uint16_t t, const char *name, const
     return rc;
 }
 
+/* The Joy sample's sequences and frame_id, sized once: Cyclone fills them in
+ * place (a longer sequence never arrives: the type's bound). */
+static int reserve_joy(roz_ros2_bridge_t *b, char *err, size_t errlen)
+{
+    roz_ros2_op_topic_t *t = &b->op[OP_JOY];
+    joy_t *j = (void *)t->sample;
+    int rc = roz_dds_string_reserve(&j->header.frame_id, FRAME_ID_ROOM);
+    if (rc == ROZ_OK)
+        rc = roz_dds_seq_reserve(&j->axes, ROZ_ROS2_JOY_MAX, sizeof j->axes._buffer[0]);
+    if (rc == ROZ_OK)
+        rc = roz_dds_seq_reserve(&j->buttons, ROZ_ROS2_JOY_MAX, sizeof j->buttons._buffer[0]);
+    if (rc != ROZ_OK)
+        snprintf(err, errlen, "%s: topic %s: no room for its samples", b->robot->port, t->name);
+    return rc;
+}
+
 int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *vendor,
                   const roz_manifest_t *m, const roz_params_t *p, char *err, size_t errlen)
 {
@@ -558,6 +703,8 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     if (rc == ROZ_OK && imu)
         rc = setup_topic(b, robot->n_groups, robot->imu_topic, robot->imu_type, robot->imu_size,
                          ROZ_IMU_VALUES, err, errlen);
+    if (rc == ROZ_OK && b->op[OP_JOY].name[0] != '\0')
+        rc = reserve_joy(b, err, errlen);
     b->open = 1; /* from here, close() frees what was made */
     if (rc != ROZ_OK) {
         roz_ros2_close(b);
@@ -574,6 +721,12 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
                                  .timeout_us = b->dds.command_timeout_us };
     roz_dds_cmd_init(&b->cmd, &cmd);
     atomic_init(&b->c_frames, 0u);
+    atomic_init(&b->op_set, 0);
+    for (int k = 0; k < 2; k++) {
+        atomic_init(&b->op[k].c_samples, 0u);
+        atomic_init(&b->op[k].c_refused, 0u);
+        atomic_init(&b->op[k].c_handed, 0u);
+    }
 
     rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain,
                                   &b->dds.cyclone_threads, log,
@@ -616,6 +769,8 @@ int roz_ros2_activate(void *self)
                                       tp->sample, tp->size, on_sample, tp,
                                       b->dds.enable_monitor ? &tp->mon : NULL, err, sizeof err);
     }
+    if (rc == ROZ_OK)
+        rc = open_operator(b, err, sizeof err);
     if (rc == ROZ_OK) {
         roz_dds_writer_t *w = &b->out[primary(b)].writer;
         roz_dds_writer_set_thread(w, &b->dds.writer_thread);
@@ -631,6 +786,8 @@ int roz_ros2_activate(void *self)
     if (rc != ROZ_OK) {
         for (uint16_t t = 0; t < b->n_topics; t++)
             roz_dds_reader_close(&b->topic[t].reader);
+        for (int k = 0; k < 2; k++)
+            roz_dds_reader_close(&b->op[k].reader);
         return rc;
     }
     b->active = 1;
@@ -804,6 +961,8 @@ int roz_ros2_deactivate(void *self)
     }
     for (uint16_t t = 0; t < b->n_topics; t++)
         roz_dds_reader_close(&b->topic[t].reader);
+    for (int k = 0; k < 2; k++)
+        roz_dds_reader_close(&b->op[k].reader);
     b->active = 0;
     return ROZ_OK;
 }
@@ -823,6 +982,8 @@ void roz_ros2_close(void *self)
         if (reads(b, t))
             roz_dds_sample_free(tp->sample, sizeof tp->sample, tp->type);
     }
+    roz_dds_sample_free(b->op[OP_JOY].sample, sizeof b->op[OP_JOY].sample,
+                        &sensor_msgs_msg_dds__Joy__desc);
     b->open = 0;
 }
 
@@ -919,6 +1080,11 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
     out->written_seq = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_WRITTEN_SEQ);
     out->command_timeouts = roz_dds_cmd_timeouts(&b->cmd);
     out->safe_published = roz_dds_cmd_count(&b->cmd, ROZ_DDS_CMD_SAFE);
+    for (int k = 0; k < 2; k++) {
+        out->operator_samples[k] = load(&b->op[k].c_samples);
+        out->operator_refused[k] = load(&b->op[k].c_refused);
+        out->operator_handed[k] = load(&b->op[k].c_handed);
+    }
 }
 
 void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers)

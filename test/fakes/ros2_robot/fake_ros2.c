@@ -35,6 +35,7 @@
 #define CLOCK_START_NS 1700000000000000000LL /* the robot's clock at start: 2023-11 */
 #define CLOCK_STEP_NS 1000000LL               /* 1 ms from one sample to the next */
 #define RESTART_BACK_NS 10000000000LL         /* a rebooted robot's clock: 10 s back */
+#define JOY_MAX 64 /* a Joy's axes and buttons the fake can send: beyond any port's bound */
 
 /* ---- the model ------------------------------------------------------------- */
 
@@ -108,6 +109,15 @@ typedef struct {
 
     pthread_t           period_thread;
     int                 period_running;
+
+    /* the operator: a ROS 2 teleop node and a joy node on this host
+     * (main thread only) */
+    const char         *cmd_vel_topic, *joy_topic; /* DDS names */
+    const dds_topic_descriptor_t *twist_desc, *joy_desc;
+    dds_entity_t        twist_writer, joy_writer;
+    uint32_t            joy_axes, joy_buttons; /* the lengths sent */
+    float               joy_axis[JOY_MAX];
+    int32_t             joy_button[JOY_MAX];
 } fake_t;
 
 static fake_t fake;
@@ -476,6 +486,51 @@ static int open_dds(fake_t *f, uint32_t domain)
     return f->imu_writer < 0 ? -1 : 0;
 }
 
+/* The operator's writers, as rmw_cyclonedds makes a publisher with ROS 2's
+ * default QoS (KEEP_LAST 10, RELIABLE, VOLATILE; teleop_twist_keyboard's
+ * and joy's): types registered without type information. */
+static int open_operator(fake_t *f)
+{
+    const dds_topic_descriptor_t *td, *jd;
+    td = f->twist_desc = retype(&geometry_msgs_msg_dds__Twist__desc, NULL, 0);
+    jd = f->joy_desc = retype(&sensor_msgs_msg_dds__Joy__desc, NULL, 0);
+    if (td == NULL || jd == NULL)
+        return -1;
+    dds_qos_t *q = dds_create_qos();
+    dds_qset_reliability(q, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+    dds_qset_history(q, DDS_HISTORY_KEEP_LAST, 10);
+    dds_qset_durability(q, DDS_DURABILITY_VOLATILE);
+    dds_entity_t tt = dds_create_topic(f->participant, td, f->cmd_vel_topic, NULL, NULL);
+    dds_entity_t jt = dds_create_topic(f->participant, jd, f->joy_topic, NULL, NULL);
+    f->twist_writer = tt < 0 ? tt : dds_create_writer(f->participant, tt, q, NULL);
+    f->joy_writer = jt < 0 ? jt : dds_create_writer(f->participant, jt, q, NULL);
+    dds_delete_qos(q);
+    return f->twist_writer < 0 || f->joy_writer < 0 ? -1 : 0;
+}
+
+static int write_twist(fake_t *f, const double *v)
+{
+    geometry_msgs_msg_dds__Twist_ t = { { v[0], v[1], v[2] }, { v[3], v[4], v[5] } };
+    return dds_write(f->twist_writer, &t) == DDS_RETCODE_OK ? 0 : -1;
+}
+
+static int write_joy(fake_t *f)
+{
+    static char frame[] = "joy"; /* as ROS 2's joy node stamps its messages */
+    sensor_msgs_msg_dds__Joy_ j;
+    memset(&j, 0, sizeof j);
+    pthread_mutex_lock(&f->pub_lock);
+    f->clock_ns += CLOCK_STEP_NS;
+    stamp_of(f->clock_ns, &j.header.stamp.sec, &j.header.stamp.nanosec);
+    pthread_mutex_unlock(&f->pub_lock);
+    j.header.frame_id = frame;
+    j.axes._length = j.axes._maximum = f->joy_axes;
+    j.axes._buffer = f->joy_axis;
+    j.buttons._length = j.buttons._maximum = f->joy_buttons;
+    j.buttons._buffer = f->joy_button;
+    return dds_write(f->joy_writer, &j) == DDS_RETCODE_OK ? 0 : -1;
+}
+
 static uint32_t matched(dds_entity_t writer)
 {
     dds_publication_matched_status_t st;
@@ -796,6 +851,35 @@ static int handle(fake_t *f, int argc, char **argv)
         pthread_mutex_unlock(&f->pub_lock);
         return reply("%s", line);
     }
+    /* the operator */
+    if (strcmp(r, "twist") == 0 && argc == 7) {
+        for (int i = 0; i < 6; i++) {
+            if (parse_real(argv[1 + i], &v[i]) != 0)
+                return reply("err twist: expected six reals");
+        }
+        return write_twist(f, v) == 0 ? reply("ok") : reply("err twist: dds_write failed");
+    }
+    if (strcmp(r, "joy_length") == 0 && argc == 3 && parse_u32(argv[1], JOY_MAX, &u) == 0 &&
+        parse_u32(argv[2], JOY_MAX, &slot) == 0) {
+        f->joy_axes = u;
+        f->joy_buttons = slot;
+        return reply("ok");
+    }
+    if (strcmp(r, "joy_axis") == 0 && argc == 3 &&
+        parse_u32(argv[1], JOY_MAX - 1u, &u) == 0 && parse_real(argv[2], &v[0]) == 0) {
+        f->joy_axis[u] = (float)v[0];
+        return reply("ok");
+    }
+    if (strcmp(r, "joy_button") == 0 && argc == 3 &&
+        parse_u32(argv[1], JOY_MAX - 1u, &u) == 0 && parse_u32(argv[2], 1u, &slot) == 0) {
+        f->joy_button[u] = (int32_t)slot;
+        return reply("ok");
+    }
+    if (strcmp(r, "joy") == 0 && argc == 1)
+        return write_joy(f) == 0 ? reply("ok") : reply("err joy: dds_write failed");
+    if (strcmp(r, "operator_matched") == 0 && argc == 1)
+        return reply("ok %u %u", (unsigned)matched(f->twist_writer),
+                     (unsigned)matched(f->joy_writer));
     if (strcmp(r, "groups") == 0 && argc == 1) {
         printf("ok %u", (unsigned)f->robot->n_groups);
         for (uint16_t i = 0; i < f->robot->n_groups; i++)
@@ -817,7 +901,8 @@ static int usage(const char *why)
 {
     fprintf(stderr,
             "fake_ros2: %s\nusage: fake_ros2 --robot pm01|x2 --domain N [--period-us P] "
-            "[--typeinfo on|off] [--joint-state-layout sdk|docs]\n",
+            "[--typeinfo on|off] [--joint-state-layout sdk|docs] [--cmd-vel-topic T] "
+            "[--joy-topic T]\n",
             why);
     return 2;
 }
@@ -829,6 +914,8 @@ int main(int argc, char **argv)
     char line[LINE_MAX_LEN + 2];
 
     f->typeinfo = 1;
+    f->cmd_vel_topic = "rt/cmd_vel";
+    f->joy_topic = "rt/joy";
     for (int i = 1; i < argc; i += 2) { /* options come as pairs: --name value */
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (strcmp(argv[i], "--robot") == 0 && v != NULL) {
@@ -848,6 +935,10 @@ int main(int argc, char **argv)
         } else if (strcmp(argv[i], "--joint-state-layout") == 0 && v != NULL &&
                    (strcmp(v, "sdk") == 0 || strcmp(v, "docs") == 0)) {
             f->docs_layout = strcmp(v, "docs") == 0;
+        } else if (strcmp(argv[i], "--cmd-vel-topic") == 0 && v != NULL) {
+            f->cmd_vel_topic = v;
+        } else if (strcmp(argv[i], "--joy-topic") == 0 && v != NULL) {
+            f->joy_topic = v;
         } else {
             return usage("unknown option or missing value");
         }
@@ -863,7 +954,9 @@ int main(int argc, char **argv)
         f->group[g].g = &f->robot->groups[g];
         f->group[g].model.length = f->robot->groups[g].n_joints;
     }
-    if (open_dds(f, domain) != 0) {
+    f->joy_axes = 6; /* ROS 2 joy's game_controller_node: 6 axes, 21 buttons */
+    f->joy_buttons = 21;
+    if (open_dds(f, domain) != 0 || open_operator(f) != 0) {
         fprintf(stderr, "fake_ros2: DDS on domain %u failed\n", domain);
         return 1;
     }

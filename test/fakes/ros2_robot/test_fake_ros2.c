@@ -224,16 +224,16 @@ static dds_entity_t wire_reader(const dds_topic_descriptor_t *desc, const char *
     return 0;
 }
 
-/* Asks the fake for new samples on @p what until one arrives at @p r (a
+/* Asks the fake @p request (every 500 ms) until a sample arrives at @p r (a
  * sample sent before both sides discovered each other is lost), then
  * returns its bytes: the encapsulation header, then the payload. */
-static size_t take_wire(dds_entity_t r, const char *what, uint8_t *buf, size_t cap)
+static size_t take_asked(dds_entity_t r, const char *request, uint8_t *buf, size_t cap)
 {
     struct ddsi_serdata *sd = NULL;
     dds_sample_info_t info;
     for (int ms = 0; ms < WIRE_MS; ms++) {
         if (ms % 500 == 0)
-            ask("send %s", what);
+            ask("%s", request);
         if (dds_takecdr(r, &sd, 1, &info, DDS_ANY_STATE) == 1) {
             size_t n = ddsi_serdata_size(sd);
             if (n > cap)
@@ -247,8 +247,16 @@ static size_t take_wire(dds_entity_t r, const char *what, uint8_t *buf, size_t c
         }
         dds_sleepfor(DDS_MSECS(1));
     }
-    fail_msg("no sample on %s", what);
+    fail_msg("no sample after \"%s\"", request);
     return 0;
+}
+
+/* New samples on @p what ("send WHAT") until one arrives: take_asked(). */
+static size_t take_wire(dds_entity_t r, const char *what, uint8_t *buf, size_t cap)
+{
+    char request[128];
+    snprintf(request, sizeof request, "send %s", what);
+    return take_asked(r, request, buf, cap);
 }
 
 /* Takes whatever else arrived (the resends), so the next take is new. */
@@ -710,6 +718,66 @@ static void test_x2_command_as_written(void **st)
     raw_close(&w);
 }
 
+/* ---- the operator: /cmd_vel and /joy ------------------------------------------------------ */
+
+/* geometry_msgs/Twist: Vector3 linear, angular: six float64 @0..40, 48
+ * bytes; under ROS 2's names (rt/cmd_vel, geometry_msgs::msg::dds_::Twist_). */
+static void test_operator_twist_bytes(void **st)
+{
+    uint8_t buf[256];
+    (void)st;
+    start("pm01", NULL);
+    dds_entity_t r = wire_reader(&geometry_msgs_msg_dds__Twist__desc, "rt/cmd_vel");
+    (void)take_asked(r, "twist 0 0 0 0 0 0", buf, sizeof buf); /* discovery */
+    drain(r);
+    size_t n = take_asked(r, "twist 0.5 -0.25 1e-3 2 -3 0.125", buf, sizeof buf);
+    cdr_t c = { buf + 4, n - 4, 0 };
+    static const double v[6] = { 0.5, -0.25, 1e-3, 2, -3, 0.125 };
+    assert_int_equal(c.n, 48);
+    for (unsigned k = 0; k < 6; k++)
+        expect_f64_at(&c, 8 * k, v[k]);
+    dds_delete(r);
+}
+
+/* sensor_msgs/Joy: Header header (frame_id "joy": length 4 @8, its bytes
+ * @12..15); float32[] axes: count @16, values @20 + 4i; int32[] buttons:
+ * count after them, values 4 apart. 6 axes, 21 buttons: axes to 44,
+ * buttons' count @44, values @48 + 4i, 132 bytes. */
+static void test_operator_joy_bytes(void **st)
+{
+    uint8_t buf[512];
+    char id[16];
+    (void)st;
+    start("x2", NULL);
+    dds_entity_t r = wire_reader(&sensor_msgs_msg_dds__Joy__desc, "rt/joy");
+    (void)take_asked(r, "joy", buf, sizeof buf);
+    drain(r);
+    ask("joy_axis 1 0.75");
+    ask("joy_axis 5 -1");
+    ask("joy_button 0 1");
+    ask("joy_button 20 1");
+    size_t n = take_asked(r, "joy", buf, sizeof buf);
+    cdr_t c = { buf + 4, n - 4, 0 };
+    assert_int_equal(c.n, 132);
+    assert_true((int32_t)le(&c, 0, 4) >= 1700000000);
+    assert_true((uint32_t)le(&c, 4, 4) <= 999999999u);
+    c.at = 8;
+    cdr_string(&c, id, sizeof id);
+    assert_string_equal(id, "joy");
+    expect_at(&c, 16);
+    assert_int_equal(le(&c, 16, 4), 6);
+    for (unsigned i = 0; i < 6; i++) {
+        float want = i == 1 ? 0.75f : i == 5 ? -1.0f : 0.0f;
+        uint32_t bits;
+        memcpy(&bits, &want, sizeof bits);
+        assert_int_equal(le(&c, 20 + 4 * i, 4), bits);
+    }
+    assert_int_equal(le(&c, 44, 4), 21);
+    for (unsigned i = 0; i < 21; i++)
+        assert_int_equal(le(&c, 48 + 4 * i, 4), i == 0 || i == 20 ? 1 : 0);
+    dds_delete(r);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -720,6 +788,8 @@ int main(void)
         cmocka_unit_test_teardown(test_x2_imu_bytes, teardown),
         cmocka_unit_test_teardown(test_pm01_command_as_written, teardown),
         cmocka_unit_test_teardown(test_x2_command_as_written, teardown),
+        cmocka_unit_test_teardown(test_operator_twist_bytes, teardown),
+        cmocka_unit_test_teardown(test_operator_joy_bytes, teardown),
     };
     return cmocka_run_group_tests(tests, setup_dds, teardown_dds);
 }

@@ -30,6 +30,7 @@
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
+#include "roz/operator.h"
 #include "roz/port.h"
 #include "roz/private.h"
 
@@ -73,6 +74,67 @@ int roz_ros2_stamp_seq(int32_t sec, uint32_t nanosec, uint32_t *seq);
 /** The link window for stamps: a stamp this many microseconds behind the
  *  last (one second) is a replay; further, a restart. */
 #define ROZ_ROS2_STAMP_WINDOW_US 1000000u
+
+/* ---- operator devices: /cmd_vel and /joy ------------------------------------ */
+
+/** Most axes, and most buttons, of a sensor_msgs/Joy the bridge takes (the
+ *  IDL's bound: Cyclone refuses a longer sample before it is stored). ROS
+ *  2's joy game_controller_node sends 6 axes and 21 buttons. */
+#define ROZ_ROS2_JOY_MAX 32
+/** Room for a DDS topic name ("rt" and a ROS name), with its NUL. */
+#define ROZ_ROS2_TOPIC_NAME_MAX 96
+
+/** Where a remote's field comes from in a Joy message. */
+typedef struct roz_ros2_joy_source {
+    uint8_t kind;  /**< 0: nowhere (the field is 0); 'a': an axis; 'b': a button */
+    int8_t  sign;  /**< an axis's: 1 or -1 */
+    uint8_t index; /**< into axes or buttons, < ROZ_ROS2_JOY_MAX */
+} roz_ros2_joy_source_t;
+
+/** The remote's fields as a Joy message gives them (parameter joy_map),
+ *  indexed by roz_operator_field_t (its remote fields; the others unused). */
+typedef struct roz_ros2_joy_map {
+    roz_ros2_joy_source_t field[ROZ_OPERATOR_FIELD_COUNT_];
+} roz_ros2_joy_map_t;
+
+/** joy_map's default: ROS 2 joy's game_controller_node (SDL's game
+ *  controller order, an Xbox or PlayStation pad): axes 0..5 left x, left y,
+ *  right x, right y, left trigger, right trigger, left and up positive,
+ *  a trigger 0 released to -1 pressed; buttons A/cross 0, B/circle 1,
+ *  X/square 2, Y/triangle 3, back/select 4, guide 5, start 6, the sticks
+ *  7 and 8, the shoulders 9 and 10, the D-pad up 11, down 12, left 13,
+ *  right 14. The remote's sticks are right and up positive, its triggers
+ *  0..1; its buttons l2 and r2 are the triggers pressed past half way;
+ *  f1 and f2 have no counterpart. */
+#define ROZ_ROS2_JOY_MAP_DEFAULT                                                              \
+    "lx=-a0 ly=a1 rx=-a2 ry=a3 l2=-a4 r2=-a5 btn.r1=b10 btn.l1=b9 btn.start=b6 "              \
+    "btn.select=b4 btn.r2=-a5 btn.l2=-a4 btn.a=b0 btn.b=b1 btn.x=b2 btn.y=b3 btn.up=b11 "      \
+    "btn.right=b14 btn.down=b12 btn.left=b13"
+
+/**
+ * @brief Read a joy_map: entries `FIELD=SOURCE` separated by spaces, FIELD a
+ *        remote field without its "remote." (lx, ly, rx, ry, l2, r2,
+ *        btn.NAME), SOURCE `aN` (axis N), `-aN` (axis N negated) or `bN`
+ *        (button N), N < ROZ_ROS2_JOY_MAX; a field named twice, or an
+ *        unknown one, is refused; a field not named is 0.
+ * @param[out] err "parameter joy_map = \"...\": ..." naming the entry
+ * @retval ROZ_OK, ROZ_EINVAL
+ * Context: open; no heap.
+ */
+int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err, size_t errlen);
+
+/**
+ * @brief The remote frame of one Joy message through @p map: a stick or
+ *        trigger takes its axis (sign applied) or button (0 or 1); a button
+ *        is pressed when its button is not 0, or its axis (sign applied)
+ *        above 0.5.
+ * @retval ROZ_OK     @p out set
+ * @retval ROZ_ERANGE the map names an axis or a button the message has not
+ * @retval ROZ_EINVAL an axis the map names is not finite
+ * Context: any (a receive thread); RT-safe, no heap.
+ */
+int roz_ros2_joy_remote(const roz_ros2_joy_map_t *map, const float *axes, uint32_t n_axes,
+                        const int32_t *buttons, uint32_t n_buttons, roz_operator_remote_t *out);
 
 /* ---- a robot's description (the port's constant) ----------------------------- */
 
@@ -213,6 +275,16 @@ typedef struct roz_ros2_topic {
     int32_t              ROZ_PRIVATE(tick_fault_slot);
 } roz_ros2_topic_t;
 
+/** An operator topic (/cmd_vel, /joy): its reader, its sample, what it
+ *  refused. Fields private (roz/private.h). */
+typedef struct roz_ros2_op_topic {
+    struct roz_ros2_bridge *ROZ_PRIVATE(bridge);
+    char                 ROZ_PRIVATE(name)[ROZ_ROS2_TOPIC_NAME_MAX]; /* DDS; "": not read */
+    roz_dds_reader_t     ROZ_PRIVATE(reader);
+    uint64_t             ROZ_PRIVATE(sample)[16];
+    ROZ_ATOMIC(uint64_t) ROZ_PRIVATE(c_samples), ROZ_PRIVATE(c_refused), ROZ_PRIVATE(c_handed);
+} roz_ros2_op_topic_t;
+
 /** One command topic: its writer (only the first group's has a thread; it
  *  publishes the others in its pass). Fields private (roz/private.h). */
 typedef struct roz_ros2_out {
@@ -250,6 +322,11 @@ typedef struct roz_ros2_counters {
     uint64_t written_seq;     /**< sequence of the last command frame written */
     uint64_t command_timeouts;/**< command watchdog trips: the tick went silent */
     uint64_t safe_published;  /**< passes that published the watchdog's damping command */
+    /** The operator topics, cmd_vel then joy: samples received, refused (a
+     *  Joy shorter than joy_map needs, or with a mapped axis not finite;
+     *  a longer one than ROZ_ROS2_JOY_MAX never arrives), and handed to a
+     *  runtime (roz_runtime_operator_twist(), _remote()). */
+    uint64_t operator_samples[2], operator_refused[2], operator_handed[2];
 } roz_ros2_counters_t;
 
 /** The bridge's instance: the first member of a ROS 2 port's instance.
@@ -310,6 +387,12 @@ typedef struct roz_ros2_bridge {
     int32_t               ROZ_PRIVATE(tx_sec);
     uint32_t              ROZ_PRIVATE(tx_nanosec);
 
+    /* ---- operator devices: read only when an input's source needs them ---- */
+    roz_ros2_op_topic_t   ROZ_PRIVATE(op)[2]; /* cmd_vel, joy */
+    roz_ros2_joy_map_t    ROZ_PRIVATE(joy_map);
+    roz_operator_sink_t   ROZ_PRIVATE(op_sink); /* where they go (roz_ros2_set_operator()) */
+    ROZ_ATOMIC(int)       ROZ_PRIVATE(op_set);  /* 1 once op_sink is set: Cyclone's threads read it */
+
     /* ---- counters (atomics: written by one thread, read by any) ---- */
     ROZ_ATOMIC(uint64_t)  ROZ_PRIVATE(c_frames);
 } roz_ros2_bridge_t;
@@ -334,6 +417,7 @@ int  roz_ros2_deactivate(void *self);
 void roz_ros2_close(void *self);
 int  roz_ros2_fault(void *self, roz_port_fault_t *out);
 size_t roz_ros2_drain(void *self);
+int  roz_ros2_set_operator(void *self, const roz_operator_sink_t *sink);
 
 /** @brief The link checks of every state topic, summed (alive: every topic
  *  has a peer; last_seq, last_ns: the first topic's; missing: only topics
@@ -363,7 +447,13 @@ int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t 
                             "the channels' default",                                            \
                             "kd of the damping command at shut-down and on a watchdog trip"),   \
     ROZ_PORT_PARAM_TEXT_ROW("link_check", "sequence|stamp",                                     \
-                            "sequence where the messages have one", "what the link checks run on")
+                            "sequence where the messages have one", "what the link checks run on"), \
+    ROZ_PORT_PARAM_TEXT_ROW("cmd_vel_topic", "a ROS topic name", "/cmd_vel",                    \
+                            "geometry_msgs/Twist, read when an input's source is twist.*"),     \
+    ROZ_PORT_PARAM_TEXT_ROW("joy_topic", "a ROS topic name", "/joy",                            \
+                            "sensor_msgs/Joy, read when an input's source is remote.*"),        \
+    ROZ_PORT_PARAM_TEXT_ROW("joy_map", "FIELD=aN|-aN|bN ...", "ROS 2 joy's pad layout",         \
+                            "the remote's fields from a Joy's axes and buttons")
 
 /** The rows of the parameters every ROS 2 port takes in a port's parameter
  *  table (roz_port_info_t::params): the DDS ports' own, then the bridge's. */

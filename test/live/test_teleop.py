@@ -1,0 +1,247 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Foxglove's Teleop panel through roz-live (docs/live.md, "Teleop"): a
+strict Foxglove WebSocket client advertises a json geometry_msgs/msg/Twist
+channel and publishes twists (binary Client Message Data: opcode 1, the
+channel id, the JSON) to `roz-live --teleop SOCKET`, which hands each to
+`rozrun --teleop SOCKET`; the run's trace shows the operator input the
+controller read. A malformed, oversized or non-finite message is refused
+with a status message and the input unchanged; a viewer that is not on a
+loopback address gets no clientPublish unless --teleop-remote."""
+import json
+import os
+import pathlib
+import queue
+import re
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+from websockets.sync.client import connect
+
+from test_live import CTL, LIVE, ROZRUN, SUBPROTOCOL, StrictClient, Viewer, summary_line
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+INPUT = "operator/velocity.x"
+
+pytestmark = pytest.mark.skipif(not ROZRUN, reason="ROZRUN not set (run through ctest)")
+
+TWIST_INPUT = f"""
+[[manifest.inputs]]
+name = "{INPUT}"
+interface_type = "velocity"
+unit = "m/s"
+limits = [-0.5, 0.5]
+default = 0.0
+max_rate_of_change = 1.0
+stale_after_ms = 600000
+source = "twist.linear.x"
+scale = 0.5
+"""
+
+
+def robot_with_input(tmp_path):
+    text = (ROOT / "manifests" / "ur5.toml").read_text()
+    path = tmp_path / "ur5_teleop.toml"
+    path.write_text(text + TWIST_INPUT)
+    return path
+
+
+def twist_json(x, extra=""):
+    return json.dumps({"linear": {"x": x, "y": 0, "z": 0},
+                       "angular": {"x": 0, "y": 0, "z": 0}}) + extra
+
+
+def publish(ws, channel, payload):
+    data = payload.encode() if isinstance(payload, str) else payload
+    ws.send(b"\x01" + struct.pack("<I", channel) + data)
+
+
+def statuses(client, seconds):
+    """The status messages that arrive within @p seconds (the rest pumped)."""
+    out = []
+    end = time.monotonic() + seconds
+    orig = client._text
+
+    def text(t):
+        msg = json.loads(t)
+        if msg.get("op") == "status":
+            out.append(msg)
+        orig(t)
+    client._text = text
+    try:
+        while time.monotonic() < end:
+            client.pump(0.1)
+    finally:
+        client._text = orig
+    return out
+
+
+def trace_column(path, name):
+    lines = pathlib.Path(path).read_text().splitlines()
+    head = lines[0].split(",")
+    k = head.index(f"input:{name}")
+    return [float(line.split(",")[k]) for line in lines[1:]]
+
+
+def test_teleop_reaches_a_controller(tmp_path):
+    robot = robot_with_input(tmp_path)
+    fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
+    viewer = Viewer(fifo, "--teleop", sock)
+    client = StrictClient(viewer.port)
+    run = None
+    try:
+        while client.info is None:
+            client.pump(1.0)
+        assert "clientPublish" in client.info["capabilities"]
+        assert "json" in client.info.get("supportedEncodings", [])
+        run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
+                                "--ticks", "1000", "--controller", CTL / "sine.wasm",
+                                "--allow-other-robot", "--live", fifo, "--teleop", sock,
+                                "--trace", trace],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        end = time.monotonic() + 60
+        while not sock.exists():
+            assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
+            client.pump(0.05)
+        ws = client.ws
+        ws.send(json.dumps({"op": "advertise", "channels": [
+            {"id": 7, "topic": "/cmd_vel", "encoding": "json",
+             "schemaName": "geometry_msgs/msg/Twist"}]}))
+        for _ in range(10):  # 0.6 m/s: the input is 0.3 (scale 0.5)
+            publish(ws, 7, twist_json(0.6))
+            client.pump(0.05)
+        # refused, each with a status, the input unchanged
+        publish(ws, 7, '{"linear": {"x": NaN, "y": 0, "z": 0}, "angular": {"x": 0, "y": 0, '
+                       '"z": 0}}')
+        publish(ws, 7, twist_json(0.1)[:-3])            # cut short: not JSON
+        publish(ws, 7, twist_json(0.1, " " * 5000))     # past MAX_TELEOP_BYTES
+        publish(ws, 7, '{"linear": {"x": 0.1, "y": 0}, "angular": {"x": 0, "y": 0, "z": 0}}')
+        publish(ws, 8, twist_json(0.1))                 # a channel never advertised
+        ws.send(json.dumps({"op": "advertise", "channels": [
+            {"id": 9, "topic": "/joy", "encoding": "json", "schemaName": "std_msgs/msg/String"}]}))
+        publish(ws, 9, twist_json(0.1))                 # advertised, not a twist
+        got = [s["message"] for s in statuses(client, 1.0)]
+        for says in ("NaN is not a number", "not JSON", "more than 4096",
+                     "linear: expected an object of x, y and z", "Unknown channel ID: 8",
+                     "json geometry_msgs/msg/Twist only", "channel 9, which is no advertised twist"):
+            assert any(says in m for m in got), f"no status says '{says}': {got}"
+        # past rozrun's own checks: a datagram of another size, a NaN it passes
+        # on (the runtime's input refuses it and counts)
+        raw = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        raw.sendto(b"TWST" + struct.pack("<5d", 0.1, 0, 0, 0, 0), str(sock))
+        raw.sendto(b"TWST" + struct.pack("<6d", float("nan"), 0, 0, 0, 0, 0), str(sock))
+        raw.close()
+        ws.send(json.dumps({"op": "unadvertise", "channelIds": [7]}))
+        publish(ws, 7, twist_json(0.2))                 # unadvertised: refused
+        assert any("Unknown channel ID: 7" in s["message"] for s in statuses(client, 0.5))
+        out, err = run.communicate(timeout=120)
+        assert run.returncode == 0, out + err
+    finally:
+        if run is not None and run.poll() is None:
+            run.kill()
+        client.close()
+        viewer.stop()
+    line = summary_line(out, "teleop")
+    m = re.match(r"(\d+) twists from .*, (\d+) malformed refused; inputs clamped (\d+), "
+                 r"refused \(non-finite\) (\d+)", line)
+    assert m, line
+    twists, malformed, clamped, nonfinite = map(int, m.groups())
+    assert twists == 11 and malformed == 1 and clamped == 0 and nonfinite == 1, line
+    values = trace_column(trace, INPUT)
+    assert 0.3 in values, values[:50]
+    assert set(values) <= {0.0, 0.3}, sorted(set(values))
+    assert values[-1] == 0.3
+    first = values.index(0.3)
+    assert all(v == 0.3 for v in values[first:]), "the input moved after the refused messages"
+
+
+def own_address():
+    """A non-loopback IPv4 address of this machine (no packet is sent), or None."""
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    try:
+        s.connect(("192.0.2.1", 9))
+        addr = s.getsockname()[0]
+    except OSError:
+        return None
+    finally:
+        s.close()
+    return None if addr.startswith("127.") else addr
+
+
+def server_info(addr, port):
+    with connect(f"ws://{addr}:{port}", subprotocols=[SUBPROTOCOL], open_timeout=30,
+                 proxy=None, compression=None) as ws:
+        msg = json.loads(ws.recv(timeout=30))
+        assert msg["op"] == "serverInfo", msg
+        caps = msg["capabilities"]
+        if "clientPublish" not in caps:
+            # publishing anyway changes nothing: no twist goes to the run
+            ws.send(json.dumps({"op": "advertise", "channels": [
+                {"id": 1, "topic": "/cmd_vel", "encoding": "json",
+                 "schemaName": "geometry_msgs/msg/Twist"}]}))
+            ws.send(b"\x01" + struct.pack("<I", 1) + twist_json(0.5).encode())
+            try:
+                while True:
+                    ws.recv(timeout=0.5)
+            except TimeoutError:
+                pass
+        return caps
+
+
+@pytest.mark.parametrize("remote", [False, True])
+def test_teleop_from_another_machine(tmp_path, remote):
+    addr = own_address()
+    if addr is None:
+        pytest.skip("this machine has no address but the loopback")
+    fifo, sock = tmp_path / "run.live", tmp_path / "teleop.sock"
+    # a socket that counts what roz-live would hand a run
+    taken = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    taken.bind(str(sock))
+    taken.settimeout(0.5)
+    p = subprocess.Popen([sys.executable, str(LIVE), str(fifo), "--host", addr, "--port", "0",
+                          "--teleop", str(sock), *(["--teleop-remote"] if remote else [])],
+                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    try:
+        line = p.stdout.readline()
+        m = re.match(r"roz-live: serving ws://[^:]+:(\d+) ", line)
+        assert m, line
+        caps = server_info(addr, int(m.group(1)))
+        assert ("clientPublish" in caps) == remote, caps
+        if not remote:
+            with pytest.raises(TimeoutError):
+                taken.recv(64)
+    finally:
+        p.send_signal(signal.SIGINT)
+        out = p.communicate(timeout=30)[0]
+        taken.close()
+    assert p.returncode == 0, out
+
+
+def test_teleop_socket_refusals(tmp_path):
+    """rozrun --teleop: a path that is not a socket, or too long for one, and
+    --teleop with --replay exit 2 naming it; roz-live --teleop-remote alone
+    is refused."""
+    robot = robot_with_input(tmp_path)
+    plain = tmp_path / "not_a_socket"
+    plain.write_text("x")
+    base = [ROZRUN, "--robot", robot, "--port", "loopback", "--ticks", "10",
+            "--controller", CTL / "sine.wasm", "--allow-other-robot"]
+    r = subprocess.run([*base, "--teleop", plain], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and f"--teleop {plain}: exists and is not a socket" in r.stderr, \
+        r.stderr
+    assert plain.read_text() == "x"
+    long = tmp_path / ("s" * 120)
+    r = subprocess.run([*base, "--teleop", long], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "longer than a socket's path may be" in r.stderr, r.stderr
+    r = subprocess.run([ROZRUN, "--replay", tmp_path / "none.mcap", "--controller",
+                        CTL / "sine.wasm", "--teleop", tmp_path / "t.sock"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "--teleop and --replay" in r.stderr, r.stderr
+    r = subprocess.run([sys.executable, str(LIVE), "-", "--teleop-remote"],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 2 and "--teleop-remote needs --teleop SOCKET" in r.stderr, r.stderr
