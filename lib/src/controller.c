@@ -180,6 +180,7 @@ static M3Result charge(IM3Runtime rt, uint64_t units)
             m3ApiTrap(charge_r_);                    \
     } while (0)
 
+#if ROZ_CFG_MATH_IMPORTS
 static m3ApiRawFunction(h_math_sin)
 {
     m3ApiReturnType(double);
@@ -199,6 +200,10 @@ static m3ApiRawFunction(h_math_cos)
     CHARGE_OR_TRAP(roz_abi_math_units(x));
     m3ApiReturn(roz_abi_math_cos(x));
 }
+#else
+#define h_math_sin NULL /* left out: as h_nn_matvec */
+#define h_math_cos NULL
+#endif
 
 static m3ApiRawFunction(h_safety_request_estop)
 {
@@ -234,6 +239,7 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
     m3ApiSuccess();
 }
 
+#if ROZ_CFG_BULK_IMPORTS
 static m3ApiRawFunction(h_state_get_all)
 {
     m3ApiReturnType(int32_t);
@@ -259,7 +265,12 @@ static m3ApiRawFunction(h_command_set_all)
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
 }
+#else
+#define h_state_get_all   NULL /* left out: as h_nn_matvec */
+#define h_command_set_all NULL
+#endif
 
+#if ROZ_CFG_NN_IMPORTS
 /* The neural-network extension: its work (multiply-adds, activation
  * elements; roz/abi.h has the units) is charged from the counts before
  * anything is read, so a budget stops a flood of large calls. */
@@ -294,6 +305,11 @@ static m3ApiRawFunction(h_nn_act)
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_nn_act(ABI, mem, len, kind, ptr, count));
 }
+#else
+/* left out of the build: refused at load (wasm_scan.c), never linked */
+#define h_nn_matvec NULL
+#define h_nn_act    NULL
+#endif
 
 /* Same order as roz_abi_imports[] (checked at load). */
 static const M3RawCall host_functions[] = {
@@ -414,6 +430,8 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     for (size_t i = 0; i < roz_abi_import_count; i++) {
         const roz_abi_import_t *imp = &roz_abi_imports[i];
+        if (host_functions[i] == NULL)
+            continue; /* left out: the scan refused a module importing it */
         r = m3_LinkRawFunctionEx(mod, imp->module, imp->name, imp->signature, host_functions[i],
                                  abi);
         if (r != m3Err_none && r != m3Err_functionLookupFailed) {

@@ -1014,10 +1014,12 @@ int roz_runtime_tick(roz_runtime_t *rt)
     tick_estop(rt);
     tick_read(rt, t_start);
     /* the operator's inputs, after the port's states, by the tick's own
-     * time (simulated time in a simulation) */
-    roz_inputs_tick(&rt->inputs,
-                    rt->counters.ticks * (1000000000ull / rt->cfg.manifest->control_rate_hz),
-                    rt->state + rt->cfg.manifest->n_states);
+     * time (simulated time in a simulation); a build for no inputs
+     * (ROZ_CFG_MAX_INPUTS 0) links none of their code */
+    if (ROZ_CFG_MAX_INPUTS > 0)
+        roz_inputs_tick(&rt->inputs,
+                        rt->counters.ticks * (1000000000ull / rt->cfg.manifest->control_rate_hz),
+                        rt->state + rt->cfg.manifest->n_states);
     target = NULL;
     if (rt->have_state) {
         roz_stop_t stop = tick_controller(rt, active, &target);
