@@ -30,7 +30,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo demo-loopback campaign test test-asan test-tsan firmware stress bench fuzz-diff clean
+.PHONY: all setup setup-ray build install demo demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench fuzz-diff clean
 
 all: build
 
@@ -170,6 +170,13 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4fp/roz_fw_g1_policy.elf 320 512 \
 	    "Unitree G1, learned policy, Cortex-M4F (mps2-an386), fuel alone (no clock)"
 
+# The same images built once per part their configuration leaves out, with
+# that part put back (tools/fw_options.py): the flash each option saves.
+# Long (a build of roz per option and board); `make bench` runs it.
+firmware-options: setup
+	@.venv/bin/python tools/fw_options.py --build $(BUILD)-fw-options --jobs $(JOBS) \
+	    $(FW_FLAGS)
+
 # Every test: the sanitizer runs first, the whole suite last (the firmware
 # images among it, booted in QEMU).
 test: setup-ray test-asan test-tsan build
@@ -234,6 +241,11 @@ bench: build
 	if $(MAKE) --no-print-directory firmware > $(BENCH_OUT)/firmware.txt 2>&1; then :; else \
 	    echo "make firmware failed (its output: $(BENCH_OUT)/firmware.txt)" \
 	        > $(BENCH_OUT)/firmware.skipped; rm -f $(BENCH_OUT)/firmware.txt; fi
+	# the flash each firmware build option saves (make firmware-options)
+	if $(MAKE) --no-print-directory firmware-options > $(BENCH_OUT)/firmware_options.md \
+	    2> $(BENCH_OUT)/firmware_options.log; then :; else \
+	    echo "make firmware-options failed (its log: $(BENCH_OUT)/firmware_options.log)" \
+	        > $(BENCH_OUT)/firmware_options.skipped; rm -f $(BENCH_OUT)/firmware_options.md; fi
 	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
 	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md \
 	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \
@@ -249,4 +261,5 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t))
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)) \
+	    $(BUILD)-fw-options
