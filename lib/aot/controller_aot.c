@@ -478,8 +478,8 @@ int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m, roz_
     }
     c->aot_fuel = m->fuel(slot);
     c->aot_memory = m->memory_of(slot);
-    c->aot_call = aot_call;
-    c->aot_unload = aot_unload;
+    c->engine_call = aot_call;
+    c->engine_unload = aot_unload;
     c->process = (void *)(uintptr_t)m; /* loaded */
     return ROZ_OK;
 }

@@ -319,6 +319,28 @@ static const M3RawCall host_functions[] = {
     h_state_get_all,     h_command_set_all, h_nn_matvec,          h_nn_act,
 };
 
+/* The engine's two entries (roz_controller_t.engine_call, engine_unload):
+ * process(tick) on the slice's fuel, and freeing the runtime. */
+static const char *wasm3_call(roz_controller_t *c, int64_t tick, int64_t slice, int64_t **fuel)
+{
+    IM3Runtime rt = c->runtime;
+
+    rt->rozFuel = slice;
+    rt->rozStackLow = (void *)c->stack_base;
+    M3Result r = m3_CallV((IM3Function)c->process, tick);
+    *fuel = &rt->rozFuel;
+    return r;
+}
+
+static void wasm3_unload(roz_controller_t *c)
+{
+    if (c->runtime != NULL)
+        m3_FreeRuntime((IM3Runtime)c->runtime);
+    if (c->env != NULL)
+        m3_FreeEnvironment((IM3Environment)c->env);
+    c->env = NULL;
+}
+
 /* wasm3 writes signatures as ret(args) with F for f64, I for i64, i for i32,
  * v for none: the roz/abi.h notation, so the table's strings pass through. */
 
@@ -378,7 +400,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     _Static_assert(sizeof host_functions / sizeof host_functions[0] == 16,
                    "one host function per roz_abi_imports[] entry");
-    if (c->env != NULL || c->aot_call != NULL)
+    if (c->engine_call != NULL || c->engine_unload != NULL)
         return ROZ_ESTATE;
     c->error[0] = '\0';
     c->calls = 0;
@@ -399,6 +421,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     if (env == NULL)
         return fail(c, ROZ_ENOMEM, "out of memory creating the engine", NULL);
     c->env = env;
+    c->engine_unload = wasm3_unload;
     /* the metering hooks find the controller through the runtime */
     rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, c);
     if (rt == NULL)
@@ -472,6 +495,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
                     "the engine's function is not the compiled process(i64) roz checked");
     c->abi = abi;
     c->process = fn;
+    c->engine_call = wasm3_call;
     return ROZ_OK;
 }
 
@@ -537,17 +561,9 @@ int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t star
     c->meter_slice = next_slice(c);
     c->stack_base = STACK_HERE();
     c->stack_used = 0;
-    if (c->aot_call != NULL) {
-        int64_t *fuel = NULL;
-        r = c->aot_call(c, tick, (int64_t)c->meter_slice, &fuel);
-        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)*fuel);
-    } else {
-        IM3Runtime rt = c->runtime;
-        rt->rozFuel = (int64_t)c->meter_slice;
-        rt->rozStackLow = (void *)c->stack_base;
-        r = m3_CallV((IM3Function)c->process, tick);
-        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
-    }
+    int64_t *fuel = NULL;
+    r = c->engine_call(c, tick, (int64_t)c->meter_slice, &fuel);
+    c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)*fuel);
     /* Messages built without printf: this runs in the tick. A budget stop
      * leaves the instance spent; after a trap the caller decides (the
      * runtime never runs a trapped instance again). */
@@ -600,18 +616,14 @@ uint64_t roz_controller_calls(const roz_controller_t *c)
 
 void roz_controller_unload(roz_controller_t *c)
 {
-    if (c->aot_unload != NULL)
-        c->aot_unload(c);
-    if (c->runtime != NULL)
-        m3_FreeRuntime((IM3Runtime)c->runtime);
-    if (c->env != NULL)
-        m3_FreeEnvironment((IM3Environment)c->env);
+    if (c->engine_unload != NULL)
+        c->engine_unload(c);
     c->runtime = NULL;
     c->env = NULL;
     c->module = NULL;
     c->process = NULL;
     c->abi = NULL;
     c->spent = 0;
-    c->aot_call = NULL;
-    c->aot_unload = NULL;
+    c->engine_call = NULL;
+    c->engine_unload = NULL;
 }

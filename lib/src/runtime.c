@@ -273,7 +273,7 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
         rc = aot->load(&s->ctrl, aot, &s->abi);
     } else {
         s->hash = roz_recorder_hash(wasm, len);
-        rc = roz_controller_load_in(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
+        rc = rt->load_wasm(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
     }
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
@@ -968,6 +968,7 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
             memset(report, 0, sizeof *report);
         return ROZ_ESTATE; /* rt->error belongs to the running load */
     }
+    rt->load_wasm = roz_controller_load_in;
     int rc = load_locked(rt, wasm, len, NULL, report);
     atomic_store(&rt->loader_busy, 0u);
     return rc;
