@@ -129,11 +129,14 @@ FW_FLAGS = -G Ninja -DROZ_SOURCE_DIR=$(CURDIR) -DROZ_WERROR=ON \
            -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
            -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 
-$(BUILD)-fw-m4f/build.ninja: $(FW_CONF) | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) -DFW_BOARD=mps2-an386
+# The M4F's and the M7's trees build the ahead-of-time images too, with the
+# host build's rozaot (it validates and meters the controller).
+FW_AOT = -DROZ_FW_ROZAOT=$(CURDIR)/$(BUILD)/tools/aot/rozaot
+$(BUILD)-fw-m4f/build.ninja: $(FW_CONF) | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) $(FW_AOT) -DFW_BOARD=mps2-an386
 
-$(BUILD)-fw-m7/build.ninja: $(FW_CONF) | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) -DFW_BOARD=mps2-an500
+$(BUILD)-fw-m7/build.ninja: $(FW_CONF) | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) $(FW_AOT) -DFW_BOARD=mps2-an500
 
 $(BUILD)-fw-stm32/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-stm32 $(FW_FLAGS) -DFW_BOARD=netduinoplus2
@@ -159,12 +162,16 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs.elf 96 64 \
 	    "UR5, sine controller on a port of the firmware's own (no simulator), Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs_aot.elf 96 64 \
+	    "UR5, sine controller compiled ahead of time (no wasm3), own port, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh netduinoplus2 $(BUILD)-fw-stm32/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F at 168 MHz (netduinoplus2, STM32F405)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an505 $(BUILD)-fw-m33/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M33 (mps2-an505, Secure state)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
 	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd_aot.elf 128 160 \
+	    "Unitree G1, PD controller compiled ahead of time (no wasm3), Cortex-M7 (mps2-an500)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7p/roz_fw_g1_policy.elf 320 512 \
 	    "Unitree G1, learned policy (LSTM, nn imports), Cortex-M7 (mps2-an500); process() max: an inference tick"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4fp/roz_fw_g1_policy.elf 320 512 \

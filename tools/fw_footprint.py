@@ -15,10 +15,12 @@ the heap's break ever reached, the deepest the painted stack was used), and
 
 Components, by the archive or object each input section came from:
 roz core (libroz_core.a), hal (libroz_hal.a), port (libroz_port_*.a),
-manifest table (rozgen's <id>_manifest.c), controller (the embedded .wasm),
+manifest table (rozgen's <id>_manifest.c), controller (the embedded .wasm,
+or the controller compiled ahead of time: libroz_aot_<name>.a),
 wasm3 (libroz_wasm3.a), libc/libm (newlib), libgcc (soft-float and
 division helpers), app (the rest: the board's start-up, semihosting and
-C library hooks, the application). The application's static objects of
+C library hooks, the application); roz core includes the ahead-of-time
+engine's glue (libroz_aot.a). The application's static objects of
 roz's types count to the component whose storage they are: the runtime
 (rt) and the validator's scratch to roz core, the loopback port (sim,
 port) to port. KB is 1024 bytes.
@@ -33,10 +35,10 @@ table, -Wl,--cref); a function's string literals count to the function.
 What none of these names is "unattributed" (static data the debug
 information gives no file, e.g. a table of the loopback port's).
 """
-import os
-import subprocess
 import argparse
+import os
 import re
+import subprocess
 import sys
 
 FLASH_SECTIONS = {".vectors", ".text", ".ARM.extab", ".ARM.exidx"}
@@ -64,8 +66,10 @@ def component(path: str, section: str = "") -> str:
     if section in APP_OBJECTS:
         return APP_OBJECTS[section]
     base = path.replace("\\", "/")
-    if "libroz_core.a" in base:
+    if "libroz_core.a" in base or "libroz_aot.a" in base:
         return "roz core"
+    if re.search(r"libroz_aot_\w+\.a", base):
+        return "controller"
     if "libroz_hal.a" in base:
         return "hal"
     if re.search(r"libroz_port_\w+\.a", base):
@@ -94,6 +98,7 @@ SOURCE_COMPONENTS = [
     (re.compile(r"/wasm3/[^/]+$"), "wasm3"),
     (re.compile(r"_manifest\.c$"), "manifest table"),
     (re.compile(r"_wasm\.c$"), "controller"),
+    (re.compile(r"/roz_aot/[^/]+/[^/]+_(aot|glue)\.c$"), "controller"),
     (re.compile(r"/(lib/(src|aot|include/roz)|sdk/include)/[^/]+$"), "roz core"),
     (re.compile(r"/hal/(src|include/roz/hal)/[^/]+$"), "hal"),
     (re.compile(r"/ports/[^/]+/(src|include/roz/port)/[^/]+$"), "port"),
