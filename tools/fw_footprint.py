@@ -33,7 +33,10 @@ them; $NM, default arm-none-eabi-nm), else of the archive member that
 defined the symbol before the optimisation (the map's cross reference
 table, -Wl,--cref); a function's string literals count to the function.
 What none of these names is "unattributed" (static data the debug
-information gives no file, e.g. a table of the loopback port's).
+information gives no file, e.g. a table of the loopback port's). The map
+lists string literals before the link merges their duplicates: "merged
+strings" (negative) is what that merging saved, so that the total is the
+image's size.
 """
 import argparse
 import os
@@ -45,7 +48,7 @@ FLASH_SECTIONS = {".vectors", ".text", ".ARM.extab", ".ARM.exidx"}
 DATA_SECTION = ".data"
 BSS_SECTION = ".bss"
 COMPONENTS = ["roz core", "hal", "port", "manifest table", "controller", "wasm3",
-              "libc/libm", "libgcc", "app", "unattributed"]
+              "libc/libm", "libgcc", "app", "unattributed", "merged strings"]
 
 INPUT = re.compile(r"^ (?P<name>[.\w*$]\S*)\s+0x(?P<addr>[0-9a-f]+)\s+0x(?P<size>[0-9a-f]+)\s+(?P<file>\S.*)$")
 INPUT_NAME_ONLY = re.compile(r"^ (?P<name>[.\w*$]\S*)\s*$")
@@ -182,6 +185,7 @@ def parse_map(path: str, elf: str = None):
     """{component: {"flash": n, "ram": n}} from the map's memory map part
     (and, for a link-time-optimised image, the ELF's symbols)."""
     sizes = {c: {"flash": 0, "ram": 0} for c in COMPONENTS}
+    out_sizes = {}
     lto = None
     in_map = False
     out = None
@@ -196,6 +200,8 @@ def parse_map(path: str, elf: str = None):
             m = OUTPUT.match(line)
             if m:
                 out = m.group("name")
+                if m.group("size") and out not in out_sizes:
+                    out_sizes[out] = int(m.group("size"), 16)
                 pending = None
                 continue
             if out is None:
@@ -227,6 +233,12 @@ def parse_map(path: str, elf: str = None):
             m = INPUT_NAME_ONLY.match(line)
             if m:
                 pending = m.group("name")
+    # the image as the link wrote it: input sections of strings (SEC_MERGE)
+    # are listed at their size before the link merged their duplicates
+    image = sum(n for o, n in out_sizes.items() if o in FLASH_SECTIONS or o == DATA_SECTION)
+    listed = sum(v["flash"] for v in sizes.values())
+    if out_sizes and image != listed:
+        sizes["merged strings"]["flash"] += image - listed
     return sizes
 
 

@@ -108,7 +108,7 @@ def main(argv=None) -> int:
             cells = [f"{base[n]:,} ({base[n] / 1024:.1f} KB)" for n, _ in titles]
             label = "**as shipped**"
         else:
-            cells = [f"{base[n] - flash[n]:,}" if n in flash else "(kept)" for n, _ in titles]
+            cells = [f"{flash[n] - base[n]:,}" if n in flash else "(kept)" for n, _ in titles]
             label = row if row == LTO else f"{OPTIONS[row][1]} (`{row}`)"
         print(f"| {label} | " + " | ".join(cells) + " |")
     return 0
