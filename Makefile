@@ -34,7 +34,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware stress bench fuzz-diff clean
+.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench fuzz-diff clean
 
 all: build
 
@@ -169,11 +169,14 @@ FW_FLAGS = -G Ninja -DROZ_SOURCE_DIR=$(CURDIR) -DROZ_WERROR=ON \
            -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen \
            -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz
 
-$(BUILD)-fw-m4f/build.ninja: $(FW_CONF) | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) -DFW_BOARD=mps2-an386
+# The M4F's and the M7's trees build the ahead-of-time images too, with the
+# host build's rozaot (it validates and meters the controller).
+FW_AOT = -DROZ_FW_ROZAOT=$(CURDIR)/$(BUILD)/tools/aot/rozaot
+$(BUILD)-fw-m4f/build.ninja: $(FW_CONF) | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4f $(FW_FLAGS) $(FW_AOT) -DFW_BOARD=mps2-an386
 
-$(BUILD)-fw-m7/build.ninja: $(FW_CONF) | setup
-	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) -DFW_BOARD=mps2-an500
+$(BUILD)-fw-m7/build.ninja: $(FW_CONF) | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7 $(FW_FLAGS) $(FW_AOT) -DFW_BOARD=mps2-an500
 
 $(BUILD)-fw-stm32/build.ninja: $(FW_CONF) | setup
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-stm32 $(FW_FLAGS) -DFW_BOARD=netduinoplus2
@@ -199,16 +202,27 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	    "UR5, endless loop stopped by fuel alone, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs.elf 96 64 \
 	    "UR5, sine controller on a port of the firmware's own (no simulator), Cortex-M4F (mps2-an386)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4f/roz_fw_ur5_regs_aot.elf 96 64 \
+	    "UR5, sine controller compiled ahead of time (no wasm3), own port, Cortex-M4F (mps2-an386)"
 	PYTHON=.venv/bin/python tools/fw_run.sh netduinoplus2 $(BUILD)-fw-stm32/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M4F at 168 MHz (netduinoplus2, STM32F405)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an505 $(BUILD)-fw-m33/roz_fw_ur5_sine.elf 96 64 \
 	    "UR5, sine controller, Cortex-M33 (mps2-an505, Secure state)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd.elf 128 160 \
 	    "Unitree G1, PD controller, Cortex-M7 (mps2-an500)"
+	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7/roz_fw_g1_pd_aot.elf 128 160 \
+	    "Unitree G1, PD controller compiled ahead of time (no wasm3), Cortex-M7 (mps2-an500)"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an500 $(BUILD)-fw-m7p/roz_fw_g1_policy.elf 320 512 \
 	    "Unitree G1, learned policy (LSTM, nn imports), Cortex-M7 (mps2-an500); process() max: an inference tick"
 	PYTHON=.venv/bin/python tools/fw_run.sh mps2-an386 $(BUILD)-fw-m4fp/roz_fw_g1_policy.elf 320 512 \
 	    "Unitree G1, learned policy, Cortex-M4F (mps2-an386), fuel alone (no clock)"
+
+# The same images built once per part their configuration leaves out, with
+# that part put back (tools/fw_options.py): the flash each option saves.
+# Long (a build of roz per option and board); `make bench` runs it.
+firmware-options: setup
+	@.venv/bin/python tools/fw_options.py --build $(BUILD)-fw-options --jobs $(JOBS) \
+	    $(FW_FLAGS)
 
 # Every test: the sanitizer runs first, the whole suite last (the firmware
 # images among it, booted in QEMU).
@@ -274,6 +288,11 @@ bench: build
 	if $(MAKE) --no-print-directory firmware > $(BENCH_OUT)/firmware.txt 2>&1; then :; else \
 	    echo "make firmware failed (its output: $(BENCH_OUT)/firmware.txt)" \
 	        > $(BENCH_OUT)/firmware.skipped; rm -f $(BENCH_OUT)/firmware.txt; fi
+	# the flash each firmware build option saves (make firmware-options)
+	if $(MAKE) --no-print-directory firmware-options > $(BENCH_OUT)/firmware_options.md \
+	    2> $(BENCH_OUT)/firmware_options.log; then :; else \
+	    echo "make firmware-options failed (its log: $(BENCH_OUT)/firmware_options.log)" \
+	        > $(BENCH_OUT)/firmware_options.skipped; rm -f $(BENCH_OUT)/firmware_options.md; fi
 	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
 	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md \
 	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \
@@ -289,4 +308,5 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t))
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)) \
+	    $(BUILD)-fw-options

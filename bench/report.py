@@ -489,6 +489,13 @@ def build(args) -> tuple[str, str]:
         w("```\n" + "\n".join(lines).strip() + "\n```\n")
     else:
         w(f"Not built: {skipped(d, 'firmware')}.\n")
+    # the flash each option saves (make firmware-options: a Markdown table)
+    fw_options = d / "firmware_options.md"
+    w("### Footprint per build option\n")
+    if fw_options.exists():
+        w(fw_options.read_text(encoding="utf-8").strip() + "\n")
+    else:
+        w(f"Not built: {skipped(d, 'firmware_options')}.\n")
 
     # 8. toml
     w("## 7. robot.toml: the C reader and loader vs tomllib and rozgen\n")

@@ -23,7 +23,7 @@ timeout 120 qemu-system-arm -M "$machine" -nographic -monitor none -serial none 
 printf '\n==== %s\n' "$title"
 cat "$out"
 echo
-"$python" "$root/tools/fw_footprint.py" "$map" --run "$out" --aim-flash "$aim_flash" \
+"$python" "$root/tools/fw_footprint.py" "$map" --elf "$image" --run "$out" --aim-flash "$aim_flash" \
     --aim-ram "$aim_ram" --title "footprint: $title"
 if [ "$status" -ne 0 ]; then
     echo "fw_run: $image exited with $status under $machine" >&2

@@ -20,7 +20,10 @@ set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)
 set(CMAKE_FIND_ROOT_PATH_MODE_INCLUDE ONLY)
 
 # Every function and object in a section of its own, so the link keeps only
-# what is called; newlib-nano's small printf-free C library.
-set(CMAKE_C_FLAGS_INIT "${ROZ_FW_CPU_FLAGS} -ffunction-sections -fdata-sections")
+# what is called; newlib-nano's small printf-free C library. Debug
+# information (-g) costs no byte of flash and names the source of every
+# function, which the footprint table needs once link-time optimisation has
+# merged the objects (tools/fw_footprint.py).
+set(CMAKE_C_FLAGS_INIT "${ROZ_FW_CPU_FLAGS} -ffunction-sections -fdata-sections -g")
 set(CMAKE_ASM_FLAGS_INIT "${ROZ_FW_CPU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${ROZ_FW_CPU_FLAGS} --specs=nano.specs -Wl,--gc-sections")

@@ -261,6 +261,9 @@ f64 Z_commandZ_limit_max(struct Z_command_instance_t *p, u32 index)
     return roz_abi_command_limit_max(ABI(p), (int32_t)index);
 }
 
+/* an import a build left out (roz/config.h) is not defined here: a
+ * compiled controller importing it does not link */
+#if ROZ_CFG_BULK_IMPORTS
 u32 Z_commandZ_set_all(struct Z_command_instance_t *p, u32 ptr, u32 count)
 {
     size_t len;
@@ -268,6 +271,7 @@ u32 Z_commandZ_set_all(struct Z_command_instance_t *p, u32 ptr, u32 count)
     const uint8_t *mem = memory(CTL(p), &len);
     return (u32)roz_abi_command_set_all(ABI(p), mem, len, ptr, (int32_t)count);
 }
+#endif
 
 f64 Z_stateZ_get(struct Z_state_instance_t *p, u32 index)
 {
@@ -279,6 +283,7 @@ u32 Z_stateZ_count(struct Z_state_instance_t *p)
     return (u32)roz_abi_state_count(ABI(p));
 }
 
+#if ROZ_CFG_BULK_IMPORTS
 u32 Z_stateZ_get_all(struct Z_state_instance_t *p, u32 ptr, u32 count)
 {
     size_t len;
@@ -286,7 +291,9 @@ u32 Z_stateZ_get_all(struct Z_state_instance_t *p, u32 ptr, u32 count)
     uint8_t *mem = memory(CTL(p), &len);
     return (u32)roz_abi_state_get_all(ABI(p), mem, len, ptr, (int32_t)count);
 }
+#endif
 
+#if ROZ_CFG_MATH_IMPORTS
 f64 Z_mathZ_sin(struct Z_math_instance_t *p, f64 x)
 {
     charge(CTL(p), roz_abi_math_units(x));
@@ -298,6 +305,7 @@ f64 Z_mathZ_cos(struct Z_math_instance_t *p, f64 x)
     charge(CTL(p), roz_abi_math_units(x));
     return roz_abi_math_cos(x);
 }
+#endif
 
 void Z_safetyZ_request_estop(struct Z_safety_instance_t *p)
 {
@@ -320,6 +328,7 @@ void Z_telemetryZ_emit_metric(struct Z_telemetry_instance_t *p, f64 value)
     roz_abi_telemetry_emit_metric(ABI(p), value);
 }
 
+#if ROZ_CFG_NN_IMPORTS
 u32 Z_nnZ_matvec(struct Z_nn_instance_t *p, u32 w, u32 x, u32 b, u32 y, u32 rows, u32 cols,
                  u32 flags)
 {
@@ -337,6 +346,7 @@ u32 Z_nnZ_act(struct Z_nn_instance_t *p, u32 kind, u32 ptr, u32 count)
     uint8_t *mem = memory(CTL(p), &len);
     return (u32)roz_abi_nn_act(ABI(p), mem, len, (int32_t)kind, ptr, (int32_t)count);
 }
+#endif
 
 /* The metering rozaot inserted: a charge took the fuel global below zero. */
 void Z_rozZ_refuel(struct Z_roz_instance_t *p)
@@ -468,8 +478,8 @@ int roz_controller_load_aot(roz_controller_t *c, const roz_aot_module_t *m, roz_
     }
     c->aot_fuel = m->fuel(slot);
     c->aot_memory = m->memory_of(slot);
-    c->aot_call = aot_call;
-    c->aot_unload = aot_unload;
+    c->engine_call = aot_call;
+    c->engine_unload = aot_unload;
     c->process = (void *)(uintptr_t)m; /* loaded */
     return ROZ_OK;
 }

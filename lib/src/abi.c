@@ -9,25 +9,28 @@
 
 /* ---- the import table ---------------------------------------------------- */
 
+/* NULL, or the name of the option (roz/config.h) that left an import out */
+#define LEFT_OUT(option) ((option) ? NULL : #option)
+
 const roz_abi_import_t roz_abi_imports[] = {
-    { "command", "set", "i(iF)" },
-    { "command", "count", "i()" },
-    { "command", "limit_min", "F(i)" },
-    { "command", "limit_max", "F(i)" },
-    { "state", "get", "F(i)" },
-    { "state", "count", "i()" },
-    { "math", "sin", "F(F)" },
-    { "math", "cos", "F(F)" },
-    { "safety", "request_estop", "v()" },
-    { "timing", "now_ns", "I()" },
-    { "timing", "sim_time_ns", "I()" },
-    { "telemetry", "emit_metric", "v(F)" },
+    { "command", "set", "i(iF)", NULL },
+    { "command", "count", "i()", NULL },
+    { "command", "limit_min", "F(i)", NULL },
+    { "command", "limit_max", "F(i)", NULL },
+    { "state", "get", "F(i)", NULL },
+    { "state", "count", "i()", NULL },
+    { "math", "sin", "F(F)", LEFT_OUT(ROZ_CFG_MATH_IMPORTS) },
+    { "math", "cos", "F(F)", LEFT_OUT(ROZ_CFG_MATH_IMPORTS) },
+    { "safety", "request_estop", "v()", NULL },
+    { "timing", "now_ns", "I()", NULL },
+    { "timing", "sim_time_ns", "I()", NULL },
+    { "telemetry", "emit_metric", "v(F)", NULL },
     /* the bulk extension (optional for a controller; see roz/abi.h) */
-    { "state", "get_all", "i(ii)" },
-    { "command", "set_all", "i(ii)" },
+    { "state", "get_all", "i(ii)", LEFT_OUT(ROZ_CFG_BULK_IMPORTS) },
+    { "command", "set_all", "i(ii)", LEFT_OUT(ROZ_CFG_BULK_IMPORTS) },
     /* the neural-network extension (optional; see roz/abi.h) */
-    { "nn", "matvec", "i(iiiiiii)" },
-    { "nn", "act", "i(iii)" },
+    { "nn", "matvec", "i(iiiiiii)", LEFT_OUT(ROZ_CFG_NN_IMPORTS) },
+    { "nn", "act", "i(iii)", LEFT_OUT(ROZ_CFG_NN_IMPORTS) },
 };
 const size_t roz_abi_import_count = sizeof roz_abi_imports / sizeof roz_abi_imports[0];
 
@@ -351,6 +354,7 @@ int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_l
 }
 
 /* ---- the neural-network extension ---------------------------------------- */
+#if ROZ_CFG_NN_IMPORTS /* to the end of the file */
 
 static inline float ld_f32(const uint8_t *p)
 {
@@ -527,3 +531,5 @@ int32_t roz_abi_nn_act(roz_abi_t *abi, uint8_t *mem, size_t mem_len, int32_t kin
     }
     return count;
 }
+
+#endif /* ROZ_CFG_NN_IMPORTS */

@@ -180,6 +180,7 @@ static M3Result charge(IM3Runtime rt, uint64_t units)
             m3ApiTrap(charge_r_);                    \
     } while (0)
 
+#if ROZ_CFG_MATH_IMPORTS
 static m3ApiRawFunction(h_math_sin)
 {
     m3ApiReturnType(double);
@@ -199,6 +200,10 @@ static m3ApiRawFunction(h_math_cos)
     CHARGE_OR_TRAP(roz_abi_math_units(x));
     m3ApiReturn(roz_abi_math_cos(x));
 }
+#else
+#define h_math_sin NULL /* left out: as h_nn_matvec */
+#define h_math_cos NULL
+#endif
 
 static m3ApiRawFunction(h_safety_request_estop)
 {
@@ -234,6 +239,7 @@ static m3ApiRawFunction(h_telemetry_emit_metric)
     m3ApiSuccess();
 }
 
+#if ROZ_CFG_BULK_IMPORTS
 static m3ApiRawFunction(h_state_get_all)
 {
     m3ApiReturnType(int32_t);
@@ -259,7 +265,12 @@ static m3ApiRawFunction(h_command_set_all)
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_command_set_all(ABI, mem, len, ptr, count));
 }
+#else
+#define h_state_get_all   NULL /* left out: as h_nn_matvec */
+#define h_command_set_all NULL
+#endif
 
+#if ROZ_CFG_NN_IMPORTS
 /* The neural-network extension: its work (multiply-adds, activation
  * elements; roz/abi.h has the units) is charged from the counts before
  * anything is read, so a budget stops a flood of large calls. */
@@ -294,6 +305,11 @@ static m3ApiRawFunction(h_nn_act)
     mem = m3_GetMemory(runtime, &len, 0);
     m3ApiReturn(roz_abi_nn_act(ABI, mem, len, kind, ptr, count));
 }
+#else
+/* left out of the build: refused at load (wasm_scan.c), never linked */
+#define h_nn_matvec NULL
+#define h_nn_act    NULL
+#endif
 
 /* Same order as roz_abi_imports[] (checked at load). */
 static const M3RawCall host_functions[] = {
@@ -302,6 +318,28 @@ static const M3RawCall host_functions[] = {
     h_safety_request_estop, h_timing_now_ns, h_timing_sim_time_ns, h_telemetry_emit_metric,
     h_state_get_all,     h_command_set_all, h_nn_matvec,          h_nn_act,
 };
+
+/* The engine's two entries (roz_controller_t.engine_call, engine_unload):
+ * process(tick) on the slice's fuel, and freeing the runtime. */
+static const char *wasm3_call(roz_controller_t *c, int64_t tick, int64_t slice, int64_t **fuel)
+{
+    IM3Runtime rt = c->runtime;
+
+    rt->rozFuel = slice;
+    rt->rozStackLow = (void *)c->stack_base;
+    M3Result r = m3_CallV((IM3Function)c->process, tick);
+    *fuel = &rt->rozFuel;
+    return r;
+}
+
+static void wasm3_unload(roz_controller_t *c)
+{
+    if (c->runtime != NULL)
+        m3_FreeRuntime((IM3Runtime)c->runtime);
+    if (c->env != NULL)
+        m3_FreeEnvironment((IM3Environment)c->env);
+    c->env = NULL;
+}
 
 /* wasm3 writes signatures as ret(args) with F for f64, I for i64, i for i32,
  * v for none: the roz/abi.h notation, so the table's strings pass through. */
@@ -362,7 +400,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     _Static_assert(sizeof host_functions / sizeof host_functions[0] == 16,
                    "one host function per roz_abi_imports[] entry");
-    if (c->env != NULL || c->aot_call != NULL)
+    if (c->engine_call != NULL || c->engine_unload != NULL)
         return ROZ_ESTATE;
     c->error[0] = '\0';
     c->calls = 0;
@@ -383,6 +421,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
     if (env == NULL)
         return fail(c, ROZ_ENOMEM, "out of memory creating the engine", NULL);
     c->env = env;
+    c->engine_unload = wasm3_unload;
     /* the metering hooks find the controller through the runtime */
     rt = m3_NewRuntime(env, ROZ_CFG_WASM_STACK_BYTES, c);
     if (rt == NULL)
@@ -414,6 +453,8 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
 
     for (size_t i = 0; i < roz_abi_import_count; i++) {
         const roz_abi_import_t *imp = &roz_abi_imports[i];
+        if (host_functions[i] == NULL)
+            continue; /* left out: the scan refused a module importing it */
         r = m3_LinkRawFunctionEx(mod, imp->module, imp->name, imp->signature, host_functions[i],
                                  abi);
         if (r != m3Err_none && r != m3Err_functionLookupFailed) {
@@ -454,6 +495,7 @@ static int load(roz_controller_t *c, const uint8_t *wasm, size_t len, roz_abi_t 
                     "the engine's function is not the compiled process(i64) roz checked");
     c->abi = abi;
     c->process = fn;
+    c->engine_call = wasm3_call;
     return ROZ_OK;
 }
 
@@ -519,17 +561,9 @@ int roz_controller_process_from(roz_controller_t *c, int64_t tick, uint64_t star
     c->meter_slice = next_slice(c);
     c->stack_base = STACK_HERE();
     c->stack_used = 0;
-    if (c->aot_call != NULL) {
-        int64_t *fuel = NULL;
-        r = c->aot_call(c, tick, (int64_t)c->meter_slice, &fuel);
-        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)*fuel);
-    } else {
-        IM3Runtime rt = c->runtime;
-        rt->rozFuel = (int64_t)c->meter_slice;
-        rt->rozStackLow = (void *)c->stack_base;
-        r = m3_CallV((IM3Function)c->process, tick);
-        c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)rt->rozFuel);
-    }
+    int64_t *fuel = NULL;
+    r = c->engine_call(c, tick, (int64_t)c->meter_slice, &fuel);
+    c->fuel_used = c->meter_used + (c->meter_slice - (uint64_t)*fuel);
     /* Messages built without printf: this runs in the tick. A budget stop
      * leaves the instance spent; after a trap the caller decides (the
      * runtime never runs a trapped instance again). */
@@ -582,18 +616,14 @@ uint64_t roz_controller_calls(const roz_controller_t *c)
 
 void roz_controller_unload(roz_controller_t *c)
 {
-    if (c->aot_unload != NULL)
-        c->aot_unload(c);
-    if (c->runtime != NULL)
-        m3_FreeRuntime((IM3Runtime)c->runtime);
-    if (c->env != NULL)
-        m3_FreeEnvironment((IM3Environment)c->env);
+    if (c->engine_unload != NULL)
+        c->engine_unload(c);
     c->runtime = NULL;
     c->env = NULL;
     c->module = NULL;
     c->process = NULL;
     c->abi = NULL;
     c->spent = 0;
-    c->aot_call = NULL;
-    c->aot_unload = NULL;
+    c->engine_call = NULL;
+    c->engine_unload = NULL;
 }

@@ -69,6 +69,7 @@ static char *digits(char d[24], uintmax_t v, unsigned base, int upper)
     return p;
 }
 
+#if ROZ_CFG_FORMAT_DOUBLE
 /* 10^k as a double: exact for 0 <= k <= 22 (every factor and product is a
  * power of ten below 2^53 times a power of two). */
 static double pow10i(int k)
@@ -209,6 +210,24 @@ static size_t fmt_g(char *s, double x, int prec)
     }
     return n + roz__format_layout_g(s + n, ds, prec, e);
 }
+#else
+/* %g without the decimal conversion (ROZ_CFG_FORMAT_DOUBLE 0): the
+ * value's bits, exact and the same on every target. */
+static size_t fmt_g(char *s, double x, int prec)
+{
+    uint64_t bits;
+    char d[24], *p;
+
+    (void)prec;
+    memcpy(&bits, &x, sizeof bits);
+    memcpy(s, "f64:", 4);
+    p = digits(d, bits, 16u, 0);
+    size_t nd = (size_t)(d + 24 - p);
+    memset(s + 4, '0', 16u - nd);
+    memcpy(s + 4 + (16u - nd), p, nd);
+    return 20;
+}
+#endif
 
 /* ---- public ---------------------------------------------------------------- */
 
@@ -326,7 +345,9 @@ int roz_vformat(char *buf, size_t len, const char *fmt, va_list ap)
             char g[40];
             int sig = prec < 0 ? 6 : prec == 0 ? 1 : prec > 15 ? 15 : prec;
             size_t n = fmt_g(g, va_arg(ap, double), sig);
-            field(&o, g, n, width, left, zero && g[n - 1u] != 'n' && g[n - 1u] != 'f');
+            /* zeros pad a number, never "nan", "inf" or the bits */
+            int number = ROZ_CFG_FORMAT_DOUBLE && g[n - 1u] != 'n' && g[n - 1u] != 'f';
+            field(&o, g, n, width, left, zero && number);
             break;
         }
         case '%':

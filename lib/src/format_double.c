@@ -13,6 +13,8 @@
 
 #include "format_internal.h"
 
+#if ROZ_CFG_FORMAT_DOUBLE /* else: the bits, at the end of the file */
+
 /* ---- private -------------------------------------------------------------- */
 
 /* A double is m * 2^k, so its decimal expansion is finite: m << k, or
@@ -237,3 +239,17 @@ void roz_text_put_double(roz_text_t *t, double x)
     if (strpbrk(s, ".eni") == NULL)
         roz_text_put(t, ".0");
 }
+
+#else /* ROZ_CFG_FORMAT_DOUBLE 0: the bits, as %g prints them (format.c) */
+
+int roz_format_double(char *buf, size_t len, double x)
+{
+    return roz_format(buf, len, "%g", x);
+}
+
+void roz_text_put_double(roz_text_t *t, double x)
+{
+    roz_text_format(t, "%g", x);
+}
+
+#endif /* ROZ_CFG_FORMAT_DOUBLE */

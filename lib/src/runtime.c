@@ -282,7 +282,7 @@ static int load_slot(roz_runtime_t *rt, roz_runtime_slot_t *s, const uint8_t *wa
         rc = aot->load(&s->ctrl, aot, &s->abi);
     } else {
         s->hash = roz_recorder_hash(wasm, len);
-        rc = roz_controller_load_in(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
+        rc = rt->load_wasm(&s->ctrl, wasm, len, &s->abi, rt->cfg.load_scratch);
     }
     if (rc == ROZ_OK)
         rc = roz_controller_set_budget(&s->ctrl, &budget); /* checked at init */
@@ -1027,6 +1027,7 @@ int roz_runtime_load(roz_runtime_t *rt, const uint8_t *wasm, size_t len,
             memset(report, 0, sizeof *report);
         return ROZ_ESTATE; /* rt->error belongs to the running load */
     }
+    rt->load_wasm = roz_controller_load_in;
     int rc = load_locked(rt, wasm, len, NULL, report);
     atomic_store(&rt->loader_busy, 0u);
     return rc;
@@ -1073,10 +1074,12 @@ int roz_runtime_tick(roz_runtime_t *rt)
     tick_estop(rt);
     tick_read(rt, t_start);
     /* the operator's inputs, after the port's states, by the tick's own
-     * time (simulated time in a simulation) */
-    roz_inputs_tick(&rt->inputs,
-                    rt->counters.ticks * (1000000000ull / rt->cfg.manifest->control_rate_hz),
-                    rt->state + rt->cfg.manifest->n_states);
+     * time (simulated time in a simulation); a build for no inputs
+     * (ROZ_CFG_MAX_INPUTS 0) links none of their code */
+    if (ROZ_CFG_MAX_INPUTS > 0)
+        roz_inputs_tick(&rt->inputs,
+                        rt->counters.ticks * (1000000000ull / rt->cfg.manifest->control_rate_hz),
+                        rt->state + rt->cfg.manifest->n_states);
     target = NULL;
     if (rt->have_state) {
         tick_fall(rt);

@@ -1343,6 +1343,9 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
             }
             if (imp == NULL)
                 FAIL("unknown import %s.%s: not part of the roz controller ABI", mod, name);
+            if (imp->left_out != NULL)
+                FAIL("import %s.%s: left out of this build of roz (%s is 0)", mod, name,
+                     imp->left_out);
             if (type_signature(&m, type_idx, sig, sizeof sig) != ROZ_OK)
                 FAIL("import %s.%s: malformed type index %u", mod, name, (unsigned)type_idx);
             if (strcmp(sig, imp->signature) != 0) {

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # cmake -DQEMU=qemu-system-arm -DMACHINE=mps2-an386 -DIMAGE=image.elf
 #       -DHOST=roz_fw_host -DROBOT=ur5 -DWASM=controller.wasm [-DFAULT=text]
-#       -P run_firmware.cmake
+#       [-DABSENT=symbol;... -DNM=arm-none-eabi-nm] -P run_firmware.cmake
 #
 # Boots the image in QEMU (-icount shift=0: one instruction per virtual
 # nanosecond, the same run every time; semihosting carries its output and
@@ -10,8 +10,23 @@
 # value outside the manifest at the robot, or, given FAULT, a fault
 # latched), and its report agrees with the host's line by line (verify,
 # run, fault, violations, fingerprint), and, given FAULT, its fault message
-# is exactly "fault: FAULT"; without FAULT there must be none.
+# is exactly "fault: FAULT"; without FAULT there must be none. Given ABSENT,
+# none of those symbols may be linked into the image (an image with its
+# controller compiled ahead of time links no interpreter).
 cmake_minimum_required(VERSION 3.25)
+
+if(ABSENT)
+  execute_process(COMMAND ${NM} ${IMAGE} RESULT_VARIABLE rc OUTPUT_VARIABLE syms
+                  ERROR_VARIABLE syms)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "${NM} ${IMAGE} failed (${rc}): ${syms}")
+  endif()
+  foreach(sym IN LISTS ABSENT)
+    if(syms MATCHES " ${sym}(\\.[^\n]*)?\n")
+      message(FATAL_ERROR "${IMAGE} links ${sym}, which it must not")
+    endif()
+  endforeach()
+endif()
 
 execute_process(
   COMMAND ${QEMU} -M ${MACHINE} -nographic -monitor none -serial none

@@ -85,8 +85,13 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
 
     memset(out, 0, sizeof *out);
     out->fault_tick = UINT32_MAX;
+#if FW_AOT
+    say(pf, "roz firmware: %s on %s, controller %s (compiled ahead of time), %u ticks",
+        m->robot_id, pf->name, img->controller, (unsigned)img->ticks);
+#else
     say(pf, "roz firmware: %s on %s, controller %s (%zu bytes), %u ticks", m->robot_id, pf->name,
         img->controller, img->wasm_len, (unsigned)img->ticks);
+#endif
 
     port = fw_plant.port();
     if (roz_port_open(&port, m, NULL, err, sizeof err) != ROZ_OK) {
@@ -106,7 +111,11 @@ int fw_app_run(const fw_image_t *img, const fw_platform_t *pf, fw_result_t *out)
         say(pf, "error: runtime init");
         return 1;
     }
+#if FW_AOT
+    out->load_rc = roz_runtime_load_aot(&rt, img->aot, &rep);
+#else
     out->load_rc = roz_runtime_load(&rt, img->wasm, img->wasm_len, &rep);
+#endif
     if (out->load_rc != ROZ_OK) {
         say(pf, "error: load: %s", roz_runtime_error(&rt));
         return 1;

@@ -11,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/aot.h"
 #include "roz/controller.h"
 #include "roz/manifest.h"
 #include "roz/port.h"
@@ -37,19 +38,27 @@ typedef struct fw_platform {
     roz_load_scratch_t *scratch;     /* the validator's scratch; NULL: the stack */
 } fw_platform_t;
 
+/** 1: the image's controller is compiled into it ahead of time (roz/aot.h)
+ *  and the application never calls wasm3's loader, so the image links no
+ *  interpreter and no module validator (the build ran it). */
+#ifndef FW_AOT
+#define FW_AOT 0
+#endif
+
 /** One image: a controller on a robot for a number of ticks. */
 typedef struct fw_image {
     const char           *controller; /* its name, for the report */
     const roz_manifest_t *manifest;
-    const uint8_t        *wasm;
+    const uint8_t        *wasm;       /* the module wasm3 loads (not FW_AOT) */
     size_t                wasm_len;
+    const roz_aot_module_t *aot;      /* the compiled controller (FW_AOT) */
     uint32_t              ticks;
     int                   use_clock;  /* 0: the runtime gets no clock (fuel alone) */
 } fw_image_t;
 
 /** What a run found. */
 typedef struct fw_result {
-    int      load_rc;         /* roz_runtime_load()'s result */
+    int      load_rc;         /* roz_runtime_load()'s (or _load_aot()'s) result */
     uint64_t fingerprint;     /* FNV-1a 64 over every tick's state and commands */
     unsigned faults;          /* latched at the end */
     uint32_t faulted_ticks;   /* ticks that ended with a fault latched */

@@ -7,6 +7,7 @@
 
 #define ROZ_CFG_MAX_COMMANDS          145   /* the G1's table: 29 joints x 5 */
 #define ROZ_CFG_MAX_STATES            97    /* 29 joints x 3, the IMU's 10 */
+#define ROZ_CFG_MAX_INPUTS            0     /* no operator inputs in the manifest */
 #define ROZ_CFG_NAME_ARENA_BYTES      64    /* no manifest is built at run time */
 #define ROZ_CFG_MAX_JOINTS            0
 #define ROZ_CFG_MAX_PARAMS            0
@@ -23,6 +24,11 @@
 #define ROZ_CFG_WASM_MAX_LOCALS       64
 #define ROZ_CFG_WASM_MAX_EXPORTS      8
 #define ROZ_CFG_TELEMETRY_RING        16
-
+/* what this image leaves out (roz/config.h; the saving of each: docs/firmware.md) */
+#define ROZ_CFG_NN_IMPORTS            0     /* the PD controller imports no nn.* */
+#define ROZ_CFG_BULK_IMPORTS          0     /* nor state.get_all, command.set_all */
+#define ROZ_CFG_MATH_IMPORTS          0     /* nor math.sin, math.cos */
+#define ROZ_CFG_FORMAT_DOUBLE         0     /* no message of this image prints a double */
+#define ROZ_CFG_CRC32_SLICES          1     /* the loopback's CRC: a 1 KiB table, not 4 */
 
 #endif /* ROZ_FW_G1_M7_CONFIG_H */

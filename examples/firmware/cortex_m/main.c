@@ -10,7 +10,8 @@
  *   FW_EXPECT_FAULT     1: the image is hostile, a fault must latch
  *   FW_BOARD            "cortex-m4f (mps2-an386)", ...
  * The controller's bytes are a C array generated from its .wasm at build
- * time (fw_wasm, fw_wasm_len). Exit status: 0 when the run went as the
+ * time (fw_wasm, fw_wasm_len); with FW_AOT 1 (fw_app.h) the controller is
+ * compiled in instead, FW_AOT_MODULE its roz_aot_module_t (roz_aot_<name>). Exit status: 0 when the run went as the
  * image expects (no fault, no value outside the manifest at the robot;
  * or, hostile, a fault latched and every tick still ran), 1 otherwise. */
 #include <stddef.h>
@@ -22,8 +23,14 @@
 #include "semihosting.h"
 #include FW_MANIFEST_HEADER
 
+#if FW_AOT
+extern const roz_aot_module_t FW_AOT_MODULE; /* ROZ_AOT_DECLARE()'s */
+#define FW_IMAGE_CODE NULL, 0, &FW_AOT_MODULE
+#else
 extern const uint8_t fw_wasm[];
 extern const size_t fw_wasm_len;
+#define FW_IMAGE_CODE fw_wasm, fw_wasm_len, NULL
+#endif
 
 /* The validator's scratch: one static buffer, loads run one at a time. */
 static roz_load_scratch_t scratch;
@@ -37,8 +44,7 @@ static void print_line(const char *line)
 int main(void)
 {
     fw_platform_t pf = { FW_BOARD, fw_clock_ns, NULL, print_line, &scratch };
-    fw_image_t img = { FW_CONTROLLER, &FW_MANIFEST, fw_wasm, fw_wasm_len, FW_TICKS,
-                       FW_USE_CLOCK };
+    fw_image_t img = { FW_CONTROLLER, &FW_MANIFEST, FW_IMAGE_CODE, FW_TICKS, FW_USE_CLOCK };
     fw_result_t res;
     char line[160];
     int ok;

@@ -89,6 +89,9 @@ typedef struct roz_abi_import {
     const char *module;
     const char *name;
     const char *signature;
+    /** NULL, or the ROZ_CFG_* option that left this import out of the
+     *  build (roz/config.h): a module importing it is refused at load. */
+    const char *left_out;
 } roz_abi_import_t;
 
 /** Every import a controller may use, and their count. */
@@ -270,6 +273,7 @@ typedef enum roz_abi_nn_act {
  *             (with BIAS) or y outside the memory, y overlapping W, x or b,
  *             or no memory
  */
+#if ROZ_CFG_NN_IMPORTS /* the four functions of the extension */
 int32_t roz_abi_nn_matvec(roz_abi_t *abi, uint8_t *mem, size_t mem_len, uint32_t w,
                           uint32_t x, uint32_t b, uint32_t y, int32_t rows, int32_t cols,
                           int32_t flags);
@@ -293,6 +297,7 @@ uint64_t roz_abi_nn_matvec_units(int32_t rows, int32_t cols);
 /** @brief Fuel units for nn.act: 0 for a kind or count refused whatever
  *  the pointer. Context: any. */
 uint64_t roz_abi_nn_act_units(int32_t kind, int32_t count);
+#endif /* ROZ_CFG_NN_IMPORTS */
 
 /**
  * @brief Take the oldest metric from a ring.

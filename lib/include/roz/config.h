@@ -225,6 +225,41 @@
 #define ROZ_CFG_TELEMETRY_RING 256
 #endif
 
+/* ---- what a build leaves out ------------------------------------------
+ * A firmware that does not use a part leaves it out of its image, as
+ * FreeRTOSConfig.h's configUSE_* options do; each is 1 (in, the default: a
+ * host build has everything) or 0 (out). docs/firmware.md has each one's
+ * saving on the Cortex-M images. */
+
+/** The math imports math.sin and math.cos (roz/abi.h) and the argument
+ *  reduction behind them. 0 leaves them out, as ROZ_CFG_NN_IMPORTS. */
+#ifndef ROZ_CFG_MATH_IMPORTS
+#define ROZ_CFG_MATH_IMPORTS 1
+#endif
+
+/** The bulk imports state.get_all and command.set_all (roz/abi.h). 0 leaves
+ *  them out, as ROZ_CFG_NN_IMPORTS. */
+#ifndef ROZ_CFG_BULK_IMPORTS
+#define ROZ_CFG_BULK_IMPORTS 1
+#endif
+
+/** The neural-network imports nn.matvec and nn.act (roz/abi.h) and the
+ *  activation functions behind them. 0 leaves them out: a controller that
+ *  imports one is refused at load, the message naming the import and this
+ *  option (an ahead-of-time controller that imports one does not link). */
+#ifndef ROZ_CFG_NN_IMPORTS
+#define ROZ_CFG_NN_IMPORTS 1
+#endif
+
+/** Doubles as decimal text: roz_format()'s `%g`, roz_format_double() and
+ *  roz_text_put_double(). 0 leaves the decimal conversion out: they print
+ *  the value's IEEE-754 bits instead, "f64:3ff0000000000000" for 1.0
+ *  (exact, the same on every target). A firmware's messages print a double
+ *  only for a port parameter out of its range (roz/hal/params.h). */
+#ifndef ROZ_CFG_FORMAT_DOUBLE
+#define ROZ_CFG_FORMAT_DOUBLE 1
+#endif
+
 /* ---- checks --------------------------------------------------------- */
 #if ROZ_CFG_MAX_COMMANDS < 1 || ROZ_CFG_MAX_COMMANDS > 4096
 #error "ROZ_CFG_MAX_COMMANDS must be in 1..4096"
@@ -312,6 +347,19 @@
 #if ROZ_CFG_DEADLINE_CHECK_UNITS < 1 || ROZ_CFG_DEADLINE_CHECK_UNITS > 65536 || \
     (ROZ_CFG_DEADLINE_CHECK_UNITS & (ROZ_CFG_DEADLINE_CHECK_UNITS - 1)) != 0
 #error "ROZ_CFG_DEADLINE_CHECK_UNITS must be a power of two in 1..65536"
+#endif
+
+#if ROZ_CFG_MATH_IMPORTS != 0 && ROZ_CFG_MATH_IMPORTS != 1
+#error "ROZ_CFG_MATH_IMPORTS must be 0 or 1"
+#endif
+#if ROZ_CFG_BULK_IMPORTS != 0 && ROZ_CFG_BULK_IMPORTS != 1
+#error "ROZ_CFG_BULK_IMPORTS must be 0 or 1"
+#endif
+#if ROZ_CFG_NN_IMPORTS != 0 && ROZ_CFG_NN_IMPORTS != 1
+#error "ROZ_CFG_NN_IMPORTS must be 0 or 1"
+#endif
+#if ROZ_CFG_FORMAT_DOUBLE != 0 && ROZ_CFG_FORMAT_DOUBLE != 1
+#error "ROZ_CFG_FORMAT_DOUBLE must be 0 or 1"
 #endif
 
 #if ROZ_CFG_TELEMETRY_RING < 2 || ROZ_CFG_TELEMETRY_RING > 65536 || \

@@ -55,11 +55,14 @@ typedef struct roz_controller {
     void      *ROZ_PRIVATE(module);
     void      *ROZ_PRIVATE(process);
     roz_abi_t *ROZ_PRIVATE(abi);       /* the context the imports run on */
-    /* the ahead-of-time engine (roz/aot.h), NULL for wasm3: its call, which
-     * returns the trap (NULL: none) and where its fuel is, and its unload */
-    const char *(*ROZ_PRIVATE(aot_call))(struct roz_controller *c, int64_t tick, int64_t slice,
-                                         int64_t **fuel);
-    void       (*ROZ_PRIVATE(aot_unload))(struct roz_controller *c);
+    /* the engine that loaded it (wasm3, or the ahead-of-time engine of
+     * roz/aot.h), NULL when not loaded: its call, which returns the trap
+     * (NULL: none) and where its fuel is, and its unload. Through these the
+     * rest of controller.c never names an engine, so an image that loads
+     * only compiled controllers links no interpreter. */
+    const char *(*ROZ_PRIVATE(engine_call))(struct roz_controller *c, int64_t tick,
+                                            int64_t slice, int64_t **fuel);
+    void       (*ROZ_PRIVATE(engine_unload))(struct roz_controller *c);
     const void *ROZ_PRIVATE(aot_module); /* its roz_aot_module_t */
     unsigned    ROZ_PRIVATE(aot_slot);   /* the instance it runs in */
     int64_t    *ROZ_PRIVATE(aot_fuel);   /* the instance's fuel global */

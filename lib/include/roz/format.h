@@ -43,6 +43,8 @@ extern "C" {
  *    i.e. with 6 digits for values from 1e-17 to 1e27; beyond, the last
  *    digit of a value within one rounding of a half-way point may differ
  *    (the same on every target: it is computed in IEEE double arithmetic),
+ *    (with ROZ_CFG_FORMAT_DOUBLE 0, the value's bits instead:
+ *    "f64:3ff0000000000000"),
  *  - flags `-` (left-justify) and `0` (pad with zeros), a width (a number
  *    or `*`).
  * Anything else (`%f`, `%e`, `%a`, `%n`, `+`, ` `, `#`, ...) prints as `%?`
@@ -68,6 +70,7 @@ int roz_vformat(char *buf, size_t len, const char *fmt, va_list ap) ROZ_FORMAT_C
  *        (codegen/rozgen/fmt.py, shortest_g), the same on every target.
  * @return the length of the whole text (as roz_format()).
  * Context: any thread; reentrant; about 1 KiB of stack. Not for the tick path.
+ * With ROZ_CFG_FORMAT_DOUBLE 0: the bits, as `%g` then prints them.
  */
 int roz_format_double(char *buf, size_t len, double x);
 

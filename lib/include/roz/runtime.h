@@ -247,6 +247,10 @@ typedef struct roz_runtime {
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(estop_press);  /* a press the tick has not seen; taken by exchange */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(remote_estop); /* the remote's last frame held its e-stop chord */
     ROZ_ATOMIC(unsigned)   ROZ_PRIVATE(loader_busy);  /* 1 while a load or rebuild runs; taken by exchange */
+    /* wasm3's loader (roz_controller_load_in), set by roz_runtime_load(): an
+     * image that loads only compiled controllers links no interpreter */
+    int (*ROZ_PRIVATE(load_wasm))(roz_controller_t *c, const uint8_t *wasm, size_t len,
+                                  roz_abi_t *abi, roz_load_scratch_t *scratch);
     uint32_t               ROZ_PRIVATE(latch_seq);    /* tick: last latch sequence number */
     uint32_t               ROZ_PRIVATE(latch_stamp)[ROZ_FAULT_KIND_COUNT]; /* tick: each bit's latch */
     roz_runtime_fault_rec_t ROZ_PRIVATE(first_fault);

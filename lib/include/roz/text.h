@@ -58,7 +58,8 @@ void roz_text_put_quoted(roz_text_t *t, const char *s, size_t n);
 
 /** @brief Append @p x as roz_format_double() writes it, with ".0" after a
  *  number that would read as an integer (a C double literal: rozgen's
- *  fmt.c_double). Context: not the tick. */
+ *  fmt.c_double). Context: not the tick. With ROZ_CFG_FORMAT_DOUBLE 0:
+ *  the bits, as `%g` then prints them. */
 void roz_text_put_double(roz_text_t *t, double x);
 
 /** @brief Append through roz_format(). Context: not the tick (roz formats

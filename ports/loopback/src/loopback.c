@@ -5,7 +5,6 @@
 #include "roz/port/loopback.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "roz/format.h"
@@ -111,9 +110,11 @@ static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopbac
     long ch;
 
     if (head[strspn(head, "0123456789")] == '\0') {
-        /* an index; long enough a number is out of range, not wrapped */
-        ch = strlen(head) > 6 ? -1 : strtol(head, NULL, 10);
-        if (ch < 0 || ch >= (long)m->n_states) {
+        /* an index; a number too large for 32 bits is out of range too */
+        uint32_t k = 0;
+        int ok = roz_params_parse_u32(roz_params_span(head), 0, 0, UINT32_MAX, &k) == ROZ_OK;
+        ch = (long)k;
+        if (!ok || k >= m->n_states) {
             roz_format(why, whylen, "state %s does not exist (%u states)", head,
                        (unsigned)m->n_states);
             return BAD;
@@ -164,15 +165,15 @@ static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *va
         head[n] = '\0';
         range = at + 1;
         if (kind == ROZ_LOOPBACK_DELAY) {
-            int digits = head[strspn(head, "0123456789")] == '\0';
-            unsigned long k = digits && n <= 3 ? strtoul(head, NULL, 10) : 0;
-            if (k < 1 || k > ROZ_LOOPBACK_MAX_DELAY) {
+            uint32_t k = 0;
+            if (roz_params_parse_u32(roz_params_span(head), 0, 1, ROZ_LOOPBACK_MAX_DELAY, &k) !=
+                ROZ_OK) {
                 roz_format(why, sizeof why, "K %s is not a delay in 1..%d ticks", head,
                            ROZ_LOOPBACK_MAX_DELAY);
                 rc = BAD;
                 goto bad;
             }
-            f.arg = (uint32_t)k;
+            f.arg = k;
         } else if ((rc = parse_channel(lb, head, kind, &f.channel, why, sizeof why)) != 0) {
             goto bad;
         }
