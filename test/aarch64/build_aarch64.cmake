@@ -44,7 +44,7 @@ endif()
 file(GLOB_RECURSE libs ${prefix}/lib/*.a)
 list(APPEND libs ${prefix}/bin/rozrun)
 foreach(f IN LISTS libs)
-  file(READ ${f} head LIMIT 4096 HEX)
+  file(READ ${f} head LIMIT 1048576 HEX) # past an archive's symbol table
   string(FIND "${head}" "7f454c46" elf)
   if(elf EQUAL -1)
     message(FATAL_ERROR "${f}: no ELF object in it")
