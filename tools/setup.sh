@@ -53,6 +53,10 @@ die() { printf 'setup: error: %s\n' "$*" >&2; exit 1; }
 # recommends: gcc-arm-none-eabi would pull in a 1.5 GB C++ library.
 # chromium (headless) shows the campaign report in a real browser in its
 # test (test/campaign/test_report_browser.py).
+# gcc-aarch64-linux-gnu cross-builds roz for aarch64 Linux (a robot's own
+# computer; cmake/toolchains/aarch64-linux-gnu.cmake) against the arm64
+# packages of Debian's multiarch archive (arm64_packages below), and
+# qemu-user runs its tests (test/aarch64/).
 apt_packages=(
     ca-certificates cmake ninja-build make gcc g++ libc6-dev pkg-config patch
     clang lld llvm libclang-rt-14-dev wabt rustc libstd-rust-dev-wasm32 cargo
@@ -60,9 +64,11 @@ apt_packages=(
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
     libegl1 libegl-mesa0 libgl1-mesa-dri chromium
+    gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user
 )
+arm64_packages=(cyclonedds-dev:arm64 libcmocka-dev:arm64 libzstd-dev:arm64)
 missing=()
-for p in "${apt_packages[@]}"; do
+for p in "${apt_packages[@]}" "${arm64_packages[@]}"; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
         missing+=("$p")
     fi
@@ -71,6 +77,10 @@ if ((${#missing[@]})); then
     [ "$(id -u)" = 0 ] || die "missing Debian packages (${missing[*]}); run as root or install them: apt-get install ${missing[*]}"
     say "installing Debian packages: ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
+    if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+        say "adding the arm64 architecture (multiarch) for the aarch64 cross-build"
+        dpkg --add-architecture arm64
+    fi
     apt-get update -qq
     apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi

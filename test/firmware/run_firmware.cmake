@@ -2,6 +2,9 @@
 # cmake -DQEMU=qemu-system-arm -DMACHINE=mps2-an386 -DIMAGE=image.elf
 #       -DHOST=roz_fw_host -DROBOT=ur5 -DWASM=controller.wasm [-DFAULT=text]
 #       [-DABSENT=symbol;... -DNM=arm-none-eabi-nm] -P run_firmware.cmake
+# cmake "-DRUN=qemu-aarch64;-L;<sysroot>;<aarch64 tree>/roz_fw_host" -DMACHINE=aarch64
+#       -DHOST=roz_fw_host -DROBOT=ur5 -DWASM=controller.wasm [-DFAULT=text]
+#       -P run_firmware.cmake
 #
 # Boots the image in QEMU (-icount shift=0: one instruction per virtual
 # nanosecond, the same run every time; semihosting carries its output and
@@ -12,7 +15,10 @@
 # run, fault, violations, fingerprint), and, given FAULT, its fault message
 # is exactly "fault: FAULT"; without FAULT there must be none. Given ABSENT,
 # none of those symbols may be linked into the image (an image with its
-# controller compiled ahead of time links no interpreter).
+# controller compiled ahead of time links no interpreter). Given RUN
+# instead of QEMU and IMAGE, the target is a hosted program of another ISA
+# (the application built for aarch64 Linux, under QEMU user mode) that
+# takes ROBOT and WASM as the host's does (test/aarch64/).
 cmake_minimum_required(VERSION 3.25)
 
 if(ABSENT)
@@ -28,15 +34,20 @@ if(ABSENT)
   endforeach()
 endif()
 
-execute_process(
-  COMMAND ${QEMU} -M ${MACHINE} -nographic -monitor none -serial none
-          -semihosting-config enable=on,target=native -icount shift=0 -kernel ${IMAGE}
-  RESULT_VARIABLE rc OUTPUT_VARIABLE fw ERROR_VARIABLE fw TIMEOUT 120)
+if(RUN)
+  set(target_cmd ${RUN} ${ROBOT} ${WASM})
+  list(GET RUN -1 IMAGE)
+else()
+  set(target_cmd ${QEMU} -M ${MACHINE} -nographic -monitor none -serial none
+                 -semihosting-config enable=on,target=native -icount shift=0 -kernel ${IMAGE})
+endif()
+execute_process(COMMAND ${target_cmd}
+                RESULT_VARIABLE rc OUTPUT_VARIABLE fw ERROR_VARIABLE fw TIMEOUT 120)
 message(STATUS "${MACHINE}:\n${fw}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "${IMAGE} exited with ${rc} under ${MACHINE}")
 endif()
-if(NOT fw MATCHES "\nresult: as expected\n")
+if(NOT RUN AND NOT fw MATCHES "\nresult: as expected\n")
   message(FATAL_ERROR "${IMAGE}: no 'result: as expected' line")
 endif()
 

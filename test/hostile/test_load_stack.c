@@ -12,6 +12,7 @@
  * and prints the stack the loader used per depth (stack painting), the
  * figures the documentation quotes. */
 #define _DEFAULT_SOURCE /* MAP_ANONYMOUS, pthread_attr_setstack */
+#include <limits.h>
 #include <pthread.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -141,10 +142,15 @@ static void *load_thread(void *arg)
  * a guard page below catches an overflow as a crash); returns the load's
  * result and, through *used, the bytes of the stack that were written
  * (painting) from the top, and through *below_entry those under the thread's
- * first frame (the loader's own need). */
+ * first frame (the loader's own need). Where the C library refuses a stack
+ * that small (PTHREAD_STACK_MIN: 128 KiB on aarch64 Linux, 16 KiB on
+ * x86-64), the thread gets PTHREAD_STACK_MIN: the caller's check that fewer
+ * than `bytes` were written still holds it to the documented size. */
 static int load_on_stack(size_t bytes, size_t *used, size_t *below_entry)
 {
     const size_t page = 4096;
+    if (bytes < (size_t)PTHREAD_STACK_MIN)
+        bytes = (size_t)PTHREAD_STACK_MIN;
     uint8_t *map = mmap(NULL, bytes + page, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS,
                         -1, 0);
     assert_true(map != MAP_FAILED);

@@ -30,6 +30,8 @@
 #include <unistd.h>
 
 #include <cmocka.h>
+
+#include "support_spawn.h"
 #include <dds/dds.h>
 #include <dds/ddsi/ddsi_serdata.h>
 
@@ -161,7 +163,7 @@ static void fk_spawn(fk_t *k, const char *const *args, int capture_err)
     posix_spawn_file_actions_adddup2(&fa, out[1], 1);
     if (capture_err)
         posix_spawn_file_actions_adddup2(&fa, err[1], 2);
-    int rc = posix_spawn(&k->pid, fake_path, &fa, NULL, argv, environ);
+    int rc = roz_test_spawn(&k->pid, &fa, (const char *const *)argv);
     posix_spawn_file_actions_destroy(&fa);
     assert_int_equal(rc, 0);
     close(in[0]);

@@ -10,9 +10,9 @@
 #include <time.h>
 #include <unistd.h>
 
-#define MAX_ARGS 24
+#include "support_spawn.h"
 
-extern char **environ;
+#define MAX_ARGS 24
 
 void roz_fake_sleep_ms(unsigned ms)
 {
@@ -58,7 +58,7 @@ int roz_fake_process_start(roz_fake_process_t *f, const char *path, const char *
     posix_spawn_file_actions_adddup2(&fa, out[1], 1);
     posix_spawn_file_actions_addclose(&fa, in[1]);
     posix_spawn_file_actions_addclose(&fa, out[0]);
-    int rc = posix_spawn(&f->pid, path, &fa, NULL, argv, environ);
+    int rc = roz_test_spawn(&f->pid, &fa, (const char *const *)argv);
     posix_spawn_file_actions_destroy(&fa);
     close(in[0]);
     close(out[1]);

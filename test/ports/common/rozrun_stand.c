@@ -15,7 +15,7 @@
 
 #include <cmocka.h>
 
-extern char **environ;
+#include "support_spawn.h"
 
 static void sleep_20ms(void)
 {
@@ -66,9 +66,7 @@ int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(voi
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    assert_int_equal(posix_spawn(&pid, argv[0], &fa, NULL, (char *const *)(uintptr_t)argv,
-                                 environ),
-                     0);
+    assert_int_equal(roz_test_spawn(&pid, &fa, argv), 0);
     posix_spawn_file_actions_destroy(&fa);
     running = pid;
 
@@ -122,9 +120,7 @@ void roz_rozrun_replay(const char *rozrun, const char *recording, const char *co
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_addopen(&fa, 1, out, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    assert_int_equal(posix_spawn(&pid, rozrun, &fa, NULL, (char *const *)(uintptr_t)argv,
-                                 environ),
-                     0);
+    assert_int_equal(roz_test_spawn(&pid, &fa, argv), 0);
     posix_spawn_file_actions_destroy(&fa);
     assert_int_equal(waitpid(pid, &status, 0), pid);
     read_out(out, text, len);

@@ -56,7 +56,7 @@
 /* the two-process case meets on the second of its ids (test/CMakeLists.txt) */
 _Static_assert(ROZ_TEST_DDS_DOMAINS >= 2, "test_dds takes two DDS domain ids");
 
-extern char **environ;
+#include "support_spawn.h"
 
 static char self_path[4096];
 static char arg_echo[] = "--echo";
@@ -950,7 +950,7 @@ static void test_dds_two_processes(void **st)
     posix_spawn_file_actions_init(&fa);
     posix_spawn_file_actions_adddup2(&fa, in[0], 0);
     posix_spawn_file_actions_addclose(&fa, in[1]);
-    assert_int_equal(posix_spawn(&pid, self_path, &fa, NULL, argv, environ), 0);
+    assert_int_equal(roz_test_spawn(&pid, &fa, (const char *const *)argv), 0);
     posix_spawn_file_actions_destroy(&fa);
     close(in[0]);
 
