@@ -2,9 +2,10 @@
 """Writes policy.npz: a small network of the G1 walking policy's kind (an
 LSTM over the 47 observations, then two dense layers to 12 actions), its
 weights drawn from a fixed seed in PyTorch's initialisation ranges and the
-last layer scaled down, so that its actions stay small and the G1 stands on
-it. It walks nowhere: it is the mechanics of a deployment (docs/policies.md,
-the deploy tests), not a trained policy. Run from this folder:
+last layer scaled down, so that its actions stay small. It is untrained: it
+neither walks nor keeps the G1 up (in MuJoCo the G1 falls on it within a
+few seconds, and a fall rule latches FALL); it is the mechanics of a
+deployment (docs/policies.md, the deploy tests), not a policy. Run from this folder:
 
     python make_policy.py        # numpy only; the file is committed
 """
