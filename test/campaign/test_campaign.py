@@ -154,7 +154,9 @@ def _children(pid):
 
 def test_interrupted_resumes_and_killed_rozrun_retried(tiny, tmp_path):
     out = str(tmp_path / "out")
-    path = tiny(samples=3)
+    # samples long enough that a quiet machine's rozrun is still running
+    # when the loop below looks (0.6 s of simulation ended between looks)
+    path = tiny(duration=4.0, samples=3)
     log = str(tmp_path / "tasks.log")
     env = dict(os.environ, ROZ_CAMPAIGN_TASK_LOG=log)
     # first: one rozrun killed under the driver, then the driver interrupted
@@ -175,7 +177,7 @@ def test_interrupted_resumes_and_killed_rozrun_retried(tiny, tmp_path):
                 os.kill(c, signal.SIGKILL)
                 killed = int(seeds[0].split(b"=")[1])  # the sample's seed
                 break
-        time.sleep(0.05)
+        time.sleep(0.01)
     assert killed is not None
     # interrupted once the killed sample is in (run again) and a few more
     while d.poll() is None and time.monotonic() < deadline:
