@@ -274,7 +274,9 @@ static void usage(FILE *f, const char *port)
         "                       and compare its targets and applied commands bit for bit:\n"
         "                       the first divergence is reported (tick, channel, both\n"
         "                       values); with another controller than the recorded one,\n"
-        "                       --record and --trace keep the new run for a comparison\n");
+        "                       --record and --trace keep the new run for a comparison;\n"
+        "                       a recorded deploy sequence runs again, its stage requests\n"
+        "                       at their ticks (--deploy FILE: another sequence instead)\n");
     fprintf(f,
         "  --operator FILE      a scripted operator: CSV, a header \"time_s\" then the\n"
         "                       robot's input names ([[manifest.inputs]]), one row per\n"
@@ -533,9 +535,12 @@ static int parse_args(int argc, char **argv, options_t *o)
                         "states and inputs\n");
         return -1;
     }
-    if (o->replay != NULL && o->deploy_file != NULL) {
-        fprintf(stderr, "rozrun: --deploy and --replay: a replay runs the controller only\n");
-        return -1;
+    for (size_t k = 0; k < sched.n && o->replay != NULL; k++) {
+        if (sched.a[k].kind == ROZRUN_STAGE) {
+            fprintf(stderr, "rozrun: --stage-at and --replay: a replay takes the recorded "
+                            "stage requests\n");
+            return -1;
+        }
     }
     for (size_t k = 0; k < sched.n && o->deploy_file == NULL; k++) {
         if (sched.a[k].kind == ROZRUN_STAGE) {
@@ -1171,7 +1176,7 @@ int main(int argc, char **argv)
     }
     if (o.replay != NULL) {
         rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace,
-                                       record_compression(&o) };
+                                       record_compression(&o), o.deploy_file };
         if (o.robot != NULL && find_robot(o.robot) == NULL)
             return 2;
         return rozrun_replay(&ro, o.robot != NULL ? find_robot(o.robot) : NULL);
