@@ -287,6 +287,7 @@ static void usage(FILE *f, const char *port)
         "                       over move_s, held until run, the controller, stand back\n"
         "                       to the pose, stop in damping; switched by the inputs FILE\n"
         "                       names (--operator) or --stage-at\n"
+        "                       (with --check: FILE checked against the robot, not run)\n"
         "  --stage-at T:STAGE   ask for a stage before tick T (--deploy): move (start, or\n"
         "                       back to the stand from run), run, stop, zero (from stop)\n"
         "  --gamepad DEV        a Linux gamepad (/dev/input/eventN) as the operator's\n"
@@ -1202,6 +1203,13 @@ int main(int argc, char **argv)
         }
         roz_port_close(&port);
         printf("rozrun: port %s: %s opens\n", o.port, m->robot_id);
+        /* and the deploy file, by the rules a run reads it with */
+        static rozrun_deploy_t checked;
+        if (o.deploy_file != NULL) {
+            if (rozrun_deploy_load(&checked, o.deploy_file, m) != 0)
+                return 2;
+            printf("rozrun: %s: the deploy sequence fits %s\n", o.deploy_file, m->robot_id);
+        }
         return 0;
     }
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
