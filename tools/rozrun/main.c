@@ -294,10 +294,11 @@ static void usage(FILE *f, const char *port)
         "                       remote: its sticks, triggers and buttons feed the inputs\n"
         "                       whose source is a remote.* field, and the remote's e-stop;\n"
         "                       with a simulator, --realtime keeps its time the wall's\n"
-        "  --teleop SOCKET      an operator's twists (roz-live --teleop: Foxglove's Teleop\n"
-        "                       panel): a UNIX datagram socket made here (mode 0600),\n"
-        "                       each datagram handed to the inputs whose source is a\n"
-        "                       twist field (docs/live.md)\n"
+        "  --teleop SOCKET      an operator's twists and joysticks (roz-live --teleop:\n"
+        "                       Foxglove's Teleop and Joystick panels): a UNIX datagram\n"
+        "                       socket made here (mode 0600), a twist handed to the inputs\n"
+        "                       whose source is a twist field, a joystick to those of a\n"
+        "                       remote.* field (docs/live.md)\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -911,9 +912,10 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
     }
     if (o->teleop != NULL) {
         const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
-        printf("  teleop                 %llu twists from %s, %llu malformed refused; inputs "
-               "clamped %llu, refused (non-finite) %llu, gone stale %llu\n",
+        printf("  teleop                 %llu twists from %s, %llu joysticks, %llu malformed "
+               "refused; inputs clamped %llu, refused (non-finite) %llu, gone stale %llu\n",
                (unsigned long long)atomic_load(&teleop.twists), o->teleop,
+               (unsigned long long)atomic_load(&teleop.joys),
                (unsigned long long)atomic_load(&teleop.refused),
                (unsigned long long)ic->clamped, (unsigned long long)ic->nonfinite,
                (unsigned long long)ic->stale);
