@@ -78,6 +78,12 @@ if(TARGET roz_record)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/record/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
 endif()
+if(TARGET roz_gamepad)
+  # a Linux gamepad as the operator's remote (roz/gamepad.h)
+  list(APPEND _roz_targets roz_gamepad)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/gamepad/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+endif()
 if(TARGET roz_manifests)
   list(APPEND _roz_targets roz_manifests)
   target_include_directories(roz_manifests PUBLIC

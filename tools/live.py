@@ -21,12 +21,14 @@ does) until Ctrl-C; --exit stops after the first run.
 
 Teleop (--teleop SOCKET, the socket of `rozrun --teleop SOCKET`): viewers may
 publish (Foxglove's clientPublish) a channel of json geometry_msgs/msg/Twist,
-as Foxglove's Teleop panel does; each message is checked (at most
-MAX_TELEOP_BYTES, strict JSON, linear and angular x, y, z finite numbers)
-and sent to the run, whose inputs' rules judge it; anything else is refused
-with a status message and a line here. Only viewers connected from this
-machine (a loopback address) get the capability; --teleop-remote gives it
-to every viewer.
+as Foxglove's Teleop panel does, or of json sensor_msgs/Joy, as its Joystick
+panel does; each message is checked (at most MAX_TELEOP_BYTES, strict JSON: a
+twist's linear and angular x, y, z finite numbers; a Joy's axes finite
+numbers and buttons integers, at most MAX_JOY of each) and sent to the run,
+which maps a Joy onto the remote and whose inputs' rules judge it; anything
+else is refused with a status message and a line here. Only viewers
+connected from this machine (a loopback address) get the capability;
+--teleop-remote gives it to every viewer.
 
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
@@ -68,7 +70,13 @@ LAYOUT_JOINTS = 3
 MAX_VIEWERS = 8
 # teleop (docs/live.md): what a viewer may publish, and its largest message
 TELEOP_SCHEMAS = ("geometry_msgs/msg/Twist", "geometry_msgs/Twist")
+# Foxglove's Joystick panel advertises "sensor_msgs/Joy"; a ROS 2 tool the other
+JOY_SCHEMAS = ("sensor_msgs/Joy", "sensor_msgs/msg/Joy")
 MAX_TELEOP_BYTES = 4096
+# a Joy's axes, and buttons, at most (tools/rozrun/teleop.h, ROZRUN_TELEOP_JOY_MAX)
+MAX_JOY = 32
+INT32 = (-(1 << 31), (1 << 31) - 1)
+FLOAT32_MAX = 3.4028234663852886e38  # an axis goes as a float32
 
 
 class LiveError(Exception):
@@ -139,13 +147,7 @@ def parse_twist(data):
     """The six values of a geometry_msgs/msg/Twist in JSON, as Foxglove's
     Teleop panel publishes it ({"linear": {"x", "y", "z"}, "angular": {...}}):
     strictly that, every value a finite number; TeleopError says why not."""
-    if len(data) > MAX_TELEOP_BYTES:
-        raise TeleopError(f"{len(data)} bytes, more than {MAX_TELEOP_BYTES}")
-    try:
-        msg = json.loads(bytes(data).decode("utf-8"), parse_constant=_no_constant,
-                         object_pairs_hook=_one_of_each)
-    except (UnicodeDecodeError, ValueError) as e:
-        raise TeleopError(f"not JSON ({e})") from None
+    msg = _json_object(data)
     if not isinstance(msg, dict) or set(msg) != {"linear", "angular"}:
         raise TeleopError("expected an object of linear and angular")
     out = []
@@ -167,6 +169,57 @@ def parse_twist(data):
     return out
 
 
+def _json_object(data):
+    if len(data) > MAX_TELEOP_BYTES:
+        raise TeleopError(f"{len(data)} bytes, more than {MAX_TELEOP_BYTES}")
+    try:
+        return json.loads(bytes(data).decode("utf-8"), parse_constant=_no_constant,
+                          object_pairs_hook=_one_of_each)
+    except (UnicodeDecodeError, ValueError) as e:
+        raise TeleopError(f"not JSON ({e})") from None
+
+
+def parse_joy(data):
+    """The axes and buttons of a sensor_msgs/Joy in JSON, as Foxglove's
+    Joystick panel publishes it ({"header": {...}, "axes": [...], "buttons":
+    [...]}; the header optional and not read): axes finite numbers, buttons
+    integers, at most MAX_JOY of each; TeleopError says why not."""
+    msg = _json_object(data)
+    if not isinstance(msg, dict) or not {"axes", "buttons"} <= set(msg) <= {
+            "header", "axes", "buttons"}:
+        raise TeleopError("expected an object of axes and buttons (and a header)")
+    if "header" in msg and not isinstance(msg["header"], dict):
+        raise TeleopError("header: expected an object")
+    axes, buttons = msg["axes"], msg["buttons"]
+    for name, v in (("axes", axes), ("buttons", buttons)):
+        if not isinstance(v, list):
+            raise TeleopError(f"{name}: expected a list")
+        if len(v) > MAX_JOY:
+            raise TeleopError(f"{name}: {len(v)}, more than {MAX_JOY}")
+    out_axes = []
+    for k, x in enumerate(axes):
+        if isinstance(x, bool) or not isinstance(x, (int, float)):
+            raise TeleopError(f"axes[{k}]: not a number")
+        try:
+            x = float(x)
+        except OverflowError:
+            x = math.inf
+        if not math.isfinite(x) or abs(x) > FLOAT32_MAX:
+            raise TeleopError(f"axes[{k}]: not finite as a float32")
+        out_axes.append(x)
+    for k, b in enumerate(buttons):
+        if isinstance(b, bool) or not isinstance(b, int) or not INT32[0] <= b <= INT32[1]:
+            raise TeleopError(f"buttons[{k}]: not a 32-bit integer")
+    return out_axes, list(buttons)
+
+
+def joy_datagram(axes, buttons):
+    """A Joy for rozrun --teleop (tools/rozrun/teleop.h): "JOY1", the counts,
+    two zero bytes, the axes as float32 and the buttons as int32."""
+    return (b"JOY1" + struct.pack("<BBxx", len(axes), len(buttons))
+            + struct.pack(f"<{len(axes)}f{len(buttons)}i", *axes, *buttons))
+
+
 def loopback(address):
     """A peer's address is this machine's loopback (127/8, ::1, or an
     IPv4-mapped 127/8)."""
@@ -180,9 +233,10 @@ def loopback(address):
 
 
 class Teleop:
-    """The teleop server's listener: the viewers' Twist channels, each
-    message checked and sent to rozrun's --teleop socket as "TWST" and six
-    little-endian float64 (tools/rozrun/teleop.h). Called on the SDK's
+    """The teleop server's listener: the viewers' Twist and Joy channels,
+    each message checked and sent to rozrun's --teleop socket: a twist as
+    "TWST" and six little-endian float64, a Joy as joy_datagram()
+    (tools/rozrun/teleop.h). Called on the SDK's
     threads; each call is short and never blocks (the socket does not)."""
 
     def __init__(self, path):
@@ -204,12 +258,14 @@ class Teleop:
             self.server.publish_status(f"roz-live: {why}", StatusLevel.Error)
 
     def on_client_advertise(self, client, channel):
-        if channel.encoding != "json" or channel.schema_name not in TELEOP_SCHEMAS:
+        kind = ("twist" if channel.schema_name in TELEOP_SCHEMAS else
+                "joy" if channel.schema_name in JOY_SCHEMAS else None)
+        if channel.encoding != "json" or kind is None:
             self.refuse(f"channel {channel.topic} ({channel.schema_name}, {channel.encoding}): "
-                        f"roz-live takes json geometry_msgs/msg/Twist only")
+                        f"roz-live takes json geometry_msgs/msg/Twist or sensor_msgs/Joy only")
             return
         with self.lock:
-            self.channels[(client.id, channel.id)] = channel.topic
+            self.channels[(client.id, channel.id)] = (channel.topic, kind)
 
     def on_client_unadvertise(self, client, client_channel_id):
         with self.lock:
@@ -217,20 +273,23 @@ class Teleop:
 
     def on_message_data(self, client, client_channel_id, data):
         with self.lock:
-            topic = self.channels.get((client.id, client_channel_id))
+            topic, kind = self.channels.get((client.id, client_channel_id), (None, None))
         if topic is None:
             self.refuse(f"a message on channel {client_channel_id}, which is no advertised "
-                        f"twist: refused")
+                        f"twist or Joy: refused")
             return
         try:
-            twist = parse_twist(data)
+            if kind == "twist":
+                datagram = b"TWST" + struct.pack("<6d", *parse_twist(data))
+            else:
+                datagram = joy_datagram(*parse_joy(data))
         except TeleopError as e:
             self.refuse(f"{topic}: {e}: refused, the inputs unchanged")
             return
         try:
-            self.sock.sendto(b"TWST" + struct.pack("<6d", *twist), self.path)
+            self.sock.sendto(datagram, self.path)
         except OSError as e:
-            self.refuse(f"{topic}: no run takes twists at {self.path} ({e.strerror or e})")
+            self.refuse(f"{topic}: no run takes {kind}s at {self.path} ({e.strerror or e})")
             return
         with self.lock:
             self.sent += 1

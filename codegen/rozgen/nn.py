@@ -338,6 +338,9 @@ def main(argv=None) -> int:
                    help="the constant velocity command when the robot has no command channels "
                         "(m/s, m/s, rad/s; default: the configuration's cmd_init, else 0)")
     d.add_argument("--source", metavar="OUT.c", help="where the C goes (default: beside -o)")
+    d.add_argument("--deploy-file", metavar="OUT.toml",
+                   help="where the deploy sequence goes, the file rozrun --deploy reads "
+                        "(default: beside -o, OUT.deploy.toml)")
     d.add_argument("--sdk", metavar="DIR", help="the controller SDK's headers (default: found)")
     d.add_argument("--no-wasm", action="store_true", help="write the C only")
     d.add_argument("-o", "--output", required=True, metavar="OUT.wasm")
@@ -347,7 +350,8 @@ def main(argv=None) -> int:
         try:
             cmd = nn_deploy.parse_command(a.command) if a.command else None
             p = nn_deploy.deploy(a.policy, a.config, a.robot, a.output, spec=a.spec, command=cmd,
-                                 c_out=a.source, sdk=a.sdk, wasm=not a.no_wasm)
+                                 c_out=a.source, sdk=a.sdk, wasm=not a.no_wasm,
+                                 deploy_out=a.deploy_file)
         except (ValueError, KeyError, IndexError, OSError) as e:
             print(f"rozgen-nn deploy: {e}", file=sys.stderr)
             return 2

@@ -27,7 +27,7 @@ typedef struct slot {
 } slot_t;
 
 #define INPUT_FLAGS                                                                          \
-    (ROZ_RECORD_ESTOP_PRESS | ROZ_RECORD_CLEAR | ROZ_RECORD_SWAP)
+    (ROZ_RECORD_ESTOP_PRESS | ROZ_RECORD_CLEAR | ROZ_RECORD_SWAP | ROZ_RECORD_STAGE)
 
 /* ---- private ------------------------------------------------------------- */
 

@@ -674,6 +674,8 @@ static roz_stop_t tick_controller(roz_runtime_t *rt, int active, const double **
     int stage = roz__stages_step(&rt->stages, rt->state + m->n_states, rt->state,
                                  rt->counters.writes > 0 ? rt->out : NULL, active >= 0,
                                  stop != ROZ_STOP_NONE, &entered);
+    if (entered || rt->stages.taken != -1)
+        rt->rec_flags |= ROZ_RECORD_STAGE; /* replay gives the request back */
     *target = NULL;
     *sent = NULL;
     if (stage != ROZ_STAGE_NONE && stage != ROZ_STAGE_RUN) {
@@ -750,6 +752,8 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
     rec.applied = rt->out;
     rec.fault_message = NULL;
     rec.truth = NULL;
+    rec.stage = rt->stages.stage;
+    rec.stage_request = rt->stages.taken;
     /* a simulator's truth (roz/port.h): plain numbers copied, after the
      * tick's read() and write(); test_recorder_truth and test_mujoco_alloc
      * (no heap) prove it */
@@ -1070,6 +1074,7 @@ int roz_runtime_tick(roz_runtime_t *rt)
         roz_monitor_periodic(&rt->monitor, t_start);
     rt->rec_flags = 0u;
     rt->rec_cleared = 0u;
+    rt->stages.taken = -1;
     int active = tick_handovers(rt);
     tick_estop(rt);
     tick_read(rt, t_start);
@@ -1181,6 +1186,11 @@ int roz_runtime_stage_request(roz_runtime_t *rt, roz_stage_t stage)
         return ROZ_ESTATE;
     atomic_store(&rt->stages.request, (int)stage);
     return ROZ_OK;
+}
+
+const roz_stages_config_t *roz_runtime_stages_config(const roz_runtime_t *rt)
+{
+    return rt->stages.stage != ROZ_STAGE_NONE ? &rt->stages.cfg : NULL;
 }
 
 roz_stage_t roz_runtime_stage(const roz_runtime_t *rt)

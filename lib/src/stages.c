@@ -153,6 +153,7 @@ void roz__stages_init(roz_stages_t *s, const roz_manifest_t *m)
     memset(s, 0, sizeof *s);
     s->m = m;
     s->stage = ROZ_STAGE_NONE;
+    s->taken = -1;
     atomic_init(&s->request, -1);
     atomic_init(&s->published, ROZ_STAGE_NONE);
     for (uint16_t i = 0; i < m->n_commands; i++) {
@@ -182,6 +183,7 @@ int roz__stages_step(roz_stages_t *s, const double *inputs, const double *state,
     int req = atomic_load_explicit(&s->request, memory_order_relaxed) != -1
                   ? atomic_exchange(&s->request, -1)
                   : -1;
+    s->taken = req;
     if (req != -1) {
         if (allowed(from, req, have_controller) && (!faulted || req == ROZ_STAGE_STOP))
             to = req;

@@ -64,6 +64,12 @@ if(PHASE STREQUAL "installed")
   if(EXISTS ${prefix}/include/roz/port/engineai_pm01.h)
     run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
   endif()
+  if(CMAKE_HOST_SYSTEM_NAME STREQUAL "Linux") # roz::gamepad, built on every Linux
+    if(NOT EXISTS ${prefix}/include/roz/gamepad.h OR NOT EXISTS ${WORK_DIR}/build/consumer_gamepad)
+      message(FATAL_ERROR "the package lacks roz::gamepad (roz/gamepad.h, the target)")
+    endif()
+    run(${WORK_DIR}/build/consumer_gamepad)
+  endif()
   run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
       --controller ${WORK_DIR}/build/reach.wasm --ticks 100
       --trace ${WORK_DIR}/run.csv --record ${WORK_DIR}/run.mcap)
@@ -150,7 +156,8 @@ if(MODE STREQUAL "find_package")
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR}/src)
-foreach(f IN ITEMS CMakeLists.txt main.c reach.c reach.rs g1_link.c ros2_link.c small_config.h)
+foreach(f IN ITEMS CMakeLists.txt main.c reach.c reach.rs g1_link.c ros2_link.c gamepad_link.c
+                  small_config.h)
   file(COPY ${CMAKE_CURRENT_LIST_DIR}/${f} DESTINATION ${WORK_DIR}/src)
 endforeach()
 file(COPY_FILE ${ROZ_SOURCE_DIR}/examples/my_arm/robot.toml ${WORK_DIR}/src/robot.toml)

@@ -128,7 +128,8 @@ def test_teleop_reaches_a_controller(tmp_path):
         got = [s["message"] for s in statuses(client, 1.0)]
         for says in ("NaN is not a number", "not JSON", "more than 4096",
                      "linear: expected an object of x, y and z", "Unknown channel ID: 8",
-                     "json geometry_msgs/msg/Twist only", "channel 9, which is no advertised twist"):
+                     "json geometry_msgs/msg/Twist or sensor_msgs/Joy only",
+                     "channel 9, which is no advertised twist or Joy"):
             assert any(says in m for m in got), f"no status says '{says}': {got}"
         # past rozrun's own checks: a datagram of another size, a NaN it passes
         # on (the runtime's input refuses it and counts)
@@ -160,6 +161,113 @@ def test_teleop_reaches_a_controller(tmp_path):
     assert all(v == 0.3 for v in values[first:]), "the input moved after the refused messages"
 
 
+JOY_INPUTS = """
+[[manifest.inputs]]
+name = "operator/forward"
+interface_type = "velocity"
+unit = "m/s"
+limits = [-0.5, 0.5]
+default = 0.0
+max_rate_of_change = 1.0
+stale_after_ms = 600000
+source = "remote.ly"
+scale = 0.5
+
+[[manifest.inputs]]
+name = "remote/a"
+interface_type = "position"
+unit = ""
+limits = [0.0, 1.0]
+default = 0.0
+max_rate_of_change = 1.0
+stale_after_ms = 600000
+source = "remote.btn.a"
+"""
+
+
+def joy_json(axes, buttons, **extra):
+    """A Joy as Foxglove's Joystick panel publishes it (its header's stamp is
+    sec and nsec)."""
+    msg = {"header": {"stamp": {"sec": 1, "nsec": 2}, "frame_id": ""}, "axes": axes,
+           "buttons": buttons}
+    msg.update(extra)
+    return json.dumps(msg)
+
+
+def test_joystick_reaches_a_controller(tmp_path):
+    """Foxglove's Joystick panel (sensor_msgs/Joy, json: a gamepad in the
+    browser's standard layout, its axes negated) through roz-live and rozrun
+    --teleop onto the remote: the left stick half up is remote.ly (0.5 x 0.5
+    = 0.25 for the input), button 0 is A. A Joy that is not strictly one is
+    refused by roz-live with a status; one too short for the panel's map (a
+    keyboard's two axes) and malformed datagrams by rozrun, counted; the
+    inputs unchanged by all of them."""
+    text = (ROOT / "manifests" / "ur5.toml").read_text()
+    robot = tmp_path / "ur5_joy.toml"
+    robot.write_text(text + JOY_INPUTS)
+    fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
+    viewer = Viewer(fifo, "--teleop", sock)
+    client = StrictClient(viewer.port)
+    run = None
+    pad = [0.0, 0.5, 0.0, 0.0]      # the left stick half up: axis 1 (negated by the panel)
+    pressed = [1] + [0] * 16        # A
+    try:
+        while client.info is None:
+            client.pump(1.0)
+        assert "clientPublish" in client.info["capabilities"]
+        run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
+                                "--ticks", "1000", "--controller", CTL / "sine.wasm",
+                                "--allow-other-robot", "--live", fifo, "--teleop", sock,
+                                "--trace", trace],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        end = time.monotonic() + 60
+        while not sock.exists():
+            assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
+            client.pump(0.05)
+        ws = client.ws
+        ws.send(json.dumps({"op": "advertise", "channels": [
+            {"id": 3, "topic": "/joy", "encoding": "json", "schemaName": "sensor_msgs/Joy"}]}))
+        for _ in range(10):
+            publish(ws, 3, joy_json(pad, pressed))
+            client.pump(0.05)
+        # refused by roz-live, each with a status
+        publish(ws, 3, joy_json([0.0, 0.0, 0.0, 0.0], pressed).replace("0.0,", "NaN,", 1))
+        publish(ws, 3, joy_json(pad, [1.5] + [0] * 16))
+        publish(ws, 3, joy_json([0.0] * 33, pressed))
+        publish(ws, 3, json.dumps({"axes": pad}))
+        publish(ws, 3, joy_json(pad, pressed, extra=1))
+        got = [s["message"] for s in statuses(client, 1.0)]
+        for says in ("NaN is not a number", "buttons[0]: not a 32-bit integer",
+                     "axes: 33, more than 32"):
+            assert any(says in m for m in got), f"no status says '{says}': {got}"
+        assert sum("expected an object of axes and buttons" in m for m in got) == 2, got
+        # refused by rozrun: a keyboard's Joy (two axes; the map needs four
+        # and sixteen buttons), a datagram cut short, a count past the bound
+        publish(ws, 3, joy_json([0.0, -0.5], [0, 0]))
+        client.pump(0.3)
+        raw = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        raw.sendto(b"JOY1" + struct.pack("<BBxx", 4, 17) + struct.pack("<4f", *pad), str(sock))
+        raw.sendto(b"JOY1" + struct.pack("<BBxx", 33, 0) + struct.pack("<33f", *[0] * 33),
+                   str(sock))
+        raw.close()
+        out, err = run.communicate(timeout=120)
+        assert run.returncode == 0, out + err
+    finally:
+        if run is not None and run.poll() is None:
+            run.kill()
+        client.close()
+        viewer.stop()
+    line = summary_line(out, "teleop")
+    m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused", line)
+    assert m, line
+    assert tuple(map(int, m.groups())) == (0, 10, 3), line
+    forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
+    assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
+    first = forward.index(0.25)
+    assert all(v == 0.25 for v in forward[first:]), "the input moved after the refused Joys"
+    assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
+
+
 def own_address():
     """A non-loopback IPv4 address of this machine (no packet is sent), or None."""
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
@@ -180,11 +288,14 @@ def server_info(addr, port):
         assert msg["op"] == "serverInfo", msg
         caps = msg["capabilities"]
         if "clientPublish" not in caps:
-            # publishing anyway changes nothing: no twist goes to the run
+            # publishing anyway changes nothing: no twist nor Joy goes to the run
             ws.send(json.dumps({"op": "advertise", "channels": [
                 {"id": 1, "topic": "/cmd_vel", "encoding": "json",
                  "schemaName": "geometry_msgs/msg/Twist"}]}))
             ws.send(b"\x01" + struct.pack("<I", 1) + twist_json(0.5).encode())
+            ws.send(json.dumps({"op": "advertise", "channels": [
+                {"id": 2, "topic": "/joy", "encoding": "json", "schemaName": "sensor_msgs/Joy"}]}))
+            ws.send(b"\x01" + struct.pack("<I", 2) + joy_json([0.0, 1.0, 0, 0], [1] * 16).encode())
             try:
                 while True:
                     ws.recv(timeout=0.5)

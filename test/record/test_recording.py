@@ -391,6 +391,113 @@ def test_operator_inputs_replayed(tmp_path):
             'before /roz/inputs cannot replay a robot with inputs)') in p.stderr, p.stderr
 
 
+def g1_buttons(tmp_path):
+    """The 12-joint G1 with the remote's Start, A, B and Select as inputs of 0
+    or 1 (test/run_rozrun_deploy.cmake's), a deploy file naming them."""
+    robot = (ROOT / "manifests" / "unitree_g1_12dof.toml").read_text()
+    for b in ("start", "a", "b", "select"):
+        robot += (f'\n[[manifest.inputs]]\nname = "remote/{b}"\ninterface_type = "position"\n'
+                  'unit = ""\nlimits = [0.0, 1.0]\ndefault = 0.0\nmax_rate_of_change = 1.0\n'
+                  "stale_after_ms = 500\n")
+    toml = tmp_path / "g1_buttons.toml"
+    toml.write_text(robot)
+    deploy = tmp_path / "deploy.toml"
+    deploy.write_text('[deploy]\nmove_s = 1.0\n[deploy.inputs]\nstart = "remote/start"\n'
+                      'run = "remote/a"\nstand = "remote/b"\nstop = "remote/select"\n'
+                      "[deploy.stand]\npose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\n"
+                      "kp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\n"
+                      "kd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
+    return toml, deploy
+
+
+def test_deploy_sequence_replayed(tmp_path):
+    """A deploy-sequence run (rozrun --deploy) switched by the remote's
+    buttons (a scripted operator) and by rozrun's stage requests records its
+    sequence once (/roz/deploy) and every stage change and request taken
+    (/roz/stage), and replays bit for bit: the buttons' changes from
+    /roz/inputs, the requests at their ticks. Without the requests, or the
+    sequence, the same file diverges; --deploy with another sequence runs
+    through and counts the ticks that differ."""
+    robot, deploy = g1_buttons(tmp_path)
+    script = tmp_path / "buttons.csv"
+    # Start at 0.2 s, A at 1.6 s (the move took 1 s), B at 2.4 s (back to the
+    # stand), Select at 3.9 s; rozrun asks for run at tick 1800 (the stand
+    # held since about tick 1700) and for zero at 1900 (refused: not from run)
+    script.write_text("time_s,remote/start,remote/a,remote/b,remote/select\n0,0,0,0,0\n"
+                      "0.2,1,0,0,0\n0.3,0,0,0,0\n1.6,0,1,0,0\n1.7,0,0,0,0\n2.4,0,0,1,0\n"
+                      "2.5,0,0,0,0\n3.9,0,0,0,1\n")
+    ctl = CTL / "g1_12dof_deployed.wasm"
+    path = tmp_path / "deploy.mcap"
+    p = rozrun("--robot", robot, "--allow-other-robot", "--controller", ctl, "--ticks", 2000,
+               "--deploy", deploy, "--operator", script, "--stage-at", "1800:run",
+               "--stage-at", "1900:zero", "--record", path)
+    assert ("stage stop at the end; 7 stage changes, 1 requests refused; hand-overs 2"
+            in p.stdout), p.stdout
+    counts = decode_all(path)
+    assert counts["/roz/deploy"] == 1 and counts["/roz/stage"] == 8
+    stages, deploys, start = [], [], None
+    with open(path, "rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        for _, ch, m, d in reader.iter_decoded_messages(
+                topics=["/roz/run", "/roz/stage", "/roz/deploy"], log_time_order=False):
+            if ch.topic == "/roz/run":
+                start = m.log_time  # the run's tick 0 (a tick is 2 ms)
+            elif ch.topic == "/roz/deploy":
+                deploys.append(d)
+            else:
+                stages.append(((m.log_time - start) // 2000000, d.name, d.request_name))
+    d = deploys[0]
+    assert d.move_s == 1.0 and d.stop_damping == 8.0 and len(d.stand) == 60
+    assert (d.start_input, d.run_input, d.stand_input, d.stop_input) == (3, 4, 5, 6)
+    assert list(d.stand[:12]) == [-0.1, 0, 0, 0.3, -0.2, 0] * 2 and d.stand[27] == 150
+    names = [(n, r) for _, n, r in stages]
+    assert names == [("move", ""), ("hold", ""), ("run", ""), ("move", ""), ("hold", ""),
+                     ("run", "run"), ("run", "zero"), ("stop", "")], stages
+    assert [t for t, _, r in stages if r] == [1800, 1900]
+
+    p = rozrun("--replay", path, "--robot", robot, "--controller", ctl)
+    assert "ticks replayed         2000\n" in p.stdout
+    assert "deploy                 the recorded sequence; stage stop at the end" in p.stdout
+    assert "result                 identical" in p.stdout, p.stdout
+    p = rozrun("--replay", path, "--robot", robot, "--controller", ctl, "--deploy", deploy)
+    assert "the recorded sequence (--deploy: the same)" in p.stdout
+    assert "result                 identical" in p.stdout, p.stdout
+
+    # the requests left out: the stand is held where run was asked for
+    def no_request(topic, _t, data):
+        if topic != "/roz/stage":
+            return data
+        n = struct.unpack_from("<I", data, 8)[0]  # the name's length, after the stage
+        return data[:12 + n] + b"\xff" + data[13 + n:]
+    norequest = tmp_path / "norequest.mcap"
+    rewrite(path, norequest, no_request)
+    p = rozrun("--replay", norequest, "--robot", robot, "--controller", ctl, ok=(4,))
+    assert ("DIVERGED at tick 1800 (file offset" in p.stdout and
+            "deploy stage: recorded run, replayed hold" in p.stdout), p.stdout
+    # the sequence left out: the controller drives from tick 0
+    noseq = tmp_path / "noseq.mcap"
+    rewrite(path, noseq, lambda topic, _t, data: None if topic == "/roz/deploy" else data)
+    p = rozrun("--replay", noseq, "--robot", robot, "--controller", ctl, ok=(4,))
+    assert "DIVERGED at tick 0 " in p.stdout, p.stdout
+    # a stage change without its /roz/stage message
+    cut = tmp_path / "nostage.mcap"
+    rewrite(path, cut, lambda topic, _t, data: None if topic == "/roz/stage" else data)
+    p = rozrun("--replay", cut, "--robot", robot, "--controller", ctl, ok=(2,))
+    assert re.search(r"tick \d+ lacks its /roz/stage message", p.stderr), p.stderr
+    # another sequence on the recorded run: every tick replayed, the differences counted
+    slow = tmp_path / "slow.toml"
+    slow.write_text(deploy.read_text().replace("move_s = 1.0", "move_s = 1.5"))
+    p = rozrun("--replay", path, "--robot", robot, "--controller", ctl, "--deploy", slow)
+    assert "--deploy's, another than the recorded" in p.stdout
+    assert "ticks replayed         2000\n" in p.stdout
+    assert re.search(r"result +\d+ of 2000 ticks differ from the recording, the first at tick "
+                     r"\d+: (target|applied) ", p.stdout), p.stdout
+    # a replay takes the recorded requests, not new ones
+    p = rozrun("--replay", path, "--robot", robot, "--controller", ctl, "--stage-at", "5:stop",
+               ok=(2,))
+    assert "--stage-at and --replay" in p.stderr
+
+
 def test_replay_refuses(tmp_path):
     path = record(tmp_path, "ur5", "sine", 20)
     p = rozrun("--replay", path, "--robot", "quadcopter", "--controller", CTL / "sine.wasm",

@@ -274,7 +274,9 @@ static void usage(FILE *f, const char *port)
         "                       and compare its targets and applied commands bit for bit:\n"
         "                       the first divergence is reported (tick, channel, both\n"
         "                       values); with another controller than the recorded one,\n"
-        "                       --record and --trace keep the new run for a comparison\n");
+        "                       --record and --trace keep the new run for a comparison;\n"
+        "                       a recorded deploy sequence runs again, its stage requests\n"
+        "                       at their ticks (--deploy FILE: another sequence instead)\n");
     fprintf(f,
         "  --operator FILE      a scripted operator: CSV, a header \"time_s\" then the\n"
         "                       robot's input names ([[manifest.inputs]]), one row per\n"
@@ -285,16 +287,18 @@ static void usage(FILE *f, const char *port)
         "                       over move_s, held until run, the controller, stand back\n"
         "                       to the pose, stop in damping; switched by the inputs FILE\n"
         "                       names (--operator) or --stage-at\n"
+        "                       (with --check: FILE checked against the robot, not run)\n"
         "  --stage-at T:STAGE   ask for a stage before tick T (--deploy): move (start, or\n"
         "                       back to the stand from run), run, stop, zero (from stop)\n"
         "  --gamepad DEV        a Linux gamepad (/dev/input/eventN) as the operator's\n"
         "                       remote: its sticks, triggers and buttons feed the inputs\n"
         "                       whose source is a remote.* field, and the remote's e-stop;\n"
         "                       with a simulator, --realtime keeps its time the wall's\n"
-        "  --teleop SOCKET      an operator's twists (roz-live --teleop: Foxglove's Teleop\n"
-        "                       panel): a UNIX datagram socket made here (mode 0600),\n"
-        "                       each datagram handed to the inputs whose source is a\n"
-        "                       twist field (docs/live.md)\n"
+        "  --teleop SOCKET      an operator's twists and joysticks (roz-live --teleop:\n"
+        "                       Foxglove's Teleop and Joystick panels): a UNIX datagram\n"
+        "                       socket made here (mode 0600), a twist handed to the inputs\n"
+        "                       whose source is a twist field, a joystick to those of a\n"
+        "                       remote.* field (docs/live.md)\n"
         "  --estop-at T         press the e-stop input before tick T: e-stop latches at T\n"
         "                       and stays latched, even through clears, while pressed\n"
         "  --estop-release-at T release it before tick T (the fault stays latched until\n"
@@ -533,9 +537,12 @@ static int parse_args(int argc, char **argv, options_t *o)
                         "states and inputs\n");
         return -1;
     }
-    if (o->replay != NULL && o->deploy_file != NULL) {
-        fprintf(stderr, "rozrun: --deploy and --replay: a replay runs the controller only\n");
-        return -1;
+    for (size_t k = 0; k < sched.n && o->replay != NULL; k++) {
+        if (sched.a[k].kind == ROZRUN_STAGE) {
+            fprintf(stderr, "rozrun: --stage-at and --replay: a replay takes the recorded "
+                            "stage requests\n");
+            return -1;
+        }
     }
     for (size_t k = 0; k < sched.n && o->deploy_file == NULL; k++) {
         if (sched.a[k].kind == ROZRUN_STAGE) {
@@ -905,9 +912,10 @@ static void summary(const options_t *o, const roz_port_t *port, const roz_verify
     }
     if (o->teleop != NULL) {
         const roz_inputs_counters_t *ic = roz_runtime_input_counters(&rt);
-        printf("  teleop                 %llu twists from %s, %llu malformed refused; inputs "
-               "clamped %llu, refused (non-finite) %llu, gone stale %llu\n",
+        printf("  teleop                 %llu twists from %s, %llu joysticks, %llu malformed "
+               "refused; inputs clamped %llu, refused (non-finite) %llu, gone stale %llu\n",
                (unsigned long long)atomic_load(&teleop.twists), o->teleop,
+               (unsigned long long)atomic_load(&teleop.joys),
                (unsigned long long)atomic_load(&teleop.refused),
                (unsigned long long)ic->clamped, (unsigned long long)ic->nonfinite,
                (unsigned long long)ic->stale);
@@ -1171,7 +1179,7 @@ int main(int argc, char **argv)
     }
     if (o.replay != NULL) {
         rozrun_replay_options_t ro = { o.replay, o.controller, o.robot, o.record, o.trace,
-                                       record_compression(&o) };
+                                       record_compression(&o), o.deploy_file };
         if (o.robot != NULL && find_robot(o.robot) == NULL)
             return 2;
         return rozrun_replay(&ro, o.robot != NULL ? find_robot(o.robot) : NULL);
@@ -1197,6 +1205,13 @@ int main(int argc, char **argv)
         }
         roz_port_close(&port);
         printf("rozrun: port %s: %s opens\n", o.port, m->robot_id);
+        /* and the deploy file, by the rules a run reads it with */
+        static rozrun_deploy_t checked;
+        if (o.deploy_file != NULL) {
+            if (rozrun_deploy_load(&checked, o.deploy_file, m) != 0)
+                return 2;
+            printf("rozrun: %s: the deploy sequence fits %s\n", o.deploy_file, m->robot_id);
+        }
         return 0;
     }
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "replay.h"
+#include "deploy.h"
 #include "schedule.h"
 
 #include <math.h>
@@ -109,6 +110,12 @@ static int compare(const roz_manifest_t *m, const roz_record_t *r, char *what, s
     char a[24], b[24];
     int i;
 
+    int stage = (int)roz_runtime_stage(&rrt);
+    if (stage != r->stage) {
+        snprintf(what, n, "deploy stage: recorded %s, replayed %s", roz_stage_name(r->stage),
+                 roz_stage_name(stage));
+        return 1;
+    }
     if (faults != r->faults) {
         char fa[160], fb[160];
         say_faults(fa, sizeof fa, r->faults);
@@ -124,7 +131,11 @@ static int compare(const roz_manifest_t *m, const roz_record_t *r, char *what, s
                  bits_hex(in[i], b, sizeof b));
         return 1;
     }
-    if ((r->flags & ROZ_RECORD_TARGETS) && target != NULL &&
+    /* a tick a deploy stage drove records the stage's commands as its
+     * targets; they are compared through the stage and the applied
+     * commands, the controller's own only where it drove */
+    int stage_drove = r->stage != ROZ_STAGE_NONE && r->stage != ROZ_STAGE_RUN;
+    if ((r->flags & ROZ_RECORD_TARGETS) && target != NULL && !stage_drove &&
         (i = first_diff(r->target, target, m->n_commands)) >= 0) {
         snprintf(what, n, "target %s (command %d): recorded %.17g (%s), replayed %.17g (%s)",
                  m->commands[i].name, i, r->target[i], bits_hex(r->target[i], a, sizeof a),
@@ -139,6 +150,16 @@ static int compare(const roz_manifest_t *m, const roz_record_t *r, char *what, s
         return 1;
     }
     return 0;
+}
+
+/* Whether two sequences are the same, bit for bit. */
+static int stages_equal(const roz_stages_config_t *a, const roz_stages_config_t *b, uint16_t n)
+{
+    return memcmp(a->stand, b->stand, (size_t)n * sizeof a->stand[0]) == 0 &&
+           memcmp(&a->move_s, &b->move_s, sizeof a->move_s) == 0 &&
+           memcmp(&a->stop_damping, &b->stop_damping, sizeof a->stop_damping) == 0 &&
+           a->start == b->start && a->run == b->run && a->stand_input == b->stand_input &&
+           a->stop == b->stop;
 }
 
 /* The robot of the recording: --robot, checked, or the built-in of its id. */
@@ -231,6 +252,22 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
         return 2;
     }
+    /* the recorded deploy sequence, or --deploy's to try another on the
+     * recorded run (the stages then differ where the sequences do) */
+    static rozrun_deploy_t dep;
+    const roz_stages_config_t *seq = roz_record_reader_stages(&reader);
+    int seq_same = 1;
+    if (o->deploy != NULL) {
+        if (rozrun_deploy_load(&dep, o->deploy, m) != 0)
+            return 2;
+        seq_same = seq != NULL && stages_equal(seq, &dep.cfg, m->n_commands);
+        seq = &dep.cfg;
+    }
+    if (seq != NULL && roz_runtime_stages_set(&rrt, seq, err, sizeof err) != ROZ_OK) {
+        fprintf(stderr, "rozrun: %s: %s: %s\n", o->deploy != NULL ? o->deploy : o->recording,
+                o->deploy != NULL ? "deploy sequence" : "its /roz/deploy", err);
+        return 2;
+    }
     if (roz_runtime_load(&rrt, wasm, len, NULL) != ROZ_OK) {
         fprintf(stderr, "rozrun: controller %s refused: %s\n", o->controller,
                 roz_runtime_error(&rrt));
@@ -296,6 +333,10 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
          * tick's rules give it back bit for bit (roz_inputs_tick()) */
         for (uint16_t k = 0; rec.inputs != NULL && k < m->n_inputs; k++)
             (void)roz_runtime_input_set(&rrt, k, rec.inputs[k]);
+        /* the stage request the tick took then (rozrun --stage-at, the API);
+         * the buttons' transitions come from the inputs above */
+        if (rec.stage_request >= 0)
+            (void)roz_runtime_stage_request(&rrt, (roz_stage_t)rec.stage_request);
         rp.rec = &rec;
         if (roz_runtime_tick(&rrt) == ROZ_ESTATE)
             break;
@@ -310,7 +351,7 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
                 first_offset = offset;
                 memcpy(first, what, sizeof first);
             }
-            if (same == 1 || same < 0)
+            if ((same == 1 || same < 0) && seq_same)
                 break; /* the same controller: the first divergence is the report */
         }
         if (tracing)
@@ -341,11 +382,17 @@ int rozrun_replay(const rozrun_replay_options_t *o, const roz_manifest_t *robot)
            same == 1   ? "the recorded one"
            : same == 0 ? "another one than the recorded (hash differs)"
                        : "the recording has no controller");
+    if (seq != NULL)
+        printf("  deploy                 %s; stage %s at the end\n",
+               o->deploy == NULL ? "the recorded sequence"
+               : seq_same        ? "the recorded sequence (--deploy: the same)"
+                                 : "--deploy's, another than the recorded",
+               roz_stage_name(roz_runtime_stage(&rrt)));
     printf("  ticks replayed         %llu\n", (unsigned long long)ticks);
     if (differing == 0 && status == 0) {
         printf("  result                 identical: targets, applied commands and faults "
                "bit for bit at every tick\n");
-    } else if (differing != 0 && same != 0) {
+    } else if (differing != 0 && same != 0 && seq_same) {
         printf("  result                 DIVERGED at tick %llu (file offset %llu): %s\n",
                (unsigned long long)first_tick, (unsigned long long)first_offset, first);
         status = 4;

@@ -15,6 +15,7 @@ typedef struct rozrun_replay_options {
     const char *record;     /* --record: the new run as MCAP, or NULL */
     const char *trace;      /* --trace: the new run as CSV, or NULL */
     int         record_compression; /* the new recording's (ROZ_MCAP_COMPRESS_*) */
+    const char *deploy;     /* --deploy: another sequence than the recorded, or NULL */
 } rozrun_replay_options_t;
 
 /* Runs the replay and prints its report. @p robot: the manifest --robot

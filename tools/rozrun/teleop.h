@@ -1,14 +1,24 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* rozrun --teleop SOCKET: an operator's twists from another process on this
- * machine (roz-live, which takes them from Foxglove's Teleop panel;
- * docs/live.md). rozrun binds a UNIX datagram socket at SOCKET (mode 0600:
- * only its user may send) and a thread of its own takes its datagrams: each
- * one exactly ROZRUN_TELEOP_TWIST_BYTES, "TWST" then six little-endian
- * float64 (linear x, y, z, angular x, y, z), handed whole to
- * roz_runtime_operator_twist(), whose inputs' rules judge the values (a
- * non-finite one refused and counted, clamped, stale back to the default
- * at the rate cap); anything else is refused and counted. The tick never
- * waits for it. */
+/* rozrun --teleop SOCKET: an operator's twists and joysticks from another
+ * process on this machine (roz-live, which takes them from Foxglove's Teleop
+ * and Joystick panels; docs/live.md). rozrun binds a UNIX datagram socket at
+ * SOCKET (mode 0600: only its user may send) and a thread of its own takes
+ * its datagrams:
+ *  - a twist: exactly ROZRUN_TELEOP_TWIST_BYTES, "TWST" then six
+ *    little-endian float64 (linear x, y, z, angular x, y, z), handed whole
+ *    to roz_runtime_operator_twist();
+ *  - a joystick (sensor_msgs/Joy): "JOY1", the number of axes and of
+ *    buttons (a byte each, at most ROZ_ROS2_JOY_MAX), two zero bytes, the
+ *    axes as little-endian float32 and the buttons as little-endian int32,
+ *    nothing more; mapped onto the remote by ROZRUN_TELEOP_JOY_MAP with the
+ *    ROS 2 ports' joy_map rule (roz_ros2_joy_remote(), docs/ports/ros2.md: a
+ *    Joy lacking a mapped axis or button, or with a mapped axis not finite,
+ *    is refused whole) and handed to roz_runtime_operator_remote() (the
+ *    remote's e-stop chord included). A build without the ROS 2 ports
+ *    (Cyclone DDS) refuses every joystick and counts it.
+ * The inputs' rules judge the values (a non-finite one refused and counted,
+ * clamped, stale back to the default at the rate cap); anything else is
+ * refused and counted. The tick never waits for it. */
 #ifndef ROZRUN_TELEOP_H
 #define ROZRUN_TELEOP_H
 
@@ -18,6 +28,19 @@
 #include "roz/runtime.h"
 
 #define ROZRUN_TELEOP_TWIST_BYTES (4 + 6 * 8)
+#define ROZRUN_TELEOP_JOY_MAX 32 /* ROZ_ROS2_JOY_MAX: axes, and buttons, at most */
+#define ROZRUN_TELEOP_JOY_BYTES_MAX (8 + ROZRUN_TELEOP_JOY_MAX * 8)
+
+/* Foxglove's Joystick panel (a gamepad through the browser's Gamepad API, its
+ * "standard" layout, every axis negated as the panel publishes it) onto the
+ * remote: axes left x, left y, right x, right y with left and up positive;
+ * buttons A 0, B 1, X 2, Y 3, the shoulders 4 and 5, the triggers 6 and 7 (0
+ * or 1), back 8, start 9, the sticks 10 and 11, the D-pad up 12, down 13,
+ * left 14, right 15. */
+#define ROZRUN_TELEOP_JOY_MAP                                                                 \
+    "lx=-a0 ly=a1 rx=-a2 ry=a3 l2=b6 r2=b7 btn.r1=b5 btn.l1=b4 btn.start=b9 btn.select=b8 "   \
+    "btn.r2=b7 btn.l2=b6 btn.a=b0 btn.b=b1 btn.x=b2 btn.y=b3 btn.up=b12 btn.right=b15 "        \
+    "btn.down=b13 btn.left=b14"
 
 typedef struct rozrun_teleop {
     const char          *path;
@@ -26,7 +49,8 @@ typedef struct rozrun_teleop {
     unsigned long        thread; /* pthread_t, kept opaque */
     roz_runtime_t       *rt;
     ROZ_ATOMIC(int)      stop;
-    ROZ_ATOMIC(uint64_t) twists, refused;
+    ROZ_ATOMIC(uint64_t) twists, joys, refused;
+    void                *joy_map; /* roz_ros2_joy_map_t, NULL in a build without it */
 } rozrun_teleop_t;
 
 /* Binds the socket at @p path (an old socket there is replaced; any other

@@ -75,6 +75,27 @@ static const char fault_schema[] =
     "uint32 cleared\n"
     "string message\n";
 
+static const char deploy_schema[] =
+    "# the run's deploy sequence (roz/stages.h, roz_stages_config_t; docs/deploy.md),\n"
+    "# once, after /roz/run; a run without a sequence has none\n"
+    "float64[] stand  # the stand's command, one per /roz/run command_names entry\n"
+    "float64 move_s  # the move to the stand, s\n"
+    "float64 stop_damping  # the stop's damping on every damping channel\n"
+    "# the inputs that switch (indices into /roz/run's input_names; -1 none)\n"
+    "int32 start_input  # zero -> move\n"
+    "int32 run_input  # hold -> run\n"
+    "int32 stand_input  # run -> move\n"
+    "int32 stop_input  # any -> stop\n";
+
+static const char stage_schema[] =
+    "# the deploy sequence at a tick where its stage changed or the tick took a\n"
+    "# stage request (rozrun --stage-at, roz_runtime_stage_request()); the run\n"
+    "# starts in zero\n"
+    "uint8 stage  # after the tick: 1 zero, 2 move, 3 hold, 4 run, 5 stop\n"
+    "string name\n"
+    "int8 request  # the request the tick took, allowed or refused; -1 none\n"
+    "string request_name  # \"\" none\n";
+
 static const char truth_schema[] =
     "# a simulator's truth at this tick (roz/port.h, roz_port_truth_t): not a\n"
     "# sensor; what tells standing from fallen\n"
@@ -263,6 +284,28 @@ static int write_run(roz_record_file_t *f, const roz_runtime_config_t *cfg)
     return put_msg(f, f->ch_run, 0, &c);
 }
 
+static int write_deploy(roz_record_file_t *f, const roz_stages_config_t *seq)
+{
+    cdr_t c;
+    cdr_begin(&c, &f->msg, &f->msg_cap);
+    cdr_u(&c, f->m->n_commands, 4);
+    for (uint16_t i = 0; i < f->m->n_commands; i++)
+        cdr_f64(&c, seq->stand[i]);
+    cdr_f64(&c, seq->move_s);
+    cdr_f64(&c, seq->stop_damping);
+    cdr_u(&c, (uint32_t)seq->start, 4);
+    cdr_u(&c, (uint32_t)seq->run, 4);
+    cdr_u(&c, (uint32_t)seq->stand_input, 4);
+    cdr_u(&c, (uint32_t)seq->stop, 4);
+    return put_msg(f, f->ch_deploy, 0, &c);
+}
+
+static const char *stage_text(int stage)
+{
+    const char *name = roz_stage_name(stage);
+    return name != NULL ? name : "";
+}
+
 /* A file (@p sink NULL) or a stream to @p sink. */
 static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t *rt,
                     roz_recorder_t *rec, const roz_record_file_options_t *opt,
@@ -345,6 +388,17 @@ static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t 
         f->ch_inputs = roz_mcap_channel(&f->w, s_inputs, "/roz/inputs", "cdr");
     if (f->ch_fault == 0 || (f->m->n_inputs > 0u && f->ch_inputs == 0))
         rc = ROZ_ENOMEM;
+    /* the deploy sequence: its configuration once, its stages as they change */
+    const roz_stages_config_t *seq = roz_runtime_stages_config(rt);
+    if (rc == ROZ_OK && seq != NULL) {
+        uint16_t s_deploy = roz_mcap_schema(&f->w, "roz_msgs/msg/Deploy", "ros2msg",
+                                            deploy_schema);
+        uint16_t s_stage = roz_mcap_schema(&f->w, "roz_msgs/msg/Stage", "ros2msg", stage_schema);
+        f->ch_deploy = roz_mcap_channel(&f->w, s_deploy, "/roz/deploy", "cdr");
+        f->ch_stage = roz_mcap_channel(&f->w, s_stage, "/roz/stage", "cdr");
+        if (f->ch_deploy == 0 || f->ch_stage == 0)
+            rc = ROZ_ENOMEM;
+    }
     f->port = cfg->port;
     if (rc == ROZ_OK && roz_port_has_truth(&f->port)) {
         uint16_t s_truth = roz_mcap_schema(&f->w, "roz_msgs/msg/Truth", "ros2msg", truth_schema);
@@ -354,6 +408,8 @@ static int open_any(roz_record_file_t *f, const char *path, const roz_runtime_t 
     }
     if (rc == ROZ_OK)
         rc = write_run(f, cfg);
+    if (rc == ROZ_OK && f->ch_deploy != 0)
+        rc = write_deploy(f, seq);
     if (rc == ROZ_OK)
         rc = roz_mcap_boundary(&f->w);
     if (rc != ROZ_OK) {
@@ -442,6 +498,14 @@ static int write_record(void *ctx, const roz_record_t *r)
         rc = write_values(f, f->ch_target, t, r->target, m->n_commands);
     if (rc == ROZ_OK)
         rc = write_values(f, f->ch_applied, t, r->applied, m->n_commands);
+    if (rc == ROZ_OK && f->ch_stage != 0 && (r->flags & ROZ_RECORD_STAGE)) {
+        cdr_begin(&c, &f->msg, &f->msg_cap);
+        cdr_u(&c, (uint8_t)r->stage, 1);
+        cdr_str(&c, stage_text(r->stage));
+        cdr_u(&c, (uint8_t)(int8_t)r->stage_request, 1);
+        cdr_str(&c, r->stage_request >= 0 ? stage_text(r->stage_request) : "");
+        rc = put_msg(f, f->ch_stage, t, &c);
+    }
     if (rc == ROZ_OK && f->ch_truth != 0 && r->truth != NULL) {
         const roz_port_truth_t *tr = r->truth;
         uint32_t nb = tr->n_bodies < ROZ_PORT_TRUTH_MAX_BODIES ? tr->n_bodies
@@ -578,6 +642,42 @@ static int read_values(const roz_mcap_message_t *msg, double *out, uint16_t n)
     return 0;
 }
 
+/* /roz/deploy: the run's sequence, its shape checked (its values are
+ * roz_stages_check()'s to judge, against the manifest replay runs). */
+static int read_deploy(roz_record_reader_t *rd, const roz_mcap_message_t *msg, char *err,
+                       size_t errlen)
+{
+    rd_t d;
+    roz_stages_config_t *c = &rd->stages;
+    rd_begin(&d, msg);
+    uint64_t n = rd_u(&d, 4);
+    for (uint64_t i = 0; i < n && i < rd->run.n_commands && !d.bad; i++) {
+        uint64_t u = rd_u(&d, 8);
+        memcpy(&rd->stand[i], &u, sizeof u);
+    }
+    uint64_t v = rd_u(&d, 8);
+    memcpy(&c->move_s, &v, sizeof v);
+    v = rd_u(&d, 8);
+    memcpy(&c->stop_damping, &v, sizeof v);
+    int32_t *in[4] = { &c->start, &c->run, &c->stand_input, &c->stop };
+    for (int k = 0; k < 4; k++) {
+        *in[k] = (int32_t)(uint32_t)rd_u(&d, 4);
+        if (*in[k] < -1 || *in[k] >= (int32_t)rd->run.n_inputs)
+            d.bad = 1;
+    }
+    if (d.bad || n != rd->run.n_commands) {
+        snprintf(err, errlen, "%s: at offset %llu: a malformed /roz/deploy message (%llu stand "
+                 "values for %u commands, or an input out of range)", rd->r.path,
+                 (unsigned long long)msg->offset, (unsigned long long)n,
+                 (unsigned)rd->run.n_commands);
+        return ROZ_EINVAL;
+    }
+    c->stand = rd->stand;
+    rd->has_stages = 1;
+    rd->stage_now = ROZ_STAGE_ZERO; /* a sequence starts there */
+    return ROZ_OK;
+}
+
 int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err, size_t errlen)
 {
     roz_mcap_message_t msg;
@@ -635,7 +735,7 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     run->n_commands = (uint16_t)nc;
     run->n_states = (uint16_t)ns;
     run->n_inputs = (uint16_t)ni;
-    rd->state = calloc((size_t)ns + (size_t)ni + 2u * (size_t)nc + 1u, sizeof(double));
+    rd->state = calloc((size_t)ns + (size_t)ni + 3u * (size_t)nc + 1u, sizeof(double));
     if (rd->state == NULL) {
         snprintf(err, errlen, "%s: out of memory", path);
         roz_record_reader_close(rd);
@@ -644,7 +744,27 @@ int roz_record_reader_open(roz_record_reader_t *rd, const char *path, char *err,
     rd->inputs = rd->state + ns;
     rd->target = rd->inputs + ni;
     rd->applied = rd->target + nc;
+    rd->stand = rd->applied + nc;
+    rd->stage_now = ROZ_STAGE_NONE;
+    /* the deploy sequence, when the run had one, comes next; anything else
+     * is the first tick's (a /roz/tick kept for roz_record_reader_next()) */
+    rc = roz_mcap_reader_next(&rd->r, &msg, err, errlen);
+    if (rc == 1 && strcmp(msg.topic, "/roz/deploy") == 0)
+        rc = read_deploy(rd, &msg, err, errlen);
+    if (rc == 1 && strcmp(msg.topic, "/roz/tick") == 0) {
+        rd->pending = msg;
+        rd->have_pending = 1;
+    }
+    if (rc < 0) {
+        roz_record_reader_close(rd);
+        return rc;
+    }
     return ROZ_OK;
+}
+
+const roz_stages_config_t *roz_record_reader_stages(const roz_record_reader_t *rd)
+{
+    return rd->has_stages ? &rd->stages : NULL;
 }
 
 const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd)
@@ -652,7 +772,7 @@ const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd)
     return &rd->run;
 }
 
-enum { HAS_STATE = 1, HAS_TARGET = 2, HAS_APPLIED = 4, HAS_INPUTS = 8 };
+enum { HAS_STATE = 1, HAS_TARGET = 2, HAS_APPLIED = 4, HAS_INPUTS = 8, HAS_STAGE = 16 };
 
 /* Takes a /roz/tick message as the start of the next tick. */
 static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, char *err,
@@ -688,6 +808,8 @@ static int begin_tick(roz_record_reader_t *rd, const roz_mcap_message_t *msg, ch
                  (unsigned long long)msg->offset);
         return ROZ_EINVAL;
     }
+    t->stage = rd->stage_now;
+    t->stage_request = -1;
     rd->tick_offset = msg->offset;
     rd->parts = 0;
     rd->fault_message[0] = '\0';
@@ -738,6 +860,17 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
         } else if (strcmp(msg.topic, "/roz/applied") == 0) {
             bad = read_values(&msg, rd->applied, run->n_commands);
             rd->parts |= HAS_APPLIED;
+        } else if (strcmp(msg.topic, "/roz/stage") == 0) {
+            rd_t d;
+            rd_begin(&d, &msg);
+            int32_t stage = (int32_t)rd_u(&d, 1);
+            rd_str(&d, NULL, 0);
+            int32_t req = (int32_t)(int8_t)(uint8_t)rd_u(&d, 1);
+            bad = d.bad || roz_stage_name(stage) == NULL || stage == ROZ_STAGE_NONE ||
+                  (req != -1 && roz_stage_name(req) == NULL);
+            rd->tick.stage = rd->stage_now = stage;
+            rd->tick.stage_request = req;
+            rd->parts |= HAS_STAGE;
         } else if (strcmp(msg.topic, "/roz/fault") == 0) {
             rd_t d;
             rd_begin(&d, &msg);
@@ -755,7 +888,8 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
     }
     if (!rd->have_tick)
         return 0;
-    uint32_t all = HAS_STATE | HAS_TARGET | HAS_APPLIED | (run->n_inputs > 0u ? HAS_INPUTS : 0u);
+    uint32_t all = HAS_STATE | HAS_TARGET | HAS_APPLIED | (run->n_inputs > 0u ? HAS_INPUTS : 0u) |
+                   (rd->has_stages && (rd->tick.flags & ROZ_RECORD_STAGE) ? HAS_STAGE : 0u);
     if (rd->parts != all) {
         if (!rd->have_pending && rd->r.warning[0] != '\0')
             return 0; /* the last tick of a file cut short: incomplete, left out */
@@ -765,7 +899,8 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
                  !(rd->parts & HAS_STATE)    ? "/roz/state"
                  : !(rd->parts & HAS_INPUTS) && run->n_inputs > 0u ? "/roz/inputs"
                  : !(rd->parts & HAS_TARGET) ? "/roz/target"
-                                             : "/roz/applied");
+                 : !(rd->parts & HAS_APPLIED) ? "/roz/applied"
+                                              : "/roz/stage");
         return ROZ_EINVAL;
     }
     *out = rd->tick;

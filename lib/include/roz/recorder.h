@@ -42,6 +42,9 @@ enum roz_record_flag {
                                            fault_message is set */
     ROZ_RECORD_TRUTH = 1u << 9,       /**< the port is a simulator with a truth sample
                                            of this tick: truth is set */
+    ROZ_RECORD_STAGE = 1u << 10,      /**< the deploy sequence's stage changed at this
+                                           tick, or the tick took a stage request
+                                           (stage_request) */
 };
 
 /** One tick as the recorder hands it to a drain callback. The pointers are
@@ -76,6 +79,10 @@ typedef struct roz_record {
     const double *inputs;          /**< n_inputs: the operator's inputs as the controller
                                         read them (states n_states + k), after their
                                         rules; NULL when the manifest has none */
+    int32_t       stage;           /**< the deploy sequence's stage after the tick
+                                        (roz_stage_t; ROZ_STAGE_NONE without one) */
+    int32_t       stage_request;   /**< the stage request (roz_runtime_stage_request())
+                                        the tick took, allowed or refused; -1 none */
 } roz_record_t;
 
 /** A drain callback: one record; return 0 to go on, non-zero to stop the

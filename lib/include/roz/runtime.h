@@ -503,6 +503,11 @@ ROZ_NODISCARD int roz_runtime_stages_set(roz_runtime_t *rt, const roz_stages_con
  */
 int roz_runtime_stage_request(roz_runtime_t *rt, roz_stage_t stage);
 
+/** @brief The sequence roz_runtime_stages_set() took (its stand the runtime's
+ *  copy), or NULL without one: what a recording writes once (/roz/deploy).
+ *  Context: start-up, or the tick's thread. */
+const roz_stages_config_t *roz_runtime_stages_config(const roz_runtime_t *rt);
+
 /** @brief The stage as of the last tick (ROZ_STAGE_NONE without a sequence).
  *  Context: any thread; wait-free. */
 roz_stage_t roz_runtime_stage(const roz_runtime_t *rt);

@@ -95,6 +95,7 @@ typedef struct roz_stages {
     uint32_t ROZ_PRIVATE(hold_left);                    /* hand-over ticks left, 0 none */
     int      ROZ_PRIVATE(stage);                        /* tick: roz_stage_t */
     ROZ_ATOMIC(int) ROZ_PRIVATE(request);               /* any thread: a stage, -1 none */
+    int      ROZ_PRIVATE(taken);                        /* tick: the request it took, -1 */
     ROZ_ATOMIC(int) ROZ_PRIVATE(published);             /* tick: the stage, for any thread */
     roz_stages_counters_t ROZ_PRIVATE(counters);
 } roz_stages_t;

@@ -7,8 +7,9 @@
  * them; a non-finite value, a Joy that does not fit joy_map and one longer
  * than ROZ_ROS2_JOY_MAX are refused; silence makes an input stale, back to
  * its default at its rate cap. The PM01's manifest (the X2's, built as
- * test_ros2_operator_x2) with operator inputs added (a test manifest: the
- * built-ins have none). The runtime's time is its
+ * test_ros2_operator_x2) with its inputs replaced by the test's own (the
+ * built-ins' are the walking command and four buttons, manifests/). The
+ * runtime's time is its
  * ticks: nothing here depends on a clock. */
 #define _POSIX_C_SOURCE 200809L
 #include <math.h>

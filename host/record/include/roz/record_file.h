@@ -36,7 +36,8 @@ typedef struct roz_record_file {
     uint16_t               ROZ_PRIVATE(ch_run), ROZ_PRIVATE(ch_controller), ROZ_PRIVATE(ch_tick),
                            ROZ_PRIVATE(ch_state), ROZ_PRIVATE(ch_target), ROZ_PRIVATE(ch_applied),
                            ROZ_PRIVATE(ch_fault), ROZ_PRIVATE(ch_truth), /* ch_truth 0: none */
-                           ROZ_PRIVATE(ch_inputs); /* 0: the robot has no inputs */
+                           ROZ_PRIVATE(ch_inputs), /* 0: the robot has no inputs */
+                           ROZ_PRIVATE(ch_deploy), ROZ_PRIVATE(ch_stage); /* 0: no sequence */
     roz_port_t             ROZ_PRIVATE(port);   /* names a truth sample's bodies */
     uint64_t               ROZ_PRIVATE(last_hash);
     int                    ROZ_PRIVATE(have_hash);
@@ -143,6 +144,10 @@ typedef struct roz_record_reader {
     uint64_t          ROZ_PRIVATE(controller_hash_seen);
     roz_mcap_message_t ROZ_PRIVATE(pending);      /* a /roz/tick read ahead */
     int               ROZ_PRIVATE(have_pending);
+    roz_stages_config_t ROZ_PRIVATE(stages);      /* /roz/deploy's; stand in stand */
+    double           *ROZ_PRIVATE(stand);         /* n_commands */
+    int               ROZ_PRIVATE(has_stages);
+    int32_t           ROZ_PRIVATE(stage_now);     /* the stage as of the last /roz/stage */
 } roz_record_reader_t;
 
 /**
@@ -158,9 +163,16 @@ ROZ_NODISCARD int roz_record_reader_open(roz_record_reader_t *rd, const char *pa
 /** @brief The run's account. Context: as roz_record_reader_open(). */
 const roz_record_run_t *roz_record_reader_run(const roz_record_reader_t *rd);
 
+/** @brief The recording's deploy sequence (/roz/deploy: its stand, move
+ *  time, stop damping and inputs), or NULL: the run had none. Not checked
+ *  against a manifest (roz_runtime_stages_set() does that). Context: as
+ *  roz_record_reader_open(). */
+const roz_stages_config_t *roz_record_reader_stages(const roz_record_reader_t *rd);
+
 /**
  * @brief The next recorded tick, with its state, targets and applied
- *        commands (pointers valid until the next call).
+ *        commands (pointers valid until the next call), and its stage (the
+ *        last /roz/stage's; zero before any in a run with a sequence).
  * @param[out] offset  where the tick's /roz/tick message is in the file
  *                     (its chunk's offset); may be NULL
  * @retval 1 a tick; 0 the end (rd->r.warning says when the file was cut
