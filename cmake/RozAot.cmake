@@ -13,7 +13,10 @@
 #      compiled into as well (that build's roz/config.h, through its own
 #      preprocessor: a firmware's are far below the host's rozaot's), inserts
 #      the fuel metering wasm3 charges and writes the glue (<name>_glue.c);
-#   2. wabt's wasm2c turns the metered module into C (<name>_aot.c/.h);
+#   2. wabt's wasm2c turns the metered module into C (<name>_aot.c/.h),
+#      whose bounds checks then compare with the memory's size as a
+#      constant (RozAotBound.cmake: a loaded controller's memory never
+#      changes size);
 #   3. both are compiled with roz's settings for wasm2c's runtime
 #      (roz/aot_generated.h: every memory access bounds-checked, call depth
 #      bounded) and without fused multiply-add contraction.
@@ -37,6 +40,7 @@ function(roz_add_aot_controller name)
   endif()
   cmake_path(ABSOLUTE_PATH arg_WASM BASE_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR} NORMALIZE)
   set(dir ${CMAKE_CURRENT_BINARY_DIR}/roz_aot/${name})
+  set(bound_script ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/RozAotBound.cmake)
   # this build's limits, as its compiler sees roz/config.h with its options
   set(limits_c ${CMAKE_CURRENT_BINARY_DIR}/roz_aot/roz_limits.c)
   file(CONFIGURE OUTPUT ${limits_c} CONTENT [[
@@ -76,7 +80,8 @@ roz_limit nn_imports ROZ_CFG_NN_IMPORTS
     VERBATIM COMMENT "rozaot ${name}: validate and meter")
   add_custom_command(OUTPUT ${dir}/${name}_aot.c ${dir}/${name}_aot.h
     COMMAND ${ROZ_WASM2C} ${dir}/${name}_metered.wasm -n ${name} -o ${dir}/${name}_aot.c
-    DEPENDS ${dir}/${name}_metered.wasm
+    COMMAND ${CMAKE_COMMAND} -DFILE=${dir}/${name}_aot.c -P ${bound_script}
+    DEPENDS ${dir}/${name}_metered.wasm ${bound_script}
     VERBATIM COMMENT "wasm2c ${name}")
   add_library(roz_aot_${name} STATIC ${dir}/${name}_aot.c ${dir}/${name}_glue.c)
   target_include_directories(roz_aot_${name} PRIVATE ${dir})

@@ -435,12 +435,33 @@ static void test_aot_instances_bounded(void **state)
         roz_controller_unload(&e[i].c);
 }
 
+/* A build that gave a controller less memory than it declares: the start
+ * stops before any data segment is written (the compiled bounds checks take
+ * the declared size), with a message, and the instance is free again. */
+static void test_aot_memory_short(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    static engine_t e;
+    roz_aot_module_t shortened = roz_aot_g1_pd_bulk; /* a data segment at 1024 */
+    shortened.memory = NULL;
+    shortened.pages = 0;
+    start(&e, m, LARGE, 0);
+    assert_int_equal(roz_controller_load_aot(&e.c, &shortened, &e.abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&e.c),
+                           "its memory or table is larger than the build gave it"));
+    assert_false(roz_controller_loaded(&e.c));
+    assert_int_equal(roz_controller_load_aot(&e.c, &roz_aot_g1_pd_bulk, &e.abi), ROZ_OK);
+    roz_controller_unload(&e.c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aot_diff_every_controller),
         cmocka_unit_test(test_aot_diff_runtime),
         cmocka_unit_test(test_aot_instances_bounded),
+        cmocka_unit_test(test_aot_memory_short),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
