@@ -143,7 +143,7 @@ bool wasm_rt_is_initialized(void)
 void wasm_rt_allocate_memory(wasm_rt_memory_t *mem, uint32_t initial_pages, uint32_t max_pages)
 {
     (void)max_pages;
-    if (initial_pages > arena_pages || arena_memory == NULL) {
+    if (initial_pages > arena_pages || (initial_pages != 0 && arena_memory == NULL)) {
         arena_short = 1;
         mem->data = NULL;
         mem->pages = mem->max_pages = 0;
