@@ -124,6 +124,92 @@ def value(fig: dict | None, fmt: str = "{:,.0f}") -> str:
     return fmt.format(fig["value"]) + ("" if fig["unit"] in ("count", "values") else f" {fig['unit']}")
 
 
+# ---- every engine side by side ---------------------------------------------------
+
+# the three controllers: bench/aot's name, bench/peers' figure name (fuel metered)
+SUMMARY_WORK = (("G1 PD", "G1 PD", "process, metering fuel"),
+                ("G1 PD (bulk)", "the bulk PD", "process, bulk, metering fuel"),
+                ("G1 policy (nn)", "the nn policy", "process, nn policy, metering fuel"))
+
+
+def engines_summary(aot: dict, peers: dict) -> str:
+    """One table of process() p50 for the three controllers under every
+    engine, each with its ratio to native C: native, ahead of time and wasm3
+    from bench/aot (one process, taking turns), wasmtime and wasmi from
+    bench/peers (processes of their own), all of the same make bench run."""
+    head = ("**Every engine side by side** (`process()` p50 in us and its ratio to the same "
+            "source compiled natively; native C, roz ahead of time and roz on wasm3 from "
+            "`bench/aot` (one process, taking turns on every call), wasmtime and wasmi from "
+            "`bench/peers` below (processes of their own, run in turns), every engine charging "
+            "fuel; the same `make bench` run):\n")
+    if not aot and not any(peers.values()):
+        return head + "\nNot measured (neither bench/aot nor bench/peers ran).\n"
+
+    def cell(fig, native):
+        if fig is None or fig.get("p50") is None:
+            return "-"
+        return f"{us(fig['p50'])} ({ratio(fig['p50'], native.get('p50') if native else None)})"
+
+    natives = {work: aot.get(f"{work}: process(), native") for work, _, _ in SUMMARY_WORK}
+    rows = [("native C (reference)", {w: natives[w] for w in natives}),
+            ("roz, ahead of time (rozaot + wasm2c)",
+             {w: aot.get(f"{w}: process(), ahead of time") for w in natives}),
+            ("roz, wasm3", {w: aot.get(f"{w}: process(), wasm3") for w in natives})]
+    for key in ("wasmtime", "wasmi"):
+        p = peers.get(key)
+        label = f"{p['engine']} {p.get('version', '')}".strip() if p else key
+        rows.append((label, {w: (p["by_name"].get(pname) if p else None)
+                             for w, _, pname in SUMMARY_WORK}))
+    out = [head, "| engine | " + " | ".join(shown for _, shown, _ in SUMMARY_WORK) + " |",
+           "|---|" + "---:|" * len(SUMMARY_WORK)]
+    for label, figs in rows:
+        out.append(f"| {label} | " + " | ".join(cell(figs[w], natives[w])
+                                                 for w, _, _ in SUMMARY_WORK) + " |")
+    return "\n".join(out) + "\n"
+
+
+# ---- the firmware images at a glance ------------------------------------------------
+
+
+def firmware_summary(text: str) -> str:
+    """One row per image of make firmware's reports (tools/fw_run.sh): flash
+    and RAM all told against the aims, and the instructions per tick and per
+    process() call, so that an image compiled ahead of time reads beside the
+    interpreter's build of the same controller. Empty when no image
+    reported."""
+    images = []
+    for block in text.split("\n==== ")[1:]:
+        lines = block.splitlines()
+        img = {"title": lines[0].strip()}
+        for line in lines[1:]:
+            f = line.split()
+            if line.startswith("cost: tick ") and "mean" in f:
+                img["tick"] = int(f[f.index("mean") + 1])
+            elif line.startswith("cost: process()") and "mean" in f:
+                img["process"] = int(f[f.index("mean") + 1])
+            elif line.startswith("  total ") and len(f) >= 2:
+                img["flash"] = f[1]
+            elif line.startswith("  RAM all told") and len(f) >= 4:
+                img["ram"] = f[3]
+            elif line.startswith("  aim: flash <="):
+                img["flash_aim"] = f"{f[3]} KB, {'met' if line.endswith(': met') else 'NOT met'}"
+            elif line.startswith("  aim: RAM <="):
+                img["ram_aim"] = f"{f[3]} KB, {'met' if line.endswith(': met') else 'NOT met'}"
+        images.append(img)
+    if not images:
+        return ""
+    out = ["The images at a glance (from the reports below; instructions are QEMU's "
+           "emulation estimates, means over the run's ticks):\n",
+           "| image | flash [KB] | aim | RAM all told [KB] | aim | instructions per tick | "
+           "per process() |", "|---|---:|---|---:|---|---:|---:|"]
+    for img in images:
+        tick = f"{img['tick']:,}" if "tick" in img else "-"
+        proc = f"{img['process']:,}" if "process" in img else "-"
+        out.append(f"| {img['title']} | {img.get('flash', '-')} | {img.get('flash_aim', '-')} | "
+                   f"{img.get('ram', '-')} | {img.get('ram_aim', '-')} | {tick} | {proc} |")
+    return "\n".join(out) + "\n"
+
+
 # ---- the banner ----------------------------------------------------------------
 
 
@@ -311,6 +397,7 @@ def build(args) -> tuple[str, str]:
 
     # 2 + 3. peers
     w("## 2. Peer engines: the same controller under wasmtime and wasmi\n")
+    w(engines_summary(aot, peers))
     w("`bench/peers`: the G1 PD module that roz runs (`g1_pd.wasm`, built by the host build) "
       "with roz's host functions (the same ABI: `command.set` clamps, refuses non-finite "
       "values and counts, `state.get` reads a snapshot), the G1 manifest read from "
@@ -486,6 +573,9 @@ def build(args) -> tuple[str, str]:
                  if not l.startswith(("make[", "ninja:", "[", "PYTHON=", "cmake ", "/usr/bin/cmake",
                                       "-- ", "setup:"))
                  and "CMAKE_" not in l and not l.lstrip().startswith('"')]
+        glance = firmware_summary("\n" + "\n".join(lines))
+        if glance:
+            w(glance)
         w("```\n" + "\n".join(lines).strip() + "\n```\n")
     else:
         w(f"Not built: {skipped(d, 'firmware')}.\n")
@@ -617,6 +707,10 @@ def build(args) -> tuple[str, str]:
     hrow("G1 PD `process()`, wasm3", tick.get("unitree_g1: process(), wasm3"), "native", native)
     hrow("G1 PD `process()` through the bulk calls, wasm3", tick.get("unitree_g1 (bulk): process(), wasm3"),
          "native", tick.get("unitree_g1 (bulk): process(), native"))
+    for work in ("G1 PD", "G1 PD (bulk)"):
+        hrow(f"{work.replace('G1 PD', 'G1 PD `process()`')}, ahead of time",
+             aot.get(f"{work}: process(), ahead of time"), "native",
+             aot.get(f"{work}: process(), native"))
     hrow("G1 runtime overhead per tick", tick.get("unitree_g1: runtime (tick - process - port)"),
          "native process()", native)
     if wt:

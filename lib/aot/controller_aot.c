@@ -136,12 +136,19 @@ bool wasm_rt_is_initialized(void)
     return true;
 }
 
+/* A memory or table larger than the build gave the controller stops the
+ * start there, before any data segment is written: the compiled bounds
+ * checks take the memory's size as its declaration gives it
+ * (cmake/RozAotBound.cmake). */
 void wasm_rt_allocate_memory(wasm_rt_memory_t *mem, uint32_t initial_pages, uint32_t max_pages)
 {
     (void)max_pages;
-    if (initial_pages > arena_pages || arena_memory == NULL) {
+    if (initial_pages > arena_pages || (initial_pages != 0 && arena_memory == NULL)) {
         arena_short = 1;
-        initial_pages = 0;
+        mem->data = NULL;
+        mem->pages = mem->max_pages = 0;
+        mem->size = 0;
+        wasm_rt_trap(WASM_RT_TRAP_OOB);
     }
     mem->data = arena_memory;
     mem->pages = initial_pages;
@@ -169,7 +176,9 @@ void wasm_rt_allocate_funcref_table(wasm_rt_funcref_table_t *t, uint32_t element
     (void)max_elements;
     if (elements > arena_table_n) {
         arena_short = 1;
-        elements = 0;
+        t->data = NULL;
+        t->size = t->max_size = 0;
+        wasm_rt_trap(WASM_RT_TRAP_OOB);
     }
     t->data = arena_table;
     t->size = elements;

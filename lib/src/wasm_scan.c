@@ -342,7 +342,8 @@ static const char *const_expr_problem(cursor_t *c, uint8_t type)
  * ROZ_CFG_WASM_MAX_TABLE_ENTRIES and require every segment (MVP form:
  * table 0, constant offset) to fit the declared table. */
 static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const uint8_t *elems,
-                        const uint8_t *elems_end, uint32_t n_funcs, char *err, size_t errlen)
+                        const uint8_t *elems_end, uint32_t n_funcs, uint32_t max_entries,
+                        char *err, size_t errlen)
 {
     uint32_t size = 0;
     int have_table = 0;
@@ -360,9 +361,9 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
             uint32_t max = flags == 1 ? rd_u32(&tc) : size;
             if (tc.bad || flags > 1 || max < size || tc.p != tc.end)
                 FAIL("malformed table section");
-            if (size > ROZ_CFG_WASM_MAX_TABLE_ENTRIES)
+            if (size > max_entries)
                 FAIL("table of %u entries, more than ROZ_CFG_WASM_MAX_TABLE_ENTRIES (%u)",
-                     (unsigned)size, (unsigned)ROZ_CFG_WASM_MAX_TABLE_ENTRIES);
+                     (unsigned)size, (unsigned)max_entries);
         }
     }
     if (elems == NULL)
@@ -432,8 +433,6 @@ static int check_tables(const uint8_t *tables, const uint8_t *tables_end, const 
 #define SCAN_MAX_GLOBALS ROZ_CFG_WASM_MAX_GLOBALS /* globals */
 #define SCAN_MAX_LOCALS  ROZ_CFG_WASM_MAX_LOCALS  /* parameters and locals per function */
 #define SCAN_MAX_STACK   1024                     /* operand stack height per function */
-#define SCAN_STR_(x)     #x
-#define SCAN_STR(x)      SCAN_STR_(x)
 /* control frames: the function body and its nested blocks (wasm3 compiles
  * those recursively: this bounds the loader's C stack, roz/config.h) */
 #define SCAN_MAX_DEPTH  (ROZ_CFG_WASM_MAX_BLOCK_DEPTH + 1)
@@ -481,6 +480,7 @@ typedef struct {
     };
     char    *err;
     size_t   errlen;
+    const roz__wasm_limits_t *lim; /* at most the storage above */
 } vctx_t;
 
 /* The scratch is the caller's (roz_load_scratch_t, roz/controller.h):
@@ -686,11 +686,13 @@ static int check_body(vctx_t *v, cursor_t *c)
             break;
         if (!is_valtype(t))
             return bad_body(v, "a local of an unknown type", NULL, NULL);
-        if (n > SCAN_MAX_LOCALS - v->n_locals)
-            return bad_body(v,
-                            "more parameters and locals than the limit (" SCAN_STR(
-                                SCAN_MAX_LOCALS) ", ROZ_CFG_WASM_MAX_LOCALS)",
-                            NULL, NULL);
+        if (n > v->lim->locals - v->n_locals) {
+            roz_format(v->err, v->errlen,
+                       "function %u, offset %u: more parameters and locals than the limit "
+                       "(%u, ROZ_CFG_WASM_MAX_LOCALS)",
+                       (unsigned)v->f, (unsigned)v->at, (unsigned)v->lim->locals);
+            return ROZ_EINVAL;
+        }
         memset(v->local_type + v->n_locals, t, n);
         v->n_locals += n;
     }
@@ -712,13 +714,13 @@ static int check_body(vctx_t *v, cursor_t *c)
             v->compile_work += (uint64_t)v->n_locals * v->height;
         else if (op == 0x21 || op == 0x22)
             v->compile_work += v->height;
-        if (v->compile_work > ROZ_CFG_WASM_MAX_COMPILE_WORK) {
+        if (v->compile_work > v->lim->compile_work) {
             roz_format(v->err, v->errlen,
                        "function %u, offset %u: compile work past "
                        "ROZ_CFG_WASM_MAX_COMPILE_WORK (%llu): %u locals, %u values on the "
                        "stack (docs/load-bound.md)",
                        (unsigned)v->f, (unsigned)v->at,
-                       (unsigned long long)ROZ_CFG_WASM_MAX_COMPILE_WORK,
+                       (unsigned long long)v->lim->compile_work,
                        (unsigned)v->n_locals, (unsigned)v->height);
             return ROZ_EINVAL;
         }
@@ -748,13 +750,13 @@ static int check_body(vctx_t *v, cursor_t *c)
                                        "(multi-value blocks are not accepted)", NULL, NULL);
                 if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
                     return ROZ_EINVAL;
-                if (v->depth >= SCAN_MAX_DEPTH) {
+                if (v->depth >= v->lim->block_depth + 1u) {
                     roz_format(v->err, v->errlen,
                                "function %u, offset %u: blocks nested deeper than "
                                "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
                                "recursively on the loader's C stack)",
                                (unsigned)v->f, (unsigned)v->at,
-                               (unsigned)ROZ_CFG_WASM_MAX_BLOCK_DEPTH);
+                               (unsigned)v->lim->block_depth);
                     return ROZ_EINVAL;
                 }
                 v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
@@ -956,9 +958,9 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     v->err = err;
     v->errlen = errlen;
     /* types: functions of at most SCAN_MAX_PARAMS value parameters and one result */
-    if (m->n_types > SCAN_MAX_TYPES)
+    if (m->n_types > v->lim->types)
         FAIL("%u function types, more than %u (ROZ_CFG_WASM_MAX_TYPES)", (unsigned)m->n_types,
-             (unsigned)SCAN_MAX_TYPES);
+             (unsigned)v->lim->types);
     v->types = sec[1];
     v->types_end = sec_end[1];
     v->n_types = m->n_types;
@@ -998,8 +1000,8 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
             uint32_t type = rd_u32(&c);
             if (c.bad)
                 break;
-            if (v->n_funcs >= SCAN_MAX_FUNCS)
-                FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)SCAN_MAX_FUNCS);
+            if (v->n_funcs >= v->lim->funcs)
+                FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)v->lim->funcs);
             v->func_type[v->n_funcs++] = (uint16_t)type; /* < n_types: checked before */
         }
         if (c.bad || c.p != c.end)
@@ -1014,8 +1016,8 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
         if (type >= v->n_types)
             FAIL("function %u has type %u of %u", (unsigned)v->n_funcs, (unsigned)type,
                  (unsigned)v->n_types);
-        if (v->n_funcs >= SCAN_MAX_FUNCS)
-            FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)SCAN_MAX_FUNCS);
+        if (v->n_funcs >= v->lim->funcs)
+            FAIL("more than %u functions (ROZ_CFG_WASM_MAX_FUNCS)", (unsigned)v->lim->funcs);
         v->func_type[v->n_funcs++] = (uint16_t)type;
     }
     if (fc.bad || fc.p != fc.end)
@@ -1024,9 +1026,9 @@ static int check_code(vctx_t *v, const module_t *m, const uint8_t *imports,
     if (sec[6] != NULL) {
         cursor_t c = { sec[6], sec_end[6], 0, 0 };
         v->n_globals = rd_u32(&c);
-        if (!c.bad && v->n_globals > SCAN_MAX_GLOBALS)
+        if (!c.bad && v->n_globals > v->lim->globals)
             FAIL("%u globals, more than %u (ROZ_CFG_WASM_MAX_GLOBALS)", (unsigned)v->n_globals,
-                 (unsigned)SCAN_MAX_GLOBALS);
+                 (unsigned)v->lim->globals);
         for (uint32_t g = 0; g < v->n_globals && !c.bad; g++) {
             v->global_type[g] = rd_byte(&c);
             v->global_mut[g] = rd_byte(&c);
@@ -1176,9 +1178,9 @@ static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const
     if (sec != NULL) {
         cursor_t c = { sec, end, 0, 0 };
         n = rd_u32(&c);
-        if (n > SCAN_MAX_EXPORTS)
+        if (n > v->lim->exports)
             FAIL("%u exports, more than %u (ROZ_CFG_WASM_MAX_EXPORTS)", (unsigned)n,
-                 (unsigned)SCAN_MAX_EXPORTS);
+                 (unsigned)v->lim->exports);
         for (uint32_t e = 0; e < n; e++) {
             const char *why;
             refs[e] = (export_ref_t){ (uint32_t)(c.p - sec), e };
@@ -1238,10 +1240,73 @@ static int check_exports(vctx_t *v, const module_t *m, const uint8_t *sec, const
 
 /* ---- public -------------------------------------------------------------- */
 
+/* A limit of another build's, within this build's storage for the scan. */
+static uint32_t within(uint32_t asked, uint32_t cap)
+{
+    return asked < cap ? asked : cap;
+}
+
+/* The option that leaves an import out of the build the limits are for
+ * (the import table's own, roz_abi_imports[], names it for this build). */
+static const char *left_out_by(const roz__wasm_limits_t *lim, const roz_abi_import_t *imp)
+{
+    if (!lim->math_imports && strcmp(imp->module, "math") == 0)
+        return "ROZ_CFG_MATH_IMPORTS";
+    if (!lim->nn_imports && strcmp(imp->module, "nn") == 0)
+        return "ROZ_CFG_NN_IMPORTS";
+    if (!lim->bulk_imports && (strcmp(imp->name, "get_all") == 0 ||
+                               strcmp(imp->name, "set_all") == 0))
+        return "ROZ_CFG_BULK_IMPORTS";
+    return NULL;
+}
+
+void roz__wasm_limits_of_build(roz__wasm_limits_t *lim)
+{
+    *lim = (roz__wasm_limits_t){
+        .types = ROZ_CFG_WASM_MAX_TYPES,
+        .funcs = ROZ_CFG_WASM_MAX_FUNCS,
+        .globals = ROZ_CFG_WASM_MAX_GLOBALS,
+        .locals = ROZ_CFG_WASM_MAX_LOCALS,
+        .exports = ROZ_CFG_WASM_MAX_EXPORTS,
+        .table_entries = ROZ_CFG_WASM_MAX_TABLE_ENTRIES,
+        .block_depth = ROZ_CFG_WASM_MAX_BLOCK_DEPTH,
+        .compile_work = ROZ_CFG_WASM_MAX_COMPILE_WORK,
+        .pages = ROZ_CFG_WASM_MAX_PAGES,
+        .module_bytes = ROZ_CFG_WASM_MAX_MODULE_BYTES,
+        .math_imports = ROZ_CFG_MATH_IMPORTS,
+        .bulk_imports = ROZ_CFG_BULK_IMPORTS,
+        .nn_imports = ROZ_CFG_NN_IMPORTS,
+    };
+}
+
 int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
                    uint32_t *process_index, char *err, size_t errlen)
 {
+    return roz__wasm_scan_for(wasm, len, scratch, NULL, process_index, err, errlen);
+}
+
+int roz__wasm_scan_for(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
+                       const roz__wasm_limits_t *asked, uint32_t *process_index, char *err,
+                       size_t errlen)
+{
     vctx_t *v = (vctx_t *)(void *)scratch;
+    roz__wasm_limits_t lim;
+    roz__wasm_limits_of_build(&lim);
+    if (asked != NULL) { /* another build's: this one's where that asks more */
+        lim.types = within(asked->types, lim.types);
+        lim.funcs = within(asked->funcs, lim.funcs);
+        lim.globals = within(asked->globals, lim.globals);
+        lim.locals = within(asked->locals, lim.locals);
+        lim.exports = within(asked->exports, lim.exports);
+        lim.table_entries = within(asked->table_entries, lim.table_entries);
+        lim.block_depth = within(asked->block_depth, lim.block_depth);
+        if (asked->compile_work < lim.compile_work)
+            lim.compile_work = asked->compile_work;
+        lim.math_imports &= asked->math_imports;
+        lim.bulk_imports &= asked->bulk_imports;
+        lim.nn_imports &= asked->nn_imports;
+    }
+    v->lim = &lim;
     static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     module_t m = { 0 };
     const uint8_t *imports = NULL, *imports_end = NULL, *exports = NULL, *exports_end = NULL;
@@ -1304,9 +1369,9 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
         FAIL("the module has a start function; a controller must do its set-up in process()");
     /* The counts the import pass walks are bounded before it walks them:
      * each import's type is looked up in the type section (docs/load-bound.md) */
-    if (m.n_types > SCAN_MAX_TYPES)
+    if (m.n_types > lim.types)
         FAIL("%u function types, more than %u (ROZ_CFG_WASM_MAX_TYPES)", (unsigned)m.n_types,
-             (unsigned)SCAN_MAX_TYPES);
+             (unsigned)lim.types);
 
     /* Pass 2: imports, by the exact bytes of their names (wasm3 links them
      * by the same bytes, see lib/src/controller.c). */
@@ -1343,9 +1408,11 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
             }
             if (imp == NULL)
                 FAIL("unknown import %s.%s: not part of the roz controller ABI", mod, name);
-            if (imp->left_out != NULL)
+            const char *left_out = imp->left_out != NULL ? imp->left_out
+                                                         : left_out_by(&lim, imp);
+            if (left_out != NULL)
                 FAIL("import %s.%s: left out of this build of roz (%s is 0)", mod, name,
-                     imp->left_out);
+                     left_out);
             if (type_signature(&m, type_idx, sig, sizeof sig) != ROZ_OK)
                 FAIL("import %s.%s: malformed type index %u", mod, name, (unsigned)type_idx);
             if (strcmp(sig, imp->signature) != 0) {
@@ -1364,11 +1431,11 @@ int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
     if (m.funcs != NULL) {
         cursor_t fc = { m.funcs, m.funcs_end, 0, 0 };
         n_defined = rd_u32(&fc);
-        if (n_defined > SCAN_MAX_FUNCS)
-            n_defined = SCAN_MAX_FUNCS; /* refused by check_code() */
+        if (n_defined > lim.funcs)
+            n_defined = lim.funcs; /* refused by check_code() */
     }
-    if (check_tables(tables, tables_end, elems, elems_end, m.n_func_imports + n_defined, err,
-                     errlen) != ROZ_OK)
+    if (check_tables(tables, tables_end, elems, elems_end, m.n_func_imports + n_defined,
+                     lim.table_entries, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
 
     /* Pass 3: types, globals, memory, data, function bodies. */

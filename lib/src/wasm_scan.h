@@ -23,4 +23,26 @@
 int roz__wasm_scan(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
                    uint32_t *process_index, char *err, size_t errlen);
 
+/* The limits a module is checked against (roz/config.h's ROZ_CFG_WASM_MAX_*
+ * and the optional imports): this build's, or another build's for a tool
+ * that checks a module for it (rozaot, for the firmware an ahead-of-time
+ * controller is compiled into). pages and module_bytes are the loader's
+ * (roz_controller_load_in), not the scan's. */
+typedef struct {
+    uint32_t types, funcs, globals, locals, exports, table_entries, block_depth;
+    uint64_t compile_work;
+    uint32_t pages;
+    uint64_t module_bytes;
+    uint8_t  math_imports, bulk_imports, nn_imports;
+} roz__wasm_limits_t;
+
+/* This build's limits. */
+void roz__wasm_limits_of_build(roz__wasm_limits_t *lim);
+
+/* As roz__wasm_scan(), against @p lim (NULL: this build's); a limit above
+ * this build's is this build's (the scan's storage is sized by it). */
+int roz__wasm_scan_for(const uint8_t *wasm, size_t len, roz_load_scratch_t *scratch,
+                       const roz__wasm_limits_t *lim, uint32_t *process_index, char *err,
+                       size_t errlen);
+
 #endif /* ROZ_WASM_SCAN_H */

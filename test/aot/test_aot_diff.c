@@ -72,6 +72,7 @@ ROZ_AOT_DECLARE(x2_stand);
 ROZ_AOT_DECLARE(x2_stand_pd);
 ROZ_AOT_DECLARE(square);
 ROZ_AOT_DECLARE(hover);
+ROZ_AOT_DECLARE(aot_zero_pages);
 ROZ_AOT_DECLARE(bad_busy);
 ROZ_AOT_DECLARE(bad_estop_run);
 ROZ_AOT_DECLARE(bad_grow_memory);
@@ -435,12 +436,62 @@ static void test_aot_instances_bounded(void **state)
         roz_controller_unload(&e[i].c);
 }
 
+/* A build that gave a controller less memory than it declares: the start
+ * stops before any data segment is written (the compiled bounds checks take
+ * the declared size), with a message, and the instance is free again. */
+static void test_aot_memory_short(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = roz_builtin_find("unitree_g1");
+    static engine_t e;
+    roz_aot_module_t shortened = roz_aot_g1_pd_bulk; /* a data segment at 1024 */
+    shortened.memory = NULL;
+    shortened.pages = 0;
+    start(&e, m, LARGE, 0);
+    assert_int_equal(roz_controller_load_aot(&e.c, &shortened, &e.abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(&e.c),
+                           "its memory or table is larger than the build gave it"));
+    assert_false(roz_controller_loaded(&e.c));
+    assert_int_equal(roz_controller_load_aot(&e.c, &roz_aot_g1_pd_bulk, &e.abi), ROZ_OK);
+    roz_controller_unload(&e.c);
+}
+
+/* A memory of no pages: the start needs no storage, and the one access
+ * traps out of bounds as on wasm3. */
+static void test_aot_zero_pages(void **state)
+{
+    (void)state;
+    const roz_manifest_t *m = roz_builtin_find("ur5");
+    static double states[ROZ_CFG_MAX_STATES];
+    size_t len;
+    const uint8_t *wasm = read_module(ROZ_AOT_FUZZ_DIR, "aot_zero_pages", &len);
+    start(&w3, m, LARGE, 0);
+    start(&aot, m, LARGE, 0);
+    assert_int_equal(roz_controller_load(&w3.c, wasm, len, &w3.abi), ROZ_OK);
+    assert_int_equal(roz_controller_load_aot(&aot.c, &roz_aot_aot_zero_pages, &aot.abi), ROZ_OK);
+    engine_t *e[2] = { &w3, &aot };
+    for (int k = 0; k < 2; k++) {
+        set_budget(e[k], LARGE, 0);
+        roz_abi_begin_tick(&e[k]->abi, 0, states);
+        assert_int_equal(roz_controller_process(&e[k]->c, 0), ROZ_OK);
+        assert_true(e[k]->target[0] == 0.5);
+        roz_abi_begin_tick(&e[k]->abi, 1, states);
+        assert_int_equal(roz_controller_process(&e[k]->c, 1), ROZ_ETRAP);
+    }
+    assert_string_equal(roz_controller_error(&w3.c), roz_controller_error(&aot.c));
+    assert_non_null(strstr(roz_controller_error(&aot.c), "out of bounds memory access"));
+    roz_controller_unload(&w3.c);
+    roz_controller_unload(&aot.c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_aot_diff_every_controller),
         cmocka_unit_test(test_aot_diff_runtime),
         cmocka_unit_test(test_aot_instances_bounded),
+        cmocka_unit_test(test_aot_memory_short),
+        cmocka_unit_test(test_aot_zero_pages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

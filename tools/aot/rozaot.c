@@ -2,11 +2,17 @@
 /* rozaot: the build step in front of wasm2c for an ahead-of-time controller
  * (docs/controllers.md, "Two engines").
  *
- *   rozaot NAME IN.wasm OUT.wasm OUT_glue.c
+ *   rozaot [--limits LIMITS] NAME IN.wasm OUT.wasm OUT_glue.c
  *
  * 1. Loads IN.wasm exactly as the runtime does (roz_controller_load: roz's
  *    validator, then wasm3's compiler): a module roz refuses is never
- *    compiled, and the message names the file and the reason.
+ *    compiled, and the message names the file and the reason. LIMITS: the
+ *    limits of the build the controller is compiled into (its roz/config.h
+ *    through that build's preprocessor, cmake/RozAot.cmake), which a
+ *    firmware sets far below a host's: the module is checked against them
+ *    too (the validator's, the memory's pages, the module's size, the
+ *    imports the build leaves out), so that rozaot refuses what that
+ *    build's wasm3 loader would.
  * 2. Writes OUT.wasm: the same module with roz's fuel metering inserted, at
  *    the charge points and with the units of wasm3's metering
  *    (cmake/wasm3/02-metering.patch), so that a controller uses the same
@@ -24,6 +30,8 @@
  * A host tool, in C rather than in rozgen: it runs roz's own validator and
  * wasm3's own compiler on the module, so the pass cannot drift from what
  * the interpreter charges. */
+#include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,6 +41,8 @@
 
 #include "wasm3.h"
 #include "m3_env.h"
+
+#include "wasm_scan.h"
 
 /* ---- output buffer -------------------------------------------------------- */
 
@@ -416,12 +426,93 @@ static uint32_t *type_params(const sections_t *s, uint32_t *n_types)
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: rozaot NAME IN.wasm OUT.wasm OUT_glue.c\n");
+    fprintf(stderr, "usage: rozaot [--limits LIMITS] NAME IN.wasm OUT.wasm OUT_glue.c\n");
     exit(2);
+}
+
+/* ---- the target build's limits ---------------------------------------------- */
+
+/* LIMITS: lines "roz_limit KEY VALUE", VALUE a number as the preprocessor
+ * left it (parentheses and an integer suffix allowed); other lines (what
+ * roz/config.h leaves after preprocessing: blank) are skipped. Every key
+ * must be given. */
+static void read_limits(const char *path, roz__wasm_limits_t *lim)
+{
+    static const struct {
+        const char *key;
+        size_t      at, size;
+    } keys[] = {
+#define K(k, f) { k, offsetof(roz__wasm_limits_t, f), sizeof(((roz__wasm_limits_t *)0)->f) }
+        K("wasm_max_types", types), K("wasm_max_funcs", funcs), K("wasm_max_globals", globals),
+        K("wasm_max_locals", locals), K("wasm_max_exports", exports),
+        K("wasm_max_table_entries", table_entries), K("wasm_max_block_depth", block_depth),
+        K("wasm_max_compile_work", compile_work), K("wasm_max_pages", pages),
+        K("wasm_max_module_bytes", module_bytes), K("math_imports", math_imports),
+        K("bulk_imports", bulk_imports), K("nn_imports", nn_imports),
+#undef K
+    };
+    enum { N_KEYS = sizeof keys / sizeof keys[0] };
+    int seen[N_KEYS] = { 0 };
+    char line[512];
+    FILE *f = fopen(path, "r");
+    if (f == NULL) {
+        fprintf(stderr, "rozaot: %s: cannot read the limits\n", path);
+        exit(1);
+    }
+    while (fgets(line, sizeof line, f) != NULL) {
+        char key[64], value[256];
+        if (sscanf(line, " roz_limit %63s %255[^\n]", key, value) != 2)
+            continue;
+        char *v = value, *end;
+        while (*v == '(' || *v == ' ')
+            v++;
+        unsigned long long n = strtoull(v, &end, 0);
+        while (*end == 'u' || *end == 'U' || *end == 'l' || *end == 'L' || *end == ')' ||
+               *end == ' ' || *end == '\r')
+            end++;
+        if (end == v || *end != '\0' || *v == '-') {
+            fprintf(stderr, "rozaot: %s: %s: not a number once preprocessed: %s\n", path, key,
+                    value);
+            exit(1);
+        }
+        size_t k = 0;
+        while (k < N_KEYS && strcmp(keys[k].key, key) != 0)
+            k++;
+        if (k == N_KEYS) {
+            fprintf(stderr, "rozaot: %s: unknown limit %s\n", path, key);
+            exit(1);
+        }
+        uint8_t *field = (uint8_t *)lim + keys[k].at;
+        if (keys[k].size == 1) {
+            uint8_t b = n != 0;
+            memcpy(field, &b, 1);
+        } else if (keys[k].size == 4) {
+            uint32_t w = n > UINT32_MAX ? UINT32_MAX : (uint32_t)n;
+            memcpy(field, &w, 4);
+        } else {
+            uint64_t w = n;
+            memcpy(field, &w, 8);
+        }
+        seen[k] = 1;
+    }
+    fclose(f);
+    for (size_t k = 0; k < N_KEYS; k++)
+        if (!seen[k]) {
+            fprintf(stderr, "rozaot: %s: no limit %s\n", path, keys[k].key);
+            exit(1);
+        }
 }
 
 int main(int argc, char **argv)
 {
+    static roz__wasm_limits_t target;
+    int have_target = 0;
+    if (argc == 7 && strcmp(argv[1], "--limits") == 0) {
+        read_limits(argv[2], &target);
+        have_target = 1;
+        argc -= 2;
+        argv += 2;
+    }
     if (argc != 5)
         usage();
     const char *name = argv[1], *in = argv[2], *out_wasm = argv[3], *out_glue = argv[4];
@@ -430,6 +521,26 @@ int main(int argc, char **argv)
     if (read_file(in, &wasm, &len) != 0) {
         fprintf(stderr, "rozaot: %s: cannot read\n", in);
         return 1;
+    }
+
+    /* 0. the build it is compiled for: what its own loader would refuse */
+    if (have_target) {
+        static roz_load_scratch_t scratch;
+        char why[ROZ_CFG_ERROR_LEN];
+        uint32_t process_index;
+        if (len > target.module_bytes) {
+            fprintf(stderr,
+                    "rozaot: %s: refused for the build it is compiled into: module too large: "
+                    "%zu bytes, more than ROZ_CFG_WASM_MAX_MODULE_BYTES (%llu)\n",
+                    in, len, (unsigned long long)target.module_bytes);
+            return 1;
+        }
+        if (roz__wasm_scan_for(wasm, len, &scratch, &target, &process_index, why, sizeof why) !=
+            ROZ_OK) {
+            fprintf(stderr, "rozaot: %s: refused for the build it is compiled into: %s\n", in,
+                    why);
+            return 1;
+        }
     }
 
     /* 1. the runtime's own load: validator, then wasm3 */
@@ -441,6 +552,13 @@ int main(int argc, char **argv)
         return 1;
     }
     IM3Module mod = ctl.module;
+    if (have_target && mod->memoryInfo.initPages > target.pages) {
+        fprintf(stderr,
+                "rozaot: %s: refused for the build it is compiled into: linear memory too "
+                "large: %u pages of 64 KiB, more than ROZ_CFG_WASM_MAX_PAGES (%u)\n",
+                in, (unsigned)mod->memoryInfo.initPages, (unsigned)target.pages);
+        return 1;
+    }
     uint32_t n_imports = mod->numFuncImports;
     uint32_t n_funcs = mod->numFunctions;
 

@@ -24,6 +24,9 @@
 #define ROZ_CFG_WASM_MAX_LOCALS       64
 #define ROZ_CFG_WASM_MAX_EXPORTS      8
 #define ROZ_CFG_TELEMETRY_RING        16
+#define ROZ_CFG_AOT_INSTANCES         1     /* the AOT image loads once: verification's
+                                               instance is gone before the driving one starts */
+#define ROZ_CFG_AOT_MAX_TYPES         24    /* the 16 types the validator takes, and rozaot's 3 */
 /* what this image leaves out (roz/config.h; the saving of each: docs/firmware.md) */
 #define ROZ_CFG_NN_IMPORTS            0     /* the PD controller imports no nn.* */
 #define ROZ_CFG_BULK_IMPORTS          0     /* nor state.get_all, command.set_all */
