@@ -197,27 +197,10 @@ int roz__g1_parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err,
 
 /* ---- the registered check ---------------------------------------------------- */
 
-/* The caller's report, each text after ": " (what follows the file name). */
-typedef struct {
-    roz_unitree_g1_problem_fn report;
-    void                     *ctx;
-} after_file_t;
-
-static void after_file(void *ctx, const char *rule, const char *text)
-{
-    const after_file_t *f = ctx;
-    char line[ROZ_CFG_PROBLEM_LEN + 2];
-    size_t n = strlen(text);
-    /* a text that fills the buffer may have been cut: said with "..." */
-    int cut = n + 1 >= ROZ_CFG_PROBLEM_LEN;
-    roz_format(line, sizeof line, ": %.*s%s", (int)(cut ? n - 3 : n), text, cut ? "..." : "");
-    f->report(f->ctx, rule, line);
-}
-
 int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn report, void *ctx)
 {
     static roz_unitree_g1_t g1; /* host tools, one call at a time */
-    after_file_t f = { report, ctx };
+    roz_params_reporter_t to = { report, ctx };
     char err[ROZ_CFG_PROBLEM_LEN];
     roz_params_t p = { NULL, 0 };
     int rc;
@@ -226,12 +209,12 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     g1.m = m;
     rc = roz__g1_bind(&g1, m, err, sizeof err);
     if (rc != ROZ_OK) {
-        after_file(&f, rc == ROZ_ENOENT ? "g1-joint" : "g1-channel", err);
+        roz_params_report(&to, rc == ROZ_ENOENT ? "g1-joint" : "g1-channel", err);
         return ROZ_EINVAL;
     }
     if (m->hardware != NULL) {
         p.items = m->hardware->params;
         p.n = m->hardware->n_params;
     }
-    return roz__g1_parse_params(&g1, &p, err, sizeof err, after_file, &f);
+    return roz__g1_parse_params(&g1, &p, err, sizeof err, roz_params_report, &to);
 }

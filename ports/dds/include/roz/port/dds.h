@@ -100,7 +100,7 @@ typedef struct roz_dds_params {
                             "scheduling of Cyclone's receive, delivery and timed-event "        \
                             "threads"),                                                         \
     ROZ_PORT_PARAM_TEXT_ROW("dds_threads_priority", "1..99", "", "their priority with fifo"),   \
-    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", "64..65536", "",                           \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", ROZ_THREAD_STACK_KIB_RANGE, "",            \
                             "their stack size (default: the system's)"),                        \
     ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
                             "the command watchdog: the tick silent this long, the port sends "  \
