@@ -5,9 +5,8 @@
 robot.toml's bytes or every problem found. The rules themselves, from the
 TOML reader's refusals to the ports' [hardware] keys, are roz's C loader's
 and the ports' registered checks (``rozgen.checker``: their one
-implementation); rozgen adds the rules of the mujoco port, whose checks are
-still Python's (``rozgen.mujoco``), on a manifest that passed every other
-rule. It never
+implementation; the mujoco port's rules that need its model run after,
+``rozgen.mujoco``). It never
 stops at the first problem, and it never guesses: unknown keys are refused,
 because a typo such as ``max_rate = 0.5`` must not silently drop a safety
 limit.
@@ -31,7 +30,6 @@ and has no rule id.
 """
 
 from rozgen import checker as _checker
-from rozgen import mujoco
 from rozgen.model import Manifest, Maxima
 from rozgen.problems import Problem
 
@@ -45,9 +43,4 @@ def validate(data: bytes | str, maxima: Maxima = Maxima(),
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
-    manifest, problems = _checker.check(data, maxima, checker or _checker.find())
-    if manifest is None:
-        return None, problems
-    # the keys of the port whose rules rozgen still keeps, as it checks them at open
-    problems = [Problem(rule, message) for rule, message in mujoco.check(manifest)]
-    return (None if problems else manifest), problems
+    return _checker.check(data, maxima, checker or _checker.find())
