@@ -265,21 +265,6 @@ static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
     return roz_ros2_link_counters(&x->b, out);
 }
 
-static const roz_port_param_info_t x2_param_info[] = {
-    ROZ_ROS2_PARAM_INFO,
-    ROZ_PORT_PARAM_TEXT_ROW("joint_state_layout", "sdk|docs", "sdk",
-                            "the joint_state messages' layout"),
-};
-
-static const roz_port_info_t x2_info = {
-    .summary = "the AgiBot X2 over its AimDK ROS 2 topics on Cyclone DDS",
-    .header = "roz/port/agibot_x2.h",
-    .params = x2_param_info,
-    .n_params = sizeof x2_param_info / sizeof x2_param_info[0],
-    .no_crc = "ROS 2 messages carry no CRC (the headers' sequence numbers are checked instead)",
-    .no_sequence = NULL,
-};
-
 const roz_port_ops_t roz_agibot_x2_ops = {
     .name = "agibot/X2",
     .open = x2_open,
@@ -293,7 +278,7 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
-    .info = &x2_info,
+    .info = &roz__x2_info,
     .link_counters = x2_link_counters,
 };
 

@@ -38,8 +38,6 @@ const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS] = {
 
 /* ---- parameters ------------------------------------------------------------------- */
 
-const char *const roz__x2_own_keys[] = { "joint_state_layout", NULL };
-
 int roz__x2_params(void *v, const roz_params_t *p, char *err, size_t errlen)
 {
     roz_agibot_x2_t *x2 = v;
@@ -58,6 +56,23 @@ int roz__x2_params(void *v, const roz_params_t *p, char *err, size_t errlen)
     }
     return ROZ_OK;
 }
+
+/* ---- what the port says of itself: its parameters' rows, its known keys ---- */
+
+static const roz_port_param_info_t x2_param_info[] = {
+    ROZ_ROS2_PARAM_INFO,
+    ROZ_PORT_PARAM_TEXT_ROW("joint_state_layout", "sdk|docs", "sdk",
+                            "the joint_state messages' layout"),
+};
+
+const roz_port_info_t roz__x2_info = {
+    .summary = "the AgiBot X2 over its AimDK ROS 2 topics on Cyclone DDS",
+    .header = "roz/port/agibot_x2.h",
+    .params = x2_param_info,
+    .n_params = sizeof x2_param_info / sizeof x2_param_info[0],
+    .no_crc = "ROS 2 messages carry no CRC (the headers' sequence numbers are checked instead)",
+    .no_sequence = NULL,
+};
 
 /* ---- the registered check ---------------------------------------------------------- */
 

@@ -164,21 +164,6 @@ static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
     return roz_ros2_link_counters(&x->b, out);
 }
 
-static const roz_port_param_info_t pm01_param_info[] = {
-    ROZ_ROS2_PARAM_INFO,
-    ROZ_PORT_PARAM_TEXT_ROW("parallel_parser_type", "rl|classic|1|0", "rl",
-                            "the ankle parser: rl (the vendor's RL example) or classic"),
-};
-
-static const roz_port_info_t pm01_info = {
-    .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
-    .header = "roz/port/engineai_pm01.h",
-    .params = pm01_param_info,
-    .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
-    .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",
-    .no_sequence = NULL,
-};
-
 const roz_port_ops_t roz_engineai_pm01_ops = {
     .name = "engineai/PM01",
     .open = pm01_open,
@@ -192,7 +177,7 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
-    .info = &pm01_info,
+    .info = &roz__pm01_info,
     .link_counters = pm01_link_counters,
 };
 

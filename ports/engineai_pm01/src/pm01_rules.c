@@ -30,8 +30,6 @@ const roz_ros2_group_t roz__pm01_groups[1] = {
 
 /* ---- parameters ------------------------------------------------------------------- */
 
-const char *const roz__pm01_own_keys[] = { "parallel_parser_type", NULL };
-
 int roz__pm01_params(void *v, const roz_params_t *p, char *err, size_t errlen)
 {
     roz_engineai_pm01_t *pm = v;
@@ -50,6 +48,23 @@ int roz__pm01_params(void *v, const roz_params_t *p, char *err, size_t errlen)
     }
     return ROZ_OK;
 }
+
+/* ---- what the port says of itself: its parameters' rows, its known keys ---- */
+
+static const roz_port_param_info_t pm01_param_info[] = {
+    ROZ_ROS2_PARAM_INFO,
+    ROZ_PORT_PARAM_TEXT_ROW("parallel_parser_type", "rl|classic|1|0", "rl",
+                            "the ankle parser: rl (the vendor's RL example) or classic"),
+};
+
+const roz_port_info_t roz__pm01_info = {
+    .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
+    .header = "roz/port/engineai_pm01.h",
+    .params = pm01_param_info,
+    .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
+    .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",
+    .no_sequence = NULL,
+};
 
 /* ---- the registered check ---------------------------------------------------------- */
 

@@ -9,17 +9,19 @@
 
 #include "roz/port/engineai_pm01.h"
 
-/* The robot's one joint group, its own parameters (NULL-terminated) and
- * their reader. */
+/* The robot's one joint group and its own parameter's reader. */
 extern const roz_ros2_group_t roz__pm01_groups[1];
-extern const char *const roz__pm01_own_keys[];
 int roz__pm01_params(void *v, const roz_params_t *p, char *err, size_t errlen);
+
+/* What the port says of itself (its ops' info): its parameter rows, the
+ * robot's known keys. */
+extern const roz_port_info_t roz__pm01_info;
 
 /* The robot's fields its rules read: the first initializers of its
  * roz_ros2_robot_t, in the port (pm01_port.c) and in its check. */
 #define ROZ__PM01_ROBOT_RULES                                                                   \
     .port = "engineai/PM01", .groups = roz__pm01_groups, .n_groups = 1,                         \
     .imu_topic = "rt/hardware/imu_info", .default_domain = ROZ_ENGINEAI_PM01_DOMAIN,            \
-    .has_sequence = 0, .keys = roz__pm01_own_keys, .params = roz__pm01_params
+    .has_sequence = 0, .info = &roz__pm01_info, .params = roz__pm01_params
 
 #endif /* ROZ_PM01_RULES_H */

@@ -12,12 +12,6 @@
 
 #include "roz/hal/params.h"
 
-#define MAX_KEYS 32
-
-static const char *const common_keys[] = { ROZ_DDS_PARAM_KEYS, "peer_timeout_ms",
-                                           "startup_damping", "shutdown_damping", "link_check",
-                                           "cmd_vel_topic", "joy_topic", "joy_map", NULL };
-
 /* ---- parameters ---------------------------------------------------------------- */
 
 static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *err,
@@ -99,8 +93,6 @@ int roz__ros2_parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *er
                            size_t errlen, roz_params_problem_fn report, void *ctx)
 {
     const roz_ros2_robot_t *r = b->robot;
-    const char *keys[MAX_KEYS];
-    size_t n = 0;
     double lo, hi;
     int bad = 0;
 
@@ -114,12 +106,8 @@ int roz__ros2_parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *er
             bad = 1;                                                                           \
         }                                                                                      \
     } while (0)
-    for (size_t i = 0; common_keys[i] != NULL; i++)
-        keys[n++] = common_keys[i];
-    for (size_t i = 0; r->keys != NULL && r->keys[i] != NULL && n + 1 < MAX_KEYS; i++)
-        keys[n++] = r->keys[i];
-    keys[n] = NULL;
-    STEP("unknown-key", roz_params_check_known(p, keys, r->port, err, errlen));
+    STEP("unknown-key", roz_params_check_known_rows(p, r->info->params, r->info->n_params, r->port,
+                                                    err, errlen));
     STEP("ros2-param", roz_dds_params_parse(&b->dds, p, r->default_domain,
                                             b->m->control_rate_hz, err, errlen));
     STEP("ros2-param", roz_params_get_row_u32(p, bridge_rows,

@@ -198,7 +198,10 @@ typedef struct roz_ros2_robot {
     const roz_dds_qos_t    *state_qos;      /**< the state and IMU readers */
     const roz_dds_qos_t    *command_qos;    /**< the command writers */
     int                     has_sequence;   /**< the state headers carry a sequence */
-    const char *const      *keys;           /**< the port's own parameters, NULL-terminated */
+    /** what the port says of itself: its parameter rows are its known keys,
+     *  in the order an unknown key's error lists them (ROZ_ROS2_PARAM_INFO,
+     *  then its own) */
+    const roz_port_info_t  *info;
     const char *const      *fault_kinds;    /**< what rx.fault_kind names, static */
     /** The port's own parameters. Context: open. */
     int (*params)(void *v, const roz_params_t *p, char *err, size_t errlen);
