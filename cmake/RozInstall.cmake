@@ -52,7 +52,7 @@ endif()
 if(TARGET roz_ros2)
   # roz::ros2 and ROS 2's standard messages (idlc-generated, linked privately
   # by it and by the ports' own generated types)
-  list(APPEND _roz_targets roz_ros2_msgs roz_ros2)
+  list(APPEND _roz_targets roz_ros2_msgs roz_ros2_rules roz_ros2)
   set_target_properties(roz_ros2_msgs PROPERTIES EXPORT_NAME ros2_msgs)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/ros2/include/roz
           DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")

@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The robot.toml rules, run where they are written: in C.
 
-Every rule of robot.toml, the TOML reader's refusals and the socketcan
-port's rules of its [hardware] keys have one implementation, roz's C
-loader (``host/toml/src/manifest_toml.c``, ``ports/socketcan/src/can_config.c``),
+Every rule of robot.toml, the TOML reader's refusals and the ports' rules
+of their [hardware] keys have one implementation, roz's C loader
+(``host/toml/src/manifest_toml.c``) and each port's registered check
+(``roz_add_port_rules()``: ``ports/socketcan/src/can_config.c``, ...),
 as Cyclone DDS's idlc is the one parser of IDL. rozgen runs it as the
 program ``roz_manifest_json --rozgen`` (``tools/manifest_json``), which
 prints either every problem (``<rule>\\t<text>`` lines) or the manifest

@@ -1,13 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The [hardware] keys of a robot on the mujoco port (physics): the rules of
-``ports/mujoco/src/mujoco.c`` that need no model, with the same words, so
-that rozgen refuses at build time what the port would refuse at open. The
-keys, their values and defaults are documented in ``docs/ports/mujoco.md``.
+"""The [hardware] keys of a robot on the mujoco port (physics) that need its
+model. The rules of the keys that need none are the port's own, in C
+(``ports/mujoco/src/mj_params.c``), run by rozgen's checker; the keys,
+their values and defaults are documented in ``docs/ports/mujoco.md``.
 
-``check(manifest)`` runs on a manifest that passed every other rule and
-returns ``(rule, message)`` pairs, messages starting with ``": "``.
-
-``check_model(manifest, toml_path)`` then reads the model the file names
+``check_model(manifest, toml_path)`` reads the model the file names
 (``rozgen.mjcf``; the path relative to the robot.toml) and checks what the
 port's open checks against it, with its words: every joint bound to a
 joint of the model and an actuator (by name, or ``joint_names``), the IMU's
@@ -39,106 +36,9 @@ from rozgen.model import Manifest
 
 PORT = "mujoco"
 
-#: in the order of mujoco.c's known_keys (its error lists them so)
-KEYS = (
-    "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
-    "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
-    "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
-    "drop", "freeze", "delay", "push", "gantry", "restart",
-    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust",
-    "payload", "mass_scale", "friction_scale", "strength_scale", "gains_scale", "joint_damping",
-    "joint_armature", "command_latency_ticks", "bias_position", "bias_gyro",
-    "bias_accelerometer", "bias_orientation",
-)
-
-#: numbers the port reads with roz_params_get_double(), in the order it
-#: reads them, and their ranges
-NUMBERS = (
-    ("wheel_radius", 1e-4, 10.0),
-    ("wheel_separation", 1e-3, 100.0),
-    ("max_thrust", 0.0, 1e6),
-    ("servo_kp", 0.0, 1e7),
-    ("servo_kd", 0.0, 1e6),
-    ("noise_position", 0.0, 1.0),
-    ("noise_velocity", 0.0, 10.0),
-    ("noise_effort", 0.0, 100.0),
-    ("noise_gyro", 0.0, 10.0),
-    ("noise_accelerometer", 0.0, 100.0),
-    ("timestep", 1e-6, 1.0),
-)
-#: integers (roz_params_get_u32())
-INTEGERS = (("latency_ticks", 0, 15), ("noise_seed", 0, 4294967295))
-#: the perturbations' numbers (mujoco.c's perturb_open(), read after the
-#: model loaded, in its order): (key, integer?, lo, hi); payload and
-#: strength_scale name the model's bodies and joints, checked at open
-PERTURBATIONS = (
-    ("mass_scale", False, 0.1, 10.0),
-    ("friction_scale", False, 0.01, 10.0),
-    ("gains_scale", False, 0.0, 10.0),
-    ("joint_damping", False, 0.0, 1000.0),
-    ("joint_armature", False, 0.0, 100.0),
-    ("command_latency_ticks", True, 0, 15),
-    ("bias_position", False, 0.0, 1.0),
-    ("bias_gyro", False, 0.0, 10.0),
-    ("bias_accelerometer", False, 0.0, 100.0),
-    ("bias_orientation", False, 0.0, 0.5),
-)
-
-
 def _g(x: float) -> str:
     """C's %g."""
     return f"{x:g}"
-
-
-def _number(v: str) -> float | None:
-    """strtod() over the whole string, finite; None otherwise."""
-    try:
-        x = float(v)
-    except ValueError:
-        return None
-    if v != v.rstrip() or v.strip().lower().lstrip("+-") in ("nan", "inf", "infinity") or not math.isfinite(x):
-        return None
-    return x
-
-
-def check(m: Manifest) -> list[tuple[str, str]]:
-    hw = m.hardware
-    if hw is None or hw.port != PORT:
-        return []
-    params = dict(hw.params)
-    for key, _ in hw.params:
-        if key not in KEYS:
-            return [("unknown-key",
-                     f': unknown parameter "{key}" for port {PORT} (known: {" ".join(KEYS)})')]
-    problems = []
-    for key, lo, hi in NUMBERS:
-        v = params.get(key)
-        if v is not None:
-            x = _number(v)
-            if x is None or x < lo or x > hi:
-                problems.append(("mujoco-param", f': parameter {key} = "{v}": expected a number '
-                                 f"in {_g(lo)}..{_g(hi)}"))
-    for key, lo, hi in INTEGERS:
-        v = params.get(key)
-        if v is not None and not (v.isdigit() and v.isascii() and lo <= int(v) <= hi):
-            problems.append(("mujoco-param", f': parameter {key} = "{v}": expected an integer '
-                             f"in {lo}..{hi}"))
-    unbound = params.get("unbound")
-    if unbound is not None and unbound not in ("lock", "limp"):
-        problems.append(("mujoco-param", f': parameter unbound = "{unbound}": expected lock or limp'))
-    for key, integer, lo, hi in PERTURBATIONS:
-        v = params.get(key)
-        if v is None:
-            continue
-        if integer and not (v.isdigit() and v.isascii() and lo <= int(v) <= hi):
-            problems.append(("mujoco-param", f': parameter {key} = "{v}": expected an integer '
-                             f"in {lo}..{hi}"))
-        elif not integer:
-            x = _number(v)
-            if x is None or x < lo or x > hi:
-                problems.append(("mujoco-param", f': parameter {key} = "{v}": expected a number '
-                                 f"in {_g(lo)}..{_g(hi)}"))
-    return problems
 
 
 #: the robots the port has built-in models for (mujoco.c's builtins): a

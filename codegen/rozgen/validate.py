@@ -3,10 +3,10 @@
 
 ``validate(data, maxima)`` returns the ``rozgen.model.Manifest`` of a
 robot.toml's bytes or every problem found. The rules themselves, from the
-TOML reader's refusals to the socketcan port's keys, are roz's C loader's
-(``rozgen.checker``: their one implementation); rozgen adds the rules of
-the ports whose checks are still Python's (``rozgen.dds_ports``,
-``rozgen.mujoco``), on a manifest that passed every other rule. It never
+TOML reader's refusals to the ports' [hardware] keys, are roz's C loader's
+and the ports' registered checks (``rozgen.checker``: their one
+implementation; the mujoco port's rules that need its model run after,
+``rozgen.mujoco``). It never
 stops at the first problem, and it never guesses: unknown keys are refused,
 because a typo such as ``max_rate = 0.5`` must not silently drop a safety
 limit.
@@ -30,7 +30,6 @@ and has no rule id.
 """
 
 from rozgen import checker as _checker
-from rozgen import dds_ports, mujoco
 from rozgen.model import Manifest, Maxima
 from rozgen.problems import Problem
 
@@ -44,10 +43,4 @@ def validate(data: bytes | str, maxima: Maxima = Maxima(),
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
-    manifest, problems = _checker.check(data, maxima, checker or _checker.find())
-    if manifest is None:
-        return None, problems
-    # the keys of the ports whose rules rozgen still keeps, as they check them at open
-    problems = [Problem(rule, message)
-                for rule, message in dds_ports.check(manifest) + mujoco.check(manifest)]
-    return (None if problems else manifest), problems
+    return _checker.check(data, maxima, checker or _checker.find())

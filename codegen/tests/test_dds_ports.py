@@ -1,86 +1,16 @@
 # SPDX-License-Identifier: Apache-2.0
 """rozgen's checks of a DDS port robot's [hardware] keys beyond the shared
 vectors (manifests/invalid/g1-*, ros2-*, unknown-key--g1/--ros2, which the
-ports themselves open in test_port_vectors): the ROS 2 robots' joints, the
-keys and the ranges are those of the ports' C sources (unitree/G1's are the
-port's C rules themselves, run by the checker); the built-in robots pass;
-several problems are all reported, the port's first one first; the number
-parser reads what strtod reads."""
-
-import re
+ports themselves open in test_port_vectors): the ports' own C rules
+(ports/unitree_g1/src/g1_rules.c, ports/ros2/src/ros2_rules.c and each ROS 2
+robot's), run by the checker. The built-in robots pass; several problems
+are all reported, the port's first one first; the numbers read are what
+strtod reads."""
 
 import pytest
 
-from conftest import REPO, run_rozgen
-from rozgen import dds_ports
+from conftest import run_rozgen
 from rozgen.validate import validate
-
-
-def _c(path: str) -> str:
-    return (REPO / path).read_text(encoding="utf-8")
-
-
-def _strings(c_array: str) -> tuple[str, ...]:
-    return tuple(re.findall(r'"([^"]*)"', c_array))
-
-
-def _array(text: str, name: str) -> str:
-    found = re.search(name + r"\[[^\]]*\] = \{(.*?)\};", text, re.S)
-    assert found, name
-    return found.group(1)
-
-
-def _define(text: str, name: str) -> int:
-    found = re.search(r"#define " + name + r" ([0-9]+)u?\b", text)
-    assert found, name
-    return int(found.group(1))
-
-
-def test_x2_groups_are_the_ports():
-    text = _c("ports/agibot_x2/src/x2_port.c")
-    groups = re.findall(r'\{ "(\w+)", "rt/[^"]*", "rt/[^"]*", (\w+), (\d+) \}', text)
-    assert [g for g, _, _ in groups] == [g for g, _ in dds_ports.X2_GROUPS]
-    for (group, array, n), (_, joints) in zip(groups, dds_ports.X2_GROUPS):
-        assert _strings(_array(text, array)) == joints, group
-        assert int(n) == len(joints), group
-
-
-def test_pm01_joints_are_the_ports():
-    text = _c("ports/engineai_pm01/src/pm01_port.c")
-    joints = _strings(_array(text, r"roz_engineai_pm01_joints"))
-    assert (("body", joints),) == dds_ports.PM01_GROUPS
-
-
-def test_keys_are_the_ports():
-    dds_h = _c("ports/dds/include/roz/port/dds.h")
-    macro = re.search(r"#define ROZ_DDS_PARAM_KEYS(.*?)\n\n", dds_h, re.S).group(1)
-    keys = _strings(macro)
-    assert "ROZ_CMD_WATCHDOG_KEY" in macro
-    watchdog = re.search(r'#define ROZ_CMD_WATCHDOG_KEY "(\w+)"',
-                         _c("hal/include/roz/hal/cmd_watchdog.h")).group(1)
-    assert dds_ports.DDS_KEYS == keys + (watchdog,)
-    common = _array(_c("ports/ros2/src/ros2_bridge.c"), "common_keys")
-    assert dds_ports.ROS2_KEYS == dds_ports.DDS_KEYS + _strings(common)
-    for port, path in ((dds_ports.X2, "ports/agibot_x2/src/x2_port.c"),
-                       (dds_ports.PM01, "ports/engineai_pm01/src/pm01_port.c")):
-        own = _strings(_array(_c(path), "own_keys"))
-        assert port.keys == dds_ports.ROS2_KEYS + own and own == (port.own,)
-
-
-def test_limits_are_the_headers():
-    dds_h = _c("ports/dds/include/roz/port/dds.h")
-    wd_h = _c("hal/include/roz/hal/cmd_watchdog.h")
-    assert dds_ports.IFNAME_MAX == _define(dds_h, "ROZ_DDS_IFNAME_MAX")
-    assert dds_ports.MAX_DOMAIN == _define(dds_h, "ROZ_DDS_MAX_DOMAIN")
-    assert dds_ports.MIN_PERIOD_US == _define(dds_h, "ROZ_DDS_MIN_PERIOD_US")
-    assert dds_ports.MAX_PERIOD_US == _define(dds_h, "ROZ_DDS_MAX_PERIOD_US")
-    assert dds_ports.MAX_SPIN_US == _define(dds_h, "ROZ_DDS_MAX_SPIN_US")
-    assert dds_ports.WATCHDOG_DEFAULT_US == _define(wd_h, "ROZ_CMD_WATCHDOG_DEFAULT_US")
-    assert dds_ports.WATCHDOG_DEFAULT_PERIODS == _define(wd_h,
-                                                         "ROZ_CMD_WATCHDOG_DEFAULT_PERIODS")
-    assert dds_ports.WATCHDOG_MIN_PERIODS == _define(wd_h, "ROZ_CMD_WATCHDOG_MIN_PERIODS")
-    assert dds_ports.WATCHDOG_MAX_US == _define(wd_h, "ROZ_CMD_WATCHDOG_MAX_US")
-    assert dds_ports.MAX_JOINTS == _define(_c("lib/include/roz/config.h"), "ROZ_CFG_MAX_JOINTS")
 
 
 @pytest.mark.parametrize("name", ["unitree_g1", "unitree_g1_23dof", "agibot_x2",
@@ -106,7 +36,7 @@ default = 0.0
 name = "left_knee_joint/damping"
 interface_type = "damping"
 unit = "N.m.s/rad"
-limits = [0.5, 10.0]
+limits = [{damping}]
 default = 2.0
 
 [[manifest.states]]
@@ -122,8 +52,8 @@ joints = [{joints}]
 """
 
 
-def _problems(port="unitree/G1", joints='"left_knee_joint"', params=""):
-    _, problems = validate(_KNEE.format(port=port, joints=joints) + params)
+def _problems(port="unitree/G1", joints='"left_knee_joint"', params="", damping="0.5, 10.0"):
+    _, problems = validate(_KNEE.format(port=port, joints=joints, damping=damping) + params)
     return [(p.rule, p.message) for p in problems]
 
 
@@ -209,7 +139,25 @@ joint_state_layout = "docs"
 mode_pr = "PR"
 """)
     assert x2 == [("unknown-key", ': unknown parameter "mode_pr" for port agibot/X2 (known: '
-                   + " ".join(dds_ports.X2.keys) + ")")]
+                   "network_interface dds_domain enable_monitor exit_stop "
+                   "command_writer_period_us command_writer_spin_us state_decimation "
+                   "command_writer_sched command_writer_priority command_writer_cpus "
+                   "command_writer_stack_kib dds_threads_sched dds_threads_priority "
+                   "dds_threads_stack_kib command_timeout_us peer_timeout_ms startup_damping "
+                   "shutdown_damping link_check cmd_vel_topic joy_topic joy_map "
+                   "joint_state_layout)")]
+
+
+def test_the_ros2_ports_report_every_parameter_step():
+    # the open stops at link_check; the check goes on to the robot's own key
+    robot = _KNEE.replace("left_knee_joint", "J03_KNEE_PITCH_L").format(
+        port="engineai/PM01", joints='"J03_KNEE_PITCH_L"', damping="0.5, 10.0")
+    _, problems = validate(robot + '[hardware.params]\nlink_check = "sequence"\n'
+                           'parallel_parser_type = "RL"\n')
+    got = [(p.rule, p.message) for p in problems]
+    assert [rule for rule, _ in got] == ["ros2-param", "ros2-param"]
+    assert got[0][1].startswith(': parameter link_check = "sequence": expected stamp')
+    assert got[1][1].startswith(': parameter parallel_parser_type = "RL": expected rl')
 
 
 def test_other_ports_are_left_alone():
@@ -224,7 +172,12 @@ def test_other_ports_are_left_alone():
     ("inf", None), ("nan", None), ("1e400", float("inf")), ("١", None),
 ])
 def test_numbers_as_strtod_reads_them(text, value):
-    assert dds_ports.strtod_whole(text) == value
+    # a gain within the damping channel's [0, 100] is taken, anything else refused
+    got = _problems(params=f'[hardware.params]\nstartup_damping = "{text}"\n'.replace("\t", "\\t"),
+                    damping="0.0, 100.0")
+    taken = value is not None and 0.0 <= value <= 100.0
+    assert got == ([] if taken else [("g1-param", f': parameter startup_damping = "{text}": '
+                                      "expected a number in 0..100")])
 
 
 @pytest.mark.parametrize("text,ok", [
@@ -233,4 +186,6 @@ def test_numbers_as_strtod_reads_them(text, value):
     ("١", False),
 ])
 def test_integers_as_the_port_reads_them(text, ok):
-    assert (dds_ports.u32(text, 0, 232) is not None) == ok
+    got = _problems(params=f'[hardware.params]\ndds_domain = "{text}"\n')
+    assert got == ([] if ok else [("g1-param", f': parameter dds_domain = "{text}": expected an '
+                                   "integer in 0..232")])

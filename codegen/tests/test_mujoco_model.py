@@ -235,3 +235,21 @@ def test_check_asks_the_port_for_a_builtin_model(tmp_path):
     assert p.returncode == 2, p.stdout + p.stderr
     assert 'joint "left_knee_joint": the manifest\'s effort limits [-500, 500] N.m exceed' \
         in p.stderr, p.stderr
+
+
+def test_keys_are_the_ports_rules_every_problem_said():
+    """The keys that need no model are the port's own rules (mj_params.c,
+    run by the checker): an unknown key is said alone, as the port's open
+    says it; otherwise every number and word out of its row is said, in
+    the open's order (the perturbations last, as it reads them once the
+    model loaded)."""
+    text = (INVALID / "mujoco-param.toml").read_text(encoding="utf-8")
+    text = text[:text.index("[hardware.params]")] + "[hardware.params]\n"
+    _, problems = validate(text + 'mass_scale = "0"\nunbound = "free"\nwheel_radius = "0"\n')
+    assert [(p.rule, p.message) for p in problems] == [
+        ("mujoco-param", ': parameter wheel_radius = "0": expected a number in 0.0001..10'),
+        ("mujoco-param", ': parameter unbound = "free": expected lock or limp'),
+        ("mujoco-param", ': parameter mass_scale = "0": expected a number in 0.1..10'),
+    ]
+    _, problems = validate(text + 'mass_scale = "0"\nmodle = "x.xml"\n')
+    assert [p.rule for p in problems] == ["unknown-key"]

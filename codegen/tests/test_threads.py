@@ -1,10 +1,48 @@
 # SPDX-License-Identifier: Apache-2.0
-"""rozgen's reading of a thread's keys (rozgen/threads.py) against what
-roz_thread_params() (hal/src/thread.c) accepts and says; the C side of the
-same words is checked on the shared vectors (manifests/invalid/*thread*)."""
+"""A thread's keys as rozgen reports them: roz_thread_params()
+(hal/src/thread.c), their one implementation, run through the checker on a
+robot of a port that reads them (unitree/G1: its command writer, and
+Cyclone's threads, which have no round-robin class); the shared vectors
+(manifests/invalid/*thread*) hold the same words."""
 import pytest
 
-from rozgen import threads
+from rozgen.validate import validate
+
+_ROBOT = """
+[manifest]
+robot_id = "knee"
+control_rate_hz = 500
+
+[[manifest.commands]]
+name = "left_knee_joint/position"
+interface_type = "position"
+unit = "rad"
+limits = [-0.09, 2.88]
+default = 0.0
+
+[[manifest.states]]
+name = "left_knee_joint/position"
+interface_type = "position"
+unit = "rad"
+limits = [-0.09, 2.88]
+default = 0.0
+
+[hardware]
+port = "unitree/G1"
+joints = ["left_knee_joint"]
+"""
+
+
+def _full(text: str, prefix: str) -> str:
+    """The table's "w_" keys as the thread @p prefix's."""
+    return text.replace("w_", prefix + "_")
+
+
+def _said(params: dict, prefix: str = "command_writer") -> list[str]:
+    lines = "".join(f'{_full(k, prefix)} = "{v}"\n' for k, v in params.items())
+    _, problems = validate(_ROBOT + "[hardware.params]\n" + lines)
+    return [p.message for p in problems]
+
 
 OK = [
     {},
@@ -36,20 +74,19 @@ BAD = [
 
 @pytest.mark.parametrize("params", OK)
 def test_threads_accepts(params):
-    assert threads.problem(params, "w") is None
+    assert _said(params) == []
 
 
 @pytest.mark.parametrize("params,said", BAD)
 def test_threads_refuses_in_the_c_words(params, said):
-    assert threads.problem(params, "w") == said
+    assert _said(params) == [": " + _full(said, "command_writer")]
 
 
 def test_threads_cyclone_has_no_round_robin():
-    said = threads.cyclone_problem({"dds_threads_sched": "rr", "dds_threads_priority": "4"})
-    assert said == ('parameter dds_threads_sched = "rr": expected other or fifo (Cyclone DDS '
-                    "has no round-robin class)")
-    assert threads.cyclone_problem({"dds_threads_sched": "fifo", "dds_threads_priority": "4"}) \
-        is None
+    said = _said({"w_sched": "rr", "w_priority": "4"}, "dds_threads")
+    assert said == [': parameter dds_threads_sched = "rr": expected other or fifo (Cyclone DDS '
+                    "has no round-robin class)"]
+    assert _said({"w_sched": "fifo", "w_priority": "4"}, "dds_threads") == []
     # the priority's problem first, as the port finds it
-    assert threads.cyclone_problem({"dds_threads_sched": "rr"}) == \
-        "parameter dds_threads_sched = rr: needs dds_threads_priority (1..99)"
+    assert _said({"w_sched": "rr"}, "dds_threads") == \
+        [": parameter dds_threads_sched = rr: needs dds_threads_priority (1..99)"]

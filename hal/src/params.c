@@ -220,23 +220,35 @@ const char *roz_params_find(const roz_params_t *p, const char *key)
     return v;
 }
 
-int roz_params_check_known(const roz_params_t *p, const char *const *known, const char *port,
-                           char *err, size_t errlen)
+/* The @p i-th known key: of the NULL-terminated list @p known, else of the
+ * @p n rows; NULL past the last. */
+static const char *known_key(const char *const *known, const roz_port_param_info_t *rows,
+                             size_t n, size_t i)
+{
+    if (known != NULL)
+        return known[i];
+    return i < n ? rows[i].key : NULL;
+}
+
+static int check_known(const roz_params_t *p, const char *const *known,
+                       const roz_port_param_info_t *rows, size_t n, const char *port, char *err,
+                       size_t errlen)
 {
     if (p == NULL)
         return ROZ_OK;
     for (size_t i = 0; i < p->n; i++) {
         int found = 0;
-        for (const char *const *k = known; *k != NULL && !found; k++)
-            found = strcmp(*k, p->items[i].key) == 0;
+        const char *k;
+        for (size_t j = 0; (k = known_key(known, rows, n, j)) != NULL && !found; j++)
+            found = strcmp(k, p->items[i].key) == 0;
         if (!found && errlen > 0u) {
             roz_text_t t;
             roz_text_init(&t, err, errlen);
             roz_text_format(&t, "unknown parameter \"%s\" for port %s (known:", p->items[i].key,
                             port);
-            for (const char *const *k = known; *k != NULL; k++) {
+            for (size_t j = 0; (k = known_key(known, rows, n, j)) != NULL; j++) {
                 roz_text_put(&t, " ");
-                roz_text_put(&t, *k);
+                roz_text_put(&t, k);
             }
             roz_text_put(&t, ")");
         }
@@ -244,6 +256,28 @@ int roz_params_check_known(const roz_params_t *p, const char *const *known, cons
             return ROZ_ENOENT;
     }
     return ROZ_OK;
+}
+
+int roz_params_check_known(const roz_params_t *p, const char *const *known, const char *port,
+                           char *err, size_t errlen)
+{
+    return check_known(p, known, NULL, 0, port, err, errlen);
+}
+
+int roz_params_check_known_rows(const roz_params_t *p, const roz_port_param_info_t *rows,
+                                size_t n, const char *port, char *err, size_t errlen)
+{
+    return check_known(p, NULL, rows, n, port, err, errlen);
+}
+
+void roz_params_report(void *reporter, const char *rule, const char *text)
+{
+    const roz_params_reporter_t *to = reporter;
+    char line[ROZ_CFG_PROBLEM_LEN + 2];
+    size_t n = strlen(text);
+    int cut = n + 1 >= ROZ_CFG_PROBLEM_LEN;
+    roz_format(line, sizeof line, ": %.*s%s", (int)(cut ? n - 3 : n), text, cut ? "..." : "");
+    to->report(to->ctx, rule, line);
 }
 
 int roz_params_get_u32(const roz_params_t *p, const char *key, uint32_t def, uint32_t min,

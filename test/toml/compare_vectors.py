@@ -20,12 +20,12 @@ lines, the same rule id on each, and the same text, except that
 - a C line may be cut to ROZ_CFG_PROBLEM_LEN and end in "...", when it is
   a prefix of rozgen's.
 
-The C tool checks a port's own [hardware] keys for the socketcan port only.
-A bad vector for a DDS port (unitree/G1, agibot/X2, engineai/PM01) or the
-mujoco port that
-rozgen refuses by that port's rules alone is one the C loader must read
-(exit 0): the port refuses it at open, and test_port_vectors checks that it
-does so in rozgen's words.
+The C tool checks a port's own [hardware] keys where the port registered
+its rules (roz_add_port_rules(): socketcan, the DDS ports, the mujoco
+port's keys that need no model); rozgen runs the same. A bad vector for
+the mujoco port that rozgen refuses by the rules that need its model
+(rozgen's own) is one the C tool reads (exit 0): the port refuses it at
+open, and test_port_vectors checks that it does so in rozgen's words.
 
 Paths are given relative to REPO, from REPO, as in the .expected files.
 Exit status 0 when every vector agrees, 1 otherwise.

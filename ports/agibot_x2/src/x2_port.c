@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port agibot/X2: the robot's description for roz::ros2 (four joint
- * groups, the torso IMU, topics, types, QoS) and its conversions between
- * aimdk_msgs messages and joint values. roz/port/agibot_x2.h says what it does. */
+ * groups, the torso IMU, topics, types, QoS; what its rules read of it,
+ * x2_rules.c) and its conversions between aimdk_msgs messages and joint
+ * values. roz/port/agibot_x2.h says what it does. */
 #include "roz/port/agibot_x2.h"
 
 #include <stddef.h>
@@ -11,7 +12,7 @@
 
 #include "aimdk_msgs.h"
 #include "ros2_msgs.h"
-#include "roz/hal/params.h"
+#include "x2_rules.h"
 
 typedef aimdk_msgs_msg_dds__JointStateArray_ x2_state_t;
 typedef aimdk_msgs_msg_dds__JointState_ x2_joint_t;
@@ -33,30 +34,6 @@ _Static_assert(offsetof(x2_state_t, header) == offsetof(x2_docs_state_t, header)
                    offsetof(x2_state_t, state) == offsetof(x2_docs_state_t, state),
                "both layouts share the header and the error state");
 
-static const char *const leg[] = {
-    "left_hip_pitch_joint",  "left_hip_roll_joint",     "left_hip_yaw_joint",
-    "left_knee_joint",       "left_ankle_pitch_joint",  "left_ankle_roll_joint",
-    "right_hip_pitch_joint", "right_hip_roll_joint",    "right_hip_yaw_joint",
-    "right_knee_joint",      "right_ankle_pitch_joint", "right_ankle_roll_joint",
-};
-static const char *const waist[] = { "waist_yaw_joint", "waist_pitch_joint",
-                                     "waist_roll_joint" };
-static const char *const arm[] = {
-    "left_shoulder_pitch_joint",  "left_shoulder_roll_joint",  "left_shoulder_yaw_joint",
-    "left_elbow_joint",           "left_wrist_yaw_joint",      "left_wrist_pitch_joint",
-    "left_wrist_roll_joint",      "right_shoulder_pitch_joint", "right_shoulder_roll_joint",
-    "right_shoulder_yaw_joint",   "right_elbow_joint",         "right_wrist_yaw_joint",
-    "right_wrist_pitch_joint",    "right_wrist_roll_joint",
-};
-static const char *const head[] = { "head_yaw_joint", "head_pitch_joint" };
-
-const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS] = {
-    { "leg", "rt/aima/hal/joint/leg/state", "rt/aima/hal/joint/leg/command", leg, 12 },
-    { "waist", "rt/aima/hal/joint/waist/state", "rt/aima/hal/joint/waist/command", waist, 3 },
-    { "arm", "rt/aima/hal/joint/arm/state", "rt/aima/hal/joint/arm/command", arm, 14 },
-    { "head", "rt/aima/hal/joint/head/state", "rt/aima/hal/joint/head/command", head, 2 },
-};
-
 /* What rx.fault_kind names (1 + index). */
 enum { K_DAMPING = 0, K_POWER_OFF, K_DISABLED, K_COMM_LOST, K_UNKNOWN, K_JOINT };
 static const char *const fault_kinds[] = {
@@ -67,29 +44,6 @@ static const char *const fault_kinds[] = {
     "DomainErrorState (a value the documentation does not list)",
     "joint error_code",
 };
-
-static const char *const own_keys[] = { "joint_state_layout", NULL };
-
-/* ---- parameters ------------------------------------------------------------------- */
-
-static int x2_params(void *v, const roz_params_t *p, char *err, size_t errlen)
-{
-    roz_agibot_x2_t *x2 = v;
-    const char *s = roz_params_get_str(p, "joint_state_layout", "sdk");
-    if (strcmp(s, "sdk") == 0) {
-        x2->docs_layout = 0;
-    } else if (strcmp(s, "docs") == 0) {
-        x2->docs_layout = 1;
-    } else {
-        snprintf(err, errlen,
-                 "parameter joint_state_layout = \"%s\": expected sdk (the SDK's JointState: "
-                 "name, position, velocity, effort, error_code; the default) or docs (the "
-                 "online documentation's: ..., coil_temp, motor_temp, motor_vol)",
-                 s);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
 
 /* ---- state -------------------------------------------------------------------------- */
 
@@ -266,17 +220,10 @@ static void x2_encode(void *v, uint16_t group, const roz_ros2_cmd_t *c, void *sa
 /* ---- the robot ------------------------------------------------------------------------ */
 
 static const roz_ros2_robot_t x2_robot = {
-    .port = "agibot/X2",
-    .groups = roz_agibot_x2_groups,
-    .n_groups = ROZ_AGIBOT_X2_GROUPS,
-    .imu_topic = "rt/aima/hal/imu/torso/state",
-    .default_domain = 0,
+    ROZ__X2_ROBOT_RULES,
     .state_qos = &roz_dds_qos_sensor_data,
     .command_qos = &roz_dds_qos_sensor_data,
-    .has_sequence = 1,
-    .keys = own_keys,
     .fault_kinds = fault_kinds,
-    .params = x2_params,
     .state_type = x2_state_type,
     .imu_type = &sensor_msgs_msg_dds__Imu__desc,
     .imu_size = sizeof(x2_imu_t),
@@ -318,21 +265,6 @@ static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
     return roz_ros2_link_counters(&x->b, out);
 }
 
-static const roz_port_param_info_t x2_param_info[] = {
-    ROZ_ROS2_PARAM_INFO,
-    ROZ_PORT_PARAM_TEXT_ROW("joint_state_layout", "sdk|docs", "sdk",
-                            "the joint_state messages' layout"),
-};
-
-static const roz_port_info_t x2_info = {
-    .summary = "the AgiBot X2 over its AimDK ROS 2 topics on Cyclone DDS",
-    .header = "roz/port/agibot_x2.h",
-    .params = x2_param_info,
-    .n_params = sizeof x2_param_info / sizeof x2_param_info[0],
-    .no_crc = "ROS 2 messages carry no CRC (the headers' sequence numbers are checked instead)",
-    .no_sequence = NULL,
-};
-
 const roz_port_ops_t roz_agibot_x2_ops = {
     .name = "agibot/X2",
     .open = x2_open,
@@ -346,7 +278,7 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
-    .info = &x2_info,
+    .info = &roz__x2_info,
     .link_counters = x2_link_counters,
 };
 

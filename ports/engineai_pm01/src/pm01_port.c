@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* The port engineai/PM01: the robot's description for roz::ros2 (its one
- * joint group, topics, types, QoS) and its conversions between
+ * joint group, topics, types, QoS; what its rules read of it,
+ * pm01_rules.c) and its conversions between
  * interface_protocol messages and joint values. roz/port/engineai_pm01.h says
  * what it does. */
 #include "roz/port/engineai_pm01.h"
@@ -10,7 +11,7 @@
 #include <string.h>
 
 #include "interface_protocol.h"
-#include "roz/hal/params.h"
+#include "pm01_rules.h"
 
 typedef interface_protocol_msg_dds__JointState_ pm01_state_t;
 typedef interface_protocol_msg_dds__JointCommand_ pm01_cmd_t;
@@ -23,45 +24,8 @@ _Static_assert(sizeof(pm01_state_t) <= 8u * ROZ_ROS2_SAMPLE_WORDS, "JointState_ 
 _Static_assert(sizeof(pm01_cmd_t) <= 8u * ROZ_ROS2_SAMPLE_WORDS, "JointCommand_ storage");
 _Static_assert(sizeof(pm01_imu_t) <= 8u * ROZ_ROS2_SAMPLE_WORDS, "ImuInfo_ storage");
 
-const char *const roz_engineai_pm01_joints[N] = {
-    "J00_HIP_PITCH_L",      "J01_HIP_ROLL_L",      "J02_HIP_YAW_L",       "J03_KNEE_PITCH_L",
-    "J04_ANKLE_PITCH_L",    "J05_ANKLE_ROLL_L",    "J06_HIP_PITCH_R",     "J07_HIP_ROLL_R",
-    "J08_HIP_YAW_R",        "J09_KNEE_PITCH_R",    "J10_ANKLE_PITCH_R",   "J11_ANKLE_ROLL_R",
-    "J12_WAIST_YAW",        "J13_SHOULDER_PITCH_L", "J14_SHOULDER_ROLL_L", "J15_SHOULDER_YAW_L",
-    "J16_ELBOW_PITCH_L",    "J17_ELBOW_YAW_L",     "J18_SHOULDER_PITCH_R", "J19_SHOULDER_ROLL_R",
-    "J20_SHOULDER_YAW_R",   "J21_ELBOW_PITCH_R",   "J22_ELBOW_YAW_R",     "J23_HEAD_YAW",
-};
-
-static const roz_ros2_group_t groups[1] = {
-    { "body", "rt/hardware/joint_state", "rt/hardware/joint_command", roz_engineai_pm01_joints,
-      N },
-};
-
 /* The vendor's client, both ways: KEEP_LAST 3, BEST_EFFORT, VOLATILE. */
 static const roz_dds_qos_t pm01_qos = { 0, 0, 3, 0 };
-
-static const char *const own_keys[] = { "parallel_parser_type", NULL };
-
-/* ---- parameters ------------------------------------------------------------------- */
-
-static int pm01_params(void *v, const roz_params_t *p, char *err, size_t errlen)
-{
-    roz_engineai_pm01_t *pm = v;
-    const char *s = roz_params_get_str(p, "parallel_parser_type", "rl");
-    if (strcmp(s, "rl") == 0 || strcmp(s, "RL_PARSER") == 0 || strcmp(s, "1") == 0) {
-        pm->parallel_parser_type = 1;
-    } else if (strcmp(s, "classic") == 0 || strcmp(s, "CLASSIC_PARSER") == 0 ||
-               strcmp(s, "0") == 0) {
-        pm->parallel_parser_type = 0;
-    } else {
-        snprintf(err, errlen,
-                 "parameter parallel_parser_type = \"%s\": expected rl (1, RL_PARSER, the "
-                 "default, as the vendor's RL example) or classic (0, CLASSIC_PARSER)",
-                 s);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
 
 /* ---- state -------------------------------------------------------------------------- */
 
@@ -169,17 +133,10 @@ static void pm01_encode(void *v, uint16_t group, const roz_ros2_cmd_t *c, void *
 /* ---- the robot ------------------------------------------------------------------------ */
 
 static const roz_ros2_robot_t pm01_robot = {
-    .port = "engineai/PM01",
-    .groups = groups,
-    .n_groups = 1,
-    .imu_topic = "rt/hardware/imu_info",
-    .default_domain = ROZ_ENGINEAI_PM01_DOMAIN,
+    ROZ__PM01_ROBOT_RULES,
     .state_qos = &pm01_qos,
     .command_qos = &pm01_qos,
-    .has_sequence = 0,
-    .keys = own_keys,
     .fault_kinds = NULL,
-    .params = pm01_params,
     .state_type = pm01_state_type,
     .imu_type = &interface_protocol_msg_dds__ImuInfo__desc,
     .imu_size = sizeof(pm01_imu_t),
@@ -207,21 +164,6 @@ static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
     return roz_ros2_link_counters(&x->b, out);
 }
 
-static const roz_port_param_info_t pm01_param_info[] = {
-    ROZ_ROS2_PARAM_INFO,
-    ROZ_PORT_PARAM_TEXT_ROW("parallel_parser_type", "rl|classic|1|0", "rl",
-                            "the ankle parser: rl (the vendor's RL example) or classic"),
-};
-
-static const roz_port_info_t pm01_info = {
-    .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
-    .header = "roz/port/engineai_pm01.h",
-    .params = pm01_param_info,
-    .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
-    .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",
-    .no_sequence = NULL,
-};
-
 const roz_port_ops_t roz_engineai_pm01_ops = {
     .name = "engineai/PM01",
     .open = pm01_open,
@@ -235,7 +177,7 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .set_operator = roz_ros2_set_operator,
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
-    .info = &pm01_info,
+    .info = &roz__pm01_info,
     .link_counters = pm01_link_counters,
 };
 

@@ -18,6 +18,7 @@
 #include "roz/format.h"
 #include "roz/hal/params.h"
 #include "mj_guard.h"
+#include "mj_params.h"
 #include "mjcf_scan.h"
 
 /* ---- types and tables --------------------------------------------------------- */
@@ -53,17 +54,6 @@ enum {
 #define PORT "mujoco"
 #define PI 3.14159265358979323846
 #define DEPTH (ROZ_MUJOCO_MAX_DELAY + 1)
-
-static const char *const known_keys[] = {
-    "model", "keyframe", "timestep", "joint_names", "imu_gyro", "imu_accelerometer",
-    "servo_kp", "servo_kd", "unbound", "lock", "latency_ticks", "noise_seed", "noise_position",
-    "noise_velocity", "noise_effort", "noise_gyro", "noise_accelerometer",
-    "drop", "freeze", "delay", "push", "gantry", "restart",
-    "wheel_left", "wheel_right", "wheel_radius", "wheel_separation", "max_thrust",
-    "payload", "mass_scale", "friction_scale", "strength_scale", "gains_scale", "joint_damping",
-    "joint_armature", "command_latency_ticks", "bias_position", "bias_gyro",
-    "bias_accelerometer", "bias_orientation", NULL,
-};
 
 /* The built-in robots, one descriptor each (models/<robot_id>.model.toml,
  * made into builtins.h by this port's CMakeLists.txt): each robot's
@@ -941,78 +931,6 @@ static int perturb_open(roz_mujoco_t *s, const roz_params_t *p, char *err, size_
 static int perturb_command(roz_mujoco_t *s);
 static void perturb_sample(roz_mujoco_t *s, double *out);
 
-/* docs/ports/mujoco.md's table, one row a key. */
-static const roz_port_param_info_t mj_params[] = {
-    ROZ_PORT_PARAM_TEXT_ROW("model", "an MJCF file", "the built-in robot's",
-                            "relative to the robot.toml"),
-    ROZ_PORT_PARAM_TEXT_ROW("joint_names", "MANIFEST=MJCF,...", "the same names",
-                            "manifest joints bound to MJCF joints"),
-    ROZ_PORT_PARAM_TEXT_ROW("keyframe", "a keyframe's name", "the built-in robot's",
-                            "the pose to start from"),
-    ROZ_PORT_PARAM_TEXT_ROW("timestep", "1e-6..1 s", "the built-in robot's",
-                            "the physics step; a whole number a tick"),
-    ROZ_PORT_PARAM_TEXT_ROW("imu_gyro", "a sensor's name", "the model's first gyro",
-                            "the IMU's angular velocity"),
-    ROZ_PORT_PARAM_TEXT_ROW("imu_accelerometer", "a sensor's name", "the model's first",
-                            "the IMU's acceleration"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kp", 0, 1e7, 400, "",
-                              "the velocity servo's stiffness, N m/rad"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("servo_kd", 0, 1e6, 20, "",
-                              "the velocity servo's damping, N m s/rad"),
-    ROZ_PORT_PARAM_TEXT_ROW("unbound", "lock|limp", "lock", "model joints no channel binds"),
-    ROZ_PORT_PARAM_TEXT_ROW("lock", "PATTERN,...", "the built-in robot's",
-                            "model joints held rigid, bound or not"),
-    ROZ_PORT_PARAM_TEXT_ROW("wheel_left", "a joint's name", "the built-in diff_drive's",
-                            "a differential drive's wheel"),
-    ROZ_PORT_PARAM_TEXT_ROW("wheel_right", "a joint's name", "the built-in diff_drive's",
-                            "a differential drive's wheel"),
-    ROZ_PORT_PARAM_TEXT_ROW("wheel_radius", "1e-4..10 m", "0.035", "a differential drive's wheels"),
-    ROZ_PORT_PARAM_TEXT_ROW("wheel_separation", "1e-3..100 m", "0.230",
-                            "a differential drive's track"),
-    ROZ_PORT_PARAM_TEXT_ROW("max_thrust", "0..1e6 N", "32", "a quadcopter's total rotor thrust"),
-    ROZ_PORT_PARAM_U32_ROW("latency_ticks", 0, ROZ_MUJOCO_MAX_DELAY, 0, "sensor latency"),
-    ROZ_PORT_PARAM_U32_ROW("noise_seed", 0, 4294967295, 1, "the noise's seed"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("noise_position", 0, 1, 0, "",
-                              "Gaussian noise, standard deviation, channel unit"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("noise_velocity", 0, 10, 0, "", "Gaussian noise on velocities"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("noise_effort", 0, 100, 0, "", "Gaussian noise on efforts"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("noise_gyro", 0, 10, 0, "", "Gaussian noise on the gyro"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("noise_accelerometer", 0, 100, 0, "",
-                              "Gaussian noise on the accelerometer"),
-    ROZ_PORT_PARAM_TEXT_ROW("drop", "FROM:TO", "", "state frames lost"),
-    ROZ_PORT_PARAM_TEXT_ROW("freeze", "FROM[:TO]", "", "the robot sends nothing"),
-    ROZ_PORT_PARAM_TEXT_ROW("delay", "K@FROM:TO", "", "frames K ticks late (1..15)"),
-    ROZ_PORT_PARAM_TEXT_ROW("push", "FX,FY,FZ@BODY@FROM:TO", "",
-                            "a force, N, world frame, on a body"),
-    ROZ_PORT_PARAM_TEXT_ROW("gantry", "FROM[:TO]", "", "the floating base hung where it is"),
-    ROZ_PORT_PARAM_TEXT_ROW("restart", "FROM:TO", "", "the robot's board dies and boots at TO"),
-    /* perturbations: the robot and its world other than the model says */
-    ROZ_PORT_PARAM_TEXT_ROW("payload", "KG@BODY[@X,Y,Z];...", "",
-                            "mass added to a body, at its centre of mass or X,Y,Z m in its frame"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("mass_scale", 0.1, 10, 1, "",
-                              "every robot body's mass and inertia, times this"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("friction_scale", 0.01, 10, 1, "",
-                              "every geom's sliding friction (floor, feet), times this"),
-    ROZ_PORT_PARAM_TEXT_ROW("strength_scale", "S[@JOINT];..., S in 0..1", "1",
-                            "the effort a joint's motor gives (all, or the model's joint)"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("gains_scale", 0, 10, 1, "",
-                              "the stiffness and damping the drivers apply, times this"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("joint_damping", 0, 1000, 0, "",
-                              "damping added to every bound joint, N m s/rad"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("joint_armature", 0, 100, 0, "",
-                              "armature added to every bound joint, kg m^2"),
-    ROZ_PORT_PARAM_U32_ROW("command_latency_ticks", 0, ROZ_MUJOCO_MAX_DELAY, 0,
-                           "command latency: ticks from write() to the drivers"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("bias_position", 0, 1, 0, "",
-                              "encoder offset per joint, drawn once: standard deviation"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("bias_gyro", 0, 10, 0, "", "gyro offset per axis, drawn once"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("bias_accelerometer", 0, 100, 0, "",
-                              "accelerometer offset per axis, drawn once"),
-    ROZ_PORT_PARAM_DOUBLE_ROW("bias_orientation", 0, 0.5, 0, "",
-                              "the IMU's mounting error per axis, rad, drawn once"),
-};
-#define MJ_PARAMS mj_params, sizeof mj_params / sizeof mj_params[0]
-
 /* The spec being made into a model, for the guard's clean-up (open is
  * start-up, one at a time). */
 static mjSpec *open_spec;
@@ -1045,44 +963,24 @@ static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params
         return ROZ_EINVAL;
     }
     const roz_params_t *p = &merged.p;
-    if (roz_params_check_known(p, known_keys, PORT, err, errlen) != ROZ_OK)
+    /* the keys, the numbers and words that need no model (mj_params.c,
+     * which rozgen runs too) */
+    roz__mj_values_t v;
+    if (roz__mj_params_read(p, &v, err, errlen, NULL, NULL) != ROZ_OK)
         return ROZ_EINVAL;
-    /* the numbers and words that need no model, in rozgen's order
-     * (codegen/rozgen/mujoco.py), so both refuse a file alike */
-    double kp, kd, ts_check;
-    uint32_t latency, seed;
-    if (roz_params_get_double(p, "wheel_radius", 0.0, 1e-4, 10.0, &s->wheel_radius, err,
-                              errlen) != ROZ_OK ||
-        roz_params_get_double(p, "wheel_separation", 0.0, 1e-3, 100.0, &s->wheel_separation, err,
-                              errlen) != ROZ_OK ||
-        roz_params_get_double(p, "max_thrust", 0.0, 0.0, 1e6, &s->max_thrust, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "servo_kp", &kp, err, errlen) != ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "servo_kd", &kd, err, errlen) != ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "noise_position", &s->noise_q, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "noise_velocity", &s->noise_dq, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "noise_effort", &s->noise_tau, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "noise_gyro", &s->noise_gyro, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "noise_accelerometer", &s->noise_acc, err,
-                                  errlen) != ROZ_OK ||
-        roz_params_get_double(p, "timestep", 0.001, 1e-6, 1.0, &ts_check, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_u32(p, MJ_PARAMS, "latency_ticks", &latency, err, errlen) != ROZ_OK ||
-        roz_params_get_row_u32(p, MJ_PARAMS, "noise_seed", &seed, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
-    const char *unbound = roz_params_get_str(p, "unbound", "lock");
-    if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
-        roz_format(err, errlen, "parameter unbound = \"%s\": expected lock or limp", unbound);
-        return ROZ_EINVAL;
-    }
-    s->velocity_kp = kp;
-    s->velocity_kd = kd;
-    s->latency = latency;
-    s->rng = 0x9E3779B97F4A7C15ull ^ seed;
+    s->wheel_radius = v.wheel_radius;
+    s->wheel_separation = v.wheel_separation;
+    s->max_thrust = v.max_thrust;
+    s->noise_q = v.noise_q;
+    s->noise_dq = v.noise_dq;
+    s->noise_tau = v.noise_tau;
+    s->noise_gyro = v.noise_gyro;
+    s->noise_acc = v.noise_acc;
+    s->velocity_kp = v.servo_kp;
+    s->velocity_kd = v.servo_kd;
+    s->latency = v.latency;
+    s->rng = 0x9E3779B97F4A7C15ull ^ v.seed;
+    const char *unbound = roz_params_get_str(p, "unbound", "lock"); /* lock or limp: read */
 
     const char *model = roz_params_get_str(p, "model", NULL);
     if (model == NULL || model[0] == '\0') {
@@ -1235,8 +1133,7 @@ static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params
     const char *ts = roz_params_get_str(p, "timestep", dflt);
     roz_param_t one = { "timestep", ts };
     roz_params_t onep = { &one, 1 };
-    if (roz_params_get_double(&onep, "timestep", mm->opt.timestep, 1e-6, 1.0, &dt, err, errlen) !=
-        ROZ_OK) {
+    if (roz_params_get_row_double(&onep, MJ_PARAMS, "timestep", &dt, err, errlen) != ROZ_OK) {
         close_model(s);
         return ROZ_EINVAL;
     }
@@ -1498,26 +1395,13 @@ static int parse_strength(roz_mujoco_t *s, const char *v, char *err, size_t errl
 static int perturb_open(roz_mujoco_t *s, const roz_params_t *p, char *err, size_t errlen)
 {
     mjModel *mm = s->model;
-    double mass, friction, damping, armature, bq, bg, ba, bo;
-    uint32_t latency;
-    if (roz_params_get_row_double(p, MJ_PARAMS, "mass_scale", &mass, err, errlen) != ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "friction_scale", &friction, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "gains_scale", &s->gains_scale, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "joint_damping", &damping, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "joint_armature", &armature, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_u32(p, MJ_PARAMS, "command_latency_ticks", &latency, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "bias_position", &bq, err, errlen) != ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "bias_gyro", &bg, err, errlen) != ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "bias_accelerometer", &ba, err, errlen) !=
-            ROZ_OK ||
-        roz_params_get_row_double(p, MJ_PARAMS, "bias_orientation", &bo, err, errlen) != ROZ_OK)
+    roz__mj_perturb_t v;
+    if (roz__mj_perturb_read(p, &v, err, errlen, NULL, NULL) != ROZ_OK)
         return ROZ_EINVAL;
-    s->cmd_latency = latency;
+    double mass = v.mass, friction = v.friction, damping = v.damping, armature = v.armature;
+    double bq = v.bias_q, bg = v.bias_gyro, ba = v.bias_acc, bo = v.bias_orientation;
+    s->gains_scale = v.gains;
+    s->cmd_latency = v.cmd_latency;
     if (mass != 1.0) {
         for (int b = 1; b < mm->nbody; b++) {
             mm->body_mass[b] *= mass;
@@ -2103,16 +1987,6 @@ static void mj_set_origin(void *self, const char *robot_toml)
 }
 
 
-static const roz_port_info_t mj_info = {
-    .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",
-    .header = "roz/port/mujoco.h",
-    .params = mj_params,
-    .n_params = sizeof mj_params / sizeof mj_params[0],
-    .no_crc = "physics in the same process: no wire, no CRC",
-    .no_sequence = "physics in the same process: no sequence numbers",
-    .no_link = "physics in the same process: no link to replay, restart or lose",
-};
-
 const roz_port_ops_t roz_mujoco_ops = {
     .name = PORT,
     .open = mj_open,
@@ -2123,7 +1997,7 @@ const roz_port_ops_t roz_mujoco_ops = {
     .close = mj_close,
     .fault = mj_fault,
     .caps = ROZ_PORT_CAP_SIMULATOR,
-    .info = &mj_info,
+    .info = &roz__mj_info,
     .link_counters = mj_link_counters,
     .report = mj_report,
     .set_origin = mj_set_origin,

@@ -29,12 +29,7 @@ _Static_assert(ROZ_DDS_CMD_META + ROZ_ROS2_MAX_ROBOT_SLOTS == ROZ_ROS2_CMD_META,
                "command frame meta");
 _Static_assert(ROZ_ROS2_MAX_TOPICS <= 32, "a bit per topic");
 
-#define MAX_KEYS 32
 #define FRAME_ID_ROOM 63 /* characters a received frame_id gets without Cyclone reallocating */
-
-static const char *const common_keys[] = { ROZ_DDS_PARAM_KEYS, "peer_timeout_ms",
-                                           "startup_damping", "shutdown_damping", "link_check",
-                                           "cmd_vel_topic", "joy_topic", "joy_map", NULL };
 
 enum { OP_TWIST = 0, OP_JOY = 1 }; /* b->op[] */
 typedef geometry_msgs_msg_dds__Twist_ twist_t;
@@ -101,120 +96,6 @@ static int merge_params(roz_ros2_bridge_t *b, const roz_manifest_t *m, const roz
     out->items = b->params;
     out->n = n;
     return ROZ_OK;
-}
-
-static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *err,
-                            size_t errlen)
-{
-    const roz_ros2_robot_t *r = b->robot;
-    const char *v = roz_params_get_str(p, "link_check", r->has_sequence ? "sequence" : "stamp");
-    if (strcmp(v, "stamp") == 0) {
-        b->link_by_stamp = 1;
-    } else if (strcmp(v, "sequence") == 0 && r->has_sequence) {
-        b->link_by_stamp = 0;
-    } else {
-        snprintf(err, errlen,
-                 "parameter link_check = \"%s\": expected %s (what the state messages' headers "
-                 "offer the link checks)",
-                 v,
-                 r->has_sequence ? "sequence (the header's sequence number) or stamp (its "
-                                   "stamp, strictly increasing)"
-                                 : "stamp (these messages' std_msgs/Header has no sequence)");
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
-}
-
-/* A ROS topic name: "/" then tokens of A-Z a-z 0-9 _, none starting with a
- * digit, one "/" between two (rcl's rules for a fully qualified name). */
-static int ros_topic_name(const char *v)
-{
-    size_t len = strlen(v);
-    if (len < 2 || len + 3 > ROZ_ROS2_TOPIC_NAME_MAX || v[0] != '/' || v[len - 1] == '/')
-        return 0;
-    for (size_t i = 1; i < len; i++) {
-        char c = v[i];
-        int start = v[i - 1] == '/';
-        if (c == '/' ? start
-                     : !((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || c == '_' ||
-                         (!start && c >= '0' && c <= '9')))
-            return 0;
-    }
-    return 1;
-}
-
-/* The operator topics: each read only when an input's source is a field of
- * its device; their names and joy_map are checked whether read or not. */
-static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
-{
-    static const char *const key[2] = { "cmd_vel_topic", "joy_topic" };
-    static const char *const def[2] = { "/cmd_vel", "/joy" };
-    static const roz_operator_device_t dev[2] = { ROZ_OPERATOR_DEVICE_TWIST,
-                                                  ROZ_OPERATOR_DEVICE_REMOTE };
-    const roz_manifest_t *m = b->m;
-    for (int k = 0; k < 2; k++) {
-        const char *v = roz_params_get_str(p, key[k], def[k]);
-        int needed = 0;
-        if (!ros_topic_name(v)) {
-            snprintf(err, errlen,
-                     "parameter %s = \"%s\": expected a ROS topic name (\"/\" then names of "
-                     "A-Z a-z 0-9 _ separated by one \"/\", none starting with a digit, at most "
-                     "%d characters), such as %s",
-                     key[k], v, ROZ_ROS2_TOPIC_NAME_MAX - 3, def[k]);
-            return ROZ_EINVAL;
-        }
-        for (uint16_t i = 0; m->inputs != NULL && i < m->n_inputs; i++)
-            needed |= roz_operator_field_device(m->inputs[i].source) == dev[k];
-        b->op[k].bridge = b;
-        b->op[k].name[0] = '\0';
-        if (needed)
-            snprintf(b->op[k].name, sizeof b->op[k].name, "rt%s", v);
-    }
-    return roz_ros2_joy_map_parse(roz_params_get_str(p, "joy_map", ROZ_ROS2_JOY_MAP_DEFAULT),
-                                  &b->joy_map, err, errlen);
-}
-
-/* The rows the ports' info shows (ROZ_ROS2_BRIDGE_PARAM_INFO): the bounds
- * and defaults read here. */
-static const roz_port_param_info_t bridge_rows[] = { ROZ_ROS2_BRIDGE_PARAM_INFO };
-
-static int parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
-{
-    const roz_ros2_robot_t *r = b->robot;
-    const char *keys[MAX_KEYS];
-    size_t n = 0;
-    double lo, hi;
-
-    for (size_t i = 0; common_keys[i] != NULL; i++)
-        keys[n++] = common_keys[i];
-    for (size_t i = 0; r->keys != NULL && r->keys[i] != NULL && n + 1 < MAX_KEYS; i++)
-        keys[n++] = r->keys[i];
-    keys[n] = NULL;
-    int rc = roz_params_check_known(p, keys, r->port, err, errlen);
-    if (rc == ROZ_OK)
-        rc = roz_dds_params_parse(&b->dds, p, r->default_domain, b->m->control_rate_hz, err,
-                                  errlen);
-    if (rc == ROZ_OK)
-        rc = roz_params_get_row_u32(p, bridge_rows, sizeof bridge_rows / sizeof bridge_rows[0],
-                                    "peer_timeout_ms", &b->peer_timeout_ms, err, errlen);
-    if (rc == ROZ_OK)
-        rc = parse_link_check(b, p, err, errlen);
-    if (rc == ROZ_OK)
-        rc = parse_operator(b, p, err, errlen);
-    if (rc != ROZ_OK)
-        return rc;
-    /* gains the damping channels allow, for every joint */
-    (void)roz_joints_damping_range(b->m, b->joint, b->n_joints, &lo, &hi);
-    rc = roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
-                               &b->startup_kd, err, errlen);
-    if (rc == ROZ_OK && roz_params_find(p, "shutdown_damping") != NULL)
-        rc = roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi, &b->shutdown_kd, err,
-                                   errlen);
-    else
-        b->shutdown_kd = NAN; /* each joint's damping default */
-    if (rc == ROZ_OK && r->params != NULL)
-        rc = r->params(b->vendor, p, err, errlen);
-    return rc;
 }
 
 /* ---- the receive path (a Cyclone thread per topic, one call at a time) --------- */
@@ -676,11 +557,11 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     b->m = m;
     for (uint16_t s = 0; s < ROZ_ROS2_MAX_ROBOT_SLOTS; s++)
         b->tick_q[s] = NAN; /* no position measured yet */
-    rc = roz__ros2_bind(b, m, err, errlen);
+    rc = roz__ros2_bind(b, m, err, errlen) == ROZ_OK ? ROZ_OK : ROZ_EINVAL;
     if (rc == ROZ_OK)
         rc = merge_params(b, m, p, &params, err, errlen);
     if (rc == ROZ_OK)
-        rc = parse_params(b, &params, err, errlen);
+        rc = roz__ros2_parse_params(b, &params, err, errlen, NULL, NULL);
     if (rc != ROZ_OK)
         return rc;
 

@@ -30,7 +30,7 @@ static int place(roz_ros2_bridge_t *b, uint16_t j, const char *joint, char *err,
              "%s: [hardware] joints[%u] \"%s\" is not one of the robot's joints (the port's "
              "header lists them%s)",
              r->port, (unsigned)j, joint, r->n_groups > 1 ? " by group" : "");
-    return ROZ_EINVAL;
+    return ROZ_ENOENT;
 }
 
 int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, size_t errlen)
@@ -68,33 +68,31 @@ int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, siz
                  "lists %u",
                  r->port, m->robot_id, (unsigned)b->n_slots,
                  hw != NULL ? (unsigned)hw->n_joints : 0u);
-        return ROZ_EINVAL;
+        return ROZ_ENOENT;
     }
     if (hw->n_joints > b->n_slots) {
         snprintf(err, errlen,
                  "%s: manifest %s: [hardware] joints lists %u joints; the robot has %u", r->port,
                  m->robot_id, (unsigned)hw->n_joints, (unsigned)b->n_slots);
-        return ROZ_EINVAL;
+        return ROZ_ENOENT;
     }
     b->n_joints = hw->n_joints;
     for (uint16_t j = 0; j < hw->n_joints; j++) {
         const char *joint = hw->joints[j];
         if (place(b, j, joint, err, errlen) != ROZ_OK)
-            return ROZ_EINVAL;
+            return ROZ_ENOENT;
         uint16_t rs = (uint16_t)(b->group_base[b->place[j].group] + b->place[j].slot);
         if (b->slot_joint[rs] >= 0) {
             snprintf(err, errlen, "%s: [hardware] joints[%u] \"%s\" is listed twice", r->port,
                      (unsigned)j, joint);
-            return ROZ_EINVAL;
+            return ROZ_ENOENT;
         }
         b->slot_joint[rs] = (int16_t)j;
     }
     for (int k = 0; k < ROZ_IMU_VALUES; k++)
         b->imu[k] = -1;
     return roz_joints_bind(m, r->port, "this robot", hw->joints, hw->n_joints, b->joint,
-                           r->imu_topic != NULL ? b->imu : NULL, err, errlen) == ROZ_OK
-               ? ROZ_OK
-               : ROZ_EINVAL;
+                           r->imu_topic != NULL ? b->imu : NULL, err, errlen);
 }
 
 static uint16_t robot_slot(const roz_ros2_bridge_t *b, uint16_t k)

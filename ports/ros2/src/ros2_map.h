@@ -11,9 +11,19 @@
 #include "roz/port/ros2.h"
 
 /* Binds the manifest's joints and IMU to the robot's slots and channels;
- * every channel must find its place. ROZ_EINVAL with err naming the joint
- * or the channel. */
+ * every channel must find its place. ROZ_ENOENT (a joint: not the robot's,
+ * listed twice, too many or none, or without a channel) or ROZ_EINVAL (a
+ * channel), err naming it. */
 int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, size_t errlen);
+
+/* Reads the parameters @p p into @p b (bound first: the damping gains'
+ * range is the bound channels'), the robot's own through its params hook
+ * last (ros2_rules.c). Without @p report (the open): ROZ_EINVAL at the
+ * first problem, err saying it. With it (roz_ros2_check()): each problem
+ * written to err and reported (rule "unknown-key" or "ros2-param"), going
+ * on with the next step; ROZ_EINVAL after at least one report. */
+int roz__ros2_parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *err,
+                           size_t errlen, roz_params_problem_fn report, void *ctx);
 
 /* The start-up hold as a command frame (n_commands, manifest order): every
  * joint's position command holds q[robot slot], kd is @p kd where the joint

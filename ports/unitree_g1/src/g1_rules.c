@@ -13,10 +13,10 @@
 
 #define PORT "unitree/G1"
 
-static const char *const known_keys[] = { ROZ_DDS_PARAM_KEYS, "mode_pr", "peer_timeout_ms",
-                                          "startup_damping", "shutdown_damping", "peer", NULL };
-
+/* The port's parameters: the rows its info shows, its known keys (in the
+ * order an unknown key's error lists them), the bounds and defaults read. */
 static const roz_port_param_info_t rows[] = { ROZ__G1_PARAM_ROWS };
+#define ROWS rows, sizeof rows / sizeof rows[0]
 
 /* ---- joints ---------------------------------------------------------------- */
 
@@ -173,16 +173,15 @@ int roz__g1_parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err,
             bad = 1;                                                                           \
         }                                                                                      \
     } while (0)
-    STEP("unknown-key", roz_params_check_known(p, known_keys, PORT, err, errlen));
+    STEP("unknown-key", roz_params_check_known_rows(p, ROWS, PORT, err, errlen));
     STEP("g1-param", parse_peer(g1, p, err, errlen));
     dds_ok = roz_dds_params_parse(&g1->dds, p, 0, g1->m->control_rate_hz, err, errlen);
     STEP("g1-param", dds_ok);
     if (dds_ok == ROZ_OK) /* the interface it names */
         STEP("g1-param", check_sim_network(g1, err, errlen));
     STEP("g1-param", parse_mode_pr(p, &g1->mode_pr, err, errlen));
-    STEP("g1-param", roz_params_get_row_u32(p, rows, sizeof rows / sizeof rows[0],
-                                            "peer_timeout_ms", &g1->peer_timeout_ms, err,
-                                            errlen));
+    STEP("g1-param",
+         roz_params_get_row_u32(p, ROWS, "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen));
     /* gains the damping channels allow, for every joint */
     (void)roz_joints_damping_range(g1->m, g1->joint, g1->n_joints, &lo, &hi);
     STEP("g1-param", roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo,
@@ -197,27 +196,10 @@ int roz__g1_parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err,
 
 /* ---- the registered check ---------------------------------------------------- */
 
-/* The caller's report, each text after ": " (what follows the file name). */
-typedef struct {
-    roz_unitree_g1_problem_fn report;
-    void                     *ctx;
-} after_file_t;
-
-static void after_file(void *ctx, const char *rule, const char *text)
-{
-    const after_file_t *f = ctx;
-    char line[ROZ_CFG_PROBLEM_LEN + 2];
-    size_t n = strlen(text);
-    /* a text that fills the buffer may have been cut: said with "..." */
-    int cut = n + 1 >= ROZ_CFG_PROBLEM_LEN;
-    roz_format(line, sizeof line, ": %.*s%s", (int)(cut ? n - 3 : n), text, cut ? "..." : "");
-    f->report(f->ctx, rule, line);
-}
-
 int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn report, void *ctx)
 {
     static roz_unitree_g1_t g1; /* host tools, one call at a time */
-    after_file_t f = { report, ctx };
+    roz_params_reporter_t to = { report, ctx };
     char err[ROZ_CFG_PROBLEM_LEN];
     roz_params_t p = { NULL, 0 };
     int rc;
@@ -226,12 +208,12 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     g1.m = m;
     rc = roz__g1_bind(&g1, m, err, sizeof err);
     if (rc != ROZ_OK) {
-        after_file(&f, rc == ROZ_ENOENT ? "g1-joint" : "g1-channel", err);
+        roz_params_report(&to, rc == ROZ_ENOENT ? "g1-joint" : "g1-channel", err);
         return ROZ_EINVAL;
     }
     if (m->hardware != NULL) {
         p.items = m->hardware->params;
         p.n = m->hardware->n_params;
     }
-    return roz__g1_parse_params(&g1, &p, err, sizeof err, after_file, &f);
+    return roz__g1_parse_params(&g1, &p, err, sizeof err, roz_params_report, &to);
 }

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* What test_port_vectors and port_open_check share: a robot.toml loaded by
+/* What test_port_vectors uses: a robot.toml loaded by
  * roz's C loader and opened through the DDS port its [hardware] names
  * (unitree/G1, agibot/X2, engineai/PM01; and mujoco where the test defines
  * ROZ_TEST_HAVE_MUJOCO), constructed from the registry (roz/ports.h) with

@@ -40,6 +40,33 @@ const char *roz_params_find(const roz_params_t *p, const char *key);
 int roz_params_check_known(const roz_params_t *p, const char *const *known, const char *port,
                            char *err, size_t errlen);
 
+/** @brief roz_params_check_known() with the keys of a port's @p n parameter
+ *  rows (roz_port_param_info_t), in their order: the known keys are the
+ *  rows the port shows. Context: a port's open(); not the tick. */
+int roz_params_check_known_rows(const roz_params_t *p, const roz_port_param_info_t *rows,
+                                size_t n, const char *port, char *err, size_t errlen);
+
+/** Called once per problem by a port's registered check of its [hardware]
+ *  keys (roz_add_port_rules()): a rule id ("ros2-param", "unknown-key")
+ *  and the text after the file name (": parameter ..."). */
+typedef void (*roz_params_problem_fn)(void *ctx, const char *rule, const char *text);
+
+/** Where roz_params_report() sends a port's error. */
+typedef struct roz_params_reporter {
+    roz_params_problem_fn report;
+    void                 *ctx;
+} roz_params_reporter_t;
+
+/**
+ * @brief Hand a port's error @p text to @p reporter (a
+ *        roz_params_reporter_t) as the text after the file name: ": " and
+ *        @p text, with "..." where @p text filled ROZ_CFG_PROBLEM_LEN and
+ *        may have been cut. Itself a roz_params_problem_fn, for a port's
+ *        rules run in report mode.
+ * Context: host tools and start-up; no heap.
+ */
+void roz_params_report(void *reporter, const char *rule, const char *text);
+
 /**
  * @brief Integer parameter in [min, max]; @p out = @p def when absent.
  * @retval ROZ_OK     parsed (or default)

@@ -53,6 +53,16 @@ extern const roz_port_ops_t roz_agibot_x2_ops;
 /** The groups (name, topics, joint names), in the port's order. */
 extern const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS];
 
+/**
+ * @brief The port's rules of @p m's [hardware] keys, as its open applies
+ *        them to robot.toml's parameters (roz_ros2_check()): what
+ *        roz_manifest_json, and so rozgen, runs (roz_add_port_rules()).
+ *        Parameters given at open and CYCLONEDDS_URI are the open's alone.
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting every problem
+ * Context: host tools and start-up, one call at a time; no heap.
+ */
+int roz_agibot_x2_check(const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
+
 /* The library half of the constructor below: the caller's layout and
  * instance size, refused when they are not the library's. */
 roz_port_t roz__agibot_x2_port(roz_agibot_x2_t *x2, const roz_port_layout_t *caller,

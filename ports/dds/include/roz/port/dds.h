@@ -69,14 +69,6 @@ typedef struct roz_dds_params {
                                             _stack_kib), through its configuration */
 } roz_dds_params_t;
 
-/** The keys roz_dds_params_parse() reads, for a port's list of known keys. */
-#define ROZ_DDS_PARAM_KEYS                                                          \
-    "network_interface", "dds_domain", "enable_monitor", "exit_stop", "command_writer_period_us", \
-        "command_writer_spin_us", "state_decimation", "command_writer_sched",             \
-        "command_writer_priority", "command_writer_cpus", "command_writer_stack_kib",     \
-        "dds_threads_sched", "dds_threads_priority", "dds_threads_stack_kib",             \
-        ROZ_CMD_WATCHDOG_KEY
-
 /** The rows of roz_dds_params_parse()'s keys in a port's parameter table
  *  (roz_port_info_t::params), with @p domain: dds_domain's default, text.
  *  roz_dds_params_parse() reads its numeric rows' bounds and defaults. */
@@ -100,7 +92,7 @@ typedef struct roz_dds_params {
                             "scheduling of Cyclone's receive, delivery and timed-event "        \
                             "threads"),                                                         \
     ROZ_PORT_PARAM_TEXT_ROW("dds_threads_priority", "1..99", "", "their priority with fifo"),   \
-    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", "64..65536", "",                           \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", ROZ_THREAD_STACK_KIB_RANGE, "",            \
                             "their stack size (default: the system's)"),                        \
     ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
                             "the command watchdog: the tick silent this long, the port sends "  \

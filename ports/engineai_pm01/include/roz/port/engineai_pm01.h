@@ -46,6 +46,16 @@ extern const roz_port_ops_t roz_engineai_pm01_ops;
 /** The robot's joint names, index order (for logs and tools). */
 extern const char *const roz_engineai_pm01_joints[ROZ_ENGINEAI_PM01_JOINTS];
 
+/**
+ * @brief The port's rules of @p m's [hardware] keys, as its open applies
+ *        them to robot.toml's parameters (roz_ros2_check()): what
+ *        roz_manifest_json, and so rozgen, runs (roz_add_port_rules()).
+ *        Parameters given at open and CYCLONEDDS_URI are the open's alone.
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting every problem
+ * Context: host tools and start-up, one call at a time; no heap.
+ */
+int roz_engineai_pm01_check(const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
+
 /* The library half of the constructor below: the caller's layout and
  * instance size, refused when they are not the library's. */
 roz_port_t roz__engineai_pm01_port(roz_engineai_pm01_t *pm, const roz_port_layout_t *caller,

@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "roz/hal/joints.h"
+#include "roz/hal/params.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/port.h"
@@ -181,6 +182,17 @@ typedef struct roz_mujoco {
 
 /** The ops table ("mujoco"). */
 extern const roz_port_ops_t roz_mujoco_ops;
+
+/**
+ * @brief The port's rules of @p m's [hardware] keys that need no model, as
+ *        its open applies them to robot.toml's parameters: the keys known
+ *        (an unknown one is said alone), then every number and word (rules
+ *        "unknown-key", "mujoco-param"). No MuJoCo: this is what
+ *        roz_manifest_json, and so rozgen, runs (roz_add_port_rules()).
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting every problem
+ * Context: host tools and start-up; no heap.
+ */
+int roz_mujoco_check(const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
 
 /* The library half of the constructor below: the caller's layout and
  * instance size, refused when they are not the library's. */

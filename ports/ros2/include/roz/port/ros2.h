@@ -27,6 +27,7 @@
 #include "roz/hal/cmd_watchdog.h"
 #include "roz/hal/joints.h"
 #include "roz/hal/link.h"
+#include "roz/hal/params.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
@@ -197,7 +198,10 @@ typedef struct roz_ros2_robot {
     const roz_dds_qos_t    *state_qos;      /**< the state and IMU readers */
     const roz_dds_qos_t    *command_qos;    /**< the command writers */
     int                     has_sequence;   /**< the state headers carry a sequence */
-    const char *const      *keys;           /**< the port's own parameters, NULL-terminated */
+    /** what the port says of itself: its parameter rows are its known keys,
+     *  in the order an unknown key's error lists them (ROZ_ROS2_PARAM_INFO,
+     *  then its own) */
+    const roz_port_info_t  *info;
     const char *const      *fault_kinds;    /**< what rx.fault_kind names, static */
     /** The port's own parameters. Context: open. */
     int (*params)(void *v, const roz_params_t *p, char *err, size_t errlen);
@@ -407,6 +411,22 @@ typedef struct roz_ros2_bridge {
  */
 int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *vendor,
                   const roz_manifest_t *m, const roz_params_t *p, char *err, size_t errlen);
+
+/**
+ * @brief A ROS 2 port's rules of @p m's [hardware] keys, as roz_ros2_open()
+ *        applies them to robot.toml's parameters: the joints and channels
+ *        bound, then the parameters (a problem of the joints stops there;
+ *        the parameters are each checked), every problem reported (rules
+ *        "ros2-joint", "ros2-channel", "ros2-param", "unknown-key"). No DDS:
+ *        a port's registered check (roz_add_port_rules()) calls it, with
+ *        its robot and storage for its instance.
+ * @param[out] b      storage for the bridge (overwritten)
+ * @param[in]  vendor the port's instance, handed to the robot's params hook
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting every problem
+ * Context: host tools and start-up, one call at a time; no heap.
+ */
+int roz_ros2_check(const roz_ros2_robot_t *robot, roz_ros2_bridge_t *b, void *vendor,
+                   const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
 
 /* The port ops on a bridge (@p self is the bridge, the port instance's first
  * member); their contexts are roz/port.h's. */
