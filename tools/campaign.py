@@ -572,11 +572,11 @@ def _task(campaign, sample, rozrun, blobs):
     op = sample.get("operator_file") or campaign.get("operator")
     if op:
         files[op] = sample["script"].encode() if sample.get("script") else blobs[op]
-    tracking = next(f["verdict"]["tracking"] for f in campaign["families"]
-                    if f["name"] == sample["family"])
+    bounds = next(f["verdict"]["tracking"] for f in campaign["families"]
+                  if f["name"] == sample["family"])
     return {"id": sample["id"], "rozrun": rozrun, "args": sample["args"], "files": files,
             "controller_file": wasm, "operator_file": op,
-            "settle": tracking and tracking["settle"]}
+            "settle": bounds and bounds["settle"]}
 
 
 # ---- the results file ---------------------------------------------------------------
