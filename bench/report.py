@@ -592,7 +592,9 @@ def build(args) -> tuple[str, str]:
           "processes rarely get twice one's rate from a machine (shared caches, clocks that "
           "slow when every core works): the same bare commands, two at once, measure the "
           "machine's own ceiling, and the engine's share of the gap to linear is what that "
-          "ceiling does not explain.\n")
+          "ceiling does not explain. Ratios: one worker over bare rozrun; two bare at once "
+          "over twice one bare; two workers over two bare at once; Ray over two local "
+          "workers.\n")
         w("| figure | value | ratio |")
         w("|---|---:|---:|")
         for name, fig in camp.items():
