@@ -594,7 +594,8 @@ def build(args) -> tuple[str, str]:
           "machine's own ceiling, and the engine's share of the gap to linear is what that "
           "ceiling does not explain. Ratios: one worker over bare rozrun; two bare at once "
           "over twice one bare; two workers over two bare at once; Ray over two local "
-          "workers.\n")
+          "workers. The engine's cost is given in wall time and in CPU time (the driver and "
+          "its rozruns against the bare rozruns), which a loaded machine does not inflate.\n")
         w("| figure | value | ratio |")
         w("|---|---:|---:|")
         for name, fig in camp.items():

@@ -13,7 +13,9 @@ Figures, each in simulated seconds per wall second (per core where said):
     ceiling (shared caches, clocks that slow when both cores work);
   - the campaign on one local worker (the same samples): its cost over bare
     rozrun is the engine's (the driver, a temporary folder and the summary a
-    sample, the results file);
+    sample, the results file), in wall time and in CPU time (the driver and
+    its rozruns against the bare rozruns: what the engine spends, however
+    loaded the machine is);
   - the campaign on two local workers: scaling = (two workers / one) / 2,
     against linear, and against the machine's ceiling (two bare at once /
     one bare); the engine's share of the gap to linear is the part of it
@@ -31,6 +33,7 @@ import argparse
 import json
 from concurrent.futures import ThreadPoolExecutor
 import os
+import resource
 import shutil
 import signal
 import socket
@@ -66,6 +69,12 @@ force = {{ uniform = [30, 90] }}
 direction = {{ uniform = [0, 360] }}
 at = 1.5
 """
+
+
+def cpu():
+    """CPU seconds (user + system) of every child process waited for."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def run_campaign(path, out, *extra):
@@ -115,22 +124,30 @@ def main():
             subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 
         bare = par = one = two = 0.0
+        bare_cpu = one_cpu = float("inf")
         for k in range(a.rounds):
-            t0 = time.monotonic()
+            t0, c0 = time.monotonic(), cpu()
             for cmd in cmds:
                 bare_run(cmd)
             bare = max(bare, sim / (time.monotonic() - t0))
+            bare_cpu = min(bare_cpu, cpu() - c0)
             t0 = time.monotonic()
             with ThreadPoolExecutor(max_workers=2) as pool:
                 list(pool.map(bare_run, cmds))
             par = max(par, sim / (time.monotonic() - t0))
+            c0 = cpu()
             one = max(one, sim / run_campaign(path, os.path.join(work, f"w1-{k}"), "--workers",
                                               "1", "--rozrun", rozrun))
+            one_cpu = min(one_cpu, cpu() - c0)
             two = max(two, sim / run_campaign(path, os.path.join(work, f"w2-{k}"), "--workers",
                                               "2", "--rozrun", rozrun))
         fig("bare rozrun, one core", bare, "sim s / wall s")
         fig("campaign, one local worker", one, "sim s / wall s", ratio=one / bare)
         fig("campaign engine cost over bare rozrun", 100.0 * (1.0 - one / bare), "%")
+        # the same in CPU time (the driver and its rozruns against the bare
+        # rozruns): what the engine spends, whatever else the machine runs
+        fig("campaign engine cost over bare rozrun, CPU time",
+            100.0 * (one_cpu / bare_cpu - 1.0), "%", cpu_s=one_cpu, bare_cpu_s=bare_cpu)
         fig("bare rozrun, two at once (the machine's ceiling)", par, "sim s / wall s",
             ratio=par / (2.0 * bare))
         fig("campaign, two local workers", two, "sim s / wall s", ratio=two / par)
