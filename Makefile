@@ -42,7 +42,8 @@ setup:
 	@bash tools/setup.sh
 
 # Ray, roz-campaign's engine for clusters: not in the default set-up (its
-# wheel is large); the tests need it (test/campaign/test_campaign_ray.py).
+# wheel is large); the tests need it (test/campaign/test_campaign_ray.py),
+# and so does make bench (the campaigns' Ray row). Idempotent.
 setup-ray:
 	@bash tools/setup.sh --ray
 
@@ -275,7 +276,9 @@ bench: build
 	if [ -x $(BUILD)/bench/roz_bench_mujoco ]; then \
 	    $(BUILD)/bench/roz_bench_mujoco 1000 --json $(BENCH_OUT)/mujoco.jsonl; \
 	else echo "the mujoco port is not in this build" > $(BENCH_OUT)/mujoco.skipped; fi
-	# campaigns: bare rozrun, one and two local workers, Ray (docs/campaigns.md)
+	# campaigns: bare rozrun (one, then two at once: the machine's ceiling), one
+	# and two local workers, and Ray (make setup-ray: idempotent; docs/campaigns.md)
+	$(MAKE) --no-print-directory setup-ray
 	if .venv/bin/python -c "import ray" 2>/dev/null; then \
 	    test/run_netns.sh .venv/bin/python bench/campaign/bench_campaign.py --build $(BUILD) \
 	        --ray --json $(BENCH_OUT)/campaign.jsonl; \

@@ -3,6 +3,7 @@
 
     python tools/campaign.py run FILE [--out DIR] [--build DIR] [--rozrun PATH]
                                       [--workers N] [--ray ADDRESS] [--samples N]
+                                      [--family NAME]...
     python tools/campaign.py report DIR        (the report again, from the results)
     roz-campaign ...                           (the same, installed with roz)
 
@@ -14,7 +15,9 @@ of a family gets the same values under every controller (the builds are
 compared on the same runs). Each run's summary (rozrun --summary-json) is
 judged by the invariants: stands (lowest base height), the faults latched at
 the end (none, or the expected ones), nothing outside the manifest on the
-wire.
+wire, follows the operator (tools/tracking.py's measures, from the run's
+trace). The operator's commands are one script for every sample, or a
+family's perturbation: each sample its own script, written under DIR.
 
 Results are one JSON line per sample in DIR/results.jsonl, appended by this
 process alone as each sample ends (one write, flushed to disk), so an
@@ -45,6 +48,9 @@ import time
 import tomllib
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import tracking  # noqa: E402  (beside this file: follows the operator, one implementation)
+
 FORMAT = "roz-campaign/1"
 RETRIES = 3  # a sample whose rozrun was killed is run again this many times
 
@@ -73,11 +79,21 @@ KINDS = {
     "delay": {"ticks": (None, "ticks"), "at": (None, "s"), "duration": (None, "s")},
     "estop": {"at": (None, "s")},
     "swap": {"at": (None, "s"), "controller": (None, "a controller file")},
+    # the operator's command: INPUT at VALUE from AT for DURATION (0: to the
+    # end), at BASE before and after; a family's steps make each sample's
+    # own script (rozrun --operator), docs/campaigns.md "The operator"
+    "operator": {"input": ("operator/velocity.x", "an operator input of the robot"),
+                 "value": (None, "the input's unit"), "at": (0.0, "s"),
+                 "duration": (0.0, "s, 0 = to the end"), "base": (0.0, "the input's unit")},
 }
 DISTRIBUTIONS = ("uniform", "normal", "loguniform", "integer", "choice", "linspace")
 #: the invariants a verdict checks, and their defaults
 VERDICT = {"min_base_height": None, "min_final_base_height": None, "faults": [],
-           "max_wire_violations": 0, "max_tilt_deg": None}
+           "max_wire_violations": 0, "max_tilt_deg": None, "tracking": None}
+#: follows the operator (verdict.tracking): tools/tracking.py's bounds, each
+#: segment of constant command judged after SETTLE seconds (its --settle)
+TRACKING = {"settle": 2.0, "max_speed_error": None, "max_yaw_rate_error": None,
+            "max_stop_drift": None, "max_stop_turn": None, "heading_ratio": None}
 
 
 class CampaignError(Exception):
@@ -118,9 +134,33 @@ def _verdict(path, key, table, base):
         if k == "faults":
             if not isinstance(v, list) or not all(isinstance(x, str) for x in v):
                 _fail(path, f"{key}.{k}", "expected a list of fault names ([] for none)")
+        elif k == "tracking":
+            v = _tracking(path, f"{key}.{k}", v)
         elif not isinstance(v, (int, float)) or isinstance(v, bool):
             _fail(path, f"{key}.{k}", f"expected a number, got {v!r}")
         out[k] = v
+    return out
+
+
+def _tracking(path, key, table):
+    """verdict.tracking, checked: TRACKING's keys, numbers (heading_ratio
+    [lo, hi]), at least one bound."""
+    if not isinstance(table, dict):
+        _fail(path, key, "expected a table of bounds (e.g. {max_speed_error = 0.2})")
+    out = dict(TRACKING)
+    for k, v in table.items():
+        if k not in TRACKING:
+            _fail(path, f"{key}.{k}", f"unknown bound (known: {', '.join(TRACKING)})")
+        num = (lambda x: isinstance(x, (int, float)) and not isinstance(x, bool)
+               and math.isfinite(x) and x >= 0)
+        if k == "heading_ratio":
+            if not isinstance(v, list) or len(v) != 2 or not all(map(num, v)) or v[0] > v[1]:
+                _fail(path, f"{key}.{k}", f"expected [lo, hi], got {v!r}")
+        elif not num(v):
+            _fail(path, f"{key}.{k}", f"expected a number, 0 or more, got {v!r}")
+        out[k] = v
+    if all(out[k] is None for k in TRACKING if k != "settle"):
+        _fail(path, key, f"no bound (known: {', '.join(k for k in TRACKING if k != 'settle')})")
     return out
 
 
@@ -238,9 +278,16 @@ def load(path, build="build"):
         if not isinstance(only, list) or not only or any(x not in names for x in only):
             _fail(path, f"{key}.controllers", f"expected a list of the campaign's controllers "
                   f"({', '.join(sorted(names))}), got {only!r}")
+        steps = [j for j, pt in enumerate(perturb) if pt["kind"] == "operator"]
+        if steps and operator:
+            _fail(path, f"{key}.perturb[{steps[0]}]", "an operator step makes each sample's own "
+                  "script: not with [campaign] operator (put the file's commands in steps)")
+        verdict = _verdict(path, f"{key}.verdict", fa.get("verdict"), base)
+        if verdict["tracking"] is not None and not steps and not operator:
+            _fail(path, f"{key}.verdict.tracking", "follows the operator: needs an operator "
+                  "script ([campaign] operator, or operator steps in the family)")
         families.append({"name": name, "samples": n, "perturb": perturb, "controllers": only,
-                         "verdict": _verdict(path, f"{key}.verdict", fa.get("verdict"), base),
-                         "boundary": boundary})
+                         "verdict": verdict, "boundary": boundary})
     seed = c.get("seed", 1)
     if not isinstance(seed, int) or not 0 <= seed < 2**32:
         _fail(path, "campaign.seed", f"expected 0..4294967295, got {seed!r}")
@@ -281,10 +328,39 @@ def _g(x):
     return f"{x:.6g}" if isinstance(x, float) else str(x)
 
 
+def operator_script(steps, end):
+    """The operator's script (rozrun --operator's CSV) of @steps, each an
+    operator perturbation's values: a column per input, a row at 0 and at
+    every step's start and end before @end (s) where a value changes, each
+    row every input's value then (the last step in force, else the input's
+    first step's base)."""
+    inputs = list(dict.fromkeys(st["input"] for st in steps))
+    times = {0.0}
+    for st in steps:
+        times.add(float(st["at"]))
+        if st["duration"] > 0:
+            times.add(float(st["at"] + st["duration"]))
+    lines, last = ["time_s," + ",".join(inputs)], None
+    for t in sorted(x for x in times if x < end):
+        row = []
+        for name in inputs:
+            mine = [st for st in steps if st["input"] == name]
+            v = mine[0]["base"]
+            for st in mine:
+                if st["at"] <= t and (st["duration"] <= 0 or t < st["at"] + st["duration"]):
+                    v = st["value"]
+            row.append(_g(float(v)))
+        if row != last:  # a row that changes nothing would split a segment
+            lines.append(f"{_g(t)}," + ",".join(row))
+        last = row
+    return "\n".join(lines) + "\n"
+
+
 def draw(campaign, family, index):
     """Sample @index of @family: its seed, the values drawn (KIND.FIELD, a
-    kind's second entry KIND2.FIELD) and rozrun's arguments (without the
-    program, the controller and the output files)."""
+    kind's second entry KIND2.FIELD), rozrun's arguments (without the
+    program, the controller and the output files) and the operator's script
+    its operator steps make (None without)."""
     seed = sample_seed(campaign["seed"], family["name"], index)
     rng = random.Random(seed)
     rate = campaign["rate_hz"]
@@ -292,6 +368,7 @@ def draw(campaign, family, index):
     params = {"noise_seed": [str(seed)]}
     extra = []
     seen = {}
+    steps = []
 
     def tick(s):
         return max(0, int(round(s * rate)))
@@ -344,10 +421,13 @@ def draw(campaign, family, index):
             extra += ["--estop-at", str(max(1, tick(v["at"])))]
         elif kind == "swap":
             extra += ["--swap-at", f"{max(1, tick(v['at']))}:{{swap:{v['controller']}}}"]
+        elif kind == "operator":
+            steps.append(v)
     args = []
     for k in sorted(params):
         args += ["--param", f"{k}={';'.join(params[k])}"]
-    return seed, values, args + extra
+    script = operator_script(steps, campaign["duration_s"]) if steps else None
+    return seed, values, args + extra, script
 
 
 def samples(campaign):
@@ -356,7 +436,7 @@ def samples(campaign):
     out = []
     for fam in campaign["families"]:
         for i in range(fam["samples"]):
-            seed, values, args = draw(campaign, fam, i)
+            seed, values, args, script = draw(campaign, fam, i)
             for ct in campaign["controllers"]:
                 if ct["name"] not in fam["controllers"]:
                     continue
@@ -365,10 +445,34 @@ def samples(campaign):
                     "controller": ct["name"], "seed": seed, "values": values,
                     "args": ["--robot", campaign["robot"], "--port", campaign["port"],
                              "--controller", "{controller}", "--ticks", str(ticks)] +
-                            (["--operator", "{operator}"] if campaign.get("operator") else []) +
+                            (["--operator", "{operator}"]
+                             if campaign.get("operator") or script else []) +
                             args,
+                    # the sample's own script (its family's operator steps):
+                    # the file the command names, under --out (operator_file)
+                    "script": script, "operator_file": script and
+                    os.path.join(campaign.get("out", ""), "operators", f"{fam['name']}-{i}.csv"),
                 })
     return out
+
+
+def write_scripts(todo):
+    """Writes the operator scripts of the samples in @todo where their
+    commands name them (a file already there with the same bytes stays)."""
+    for s in todo:
+        if not s["script"]:
+            continue
+        data = s["script"].encode()
+        try:
+            with open(s["operator_file"], "rb") as f:
+                if f.read() == data:
+                    continue
+        except FileNotFoundError:
+            pass
+        os.makedirs(os.path.dirname(s["operator_file"]), exist_ok=True)
+        with open(s["operator_file"] + ".tmp", "wb") as f:
+            f.write(data)
+        os.replace(s["operator_file"] + ".tmp", s["operator_file"])
 
 
 def _swap_path(campaign, name):
@@ -387,7 +491,7 @@ def command(campaign, sample, rozrun):
     for a in sample["args"]:
         a = a.replace("{controller}", wasm)
         if a == "{operator}":
-            a = campaign["operator"]
+            a = sample.get("operator_file") or campaign["operator"]
         if "{swap:" in a:
             pre, rest = a.split("{swap:", 1)
             a = pre + _swap_path(campaign, rest[:-1])
@@ -429,14 +533,32 @@ def run_sample(task):
                 a = pre + files[rest[:-1]]
             args.append(a)
         out = os.path.join(tmp, "summary.json")
-        p = subprocess.run([task["rozrun"]] + args + ["--summary-json", out],
+        # follows the operator: judged from the trace's truth (tools/tracking.py)
+        trace = ["--trace", os.path.join(tmp, "trace.csv")] if task.get("settle") is not None \
+            else []
+        p = subprocess.run([task["rozrun"]] + args + ["--summary-json", out] + trace,
                            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        summary = None
+        summary = segments = None
         if os.path.exists(out):
             with open(out) as f:
                 summary = json.load(f)
+        if trace and summary is not None:
+            segments = _segments(trace[1], files[task["operator_file"]], task["settle"])
     return {"status": p.returncode, "summary": summary, "stderr": p.stderr[-2000:],
-            "wall_s": time.monotonic() - t0, "node": node}
+            "wall_s": time.monotonic() - t0, "node": node, "tracking": segments}
+
+
+def _segments(trace, script, settle):
+    """tools/tracking.py's segments of a run (its trace and operator script),
+    or a sentence saying why there are none."""
+    try:
+        segs = tracking.judge(tracking.read_trace(trace), tracking.read_operator(script), settle)
+    except SystemExit as e:  # tracking.py says what it cannot read, and exits
+        return str(e)
+    except (ValueError, IndexError, KeyError) as e:  # a trace cut short
+        return f"{type(e).__name__}: {e}"
+    return [{k: (round(v, 6) if isinstance(v, float) else v) for k, v in sg.items()}
+            for sg in segs]
 
 
 def _task(campaign, sample, rozrun, blobs):
@@ -447,11 +569,14 @@ def _task(campaign, sample, rozrun, blobs):
             name = a.split("{swap:", 1)[1][:-1]
             p = _swap_path(campaign, name)
             files[name] = blobs[p]
-    op = campaign.get("operator")
+    op = sample.get("operator_file") or campaign.get("operator")
     if op:
-        files[op] = blobs[op]
+        files[op] = sample["script"].encode() if sample.get("script") else blobs[op]
+    bounds = next(f["verdict"]["tracking"] for f in campaign["families"]
+                  if f["name"] == sample["family"])
     return {"id": sample["id"], "rozrun": rozrun, "args": sample["args"], "files": files,
-            "controller_file": wasm, "operator_file": op}
+            "controller_file": wasm, "operator_file": op,
+            "settle": bounds and bounds["settle"]}
 
 
 # ---- the results file ---------------------------------------------------------------
@@ -536,6 +661,16 @@ def judge(row, inv):
     wire = s.get("wire_violations", 0) + ((s.get("port_counters") or {}).get("violations") or 0)
     if wire > inv.get("max_wire_violations", 0):
         why.append(f"{wire} values outside the manifest on the wire")
+    if inv.get("tracking") is not None:
+        segs = row.get("tracking")
+        if not isinstance(segs, list) or not segs:
+            why.append(f"follows the operator: not judged ({segs or 'no segment settled'})")
+        else:
+            bounds = dict(inv["tracking"])
+            if bounds["heading_ratio"] is not None:
+                bounds["heading_ratio"] = tuple(bounds["heading_ratio"])
+            why += [f"does not follow the operator: {b}"
+                    for b in tracking.check(segs, argparse.Namespace(**bounds))]
     return not why, why
 
 
@@ -584,6 +719,7 @@ def run_ray(tasks, address, done):
     ray.init(address=address, logging_level="ERROR", log_to_driver=False)
     # this module is not importable on the nodes: its functions travel by value
     ray.cloudpickle.register_pickle_by_value(sys.modules[__name__])
+    ray.cloudpickle.register_pickle_by_value(tracking)
 
     @ray.remote(num_cpus=1, max_retries=RETRIES * 3, retry_exceptions=False)
     def remote(task):
@@ -624,17 +760,53 @@ def run_ray(tasks, address, done):
 
 # ---- the command ----------------------------------------------------------------------
 
+class Refused(Exception):
+    """rozrun refused a sample's arguments (exit 2, no summary): the
+    campaign cannot run as written."""
+
+
 def _probe(campaign, rozrun):
-    """The robot's rate, from a one-tick run of the first controller (which
-    also says early what rozrun refuses: a bad robot, controller, port or
-    operator script)."""
+    """The robot's rate, from a one-tick run of the first controller, which
+    also says early what rozrun refuses: a bad robot, controller or operator
+    script. It runs on the loopback port, which opens in milliseconds where
+    MuJoCo loads the robot's model (as long as a short sample's simulation
+    takes, on the G1: the engine's largest cost); only when loopback
+    refuses does it run on the campaign's port, for that port's words. What
+    only the port refuses (the robot's model) the first sample says, and
+    the campaign stops there (Refused)."""
     wasm = campaign["controllers"][0]["wasm"]
     op = ["--operator", campaign["operator"]] if campaign.get("operator") else []
+    # the families' operator steps: every input they may set, at 0
+    inputs = []
+    for fam in campaign["families"]:
+        for pt in fam["perturb"]:
+            if pt["kind"] == "operator":
+                v = pt["fields"]["input"]
+                inputs += v["choice"] if isinstance(v, dict) and "choice" in v else [v]
     with tempfile.TemporaryDirectory(prefix="roz-campaign-") as tmp:
         out = os.path.join(tmp, "probe.json")
-        p = subprocess.run([rozrun, "--robot", campaign["robot"], "--port", campaign["port"],
-                            "--controller", wasm, "--ticks", "1", "--summary-json", out] + op,
-                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if inputs:
+            bad = [x for x in inputs if not isinstance(x, str)]
+            if bad:
+                sys.exit(f"roz-campaign: {campaign['file']}: operator input {bad[0]!r}: "
+                         "expected an input's name")
+            op = ["--operator", os.path.join(tmp, "operator-steps.csv")]
+            names = list(dict.fromkeys(inputs))
+            with open(op[1], "w") as f:
+                f.write("time_s," + ",".join(names) + "\n0" + ",0" * len(names) + "\n")
+        try:
+            h = subprocess.run([rozrun, "--port", campaign["port"], "--help"],
+                               capture_output=True, text=True)
+        except OSError as e:
+            sys.exit(f"roz-campaign: {rozrun}: {e.strerror} (build it first: make build)")
+        if f"Port {campaign['port']}" not in h.stdout:
+            sys.exit(f"roz-campaign: {rozrun}: this rozrun has no {campaign['port']} port")
+        for port in ("loopback", campaign["port"]):
+            p = subprocess.run([rozrun, "--robot", campaign["robot"], "--port", port,
+                                "--controller", wasm, "--ticks", "1", "--summary-json", out] + op,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+            if os.path.exists(out):
+                break
         if not os.path.exists(out):
             sys.exit(f"roz-campaign: {campaign['file']}: rozrun refuses the campaign's robot, "
                      f"port, operator script or first controller:\n{p.stderr.strip()}")
@@ -657,6 +829,14 @@ def cmd_run(a):
     if a.samples is not None:
         for fam in campaign["families"]:
             fam["samples"] = min(fam["samples"], a.samples)
+    if a.family:
+        names = [f["name"] for f in campaign["families"]]
+        for x in a.family:
+            if x not in names:
+                print(f"roz-campaign: {a.file}: --family {x}: no such family (families: "
+                      f"{', '.join(names)})", file=sys.stderr)
+                return 2
+        campaign["families"] = [f for f in campaign["families"] if f["name"] in a.family]
     rozrun = os.path.abspath(a.rozrun or default_rozrun(a.build))
     for c in campaign["controllers"]:
         if not os.path.exists(c["wasm"]):
@@ -666,6 +846,7 @@ def cmd_run(a):
     campaign["rate_hz"] = _probe(campaign, rozrun)
     out = a.out or os.path.join("campaign-out", campaign["name"])
     os.makedirs(out, exist_ok=True)
+    campaign["out"] = os.path.abspath(out)  # the samples' operator scripts are there
     meta = {"format": FORMAT, "campaign": {k: campaign[k] for k in
             ("name", "file", "robot", "port", "duration_s", "seed", "rate_hz", "controllers",
              "families", "operator", "operator_sha256")}, "rozrun": rozrun}
@@ -689,6 +870,7 @@ def cmd_run(a):
     os.replace(os.path.join(out, "campaign.json.tmp"), os.path.join(out, "campaign.json"))
     results = Results(os.path.join(out, "results.jsonl"))
     todo = [s for s in samples(campaign) if s["id"] not in results.rows]
+    write_scripts(todo)
     total = len(results.rows) + len(todo)
     blobs = {}
     for c in campaign["controllers"]:
@@ -717,6 +899,9 @@ def cmd_run(a):
 
     def done(task, r):
         s = by_id[task["id"]]
+        if r["status"] == 2 and r["summary"] is None:
+            raise Refused(f"roz-campaign: {a.file}: rozrun refuses sample {s['id']}:\n"
+                          f"{(r.get('stderr') or '').strip()}\n{shell(command(campaign, s, rozrun))}")
         if r["summary"] is not None and r["summary"]["ticks"] != ticks:
             return  # a run cut short (Ctrl-C reached its rozrun too): not a result
         row = {"id": s["id"], "family": s["family"], "index": s["index"],
@@ -737,6 +922,10 @@ def cmd_run(a):
             run_ray(tasks, a.ray, done)
         else:
             run_local(tasks, workers, done)
+    except Refused as e:
+        print(e, file=sys.stderr)
+        results.close()
+        return 2
     except KeyboardInterrupt:
         print(f"roz-campaign: interrupted; {len(results.rows)} of {total} samples in the "
               "results, run the same command again to go on", file=sys.stderr)
@@ -772,6 +961,8 @@ def main(argv=None):
     r.add_argument("--workers", type=int, help="local workers (default: every core)")
     r.add_argument("--ray", metavar="ADDRESS", help="run on the Ray cluster at ADDRESS")
     r.add_argument("--samples", type=int, help="at most N samples a family (a quick look)")
+    r.add_argument("--family", action="append", metavar="NAME",
+                   help="only this family (repeat for more; a quick look)")
     r.add_argument("--no-report", action="store_true")
     r.add_argument("--quiet", action="store_true")
     p = sub.add_parser("report", help="write the report of a campaign's results again")

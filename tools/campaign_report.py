@@ -112,6 +112,8 @@ def _windows(values, rate):
         text = what
         if what == "push":
             text = f"push {values.get(f'{lab}.force', 0):.0f} N"
+        elif what == "operator":  # a step of the operator's command
+            text = f"{values.get(f'{lab}.input', '')} {values.get(f'{lab}.value', '')}"
         out.append((float(at), float(at) + float(dur or 0.0), text))
     return out
 
@@ -120,7 +122,22 @@ def _plot_case(row, path, rate):
     series = _truth(row, "base_height_series") or {}
     ys = series.get("values") or []
     dt = series.get("every_s") or 0.0
-    fig, ax = plt.subplots(figsize=(7.5, 3.2))
+    segs = row.get("tracking") if isinstance(row.get("tracking"), list) else []
+    if segs:  # follows the operator: each segment's command and achieved means
+        fig, (ax, tr) = plt.subplots(2, 1, figsize=(7.5, 5.2), sharex=True)
+        for i, (key, color, text) in enumerate((("vx", "#1f5fa8", "forward"),
+                                                ("vy", "#2a8a2a", "lateral"),
+                                                ("wz", "#c0392b", "yaw rate"))):
+            for k, g in enumerate(segs):
+                tr.hlines(g["command"][i], g["from"], g["to"], colors=color, linestyles=":",
+                          label=f"{text} commanded" if k == 0 else None)
+                tr.hlines(g[key], g["to"] - g["settled_s"], g["to"], colors=color,
+                          linewidth=2.5, label=f"{text} achieved" if k == 0 else None)
+        tr.set_ylabel("m/s, rad/s")
+        tr.legend(fontsize=7, ncol=3)
+        tr.grid(alpha=0.3)
+    else:
+        fig, ax = plt.subplots(figsize=(7.5, 3.2))
     ax.plot([i * dt for i in range(len(ys))], ys, color="#1f5fa8")
     for t0, t1, text in _windows(row["values"], rate):
         if t1 > t0:
@@ -128,7 +145,7 @@ def _plot_case(row, path, rate):
         else:
             ax.axvline(t0, color="#e8a33a")
         ax.annotate(text, (t0, 1.0), xycoords=("data", "axes fraction"), va="top", fontsize=8)
-    ax.set_xlabel("time (s)")
+    (tr if segs else ax).set_xlabel("time (s)")
     ax.set_ylabel("base height (m)")
     ax.set_title(f"{row['id']}: {'pass' if row['passed'] else 'FAIL'}", fontsize=10)
     ax.grid(alpha=0.3)
@@ -183,7 +200,8 @@ CSV_FIXED = ("id", "family", "index", "controller", "seed", "passed", "reasons",
              "attempts", "node", "wall_s", "base_height_min", "base_height_min_time_s",
              "base_height_final", "tilt_max_deg", "joint_speed_max", "joint_speed_max_joint",
              "joint_speed_max_time_s", "faults", "wire_violations", "clamps",
-             "rate_caps", "limit_stops", "fuel_run_max", "ticks")
+             "rate_caps", "limit_stops", "fuel_run_max", "ticks", "speed_error_max",
+             "yaw_rate_error_max", "stop_drift_max")
 
 
 def _csv_row(r):
@@ -201,6 +219,14 @@ def _csv_row(r):
     for k in ("base_height_min", "base_height_min_time_s", "base_height_final", "tilt_max_deg"):
         v = _truth(r, k)
         out[k] = "" if v is None else repr(v)
+    # follows the operator: the worst of its segments (tools/tracking.py's)
+    segs = r.get("tracking") if isinstance(r.get("tracking"), list) else []
+    moving = [g for g in segs if g["kind"] != "stop"]
+    stops = [g for g in segs if g["kind"] == "stop"]
+    out["speed_error_max"] = repr(max(max(g["vx_error"], g["vy_error"]) for g in moving)) \
+        if moving else ""
+    out["yaw_rate_error_max"] = repr(max(g["wz_error"] for g in moving)) if moving else ""
+    out["stop_drift_max"] = repr(max(g["drift_m"] for g in stops)) if stops else ""
     speed = s.get("joint_speed_max") or {}
     out["joint_speed_max"] = repr(speed["value"]) if speed.get("value") is not None else ""
     out["joint_speed_max_joint"] = speed.get("joint", "")

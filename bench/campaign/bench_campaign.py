@@ -8,10 +8,18 @@ family), all in the same run.
 
 Figures, each in simulated seconds per wall second (per core where said):
   - bare rozrun: the samples' own rozrun commands, one after another (one core);
+  - bare rozrun, two at once: the same commands, two running at any time
+    (as many as the campaign's workers), no campaign: the machine's own
+    ceiling (shared caches, clocks that slow when both cores work);
   - the campaign on one local worker (the same samples): its cost over bare
     rozrun is the engine's (the driver, a temporary folder and the summary a
-    sample, the results file);
-  - the campaign on two local workers: scaling = (two workers / one) / 2;
+    sample, the results file), in wall time and in CPU time (the driver and
+    its rozruns against the bare rozruns: what the engine spends, however
+    loaded the machine is);
+  - the campaign on two local workers: scaling = (two workers / one) / 2,
+    against linear, and against the machine's ceiling (two bare at once /
+    one bare); the engine's share of the gap to linear is the part of it
+    the machine's ceiling does not explain;
   - with --ray: the campaign on a one-node Ray cluster of two CPUs on
     127.0.0.1 (run it in a network namespace: test/run_netns.sh), against
     the two local workers.
@@ -23,7 +31,9 @@ bench/report.py.
 """
 import argparse
 import json
+from concurrent.futures import ThreadPoolExecutor
 import os
+import resource
 import shutil
 import signal
 import socket
@@ -59,6 +69,12 @@ force = {{ uniform = [30, 90] }}
 direction = {{ uniform = [0, 360] }}
 at = 1.5
 """
+
+
+def cpu():
+    """CPU seconds (user + system) of every child process waited for."""
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def run_campaign(path, out, *extra):
@@ -100,23 +116,47 @@ def main():
         print(f"bench_campaign: {a.samples} G1 samples of {a.seconds} s simulated")
         # bare rozrun and the campaign alternate, rounds times, each keeping its
         # best: a machine whose load drifts is less unfair to either
-        bare = one = two = 0.0
+        cmds = [campaign.command(c, s, rozrun) + ["--summary-json",
+                                                  os.path.join(work, f"bare-{i}.json")]
+                for i, s in enumerate(campaign.samples(c))]
+
+        def bare_run(cmd):
+            subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+        bare = par = one = two = 0.0
+        bare_cpu = one_cpu = float("inf")
         for k in range(a.rounds):
-            t0 = time.monotonic()
-            for s in campaign.samples(c):
-                cmd = campaign.command(c, s, rozrun)
-                subprocess.run(cmd + ["--summary-json", os.path.join(work, "bare.json")],
-                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            t0, c0 = time.monotonic(), cpu()
+            for cmd in cmds:
+                bare_run(cmd)
             bare = max(bare, sim / (time.monotonic() - t0))
+            bare_cpu = min(bare_cpu, cpu() - c0)
+            t0 = time.monotonic()
+            with ThreadPoolExecutor(max_workers=2) as pool:
+                list(pool.map(bare_run, cmds))
+            par = max(par, sim / (time.monotonic() - t0))
+            c0 = cpu()
             one = max(one, sim / run_campaign(path, os.path.join(work, f"w1-{k}"), "--workers",
                                               "1", "--rozrun", rozrun))
+            one_cpu = min(one_cpu, cpu() - c0)
             two = max(two, sim / run_campaign(path, os.path.join(work, f"w2-{k}"), "--workers",
                                               "2", "--rozrun", rozrun))
         fig("bare rozrun, one core", bare, "sim s / wall s")
         fig("campaign, one local worker", one, "sim s / wall s", ratio=one / bare)
         fig("campaign engine cost over bare rozrun", 100.0 * (1.0 - one / bare), "%")
-        fig("campaign, two local workers", two, "sim s / wall s")
-        fig("scaling, two workers / (2 x one)", two / (2.0 * one), "x linear")
+        # the same in CPU time (the driver and its rozruns against the bare
+        # rozruns): what the engine spends, whatever else the machine runs
+        fig("campaign engine cost over bare rozrun, CPU time",
+            100.0 * (one_cpu / bare_cpu - 1.0), "%", cpu_s=one_cpu, bare_cpu_s=bare_cpu)
+        fig("bare rozrun, two at once (the machine's ceiling)", par, "sim s / wall s",
+            ratio=par / (2.0 * bare))
+        fig("campaign, two local workers", two, "sim s / wall s", ratio=two / par)
+        scaling, ceiling = two / (2.0 * one), par / (2.0 * bare)
+        fig("scaling, two workers / (2 x one)", scaling, "x linear")
+        fig("scaling against the machine's ceiling", scaling / ceiling, "x ceiling")
+        # of the gap to linear, the part the machine's own ceiling does not explain
+        fig("the engine's share of the gap to linear",
+            100.0 * max(0.0, ceiling - scaling) / max(1e-9, 1.0 - scaling), "%")
         ray_rate = None
         if a.ray:
             ray_rate = bench_ray(path, work, rozrun, sim)

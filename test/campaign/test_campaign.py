@@ -268,3 +268,21 @@ samples = 1
     (tmp_path / "walk.csv").write_text("time_s,operator/nothing\n0,1\n")
     p = run("run", str(path), "--out", str(tmp_path / "out2"), "--workers", "1", "--no-report")
     assert p.returncode != 0 and "walk.csv" in p.stderr, p.stderr
+
+
+def test_sample_rozrun_refuses_stops_the_campaign(tiny, tmp_path):
+    """The first one-tick run opens the loopback port, not MuJoCo (the
+    model's load costs as much as a short sample): what only a sample's run
+    refuses (a push at a body the model lacks) stops the campaign at that
+    sample, saying rozrun's words and the command, and writes no row."""
+    from conftest import ROZRUN
+    path = tiny()
+    with open(path) as f:
+        text = f.read()
+    with open(path, "w") as f:
+        f.write(text.replace('at = 0.1\n', 'at = 0.1\nbody = "nobody"\n', 1))
+    out = str(tmp_path / "out")
+    p = run("run", path, "--out", out, "--workers", "1", "--no-report", "--rozrun", ROZRUN)
+    assert p.returncode == 2, p.stderr + p.stdout
+    assert "rozrun refuses sample push/" in p.stderr and "nobody" in p.stderr, p.stderr
+    assert rows(out) == []

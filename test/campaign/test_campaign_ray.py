@@ -118,3 +118,45 @@ def test_node_killed_mid_run_every_sample_once(tiny, tmp_path):
     # the sample the killed node was running started again on the head
     assert [n for i, n in starts if i == lost][-1] == "head", starts
     assert {n for _, n in starts} == {"head", "victim"}
+
+
+def test_operator_steps_and_tracking_on_ray(tmp_path):
+    """A family's own operator scripts and the tracking verdict on Ray: the
+    scripts travel with the tasks, tools/tracking.py with this module, and
+    every row is the local engine's (the same truth, segments, verdict)."""
+    import test_operator
+    from conftest import ROZRUN, need_mujoco, rows
+    need_mujoco()
+    if not os.path.exists(test_operator.STAND):
+        pytest.skip("the 12-joint G1 stand is not built")
+    path = test_operator.write(tmp_path, walk=1)
+    tmp = tempfile.mkdtemp(prefix="rozray")
+    port = _port()
+    env = dict(os.environ, RAY_USAGE_STATS_ENABLED="0")
+    head = subprocess.Popen([RAY, "start", "--head", f"--port={port}", f"--temp-dir={tmp}",
+                             "--include-dashboard=false", "--block", "--num-cpus=2",
+                             "--node-ip-address=127.0.0.1", "--object-store-memory=80000000",
+                             "--disable-usage-stats"],
+                            env=env, start_new_session=True, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    try:
+        _wait_for(port, head)
+        _wait_for_nodes(port, 1)
+        p = subprocess.run(CAMPAIGN + ["run", path, "--out", str(tmp_path / "ray"), "--ray",
+                                       f"127.0.0.1:{port}", "--no-report", "--rozrun", ROZRUN],
+                           env=env, capture_output=True, text=True, timeout=600)
+        assert p.returncode == 0, p.stderr[-3000:] + p.stdout[-2000:]
+    finally:
+        os.killpg(head.pid, signal.SIGKILL)  # the node this test started, by its id
+        head.wait()
+    p = subprocess.run(CAMPAIGN + ["run", path, "--out", str(tmp_path / "local"), "--no-report",
+                                   "--rozrun", ROZRUN], capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr[-3000:]
+    on_ray = {r["id"]: r for r in rows(str(tmp_path / "ray"))}
+    local = {r["id"]: r for r in rows(str(tmp_path / "local"))}
+    assert set(on_ray) == set(local) == {"stay/0/stand", "walk/0/stand"}
+    for k, r in on_ray.items():
+        assert r["tracking"] and r["tracking"] == local[k]["tracking"], k
+        assert r["summary"]["truth"] == local[k]["summary"]["truth"], k
+        assert (r["passed"], r["reasons"]) == (local[k]["passed"], local[k]["reasons"]), k
+    assert on_ray["stay/0/stand"]["passed"] and not on_ray["walk/0/stand"]["passed"]
