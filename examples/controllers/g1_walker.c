@@ -6,11 +6,14 @@
  * operator/yaw_rate).
  *
  * WORK IN PROGRESS, not yet a walker: in MuJoCo it crouches, shifts its
- * weight and steps in place for about 3 to 6 s, then falls (the heading
- * and the sagittal step placement wander). It is not run by make demo nor
- * by any test, and it needs `rozrun --fuel off`: a tick costs about 30,000
- * fuel units against the 20,000 a tick roz grants at 500 Hz (docs/budget.md;
- * two inverse-kinematics steps are 17,000 of them).
+ * weight and steps in place for about 4 s (it falls 5.4 s into the run;
+ * the footholds swing wider each step, sideways and fore-aft, and the
+ * heading wanders); told to walk at 0.5 m/s from 1 s it lurches forward and
+ * falls at 3.6 s. It is not run by make demo nor by any test, and it needs
+ * `rozrun --fuel off`: a tick costs about 30,000 fuel units against the
+ * 20,000 a tick roz grants at 500 Hz (docs/budget.md; its two
+ * inverse-kinematics steps are 17,000 of them), and the safety filter
+ * rate-caps some of its commands (about 1,500 in 6,000 ticks).
  *
  * The body is a linear inverted pendulum over the stance foot
  * (omega = sqrt(g / COM_HEIGHT)). Each tick:
@@ -26,17 +29,22 @@
  *  - the swing foot: after a double support of DOUBLE_S, from where it
  *    lifted to the foothold, STEP_LIFT high on a sine, flat, turned by half
  *    the step's yaw (the operator's yaw rate, plus HEADING_P back to the
- *    heading it integrates to);
+ *    heading it integrates to); the feet swap when the swing ankle is down
+ *    to the stance ankle's height late in the swing, or LATE_S after the
+ *    step's time (the swing leg counts as the stance leg mirrored in the
+ *    centre of mass the footholds use: SWING_MIRROR);
  *  - the stance foot: the pelvis held STAND_HEIGHT above it and upright,
  *    the foot turned by the other half of the yaw; the stance hip rights the
  *    torso beyond that (TORSO_P, TORSO_RATE), the stance ankle pushes the
  *    centre of mass toward the sole (WALK_ANKLE_P, WALK_ANKLE_D);
  *  - joint targets by inverse kinematics (one Gauss-Newton step a tick per
  *    leg, warm-started), sent with fixed gains inside the manifest's limits,
- *    and feed-forward torques that carry the body's weight (J' f, shared
+ *    and feed-forward torques that carry the body's weight (J' f, the
+ *    ground's force pointing from the ankle to the centre of mass, shared
  *    between the feet in double support).
  * What was learnt in MuJoCo: the joint PD alone does not hold the weight
- * (the feed-forward is needed), the narrow feet need a stiff ankle roll
+ * (the feed-forward is needed; with the force only vertical the stance hip
+ * roll sags 0.1 rad and the pelvis drops toward the swing side), the narrow feet need a stiff ankle roll
  * (kp 100; at 20-60 the body sways off sideways once its weight is shifted),
  * the ankle pitch needs the centre of mass fed back, and the torso needs
  * more than the kinematic uprighting (TORSO_P 1). */
@@ -60,6 +68,11 @@
 #define DOUBLE_S 0.08 /* s: both feet down at the start of each step */
 #endif
 #ifndef STEP_LIFT
+#ifndef TOUCH_H
+#define TOUCH_H 0.008 /* m: a swing ankle this close to the stance one's height is down */
+#endif
+#define TOUCH_PHASE 0.6 /* of the swing, before which no touch-down counts */
+#define LATE_S 0.06 /* s: how long a swing may overrun, lowering, before the swap */
 #define STEP_LIFT 0.05    /* m: the swing foot's apex */
 #endif
 #ifndef STEP_WIDTH
@@ -106,14 +119,26 @@ static const double leg_com[3] = { 0.0173, 0.0232, 0.0398 };
 #endif
 #define TORSO_P 1.0 /* rad of stance hip target per rad of the pelvis's tilt, beyond the kinematics */
 #endif
+#ifndef SWING_MIRROR
+#define SWING_MIRROR 1
+#endif
+#ifndef LAT_GAIN
+#define LAT_GAIN 0.7 /* of the DCM's error sideways into the foothold */
+#endif
 #ifndef SAG_GAIN
-#define SAG_GAIN 0.8
+#define SAG_GAIN 1.0
 #endif
 #ifndef TORSO_RATE
 #define TORSO_RATE 0.05 /* rad of hip target per rad/s of the pelvis's tilt rate */
 #endif
 
-static const double kp[LEGS_JOINTS] = { 200, 200, 150, 200, 100, 100 };
+#ifndef KP_YAW
+#define KP_YAW 200
+#endif
+#ifndef IK_WR
+#define IK_WR 1.0
+#endif
+static const double kp[LEGS_JOINTS] = { 200, 200, KP_YAW, 200, 100, 100 };
 static const double kd[LEGS_JOINTS] = { 5, 5, 4, 6, 3, 1 };
 static const double crouch[LEGS_JOINTS] = { -0.1, 0.0, 0.0, 0.3, -0.2, 0.0 };
 /* the targets' range per leg, inside the manifest's limits (the knee kept bent) */
@@ -194,19 +219,23 @@ static double tau_ff[2][LEGS_JOINTS]; /* feed-forward torques this tick, N.m */
 static const double tau_max[LEGS_JOINTS] = { 60, 60, 40, 100, 35, 15 };
 
 /* the torques with which leg @p leg carries the share @p share of the
- * body's weight (J' f: the foot pushing the ground down), from its joints'
- * axes and origins and its ankle in the pelvis frame; @p up: the world's up
- * in the pelvis frame */
-static void carry(int leg, double share, const double up[3], const legs_pose_t *foot,
-                  double axes[LEGS_JOINTS][3], double origins[LEGS_JOINTS][3])
+ * body's weight (J' f): the ground's force on the foot points from the
+ * ankle to the centre of mass @p com (as on an inverted pendulum), its
+ * vertical part the weight; from the leg's joint axes and origins and its
+ * ankle in the pelvis frame; @p up: the world's up in the pelvis frame */
+static void carry(int leg, double share, const double up[3], const double com[3],
+                  const legs_pose_t *foot, double axes[LEGS_JOINTS][3],
+                  double origins[LEGS_JOINTS][3])
 {
-    double f = -share * WEIGHT_N;
+    double d[3] = { com[0] - foot->p[0], com[1] - foot->p[1], com[2] - foot->p[2] };
+    double h = d[0] * up[0] + d[1] * up[1] + d[2] * up[2];
+    double f = -share * WEIGHT_N / (h > 0.3 ? h : 0.3);
     for (int j = 0; j < LEGS_JOINTS; j++) {
         const double *a = axes[j];
         double d0 = foot->p[0] - origins[j][0], d1 = foot->p[1] - origins[j][1];
         double d2 = foot->p[2] - origins[j][2];
         double c0 = a[1] * d2 - a[2] * d1, c1 = a[2] * d0 - a[0] * d2, c2 = a[0] * d1 - a[1] * d0;
-        tau_ff[leg][j] = f * (c0 * up[0] + c1 * up[1] + c2 * up[2]);
+        tau_ff[leg][j] = f * (c0 * d[0] + c1 * d[1] + c2 * d[2]);
     }
 }
 
@@ -254,6 +283,8 @@ static void lift_off(int up, int down, double com_f[2][3], const double fyaw[2])
     mtv(swing0, rd, d);
     swing_yaw0 = fyaw[up];
     stance_yaw0 = fyaw[down];
+    vel[down][0] = vel[up][0]; /* the lifting foot's estimate was the one standing */
+    vel[down][1] = vel[up][1];
 }
 
 ROZ_PROCESS(tick)
@@ -297,11 +328,16 @@ ROZ_PROCESS(tick)
     double com_off[3], com_h[3], fyaw[2], com_f[2][3];
     for (int i = 0; i < 3; i++)
         com_off[i] = MASS_BODY * body_com[i];
+    /* walking, the swing leg counts as the stance leg mirrored: its own
+     * swing would move the divergent component, and the footholds with it,
+     * by the leg's motion (a feedback on itself) */
     for (int leg = 0; leg < 2; leg++) {
         double side = leg ? -1.0 : 1.0;
-        double mid[3] = { 0.5 * foot[leg].p[0] + leg_com[0],
-                          0.5 * (foot[leg].p[1] + side * legs__pos[0][1]) + side * leg_com[1],
-                          0.5 * (foot[leg].p[2] + legs__pos[0][2]) + leg_com[2] };
+        const legs_pose_t *fl = walking && SWING_MIRROR && leg != stance ? &foot[stance] : &foot[leg];
+        double fy = fl == &foot[leg] ? fl->p[1] : -fl->p[1];
+        double mid[3] = { 0.5 * fl->p[0] + leg_com[0],
+                          0.5 * (fy + side * legs__pos[0][1]) + side * leg_com[1],
+                          0.5 * (fl->p[2] + legs__pos[0][2]) + leg_com[2] };
         for (int i = 0; i < 3; i++)
             com_off[i] += MASS_LEG * mid[i];
     }
@@ -366,10 +402,13 @@ ROZ_PROCESS(tick)
         xi[1] = com_f[stance][1] + vel[stance][1] / omega;
         double grow = roz_math_exp(omega * roz_math_fmax(STEP_S - step_t, 0.0));
         if (s < 0.8) {
-            double bx = cmd_vx * STEP_S / (e - 1.0);
-            double by = -side * STEP_WIDTH / (1.0 + e) + cmd_vy * STEP_S / (e - 1.0);
-            foothold[0] = roz_math_clamp(xi[0] * (1.0 + SAG_GAIN * (grow - 1.0)) - bx, -0.25, 0.30);
-            foothold[1] = xi[1] * grow - by;
+            /* a steady gait's step and its DCM at the step's end; the
+             * foothold moves by the gains times the DCM's error from that */
+            double lx = cmd_vx * STEP_S, ly = cmd_vy * STEP_S;
+            double nom_x = lx * e / (e - 1.0);
+            double nom_y = side * STEP_WIDTH * e / (1.0 + e) + ly * e / (e - 1.0);
+            foothold[0] = roz_math_clamp(lx + SAG_GAIN * (xi[0] * grow - nom_x), -0.25, 0.30);
+            foothold[1] = side * STEP_WIDTH + ly + LAT_GAIN * (xi[1] * grow - nom_y);
             if (side > 0)
                 foothold[1] = roz_math_clamp(foothold[1], 0.12, 0.40);
             else
@@ -388,7 +427,8 @@ ROZ_PROCESS(tick)
         double sw_pos[3] = {
             swing0[0] + (foothold[0] - swing0[0]) * a,
             swing0[1] + (foothold[1] - swing0[1]) * a,
-            swing0[2] * (1.0 - ss) + STEP_LIFT * roz_sin(3.14159265358979 * ss) - 0.01 * ss,
+            swing0[2] * (1.0 - ss) + STEP_LIFT * roz_sin(3.14159265358979 * ss) - 0.01 * ss -
+                0.3 * roz_math_fmax(step_t - STEP_S, 0.0),
         };
         double rf[3][3], d[3], dh[3], pos[3], rw[3][3], rwt[3][3];
         rz(rf, fyaw[stance]);
@@ -414,7 +454,10 @@ ROZ_PROCESS(tick)
         set_pose(&want[stance], pos, rw);
 
         step_t += DT;
-        if (step_t >= STEP_S - 1e-9) { /* the swing foot is down: swap */
+        /* the swing foot is down (its ankle as low as the stance one, late in
+         * the swing) or overdue: swap */
+        double sw_h = com_f[stance][2] - com_f[sw][2];
+        if ((ss > TOUCH_PHASE && sw_h < TOUCH_H) || step_t >= STEP_S + LATE_S) {
             lift_off(stance, sw, com_f, fyaw);
             stance = sw;
             step_t = 0.0;
@@ -422,7 +465,7 @@ ROZ_PROCESS(tick)
     }
     /* the stance hip rights the torso against its tilt's rate */
     for (int leg = 0; leg < 2; leg++) {
-        legs_ik_step(leg, q_ik[leg], &want[leg], 0.3);
+        legs_ik_step(leg, q_ik[leg], &want[leg], IK_WR);
         for (int j = 0; j < LEGS_JOINTS; j++)
             q_ik[leg][j] = roz_math_clamp(q_ik[leg][j], qmin[leg][j], qmax[leg][j]);
     }
@@ -462,8 +505,8 @@ ROZ_PROCESS(tick)
         double w = smooth(step_t / DOUBLE_S); /* the weight passes in double support */
         share_left = stance == 0 ? w : 1.0 - w;
     }
-    carry(0, share_left, up_p, &foot[0], axes[0], origins[0]);
-    carry(1, 1.0 - share_left, up_p, &foot[1], axes[1], origins[1]);
+    carry(0, share_left, up_p, com_off, &foot[0], axes[0], origins[0]);
+    carry(1, 1.0 - share_left, up_p, com_off, &foot[1], axes[1], origins[1]);
     for (int leg = 0; leg < 2; leg++)
         for (int j = 0; j < LEGS_JOINTS; j++)
             q_ik[leg][j] += off[leg][j];
