@@ -43,16 +43,24 @@ static const double legs__tilt[LEGS_JOINTS] = { 0.0, -LEGS_TILT_S, 0.0, LEGS_TIL
 static const int legs__axis[LEGS_JOINTS] = { 1, 0, 2, 1, 1, 0 };
 
 /* r = r rot(axis, c, s), in place: only the two columns the rotation mixes
- * change */
+ * change (written out per axis: a loop over a table costs a controller
+ * several times the fuel) */
+static inline void legs__mix(double r[3][3], int u, int v, double c, double s)
+{
+    double a0 = r[0][u], b0 = r[0][v], a1 = r[1][u], b1 = r[1][v], a2 = r[2][u], b2 = r[2][v];
+    r[0][u] = c * a0 + s * b0, r[0][v] = c * b0 - s * a0;
+    r[1][u] = c * a1 + s * b1, r[1][v] = c * b1 - s * a1;
+    r[2][u] = c * a2 + s * b2, r[2][v] = c * b2 - s * a2;
+}
+
 static inline void legs__rot(double r[3][3], int axis, double c, double s)
 {
-    static const int next[3] = { 1, 2, 0 };
-    int u = next[axis], v = next[u];
-    for (int i = 0; i < 3; i++) {
-        double au = r[i][u], av = r[i][v];
-        r[i][u] = c * au + s * av;
-        r[i][v] = -s * au + c * av;
-    }
+    if (axis == 0)
+        legs__mix(r, 1, 2, c, s);
+    else if (axis == 1)
+        legs__mix(r, 2, 0, c, s);
+    else
+        legs__mix(r, 0, 1, c, s);
 }
 
 /* Forward kinematics of leg @p side (0 left, 1 right) at joints @p q; with
@@ -86,24 +94,19 @@ static inline void legs_fk(int side, const double q[LEGS_JOINTS], legs_pose_t *o
     }
 }
 
-/* One damped Gauss-Newton step of leg @p side's joints @p q toward the pose
- * @p want (position and orientation, orientation errors weighted by
- * @p wr m/rad); @p q is updated in place. Returns the position error
- * before the step (m). */
-static inline double legs_ik_step(int side, double q[LEGS_JOINTS], const legs_pose_t *want,
-                                  double wr)
+/* The pose error (position, then orientation weighted by @p wr m/rad: half
+ * the sum of the axes' cross products) of @p now from @p want, and the
+ * Jacobian there, from the joints' axes and origins. */
+static inline void legs__error(const legs_pose_t *now, const legs_pose_t *want, double wr,
+                               double ax[LEGS_JOINTS][3], double org[LEGS_JOINTS][3],
+                               double e[6], double jac[6][LEGS_JOINTS])
 {
-    legs_pose_t now;
-    double ax[LEGS_JOINTS][3], org[LEGS_JOINTS][3];
-    legs_fk(side, q, &now, ax, org);
-    double e[6], jac[6][LEGS_JOINTS];
     for (int i = 0; i < 3; i++)
-        e[i] = want->p[i] - now.p[i];
-    /* orientation error: half the sum of the axes' cross products */
+        e[i] = want->p[i] - now->p[i];
     for (int i = 0; i < 3; i++)
         e[3 + i] = 0.0;
     for (int k = 0; k < 3; k++) {
-        double a0 = now.r[0][k], a1 = now.r[1][k], a2 = now.r[2][k];
+        double a0 = now->r[0][k], a1 = now->r[1][k], a2 = now->r[2][k];
         double b0 = want->r[0][k], b1 = want->r[1][k], b2 = want->r[2][k];
         e[3] += 0.5 * (a1 * b2 - a2 * b1);
         e[4] += 0.5 * (a2 * b0 - a0 * b2);
@@ -112,7 +115,8 @@ static inline double legs_ik_step(int side, double q[LEGS_JOINTS], const legs_po
     for (int i = 3; i < 6; i++)
         e[i] *= wr;
     for (int j = 0; j < LEGS_JOINTS; j++) {
-        double d0 = now.p[0] - org[j][0], d1 = now.p[1] - org[j][1], d2 = now.p[2] - org[j][2];
+        double d0 = now->p[0] - org[j][0], d1 = now->p[1] - org[j][1];
+        double d2 = now->p[2] - org[j][2];
         jac[0][j] = ax[j][1] * d2 - ax[j][2] * d1;
         jac[1][j] = ax[j][2] * d0 - ax[j][0] * d2;
         jac[2][j] = ax[j][0] * d1 - ax[j][1] * d0;
@@ -120,6 +124,53 @@ static inline double legs_ik_step(int side, double q[LEGS_JOINTS], const legs_po
         jac[4][j] = wr * ax[j][1];
         jac[5][j] = wr * ax[j][2];
     }
+}
+
+/* q += the damped least-squares step dq of J dq = e, each joint's at most
+ * 0.2 rad */
+static inline void legs__solve(double jac[6][LEGS_JOINTS], const double e[6],
+                               double q[LEGS_JOINTS]);
+
+/* One damped Gauss-Newton step of leg @p side's joints @p q toward the pose
+ * @p want (position and orientation, orientation errors weighted by
+ * @p wr m/rad); @p q is updated in place. Returns the position error
+ * before the step (m). */
+static inline double legs_ik_step(int side, double q[LEGS_JOINTS], const legs_pose_t *want,
+                                  double wr)
+{
+    legs_pose_t now;
+    double ax[LEGS_JOINTS][3], org[LEGS_JOINTS][3], e[6], jac[6][LEGS_JOINTS];
+    legs_fk(side, q, &now, ax, org);
+    legs__error(&now, want, wr, ax, org, e, jac);
+    legs__solve(jac, e, q);
+    return roz_math_sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+}
+
+/* The same step without a forward kinematics of its own: linearised at the
+ * measured joints @p q_now, whose pose @p now and joint axes and origins
+ * legs_fk() gave (the pose at @p q predicted as now + J (q - q_now)). What
+ * a controller that computes the measured pose anyway saves: a forward
+ * kinematics a tick (a tenth of a 500 Hz tick's fuel). Returns the
+ * predicted position error (m). */
+static inline double legs_ik_step_from(double q[LEGS_JOINTS], const legs_pose_t *want, double wr,
+                                       const legs_pose_t *now, const double q_now[LEGS_JOINTS],
+                                       double ax[LEGS_JOINTS][3], double org[LEGS_JOINTS][3])
+{
+    double e[6], jac[6][LEGS_JOINTS];
+    legs__error(now, want, wr, ax, org, e, jac);
+    for (int i = 0; i < 6; i++) {
+        double s = 0.0;
+        for (int j = 0; j < LEGS_JOINTS; j++)
+            s += jac[i][j] * (q[j] - q_now[j]);
+        e[i] -= s;
+    }
+    legs__solve(jac, e, q);
+    return roz_math_sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+}
+
+static inline void legs__solve(double jac[6][LEGS_JOINTS], const double e[6],
+                               double q[LEGS_JOINTS])
+{
     /* (J'J + lambda I) dq = J'e, by Cholesky */
     double m[LEGS_JOINTS][LEGS_JOINTS], b[LEGS_JOINTS];
     for (int i = 0; i < LEGS_JOINTS; i++) {
@@ -160,7 +211,6 @@ static inline double legs_ik_step(int side, double q[LEGS_JOINTS], const legs_po
     }
     for (int j = 0; j < LEGS_JOINTS; j++)
         q[j] += roz_math_clamp(b[j], -0.2, 0.2);
-    return roz_math_sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
 }
 
 #endif /* ROZ_EXAMPLE_G1_LEGS_H */

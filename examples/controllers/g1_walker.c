@@ -6,14 +6,14 @@
  * operator/yaw_rate).
  *
  * WORK IN PROGRESS, not yet a walker: in MuJoCo it crouches, shifts its
- * weight and steps in place for about 4 s (it falls 5.4 s into the run;
+ * weight and steps in place for about 3.5 s (it falls 4.9 s into the run;
  * the footholds swing wider each step, sideways and fore-aft, and the
- * heading wanders); told to walk at 0.5 m/s from 1 s it lurches forward and
- * falls at 3.6 s. It is not run by make demo nor by any test, and it needs
- * `rozrun --fuel off`: a tick costs about 30,000 fuel units against the
- * 20,000 a tick roz grants at 500 Hz (docs/budget.md; its two
- * inverse-kinematics steps are 17,000 of them), and the safety filter
- * rate-caps some of its commands (about 1,500 in 6,000 ticks).
+ * heading wanders); told to walk at 0.5 m/s from 1 s it lurches forward
+ * and falls at 3.0 s. It is not run by make demo nor by any test. It runs
+ * inside roz's default budget (at most 18,929 fuel units a tick of the
+ * 20,000 at 500 Hz, docs/budget.md: one leg's inverse kinematics a tick,
+ * linearised at the measured joints); the safety filter rate-caps some of
+ * its commands (about 1,500 in 10,500 ticks).
  *
  * The body is a linear inverted pendulum over the stance foot
  * (omega = sqrt(g / COM_HEIGHT)). Each tick:
@@ -37,8 +37,8 @@
  *    the foot turned by the other half of the yaw; the stance hip rights the
  *    torso beyond that (TORSO_P, TORSO_RATE), the stance ankle pushes the
  *    centre of mass toward the sole (WALK_ANKLE_P, WALK_ANKLE_D);
- *  - joint targets by inverse kinematics (one Gauss-Newton step a tick per
- *    leg, warm-started), sent with fixed gains inside the manifest's limits,
+ *  - joint targets by inverse kinematics (one Gauss-Newton step a tick,
+ *    the legs in turn, warm-started, linearised at the measured joints), sent with fixed gains inside the manifest's limits,
  *    and feed-forward torques that carry the body's weight (J' f, the
  *    ground's force pointing from the ankle to the centre of mass, shared
  *    between the feet in double support).
@@ -148,12 +148,23 @@ static const double qmax[2][LEGS_JOINTS] = { { 2.85, 2.9, 2.7, 2.85, 0.5, 0.26 }
                                              { 2.85, 0.5, 2.7, 2.85, 0.5, 0.26 } };
 
 /* ---- small vector helpers (3-vectors, 3x3 rotations) ---- */
-static void rz(double r[3][3], double a)
+static void rz_cs(double r[3][3], double c, double s) /* about z, by cos c and sin s */
 {
-    double c = roz_cos(a), s = roz_sin(a);
     r[0][0] = c, r[0][1] = -s, r[0][2] = 0.0;
     r[1][0] = s, r[1][1] = c, r[1][2] = 0.0;
     r[2][0] = 0.0, r[2][1] = 0.0, r[2][2] = 1.0;
+}
+
+static void rz(double r[3][3], double a)
+{
+    rz_cs(r, roz_cos(a), roz_sin(a));
+}
+
+static void copy3(double out[3][3], const double a[3][3])
+{
+    for (int i = 0; i < 3; i++)
+        for (int k = 0; k < 3; k++)
+            out[i][k] = a[i][k];
 }
 
 static void mv(double out[3], const double r[3][3], const double v[3]) /* r v */
@@ -193,6 +204,27 @@ static int walking;
 static double swing0[3], swing_yaw0, stance_yaw0; /* at lift-off */
 static double foothold[2];
 static double heading; /* rad: the heading walking holds */
+/* e^(omega T), e^(-omega dt), and e^(omega (T - t)) this tick: a product a
+ * tick, not an exp (230 fuel units each) */
+static double e_step, grow_tick, grow_now;
+
+/* atan2 to about 1e-5 rad, in some 40 fuel units (roz_math_atan2's exact
+ * one is some 400): the octant, then an odd polynomial on [0, 1] */
+static double fast_atan2(double y, double x)
+{
+    double ax = roz_math_fabs(x), ay = roz_math_fabs(y);
+    double mx = ax > ay ? ax : ay, mn = ax > ay ? ay : ax;
+    if (!(mx > 0.0))
+        return 0.0;
+    double t = mn / mx, t2 = t * t;
+    double a = t * (0.99997726 + t2 * (-0.33262347 + t2 * (0.19354346 + t2 * (-0.11643287 +
+               t2 * (0.05265332 + t2 * -0.01172120)))));
+    if (ay > ax)
+        a = 1.5707963267948966 - a;
+    if (x < 0.0)
+        a = 3.141592653589793 - a;
+    return y < 0.0 ? -a : a;
+}
 
 static double clampv(double v, double lo, double hi)
 {
@@ -314,8 +346,15 @@ ROZ_PROCESS(tick)
         send(tick);
         return;
     }
-    double yaw = roz_math_atan2(r[1][0], r[0][0]);
-    rz(h, yaw);
+    double yaw = fast_atan2(r[1][0], r[0][0]);
+    {
+        double n = roz_math_sqrt(r[0][0] * r[0][0] + r[1][0] * r[1][0]);
+        if (!(n > 1e-6)) { /* the pelvis's x axis vertical: no heading */
+            send(tick);
+            return;
+        }
+        rz_cs(h, r[0][0] / n, r[1][0] / n);
+    }
     mtm(rt, h, r); /* the pelvis's tilt: heading frame from pelvis frame */
     double gx = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_X), -10, 10);
     double gy = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_Y), -10, 10);
@@ -345,15 +384,21 @@ ROZ_PROCESS(tick)
         com_off[i] /= MASS_BODY + 2.0 * MASS_LEG;
     com_off[0] += COM_BIAS_X;
     mv(com_h, rt, com_off);
+    double frot[2][3][3]; /* each foot's heading, as a rotation about z */
     for (int leg = 0; leg < 2; leg++) {
-        double a[3], fr[3][3], rf[3][3], d[3];
+        double a[3], d[3];
+        double (*rf)[3] = frot[leg];
         mv(a, rt, foot[leg].p);
-        for (int i = 0; i < 3; i++)
-            for (int k = 0; k < 3; k++)
-                fr[i][k] = rt[i][0] * foot[leg].r[0][k] + rt[i][1] * foot[leg].r[1][k] +
-                           rt[i][2] * foot[leg].r[2][k];
-        fyaw[leg] = roz_math_atan2(fr[1][0], fr[0][0]);
-        rz(rf, fyaw[leg]);
+        /* the foot's x axis in the heading frame, level */
+        double fx = rt[0][0] * foot[leg].r[0][0] + rt[0][1] * foot[leg].r[1][0] +
+                    rt[0][2] * foot[leg].r[2][0];
+        double fy = rt[1][0] * foot[leg].r[0][0] + rt[1][1] * foot[leg].r[1][0] +
+                    rt[1][2] * foot[leg].r[2][0];
+        double n = roz_math_sqrt(fx * fx + fy * fy);
+        if (!(n > 1e-6))
+            fx = 1.0, fy = 0.0, n = 1.0;
+        fyaw[leg] = fast_atan2(fy, fx);
+        rz_cs(rf, fx / n, fy / n);
         for (int i = 0; i < 3; i++)
             d[i] = com_h[i] - a[i];
         mtv(com_f[leg], rf, d);
@@ -385,6 +430,9 @@ ROZ_PROCESS(tick)
         }
         if (t >= CROUCH_S + SHIFT_S + 0.2) {
             walking = 1;
+            e_step = roz_math_exp(roz_math_sqrt(GRAVITY / COM_HEIGHT) * STEP_S);
+            grow_tick = roz_math_exp(-roz_math_sqrt(GRAVITY / COM_HEIGHT) * DT);
+            grow_now = e_step;
             heading = yaw;
             stance = 1;
             step_t = 0.0;
@@ -395,12 +443,13 @@ ROZ_PROCESS(tick)
         double side = sw == 0 ? 1.0 : -1.0; /* the swing foot's side: + left */
         double s = step_t / STEP_S;
         double omega = roz_math_sqrt(GRAVITY / COM_HEIGHT);
-        double e = roz_math_exp(omega * STEP_S);
+        double e = e_step;
         /* the DCM over the stance foot's sole, and the foothold */
         double xi[2];
         xi[0] = com_f[stance][0] - SOLE_X + vel[stance][0] / omega;
         xi[1] = com_f[stance][1] + vel[stance][1] / omega;
-        double grow = roz_math_exp(omega * roz_math_fmax(STEP_S - step_t, 0.0));
+        double grow = roz_math_fmax(grow_now, 1.0);
+        grow_now *= grow_tick;
         if (s < 0.8) {
             /* a steady gait's step and its DCM at the step's end; the
              * foothold moves by the gains times the DCM's error from that */
@@ -431,7 +480,7 @@ ROZ_PROCESS(tick)
                 0.3 * roz_math_fmax(step_t - STEP_S, 0.0),
         };
         double rf[3][3], d[3], dh[3], pos[3], rw[3][3], rwt[3][3];
-        rz(rf, fyaw[stance]);
+        copy3(rf, frot[stance]);
         /* pelvis from the stance ankle: com_f less the com's offset */
         double com_off_f[3];
         mtv(com_off_f, rf, com_h);
@@ -448,7 +497,6 @@ ROZ_PROCESS(tick)
         /* the stance ankle: the pelvis upright at STAND_HEIGHT over it */
         double st_yaw = stance_yaw0 + (-0.5 * dyaw - stance_yaw0) * s;
         double dst[3] = { -pel[0], -pel[1], -STAND_HEIGHT };
-        rz(rf, fyaw[stance]);
         mv(pos, rf, dst);
         rz(rw, st_yaw);
         set_pose(&want[stance], pos, rw);
@@ -461,11 +509,16 @@ ROZ_PROCESS(tick)
             lift_off(stance, sw, com_f, fyaw);
             stance = sw;
             step_t = 0.0;
+            grow_now = e_step;
         }
     }
-    /* the stance hip rights the torso against its tilt's rate */
+    /* one inverse-kinematics step a tick, the legs in turn, linearised at
+     * the measured joints (two full steps would cost 17,000 of the tick's
+     * 20,000 fuel units) */
     for (int leg = 0; leg < 2; leg++) {
-        legs_ik_step(leg, q_ik[leg], &want[leg], IK_WR);
+        if ((tick & 1) != leg)
+            continue;
+        legs_ik_step_from(q_ik[leg], &want[leg], IK_WR, &foot[leg], q[leg], axes[leg], origins[leg]);
         for (int j = 0; j < LEGS_JOINTS; j++)
             q_ik[leg][j] = roz_math_clamp(q_ik[leg][j], qmin[leg][j], qmax[leg][j]);
     }

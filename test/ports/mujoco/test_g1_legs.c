@@ -92,11 +92,35 @@ static void test_ik_reaches_the_pose(void **state)
     }
 }
 
+/* the step linearised at the measured joints reaches them from the crouch
+ * (its prediction is exact there) */
+static void test_ik_from_the_measured_pose(void **state)
+{
+    (void)state;
+    for (size_t c = 0; c < N_CASES; c++) {
+        legs_pose_t want, now;
+        double ax[LEGS_JOINTS][3], org[LEGS_JOINTS][3];
+        legs_fk(cases[c].side, cases[c].q, &now, ax, org);
+        for (int i = 0; i < 3; i++) {
+            want.p[i] = cases[c].p[i];
+            for (int k = 0; k < 3; k++)
+                want.r[i][k] = cases[c].r[3 * i + k];
+        }
+        double q[LEGS_JOINTS] = { -0.1, 0.0, 0.0, 0.3, -0.2, 0.0 };
+        for (int it = 0; it < 20; it++)
+            legs_ik_step_from(q, &want, 0.3, &now, cases[c].q, ax, org);
+        for (int j = 0; j < LEGS_JOINTS; j++)
+            if (fabs(q[j] - cases[c].q[j]) > 1e-3)
+                fail_msg("case %zu: joint %d %.5f, the pose's %.5f", c, j, q[j], cases[c].q[j]);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fk_matches_mujoco),
         cmocka_unit_test(test_ik_reaches_the_pose),
+        cmocka_unit_test(test_ik_from_the_measured_pose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
