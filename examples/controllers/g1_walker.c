@@ -5,14 +5,16 @@
  * operator's velocity command (operator/velocity.x, operator/velocity.y,
  * operator/yaw_rate).
  *
- * WORK IN PROGRESS: in MuJoCo it crouches, shifts its weight and steps in
- * place (0.3 s steps) for the 21 s of the demo without a fault, creeping
- * forward at 0.04 m/s; told to walk at 0.5 m/s from 1 s it lurches and
- * falls at 3.3 s. It is not run by make demo nor by any test. It runs
- * inside roz's default budget (at most 18,825 fuel units a tick of the
- * 20,000 at 500 Hz, docs/budget.md: one leg's inverse kinematics a tick,
- * linearised at the measured joints); the safety filter rate-caps some of
- * its commands (about 1,300 in 10,500 ticks).
+ * In MuJoCo, under examples/operators/g1_walker.csv (make demo's default;
+ * the test demo_plot_walker), it crouches, shifts its weight, walks forward
+ * at 0.3 m/s (0.38 achieved), stops, turns on the spot at 0.5 rad/s (0.515)
+ * and stops, 21 s without a fault, the pelvis never below 0.74 m. Not yet
+ * at 0.5 m/s: there it lurches and falls at 3.3 s (at 0.4 it drifts
+ * sideways after the stop). It runs inside roz's default budget (at most
+ * 18,825 fuel units a tick of the 20,000 at 500 Hz, docs/budget.md: one
+ * leg's inverse kinematics a tick, linearised at the measured joints) and
+ * replays bit for bit; the safety filter rate-caps some of its commands
+ * (about 1,400 in 10,500 ticks).
  *
  * The body is a linear inverted pendulum over the stance foot
  * (omega = sqrt(g / COM_HEIGHT)). Each tick:
