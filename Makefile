@@ -2,8 +2,8 @@
 #
 # The two commands of the README:
 #   make demo   set up, build, and run the main job (the G1 walking in MuJoCo
-#               under a scripted operator, given G1_WALK_POLICY; else the
-#               G1 standing, pushed)
+#               under a scripted operator: roz's own walker, or the trained
+#               policy G1_WALK_POLICY names)
 #   make test   set up, build, and run every test
 # Both run tools/setup.sh first, which installs what is missing (Debian
 # packages, the Python venv, wasm3's sources) and does nothing otherwise.
@@ -61,46 +61,51 @@ install: build
 
 DEMO_DIR = $(BUILD)/demo
 
-# The main job: a learned walking policy, deployed by rozgen-nn deploy
-# (docs/policies.md), walks the 12-joint Unitree G1 in MuJoCo for 21 s
-# (10,500 ticks at 500 Hz) behind the safety filter, its velocity command
-# read from the robot's operator inputs, which a scripted operator sets
-# (examples/operators/g1_walk.csv: stand, forward 0.5 m/s, stop, turn
-# 0.5 rad/s, stop). The trace (with the simulator's base pose and the
-# inputs), the recording (the inputs in it: it replays bit for bit),
-# commanded vs achieved velocity (tools/tracking.py), a plot marking the
-# operator's commands, and frames of the robot rendered offscreen (where EGL
-# works) land in $(DEMO_DIR). G1_WALK_POLICY names the trained policy
-# (unitree_rl_gym's deploy/pre_train/g1/motion.pt; not shipped with roz,
-# whose own small network is not a walker): without it, make demo says so
-# and runs demo-stand. test/run_demo.cmake (the test demo_plot) runs the same.
+# The main job: the 12-joint Unitree G1 walks in MuJoCo for 21 s (10,500
+# ticks at 500 Hz) behind the safety filter, its velocity command read from
+# the robot's operator inputs, which a scripted operator sets. By default
+# the walker is roz's own (examples/controllers/g1_walker.c: a capture-point
+# walker, no learned network) under examples/operators/g1_walker.csv (stand,
+# forward 0.3 m/s, stop, turn 0.5 rad/s, stop). G1_WALK_POLICY names a
+# trained policy instead (unitree_rl_gym's deploy/pre_train/g1/motion.pt;
+# not shipped with roz), deployed by rozgen-nn deploy (docs/policies.md),
+# under examples/operators/g1_walk.csv (forward 0.5 m/s). The trace (with
+# the simulator's base pose and the inputs), the recording (the inputs in
+# it: it replays bit for bit), commanded vs achieved velocity
+# (tools/tracking.py), a plot marking the operator's commands, and frames of
+# the robot rendered offscreen (where EGL works) land in $(DEMO_DIR).
+# test/run_demo.cmake (the tests demo_plot, demo_plot_walker) runs the same.
 G1_WALK_POLICY ?=
-DEMO_OPERATOR = examples/operators/g1_walk.csv
 # the plot's joints: the legs' pitch chain
 DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
 ifeq ($(strip $(G1_WALK_POLICY)),)
-demo: demo-stand
-	@echo "demo: the walking demo needs a trained policy, which roz does not ship: make demo"
-	@echo "      G1_WALK_POLICY=motion.pt (unitree_rl_gym's deploy/pre_train/g1/motion.pt);"
-	@echo "      the balancing stand ran instead (README.md)"
+DEMO_OPERATOR = examples/operators/g1_walker.csv
+DEMO_WALKER = $(BUILD)/examples/controllers/g1_walker.wasm
+DEMO_WHAT = roz's own walker (g1_walker.c)
+DEMO_PLAN = forward 0.3 m/s from 1 s
+demo: build
 else
+DEMO_OPERATOR = examples/operators/g1_walk.csv
+DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk.wasm
+DEMO_WHAT = $(notdir $(G1_WALK_POLICY)) deployed
+DEMO_PLAN = forward 0.5 m/s from 1 s
 demo: setup $(BUILD)/build.ninja
 	$(CMAKE) -S . -B $(BUILD) -DROZ_G1_WALK_POLICY=$(abspath $(G1_WALK_POLICY))
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
+endif
 	@mkdir -p $(DEMO_DIR)
 	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1_12dof --port mujoco \
-	    --controller $(BUILD)/examples/controllers/g1_walk.wasm --ticks 10500 \
+	    --controller $(DEMO_WALKER) --ticks 10500 \
 	    --operator $(DEMO_OPERATOR) \
 	    --trace $(DEMO_DIR)/g1_walk.csv --record $(DEMO_DIR)/g1_walk.mcap
 	.venv/bin/python tools/tracking.py $(DEMO_DIR)/g1_walk.csv --operator $(DEMO_OPERATOR)
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/g1_walk.csv $(DEMO_DIR)/g1_walk.png \
 	    --operator $(DEMO_OPERATOR) --channels '$(DEMO_CHANNELS)' \
-	    --title "Unitree G1 (12 joints), $(notdir $(G1_WALK_POLICY)) deployed, under a scripted operator, MuJoCo"
+	    --title "Unitree G1 (12 joints), $(DEMO_WHAT), under a scripted operator, MuJoCo"
 	.venv/bin/python tools/render_frames.py $(DEMO_DIR)/g1_walk.csv \
 	    $(DEMO_DIR)/g1_walk_frames.png --at 0,4,9,13,16,21 \
-	    --title "Unitree G1 in MuJoCo: forward 0.5 m/s from 1 s, stop at 9 s, turn 0.5 rad/s from 12 s, stop at 18 s" \
+	    --title "Unitree G1 in MuJoCo: $(DEMO_PLAN), stop at 9 s, turn 0.5 rad/s from 12 s, stop at 18 s" \
 	    || echo "demo: no offscreen OpenGL here: frames not rendered (tools/render_frames.py)"
-endif
 
 # The balancing stand (examples/controllers/g1_stand.c) holds the 29-joint
 # G1 up in MuJoCo for 10 s (5000 ticks at 500 Hz), pushed forward at the
