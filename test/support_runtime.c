@@ -4,6 +4,8 @@
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdio.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -23,33 +25,70 @@ void roz_test_runtime_config(roz_runtime_config_t *cfg, const roz_manifest_t *m,
     }
 }
 
+void roz_test_port_open(roz_port_t *port, const roz_manifest_t *m, const roz_params_t *params)
+{
+    char err[512] = "";
+
+    if (roz_port_open(port, m, params, err, sizeof err) != ROZ_OK)
+        fail_msg("%s: %s open: %s", m->robot_id, port->ops->name, err);
+}
+
+roz_params_t roz_test_params_kv(const char *kv, roz_param_t *item, char *buf, size_t n)
+{
+    const char *eq = kv != NULL ? strchr(kv, '=') : NULL;
+
+    if (eq == NULL)
+        return (roz_params_t){ item, 0 };
+    snprintf(buf, n, "%.*s", (int)(eq - kv), kv);
+    item->key = buf;
+    item->value = eq + 1;
+    return (roz_params_t){ item, 1 };
+}
+
+void roz_test_physics_config(roz_runtime_config_t *cfg, const roz_manifest_t *m,
+                             roz_port_t port, roz_test_clock_t *clk)
+{
+    *clk = (roz_test_clock_t){ 0, 1000 };
+    roz_test_runtime_config(cfg, m, port, clk);
+    cfg->budget_ns = UINT64_MAX;
+    cfg->monitor_jitter = 0;
+}
+
 void roz_test_loopback_config(roz_runtime_config_t *cfg, roz_loopback_t *lb,
                               const roz_manifest_t *m, const roz_params_t *params,
                               roz_test_clock_t *clk)
 {
-    char err[200] = "";
     roz_port_t port = roz_loopback_port(lb, NULL, NULL);
 
-    if (roz_port_open(&port, m, params, err, sizeof err) != ROZ_OK)
-        fail_msg("%s: loopback open: %s", m->robot_id, err);
+    roz_test_port_open(&port, m, params);
     roz_test_runtime_config(cfg, m, port, clk);
 }
 
-void roz_test_runtime_start(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
-                            const char *controller)
+void roz_test_runtime_load(roz_runtime_t *rt, const uint8_t *w, size_t len, const char *name)
+{
+    if (roz_runtime_load(rt, w, len, NULL) != ROZ_OK)
+        fail_msg("%s refused: %s", name, roz_runtime_error(rt));
+}
+
+void roz_test_runtime_start_wasm(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
+                                 const uint8_t *w, size_t len, const char *name)
 {
     int rc = roz_runtime_init(rt, cfg);
 
     if (rc != ROZ_OK)
         fail_msg("%s: roz_runtime_init: %s", cfg->manifest->robot_id, roz_strerror(rc));
-    if (controller != NULL) {
-        size_t len;
-        const uint8_t *w = roz_test_controller(controller, &len);
-        if (roz_runtime_load(rt, w, len, NULL) != ROZ_OK)
-            fail_msg("%s: %s refused: %s", cfg->manifest->robot_id, controller,
-                     roz_runtime_error(rt));
-    }
+    if (w != NULL)
+        roz_test_runtime_load(rt, w, len, name);
     rc = roz_runtime_start(rt);
     if (rc != ROZ_OK)
         fail_msg("%s: roz_runtime_start: %s", cfg->manifest->robot_id, roz_strerror(rc));
+}
+
+void roz_test_runtime_start(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
+                            const char *controller)
+{
+    size_t len = 0;
+    const uint8_t *w = controller != NULL ? roz_test_controller(controller, &len) : NULL;
+
+    roz_test_runtime_start_wasm(rt, cfg, w, len, controller);
 }

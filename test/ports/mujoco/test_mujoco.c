@@ -23,6 +23,7 @@
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 /* ---- fixtures ------------------------------------------------------------------ */
 
@@ -339,19 +340,9 @@ static void run_g1(int ticks, const char *param, g1_run_t *out)
     out->open_s = now_s() - t0;
 
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX;
-    cfg.monitor_jitter = 0;
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
+    roz_test_runtime_start(&rt, &cfg, "g1_stand");
     uint64_t h = 0xCBF29CE484222325ull;
     double st[ROZ_CFG_MAX_STATES];
     t0 = now_s();
