@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #include "support_runtime.h"
 
+#include <math.h> /* isfinite */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -8,6 +9,8 @@
 #include <string.h>
 
 #include <cmocka.h>
+
+#include "support_stats.h"
 
 void roz_test_runtime_config(roz_runtime_config_t *cfg, const roz_manifest_t *m,
                              roz_port_t port, roz_test_clock_t *clk)
@@ -91,4 +94,35 @@ void roz_test_runtime_start(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
     const uint8_t *w = controller != NULL ? roz_test_controller(controller, &len) : NULL;
 
     roz_test_runtime_start_wasm(rt, cfg, w, len, controller);
+}
+
+void roz_test_frames_reset(roz_test_frames_t *f, const roz_runtime_t *rt,
+                           const roz_manifest_t *m, int limit_stops_jump)
+{
+    memset(f, 0, sizeof *f);
+    f->rt = rt;
+    f->m = m;
+    f->limit_stops_jump = limit_stops_jump;
+}
+
+void roz_test_frames_check(roz_test_frames_t *f, const double *cmd, unsigned long long tick)
+{
+    int immediate = (roz_runtime_faults(f->rt) & ROZ_FAULT_IMMEDIATE_MASK) != 0;
+
+    for (uint16_t i = 0; i < f->m->n_commands; i++) {
+        const roz_channel_t *c = &f->m->commands[i];
+        uint32_t stops = roz_test_channel(f->rt, i).limit_stops;
+        int limited = f->limit_stops_jump && stops != f->stops_before[i];
+        f->stops_before[i] = stops;
+        if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
+            fail_msg("tick %llu: command %u = %g outside [%g, %g]", tick, i, cmd[i], c->min,
+                     c->max);
+        double step = cmd[i] > f->prev[i] ? cmd[i] - f->prev[i] : f->prev[i] - cmd[i];
+        if (f->have_prev && !immediate && !limited && c->max_rate > 0.0 &&
+            step > c->max_rate + 1e-12)
+            fail_msg("tick %llu: command %u jumped %g -> %g, max_rate %g", tick, i, f->prev[i],
+                     cmd[i], c->max_rate);
+        f->prev[i] = cmd[i];
+    }
+    f->have_prev = 1;
 }

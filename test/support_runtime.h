@@ -53,4 +53,26 @@ void roz_test_runtime_start(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
 void roz_test_runtime_start_wasm(roz_runtime_t *rt, const roz_runtime_config_t *cfg,
                                  const uint8_t *w, size_t len, const char *name);
 
+/* The frames a port got from @p rt, checked one by one: each value finite
+ * and inside its channel's limits, and within the channel's max_rate of the
+ * frame before, unless an immediate stop is latched (an e-stop skips the
+ * rate cap, roz/filter.h) or, with @p limit_stops_jump, the channel's
+ * position limit stopped it since the frame before (the limit may override
+ * the rate cap). */
+typedef struct {
+    const roz_runtime_t *rt;
+    const roz_manifest_t *m;
+    int limit_stops_jump;
+    int have_prev;
+    double prev[ROZ_CFG_MAX_COMMANDS];
+    uint32_t stops_before[ROZ_CFG_MAX_COMMANDS];
+} roz_test_frames_t;
+
+/* Starts the checks over (the next frame has none before it). */
+void roz_test_frames_reset(roz_test_frames_t *f, const roz_runtime_t *rt,
+                           const roz_manifest_t *m, int limit_stops_jump);
+
+/* Checks @p cmd, the frame of tick @p tick (named in a failure). */
+void roz_test_frames_check(roz_test_frames_t *f, const double *cmd, unsigned long long tick);
+
 #endif /* ROZ_TEST_SUPPORT_RUNTIME_H */
