@@ -11,13 +11,13 @@
 #define SLOTS 8
 #define MAX_MODULE (256 * 1024)
 
-const uint8_t *roz_test_wasm_or_null(const char *dir, const char *name, size_t *len)
+/* @p path into the next of the rotating buffers; NULL when it cannot be
+ * opened. */
+static const uint8_t *read_wasm(const char *path, size_t *len)
 {
     static uint8_t bufs[SLOTS][MAX_MODULE];
     static unsigned next;
-    char path[4096]; /* a clone may sit at any depth */
 
-    snprintf(path, sizeof path, "%s/%s.wasm", dir, name);
     FILE *f = fopen(path, "rb");
     if (f == NULL)
         return NULL;
@@ -29,13 +29,29 @@ const uint8_t *roz_test_wasm_or_null(const char *dir, const char *name, size_t *
     return buf;
 }
 
-const uint8_t *roz_test_wasm(const char *dir, const char *name, size_t *len)
+const uint8_t *roz_test_wasm_file(const char *path, size_t *len)
 {
-    const uint8_t *w = roz_test_wasm_or_null(dir, name, len);
+    const uint8_t *w = read_wasm(path, len);
 
     if (w == NULL)
-        fail_msg("cannot open %s/%s.wasm", dir, name);
+        fail_msg("cannot open %s", path);
     return w;
+}
+
+const uint8_t *roz_test_wasm_or_null(const char *dir, const char *name, size_t *len)
+{
+    char path[4096]; /* a clone may sit at any depth */
+
+    snprintf(path, sizeof path, "%s/%s.wasm", dir, name);
+    return read_wasm(path, len);
+}
+
+const uint8_t *roz_test_wasm(const char *dir, const char *name, size_t *len)
+{
+    char path[4096];
+
+    snprintf(path, sizeof path, "%s/%s.wasm", dir, name);
+    return roz_test_wasm_file(path, len);
 }
 
 const uint8_t *roz_test_controller(const char *name, size_t *len)

@@ -15,6 +15,9 @@ const uint8_t *roz_test_controller(const char *name, size_t *len);
  * beside itself; fails the test when missing, empty or too large. */
 const uint8_t *roz_test_wasm(const char *dir, const char *name, size_t *len);
 
+/* The wasm file at @p path, the same way. */
+const uint8_t *roz_test_wasm_file(const char *path, size_t *len);
+
 /* roz_test_wasm(), but NULL (the test going on) when the file is missing. */
 const uint8_t *roz_test_wasm_or_null(const char *dir, const char *name, size_t *len);
 

@@ -95,20 +95,12 @@ static roz_runtime_slot_t *active_slot(void)
 
 /* ---- modules -------------------------------------------------------------- */
 
-static uint8_t file_buf[256 * 1024];
-
+/* ROZ_HOSTILE_DIR/hostile_<name>.wasm */
 static const uint8_t *read_module(const char *name, size_t *len)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/hostile_%s.wasm", ROZ_HOSTILE_DIR, name);
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("cannot open %s", path);
-    *len = fread(file_buf, 1, sizeof file_buf, f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof file_buf)
-        fail_msg("%s: empty or too large", path);
-    return file_buf;
+    char file[128];
+    snprintf(file, sizeof file, "hostile_%s", name);
+    return roz_test_wasm(ROZ_HOSTILE_DIR, file, len);
 }
 
 /* Modules built here, byte by byte, for attacks WAT cannot spell compactly. */
