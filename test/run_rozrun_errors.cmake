@@ -2,16 +2,8 @@
 # rozrun's errors for bad arguments: each exits 2 with a message naming the
 # problem; and runs that latch faults exit 1 and name them.
 # cmake -DROZRUN=... -DCTL=<controller dir> -DDEEP=<scratch dir> -P
-function(expect_error args want)
-  execute_process(COMMAND ${ROZRUN} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 2)
-    message(FATAL_ERROR "rozrun ${args}: exit ${rc}, expected 2\n${out}${err}")
-  endif()
-  string(FIND "${err}" "${want}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "rozrun ${args}: stderr lacks \"${want}\":\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
+
 expect_error("--robot;ur5" "--robot and --controller are required")
 expect_error("--robot;ur10;--controller;${CTL}/sine.wasm" "no such built-in manifest; known: agibot_x2")
 expect_error("--robot;ur5;--controller;${CTL}/nope.wasm" "cannot read")

@@ -10,12 +10,7 @@ cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 
-function(expect_in text want what)
-  string(FIND "${text}" "${want}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${what} lacks \"${want}\":\n${text}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
 
 function(run name push)
   execute_process(COMMAND ${ROZRUN} --robot unitree_g1 --port mujoco --ticks 2500

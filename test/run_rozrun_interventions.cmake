@@ -24,19 +24,7 @@ function(run name)
   set(${name}_csv ${OUT}/${name}.csv PARENT_SCOPE)
 endfunction()
 
-# expect(MESSAGE CONDITION...): fails with MESSAGE unless if(CONDITION) holds
-function(expect what)
-  if(NOT (${ARGN}))
-    message(FATAL_ERROR "${what}")
-  endif()
-endfunction()
-
-function(expect_in text want what)
-  string(FIND "${text}" "${want}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${what} lacks \"${want}\":\n${text}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
 
 # Row <tick> of a trace: <prefix>_row (the line), <prefix>_faults,
 # <prefix>_events, <prefix>_target0 and <prefix>_applied0 (command 0's;

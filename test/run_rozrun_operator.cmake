@@ -14,12 +14,7 @@ cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 
-function(expect_in text want what)
-  string(FIND "${text}" "${want}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "${what} lacks \"${want}\":\n${text}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
 
 function(run name)
   execute_process(COMMAND ${ROZRUN} --controller ${CTL}/g1_12dof_deployed.wasm ${ARGN}

@@ -11,6 +11,16 @@
  * when missing. Sets *len. */
 const uint8_t *roz_test_controller(const char *name, size_t *len);
 
+/* Reads <dir>/<name>.wasm the same way, for the controllers a test builds
+ * beside itself; fails the test when missing, empty or too large. */
+const uint8_t *roz_test_wasm(const char *dir, const char *name, size_t *len);
+
+/* The wasm file at @p path, the same way. */
+const uint8_t *roz_test_wasm_file(const char *path, size_t *len);
+
+/* roz_test_wasm(), but NULL (the test going on) when the file is missing. */
+const uint8_t *roz_test_wasm_or_null(const char *dir, const char *name, size_t *len);
+
 /* A test clock: returns the current value and advances by `step` ns per call
  * (ctx is a roz_test_clock_t*). */
 typedef struct {
@@ -18,8 +28,6 @@ typedef struct {
     uint64_t step;
 } roz_test_clock_t;
 uint64_t roz_test_clock(void *ctx);
-
-
 
 /* |a - b| <= eps, with both values in the failure message (cmocka 1.1.5,
  * Debian 12's, has no assert_double_equal). Needs <cmocka.h> and <math.h>. */

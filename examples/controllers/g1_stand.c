@@ -13,21 +13,11 @@
 #include "stand.h"
 #include "unitree_g1_channels.h"
 
-#ifndef STAND_BALANCE
-#define STAND_BALANCE 1
-#endif
-
 #define JOINTS 29
 #define RATE_HZ ((double)ROZ_UNITREE_G1_CONTROL_RATE_HZ)
 
 /* Standing pose in SDK joint order (rad). */
-static const double pose[JOINTS] = {
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,   /* left leg */
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,   /* right leg */
-    0.0, 0.0, 0.0,                    /* waist */
-    0.2, 0.2, 0.0, 0.9, 0.0, 0.0, 0.0,  /* left arm */
-    0.2, -0.2, 0.0, 0.9, 0.0, 0.0, 0.0, /* right arm */
-};
+static const double pose[JOINTS] = STAND_G1_POSE;
 /* Gains per joint (legs stiffer than arms). */
 static const double kp[JOINTS] = {
     100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40, 100, 40, 40,
@@ -38,27 +28,12 @@ static const double kd[JOINTS] = {
     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
 };
 /* Target offsets per rad of lean and per rad/s (stand.h). */
-static const stand_balance_t balance = {
-    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
-    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
-    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
-    .limit = 0.4, .sway = -0.05,
-};
+static const stand_balance_t balance = STAND_G1_BALANCE;
 
 static const stand_robot_t robot = {
     .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
     .balance = STAND_BALANCE ? &balance : 0,
-    .quat = ROZ_UNITREE_G1_STATE_BASE_IMU_ORIENTATION_X,
-    .gyro = ROZ_UNITREE_G1_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-    .legs = ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_POSITION,
-    .pos = ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_POSITION,
-    .vel = ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY,
-    .kp0 = ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS,
-    .kd0 = ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_DAMPING,
-    .tau = ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_EFFORT,
+    STAND_CHANNELS(ROZ_UNITREE_G1, LEFT_HIP_PITCH_JOINT),
 };
 
-ROZ_PROCESS(tick)
-{
-    stand_tick(tick, &robot);
-}
+STAND_PROCESS(robot)

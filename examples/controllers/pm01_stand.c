@@ -11,10 +11,6 @@
 #include "stand.h"
 #include "engineai_pm01_channels.h"
 
-#ifndef STAND_BALANCE
-#define STAND_BALANCE 1
-#endif
-
 #define JOINTS 24
 #define RATE_HZ ((double)ROZ_ENGINEAI_PM01_CONTROL_RATE_HZ)
 
@@ -39,27 +35,12 @@ static const double kd[JOINTS] = {
 /* Target offsets per rad of lean and per rad/s (stand.h): the G1's
  * ankle and hip strategy, on the PM01's legs (the same joint order:
  * hip pitch, roll, yaw, knee, ankle pitch, roll). */
-static const stand_balance_t balance = {
-    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
-    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
-    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
-    .limit = 0.4, .sway = -0.05,
-};
+static const stand_balance_t balance = STAND_G1_BALANCE;
 
 static const stand_robot_t robot = {
     .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
     .balance = STAND_BALANCE ? &balance : 0,
-    .quat = ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ORIENTATION_X,
-    .gyro = ROZ_ENGINEAI_PM01_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-    .legs = ROZ_ENGINEAI_PM01_STATE_J00_HIP_PITCH_L_POSITION,
-    .pos = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_POSITION,
-    .vel = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_VELOCITY,
-    .kp0 = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_STIFFNESS,
-    .kd0 = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_DAMPING,
-    .tau = ROZ_ENGINEAI_PM01_CMD_J00_HIP_PITCH_L_EFFORT,
+    STAND_CHANNELS(ROZ_ENGINEAI_PM01, J00_HIP_PITCH_L),
 };
 
-ROZ_PROCESS(tick)
-{
-    stand_tick(tick, &robot);
-}
+STAND_PROCESS(robot)

@@ -7,6 +7,9 @@
  * robot's own PD runs it. Each command kind's channels are consecutive,
  * one per joint, from the first joint's (pos, vel, kp, kd, tau).
  *
+ * STAND_CHANNELS and STAND_PROCESS write each example's channels and
+ * process from its generated header's names.
+ *
  * The G1 stands add balance (stand_lean, stand_balance): the lean seen by
  * the pelvis IMU and the legs' joints, and its rate, move the ankles' and
  * hips' targets (an ankle and hip strategy), so the feet push the body back
@@ -16,6 +19,12 @@
 
 #include "roz_controller.h"
 #include "roz_math.h"
+
+/* 0 builds a stand without its balance, the pose alone (the tests'
+ * baselines, the *_stand_pd builds). */
+#ifndef STAND_BALANCE
+#define STAND_BALANCE 1
+#endif
 
 static inline void stand_step(long long tick, double rate_hz, int joints, const double *pose,
                               const double *kp, const double *kd, int pos, int vel, int kp0,
@@ -159,5 +168,53 @@ static inline void stand_tick(long long tick, const stand_robot_t *r)
     stand_step(tick, r->rate_hz, joints, target, r->kp, r->kd, r->pos, r->vel, r->kp0, r->kd0,
                r->tau);
 }
+
+/* The stand_robot_t fields naming a robot's channels, from its generated
+ * header's prefix (ROZ_UNITREE_G1) and its first leg joint, the left hip
+ * pitch (LEFT_HIP_PITCH_JOINT). */
+#define STAND_CHANNELS(PREFIX, FIRST)                                                     \
+    .quat = PREFIX##_STATE_BASE_IMU_ORIENTATION_X,                                        \
+    .gyro = PREFIX##_STATE_BASE_IMU_ANGULAR_VELOCITY_X,                                   \
+    .legs = PREFIX##_STATE_##FIRST##_POSITION, .pos = PREFIX##_CMD_##FIRST##_POSITION,    \
+    .vel = PREFIX##_CMD_##FIRST##_VELOCITY, .kp0 = PREFIX##_CMD_##FIRST##_STIFFNESS,      \
+    .kd0 = PREFIX##_CMD_##FIRST##_DAMPING, .tau = PREFIX##_CMD_##FIRST##_EFFORT
+
+/* A stand controller: stand_tick() on @p robot every tick. */
+#define STAND_PROCESS(robot)                                                              \
+    ROZ_PROCESS(tick)                                                                     \
+    {                                                                                     \
+        stand_tick(tick, &(robot));                                                       \
+    }
+
+/* The G1's ankle and hip strategy (target offsets per rad of lean and per
+ * rad/s), which the PM01 and the 12-joint G1 stand on too. */
+#define STAND_G1_BALANCE                                                                  \
+    {                                                                                     \
+        .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3, .ankle_roll = 0.0,                   \
+        .ankle_roll_rate = 0.0, .hip_pitch = 1.0, .hip_pitch_rate = 0.1, .limit = 0.4,    \
+        .sway = -0.05,                                                                    \
+    }
+
+/* Standing poses (rad) in the manifests' joint order, which the tests'
+ * stiff stands (test/ports/mujoco/controllers) stand in too: the 29-DoF
+ * G1's, slightly crouched (legs, waist, arms), and the X2's (legs, waist
+ * yaw, pitch, roll, arms, head yaw). */
+#define STAND_G1_POSE                                                                     \
+    {                                                                                     \
+        -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,    /* left leg */                                 \
+        -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,    /* right leg */                                \
+        0.0, 0.0, 0.0,                     /* waist */                                    \
+        0.2, 0.2, 0.0, 0.9, 0.0, 0.0, 0.0, /* left arm */                                 \
+        0.2, -0.2, 0.0, 0.9, 0.0, 0.0, 0.0 /* right arm */                                \
+    }
+#define STAND_X2_POSE                                                                     \
+    {                                                                                     \
+        -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,     /* left leg: hip pitch, roll, yaw, knee, ankle */ \
+        -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,     /* right leg */                               \
+        0.0, 0.0, 0.0,                      /* waist yaw, pitch, roll */                  \
+        0.0, 0.1, 0.0, -0.3, 0.0, 0.0, 0.0, /* left arm: shoulder pitch, roll, yaw, elbow, wrist */ \
+        0.0, -0.1, 0.0, -0.3, 0.0, 0.0, 0.0, /* right arm */                              \
+        0.0                                 /* head yaw */                                \
+    }
 
 #endif /* ROZ_EXAMPLE_STAND_H */

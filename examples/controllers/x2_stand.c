@@ -15,22 +15,11 @@
 #include "stand.h"
 #include "agibot_x2_channels.h"
 
-#ifndef STAND_BALANCE
-#define STAND_BALANCE 1
-#endif
-
 #define JOINTS 30
 #define RATE_HZ ((double)ROZ_AGIBOT_X2_CONTROL_RATE_HZ)
 
 /* Standing pose in HAL group order (rad). */
-static const double pose[JOINTS] = {
-    -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,           /* left leg: hip pitch, roll, yaw, knee, ankle */
-    -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,           /* right leg */
-    0.0, 0.0, 0.0,                            /* waist yaw, pitch, roll */
-    0.0, 0.1, 0.0, -0.3, 0.0, 0.0, 0.0,       /* left arm: shoulder pitch, roll, yaw, elbow, wrist */
-    0.0, -0.1, 0.0, -0.3, 0.0, 0.0, 0.0,      /* right arm */
-    0.0,                                      /* head yaw */
-};
+static const double pose[JOINTS] = STAND_X2_POSE;
 static const double kp[JOINTS] = {
     100, 100, 30, 150, 80, 40, 100, 100, 30, 150, 80, 40, 100, 100, 100,
     30, 30, 30, 30, 10, 10, 10, 30, 30, 30, 30, 10, 10, 10, 10,
@@ -53,17 +42,7 @@ static const stand_balance_t balance = {
 static const stand_robot_t robot = {
     .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
     .balance = STAND_BALANCE ? &balance : 0,
-    .quat = ROZ_AGIBOT_X2_STATE_BASE_IMU_ORIENTATION_X,
-    .gyro = ROZ_AGIBOT_X2_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-    .legs = ROZ_AGIBOT_X2_STATE_LEFT_HIP_PITCH_JOINT_POSITION,
-    .pos = ROZ_AGIBOT_X2_CMD_LEFT_HIP_PITCH_JOINT_POSITION,
-    .vel = ROZ_AGIBOT_X2_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY,
-    .kp0 = ROZ_AGIBOT_X2_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS,
-    .kd0 = ROZ_AGIBOT_X2_CMD_LEFT_HIP_PITCH_JOINT_DAMPING,
-    .tau = ROZ_AGIBOT_X2_CMD_LEFT_HIP_PITCH_JOINT_EFFORT,
+    STAND_CHANNELS(ROZ_AGIBOT_X2, LEFT_HIP_PITCH_JOINT),
 };
 
-ROZ_PROCESS(tick)
-{
-    stand_tick(tick, &robot);
-}
+STAND_PROCESS(robot)

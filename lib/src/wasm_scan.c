@@ -668,14 +668,14 @@ static int close_frame(vctx_t *v)
     return ROZ_OK;
 }
 
-static int check_body(vctx_t *v, cursor_t *c)
+/* The function's locals: its parameters, then the declared groups. Its
+ * result type in @p result. */
+static int read_locals(vctx_t *v, cursor_t *c, uint8_t *result)
 {
-    const uint8_t *start = c->p;
-    uint8_t params[SCAN_MAX_PARAMS], result, t, t2;
-    uint32_t np, idx;
+    uint8_t params[SCAN_MAX_PARAMS], t;
+    uint32_t np;
 
-    /* locals: the parameters, then the declared groups */
-    type_sig(v, v->func_type[v->f], params, &np, &result);
+    type_sig(v, v->func_type[v->f], params, &np, result);
     memcpy(v->local_type, params, np);
     v->n_locals = np;
     uint32_t groups = rd_u32(c);
@@ -696,6 +696,169 @@ static int check_body(vctx_t *v, cursor_t *c)
         memset(v->local_type + v->n_locals, t, n);
         v->n_locals += n;
     }
+    return ROZ_OK;
+}
+
+/* Counts instruction @p op into the function's compile work; refuses the
+ * function past the limit. */
+static int count_compile_work(vctx_t *v, uint8_t op)
+{
+    /* wasm3's compile work (ROZ_CFG_WASM_MAX_COMPILE_WORK): a step per
+     * instruction; at a block, loop or if entered with values on the
+     * stack it compares every local with them (PreserveArgsAndLocals),
+     * at a local.set or tee every value with the local */
+    v->compile_work += 1u;
+    if (op >= 0x02 && op <= 0x04)
+        v->compile_work += (uint64_t)v->n_locals * v->height;
+    else if (op == 0x21 || op == 0x22)
+        v->compile_work += v->height;
+    if (v->compile_work > v->lim->compile_work) {
+        roz_format(v->err, v->errlen,
+                   "function %u, offset %u: compile work past "
+                   "ROZ_CFG_WASM_MAX_COMPILE_WORK (%llu): %u locals, %u values on the "
+                   "stack (docs/load-bound.md)",
+                   (unsigned)v->f, (unsigned)v->at,
+                   (unsigned long long)v->lim->compile_work,
+                   (unsigned)v->n_locals, (unsigned)v->height);
+        return ROZ_EINVAL;
+    }
+    return ROZ_OK;
+}
+
+static int bad_opcode(vctx_t *v, uint8_t op)
+{
+    roz_format(v->err, v->errlen,
+               "function %u, offset %u: opcode 0x%02x is not accepted (unknown, or a "
+               "feature beyond WebAssembly 1.0 that roz does not enable)",
+               (unsigned)v->f, (unsigned)v->at, op);
+    return ROZ_EINVAL;
+}
+
+/* The function's end: check_control() closed its outermost frame. */
+#define SCAN_BODY_END 1
+
+/* A control instruction, @p op 0x00 (unreachable) to 0x0f (return): ROZ_OK,
+ * ROZ_EINVAL (said), or SCAN_BODY_END at the end of the function's body. */
+static int check_control(vctx_t *v, cursor_t *c, uint8_t op)
+{
+    uint8_t t;
+    uint32_t idx;
+    int rc = ROZ_OK;
+
+    switch (op) {
+    case 0x00: /* unreachable */
+        unreachable(v);
+        break;
+    case 0x01: /* nop */
+        break;
+    case 0x02: case 0x03: case 0x04: { /* block, loop, if */
+        uint8_t bt = rd_byte(c);
+        if (c->bad)
+            break;
+        if (bt != 0x40 && !is_valtype(bt))
+            return bad_body(v, "a block type other than none or one value "
+                               "(multi-value blocks are not accepted)", NULL, NULL);
+        if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        if (v->depth >= v->lim->block_depth + 1u) {
+            roz_format(v->err, v->errlen,
+                       "function %u, offset %u: blocks nested deeper than "
+                       "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
+                       "recursively on the loader's C stack)",
+                       (unsigned)v->f, (unsigned)v->at,
+                       (unsigned)v->lim->block_depth);
+            return ROZ_EINVAL;
+        }
+        v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
+        break;
+    }
+    case 0x05: { /* else */
+        frame_t *fr = &v->ctl[v->depth - 1];
+        if (fr->kind != 0x04)
+            return bad_body(v, "else without its if", NULL, NULL);
+        if (close_frame(v) != ROZ_OK)
+            return ROZ_EINVAL;
+        fr->kind = 0x05;
+        fr->unreachable = 0;
+        break;
+    }
+    case 0x0b: { /* end */
+        const frame_t *fr = &v->ctl[v->depth - 1];
+        if (close_frame(v) != ROZ_OK)
+            return ROZ_EINVAL;
+        if (fr->kind == 0x04 && fr->result != 0)
+            return bad_body(v, "an if with a result but no else", NULL, NULL);
+        uint8_t result = fr->result;
+        if (--v->depth == 0) {
+            if (c->p != c->end)
+                return bad_body(v, "code after the body's end", NULL, NULL);
+            return SCAN_BODY_END;
+        }
+        if (result != 0)
+            rc = push(v, result);
+        break;
+    }
+    case 0x0c: case 0x0d: /* br, br_if */
+        idx = rd_u32(c);
+        if (c->bad)
+            break;
+        if (idx >= v->depth)
+            return bad_body(v, "a branch to a label outside the function", NULL, NULL);
+        if (op == 0x0d && pop(v, T_I32, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        t = label_type(v, idx);
+        if (t != 0 && pop(v, t, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        if (op == 0x0c)
+            unreachable(v);
+        else if (t != 0)
+            rc = push(v, t);
+        break;
+    case 0x0e: { /* br_table */
+        uint32_t n = rd_u32(c);
+        if ((size_t)(c->end - c->p) < n)
+            c->bad = 1;
+        if (c->bad)
+            break;
+        if (pop(v, T_I32, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        int arity = -1;
+        for (uint32_t i = 0; i <= n && !c->bad; i++) {
+            idx = rd_u32(c);
+            if (c->bad)
+                break;
+            if (idx >= v->depth)
+                return bad_body(v, "a br_table label outside the function", NULL, NULL);
+            t = label_type(v, idx);
+            if (arity == -1)
+                arity = t;
+            else if (arity != t)
+                return bad_body(v, "br_table labels of different types", NULL, NULL);
+        }
+        if (arity > 0 && pop(v, (uint8_t)arity, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        unreachable(v);
+        break;
+    }
+    case 0x0f: /* return */
+        if (v->ctl[0].result != 0 && pop(v, v->ctl[0].result, NULL) != ROZ_OK)
+            return ROZ_EINVAL;
+        unreachable(v);
+        break;
+    default:
+        return bad_opcode(v, op);
+    }
+    return rc;
+}
+
+static int check_body(vctx_t *v, cursor_t *c)
+{
+    const uint8_t *start = c->p;
+    uint8_t result, t, t2;
+    uint32_t idx;
+
+    if (read_locals(v, c, &result) != ROZ_OK)
+        return ROZ_EINVAL;
     v->height = 0;
     v->depth = 1;
     v->ctl[0] = (frame_t){ 0, result, 0, 0 };
@@ -705,25 +868,8 @@ static int check_body(vctx_t *v, cursor_t *c)
         uint8_t op = rd_byte(c);
         const char *sig = numeric_sig(op);
         int rc = ROZ_OK;
-        /* wasm3's compile work (ROZ_CFG_WASM_MAX_COMPILE_WORK): a step per
-         * instruction; at a block, loop or if entered with values on the
-         * stack it compares every local with them (PreserveArgsAndLocals),
-         * at a local.set or tee every value with the local */
-        v->compile_work += 1u;
-        if (op >= 0x02 && op <= 0x04)
-            v->compile_work += (uint64_t)v->n_locals * v->height;
-        else if (op == 0x21 || op == 0x22)
-            v->compile_work += v->height;
-        if (v->compile_work > v->lim->compile_work) {
-            roz_format(v->err, v->errlen,
-                       "function %u, offset %u: compile work past "
-                       "ROZ_CFG_WASM_MAX_COMPILE_WORK (%llu): %u locals, %u values on the "
-                       "stack (docs/load-bound.md)",
-                       (unsigned)v->f, (unsigned)v->at,
-                       (unsigned long long)v->lim->compile_work,
-                       (unsigned)v->n_locals, (unsigned)v->height);
+        if (count_compile_work(v, op) != ROZ_OK)
             return ROZ_EINVAL;
-        }
         if (sig != NULL) {
             rc = apply(v, sig);
         } else if (op >= 0x28 && op <= 0x3e) {
@@ -734,107 +880,12 @@ static int check_body(vctx_t *v, cursor_t *c)
             if (!c->bad && align > memory_align[op - 0x28])
                 return bad_body(v, "alignment larger than the access", NULL, NULL);
             rc = apply(v, memory_sig[op - 0x28]);
+        } else if (op <= 0x0f) {
+            rc = check_control(v, c, op);
+            if (rc == SCAN_BODY_END)
+                return ROZ_OK;
         } else {
             switch (op) {
-            case 0x00: /* unreachable */
-                unreachable(v);
-                break;
-            case 0x01: /* nop */
-                break;
-            case 0x02: case 0x03: case 0x04: { /* block, loop, if */
-                uint8_t bt = rd_byte(c);
-                if (c->bad)
-                    break;
-                if (bt != 0x40 && !is_valtype(bt))
-                    return bad_body(v, "a block type other than none or one value "
-                                       "(multi-value blocks are not accepted)", NULL, NULL);
-                if (op == 0x04 && pop(v, T_I32, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                if (v->depth >= v->lim->block_depth + 1u) {
-                    roz_format(v->err, v->errlen,
-                               "function %u, offset %u: blocks nested deeper than "
-                               "ROZ_CFG_WASM_MAX_BLOCK_DEPTH (%u; wasm3 compiles them "
-                               "recursively on the loader's C stack)",
-                               (unsigned)v->f, (unsigned)v->at,
-                               (unsigned)v->lim->block_depth);
-                    return ROZ_EINVAL;
-                }
-                v->ctl[v->depth++] = (frame_t){ op, bt == 0x40 ? 0 : bt, 0, v->height };
-                break;
-            }
-            case 0x05: { /* else */
-                frame_t *fr = &v->ctl[v->depth - 1];
-                if (fr->kind != 0x04)
-                    return bad_body(v, "else without its if", NULL, NULL);
-                if (close_frame(v) != ROZ_OK)
-                    return ROZ_EINVAL;
-                fr->kind = 0x05;
-                fr->unreachable = 0;
-                break;
-            }
-            case 0x0b: { /* end */
-                const frame_t *fr = &v->ctl[v->depth - 1];
-                if (close_frame(v) != ROZ_OK)
-                    return ROZ_EINVAL;
-                if (fr->kind == 0x04 && fr->result != 0)
-                    return bad_body(v, "an if with a result but no else", NULL, NULL);
-                result = fr->result;
-                if (--v->depth == 0) {
-                    if (c->p != c->end)
-                        return bad_body(v, "code after the body's end", NULL, NULL);
-                    return ROZ_OK;
-                }
-                if (result != 0)
-                    rc = push(v, result);
-                break;
-            }
-            case 0x0c: case 0x0d: /* br, br_if */
-                idx = rd_u32(c);
-                if (c->bad)
-                    break;
-                if (idx >= v->depth)
-                    return bad_body(v, "a branch to a label outside the function", NULL, NULL);
-                if (op == 0x0d && pop(v, T_I32, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                t = label_type(v, idx);
-                if (t != 0 && pop(v, t, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                if (op == 0x0c)
-                    unreachable(v);
-                else if (t != 0)
-                    rc = push(v, t);
-                break;
-            case 0x0e: { /* br_table */
-                uint32_t n = rd_u32(c);
-                if ((size_t)(c->end - c->p) < n)
-                    c->bad = 1;
-                if (c->bad)
-                    break;
-                if (pop(v, T_I32, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                int arity = -1;
-                for (uint32_t i = 0; i <= n && !c->bad; i++) {
-                    idx = rd_u32(c);
-                    if (c->bad)
-                        break;
-                    if (idx >= v->depth)
-                        return bad_body(v, "a br_table label outside the function", NULL, NULL);
-                    t = label_type(v, idx);
-                    if (arity == -1)
-                        arity = t;
-                    else if (arity != t)
-                        return bad_body(v, "br_table labels of different types", NULL, NULL);
-                }
-                if (arity > 0 && pop(v, (uint8_t)arity, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                unreachable(v);
-                break;
-            }
-            case 0x0f: /* return */
-                if (v->ctl[0].result != 0 && pop(v, v->ctl[0].result, NULL) != ROZ_OK)
-                    return ROZ_EINVAL;
-                unreachable(v);
-                break;
             case 0x10: /* call */
                 idx = rd_u32(c);
                 if (c->bad)
@@ -929,11 +980,7 @@ static int check_body(vctx_t *v, cursor_t *c)
                 break;
             }
             default:
-                roz_format(v->err, v->errlen,
-                           "function %u, offset %u: opcode 0x%02x is not accepted (unknown, or a "
-                           "feature beyond WebAssembly 1.0 that roz does not enable)",
-                           (unsigned)v->f, (unsigned)v->at, op);
-                return ROZ_EINVAL;
+                return bad_opcode(v, op);
             }
         }
         if (rc != ROZ_OK)

@@ -14,30 +14,12 @@
 
 #include "roz/controller.h"
 #include "support.h"
+#include "support_bench.h"
 #include "ur5_manifest.h"
 
-static roz_controller_t ctl;
-static roz_abi_t abi;
-static double target[ROZ_CFG_MAX_COMMANDS];
-static double state[ROZ_CFG_MAX_STATES];
-
-static int setup(void **st)
-{
-    (void)st;
-    roz_controller_init(&ctl);
-    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
-    memset(state, 0, sizeof state);
-    roz_abi_begin_tick(&abi, 0, state);
-    return 0;
-}
-
-static int teardown(void **st)
-{
-    (void)st;
-    roz_controller_unload(&ctl);
-    roz_controller_unload(&ctl); /* idempotent */
-    return 0;
-}
+/* the bench's controller and ABI (support_bench.h) */
+static roz_controller_t *const ctl = &roz_bench.ctl;
+static roz_abi_t *const abi = &roz_bench.abi;
 
 typedef struct {
     const char *controller;
@@ -58,13 +40,13 @@ static void test_controller_refusals(void **st)
     for (size_t i = 0; i < sizeof refusals / sizeof refusals[0]; i++) {
         size_t len;
         const uint8_t *w = roz_test_controller(refusals[i].controller, &len);
-        setup(st);
-        assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_EINVAL);
-        assert_false(roz_controller_loaded(&ctl));
-        if (strstr(roz_controller_error(&ctl), refusals[i].message) == NULL)
+        roz_bench_setup(st);
+        assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_EINVAL);
+        assert_false(roz_controller_loaded(ctl));
+        if (strstr(roz_controller_error(ctl), refusals[i].message) == NULL)
             fail_msg("%s: error \"%s\" lacks \"%s\"", refusals[i].controller,
-                     roz_controller_error(&ctl), refusals[i].message);
-        assert_int_equal(roz_controller_process(&ctl, 0), ROZ_ESTATE);
+                     roz_controller_error(ctl), refusals[i].message);
+        assert_int_equal(roz_controller_process(ctl, 0), ROZ_ESTATE);
     }
 }
 
@@ -73,17 +55,17 @@ static void test_controller_garbage(void **st)
     static const uint8_t junk[] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00, 0x01, 0xff };
     static const uint8_t text[] = "(module)";
     (void)st;
-    assert_int_equal(roz_controller_load(&ctl, text, sizeof text, &abi), ROZ_EINVAL);
-    assert_non_null(strstr(roz_controller_error(&ctl), "not a WebAssembly"));
-    assert_int_equal(roz_controller_load(&ctl, junk, sizeof junk, &abi), ROZ_EINVAL);
-    assert_non_null(strstr(roz_controller_error(&ctl), "malformed"));
-    assert_int_equal(roz_controller_load(&ctl, junk, 0, &abi), ROZ_EINVAL);
-    assert_int_equal(roz_controller_load(&ctl, NULL, 0, &abi), ROZ_EINVAL);
+    assert_int_equal(roz_controller_load(ctl, text, sizeof text, abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(ctl), "not a WebAssembly"));
+    assert_int_equal(roz_controller_load(ctl, junk, sizeof junk, abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(ctl), "malformed"));
+    assert_int_equal(roz_controller_load(ctl, junk, 0, abi), ROZ_EINVAL);
+    assert_int_equal(roz_controller_load(ctl, NULL, 0, abi), ROZ_EINVAL);
     size_t len;
     const uint8_t *w = roz_test_controller("hold", &len);
-    assert_int_equal(roz_controller_load(&ctl, w, ROZ_CFG_WASM_MAX_MODULE_BYTES + 1, &abi),
+    assert_int_equal(roz_controller_load(ctl, w, ROZ_CFG_WASM_MAX_MODULE_BYTES + 1, abi),
                      ROZ_EINVAL);
-    assert_non_null(strstr(roz_controller_error(&ctl), "ROZ_CFG_WASM_MAX_MODULE_BYTES"));
+    assert_non_null(strstr(roz_controller_error(ctl), "ROZ_CFG_WASM_MAX_MODULE_BYTES"));
 }
 
 static void test_controller_runs_sine(void **st)
@@ -91,14 +73,14 @@ static void test_controller_runs_sine(void **st)
     size_t len;
     const uint8_t *w = roz_test_controller("sine", &len);
     (void)st;
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_ESTATE);
-    abi.tick = 50; /* 0.5 s at 100 Hz: sin(pi/2 + i*pi/3) */
-    assert_int_equal(roz_controller_process(&ctl, 50), ROZ_OK);
+    assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_OK);
+    assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_ESTATE);
+    abi->tick = 50; /* 0.5 s at 100 Hz: sin(pi/2 + i*pi/3) */
+    assert_int_equal(roz_controller_process(ctl, 50), ROZ_OK);
     for (int i = 0; i < 6; i++)
-        assert_near(target[i], 1.57 * sin(3.141592653589793 / 2 + i * 3.141592653589793 / 3),
-                            1e-9);
-    assert_int_equal(abi.counters.sets, 6);
+        assert_near(roz_bench.target[i],
+                    1.57 * sin(3.141592653589793 / 2 + i * 3.141592653589793 / 3), 1e-9);
+    assert_int_equal(abi->counters.sets, 6);
 }
 
 static void test_controller_pd_reads_state(void **st)
@@ -106,11 +88,11 @@ static void test_controller_pd_reads_state(void **st)
     size_t len;
     const uint8_t *w = roz_test_controller("pd_hold", &len);
     (void)st;
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
-    state[1] = -1.0; /* shoulder_lift at -1.0, target -1.2: v = 2 * -0.2 */
-    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
-    assert_near(target[1], -0.4, 1e-12);
-    assert_near(target[0], 0.0, 1e-12);
+    assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_OK);
+    roz_bench.state[1] = -1.0; /* shoulder_lift at -1.0, target -1.2: v = 2 * -0.2 */
+    assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
+    assert_near(roz_bench.target[1], -0.4, 1e-12);
+    assert_near(roz_bench.target[0], 0.0, 1e-12);
 }
 
 /* The validator's scratch is the caller's: roz_controller_load_in() works
@@ -127,15 +109,15 @@ static void test_controller_load_in_scratch(void **st)
     (void)st;
     assert_true(sizeof scratch >= ROZ_CONTROLLER_SCRATCH_BYTES);
     memset(&scratch, 0xa5, sizeof scratch);
-    assert_int_equal(roz_controller_load(&ctl, no_process, sizeof no_process, &abi), ROZ_EINVAL);
-    strcpy(on_stack, roz_controller_error(&ctl));
-    assert_int_equal(roz_controller_load_in(&ctl, no_process, sizeof no_process, &abi, &scratch),
+    assert_int_equal(roz_controller_load(ctl, no_process, sizeof no_process, abi), ROZ_EINVAL);
+    strcpy(on_stack, roz_controller_error(ctl));
+    assert_int_equal(roz_controller_load_in(ctl, no_process, sizeof no_process, abi, &scratch),
                      ROZ_EINVAL);
-    assert_string_equal(roz_controller_error(&ctl), on_stack);
-    assert_int_equal(roz_controller_load_in(&ctl, w, len, &abi, &scratch), ROZ_OK);
-    state[1] = -1.0;
-    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
-    assert_near(target[1], -0.4, 1e-12);
+    assert_string_equal(roz_controller_error(ctl), on_stack);
+    assert_int_equal(roz_controller_load_in(ctl, w, len, abi, &scratch), ROZ_OK);
+    roz_bench.state[1] = -1.0;
+    assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
+    assert_near(roz_bench.target[1], -0.4, 1e-12);
 }
 
 static void test_controller_traps(void **st)
@@ -148,14 +130,14 @@ static void test_controller_traps(void **st)
     for (size_t i = 0; i < sizeof traps / sizeof traps[0]; i++) {
         size_t len;
         const uint8_t *w = roz_test_controller(traps[i].name, &len);
-        setup(st);
-        assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
-        assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
-        assert_int_equal(roz_controller_process(&ctl, traps[i].tick), ROZ_ETRAP);
-        if (strstr(roz_controller_error(&ctl), traps[i].msg) == NULL)
-            fail_msg("%s: \"%s\" lacks \"%s\"", traps[i].name, roz_controller_error(&ctl),
+        roz_bench_setup(st);
+        assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_OK);
+        assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
+        assert_int_equal(roz_controller_process(ctl, traps[i].tick), ROZ_ETRAP);
+        if (strstr(roz_controller_error(ctl), traps[i].msg) == NULL)
+            fail_msg("%s: \"%s\" lacks \"%s\"", traps[i].name, roz_controller_error(ctl),
                      traps[i].msg);
-        roz_controller_unload(&ctl);
+        roz_controller_unload(ctl);
     }
 }
 
@@ -167,10 +149,10 @@ static void test_controller_memory_is_fixed(void **st)
     const uint8_t *w = roz_test_controller("bad_grow_memory", &len);
     (void)st;
     memset(&ring, 0, sizeof ring);
-    abi.metrics = &ring;
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_OK);
+    abi->metrics = &ring;
+    assert_int_equal(roz_controller_load(ctl, w, len, abi), ROZ_OK);
     for (int t = 0; t < 5; t++)
-        assert_int_equal(roz_controller_process(&ctl, t), ROZ_OK);
+        assert_int_equal(roz_controller_process(ctl, t), ROZ_OK);
     for (int t = 0; t < 5; t++) {
         assert_int_equal(roz_metric_ring_pop(&ring, &m), 1);
         assert_true(m.value == -1.0); /* memory.grow refused */
@@ -194,14 +176,14 @@ static void test_controller_c_and_wat_agree(void **st)
         roz_controller_init(&a);
         roz_controller_init(&b);
         roz_abi_init(&abi_b, &roz_manifest_ur5, target_b, NULL);
-        roz_abi_begin_tick(&abi_b, 0, state);
-        assert_int_equal(roz_controller_load(&a, wa, la, &abi), ROZ_OK);
+        roz_abi_begin_tick(&abi_b, 0, roz_bench.state);
+        assert_int_equal(roz_controller_load(&a, wa, la, abi), ROZ_OK);
         assert_int_equal(roz_controller_load(&b, wb, lb, &abi_b), ROZ_OK);
         for (int64_t t = 0; t < 300; t++) {
-            abi.tick = abi_b.tick = t;
+            abi->tick = abi_b.tick = t;
             assert_int_equal(roz_controller_process(&a, t), ROZ_OK);
             assert_int_equal(roz_controller_process(&b, t), ROZ_OK);
-            memcpy(out_c, target, sizeof out_c);
+            memcpy(out_c, roz_bench.target, sizeof out_c);
             assert_memory_equal(out_c, target_b, 6 * sizeof(double));
         }
         roz_controller_unload(&a);
@@ -212,14 +194,14 @@ static void test_controller_c_and_wat_agree(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_controller_refusals, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_garbage, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_runs_sine, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_pd_reads_state, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_load_in_scratch, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_traps, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_memory_is_fixed, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_controller_c_and_wat_agree, setup, teardown),
+        roz_bench_test(test_controller_refusals),
+        roz_bench_test(test_controller_garbage),
+        roz_bench_test(test_controller_runs_sine),
+        roz_bench_test(test_controller_pd_reads_state),
+        roz_bench_test(test_controller_load_in_scratch),
+        roz_bench_test(test_controller_traps),
+        roz_bench_test(test_controller_memory_is_fixed),
+        roz_bench_test(test_controller_c_and_wat_agree),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -15,13 +15,10 @@
 
 #include "roz/error.h"
 #include "roz/inputs.h"
-
-#define RATE_HZ 500u
-#define TICK_NS (1000000000ull / RATE_HZ)
+#include "support_inputs.h"
 
 static const roz_channel_t cmds[] = {
-    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    ROZ_TEST_WHEEL_VELOCITY,
 };
 static const roz_channel_t states[] = {
     { "wheel/position", ROZ_IF_POSITION, "rad", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
@@ -34,24 +31,20 @@ static const roz_channel_t ins[] = {
     { "operator/mode", ROZ_IF_POSITION, "", 0.0, 3.0, 1.0, 0.5, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 20, ROZ_OPERATOR_NONE, 0.0 },
 };
-static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, states, 1, NULL,
-                                    ins, 2, 0, NULL };
+static const roz_manifest_t man = { "op_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
+                                    states, 1, NULL, ins, 2, 0, NULL };
 
-static roz_inputs_t in;
-static double out[2];
-static uint64_t tick;
+static roz_test_inputs_t ib;
 
 static void step(void)
 {
-    tick++;
-    roz_inputs_tick(&in, tick * TICK_NS, out);
+    roz_test_inputs_step(&ib);
 }
 
 static int setup(void **st)
 {
     (void)st;
-    roz_inputs_init(&in, &man);
-    tick = 0;
+    roz_test_inputs_init(&ib, &man);
     return 0;
 }
 
@@ -82,71 +75,71 @@ static void test_default_before_any_value(void **st)
     (void)st;
     for (int i = 0; i < 200; i++)
         step();
-    assert_true(out[0] == 0.0 && out[1] == 1.0);
-    assert_int_equal(in.counters.stale, 0);
-    assert_int_equal(roz_inputs_set(&in, 2, 0.0), ROZ_EINVAL);
+    assert_true(ib.out[0] == 0.0 && ib.out[1] == 1.0);
+    assert_int_equal(ib.in.counters.stale, 0);
+    assert_int_equal(roz_inputs_set(&ib.in, 2, 0.0), ROZ_EINVAL);
 }
 
 static void test_follows_at_the_rate_cap(void **st)
 {
     (void)st;
-    assert_int_equal(roz_inputs_set(&in, 0, 0.5), ROZ_OK);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, 0.5), ROZ_OK);
     step();
-    assert_true(fabs(out[0] - 0.01) < 1e-12);
+    assert_true(fabs(ib.out[0] - 0.01) < 1e-12);
     for (int i = 0; i < 48; i++) {
-        double before = out[0];
+        double before = ib.out[0];
         step();
-        assert_true(out[0] - before <= 0.01 + 1e-12);
+        assert_true(ib.out[0] - before <= 0.01 + 1e-12);
     }
     step(); /* 50 ticks x 0.01: there, exactly */
-    assert_true(out[0] == 0.5);
-    assert_int_equal(in.counters.clamped + in.counters.nonfinite, 0);
+    assert_true(ib.out[0] == 0.5);
+    assert_int_equal(ib.in.counters.clamped + ib.in.counters.nonfinite, 0);
 }
 
 static void test_out_of_range_clamped_and_counted(void **st)
 {
     (void)st;
-    assert_int_equal(roz_inputs_set(&in, 1, 7.0), ROZ_OK);
+    assert_int_equal(roz_inputs_set(&ib.in, 1, 7.0), ROZ_OK);
     step();
-    assert_int_equal(in.counters.clamped, 1);
+    assert_int_equal(ib.in.counters.clamped, 1);
     step();
     step();
-    assert_true(out[1] == 2.5);
+    assert_true(ib.out[1] == 2.5);
     step();
-    assert_true(out[1] == 3.0); /* the limit, never beyond */
+    assert_true(ib.out[1] == 3.0); /* the limit, never beyond */
     step();
-    assert_true(out[1] == 3.0);
-    assert_int_equal(roz_inputs_set(&in, 1, -1e300), ROZ_OK);
+    assert_true(ib.out[1] == 3.0);
+    assert_int_equal(roz_inputs_set(&ib.in, 1, -1e300), ROZ_OK);
     step();
-    assert_int_equal(in.counters.clamped, 2);
-    assert_true(out[1] == 2.5);
+    assert_int_equal(ib.in.counters.clamped, 2);
+    assert_true(ib.out[1] == 2.5);
 }
 
 static void test_nonfinite_refused_and_counted(void **st)
 {
     (void)st;
-    assert_int_equal(roz_inputs_set(&in, 0, 0.3), ROZ_OK);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, 0.3), ROZ_OK);
     for (int i = 0; i < 30; i++)
         step();
-    assert_true(out[0] == 0.3);
-    assert_int_equal(roz_inputs_set(&in, 0, NAN), ROZ_OK);
+    assert_true(ib.out[0] == 0.3);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, NAN), ROZ_OK);
     step();
-    assert_true(out[0] == 0.3);
-    assert_int_equal(roz_inputs_set(&in, 0, INFINITY), ROZ_OK);
+    assert_true(ib.out[0] == 0.3);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, INFINITY), ROZ_OK);
     step();
-    assert_int_equal(roz_inputs_set(&in, 0, -INFINITY), ROZ_OK);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, -INFINITY), ROZ_OK);
     step();
-    assert_true(out[0] == 0.3);
-    assert_int_equal(in.counters.nonfinite, 3);
-    assert_int_equal(in.counters.clamped, 0);
+    assert_true(ib.out[0] == 0.3);
+    assert_int_equal(ib.in.counters.nonfinite, 3);
+    assert_int_equal(ib.in.counters.clamped, 0);
     /* a refused value does not keep the input fresh: 100 ms after the last
      * good value it goes stale */
     for (int i = 0; i < 50 - 33; i++)
         step();
-    assert_int_equal(in.counters.stale, 0);
+    assert_int_equal(ib.in.counters.stale, 0);
     for (int i = 0; i < 20; i++)
         step();
-    assert_int_equal(in.counters.stale, 1);
+    assert_int_equal(ib.in.counters.stale, 1);
 }
 
 static void test_stale_returns_to_default_by_the_rate_cap(void **st)
@@ -156,33 +149,33 @@ static void test_stale_returns_to_default_by_the_rate_cap(void **st)
     uint64_t taken = 0;
     for (int i = 0; i < 90; i++) { /* the source repeats its value every 10 ticks */
         if (i % 10 == 0) {
-            assert_int_equal(roz_inputs_set(&in, 0, -0.8), ROZ_OK);
-            taken = tick + 1;
+            assert_int_equal(roz_inputs_set(&ib.in, 0, -0.8), ROZ_OK);
+            taken = ib.tick + 1;
         }
         step();
     }
-    assert_true(out[0] == -0.8);
+    assert_true(ib.out[0] == -0.8);
     /* no update: held for stale_after_ms (50 ticks), then back to 0 at 0.01 a
      * tick, never a jump */
-    while (tick < taken + 50) {
+    while (ib.tick < taken + 50) {
         step();
-        assert_true(out[0] == -0.8);
+        assert_true(ib.out[0] == -0.8);
     }
-    assert_int_equal(in.counters.stale, 0);
+    assert_int_equal(ib.in.counters.stale, 0);
     for (int i = 0; i < 100; i++) {
-        double before = out[0];
+        double before = ib.out[0];
         step();
-        assert_true(fabs(out[0] - before) <= 0.01 + 1e-12);
-        moved += out[0] != before;
+        assert_true(fabs(ib.out[0] - before) <= 0.01 + 1e-12);
+        moved += ib.out[0] != before;
     }
-    assert_int_equal(in.counters.stale, 1);
-    assert_true(out[0] == 0.0);
+    assert_int_equal(ib.in.counters.stale, 1);
+    assert_true(ib.out[0] == 0.0);
     assert_int_equal(moved, 80); /* 0.8 at 0.01 a tick */
     /* a fresh value takes over again */
-    assert_int_equal(roz_inputs_set(&in, 0, 0.02), ROZ_OK);
+    assert_int_equal(roz_inputs_set(&ib.in, 0, 0.02), ROZ_OK);
     step();
     step();
-    assert_true(out[0] == 0.02);
+    assert_true(ib.out[0] == 0.02);
 }
 
 /* Random sources: any value, any time; the output stays within the limits,
@@ -205,19 +198,20 @@ static void test_never_a_jump_random(void **st)
             case 2: v = (double)(int64_t)(x >> 20) * 1e-3; break; /* far outside */
             default: v = (double)((x >> 24) % 4000u) / 1000.0 - 1.0; break;
             }
-            assert_int_equal(roz_inputs_set(&in, k, v), ROZ_OK);
+            assert_int_equal(roz_inputs_set(&ib.in, k, v), ROZ_OK);
         }
         if ((x & 0xfffu) == 1u) /* a silence long enough to go stale */
-            tick += 200;
+            ib.tick += 200;
         step();
         for (int k = 0; k < 2; k++) {
-            assert_true(isfinite(out[k]));
-            assert_true(out[k] >= ins[k].min && out[k] <= ins[k].max);
-            assert_true(fabs(out[k] - prev[k]) <= ins[k].max_rate + 1e-12);
-            prev[k] = out[k];
+            assert_true(isfinite(ib.out[k]));
+            assert_true(ib.out[k] >= ins[k].min && ib.out[k] <= ins[k].max);
+            assert_true(fabs(ib.out[k] - prev[k]) <= ins[k].max_rate + 1e-12);
+            prev[k] = ib.out[k];
         }
     }
-    assert_true(in.counters.nonfinite > 0 && in.counters.clamped > 0 && in.counters.stale > 0);
+    assert_true(ib.in.counters.nonfinite > 0 && ib.in.counters.clamped > 0 &&
+                ib.in.counters.stale > 0);
 }
 
 /* A source thread sets while this one ticks (ThreadSanitizer: no race). */
@@ -228,7 +222,7 @@ static void *setter(void *arg)
     uint32_t i = 0;
     (void)arg;
     while (!stop_setting) {
-        (void)roz_inputs_set(&in, i & 1u, (double)(i % 200u) / 100.0 - 1.0);
+        (void)roz_inputs_set(&ib.in, i & 1u, (double)(i % 200u) / 100.0 - 1.0);
         i++;
     }
     return NULL;
@@ -244,14 +238,14 @@ static void test_setter_thread_vs_tick(void **st)
     for (int t = 0; t < 20000; t++) {
         step();
         for (int k = 0; k < 2; k++) {
-            assert_true(out[k] >= ins[k].min && out[k] <= ins[k].max);
-            assert_true(fabs(out[k] - prev[k]) <= ins[k].max_rate + 1e-12);
-            prev[k] = out[k];
+            assert_true(ib.out[k] >= ins[k].min && ib.out[k] <= ins[k].max);
+            assert_true(fabs(ib.out[k] - prev[k]) <= ins[k].max_rate + 1e-12);
+            prev[k] = ib.out[k];
         }
     }
     stop_setting = 1;
     pthread_join(th, NULL);
-    assert_int_equal(in.counters.nonfinite, 0);
+    assert_int_equal(ib.in.counters.nonfinite, 0);
 }
 
 int main(void)

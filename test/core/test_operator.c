@@ -14,14 +14,11 @@
 
 #include "roz/error.h"
 #include "roz/inputs.h"
+#include "support_inputs.h"
 #include "roz/operator.h"
 
-#define RATE_HZ 500u
-#define TICK_NS (1000000000ull / RATE_HZ)
-
 static const roz_channel_t cmds[] = {
-    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    ROZ_TEST_WHEEL_VELOCITY,
 };
 /* vx = 0.8 ly, vy = -0.5 lx, a button, a twist's yaw, and one only the API sets */
 static const roz_channel_t ins[] = {
@@ -37,24 +34,20 @@ static const roz_channel_t ins[] = {
       ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_NONE, 0.0 },
 };
 #define N_INS (sizeof ins / sizeof ins[0])
-static const roz_manifest_t man = { "op_bot", "generic", RATE_HZ, cmds, 1, NULL, 0, NULL,
-                                    ins, N_INS, 0, NULL };
+static const roz_manifest_t man = { "op_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
+                                    NULL, 0, NULL, ins, N_INS, 0, NULL };
 
-static roz_inputs_t in;
-static double out[N_INS];
-static uint64_t tick;
+static roz_test_inputs_t ib;
 
 static void step(void)
 {
-    tick++;
-    roz_inputs_tick(&in, tick * TICK_NS, out);
+    roz_test_inputs_step(&ib);
 }
 
 static int setup(void **st)
 {
     (void)st;
-    roz_inputs_init(&in, &man);
-    tick = 0;
+    roz_test_inputs_init(&ib, &man);
     return 0;
 }
 
@@ -142,46 +135,47 @@ static void test_remote_frame_scaled(void **st)
     roz_operator_remote_t r = { .lx = 0.4f, .ly = 0.5f, .rx = -1.0f,
                                 .buttons = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_A) };
     (void)st;
-    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    assert_int_equal(roz_inputs_remote(&ib.in, &r), ROZ_OK);
     step();
-    assert_true(out[0] == 0.8 * (double)0.5f);
-    assert_true(out[1] == -0.5 * (double)0.4f);
-    assert_true(out[2] == 1.0);
-    assert_true(out[3] == 0.0); /* a twist's: untouched */
-    assert_true(out[4] == 1.0); /* no source: its default */
+    assert_true(ib.out[0] == 0.8 * (double)0.5f);
+    assert_true(ib.out[1] == -0.5 * (double)0.4f);
+    assert_true(ib.out[2] == 1.0);
+    assert_true(ib.out[3] == 0.0); /* a twist's: untouched */
+    assert_true(ib.out[4] == 1.0); /* no source: its default */
     r.ly = 1.0f; /* beyond max_cmd after the scale: 0.8, no clamp */
     r.buttons = 0;
-    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    assert_int_equal(roz_inputs_remote(&ib.in, &r), ROZ_OK);
     step();
-    assert_true(out[0] == 0.8);
-    assert_true(out[2] == 0.0);
-    assert_int_equal(in.counters.clamped, 0);
+    assert_true(ib.out[0] == 0.8);
+    assert_true(ib.out[2] == 0.0);
+    assert_int_equal(ib.in.counters.clamped, 0);
 }
 
 static void test_nan_refused_and_counted(void **st)
 {
     roz_operator_remote_t r = { .lx = 0.4f, .ly = 0.5f };
     (void)st;
-    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    assert_int_equal(roz_inputs_remote(&ib.in, &r), ROZ_OK);
     step();
     r.ly = NAN;
     r.lx = INFINITY;
-    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    assert_int_equal(roz_inputs_remote(&ib.in, &r), ROZ_OK);
     step();
-    assert_true(out[0] == 0.8 * (double)0.5f); /* each keeps its value */
-    assert_true(out[1] == -0.5 * (double)0.4f);
-    assert_int_equal(in.counters.nonfinite, 2);
+    assert_true(ib.out[0] == 0.8 * (double)0.5f); /* each keeps its value */
+    assert_true(ib.out[1] == -0.5 * (double)0.4f);
+    assert_int_equal(ib.in.counters.nonfinite, 2);
 }
 
 static void test_twist_frame(void **st)
 {
     roz_operator_twist_t t = { .linear = { 9.0, 9.0, 9.0 }, .angular = { 0.0, 0.0, -0.75 } };
     (void)st;
-    assert_int_equal(roz_inputs_twist(&in, &t), ROZ_OK);
+    assert_int_equal(roz_inputs_twist(&ib.in, &t), ROZ_OK);
     step();
-    assert_true(out[3] == -0.75);
-    assert_true(out[0] == 0.0 && out[1] == 0.0 && out[2] == 0.0); /* the remote's: untouched */
-    assert_int_equal(in.counters.clamped, 0);
+    assert_true(ib.out[3] == -0.75);
+    /* the remote's: untouched */
+    assert_true(ib.out[0] == 0.0 && ib.out[1] == 0.0 && ib.out[2] == 0.0);
+    assert_int_equal(ib.in.counters.clamped, 0);
 }
 
 /* A silent remote: its inputs go stale and return to their defaults. */
@@ -189,11 +183,11 @@ static void test_silent_remote_goes_stale(void **st)
 {
     roz_operator_remote_t r = { .ly = 0.5f };
     (void)st;
-    assert_int_equal(roz_inputs_remote(&in, &r), ROZ_OK);
+    assert_int_equal(roz_inputs_remote(&ib.in, &r), ROZ_OK);
     for (int i = 0; i < 60; i++) /* 100 ms: 50 ticks */
         step();
-    assert_true(out[0] == 0.0);
-    assert_true(in.counters.stale >= 1);
+    assert_true(ib.out[0] == 0.0);
+    assert_true(ib.in.counters.stale >= 1);
 }
 
 int main(void)

@@ -59,12 +59,10 @@ static roz_runtime_t rt;
 static roz_loopback_t lb;
 static roz_test_clock_t clk;
 static const roz_manifest_t *const m = &roz_manifest_ur5;
-static double prev_cmd[ROZ_CFG_MAX_COMMANDS];
-static int have_prev;
 static uint32_t stale_ticks; /* 0: the default, 10 */
-/* Limit stops per channel before this tick: the position limit may
- * override the rate cap (roz/filter.h), nothing else may. */
-static uint32_t stops_before[ROZ_CFG_MAX_COMMANDS];
+/* What the port got, frame by frame: the position limit may override the
+ * rate cap (roz/filter.h), and an e-stop; nothing else may. */
+static roz_test_frames_t frames;
 
 #define V 0.628 /* constant_velocity: a fifth of 3.14 rad/s on every joint */
 
@@ -78,8 +76,7 @@ static void start_port(const roz_port_t *port, const char *controller)
     if (stale_ticks != 0)
         cfg.stale_ticks = stale_ticks;
     roz_test_runtime_start(&rt, &cfg, controller);
-    have_prev = 0;
-    memset(stops_before, 0, sizeof stops_before);
+    roz_test_frames_reset(&frames, &rt, m, 1);
 }
 
 static void start(const char *controller, const roz_loopback_fault_t *faults, size_t n)
@@ -97,21 +94,7 @@ static void start(const char *controller, const roz_loopback_fault_t *faults, si
 /* Within the manifest, and within max_rate of the frame before. */
 static void check_frame(const double *cmd)
 {
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        /* the position limit may override the rate cap, and an e-stop */
-        int limited = roz_test_channel(&rt, i).limit_stops != stops_before[i] ||
-                      (roz_runtime_faults(&rt) & ROZ_FAULT_IMMEDIATE_MASK) != 0;
-        stops_before[i] = roz_test_channel(&rt, i).limit_stops;
-        if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
-            fail_msg("tick %llu: command %u = %g outside [%g, %g]",
-                     (unsigned long long)RT_COUNT(&rt, ticks), i, cmd[i], c->min, c->max);
-        if (have_prev && !limited && fabs(cmd[i] - prev_cmd[i]) > c->max_rate + 1e-12)
-            fail_msg("tick %llu: command %u jumped %g -> %g", (unsigned long long)RT_COUNT(&rt, ticks),
-                     i, prev_cmd[i], cmd[i]);
-        prev_cmd[i] = cmd[i];
-    }
-    have_prev = 1;
+    roz_test_frames_check(&frames, cmd, (unsigned long long)RT_COUNT(&rt, ticks));
 }
 
 static int tick(void)

@@ -18,6 +18,7 @@
 #include "roz/error.h"
 #include "roz/gamepad.h"
 #include "roz/inputs.h"
+#include "support_inputs.h"
 
 static const struct input_absinfo xbox[ROZ_GAMEPAD_AXES] = {
     { .minimum = -32768, .maximum = 32767, .flat = 128 },
@@ -139,8 +140,7 @@ static void test_syn_dropped(void **st)
 /* ---- the reader thread, through a pipe, into operator inputs ------------ */
 
 static const roz_channel_t cmds[] = {
-    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    ROZ_TEST_WHEEL_VELOCITY,
 };
 static const roz_channel_t ins[] = {
     { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,

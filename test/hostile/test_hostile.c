@@ -44,9 +44,9 @@ static roz_loopback_t lb;
 static roz_test_clock_t clk;
 static const roz_manifest_t *const m = &roz_manifest_ur5;
 
-/* What the port got on the tick before, for the rate check. */
-static double prev_cmd[ROZ_CFG_MAX_COMMANDS];
-static int have_prev;
+/* What the port got, frame by frame: an e-stop skips the rate cap
+ * (roz/filter.h); nothing else may. */
+static roz_test_frames_t frames;
 
 enum { BUDGET_DEFAULT = 0, BUDGET_NONE };
 
@@ -61,29 +61,16 @@ static void start(int budget)
         cfg.budget_ns = UINT64_MAX;
     }
     roz_test_runtime_start(&rt, &cfg, NULL);
-    have_prev = 0;
+    roz_test_frames_reset(&frames, &rt, m, 0);
 }
 
 /* The frame the port got on this tick, checked against the manifest. */
 static void check_written(int64_t tick)
 {
     const double *cmd = roz_loopback_last_command(&lb);
-    unsigned faults = roz_runtime_faults(&rt);
 
     assert_non_null(cmd);
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        const roz_channel_t *c = &m->commands[i];
-        if (!isfinite(cmd[i]) || cmd[i] < c->min || cmd[i] > c->max)
-            fail_msg("tick %lld: command %u = %g outside [%g, %g]", (long long)tick, i, cmd[i],
-                     c->min, c->max);
-        /* An e-stop skips the rate cap (roz/filter.h); nothing else may. */
-        if (have_prev && (faults & ROZ_FAULT_IMMEDIATE_MASK) == 0 && c->max_rate > 0.0 &&
-            fabs(cmd[i] - prev_cmd[i]) > c->max_rate + 1e-12)
-            fail_msg("tick %lld: command %u jumped %g -> %g, max_rate %g", (long long)tick, i,
-                     prev_cmd[i], cmd[i], c->max_rate);
-        prev_cmd[i] = cmd[i];
-    }
-    have_prev = 1;
+    roz_test_frames_check(&frames, cmd, (unsigned long long)tick);
     assert_int_equal(roz_loopback_counters(&lb).violations, 0);
 }
 
@@ -108,20 +95,12 @@ static roz_runtime_slot_t *active_slot(void)
 
 /* ---- modules -------------------------------------------------------------- */
 
-static uint8_t file_buf[256 * 1024];
-
+/* ROZ_HOSTILE_DIR/hostile_<name>.wasm */
 static const uint8_t *read_module(const char *name, size_t *len)
 {
-    char path[512];
-    snprintf(path, sizeof path, "%s/hostile_%s.wasm", ROZ_HOSTILE_DIR, name);
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("cannot open %s", path);
-    *len = fread(file_buf, 1, sizeof file_buf, f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof file_buf)
-        fail_msg("%s: empty or too large", path);
-    return file_buf;
+    char file[128];
+    snprintf(file, sizeof file, "hostile_%s", name);
+    return roz_test_wasm(ROZ_HOSTILE_DIR, file, len);
 }
 
 /* Modules built here, byte by byte, for attacks WAT cannot spell compactly. */

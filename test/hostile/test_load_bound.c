@@ -21,10 +21,15 @@
 
 #include <cmocka.h>
 
-#include "roz/abi.h"
 #include "roz/controller.h"
+#include "roz/abi.h"
+#include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
+
+/* the bench's controller and ABI (support_bench.h) */
+static roz_controller_t *const ctl = &roz_bench.ctl;
+static roz_abi_t *const abi = &roz_bench.abi;
 
 #define CAP (1u << 20)
 static uint8_t *mod, *body;
@@ -85,27 +90,17 @@ static void build(uint32_t locals, uint32_t values, uint32_t blocks, uint32_t te
     section(10);
 }
 
-static roz_controller_t ctl;
-static roz_abi_t abi;
-static double target[ROZ_CFG_MAX_COMMANDS];
-static double state[ROZ_CFG_MAX_STATES];
-
 static int setup(void **st)
 {
-    (void)st;
     mod = malloc(CAP);
     body = malloc(CAP);
-    roz_controller_init(&ctl);
-    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
-    memset(state, 0, sizeof state);
-    roz_abi_begin_tick(&abi, 0, state);
+    roz_bench_setup(st);
     return mod == NULL || body == NULL;
 }
 
 static int teardown(void **st)
 {
-    (void)st;
-    roz_controller_unload(&ctl);
+    roz_bench_teardown(st);
     free(mod);
     free(body);
     return 0;
@@ -113,18 +108,18 @@ static int teardown(void **st)
 
 static void refused(const char *msg)
 {
-    assert_int_equal(roz_controller_load(&ctl, mod, n, &abi), ROZ_EINVAL);
-    print_message("refused (%zu bytes): %s\n", n, roz_controller_error(&ctl));
-    if (strstr(roz_controller_error(&ctl), msg) == NULL)
-        fail_msg("error \"%s\" lacks \"%s\"", roz_controller_error(&ctl), msg);
+    assert_int_equal(roz_controller_load(ctl, mod, n, abi), ROZ_EINVAL);
+    print_message("refused (%zu bytes): %s\n", n, roz_controller_error(ctl));
+    if (strstr(roz_controller_error(ctl), msg) == NULL)
+        fail_msg("error \"%s\" lacks \"%s\"", roz_controller_error(ctl), msg);
 }
 
 static void loads(void)
 {
-    if (roz_controller_load(&ctl, mod, n, &abi) != ROZ_OK)
-        fail_msg("refused: %s", roz_controller_error(&ctl));
-    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
-    roz_controller_unload(&ctl);
+    if (roz_controller_load(ctl, mod, n, abi) != ROZ_OK)
+        fail_msg("refused: %s", roz_controller_error(ctl));
+    assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
+    roz_controller_unload(ctl);
 }
 
 /* n_locals x values per block: 1,000 x 1,000 */

@@ -30,8 +30,12 @@
 #include <cmocka.h>
 
 #include "roz/controller.h"
+#include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
+
+/* the bench's controller (support_bench.h) */
+static roz_controller_t *const ctl = &roz_bench.ctl;
 
 /* ---- a byte-by-byte module builder ---------------------------------------- */
 
@@ -199,31 +203,6 @@ static const uint8_t *build(const spec_t *s, size_t *len)
 
 /* ---- running them ----------------------------------------------------------- */
 
-static roz_controller_t ctl;
-static roz_abi_t abi;
-static roz_metric_ring_t ring;
-static double target[ROZ_CFG_MAX_COMMANDS];
-static double state[ROZ_CFG_MAX_STATES];
-
-static int setup(void **st)
-{
-    (void)st;
-    roz_controller_init(&ctl);
-    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
-    memset(state, 0, sizeof state);
-    memset(&ring, 0, sizeof ring);
-    roz_abi_begin_tick(&abi, 0, state);
-    abi.metrics = &ring;
-    return 0;
-}
-
-static int teardown(void **st)
-{
-    (void)st;
-    roz_controller_unload(&ctl);
-    return 0;
-}
-
 /* Loads, runs three ticks, and checks that exactly process ran: one metric
  * of 1.0 a tick, never the impostor's 666 or its parameters. */
 static void runs_process(const spec_t *s)
@@ -232,17 +211,16 @@ static void runs_process(const spec_t *s)
     const uint8_t *w = build(s, &len);
     roz_metric_t m;
 
-    if (roz_controller_load(&ctl, w, len, &abi) != ROZ_OK)
-        fail_msg("refused: %s", roz_controller_error(&ctl));
+    roz_bench_load(w, len);
     for (int64_t t = 0; t < 3; t++) {
-        assert_int_equal(roz_controller_process(&ctl, t), ROZ_OK);
-        assert_int_equal(roz_metric_ring_pop(&ring, &m), 1);
+        assert_int_equal(roz_controller_process(ctl, t), ROZ_OK);
+        assert_int_equal(roz_metric_ring_pop(&roz_bench.ring, &m), 1);
         if (m.value != 1.0)
             fail_msg("tick %lld: metric %g: not process's 1.0 (the impostor ran)", (long long)t,
                      m.value);
-        assert_int_equal(roz_metric_ring_pop(&ring, &m), 0);
+        assert_int_equal(roz_metric_ring_pop(&roz_bench.ring, &m), 0);
     }
-    roz_controller_unload(&ctl);
+    roz_controller_unload(ctl);
 }
 
 static void refused(const spec_t *s, const char *msg)
@@ -250,12 +228,8 @@ static void refused(const spec_t *s, const char *msg)
     size_t len;
     const uint8_t *w = build(s, &len);
 
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_EINVAL);
-    assert_false(roz_controller_loaded(&ctl));
-    print_message("refused: %s\n", roz_controller_error(&ctl));
-    if (strstr(roz_controller_error(&ctl), msg) == NULL)
-        fail_msg("error \"%s\" lacks \"%s\"", roz_controller_error(&ctl), msg);
-    assert_int_equal(roz_metric_ring_pop(&ring, &(roz_metric_t){ 0 }), 0);
+    roz_bench_refused(w, len, msg);
+    assert_int_equal(roz_metric_ring_pop(&roz_bench.ring, &(roz_metric_t){ 0 }), 0);
 }
 
 #define EXPORT_PROCESS { NAME("process"), 0, PROCESS }
@@ -435,16 +409,16 @@ static void test_names_empty_elements(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_names_baseline, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_name_section, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_malformed_name_section, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_duplicate_export, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_nul_in_export, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_bad_utf8, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_process_is_a_global, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_imports, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_nop, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_names_empty_elements, setup, teardown),
+        roz_bench_test_metrics(test_names_baseline),
+        roz_bench_test_metrics(test_names_name_section),
+        roz_bench_test_metrics(test_names_malformed_name_section),
+        roz_bench_test_metrics(test_names_duplicate_export),
+        roz_bench_test_metrics(test_names_nul_in_export),
+        roz_bench_test_metrics(test_names_bad_utf8),
+        roz_bench_test_metrics(test_names_process_is_a_global),
+        roz_bench_test_metrics(test_names_imports),
+        roz_bench_test_metrics(test_names_nop),
+        roz_bench_test_metrics(test_names_empty_elements),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

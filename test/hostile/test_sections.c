@@ -19,8 +19,12 @@
 #include <cmocka.h>
 
 #include "roz/controller.h"
+#include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
+
+/* the bench's controller (support_bench.h) */
+static roz_controller_t *const ctl = &roz_bench.ctl;
 
 typedef roz_wb_buf_t buf_t;
 
@@ -74,48 +78,21 @@ static const uint8_t *build(const spec_t *s, size_t *len)
     return mod.b;
 }
 
-static roz_controller_t ctl;
-static roz_abi_t abi;
-static double target[ROZ_CFG_MAX_COMMANDS];
-static double state[ROZ_CFG_MAX_STATES];
-
-static int setup(void **st)
-{
-    (void)st;
-    roz_controller_init(&ctl);
-    roz_abi_init(&abi, &roz_manifest_ur5, target, NULL);
-    memset(state, 0, sizeof state);
-    roz_abi_begin_tick(&abi, 0, state);
-    return 0;
-}
-
-static int teardown(void **st)
-{
-    (void)st;
-    roz_controller_unload(&ctl);
-    return 0;
-}
-
 static void refused(const spec_t *s, const char *msg)
 {
     size_t len;
     const uint8_t *w = build(s, &len);
-    assert_int_equal(roz_controller_load(&ctl, w, len, &abi), ROZ_EINVAL);
-    assert_false(roz_controller_loaded(&ctl));
-    print_message("refused: %s\n", roz_controller_error(&ctl));
-    if (strstr(roz_controller_error(&ctl), msg) == NULL)
-        fail_msg("error \"%s\" lacks \"%s\"", roz_controller_error(&ctl), msg);
+    roz_bench_refused(w, len, msg);
 }
 
 static void runs(const spec_t *s)
 {
     size_t len;
     const uint8_t *w = build(s, &len);
-    if (roz_controller_load(&ctl, w, len, &abi) != ROZ_OK)
-        fail_msg("refused: %s", roz_controller_error(&ctl));
+    roz_bench_load(w, len);
     for (int64_t t = 0; t < 3; t++)
-        assert_int_equal(roz_controller_process(&ctl, t), ROZ_OK);
-    roz_controller_unload(&ctl);
+        assert_int_equal(roz_controller_process(ctl, t), ROZ_OK);
+    roz_controller_unload(ctl);
 }
 
 /* (table 1 funcref) */
@@ -243,17 +220,15 @@ static void test_sections_messages(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_sections_elem_valid, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_elem_offset_two_instructions, setup,
-                                        teardown),
-        cmocka_unit_test_setup_teardown(test_sections_elem_offset_not_constant, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_elem_without_table, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_elem_more_than_declared, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_elem_function_out_of_range, setup,
-                                        teardown),
-        cmocka_unit_test_setup_teardown(test_sections_data, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_globals, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_sections_messages, setup, teardown),
+        roz_bench_test(test_sections_elem_valid),
+        roz_bench_test(test_sections_elem_offset_two_instructions),
+        roz_bench_test(test_sections_elem_offset_not_constant),
+        roz_bench_test(test_sections_elem_without_table),
+        roz_bench_test(test_sections_elem_more_than_declared),
+        roz_bench_test(test_sections_elem_function_out_of_range),
+        roz_bench_test(test_sections_data),
+        roz_bench_test(test_sections_globals),
+        roz_bench_test(test_sections_messages),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -44,8 +44,13 @@
 
 #include "roz/controller.h"
 #include "support.h"
+#include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
+
+/* the bench's controller and ABI (support_bench.h) */
+static roz_controller_t *const ctl = &roz_bench.ctl;
+static roz_abi_t *const abi = &roz_bench.abi;
 
 /* ---- module writer -------------------------------------------------------- */
 
@@ -129,30 +134,6 @@ static void code_end(size_t sec, size_t body)
 
 /* ---- the controller under test ------------------------------------------- */
 
-static roz_controller_t ctl;
-static roz_abi_t abi;
-static roz_metric_ring_t ring;
-static double target[ROZ_CFG_MAX_COMMANDS];
-static double state[ROZ_CFG_MAX_STATES];
-
-static int setup(void **st)
-{
-    (void)st;
-    roz_controller_init(&ctl);
-    memset(&ring, 0, sizeof ring);
-    roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
-    memset(state, 0, sizeof state);
-    roz_abi_begin_tick(&abi, 0, state);
-    return 0;
-}
-
-static int teardown(void **st)
-{
-    (void)st;
-    roz_controller_unload(&ctl);
-    return 0;
-}
-
 static void load_generated(void)
 {
     if (getenv("ROZ_DUMP_WASM") != NULL) {
@@ -162,15 +143,15 @@ static void load_generated(void)
             fclose(f);
         }
     }
-    if (roz_controller_load(&ctl, gen_buf, gen_len, &abi) != ROZ_OK)
-        fail_msg("load: %s", roz_controller_error(&ctl));
+    if (roz_controller_load(ctl, gen_buf, gen_len, abi) != ROZ_OK)
+        fail_msg("load: %s", roz_controller_error(ctl));
 }
 
 /* Takes the next metric as the 32-bit value it carries. */
 static uint32_t pop_u32(void)
 {
     roz_metric_t mt;
-    if (!roz_metric_ring_pop(&ring, &mt))
+    if (!roz_metric_ring_pop(&roz_bench.ring, &mt))
         fail_msg("a metric is missing");
     if (!(mt.value >= 0.0 && mt.value <= 4294967295.0 && mt.value == floor(mt.value)))
         fail_msg("metric %.17g is not a 32-bit value", mt.value);
@@ -578,15 +559,15 @@ static void check_case(size_t k)
 
     if (c->arity == 1 && form == FORM_SECOND_COMPUTED)
         return;
-    rc = roz_controller_process(&ctl, (int64_t)k);
+    rc = roz_controller_process(ctl, (int64_t)k);
     if (c->trap != NULL) {
-        if (rc != ROZ_ETRAP || strstr(roz_controller_error(&ctl), c->trap) == NULL)
+        if (rc != ROZ_ETRAP || strstr(roz_controller_error(ctl), c->trap) == NULL)
             fail_msg("%s (form %d): expected the trap \"%s\", got %d \"%s\"", c->name, form,
-                     c->trap, rc, roz_controller_error(&ctl));
+                     c->trap, rc, roz_controller_error(ctl));
         return;
     }
     if (rc != ROZ_OK)
-        fail_msg("%s (form %d): %d %s", c->name, form, rc, roz_controller_error(&ctl));
+        fail_msg("%s (form %d): %d %s", c->name, form, rc, roz_controller_error(ctl));
     switch (c->out) {
     case 'i':
     case 'f': {
@@ -618,7 +599,7 @@ static void check_case(size_t k)
     }
     {
         roz_metric_t extra;
-        assert_false(roz_metric_ring_pop(&ring, &extra));
+        assert_false(roz_metric_ring_pop(&roz_bench.ring, &extra));
     }
 }
 
@@ -629,7 +610,7 @@ static void test_integer_and_float_edges(void **st)
     load_generated();
     for (size_t k = 0; k < N_CASES * N_FORMS; k++)
         check_case(k);
-    assert_int_equal(ring.dropped, 0);
+    assert_int_equal(roz_bench.ring.dropped, 0);
 }
 
 /* A memory section with 0 entries is valid WebAssembly (a module without a
@@ -648,7 +629,7 @@ static void test_memory_section_without_entries(void **st)
     put(0x10); put(0);
     code_end(sec, body);
     load_generated();
-    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
     assert_int_equal(pop_u32(), 7);
 }
 
@@ -703,7 +684,7 @@ static int chain_rc;
 static void *chain_thread(void *arg)
 {
     (void)arg;
-    chain_rc = roz_controller_process(&ctl, 0);
+    chain_rc = roz_controller_process(ctl, 0);
     return NULL;
 }
 
@@ -722,7 +703,7 @@ static void test_straight_line_memory_ops_small_stack(void **st)
     assert_int_equal(pthread_join(th, NULL), 0);
     pthread_attr_destroy(&attr);
     if (chain_rc != ROZ_OK)
-        fail_msg("process: %d %s", chain_rc, roz_controller_error(&ctl));
+        fail_msg("process: %d %s", chain_rc, roz_controller_error(ctl));
     assert_int_equal(pop_u32(), 12345);
     assert_int_equal(pop_u32(), 12345 & 0xff);
 }
@@ -744,8 +725,8 @@ static void load_file(const char *name)
     len = fread(file_buf, 1, sizeof file_buf, f);
     fclose(f);
     assert_true(len > 0 && len < sizeof file_buf);
-    if (roz_controller_load(&ctl, file_buf, len, &abi) != ROZ_OK)
-        fail_msg("load %s: %s", name, roz_controller_error(&ctl));
+    if (roz_controller_load(ctl, file_buf, len, abi) != ROZ_OK)
+        fail_msg("load %s: %s", name, roz_controller_error(ctl));
 }
 
 /* What one host_trap tick leaves in the ring: the four import results, then
@@ -755,21 +736,21 @@ static void check_host_calls(uint64_t dropped_before)
 {
     roz_metric_t mt;
 
-    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(roz_metric_ring_pop(&roz_bench.ring, &mt));
     assert_true(mt.value == -1.0); /* command.set, bad index: refused */
-    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(roz_metric_ring_pop(&roz_bench.ring, &mt));
     assert_true(mt.value == -1.0); /* command.set, NaN: refused */
-    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(roz_metric_ring_pop(&roz_bench.ring, &mt));
     assert_true(isnan(mt.value)); /* state.get, bad index */
-    assert_true(roz_metric_ring_pop(&ring, &mt));
+    assert_true(roz_metric_ring_pop(&roz_bench.ring, &mt));
     assert_true(isnan(mt.value)); /* command.limit_min, bad index */
     for (uint32_t i = 0; i < ROZ_CFG_TELEMETRY_RING - 4; i++) {
-        assert_true(roz_metric_ring_pop(&ring, &mt));
+        assert_true(roz_metric_ring_pop(&roz_bench.ring, &mt));
         assert_true(mt.value == (double)i);
     }
-    assert_false(roz_metric_ring_pop(&ring, &mt));
-    assert_true(ring.dropped > dropped_before);
-    assert_int_equal(abi.estop_requested, 1);
+    assert_false(roz_metric_ring_pop(&roz_bench.ring, &mt));
+    assert_true(roz_bench.ring.dropped > dropped_before);
+    assert_int_equal(abi->estop_requested, 1);
 }
 
 /* wasm3 0.5.0 moves runtime->stack to the caller's frame during a host
@@ -788,20 +769,20 @@ static void test_trap_after_host_calls(void **st)
     load_file("host_trap");
     for (int64_t tick = 0; tick < 6; tick++) {
         int rc;
-        dropped = ring.dropped;
-        abi.estop_requested = 0;
-        rc = roz_controller_process(&ctl, tick);
+        dropped = roz_bench.ring.dropped;
+        abi->estop_requested = 0;
+        rc = roz_controller_process(ctl, tick);
         if (tick % 2 == 0) {
             if (rc != ROZ_OK)
-                fail_msg("tick %lld: %s", (long long)tick, roz_controller_error(&ctl));
+                fail_msg("tick %lld: %s", (long long)tick, roz_controller_error(ctl));
         } else {
             assert_int_equal(rc, ROZ_ETRAP);
-            assert_non_null(strstr(roz_controller_error(&ctl), "unreachable"));
+            assert_non_null(strstr(roz_controller_error(ctl), "unreachable"));
         }
         check_host_calls(dropped);
     }
-    roz_controller_unload(&ctl);
-    assert_false(roz_controller_loaded(&ctl));
+    roz_controller_unload(ctl);
+    assert_false(roz_controller_loaded(ctl));
 }
 
 /* ---- start functions ------------------------------------------------------ */
@@ -831,10 +812,10 @@ static void test_start_section_refused(void **st)
     put(0x10); put(0);
     code_end(sec, body);
     load_generated();
-    assert_false(roz_metric_ring_pop(&ring, &(roz_metric_t){ 0, 0 })); /* nothing ran */
-    assert_int_equal(roz_controller_process(&ctl, 0), ROZ_OK);
+    assert_false(roz_metric_ring_pop(&roz_bench.ring, &(roz_metric_t){ 0, 0 })); /* nothing ran */
+    assert_int_equal(roz_controller_process(ctl, 0), ROZ_OK);
     assert_int_equal(pop_u32(), 1);
-    roz_controller_unload(&ctl);
+    roz_controller_unload(ctl);
 
     /* insert a start section (id 8) before the code section */
     for (start_at = 8; start_at < gen_len;) {
@@ -858,21 +839,20 @@ static void test_start_section_refused(void **st)
     gen_buf[start_at + 1] = 1;
     gen_buf[start_at + 2] = 1; /* function 1 */
     gen_len += 3;
-    assert_int_equal(roz_controller_load(&ctl, gen_buf, gen_len, &abi), ROZ_EINVAL);
-    assert_non_null(strstr(roz_controller_error(&ctl), "start function"));
-    assert_false(roz_controller_loaded(&ctl));
-    assert_int_equal(abi.counters.metrics, 1); /* the one from the first module */
+    assert_int_equal(roz_controller_load(ctl, gen_buf, gen_len, abi), ROZ_EINVAL);
+    assert_non_null(strstr(roz_controller_error(ctl), "start function"));
+    assert_false(roz_controller_loaded(ctl));
+    assert_int_equal(abi->counters.metrics, 1); /* the one from the first module */
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_integer_and_float_edges, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_memory_section_without_entries, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_straight_line_memory_ops_small_stack, setup,
-                                        teardown),
-        cmocka_unit_test_setup_teardown(test_trap_after_host_calls, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_start_section_refused, setup, teardown),
+        roz_bench_test_metrics(test_integer_and_float_edges),
+        roz_bench_test_metrics(test_memory_section_without_entries),
+        roz_bench_test_metrics(test_straight_line_memory_ops_small_stack),
+        roz_bench_test_metrics(test_trap_after_host_calls),
+        roz_bench_test_metrics(test_start_section_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

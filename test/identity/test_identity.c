@@ -541,28 +541,12 @@ static void test_identity_runtime_override(void **st)
 
 /* ---- controllers clang built ----------------------------------------------------------- */
 
-/* One of four rotating buffers: a module's bytes must outlive its instance. */
-static const uint8_t *read_module(const char *path, size_t *len)
-{
-    static uint8_t bufs[4][256 * 1024];
-    static unsigned next;
-    uint8_t *bytes = bufs[next++ % 4];
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("cannot open %s", path);
-    *len = fread(bytes, 1, sizeof bufs[0], f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof bufs[0])
-        fail_msg("%s: empty or too large", path);
-    return bytes;
-}
-
 static void test_identity_built_controllers(void **st)
 {
     size_t len;
     roz_identity_t id;
     (void)st;
-    const uint8_t *w = read_module(ROZ_IDENTITY_DIR "/identity_pan_tilt_sweep.wasm", &len);
+    const uint8_t *w = roz_test_wasm_file(ROZ_IDENTITY_DIR "/identity_pan_tilt_sweep.wasm", &len);
     assert_int_equal(roz_identity_read(w, len, &id, NULL, 0), ROZ_OK);
     assert_true(id.present);
     assert_string_equal(id.robot_id, "pan_tilt");
@@ -577,15 +561,15 @@ static void test_identity_built_controllers(void **st)
     start(&roz_manifest_ur5, 0);
     expect_load(w, len, ROZ_EINVAL, "controller built for robot 'pan_tilt'",
                 ROZ_IDENTITY_OTHER_ROBOT);
-    w = read_module(ROZ_CONTROLLER_DIR "/pd_hold.wasm", &len); /* includes ur5_channels.h */
+    w = roz_test_wasm_file(ROZ_CONTROLLER_DIR "/pd_hold.wasm", &len); /* includes ur5_channels.h */
     expect_load(w, len, ROZ_OK, NULL, ROZ_IDENTITY_SAME);
     run(1); /* takes the pending swap */
-    w = read_module(ROZ_CONTROLLER_DIR "/sine.wasm", &len); /* works with any manifest */
+    w = roz_test_wasm_file(ROZ_CONTROLLER_DIR "/sine.wasm", &len); /* works with any manifest */
     expect_load(w, len, ROZ_OK, NULL, ROZ_IDENTITY_NONE);
     roz_runtime_deinit(&rt);
 
     start(&roz_manifest_pan_tilt, 0);
-    w = read_module(ROZ_CONTROLLER_DIR "/pd_hold.wasm", &len);
+    w = roz_test_wasm_file(ROZ_CONTROLLER_DIR "/pd_hold.wasm", &len);
     expect_load(w, len, ROZ_EINVAL, "controller built for robot 'ur5'", ROZ_IDENTITY_OTHER_ROBOT);
 }
 

@@ -40,19 +40,6 @@ static void start(void)
     roz_test_runtime_start(&rt, &cfg, NULL);
 }
 
-static const uint8_t *read_module(const char *path, size_t *len)
-{
-    static uint8_t buf[256 * 1024];
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("cannot open %s", path);
-    *len = fread(buf, 1, sizeof buf, f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof buf)
-        fail_msg("%s: empty or too large", path);
-    return buf;
-}
-
 static int teardown(void **st)
 {
     (void)st;
@@ -104,7 +91,7 @@ static void test_math_wasm_probe(void **st)
     double worst[PROBE_COUNT] = { 0 };
     roz_verify_report_t rep;
     size_t len;
-    const uint8_t *w = read_module(ROZ_MATH_PROBE, &len);
+    const uint8_t *w = roz_test_wasm_file(ROZ_MATH_PROBE, &len);
     (void)st;
 
     start();

@@ -66,21 +66,8 @@ static uint64_t bits_of(double d)
  * folder's (the rest) */
 static const uint8_t *module(const char *name, size_t *len)
 {
-    static uint8_t bufs[2][256 * 1024];
-    static unsigned next;
-    char path[4096]; /* a clone may sit at any depth */
-    uint8_t *buf = bufs[next++ % 2];
-    FILE *f;
-    snprintf(path, sizeof path, "%s/%s.wasm",
-             strncmp(name, "reach", 5) == 0 ? ROZ_CONTROLLER_DIR : ROZ_SDK_TEST_DIR, name);
-    f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("cannot open %s", path);
-    *len = fread(buf, 1, sizeof bufs[0], f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof bufs[0])
-        fail_msg("%s: empty or too large", path);
-    return buf;
+    return roz_test_wasm(strncmp(name, "reach", 5) == 0 ? ROZ_CONTROLLER_DIR : ROZ_SDK_TEST_DIR,
+                         name, len);
 }
 
 static void load(side_t *s, const char *name, roz_verify_report_t *rep)

@@ -1163,6 +1163,227 @@ static void realtime_thread_defaults(options_t *o, const roz_port_info_t *info)
     }
 }
 
+/* --check: every check the port makes of the robot at open, and nothing
+ * run: rozgen --check asks the port this way (rozgen.mujoco). The exit
+ * status: 0, or 2 with the port's message. */
+static int check_port(const options_t *o, const roz_port_entry_t *pe, const roz_manifest_t *m,
+                      char *err, size_t errlen)
+{
+    roz_port_t port;
+    if (make_port(pe, &port) != 0)
+        return 2;
+    if (roz_builtin_find(o->robot) == NULL)
+        roz_port_set_origin(&port, o->robot);
+    roz_params_t params = { o->params, o->n_params };
+    if (roz_port_open(&port, m, &params, err, errlen) != ROZ_OK) {
+        fprintf(stderr, "rozrun: port %s: %s\n", o->port, err);
+        return 2;
+    }
+    roz_port_close(&port);
+    printf("rozrun: port %s: %s opens\n", o->port, m->robot_id);
+    /* and the deploy file, by the rules a run reads it with */
+    static rozrun_deploy_t checked;
+    if (o->deploy_file != NULL) {
+        if (rozrun_deploy_load(&checked, o->deploy_file, m) != 0)
+            return 2;
+        printf("rozrun: %s: the deploy sequence fits %s\n", o->deploy_file, m->robot_id);
+    }
+    return 0;
+}
+
+/* The runtime's configuration for this run of @p m on @p port, the
+ * recorder's ring allocated when a recording or a live stream is asked
+ * for. Returns whether the tick is paced (real time, or a robot's own),
+ * or -1 when the ring cannot be had (said). */
+static int configure(const options_t *o, const roz_manifest_t *m, const roz_port_t *port,
+                     roz_runtime_config_t *cfg)
+{
+    roz_runtime_config_default(cfg);
+    cfg->manifest = m;
+    cfg->port = *port;
+    cfg->clock = roz_clock_monotonic_ns;
+    /* the deadline counts the controller's own time unless the tick is
+     * real-time, where the wall clock is the requirement (docs/budget.md);
+     * --realtime without the privilege fails closed: said now, and judged
+     * on the CPU time (rozrun_realtime_refused) */
+    char why[80];
+    if (o->realtime && realtime_refused(o->priority, why, sizeof why)) {
+        fprintf(stderr, "rozrun: --realtime: %s: the tick runs at normal priority, and its "
+                        "deadline counts the controller's CPU time, not the wall clock\n",
+                why);
+        realtime_degraded = 1;
+    }
+    if (!o->realtime || realtime_degraded)
+        cfg->deadline_clock = roz_clock_thread_cpu_ns;
+    cfg->log = log_stderr;
+    cfg->stale_ticks = o->stale_ticks;
+    /* a robot keeps its own time */
+    int paced = o->realtime || (roz_port_caps(port) & ROZ_PORT_CAP_ROBOT) != 0;
+    /* the deadline is wall-clock time, which simulated time is not: there
+     * the fuel alone decides unless asked, so a run is deterministic */
+    if (o->budget_set)
+        cfg->budget_ns = o->budget_us == UINT64_MAX ? UINT64_MAX : o->budget_us * 1000u;
+    else if (!paced)
+        cfg->budget_ns = UINT64_MAX;
+    if (o->fuel_set)
+        cfg->fuel_per_tick = o->fuel; /* UINT64_MAX: off */
+    if (o->fuel_max_set)
+        cfg->fuel_per_tick_max = o->fuel_max; /* UINT64_MAX: any declaration */
+    cfg->monitor_jitter = paced; /* simulated time runs ticks back to back */
+    cfg->allow_foreign_controller = o->allow_other_robot;
+    if (o->record != NULL || o->live != NULL) {
+        /* 1024 ticks of room: the main thread drains every 20 ms at most */
+        size_t bytes = 1024u * roz_recorder_slot_bytes(m);
+        void *ring = malloc(bytes);
+        if (ring == NULL ||
+            roz_recorder_init(&recorder, m, ring, bytes, o->record_every) != ROZ_OK) {
+            fprintf(stderr, "rozrun: no memory for the recorder's ring (%lu bytes)\n",
+                    (unsigned long)bytes);
+            return -1;
+        }
+        cfg->recorder = &recorder;
+    }
+    return paced;
+}
+
+/* What the run writes, opened before its first tick: the recording, the
+ * live stream, the trace and the summary's watch. 0, or 2 (said). */
+static int open_outputs(const options_t *o, const roz_manifest_t *m, roz_port_t *port, char *err,
+                        size_t errlen)
+{
+    /* log times: the wall clock now plus simulated time
+     * (docs/recording-format.md), the same in the file and the live stream */
+    struct timespec now = { 0, 0 };
+    (void)timespec_get(&now, TIME_UTC);
+    uint64_t start_ns = (uint64_t)now.tv_sec * 1000000000u + (uint64_t)now.tv_nsec;
+    if (o->record != NULL) {
+        roz_record_file_options_t ro = { o->controller, start_ns, record_compression(o) };
+        if (roz_record_file_open(&recfile, o->record, &rt, &recorder, &ro, err, errlen) !=
+            ROZ_OK) {
+            fprintf(stderr, "rozrun: cannot record: %s\n", err);
+            return 2;
+        }
+        recording = 1;
+    }
+    if (o->live != NULL) {
+        /* uncompressed: a chunk a tick has little to gain */
+        roz_record_file_options_t lo = { o->controller, start_ns, ROZ_MCAP_COMPRESS_NONE };
+        /* a viewer that went away must end the stream, not the run */
+        signal(SIGPIPE, SIG_IGN);
+        if (roz_record_live_open(&live, o->live, &rt, &recorder, &lo, err, errlen) != ROZ_OK) {
+            fprintf(stderr, "rozrun: --live: %s\n", err);
+            return 2;
+        }
+        living = 1;
+    }
+    if (o->trace != NULL) {
+        double truth[ROZRUN_TRUTH_VALUES]; /* a simulator's base pose: traced too */
+        int has_truth = rozrun_trace_truth(port, truth);
+        if (rozrun_trace_open(&trace, o->trace, m, has_truth, err, errlen) != 0) {
+            fprintf(stderr, "rozrun: %s\n", err);
+            return 2;
+        }
+        tracing = 1;
+    }
+    if (o->summary_json != NULL) {
+        rozrun_watch_init(&watch, o->ticks);
+        watching = 1;
+    }
+    return 0;
+}
+
+/* The ticks: paced by the periodic thread (this thread the loader, and
+ * the one that writes) until o->ticks or Ctrl-C, or back to back in
+ * simulated time. 0, or 2 when the thread cannot start (said). */
+static int run_ticks(const options_t *o, const roz_manifest_t *m, int paced, roz_runner_t *runner)
+{
+    if (paced) {
+        roz_runner_config_t rc = {
+            .period_ns = 1000000000ull / m->control_rate_hz,
+            .max_ticks = o->ticks,
+            .realtime_priority = o->realtime ? o->priority : 0,
+            .lock_memory = o->realtime,
+            .log = NULL, /* the runtime warns about command jitter itself */
+        };
+        if (roz_runner_start(runner, &rc, tick_fn, NULL) != ROZ_OK) {
+            fprintf(stderr, "rozrun: cannot start the periodic thread\n");
+            return 2;
+        }
+        /* the runner ends by itself after max_ticks, or on Ctrl-C; this
+         * thread is the loader, and the one that writes */
+        uint64_t period_ns = 1000000000ull / m->control_rate_hz;
+        while (!atomic_load(&interrupted) && !atomic_load(&runner->finished)) {
+            /* every 20 ms; every half period while a loader action is due
+             * within the next 20 ms */
+            struct timespec ts = { 0, 20000000 };
+            uint64_t done = atomic_load(&ticks_done);
+            loader_step(done);
+            if (period_ns / 2u < 20000000u &&
+                rozrun_schedule_loader_due(&sched, done + 20000000u / period_ns + 1u))
+                ts.tv_nsec = (long)(period_ns / 2u);
+            trace_drain();
+            record_drain();
+            drain_metrics();
+            roz_runtime_log_drain(&rt); /* the log is written here, never in the tick */
+            nanosleep(&ts, NULL);
+        }
+        roz_runner_stop(runner);
+        roz_runner_join(runner);
+    } else {
+        for (uint64_t t = 0; (o->ticks == 0 || t < o->ticks) && !atomic_load(&interrupted); t++) {
+            /* between ticks the loader acts: each clear or swap takes
+             * effect exactly at its tick, and runs are deterministic */
+            loader_step(t);
+            tick_fn(NULL);
+            trace_drain();
+            record_drain();
+            drain_metrics();
+            roz_runtime_log_drain(&rt); /* between ticks: the application's idle time */
+        }
+    }
+    return 0;
+}
+
+/* After the last tick: the outputs closed, the summary printed, everything
+ * released. Returns the exit status: 0, 1 when a fault latched, 3 when the
+ * run's record (trace, recording, summary) is incomplete. */
+static int finish(const options_t *o, roz_port_t *port, const roz_verify_report_t *rep,
+                  const roz_runner_t *runner, char *err, size_t errlen)
+{
+    roz_runtime_log_drain(&rt);
+    rozrun_teleop_close(&teleop); /* no twist after the last tick */
+    if (rozrun_schedule_left(&sched) != 0)
+        fprintf(stderr, "rozrun: %lu scheduled interventions not carried out: the run ended "
+                        "first\n", (unsigned long)rozrun_schedule_left(&sched));
+    roz_port_deactivate(port);
+    if (tracing && rozrun_trace_close(&trace) != 0 && !trace_failed)
+        fprintf(stderr, "rozrun: %s\n", trace.error);
+    record_drain(); /* the rest, into the file and the stream */
+    if (living)
+        roz_record_live_close(&live, LIVE_CLOSE_WAIT_MS);
+    if (recording && roz_record_file_close(&recfile, err, errlen) != ROZ_OK) {
+        if (!record_failed)
+            fprintf(stderr, "rozrun: %s\n", err);
+        record_failed = 1;
+    }
+    summary(o, port, rep, runner);
+    unsigned faults = roz_runtime_faults(&rt);
+    int status = (tracing && trace.error[0] != '\0') || record_failed ? 3 : faults != 0 ? 1 : 0;
+    if (watching && summary_json(o, port, rep, status) != 0)
+        status = 3;
+#if ROZRUN_HAS_GAMEPAD
+    roz_gamepad_close(&gamepad); /* before the runtime its sink writes to */
+#endif
+    roz_runtime_deinit(&rt);
+    roz_port_close(port);
+    free(port_self);
+    port_self = NULL;
+    rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
+    rozrun_operator_free(&op);
+    /* 3: the run's record is incomplete: not a success, whatever latched */
+    return status;
+}
+
 int main(int argc, char **argv)
 {
     options_t o;
@@ -1190,30 +1411,8 @@ int main(int argc, char **argv)
     const roz_port_entry_t *pe = find_port(o.port);
     if (pe == NULL)
         return 2;
-    if (o.check) {
-        /* every check the port makes of the robot at open, and nothing
-         * run: rozgen --check asks the port this way (rozgen.mujoco) */
-        roz_port_t port;
-        if (make_port(pe, &port) != 0)
-            return 2;
-        if (roz_builtin_find(o.robot) == NULL)
-            roz_port_set_origin(&port, o.robot);
-        roz_params_t params = { o.params, o.n_params };
-        if (roz_port_open(&port, m, &params, err, sizeof err) != ROZ_OK) {
-            fprintf(stderr, "rozrun: port %s: %s\n", o.port, err);
-            return 2;
-        }
-        roz_port_close(&port);
-        printf("rozrun: port %s: %s opens\n", o.port, m->robot_id);
-        /* and the deploy file, by the rules a run reads it with */
-        static rozrun_deploy_t checked;
-        if (o.deploy_file != NULL) {
-            if (rozrun_deploy_load(&checked, o.deploy_file, m) != 0)
-                return 2;
-            printf("rozrun: %s: the deploy sequence fits %s\n", o.deploy_file, m->robot_id);
-        }
-        return 0;
-    }
+    if (o.check)
+        return check_port(&o, pe, m, err, sizeof err);
     static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
     if (roz_module_read_file(o.controller, wasm, sizeof wasm, &len, err, sizeof err) != ROZ_OK) {
         fprintf(stderr, "rozrun: %s\n", err);
@@ -1248,50 +1447,9 @@ int main(int argc, char **argv)
         return 2;
     }
     print_report(&port, ROZ_PORT_REPORT_OPENED);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = port;
-    cfg.clock = roz_clock_monotonic_ns;
-    /* the deadline counts the controller's own time unless the tick is
-     * real-time, where the wall clock is the requirement (docs/budget.md);
-     * --realtime without the privilege fails closed: said now, and judged
-     * on the CPU time (rozrun_realtime_refused) */
-    char why[80];
-    if (o.realtime && realtime_refused(o.priority, why, sizeof why)) {
-        fprintf(stderr, "rozrun: --realtime: %s: the tick runs at normal priority, and its "
-                        "deadline counts the controller's CPU time, not the wall clock\n",
-                why);
-        realtime_degraded = 1;
-    }
-    if (!o.realtime || realtime_degraded)
-        cfg.deadline_clock = roz_clock_thread_cpu_ns;
-    cfg.log = log_stderr;
-    cfg.stale_ticks = o.stale_ticks;
-    /* a robot keeps its own time */
-    int paced = o.realtime || (roz_port_caps(&port) & ROZ_PORT_CAP_ROBOT) != 0;
-    /* the deadline is wall-clock time, which simulated time is not: there
-     * the fuel alone decides unless asked, so a run is deterministic */
-    if (o.budget_set)
-        cfg.budget_ns = o.budget_us == UINT64_MAX ? UINT64_MAX : o.budget_us * 1000u;
-    else if (!paced)
-        cfg.budget_ns = UINT64_MAX;
-    if (o.fuel_set)
-        cfg.fuel_per_tick = o.fuel; /* UINT64_MAX: off */
-    if (o.fuel_max_set)
-        cfg.fuel_per_tick_max = o.fuel_max; /* UINT64_MAX: any declaration */
-    cfg.monitor_jitter = paced; /* simulated time runs ticks back to back */
-    cfg.allow_foreign_controller = o.allow_other_robot;
-    if (o.record != NULL || o.live != NULL) {
-        /* 1024 ticks of room: the main thread drains every 20 ms at most */
-        size_t bytes = 1024u * roz_recorder_slot_bytes(m);
-        void *ring = malloc(bytes);
-        if (ring == NULL || roz_recorder_init(&recorder, m, ring, bytes, o.record_every) != ROZ_OK) {
-            fprintf(stderr, "rozrun: no memory for the recorder's ring (%lu bytes)\n",
-                    (unsigned long)bytes);
-            return 2;
-        }
-        cfg.recorder = &recorder;
-    }
+    int paced = configure(&o, m, &port, &cfg);
+    if (paced < 0)
+        return 2;
     if (roz_runtime_init(&rt, &cfg) != ROZ_OK) {
         fprintf(stderr, "rozrun: cannot set up the runtime for %s\n", m->robot_id);
         roz_port_close(&port);
@@ -1312,44 +1470,8 @@ int main(int argc, char **argv)
         roz_port_close(&port);
         return 2;
     }
-    /* log times: the wall clock now plus simulated time
-     * (docs/recording-format.md), the same in the file and the live stream */
-    struct timespec now = { 0, 0 };
-    (void)timespec_get(&now, TIME_UTC);
-    uint64_t start_ns = (uint64_t)now.tv_sec * 1000000000u + (uint64_t)now.tv_nsec;
-    if (o.record != NULL) {
-        roz_record_file_options_t ro = { o.controller, start_ns, record_compression(&o) };
-        if (roz_record_file_open(&recfile, o.record, &rt, &recorder, &ro, err,
-                                 sizeof err) != ROZ_OK) {
-            fprintf(stderr, "rozrun: cannot record: %s\n", err);
-            return 2;
-        }
-        recording = 1;
-    }
-    if (o.live != NULL) {
-        /* uncompressed: a chunk a tick has little to gain */
-        roz_record_file_options_t lo = { o.controller, start_ns, ROZ_MCAP_COMPRESS_NONE };
-        /* a viewer that went away must end the stream, not the run */
-        signal(SIGPIPE, SIG_IGN);
-        if (roz_record_live_open(&live, o.live, &rt, &recorder, &lo, err, sizeof err) != ROZ_OK) {
-            fprintf(stderr, "rozrun: --live: %s\n", err);
-            return 2;
-        }
-        living = 1;
-    }
-    if (o.trace != NULL) {
-        double truth[ROZRUN_TRUTH_VALUES]; /* a simulator's base pose: traced too */
-        int has_truth = rozrun_trace_truth(&port, truth);
-        if (rozrun_trace_open(&trace, o.trace, m, has_truth, err, sizeof err) != 0) {
-            fprintf(stderr, "rozrun: %s\n", err);
-            return 2;
-        }
-        tracing = 1;
-    }
-    if (o.summary_json != NULL) {
-        rozrun_watch_init(&watch, o.ticks);
-        watching = 1;
-    }
+    if (open_outputs(&o, m, &port, err, sizeof err) != 0)
+        return 2;
     signal(SIGINT, on_signal);
     signal(SIGTERM, on_signal);
     /* an operator device the port reads (the G1's wireless remote) goes to
@@ -1382,80 +1504,7 @@ int main(int argc, char **argv)
     input_events = rozrun_schedule_inputs(&sched, &rt, 0); /* the e-stop input at tick 0 */
     if (operating)
         rozrun_operator_tick(&op, &rt, 0, m->control_rate_hz);
-    if (paced) {
-        roz_runner_config_t rc = {
-            .period_ns = 1000000000ull / m->control_rate_hz,
-            .max_ticks = o.ticks,
-            .realtime_priority = o.realtime ? o.priority : 0,
-            .lock_memory = o.realtime,
-            .log = NULL, /* the runtime warns about command jitter itself */
-        };
-        if (roz_runner_start(&runner, &rc, tick_fn, NULL) != ROZ_OK) {
-            fprintf(stderr, "rozrun: cannot start the periodic thread\n");
-            return 2;
-        }
-        /* the runner ends by itself after max_ticks, or on Ctrl-C; this
-         * thread is the loader, and the one that writes */
-        uint64_t period_ns = 1000000000ull / m->control_rate_hz;
-        while (!atomic_load(&interrupted) && !atomic_load(&runner.finished)) {
-            /* every 20 ms; every half period while a loader action is due
-             * within the next 20 ms */
-            struct timespec ts = { 0, 20000000 };
-            uint64_t done = atomic_load(&ticks_done);
-            loader_step(done);
-            if (period_ns / 2u < 20000000u &&
-                rozrun_schedule_loader_due(&sched, done + 20000000u / period_ns + 1u))
-                ts.tv_nsec = (long)(period_ns / 2u);
-            trace_drain();
-            record_drain();
-            drain_metrics();
-            roz_runtime_log_drain(&rt); /* the log is written here, never in the tick */
-            nanosleep(&ts, NULL);
-        }
-        roz_runner_stop(&runner);
-        roz_runner_join(&runner);
-    } else {
-        for (uint64_t t = 0; (o.ticks == 0 || t < o.ticks) && !atomic_load(&interrupted); t++) {
-            /* between ticks the loader acts: each clear or swap takes
-             * effect exactly at its tick, and runs are deterministic */
-            loader_step(t);
-            tick_fn(NULL);
-            trace_drain();
-            record_drain();
-            drain_metrics();
-            roz_runtime_log_drain(&rt); /* between ticks: the application's idle time */
-        }
-    }
-    roz_runtime_log_drain(&rt);
-    rozrun_teleop_close(&teleop); /* no twist after the last tick */
-    if (rozrun_schedule_left(&sched) != 0)
-        fprintf(stderr, "rozrun: %lu scheduled interventions not carried out: the run ended "
-                        "first\n", (unsigned long)rozrun_schedule_left(&sched));
-    roz_port_deactivate(&port);
-    if (tracing && rozrun_trace_close(&trace) != 0 && !trace_failed)
-        fprintf(stderr, "rozrun: %s\n", trace.error);
-    record_drain(); /* the rest, into the file and the stream */
-    if (living)
-        roz_record_live_close(&live, LIVE_CLOSE_WAIT_MS);
-    if (recording && roz_record_file_close(&recfile, err, sizeof err) != ROZ_OK) {
-        if (!record_failed)
-            fprintf(stderr, "rozrun: %s\n", err);
-        record_failed = 1;
-    }
-    summary(&o, &port, &rep, paced ? &runner : NULL);
-    unsigned faults = roz_runtime_faults(&rt);
-    int status = (tracing && trace.error[0] != '\0') || record_failed ? 3 : faults != 0 ? 1 : 0;
-    if (watching && summary_json(&o, &port, &rep, status) != 0)
-        status = 3;
-#if ROZRUN_HAS_GAMEPAD
-    roz_gamepad_close(&gamepad); /* before the runtime its sink writes to */
-#endif
-    roz_runtime_deinit(&rt);
-    roz_port_close(&port);
-    free(port_self);
-    port_self = NULL;
-    rozrun_schedule_free(&sched); /* the runtime has let go of the swapped controllers */
-    rozrun_operator_free(&op);
-    /* 3: the run's record is incomplete: not a success, whatever latched */
-    return status;
+    if (run_ticks(&o, m, paced, &runner) != 0)
+        return 2;
+    return finish(&o, &port, &rep, paced ? &runner : NULL, err, sizeof err);
 }

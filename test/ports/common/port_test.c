@@ -59,6 +59,47 @@ void roz_port_test_assert_state(const roz_manifest_t *m, const double *state,
     }
 }
 
+static struct {
+    const roz_manifest_t *m;
+    roz_port_t           *port;
+    double               *state, *cmd;
+} driven;
+
+void roz_port_test_drive(const roz_port_fixture_t *fx, const roz_manifest_t *m,
+                         const roz_param_t *items, size_t n, roz_port_t *port, double *state,
+                         double *cmd)
+{
+    roz_port_test_open(fx, m, items, n, port);
+    driven.m = m;
+    driven.port = port;
+    driven.state = state;
+    driven.cmd = cmd;
+}
+
+int roz_port_test_read(void)
+{
+    return roz_port_read(driven.port, driven.state, driven.m->n_states);
+}
+
+void roz_port_test_write(void)
+{
+    assert_int_equal(roz_port_write(driven.port, driven.cmd, driven.m->n_commands), ROZ_OK);
+}
+
+int roz_port_test_joint_command(const roz_manifest_t *m, uint16_t joint, const char *suffix)
+{
+    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
+}
+
+void roz_port_test_start(void (*send)(void), void (*settle)(void))
+{
+    send();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(driven.m, 0, driven.cmd);
+    roz_port_test_write();
+    settle();
+}
+
 uint64_t roz_port_test_realtime_ns(void)
 {
     struct timespec ts;

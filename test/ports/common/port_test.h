@@ -34,6 +34,30 @@ void roz_port_test_distinct_command(const roz_manifest_t *m, int k, double *cmd)
 void roz_port_test_assert_state(const roz_manifest_t *m, const double *state,
                                 const double *sent);
 
+/* ---- the port a test drives ------------------------------------------------
+ * One port at a time, bound when it opens: the test's own manifest pointer
+ * value, port, state frame and command frame. */
+
+/* roz_port_test_open(), then binds @p port, @p state and @p cmd for the
+ * functions below. */
+void roz_port_test_drive(const roz_port_fixture_t *fx, const roz_manifest_t *m,
+                         const roz_param_t *items, size_t n, roz_port_t *port, double *state,
+                         double *cmd);
+
+/* roz_port_read() of the bound port into the bound state frame. */
+int roz_port_test_read(void);
+
+/* roz_port_write() of the bound command frame, which must succeed. */
+void roz_port_test_write(void);
+
+/* The command "<suffix>" of @p m's hardware joint @p joint; it must exist. */
+int roz_port_test_joint_command(const roz_manifest_t *m, uint16_t joint, const char *suffix);
+
+/* The first frame and the first write (the start-up hold) behind us: the
+ * peer sends (@p send), the port reads it, writes a distinct command, and
+ * the peer has it (@p settle). */
+void roz_port_test_start(void (*send)(void), void (*settle)(void));
+
 /* The system clock (CLOCK_REALTIME), ns. */
 uint64_t roz_port_test_realtime_ns(void);
 

@@ -20,9 +20,11 @@
 
 #include "roz/builtin.h"
 #include "roz/manifest_toml.h"
+#include "mujoco_robot_file.h"
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 /* ---- fixtures ------------------------------------------------------------------ */
 
@@ -34,25 +36,6 @@ static double now_s(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts); /* figures only; nothing is judged by them */
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-/* The pendulum's robot.toml (pendulum.toml, or another beside it). */
-static const roz_manifest_t *pendulum(const char *file)
-{
-    static roz_manifest_storage_t st;
-    static roz_toml_doc_t doc;
-    static roz_toml_node_t nodes[4096];
-    static char arena[65536], text[65536];
-    static roz_manifest_toml_problem_t problems[4];
-    static char path[512];
-    size_t found = 0;
-    snprintf(path, sizeof path, "%s/%s", ROZ_TEST_MUJOCO_DIR, file);
-    roz_toml_init(&doc, nodes, sizeof nodes / sizeof nodes[0], arena, sizeof arena);
-    int rc = roz_manifest_toml_load_file(path, text, sizeof text, &st, &doc, problems, 4, &found);
-    if (rc != ROZ_OK)
-        fail_msg("%s%s", path, found ? problems[0].text : ": cannot load");
-    roz_mujoco_set_robot_file(&mj, path);
-    return &st.manifest;
 }
 
 /* Opens @p m on the port with @p n "key=value" parameters; returns open's
@@ -110,7 +93,7 @@ static void expect_refused(const roz_manifest_t *m, const char *file, const char
 static void test_mujoco_refusals(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
     const char *f = mj.robot_file;
     expect_refused(m, f, "\"modle\"", NULL, 1, "modle=x.xml");
     expect_refused(m, f, "pendulum.toml", "nothere.xml", 1, "model=nothere.xml");
@@ -138,7 +121,7 @@ static void test_mujoco_include_bounds(void **state)
 {
     char dir[] = "/tmp/roz_mjcf_XXXXXX", path[256], text[512], param[300];
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
     const char *f = mj.robot_file;
     assert_non_null(mkdtemp(dir));
     for (int k = 0; k < 15; k++) {
@@ -176,7 +159,7 @@ static void test_mujoco_include_bounds(void **state)
 static void test_mujoco_refuses_effort_beyond_the_actuator(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum_strong.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum_strong.toml");
     expect_refused(m, mj.robot_file, "pendulum_strong.toml", "[-8, 8] N.m exceed", 0);
 }
 
@@ -185,7 +168,7 @@ static void test_mujoco_refuses_effort_beyond_the_actuator(void **state)
 static void test_mujoco_pendulum_law(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
     const char *file = mj.robot_file;
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     roz_mujoco_set_robot_file(&mj, file);
@@ -239,7 +222,7 @@ static void test_mujoco_pendulum_law(void **state)
 static void test_mujoco_warning_fails_the_run(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
     const char *file = mj.robot_file;
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     roz_mujoco_set_robot_file(&mj, file);
@@ -272,7 +255,7 @@ static void test_mujoco_warning_fails_the_run(void **state)
 static void test_mujoco_engine_error_is_a_fault(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = pendulum("pendulum.toml");
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
     const char *file = mj.robot_file;
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     roz_mujoco_set_robot_file(&mj, file);
@@ -339,19 +322,9 @@ static void run_g1(int ticks, const char *param, g1_run_t *out)
     out->open_s = now_s() - t0;
 
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX;
-    cfg.monitor_jitter = 0;
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
+    roz_test_runtime_start(&rt, &cfg, "g1_stand");
     uint64_t h = 0xCBF29CE484222325ull;
     double st[ROZ_CFG_MAX_STATES];
     t0 = now_s();

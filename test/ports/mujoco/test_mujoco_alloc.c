@@ -16,6 +16,7 @@
 #include "roz/recorder.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 /* ---- the run -------------------------------------------------------------------- */
 
@@ -47,25 +48,15 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     uint64_t at_open = roz_libc_heap_counts().total - before;
 
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX;
-    cfg.monitor_jitter = 0;
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
     /* the recorder on: the tick copies the port's truth sample too (its
      * drain, which names the bodies, runs after the counted ticks) */
     static roz_recorder_t rec;
     static uint64_t ring[(4u << 20) / 8u];
     assert_int_equal(roz_recorder_init(&rec, m, ring, sizeof ring, 1), ROZ_OK);
     cfg.recorder = &rec;
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start(&rt, &cfg, "g1_stand");
     { int rc_ = roz_runtime_tick(&rt); (void)rc_; } /* the controller's swap-in, before counting */
 
     /* the counter itself sees an allocation */

@@ -23,6 +23,7 @@
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 #define TICKS 500       /* 5 s at the UR5's 100 Hz */
 #define BOUND_RAD 0.020 /* per joint, from the pose and from the teacher */
@@ -39,25 +40,12 @@ static void run(const char *controller, double q[6])
     const roz_manifest_t *m = roz_builtin_find("ur5");
     assert_non_null(m);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    char err[512] = "";
-    if (roz_port_open(&p, m, NULL, err, sizeof err) != ROZ_OK)
-        fail_msg("%s", err);
+    roz_test_port_open(&p, m, NULL);
 
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX; /* the fuel alone decides */
-    cfg.monitor_jitter = 0;
-    size_t len;
-    const uint8_t *w = roz_test_controller(controller, &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    if (roz_runtime_load(&rt, w, len, NULL) != ROZ_OK)
-        fail_msg("%s: %s", controller, roz_runtime_error(&rt));
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
+    roz_test_runtime_start(&rt, &cfg, controller);
     double st[ROZ_CFG_MAX_STATES];
     for (int t = 0; t < TICKS; t++)
         assert_int_equal(roz_runtime_tick(&rt), ROZ_OK);

@@ -30,6 +30,7 @@
 #include "roz/runtime.h"
 #include "roz_controller.h" /* the native build's imports, defined below */
 #include "support.h"
+#include "support_runtime.h"
 
 #define TICKS 3000 /* 6 s at 500 Hz */
 
@@ -102,24 +103,11 @@ static uint64_t run(const char *robot, const char *controller, long long ticks, 
     no_fall.fall = NULL;
     const roz_manifest_t *m = &no_fall;
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    char err[512] = "";
-    if (roz_port_open(&p, m, NULL, err, sizeof err) != ROZ_OK)
-        fail_msg("%s", err);
+    roz_test_port_open(&p, m, NULL);
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX; /* the fuel alone decides */
-    cfg.monitor_jitter = 0;
-    size_t len;
-    const uint8_t *w = roz_test_controller(controller, &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    if (roz_runtime_load(&rt, w, len, NULL) != ROZ_OK) /* its identity: this G1's */
-        fail_msg("%s: %s", controller, roz_runtime_error(&rt));
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
+    roz_test_runtime_start(&rt, &cfg, controller); /* its identity: this G1's */
 
     int inferences = 0;
     double last_target = NAN, lowest = INFINITY;

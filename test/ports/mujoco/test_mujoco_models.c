@@ -21,36 +21,18 @@
 
 #include "roz/builtin.h"
 #include "roz/manifest_toml.h"
+#include "mujoco_robot_file.h"
 #include "roz/port/mujoco.h"
 
 static roz_mujoco_t mj;
-
-/* test/ports/mujoco/<file>, loaded; the port is told it is the robot file */
-static const roz_manifest_t *load(const char *file)
-{
-    static roz_manifest_storage_t st;
-    static roz_toml_doc_t doc;
-    static roz_toml_node_t nodes[1024];
-    static char arena[16384], text[16384];
-    static roz_manifest_toml_problem_t problems[4];
-    static char path[4096];
-    size_t found = 0;
-    snprintf(path, sizeof path, "%s/%s", ROZ_TEST_MUJOCO_DIR, file);
-    roz_toml_init(&doc, nodes, sizeof nodes / sizeof nodes[0], arena, sizeof arena);
-    int rc = roz_manifest_toml_load_file(path, text, sizeof text, &st, &doc, problems, 4, &found);
-    if (rc != ROZ_OK)
-        fail_msg("%s%s", path, found ? problems[0].text : ": cannot load");
-    roz_mujoco_set_robot_file(&mj, path);
-    return &st.manifest;
-}
 
 /* Opens test/ports/mujoco/@p file (with `model` = @p model when not NULL);
  * returns open's result, its message in @p err. */
 static int open_file(roz_port_t *p, const char *file, const char *model, char *err,
                      size_t errlen)
 {
-    *p = roz_mujoco_port(&mj, NULL, NULL); /* before load(): it names the robot file */
-    const roz_manifest_t *m = load(file);
+    *p = roz_mujoco_port(&mj, NULL, NULL); /* first: the robot file is named on it */
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, file);
     roz_param_t item = { "model", model };
     roz_params_t params = { &item, model != NULL ? 1u : 0u };
     err[0] = '\0';

@@ -42,6 +42,7 @@
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 #define RATE 500
 #define T(s) ((long long)((s) * RATE))
@@ -56,22 +57,6 @@
 
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
-
-/* A controller built beside this test (test/ports/mujoco/controllers). */
-static const uint8_t *test_controller(const char *name, size_t *len)
-{
-    static uint8_t buf[2][256 * 1024];
-    static unsigned next;
-    char path[4096];
-    uint8_t *b = buf[next++ % 2];
-    snprintf(path, sizeof path, "%s/%s.wasm", ROZ_TEST_CONTROLLER_DIR, name);
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        fail_msg("%s: cannot open", path);
-    *len = fread(b, 1, sizeof buf[0], f);
-    fclose(f);
-    return b;
-}
 
 /* The stand: unitree_rl_gym's default leg pose with g1_12dof_stand's gains. */
 static double stand[ROZ_CFG_MAX_COMMANDS];
@@ -104,27 +89,19 @@ static void run(const plan_t *pl)
     char err[512] = "";
     roz_param_t gp[] = { { "gantry", pl->gantry } };
     roz_params_t params = { gp, pl->gantry != NULL ? 1u : 0u };
-    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
-        fail_msg("%s", err);
+    roz_test_port_open(&p, m, &params);
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX; /* the fuel alone decides */
-    cfg.monitor_jitter = 0;
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     make_stand(m);
     roz_stages_config_t sc = { stand, 2.0, 8.0, -1, -1, -1, -1 };
     if (pl->stages && roz_runtime_stages_set(&rt, &sc, err, sizeof err) != ROZ_OK)
         fail_msg("%s", err);
     size_t len, len_b;
-    const uint8_t *w = test_controller("g1_12dof_stand", &len);
-    const uint8_t *w_b = test_controller("g1_12dof_stand_b", &len_b);
-    if (roz_runtime_load(&rt, w, len, NULL) != ROZ_OK)
-        fail_msg("%s", roz_runtime_error(&rt));
+    const uint8_t *w = roz_test_wasm(ROZ_TEST_CONTROLLER_DIR, "g1_12dof_stand", &len);
+    const uint8_t *w_b = roz_test_wasm(ROZ_TEST_CONTROLLER_DIR, "g1_12dof_stand_b", &len_b);
+    roz_test_runtime_load(&rt, w, len, "g1_12dof_stand");
     assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
     if (pl->stages) {
         assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);

@@ -27,6 +27,7 @@
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 #include "support.h"
+#include "support_runtime.h"
 
 /* ---- the cases ------------------------------------------------------------------ */
 
@@ -66,21 +67,11 @@ typedef struct {
 static roz_mujoco_t mj;
 static roz_runtime_t rt;
 
+/* A controller of test/ports/mujoco/controllers, else the examples'. */
 static const uint8_t *stops_controller(const char *name, size_t *len)
 {
-    static uint8_t buf[2][256 * 1024];
-    static unsigned next;
-    char path[4096];
-    uint8_t *b = buf[next++ % 2];
-    snprintf(path, sizeof path, "%s/%s.wasm", ROZ_TEST_STOPS_DIR, name);
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return roz_test_controller(name, len);
-    *len = fread(b, 1, sizeof buf[0], f);
-    fclose(f);
-    if (*len == 0 || *len == sizeof buf[0])
-        fail_msg("%s: empty or too large", path);
-    return b;
+    const uint8_t *w = roz_test_wasm_or_null(ROZ_TEST_STOPS_DIR, name, len);
+    return w != NULL ? w : roz_test_controller(name, len);
 }
 
 /* The truth sample of the last read (before any fault or latency). */
@@ -133,35 +124,17 @@ static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t 
     assert_non_null(m);
     uint16_t n = (uint16_t)(m->n_commands / 5);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    char err[512] = "";
-    roz_param_t item = { NULL, NULL };
-    char kv[128];
-    roz_params_t params = { &item, 0 };
-    if (c->param != NULL) {
-        snprintf(kv, sizeof kv, "%s", c->param);
-        char *eq = strchr(kv, '=');
-        *eq = '\0';
-        item.key = kv;
-        item.value = eq + 1;
-        params.n = 1;
-    }
-    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
-        fail_msg("%s", err);
+    roz_param_t item;
+    char key[64];
+    roz_params_t params = roz_test_params_kv(c->param, &item, key, sizeof key);
+    roz_test_port_open(&p, m, &params);
 
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX; /* fuel alone: the same on every machine */
-    cfg.monitor_jitter = 0;
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
     size_t len;
     const uint8_t *w = stops_controller(c->controller, &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_runtime_start_wasm(&rt, &cfg, w, len, c->controller);
 
     static double st[ROZ_CFG_MAX_STATES], wd[ROZ_CFG_MAX_COMMANDS];
     roz_mujoco_base_t b;
@@ -172,7 +145,7 @@ static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t 
             roz_runtime_estop_set(&rt, 1);
         if (t == STOP_TICK && c->how == STOP_SWAP) {
             const uint8_t *w2 = stops_controller(c->swap_in, &len);
-            assert_int_equal(roz_runtime_load(&rt, w2, len, NULL), ROZ_OK);
+            roz_test_runtime_load(&rt, w2, len, c->swap_in);
         }
         if ((c->how == STOP_SILENT || c->how == STOP_TWICE) && t >= STOP_TICK) {
             /* the tick is gone: the robot keeps the last command until the
@@ -418,33 +391,14 @@ static double run_into_limits(const char *robot, const char *param, int ticks)
     const roz_manifest_t *m = roz_builtin_find(robot);
     assert_non_null(m);
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    char err[512] = "", kv[128];
-    roz_param_t item = { NULL, NULL };
-    roz_params_t params = { &item, 0 };
-    if (param != NULL) {
-        snprintf(kv, sizeof kv, "%s", param);
-        char *eq = strchr(kv, '=');
-        *eq = '\0';
-        item.key = kv;
-        item.value = eq + 1;
-        params.n = 1;
-    }
-    if (roz_port_open(&p, m, &params, err, sizeof err) != ROZ_OK)
-        fail_msg("%s", err);
+    roz_param_t item;
+    char key[64];
+    roz_params_t params = roz_test_params_kv(param, &item, key, sizeof key);
+    roz_test_port_open(&p, m, &params);
     roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 0, 1000 };
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.budget_ns = UINT64_MAX;
-    cfg.monitor_jitter = 0;
-    size_t len;
-    const uint8_t *w = roz_test_controller("constant_velocity", &len);
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    roz_test_clock_t clk;
+    roz_test_physics_config(&cfg, m, p, &clk);
+    roz_test_runtime_start(&rt, &cfg, "constant_velocity");
     double closest = INFINITY, worst = -INFINITY;
     const char *worst_name = "";
     for (int t = 0; t < ticks; t++) {
@@ -519,23 +473,12 @@ static void test_mujoco_stops_velocity_only(void **state)
     assert_non_null(m);
     for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++) {
         roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-        char err[512] = "";
-        if (roz_port_open(&p, m, NULL, err, sizeof err) != ROZ_OK)
-            fail_msg("%s", err);
+        roz_test_port_open(&p, m, NULL);
         roz_runtime_config_t cfg;
-        roz_test_clock_t clk = { 0, 1000000000u / UR5_RATE };
-        roz_runtime_config_default(&cfg);
-        cfg.manifest = m;
-        cfg.port = p;
-        cfg.clock = roz_test_clock;
-        cfg.clock_ctx = &clk;
-        cfg.budget_ns = UINT64_MAX;
-        cfg.monitor_jitter = 0;
-        size_t len;
-        const uint8_t *w = roz_test_controller("constant_velocity", &len);
-        assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-        assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-        assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+        roz_test_clock_t clk;
+        roz_test_physics_config(&cfg, m, p, &clk);
+        clk.step = 1000000000u / UR5_RATE;
+        roz_test_runtime_start(&rt, &cfg, "constant_velocity");
         static double st[ROZ_CFG_MAX_STATES], wd[ROZ_CFG_MAX_COMMANDS];
         double at_stop[ROZ_MUJOCO_MAX_JOINTS], moving = 0.0, travel = 0.0, rest = 0.0;
         for (int t = 0; t < STOP + JUDGED; t++) {

@@ -57,7 +57,7 @@ enum { LEG = 0, WAIST, ARM, HEAD, IMU };
 
 static void open_x2_on(const roz_manifest_t *man, const roz_param_t *items, size_t n)
 {
-    roz_port_test_open(&roz_fixture_agibot_x2, man, items, n, &port);
+    roz_port_test_drive(&roz_fixture_agibot_x2, man, items, n, &port, state, cmd);
 }
 
 static void open_x2(const roz_param_t *items, size_t n)
@@ -72,38 +72,14 @@ static int teardown(void **st)
     return 0;
 }
 
-static int read_x2(void)
-{
-    return roz_port_read(&port, state, m->n_states);
-}
-
-static void write_x2(void)
-{
-    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
-}
-
-static int cmd_of(const char *joint, const char *suffix)
-{
-    return roz_port_test_command(m, joint, suffix, 0);
-}
-
 static int state_index(const char *name)
 {
     return roz_port_test_state(m, name);
 }
 
-static void distinct_command(int k)
+static int cmd_of(const char *joint, const char *suffix)
 {
-    roz_port_test_distinct_command(m, k, cmd);
-}
-
-static void start(void)
-{
-    roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
-    distinct_command(0);
-    write_x2();
-    roz_ros2fx_settle();
+    return roz_port_test_command(m, joint, suffix, 0);
 }
 
 static void assert_state_is_sent(void)
@@ -123,7 +99,7 @@ static void test_x2_joints_map_both_ways(void **st)
 
     open_x2(NULL, 0);
     fake = roz_ros2fx_fake();
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (unsigned g = 0; g < fake->n_groups; g++) {
         assert_int_equal(roz_fake_ros2_command(fake, g, &c), 1);
         seq[g] = c.seq; /* the hold: each topic's first sample */
@@ -131,11 +107,11 @@ static void test_x2_joints_map_both_ways(void **st)
     }
     for (int k = 1; k <= 3; k++) {
         roz_ros2fx_send();
-        assert_int_equal(read_x2(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         assert_state_is_sent();
-        distinct_command(k);
+        roz_port_test_distinct_command(m, k, cmd);
         uint64_t before = roz_port_test_realtime_ns();
-        write_x2();
+        roz_port_test_write();
         roz_ros2fx_settle();
         uint64_t after = roz_port_test_realtime_ns();
         roz_ros2fx_sent(sent);
@@ -171,10 +147,10 @@ static void test_x2_imu_order(void **st)
 {
     (void)st;
     open_x2(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
     roz_ros2fx_ask_judged(0, "send");
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
     assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
     assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
@@ -196,12 +172,12 @@ static void test_x2_ros2_names(void **st)
     (void)st;
     roz_ros2fx_set_fake_args(as_ros2);
     open_x2(NULL, 0); /* matched both ways, or it fails */
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
-    distinct_command(5);
-    write_x2();
+    roz_port_test_distinct_command(m, 5, cmd);
+    roz_port_test_write();
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), HEAD, &c), 1);
     assert_true(c.q[0] == cmd[cmd_of("head_yaw_joint", "position")]);
@@ -215,23 +191,23 @@ static void test_x2_fresh_needs_every_group(void **st)
     (void)st;
 
     open_x2(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     memcpy(before, state, sizeof before);
     /* three groups and the IMU: not a frame yet; the old one stays */
     roz_ros2fx_set_state(40);
     roz_ros2fx_ask_judged((1u << LEG) | (1u << WAIST) | (1u << ARM) | (1u << IMU),
                           "send leg waist arm imu");
-    assert_int_equal(read_x2(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     assert_memory_equal(state, before, m->n_states * sizeof state[0]);
     roz_ros2fx_ask_judged((1u << LEG) | (1u << ARM), "send leg arm");
-    assert_int_equal(read_x2(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     /* the head at last: the frame, with every topic's latest */
     roz_ros2fx_ask_judged(1u << HEAD, "send head");
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
-    assert_int_equal(read_x2(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
 }
 
 static roz_runtime_t rt;
@@ -297,34 +273,34 @@ static void test_x2_error_states_latch(void **st)
     (void)st;
 
     open_x2(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (unsigned v = 1; v <= 4; v++) {
         roz_ros2fx_ask("error waist %u", v);
         roz_ros2fx_send();
-        assert_int_equal(read_x2(), ROZ_EROBOT);
+        assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
         assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
         assert_string_equal(f.what, "waist");
         assert_non_null(strstr(f.kind, kinds[v]));
         assert_int_equal(f.code, v);
         roz_ros2fx_send(); /* a level: every frame while it lasts */
-        assert_int_equal(read_x2(), ROZ_EROBOT);
+        assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     }
     roz_ros2fx_ask("error waist 0");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_true(roz_ros2fx_counters().topic[WAIST].fault_frames >= 8);
 
     /* a joint's error code: the joint and the code */
     roz_ros2fx_ask("joint_error leg 3 17");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
     assert_string_equal(f.what, "left_knee_joint");
     assert_non_null(strstr(f.kind, "error_code"));
     assert_int_equal(f.code, 17);
     roz_ros2fx_ask("joint_error leg 3 0");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
 }
 
 /* A fault the robot reports in one sample only is not lost because a clean
@@ -337,32 +313,32 @@ static void test_x2_brief_error_state_is_not_lost(void **st)
     (void)st;
 
     open_x2(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     /* overtaken on the receive side: the tick never saw the faulted sample */
     roz_ros2fx_ask("error waist 2");
     roz_ros2fx_ask_judged(1u << WAIST, "send waist");
     roz_ros2fx_ask("error waist 0");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
     assert_string_equal(f.what, "waist");
     assert_non_null(strstr(f.kind, "power-off"));
     assert_int_equal(f.code, 2);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1); /* reported once; it is over */
+    assert_int_equal(roz_port_test_read(), 1); /* reported once; it is over */
 
     /* overtaken on the tick's side: taken by a read that was not a frame */
     roz_ros2fx_ask("joint_error arm 4 9");
     roz_ros2fx_ask_judged(1u << ARM, "send arm");
-    assert_int_equal(read_x2(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     roz_ros2fx_ask("joint_error arm 4 0");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
     assert_string_equal(f.what, "left_wrist_yaw_joint");
     assert_int_equal(f.code, 9);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
 }
 
 static void test_x2_error_state_in_the_runtime(void **st)
@@ -409,7 +385,7 @@ static void test_x2_docs_layout(void **st)
     open_x2((roz_param_t[]){ { "joint_state_layout", "docs" } }, 1);
     for (int k = 0; k < 3; k++) {
         roz_ros2fx_send();
-        assert_int_equal(read_x2(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         assert_state_is_sent();
     }
     assert_int_equal(roz_ros2fx_counters().topic[ARM].malformed, 0);
@@ -431,7 +407,7 @@ static void test_x2_wrong_layout(void **st)
     roz_ros2fx_set_fake_args(docs);
     open_x2(NULL, 0);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     assert_state_is_sent();
     assert_int_equal(roz_agibot_x2_ops.fault(roz_ros2fx_bridge(), &f), ROZ_OK);
     assert_string_equal(f.what, "left_hip_pitch_joint");
@@ -444,7 +420,7 @@ static void test_x2_wrong_layout(void **st)
     for (int i = 0; i < 20; i++) {
         roz_ros2fx_ask("send");
         roz_fake_sleep_ms(10);
-        assert_int_equal(read_x2(), ROZ_ENOENT);
+        assert_int_equal(roz_port_test_read(), ROZ_ENOENT);
     }
     roz_ros2_counters_t c = roz_ros2fx_counters();
     for (int g = LEG; g <= HEAD; g++)
@@ -465,9 +441,9 @@ static void test_x2_names_and_lengths(void **st)
 {
     (void)st;
     open_x2(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
 
     /* the arm's slot 3 names another joint: the robot's order is not ours */
     uint64_t before = roz_ros2fx_counters().topic[ARM].malformed;
@@ -475,12 +451,12 @@ static void test_x2_names_and_lengths(void **st)
     roz_ros2fx_set_state(70);
     roz_ros2fx_ask("send");
     wait_malformed(ARM, before);
-    assert_int_equal(read_x2(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     /* unnamed joints are taken by their slot */
     roz_ros2fx_ask("name arm 3 -");
     roz_ros2fx_ask("name waist 0 none"); /* an empty name on the wire */
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
 
     /* a group of the wrong length */
     before = roz_ros2fx_counters().topic[LEG].malformed;
@@ -502,7 +478,7 @@ static void test_x2_names_and_lengths(void **st)
     roz_ros2fx_ask("length leg 12");
     roz_ros2fx_ask("length head 2");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
 }
 
@@ -513,10 +489,10 @@ static void test_x2_link_by_stamp(void **st)
     roz_link_t l;
     (void)st;
     open_x2((roz_param_t[]){ { "link_check", "stamp" } }, 1);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_ask("stamp 1800000000 0");
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     uint64_t replays = l.replays;
     /* a new sequence number, an old stamp: a replay by the stamp */
@@ -712,13 +688,13 @@ static void test_x2_hold_reaches_the_wire_first(void **st)
     (void)st;
     open_x2(NULL, 0);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     atomic_store(&path->held_back, 1);
-    distinct_command(1);
-    write_x2(); /* the hold */
-    write_x2(); /* the controller's, before the writer sent anything */
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write(); /* the hold */
+    roz_port_test_write(); /* the controller's, before the writer sent anything */
     atomic_store(&path->held_back, 0);
-    write_x2();
+    roz_port_test_write();
     roz_ros2fx_settle();
     roz_fake_ros2_t *fk = roz_ros2fx_fake();
     for (unsigned g = 0; g < fk->n_groups; g++) {
@@ -729,7 +705,7 @@ static void test_x2_hold_reaches_the_wire_first(void **st)
                          c.kp[s]);
         }
     }
-    write_x2();
+    roz_port_test_write();
     roz_ros2fx_settle();
     int g, s;
     assert_int_equal(roz_ros2fx_place(0, &g, &s), 0);
@@ -745,11 +721,11 @@ static void test_x2_head_pitch_nan(void **st)
     (void)st;
     open_x2(NULL, 0);
     roz_ros2fx_ask("joint head 1 nan nan nan");
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
-    distinct_command(1);
-    write_x2();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write();
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), HEAD, &c), 1);
     assert_string_equal(c.name[1], "head_pitch_joint");
@@ -820,11 +796,11 @@ static void test_x2_watchdog_every_group(void **st)
     (void)st;
     open_x2((roz_param_t[]){ { "command_timeout_us", "100000" }, { "peer_timeout_ms", "60000" } },
             2);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2fx_sent(sent);
-    distinct_command(1);
+    roz_port_test_distinct_command(m, 1, cmd);
     /* each setpoint moved to keep the torque it went out with at the hold
      * gain, within the band of the measured position, inside the limits
      * (test_pm01_watchdog_keeps_the_torque) */
@@ -839,7 +815,7 @@ static void test_x2_watchdog_every_group(void **st)
         double v = roz_hold_setpoint(&from, m->commands[kp].default_value, roz_hold_band(qc));
         q[j] = roz_channel_clamp(qc, roz_channel_clamp(&m->states[qc->position_state], v));
     }
-    write_x2();
+    roz_port_test_write();
     roz_ros2fx_settle();
     assert_int_equal(counters().command_timeouts, 0);
 
@@ -875,11 +851,11 @@ static void test_x2_watchdog_every_group(void **st)
     assert_int_equal(counters().command_timeouts, 1);
 
     roz_ros2fx_send();
-    assert_int_equal(read_x2(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_port_test_read(), ROZ_EWATCHDOG);
     double before_trip[ROZ_CFG_MAX_COMMANDS];
     memcpy(before_trip, cmd, sizeof before_trip);
-    distinct_command(2);
-    write_x2();
+    roz_port_test_distinct_command(m, 2, cmd);
+    roz_port_test_write();
     roz_ros2fx_settle();
     roz_ros2fx_sent(sent);
     int g, s;

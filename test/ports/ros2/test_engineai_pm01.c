@@ -67,7 +67,7 @@ static double cmd[ROZ_CFG_MAX_COMMANDS];
 
 static void open_pm01_on(const roz_manifest_t *man, const roz_param_t *items, size_t n)
 {
-    roz_port_test_open(&roz_fixture_engineai_pm01, man, items, n, &port);
+    roz_port_test_drive(&roz_fixture_engineai_pm01, man, items, n, &port, state, cmd);
 }
 
 static void open_pm01(const roz_param_t *items, size_t n)
@@ -82,38 +82,14 @@ static int teardown(void **st)
     return 0;
 }
 
-static int read_pm01(void)
-{
-    return roz_port_read(&port, state, m->n_states);
-}
-
-static void write_pm01(void)
-{
-    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
-}
-
 static int cmd_index(uint16_t joint, const char *suffix)
 {
-    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
+    return roz_port_test_joint_command(m, joint, suffix);
 }
 
 static int state_index(const char *name)
 {
     return roz_port_test_state(m, name);
-}
-
-static void distinct_command(int k)
-{
-    roz_port_test_distinct_command(m, k, cmd);
-}
-
-static void start(void)
-{
-    roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
-    distinct_command(0);
-    write_pm01();
-    roz_ros2fx_settle();
 }
 
 static void get_command(roz_fake_ros2_cmd_t *c)
@@ -155,13 +131,13 @@ static void test_pm01_joints_map_both_ways(void **st)
     (void)st;
 
     open_pm01(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (int k = 1; k <= 3; k++) {
         roz_ros2fx_send();
-        assert_int_equal(read_pm01(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         assert_state_is_sent();
-        distinct_command(k);
-        write_pm01();
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
         get_command(&c);
         assert_int_equal(c.n, N);       /* every array 24 long */
         assert_int_equal(c.min_len, N);
@@ -202,7 +178,7 @@ static void expect_parser_on_the_wire(const roz_manifest_t *man, const roz_param
     open_pm01_on(man, items, n);
     roz_ros2fx_send();
     assert_int_equal(roz_port_read(&port, state, man->n_states), 1);
-    distinct_command(2);
+    roz_port_test_distinct_command(m, 2, cmd);
     for (int k = 0; k < 3; k++) { /* the hold, then two commands */
         assert_int_equal(roz_port_write(&port, cmd, man->n_commands), ROZ_OK);
         get_command(&c);
@@ -288,10 +264,10 @@ static void test_pm01_imu_order(void **st)
 {
     (void)st;
     open_pm01(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
     roz_ros2fx_ask_judged(0, "send");
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
     assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
     assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
@@ -313,13 +289,13 @@ static void test_pm01_command_stamps(void **st)
     (void)st;
 
     open_pm01(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (int k = 1; k <= 20; k++) {
         roz_ros2fx_send();
-        (void)read_pm01();
-        distinct_command(k);
+        (void)roz_port_test_read();
+        roz_port_test_distinct_command(m, k, cmd);
         uint64_t before = roz_port_test_realtime_ns();
-        write_pm01();
+        roz_port_test_write();
         get_command(&c);
         uint64_t after = roz_port_test_realtime_ns();
         uint64_t stamp = (uint64_t)c.sec * 1000000000u + c.nanosec;
@@ -343,10 +319,10 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     (void)st;
 
     open_pm01(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (int k = 0; k < 10; k++)
         roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     uint64_t replays = l.replays, restarts = l.restarts;
 
@@ -354,34 +330,34 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     roz_ros2fx_ask("stamp 1800000000 500000000");
     roz_ros2fx_set_state(50);
     send_judged();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
     roz_ros2fx_ask("stamp 1800000000 500000000");
     roz_ros2fx_set_state(51);
     send_judged();
-    assert_int_equal(read_pm01(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     assert_int_equal(l.replays, replays + 2);
     /* half a second back: still a replay */
     roz_ros2fx_ask("stamp 1800000000 0");
     send_judged();
-    assert_int_equal(read_pm01(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     assert_int_equal(l.replays, replays + 4);
     /* newer again: fresh */
     roz_ros2fx_ask("stamp 1800000001 0");
     roz_ros2fx_set_state(52);
     send_judged();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
     /* five seconds back: the robot's clock restarted */
     roz_ros2fx_ask("stamp 1799999996 0");
     send_judged();
-    assert_int_equal(read_pm01(), ROZ_ELINK);
+    assert_int_equal(roz_port_test_read(), ROZ_ELINK);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     assert_int_equal(l.restarts, restarts + 2);
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
 
     /* a stamp that is not a time: malformed, dropped, counted */
     uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
@@ -390,7 +366,7 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     for (int i = 0; i < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; i++)
         roz_fake_sleep_ms(1);
     assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
-    assert_int_equal(read_pm01(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
 }
 
 /* A documented limit (SAFETY.md, docs/ports/ros2.md): the PM01's header has
@@ -404,10 +380,10 @@ static void test_pm01_clock_step_back_is_a_replay(void **st)
     (void)st;
 
     open_pm01(NULL, 0);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_ask("stamp 1800000000 500000000");
     send_judged();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     uint64_t replays = l.replays, restarts = l.restarts;
     /* the clock steps 20 ms back; it advances 1 ms a sample (on either
@@ -416,7 +392,7 @@ static void test_pm01_clock_step_back_is_a_replay(void **st)
     int fresh = 0, sends = 0;
     for (; sends < 40 && fresh == 0; sends++) {
         send_judged();
-        fresh = read_pm01() == 1;
+        fresh = roz_port_test_read() == 1;
     }
     roz_ros2_link(roz_ros2fx_bridge(), &l);
     assert_int_equal(l.restarts, restarts); /* no restart: within the window */
@@ -441,7 +417,7 @@ static void test_pm01_arrays_must_be_24_long(void **st)
     roz_fixture_engineai_pm01.set_log(roz_test_blocking_log);
     open_pm01(NULL, 0);
     roz_fixture_engineai_pm01.set_log(NULL);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     static const unsigned lengths[] = { 23, 25, 0, 12 };
     for (size_t i = 0; i < sizeof lengths / sizeof lengths[0]; i++) {
         uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
@@ -451,11 +427,11 @@ static void test_pm01_arrays_must_be_24_long(void **st)
         for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; w++)
             roz_fake_sleep_ms(1);
         assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
-        assert_int_equal(read_pm01(), 0); /* nothing new, the old frame stays */
+        assert_int_equal(roz_port_test_read(), 0); /* nothing new, the old frame stays */
     }
     roz_ros2fx_ask("length body 24");
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
     unsigned blocked = roz_test_blocking_log_blocked();
     int said = roz_port_drain(&port) >= 1 &&
@@ -520,7 +496,7 @@ static void test_pm01_traffic_on_69(void **st)
         rc = roz_port_read(&pt, state, m->n_states);
     }
     assert_int_equal(rc, 1);
-    distinct_command(1);
+    roz_port_test_distinct_command(m, 1, cmd);
     assert_int_equal(roz_port_write(&pt, cmd, m->n_commands), ROZ_OK);
     assert_int_equal(roz_fake_ros2_ask(&fake, "wait_commands body 1 10000"), 0);
     (void)roz_port_deactivate(&pt);
@@ -540,12 +516,12 @@ static void test_pm01_ros2_names(void **st)
 
     roz_ros2fx_set_fake_args(as_ros2);
     open_pm01(NULL, 0); /* matched both ways, or it fails */
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_state_is_sent();
-    distinct_command(2);
-    write_pm01();
+    roz_port_test_distinct_command(m, 2, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.q[7] == cmd[cmd_index(7, "position")]);
 
@@ -592,7 +568,7 @@ static void test_pm01_decimation(void **st)
     open_pm01((roz_param_t[]){ { "state_decimation", "4" } }, 1);
     for (int k = 0; k < 12; k++) {
         roz_ros2fx_send();
-        assert_int_equal(read_pm01(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         roz_ros2fx_sent(sent);
         if (k % 4 == 0)
             memcpy(full, sent, sizeof full);
@@ -607,7 +583,7 @@ static void test_pm01_decimation(void **st)
     assert_int_equal(roz_ros2fx_counters().frames, 12);
     /* every sample is still checked: a replay between two whole conversions */
     roz_ros2fx_ask_judged(0, "replay");
-    assert_int_equal(read_pm01(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
 }
 
 /* ---- the writer ---------------------------------------------------------------------------- */
@@ -619,12 +595,12 @@ static void test_pm01_periodic_writer(void **st)
     (void)st;
 
     open_pm01((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     for (int k = 0; k < 5; k++)
         roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
-    distinct_command(3);
-    write_pm01();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 3, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
     n[0] = n0[0];
@@ -643,7 +619,7 @@ static void test_pm01_periodic_writer(void **st)
     roz_ros2fx_set_state(100);
     roz_ros2fx_ask("send");
     roz_ros2fx_wait_judged(before, 0, 1); /* the new writers: again until discovered */
-    assert_int_equal(read_pm01(), ROZ_ELINK);
+    assert_int_equal(roz_port_test_read(), ROZ_ELINK);
     roz_fake_sleep_ms(10);
     uint64_t after[FAKE_ROS2_MAX_GROUPS], later[FAKE_ROS2_MAX_GROUPS];
     assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), after), 0);
@@ -652,8 +628,8 @@ static void test_pm01_periodic_writer(void **st)
     assert_int_equal(later[0], after[0]);
     assert_true(roz_ros2fx_counters().stale_session >= 1);
     /* the tick writes: the hold of the restarted robot's positions */
-    distinct_command(4);
-    write_pm01();
+    roz_port_test_distinct_command(m, 4, cmd);
+    roz_port_test_write();
     get_command(&c);
     roz_ros2fx_sent(sent);
     assert_true(c.q[3] == sent[state_index("J03_KNEE_PITCH_L/position")]);
@@ -704,13 +680,13 @@ static void test_pm01_watchdog(void **st)
     open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
                                { "peer_timeout_ms", "60000" } },
               2);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2fx_sent(sent);
-    distinct_command(1);
+    roz_port_test_distinct_command(m, 1, cmd);
     watchdog_positions(sent, q);
-    write_pm01();
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
     assert_int_equal(counters().command_timeouts, 0);
@@ -739,19 +715,19 @@ static void test_pm01_watchdog(void **st)
      * written */
     roz_port_fault_t f;
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_port_test_read(), ROZ_EWATCHDOG);
     assert_int_equal(roz_engineai_pm01_ops.fault(port.self, &f), ROZ_OK);
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.limit, 100000);
     assert_true(f.code >= 100000);
-    assert_int_equal(read_pm01(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     /* the stop's hold from the last command before the trip, at the hold
      * gains and the damping command's kd: never a frame without stiffness
      * between the watchdog's hold and the tick's */
     double before_trip[ROZ_CFG_MAX_COMMANDS];
     memcpy(before_trip, cmd, sizeof before_trip);
-    distinct_command(2);
-    write_pm01();
+    roz_port_test_distinct_command(m, 2, cmd);
+    roz_port_test_write();
     get_command(&c);
     roz_ros2fx_sent(sent);
     {
@@ -767,9 +743,9 @@ static void test_pm01_watchdog(void **st)
     }
     assert_true(c.kd[3] == m->commands[cmd_index(3, "damping")].default_value);
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
-    distinct_command(3);
-    write_pm01();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 3, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
     assert_true(c.q[3] == cmd[cmd_index(3, "position")]);
@@ -806,7 +782,7 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
                                { "peer_timeout_ms", "60000" } },
               2);
-    start();
+    roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     /* the frame the command goes out against: the right knee at 0.6, then
      * NaN (the port keeps 0.6, the last finite one) */
     roz_ros2fx_send();
@@ -815,21 +791,21 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     fake_position(hip_l, hip_at);
     fake_position(knee_r, "0.6");
     roz_ros2fx_ask_judged(0, "send");
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     fake_position(knee_r, "nan");
     roz_ros2fx_ask_judged(0, "send");
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_true(isnan(state[m->commands[cmd_index(knee_r, "position")].position_state]));
     memcpy(measured, state, sizeof measured);
     measured[m->commands[cmd_index(knee_r, "position")].position_state] = 0.6;
 
-    distinct_command(1);
+    roz_port_test_distinct_command(m, 1, cmd);
     cmd[cmd_index(knee_l, "position")] = 0.5;
     cmd[cmd_index(knee_l, "stiffness")] = 80.0;
     cmd[cmd_index(hip_l, "position")] = hip_q->max - 0.01;
     cmd[cmd_index(hip_l, "stiffness")] = 500.0;
     watchdog_positions(measured, q);
-    write_pm01();
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[knee_l] == 80.0 && c.q[knee_l] == 0.5);
 
@@ -921,16 +897,16 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
     /* damping on exit, chosen (the default is the hold) */
     open_pm01((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     /* nothing before the first frame */
-    distinct_command(0);
-    write_pm01();
+    roz_port_test_distinct_command(m, 0, cmd);
+    roz_port_test_write();
     roz_ros2fx_settle();
     assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 0);
     assert_int_equal(roz_ros2fx_counters().writes_withheld, 1);
     roz_ros2fx_send();
-    assert_int_equal(read_pm01(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_ros2fx_sent(sent);
-    distinct_command(1);
-    write_pm01(); /* the first write: the hold */
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write(); /* the first write: the hold */
     get_command(&c);
     for (uint16_t j = 0; j < N; j++) {
         char name[160];
@@ -940,7 +916,7 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
         assert_true(c.kd[j] == 2.5);
     }
     assert_int_equal(roz_ros2fx_counters().holds, 1);
-    write_pm01();
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[0] == cmd[cmd_index(0, "stiffness")]);
 

@@ -3,17 +3,8 @@
 # that does not exist here, a CAN key given on the command line over the
 # robot's (a CAN id twice), a robot for another port.
 # cmake -DROZRUN=... -DCTL=<controller dir> -DSRC=<repository> -P
-function(expect_error args want)
-  execute_process(COMMAND ${ROZRUN} ${args} RESULT_VARIABLE rc OUTPUT_VARIABLE out
-                  ERROR_VARIABLE err)
-  if(NOT rc EQUAL 2)
-    message(FATAL_ERROR "rozrun ${args}: exit ${rc}, expected 2\n${out}${err}")
-  endif()
-  string(FIND "${err}" "${want}" at)
-  if(at EQUAL -1)
-    message(FATAL_ERROR "rozrun ${args}: stderr lacks \"${want}\":\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../../checks.cmake)
+
 set(leg --robot ${SRC}/examples/can_leg/leg.toml --controller ${CTL}/leg_pd.wasm --port socketcan)
 expect_error("${leg};--param;network_interface=rozcan9"
              "socketcan: network_interface \"rozcan9\": no such interface")

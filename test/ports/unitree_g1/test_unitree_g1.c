@@ -97,7 +97,7 @@ static double cmd[ROZ_CFG_MAX_COMMANDS];
 
 static void open_g1(const roz_param_t *items, size_t n)
 {
-    roz_port_test_open(&roz_fixture_unitree_g1, m, items, n, &port);
+    roz_port_test_drive(&roz_fixture_unitree_g1, m, items, n, &port, state, cmd);
 }
 
 static int teardown(void **st)
@@ -108,14 +108,14 @@ static int teardown(void **st)
     return 0;
 }
 
-static int read_g1(void)
+static int cmd_index(uint16_t joint, const char *suffix)
 {
-    return roz_port_read(&port, state, m->n_states);
+    return roz_port_test_joint_command(m, joint, suffix);
 }
 
-static void write_g1(void)
+static int state_index(const char *name)
 {
-    assert_int_equal(roz_port_write(&port, cmd, m->n_commands), ROZ_OK);
+    return roz_port_test_state(m, name);
 }
 
 static roz_unitree_g1_counters_t counters(void)
@@ -133,32 +133,6 @@ static uint32_t cmd_readers(void)
     return readers;
 }
 
-static int cmd_index(uint16_t joint, const char *suffix)
-{
-    return roz_port_test_command(m, m->hardware->joints[joint], suffix, 1);
-}
-
-static int state_index(const char *name)
-{
-    return roz_port_test_state(m, name);
-}
-
-/* A command with a distinct value in every channel, inside its limits. */
-static void distinct_command(int k)
-{
-    roz_port_test_distinct_command(m, k, cmd);
-}
-
-/* The first frame, and the first write (the start-up hold) behind us. */
-static void start(void)
-{
-    roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(0);
-    write_g1();
-    roz_g1fx_settle();
-}
-
 static void get_command(roz_fake_g1_cmd_t *c)
 {
     roz_g1fx_settle();
@@ -173,16 +147,16 @@ static void test_g1_joints_map_both_ways(void **st)
     (void)st;
 
     open_g1(NULL, 0);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) {
         /* state: every joint's q, dq, tau_est distinct, and the IMU */
         roz_g1fx_send();
-        assert_int_equal(read_g1(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         roz_g1fx_sent(sent);
         roz_port_test_assert_state(m, state, sent);
         /* command: every joint's five fields distinct */
-        distinct_command(k);
-        write_g1();
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
         get_command(&c);
         assert_int_equal(c.mode_pr, 0);      /* PR */
         assert_int_equal(c.mode_machine, 5); /* the fake's, echoed */
@@ -236,14 +210,14 @@ static void map_both_ways(const roz_manifest_t *man, int mode_machine)
     open_g1(NULL, 0);
     if (mode_machine >= 0)
         roz_g1fx_ask("mode_machine %d", mode_machine);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) {
         roz_g1fx_send();
-        assert_int_equal(read_g1(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         roz_g1fx_sent(sent);
         roz_port_test_assert_state(m, state, sent);
-        distinct_command(k);
-        write_g1();
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
         get_command(&c);
         if (mode_machine >= 0)
             assert_int_equal(c.mode_machine, mode_machine);
@@ -307,13 +281,13 @@ static void test_g1_imu_order(void **st)
 {
     (void)st;
     open_g1(NULL, 0);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_ask("imu 0.5 0.25 -0.125 0.0625 1.5 -2.5 3.5 0.75 -1.25 9.75");
     roz_link_t before;
     roz_unitree_g1_link(roz_g1fx_port(), &before);
     roz_g1fx_ask("send");
     roz_g1fx_wait_judged(&before, 0);
-    assert_int_equal(read_g1(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
     assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
     assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
@@ -385,12 +359,12 @@ static void test_g1_padding_and_crc(void **st)
     dds_subscription_matched_status_t sm;
     WAIT_UNTIL(cmd_readers() >= 2 && dds_get_subscription_matched_status(rd, &sm) == 0 &&
                sm.current_count >= 1);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 50; k++) {
         roz_g1fx_send();
-        (void)read_g1();
-        distinct_command(k);
-        write_g1();
+        (void)roz_port_test_read();
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
         roz_g1fx_settle(); /* one sample per write: none coalesced */
     }
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
@@ -411,23 +385,23 @@ static void test_g1_mode_machine(void **st)
 
     open_g1(NULL, 0);
     roz_g1fx_ask("mode_machine 9");
-    start();
-    distinct_command(1);
-    write_g1();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_int_equal(c.mode_machine, 9); /* echoed */
 
     /* changed under a running controller: reported, nothing sent */
     roz_g1fx_ask("mode_machine 11"); /* another 29-DoF variant */
     roz_g1fx_send();
-    assert_int_equal(read_g1(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
     assert_string_equal(f.what, "mode_machine");
     assert_int_equal(f.code, 11);
     uint64_t published = counters().published;
     for (int k = 2; k < 6; k++) {
-        distinct_command(k);
-        write_g1();
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
     }
     roz_g1fx_settle();
     assert_int_equal(counters().published, published);
@@ -438,9 +412,9 @@ static void test_g1_mode_machine(void **st)
     /* back: reads and commands again */
     roz_g1fx_ask("mode_machine 9");
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(7);
-    write_g1();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 7, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.q[0] == (float)cmd[cmd_index(0, "position")]);
     assert_true(counters().published > published);
@@ -678,8 +652,8 @@ static void expect_variant_refused(int mode_machine, const char *joint)
     assert_string_equal(f.what, joint);
     assert_int_equal(f.code, (uint32_t)mode_machine);
     /* written to the port straight, past the latch: still nothing goes out */
-    distinct_command(3);
-    write_g1();
+    roz_port_test_distinct_command(m, 3, cmd);
+    roz_port_test_write();
     roz_g1fx_settle();
     assert_int_equal(counters().published, 0);
     assert_true(counters().refused_mode_machine >= 1);
@@ -718,7 +692,7 @@ static void test_g1_decimation(void **st)
     open_g1((roz_param_t[]){ { "state_decimation", "4" } }, 1);
     for (int k = 0; k < 12; k++) {
         roz_g1fx_send();
-        assert_int_equal(read_g1(), 1);
+        assert_int_equal(roz_port_test_read(), 1);
         roz_g1fx_sent(sent);
         if (k % 4 == 0)
             memcpy(full, sent, sizeof full); /* converted whole */
@@ -737,10 +711,10 @@ static void test_g1_decimation(void **st)
     roz_unitree_g1_link(roz_g1fx_port(), &before);
     roz_g1fx_ask("corrupt");
     roz_g1fx_wait_judged(&before, 0);
-    assert_int_equal(read_g1(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     roz_g1fx_ask("motorstate 20 7");
     roz_g1fx_send(); /* frame 13: not converted whole */
-    assert_int_equal(read_g1(), ROZ_EROBOT);
+    assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
     roz_port_fault_t f;
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
     assert_string_equal(f.what, "left_wrist_pitch_joint");
@@ -757,12 +731,12 @@ static void test_g1_periodic_writer(void **st)
     (void)st;
 
     open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 0; k < 70; k++) /* past the replay window: a restart shows */
         roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(3);
-    write_g1();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 3, cmd);
+    roz_port_test_write();
     get_command(&c);
     /* no more writes: the writer goes on publishing the last command */
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
@@ -778,7 +752,7 @@ static void test_g1_periodic_writer(void **st)
     roz_g1fx_set_state(100);
     roz_g1fx_ask("send");
     roz_g1fx_wait_judged(&before, 2); /* the new writer: again until discovered */
-    assert_int_equal(read_g1(), ROZ_ELINK);
+    assert_int_equal(roz_port_test_read(), ROZ_ELINK);
     /* (until its first frame reached the port, the port could not know:
      * the old command went on; from then on, nothing) */
     roz_fake_g1_sleep_ms(10);
@@ -789,8 +763,8 @@ static void test_g1_periodic_writer(void **st)
     assert_int_equal(later, after);
     assert_true(counters().stale_session >= 1);
     /* the tick writes: the hold of the restarted robot's positions */
-    distinct_command(4);
-    write_g1();
+    roz_port_test_distinct_command(m, 4, cmd);
+    roz_port_test_write();
     get_command(&c);
     roz_g1fx_sent(sent);
     assert_true(c.q[3] == sent[state_index("left_knee_joint/position")]);
@@ -818,10 +792,10 @@ static void test_g1_startup_and_shutdown_damping(void **st)
      * test_g1_exit_is_the_hold) */
     open_g1((roz_param_t[]){ { "startup_damping", "2.5" }, { "exit_stop", "damping" } }, 2);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_g1fx_sent(sent);
-    distinct_command(1);
-    write_g1(); /* the first write: the hold, with the damping asked for */
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write(); /* the first write: the hold, with the damping asked for */
     get_command(&c);
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         char name[160];
@@ -831,7 +805,7 @@ static void test_g1_startup_and_shutdown_damping(void **st)
         assert_true(c.kd[j] == 2.5);
     }
     assert_int_equal(counters().holds, 1);
-    write_g1(); /* the next goes out as written */
+    roz_port_test_write(); /* the next goes out as written */
     get_command(&c);
     assert_true(c.kp[0] == (float)cmd[cmd_index(0, "stiffness")]);
 
@@ -961,14 +935,14 @@ static void test_g1_hold_reaches_the_wire_first(void **st)
 
     open_g1(NULL, 0);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_g1fx_sent(sent);
     atomic_store(&path->held_back, 1);
-    distinct_command(1);
-    write_g1(); /* the hold */
-    write_g1(); /* the controller's, before the writer sent anything */
+    roz_port_test_distinct_command(m, 1, cmd);
+    roz_port_test_write(); /* the hold */
+    roz_port_test_write(); /* the controller's, before the writer sent anything */
     atomic_store(&path->held_back, 0);
-    write_g1(); /* wakes the writer */
+    roz_port_test_write(); /* wakes the writer */
     roz_g1fx_settle();
     WAIT_UNTIL(fake_good() >= 1);
     assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
@@ -979,7 +953,7 @@ static void test_g1_hold_reaches_the_wire_first(void **st)
             fail_msg("the robot's first command is not the hold: %s q %g kp %g",
                      m->hardware->joints[j], c.q[j], c.kp[j]);
     }
-    write_g1(); /* the hold went out: the controller drives now */
+    roz_port_test_write(); /* the hold went out: the controller drives now */
     get_command(&c);
     assert_true(is_written(&c));
     assert_int_equal(counters().holds, 1);
@@ -1017,12 +991,12 @@ static void test_g1_wire_inside_the_manifest(void **st)
                                         { "peer_timeout_ms", "60000" } },
                        2, &port);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_port_test_distinct_command(&tight, 1, cmd);
     cmd[q0] = 2.8798;
-    write_g1(); /* the hold */
+    roz_port_test_write(); /* the hold */
     roz_g1fx_settle();
-    write_g1();
+    roz_port_test_write();
     get_command(&c);
     int s0 = roz_g1fx_slot(g1->hardware->joints[0]);
     if ((double)c.q[s0] > 2.8798)
@@ -1122,12 +1096,12 @@ static void test_g1_watchdog_on_the_wire(void **st)
                              { "command_timeout_us", "100000" },
                              { "peer_timeout_ms", "60000" } },
             3);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 5; k++) { /* a tick alive: commands as written */
         roz_g1fx_send();
-        assert_int_equal(read_g1(), 1);
-        distinct_command(k);
-        write_g1();
+        assert_int_equal(roz_port_test_read(), 1);
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
     }
     get_command(&c);
     assert_true(is_written(&c));
@@ -1135,9 +1109,9 @@ static void test_g1_watchdog_on_the_wire(void **st)
 
     /* the last write, then the tick stops */
     uint64_t before = fake_good();
-    distinct_command(6);
+    roz_port_test_distinct_command(m, 6, cmd);
     watchdog_positions(q);
-    write_g1();
+    roz_port_test_write();
     WAIT_UNTIL(counters().command_timeouts == 1);
     uint64_t tripped = fake_good();
     assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
@@ -1177,7 +1151,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
     /* the tick is back: read() reports the trip once, naming the silence */
     roz_port_fault_t f;
     roz_g1fx_send();
-    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_port_test_read(), ROZ_EWATCHDOG);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.limit, timeout_us);
@@ -1185,21 +1159,21 @@ static void test_g1_watchdog_on_the_wire(void **st)
     roz_g1fx_sent(sent);
     assert_true(state[state_index("left_knee_joint/position")] ==
                 sent[state_index("left_knee_joint/position")]); /* read with the report */
-    assert_int_equal(read_g1(), 0);
+    assert_int_equal(roz_port_test_read(), 0);
     /* its first write is the stop's hold from the last command before the
      * trip, at the hold gains, the damping the robot is in already */
     static double before_trip[ROZ_CFG_MAX_COMMANDS];
     memcpy(before_trip, cmd, sizeof before_trip);
-    distinct_command(7);
-    write_g1();
+    roz_port_test_distinct_command(m, 7, cmd);
+    roz_port_test_write();
     get_command(&c);
     roz_g1fx_sent(sent);
     assert_hold_after_trip(&c, before_trip, sent);
     /* then as written again */
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(8);
-    write_g1();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 8, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
     assert_int_equal(counters().command_timeouts, 1);
@@ -1236,12 +1210,12 @@ static void test_g1_watchdog_event_driven(void **st)
                              { "command_timeout_us", "100000" },
                              { "peer_timeout_ms", "60000" } },
             3);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(1);
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 1, cmd);
     watchdog_positions(q);
-    write_g1();
+    roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
     expect_damping_after_trip(q);
@@ -1257,12 +1231,12 @@ static void test_g1_exit_is_the_hold(void **st)
     (void)st;
 
     open_g1(NULL, 0);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(1);
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 1, cmd);
     watchdog_positions(q);
-    write_g1();
+    roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
     uint64_t good0 = 0, good = 0, bad = 0;
@@ -1310,15 +1284,15 @@ static void test_g1_trip_write_trip_keeps_the_torque(void **st)
     open_g1((roz_param_t[]){ { "command_timeout_us", "100000" },
                              { "peer_timeout_ms", "60000" } },
             2);
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
+    assert_int_equal(roz_port_test_read(), 1);
     roz_g1fx_sent(measured);
-    distinct_command(1);
+    roz_port_test_distinct_command(m, 1, cmd);
     cmd[hip_kp] = 80.0;
     double p_before = measured[m->commands[hip_q].position_state];
     cmd[hip_q] = p_before + 0.02; /* 1.6 N*m */
-    write_g1();
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[hip] == 80.0f);
 
@@ -1341,10 +1315,10 @@ static void test_g1_trip_write_trip_keeps_the_torque(void **st)
 
     /* back for one write: the stop's hold, at the hold gains */
     roz_g1fx_send();
-    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_port_test_read(), ROZ_EWATCHDOG);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
-    distinct_command(2);
-    write_g1();
+    roz_port_test_distinct_command(m, 2, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[hip] == (float)m->commands[hip_kp].default_value);
     assert_true(c.kp[knee] == (float)m->commands[knee_kp].default_value);
@@ -1387,15 +1361,15 @@ static void test_g1_watchdog_spinning_writer(void **st)
                              { "peer_timeout_ms", "60000" } },
             4);
     int fresh = 0; /* (WAIT_UNTIL looks twice: not for a read) */
-    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
-    distinct_command(0);
-    write_g1(); /* the hold */
+    WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
+    roz_port_test_distinct_command(m, 0, cmd);
+    roz_port_test_write(); /* the hold */
     roz_g1fx_settle(); /* the writes after it are holds until it went out */
     fresh = 0;
-    WAIT_UNTIL((fresh = fresh || read_g1() == 1));
-    distinct_command(1);
+    WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
+    roz_port_test_distinct_command(m, 1, cmd);
     watchdog_positions(q);
-    write_g1();
+    roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
     expect_damping_after_trip(q);
@@ -1569,7 +1543,7 @@ static void test_g1_writer_thread(void **st)
                             { "command_writer_sched", "fifo" },
                             { "command_writer_priority", "5" } };
     open_g1(items, may_fifo ? 4 : 2);
-    start(); /* commands reach the robot */
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle); /* commands reach the robot */
     assert_int_equal(roz_dds_writer_thread(&roz_g1fx_port()->writer, &got), ROZ_OK);
     assert_int_equal(got.cpus, 1ull << cpu);
     assert_int_equal(got.stack_kib, 384);

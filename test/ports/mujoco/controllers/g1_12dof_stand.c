@@ -20,27 +20,12 @@ static const double pose[JOINTS] = {
 };
 static const double kp[JOINTS] = { 150, 150, 150, 200, 150, 100, 150, 150, 150, 200, 150, 100 };
 static const double kd[JOINTS] = { 2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2 };
-static const stand_balance_t balance = {
-    .ankle_pitch = 3.0, .ankle_pitch_rate = 0.3,
-    .ankle_roll = 0.0, .ankle_roll_rate = 0.0,
-    .hip_pitch = 1.0, .hip_pitch_rate = 0.1,
-    .limit = 0.4, .sway = -0.05,
-};
+static const stand_balance_t balance = STAND_G1_BALANCE;
 
 static const stand_robot_t robot = {
     .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
     .balance = &balance,
-    .quat = ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ORIENTATION_X,
-    .gyro = ROZ_UNITREE_G1_12DOF_STATE_BASE_IMU_ANGULAR_VELOCITY_X,
-    .legs = ROZ_UNITREE_G1_12DOF_STATE_LEFT_HIP_PITCH_JOINT_POSITION,
-    .pos = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_POSITION,
-    .vel = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY,
-    .kp0 = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS,
-    .kd0 = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING,
-    .tau = ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT,
+    STAND_CHANNELS(ROZ_UNITREE_G1_12DOF, LEFT_HIP_PITCH_JOINT),
 };
 
-ROZ_PROCESS(tick)
-{
-    stand_tick(tick, &robot);
-}
+STAND_PROCESS(robot)

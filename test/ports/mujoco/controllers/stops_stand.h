@@ -7,20 +7,14 @@
 #ifndef STOPS_STAND_H
 #define STOPS_STAND_H
 
-#include "roz_controller.h"
+#include "stand.h" /* the examples' standing poses */
 #include "unitree_g1_channels.h"
 
 #define STOPS_ROBOT(name) ROZ_UNITREE_G1_##name
 
 #define JOINTS 29
 
-static const double pose[JOINTS] = {
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,     /* left leg */
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0,     /* right leg */
-    0.0, 0.0, 0.0,                      /* waist */
-    0.2, 0.2, 0.0, 0.9, 0.0, 0.0, 0.0,  /* left arm */
-    0.2, -0.2, 0.0, 0.9, 0.0, 0.0, 0.0, /* right arm */
-};
+static const double pose[JOINTS] = STAND_G1_POSE;
 static const double kp[JOINTS] = {
     200, 200, 150, 200, 200, 150, 200, 200, 150, 200, 200, 150, 200, 200, 200,
     40, 40, 40, 40, 20, 20, 20, 40, 40, 40, 40, 20, 20, 20,

@@ -9,21 +9,14 @@
 #ifndef STOPS_STAND_H
 #define STOPS_STAND_H
 
-#include "roz_controller.h"
+#include "stand.h" /* the examples' standing poses */
 #include "agibot_x2_channels.h"
 
 #define STOPS_ROBOT(name) ROZ_AGIBOT_X2_##name
 
 #define JOINTS 30
 
-static const double pose[JOINTS] = {
-    -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,      /* left leg */
-    -0.3, 0.0, 0.0, 0.6, -0.3, 0.0,      /* right leg */
-    0.0, 0.0, 0.0,                       /* waist */
-    0.0, 0.1, 0.0, -0.3, 0.0, 0.0, 0.0,  /* left arm */
-    0.0, -0.1, 0.0, -0.3, 0.0, 0.0, 0.0, /* right arm */
-    0.0,                                 /* head yaw */
-};
+static const double pose[JOINTS] = STAND_X2_POSE;
 static const double kp[JOINTS] = {
     200, 200, 150, 200, 200, 150, 200, 200, 150, 200, 200, 150, 150, 200, 200,
     40, 40, 40, 40, 20, 20, 20, 40, 40, 40, 40, 20, 20, 20, 20,

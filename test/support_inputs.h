@@ -1,0 +1,39 @@
+/* SPDX-License-Identifier: Apache-2.0 */
+/* The operator-inputs bench (roz/inputs.h): the inputs of a test's own
+ * manifest, a one-wheel robot at 500 Hz, stepped a tick at a time. */
+#ifndef ROZ_TEST_SUPPORT_INPUTS_H
+#define ROZ_TEST_SUPPORT_INPUTS_H
+
+#include <stdint.h>
+
+#include "roz/inputs.h"
+
+#define ROZ_TEST_INPUTS_RATE_HZ 500u
+#define ROZ_TEST_INPUTS_TICK_NS (1000000000ull / ROZ_TEST_INPUTS_RATE_HZ)
+
+/* The robot's one command: a wheel's velocity, no operator field. */
+#define ROZ_TEST_WHEEL_VELOCITY                                                           \
+    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, \
+      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 }
+
+typedef struct {
+    roz_inputs_t in;
+    uint64_t     tick;                     /* the last tick stepped, 0: none */
+    double       out[ROZ_CFG_MAX_INPUTS]; /* the inputs the last tick gave */
+} roz_test_inputs_t;
+
+/* The inputs of @p m, before their first tick. */
+static inline void roz_test_inputs_init(roz_test_inputs_t *b, const roz_manifest_t *m)
+{
+    roz_inputs_init(&b->in, m);
+    b->tick = 0;
+}
+
+/* One tick: the next, ROZ_TEST_INPUTS_TICK_NS after the last. */
+static inline void roz_test_inputs_step(roz_test_inputs_t *b)
+{
+    b->tick++;
+    roz_inputs_tick(&b->in, b->tick * ROZ_TEST_INPUTS_TICK_NS, b->out);
+}
+
+#endif /* ROZ_TEST_SUPPORT_INPUTS_H */
