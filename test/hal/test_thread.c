@@ -141,7 +141,9 @@ static void test_thread_least_stack(void **st)
     assert_int_equal(roz_thread_describe(th, &got), ROZ_OK);
     atomic_store(&go, 1);
     roz_thread_join(th);
-    assert_int_equal(got.stack_kib, ROZ_THREAD_STACK_MIN_KIB);
+    /* that stack, or more where a sanitizer's runtime raises a small one
+     * (TSan's: test_thread_carries_what_was_asked asks 320 KiB for it) */
+    assert_true(got.stack_kib >= ROZ_THREAD_STACK_MIN_KIB);
 }
 
 int main(void)
