@@ -1301,8 +1301,25 @@ static void test_g1_watchdog_on_its_clock(void **st)
     assert_int_equal(counters().command_timeouts, 0);
     watchdog_positions(q);
     memcpy(last, cmd, sizeof last);
+    uint64_t before = fake_good();
     atomic_fetch_add(&g1_now_ns, 150000000u - 99999000u); /* 150 ms since the last write */
-    expect_damping_after_trip(q);
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)fake_good() + 5u),
+                     0);
+    /* the periodic writer's copies of the last command (some in flight
+     * when the clock moved), then the watchdog's hold alone */
+    uint64_t now = fake_good();
+    unsigned holds = 0;
+    for (uint64_t k = before + 1; k <= now; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (is_watchdog_hold(&c, q))
+            holds++;
+        else if (holds != 0 || !is_written(&c))
+            fail_msg("command %llu: neither the last command before the watchdog's hold nor "
+                     "the hold", (unsigned long long)k);
+    }
+    assert_true(holds >= 5);
     roz_g1fx_send();
     assert_int_equal(read_g1(), ROZ_EWATCHDOG);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
