@@ -25,8 +25,22 @@ set(CMAKE_STRIP ${ROZ_CROSS_TRIPLE}-strip CACHE FILEPATH "strip")
 # wat2wasm) are the host's.
 set(CMAKE_LIBRARY_ARCHITECTURE ${ROZ_CROSS_TRIPLE})
 
+# The root QEMU finds the target's dynamic loader and libraries under
+# (qemu-aarch64 -L). The loader and the C library must come from one build
+# of glibc: they share private structures (pthread_create walks the
+# loader's list of cached thread stacks), and a loader of another build
+# makes the first thread a program creates spin forever. The multiarch
+# packages (Cyclone DDS's) pull in the multiarch C library (libc6:arm64),
+# whose libc.so.6 the loader finds through the host's ld.so.cache, so its
+# own loader (/lib/ld-linux-aarch64.so.1) is the one: the root is /. Where
+# that package is missing, the cross toolchain's pair under /usr/<triple>.
+if(EXISTS /lib/ld-linux-${CMAKE_SYSTEM_PROCESSOR}.so.1)
+  set(ROZ_CROSS_ROOT / CACHE PATH "the target's root for QEMU user mode (qemu -L)")
+else()
+  set(ROZ_CROSS_ROOT /usr/${ROZ_CROSS_TRIPLE} CACHE PATH
+      "the target's root for QEMU user mode (qemu -L)")
+endif()
 find_program(ROZ_QEMU_AARCH64 qemu-aarch64 DOC "QEMU user mode, to run aarch64 programs here")
 if(ROZ_QEMU_AARCH64)
-  # the target's dynamic loader and C library: the cross toolchain's
-  set(CMAKE_CROSSCOMPILING_EMULATOR ${ROZ_QEMU_AARCH64};-L;/usr/${ROZ_CROSS_TRIPLE})
+  set(CMAKE_CROSSCOMPILING_EMULATOR ${ROZ_QEMU_AARCH64};-L;${ROZ_CROSS_ROOT})
 endif()

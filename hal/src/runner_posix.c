@@ -71,8 +71,8 @@ int roz_runner_start(roz_runner_t *r, const roz_runner_config_t *cfg, roz_runner
 {
     if (r == NULL || cfg == NULL || fn == NULL || cfg->period_ns == 0 ||
         cfg->realtime_priority < 0 || cfg->realtime_priority > 99 ||
-        (cfg->stack_kib != 0 && (cfg->stack_kib < ROZ_THREAD_MIN_STACK_KIB ||
-                                 cfg->stack_kib > ROZ_THREAD_MAX_STACK_KIB)))
+        (cfg->stack_kib != 0 && (cfg->stack_kib < ROZ_THREAD_STACK_MIN_KIB ||
+                                 cfg->stack_kib > ROZ_THREAD_STACK_MAX_KIB)))
         return ROZ_EINVAL;
     memset(r, 0, sizeof *r);
     r->cfg = *cfg;

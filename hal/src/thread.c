@@ -94,6 +94,6 @@ int roz_thread_params(const roz_params_t *p, const char *prefix, roz_thread_conf
         return ROZ_EINVAL;
     }
     return roz_params_get_u32(p, key_of(key, sizeof key, prefix, "stack_kib"), out->stack_kib,
-                              ROZ_THREAD_MIN_STACK_KIB, ROZ_THREAD_MAX_STACK_KIB, &out->stack_kib,
-                              err, errlen);
+                              ROZ_THREAD_STACK_MIN_KIB, ROZ_THREAD_STACK_MAX_KIB,
+                              &out->stack_kib, err, errlen);
 }

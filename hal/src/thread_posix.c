@@ -8,6 +8,7 @@
 #include <pthread.h>
 #include <sched.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "roz/error.h"
 #include "roz/format.h"
@@ -49,7 +50,15 @@ int roz_thread_start(unsigned long *handle, const roz_thread_config_t *cfg, cons
         rc = pthread_attr_setaffinity_np(&attr, sizeof set, &set);
     }
     if (rc == 0 && cfg->stack_kib != 0) {
-        /* at least 64 KiB (roz_thread_params()), above PTHREAD_STACK_MIN */
+        /* at least ROZ_THREAD_STACK_MIN_KIB (roz_thread_params()), which
+         * covers the C libraries roz knows; another's least is named */
+        long least = sysconf(_SC_THREAD_STACK_MIN);
+        if (least > 0 && (size_t)cfg->stack_kib * 1024u < (size_t)least) {
+            pthread_attr_destroy(&attr);
+            roz_format(err, errlen, "%s_stack_kib = %lu: under this system's least thread stack "
+                       "(%ld KiB)", prefix, (unsigned long)cfg->stack_kib, (least + 1023) / 1024);
+            return ROZ_EINVAL;
+        }
         rc = pthread_attr_setstacksize(&attr, (size_t)cfg->stack_kib * 1024u);
     }
     if (rc != 0) {

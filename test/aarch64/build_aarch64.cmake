@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # cmake -DROZ_SOURCE_DIR=<roz> -DBINARY=dir -DROZGEN_EXECUTABLE=... -DROZ_PYTHON=...
 #       -DROZ_WASM3_SDIST=... [-DROZ_WASM3_SOURCE_DIR=...] [-DGENERATOR=...]
+#       [-DROZ_CROSS_ROOT=/]
 #       -P build_aarch64.cmake
 # Configures (once) a tree of roz for aarch64 Linux with
 # cmake/toolchains/aarch64-linux-gnu.cmake (Debian's cross compiler and
@@ -22,7 +23,17 @@ set(gen "")
 if(GENERATOR)
   set(gen -G ${GENERATOR})
 endif()
-if(NOT EXISTS ${BINARY}/CMakeCache.txt)
+set(root "")
+if(ROZ_CROSS_ROOT) # else the toolchain's choice
+  set(root -DROZ_CROSS_ROOT=${ROZ_CROSS_ROOT})
+endif()
+# configured once; again for a tree configured before its DDS tests' ids
+# were shifted (test/aarch64/CMakeLists.txt)
+set(have "")
+if(EXISTS ${BINARY}/CMakeCache.txt)
+  file(STRINGS ${BINARY}/CMakeCache.txt have REGEX "^ROZ_TEST_DDS_DOMAIN_OFFSET:")
+endif()
+if(NOT have)
   run(${CMAKE_COMMAND} -S ${ROZ_SOURCE_DIR} -B ${BINARY} ${gen}
       -DCMAKE_TOOLCHAIN_FILE=${ROZ_SOURCE_DIR}/cmake/toolchains/aarch64-linux-gnu.cmake
       -DCMAKE_BUILD_TYPE=RelWithDebInfo -DROZ_WERROR=ON -DROZ_BUILD_BENCH=OFF
@@ -30,8 +41,12 @@ if(NOT EXISTS ${BINARY}/CMakeCache.txt)
       # the strict MCAP checker is a host tool the host tree builds and runs;
       # cargo here would build it again for nothing
       -DROZ_CARGO=OFF
+      # its DDS tests' domain ids apart from the host tree's, whose tests
+      # run at the same time (test/CMakeLists.txt)
+      -DROZ_TEST_DDS_DOMAIN_OFFSET=100
       -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE} -DROZ_PYTHON=${ROZ_PYTHON}
-      -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST} -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR})
+      -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST} -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR}
+      ${root})
 endif()
 run(${CMAKE_COMMAND} --build ${BINARY})
 

@@ -23,6 +23,12 @@ static void bump(roz_dds_cmd_t *c, roz_dds_cmd_counter_t k)
     atomic_fetch_add_explicit(&c->count[k], 1u, memory_order_relaxed);
 }
 
+/* The watchdog's time now (roz_dds_cmd_config_t clock). */
+static uint64_t clock_now(const roz_dds_cmd_t *c)
+{
+    return c->clock(c->clock_ctx);
+}
+
 /* The writer's pass (its thread; on deactivate, the caller's once it is
  * joined): the latest frame, the watchdog's safe command, or nothing. */
 static int pass(void *ctx, void *sample, uint64_t now_ns)
@@ -31,6 +37,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     const roz_dds_cmd_ops_t *ops = c->ops;
     roz_buffer_frame_t f;
 
+    (void)now_ns; /* the watchdog's own clock below: the same one where it is the monotonic */
     if (atomic_load_explicit(&c->shutdown, memory_order_acquire)) {
         /* the last command: the port's exit (safe()), if the robot ever got one */
         if (!c->sent_any)
@@ -53,7 +60,7 @@ static int pass(void *ctx, void *sample, uint64_t now_ns)
     } else if (refused) {
         bump(c, ROZ_DDS_CMD_REFUSED);
     } else if (roz_cmd_watchdog_judge(&c->watchdog, (uint32_t)meta[C_EPOCH], meta[C_HOLD] != 0.0,
-                                      f.stamp_ns, now_ns) == ROZ_CMD_SAFE) {
+                                      f.stamp_ns, clock_now(c)) == ROZ_CMD_SAFE) {
         /* the tick went silent (or this was written before it was found
          * so): the hold at the positions last sent, with the manifest's
          * hold gains, until it writes again (a standing humanoid given
@@ -85,6 +92,8 @@ void roz_dds_cmd_init(roz_dds_cmd_t *c, const roz_dds_cmd_config_t *cfg)
     c->writer = cfg->writer;
     c->n_extra = cfg->n_extra;
     c->timeout_us = cfg->timeout_us;
+    c->clock = cfg->clock != NULL ? cfg->clock : roz_clock_monotonic_ns;
+    c->clock_ctx = cfg->clock_ctx;
     roz_buffer_init(&c->buf, cfg->slots,
                     (uint32_t)(cfg->m->n_commands + ROZ_DDS_CMD_META + cfg->n_extra));
     atomic_init(&c->shutdown, 0);
@@ -105,6 +114,8 @@ int roz_dds_cmd_attach(roz_dds_cmd_t *c, uint32_t spin_us)
 
 int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monitor)
 {
+    if (period_us == 0 && c->clock != roz_clock_monotonic_ns)
+        return ROZ_EINVAL; /* its sleep until the watchdog is due is on the monotonic clock */
     atomic_store(&c->shutdown, 0);
     return roz_dds_writer_start(c->writer, period_us, pass, c, monitor);
 }
@@ -120,7 +131,7 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
         bump(c, ROZ_DDS_CMD_WITHHELD); /* nothing before the first state frame */
         return ROZ_OK;
     }
-    uint64_t now = roz_clock_monotonic_ns(NULL);
+    uint64_t now = clock_now(c);
     uint32_t epoch;
     double *f = roz_buffer_write_begin(&c->buf);
     /* the first write for this robot, or since the watchdog tripped */
@@ -170,7 +181,7 @@ int roz_dds_cmd_write(roz_dds_cmd_t *c, const double *cmd, size_t n, const roz_d
 int roz_dds_cmd_report(roz_dds_cmd_t *c, int rc, roz_port_fault_t *fault)
 {
     if ((rc == 0 || rc == 1) &&
-        roz_cmd_watchdog_report(&c->watchdog, roz_clock_monotonic_ns(NULL), &fault->code)) {
+        roz_cmd_watchdog_report(&c->watchdog, clock_now(c), &fault->code)) {
         fault->what = ROZ_CMD_WATCHDOG_KEY;
         fault->kind = "the tick wrote no command for (us)";
         fault->limit = c->timeout_us;

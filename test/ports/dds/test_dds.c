@@ -20,7 +20,8 @@
  *  - the command path (roz_dds_cmd) over a port's hooks: nothing before
  *    the first state frame, the start-up hold for each robot, frames
  *    clamped, a frame for a robot that restarted not sent, the port's
- *    refusal, the watchdog's damping and its report, the damping on stop
+ *    refusal, the watchdog's damping and its report (on a clock the test
+ *    moves: a frame is exactly as old as it says), the damping on stop
  *    only to a robot that got a command;
  *  - two processes find each other with roz's configuration for lo (no
  *    multicast: through the peer) and echo frames both ways.
@@ -746,8 +747,20 @@ static int cp_safe(void *port, void *sample)
 static const roz_dds_cmd_ops_t cp_ops = { cp_hold, cp_rx_session, cp_refuse, cp_send, cp_safe,
                                           NULL };
 
-/* A participant, a writer (event-driven, no reader needed) and the path. */
-static void cp_open(uint32_t timeout_us)
+/* The test's clock for the watchdog: it stands still until the test moves it. */
+static ROZ_ATOMIC(uint64_t) cp_now_ns;
+
+static uint64_t cp_clock(void *ctx)
+{
+    (void)ctx;
+    return atomic_load(&cp_now_ns);
+}
+
+/* A participant, a writer (no reader needed) and the path, whose watchdog
+ * counts on the monotonic clock or, @p test_clock, on cp_clock(); its
+ * writer event-driven (@p period_us 0) or periodic. Returns what starting
+ * the writer returned. */
+static int cp_start(uint32_t timeout_us, uint32_t period_us, int test_clock)
 {
     char err[256] = "";
     memset(&cp, 0, sizeof cp);
@@ -759,10 +772,18 @@ static void cp_open(uint32_t timeout_us)
                             &roz_dds_qos_robot_command, &tx_storage, sizeof tx_storage, err,
                             sizeof err) != ROZ_OK)
         fail_msg("%s", err);
-    roz_dds_cmd_config_t cfg = { &cp_manifest, &cp_ops, &cp, &wr, cmd_slots, 1, timeout_us };
+    roz_dds_cmd_config_t cfg = { .m = &cp_manifest, .ops = &cp_ops, .port = &cp, .writer = &wr,
+                                 .slots = cmd_slots, .n_extra = 1, .timeout_us = timeout_us,
+                                 .clock = test_clock ? cp_clock : NULL };
     roz_dds_cmd_init(&cmdp, &cfg);
     assert_int_equal(roz_dds_cmd_attach(&cmdp, 0), ROZ_OK);
-    assert_int_equal(roz_dds_cmd_start(&cmdp, 0, NULL), ROZ_OK);
+    return roz_dds_cmd_start(&cmdp, period_us, NULL);
+}
+
+/* An event-driven writer, the watchdog on the monotonic clock. */
+static void cp_open(uint32_t timeout_us)
+{
+    assert_int_equal(cp_start(timeout_us, 0, 0), ROZ_OK);
 }
 
 static void cp_close(void)
@@ -851,15 +872,36 @@ static void test_dds_command_path(void **st)
     cp_close();
 
     /* the tick goes silent: the watchdog's damping command on the writer's
-     * own, read() reports the trip once, and the next write is a hold */
-    cp_open(20000u); /* two ticks at 100 Hz */
-    cp_write(0.5, 2.0, 1, 1);
-    assert_int_equal(atomic_load(&cp.sends), 1);
+     * own, read() reports the trip once, and the next write is a hold. The
+     * watchdog counts on the test's clock, which stands still until the
+     * test moves it: however late the writer's passes come on a loaded
+     * machine, a frame is as old as the test says, no older. (A periodic
+     * writer: an event-driven one sleeps until the watchdog is due on the
+     * monotonic clock, and is refused another.) */
+    atomic_store(&cp_now_ns, 1000000000u);
+    assert_int_equal(cp_start(20000u, 0, 1), ROZ_EINVAL);
+    cp_close();
+    assert_int_equal(cp_start(20000u, 2000u, 1), ROZ_OK); /* two ticks at 100 Hz */
+    cp_write(0.5, 2.0, 1, 1); /* the start-up hold, sent: the robot got a command */
+    assert_true(atomic_load(&cp.sends) >= 1);
+    /* 19.999 ms on: the frame is fresh on every pass, sent again */
+    atomic_store(&cp_now_ns, 1000000000u + 19999000u);
+    uint32_t sends = atomic_load(&cp.sends);
+    WAIT_FOR(atomic_load(&cp.sends) >= sends + 2, 10000);
+    assert_int_equal(roz_dds_cmd_timeouts(&cmdp), 0);
+    assert_int_equal(cp_count(ROZ_DDS_CMD_SAFE), 0);
+    /* 30 ms: the next pass trips it; the damping command from then on */
+    atomic_store(&cp_now_ns, 1000000000u + 30000000u);
     WAIT_FOR(roz_dds_cmd_timeouts(&cmdp) == 1 && cp_count(ROZ_DDS_CMD_SAFE) >= 2, 10000);
+    sends = atomic_load(&cp.sends);
+    uint64_t safe = cp_count(ROZ_DDS_CMD_SAFE);
+    WAIT_FOR(cp_count(ROZ_DDS_CMD_SAFE) >= safe + 2, 10000);
+    assert_int_equal(atomic_load(&cp.sends), sends); /* no frame of the tick's after the trip */
     assert_true(atomic_load(&cp.safes) >= 2);
+    assert_int_equal(roz_dds_cmd_timeouts(&cmdp), 1);
     assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), ROZ_EWATCHDOG);
     assert_string_equal(fault.what, ROZ_CMD_WATCHDOG_KEY);
-    assert_true(fault.code >= 20000u);
+    assert_int_equal(fault.code, 30000u); /* the silence, by the watchdog's clock */
     assert_int_equal(fault.limit, 20000u);
     assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), 1);
     uint32_t holds = cp.holds;

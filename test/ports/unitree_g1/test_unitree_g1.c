@@ -30,7 +30,9 @@
  *  - the periodic writer keeps publishing the last command, and a restarted
  *    robot gets nothing until the tick writes; the start-up hold with
  *    startup_damping; the damping command on shutdown;
- *  - the command watchdog: the tick stops writing; the robot gets the
+ *  - the command watchdog (on the monotonic clock, and on one the test
+ *    moves, so that nothing depends on the machine's pace: what runs under
+ *    QEMU): the tick stops writing; the robot gets the
  *    last command for at most the timeout's worth of writer periods, then
  *    the watchdog's hold (kp the stiffness default, the hold gain; kd the
  *    damping default; the last commanded positions), on the writer's own (periodic, and event-driven where
@@ -1221,6 +1223,98 @@ static void test_g1_watchdog_event_driven(void **st)
     expect_damping_after_trip(q);
 }
 
+/* The watchdog's clock, moved by test_g1_watchdog_on_its_clock alone. */
+static ROZ_ATOMIC(uint64_t) g1_now_ns;
+
+static uint64_t g1_clock(void *ctx)
+{
+    (void)ctx;
+    return atomic_load(&g1_now_ns);
+}
+
+/* The watchdog on a clock the test moves (the command path's, set here
+ * before the first write; the writer reads it only with a frame): the
+ * tick alive, however slowly the machine runs it (QEMU's emulation, a
+ * loaded host), commands as written; then silent for 150 ms by that
+ * clock: the robot gets the watchdog's hold, read() reports the trip once
+ * naming exactly 150000 us, the next write is the stop's hold from the
+ * last command, then commands as written again. test_g1_watchdog_on_the_wire
+ * does it on the monotonic clock and counts what went out meanwhile. */
+static void test_g1_watchdog_on_its_clock(void **st)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_fault_t f;
+    double q[ROZ_UNITREE_G1_BODY];
+    static double last[ROZ_CFG_MAX_COMMANDS];
+    (void)st;
+
+    atomic_store(&g1_now_ns, 5000000000u);
+    /* periodic: an event-driven writer sleeps until the watchdog is due on
+     * the monotonic clock (roz_dds_cmd_config_t) */
+    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
+                             { "command_timeout_us", "100000" },
+                             { "peer_timeout_ms", "60000" } },
+            3);
+    roz_g1fx_port()->cmd.clock = g1_clock;
+    start();
+    for (int k = 1; k <= 3; k++) { /* alive: 99.999 ms between writes is not silence */
+        roz_g1fx_send();
+        assert_int_equal(read_g1(), 1);
+        distinct_command(k);
+        write_g1();
+        get_command(&c);
+        assert_true(is_written(&c));
+        atomic_fetch_add(&g1_now_ns, 99999000u);
+        /* two more of the periodic writer's passes judged it at that age */
+        assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                         (unsigned long long)fake_good() + 2u),
+                         0);
+        assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
+        assert_true(is_written(&c));
+    }
+    assert_int_equal(counters().command_timeouts, 0);
+    watchdog_positions(q);
+    memcpy(last, cmd, sizeof last);
+    uint64_t before = fake_good();
+    atomic_fetch_add(&g1_now_ns, 150000000u - 99999000u); /* 150 ms since the last write */
+    WAIT_UNTIL(counters().command_timeouts == 1);
+    assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
+                                     (unsigned long long)fake_good() + 5u),
+                     0);
+    /* the periodic writer's copies of the last command (some in flight
+     * when the clock moved), then the watchdog's hold alone */
+    uint64_t now = fake_good();
+    unsigned holds = 0;
+    for (uint64_t k = before + 1; k <= now; k++) {
+        assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), k, &c), 1);
+        if (is_watchdog_hold(&c, q))
+            holds++;
+        else if (holds != 0 || !is_written(&c))
+            fail_msg("command %llu: neither the last command before the watchdog's hold nor "
+                     "the hold", (unsigned long long)k);
+    }
+    assert_true(holds >= 5);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
+    assert_string_equal(f.what, "command_timeout_us");
+    assert_int_equal(f.code, 150000u);
+    assert_int_equal(f.limit, 100000u);
+    roz_g1fx_sent(sent);
+    assert_int_equal(read_g1(), 0);
+    distinct_command(4);
+    write_g1();
+    get_command(&c);
+    assert_hold_after_trip(&c, last, sent);
+    roz_g1fx_send();
+    assert_int_equal(read_g1(), 1);
+    distinct_command(5);
+    write_g1();
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 1);
+}
+
 /* The port's exit is the robot class's stop: the hold, as the watchdog
  * sends it, from the controller's last command (the damping command the
  * exit sent before drops a standing humanoid: SAFETY.md section 8). */
@@ -1587,9 +1681,9 @@ static void test_g1_bad_parameters(void **st)
     expect_refused(&twice_m, NULL, NULL, "joints[5]", "duplicate of joints[4]");
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
-    const struct CMUnitTest tests[] = {
+    static const struct CMUnitTest tests[] = {
         cmocka_unit_test_teardown(test_g1_joints_map_both_ways, teardown),
         cmocka_unit_test_teardown(test_g1_joints_by_name_reordered, teardown),
         cmocka_unit_test_teardown(test_g1_23dof, teardown),
@@ -1608,11 +1702,29 @@ int main(void)
         cmocka_unit_test_teardown(test_g1_joint_without_position_command, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_on_the_wire, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_event_driven, teardown),
+        cmocka_unit_test_teardown(test_g1_watchdog_on_its_clock, teardown),
         cmocka_unit_test_teardown(test_g1_trip_write_trip_keeps_the_torque, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_spinning_writer, teardown),
         cmocka_unit_test_teardown(test_g1_watchdog_latches_in_the_runtime, teardown),
         cmocka_unit_test_teardown(test_g1_writer_thread, teardown),
         cmocka_unit_test(test_g1_bad_parameters),
     };
+    enum { N = sizeof tests / sizeof tests[0] };
+    /* cases named on the command line: those alone (test/aarch64 runs the
+     * ones that prove the port under QEMU) */
+    static struct CMUnitTest some[N];
+    size_t n = 0;
+    for (int a = 1; a < argc; a++) {
+        size_t i = 0;
+        while (i < N && strcmp(tests[i].name, argv[a]) != 0)
+            i++;
+        if (i == N) {
+            fprintf(stderr, "test_unitree_g1: no case %s\n", argv[a]);
+            return 2;
+        }
+        some[n++] = tests[i];
+    }
+    if (n != 0)
+        return _cmocka_run_group_tests("test_unitree_g1", some, n, NULL, NULL);
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

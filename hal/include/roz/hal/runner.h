@@ -37,8 +37,8 @@ typedef struct roz_runner_config {
     int        realtime_priority; /**< SCHED_FIFO priority 1..99; 0 = normal scheduling */
     int        lock_memory;  /**< mlockall(MCL_CURRENT | MCL_FUTURE) before starting */
     uint64_t   cpus;         /**< the CPUs the thread may run on, bit i CPU i; 0: any */
-    uint32_t   stack_kib;    /**< its stack, KiB: ROZ_THREAD_MIN_STACK_KIB..
-                                  ROZ_THREAD_MAX_STACK_KIB (roz/hal/thread.h);
+    uint32_t   stack_kib;    /**< its stack, KiB (roz/hal/thread.h's
+                                  ROZ_THREAD_STACK_MIN_KIB..ROZ_THREAD_STACK_MAX_KIB);
                                   0: the system's default */
     roz_log_fn log;          /**< start-up warnings, and roz_monitor_drain() of @c monitor */
     void      *log_ctx;

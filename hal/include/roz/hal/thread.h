@@ -34,20 +34,36 @@ typedef enum roz_thread_sched {
 
 /** Highest CPU an affinity names (a 64-bit mask). */
 #define ROZ_THREAD_MAX_CPUS 64
-/** The stack sizes a thread may be given, KiB (PREFIX_stack_kib): the one
- *  home of the range, which roz_thread_params() checks and the rows show. */
-#define ROZ_THREAD_MIN_STACK_KIB 64
-#define ROZ_THREAD_MAX_STACK_KIB 65536
-/** ROZ_THREAD_MIN_STACK_KIB..ROZ_THREAD_MAX_STACK_KIB as text. */
-#define ROZ_THREAD_STACK_KIB_RANGE                                                          \
-    ROZ_PORT_PARAM_STR(ROZ_THREAD_MIN_STACK_KIB) ".." ROZ_PORT_PARAM_STR(ROZ_THREAD_MAX_STACK_KIB)
+
+/**
+ * The least stack, KiB, a thread roz creates may ask for (every
+ * `..._stack_kib` parameter, the runner's stack_kib): 64, or the C
+ * library's least where that is more. glibc on aarch64 refuses a stack
+ * under 128 KiB (its PTHREAD_STACK_MIN, which holds with the 64 KiB pages
+ * some aarch64 kernels use); on x86-64 its least is 16 KiB. The most is
+ * ROZ_THREAD_STACK_MAX_KIB. roz_thread_start() checks against the C
+ * library's own least too, for a target this does not know.
+ */
+#if defined(__aarch64__) && defined(__linux__)
+#define ROZ_THREAD_STACK_MIN_KIB 128
+#else
+#define ROZ_THREAD_STACK_MIN_KIB 64
+#endif
+/** The most stack, KiB, a thread roz creates may ask for (64 MiB). */
+#define ROZ_THREAD_STACK_MAX_KIB 65536
+/** "MIN..MAX", the range's words in the parameters' help. */
+#define ROZ_THREAD_STACK_RANGE ROZ_THREAD_STR_(ROZ_THREAD_STACK_MIN_KIB) ".." \
+                               ROZ_THREAD_STR_(ROZ_THREAD_STACK_MAX_KIB)
+#define ROZ_THREAD_STR_(x) ROZ_THREAD_STR2_(x)
+#define ROZ_THREAD_STR2_(x) #x
 
 /** What a thread gets; all zero: the system's defaults. */
 typedef struct roz_thread_config {
     roz_thread_sched_t sched;
     int                priority;  /**< 1..99 with FIFO or RR; 0 with OTHER */
     uint64_t           cpus;      /**< bit i: may run on CPU i; 0: any CPU */
-    uint32_t           stack_kib; /**< 0: the system's default; else ROZ_THREAD_*_STACK_KIB */
+    uint32_t           stack_kib; /**< 0: the system's default; else
+                                       ROZ_THREAD_STACK_MIN_KIB..ROZ_THREAD_STACK_MAX_KIB */
 } roz_thread_config_t;
 
 /** The parameter rows of one thread (roz_port_info_t::params), keys
@@ -59,7 +75,7 @@ typedef struct roz_thread_config {
     ROZ_PORT_PARAM_TEXT_ROW(prefix "_priority", "1..99", "", "its priority with fifo or rr"), \
     ROZ_PORT_PARAM_TEXT_ROW(prefix "_cpus", "a list: 0,2-3", "",                            \
                             "the CPUs it may run on (default: any)"),                       \
-    ROZ_PORT_PARAM_TEXT_ROW(prefix "_stack_kib", ROZ_THREAD_STACK_KIB_RANGE, "",            \
+    ROZ_PORT_PARAM_TEXT_ROW(prefix "_stack_kib", ROZ_THREAD_STACK_RANGE, "",                  \
                             "its stack size (default: the system's)")
 
 /** The keys of ROZ_THREAD_PARAM_INFO, for a port's list of known keys. */

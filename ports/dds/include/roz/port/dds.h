@@ -92,7 +92,7 @@ typedef struct roz_dds_params {
                             "scheduling of Cyclone's receive, delivery and timed-event "        \
                             "threads"),                                                         \
     ROZ_PORT_PARAM_TEXT_ROW("dds_threads_priority", "1..99", "", "their priority with fifo"),   \
-    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", ROZ_THREAD_STACK_KIB_RANGE, "",            \
+    ROZ_PORT_PARAM_TEXT_ROW("dds_threads_stack_kib", ROZ_THREAD_STACK_RANGE, "",                \
                             "their stack size (default: the system's)"),                        \
     ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
                             "the command watchdog: the tick silent this long, the port sends "  \
@@ -589,6 +589,14 @@ typedef struct roz_dds_cmd_config {
                                               ROZ_DDS_CMD_META + n_extra) doubles */
     uint16_t                 n_extra;    /**< the port's values after the meta words */
     uint32_t                 timeout_us; /**< `command_timeout_us` */
+    /** The clock the watchdog counts on: the tick's writes are stamped,
+     *  the pass judges a frame's age and read() the silence with it.
+     *  NULL: roz_clock_monotonic_ns() (every port). Another (a test's,
+     *  which it moves on itself) only with a periodic writer:
+     *  roz_dds_cmd_start() refuses it for an event-driven one, whose
+     *  thread sleeps until the watchdog is due on CLOCK_MONOTONIC. */
+    uint64_t               (*clock)(void *ctx);
+    void                    *clock_ctx;  /**< @p clock's argument */
 } roz_dds_cmd_config_t;
 
 /** What the tick's read() saw of the robot, for roz_dds_cmd_write(). */
@@ -625,6 +633,8 @@ typedef struct roz_dds_cmd {
     roz_dds_writer_t        *ROZ_PRIVATE(writer);
     uint16_t                 ROZ_PRIVATE(n_extra);
     uint32_t                 ROZ_PRIVATE(timeout_us);
+    uint64_t               (*ROZ_PRIVATE(clock))(void *ctx); /* the watchdog's */
+    void                    *ROZ_PRIVATE(clock_ctx);
     /* the tick's */
     uint32_t                 ROZ_PRIVATE(write_robot); /* the robot of the last write */
     uint64_t                 ROZ_PRIVATE(write_seq);
@@ -669,6 +679,8 @@ int roz_dds_cmd_attach(roz_dds_cmd_t *c, uint32_t spin_us);
  *        (roz_dds_writer_start()); the shutdown of a previous activation is
  *        forgotten.
  * @retval ROZ_OK, or roz_dds_writer_start()'s error
+ * @retval ROZ_EINVAL an event-driven writer (@p period_us 0) and a clock of
+ *         the config's own
  * Context: start-up (a port's activate).
  */
 int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monitor);
