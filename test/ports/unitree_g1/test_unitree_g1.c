@@ -1256,12 +1256,12 @@ static void test_g1_watchdog_on_its_clock(void **st)
                              { "peer_timeout_ms", "60000" } },
             3);
     roz_g1fx_port()->cmd.clock = g1_clock;
-    start();
+    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) { /* alive: 99.999 ms between writes is not silence */
         roz_g1fx_send();
-        assert_int_equal(read_g1(), 1);
-        distinct_command(k);
-        write_g1();
+        assert_int_equal(roz_port_test_read(), 1);
+        roz_port_test_distinct_command(m, k, cmd);
+        roz_port_test_write();
         get_command(&c);
         assert_true(is_written(&c));
         atomic_fetch_add(&g1_now_ns, 99999000u);
@@ -1295,21 +1295,21 @@ static void test_g1_watchdog_on_its_clock(void **st)
     }
     assert_true(holds >= 5);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), ROZ_EWATCHDOG);
+    assert_int_equal(roz_port_test_read(), ROZ_EWATCHDOG);
     assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.code, 150000u);
     assert_int_equal(f.limit, 100000u);
     roz_g1fx_sent(sent);
-    assert_int_equal(read_g1(), 0);
-    distinct_command(4);
-    write_g1();
+    assert_int_equal(roz_port_test_read(), 0);
+    roz_port_test_distinct_command(m, 4, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_hold_after_trip(&c, last, sent);
     roz_g1fx_send();
-    assert_int_equal(read_g1(), 1);
-    distinct_command(5);
-    write_g1();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, 5, cmd);
+    roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
     assert_int_equal(counters().command_timeouts, 1);
