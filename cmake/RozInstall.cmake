@@ -73,6 +73,11 @@ if(TARGET roz_toml)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/toml/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
 endif()
+if(TARGET roz_run)
+  list(APPEND _roz_targets roz_run)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/run/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+endif()
 if(TARGET roz_record)
   list(APPEND _roz_targets roz_record)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/record/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
