@@ -2102,6 +2102,12 @@ static void mj_set_origin(void *self, const char *robot_toml)
     roz_mujoco_set_robot_file(self, robot_toml);
 }
 
+/* The simulator extension of the port contract (roz/port.h). */
+static const roz_port_sim_t mj_sim = {
+    .set_origin = mj_set_origin,
+    .truth = mj_truth,
+    .truth_body = mj_truth_body,
+};
 
 static const roz_port_info_t mj_info = {
     .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",
@@ -2111,6 +2117,7 @@ static const roz_port_info_t mj_info = {
     .no_crc = "physics in the same process: no wire, no CRC",
     .no_sequence = "physics in the same process: no sequence numbers",
     .no_link = "physics in the same process: no link to replay, restart or lose",
+    .sim = &mj_sim,
 };
 
 const roz_port_ops_t roz_mujoco_ops = {
@@ -2126,9 +2133,6 @@ const roz_port_ops_t roz_mujoco_ops = {
     .info = &mj_info,
     .link_counters = mj_link_counters,
     .report = mj_report,
-    .set_origin = mj_set_origin,
-    .truth = mj_truth,
-    .truth_body = mj_truth_body,
 };
 
 roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
