@@ -480,7 +480,7 @@ def build(args) -> tuple[str, str]:
     w("## 3. Periodic runner at 1 kHz\n")
     if periodic:
         secs = periodic.get("seconds per side")
-        w(f"`bench/periodic`: the runner (`roz/hal/runner.h`) at 1 kHz running the G1 tick on the "
+        w(f"`bench/periodic`: the runner (`roz/runner.h`) at 1 kHz running the G1 tick on the "
           f"loopback, against a bare `clock_nanosleep(TIMER_ABSTIME)` loop doing nothing else, "
           f"{value(secs)} each in alternating 5 s rounds, normal scheduling (no SCHED_FIFO, no "
           f"mlockall). Wake-up latency is the time woken minus the deadline slept for; at "

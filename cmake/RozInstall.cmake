@@ -23,6 +23,7 @@ set(ROZ_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/roz)
 set(_roz_targets roz_core roz_hal roz_sdk)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/include/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk FILES_MATCHING PATTERN "*.h")
+install(FILES ${PROJECT_SOURCE_DIR}/lib/math/roz_math.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/roz/sdk)
 # the built-in manifests, which `rozgen-nn deploy --robot <name>` reads
 file(GLOB _roz_tomls ${PROJECT_SOURCE_DIR}/manifests/*.toml)
 install(FILES ${_roz_tomls} DESTINATION ${CMAKE_INSTALL_DATADIR}/roz/manifests)
@@ -71,6 +72,11 @@ endif()
 if(TARGET roz_toml)
   list(APPEND _roz_targets roz_toml)
   install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/toml/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+          FILES_MATCHING PATTERN "*.h")
+endif()
+if(TARGET roz_run)
+  list(APPEND _roz_targets roz_run)
+  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/run/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
           FILES_MATCHING PATTERN "*.h")
 endif()
 if(TARGET roz_record)

@@ -11,7 +11,7 @@
 #include <cmocka.h>
 
 #include "roz/error.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 
 size_t roz_test_wat(const char *wat, uint8_t *buf, size_t cap)
 {

@@ -102,7 +102,7 @@ SOURCE_COMPONENTS = [
     (re.compile(r"_manifest\.c$"), "manifest table"),
     (re.compile(r"_wasm\.c$"), "controller"),
     (re.compile(r"/roz_aot/[^/]+/[^/]+_(aot|glue)\.c$"), "controller"),
-    (re.compile(r"/(lib/(src|aot|include/roz)|sdk/include)/[^/]+$"), "roz core"),
+    (re.compile(r"/(lib/(src|aot|math|include/roz)|sdk/include)/[^/]+$"), "roz core"),
     (re.compile(r"/hal/(src|include/roz/hal)/[^/]+$"), "hal"),
     (re.compile(r"/ports/[^/]+/(src|include/roz/port)/[^/]+$"), "port"),
     (re.compile(r"/libgcc/"), "libgcc"),

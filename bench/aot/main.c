@@ -28,7 +28,7 @@
 #include "roz/abi.h"
 #include "roz/aot.h"
 #include "roz/controller.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "unitree_g1_manifest.h"
 
 #include "policy.h" /* natively: roz_nn.h's plain-C imports */

@@ -38,7 +38,7 @@
 #include "roz/controller.h"
 #include "bench_json.h"
 #include "roz/hal/clock.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "ur5_manifest.h"
 
 #define ROZ_BENCH_FUEL 50000000ull

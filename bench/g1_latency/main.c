@@ -52,7 +52,7 @@
 #include "roz/port/dds.h"
 #include "roz/hal/clock.h"
 #include "roz/hal/crc32.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/runtime.h"
 #include "roz/port/unitree_g1.h"
 #include "unitree_g1_manifest.h"

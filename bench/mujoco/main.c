@@ -24,7 +24,7 @@
 #include "bench_json.h"
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/port/mujoco.h"
 #include "roz/runtime.h"
 

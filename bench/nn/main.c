@@ -25,7 +25,7 @@
 #include "bench_json.h"
 #include "roz/abi.h"
 #include "roz/controller.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "unitree_g1_channels.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"

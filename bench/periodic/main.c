@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
- * bench/periodic: the periodic runner (roz/hal/runner.h) at 1 kHz running
+ * bench/periodic: the periodic runner (roz/runner.h) at 1 kHz running
  * the runtime's tick (the G1 PD on the loopback simulator), against a bare
  * clock_nanosleep(TIMER_ABSTIME) loop that does nothing else, in the same
  * run: wake-up latency (woken minus the deadline slept for) p50/p99/max,
@@ -22,7 +22,7 @@
 #include <time.h>
 
 #include "roz/hal/clock.h"
-#include "roz/hal/runner.h"
+#include "roz/runner.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "bench_json.h"

@@ -18,7 +18,7 @@
 
 #include "bench_json.h"
 #include "roz/hal/clock.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/port/loopback.h"
 #include "roz/record_file.h"
 #include "roz/runtime.h"

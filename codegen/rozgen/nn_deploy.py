@@ -750,10 +750,19 @@ def deploy_file(p: Plan) -> str:
     return "\n".join(o)
 
 
+def sdk_includes(sdk: str) -> list[str]:
+    """The -I flags of the SDK in @p sdk: installed, roz_math.h is beside its
+    headers; in a checkout it is the core's, lib/math/ (roz::sdk's include
+    folders, sdk/CMakeLists.txt)."""
+    math = Path(sdk).resolve().parent.parent / "lib" / "math"
+    extra = [] if (Path(sdk) / "roz_math.h").is_file() or not math.is_dir() else [f"-I{math}"]
+    return [f"-I{sdk}"] + extra
+
+
 def compile_wasm(c_path: str, out: str, sdk: str, clang: str | None = None) -> None:
     """clang with roz_add_wasm_controller()'s flags (cmake/RozWasm.cmake)."""
     cmd = [clang or find_clang(), "--target=wasm32", "-O2", "-nostdlib", "-fno-builtin",
-           "-std=c11", "-Wall", "-Wextra", "-Werror", f"-I{sdk}", "-Wl,--no-entry",
+           "-std=c11", "-Wall", "-Wextra", "-Werror", *sdk_includes(sdk), "-Wl,--no-entry",
            "-Wl,--strip-all", "-Wl,-z,stack-size=16384", "-o", out, c_path]
     r = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if r.returncode != 0:

@@ -22,6 +22,7 @@ from rozgen.nn_deploy import DeployError
 G1 = REPO / "examples" / "policies" / "g1"
 SPEC = "lstm:47:16,dense:16:16:elu,dense:16:12"
 SDK = REPO / "sdk" / "include"
+MATH = REPO / "lib" / "math"  # roz_math.h, the core's, which the SDK gives controllers
 CLANG = shutil.which("clang") or shutil.which("clang-14")
 
 
@@ -343,7 +344,7 @@ def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
     ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
                     "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
     # 60 ticks of a robot that moves: every state channel a smooth function
     # of time, the quaternion a unit one, the command inputs within their limits
@@ -410,7 +411,7 @@ def test_native_history_and_own_terms_against_the_reference(tmp_path):
     ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
                     "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
     rng = np.random.default_rng(11)
     states = [rng.normal(size=ns) for _ in range(40)]   # large enough to clip
@@ -457,7 +458,7 @@ def test_a_refused_state_read_asks_for_an_estop(tmp_path):
     line = " ".join(["0x0p+0"] * ns) + "\n"
     for short, estop in ((0, 0), (1, 1)):
         exe = tmp_path / f"harness{short}"
-        subprocess.run(["cc", "-std=c11", "-O2", f"-DHARNESS_STATES_SHORT={short}", f"-I{SDK}",
+        subprocess.run(["cc", "-std=c11", "-O2", f"-DHARNESS_STATES_SHORT={short}", f"-I{SDK}", f"-I{MATH}",
                         f"-I{tmp_path}", "-o", str(exe), str(tmp_path / "harness.c"), "-lm"],
                        check=True)
         r = subprocess.run([str(exe)], input=line * 3, capture_output=True, text=True)
@@ -489,7 +490,7 @@ def run_native(tmp_path, p, states):
     ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
     (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
     exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{tmp_path}",
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
                     "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
     text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
     r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)

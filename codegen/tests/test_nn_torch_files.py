@@ -18,6 +18,7 @@ from rozgen import nn, nn_export
 
 NN = DATA / "nn"
 SDK = REPO / "sdk" / "include"
+MATH = REPO / "lib" / "math"  # roz_math.h, the core's, which the SDK gives controllers
 MLP_SPEC = "dense:7:16:elu,dense:16:8:relu,dense:8:4"
 # file, its torch reference (<name>.io.npz), spec, the layers it holds
 FILES = [
@@ -171,7 +172,7 @@ def test_native_header_matches(tmp_path, name, io, spec, shape):
     outs = []
     for opt in ("-O0", "-O2"):
         exe = tmp_path / f"net{opt}"
-        subprocess.run([_cc(), "-std=c11", opt, "-ffp-contract=off", "-I", str(SDK), "-I",
+        subprocess.run([_cc(), "-std=c11", opt, "-ffp-contract=off", "-I", str(SDK), "-I", str(MATH), "-I",
                         str(tmp_path), str(tmp_path / "main.c"), "-o", str(exe), "-lm"],
                        check=True)
         run = subprocess.run([str(exe)], capture_output=True, text=True, check=True)

@@ -7,7 +7,6 @@
 
 #include "fault_text.h"
 #include "recorder_push.h"
-#include "roz/runtime.h"
 
 /* ---- types ----------------------------------------------------------------
  *
@@ -48,12 +47,17 @@ static double *slot_values(slot_t *s)
 
 /* ---- the tick ------------------------------------------------------------- */
 
+int roz__recorder_wants_fault(const roz_recorder_t *r, uint32_t faults)
+{
+    return !r->any || faults != r->last_faults;
+}
+
 void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
-                        const struct roz_runtime_fault_rec *first)
+                        const roz__fault_raw_t *first)
 {
     const roz_manifest_t *m = r->m;
     uint32_t flags = rec->flags;
-    int changed = !r->any || rec->faults != r->last_faults;
+    int changed = roz__recorder_wants_fault(r, rec->faults);
     uint32_t level = flags & ROZ_RECORD_ESTOP_LEVEL;
     int released = level != r->last_level;
 
@@ -84,13 +88,13 @@ void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
         s->rec.flags &= ~(uint32_t)ROZ_RECORD_TRUTH;
     if (changed) {
         s->rec.flags |= ROZ_RECORD_FAULT_CHANGED;
-        /* the tick is the record's only writer: plain loads of its own data */
-        s->fault.bit = atomic_load_explicit(&first->bit, memory_order_relaxed);
+        /* the runtime's copy of its first fault, made for this record */
+        s->fault.bit = first != NULL ? first->bit : 0u;
         for (int k = 0; k < 4; k++)
-            s->fault.num[k] = atomic_load_explicit(&first->num[k], memory_order_relaxed);
+            s->fault.num[k] = first != NULL ? first->num[k] : 0u;
         size_t i = 0;
-        for (; i + 1u < sizeof s->fault_text; i++) {
-            char c = (char)atomic_load_explicit(&first->text[i], memory_order_relaxed);
+        for (; first != NULL && first->text != NULL && i + 1u < sizeof s->fault_text; i++) {
+            char c = first->text[i];
             if (c == '\0')
                 break;
             s->fault_text[i] = c;

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /* Between the runtime and the recorder (private to the core): the tick
  * pushes its record (the drain words a fault with fault_text.h, as the
- * runtime's readers do). */
+ * runtime's readers do). The recorder knows nothing of the runtime: the
+ * runtime hands it the first fault's numbers when it asks for them. */
 #ifndef ROZ_RECORDER_PUSH_H
 #define ROZ_RECORDER_PUSH_H
 
@@ -17,13 +18,16 @@ typedef struct roz__fault_raw {
     const char *text; /* the controller's or port's text, "" none */
 } roz__fault_raw_t;
 
-struct roz_runtime_fault_rec;
+/* The tick: 1 when a record of faults @p faults would carry the first
+ * fault (they differ from the last record's), so that the caller passes it
+ * to roz__recorder_push(). */
+int roz__recorder_wants_fault(const roz_recorder_t *r, uint32_t faults);
 
 /* The tick: push @p rec (its arrays are copied) if decimation or a change
- * says so; the runtime's first-fault record @p first (the tick is its only
- * writer) is copied only when the faults differ from the last record's.
- * Wait-free; a full ring drops and counts. */
+ * says so; @p first, the first fault's numbers and text (NULL: none), is
+ * copied only when the faults differ from the last record's
+ * (roz__recorder_wants_fault()). Wait-free; a full ring drops and counts. */
 void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
-                        const struct roz_runtime_fault_rec *first);
+                        const roz__fault_raw_t *first);
 
 #endif /* ROZ_RECORDER_PUSH_H */

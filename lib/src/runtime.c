@@ -762,7 +762,28 @@ static void tick_record(roz_runtime_t *rt, int active, const double *target, uin
         rec.truth = &truth;
         rec.flags |= ROZ_RECORD_TRUTH;
     }
-    roz__recorder_push(rt->cfg.recorder, &rec, &rt->first_fault);
+    /* the first fault's numbers and text, copied for the recorder only
+     * when the faults changed since its last record (the tick is the
+     * record's only writer: plain loads of its own data) */
+    roz__fault_raw_t first;
+    char first_text[ROZ_CFG_ERROR_LEN];
+    const roz__fault_raw_t *fr = NULL;
+    if (roz__recorder_wants_fault(rt->cfg.recorder, rec.faults)) {
+        const roz_runtime_fault_rec_t *f = &rt->first_fault;
+        first.bit = atomic_load_explicit(&f->bit, memory_order_relaxed);
+        for (int k = 0; k < 4; k++)
+            first.num[k] = atomic_load_explicit(&f->num[k], memory_order_relaxed);
+        size_t i = 0;
+        for (; i + 1u < sizeof first_text; i++) {
+            first_text[i] = (char)atomic_load_explicit(&f->text[i], memory_order_relaxed);
+            if (first_text[i] == '\0')
+                break;
+        }
+        first_text[i] = '\0';
+        first.text = first_text;
+        fr = &first;
+    }
+    roz__recorder_push(rt->cfg.recorder, &rec, fr);
 }
 
 /* The stats are published from where the tick keeps them, field by field

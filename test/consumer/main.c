@@ -11,7 +11,7 @@
 #if ROZ_HAS_BUILTIN_MANIFESTS
 #include "roz/builtin.h"
 #endif
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/port/loopback.h"
 #include "roz/manifest.h"
 #include "roz/ports.h"

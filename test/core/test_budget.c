@@ -29,7 +29,7 @@
 #include <cmocka.h>
 
 #include "roz/hal/clock.h"
-#include "roz/hal/runner.h"
+#include "roz/runner.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"

@@ -36,7 +36,7 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"

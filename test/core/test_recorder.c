@@ -155,9 +155,10 @@ static void test_recorder_fields(void **st)
     roz_runtime_deinit(&rt);
 }
 
-/* ---- a simulator's truth (roz_port_ops_t::truth) ------------------------- */
+/* ---- a simulator's truth (roz_port_sim_t::truth) ------------------------- */
 
 static roz_port_ops_t truth_ops;
+static roz_port_sim_t truth_sim;
 static roz_port_truth_t want_truth[MAX_TICKS];
 static roz_port_truth_t got_truth[MAX_TICKS];
 static uint64_t truth_calls;
@@ -210,7 +211,8 @@ static void test_recorder_truth(void **st)
                      ROZ_OK);
     roz_test_loopback_config(&cfg, &lb, &roz_manifest_ur5, NULL, &clk);
     truth_ops = *cfg.port.ops;
-    truth_ops.truth = fake_truth;
+    truth_sim.truth = fake_truth;
+    truth_ops.sim = &truth_sim;
     cfg.port.ops = &truth_ops;
     cfg.recorder = &rec;
     roz_test_runtime_start(&rt, &cfg, "sine");

@@ -186,7 +186,7 @@ static void test_runtime_controlled_stop_ramps(void **st)
     ticks(20);
     assert_near(roz_runtime_last_commands(&rt)[2], 0.628, 1e-12);
     /* freeze the state stream: stale after 10 ticks, then a ramp down */
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, roz_loopback_counters(&lb).tick, 0, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_FREEZE, roz_loopback_counters(&lb).tick, 0, -1, 0 };
     assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);
     ticks(9);
     assert_int_equal(roz_runtime_faults(&rt), 0);

@@ -192,7 +192,8 @@ def do_block(args, b: Block, cwd: Path, n: int):
         sdk = args.source / "sdk" / "include"
         # the flags of roz_add_wasm_controller() (cmake/RozWasm.cmake)
         return run([args.clang, "--target=wasm32", "-O2", "-nostdlib", "-fno-builtin", "-std=c11",
-                    "-Wall", "-Wextra", "-Werror", f"-I{sdk}", f"-I{gen}", "-Wl,--no-entry",
+                    "-Wall", "-Wextra", "-Werror", f"-I{sdk}",
+                    f"-I{args.source / 'lib' / 'math'}", f"-I{gen}", "-Wl,--no-entry",
                     "-Wl,--strip-all", "-Wl,-z,stack-size=16384", "-o", f".block{n}.wasm",
                     src.name], cwd, "clang wasm32")
     return f"marker {b.marker.group(0)!r} does not fit a {b.lang or 'plain'} block"

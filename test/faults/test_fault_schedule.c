@@ -64,19 +64,19 @@ static void random_faults(const roz_manifest_t *m)
     uint32_t n = (uint32_t)below(ROZ_LOOPBACK_MAX_FAULTS + 1);
     for (uint32_t i = 0; i < n; i++) {
         roz_loopback_fault_t f = { 0 };
-        f.kind = (roz_loopback_fault_kind_t)(ROZ_LOOPBACK_DROP + below(ROZ_LOOPBACK_RESTART));
+        f.kind = (roz_inject_kind_t)(ROZ_INJECT_DROP + below(ROZ_INJECT_RESTART));
         f.from = below(TICKS);
         f.to = below(4) == 0 ? 0 : f.from + 1 + below(below(2) ? 20 : 150);
         f.channel = -1;
         f.arg = 0;
-        if (f.kind == ROZ_LOOPBACK_NAN) {
+        if (f.kind == ROZ_INJECT_NAN) {
             f.channel = (int32_t)below(m->n_states);
-        } else if (f.kind == ROZ_LOOPBACK_RANGE) {
+        } else if (f.kind == ROZ_INJECT_RANGE) {
             /* a position state (the loopback adds 0.5 past its upper limit) */
             do
                 f.channel = (int32_t)below(m->n_states);
             while (m->states[f.channel].type != ROZ_IF_POSITION);
-        } else if (f.kind == ROZ_LOOPBACK_DELAY) {
+        } else if (f.kind == ROZ_INJECT_DELAY) {
             f.arg = 1 + (uint32_t)below(ROZ_LOOPBACK_MAX_DELAY);
         }
         assert_int_equal(roz_loopback_inject(&lb, &f), ROZ_OK);

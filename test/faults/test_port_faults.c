@@ -130,7 +130,7 @@ static int teardown(void **st)
  * every tick on the last frame it had. */
 static void test_faults_short_drop_is_counted(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DROP, 50, 55, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_DROP, 50, 55, -1, 0 };
     double held[ROZ_CFG_MAX_STATES];
     (void)st;
     start("constant_velocity", &f, 1);
@@ -153,7 +153,7 @@ static void test_faults_short_drop_is_counted(void **st)
  * latched when frames return, running again only after a clear. */
 static void test_faults_long_drop_latches_stale(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DROP, 50, 70, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_DROP, 50, 70, -1, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(50);
@@ -184,7 +184,7 @@ static void test_faults_long_drop_latches_stale(void **st)
  * it thaws, a clear recovers. */
 static void test_faults_freeze_needs_clear(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, 30, 70, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_FREEZE, 30, 70, -1, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(40);
@@ -209,7 +209,7 @@ static void test_faults_freeze_needs_clear(void **st)
 static void test_faults_delay_is_latency(void **st)
 {
     enum { K = 5, N = 200 };
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DELAY, 50, 150, -1, K };
+    roz_loopback_fault_t f = { ROZ_INJECT_DELAY, 50, 150, -1, K };
     static double truth[N][ROZ_CFG_MAX_STATES];
     (void)st;
     start("constant_velocity", &f, 1);
@@ -231,7 +231,7 @@ static void test_faults_delay_is_latency(void **st)
  * latency, by at most k ticks of travel. */
 static double max_position(uint32_t delay, int n)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DELAY, 20, 0, -1, delay }; /* from tick 20 on */
+    roz_loopback_fault_t f = { ROZ_INJECT_DELAY, 20, 0, -1, delay }; /* from tick 20 on */
     double q[ROZ_CFG_MAX_STATES], top = -INFINITY;
     stale_ticks = 20; /* the gap where the delay starts is 15 ticks long */
     start("constant_velocity", &f, delay > 0 ? 1 : 0);
@@ -264,7 +264,7 @@ static void test_faults_delay_and_position_limit(void **st)
  * a replay without end is a stale stream. */
 static void test_faults_duplicate_is_rejected(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_DUPLICATE, 50, 55, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_DUPLICATE, 50, 55, -1, 0 };
     double first[ROZ_CFG_MAX_STATES], q[ROZ_CFG_MAX_STATES];
     (void)st;
     start("constant_velocity", &f, 1);
@@ -283,7 +283,7 @@ static void test_faults_duplicate_is_rejected(void **st)
     assert_int_equal(roz_runtime_faults(&rt), 0);
 
     roz_runtime_deinit(&rt);
-    roz_loopback_fault_t forever = { ROZ_LOOPBACK_DUPLICATE, 10, 0, -1, 0 };
+    roz_loopback_fault_t forever = { ROZ_INJECT_DUPLICATE, 10, 0, -1, 0 };
     start("constant_velocity", &forever, 1);
     ticks(19);
     assert_int_equal(roz_runtime_faults(&rt), 0);
@@ -299,8 +299,8 @@ static void test_faults_duplicate_is_rejected(void **st)
  * gap, twenty latch STALE, and only a clear resumes. */
 static void test_faults_corrupt_state(void **st)
 {
-    const roz_loopback_fault_t f[] = { { ROZ_LOOPBACK_CORRUPT, 50, 55, -1, 0 },
-                                       { ROZ_LOOPBACK_CORRUPT, 100, 120, -1, 0 } };
+    const roz_loopback_fault_t f[] = { { ROZ_INJECT_CORRUPT, 50, 55, -1, 0 },
+                                       { ROZ_INJECT_CORRUPT, 100, 120, -1, 0 } };
     (void)st;
     start("constant_velocity", f, 2);
     ticks(100);
@@ -326,7 +326,7 @@ static void test_faults_corrupt_state(void **st)
  * good command; it never applies a corrupted value. The core cannot see it. */
 static void test_faults_corrupt_command(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, 50, 70, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_CORRUPT_CMD, 50, 70, -1, 0 };
     double good[ROZ_CFG_MAX_COMMANDS];
     (void)st;
     start("constant_velocity", &f, 1);
@@ -350,7 +350,7 @@ static void test_faults_corrupt_command(void **st)
  * output until the application clears both faults. */
 static void test_faults_peer_restart(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 100, 200, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_RESTART, 100, 200, -1, 0 };
     double where[ROZ_CFG_MAX_STATES], q[ROZ_CFG_MAX_STATES];
     (void)st;
     start("constant_velocity", &f, 1);
@@ -385,7 +385,7 @@ static void test_faults_peer_restart(void **st)
  * robot's sequence going back to 0: LINK alone. */
 static void test_faults_quick_restart(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 300, 305, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_RESTART, 300, 305, -1, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(305);
@@ -411,7 +411,7 @@ static void test_faults_quick_restart(void **st)
  * go unnoticed: link.h, SAFETY.md. */
 static void test_faults_early_restart_is_stale(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_RESTART, 20, 25, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_RESTART, 20, 25, -1, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(29);
@@ -428,7 +428,7 @@ static void test_faults_early_restart_is_stale(void **st)
  * the others run on; no fault; joint 3 resumes, ramped, afterwards. */
 static void test_faults_nan_position_stops_its_joint(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_NAN, 50, 60, 3, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_NAN, 50, 60, 3, 0 };
     (void)st;
     start("constant_velocity", &f, 1);
     ticks(50);
@@ -450,7 +450,7 @@ static void test_faults_nan_position_stops_its_joint(void **st)
  * refuses it (counted) and the channel goes to its safe default; no fault. */
 static void test_faults_nan_state_into_controller(void **st)
 {
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_NAN, 50, 60, 7, 0 }; /* joint 1's velocity */
+    roz_loopback_fault_t f = { ROZ_INJECT_NAN, 50, 60, 7, 0 }; /* joint 1's velocity */
     (void)st;
     start("pd_hold", &f, 1);
     ticks(50);

@@ -19,7 +19,7 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "support_wat.h"
 #include "ur5_manifest.h"
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* The controllers' math header (sdk/include/roz_math.h),
+/* The controllers' math header (lib/math/roz_math.h),
  * compiled natively, against the host's libm: the exact functions bit for
  * bit (signed zeros, NaN), the others within their documented error in ulps
  * of a long double reference (sinl, expl, ...: 64-bit mantissas, so the

@@ -42,9 +42,9 @@
 
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/hal/params.h"
-#include "roz/hal/runner.h"
+#include "roz/runner.h"
 #include "roz/hal/thread.h"
 #include "roz/ports.h"
 #include "roz/record_file.h"

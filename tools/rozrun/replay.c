@@ -11,7 +11,7 @@
 
 #include "roz/builtin.h"
 #include "roz/hal/clock.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "roz/identity.h"
 #include "roz/record_file.h"
 #include "roz/runtime.h"

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "roz/hal/module.h"
+#include "roz/module.h"
 #include "trace.h"
 
 /* The options, by kind. */

@@ -12,7 +12,7 @@
 
 #include "fw_app.h"
 #include "roz/builtin.h"
-#include "roz/hal/module.h"
+#include "roz/module.h"
 
 static uint8_t wasm[ROZ_CFG_WASM_MAX_MODULE_BYTES];
 

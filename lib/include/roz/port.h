@@ -147,7 +147,7 @@ typedef struct roz_port_link_counters {
 /** Most bodies one truth sample names (roz_port_truth_t::bodies). */
 #define ROZ_PORT_TRUTH_MAX_BODIES 8
 
-/** A simulator's truth at a tick (roz_port_ops_t::truth): what no sensor
+/** A simulator's truth at a tick (roz_port_sim_t::truth): what no sensor
  *  gives, so that a recording tells standing from fallen
  *  (docs/recording.md, /roz/truth). Plain numbers: filled in the tick. */
 typedef struct roz_port_truth {
@@ -161,8 +161,30 @@ typedef struct roz_port_truth {
     uint32_t n_bodies;   /**< robot bodies touching the world, at most
                               ROZ_PORT_TRUTH_MAX_BODIES named */
     int32_t  bodies[ROZ_PORT_TRUTH_MAX_BODIES]; /**< the port's body ids
-                              (roz_port_ops_t::truth_body names them) */
+                              (roz_port_sim_t::truth_body names them) */
 } roz_port_truth_t;
+
+/** The simulator extension of the port contract: the ops only a simulator
+ *  has, reached from its ops (roz_port_ops_t::sim; roz_port_set_origin(),
+ *  roz_port_truth() and roz_port_truth_body() call them). Every op may be
+ *  NULL; a real robot's port has no extension at all. */
+typedef struct roz_port_sim {
+    /** The file the manifest was read from (a robot.toml), so that paths
+     *  its parameters name (a model file) are taken relative to it; called
+     *  before open(). Optional: a port whose parameters name no file has
+     *  none. Context: start-up. */
+    void (*set_origin)(void *self, const char *robot_toml);
+    /** The truth after the last read() (roz_port_truth_t), which the
+     *  runtime copies into the flight recorder's record of the tick.
+     *  Optional. Context: the tick, after read(); RT-safe: no heap, no
+     *  formatting, bounded. */
+    int (*truth)(const void *self, roz_port_truth_t *out);
+    /** The name of body @p id of a truth sample, in storage that lives as
+     *  long as the port is open; NULL for an id it does not know. Optional
+     *  (with truth). Context: any thread while the port is open (the
+     *  recorder's drain); never formats in the tick. */
+    const char *(*truth_body)(const void *self, int32_t id);
+} roz_port_sim_t;
 
 /** When roz_port_report() is asked for a port's own lines. */
 typedef enum roz_port_report_when {
@@ -216,6 +238,10 @@ typedef struct roz_port_ops {
     uint32_t caps;
     /** What the port says about itself; NULL: nothing. */
     const roz_port_info_t *info;
+    /** What only a simulator does (roz_port_sim_t), else NULL. Beside the
+     *  info, not in it: a port's info is also its rules' (a library the
+     *  checker links without the simulator). */
+    const struct roz_port_sim *sim;
     /** A consistent copy of the checks on the state frames received so far.
      *  Optional. Context: any thread; RT-safe, never blocks. */
     int (*link_counters)(const void *self, roz_port_link_counters_t *out);
@@ -224,21 +250,6 @@ typedef struct roz_port_ops {
      *  length the whole text needs (as snprintf does), 0 for none. Optional.
      *  Context: start-up or shut-down, never the tick; may format text. */
     int (*report)(const void *self, roz_port_report_when_t when, char *buf, size_t len);
-    /** The file the manifest was read from (a robot.toml), so that paths
-     *  its parameters name (a model file) are taken relative to it; called
-     *  before open(). Optional: a port whose parameters name no file has
-     *  none. Context: start-up. */
-    void (*set_origin)(void *self, const char *robot_toml);
-    /** A simulator's truth after the last read() (roz_port_truth_t), which
-     *  the runtime copies into the flight recorder's record of the tick.
-     *  Optional: a real robot's port has none. Context: the tick, after
-     *  read(); RT-safe: no heap, no formatting, bounded. */
-    int (*truth)(const void *self, roz_port_truth_t *out);
-    /** The name of body @p id of a truth sample, in storage that lives as
-     *  long as the port is open; NULL for an id it does not know. Optional
-     *  (with truth). Context: any thread while the port is open (the
-     *  recorder's drain); never formats in the tick. */
-    const char *(*truth_body)(const void *self, int32_t id);
     /** Format what the port's own threads kept as numbers for the log (its
      *  monitors' threshold warnings, notices about samples it dropped) and
      *  pass each line to the port's log callback; returns the lines passed
@@ -399,32 +410,42 @@ static inline size_t roz_port_drain(const roz_port_t *p)
     return p->ops->drain != NULL ? p->ops->drain(p->self) : 0;
 }
 
+/** @brief The port's simulator extension (roz_port_sim_t); NULL for a
+ *  port that is no simulator. Context: any. */
+static inline const roz_port_sim_t *roz_port_sim(const roz_port_t *p)
+{
+    return p->ops->sim;
+}
+
 /** @brief set_origin(), if any: @p robot_toml is the file the manifest was
  *  read from (it must outlive the port). Context: start-up, before open. */
 static inline void roz_port_set_origin(const roz_port_t *p, const char *robot_toml)
 {
-    if (p->ops->set_origin != NULL)
-        p->ops->set_origin(p->self, robot_toml);
+    const roz_port_sim_t *sim = roz_port_sim(p);
+    if (sim != NULL && sim->set_origin != NULL)
+        sim->set_origin(p->self, robot_toml);
 }
 
 /** @brief 1 when the port gives truth samples (a simulator). Context: any. */
 static inline int roz_port_has_truth(const roz_port_t *p)
 {
-    return p->ops->truth != NULL;
+    const roz_port_sim_t *sim = roz_port_sim(p);
+    return sim != NULL && sim->truth != NULL;
 }
 
 /** @brief truth(); ROZ_ENOTSUP when the port has none.
  *  Context: the tick, after read(); RT-safe. */
 static inline int roz_port_truth(const roz_port_t *p, roz_port_truth_t *out)
 {
-    return p->ops->truth != NULL ? p->ops->truth(p->self, out) : ROZ_ENOTSUP;
+    return roz_port_has_truth(p) ? roz_port_sim(p)->truth(p->self, out) : ROZ_ENOTSUP;
 }
 
 /** @brief truth_body(): a truth sample's body name; NULL when unknown.
  *  Context: any thread while the port is open. */
 static inline const char *roz_port_truth_body(const roz_port_t *p, int32_t id)
 {
-    return p->ops->truth_body != NULL ? p->ops->truth_body(p->self, id) : NULL;
+    const roz_port_sim_t *sim = roz_port_sim(p);
+    return sim != NULL && sim->truth_body != NULL ? sim->truth_body(p->self, id) : NULL;
 }
 
 /** @brief set_operator(); ROZ_ENOTSUP when the port reads no operator

@@ -6,7 +6,7 @@
  *
  * Firmware calls roz_runtime_tick() from its own timer or RTOS task
  * (docs/firmware.md); hosts drive it from a periodic thread
- * (roz/hal/runner.h). All storage is in roz_runtime_t, which the caller owns
+ * (roz/runner.h). All storage is in roz_runtime_t, which the caller owns
  * (make it static: it is large). docs/architecture.md describes one tick,
  * the threads and contexts (each function's Context: line says where it may
  * run), the faults and how they latch and clear, and the log ring.
@@ -580,7 +580,7 @@ size_t roz_runtime_log_drain(roz_runtime_t *rt);
 /**
  * @brief Drain @p m too in roz_runtime_log_drain() (roz_monitor_drain():
  *        its warnings go to the log callback given to its init), e.g. a
- *        host runner's (roz/hal/runner.h).
+ *        host runner's (roz/runner.h).
  * @retval ROZ_OK     watched (also when it already was)
  * @retval ROZ_EINVAL NULL
  * @retval ROZ_ENOSPC ROZ_RUNTIME_WATCHED monitors are watched already

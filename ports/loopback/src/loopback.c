@@ -9,6 +9,7 @@
 
 #include "roz/format.h"
 #include "roz/hal/crc32.h"
+#include "roz/hal/inject.h"
 #include "roz/hal/params.h"
 #include "sim.h"
 
@@ -23,7 +24,7 @@ static int fault_active(const roz_loopback_fault_t *f, uint64_t t)
 }
 
 /* Any fault of @p kind active at tick @p t. */
-static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_loopback_fault_kind_t kind,
+static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_inject_kind_t kind,
                                           uint64_t t)
 {
     for (uint32_t k = 0; k < lb->n_faults; k++) {
@@ -34,76 +35,13 @@ static const roz_loopback_fault_t *active(const roz_loopback_t *lb, roz_loopback
 }
 
 /* ---- parameters ------------------------------------------------------------
- * Each message says what is wrong with the value as given ("state 7 does
- * not exist (3 states)", "FROM 300 after TO 100"), quoting the user's text
- * rather than a number it was converted to. */
+ * The fault injections' grammar is the simulators' (roz/hal/inject.h); the
+ * port reads the CHANNEL of nan= and range= and injects each entry. */
 
-/* Parsers below return 0, or a message in why and SYNTAX (the value is not
- * in the expected form: the caller adds the form) or BAD (it is, but says
- * something wrong). */
-enum { BAD = -1, SYNTAX = -2 };
-
-/* A tick number at *s: digits only (no sign, no space), no overflow.
- * Advances *s past it. */
-static int parse_tick(const char **s, const char *what, uint64_t *out, char *why, size_t whylen)
-{
-    const char *p = *s;
-    uint64_t v = 0;
-
-    if (*p < '0' || *p > '9') {
-        roz_format(why, whylen, "%s is missing or not a tick number", what);
-        return SYNTAX;
-    }
-    for (; *p >= '0' && *p <= '9'; p++) {
-        unsigned d = (unsigned)(*p - '0');
-        if (v > (UINT64_MAX - d) / 10u) {
-            size_t n = strspn(*s, "0123456789");
-            roz_format(why, whylen, "%s %.*s is too large (at most %llu)", what,
-                       n > 40 ? 40 : (int)n, *s, (unsigned long long)UINT64_MAX);
-            return BAD;
-        }
-        v = v * 10u + d;
-    }
-    *out = v;
-    *s = p;
-    return 0;
-}
-
-/* Parses "FROM:TO", "FROM:" or "FROM"; TO empty = forever (to = 0). */
-static int parse_range(const char *s, uint64_t *from, uint64_t *to, char *why, size_t whylen)
-{
-    int rc, have_to = 0;
-
-    *to = 0; /* 0: forever, when TO is left out (never when it is written) */
-    if ((rc = parse_tick(&s, "FROM", from, why, whylen)) != 0)
-        return rc;
-    if (*s == ':') {
-        s++;
-        if (*s != '\0') {
-            if ((rc = parse_tick(&s, "TO", to, why, whylen)) != 0)
-                return rc;
-            have_to = 1;
-        }
-    }
-    if (*s != '\0') {
-        roz_format(why, whylen, "unexpected \"%s\" after the ticks", s);
-        return SYNTAX;
-    }
-    if (have_to && *to < *from) {
-        roz_format(why, whylen, "FROM %llu after TO %llu", (unsigned long long)*from,
-                   (unsigned long long)*to);
-        return BAD;
-    }
-    if (have_to && *to == *from) {
-        roz_format(why, whylen, "FROM %llu equals TO: the ticks [FROM, TO) are none",
-                 (unsigned long long)*from);
-        return BAD;
-    }
-    return 0;
-}
+enum { BAD = ROZ_INJECT_BAD };
 
 /* The state channel of nan= and range=: an index or a name. */
-static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopback_fault_kind_t kind,
+static int parse_channel(const roz_loopback_t *lb, const char *head, roz_inject_kind_t kind,
                          int32_t *out, char *why, size_t whylen)
 {
     const roz_manifest_t *m = lb->m;
@@ -126,7 +64,7 @@ static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopbac
             return BAD;
         }
     }
-    if (kind == ROZ_LOOPBACK_RANGE && m->states[ch].type != ROZ_IF_POSITION) {
+    if (kind == ROZ_INJECT_RANGE && m->states[ch].type != ROZ_IF_POSITION) {
         roz_format(why, whylen, "state %ld (%s) is not a position state", ch, m->states[ch].name);
         return BAD;
     }
@@ -134,66 +72,21 @@ static int parse_channel(const roz_loopback_t *lb, const char *head, roz_loopbac
     return 0;
 }
 
-static int parse_fault_param(roz_loopback_t *lb, const char *key, const char *value,
-                             roz_loopback_fault_kind_t kind, char *err, size_t errlen)
+/* One entry of a fault parameter (roz_inject_parse()'s callback). */
+static int inject_entry(void *ctx, const roz_inject_entry_t *e, char *why, size_t whylen)
 {
-    roz_loopback_fault_t f = { kind, 0, 0, -1, 0 };
-    const char *form = kind == ROZ_LOOPBACK_DELAY ? "K@FROM:TO"
-                       : (kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE)
-                           ? "CHANNEL@FROM:TO"
-                           : "FROM:TO";
-    const char *range = value;
-    char why[160];
-    int rc = SYNTAX;
+    roz_loopback_t *lb = ctx;
+    roz_loopback_fault_t f = { e->kind, e->from, e->to, -1, e->arg };
+    int rc;
 
-    if (kind == ROZ_LOOPBACK_DELAY || kind == ROZ_LOOPBACK_NAN || kind == ROZ_LOOPBACK_RANGE) {
-        const char *at = strchr(value, '@');
-        char head[96];
-        size_t n = at != NULL ? (size_t)(at - value) : 0;
-        if (at == NULL || n == 0) {
-            roz_format(why, sizeof why, "no %s before '@'",
-                       kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL");
-            goto bad;
-        }
-        if (n >= sizeof head) {
-            roz_format(why, sizeof why, "the %s before '@' is longer than %u characters",
-                       kind == ROZ_LOOPBACK_DELAY ? "K" : "CHANNEL", (unsigned)sizeof head - 1u);
-            rc = BAD;
-            goto bad;
-        }
-        memcpy(head, value, n);
-        head[n] = '\0';
-        range = at + 1;
-        if (kind == ROZ_LOOPBACK_DELAY) {
-            uint32_t k = 0;
-            if (roz_params_parse_u32(roz_params_span(head), 0, 1, ROZ_LOOPBACK_MAX_DELAY, &k) !=
-                ROZ_OK) {
-                roz_format(why, sizeof why, "K %s is not a delay in 1..%d ticks", head,
-                           ROZ_LOOPBACK_MAX_DELAY);
-                rc = BAD;
-                goto bad;
-            }
-            f.arg = k;
-        } else if ((rc = parse_channel(lb, head, kind, &f.channel, why, sizeof why)) != 0) {
-            goto bad;
-        }
-    }
-    if ((rc = parse_range(range, &f.from, &f.to, why, sizeof why)) != 0)
-        goto bad;
+    if ((e->kind == ROZ_INJECT_NAN || e->kind == ROZ_INJECT_RANGE) &&
+        (rc = parse_channel(lb, e->head, e->kind, &f.channel, why, whylen)) != 0)
+        return rc;
     if (roz_loopback_inject(lb, &f) != ROZ_OK) {
-        roz_format(why, sizeof why, "more than %d fault injections", ROZ_LOOPBACK_MAX_FAULTS);
-        rc = BAD;
-        goto bad;
+        roz_format(why, whylen, "more than %d fault injections", ROZ_LOOPBACK_MAX_FAULTS);
+        return BAD;
     }
     return ROZ_OK;
-bad:
-    if (rc == SYNTAX)
-        roz_format(err, errlen,
-                   "parameter %s = \"%s\": %s; expected %s (ticks, TO empty = forever)", key,
-                   value, why, form);
-    else
-        roz_format(err, errlen, "parameter %s = \"%s\": %s", key, value, why);
-    return ROZ_EINVAL;
 }
 
 /* ---- frames ----------------------------------------------------------------
@@ -237,7 +130,7 @@ static void flip_bit(uint32_t *image, size_t words, uint64_t t)
 static void peer_tick(roz_loopback_t *lb, uint64_t t)
 {
     const roz_manifest_t *m = lb->m;
-    int dead = active(lb, ROZ_LOOPBACK_RESTART, t) != NULL;
+    int dead = active(lb, ROZ_INJECT_RESTART, t) != NULL;
     double v[ROZ_CFG_MAX_STATES > 0 ? ROZ_CFG_MAX_STATES : 1];
 
     if (dead) {
@@ -256,7 +149,7 @@ static void peer_tick(roz_loopback_t *lb, uint64_t t)
     }
     if (lb->have_cmd)
         roz_lbsim_step(lb);
-    if (active(lb, ROZ_LOOPBACK_FREEZE, t) != NULL)
+    if (active(lb, ROZ_INJECT_FREEZE, t) != NULL)
         return;
 
     roz_lbsim_compose(lb, v);
@@ -264,9 +157,9 @@ static void peer_tick(roz_loopback_t *lb, uint64_t t)
         const roz_loopback_fault_t *f = &lb->faults[k];
         if (!fault_active(f, t))
             continue;
-        if (f->kind == ROZ_LOOPBACK_NAN)
+        if (f->kind == ROZ_INJECT_NAN)
             v[f->channel] = NAN;
-        else if (f->kind == ROZ_LOOPBACK_RANGE)
+        else if (f->kind == ROZ_INJECT_RANGE)
             v[f->channel] = m->states[f->channel].max + 0.5;
     }
     roz_loopback_frame_t *fr = &lb->flight[t % DEPTH];
@@ -274,14 +167,14 @@ static void peer_tick(roz_loopback_t *lb, uint64_t t)
     lb->frames_sent++;
 
     /* the transport */
-    const roz_loopback_fault_t *delay = active(lb, ROZ_LOOPBACK_DELAY, t);
+    const roz_loopback_fault_t *delay = active(lb, ROZ_INJECT_DELAY, t);
     fr->sent = t;
     fr->arrives = t + (delay != NULL ? delay->arg : 0u);
-    if (active(lb, ROZ_LOOPBACK_DROP, t) != NULL) {
+    if (active(lb, ROZ_INJECT_DROP, t) != NULL) {
         fr->arrives = NEVER;
         lb->frames_dropped++;
     }
-    if (active(lb, ROZ_LOOPBACK_CORRUPT, t) != NULL) {
+    if (active(lb, ROZ_INJECT_CORRUPT, t) != NULL) {
         flip_bit(fr->image, frame_words(m->n_states), t);
         lb->frames_corrupted++;
     }
@@ -326,14 +219,8 @@ static roz_link_verdict_t port_receive(roz_loopback_t *lb, const uint32_t *image
 static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, char *err,
                    size_t errlen)
 {
-    static const struct { const char *key; roz_loopback_fault_kind_t kind; } fault_keys[] = {
-        { "drop", ROZ_LOOPBACK_DROP },     { "freeze", ROZ_LOOPBACK_FREEZE },
-        { "delay", ROZ_LOOPBACK_DELAY },   { "nan", ROZ_LOOPBACK_NAN },
-        { "range", ROZ_LOOPBACK_RANGE },   { "duplicate", ROZ_LOOPBACK_DUPLICATE },
-        { "corrupt", ROZ_LOOPBACK_CORRUPT }, { "corrupt_cmd", ROZ_LOOPBACK_CORRUPT_CMD },
-        { "restart", ROZ_LOOPBACK_RESTART },
-    };
-    enum { N_KEYS = sizeof fault_keys / sizeof fault_keys[0] };
+    /* its parameters: the fault injections ROZ_INJECT_DROP .. _RESTART */
+    enum { N_KEYS = ROZ_INJECT_RESTART - ROZ_INJECT_DROP + 1 };
     const char *known[N_KEYS + 1];
     roz_loopback_t *lb = self;
     int rc;
@@ -353,19 +240,17 @@ static int lb_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     roz_lbsim_open(lb);
 
     for (size_t k = 0; k < N_KEYS; k++)
-        known[k] = fault_keys[k].key;
+        known[k] = roz_inject_key((roz_inject_kind_t)(ROZ_INJECT_DROP + (int)k));
     known[N_KEYS] = NULL;
     rc = roz_params_check_known(p, known, "loopback", err, errlen);
     if (rc != ROZ_OK)
         return rc;
     for (size_t i = 0; p != NULL && i < p->n; i++) {
-        for (size_t k = 0; k < N_KEYS; k++) {
-            if (strcmp(p->items[i].key, fault_keys[k].key) == 0) {
-                rc = parse_fault_param(lb, p->items[i].key, p->items[i].value,
-                                       fault_keys[k].kind, err, errlen);
-                if (rc != ROZ_OK)
-                    return rc;
-            }
+        roz_inject_kind_t kind = roz_inject_find(p->items[i].key);
+        if (kind >= ROZ_INJECT_DROP && kind <= ROZ_INJECT_RESTART) {
+            rc = roz_inject_parse(kind, p->items[i].value, inject_entry, lb, err, errlen);
+            if (rc != ROZ_OK)
+                return rc;
         }
     }
     return ROZ_OK;
@@ -382,7 +267,7 @@ static int lb_read(void *self, double *state, size_t n)
     uint64_t now_ns = t * lb->period_ns;
     peer_tick(lb, t);
 
-    if (active(lb, ROZ_LOOPBACK_DUPLICATE, t) != NULL && lb->link.alive) {
+    if (active(lb, ROZ_INJECT_DUPLICATE, t) != NULL && lb->link.alive) {
         /* the last frame again, in place of whatever arrives now */
         for (size_t k = 0; k < DEPTH; k++) {
             if (lb->flight[k].arrives == t)
@@ -431,7 +316,7 @@ static int lb_write(void *self, const double *cmd, size_t n)
         return ROZ_OK;
     }
     encode(lb->cmd_image, lb->cmd_seq++, cmd, n);
-    if (active(lb, ROZ_LOOPBACK_CORRUPT_CMD, t) != NULL) {
+    if (active(lb, ROZ_INJECT_CORRUPT_CMD, t) != NULL) {
         flip_bit(lb->cmd_image, frame_words(n), t);
         lb->cmds_corrupted++;
     }
@@ -499,14 +384,14 @@ int roz_loopback_inject(roz_loopback_t *lb, const roz_loopback_fault_t *f)
     }
     if (lb->n_faults >= ROZ_LOOPBACK_MAX_FAULTS)
         return ROZ_ENOSPC;
-    if (f->kind < ROZ_LOOPBACK_DROP || f->kind > ROZ_LOOPBACK_RESTART)
+    if (f->kind < ROZ_INJECT_DROP || f->kind > ROZ_INJECT_RESTART)
         return ROZ_EINVAL;
-    if ((f->kind == ROZ_LOOPBACK_NAN || f->kind == ROZ_LOOPBACK_RANGE) &&
+    if ((f->kind == ROZ_INJECT_NAN || f->kind == ROZ_INJECT_RANGE) &&
         (f->channel < 0 || f->channel >= (int32_t)lb->m->n_states))
         return ROZ_EINVAL;
-    if (f->kind == ROZ_LOOPBACK_RANGE && lb->m->states[f->channel].type != ROZ_IF_POSITION)
+    if (f->kind == ROZ_INJECT_RANGE && lb->m->states[f->channel].type != ROZ_IF_POSITION)
         return ROZ_EINVAL;
-    if (f->kind == ROZ_LOOPBACK_DELAY && (f->arg < 1 || f->arg > ROZ_LOOPBACK_MAX_DELAY))
+    if (f->kind == ROZ_INJECT_DELAY && (f->arg < 1 || f->arg > ROZ_LOOPBACK_MAX_DELAY))
         return ROZ_EINVAL;
     lb->faults[lb->n_faults++] = *f;
     return ROZ_OK;

@@ -368,117 +368,70 @@ static int detect_mobile(roz_mujoco_t *s)
     return ok ? MOBILE_AUTOPILOT : MOBILE_NONE;
 }
 
-/* "A:B" ticks, B may be empty (forever) or absent when @p open_end. */
-static int parse_range(const char *v, uint64_t *from, uint64_t *to)
+/* One entry of a fault parameter (roz_inject_parse()'s callback): the
+ * grammar is the simulators' (roz/hal/inject.h); push's FX,FY,FZ@BODY is
+ * read here. */
+static int inject_entry(void *ctx, const roz_inject_entry_t *e, char *why, size_t whylen)
 {
-    char *end;
-    *from = strtoull(v, &end, 10);
-    if (end == v)
-        return ROZ_EINVAL;
-    if (*end == '\0') {
-        *to = 0;
-        return ROZ_OK;
-    }
-    if (*end != ':')
-        return ROZ_EINVAL;
-    const char *t = end + 1;
-    while (*t == ' ')
-        t++;
-    if (*t == '\0' || *t == ';') {
-        *to = 0;
-        return ROZ_OK;
-    }
-    *to = strtoull(t, &end, 10);
-    if (end == t || (*end != '\0' && *end != ';' && *end != ' '))
-        return ROZ_EINVAL;
-    return *to != 0 && *to <= *from ? ROZ_EINVAL : ROZ_OK;
-}
-
-/* One fault entry (a ';'-separated part of the key's value). */
-static int parse_fault(roz_mujoco_t *s, roz_mujoco_fault_kind_t kind, const char *v,
-                       roz_mujoco_fault_t *f)
-{
-    memset(f, 0, sizeof *f);
-    f->kind = kind;
-    f->body = -1;
-    const char *range = v;
-    if (kind == ROZ_MUJOCO_DELAY) {
+    roz_mujoco_t *s = ctx;
+    roz_mujoco_fault_t f;
+    memset(&f, 0, sizeof f);
+    f.kind = e->kind;
+    f.from = e->from;
+    f.to = e->to;
+    f.arg = e->arg;
+    f.body = -1;
+    if (e->kind == ROZ_INJECT_PUSH) {
         char *end;
-        unsigned long k = strtoul(v, &end, 10);
-        if (end == v || *end != '@' || k < 1 || k > ROZ_MUJOCO_MAX_DELAY)
-            return ROZ_EINVAL;
-        f->arg = (uint32_t)k;
-        range = end + 1;
-    } else if (kind == ROZ_MUJOCO_PUSH) {
-        char *end;
-        const char *p = v;
+        const char *p = e->head;
         for (int k = 0; k < 3; k++) {
-            f->force[k] = strtod(p, &end);
-            if (end == p || !isfinite(f->force[k]) || *end != (k < 2 ? ',' : '@'))
-                return ROZ_EINVAL;
+            f.force[k] = strtod(p, &end);
+            if (end == p || !isfinite(f.force[k]) || *end != (k < 2 ? ',' : '@')) {
+                roz_format(why, whylen, "FX,FY,FZ are not three finite numbers");
+                return ROZ_INJECT_SYNTAX;
+            }
             p = end + 1;
         }
-        const char *at = strchr(p, '@');
-        if (at == NULL || at == p || (size_t)(at - p) >= ROZ_MUJOCO_NAME_MAX)
-            return ROZ_EINVAL;
-        char body[ROZ_MUJOCO_NAME_MAX];
-        memcpy(body, p, (size_t)(at - p));
-        body[at - p] = '\0';
-        f->body = mj_name2id(s->model, mjOBJ_BODY, body);
-        if (f->body <= 0)
-            return ROZ_ENOENT;
-        range = at + 1;
+        if (*p == '\0' || strlen(p) >= ROZ_MUJOCO_NAME_MAX) {
+            roz_format(why, whylen, "no BODY, or one longer than %d characters",
+                       ROZ_MUJOCO_NAME_MAX - 1);
+            return ROZ_INJECT_SYNTAX;
+        }
+        f.body = mj_name2id(s->model, mjOBJ_BODY, p);
+        if (f.body <= 0) {
+            roz_format(why, whylen, "no body \"%s\" in %s (the world cannot be pushed)", p,
+                       s->model_path);
+            return ROZ_INJECT_BAD;
+        }
     }
-    return parse_range(range, &f->from, &f->to);
+    if (e->kind == ROZ_INJECT_GANTRY && s->gantry_eq < 0) {
+        roz_format(why, whylen, "%s has no floating base to hang", s->model_path);
+        return ROZ_INJECT_BAD;
+    }
+    if (roz_mujoco_inject(s, &f) != ROZ_OK) {
+        roz_format(why, whylen, "more than %d fault injections", ROZ_MUJOCO_MAX_FAULTS);
+        return ROZ_INJECT_BAD;
+    }
+    return ROZ_OK;
 }
+
+/* The fault injections this port takes, each key's value (the last one
+ * given: the caller's over robot.toml's) one entry or a ';' list. */
+#define MJ_INJECTIONS                                                                        \
+    ((1u << ROZ_INJECT_DROP) | (1u << ROZ_INJECT_FREEZE) | (1u << ROZ_INJECT_DELAY) |       \
+     (1u << ROZ_INJECT_PUSH) | (1u << ROZ_INJECT_GANTRY) | (1u << ROZ_INJECT_RESTART))
 
 static int parse_faults(roz_mujoco_t *s, const roz_params_t *p, char *err, size_t errlen)
 {
-    static const struct {
-        const char *key;
-        roz_mujoco_fault_kind_t kind;
-        const char *form;
-    } keys[] = {
-        { "drop", ROZ_MUJOCO_DROP, "FROM:TO" },
-        { "freeze", ROZ_MUJOCO_FREEZE, "FROM[:TO]" },
-        { "delay", ROZ_MUJOCO_DELAY, "K@FROM:TO, K in 1..15" },
-        { "push", ROZ_MUJOCO_PUSH, "FX,FY,FZ@BODY@FROM:TO (N, world frame)" },
-        { "gantry", ROZ_MUJOCO_GANTRY, "FROM[:TO]" },
-        { "restart", ROZ_MUJOCO_RESTART, "FROM:TO" },
-    };
-    for (size_t k = 0; k < sizeof keys / sizeof keys[0]; k++) {
-        const char *v = roz_params_find(p, keys[k].key);
-        for (const char *e = v; e != NULL && *e != '\0';) {
-            while (*e == ' ' || *e == ';')
-                e++;
-            if (*e == '\0')
-                break;
-            roz_mujoco_fault_t f;
-            int rc = parse_fault(s, keys[k].kind, e, &f);
-            if (rc == ROZ_OK && keys[k].kind == ROZ_MUJOCO_RESTART && f.to == 0)
-                rc = ROZ_EINVAL;
-            if (rc == ROZ_OK && keys[k].kind == ROZ_MUJOCO_GANTRY && s->gantry_eq < 0) {
-                roz_format(err, errlen, PORT ": %s: hardware.params.gantry = \"%s\": %s has no "
-                           "floating base to hang", origin(s), v, s->model_path);
-                return ROZ_EINVAL;
-            }
-            if (rc == ROZ_ENOENT) {
-                roz_format(err, errlen, PORT ": %s: hardware.params.push = \"%s\": no body of "
-                           "that name in %s (the world cannot be pushed)", origin(s), v,
-                           s->model_path);
-                return ROZ_EINVAL;
-            }
-            if (rc != ROZ_OK) {
-                roz_format(err, errlen, PORT ": %s: hardware.params.%s = \"%s\": expected %s, "
-                           "';' between entries", origin(s), keys[k].key, v, keys[k].form);
-                return ROZ_EINVAL;
-            }
-            if (roz_mujoco_inject(s, &f) != ROZ_OK) {
-                roz_format(err, errlen, PORT ": %s: hardware.params.%s: more than %d fault "
-                           "injections", origin(s), keys[k].key, ROZ_MUJOCO_MAX_FAULTS);
-                return ROZ_EINVAL;
-            }
-            e = strchr(e, ';');
+    static const roz_inject_kind_t kinds[] = { ROZ_INJECT_DROP, ROZ_INJECT_FREEZE,
+                                               ROZ_INJECT_DELAY, ROZ_INJECT_PUSH,
+                                               ROZ_INJECT_GANTRY, ROZ_INJECT_RESTART };
+    char why[ROZ_CFG_ERROR_LEN];
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        const char *v = roz_params_find(p, roz_inject_key(kinds[k]));
+        if (v != NULL && roz_inject_parse(kinds[k], v, inject_entry, s, why, sizeof why) != ROZ_OK) {
+            roz_format(err, errlen, PORT ": %s: %s", origin(s), why);
+            return ROZ_EINVAL;
         }
     }
     return ROZ_OK;
@@ -1612,12 +1565,12 @@ static void advance(roz_mujoco_t *s, uint64_t t)
     mju_zero(d->xfrc_applied, 6 * mm->nbody);
     for (uint32_t i = 0; i < s->n_faults; i++) {
         const roz_mujoco_fault_t *f = &s->faults[i];
-        if (f->kind == ROZ_MUJOCO_PUSH && active(f, t)) {
+        if (f->kind == ROZ_INJECT_PUSH && active(f, t)) {
             for (int k = 0; k < 3; k++)
                 d->xfrc_applied[6 * f->body + k] += f->force[k];
         }
-        gantry |= f->kind == ROZ_MUJOCO_GANTRY && active(f, t);
-        if (f->kind == ROZ_MUJOCO_RESTART) {
+        gantry |= f->kind == ROZ_INJECT_GANTRY && active(f, t);
+        if (f->kind == ROZ_INJECT_RESTART) {
             if (t == f->from) {
                 s->dead = 1;
                 s->have_cmd = 0; /* a board that boots knows no command */
@@ -1809,9 +1762,9 @@ static int mj_read(void *self, double *state, size_t n)
         const roz_mujoco_fault_t *f = &s->faults[i];
         if (!active(f, t))
             continue;
-        if (f->kind == ROZ_MUJOCO_DROP || f->kind == ROZ_MUJOCO_FREEZE)
+        if (f->kind == ROZ_INJECT_DROP || f->kind == ROZ_INJECT_FREEZE)
             lost = 1;
-        if (f->kind == ROZ_MUJOCO_DELAY && delay + f->arg > delay)
+        if (f->kind == ROZ_INJECT_DELAY && delay + f->arg > delay)
             delay += f->arg;
     }
     if (delay > ROZ_MUJOCO_MAX_DELAY)
@@ -1986,6 +1939,12 @@ static void mj_set_origin(void *self, const char *robot_toml)
     roz_mujoco_set_robot_file(self, robot_toml);
 }
 
+/* The simulator extension of the port contract (roz/port.h). */
+static const roz_port_sim_t mj_sim = {
+    .set_origin = mj_set_origin,
+    .truth = mj_truth,
+    .truth_body = mj_truth_body,
+};
 
 const roz_port_ops_t roz_mujoco_ops = {
     .name = PORT,
@@ -1998,11 +1957,9 @@ const roz_port_ops_t roz_mujoco_ops = {
     .fault = mj_fault,
     .caps = ROZ_PORT_CAP_SIMULATOR,
     .info = &roz__mj_info,
+    .sim = &mj_sim,
     .link_counters = mj_link_counters,
     .report = mj_report,
-    .set_origin = mj_set_origin,
-    .truth = mj_truth,
-    .truth_body = mj_truth_body,
 };
 
 roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
@@ -2036,14 +1993,15 @@ void roz_mujoco_counters(const roz_mujoco_t *self, roz_mujoco_counters_t *out)
 
 int roz_mujoco_inject(roz_mujoco_t *s, const roz_mujoco_fault_t *f)
 {
-    if (f->kind < ROZ_MUJOCO_DROP || f->kind > ROZ_MUJOCO_RESTART)
+    if (f->kind < ROZ_INJECT_DROP || f->kind >= ROZ_INJECT_KIND_END ||
+        (MJ_INJECTIONS & (1u << f->kind)) == 0u)
         return ROZ_EINVAL;
-    if (f->kind == ROZ_MUJOCO_DELAY && (f->arg < 1 || f->arg > ROZ_MUJOCO_MAX_DELAY))
+    if (f->kind == ROZ_INJECT_DELAY && (f->arg < 1 || f->arg > ROZ_MUJOCO_MAX_DELAY))
         return ROZ_EINVAL;
-    if (f->kind == ROZ_MUJOCO_PUSH &&
+    if (f->kind == ROZ_INJECT_PUSH &&
         (s->model == NULL || f->body <= 0 || f->body >= s->model->nbody))
         return ROZ_EINVAL;
-    if (f->kind == ROZ_MUJOCO_GANTRY && s->gantry_eq < 0)
+    if (f->kind == ROZ_INJECT_GANTRY && s->gantry_eq < 0)
         return ROZ_EINVAL;
     if (s->n_faults == ROZ_MUJOCO_MAX_FAULTS) {
         uint32_t w = 0; /* forget the injections that are over */

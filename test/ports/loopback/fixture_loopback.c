@@ -22,7 +22,7 @@ static int lb_fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_p
 }
 
 /* A fault over the next read only (spent injections make room). */
-static void one_tick(roz_loopback_fault_kind_t kind)
+static void one_tick(roz_inject_kind_t kind)
 {
     uint64_t t = roz_loopback_counters(&lb).tick;
     roz_loopback_fault_t f = { kind, t, t + 1, -1, 0 };
@@ -42,18 +42,18 @@ static void lb_fx_peer(roz_peer_frame_t what)
     case ROZ_PEER_SEND:
         break;
     case ROZ_PEER_SILENT:
-        one_tick(ROZ_LOOPBACK_FREEZE);
+        one_tick(ROZ_INJECT_FREEZE);
         break;
     case ROZ_PEER_CORRUPT:
-        one_tick(ROZ_LOOPBACK_CORRUPT);
+        one_tick(ROZ_INJECT_CORRUPT);
         break;
     case ROZ_PEER_REPLAY:
-        one_tick(ROZ_LOOPBACK_DUPLICATE);
+        one_tick(ROZ_INJECT_DUPLICATE);
         break;
     case ROZ_PEER_RESTART:
         /* the robot is down for one tick, which a read of ours spends, then
          * boots: the next read brings its first frame */
-        one_tick(ROZ_LOOPBACK_RESTART);
+        one_tick(ROZ_INJECT_RESTART);
         spend_reads(1);
         break;
     case ROZ_PEER_VANISH: {
@@ -61,7 +61,7 @@ static void lb_fx_peer(roz_peer_frame_t what)
         uint64_t period_ns = 1000000000u / the_m->control_rate_hz; /* the port's */
         uint64_t n = ROZ_LOOPBACK_PEER_TIMEOUT_NS / period_ns + 1;
         uint64_t t = roz_loopback_counters(&lb).tick;
-        roz_loopback_fault_t f = { ROZ_LOOPBACK_FREEZE, t, t + n, -1, 0 };
+        roz_loopback_fault_t f = { ROZ_INJECT_FREEZE, t, t + n, -1, 0 };
         (void)roz_loopback_inject(&lb, &f);
         spend_reads(n);
         break;
@@ -88,7 +88,7 @@ static void lb_fx_corrupt_next_command(void)
 {
     /* write() follows the read of this tick */
     uint64_t t = roz_loopback_counters(&lb).tick;
-    roz_loopback_fault_t f = { ROZ_LOOPBACK_CORRUPT_CMD, t > 0 ? t - 1 : 0, t, -1, 0 };
+    roz_loopback_fault_t f = { ROZ_INJECT_CORRUPT_CMD, t > 0 ? t - 1 : 0, t, -1, 0 };
     (void)roz_loopback_inject(&lb, &f);
 }
 

@@ -28,7 +28,7 @@ static void mj_fx_peer(roz_peer_frame_t what)
     if (what == ROZ_PEER_SILENT) {
         roz_mujoco_fault_t f;
         memset(&f, 0, sizeof f);
-        f.kind = ROZ_MUJOCO_FREEZE;
+        f.kind = ROZ_INJECT_FREEZE;
         f.from = mj.tick;
         f.to = mj.tick + 1;
         (void)roz_mujoco_inject(&mj, &f);

@@ -104,6 +104,11 @@ static void test_mujoco_refusals(void **state)
     expect_refused(m, f, "push", "no body", 1, "push=1,0,0@nobody@0:10");
     expect_refused(m, f, "gantry", "no floating base", 1, "gantry=0");
     expect_refused(m, f, "delay", "K@FROM:TO", 1, "delay=99@0:10");
+    /* the simulators' one grammar (roz/hal/inject.h): a written TO of 0 is
+     * no "forever" (this port used to take 5:0 and 0:0 as that) */
+    expect_refused(m, f, "parameter drop = \"5:0\"", "FROM 5 after TO 0", 1, "drop=5:0");
+    expect_refused(m, f, "parameter drop = \"1:2;0:0\"", "FROM 0 equals TO", 1, "drop=1:2;0:0");
+    expect_refused(m, f, "parameter restart = \"5\"", "no TO", 1, "restart=5");
 }
 
 /* The model's includes within rozgen's limits, checked before MuJoCo reads

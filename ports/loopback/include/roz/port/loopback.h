@@ -17,6 +17,7 @@
 
 #include <stdint.h>
 
+#include "roz/hal/inject.h"
 #include "roz/hal/link.h"
 #include "roz/log.h"
 #include "roz/port.h"
@@ -30,7 +31,7 @@ extern "C" {
 /** Time constant of position-commanded joints, seconds. */
 #define ROZ_LOOPBACK_TAU_S 0.05
 /** Most ticks a delay fault can hold frames back. */
-#define ROZ_LOOPBACK_MAX_DELAY 15
+#define ROZ_LOOPBACK_MAX_DELAY ROZ_INJECT_MAX_DELAY
 /** Fault injections active at once. */
 #define ROZ_LOOPBACK_MAX_FAULTS 8
 /** Silence after which the port counts its peer as lost (roz/hal/link.h). */
@@ -40,21 +41,16 @@ extern "C" {
 /** Words of a command frame image. */
 #define ROZ_LOOPBACK_CMD_WORDS (3 + 2 * ROZ_CFG_MAX_COMMANDS)
 
-typedef enum roz_loopback_fault_kind {
-    ROZ_LOOPBACK_DROP = 1,   /**< frames sent in [from, to) are lost */
-    ROZ_LOOPBACK_DELAY,      /**< frames sent in [from, to) arrive `arg` ticks late */
-    ROZ_LOOPBACK_FREEZE,     /**< the peer sends nothing in [from, to) */
-    ROZ_LOOPBACK_NAN,        /**< state `channel` reads NaN in [from, to) */
-    ROZ_LOOPBACK_RANGE,      /**< position state `channel` reads max + 0.5 in [from, to) */
-    ROZ_LOOPBACK_DUPLICATE,  /**< the last delivered frame again, in place of the new one */
-    ROZ_LOOPBACK_CORRUPT,    /**< a bit of each state frame flips in transit */
-    ROZ_LOOPBACK_CORRUPT_CMD,/**< a bit of each command frame flips in transit */
-    ROZ_LOOPBACK_RESTART,    /**< the peer is dead in [from, to) and boots again at `to` */
-} roz_loopback_fault_kind_t;
-
-/** One injected fault; `to` = 0 means forever. */
+/** One injected fault; `to` = 0 means forever. Its kind (roz/hal/inject.h)
+ *  is one of ROZ_INJECT_DROP (frames sent in [from, to) are lost), _DELAY
+ *  (they arrive `arg` ticks late), _FREEZE (the peer sends nothing), _NAN
+ *  (state `channel` reads NaN), _RANGE (position state `channel` reads
+ *  max + 0.5), _DUPLICATE (the last delivered frame again, in place of the
+ *  new one), _CORRUPT (a bit of each state frame flips in transit),
+ *  _CORRUPT_CMD (a bit of each command frame flips in transit), _RESTART
+ *  (the peer is dead in [from, to) and boots again at `to`). */
 typedef struct roz_loopback_fault {
-    roz_loopback_fault_kind_t kind;
+    roz_inject_kind_t kind;
     uint64_t from, to;
     int32_t  channel; /**< NAN, RANGE: state index */
     uint32_t arg;     /**< DELAY: ticks, 1..ROZ_LOOPBACK_MAX_DELAY */

@@ -21,6 +21,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "roz/hal/inject.h"
 #include "roz/hal/joints.h"
 #include "roz/hal/params.h"
 #include "roz/log.h"
@@ -39,7 +40,7 @@ struct mjData_;
 /** Most joints one robot binds. */
 #define ROZ_MUJOCO_MAX_JOINTS (ROZ_CFG_MAX_JOINTS > 0 ? ROZ_CFG_MAX_JOINTS : 1)
 /** Most ticks of sensor latency (`latency_ticks`, the `delay` fault). */
-#define ROZ_MUJOCO_MAX_DELAY 15
+#define ROZ_MUJOCO_MAX_DELAY ROZ_INJECT_MAX_DELAY
 /** Fault injections and pushes at once. */
 #define ROZ_MUJOCO_MAX_FAULTS 8
 /** Longest model path, bytes. */
@@ -49,19 +50,15 @@ struct mjData_;
 /** Bodies touching the ground the report names. */
 #define ROZ_MUJOCO_MAX_CONTACT_BODIES 4
 
-/** What a fault injection does, each over ticks [from, to). */
-typedef enum roz_mujoco_fault_kind {
-    ROZ_MUJOCO_DROP = 1, /**< state frames are lost: read() gives nothing fresh */
-    ROZ_MUJOCO_FREEZE,   /**< the robot sends nothing (read() as for drop) */
-    ROZ_MUJOCO_DELAY,    /**< state frames arrive `arg` ticks late */
-    ROZ_MUJOCO_PUSH,     /**< force `force` (N, world frame) on body `body` at its centre of mass */
-    ROZ_MUJOCO_GANTRY,   /**< the floating base hung where it is (a weld to the world) */
-    ROZ_MUJOCO_RESTART,  /**< the robot's board is dead (motors limp, no state) and boots at `to` */
-} roz_mujoco_fault_kind_t;
-
-/** One injected fault; `to` = 0: forever. */
+/** One injected fault; `to` = 0: forever. Its kind (roz/hal/inject.h), each
+ *  over ticks [from, to), is one of ROZ_INJECT_DROP (state frames are lost:
+ *  read() gives nothing fresh), _FREEZE (the robot sends nothing: read() as
+ *  for drop), _DELAY (state frames arrive `arg` ticks late), _PUSH (force
+ *  `force`, N, world frame, on body `body` at its centre of mass), _GANTRY
+ *  (the floating base hung where it is, a weld to the world), _RESTART (the
+ *  robot's board is dead, motors limp, no state, and boots at `to`). */
 typedef struct roz_mujoco_fault {
-    roz_mujoco_fault_kind_t kind;
+    roz_inject_kind_t kind;
     uint64_t from, to;
     uint32_t arg;      /**< DELAY: ticks, 1..ROZ_MUJOCO_MAX_DELAY */
     int32_t  body;     /**< PUSH: MuJoCo body id */

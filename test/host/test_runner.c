@@ -14,7 +14,7 @@
 
 #include <cmocka.h>
 
-#include "roz/hal/runner.h"
+#include "roz/runner.h"
 #include "roz/hal/thread.h"
 #include "support_blocking_log.h"
 

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 #define _GNU_SOURCE
-#include "roz/hal/runner.h"
+#include "roz/runner.h"
 
 #include <errno.h>
 #include <pthread.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
- * @file roz/hal/runner.h
+ * @file roz/runner.h
  * @brief Periodic thread for hosts: calls a tick function at absolute
  *        deadlines (clock_nanosleep on CLOCK_MONOTONIC, TIMER_ABSTIME), so
  *        the period does not drift with the tick's own duration.
@@ -13,8 +13,8 @@
  * log: its jitter warnings wait in @c monitor for roz_monitor_drain() (or
  * roz_runtime_watch_monitor()).
  */
-#ifndef ROZ_HAL_RUNNER_H
-#define ROZ_HAL_RUNNER_H
+#ifndef ROZ_RUNNER_H
+#define ROZ_RUNNER_H
 
 #include "roz/config.h"
 
@@ -88,4 +88,4 @@ void roz_runner_join(roz_runner_t *r);
 }
 #endif
 
-#endif /* ROZ_HAL_RUNNER_H */
+#endif /* ROZ_RUNNER_H */

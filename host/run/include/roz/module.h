@@ -1,12 +1,12 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /**
- * @file roz/hal/module.h
+ * @file roz/module.h
  * @brief Reading a controller module from a file, for hosts: `.wasm` as is,
  *        `.wat` (WebAssembly text) assembled with wabt's wat2wasm, which must
  *        be on PATH.
  */
-#ifndef ROZ_HAL_MODULE_H
-#define ROZ_HAL_MODULE_H
+#ifndef ROZ_MODULE_H
+#define ROZ_MODULE_H
 
 #include "roz/config.h"
 
@@ -36,4 +36,4 @@ int roz_module_read_file(const char *path, uint8_t *buf, size_t cap, size_t *len
 }
 #endif
 
-#endif /* ROZ_HAL_MODULE_H */
+#endif /* ROZ_MODULE_H */
