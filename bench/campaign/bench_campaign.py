@@ -156,7 +156,9 @@ def main():
         fig("scaling against the machine's ceiling", scaling / ceiling, "x ceiling")
         # of the gap to linear, the part the machine's own ceiling does not explain
         fig("the engine's share of the gap to linear",
-            100.0 * max(0.0, ceiling - scaling) / max(1e-9, 1.0 - scaling), "%")
+            # (a ceiling measured above linear is noise: linear is the most)
+            100.0 * min(1.0, max(0.0, min(1.0, ceiling) - scaling) / max(1e-9, 1.0 - scaling)),
+            "%")
         ray_rate = None
         if a.ray:
             ray_rate = bench_ray(path, work, rozrun, sim)
