@@ -28,6 +28,7 @@
 
 #include "roz/abi.h"
 #include "roz/filter.h"
+#include "roz_math.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
@@ -171,11 +172,13 @@ static int nn_overlap(uint32_t a, uint64_t an, uint32_t b, uint64_t bn)
     return an && bn && (uint64_t)a < b + bn && (uint64_t)b < a + an;
 }
 
+/* a float of the memory before the call as the nn imports read it: zero
+ * of its sign below 2^-51 (roz_math_nn_inputf(), the rule roz/abi.h states) */
 static float ldf(uint32_t at)
 {
     float f;
     memcpy(&f, mem_before + at, 4);
-    return f;
+    return roz_math_nn_inputf(f);
 }
 
 static void check_matvec(uint32_t w, uint32_t x, uint32_t b, uint32_t y, int32_t rows,
