@@ -19,6 +19,10 @@
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
+#include "support_thin.h"
+
+/* ticks a run: under an emulator a tenth (support_thin.h) */
+#define TICKS (100000 / ROZ_TEST_THIN(10))
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
@@ -85,19 +89,19 @@ static void run(const roz_manifest_t *m, const char *controller, int ticks)
 static void test_alloc_g1_pd_recorded(void **st)
 {
     (void)st;
-    run_rec(&roz_manifest_unitree_g1, "g1_pd", 100000, 1);
+    run_rec(&roz_manifest_unitree_g1, "g1_pd", TICKS, 1);
 }
 
 static void test_alloc_g1_pd(void **st)
 {
     (void)st;
-    run(&roz_manifest_unitree_g1, "g1_pd", 100000);
+    run(&roz_manifest_unitree_g1, "g1_pd", TICKS);
 }
 
 static void test_alloc_ur5_sine(void **st)
 {
     (void)st;
-    run(&roz_manifest_ur5, "sine", 100000);
+    run(&roz_manifest_ur5, "sine", TICKS);
 }
 
 /* The deploy sequence through every stage (zero, the move, the hold, the

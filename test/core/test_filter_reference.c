@@ -28,6 +28,7 @@
 #include "roz/filter.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
+#include "support_thin.h"
 
 /* ---- the reference ---------------------------------------------------------- */
 
@@ -508,14 +509,18 @@ static void mode_end(uint64_t min_vector_ticks)
 #endif
 }
 
+/* ticks a run and what the runs must have seen: under an emulator a
+ * THIN-th of each (support_thin.h) */
+#define THIN ROZ_TEST_THIN(4)
+
 static void test_reference_mixed(void **st)
 {
     uint64_t changed = 0;
     mode_begin(st);
     for (uint64_t seed = 1; seed <= 20; seed++)
-        changed += run(&mixed, seed * 0x9e3779b97f4a7c15ull, 20000);
-    assert_true(changed > 10000); /* the rules were at work, not idle */
-    mode_end(1000);
+        changed += run(&mixed, seed * 0x9e3779b97f4a7c15ull, 20000 / THIN);
+    assert_true(changed > 10000 / THIN); /* the rules were at work, not idle */
+    mode_end(1000 / THIN);
 }
 
 static void test_reference_ur5(void **st)
@@ -523,9 +528,9 @@ static void test_reference_ur5(void **st)
     uint64_t changed = 0;
     mode_begin(st);
     for (uint64_t seed = 1; seed <= 5; seed++)
-        changed += run(&roz_manifest_ur5, seed * 0xd1b54a32d192ed03ull, 20000);
-    assert_true(changed > 10000);
-    mode_end(1000);
+        changed += run(&roz_manifest_ur5, seed * 0xd1b54a32d192ed03ull, 20000 / THIN);
+    assert_true(changed > 10000 / THIN);
+    mode_end(1000 / THIN);
 }
 
 static void test_reference_g1(void **st)
@@ -533,13 +538,13 @@ static void test_reference_g1(void **st)
     uint64_t changed = 0;
     mode_begin(st);
     for (uint64_t seed = 1; seed <= 3; seed++)
-        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000);
+        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000 / THIN);
     calm = 1;
     for (uint64_t seed = 4; seed <= 6; seed++)
-        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000);
+        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000 / THIN);
     calm = 0;
-    assert_true(changed > 10000);
-    mode_end(500);
+    assert_true(changed > 10000 / THIN);
+    mode_end(500 / THIN);
 }
 
 int main(void)

@@ -24,6 +24,7 @@
 #include "roz/filter.h"
 #include "roz/hal/joints.h"
 #include "roz/hold.h"
+#include "support_thin.h"
 
 /* ---- random ---------------------------------------------------------------- */
 
@@ -229,7 +230,7 @@ static void test_hold_property(void **unused)
         if (!any)
             continue;
         with_hold++;
-        for (int n = 0; n < 80; n++)
+        for (int n = 0; n < 80 / ROZ_TEST_THIN(4); n++) /* fewer under an emulator */
             one_case(m, n % 4);
     }
     assert_true(with_hold >= 3); /* the G1, the PM01, the X2 */

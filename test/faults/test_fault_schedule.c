@@ -29,12 +29,14 @@
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support_stats.h"
+#include "support_thin.h"
 #include "support.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
-enum { TICKS = 4000, RUNS = 40, CLEAR_EVERY = 400 };
+/* RUNS seeds in a row; under an emulator fewer (support_thin.h) */
+enum { TICKS = 4000, RUNS = 40 / ROZ_TEST_THIN(5), CLEAR_EVERY = 400 };
 
 /* what the runs went through, summed */
 static struct {
