@@ -238,7 +238,7 @@ firmware-options: setup
 # test/aarch64 builds, only its roz_fw_host here) and the Cortex-M4F, M7 and
 # M33 images, each under QEMU with its executed blocks counted per part
 # (controller, filter, runtime, port); JSON lines into BENCH_OUT/targets.jsonl,
-# which bench/report.py renders. Some 10 min; `make bench` runs it.
+# which bench/report.py renders. Some 15 min; `make bench` runs it.
 TARGET_TREES = m4f m7 m33 m7p m4fp m33p
 AARCH64_TREE = $(BUILD)/test/aarch64/tree
 bench-targets: setup build $(foreach t,$(TARGET_TREES),$(BUILD)-fw-$(t)/build.ninja)
