@@ -216,25 +216,18 @@ def inlined_addresses(elf, func, host, prefix=""):
     return found
 
 
-def count(cmd, track, tick, skip, nticks, inlined=None):
-    """Runs cmd (QEMU and its program) with the logging on; returns the
-    Counter and the program's output. inlined: (host, addresses) when the
-    tick function is inlined in host (inlined_addresses())."""
-    c = Counter(track, tick, inlined)
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            errors="replace", bufsize=1 << 20, start_new_session=True)
+def feed(c, lines, want):
+    """Reads QEMU's log lines into the Counter c; True when want ticks were
+    counted before the log ended (the reader stops there)."""
     insns = None
     pc = None
-    want = skip + nticks
-    stopped = False
-    for line in proc.stderr:
+    for line in lines:
         if line.startswith("Trace"):
             m = TRACE.match(line)
             if m:
                 c.executed(int(m.group(1), 16), int(m.group(2), 16), m.group(3).strip())
                 if len(c.ticks) >= want:
-                    stopped = True
-                    break
+                    return True
             continue
         if line.startswith("cpu_io_recompile: rewound execution of TB to "):
             c.rewound(int(line.rsplit(" ", 1)[1], 16))
@@ -254,6 +247,17 @@ def count(cmd, track, tick, skip, nticks, inlined=None):
                 if pc is None:
                     pc = ins[0]
                 insns.append(ins)
+    return False
+
+
+def count(cmd, track, tick, skip, nticks, inlined=None):
+    """Runs cmd (QEMU and its program) with the logging on; returns the
+    Counter and the program's output. inlined: (host, addresses) when the
+    tick function is inlined in host (inlined_addresses())."""
+    c = Counter(track, tick, inlined)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            errors="replace", bufsize=1 << 20, start_new_session=True)
+    stopped = feed(c, proc.stderr, skip + nticks)
     if stopped:
         os.killpg(proc.pid, signal.SIGKILL)
     output = proc.stdout.read()

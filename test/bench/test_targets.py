@@ -138,3 +138,52 @@ def test_no_json_says_why(tmp_path):
                               machine_note="", binary=None)
     doc, _ = report.build(args)
     assert "## 11. The tick on every target, in instructions\n\nNot run: no qemu-aarch64." in doc
+
+
+def block(name, ptr, insns):
+    """QEMU's in_asm lines of one block, then its execution's line."""
+    pc = insns[0][0]
+    lines = ["----------------", f"IN: {name}"]
+    lines += [f"0x{a:08x}:  {enc}  {asm}" for a, enc, asm in insns]
+    return lines + ["", trace(name, ptr, pc)]
+
+
+def trace(name, ptr, pc):
+    return f"Trace 0: {ptr:#x} [00000000/{pc:08x}/00000150/ff020200] {name}"
+
+
+def test_an_inlined_tick_a_tail_call_and_a_rewound_block():
+    # Thumb, as a Cortex-M image under -icount: the tick's code inlined in
+    # app at 0x110..0x117; it calls now() (blx), which jumps to the tracked
+    # clock (bx: a tail call); the clock's first block is rewound at its
+    # second load (an I/O access) and run again from there.
+    log = block("main", 0x1000, [(0x80, "f000 f800", "bl #0x100")])
+    first = {
+        "loop": [(0x120, "e7f6", "b #0x110")],
+        "t1": [(0x110, "2001", "movs r0, #1"), (0x112, "4798", "blx r3")],
+        "now": [(0x200, "b508", "push {r3, lr}"), (0x202, "4718", "bx r3")],
+        "clk": [(0x300, "6810", "ldr r0, [r2]"), (0x302, "6811", "ldr r1, [r2]"),
+                (0x304, "4770", "bx lr")],
+        "clk2": [(0x302, "6811", "ldr r1, [r2]"), (0x304, "4770", "bx lr")],
+        "t2": [(0x114, "1c40", "adds r0, r0, #1"), (0x116, "1c40", "adds r0, r0, #1"),
+               (0x118, "e002", "b #0x120")],
+    }
+    names = {"loop": "app", "t1": "app", "now": "now", "clk": "clk", "clk2": "clk", "t2": "app"}
+    ptrs = {k: 0x2000 + 0x100 * i for i, k in enumerate(first)}
+    for rnd in range(4):
+        for k in ("loop", "t1", "now", "clk", "clk2", "t2"):
+            if k == "clk2":
+                log.append("cpu_io_recompile: rewound execution of TB to 00000302")
+            if rnd == 0:
+                log += block(names[k], ptrs[k], first[k])
+            else:
+                log.append(trace(names[k], ptrs[k], first[k][0][0]))
+    log += block("app", 0x9000, [(0x120, "e7f6", "b #0x110")])
+    c = qemu_count.Counter({"clk": "clock", "tick": "runtime"}, "tick",
+                           ("app", {0x110, 0x112, 0x114, 0x116}))
+    assert qemu_count.feed(c, iter(log), 4)
+    res = qemu_count.summarise(c, 1, 3, ["clock", "runtime"])
+    got = {p: (v["min"], v["max"]) for p, v in res["parts"].items()}
+    # runtime: the tick's own 2 + 2 in app and now()'s 2; the clock's 3 run
+    # (1 of the rewound block, then 2)
+    assert got == {"tick": (9, 9), "clock": (3, 3), "runtime": (6, 6)}
