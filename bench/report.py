@@ -270,6 +270,14 @@ def read_targets(path: Path) -> list:
     return [json.loads(l) for l in path.read_text(encoding="utf-8").splitlines() if l.strip()]
 
 
+def ticks_measured(rows: list) -> str:
+    """The ticks each count is over ("100"; "80 to 100" if they differ)."""
+    n = sorted({r["ticks"] for r in rows if "ticks" in r})
+    if not n:
+        return "the measured"
+    return f"{n[0]:,}" if len(n) == 1 else f"{n[0]:,} to {n[-1]:,}"
+
+
 def targets_table(rows: list) -> str:
     """The tick's instructions per part (rows) on every target (columns),
     from bench/targets' JSON lines; a combination not run is a dash, its
@@ -769,9 +777,9 @@ def build(args) -> tuple[str, str]:
           "and write: it simulates the robot), the board's clock (`fw_clock_ns`, read by the "
           "runtime's monitor and the deadline in the images that run with a clock), and the "
           "tick itself (`roz_runtime_tick`: the runtime's own work, with the helpers it "
-          "calls). Counts are exact and repeatable (no timer, no load): the mean over the "
-          "measured ticks after the first ones; the policy's inference tick is the largest "
-          "(its network runs once every few ticks, its decimation).\n")
+          "calls). Counts are exact and repeatable (no timer, no load): the mean over "
+          f"{ticks_measured(targets)} ticks after the first ones; the policy's inference tick "
+          "is the largest (its network runs once every few ticks, its decimation).\n")
         w(targets_table(targets))
         w("How each column was counted: **x86-64**, `roz_fw_host` built by this build "
           "(RelWithDebInfo, gcc -O2), under `qemu-x86_64 -cpu max` (glibc picks the routines "
