@@ -243,7 +243,7 @@ TARGET_TREES = m4f m7 m33 m7p m4fp m33p
 AARCH64_TREE = $(BUILD)/test/aarch64/tree
 bench-targets: setup build $(foreach t,$(TARGET_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	for t in $(TARGET_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
-	$(CMAKE) -DROZ_SOURCE_DIR=$(CURDIR) -DBINARY=$(CURDIR)/$(AARCH64_TREE) -DGENERATOR=Ninja \
+	$(CMAKE) -DROZ_SOURCE_DIR=$(CURDIR) -DBINARY=$(abspath $(AARCH64_TREE)) -DGENERATOR=Ninja \
 	    -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen -DROZ_PYTHON=$(CURDIR)/.venv/bin/python \
 	    -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz -DROZ_CROSS_ROOT=/ \
 	    -DTARGETS=roz_fw_host -P test/aarch64/build_aarch64.cmake
