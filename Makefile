@@ -34,7 +34,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench fuzz-diff clean
+.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench bench-targets fuzz-diff clean
 
 all: build
 
@@ -199,6 +199,9 @@ $(BUILD)-fw-m7p/build.ninja: $(FW_CONF) | setup build
 $(BUILD)-fw-m4fp/build.ninja: $(FW_CONF) | setup build
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fp $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an386
 
+$(BUILD)-fw-m33p/build.ninja: $(FW_CONF) | setup build
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33p $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an505
+
 FW_TREES = m4f m7 stm32 m33 m7p m4fp
 firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	for t in $(FW_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
@@ -229,6 +232,24 @@ firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 firmware-options: setup
 	@.venv/bin/python tools/fw_options.py --build $(BUILD)-fw-options --jobs $(JOBS) \
 	    $(FW_FLAGS)
+
+# The tick's cost on every target, in instructions (bench/targets): the
+# firmware images' application on x86-64 and aarch64 Linux (the cross tree
+# test/aarch64 builds, only its roz_fw_host here) and the Cortex-M4F, M7 and
+# M33 images, each under QEMU with its executed blocks counted per part
+# (controller, filter, runtime, port); JSON lines into BENCH_OUT/targets.jsonl,
+# which bench/report.py renders. Some 15 min; `make bench` runs it.
+TARGET_TREES = m4f m7 m33 m7p m4fp m33p
+AARCH64_TREE = $(BUILD)/test/aarch64/tree
+bench-targets: setup build $(foreach t,$(TARGET_TREES),$(BUILD)-fw-$(t)/build.ninja)
+	for t in $(TARGET_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
+	$(CMAKE) -DROZ_SOURCE_DIR=$(CURDIR) -DBINARY=$(abspath $(AARCH64_TREE)) -DGENERATOR=Ninja \
+	    -DROZGEN_EXECUTABLE=$(CURDIR)/.venv/bin/rozgen -DROZ_PYTHON=$(CURDIR)/.venv/bin/python \
+	    -DROZ_WASM3_SDIST=$(CURDIR)/.cache/pywasm3-0.5.0.tar.gz -DROZ_CROSS_ROOT=/ \
+	    -DTARGETS=roz_fw_host -P test/aarch64/build_aarch64.cmake
+	mkdir -p $(BENCH_OUT)
+	.venv/bin/python bench/targets/bench_targets.py --build $(BUILD) --aarch64 $(AARCH64_TREE) \
+	    --json $(BENCH_OUT)/targets.jsonl
 
 # Every test: the sanitizer runs first, the whole suite last (the firmware
 # images among it, booted in QEMU).
@@ -301,6 +322,10 @@ bench: build
 	    2> $(BENCH_OUT)/firmware_options.log; then :; else \
 	    echo "make firmware-options failed (its log: $(BENCH_OUT)/firmware_options.log)" \
 	        > $(BENCH_OUT)/firmware_options.skipped; rm -f $(BENCH_OUT)/firmware_options.md; fi
+	# the tick on every target, in instructions (make bench-targets: QEMU)
+	if $(MAKE) --no-print-directory bench-targets > $(BENCH_OUT)/targets.log 2>&1; then :; else \
+	    echo "make bench-targets failed (its log: $(BENCH_OUT)/targets.log)" \
+	        > $(BENCH_OUT)/targets.skipped; rm -f $(BENCH_OUT)/targets.jsonl; fi
 	CARGO_JOBS=$(JOBS) bash bench/peers/run.sh $(BUILD) $(BENCH_OUT) $(CURDIR)/.venv/bin/rozgen
 	.venv/bin/python bench/report.py --dir $(BENCH_OUT) --out BENCHMARKS.md \
 	    --root $(CURDIR) --command "make bench" --machine-note "$(BENCH_NOTE)" \
@@ -316,5 +341,5 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)) \
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES) m33p,$(BUILD)-fw-$(t)) \
 	    $(BUILD)-fw-options

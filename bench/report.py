@@ -249,6 +249,67 @@ def commit(root: Path) -> str:
         return "unknown"
 
 
+# ---- the tick on every target -------------------------------------------------------
+
+TARGET_COLUMNS = [("x86-64", "x86-64"), ("aarch64", "aarch64"), ("m4f", "Cortex-M4F"),
+                  ("m7", "Cortex-M7"), ("m33", "Cortex-M33")]
+TARGET_CONTROLLERS = [("ur5_sine", "UR5, sine"), ("g1_pd", "G1 PD"),
+                      ("g1_policy", "G1 learned policy")]
+# (label, part, statistic): the rows of each controller
+TARGET_ROWS = [("whole tick", "tick", "mean"), ("controller, `process()`", "process", "mean"),
+               ("safety filter", "filter", "mean"), ("runtime's own work", "runtime", "mean"),
+               ("port (loopback read + write)", "port", "mean"),
+               ("the board's clock reads", "clock", "mean")]
+POLICY_ROWS = [("inference tick: `process()`", "process", "max"),
+               ("inference tick: whole tick", "tick", "max")]
+
+
+def read_targets(path: Path) -> list:
+    if not path.exists():
+        return []
+    return [json.loads(l) for l in path.read_text(encoding="utf-8").splitlines() if l.strip()]
+
+
+def ticks_measured(rows: list) -> str:
+    """The ticks each count is over ("100"; "80 to 100" if they differ)."""
+    n = sorted({r["ticks"] for r in rows if "ticks" in r})
+    if not n:
+        return "the measured"
+    return f"{n[0]:,}" if len(n) == 1 else f"{n[0]:,} to {n[-1]:,}"
+
+
+def targets_table(rows: list) -> str:
+    """The tick's instructions per part (rows) on every target (columns),
+    from bench/targets' JSON lines; a combination not run is a dash, its
+    reason listed under the table."""
+    by = {(r["controller"], r["target"]): r for r in rows}
+    head = "| instructions per tick | " + " | ".join(c for _, c in TARGET_COLUMNS) + " |"
+    out = [head, "|---|" + "---:|" * len(TARGET_COLUMNS)]
+    notes = {}
+    for key, title in TARGET_CONTROLLERS:
+        if not any(k[0] == key for k in by):
+            continue
+        out.append(f"| **{title}** |" + " |" * len(TARGET_COLUMNS))
+        spec = TARGET_ROWS + (POLICY_ROWS if key == "g1_policy" else [])
+        for label, part, stat in spec:
+            cells = []
+            for t, col in TARGET_COLUMNS:
+                r = by.get((key, t))
+                if r is None or "parts" not in r:
+                    if r is not None and r.get("skipped"):
+                        notes.setdefault(r["skipped"], []).append(f"{title} on {col}")
+                    cells.append("-")
+                    continue
+                v = r["parts"].get(part, {}).get(stat)
+                cells.append("-" if v is None else f"{v:,.0f}")
+            out.append(f"| {label} | " + " | ".join(cells) + " |")
+    text = "\n".join(out) + "\n"
+    if notes:
+        text += "\nNot run: " + "; ".join(
+            f"{', '.join(dict.fromkeys(v))}: {why}" for why, v in notes.items()) + ".\n"
+    return text
+
+
 # ---- the document --------------------------------------------------------------
 
 
@@ -267,6 +328,7 @@ def build(args) -> tuple[str, str]:
     aot = read_lines(d / "aot.jsonl")
     mujoco = read_lines(d / "mujoco.jsonl")
     camp = read_lines(d / "campaign.jsonl")
+    targets = read_targets(d / "targets.jsonl")
     peers = {k: read_peer(d / f"peer-{k}.json") for k in ("roz", "wasmtime", "wasmi")}
     sizes = {}
     for b in args.binary or []:
@@ -701,6 +763,36 @@ def build(args) -> tuple[str, str]:
         w("")
     else:
         w(f"Not run: {skipped(d, 'campaign')}.\n")
+
+    # 11. the tick on every target
+    w("## 11. The tick on every target, in instructions\n")
+    if targets:
+        w("`bench/targets` (`make bench-targets`): one program on every target, the firmware "
+          "images' application (`examples/firmware/app`: `roz_runtime_tick()` on the loopback "
+          "simulator, the same controllers' same bytes), run under QEMU with every executed "
+          "block logged; `bench/targets/qemu_count.py` sums the guest instructions of the "
+          "ticks and gives each to the innermost of these functions on a call stack rebuilt "
+          "from the blocks: the controller (`roz_controller_process_from`: wasm3 and the "
+          "imports), the safety filter (`roz_filter_apply`), the port (the loopback's read "
+          "and write: it simulates the robot), the board's clock (`fw_clock_ns`, read by the "
+          "runtime's monitor and the deadline in the images that run with a clock), and the "
+          "tick itself (`roz_runtime_tick`: the runtime's own work, with the helpers it "
+          "calls). Counts are exact and repeatable (no timer, no load): the mean over "
+          f"{ticks_measured(targets)} ticks after the first ones; the policy's inference tick "
+          "is the largest (its network runs once every few ticks, its decimation).\n")
+        w(targets_table(targets))
+        w("How each column was counted: **x86-64**, `roz_fw_host` built by this build "
+          "(RelWithDebInfo, gcc -O2), under `qemu-x86_64 -cpu max` (glibc picks the routines "
+          "of a CPU with AVX2); **aarch64**, the same program cross-built (test/aarch64's "
+          "tree, Debian's gcc-aarch64-linux-gnu) under `qemu-aarch64`; **Cortex-M**, the "
+          "images of `make firmware` (MinSizeRel, LTO) under `qemu-system-arm -icount "
+          "shift=0`. What they leave out: a real core's cycles per instruction (caches, "
+          "pipelines, FPU latency: instructions are not time), the Linux kernel's work "
+          "(system calls are one instruction here), the Cortex-M's interrupts that fall "
+          "between two ticks; the ARMv7-M FPU of the M4F and the M33 has no double, so "
+          "their doubles are library calls, counted in the part that makes them.\n")
+    else:
+        w(f"Not run: {skipped(d, 'targets')}.\n")
 
     # the headline
     h = ["| figure | p50 | p99 | reference (same run) | ratio p50 |", "|---|---:|---:|---|---:|"]

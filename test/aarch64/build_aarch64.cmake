@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 # cmake -DROZ_SOURCE_DIR=<roz> -DBINARY=dir -DROZGEN_EXECUTABLE=... -DROZ_PYTHON=...
 #       -DROZ_WASM3_SDIST=... [-DROZ_WASM3_SOURCE_DIR=...] [-DGENERATOR=...]
-#       [-DROZ_CROSS_ROOT=/]
+#       [-DROZ_CROSS_ROOT=/] [-DTARGETS=a;b]
 #       -P build_aarch64.cmake
 # Configures (once) a tree of roz for aarch64 Linux with
 # cmake/toolchains/aarch64-linux-gnu.cmake (Debian's cross compiler and
@@ -47,6 +47,10 @@ if(NOT have)
       -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE} -DROZ_PYTHON=${ROZ_PYTHON}
       -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST} -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR}
       ${root})
+endif()
+if(TARGETS) # these alone, not installed (make bench-targets: roz_fw_host)
+  run(${CMAKE_COMMAND} --build ${BINARY} --target ${TARGETS})
+  return()
 endif()
 run(${CMAKE_COMMAND} --build ${BINARY})
 
