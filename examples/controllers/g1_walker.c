@@ -7,11 +7,11 @@
  *
  * In MuJoCo, under examples/operators/g1_walk.csv (make demo's; the test
  * demo_plot_walker) it crouches, shifts its weight, walks forward at
- * 0.5 m/s (0.569 achieved), stops, turns on the spot at 0.5 rad/s (0.506,
- * drifting 0.054 m/s sideways) and stops (drifting 0.069 m at most), 21 s
- * without a fault, the pelvis never below 0.74 m; it also keeps up at
- * 0.3 and 0.6 m/s and turns at 0.8 rad/s. It steps in place when told to
- * stop. It runs inside roz's default budget (at most 19,238 fuel units a
+ * 0.5 m/s (0.569 achieved), stops and stands (drifting 0.008 m), turns on
+ * the spot at 0.5 rad/s (0.506, drifting 0.048 m/s sideways) and stops and
+ * stands (0.001 m), 21 s without a fault, the pelvis never below 0.74 m;
+ * it also keeps up at 0.3 and 0.6 m/s and turns at 0.8 rad/s. It runs
+ * inside roz's default budget (at most 19,312 fuel units a
  * tick of the 20,000 at 500 Hz, docs/budget.md: one leg's inverse
  * kinematics a tick, linearised at the measured joints) and replays bit
  * for bit; it moves no command faster than the manifest's rate caps, so
@@ -40,6 +40,12 @@
  *    centre of mass the footholds use: SWING_MIRROR); steps of STEP_S,
  *    0.22 s: at 0.3 s the swing leg's reaction spins the G1 about its
  *    vertical (the feet slip in yaw) and at 0.5 m/s it falls;
+ *  - stopping: told to stop for STILL_S and slower than STILL_V at a
+ *    touch-down, it stands: both feet stay where they are, the pelvis
+ *    upright over them, moved sideways until the centre of mass is between
+ *    them, the ankles holding it over the soles lengthwise; told to move
+ *    again, it shifts its weight onto one foot for RESUME_S (the one away
+ *    from the turn asked for) and steps off with the other;
  *  - the stance foot: the pelvis held STAND_HEIGHT above it and upright,
  *    the foot turned by the other half of the yaw; the stance hip rights the
  *    torso beyond that (TORSO_P, TORSO_RATE), the stance ankle pushes the
@@ -109,6 +115,16 @@
 static const double body_com[3] = { 0.0226, 0.0, 0.1396 };
 static const double leg_com[3] = { 0.0173, 0.0232, 0.0398 };
 #define CROUCH_S 0.6 /* s: from the start pose to the crouch */
+#ifndef STILL_S
+#define STILL_S 0.6 /* s: the command this long at zero, the feet stop at a touch-down */
+#endif
+#ifndef STILL_V
+#define STILL_V 0.15 /* m/s: ... with the centre of mass this slow forward */
+#endif
+#define STAND_Y_I 2.0 /* standing: m/s of the feet's shift per m of the centre of mass astray */
+#ifndef RESUME_S
+#define RESUME_S 0.3 /* s: standing, the weight onto the stance foot before the first step */
+#endif
 #define SHIFT_S 0.6  /* s: the weight onto the right foot (and 0.2 s still) */
 #ifndef SHIFT_M
 #define SHIFT_M 0.05 /* m: how far */
@@ -217,6 +233,12 @@ static int have_prev;
 static int stance;                  /* 0 left, 1 right */
 static double step_t;               /* s into this step */
 static int walking;
+static int standing; /* both feet down after walking, until the command moves again */
+static double still_t; /* s: the command at zero */
+static double stand_t, resume_t; /* s: standing; told to walk again */
+static double stand_p[2][3], stand_yaw[2]; /* the feet where they stopped, heading frame */
+static double stand_sh[2]; /* m: the feet's shift under the centre of mass (an integral) */
+static double foot_h[2][3]; /* this tick's ankles in the heading frame */
 static double swing0[3], swing_yaw0, stance_yaw0; /* at lift-off */
 static double foothold[2];
 static double heading; /* rad: the heading walking holds */
@@ -389,6 +411,10 @@ ROZ_PROCESS(tick)
     double cmd_vx = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_X), -0.8, 0.8);
     double cmd_vy = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_Y), -0.5, 0.5);
     double cmd_wz = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_YAW_RATE), -1.57, 1.57);
+    if (roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 && roz_math_fabs(cmd_wz) < 0.05)
+        still_t += DT;
+    else
+        still_t = 0.0;
 
     /* each foot in the heading frame, its yaw, and the centre of mass over it
      * in its own heading frame */
@@ -400,7 +426,8 @@ ROZ_PROCESS(tick)
      * by the leg's motion (a feedback on itself) */
     for (int leg = 0; leg < 2; leg++) {
         double side = leg ? -1.0 : 1.0;
-        const legs_pose_t *fl = walking && SWING_MIRROR && leg != stance ? &foot[stance] : &foot[leg];
+        const legs_pose_t *fl =
+            walking && !standing && SWING_MIRROR && leg != stance ? &foot[stance] : &foot[leg];
         double fy = fl == &foot[leg] ? fl->p[1] : -fl->p[1];
         double mid[3] = { 0.5 * fl->p[0] + leg_com[0],
                           0.5 * (fy + side * legs__pos[0][1]) + side * leg_com[1],
@@ -417,6 +444,8 @@ ROZ_PROCESS(tick)
         double a[3], d[3];
         double (*rf)[3] = frot[leg];
         mv(a, rt, foot[leg].p);
+        for (int i = 0; i < 3; i++)
+            foot_h[leg][i] = a[i];
         /* the foot's x axis in the heading frame, level */
         double fx = rt[0][0] * foot[leg].r[0][0] + rt[0][1] * foot[leg].r[1][0] +
                     rt[0][2] * foot[leg].r[2][0];
@@ -465,6 +494,43 @@ ROZ_PROCESS(tick)
             stance = 1;
             step_t = 0.0;
             lift_off(0, 1, com_f, fyaw);
+        }
+    } else if (standing) {
+        /* both feet where they stopped, the pelvis upright over them, moved
+         * sideways until the centre of mass is between them (the ankles
+         * keep it over the soles lengthwise, below); told to walk again,
+         * the weight first onto the stance foot */
+        int still = roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 &&
+                    roz_math_fabs(cmd_wz) < 0.05;
+        stand_t += DT;
+        if (!still) {
+            /* the stance foot of the first step: the one away from the turn
+             * (or the sideways walk) the command asks for */
+            if (resume_t == 0.0)
+                stance = cmd_wz < -0.05 || cmd_vy < -0.02 ? 0 : 1;
+            resume_t += DT;
+        }
+        double to = stance ? 1.0 : -1.0; /* toward the stance foot: + right */
+        double ey = 0.5 * (com_f[0][1] + com_f[1][1]) + to * SHIFT_M * smooth(resume_t / RESUME_S);
+        double vy = 0.5 * (vel[0][1] + vel[1][1]);
+        stand_sh[1] = roz_math_clamp(stand_sh[1] + STAND_Y_I * ey * DT, -0.08, 0.08);
+        double shy = stand_sh[1] + roz_math_clamp(STAND_Y_P * ey + STAND_Y_D * vy, -0.05, 0.05);
+        double ramp = smooth(stand_t / 0.2);
+        for (int leg = 0; leg < 2; leg++) {
+            double pos[3] = { stand_p[leg][0], stand_p[leg][1] + ramp * shy,
+                              stand_p[leg][2] + ramp * (-STAND_HEIGHT - stand_p[leg][2]) };
+            double rw[3][3];
+            rz(rw, stand_yaw[leg]);
+            set_pose(&want[leg], pos, rw);
+        }
+        if (resume_t >= RESUME_S) { /* the first step: the other foot lifts */
+            standing = 0;
+            heading = yaw;
+            step_t = 0.0;
+            grow_now = e_step;
+            vsum[0] = vsum[1] = 0.0;
+            vn = 0;
+            lift_off(1 - stance, stance, com_f, fyaw);
         }
     } else {
         int sw = 1 - stance;
@@ -540,7 +606,8 @@ ROZ_PROCESS(tick)
         /* the swing foot is down (its ankle as low as the stance one, late in
          * the swing) or overdue: swap */
         double sw_h = com_f[stance][2] - com_f[sw][2];
-        if ((ss > TOUCH_PHASE && sw_h < TOUCH_H) || step_t >= STEP_S + LATE_S) {
+        int touched = ss > TOUCH_PHASE && sw_h < TOUCH_H;
+        if (touched || step_t >= STEP_S + LATE_S) {
             lift_off(stance, sw, com_f, fyaw);
             /* the step's mean velocity (the centre of mass over the stance
              * ankle) against the command trims the velocity the footholds
@@ -558,6 +625,17 @@ ROZ_PROCESS(tick)
             stance = sw;
             step_t = 0.0;
             grow_now = e_step;
+            /* told to stop a while ago and slow: the feet stay down */
+            if (touched && still_t >= STILL_S && roz_math_fabs(vel[stance][0]) < STILL_V) {
+                standing = 1;
+                stand_t = resume_t = 0.0;
+                stand_sh[0] = stand_sh[1] = 0.0;
+                for (int leg = 0; leg < 2; leg++) {
+                    for (int i = 0; i < 3; i++)
+                        stand_p[leg][i] = foot_h[leg][i];
+                    stand_yaw[leg] = fyaw[leg];
+                }
+            }
         }
     }
     /* one inverse-kinematics step a tick, the legs in turn, linearised at
@@ -577,12 +655,12 @@ ROZ_PROCESS(tick)
     for (int leg = 0; leg < 2; leg++)
         for (int j = 0; j < LEGS_JOINTS; j++)
             off[leg][j] = 0.0;
-    if (!walking) {
-        double shift = SHIFT_M * smooth((t - CROUCH_S) / SHIFT_S);
+    if (!walking || standing) {
+        double shift = standing ? 0.0 : SHIFT_M * smooth((t - CROUCH_S) / SHIFT_S);
         double ex = 0.5 * (com_f[0][0] + com_f[1][0]) - SOLE_X;
         double ey = 0.5 * (com_f[0][1] + com_f[1][1]) + shift;
         double vx = 0.5 * (vel[0][0] + vel[1][0]), vy = 0.5 * (vel[0][1] + vel[1][1]);
-        double ramp = smooth(t / CROUCH_S);
+        double ramp = standing ? smooth(stand_t / 0.2) : smooth(t / CROUCH_S);
         for (int leg = 0; leg < 2; leg++) {
             off[leg][4] = ramp * roz_math_clamp(ANKLE_P * ex + ANKLE_D * vx, -0.3, 0.3);
             off[leg][5] = -ramp * roz_math_clamp(ANKLE_ROLL_P * ey + ANKLE_ROLL_D * vy, -0.05, 0.05);
@@ -599,7 +677,7 @@ ROZ_PROCESS(tick)
     }
     double up_p[3] = { rt[2][0], rt[2][1], rt[2][2] }; /* world up, pelvis frame */
     double share_left;
-    if (!walking) {
+    if (!walking || standing) {
         double span = com_f[1][1] - com_f[0][1]; /* left ankle from the right */
         share_left = span > 0.05 ? roz_math_clamp(com_f[1][1] / span, 0.0, 1.0) : 0.5;
     } else {
