@@ -45,7 +45,11 @@
  *    upright over them, moved sideways until the centre of mass is between
  *    them, the ankles holding it over the soles lengthwise; told to move
  *    again, it shifts its weight onto one foot for RESUME_S (the one away
- *    from the turn asked for) and steps off with the other;
+ *    from the turn asked for) and steps off with the other; pushed (the
+ *    divergent component STAND_XI_X or STAND_XI_Y off the feet's middle)
+ *    it steps at once, the foot on the side the push sends it swinging
+ *    (standing, it took a 15 N.s push backward only by stepping; it falls
+ *    to 12 N.s sideways toward the right, stepping or not);
  *  - the stance foot: the pelvis held STAND_HEIGHT above it and upright,
  *    the foot turned by the other half of the yaw; the stance hip rights the
  *    torso beyond that (TORSO_P, TORSO_RATE), the stance ankle pushes the
@@ -122,6 +126,12 @@ static const double leg_com[3] = { 0.0173, 0.0232, 0.0398 };
 #define STILL_V 0.15 /* m/s: ... with the centre of mass this slow forward */
 #endif
 #define STAND_Y_I 2.0 /* standing: m/s of the feet's shift per m of the centre of mass astray */
+#ifndef STAND_XI_X
+#define STAND_XI_X 0.06 /* m: standing, the DCM this far off the soles' middle lengthwise: step */
+#endif
+#ifndef STAND_XI_Y
+#define STAND_XI_Y 0.08 /* m: ... or sideways off the feet's middle */
+#endif
 #ifndef RESUME_S
 #define RESUME_S 0.3 /* s: standing, the weight onto the stance foot before the first step */
 #endif
@@ -522,6 +532,17 @@ ROZ_PROCESS(tick)
             double rw[3][3];
             rz(rw, stand_yaw[leg]);
             set_pose(&want[leg], pos, rw);
+        }
+        /* pushed: the divergent component off the feet (a standing
+         * balance cannot bring it back): step at once, the foot on the side
+         * it heads to swinging (outward, where it can catch it) */
+        double omega = roz_math_sqrt(GRAVITY / COM_HEIGHT);
+        double xix = 0.5 * (com_f[0][0] + com_f[1][0]) - SOLE_X +
+                     0.5 * (vel[0][0] + vel[1][0]) / omega;
+        double xiy = 0.5 * (com_f[0][1] + com_f[1][1]) + vy / omega;
+        if (roz_math_fabs(xix) > STAND_XI_X || roz_math_fabs(xiy) > STAND_XI_Y) {
+            stance = xiy > 0.0 ? 1 : 0;
+            resume_t = RESUME_S;
         }
         if (resume_t >= RESUME_S) { /* the first step: the other foot lifts */
             standing = 0;
