@@ -11,10 +11,9 @@
  * the spot at 0.5 rad/s (0.506, drifting 0.048 m/s sideways) and stops and
  * stands (0.001 m), 21 s without a fault, the pelvis never below 0.74 m;
  * it also keeps up at 0.3 and 0.6 m/s and turns at 0.8 rad/s. It runs
- * inside roz's default budget (at most 19,312 fuel units a
- * tick of the 20,000 at 500 Hz, docs/budget.md: one leg's inverse
- * kinematics a tick, linearised at the measured joints) and replays bit
- * for bit; it moves no command faster than the manifest's rate caps, so
+ * inside roz's default budget (at most 19,292 fuel units a tick of the
+ * 20,000 at 500 Hz, docs/budget.md: one leg's inverse kinematics a tick,
+ * linearised at the measured joints) and replays bit for bit; it moves no command faster than the manifest's rate caps, so
  * the safety filter holds none back.
  *
  * The body is a linear inverted pendulum over the stance foot
@@ -56,10 +55,11 @@
  *    centre of mass toward the sole (WALK_ANKLE_P, WALK_ANKLE_D);
  *  - joint targets by inverse kinematics (one Gauss-Newton step a tick,
  *    the legs in turn, warm-started, linearised at the measured joints),
- *    sent with fixed gains inside the manifest's limits, and feed-forward torques that carry the body's weight (J' f, the
- *    ground's force pointing from the ankle to the centre of mass, shared
- *    between the feet in double support); every command moves at most
- *    by a margin under its rate cap a tick (send()).
+ *    sent with fixed gains inside the manifest's limits, and feed-forward
+ *    torques that carry the body's weight (J' f, the ground's force
+ *    pointing from the ankle to the centre of mass, shared between the feet
+ *    in double support, or standing by where the centre of mass is); every
+ *    command moves by less than its rate cap a tick (send()).
  * What was learnt in MuJoCo: the joint PD alone does not hold the weight
  * (the feed-forward is needed; with the force only vertical the stance hip
  * roll sags 0.1 rad and the pelvis drops toward the swing side), the narrow feet need a stiff ankle roll
@@ -247,7 +247,7 @@ static int standing; /* both feet down after walking, until the command moves ag
 static double still_t; /* s: the command at zero */
 static double stand_t, resume_t; /* s: standing; told to walk again */
 static double stand_p[2][3], stand_yaw[2]; /* the feet where they stopped, heading frame */
-static double stand_sh[2]; /* m: the feet's shift under the centre of mass (an integral) */
+static double stand_sh; /* m: the feet's shift under the centre of mass sideways (an integral) */
 static double foot_h[2][3]; /* this tick's ankles in the heading frame */
 static double swing0[3], swing_yaw0, stance_yaw0; /* at lift-off */
 static double foothold[2];
@@ -421,10 +421,9 @@ ROZ_PROCESS(tick)
     double cmd_vx = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_X), -0.8, 0.8);
     double cmd_vy = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_Y), -0.5, 0.5);
     double cmd_wz = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_YAW_RATE), -1.57, 1.57);
-    if (roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 && roz_math_fabs(cmd_wz) < 0.05)
-        still_t += DT;
-    else
-        still_t = 0.0;
+    int still = roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 &&
+                roz_math_fabs(cmd_wz) < 0.05; /* told to stop */
+    still_t = still ? still_t + DT : 0.0;
 
     /* each foot in the heading frame, its yaw, and the centre of mass over it
      * in its own heading frame */
@@ -510,8 +509,6 @@ ROZ_PROCESS(tick)
          * sideways until the centre of mass is between them (the ankles
          * keep it over the soles lengthwise, below); told to walk again,
          * the weight first onto the stance foot */
-        int still = roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 &&
-                    roz_math_fabs(cmd_wz) < 0.05;
         stand_t += DT;
         if (!still) {
             /* the stance foot of the first step: the one away from the turn
@@ -523,8 +520,8 @@ ROZ_PROCESS(tick)
         double to = stance ? 1.0 : -1.0; /* toward the stance foot: + right */
         double ey = 0.5 * (com_f[0][1] + com_f[1][1]) + to * SHIFT_M * smooth(resume_t / RESUME_S);
         double vy = 0.5 * (vel[0][1] + vel[1][1]);
-        stand_sh[1] = roz_math_clamp(stand_sh[1] + STAND_Y_I * ey * DT, -0.08, 0.08);
-        double shy = stand_sh[1] + roz_math_clamp(STAND_Y_P * ey + STAND_Y_D * vy, -0.05, 0.05);
+        stand_sh = roz_math_clamp(stand_sh + STAND_Y_I * ey * DT, -0.08, 0.08);
+        double shy = stand_sh + roz_math_clamp(STAND_Y_P * ey + STAND_Y_D * vy, -0.05, 0.05);
         double ramp = smooth(stand_t / 0.2);
         for (int leg = 0; leg < 2; leg++) {
             double pos[3] = { stand_p[leg][0], stand_p[leg][1] + ramp * shy,
@@ -650,7 +647,7 @@ ROZ_PROCESS(tick)
             if (touched && still_t >= STILL_S && roz_math_fabs(vel[stance][0]) < STILL_V) {
                 standing = 1;
                 stand_t = resume_t = 0.0;
-                stand_sh[0] = stand_sh[1] = 0.0;
+                stand_sh = 0.0;
                 for (int leg = 0; leg < 2; leg++) {
                     for (int i = 0; i < 3; i++)
                         stand_p[leg][i] = foot_h[leg][i];
