@@ -65,11 +65,11 @@ DEMO_DIR = $(BUILD)/demo
 # ticks at 500 Hz) behind the safety filter, its velocity command read from
 # the robot's operator inputs, which a scripted operator sets. By default
 # the walker is roz's own (examples/controllers/g1_walker.c: a capture-point
-# walker, no learned network) under examples/operators/g1_walker.csv (stand,
-# forward 0.3 m/s, stop, turn 0.5 rad/s, stop). G1_WALK_POLICY names a
-# trained policy instead (unitree_rl_gym's deploy/pre_train/g1/motion.pt;
-# not shipped with roz), deployed by rozgen-nn deploy (docs/policies.md),
-# under examples/operators/g1_walk.csv (forward 0.5 m/s). The trace (with
+# walker, no learned network). G1_WALK_POLICY names a trained policy instead
+# (unitree_rl_gym's deploy/pre_train/g1/motion.pt; not shipped with roz),
+# deployed by rozgen-nn deploy (docs/policies.md). Either walks under
+# examples/operators/g1_walk.csv (stand, forward 0.5 m/s, stop, turn
+# 0.5 rad/s, stop). The trace (with
 # the simulator's base pose and the inputs), the recording (the inputs in
 # it: it replays bit for bit), commanded vs achieved velocity
 # (tools/tracking.py), a plot marking the operator's commands, and frames of
@@ -78,17 +78,15 @@ DEMO_DIR = $(BUILD)/demo
 G1_WALK_POLICY ?=
 # the plot's joints: the legs' pitch chain
 DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
+DEMO_OPERATOR = examples/operators/g1_walk.csv
+DEMO_PLAN = forward 0.5 m/s from 1 s
 ifeq ($(strip $(G1_WALK_POLICY)),)
-DEMO_OPERATOR = examples/operators/g1_walker.csv
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walker.wasm
 DEMO_WHAT = roz's own walker (g1_walker.c)
-DEMO_PLAN = forward 0.3 m/s from 1 s
 demo: build
 else
-DEMO_OPERATOR = examples/operators/g1_walk.csv
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk.wasm
 DEMO_WHAT = $(notdir $(G1_WALK_POLICY)) deployed
-DEMO_PLAN = forward 0.5 m/s from 1 s
 demo: setup $(BUILD)/build.ninja
 	$(CMAKE) -S . -B $(BUILD) -DROZ_G1_WALK_POLICY=$(abspath $(G1_WALK_POLICY))
 	$(CMAKE) --build $(BUILD) -j $(JOBS)

@@ -5,13 +5,18 @@
 #   cmake -DDEMO=walk|stand|ur5 -DROZRUN=... -DCONTROLLER=... -DPYTHON=... -DPLOT=...
 #         -DOUT=... [-DRENDER=tools/render_frames.py]
 #         [-DOPERATOR=examples/operators/g1_walk.csv -DTRACKING=tools/tracking.py
-#          -DBOUNDS=<tracking.py's bound options>] -P run_demo.cmake
-# DEMO=walk: a trained walking policy (ROZ_G1_WALK_POLICY) on the 12-joint
-# G1 in MuJoCo under the scripted operator (forward, stop, turn, stop), 21 s:
-# the G1 up at the end, the operator's inputs in the trace and the
-# recording, the commanded vs achieved velocity within BOUNDS
-# (tools/tracking.py's options; test/CMakeLists.txt states them), the plot
-# marking the operator's commands.
+#          -DBOUNDS=<tracking.py's bound options>] [-DMIN_PELVIS=<m>]
+#         [-DRATE_CAPS=<n>] -P run_demo.cmake
+# DEMO=walk: a walking controller (a trained policy, ROZ_G1_WALK_POLICY, or
+# roz's own walker, g1_walker.c) on the 12-joint G1 in MuJoCo under the
+# scripted operator (forward, stop, turn, stop), 21 s: the G1 up at the end,
+# the operator's inputs in the trace and the recording, the commanded vs
+# achieved velocity within BOUNDS (tools/tracking.py's options;
+# test/CMakeLists.txt states them), the plot marking the operator's
+# commands; with MIN_PELVIS, the pelvis never lower than that (m, the
+# summary's lowest base height); with RATE_CAPS, the safety filter held back
+# exactly that many command values (the summary's rate caps: 0 for a
+# controller that keeps its commands under the manifest's rate caps).
 # DEMO=stand: the balancing stand in MuJoCo, pushed half-way; the G1 must be
 # standing at the end (pelvis above 0.7 m, only its feet on the ground).
 # DEMO=ur5: the sine controller on the loopback UR5.
@@ -58,6 +63,19 @@ foreach(want IN LISTS wants)
     message(FATAL_ERROR "summary lacks \"${want}\"")
   endif()
 endforeach()
+if(DEFINED RATE_CAPS AND NOT out MATCHES "rate caps +${RATE_CAPS}\n")
+  string(REGEX MATCH "rate caps +[0-9]+" caps "${out}")
+  message(FATAL_ERROR "the safety filter rate-capped other than ${RATE_CAPS} values: ${caps}")
+endif()
+if(MIN_PELVIS)
+  if(NOT out MATCHES "base +height [0-9.]+ m \\(lowest ([0-9.]+)\\)")
+    message(FATAL_ERROR "summary lacks the base's lowest height")
+  endif()
+  if(CMAKE_MATCH_1 LESS MIN_PELVIS)
+    message(FATAL_ERROR "the pelvis went down to ${CMAKE_MATCH_1} m, below ${MIN_PELVIS} m")
+  endif()
+  message(STATUS "pelvis never below ${CMAKE_MATCH_1} m (bound ${MIN_PELVIS} m)")
+endif()
 file(STRINGS ${OUT}/trace.csv lines)
 list(LENGTH lines n)
 math(EXPR rows "${ticks} + 1")

@@ -5,16 +5,16 @@
  * operator's velocity command (operator/velocity.x, operator/velocity.y,
  * operator/yaw_rate).
  *
- * In MuJoCo, under examples/operators/g1_walker.csv (make demo's default;
- * the test demo_plot_walker), it crouches, shifts its weight, walks forward
- * at 0.3 m/s (0.38 achieved), stops, turns on the spot at 0.5 rad/s (0.515)
- * and stops, 21 s without a fault, the pelvis never below 0.74 m. Not yet
- * at 0.5 m/s: there it lurches and falls at 3.3 s (at 0.4 it drifts
- * sideways after the stop). It runs inside roz's default budget (at most
- * 18,825 fuel units a tick of the 20,000 at 500 Hz, docs/budget.md: one
- * leg's inverse kinematics a tick, linearised at the measured joints) and
- * replays bit for bit; the safety filter rate-caps some of its commands
- * (about 1,400 in 10,500 ticks).
+ * In MuJoCo, under examples/operators/g1_walk.csv (make demo's; the test
+ * demo_plot_walker) it crouches, shifts its weight, walks forward at
+ * 0.5 m/s (0.569 achieved), stops and stands (drifting 0.008 m), turns on
+ * the spot at 0.5 rad/s (0.506, drifting 0.048 m/s sideways) and stops and
+ * stands (0.001 m), 21 s without a fault, the pelvis never below 0.74 m;
+ * it also keeps up at 0.3 and 0.6 m/s and turns at 0.8 rad/s. It runs
+ * inside roz's default budget (at most 19,292 fuel units a tick of the
+ * 20,000 at 500 Hz, docs/budget.md: one leg's inverse kinematics a tick,
+ * linearised at the measured joints) and replays bit for bit; it moves no command faster than the manifest's rate caps, so
+ * the safety filter holds none back.
  *
  * The body is a linear inverted pendulum over the stance foot
  * (omega = sqrt(g / COM_HEIGHT)). Each tick:
@@ -26,31 +26,50 @@
  *  - the next foothold: xi predicted to the end of the step (sagittally by
  *    SAG_GAIN of the growth), less the offset a steady gait at the commanded
  *    velocity has then (v T / (e^(omega T) - 1) ahead; the step width over
- *    1 + e^(omega T), inward), clamped so the feet never cross; each step's
- *    mean forward speed against the command trims the centre of mass the
- *    footholds see (TRIM_I, an integral over steps);
+ *    1 + e^(omega T), inward), turning, shifted so the feet pivot about
+ *    their midpoint, clamped so the feet never cross; each step's mean
+ *    velocity against the command trims the velocity the plan is for
+ *    (TRIM_I, an integral over steps, forward and sideways);
  *  - the swing foot: after a double support of DOUBLE_S, from where it
  *    lifted to the foothold, STEP_LIFT high on a sine, flat, turned by half
  *    the step's yaw (the operator's yaw rate, plus HEADING_P back to the
  *    heading it integrates to); the feet swap when the swing ankle is down
  *    to the stance ankle's height late in the swing, or LATE_S after the
  *    step's time (the swing leg counts as the stance leg mirrored in the
- *    centre of mass the footholds use: SWING_MIRROR);
+ *    centre of mass the footholds use: SWING_MIRROR); steps of STEP_S,
+ *    0.22 s: at 0.3 s the swing leg's reaction spins the G1 about its
+ *    vertical (the feet slip in yaw) and at 0.5 m/s it falls;
+ *  - stopping: told to stop for STILL_S and slower than STILL_V at a
+ *    touch-down, it stands: both feet stay where they are, the pelvis
+ *    upright over them, moved sideways until the centre of mass is between
+ *    them, the ankles holding it over the soles lengthwise; told to move
+ *    again, it shifts its weight onto one foot for RESUME_S (the one away
+ *    from the turn asked for) and steps off with the other; pushed (the
+ *    divergent component STAND_XI_X or STAND_XI_Y off the feet's middle)
+ *    it steps at once, the foot on the side the push sends it swinging
+ *    (standing, it took a 15 N.s push backward only by stepping; it falls
+ *    to 12 N.s sideways toward the right, stepping or not);
  *  - the stance foot: the pelvis held STAND_HEIGHT above it and upright,
  *    the foot turned by the other half of the yaw; the stance hip rights the
  *    torso beyond that (TORSO_P, TORSO_RATE), the stance ankle pushes the
  *    centre of mass toward the sole (WALK_ANKLE_P, WALK_ANKLE_D);
  *  - joint targets by inverse kinematics (one Gauss-Newton step a tick,
- *    the legs in turn, warm-started, linearised at the measured joints), sent with fixed gains inside the manifest's limits,
- *    and feed-forward torques that carry the body's weight (J' f, the
- *    ground's force pointing from the ankle to the centre of mass, shared
- *    between the feet in double support).
+ *    the legs in turn, warm-started, linearised at the measured joints),
+ *    sent with fixed gains inside the manifest's limits, and feed-forward
+ *    torques that carry the body's weight (J' f, the ground's force
+ *    pointing from the ankle to the centre of mass, shared between the feet
+ *    in double support, or standing by where the centre of mass is); every
+ *    command moves by less than its rate cap a tick (send()).
  * What was learnt in MuJoCo: the joint PD alone does not hold the weight
  * (the feed-forward is needed; with the force only vertical the stance hip
  * roll sags 0.1 rad and the pelvis drops toward the swing side), the narrow feet need a stiff ankle roll
  * (kp 100; at 20-60 the body sways off sideways once its weight is shifted),
- * the ankle pitch needs the centre of mass fed back, and the torso needs
- * more than the kinematic uprighting (TORSO_P 1). */
+ * the ankle pitch needs the centre of mass fed back, the torso needs
+ * more than the kinematic uprighting (TORSO_P 1), short steps hold the
+ * heading (above), and a trim on the centre of mass the footholds see (an
+ * earlier design) settled 0.1 m/s fast at 0.5 m/s and, carried into the
+ * turn, walked the G1 backward and sideways; the trim on the planned
+ * velocity settles within 0.07 m/s. */
 #include "g1_legs.h"
 #include "roz_controller.h"
 #include "roz_math.h"
@@ -65,17 +84,17 @@
 #define STAND_HEIGHT 0.72 /* m: pelvis origin above the ankle roll origin */
 #endif
 #ifndef STEP_S
-#define STEP_S 0.30       /* s: one step */
+#define STEP_S 0.22       /* s: one step */
 #endif
 #ifndef DOUBLE_S
-#define DOUBLE_S 0.08 /* s: both feet down at the start of each step */
+#define DOUBLE_S 0.05 /* s: both feet down at the start of each step */
 #endif
-#ifndef STEP_LIFT
 #ifndef TOUCH_H
 #define TOUCH_H 0.008 /* m: a swing ankle this close to the stance one's height is down */
 #endif
 #define TOUCH_PHASE 0.6 /* of the swing, before which no touch-down counts */
 #define LATE_S 0.06 /* s: how long a swing may overrun, lowering, before the swap */
+#ifndef STEP_LIFT
 #define STEP_LIFT 0.05    /* m: the swing foot's apex */
 #endif
 #ifndef STEP_WIDTH
@@ -100,6 +119,22 @@
 static const double body_com[3] = { 0.0226, 0.0, 0.1396 };
 static const double leg_com[3] = { 0.0173, 0.0232, 0.0398 };
 #define CROUCH_S 0.6 /* s: from the start pose to the crouch */
+#ifndef STILL_S
+#define STILL_S 0.6 /* s: the command this long at zero, the feet stop at a touch-down */
+#endif
+#ifndef STILL_V
+#define STILL_V 0.15 /* m/s: ... with the centre of mass this slow forward */
+#endif
+#define STAND_Y_I 2.0 /* standing: m/s of the feet's shift per m of the centre of mass astray */
+#ifndef STAND_XI_X
+#define STAND_XI_X 0.06 /* m: standing, the DCM this far off the soles' middle lengthwise: step */
+#endif
+#ifndef STAND_XI_Y
+#define STAND_XI_Y 0.08 /* m: ... or sideways off the feet's middle */
+#endif
+#ifndef RESUME_S
+#define RESUME_S 0.3 /* s: standing, the weight onto the stance foot before the first step */
+#endif
 #define SHIFT_S 0.6  /* s: the weight onto the right foot (and 0.2 s still) */
 #ifndef SHIFT_M
 #define SHIFT_M 0.05 /* m: how far */
@@ -116,15 +151,16 @@ static const double leg_com[3] = { 0.0173, 0.0232, 0.0398 };
 #ifndef WALK_ANKLE_D
 #define WALK_ANKLE_D 0.5
 #endif
-#ifndef TORSO_P
 #ifndef HEADING_P
 #define HEADING_P 1.0 /* rad/s of turn per rad off the heading */
 #endif
+#ifndef TORSO_P
 #define TORSO_P 1.0 /* rad of stance hip target per rad of the pelvis's tilt, beyond the kinematics */
 #endif
 #ifndef TRIM_I
-#define TRIM_I 0.02 /* m of trim per m/s of a step's mean speed off the command */
+#define TRIM_I 0.1 /* m/s of velocity trim per m/s of a step's mean velocity off the command */
 #endif
+#define TRIM_MAX 0.2 /* m/s: the trim's bound */
 #ifndef SWING_MIRROR
 #define SWING_MIRROR 1
 #endif
@@ -207,13 +243,20 @@ static int have_prev;
 static int stance;                  /* 0 left, 1 right */
 static double step_t;               /* s into this step */
 static int walking;
+static int standing; /* both feet down after walking, until the command moves again */
+static double still_t; /* s: the command at zero */
+static double stand_t, resume_t; /* s: standing; told to walk again */
+static double stand_p[2][3], stand_yaw[2]; /* the feet where they stopped, heading frame */
+static double stand_sh; /* m: the feet's shift under the centre of mass sideways (an integral) */
+static double foot_h[2][3]; /* this tick's ankles in the heading frame */
 static double swing0[3], swing_yaw0, stance_yaw0; /* at lift-off */
 static double foothold[2];
 static double heading; /* rad: the heading walking holds */
 /* e^(omega T), e^(-omega dt), and e^(omega (T - t)) this tick: a product a
  * tick, not an exp (230 fuel units each) */
 static double e_step, grow_tick, grow_now;
-static double trim_x, vsum; /* m: the forward trim; the step's velocity sum */
+static double vsum[2]; /* the step's velocity sums, forward and sideways */
+static double trim[2]; /* m/s: the velocity trim, forward and sideways */
 static int vn;
 
 /* atan2 to about 1e-5 rad, in some 40 fuel units (roz_math_atan2's exact
@@ -279,15 +322,24 @@ static void carry(int leg, double share, const double up[3], const double com[3]
     }
 }
 
+/* what the safety filter lets a command change by in a tick (the manifest's
+ * max_rate_of_change), with a margin: the walker moves its own commands no
+ * faster, so the filter never has to hold one back */
+#define POS_STEP 0.035 /* rad: the positions' caps are 0.04 to 0.064 */
+static const double tau_step[LEGS_JOINTS] = { 0.8, 1.3, 0.8, 1.3, 0.32, 0.32 }; /* N.m */
+#define GAIN_RAMP_S 0.6 /* s: the gains from zero (kp 200 in 300 ticks: 0.67 a tick, cap 0.8) */
+static double tau_sent[2][LEGS_JOINTS];
+
 static void send(long long tick)
 {
-    double ramp = roz_math_clamp((double)tick / (0.5 * RATE_HZ), 0.0, 1.0);
+    double ramp = roz_math_clamp((double)tick / (GAIN_RAMP_S * RATE_HZ), 0.0, 1.0);
     for (int leg = 0; leg < 2; leg++)
         for (int j = 0; j < LEGS_JOINTS; j++) {
             int c = leg * LEGS_JOINTS + j;
             double want = roz_math_clamp(q_ik[leg][j], qmin[leg][j], qmax[leg][j]);
-            /* under the position rate cap (0.04 rad a tick) */
-            q_sent[leg][j] += roz_math_clamp(want - q_sent[leg][j], -0.035, 0.035);
+            q_sent[leg][j] += roz_math_clamp(want - q_sent[leg][j], -POS_STEP, POS_STEP);
+            double tau = ramp * roz_math_clamp(tau_ff[leg][j], -tau_max[j], tau_max[j]);
+            tau_sent[leg][j] += roz_math_clamp(tau - tau_sent[leg][j], -tau_step[j], tau_step[j]);
             roz_command_set(ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_POSITION + c,
                             q_sent[leg][j]);
             roz_command_set(ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY + c, 0.0);
@@ -295,7 +347,7 @@ static void send(long long tick)
                             ramp * kp[j]);
             roz_command_set(ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_DAMPING + c, kd[j]);
             roz_command_set(ROZ_UNITREE_G1_12DOF_CMD_LEFT_HIP_PITCH_JOINT_EFFORT + c,
-                            ramp * roz_math_clamp(tau_ff[leg][j], -tau_max[j], tau_max[j]));
+                            tau_sent[leg][j]);
         }
 }
 
@@ -369,6 +421,9 @@ ROZ_PROCESS(tick)
     double cmd_vx = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_X), -0.8, 0.8);
     double cmd_vy = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_VELOCITY_Y), -0.5, 0.5);
     double cmd_wz = clampv(roz_state_get(ROZ_UNITREE_G1_12DOF_INPUT_OPERATOR_YAW_RATE), -1.57, 1.57);
+    int still = roz_math_fabs(cmd_vx) < 0.02 && roz_math_fabs(cmd_vy) < 0.02 &&
+                roz_math_fabs(cmd_wz) < 0.05; /* told to stop */
+    still_t = still ? still_t + DT : 0.0;
 
     /* each foot in the heading frame, its yaw, and the centre of mass over it
      * in its own heading frame */
@@ -380,7 +435,8 @@ ROZ_PROCESS(tick)
      * by the leg's motion (a feedback on itself) */
     for (int leg = 0; leg < 2; leg++) {
         double side = leg ? -1.0 : 1.0;
-        const legs_pose_t *fl = walking && SWING_MIRROR && leg != stance ? &foot[stance] : &foot[leg];
+        const legs_pose_t *fl =
+            walking && !standing && SWING_MIRROR && leg != stance ? &foot[stance] : &foot[leg];
         double fy = fl == &foot[leg] ? fl->p[1] : -fl->p[1];
         double mid[3] = { 0.5 * fl->p[0] + leg_com[0],
                           0.5 * (fy + side * legs__pos[0][1]) + side * leg_com[1],
@@ -397,6 +453,8 @@ ROZ_PROCESS(tick)
         double a[3], d[3];
         double (*rf)[3] = frot[leg];
         mv(a, rt, foot[leg].p);
+        for (int i = 0; i < 3; i++)
+            foot_h[leg][i] = a[i];
         /* the foot's x axis in the heading frame, level */
         double fx = rt[0][0] * foot[leg].r[0][0] + rt[0][1] * foot[leg].r[1][0] +
                     rt[0][2] * foot[leg].r[2][0];
@@ -446,6 +504,52 @@ ROZ_PROCESS(tick)
             step_t = 0.0;
             lift_off(0, 1, com_f, fyaw);
         }
+    } else if (standing) {
+        /* both feet where they stopped, the pelvis upright over them, moved
+         * sideways until the centre of mass is between them (the ankles
+         * keep it over the soles lengthwise, below); told to walk again,
+         * the weight first onto the stance foot */
+        stand_t += DT;
+        if (!still) {
+            /* the stance foot of the first step: the one away from the turn
+             * (or the sideways walk) the command asks for */
+            if (resume_t == 0.0)
+                stance = cmd_wz < -0.05 || cmd_vy < -0.02 ? 0 : 1;
+            resume_t += DT;
+        }
+        double to = stance ? 1.0 : -1.0; /* toward the stance foot: + right */
+        double ey = 0.5 * (com_f[0][1] + com_f[1][1]) + to * SHIFT_M * smooth(resume_t / RESUME_S);
+        double vy = 0.5 * (vel[0][1] + vel[1][1]);
+        stand_sh = roz_math_clamp(stand_sh + STAND_Y_I * ey * DT, -0.08, 0.08);
+        double shy = stand_sh + roz_math_clamp(STAND_Y_P * ey + STAND_Y_D * vy, -0.05, 0.05);
+        double ramp = smooth(stand_t / 0.2);
+        for (int leg = 0; leg < 2; leg++) {
+            double pos[3] = { stand_p[leg][0], stand_p[leg][1] + ramp * shy,
+                              stand_p[leg][2] + ramp * (-STAND_HEIGHT - stand_p[leg][2]) };
+            double rw[3][3];
+            rz(rw, stand_yaw[leg]);
+            set_pose(&want[leg], pos, rw);
+        }
+        /* pushed: the divergent component off the feet (a standing
+         * balance cannot bring it back): step at once, the foot on the side
+         * it heads to swinging (outward, where it can catch it) */
+        double omega = roz_math_sqrt(GRAVITY / COM_HEIGHT);
+        double xix = 0.5 * (com_f[0][0] + com_f[1][0]) - SOLE_X +
+                     0.5 * (vel[0][0] + vel[1][0]) / omega;
+        double xiy = 0.5 * (com_f[0][1] + com_f[1][1]) + vy / omega;
+        if (roz_math_fabs(xix) > STAND_XI_X || roz_math_fabs(xiy) > STAND_XI_Y) {
+            stance = xiy > 0.0 ? 1 : 0;
+            resume_t = RESUME_S;
+        }
+        if (resume_t >= RESUME_S) { /* the first step: the other foot lifts */
+            standing = 0;
+            heading = yaw;
+            step_t = 0.0;
+            grow_now = e_step;
+            vsum[0] = vsum[1] = 0.0;
+            vn = 0;
+            lift_off(1 - stance, stance, com_f, fyaw);
+        }
     } else {
         int sw = 1 - stance;
         double side = sw == 0 ? 1.0 : -1.0; /* the swing foot's side: + left */
@@ -454,31 +558,36 @@ ROZ_PROCESS(tick)
         double e = e_step;
         /* the DCM over the stance foot's sole, and the foothold */
         double xi[2];
-        xi[0] = com_f[stance][0] + trim_x - SOLE_X + vel[stance][0] / omega;
-        vsum += vel[stance][0];
+        xi[0] = com_f[stance][0] - SOLE_X + vel[stance][0] / omega;
+        vsum[0] += vel[stance][0];
+        vsum[1] += vel[stance][1];
         vn += 1;
         xi[1] = com_f[stance][1] + vel[stance][1] / omega;
         double grow = roz_math_fmax(grow_now, 1.0);
         grow_now *= grow_tick;
-        if (s < 0.8) {
-            /* a steady gait's step and its DCM at the step's end; the
-             * foothold moves by the gains times the DCM's error from that */
-            double lx = cmd_vx * STEP_S, ly = cmd_vy * STEP_S;
-            double nom_x = lx * e / (e - 1.0);
-            double nom_y = side * STEP_WIDTH * e / (1.0 + e) + ly * e / (e - 1.0);
-            foothold[0] = roz_math_clamp(lx + SAG_GAIN * (xi[0] * grow - nom_x), -0.25, 0.30);
-            foothold[1] = side * STEP_WIDTH + ly + LAT_GAIN * (xi[1] * grow - nom_y);
-            if (side > 0)
-                foothold[1] = roz_math_clamp(foothold[1], 0.12, 0.40);
-            else
-                foothold[1] = roz_math_clamp(foothold[1], -0.40, -0.12);
-        }
         /* the heading the operator's yaw rate integrates to, held: the feet
          * turn the pelvis back to it */
         heading += cmd_wz * DT;
         double herr = yaw - heading;
         herr -= 6.283185307179586 * roz_math_floor(herr / 6.283185307179586 + 0.5);
         double dyaw = roz_math_clamp((cmd_wz - HEADING_P * herr) * STEP_S, -0.3, 0.3);
+        if (s < 0.8) {
+            /* a steady gait's step and its DCM at the step's end; the
+             * foothold moves by the gains times the DCM's error from that */
+            double lx = (cmd_vx - trim[0]) * STEP_S, ly = (cmd_vy - trim[1]) * STEP_S;
+            double nom_x = lx * e / (e - 1.0);
+            double nom_y = side * STEP_WIDTH * e / (1.0 + e) + ly * e / (e - 1.0);
+            /* turning, the feet pivot about their midpoint: the swing foot
+             * lands behind the stance one turning toward its side, ahead
+             * turning away (half the width times the step's yaw) */
+            foothold[0] = roz_math_clamp(lx + SAG_GAIN * (xi[0] * grow - nom_x) -
+                                             side * 0.5 * STEP_WIDTH * dyaw, -0.25, 0.30);
+            foothold[1] = side * STEP_WIDTH + ly + LAT_GAIN * (xi[1] * grow - nom_y);
+            if (side > 0)
+                foothold[1] = roz_math_clamp(foothold[1], 0.12, 0.40);
+            else
+                foothold[1] = roz_math_clamp(foothold[1], -0.40, -0.12);
+        }
         /* the swing ankle in the stance foot's frame, then from the pelvis */
         /* the swing: after the double support, to the foothold by 85% */
         double ss = roz_math_clamp((step_t - DOUBLE_S) / (STEP_S - DOUBLE_S), 0.0, 1.0);
@@ -515,18 +624,36 @@ ROZ_PROCESS(tick)
         /* the swing foot is down (its ankle as low as the stance one, late in
          * the swing) or overdue: swap */
         double sw_h = com_f[stance][2] - com_f[sw][2];
-        if ((ss > TOUCH_PHASE && sw_h < TOUCH_H) || step_t >= STEP_S + LATE_S) {
+        int touched = ss > TOUCH_PHASE && sw_h < TOUCH_H;
+        if (touched || step_t >= STEP_S + LATE_S) {
             lift_off(stance, sw, com_f, fyaw);
-            /* the step's mean forward speed against the command trims the
-             * centre of mass the footholds see (an integral: the model's
-             * error in it walks the G1 off at a steady speed otherwise) */
-            if (vn > 0)
-                trim_x = roz_math_clamp(trim_x + TRIM_I * (vsum / vn - cmd_vx), -0.06, 0.06);
-            vsum = 0.0;
+            /* the step's mean velocity (the centre of mass over the stance
+             * ankle) against the command trims the velocity the footholds
+             * plan for (an integral over steps: the model's errors walk the
+             * G1 off at a steady speed otherwise; a steady gait's mean
+             * sideways velocity over a step is zero, either foot) */
+            if (vn > 0) {
+                trim[0] = roz_math_clamp(trim[0] + TRIM_I * (vsum[0] / vn - cmd_vx), -TRIM_MAX,
+                                         TRIM_MAX);
+                trim[1] = roz_math_clamp(trim[1] + TRIM_I * (vsum[1] / vn - cmd_vy), -TRIM_MAX,
+                                         TRIM_MAX);
+            }
+            vsum[0] = vsum[1] = 0.0;
             vn = 0;
             stance = sw;
             step_t = 0.0;
             grow_now = e_step;
+            /* told to stop a while ago and slow: the feet stay down */
+            if (touched && still_t >= STILL_S && roz_math_fabs(vel[stance][0]) < STILL_V) {
+                standing = 1;
+                stand_t = resume_t = 0.0;
+                stand_sh = 0.0;
+                for (int leg = 0; leg < 2; leg++) {
+                    for (int i = 0; i < 3; i++)
+                        stand_p[leg][i] = foot_h[leg][i];
+                    stand_yaw[leg] = fyaw[leg];
+                }
+            }
         }
     }
     /* one inverse-kinematics step a tick, the legs in turn, linearised at
@@ -546,12 +673,12 @@ ROZ_PROCESS(tick)
     for (int leg = 0; leg < 2; leg++)
         for (int j = 0; j < LEGS_JOINTS; j++)
             off[leg][j] = 0.0;
-    if (!walking) {
-        double shift = SHIFT_M * smooth((t - CROUCH_S) / SHIFT_S);
+    if (!walking || standing) {
+        double shift = standing ? 0.0 : SHIFT_M * smooth((t - CROUCH_S) / SHIFT_S);
         double ex = 0.5 * (com_f[0][0] + com_f[1][0]) - SOLE_X;
         double ey = 0.5 * (com_f[0][1] + com_f[1][1]) + shift;
         double vx = 0.5 * (vel[0][0] + vel[1][0]), vy = 0.5 * (vel[0][1] + vel[1][1]);
-        double ramp = smooth(t / CROUCH_S);
+        double ramp = standing ? smooth(stand_t / 0.2) : smooth(t / CROUCH_S);
         for (int leg = 0; leg < 2; leg++) {
             off[leg][4] = ramp * roz_math_clamp(ANKLE_P * ex + ANKLE_D * vx, -0.3, 0.3);
             off[leg][5] = -ramp * roz_math_clamp(ANKLE_ROLL_P * ey + ANKLE_ROLL_D * vy, -0.05, 0.05);
@@ -568,7 +695,7 @@ ROZ_PROCESS(tick)
     }
     double up_p[3] = { rt[2][0], rt[2][1], rt[2][2] }; /* world up, pelvis frame */
     double share_left;
-    if (!walking) {
+    if (!walking || standing) {
         double span = com_f[1][1] - com_f[0][1]; /* left ankle from the right */
         share_left = span > 0.05 ? roz_math_clamp(com_f[1][1] / span, 0.0, 1.0) : 0.5;
     } else {
