@@ -3,22 +3,7 @@
  * joint tau = kp * (q_ref - q) - kd * qdot, sent as the effort command with
  * the motor's own gains at zero and its position target holding q. Reads 58
  * states and writes all 145 commands each tick: the benchmark's workload. */
-#include "roz_controller.h"
-#include "unitree_g1_channels.h"
-
-#define JOINTS 29
-#define Q ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_POSITION
-#define QD ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_VELOCITY
-#define POS ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_POSITION
-#define VEL ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY
-#define KP ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS
-#define KD ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_DAMPING
-#define TAU ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_EFFORT
-
-static const double q_ref[JOINTS] = {
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0, -0.1, 0.0, 0.0, 0.3, -0.2, 0.0, 0.0, 0.0, 0.0,
-    0.2,  0.2, 0.0, 0.9, 0.0,  0.0, 0.0,  0.2, -0.2, 0.0, 0.9, 0.0, 0.0, 0.0,
-};
+#include "g1_pd.h"
 
 ROZ_PROCESS(tick)
 {

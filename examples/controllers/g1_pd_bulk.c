@@ -6,23 +6,9 @@
  * always 0, are written once (zero-initialised); the legs (60, 1.5) and the
  * rest (30, 0.8) run as two loops. Its targets and counters equal g1_pd's
  * bit for bit (test_bulk); the benchmark times both. */
-#include "roz_controller.h"
-#include "unitree_g1_channels.h"
+#include "g1_pd.h"
 
-#define JOINTS 29
-#define Q ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_POSITION
-#define QD ROZ_UNITREE_G1_STATE_LEFT_HIP_PITCH_JOINT_VELOCITY
-#define POS ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_POSITION
-#define VEL ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_VELOCITY
-#define KP ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_STIFFNESS
-#define KD ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_DAMPING
-#define TAU ROZ_UNITREE_G1_CMD_LEFT_HIP_PITCH_JOINT_EFFORT
 #define READ (QD + JOINTS) /* the states the PD reads: positions, then velocities */
-
-static const double q_ref[JOINTS] = {
-    -0.1, 0.0, 0.0, 0.3, -0.2, 0.0, -0.1, 0.0, 0.0, 0.3, -0.2, 0.0, 0.0, 0.0, 0.0,
-    0.2,  0.2, 0.0, 0.9, 0.0,  0.0, 0.0,  0.2, -0.2, 0.0, 0.9, 0.0, 0.0, 0.0,
-};
 
 static double state[READ];
 static double cmd[ROZ_UNITREE_G1_N_COMMANDS]; /* VEL, KP, KD stay 0 */

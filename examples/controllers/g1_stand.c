@@ -30,10 +30,4 @@ static const double kd[JOINTS] = {
 /* Target offsets per rad of lean and per rad/s (stand.h). */
 static const stand_balance_t balance = STAND_G1_BALANCE;
 
-static const stand_robot_t robot = {
-    .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
-    .balance = STAND_BALANCE ? &balance : 0,
-    STAND_CHANNELS(ROZ_UNITREE_G1, LEFT_HIP_PITCH_JOINT),
-};
-
-STAND_PROCESS(robot)
+STAND_CONTROLLER(ROZ_UNITREE_G1, LEFT_HIP_PITCH_JOINT)

@@ -37,10 +37,4 @@ static const double kd[JOINTS] = {
  * hip pitch, roll, yaw, knee, ankle pitch, roll). */
 static const stand_balance_t balance = STAND_G1_BALANCE;
 
-static const stand_robot_t robot = {
-    .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
-    .balance = STAND_BALANCE ? &balance : 0,
-    STAND_CHANNELS(ROZ_ENGINEAI_PM01, J00_HIP_PITCH_L),
-};
-
-STAND_PROCESS(robot)
+STAND_CONTROLLER(ROZ_ENGINEAI_PM01, J00_HIP_PITCH_L)

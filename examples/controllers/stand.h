@@ -7,8 +7,9 @@
  * robot's own PD runs it. Each command kind's channels are consecutive,
  * one per joint, from the first joint's (pos, vel, kp, kd, tau).
  *
- * STAND_CHANNELS and STAND_PROCESS write each example's channels and
- * process from its generated header's names.
+ * STAND_CONTROLLER writes each example's robot (its channels:
+ * STAND_CHANNELS) and process (STAND_PROCESS) from its generated header's
+ * names.
  *
  * The G1 stands add balance (stand_lean, stand_balance): the lean seen by
  * the pelvis IMU and the legs' joints, and its rate, move the ankles' and
@@ -185,6 +186,17 @@ static inline void stand_tick(long long tick, const stand_robot_t *r)
     {                                                                                     \
         stand_tick(tick, &(robot));                                                       \
     }
+
+/* A stand controller for the robot of the generated header's PREFIX, its
+ * first leg joint FIRST (STAND_CHANNELS), on the file's JOINTS, RATE_HZ,
+ * pose, kp, kd and, when STAND_BALANCE, balance. */
+#define STAND_CONTROLLER(PREFIX, FIRST)                                                   \
+    static const stand_robot_t robot = {                                                  \
+        .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,           \
+        .balance = STAND_BALANCE ? &balance : 0,                                          \
+        STAND_CHANNELS(PREFIX, FIRST),                                                    \
+    };                                                                                    \
+    STAND_PROCESS(robot)
 
 /* The G1's ankle and hip strategy (target offsets per rad of lean and per
  * rad/s), which the PM01 and the 12-joint G1 stand on too. */

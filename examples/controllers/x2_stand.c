@@ -39,10 +39,4 @@ static const stand_balance_t balance = {
     .limit = 0.4, .sway = 0.05,
 };
 
-static const stand_robot_t robot = {
-    .joints = JOINTS, .rate_hz = RATE_HZ, .pose = pose, .kp = kp, .kd = kd,
-    .balance = STAND_BALANCE ? &balance : 0,
-    STAND_CHANNELS(ROZ_AGIBOT_X2, LEFT_HIP_PITCH_JOINT),
-};
-
-STAND_PROCESS(robot)
+STAND_CONTROLLER(ROZ_AGIBOT_X2, LEFT_HIP_PITCH_JOINT)

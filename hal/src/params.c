@@ -380,3 +380,47 @@ int roz_params_split(char *arg, roz_param_t *out)
     out->value = eq + 1;
     return ROZ_OK;
 }
+
+int roz_params_get_choice(const roz_params_t *p, const char *key, const char *def,
+                          const roz_params_word_t *words, size_t n, const char *expected,
+                          int *out, char *err, size_t errlen)
+{
+    const char *v = roz_params_get_str(p, key, def);
+    for (size_t i = 0; i < n; i++) {
+        if (strcmp(v, words[i].word) == 0) {
+            *out = words[i].value;
+            return ROZ_OK;
+        }
+    }
+    roz_format(err, errlen, "parameter %s = \"%s\": expected %s", key, v, expected);
+    return ROZ_EINVAL;
+}
+
+roz_params_t roz_params_hardware(const roz_manifest_t *m)
+{
+    roz_params_t p = { NULL, 0 };
+    if (m->hardware != NULL) {
+        p.items = m->hardware->params;
+        p.n = m->hardware->n_params;
+    }
+    return p;
+}
+
+int roz_params_merge(const roz_manifest_t *m, const roz_params_t *given, roz_param_t *storage,
+                     size_t cap, const char *port, roz_params_t *out, char *err, size_t errlen)
+{
+    roz_params_t hw = roz_params_hardware(m);
+    size_t n = 0, more = given != NULL ? given->n : 0;
+
+    if (hw.n + more > cap) {
+        roz_format(err, errlen, "%s: %zu parameters; at most %zu", port, hw.n + more, cap);
+        return ROZ_EINVAL;
+    }
+    for (size_t i = 0; i < hw.n; i++)
+        storage[n++] = hw.items[i];
+    for (size_t i = 0; i < more; i++)
+        storage[n++] = given->items[i];
+    out->items = storage;
+    out->n = n;
+    return ROZ_OK;
+}

@@ -356,31 +356,36 @@ int32_t roz_abi_command_set_all(roz_abi_t *abi, const uint8_t *mem, size_t mem_l
 /* ---- the neural-network extension ---------------------------------------- */
 #if ROZ_CFG_NN_IMPORTS /* to the end of the file */
 
-static inline float ld_f32(const uint8_t *p)
+/* the host-order bits of a little-endian f32 */
+static inline uint32_t ld_bits32(const uint8_t *p)
 {
     uint32_t u;
-    float f;
     memcpy(&u, p, sizeof u);
 #if ROZ_ABI_BIG_ENDIAN
     u = __builtin_bswap32(u);
 #endif
+    return u;
+}
+
+static inline float f32_of(uint32_t u)
+{
+    float f;
     memcpy(&f, &u, sizeof f);
     return f;
+}
+
+static inline float ld_f32(const uint8_t *p)
+{
+    return f32_of(ld_bits32(p));
 }
 
 /* a float the nn imports read: roz_math_nn_inputf()'s rule (zero of its
  * sign below 2^-51), on the bits, branch-free so that rows stay in lanes */
 static inline float ld_nn(const uint8_t *p)
 {
-    uint32_t u;
-    float f;
-    memcpy(&u, p, sizeof u);
-#if ROZ_ABI_BIG_ENDIAN
-    u = __builtin_bswap32(u);
-#endif
+    uint32_t u = ld_bits32(p);
     u &= (u & 0x7FFFFFFFu) < ROZ_MATH_NN_TINY_BITS ? 0x80000000u : 0xFFFFFFFFu;
-    memcpy(&f, &u, sizeof f);
-    return f;
+    return f32_of(u);
 }
 
 static inline void st_f32(uint8_t *p, float f)

@@ -116,6 +116,65 @@ static const char *show_id(const uint8_t *s, size_t n, char *out, size_t outlen)
     return out;
 }
 
+/* A walk through a module's sections to the custom ones named alike: the
+ * next section's offset (0: the module's start), the first found's, and the
+ * one found: its offset (after its size), its content (after its name), its
+ * end. */
+typedef struct walk {
+    size_t at, first, body, p, end;
+} walk_t;
+
+/* The next custom section named @p name, as both readers below walk a
+ * module (w zeroed at first; err emptied then): 1 with its place in *w, 0
+ * at the module's end, -1 with err saying why the module is malformed or
+ * has a second such section (@p one: what that message adds). */
+static int next_section(const uint8_t *wasm, size_t len, const char *name, const char *one,
+                        walk_t *w, char *err, size_t errlen)
+{
+    static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
+    size_t name_len = strlen(name);
+
+    if (w->at == 0) {
+        if (err != NULL && errlen > 0)
+            err[0] = '\0';
+        if (wasm == NULL || len < sizeof magic || memcmp(wasm, magic, sizeof magic) != 0) {
+            ERR("not a WebAssembly 1.0 binary (bad magic or version)");
+            return -1;
+        }
+        w->at = sizeof magic;
+    }
+    while (w->at < len) {
+        size_t sec_at = w->at;
+        uint8_t sec = wasm[w->at++];
+        uint32_t size = 0, n = 0;
+        if (!rd_u32(wasm, len, &w->at, &size) || size > len - w->at) {
+            ERR("malformed module: section %u at offset %zu runs past the end", (unsigned)sec,
+                sec_at);
+            return -1;
+        }
+        size_t body = w->at, end = w->at + size, p = body;
+        w->at = end;
+        if (sec != 0)
+            continue;
+        if (!rd_u32(wasm, end, &p, &n) || n > end - p) {
+            ERR("custom section at offset %zu: malformed name", body);
+            return -1;
+        }
+        if (n != name_len || memcmp(wasm + p, name, n) != 0)
+            continue;
+        if (w->first != 0) {
+            ERR("two custom sections \"%s\" (at offsets %zu and %zu)%s", name, w->first, body,
+                one);
+            return -1;
+        }
+        w->first = w->body = body;
+        w->p = p + n;
+        w->end = end;
+        return 1;
+    }
+    return 0;
+}
+
 /* The records of a section's content (after its name): one or more copies
  * of the same record, since wasm-ld joins the sections of all object files
  * built with the same header. Says in err why they are malformed. */
@@ -198,56 +257,25 @@ uint64_t roz_manifest_interface_hash(const roz_manifest_t *m)
 int roz_identity_read(const uint8_t *wasm, size_t len, roz_identity_t *id, char *err,
                       size_t errlen)
 {
-    static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     static const char name[] = ROZ_IDENTITY_SECTION;
-    size_t at = sizeof magic, found_at = 0;
     char why[ROZ_CFG_ERROR_LEN];
+    walk_t w = { 0 };
+    int rc;
 
     if (id == NULL)
         return ROZ_EINVAL;
     memset(id, 0, sizeof *id);
-    if (err != NULL && errlen > 0)
-        err[0] = '\0';
-    if (wasm == NULL || len < sizeof magic || memcmp(wasm, magic, sizeof magic) != 0) {
-        ERR("not a WebAssembly 1.0 binary (bad magic or version)");
-        return ROZ_EINVAL;
-    }
-    while (at < len) {
-        size_t sec_at = at;
-        uint8_t sec = wasm[at++];
-        uint32_t size = 0, name_len = 0;
-        if (!rd_u32(wasm, len, &at, &size) || size > len - at) {
-            ERR("malformed module: section %u at offset %zu runs past the end", (unsigned)sec,
-                sec_at);
-            goto refused;
-        }
-        size_t body = at, end = at + size;
-        at = end;
-        if (sec != 0)
-            continue;
-        size_t p = body;
-        if (!rd_u32(wasm, end, &p, &name_len) || name_len > end - p) {
-            ERR("custom section at offset %zu: malformed name", body);
-            goto refused;
-        }
-        if (name_len != sizeof name - 1 || memcmp(wasm + p, name, name_len) != 0)
-            continue;
-        if (found_at != 0) {
-            ERR("two custom sections \"%s\" (at offsets %zu and %zu); a controller carries "
-                "one identity", name, found_at, body);
-            goto refused;
-        }
-        found_at = body;
-        p += name_len;
-        if (parse_records(wasm + p, end - p, id, why, sizeof why) != ROZ_OK) {
-            ERR("custom section \"%s\" at offset %zu: %s", name, body, why);
-            goto refused;
+    while ((rc = next_section(wasm, len, name, "; a controller carries one identity", &w, err,
+                              errlen)) > 0) {
+        if (parse_records(wasm + w.p, w.end - w.p, id, why, sizeof why) != ROZ_OK) {
+            ERR("custom section \"%s\" at offset %zu: %s", name, w.body, why);
+            rc = -1;
+            break;
         }
     }
-    return ROZ_OK;
-refused:
-    memset(id, 0, sizeof *id);
-    return ROZ_EINVAL;
+    if (rc < 0)
+        memset(id, 0, sizeof *id);
+    return rc == 0 ? ROZ_OK : ROZ_EINVAL;
 }
 
 roz_identity_match_t roz_identity_check(const roz_identity_t *id, const roz_manifest_t *m,
@@ -276,50 +304,20 @@ roz_identity_match_t roz_identity_check(const roz_identity_t *id, const roz_mani
     return ROZ_IDENTITY_SAME;
 }
 
-/* The same walk as roz_identity_read(), for the section "roz.fuel": a
- * declaration is a record of 9 bytes, repeated once per object file that
- * made it (wasm-ld joins them), all equal. */
+/* The section "roz.fuel": a declaration is a record of 9 bytes, repeated
+ * once per object file that made it (wasm-ld joins them), all equal. */
 int roz_identity_read_fuel(const uint8_t *wasm, size_t len, uint64_t *fuel, char *err,
                            size_t errlen)
 {
-    static const uint8_t magic[8] = { 0x00, 0x61, 0x73, 0x6d, 0x01, 0x00, 0x00, 0x00 };
     static const char name[] = ROZ_FUEL_SECTION;
-    size_t at = sizeof magic, found_at = 0;
+    walk_t w = { 0 };
+    int rc;
 
     if (fuel == NULL)
         return ROZ_EINVAL;
     *fuel = 0;
-    if (err != NULL && errlen > 0)
-        err[0] = '\0';
-    if (wasm == NULL || len < sizeof magic || memcmp(wasm, magic, sizeof magic) != 0) {
-        ERR("not a WebAssembly 1.0 binary (bad magic or version)");
-        return ROZ_EINVAL;
-    }
-    while (at < len) {
-        size_t sec_at = at;
-        uint8_t sec = wasm[at++];
-        uint32_t size = 0, name_len = 0;
-        if (!rd_u32(wasm, len, &at, &size) || size > len - at) {
-            ERR("malformed module: section %u at offset %zu runs past the end", (unsigned)sec,
-                sec_at);
-            goto refused;
-        }
-        size_t body = at, end = at + size, p = at;
-        at = end;
-        if (sec != 0)
-            continue;
-        if (!rd_u32(wasm, end, &p, &name_len) || name_len > end - p) {
-            ERR("custom section at offset %zu: malformed name", body);
-            goto refused;
-        }
-        if (name_len != sizeof name - 1 || memcmp(wasm + p, name, name_len) != 0)
-            continue;
-        if (found_at != 0) {
-            ERR("two custom sections \"%s\" (at offsets %zu and %zu)", name, found_at, body);
-            goto refused;
-        }
-        found_at = body;
-        p += name_len;
+    while ((rc = next_section(wasm, len, name, "", &w, err, errlen)) > 0) {
+        size_t p = w.p, end = w.end, body = w.body;
         if (p == end) {
             ERR("custom section \"%s\" at offset %zu: empty", name, body);
             goto refused;
@@ -350,7 +348,8 @@ int roz_identity_read_fuel(const uint8_t *wasm, size_t len, uint64_t *fuel, char
             *fuel = units;
         }
     }
-    return ROZ_OK;
+    if (rc == 0)
+        return ROZ_OK;
 refused:
     *fuel = 0;
     return ROZ_EINVAL;

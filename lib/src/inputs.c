@@ -66,28 +66,32 @@ int roz_inputs_set(roz_inputs_t *in, uint32_t k, double value)
     return ROZ_OK;
 }
 
-int roz_inputs_remote(roz_inputs_t *in, const roz_operator_remote_t *r)
+/* The inputs whose source is a field of device @p d, from @p r (a remote)
+ * or @p t (a twist). */
+static int set_device(roz_inputs_t *in, roz_operator_device_t d, const roz_operator_remote_t *r,
+                      const roz_operator_twist_t *t)
 {
     int rc = ROZ_OK;
     for (uint16_t k = 0; k < in->n; k++) {
         const roz_channel_t *c = &in->ch[k];
-        if (roz_operator_field_device(c->source) == ROZ_OPERATOR_DEVICE_REMOTE &&
-            roz_inputs_set(in, k, c->scale * roz_operator_remote_field(r, c->source)) != ROZ_OK)
+        if (roz_operator_field_device(c->source) != d)
+            continue;
+        double v = d == ROZ_OPERATOR_DEVICE_REMOTE ? roz_operator_remote_field(r, c->source)
+                                                   : roz_operator_twist_field(t, c->source);
+        if (roz_inputs_set(in, k, c->scale * v) != ROZ_OK)
             rc = ROZ_ESTATE;
     }
     return rc;
 }
 
+int roz_inputs_remote(roz_inputs_t *in, const roz_operator_remote_t *r)
+{
+    return set_device(in, ROZ_OPERATOR_DEVICE_REMOTE, r, NULL);
+}
+
 int roz_inputs_twist(roz_inputs_t *in, const roz_operator_twist_t *t)
 {
-    int rc = ROZ_OK;
-    for (uint16_t k = 0; k < in->n; k++) {
-        const roz_channel_t *c = &in->ch[k];
-        if (roz_operator_field_device(c->source) == ROZ_OPERATOR_DEVICE_TWIST &&
-            roz_inputs_set(in, k, c->scale * roz_operator_twist_field(t, c->source)) != ROZ_OK)
-            rc = ROZ_ESTATE;
-    }
-    return rc;
+    return set_device(in, ROZ_OPERATOR_DEVICE_TWIST, NULL, t);
 }
 
 void roz_inputs_tick(roz_inputs_t *in, uint64_t now_ns, double *out)

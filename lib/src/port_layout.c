@@ -72,3 +72,12 @@ roz_port_t roz_port_misbuilt(void)
     roz_port_t p = { &misbuilt_ops, NULL, 0 };
     return p;
 }
+
+roz_port_t roz_port_make(const roz_port_ops_t *ops, void *self, const roz_port_layout_t *caller,
+                         size_t bytes, size_t size)
+{
+    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != size)
+        return roz_port_misbuilt();
+    roz_port_t p = { ops, self, 0 };
+    return p;
+}

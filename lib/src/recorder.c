@@ -45,6 +45,19 @@ static double *slot_values(slot_t *s)
     return (double *)(void *)((unsigned char *)s + head_bytes());
 }
 
+/* @p n values of @p src into a slot at @p v, NaN where the record has none
+ * (src NULL); the place after them. */
+static double *put_values(double *v, const double *src, uint16_t n)
+{
+    if (src != NULL) {
+        memcpy(v, src, (size_t)n * sizeof v[0]);
+    } else {
+        for (uint16_t i = 0; i < n; i++)
+            v[i] = NAN;
+    }
+    return v + n;
+}
+
 /* ---- the tick ------------------------------------------------------------- */
 
 int roz__recorder_wants_fault(const roz_recorder_t *r, uint32_t faults)
@@ -103,25 +116,10 @@ void roz__recorder_push(roz_recorder_t *r, const roz_record_t *rec,
         r->last_faults = rec->faults;
         r->any = 1;
     }
-    memcpy(v, rec->state, (size_t)m->n_states * sizeof v[0]);
-    v += m->n_states;
-    if (m->n_inputs > 0u) {
-        if (rec->inputs != NULL) {
-            memcpy(v, rec->inputs, (size_t)m->n_inputs * sizeof v[0]);
-        } else {
-            for (uint16_t k = 0; k < m->n_inputs; k++)
-                v[k] = NAN;
-        }
-        v += m->n_inputs;
-    }
-    if (rec->target != NULL) {
-        memcpy(v, rec->target, (size_t)m->n_commands * sizeof v[0]);
-    } else {
-        for (uint16_t i = 0; i < m->n_commands; i++)
-            v[i] = NAN;
-    }
-    v += m->n_commands;
-    memcpy(v, rec->applied, (size_t)m->n_commands * sizeof v[0]);
+    v = put_values(v, rec->state, m->n_states);
+    v = put_values(v, rec->inputs, m->n_inputs);
+    v = put_values(v, rec->target, m->n_commands);
+    put_values(v, rec->applied, m->n_commands);
     atomic_store_explicit(&r->recorded,
                           atomic_load_explicit(&r->recorded, memory_order_relaxed) + 1u,
                           memory_order_relaxed);

@@ -34,7 +34,9 @@ static uint8_t rd_byte(cursor_t *c)
     return *c->p++;
 }
 
-static uint32_t rd_u32(cursor_t *c)
+/* A LEB128 of at most 32 bits: unsigned, or @p sign (sign-extended; bits
+ * past 32 must then be the sign's). A malformed one reads 0, c->bad set. */
+static uint32_t rd_leb32(cursor_t *c, int sign)
 {
     uint32_t v = 0;
     for (int shift = 0; shift < 35; shift += 7) {
@@ -42,13 +44,23 @@ static uint32_t rd_u32(cursor_t *c)
         if (c->bad)
             return 0;
         v |= (uint32_t)(b & 0x7f) << shift;
-        if (shift == 28 && (b & 0x70) != 0)
-            break; /* bits past 32: malformed (and an engine may read them differently) */
-        if ((b & 0x80) == 0)
+        /* bits past 32 (but the sign's): malformed, and an engine may read
+         * them differently */
+        if (shift == 28 && (sign ? (b & 0x78) != 0 && (b & 0x78) != 0x78 : (b & 0x70) != 0))
+            break;
+        if ((b & 0x80) == 0) {
+            if (sign && shift < 25 && (b & 0x40) != 0)
+                v |= ~0u << (shift + 7);
             return v;
+        }
     }
     bad_leb(c);
     return 0;
+}
+
+static uint32_t rd_u32(cursor_t *c)
+{
+    return rd_leb32(c, 0);
 }
 
 static void skip(cursor_t *c, uint32_t n)
@@ -288,22 +300,7 @@ static const char *kind_name(uint8_t k)
 /* A signed LEB128 of at most 32 bits (an i32.const immediate). */
 static int32_t rd_s32(cursor_t *c)
 {
-    uint32_t v = 0;
-    for (int shift = 0; shift < 35; shift += 7) {
-        uint8_t b = rd_byte(c);
-        if (c->bad)
-            return 0;
-        v |= (uint32_t)(b & 0x7f) << shift;
-        if (shift == 28 && (b & 0x78) != 0 && (b & 0x78) != 0x78)
-            break; /* bits past 32 that are not the sign's: malformed */
-        if ((b & 0x80) == 0) {
-            if (shift < 25 && (b & 0x40) != 0)
-                v |= ~0u << (shift + 7);
-            return (int32_t)v;
-        }
-    }
-    bad_leb(c);
-    return 0;
+    return (int32_t)rd_leb32(c, 1);
 }
 
 /* A signed LEB128 of at most 64 bits, skipped (an i64.const immediate). */

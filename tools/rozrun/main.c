@@ -356,6 +356,22 @@ static int parse_u64(const char *opt, const char *v, uint64_t max, uint64_t *out
     return 0;
 }
 
+/* @p opt's value in 1..max, or when @p off also "off", read as UINT64_MAX;
+ * -1 after saying what it must be. */
+static int parse_positive(const char *opt, const char *v, uint64_t max, int off, uint64_t *out)
+{
+    if (off && v != NULL && !strcmp(v, "off")) {
+        *out = UINT64_MAX;
+        return 0;
+    }
+    if (parse_u64(opt, v, max, out) || *out == 0) {
+        fprintf(stderr, "rozrun: %s must be in 1..%llu%s\n", opt, (unsigned long long)max,
+                off ? ", or off" : "");
+        return -1;
+    }
+    return 0;
+}
+
 /* --record-compress, or zstd when this build has it */
 static int record_compression(const options_t *o)
 {
@@ -424,10 +440,8 @@ static int parse_args(int argc, char **argv, options_t *o)
         } else if (!strcmp(a, "--live")) {
             o->live = v;
         } else if (!strcmp(a, "--record-every")) {
-            if (parse_u64(a, v, 1000000, &x) || x == 0) {
-                fprintf(stderr, "rozrun: --record-every must be in 1..1000000\n");
+            if (parse_positive(a, v, 1000000, 0, &x))
                 return -1;
-            }
             o->record_every = (uint32_t)x;
         } else if (!strcmp(a, "--record-compress")) {
             o->record_compression = !strcmp(v, "zstd") ? ROZ_MCAP_COMPRESS_ZSTD
@@ -455,45 +469,26 @@ static int parse_args(int argc, char **argv, options_t *o)
             if (parse_u64(a, v, UINT64_MAX / 2, &o->ticks))
                 return -1;
         } else if (!strcmp(a, "--priority")) {
-            if (parse_u64(a, v, 99, &x) || x == 0) {
-                fprintf(stderr, "rozrun: --priority must be in 1..99\n");
+            if (parse_positive(a, v, 99, 0, &x))
                 return -1;
-            }
             o->priority = (int)x;
         } else if (!strcmp(a, "--budget-us")) {
-            if (v != NULL && !strcmp(v, "off")) {
-                x = UINT64_MAX;
-            } else if (parse_u64(a, v, 10000000, &x) || x == 0) {
-                fprintf(stderr, "rozrun: --budget-us must be in 1..10000000, or off\n");
+            if (parse_positive(a, v, 10000000, 1, &o->budget_us))
                 return -1;
-            }
-            o->budget_us = x;
             o->budget_set = 1;
         } else if (!strcmp(a, "--fuel")) {
             /* "off" is the only way to run unmetered: 0 allows nothing */
-            if (v != NULL && !strcmp(v, "off")) {
-                o->fuel = UINT64_MAX;
-            } else if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel) || o->fuel == 0) {
-                fprintf(stderr, "rozrun: --fuel must be in 1..%llu, or off\n",
-                        (unsigned long long)(UINT64_MAX - 1));
+            if (parse_positive(a, v, UINT64_MAX - 1, 1, &o->fuel))
                 return -1;
-            }
             o->fuel_set = 1;
         } else if (!strcmp(a, "--fuel-max")) {
             /* as --fuel: "off" lets any declaration through, 0 none */
-            if (v != NULL && !strcmp(v, "off")) {
-                o->fuel_max = UINT64_MAX;
-            } else if (parse_u64(a, v, UINT64_MAX - 1, &o->fuel_max) || o->fuel_max == 0) {
-                fprintf(stderr, "rozrun: --fuel-max must be in 1..%llu, or off\n",
-                        (unsigned long long)(UINT64_MAX - 1));
+            if (parse_positive(a, v, UINT64_MAX - 1, 1, &o->fuel_max))
                 return -1;
-            }
             o->fuel_max_set = 1;
         } else if (!strcmp(a, "--stale-ticks")) {
-            if (parse_u64(a, v, 1000000, &x) || x == 0) {
-                fprintf(stderr, "rozrun: --stale-ticks must be in 1..1000000\n");
+            if (parse_positive(a, v, 1000000, 0, &x))
                 return -1;
-            }
             o->stale_ticks = (uint32_t)x;
         } else if (!strcmp(a, "--param")) {
             if (o->n_params == MAX_PARAMS) {

@@ -847,19 +847,25 @@ int roz_record_reader_next(roz_record_reader_t *rd, roz_record_t *out, uint64_t 
         }
         if (!rd->have_tick)
             continue; /* /roz/controller before its tick */
+        /* the tick's values: their topic, where they go, how many, their part */
+        const struct {
+            const char *topic;
+            double     *out;
+            uint16_t    n;
+            uint32_t    part;
+        } values[] = {
+            { "/roz/state", rd->state, run->n_states, HAS_STATE },
+            { "/roz/inputs", rd->inputs, run->n_inputs, HAS_INPUTS },
+            { "/roz/target", rd->target, run->n_commands, HAS_TARGET },
+            { "/roz/applied", rd->applied, run->n_commands, HAS_APPLIED },
+        };
+        size_t k = 0;
+        while (k < sizeof values / sizeof values[0] && strcmp(msg.topic, values[k].topic) != 0)
+            k++;
         int bad = 0;
-        if (strcmp(msg.topic, "/roz/state") == 0) {
-            bad = read_values(&msg, rd->state, run->n_states);
-            rd->parts |= HAS_STATE;
-        } else if (strcmp(msg.topic, "/roz/inputs") == 0) {
-            bad = read_values(&msg, rd->inputs, run->n_inputs);
-            rd->parts |= HAS_INPUTS;
-        } else if (strcmp(msg.topic, "/roz/target") == 0) {
-            bad = read_values(&msg, rd->target, run->n_commands);
-            rd->parts |= HAS_TARGET;
-        } else if (strcmp(msg.topic, "/roz/applied") == 0) {
-            bad = read_values(&msg, rd->applied, run->n_commands);
-            rd->parts |= HAS_APPLIED;
+        if (k < sizeof values / sizeof values[0]) {
+            bad = read_values(&msg, values[k].out, values[k].n);
+            rd->parts |= values[k].part;
         } else if (strcmp(msg.topic, "/roz/stage") == 0) {
             rd_t d;
             rd_begin(&d, &msg);

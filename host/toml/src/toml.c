@@ -1068,13 +1068,26 @@ static int to_double(parser_t *p, size_t from, size_t to, double *out)
     return ROZ_OK;
 }
 
+/* An integer node of the digits [from, to) in @p base; an error at @p at
+ * (the number's start) when it does not fit. */
+static int integer_node(parser_t *p, size_t at, size_t from, size_t to, int base,
+                        uint32_t *out)
+{
+    int64_t iv;
+    if (!to_int64(p, from, to, base, &iv))
+        return fail(p, at, ROZ_TOML_ERR_SYNTAX, INT_RANGE_MESSAGE);
+    int rc = new_node(p, ROZ_TOML_INTEGER, out);
+    if (rc == ROZ_OK)
+        p->doc->nodes[*out].as.integer = iv;
+    return rc;
+}
+
 /* An integer or float at p->pos, matched as tomllib's pattern does.
  * Returns 1 with a node, 0 when there is no number here, or an error. */
 static int number(parser_t *p, uint32_t *out)
 {
     size_t at = p->pos, i = at, int_end;
     int base = 0, rc;
-    int64_t iv;
     double fv;
 
     if (peek_at(p, at) == '0') {
@@ -1085,12 +1098,9 @@ static int number(parser_t *p, uint32_t *out)
     }
     if (base != 0) {
         i = digit_run(p, at + 2, base);
-        if (!to_int64(p, at + 2, i, base, &iv))
-            return fail(p, at, ROZ_TOML_ERR_SYNTAX, INT_RANGE_MESSAGE);
-        rc = new_node(p, ROZ_TOML_INTEGER, out);
+        rc = integer_node(p, at, at + 2, i, base, out);
         if (rc != ROZ_OK)
             return rc;
-        p->doc->nodes[*out].as.integer = iv;
         p->pos = i;
         return 1;
     }
@@ -1113,12 +1123,9 @@ static int number(parser_t *p, uint32_t *out)
             i = digit_run(p, k, 10);
     }
     if (i == int_end) {
-        if (!to_int64(p, at, i, 10, &iv))
-            return fail(p, at, ROZ_TOML_ERR_SYNTAX, INT_RANGE_MESSAGE);
-        rc = new_node(p, ROZ_TOML_INTEGER, out);
+        rc = integer_node(p, at, at, i, 10, out);
         if (rc != ROZ_OK)
             return rc;
-        p->doc->nodes[*out].as.integer = iv;
     } else {
         rc = to_double(p, at, i, &fv);
         if (rc != ROZ_OK)

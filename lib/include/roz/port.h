@@ -131,6 +131,10 @@ typedef struct roz_port_info {
     const char *no_link;
 } roz_port_info_t;
 
+/** A port's parameter table in its roz_port_info_t: @p rows (an array)
+ *  and their number. */
+#define ROZ_PORT_INFO_PARAMS(rows) .params = (rows), .n_params = sizeof(rows) / sizeof((rows)[0])
+
 /** The checks on the state frames a port received (roz/hal/link.h keeps
  *  them per port), as one struct for every port. */
 typedef struct roz_port_link_counters {
@@ -318,6 +322,17 @@ ROZ_NODISCARD int roz_port_layout_check(const roz_port_layout_t *caller, char *e
  * Context: start-up.
  */
 roz_port_t roz_port_misbuilt(void);
+
+/**
+ * @brief The check a port constructor makes before it writes its instance:
+ *        a roz_port_t of @p ops over @p self, not yet open, when the
+ *        caller's layout (@p caller) and instance size (@p bytes) are the
+ *        library's (@p size); roz_port_misbuilt() otherwise (its self is
+ *        NULL: the constructor then writes nothing to @p self).
+ * Context: start-up; no I/O.
+ */
+roz_port_t roz_port_make(const roz_port_ops_t *ops, void *self, const roz_port_layout_t *caller,
+                         size_t bytes, size_t size);
 
 /** @brief open(); a port without the op has nothing to open and is open at
  *  once. Marks @p p open on success. Refuses (ROZ_ECONFIG, @p err naming

@@ -114,9 +114,21 @@ static void x2_header(void *v, const void *sample, roz_ros2_header_t *h)
     h->sequence = s->header.sequence;
 }
 
-static int named_otherwise(const char *name, const char *slot)
+/* Joint @p i of a sample into rx (its velocity and effort when @p full);
+ * 0, rx.bad_a = i, for a joint named otherwise than its slot. Both layouts'. */
+static int take(roz_ros2_rx_t *rx, uint16_t i, int full, const char *name, const char *slot,
+                double q, double dq, double tau)
 {
-    return name != NULL && name[0] != '\0' && strcmp(name, slot) != 0;
+    if (name != NULL && name[0] != '\0' && strcmp(name, slot) != 0) {
+        rx->bad_a = i;
+        return 0;
+    }
+    rx->q[i] = q;
+    if (full) {
+        rx->dq[i] = dq;
+        rx->tau[i] = tau;
+    }
+    return 1;
 }
 
 static roz_ros2_bad_t x2_decode(void *v, uint16_t group, const void *sample, int full,
@@ -136,28 +148,14 @@ static roz_ros2_bad_t x2_decode(void *v, uint16_t group, const void *sample, int
         const x2_docs_state_t *d = sample;
         for (uint16_t i = 0; i < n; i++) {
             const x2_docs_joint_t *j = &d->joints._buffer[i];
-            if (named_otherwise(j->name, g->slots[i])) {
-                rx->bad_a = i;
+            if (!take(rx, i, full, j->name, g->slots[i], j->position, j->velocity, j->effort))
                 return ROZ_ROS2_BAD_NAME;
-            }
-            rx->q[i] = j->position;
-            if (full) {
-                rx->dq[i] = j->velocity;
-                rx->tau[i] = j->effort;
-            }
         }
     } else {
         for (uint16_t i = 0; i < n; i++) {
             const x2_joint_t *j = &s->joints._buffer[i];
-            if (named_otherwise(j->name, g->slots[i])) {
-                rx->bad_a = i;
+            if (!take(rx, i, full, j->name, g->slots[i], j->position, j->velocity, j->effort))
                 return ROZ_ROS2_BAD_NAME;
-            }
-            rx->q[i] = j->position;
-            if (full) {
-                rx->dq[i] = j->velocity;
-                rx->tau[i] = j->effort;
-            }
             if (j->error_code != 0u && rx->fault_kind == 0) {
                 rx->fault_kind = 1u + K_JOINT;
                 rx->fault_slot = i;
@@ -258,13 +256,6 @@ static int x2_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     return rc;
 }
 
-
-static int x2_link_counters(const void *self, roz_port_link_counters_t *out)
-{
-    const roz_agibot_x2_t *x = self;
-    return roz_ros2_link_counters(&x->b, out);
-}
-
 const roz_port_ops_t roz_agibot_x2_ops = {
     .name = "agibot/X2",
     .open = x2_open,
@@ -279,19 +270,16 @@ const roz_port_ops_t roz_agibot_x2_ops = {
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &roz__x2_info,
-    .link_counters = x2_link_counters,
+    .link_counters = roz_ros2_link_counters,
 };
 
 roz_port_t roz__agibot_x2_port(roz_agibot_x2_t *x2, const roz_port_layout_t *caller,
                                size_t bytes, roz_log_fn log, void *log_ctx)
 {
-    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *x2)
-        return roz_port_misbuilt(); /* nothing written to *x2 */
-    roz_port_t p = { &roz_agibot_x2_ops, x2, 0 };
-    x2->b.open = 0;
-    x2->b.log = log;
-    x2->b.log_ctx = log_ctx;
-    x2->docs_type = NULL;
+    roz_port_t p = roz_ros2_port(&roz_agibot_x2_ops, &x2->b, caller, bytes, sizeof *x2, log,
+                                 log_ctx);
+    if (p.self != NULL)
+        x2->docs_type = NULL;
     return p;
 }
 

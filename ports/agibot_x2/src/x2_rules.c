@@ -5,9 +5,6 @@
  * no DDS here. */
 #include "x2_rules.h"
 
-#include <stdio.h>
-#include <string.h>
-
 #include "roz/hal/params.h"
 
 /* ---- joints ---------------------------------------------------------------------- */
@@ -40,21 +37,13 @@ const roz_ros2_group_t roz_agibot_x2_groups[ROZ_AGIBOT_X2_GROUPS] = {
 
 int roz__x2_params(void *v, const roz_params_t *p, char *err, size_t errlen)
 {
+    static const roz_params_word_t words[] = { { "sdk", 0 }, { "docs", 1 } };
     roz_agibot_x2_t *x2 = v;
-    const char *s = roz_params_get_str(p, "joint_state_layout", "sdk");
-    if (strcmp(s, "sdk") == 0) {
-        x2->docs_layout = 0;
-    } else if (strcmp(s, "docs") == 0) {
-        x2->docs_layout = 1;
-    } else {
-        snprintf(err, errlen,
-                 "parameter joint_state_layout = \"%s\": expected sdk (the SDK's JointState: "
-                 "name, position, velocity, effort, error_code; the default) or docs (the "
-                 "online documentation's: ..., coil_temp, motor_temp, motor_vol)",
-                 s);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    return roz_params_get_choice(p, "joint_state_layout", "sdk", words, 2,
+                                 "sdk (the SDK's JointState: name, position, velocity, effort, "
+                                 "error_code; the default) or docs (the online documentation's: "
+                                 "..., coil_temp, motor_temp, motor_vol)",
+                                 &x2->docs_layout, err, errlen);
 }
 
 /* ---- what the port says of itself: its parameters' rows, its known keys ---- */
@@ -68,10 +57,8 @@ static const roz_port_param_info_t x2_param_info[] = {
 const roz_port_info_t roz__x2_info = {
     .summary = "the AgiBot X2 over its AimDK ROS 2 topics on Cyclone DDS",
     .header = "roz/port/agibot_x2.h",
-    .params = x2_param_info,
-    .n_params = sizeof x2_param_info / sizeof x2_param_info[0],
+    ROZ_PORT_INFO_PARAMS(x2_param_info),
     .no_crc = "ROS 2 messages carry no CRC (the headers' sequence numbers are checked instead)",
-    .no_sequence = NULL,
 };
 
 /* ---- the registered check ---------------------------------------------------------- */

@@ -3,6 +3,7 @@
  * pure functions, no Cyclone call. */
 #include "roz/port/dds.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -48,15 +49,11 @@ int roz_dds_params_parse(roz_dds_params_t *out, const roz_params_t *p, uint32_t 
     if (rc == ROZ_OK) {
         /* the last command on the way out: the robot class's stop (the
          * hold) unless damping is chosen (test_g1_exit_is_the_hold) */
-        const char *v = roz_params_get_str(p, "exit_stop", "hold");
-        out->exit_damping = strcmp(v, "damping") == 0;
-        if (!out->exit_damping && strcmp(v, "hold") != 0) {
-            snprintf(err, errlen,
-                     "parameter exit_stop = \"%s\": expected hold (the stop's hold at the hold "
-                     "gains, the default) or damping (kp 0, kd shutdown_damping)",
-                     v);
-            return ROZ_EINVAL;
-        }
+        static const roz_params_word_t words[] = { { "hold", 0 }, { "damping", 1 } };
+        rc = roz_params_get_choice(p, "exit_stop", "hold", words, 2,
+                                   "hold (the stop's hold at the hold gains, the default) or "
+                                   "damping (kp 0, kd shutdown_damping)",
+                                   &out->exit_damping, err, errlen);
     }
     if (rc == ROZ_OK)
         rc = roz_params_get_row_u32(p, ROWS, "state_decimation", &out->state_decimation, err,
@@ -172,4 +169,22 @@ int roz_dds_config_xml(const char *iface, const roz_thread_config_t *threads, ch
     if (n < 0 || (size_t)n >= len)
         return ROZ_ENOSPC;
     return n;
+}
+
+int roz_dds_params_damping(const roz_params_t *p, const roz_manifest_t *m,
+                           const roz_joint_channels_t *joint, uint16_t n, double *startup_kd,
+                           double *shutdown_kd, const char *rule, roz_params_problem_fn report,
+                           void *ctx, char *err, size_t errlen)
+{
+    double lo, hi;
+    int bad = 0;
+    (void)roz_joints_damping_range(m, joint, n, &lo, &hi);
+    ROZ_PARAMS_STEP(rule, roz_params_get_double(p, "startup_damping",
+                                                0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
+                                                startup_kd, err, errlen));
+    *shutdown_kd = NAN; /* each joint's damping default */
+    if (roz_params_find(p, "shutdown_damping") != NULL)
+        ROZ_PARAMS_STEP(rule, roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi,
+                                                    shutdown_kd, err, errlen));
+    return bad ? ROZ_EINVAL : ROZ_OK;
 }

@@ -157,13 +157,6 @@ static int pm01_open(void *self, const roz_manifest_t *m, const roz_params_t *p,
     return roz_ros2_open(&pm->b, &pm01_robot, pm, m, p, err, errlen);
 }
 
-
-static int pm01_link_counters(const void *self, roz_port_link_counters_t *out)
-{
-    const roz_engineai_pm01_t *x = self;
-    return roz_ros2_link_counters(&x->b, out);
-}
-
 const roz_port_ops_t roz_engineai_pm01_ops = {
     .name = "engineai/PM01",
     .open = pm01_open,
@@ -178,19 +171,14 @@ const roz_port_ops_t roz_engineai_pm01_ops = {
     .caps = ROZ_PORT_CAP_SEQUENCE | ROZ_PORT_CAP_WATCHDOG | ROZ_PORT_CAP_START_HOLD |
             ROZ_PORT_CAP_ROBOT | ROZ_PORT_CAP_NEEDS_NETNS,
     .info = &roz__pm01_info,
-    .link_counters = pm01_link_counters,
+    .link_counters = roz_ros2_link_counters,
 };
 
 roz_port_t roz__engineai_pm01_port(roz_engineai_pm01_t *pm, const roz_port_layout_t *caller,
                                    size_t bytes, roz_log_fn log, void *log_ctx)
 {
-    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *pm)
-        return roz_port_misbuilt(); /* nothing written to *pm */
-    roz_port_t p = { &roz_engineai_pm01_ops, pm, 0 };
-    pm->b.open = 0;
-    pm->b.log = log;
-    pm->b.log_ctx = log_ctx;
-    return p;
+    return roz_ros2_port(&roz_engineai_pm01_ops, &pm->b, caller, bytes, sizeof *pm, log,
+                         log_ctx);
 }
 
 void roz_engineai_pm01_link(const roz_engineai_pm01_t *pm, roz_link_t *out)

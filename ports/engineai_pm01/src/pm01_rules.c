@@ -5,9 +5,6 @@
  * runs): no DDS here. */
 #include "pm01_rules.h"
 
-#include <stdio.h>
-#include <string.h>
-
 #include "roz/hal/params.h"
 
 #define N ROZ_ENGINEAI_PM01_JOINTS
@@ -32,21 +29,20 @@ const roz_ros2_group_t roz__pm01_groups[1] = {
 
 int roz__pm01_params(void *v, const roz_params_t *p, char *err, size_t errlen)
 {
+    static const roz_params_word_t words[] = {
+        { "rl", 1 }, { "RL_PARSER", 1 }, { "1", 1 },
+        { "classic", 0 }, { "CLASSIC_PARSER", 0 }, { "0", 0 },
+    };
     roz_engineai_pm01_t *pm = v;
-    const char *s = roz_params_get_str(p, "parallel_parser_type", "rl");
-    if (strcmp(s, "rl") == 0 || strcmp(s, "RL_PARSER") == 0 || strcmp(s, "1") == 0) {
-        pm->parallel_parser_type = 1;
-    } else if (strcmp(s, "classic") == 0 || strcmp(s, "CLASSIC_PARSER") == 0 ||
-               strcmp(s, "0") == 0) {
-        pm->parallel_parser_type = 0;
-    } else {
-        snprintf(err, errlen,
-                 "parameter parallel_parser_type = \"%s\": expected rl (1, RL_PARSER, the "
-                 "default, as the vendor's RL example) or classic (0, CLASSIC_PARSER)",
-                 s);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    int type;
+    int rc = roz_params_get_choice(p, "parallel_parser_type", "rl", words,
+                                   sizeof words / sizeof words[0],
+                                   "rl (1, RL_PARSER, the default, as the vendor's RL example) "
+                                   "or classic (0, CLASSIC_PARSER)",
+                                   &type, err, errlen);
+    if (rc == ROZ_OK)
+        pm->parallel_parser_type = (uint8_t)type;
+    return rc;
 }
 
 /* ---- what the port says of itself: its parameters' rows, its known keys ---- */
@@ -60,10 +56,8 @@ static const roz_port_param_info_t pm01_param_info[] = {
 const roz_port_info_t roz__pm01_info = {
     .summary = "the EngineAI PM01 over its ROS 2 topics on Cyclone DDS",
     .header = "roz/port/engineai_pm01.h",
-    .params = pm01_param_info,
-    .n_params = sizeof pm01_param_info / sizeof pm01_param_info[0],
+    ROZ_PORT_INFO_PARAMS(pm01_param_info),
     .no_crc = "ROS 2 messages carry no CRC (the stamps are checked instead)",
-    .no_sequence = NULL,
 };
 
 /* ---- the registered check ---------------------------------------------------------- */

@@ -349,10 +349,7 @@ static const roz_port_param_info_t lb_params[] = {
 static const roz_port_info_t lb_info = {
     .summary = "a deterministic simulator for any manifest, with fault injection",
     .header = "roz/port/loopback.h",
-    .params = lb_params,
-    .n_params = sizeof lb_params / sizeof lb_params[0],
-    .no_crc = NULL,
-    .no_sequence = NULL,
+    ROZ_PORT_INFO_PARAMS(lb_params),
 };
 
 const roz_port_ops_t roz_loopback_ops = {

@@ -94,35 +94,24 @@ const size_t roz__mj_n_params = sizeof roz__mj_params / sizeof roz__mj_params[0]
 const roz_port_info_t roz__mj_info = {
     .summary = "a robot in physics on MuJoCo (the real robot's actuator law, simulated time)",
     .header = "roz/port/mujoco.h",
-    .params = roz__mj_params,
-    .n_params = sizeof roz__mj_params / sizeof roz__mj_params[0],
+    ROZ_PORT_INFO_PARAMS(roz__mj_params),
     .no_crc = "physics in the same process: no wire, no CRC",
     .no_sequence = "physics in the same process: no sequence numbers",
     .no_link = "physics in the same process: no link to replay, restart or lose",
 };
 
 /* a problem: the open's error (no report), or one report and on */
-#define STEP(call)                                                                             \
-    do {                                                                                       \
-        if ((call) != ROZ_OK) {                                                                \
-            if (report == NULL)                                                                \
-                return ROZ_EINVAL;                                                             \
-            report(ctx, "mujoco-param", err);                                                  \
-            bad = 1;                                                                           \
-        }                                                                                      \
-    } while (0)
+#define STEP(call) ROZ_PARAMS_STEP("mujoco-param", call)
 #define REAL(key, out) STEP(roz_params_get_row_double(p, MJ_PARAMS, key, out, err, errlen))
 #define WHOLE(key, out) STEP(roz_params_get_row_u32(p, MJ_PARAMS, key, out, err, errlen))
 
 /* "unbound": lock or limp */
 static int check_unbound(const roz_params_t *p, char *err, size_t errlen)
 {
-    const char *unbound = roz_params_get_str(p, "unbound", "lock");
-    if (strcmp(unbound, "lock") != 0 && strcmp(unbound, "limp") != 0) {
-        roz_format(err, errlen, "parameter unbound = \"%s\": expected lock or limp", unbound);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    static const roz_params_word_t words[] = { { "lock", 0 }, { "limp", 1 } };
+    int limp;
+    return roz_params_get_choice(p, "unbound", "lock", words, 2, "lock or limp", &limp, err,
+                                 errlen);
 }
 
 int roz__mj_params_read(const roz_params_t *p, roz__mj_values_t *v, char *err, size_t errlen,
@@ -175,14 +164,10 @@ int roz_mujoco_check(const roz_manifest_t *m, roz_params_problem_fn report, void
 {
     roz_params_reporter_t to = { report, ctx };
     char err[ROZ_CFG_PROBLEM_LEN];
-    roz_params_t p = { NULL, 0 };
+    roz_params_t p = roz_params_hardware(m);
     roz__mj_values_t v;
     roz__mj_perturb_t pv;
 
-    if (m->hardware != NULL) {
-        p.items = m->hardware->params;
-        p.n = m->hardware->n_params;
-    }
     if (roz_params_check_known_rows(&p, MJ_PARAMS, PORT, err, sizeof err) != ROZ_OK) {
         roz_params_report(&to, "unknown-key", err); /* said alone, as the open says it */
         return ROZ_EINVAL;

@@ -1965,12 +1965,12 @@ const roz_port_ops_t roz_mujoco_ops = {
 roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
                             size_t bytes, roz_log_fn log, void *log_ctx)
 {
-    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *self)
-        return roz_port_misbuilt(); /* nothing written to *self */
+    roz_port_t p = roz_port_make(&roz_mujoco_ops, self, caller, bytes, sizeof *self);
+    if (p.self == NULL)
+        return p; /* misbuilt: nothing written to *self */
     memset(self, 0, sizeof *self); /* open frees a model only if it made one */
     self->log = log;
     self->log_ctx = log_ctx;
-    roz_port_t p = { &roz_mujoco_ops, self, 0 };
     return p;
 }
 

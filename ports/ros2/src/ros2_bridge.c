@@ -76,27 +76,6 @@ static uint16_t primary(const roz_ros2_bridge_t *b)
     return 0;
 }
 
-/* robot.toml's [hardware.params] first, then the caller's: the last wins */
-static int merge_params(roz_ros2_bridge_t *b, const roz_manifest_t *m, const roz_params_t *p,
-                        roz_params_t *out, char *err, size_t errlen)
-{
-    size_t n = 0;
-    size_t hw = m->hardware != NULL ? m->hardware->n_params : 0;
-    size_t given = p != NULL ? p->n : 0;
-
-    if (hw + given > ROZ_ROS2_MAX_PARAMS) {
-        snprintf(err, errlen, "%s: %lu parameters; at most %d", b->robot->port,
-                 (unsigned long)(hw + given), ROZ_ROS2_MAX_PARAMS);
-        return ROZ_EINVAL;
-    }
-    for (size_t i = 0; i < hw; i++)
-        b->params[n++] = m->hardware->params[i];
-    for (size_t i = 0; i < given; i++)
-        b->params[n++] = p->items[i];
-    out->items = b->params;
-    out->n = n;
-    return ROZ_OK;
-}
 
 /* ---- the receive path (a Cyclone thread per topic, one call at a time) --------- */
 
@@ -558,8 +537,9 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
     for (uint16_t s = 0; s < ROZ_ROS2_MAX_ROBOT_SLOTS; s++)
         b->tick_q[s] = NAN; /* no position measured yet */
     rc = roz__ros2_bind(b, m, err, errlen) == ROZ_OK ? ROZ_OK : ROZ_EINVAL;
-    if (rc == ROZ_OK)
-        rc = merge_params(b, m, p, &params, err, errlen);
+    if (rc == ROZ_OK) /* robot.toml's [hardware.params] first, then the caller's */
+        rc = roz_params_merge(m, p, b->params, ROZ_ROS2_MAX_PARAMS, b->robot->port, &params,
+                              err, errlen);
     if (rc == ROZ_OK)
         rc = roz__ros2_parse_params(b, &params, err, errlen, NULL, NULL);
     if (rc != ROZ_OK)
@@ -918,8 +898,9 @@ void roz_ros2_link(const roz_ros2_bridge_t *b, roz_link_t *out)
         out->alive = 0;
 }
 
-int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t *out)
+int roz_ros2_link_counters(const void *self, roz_port_link_counters_t *out)
 {
+    const roz_ros2_bridge_t *b = self;
     roz_ros2_counters_t c;
     roz_link_t l;
     uint64_t malformed = 0;
@@ -1010,4 +991,17 @@ const roz_monitor_t *roz_ros2_writer_monitor(const roz_ros2_bridge_t *b)
 const roz_monitor_t *roz_ros2_topic_monitor(const roz_ros2_bridge_t *b, uint16_t t)
 {
     return t < b->n_topics && reads(b, t) ? &b->topic[t].mon : NULL;
+}
+
+roz_port_t roz_ros2_port(const roz_port_ops_t *ops, roz_ros2_bridge_t *b,
+                         const roz_port_layout_t *caller, size_t bytes, size_t size,
+                         roz_log_fn log, void *log_ctx)
+{
+    roz_port_t p = roz_port_make(ops, b, caller, bytes, size);
+    if (p.self == NULL)
+        return p; /* misbuilt: nothing written to the instance */
+    b->open = 0;
+    b->log = log;
+    b->log_ctx = log_ctx;
+    return p;
 }

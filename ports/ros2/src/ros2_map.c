@@ -142,19 +142,28 @@ static double measured(const roz_ros2_bridge_t *b, int16_t k, double q, int *kno
     return q;
 }
 
+/* Slot @p s's command zeroed but for its measured position: the channels
+ * of the manifest joint on it, NULL for none (no gains, no torque). */
+static const roz_joint_channels_t *begin_slot(const roz_ros2_bridge_t *b, uint16_t s,
+                                              const double *q, roz_ros2_joint_cmd_t *o,
+                                              int *known)
+{
+    int16_t k = b->slot_joint[s];
+    memset(o, 0, sizeof *o);
+    o->q = measured(b, k, q[s], known);
+    return k >= 0 ? &b->joint[k] : NULL;
+}
+
 void roz__ros2_joints(const roz_ros2_bridge_t *b, const double *cmd, const double *q,
                       roz_ros2_joint_cmd_t *out)
 {
     const roz_manifest_t *m = b->m;
     for (uint16_t s = 0; s < b->n_slots; s++) {
         roz_ros2_joint_cmd_t *o = &out[s];
-        int16_t k = b->slot_joint[s];
         int known;
-        memset(o, 0, sizeof *o);
-        o->q = measured(b, k, q[s], &known);
-        if (k < 0)
-            continue; /* no joint of the manifest: no gains, no torque */
-        const roz_joint_channels_t *j = &b->joint[k];
+        const roz_joint_channels_t *j = begin_slot(b, s, q, o, &known);
+        if (j == NULL)
+            continue;
         if (j->q_cmd >= 0) {
             o->q = cmd[j->q_cmd];
             known = 1;
@@ -172,14 +181,11 @@ void roz__ros2_damping(const roz_ros2_bridge_t *b, const double *q, double kd, i
     const roz_manifest_t *m = b->m;
     for (uint16_t s = 0; s < b->n_slots; s++) {
         roz_ros2_joint_cmd_t *o = &out[s];
-        int16_t k = b->slot_joint[s];
         int known;
-        memset(o, 0, sizeof *o);
-        o->q = measured(b, k, q[s], &known);
-        if (k < 0)
+        const roz_joint_channels_t *j = begin_slot(b, s, q, o, &known);
+        if (j == NULL)
             continue;
         /* no stiffness, velocity or torque, as far as the manifest allows */
-        const roz_joint_channels_t *j = &b->joint[k];
         if (j->q_cmd >= 0)
             o->q = roz_channel_clamp(&m->commands[j->q_cmd], o->q);
         o->dq = neutral(m, j->dq_cmd);

@@ -17,23 +17,16 @@
 static int parse_link_check(roz_ros2_bridge_t *b, const roz_params_t *p, char *err,
                             size_t errlen)
 {
-    const roz_ros2_robot_t *r = b->robot;
-    const char *v = roz_params_get_str(p, "link_check", r->has_sequence ? "sequence" : "stamp");
-    if (strcmp(v, "stamp") == 0) {
-        b->link_by_stamp = 1;
-    } else if (strcmp(v, "sequence") == 0 && r->has_sequence) {
-        b->link_by_stamp = 0;
-    } else {
-        snprintf(err, errlen,
-                 "parameter link_check = \"%s\": expected %s (what the state messages' headers "
-                 "offer the link checks)",
-                 v,
-                 r->has_sequence ? "sequence (the header's sequence number) or stamp (its "
-                                   "stamp, strictly increasing)"
-                                 : "stamp (these messages' std_msgs/Header has no sequence)");
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    /* sequence only where the headers have one */
+    static const roz_params_word_t words[] = { { "stamp", 1 }, { "sequence", 0 } };
+    int seq = b->robot->has_sequence;
+    return roz_params_get_choice(
+        p, "link_check", seq ? "sequence" : "stamp", words, seq ? 2u : 1u,
+        seq ? "sequence (the header's sequence number) or stamp (its stamp, strictly "
+              "increasing) (what the state messages' headers offer the link checks)"
+            : "stamp (these messages' std_msgs/Header has no sequence) (what the state "
+              "messages' headers offer the link checks)",
+        &b->link_by_stamp, err, errlen);
 }
 
 /* A ROS topic name: "/" then tokens of A-Z a-z 0-9 _, none starting with a
@@ -93,40 +86,27 @@ int roz__ros2_parse_params(roz_ros2_bridge_t *b, const roz_params_t *p, char *er
                            size_t errlen, roz_params_problem_fn report, void *ctx)
 {
     const roz_ros2_robot_t *r = b->robot;
-    double lo, hi;
     int bad = 0;
 
 /* a problem: the open's error (no report), or one report and on */
-#define STEP(rule, call)                                                                       \
-    do {                                                                                       \
-        if ((call) != ROZ_OK) {                                                                \
-            if (report == NULL)                                                                \
-                return ROZ_EINVAL;                                                             \
-            report(ctx, rule, err);                                                            \
-            bad = 1;                                                                           \
-        }                                                                                      \
-    } while (0)
-    STEP("unknown-key", roz_params_check_known_rows(p, r->info->params, r->info->n_params, r->port,
-                                                    err, errlen));
-    STEP("ros2-param", roz_dds_params_parse(&b->dds, p, r->default_domain,
-                                            b->m->control_rate_hz, err, errlen));
-    STEP("ros2-param", roz_params_get_row_u32(p, bridge_rows,
-                                              sizeof bridge_rows / sizeof bridge_rows[0],
-                                              "peer_timeout_ms", &b->peer_timeout_ms, err,
-                                              errlen));
-    STEP("ros2-param", parse_link_check(b, p, err, errlen));
-    STEP("ros2-param", parse_operator(b, p, err, errlen));
-    /* gains the damping channels allow, for every joint */
-    (void)roz_joints_damping_range(b->m, b->joint, b->n_joints, &lo, &hi);
-    STEP("ros2-param", roz_params_get_double(p, "startup_damping",
-                                             0.0 >= lo && 0.0 <= hi ? 0.0 : lo, lo, hi,
-                                             &b->startup_kd, err, errlen));
-    b->shutdown_kd = NAN; /* each joint's damping default */
-    if (roz_params_find(p, "shutdown_damping") != NULL)
-        STEP("ros2-param", roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi,
-                                                 &b->shutdown_kd, err, errlen));
+#define STEP(call) ROZ_PARAMS_STEP("ros2-param", call)
+    ROZ_PARAMS_STEP("unknown-key", roz_params_check_known_rows(p, r->info->params,
+                                                               r->info->n_params, r->port, err,
+                                                               errlen));
+    STEP(roz_dds_params_parse(&b->dds, p, r->default_domain, b->m->control_rate_hz, err,
+                              errlen));
+    STEP(roz_params_get_row_u32(p, bridge_rows, sizeof bridge_rows / sizeof bridge_rows[0],
+                                "peer_timeout_ms", &b->peer_timeout_ms, err, errlen));
+    STEP(parse_link_check(b, p, err, errlen));
+    STEP(parse_operator(b, p, err, errlen));
+    if (roz_dds_params_damping(p, b->m, b->joint, b->n_joints, &b->startup_kd, &b->shutdown_kd,
+                               "ros2-param", report, ctx, err, errlen) != ROZ_OK) {
+        if (report == NULL)
+            return ROZ_EINVAL;
+        bad = 1;
+    }
     if (r->params != NULL)
-        STEP("ros2-param", r->params(b->vendor, p, err, errlen));
+        STEP(r->params(b->vendor, p, err, errlen));
 #undef STEP
     return bad ? ROZ_EINVAL : ROZ_OK;
 }
@@ -138,7 +118,7 @@ int roz_ros2_check(const roz_ros2_robot_t *robot, roz_ros2_bridge_t *b, void *ve
 {
     roz_params_reporter_t to = { report, ctx };
     char err[ROZ_CFG_PROBLEM_LEN];
-    roz_params_t p = { NULL, 0 };
+    roz_params_t p = roz_params_hardware(m);
 
     memset(b, 0, sizeof *b);
     b->robot = robot;
@@ -148,10 +128,6 @@ int roz_ros2_check(const roz_ros2_robot_t *robot, roz_ros2_bridge_t *b, void *ve
     if (rc != ROZ_OK) {
         roz_params_report(&to, rc == ROZ_ENOENT ? "ros2-joint" : "ros2-channel", err);
         return ROZ_EINVAL;
-    }
-    if (m->hardware != NULL) {
-        p.items = m->hardware->params;
-        p.n = m->hardware->n_params;
     }
     return roz__ros2_parse_params(b, &p, err, sizeof err, roz_params_report, &to);
 }

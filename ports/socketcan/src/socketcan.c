@@ -1017,9 +1017,7 @@ static const roz_port_param_info_t sc_params[] = {
 static const roz_port_info_t sc_info = {
     .summary = "CAN actuators speaking the MIT-mode frame, over Linux SocketCAN",
     .header = "roz/port/can_config.h",
-    .params = sc_params,
-    .n_params = sizeof sc_params / sizeof sc_params[0],
-    .no_crc = NULL,
+    ROZ_PORT_INFO_PARAMS(sc_params),
     .no_sequence = "MIT-mode frames carry no sequence number: a rebooted actuator is seen only "
                    "as a silence longer than reply_timeout_us (the vanish case)",
 };
@@ -1053,9 +1051,9 @@ const roz_port_ops_t roz_socketcan_ops = {
 roz_port_t roz__socketcan_port(roz_socketcan_t *sc, const roz_port_layout_t *caller,
                                size_t bytes, roz_log_fn log, void *log_ctx)
 {
-    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *sc)
-        return roz_port_misbuilt(); /* nothing written to *sc */
-    roz_port_t p = { &roz_socketcan_ops, sc, 0 };
+    roz_port_t p = roz_port_make(&roz_socketcan_ops, sc, caller, bytes, sizeof *sc);
+    if (p.self == NULL)
+        return p; /* misbuilt: nothing written to *sc */
     if (!sc->opened)
         sc->given_fd = -1;
     sc->log = log;

@@ -157,17 +157,24 @@ static void seal(g1_cmd_t *out)
     out->crc = roz_crc32_words((const uint32_t *)(const void *)out, G1_CMD_CRC_WORDS);
 }
 
+/* A command's header, and its joints' motors enabled (mode 1): slots
+ * without a manifest joint stay as zeroed, mode 0, disabled. */
+static void begin(const roz_unitree_g1_t *g1, uint8_t mode_machine, g1_cmd_t *out)
+{
+    out->mode_pr = g1->mode_pr;
+    out->mode_machine = mode_machine;
+    for (uint16_t k = 0; k < g1->n_joints; k++)
+        out->motor_cmd[g1->slot[k]].mode = 1;
+}
+
 void roz__g1_fill(const roz_unitree_g1_t *g1, const double *cmd, const double *q,
                   uint8_t mode_machine, g1_cmd_t *out)
 {
     const roz_manifest_t *m = g1->m;
-    out->mode_pr = g1->mode_pr;
-    out->mode_machine = mode_machine;
-    /* slots without a manifest joint stay as zeroed: mode 0, disabled */
+    begin(g1, mode_machine, out);
     for (uint16_t k = 0; k < g1->n_joints; k++) {
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
-        mc->mode = 1;
         mc->q = value(m, cmd, j->q_cmd);
         mc->dq = value(m, cmd, j->dq_cmd);
         mc->tau = value(m, cmd, j->tau_cmd);
@@ -195,12 +202,10 @@ void roz__g1_fill_damping(const roz_unitree_g1_t *g1, const double *q, double kd
                           uint8_t mode_machine, g1_cmd_t *out)
 {
     const roz_manifest_t *m = g1->m;
-    out->mode_pr = g1->mode_pr;
-    out->mode_machine = mode_machine;
+    begin(g1, mode_machine, out);
     for (uint16_t k = 0; k < g1->n_joints; k++) {
         const roz_unitree_g1_joint_t *j = &g1->joint[k];
         unitree_hg_msg_dds__MotorCmd_ *mc = &out->motor_cmd[g1->slot[k]];
-        mc->mode = 1;
         /* no stiffness, velocity or torque, as far as the manifest allows;
          * a joint without a position command at @p q, its measured position
          * (inside its state's limits): never 0 rad under a hold gain, and

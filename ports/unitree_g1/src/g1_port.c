@@ -31,7 +31,6 @@ _Static_assert(sizeof(g1_state_t) == 4u * ROZ_UNITREE_G1_STATE_WORDS, "LowState_
 #define LOCKED 0x100u /* locked_mode_machine: a command went out */
 
 
-
 /* ---- private ----------------------------------------------------------------- */
 
 static void log_stderr(void *ctx, roz_log_level_t level, const char *msg)
@@ -50,32 +49,6 @@ static void bump(ROZ_ATOMIC(uint64_t) *a)
 {
     atomic_fetch_add_explicit(a, 1u, memory_order_relaxed);
 }
-
-/* robot.toml's [hardware.params] first, then the caller's: the last wins */
-static int merge_params(roz_unitree_g1_t *g1, const roz_manifest_t *m, const roz_params_t *p,
-                        roz_params_t *out, char *err, size_t errlen)
-{
-    size_t n = 0;
-    size_t hw = m->hardware != NULL ? m->hardware->n_params : 0;
-    size_t given = p != NULL ? p->n : 0;
-
-    if (hw + given > ROZ_UNITREE_G1_MAX_PARAMS) {
-        snprintf(err, errlen, "unitree/G1: %lu parameters; at most %d",
-                 (unsigned long)(hw + given), ROZ_UNITREE_G1_MAX_PARAMS);
-        return ROZ_EINVAL;
-    }
-    for (size_t i = 0; i < hw; i++)
-        g1->params[n++] = m->hardware->params[i];
-    for (size_t i = 0; i < given; i++)
-        g1->params[n++] = p->items[i];
-    out->items = g1->params;
-    out->n = n;
-    return ROZ_OK;
-}
-
-
-
-
 
 
 /* The rows the port's info shows (g1_rules.h). */
@@ -290,8 +263,9 @@ static int g1_open(void *self, const roz_manifest_t *m, const roz_params_t *p, c
     }
     g1->m = m;
     rc = roz__g1_bind(g1, m, err, errlen) == ROZ_OK ? ROZ_OK : ROZ_EINVAL;
-    if (rc == ROZ_OK)
-        rc = merge_params(g1, m, p, &params, err, errlen);
+    if (rc == ROZ_OK) /* robot.toml's [hardware.params] first, then the caller's */
+        rc = roz_params_merge(m, p, g1->params, ROZ_UNITREE_G1_MAX_PARAMS, "unitree/G1", &params,
+                              err, errlen);
     if (rc == ROZ_OK)
         rc = parse_params(g1, &params, err, errlen);
     if (rc != ROZ_OK)
@@ -542,10 +516,7 @@ static int g1_report(const void *self, roz_port_report_when_t when, char *buf, s
 static const roz_port_info_t g1_info = {
     .summary = "the Unitree G1 over Cyclone DDS (unitree_hg LowCmd_/LowState_, CRC32)",
     .header = "roz/port/unitree_g1.h",
-    .params = g1_params,
-    .n_params = sizeof g1_params / sizeof g1_params[0],
-    .no_crc = NULL,
-    .no_sequence = NULL,
+    ROZ_PORT_INFO_PARAMS(g1_params),
 };
 
 /* The receive and writer threads' warnings, said here (roz/port.h drain). */
@@ -578,9 +549,9 @@ const roz_port_ops_t roz_unitree_g1_ops = {
 roz_port_t roz__unitree_g1_port(roz_unitree_g1_t *g1, const roz_port_layout_t *caller,
                                 size_t bytes, roz_log_fn log, void *log_ctx)
 {
-    if (roz_port_layout_check(caller, NULL, 0) != ROZ_OK || bytes != sizeof *g1)
-        return roz_port_misbuilt(); /* nothing written to *g1 */
-    roz_port_t p = { &roz_unitree_g1_ops, g1, 0 };
+    roz_port_t p = roz_port_make(&roz_unitree_g1_ops, g1, caller, bytes, sizeof *g1);
+    if (p.self == NULL)
+        return p; /* misbuilt: nothing written to *g1 */
     g1->open = 0;
     g1->log = log;
     g1->log_ctx = log_ctx;

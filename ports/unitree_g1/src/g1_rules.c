@@ -104,19 +104,17 @@ int roz__g1_bind(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_
 
 static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t errlen)
 {
-    const char *v = roz_params_get_str(p, "mode_pr", "PR");
-    if (strcmp(v, "PR") == 0 || strcmp(v, "pr") == 0 || strcmp(v, "0") == 0) {
-        *out = 0;
-    } else if (strcmp(v, "AB") == 0 || strcmp(v, "ab") == 0 || strcmp(v, "1") == 0) {
-        *out = 1;
-    } else {
-        roz_format(err, errlen,
-                   "parameter mode_pr = \"%s\": expected PR (0: ankles and waist in serial "
-                   "pitch/roll joint space) or AB (1: the parallel actuators directly)",
-                   v);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    static const roz_params_word_t words[] = {
+        { "PR", 0 }, { "pr", 0 }, { "0", 0 }, { "AB", 1 }, { "ab", 1 }, { "1", 1 },
+    };
+    int mode;
+    int rc = roz_params_get_choice(p, "mode_pr", "PR", words, sizeof words / sizeof words[0],
+                                   "PR (0: ankles and waist in serial pitch/roll joint space) "
+                                   "or AB (1: the parallel actuators directly)",
+                                   &mode, err, errlen);
+    if (rc == ROZ_OK)
+        *out = (uint8_t)mode;
+    return rc;
 }
 
 /* What answers on rt/lowstate. unitree_mujoco never sets crc, tick or
@@ -125,20 +123,19 @@ static int parse_mode_pr(const roz_params_t *p, uint8_t *out, char *err, size_t 
  * (docs/ports/unitree_g1.md, "In Unitree's simulator"; test_g1_sim). */
 static int parse_peer(roz_unitree_g1_t *g1, const roz_params_t *p, char *err, size_t errlen)
 {
-    const char *v = roz_params_get_str(p, "peer", "robot");
-    if (strcmp(v, "robot") == 0) {
-        g1->peer = ROZ_UNITREE_G1_PEER_ROBOT;
-    } else if (strcmp(v, "unitree_mujoco") == 0) {
-        g1->peer = ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO;
-    } else {
-        roz_format(err, errlen,
-                   "parameter peer = \"%s\": expected robot (a G1: every check, the default) or "
-                   "unitree_mujoco (Unitree's simulator on lo: no state CRC or tick checks; "
-                   "never a robot)",
-                   v);
-        return ROZ_EINVAL;
-    }
-    return ROZ_OK;
+    static const roz_params_word_t words[] = {
+        { "robot", ROZ_UNITREE_G1_PEER_ROBOT },
+        { "unitree_mujoco", ROZ_UNITREE_G1_PEER_UNITREE_MUJOCO },
+    };
+    int peer;
+    int rc = roz_params_get_choice(p, "peer", "robot", words, 2,
+                                   "robot (a G1: every check, the default) or unitree_mujoco "
+                                   "(Unitree's simulator on lo: no state CRC or tick checks; "
+                                   "never a robot)",
+                                   &peer, err, errlen);
+    if (rc == ROZ_OK)
+        g1->peer = peer;
+    return rc;
 }
 
 /* The simulator's relaxed checks on lo only (CYCLONEDDS_URI, the
@@ -160,37 +157,22 @@ static int check_sim_network(const roz_unitree_g1_t *g1, char *err, size_t errle
 int roz__g1_parse_params(roz_unitree_g1_t *g1, const roz_params_t *p, char *err,
                          size_t errlen, roz_unitree_g1_problem_fn report, void *ctx)
 {
-    double lo, hi;
     int bad = 0, dds_ok;
 
 /* a problem: the open's error (no report), or one report and on */
-#define STEP(rule, call)                                                                       \
-    do {                                                                                       \
-        if ((call) != ROZ_OK) {                                                                \
-            if (report == NULL)                                                                \
-                return ROZ_EINVAL;                                                             \
-            report(ctx, rule, err);                                                            \
-            bad = 1;                                                                           \
-        }                                                                                      \
-    } while (0)
-    STEP("unknown-key", roz_params_check_known_rows(p, ROWS, PORT, err, errlen));
-    STEP("g1-param", parse_peer(g1, p, err, errlen));
+#define STEP(call) ROZ_PARAMS_STEP("g1-param", call)
+    ROZ_PARAMS_STEP("unknown-key", roz_params_check_known_rows(p, ROWS, PORT, err, errlen));
+    STEP(parse_peer(g1, p, err, errlen));
     dds_ok = roz_dds_params_parse(&g1->dds, p, 0, g1->m->control_rate_hz, err, errlen);
-    STEP("g1-param", dds_ok);
+    STEP(dds_ok);
     if (dds_ok == ROZ_OK) /* the interface it names */
-        STEP("g1-param", check_sim_network(g1, err, errlen));
-    STEP("g1-param", parse_mode_pr(p, &g1->mode_pr, err, errlen));
-    STEP("g1-param",
-         roz_params_get_row_u32(p, ROWS, "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen));
-    /* gains the damping channels allow, for every joint */
-    (void)roz_joints_damping_range(g1->m, g1->joint, g1->n_joints, &lo, &hi);
-    STEP("g1-param", roz_params_get_double(p, "startup_damping", 0.0 >= lo && 0.0 <= hi ? 0.0 : lo,
-                                           lo, hi, &g1->startup_kd, err, errlen));
-    g1->shutdown_kd = NAN; /* each joint's damping default */
-    if (roz_params_find(p, "shutdown_damping") != NULL)
-        STEP("g1-param", roz_params_get_double(p, "shutdown_damping", 0.0, lo, hi,
-                                               &g1->shutdown_kd, err, errlen));
+        STEP(check_sim_network(g1, err, errlen));
+    STEP(parse_mode_pr(p, &g1->mode_pr, err, errlen));
+    STEP(roz_params_get_row_u32(p, ROWS, "peer_timeout_ms", &g1->peer_timeout_ms, err, errlen));
 #undef STEP
+    if (roz_dds_params_damping(p, g1->m, g1->joint, g1->n_joints, &g1->startup_kd,
+                               &g1->shutdown_kd, "g1-param", report, ctx, err, errlen) != ROZ_OK)
+        return ROZ_EINVAL;
     return bad ? ROZ_EINVAL : ROZ_OK;
 }
 
@@ -201,7 +183,7 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     static roz_unitree_g1_t g1; /* host tools, one call at a time */
     roz_params_reporter_t to = { report, ctx };
     char err[ROZ_CFG_PROBLEM_LEN];
-    roz_params_t p = { NULL, 0 };
+    roz_params_t p = roz_params_hardware(m);
     int rc;
 
     memset(&g1, 0, sizeof g1);
@@ -210,10 +192,6 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     if (rc != ROZ_OK) {
         roz_params_report(&to, rc == ROZ_ENOENT ? "g1-joint" : "g1-channel", err);
         return ROZ_EINVAL;
-    }
-    if (m->hardware != NULL) {
-        p.items = m->hardware->params;
-        p.n = m->hardware->n_params;
     }
     return roz__g1_parse_params(&g1, &p, err, sizeof err, roz_params_report, &to);
 }

@@ -15,14 +15,7 @@
     ROZ_DDS_PARAM_INFO("0"),                                                                    \
         ROZ_PORT_PARAM_TEXT_ROW("mode_pr", "PR|AB|0|1", "PR",                                   \
                                 "the ankles' and waist's control mode"),                        \
-        ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500,                               \
-                               "the robot silent this long is lost"),                           \
-        ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",          \
-                                "kd of the start-up hold"),                                     \
-        ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",              \
-                                "the channels' default",                                        \
-                                "kd of the damping command at shut-down and on a watchdog "     \
-                                "trip"),                                                        \
+        ROZ_DDS_HOLD_PARAM_INFO,                                                                \
         ROZ_PORT_PARAM_TEXT_ROW("peer", "robot|unitree_mujoco", "robot",                        \
                                 "unitree_mujoco: Unitree's simulator on lo (no state CRC, no "  \
                                 "tick); never a robot")

@@ -27,6 +27,20 @@
 extern "C" {
 #endif
 
+/** @brief robot.toml's [hardware.params] of @p m (none: empty).
+ *  Context: any. */
+roz_params_t roz_params_hardware(const roz_manifest_t *m);
+
+/**
+ * @brief robot.toml's [hardware.params] of @p m, then @p given (may be
+ *        NULL), as one list in @p storage: the last of a key wins.
+ * @retval ROZ_OK     @p out the list
+ * @retval ROZ_EINVAL more than @p cap; @p err "PORT: N parameters; at most CAP"
+ * Context: a port's open(); no heap.
+ */
+int roz_params_merge(const roz_manifest_t *m, const roz_params_t *given, roz_param_t *storage,
+                     size_t cap, const char *port, roz_params_t *out, char *err, size_t errlen);
+
 /** @brief Value of @p key, or NULL when absent (the last one wins).
  *  Context: a port's open(); not the tick. */
 const char *roz_params_find(const roz_params_t *p, const char *key);
@@ -107,6 +121,38 @@ int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *ou
 /** @brief String parameter; @p out = @p def when absent. Never fails.
  *  Context: a port's open(); not the tick. */
 const char *roz_params_get_str(const roz_params_t *p, const char *key, const char *def);
+
+/** One step of a port's parameter check that reports every problem: a
+ *  problem of @p call is the open's error when there is no reporter (the
+ *  caller returns ROZ_EINVAL), else reported as @p rule, and the check
+ *  goes on. Uses the caller's `report`, `ctx`, `err` and sets its `bad`. */
+#define ROZ_PARAMS_STEP(rule, call)                                                           \
+    do {                                                                                      \
+        if ((call) != ROZ_OK) {                                                               \
+            if (report == NULL)                                                               \
+                return ROZ_EINVAL;                                                            \
+            report(ctx, rule, err);                                                           \
+            bad = 1;                                                                          \
+        }                                                                                     \
+    } while (0)
+
+/** One word a choice parameter takes, and the value it stands for. */
+typedef struct roz_params_word {
+    const char *word;
+    int         value;
+} roz_params_word_t;
+
+/**
+ * @brief A parameter that is one of @p n words (@p def when absent): @p out
+ *        the value of the word given.
+ * @param expected  what the error says after "expected ": the words, what
+ *                  each means
+ * @retval ROZ_OK; ROZ_EINVAL, @p err `parameter KEY = "V": expected EXPECTED`
+ * Context: a port's open(); not the tick.
+ */
+int roz_params_get_choice(const roz_params_t *p, const char *key, const char *def,
+                          const roz_params_word_t *words, size_t n, const char *expected,
+                          int *out, char *err, size_t errlen);
 
 /* ---- values: the grammar of one value, without a message ---------------- */
 

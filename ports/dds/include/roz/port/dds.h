@@ -21,6 +21,8 @@
 #include "roz/atomic.h"
 #include "roz/buffer.h"
 #include "roz/hal/cmd_watchdog.h"
+#include "roz/hal/joints.h"
+#include "roz/hal/params.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
@@ -97,6 +99,33 @@ typedef struct roz_dds_params {
     ROZ_PORT_PARAM_TEXT_ROW(ROZ_CMD_WATCHDOG_KEY, "up to 60000000", "50000",                    \
                             "the command watchdog: the tick silent this long, the port sends "  \
                             "its safe command")
+
+/** The rows of a DDS robot port's link and hold parameters in its table:
+ *  the silence that loses the robot (its numeric row's bounds and default
+ *  read by the port), then roz_dds_params_damping()'s keys. */
+#define ROZ_DDS_HOLD_PARAM_INFO                                                                 \
+    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500,                                   \
+                           "the robot silent this long is lost"),                               \
+    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",              \
+                            "kd of the start-up hold"),                                         \
+    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",                  \
+                            "the channels' default",                                            \
+                            "kd of the damping command at shut-down and on a watchdog trip")
+
+/**
+ * @brief Read startup_damping (0, or the least the damping channels allow)
+ *        and shutdown_damping (NaN when absent: each joint's damping
+ *        default), both within the range every bound joint's damping
+ *        channel allows (roz_joints_damping_range()).
+ * @param[in] report where each problem goes, as @p rule (ROZ_PARAMS_STEP());
+ *                   NULL: the first problem is the error
+ * @retval ROZ_OK, or ROZ_EINVAL with @p err naming the key and the value
+ * Context: start-up; no heap.
+ */
+int roz_dds_params_damping(const roz_params_t *p, const roz_manifest_t *m,
+                           const roz_joint_channels_t *joint, uint16_t n, double *startup_kd,
+                           double *shutdown_kd, const char *rule, roz_params_problem_fn report,
+                           void *ctx, char *err, size_t errlen);
 
 /**
  * @brief Read the common DDS parameters.

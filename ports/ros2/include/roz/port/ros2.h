@@ -453,19 +453,24 @@ int roz_ros2_topic_link(const roz_ros2_bridge_t *b, uint16_t t, roz_link_t *out)
 void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out);
 
 /** @brief roz_ros2_link() and every topic's malformed samples, as a port's
- *  link counters (roz_port_link_counters_t). Context: any thread. */
-int roz_ros2_link_counters(const roz_ros2_bridge_t *b, roz_port_link_counters_t *out);
+ *  link counters (roz_port_link_counters_t): the link_counters op on a
+ *  bridge. Context: any thread. */
+int roz_ros2_link_counters(const void *self, roz_port_link_counters_t *out);
+
+/**
+ * @brief A ROS 2 port's constructor (its library half): roz_port_make()'s
+ *        check of the caller's layout and instance @p size, then the
+ *        bridge @p b (the instance's first member) not yet open, logging to
+ *        @p log. Context: start-up.
+ */
+roz_port_t roz_ros2_port(const roz_port_ops_t *ops, roz_ros2_bridge_t *b,
+                         const roz_port_layout_t *caller, size_t bytes, size_t size,
+                         roz_log_fn log, void *log_ctx);
 
 /** The rows of the bridge's own parameters (roz_ros2_open() reads its
  *  numeric rows' bounds and defaults). */
 #define ROZ_ROS2_BRIDGE_PARAM_INFO                                                              \
-    ROZ_PORT_PARAM_U32_ROW("peer_timeout_ms", 10, 60000, 500,                                   \
-                           "the robot silent this long is lost"),                               \
-    ROZ_PORT_PARAM_TEXT_ROW("startup_damping", "the damping channels' range", "0",              \
-                            "kd of the start-up hold"),                                         \
-    ROZ_PORT_PARAM_TEXT_ROW("shutdown_damping", "the damping channels' range",                  \
-                            "the channels' default",                                            \
-                            "kd of the damping command at shut-down and on a watchdog trip"),   \
+    ROZ_DDS_HOLD_PARAM_INFO,                                                                    \
     ROZ_PORT_PARAM_TEXT_ROW("link_check", "sequence|stamp",                                     \
                             "sequence where the messages have one", "what the link checks run on"), \
     ROZ_PORT_PARAM_TEXT_ROW("cmd_vel_topic", "a ROS topic name", "/cmd_vel",                    \
