@@ -5,27 +5,14 @@ import dataclasses
 
 import pytest
 
+from conftest import channel, robot_toml
 from rozgen.model import Maxima
 from rozgen.validate import validate
 
-GOOD = """
-[manifest]
-robot_id = "arm"
-
-[[manifest.commands]]
-name = "j1/velocity"
-interface_type = "velocity"
-unit = "rad/s"
-limits = [-2, 2]
-default = 0
-
-[[manifest.states]]
-name = "j1/position"
-interface_type = "position"
-unit = "rad"
-limits = [-3.14, 3.14]
-default = 0.0
-"""
+GOOD = robot_toml(
+    "arm",
+    channel("commands", "j1/velocity", "velocity", "rad/s", "[-2, 2]", "0"),
+    channel("states", "j1/position", "position", "rad", "[-3.14, 3.14]", "0.0"))
 
 
 def check(text: str, maxima: Maxima = Maxima()):
