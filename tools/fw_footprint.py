@@ -63,6 +63,16 @@ APP_OBJECTS = {".bss.rt": "roz core", ".bss.scratch": "roz core", ".bss.sim": "p
                ".bss.port": "port"}
 
 
+def first_component(rules, path: str) -> str:
+    """The component of the first (pattern, component) of @p rules whose
+    pattern is in @p path (with / for \\), else "app"."""
+    path = path.replace("\\", "/")
+    for pattern, comp in rules:
+        if pattern.search(path):
+            return comp
+    return "app"
+
+
 # an input file's component, by its archive or object's name
 FILE_COMPONENTS = [
     (re.compile(r"libroz_core\.a|libroz_aot\.a"), "roz core"),
@@ -82,11 +92,7 @@ def component(path: str, section: str = "") -> str:
     section = LTO_SUFFIX.sub("", section)
     if section in APP_OBJECTS:
         return APP_OBJECTS[section]
-    base = path.replace("\\", "/")
-    for pattern, comp in FILE_COMPONENTS:
-        if pattern.search(base):
-            return comp
-    return "app"
+    return first_component(FILE_COMPONENTS, path)
 
 
 LTRANS = re.compile(r"\.ltrans\d*\.ltrans\.o$|\.ltrans\.o$")
@@ -110,10 +116,7 @@ SOURCE_COMPONENTS = [
 
 
 def source_component(path: str) -> str:
-    for pattern, comp in SOURCE_COMPONENTS:
-        if pattern.search(path.replace("\\", "/")):
-            return comp
-    return "app"
+    return first_component(SOURCE_COMPONENTS, path)
 
 
 class LtoOwners:
