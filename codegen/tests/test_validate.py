@@ -71,23 +71,9 @@ params = {a = 1}
 control_rate_hz = true
 robot_id = "Bad"
 typo = 1
-
-[[manifest.states]]
-name = "s/velocity"
-interface_type = "velocity"
-unit = "m/s"
-limits = [1.0, -1.0]
-default = 9.0
-
-[[manifest.commands]]
-name = "c/velocity"
-interface_type = "velocity"
-unit = "m/s"
-limits = [-1, 1]
-default = 2
-max_rate_of_change = -1
-position_state_index = 0
-"""
+""" + channel("states", "s/velocity", "velocity", "m/s", "[1.0, -1.0]", "9.0") \
+        + channel("commands", "c/velocity", "velocity", "m/s", "[-1, 1]", "2",
+                  max_rate_of_change="-1", position_state_index="0")
     m, problems = check(text)
     assert m is None
     assert problems == [
