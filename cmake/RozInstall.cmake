@@ -69,27 +69,15 @@ if(TARGET roz_wasm3)
   list(APPEND _roz_targets roz_wasm3)
   set_target_properties(roz_wasm3 PROPERTIES EXPORT_NAME wasm3)
 endif()
-if(TARGET roz_toml)
-  list(APPEND _roz_targets roz_toml)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/toml/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_run)
-  list(APPEND _roz_targets roz_run)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/run/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_record)
-  list(APPEND _roz_targets roz_record)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/record/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_gamepad)
-  # a Linux gamepad as the operator's remote (roz/gamepad.h)
-  list(APPEND _roz_targets roz_gamepad)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/gamepad/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
+# the host libraries, host/<name> as roz_<name> (gamepad: a Linux gamepad as
+# the operator's remote, roz/gamepad.h)
+foreach(_lib IN ITEMS toml run record gamepad)
+  if(TARGET roz_${_lib})
+    list(APPEND _roz_targets roz_${_lib})
+    install(DIRECTORY ${PROJECT_SOURCE_DIR}/host/${_lib}/include/roz
+            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+  endif()
+endforeach()
 if(TARGET roz_manifests)
   list(APPEND _roz_targets roz_manifests)
   target_include_directories(roz_manifests PUBLIC

@@ -82,13 +82,16 @@ cmake_path(ABSOLUTE_PATH _roz_pydir BASE_DIRECTORY /prefix OUTPUT_VARIABLE _py)
 file(RELATIVE_PATH ROZ_ROZGEN_PYDIR_FROM_BIN ${_bin} ${_py})
 # rozgen-urdf (URDF to robot.toml) needs nothing more than rozgen; rozgen-nn
 # (policy files to roz_nn.h headers) needs codegen/requirements-nn.txt too.
+# roz__install_launcher(TEMPLATE NAME): bin/NAME, TEMPLATE (here) configured
+# with the caller's @VARIABLES@.
+function(roz__install_launcher template name)
+  configure_file(${CMAKE_CURRENT_LIST_DIR}/${template} ${PROJECT_BINARY_DIR}/roz_install/${name} @ONLY)
+  install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${name} DESTINATION ${CMAKE_INSTALL_BINDIR})
+endfunction()
 foreach(_cmd IN ITEMS "rozgen;cli" "rozgen-urdf;urdf" "rozgen-nn;nn")
   list(GET _cmd 0 ROZ_ROZGEN_COMMAND)
   list(GET _cmd 1 ROZ_ROZGEN_MODULE)
-  configure_file(${CMAKE_CURRENT_LIST_DIR}/rozgen.py.in
-                 ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND} @ONLY)
-  install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${ROZ_ROZGEN_COMMAND}
-          DESTINATION ${CMAKE_INSTALL_BINDIR})
+  roz__install_launcher(rozgen.py.in ${ROZ_ROZGEN_COMMAND})
 endforeach()
 
 set(_roz_requirements "-r \"${PROJECT_SOURCE_DIR}/codegen/requirements.txt\" -r \"${PROJECT_SOURCE_DIR}/codegen/requirements-nn.txt\"")
@@ -106,10 +109,7 @@ if(ROZ_INSTALL_TOOLS)
                        "roz-campaign;campaign.py")
     list(GET _tool 0 ROZ_TOOL_NAME)
     list(GET _tool 1 ROZ_TOOL_FILE)
-    configure_file(${CMAKE_CURRENT_LIST_DIR}/roz_tool.py.in
-                   ${PROJECT_BINARY_DIR}/roz_install/${ROZ_TOOL_NAME} @ONLY)
-    install(PROGRAMS ${PROJECT_BINARY_DIR}/roz_install/${ROZ_TOOL_NAME}
-            DESTINATION ${CMAKE_INSTALL_BINDIR})
+    roz__install_launcher(roz_tool.py.in ${ROZ_TOOL_NAME})
   endforeach()
   string(APPEND _roz_requirements " -r \"${PROJECT_SOURCE_DIR}/tools/requirements-run.txt\"")
   string(APPEND _roz_requirements_what ", tools/requirements-run.txt")

@@ -21,6 +21,26 @@
 # The port's constructor has the one shape every port has:
 #   roz_port_t CONSTRUCTOR(TYPE *self, roz_log_fn log, void *log_ctx);
 
+# roz__require(WHO PREFIX KEY...): fails, naming WHO, unless each of the
+# caller's <PREFIX>_<KEY> (cmake_parse_arguments) is set.
+function(roz__require who prefix)
+  foreach(k IN LISTS ARGN)
+    if(NOT ${prefix}_${k})
+      message(FATAL_ERROR "${who}: ${k} is required")
+    endif()
+  endforeach()
+endfunction()
+
+# roz__register_once(WHO PROPERTY NAME): appends NAME to the global list
+# PROPERTY; fails, naming WHO, where it is there already.
+function(roz__register_once who property name)
+  get_property(names GLOBAL PROPERTY ${property})
+  if(name IN_LIST names)
+    message(FATAL_ERROR "${who}: ${name} registered twice")
+  endif()
+  set_property(GLOBAL APPEND PROPERTY ${property} ${name})
+endfunction()
+
 # A port's rules of its own [hardware] keys, in a library without any
 # transport (so that roz_manifest_json, and through it rozgen, runs them):
 #
@@ -35,16 +55,8 @@
 # (library roz_port_rules).
 function(roz_add_port_rules)
   cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION" "" ${ARGN})
-  foreach(k IN ITEMS PORT TARGET HEADER FUNCTION)
-    if(NOT R_${k})
-      message(FATAL_ERROR "roz_add_port_rules: ${k} is required")
-    endif()
-  endforeach()
-  get_property(ports GLOBAL PROPERTY ROZ_PORT_RULES_PORTS)
-  if(R_PORT IN_LIST ports)
-    message(FATAL_ERROR "roz_add_port_rules: ${R_PORT} registered twice")
-  endif()
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_PORTS ${R_PORT})
+  roz__require(roz_add_port_rules R PORT TARGET HEADER FUNCTION)
+  roz__register_once(roz_add_port_rules ROZ_PORT_RULES_PORTS ${R_PORT})
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}")
 endfunction()
 
@@ -140,22 +152,14 @@ endfunction()
 
 function(roz_add_port)
   cmake_parse_arguments(P "" "NAME;TARGET;HEADER;TYPE;CONSTRUCTOR;OPS" "EXPORT;DOCS" ${ARGN})
-  foreach(k IN ITEMS NAME TARGET HEADER TYPE CONSTRUCTOR DOCS)
-    if(NOT P_${k})
-      message(FATAL_ERROR "roz_add_port: ${k} is required")
-    endif()
-  endforeach()
+  roz__require(roz_add_port P NAME TARGET HEADER TYPE CONSTRUCTOR DOCS)
   if(NOT TARGET ${P_TARGET})
     message(FATAL_ERROR "roz_add_port(${P_NAME}): no target ${P_TARGET}")
   endif()
   if(NOT P_OPS)
     set(P_OPS roz_${P_NAME}_ops)
   endif()
-  get_property(names GLOBAL PROPERTY ROZ_PORT_NAMES)
-  if(P_NAME IN_LIST names)
-    message(FATAL_ERROR "roz_add_port: ${P_NAME} registered twice")
-  endif()
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_NAMES ${P_NAME})
+  roz__register_once(roz_add_port ROZ_PORT_NAMES ${P_NAME})
   foreach(p IN LISTS P_DOCS)
     if(NOT EXISTS ${PROJECT_SOURCE_DIR}/${p})
       message(FATAL_ERROR "roz_add_port(${P_NAME}): DOCS ${p}: no such page")

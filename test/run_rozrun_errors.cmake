@@ -32,30 +32,31 @@ expect_error("${S};--swap-at;50:" "--swap-at \"50:\": expected TICK:FILE")
 # the deploy sequence (docs/deploy.md): each refusal names the file, the key
 # and the channel or input
 set(G "--robot;unitree_g1_12dof;--controller;${CTL}/sine.wasm;--ticks;300")
+# deploy_error(NAME TEXT WANT): rozrun refuses a deploy sequence of [deploy]
+# then TEXT, saying "deploy_NAME.toml: WANT"
+function(deploy_error name text want)
+  file(WRITE ${DEEP}/deploy_${name}.toml "[deploy]\n${text}")
+  expect_error("${G};--deploy;${DEEP}/deploy_${name}.toml" "deploy_${name}.toml: ${want}")
+endfunction()
 set(stand_ok "pose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
-file(WRITE ${DEEP}/deploy_knee.toml "[deploy]\n[deploy.stand]\npose = [-0.1, 0, 0, 4.0, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
-expect_error("${G};--deploy;${DEEP}/deploy_knee.toml"
-             "deploy_knee.toml: deploy.stand.pose[3]: 4: outside \"left_knee_joint/position\"'s limits")
-file(WRITE ${DEEP}/deploy_kp.toml "[deploy]\n[deploy.stand]\npose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 400, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
-expect_error("${G};--deploy;${DEEP}/deploy_kp.toml"
-             "deploy_kp.toml: deploy.stand.kp[5]: 400: outside \"left_ankle_roll_joint/stiffness\"'s limits")
-file(WRITE ${DEEP}/deploy_short.toml "[deploy]\n[deploy.stand]\npose = [0.0]\nkp = [100]\nkd = [2]\n")
-expect_error("${G};--deploy;${DEEP}/deploy_short.toml" "deploy_short.toml: deploy.stand.pose: 1 values for 12 joints")
-file(WRITE ${DEEP}/deploy_move.toml "[deploy]\nmove_s = 0\n[deploy.stand]\n${stand_ok}")
-expect_error("${G};--deploy;${DEEP}/deploy_move.toml" "deploy_move.toml: move_s: 0: must be above 0 s")
-file(WRITE ${DEEP}/deploy_input.toml "[deploy]\n[deploy.inputs]\nrun = \"remote/a\"\n[deploy.stand]\n${stand_ok}")
-expect_error("${G};--deploy;${DEEP}/deploy_input.toml"
-             "deploy_input.toml: deploy.inputs.run: \"remote/a\": no such input in the manifest of unitree_g1_12dof")
-file(WRITE ${DEEP}/deploy_key.toml "[deploy]\nmove_time = 2\n[deploy.stand]\n${stand_ok}")
-expect_error("${G};--deploy;${DEEP}/deploy_key.toml" "deploy_key.toml: deploy.move_time: not a key of the deploy sequence")
-file(WRITE ${DEEP}/deploy_robot.toml "[deploy]\nrobot = \"unitree_g1\"\n[deploy.stand]\n${stand_ok}")
-expect_error("${G};--deploy;${DEEP}/deploy_robot.toml" "deploy_robot.toml: deploy.robot: written for another robot than unitree_g1_12dof")
-file(WRITE ${DEEP}/deploy_joint.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\", \"tail_joint\"]\npose = [0, 0]\nkp = [1, 1]\nkd = [1, 1]\n")
-expect_error("${G};--deploy;${DEEP}/deploy_joint.toml"
-             "deploy_joint.toml: deploy.stand.joints[1]: \"tail_joint/position\": no such command in unitree_g1_12dof")
-file(WRITE ${DEEP}/deploy_some.toml "[deploy]\n[deploy.stand]\njoints = [\"left_hip_pitch_joint\"]\npose = [0]\nkp = [1]\nkd = [1]\n")
-expect_error("${G};--deploy;${DEEP}/deploy_some.toml"
-             "deploy_some.toml: deploy.stand.joints: \"left_hip_roll_joint/position\" is not in the stand")
+deploy_error(knee "[deploy.stand]\npose = [-0.1, 0, 0, 4.0, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n"
+             "deploy.stand.pose[3]: 4: outside \"left_knee_joint/position\"'s limits")
+deploy_error(kp "[deploy.stand]\npose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\nkp = [100, 100, 100, 150, 40, 400, 100, 100, 100, 150, 40, 40]\nkd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n"
+             "deploy.stand.kp[5]: 400: outside \"left_ankle_roll_joint/stiffness\"'s limits")
+deploy_error(short "[deploy.stand]\npose = [0.0]\nkp = [100]\nkd = [2]\n"
+             "deploy.stand.pose: 1 values for 12 joints")
+deploy_error(move "move_s = 0\n[deploy.stand]\n${stand_ok}"
+             "move_s: 0: must be above 0 s")
+deploy_error(input "[deploy.inputs]\nrun = \"remote/a\"\n[deploy.stand]\n${stand_ok}"
+             "deploy.inputs.run: \"remote/a\": no such input in the manifest of unitree_g1_12dof")
+deploy_error(key "move_time = 2\n[deploy.stand]\n${stand_ok}"
+             "deploy.move_time: not a key of the deploy sequence")
+deploy_error(robot "robot = \"unitree_g1\"\n[deploy.stand]\n${stand_ok}"
+             "deploy.robot: written for another robot than unitree_g1_12dof")
+deploy_error(joint "[deploy.stand]\njoints = [\"left_hip_pitch_joint\", \"tail_joint\"]\npose = [0, 0]\nkp = [1, 1]\nkd = [1, 1]\n"
+             "deploy.stand.joints[1]: \"tail_joint/position\": no such command in unitree_g1_12dof")
+deploy_error(some "[deploy.stand]\njoints = [\"left_hip_pitch_joint\"]\npose = [0]\nkp = [1]\nkd = [1]\n"
+             "deploy.stand.joints: \"left_hip_roll_joint/position\" is not in the stand")
 expect_error("${G};--stage-at;10:run" "--stage-at needs --deploy")
 expect_error("${G};--stage-at;10:walk" "--stage-at \"10:walk\": expected TICK:STAGE")
 # the same messages whatever the depth of the path: here as built, then

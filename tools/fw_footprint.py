@@ -63,31 +63,36 @@ APP_OBJECTS = {".bss.rt": "roz core", ".bss.scratch": "roz core", ".bss.sim": "p
                ".bss.port": "port"}
 
 
+def first_component(rules, path: str) -> str:
+    """The component of the first (pattern, component) of @p rules whose
+    pattern is in @p path (with / for \\), else "app"."""
+    path = path.replace("\\", "/")
+    for pattern, comp in rules:
+        if pattern.search(path):
+            return comp
+    return "app"
+
+
+# an input file's component, by its archive or object's name
+FILE_COMPONENTS = [
+    (re.compile(r"libroz_core\.a|libroz_aot\.a"), "roz core"),
+    (re.compile(r"libroz_aot_\w+\.a"), "controller"),
+    (re.compile(r"libroz_hal\.a"), "hal"),
+    (re.compile(r"libroz_port_\w+\.a"), "port"),
+    (re.compile(r"libroz_wasm3\.a"), "wasm3"),
+    (re.compile(r"_manifest\.c\.(obj|o)$"), "manifest table"),
+    (re.compile(r"_wasm\.c\.(obj|o)$"), "controller"),
+    (re.compile(r"libgcc\.a"), "libgcc"),
+    (re.compile(r"lib(c|c_nano|m|g|g_nano|nosys)\.a"), "libc/libm"),
+]
+
+
 def component(path: str, section: str = "") -> str:
     """The component an input file (and section) belongs to."""
     section = LTO_SUFFIX.sub("", section)
     if section in APP_OBJECTS:
         return APP_OBJECTS[section]
-    base = path.replace("\\", "/")
-    if "libroz_core.a" in base or "libroz_aot.a" in base:
-        return "roz core"
-    if re.search(r"libroz_aot_\w+\.a", base):
-        return "controller"
-    if "libroz_hal.a" in base:
-        return "hal"
-    if re.search(r"libroz_port_\w+\.a", base):
-        return "port"
-    if "libroz_wasm3.a" in base:
-        return "wasm3"
-    if re.search(r"_manifest\.c\.(obj|o)$", base):
-        return "manifest table"
-    if re.search(r"_wasm\.c\.(obj|o)$", base):
-        return "controller"
-    if "libgcc.a" in base:
-        return "libgcc"
-    if re.search(r"lib(c|c_nano|m|g|g_nano|nosys)\.a", base):
-        return "libc/libm"
-    return "app"
+    return first_component(FILE_COMPONENTS, path)
 
 
 LTRANS = re.compile(r"\.ltrans\d*\.ltrans\.o$|\.ltrans\.o$")
@@ -111,10 +116,7 @@ SOURCE_COMPONENTS = [
 
 
 def source_component(path: str) -> str:
-    for pattern, comp in SOURCE_COMPONENTS:
-        if pattern.search(path.replace("\\", "/")):
-            return comp
-    return "app"
+    return first_component(SOURCE_COMPONENTS, path)
 
 
 class LtoOwners:

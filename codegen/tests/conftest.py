@@ -38,6 +38,45 @@ def builtin_manifests() -> list[Path]:
     return sorted(MANIFESTS.glob("*.toml"))
 
 
+def channel(table: str, name: str, interface_type: str, unit: str, limits: str,
+            default: str, **more: str) -> str:
+    """One robot.toml channel, a ``[[manifest.<table>]]`` entry (table
+    "commands" or "states"): name, interface type and unit as strings; limits,
+    default and the keys of @p more as raw TOML, written as the test means
+    them (``[-2, 2]`` is not ``[-2.0, 2.0]`` to a test that edits the text)."""
+    keys = {"name": f'"{name}"', "interface_type": f'"{interface_type}"', "unit": f'"{unit}"',
+            "limits": limits, "default": default, **more}
+    return f"\n[[manifest.{table}]]\n" + "".join(f"{k} = {v}\n" for k, v in keys.items())
+
+
+def robot_toml(robot_id: str, *channels: str, port: str | None = None, joints: str = "",
+               **manifest: str) -> str:
+    """A robot.toml: [manifest] with @p robot_id and the raw TOML keys of
+    @p manifest, then @p channels (see channel()), then, given a @p port, a
+    [hardware] table of it and the raw TOML @p joints list's items."""
+    text = f'[manifest]\nrobot_id = "{robot_id}"\n'
+    text += "".join(f"{k} = {v}\n" for k, v in manifest.items()) + "".join(channels)
+    if port is not None:
+        text += f'\n[hardware]\nport = "{port}"\njoints = [{joints}]\n'
+    return text
+
+
+def knee_toml(port: str = "unitree/G1", joint: str = "left_knee_joint",
+              joints: str | None = None, damping: str | None = None) -> str:
+    """A robot of one knee on a DDS port at 500 Hz: its position command,
+    given @p damping (raw TOML limits, without the brackets) a damping
+    command, and its position state; @p joints is [hardware] joints' raw
+    items, the knee's own by default."""
+    position = ("position", "rad", "[-0.09, 2.88]", "0.0")
+    commands = [channel("commands", f"{joint}/position", *position)]
+    if damping is not None:
+        commands.append(channel("commands", f"{joint}/damping", "damping", "N.m.s/rad",
+                                f"[{damping}]", "2.0"))
+    return robot_toml("knee", *commands, channel("states", f"{joint}/position", *position),
+                      port=port, joints=f'"{joint}"' if joints is None else joints,
+                      control_rate_hz="500")
+
+
 def run_rozgen(*args: object, cwd: Path = REPO) -> subprocess.CompletedProcess:
     """Run ``python -m rozgen`` (this checkout's package) as a user would."""
     env = dict(os.environ)

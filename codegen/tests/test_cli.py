@@ -7,24 +7,19 @@ import tomllib
 
 import pytest
 
-from conftest import CODEGEN, MY_ARM, REPO, run_rozgen
+from conftest import CODEGEN, MY_ARM, REPO, channel, robot_toml, run_rozgen
 from rozgen import __version__
 from rozgen.problems import RULES
 
-MINIMAL = """[manifest]
-robot_id = "{id}"
-[[manifest.commands]]
-name = "j/velocity"
-interface_type = "velocity"
-unit = "rad/s"
-limits = [-1.0, 1.0]
-default = 0.0
-"""
+def minimal(robot_id):
+    """A robot of one command."""
+    return robot_toml(robot_id, channel("commands", "j/velocity", "velocity", "rad/s",
+                                        "[-1.0, 1.0]", "0.0"))
 
 
 def write_robot(directory, robot_id, name=None):
     path = directory / (name or f"{robot_id}.toml")
-    path.write_text(MINIMAL.format(id=robot_id), encoding="utf-8")
+    path.write_text(minimal(robot_id), encoding="utf-8")
     return path
 
 
@@ -136,7 +131,7 @@ def test_unchanged_files_are_not_rewritten(tmp_path):
     assert run_rozgen("-o", out, robot).returncode == 0
     assert all(p.stat().st_mtime_ns == old for p in out.iterdir())
 
-    robot.write_text(MINIMAL.format(id="r").replace("1.0]", "2.0]"), encoding="utf-8")
+    robot.write_text(minimal("r").replace("1.0]", "2.0]"), encoding="utf-8")
     assert run_rozgen("-o", out, robot).returncode == 0
     assert all(p.stat().st_mtime_ns != old for p in out.iterdir())
     assert "[-1.0, 2.0]" in (out / "r_channels.h").read_text()

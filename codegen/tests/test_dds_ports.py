@@ -9,7 +9,7 @@ strtod reads."""
 
 import pytest
 
-from conftest import run_rozgen
+from conftest import knee_toml, run_rozgen
 from rozgen.validate import validate
 
 
@@ -20,40 +20,8 @@ def test_the_built_in_robots_pass(name):
     assert result.returncode == 0, result.stderr
 
 
-_KNEE = """
-[manifest]
-robot_id = "knee"
-control_rate_hz = 500
-
-[[manifest.commands]]
-name = "left_knee_joint/position"
-interface_type = "position"
-unit = "rad"
-limits = [-0.09, 2.88]
-default = 0.0
-
-[[manifest.commands]]
-name = "left_knee_joint/damping"
-interface_type = "damping"
-unit = "N.m.s/rad"
-limits = [{damping}]
-default = 2.0
-
-[[manifest.states]]
-name = "left_knee_joint/position"
-interface_type = "position"
-unit = "rad"
-limits = [-0.09, 2.88]
-default = 0.0
-
-[hardware]
-port = "{port}"
-joints = [{joints}]
-"""
-
-
 def _problems(port="unitree/G1", joints='"left_knee_joint"', params="", damping="0.5, 10.0"):
-    _, problems = validate(_KNEE.format(port=port, joints=joints, damping=damping) + params)
+    _, problems = validate(knee_toml(port, joints=joints, damping=damping) + params)
     return [(p.rule, p.message) for p in problems]
 
 
@@ -150,8 +118,7 @@ mode_pr = "PR"
 
 def test_the_ros2_ports_report_every_parameter_step():
     # the open stops at link_check; the check goes on to the robot's own key
-    robot = _KNEE.replace("left_knee_joint", "J03_KNEE_PITCH_L").format(
-        port="engineai/PM01", joints='"J03_KNEE_PITCH_L"', damping="0.5, 10.0")
+    robot = knee_toml("engineai/PM01", "J03_KNEE_PITCH_L", damping="0.5, 10.0")
     _, problems = validate(robot + '[hardware.params]\nlink_check = "sequence"\n'
                            'parallel_parser_type = "RL"\n')
     got = [(p.rule, p.message) for p in problems]

@@ -13,29 +13,15 @@ import subprocess
 
 import pytest
 
-from conftest import REPO, builtin_manifests, run_rozgen
+from conftest import REPO, builtin_manifests, channel, robot_toml, run_rozgen
 from rozgen import identity
 from rozgen.model import Maxima
 from rozgen.validate import validate
 
-ARM = """
-[manifest]
-robot_id = "arm"
-
-[[manifest.commands]]
-name = "j1/velocity"
-interface_type = "velocity"
-unit = "rad/s"
-limits = [-2, 2]
-default = 0
-
-[[manifest.states]]
-name = "j1/position"
-interface_type = "position"
-unit = "rad"
-limits = [-4, 4]
-default = 0.0
-"""
+ARM = robot_toml(
+    "arm",
+    channel("commands", "j1/velocity", "velocity", "rad/s", "[-2, 2]", "0"),
+    channel("states", "j1/position", "position", "rad", "[-4, 4]", "0.0"))
 
 #: interface_bytes(ARM), written out by hand from the definition.
 ARM_BYTES = (
@@ -86,8 +72,7 @@ DIFFER = [  # (what, old, new): what an index means
     ("unit", 'unit = "rad"\n', 'unit = "deg"\n'),
     ("min", "limits = [-4, 4]", "limits = [-3, 4]"),
     ("max", "limits = [-4, 4]", "limits = [-4, 4.000000000000001]"),
-    ("a state more", "", "\n[[manifest.states]]\nname = \"j2/position\"\n"
-     "interface_type = \"position\"\nunit = \"rad\"\nlimits = [-4, 4]\ndefault = 0.0\n"),
+    ("a state more", "", channel("states", "j2/position", "position", "rad", "[-4, 4]", "0.0")),
 ]
 
 
@@ -112,9 +97,9 @@ def test_hash_covers(what, old, new):
 
 
 def test_hash_covers_order_and_lists():
-    two = ARM.replace("[[manifest.states]]", '[[manifest.commands]]\nname = "j2/velocity"\n'
-                      'interface_type = "velocity"\nunit = "rad/s"\nlimits = [-2, 2]\n'
-                      "default = 0\n\n[[manifest.states]]")
+    two = ARM.replace("\n[[manifest.states]]",
+                      channel("commands", "j2/velocity", "velocity", "rad/s", "[-2, 2]", "0")
+                      + "\n[[manifest.states]]")
     swapped = two.replace('"j1/velocity"', '"tmp"').replace('"j2/velocity"', '"j1/velocity"') \
         .replace('"tmp"', '"j2/velocity"')
     assert identity.interface_hash(manifest(two)) != identity.interface_hash(manifest(swapped))

@@ -4,30 +4,7 @@ state is named on stderr, and refused only under --strict."""
 
 import pytest
 
-from conftest import MANIFESTS, MY_ARM, REPO, builtin_manifests
-
-ROBOT = """[manifest]
-robot_id = "arm"
-[[manifest.commands]]
-name = "{command}"
-interface_type = "velocity"
-unit = "rad/s"
-limits = [-1.0, 1.0]
-default = 0.0
-position_state_index = 1
-[[manifest.states]]
-name = "joint1/position"
-interface_type = "position"
-unit = "rad"
-limits = [-3.0, 3.0]
-default = 0.0
-[[manifest.states]]
-name = "{state}"
-interface_type = "position"
-unit = "rad"
-limits = [-3.0, 3.0]
-default = 0.0
-"""
+from conftest import MANIFESTS, MY_ARM, REPO, builtin_manifests, channel, robot_toml
 
 WARNING = ('robot.toml: warning: manifest.commands[0] "joint1/velocity": position_state_index 1: '
            'paired with manifest.states[1] "joint2/position", a state of joint "joint2", '
@@ -35,8 +12,14 @@ WARNING = ('robot.toml: warning: manifest.commands[0] "joint1/velocity": positio
 
 
 def write(tmp_path, command="joint1/velocity", state="joint2/position"):
+    """robot.toml: @p command paired with its second state, @p state."""
     path = tmp_path / "robot.toml"
-    path.write_text(ROBOT.format(command=command, state=state), encoding="utf-8")
+    path.write_text(robot_toml(
+        "arm",
+        channel("commands", command, "velocity", "rad/s", "[-1.0, 1.0]", "0.0",
+                position_state_index="1"),
+        channel("states", "joint1/position", "position", "rad", "[-3.0, 3.0]", "0.0"),
+        channel("states", state, "position", "rad", "[-3.0, 3.0]", "0.0")), encoding="utf-8")
     return path
 
 

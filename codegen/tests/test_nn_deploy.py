@@ -334,6 +334,19 @@ int main(void)
 """
 
 
+def run_native(tmp_path, p, states):
+    """The controller's C (tmp_path/policy.c) built natively and run over
+    @p states: the command vector it sends each tick."""
+    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
+    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
+    exe = tmp_path / "harness"
+    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
+                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
+    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
+    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
+    return [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
+
+
 @pytest.mark.skipif(shutil.which("cc") is None, reason="needs a C compiler")
 def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
     robot = with_operator_inputs(tmp_path)
@@ -341,11 +354,7 @@ def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
     cfg.write_text(yaml_text("deploy_real.yaml"))
     p = nn_deploy.deploy(str(G1 / "policy.npz"), str(cfg), robot, str(tmp_path / "p.wasm"),
                          spec=SPEC, c_out=str(tmp_path / "policy.c"), wasm=False)
-    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
-    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
-    exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
-                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
+    ns = len(p.manifest.states) + len(p.manifest.inputs)
     # 60 ticks of a robot that moves: every state channel a smooth function
     # of time, the quaternion a unit one, the command inputs within their limits
     rng = np.random.default_rng(5)
@@ -358,9 +367,7 @@ def test_native_build_sends_what_the_numpy_reference_computes(tmp_path):
                                        if c.name == "base_imu/orientation.x")):][:4] = q / np.linalg.norm(q)
         s[97:100] = [0.4, -0.1, 0.6]
         states.append(s)
-    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
-    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
-    got = [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
+    got = run_native(tmp_path, p, states)
     want = nn_deploy.reference(p, states)
     assert len(got) == len(want) == 60
     for t, (g, w) in enumerate(zip(got, want)):
@@ -408,16 +415,10 @@ def test_native_history_and_own_terms_against_the_reference(tmp_path):
     assert [t.name for t in p.terms] == ["gravity", "ang_vel", "command", "joint_vel",
                                          "last_action", "joint_pos"]
     assert p.history == 3 and p.decimation == 4 and len(p.held) == 17
-    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
-    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
-    exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
-                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
+    ns = len(p.manifest.states) + len(p.manifest.inputs)
     rng = np.random.default_rng(11)
     states = [rng.normal(size=ns) for _ in range(40)]   # large enough to clip
-    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
-    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
-    got = [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
+    got = run_native(tmp_path, p, states)
     want = nn_deploy.reference(p, states)
     assert len(got) == 40
     for t, (g, w) in enumerate(zip(got, want)):
@@ -482,19 +483,6 @@ control_decimation: 10
 observations: [ang_vel, command]
 command_channels: [operator/velocity.x, operator/velocity.y, operator/yaw_rate]
 """
-
-
-def run_native(tmp_path, p, states):
-    """The controller's C (tmp_path/policy.c) built natively and run over
-    @p states: the command vector it sends each tick."""
-    ns, nc = len(p.manifest.states) + len(p.manifest.inputs), len(p.manifest.commands)
-    (tmp_path / "harness.c").write_text(HARNESS % {"ns": ns, "nc": nc})
-    exe = tmp_path / "harness"
-    subprocess.run(["cc", "-std=c11", "-O2", "-ffp-contract=off", f"-I{SDK}", f"-I{MATH}", f"-I{tmp_path}",
-                    "-o", str(exe), str(tmp_path / "harness.c"), "-lm"], check=True)
-    text = "\n".join(" ".join(float(v).hex() for v in s) for s in states) + "\n"
-    r = subprocess.run([str(exe)], input=text, capture_output=True, text=True, check=True)
-    return [np.array([float.fromhex(v) for v in line.split()]) for line in r.stdout.splitlines()]
 
 
 def moving_states(p, ticks, seed):

@@ -303,24 +303,21 @@ def test_torchscript_code_refusals(tmp_path):
         assert nn.main(["pt", "--weights", str(p), "-o", str(tmp_path / "x.h")]) == 2
 
     refused(None, "no code/ folder .* give the layers with --spec")
-    softmax = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
-                              "return torch.softmax((actor).forward(out, ), -1)")
-    refused(_code(policy=softmax), r"code/__torch__.py: Policy.forward: operator "
-                                   r"torch.softmax is not one roz_nn.h runs")
-    added = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
-                            "return torch.add((actor).forward(out, ), 1)")
-    refused(_code(policy=added), "operator torch.add is not one")
-    plus = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
-                           "return (actor).forward(out, ) * 2.")
-    refused(_code(policy=plus), "operator Mult")
+    # the policy's last line, made what roz_nn.h does not run
+    last = "return (actor).forward(torch.squeeze(out, 0), )"
+    for ending, match in [
+            ("return torch.softmax((actor).forward(out, ), -1)",
+             r"code/__torch__.py: Policy.forward: operator torch.softmax is not one roz_nn.h runs"),
+            ("return torch.add((actor).forward(out, ), 1)", "operator torch.add is not one"),
+            ("return (actor).forward(out, ) * 2.", "operator Mult"),
+            ("return torch.tanh(torch.relu((actor).forward(out, )))",
+             "activation tanh .* after relu: one activation per layer")]:
+        refused(_code(policy=_POLICY.replace(last, ending)), match)
     branch = _POLICY.replace("    actor = self.actor\n",
                              "    actor = self.actor\n    if self.training:\n      pass\n")
     refused(_code(policy=branch), "a If statement")
     refused(_code(alpha="0.5"), "ELU alpha 0.5")
     refused(_code(act_class="GELU"), "a torch.nn.modules.activation.GELU, whose forward is not in")
-    twice = _POLICY.replace("return (actor).forward(torch.squeeze(out, 0), )",
-                            "return torch.tanh(torch.relu((actor).forward(out, )))")
-    refused(_code(policy=twice), "activation tanh .* after relu: one activation per layer")
     first = _POLICY.replace("(memory).forward__0(torch.unsqueeze(obs, 0),",
                             "(memory).forward__0(torch.tanh(obs),")
     refused(_code(policy=first), "activation tanh .* follows no dense layer")

@@ -20,29 +20,25 @@ NN = DATA / "nn"
 SDK = REPO / "sdk" / "include"
 MATH = REPO / "lib" / "math"  # roz_math.h, the core's, which the SDK gives controllers
 MLP_SPEC = "dense:7:16:elu,dense:16:8:relu,dense:8:4"
+# the layers of each network torch wrote, by its reference's name
+LAYERS = {
+    "lstm_exporter": [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")],
+    "gru_exporter": [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")],
+    "mlp": [("dense", 7, 16, "elu"), ("dense", 16, 8, "relu"), ("dense", 8, 4, "linear")],
+}
 # file, its torch reference (<name>.io.npz), spec, the layers it holds
-FILES = [
-    ("lstm_exporter.pt", "lstm_exporter", None,
-     [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
-    ("gru_exporter.pt", "gru_exporter", None,
-     [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")]),
-    ("mlp.pt", "mlp", None,
-     [("dense", 7, 16, "elu"), ("dense", 16, 8, "relu"), ("dense", 8, 4, "linear")]),
-    ("mlp_state.pt", "mlp", MLP_SPEC,
-     [("dense", 7, 16, "elu"), ("dense", 16, 8, "relu"), ("dense", 8, 4, "linear")]),
-    ("lstm_exporter.pt", "lstm_exporter", "lstm:6:12,dense:12:8:elu,dense:8:4",
-     [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
-    ("mlp.onnx", "mlp", None,
-     [("dense", 7, 16, "elu"), ("dense", 16, 8, "relu"), ("dense", 8, 4, "linear")]),
-    ("lstm.onnx", "lstm_exporter", None,
-     [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
-    ("gru.onnx", "gru_exporter", None,
-     [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")]),
-    ("lstm_dynamo.onnx", "lstm_exporter", None,
-     [("lstm", 6, 12, "linear"), ("dense", 12, 8, "elu"), ("dense", 8, 4, "linear")]),
-    ("gru_dynamo.onnx", "gru_exporter", None,
-     [("gru", 5, 10, "linear"), ("dense", 10, 8, "tanh"), ("dense", 8, 3, "linear")]),
-]
+FILES = [(name, io, spec, LAYERS[io]) for name, io, spec in [
+    ("lstm_exporter.pt", "lstm_exporter", None),
+    ("gru_exporter.pt", "gru_exporter", None),
+    ("mlp.pt", "mlp", None),
+    ("mlp_state.pt", "mlp", MLP_SPEC),
+    ("lstm_exporter.pt", "lstm_exporter", "lstm:6:12,dense:12:8:elu,dense:8:4"),
+    ("mlp.onnx", "mlp", None),
+    ("lstm.onnx", "lstm_exporter", None),
+    ("gru.onnx", "gru_exporter", None),
+    ("lstm_dynamo.onnx", "lstm_exporter", None),
+    ("gru_dynamo.onnx", "gru_exporter", None),
+]]
 IDS = [f"{f}{'+spec' if s else ''}" for f, _, s, _ in FILES]
 
 

@@ -21,6 +21,18 @@ def toml_float(d: decimal.Decimal) -> str:
     return repr(float(d))  # "-0.0", "1e-05", "1e+16", "inf" never occurs
 
 
+def channel_lines(kind: str, c: dict) -> list[str]:
+    """The keys every channel of canonical JSON has, as a [[manifest.<kind>]]."""
+    low, high = c["limits"]
+    return ["", f"[[manifest.{kind}]]",
+            f"name = {toml_string(c['name'])}",
+            f"interface_type = {toml_string(c['interface_type'])}",
+            f"unit = {toml_string(c['unit'])}",
+            f"limits = [{toml_float(low)}, {toml_float(high)}]",
+            f"default = {toml_float(c['default'])}",
+            f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}"]
+
+
 def json_to_toml(text: str) -> str:
     """A tiny robot.toml writer for canonical JSON."""
     doc = json.loads(text, parse_int=decimal.Decimal, parse_float=decimal.Decimal)
@@ -38,35 +50,15 @@ def json_to_toml(text: str) -> str:
         if not doc[kind]:
             out.append(f"{kind} = []")
         for c in doc[kind]:
-            low, high = c["limits"]
-            out += [
-                "",
-                f"[[manifest.{kind}]]",
-                f"name = {toml_string(c['name'])}",
-                f"interface_type = {toml_string(c['interface_type'])}",
-                f"unit = {toml_string(c['unit'])}",
-                f"limits = [{toml_float(low)}, {toml_float(high)}]",
-                f"default = {toml_float(c['default'])}",
-                f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
-                f"position_state_index = {int(c['position_state_index'])}",
-            ]
+            out += channel_lines(kind, c)
+            out.append(f"position_state_index = {int(c['position_state_index'])}")
             # the margin worked out, written as the state's own: same JSON
             if c["limit_margin"] is not None:
                 out.append(f"limit_margin = {toml_float(c['limit_margin'])}")
             out.append(f"safe_default = {toml_string(c['safe_default'])}")
     for c in doc.get("inputs", ()):  # present only when there are inputs
-        low, high = c["limits"]
-        out += [
-            "",
-            "[[manifest.inputs]]",
-            f"name = {toml_string(c['name'])}",
-            f"interface_type = {toml_string(c['interface_type'])}",
-            f"unit = {toml_string(c['unit'])}",
-            f"limits = [{toml_float(low)}, {toml_float(high)}]",
-            f"default = {toml_float(c['default'])}",
-            f"max_rate_of_change = {toml_float(c['max_rate_of_change'])}",
-            f"stale_after_ms = {int(c['stale_after_ms'])}",
-        ]
+        out += channel_lines("inputs", c)
+        out.append(f"stale_after_ms = {int(c['stale_after_ms'])}")
         if "source" in c:  # present only on an input with a source
             out += [f"source = {toml_string(c['source'])}", f"scale = {toml_float(c['scale'])}"]
     fall = doc.get("fall")  # present only with a fall rule

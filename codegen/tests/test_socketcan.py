@@ -7,7 +7,7 @@ ports' params are left alone. The bus figures of a frame: test_can_config."""
 
 import re
 
-from conftest import REPO, run_rozgen
+from conftest import REPO, channel, robot_toml, run_rozgen
 
 
 def test_the_example_leg_passes():
@@ -33,23 +33,9 @@ def test_keys_are_the_documented_ones(tmp_path):
 
 def test_other_ports_params_are_not_checked(tmp_path):
     robot = tmp_path / "robot.toml"
-    robot.write_text('''
-[manifest]
-robot_id = "other"
-
-[[manifest.commands]]
-name = "a/effort"
-interface_type = "effort"
-unit = "N.m"
-limits = [-1.0, 1.0]
-default = 0.0
-
-[hardware]
-port = "vendor/bus"
-joints = ["a"]
-
-[hardware.params]
-can_id = "whatever"
-''', encoding="utf-8")
+    robot.write_text(robot_toml("other", channel("commands", "a/effort", "effort", "N.m",
+                                                 "[-1.0, 1.0]", "0.0"),
+                                port="vendor/bus", joints='"a"')
+                     + '\n[hardware.params]\ncan_id = "whatever"\n', encoding="utf-8")
     result = run_rozgen("--check", str(robot))
     assert result.returncode == 0, result.stderr

@@ -6,32 +6,8 @@ Cyclone's threads, which have no round-robin class); the shared vectors
 (manifests/invalid/*thread*) hold the same words."""
 import pytest
 
+from conftest import knee_toml
 from rozgen.validate import validate
-
-_ROBOT = """
-[manifest]
-robot_id = "knee"
-control_rate_hz = 500
-
-[[manifest.commands]]
-name = "left_knee_joint/position"
-interface_type = "position"
-unit = "rad"
-limits = [-0.09, 2.88]
-default = 0.0
-
-[[manifest.states]]
-name = "left_knee_joint/position"
-interface_type = "position"
-unit = "rad"
-limits = [-0.09, 2.88]
-default = 0.0
-
-[hardware]
-port = "unitree/G1"
-joints = ["left_knee_joint"]
-"""
-
 
 def _full(text: str, prefix: str) -> str:
     """The table's "w_" keys as the thread @p prefix's."""
@@ -40,7 +16,7 @@ def _full(text: str, prefix: str) -> str:
 
 def _said(params: dict, prefix: str = "command_writer") -> list[str]:
     lines = "".join(f'{_full(k, prefix)} = "{v}"\n' for k, v in params.items())
-    _, problems = validate(_ROBOT + "[hardware.params]\n" + lines)
+    _, problems = validate(knee_toml() + "[hardware.params]\n" + lines)
     return [p.message for p in problems]
 
 

@@ -5,27 +5,14 @@ import dataclasses
 
 import pytest
 
+from conftest import channel, robot_toml
 from rozgen.model import Maxima
 from rozgen.validate import validate
 
-GOOD = """
-[manifest]
-robot_id = "arm"
-
-[[manifest.commands]]
-name = "j1/velocity"
-interface_type = "velocity"
-unit = "rad/s"
-limits = [-2, 2]
-default = 0
-
-[[manifest.states]]
-name = "j1/position"
-interface_type = "position"
-unit = "rad"
-limits = [-3.14, 3.14]
-default = 0.0
-"""
+GOOD = robot_toml(
+    "arm",
+    channel("commands", "j1/velocity", "velocity", "rad/s", "[-2, 2]", "0"),
+    channel("states", "j1/position", "position", "rad", "[-3.14, 3.14]", "0.0"))
 
 
 def check(text: str, maxima: Maxima = Maxima()):
@@ -84,23 +71,9 @@ params = {a = 1}
 control_rate_hz = true
 robot_id = "Bad"
 typo = 1
-
-[[manifest.states]]
-name = "s/velocity"
-interface_type = "velocity"
-unit = "m/s"
-limits = [1.0, -1.0]
-default = 9.0
-
-[[manifest.commands]]
-name = "c/velocity"
-interface_type = "velocity"
-unit = "m/s"
-limits = [-1, 1]
-default = 2
-max_rate_of_change = -1
-position_state_index = 0
-"""
+""" + channel("states", "s/velocity", "velocity", "m/s", "[1.0, -1.0]", "9.0") \
+        + channel("commands", "c/velocity", "velocity", "m/s", "[-1, 1]", "2",
+                  max_rate_of_change="-1", position_state_index="0")
     m, problems = check(text)
     assert m is None
     assert problems == [

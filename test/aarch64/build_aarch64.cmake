@@ -12,17 +12,8 @@
 # with it: they run on the machine that builds controllers.
 cmake_minimum_required(VERSION 3.25)
 
-function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${out}")
-  endif()
-endfunction()
-
-set(gen "")
-if(GENERATOR)
-  set(gen -G ${GENERATOR})
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
+generator_args(gen)
 set(root "")
 if(ROZ_CROSS_ROOT) # else the toolchain's choice
   set(root -DROZ_CROSS_ROOT=${ROZ_CROSS_ROOT})

@@ -24,18 +24,9 @@
 # print the same manifest.
 cmake_minimum_required(VERSION 3.25)
 
-function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${out}\n${err}")
-  endif()
-  message(STATUS "${out}")
-endfunction()
-
-set(gen "")
-if(GENERATOR)
-  set(gen -G ${GENERATOR})
-endif()
+# (the second half's copy of this script has a copy of checks.cmake above it)
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
+generator_args(gen)
 
 # ---- find_package, second half: only the prefix ------------------------------
 if(PHASE STREQUAL "installed")
@@ -47,38 +38,38 @@ if(PHASE STREQUAL "installed")
       message(FATAL_ERROR "${hidden} was to be hidden, yet it is still there")
     endif()
   endforeach()
-  run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
+  run_shown(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
       -DROZ_CONSUMER_MODE=find_package -DCMAKE_PREFIX_PATH=${prefix})
   file(STRINGS ${WORK_DIR}/build/CMakeCache.txt used REGEX "^ROZGEN_EXECUTABLE:")
   if(NOT used STREQUAL "ROZGEN_EXECUTABLE:FILEPATH=${prefix}/bin/rozgen")
     message(FATAL_ERROR "the consumer did not use the installed rozgen: ${used}")
   endif()
-  run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
-  run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  run_shown(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+  run_shown(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
   if(EXISTS ${WORK_DIR}/build/reach_rs.wasm) # built where rustc has the wasm32 target
-    run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
+    run_shown(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
   endif()
   if(EXISTS ${prefix}/include/roz/port/unitree_g1.h)
-    run(${WORK_DIR}/build/consumer_g1) # the DDS ports came with the package
+    run_shown(${WORK_DIR}/build/consumer_g1) # the DDS ports came with the package
   endif()
   if(EXISTS ${prefix}/include/roz/port/engineai_pm01.h)
-    run(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
+    run_shown(${WORK_DIR}/build/consumer_ros2) # and the ROS 2 topic ports
   endif()
   if(CMAKE_HOST_SYSTEM_NAME STREQUAL "Linux") # roz::gamepad, built on every Linux
     if(NOT EXISTS ${prefix}/include/roz/gamepad.h OR NOT EXISTS ${WORK_DIR}/build/consumer_gamepad)
       message(FATAL_ERROR "the package lacks roz::gamepad (roz/gamepad.h, the target)")
     endif()
-    run(${WORK_DIR}/build/consumer_gamepad)
+    run_shown(${WORK_DIR}/build/consumer_gamepad)
   endif()
-  run(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
+  run_shown(${prefix}/bin/rozrun --robot ${WORK_DIR}/src/robot.toml
       --controller ${WORK_DIR}/build/reach.wasm --ticks 100
       --trace ${WORK_DIR}/run.csv --record ${WORK_DIR}/run.mcap)
   # The Python tools, from the prefix alone, on what that run wrote.
-  run(${prefix}/bin/roz-plot ${WORK_DIR}/run.csv ${WORK_DIR}/run.png)
-  run(${prefix}/bin/roz-recording check ${WORK_DIR}/run.mcap)
-  run(${prefix}/bin/roz-recording plot ${WORK_DIR}/run.mcap ${WORK_DIR}/run_mcap.png)
+  run_shown(${prefix}/bin/roz-plot ${WORK_DIR}/run.csv ${WORK_DIR}/run.png)
+  run_shown(${prefix}/bin/roz-recording check ${WORK_DIR}/run.mcap)
+  run_shown(${prefix}/bin/roz-recording plot ${WORK_DIR}/run.mcap ${WORK_DIR}/run_mcap.png)
   # roz-live's layout of that run, with the installed foxglove-sdk
-  run(${prefix}/bin/roz-live layout ${WORK_DIR}/run.mcap ${WORK_DIR}/layout.json)
+  run_shown(${prefix}/bin/roz-live layout ${WORK_DIR}/run.mcap ${WORK_DIR}/layout.json)
   file(READ ${WORK_DIR}/layout.json layout)
   if(NOT layout MATCHES "\"/roz/target\\.[a-z_0-9]+\"" OR NOT EXISTS ${prefix}/share/roz/layouts/ur5.json)
     message(FATAL_ERROR "the installed roz-live wrote no layout, or the install has no "
@@ -90,7 +81,7 @@ if(PHASE STREQUAL "installed")
       message(FATAL_ERROR "the installed tools wrote no PNG ${png} (${magic})")
     endif()
   endforeach()
-  run(${prefix}/bin/roz_manifest_info ur5)
+  run_shown(${prefix}/bin/roz_manifest_info ur5)
   # the mujoco port's built-in models, from the prefix alone (share/roz/models)
   if(EXISTS ${prefix}/share/roz/models/unitree_g1/scene.xml)
     execute_process(COMMAND ${prefix}/bin/rozrun --robot unitree_g1 --port mujoco --ticks 50
@@ -125,13 +116,13 @@ if(PHASE STREQUAL "installed")
                         "${json_roz_manifest_json}\n---\n${json_rozgen}")
   endif()
   # rozgen-urdf: a robot.toml from a URDF, which the installed rozgen accepts
-  run(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
-  run(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
+  run_shown(${prefix}/bin/rozgen-urdf ${WORK_DIR}/src/lift.urdf -o ${WORK_DIR}/lift.toml)
+  run_shown(${prefix}/bin/rozgen --check --strict ${WORK_DIR}/lift.toml)
   # rozgen-nn: headers from policy files torch wrote (a TorchScript archive
   # in legged_gym's exporter shape, an ONNX export), with numpy and onnx
   # from the prefix alone
-  run(${prefix}/bin/rozgen-nn pt --weights ${WORK_DIR}/src/lstm_exporter.pt -o ${WORK_DIR}/pt_net.h)
-  run(${prefix}/bin/rozgen-nn onnx --weights ${WORK_DIR}/src/gru.onnx -o ${WORK_DIR}/onnx_net.h)
+  run_shown(${prefix}/bin/rozgen-nn pt --weights ${WORK_DIR}/src/lstm_exporter.pt -o ${WORK_DIR}/pt_net.h)
+  run_shown(${prefix}/bin/rozgen-nn onnx --weights ${WORK_DIR}/src/gru.onnx -o ${WORK_DIR}/onnx_net.h)
   file(READ ${WORK_DIR}/pt_net.h pt_net)
   file(READ ${WORK_DIR}/onnx_net.h onnx_net)
   if(NOT pt_net MATCHES "ROZ_NN_LSTM_DEFINE\\(policy_l0, 6, 12"
@@ -146,13 +137,7 @@ endif()
 # ---- the consumer's sources ---------------------------------------------------
 if(MODE STREQUAL "find_package")
   # Outside the build tree, so that the build tree can be hidden from it.
-  if(DEFINED ENV{TMPDIR})
-    set(tmp $ENV{TMPDIR})
-  else()
-    set(tmp /tmp)
-  endif()
-  string(RANDOM LENGTH 8 ALPHABET abcdefghijklmnopqrstuvwxyz0123456789 tag)
-  set(WORK_DIR ${tmp}/roz_consumer_${tag})
+  temp_folder(WORK_DIR consumer)
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR}/src)
@@ -168,14 +153,14 @@ foreach(f IN ITEMS lstm_exporter.pt gru.onnx)
 endforeach()
 
 if(MODE STREQUAL "add_subdirectory" OR MODE STREQUAL "small_config")
-  run(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
+  run_shown(${CMAKE_COMMAND} -S ${WORK_DIR}/src -B ${WORK_DIR}/build ${gen}
       -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE} -DROZ_CONSUMER_MODE=${MODE}
       -DROZ_SOURCE_DIR=${ROZ_SOURCE_DIR} -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST}
       -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR})
-  run(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
-  run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
+  run_shown(${CMAKE_COMMAND} --build ${WORK_DIR}/build)
+  run_shown(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach.wasm)
   if(EXISTS ${WORK_DIR}/build/reach_rs.wasm)
-    run(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
+    run_shown(${WORK_DIR}/build/consumer ${WORK_DIR}/build/reach_rs.wasm)
   endif()
   if(MODE STREQUAL "small_config")
     # 145 commands in a 16-command build: the generated table must not compile
@@ -192,26 +177,14 @@ elseif(NOT MODE STREQUAL "find_package")
 endif()
 
 # ---- find_package, first half: install, move, scan ------------------------------
-run(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${WORK_DIR}/stage)
+run_shown(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${WORK_DIR}/stage)
 file(RENAME ${WORK_DIR}/stage ${WORK_DIR}/prefix)
 
 # What must be out of reach: the trees and the virtual environment (the folder
 # above rozgen's bin/), under their own names and their real paths.
 cmake_path(GET ROZGEN_EXECUTABLE PARENT_PATH venv)
 cmake_path(GET venv PARENT_PATH venv)
-set(HIDDEN "")
-foreach(d IN ITEMS ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${venv})
-  file(REAL_PATH ${d} real)
-  list(APPEND HIDDEN ${real})
-endforeach()
-list(REMOVE_DUPLICATES HIDDEN)
-foreach(h IN LISTS HIDDEN)
-  cmake_path(IS_PREFIX h ${WORK_DIR} under)
-  if(under)
-    message(FATAL_ERROR "the temporary folder ${WORK_DIR} is inside ${h}, which the test hides; "
-                        "set TMPDIR elsewhere")
-  endif()
-endforeach()
+keep_apart(HIDDEN ${WORK_DIR} ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${venv})
 set(needles ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${venv} ${HIDDEN} ${WORK_DIR}/stage)
 list(REMOVE_DUPLICATES needles)
 file(GLOB_RECURSE installed LIST_DIRECTORIES false ${WORK_DIR}/prefix/*)
@@ -243,7 +216,8 @@ message(STATUS "installed, moved; ${scanned} text files name none of: ${needles}
 
 # The second half runs a copy of this script: the original is in the source
 # tree, which it hides.
-file(COPY ${CMAKE_CURRENT_LIST_FILE} DESTINATION ${WORK_DIR})
+file(COPY ${CMAKE_CURRENT_LIST_FILE} DESTINATION ${WORK_DIR}/test/consumer)
+file(COPY ${CMAKE_CURRENT_LIST_DIR}/../checks.cmake DESTINATION ${WORK_DIR}/test)
 set(path "")
 string(REPLACE ":" ";" path_in "$ENV{PATH}")
 foreach(p IN LISTS path_in)
@@ -262,40 +236,14 @@ string(REPLACE ";" ":" path "${path}")
 set(inner ${CMAKE_COMMAND} -E env --unset=VIRTUAL_ENV --unset=PYTHONPATH --unset=ROZGEN_EXECUTABLE
           PATH=${path}
           ${CMAKE_COMMAND} -DPHASE=installed -DWORK_DIR=${WORK_DIR} -DGENERATOR=${GENERATOR})
-# sh -c "$script" sh N DIR1..DIRN COMMAND...: hide each DIR under an empty
-# tmpfs (a folder inside one already hidden is gone: skipped), then COMMAND.
-# No semicolons: run() passes it on as a CMake list.
-set(script [=[
-n=$1
-shift
-while [ "$n" -gt 0 ]
-do
-  if [ -d "$1" ]
-  then mount -t tmpfs -o size=64k roz-hidden "$1" || exit 1
-  fi
-  shift
-  n=$((n-1))
-done
-exec "$@"
-]=])
-list(LENGTH HIDDEN n_hidden)
-string(JOIN "|" hidden_arg ${HIDDEN})
-set(ns "")
-foreach(flags IN ITEMS -m -rm)
-  execute_process(COMMAND unshare ${flags} sh -c "${script}" sh ${n_hidden} ${HIDDEN} true
-                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
-  if(rc EQUAL 0)
-    set(ns ${flags})
-    break()
-  endif()
-endforeach()
-if(ns)
-  message(STATUS "hiding ${hidden_arg} (unshare ${ns})")
-  run(unshare ${ns} sh -c "${script}" sh ${n_hidden} ${HIDDEN}
-      ${inner} -DHIDDEN=${hidden_arg} -P ${WORK_DIR}/run_consumer.cmake)
+set(copy ${WORK_DIR}/test/consumer/run_consumer.cmake)
+hiding_command(hide "${HIDDEN}")
+if(hide)
+  string(JOIN "|" hidden_arg ${HIDDEN})
+  run_shown(${hide} ${inner} -DHIDDEN=${hidden_arg} -P ${copy})
 else()
   message(STATUS "no mount namespace here (unshare -m and -rm refused): the trees stay "
                  "visible; the scan above and the sanitised environment remain")
-  run(${inner} -P ${WORK_DIR}/run_consumer.cmake)
+  run_shown(${inner} -P ${copy})
 endif()
 file(REMOVE_RECURSE ${WORK_DIR})

@@ -15,13 +15,7 @@
 # for a look when it fails.
 cmake_minimum_required(VERSION 3.25)
 
-function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  message(STATUS "${out}")
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${err}")
-  endif()
-endfunction()
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
 
 # set after test/ is configured (cmake/RozInstallRozgen.cmake): read at run time
 file(STRINGS ${ROZ_BINARY_DIR}/CMakeCache.txt python REGEX "^ROZ_ROZGEN_PYTHON:")
@@ -30,27 +24,12 @@ if(NOT PYTHON)
   message(FATAL_ERROR "no ROZ_ROZGEN_PYTHON in ${ROZ_BINARY_DIR}/CMakeCache.txt")
 endif()
 
-if(DEFINED ENV{TMPDIR})
-  set(tmp $ENV{TMPDIR})
-else()
-  set(tmp /tmp)
-endif()
-string(RANDOM LENGTH 8 ALPHABET abcdefghijklmnopqrstuvwxyz0123456789 tag)
-set(dir ${tmp}/roz_getting_started_${tag})
+temp_folder(dir getting_started)
 
-set(hidden "")
-foreach(d IN ITEMS ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${VENV})
-  file(REAL_PATH ${d} real)
-  list(APPEND hidden ${real})
-  cmake_path(IS_PREFIX real ${dir} under)
-  if(under)
-    message(FATAL_ERROR "${dir} is inside ${real}, which the test hides; set TMPDIR elsewhere")
-  endif()
-endforeach()
-list(REMOVE_DUPLICATES hidden)
+keep_apart(hidden ${dir} ${ROZ_SOURCE_DIR} ${ROZ_BINARY_DIR} ${VENV})
 
 file(REMOVE_RECURSE ${dir})
-run(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${dir}/prefix)
+run_shown(${CMAKE_COMMAND} --install ${ROZ_BINARY_DIR} --prefix ${dir}/prefix)
 file(COPY ${CMAKE_CURRENT_LIST_DIR}/doc_blocks.py DESTINATION ${dir})
 cmake_path(GET PAGE PARENT_PATH page_dir)
 file(COPY ${ROZ_SOURCE_DIR}/${PAGE} DESTINATION ${dir}/pages/${page_dir})
@@ -62,38 +41,12 @@ endforeach()
 set(blocks ${PYTHON} ${dir}/doc_blocks.py --source ${dir}/pages --work ${dir}/work
            --installed ${dir}/prefix ${forbid} ${PAGE})
 
-# sh -c "$script" sh N DIR1..DIRN COMMAND...: each DIR under an empty tmpfs
-# (one inside another already hidden is gone: skipped), then COMMAND.
-set(script [=[
-n=$1
-shift
-while [ "$n" -gt 0 ]
-do
-  if [ -d "$1" ]
-  then mount -t tmpfs -o size=64k roz-hidden "$1" || exit 1
-  fi
-  shift
-  n=$((n-1))
-done
-exec "$@"
-]=])
-list(LENGTH hidden n_hidden)
-set(ns "")
-foreach(flags IN ITEMS -m -rm)
-  execute_process(COMMAND unshare ${flags} sh -c "${script}" sh ${n_hidden} ${hidden} true
-                  RESULT_VARIABLE rc OUTPUT_QUIET ERROR_QUIET)
-  if(rc EQUAL 0)
-    set(ns ${flags})
-    break()
-  endif()
-endforeach()
-if(ns)
-  string(JOIN " " shown ${hidden})
-  message(STATUS "hiding ${shown} (unshare ${ns})")
-  run(unshare ${ns} sh -c "${script}" sh ${n_hidden} ${hidden} ${blocks})
+hiding_command(hide "${hidden}")
+if(hide)
+  run_shown(${hide} ${blocks})
 else()
   message(STATUS "no mount namespace here (unshare -m and -rm refused): the trees stay "
                  "visible; PATH and the blocks' texts are still checked")
-  run(${blocks})
+  run_shown(${blocks})
 endif()
 file(REMOVE_RECURSE ${dir})

@@ -9,17 +9,8 @@
 # (MinSizeRel).
 cmake_minimum_required(VERSION 3.25)
 
-function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${out}")
-  endif()
-endfunction()
-
-set(gen "")
-if(GENERATOR)
-  set(gen -G ${GENERATOR})
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
+generator_args(gen)
 set(options -DFW_BOARD=${BOARD} -DROZ_SOURCE_DIR=${ROZ_SOURCE_DIR} -DROZ_WERROR=ON
     -DROZGEN_EXECUTABLE=${ROZGEN_EXECUTABLE} -DROZ_WASM3_SDIST=${ROZ_WASM3_SDIST}
     -DROZ_WASM3_SOURCE_DIR=${ROZ_WASM3_SOURCE_DIR} ${EXTRA})

@@ -15,29 +15,10 @@
 # folder is removed when the test passes, kept for a look when it fails.
 cmake_minimum_required(VERSION 3.25)
 
-function(run)
-  execute_process(COMMAND ${ARGV} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "failed (${rc}): ${ARGV}\n${out}")
-  endif()
-endfunction()
-
-set(gen "")
-if(GENERATOR)
-  set(gen -G ${GENERATOR})
-endif()
-if(DEFINED ENV{TMPDIR})
-  set(tmp $ENV{TMPDIR})
-else()
-  set(tmp /tmp)
-endif()
-string(RANDOM LENGTH 8 ALPHABET abcdefghijklmnopqrstuvwxyz0123456789 tag)
-set(work ${tmp}/roz_fw_template_${tag})
-file(REAL_PATH ${ROZ_SOURCE_DIR} root)
-cmake_path(IS_PREFIX root ${work} under)
-if(under)
-  message(FATAL_ERROR "the temporary folder ${work} is inside the checkout; set TMPDIR elsewhere")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
+generator_args(gen)
+temp_folder(work fw_template)
+keep_apart(checkout ${work} ${ROZ_SOURCE_DIR})
 
 # the user's copy: the template, their robot and their controllers
 file(MAKE_DIRECTORY ${work}/manifests ${work}/controllers)

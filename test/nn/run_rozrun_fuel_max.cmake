@@ -4,29 +4,21 @@
 # Without the flag it is refused at load (exit 2) naming both figures; with
 # --fuel-max 500000 (or off) it runs, granted its declaration, with no fault.
 # cmake -DROZRUN=... -DWASM=<fuel_hungry.wasm> -P
-set(RUN ${ROZRUN} --robot ur5 --port loopback --controller ${WASM} --ticks 200)
+include(${CMAKE_CURRENT_LIST_DIR}/../checks.cmake)
+set(RUN --robot;ur5;--port;loopback;--controller;${WASM};--ticks;200)
 
-execute_process(COMMAND ${RUN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(NOT rc EQUAL 2)
-  message(FATAL_ERROR "without --fuel-max: exit ${rc}, expected 2 (refused)\n${out}${err}")
-endif()
-string(FIND "${err}" "fuel_per_tick_max 400000" at)
-string(FIND "${err}" "500000" at2)
-if(at EQUAL -1 OR at2 EQUAL -1)
-  message(FATAL_ERROR "without --fuel-max: stderr lacks the declaration and the ceiling:\n${err}")
-endif()
+# without the flag: refused, naming the ceiling and the declaration
+expect_error("${RUN}" "fuel_per_tick_max 400000")
+expect_error("${RUN}" "500000")
 
 foreach(max IN ITEMS 500000 off)
-  execute_process(COMMAND ${RUN} --fuel-max ${max} RESULT_VARIABLE rc OUTPUT_VARIABLE out
+  execute_process(COMMAND ${ROZRUN} ${RUN} --fuel-max ${max} RESULT_VARIABLE rc OUTPUT_VARIABLE out
                   ERROR_VARIABLE err)
   if(NOT rc EQUAL 0)
     message(FATAL_ERROR "--fuel-max ${max}: exit ${rc}, expected 0\n${out}${err}")
   endif()
   foreach(want "faults                 none" "budget 500000" "ticks                  200")
-    string(FIND "${out}" "${want}" at)
-    if(at EQUAL -1)
-      message(FATAL_ERROR "--fuel-max ${max}: the summary lacks \"${want}\":\n${out}")
-    endif()
+    expect_in("${out}" "${want}" "--fuel-max ${max}: the summary")
   endforeach()
   # it needed more than the default budget of 100,000 on every tick
   if(NOT out MATCHES "run max ([0-9]+)")
@@ -38,15 +30,5 @@ foreach(max IN ITEMS 500000 off)
 endforeach()
 
 # a ceiling below the declaration, and a malformed one, are refused
-execute_process(COMMAND ${RUN} --fuel-max 450000 RESULT_VARIABLE rc OUTPUT_VARIABLE out
-                ERROR_VARIABLE err)
-string(FIND "${err}" "fuel_per_tick_max 450000" at)
-if(NOT rc EQUAL 2 OR at EQUAL -1)
-  message(FATAL_ERROR "--fuel-max 450000: exit ${rc}, expected 2 naming the ceiling\n${err}")
-endif()
-execute_process(COMMAND ${RUN} --fuel-max 0 RESULT_VARIABLE rc OUTPUT_VARIABLE out
-                ERROR_VARIABLE err)
-string(FIND "${err}" "--fuel-max must be in 1.." at)
-if(NOT rc EQUAL 2 OR at EQUAL -1)
-  message(FATAL_ERROR "--fuel-max 0: exit ${rc}, expected 2 naming the option\n${err}")
-endif()
+expect_error("${RUN};--fuel-max;450000" "fuel_per_tick_max 450000")
+expect_error("${RUN};--fuel-max;0" "--fuel-max must be in 1..")

@@ -383,6 +383,26 @@ typedef struct {
     size_t         len[13];
 } sections_t;
 
+/* The item count of the module's vector section @p id; 0 where it has none. */
+static uint32_t count_of(const sections_t *s, uint8_t id)
+{
+    if (!s->body[id])
+        return 0;
+    cur_t c = { s->body[id], s->body[id] + s->len[id] };
+    return rd_u32(&c);
+}
+
+/* Puts the items of the module's vector section @p id (its bytes after the
+ * count), where it has one. */
+static void put_items(buf_t *b, const sections_t *s, uint8_t id)
+{
+    if (!s->body[id])
+        return;
+    cur_t c = { s->body[id], s->body[id] + s->len[id] };
+    (void)rd_u32(&c);
+    put(b, c.p, (size_t)(c.end - c.p));
+}
+
 static int read_file(const char *path, uint8_t **data, size_t *len)
 {
     FILE *f = fopen(path, "rb");
@@ -593,11 +613,7 @@ int main(int argc, char **argv)
     m.refuel = n_imports;
     m.fill = n_imports + 1;
     m.copy = n_imports + 2;
-    uint32_t n_globals = 0;
-    if (s.body[6]) {
-        cur_t g = { s.body[6], s.body[6] + s.len[6] };
-        n_globals = rd_u32(&g);
-    }
+    uint32_t n_globals = count_of(&s, 6);
     m.fuel_global = n_globals; /* roz imports no globals */
 
     buf_t o = { 0 }, sec = { 0 };
@@ -605,11 +621,7 @@ int main(int argc, char **argv)
     /* 1 types: the module's, then () -> (), (i32 i32) -> (), (i32 i32 i32) -> () */
     sec.n = 0;
     put_u32(&sec, n_types + 3);
-    if (s.body[1]) {
-        cur_t t = { s.body[1], s.body[1] + s.len[1] };
-        (void)rd_u32(&t);
-        put(&sec, t.p, (size_t)(t.end - t.p));
-    }
+    put_items(&sec, &s, 1);
     static const uint8_t added_types[] = { 0x60, 0, 0, 0x60, 2, 0x7f, 0x7f, 0,
                                             0x60, 3, 0x7f, 0x7f, 0x7f, 0 };
     put(&sec, added_types, sizeof added_types);
@@ -617,13 +629,8 @@ int main(int argc, char **argv)
     /* 2 imports: the module's, then roz's */
     sec.n = 0;
     {
-        uint32_t n = 0;
-        cur_t t = { s.body[2], s.body[2] ? s.body[2] + s.len[2] : NULL };
-        if (s.body[2])
-            n = rd_u32(&t);
-        put_u32(&sec, n + 3);
-        if (s.body[2])
-            put(&sec, t.p, (size_t)(t.end - t.p));
+        put_u32(&sec, count_of(&s, 2) + 3);
+        put_items(&sec, &s, 2);
         const char *hooks[3] = { "refuel", "fill", "copy" };
         for (uint32_t k = 0; k < 3; k++) {
             put_name(&sec, "roz");
@@ -642,11 +649,7 @@ int main(int argc, char **argv)
     /* 6 globals: the module's, then the fuel (mutable i64, 0) */
     sec.n = 0;
     put_u32(&sec, n_globals + 1);
-    if (s.body[6]) {
-        cur_t g = { s.body[6], s.body[6] + s.len[6] };
-        (void)rd_u32(&g);
-        put(&sec, g.p, (size_t)(g.end - g.p));
-    }
+    put_items(&sec, &s, 6);
     put8(&sec, 0x7e); put8(&sec, 1); put8(&sec, 0x42); put8(&sec, 0); put8(&sec, 0x0b);
     put_section(&o, 6, &sec);
     /* 7 exports: the module's (function indices shifted), the fuel, memory 0 */

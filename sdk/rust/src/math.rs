@@ -860,3 +860,33 @@ pub fn reluf(x: f32) -> f32 {
         x
     }
 }
+
+// ---- the nn imports' rule for tiny numbers -----------------------------------
+
+/// ROZ_MATH_NN_TINY_BITS: 2^-51, as float32 bits
+const NN_TINY_BITS: u32 = 0x2600_0000;
+/// ROZ_MATH_NN_EXP_MIN: exp and sigmoid below it are +0 (their result would
+/// be subnormal)
+const NN_EXP_MIN: f32 = -87.33654; // -0x1.5d589ep+6
+
+/// x as the nn imports read it (roz_math_nn_inputf): zero of its sign below
+/// 2^-51, subnormals included. Exact.
+pub fn nn_inputf(x: f32) -> f32 {
+    let u = x.to_bits();
+    f32::from_bits(if u & 0x7FFF_FFFF < NN_TINY_BITS { u & 0x8000_0000 } else { u })
+}
+
+/// One element of nn.act (roz_math_nn_actf): kind 0 relu, 1 tanh, 2 sigmoid,
+/// 3 elu, anything else exp, on nn_inputf(x).
+pub fn nn_actf(kind: i32, x: f32) -> f32 {
+    let x = nn_inputf(x);
+    match kind {
+        0 => reluf(x),
+        1 => tanhf(x),
+        2 if x < NN_EXP_MIN => 0.0,
+        2 => sigmoidf(x),
+        3 => eluf(x),
+        _ if x < NN_EXP_MIN => 0.0,
+        _ => expf(x),
+    }
+}

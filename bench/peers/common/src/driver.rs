@@ -59,6 +59,28 @@ fn ticks<P: Peer>(l: &mut P::Loaded, from: i64, to: i64) -> Result<(), String> {
     Ok(())
 }
 
+/// `wasm` loaded in an engine for `mode` and run for `reference`'s ticks,
+/// its outputs checked against roz's, bit for bit (`name` says which run).
+fn checked<P: Peer>(
+    mode: P::Mode,
+    wasm: &[u8],
+    m: &Manifest,
+    reference: &Reference,
+    name: &str,
+) -> Result<(P::Engine, P::Loaded), String> {
+    let e = P::engine(mode)?;
+    let module = P::compile(&e, wasm)?;
+    let mut l = P::load(&e, &module, m, mode)?;
+    ticks::<P>(&mut l, 0, reference.ticks)?;
+    if let Some(why) = reference.compare(P::abi(&mut l)) {
+        return Err(format!(
+            "{name}: outputs differ from roz's after {} ticks: {why}",
+            reference.ticks
+        ));
+    }
+    Ok((e, l))
+}
+
 fn read(path: &str) -> Result<Vec<u8>, String> {
     std::fs::read(path).map_err(|e| format!("{path}: {e}"))
 }
@@ -93,16 +115,7 @@ pub fn run<P: Peer>() -> Result<(), String> {
     for &(mode, mname) in P::MODES {
         for &(w, vname) in &variants {
             let name = format!("{vname}metering {mname}");
-            let e = P::engine(mode)?;
-            let module = P::compile(&e, w)?;
-            let mut l = P::load(&e, &module, &m, mode)?;
-            ticks::<P>(&mut l, 0, reference.ticks)?;
-            if let Some(why) = reference.compare(P::abi(&mut l)) {
-                return Err(format!(
-                    "{name}: outputs differ from roz's after {} ticks: {why}",
-                    reference.ticks
-                ));
-            }
+            let (e, l) = checked::<P>(mode, w, &m, &reference, &name)?;
             loaded.push((e, l, name));
         }
     }
@@ -116,16 +129,7 @@ pub fn run<P: Peer>() -> Result<(), String> {
     if let Some((w, nn_ref)) = &nn {
         for &(mode, mname) in P::MODES {
             let name = format!("nn policy, metering {mname}");
-            let e = P::engine(mode)?;
-            let module = P::compile(&e, w)?;
-            let mut l = P::load(&e, &module, &m, mode)?;
-            ticks::<P>(&mut l, 0, nn_ref.ticks)?;
-            if let Some(why) = nn_ref.compare(P::abi(&mut l)) {
-                return Err(format!(
-                    "{name}: outputs differ from roz's after {} ticks: {why}",
-                    nn_ref.ticks
-                ));
-            }
+            let (e, l) = checked::<P>(mode, w, &m, nn_ref, &name)?;
             loaded.push((e, l, name));
         }
     }

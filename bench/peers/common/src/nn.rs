@@ -2,10 +2,10 @@
 //! roz's neural-network imports (`nn.matvec`, `nn.act`) as lib/src/abi.c
 //! has them, over an instance's linear memory: the same range and overlap
 //! refusals (nothing written, counted), each output row summed in the same
-//! order (float32, a product then a sum, never fused), and the activations
-//! the Rust SDK's math (roz_math.h's float functions, restated bit for bit),
-//! every value read by roz_math.h's rule for tiny numbers, so that the
-//! results are roz's bit for bit.
+//! order (float32, a product then a sum, never fused), every value read by
+//! roz_math.h's rule for tiny numbers and the activations roz_math.h's: the
+//! Rust SDK's math, which restates them bit for bit, so that the results are
+//! roz's bit for bit.
 
 use crate::Abi;
 
@@ -14,9 +14,9 @@ pub const NN_ACCUMULATE: i32 = 2;
 /// ROZ_ABI_NN_RELU .. ROZ_ABI_NN_EXP
 pub const NN_ACT_COUNT: i32 = 5;
 
-// The activations are the Rust SDK's (sdk/rust/src/math.rs), which restates
-// roz_math.h's float functions bit for bit.
-use roz_controller::math::{eluf, expf, reluf, sigmoidf, tanhf};
+// Each value read, and each activation, is the Rust SDK's (sdk/rust/src/math.rs),
+// which restates roz_math.h's float functions bit for bit.
+use roz_controller::math::{nn_actf, nn_inputf};
 
 fn range_ok(len: usize, at: u32, bytes: u64) -> bool {
     bytes <= len as u64 && at as u64 <= len as u64 - bytes
@@ -26,33 +26,14 @@ fn overlap(a: u32, an: u64, b: u32, bn: u64) -> bool {
     an != 0 && bn != 0 && (a as u64) < b as u64 + bn && (b as u64) < a as u64 + an
 }
 
-/// A value as the imports read it (roz_math.h, roz_math_nn_inputf): zero
-/// of its sign below 2^-51, subnormals included.
+/// The float32 at `at`, as stored.
+fn raw(mem: &[u8], at: usize) -> f32 {
+    f32::from_le_bytes(mem[at..at + 4].try_into().unwrap())
+}
+
+/// A value as the imports read it (roz_math.h, roz_math_nn_inputf).
 fn ld(mem: &[u8], at: usize) -> f32 {
-    let u = u32::from_le_bytes(mem[at..at + 4].try_into().unwrap());
-    f32::from_bits(if u & 0x7fff_ffff < 0x2600_0000 { u & 0x8000_0000 } else { u })
-}
-
-/// ROZ_MATH_NN_EXP_MIN (-0x1.5d589ep+6): exp and sigmoid below it are +0
-/// (their result would be subnormal).
-fn exp_min() -> f32 {
-    f32::from_bits(0xc2ae_ac4f)
-}
-
-fn nn_sigmoidf(x: f32) -> f32 {
-    if x < exp_min() {
-        0.0
-    } else {
-        sigmoidf(x)
-    }
-}
-
-fn nn_expf(x: f32) -> f32 {
-    if x < exp_min() {
-        0.0
-    } else {
-        expf(x)
-    }
+    nn_inputf(raw(mem, at))
 }
 
 fn st(mem: &mut [u8], at: usize, v: f32) {
@@ -111,16 +92,9 @@ impl Abi {
                 && range_ok(m.len(), ptr, 4 * count as u64) => m,
             _ => return self.nn_refuse(),
         };
-        let f: fn(f32) -> f32 = match kind {
-            0 => reluf,
-            1 => tanhf,
-            2 => nn_sigmoidf,
-            3 => eluf,
-            _ => nn_expf,
-        };
         for i in 0..count as usize {
             let at = ptr as usize + 4 * i;
-            st(mem, at, f(ld(mem, at)));
+            st(mem, at, nn_actf(kind, raw(mem, at)));
         }
         count
     }
