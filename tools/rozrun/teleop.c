@@ -13,11 +13,8 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#if ROZRUN_HAS_JOY
-#include "roz/port/ros2.h"
-_Static_assert(ROZRUN_TELEOP_JOY_MAX == ROZ_ROS2_JOY_MAX, "a Joy's bound is the ROS 2 ports'");
-static roz_ros2_joy_map_t joy_map; /* ROZRUN_TELEOP_JOY_MAP, read at open */
-#endif
+#include "roz/error.h"
+#include "roz/joy.h"
 
 static double le_f64(const unsigned char *p)
 {
@@ -38,11 +35,10 @@ static uint32_t le_u32(const unsigned char *p)
  * -1 refused (its shape, or the map's rule). */
 static int take_joy(rozrun_teleop_t *t, const unsigned char *buf, size_t n)
 {
-#if ROZRUN_HAS_JOY
     float axes[ROZRUN_TELEOP_JOY_MAX];
     int32_t buttons[ROZRUN_TELEOP_JOY_MAX];
     unsigned na = buf[4], nb = buf[5];
-    if (t->joy_map == NULL || na > ROZRUN_TELEOP_JOY_MAX || nb > ROZRUN_TELEOP_JOY_MAX ||
+    if (na > ROZRUN_TELEOP_JOY_MAX || nb > ROZRUN_TELEOP_JOY_MAX ||
         buf[6] != 0 || buf[7] != 0 || n != 8u + 4u * (na + nb))
         return -1;
     for (unsigned k = 0; k < na; k++) {
@@ -52,16 +48,10 @@ static int take_joy(rozrun_teleop_t *t, const unsigned char *buf, size_t n)
     for (unsigned k = 0; k < nb; k++)
         buttons[k] = (int32_t)le_u32(buf + 8 + 4 * (na + k));
     roz_operator_remote_t r;
-    if (roz_ros2_joy_remote(t->joy_map, axes, na, buttons, nb, &r) != ROZ_OK)
+    if (roz_joy_remote(&t->joy_map, axes, na, buttons, nb, &r) != ROZ_OK)
         return -1;
     (void)roz_runtime_operator_remote(t->rt, &r);
     return 0;
-#else
-    (void)t;
-    (void)buf;
-    (void)n;
-    return -1; /* no joy_map rule in this build */
-#endif
 }
 
 static void *teleop_main(void *arg)
@@ -106,14 +96,12 @@ int rozrun_teleop_open(rozrun_teleop_t *t, const char *path)
     atomic_init(&t->twists, 0u);
     atomic_init(&t->joys, 0u);
     atomic_init(&t->refused, 0u);
-#if ROZRUN_HAS_JOY
     char err[256];
-    if (roz_ros2_joy_map_parse(ROZRUN_TELEOP_JOY_MAP, &joy_map, err, sizeof err) != ROZ_OK) {
-        fprintf(stderr, "rozrun: --teleop: the Joystick panel's map: %s\n", err); /* a bug */
+    if (roz_joy_map_parse("the Joystick panel's map", ROZRUN_TELEOP_JOY_MAP, &t->joy_map, err,
+                          sizeof err) != ROZ_OK) {
+        fprintf(stderr, "rozrun: --teleop: %s\n", err); /* a bug */
         return -1;
     }
-    t->joy_map = &joy_map;
-#endif
     if (strlen(path) >= sizeof a.sun_path) {
         fprintf(stderr, "rozrun: --teleop %s: longer than a socket's path may be (%zu)\n", path,
                 sizeof a.sun_path - 1);

@@ -8,14 +8,14 @@
  *    little-endian float64 (linear x, y, z, angular x, y, z), handed whole
  *    to roz_runtime_operator_twist();
  *  - a joystick (sensor_msgs/Joy): "JOY1", the number of axes and of
- *    buttons (a byte each, at most ROZ_ROS2_JOY_MAX), two zero bytes, the
+ *    buttons (a byte each, at most ROZ_JOY_MAX), two zero bytes, the
  *    axes as little-endian float32 and the buttons as little-endian int32,
  *    nothing more; mapped onto the remote by ROZRUN_TELEOP_JOY_MAP with the
- *    ROS 2 ports' joy_map rule (roz_ros2_joy_remote(), docs/ports/ros2.md: a
- *    Joy lacking a mapped axis or button, or with a mapped axis not finite,
- *    is refused whole) and handed to roz_runtime_operator_remote() (the
- *    remote's e-stop chord included). A build without the ROS 2 ports
- *    (Cyclone DDS) refuses every joystick and counts it.
+ *    core's Joy rule, the ROS 2 ports' joy_map's too (roz/joy.h: a Joy
+ *    lacking a mapped axis or button, or with a mapped axis not finite, is
+ *    refused whole) and handed to roz_runtime_operator_remote() (the
+ *    remote's e-stop chord included). Every build takes them: the rule
+ *    needs no ROS 2 port nor DDS.
  * The inputs' rules judge the values (a non-finite one refused and counted,
  * clamped, stale back to the default at the rate cap); anything else is
  * refused and counted. The tick never waits for it. */
@@ -25,10 +25,11 @@
 #include <stdint.h>
 
 #include "roz/atomic.h"
+#include "roz/joy.h"
 #include "roz/runtime.h"
 
 #define ROZRUN_TELEOP_TWIST_BYTES (4 + 6 * 8)
-#define ROZRUN_TELEOP_JOY_MAX 32 /* ROZ_ROS2_JOY_MAX: axes, and buttons, at most */
+#define ROZRUN_TELEOP_JOY_MAX ROZ_JOY_MAX /* axes, and buttons, at most */
 #define ROZRUN_TELEOP_JOY_BYTES_MAX (8 + ROZRUN_TELEOP_JOY_MAX * 8)
 
 /* Foxglove's Joystick panel (a gamepad through the browser's Gamepad API, its
@@ -50,7 +51,7 @@ typedef struct rozrun_teleop {
     roz_runtime_t       *rt;
     ROZ_ATOMIC(int)      stop;
     ROZ_ATOMIC(uint64_t) twists, joys, refused;
-    void                *joy_map; /* roz_ros2_joy_map_t, NULL in a build without it */
+    roz_joy_map_t        joy_map; /* ROZRUN_TELEOP_JOY_MAP, read at open */
 } rozrun_teleop_t;
 
 /* Binds the socket at @p path (an old socket there is replaced; any other

@@ -54,6 +54,11 @@ static int ros_topic_name(const char *v)
     return 1;
 }
 
+int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err, size_t errlen)
+{
+    return roz_joy_map_parse("parameter joy_map", text, map, err, errlen);
+}
+
 /* The operator topics: each read only when an input's source is a field of
  * its device; their names and joy_map are checked whether read or not. */
 static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
