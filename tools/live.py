@@ -32,8 +32,9 @@ connected from this machine (a loopback address) get the capability;
 
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
-latched faults, fuel and freshness, the safety filter's counters, and the
-truth's base height when the run has one (docs/live.md).
+latched faults, fuel and freshness, the safety filter's counters, the
+truth's base height when the run has one, and the deploy sequence's stages
+as bands above the joints' plots when the run has one (docs/live.md).
 """
 import argparse
 import importlib.util
@@ -479,7 +480,8 @@ def layout(schemas, joints=LAYOUT_JOINTS):
     applied commands and the state field of the same name; the faults, fuel
     and freshness; the safety filter's counters; the truth's base height
     when the run has /roz/truth, the operator's inputs when it has
-    /roz/inputs."""
+    /roz/inputs; above the joints, the deploy sequence's stage as bands in
+    time with their plots when it has /roz/stage (rozrun --deploy)."""
     import foxglove.layouts as fl
     commands = fields(schemas["/roz/target"][1])
     states = set(fields(schemas["/roz/state"][1]))
@@ -491,6 +493,12 @@ def layout(schemas, joints=LAYOUT_JOINTS):
             series.append(fl.PlotSeries(value=f"/roz/state.{name}", label="state"))
         plots.append(fl.SplitItem(content=fl.PlotPanel(
             title=name, config=fl.PlotConfig(paths=series))))
+    if "/roz/stage" in schemas:  # a band per stage, from one change to the next
+        plots.insert(0, fl.SplitItem(proportion=0.4, content=fl.StateTransitionsPanel(
+            title="deploy stage", config=fl.StateTransitionsConfig(is_synced=True, paths=[
+                fl.StateTransitionsSeries(value="/roz/stage.name", label="stage"),
+                fl.StateTransitionsSeries(value="/roz/stage.request_name",
+                                          label="request taken")]))))
     safety = fl.PlotPanel(title="faults, freshness", config=fl.PlotConfig(paths=[
         fl.PlotSeries(value="/roz/tick.faults", label="latched faults (bits)"),
         fl.PlotSeries(value="/roz/tick.fresh", label="fresh state"),
