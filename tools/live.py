@@ -25,15 +25,17 @@ as Foxglove's Teleop panel does, or of json sensor_msgs/Joy, as its Joystick
 panel does; each message is checked (at most MAX_TELEOP_BYTES, strict JSON: a
 twist's linear and angular x, y, z finite numbers; a Joy's axes finite
 numbers and buttons integers, at most MAX_JOY of each) and sent to the run,
-which maps a Joy onto the remote and whose inputs' rules judge it; anything
+which maps a Joy onto the remote (by --joy-map, FIELD=aN|-aN|bN entries,
+or the panel's gamepad layout) and whose inputs' rules judge it; anything
 else is refused with a status message and a line here. Only viewers
 connected from this machine (a loopback address) get the capability;
 --teleop-remote gives it to every viewer.
 
 The layout (--layout, or the `layout` command from any recording of the
 robot) plots the first joints' targets, applied commands and state, the
-latched faults, fuel and freshness, the safety filter's counters, and the
-truth's base height when the run has one (docs/live.md).
+latched faults, fuel and freshness, the safety filter's counters, the
+truth's base height when the run has one, and the deploy sequence's stages
+as bands above the joints' plots when the run has one (docs/live.md).
 """
 import argparse
 import importlib.util
@@ -75,6 +77,8 @@ JOY_SCHEMAS = ("sensor_msgs/Joy", "sensor_msgs/msg/Joy")
 MAX_TELEOP_BYTES = 4096
 # a Joy's axes, and buttons, at most (tools/rozrun/teleop.h, ROZRUN_TELEOP_JOY_MAX)
 MAX_JOY = 32
+# a Joy's map's text, bytes at most (ROZRUN_TELEOP_JOY_MAP_MAX)
+MAX_JOY_MAP = 512
 INT32 = (-(1 << 31), (1 << 31) - 1)
 FLOAT32_MAX = 3.4028234663852886e38  # an axis goes as a float32
 
@@ -213,11 +217,22 @@ def parse_joy(data):
     return out_axes, list(buttons)
 
 
-def joy_datagram(axes, buttons):
+def joy_datagram(axes, buttons, joy_map=b""):
     """A Joy for rozrun --teleop (tools/rozrun/teleop.h): "JOY1", the counts,
-    two zero bytes, the axes as float32 and the buttons as int32."""
-    return (b"JOY1" + struct.pack("<BBxx", len(axes), len(buttons))
-            + struct.pack(f"<{len(axes)}f{len(buttons)}i", *axes, *buttons))
+    the map's length, the axes as float32, the buttons as int32, the map
+    (b"": none, rozrun maps by the panel's gamepad layout)."""
+    return (b"JOY1" + struct.pack("<BBH", len(axes), len(buttons), len(joy_map))
+            + struct.pack(f"<{len(axes)}f{len(buttons)}i", *axes, *buttons) + joy_map)
+
+
+def check_joy_map(text):
+    """--joy-map's text as bytes for the datagram: printable ASCII, at most
+    MAX_JOY_MAP bytes (its grammar is rozrun's rule, roz/joy.h, which judges
+    it); LiveError says why not."""
+    if not text.strip() or len(text) > MAX_JOY_MAP or not all(" " <= c <= "~" for c in text):
+        raise LiveError(f"--joy-map {text!r}: expected FIELD=SOURCE entries (roz/joy.h) in "
+                        f"printable ASCII, at most {MAX_JOY_MAP} characters")
+    return text.encode()
 
 
 def loopback(address):
@@ -239,8 +254,9 @@ class Teleop:
     (tools/rozrun/teleop.h). Called on the SDK's
     threads; each call is short and never blocks (the socket does not)."""
 
-    def __init__(self, path):
+    def __init__(self, path, joy_map=b""):
         self.path = path
+        self.joy_map = joy_map
         self.sock = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         self.sock.setblocking(False)
         self.lock = threading.Lock()
@@ -282,7 +298,7 @@ class Teleop:
             if kind == "twist":
                 datagram = b"TWST" + struct.pack("<6d", *parse_twist(data))
             else:
-                datagram = joy_datagram(*parse_joy(data))
+                datagram = joy_datagram(*parse_joy(data), self.joy_map)
         except TeleopError as e:
             self.refuse(f"{topic}: {e}: refused, the inputs unchanged")
             return
@@ -377,13 +393,13 @@ class Gate:
 class Server:
     """The Foxglove WebSocket server and the channels of one stream."""
 
-    def __init__(self, host, port, teleop=None, teleop_remote=False):
+    def __init__(self, host, port, teleop=None, teleop_remote=False, joy_map=b""):
         import foxglove
         self.foxglove = foxglove
         self.server = foxglove.start_server(name="roz-live", host="127.0.0.1", port=0)
         # teleop: a second server, on the same channels, whose viewers may
         # publish; the gate sends only those it allows to it
-        self.teleop = Teleop(teleop) if teleop is not None else None
+        self.teleop = Teleop(teleop, joy_map) if teleop is not None else None
         self.teleop_server = None
         if self.teleop is not None:
             from foxglove.websocket import Capability
@@ -479,7 +495,8 @@ def layout(schemas, joints=LAYOUT_JOINTS):
     applied commands and the state field of the same name; the faults, fuel
     and freshness; the safety filter's counters; the truth's base height
     when the run has /roz/truth, the operator's inputs when it has
-    /roz/inputs."""
+    /roz/inputs; above the joints, the deploy sequence's stage as bands in
+    time with their plots when it has /roz/stage (rozrun --deploy)."""
     import foxglove.layouts as fl
     commands = fields(schemas["/roz/target"][1])
     states = set(fields(schemas["/roz/state"][1]))
@@ -491,6 +508,12 @@ def layout(schemas, joints=LAYOUT_JOINTS):
             series.append(fl.PlotSeries(value=f"/roz/state.{name}", label="state"))
         plots.append(fl.SplitItem(content=fl.PlotPanel(
             title=name, config=fl.PlotConfig(paths=series))))
+    if "/roz/stage" in schemas:  # a band per stage, from one change to the next
+        plots.insert(0, fl.SplitItem(proportion=0.4, content=fl.StateTransitionsPanel(
+            title="deploy stage", config=fl.StateTransitionsConfig(is_synced=True, paths=[
+                fl.StateTransitionsSeries(value="/roz/stage.name", label="stage"),
+                fl.StateTransitionsSeries(value="/roz/stage.request_name",
+                                          label="request taken")]))))
     safety = fl.PlotPanel(title="faults, freshness", config=fl.PlotConfig(paths=[
         fl.PlotSeries(value="/roz/tick.faults", label="latched faults (bits)"),
         fl.PlotSeries(value="/roz/tick.fresh", label="fresh state"),
@@ -584,7 +607,8 @@ def serve(args):
     signal.signal(signal.SIGTERM, interrupt)
     fifo = args.input != "-"
     anchor = open_fifo(args.input) if fifo else None  # a reader between runs
-    server = Server(args.host, args.port, args.teleop, args.teleop_remote)
+    joy_map = check_joy_map(args.joy_map) if args.joy_map is not None else b""
+    server = Server(args.host, args.port, args.teleop, args.teleop_remote, joy_map)
     try:
         print(f"roz-live: serving ws://{args.host}:{server.port()} (Foxglove: open "
               f"connection, Foxglove WebSocket); reading {args.input}", flush=True)
@@ -593,8 +617,8 @@ def serve(args):
             print(f"roz-live: or open {url}", flush=True)
         if args.teleop:
             print(f"roz-live: teleop to {args.teleop}, from "
-                  f"{'every viewer' if args.teleop_remote else 'viewers on this machine'}",
-                  flush=True)
+                  f"{'every viewer' if args.teleop_remote else 'viewers on this machine'}; "
+                  f"a Joy mapped by {joy_map.decode() or 'the gamepad layout'}", flush=True)
         while True:
             src = next_run(args.input) if fifo else sys.stdin.buffer
             try:
@@ -647,9 +671,21 @@ def main(argv=None):
     ap.add_argument("--teleop-remote", action="store_true",
                     help="with --teleop: from viewers on other machines too (nothing is "
                          "authenticated)")
+    ap.add_argument("--joy-map", metavar="MAP",
+                    help="with --teleop: how the Joystick panel's axes and buttons make the "
+                         "remote's fields, FIELD=aN|-aN|bN entries (roz/joy.h; default: the "
+                         "panel's gamepad mode, the browser's standard layout, docs/live.md)")
     a = ap.parse_args(argv)
     if a.teleop_remote and not a.teleop:
         print("roz-live: --teleop-remote needs --teleop SOCKET", file=sys.stderr)
+        return 2
+    if a.joy_map is not None and not a.teleop:
+        print("roz-live: --joy-map needs --teleop SOCKET", file=sys.stderr)
+        return 2
+    try:
+        check_joy_map(a.joy_map) if a.joy_map is not None else None
+    except LiveError as e:
+        print(f"roz-live: {e}", file=sys.stderr)
         return 2
     if not 0 <= a.port <= 65535:
         print(f"roz-live: --port {a.port}: not a port (0..65535)", file=sys.stderr)

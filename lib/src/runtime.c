@@ -1119,6 +1119,7 @@ int roz_runtime_tick(roz_runtime_t *rt)
         if (active >= 0)
             target = rt->slot[active].target;
     }
+    rt->last_target = target;
     tick_publish(rt);
     if (rt->cfg.recorder != NULL)
         tick_record(rt, active, target, t_start);
@@ -1441,8 +1442,7 @@ const double *roz_runtime_last_state(const roz_runtime_t *rt)
 
 const double *roz_runtime_last_targets(const roz_runtime_t *rt)
 {
-    int active = atomic_load(&rt->active);
-    return active >= 0 ? rt->slot[active].target : NULL;
+    return rt->last_target;
 }
 
 void roz_runtime_deinit(roz_runtime_t *rt)

@@ -459,6 +459,73 @@ def test_layout_plots_the_operator_inputs(tmp_path):
         assert re.search(rf"^float64 {field}\b", channels["/roz/inputs"]["schema"], re.M), path
 
 
+def test_live_deploy_stages(tmp_path):
+    """A deploy-sequence run (rozrun --deploy, the remote's buttons from a
+    scripted operator) streamed at its rate: every stage change reaches the
+    strict client on /roz/stage, the recorded bytes, decoded with the
+    advertised schema to move, hold, run and stop; the layout roz-live
+    writes draws the stage, and the requests taken, as bands (a State
+    Transitions panel) from fields the advertised schema has."""
+    robot = (ROOT / "manifests" / "unitree_g1_12dof.toml").read_text()
+    for b in ("start", "a", "b", "select"):
+        robot += (f'\n[[manifest.inputs]]\nname = "remote/{b}"\ninterface_type = "position"\n'
+                  'unit = ""\nlimits = [0.0, 1.0]\ndefault = 0.0\nmax_rate_of_change = 1.0\n'
+                  "stale_after_ms = 500\n")
+    (tmp_path / "g1.toml").write_text(robot)
+    (tmp_path / "deploy.toml").write_text(
+        '[deploy]\nmove_s = 1.0\n[deploy.inputs]\nstart = "remote/start"\nrun = "remote/a"\n'
+        'stand = "remote/b"\nstop = "remote/select"\n[deploy.stand]\n'
+        "pose = [-0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0]\n"
+        "kp = [100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40]\n"
+        "kd = [2, 2, 2, 4, 2, 2, 2, 2, 2, 4, 2, 2]\n")
+    # Start at 1.5 s (the client subscribed long before), A at 2.8 s, Select at 3.2 s
+    (tmp_path / "ops.csv").write_text("time_s,remote/start,remote/a,remote/b,remote/select\n"
+                                      "0,0,0,0,0\n1.5,1,0,0,0\n1.6,0,0,0,0\n2.8,0,1,0,0\n"
+                                      "2.9,0,0,0,0\n3.2,0,0,0,1\n")
+    fifo, rec, lay = tmp_path / "run.live", tmp_path / "run.mcap", tmp_path / "layout.json"
+    viewer = Viewer(fifo, "--layout", lay)
+    client = StrictClient(viewer.port)
+    try:
+        while client.info is None:
+            assert client.pump(30), "no serverInfo"
+        run = subprocess.Popen([ROZRUN, "--robot", tmp_path / "g1.toml", "--allow-other-robot",
+                                "--port", "loopback", "--realtime", "--ticks", "1700",
+                                "--controller", CTL / "g1_12dof_deployed.wasm", "--deploy",
+                                tmp_path / "deploy.toml", "--operator", tmp_path / "ops.csv",
+                                "--record", rec, "--live", fifo],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        deadline, ended = time.monotonic() + 120, False
+        while time.monotonic() < deadline:
+            got = client.pump(1.0)
+            if not ended and run.poll() is not None:
+                viewer.wait_for("roz-live: the run ended")
+                ended = True
+            if ended and not got:
+                break
+        out, err = run.communicate(timeout=60)
+        assert run.returncode == 0, out + err
+    finally:
+        client.close()
+        viewer.stop()
+    assert "stage stop at the end; 4 stage changes" in out, out
+    channels, messages = recorded(rec)
+    stage = next(c for c in client.channels.values() if c["topic"] == "/roz/stage")
+    assert {k: stage.get(k) for k in channels["/roz/stage"]} == channels["/roz/stage"]
+    decode = DecoderFactory().decoder_for(
+        stage["encoding"], Schema(id=stage["id"], name=stage["schemaName"],
+                                  encoding=stage["schemaEncoding"], data=stage["schema"].encode()))
+    got = [(ts, payload) for topic, ts, payload in client.received if topic == "/roz/stage"]
+    want = sorted((ts, data) for (topic, ts), (data, _) in messages.items() if topic == "/roz/stage")
+    assert got == want, "the client's /roz/stage is not the recording's"
+    assert [decode(p).name for _, p in got] == ["move", "hold", "run", "stop"]
+    made = json.loads(lay.read_text())
+    bands = [p for p in re.findall(r'"value": "(/roz/stage\.[^"]+)"', json.dumps(made))]
+    assert bands == ["/roz/stage.name", "/roz/stage.request_name"]
+    assert '"panelType": "StateTransitions"' in json.dumps(made)
+    for path in bands:
+        assert re.search(rf"^string {path.partition('.')[2]}\b", stage["schema"], re.M), path
+
+
 def cut_in_header(data):
     """An offset inside the fixed fields of the stream's last chunk record
     (after its opcode and length, within its times and sizes)."""

@@ -268,6 +268,70 @@ def test_joystick_reaches_a_controller(tmp_path):
     assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
 
 
+def test_joystick_map_option(tmp_path):
+    """roz-live --joy-map: the panel's axes and buttons by another map than
+    its gamepad layout (here the right stick's vertical axis is the remote's
+    ly and button 3 its A), carried to rozrun with each Joy and read by the
+    core's rule; a map the rule refuses makes rozrun refuse its Joys, count
+    them and say why once; roz-live refuses a map that is no printable text,
+    and --joy-map without --teleop."""
+    text = (ROOT / "manifests" / "ur5.toml").read_text()
+    robot = tmp_path / "ur5_joy.toml"
+    robot.write_text(text + JOY_INPUTS)
+    fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
+    for bad, says in ((["--joy-map", "ly=a1"], "--joy-map needs --teleop SOCKET"),
+                      (["--teleop", sock, "--joy-map", "ly=a1\tbtn.a=b0"], "printable ASCII"),
+                      (["--teleop", sock, "--joy-map", "x" * 513], "at most 512 characters")):
+        p = subprocess.run([sys.executable, LIVE, fifo, *map(str, bad)], capture_output=True,
+                           text=True, timeout=60)
+        assert p.returncode == 2 and says in p.stderr, p.stderr
+    viewer = Viewer(fifo, "--teleop", sock, "--joy-map", "ly=a3 btn.a=b3")
+    client = StrictClient(viewer.port)
+    run = None
+    try:
+        while client.info is None:
+            client.pump(1.0)
+        run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
+                                "--ticks", "1000", "--controller", CTL / "sine.wasm",
+                                "--allow-other-robot", "--live", fifo, "--teleop", sock,
+                                "--trace", trace],
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        end = time.monotonic() + 60
+        while not sock.exists():
+            assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
+            client.pump(0.05)
+        client.ws.send(json.dumps({"op": "advertise", "channels": [
+            {"id": 3, "topic": "/joy", "encoding": "json", "schemaName": "sensor_msgs/Joy"}]}))
+        # the left stick full down and A released: the panel's layout would
+        # read -0.5 and 0; this map reads the right stick half up and button 3
+        for _ in range(10):
+            publish(client.ws, 3, joy_json([0.0, -1.0, 0.0, 0.5], [0, 0, 0, 1]))
+            client.pump(0.05)
+        # a map the rule refuses, as a datagram carries it: refused, counted
+        raw = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+        bad_map = b"ly=a3 btn.q=b0"
+        raw.sendto(b"JOY1" + struct.pack("<BBH", 4, 4, len(bad_map))
+                   + struct.pack("<4f4i", 0.0, 0.0, 0.0, -1.0, 0, 0, 0, 0) + bad_map, str(sock))
+        raw.close()
+        out, err = run.communicate(timeout=120)
+        assert run.returncode == 0, out + err
+    finally:
+        if run is not None and run.poll() is None:
+            run.kill()
+        client.close()
+        viewer.stop()
+    assert "a Joy mapped by ly=a3 btn.a=b3" in "".join(viewer.out)
+    m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused",
+                 summary_line(out, "teleop"))
+    assert m and tuple(map(int, m.groups())) == (0, 10, 1), out
+    assert err.count('roz-live --joy-map = "ly=a3 btn.q=b0": "btn.q=b0": not a field') == 1, err
+    forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
+    assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
+    first = forward.index(0.25)
+    assert all(v == 0.25 for v in forward[first:]), "the input moved after the refused Joy"
+    assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
+
+
 def own_address():
     """A non-loopback IPv4 address of this machine (no packet is sent), or None."""
     s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)

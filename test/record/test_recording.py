@@ -498,6 +498,43 @@ def test_deploy_sequence_replayed(tmp_path):
     assert "--stage-at and --replay" in p.stderr
 
 
+def test_deploy_trace_targets_are_the_recordings(tmp_path):
+    """In a deploy-sequence run the trace's target columns and the
+    recording's /roz/target say the same thing on every tick (both written
+    with 9 significant digits): what drove the tick, the stage's commands
+    while a stage drives (move, hold, stop) and the controller's targets
+    while it runs."""
+    robot, deploy = g1_buttons(tmp_path)
+    script = tmp_path / "buttons.csv"
+    script.write_text("time_s,remote/start,remote/a,remote/b,remote/select\n0,0,0,0,0\n"
+                      "0.2,1,0,0,0\n0.3,0,0,0,0\n1.6,0,1,0,0\n1.7,0,0,0,0\n2.4,0,0,0,1\n")
+    path, trace, csv = tmp_path / "run.mcap", tmp_path / "trace.csv", tmp_path / "rec.csv"
+    p = rozrun("--robot", robot, "--allow-other-robot", "--controller",
+               CTL / "g1_12dof_deployed.wasm", "--ticks", 1400, "--deploy", deploy,
+               "--operator", script, "--record", path, "--trace", trace)
+    assert "stage stop at the end; 4 stage changes" in p.stdout, p.stdout
+    subprocess.run([sys.executable, TOOL, "csv", path, csv], check=True, timeout=120)
+
+    def targets(f):
+        lines = f.read_text().splitlines()
+        header = lines[0].split(",")
+        cols = [i for i, h in enumerate(header) if h.startswith("target:")]
+        rows = [r.split(",") for r in lines[1:]]
+        return [header[i] for i in cols], [[float(r[i]) for i in cols] for r in rows]
+
+    names, traced = targets(trace)
+    rec_names, recorded = targets(csv)
+    assert names == rec_names and len(names) == 60
+    assert len(traced) == len(recorded) == 1400
+    stand_knee = names.index("target:left_knee_joint/position")
+    # the move's last ticks reach the stand's pose (0.3): the stage's commands
+    assert recorded[700][stand_knee] == pytest.approx(0.3, abs=1e-3)
+    for t, (a, b) in enumerate(zip(traced, recorded)):
+        same = [x == y or (math.isnan(x) and math.isnan(y)) for x, y in zip(a, b)]
+        assert all(same), (f"tick {t}: {names[same.index(False)]}: trace "
+                           f"{a[same.index(False)]!r}, recording {b[same.index(False)]!r}")
+
+
 def test_replay_refuses(tmp_path):
     path = record(tmp_path, "ur5", "sine", 20)
     p = rozrun("--replay", path, "--robot", "quadcopter", "--controller", CTL / "sine.wasm",

@@ -131,11 +131,9 @@ static int compare(const roz_manifest_t *m, const roz_record_t *r, char *what, s
                  bits_hex(in[i], b, sizeof b));
         return 1;
     }
-    /* a tick a deploy stage drove records the stage's commands as its
-     * targets; they are compared through the stage and the applied
-     * commands, the controller's own only where it drove */
-    int stage_drove = r->stage != ROZ_STAGE_NONE && r->stage != ROZ_STAGE_RUN;
-    if ((r->flags & ROZ_RECORD_TARGETS) && target != NULL && !stage_drove &&
+    /* what drove the tick, both sides: the deploy stage's commands while a
+     * stage drives, the controller's targets otherwise */
+    if ((r->flags & ROZ_RECORD_TARGETS) && target != NULL &&
         (i = first_diff(r->target, target, m->n_commands)) >= 0) {
         snprintf(what, n, "target %s (command %d): recorded %.17g (%s), replayed %.17g (%s)",
                  m->commands[i].name, i, r->target[i], bits_hex(r->target[i], a, sizeof a),

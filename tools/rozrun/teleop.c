@@ -13,11 +13,8 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#if ROZRUN_HAS_JOY
-#include "roz/port/ros2.h"
-_Static_assert(ROZRUN_TELEOP_JOY_MAX == ROZ_ROS2_JOY_MAX, "a Joy's bound is the ROS 2 ports'");
-static roz_ros2_joy_map_t joy_map; /* ROZRUN_TELEOP_JOY_MAP, read at open */
-#endif
+#include "roz/error.h"
+#include "roz/joy.h"
 
 static double le_f64(const unsigned char *p)
 {
@@ -34,16 +31,39 @@ static uint32_t le_u32(const unsigned char *p)
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
 
-/* A "JOY1" datagram of @p n bytes through the map to the remote; 0 taken,
- * -1 refused (its shape, or the map's rule). */
+/* The map a datagram carries (@p len bytes at @p text, not empty): the
+ * last one's, read again only when the text changed; NULL when the rule
+ * refuses it (said on stderr once per text). */
+static const roz_joy_map_t *sent_map(rozrun_teleop_t *t, const unsigned char *text, size_t len)
+{
+    char err[ROZRUN_TELEOP_JOY_MAP_MAX + 256];
+    if (len == t->sent_len && memcmp(text, t->sent_text, len) == 0)
+        return t->sent_ok ? &t->sent_map : NULL;
+    memcpy(t->sent_text, text, len);
+    t->sent_text[len] = '\0';
+    t->sent_len = len;
+    t->sent_ok = memchr(text, '\0', len) == NULL &&
+                 roz_joy_map_parse("roz-live --joy-map", t->sent_text, &t->sent_map, err,
+                                   sizeof err) == ROZ_OK;
+    if (!t->sent_ok)
+        fprintf(stderr, "rozrun: --teleop %s: %s; its Joys are refused\n", t->path,
+                memchr(text, '\0', len) != NULL ? "a Joy's map holds a NUL byte" : err);
+    return t->sent_ok ? &t->sent_map : NULL;
+}
+
+/* A "JOY1" datagram of @p n bytes through its map (or the panel's) to the
+ * remote; 0 taken, -1 refused (its shape, or the map's rule). */
 static int take_joy(rozrun_teleop_t *t, const unsigned char *buf, size_t n)
 {
-#if ROZRUN_HAS_JOY
     float axes[ROZRUN_TELEOP_JOY_MAX];
     int32_t buttons[ROZRUN_TELEOP_JOY_MAX];
     unsigned na = buf[4], nb = buf[5];
-    if (t->joy_map == NULL || na > ROZRUN_TELEOP_JOY_MAX || nb > ROZRUN_TELEOP_JOY_MAX ||
-        buf[6] != 0 || buf[7] != 0 || n != 8u + 4u * (na + nb))
+    size_t ml = (size_t)buf[6] | (size_t)buf[7] << 8;
+    if (na > ROZRUN_TELEOP_JOY_MAX || nb > ROZRUN_TELEOP_JOY_MAX ||
+        ml > ROZRUN_TELEOP_JOY_MAP_MAX || n != 8u + 4u * (na + nb) + ml)
+        return -1;
+    const roz_joy_map_t *map = ml == 0 ? &t->joy_map : sent_map(t, buf + n - ml, ml);
+    if (map == NULL)
         return -1;
     for (unsigned k = 0; k < na; k++) {
         uint32_t u = le_u32(buf + 8 + 4 * k);
@@ -52,16 +72,10 @@ static int take_joy(rozrun_teleop_t *t, const unsigned char *buf, size_t n)
     for (unsigned k = 0; k < nb; k++)
         buttons[k] = (int32_t)le_u32(buf + 8 + 4 * (na + k));
     roz_operator_remote_t r;
-    if (roz_ros2_joy_remote(t->joy_map, axes, na, buttons, nb, &r) != ROZ_OK)
+    if (roz_joy_remote(map, axes, na, buttons, nb, &r) != ROZ_OK)
         return -1;
     (void)roz_runtime_operator_remote(t->rt, &r);
     return 0;
-#else
-    (void)t;
-    (void)buf;
-    (void)n;
-    return -1; /* no joy_map rule in this build */
-#endif
 }
 
 static void *teleop_main(void *arg)
@@ -106,14 +120,12 @@ int rozrun_teleop_open(rozrun_teleop_t *t, const char *path)
     atomic_init(&t->twists, 0u);
     atomic_init(&t->joys, 0u);
     atomic_init(&t->refused, 0u);
-#if ROZRUN_HAS_JOY
     char err[256];
-    if (roz_ros2_joy_map_parse(ROZRUN_TELEOP_JOY_MAP, &joy_map, err, sizeof err) != ROZ_OK) {
-        fprintf(stderr, "rozrun: --teleop: the Joystick panel's map: %s\n", err); /* a bug */
+    if (roz_joy_map_parse("the Joystick panel's map", ROZRUN_TELEOP_JOY_MAP, &t->joy_map, err,
+                          sizeof err) != ROZ_OK) {
+        fprintf(stderr, "rozrun: --teleop: %s\n", err); /* a bug */
         return -1;
     }
-    t->joy_map = &joy_map;
-#endif
     if (strlen(path) >= sizeof a.sun_path) {
         fprintf(stderr, "rozrun: --teleop %s: longer than a socket's path may be (%zu)\n", path,
                 sizeof a.sun_path - 1);

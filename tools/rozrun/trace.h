@@ -3,7 +3,9 @@
  * through a wait-free single-producer single-consumer ring, written as CSV.
  * A full ring drops the row and counts it; the tick never blocks on I/O.
  *
- * Columns: tick, time_s, target:<command>... (NaN without a controller),
+ * Columns: tick, time_s, target:<command>... (roz_runtime_last_targets():
+ * what drove the tick, the deploy stage's commands or the controller's
+ * targets, as the recording's /roz/target; NaN with neither),
  * applied:<command>..., state:<state>..., input:<input>... (the operator's
  * inputs as the controller read them), when the port has a simulator's
  * floating base's truth (roz_port_truth()) truth:base.x, .y, .z (m), .roll, .pitch, .yaw

@@ -267,6 +267,7 @@ typedef struct roz_runtime {
     uint32_t               ROZ_PRIVATE(rec_cleared);
     int32_t                ROZ_PRIVATE(rec_read_rc);
     int64_t                ROZ_PRIVATE(rec_ctrl_tick);
+    const double          *ROZ_PRIVATE(last_target); /* tick: what drove it (the recorder's target) */
     int                    ROZ_PRIVATE(have_state);
     roz_fall_t             ROZ_PRIVATE(fall);         /* tick: the manifest's fall rule */
     uint32_t               ROZ_PRIVATE(stale_count);
@@ -649,8 +650,13 @@ const double *roz_runtime_last_commands(const roz_runtime_t *rt);
 /** @brief The last good state frame (n_states). Context: as above. */
 const double *roz_runtime_last_state(const roz_runtime_t *rt);
 
-/** @brief The active controller's targets before filtering (n_commands), or
- *  NULL without one. Context: as above. */
+/** @brief The targets that drove the last tick, before the filter
+ *  (n_commands): the deploy stage's commands while a stage drives (move,
+ *  hold, stop, zero; roz/stages.h), else the active controller's; NULL
+ *  before the first tick, or with neither. What the flight recorder records
+ *  as the tick's targets (roz_record_t.target, /roz/target). The hand-over's
+ *  gain hold (roz/stages.h) and the filter come after: the commands the
+ *  port was given are roz_runtime_last_commands(). Context: as above. */
 const double *roz_runtime_last_targets(const roz_runtime_t *rt);
 
 /** @brief Stop and unload controllers; idempotent. A port given this

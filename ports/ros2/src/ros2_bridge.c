@@ -300,8 +300,8 @@ static void on_joy(void *ctx, void *sample, uint64_t now_ns)
     const roz_operator_sink_t *sink = op_sink(t->bridge);
     (void)now_ns;
     bump(&t->c_samples);
-    if (roz_ros2_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length,
-                            j->buttons._buffer, j->buttons._length, &r) != ROZ_OK) {
+    if (roz_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length, j->buttons._buffer,
+                       j->buttons._length, &r) != ROZ_OK) {
         bump(&t->c_refused);
         return;
     }

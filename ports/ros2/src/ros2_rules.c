@@ -47,8 +47,15 @@ static int ros_topic_name(const char *v)
     return 1;
 }
 
+int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err, size_t errlen)
+{
+    return roz_joy_map_parse("parameter joy_map", text, map, err, errlen);
+}
+
 /* The operator topics: each read only when an input's source is a field of
- * its device; their names and joy_map are checked whether read or not. */
+ * its device, /joy also when the manifest has a remote_estop (the chord is
+ * read whether or not an input names a button of it); their names and
+ * joy_map are checked whether read or not. */
 static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err, size_t errlen)
 {
     static const char *const key[2] = { "cmd_vel_topic", "joy_topic" };
@@ -67,6 +74,7 @@ static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err
                      key[k], v, ROZ_ROS2_TOPIC_NAME_MAX - 3, def[k]);
             return ROZ_EINVAL;
         }
+        needed = dev[k] == ROZ_OPERATOR_DEVICE_REMOTE && m->remote_estop != 0u;
         for (uint16_t i = 0; m->inputs != NULL && i < m->n_inputs; i++)
             needed |= roz_operator_field_device(m->inputs[i].source) == dev[k];
         b->op[k].bridge = b;

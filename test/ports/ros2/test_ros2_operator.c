@@ -319,8 +319,9 @@ static void test_ros2_joy_reaches_the_inputs(void **st)
 static void test_ros2_operator_topics_only_when_needed(void **st)
 {
     (void)st;
-    /* the twist inputs only: /cmd_vel read, /joy not */
+    /* the twist inputs only, no e-stop chord: /cmd_vel read, /joy not */
     const roz_manifest_t *m = with_inputs(YAW + 1);
+    m_op.remote_estop = 0;
     open_robot(m, NULL);
     start_runtime(m);
     wait_operator_matched(0);
@@ -336,11 +337,71 @@ static void test_ros2_operator_topics_only_when_needed(void **st)
     assert_int_equal(c.operator_samples[1], 0);
     teardown(NULL);
 
-    /* no input with a source: neither */
+    /* no input with a source, no chord: neither */
     m = with_inputs(0);
+    m_op.remote_estop = 0;
     open_robot(m, NULL);
     roz_ros2fx_ask("operator_matched");
     assert_string_equal(roz_ros2fx_fake()->proc.line, "ok 0 0");
+}
+
+/* ---- the remote's e-stop from /joy ------------------------------------------------------ */
+
+/* The robot's own remote_estop, L2 + B (the left trigger past half way and
+ * button 1 in the default joy_map): with no input naming the remote, the
+ * chord alone has /joy read; one of its buttons alone latches nothing; the
+ * chord latches ESTOP at the next tick; a clear is refused while the last Joy
+ * held it; a release and then a /joy silent for 2 s (stale: ROS 2 joy
+ * repeats at 20 Hz) leave it latched; only the operator's clear releases it. */
+static void test_ros2_joy_remote_estop(void **st)
+{
+    const uint16_t l2 = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_L2);
+    const uint16_t b = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_B);
+    unsigned tw = 0, jo = 0;
+    (void)st;
+    assert_int_equal(BASE_MANIFEST.remote_estop, l2 | b);
+    const roz_manifest_t *m = with_inputs(0);
+    open_robot(m, NULL);
+    start_runtime(m);
+    for (unsigned ms = 0; jo == 0; ms++) {
+        roz_ros2fx_ask("operator_matched");
+        assert_int_equal(sscanf(roz_ros2fx_fake()->proc.line, "ok %u %u", &tw, &jo), 2);
+        if (ms >= WAIT_MS)
+            fail_msg("/joy is not read for the chord alone");
+        roz_fake_sleep_ms(1);
+    }
+    assert_int_equal(tw, 0); /* no twist input: /cmd_vel not read */
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+
+    roz_ros2fx_ask("joy_axis 4 -1.0"); /* L2 alone */
+    roz_ros2fx_ask("joy");
+    wait_samples(1, 1);
+    ticks(1);
+    roz_ros2fx_ask("joy_axis 4 0.0"); /* B alone */
+    roz_ros2fx_ask("joy_button 1 1");
+    roz_ros2fx_ask("joy");
+    wait_samples(1, 2);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+
+    roz_ros2fx_ask("joy_axis 4 -0.75"); /* L2 and B */
+    roz_ros2fx_ask("joy");
+    roz_ros2_counters_t c = wait_samples(1, 3);
+    assert_int_equal(c.operator_handed[1], 3);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_ESTATE);
+
+    roz_ros2fx_ask("joy_axis 4 0.0"); /* released, then silence */
+    roz_ros2fx_ask("joy_button 1 0");
+    roz_ros2fx_ask("joy");
+    wait_samples(1, 4);
+    ticks(1000);
+    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
+    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
+    ticks(1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
 /* ---- the parameters ---------------------------------------------------------------------- */
@@ -432,6 +493,7 @@ int main(void)
         cmocka_unit_test_teardown(test_ros2_cmd_vel_topic_renamed, teardown),
         cmocka_unit_test_teardown(test_ros2_joy_reaches_the_inputs, teardown),
         cmocka_unit_test_teardown(test_ros2_operator_topics_only_when_needed, teardown),
+        cmocka_unit_test_teardown(test_ros2_joy_remote_estop, teardown),
         cmocka_unit_test(test_ros2_operator_params_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

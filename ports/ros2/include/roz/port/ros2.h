@@ -28,6 +28,7 @@
 #include "roz/hal/joints.h"
 #include "roz/hal/link.h"
 #include "roz/hal/params.h"
+#include "roz/joy.h"
 #include "roz/log.h"
 #include "roz/manifest.h"
 #include "roz/monitor.h"
@@ -79,24 +80,15 @@ int roz_ros2_stamp_seq(int32_t sec, uint32_t nanosec, uint32_t *seq);
 /* ---- operator devices: /cmd_vel and /joy ------------------------------------ */
 
 /** Most axes, and most buttons, of a sensor_msgs/Joy the bridge takes (the
- *  IDL's bound: Cyclone refuses a longer sample before it is stored). ROS
- *  2's joy game_controller_node sends 6 axes and 21 buttons. */
-#define ROZ_ROS2_JOY_MAX 32
+ *  IDL's bound: Cyclone refuses a longer sample before it is stored): the
+ *  core's Joy rule's (roz/joy.h). */
+#define ROZ_ROS2_JOY_MAX ROZ_JOY_MAX
 /** Room for a DDS topic name ("rt" and a ROS name), with its NUL. */
 #define ROZ_ROS2_TOPIC_NAME_MAX 96
 
-/** Where a remote's field comes from in a Joy message. */
-typedef struct roz_ros2_joy_source {
-    uint8_t kind;  /**< 0: nowhere (the field is 0); 'a': an axis; 'b': a button */
-    int8_t  sign;  /**< an axis's: 1 or -1 */
-    uint8_t index; /**< into axes or buttons, < ROZ_ROS2_JOY_MAX */
-} roz_ros2_joy_source_t;
-
-/** The remote's fields as a Joy message gives them (parameter joy_map),
- *  indexed by roz_operator_field_t (its remote fields; the others unused). */
-typedef struct roz_ros2_joy_map {
-    roz_ros2_joy_source_t field[ROZ_OPERATOR_FIELD_COUNT_];
-} roz_ros2_joy_map_t;
+/** The parameter joy_map, read by the core's rule (roz/joy.h). */
+typedef roz_joy_source_t roz_ros2_joy_source_t;
+typedef roz_joy_map_t    roz_ros2_joy_map_t;
 
 /** joy_map's default: ROS 2 joy's game_controller_node (SDL's game
  *  controller order, an Xbox or PlayStation pad): axes 0..5 left x, left y,
@@ -113,29 +105,22 @@ typedef struct roz_ros2_joy_map {
     "btn.right=b14 btn.down=b12 btn.left=b13"
 
 /**
- * @brief Read a joy_map: entries `FIELD=SOURCE` separated by spaces, FIELD a
- *        remote field without its "remote." (lx, ly, rx, ry, l2, r2,
- *        btn.NAME), SOURCE `aN` (axis N), `-aN` (axis N negated) or `bN`
- *        (button N), N < ROZ_ROS2_JOY_MAX; a field named twice, or an
- *        unknown one, is refused; a field not named is 0.
+ * @brief Read the parameter joy_map: roz_joy_map_parse() (roz/joy.h, its
+ *        grammar), its error naming the parameter.
  * @param[out] err "parameter joy_map = \"...\": ..." naming the entry
  * @retval ROZ_OK, ROZ_EINVAL
  * Context: open; no heap.
  */
 int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err, size_t errlen);
 
-/**
- * @brief The remote frame of one Joy message through @p map: a stick or
- *        trigger takes its axis (sign applied) or button (0 or 1); a button
- *        is pressed when its button is not 0, or its axis (sign applied)
- *        above 0.5.
- * @retval ROZ_OK     @p out set
- * @retval ROZ_ERANGE the map names an axis or a button the message has not
- * @retval ROZ_EINVAL an axis the map names is not finite
- * Context: any (a receive thread); RT-safe, no heap.
- */
-int roz_ros2_joy_remote(const roz_ros2_joy_map_t *map, const float *axes, uint32_t n_axes,
-                        const int32_t *buttons, uint32_t n_buttons, roz_operator_remote_t *out);
+/** @brief roz_joy_remote() (roz/joy.h): one Joy message through joy_map.
+ *  Context: any (a receive thread); RT-safe, no heap. */
+static inline int roz_ros2_joy_remote(const roz_ros2_joy_map_t *map, const float *axes,
+                                      uint32_t n_axes, const int32_t *buttons,
+                                      uint32_t n_buttons, roz_operator_remote_t *out)
+{
+    return roz_joy_remote(map, axes, n_axes, buttons, n_buttons, out);
+}
 
 /* ---- a robot's description (the port's constant) ----------------------------- */
 

@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-/* A Joy message as the remote (roz/operator.h): the parameter joy_map read
- * once at open, and applied to each message on the receive thread. The
- * rule of joy_map lives here only. roz/port/ros2.h says what it does. */
-#include "roz/port/ros2.h"
+/* A Joy as the remote (roz/joy.h): a map read once at start-up, applied to
+ * each message on its reader's thread. The rule of every Joy map lives here
+ * only. */
+#include "roz/joy.h"
 
 #include <math.h>
-#include <stdio.h>
 #include <string.h>
+
+#include "roz/error.h"
+#include "roz/format.h"
 
 #define ENTRY_MAX 48 /* longer than any valid entry ("btn.select=-a31") */
 
@@ -20,8 +22,8 @@ static int is_button(roz_operator_field_t f)
     return f >= ROZ_OPERATOR_REMOTE_BTN_R1 && f <= ROZ_OPERATOR_REMOTE_BTN_LEFT;
 }
 
-/* "aN", "-aN", "bN": N decimal, < ROZ_ROS2_JOY_MAX, no leading zero */
-static int parse_source(const char *s, size_t len, roz_ros2_joy_source_t *src)
+/* "aN", "-aN", "bN": N decimal, < ROZ_JOY_MAX, no leading zero */
+static int parse_source(const char *s, size_t len, roz_joy_source_t *src)
 {
     size_t i = 0;
     unsigned n = 0;
@@ -39,17 +41,20 @@ static int parse_source(const char *s, size_t len, roz_ros2_joy_source_t *src)
         if (s[i] < '0' || s[i] > '9')
             return ROZ_EINVAL;
         n = n * 10u + (unsigned)(s[i] - '0');
-        if (n >= ROZ_ROS2_JOY_MAX)
+        if (n >= ROZ_JOY_MAX)
             return ROZ_EINVAL;
     }
     src->index = (uint8_t)n;
     return ROZ_OK;
 }
 
-int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err, size_t errlen)
+int roz_joy_map_parse(const char *what, const char *text, roz_joy_map_t *map, char *err,
+                      size_t errlen)
 {
     const char *p = text;
     memset(map, 0, sizeof *map);
+    if (what == NULL)
+        what = "Joy map";
     if (text == NULL)
         return ROZ_EINVAL;
     while (*p != '\0') {
@@ -61,7 +66,7 @@ int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err,
         const char *eq = memchr(p, '=', len);
         char name[ENTRY_MAX + 8] = "remote.";
         roz_operator_field_t f = ROZ_OPERATOR_NONE;
-        roz_ros2_joy_source_t src;
+        roz_joy_source_t src;
         size_t nlen = eq != NULL ? (size_t)(eq - p) : 0;
         const char *why = NULL;
 
@@ -79,8 +84,8 @@ int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err,
                 why = "expected aN (axis N), -aN (axis N negated) or bN (button N), N in 0..31";
         }
         if (why != NULL) {
-            snprintf(err, errlen, "parameter joy_map = \"%s\": \"%.*s\": %s", text,
-                     (int)(len > ENTRY_MAX ? ENTRY_MAX : len), p, why);
+            (void)roz_format(err, errlen, "%s = \"%s\": \"%.*s\": %s", what, text,
+                             (int)(len > ENTRY_MAX ? ENTRY_MAX : len), p, why);
             memset(map, 0, sizeof *map);
             return ROZ_EINVAL;
         }
@@ -90,13 +95,13 @@ int roz_ros2_joy_map_parse(const char *text, roz_ros2_joy_map_t *map, char *err,
     return ROZ_OK;
 }
 
-int roz_ros2_joy_remote(const roz_ros2_joy_map_t *map, const float *axes, uint32_t n_axes,
-                        const int32_t *buttons, uint32_t n_buttons, roz_operator_remote_t *out)
+int roz_joy_remote(const roz_joy_map_t *map, const float *axes, uint32_t n_axes,
+                   const int32_t *buttons, uint32_t n_buttons, roz_operator_remote_t *out)
 {
     float *stick[] = { &out->lx, &out->ly, &out->rx, &out->ry, &out->l2, &out->r2 };
     memset(out, 0, sizeof *out);
     for (unsigned f = ROZ_OPERATOR_REMOTE_LX; f <= ROZ_OPERATOR_REMOTE_BTN_LEFT; f++) {
-        const roz_ros2_joy_source_t *s = &map->field[f];
+        const roz_joy_source_t *s = &map->field[f];
         float v;
         if (s->kind == 0)
             continue;
