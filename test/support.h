@@ -37,4 +37,32 @@ uint64_t roz_test_clock(void *ctx);
         if (!(fabs(roz_a_ - roz_b_) <= (eps)))                                        \
             fail_msg("%s = %.17g, expected %.17g (+-%g)", #a, roz_a_, roz_b_, (double)(eps)); \
     } while (0)
+
+/* Until @p cond, doing @p step between two looks (a 1 ms sleep; a tick,
+ * then a sleep), at most @p n times: a hang guard, past which the test
+ * fails naming the condition and where it waited. @p cond is evaluated
+ * once a look (it may be a read that takes what it sees). Never a time
+ * asserted. */
+#define ROZ_TEST_WAIT(cond, step, n)                                                  \
+    do {                                                                              \
+        unsigned long roz_w_ = 0;                                                     \
+        int roz_met_;                                                                 \
+        while (!(roz_met_ = (cond) != 0) && roz_w_ < (unsigned long)(n)) {            \
+            step;                                                                     \
+            roz_w_++;                                                                 \
+        }                                                                             \
+        if (!roz_met_)                                                                \
+            fail_msg("%s:%d: waited %lu times for %s", __FILE__, __LINE__,           \
+                     (unsigned long)(n), #cond);                                      \
+    } while (0)
+
+/* main() for a test file: runs the cmocka_unit_test() entries given, one
+ * group. Needs <cmocka.h>. */
+#define ROZ_TEST_MAIN(...)                                                            \
+    int main(void)                                                                    \
+    {                                                                                 \
+        const struct CMUnitTest tests[] = { __VA_ARGS__ };                            \
+        return cmocka_run_group_tests(tests, NULL, NULL);                             \
+    }
+
 #endif /* ROZ_TEST_SUPPORT_H */

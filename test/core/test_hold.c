@@ -24,6 +24,7 @@
 #include "roz/filter.h"
 #include "roz/hal/joints.h"
 #include "roz/hold.h"
+#include "support.h"
 
 /* ---- random ---------------------------------------------------------------- */
 
@@ -320,12 +321,6 @@ static void test_hold_setpoint_cases(void **unused)
     assert_true(fabs(roz_hold_gain_cap(&h, 0.2, 30.0, 0.0) - 30.0) < 1e-12);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_hold_setpoint_cases),
-        cmocka_unit_test(test_hold_filter_ramped_stop),
-        cmocka_unit_test(test_hold_property),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_hold_setpoint_cases),
+              cmocka_unit_test(test_hold_filter_ramped_stop),
+              cmocka_unit_test(test_hold_property))

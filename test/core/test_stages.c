@@ -19,6 +19,7 @@
 
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "support_stats.h"
 #include "support_wat.h"
@@ -368,14 +369,8 @@ static int teardown(void **st)
     return 0;
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_stages_check),
-        cmocka_unit_test_teardown(test_stages_buttons, teardown),
-        cmocka_unit_test_teardown(test_stages_requests, teardown),
-        cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
-        cmocka_unit_test_teardown(test_stages_request_from_thread, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_stages_check),
+              cmocka_unit_test_teardown(test_stages_buttons, teardown),
+              cmocka_unit_test_teardown(test_stages_requests, teardown),
+              cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
+              cmocka_unit_test_teardown(test_stages_request_from_thread, teardown))

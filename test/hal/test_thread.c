@@ -16,6 +16,7 @@
 #include <cmocka.h>
 
 #include "roz/hal/thread.h"
+#include "support.h"
 
 static int parse(const char *k1, const char *v1, const char *k2, const char *v2,
                  roz_thread_config_t *out, char *err, size_t errlen)
@@ -146,12 +147,6 @@ static void test_thread_least_stack(void **st)
     assert_true(got.stack_kib >= ROZ_THREAD_STACK_MIN_KIB);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_thread_params),
-        cmocka_unit_test(test_thread_carries_what_was_asked),
-        cmocka_unit_test(test_thread_least_stack),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_thread_params),
+              cmocka_unit_test(test_thread_carries_what_was_asked),
+              cmocka_unit_test(test_thread_least_stack))

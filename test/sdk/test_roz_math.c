@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include "roz_math.h"
+#include "support.h"
 
 /* The documented bounds (roz_math.h), in ulps. */
 #define BOUND_SIN   1.0
@@ -399,16 +400,10 @@ static void test_math_tanh(void **state)
     finish(&r, BOUND_TANH);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_math_exact_functions),
-        cmocka_unit_test(test_math_sin_cos),
-        cmocka_unit_test(test_math_atan2),
-        cmocka_unit_test(test_math_exp),
-        cmocka_unit_test(test_math_log),
-        cmocka_unit_test(test_math_pow),
-        cmocka_unit_test(test_math_tanh),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_math_exact_functions),
+              cmocka_unit_test(test_math_sin_cos),
+              cmocka_unit_test(test_math_atan2),
+              cmocka_unit_test(test_math_exp),
+              cmocka_unit_test(test_math_log),
+              cmocka_unit_test(test_math_pow),
+              cmocka_unit_test(test_math_tanh))

@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "roz_math.h"
+#include "support.h"
 
 /* |got - want| in ulps of the float nearest want */
 static double ulps(float got, long double want)
@@ -93,11 +94,5 @@ static void test_roz_math_f32_special(void **st)
     assert_true(roz_math_reluf(3.0f) == 3.0f && isnan(roz_math_reluf(NAN)));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_roz_math_f32_sweeps),
-        cmocka_unit_test(test_roz_math_f32_special),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_roz_math_f32_sweeps),
+              cmocka_unit_test(test_roz_math_f32_special))

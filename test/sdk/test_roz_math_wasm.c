@@ -23,6 +23,7 @@
 #include "math_probe.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "ur5_manifest.h"
 
@@ -172,11 +173,5 @@ static void test_math_wasm_reach_drives_ur5(void **st)
     assert_true(m.value < 0.01);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_math_wasm_probe, teardown),
-        cmocka_unit_test_teardown(test_math_wasm_reach_drives_ur5, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_math_wasm_probe, teardown),
+              cmocka_unit_test_teardown(test_math_wasm_reach_drives_ur5, teardown))
