@@ -29,6 +29,22 @@ typedef struct {
 } roz_test_clock_t;
 uint64_t roz_test_clock(void *ctx);
 
+/* The next number of the xorshift64* sequence in *@p state (never 0): the
+ * pseudo-random inputs of property tests, the same from the same seed. */
+static inline uint64_t roz_test_rng(uint64_t *state)
+{
+    *state ^= *state >> 12;
+    *state ^= *state << 25;
+    *state ^= *state >> 27;
+    return *state * 2685821657736338717ull;
+}
+
+/* Uniform in [@p lo, @p hi), from roz_test_rng(@p state). */
+static inline double roz_test_uniform(uint64_t *state, double lo, double hi)
+{
+    return lo + (hi - lo) * ((double)(roz_test_rng(state) >> 11) / 9007199254740992.0);
+}
+
 /* |a - b| <= eps, with both values in the failure message (cmocka 1.1.5,
  * Debian 12's, has no assert_double_equal). Needs <cmocka.h> and <math.h>. */
 #define assert_near(a, b, eps)                                                        \

@@ -32,15 +32,12 @@ static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 
 static uint64_t rng(void)
 {
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
+    return roz_test_rng(&rng_state);
 }
 
 static double uniform(double lo, double hi)
 {
-    return lo + (hi - lo) * ((double)(rng() >> 11) / 9007199254740992.0);
+    return roz_test_uniform(&rng_state, lo, hi);
 }
 
 static double clampd(double v, double lo, double hi)
