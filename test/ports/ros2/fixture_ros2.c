@@ -126,13 +126,10 @@ void roz_ros2fx_set_fake_args(const char *const *extra)
 
 void roz_ros2fx_ask(const char *fmt, ...)
 {
-    char req[1024];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(req, sizeof req, fmt, ap);
+    roz_fake_process_vmust(&fake.proc, "fake_ros2", fmt, ap);
     va_end(ap);
-    if (roz_fake_ros2_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_ros2: \"%s\" -> \"%s\"", req, fake.proc.line);
 }
 
 int roz_ros2fx_place(uint16_t j, int *group, int *slot)
@@ -268,6 +265,20 @@ void roz_ros2fx_ask_judged(uint32_t mask, const char *fmt, ...)
     roz_ros2fx_links(before);
     roz_ros2fx_ask("%s", req);
     roz_ros2fx_wait_judged(before, mask, 0);
+}
+
+void roz_ros2fx_wait_malformed(int topic, uint64_t before)
+{
+    for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[topic].malformed == before; w++)
+        roz_fake_sleep_ms(1);
+    assert_int_equal(roz_ros2fx_counters().topic[topic].malformed, before + 1);
+}
+
+uint64_t roz_ros2fx_commands(void)
+{
+    uint64_t n[FAKE_ROS2_MAX_GROUPS];
+    assert_int_equal(roz_fake_ros2_commands(&fake, n), 0);
+    return n[0];
 }
 
 roz_ros2_counters_t roz_ros2fx_counters(void)
@@ -540,21 +551,20 @@ static void fx_strict_monitors(void)
         roz_fixture_strict(roz_ros2_topic_monitor(robot->bridge, t));
 }
 
+/* The members of both robots' fixtures but the open: the same fake, the
+ * same bridge (the wire carries float64: no narrowing). */
+#define FX_ROS2_OPS                                                                       \
+    .wire_command = NULL, .peer = fx_peer, .peer_sent = fx_peer_sent,                     \
+    .settle = roz_ros2fx_settle, .peer_command = fx_peer_command,                         \
+    .corrupt_next_command = fx_corrupt_next_command, .link = fx_link, .close = fx_close,  \
+    .set_log = fx_set_log, .strict_monitors = fx_strict_monitors,
+
 const roz_port_fixture_t roz_fixture_engineai_pm01 = {
     .name = "engineai/PM01",
     .manifests = pm01_manifests,
     .state_topics = 2, /* joint_state, imu_info */
-    .wire_command = NULL,
     .open = fx_open_pm01,
-    .peer = fx_peer,
-    .peer_sent = fx_peer_sent,
-    .settle = roz_ros2fx_settle,
-    .peer_command = fx_peer_command,
-    .corrupt_next_command = fx_corrupt_next_command,
-    .link = fx_link,
-    .close = fx_close,
-    .set_log = fx_set_log,
-    .strict_monitors = fx_strict_monitors,
+    FX_ROS2_OPS
 };
 
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
@@ -570,16 +580,7 @@ const roz_port_fixture_t roz_fixture_agibot_x2 = {
     .name = "agibot/X2",
     .manifests = x2_manifests,
     .state_topics = 5, /* leg, waist, arm, head, torso IMU */
-    .wire_command = NULL,
     .open = fx_open_x2,
-    .peer = fx_peer,
-    .peer_sent = fx_peer_sent,
-    .settle = roz_ros2fx_settle,
-    .peer_command = fx_peer_command,
-    .corrupt_next_command = fx_corrupt_next_command,
-    .link = fx_link,
-    .close = fx_close,
-    .set_log = fx_set_log,
-    .strict_monitors = fx_strict_monitors,
+    FX_ROS2_OPS
 };
 #endif

@@ -97,13 +97,10 @@ static void fx_strict_monitors(void)
 
 void roz_g1fx_ask(const char *fmt, ...)
 {
-    char req[512];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(req, sizeof req, fmt, ap);
+    roz_fake_process_vmust(&fake, "fake_g1", fmt, ap);
     va_end(ap);
-    if (roz_fake_g1_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_g1: \"%s\" -> \"%s\"", req, fake.line);
 }
 
 /* The G1's motor slots by joint name, written here from the SDK's joint
