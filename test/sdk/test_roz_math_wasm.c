@@ -25,6 +25,7 @@
 #include "roz/runtime.h"
 #include "support.h"
 #include "support_runtime.h"
+#include "ulps.h"
 #include "ur5_manifest.h"
 
 #define PROBE_TICKS 3000
@@ -46,25 +47,6 @@ static int teardown(void **st)
     (void)st;
     roz_runtime_deinit(&rt);
     return 0;
-}
-
-static uint64_t bits_of(double d)
-{
-    uint64_t u;
-    memcpy(&u, &d, sizeof u);
-    return u;
-}
-
-/* error of @got in ulps of @want (both finite), as test_roz_math.c */
-static double ulps(double got, long double want)
-{
-    int e;
-    if (fabsl(want) > (long double)DBL_MAX)
-        want = want > 0 ? (long double)DBL_MAX : -(long double)DBL_MAX;
-    frexpl(want, &e);
-    if (e < -1021)
-        e = -1021;
-    return (double)(fabsl((long double)got - want) / ldexpl(1.0L, e - 53));
 }
 
 /* libm's value of function @f on the probe's inputs of tick @t */

@@ -27,6 +27,7 @@
 #include <cmocka.h>
 
 #include "fake_ros2_client.h"
+#include "dds_fixture_params.h"
 #include "port_fixture.h"
 #include "ros2_fixture.h"
 #include "roz/port/engineai_pm01.h"
@@ -391,9 +392,7 @@ static int fake_matched(void)
 static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_params_t *params,
                          roz_port_t *port, char *err, size_t errlen)
 {
-    static char domain[16];
     static roz_param_t items[ROZ_ROS2_MAX_PARAMS];
-    size_t n = 0;
 
     /* a check that failed half-way left its port and fake behind */
     if (port_open || fake.proc.pid != 0)
@@ -403,27 +402,14 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
     frame_no = 0;
     restarted = 0;
     memset(sent, 0, sizeof sent);
-    peer_timeout_ms = 1000; /* a fake starved for a few hundred ms on a loaded machine is not gone */
     const char *const *extra = fake_args;
     fake_args = NULL;
     if (roz_fake_ros2_start(&fake, r->fake_robot, ROZ_TEST_DDS_DOMAIN, extra, err, errlen) != 0)
         return ROZ_EIO;
     place_joints();
     /* the fixture's parameters first: the caller's win */
-    snprintf(domain, sizeof domain, "%d", ROZ_TEST_DDS_DOMAIN);
-    items[n++] = (roz_param_t){ "network_interface", "lo" };
-    items[n++] = (roz_param_t){ "dds_domain", domain };
-    items[n++] = (roz_param_t){ "command_writer_period_us", "0" };
-    items[n++] = (roz_param_t){ "peer_timeout_ms", "1000" };
-    /* the suite ticks at its own pace, not a clock's: a pause between two
-     * steps is no stuck control loop (the watchdog has tests of its own) */
-    items[n++] = (roz_param_t){ "command_timeout_us", "60000000" };
-    for (size_t i = 0; params != NULL && i < params->n && n < ROZ_ROS2_MAX_PARAMS / 2; i++) {
-        items[n++] = params->items[i];
-        if (strcmp(params->items[i].key, "peer_timeout_ms") == 0)
-            peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
-    }
-    roz_params_t all = { items, n };
+    roz_params_t all =
+        roz_dds_fixture_params(items, ROZ_ROS2_MAX_PARAMS, params, &peer_timeout_ms);
     the_port = r->make(fx_log != NULL ? fx_log : quiet_log);
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)

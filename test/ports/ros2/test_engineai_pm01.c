@@ -634,10 +634,24 @@ static void open_pm01_watched(const roz_manifest_t *man)
     roz_port_test_watchdog_clock(&roz_ros2fx_bridge()->cmd);
 }
 
+/* The tick stops after its last write: 100 ms of silence on the watchdog's
+ * clock is not yet a trip, 1 ns more is (roz_port_test_watchdog_trip());
+ * @p c the robot's command once @p more have come since. */
+static void silence_trips(unsigned more, roz_fake_ros2_cmd_t *c)
+{
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    roz_port_test_watchdog_trip(&roz_ros2fx_bridge()->cmd, 100000u, roz_ros2fx_commands);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
+                                       roz_ros2fx_fake()->group[0],
+                                       (unsigned long long)n0[0] + more),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, c), 1);
+}
+
 static void test_pm01_watchdog(void **st)
 {
     roz_fake_ros2_cmd_t c;
-    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
     double q[N];
     (void)st;
 
@@ -655,13 +669,7 @@ static void test_pm01_watchdog(void **st)
 
     /* the tick stops: 100 ms on the watchdog's clock is not yet a trip, 1 ns
      * more is */
-    roz_port_test_watchdog_trip(&roz_ros2fx_bridge()->cmd, 100000u, roz_ros2fx_commands);
-    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
-    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
-                                       roz_ros2fx_fake()->group[0],
-                                       (unsigned long long)n0[0] + 5u),
-                     0);
-    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    silence_trips(5u, &c);
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
         const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")]; /* the hold gain */
@@ -735,7 +743,6 @@ static void fake_position(uint16_t j, const char *q)
 static void test_pm01_watchdog_keeps_the_torque(void **st)
 {
     roz_fake_ros2_cmd_t c;
-    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
     double q[N], measured[ROZ_CFG_MAX_STATES];
     const uint16_t knee_l = 3, hip_l = 0, knee_r = 9;
     const roz_channel_t *hip_q = &m->commands[cmd_index(hip_l, "position")];
@@ -771,13 +778,7 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     assert_true(c.kp[knee_l] == 80.0 && c.q[knee_l] == 0.5);
 
     /* the tick stops */
-    roz_port_test_watchdog_trip(&roz_ros2fx_bridge()->cmd, 100000u, roz_ros2fx_commands);
-    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
-    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
-                                       roz_ros2fx_fake()->group[0],
-                                       (unsigned long long)n0[0] + 2u),
-                     0);
-    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    silence_trips(2u, &c);
     double kh = m->commands[cmd_index(knee_l, "stiffness")].default_value;
     print_message("left knee: kp 80 at 0.5, measured 0.9: the watchdog's hold kp %g at %.6f; "
                   "left hip pitch: kp 500 at %.4f, measured %.4f: at %.4f (its limit %.4f)\n",

@@ -809,6 +809,27 @@ static int is_written(const roz_fake_g1_cmd_t *c)
     return 1;
 }
 
+/* The tick back after a trip that read() reported: its write of command
+ * @p k goes out as the stop's hold from @p last, the tick's command before
+ * the trip, against the frame read with the report; after the next frame,
+ * command @p k + 1 as written; one trip in all. */
+static void expect_back_after_trip(const double *last, int k)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_test_distinct_command(m, k, cmd);
+    roz_port_test_write();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_hold_after_trip(&c, last, sent);
+    roz_g1fx_send();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, k + 1, cmd);
+    roz_port_test_write();
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 1);
+}
+
 /* The start-up hold is one frame of the latest-value hand-off: the tick
  * writing again before the writer sent it must not make the controller's
  * command the robot's first. The writer is held back (the command path's
@@ -1050,19 +1071,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
      * trip, at the hold gains, the damping the robot is in already */
     static double before_trip[ROZ_CFG_MAX_COMMANDS];
     memcpy(before_trip, cmd, sizeof before_trip);
-    roz_port_test_distinct_command(m, 7, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    roz_g1fx_sent(sent);
-    assert_hold_after_trip(&c, before_trip, sent);
-    /* then as written again */
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 8, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
-    assert_int_equal(counters().command_timeouts, 1);
+    expect_back_after_trip(before_trip, 7);
 }
 
 /* Command @p k written, which the robot gets as written: the tick's last
@@ -1182,19 +1191,8 @@ static void test_g1_watchdog_on_its_clock(void **st)
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.code, 150000u);
     assert_int_equal(f.limit, 100000u);
-    roz_g1fx_sent(sent);
     assert_int_equal(roz_port_test_read(), 0);
-    roz_port_test_distinct_command(m, 4, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    assert_hold_after_trip(&c, last, sent);
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 5, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
-    assert_int_equal(counters().command_timeouts, 1);
+    expect_back_after_trip(last, 4);
 }
 
 /* The port's exit is the robot class's stop: the hold, as the watchdog
@@ -1331,13 +1329,11 @@ static void test_g1_watchdog_spinning_writer(void **st)
                              { "command_timeout_us", "100000" },
                              { "peer_timeout_ms", "60000" } },
             4);
-    int fresh = 0; /* (WAIT_UNTIL looks twice: not for a read) */
-    ROZ_PORT_TEST_WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_port_test_read() == 1); /* one look, one read */
     roz_port_test_distinct_command(m, 0, cmd);
     roz_port_test_write(); /* the hold */
     roz_g1fx_settle(); /* the writes after it are holds until it went out */
-    fresh = 0;
-    ROZ_PORT_TEST_WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_port_test_read() == 1);
     write_last(1, q);
     expect_damping_after_trip(q);
 }
