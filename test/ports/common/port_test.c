@@ -202,6 +202,12 @@ void roz_port_test_clock_add(uint64_t ns)
     atomic_fetch_add(&clock_ns, ns);
 }
 
+const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N] = {
+    { "command_writer_period_us", "2000" },
+    { "command_timeout_us", "100000" },
+    { "peer_timeout_ms", "60000" },
+};
+
 void roz_port_test_watchdog_clock(roz_dds_cmd_t *path)
 {
     roz_port_test_clock_set(5000000000u);

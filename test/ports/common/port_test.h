@@ -125,6 +125,13 @@ void roz_port_test_clock_set(uint64_t ns);
 /* Moves the clock @p ns on. */
 void roz_port_test_clock_add(uint64_t ns);
 
+/* The parameters of a DDS port whose command watchdog counts on that
+ * clock: a periodic writer (roz_dds_cmd_config_t takes no other clock for
+ * an event-driven one), a 100 ms timeout, and a robot that may say nothing
+ * while the tick is away (no link fault for it). */
+#define ROZ_PORT_TEST_WATCHED_N 3
+extern const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N];
+
 /* The watchdog of @p path (a DDS port's command path) counts on the clock
  * above from here, set to 5 s: after the port's open (a periodic writer:
  * roz_dds_cmd_config_t), before its first write. */

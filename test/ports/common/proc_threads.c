@@ -52,17 +52,23 @@ static void *nothing(void *arg)
     return arg;
 }
 
+int roz_test_last_cpu(void)
+{
+    cpu_set_t set;
+    int last = 0;
+    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
+    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
+        if (CPU_ISSET(c, &set))
+            last = c;
+    return last;
+}
+
 int roz_test_thread_probe(int priority, char *cpus, size_t n, int *may_fifo)
 {
     roz_thread_config_t fifo = { ROZ_THREAD_FIFO, priority, 0, 0 };
     unsigned long th;
     char err[200];
-    cpu_set_t set;
-    int cpu = 0;
-    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
-    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
-        if (CPU_ISSET(c, &set))
-            cpu = c;
+    int cpu = roz_test_last_cpu();
     snprintf(cpus, n, "%d", cpu);
     *may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
     if (*may_fifo)

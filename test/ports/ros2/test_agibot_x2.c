@@ -67,15 +67,11 @@ static void open_x2(const roz_param_t *items, size_t n)
     open_x2_on(m, items, n);
 }
 
-/* The X2 on @p man with a 100 ms command watchdog on the test's clock (a
- * periodic writer: roz_dds_cmd_config_t); the robot says nothing while the
- * tick is away (no link fault for it). */
+/* The X2 on @p man, its command watchdog on the test's clock
+ * (roz_port_test_watched). */
 static void open_x2_watched(const roz_manifest_t *man)
 {
-    open_x2_on(man, (roz_param_t[]){ { "command_writer_period_us", "2000" },
-                                     { "command_timeout_us", "100000" },
-                                     { "peer_timeout_ms", "60000" } },
-               3);
+    open_x2_on(man, roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
     roz_port_test_watchdog_clock(&roz_ros2fx_bridge()->cmd);
 }
 

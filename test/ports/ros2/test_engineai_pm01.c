@@ -622,15 +622,11 @@ static void test_pm01_periodic_writer(void **st)
 }
 
 
-/* The PM01 with a 100 ms command watchdog on the test's clock (a periodic
- * writer: roz_dds_cmd_config_t), the start-up hold behind it; the robot
- * says nothing while the tick is away (no link fault for it). */
+/* The PM01 on @p man, its command watchdog on the test's clock
+ * (roz_port_test_watched). */
 static void open_pm01_watched(const roz_manifest_t *man)
 {
-    open_pm01_on(man, (roz_param_t[]){ { "command_writer_period_us", "2000" },
-                                       { "command_timeout_us", "100000" },
-                                       { "peer_timeout_ms", "60000" } },
-                 3);
+    open_pm01_on(man, roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
     roz_port_test_watchdog_clock(&roz_ros2fx_bridge()->cmd);
 }
 

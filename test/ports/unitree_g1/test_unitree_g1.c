@@ -1142,10 +1142,7 @@ static void test_g1_watchdog_on_its_clock(void **st)
 
     /* periodic: an event-driven writer sleeps until the watchdog is due on
      * the monotonic clock (roz_dds_cmd_config_t) */
-    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
-                             { "command_timeout_us", "100000" },
-                             { "peer_timeout_ms", "60000" } },
-            3);
+    open_g1(roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
     roz_port_test_watchdog_clock(&roz_g1fx_port()->cmd);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) { /* alive: 99.999 ms between writes is not silence */
