@@ -90,6 +90,15 @@ static void open_g1(const roz_param_t *items, size_t n)
     roz_port_test_drive(&roz_fixture_unitree_g1, m, items, n, &port, state, cmd);
 }
 
+/* The tick alive: the robot's next frame read, command @p k written. */
+static void tick_alive(int k)
+{
+    roz_g1fx_send();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, k, cmd);
+    roz_port_test_write();
+}
+
 static int teardown(void **st)
 {
     (void)st;
@@ -365,10 +374,7 @@ static void test_g1_mode_machine(void **st)
 
     /* back: reads and commands again */
     roz_g1fx_ask("mode_machine 9");
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 7, cmd);
-    roz_port_test_write();
+    tick_alive(7);
     get_command(&c);
     assert_true(c.q[0] == (float)cmd[cmd_index(0, "position")]);
     assert_true(counters().published > published);
@@ -619,10 +625,7 @@ static void test_g1_periodic_writer(void **st)
     open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 0; k < 70; k++) /* past the replay window: a restart shows */
-        roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 3, cmd);
-    roz_port_test_write();
+        tick_alive(3);
     get_command(&c);
     /* no more writes: the writer goes on publishing the last command */
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
@@ -821,10 +824,7 @@ static void expect_back_after_trip(const double *last, int k)
     get_command(&c);
     roz_g1fx_sent(sent);
     assert_hold_after_trip(&c, last, sent);
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, k + 1, cmd);
-    roz_port_test_write();
+    tick_alive(k + 1);
     get_command(&c);
     assert_true(is_written(&c));
     assert_int_equal(counters().command_timeouts, 1);
@@ -999,16 +999,10 @@ static void test_g1_watchdog_on_the_wire(void **st)
     (void)st;
 
     /* the robot says nothing while the tick is away: no link fault meanwhile */
-    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
-                             { "command_timeout_us", "100000" },
-                             { "peer_timeout_ms", "60000" } },
-            3);
+    open_g1(roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 5; k++) { /* a tick alive: commands as written */
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_port_test_distinct_command(m, k, cmd);
-        roz_port_test_write();
+        tick_alive(k);
     }
     get_command(&c);
     assert_true(is_written(&c));
@@ -1146,10 +1140,7 @@ static void test_g1_watchdog_on_its_clock(void **st)
     roz_port_test_watchdog_clock(&roz_g1fx_port()->cmd);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) { /* alive: 99.999 ms between writes is not silence */
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_port_test_distinct_command(m, k, cmd);
-        roz_port_test_write();
+        tick_alive(k);
         get_command(&c);
         assert_true(is_written(&c));
         roz_port_test_clock_add(99999000u);
