@@ -208,6 +208,16 @@ const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N] = {
     { "peer_timeout_ms", "60000" },
 };
 
+void roz_port_test_write_held_back(roz_dds_cmd_t *path)
+{
+    atomic_store(&path->held_back, 1);
+    roz_port_test_distinct_command(driven.m, 1, driven.cmd);
+    roz_port_test_write(); /* the hold */
+    roz_port_test_write(); /* the controller's, before the writer sent anything */
+    atomic_store(&path->held_back, 0);
+    roz_port_test_write(); /* wakes the writer */
+}
+
 void roz_port_test_watchdog_clock(roz_dds_cmd_t *path)
 {
     roz_port_test_clock_set(5000000000u);

@@ -132,6 +132,12 @@ void roz_port_test_clock_add(uint64_t ns);
 #define ROZ_PORT_TEST_WATCHED_N 3
 extern const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N];
 
+/* Command 1 written three times on the bound port after its first frame:
+ * the start-up hold and the controller's while the writer of @p path is
+ * held back (the command path's test hook: it has sent nothing yet), the
+ * third once it is let go. */
+void roz_port_test_write_held_back(roz_dds_cmd_t *path);
+
 /* The watchdog of @p path (a DDS port's command path) counts on the clock
  * above from here, set to 5 s: after the port's open (a periodic writer:
  * roz_dds_cmd_config_t), before its first write. */

@@ -628,17 +628,11 @@ static void test_x2_nonfinite_state_never_on_the_wire(void **st)
 static void test_x2_hold_reaches_the_wire_first(void **st)
 {
     roz_fake_ros2_cmd_t c;
-    roz_dds_cmd_t *path = &roz_ros2fx_bridge()->cmd;
     (void)st;
     open_x2(NULL, 0);
     roz_ros2fx_send();
     assert_int_equal(roz_port_test_read(), 1);
-    atomic_store(&path->held_back, 1);
-    roz_port_test_distinct_command(m, 1, cmd);
-    roz_port_test_write(); /* the hold */
-    roz_port_test_write(); /* the controller's, before the writer sent anything */
-    atomic_store(&path->held_back, 0);
-    roz_port_test_write();
+    roz_port_test_write_held_back(&roz_ros2fx_bridge()->cmd);
     roz_ros2fx_settle();
     roz_fake_ros2_t *fk = roz_ros2fx_fake();
     for (unsigned g = 0; g < fk->n_groups; g++) {

@@ -837,19 +837,13 @@ static void expect_back_after_trip(const double *last, int k)
 static void test_g1_hold_reaches_the_wire_first(void **st)
 {
     roz_fake_g1_cmd_t c;
-    roz_dds_cmd_t *path = &roz_g1fx_port()->cmd;
     (void)st;
 
     open_g1(NULL, 0);
     roz_g1fx_send();
     assert_int_equal(roz_port_test_read(), 1);
     roz_g1fx_sent(sent);
-    atomic_store(&path->held_back, 1);
-    roz_port_test_distinct_command(m, 1, cmd);
-    roz_port_test_write(); /* the hold */
-    roz_port_test_write(); /* the controller's, before the writer sent anything */
-    atomic_store(&path->held_back, 0);
-    roz_port_test_write(); /* wakes the writer */
+    roz_port_test_write_held_back(&roz_g1fx_port()->cmd);
     roz_g1fx_settle();
     ROZ_PORT_TEST_WAIT_UNTIL(fake_good() >= 1);
     assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
