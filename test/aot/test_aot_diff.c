@@ -484,14 +484,8 @@ static void test_aot_zero_pages(void **state)
     roz_controller_unload(&aot.c);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_aot_diff_every_controller),
-        cmocka_unit_test(test_aot_diff_runtime),
-        cmocka_unit_test(test_aot_instances_bounded),
-        cmocka_unit_test(test_aot_memory_short),
-        cmocka_unit_test(test_aot_zero_pages),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_aot_diff_every_controller),
+              cmocka_unit_test(test_aot_diff_runtime),
+              cmocka_unit_test(test_aot_instances_bounded),
+              cmocka_unit_test(test_aot_memory_short),
+              cmocka_unit_test(test_aot_zero_pages))

@@ -18,6 +18,7 @@
 #include "roz/aot.h"
 #include "roz/builtin.h"
 #include "roz/controller.h"
+#include "support.h"
 
 ROZ_AOT_DECLARE(hostile_recursion);
 ROZ_AOT_DECLARE(hostile_trap_run);
@@ -78,10 +79,4 @@ static void test_aot_threads_traps_stay_on_their_thread(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_aot_threads_traps_stay_on_their_thread),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_aot_threads_traps_stay_on_their_thread))

@@ -16,6 +16,7 @@
 #include "roz/controller.h"
 #include "roz/format.h"
 #include "roz/text.h"
+#include "support.h"
 #include "wasm_bytes.h"
 
 _Static_assert(ROZ_CFG_NN_IMPORTS == 0 && ROZ_CFG_MATH_IMPORTS == 0 &&
@@ -170,12 +171,6 @@ static void test_left_out_format_double_bits(void **state)
     assert_string_equal(s, "f64:4008000000000000");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_left_out_imports_refused, setup),
-        cmocka_unit_test_setup(test_left_out_built_imports_load, setup),
-        cmocka_unit_test(test_left_out_format_double_bits),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_setup(test_left_out_imports_refused, setup),
+              cmocka_unit_test_setup(test_left_out_built_imports_load, setup),
+              cmocka_unit_test(test_left_out_format_double_bits))

@@ -266,18 +266,12 @@ static void test_abi_bulk_set_all_hostile(void **st)
         assert_true(target[i] == 0.1 * i);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_abi_bulk_get_all, setup),
-        cmocka_unit_test_setup(test_abi_bulk_get_all_hostile, setup),
-        cmocka_unit_test_setup(test_abi_bulk_set_all_equals_set, setup),
-        cmocka_unit_test_setup(test_abi_bulk_set_all_hostile, setup),
-        cmocka_unit_test(test_abi_import_table),
-        cmocka_unit_test_setup(test_abi_command_set, setup),
-        cmocka_unit_test_setup(test_abi_queries, setup),
-        cmocka_unit_test_setup(test_abi_timing, setup),
-        cmocka_unit_test_setup(test_abi_estop_and_metrics, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_setup(test_abi_bulk_get_all, setup),
+              cmocka_unit_test_setup(test_abi_bulk_get_all_hostile, setup),
+              cmocka_unit_test_setup(test_abi_bulk_set_all_equals_set, setup),
+              cmocka_unit_test_setup(test_abi_bulk_set_all_hostile, setup),
+              cmocka_unit_test(test_abi_import_table),
+              cmocka_unit_test_setup(test_abi_command_set, setup),
+              cmocka_unit_test_setup(test_abi_queries, setup),
+              cmocka_unit_test_setup(test_abi_timing, setup),
+              cmocka_unit_test_setup(test_abi_estop_and_metrics, setup))

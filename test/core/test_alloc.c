@@ -14,6 +14,7 @@
 
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_heap.h"
 #include "support_stats.h"
 #include "support_runtime.h"
@@ -163,14 +164,8 @@ static void test_alloc_counter_works(void **st)
     roz_controller_unload(&c);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_alloc_counter_works),
-        cmocka_unit_test(test_alloc_g1_pd),
-        cmocka_unit_test(test_alloc_ur5_sine),
-        cmocka_unit_test(test_alloc_g1_stages),
-        cmocka_unit_test(test_alloc_g1_pd_recorded),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_alloc_counter_works),
+              cmocka_unit_test(test_alloc_g1_pd),
+              cmocka_unit_test(test_alloc_ur5_sine),
+              cmocka_unit_test(test_alloc_g1_stages),
+              cmocka_unit_test(test_alloc_g1_pd_recorded))

@@ -372,17 +372,11 @@ static void test_budget_deadline_counts_the_controller(void **st)
     assert_non_null(strstr(roz_runtime_fault_message(&rt), "deadline passed at tick 150"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_budget_default_per_rate, teardown),
-        cmocka_unit_test(test_budget_endless_controllers_stop),
-        cmocka_unit_test_teardown(test_budget_just_under_and_over, teardown),
-        cmocka_unit_test_teardown(test_budget_rebuild_after_overrun, teardown),
-        cmocka_unit_test_teardown(test_budget_deadline, teardown),
-        cmocka_unit_test_teardown(test_budget_loop_keeps_its_period, teardown),
-        cmocka_unit_test_teardown(test_budget_stack_on_a_small_thread, teardown),
-        cmocka_unit_test_teardown(test_budget_deadline_counts_the_controller, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_budget_default_per_rate, teardown),
+              cmocka_unit_test(test_budget_endless_controllers_stop),
+              cmocka_unit_test_teardown(test_budget_just_under_and_over, teardown),
+              cmocka_unit_test_teardown(test_budget_rebuild_after_overrun, teardown),
+              cmocka_unit_test_teardown(test_budget_deadline, teardown),
+              cmocka_unit_test_teardown(test_budget_loop_keeps_its_period, teardown),
+              cmocka_unit_test_teardown(test_budget_stack_on_a_small_thread, teardown),
+              cmocka_unit_test_teardown(test_budget_deadline_counts_the_controller, teardown))

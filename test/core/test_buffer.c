@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "roz/buffer.h"
+#include "support.h"
 
 #define N 97
 ROZ_BUFFER_DEFINE(buf, N);
@@ -107,11 +108,5 @@ static void test_buffer_two_threads(void **st)
                   (unsigned long long)fresh, FRAMES);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_buffer_basic),
-        cmocka_unit_test(test_buffer_two_threads),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_buffer_basic),
+              cmocka_unit_test(test_buffer_two_threads))

@@ -16,6 +16,7 @@
 #include "quadcopter_manifest.h"
 #include "roz/builtin.h"
 #include "roz/manifest.h"
+#include "support.h"
 #include "unitree_g1_12dof_manifest.h"
 #include "unitree_g1_23dof_manifest.h"
 #include "unitree_g1_manifest.h"
@@ -235,13 +236,7 @@ static void test_builtin_humanoids(void **state)
     assert_int_equal(ROZ_ENGINEAI_PM01_CMD_J12_WAIST_YAW_POSITION, 12);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_builtin_registry),
-        cmocka_unit_test(test_builtin_ur5),
-        cmocka_unit_test(test_builtin_mobile_and_drone),
-        cmocka_unit_test(test_builtin_humanoids),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_builtin_registry),
+              cmocka_unit_test(test_builtin_ur5),
+              cmocka_unit_test(test_builtin_mobile_and_drone),
+              cmocka_unit_test(test_builtin_humanoids))

@@ -216,13 +216,7 @@ static void test_bulk_fuel(void **st)
     assert_non_null(strstr(roz_controller_error(&ctl[0]), "fuel exhausted"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_bulk_g1_pd_equals_per_channel, teardown),
-        cmocka_unit_test_teardown(test_bulk_hostile_arguments, teardown),
-        cmocka_unit_test_teardown(test_bulk_refused_writes_nothing, teardown),
-        cmocka_unit_test_teardown(test_bulk_fuel, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_bulk_g1_pd_equals_per_channel, teardown),
+              cmocka_unit_test_teardown(test_bulk_hostile_arguments, teardown),
+              cmocka_unit_test_teardown(test_bulk_refused_writes_nothing, teardown),
+              cmocka_unit_test_teardown(test_bulk_fuel, teardown))

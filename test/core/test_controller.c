@@ -191,17 +191,11 @@ static void test_controller_c_and_wat_agree(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        roz_bench_test(test_controller_refusals),
-        roz_bench_test(test_controller_garbage),
-        roz_bench_test(test_controller_runs_sine),
-        roz_bench_test(test_controller_pd_reads_state),
-        roz_bench_test(test_controller_load_in_scratch),
-        roz_bench_test(test_controller_traps),
-        roz_bench_test(test_controller_memory_is_fixed),
-        roz_bench_test(test_controller_c_and_wat_agree),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(roz_bench_test(test_controller_refusals),
+              roz_bench_test(test_controller_garbage),
+              roz_bench_test(test_controller_runs_sine),
+              roz_bench_test(test_controller_pd_reads_state),
+              roz_bench_test(test_controller_load_in_scratch),
+              roz_bench_test(test_controller_traps),
+              roz_bench_test(test_controller_memory_is_fixed),
+              roz_bench_test(test_controller_c_and_wat_agree))

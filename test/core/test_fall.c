@@ -428,17 +428,11 @@ static void test_fall_runtime_without_rule(void **unused)
     manifest.fall = &rule;
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_fall_tilt),
-        cmocka_unit_test(test_fall_ticks_in_a_row),
-        cmocka_unit_test(test_fall_validate),
-        cmocka_unit_test(test_fall_filter_stop),
-        cmocka_unit_test_teardown(test_fall_runtime_latches_and_damps, teardown),
-        cmocka_unit_test_teardown(test_fall_runtime_beats_estop, teardown),
-        cmocka_unit_test_teardown(test_fall_runtime_clear, teardown),
-        cmocka_unit_test_teardown(test_fall_runtime_without_rule, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_fall_tilt),
+              cmocka_unit_test(test_fall_ticks_in_a_row),
+              cmocka_unit_test(test_fall_validate),
+              cmocka_unit_test(test_fall_filter_stop),
+              cmocka_unit_test_teardown(test_fall_runtime_latches_and_damps, teardown),
+              cmocka_unit_test_teardown(test_fall_runtime_beats_estop, teardown),
+              cmocka_unit_test_teardown(test_fall_runtime_clear, teardown),
+              cmocka_unit_test_teardown(test_fall_runtime_without_rule, teardown))

@@ -327,15 +327,9 @@ static void test_filter_init_errors(void **st)
     assert_int_equal(roz_filter_init(&f, &gripper), ROZ_OK);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_filter_ur5),
-        cmocka_unit_test(test_filter_g1),
-        cmocka_unit_test(test_filter_brakes_before_limit),
-        cmocka_unit_test(test_filter_margin_per_channel),
-        cmocka_unit_test(test_filter_hold_latches),
-        cmocka_unit_test(test_filter_init_errors),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_filter_ur5),
+              cmocka_unit_test(test_filter_g1),
+              cmocka_unit_test(test_filter_brakes_before_limit),
+              cmocka_unit_test(test_filter_margin_per_channel),
+              cmocka_unit_test(test_filter_hold_latches),
+              cmocka_unit_test(test_filter_init_errors))

@@ -26,6 +26,7 @@
 #include <cmocka.h>
 
 #include "roz/filter.h"
+#include "support.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 #include "support_thin.h"
@@ -272,16 +273,12 @@ static uint64_t rng_state;
 
 static uint64_t rng(void)
 {
-    /* xorshift64* */
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
+    return roz_test_rng(&rng_state);
 }
 
 static double uniform(double lo, double hi)
 {
-    return lo + (hi - lo) * ((double)(rng() >> 11) / 9007199254740992.0);
+    return roz_test_uniform(&rng_state, lo, hi);
 }
 
 static int chance(unsigned percent)

@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "roz/format.h"
+#include "support.h"
 #include "support_thin.h"
 
 /* under an emulator, a THIN-th of the generated values (support_thin.h) */
@@ -180,16 +181,10 @@ static void test_format_unsupported(void **st)
     assert_string_equal(b, "%? then 7");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_format_integers),
-        cmocka_unit_test(test_format_strings),
-        cmocka_unit_test(test_format_g),
-        cmocka_unit_test(test_format_g_many),
-        cmocka_unit_test(test_format_double),
-        cmocka_unit_test(test_format_cut),
-        cmocka_unit_test(test_format_unsupported),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_format_integers),
+              cmocka_unit_test(test_format_strings),
+              cmocka_unit_test(test_format_g),
+              cmocka_unit_test(test_format_g_many),
+              cmocka_unit_test(test_format_double),
+              cmocka_unit_test(test_format_cut),
+              cmocka_unit_test(test_format_unsupported))

@@ -397,18 +397,12 @@ static void test_fuel_stack_at_loop_entry(void **st)
     assert_true(loops_stack <= ROZ_CFG_NATIVE_STACK_BYTES + 1024); /* one frame over */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_fuel_unit, teardown),
-        cmocka_unit_test_teardown(test_fuel_straight_line, teardown),
-        cmocka_unit_test_teardown(test_fuel_bulk_memory, teardown),
-        cmocka_unit_test_teardown(test_fuel_deadline_interval, teardown),
-        cmocka_unit_test_teardown(test_fuel_deadline_from_the_start, teardown),
-        cmocka_unit_test_teardown(test_fuel_imports, teardown),
-        cmocka_unit_test_teardown(test_fuel_zero_is_refused, teardown),
-        cmocka_unit_test_teardown(test_fuel_verify_ignores_the_loader_clock, teardown),
-        cmocka_unit_test_teardown(test_fuel_stack_at_loop_entry, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_fuel_unit, teardown),
+              cmocka_unit_test_teardown(test_fuel_straight_line, teardown),
+              cmocka_unit_test_teardown(test_fuel_bulk_memory, teardown),
+              cmocka_unit_test_teardown(test_fuel_deadline_interval, teardown),
+              cmocka_unit_test_teardown(test_fuel_deadline_from_the_start, teardown),
+              cmocka_unit_test_teardown(test_fuel_imports, teardown),
+              cmocka_unit_test_teardown(test_fuel_zero_is_refused, teardown),
+              cmocka_unit_test_teardown(test_fuel_verify_ignores_the_loader_clock, teardown),
+              cmocka_unit_test_teardown(test_fuel_stack_at_loop_entry, teardown))

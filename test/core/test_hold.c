@@ -24,6 +24,7 @@
 #include "roz/filter.h"
 #include "roz/hal/joints.h"
 #include "roz/hold.h"
+#include "support.h"
 #include "support_thin.h"
 
 /* ---- random ---------------------------------------------------------------- */
@@ -32,15 +33,12 @@ static uint64_t rng_state = 0x9e3779b97f4a7c15ull;
 
 static uint64_t rng(void)
 {
-    rng_state ^= rng_state >> 12;
-    rng_state ^= rng_state << 25;
-    rng_state ^= rng_state >> 27;
-    return rng_state * 2685821657736338717ull;
+    return roz_test_rng(&rng_state);
 }
 
 static double uniform(double lo, double hi)
 {
-    return lo + (hi - lo) * ((double)(rng() >> 11) / 9007199254740992.0);
+    return roz_test_uniform(&rng_state, lo, hi);
 }
 
 static double clampd(double v, double lo, double hi)
@@ -321,12 +319,6 @@ static void test_hold_setpoint_cases(void **unused)
     assert_true(fabs(roz_hold_gain_cap(&h, 0.2, 30.0, 0.0) - 30.0) < 1e-12);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_hold_setpoint_cases),
-        cmocka_unit_test(test_hold_filter_ramped_stop),
-        cmocka_unit_test(test_hold_property),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_hold_setpoint_cases),
+              cmocka_unit_test(test_hold_filter_ramped_stop),
+              cmocka_unit_test(test_hold_property))

@@ -16,6 +16,7 @@
 
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_stats.h"
 #include "ur5_manifest.h"
 
@@ -61,10 +62,4 @@ static void test_init_refuses_an_unopened_port(void **st)
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_ESTATE);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_init_refuses_an_unopened_port),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_init_refuses_an_unopened_port))

@@ -15,6 +15,7 @@
 
 #include "roz/error.h"
 #include "roz/inputs.h"
+#include "support.h"
 #include "support_inputs.h"
 
 static const roz_channel_t cmds[] = {
@@ -248,17 +249,11 @@ static void test_setter_thread_vs_tick(void **st)
     assert_int_equal(ib.in.counters.nonfinite, 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_manifest_with_inputs_is_valid, setup),
-        cmocka_unit_test_setup(test_default_before_any_value, setup),
-        cmocka_unit_test_setup(test_follows_at_the_rate_cap, setup),
-        cmocka_unit_test_setup(test_out_of_range_clamped_and_counted, setup),
-        cmocka_unit_test_setup(test_nonfinite_refused_and_counted, setup),
-        cmocka_unit_test_setup(test_stale_returns_to_default_by_the_rate_cap, setup),
-        cmocka_unit_test_setup(test_never_a_jump_random, setup),
-        cmocka_unit_test_setup(test_setter_thread_vs_tick, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_setup(test_manifest_with_inputs_is_valid, setup),
+              cmocka_unit_test_setup(test_default_before_any_value, setup),
+              cmocka_unit_test_setup(test_follows_at_the_rate_cap, setup),
+              cmocka_unit_test_setup(test_out_of_range_clamped_and_counted, setup),
+              cmocka_unit_test_setup(test_nonfinite_refused_and_counted, setup),
+              cmocka_unit_test_setup(test_stale_returns_to_default_by_the_rate_cap, setup),
+              cmocka_unit_test_setup(test_never_a_jump_random, setup),
+              cmocka_unit_test_setup(test_setter_thread_vs_tick, setup))

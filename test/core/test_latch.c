@@ -792,22 +792,16 @@ static void test_latch_log_drained_outside_tick(void **s)
     assert_non_null(strstr(msg, "unreachable"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_latch_trap_while_clear_pending, teardown),
-        cmocka_unit_test_teardown(test_latch_clear_keeps_newer_latch, teardown),
-        cmocka_unit_test_teardown(test_latch_estop_then_clear_keeps_estop, teardown),
-        cmocka_unit_test_teardown(test_latch_estop_level_blocks_clear, teardown),
-        cmocka_unit_test_teardown(test_latch_estop_before_controller, teardown),
-        cmocka_unit_test_teardown(test_latch_every_ordering, teardown),
-        cmocka_unit_test_teardown(test_latch_read_error_keeps_state, teardown),
-        cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
-        cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
-        cmocka_unit_test_teardown(test_latch_old_fault_clears_after_many_relatches, teardown),
-        cmocka_unit_test_teardown(test_latch_stale_names_the_part, teardown),
-        cmocka_unit_test_teardown(test_latch_command_timeout, teardown),
-        cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_latch_trap_while_clear_pending, teardown),
+              cmocka_unit_test_teardown(test_latch_clear_keeps_newer_latch, teardown),
+              cmocka_unit_test_teardown(test_latch_estop_then_clear_keeps_estop, teardown),
+              cmocka_unit_test_teardown(test_latch_estop_level_blocks_clear, teardown),
+              cmocka_unit_test_teardown(test_latch_estop_before_controller, teardown),
+              cmocka_unit_test_teardown(test_latch_every_ordering, teardown),
+              cmocka_unit_test_teardown(test_latch_read_error_keeps_state, teardown),
+              cmocka_unit_test_teardown(test_latch_nan_first_frame, teardown),
+              cmocka_unit_test_teardown(test_latch_robot_fault, teardown),
+              cmocka_unit_test_teardown(test_latch_old_fault_clears_after_many_relatches, teardown),
+              cmocka_unit_test_teardown(test_latch_stale_names_the_part, teardown),
+              cmocka_unit_test_teardown(test_latch_command_timeout, teardown),
+              cmocka_unit_test_teardown(test_latch_log_drained_outside_tick, teardown))

@@ -288,10 +288,4 @@ static void test_latch_threads_stress(void **st)
     roz_runtime_deinit(&rt);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_latch_threads_stress),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_latch_threads_stress))

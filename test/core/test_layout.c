@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "roz/runtime.h"
+#include "support.h"
 
 #if ROZ_CFG_MAX_COMMANDS != 16
 #error "test_layout is compiled with ROZ_CFG_MAX_COMMANDS=16"
@@ -66,11 +67,5 @@ static void test_layout_check_names_the_difference(void **st)
     assert_int_equal(roz_runtime_layout_check(NULL, err, sizeof err), ROZ_EINVAL);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_layout_mismatch_is_refused),
-        cmocka_unit_test(test_layout_check_names_the_difference),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_layout_mismatch_is_refused),
+              cmocka_unit_test(test_layout_check_names_the_difference))

@@ -12,6 +12,7 @@
 
 #include "roz/error.h"
 #include "roz/manifest.h"
+#include "support.h"
 
 /* ---- a small valid manifest to break one rule at a time ----------------- */
 
@@ -288,15 +289,9 @@ static void test_manifest_strerror(void **state)
     assert_string_equal(roz_strerror(-1000), "unknown error");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_manifest_interface_names),
-        cmocka_unit_test_setup(test_manifest_find, setup_manifest),
-        cmocka_unit_test_setup(test_manifest_validate_rules, setup_manifest),
-        cmocka_unit_test_setup(test_manifest_limit_margin, setup_manifest),
-        cmocka_unit_test(test_manifest_generic_velocity),
-        cmocka_unit_test(test_manifest_strerror),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_manifest_interface_names),
+              cmocka_unit_test_setup(test_manifest_find, setup_manifest),
+              cmocka_unit_test_setup(test_manifest_validate_rules, setup_manifest),
+              cmocka_unit_test_setup(test_manifest_limit_margin, setup_manifest),
+              cmocka_unit_test(test_manifest_generic_velocity),
+              cmocka_unit_test(test_manifest_strerror))

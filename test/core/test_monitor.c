@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "roz/monitor.h"
+#include "support.h"
 #include "support_stats.h"
 
 static int warnings;
@@ -187,14 +188,8 @@ static void test_monitor_snapshot_api(void **st)
     assert_int_equal(s.sum_ns, 5000000000ull);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_monitor_defaults),
-        cmocka_unit_test(test_monitor_threshold_and_throttle),
-        cmocka_unit_test(test_monitor_percentiles),
-        cmocka_unit_test(test_monitor_jitter),
-        cmocka_unit_test(test_monitor_snapshot_api),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_monitor_defaults),
+              cmocka_unit_test(test_monitor_threshold_and_throttle),
+              cmocka_unit_test(test_monitor_percentiles),
+              cmocka_unit_test(test_monitor_jitter),
+              cmocka_unit_test(test_monitor_snapshot_api))

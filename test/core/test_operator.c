@@ -14,6 +14,7 @@
 
 #include "roz/error.h"
 #include "roz/inputs.h"
+#include "support.h"
 #include "support_inputs.h"
 #include "roz/operator.h"
 
@@ -190,15 +191,9 @@ static void test_silent_remote_goes_stale(void **st)
     assert_true(ib.in.counters.stale >= 1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_vocabulary),
-        cmocka_unit_test(test_manifest_rule),
-        cmocka_unit_test_setup(test_remote_frame_scaled, setup),
-        cmocka_unit_test_setup(test_nan_refused_and_counted, setup),
-        cmocka_unit_test_setup(test_twist_frame, setup),
-        cmocka_unit_test_setup(test_silent_remote_goes_stale, setup),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_vocabulary),
+              cmocka_unit_test(test_manifest_rule),
+              cmocka_unit_test_setup(test_remote_frame_scaled, setup),
+              cmocka_unit_test_setup(test_nan_refused_and_counted, setup),
+              cmocka_unit_test_setup(test_twist_frame, setup),
+              cmocka_unit_test_setup(test_silent_remote_goes_stale, setup))

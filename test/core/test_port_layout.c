@@ -20,6 +20,7 @@
 #include "roz/port.h"
 #include "roz/port/loopback.h"
 #include "roz/ports.h"
+#include "support.h"
 
 #if ROZ_CFG_MAX_COMMANDS != 16
 #error "test_port_layout is compiled with ROZ_CFG_MAX_COMMANDS=16"
@@ -90,12 +91,6 @@ static void test_port_layout_check_names_the_difference(void **st)
     assert_int_equal(roz_port_layout_check(NULL, err, sizeof err), ROZ_EINVAL);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_port_layout_loopback_refused),
-        cmocka_unit_test(test_port_layout_constructor_refused),
-        cmocka_unit_test(test_port_layout_check_names_the_difference),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_port_layout_loopback_refused),
+              cmocka_unit_test(test_port_layout_constructor_refused),
+              cmocka_unit_test(test_port_layout_check_names_the_difference))

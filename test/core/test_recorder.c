@@ -21,6 +21,7 @@
 
 #include "roz/recorder.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "support_stats.h"
 #include "unitree_g1_12dof_manifest.h"
@@ -452,13 +453,7 @@ static void test_recorder_inputs(void **st)
     roz_runtime_deinit(&rt);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_recorder_fields),     cmocka_unit_test(test_recorder_wrap),
-        cmocka_unit_test(test_recorder_overflow),   cmocka_unit_test(test_recorder_decimation),
-        cmocka_unit_test(test_recorder_refusals),   cmocka_unit_test(test_recorder_threads),
-        cmocka_unit_test(test_recorder_truth),      cmocka_unit_test(test_recorder_inputs),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_recorder_fields),     cmocka_unit_test(test_recorder_wrap),
+              cmocka_unit_test(test_recorder_overflow),   cmocka_unit_test(test_recorder_decimation),
+              cmocka_unit_test(test_recorder_refusals),   cmocka_unit_test(test_recorder_threads),
+              cmocka_unit_test(test_recorder_truth),      cmocka_unit_test(test_recorder_inputs))

@@ -15,6 +15,7 @@
 
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_stats.h"
 #include "support_runtime.h"
 #include "support_wat.h"
@@ -565,27 +566,21 @@ static void test_runtime_simulator_read_not_warned(void **st)
     assert_true(wire.warned >= 1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_runtime_sine_drives_ur5, teardown),
-        cmocka_unit_test_teardown(test_runtime_nothing_before_first_state, teardown),
-        cmocka_unit_test_teardown(test_runtime_waiting_is_not_a_fault, teardown),
-        cmocka_unit_test_teardown(test_runtime_trap_latches_controlled_stop, teardown),
-        cmocka_unit_test_teardown(test_runtime_controlled_stop_ramps, teardown),
-        cmocka_unit_test_teardown(test_runtime_estop_is_immediate, teardown),
-        cmocka_unit_test_teardown(test_runtime_controller_estop, teardown),
-        cmocka_unit_test_teardown(test_runtime_overrun, teardown),
-        cmocka_unit_test_teardown(test_runtime_verify_refuses, teardown),
-        cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
-        cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
-        cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
-        cmocka_unit_test_teardown(test_runtime_operator_inputs, teardown),
-        cmocka_unit_test_teardown(test_runtime_operator_remote, teardown),
-        cmocka_unit_test_teardown(test_runtime_remote_estop, teardown),
-        cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
-        cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
-        cmocka_unit_test(test_runtime_simulator_read_not_warned),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_runtime_sine_drives_ur5, teardown),
+              cmocka_unit_test_teardown(test_runtime_nothing_before_first_state, teardown),
+              cmocka_unit_test_teardown(test_runtime_waiting_is_not_a_fault, teardown),
+              cmocka_unit_test_teardown(test_runtime_trap_latches_controlled_stop, teardown),
+              cmocka_unit_test_teardown(test_runtime_controlled_stop_ramps, teardown),
+              cmocka_unit_test_teardown(test_runtime_estop_is_immediate, teardown),
+              cmocka_unit_test_teardown(test_runtime_controller_estop, teardown),
+              cmocka_unit_test_teardown(test_runtime_overrun, teardown),
+              cmocka_unit_test_teardown(test_runtime_verify_refuses, teardown),
+              cmocka_unit_test_teardown(test_runtime_swap_keeps_old_on_failure, teardown),
+              cmocka_unit_test_teardown(test_runtime_g1_stand, teardown),
+              cmocka_unit_test_teardown(test_runtime_swap_starts_at_the_hold, teardown),
+              cmocka_unit_test_teardown(test_runtime_operator_inputs, teardown),
+              cmocka_unit_test_teardown(test_runtime_operator_remote, teardown),
+              cmocka_unit_test_teardown(test_runtime_remote_estop, teardown),
+              cmocka_unit_test_teardown(test_runtime_first_tick_holds, teardown),
+              cmocka_unit_test_teardown(test_runtime_nan_and_range_states, teardown),
+              cmocka_unit_test(test_runtime_simulator_read_not_warned))

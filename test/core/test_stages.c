@@ -19,6 +19,7 @@
 
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "support_stats.h"
 #include "support_wat.h"
@@ -96,6 +97,15 @@ static void ticks(int n)
         roz_test_tick(&rt);
         assert_int_equal(roz_loopback_counters(&lb).violations, 0);
     }
+}
+
+/* Asks for stage @p want (the request taken), ticks @p n times: the stage
+ * is then @p now. */
+static void request(roz_stage_t want, int n, roz_stage_t now)
+{
+    assert_int_equal(roz_runtime_stage_request(&rt, want), ROZ_OK);
+    ticks(n);
+    assert_int_equal(roz_runtime_stage(&rt), now);
 }
 
 static void press(int k, double v)
@@ -265,30 +275,16 @@ static void test_stages_requests(void **st)
 
     start(&c, NULL);
     assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_HOLD), ROZ_EINVAL);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_RUN), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_MOVE), ROZ_OK);
-    ticks(1001);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_HOLD);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_RUN), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_HOLD); /* no controller */
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_STOP), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_STOP);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_MOVE), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_STOP);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_ZERO), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);
+    request(ROZ_STAGE_RUN, 1, ROZ_STAGE_ZERO);
+    request(ROZ_STAGE_MOVE, 1001, ROZ_STAGE_HOLD);
+    request(ROZ_STAGE_RUN, 1, ROZ_STAGE_HOLD); /* no controller */
+    request(ROZ_STAGE_STOP, 1, ROZ_STAGE_STOP);
+    request(ROZ_STAGE_MOVE, 1, ROZ_STAGE_STOP);
+    request(ROZ_STAGE_ZERO, 1, ROZ_STAGE_ZERO);
     assert_int_equal(roz_runtime_stages_counters(&rt)->refused, 3);
     /* a latched fault: only STOP is taken */
     roz_runtime_estop_set(&rt, 1);
-    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_MOVE), ROZ_OK);
-    ticks(1);
-    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);
+    request(ROZ_STAGE_MOVE, 1, ROZ_STAGE_ZERO);
     assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_STOP), ROZ_OK);
     roz_test_tick(&rt);
     assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_STOP);
@@ -368,14 +364,8 @@ static int teardown(void **st)
     return 0;
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_stages_check),
-        cmocka_unit_test_teardown(test_stages_buttons, teardown),
-        cmocka_unit_test_teardown(test_stages_requests, teardown),
-        cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
-        cmocka_unit_test_teardown(test_stages_request_from_thread, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_stages_check),
+              cmocka_unit_test_teardown(test_stages_buttons, teardown),
+              cmocka_unit_test_teardown(test_stages_requests, teardown),
+              cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
+              cmocka_unit_test_teardown(test_stages_request_from_thread, teardown))

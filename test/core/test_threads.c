@@ -151,10 +151,4 @@ static void test_threads_runtime_under_load(void **st)
     roz_runtime_deinit(&rt);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_threads_runtime_under_load),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_threads_runtime_under_load))

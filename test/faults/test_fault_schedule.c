@@ -211,10 +211,4 @@ static void test_fault_schedule(void **st)
                     seen.cmd_crc && seen.cmds_lost && seen.limit_stops && seen.clears);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_fault_schedule),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_fault_schedule))

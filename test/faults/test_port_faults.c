@@ -587,23 +587,17 @@ static void test_faults_stalled_port_thread(void **st)
     pthread_join(th, NULL);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_faults_short_drop_is_counted, teardown),
-        cmocka_unit_test_teardown(test_faults_long_drop_latches_stale, teardown),
-        cmocka_unit_test_teardown(test_faults_freeze_needs_clear, teardown),
-        cmocka_unit_test_teardown(test_faults_delay_is_latency, teardown),
-        cmocka_unit_test_teardown(test_faults_delay_and_position_limit, teardown),
-        cmocka_unit_test_teardown(test_faults_duplicate_is_rejected, teardown),
-        cmocka_unit_test_teardown(test_faults_corrupt_state, teardown),
-        cmocka_unit_test_teardown(test_faults_corrupt_command, teardown),
-        cmocka_unit_test_teardown(test_faults_peer_restart, teardown),
-        cmocka_unit_test_teardown(test_faults_quick_restart, teardown),
-        cmocka_unit_test_teardown(test_faults_early_restart_is_stale, teardown),
-        cmocka_unit_test_teardown(test_faults_nan_position_stops_its_joint, teardown),
-        cmocka_unit_test_teardown(test_faults_nan_state_into_controller, teardown),
-        cmocka_unit_test_teardown(test_faults_stalled_port_thread, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_faults_short_drop_is_counted, teardown),
+              cmocka_unit_test_teardown(test_faults_long_drop_latches_stale, teardown),
+              cmocka_unit_test_teardown(test_faults_freeze_needs_clear, teardown),
+              cmocka_unit_test_teardown(test_faults_delay_is_latency, teardown),
+              cmocka_unit_test_teardown(test_faults_delay_and_position_limit, teardown),
+              cmocka_unit_test_teardown(test_faults_duplicate_is_rejected, teardown),
+              cmocka_unit_test_teardown(test_faults_corrupt_state, teardown),
+              cmocka_unit_test_teardown(test_faults_corrupt_command, teardown),
+              cmocka_unit_test_teardown(test_faults_peer_restart, teardown),
+              cmocka_unit_test_teardown(test_faults_quick_restart, teardown),
+              cmocka_unit_test_teardown(test_faults_early_restart_is_stale, teardown),
+              cmocka_unit_test_teardown(test_faults_nan_position_stops_its_joint, teardown),
+              cmocka_unit_test_teardown(test_faults_nan_state_into_controller, teardown),
+              cmocka_unit_test_teardown(test_faults_stalled_port_thread, teardown))

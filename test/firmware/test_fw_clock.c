@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "clock_ns.h"
+#include "support.h"
 
 __extension__ typedef unsigned __int128 u128;
 
@@ -74,13 +75,7 @@ static void test_fw_clock_monotonic(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_fw_clock_25mhz),
-        cmocka_unit_test(test_fw_clock_168mhz_no_drift),
-        cmocka_unit_test(test_fw_clock_odd_frequencies),
-        cmocka_unit_test(test_fw_clock_monotonic),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_fw_clock_25mhz),
+              cmocka_unit_test(test_fw_clock_168mhz_no_drift),
+              cmocka_unit_test(test_fw_clock_odd_frequencies),
+              cmocka_unit_test(test_fw_clock_monotonic))

@@ -18,6 +18,7 @@
 #include "roz/error.h"
 #include "roz/gamepad.h"
 #include "roz/inputs.h"
+#include "support.h"
 #include "support_inputs.h"
 
 static const struct input_absinfo xbox[ROZ_GAMEPAD_AXES] = {
@@ -169,16 +170,7 @@ static void put(int fd, uint16_t type, uint16_t code, int32_t value)
 /* Until @p cond, ticking the inputs (the tick's thread against the reader);
  * a hang guard of 60 s, never a time asserted. */
 #define TICK_UNTIL(cond)                                                                  \
-    do {                                                                                  \
-        int ms_ = 0;                                                                      \
-        while (!(cond) && ms_ < 60000) {                                                  \
-            roz_inputs_tick(&in, ++tick * 2000000ull, out);                               \
-            usleep(1000);                                                                 \
-            ms_++;                                                                        \
-        }                                                                                 \
-        if (!(cond))                                                                      \
-            fail_msg("%s:%d: waited 60 s for %s", __FILE__, __LINE__, #cond);             \
-    } while (0)
+    ROZ_TEST_WAIT(cond, (roz_inputs_tick(&in, ++tick * 2000000ull, out), usleep(1000)), 60000)
 
 static void test_reader_through_a_pipe(void **st)
 {
@@ -221,14 +213,8 @@ static void test_open_refuses_what_is_no_gamepad(void **st)
     assert_non_null(strstr(err, "not an evdev input device"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_standard_codes),
-        cmocka_unit_test(test_flat_and_absent_axes),
-        cmocka_unit_test(test_syn_dropped),
-        cmocka_unit_test(test_reader_through_a_pipe),
-        cmocka_unit_test(test_open_refuses_what_is_no_gamepad),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_standard_codes),
+              cmocka_unit_test(test_flat_and_absent_axes),
+              cmocka_unit_test(test_syn_dropped),
+              cmocka_unit_test(test_reader_through_a_pipe),
+              cmocka_unit_test(test_open_refuses_what_is_no_gamepad))

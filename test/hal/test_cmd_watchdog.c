@@ -25,6 +25,7 @@
 #include <cmocka.h>
 
 #include "roz/hal/cmd_watchdog.h"
+#include "support.h"
 
 #define MS 1000000ull
 
@@ -222,13 +223,7 @@ static void test_cmd_watchdog_threads(void **st)
     assert_int_equal(r.reported, roz_cmd_watchdog_trips(&r.wd));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_cmd_watchdog_trips_once_and_reports),
-        cmocka_unit_test(test_cmd_watchdog_older_epoch_never_sent),
-        cmocka_unit_test(test_cmd_watchdog_param),
-        cmocka_unit_test(test_cmd_watchdog_threads),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_cmd_watchdog_trips_once_and_reports),
+              cmocka_unit_test(test_cmd_watchdog_older_epoch_never_sent),
+              cmocka_unit_test(test_cmd_watchdog_param),
+              cmocka_unit_test(test_cmd_watchdog_threads))

@@ -12,6 +12,7 @@
 
 #include "roz/error.h"
 #include "roz/hal/inject.h"
+#include "support.h"
 
 #define MAX_GOT 8
 
@@ -132,13 +133,7 @@ static void test_inject_port_refuses(void **st)
                      ROZ_EINVAL);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_inject_keys),
-        cmocka_unit_test(test_inject_entries),
-        cmocka_unit_test(test_inject_refusals),
-        cmocka_unit_test(test_inject_port_refuses),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_inject_keys),
+              cmocka_unit_test(test_inject_entries),
+              cmocka_unit_test(test_inject_refusals),
+              cmocka_unit_test(test_inject_port_refuses))

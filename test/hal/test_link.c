@@ -15,6 +15,7 @@
 #include "roz/hal/crc32.h"
 #include "roz/hal/link.h"
 #include "crc32_reference.h"
+#include "support.h"
 
 /* CRC-32/MPEG-2 over bytes, MSB first. */
 static uint32_t crc_mpeg2(const uint8_t *b, size_t n)
@@ -290,18 +291,12 @@ static void test_link_shared_threads(void **st)
     assert_true(reads > 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_crc32_reference_values),
-        cmocka_unit_test(test_crc32_matches_its_definition),
-        cmocka_unit_test(test_link_verdicts),
-        cmocka_unit_test(test_link_silence),
-        cmocka_unit_test(test_link_in_order_old_frames),
-        cmocka_unit_test(test_link_wraps),
-        cmocka_unit_test(test_link_random),
-        cmocka_unit_test(test_link_shared_copy),
-        cmocka_unit_test(test_link_shared_threads),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_crc32_reference_values),
+              cmocka_unit_test(test_crc32_matches_its_definition),
+              cmocka_unit_test(test_link_verdicts),
+              cmocka_unit_test(test_link_silence),
+              cmocka_unit_test(test_link_in_order_old_frames),
+              cmocka_unit_test(test_link_wraps),
+              cmocka_unit_test(test_link_random),
+              cmocka_unit_test(test_link_shared_copy),
+              cmocka_unit_test(test_link_shared_threads))

@@ -10,6 +10,7 @@
 #include <cmocka.h>
 
 #include "roz/hal/params.h"
+#include "support.h"
 
 static const roz_param_t items[] = {
     { "command_writer_period_us", "2000" }, { "state_decimation", "0" },
@@ -146,14 +147,8 @@ static void test_params_split(void **st)
     assert_string_equal(out.value, "");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_params_values),
-        cmocka_unit_test(test_params_errors_name_key_and_value),
-        cmocka_unit_test(test_params_unknown_keys),
-        cmocka_unit_test(test_params_rows),
-        cmocka_unit_test(test_params_split),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_params_values),
+              cmocka_unit_test(test_params_errors_name_key_and_value),
+              cmocka_unit_test(test_params_unknown_keys),
+              cmocka_unit_test(test_params_rows),
+              cmocka_unit_test(test_params_split))

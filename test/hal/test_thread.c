@@ -15,7 +15,9 @@
 
 #include <cmocka.h>
 
+#include "proc_threads.h"
 #include "roz/hal/thread.h"
+#include "support.h"
 
 static int parse(const char *k1, const char *v1, const char *k2, const char *v2,
                  roz_thread_config_t *out, char *err, size_t errlen)
@@ -72,17 +74,6 @@ static void *wait_for_go(void *arg)
     return NULL;
 }
 
-/* The last CPU this process may run on. */
-static int some_cpu(void)
-{
-    cpu_set_t set;
-    int last = 0;
-    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
-    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
-        if (CPU_ISSET(c, &set))
-            last = c;
-    return last;
-}
 
 static void test_thread_carries_what_was_asked(void **st)
 {
@@ -90,7 +81,7 @@ static void test_thread_carries_what_was_asked(void **st)
     unsigned long th;
     char err[200];
     (void)st;
-    want.cpus = 1ull << some_cpu();
+    want.cpus = 1ull << roz_test_last_cpu();
     atomic_store(&go, 0);
     assert_int_equal(roz_thread_start(&th, &want, "t", wait_for_go, NULL, err, sizeof err),
                      ROZ_OK);
@@ -146,12 +137,6 @@ static void test_thread_least_stack(void **st)
     assert_true(got.stack_kib >= ROZ_THREAD_STACK_MIN_KIB);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_thread_params),
-        cmocka_unit_test(test_thread_carries_what_was_asked),
-        cmocka_unit_test(test_thread_least_stack),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_thread_params),
+              cmocka_unit_test(test_thread_carries_what_was_asked),
+              cmocka_unit_test(test_thread_least_stack))

@@ -16,6 +16,7 @@
 
 #include "roz/runner.h"
 #include "roz/hal/thread.h"
+#include "support.h"
 #include "support_blocking_log.h"
 
 static atomic_uint ticks;
@@ -92,11 +93,5 @@ static void test_runner_thread(void **st)
         print_message("SCHED_FIFO not permitted here: the runner's CPUs and stack only\n");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_runner_blocking_log),
-        cmocka_unit_test(test_runner_thread),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_runner_blocking_log),
+              cmocka_unit_test(test_runner_thread))

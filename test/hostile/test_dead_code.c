@@ -20,6 +20,7 @@
 #include "roz/abi.h"
 #include "roz/controller.h"
 #include "roz/module.h"
+#include "support.h"
 #include "support_wat.h"
 #include "ur5_manifest.h"
 
@@ -144,12 +145,6 @@ static void test_dead_code_the_find(void **st)
     roz_controller_unload(&ctl);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_dead_code_after_every_terminator),
-        cmocka_unit_test(test_dead_code_costs_nothing),
-        cmocka_unit_test(test_dead_code_the_find),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_dead_code_after_every_terminator),
+              cmocka_unit_test(test_dead_code_costs_nothing),
+              cmocka_unit_test(test_dead_code_the_find))

@@ -23,6 +23,7 @@
 
 #include "roz/controller.h"
 #include "roz/abi.h"
+#include "support.h"
 #include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
@@ -150,6 +151,20 @@ static void test_load_bound_tees(void **st)
     refused("compile work past ROZ_CFG_WASM_MAX_COMPILE_WORK");
 }
 
+/* The import section: 40,000 imports of telemetry.emit_metric, functions of
+ * type @p type. */
+static void emit_metric_imports(uint32_t type)
+{
+    bput_u32(40000);
+    for (int i = 0; i < 40000; i++) {
+        roz_wb_name(body, CAP, &bn, "telemetry", 9);
+        roz_wb_name(body, CAP, &bn, "emit_metric", 11);
+        bput(0);
+        bput_u32(type);
+    }
+    section(2);
+}
+
 static void test_load_bound_imports(void **st)
 {
     (void)st;
@@ -158,14 +173,7 @@ static void test_load_bound_imports(void **st)
     roz_wb_bytes(mod, CAP, &n, "\0asm\1\0\0\0", 8);
     bput(1); bput(0x60); bput(1); bput(0x7c); bput(0);
     section(1);
-    bput_u32(40000);
-    for (int i = 0; i < 40000; i++) {
-        roz_wb_name(body, CAP, &bn, "telemetry", 9);
-        roz_wb_name(body, CAP, &bn, "emit_metric", 11);
-        bput(0);
-        bput(0);
-    }
-    section(2);
+    emit_metric_imports(0);
     char want[96];
     snprintf(want, sizeof want, "40000 imports, more than the %u functions of the roz ABI",
              (unsigned)roz_abi_import_count);
@@ -178,23 +186,10 @@ static void test_load_bound_imports(void **st)
         bput(0x60); bput(1); bput(0x7c); bput(0);
     }
     section(1);
-    bput_u32(40000);
-    for (int i = 0; i < 40000; i++) {
-        roz_wb_name(body, CAP, &bn, "telemetry", 9);
-        roz_wb_name(body, CAP, &bn, "emit_metric", 11);
-        bput(0);
-        bput_u32(ROZ_CFG_WASM_MAX_TYPES);
-    }
-    section(2);
+    emit_metric_imports(ROZ_CFG_WASM_MAX_TYPES);
     refused("function types, more than");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup_teardown(test_load_bound_blocks, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_load_bound_tees, setup, teardown),
-        cmocka_unit_test_setup_teardown(test_load_bound_imports, setup, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_setup_teardown(test_load_bound_blocks, setup, teardown),
+              cmocka_unit_test_setup_teardown(test_load_bound_tees, setup, teardown),
+              cmocka_unit_test_setup_teardown(test_load_bound_imports, setup, teardown))

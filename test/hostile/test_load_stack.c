@@ -26,6 +26,7 @@
 #include <cmocka.h>
 
 #include "roz/controller.h"
+#include "support.h"
 #include "ur5_manifest.h"
 
 /* The documented thread stack for loading (docs/budget.md, "The C stack"):
@@ -231,11 +232,5 @@ static void test_load_stack_deepest_fits(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_load_stack_figures),
-        cmocka_unit_test(test_load_stack_deepest_fits),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_load_stack_figures),
+              cmocka_unit_test(test_load_stack_deepest_fits))

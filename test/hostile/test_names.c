@@ -30,6 +30,7 @@
 #include <cmocka.h>
 
 #include "roz/controller.h"
+#include "support.h"
 #include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
@@ -406,19 +407,13 @@ static void test_names_empty_elements(void **st)
     runs_process(&(spec_t){ .exports = { EXPORT_PROCESS }, .n_exports = 1, .empty_elems = 1 });
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        roz_bench_test_metrics(test_names_baseline),
-        roz_bench_test_metrics(test_names_name_section),
-        roz_bench_test_metrics(test_names_malformed_name_section),
-        roz_bench_test_metrics(test_names_duplicate_export),
-        roz_bench_test_metrics(test_names_nul_in_export),
-        roz_bench_test_metrics(test_names_bad_utf8),
-        roz_bench_test_metrics(test_names_process_is_a_global),
-        roz_bench_test_metrics(test_names_imports),
-        roz_bench_test_metrics(test_names_nop),
-        roz_bench_test_metrics(test_names_empty_elements),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(roz_bench_test_metrics(test_names_baseline),
+              roz_bench_test_metrics(test_names_name_section),
+              roz_bench_test_metrics(test_names_malformed_name_section),
+              roz_bench_test_metrics(test_names_duplicate_export),
+              roz_bench_test_metrics(test_names_nul_in_export),
+              roz_bench_test_metrics(test_names_bad_utf8),
+              roz_bench_test_metrics(test_names_process_is_a_global),
+              roz_bench_test_metrics(test_names_imports),
+              roz_bench_test_metrics(test_names_nop),
+              roz_bench_test_metrics(test_names_empty_elements))

@@ -19,6 +19,7 @@
 #include <cmocka.h>
 
 #include "roz/controller.h"
+#include "support.h"
 #include "support_bench.h"
 #include "ur5_manifest.h"
 #include "wasm_bytes.h"
@@ -217,18 +218,12 @@ static void test_sections_messages(void **st)
     refused(&cut, "the body runs past its end");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        roz_bench_test(test_sections_elem_valid),
-        roz_bench_test(test_sections_elem_offset_two_instructions),
-        roz_bench_test(test_sections_elem_offset_not_constant),
-        roz_bench_test(test_sections_elem_without_table),
-        roz_bench_test(test_sections_elem_more_than_declared),
-        roz_bench_test(test_sections_elem_function_out_of_range),
-        roz_bench_test(test_sections_data),
-        roz_bench_test(test_sections_globals),
-        roz_bench_test(test_sections_messages),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(roz_bench_test(test_sections_elem_valid),
+              roz_bench_test(test_sections_elem_offset_two_instructions),
+              roz_bench_test(test_sections_elem_offset_not_constant),
+              roz_bench_test(test_sections_elem_without_table),
+              roz_bench_test(test_sections_elem_more_than_declared),
+              roz_bench_test(test_sections_elem_function_out_of_range),
+              roz_bench_test(test_sections_data),
+              roz_bench_test(test_sections_globals),
+              roz_bench_test(test_sections_messages))

@@ -275,6 +275,17 @@ static int teardown(void **st)
     return 0;
 }
 
+/* The module built, loaded afresh (no tick begun): roz_controller_load()'s
+ * result. */
+static int load_fresh(void)
+{
+    roz_controller_unload(&ctl);
+    roz_controller_init(&ctl);
+    memset(&ring, 0, sizeof ring);
+    roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
+    return roz_controller_load(&ctl, wasm.b, wasm.n, &abi);
+}
+
 /* The next metric, which must be there. */
 static double metric(const char *what)
 {
@@ -720,10 +731,7 @@ static void test_multi_value_refused(void **st)
             put(o, OP_DROP);
         put(o, OP_END);
         module_end();
-        roz_controller_unload(&ctl);
-        roz_controller_init(&ctl);
-        roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
-        assert_int_equal(roz_controller_load(&ctl, wasm.b, wasm.n, &abi), ROZ_EINVAL);
+        assert_int_equal(load_fresh(), ROZ_EINVAL);
         if (strstr(roz_controller_error(&ctl), cases[i].msg) == NULL)
             fail_msg("\"%s\" lacks \"%s\"", roz_controller_error(&ctl), cases[i].msg);
     }
@@ -780,11 +788,7 @@ static void test_compiler_stack_full(void **st)
         put(o, OP_CALL); put(o, 0);
         put(o, OP_END);
         module_end();
-        roz_controller_unload(&ctl);
-        roz_controller_init(&ctl);
-        memset(&ring, 0, sizeof ring);
-        roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
-        if (roz_controller_load(&ctl, wasm.b, wasm.n, &abi) != ROZ_OK) {
+        if (load_fresh() != ROZ_OK) {
             if (strstr(roz_controller_error(&ctl), "overran its stack height limit") == NULL)
                 fail_msg("%s: refused: %s", what, roz_controller_error(&ctl));
             refused++;
@@ -819,10 +823,7 @@ static void test_br_table_count_refused(void **st)
         put(o, OP_END);
         put(o, OP_END);
         module_end();
-        roz_controller_unload(&ctl);
-        roz_controller_init(&ctl);
-        roz_abi_init(&abi, &roz_manifest_ur5, target, &ring);
-        assert_int_equal(roz_controller_load(&ctl, wasm.b, wasm.n, &abi), ROZ_EINVAL);
+        assert_int_equal(load_fresh(), ROZ_EINVAL);
         assert_false(roz_controller_loaded(&ctl));
     }
 }

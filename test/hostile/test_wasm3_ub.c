@@ -845,14 +845,8 @@ static void test_start_section_refused(void **st)
     assert_int_equal(abi->counters.metrics, 1); /* the one from the first module */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        roz_bench_test_metrics(test_integer_and_float_edges),
-        roz_bench_test_metrics(test_memory_section_without_entries),
-        roz_bench_test_metrics(test_straight_line_memory_ops_small_stack),
-        roz_bench_test_metrics(test_trap_after_host_calls),
-        roz_bench_test_metrics(test_start_section_refused),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(roz_bench_test_metrics(test_integer_and_float_edges),
+              roz_bench_test_metrics(test_memory_section_without_entries),
+              roz_bench_test_metrics(test_straight_line_memory_ops_small_stack),
+              roz_bench_test_metrics(test_trap_after_host_calls),
+              roz_bench_test_metrics(test_start_section_refused))

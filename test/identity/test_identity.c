@@ -34,6 +34,7 @@
 #include "roz/controller.h"
 #include "roz/identity.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "support_stats.h"
 #include "unitree_g1_12dof_manifest.h"
@@ -573,18 +574,12 @@ static void test_identity_built_controllers(void **st)
     expect_load(w, len, ROZ_EINVAL, "controller built for robot 'ur5'", ROZ_IDENTITY_OTHER_ROBOT);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_identity_hash_is_rozgens),
-        cmocka_unit_test(test_identity_hash_worked_example),
-        cmocka_unit_test(test_identity_hash_covers_the_table),
-        cmocka_unit_test(test_identity_read),
-        cmocka_unit_test(test_identity_malformed),
-        cmocka_unit_test(test_identity_check),
-        cmocka_unit_test_teardown(test_identity_runtime_refuses_another_robot, teardown),
-        cmocka_unit_test_teardown(test_identity_runtime_override, teardown),
-        cmocka_unit_test_teardown(test_identity_built_controllers, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_identity_hash_is_rozgens),
+              cmocka_unit_test(test_identity_hash_worked_example),
+              cmocka_unit_test(test_identity_hash_covers_the_table),
+              cmocka_unit_test(test_identity_read),
+              cmocka_unit_test(test_identity_malformed),
+              cmocka_unit_test(test_identity_check),
+              cmocka_unit_test_teardown(test_identity_runtime_refuses_another_robot, teardown),
+              cmocka_unit_test_teardown(test_identity_runtime_override, teardown),
+              cmocka_unit_test_teardown(test_identity_built_controllers, teardown))

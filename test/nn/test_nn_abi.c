@@ -476,16 +476,10 @@ static void test_nn_wasm_refusals_and_fuel(void **st)
     assert_true(wabi.counters.nn_calls < 2u * (1000000u / (100u * 150u)) + 2u);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_setup(test_nn_matvec_equals_plain_loop, setup),
-        cmocka_unit_test_setup(test_nn_act_equals_roz_math, setup),
-        cmocka_unit_test_setup(test_nn_tiny_numbers, setup),
-        cmocka_unit_test(test_nn_exp_threshold),
-        cmocka_unit_test_setup(test_nn_refusals, setup),
-        cmocka_unit_test(test_nn_units),
-        cmocka_unit_test_teardown(test_nn_wasm_refusals_and_fuel, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_setup(test_nn_matvec_equals_plain_loop, setup),
+              cmocka_unit_test_setup(test_nn_act_equals_roz_math, setup),
+              cmocka_unit_test_setup(test_nn_tiny_numbers, setup),
+              cmocka_unit_test(test_nn_exp_threshold),
+              cmocka_unit_test_setup(test_nn_refusals, setup),
+              cmocka_unit_test(test_nn_units),
+              cmocka_unit_test_teardown(test_nn_wasm_refusals_and_fuel, teardown))

@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
 #include "ur5_manifest.h"
 
@@ -57,10 +58,4 @@ static void test_nn_bc_holds_the_pose(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_nn_bc_holds_the_pose),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_nn_bc_holds_the_pose))

@@ -18,6 +18,7 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
+#include "support.h"
 #include "ur5_manifest.h"
 
 /* the networks natively: roz_nn.h's plain-C imports */
@@ -131,11 +132,5 @@ static void test_nn_layers_reset_at_tick0(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_nn_layers_wasm_native_numpy),
-        cmocka_unit_test(test_nn_layers_reset_at_tick0),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_nn_layers_wasm_native_numpy),
+              cmocka_unit_test(test_nn_layers_reset_at_tick0))

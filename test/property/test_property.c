@@ -55,6 +55,7 @@
 #include "roz/abi.h"
 #include "roz/filter.h"
 #include "roz/manifest.h"
+#include "support.h"
 
 #ifndef ROZ_PROPERTY_DEFAULT_TICKS
 #define ROZ_PROPERTY_DEFAULT_TICKS 1000000
@@ -601,10 +602,4 @@ static void test_property_filter_and_set(void **st)
     assert_true(sum.clamps > 0 && sum.nonfinite > 0 && sum.rate_caps > 0 && sum.limit_stops > 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_property_filter_and_set),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_property_filter_and_set))

@@ -19,6 +19,8 @@
 #include <cmocka.h>
 
 #include "roz_math.h"
+#include "support.h"
+#include "ulps.h"
 #include "support_thin.h"
 
 /* under an emulator, every THIN-th step of the sweeps and random runs */
@@ -60,36 +62,6 @@ static double any_double(void)
         memcpy(&d, &u, sizeof d);
     } while (!isfinite(d));
     return d;
-}
-
-static uint64_t bits_of(double d)
-{
-    uint64_t u;
-    memcpy(&u, &d, sizeof u);
-    return u;
-}
-
-/* Error of @got in ulps of the exact value, taken to be @want (long double).
- * Same infinities and NaN: 0; a mismatch of those: 1e9. */
-static double ulps(double got, long double want)
-{
-    int e;
-    long double ulp;
-    if (isnan(want) || isnan(got))
-        return isnan(want) && isnan(got) ? 0.0 : 1e9;
-    if (fabsl(want) > (long double)DBL_MAX) { /* beyond double: must round to inf... */
-        if (isinf(got) && (got > 0) == (want > 0))
-            return 0.0;
-        /* ...unless it is within half an ulp of DBL_MAX */
-        want = want > 0 ? (long double)DBL_MAX : -(long double)DBL_MAX;
-    }
-    if (isinf(got))
-        return 1e9;
-    frexpl(want, &e); /* want = m 2^e, m in [0.5, 1) */
-    if (e < -1021)
-        e = -1021; /* subnormal: the ulp is 2^-1074 */
-    ulp = ldexpl(1.0L, e - 53);
-    return (double)(fabsl((long double)got - want) / ulp);
 }
 
 typedef struct {
@@ -139,6 +111,8 @@ static const double specials[] = {
 static void test_math_exact_functions(void **state)
 {
     (void)state;
+    if (THIN > 1)
+        print_message("under an emulator: 1 in %d steps of the sweeps and random runs\n", THIN);
     for (int i = 0; i < 400000 + (int)N_SPECIALS; i += i < (int)N_SPECIALS ? 1 : THIN) {
         double x = i < (int)N_SPECIALS ? specials[i]
                    : i % 2 ? any_double() : uniform(-1e6, 1e6);
@@ -403,18 +377,10 @@ static void test_math_tanh(void **state)
     finish(&r, BOUND_TANH);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_math_exact_functions),
-        cmocka_unit_test(test_math_sin_cos),
-        cmocka_unit_test(test_math_atan2),
-        cmocka_unit_test(test_math_exp),
-        cmocka_unit_test(test_math_log),
-        cmocka_unit_test(test_math_pow),
-        cmocka_unit_test(test_math_tanh),
-    };
-    if (THIN > 1)
-        print_message("under an emulator: 1 in %d steps of the sweeps and random runs\n", THIN);
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_math_exact_functions),
+              cmocka_unit_test(test_math_sin_cos),
+              cmocka_unit_test(test_math_atan2),
+              cmocka_unit_test(test_math_exp),
+              cmocka_unit_test(test_math_log),
+              cmocka_unit_test(test_math_pow),
+              cmocka_unit_test(test_math_tanh))

@@ -23,7 +23,9 @@
 #include "math_probe.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_runtime.h"
+#include "ulps.h"
 #include "ur5_manifest.h"
 
 #define PROBE_TICKS 3000
@@ -45,25 +47,6 @@ static int teardown(void **st)
     (void)st;
     roz_runtime_deinit(&rt);
     return 0;
-}
-
-static uint64_t bits_of(double d)
-{
-    uint64_t u;
-    memcpy(&u, &d, sizeof u);
-    return u;
-}
-
-/* error of @got in ulps of @want (both finite), as test_roz_math.c */
-static double ulps(double got, long double want)
-{
-    int e;
-    if (fabsl(want) > (long double)DBL_MAX)
-        want = want > 0 ? (long double)DBL_MAX : -(long double)DBL_MAX;
-    frexpl(want, &e);
-    if (e < -1021)
-        e = -1021;
-    return (double)(fabsl((long double)got - want) / ldexpl(1.0L, e - 53));
 }
 
 /* libm's value of function @f on the probe's inputs of tick @t */
@@ -172,11 +155,5 @@ static void test_math_wasm_reach_drives_ur5(void **st)
     assert_true(m.value < 0.01);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_math_wasm_probe, teardown),
-        cmocka_unit_test_teardown(test_math_wasm_reach_drives_ur5, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_math_wasm_probe, teardown),
+              cmocka_unit_test_teardown(test_math_wasm_reach_drives_ur5, teardown))

@@ -14,6 +14,7 @@
  *    error naming the pages and the stack flag;
  *  - a Rust panic traps and an endless loop runs out of fuel: each latches
  *    its fault, and the robot gets the safe defaults. */
+#include <float.h>
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -29,6 +30,7 @@
 #include "roz/runtime.h"
 #include "support_runtime.h"
 #include "twin.h"
+#include "ulps.h"
 #include "ur5_manifest.h"
 
 typedef struct {
@@ -53,13 +55,6 @@ static int teardown(void **st)
     roz_runtime_deinit(&c_side.rt);
     roz_runtime_deinit(&rs_side.rt);
     return 0;
-}
-
-static uint64_t bits_of(double d)
-{
-    uint64_t u;
-    memcpy(&u, &d, sizeof u);
-    return u;
 }
 
 /* <name>.wasm from the examples' build folder (reach, reach_rs) or this

@@ -17,6 +17,7 @@
 #if defined(ROZ_TEST_BUILTINS)
 #include "roz/builtin.h"
 #endif
+#include "support.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 
@@ -332,18 +333,12 @@ static void test_manifest_toml_arguments(void **state)
     assert_int_equal(found, 1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_manifest_toml_my_arm),
-        cmocka_unit_test(test_manifest_toml_builtins),
-        cmocka_unit_test(test_manifest_toml_hardware),
-        cmocka_unit_test(test_manifest_toml_limit_margin),
-        cmocka_unit_test(test_manifest_toml_problem_order),
-        cmocka_unit_test(test_manifest_toml_syntax_and_utf8),
-        cmocka_unit_test(test_manifest_toml_storage_limits),
-        cmocka_unit_test(test_manifest_toml_files),
-        cmocka_unit_test(test_manifest_toml_arguments),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_manifest_toml_my_arm),
+              cmocka_unit_test(test_manifest_toml_builtins),
+              cmocka_unit_test(test_manifest_toml_hardware),
+              cmocka_unit_test(test_manifest_toml_limit_margin),
+              cmocka_unit_test(test_manifest_toml_problem_order),
+              cmocka_unit_test(test_manifest_toml_syntax_and_utf8),
+              cmocka_unit_test(test_manifest_toml_storage_limits),
+              cmocka_unit_test(test_manifest_toml_files),
+              cmocka_unit_test(test_manifest_toml_arguments))

@@ -15,6 +15,7 @@
 #include <cmocka.h>
 
 #include "roz/toml.h"
+#include "support.h"
 
 /* ---- helpers ---------------------------------------------------------------- */
 
@@ -597,25 +598,19 @@ static void test_toml_arguments(void **state)
     roz_toml_init(NULL, nodes, NODES, arena, ARENA); /* no crash */
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_toml_strings),
-        cmocka_unit_test(test_toml_integers),
-        cmocka_unit_test(test_toml_floats),
-        cmocka_unit_test(test_toml_floats_any_locale),
-        cmocka_unit_test(test_toml_bools_and_datetimes),
-        cmocka_unit_test(test_toml_arrays_and_inline_tables),
-        cmocka_unit_test(test_toml_tables),
-        cmocka_unit_test(test_toml_crlf_and_comments),
-        cmocka_unit_test(test_toml_deep_nesting),
-        cmocka_unit_test(test_toml_many_keys),
-        cmocka_unit_test(test_toml_error_positions),
-        cmocka_unit_test(test_toml_utf8),
-        cmocka_unit_test(test_toml_unsupported),
-        cmocka_unit_test(test_toml_long_floats),
-        cmocka_unit_test(test_toml_storage_exhausted),
-        cmocka_unit_test(test_toml_arguments),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_toml_strings),
+              cmocka_unit_test(test_toml_integers),
+              cmocka_unit_test(test_toml_floats),
+              cmocka_unit_test(test_toml_floats_any_locale),
+              cmocka_unit_test(test_toml_bools_and_datetimes),
+              cmocka_unit_test(test_toml_arrays_and_inline_tables),
+              cmocka_unit_test(test_toml_tables),
+              cmocka_unit_test(test_toml_crlf_and_comments),
+              cmocka_unit_test(test_toml_deep_nesting),
+              cmocka_unit_test(test_toml_many_keys),
+              cmocka_unit_test(test_toml_error_positions),
+              cmocka_unit_test(test_toml_utf8),
+              cmocka_unit_test(test_toml_unsupported),
+              cmocka_unit_test(test_toml_long_floats),
+              cmocka_unit_test(test_toml_storage_exhausted),
+              cmocka_unit_test(test_toml_arguments))

@@ -178,13 +178,10 @@ static int teardown(void **st)
 static void ask(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 static void ask(const char *fmt, ...)
 {
-    char req[512];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(req, sizeof req, fmt, ap);
+    roz_fake_process_vmust(&fake.proc, "fake_ros2", fmt, ap);
     va_end(ap);
-    if (roz_fake_ros2_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_ros2: \"%s\" -> \"%s\"", req, fake.proc.line);
 }
 
 static int setup_dds(void **st)

@@ -10,6 +10,10 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <setjmp.h>
+
+#include <cmocka.h>
+
 #include "support_spawn.h"
 
 #define MAX_ARGS 24
@@ -119,4 +123,23 @@ int roz_fake_process_stop(roz_fake_process_t *f)
     waitpid(f->pid, &status, 0);
     f->pid = 0;
     return -1;
+}
+
+/* roz_fake_process_vask() with the arguments here. */
+static int ask(roz_fake_process_t *f, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int ask(roz_fake_process_t *f, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = roz_fake_process_vask(f, fmt, ap);
+    va_end(ap);
+    return rc;
+}
+
+void roz_fake_process_vmust(roz_fake_process_t *f, const char *who, const char *fmt, va_list ap)
+{
+    char req[1024];
+    vsnprintf(req, sizeof req, fmt, ap);
+    if (ask(f, "%s", req) != 0)
+        fail_msg("%s: \"%s\" -> \"%s\"", who, req, f->line);
 }

@@ -29,6 +29,12 @@ int roz_fake_process_start(roz_fake_process_t *f, const char *path, const char *
 int roz_fake_process_vask(roz_fake_process_t *f, const char *fmt, va_list ap)
     __attribute__((format(printf, 2, 0)));
 
+/* One request that must be answered "ok ...": anything else fails the
+ * running cmocka test, naming @p who ("fake_g1"), the request and the
+ * reply. */
+void roz_fake_process_vmust(roz_fake_process_t *f, const char *who, const char *fmt, va_list ap)
+    __attribute__((format(printf, 3, 0)));
+
 /* "quit", then its exit status (-1: it did not exit cleanly; a process that
  * does not exit within 10 s is killed). */
 int roz_fake_process_stop(roz_fake_process_t *f);

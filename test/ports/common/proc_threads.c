@@ -1,13 +1,20 @@
 /* SPDX-License-Identifier: Apache-2.0 */
-#define _POSIX_C_SOURCE 200809L
+#define _GNU_SOURCE /* sched_getaffinity: roz_test_thread_probe() */
 #include "proc_threads.h"
 
 #include <dirent.h>
 #include <sched.h>
+#include <setjmp.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/types.h>
+
+#include <cmocka.h>
+
+#include "roz/error.h"
+#include "roz/hal/thread.h"
 
 void roz_test_proc_threads(long pid, roz_test_thread_fn fn, void *ctx)
 {
@@ -38,4 +45,33 @@ void roz_test_proc_threads(long pid, roz_test_thread_fn fn, void *ctx)
     }
     if (d != NULL)
         closedir(d);
+}
+
+static void *nothing(void *arg)
+{
+    return arg;
+}
+
+int roz_test_last_cpu(void)
+{
+    cpu_set_t set;
+    int last = 0;
+    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
+    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
+        if (CPU_ISSET(c, &set))
+            last = c;
+    return last;
+}
+
+int roz_test_thread_probe(int priority, char *cpus, size_t n, int *may_fifo)
+{
+    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, priority, 0, 0 };
+    unsigned long th;
+    char err[200];
+    int cpu = roz_test_last_cpu();
+    snprintf(cpus, n, "%d", cpu);
+    *may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
+    if (*may_fifo)
+        roz_thread_join(th);
+    return cpu;
 }

@@ -58,6 +58,17 @@ long roz_rozrun_pid(void)
     return (long)running;
 }
 
+/* Reads @p out into @p text (printed). */
+static void read_out(const char *out, char *text, size_t len)
+{
+    FILE *f = fopen(out, "r");
+    assert_non_null(f);
+    size_t n = fread(text, 1, len - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    print_message("%s", text);
+}
+
 int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(void *ctx),
                      void *ctx, char *text, size_t len)
 {
@@ -87,25 +98,9 @@ int roz_rozrun_spawn(const char *const *argv, const char *out, void (*watch)(voi
         waitpid(pid, &status, 0);
         fail_msg("%s did not finish in 60 s", argv[0]);
     }
-    FILE *f = fopen(out, "r");
-    assert_non_null(f);
-    size_t n = fread(text, 1, len - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    print_message("%s", text);
+    read_out(out, text, len);
     assert_true(WIFEXITED(status));
     return WEXITSTATUS(status);
-}
-
-/* Reads @p out into @p text (printed). */
-static void read_out(const char *out, char *text, size_t len)
-{
-    FILE *f = fopen(out, "r");
-    assert_non_null(f);
-    size_t n = fread(text, 1, len - 1, f);
-    text[n] = '\0';
-    fclose(f);
-    print_message("%s", text);
 }
 
 void roz_rozrun_replay(const char *rozrun, const char *recording, const char *controller,

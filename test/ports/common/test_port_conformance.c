@@ -54,6 +54,7 @@
 #include "port_fixture.h"
 #include "roz/hal/cmd_watchdog.h"
 #include "roz/ports.h"
+#include "support.h"
 #include "support_blocking_log.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
@@ -573,17 +574,11 @@ static void test_port_conformance_registry(void **st)
     assert_true(n_fixtures > 0);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_port_conformance_registry),
-        cmocka_unit_test(test_port_conformance_params),
-        cmocka_unit_test(test_port_conformance_start),
-        cmocka_unit_test(test_port_conformance_fresh_and_stale),
-        cmocka_unit_test(test_port_conformance_link),
-        cmocka_unit_test(test_port_conformance_commands),
-        cmocka_unit_test(test_port_conformance_watchdog),
-        cmocka_unit_test(test_port_conformance_blocking_log),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_port_conformance_registry),
+              cmocka_unit_test(test_port_conformance_params),
+              cmocka_unit_test(test_port_conformance_start),
+              cmocka_unit_test(test_port_conformance_fresh_and_stale),
+              cmocka_unit_test(test_port_conformance_link),
+              cmocka_unit_test(test_port_conformance_commands),
+              cmocka_unit_test(test_port_conformance_watchdog),
+              cmocka_unit_test(test_port_conformance_blocking_log))

@@ -22,6 +22,7 @@
 
 #include "dds_open_file.h"
 #include "roz/error.h"
+#include "support.h"
 
 #ifndef ROZ_SOURCE_DIR
 #error "ROZ_SOURCE_DIR: the repository"
@@ -155,10 +156,4 @@ static void test_port_vectors_agree(void **state)
 #endif
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_port_vectors_agree),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_port_vectors_agree))

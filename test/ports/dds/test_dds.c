@@ -57,6 +57,7 @@
 /* the two-process case meets on the second of its ids (test/CMakeLists.txt) */
 _Static_assert(ROZ_TEST_DDS_DOMAINS >= 2, "test_dds takes two DDS domain ids");
 
+#include "support.h"
 #include "support_spawn.h"
 
 static char self_path[4096];
@@ -69,16 +70,7 @@ static void sleep_ms(unsigned ms)
 }
 
 /* Polls @p cond every millisecond for at most @p ms: a hang guard. */
-#define WAIT_FOR(cond, ms)                                                   \
-    do {                                                                     \
-        unsigned waited_ = 0;                                                \
-        while (!(cond) && waited_ < (ms)) {                                  \
-            sleep_ms(1);                                                     \
-            waited_++;                                                       \
-        }                                                                    \
-        if (!(cond))                                                         \
-            fail_msg("timed out after %u ms waiting for %s", (unsigned)(ms), #cond); \
-    } while (0)
+#define WAIT_FOR(cond, ms) ROZ_TEST_WAIT(cond, sleep_ms(1), ms)
 
 /* ---- parameters and configuration -------------------------------------- */
 

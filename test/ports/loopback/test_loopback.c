@@ -16,6 +16,7 @@
 #include "roz/builtin.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
+#include "support.h"
 #include "support_stats.h"
 #include "support_runtime.h"
 #include "unitree_g1_manifest.h"
@@ -365,16 +366,10 @@ static void test_loopback_bad_params(void **st)
     assert_int_equal(roz_port_write(&p, s, 7), ROZ_EINVAL);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_loopback_every_builtin_deterministic),
-        cmocka_unit_test(test_loopback_models),
-        cmocka_unit_test(test_loopback_effort_stops_at_limit),
-        cmocka_unit_test(test_loopback_faults),
-        cmocka_unit_test(test_loopback_wire_faults),
-        cmocka_unit_test(test_loopback_fault_table),
-        cmocka_unit_test(test_loopback_bad_params),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_loopback_every_builtin_deterministic),
+              cmocka_unit_test(test_loopback_models),
+              cmocka_unit_test(test_loopback_effort_stops_at_limit),
+              cmocka_unit_test(test_loopback_faults),
+              cmocka_unit_test(test_loopback_wire_faults),
+              cmocka_unit_test(test_loopback_fault_table),
+              cmocka_unit_test(test_loopback_bad_params))

@@ -13,6 +13,7 @@
 #include <cmocka.h>
 
 #include "g1_legs.h"
+#include "support.h"
 
 double roz_sin(double x)
 {
@@ -115,12 +116,6 @@ static void test_ik_from_the_measured_pose(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_fk_matches_mujoco),
-        cmocka_unit_test(test_ik_reaches_the_pose),
-        cmocka_unit_test(test_ik_from_the_measured_pose),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_fk_matches_mujoco),
+              cmocka_unit_test(test_ik_reaches_the_pose),
+              cmocka_unit_test(test_ik_from_the_measured_pose))

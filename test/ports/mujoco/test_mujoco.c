@@ -515,21 +515,15 @@ static void test_mujoco_quadcopter(void **state)
     roz_port_close(&p);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_refusals),
-        cmocka_unit_test(test_mujoco_include_bounds),
-        cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
-        cmocka_unit_test(test_mujoco_pendulum_law),
-        cmocka_unit_test(test_mujoco_warning_fails_the_run),
-        cmocka_unit_test(test_mujoco_engine_error_is_a_fault),
-        cmocka_unit_test(test_mujoco_g1_imu_and_faults),
-        cmocka_unit_test(test_mujoco_gantry),
-        cmocka_unit_test(test_mujoco_g1_stands),
-        cmocka_unit_test(test_mujoco_deterministic),
-        cmocka_unit_test(test_mujoco_diff_drive),
-        cmocka_unit_test(test_mujoco_quadcopter),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_refusals),
+              cmocka_unit_test(test_mujoco_include_bounds),
+              cmocka_unit_test(test_mujoco_refuses_effort_beyond_the_actuator),
+              cmocka_unit_test(test_mujoco_pendulum_law),
+              cmocka_unit_test(test_mujoco_warning_fails_the_run),
+              cmocka_unit_test(test_mujoco_engine_error_is_a_fault),
+              cmocka_unit_test(test_mujoco_g1_imu_and_faults),
+              cmocka_unit_test(test_mujoco_gantry),
+              cmocka_unit_test(test_mujoco_g1_stands),
+              cmocka_unit_test(test_mujoco_deterministic),
+              cmocka_unit_test(test_mujoco_diff_drive),
+              cmocka_unit_test(test_mujoco_quadcopter))

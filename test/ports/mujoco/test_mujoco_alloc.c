@@ -92,10 +92,4 @@ static void test_mujoco_alloc_none_in_the_tick(void **state)
     roz_port_close(&p);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_alloc_none_in_the_tick),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_alloc_none_in_the_tick))

@@ -78,10 +78,4 @@ static void test_mujoco_bc_reaches_the_pose(void **state)
                   1e3 * BOUND_RAD);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_bc_reaches_the_pose),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_bc_reaches_the_pose))

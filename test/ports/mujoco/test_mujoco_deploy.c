@@ -154,11 +154,5 @@ static uint64_t run(const char *robot, const char *controller, long long ticks, 
     return st.runtime.max_fuel;
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_deploy),
-        cmocka_unit_test(test_mujoco_deploy_g1_full_size),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_deploy),
+              cmocka_unit_test(test_mujoco_deploy_g1_full_size))

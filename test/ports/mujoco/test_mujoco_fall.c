@@ -299,12 +299,6 @@ static void test_mujoco_fall_stumble(void **state)
     assert_true(r.max_tilt < 0.5 * m->fall->max_tilt);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_fall_forward),
-        cmocka_unit_test(test_mujoco_fall_sideways),
-        cmocka_unit_test(test_mujoco_fall_stumble),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_fall_forward),
+              cmocka_unit_test(test_mujoco_fall_sideways),
+              cmocka_unit_test(test_mujoco_fall_stumble))

@@ -23,6 +23,7 @@
 #include "roz/manifest_toml.h"
 #include "mujoco_robot_file.h"
 #include "roz/port/mujoco.h"
+#include "support.h"
 
 static roz_mujoco_t mj;
 
@@ -228,16 +229,10 @@ static void test_mujoco_models_g1_12dof_is_the_g1_model(void **state)
     assert_null(roz_mujoco_builtin_model("unitree_g1_7dof"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_models_ctrlrange_refuses_a_wider_manifest),
-        cmocka_unit_test(test_mujoco_models_menageries_h1),
-        cmocka_unit_test(test_mujoco_models_ctrlrange_takes_a_tighter_manifest),
-        cmocka_unit_test(test_mujoco_models_missing_meshes_say_where),
-        cmocka_unit_test(test_mujoco_models_no_imu_says_what_to_add),
-        cmocka_unit_test(test_mujoco_models_lock_holds_a_bound_joint),
-        cmocka_unit_test(test_mujoco_models_g1_12dof_is_the_g1_model),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_models_ctrlrange_refuses_a_wider_manifest),
+              cmocka_unit_test(test_mujoco_models_menageries_h1),
+              cmocka_unit_test(test_mujoco_models_ctrlrange_takes_a_tighter_manifest),
+              cmocka_unit_test(test_mujoco_models_missing_meshes_say_where),
+              cmocka_unit_test(test_mujoco_models_no_imu_says_what_to_add),
+              cmocka_unit_test(test_mujoco_models_lock_holds_a_bound_joint),
+              cmocka_unit_test(test_mujoco_models_g1_12dof_is_the_g1_model))

@@ -183,12 +183,6 @@ static void test_mujoco_motion_quadcopter_hovers(void **state)
     stop();
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_motion_ur5_tracks),
-        cmocka_unit_test(test_mujoco_motion_diff_drive_square),
-        cmocka_unit_test(test_mujoco_motion_quadcopter_hovers),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_motion_ur5_tracks),
+              cmocka_unit_test(test_mujoco_motion_diff_drive_square),
+              cmocka_unit_test(test_mujoco_motion_quadcopter_hovers))

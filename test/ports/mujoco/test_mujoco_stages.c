@@ -172,11 +172,5 @@ static void test_mujoco_stages_swap(void **state)
     run(&pl);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mujoco_stages_g1),
-        cmocka_unit_test(test_mujoco_stages_swap),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mujoco_stages_g1),
+              cmocka_unit_test(test_mujoco_stages_swap))

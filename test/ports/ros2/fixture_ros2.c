@@ -27,6 +27,7 @@
 #include <cmocka.h>
 
 #include "fake_ros2_client.h"
+#include "dds_fixture_params.h"
 #include "port_fixture.h"
 #include "ros2_fixture.h"
 #include "roz/port/engineai_pm01.h"
@@ -126,13 +127,10 @@ void roz_ros2fx_set_fake_args(const char *const *extra)
 
 void roz_ros2fx_ask(const char *fmt, ...)
 {
-    char req[1024];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(req, sizeof req, fmt, ap);
+    roz_fake_process_vmust(&fake.proc, "fake_ros2", fmt, ap);
     va_end(ap);
-    if (roz_fake_ros2_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_ros2: \"%s\" -> \"%s\"", req, fake.proc.line);
 }
 
 int roz_ros2fx_place(uint16_t j, int *group, int *slot)
@@ -270,6 +268,20 @@ void roz_ros2fx_ask_judged(uint32_t mask, const char *fmt, ...)
     roz_ros2fx_wait_judged(before, mask, 0);
 }
 
+void roz_ros2fx_wait_malformed(int topic, uint64_t before)
+{
+    for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[topic].malformed == before; w++)
+        roz_fake_sleep_ms(1);
+    assert_int_equal(roz_ros2fx_counters().topic[topic].malformed, before + 1);
+}
+
+uint64_t roz_ros2fx_commands(void)
+{
+    uint64_t n[FAKE_ROS2_MAX_GROUPS];
+    assert_int_equal(roz_fake_ros2_commands(&fake, n), 0);
+    return n[0];
+}
+
 roz_ros2_counters_t roz_ros2fx_counters(void)
 {
     roz_ros2_counters_t c;
@@ -380,9 +392,7 @@ static int fake_matched(void)
 static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_params_t *params,
                          roz_port_t *port, char *err, size_t errlen)
 {
-    static char domain[16];
     static roz_param_t items[ROZ_ROS2_MAX_PARAMS];
-    size_t n = 0;
 
     /* a check that failed half-way left its port and fake behind */
     if (port_open || fake.proc.pid != 0)
@@ -392,27 +402,14 @@ static int fx_open_robot(const robot_t *r, const roz_manifest_t *m, const roz_pa
     frame_no = 0;
     restarted = 0;
     memset(sent, 0, sizeof sent);
-    peer_timeout_ms = 1000; /* a fake starved for a few hundred ms on a loaded machine is not gone */
     const char *const *extra = fake_args;
     fake_args = NULL;
     if (roz_fake_ros2_start(&fake, r->fake_robot, ROZ_TEST_DDS_DOMAIN, extra, err, errlen) != 0)
         return ROZ_EIO;
     place_joints();
     /* the fixture's parameters first: the caller's win */
-    snprintf(domain, sizeof domain, "%d", ROZ_TEST_DDS_DOMAIN);
-    items[n++] = (roz_param_t){ "network_interface", "lo" };
-    items[n++] = (roz_param_t){ "dds_domain", domain };
-    items[n++] = (roz_param_t){ "command_writer_period_us", "0" };
-    items[n++] = (roz_param_t){ "peer_timeout_ms", "1000" };
-    /* the suite ticks at its own pace, not a clock's: a pause between two
-     * steps is no stuck control loop (the watchdog has tests of its own) */
-    items[n++] = (roz_param_t){ "command_timeout_us", "60000000" };
-    for (size_t i = 0; params != NULL && i < params->n && n < ROZ_ROS2_MAX_PARAMS / 2; i++) {
-        items[n++] = params->items[i];
-        if (strcmp(params->items[i].key, "peer_timeout_ms") == 0)
-            peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
-    }
-    roz_params_t all = { items, n };
+    roz_params_t all =
+        roz_dds_fixture_params(items, ROZ_ROS2_MAX_PARAMS, params, &peer_timeout_ms);
     the_port = r->make(fx_log != NULL ? fx_log : quiet_log);
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)
@@ -540,21 +537,20 @@ static void fx_strict_monitors(void)
         roz_fixture_strict(roz_ros2_topic_monitor(robot->bridge, t));
 }
 
+/* The members of both robots' fixtures but the open: the same fake, the
+ * same bridge (the wire carries float64: no narrowing). */
+#define FX_ROS2_OPS                                                                       \
+    .wire_command = NULL, .peer = fx_peer, .peer_sent = fx_peer_sent,                     \
+    .settle = roz_ros2fx_settle, .peer_command = fx_peer_command,                         \
+    .corrupt_next_command = fx_corrupt_next_command, .link = fx_link, .close = fx_close,  \
+    .set_log = fx_set_log, .strict_monitors = fx_strict_monitors,
+
 const roz_port_fixture_t roz_fixture_engineai_pm01 = {
     .name = "engineai/PM01",
     .manifests = pm01_manifests,
     .state_topics = 2, /* joint_state, imu_info */
-    .wire_command = NULL,
     .open = fx_open_pm01,
-    .peer = fx_peer,
-    .peer_sent = fx_peer_sent,
-    .settle = roz_ros2fx_settle,
-    .peer_command = fx_peer_command,
-    .corrupt_next_command = fx_corrupt_next_command,
-    .link = fx_link,
-    .close = fx_close,
-    .set_log = fx_set_log,
-    .strict_monitors = fx_strict_monitors,
+    FX_ROS2_OPS
 };
 
 #ifdef ROZ_TEST_HAVE_AGIBOT_X2
@@ -570,16 +566,7 @@ const roz_port_fixture_t roz_fixture_agibot_x2 = {
     .name = "agibot/X2",
     .manifests = x2_manifests,
     .state_topics = 5, /* leg, waist, arm, head, torso IMU */
-    .wire_command = NULL,
     .open = fx_open_x2,
-    .peer = fx_peer,
-    .peer_sent = fx_peer_sent,
-    .settle = roz_ros2fx_settle,
-    .peer_command = fx_peer_command,
-    .corrupt_next_command = fx_corrupt_next_command,
-    .link = fx_link,
-    .close = fx_close,
-    .set_log = fx_set_log,
-    .strict_monitors = fx_strict_monitors,
+    FX_ROS2_OPS
 };
 #endif

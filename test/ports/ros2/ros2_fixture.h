@@ -39,6 +39,11 @@ void roz_ros2fx_wait_judged(const roz_link_t *before, uint32_t mask, int resend)
  * sample. */
 void roz_ros2fx_ask_judged(uint32_t mask, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
+/* Waits until state topic @p topic counted one malformed sample more than
+ * @p before (a hang guard of 10 s), and fails unless it did. */
+void roz_ros2fx_wait_malformed(int topic, uint64_t before);
+/* The commands the fake counted on its first group. */
+uint64_t roz_ros2fx_commands(void);
 /* The port's counters. */
 roz_ros2_counters_t roz_ros2fx_counters(void);
 /* A good frame with new values on every topic; returns once the port took it. */

@@ -25,9 +25,9 @@
  *    hold with startup_damping, the damping command on shutdown;
  *  - a manifest's joints are found by name, in any order and any subset
  *    (the other indices passive); a joint not on the PM01 is refused;
- *  - the command watchdog (roz::ros2, shared with the X2): the tick stops
- *    writing, the event-driven writer wakes by itself and the robot gets
- *    the watchdog's hold, repeatedly: the hold gains, each setpoint moved to
+ *  - the command watchdog (roz::ros2, shared with the X2), on a clock the
+ *    test moves: 100 ms of silence is not a trip, 1 ns more is, and the
+ *    robot gets the watchdog's hold, repeatedly: the hold gains, each setpoint moved to
  *    keep the torque it last went out with (a joint held with kp 80 at s,
  *    measured at q, gets q + 80 (s - q) / kh), clamped inside the limits,
  *    about the last finite position when the robot last said NaN; read()
@@ -35,6 +35,7 @@
  *    write is the hold, then the commands as written;
  *  - bad parameters and manifests are refused naming the key and value. */
 #define _POSIX_C_SOURCE 200809L
+#define ROZ_PRIVATE_ACCESS /* the command path, whose watchdog counts on the test's clock */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -51,6 +52,7 @@
 #include "interface_protocol.h"
 #include "port_fixture.h"
 #include "port_test.h"
+#include "support.h"
 #include "support_blocking_log.h"
 #include "ros2_fixture.h"
 #include "roz/filter.h"
@@ -268,16 +270,7 @@ static void test_pm01_imu_order(void **st)
     roz_ros2fx_ask("imu 0.25 -0.125 0.0625 0.5 1.5 -2.5 3.5 0.75 -1.25 9.75");
     roz_ros2fx_ask_judged(0, "send");
     assert_int_equal(roz_port_test_read(), 1);
-    assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
-    assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
-    assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
-    assert_true(state[state_index("base_imu/orientation.w")] == 0.5);
-    assert_true(state[state_index("base_imu/angular_velocity.x")] == 1.5);
-    assert_true(state[state_index("base_imu/angular_velocity.y")] == -2.5);
-    assert_true(state[state_index("base_imu/angular_velocity.z")] == 3.5);
-    assert_true(state[state_index("base_imu/linear_acceleration.x")] == 0.75);
-    assert_true(state[state_index("base_imu/linear_acceleration.y")] == -1.25);
-    assert_true(state[state_index("base_imu/linear_acceleration.z")] == 9.75);
+    roz_port_test_assert_imu(m, state);
 }
 
 /* ---- stamps --------------------------------------------------------------------------- */
@@ -363,9 +356,7 @@ static void test_pm01_state_stamps_are_the_link(void **st)
     uint64_t malformed = roz_ros2fx_counters().topic[0].malformed;
     roz_ros2fx_ask("stamp 1799999997 1000000000");
     roz_ros2fx_ask("send");
-    for (int i = 0; i < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; i++)
-        roz_fake_sleep_ms(1);
-    assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
+    roz_ros2fx_wait_malformed(0, malformed);
     assert_int_equal(roz_port_test_read(), 0);
 }
 
@@ -424,9 +415,7 @@ static void test_pm01_arrays_must_be_24_long(void **st)
         roz_ros2fx_ask("length body %u", lengths[i]);
         roz_ros2fx_set_state(60 + (uint32_t)i);
         roz_ros2fx_ask("send body");
-        for (int w = 0; w < 10000 && roz_ros2fx_counters().topic[0].malformed == malformed; w++)
-            roz_fake_sleep_ms(1);
-        assert_int_equal(roz_ros2fx_counters().topic[0].malformed, malformed + 1);
+        roz_ros2fx_wait_malformed(0, malformed);
         assert_int_equal(roz_port_test_read(), 0); /* nothing new, the old frame stays */
     }
     roz_ros2fx_ask("length body 24");
@@ -559,25 +548,10 @@ static void test_pm01_ros2_names(void **st)
 
 static void test_pm01_decimation(void **st)
 {
-    double full[ROZ_CFG_MAX_STATES];
-    int dq0 = state_index("J00_HIP_PITCH_L/velocity");
-    int q0 = state_index("J00_HIP_PITCH_L/position");
-    int ow = state_index("base_imu/orientation.w");
     (void)st;
 
     open_pm01((roz_param_t[]){ { "state_decimation", "4" } }, 1);
-    for (int k = 0; k < 12; k++) {
-        roz_ros2fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_ros2fx_sent(sent);
-        if (k % 4 == 0)
-            memcpy(full, sent, sizeof full);
-        assert_true(state[q0] == sent[q0]);
-        assert_true(state[dq0] == full[dq0]);
-        assert_true(state[ow] == full[ow]);
-        if (k % 4 != 0)
-            assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
-    }
+    roz_port_test_decimation("J00_HIP_PITCH_L", roz_ros2fx_send, roz_ros2fx_sent);
     assert_int_equal(roz_ros2fx_counters().topic[0].full, 3);
     assert_int_equal(roz_ros2fx_counters().topic[1].full, 3);
     assert_int_equal(roz_ros2fx_counters().frames, 12);
@@ -647,39 +621,37 @@ static void test_pm01_periodic_writer(void **st)
     assert_true(s.count >= 1);
 }
 
-/* Until @p cond, or fail after a hang guard (20 s: a loaded machine is slow,
- * never this slow). */
-#define WAIT_UNTIL(cond)                                                                  \
-    do {                                                                                  \
-        int ms_ = 0;                                                                      \
-        while (!(cond) && ms_ < 20000) {                                                  \
-            roz_fake_sleep_ms(1);                                                         \
-            ms_++;                                                                        \
-        }                                                                                 \
-        if (!(cond))                                                                      \
-            fail_msg("waited 20 s for %s", #cond);                                        \
-    } while (0)
 
-static roz_ros2_counters_t counters(void)
+/* The PM01 on @p man, its command watchdog on the test's clock
+ * (roz_port_test_watched). */
+static void open_pm01_watched(const roz_manifest_t *man)
 {
-    roz_ros2_counters_t c;
-    roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    return c;
+    open_pm01_on(man, roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
+    roz_port_test_watchdog_clock(&roz_ros2fx_bridge()->cmd);
+}
+
+/* The tick stops after its last write: 100 ms of silence on the watchdog's
+ * clock is not yet a trip, 1 ns more is (roz_port_test_watchdog_trip());
+ * @p c the robot's command once @p more have come since. */
+static void silence_trips(unsigned more, roz_fake_ros2_cmd_t *c)
+{
+    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
+    roz_port_test_watchdog_trip(&roz_ros2fx_bridge()->cmd, 100000u, roz_ros2fx_commands);
+    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
+    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
+                                       roz_ros2fx_fake()->group[0],
+                                       (unsigned long long)n0[0] + more),
+                     0);
+    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, c), 1);
 }
 
 static void test_pm01_watchdog(void **st)
 {
     roz_fake_ros2_cmd_t c;
-    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
     double q[N];
     (void)st;
 
-    /* event-driven (the fixture's): once the tick stops nothing wakes the
-     * writer but the watchdog; the robot says nothing meanwhile either (no
-     * link fault for it) */
-    open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
-                               { "peer_timeout_ms", "60000" } },
-              2);
+    open_pm01_watched(m);
     roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     roz_ros2fx_send();
     assert_int_equal(roz_port_test_read(), 1);
@@ -689,16 +661,11 @@ static void test_pm01_watchdog(void **st)
     roz_port_test_write();
     get_command(&c);
     assert_true(c.kp[3] == cmd[cmd_index(3, "stiffness")]);
-    assert_int_equal(counters().command_timeouts, 0);
+    assert_int_equal(roz_ros2fx_counters().command_timeouts, 0);
 
-    /* the tick stops */
-    WAIT_UNTIL(counters().command_timeouts == 1);
-    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
-    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
-                                       roz_ros2fx_fake()->group[0],
-                                       (unsigned long long)n0[0] + 5u),
-                     0);
-    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    /* the tick stops: 100 ms on the watchdog's clock is not yet a trip, 1 ns
+     * more is */
+    silence_trips(5u, &c);
     for (uint16_t j = 0; j < N; j++) {
         const roz_channel_t *kd = &m->commands[cmd_index(j, "damping")];
         const roz_channel_t *kp = &m->commands[cmd_index(j, "stiffness")]; /* the hold gain */
@@ -708,8 +675,8 @@ static void test_pm01_watchdog(void **st)
                      "watchdog's hold",
                      (unsigned)j, c.q[j], c.kp[j], c.kd[j], c.dq[j], c.tau[j]);
     }
-    assert_true(counters().safe_published >= 5);
-    assert_int_equal(counters().command_timeouts, 1);
+    assert_true(roz_ros2fx_counters().safe_published >= 5);
+    assert_int_equal(roz_ros2fx_counters().command_timeouts, 1);
 
     /* the tick is back: reported once with the silence; the hold; then as
      * written */
@@ -719,7 +686,7 @@ static void test_pm01_watchdog(void **st)
     assert_int_equal(roz_engineai_pm01_ops.fault(port.self, &f), ROZ_OK);
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.limit, 100000);
-    assert_true(f.code >= 100000);
+    assert_int_equal(f.code, 100000); /* the silence by the watchdog's clock, in us */
     assert_int_equal(roz_port_test_read(), 0);
     /* the stop's hold from the last command before the trip, at the hold
      * gains and the damping command's kd: never a frame without stiffness
@@ -772,16 +739,13 @@ static void fake_position(uint16_t j, const char *q)
 static void test_pm01_watchdog_keeps_the_torque(void **st)
 {
     roz_fake_ros2_cmd_t c;
-    uint64_t n0[FAKE_ROS2_MAX_GROUPS];
     double q[N], measured[ROZ_CFG_MAX_STATES];
     const uint16_t knee_l = 3, hip_l = 0, knee_r = 9;
     const roz_channel_t *hip_q = &m->commands[cmd_index(hip_l, "position")];
     char hip_at[64];
     (void)st;
 
-    open_pm01((roz_param_t[]){ { "command_timeout_us", "100000" },
-                               { "peer_timeout_ms", "60000" } },
-              2);
+    open_pm01_watched(m);
     roz_port_test_start(roz_ros2fx_send, roz_ros2fx_settle);
     /* the frame the command goes out against: the right knee at 0.6, then
      * NaN (the port keeps 0.6, the last finite one) */
@@ -810,13 +774,7 @@ static void test_pm01_watchdog_keeps_the_torque(void **st)
     assert_true(c.kp[knee_l] == 80.0 && c.q[knee_l] == 0.5);
 
     /* the tick stops */
-    WAIT_UNTIL(counters().command_timeouts == 1);
-    assert_int_equal(roz_fake_ros2_commands(roz_ros2fx_fake(), n0), 0);
-    assert_int_equal(roz_fake_ros2_ask(roz_ros2fx_fake(), "wait_commands %s %llu 20000",
-                                       roz_ros2fx_fake()->group[0],
-                                       (unsigned long long)n0[0] + 2u),
-                     0);
-    assert_int_equal(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c), 1);
+    silence_trips(2u, &c);
     double kh = m->commands[cmd_index(knee_l, "stiffness")].default_value;
     print_message("left knee: kp 80 at 0.5, measured 0.9: the watchdog's hold kp %g at %.6f; "
                   "left hip pitch: kp 500 at %.4f, measured %.4f: at %.4f (its limit %.4f)\n",
@@ -867,9 +825,7 @@ static void test_pm01_watchdog_without_a_position_command(void **st)
     kneeless = *m;
     kneeless.commands = cmds;
     kneeless.n_commands = n;
-    open_pm01_on(&kneeless, (roz_param_t[]){ { "command_timeout_us", "100000" },
-                                             { "peer_timeout_ms", "60000" } },
-                 2);
+    open_pm01_watched(&kneeless);
     fake_position(knee, "nan");
     roz_ros2fx_send();
     assert_int_equal(roz_port_read(&port, kstate, kneeless.n_states), 1);
@@ -877,9 +833,10 @@ static void test_pm01_watchdog_without_a_position_command(void **st)
     for (int k = 0; k < 2; k++) /* the start-up hold, then the command */
         assert_int_equal(roz_port_write(&port, kcmd, kneeless.n_commands), ROZ_OK);
     get_command(&c);
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_port_test_watchdog_trip(&roz_ros2fx_bridge()->cmd, 100000u, roz_ros2fx_commands);
     roz_ros2fx_settle();
-    WAIT_UNTIL(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c) == 1 && c.kp[hip] == 200.0);
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_fake_ros2_command(roz_ros2fx_fake(), 0, &c) == 1 &&
+                             c.kp[hip] == 200.0);
     const roz_channel_t *ks = &kneeless.states[roz_port_test_state(&kneeless,
                                                                     "J03_KNEE_PITCH_L/position")];
     print_message("left knee without a position command, reported NaN: the watchdog's hold q %g "
@@ -1034,16 +991,8 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
                            const char *want1, const char *want2)
 {
     static roz_engineai_pm01_t pm;
-    roz_param_t item = { key, value };
-    roz_params_t p = { &item, key != NULL ? 1u : 0u };
     roz_port_t pt = roz_engineai_pm01_port(&pm, NULL, NULL);
-    char err[400] = "";
-    assert_true(roz_port_open(&pt, man, &p, err, sizeof err) < 0);
-    if (strstr(err, want1) == NULL || (want2 != NULL && strstr(err, want2) == NULL))
-        fail_msg("%s = \"%s\": the error \"%s\" does not name \"%s\" and \"%s\"",
-                 key != NULL ? key : "(manifest)", value != NULL ? value : "", err, want1,
-                 want2 != NULL ? want2 : "");
-    roz_port_close(&pt);
+    roz_port_test_expect_refused(&pt, man, key, value, want1, want2);
 }
 
 static const char *const many_joints[25] = { "j0",  "j1",  "j2",  "j3",  "j4",  "j5",  "j6",
@@ -1090,27 +1039,21 @@ static void test_pm01_bad_parameters(void **st)
     expect_refused(&stranger, NULL, NULL, "joints[1] \"left_knee\"", "not one of the robot's");
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_pm01_joints_map_both_ways, teardown),
-        cmocka_unit_test_teardown(test_pm01_parallel_parser_type, teardown),
-        cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
-        cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
-        cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
-        cmocka_unit_test_teardown(test_pm01_clock_step_back_is_a_replay, teardown),
-        cmocka_unit_test_teardown(test_pm01_arrays_must_be_24_long, teardown),
-        cmocka_unit_test(test_pm01_domain),
-        cmocka_unit_test(test_pm01_traffic_on_69),
-        cmocka_unit_test_teardown(test_pm01_ros2_names, teardown),
-        cmocka_unit_test_teardown(test_pm01_decimation, teardown),
-        cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
-        cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
-        cmocka_unit_test_teardown(test_pm01_watchdog_keeps_the_torque, teardown),
-        cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
-        cmocka_unit_test_teardown(test_pm01_watchdog_without_a_position_command, teardown),
-        cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
-        cmocka_unit_test(test_pm01_bad_parameters),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_pm01_joints_map_both_ways, teardown),
+              cmocka_unit_test_teardown(test_pm01_parallel_parser_type, teardown),
+              cmocka_unit_test_teardown(test_pm01_imu_order, teardown),
+              cmocka_unit_test_teardown(test_pm01_command_stamps, teardown),
+              cmocka_unit_test_teardown(test_pm01_state_stamps_are_the_link, teardown),
+              cmocka_unit_test_teardown(test_pm01_clock_step_back_is_a_replay, teardown),
+              cmocka_unit_test_teardown(test_pm01_arrays_must_be_24_long, teardown),
+              cmocka_unit_test(test_pm01_domain),
+              cmocka_unit_test(test_pm01_traffic_on_69),
+              cmocka_unit_test_teardown(test_pm01_ros2_names, teardown),
+              cmocka_unit_test_teardown(test_pm01_decimation, teardown),
+              cmocka_unit_test_teardown(test_pm01_periodic_writer, teardown),
+              cmocka_unit_test_teardown(test_pm01_watchdog, teardown),
+              cmocka_unit_test_teardown(test_pm01_watchdog_keeps_the_torque, teardown),
+              cmocka_unit_test_teardown(test_pm01_startup_and_shutdown_damping, teardown),
+              cmocka_unit_test_teardown(test_pm01_watchdog_without_a_position_command, teardown),
+              cmocka_unit_test_teardown(test_pm01_joints_by_name, teardown),
+              cmocka_unit_test(test_pm01_bad_parameters))

@@ -485,16 +485,10 @@ static void test_ros2_joy_map(void **st)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_ros2_joy_map),
-        cmocka_unit_test_teardown(test_ros2_twist_reaches_a_controller, teardown),
-        cmocka_unit_test_teardown(test_ros2_cmd_vel_topic_renamed, teardown),
-        cmocka_unit_test_teardown(test_ros2_joy_reaches_the_inputs, teardown),
-        cmocka_unit_test_teardown(test_ros2_operator_topics_only_when_needed, teardown),
-        cmocka_unit_test_teardown(test_ros2_joy_remote_estop, teardown),
-        cmocka_unit_test(test_ros2_operator_params_refused),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_ros2_joy_map),
+              cmocka_unit_test_teardown(test_ros2_twist_reaches_a_controller, teardown),
+              cmocka_unit_test_teardown(test_ros2_cmd_vel_topic_renamed, teardown),
+              cmocka_unit_test_teardown(test_ros2_joy_reaches_the_inputs, teardown),
+              cmocka_unit_test_teardown(test_ros2_operator_topics_only_when_needed, teardown),
+              cmocka_unit_test_teardown(test_ros2_joy_remote_estop, teardown),
+              cmocka_unit_test(test_ros2_operator_params_refused))

@@ -10,6 +10,7 @@
 
 #include "fake_can.h"
 #include "roz/port/socketcan.h"
+#include "support.h"
 
 /* The leg's actuators as fake_can sees them: ids 1, 2, 3; the knee answers
  * from the host's id 0 (as the reference firmware does), the others from
@@ -34,15 +35,7 @@ void roz_test_can_close(roz_test_can_t *t);
 void roz_test_can_nap(void);
 
 /* Poll @p cond (a C expression) every millisecond for up to 10 s. */
-#define ROZ_WAIT_FOR(cond)                                                      \
-    do {                                                                        \
-        int roz_i_ = 0;                                                         \
-        while (!(cond)) {                                                       \
-            if (++roz_i_ > 10000)                                               \
-                fail_msg("%s:%d: gave up waiting for %s", __FILE__, __LINE__, #cond); \
-            roz_test_can_nap();                                                 \
-        }                                                                       \
-    } while (0)
+#define ROZ_WAIT_FOR(cond) ROZ_TEST_WAIT(cond, roz_test_can_nap(), 10000)
 
 /* With a period of 0: return once every round asked for has been sent and
  * every frame sent has reached the fake. */

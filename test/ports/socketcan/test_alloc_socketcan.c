@@ -87,10 +87,4 @@ static void test_alloc_socketcan_ticks(void **st)
     roz_runtime_deinit(&rt);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_alloc_socketcan_ticks),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_alloc_socketcan_ticks))

@@ -21,6 +21,7 @@
 #include "roz/port/can_config.h"
 #include "roz/port/can_hold.h"
 #include "roz/manifest_toml.h"
+#include "support.h"
 
 #ifndef ROZ_SOURCE_DIR
 #error "ROZ_SOURCE_DIR: the repository"
@@ -423,18 +424,12 @@ static void test_can_hold_without_a_command_or_finite_values(void **state)
     }
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_can_config_the_leg),
-        cmocka_unit_test(test_can_config_caller_params_win),
-        cmocka_unit_test(test_can_config_round_robin),
-        cmocka_unit_test(test_can_config_not_a_can_robot),
-        cmocka_unit_test(test_can_config_any_locale),
-        cmocka_unit_test(test_can_config_command_timeout),
-        cmocka_unit_test(test_can_config_rules_and_keys),
-        cmocka_unit_test(test_can_hold_keeps_the_torque),
-        cmocka_unit_test(test_can_hold_without_a_command_or_finite_values),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_can_config_the_leg),
+              cmocka_unit_test(test_can_config_caller_params_win),
+              cmocka_unit_test(test_can_config_round_robin),
+              cmocka_unit_test(test_can_config_not_a_can_robot),
+              cmocka_unit_test(test_can_config_any_locale),
+              cmocka_unit_test(test_can_config_command_timeout),
+              cmocka_unit_test(test_can_config_rules_and_keys),
+              cmocka_unit_test(test_can_hold_keeps_the_torque),
+              cmocka_unit_test(test_can_hold_without_a_command_or_finite_values))

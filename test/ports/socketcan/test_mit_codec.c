@@ -17,6 +17,7 @@
 #include <cmocka.h>
 
 #include "roz/port/mit_codec.h"
+#include "support.h"
 
 #ifndef ROZ_CAN_VECTORS
 #error "ROZ_CAN_VECTORS: the path of mit_vectors.txt"
@@ -367,16 +368,10 @@ static void test_mit_codec_bad_ranges_and_layouts(void **state)
     assert_memory_equal(&rep, &untouched, sizeof rep);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_mit_codec_vectors),
-        cmocka_unit_test(test_mit_codec_every_code_round_trips),
-        cmocka_unit_test(test_mit_codec_within_half_a_step),
-        cmocka_unit_test(test_mit_codec_saturation_at_every_end_and_width),
-        cmocka_unit_test(test_mit_codec_pack_reports_each_field),
-        cmocka_unit_test(test_mit_codec_special_frames),
-        cmocka_unit_test(test_mit_codec_bad_ranges_and_layouts),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_mit_codec_vectors),
+              cmocka_unit_test(test_mit_codec_every_code_round_trips),
+              cmocka_unit_test(test_mit_codec_within_half_a_step),
+              cmocka_unit_test(test_mit_codec_saturation_at_every_end_and_width),
+              cmocka_unit_test(test_mit_codec_pack_reports_each_field),
+              cmocka_unit_test(test_mit_codec_special_frames),
+              cmocka_unit_test(test_mit_codec_bad_ranges_and_layouts))

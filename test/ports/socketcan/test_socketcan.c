@@ -31,9 +31,8 @@
  * time. */
 /* white-box in part: a teardown reads whether the port is open (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
-#define _GNU_SOURCE /* sched_getaffinity: test_socketcan_threads */
+#define _POSIX_C_SOURCE 200809L
 #include <math.h>
-#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -48,6 +47,7 @@
 
 #include "can_leg_manifest.h"
 #include "can_test_support.h"
+#include "proc_threads.h"
 #include "roz/hal/clock.h"
 #include "roz/port/mit_codec.h"
 #include "roz/runtime.h"
@@ -646,28 +646,14 @@ static void test_socketcan_shutdown(void **st)
 /* Both threads carry the scheduling their parameters ask for: affinity and
  * stack size always, SCHED_FIFO where permitted (roz/hal/thread.h); read
  * back from the running threads. */
-static void *nothing(void *arg)
-{
-    return arg;
-}
-
 static void test_socketcan_threads(void **st)
 {
-    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 7, 0, 0 }, rx, tx;
-    unsigned long th;
-    char err[200], cpus[8];
-    cpu_set_t set;
-    int cpu = 0;
+    roz_thread_config_t rx, tx;
+    char cpus[8];
+    int may_fifo;
     (void)st;
-    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
-    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
-        if (CPU_ISSET(c, &set))
-            cpu = c;
-    snprintf(cpus, sizeof cpus, "%d", cpu);
-    int may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
-    if (may_fifo)
-        roz_thread_join(th);
-    else
+    int cpu = roz_test_thread_probe(7, cpus, sizeof cpus, &may_fifo);
+    if (!may_fifo)
         print_message("SCHED_FIFO not permitted here: the threads' affinity and stack only\n");
     const char *more[] = { "receive_thread_cpus", cpus, "receive_thread_stack_kib", "256",
                            "command_writer_stack_kib", "512",
@@ -973,11 +959,7 @@ static uint64_t prop_rng = 0x2545f4914f6cdd1dull;
 
 static double prop_uniform(double lo, double hi)
 {
-    prop_rng ^= prop_rng >> 12;
-    prop_rng ^= prop_rng << 25;
-    prop_rng ^= prop_rng >> 27;
-    uint64_t r = prop_rng * 2685821657736338717ull;
-    return lo + (hi - lo) * ((double)(r >> 11) / 9007199254740992.0);
+    return roz_test_uniform(&prop_rng, lo, hi);
 }
 
 /* Actuator j's last frame is the stop's hold against the command @p c (as
@@ -1131,26 +1113,20 @@ static int teardown(void **st)
     return 0;
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test_teardown(test_socketcan_start_up, teardown),
-        cmocka_unit_test_teardown(test_socketcan_hold_inside_the_limits, teardown),
-        cmocka_unit_test_teardown(test_socketcan_commands_and_states, teardown),
-        cmocka_unit_test_teardown(test_socketcan_replays_and_strays, teardown),
-        cmocka_unit_test_teardown(test_socketcan_silence_and_return, teardown),
-        cmocka_unit_test_teardown(test_socketcan_error_code_and_consistency, teardown),
-        cmocka_unit_test_teardown(test_socketcan_round_robin, teardown),
-        cmocka_unit_test_teardown(test_socketcan_device, teardown),
-        cmocka_unit_test_teardown(test_socketcan_shutdown, teardown),
-        cmocka_unit_test_teardown(test_socketcan_threads, teardown),
-        cmocka_unit_test_teardown(test_socketcan_open_errors, teardown),
-        cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),
-        cmocka_unit_test_teardown(test_socketcan_silent_actuator_latches_stale, teardown),
-        cmocka_unit_test_teardown(test_socketcan_error_code_latches_robot, teardown),
-        cmocka_unit_test_teardown(test_socketcan_watchdog_on_write, teardown),
-        cmocka_unit_test_teardown(test_socketcan_watchdog_latches_on_the_runtime, teardown),
-        cmocka_unit_test_teardown(test_socketcan_stops_keep_the_torque, teardown),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test_teardown(test_socketcan_start_up, teardown),
+              cmocka_unit_test_teardown(test_socketcan_hold_inside_the_limits, teardown),
+              cmocka_unit_test_teardown(test_socketcan_commands_and_states, teardown),
+              cmocka_unit_test_teardown(test_socketcan_replays_and_strays, teardown),
+              cmocka_unit_test_teardown(test_socketcan_silence_and_return, teardown),
+              cmocka_unit_test_teardown(test_socketcan_error_code_and_consistency, teardown),
+              cmocka_unit_test_teardown(test_socketcan_round_robin, teardown),
+              cmocka_unit_test_teardown(test_socketcan_device, teardown),
+              cmocka_unit_test_teardown(test_socketcan_shutdown, teardown),
+              cmocka_unit_test_teardown(test_socketcan_threads, teardown),
+              cmocka_unit_test_teardown(test_socketcan_open_errors, teardown),
+              cmocka_unit_test_teardown(test_socketcan_pd_on_the_runtime, teardown),
+              cmocka_unit_test_teardown(test_socketcan_silent_actuator_latches_stale, teardown),
+              cmocka_unit_test_teardown(test_socketcan_error_code_latches_robot, teardown),
+              cmocka_unit_test_teardown(test_socketcan_watchdog_on_write, teardown),
+              cmocka_unit_test_teardown(test_socketcan_watchdog_latches_on_the_runtime, teardown),
+              cmocka_unit_test_teardown(test_socketcan_stops_keep_the_torque, teardown))

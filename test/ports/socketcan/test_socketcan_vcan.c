@@ -19,6 +19,7 @@
 
 #include "can_leg_manifest.h"
 #include "can_test_support.h"
+#include "support.h"
 
 static roz_socketcan_t sc;
 static fake_can_t bus;
@@ -90,10 +91,4 @@ static void test_socketcan_vcan(void **st)
     close(fd);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_socketcan_vcan),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_socketcan_vcan))

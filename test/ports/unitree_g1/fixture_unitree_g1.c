@@ -25,6 +25,7 @@
 #include <cmocka.h>
 
 #include "fake_g1_client.h"
+#include "dds_fixture_params.h"
 #include "port_fixture.h"
 #include "roz/port/unitree_g1.h"
 #include "unitree_g1_fixture.h"
@@ -97,13 +98,10 @@ static void fx_strict_monitors(void)
 
 void roz_g1fx_ask(const char *fmt, ...)
 {
-    char req[512];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(req, sizeof req, fmt, ap);
+    roz_fake_process_vmust(&fake, "fake_g1", fmt, ap);
     va_end(ap);
-    if (roz_fake_g1_ask(&fake, "%s", req) != 0)
-        fail_msg("fake_g1: \"%s\" -> \"%s\"", req, fake.line);
 }
 
 /* The G1's motor slots by joint name, written here from the SDK's joint
@@ -281,9 +279,7 @@ static int fake_matched(void)
 static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port_t *port,
                    char *err, size_t errlen)
 {
-    static char domain[16];
     static roz_param_t items[ROZ_UNITREE_G1_MAX_PARAMS];
-    size_t n = 0;
 
     restarted = 0;
 
@@ -293,26 +289,13 @@ static int fx_open(const roz_manifest_t *m, const roz_params_t *params, roz_port
     man = m;
     frame_no = 0;
     memset(sent, 0, sizeof sent);
-    peer_timeout_ms = 1000; /* a fake starved for a few hundred ms on a loaded machine is not gone */
     const char *const *extra = fake_args;
     fake_args = NULL;
     if (roz_fake_g1_start(&fake, ROZ_TEST_DDS_DOMAIN, extra, err, errlen) != 0)
         return ROZ_EIO;
     /* the fixture's parameters first: the caller's win */
-    snprintf(domain, sizeof domain, "%d", ROZ_TEST_DDS_DOMAIN);
-    items[n++] = (roz_param_t){ "network_interface", "lo" };
-    items[n++] = (roz_param_t){ "dds_domain", domain };
-    items[n++] = (roz_param_t){ "command_writer_period_us", "0" };
-    items[n++] = (roz_param_t){ "peer_timeout_ms", "1000" };
-    /* the suite ticks at its own pace, not a clock's: a pause between two
-     * steps is no stuck control loop (the watchdog has tests of its own) */
-    items[n++] = (roz_param_t){ "command_timeout_us", "60000000" };
-    for (size_t i = 0; params != NULL && i < params->n && n < ROZ_UNITREE_G1_MAX_PARAMS / 2; i++) {
-        items[n++] = params->items[i];
-        if (strcmp(params->items[i].key, "peer_timeout_ms") == 0)
-            peer_timeout_ms = (uint32_t)strtoul(params->items[i].value, NULL, 10);
-    }
-    roz_params_t all = { items, n };
+    roz_params_t all =
+        roz_dds_fixture_params(items, ROZ_UNITREE_G1_MAX_PARAMS, params, &peer_timeout_ms);
     the_port = roz_unitree_g1_port(&g1, fx_log != NULL ? fx_log : quiet_log, NULL);
     int rc = roz_port_open(&the_port, m, &all, err, errlen);
     if (rc == ROZ_OK)

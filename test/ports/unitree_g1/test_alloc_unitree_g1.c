@@ -67,10 +67,4 @@ static void test_alloc_unitree_g1(void **st)
     roz_fixture_unitree_g1.close();
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_alloc_unitree_g1),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_alloc_unitree_g1))

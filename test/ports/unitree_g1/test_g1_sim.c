@@ -33,6 +33,7 @@
 
 #include "fake_g1_client.h"
 #include "rozrun_stand.h"
+#include "support.h"
 
 #ifndef ROZRUN
 #error "ROZRUN, CONTROLLER, OUT: set by the build"
@@ -268,14 +269,8 @@ static void test_g1_sim_open_refusals(void **st)
     assert_non_null(strstr(text, "parameter peer = \"unitree_mujoco\": CYCLONEDDS_URI is set"));
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_g1_sim_open_refusals),
-        cmocka_unit_test(test_g1_sim_runs_with_the_setting),
-        cmocka_unit_test(test_g1_sim_refused_without_the_setting),
-        cmocka_unit_test(test_g1_sim_refuses_a_robot),
-        cmocka_unit_test(test_g1_sim_silence_latches_link),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_g1_sim_open_refusals),
+              cmocka_unit_test(test_g1_sim_runs_with_the_setting),
+              cmocka_unit_test(test_g1_sim_refused_without_the_setting),
+              cmocka_unit_test(test_g1_sim_refuses_a_robot),
+              cmocka_unit_test(test_g1_sim_silence_latches_link))

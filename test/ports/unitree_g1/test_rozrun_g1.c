@@ -40,6 +40,7 @@
 #include "proc_threads.h"
 #include "roz/hal/thread.h"
 #include "rozrun_stand.h"
+#include "support.h"
 
 #ifndef ROZRUN
 #error "ROZRUN, CONTROLLER, CONTROLLER_23DOF, OUT: set by the build"
@@ -270,12 +271,6 @@ static void test_rozrun_g1_realtime(void **st)
     assert_int_equal(seen(&w, "recvUC", &prio), -1);
 }
 
-int main(void)
-{
-    const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_rozrun_g1_stand),
-        cmocka_unit_test(test_rozrun_g1_23dof_stand),
-        cmocka_unit_test(test_rozrun_g1_realtime),
-    };
-    return cmocka_run_group_tests(tests, NULL, NULL);
-}
+ROZ_TEST_MAIN(cmocka_unit_test(test_rozrun_g1_stand),
+              cmocka_unit_test(test_rozrun_g1_23dof_stand),
+              cmocka_unit_test(test_rozrun_g1_realtime))

@@ -44,14 +44,13 @@
  *    scheduling its parameters ask for;
  *  - bad parameters and manifests are refused naming the key and value, or
  *    the joint or channel. */
-#define _GNU_SOURCE /* sched_getaffinity: test_g1_writer_thread */
+#define _POSIX_C_SOURCE 200809L
 /* white-box: test_g1_padding_and_crc fills the port's sample storage with
  * garbage before its writer runs, test_g1_writer_thread reads its writer
  * (roz/private.h) */
 #define ROZ_PRIVATE_ACCESS
 #include <float.h>
 #include <math.h>
-#include <sched.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -65,11 +64,13 @@
 #include "crc32_reference.h"
 #include "port_fixture.h"
 #include "port_test.h"
+#include "proc_threads.h"
 #include "roz/runtime.h"
 #include "roz/filter.h"
 #include "roz/hold.h"
 #include "roz/port/unitree_g1.h"
 #include "support.h"
+#include "support_runtime.h"
 #include "support_wat.h"
 #include "unitree_g1_fixture.h"
 #include "unitree_g1_23dof_manifest.h"
@@ -83,23 +84,19 @@ static roz_port_t port;
 static double state[ROZ_CFG_MAX_STATES], sent[ROZ_CFG_MAX_STATES];
 static double cmd[ROZ_CFG_MAX_COMMANDS];
 
-/* Until @p cond, or fail after a hang guard: 60 s, far beyond what a loaded
- * machine takes (a full parallel ctest, sanitizers), so only a hang fails;
- * nothing here asserts a time. */
-#define WAIT_UNTIL(cond)                                                                  \
-    do {                                                                                  \
-        int ms_ = 0;                                                                      \
-        while (!(cond) && ms_ < 60000) {                                                  \
-            roz_fake_g1_sleep_ms(1);                                                      \
-            ms_++;                                                                        \
-        }                                                                                 \
-        if (!(cond))                                                                      \
-            fail_msg("%s:%d: waited 60 s for %s", __FILE__, __LINE__, #cond);             \
-    } while (0)
 
 static void open_g1(const roz_param_t *items, size_t n)
 {
     roz_port_test_drive(&roz_fixture_unitree_g1, m, items, n, &port, state, cmd);
+}
+
+/* The tick alive: the robot's next frame read, command @p k written. */
+static void tick_alive(int k)
+{
+    roz_g1fx_send();
+    assert_int_equal(roz_port_test_read(), 1);
+    roz_port_test_distinct_command(m, k, cmd);
+    roz_port_test_write();
 }
 
 static int teardown(void **st)
@@ -142,41 +139,6 @@ static void get_command(roz_fake_g1_cmd_t *c)
 }
 
 /* ---- mapping ------------------------------------------------------------------ */
-
-static void test_g1_joints_map_both_ways(void **st)
-{
-    roz_fake_g1_cmd_t c;
-    (void)st;
-
-    open_g1(NULL, 0);
-    roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
-    for (int k = 1; k <= 3; k++) {
-        /* state: every joint's q, dq, tau_est distinct, and the IMU */
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_g1fx_sent(sent);
-        roz_port_test_assert_state(m, state, sent);
-        /* command: every joint's five fields distinct */
-        roz_port_test_distinct_command(m, k, cmd);
-        roz_port_test_write();
-        get_command(&c);
-        assert_int_equal(c.mode_pr, 0);      /* PR */
-        assert_int_equal(c.mode_machine, 5); /* the fake's, echoed */
-        for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
-            assert_int_equal(c.mode[j], 1);
-            assert_true(c.q[j] == (float)cmd[cmd_index(j, "position")]);
-            assert_true(c.dq[j] == (float)cmd[cmd_index(j, "velocity")]);
-            assert_true(c.tau[j] == (float)cmd[cmd_index(j, "effort")]);
-            assert_true(c.kp[j] == (float)cmd[cmd_index(j, "stiffness")]);
-            assert_true(c.kd[j] == (float)cmd[cmd_index(j, "damping")]);
-        }
-        for (int j = ROZ_UNITREE_G1_BODY; j < ROZ_UNITREE_G1_SLOTS; j++) {
-            assert_int_equal(c.mode[j], 0);
-            assert_true(c.q[j] == 0.0 && c.dq[j] == 0.0 && c.tau[j] == 0.0 && c.kp[j] == 0.0 &&
-                        c.kd[j] == 0.0);
-        }
-    }
-}
 
 /* The command the fake got, joint by joint at the slot of its name: mode 1
  * and the five fields of cmd; every other slot mode 0 and zero. */
@@ -221,10 +183,21 @@ static void map_both_ways(const roz_manifest_t *man, int mode_machine)
         roz_port_test_distinct_command(m, k, cmd);
         roz_port_test_write();
         get_command(&c);
-        if (mode_machine >= 0)
-            assert_int_equal(c.mode_machine, mode_machine);
+        assert_int_equal(c.mode_pr, 0); /* PR */
+        /* echoed: the one asked for, or the fake's own */
+        assert_int_equal(c.mode_machine, mode_machine >= 0 ? mode_machine : 5);
         assert_command_by_name(&c);
     }
+}
+
+/* all 29 joints, each at its motor's slot (mode 1, the five fields as
+ * written); slots 29-34 mode 0 and zero */
+static void test_g1_joints_map_both_ways(void **st)
+{
+    (void)st;
+    map_both_ways(&roz_manifest_unitree_g1, -1);
+    for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) /* the manifest lists them by motor */
+        assert_int_equal(roz_g1fx_slot(m->hardware->joints[j]), j);
 }
 
 /* The G1's manifest with its joints listed in reverse: the same channels,
@@ -290,16 +263,7 @@ static void test_g1_imu_order(void **st)
     roz_g1fx_ask("send");
     roz_g1fx_wait_judged(&before, 0);
     assert_int_equal(roz_port_test_read(), 1);
-    assert_true(state[state_index("base_imu/orientation.x")] == 0.25);
-    assert_true(state[state_index("base_imu/orientation.y")] == -0.125);
-    assert_true(state[state_index("base_imu/orientation.z")] == 0.0625);
-    assert_true(state[state_index("base_imu/orientation.w")] == 0.5);
-    assert_true(state[state_index("base_imu/angular_velocity.x")] == 1.5);
-    assert_true(state[state_index("base_imu/angular_velocity.y")] == -2.5);
-    assert_true(state[state_index("base_imu/angular_velocity.z")] == 3.5);
-    assert_true(state[state_index("base_imu/linear_acceleration.x")] == 0.75);
-    assert_true(state[state_index("base_imu/linear_acceleration.y")] == -1.25);
-    assert_true(state[state_index("base_imu/linear_acceleration.z")] == 9.75);
+    roz_port_test_assert_imu(m, state);
 }
 
 /* ---- the wire: padding and CRC ------------------------------------------------- */
@@ -359,7 +323,7 @@ static void test_g1_padding_and_crc(void **st)
     /* matched both ways before the port speaks: the fake and this reader
      * see the port's writer, and it sees them */
     dds_subscription_matched_status_t sm;
-    WAIT_UNTIL(cmd_readers() >= 2 && dds_get_subscription_matched_status(rd, &sm) == 0 &&
+    ROZ_PORT_TEST_WAIT_UNTIL(cmd_readers() >= 2 && dds_get_subscription_matched_status(rd, &sm) == 0 &&
                sm.current_count >= 1);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 50; k++) {
@@ -372,7 +336,7 @@ static void test_g1_padding_and_crc(void **st)
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
     assert_true(good >= 50);
     assert_int_equal(bad, 0); /* stale padding under the CRC would show here */
-    WAIT_UNTIL(atomic_load(&crc_checked) >= 50u);
+    ROZ_PORT_TEST_WAIT_UNTIL(atomic_load(&crc_checked) >= 50u);
     assert_int_equal(atomic_load(&crc_bad), 0);
     dds_delete(part);
 }
@@ -382,7 +346,6 @@ static void test_g1_padding_and_crc(void **st)
 static void test_g1_mode_machine(void **st)
 {
     roz_fake_g1_cmd_t c;
-    roz_port_fault_t f;
     (void)st;
 
     open_g1(NULL, 0);
@@ -397,9 +360,7 @@ static void test_g1_mode_machine(void **st)
     roz_g1fx_ask("mode_machine 11"); /* another 29-DoF variant */
     roz_g1fx_send();
     assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
-    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
-    assert_string_equal(f.what, "mode_machine");
-    assert_int_equal(f.code, 11);
+    roz_port_test_assert_fault("mode_machine", NULL, 11);
     uint64_t published = counters().published;
     for (int k = 2; k < 6; k++) {
         roz_port_test_distinct_command(m, k, cmd);
@@ -413,10 +374,7 @@ static void test_g1_mode_machine(void **st)
 
     /* back: reads and commands again */
     roz_g1fx_ask("mode_machine 9");
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 7, cmd);
-    roz_port_test_write();
+    tick_alive(7);
     get_command(&c);
     assert_true(c.q[0] == (float)cmd[cmd_index(0, "position")]);
     assert_true(counters().published > published);
@@ -426,68 +384,38 @@ static void test_g1_mode_machine(void **st)
 
 static roz_runtime_t rt;
 
-/* The G1 without its fall rule, for the runtime: the fixture's IMU is a
- * tilted test pattern, not a robot, and the rule would latch on it (the
- * same channels otherwise; test_mujoco_fall judges the rule). */
-static const roz_manifest_t *without_fall(void)
+/* The runtime over the port (without the fall rule:
+ * roz_port_test_without_fall()), the G1's stand controller started, on a
+ * test clock, without the jitter monitor. */
+static void start_runtime(void)
 {
-    static roz_manifest_t no_fall;
-    no_fall = *m;
-    no_fall.fall = NULL;
-    return &no_fall;
+    static roz_test_clock_t clk;
+    roz_runtime_config_t cfg;
+    clk = (roz_test_clock_t){ 1, 1000 };
+    roz_test_runtime_config(&cfg, roz_port_test_without_fall(m), port, &clk);
+    cfg.monitor_jitter = 0;
+    roz_test_runtime_start(&rt, &cfg, "g1_stand");
 }
 
-/* One tick; ROZ_EFAULT while a fault is latched, which the test checks
- * through roz_runtime_faults(). */
 static void tick_rt(void)
 {
-    int rc = roz_runtime_tick(&rt);
-    assert_true(rc == ROZ_OK || rc == ROZ_EFAULT);
+    roz_port_test_tick(&rt);
+}
+
+/* The left knee's motor reports fault code 33 (@p on), or none. */
+static void knee_motor_fault(int on)
+{
+    roz_g1fx_ask("motorstate 3 %d", on ? 33 : 0); /* left_knee_joint */
 }
 
 static void test_g1_motor_fault_latches(void **st)
 {
-    roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 1, 1000 };
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
     (void)st;
 
     open_g1(NULL, 0);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = without_fall();
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
-    for (int t = 0; t < 20; t++) {
-        roz_g1fx_send();
-        tick_rt();
-    }
-    assert_int_equal(roz_runtime_faults(&rt), 0);
-    roz_g1fx_ask("motorstate 3 33"); /* left_knee_joint */
-    roz_g1fx_send();
-    tick_rt();
-    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
-    const char *msg = roz_runtime_fault_message(&rt);
-    if (strstr(msg, "left_knee_joint") == NULL || strstr(msg, "33") == NULL)
-        fail_msg("the fault names neither the joint nor the code: \"%s\"", msg);
+    start_runtime();
+    roz_port_test_robot_fault(&rt, roz_g1fx_send, knee_motor_fault, "left_knee_joint", "33");
     assert_true(counters().motor_fault_frames >= 1);
-    /* a level: while the motor reports it, a clear does not take */
-    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    roz_g1fx_send();
-    tick_rt();
-    assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ROBOT);
-    roz_g1fx_ask("motorstate 3 0");
-    roz_g1fx_send();
-    tick_rt();
-    assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
-    roz_g1fx_send();
-    tick_rt();
-    assert_int_equal(roz_runtime_faults(&rt), 0);
     roz_runtime_deinit(&rt);
 }
 
@@ -528,11 +456,7 @@ static void remote_runtime(const roz_port_t *p)
     static roz_test_clock_t clk = { 1, 1000 };
     roz_runtime_config_t cfg;
     roz_operator_sink_t sink = roz_runtime_operator_sink(&rt);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = m;
-    cfg.port = *p;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
+    roz_test_runtime_config(&cfg, m, *p, &clk);
     cfg.monitor_jitter = 0;
     assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
     assert_int_equal(roz_port_set_operator(p, &sink), ROZ_OK);
@@ -620,25 +544,12 @@ static void test_g1_wireless_remote(void **st)
  * the robot gets no command at all. */
 static void expect_variant_refused(int mode_machine, const char *joint)
 {
-    roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 1, 1000 };
-    roz_port_fault_t f;
     uint64_t good = 1, bad = 1;
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
     char code[16];
 
     open_g1(NULL, 0);
     roz_g1fx_ask("mode_machine %d", mode_machine);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = without_fall();
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    start_runtime();
     for (int t = 0; t < 20; t++) {
         roz_g1fx_send();
         tick_rt();
@@ -650,9 +561,7 @@ static void expect_variant_refused(int mode_machine, const char *joint)
         strstr(msg, code) == NULL)
         fail_msg("the fault names not the joint %s and mode_machine %d: \"%s\"", joint,
                  mode_machine, msg);
-    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
-    assert_string_equal(f.what, joint);
-    assert_int_equal(f.code, (uint32_t)mode_machine);
+    roz_port_test_assert_fault(joint, NULL, (uint32_t)mode_machine);
     /* written to the port straight, past the latch: still nothing goes out */
     roz_port_test_distinct_command(m, 3, cmd);
     roz_port_test_write();
@@ -685,26 +594,10 @@ static void test_g1_variant_mismatch(void **st)
 
 static void test_g1_decimation(void **st)
 {
-    double full[ROZ_CFG_MAX_STATES];
-    int dq0 = state_index("left_hip_pitch_joint/velocity");
-    int q0 = state_index("left_hip_pitch_joint/position");
-    int ow = state_index("base_imu/orientation.w");
     (void)st;
 
     open_g1((roz_param_t[]){ { "state_decimation", "4" } }, 1);
-    for (int k = 0; k < 12; k++) {
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_g1fx_sent(sent);
-        if (k % 4 == 0)
-            memcpy(full, sent, sizeof full); /* converted whole */
-        /* positions: every frame; the rest: the last whole conversion */
-        assert_true(state[q0] == sent[q0]);
-        assert_true(state[dq0] == full[dq0]);
-        assert_true(state[ow] == full[ow]);
-        if (k % 4 != 0)
-            assert_true(full[dq0] != sent[dq0] || full[ow] != sent[ow]);
-    }
+    roz_port_test_decimation("left_hip_pitch_joint", roz_g1fx_send, roz_g1fx_sent);
     assert_int_equal(counters().full_conversions, 3);
     assert_int_equal(counters().frames, 12);
     /* every frame is still checked: a bad CRC on a frame between two whole
@@ -717,10 +610,7 @@ static void test_g1_decimation(void **st)
     roz_g1fx_ask("motorstate 20 7");
     roz_g1fx_send(); /* frame 13: not converted whole */
     assert_int_equal(roz_port_test_read(), ROZ_EROBOT);
-    roz_port_fault_t f;
-    assert_int_equal(roz_unitree_g1_ops.fault(roz_g1fx_port(), &f), ROZ_OK);
-    assert_string_equal(f.what, "left_wrist_pitch_joint");
-    assert_int_equal(f.code, 7);
+    roz_port_test_assert_fault("left_wrist_pitch_joint", NULL, 7);
     assert_int_equal(counters().full_conversions, 4); /* frames 1, 5, 9, 13 of the robot */
 }
 
@@ -735,14 +625,11 @@ static void test_g1_periodic_writer(void **st)
     open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" } }, 1);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 0; k < 70; k++) /* past the replay window: a restart shows */
-        roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 3, cmd);
-    roz_port_test_write();
+        tick_alive(3);
     get_command(&c);
     /* no more writes: the writer goes on publishing the last command */
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
-    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good >= good0 + 50);
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good >= good0 + 50);
     assert_int_equal(bad, 0);
     get_command(&c);
     assert_true(c.q[5] == (float)cmd[cmd_index(5, "position")]);
@@ -818,7 +705,7 @@ static void test_g1_startup_and_shutdown_damping(void **st)
     uint64_t good0 = 0, good = 0, bad = 0;
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
-    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
     for (int i = 0; i < 2000 && good < good0 + repeats; i++) {
         roz_fake_g1_sleep_ms(1);
         assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad), 0);
@@ -925,6 +812,24 @@ static int is_written(const roz_fake_g1_cmd_t *c)
     return 1;
 }
 
+/* The tick back after a trip that read() reported: its write of command
+ * @p k goes out as the stop's hold from @p last, the tick's command before
+ * the trip, against the frame read with the report; after the next frame,
+ * command @p k + 1 as written; one trip in all. */
+static void expect_back_after_trip(const double *last, int k)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_test_distinct_command(m, k, cmd);
+    roz_port_test_write();
+    get_command(&c);
+    roz_g1fx_sent(sent);
+    assert_hold_after_trip(&c, last, sent);
+    tick_alive(k + 1);
+    get_command(&c);
+    assert_true(is_written(&c));
+    assert_int_equal(counters().command_timeouts, 1);
+}
+
 /* The start-up hold is one frame of the latest-value hand-off: the tick
  * writing again before the writer sent it must not make the controller's
  * command the robot's first. The writer is held back (the command path's
@@ -932,21 +837,15 @@ static int is_written(const roz_fake_g1_cmd_t *c)
 static void test_g1_hold_reaches_the_wire_first(void **st)
 {
     roz_fake_g1_cmd_t c;
-    roz_dds_cmd_t *path = &roz_g1fx_port()->cmd;
     (void)st;
 
     open_g1(NULL, 0);
     roz_g1fx_send();
     assert_int_equal(roz_port_test_read(), 1);
     roz_g1fx_sent(sent);
-    atomic_store(&path->held_back, 1);
-    roz_port_test_distinct_command(m, 1, cmd);
-    roz_port_test_write(); /* the hold */
-    roz_port_test_write(); /* the controller's, before the writer sent anything */
-    atomic_store(&path->held_back, 0);
-    roz_port_test_write(); /* wakes the writer */
+    roz_port_test_write_held_back(&roz_g1fx_port()->cmd);
     roz_g1fx_settle();
-    WAIT_UNTIL(fake_good() >= 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(fake_good() >= 1);
     assert_int_equal(roz_fake_g1_command_at(roz_g1fx_fake(), 1, &c), 1);
     for (uint16_t j = 0; j < ROZ_UNITREE_G1_BODY; j++) {
         char name[160];
@@ -1005,7 +904,7 @@ static void test_g1_wire_inside_the_manifest(void **st)
         fail_msg("q %.9g on the wire: outside the limit 2.8798", (double)c.q[s0]);
     assert_true(c.q[s0] == nextafterf((float)2.8798, 0.0f));
 
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     uint64_t tripped = fake_good();
     assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
                                      (unsigned long long)tripped + 2u),
@@ -1094,16 +993,10 @@ static void test_g1_watchdog_on_the_wire(void **st)
     (void)st;
 
     /* the robot says nothing while the tick is away: no link fault meanwhile */
-    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
-                             { "command_timeout_us", "100000" },
-                             { "peer_timeout_ms", "60000" } },
-            3);
+    open_g1(roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 5; k++) { /* a tick alive: commands as written */
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_port_test_distinct_command(m, k, cmd);
-        roz_port_test_write();
+        tick_alive(k);
     }
     get_command(&c);
     assert_true(is_written(&c));
@@ -1114,7 +1007,7 @@ static void test_g1_watchdog_on_the_wire(void **st)
     roz_port_test_distinct_command(m, 6, cmd);
     watchdog_positions(q);
     roz_port_test_write();
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     uint64_t tripped = fake_good();
     assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
                                      (unsigned long long)tripped + 5u),
@@ -1166,19 +1059,20 @@ static void test_g1_watchdog_on_the_wire(void **st)
      * trip, at the hold gains, the damping the robot is in already */
     static double before_trip[ROZ_CFG_MAX_COMMANDS];
     memcpy(before_trip, cmd, sizeof before_trip);
-    roz_port_test_distinct_command(m, 7, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    roz_g1fx_sent(sent);
-    assert_hold_after_trip(&c, before_trip, sent);
-    /* then as written again */
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 8, cmd);
+    expect_back_after_trip(before_trip, 7);
+}
+
+/* Command @p k written, which the robot gets as written: the tick's last
+ * before it stops; @p q the positions the watchdog's hold will keep
+ * (watchdog_positions()). */
+static void write_last(int k, double *q)
+{
+    roz_fake_g1_cmd_t c;
+    roz_port_test_distinct_command(m, k, cmd);
+    watchdog_positions(q);
     roz_port_test_write();
     get_command(&c);
     assert_true(is_written(&c));
-    assert_int_equal(counters().command_timeouts, 1);
 }
 
 /* The tick has stopped after its last write (the robot has it): the
@@ -1188,7 +1082,7 @@ static void expect_damping_after_trip(const double *q)
 {
     roz_fake_g1_cmd_t c;
     uint64_t written = fake_good();
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
                                      (unsigned long long)written + 5u),
                      0);
@@ -1202,7 +1096,6 @@ static void expect_damping_after_trip(const double *q)
 
 static void test_g1_watchdog_event_driven(void **st)
 {
-    roz_fake_g1_cmd_t c;
     double q[ROZ_UNITREE_G1_BODY];
     (void)st;
 
@@ -1215,21 +1108,8 @@ static void test_g1_watchdog_event_driven(void **st)
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_send();
     assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 1, cmd);
-    watchdog_positions(q);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
+    write_last(1, q);
     expect_damping_after_trip(q);
-}
-
-/* The watchdog's clock, moved by test_g1_watchdog_on_its_clock alone. */
-static ROZ_ATOMIC(uint64_t) g1_now_ns;
-
-static uint64_t g1_clock(void *ctx)
-{
-    (void)ctx;
-    return atomic_load(&g1_now_ns);
 }
 
 /* The watchdog on a clock the test moves (the command path's, set here
@@ -1248,23 +1128,16 @@ static void test_g1_watchdog_on_its_clock(void **st)
     static double last[ROZ_CFG_MAX_COMMANDS];
     (void)st;
 
-    atomic_store(&g1_now_ns, 5000000000u);
     /* periodic: an event-driven writer sleeps until the watchdog is due on
      * the monotonic clock (roz_dds_cmd_config_t) */
-    open_g1((roz_param_t[]){ { "command_writer_period_us", "2000" },
-                             { "command_timeout_us", "100000" },
-                             { "peer_timeout_ms", "60000" } },
-            3);
-    roz_g1fx_port()->cmd.clock = g1_clock;
+    open_g1(roz_port_test_watched, ROZ_PORT_TEST_WATCHED_N);
+    roz_port_test_watchdog_clock(&roz_g1fx_port()->cmd);
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     for (int k = 1; k <= 3; k++) { /* alive: 99.999 ms between writes is not silence */
-        roz_g1fx_send();
-        assert_int_equal(roz_port_test_read(), 1);
-        roz_port_test_distinct_command(m, k, cmd);
-        roz_port_test_write();
+        tick_alive(k);
         get_command(&c);
         assert_true(is_written(&c));
-        atomic_fetch_add(&g1_now_ns, 99999000u);
+        roz_port_test_clock_add(99999000u);
         /* two more of the periodic writer's passes judged it at that age */
         assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
                                          (unsigned long long)fake_good() + 2u),
@@ -1276,8 +1149,8 @@ static void test_g1_watchdog_on_its_clock(void **st)
     watchdog_positions(q);
     memcpy(last, cmd, sizeof last);
     uint64_t before = fake_good();
-    atomic_fetch_add(&g1_now_ns, 150000000u - 99999000u); /* 150 ms since the last write */
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    roz_port_test_clock_add(150000000u - 99999000u); /* 150 ms since the last write */
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     assert_int_equal(roz_fake_g1_ask(roz_g1fx_fake(), "wait_commands %llu 60000",
                                      (unsigned long long)fake_good() + 5u),
                      0);
@@ -1300,19 +1173,8 @@ static void test_g1_watchdog_on_its_clock(void **st)
     assert_string_equal(f.what, "command_timeout_us");
     assert_int_equal(f.code, 150000u);
     assert_int_equal(f.limit, 100000u);
-    roz_g1fx_sent(sent);
     assert_int_equal(roz_port_test_read(), 0);
-    roz_port_test_distinct_command(m, 4, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    assert_hold_after_trip(&c, last, sent);
-    roz_g1fx_send();
-    assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 5, cmd);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
-    assert_int_equal(counters().command_timeouts, 1);
+    expect_back_after_trip(last, 4);
 }
 
 /* The port's exit is the robot class's stop: the hold, as the watchdog
@@ -1328,15 +1190,11 @@ static void test_g1_exit_is_the_hold(void **st)
     roz_port_test_start(roz_g1fx_send, roz_g1fx_settle);
     roz_g1fx_send();
     assert_int_equal(roz_port_test_read(), 1);
-    roz_port_test_distinct_command(m, 1, cmd);
-    watchdog_positions(q);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
+    write_last(1, q);
     uint64_t good0 = 0, good = 0, bad = 0;
     assert_int_equal(roz_fake_g1_commands(roz_g1fx_fake(), &good0, &bad), 0);
     assert_int_equal(roz_port_deactivate(&port), ROZ_OK);
-    WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_fake_g1_commands(roz_g1fx_fake(), &good, &bad) == 0 && good > good0);
     roz_fake_g1_sleep_ms(20);
     assert_int_equal(roz_fake_g1_command(roz_g1fx_fake(), &c), 1);
     if (!is_watchdog_hold(&c, q))
@@ -1391,9 +1249,9 @@ static void test_g1_trip_write_trip_keeps_the_torque(void **st)
     assert_true(c.kp[hip] == 80.0f);
 
     /* the first trip */
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     roz_g1fx_settle();
-    WAIT_UNTIL(roz_fake_g1_command(roz_g1fx_fake(), &first) == 1 && first.kp[hip] != 80.0f);
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_fake_g1_command(roz_g1fx_fake(), &first) == 1 && first.kp[hip] != 80.0f);
     const roz_channel_t *ks = &m->states[knee_q];
     float knee_at = roz_channel_clamp_float(ks, measured[knee_q]);
     print_message("left knee without a position command, measured %.4f: the watchdog's hold "
@@ -1419,7 +1277,7 @@ static void test_g1_trip_write_trip_keeps_the_torque(void **st)
 
     /* stalled again: the second trip holds the controller's torque about
      * where the joint is now (the frame read with the report) */
-    WAIT_UNTIL(counters().command_timeouts == 2);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 2);
     roz_g1fx_settle();
     get_command(&c);
     roz_g1fx_sent(measured);
@@ -1437,7 +1295,6 @@ static void test_g1_trip_write_trip_keeps_the_torque(void **st)
 
 static void test_g1_watchdog_spinning_writer(void **st)
 {
-    roz_fake_g1_cmd_t c;
     double q[ROZ_UNITREE_G1_BODY];
     (void)st;
 
@@ -1454,43 +1311,25 @@ static void test_g1_watchdog_spinning_writer(void **st)
                              { "command_timeout_us", "100000" },
                              { "peer_timeout_ms", "60000" } },
             4);
-    int fresh = 0; /* (WAIT_UNTIL looks twice: not for a read) */
-    WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_port_test_read() == 1); /* one look, one read */
     roz_port_test_distinct_command(m, 0, cmd);
     roz_port_test_write(); /* the hold */
     roz_g1fx_settle(); /* the writes after it are holds until it went out */
-    fresh = 0;
-    WAIT_UNTIL((fresh = fresh || roz_port_test_read() == 1));
-    roz_port_test_distinct_command(m, 1, cmd);
-    watchdog_positions(q);
-    roz_port_test_write();
-    get_command(&c);
-    assert_true(is_written(&c));
+    ROZ_PORT_TEST_WAIT_UNTIL(roz_port_test_read() == 1);
+    write_last(1, q);
     expect_damping_after_trip(q);
 }
 
 static void test_g1_watchdog_latches_in_the_runtime(void **st)
 {
-    roz_runtime_config_t cfg;
-    roz_test_clock_t clk = { 1, 1000 };
     roz_fake_g1_cmd_t c;
-    size_t len;
-    const uint8_t *w = roz_test_controller("g1_stand", &len);
     int knee_kp = cmd_index(3, "stiffness");
     (void)st;
 
     /* 300 ms: the test's ticks wait for the fake, slowly on a loaded machine */
     open_g1((roz_param_t[]){ { "command_timeout_us", "300000" }, { "peer_timeout_ms", "60000" } },
             2);
-    roz_runtime_config_default(&cfg);
-    cfg.manifest = without_fall();
-    cfg.port = port;
-    cfg.clock = roz_test_clock;
-    cfg.clock_ctx = &clk;
-    cfg.monitor_jitter = 0;
-    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
-    assert_int_equal(roz_runtime_load(&rt, w, len, NULL), ROZ_OK);
-    assert_int_equal(roz_runtime_start(&rt), ROZ_OK);
+    start_runtime();
     /* past verification: the stand's gains reach the robot (before the
      * first tick the runtime's commands are the manifest's defaults) */
     for (int t = 0; t < 400 && (t == 0 || roz_runtime_last_commands(&rt)[knee_kp] <= 0.0); t++) {
@@ -1514,7 +1353,7 @@ static void test_g1_watchdog_latches_in_the_runtime(void **st)
         fail_msg("a fault before the tick stopped: %s", roz_runtime_fault_message(&rt));
 
     /* the tick stops; the watchdog trips; the tick is back */
-    WAIT_UNTIL(counters().command_timeouts == 1);
+    ROZ_PORT_TEST_WAIT_UNTIL(counters().command_timeouts == 1);
     roz_g1fx_send();
     tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_COMMAND_TIMEOUT);
@@ -1567,16 +1406,8 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
                            const char *want1, const char *want2)
 {
     static roz_unitree_g1_t g1;
-    roz_param_t item = { key, value };
-    roz_params_t p = { &item, key != NULL ? 1u : 0u };
     roz_port_t pt = roz_unitree_g1_port(&g1, NULL, NULL);
-    char err[400] = "";
-    assert_true(roz_port_open(&pt, man, &p, err, sizeof err) < 0);
-    if (strstr(err, want1) == NULL || (want2 != NULL && strstr(err, want2) == NULL))
-        fail_msg("%s = \"%s\": the error \"%s\" does not name \"%s\" and \"%s\"",
-                 key != NULL ? key : "(manifest)", value != NULL ? value : "", err, want1,
-                 want2 != NULL ? want2 : "");
-    roz_port_close(&pt);
+    roz_port_test_expect_refused(&pt, man, key, value, want1, want2);
 }
 
 /* a robot whose manifest has a channel the G1 has no place for */
@@ -1606,31 +1437,18 @@ static const roz_channel_t typo_commands[] = {
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
                                      &real_hw, NULL, 0, 0, NULL };
 
-static void *nothing(void *arg)
-{
-    return arg;
-}
 
 /* The command writer thread carries the scheduling its parameters ask for:
  * affinity and stack size always, SCHED_FIFO where the process may have it
  * (roz/hal/thread.h); read back from the running thread. */
 static void test_g1_writer_thread(void **st)
 {
-    roz_thread_config_t fifo = { ROZ_THREAD_FIFO, 5, 0, 0 }, got;
-    unsigned long th;
-    char err[200], cpus[8];
-    cpu_set_t set;
-    int cpu = 0;
+    roz_thread_config_t got;
+    char cpus[8];
+    int may_fifo;
     (void)st;
-    assert_int_equal(sched_getaffinity(0, sizeof set, &set), 0);
-    for (int c = 0; c < ROZ_THREAD_MAX_CPUS; c++)
-        if (CPU_ISSET(c, &set))
-            cpu = c;
-    snprintf(cpus, sizeof cpus, "%d", cpu);
-    int may_fifo = roz_thread_start(&th, &fifo, "probe", nothing, NULL, err, sizeof err) == ROZ_OK;
-    if (may_fifo)
-        roz_thread_join(th);
-    else
+    int cpu = roz_test_thread_probe(5, cpus, sizeof cpus, &may_fifo);
+    if (!may_fifo)
         print_message("SCHED_FIFO not permitted here: the writer's affinity and stack only\n");
     roz_param_t items[] = { { "command_writer_cpus", cpus },
                             { "command_writer_stack_kib", "384" },
