@@ -55,13 +55,8 @@ static int place(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_
         taken[s] = -1;
     for (uint16_t k = 0; k < hw->n_joints; k++) {
         int s = roz_unitree_g1_joint_slot(hw->joints[k]);
-        if (s < 0) {
-            roz_format(err, errlen,
-                       PORT ": [hardware] joints[%u] \"%s\" is not one of the robot's joints "
-                            "(the port's header lists them)",
-                       (unsigned)k, hw->joints[k] != NULL ? hw->joints[k] : "");
-            return ROZ_ENOENT;
-        }
+        if (s < 0)
+            return roz_joints_not_the_robots(PORT, k, hw->joints[k], "", err, errlen);
         if (taken[s] >= 0) {
             roz_format(err, errlen,
                        PORT ": [hardware] joints[%u] \"%s\" is a duplicate of joints[%d]",
