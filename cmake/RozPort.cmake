@@ -25,16 +25,23 @@
 # transport (so that roz_manifest_json, and through it rozgen, runs them):
 #
 #   roz_add_port_rules(PORT socketcan TARGET roz_can HEADER roz/port/can_config.h
-#                      FUNCTION roz_can_config_check)
+#                      FUNCTION roz_can_config_check [FILES_FUNCTION fn])
 #
 # PORT is the name robot.toml's [hardware] port gives; FUNCTION has the shape
 #   int FUNCTION(const roz_manifest_t *m, roz_port_rules_report_fn report, void *ctx);
 # and reports every problem (report(ctx, rule id, text after the file name))
 # of a manifest that passed the robot.toml rules, returning ROZ_OK or
-# ROZ_EINVAL. roz_port_rules_generate() writes the table, roz/port_rules.h
-# (library roz_port_rules).
+# ROZ_EINVAL. FILES_FUNCTION, for a port whose keys name files (the mujoco
+# port's model), runs after it passed, with the robot.toml's path:
+#   int FILES_FUNCTION(const roz_manifest_t *m, const char *robot_toml,
+#                      roz_port_rules_report_fn report, void *ctx);
+# roz_port_rules_generate() writes the table, roz/port_rules.h (library
+# roz_port_rules).
 function(roz_add_port_rules)
-  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION" "" ${ARGN})
+  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION;FILES_FUNCTION" "" ${ARGN})
+  if(NOT R_FILES_FUNCTION)
+    set(R_FILES_FUNCTION NULL)
+  endif()
   foreach(k IN ITEMS PORT TARGET HEADER FUNCTION)
     if(NOT R_${k})
       message(FATAL_ERROR "roz_add_port_rules: ${k} is required")
@@ -45,7 +52,8 @@ function(roz_add_port_rules)
     message(FATAL_ERROR "roz_add_port_rules: ${R_PORT} registered twice")
   endif()
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_PORTS ${R_PORT})
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}")
+  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES
+               "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}|${R_FILES_FUNCTION}")
 endfunction()
 
 # Writes the table of the port rules registered so far: roz/port_rules.h and
@@ -63,11 +71,12 @@ function(roz_port_rules_generate)
     list(GET e 1 target)
     list(GET e 2 header)
     list(GET e 3 fn)
+    list(GET e 4 files_fn)
     list(APPEND libs ${target})
     string(APPEND includes "#include \"${header}\"\n")
-    string(APPEND rows "    { \"${port}\", ${fn} },\n")
+    string(APPEND rows "    { \"${port}\", ${fn}, ${files_fn} },\n")
   endforeach()
-  string(APPEND rows "    { NULL, NULL },\n")
+  string(APPEND rows "    { NULL, NULL, NULL },\n")
   file(CONFIGURE OUTPUT ${dir}/include/roz/port_rules.h @ONLY CONTENT [=[
 /* SPDX-License-Identifier: Apache-2.0 */
 /* @banner@ */
@@ -98,6 +107,13 @@ typedef struct roz_port_rules {
     /** ROZ_OK, or ROZ_EINVAL with every problem reported. Context: start-up
      *  or host tools; no heap. */
     int (*check_hardware)(const roz_manifest_t *m, roz_port_rules_report_fn report, void *ctx);
+    /** The rules on the files its keys name (a model), run once
+     *  check_hardware() passed; @p robot_toml is the file @p m was read
+     *  from (paths are relative to its folder; NULL: the working
+     *  directory). ROZ_OK, or ROZ_EINVAL with the problem reported. NULL:
+     *  none. Context: host tools; may allocate. */
+    int (*check_files)(const roz_manifest_t *m, const char *robot_toml,
+                       roz_port_rules_report_fn report, void *ctx);
 } roz_port_rules_t;
 
 /** @brief The rules of the port @p port names; NULL when it has none here

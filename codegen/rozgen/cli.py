@@ -159,14 +159,10 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter,
         loaded = load(path)
         manifest, problems = None, loaded.problems
         if loaded.data is not None:
-            manifest, problems = validate(loaded.data, maxima, checker)
-        if manifest is not None:
-            # what the file's model must hold (the mujoco port's, read from disk)
+            manifest, problems = validate(loaded.data, maxima, checker, str(path))
+        if manifest is not None and check:  # the port's own open (rozrun --check)
             problems = [Problem(rule, message)
-                        for rule, message in mujoco.check_model(manifest, path)]
-            if check and not problems:  # the port's own open (rozrun --check)
-                problems = [Problem(rule, message)
-                            for rule, message in mujoco.check_open(manifest, path)]
+                        for rule, message in mujoco.check_open(manifest, path)]
             if problems:
                 manifest = None
         report(path, problems)
