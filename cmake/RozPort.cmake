@@ -25,24 +25,29 @@
 # transport (so that roz_manifest_json, and through it rozgen, runs them):
 #
 #   roz_add_port_rules(PORT socketcan TARGET roz_can HEADER roz/port/can_config.h
-#                      FUNCTION roz_can_config_check [FILES_FUNCTION fn])
+#                      FUNCTION roz_can_config_check RULE_IDS roz_can_rule_ids
+#                      [FILES_FUNCTION fn])
 #
 # PORT is the name robot.toml's [hardware] port gives; FUNCTION has the shape
 #   int FUNCTION(const roz_manifest_t *m, roz_port_rules_report_fn report, void *ctx);
 # and reports every problem (report(ctx, rule id, text after the file name))
 # of a manifest that passed the robot.toml rules, returning ROZ_OK or
-# ROZ_EINVAL. FILES_FUNCTION, for a port whose keys name files (the mujoco
+# ROZ_EINVAL. RULE_IDS names the port's rule ids and what each refuses,
+# beside its rules:
+#   const char *const RULE_IDS[] = { "can-id\tsocketcan port: two joints ...", ..., NULL };
+# (roz_manifest_json --list-rules prints them; rozgen --list-rules and
+# rozgen's rule ids take them from there). FILES_FUNCTION, for a port whose keys name files (the mujoco
 # port's model), runs after it passed, with the robot.toml's path:
 #   int FILES_FUNCTION(const roz_manifest_t *m, const char *robot_toml,
 #                      roz_port_rules_report_fn report, void *ctx);
 # roz_port_rules_generate() writes the table, roz/port_rules.h (library
 # roz_port_rules).
 function(roz_add_port_rules)
-  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION;FILES_FUNCTION" "" ${ARGN})
+  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION;FILES_FUNCTION;RULE_IDS" "" ${ARGN})
   if(NOT R_FILES_FUNCTION)
     set(R_FILES_FUNCTION NULL)
   endif()
-  foreach(k IN ITEMS PORT TARGET HEADER FUNCTION)
+  foreach(k IN ITEMS PORT TARGET HEADER FUNCTION RULE_IDS)
     if(NOT R_${k})
       message(FATAL_ERROR "roz_add_port_rules: ${k} is required")
     endif()
@@ -53,7 +58,7 @@ function(roz_add_port_rules)
   endif()
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_PORTS ${R_PORT})
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES
-               "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}|${R_FILES_FUNCTION}")
+               "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}|${R_FILES_FUNCTION}|${R_RULE_IDS}")
 endfunction()
 
 # Writes the table of the port rules registered so far: roz/port_rules.h and
@@ -72,11 +77,12 @@ function(roz_port_rules_generate)
     list(GET e 2 header)
     list(GET e 3 fn)
     list(GET e 4 files_fn)
+    list(GET e 5 ids)
     list(APPEND libs ${target})
     string(APPEND includes "#include \"${header}\"\n")
-    string(APPEND rows "    { \"${port}\", ${fn}, ${files_fn} },\n")
+    string(APPEND rows "    { \"${port}\", ${fn}, ${files_fn}, ${ids} },\n")
   endforeach()
-  string(APPEND rows "    { NULL, NULL, NULL },\n")
+  string(APPEND rows "    { NULL, NULL, NULL, NULL },\n")
   file(CONFIGURE OUTPUT ${dir}/include/roz/port_rules.h @ONLY CONTENT [=[
 /* SPDX-License-Identifier: Apache-2.0 */
 /* @banner@ */
@@ -90,6 +96,8 @@ function(roz_port_rules_generate)
 #define ROZ_PORT_RULES_H
 
 #include "roz/config.h"
+
+#include <stddef.h>
 
 #include "roz/manifest.h"
 
@@ -114,11 +122,17 @@ typedef struct roz_port_rules {
      *  none. Context: host tools; may allocate. */
     int (*check_files)(const roz_manifest_t *m, const char *robot_toml,
                        roz_port_rules_report_fn report, void *ctx);
+    /** Its rule ids and what each refuses, "<id>\t<what>", NULL-ended. */
+    const char *const *rule_ids;
 } roz_port_rules_t;
 
 /** @brief The rules of the port @p port names; NULL when it has none here
  *  (its keys are then checked by the port alone, at open). Context: any. */
 const roz_port_rules_t *roz_port_rules_find(const char *port);
+
+/** @brief The @p i-th port's rules, in registration order; NULL past the
+ *  last. Context: any. */
+const roz_port_rules_t *roz_port_rules_at(size_t i);
 
 #ifdef __cplusplus
 }
@@ -144,6 +158,11 @@ const roz_port_rules_t *roz_port_rules_find(const char *port)
             return &rules[i];
     }
     return NULL;
+}
+
+const roz_port_rules_t *roz_port_rules_at(size_t i)
+{
+    return i < sizeof rules / sizeof rules[0] - 1 ? &rules[i] : NULL;
 }
 ]=])
   add_library(roz_port_rules STATIC EXCLUDE_FROM_ALL ${dir}/port_rules.c)

@@ -36,6 +36,7 @@ import tempfile
 from pathlib import Path
 
 from rozgen.model import Channel, Fall, Hardware, Manifest, Maxima
+from rozgen import problems as _problems
 from rozgen.problems import Problem
 
 ENV = "ROZ_MANIFEST_CHECKER"
@@ -139,6 +140,7 @@ def check(data: bytes, maxima: Maxima, checker: str,
     if origin is not None:
         command += ["--origin", origin]
     command.append("-")
+    _problems.used_checker = checker  # the ports' rule ids are this one's
     try:
         done = subprocess.run(command, input=data, capture_output=True)
     except OSError as e:

@@ -11,6 +11,7 @@
  *   roz_manifest_json [--check | --identity | --rozgen] [--error-ids]
  *                     [--max-commands N] [--max-states N] [--max-name-len N]
  *                     [--origin ROBOT_TOML] FILE
+ *   roz_manifest_json --list-rules
  *
  *   --check      validate only, print nothing when the file is valid
  *   --identity   print "<robot_id> <interface hash>" as `rozgen --identity`
@@ -22,6 +23,8 @@
  *   --error-ids  prefix every problem with its rule id: [limits-order] ...
  *   --max-*      the maxima of the build the tables are for (rozgen's
  *                options); default this build's ROZ_CFG_MAX_*
+ *   --list-rules the ports' rule ids this build holds and what each
+ *                refuses, "<id>\t<what>" a line (rozgen --list-rules)
  *   --origin     the path of the robot.toml read from stdin (FILE "-"):
  *                the files its keys name (a model) are taken relative to
  *                its folder and named so in the messages; default FILE
@@ -77,12 +80,33 @@ static int port_checks(const roz_manifest_t *m, const char *origin, printer_t *p
     return 0;
 }
 
+/* Every registered port's rule ids, once each, in registration order. */
+static int list_rules(void)
+{
+    const roz_port_rules_t *r;
+    for (size_t i = 0; (r = roz_port_rules_at(i)) != NULL; i++) {
+        for (const char *const *row = r->rule_ids; *row != NULL; row++) {
+            const char *tab = strchr(*row, '\t');
+            size_t n = tab != NULL ? (size_t)(tab - *row) + 1 : strlen(*row);
+            int seen = 0;
+            for (size_t k = 0; k < i && !seen; k++) {
+                for (const char *const *o = roz_port_rules_at(k)->rule_ids; *o && !seen; o++)
+                    seen = strncmp(*o, *row, n) == 0;
+            }
+            if (!seen)
+                printf("%s\n", *row);
+        }
+    }
+    return 0;
+}
+
 static int usage(void)
 {
     fprintf(stderr, "usage: roz_manifest_json [--check | --identity | --rozgen] [--error-ids]\n"
                     "                         [--max-commands N] [--max-states N] "
                     "[--max-name-len N]\n"
-                    "                         [--origin ROBOT_TOML] FILE\n");
+                    "                         [--origin ROBOT_TOML] FILE\n"
+                    "       roz_manifest_json --list-rules\n");
     return 2;
 }
 
@@ -138,6 +162,8 @@ int main(int argc, char **argv)
             rc = maximum(argv[i++], next, ROZ_CFG_MAX_STATES, &max.states);
         else if (strcmp(argv[i], "--max-name-len") == 0)
             rc = maximum(argv[i++], next, ROZ_MANIFEST_TOML_MAX_NAME_LEN, &max.name_len);
+        else if (strcmp(argv[i], "--list-rules") == 0 && argc == 2)
+            return list_rules();
         else if (strcmp(argv[i], "--origin") == 0 && next != NULL)
             origin = argv[++i];
         else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)

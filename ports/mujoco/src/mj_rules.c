@@ -518,3 +518,22 @@ int roz_mujoco_check_model(const roz_manifest_t *m, const char *robot_toml,
     roz__mjcf_free(&mj);
     return rc == ROZ_OK ? ROZ_OK : ROZ_EINVAL;
 }
+
+/* The rule ids of the mujoco port's rules, "<id>\t<what it refuses>", NULL-ended:
+ * its registration's RULE_IDS (roz_manifest_json --list-rules). */
+const char *const roz_mujoco_rule_ids[] = {
+    "mujoco-param\tmujoco port: a [hardware.params] value its parser refuses before "
+    "it loads the model (a number out of range, an unknown unbound)",
+    "mujoco-model\tmujoco port: the model the file names cannot be read (missing, not "
+    "XML, an include that cannot be read), or none is named for a robot without a "
+    "built-in one",
+    "mujoco-joint\tmujoco port: a manifest joint with no joint of that name in the "
+    "model (or joint_names), not a hinge or slide, or driven by no actuator",
+    "mujoco-imu\tmujoco port: base_imu channels, and the model has no such gyro (on a "
+    "site) or accelerometer",
+    "mujoco-effort\tmujoco port: a joint's effort limit that its actuator's force "
+    "range cannot give, or no effort limit at all (and, under --check where a rozrun "
+    "is found, the port's own: an effort channel wider than its motor's ctrlrange "
+    "times gear and gain)",
+    NULL,
+};

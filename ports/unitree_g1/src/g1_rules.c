@@ -212,3 +212,16 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     }
     return roz__g1_parse_params(&g1, &p, err, sizeof err, roz_params_report, &to);
 }
+
+/* The rule ids of the unitree/G1 port's rules, "<id>\t<what it refuses>", NULL-ended:
+ * its registration's RULE_IDS (roz_manifest_json --list-rules). */
+const char *const roz_unitree_g1_rule_ids[] = {
+    "g1-joint\tunitree/G1 port: [hardware] joints lists none, more than the G1 has, a "
+    "name that is not one of its SDK joint names, or a joint without a channel",
+    "g1-channel\tunitree/G1 port: a channel that is not a listed joint's or the "
+    "IMU's, or one of another type than the port serves under its name",
+    "g1-param\tunitree/G1 port: a [hardware.params] value its parser refuses (a "
+    "number out of range, an unknown mode_pr, a damping gain a damping channel does "
+    "not allow)",
+    NULL,
+};

@@ -209,6 +209,10 @@ int roz_mujoco_check(const roz_manifest_t *m, roz_params_problem_fn report, void
 int roz_mujoco_check_model(const roz_manifest_t *m, const char *robot_toml,
                            roz_params_problem_fn report, void *ctx);
 
+/** The rule ids of roz_mujoco_check() and roz_mujoco_check_model(), "<id>\t<what it
+ *  refuses>", NULL-ended (its registration's RULE_IDS: roz_manifest_json --list-rules). */
+extern const char *const roz_mujoco_rule_ids[];
+
 /* The library half of the constructor below: the caller's layout and
  * instance size, refused when they are not the library's. */
 roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,
