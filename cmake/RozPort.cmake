@@ -41,7 +41,34 @@
 #   int FILES_FUNCTION(const roz_manifest_t *m, const char *robot_toml,
 #                      roz_port_rules_report_fn report, void *ctx);
 # roz_port_rules_generate() writes the table, roz/port_rules.h (library
-# roz_port_rules).
+# roz_port_rules). The rules library is installed and exported (rozTargets)
+# with the calling folder's include/roz headers, whether the port is built
+# or not.
+#
+# A port folder's other libraries (the plumbing ports share: roz::dds,
+# roz::ros2, ...) are installed and exported the same way:
+#
+#   roz_port_export(TARGETS roz_dds [CONFIG "find_dependency(CycloneDDS CONFIG)"])
+#
+# CONFIG: what the installed package's rozConfig.cmake runs before it
+# includes the targets (a dependency they link). cmake/RozInstall.cmake
+# names no port.
+function(roz_port_export)
+  cmake_parse_arguments(E "" "CONFIG" "TARGETS" ${ARGN})
+  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_EXPORTS ${E_TARGETS})
+  if(E_CONFIG)
+    set_property(GLOBAL APPEND_STRING PROPERTY ROZ_PORT_PACKAGE_CONFIG "${E_CONFIG}\n")
+  endif()
+  _roz_port_install_headers()
+endfunction()
+
+function(_roz_port_install_headers)
+  if(ROZ_INSTALL AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include/roz)
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/roz
+            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+  endif()
+endfunction()
+
 function(roz_add_port_rules)
   cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION;FILES_FUNCTION;RULE_IDS" "" ${ARGN})
   if(NOT R_FILES_FUNCTION)
@@ -59,6 +86,7 @@ function(roz_add_port_rules)
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_PORTS ${R_PORT})
   set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES
                "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}|${R_FILES_FUNCTION}|${R_RULE_IDS}")
+  roz_port_export(TARGETS ${R_TARGET})
 endfunction()
 
 # Writes the table of the port rules registered so far: roz/port_rules.h and
@@ -208,11 +236,7 @@ function(roz_add_port)
     string(REGEX REPLACE "^roz_" "" exported ${t})
     set_target_properties(${t} PROPERTIES EXPORT_NAME ${exported})
   endforeach()
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_EXPORTS ${P_EXPORT} ${P_TARGET})
-  if(ROZ_INSTALL)
-    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/roz
-            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-  endif()
+  roz_port_export(TARGETS ${P_EXPORT} ${P_TARGET})
 endfunction()
 
 # Writes the registry of the ports registered so far and defines roz_ports.
