@@ -7,9 +7,9 @@
 #   include/roz/             the public headers (roz/features.h included)
 #   include/roz/sdk/         the controller SDK (roz_controller.h), roz::sdk
 #   include/roz/manifests/   the built-in manifests' generated headers
-#   lib/                     the static libraries (roz::can and roz::port_socketcan
-#                            among them where built) (roz::dds and the DDS ports where
-#                            Cyclone DDS was found: the package then needs it too)
+#   lib/                     the static libraries: the registered ports' and their
+#                            rules' (cmake/RozPort.cmake; roz::dds and the DDS ports
+#                            where Cyclone DDS was found: the package then needs it too)
 #   lib/cmake/roz/           the package: rozConfig.cmake, targets, RozGenerate.cmake, RozWasm.cmake,
 #                            RozRust.cmake, toolchains/ (the Cortex-M toolchain files)
 #   lib/roz/python/          rozgen and its pinned dependencies (RozInstallRozgen.cmake)
@@ -34,36 +34,11 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/sdk/rust/src DESTINATION ${ROZ_INSTALL_R
         FILES_MATCHING PATTERN "*.rs")
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/hal/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
         FILES_MATCHING PATTERN "*.h")
-# The DDS ports (hosts with Cyclone DDS): rozConfig.cmake then finds
-# CycloneDDS first, since the static libraries link it.
-# The mujoco port: rozConfig.cmake gives MuJoCo::mujoco from lib/roz.
-set(ROZ_INSTALL_WITH_MUJOCO OFF)
-set(ROZ_MUJOCO_SONAME "")
-if(TARGET roz_port_mujoco)
-  set(ROZ_INSTALL_WITH_MUJOCO ON)
-  get_target_property(ROZ_MUJOCO_SONAME MuJoCo::mujoco IMPORTED_SONAME)
-endif()
-set(ROZ_INSTALL_WITH_DDS OFF)
-if(TARGET roz_dds)
-  set(ROZ_INSTALL_WITH_DDS ON)
-  list(APPEND _roz_targets roz_dds_params roz_dds)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/dds/include/roz DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
-          FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_ros2)
-  # roz::ros2 and ROS 2's standard messages (idlc-generated, linked privately
-  # by it and by the ports' own generated types)
-  list(APPEND _roz_targets roz_ros2_msgs roz_ros2_rules roz_ros2)
-  set_target_properties(roz_ros2_msgs PROPERTIES EXPORT_NAME ros2_msgs)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/ros2/include/roz
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-endif()
-if(TARGET roz_can)
-  # the SocketCAN port's portable half (codec, keys)
-  list(APPEND _roz_targets roz_can)
-  install(DIRECTORY ${PROJECT_SOURCE_DIR}/ports/socketcan/include/roz
-          DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-endif()
+# The ports' libraries, their rules' and the plumbing they share, with their
+# headers, and what the package must find first for them: the registry's
+# (roz_add_port(), roz_add_port_rules(), roz_port_export() in
+# cmake/RozPort.cmake), below.
+get_property(ROZ_PORT_PACKAGE_CONFIG GLOBAL PROPERTY ROZ_PORT_PACKAGE_CONFIG)
 if(TARGET roz_wasm3)
   # Static roz_core links it PRIVATE, so a consumer's link line needs it.
   list(APPEND _roz_targets roz_wasm3)
@@ -96,6 +71,7 @@ if(ROZ_CONFIG_HEADER AND TARGET roz_config)
 endif()
 get_property(_roz_port_targets GLOBAL PROPERTY ROZ_PORT_EXPORTS)
 list(APPEND _roz_targets ${_roz_port_targets})
+list(REMOVE_DUPLICATES _roz_targets)
 install(TARGETS ${_roz_targets} EXPORT rozTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})

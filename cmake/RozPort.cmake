@@ -45,19 +45,60 @@ endfunction()
 # transport (so that roz_manifest_json, and through it rozgen, runs them):
 #
 #   roz_add_port_rules(PORT socketcan TARGET roz_can HEADER roz/port/can_config.h
-#                      FUNCTION roz_can_config_check)
+#                      FUNCTION roz_can_config_check RULE_IDS roz_can_rule_ids
+#                      [FILES_FUNCTION fn])
 #
 # PORT is the name robot.toml's [hardware] port gives; FUNCTION has the shape
 #   int FUNCTION(const roz_manifest_t *m, roz_port_rules_report_fn report, void *ctx);
 # and reports every problem (report(ctx, rule id, text after the file name))
 # of a manifest that passed the robot.toml rules, returning ROZ_OK or
-# ROZ_EINVAL. roz_port_rules_generate() writes the table, roz/port_rules.h
-# (library roz_port_rules).
+# ROZ_EINVAL. RULE_IDS names the port's rule ids and what each refuses,
+# beside its rules:
+#   const char *const RULE_IDS[] = { "can-id\tsocketcan port: two joints ...", ..., NULL };
+# (roz_manifest_json --list-rules prints them; rozgen --list-rules and
+# rozgen's rule ids take them from there). FILES_FUNCTION, for a port whose keys name files (the mujoco
+# port's model), runs after it passed, with the robot.toml's path:
+#   int FILES_FUNCTION(const roz_manifest_t *m, const char *robot_toml,
+#                      roz_port_rules_report_fn report, void *ctx);
+# roz_port_rules_generate() writes the table, roz/port_rules.h (library
+# roz_port_rules). The rules library is installed and exported (rozTargets)
+# with the calling folder's include/roz headers, whether the port is built
+# or not.
+#
+# A port folder's other libraries (the plumbing ports share: roz::dds,
+# roz::ros2, ...) are installed and exported the same way:
+#
+#   roz_port_export(TARGETS roz_dds [CONFIG "find_dependency(CycloneDDS CONFIG)"])
+#
+# CONFIG: what the installed package's rozConfig.cmake runs before it
+# includes the targets (a dependency they link). cmake/RozInstall.cmake
+# names no port.
+function(roz_port_export)
+  cmake_parse_arguments(E "" "CONFIG" "TARGETS" ${ARGN})
+  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_EXPORTS ${E_TARGETS})
+  if(E_CONFIG)
+    set_property(GLOBAL APPEND_STRING PROPERTY ROZ_PORT_PACKAGE_CONFIG "${E_CONFIG}\n")
+  endif()
+  _roz_port_install_headers()
+endfunction()
+
+function(_roz_port_install_headers)
+  if(ROZ_INSTALL AND EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include/roz)
+    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/roz
+            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+  endif()
+endfunction()
+
 function(roz_add_port_rules)
-  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION" "" ${ARGN})
-  roz__require(roz_add_port_rules R PORT TARGET HEADER FUNCTION)
+  cmake_parse_arguments(R "" "PORT;TARGET;HEADER;FUNCTION;FILES_FUNCTION;RULE_IDS" "" ${ARGN})
+  if(NOT R_FILES_FUNCTION)
+    set(R_FILES_FUNCTION NULL)
+  endif()
+  roz__require(roz_add_port_rules R PORT TARGET HEADER FUNCTION RULE_IDS)
   roz__register_once(roz_add_port_rules ROZ_PORT_RULES_PORTS ${R_PORT})
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}")
+  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_RULES_ENTRIES
+               "${R_PORT}|${R_TARGET}|${R_HEADER}|${R_FUNCTION}|${R_FILES_FUNCTION}|${R_RULE_IDS}")
+  roz_port_export(TARGETS ${R_TARGET})
 endfunction()
 
 # Writes the table of the port rules registered so far: roz/port_rules.h and
@@ -75,11 +116,13 @@ function(roz_port_rules_generate)
     list(GET e 1 target)
     list(GET e 2 header)
     list(GET e 3 fn)
+    list(GET e 4 files_fn)
+    list(GET e 5 ids)
     list(APPEND libs ${target})
     string(APPEND includes "#include \"${header}\"\n")
-    string(APPEND rows "    { \"${port}\", ${fn} },\n")
+    string(APPEND rows "    { \"${port}\", ${fn}, ${files_fn}, ${ids} },\n")
   endforeach()
-  string(APPEND rows "    { NULL, NULL },\n")
+  string(APPEND rows "    { NULL, NULL, NULL, NULL },\n")
   file(CONFIGURE OUTPUT ${dir}/include/roz/port_rules.h @ONLY CONTENT [=[
 /* SPDX-License-Identifier: Apache-2.0 */
 /* @banner@ */
@@ -93,6 +136,8 @@ function(roz_port_rules_generate)
 #define ROZ_PORT_RULES_H
 
 #include "roz/config.h"
+
+#include <stddef.h>
 
 #include "roz/manifest.h"
 
@@ -110,11 +155,24 @@ typedef struct roz_port_rules {
     /** ROZ_OK, or ROZ_EINVAL with every problem reported. Context: start-up
      *  or host tools; no heap. */
     int (*check_hardware)(const roz_manifest_t *m, roz_port_rules_report_fn report, void *ctx);
+    /** The rules on the files its keys name (a model), run once
+     *  check_hardware() passed; @p robot_toml is the file @p m was read
+     *  from (paths are relative to its folder; NULL: the working
+     *  directory). ROZ_OK, or ROZ_EINVAL with the problem reported. NULL:
+     *  none. Context: host tools; may allocate. */
+    int (*check_files)(const roz_manifest_t *m, const char *robot_toml,
+                       roz_port_rules_report_fn report, void *ctx);
+    /** Its rule ids and what each refuses, "<id>\t<what>", NULL-ended. */
+    const char *const *rule_ids;
 } roz_port_rules_t;
 
 /** @brief The rules of the port @p port names; NULL when it has none here
  *  (its keys are then checked by the port alone, at open). Context: any. */
 const roz_port_rules_t *roz_port_rules_find(const char *port);
+
+/** @brief The @p i-th port's rules, in registration order; NULL past the
+ *  last. Context: any. */
+const roz_port_rules_t *roz_port_rules_at(size_t i);
 
 #ifdef __cplusplus
 }
@@ -140,6 +198,11 @@ const roz_port_rules_t *roz_port_rules_find(const char *port)
             return &rules[i];
     }
     return NULL;
+}
+
+const roz_port_rules_t *roz_port_rules_at(size_t i)
+{
+    return i < sizeof rules / sizeof rules[0] - 1 ? &rules[i] : NULL;
 }
 ]=])
   add_library(roz_port_rules STATIC EXCLUDE_FROM_ALL ${dir}/port_rules.c)
@@ -177,11 +240,7 @@ function(roz_add_port)
     string(REGEX REPLACE "^roz_" "" exported ${t})
     set_target_properties(${t} PROPERTIES EXPORT_NAME ${exported})
   endforeach()
-  set_property(GLOBAL APPEND PROPERTY ROZ_PORT_EXPORTS ${P_EXPORT} ${P_TARGET})
-  if(ROZ_INSTALL)
-    install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/include/roz
-            DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
-  endif()
+  roz_port_export(TARGETS ${P_EXPORT} ${P_TARGET})
 endfunction()
 
 # Writes the registry of the ports registered so far and defines roz_ports.

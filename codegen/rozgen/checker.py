@@ -4,7 +4,9 @@
 Every rule of robot.toml, the TOML reader's refusals and the ports' rules
 of their [hardware] keys have one implementation, roz's C loader
 (``host/toml/src/manifest_toml.c``) and each port's registered check
-(``roz_add_port_rules()``: ``ports/socketcan/src/can_config.c``, ...),
+(``roz_add_port_rules()``: ``ports/socketcan/src/can_config.c``, ...,
+and the mujoco port's rules on the model a robot.toml names,
+``ports/mujoco/src/mj_rules.c``),
 as Cyclone DDS's idlc is the one parser of IDL. rozgen runs it as the
 program ``roz_manifest_json --rozgen`` (``tools/manifest_json``), which
 prints either every problem (``<rule>\\t<text>`` lines) or the manifest
@@ -34,6 +36,7 @@ import tempfile
 from pathlib import Path
 
 from rozgen.model import Channel, Fall, Hardware, Manifest, Maxima
+from rozgen import problems as _problems
 from rozgen.problems import Problem
 
 ENV = "ROZ_MANIFEST_CHECKER"
@@ -126,10 +129,18 @@ def _run(command: list[str], env: dict) -> None:
                            f"{done.stdout}{done.stderr}")
 
 
-def check(data: bytes, maxima: Maxima, checker: str) -> tuple[Manifest | None, list[Problem]]:
-    """Run the rules on a robot.toml's bytes: the model, or None and every problem."""
+def check(data: bytes, maxima: Maxima, checker: str,
+          origin: str | None = None) -> tuple[Manifest | None, list[Problem]]:
+    """Run the rules on a robot.toml's bytes: the model, or None and every
+    problem. ``origin`` is the file's path as given: the files its keys
+    name (the mujoco port's model) are read relative to its folder and
+    named so (None: the working directory)."""
     command = [checker, "--rozgen", "--max-commands", str(maxima.commands), "--max-states",
-               str(maxima.states), "--max-name-len", str(maxima.name_len), "-"]
+               str(maxima.states), "--max-name-len", str(maxima.name_len)]
+    if origin is not None:
+        command += ["--origin", origin]
+    command.append("-")
+    _problems.used_checker = checker  # the ports' rule ids are this one's
     try:
         done = subprocess.run(command, input=data, capture_output=True)
     except OSError as e:

@@ -25,7 +25,8 @@ from rozgen.load import load, source_label
 from rozgen.model import Manifest, Maxima
 from rozgen.output import write_if_changed
 from rozgen import mujoco
-from rozgen.problems import RULES, Problem
+from rozgen import problems as _problems
+from rozgen.problems import Problem, rules
 from rozgen.render import REGISTRY_FILE, Source, render_registry, render_robot
 from rozgen.validate import validate
 
@@ -111,8 +112,14 @@ def main(argv: list[str] | None = None) -> int:
     """Run rozgen; returns the exit status."""
     parser = _parser()
     args = parser.parse_args(argv)
-    if args.list_rules:
-        for rule, what in RULES.items():
+    if args.list_rules:  # the ports' come from their rules (roz_manifest_json --list-rules)
+        try:
+            _problems.used_checker = _checker.find(args.checker)
+            every = rules()
+        except _checker.CheckerError as e:
+            print(f"rozgen: {e}", file=sys.stderr)
+            return EXIT_ERROR
+        for rule, what in every.items():
             print(f"{rule:20} {what}")
         return EXIT_OK
     if not args.files:
@@ -159,14 +166,10 @@ def _load_all(files: list[str], maxima: Maxima, report: _Reporter,
         loaded = load(path)
         manifest, problems = None, loaded.problems
         if loaded.data is not None:
-            manifest, problems = validate(loaded.data, maxima, checker)
-        if manifest is not None:
-            # what the file's model must hold (the mujoco port's, read from disk)
+            manifest, problems = validate(loaded.data, maxima, checker, str(path))
+        if manifest is not None and check:  # the port's own open (rozrun --check)
             problems = [Problem(rule, message)
-                        for rule, message in mujoco.check_model(manifest, path)]
-            if check and not problems:  # the port's own open (rozrun --check)
-                problems = [Problem(rule, message)
-                            for rule, message in mujoco.check_open(manifest, path)]
+                        for rule, message in mujoco.check_open(manifest, path)]
             if problems:
                 manifest = None
         report(path, problems)

@@ -5,13 +5,19 @@ A problem prints as ``<file><message>``; ``message`` starts with ``": "``
 (or ``":<line>:<col>: "`` for TOML syntax errors). With ``--error-ids`` the
 line is prefixed by ``[<rule>] ``. The rules are roz's C loader's
 (``rozgen.checker``), which reports the same ids; their descriptions are
-in ``RULES``, and each has a fixture in manifests/invalid/.
+in ``RULES`` (robot.toml's own here, each port's beside its rules in C:
+``roz_manifest_json --list-rules``), and each has a fixture in
+manifests/invalid/.
 """
 
+import subprocess
 from dataclasses import dataclass, field
+from functools import cache
 
-#: Every rule id, in documentation order, with what it refuses.
-RULES: dict[str, str] = {
+#: robot.toml's own rule ids, in documentation order, with what each
+#: refuses; the ports' come from their rules (``ports()``), after
+#: ``no-commands`` ... ``duplicate-joint``, before ``storage``.
+_OWN: dict[str, str] = {
     "io-error": "the file cannot be read (or an output cannot be written)",
     "utf8": "the file is not valid UTF-8",
     "toml-syntax": "the file is not valid TOML",
@@ -60,48 +66,49 @@ RULES: dict[str, str] = {
     "or ROZ_CFG_MAX_STATES (--max-commands, --max-states)",
     "joint-name": "a hardware joint name is empty",
     "duplicate-joint": "a hardware joint is listed twice",
-    "can-param": "socketcan port: a [hardware.params] key of a CAN robot is missing or "
-    "malformed (an entry, a number, a range, a layout)",
-    "can-id": "socketcan port: two joints share a CAN id or its low byte (a reply's id), "
-    "or one is master_id",
-    "can-joint": "socketcan port: a hardware joint name it cannot use, none at all, or a "
-    "joint without a channel",
-    "can-channel": "socketcan port: a channel that is not JOINT/<type> of a hardware joint "
-    "with a type it carries",
-    "can-range": "socketcan port: an actuator's range does not hold the limits of one of "
-    "its joint's channels",
-    "can-bus": "socketcan port: one joint's frames overrun the bus in a round, or "
-    "reply_timeout_us is shorter than two command intervals",
-    "g1-joint": "unitree/G1 port: [hardware] joints lists none, more than the G1 has, a name "
-    "that is not one of its SDK joint names, or a joint without a channel",
-    "g1-channel": "unitree/G1 port: a channel that is not a listed joint's or the IMU's, or "
-    "one of another type than the port serves under its name",
-    "g1-param": "unitree/G1 port: a [hardware.params] value its parser refuses (a number out "
-    "of range, an unknown mode_pr, a damping gain a damping channel does not allow)",
-    "ros2-joint": "ROS 2 ports (agibot/X2, engineai/PM01): [hardware] joints lists none, more "
-    "than the robot has, a name that is not one of its joints, or a joint without a channel",
-    "ros2-channel": "ROS 2 ports: a channel that is not a listed joint's or the IMU's, or one "
-    "of another type than the port serves under its name",
-    "ros2-param": "ROS 2 ports: a [hardware.params] value their parser refuses (a number out "
-    "of range, an unknown link_check or layout, a damping gain a damping channel does not "
-    "allow)",
-    "mujoco-param": "mujoco port: a [hardware.params] value its parser refuses before it "
-    "loads the model (a number out of range, an unknown unbound)",
-    "mujoco-model": "mujoco port: the model the file names cannot be read (missing, not "
-    "XML, an include that cannot be read), or none is named for a robot without a built-in one",
-    "mujoco-joint": "mujoco port: a manifest joint with no joint of that name in the model "
-    "(or joint_names), not a hinge or slide, or driven by no actuator",
-    "mujoco-imu": "mujoco port: base_imu channels, and the model has no such gyro (on a "
-    "site) or accelerometer",
-    "mujoco-effort": "mujoco port: a joint's effort limit that its actuator's force range "
-    "cannot give, or no effort limit at all (and, under --check where a rozrun is found, "
-    "the port's own: an effort channel wider than its motor's ctrlrange times gear and gain)",
     "storage": "a limit of the build of roz_manifest_json that checks the file: more than "
     "ROZ_CFG_MAX_JOINTS hardware joints or ROZ_CFG_MAX_PARAMS parameters, names beyond "
     "ROZ_CFG_NAME_ARENA_BYTES, a document beyond its reader's room",
     "duplicate-robot-id": "two files given together have the same robot_id",
     "source-root": "a file is not under --source-root",
 }
+
+#: the rows after the ports'
+_LAST = ("storage", "duplicate-robot-id", "source-root")
+
+
+#: the roz_manifest_json that checked a file last (rozgen.checker.check())
+used_checker: str | None = None
+
+
+@cache
+def ports() -> dict[str, str]:
+    """The ports' rule ids and what each refuses, as their rules in C say
+    (``roz_manifest_json --list-rules``: every registered port's)."""
+    from rozgen import checker  # it needs Problem: not at import
+
+    tool = used_checker or checker.find()
+    try:
+        done = subprocess.run([tool, "--list-rules"], capture_output=True, text=True)
+    except OSError as e:
+        raise checker.CheckerError(f"{tool}: cannot run: {e.strerror or e}") from None
+    if done.returncode != 0:
+        raise checker.CheckerError(f"{tool} --list-rules failed: {done.stderr.strip()}")
+    return dict(line.split("\t", 1) for line in done.stdout.splitlines() if "\t" in line)
+
+
+@cache
+def rules() -> dict[str, str]:
+    """Every rule id, in documentation order, with what it refuses."""
+    own = [(k, v) for k, v in _OWN.items() if k not in _LAST]
+    return dict(own + list(ports().items()) + [(k, _OWN[k]) for k in _LAST])
+
+
+def __getattr__(name: str):
+    if name == "RULES":  # every rule id: robot.toml's and the ports' (rules())
+        return rules()
+    raise AttributeError(name)
+
 
 #: Rules that no single robot.toml can break (they need several files, the
 #: file system or --source-root), hence without a fixture in manifests/invalid.
@@ -118,7 +125,7 @@ class Problem:
     order: tuple = field(default=(), compare=False)  # sort key within a file
 
     def __post_init__(self) -> None:
-        if self.rule not in RULES:
+        if self.rule not in _OWN and self.rule not in rules():
             raise ValueError(f"undocumented rule id {self.rule!r}")
 
     def render(self, file: str, with_id: bool = False) -> str:

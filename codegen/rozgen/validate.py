@@ -5,8 +5,7 @@
 robot.toml's bytes or every problem found. The rules themselves, from the
 TOML reader's refusals to the ports' [hardware] keys, are roz's C loader's
 and the ports' registered checks (``rozgen.checker``: their one
-implementation; the mujoco port's rules that need its model run after,
-``rozgen.mujoco``). It never
+implementation, the mujoco port's rules on its model among them). It never
 stops at the first problem, and it never guesses: unknown keys are refused,
 because a typo such as ``max_rate = 0.5`` must not silently drop a safety
 limit.
@@ -34,13 +33,15 @@ from rozgen.model import Manifest, Maxima
 from rozgen.problems import Problem
 
 
-def validate(data: bytes | str, maxima: Maxima = Maxima(),
-             checker: str | None = None) -> tuple[Manifest | None, list[Problem]]:
+def validate(data: bytes | str, maxima: Maxima = Maxima(), checker: str | None = None,
+             origin: str | None = None) -> tuple[Manifest | None, list[Problem]]:
     """Check a robot.toml's bytes (or text); the model, or None and the problems.
 
     ``checker`` is roz_manifest_json's path (default: ``rozgen.checker.find()``);
-    raises ``rozgen.checker.CheckerError`` when it cannot run.
+    raises ``rozgen.checker.CheckerError`` when it cannot run. ``origin``
+    is the file's path as given (the files its keys name are read relative
+    to its folder; None: the working directory).
     """
     if isinstance(data, str):
         data = data.encode("utf-8")
-    return _checker.check(data, maxima, checker or _checker.find())
+    return _checker.check(data, maxima, checker or _checker.find(), origin)

@@ -1,15 +1,16 @@
 # SPDX-License-Identifier: Apache-2.0
-"""rozgen reads the MJCF model a mujoco robot.toml names and refuses, in the
-port's words, what the port's open would refuse against it (the refusals
-themselves are the manifests/invalid/mujoco-* vectors, test_invalid.py;
-test/ports/common/test_port_vectors.c opens the same files through the port). Here:
-the built-in robots pass against their built-in models, the model is found
-relative to the robot.toml (not the working directory), and the reader's
-own limits (includes, defaults)."""
+"""rozgen refuses, in the port's words, what the mujoco port's open would
+refuse of the model a robot.toml names: the rules are the port's, in C
+(ports/mujoco/src/mj_rules.c, on the MJCF reader of mjcf_scan.c), run by
+rozgen's checker (the refusals themselves are the manifests/invalid/mujoco-*
+vectors, test_invalid.py; test/ports/common/test_port_vectors.c opens the
+same files through the port). Here: the built-in robots pass against their
+built-in models, the model is found relative to the robot.toml (not the
+working directory), and the reader's own limits (includes, defaults)."""
 
-import dataclasses
 import importlib.util
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -19,8 +20,6 @@ from pathlib import Path
 import pytest
 
 from conftest import INVALID, MANIFESTS, REPO, run_rozgen
-from rozgen import mjcf, mujoco
-from rozgen.model import Hardware
 from rozgen.validate import validate
 
 PENDULUM = REPO / "test" / "ports" / "mujoco" / "pendulum.toml"
@@ -53,6 +52,18 @@ def _builtin_models() -> dict[str, tuple[Path | None, tuple]]:
     return out
 
 
+def _on_mujoco(text: str, joints=(), params=()) -> str:
+    """A robot.toml's text with its [hardware] (its last table) the mujoco
+    port's, with @p joints and @p params."""
+    body = text.split("\n[hardware]")[0]
+    hw = '\n[hardware]\nport = "mujoco"\n'
+    if joints:
+        hw += "joints = [" + ", ".join(f'"{j}"' for j in joints) + "]\n"
+    if params:
+        hw += "\n[hardware.params]\n" + "".join(f'{k} = "{v}"\n' for k, v in params)
+    return body + hw
+
+
 @pytest.mark.parametrize("robot", sorted(_builtin_models()))
 def test_builtin_robots_pass_against_their_models(robot):
     model, params = _builtin_models()[robot]
@@ -60,45 +71,35 @@ def test_builtin_robots_pass_against_their_models(robot):
         pytest.skip(f"the model wheel of {robot} is not installed (tools/setup.sh)")
     assert model.is_file(), model
     path = MANIFESTS / f"{robot}.toml"
-    m, problems = validate(path.read_text(encoding="utf-8"))
+    text = path.read_text(encoding="utf-8")
+    m, problems = validate(text)
     assert not problems
     joints = m.hardware.joints if m.hardware is not None else ()
-    hw = Hardware("mujoco", joints, tuple(sorted((("model", str(model)),) + params)))
-    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), str(path)) == []
+    params = tuple(sorted((("model", str(model)),) + params))
+    _, problems = validate(_on_mujoco(text, joints, params), origin=str(path))
+    assert problems == []
     # and with an effort limit past what the model gives, refused
     if robot.startswith("unitree_g1"):
-        knee = next(c for c in m.commands if c.name == "left_knee_joint/effort")
-        bad = dataclasses.replace(knee, min=-500.0, max=500.0)
-        cmds = tuple(bad if c is knee else c for c in m.commands)
-        problems = mujoco.check_model(dataclasses.replace(m, hardware=hw, commands=cmds),
-                                      str(path))
-        assert problems and problems[0][0] == "mujoco-effort"
+        knee = text.index('name = "left_knee_joint/effort"')
+        lim = text.index("limits", knee)
+        bad = text[:lim] + "limits = [-500.0, 500.0]" + text[text.index("\n", lim):]
+        _, problems = validate(_on_mujoco(bad, joints, params), origin=str(path))
+        assert problems and problems[0].rule == "mujoco-effort"
         assert 'joint "left_knee_joint": the manifest\'s effort limits [-500, 500] N.m' \
-            in problems[0][1]
-        assert "can give, [-139, 139]" in problems[0][1]
+            in problems[0].message
+        assert "can give, [-139, 139]" in problems[0].message
 
 
-def test_builtin_list_is_the_ports():
-    """rozgen's built-in robots are the port's: one descriptor each."""
-    assert sorted(mujoco.BUILTIN) == sorted(_builtin_models())
-
-
-@pytest.mark.parametrize("robot", ["agibot_x2", "unitree_g1_12dof"])
+@pytest.mark.parametrize("robot", ["agibot_x2", "unitree_g1_12dof", "ur5"])
 def test_builtin_robots_without_a_model_are_accepted(robot):
     """A robot.toml of one of them naming no model is the port's to load
-    (it was refused: "this build has no built-in model")."""
-    m, problems = validate((MANIFESTS / f"{robot}.toml").read_text(encoding="utf-8"))
+    (it was refused: "this build has no built-in model"); the built-in
+    robots are the port's descriptors, ports/mujoco/models/."""
+    text = (MANIFESTS / f"{robot}.toml").read_text(encoding="utf-8")
+    m, problems = validate(text)
     assert not problems
-    hw = Hardware("mujoco", m.hardware.joints if m.hardware is not None else (), ())
-    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), f"{robot}.toml") == []
-
-
-def test_builtin_robots_leave_the_model_to_the_port():
-    """A robot.toml of a built-in robot may name no model: the port loads
-    its build's (docs/ports/mujoco.md)."""
-    m, _ = validate((MANIFESTS / "ur5.toml").read_text(encoding="utf-8"))
-    hw = Hardware("mujoco", (), ())
-    assert mujoco.check_model(dataclasses.replace(m, hardware=hw), "ur5.toml") == []
+    joints = m.hardware.joints if m.hardware is not None else ()
+    assert validate(_on_mujoco(text, joints), origin=f"{robot}.toml")[1] == []
 
 
 def test_model_relative_to_the_robot_toml(tmp_path):
@@ -119,10 +120,23 @@ def test_generate_refuses_too(tmp_path):
     assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
 
 
+def _refusal(tmp_path, model: str, joints: tuple = ("swing",), effort=(-4.0, 4.0)) -> str:
+    """What rozgen --check says of a robot.toml beside the model @p model
+    names, whose joints each have an effort command of limits @p effort."""
+    text = '[manifest]\nrobot_id = "reader"\nrobot_class = "generic"\ncontrol_rate_hz = 100\n'
+    for j in joints:
+        text += (f'\n[[manifest.commands]]\nname = "{j}/effort"\ninterface_type = "effort"\n'
+                 f'unit = "N.m"\nlimits = [{effort[0]}, {effort[1]}]\ndefault = 0.0\n')
+    text += f'\n[hardware]\nport = "mujoco"\n\n[hardware.params]\nmodel = "{model}"\n'
+    (tmp_path / "robot.toml").write_text(text, encoding="utf-8")
+    result = run_rozgen("--check", "robot.toml", cwd=tmp_path)
+    assert "Traceback" not in result.stderr
+    return result.stderr if result.returncode == 2 else ""
+
+
 def test_include_that_includes_itself(tmp_path):
     (tmp_path / "loop.xml").write_text('<mujoco><include file="loop.xml"/></mujoco>')
-    with pytest.raises(mjcf.ModelError, match="includes nested more than 16 deep"):
-        mjcf.load(str(tmp_path / "loop.xml"))
+    assert "includes nested more than 16 deep" in _refusal(tmp_path, "loop.xml")
 
 
 def test_include_fan_out_bounded(tmp_path):
@@ -131,43 +145,38 @@ def test_include_fan_out_bounded(tmp_path):
     for k in range(15):
         inc = f'<include file="f{k + 1}.xml"/>' * 4 if k < 14 else "<body/>"
         (tmp_path / f"f{k}.xml").write_text(f"<mujoco><worldbody>{inc}</worldbody></mujoco>")
-    with pytest.raises(mjcf.ModelError, match=r'f\d+\.xml">: more than 256 includes in all '
-                                               r"\(this reader's limit\)"):
-        mjcf.load(str(tmp_path / "f0.xml"))
+    said = _refusal(tmp_path, "f0.xml")
+    assert re.search(r'f\d+\.xml">: more than 256 includes in all \(this reader\'s limit\)',
+                     said), said
 
 
-def test_include_total_size_bounded(tmp_path, monkeypatch):
-    """Every file's bytes count against one total: an include read twice
-    counts twice."""
-    monkeypatch.setattr(mjcf, "MAX_BYTES", 4096)
-    (tmp_path / "big.xml").write_text("<mujoco>" + " " * 3000 + "</mujoco>")
+def test_include_total_size_bounded(tmp_path):
+    """Every file's bytes count against one total (32 MiB): an include read
+    twice counts twice."""
+    (tmp_path / "big.xml").write_text("<mujoco>" + " " * (17 << 20) + "</mujoco>")
     (tmp_path / "m.xml").write_text('<mujoco><include file="big.xml"/>'
                                     '<include file="big.xml"/></mujoco>')
-    with pytest.raises(mjcf.ModelError, match='big.xml">: the model\'s XML passes 4096 bytes'):
-        mjcf.load(str(tmp_path / "m.xml"))
+    assert 'big.xml">: the model\'s XML passes 33554432 bytes' in _refusal(tmp_path, "m.xml")
 
 
 def test_include_of_a_device_refused(tmp_path):
     """/dev/zero (read until memory runs out) and a folder: not regular files."""
     (tmp_path / "m.xml").write_text('<mujoco><include file="/dev/zero"/></mujoco>')
-    with pytest.raises(mjcf.ModelError, match='"/dev/zero">: not a regular file'):
-        mjcf.load(str(tmp_path / "m.xml"))
+    assert '"/dev/zero">: not a regular file' in _refusal(tmp_path, "m.xml")
     (tmp_path / "d").mkdir()
     (tmp_path / "m.xml").write_text('<mujoco><include file="d"/></mujoco>')
-    with pytest.raises(mjcf.ModelError, match='"d">: (not a regular file|cannot be read)'):
-        mjcf.load(str(tmp_path / "m.xml"))
+    assert '"d">: not a regular file' in _refusal(tmp_path, "m.xml")
 
 
 def test_not_mjcf(tmp_path):
     (tmp_path / "robot.urdf").write_text('<robot name="r"/>')
-    with pytest.raises(mjcf.ModelError, match=r"not an MJCF model \(its root is <robot>"):
-        mjcf.load(str(tmp_path / "robot.urdf"))
+    assert "robot.urdf: not an MJCF model (its root is <robot>, not <mujoco>)" in \
+        _refusal(tmp_path, "robot.urdf")
+    (tmp_path / "broken.xml").write_text('<mujoco>\n<worldbody></body></mujoco>')
+    assert "broken.xml: not XML: mismatched tag, line 2" in _refusal(tmp_path, "broken.xml")
 
 
-def test_defaults_inherit_and_childclass(tmp_path):
-    """A class inherits from the class around it; a joint without a class
-    takes its body's childclass; an actuator's own attribute wins."""
-    (tmp_path / "m.xml").write_text('''<mujoco>
+DEFAULTS = '''<mujoco>
   <default>
     <motor forcerange="-1 1"/>
     <default class="a"><joint actuatorfrcrange="-7 7"/>
@@ -179,13 +188,19 @@ def test_defaults_inherit_and_childclass(tmp_path):
       actuatorfrcrange="-1 1"/><geom size="0.1"/></body></body></worldbody>
   <actuator><motor name="mj" joint="j" class="b"/>
     <motor name="mk" joint="k" forcerange="-5 5" forcelimited="true"/></actuator>
-</mujoco>''')
-    model = mjcf.load(str(tmp_path / "m.xml"))
-    assert model.joints["j"].type == "hinge" and model.joints["j"].frc_range == (-7.0, 7.0)
-    assert model.joints["k"].type == "slide" and model.joints["k"].frc_range is None
-    mj, mk = model.actuators
-    assert (mj.gear, mj.force_range) == (3.0, (-1.0, 1.0))
-    assert (mk.gear, mk.force_range) == (1.0, (-5.0, 5.0))
+</mujoco>'''
+
+
+def test_defaults_inherit_and_childclass(tmp_path):
+    """A class inherits from the class around it; a joint without a class
+    takes its body's childclass; an actuator's own attribute wins: j's
+    motor gives gear 3 x [-1, 1] within the joint's [-7, 7], k's its own
+    [-5, 5] (the joint's range switched off)."""
+    (tmp_path / "m.xml").write_text(DEFAULTS)
+    assert 'actuator "mj" can give, [-3, 3]' in _refusal(tmp_path, "m.xml", ("j",))
+    assert _refusal(tmp_path, "m.xml", ("j",), (-3.0, 3.0)) == ""
+    assert 'actuator "mk" can give, [-5, 5]' in _refusal(tmp_path, "m.xml", ("k",), (-6.0, 6.0))
+    assert _refusal(tmp_path, "m.xml", ("k",), (-5.0, 5.0)) == ""
 
 
 ROZRUN = os.environ.get("ROZ_ROZRUN")

@@ -242,3 +242,11 @@ uint32_t roz_commands_clamp(const roz_manifest_t *m, const double *in, double *o
     }
     return changed;
 }
+
+int roz_joints_not_the_robots(const char *port, unsigned k, const char *joint, const char *how,
+                              char *err, size_t errlen)
+{
+    roz_format(err, errlen, "%s: [hardware] joints[%u] \"%s\" is not one of the robot's joints "
+               "(the port's header lists them%s)", port, k, joint != NULL ? joint : "", how);
+    return ROZ_ENOENT;
+}

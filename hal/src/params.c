@@ -206,6 +206,15 @@ int roz_params_ifname_valid(roz_params_span_t s, size_t max, roz_params_ifname_t
     return 1;
 }
 
+int roz_params_ifname_expected(char *buf, size_t len, size_t max, roz_params_ifname_t rule)
+{
+    int os = rule == ROZ_PARAMS_IFNAME_LINUX;
+    return roz_format(buf, len, "expected an interface name%s%u%s", os ? ", 1.." : " (1..",
+                      (unsigned)max, os ? " printable bytes without spaces or '/'"
+                                        : " characters from A-Z a-z 0-9 _ . : -), such as lo "
+                                          "or eth0");
+}
+
 /* ---- keys ---------------------------------------------------------------- */
 
 const char *roz_params_find(const roz_params_t *p, const char *key)
@@ -360,7 +369,7 @@ int roz_params_get_bool(const roz_params_t *p, const char *key, int def, int *ou
     }
     if (roz_params_parse_bool(roz_params_span(v), out) == ROZ_OK)
         return ROZ_OK;
-    roz_format(err, errlen, "parameter %s = \"%s\": expected true or false", key, v);
+    roz_format(err, errlen, "parameter %s = \"%s\": " ROZ_PARAMS_EXPECTED_BOOL, key, v);
     return ROZ_EINVAL;
 }
 

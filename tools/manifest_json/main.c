@@ -9,7 +9,9 @@
  * test_port_vectors).
  *
  *   roz_manifest_json [--check | --identity | --rozgen] [--error-ids]
- *                     [--max-commands N] [--max-states N] [--max-name-len N] FILE
+ *                     [--max-commands N] [--max-states N] [--max-name-len N]
+ *                     [--origin ROBOT_TOML] FILE
+ *   roz_manifest_json --list-rules
  *
  *   --check      validate only, print nothing when the file is valid
  *   --identity   print "<robot_id> <interface hash>" as `rozgen --identity`
@@ -21,6 +23,11 @@
  *   --error-ids  prefix every problem with its rule id: [limits-order] ...
  *   --max-*      the maxima of the build the tables are for (rozgen's
  *                options); default this build's ROZ_CFG_MAX_*
+ *   --list-rules the ports' rule ids this build holds and what each
+ *                refuses, "<id>\t<what>" a line (rozgen --list-rules)
+ *   --origin     the path of the robot.toml read from stdin (FILE "-"):
+ *                the files its keys name (a model) are taken relative to
+ *                its folder and named so in the messages; default FILE
  *
  * Exit status: 0 valid, 2 on any problem or a usage error (as rozgen).
  */
@@ -58,21 +65,48 @@ static void print_problem(void *ctx, const char *rule, const char *what)
 }
 
 /* The port's rules of its own [hardware] keys, after the robot.toml ones,
- * when this build holds them (roz/port_rules.h). */
-static int port_checks(const roz_manifest_t *m, printer_t *p)
+ * when this build holds them (roz/port_rules.h), then its rules on the
+ * files they name (taken relative to @p origin's folder). */
+static int port_checks(const roz_manifest_t *m, const char *origin, printer_t *p)
 {
     const roz_port_rules_t *r = m->hardware != NULL ? roz_port_rules_find(m->hardware->port)
                                                     : NULL;
     if (r == NULL)
         return 0;
-    return r->check_hardware(m, print_problem, p) == ROZ_OK ? 0 : 2;
+    if (r->check_hardware(m, print_problem, p) != ROZ_OK)
+        return 2;
+    if (r->check_files != NULL && r->check_files(m, origin, print_problem, p) != ROZ_OK)
+        return 2;
+    return 0;
+}
+
+/* Every registered port's rule ids, once each, in registration order. */
+static int list_rules(void)
+{
+    const roz_port_rules_t *r;
+    for (size_t i = 0; (r = roz_port_rules_at(i)) != NULL; i++) {
+        for (const char *const *row = r->rule_ids; *row != NULL; row++) {
+            const char *tab = strchr(*row, '\t');
+            size_t n = tab != NULL ? (size_t)(tab - *row) + 1 : strlen(*row);
+            int seen = 0;
+            for (size_t k = 0; k < i && !seen; k++) {
+                for (const char *const *o = roz_port_rules_at(k)->rule_ids; *o && !seen; o++)
+                    seen = strncmp(*o, *row, n) == 0;
+            }
+            if (!seen)
+                printf("%s\n", *row);
+        }
+    }
+    return 0;
 }
 
 static int usage(void)
 {
     fprintf(stderr, "usage: roz_manifest_json [--check | --identity | --rozgen] [--error-ids]\n"
                     "                         [--max-commands N] [--max-states N] "
-                    "[--max-name-len N] FILE\n");
+                    "[--max-name-len N]\n"
+                    "                         [--origin ROBOT_TOML] FILE\n"
+                    "       roz_manifest_json --list-rules\n");
     return 2;
 }
 
@@ -104,7 +138,7 @@ static int read_stdin(size_t *len)
 
 int main(int argc, char **argv)
 {
-    const char *file = NULL;
+    const char *file = NULL, *origin = NULL;
     int check = 0, identity = 0, ids = 0, rozgen = 0, rc;
     roz_manifest_toml_maxima_t max = { ROZ_CFG_MAX_COMMANDS, ROZ_CFG_MAX_STATES,
                                        ROZ_CFG_MAX_NAME_LEN };
@@ -128,6 +162,10 @@ int main(int argc, char **argv)
             rc = maximum(argv[i++], next, ROZ_CFG_MAX_STATES, &max.states);
         else if (strcmp(argv[i], "--max-name-len") == 0)
             rc = maximum(argv[i++], next, ROZ_MANIFEST_TOML_MAX_NAME_LEN, &max.name_len);
+        else if (strcmp(argv[i], "--list-rules") == 0 && argc == 2)
+            return list_rules();
+        else if (strcmp(argv[i], "--origin") == 0 && next != NULL)
+            origin = argv[++i];
         else if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0)
             return usage() - 2;
         else if (argv[i][0] == '-' && argv[i][1] != '\0')
@@ -169,7 +207,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", file, roz_strerror(rc));
         return 2;
     }
-    if (port_checks(&storage.manifest, &printer) != 0)
+    if (origin == NULL && strcmp(file, "-") != 0)
+        origin = file;
+    if (port_checks(&storage.manifest, origin, &printer) != 0)
         return 2;
     if (identity)
         printf("%s %016llx\n", storage.manifest.robot_id,

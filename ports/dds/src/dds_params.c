@@ -15,10 +15,11 @@ int roz_dds_check_interface(const char *name, char *err, size_t errlen)
 {
     if (!roz_params_ifname_valid(roz_params_span(name), ROZ_DDS_IFNAME_MAX,
                                  ROZ_PARAMS_IFNAME_PORTABLE)) {
-        snprintf(err, errlen,
-                 "parameter network_interface = \"%s\": expected an interface name "
-                 "(1..%d characters from A-Z a-z 0-9 _ . : -), such as lo or eth0",
-                 name != NULL ? name : "", ROZ_DDS_IFNAME_MAX);
+        char what[128];
+        roz_params_ifname_expected(what, sizeof what, ROZ_DDS_IFNAME_MAX,
+                                   ROZ_PARAMS_IFNAME_PORTABLE);
+        snprintf(err, errlen, "parameter network_interface = \"%s\": %s",
+                 name != NULL ? name : "", what);
         return ROZ_EINVAL;
     }
     return ROZ_OK;

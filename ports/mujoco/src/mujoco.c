@@ -19,6 +19,7 @@
 #include "roz/hal/params.h"
 #include "mj_guard.h"
 #include "mj_params.h"
+#include "mj_rules.h"
 #include "mjcf_scan.h"
 
 /* ---- types and tables --------------------------------------------------------- */
@@ -32,12 +33,12 @@ enum {
     LAW_WHEEL,    /* a diff drive's wheel: the velocity servo on (v -+ w b/2) / r */
 };
 
-/* A robot commanded by body velocities (roz_mujoco_t.mobile). */
-enum {
-    MOBILE_NONE = 0,
-    MOBILE_WHEELS,    /* X/linear.x, X/angular.z -> X/odom.x, .y, .yaw */
-    MOBILE_AUTOPILOT, /* X/velocity.x, .y, .z, X/yaw_rate -> X/position.x, .y, .z, X/yaw */
-};
+/* A robot commanded by body velocities (roz_mujoco_t.mobile; mj_rules.c
+ * finds them): wheels, X/linear.x, X/angular.z -> X/odom.x, .y, .yaw; an
+ * autopilot, X/velocity.x, .y, .z, X/yaw_rate -> X/position.x, .y, .z, X/yaw. */
+#define MOBILE_NONE ROZ__MJ_MOBILE_NONE
+#define MOBILE_WHEELS ROZ__MJ_MOBILE_WHEELS
+#define MOBILE_AUTOPILOT ROZ__MJ_MOBILE_AUTOPILOT
 
 /* The quadcopter autopilot's gains (docs/ports/mujoco.md): velocity loops,
  * the tilt it allows, the attitude loop's natural frequency and damping,
@@ -192,182 +193,6 @@ static int merge_params(const roz_manifest_t *m, const roz_params_t *extra, merg
     return ROZ_OK;
 }
 
-/* Looks @p name up in a "A=B, C=D" list: *out (into @p buf) the B of A =
- * @p name, or @p name itself. */
-static const char *map_name(const char *list, const char *name, char *buf, size_t cap)
-{
-    size_t nl = strlen(name);
-    for (const char *p = list; p != NULL && *p != '\0';) {
-        while (*p == ' ' || *p == ',')
-            p++;
-        const char *eq = strchr(p, '=');
-        const char *end = strchr(p, ',');
-        if (end == NULL)
-            end = p + strlen(p);
-        if (eq != NULL && eq < end) {
-            const char *k = p, *ke = eq;
-            while (ke > k && ke[-1] == ' ')
-                ke--;
-            if ((size_t)(ke - k) == nl && strncmp(k, name, nl) == 0) {
-                const char *v = eq + 1;
-                while (*v == ' ')
-                    v++;
-                const char *ve = end;
-                while (ve > v && ve[-1] == ' ')
-                    ve--;
-                size_t vl = (size_t)(ve - v) < cap - 1 ? (size_t)(ve - v) : cap - 1;
-                memcpy(buf, v, vl);
-                buf[vl] = '\0';
-                return buf;
-            }
-        }
-        p = end;
-    }
-    return name;
-}
-
-/* Every "A=" of a "A=B, C=D" list must be a joint of the manifest. */
-static int check_map_keys(const roz_mujoco_t *s, const char *list, const char *const *names,
-                          uint16_t n, char *err, size_t errlen)
-{
-    for (const char *p = list; p != NULL && *p != '\0';) {
-        while (*p == ' ' || *p == ',')
-            p++;
-        if (*p == '\0')
-            break;
-        const char *end = strchr(p, ',');
-        if (end == NULL)
-            end = p + strlen(p);
-        const char *eq = memchr(p, '=', (size_t)(end - p));
-        if (eq == NULL) {
-            roz_format(err, errlen, PORT ": %s: hardware.params.joint_names: \"%.*s\": "
-                       "expected MANIFEST_JOINT=MJCF_JOINT", origin(s), (int)(end - p), p);
-            return ROZ_EINVAL;
-        }
-        const char *ke = eq;
-        while (ke > p && ke[-1] == ' ')
-            ke--;
-        int found = 0;
-        for (uint16_t j = 0; j < n && !found; j++)
-            found = strlen(names[j]) == (size_t)(ke - p) && strncmp(names[j], p, (size_t)(ke - p)) == 0;
-        if (!found) {
-            roz_format(err, errlen, PORT ": %s: hardware.params.joint_names: \"%.*s\" is not a "
-                       "joint of manifest %s", origin(s), (int)(ke - p), p, s->m->robot_id);
-            return ROZ_EINVAL;
-        }
-        p = end;
-    }
-    return ROZ_OK;
-}
-
-/* The manifest's joints: [hardware] joints when it has them, else the joints
- * its channels name (the name before the last '/'), in order of appearance.
- * The IMU's channels (base_imu/...) are not joints. */
-typedef struct {
-    char        buf[ROZ_MUJOCO_MAX_JOINTS][ROZ_MUJOCO_NAME_MAX];
-    const char *names[ROZ_MUJOCO_MAX_JOINTS];
-    uint16_t    n;
-} joint_names_t;
-
-static int add_joint_of(const roz_mujoco_t *s, const char *channel, joint_names_t *jn, char *err,
-                        size_t errlen)
-{
-    const char *slash = strrchr(channel, '/');
-    if (slash == NULL)
-        return ROZ_OK; /* roz_joints_bind() names it: no place for it */
-    size_t len = (size_t)(slash - channel);
-    if (len == 8 && strncmp(channel, "base_imu", 8) == 0)
-        return ROZ_OK;
-    for (uint16_t j = 0; j < jn->n; j++) {
-        if (strlen(jn->names[j]) == len && strncmp(jn->names[j], channel, len) == 0)
-            return ROZ_OK;
-    }
-    if (jn->n == ROZ_MUJOCO_MAX_JOINTS || len >= ROZ_MUJOCO_NAME_MAX) {
-        roz_format(err, errlen, PORT ": %s: channel \"%s\": more than %d joints, or a joint name "
-                   "longer than %d bytes", origin(s), channel, ROZ_MUJOCO_MAX_JOINTS,
-                   ROZ_MUJOCO_NAME_MAX - 1);
-        return ROZ_ENOSPC;
-    }
-    memcpy(jn->buf[jn->n], channel, len);
-    jn->buf[jn->n][len] = '\0';
-    jn->names[jn->n] = jn->buf[jn->n];
-    jn->n++;
-    return ROZ_OK;
-}
-
-static int manifest_joints(const roz_mujoco_t *s, joint_names_t *jn, char *err, size_t errlen)
-{
-    const roz_manifest_t *m = s->m;
-    jn->n = 0;
-    if (m->hardware != NULL && m->hardware->n_joints > 0) {
-        if (m->hardware->n_joints > ROZ_MUJOCO_MAX_JOINTS) {
-            roz_format(err, errlen, PORT ": %s: %u joints; at most %d", origin(s),
-                       (unsigned)m->hardware->n_joints, ROZ_MUJOCO_MAX_JOINTS);
-            return ROZ_ENOSPC;
-        }
-        for (uint16_t j = 0; j < m->hardware->n_joints; j++)
-            jn->names[j] = m->hardware->joints[j];
-        jn->n = m->hardware->n_joints;
-        return ROZ_OK;
-    }
-    for (uint16_t i = 0; i < m->n_commands; i++) {
-        if (add_joint_of(s, m->commands[i].name, jn, err, errlen) != ROZ_OK)
-            return ROZ_ENOSPC;
-    }
-    for (uint16_t i = 0; i < m->n_states; i++) {
-        if (add_joint_of(s, m->states[i].name, jn, err, errlen) != ROZ_OK)
-            return ROZ_ENOSPC;
-    }
-    return ROZ_OK;
-}
-
-/* Channel "<prefix>/<suffix>" of interface @p type among @p c; -1: none. */
-static int16_t find_channel(const roz_channel_t *c, uint16_t n, const char *prefix, size_t plen,
-                            const char *suffix, roz_interface_t type)
-{
-    for (uint16_t i = 0; i < n; i++) {
-        const char *name = c[i].name;
-        if (strncmp(name, prefix, plen) == 0 && name[plen] == '/' &&
-            strcmp(name + plen + 1, suffix) == 0 && c[i].type == type)
-            return (int16_t)i;
-    }
-    return -1;
-}
-
-/* A robot commanded by body velocities, as the built-in diff_drive and
- * quadcopter are: every channel one of a mobile base's (roz/loopback.h has
- * the same names). */
-static int detect_mobile(roz_mujoco_t *s)
-{
-    const roz_manifest_t *m = s->m;
-    const char *slash = strchr(m->commands[0].name, '/');
-    if (slash == NULL)
-        return MOBILE_NONE;
-    const char *pre = m->commands[0].name;
-    size_t pl = (size_t)(slash - pre);
-    static const char *const wheel_cmd[2] = { "linear.x", "angular.z" };
-    static const char *const wheel_st[3] = { "odom.x", "odom.y", "odom.yaw" };
-    static const char *const ap_cmd[4] = { "velocity.x", "velocity.y", "velocity.z", "yaw_rate" };
-    static const char *const ap_st[4] = { "position.x", "position.y", "position.z", "yaw" };
-    int ok = m->n_commands == 2 && m->n_states == 3;
-    for (int k = 0; ok && k < 2; k++)
-        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, wheel_cmd[k],
-                                           ROZ_IF_VELOCITY)) >= 0;
-    for (int k = 0; ok && k < 3; k++)
-        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, wheel_st[k],
-                                             ROZ_IF_POSITION)) >= 0;
-    if (ok)
-        return MOBILE_WHEELS;
-    ok = m->n_commands == 4 && m->n_states == 4;
-    for (int k = 0; ok && k < 4; k++)
-        ok = (s->mob_cmd[k] = find_channel(m->commands, m->n_commands, pre, pl, ap_cmd[k],
-                                           ROZ_IF_VELOCITY)) >= 0;
-    for (int k = 0; ok && k < 4; k++)
-        ok = (s->mob_state[k] = find_channel(m->states, m->n_states, pre, pl, ap_st[k],
-                                             ROZ_IF_POSITION)) >= 0;
-    return ok ? MOBILE_AUTOPILOT : MOBILE_NONE;
-}
-
 /* One entry of a fault parameter (roz_inject_parse()'s callback): the
  * grammar is the simulators' (roz/hal/inject.h); push's FX,FY,FZ@BODY is
  * read here. */
@@ -440,19 +265,11 @@ static int parse_faults(roz_mujoco_t *s, const roz_params_t *p, char *err, size_
 /* The model's path: `model`, relative to the robot.toml's folder. */
 static int model_path(roz_mujoco_t *s, const char *model, char *err, size_t errlen)
 {
-    size_t dir = 0;
-    if (model[0] != '/' && s->robot_file != NULL) {
-        const char *slash = strrchr(s->robot_file, '/');
-        dir = slash != NULL ? (size_t)(slash - s->robot_file) + 1 : 0;
-    }
-    if (dir + strlen(model) + 1 > sizeof s->model_path) {
+    if (roz__mj_model_path(s->robot_file, model, s->model_path, sizeof s->model_path) != ROZ_OK) {
         roz_format(err, errlen, PORT ": %s: hardware.params.model: the path is longer than %d "
                    "bytes", origin(s), ROZ_MUJOCO_PATH_MAX - 1);
         return ROZ_EINVAL;
     }
-    if (dir > 0)
-        memcpy(s->model_path, s->robot_file, dir);
-    memcpy(s->model_path + dir, model, strlen(model) + 1);
     return ROZ_OK;
 }
 
@@ -653,33 +470,70 @@ static const roz_channel_t *manifest_effort(const roz_manifest_t *m, const roz_j
                                 : NULL;
 }
 
-/* A motor's ctrlrange (edit_spec() keeps it limited through the compile) is
- * a torque range too: gear x gain x ctrl. The manifest's effort channel @p c
- * must lie inside it (a tighter channel is the law roz applies); [*lo, *hi]
- * narrows to it. Test: test_mujoco_models.c, the ctrlrange cases. */
-static int check_ctrlrange(const roz_mujoco_t *s, const roz_mujoco_joint_t *j, const char *name,
-                           const roz_channel_t *c, double *lo, double *hi, char *err,
-                           size_t errlen)
+/* ---- the model as mj_rules.c's rules see it ---------------------------------------- */
+
+static int view_joint(const void *ctx, const char *name, roz__mj_joint_view_t *out)
 {
-    const mjModel *mm = s->model;
-    int a = j->act;
-    if (!mm->actuator_ctrllimited[a] || !(j->gear != 0.0) || !isfinite(j->gear))
-        return ROZ_OK; /* a zero gear: bind_joint() refuses it */
-    double c0 = mm->actuator_ctrlrange[2 * a], c1 = mm->actuator_ctrlrange[2 * a + 1];
-    double t0 = j->gear * c0, t1 = j->gear * c1;
-    double clo = fmin(t0, t1), chi = fmax(t0, t1);
-    if (c != NULL && (c->min < clo || c->max > chi)) {
-        const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
-        roz_format(err, errlen, PORT ": %s: channel \"%s\": limits [%g, %g] N.m exceed what %s's "
-                   "actuator \"%s\" (joint \"%s\") can give, [%g, %g]: its ctrlrange [%g, %g] "
-                   "times gear and gain %g; narrow the channel's limits to the actuator's",
-                   origin(s), c->name, c->min, c->max, s->model_path, an != NULL ? an : "?",
-                   name, clo, chi, c0, c1, j->gear);
-        return ROZ_EINVAL;
-    }
-    *lo = fmax(*lo, clo);
-    *hi = fmin(*hi, chi);
+    const mjModel *mm = ctx;
+    int j = mj_name2id(mm, mjOBJ_JOINT, name);
+    if (j < 0)
+        return ROZ_ENOENT;
+    out->id = j;
+    out->hinge_or_slide = mm->jnt_type[j] == mjJNT_HINGE || mm->jnt_type[j] == mjJNT_SLIDE;
+    out->limited = mm->jnt_actfrclimited[j];
+    out->range[0] = mm->jnt_actfrcrange[2 * j];
+    out->range[1] = mm->jnt_actfrcrange[2 * j + 1];
     return ROZ_OK;
+}
+
+/* A motor's ctrlrange (edit_spec() keeps it limited through the compile;
+ * open clears it after binding) is a torque range too. */
+static int view_actuator(const void *ctx, const roz__mj_joint_view_t *j, const char *name,
+                         roz__mj_actuator_view_t *out)
+{
+    const mjModel *mm = ctx;
+    (void)name;
+    for (int a = 0; a < mm->nu; a++) {
+        if (mm->actuator_trntype[a] == mjTRN_JOINT && mm->actuator_trnid[2 * a] == j->id) {
+            out->id = a;
+            out->name = mj_id2name(mm, mjOBJ_ACTUATOR, a);
+            out->gear = mm->actuator_gear[6 * a];
+            out->gain = mm->actuator_gainprm[a * mjNGAIN];
+            out->force_limited = mm->actuator_forcelimited[a];
+            out->force[0] = mm->actuator_forcerange[2 * a];
+            out->force[1] = mm->actuator_forcerange[2 * a + 1];
+            out->ctrl_limited = mm->actuator_ctrllimited[a];
+            out->ctrl[0] = mm->actuator_ctrlrange[2 * a];
+            out->ctrl[1] = mm->actuator_ctrlrange[2 * a + 1];
+            return ROZ_OK;
+        }
+    }
+    return ROZ_ENOENT;
+}
+
+static void view_sensor(const void *ctx, int i, roz__mj_sensor_view_t *out)
+{
+    const mjModel *mm = ctx;
+    out->name = mj_id2name(mm, mjOBJ_SENSOR, i);
+    out->kind = mm->sensor_type[i] == mjSENS_GYRO            ? ROZ__MJ_SENSOR_GYRO
+                : mm->sensor_type[i] == mjSENS_ACCELEROMETER ? ROZ__MJ_SENSOR_ACCELEROMETER
+                                                             : ROZ__MJ_SENSOR_OTHER;
+    out->site = mm->sensor_objtype[i] == mjOBJ_SITE ? mm->sensor_objid[i] : -1;
+}
+
+static roz__mj_model_view_t model_view(const roz_mujoco_t *s)
+{
+    roz__mj_model_view_t v = { s->model_path, s->model, view_joint, view_actuator,
+                               s->model->nsensor, view_sensor };
+    return v;
+}
+
+/* The port's error: "mujoco: <origin>: ", where a rule's text follows;
+ * how many bytes of @p err it took. */
+static size_t said_by(const roz_mujoco_t *s, char *err, size_t errlen)
+{
+    size_t n = (size_t)roz_format(err, errlen, PORT ": %s: ", origin(s));
+    return n < errlen ? n : errlen - 1;
 }
 
 static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char *mj_name,
@@ -687,97 +541,24 @@ static int bind_joint(roz_mujoco_t *s, uint16_t k, const char *name, const char 
 {
     const mjModel *mm = s->model;
     roz_mujoco_joint_t *j = &s->joints[k];
-    j->jnt = mj_name2id(mm, mjOBJ_JOINT, mj_name);
-    if (j->jnt < 0) {
-        roz_format(err, errlen, PORT ": %s: joint \"%s\"%s%s%s: no joint of that name in %s "
-                   "(hardware.params.joint_names maps manifest joints to the model's)",
-                   origin(s), name, strcmp(name, mj_name) ? " (\"" : "",
-                   strcmp(name, mj_name) ? mj_name : "", strcmp(name, mj_name) ? "\")" : "",
-                   s->model_path);
+    roz__mj_model_view_t v = model_view(s);
+    roz__mj_joint_view_t jv;
+    roz__mj_actuator_view_t av;
+    size_t n = said_by(s, err, errlen);
+    if (roz__mj_bind_rule(&v, name, mj_name, manifest_effort(s->m, &j->ch), &jv, &av, &j->tau_lo, &j->tau_hi, err + n,
+                          errlen - n) != NULL)
         return ROZ_EINVAL;
-    }
-    int type = mm->jnt_type[j->jnt];
-    if (type != mjJNT_HINGE && type != mjJNT_SLIDE) {
-        roz_format(err, errlen, PORT ": %s: joint \"%s\": %s's joint \"%s\" is not a hinge or "
-                   "a slide", origin(s), name, s->model_path, mj_name);
-        return ROZ_EINVAL;
-    }
+    j->jnt = jv.id;
+    j->act = av.id;
     j->qadr = mm->jnt_qposadr[j->jnt];
     j->dadr = mm->jnt_dofadr[j->jnt];
-    j->act = -1;
-    for (int a = 0; a < mm->nu && j->act < 0; a++) {
-        if (mm->actuator_trntype[a] == mjTRN_JOINT && mm->actuator_trnid[2 * a] == j->jnt)
-            j->act = a;
-    }
-    if (j->act < 0) {
-        roz_format(err, errlen, PORT ": %s: joint \"%s\": no actuator drives %s's joint \"%s\"",
-                   origin(s), name, s->model_path, mj_name);
-        return ROZ_EINVAL;
-    }
-    int a = j->act;
-    j->gear = mm->actuator_gear[6 * a] * mm->actuator_gainprm[a * mjNGAIN];
-    /* what the actuator can give, in joint torque */
-    double lo = -INFINITY, hi = INFINITY;
-    if (mm->actuator_forcelimited[a]) {
-        double g = mm->actuator_gear[6 * a];
-        double f0 = g * mm->actuator_forcerange[2 * a], f1 = g * mm->actuator_forcerange[2 * a + 1];
-        lo = fmin(f0, f1);
-        hi = fmax(f0, f1);
-    }
-    if (mm->jnt_actfrclimited[j->jnt]) {
-        lo = fmax(lo, mm->jnt_actfrcrange[2 * j->jnt]);
-        hi = fmin(hi, mm->jnt_actfrcrange[2 * j->jnt + 1]);
-    }
-    const char *an = mj_id2name(mm, mjOBJ_ACTUATOR, a);
-    const roz_channel_t *effort = manifest_effort(s->m, &j->ch);
-    if (check_ctrlrange(s, j, name, effort, &lo, &hi, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
-    if (effort != NULL) {
-        double mlo = effort->min, mhi = effort->max;
-        if (mlo < lo || mhi > hi) {
-            roz_format(err, errlen, PORT ": %s: joint \"%s\": the manifest's effort limits "
-                       "[%g, %g] N.m exceed what %s's actuator \"%s\" can give, [%g, %g]",
-                       origin(s), name, mlo, mhi, s->model_path, an != NULL ? an : "?", lo, hi);
-            return ROZ_EINVAL;
-        }
-        j->tau_lo = mlo;
-        j->tau_hi = mhi;
-    } else if (isfinite(lo) && isfinite(hi)) {
-        j->tau_lo = lo; /* the manifest has none: the actuator's own */
-        j->tau_hi = hi;
-    } else {
-        roz_format(err, errlen, PORT ": %s: joint \"%s\": no effort limit: the manifest has no "
-                   "%s/effort channel and %s's actuator \"%s\" has no force range", origin(s),
-                   name, name, s->model_path, an != NULL ? an : "?");
-        return ROZ_EINVAL;
-    }
-    if (!(j->gear != 0.0) || !isfinite(j->gear)) {
-        roz_format(err, errlen, PORT ": %s: joint \"%s\": %s's actuator \"%s\" has a zero gain "
-                   "or gear", origin(s), name, s->model_path, an != NULL ? an : "?");
-        return ROZ_EINVAL;
-    }
+    j->gear = av.gear * av.gain;
     const roz_joint_channels_t *c = &j->ch;
     j->law = c->kp_cmd >= 0 || c->kd_cmd >= 0 ? LAW_MIT
              : c->dq_cmd >= 0                 ? LAW_VELOCITY
              : c->q_cmd >= 0                  ? LAW_POSITION
                                               : LAW_EFFORT;
     return ROZ_OK;
-}
-
-static int find_sensor(const mjModel *mm, const char *name, int type, int *adr, int *site)
-{
-    for (int i = 0; i < mm->nsensor; i++) {
-        const char *n = mj_id2name(mm, mjOBJ_SENSOR, i);
-        if (name != NULL ? (n != NULL && strcmp(n, name) == 0) : mm->sensor_type[i] == type) {
-            if (mm->sensor_type[i] != type)
-                return ROZ_EINVAL;
-            *adr = mm->sensor_adr[i];
-            if (site != NULL && mm->sensor_objtype[i] == mjOBJ_SITE)
-                *site = mm->sensor_objid[i];
-            return ROZ_OK;
-        }
-    }
-    return ROZ_ENOENT;
 }
 
 /* What a model without an IMU needs, after open's refusal in @p err: the
@@ -827,28 +608,21 @@ static int bind_imu(roz_mujoco_t *s, const roz_params_t *p, char *err,
         return ROZ_OK;
     const char *gyro = roz_params_get_str(p, "imu_gyro", NULL);
     const char *acc = roz_params_get_str(p, "imu_accelerometer", NULL);
-    int rc = find_sensor(s->model, gyro, mjSENS_GYRO, &s->gyro_adr, &s->imu_site);
-    if (rc != ROZ_OK || s->imu_site < 0) {
-        roz_format(err, errlen, PORT ": %s: hardware.params.imu_gyro%s%s%s: %s in %s (the "
-                   "manifest has base_imu channels)", origin(s), gyro ? " = \"" : "",
-                   gyro ? gyro : "", gyro ? "\"" : "",
-                   rc == ROZ_EINVAL ? "not a gyro sensor" : "no gyro sensor on a site", s->model_path);
-        if (gyro == NULL)
-            imu_help(s, 1, err, errlen);
+    const mjModel *mm = s->model;
+    roz__mj_model_view_t v = model_view(s);
+    int gi = -1, ai = -1;
+    size_t n = said_by(s, err, errlen);
+    int bad = roz__mj_imu_rule(&v, gyro, acc, &gi, &ai, err + n, errlen - n);
+    if (bad != 1)
+        s->imu_site = mm->sensor_objid[gi]; /* the gyro is on a site (imu_help() names it) */
+    if (bad != 0) {
+        if ((bad == 1 && gyro == NULL) || (bad == 2 && acc == NULL))
+            imu_help(s, bad == 1, err, errlen);
         return ROZ_EINVAL;
     }
-    int acc_site = -1;
-    rc = find_sensor(s->model, acc, mjSENS_ACCELEROMETER, &s->acc_adr, &acc_site);
-    if (rc != ROZ_OK) {
-        roz_format(err, errlen, PORT ": %s: hardware.params.imu_accelerometer%s%s%s: %s in %s "
-                   "(the manifest has base_imu channels)", origin(s), acc ? " = \"" : "",
-                   acc ? acc : "", acc ? "\"" : "",
-                   rc == ROZ_EINVAL ? "not an accelerometer" : "no accelerometer sensor",
-                   s->model_path);
-        if (acc == NULL)
-            imu_help(s, 0, err, errlen);
-        return ROZ_EINVAL;
-    }
+    s->gyro_adr = mm->sensor_adr[gi];
+    s->acc_adr = mm->sensor_adr[ai];
+    int acc_site = mm->sensor_objtype[ai] == mjOBJ_SITE ? mm->sensor_objid[ai] : -1;
     if (acc_site != s->imu_site && s->log != NULL) {
         char msg[512];
         const char *gs = mj_id2name(s->model, mjOBJ_SITE, s->imu_site);
@@ -892,9 +666,7 @@ static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params
                       char *err, size_t errlen)
 {
     static merged_t merged; /* open is start-up, one at a time */
-    joint_names_t jn;
-    char mj_buf[ROZ_MUJOCO_MAX_JOINTS][ROZ_MUJOCO_NAME_MAX];
-    const char *mj_names[ROZ_MUJOCO_MAX_JOINTS];
+    static roz__mj_joints_t jn;
     char mjerr[1024] = "";
     char msg[512];
 
@@ -937,47 +709,33 @@ static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params
 
     const char *model = roz_params_get_str(p, "model", NULL);
     if (model == NULL || model[0] == '\0') {
-        roz_format(err, errlen, PORT ": %s: hardware.params.model: missing, and this build has "
-                   "no built-in model for robot %s (docs/ports/mujoco.md)", origin(s), m->robot_id);
+        size_t n = said_by(s, err, errlen);
+        roz__mj_model_missing(m->robot_id, err + n, errlen - n);
         return ROZ_EINVAL;
     }
     if (model_path(s, model, err, errlen) != ROZ_OK)
         return ROZ_EINVAL;
 
-    /* the joints, and what they are called in the model */
-    s->mobile = (uint8_t)detect_mobile(s);
+    /* the joints, and what they are called in the model (mj_rules.c) */
     for (int k = 0; k < ROZ_IMU_VALUES; k++)
         s->imu[k] = -1;
+    size_t said = said_by(s, err, errlen);
+    if (roz__mj_joints_of(m, p, &jn, err + said, errlen - said) != ROZ_OK)
+        return ROZ_EINVAL;
+    s->mobile = (uint8_t)jn.mobile;
+    memcpy(s->mob_cmd, jn.mob_cmd, sizeof s->mob_cmd);
+    memcpy(s->mob_state, jn.mob_state, sizeof s->mob_state);
+    const char *const *mj_names = jn.mj;
     if (s->mobile == MOBILE_WHEELS) {
-        static const char *const wheel_keys[2] = { "wheel_left", "wheel_right" };
-        for (int k = 0; k < 2; k++) {
-            jn.names[k] = roz_params_get_str(p, wheel_keys[k], NULL);
-            if (jn.names[k] == NULL || jn.names[k][0] == '\0') {
-                roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing: a "
-                           "differential drive names its wheels' joints", origin(s), wheel_keys[k]);
-                return ROZ_EINVAL;
-            }
-            mj_names[k] = jn.names[k];
+        for (int k = 0; k < 2; k++)
             memset(&s->joints[k].ch, 0xff, sizeof s->joints[k].ch); /* no channel: -1 */
-        }
-        jn.n = 2;
         s->n_joints = 2;
         if (s->wheel_radius == 0.0 || s->wheel_separation == 0.0) {
             roz_format(err, errlen, PORT ": %s: hardware.params.%s: missing (m)", origin(s),
                        s->wheel_radius == 0.0 ? "wheel_radius" : "wheel_separation");
             return ROZ_EINVAL;
         }
-    } else if (s->mobile == MOBILE_AUTOPILOT) {
-        jn.n = 0;
-        s->n_joints = 0;
-    } else if (manifest_joints(s, &jn, err, errlen) != ROZ_OK) {
-        return ROZ_EINVAL;
     }
-    const char *map = roz_params_find(p, "joint_names");
-    if (check_map_keys(s, map, jn.names, jn.n, err, errlen) != ROZ_OK)
-        return ROZ_EINVAL;
-    for (uint16_t j = 0; j < jn.n && s->mobile == MOBILE_NONE; j++)
-        mj_names[j] = map_name(map, jn.names[j], mj_buf[j], sizeof mj_buf[j]);
     if (s->mobile == MOBILE_NONE) {
         roz_joint_channels_t ch[ROZ_MUJOCO_MAX_JOINTS];
         if (roz_joints_bind(m, PORT, "this robot", jn.names, jn.n, ch, s->imu, err, errlen) !=
@@ -988,9 +746,13 @@ static int open_model(roz_mujoco_t *s, const roz_manifest_t *m, const roz_params
         s->n_joints = jn.n;
     }
 
-    /* its include tree within rozgen's limits before MuJoCo reads it */
+    /* read within the checker's limits before MuJoCo reads it (its include
+     * tree: mjcf_scan.c) */
     char why[ROZ_MUJOCO_PATH_MAX + 160];
-    if (roz__mjcf_scan(s->model_path, why, sizeof why) != ROZ_OK) {
+    roz__mjcf_model_t scanned;
+    int scan = roz__mjcf_read(s->model_path, &scanned, why, sizeof why);
+    roz__mjcf_free(&scanned);
+    if (scan != ROZ_OK) {
         roz_format(err, errlen, PORT ": %s: hardware.params.model = \"%s\": %s", origin(s),
                    s->model_path, why);
         return ROZ_EINVAL;

@@ -26,11 +26,8 @@ static int place(roz_ros2_bridge_t *b, uint16_t j, const char *joint, char *err,
             }
         }
     }
-    snprintf(err, errlen,
-             "%s: [hardware] joints[%u] \"%s\" is not one of the robot's joints (the port's "
-             "header lists them%s)",
-             r->port, (unsigned)j, joint, r->n_groups > 1 ? " by group" : "");
-    return ROZ_ENOENT;
+    return roz_joints_not_the_robots(r->port, j, joint, r->n_groups > 1 ? " by group" : "", err,
+                                     errlen);
 }
 
 int roz__ros2_bind(roz_ros2_bridge_t *b, const roz_manifest_t *m, char *err, size_t errlen)

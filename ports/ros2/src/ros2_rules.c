@@ -139,3 +139,17 @@ int roz_ros2_check(const roz_ros2_robot_t *robot, roz_ros2_bridge_t *b, void *ve
     }
     return roz__ros2_parse_params(b, &p, err, sizeof err, roz_params_report, &to);
 }
+
+/* The rule ids of the ROS 2 ports' rules, "<id>\t<what it refuses>", NULL-ended:
+ * its registration's RULE_IDS (roz_manifest_json --list-rules). */
+const char *const roz_ros2_rule_ids[] = {
+    "ros2-joint\tROS 2 ports (agibot/X2, engineai/PM01): [hardware] joints lists "
+    "none, more than the robot has, a name that is not one of its joints, or a joint "
+    "without a channel",
+    "ros2-channel\tROS 2 ports: a channel that is not a listed joint's or the IMU's, "
+    "or one of another type than the port serves under its name",
+    "ros2-param\tROS 2 ports: a [hardware.params] value their parser refuses (a "
+    "number out of range, an unknown link_check or layout, a damping gain a damping "
+    "channel does not allow)",
+    NULL,
+};

@@ -346,6 +346,7 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
     roz_params_span_t v;
     int ok = 1, b;
     const char *what = NULL;
+    char ifname[128];
 
     if (value == NULL)
         return 1;
@@ -357,7 +358,9 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
             memcpy(cfg->network_interface, v.s, v.n);
             cfg->network_interface[v.n] = '\0';
         }
-        what = "expected an interface name, 1..15 printable bytes without spaces or '/'";
+        roz_params_ifname_expected(ifname, sizeof ifname, ROZ_CAN_IFNAME_MAX,
+                                   ROZ_PARAMS_IFNAME_LINUX);
+        what = ifname;
         break;
     case K_BITRATE:
         ok = parse_uint_in(v, 10000, 1000000, &cfg->bitrate);
@@ -393,7 +396,7 @@ static int global_key(reporter_t *r, roz_can_config_t *cfg, int key, const char 
         ok = roz_params_parse_bool(v, &b) == ROZ_OK;
         if (ok)
             cfg->enable_monitor = b;
-        what = "expected true or false (1/0, yes/no, on/off)";
+        what = ROZ_PARAMS_EXPECTED_BOOL " (1/0, yes/no, on/off)";
         break;
     case K_DECIMATION:
         ok = roz_params_span_is(v, "1");

@@ -55,13 +55,8 @@ static int place(roz_unitree_g1_t *g1, const roz_manifest_t *m, char *err, size_
         taken[s] = -1;
     for (uint16_t k = 0; k < hw->n_joints; k++) {
         int s = roz_unitree_g1_joint_slot(hw->joints[k]);
-        if (s < 0) {
-            roz_format(err, errlen,
-                       PORT ": [hardware] joints[%u] \"%s\" is not one of the robot's joints "
-                            "(the port's header lists them)",
-                       (unsigned)k, hw->joints[k] != NULL ? hw->joints[k] : "");
-            return ROZ_ENOENT;
-        }
+        if (s < 0)
+            return roz_joints_not_the_robots(PORT, k, hw->joints[k], "", err, errlen);
         if (taken[s] >= 0) {
             roz_format(err, errlen,
                        PORT ": [hardware] joints[%u] \"%s\" is a duplicate of joints[%d]",
@@ -195,3 +190,16 @@ int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn repo
     }
     return roz__g1_parse_params(&g1, &p, err, sizeof err, roz_params_report, &to);
 }
+
+/* The rule ids of the unitree/G1 port's rules, "<id>\t<what it refuses>", NULL-ended:
+ * its registration's RULE_IDS (roz_manifest_json --list-rules). */
+const char *const roz_unitree_g1_rule_ids[] = {
+    "g1-joint\tunitree/G1 port: [hardware] joints lists none, more than the G1 has, a "
+    "name that is not one of its SDK joint names, or a joint without a channel",
+    "g1-channel\tunitree/G1 port: a channel that is not a listed joint's or the "
+    "IMU's, or one of another type than the port serves under its name",
+    "g1-param\tunitree/G1 port: a [hardware.params] value its parser refuses (a "
+    "number out of range, an unknown mode_pr, a damping gain a damping channel does "
+    "not allow)",
+    NULL,
+};

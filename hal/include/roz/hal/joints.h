@@ -58,6 +58,16 @@ int roz_joints_bind(const roz_manifest_t *m, const char *port, const char *robot
                     int16_t *imu, char *err, size_t errlen);
 
 /**
+ * @brief A [hardware] joint the robot has not: "<port>: [hardware]
+ *        joints[<k>] "<joint>" is not one of the robot's joints (the
+ *        port's header lists them<how>)" into @p err.
+ * @retval ROZ_ENOENT (what the caller returns)
+ * Context: a port's open() and its rules; not the tick.
+ */
+int roz_joints_not_the_robots(const char *port, unsigned k, const char *joint, const char *how,
+                              char *err, size_t errlen);
+
+/**
  * @brief The range every joint's damping channel allows: [lo, hi] the
  *        intersection (0, 0 when there is none).
  * @return how many damping channels there are

@@ -226,9 +226,21 @@ int roz_params_parse_range(roz_params_span_t s, double *min, double *max);
  *  Context: any. */
 int roz_params_parse_bool(roz_params_span_t s, int *out);
 
+/** What a value roz_params_parse_bool() refuses is told (the one text of
+ *  that rule; a port may add the words it takes). */
+#define ROZ_PARAMS_EXPECTED_BOOL "expected true or false"
+
 /** @brief Whether @p s is an interface name of 1..@p max characters under
  *         @p rule. Context: any. */
 int roz_params_ifname_valid(roz_params_span_t s, size_t max, roz_params_ifname_t rule);
+
+/**
+ * @brief What a name roz_params_ifname_valid() refuses under @p rule is
+ *        told: "expected an interface name" and the rule, into @p buf.
+ * @return as roz_format()
+ * Context: any.
+ */
+int roz_params_ifname_expected(char *buf, size_t len, size_t max, roz_params_ifname_t rule);
 
 /**
  * @brief Split "key=value" in place into @p out (key and value point into

@@ -191,6 +191,28 @@ extern const roz_port_ops_t roz_mujoco_ops;
  */
 int roz_mujoco_check(const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
 
+/**
+ * @brief The port's rules that need @p m's model, as its open applies them:
+ *        the model `model` names (relative to the folder of @p robot_toml,
+ *        the file @p m was read from; NULL: the working directory) read
+ *        without MuJoCo, every joint bound to a joint of it and an actuator
+ *        (by name, or `joint_names`), the effort limits it can give, the
+ *        IMU's sensors (rules "mujoco-model", "mujoco-joint",
+ *        "mujoco-effort", "mujoco-imu"; the first problem is said). A
+ *        built-in robot naming no model is the port's build's to check.
+ *        What only MuJoCo's compiler can say (a motor's ctrlrange, the
+ *        timestep's fit, a keyframe) stays the open's. This is what
+ *        roz_manifest_json, and so rozgen, runs after roz_mujoco_check().
+ * @retval ROZ_OK, or ROZ_EINVAL after reporting the problem
+ * Context: host tools; allocates while it reads the model.
+ */
+int roz_mujoco_check_model(const roz_manifest_t *m, const char *robot_toml,
+                           roz_params_problem_fn report, void *ctx);
+
+/** The rule ids of roz_mujoco_check() and roz_mujoco_check_model(), "<id>\t<what it
+ *  refuses>", NULL-ended (its registration's RULE_IDS: roz_manifest_json --list-rules). */
+extern const char *const roz_mujoco_rule_ids[];
+
 /* The library half of the constructor below: the caller's layout and
  * instance size, refused when they are not the library's. */
 roz_port_t roz__mujoco_port(roz_mujoco_t *self, const roz_port_layout_t *caller,

@@ -413,6 +413,10 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
 int roz_ros2_check(const roz_ros2_robot_t *robot, roz_ros2_bridge_t *b, void *vendor,
                    const roz_manifest_t *m, roz_params_problem_fn report, void *ctx);
 
+/** The rule ids of roz_ros2_check(), "<id>\t<what it refuses>", NULL-ended
+ *  (the ROS 2 ports' registrations' RULE_IDS: roz_manifest_json --list-rules). */
+extern const char *const roz_ros2_rule_ids[];
+
 /* The port ops on a bridge (@p self is the bridge, the port instance's first
  * member); their contexts are roz/port.h's. */
 int  roz_ros2_activate(void *self);

@@ -99,6 +99,10 @@ int roz_can_config_load(roz_can_config_t *cfg, const roz_manifest_t *m, const ro
  */
 int roz_can_config_check(const roz_manifest_t *m, roz_can_problem_fn report, void *ctx);
 
+/** The rule ids of roz_can_config_check(), "<id>\t<what it refuses>", NULL-ended
+ *  (its registration's RULE_IDS: roz_manifest_json --list-rules). */
+extern const char *const roz_can_rule_ids[];
+
 /** @brief The rule ids roz_can_config_load() reports, NULL-terminated.
  *  Context: any. */
 const char *const *roz_can_config_rules(void);

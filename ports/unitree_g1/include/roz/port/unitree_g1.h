@@ -212,6 +212,10 @@ typedef void (*roz_unitree_g1_problem_fn)(void *ctx, const char *rule, const cha
  */
 int roz_unitree_g1_check(const roz_manifest_t *m, roz_unitree_g1_problem_fn report, void *ctx);
 
+/** The rule ids of roz_unitree_g1_check(), "<id>\t<what it refuses>", NULL-ended
+ *  (its registration's RULE_IDS: roz_manifest_json --list-rules). */
+extern const char *const roz_unitree_g1_rule_ids[];
+
 /** @brief A consistent copy of the checks on LowState_ frames.
  *  Context: any thread. */
 void roz_unitree_g1_link(const roz_unitree_g1_t *g1, roz_link_t *out);
