@@ -34,7 +34,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench bench-targets fuzz-diff clean
+.PHONY: all setup setup-ray build install demo train-g1-walk demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench bench-targets fuzz-diff clean
 
 all: build
 
@@ -65,36 +65,55 @@ DEMO_DIR = $(BUILD)/demo
 # ticks at 500 Hz) behind the safety filter, its velocity command read from
 # the robot's operator inputs, which a scripted operator sets. By default
 # the walker is roz's own (examples/controllers/g1_walker.c: a capture-point
-# walker, no learned network). G1_WALK_POLICY names a trained policy instead
-# (unitree_rl_gym's deploy/pre_train/g1/motion.pt; not shipped with roz),
-# deployed by rozgen-nn deploy (docs/policies.md). Either walks under
-# examples/operators/g1_walk.csv (stand, forward 0.5 m/s, stop, turn
-# 0.5 rad/s, stop). The trace (with
-# the simulator's base pose and the inputs), the recording (the inputs in
-# it: it replays bit for bit), commanded vs achieved velocity
+# walker, no learned network) under examples/operators/g1_walk.csv (stand,
+# forward 0.5 m/s, stop, turn 0.5 rad/s, stop). G1_WALK_POLICY names a
+# trained policy instead (unitree_rl_gym's deploy/pre_train/g1/motion.pt;
+# not shipped with roz), deployed by rozgen-nn deploy (docs/policies.md),
+# under the same script. DEMO=policy runs the policy roz trains from that
+# walker (examples/policies/g1_walk, train-g1-walk below), deployed by
+# rozgen-nn deploy, inside its deploy sequence (hung on the gantry, moved to
+# the stand, let go as the policy takes over at 1.1 s), under
+# examples/operators/g1_walk_dagger.csv: in training, it does not yet walk
+# on its own (docs/policies.md, section 7). The trace (with the
+# simulator's base pose and the inputs), the recording (the inputs in it:
+# it replays bit for bit), commanded vs achieved velocity
 # (tools/tracking.py), a plot marking the operator's commands, and frames of
 # the robot rendered offscreen (where EGL works) land in $(DEMO_DIR).
 # test/run_demo.cmake (the tests demo_plot, demo_plot_walker) runs the same.
 G1_WALK_POLICY ?=
+DEMO ?= walker
 # the plot's joints: the legs' pitch chain
 DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
+DEMO_STAGES =
+ifneq ($(strip $(G1_WALK_POLICY)),)
 DEMO_OPERATOR = examples/operators/g1_walk.csv
-DEMO_PLAN = forward 0.5 m/s from 1 s
-ifeq ($(strip $(G1_WALK_POLICY)),)
-DEMO_WALKER = $(BUILD)/examples/controllers/g1_walker.wasm
-DEMO_WHAT = roz's own walker (g1_walker.c)
-demo: build
-else
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk.wasm
 DEMO_WHAT = $(notdir $(G1_WALK_POLICY)) deployed
+DEMO_PLAN = forward 0.5 m/s from 1 s
 demo: setup $(BUILD)/build.ninja
 	$(CMAKE) -S . -B $(BUILD) -DROZ_G1_WALK_POLICY=$(abspath $(G1_WALK_POLICY))
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
+else ifeq ($(DEMO),walker)
+DEMO_OPERATOR = examples/operators/g1_walk.csv
+DEMO_WALKER = $(BUILD)/examples/controllers/g1_walker.wasm
+DEMO_WHAT = roz's own walker (g1_walker.c)
+DEMO_PLAN = forward 0.5 m/s from 1 s
+demo: build
+else ifeq ($(DEMO),policy)
+DEMO_OPERATOR = examples/operators/g1_walk_dagger.csv
+DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk_dagger.wasm
+DEMO_STAGES = --deploy $(BUILD)/examples/controllers/g1_walk_dagger.deploy.toml \
+    --param gantry=0:551 --stage-at 0:move --stage-at 550:run
+DEMO_WHAT = roz's walking policy in training (DAgger on g1_walker.c) deployed
+DEMO_PLAN = policy from 1.1 s, forward 0.3 m/s from 1 s
+demo: build
+else
+$(error DEMO=$(DEMO): walker (the default) or policy)
 endif
 	@mkdir -p $(DEMO_DIR)
 	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1_12dof --port mujoco \
 	    --controller $(DEMO_WALKER) --ticks 10500 \
-	    --operator $(DEMO_OPERATOR) \
+	    --operator $(DEMO_OPERATOR) $(DEMO_STAGES) \
 	    --trace $(DEMO_DIR)/g1_walk.csv --record $(DEMO_DIR)/g1_walk.mcap
 	.venv/bin/python tools/tracking.py $(DEMO_DIR)/g1_walk.csv --operator $(DEMO_OPERATOR)
 	.venv/bin/python tools/plot_trace.py $(DEMO_DIR)/g1_walk.csv $(DEMO_DIR)/g1_walk.png \
@@ -104,6 +123,14 @@ endif
 	    $(DEMO_DIR)/g1_walk_frames.png --at 0,4,9,13,16,21 \
 	    --title "Unitree G1 in MuJoCo: $(DEMO_PLAN), stop at 9 s, turn 0.5 rad/s from 12 s, stop at 18 s" \
 	    || echo "demo: no offscreen OpenGL here: frames not rendered (tools/render_frames.py)"
+
+# roz's own walking policy trained again (examples/policies/g1_walk/train.py:
+# DAgger on g1_walker.c in MuJoCo through the harness collect.c; tens of
+# minutes on two cores, so not part of make test): rewrites policy.npz and
+# train_log.json there, which the next build deploys (docs/policies.md).
+train-g1-walk: build
+	OPENBLAS_NUM_THREADS=1 .venv/bin/python examples/policies/g1_walk/train.py \
+	    --lib $(BUILD)/examples/controllers/libg1_walk_collect.so
 
 # The balancing stand (examples/controllers/g1_stand.c) holds the 29-joint
 # G1 up in MuJoCo for 10 s (5000 ticks at 500 Hz), pushed forward at the
