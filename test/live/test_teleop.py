@@ -133,9 +133,14 @@ def test_teleop_reaches_a_controller(tmp_path):
             assert any(says in m for m in got), f"no status says '{says}': {got}"
         # past rozrun's own checks: a datagram of another size, a NaN it passes
         # on (the runtime's input refuses it and counts)
+        # and hostile ones: empty, the wrong magic at the right size, one
+        # far past the largest (cut by the socket: still refused), each counted
         raw = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         raw.sendto(b"TWST" + struct.pack("<5d", 0.1, 0, 0, 0, 0), str(sock))
         raw.sendto(b"TWST" + struct.pack("<6d", float("nan"), 0, 0, 0, 0, 0), str(sock))
+        raw.sendto(b"", str(sock))
+        raw.sendto(b"TWSt" + struct.pack("<6d", 0.1, 0, 0, 0, 0, 0), str(sock))
+        raw.sendto(b"TWST" + struct.pack("<6d", 0.1, 0, 0, 0, 0, 0) + b"\0" * 60000, str(sock))
         raw.close()
         ws.send(json.dumps({"op": "unadvertise", "channelIds": [7]}))
         publish(ws, 7, twist_json(0.2))                 # unadvertised: refused
@@ -152,7 +157,7 @@ def test_teleop_reaches_a_controller(tmp_path):
                  r"refused \(non-finite\) (\d+)", line)
     assert m, line
     twists, malformed, clamped, nonfinite = map(int, m.groups())
-    assert twists == 11 and malformed == 1 and clamped == 0 and nonfinite == 1, line
+    assert twists == 11 and malformed == 4 and clamped == 0 and nonfinite == 1, line
     values = trace_column(trace, INPUT)
     assert 0.3 in values, values[:50]
     assert set(values) <= {0.0, 0.3}, sorted(set(values))
@@ -249,6 +254,11 @@ def test_joystick_reaches_a_controller(tmp_path):
         raw.sendto(b"JOY1" + struct.pack("<BBxx", 4, 17) + struct.pack("<4f", *pad), str(sock))
         raw.sendto(b"JOY1" + struct.pack("<BBxx", 33, 0) + struct.pack("<33f", *[0] * 33),
                    str(sock))
+        # a map length past the bound; a datagram of 64 KiB; a magic alone
+        raw.sendto(b"JOY1" + struct.pack("<BBH", 4, 17, 0xFFFF) + struct.pack("<4f17i", *pad,
+                   *pressed) + b"x" * 0xFFFF, str(sock))
+        raw.sendto(b"JOY1" + b"\xff" * 65532, str(sock))
+        raw.sendto(b"JOY1", str(sock))
         raw.close()
         out, err = run.communicate(timeout=120)
         assert run.returncode == 0, out + err
@@ -260,7 +270,7 @@ def test_joystick_reaches_a_controller(tmp_path):
     line = summary_line(out, "teleop")
     m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused", line)
     assert m, line
-    assert tuple(map(int, m.groups())) == (0, 10, 3), line
+    assert tuple(map(int, m.groups())) == (0, 10, 6), line
     forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
     assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
     first = forward.index(0.25)
