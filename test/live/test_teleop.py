@@ -120,13 +120,14 @@ def test_teleop_reaches_a_controller(tmp_path):
                        '"z": 0}}')
         publish(ws, 7, twist_json(0.1)[:-3])            # cut short: not JSON
         publish(ws, 7, twist_json(0.1, " " * 5000))     # past MAX_TELEOP_BYTES
+        publish(ws, 7, "[" * 2000 + "]" * 2000)         # deeper than Python's decoder
         publish(ws, 7, '{"linear": {"x": 0.1, "y": 0}, "angular": {"x": 0, "y": 0, "z": 0}}')
         publish(ws, 8, twist_json(0.1))                 # a channel never advertised
         ws.send(json.dumps({"op": "advertise", "channels": [
             {"id": 9, "topic": "/joy", "encoding": "json", "schemaName": "std_msgs/msg/String"}]}))
         publish(ws, 9, twist_json(0.1))                 # advertised, not a twist
         got = [s["message"] for s in statuses(client, 1.0)]
-        for says in ("NaN is not a number", "not JSON", "more than 4096",
+        for says in ("NaN is not a number", "not JSON", "more than 4096", "nested too deeply",
                      "linear: expected an object of x, y and z", "Unknown channel ID: 8",
                      "json geometry_msgs/msg/Twist or sensor_msgs/Joy only",
                      "channel 9, which is no advertised twist or Joy"):
