@@ -431,3 +431,22 @@ def test_teleop_socket_refusals(tmp_path):
     r = subprocess.run([sys.executable, str(LIVE), "-", "--teleop-remote"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "--teleop-remote needs --teleop SOCKET" in r.stderr, r.stderr
+
+
+def test_loopback_rule():
+    """Who is offered clientPublish, on any machine (test_teleop_from_another_machine
+    needs an address besides the loopback): roz-live's rule on peer addresses,
+    run in a process of its own (importing roz-live patches the mcap reader)."""
+    code = f"""
+import importlib.util
+spec = importlib.util.spec_from_file_location("live", {str(LIVE)!r})
+live = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(live)
+for a in ("127.0.0.1", "127.1.2.3", "::1", "::ffff:127.0.0.1"):
+    assert live.loopback(a), a
+for a in ("192.0.2.1", "10.0.0.1", "0.0.0.0", "::", "::ffff:192.0.2.1", "fe80::1%eth0",
+          "2001:db8::1", "localhost", "", "127.0.0.1.evil"):
+    assert not live.loopback(a), a
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr
