@@ -116,7 +116,7 @@ static const char *arg_meaning(char kind)
     switch (kind) {
     case 'i': return "a motor slot 0..34";
     case 'b': return "an integer 0..255";
-    case 'k': return "'-' or key names joined by '+' (R1 L1 start select R2 L2 F1 F2 A B X Y up right down left)";
+    case 'k': return "'-' or the SDK's key names joined by '+' (A+L2)";
     case 'u': return "an integer 0..4294967295";
     case 'n': return "a count 0..4294967295";
     case 't': return "a timeout in ms 0..600000";

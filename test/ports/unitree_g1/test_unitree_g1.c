@@ -579,7 +579,8 @@ static void test_g1_wireless_remote(void **st)
     assert_int_equal(counters().remote_frames, 1);
 
     /* every key but A, each set by the SDK's name: no neighbour read as A */
-    roz_g1fx_ask("remote R1+L1+start+select+R2+F1+F2+B+X+Y+up+right+down+left 0.4 -1 0.25 0.75 0.5");
+    roz_g1fx_ask("remote R1+L1+start+select+R2+F1+F2+B+X+Y+up+right+down+left "
+                 "0.4 -1 0.25 0.75 0.5");
     roz_g1fx_send();
     tick_rt();
     in = inputs_now();
