@@ -4,10 +4,12 @@
 # input columns (the state the controller reads after the port's) follow
 # the script at the inputs' rate cap, never faster: forward 0.5 m/s, a
 # value beyond the limits (clamped to 0.8, counted), a non-finite one
-# (refused, counted: the input keeps its value), stop. A malformed file or
-# an unknown input name is refused before the robot moves, naming the file,
-# line and column; so is a robot without inputs, and a --gamepad that is no
-# evdev device.
+# (refused, counted: the input keeps its value), stop; 1e308 and infinities
+# likewise. A malformed or hostile file (times not finite, negative or
+# going back, a number past a double, a row too long, a command channel or
+# an unknown input named, a NUL byte, past 16 MiB) is refused before the
+# robot moves, naming the file, line and column; so is a robot without
+# inputs, and a --gamepad that is no evdev device.
 #   cmake -DROZRUN=<rozrun> -DCTL=<controller dir> -DOUT=<work dir>
 #         -DPYTHON=<python> -P run_rozrun_operator.cmake
 cmake_minimum_required(VERSION 3.25)
@@ -85,6 +87,76 @@ refused(back "time_s,operator/velocity.x\n1,0.1\n0.5,0\n"
         "3:1: time_s 0.5: before the row above (1): rows go forward in time")
 refused(twice "time_s,operator/yaw_rate,operator/yaw_rate\n"
         "1:26: input \"operator/yaw_rate\" named twice")
+# hostile files: times not finite, negative or unsorted, a number past a
+# double, a row too long, a command channel or an empty name for an input
+refused(time_nan "time_s,operator/velocity.x\n0,0\nnan,0.1\n"
+        "3:1: time_s nan: must be a finite number of seconds, from 0")
+refused(time_inf "time_s,operator/velocity.x\ninf,0\n"
+        "2:1: time_s inf: must be a finite number of seconds, from 0")
+refused(time_negative "time_s,operator/velocity.x\n-0.5,0.1\n"
+        "2:1: time_s -0.5: must be a finite number of seconds, from 0")
+refused(past_double "time_s,operator/velocity.x\n0,1e400\n"
+        "2:3: \"1e400\" is not a number (column operator/velocity.x)")
+refused(long_row "time_s,operator/velocity.x\n0,0.1,0.2\n"
+        "2:7: more values than the 2 columns of the header")
+refused(command "time_s,left_knee_joint/position\n0,1\n"
+        "1:8: \"left_knee_joint/position\" is not an input of robot unitree_g1_12dof")
+refused(empty_name "time_s,,operator/velocity.x\n0,0,0\n"
+        "1:8: \"\" is not an input of robot unitree_g1_12dof")
+# a spreadsheet's UTF-8 byte order mark before the header is no refusal
+# (and a file with a NUL byte, and one past 16 MiB, are refused)
+execute_process(COMMAND ${PYTHON} -c "
+import sys
+open(sys.argv[1], 'wb').write(b'\\xef\\xbb\\xbftime_s,operator/velocity.x\\n0,0.1\\n')
+open(sys.argv[2], 'wb').write(b'time_s,operator/velocity.x\\n0,\\x000.1\\n')
+with open(sys.argv[3], 'wb') as f:
+    f.write(b'time_s,operator/velocity.x\\n')
+    f.write(b'0,0.1\\n' * (3 << 20))
+" ${OUT}/bom.csv ${OUT}/nul.csv ${OUT}/huge.csv RESULT_VARIABLE py_rc)
+if(NOT py_rc EQUAL 0)
+  message(FATAL_ERROR "could not write bom.csv, nul.csv and huge.csv")
+endif()
+run(bom --robot unitree_g1_12dof --ticks 10 --operator ${OUT}/bom.csv)
+if(NOT bom_rc EQUAL 0)
+  message(FATAL_ERROR "bom: exit ${bom_rc}\n${bom_out}${bom_err}")
+endif()
+expect_in("${bom_out}" "operator               1 rows from ${OUT}/bom.csv" "bom summary")
+foreach(name_want "nul;a NUL byte: not a CSV file" "huge;larger than 16 MiB")
+  list(GET name_want 0 name)
+  list(GET name_want 1 want)
+  run(${name} --robot unitree_g1_12dof --ticks 10 --operator ${OUT}/${name}.csv)
+  if(NOT ${name}_rc EQUAL 2)
+    message(FATAL_ERROR "${name}: exit ${${name}_rc}, expected 2\n${${name}_out}${${name}_err}")
+  endif()
+  expect_in("${${name}_err}" "rozrun: --operator ${OUT}/${name}.csv: ${want}" "${name} stderr")
+endforeach()
+file(REMOVE ${OUT}/huge.csv)
+# values past every limit, and infinities: clamped or refused, each counted,
+# and the input the controller reads moves by its rate cap at most
+file(WRITE ${OUT}/extreme.csv "time_s,operator/velocity.x,operator/yaw_rate
+0,1e308,-inf
+0.1,-1e308,inf
+")
+run(extreme --robot unitree_g1_12dof --ticks 100 --operator ${OUT}/extreme.csv
+            --trace ${OUT}/extreme_trace.csv)
+if(NOT extreme_rc EQUAL 0)
+  message(FATAL_ERROR "extreme: exit ${extreme_rc}\n${extreme_out}${extreme_err}")
+endif()
+expect_in("${extreme_out}" "inputs clamped 100, refused (non-finite) 100, gone stale 0"
+          "extreme summary")
+execute_process(COMMAND ${PYTHON} -c "
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+vx = [float(r['input:operator/velocity.x']) for r in rows]
+yaw = [float(r['input:operator/yaw_rate']) for r in rows]
+assert len(vx) == 100, len(vx)
+assert max(abs(a - b) for a, b in zip([0.0] + vx, vx)) <= 0.002 + 1e-12
+assert abs(vx[49] - 0.1) < 1e-9 and abs(vx[99]) < 1e-9, (vx[49], vx[99])
+assert all(v == 0.0 for v in yaw), set(yaw)
+" ${OUT}/extreme_trace.csv RESULT_VARIABLE py_rc OUTPUT_VARIABLE py_out ERROR_VARIABLE py_err)
+if(NOT py_rc EQUAL 0)
+  message(FATAL_ERROR "extreme trace: ${py_out}${py_err}")
+endif()
 
 # ---- 3. a robot without inputs
 file(WRITE ${OUT}/ur5.csv "time_s\n0\n")

@@ -181,6 +181,8 @@ def _json_object(data):
                           object_pairs_hook=_one_of_each)
     except (UnicodeDecodeError, ValueError) as e:
         raise TeleopError(f"not JSON ({e})") from None
+    except RecursionError:  # 4,096 bytes of "[" nest deeper than Python's decoder goes
+        raise TeleopError("not JSON (nested too deeply)") from None
 
 
 def parse_joy(data):

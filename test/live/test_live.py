@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Watching a run live (docs/live.md): rozrun --live on the loopback UR5,
 roz-live (tools/live.py) serving it on 127.0.0.1, and a client that speaks
-the Foxglove WebSocket protocol (subprotocol foxglove.websocket.v1) strictly
+the Foxglove WebSocket protocol v1 (subprotocol foxglove.sdk.v1) strictly
 with PyPI's `websockets`: the subprotocol negotiated, serverInfo first,
 every text message a JSON object with its op, the advertised channels and
 schemas those of the run's own recording, every binary message a Message
@@ -395,6 +395,25 @@ def test_viewers_are_capped(tmp_path):
         assert again.ws.recv(timeout=30)
         for c in held + [again]:
             c._conn.__exit__(None, None, None)
+    finally:
+        v.stop()
+
+
+def test_subprotocol_names(tmp_path):
+    """As docs/live.md says: a client that offers the protocol only by its
+    older name, foxglove.websocket.v1, or no subprotocol at all, is refused
+    at the handshake; one that offers both gets foxglove.sdk.v1."""
+    from websockets.exceptions import InvalidStatus
+    v = Viewer(tmp_path / "names.live")
+    try:
+        for offered in (["foxglove.websocket.v1"], None):
+            with pytest.raises(InvalidStatus):
+                connect(f"ws://127.0.0.1:{v.port}", subprotocols=offered, open_timeout=30,
+                        proxy=None, compression=None)
+        with connect(f"ws://127.0.0.1:{v.port}", open_timeout=30, proxy=None, compression=None,
+                     subprotocols=["foxglove.websocket.v1", SUBPROTOCOL]) as ws:
+            assert ws.subprotocol == SUBPROTOCOL
+            assert json.loads(ws.recv(timeout=30))["op"] == "serverInfo"
     finally:
         v.stop()
 

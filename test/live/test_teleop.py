@@ -120,22 +120,28 @@ def test_teleop_reaches_a_controller(tmp_path):
                        '"z": 0}}')
         publish(ws, 7, twist_json(0.1)[:-3])            # cut short: not JSON
         publish(ws, 7, twist_json(0.1, " " * 5000))     # past MAX_TELEOP_BYTES
+        publish(ws, 7, "[" * 2000 + "]" * 2000)         # deeper than Python's decoder
         publish(ws, 7, '{"linear": {"x": 0.1, "y": 0}, "angular": {"x": 0, "y": 0, "z": 0}}')
         publish(ws, 8, twist_json(0.1))                 # a channel never advertised
         ws.send(json.dumps({"op": "advertise", "channels": [
             {"id": 9, "topic": "/joy", "encoding": "json", "schemaName": "std_msgs/msg/String"}]}))
         publish(ws, 9, twist_json(0.1))                 # advertised, not a twist
         got = [s["message"] for s in statuses(client, 1.0)]
-        for says in ("NaN is not a number", "not JSON", "more than 4096",
+        for says in ("NaN is not a number", "not JSON", "more than 4096", "nested too deeply",
                      "linear: expected an object of x, y and z", "Unknown channel ID: 8",
                      "json geometry_msgs/msg/Twist or sensor_msgs/Joy only",
                      "channel 9, which is no advertised twist or Joy"):
             assert any(says in m for m in got), f"no status says '{says}': {got}"
         # past rozrun's own checks: a datagram of another size, a NaN it passes
         # on (the runtime's input refuses it and counts)
+        # and hostile ones: empty, the wrong magic at the right size, one
+        # far past the largest (cut by the socket: still refused), each counted
         raw = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
         raw.sendto(b"TWST" + struct.pack("<5d", 0.1, 0, 0, 0, 0), str(sock))
         raw.sendto(b"TWST" + struct.pack("<6d", float("nan"), 0, 0, 0, 0, 0), str(sock))
+        raw.sendto(b"", str(sock))
+        raw.sendto(b"TWSt" + struct.pack("<6d", 0.1, 0, 0, 0, 0, 0), str(sock))
+        raw.sendto(b"TWST" + struct.pack("<6d", 0.1, 0, 0, 0, 0, 0) + b"\0" * 60000, str(sock))
         raw.close()
         ws.send(json.dumps({"op": "unadvertise", "channelIds": [7]}))
         publish(ws, 7, twist_json(0.2))                 # unadvertised: refused
@@ -152,7 +158,7 @@ def test_teleop_reaches_a_controller(tmp_path):
                  r"refused \(non-finite\) (\d+)", line)
     assert m, line
     twists, malformed, clamped, nonfinite = map(int, m.groups())
-    assert twists == 11 and malformed == 1 and clamped == 0 and nonfinite == 1, line
+    assert twists == 11 and malformed == 4 and clamped == 0 and nonfinite == 1, line
     values = trace_column(trace, INPUT)
     assert 0.3 in values, values[:50]
     assert set(values) <= {0.0, 0.3}, sorted(set(values))
@@ -249,6 +255,11 @@ def test_joystick_reaches_a_controller(tmp_path):
         raw.sendto(b"JOY1" + struct.pack("<BBxx", 4, 17) + struct.pack("<4f", *pad), str(sock))
         raw.sendto(b"JOY1" + struct.pack("<BBxx", 33, 0) + struct.pack("<33f", *[0] * 33),
                    str(sock))
+        # a map length past the bound; a datagram of 64 KiB; a magic alone
+        raw.sendto(b"JOY1" + struct.pack("<BBH", 4, 17, 0xFFFF) + struct.pack("<4f17i", *pad,
+                   *pressed) + b"x" * 0xFFFF, str(sock))
+        raw.sendto(b"JOY1" + b"\xff" * 65532, str(sock))
+        raw.sendto(b"JOY1", str(sock))
         raw.close()
         out, err = run.communicate(timeout=120)
         assert run.returncode == 0, out + err
@@ -260,7 +271,7 @@ def test_joystick_reaches_a_controller(tmp_path):
     line = summary_line(out, "teleop")
     m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused", line)
     assert m, line
-    assert tuple(map(int, m.groups())) == (0, 10, 3), line
+    assert tuple(map(int, m.groups())) == (0, 10, 6), line
     forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
     assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
     first = forward.index(0.25)
@@ -420,3 +431,22 @@ def test_teleop_socket_refusals(tmp_path):
     r = subprocess.run([sys.executable, str(LIVE), "-", "--teleop-remote"],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "--teleop-remote needs --teleop SOCKET" in r.stderr, r.stderr
+
+
+def test_loopback_rule():
+    """Who is offered clientPublish, on any machine (test_teleop_from_another_machine
+    needs an address besides the loopback): roz-live's rule on peer addresses,
+    run in a process of its own (importing roz-live patches the mcap reader)."""
+    code = f"""
+import importlib.util
+spec = importlib.util.spec_from_file_location("live", {str(LIVE)!r})
+live = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(live)
+for a in ("127.0.0.1", "127.1.2.3", "::1", "::ffff:127.0.0.1"):
+    assert live.loopback(a), a
+for a in ("192.0.2.1", "10.0.0.1", "0.0.0.0", "::", "::ffff:192.0.2.1", "fe80::1%eth0",
+          "2001:db8::1", "localhost", "", "127.0.0.1.evil"):
+    assert not live.loopback(a), a
+"""
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, p.stderr

@@ -79,19 +79,21 @@ static char *read_all(const char *path, size_t *len)
 int rozrun_operator_load(rozrun_operator_t *op, const char *path, const roz_manifest_t *m)
 {
     size_t len, cap_rows = 0, lineno = 0;
-    char *text = read_all(path, &len), *next;
+    char *text = read_all(path, &len), *next, *start;
     int have_header = 0;
 
     memset(op, 0, sizeof *op);
     op->path = path;
     if (text == NULL)
         return -1;
+    /* a spreadsheet's UTF-8 byte order mark is no part of the header */
+    start = len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0 ? text + 3 : text;
     if (m->n_inputs == 0) {
         fprintf(stderr, "rozrun: --operator %s: robot %s has no operator inputs "
                         "([[manifest.inputs]] in its robot.toml)\n", path, m->robot_id);
         goto fail;
     }
-    for (char *line = text; line != NULL; line = next) {
+    for (char *line = start; line != NULL; line = next) {
         const char *at, *b, *e;
         size_t col = 0;
         next = strchr(line, '\n');

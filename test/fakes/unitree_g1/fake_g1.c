@@ -368,24 +368,56 @@ static int reply_command(fake_t *f, uint64_t k)
     return reply("%s", out);
 }
 
-/* Carry out one request and reply; 1 when the fake should stop, -1 when
- * stdout is gone. */
 /* The remote's data as Unitree's SDK declares it (its rocker-and-button
  * struct, the first 24 of LowState_.wireless_remote's 40 bytes): two
- * header bytes, the 16-bit key union (bit 0 R1, 1 L1, 2 start, 3 select,
- * 4 R2, 5 L2, 6 F1, 7 F2, 8 A, 9 B, 10 X, 11 Y, 12 up, 13 right, 14 down,
- * 15 left), five floats, the rest unused. The robot copies its memory
- * image (little-endian, checked in g1_frame.h). */
+ * header bytes, the key union of sixteen one-bit fields in the SDK's order
+ * and with its names, five floats, the rest unused. The robot copies its
+ * memory image (little-endian, checked in g1_frame.h). A key is set by
+ * its name, as the SDK's users set it: where its bit lands is the
+ * compiler's bit-field layout, as on the robot, never roz's numbering. */
 typedef struct fake_remote {
     uint8_t head[2];
-    uint16_t keys;
+    union {
+        struct {
+            uint8_t R1 : 1;
+            uint8_t L1 : 1;
+            uint8_t start : 1;
+            uint8_t select : 1;
+            uint8_t R2 : 1;
+            uint8_t L2 : 1;
+            uint8_t F1 : 1;
+            uint8_t F2 : 1;
+            uint8_t A : 1;
+            uint8_t B : 1;
+            uint8_t X : 1;
+            uint8_t Y : 1;
+            uint8_t up : 1;
+            uint8_t right : 1;
+            uint8_t down : 1;
+            uint8_t left : 1;
+        } components;
+        uint16_t value;
+    } btn;
     float lx, rx, ry, l2, ly;
     uint8_t idle[16];
 } fake_remote_t;
-_Static_assert(sizeof(fake_remote_t) == 40 && offsetof(fake_remote_t, keys) == 2 &&
+_Static_assert(sizeof(fake_remote_t) == 40 && offsetof(fake_remote_t, btn) == 2 &&
                    offsetof(fake_remote_t, lx) == 4 && offsetof(fake_remote_t, ly) == 20,
                "the SDK's remote layout");
 
+/* Presses the key the SDK names @p name. */
+static void press_key(fake_remote_t *r, const char *name)
+{
+#define KEY(n)                                                                          \
+    if (strcmp(name, #n) == 0)                                                          \
+        r->btn.components.n = 1;
+    KEY(R1) KEY(L1) KEY(start) KEY(select) KEY(R2) KEY(L2) KEY(F1) KEY(F2)
+    KEY(A) KEY(B) KEY(X) KEY(Y) KEY(up) KEY(right) KEY(down) KEY(left)
+#undef KEY
+}
+
+/* Carry out one request and reply; 1 when the fake should stop, -1 when
+ * stdout is gone. */
 static int handle(fake_t *f, const g1_request_t *q)
 {
     char err[200];
@@ -421,7 +453,9 @@ static int handle(fake_t *f, const g1_request_t *q)
         /* as Unitree's SDK fills it: its remote struct's memory image */
         fake_remote_t r;
         memset(&r, 0, sizeof r);
-        r.keys = (uint16_t)q->u[0];
+        for (int k = 0; k < G1_REMOTE_KEYS; k++)
+            if ((q->u[0] >> k & 1u) != 0)
+                press_key(&r, g1_remote_key_names[k]);
         r.lx = (float)q->f[0];
         r.rx = (float)q->f[1];
         r.ry = (float)q->f[2];

@@ -14,7 +14,9 @@
  *   i  motor slot 0..34        b  0..255 (a uint8 field)
  *   u  0..2^32-1 (a uint32)    n  a command count 0..2^32-1
  *   t  timeout 0..G1_REQ_MAX_TIMEOUT_MS ms
- *   k  0..65535 (a uint16: the remote's keys)
+ *   k  the remote's held keys: "-" (none) or the names of Unitree's SDK's
+ *      key union, joined by '+' ("A+L2"); u[] gets bit i for the name
+ *      g1_remote_key_names[i] (the fake sets the SDK's struct by name)
  *   f  a real that fits a float32 (NaN and infinities pass: the robot may
  *      send them, and a port must cope) */
 typedef struct verb {
@@ -28,7 +30,7 @@ static const verb_t verbs[] = {
     { "motor", G1_REQ_MOTOR, "ifff", "motor I Q DQ TAU" },
     { "motorstate", G1_REQ_MOTORSTATE, "iu", "motorstate I CODE" },
     { "imu", G1_REQ_IMU, "ffffffffff", "imu W X Y Z GX GY GZ AX AY AZ" },
-    { "remote", G1_REQ_REMOTE, "kfffff", "remote KEYS LX RX RY L2 LY" },
+    { "remote", G1_REQ_REMOTE, "kfffff", "remote KEYS|- LX RX RY L2 LY" },
     { "mode_machine", G1_REQ_MODE_MACHINE, "b", "mode_machine M" },
     { "mode_pr", G1_REQ_MODE_PR, "b", "mode_pr P" },
     { "send", G1_REQ_SEND, "", "send" },
@@ -48,6 +50,32 @@ static const verb_t verbs[] = {
 };
 
 static const char *const seps = " \t\r";
+
+const char *const g1_remote_key_names[G1_REMOTE_KEYS] = {
+    "R1", "L1", "start", "select", "R2", "L2", "F1", "F2",
+    "A",  "B",  "X",     "Y",      "up", "right", "down", "left",
+};
+
+/* "-" or names of g1_remote_key_names joined by '+', each once: the set. */
+static int parse_keys(const char *s, uint64_t *out)
+{
+    *out = 0;
+    if (strcmp(s, "-") == 0)
+        return 0;
+    for (const char *at = s;;) {
+        size_t n = strcspn(at, "+");
+        int k = -1;
+        for (int i = 0; i < G1_REMOTE_KEYS && k < 0; i++)
+            if (strlen(g1_remote_key_names[i]) == n && memcmp(g1_remote_key_names[i], at, n) == 0)
+                k = i;
+        if (k < 0 || (*out & (1u << k)) != 0)
+            return -1;
+        *out |= 1u << k;
+        if (at[n] == '\0')
+            return 0;
+        at += n + 1;
+    }
+}
 
 /* A decimal integer in [0, max]: digits only (strtoull alone would take a
  * sign, spaces and hex). */
@@ -88,7 +116,7 @@ static const char *arg_meaning(char kind)
     switch (kind) {
     case 'i': return "a motor slot 0..34";
     case 'b': return "an integer 0..255";
-    case 'k': return "an integer 0..65535";
+    case 'k': return "'-' or the SDK's key names joined by '+' (A+L2)";
     case 'u': return "an integer 0..4294967295";
     case 'n': return "a count 0..4294967295";
     case 't': return "a timeout in ms 0..600000";
@@ -135,10 +163,11 @@ int g1_request_parse(char *line, g1_request_t *req, char *err, size_t errlen)
         int bad;
         if (k == 'f') {
             bad = parse_real(s, &req->f[nf++]);
+        } else if (k == 'k') {
+            bad = parse_keys(s, &req->u[nu++]);
         } else {
             uint64_t max = k == 'i'   ? 34u
                            : k == 'b' ? 255u
-                           : k == 'k' ? 65535u
                            : k == 't' ? G1_REQ_MAX_TIMEOUT_MS
                                       : 0xFFFFFFFFu;
             bad = parse_uint(s, max, &req->u[nu++]);

@@ -13,7 +13,7 @@ typedef enum g1_req_kind {
     G1_REQ_MOTOR,         /* motor I Q DQ TAU */
     G1_REQ_MOTORSTATE,    /* motorstate I CODE */
     G1_REQ_IMU,           /* imu W X Y Z GX GY GZ AX AY AZ */
-    G1_REQ_REMOTE,        /* remote KEYS LX RX RY L2 LY */
+    G1_REQ_REMOTE,        /* remote KEYS|- LX RX RY L2 LY */
     G1_REQ_MODE_MACHINE,  /* mode_machine M */
     G1_REQ_MODE_PR,       /* mode_pr P */
     G1_REQ_SEND,          /* send */
@@ -43,6 +43,11 @@ typedef struct g1_request {
     uint64_t u[G1_REQ_MAX_ARGS]; /* integer arguments, in order */
     double f[G1_REQ_MAX_ARGS];   /* real arguments, in order */
 } g1_request_t;
+
+/* The names of the remote's 16 keys, as Unitree's SDK's key union names
+ * its bit-fields ("remote" request's KEYS). */
+#define G1_REMOTE_KEYS 16
+extern const char *const g1_remote_key_names[G1_REMOTE_KEYS];
 
 /* Parse @p line (NUL-terminated, no newline; it is modified). 0, or -1
  * with the reason, naming the request, in @p err. */

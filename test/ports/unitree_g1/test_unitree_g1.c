@@ -435,6 +435,8 @@ static const roz_channel_t remote_inputs[] = {
       ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
     { "operator/brake", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_L2, 1.0 },
+    { "operator/pitch", ROZ_IF_POSITION, "", -1.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
+      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_RY, 1.0 },
 };
 
 /* The inputs as the runtime's last tick left them. */
@@ -443,8 +445,10 @@ static const double *inputs_now(void)
     return roz_runtime_last_state(&rt) + m->n_states;
 }
 
-/* A robot that sends a remote frame as Unitree's SDK lays it out (the
- * fake's own struct, copied as one memory image): the port decodes it from
+/* A robot that sends a remote frame as Unitree's SDK fills it (the SDK's
+ * struct and key union, each key set by the SDK's name, copied as one
+ * memory image): every stick, the trigger and the keys land where the
+ * port reads them (every key but A leaves A's input at 0); the port decodes it from
  * accepted frames only and hands it, wait-free, to the runtime's inputs,
  * which a controller reads scaled; a NaN stick is refused and counted (the
  * other fields of the frame still count), a frame that fails its CRC
@@ -485,7 +489,7 @@ static void test_g1_wireless_remote(void **st)
     assert_int_equal(roz_port_set_operator(&port, &sink), ROZ_ESTATE); /* active: too late */
 
     /* A (bit 8) and L2 (bit 5) held; lx 0.4, rx -1, ry 0.25, L2 0.75, ly 0.5 */
-    roz_g1fx_ask("remote 288 0.4 -1 0.25 0.75 0.5");
+    roz_g1fx_ask("remote A+L2 0.4 -1 0.25 0.75 0.5");
     roz_g1fx_send();
     tick_rt();
     in = inputs_now();
@@ -494,12 +498,26 @@ static void test_g1_wireless_remote(void **st)
     assert_true(in[2] == 1.57);
     assert_true(in[3] == 1.0);
     assert_true(in[4] == (double)0.75f);
+    assert_true(in[5] == (double)0.25f);
     assert_int_equal(roz_runtime_faults(&rt), 0);
     assert_int_equal(counters().remote_frames, 1);
 
+    /* every key but A, each set by the SDK's name: no neighbour read as A */
+    roz_g1fx_ask("remote R1+L1+start+select+R2+F1+F2+B+X+Y+up+right+down+left "
+                 "0.4 -1 0.25 0.75 0.5");
+    roz_g1fx_send();
+    tick_rt();
+    in = inputs_now();
+    assert_true(in[3] == 0.0);
+    assert_int_equal(roz_runtime_faults(&rt), 0); /* B without L2: no e-stop */
+    roz_g1fx_ask("remote A 0.4 -1 0.25 0.75 0.5");
+    roz_g1fx_send();
+    tick_rt();
+    assert_true(inputs_now()[3] == 1.0);
+
     /* a NaN stick: that input keeps its value, counted by the inputs and by
      * the port; the frame's other fields are taken */
-    roz_g1fx_ask("remote 0 nan -1 0.25 0.75 0.25");
+    roz_g1fx_ask("remote - nan -1 0.25 0.75 0.25");
     roz_g1fx_send();
     tick_rt();
     in = inputs_now();
@@ -510,7 +528,7 @@ static void test_g1_wireless_remote(void **st)
     assert_int_equal(counters().remote_nonfinite, 1);
 
     /* a frame that fails its CRC brings no remote */
-    roz_g1fx_ask("remote 256 0.1 0.1 0.1 0.1 -0.5");
+    roz_g1fx_ask("remote A 0.1 0.1 0.1 0.1 -0.5");
     roz_unitree_g1_link(roz_g1fx_port(), &before);
     roz_g1fx_ask("corrupt");
     roz_g1fx_wait_judged(&before, 0);
@@ -518,15 +536,15 @@ static void test_g1_wireless_remote(void **st)
     in = inputs_now();
     assert_true(in[0] == 0.8 * 0.25);
     assert_true(in[3] == 0.0);
-    assert_int_equal(counters().remote_frames, 2);
+    assert_int_equal(counters().remote_frames, 4);
 
     /* the G1's remote e-stop, L2 (bit 5) + B (bit 9), from the robot */
     assert_int_equal(m->remote_estop, 32 | 512);
-    roz_g1fx_ask("remote 544 0 0 0 0 0");
+    roz_g1fx_ask("remote L2+B 0 0 0 0 0");
     roz_g1fx_send();
     tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
-    roz_g1fx_ask("remote 0 0 0 0 0 0"); /* released: latched still */
+    roz_g1fx_ask("remote - 0 0 0 0 0"); /* released: latched still */
     roz_g1fx_send();
     tick_rt();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
