@@ -227,6 +227,19 @@ $(BUILD)-fw-m4fp/build.ninja: $(FW_CONF) | setup build
 $(BUILD)-fw-m33p/build.ninja: $(FW_CONF) | setup build
 	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33p $(FW_FLAGS) $(FW_POLICY) -DFW_BOARD=mps2-an505
 
+# The other robot's images on each board, for make bench-targets only (the
+# same controllers on every core): the UR5's sine on the M7, the G1's PD on
+# the M4F and the M33 (soft double).
+$(BUILD)-fw-m7u/build.ninja: $(FW_CONF) | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m7u $(FW_FLAGS) -DROZ_FW_VARIANT=ur5 \
+	    -DFW_BOARD=mps2-an500
+$(BUILD)-fw-m4fg/build.ninja: $(FW_CONF) | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m4fg $(FW_FLAGS) -DROZ_FW_VARIANT=g1 \
+	    -DFW_BOARD=mps2-an386
+$(BUILD)-fw-m33g/build.ninja: $(FW_CONF) | setup
+	$(CMAKE) -S examples/firmware -B $(BUILD)-fw-m33g $(FW_FLAGS) -DROZ_FW_VARIANT=g1 \
+	    -DFW_BOARD=mps2-an505
+
 FW_TREES = m4f m7 stm32 m33 m7p m4fp
 firmware: setup $(foreach t,$(FW_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	for t in $(FW_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
@@ -264,7 +277,7 @@ firmware-options: setup
 # M33 images, each under QEMU with its executed blocks counted per part
 # (controller, filter, runtime, port); JSON lines into BENCH_OUT/targets.jsonl,
 # which bench/report.py renders. Some 15 min; `make bench` runs it.
-TARGET_TREES = m4f m7 m33 m7p m4fp m33p
+TARGET_TREES = m4f m7 m33 m7p m4fp m33p m7u m4fg m33g
 AARCH64_TREE = $(BUILD)/test/aarch64/tree
 bench-targets: setup build $(foreach t,$(TARGET_TREES),$(BUILD)-fw-$(t)/build.ninja)
 	for t in $(TARGET_TREES); do $(CMAKE) --build $(BUILD)-fw-$$t -j $(JOBS) || exit 1; done
@@ -366,5 +379,5 @@ fuzz-diff: build
 	bash fuzz/diff/long_run.sh $(FUZZ_DIFF_SECONDS)
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES) m33p,$(BUILD)-fw-$(t)) \
+	rm -rf $(BUILD) $(BUILD)-asan $(BUILD)-tsan $(foreach t,$(FW_TREES) m33p m7u m4fg m33g,$(BUILD)-fw-$(t)) \
 	    $(BUILD)-fw-options

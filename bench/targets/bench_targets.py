@@ -46,8 +46,10 @@ PARTS = ["process", "filter", "port", "clock"]
 
 # (name, robot, controller file, the firmware tree and image that run it)
 CONTROLLERS = [
-    ("ur5_sine", "ur5", "sine_wat.wasm", {"m4f": "ur5_sine", "m33": "ur5_sine"}),
-    ("g1_pd", "unitree_g1", "g1_pd.wasm", {"m7": "g1_pd"}),
+    ("ur5_sine", "ur5", "sine_wat.wasm",
+     {"m4f": "ur5_sine", "m7": "ur5_sine@m7u", "m33": "ur5_sine"}),
+    ("g1_pd", "unitree_g1", "g1_pd.wasm",
+     {"m4f": "g1_pd@m4fg", "m7": "g1_pd", "m33": "g1_pd@m33g"}),
     ("g1_policy", "unitree_g1", "g1_policy.wasm",
      {"m4f": "g1_policy@m4fp", "m7": "g1_policy@m7p", "m33": "g1_policy@m33p"}),
 ]

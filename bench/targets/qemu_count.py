@@ -81,6 +81,7 @@ class Counter:
         self.by_pc = {}  # guest pc -> Block (the latest translation)
         self.fresh = None  # the block translated last, not yet executed
         self.stack = []  # frames: [return address, owner part, is tick]
+        self.rets = {}  # return address -> how many frames of the stack have it
         self.owner = None  # the innermost tracked part, None outside them
         self.prev = None  # the block executed last
         self.cur = None  # this tick's parts, or None outside a tick
@@ -108,22 +109,25 @@ class Counter:
             blk = self.by_ptr.get(ptr) or self.by_pc.get(pc)
         if blk is None:
             raise SystemExit(f"qemu_count: block at {pc:#x} executed, never translated in the log")
-        # a return: pop to the frame it returns from
+        # a return: pop to the frame it returns from (the search runs only
+        # when some frame returns to pc)
         stack = self.stack
-        for i in range(len(stack) - 1, max(-1, len(stack) - 64), -1):
-            if stack[i][0] == pc:
-                # and the frames of tail calls under it, which return there too
-                while i > 0 and stack[i - 1][0] == pc:
-                    i -= 1
-                for fr in stack[i:]:
-                    if fr[2]:
-                        self.end_tick()
-                del stack[i:]
-                self.owner = stack[-1][1] if stack else None
-                returned = True
-                break
-        else:
-            returned = False
+        rets = self.rets
+        returned = False
+        if pc in rets:
+            for i in range(len(stack) - 1, max(-1, len(stack) - 64), -1):
+                if stack[i][0] == pc:
+                    # and the frames of tail calls under it, which return there too
+                    while i > 0 and stack[i - 1][0] == pc:
+                        i -= 1
+                    for fr in stack[i:]:
+                        if fr[2]:
+                            self.end_tick()
+                        self.forget(fr[0])
+                    del stack[i:]
+                    self.owner = stack[-1][1] if stack else None
+                    returned = True
+                    break
         # a call: the function this block is in was entered; or a tracked
         # function entered by a tail call (a jump from another function),
         # which returns where its caller's frame does
@@ -138,8 +142,11 @@ class Counter:
                 self.owner = part
             if is_tick:
                 self.cur = {}
-            stack.append((stack[-1][0] if tail else prev.end, self.owner, is_tick))
+            ret = stack[-1][0] if tail else prev.end
+            stack.append((ret, self.owner, is_tick))
+            rets[ret] = rets.get(ret, 0) + 1
             if len(stack) > 4096:
+                self.forget(stack[0][0])
                 del stack[0]
         self.prev = blk
         self.prev_name = name
@@ -166,6 +173,14 @@ class Counter:
         else:
             self.outside += blk.n
             self.last = (None, blk)
+
+    def forget(self, ret):
+        """A frame returning to ret left the stack."""
+        n = self.rets[ret] - 1
+        if n:
+            self.rets[ret] = n
+        else:
+            del self.rets[ret]
 
     def rewound(self, pc):
         """QEMU ran the last block only up to pc (an I/O access under
@@ -216,17 +231,35 @@ def inlined_addresses(elf, func, host, prefix=""):
     return found
 
 
+def parse_trace(line):
+    """(host code pointer, guest pc, function) of one exec line, or None."""
+    m = TRACE.match(line)
+    if m is None:
+        return None
+    return int(m.group(1), 16), int(m.group(2), 16), m.group(3).strip()
+
+
 def feed(c, lines, want):
     """Reads QEMU's log lines into the Counter c; True when want ticks were
     counted before the log ended (the reader stops there)."""
     insns = None
     pc = None
+    # nearly every line is an exec line, and most are the same few thousand
+    # lines again (a block run again logs the same text): each distinct one
+    # is parsed once
+    traces = {}
+    executed = c.executed
+    ticks = c.ticks
     for line in lines:
-        if line.startswith("Trace"):
-            m = TRACE.match(line)
-            if m:
-                c.executed(int(m.group(1), 16), int(m.group(2), 16), m.group(3).strip())
-                if len(c.ticks) >= want:
+        if line[:5] == "Trace":
+            t = traces.get(line)
+            if t is None:
+                if len(traces) > 1 << 20:
+                    traces.clear()
+                t = traces[line] = parse_trace(line) or ()
+            if t:
+                executed(*t)
+                if len(ticks) >= want:
                     return True
             continue
         if line.startswith("cpu_io_recompile: rewound execution of TB to "):
