@@ -38,14 +38,16 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
 
 all: build
 
+# its messages on stderr: a target whose output is captured (make bench's
+# firmware-options table) gets its own output alone
 setup:
-	@bash tools/setup.sh
+	@bash tools/setup.sh >&2
 
 # Ray, roz-campaign's engine for clusters: not in the default set-up (its
 # wheel is large); the tests need it (test/campaign/test_campaign_ray.py),
 # and so does make bench (the campaigns' Ray row). Idempotent.
 setup-ray:
-	@bash tools/setup.sh --ray
+	@bash tools/setup.sh --ray >&2
 
 $(BUILD)/build.ninja: | setup
 	$(CMAKE) -S . -B $(BUILD) $(CONFIGURE_FLAGS)

@@ -790,8 +790,9 @@ def build(args) -> tuple[str, str]:
           "-icount shift=0`. What they leave out: a real core's cycles per instruction (caches, "
           "pipelines, FPU latency: instructions are not time), the Linux kernel's work "
           "(system calls are one instruction here), the Cortex-M's interrupts that fall "
-          "between two ticks; the ARMv7-M FPU of the M4F and the M33 has no double, so "
-          "their doubles are library calls, counted in the part that makes them.\n")
+          "between two ticks; the single-precision FPU of the M4F (ARMv7-M) and the M33 "
+          "(ARMv8-M) has no double, so their doubles are library calls, counted in the part "
+          "that makes them.\n")
     else:
         w(f"Not run: {skipped(d, 'targets')}.\n")
 

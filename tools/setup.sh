@@ -64,9 +64,16 @@ apt_packages=(
     gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
     python3 python3-venv python3-pip
     libegl1 libegl-mesa0 libgl1-mesa-dri chromium
-    gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user
 )
-arm64_packages=(cyclonedds-dev:arm64 libcmocka-dev:arm64 libzstd-dev:arm64)
+arm64_packages=()
+# On an arm64 machine (the robot's computer itself, docs/robot-computer.md)
+# the build is native and test/aarch64/ is not built: there is nothing to
+# cross-build nor emulate, and gcc-aarch64-linux-gnu is only a name gcc
+# provides, which dpkg-query never reports installed.
+if [ "$(dpkg --print-architecture)" != arm64 ]; then
+    apt_packages+=(gcc-aarch64-linux-gnu libc6-dev-arm64-cross qemu-user)
+    arm64_packages=(cyclonedds-dev:arm64 libcmocka-dev:arm64 libzstd-dev:arm64)
+fi
 missing=()
 for p in "${apt_packages[@]}" "${arm64_packages[@]}"; do
     if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
@@ -77,7 +84,7 @@ if ((${#missing[@]})); then
     [ "$(id -u)" = 0 ] || die "missing Debian packages (${missing[*]}); run as root or install them: apt-get install ${missing[*]}"
     say "installing Debian packages: ${missing[*]}"
     export DEBIAN_FRONTEND=noninteractive
-    if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    if ((${#arm64_packages[@]})) && ! dpkg --print-foreign-architectures | grep -qx arm64; then
         say "adding the arm64 architecture (multiarch) for the aarch64 cross-build"
         dpkg --add-architecture arm64
     fi

@@ -23,6 +23,7 @@
 #include "dds_open_file.h"
 #include "roz/error.h"
 #include "support.h"
+#include "roz/hal/thread.h"
 
 #ifndef ROZ_SOURCE_DIR
 #error "ROZ_SOURCE_DIR: the repository"
@@ -76,6 +77,22 @@ static void expected_line(const char *name, char *out, size_t len)
     if (nl == NULL || nl[1] != '\0')
         fail_msg("%s: expected one line, as the port reports one problem", path);
     *nl = '\0';
+}
+
+/* The .expected lines are rozgen's words on the machine that builds, whose
+ * least thread stack is 64 KiB; a target whose C library needs more
+ * (aarch64 Linux: 128, roz/hal/thread.h) refuses the same value naming its
+ * own range: the target's words are wanted there. */
+#define BUILD_STACK_RANGE "64..65536"
+static void target_stack_range(char *want, size_t len)
+{
+    char buf[2048];
+    const char *at = strstr(want, BUILD_STACK_RANGE);
+    if (at == NULL || strcmp(BUILD_STACK_RANGE, ROZ_THREAD_STACK_RANGE) == 0)
+        return;
+    snprintf(buf, sizeof buf, "%.*s%s%s", (int)(at - want), want, ROZ_THREAD_STACK_RANGE,
+             at + strlen(BUILD_STACK_RANGE));
+    snprintf(want, len, "%s", buf);
 }
 
 /* The mujoco port's errors name the robot.toml it opened ("mujoco: FILE: ")
@@ -137,6 +154,7 @@ static void test_port_vectors_agree(void **state)
         if (read_by_mujoco(names[i]))
             continue; /* refused (above), in MuJoCo's words */
         expected_line(names[i], want, sizeof want);
+        target_stack_range(want, sizeof want);
         if (strcmp(port_name, "mujoco") == 0)
             mujoco_words(path, err);
         snprintf(got, sizeof got, "%s/%s: %s", VECTORS, names[i], err);
