@@ -107,13 +107,7 @@ static stats_t stats(uint64_t *v, size_t n)
 
 static uint8_t *read_file(const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return NULL;
-    uint8_t *buf = malloc(ROZ_CFG_WASM_MAX_MODULE_BYTES);
-    *len = buf ? fread(buf, 1, ROZ_CFG_WASM_MAX_MODULE_BYTES, f) : 0;
-    fclose(f);
-    return buf;
+    return bench_read_file(path, ROZ_CFG_WASM_MAX_MODULE_BYTES, len);
 }
 
 static roz_runtime_t rt;
