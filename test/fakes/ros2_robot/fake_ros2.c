@@ -24,6 +24,7 @@
 #include <dds/dds.h>
 
 #include "fake_dds.h"
+#include "fake_reply.h"
 #include "robots.h"
 #include "ros2_robot.h"
 
@@ -121,18 +122,6 @@ typedef struct {
 } fake_t;
 
 static fake_t fake;
-
-__attribute__((format(printf, 1, 2)))
-static int reply(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vprintf(fmt, ap);
-    va_end(ap);
-    if (n < 0 || putchar('\n') == EOF || fflush(stdout) != 0)
-        return -1;
-    return 0;
-}
 
 /* A reply line being built: what line_add() appends, cut at its size. */
 typedef struct {
