@@ -36,4 +36,19 @@ static inline void roz_test_inputs_step(roz_test_inputs_t *b)
     roz_inputs_tick(&b->in, b->tick * ROZ_TEST_INPUTS_TICK_NS, b->out);
 }
 
+/* A test file's one bench over its manifest @p man: `ib`, step() (one tick)
+ * and setup() (a cmocka setup: the inputs before their first tick). */
+#define ROZ_TEST_INPUTS_BENCH(man)                 \
+    static roz_test_inputs_t ib;                   \
+    static void step(void)                         \
+    {                                              \
+        roz_test_inputs_step(&ib);                 \
+    }                                              \
+    static int setup(void **st)                    \
+    {                                              \
+        (void)st;                                  \
+        roz_test_inputs_init(&ib, &(man));         \
+        return 0;                                  \
+    }
+
 #endif /* ROZ_TEST_SUPPORT_INPUTS_H */

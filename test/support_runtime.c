@@ -126,3 +126,13 @@ void roz_test_frames_check(roz_test_frames_t *f, const double *cmd, unsigned lon
     }
     f->have_prev = 1;
 }
+
+int roz_test_buffer_port_read(void *self, double *state, size_t n)
+{
+    roz_buffer_frame_t f;
+    int rc = roz_buffer_read((roz_buffer_t *)self, &f);
+
+    if (rc >= 0)
+        memcpy(state, f.values, n * sizeof state[0]);
+    return rc;
+}

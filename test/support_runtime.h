@@ -8,6 +8,7 @@
 #ifndef ROZ_TEST_SUPPORT_RUNTIME_H
 #define ROZ_TEST_SUPPORT_RUNTIME_H
 
+#include "roz/buffer.h"
 #include "roz/port/loopback.h"
 #include "roz/runtime.h"
 #include "support.h"
@@ -74,5 +75,10 @@ void roz_test_frames_reset(roz_test_frames_t *f, const roz_runtime_t *rt,
 
 /* Checks @p cmd, the frame of tick @p tick (named in a failure). */
 void roz_test_frames_check(roz_test_frames_t *f, const double *cmd, unsigned long long tick);
+
+/* A test port's read op over its self, a roz_buffer_t a thread of the
+ * test's own fills: the newest frame's @p n values into @p state;
+ * roz_buffer_read()'s result. */
+int roz_test_buffer_port_read(void *self, double *state, size_t n);
 
 #endif /* ROZ_TEST_SUPPORT_RUNTIME_H */

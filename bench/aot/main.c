@@ -25,6 +25,7 @@
 #include <time.h>
 
 #include "bench_json.h"
+#include "bench_native_abi.h" /* the native controllers' imports */
 #include "roz/abi.h"
 #include "roz/aot.h"
 #include "roz/controller.h"
@@ -39,31 +40,6 @@ ROZ_AOT_DECLARE(bench_nn_policy);
 
 void roz_native_process(long long tick);         /* g1_pd.c */
 void roz_native_process_g1_bulk(long long tick); /* g1_pd_bulk.c, renamed by the build */
-
-/* ---- the native controllers' imports: roz's ABI functions, directly ------ */
-
-static roz_abi_t native_abi;
-int roz_command_set(int i, double v);
-int roz_command_count(void);
-double roz_state_get(int i);
-int roz_state_count(void);
-void roz_emit_metric(double v);
-int roz_state_get_all(double *v, int n);
-int roz_command_set_all(const double *v, int n);
-int roz_command_set(int i, double v) { return roz_abi_command_set(&native_abi, i, v); }
-int roz_command_count(void) { return roz_abi_command_count(&native_abi); }
-double roz_state_get(int i) { return roz_abi_state_get(&native_abi, i); }
-int roz_state_count(void) { return roz_abi_state_count(&native_abi); }
-void roz_emit_metric(double v) { roz_abi_telemetry_emit_metric(&native_abi, v); }
-int roz_state_get_all(double *v, int n)
-{
-    return roz_abi_state_get_all(&native_abi, (uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u, 0, n);
-}
-int roz_command_set_all(const double *v, int n)
-{
-    return roz_abi_command_set_all(&native_abi, (const uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u,
-                                   0, n);
-}
 
 static void native_policy(long long tick)
 {

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: Apache-2.0 */
 /*
- * What the benchmarks share: p50/p99/max of a set of durations, and their
- * machine-readable output. With `--json FILE` a bench appends one JSON
+ * What the benchmarks share: p50/p99/max of a set of durations, their
+ * machine-readable output, and a controller's file read whole. With `--json FILE` a bench appends one JSON
  * object per figure to FILE (JSON Lines), which bench/report.py turns into
  * BENCHMARKS.md:
  *   {"bench": "tick", "name": "process(), wasm3", "unit": "us",
@@ -78,15 +78,34 @@ static inline void bench_json_str(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* The file at @p path, at most @p cap bytes of it, in a buffer of @p cap
+ * bytes from malloc (its length in *len); NULL when it cannot be opened. */
+static inline uint8_t *bench_read_file(const char *path, size_t cap, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (f == NULL)
+        return NULL;
+    uint8_t *buf = malloc(cap);
+    *len = buf ? fread(buf, 1, cap, f) : 0;
+    fclose(f);
+    return buf;
+}
+
+/* A line's start: the bench's name and the figure's @p name. */
+static inline void bench_json_head(const bench_json_t *j, const char *name)
+{
+    fputs("{\"bench\": ", j->f);
+    bench_json_str(j->f, j->bench);
+    fputs(", \"name\": ", j->f);
+    bench_json_str(j->f, name);
+}
+
 /* A timed figure: p50/p99/max in microseconds. */
 static inline void bench_json_timing(const bench_json_t *j, const char *name, bench_stats_t s)
 {
     if (j->f == NULL)
         return;
-    fputs("{\"bench\": ", j->f);
-    bench_json_str(j->f, j->bench);
-    fputs(", \"name\": ", j->f);
-    bench_json_str(j->f, name);
+    bench_json_head(j, name);
     fprintf(j->f, ", \"unit\": \"us\", \"p50\": %.4f, \"p99\": %.4f, \"max\": %.4f}\n", s.p50,
             s.p99, s.max);
     fflush(j->f);
@@ -98,10 +117,7 @@ static inline void bench_json_value(const bench_json_t *j, const char *name, dou
 {
     if (j->f == NULL)
         return;
-    fputs("{\"bench\": ", j->f);
-    bench_json_str(j->f, j->bench);
-    fputs(", \"name\": ", j->f);
-    bench_json_str(j->f, name);
+    bench_json_head(j, name);
     fputs(", \"unit\": ", j->f);
     bench_json_str(j->f, unit);
     fprintf(j->f, ", \"value\": %.17g}\n", value);

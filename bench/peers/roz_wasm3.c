@@ -62,13 +62,7 @@ static void fill_state(double *s, size_t n, int64_t t)
 
 static uint8_t *read_file(const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return NULL;
-    uint8_t *buf = malloc(ROZ_CFG_WASM_MAX_MODULE_BYTES);
-    *len = buf ? fread(buf, 1, ROZ_CFG_WASM_MAX_MODULE_BYTES, f) : 0;
-    fclose(f);
-    return buf;
+    return bench_read_file(path, ROZ_CFG_WASM_MAX_MODULE_BYTES, len);
 }
 
 static long rss_kib(void)
@@ -135,6 +129,47 @@ static void print_timing(const char *name, bench_stats_t s, int *first)
 /* The nn policy: its reference outputs (metered and not, which must
  * agree) into @p ref (NULL: none), then process() per call metered and
  * not, alternating rounds of 100, into @p ns[0], ns[1]. 0, or 2. */
+/* Tick @p t of @p c timed: the state filled, then process() alone timed
+ * into *ns; its result. */
+static int timed_tick(roz_controller_t *c, roz_abi_t *a, int64_t t, uint64_t *ns)
+{
+    fill_state(state, m->n_states, t);
+    roz_abi_begin_tick(a, t, state);
+    uint64_t t0 = roz_clock_monotonic_ns(NULL);
+    int rc = roz_controller_process(c, t);
+    *ns = roz_clock_monotonic_ns(NULL) - t0;
+    return rc;
+}
+
+/* Writes what the reference run gave to @p ref: its ticks, the ABI's
+ * counters @p c (with the nn and metric counts and @p metric_fnv unless it
+ * is NULL), then the targets @p target; 0, or 2 when it cannot. */
+static int write_ref(const char *ref, const roz_abi_counters_t *c, const uint64_t *metric_fnv,
+                     const double *target)
+{
+    FILE *f = fopen(ref, "w");
+    if (f == NULL) {
+        fprintf(stderr, "roz_bench_peers_roz: cannot write %s\n", ref);
+        return 2;
+    }
+    fprintf(f, "ticks %d\nsets %llu\nset_clamped %llu\nset_bad_index %llu\n"
+               "set_nonfinite %llu\nget_bad_index %llu\n",
+            REF_TICKS, (unsigned long long)c->sets, (unsigned long long)c->set_clamped,
+            (unsigned long long)c->set_bad_index, (unsigned long long)c->set_nonfinite,
+            (unsigned long long)c->get_bad_index);
+    if (metric_fnv != NULL)
+        fprintf(f, "metrics %llu\nnn_calls %llu\nnn_refused %llu\nmetric_fnv 0x%016llx\n",
+                (unsigned long long)c->metrics, (unsigned long long)c->nn_calls,
+                (unsigned long long)c->nn_refused, (unsigned long long)*metric_fnv);
+    for (uint16_t i = 0; i < m->n_commands; i++) {
+        uint64_t bits;
+        memcpy(&bits, &target[i], sizeof bits);
+        fprintf(f, "target 0x%016llx\n", (unsigned long long)bits);
+    }
+    fclose(f);
+    return 0;
+}
+
 static int nn_side(const char *path, const char *ref, size_t calls, uint64_t *ns[2])
 {
     static roz_controller_t c[2];
@@ -177,38 +212,13 @@ static int nn_side(const char *path, const char *ref, size_t calls, uint64_t *ns
         fprintf(stderr, "roz_bench_peers_roz: %s: unmetered outputs differ from metered\n", path);
         return 1;
     }
-    if (ref != NULL) {
-        FILE *f = fopen(ref, "w");
-        if (f == NULL) {
-            fprintf(stderr, "roz_bench_peers_roz: cannot write %s\n", ref);
-            return 2;
-        }
-        fprintf(f, "ticks %d\nsets %llu\nset_clamped %llu\nset_bad_index %llu\n"
-                   "set_nonfinite %llu\nget_bad_index %llu\nmetrics %llu\nnn_calls %llu\n"
-                   "nn_refused %llu\nmetric_fnv 0x%016llx\n",
-                REF_TICKS, (unsigned long long)cnt[0].sets,
-                (unsigned long long)cnt[0].set_clamped, (unsigned long long)cnt[0].set_bad_index,
-                (unsigned long long)cnt[0].set_nonfinite,
-                (unsigned long long)cnt[0].get_bad_index, (unsigned long long)cnt[0].metrics,
-                (unsigned long long)cnt[0].nn_calls, (unsigned long long)cnt[0].nn_refused,
-                (unsigned long long)fnv[0]);
-        for (uint16_t i = 0; i < m->n_commands; i++) {
-            uint64_t bits;
-            memcpy(&bits, &target[0][i], sizeof bits);
-            fprintf(f, "target 0x%016llx\n", (unsigned long long)bits);
-        }
-        fclose(f);
-    }
+    if (ref != NULL && write_ref(ref, &cnt[0], &fnv[0], target[0]) != 0)
+        return 2;
     roz_metric_t drop;
     for (size_t r = 0; r < calls; r += 100) {
         for (int k = 0; k < 2; k++) {
             for (size_t i = r; i < r + 100 && i < calls; i++) {
-                int64_t t = REF_TICKS + (int64_t)i;
-                fill_state(state, m->n_states, t);
-                roz_abi_begin_tick(&a[k], t, state);
-                uint64_t t0 = roz_clock_monotonic_ns(NULL);
-                int rc = roz_controller_process(&c[k], t);
-                ns[k][i] = roz_clock_monotonic_ns(NULL) - t0;
+                int rc = timed_tick(&c[k], &a[k], REF_TICKS + (int64_t)i, &ns[k][i]);
                 while (roz_metric_ring_pop(&ring[k], &drop) == 1)
                     ;
                 if (rc != ROZ_OK) {
@@ -296,25 +306,8 @@ int main(int argc, char **argv)
             return 1;
         }
     }
-    if (ref != NULL) {
-        FILE *f = fopen(ref, "w");
-        if (f == NULL) {
-            fprintf(stderr, "roz_bench_peers_roz: cannot write %s\n", ref);
-            return 2;
-        }
-        fprintf(f, "ticks %d\nsets %llu\nset_clamped %llu\nset_bad_index %llu\n"
-                   "set_nonfinite %llu\nget_bad_index %llu\n",
-                REF_TICKS, (unsigned long long)cnt[0].sets,
-                (unsigned long long)cnt[0].set_clamped, (unsigned long long)cnt[0].set_bad_index,
-                (unsigned long long)cnt[0].set_nonfinite,
-                (unsigned long long)cnt[0].get_bad_index);
-        for (uint16_t i = 0; i < m->n_commands; i++) {
-            uint64_t bits;
-            memcpy(&bits, &target[0][i], sizeof bits);
-            fprintf(f, "target 0x%016llx\n", (unsigned long long)bits);
-        }
-        fclose(f);
-    }
+    if (ref != NULL && write_ref(ref, &cnt[0], NULL, target[0]) != 0)
+        return 2;
 
     /* load, LOAD_REPS times: the validator alone, the whole load, verify */
     static uint64_t scan_ns[LOAD_REPS], load_ns[LOAD_REPS], verify_ns[LOAD_REPS];
@@ -361,12 +354,7 @@ int main(int argc, char **argv)
     for (size_t r = 0; r < calls; r += 100) {
         for (int k = 0; k < n_ctl; k++) {
             for (size_t i = r; i < r + 100 && i < calls; i++) {
-                int64_t t = REF_TICKS + (int64_t)i;
-                fill_state(state, m->n_states, t);
-                roz_abi_begin_tick(&abi[k], t, state);
-                uint64_t t0 = roz_clock_monotonic_ns(NULL);
-                int rc = roz_controller_process(&ctl[k], t);
-                ns[k][i] = roz_clock_monotonic_ns(NULL) - t0;
+                int rc = timed_tick(&ctl[k], &abi[k], REF_TICKS + (int64_t)i, &ns[k][i]);
                 if (rc != ROZ_OK) {
                     fprintf(stderr, "roz_bench_peers_roz: %s\n", roz_controller_error(&ctl[k]));
                     return 2;

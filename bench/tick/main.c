@@ -36,53 +36,16 @@
 #include "roz/ports.h"
 #include "roz/runtime.h"
 #include "bench_json.h"
+#include "bench_native_abi.h"
 #include "controller_bench.h"
 #include "unitree_g1_manifest.h"
 #include "ur5_manifest.h"
 
-/* ---- the native controller's imports: roz's ABI functions, directly ------ */
+/* ---- the native controllers (their imports: bench_native_abi.h) ---------- */
 
 void roz_native_process(long long tick);
 void roz_native_process_ur5(long long tick); /* pd_hold.c, renamed by the build */
 void roz_native_process_g1_bulk(long long tick); /* g1_pd_bulk.c, likewise */
-int roz_state_get_all(double *values, int count);
-int roz_command_set_all(const double *values, int count);
-int roz_command_set(int index, double value);
-int roz_command_count(void);
-double roz_command_limit_min(int index);
-double roz_command_limit_max(int index);
-double roz_state_get(int index);
-int roz_state_count(void);
-double roz_sin(double x);
-double roz_cos(double x);
-void roz_request_estop(void);
-long long roz_now_ns(void);
-long long roz_sim_time_ns(void);
-void roz_emit_metric(double value);
-
-static roz_abi_t native_abi;
-int roz_command_set(int i, double v) { return roz_abi_command_set(&native_abi, i, v); }
-int roz_command_count(void) { return roz_abi_command_count(&native_abi); }
-double roz_command_limit_min(int i) { return roz_abi_command_limit_min(&native_abi, i); }
-double roz_command_limit_max(int i) { return roz_abi_command_limit_max(&native_abi, i); }
-double roz_state_get(int i) { return roz_abi_state_get(&native_abi, i); }
-int roz_state_count(void) { return roz_abi_state_count(&native_abi); }
-double roz_sin(double x) { return roz_abi_math_sin(x); }
-double roz_cos(double x) { return roz_abi_math_cos(x); }
-void roz_request_estop(void) { roz_abi_safety_request_estop(&native_abi); }
-long long roz_now_ns(void) { return roz_abi_timing_now_ns(&native_abi); }
-long long roz_sim_time_ns(void) { return roz_abi_timing_sim_time_ns(&native_abi); }
-void roz_emit_metric(double v) { roz_abi_telemetry_emit_metric(&native_abi, v); }
-/* the bulk extension: natively, the controller's memory is its own array */
-int roz_state_get_all(double *v, int n)
-{
-    return roz_abi_state_get_all(&native_abi, (uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u, 0, n);
-}
-int roz_command_set_all(const double *v, int n)
-{
-    return roz_abi_command_set_all(&native_abi, (const uint8_t *)v, n > 0 ? (size_t)n * 8u : 0u,
-                                   0, n);
-}
 
 /* ---- helpers -------------------------------------------------------------- */
 
@@ -107,13 +70,7 @@ static stats_t stats(uint64_t *v, size_t n)
 
 static uint8_t *read_file(const char *path, size_t *len)
 {
-    FILE *f = fopen(path, "rb");
-    if (f == NULL)
-        return NULL;
-    uint8_t *buf = malloc(ROZ_CFG_WASM_MAX_MODULE_BYTES);
-    *len = buf ? fread(buf, 1, ROZ_CFG_WASM_MAX_MODULE_BYTES, f) : 0;
-    fclose(f);
-    return buf;
+    return bench_read_file(path, ROZ_CFG_WASM_MAX_MODULE_BYTES, len);
 }
 
 static roz_runtime_t rt;

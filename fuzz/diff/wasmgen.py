@@ -120,22 +120,20 @@ FUNC_COST = 30000      # estimated dynamic instructions per function, at most
 MAX_LOOP_NEST = 2
 
 
-def f32_lit(bits):
-    bits &= 0xFFFFFFFF
-    sign = "-" if bits >> 31 else ""
-    exp, frac = (bits >> 23) & 0xFF, bits & 0x7FFFFF
-    if exp == 0xFF:
-        return sign + ("inf" if frac == 0 else "nan:0x%x" % frac)
-    return float.hex(struct.unpack("<f", struct.pack("<I", bits))[0])
+# a float's width: its exponent's bits and the struct formats of it and its bits
+FLOAT_LAYOUT = {32: (8, "<f", "<I"), 64: (11, "<d", "<Q")}
 
 
-def f64_lit(bits):
-    bits &= 0xFFFFFFFFFFFFFFFF
-    sign = "-" if bits >> 63 else ""
-    exp, frac = (bits >> 52) & 0x7FF, bits & 0xFFFFFFFFFFFFF
-    if exp == 0x7FF:
+def float_lit(bits, width):
+    """The WAT literal of the @p width-bit float whose bits are @p bits."""
+    ebits, ffmt, ifmt = FLOAT_LAYOUT[width]
+    mbits = width - 1 - ebits
+    bits &= (1 << width) - 1
+    sign = "-" if bits >> (width - 1) else ""
+    exp, frac = (bits >> mbits) & ((1 << ebits) - 1), bits & ((1 << mbits) - 1)
+    if exp == (1 << ebits) - 1:
         return sign + ("inf" if frac == 0 else "nan:0x%x" % frac)
-    return float.hex(struct.unpack("<d", struct.pack("<Q", bits))[0])
+    return float.hex(struct.unpack(ffmt, struct.pack(ifmt, bits))[0])
 
 
 class Func:
@@ -177,11 +175,11 @@ class Gen:
             b = r.choice(F32_EDGES) if r.random() < 0.7 else r.getrandbits(32)
             if r.random() < 0.3 and (b >> 23) & 0xFF != 0xFF:
                 b ^= 0x80000000
-            return "(f32.const %s)" % f32_lit(b)
+            return "(f32.const %s)" % float_lit(b, 32)
         b = r.choice(F64_EDGES) if r.random() < 0.7 else r.getrandbits(64)
         if r.random() < 0.3 and (b >> 52) & 0x7FF != 0x7FF:
             b ^= 1 << 63
-        return "(f64.const %s)" % f64_lit(b)
+        return "(f64.const %s)" % float_lit(b, 64)
 
     # ---- function bodies ------------------------------------------------------
     def begin(self, fn):

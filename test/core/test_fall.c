@@ -47,19 +47,19 @@ static const roz_channel_t commands[N_CMD] = {
     { "knee/effort", ROZ_IF_EFFORT, "N*m", -50.0, 50.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
 };
+/* The IMU's orientation quaternion component @p axis, upright by default. */
+#define ORIENTATION(axis, upright)                                                       \
+    { "imu/orientation." axis, ROZ_IF_ORIENTATION, "", -1.0, 1.0, (upright), 0.0,          \
+      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 }
 static const roz_channel_t states[N_ST] = {
     { "knee/position", ROZ_IF_POSITION, "rad", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
     { "knee/velocity", ROZ_IF_VELOCITY, "rad/s", -20.0, 20.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
       ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "imu/orientation.x", ROZ_IF_ORIENTATION, "", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "imu/orientation.y", ROZ_IF_ORIENTATION, "", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "imu/orientation.z", ROZ_IF_ORIENTATION, "", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "imu/orientation.w", ROZ_IF_ORIENTATION, "", -1.0, 1.0, 1.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    ORIENTATION("x", 0.0),
+    ORIENTATION("y", 0.0),
+    ORIENTATION("z", 0.0),
+    ORIENTATION("w", 1.0),
 };
 
 /* down beyond 1 rad for 20 ms: 10 ticks at 500 Hz */
@@ -319,6 +319,22 @@ static int tick(void)
     return roz_runtime_tick(&rt);
 }
 
+static void ticks(int n)
+{
+    for (int i = 0; i < n; i++)
+        tick();
+}
+
+/* Started, standing 300 ticks, then tilted by @p angle about x for the
+ * NEED ticks a fall takes. */
+static void stand_then_tilt(double angle)
+{
+    start();
+    ticks(300);
+    tilt_to(st, angle, 1.0, 0.0, 0.0);
+    ticks(NEED);
+}
+
 /* Standing: the controller's gains are in. Tilted NEED - 1 ticks: nothing.
  * The NEED-th: FALL, named with the tilt, and from that tick on every
  * command is damping and the controller never runs. */
@@ -361,26 +377,19 @@ static void test_fall_runtime_beats_estop(void **unused)
 {
     (void)unused;
     start();
-    for (int i = 0; i < 300; i++)
-        tick();
+    ticks(300);
     roz_runtime_estop_set(&rt, 1);
     tick();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP);
     assert_true(written[C_KP] > 0.0); /* the e-stop's hold gain */
     tilt_to(st, 1.6, 1.0, 0.0, 0.0);
-    for (int i = 0; i < NEED; i++)
-        tick();
+    ticks(NEED);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP | ROZ_FAULT_FALL);
     expect_damping(written, st[S_Q]);
     roz_runtime_estop_set(&rt, 0);
     teardown(NULL);
 
-    start();
-    for (int i = 0; i < 300; i++)
-        tick();
-    tilt_to(st, 1.6, 1.0, 0.0, 0.0);
-    for (int i = 0; i < NEED; i++)
-        tick();
+    stand_then_tilt(1.6);
     roz_runtime_estop(&rt);
     tick();
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_ESTOP | ROZ_FAULT_FALL);
@@ -393,12 +402,7 @@ static void test_fall_runtime_beats_estop(void **unused)
 static void test_fall_runtime_clear(void **unused)
 {
     (void)unused;
-    start();
-    for (int i = 0; i < 300; i++)
-        tick();
-    tilt_to(st, 1.4, 1.0, 0.0, 0.0);
-    for (int i = 0; i < NEED; i++)
-        tick();
+    stand_then_tilt(1.4);
     assert_int_equal(roz_runtime_faults(&rt), ROZ_FAULT_FALL);
     assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     assert_int_equal(tick(), ROZ_EFAULT);

@@ -510,35 +510,37 @@ static void mode_end(uint64_t min_vector_ticks)
  * THIN-th of each (support_thin.h) */
 #define THIN ROZ_TEST_THIN(4)
 
-static void test_reference_mixed(void **st)
+/* run() for the seeds @p from to @p to, each times @p k: what they changed. */
+static uint64_t runs(const roz_manifest_t *m, uint64_t from, uint64_t to, uint64_t k, long ticks)
 {
     uint64_t changed = 0;
+    for (uint64_t seed = from; seed <= to; seed++)
+        changed += run(m, seed * k, ticks);
+    return changed;
+}
+
+static void test_reference_mixed(void **st)
+{
     mode_begin(st);
-    for (uint64_t seed = 1; seed <= 20; seed++)
-        changed += run(&mixed, seed * 0x9e3779b97f4a7c15ull, 20000 / THIN);
+    uint64_t changed = runs(&mixed, 1, 20, 0x9e3779b97f4a7c15ull, 20000 / THIN);
     assert_true(changed > 10000 / THIN); /* the rules were at work, not idle */
     mode_end(1000 / THIN);
 }
 
 static void test_reference_ur5(void **st)
 {
-    uint64_t changed = 0;
     mode_begin(st);
-    for (uint64_t seed = 1; seed <= 5; seed++)
-        changed += run(&roz_manifest_ur5, seed * 0xd1b54a32d192ed03ull, 20000 / THIN);
+    uint64_t changed = runs(&roz_manifest_ur5, 1, 5, 0xd1b54a32d192ed03ull, 20000 / THIN);
     assert_true(changed > 10000 / THIN);
     mode_end(1000 / THIN);
 }
 
 static void test_reference_g1(void **st)
 {
-    uint64_t changed = 0;
     mode_begin(st);
-    for (uint64_t seed = 1; seed <= 3; seed++)
-        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000 / THIN);
+    uint64_t changed = runs(&roz_manifest_unitree_g1, 1, 3, 0x2545f4914f6cdd1dull, 5000 / THIN);
     calm = 1;
-    for (uint64_t seed = 4; seed <= 6; seed++)
-        changed += run(&roz_manifest_unitree_g1, seed * 0x2545f4914f6cdd1dull, 5000 / THIN);
+    changed += runs(&roz_manifest_unitree_g1, 4, 6, 0x2545f4914f6cdd1dull, 5000 / THIN);
     calm = 0;
     assert_true(changed > 10000 / THIN);
     mode_end(500 / THIN);

@@ -35,19 +35,7 @@ static const roz_channel_t ins[] = {
 static const roz_manifest_t man = { "op_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
                                     states, 1, NULL, ins, 2, 0, NULL };
 
-static roz_test_inputs_t ib;
-
-static void step(void)
-{
-    roz_test_inputs_step(&ib);
-}
-
-static int setup(void **st)
-{
-    (void)st;
-    roz_test_inputs_init(&ib, &man);
-    return 0;
-}
+ROZ_TEST_INPUTS_BENCH(man)
 
 static void test_manifest_with_inputs_is_valid(void **st)
 {

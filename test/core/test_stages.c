@@ -113,43 +113,30 @@ static void press(int k, double v)
     assert_int_equal(roz_runtime_input_set(&rt, (uint32_t)k, v), ROZ_OK);
 }
 
-/* A controller that sets every stiffness to 120 and counts its ticks in
- * effort 0's target (the tick it was given, as f64, clamped by the channel). */
+/* A controller that sets every stiffness (channels 24 to 35) to @p kp, a
+ * WAT f64 expression of the tick $t, then does @p then. */
+#define KP_WAT(kp, then)                                                       \
+    "(module"                                                                  \
+    " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))"   \
+    " (func (export \"process\") (param $t i64) (local $i i32)"                \
+    "  (local.set $i (i32.const 24))"                                          \
+    "  (block $done (loop $next"                                               \
+    "   (br_if $done (i32.ge_u (local.get $i) (i32.const 36)))"                \
+    "   (drop (call $set (local.get $i) " kp "))"                              \
+    "   (local.set $i (i32.add (local.get $i) (i32.const 1)))"                 \
+    "   (br $next)))" then "))"
+
+/* Every stiffness 120, counting its ticks in effort 0's target (the tick it
+ * was given, as f64, clamped by the channel). */
 static const char kp120_wat[] =
-    "(module"
-    " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))"
-    " (func (export \"process\") (param $t i64) (local $i i32)"
-    "  (local.set $i (i32.const 24))"
-    "  (block $done (loop $next"
-    "   (br_if $done (i32.ge_u (local.get $i) (i32.const 36)))"
-    "   (drop (call $set (local.get $i) (f64.const 120)))"
-    "   (local.set $i (i32.add (local.get $i) (i32.const 1)))"
-    "   (br $next)))"
-    "  (drop (call $set (i32.const 48) (f64.convert_i64_s (local.get $t))))))";
+    KP_WAT("(f64.const 120)",
+           "  (drop (call $set (i32.const 48) (f64.convert_i64_s (local.get $t))))");
 
 /* The same shape, its stiffness ramping in from 0 at 0.5 a tick (as the
  * policy runner's ramp does), or staying at 0. */
 static const char ramp_wat[] =
-    "(module"
-    " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))"
-    " (func (export \"process\") (param $t i64) (local $i i32)"
-    "  (local.set $i (i32.const 24))"
-    "  (block $done (loop $next"
-    "   (br_if $done (i32.ge_u (local.get $i) (i32.const 36)))"
-    "   (drop (call $set (local.get $i) (f64.mul (f64.convert_i64_s (local.get $t))"
-    "                                           (f64.const 0.5))))"
-    "   (local.set $i (i32.add (local.get $i) (i32.const 1)))"
-    "   (br $next)))))";
-static const char zero_kp_wat[] =
-    "(module"
-    " (import \"command\" \"set\" (func $set (param i32 f64) (result i32)))"
-    " (func (export \"process\") (param $t i64) (local $i i32)"
-    "  (local.set $i (i32.const 24))"
-    "  (block $done (loop $next"
-    "   (br_if $done (i32.ge_u (local.get $i) (i32.const 36)))"
-    "   (drop (call $set (local.get $i) (f64.const 0)))"
-    "   (local.set $i (i32.add (local.get $i) (i32.const 1)))"
-    "   (br $next)))))";
+    KP_WAT("(f64.mul (f64.convert_i64_s (local.get $t)) (f64.const 0.5))", "");
+static const char zero_kp_wat[] = KP_WAT("(f64.const 0)", "");
 
 /* Every value is checked against the manifest, naming the key. */
 static void test_stages_check(void **st)

@@ -52,16 +52,6 @@ static void *sim_main(void *arg)
     return NULL;
 }
 
-static int tp_read(void *self, double *state, size_t n)
-{
-    roz_buffer_frame_t f;
-    (void)self;
-    int rc = roz_buffer_read(&state_buf, &f);
-    if (rc >= 0)
-        memcpy(state, f.values, n * sizeof state[0]);
-    return rc;
-}
-
 static int tp_write(void *self, const double *cmd, size_t n)
 {
     (void)self;
@@ -70,7 +60,8 @@ static int tp_write(void *self, const double *cmd, size_t n)
     return ROZ_OK;
 }
 
-static const roz_port_ops_t threaded_ops = { .name = "threaded-test", .read = tp_read,
+static const roz_port_ops_t threaded_ops = { .name = "threaded-test",
+                                             .read = roz_test_buffer_port_read,
                                              .write = tp_write };
 
 /* ---- the test ------------------------------------------------------------ */
@@ -113,7 +104,7 @@ static void test_threads_runtime_under_load(void **st)
 
     /* the port has no open op: nothing to open */
     roz_test_runtime_config(&cfg, &roz_manifest_unitree_g1,
-                            (roz_port_t){ &threaded_ops, NULL, 0 }, NULL);
+                            (roz_port_t){ &threaded_ops, &state_buf, 0 }, NULL);
     cfg.clock = roz_clock_monotonic_ns;
     cfg.stale_ticks = 1000000; /* the simulator thread's pace is not the tick's */
     cfg.budget_ns = 500000000; /* sanitizers are slow; this test is about races */

@@ -501,16 +501,6 @@ static void *producer(void *arg)
     return NULL;
 }
 
-static int tp_read(void *self, double *state, size_t n)
-{
-    roz_buffer_frame_t f;
-    (void)self;
-    int rc = roz_buffer_read(&state_buf, &f);
-    if (rc >= 0)
-        memcpy(state, f.values, n * sizeof state[0]);
-    return rc;
-}
-
 static int tp_write(void *self, const double *cmd, size_t n)
 {
     (void)self;
@@ -519,7 +509,8 @@ static int tp_write(void *self, const double *cmd, size_t n)
     return ROZ_OK;
 }
 
-static const roz_port_ops_t stalling_ops = { .name = "stalling-test", .read = tp_read,
+static const roz_port_ops_t stalling_ops = { .name = "stalling-test",
+                                             .read = roz_test_buffer_port_read,
                                              .write = tp_write };
 
 /* Tick once a new frame has been produced (so the tick sees a fresh one). */
@@ -534,7 +525,7 @@ static int tick_fresh(void)
 static void test_faults_stalled_port_thread(void **st)
 {
     pthread_t th;
-    roz_port_t port = { &stalling_ops, NULL, 0 };
+    roz_port_t port = { &stalling_ops, &state_buf, 0 };
     char err[64];
     (void)st;
     assert_int_equal(roz_port_open(&port, m, NULL, err, sizeof err), ROZ_OK); /* no open op */

@@ -207,13 +207,11 @@ class StrictClient:
         self._conn.__exit__(None, None, None)
 
 
-def watch(client, viewer, ticks, record, fifo):
-    """One run at the UR5's rate through the viewer while the client pumps;
-    rozrun's stdout."""
-    run = subprocess.Popen([ROZRUN, "--robot", "ur5", "--port", "loopback", "--realtime",
-                            "--ticks", str(ticks), "--controller", CTL / "sine.wasm",
-                            "--record", record, "--live", fifo],
-                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+def watch_run(client, viewer, args):
+    """rozrun with @p args through the viewer while the client pumps, until
+    the run is over and nothing came for a second; rozrun's stdout."""
+    run = subprocess.Popen([ROZRUN, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True)
     deadline = time.monotonic() + 120
     ended = False
     while time.monotonic() < deadline:
@@ -226,6 +224,14 @@ def watch(client, viewer, ticks, record, fifo):
     out, err = run.communicate(timeout=60)
     assert run.returncode == 0, out + err
     return out
+
+
+def watch(client, viewer, ticks, record, fifo):
+    """One run at the UR5's rate through the viewer while the client pumps;
+    rozrun's stdout."""
+    return watch_run(client, viewer, ["--robot", "ur5", "--port", "loopback", "--realtime",
+                                      "--ticks", str(ticks), "--controller", CTL / "sine.wasm",
+                                      "--record", record, "--live", fifo])
 
 
 def test_live_run_equals_its_recording(tmp_path):
@@ -507,22 +513,11 @@ def test_live_deploy_stages(tmp_path):
     try:
         while client.info is None:
             assert client.pump(30), "no serverInfo"
-        run = subprocess.Popen([ROZRUN, "--robot", tmp_path / "g1.toml", "--allow-other-robot",
-                                "--port", "loopback", "--realtime", "--ticks", "1700",
-                                "--controller", CTL / "g1_12dof_deployed.wasm", "--deploy",
-                                tmp_path / "deploy.toml", "--operator", tmp_path / "ops.csv",
-                                "--record", rec, "--live", fifo],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        deadline, ended = time.monotonic() + 120, False
-        while time.monotonic() < deadline:
-            got = client.pump(1.0)
-            if not ended and run.poll() is not None:
-                viewer.wait_for("roz-live: the run ended")
-                ended = True
-            if ended and not got:
-                break
-        out, err = run.communicate(timeout=60)
-        assert run.returncode == 0, out + err
+        out = watch_run(client, viewer, [
+            "--robot", tmp_path / "g1.toml", "--allow-other-robot", "--port", "loopback",
+            "--realtime", "--ticks", "1700", "--controller", CTL / "g1_12dof_deployed.wasm",
+            "--deploy", tmp_path / "deploy.toml", "--operator", tmp_path / "ops.csv",
+            "--record", rec, "--live", fifo])
     finally:
         client.close()
         viewer.stop()

@@ -7,6 +7,7 @@ channel id, the JSON) to `roz-live --teleop SOCKET`, which hands each to
 controller read. A malformed, oversized or non-finite message is refused
 with a status message and the input unchanged; a viewer that is not on a
 loopback address gets no clientPublish unless --teleop-remote."""
+import contextlib
 import json
 import os
 import pathlib
@@ -30,24 +31,21 @@ INPUT = "operator/velocity.x"
 
 pytestmark = pytest.mark.skipif(not ROZRUN, reason="ROZRUN not set (run through ctest)")
 
-TWIST_INPUT = f"""
-[[manifest.inputs]]
-name = "{INPUT}"
-interface_type = "velocity"
-unit = "m/s"
-limits = [-0.5, 0.5]
-default = 0.0
-max_rate_of_change = 1.0
-stale_after_ms = 600000
-source = "twist.linear.x"
-scale = 0.5
-"""
+
+def manifest_input(name, source, tail='interface_type = "velocity"\nunit = "m/s"\n'
+                   'limits = [-0.5, 0.5]\nscale = 0.5\n'):
+    """A [[manifest.inputs]] table, held (never stale) for the whole run."""
+    return (f'\n[[manifest.inputs]]\nname = "{name}"\nsource = "{source}"\ndefault = 0.0\n'
+            f'max_rate_of_change = 1.0\nstale_after_ms = 600000\n{tail}')
 
 
-def robot_with_input(tmp_path):
+TWIST_INPUT = manifest_input(INPUT, "twist.linear.x")
+
+
+def robot_with_input(tmp_path, inputs=TWIST_INPUT, name="ur5_teleop.toml"):
     text = (ROOT / "manifests" / "ur5.toml").read_text()
-    path = tmp_path / "ur5_teleop.toml"
-    path.write_text(text + TWIST_INPUT)
+    path = tmp_path / name
+    path.write_text(text + inputs)
     return path
 
 
@@ -88,17 +86,18 @@ def trace_column(path, name):
     return [float(line.split(",")[k]) for line in lines[1:]]
 
 
-def test_teleop_reaches_a_controller(tmp_path):
-    robot = robot_with_input(tmp_path)
+@contextlib.contextmanager
+def teleop_run(tmp_path, robot, *viewer_args):
+    """roz-live --teleop (and @p viewer_args) with a strict client on it, and
+    rozrun on the loopback port feeding it, once rozrun has made its teleop
+    socket: yields (viewer, client, run, trace); all stopped after."""
     fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
-    viewer = Viewer(fifo, "--teleop", sock)
+    viewer = Viewer(fifo, "--teleop", sock, *viewer_args)
     client = StrictClient(viewer.port)
     run = None
     try:
         while client.info is None:
             client.pump(1.0)
-        assert "clientPublish" in client.info["capabilities"]
-        assert "json" in client.info.get("supportedEncodings", [])
         run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
                                 "--ticks", "1000", "--controller", CTL / "sine.wasm",
                                 "--allow-other-robot", "--live", fifo, "--teleop", sock,
@@ -108,6 +107,31 @@ def test_teleop_reaches_a_controller(tmp_path):
         while not sock.exists():
             assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
             client.pump(0.05)
+        yield viewer, client, run, trace
+    finally:
+        if run is not None and run.poll() is None:
+            run.kill()
+        client.close()
+        viewer.stop()
+
+
+def assert_joy_held(trace, says):
+    """The joystick inputs of JOY_INPUTS in @p trace: forward 0.25 and A
+    pressed from the first tick they arrive on, unchanged by what was refused
+    after (@p says)."""
+    forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
+    assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
+    first = forward.index(0.25)
+    assert all(v == 0.25 for v in forward[first:]), f"the input moved after the refused {says}"
+    assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
+
+
+def test_teleop_reaches_a_controller(tmp_path):
+    robot = robot_with_input(tmp_path)
+    sock = tmp_path / "teleop.sock"
+    with teleop_run(tmp_path, robot) as (viewer, client, run, trace):
+        assert "clientPublish" in client.info["capabilities"]
+        assert "json" in client.info.get("supportedEncodings", [])
         ws = client.ws
         ws.send(json.dumps({"op": "advertise", "channels": [
             {"id": 7, "topic": "/cmd_vel", "encoding": "json",
@@ -148,11 +172,6 @@ def test_teleop_reaches_a_controller(tmp_path):
         assert any("Unknown channel ID: 7" in s["message"] for s in statuses(client, 0.5))
         out, err = run.communicate(timeout=120)
         assert run.returncode == 0, out + err
-    finally:
-        if run is not None and run.poll() is None:
-            run.kill()
-        client.close()
-        viewer.stop()
     line = summary_line(out, "teleop")
     m = re.match(r"(\d+) twists from .*, (\d+) malformed refused; inputs clamped (\d+), "
                  r"refused \(non-finite\) (\d+)", line)
@@ -167,28 +186,9 @@ def test_teleop_reaches_a_controller(tmp_path):
     assert all(v == 0.3 for v in values[first:]), "the input moved after the refused messages"
 
 
-JOY_INPUTS = """
-[[manifest.inputs]]
-name = "operator/forward"
-interface_type = "velocity"
-unit = "m/s"
-limits = [-0.5, 0.5]
-default = 0.0
-max_rate_of_change = 1.0
-stale_after_ms = 600000
-source = "remote.ly"
-scale = 0.5
-
-[[manifest.inputs]]
-name = "remote/a"
-interface_type = "position"
-unit = ""
-limits = [0.0, 1.0]
-default = 0.0
-max_rate_of_change = 1.0
-stale_after_ms = 600000
-source = "remote.btn.a"
-"""
+JOY_INPUTS = (manifest_input("operator/forward", "remote.ly")
+              + manifest_input("remote/a", "remote.btn.a", 'interface_type = "position"\n'
+                               'unit = ""\nlimits = [0.0, 1.0]\n'))
 
 
 def joy_json(axes, buttons, **extra):
@@ -208,28 +208,12 @@ def test_joystick_reaches_a_controller(tmp_path):
     refused by roz-live with a status; one too short for the panel's map (a
     keyboard's two axes) and malformed datagrams by rozrun, counted; the
     inputs unchanged by all of them."""
-    text = (ROOT / "manifests" / "ur5.toml").read_text()
-    robot = tmp_path / "ur5_joy.toml"
-    robot.write_text(text + JOY_INPUTS)
-    fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
-    viewer = Viewer(fifo, "--teleop", sock)
-    client = StrictClient(viewer.port)
-    run = None
+    robot = robot_with_input(tmp_path, JOY_INPUTS, "ur5_joy.toml")
+    sock = tmp_path / "teleop.sock"
     pad = [0.0, 0.5, 0.0, 0.0]      # the left stick half up: axis 1 (negated by the panel)
     pressed = [1] + [0] * 16        # A
-    try:
-        while client.info is None:
-            client.pump(1.0)
+    with teleop_run(tmp_path, robot) as (viewer, client, run, trace):
         assert "clientPublish" in client.info["capabilities"]
-        run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
-                                "--ticks", "1000", "--controller", CTL / "sine.wasm",
-                                "--allow-other-robot", "--live", fifo, "--teleop", sock,
-                                "--trace", trace],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        end = time.monotonic() + 60
-        while not sock.exists():
-            assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
-            client.pump(0.05)
         ws = client.ws
         ws.send(json.dumps({"op": "advertise", "channels": [
             {"id": 3, "topic": "/joy", "encoding": "json", "schemaName": "sensor_msgs/Joy"}]}))
@@ -263,20 +247,11 @@ def test_joystick_reaches_a_controller(tmp_path):
         raw.close()
         out, err = run.communicate(timeout=120)
         assert run.returncode == 0, out + err
-    finally:
-        if run is not None and run.poll() is None:
-            run.kill()
-        client.close()
-        viewer.stop()
     line = summary_line(out, "teleop")
     m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused", line)
     assert m, line
     assert tuple(map(int, m.groups())) == (0, 10, 6), line
-    forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
-    assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
-    first = forward.index(0.25)
-    assert all(v == 0.25 for v in forward[first:]), "the input moved after the refused Joys"
-    assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
+    assert_joy_held(trace, "Joys")
 
 
 def test_joystick_map_option(tmp_path):
@@ -286,31 +261,16 @@ def test_joystick_map_option(tmp_path):
     core's rule; a map the rule refuses makes rozrun refuse its Joys, count
     them and say why once; roz-live refuses a map that is no printable text,
     and --joy-map without --teleop."""
-    text = (ROOT / "manifests" / "ur5.toml").read_text()
-    robot = tmp_path / "ur5_joy.toml"
-    robot.write_text(text + JOY_INPUTS)
-    fifo, sock, trace = tmp_path / "run.live", tmp_path / "teleop.sock", tmp_path / "trace.csv"
+    robot = robot_with_input(tmp_path, JOY_INPUTS, "ur5_joy.toml")
+    fifo, sock = tmp_path / "run.live", tmp_path / "teleop.sock"
     for bad, says in ((["--joy-map", "ly=a1"], "--joy-map needs --teleop SOCKET"),
                       (["--teleop", sock, "--joy-map", "ly=a1\tbtn.a=b0"], "printable ASCII"),
                       (["--teleop", sock, "--joy-map", "x" * 513], "at most 512 characters")):
         p = subprocess.run([sys.executable, LIVE, fifo, *map(str, bad)], capture_output=True,
                            text=True, timeout=60)
         assert p.returncode == 2 and says in p.stderr, p.stderr
-    viewer = Viewer(fifo, "--teleop", sock, "--joy-map", "ly=a3 btn.a=b3")
-    client = StrictClient(viewer.port)
-    run = None
-    try:
-        while client.info is None:
-            client.pump(1.0)
-        run = subprocess.Popen([ROZRUN, "--robot", robot, "--port", "loopback", "--realtime",
-                                "--ticks", "1000", "--controller", CTL / "sine.wasm",
-                                "--allow-other-robot", "--live", fifo, "--teleop", sock,
-                                "--trace", trace],
-                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        end = time.monotonic() + 60
-        while not sock.exists():
-            assert time.monotonic() < end and run.poll() is None, "rozrun made no socket"
-            client.pump(0.05)
+    with teleop_run(tmp_path, robot, "--joy-map", "ly=a3 btn.a=b3") as (viewer, client, run,
+                                                                         trace):
         client.ws.send(json.dumps({"op": "advertise", "channels": [
             {"id": 3, "topic": "/joy", "encoding": "json", "schemaName": "sensor_msgs/Joy"}]}))
         # the left stick full down and A released: the panel's layout would
@@ -326,21 +286,12 @@ def test_joystick_map_option(tmp_path):
         raw.close()
         out, err = run.communicate(timeout=120)
         assert run.returncode == 0, out + err
-    finally:
-        if run is not None and run.poll() is None:
-            run.kill()
-        client.close()
-        viewer.stop()
     assert "a Joy mapped by ly=a3 btn.a=b3" in "".join(viewer.out)
     m = re.match(r"(\d+) twists from .*, (\d+) joysticks, (\d+) malformed refused",
                  summary_line(out, "teleop"))
     assert m and tuple(map(int, m.groups())) == (0, 10, 1), out
     assert err.count('roz-live --joy-map = "ly=a3 btn.q=b0": "btn.q=b0": not a field') == 1, err
-    forward, a = trace_column(trace, "operator/forward"), trace_column(trace, "remote/a")
-    assert 0.25 in forward and set(forward) <= {0.0, 0.25}, sorted(set(forward))
-    first = forward.index(0.25)
-    assert all(v == 0.25 for v in forward[first:]), "the input moved after the refused Joy"
-    assert a[first:] == [1.0] * len(a[first:]) and set(a) <= {0.0, 1.0}
+    assert_joy_held(trace, "Joy")
 
 
 def own_address():

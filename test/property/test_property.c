@@ -360,13 +360,20 @@ static void check_channel(uint16_t i, roz_stop_t stop)
     if (!isfinite(o) || o < c->min || o > c->max)
         VIOLATION("P1 (range)", i, "out %.17g outside [%.17g, %.17g]", o, c->min, c->max);
 
-    /* P4 */
+    /* a paired channel's position, and its range less the margin */
     int paired_velocity = c->type == ROZ_IF_VELOCITY && c->position_state != ROZ_CHANNEL_UNPAIRED;
-    if (paired_velocity) {
+    int paired_effort = c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED;
+    double p = 0.0, lo = 0.0, hi = 0.0;
+    if (paired_velocity || paired_effort) {
         const roz_channel_t *ps = &states[c->position_state];
-        double p = state[c->position_state];
         double margin = margin_of(ps);
-        double lo = ps->min + margin, hi = ps->max - margin;
+        p = state[c->position_state];
+        lo = ps->min + margin;
+        hi = ps->max - margin;
+    }
+
+    /* P4 */
+    if (paired_velocity) {
         double dt = 1.0 / (double)man.control_rate_hz;
         if (!isfinite(p)) {
             if (c->min <= 0.0 && 0.0 <= c->max && o != 0.0)
@@ -388,12 +395,7 @@ static void check_channel(uint16_t i, roz_stop_t stop)
     }
 
     /* P4e */
-    int paired_effort = c->type == ROZ_IF_EFFORT && c->position_state != ROZ_CHANNEL_UNPAIRED;
     if (paired_effort) {
-        const roz_channel_t *ps = &states[c->position_state];
-        double p = state[c->position_state];
-        double margin = margin_of(ps);
-        double lo = ps->min + margin, hi = ps->max - margin;
         if (!isfinite(p) ? o != 0.0 : (p >= hi && o > 0.0) || (p <= lo && o < 0.0))
             VIOLATION("P4e (effort further out)", i,
                       "position %.17g, range less margin [%.17g, %.17g], out %.17g, stop %s",

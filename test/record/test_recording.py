@@ -95,6 +95,17 @@ def record(tmp_path, robot, ctl, ticks, *extra, name="run"):
     return path
 
 
+def assert_csv_and_replay(tmp_path, path, trace, ctl, ticks):
+    """The recording at @p path: its CSV is rozrun's @p trace byte for byte,
+    and its @p ticks replay on @p ctl identically."""
+    out = tmp_path / "from_recording.csv"
+    recording.main(["csv", str(path), str(out)])
+    assert out.read_bytes() == trace.read_bytes()
+    p = rozrun("--replay", path, "--controller", CTL / ctl)
+    assert f"ticks replayed         {ticks}\n" in p.stdout
+    assert "result                 identical" in p.stdout
+
+
 @pytest.mark.parametrize("robot,ctl", CASES)
 def test_record_replay_identical(tmp_path, robot, ctl):
     path = record(tmp_path, robot, ctl, 300)
@@ -169,12 +180,7 @@ def test_faults_replayed(tmp_path):
     assert by[100]["faults"] == 0 and by[100]["message"] == ""
     assert any(t["faults"] & 4 for t in ticks)    # stale
     assert any(t["faults"] & 32 for t in ticks)   # link
-    out = tmp_path / "from_recording.csv"
-    recording.main(["csv", str(path), str(out)])
-    assert out.read_bytes() == trace.read_bytes()
-    p = rozrun("--replay", path, "--controller", CTL / "sine.wasm")
-    assert "ticks replayed         400\n" in p.stdout
-    assert "result                 identical" in p.stdout
+    assert_csv_and_replay(tmp_path, path, trace, "sine.wasm", 400)
 
 
 def test_trap_and_rebuild_replayed(tmp_path):
@@ -193,13 +199,14 @@ def test_trap_and_rebuild_replayed(tmp_path):
     assert "result                 identical" in p.stdout
 
 
-def rewrite(src, dst, patch):
-    """Copies a recording with the Python writer (uncompressed), patch(topic,
-    log_time, data) -> data applied to every message (None: left out)."""
+def rewrite(src, dst, patch, compression=CompressionType.NONE):
+    """Copies a recording with the Python writer (uncompressed unless
+    @p compression), patch(topic, log_time, data) -> data applied to every
+    message (None: left out)."""
     with open(src, "rb") as f, open(dst, "wb") as out:
         reader = make_reader(f)
         summary = reader.get_summary()
-        w = Writer(out, compression=CompressionType.NONE)
+        w = Writer(out, compression=compression)
         w.start(profile="ros2", library="test")
         for sid, s in sorted(summary.schemas.items()):
             assert w.register_schema(s.name, s.encoding, s.data) == sid
@@ -357,12 +364,7 @@ def test_operator_inputs_replayed(tmp_path):
     assert vx[0] == 0.002 and abs(max(vx) - 0.4) < 1e-9 and vx[599] == 0.0
     assert max(yaw) == 0.5 and yaw[599] == 0.0
     # the recording's CSV is rozrun's trace, its input columns too
-    out = tmp_path / "from_recording.csv"
-    recording.main(["csv", str(path), str(out)])
-    assert out.read_bytes() == trace.read_bytes()
-    p = rozrun("--replay", path, "--controller", CTL / "g1_12dof_deployed.wasm")
-    assert "ticks replayed         600\n" in p.stdout
-    assert "result                 identical" in p.stdout
+    assert_csv_and_replay(tmp_path, path, trace, "g1_12dof_deployed.wasm", 600)
     # /roz/inputs at the defaults: the policy's command is not the recorded one
     defaults = tmp_path / "defaults.mcap"
     rewrite(path, defaults,
@@ -688,18 +690,7 @@ def bomb(tmp_path, src):
     real = mcap.writer.zstandard
     mcap.writer.zstandard = NoSize
     try:
-        with open(src, "rb") as f, open(out, "wb") as o:
-            reader = make_reader(f)
-            summary = reader.get_summary()
-            w = Writer(o, compression=CompressionType.ZSTD)
-            w.start(profile="ros2", library="test")
-            for sid, sc in sorted(summary.schemas.items()):
-                w.register_schema(sc.name, sc.encoding, sc.data)
-            for cid, c in sorted(summary.channels.items()):
-                w.register_channel(c.topic, c.message_encoding, c.schema_id)
-            for _, _, m in reader.iter_messages(log_time_order=False):
-                w.add_message(m.channel_id, m.log_time, m.data, m.publish_time, m.sequence)
-            w.finish()
+        rewrite(src, out, lambda topic, log_time, data: data, CompressionType.ZSTD)
     finally:
         mcap.writer.zstandard = real
     data = bytearray(out.read_bytes())

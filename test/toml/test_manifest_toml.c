@@ -228,15 +228,23 @@ static void test_manifest_toml_syntax_and_utf8(void **state)
     assert_string_equal(problems[0].rule, "toml-syntax");
 }
 
+/* A manifest of one command channel, "a", then @p tail, into @p out of
+ * @p size bytes; its length. */
+static size_t one_channel_then(char *out, size_t size, const char *tail)
+{
+    size_t n = (size_t)snprintf(out, size, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");
+    n += (size_t)snprintf(out + n, size - n, channel, "a");
+    n += (size_t)snprintf(out + n, size - n, "%s", tail);
+    return n;
+}
+
 static void test_manifest_toml_storage_limits(void **state)
 {
     static roz_toml_node_t few[8];
     size_t found = 0, n;
     (void)state;
     /* more joints than ROZ_CFG_MAX_JOINTS */
-    n = (size_t)snprintf(text, sizeof text, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");
-    n += (size_t)snprintf(text + n, sizeof text - n, channel, "a");
-    n += (size_t)snprintf(text + n, sizeof text - n, "[hardware]\nport = \"p\"\njoints = [");
+    n = one_channel_then(text, sizeof text, "[hardware]\nport = \"p\"\njoints = [");
     for (int i = 0; i <= ROZ_CFG_MAX_JOINTS; i++)
         n += (size_t)snprintf(text + n, sizeof text - n, "\"j%d\", ", i);
     snprintf(text + n, sizeof text - n, "]\n");
@@ -247,9 +255,7 @@ static void test_manifest_toml_storage_limits(void **state)
     /* beyond it, a joint is compared with the first ROZ_CFG_MAX_JOINTS only
      * (a long list costs linear time, not quadratic): a duplicate of one of
      * them is found, one of a later joint is left to the storage problem */
-    n = (size_t)snprintf(text, sizeof text, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");
-    n += (size_t)snprintf(text + n, sizeof text - n, channel, "a");
-    n += (size_t)snprintf(text + n, sizeof text - n, "[hardware]\nport = \"p\"\njoints = [");
+    n = one_channel_then(text, sizeof text, "[hardware]\nport = \"p\"\njoints = [");
     for (int i = 0; i < ROZ_CFG_MAX_JOINTS + 8; i++)
         n += (size_t)snprintf(text + n, sizeof text - n, "\"j%d\", ", i);
     n += (size_t)snprintf(text + n, sizeof text - n, "\"j%d\", \"j3\"]\n", ROZ_CFG_MAX_JOINTS + 2);
@@ -259,9 +265,7 @@ static void test_manifest_toml_storage_limits(void **state)
     assert_non_null(strstr(problems[0].text, "duplicate of joints[3]"));
 
     /* more params than ROZ_CFG_MAX_PARAMS */
-    n = (size_t)snprintf(text, sizeof text, "[manifest]\nrobot_id = \"r\"\n[[manifest.commands]]\n");
-    n += (size_t)snprintf(text + n, sizeof text - n, channel, "a");
-    n += (size_t)snprintf(text + n, sizeof text - n, "[hardware]\nport = \"p\"\n[hardware.params]\n");
+    n = one_channel_then(text, sizeof text, "[hardware]\nport = \"p\"\n[hardware.params]\n");
     for (int i = 0; i <= ROZ_CFG_MAX_PARAMS; i++)
         n += (size_t)snprintf(text + n, sizeof text - n, "k%d = \"v\"\n", i);
     assert_int_equal(load(text, 16, &found), ROZ_ENOSPC);

@@ -24,6 +24,7 @@
 #include <dds/dds.h>
 
 #include "fake_dds.h"
+#include "fake_reply.h"
 #include "robots.h"
 #include "ros2_robot.h"
 
@@ -122,16 +123,23 @@ typedef struct {
 
 static fake_t fake;
 
-__attribute__((format(printf, 1, 2)))
-static int reply(const char *fmt, ...)
+/* A reply line being built: what line_add() appends, cut at its size. */
+typedef struct {
+    char   s[256];
+    size_t n;
+} line_t;
+
+__attribute__((format(printf, 2, 3)))
+static void line_add(line_t *l, const char *fmt, ...)
 {
+    if (l->n >= sizeof l->s)
+        return;
     va_list ap;
     va_start(ap, fmt);
-    int n = vprintf(fmt, ap);
+    int n = vsnprintf(l->s + l->n, sizeof l->s - l->n, fmt, ap);
     va_end(ap);
-    if (n < 0 || putchar('\n') == EOF || fflush(stdout) != 0)
-        return -1;
-    return 0;
+    if (n > 0)
+        l->n += (size_t)n;
 }
 
 /* ---- types and QoS ----------------------------------------------------------- */
@@ -226,6 +234,27 @@ static const char *joint_name(const fgroup_t *g, const gmodel_t *m, uint32_t i)
     return i < g->g->n_joints ? g->g->joints[i] : "";
 }
 
+/* Joint @p i of @p m in @p jt, of either X2 layout: its name, position,
+ * velocity and effort. */
+#define X2_JOINT(jt, g, m, i)                                        \
+    do {                                                             \
+        (jt).name = (char *)(uintptr_t)joint_name((g), (m), (i));    \
+        (jt).position = (m)->j[(i)].q;                               \
+        (jt).velocity = (m)->j[(i)].dq;                              \
+        (jt).effort = (m)->j[(i)].tau;                               \
+    } while (0)
+
+/* @p s, a JointStateArray of either X2 layout: header @p h, @p m's error
+ * and its joints @p j (not released by the writer). */
+#define X2_JOINT_ARRAY(s, h, m, j)                                    \
+    do {                                                             \
+        (s).header = (h);                                            \
+        (s).state.value = (m)->error;                                \
+        (s).joints._buffer = (j);                                    \
+        (s).joints._length = (s).joints._maximum = (m)->length;      \
+        (s).joints._release = false;                                 \
+    } while (0)
+
 static int write_group(fake_t *f, fgroup_t *g, const gmodel_t *m)
 {
     static char empty[1];
@@ -262,65 +291,54 @@ static int write_group(fake_t *f, fgroup_t *g, const gmodel_t *m)
         fake_x2_docs_msg_dds__JointStateArray_ s;
         memset(j, 0, sizeof j);
         for (uint32_t i = 0; i < m->length; i++) {
-            j[i].name = (char *)(uintptr_t)joint_name(g, m, i);
-            j[i].position = m->j[i].q;
-            j[i].velocity = m->j[i].dq;
-            j[i].effort = m->j[i].tau;
+            X2_JOINT(j[i], g, m, i);
             j[i].coil_temp = 41;
             j[i].motor_temp = 38;
             j[i].motor_vol = 48;
         }
-        s.header = h;
-        s.state.value = m->error;
-        s.joints._buffer = j;
-        s.joints._length = s.joints._maximum = m->length;
-        s.joints._release = false;
+        X2_JOINT_ARRAY(s, h, m, j);
         return dds_write(g->state_writer, &s);
     }
     aimdk_msgs_msg_dds__JointState_ j[FAKE_MAX_SLOTS];
     aimdk_msgs_msg_dds__JointStateArray_ s;
     memset(j, 0, sizeof j);
     for (uint32_t i = 0; i < m->length; i++) {
-        j[i].name = (char *)(uintptr_t)joint_name(g, m, i);
-        j[i].position = m->j[i].q;
-        j[i].velocity = m->j[i].dq;
-        j[i].effort = m->j[i].tau;
+        X2_JOINT(j[i], g, m, i);
         j[i].error_code = m->j[i].error_code;
     }
-    s.header = h;
-    s.state.value = m->error;
-    s.joints._buffer = j;
-    s.joints._length = s.joints._maximum = m->length;
-    s.joints._release = false;
+    X2_JOINT_ARRAY(s, h, m, j);
     return dds_write(g->state_writer, &s);
 }
 
+/* Fills @p s, an IMU message of either robot's type whose orientation is
+ * its field @p quat: stamped @p sec, @p nsec, frame id "", the orientation,
+ * rates and accelerations of @p v (qx qy qz qw gx gy gz ax ay az). */
+#define FILL_IMU(s, quat, sec, nsec, v)                                                  \
+    do {                                                                                 \
+        static char empty_[1];                                                           \
+        memset(&(s), 0, sizeof(s));                                                      \
+        (s).header.stamp.sec = (sec);                                                    \
+        (s).header.stamp.nanosec = (nsec);                                               \
+        (s).header.frame_id = empty_;                                                    \
+        (s).quat = (geometry_msgs_msg_dds__Quaternion_){ (v)[0], (v)[1], (v)[2], (v)[3] }; \
+        (s).angular_velocity = (geometry_msgs_msg_dds__Vector3_){ (v)[4], (v)[5], (v)[6] }; \
+        (s).linear_acceleration =                                                        \
+            (geometry_msgs_msg_dds__Vector3_){ (v)[7], (v)[8], (v)[9] };                 \
+    } while (0)
+
 static int write_imu(fake_t *f, const double *v, int64_t stamp_ns, int raw)
 {
-    static char empty[1];
     int32_t sec = f->raw_sec;
     uint32_t nsec = f->raw_nsec;
     if (!raw)
         stamp_of(stamp_ns, &sec, &nsec);
     if (f->robot->kind == FAKE_PM01) {
         interface_protocol_msg_dds__ImuInfo_ s;
-        memset(&s, 0, sizeof s);
-        s.header.stamp.sec = sec;
-        s.header.stamp.nanosec = nsec;
-        s.header.frame_id = empty;
-        s.quaternion = (geometry_msgs_msg_dds__Quaternion_){ v[0], v[1], v[2], v[3] };
-        s.angular_velocity = (geometry_msgs_msg_dds__Vector3_){ v[4], v[5], v[6] };
-        s.linear_acceleration = (geometry_msgs_msg_dds__Vector3_){ v[7], v[8], v[9] };
+        FILL_IMU(s, quaternion, sec, nsec, v);
         return dds_write(f->imu_writer, &s);
     }
     sensor_msgs_msg_dds__Imu_ s;
-    memset(&s, 0, sizeof s);
-    s.header.stamp.sec = sec;
-    s.header.stamp.nanosec = nsec;
-    s.header.frame_id = empty;
-    s.orientation = (geometry_msgs_msg_dds__Quaternion_){ v[0], v[1], v[2], v[3] };
-    s.angular_velocity = (geometry_msgs_msg_dds__Vector3_){ v[4], v[5], v[6] };
-    s.linear_acceleration = (geometry_msgs_msg_dds__Vector3_){ v[7], v[8], v[9] };
+    FILL_IMU(s, orientation, sec, nsec, v);
     return dds_write(f->imu_writer, &s);
 }
 
@@ -789,14 +807,12 @@ static int handle(fake_t *f, int argc, char **argv)
         return reply("ok");
     }
     if (strcmp(r, "commands") == 0 && argc == 1) {
-        char line[256];
-        size_t n = (size_t)snprintf(line, sizeof line, "ok");
+        line_t l = { "ok", 2 };
         pthread_mutex_lock(&f->lock);
-        for (uint16_t i = 0; i < f->robot->n_groups && n < sizeof line; i++)
-            n += (size_t)snprintf(line + n, sizeof line - n, " %llu",
-                                  (unsigned long long)f->group[i].commands);
+        for (uint16_t i = 0; i < f->robot->n_groups; i++)
+            line_add(&l, " %llu", (unsigned long long)f->group[i].commands);
         pthread_mutex_unlock(&f->lock);
-        return reply("%s", line);
+        return reply("%s", l.s);
     }
     if (strcmp(r, "command") == 0 && argc == 2 && (g = group_index(f, argv[1])) >= 0) {
         fcmd_t c;
@@ -839,17 +855,14 @@ static int handle(fake_t *f, int argc, char **argv)
         /* discovery seen from this side: per group, the writers its command
          * reader matched and the readers its state writer matched; then the
          * IMU writer's readers */
-        char line[256];
-        size_t n = (size_t)snprintf(line, sizeof line, "ok");
+        line_t l = { "ok", 2 };
         pthread_mutex_lock(&f->pub_lock);
-        for (uint16_t i = 0; i < f->robot->n_groups && n < sizeof line; i++)
-            n += (size_t)snprintf(line + n, sizeof line - n, " %u %u",
-                                  (unsigned)sub_matched(f->group[i].cmd_reader),
-                                  (unsigned)matched(f->group[i].state_writer));
-        if (n < sizeof line)
-            snprintf(line + n, sizeof line - n, " %u", (unsigned)matched(f->imu_writer));
+        for (uint16_t i = 0; i < f->robot->n_groups; i++)
+            line_add(&l, " %u %u", (unsigned)sub_matched(f->group[i].cmd_reader),
+                     (unsigned)matched(f->group[i].state_writer));
+        line_add(&l, " %u", (unsigned)matched(f->imu_writer));
         pthread_mutex_unlock(&f->pub_lock);
-        return reply("%s", line);
+        return reply("%s", l.s);
     }
     /* the operator */
     if (strcmp(r, "twist") == 0 && argc == 7) {

@@ -280,6 +280,29 @@ static void expect_header(cdr_t *c, int32_t sec, uint32_t nanosec)
     expect_at(c, 13);
 }
 
+/* @p what's sample once the fake stamps the next at @p sec, @p nanosec,
+ * after discovery (a first sample taken, the resends drained): its bytes in
+ * @p buf; their number. */
+static size_t take_stamped(dds_entity_t r, const char *what, uint8_t *buf, size_t cap,
+                           int32_t sec, uint32_t nanosec)
+{
+    (void)take_wire(r, what, buf, cap); /* discovery */
+    drain(r);
+    ask("stamp %ld %lu", (long)sec, (unsigned long)nanosec);
+    return take_wire(r, what, buf, cap);
+}
+
+/* The payload of the @p n bytes at @p buf, which must be @p size bytes
+ * after a header stamped @p sec, @p nanosec. */
+static cdr_t stamped_payload(const uint8_t *buf, size_t n, size_t size, int32_t sec,
+                             uint32_t nanosec)
+{
+    cdr_t c = { buf + 4, n - 4, 0 };
+    assert_int_equal(c.n, size);
+    expect_header(&c, sec, nanosec);
+    return c;
+}
+
 /* ---- what the fake sends ------------------------------------------------------------------ */
 
 static double q_of(unsigned i)
@@ -308,13 +331,8 @@ static void test_pm01_joint_state_bytes(void **st)
                                  "rt/hardware/joint_state");
     for (unsigned i = 0; i < 24; i++)
         ask("joint body %u %.17g %.17g %.17g", i, q_of(i), dq_of(i), tau_of(i));
-    (void)take_wire(r, "body", buf, sizeof buf); /* discovery */
-    drain(r);
-    ask("stamp 1700000123 456789");
-    size_t n = take_wire(r, "body", buf, sizeof buf);
-    cdr_t c = { buf + 4, n - 4, 0 };
-    assert_int_equal(c.n, 616);
-    expect_header(&c, 1700000123, 456789);
+    size_t n = take_stamped(r, "body", buf, sizeof buf, 1700000123, 456789);
+    cdr_t c = stamped_payload(buf, n, 616, 1700000123, 456789);
     assert_int_equal(le(&c, 16, 4), 24);
     assert_int_equal(le(&c, 216, 4), 24);
     assert_int_equal(le(&c, 416, 4), 24);
@@ -340,13 +358,8 @@ static void test_pm01_imu_bytes(void **st)
     dds_entity_t r = wire_reader(&interface_protocol_msg_dds__ImuInfo__desc,
                                  "rt/hardware/imu_info");
     ask("imu 0.5 -0.25 0.125 0.75 1.5 2.5 3.5 -9.5 0.0625 9.75");
-    (void)take_wire(r, "imu", buf, sizeof buf);
-    drain(r);
-    ask("stamp 1700000200 999999999");
-    size_t n = take_wire(r, "imu", buf, sizeof buf);
-    cdr_t c = { buf + 4, n - 4, 0 };
-    assert_int_equal(c.n, 120);
-    expect_header(&c, 1700000200, 999999999u);
+    size_t n = take_stamped(r, "imu", buf, sizeof buf, 1700000200, 999999999u);
+    cdr_t c = stamped_payload(buf, n, 120, 1700000200, 999999999u);
     static const double q[4] = { 0.5, -0.25, 0.125, 0.75 };
     for (unsigned k = 0; k < 4; k++)
         expect_f64_at(&c, 16 + 8 * k, q[k]);
@@ -455,10 +468,7 @@ static void x2_arm_case(int docs)
     ask("error arm 3");
     if (!docs)
         ask("joint_error arm 5 517");
-    (void)take_wire(r, "arm", buf, sizeof buf);
-    drain(r);
-    ask("stamp 1700000300 5000");
-    size_t n = take_wire(r, "arm", buf, sizeof buf);
+    size_t n = take_stamped(r, "arm", buf, sizeof buf, 1700000300, 5000);
     check_x2_arm(buf, n, docs, &seq0);
     ask("stamp 1700000300 5000");
     n = take_wire(r, "arm", buf, sizeof buf);
@@ -490,13 +500,8 @@ static void test_x2_imu_bytes(void **st)
     start("x2", NULL);
     dds_entity_t r = wire_reader(&sensor_msgs_msg_dds__Imu__desc, "rt/aima/hal/imu/torso/state");
     ask("imu 0.5 -0.25 0.125 0.75 1.5 2.5 3.5 -9.5 0.0625 9.75");
-    (void)take_wire(r, "imu", buf, sizeof buf);
-    drain(r);
-    ask("stamp 1700000400 1");
-    size_t n = take_wire(r, "imu", buf, sizeof buf);
-    cdr_t c = { buf + 4, n - 4, 0 };
-    assert_int_equal(c.n, 312);
-    expect_header(&c, 1700000400, 1);
+    size_t n = take_stamped(r, "imu", buf, sizeof buf, 1700000400, 1);
+    cdr_t c = stamped_payload(buf, n, 312, 1700000400, 1);
     static const double q[4] = { 0.5, -0.25, 0.125, 0.75 };
     for (unsigned k = 0; k < 4; k++)
         expect_f64_at(&c, 16 + 8 * k, q[k]);

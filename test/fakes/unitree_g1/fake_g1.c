@@ -25,6 +25,7 @@
 
 #include <dds/dds.h>
 
+#include "fake_reply.h"
 #include "g1_dds.h"
 #include "g1_frame.h"
 #include "g1_request.h"
@@ -75,20 +76,6 @@ typedef struct fake {
 } fake_t;
 
 static fake_t fake;
-
-/* ---- replies ------------------------------------------------------------- */
-
-__attribute__((format(printf, 1, 2)))
-static int reply(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int n = vprintf(fmt, ap);
-    va_end(ap);
-    if (n < 0 || putchar('\n') == EOF || fflush(stdout) != 0)
-        return -1;
-    return 0;
-}
 
 /* ---- time ---------------------------------------------------------------- */
 

@@ -432,6 +432,10 @@ static void check_watchdog(conformance_t *c)
     assert_peer_applies(c, c->cmd);
 }
 
+/* The command watchdog's parameter: WATCHDOG_TEXT microseconds. */
+static const roz_param_t watchdog_item = { "command_timeout_us", WATCHDOG_TEXT };
+static const roz_params_t watchdog_params = { &watchdog_item, 1 };
+
 /* ---- every fixture, every manifest ---------------------------------------- */
 
 typedef void (*check_fn)(conformance_t *c);
@@ -457,35 +461,22 @@ static void test_port_conformance_params(void **st)
         check_params(fixtures[f].fx, manifests_of(fixtures[f].fx)[0]);
 }
 
-static void test_port_conformance_start(void **st)
-{
-    (void)st;
-    each(check_sizes_and_start);
-}
+/* A test that runs @p check on each fixture's robots. */
+#define EACH_TEST(name, check) \
+    static void name(void **st) \
+    {                           \
+        (void)st;               \
+        each(check);            \
+    }
 
-static void test_port_conformance_fresh_and_stale(void **st)
-{
-    (void)st;
-    each(check_fresh_and_stale);
-}
-
-static void test_port_conformance_link(void **st)
-{
-    (void)st;
-    each(check_link);
-}
-
-static void test_port_conformance_commands(void **st)
-{
-    (void)st;
-    each(check_commands);
-}
+EACH_TEST(test_port_conformance_start, check_sizes_and_start)
+EACH_TEST(test_port_conformance_fresh_and_stale, check_fresh_and_stale)
+EACH_TEST(test_port_conformance_link, check_link)
+EACH_TEST(test_port_conformance_commands, check_commands)
 
 static void test_port_conformance_watchdog(void **st)
 {
     static conformance_t c;
-    roz_param_t item = { "command_timeout_us", WATCHDOG_TEXT };
-    roz_params_t params = { &item, 1 };
     (void)st;
     for (size_t f = 0; f < n_fixtures; f++) {
         const roz_port_fixture_t *fx = fixtures[f].fx;
@@ -496,7 +487,7 @@ static void test_port_conformance_watchdog(void **st)
         }
         for (size_t k = 0; ms[k] != NULL; k++) {
             print_message("%s on %s\n", fx->name, ms[k]->robot_id);
-            open_port_with(&c, &fixtures[f], ms[k], &params);
+            open_port_with(&c, &fixtures[f], ms[k], &watchdog_params);
             check_watchdog(&c);
             fx->close();
         }
@@ -521,8 +512,6 @@ static void check_blocking_log(conformance_t *c)
 static void test_port_conformance_blocking_log(void **st)
 {
     static conformance_t c;
-    roz_param_t item = { "command_timeout_us", WATCHDOG_TEXT };
-    roz_params_t params = { &item, 1 };
     (void)st;
     for (size_t f = 0; f < n_fixtures; f++) {
         const roz_port_fixture_t *fx = fixtures[f].fx;
@@ -537,7 +526,7 @@ static void test_port_conformance_blocking_log(void **st)
             print_message("%s on %s\n", fx->name, ms[k]->robot_id);
             roz_test_blocking_log_arm();
             fx->set_log(roz_test_blocking_log);
-            open_port_with(&c, &fixtures[f], ms[k], &params);
+            open_port_with(&c, &fixtures[f], ms[k], &watchdog_params);
             check_blocking_log(&c);
             roz_test_blocking_log_release();
             fx->close();

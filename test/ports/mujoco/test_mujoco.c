@@ -38,23 +38,34 @@ static double now_s(void)
     return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
+/* Room for the parameters one caller passes. */
+typedef struct {
+    roz_param_t items[8];
+    char        buf[8][256];
+} param_room_t;
+
+/* The @p n "key=value" strings of @p ap as parameters, in @p room. */
+static roz_params_t params_of(param_room_t *room, int n, va_list ap)
+{
+    for (int i = 0; i < n; i++) {
+        snprintf(room->buf[i], sizeof room->buf[i], "%s", va_arg(ap, const char *));
+        char *eq = strchr(room->buf[i], '=');
+        *eq = '\0';
+        room->items[i].key = room->buf[i];
+        room->items[i].value = eq + 1;
+    }
+    return (roz_params_t){ room->items, (size_t)n };
+}
+
 /* Opens @p m on the port with @p n "key=value" parameters; returns open's
  * result, its message in @p err. */
 static int open_with(roz_port_t *p, const roz_manifest_t *m, char *err, size_t errlen, int n, ...)
 {
-    static roz_param_t items[8];
-    static char buf[8][256];
+    static param_room_t room;
     va_list ap;
     va_start(ap, n);
-    for (int i = 0; i < n; i++) {
-        snprintf(buf[i], sizeof buf[i], "%s", va_arg(ap, const char *));
-        char *eq = strchr(buf[i], '=');
-        *eq = '\0';
-        items[i].key = buf[i];
-        items[i].value = eq + 1;
-    }
+    roz_params_t params = params_of(&room, n, ap);
     va_end(ap);
-    roz_params_t params = { items, (size_t)n };
     err[0] = '\0';
     return roz_port_open(p, m, &params, err, errlen);
 }
@@ -63,19 +74,11 @@ static void expect_refused(const roz_manifest_t *m, const char *file, const char
                            const char *want2, int n, ...)
 {
     char err[512];
-    static roz_param_t items[8];
-    static char buf[8][256];
+    static param_room_t room;
     va_list ap;
     va_start(ap, n);
-    for (int i = 0; i < n; i++) {
-        snprintf(buf[i], sizeof buf[i], "%s", va_arg(ap, const char *));
-        char *eq = strchr(buf[i], '=');
-        *eq = '\0';
-        items[i].key = buf[i];
-        items[i].value = eq + 1;
-    }
+    roz_params_t params = params_of(&room, n, ap);
     va_end(ap);
-    roz_params_t params = { items, (size_t)n };
     roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
     if (file != NULL)
         roz_mujoco_set_robot_file(&mj, file);
@@ -86,6 +89,34 @@ static void expect_refused(const roz_manifest_t *m, const char *file, const char
     if (want2 != NULL)
         assert_non_null(strstr(err, want2));
     roz_port_close(&p);
+}
+
+/* The pendulum's manifest (pendulum.toml), *p open on its robot file (put
+ * in *file unless NULL) with @p model ("model=..."; NULL: the robot file's), failing the
+ * test with open's message. */
+static const roz_manifest_t *open_pendulum(roz_port_t *p, const char **file, const char *model)
+{
+    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
+    char err[512];
+    const char *robot_file = mj.robot_file;
+    *p = roz_mujoco_port(&mj, NULL, NULL);
+    roz_mujoco_set_robot_file(&mj, robot_file);
+    if (file != NULL)
+        *file = robot_file;
+    if ((model != NULL ? open_with(p, m, err, sizeof err, 1, model)
+                       : open_with(p, m, err, sizeof err, 0)) != ROZ_OK)
+        fail_msg("%s", err);
+    return m;
+}
+
+/* The fault of @p p after a read that returned @p rc, which must be
+ * ROZ_EROBOT. */
+static roz_port_fault_t fault_after(roz_port_t *p, int rc)
+{
+    roz_port_fault_t f;
+    assert_int_equal(rc, ROZ_EROBOT);
+    assert_int_equal(p->ops->fault(p->self, &f), ROZ_OK);
+    return f;
 }
 
 /* ---- open --------------------------------------------------------------------- */
@@ -173,12 +204,8 @@ static void test_mujoco_refuses_effort_beyond_the_actuator(void **state)
 static void test_mujoco_pendulum_law(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
-    const char *file = mj.robot_file;
-    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    roz_mujoco_set_robot_file(&mj, file);
-    char err[512];
-    assert_int_equal(open_with(&p, m, err, sizeof err, 0), ROZ_OK);
+    roz_port_t p;
+    open_pendulum(&p, NULL, NULL);
     assert_int_equal(mj.steps_per_tick, 10); /* 100 Hz, 1 ms steps */
     double st[3], cmd[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
     assert_int_equal(roz_port_read(&p, st, 3), 1);
@@ -227,19 +254,13 @@ static void test_mujoco_pendulum_law(void **state)
 static void test_mujoco_warning_fails_the_run(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
-    const char *file = mj.robot_file;
-    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    roz_mujoco_set_robot_file(&mj, file);
-    char err[512];
-    assert_int_equal(open_with(&p, m, err, sizeof err, 1, "model=pendulum_diverge.xml"), ROZ_OK);
+    roz_port_t p;
     double st[3];
+    open_pendulum(&p, NULL, "model=pendulum_diverge.xml");
     int rc = 1, t = 0;
     for (; t < 100 && rc == 1; t++)
         rc = roz_port_read(&p, st, 3);
-    assert_int_equal(rc, ROZ_EROBOT);
-    roz_port_fault_t f;
-    assert_int_equal(p.ops->fault(p.self, &f), ROZ_OK);
+    roz_port_fault_t f = fault_after(&p, rc);
     print_message("after %d reads: %s, %s (step %u); the swing read back at %g rad\n", t, f.what,
                   f.kind, (unsigned)f.code, st[0]);
     assert_non_null(strstr(f.kind, "MuJoCo warning"));
@@ -260,13 +281,9 @@ static void test_mujoco_warning_fails_the_run(void **state)
 static void test_mujoco_engine_error_is_a_fault(void **state)
 {
     (void)state;
-    const roz_manifest_t *m = roz_test_mujoco_robot_file(&mj, "pendulum.toml");
-    const char *file = mj.robot_file;
-    roz_port_t p = roz_mujoco_port(&mj, NULL, NULL);
-    roz_mujoco_set_robot_file(&mj, file);
-    char err[512];
-    if (open_with(&p, m, err, sizeof err, 1, "model=pendulum_arena.xml") != ROZ_OK)
-        fail_msg("%s", err);
+    const char *file;
+    roz_port_t p;
+    const roz_manifest_t *m = open_pendulum(&p, &file, "model=pendulum_arena.xml");
     double st[3], cmd[5] = { 0.0, 0.0, 0.0, 0.0, 0.0 };
     int rc = 1, t = 0;
     for (; t < 100 && rc >= 0; t++) {
@@ -274,9 +291,7 @@ static void test_mujoco_engine_error_is_a_fault(void **state)
         if (rc >= 0)
             assert_int_equal(roz_port_write(&p, cmd, 5), ROZ_OK);
     }
-    assert_int_equal(rc, ROZ_EROBOT);
-    roz_port_fault_t f;
-    assert_int_equal(p.ops->fault(p.self, &f), ROZ_OK);
+    roz_port_fault_t f = fault_after(&p, rc);
     print_message("after %d reads: %s, %s (step %u)\n", t, f.what, f.kind, (unsigned)f.code);
     assert_string_equal(f.what, "physics");
     assert_non_null(strstr(f.kind, "MuJoCo error: mj_stackAlloc: out of memory"));
@@ -289,6 +304,7 @@ static void test_mujoco_engine_error_is_a_fault(void **state)
                    "model=pendulum_arena.xml", "keyframe=down");
     /* and the port opens again afterwards: nothing of MuJoCo's was left
      * half-done */
+    char err[512];
     assert_int_equal(open_with(&p, m, err, sizeof err, 0), ROZ_OK);
     assert_int_equal(roz_port_read(&p, st, 3), 1);
     roz_port_close(&p);

@@ -210,34 +210,73 @@ static void run_case_on(const char *robot, const stop_case_t *c, stop_outcome_t 
     roz_port_close(&p);
 }
 
-static void run_case(const stop_case_t *c, stop_outcome_t *o)
+/* The checks every case shares: @p o latched @p c's fault (none when it
+ * expects none) and no joint moved at 1 rad/s; the failures, each printed. */
+static int stop_failures(const stop_case_t *c, const stop_outcome_t *o)
 {
-    run_case_on("unitree_g1", c, o);
+    int bad = 0;
+    if ((o->faults & c->fault) != c->fault || (c->fault == 0 && o->faults)) {
+        print_error("%s: faults 0x%02x, expected 0x%02x\n", c->name, o->faults, c->fault);
+        bad++;
+    }
+    if (!(o->peak_speed < 1.0)) {
+        print_error("%s: a joint moved at %.2f rad/s\n", c->name, o->peak_speed);
+        bad++;
+    }
+    return bad;
+}
+
+/* The @p n @p cases on @p robot (named @p who): each as stop_failures()
+ * has it, the pelvis 2 s after the stop above @p height and never below
+ * @p lowest. */
+static void run_standing(const char *robot, const char *who, const stop_case_t *cases, size_t n,
+                         double height, double lowest)
+{
+    int bad = 0;
+    for (size_t i = 0; i < n; i++) {
+        stop_outcome_t o;
+        run_case_on(robot, &cases[i], &o);
+        bad += stop_failures(&cases[i], &o);
+        if (!(o.height > height && o.lowest > lowest)) {
+            print_error("%s: the %s fell: pelvis %.3f m (lowest %.3f)\n", cases[i].name, who,
+                        o.height, o.lowest);
+            bad++;
+        }
+    }
+    assert_int_equal(bad, 0);
 }
 
 /* ---- tests ------------------------------------------------------------------------ */
 
+/* Every stop on a robot's stiff stand (controllers/<ctl>stops_stand.h, whose
+ * siblings stop themselves or swap in), then on its example balancing stand
+ * @p stand; each named after @p who. */
+#define STOP_CASES(who, ctl, stand)                                                            \
+    { who "no stop", STOP_NONE, ctl "stops_stand", NULL, NULL, 0 },                            \
+        { who "e-stop", STOP_ESTOP, ctl "stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },          \
+        { who "e-stop request", STOP_FROM_CTL, ctl "stops_estop_request", NULL, NULL,         \
+          ROZ_FAULT_ESTOP_REQUEST },                                                           \
+        { who "stale (stream dropped)", STOP_PORT, ctl "stops_stand", "drop=1000:1100", NULL, \
+          ROZ_FAULT_STALE },                                                                   \
+        { who "trap", STOP_FROM_CTL, ctl "stops_trap", NULL, NULL, ROZ_FAULT_TRAP },           \
+        { who "overrun (fuel)", STOP_FROM_CTL, ctl "stops_overrun", NULL, NULL,               \
+          ROZ_FAULT_OVERRUN },                                                                 \
+        { who "link (board restart)", STOP_PORT, ctl "stops_stand", "restart=1000:1002", NULL, \
+          ROZ_FAULT_LINK },                                                                    \
+        { who "command watchdog", STOP_SILENT, ctl "stops_stand", NULL, NULL, 0 },             \
+        { who "swap (stiff stand)", STOP_SWAP, ctl "stops_stand", NULL, ctl "stops_swap_in",  \
+          0 },                                                                                 \
+        { who "e-stop (balancing stand)", STOP_ESTOP, stand, NULL, NULL, ROZ_FAULT_ESTOP },    \
+        { who "stale (balancing stand)", STOP_PORT, stand, "drop=1000:1100", NULL,            \
+          ROZ_FAULT_STALE },                                                                   \
+        { who "link (balancing stand)", STOP_PORT, stand, "restart=1000:1002", NULL,          \
+          ROZ_FAULT_LINK },                                                                    \
+        { who "watchdog (balancing stand)", STOP_SILENT, stand, NULL, NULL, 0 }
+
+/* The G1's balancing stand: soft ankles (kp 40) whose setpoints sit away
+ * from where the joints are; the hold keeps the torque it had. */
 static const stop_case_t cases[] = {
-    { "no stop", STOP_NONE, "stops_stand", NULL, NULL, 0 },
-    { "e-stop", STOP_ESTOP, "stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
-    { "e-stop request", STOP_FROM_CTL, "stops_estop_request", NULL, NULL,
-      ROZ_FAULT_ESTOP_REQUEST },
-    { "stale (stream dropped)", STOP_PORT, "stops_stand", "drop=1000:1100", NULL,
-      ROZ_FAULT_STALE },
-    { "trap", STOP_FROM_CTL, "stops_trap", NULL, NULL, ROZ_FAULT_TRAP },
-    { "overrun (fuel)", STOP_FROM_CTL, "stops_overrun", NULL, NULL, ROZ_FAULT_OVERRUN },
-    { "link (board restart)", STOP_PORT, "stops_stand", "restart=1000:1002", NULL,
-      ROZ_FAULT_LINK },
-    { "command watchdog", STOP_SILENT, "stops_stand", NULL, NULL, 0 },
-    { "swap (stiff stand)", STOP_SWAP, "stops_stand", NULL, "stops_swap_in", 0 },
-    /* the example's balancing stand: soft ankles (kp 40) whose setpoints sit
-     * away from where the joints are; the hold keeps the torque it had */
-    { "e-stop (balancing stand)", STOP_ESTOP, "g1_stand", NULL, NULL, ROZ_FAULT_ESTOP },
-    { "stale (balancing stand)", STOP_PORT, "g1_stand", "drop=1000:1100", NULL,
-      ROZ_FAULT_STALE },
-    { "link (balancing stand)", STOP_PORT, "g1_stand", "restart=1000:1002", NULL,
-      ROZ_FAULT_LINK },
-    { "watchdog (balancing stand)", STOP_SILENT, "g1_stand", NULL, NULL, 0 },
+    STOP_CASES("", "", "g1_stand"),
     { "watchdog twice (balancing)", STOP_TWICE, "g1_stand", NULL, NULL, 0 },
     { "exit (balancing stand)", STOP_EXIT, "g1_stand", NULL, NULL, 0 },
 };
@@ -245,26 +284,7 @@ static const stop_case_t cases[] = {
 static void test_mujoco_stops_g1(void **state)
 {
     (void)state;
-    int bad = 0;
-    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        stop_outcome_t o;
-        run_case(&cases[i], &o);
-        if ((o.faults & cases[i].fault) != cases[i].fault || (cases[i].fault == 0 && o.faults)) {
-            print_error("%s: faults 0x%02x, expected 0x%02x\n", cases[i].name, o.faults,
-                        cases[i].fault);
-            bad++;
-        }
-        if (!(o.height > 0.7 && o.lowest > 0.65)) {
-            print_error("%s: the G1 fell: pelvis %.3f m (lowest %.3f)\n", cases[i].name,
-                        o.height, o.lowest);
-            bad++;
-        }
-        if (!(o.peak_speed < 1.0)) {
-            print_error("%s: a joint moved at %.2f rad/s\n", cases[i].name, o.peak_speed);
-            bad++;
-        }
-    }
-    assert_int_equal(bad, 0);
+    run_standing("unitree_g1", "G1", cases, sizeof cases / sizeof cases[0], 0.7, 0.65);
 }
 
 /* The PM01 on its example balancing stand (pm01_stand: ankles kp 100, its
@@ -306,19 +326,10 @@ static void test_mujoco_stops_pm01(void **state)
         run_case_on(PM01, &pm01_cases[i], &o);
         if (i == 0)
             up = o.height; /* no stop: where the stand stands */
-        if ((o.faults & pm01_cases[i].fault) != pm01_cases[i].fault ||
-            (pm01_cases[i].fault == 0 && o.faults)) {
-            print_error("%s: faults 0x%02x, expected 0x%02x\n", pm01_cases[i].name, o.faults,
-                        pm01_cases[i].fault);
-            bad++;
-        }
+        bad += stop_failures(&pm01_cases[i], &o);
         if (!(o.height > up - PM01_SAG && o.lowest > up - PM01_SAG)) {
             print_error("%s: the PM01 sank: pelvis %.3f m (lowest %.3f), %.3f m unstopped\n",
                         pm01_cases[i].name, o.height, o.lowest, up);
-            bad++;
-        }
-        if (!(o.peak_speed < 1.0)) {
-            print_error("%s: a joint moved at %.2f rad/s\n", pm01_cases[i].name, o.peak_speed);
             bad++;
         }
     }
@@ -332,51 +343,15 @@ static void test_mujoco_stops_pm01(void **state)
  * example's balancing stand. The watchdog's hold is the ROS 2 ports'
  * (bridge_watchdog() in ports/ros2), written in the mujoco port's place. */
 #define X2 "agibot_x2"
-static const stop_case_t x2_cases[] = {
-    { "X2 no stop", STOP_NONE, "x2_stops_stand", NULL, NULL, 0 },
-    { "X2 e-stop", STOP_ESTOP, "x2_stops_stand", NULL, NULL, ROZ_FAULT_ESTOP },
-    { "X2 e-stop request", STOP_FROM_CTL, "x2_stops_estop_request", NULL, NULL,
-      ROZ_FAULT_ESTOP_REQUEST },
-    { "X2 stale (stream dropped)", STOP_PORT, "x2_stops_stand", "drop=1000:1100", NULL,
-      ROZ_FAULT_STALE },
-    { "X2 trap", STOP_FROM_CTL, "x2_stops_trap", NULL, NULL, ROZ_FAULT_TRAP },
-    { "X2 overrun (fuel)", STOP_FROM_CTL, "x2_stops_overrun", NULL, NULL, ROZ_FAULT_OVERRUN },
-    { "X2 link (board restart)", STOP_PORT, "x2_stops_stand", "restart=1000:1002", NULL,
-      ROZ_FAULT_LINK },
-    { "X2 command watchdog", STOP_SILENT, "x2_stops_stand", NULL, NULL, 0 },
-    { "X2 swap (stiff stand)", STOP_SWAP, "x2_stops_stand", NULL, "x2_stops_swap_in", 0 },
-    { "X2 e-stop (balancing)", STOP_ESTOP, "x2_stand", NULL, NULL, ROZ_FAULT_ESTOP },
-    { "X2 stale (balancing)", STOP_PORT, "x2_stand", "drop=1000:1100", NULL, ROZ_FAULT_STALE },
-    { "X2 link (balancing)", STOP_PORT, "x2_stand", "restart=1000:1002", NULL, ROZ_FAULT_LINK },
-    { "X2 watchdog (balancing)", STOP_SILENT, "x2_stand", NULL, NULL, 0 },
-};
+static const stop_case_t x2_cases[] = { STOP_CASES("X2 ", "x2_", "x2_stand") };
 
 /* 2 s after each stop the X2's pelvis must still be above
  * standing_height() all along, the fault latched, no joint at 1 rad/s. */
 static void test_mujoco_stops_x2(void **state)
 {
     (void)state;
-    int bad = 0;
     double up = standing_height(X2);
-    for (size_t i = 0; i < sizeof x2_cases / sizeof x2_cases[0]; i++) {
-        const stop_case_t *c = &x2_cases[i];
-        stop_outcome_t o;
-        run_case_on(X2, c, &o);
-        if ((o.faults & c->fault) != c->fault || (c->fault == 0 && o.faults)) {
-            print_error("%s: faults 0x%02x, expected 0x%02x\n", c->name, o.faults, c->fault);
-            bad++;
-        }
-        if (!(o.height > up && o.lowest > up)) {
-            print_error("%s: the X2 fell: pelvis %.3f m (lowest %.3f)\n", c->name, o.height,
-                        o.lowest);
-            bad++;
-        }
-        if (!(o.peak_speed < 1.0)) {
-            print_error("%s: a joint moved at %.2f rad/s\n", c->name, o.peak_speed);
-            bad++;
-        }
-    }
-    assert_int_equal(bad, 0);
+    run_standing(X2, "X2", x2_cases, sizeof x2_cases / sizeof x2_cases[0], up, up);
 }
 
 /* The filter's limit stops in physics: constant_velocity drives every
