@@ -12,6 +12,8 @@
 cmake_minimum_required(VERSION 3.25) # quoted arguments of if() are strings (CMP0054)
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
+# first: its run() gives way to this script's own below
+include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
 
 # Runs rozrun with a trace; sets <name>_rc, <name>_out, <name>_err and
 # <name>_csv (the trace's path) in the caller.
@@ -23,8 +25,6 @@ function(run name)
   set(${name}_err "${err}" PARENT_SCOPE)
   set(${name}_csv ${OUT}/${name}.csv PARENT_SCOPE)
 endfunction()
-
-include(${CMAKE_CURRENT_LIST_DIR}/checks.cmake)
 
 # Row <tick> of a trace: <prefix>_row (the line), <prefix>_faults,
 # <prefix>_events, <prefix>_target0 and <prefix>_applied0 (command 0's;
