@@ -8,9 +8,10 @@ every tick, the observation exactly as the deployed controller computes it
 (roz_policy.h over deploy.yaml's tables), the walker's command folded into an
 action of the policy (collect.c says how). Each iteration:
 
-  1. rolls out episodes under random operator scripts (forward -0.2..0.6 m/s,
-     turns of +-0.6 rad/s, stops; each value reaches the controller at its
-     input's rate cap, as rozrun --operator feeds it), the robot driven at
+  1. rolls out episodes under random operator scripts (forward 0.2..0.5 m/s
+     or turns on the spot of 0.2..0.5 rad/s, each followed by a stop; each
+     value reaches the controller at its input's rate cap, as rozrun
+     --operator feeds it), the robot driven at
      each inference by the expert with probability beta, else by the learner
      (iteration 0: beta 1, pure cloning; then BETAS), the expert labelling
      every state visited;
@@ -42,10 +43,13 @@ import numpy as np
 HIDDEN = 128
 SPEC_FMT = "dense:{n_in}:{h}:elu,dense:{h}:{h}:elu,dense:{h}:{n_out}"
 PRE_S, MOVE_S = 1.0, 1.0  # the stand before the hand-over (deploy.yaml's move_s)
-# forward speeds up to what the expert walks (g1_walker.c: 0.3 m/s held for the
-# whole script, drifting at 0.4, falling at 0.5): a fallen expert labels nothing
-VX_MAX = 0.35
-BETAS = (1.0, 0.5, 0.3, 0.1, 0.0, 0.0)
+# the scripts keep to what the expert holds (g1_walker.c: forward 0.3-0.6 m/s,
+# stops, turns on the spot; with backward steps, turns while walking and
+# 0.6 m/s it fell itself in 5 of 12 random scripts): a fallen expert labels
+# nothing
+VX_MIN, VX_MAX, WZ_MAX = 0.2, 0.5, 0.5
+BETAS = (1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.0, 0.0)
+DROP_S = 0.1  # the samples dropped before a fall (the walker cannot recover there)
 INFO = 9
 
 ACT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.POINTER(ctypes.c_float),
@@ -127,18 +131,20 @@ def fold(params, mean, std):
 # ---- operator scripts ----------------------------------------------------------------
 
 def script(rng, duration):
-    """Rows (t, vx, vy, wz) in the controller's time: forward, turn and stop
-    segments of 1.5-4 s, the first starting up to 0.5 s before the hand-over
-    (a script's time runs from the start of the stand)."""
+    """Rows (t, vx, vy, wz) in the controller's time: forward or turn-on-the-spot
+    segments of 2-4 s, each followed by a stop of 1.5-3 s (as the demo's
+    script: the walker is not asked to turn while walking), the first
+    starting up to 0.5 s before the hand-over (a script's time runs from the
+    start of the stand)."""
     rows, t = [[0.0 - PRE_S, 0.0, 0.0, 0.0]], rng.uniform(-0.5, 1.5)
     while t < duration:
-        kind = rng.choice(["forward", "turn", "both", "stop"], p=[0.4, 0.25, 0.15, 0.2])
-        vx = rng.uniform(-0.2, VX_MAX) if kind in ("forward", "both") else 0.0
-        wz = rng.uniform(-0.6, 0.6) if kind in ("turn", "both") else 0.0
-        if kind == "both":
-            vx *= 0.6
-        rows.append([t, vx, 0.0, wz])
-        t += rng.uniform(1.5, 4.0)
+        if rng.random() < 0.55:
+            rows.append([t, rng.uniform(VX_MIN, VX_MAX), 0.0, 0.0])
+        else:
+            rows.append([t, 0.0, 0.0, rng.choice([-1, 1]) * rng.uniform(0.2, WZ_MAX)])
+        t += rng.uniform(2.0, 4.0)
+        rows.append([t, 0.0, 0.0, 0.0])
+        t += rng.uniform(1.5, 3.0)
     return rows
 
 
@@ -237,7 +243,7 @@ def main():
                     help="only check OUT_DIR's policy.npz against train_log.json (and SPEC)")
     ap.add_argument("--out-dir", default=os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--iterations", type=int, default=len(BETAS))
-    ap.add_argument("--episodes", type=int, default=12, help="a DAgger iteration's")
+    ap.add_argument("--episodes", type=int, default=10, help="a DAgger iteration's")
     ap.add_argument("--duration", type=float, default=12.0, help="s, an episode's controller time")
     ap.add_argument("--epochs", type=int, default=8)
     ap.add_argument("--workers", type=int, default=2)
@@ -296,8 +302,8 @@ def main():
         for e in range(a.episodes):
             s = int(rng.integers(1 << 31))
             erng = np.random.default_rng(s)
-            if e < 2:  # the demo's script at the expert's 0.3 m/s, and at 0.2
-                rows = demo_script(0.3 if e == 0 else 0.2)
+            if e < 2:  # the demo's script at 0.5 m/s (g1_walk.csv), and at 0.3
+                rows = demo_script(0.5 if e == 0 else 0.3)
                 dur = 20.0
             else:
                 rows, dur = script(erng, a.duration), a.duration
@@ -305,7 +311,7 @@ def main():
         res = rollouts(lib, jobs, a.workers)
         falls, steps, demo = 0, 0, None
         for k, (o, y, inf, used, ticks, summ) in enumerate(res):
-            keep = len(o) - (int(0.3 * len(o) / max(ticks, 1) * 500) if summ[5] else 0)
+            keep = len(o) - (int(DROP_S * len(o) / max(ticks, 1) * 500) if summ[5] else 0)
             data_x.append(o[:max(keep, 0)])
             data_y.append(y[:max(keep, 0)])
             falls += int(summ[5])
