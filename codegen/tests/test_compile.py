@@ -79,6 +79,26 @@ def test_generated_c_compiles(build, compiler):
 
 
 @pytest.mark.parametrize("compiler", COMPILERS)
+def test_fall_rule_needs_fall_detection(build, compiler):
+    """A table with a fall rule does not compile against a roz configured
+    without fall detection (ROZ_CFG_FALL 0), the error naming the option;
+    one without a rule does."""
+    root, out = build
+    with_rule = 0
+    for source in sorted(out.glob("*_manifest.c")):
+        has_rule = "roz_fall_rule_t" in source.read_text()
+        result = subprocess.run([compiler, *FLAGS, *_includes(root, out), "-DROZ_CFG_FALL=0",
+                                 "-fsyntax-only", str(source)], capture_output=True, text=True)
+        if has_rule:
+            with_rule += 1
+            assert result.returncode != 0, source.name
+            assert "ROZ_CFG_FALL 0" in result.stderr and "[manifest.fall]" in result.stderr
+        else:
+            assert result.returncode == 0 and result.stderr == "", result.stderr
+    assert 0 < with_rule < len(INPUTS)
+
+
+@pytest.mark.parametrize("compiler", COMPILERS)
 def test_channel_headers_are_freestanding(build, compiler, tmp_path):
     _, out = build
     unit = tmp_path / "controller.c"

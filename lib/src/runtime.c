@@ -901,6 +901,16 @@ static int init(roz_runtime_t *rt, const roz_runtime_config_t *cfg)
     /* the recorder's slots are sized for its manifest */
     if (cfg->recorder != NULL && cfg->recorder->m != m)
         return ROZ_EINVAL;
+#if !ROZ_CFG_FALL
+    /* never a fall rule silently ignored (roz/config.h) */
+    if (m->fall != NULL) {
+        if (cfg->log != NULL)
+            cfg->log(cfg->log_ctx, ROZ_LOG_ERROR,
+                     "roz_runtime_init: the manifest has a fall rule ([manifest.fall]) and "
+                     "this build of roz leaves fall detection out (ROZ_CFG_FALL 0)");
+        return ROZ_EINVAL;
+    }
+#endif
     memset(rt, 0, sizeof *rt);
     rt->cfg = *cfg;
     if (roz_filter_init(&rt->filter, m) != ROZ_OK)

@@ -10,5 +10,6 @@
 #define ROZ_CFG_BULK_IMPORTS  0
 #define ROZ_CFG_FORMAT_DOUBLE 0
 #define ROZ_CFG_MAX_INPUTS    0
+#define ROZ_CFG_FALL          0
 
 #endif /* ROZ_TEST_LEFT_OUT_CONFIG_H */

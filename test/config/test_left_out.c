@@ -3,7 +3,8 @@
  * (left_out_config.h): a controller importing a left-out function is
  * refused at load with a message naming the import and the option, never
  * linked to nothing; one importing only what is built loads and runs; %g
- * prints a double's bits. */
+ * prints a double's bits; a manifest with a fall rule is refused by
+ * roz_runtime_init(), never run without it. */
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -14,13 +15,16 @@
 
 #include "roz/abi.h"
 #include "roz/controller.h"
+#include "roz/fall.h"
 #include "roz/format.h"
+#include "roz/runtime.h"
 #include "roz/text.h"
 #include "support.h"
 #include "wasm_bytes.h"
 
 _Static_assert(ROZ_CFG_NN_IMPORTS == 0 && ROZ_CFG_MATH_IMPORTS == 0 &&
-                   ROZ_CFG_BULK_IMPORTS == 0 && ROZ_CFG_FORMAT_DOUBLE == 0,
+                   ROZ_CFG_BULK_IMPORTS == 0 && ROZ_CFG_FORMAT_DOUBLE == 0 &&
+                   ROZ_CFG_FALL == 0,
                "built with left_out_config.h");
 
 static const roz_channel_t commands[] = {
@@ -171,6 +175,65 @@ static void test_left_out_format_double_bits(void **state)
     assert_string_equal(s, "f64:4008000000000000");
 }
 
+static int port_read(void *self, double *state, size_t n)
+{
+    (void)self;
+    memset(state, 0, n * sizeof *state);
+    return 1;
+}
+
+static int port_write(void *self, const double *cmd, size_t n)
+{
+    (void)self;
+    (void)cmd;
+    (void)n;
+    return ROZ_OK;
+}
+
+static char logged[256];
+
+static void log_line(void *ctx, roz_log_level_t level, const char *msg)
+{
+    (void)ctx;
+    (void)level;
+    roz_format(logged, sizeof logged, "%s", msg);
+}
+
+/* Without fall detection a manifest's fall rule is refused, the message
+ * naming the rule and the option, never ignored; without a rule the same
+ * runtime starts; the detector never reports a fall. */
+static void test_left_out_fall_rule_refused(void **state)
+{
+    (void)state;
+    static const roz_port_ops_t ops = { .name = "left_out", .read = port_read,
+                                        .write = port_write };
+    static roz_runtime_t rt;
+    static const roz_fall_rule_t rule = { "j", { 0, 0, 0, 0 }, 0.8, 20 };
+    roz_runtime_config_t cfg;
+    roz_runtime_config_default(&cfg);
+    cfg.manifest = &manifest;
+    cfg.port = (roz_port_t){ &ops, NULL, 1 };
+    cfg.log = log_line;
+
+    manifest.fall = &rule;
+    logged[0] = '\0';
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_EINVAL);
+    assert_non_null(strstr(logged, "fall rule"));
+    assert_non_null(strstr(logged, "ROZ_CFG_FALL 0"));
+
+    manifest.fall = NULL;
+    assert_int_equal(roz_runtime_init(&rt, &cfg), ROZ_OK);
+    roz_runtime_deinit(&rt);
+
+    roz_fall_t f;
+    double s[1] = { 0.0 };
+    manifest.fall = &rule;
+    roz_fall_init(&f, &manifest);
+    assert_int_equal(roz_fall_tick(&f, s), 0);
+    manifest.fall = NULL;
+}
+
 ROZ_TEST_MAIN(cmocka_unit_test_setup(test_left_out_imports_refused, setup),
               cmocka_unit_test_setup(test_left_out_built_imports_load, setup),
-              cmocka_unit_test(test_left_out_format_double_bits))
+              cmocka_unit_test(test_left_out_format_double_bits),
+              cmocka_unit_test_setup(test_left_out_fall_rule_refused, setup))

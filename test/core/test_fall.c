@@ -25,6 +25,7 @@
 #include "roz/fall.h"
 #include "roz/filter.h"
 #include "roz/runtime.h"
+#include "roz_math.h"
 #include "support.h"
 #include "support_runtime.h"
 #include "support_wat.h"
@@ -153,6 +154,54 @@ static void test_fall_ticks_in_a_row(void **unused)
     assert_int_equal(roz_fall_tick(&f, s), 1);
     m.fall = NULL;
     roz_fall_init(&f, &m);
+    assert_int_equal(roz_fall_tick(&f, s), 0);
+}
+
+/* At the angle is not beyond it, to the last bit of the rule's angle: a
+ * quarter turn about x, q = (1, 0, 0, 1), has cos(tilt) exactly 0 and a
+ * tilt of pi/2 exactly. The double nearest pi/2 is below it (its cosine
+ * 6.1e-17): the quarter turn is beyond it; the next double up is above pi/2
+ * (cosine -1.6e-16): not beyond. The threshold is cos(max_tilt) on every
+ * target (roz_math.h, no libm), so the same bit decides everywhere. */
+static void test_fall_at_the_angle(void **unused)
+{
+    (void)unused;
+    roz_fall_rule_t r = rule;
+    roz_manifest_t m = manifest;
+    roz_fall_t f;
+    double s[N_ST] = { 0 };
+    m.fall = &r;
+    r.for_ms = 0;
+    s[S_QX] = 1.0;
+    s[S_QW] = 1.0;
+    r.max_tilt = PI / 2.0;
+    roz_fall_init(&f, &m);
+    assert_int_equal(roz_fall_tick(&f, s), 1);
+    assert_true(roz_fall_tilt(&r, s) == PI / 2.0);
+    r.max_tilt = nextafter(PI / 2.0, 4.0);
+    roz_fall_init(&f, &m);
+    assert_int_equal(roz_fall_tick(&f, s), 0);
+    /* cos(tilt) equal to the threshold, bit for bit: q = (1, 0, 0, 2) has
+     * cos(tilt) 3.0 / 5.0; a limit whose roz_math_cos is that double is
+     * not exceeded, the next one down (a larger cosine) is */
+    s[S_QW] = 2.0;
+    double at = acos(0.6);
+    for (int k = 0; k < 16 && roz_math_cos(at) != 3.0 / 5.0; k++)
+        at = nextafter(at, roz_math_cos(at) > 0.6 ? 4.0 : 0.0);
+    assert_true(roz_math_cos(at) == 3.0 / 5.0);
+    r.max_tilt = at;
+    roz_fall_init(&f, &m);
+    assert_true(f.cos_max == 3.0 / 5.0); /* the threshold is roz_math.h's */
+    assert_int_equal(roz_fall_tick(&f, s), 0);
+    r.max_tilt = nextafter(at, 0.0);
+    roz_fall_init(&f, &m);
+    assert_int_equal(roz_fall_tick(&f, s), 1);
+    /* and either side of the test rule's 1 rad, by 1e-9 rad */
+    tilt_to(s, 1.0 + 1e-9, 1.0, 0.0, 0.0);
+    r.max_tilt = 1.0;
+    roz_fall_init(&f, &m);
+    assert_int_equal(roz_fall_tick(&f, s), 1);
+    tilt_to(s, 1.0 - 1e-9, 1.0, 0.0, 0.0);
     assert_int_equal(roz_fall_tick(&f, s), 0);
 }
 
@@ -434,6 +483,7 @@ static void test_fall_runtime_without_rule(void **unused)
 
 ROZ_TEST_MAIN(cmocka_unit_test(test_fall_tilt),
               cmocka_unit_test(test_fall_ticks_in_a_row),
+              cmocka_unit_test(test_fall_at_the_angle),
               cmocka_unit_test(test_fall_validate),
               cmocka_unit_test(test_fall_filter_stop),
               cmocka_unit_test_teardown(test_fall_runtime_latches_and_damps, teardown),

@@ -32,5 +32,6 @@
 #define ROZ_CFG_BULK_IMPORTS          0     /* nor state.get_all, command.set_all */
 #define ROZ_CFG_FORMAT_DOUBLE         0     /* no message of this image prints a double */
 #define ROZ_CFG_CRC32_SLICES          1     /* the loopback's CRC: a 1 KiB table, not 4 */
+#define ROZ_CFG_FALL                  0     /* an arm: no fall rule in its manifest */
 
 #endif /* ROZ_FW_UR5_M4F_CONFIG_H */

@@ -260,6 +260,15 @@
 #define ROZ_CFG_FORMAT_DOUBLE 1
 #endif
 
+/** Fall detection: the manifest's fall rule (roz/fall.h, [manifest.fall]).
+ *  0 leaves it out, for a robot that cannot fall (an arm): a manifest with
+ *  a fall rule is then refused, never run without it: its generated table
+ *  does not compile (rozgen's manifest.c), and roz_runtime_init() refuses
+ *  one built otherwise (ROZ_EINVAL, the message naming this option). */
+#ifndef ROZ_CFG_FALL
+#define ROZ_CFG_FALL 1
+#endif
+
 /* ---- checks --------------------------------------------------------- */
 #if ROZ_CFG_MAX_COMMANDS < 1 || ROZ_CFG_MAX_COMMANDS > 4096
 #error "ROZ_CFG_MAX_COMMANDS must be in 1..4096"
@@ -360,6 +369,9 @@
 #endif
 #if ROZ_CFG_FORMAT_DOUBLE != 0 && ROZ_CFG_FORMAT_DOUBLE != 1
 #error "ROZ_CFG_FORMAT_DOUBLE must be 0 or 1"
+#endif
+#if ROZ_CFG_FALL != 0 && ROZ_CFG_FALL != 1
+#error "ROZ_CFG_FALL must be 0 or 1"
 #endif
 
 #if ROZ_CFG_TELEMETRY_RING < 2 || ROZ_CFG_TELEMETRY_RING > 65536 || \

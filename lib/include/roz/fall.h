@@ -16,7 +16,13 @@
  * (ROZ_STOP_FALLEN, roz/filter.h). docs/robot-toml.md ("Falls") gives the
  * rule and its defaults; SAFETY.md the rows and tests.
  *
- * Portable: libc and libm. Context: one detector per control loop, used
+ * Beyond the angle is cos(tilt) < cos(max_tilt), that cosine computed once
+ * with roz_math.h: the same threshold, to the bit, on every target (a C
+ * library's cos differs between glibc and newlib), and no libm linked.
+ * ROZ_CFG_FALL 0 (roz/config.h) leaves the detector out: a manifest with a
+ * rule is then refused (roz_runtime_init()), never run without it.
+ *
+ * Portable: no library call. Context: one detector per control loop, used
  * from the tick; no heap; O(1).
  */
 #ifndef ROZ_FALL_H

@@ -288,6 +288,11 @@ static const roz_channel_t roz__agibot_x2_inputs[ROZ_AGIBOT_X2_N_INPUTS] = {
 
 /* ---- fall rule -------------------------------------------------------- */
 
+/* a build of roz without fall detection refuses this table (roz/config.h) */
+#if !ROZ_CFG_FALL
+#error "this robot.toml has a fall rule ([manifest.fall]) and roz is configured without fall detection (ROZ_CFG_FALL 0)"
+#endif
+
 static const roz_fall_rule_t roz__agibot_x2_fall = {
     .orientation = "base_imu/orientation",
     .quaternion = { 90, 91, 92, 93 },

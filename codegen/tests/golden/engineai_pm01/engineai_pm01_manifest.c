@@ -240,6 +240,11 @@ static const roz_channel_t roz__engineai_pm01_inputs[ROZ_ENGINEAI_PM01_N_INPUTS]
 
 /* ---- fall rule -------------------------------------------------------- */
 
+/* a build of roz without fall detection refuses this table (roz/config.h) */
+#if !ROZ_CFG_FALL
+#error "this robot.toml has a fall rule ([manifest.fall]) and roz is configured without fall detection (ROZ_CFG_FALL 0)"
+#endif
+
 static const roz_fall_rule_t roz__engineai_pm01_fall = {
     .orientation = "base_imu/orientation",
     .quaternion = { 72, 73, 74, 75 },

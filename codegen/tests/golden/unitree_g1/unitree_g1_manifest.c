@@ -266,6 +266,11 @@ static const roz_channel_t roz__unitree_g1_states[ROZ_UNITREE_G1_N_STATES] = {
 
 /* ---- fall rule -------------------------------------------------------- */
 
+/* a build of roz without fall detection refuses this table (roz/config.h) */
+#if !ROZ_CFG_FALL
+#error "this robot.toml has a fall rule ([manifest.fall]) and roz is configured without fall detection (ROZ_CFG_FALL 0)"
+#endif
+
 static const roz_fall_rule_t roz__unitree_g1_fall = {
     .orientation = "base_imu/orientation",
     .quaternion = { 87, 88, 89, 90 },
