@@ -105,17 +105,17 @@ void roz_dds_cmd_init(roz_dds_cmd_t *c, const roz_dds_cmd_config_t *cfg)
 
 int roz_dds_cmd_attach(roz_dds_cmd_t *c, uint32_t spin_us)
 {
-    uint32_t rate = c->m->control_rate_hz;
-    int rc = roz_dds_writer_spin(c->writer, spin_us);
-    if (rc == ROZ_OK) /* event-driven: the safe command at the tick's rate */
-        rc = roz_dds_writer_watch(c->writer, &c->watchdog, rate < 1000000u ? 1000000u / rate : 1u);
-    return rc;
+    return roz_dds_writer_spin(c->writer, spin_us);
 }
 
 int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monitor)
 {
-    if (period_us == 0 && c->clock != roz_clock_monotonic_ns)
-        return ROZ_EINVAL; /* its sleep until the watchdog is due is on the monotonic clock */
+    uint32_t rate = c->m->control_rate_hz;
+    /* event-driven: the safe command at the tick's rate, due by the path's clock */
+    int rc = roz_dds_writer_watch(c->writer, &c->watchdog, rate < 1000000u ? 1000000u / rate : 1u,
+                                  c->clock, c->clock_ctx);
+    if (rc != ROZ_OK)
+        return rc;
     atomic_store(&c->shutdown, 0);
     return roz_dds_writer_start(c->writer, period_us, pass, c, monitor);
 }

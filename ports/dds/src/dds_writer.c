@@ -47,10 +47,17 @@ static int pass(roz_dds_writer_t *w, roz_dds_fill_fn fill, void *ctx, uint64_t n
     return rc;
 }
 
+/* The watchdog's clock now (roz_dds_writer_watch()), given the monotonic
+ * clock's @p mono: the same reading where the watchdog counts on it. */
+static uint64_t watch_now(const roz_dds_writer_t *w, uint64_t mono)
+{
+    return w->clock == roz_clock_monotonic_ns ? mono : w->clock(w->clock_ctx);
+}
+
 static void timed_pass(roz_dds_writer_t *w)
 {
     uint64_t t0 = roz_clock_monotonic_ns(NULL);
-    w->last_pass_ns = t0;
+    w->last_pass_ns = watch_now(w, t0);
     (void)pass(w, w->fill, w->ctx, t0);
     if (w->monitor != NULL) {
         uint64_t t1 = roz_clock_monotonic_ns(NULL);
@@ -89,11 +96,11 @@ static void run_periodic(roz_dds_writer_t *w)
     }
 }
 
-/* When an event-driven writer must pass without a post: the watchdog's
- * expiry of the last frame sent, or the safe command's next repeat while
- * tripped; UINT64_MAX: not before a post. A deadline a wait already timed
- * out at (a pass that did not judge a frame leaves it as it was) is not
- * waited for again. */
+/* When an event-driven writer must pass without a post, on the watchdog's
+ * clock: the watchdog's expiry of the last frame sent, or the safe
+ * command's next repeat while tripped; UINT64_MAX: not before a post. A
+ * deadline a wait already timed out at (a pass that did not judge a frame
+ * leaves it as it was) is not waited for again. */
 static uint64_t next_due(roz_dds_writer_t *w)
 {
     if (w->watchdog == NULL)
@@ -115,10 +122,25 @@ static int heads_up(roz_dds_writer_t *w)
     return atomic_load_explicit(&w->expects, memory_order_acquire) != w->expected;
 }
 
+/* The monotonic deadline to sleep until for @p due on the watchdog's clock:
+ * @p due itself where the watchdog counts on the monotonic clock; else as
+ * far off in real time as @p due is on that clock now (a test's clock,
+ * which stands still, is looked at again that late, or when the test
+ * wakes the writer after moving it: roz_dds_writer_nudge()). */
+static uint64_t real_deadline(const roz_dds_writer_t *w, uint64_t due)
+{
+    if (due == UINT64_MAX || w->clock == roz_clock_monotonic_ns)
+        return due;
+    uint64_t now = w->clock(w->clock_ctx), mono = roz_clock_monotonic_ns(NULL);
+    uint64_t left = due > now ? due - now : 0;
+    return left > UINT64_MAX - 1u - mono ? UINT64_MAX - 1u : mono + left;
+}
+
 /* Sleep on the semaphore until a post, a heads-up or @p due (UINT64_MAX:
- * no deadline). `sleeping` is set before the last look at the counters and
- * the wakers add before they look at it (both sequentially consistent), so
- * a post is never slept through. */
+ * no deadline; else on the monotonic clock: real_deadline()). `sleeping`
+ * is set before the last look at the counters and the wakers add before
+ * they look at it (both sequentially consistent), so a post is never slept
+ * through. */
 static void sleep_until(roz_dds_writer_t *w, uint64_t due)
 {
     atomic_store(&w->sleeping, 1);
@@ -138,11 +160,19 @@ static void sleep_until(roz_dds_writer_t *w, uint64_t due)
         ; /* posts that piled up: the counters say what is new */
 }
 
+/* Whether @p due (the watchdog's clock) has come, given the monotonic
+ * clock's @p mono. */
+static int is_due(const roz_dds_writer_t *w, uint64_t due, uint64_t mono)
+{
+    return due != UINT64_MAX && watch_now(w, mono) >= due;
+}
+
 /* Event-driven: each new post is a frame to publish; posts that piled up
  * while a pass ran are one pass (it publishes the latest frame). With a
- * watchdog, a pass is also due when the watchdog is, however the writer
- * got there (asleep, or spinning on heads-ups that keep coming while the
- * tick is silent). With spin_ns, a heads-up (a state frame arrived: the
+ * watchdog, a pass is also due when the watchdog is (on its clock: only
+ * the sleeps are on the monotonic one), however the writer got there
+ * (asleep, or spinning on heads-ups that keep coming while the tick is
+ * silent). With spin_ns, a heads-up (a state frame arrived: the
  * tick's command follows) wakes the writer while the tick runs, and it
  * spins, yielding the CPU, until the post comes, spin_ns passes or the
  * watchdog is due, so the tick's post costs no wake-up. */
@@ -151,21 +181,21 @@ static void run_events(roz_dds_writer_t *w)
     for (;;) {
         uint64_t due = next_due(w);
         if (!posted(w))
-            sleep_until(w, due);
+            sleep_until(w, real_deadline(w, due));
         if (atomic_load_explicit(&w->stop, memory_order_acquire))
             return;
         if (!posted(w) && heads_up(w)) {
             w->expected = atomic_load_explicit(&w->expects, memory_order_acquire);
-            uint64_t until = roz_clock_monotonic_ns(NULL) + w->spin_ns;
-            if (until > due)
-                until = due;
+            uint64_t mono = roz_clock_monotonic_ns(NULL), until = mono + w->spin_ns;
             while (!posted(w) && !atomic_load_explicit(&w->stop, memory_order_relaxed) &&
-                   roz_clock_monotonic_ns(NULL) < until)
+                   mono < until && !is_due(w, due, mono)) {
                 sched_yield();
+                mono = roz_clock_monotonic_ns(NULL);
+            }
         }
         if (posted(w))
             w->handled = atomic_load_explicit(&w->posts, memory_order_acquire);
-        else if (due != UINT64_MAX && roz_clock_monotonic_ns(NULL) >= due)
+        else if (is_due(w, due, roz_clock_monotonic_ns(NULL)))
             w->fired_due = due; /* the watchdog's pass */
         else
             continue; /* a heads-up with no command after it, or a stray post */
@@ -201,6 +231,7 @@ int roz_dds_writer_open(roz_dds_writer_t *w, const roz_dds_participant_t *p, con
     atomic_init(&w->expects, 0u);
     atomic_init(&w->sleeping, 0);
     atomic_init(&w->spin_on, 0);
+    w->clock = roz_clock_monotonic_ns;
     if (p == NULL || p->participant <= 0 || topic == NULL || descriptor == NULL || qos == NULL ||
         storage == NULL || size == 0) {
         roz__dds_say(err, errlen, topic != NULL ? topic : "?", "writer", DDS_RETCODE_BAD_PARAMETER);
@@ -274,7 +305,8 @@ int roz_dds_writer_spin(roz_dds_writer_t *w, uint32_t spin_us)
     return ROZ_OK;
 }
 
-int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us)
+int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us,
+                         uint64_t (*clock)(void *ctx), void *clock_ctx)
 {
     if (wd == NULL || repeat_us == 0)
         return ROZ_EINVAL;
@@ -282,6 +314,8 @@ int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint
         return ROZ_ESTATE;
     w->watchdog = wd;
     w->repeat_ns = (uint64_t)repeat_us * 1000u;
+    w->clock = clock != NULL ? clock : roz_clock_monotonic_ns;
+    w->clock_ctx = clock_ctx;
     w->fired_due = 0;
     return ROZ_OK;
 }
@@ -293,6 +327,13 @@ void roz_dds_writer_wake(roz_dds_writer_t *w)
     atomic_fetch_add(&w->posts, 1u);
     if (atomic_load(&w->sleeping))
         (void)sem_post(wake_sem(w));
+}
+
+void roz_dds_writer_nudge(roz_dds_writer_t *w)
+{
+    if (w->period_ns != 0 || !w->wake_ready)
+        return;
+    (void)sem_post(wake_sem(w)); /* no post counted: a look at the clock, no frame */
 }
 
 void roz_dds_writer_expect(roz_dds_writer_t *w)

@@ -122,12 +122,16 @@ uint64_t roz_port_test_clock(void *ctx);
 /* Sets the clock to @p ns. */
 void roz_port_test_clock_set(uint64_t ns);
 
-/* Moves the clock @p ns on. */
+/* Moves the clock @p ns on (standing still). */
 void roz_port_test_clock_add(uint64_t ns);
 
+/* @p on: from its time now the clock follows the monotonic clock (the
+ * writer's periods in real time count); 0: it stands still again at its
+ * time then. roz_port_test_clock_set() makes it stand still. */
+void roz_port_test_clock_follow(int on);
+
 /* The parameters of a DDS port whose command watchdog counts on that
- * clock: a periodic writer (roz_dds_cmd_config_t takes no other clock for
- * an event-driven one), a 100 ms timeout, and a robot that may say nothing
+ * clock: a periodic writer (every 2 ms), a 100 ms timeout, and a robot that may say nothing
  * while the tick is away (no link fault for it). */
 #define ROZ_PORT_TEST_WATCHED_N 3
 extern const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N];
@@ -139,14 +143,18 @@ extern const roz_param_t roz_port_test_watched[ROZ_PORT_TEST_WATCHED_N];
 void roz_port_test_write_held_back(roz_dds_cmd_t *path);
 
 /* The watchdog of @p path (a DDS port's command path) counts on the clock
- * above from here, set to 5 s: after the port's open (a periodic writer:
- * roz_dds_cmd_config_t), before its first write. */
+ * above from here, set to 5 s, standing still: after the port's open,
+ * before its first write; before its activation where the writer is
+ * event-driven (the writer's start takes the path's clock: the G1's
+ * fixture calls it there, roz_g1fx_set_before_activate()). */
 void roz_port_test_watchdog_clock(roz_dds_cmd_t *path);
 
 /* The tick went silent after its last write: on the watchdog's clock,
  * @p timeout_us of silence to the ns is not a trip (the writer's passes
  * send the frame again: two more reach the robot, by @p sent(), its count
- * of commands), and 1 ns more trips the watchdog. */
+ * of commands; an event-driven writer, to which nothing is due yet, is
+ * posted one pass), and 1 ns more trips the watchdog (an event-driven
+ * writer woken to look at the clock: roz_dds_writer_nudge()). */
 void roz_port_test_watchdog_trip(roz_dds_cmd_t *path, uint32_t timeout_us,
                                  uint64_t (*sent)(void));
 

@@ -867,12 +867,9 @@ static void test_dds_command_path(void **st)
      * own, read() reports the trip once, and the next write is a hold. The
      * watchdog counts on the test's clock, which stands still until the
      * test moves it: however late the writer's passes come on a loaded
-     * machine, a frame is as old as the test says, no older. (A periodic
-     * writer: an event-driven one sleeps until the watchdog is due on the
-     * monotonic clock, and is refused another.) */
+     * machine, a frame is as old as the test says, no older. A periodic
+     * writer here; an event-driven one below. */
     atomic_store(&cp_now_ns, 1000000000u);
-    assert_int_equal(cp_start(20000u, 0, 1), ROZ_EINVAL);
-    cp_close();
     assert_int_equal(cp_start(20000u, 2000u, 1), ROZ_OK); /* two ticks at 100 Hz */
     cp_write(0.5, 2.0, 1, 1); /* the start-up hold, sent: the robot got a command */
     assert_true(atomic_load(&cp.sends) >= 1);
@@ -901,6 +898,37 @@ static void test_dds_command_path(void **st)
     roz_dds_cmd_tick_t t = { 1, 1, 1, q };
     assert_int_equal(roz_dds_cmd_write(&cmdp, q, 2, &t), ROZ_OK);
     assert_int_equal(cp.holds, holds + 1);
+    assert_int_equal(roz_dds_cmd_stop(&cmdp), 1);
+    cp_close();
+
+    /* event-driven on the test's clock: the writer judges by it when the
+     * watchdog is due (its sleeps stay on real time), and looks again when
+     * the test wakes it (roz_dds_writer_nudge(): no frame posted). Exactly
+     * the timeout is not due: a posted pass sends the frame again; 1 ns
+     * more, the writer's own pass trips it; then the damping once each
+     * tick period (10 ms at 100 Hz) the clock moves on, and never more. */
+    atomic_store(&cp_now_ns, 1000000000u);
+    assert_int_equal(cp_start(20000u, 0, 1), ROZ_OK);
+    cp_write(0.5, 2.0, 1, 1);
+    sends = atomic_load(&cp.sends);
+    atomic_store(&cp_now_ns, 1000000000u + 20000000u);
+    roz_dds_writer_wake(&wr);
+    WAIT_FOR(atomic_load(&cp.sends) == sends + 1, 10000);
+    assert_int_equal(roz_dds_cmd_timeouts(&cmdp), 0);
+    atomic_store(&cp_now_ns, 1000000000u + 20000001u);
+    roz_dds_writer_nudge(&wr);
+    WAIT_FOR(roz_dds_cmd_timeouts(&cmdp) == 1 && cp_count(ROZ_DDS_CMD_SAFE) == 1, 10000);
+    atomic_store(&cp_now_ns, 1000000000u + 30000000u); /* 1 ns short of the repeat */
+    roz_dds_writer_wake(&wr); /* a pass posted: the damping, a period from it */
+    WAIT_FOR(cp_count(ROZ_DDS_CMD_SAFE) == 2, 10000);
+    atomic_store(&cp_now_ns, 1000000000u + 40000000u);
+    roz_dds_writer_nudge(&wr);
+    WAIT_FOR(cp_count(ROZ_DDS_CMD_SAFE) == 3, 10000);
+    sleep_ms(30); /* the writer's own look on real time: nothing due by the clock */
+    assert_int_equal(cp_count(ROZ_DDS_CMD_SAFE), 3);
+    assert_int_equal(atomic_load(&cp.sends), sends + 1);
+    assert_int_equal(roz_dds_cmd_report(&cmdp, 1, &fault), ROZ_EWATCHDOG);
+    assert_int_equal(fault.code, 40000u); /* the silence, by the watchdog's clock */
     assert_int_equal(roz_dds_cmd_stop(&cmdp), 1);
     cp_close();
 

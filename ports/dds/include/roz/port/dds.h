@@ -355,7 +355,9 @@ typedef struct roz_dds_writer {
     const roz_cmd_watchdog_t *watchdog; /* event-driven: wake when it is due; NULL: none */
     uint64_t             repeat_ns;  /* event-driven, tripped: the safe command's period */
     uint64_t             fired_due;  /* the last deadline a wait timed out at */
-    uint64_t             last_pass_ns;
+    uint64_t             last_pass_ns; /* on the watchdog's clock */
+    uint64_t           (*clock)(void *ctx); /* the watchdog's (roz_dds_writer_watch()) */
+    void                *clock_ctx;
     /* event-driven: the tick's posts and the receive path's heads-up; the
      * writer sleeps on the semaphore only with `sleeping` set, so a post
      * while it is awake or spinning is an atomic add, not a syscall */
@@ -422,10 +424,23 @@ int roz_dds_writer_thread(const roz_dds_writer_t *w, roz_thread_config_t *out);
  *                      thread reads roz_cmd_watchdog_next_ns() only)
  * @param[in] repeat_us the safe command's period while tripped (the robot's
  *                      command period), > 0
+ * @param[in] clock     the clock @p wd counts on (its deadlines, the repeat),
+ *                      with @p clock_ctx; NULL: roz_clock_monotonic_ns().
+ *                      The writer judges on it whether a pass is due; its
+ *                      sleeps stay on CLOCK_MONOTONIC, each as long as the
+ *                      time left by that clock when it began (a test's clock
+ *                      that stands still: the test moves it, then calls
+ *                      roz_dds_writer_nudge())
  * @retval ROZ_OK, ROZ_EINVAL, ROZ_ESTATE (running)
  * Context: start-up, before roz_dds_writer_start().
  */
-int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us);
+int roz_dds_writer_watch(roz_dds_writer_t *w, const roz_cmd_watchdog_t *wd, uint32_t repeat_us,
+                         uint64_t (*clock)(void *ctx), void *clock_ctx);
+
+/** @brief Event-driven mode: wake the writer to look at the watchdog's
+ *  clock again, no frame posted (a test that moved its clock: a pass
+ *  follows only if one is due by it). Never blocks. Context: any thread. */
+void roz_dds_writer_nudge(roz_dds_writer_t *w);
 
 /** @brief Event-driven mode: publish now. Never blocks (an atomic add, and
  *  a semaphore post when the writer sleeps); nothing in periodic mode.
@@ -621,9 +636,9 @@ typedef struct roz_dds_cmd_config {
     /** The clock the watchdog counts on: the tick's writes are stamped,
      *  the pass judges a frame's age and read() the silence with it.
      *  NULL: roz_clock_monotonic_ns() (every port). Another (a test's,
-     *  which it moves on itself) only with a periodic writer:
-     *  roz_dds_cmd_start() refuses it for an event-driven one, whose
-     *  thread sleeps until the watchdog is due on CLOCK_MONOTONIC. */
+     *  which it moves on itself): an event-driven writer judges by it
+     *  when the watchdog is due, and the test wakes it after moving it
+     *  (roz_dds_writer_watch(), roz_dds_writer_nudge()). */
     uint64_t               (*clock)(void *ctx);
     void                    *clock_ctx;  /**< @p clock's argument */
 } roz_dds_cmd_config_t;
@@ -695,9 +710,7 @@ void roz_dds_cmd_init(roz_dds_cmd_t *c, const roz_dds_cmd_config_t *cfg);
 
 /**
  * @brief Wire the command path to its writer (open by now): the spin ahead
- *        of the tick's command (roz_dds_writer_spin()), and the watchdog
- *        kept by an event-driven writer, repeating the safe command at the
- *        tick's rate (roz_dds_writer_watch()).
+ *        of the tick's command (roz_dds_writer_spin()).
  * @retval ROZ_OK, or the writer's error
  * Context: start-up (a port's open), after roz_dds_writer_open().
  */
@@ -705,11 +718,11 @@ int roz_dds_cmd_attach(roz_dds_cmd_t *c, uint32_t spin_us);
 
 /**
  * @brief Start the writer thread with the command path's pass
- *        (roz_dds_writer_start()); the shutdown of a previous activation is
- *        forgotten.
- * @retval ROZ_OK, or roz_dds_writer_start()'s error
- * @retval ROZ_EINVAL an event-driven writer (@p period_us 0) and a clock of
- *         the config's own
+ *        (roz_dds_writer_start()), the watchdog kept by an event-driven
+ *        writer on the path's clock, repeating the safe command at the
+ *        tick's rate (roz_dds_writer_watch()); the shutdown of a previous
+ *        activation is forgotten.
+ * @retval ROZ_OK, or the writer's error
  * Context: start-up (a port's activate).
  */
 int roz_dds_cmd_start(roz_dds_cmd_t *c, uint32_t period_us, roz_monitor_t *monitor);
