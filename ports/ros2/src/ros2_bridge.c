@@ -56,6 +56,15 @@ static void bump(ROZ_ATOMIC(uint64_t) *a)
     atomic_fetch_add_explicit(a, 1u, memory_order_relaxed);
 }
 
+/* An operator sample counted after its outcome (handed or refused), with
+ * release order: a reader whose acquire load (roz_ros2_counters) sees the
+ * sample sees its outcome too, so the counters never show a sample that was
+ * neither handed nor refused while it is being handled. */
+static void counted(ROZ_ATOMIC(uint64_t) *a)
+{
+    atomic_fetch_add_explicit(a, 1u, memory_order_release);
+}
+
 static int reads(const roz_ros2_bridge_t *b, uint16_t t)
 {
     return (b->required >> t) & 1u;
@@ -285,9 +294,9 @@ static void on_twist(void *ctx, void *sample, uint64_t now_ns)
                                { tw->angular.x, tw->angular.y, tw->angular.z } };
     const roz_operator_sink_t *sink = op_sink(t->bridge);
     (void)now_ns;
-    bump(&t->c_samples);
     if (sink != NULL && sink->twist != NULL && sink->twist(sink->ctx, &f) == ROZ_OK)
         bump(&t->c_handed);
+    counted(&t->c_samples);
 }
 
 /* A Joy through joy_map; one that does not fit the map, or has a mapped axis
@@ -299,14 +308,12 @@ static void on_joy(void *ctx, void *sample, uint64_t now_ns)
     roz_operator_remote_t r;
     const roz_operator_sink_t *sink = op_sink(t->bridge);
     (void)now_ns;
-    bump(&t->c_samples);
     if (roz_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length, j->buttons._buffer,
-                       j->buttons._length, &r) != ROZ_OK) {
+                       j->buttons._length, &r) != ROZ_OK)
         bump(&t->c_refused);
-        return;
-    }
-    if (sink != NULL && sink->remote != NULL && sink->remote(sink->ctx, &r) == ROZ_OK)
+    else if (sink != NULL && sink->remote != NULL && sink->remote(sink->ctx, &r) == ROZ_OK)
         bump(&t->c_handed);
+    counted(&t->c_samples);
 }
 
 int roz_ros2_set_operator(void *self, const roz_operator_sink_t *sink)
