@@ -32,6 +32,6 @@
 #define ROZ_CFG_BULK_IMPORTS          0     /* nor state.get_all, command.set_all */
 #define ROZ_CFG_MATH_IMPORTS          0     /* nor math.sin, math.cos */
 #define ROZ_CFG_FORMAT_DOUBLE         0     /* no message of this image prints a double */
-#define ROZ_CFG_CRC32_SLICES          0     /* the loopback's CRC: a 64-byte table, not 4 KiB */
+#define ROZ_CFG_CRC32_SLICES          1     /* the loopback's CRC: a 1 KiB table, not 4 */
 
 #endif /* ROZ_FW_G1_M7_CONFIG_H */
