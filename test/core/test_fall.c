@@ -39,13 +39,16 @@ enum { S_Q, S_DQ, S_QX, S_QY, S_QZ, S_QW, N_ST };
 
 static const roz_channel_t commands[N_CMD] = {
     { .name = "knee/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -2.0, .max = 2.0,
-      .default_value = 0.0, .max_rate = 0.04, .position_state = S_Q, .safe_default = ROZ_SAFE_HOLD },
+      .default_value = 0.0, .max_rate = 0.04, .position_state = S_Q,
+      .safe_default = ROZ_SAFE_HOLD },
     { .name = "knee/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -20.0,
       .max = 20.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "knee/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "N*m/rad", .min = 0.0,
-      .max = 200.0, .default_value = 150.0, .max_rate = 0.8, .position_state = ROZ_CHANNEL_UNPAIRED },
+      .max = 200.0, .default_value = 150.0, .max_rate = 0.8,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "knee/damping", .type = ROZ_IF_DAMPING, .unit = "N*m*s/rad", .min = 0.0,
-      .max = 10.0, .default_value = KD_DAMP, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+      .max = 10.0, .default_value = KD_DAMP, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "knee/effort", .type = ROZ_IF_EFFORT, .unit = "N*m", .min = -50.0, .max = 50.0,
       .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };

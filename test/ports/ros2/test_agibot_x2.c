@@ -526,7 +526,8 @@ static void assert_all_finite(const roz_fake_ros2_cmd_t *c, const char *when)
  * built-in manifest's missing head_pitch_joint. */
 static const roz_channel_t stiff_commands[] = {
     { .name = "left_knee_joint/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "", .min = 10.0,
-      .max = 100.0, .default_value = 10.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+      .max = 100.0, .default_value = 10.0, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "left_hip_pitch_joint/position", .type = ROZ_IF_POSITION, .unit = "rad",
       .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.0,
       .position_state = ROZ_CHANNEL_UNPAIRED },
