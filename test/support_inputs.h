@@ -13,8 +13,8 @@
 
 /* The robot's one command: a wheel's velocity, no operator field. */
 #define ROZ_TEST_WHEEL_VELOCITY                                                           \
-    { "wheel/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, \
-      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 }
+    { .name = "wheel/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -2.0, \
+      .max = 2.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED }
 
 typedef struct {
     roz_inputs_t in;

@@ -40,7 +40,7 @@ OPTIONS = {
     "ROZ_CFG_BULK_IMPORTS": ("1", "the bulk imports (state.get_all, command.set_all)"),
     "ROZ_CFG_FORMAT_DOUBLE": ("1", "%g's decimal conversion"),
     "ROZ_CFG_MAX_INPUTS": ("32", "the operator inputs"),
-    "ROZ_CFG_CRC32_SLICES": ("4", "3 of the CRC's 4 tables"),
+    "ROZ_CFG_CRC32_SLICES": ("4", "the CRC's large tables (slicing by four: 4 KiB)"),
     "ROZ_CFG_FALL": ("1", "the fall rule (roz/fall.h)"),
 }
 LTO = "link-time optimisation"

@@ -6,6 +6,8 @@ Cyclone's threads, which have no round-robin class); the shared vectors
 (manifests/invalid/*thread*) hold the same words."""
 import pytest
 
+from conftest import STACK_LEAST_KIB as LEAST
+from conftest import STACK_RANGE as RANGE
 from conftest import knee_toml
 from rozgen.validate import validate
 
@@ -25,7 +27,7 @@ OK = [
     {"w_sched": "other"},
     {"w_sched": " fifo ", "w_priority": "80"},
     {"w_sched": "rr", "w_priority": "1"},
-    {"w_sched": "fifo", "w_priority": "99", "w_cpus": "0,2-3, 63", "w_stack_kib": "64"},
+    {"w_sched": "fifo", "w_priority": "99", "w_cpus": "0,2-3, 63", "w_stack_kib": str(LEAST)},
     {"w_cpus": "5-5"},
     {"w_stack_kib": "65536"},
 ]
@@ -43,8 +45,9 @@ BAD = [
     ({"w_cpus": "3-1"}, 'parameter w_cpus = "3-1": expected CPUs 0..63 as a list such as 0,2-3'),
     ({"w_cpus": "64"}, 'parameter w_cpus = "64": expected CPUs 0..63 as a list such as 0,2-3'),
     ({"w_cpus": "0,"}, 'parameter w_cpus = "0,": expected CPUs 0..63 as a list such as 0,2-3'),
-    ({"w_stack_kib": "63"}, 'parameter w_stack_kib = "63": expected an integer in 64..65536'),
-    ({"w_stack_kib": "1e3"}, 'parameter w_stack_kib = "1e3": expected an integer in 64..65536'),
+    ({"w_stack_kib": str(LEAST - 1)},
+     f'parameter w_stack_kib = "{LEAST - 1}": expected an integer in {RANGE}'),
+    ({"w_stack_kib": "1e3"}, f'parameter w_stack_kib = "1e3": expected an integer in {RANGE}'),
 ]
 
 

@@ -7,7 +7,17 @@
  * (t[k-1][b] << 8) ^ t[0][t[k-1][b] >> 24]). One word costs four
  * independent lookups. test/hal/test_link.c checks the result against the
  * bit-by-bit definition. ROZ_CFG_CRC32_SLICES 1 keeps only t[0] (1 KiB of
- * flash instead of 4) and shifts a word through byte by byte. */
+ * flash instead of 4) and shifts a word through byte by byte;
+ * ROZ_CFG_CRC32_SLICES 0 keeps only t[0]'s first 16 entries, the register
+ * after shifting a nibble (64 bytes), and shifts a word through nibble by
+ * nibble: eight dependent lookups a word. */
+#if ROZ_CFG_CRC32_SLICES == 0
+static const uint32_t nibble[16] = {
+    0x00000000u, 0x04C11DB7u, 0x09823B6Eu, 0x0D4326D9u, 0x130476DCu, 0x17C56B6Bu,
+    0x1A864DB2u, 0x1E475005u, 0x2608EDB8u, 0x22C9F00Fu, 0x2F8AD6D6u, 0x2B4BCB61u,
+    0x350C9B64u, 0x31CD86D3u, 0x3C8EA00Au, 0x384FBDBDu,
+};
+#else
 static const uint32_t t[ROZ_CFG_CRC32_SLICES][256] = {
     {
         0x00000000u, 0x04C11DB7u, 0x09823B6Eu, 0x0D4326D9u, 0x130476DCu, 0x17C56B6Bu,
@@ -192,6 +202,7 @@ static const uint32_t t[ROZ_CFG_CRC32_SLICES][256] = {
     },
 #endif
 };
+#endif
 
 uint32_t roz_crc32_words(const uint32_t *words, size_t n)
 {
@@ -200,9 +211,13 @@ uint32_t roz_crc32_words(const uint32_t *words, size_t n)
         uint32_t x = crc ^ words[i];
 #if ROZ_CFG_CRC32_SLICES == 4
         crc = t[3][x >> 24] ^ t[2][(x >> 16) & 0xFFu] ^ t[1][(x >> 8) & 0xFFu] ^ t[0][x & 0xFFu];
-#else
+#elif ROZ_CFG_CRC32_SLICES == 1
         for (int k = 0; k < 4; k++)
             x = (x << 8) ^ t[0][x >> 24];
+        crc = x;
+#else
+        for (int k = 0; k < 8; k++)
+            x = (x << 4) ^ nibble[x >> 28];
         crc = x;
 #endif
     }

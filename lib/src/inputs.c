@@ -32,7 +32,8 @@ static double double_of(uint64_t b)
 void roz_inputs_init(roz_inputs_t *in, const roz_manifest_t *m)
 {
     in->ch = m->inputs;
-    in->n = m->inputs != NULL ? m->n_inputs : 0u;
+    in->rule = m->input_rules;
+    in->n = m->inputs != NULL && m->input_rules != NULL ? m->n_inputs : 0u;
     memset(&in->counters, 0, sizeof in->counters);
     for (uint16_t k = 0; k < in->n; k++) {
         roz_input_slot_t *s = &in->slot[k];
@@ -73,7 +74,7 @@ static int set_device(roz_inputs_t *in, roz_operator_device_t d, const roz_opera
 {
     int rc = ROZ_OK;
     for (uint16_t k = 0; k < in->n; k++) {
-        const roz_channel_t *c = &in->ch[k];
+        const roz_input_rule_t *c = &in->rule[k];
         if (roz_operator_field_device(c->source) != d)
             continue;
         double v = d == ROZ_OPERATOR_DEVICE_REMOTE ? roz_operator_remote_field(r, c->source)
@@ -100,7 +101,7 @@ void roz_inputs_tick(roz_inputs_t *in, uint64_t now_ns, double *out)
         const roz_channel_t *c = &in->ch[k];
         roz_input_slot_t *s = &in->slot[k];
         uint32_t seq = atomic_load_explicit(&s->seq, memory_order_acquire);
-        uint64_t stale_ns = (uint64_t)c->stale_after_ms * 1000000u;
+        uint64_t stale_ns = (uint64_t)in->rule[k].stale_after_ms * 1000000u;
         int taken = 0;
         double v = 0.0;
 

@@ -55,6 +55,8 @@ static int check_channels(const roz_manifest_t *m, int is_state,
 
     if (n > 0 && list == NULL)
         return set_problem(p, ROZ_MANIFEST_RULE_COUNT, is_state, -1);
+    if (is_state == 2 && n > 0 && m->input_rules == NULL)
+        return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, -1);
     for (uint16_t i = 0; i < n; i++) {
         const roz_channel_t *c = &list[i];
         int32_t idx = (int32_t)i;
@@ -70,25 +72,26 @@ static int check_channels(const roz_manifest_t *m, int is_state,
             return set_problem(p, ROZ_MANIFEST_RULE_TYPE, is_state, idx);
         /* an input: a staleness rule, nothing of the filter's, and a name
          * no state has (a policy finds its command among both by name) */
-        if ((is_state == 2) != (c->stale_after_ms > 0u) ||
-            (is_state == 2 && (!(c->max_rate > 0.0) || c->position_state != ROZ_CHANNEL_UNPAIRED ||
-                               c->limit_margin != 0.0 || c->safe_default != ROZ_SAFE_FOLLOW)))
-            return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
         if (is_state == 2) {
+            const roz_input_rule_t *r = &m->input_rules[i];
+            if (r->stale_after_ms == 0u || !(c->max_rate > 0.0) ||
+                c->position_state != ROZ_CHANNEL_UNPAIRED || c->limit_margin != 0.0 ||
+                c->safe_default != ROZ_SAFE_FOLLOW)
+                return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
             for (uint16_t j = 0; j < m->n_states; j++) {
                 if (strcmp(m->states[j].name, c->name) == 0)
                     return set_problem(p, ROZ_MANIFEST_RULE_INPUT, is_state, idx);
             }
-        }
-        /* a source: an input's, in the vocabulary, with a usable scale,
-         * and no other input's (one field, one input) */
-        if (c->source != ROZ_OPERATOR_NONE || c->scale != 0.0) {
-            if (is_state != 2 || roz_operator_field_device(c->source) == ROZ_OPERATOR_DEVICE_NONE ||
-                !isfinite(c->scale) || c->scale == 0.0)
-                return set_problem(p, ROZ_MANIFEST_RULE_SOURCE, is_state, idx);
-            for (uint16_t j = 0; j < i; j++) {
-                if (list[j].source == c->source)
+            /* a source: in the vocabulary, with a usable scale, and no
+             * other input's (one field, one input) */
+            if (r->source != ROZ_OPERATOR_NONE || r->scale != 0.0) {
+                if (roz_operator_field_device(r->source) == ROZ_OPERATOR_DEVICE_NONE ||
+                    !isfinite(r->scale) || r->scale == 0.0)
                     return set_problem(p, ROZ_MANIFEST_RULE_SOURCE, is_state, idx);
+                for (uint16_t j = 0; j < i; j++) {
+                    if (m->input_rules[j].source == r->source)
+                        return set_problem(p, ROZ_MANIFEST_RULE_SOURCE, is_state, idx);
+                }
             }
         }
         if (!isfinite(c->min) || !isfinite(c->max) || !(c->min < c->max))

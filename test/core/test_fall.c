@@ -38,25 +38,30 @@ enum { S_Q, S_DQ, S_QX, S_QY, S_QZ, S_QW, N_ST };
 #define KD_DAMP 8.0 /* the damping command's default: the damping mode's kd */
 
 static const roz_channel_t commands[N_CMD] = {
-    { "knee/position", ROZ_IF_POSITION, "rad", -2.0, 2.0, 0.0, 0.04, S_Q, 0.0, ROZ_SAFE_HOLD, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "knee/velocity", ROZ_IF_VELOCITY, "rad/s", -20.0, 20.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "knee/stiffness", ROZ_IF_STIFFNESS, "N*m/rad", 0.0, 200.0, 150.0, 0.8,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "knee/damping", ROZ_IF_DAMPING, "N*m*s/rad", 0.0, 10.0, KD_DAMP, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "knee/effort", ROZ_IF_EFFORT, "N*m", -50.0, 50.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "knee/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -2.0, .max = 2.0,
+      .default_value = 0.0, .max_rate = 0.04, .position_state = S_Q,
+      .safe_default = ROZ_SAFE_HOLD },
+    { .name = "knee/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -20.0,
+      .max = 20.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "knee/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "N*m/rad", .min = 0.0,
+      .max = 200.0, .default_value = 150.0, .max_rate = 0.8,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "knee/damping", .type = ROZ_IF_DAMPING, .unit = "N*m*s/rad", .min = 0.0,
+      .max = 10.0, .default_value = KD_DAMP, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "knee/effort", .type = ROZ_IF_EFFORT, .unit = "N*m", .min = -50.0, .max = 50.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 /* The IMU's orientation quaternion component @p axis, upright by default. */
 #define ORIENTATION(axis, upright)                                                       \
-    { "imu/orientation." axis, ROZ_IF_ORIENTATION, "", -1.0, 1.0, (upright), 0.0,          \
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 }
+    { .name = "imu/orientation." axis, .type = ROZ_IF_ORIENTATION, .unit = "", .min = -1.0, \
+      .max = 1.0, .default_value = (upright), .max_rate = 0.0, \
+      .position_state = ROZ_CHANNEL_UNPAIRED }
 static const roz_channel_t states[N_ST] = {
-    { "knee/position", ROZ_IF_POSITION, "rad", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "knee/velocity", ROZ_IF_VELOCITY, "rad/s", -20.0, 20.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "knee/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -2.0, .max = 2.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "knee/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -20.0,
+      .max = 20.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
     ORIENTATION("x", 0.0),
     ORIENTATION("y", 0.0),
     ORIENTATION("z", 0.0),

@@ -160,15 +160,15 @@ static void test_filter_brakes_before_limit(void **st)
 /* A gripper, limits [0, 0.08] m. roz's old margin, 0.05 whatever the unit,
  * stopped it at 0.03 m for good; now each position state has its own. */
 static roz_channel_t grip_cmd[] = {
-    { "gripper/velocity", ROZ_IF_VELOCITY, "m/s", -0.05, 0.05, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "gripper/velocity", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.05,
+      .max = 0.05, .default_value = 0.0, .max_rate = 0.0, .position_state = 0 },
 };
 static roz_channel_t grip_state[] = {
-    { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "gripper/position", .type = ROZ_IF_POSITION, .unit = "m", .min = 0.0, .max = 0.08,
+      .default_value = 0.04, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_manifest_t gripper = { "gripper", "gripper", 100, grip_cmd, 1, grip_state, 1,
-                                        NULL, NULL, 0, 0, NULL };
+                                        NULL, NULL, 0, 0, NULL, NULL };
 
 typedef struct {
     const char *what;

@@ -458,30 +458,31 @@ static uint64_t run(const roz_manifest_t *m, uint64_t seed, long ticks)
  * without a cap; a paired position; an unpaired velocity whose limits exclude
  * 0 (its default is its safe value); a gain with a rate cap. */
 static const roz_channel_t mixed_cmd[] = {
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.3, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "b/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 3.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "a/effort", ROZ_IF_EFFORT, "N*m", -40.0, 40.0, 0.0, 5.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "b/effort", ROZ_IF_EFFORT, "N*m", -10.0, 25.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "a/position", ROZ_IF_POSITION, "rad", -1.5, 1.5, 0.0, 0.05, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "c/velocity", ROZ_IF_VELOCITY, "rad/s", 0.5, 1.5, 1.0, 0.1, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "a/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 200.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "a/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -2.0, .max = 2.0,
+      .default_value = 0.0, .max_rate = 0.3, .position_state = 0 },
+    { .name = "b/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0, .max = 3.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = 1 },
+    { .name = "a/effort", .type = ROZ_IF_EFFORT, .unit = "N*m", .min = -40.0, .max = 40.0,
+      .default_value = 0.0, .max_rate = 5.0, .position_state = 0 },
+    { .name = "b/effort", .type = ROZ_IF_EFFORT, .unit = "N*m", .min = -10.0, .max = 25.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = 1 },
+    { .name = "a/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.5, .max = 1.5,
+      .default_value = 0.0, .max_rate = 0.05, .position_state = 0 },
+    { .name = "c/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = 0.5, .max = 1.5,
+      .default_value = 1.0, .max_rate = 0.1, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "a/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "", .min = 0.0, .max = 200.0,
+      .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_channel_t mixed_state[] = {
-    { "a/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.1, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "b/position", ROZ_IF_POSITION, "rad", 0.0, 0.5, 0.25, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "a/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "a/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED,
+      .limit_margin = 0.1 },
+    { .name = "b/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = 0.0, .max = 0.5,
+      .default_value = 0.25, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "a/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -2.0, .max = 2.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
-static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0, 0, NULL };
+static const roz_manifest_t mixed = { "mixed", "test", 250, mixed_cmd, 7, mixed_state, 3, NULL, NULL, 0, 0, NULL, NULL };
 
 /* Sets the mode from the test's state; after the runs, checks that the
  * vector way was taken in that mode (where the CPU has it) and never in the

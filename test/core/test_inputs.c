@@ -22,18 +22,19 @@ static const roz_channel_t cmds[] = {
     ROZ_TEST_WHEEL_VELOCITY,
 };
 static const roz_channel_t states[] = {
-    { "wheel/position", ROZ_IF_POSITION, "rad", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "wheel/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -10.0,
+      .max = 10.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 /* vx: rate 0.01 a tick, stale after 100 ms (50 ticks); a button: default 1 */
 static const roz_channel_t ins[] = {
-    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.01, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_NONE, 0.0 },
-    { "operator/mode", ROZ_IF_POSITION, "", 0.0, 3.0, 1.0, 0.5, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 20, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.01, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/mode", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 3.0,
+      .default_value = 1.0, .max_rate = 0.5, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
+static const roz_input_rule_t rules[] = { { .stale_after_ms = 100 }, { .stale_after_ms = 20 } };
 static const roz_manifest_t man = { "op_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
-                                    states, 1, NULL, ins, 2, 0, NULL };
+                                    states, 1, NULL, ins, 2, 0, NULL, rules };
 
 ROZ_TEST_INPUTS_BENCH(man)
 
@@ -41,15 +42,22 @@ static void test_manifest_with_inputs_is_valid(void **st)
 {
     roz_manifest_problem_t p;
     roz_channel_t bad[2] = { ins[0], ins[1] };
+    roz_input_rule_t bad_rules[2] = { rules[0], rules[1] };
     roz_manifest_t m = man;
     (void)st;
     assert_int_equal(roz_manifest_validate(&man, &p), ROZ_OK);
-    m.inputs = bad;
-    bad[0].stale_after_ms = 0; /* no staleness rule */
+    m.input_rules = NULL; /* inputs without their rules */
     assert_int_equal(roz_manifest_validate(&m, &p), ROZ_EINVAL);
     assert_int_equal(p.rule, ROZ_MANIFEST_RULE_INPUT);
     assert_int_equal(p.is_state, 2);
-    bad[0] = ins[0];
+    assert_int_equal(p.index, -1);
+    m.inputs = bad;
+    m.input_rules = bad_rules;
+    bad_rules[0].stale_after_ms = 0; /* no staleness rule */
+    assert_int_equal(roz_manifest_validate(&m, &p), ROZ_EINVAL);
+    assert_int_equal(p.rule, ROZ_MANIFEST_RULE_INPUT);
+    assert_int_equal(p.is_state, 2);
+    bad_rules[0] = rules[0];
     bad[0].max_rate = 0.0; /* it would jump back */
     assert_int_equal(roz_manifest_validate(&m, &p), ROZ_EINVAL);
     assert_int_equal(p.rule, ROZ_MANIFEST_RULE_INPUT);

@@ -78,13 +78,17 @@ static void test_joy_map_errors_name_the_map(void **st)
  * NaN-bearing Joy refused before it reaches them. */
 static const roz_channel_t cmds[] = { ROZ_TEST_WHEEL_VELOCITY };
 static const roz_channel_t ins[] = {
-    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.5, 0.5, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LY, 0.5 },
-    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5,
+      .max = 0.5, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/walk", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+};
+static const roz_input_rule_t rules[] = {
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.5 },
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
 };
 static const roz_manifest_t man = { "joy_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
-                                    NULL, 0, NULL, ins, 2, 0, NULL };
+                                    NULL, 0, NULL, ins, 2, 0, NULL, rules };
 
 static void test_joy_reaches_the_inputs(void **st)
 {

@@ -37,23 +37,23 @@
  * manifest default, 1.0, is far from it); command 1 a velocity of joint 1.
  * State 2 is the tick at which the controller acts, state 3 how. */
 static const roz_channel_t latch_commands[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "j1/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, 1, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j0/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.0, .max = 3.0,
+      .default_value = 1.0, .max_rate = 0.1, .position_state = 0 },
+    { .name = "j1/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = 1 },
 };
 static const roz_channel_t latch_states[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "j1/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "trigger/effort", ROZ_IF_EFFORT, "", -1e9, 1e9, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "action/effort", ROZ_IF_EFFORT, "", -10.0, 10.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j0/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.0, .max = 3.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "j1/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.0, .max = 3.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "trigger/effort", .type = ROZ_IF_EFFORT, .unit = "", .min = -1e9, .max = 1e9,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "action/effort", .type = ROZ_IF_EFFORT, .unit = "", .min = -10.0, .max = 10.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_manifest_t latch_manifest = {
-    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0, 0, NULL,
+    "latch_arm", "manipulator", 100, latch_commands, 2, latch_states, 4, NULL, NULL, 0, 0, NULL, NULL
 };
 
 enum { ACT_NONE = 0, ACT_TRAP = 1, ACT_FUEL = 2, ACT_ESTOP_REQUEST = 3 };

@@ -33,17 +33,17 @@
 #include "support_wat.h"
 
 static const roz_channel_t commands[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 1.0, 0.1, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j0/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.0, .max = 3.0,
+      .default_value = 1.0, .max_rate = 0.1, .position_state = 0 },
 };
 static const roz_channel_t states[] = {
-    { "j0/position", ROZ_IF_POSITION, "rad", -3.0, 3.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "trigger/effort", ROZ_IF_EFFORT, "", -1e12, 1e12, -1.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j0/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -3.0, .max = 3.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "trigger/effort", .type = ROZ_IF_EFFORT, .unit = "", .min = -1e12, .max = 1e12,
+      .default_value = -1.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_manifest_t manifest = {
-    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0, 0, NULL,
+    "latch_stress", "manipulator", 1000, commands, 1, states, 2, NULL, NULL, 0, 0, NULL, NULL
 };
 
 /* Emits its own call count, traps when its tick equals state[1]. */

@@ -14,6 +14,15 @@
 #include "roz/manifest.h"
 #include "support.h"
 
+/* A channel holds no padding but its tail (a firmware's tables hold one
+ * per channel): five doubles, two pointers, the type, a 16-bit pairing
+ * and a byte, rounded up to the doubles' alignment. */
+_Static_assert(sizeof(roz_channel_t) ==
+                   (5 * sizeof(double) + 2 * sizeof(const char *) + sizeof(roz_interface_t) +
+                    sizeof(int16_t) + sizeof(uint8_t) + _Alignof(roz_channel_t) - 1) /
+                       _Alignof(roz_channel_t) * _Alignof(roz_channel_t),
+               "roz_channel_t holds padding between its fields");
+
 /* ---- a small valid manifest to break one rule at a time ----------------- */
 
 static roz_channel_t cmds[2];
@@ -23,20 +32,22 @@ static roz_manifest_t m;
 static int setup_manifest(void **state)
 {
     (void)state;
-    cmds[0] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 0, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 };
-    cmds[1] = (roz_channel_t){ "joint2/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                               0.2, 1, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 };
-    states[0] = (roz_channel_t){ "joint1/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-                                   ROZ_OPERATOR_NONE, 0.0 };
-    states[1] = (roz_channel_t){ "joint2/position", ROZ_IF_POSITION, "rad", -3.14, 3.14, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-                                   ROZ_OPERATOR_NONE, 0.0 };
-    states[2] = (roz_channel_t){ "joint1/velocity", ROZ_IF_VELOCITY, "rad/s", -2.0, 2.0, 0.0,
-                                 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-                                   ROZ_OPERATOR_NONE, 0.0 };
-    m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL, NULL, 0, 0, NULL };
+    cmds[0] = (roz_channel_t){ .name = "joint1/velocity", .type = ROZ_IF_VELOCITY,
+                               .unit = "rad/s", .min = -2.0, .max = 2.0, .default_value = 0.0, .max_rate = 0.2,
+                               .position_state = 0 };
+    cmds[1] = (roz_channel_t){ .name = "joint2/velocity", .type = ROZ_IF_VELOCITY,
+                               .unit = "rad/s", .min = -2.0, .max = 2.0, .default_value = 0.0, .max_rate = 0.2,
+                               .position_state = 1 };
+    states[0] = (roz_channel_t){ .name = "joint1/position", .type = ROZ_IF_POSITION,
+                                 .unit = "rad", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0,
+                                 .position_state = ROZ_CHANNEL_UNPAIRED };
+    states[1] = (roz_channel_t){ .name = "joint2/position", .type = ROZ_IF_POSITION,
+                                 .unit = "rad", .min = -3.14, .max = 3.14, .default_value = 0.0, .max_rate = 0.0,
+                                 .position_state = ROZ_CHANNEL_UNPAIRED };
+    states[2] = (roz_channel_t){ .name = "joint1/velocity", .type = ROZ_IF_VELOCITY,
+                                 .unit = "rad/s", .min = -2.0, .max = 2.0, .default_value = 0.0, .max_rate = 0.0,
+                                 .position_state = ROZ_CHANNEL_UNPAIRED };
+    m = (roz_manifest_t){ "my_arm", "manipulator", 100, cmds, 2, states, 3, NULL, NULL, 0, 0, NULL, NULL };
     return 0;
 }
 
@@ -187,9 +198,9 @@ static const rule_case_t rule_cases[] = {
  * leaving any room at all is the state's own. */
 static void test_manifest_limit_margin(void **state)
 {
-    roz_channel_t gripper = { "gripper/position", ROZ_IF_POSITION, "m", 0.0, 0.08, 0.04, 0.0,
-                              ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-                                ROZ_OPERATOR_NONE, 0.0 };
+    roz_channel_t gripper = { .name = "gripper/position", .type = ROZ_IF_POSITION, .unit = "m",
+                              .min = 0.0, .max = 0.08, .default_value = 0.04, .max_rate = 0.0,
+                              .position_state = ROZ_CHANNEL_UNPAIRED };
     (void)state;
     assert_true(roz_manifest_limit_margin(&states[0]) == 0.05);      /* [-3.14, 3.14] rad */
     assert_true(roz_manifest_limit_margin(&gripper) == 0.05 * 0.08); /* [0, 0.08] m */

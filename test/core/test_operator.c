@@ -23,20 +23,27 @@ static const roz_channel_t cmds[] = {
 };
 /* vx = 0.8 ly, vy = -0.5 lx, a button, a twist's yaw, and one only the API sets */
 static const roz_channel_t ins[] = {
-    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LY, 0.8 },
-    { "operator/velocity.y", ROZ_IF_VELOCITY, "m/s", -0.5, 0.5, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LX, -0.5 },
-    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
-    { "operator/yaw_rate", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_TWIST_ANGULAR_Z, 1.0 },
-    { "operator/mode", ROZ_IF_POSITION, "", 0.0, 3.0, 1.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8,
+      .max = 0.8, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5,
+      .max = 0.5, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/walk", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/mode", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 3.0,
+      .default_value = 1.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 #define N_INS (sizeof ins / sizeof ins[0])
+static const roz_input_rule_t rules[N_INS] = {
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.8 },
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_LX, .scale = -0.5 },
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_TWIST_ANGULAR_Z, .scale = 1.0 },
+    { .stale_after_ms = 100 },
+};
 static const roz_manifest_t man = { "op_bot", "generic", ROZ_TEST_INPUTS_RATE_HZ, cmds, 1,
-                                    NULL, 0, NULL, ins, N_INS, 0, NULL };
+                                    NULL, 0, NULL, ins, N_INS, 0, NULL, rules };
 
 ROZ_TEST_INPUTS_BENCH(man)
 
@@ -74,49 +81,43 @@ static void test_vocabulary(void **st)
                      ROZ_OPERATOR_DEVICE_TWIST);
 }
 
-static void expect_source_rule(const roz_channel_t *bad, int is_state)
+/* Input 1 with the rule @p bad (the other inputs' as they are). */
+static void expect_source_rule(const roz_input_rule_t *bad)
 {
     roz_manifest_problem_t p;
-    roz_channel_t list[N_INS];
+    roz_input_rule_t list[N_INS];
     roz_manifest_t m = man;
-    memcpy(list, ins, sizeof list);
-    if (is_state == 2) {
-        list[1] = *bad;
-        m.inputs = list;
-    } else {
-        m.commands = bad;
-    }
+    memcpy(list, rules, sizeof list);
+    list[1] = *bad;
+    m.input_rules = list;
     assert_int_equal(roz_manifest_validate(&m, &p), ROZ_EINVAL);
     assert_int_equal(p.rule, ROZ_MANIFEST_RULE_SOURCE);
-    assert_int_equal(p.is_state, is_state);
+    assert_int_equal(p.is_state, 2);
+    assert_int_equal(p.index, 1);
 }
 
 static void test_manifest_rule(void **st)
 {
     roz_manifest_problem_t p;
-    roz_channel_t c;
+    roz_input_rule_t c;
     (void)st;
     assert_int_equal(roz_manifest_validate(&man, &p), ROZ_OK);
-    c = ins[1];
+    c = rules[1];
     c.scale = 0.0; /* it would never move */
-    expect_source_rule(&c, 2);
+    expect_source_rule(&c);
     c.scale = NAN;
-    expect_source_rule(&c, 2);
+    expect_source_rule(&c);
     c.scale = INFINITY;
-    expect_source_rule(&c, 2);
-    c = ins[1];
+    expect_source_rule(&c);
+    c = rules[1];
     c.source = ROZ_OPERATOR_FIELD_COUNT_; /* outside the vocabulary */
-    expect_source_rule(&c, 2);
-    c = ins[4];
+    expect_source_rule(&c);
+    c = rules[4];
     c.scale = 2.0; /* a scale without a source */
-    expect_source_rule(&c, 2);
-    c = ins[1];
+    expect_source_rule(&c);
+    c = rules[1];
     c.source = ROZ_OPERATOR_REMOTE_LY; /* input 0's: one field, one input */
-    expect_source_rule(&c, 2);
-    c = cmds[0];
-    c.source = ROZ_OPERATOR_REMOTE_LY; /* a command has no source */
-    c.scale = 1.0;
-    expect_source_rule(&c, 0);
+    expect_source_rule(&c);
 }
 
 static void test_remote_frame_scaled(void **st)

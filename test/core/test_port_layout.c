@@ -27,10 +27,10 @@
 #endif
 
 static const roz_channel_t commands[] = {
-    { "j/velocity", ROZ_IF_VELOCITY, "rad/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j/velocity", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
-static const roz_manifest_t one = { "one", "generic", 100, commands, 1, NULL, 0, NULL, NULL, 0, 0, NULL };
+static const roz_manifest_t one = { "one", "generic", 100, commands, 1, NULL, 0, NULL, NULL, 0, 0, NULL, NULL };
 
 static void assert_untouched(const void *p, size_t n)
 {

@@ -35,6 +35,7 @@ static roz_loopback_t lb;
 static roz_test_clock_t clk;
 static roz_manifest_t m;  /* the 12-joint G1 with four buttons */
 static roz_channel_t inputs[7];
+static roz_input_rule_t input_rules[7];
 static double stand[ROZ_CFG_MAX_COMMANDS];
 
 enum { BTN_START = 3, BTN_A, BTN_B, BTN_SELECT }; /* input indices */
@@ -47,12 +48,15 @@ static void setup_manifest(void)
                                           "remote/select" };
     m = roz_manifest_unitree_g1_12dof;
     memcpy(inputs, m.inputs, sizeof inputs[0] * m.n_inputs);
-    for (int k = 0; k < 4; k++)
+    memcpy(input_rules, m.input_rules, sizeof input_rules[0] * m.n_inputs);
+    for (int k = 0; k < 4; k++) {
         inputs[3 + k] = (roz_channel_t){ .name = names[k], .type = ROZ_IF_POSITION, .unit = "",
                                          .min = 0.0, .max = 1.0, .max_rate = 1.0,
-                                         .position_state = ROZ_CHANNEL_UNPAIRED,
-                                         .stale_after_ms = 100000 };
+                                         .position_state = ROZ_CHANNEL_UNPAIRED };
+        input_rules[3 + k] = (roz_input_rule_t){ .stale_after_ms = 100000 };
+    }
     m.inputs = inputs;
+    m.input_rules = input_rules;
     m.n_inputs = 7;
     static const double pose[N] = { -0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0 };
     static const double kp[N] = { 100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40 };

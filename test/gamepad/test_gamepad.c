@@ -144,12 +144,17 @@ static const roz_channel_t cmds[] = {
     ROZ_TEST_WHEEL_VELOCITY,
 };
 static const roz_channel_t ins[] = {
-    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_LY, 0.8 },
-    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 1.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 100, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8,
+      .max = 0.8, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/walk", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
-static const roz_manifest_t man = { "pad_bot", "generic", 500, cmds, 1, NULL, 0, NULL, ins, 2, 0, NULL };
+static const roz_input_rule_t rules[] = {
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.8 },
+    { .stale_after_ms = 100, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
+};
+static const roz_manifest_t man = { "pad_bot", "generic", 500, cmds, 1, NULL, 0, NULL, ins, 2, 0, NULL,
+                                    rules };
 static roz_inputs_t in;
 
 static int to_inputs(void *ctx, const roz_operator_remote_t *r)

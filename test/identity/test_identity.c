@@ -93,7 +93,7 @@ static void test_identity_hash_worked_example(void **st)
     static const roz_channel_t s[] = { { .name = "j1/position", .type = ROZ_IF_POSITION,
                                          .unit = "rad", .min = -4.0, .max = 4.0,
                                          .position_state = ROZ_CHANNEL_UNPAIRED } };
-    const roz_manifest_t arm = { "arm", "generic", 100, c, 1, s, 1, NULL, NULL, 0, 0, NULL };
+    const roz_manifest_t arm = { "arm", "generic", 100, c, 1, s, 1, NULL, NULL, 0, 0, NULL, NULL };
     (void)st;
     assert_true(roz_manifest_interface_hash(&arm) == 0x22b82593f3d5e024ull);
 }

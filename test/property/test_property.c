@@ -250,7 +250,7 @@ static void random_manifest(void)
         }
     }
     man = (roz_manifest_t){ "prop", "generic", rates[below(sizeof rates / sizeof rates[0])],
-                            cmds, (uint16_t)ncmd, nst > 0 ? states : NULL, (uint16_t)nst, NULL, NULL, 0, 0, NULL };
+                            cmds, (uint16_t)ncmd, nst > 0 ? states : NULL, (uint16_t)nst, NULL, NULL, 0, 0, NULL, NULL };
 }
 
 /* ---- random inputs --------------------------------------------------------- */

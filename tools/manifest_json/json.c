@@ -91,8 +91,8 @@ static void put_double(double x)
     fputs(buf, stdout);
 }
 
-static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, int states,
-                         int as_written)
+static void put_channels(const char *key, const roz_channel_t *c, const roz_input_rule_t *r,
+                         uint16_t n, int states, int as_written)
 {
     printf("  \"%s\": [", key);
     for (uint16_t i = 0; i < n; i++) {
@@ -111,12 +111,12 @@ static void put_channels(const char *key, const roz_channel_t *c, uint16_t n, in
         fputs(", \"max_rate_of_change\": ", stdout);
         put_double(c[i].max_rate);
         if (states == 2) { /* an operator input: no filter keys */
-            printf(", \"stale_after_ms\": %lu", (unsigned long)c[i].stale_after_ms);
-            if (c[i].source != ROZ_OPERATOR_NONE) { /* absent without one: text unchanged */
+            printf(", \"stale_after_ms\": %lu", (unsigned long)r[i].stale_after_ms);
+            if (r[i].source != ROZ_OPERATOR_NONE) { /* absent without one: text unchanged */
                 fputs(", \"source\": ", stdout);
-                put_string(roz_operator_field_name(c[i].source));
+                put_string(roz_operator_field_name(r[i].source));
                 fputs(", \"scale\": ", stdout);
-                put_double(c[i].scale);
+                put_double(r[i].scale);
             }
             fputs("}", stdout);
             continue;
@@ -145,10 +145,10 @@ void manifest_json_print(const roz_manifest_t *m, int as_written)
     fputs(",\n  \"robot_class\": ", stdout);
     put_string(m->robot_class);
     printf(",\n  \"control_rate_hz\": %lu,\n", (unsigned long)m->control_rate_hz);
-    put_channels("commands", m->commands, m->n_commands, 0, as_written);
-    put_channels("states", m->states, m->n_states, 1, as_written);
+    put_channels("commands", m->commands, NULL, m->n_commands, 0, as_written);
+    put_channels("states", m->states, NULL, m->n_states, 1, as_written);
     if (m->n_inputs > 0) /* absent without inputs: older readers' text unchanged */
-        put_channels("inputs", m->inputs, m->n_inputs, 2, as_written);
+        put_channels("inputs", m->inputs, m->input_rules, m->n_inputs, 2, as_written);
     if (m->remote_estop != 0u) { /* absent without one: older readers' text unchanged */
         const char *sep = "";
         fputs("  \"remote_estop\": [", stdout);

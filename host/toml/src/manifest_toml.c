@@ -1317,7 +1317,8 @@ static const char *intern_key(roz_manifest_storage_t *st, const roz_toml_doc_t *
 }
 
 static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
-                          const roz_toml_node_t *list, roz_channel_t *out)
+                          const roz_toml_node_t *list, roz_channel_t *out,
+                          roz_input_rule_t *rules)
 {
     size_t i = 0;
     for (const roz_toml_node_t *t = roz_toml_first(d, list); t != NULL;
@@ -1340,16 +1341,20 @@ static int build_channels(roz_manifest_storage_t *st, const roz_toml_doc_t *d,
         c->max = number_of(roz_toml_next(d, roz_toml_first(d, lim)));
         c->default_value = number_of(roz_toml_get(d, t, "default"));
         c->max_rate = rate != NULL ? number_of(rate) : 0.0;
-        c->position_state = pair != NULL ? (int32_t)pair->as.integer : ROZ_CHANNEL_UNPAIRED;
+        c->position_state = pair != NULL ? (int16_t)pair->as.integer : ROZ_CHANNEL_UNPAIRED;
         c->limit_margin = margin != NULL ? number_of(margin) : 0.0; /* 0: the default */
         c->safe_default = safe != NULL && str_eq(safe->as.str, "hold") ? ROZ_SAFE_HOLD
                                                                              : ROZ_SAFE_FOLLOW;
-        c->stale_after_ms = stale != NULL ? (uint32_t)stale->as.integer : 0u;
-        c->source = ROZ_OPERATOR_NONE;
-        c->scale = 0.0; /* no source: no scale */
-        if (source != NULL &&
-            roz_operator_field_parse(source->as.str.ptr, source->as.str.len, &c->source) == ROZ_OK)
-            c->scale = scale != NULL ? number_of(scale) : 1.0;
+        if (rules != NULL) { /* an input */
+            roz_input_rule_t *r = &rules[i];
+            r->stale_after_ms = stale != NULL ? (uint32_t)stale->as.integer : 0u;
+            r->source = ROZ_OPERATOR_NONE;
+            r->scale = 0.0; /* no source: no scale */
+            if (source != NULL &&
+                roz_operator_field_parse(source->as.str.ptr, source->as.str.len, &r->source) ==
+                    ROZ_OK)
+                r->scale = scale != NULL ? number_of(scale) : 1.0;
+        }
     }
     return ROZ_OK;
 }
@@ -1406,13 +1411,14 @@ static int build(checker_t *ck, roz_manifest_storage_t *st)
     man->states = roz_toml_count(states) > 0 ? st->states : NULL;
     man->n_states = (uint16_t)roz_toml_count(states);
     if (rc == ROZ_OK)
-        rc = build_channels(st, d, commands, st->commands);
+        rc = build_channels(st, d, commands, st->commands, NULL);
     if (rc == ROZ_OK && states != NULL)
-        rc = build_channels(st, d, states, st->states);
+        rc = build_channels(st, d, states, st->states, NULL);
     man->inputs = roz_toml_count(inputs) > 0 ? st->inputs : NULL;
+    man->input_rules = roz_toml_count(inputs) > 0 ? st->input_rules : NULL;
     man->n_inputs = (uint16_t)roz_toml_count(inputs);
     if (rc == ROZ_OK && inputs != NULL)
-        rc = build_channels(st, d, inputs, st->inputs);
+        rc = build_channels(st, d, inputs, st->inputs, st->input_rules);
     const roz_toml_node_t *fall = roz_toml_get(d, m, "fall");
     if (rc == ROZ_OK && fall != NULL) {
         const roz_toml_node_t *o = roz_toml_get(d, fall, "orientation"), *t;

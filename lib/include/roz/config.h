@@ -175,8 +175,10 @@
 #define ROZ_CFG_WASM_MAX_COMPILE_WORK 16777216
 #endif
 /** Tables of roz_crc32_words() (roz/hal/crc32.h, the link checks): 4
- *  (slicing by four, 4 KiB of flash, four independent lookups a word) or 1
- *  (1 KiB, four dependent lookups a word: for a small flash). */
+ *  (slicing by four, 4 KiB of flash, four independent lookups a word), 1
+ *  (1 KiB, four dependent lookups a word: for a small flash) or 0 (a
+ *  nibble table of 64 bytes, eight dependent lookups a word: the smallest
+ *  flash). */
 #ifndef ROZ_CFG_CRC32_SLICES
 #define ROZ_CFG_CRC32_SLICES 4
 #endif
@@ -316,8 +318,8 @@
 #if ROZ_CFG_WASM_MAX_PAGES < 1 || ROZ_CFG_WASM_MAX_PAGES > 65536
 #error "ROZ_CFG_WASM_MAX_PAGES must be in 1..65536"
 #endif
-#if ROZ_CFG_CRC32_SLICES != 1 && ROZ_CFG_CRC32_SLICES != 4
-#error "ROZ_CFG_CRC32_SLICES must be 1 or 4"
+#if ROZ_CFG_CRC32_SLICES != 0 && ROZ_CFG_CRC32_SLICES != 1 && ROZ_CFG_CRC32_SLICES != 4
+#error "ROZ_CFG_CRC32_SLICES must be 0, 1 or 4"
 #endif
 #if ROZ_CFG_WASM_MAX_COMPILE_WORK < 1024 || ROZ_CFG_WASM_MAX_COMPILE_WORK > 1099511627776
 #error "ROZ_CFG_WASM_MAX_COMPILE_WORK must be in 1024..2^40"

@@ -56,6 +56,7 @@ typedef struct roz_inputs_counters {
 /** The inputs of one manifest. */
 typedef struct roz_inputs {
     const roz_channel_t  *ch; /**< the manifest's inputs */
+    const roz_input_rule_t *rule; /**< and their rules (staleness, source) */
     uint16_t              n;
     roz_inputs_counters_t counters;
     roz_input_slot_t      slot[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1];

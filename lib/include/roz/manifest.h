@@ -56,40 +56,51 @@ typedef enum roz_safe_default {
                               until the stop ends (a category 2 stop, with hold gains) */
 } roz_safe_default_t;
 
-/** One command or state channel. */
+/** One command, state or input channel. The fields are ordered by size
+ *  (pointers, doubles, then the small ones) so that no padding sits between
+ *  them: 56 bytes on a 32-bit target, 64 on a 64-bit one. A generated table
+ *  holds one per channel, in a firmware's flash. Initialise it by field
+ *  name. */
 typedef struct roz_channel {
     const char     *name;          /**< "shoulder_pan_joint/velocity" */
-    roz_interface_t type;          /**< interface type */
     const char     *unit;          /**< "rad/s"; "" when unitless */
     double          min;           /**< lower limit, finite, min < max */
     double          max;           /**< upper limit, finite */
     double          default_value; /**< safe value, min <= default <= max */
     double          max_rate;      /**< max change per tick, >= 0; 0 = no cap */
-    int32_t         position_state; /**< paired position state, or ROZ_CHANNEL_UNPAIRED */
     /** Position states only: how far inside [min, max] the safety filter
      *  stops a velocity command paired with this state, in this state's
      *  unit; 0 = the default (roz_manifest_limit_margin()); 0 on every
      *  other channel. A property of the filter, not of the channel
      *  interface a controller sees. */
     double          limit_margin;
+    roz_interface_t type;          /**< interface type */
+    /** Paired position state, or ROZ_CHANNEL_UNPAIRED (16 bits: a manifest
+     *  has at most 4096 states, roz/config.h). */
+    int16_t         position_state;
     /** Position commands paired with a position state only: what their
-     *  safe default holds during a stop; ROZ_SAFE_FOLLOW on every other
-     *  channel. A property of the filter, as limit_margin is. */
-    roz_safe_default_t safe_default;
-    /** Operator inputs only (roz_manifest_t.inputs): how long, in
-     *  milliseconds, an input keeps its last value without an update before
-     *  it returns to its default (at its max_rate per tick); > 0. 0 on every
-     *  command and state. */
-    uint32_t        stale_after_ms;
-    /** Operator inputs only: the device field the input takes its value
-     *  from (robot.toml's `source`, roz/operator.h); ROZ_OPERATOR_NONE on
-     *  every command and state, and on an input only the API and the
-     *  scripted operator set. */
-    roz_operator_field_t source;
+     *  safe default holds during a stop, a roz_safe_default_t (in a byte);
+     *  ROZ_SAFE_FOLLOW on every other channel. A property of the filter, as
+     *  limit_margin is. */
+    uint8_t         safe_default;
+} roz_channel_t;
+
+/** What an operator input has beyond its channel (roz_manifest_t's
+ *  input_rules[k], for inputs[k]): commands and states have none of it,
+ *  so it is a table of its own, one entry per input. */
+typedef struct roz_input_rule {
     /** With a source: the input's value is scale * the field; finite and
      *  not 0 (robot.toml's default: 1). 0 without a source. */
-    double          scale;
-} roz_channel_t;
+    double               scale;
+    /** How long, in milliseconds, the input keeps its last value without
+     *  an update before it returns to its default (at its max_rate per
+     *  tick); > 0. */
+    uint32_t             stale_after_ms;
+    /** The device field the input takes its value from (robot.toml's
+     *  `source`, roz/operator.h); ROZ_OPERATOR_NONE on an input only the
+     *  API and the scripted operator set. */
+    roz_operator_field_t source;
+} roz_input_rule_t;
 
 /** A string key/value, as in robot.toml's [hardware.params]. */
 typedef struct roz_param {
@@ -149,6 +160,11 @@ typedef struct roz_manifest {
     uint16_t             remote_estop;
     /** The fall rule ([manifest.fall]); NULL: the runtime detects no fall. */
     const roz_fall_rule_t *fall;
+    /** inputs[k]'s staleness and source: n_inputs entries; NULL when
+     *  n_inputs is 0 (last, so that an initialiser written before it was
+     *  split from the inputs leaves it NULL, which the manifest's
+     *  validation refuses with inputs, rather than a value in its place). */
+    const roz_input_rule_t *input_rules;
 } roz_manifest_t;
 
 /** Caller-provided storage for a manifest built at run time (no heap). */
@@ -159,6 +175,7 @@ typedef struct roz_manifest_storage {
     /** Operator inputs (at most ROZ_CFG_MAX_INPUTS; with the states, at most
      *  ROZ_CFG_MAX_STATES). */
     roz_channel_t  inputs[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1];
+    roz_input_rule_t input_rules[ROZ_CFG_MAX_INPUTS > 0 ? ROZ_CFG_MAX_INPUTS : 1]; /**< theirs */
     char           arena[ROZ_CFG_NAME_ARENA_BYTES]; /**< interned names */
     size_t         arena_used;
     /** The [hardware] table of a manifest read at run time (roz/manifest_toml.h). */
@@ -187,13 +204,12 @@ typedef enum roz_manifest_rule {
                                           other than a position state */
     ROZ_MANIFEST_RULE_SAFE_DEFAULT,  /**< safe_default not a roz_safe_default_t, or "hold" on
                                           a channel other than a paired position command */
-    ROZ_MANIFEST_RULE_INPUT,         /**< an input with stale_after_ms 0, max_rate 0, a pairing, a margin or
-                                          a hold; a command or state with stale_after_ms; an
-                                          input named as a state */
-    ROZ_MANIFEST_RULE_SOURCE,        /**< a source outside roz_operator_field_t, or on a
-                                          command or state; an input's scale not finite or 0
-                                          with a source, or not 0 without one; two inputs
-                                          with one source */
+    ROZ_MANIFEST_RULE_INPUT,         /**< inputs without input_rules; an input with
+                                          stale_after_ms 0, max_rate 0, a pairing, a margin or
+                                          a hold; an input named as a state */
+    ROZ_MANIFEST_RULE_SOURCE,        /**< a source outside roz_operator_field_t; an input's
+                                          scale not finite or 0 with a source, or not 0
+                                          without one; two inputs with one source */
     ROZ_MANIFEST_RULE_FALL,          /**< the fall rule: a quaternion index out of range, not an
                                           orientation state or named twice; max_tilt not in
                                           (0, pi); for_ms above ROZ_FALL_MAX_MS; or a stiffness

@@ -323,7 +323,7 @@ typedef struct roz_runtime_layout {
 
 /** Raised whenever the fields of a public struct change: a manifest table
  *  or a configuration laid out for other fields would be misread. */
-#define ROZ_RUNTIME_LAYOUT_VERSION 10u
+#define ROZ_RUNTIME_LAYOUT_VERSION 11u
 
 /** The layout of the translation unit that expands it. */
 #define ROZ_RUNTIME_LAYOUT_INIT                                                              \

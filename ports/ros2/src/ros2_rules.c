@@ -75,8 +75,8 @@ static int parse_operator(roz_ros2_bridge_t *b, const roz_params_t *p, char *err
             return ROZ_EINVAL;
         }
         needed = dev[k] == ROZ_OPERATOR_DEVICE_REMOTE && m->remote_estop != 0u;
-        for (uint16_t i = 0; m->inputs != NULL && i < m->n_inputs; i++)
-            needed |= roz_operator_field_device(m->inputs[i].source) == dev[k];
+        for (uint16_t i = 0; m->input_rules != NULL && i < m->n_inputs; i++)
+            needed |= roz_operator_field_device(m->input_rules[i].source) == dev[k];
         b->op[k].bridge = b;
         b->op[k].name[0] = '\0';
         if (needed)

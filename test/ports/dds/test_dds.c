@@ -672,13 +672,13 @@ static void test_dds_kept_storage(void **st)
  * (hold: the tick's; send, safe: the writer thread's, or the caller's on
  * stop): the command path alone, without a port's wire. */
 static const roz_channel_t cp_commands[2] = {
-    { "j/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "j/damping", ROZ_IF_DAMPING, "N.m.s/rad", 0.0, 10.0, 1.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "j/damping", .type = ROZ_IF_DAMPING, .unit = "N.m.s/rad", .min = 0.0, .max = 10.0,
+      .default_value = 1.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_manifest_t cp_manifest = { "cmd_path", "test", 100, cp_commands, 2, NULL, 0,
-                                            NULL, NULL, 0, 0, NULL };
+                                            NULL, NULL, 0, 0, NULL, NULL };
 
 typedef struct {
     ROZ_ATOMIC(uint32_t) rx_session; /* the receive path's, as the hooks see it */

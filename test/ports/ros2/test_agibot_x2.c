@@ -459,19 +459,19 @@ static void test_x2_link_by_stamp(void **st)
 /* The left leg's six joints alone: the leg topic read (no IMU, no other
  * group), the leg commanded, the other groups never. */
 static const roz_channel_t leg_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = 0.0,
+      .max = 2.4, .default_value = 0.0, .max_rate = 0.0, .position_state = 0 },
+    { .name = "left_knee_joint/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "", .min = 0.0,
+      .max = 100.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_channel_t leg_states[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = 0.0,
+      .max = 2.4, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const char *const leg_joints[] = { "left_knee_joint" };
 static const roz_hardware_t leg_hw = { "agibot/X2", leg_joints, 1, NULL, 0 };
 static const roz_manifest_t leg_only = { "leg_only", "humanoid", 500, leg_commands, 2,
-                                         leg_states, 1, &leg_hw, NULL, 0, 0, NULL };
+                                         leg_states, 1, &leg_hw, NULL, 0, 0, NULL, NULL };
 
 static void test_x2_part_of_the_robot(void **st)
 {
@@ -525,23 +525,26 @@ static void assert_all_finite(const roz_fake_ros2_cmd_t *c, const char *when)
  * reports NaN and Inf positions for the knee, an unlisted leg slot and the
  * built-in manifest's missing head_pitch_joint. */
 static const roz_channel_t stiff_commands[] = {
-    { "left_knee_joint/stiffness", ROZ_IF_STIFFNESS, "", 10.0, 100.0, 10.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "left_hip_pitch_joint/damping", ROZ_IF_DAMPING, "", 1.0, 5.0, 2.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "", .min = 10.0,
+      .max = 100.0, .default_value = 10.0, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "left_hip_pitch_joint/position", .type = ROZ_IF_POSITION, .unit = "rad",
+      .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "left_hip_pitch_joint/damping", .type = ROZ_IF_DAMPING, .unit = "", .min = 1.0,
+      .max = 5.0, .default_value = 2.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_channel_t stiff_states[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", 0.0, 2.4, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "left_hip_pitch_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = 0.0,
+      .max = 2.4, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "left_hip_pitch_joint/position", .type = ROZ_IF_POSITION, .unit = "rad",
+      .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.0,
+      .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const char *const stiff_joints[] = { "left_knee_joint", "left_hip_pitch_joint" };
 static const roz_hardware_t stiff_hw = { "agibot/X2", stiff_joints, 2, NULL, 0 };
 static const roz_manifest_t stiff_only = { "stiff_only", "humanoid", 500, stiff_commands, 3,
-                                           stiff_states, 2, &stiff_hw, NULL, 0, 0, NULL };
+                                           stiff_states, 2, &stiff_hw, NULL, 0, 0, NULL, NULL };
 
 static void read_leg(double *s2)
 {
@@ -683,12 +686,12 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 static const char *const alien_joints[] = { "tail_joint" };
 static const roz_channel_t alien_commands[] = {
-    { "tail_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "tail_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_hardware_t alien_hw = { "agibot/X2", alien_joints, 1, NULL, 0 };
 static const roz_manifest_t alien = { "alien", "humanoid", 500, alien_commands, 1, NULL, 0,
-                                      &alien_hw, NULL, 0, 0, NULL };
+                                      &alien_hw, NULL, 0, 0, NULL, NULL };
 
 static void test_x2_bad_parameters(void **st)
 {

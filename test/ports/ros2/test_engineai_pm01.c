@@ -908,21 +908,21 @@ static void test_pm01_startup_and_shutdown_damping(void **st)
  * command, outside its own limits). The rest of the robot's 24 get their
  * measured positions and zero gains. */
 static const roz_channel_t two_commands[] = {
-    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "J01_HIP_ROLL_L/stiffness", ROZ_IF_STIFFNESS, "", 0.0, 100.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "J07_HIP_ROLL_R/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -2.094,
+      .max = 0.436, .default_value = 0.0, .max_rate = 0.0, .position_state = 0 },
+    { .name = "J01_HIP_ROLL_L/stiffness", .type = ROZ_IF_STIFFNESS, .unit = "", .min = 0.0,
+      .max = 100.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_channel_t two_states[] = {
-    { "J07_HIP_ROLL_R/position", ROZ_IF_POSITION, "rad", -2.094, 0.436, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "J01_HIP_ROLL_L/position", ROZ_IF_POSITION, "rad", -0.436, 2.094, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "J07_HIP_ROLL_R/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -2.094,
+      .max = 0.436, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "J01_HIP_ROLL_L/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -0.436,
+      .max = 2.094, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const char *const two_joints[] = { "J07_HIP_ROLL_R", "J01_HIP_ROLL_L" };
 static const roz_hardware_t two_hw = { "engineai/PM01", two_joints, 2, NULL, 0 };
 static const roz_manifest_t two = { "two", "humanoid", 500, two_commands, 2, two_states, 2,
-                                    &two_hw, NULL, 0, 0, NULL };
+                                    &two_hw, NULL, 0, 0, NULL, NULL };
 
 static void test_pm01_joints_by_name(void **st)
 {
@@ -1000,23 +1000,23 @@ static const char *const many_joints[25] = { "j0",  "j1",  "j2",  "j3",  "j4",  
                                              "j14", "j15", "j16", "j17", "j18", "j19", "j20",
                                              "j21", "j22", "j23", "j24" };
 static const roz_channel_t many_commands[] = {
-    { "j24/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "j24/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_hardware_t many_hw = { "engineai/PM01", many_joints, 25, NULL, 0 };
 static const roz_manifest_t many = { "many", "humanoid", 500, many_commands, 1, NULL, 0,
-                                     &many_hw, NULL, 0, 0, NULL };
+                                     &many_hw, NULL, 0, 0, NULL, NULL };
 /* a joint that is not the robot's, where a PM01 joint would be by place */
 static const char *const stranger_joints[] = { "J00_HIP_PITCH_L", "left_knee" };
 static const roz_channel_t stranger_commands[] = {
-    { "J00_HIP_PITCH_L/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
-    { "left_knee/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 0, ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "J00_HIP_PITCH_L/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "left_knee/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_hardware_t stranger_hw = { "engineai/PM01", stranger_joints, 2, NULL, 0 };
 static const roz_manifest_t stranger = { "stranger", "humanoid", 500, stranger_commands, 2,
-                                         NULL, 0, &stranger_hw, NULL, 0, 0, NULL };
+                                         NULL, 0, &stranger_hw, NULL, 0, 0, NULL, NULL };
 
 static void test_pm01_bad_parameters(void **st)
 {

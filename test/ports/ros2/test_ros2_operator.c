@@ -47,20 +47,22 @@ enum { VX = 0, YAW, LY, L2, BTN_A, N_IN };
 static const roz_channel_t inputs[N_IN] = {
     { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.4,
       .max = 0.4, .default_value = 0.0, .max_rate = 0.01,
-      .position_state = ROZ_CHANNEL_UNPAIRED, .stale_after_ms = STALE_MS,
-      .source = ROZ_OPERATOR_TWIST_LINEAR_X, .scale = 0.5 },
+      .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0,
-      .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED,
-      .stale_after_ms = 60000u, .source = ROZ_OPERATOR_TWIST_ANGULAR_Z, .scale = -1.0 },
+      .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "operator/forward", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -1.0,
-      .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED,
-      .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 1.0 },
+      .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "operator/trigger", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = 0.0,
-      .max = 2.0, .default_value = 0.0, .max_rate = 2.0, .position_state = ROZ_CHANNEL_UNPAIRED,
-      .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_L2, .scale = 2.0 },
+      .max = 2.0, .default_value = 0.0, .max_rate = 2.0, .position_state = ROZ_CHANNEL_UNPAIRED },
     { .name = "operator/a", .type = ROZ_IF_VELOCITY, .unit = "1", .min = 0.0, .max = 1.0,
-      .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED,
-      .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
+      .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+};
+static const roz_input_rule_t input_rules[N_IN] = {
+    { .stale_after_ms = STALE_MS, .source = ROZ_OPERATOR_TWIST_LINEAR_X, .scale = 0.5 },
+    { .stale_after_ms = 60000u, .source = ROZ_OPERATOR_TWIST_ANGULAR_Z, .scale = -1.0 },
+    { .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 1.0 },
+    { .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_L2, .scale = 2.0 },
+    { .stale_after_ms = 60000u, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
 };
 
 static roz_manifest_t m_op;
@@ -70,6 +72,7 @@ static const roz_manifest_t *with_inputs(uint16_t n)
 {
     m_op = BASE_MANIFEST;
     m_op.inputs = inputs;
+    m_op.input_rules = input_rules;
     m_op.n_inputs = n;
     m_op.fall = NULL; /* the fake robot's IMU pattern tilts past the fall rule: inputs here */
     n_states = m_op.n_states;

@@ -179,7 +179,7 @@ static const roz_manifest_t *hand_robot(uint16_t n, const char *reply, const cha
     hand_params[k++] = (roz_param_t){ "command_writer_period_us", period };
     hand_params[k++] = (roz_param_t){ "bitrate", bitrate };
     hand_hw = (roz_hardware_t){ "socketcan", hand_joints, n, hand_params, (uint16_t)k };
-    hand = (roz_manifest_t){ "hand", "legged", 500, hand_commands, n, NULL, 0, &hand_hw, NULL, 0, 0, NULL };
+    hand = (roz_manifest_t){ "hand", "legged", 500, hand_commands, n, NULL, 0, &hand_hw, NULL, 0, 0, NULL, NULL };
     assert_int_equal(roz_manifest_validate(&hand, NULL), ROZ_OK);
     return &hand;
 }

@@ -524,7 +524,7 @@ static void test_socketcan_round_robin(void **st)
     }
     six_hw = (roz_hardware_t){ "socketcan", six_joints, 6, six_params,
                                sizeof six_params / sizeof six_params[0] };
-    six = (roz_manifest_t){ "six", "arm", 200, six_commands, 6, NULL, 0, &six_hw, NULL, 0, 0, NULL };
+    six = (roz_manifest_t){ "six", "arm", 200, six_commands, 6, NULL, 0, &six_hw, NULL, 0, 0, NULL, NULL };
     roz_test_can_open(&t, &sc, &bus, &six, acts, 6, 0.005, 0, NULL);
     roz_socketcan_info(&sc, &info);
     assert_int_equal(info.groups, 3);

@@ -427,18 +427,26 @@ static void test_g1_motor_fault_latches(void **st)
  * command (vx = 0.8 ly, vy = -0.5 lx, yaw rate = -1.57 rx), a button and a
  * trigger; each input moves at most 10 a tick, so a value lands at once. */
 static const roz_channel_t remote_inputs[] = {
-    { "operator/velocity.x", ROZ_IF_VELOCITY, "m/s", -0.8, 0.8, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_LY, 0.8 },
-    { "operator/velocity.y", ROZ_IF_VELOCITY, "m/s", -0.5, 0.5, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED,
-      0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_LX, -0.5 },
-    { "operator/yaw_rate", ROZ_IF_VELOCITY, "rad/s", -1.57, 1.57, 0.0, 10.0,
-      ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_RX, -1.57 },
-    { "operator/walk", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_BTN_A, 1.0 },
-    { "operator/brake", ROZ_IF_POSITION, "", 0.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_L2, 1.0 },
-    { "operator/pitch", ROZ_IF_POSITION, "", -1.0, 1.0, 0.0, 10.0, ROZ_CHANNEL_UNPAIRED, 0.0,
-      ROZ_SAFE_FOLLOW, 500, ROZ_OPERATOR_REMOTE_RY, 1.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8,
+      .max = 0.8, .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5,
+      .max = 0.5, .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.57,
+      .max = 1.57, .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/walk", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/brake", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+    { .name = "operator/pitch", .type = ROZ_IF_POSITION, .unit = "", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 10.0, .position_state = ROZ_CHANNEL_UNPAIRED },
+};
+static const roz_input_rule_t remote_rules[] = {
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.8 },
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_LX, .scale = -0.5 },
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_RX, .scale = -1.57 },
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_L2, .scale = 1.0 },
+    { .stale_after_ms = 500, .source = ROZ_OPERATOR_REMOTE_RY, .scale = 1.0 },
 };
 
 /* The inputs as the runtime's last tick left them. */
@@ -482,6 +490,7 @@ static void test_g1_wireless_remote(void **st)
 
     with_inputs = roz_manifest_unitree_g1;
     with_inputs.inputs = remote_inputs;
+    with_inputs.input_rules = remote_rules;
     with_inputs.n_inputs = sizeof remote_inputs / sizeof remote_inputs[0];
     m = &with_inputs;
     roz_g1fx_set_before_activate(remote_runtime);
@@ -1532,30 +1541,30 @@ static void expect_refused(const roz_manifest_t *man, const char *key, const cha
 
 /* a robot whose manifest has a channel the G1 has no place for */
 static const roz_channel_t odd_commands[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, 0, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
-    { "base/velocity.x", ROZ_IF_VELOCITY, "m/s", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = 0 },
+    { .name = "base/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -1.0, .max = 1.0,
+      .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_channel_t odd_states[] = {
-    { "left_knee_joint/position", ROZ_IF_POSITION, "rad", -1.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/position", .type = ROZ_IF_POSITION, .unit = "rad", .min = -1.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const char *const odd_joints[] = { "j1" };
 static const char *const real_joints[] = { "left_knee_joint" };
 static const roz_hardware_t real_hw = { "unitree/G1", real_joints, 1, NULL, 0 };
 static const roz_hardware_t odd_hw = { "unitree/G1", odd_joints, 1, NULL, 0 };
 static const roz_manifest_t odd = { "odd", "humanoid", 500, odd_commands, 2, odd_states, 1,
-                                    &real_hw, NULL, 0, 0, NULL };
+                                    &real_hw, NULL, 0, 0, NULL, NULL };
 /* joint j1 is not a G1's */
 static const roz_manifest_t unknown = { "unknown", "humanoid", 500, odd_commands, 1, odd_states,
-                                        1, &odd_hw, NULL, 0, 0, NULL };
+                                        1, &odd_hw, NULL, 0, 0, NULL, NULL };
 static const roz_channel_t typo_commands[] = {
-    { "left_knee_joint/stiffness", ROZ_IF_DAMPING, "", 0.0, 1.0, 0.0, 0.0, ROZ_CHANNEL_UNPAIRED, 0.0, ROZ_SAFE_FOLLOW, 0,
-      ROZ_OPERATOR_NONE, 0.0 },
+    { .name = "left_knee_joint/stiffness", .type = ROZ_IF_DAMPING, .unit = "", .min = 0.0,
+      .max = 1.0, .default_value = 0.0, .max_rate = 0.0, .position_state = ROZ_CHANNEL_UNPAIRED },
 };
 static const roz_manifest_t typo = { "typo", "humanoid", 500, typo_commands, 1, odd_states, 1,
-                                     &real_hw, NULL, 0, 0, NULL };
+                                     &real_hw, NULL, 0, 0, NULL, NULL };
 
 
 /* The command writer thread carries the scheduling its parameters ask for:

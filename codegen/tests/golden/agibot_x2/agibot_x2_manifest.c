@@ -277,13 +277,23 @@ static const roz_channel_t roz__agibot_x2_states[ROZ_AGIBOT_X2_N_STATES] = {
 };
 
 static const roz_channel_t roz__agibot_x2_inputs[ROZ_AGIBOT_X2_N_INPUTS] = {
-    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8, .max = 0.8, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_LINEAR_X, .scale = 1.0 },
-    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5, .max = 0.5, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_LINEAR_Y, .scale = 1.0 },
-    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.004, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_ANGULAR_Z, .scale = 1.0 },
-    { .name = "remote/start", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_START, .scale = 1.0 },
-    { .name = "remote/a", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
-    { .name = "remote/b", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_B, .scale = 1.0 },
-    { .name = "remote/select", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_SELECT, .scale = 1.0 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8, .max = 0.8, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5, .max = 0.5, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.0, .max = 1.0, .default_value = 0.0, .max_rate = 0.004, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "remote/start", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "remote/a", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "remote/b", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "remote/select", .type = ROZ_IF_POSITION, .unit = "", .min = 0.0, .max = 1.0, .default_value = 0.0, .max_rate = 1.0, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+};
+
+static const roz_input_rule_t roz__agibot_x2_input_rules[ROZ_AGIBOT_X2_N_INPUTS] = {
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_LINEAR_X, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_LINEAR_Y, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_TWIST_ANGULAR_Z, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_START, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_A, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_B, .scale = 1.0 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_BTN_SELECT, .scale = 1.0 },
 };
 
 /* ---- fall rule -------------------------------------------------------- */
@@ -362,4 +372,5 @@ const roz_manifest_t roz_manifest_agibot_x2 = {
     .n_inputs = ROZ_AGIBOT_X2_N_INPUTS,
     .remote_estop = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_L2) | ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_B),
     .fall = &roz__agibot_x2_fall,
+    .input_rules = roz__agibot_x2_input_rules,
 };

@@ -133,9 +133,15 @@ static const roz_channel_t roz__unitree_g1_12dof_states[ROZ_UNITREE_G1_12DOF_N_S
 };
 
 static const roz_channel_t roz__unitree_g1_12dof_inputs[ROZ_UNITREE_G1_12DOF_N_INPUTS] = {
-    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8, .max = 0.8, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.8 },
-    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5, .max = 0.5, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_LX, .scale = -0.5 },
-    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.57, .max = 1.57, .default_value = 0.0, .max_rate = 0.004, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0, .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_RX, .scale = -1.57 },
+    { .name = "operator/velocity.x", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.8, .max = 0.8, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "operator/velocity.y", .type = ROZ_IF_VELOCITY, .unit = "m/s", .min = -0.5, .max = 0.5, .default_value = 0.0, .max_rate = 0.002, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+    { .name = "operator/yaw_rate", .type = ROZ_IF_VELOCITY, .unit = "rad/s", .min = -1.57, .max = 1.57, .default_value = 0.0, .max_rate = 0.004, .position_state = ROZ_CHANNEL_UNPAIRED, .limit_margin = 0.0 },
+};
+
+static const roz_input_rule_t roz__unitree_g1_12dof_input_rules[ROZ_UNITREE_G1_12DOF_N_INPUTS] = {
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_LY, .scale = 0.8 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_LX, .scale = -0.5 },
+    { .stale_after_ms = 500u, .source = ROZ_OPERATOR_REMOTE_RX, .scale = -1.57 },
 };
 
 /* ---- fall rule -------------------------------------------------------- */
@@ -167,4 +173,5 @@ const roz_manifest_t roz_manifest_unitree_g1_12dof = {
     .n_inputs = ROZ_UNITREE_G1_12DOF_N_INPUTS,
     .remote_estop = ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_L2) | ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_B),
     .fall = &roz__unitree_g1_12dof_fall,
+    .input_rules = roz__unitree_g1_12dof_input_rules,
 };

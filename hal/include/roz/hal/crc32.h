@@ -10,7 +10,7 @@
  * byte-reversed. The words are the frame's native struct image (memset to
  * zero, filled, then checked), never its serialized bytes.
  *
- * Context: any; RT-safe (no heap, 4 KiB of tables, bounded by @p n).
+ * Context: any; RT-safe (no heap, up to 4 KiB of tables: ROZ_CFG_CRC32_SLICES; bounded by @p n).
  */
 #ifndef ROZ_HAL_CRC32_H
 #define ROZ_HAL_CRC32_H
