@@ -100,6 +100,8 @@ int roz_joy_remote(const roz_joy_map_t *map, const float *axes, uint32_t n_axes,
 {
     float *stick[] = { &out->lx, &out->ly, &out->rx, &out->ry, &out->l2, &out->r2 };
     memset(out, 0, sizeof *out);
+    if (n_axes > ROZ_JOY_MAX || n_buttons > ROZ_JOY_MAX)
+        return ROZ_ENOSPC;
     for (unsigned f = ROZ_OPERATOR_REMOTE_LX; f <= ROZ_OPERATOR_REMOTE_BTN_LEFT; f++) {
         const roz_joy_source_t *s = &map->field[f];
         float v;

@@ -53,6 +53,21 @@ static void test_joy_map_and_frame(void **st)
     axes[1] = -0.75f;
     assert_int_equal(roz_joy_remote(&map, axes, 2, buttons, 0, &r), ROZ_OK);
     assert_int_equal(r.buttons, ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_X));
+    /* more than ROZ_JOY_MAX axes or buttons: refused whole, whatever the
+     * map names, nothing set */
+    static float many_axes[ROZ_JOY_MAX + 1];
+    static int32_t many_buttons[ROZ_JOY_MAX + 1];
+    many_axes[1] = -0.75f;
+    assert_int_equal(roz_joy_remote(&map, many_axes, ROZ_JOY_MAX, many_buttons, ROZ_JOY_MAX, &r),
+                     ROZ_OK);
+    assert_int_equal(r.buttons, ROZ_REMOTE_KEY(ROZ_OPERATOR_REMOTE_BTN_X));
+    assert_int_equal(
+        roz_joy_remote(&map, many_axes, ROZ_JOY_MAX + 1, many_buttons, ROZ_JOY_MAX, &r),
+        ROZ_ENOSPC);
+    assert_int_equal(r.buttons, 0);
+    assert_int_equal(
+        roz_joy_remote(&map, many_axes, ROZ_JOY_MAX, many_buttons, ROZ_JOY_MAX + 1, &r),
+        ROZ_ENOSPC);
 }
 
 static void test_joy_map_errors_name_the_map(void **st)

@@ -29,6 +29,7 @@
 #define KP(j) (24 + (j)) /* the 12-joint G1's stiffness commands */
 #define KD(j) (36 + (j))
 #define EFF(j) (48 + (j))
+#define VEL(j) (12 + (j))
 
 static roz_runtime_t rt;
 static roz_loopback_t lb;
@@ -36,7 +37,11 @@ static roz_test_clock_t clk;
 static roz_manifest_t m;  /* the 12-joint G1 with four buttons */
 static roz_channel_t inputs[7];
 static roz_input_rule_t input_rules[7];
+static roz_channel_t commands[ROZ_CFG_MAX_COMMANDS];
 static double stand[ROZ_CFG_MAX_COMMANDS];
+/* The velocity commands' default for the next start() (the manifest's is
+ * 0): a stage that sends a channel's default instead of its zero shows. */
+static double velocity_default;
 
 enum { BTN_START = 3, BTN_A, BTN_B, BTN_SELECT }; /* input indices */
 
@@ -58,6 +63,10 @@ static void setup_manifest(void)
     m.inputs = inputs;
     m.input_rules = input_rules;
     m.n_inputs = 7;
+    memcpy(commands, m.commands, sizeof commands[0] * m.n_commands);
+    for (int j = 0; j < N; j++)
+        commands[VEL(j)].default_value = velocity_default;
+    m.commands = commands;
     static const double pose[N] = { -0.1, 0, 0, 0.3, -0.2, 0, -0.1, 0, 0, 0.3, -0.2, 0 };
     static const double kp[N] = { 100, 100, 100, 150, 40, 40, 100, 100, 100, 150, 40, 40 };
     for (int i = 0; i < m.n_commands; i++)
@@ -142,6 +151,18 @@ static const char ramp_wat[] =
     KP_WAT("(f64.mul (f64.convert_i64_s (local.get $t)) (f64.const 0.5))", "");
 static const char zero_kp_wat[] = KP_WAT("(f64.const 0)", "");
 
+/* Every stiffness 120, every velocity (channels 12 to 23) 0.5 and every
+ * effort (48 to 59) 5: what the zero stage must never pass through. */
+static const char moving_wat[] =
+    KP_WAT("(f64.const 120)",
+           "  (local.set $i (i32.const 12))"
+           "  (block $v (loop $nv"
+           "   (br_if $v (i32.ge_u (local.get $i) (i32.const 24)))"
+           "   (drop (call $set (local.get $i) (f64.const 0.5)))"
+           "   (drop (call $set (i32.add (local.get $i) (i32.const 36)) (f64.const 5)))"
+           "   (local.set $i (i32.add (local.get $i) (i32.const 1)))"
+           "   (br $nv)))");
+
 /* Every value is checked against the manifest, naming the key. */
 static void test_stages_check(void **st)
 {
@@ -189,7 +210,8 @@ static void test_stages_buttons(void **st)
     assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);
     ticks(50);
     for (int j = 0; j < N; j++) { /* zero torque: limp, positions where they are */
-        assert_true(out[KP(j)] == 0.0 && out[KD(j)] == 0.0 && out[EFF(j)] == 0.0);
+        assert_true(out[KP(j)] == 0.0 && out[KD(j)] == 0.0 && out[EFF(j)] == 0.0 &&
+                    out[VEL(j)] == 0.0);
         assert_near(out[j], s[j], 1e-9);
     }
     assert_int_equal(RT_COUNT(&rt, controller_ticks), 0);
@@ -248,6 +270,63 @@ static void test_stages_buttons(void **st)
     const roz_stages_counters_t *sc = roz_runtime_stages_counters(&rt);
     assert_int_equal(sc->transitions, 6); /* move hold run move hold stop */
     assert_int_equal(sc->handovers, 1);
+    assert_int_equal(roz_runtime_faults(&rt), 0);
+}
+
+/* Whether the tick's targets and the commands on the wire are ZERO's: no
+ * stiffness, damping, velocity nor effort, on every joint. */
+static void assert_zero_torque(const char *when)
+{
+    const double *tg = roz_runtime_last_targets(&rt), *out = roz_runtime_last_commands(&rt);
+    for (int j = 0; j < N; j++) {
+        const int ch[4] = { KP(j), KD(j), VEL(j), EFF(j) };
+        for (int k = 0; k < 4; k++) {
+            if (tg[ch[k]] != 0.0 || out[ch[k]] != 0.0)
+                fail_msg("%s: %s: target %g, sent %g: not zero torque", when,
+                         m.commands[ch[k]].name, tg[ch[k]], out[ch[k]]);
+        }
+    }
+}
+
+/* ZERO sends no velocity and no gains whatever drove before it or is
+ * loaded: with a controller commanding stiffness 120, velocity 0.5 and
+ * effort 5 on every joint, and velocity channels that default to 0.25 (a
+ * stage sending a channel's default is not sending zero), ZERO at the
+ * start and ZERO after the controller drove and Select stopped it send 0
+ * on each of them from their first tick. */
+static void test_stages_zero_sends_no_velocity(void **st)
+{
+    (void)st;
+    roz_stages_config_t c = config();
+    velocity_default = 0.25;
+    start(&c, moving_wat);
+    velocity_default = 0.0;
+    const double *out = roz_runtime_last_commands(&rt);
+    assert_true(m.commands[VEL(0)].default_value == 0.25);
+    for (int t = 0; t < 50; t++) {
+        ticks(1);
+        assert_zero_torque("ZERO at the start, a controller loaded");
+    }
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), 0);
+    request(ROZ_STAGE_MOVE, 1001, ROZ_STAGE_HOLD);
+    for (int j = 0; j < N; j++)
+        assert_true(out[VEL(j)] == stand[VEL(j)]); /* the stand's, not the default */
+    request(ROZ_STAGE_RUN, 1, ROZ_STAGE_RUN);
+    ticks(2 * ROZ_CFG_HANDOVER_MS); /* past the hand-over and the rate caps */
+    for (int j = 0; j < N; j++) /* the controller drives: its velocity on the wire */
+        assert_true(out[VEL(j)] == 0.5 && out[KP(j)] == 120.0 && out[EFF(j)] == 5.0);
+    request(ROZ_STAGE_STOP, 1, ROZ_STAGE_STOP);
+    assert_int_equal(roz_runtime_stage_request(&rt, ROZ_STAGE_ZERO), ROZ_OK);
+    uint64_t ran = RT_COUNT(&rt, controller_ticks);
+    ticks(1);
+    assert_int_equal(roz_runtime_stage(&rt), ROZ_STAGE_ZERO);
+    const double *tg = roz_runtime_last_targets(&rt);
+    for (int j = 0; j < N; j++) /* the targets from the first tick; the wire by the rate caps */
+        assert_true(tg[VEL(j)] == 0.0 && tg[KP(j)] == 0.0 && tg[KD(j)] == 0.0 &&
+                    tg[EFF(j)] == 0.0 && out[VEL(j)] == 0.0);
+    ticks(2000);
+    assert_zero_torque("ZERO after the controller and STOP");
+    assert_int_equal(RT_COUNT(&rt, controller_ticks), ran);
     assert_int_equal(roz_runtime_faults(&rt), 0);
 }
 
@@ -357,6 +436,7 @@ static int teardown(void **st)
 
 ROZ_TEST_MAIN(cmocka_unit_test(test_stages_check),
               cmocka_unit_test_teardown(test_stages_buttons, teardown),
+              cmocka_unit_test_teardown(test_stages_zero_sends_no_velocity, teardown),
               cmocka_unit_test_teardown(test_stages_requests, teardown),
               cmocka_unit_test_teardown(test_stages_swap_keeps_gains, teardown),
               cmocka_unit_test_teardown(test_stages_request_from_thread, teardown))

@@ -3,7 +3,9 @@
  * runs on its own thread and talks to the tick through two latest-value
  * buffers (state in, commands out), the tick on the periodic runner, and a
  * third thread swapping controllers, raising the e-stop and clearing faults
- * while it runs. Nothing here asserts a time. */
+ * while it runs. Nothing here asserts a time: the run lasts until the tick
+ * has read new frames and the simulator has taken commands after the last
+ * swap, however slowly a loaded machine runs either thread. */
 #define _POSIX_C_SOURCE 200809L
 #include <pthread.h>
 #include <setjmp.h>
@@ -33,6 +35,8 @@ ROZ_BUFFER_DEFINE(cmd_buf, ROZ_UNITREE_G1_N_COMMANDS);
 static roz_loopback_t sim;
 static atomic_int sim_stop;
 static atomic_ullong sim_violations;
+static atomic_ullong sim_commands; /* commands the simulator took from the tick */
+static atomic_ullong fresh_reads, tick_writes; /* the tick's reads of a new frame, its writes */
 
 static void *sim_main(void *arg)
 {
@@ -41,8 +45,10 @@ static void *sim_main(void *arg)
     roz_port_t p = roz_loopback_port(&sim, NULL, NULL);
     (void)arg;
     while (!atomic_load(&sim_stop)) {
-        if (roz_buffer_read(&cmd_buf, &f) == 1)
+        if (roz_buffer_read(&cmd_buf, &f) == 1) {
             roz_port_write(&p, f.values, ROZ_UNITREE_G1_N_COMMANDS);
+            atomic_fetch_add(&sim_commands, 1u);
+        }
         if (roz_port_read(&p, state, ROZ_UNITREE_G1_N_STATES) == 1)
             roz_buffer_write(&state_buf, state, roz_clock_monotonic_ns(NULL));
         atomic_store(&sim_violations, roz_loopback_counters(&sim).violations);
@@ -57,11 +63,20 @@ static int tp_write(void *self, const double *cmd, size_t n)
     (void)self;
     (void)n;
     roz_buffer_write(&cmd_buf, cmd, 0);
+    atomic_fetch_add(&tick_writes, 1u);
     return ROZ_OK;
 }
 
+static int tp_read(void *self, double *state, size_t n)
+{
+    int rc = roz_test_buffer_port_read(self, state, n);
+    if (rc == 1)
+        atomic_fetch_add(&fresh_reads, 1u);
+    return rc;
+}
+
 static const roz_port_ops_t threaded_ops = { .name = "threaded-test",
-                                             .read = roz_test_buffer_port_read,
+                                             .read = tp_read,
                                              .write = tp_write };
 
 /* ---- the test ------------------------------------------------------------ */
@@ -85,7 +100,7 @@ static void sleep_ms(long ms)
 static void test_threads_runtime_under_load(void **st)
 {
     roz_runtime_config_t cfg;
-    roz_runner_config_t rc = { .period_ns = 1000000, .max_ticks = 3000 };
+    roz_runner_config_t rc = { .period_ns = 1000000, .max_ticks = 0 }; /* until stopped */
     char err[128];
     pthread_t th;
     size_t len_pd, len_stand, len_bad;
@@ -100,6 +115,9 @@ static void test_threads_runtime_under_load(void **st)
     roz_buffer_init(&state_buf, state_buf_slots, ROZ_UNITREE_G1_N_STATES);
     roz_buffer_init(&cmd_buf, cmd_buf_slots, ROZ_UNITREE_G1_N_COMMANDS);
     atomic_store(&sim_stop, 0);
+    atomic_store(&fresh_reads, 0u);
+    atomic_store(&tick_writes, 0u);
+    atomic_store(&sim_commands, 0u);
     assert_int_equal(pthread_create(&th, NULL, sim_main, NULL), 0);
 
     /* the port has no open op: nothing to open */
@@ -113,7 +131,7 @@ static void test_threads_runtime_under_load(void **st)
     assert_int_equal(roz_runner_start(&runner, &rc, tick, NULL), ROZ_OK);
 
     int loads = 0, refused = 0;
-    for (int round = 0; round < 12 && !atomic_load(&runner.finished); round++) {
+    for (int round = 0; round < 12; round++) {
         sleep_ms(40);
         const uint8_t *w = round % 3 == 0 ? bad : (round % 3 == 1 ? stand : pd);
         size_t len = round % 3 == 0 ? len_bad : (round % 3 == 1 ? len_stand : len_pd);
@@ -127,6 +145,15 @@ static void test_threads_runtime_under_load(void **st)
         if (round == 8)
             assert_int_equal(roz_runtime_clear_faults(&rt), ROZ_OK);
     }
+    /* after the last swap, the loop goes on until the tick has read 100 new
+     * frames from the simulator's thread and the simulator has taken 100
+     * commands from the tick's (a read that never reports a new frame, or a
+     * command that never crosses, hangs here: 60 s the guard) */
+    unsigned long long reads0 = atomic_load(&fresh_reads), cmds0 = atomic_load(&sim_commands);
+    ROZ_TEST_WAIT(atomic_load(&fresh_reads) >= reads0 + 100u &&
+                      atomic_load(&sim_commands) >= cmds0 + 100u,
+                  sleep_ms(1), 60000);
+    roz_runner_stop(&runner);
     roz_runner_join(&runner);
     atomic_store(&sim_stop, 1);
     pthread_join(th, NULL);
@@ -136,6 +163,9 @@ static void test_threads_runtime_under_load(void **st)
                   (unsigned long long)RT_COUNT(&rt, controller_ticks), loads, refused,
                   (unsigned long long)RT_COUNT(&rt, swaps));
     assert_true(runner.ticks > 0);
+    /* the controller drove on the frames read (the last load, g1_pd, took) */
+    assert_true(RT_COUNT(&rt, controller_ticks) >= 100);
+    assert_true(atomic_load(&tick_writes) >= atomic_load(&sim_commands));
     assert_true(refused > 0);
     assert_true(loads > 0);
     assert_int_equal(atomic_load(&sim_violations), 0);

@@ -61,6 +61,9 @@ int roz_joy_map_parse(const char *what, const char *text, roz_joy_map_t *map, ch
  *        pressed when its button is not 0, or its axis (sign applied) is
  *        above 0.5.
  * @retval ROZ_OK     @p out set
+ * @retval ROZ_ENOSPC more than ROZ_JOY_MAX axes, or buttons: refused whole,
+ *                    whatever the map names (no pad has so many; a reader
+ *                    counts it apart: roz_ros2_counters_t operator_oversized)
  * @retval ROZ_ERANGE the map names an axis or a button the message has not
  * @retval ROZ_EINVAL an axis the map names is not finite
  * Context: any (a receive thread); RT-safe, no heap, O(fields).

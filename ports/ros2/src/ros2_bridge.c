@@ -299,8 +299,10 @@ static void on_twist(void *ctx, void *sample, uint64_t now_ns)
     counted(&t->c_samples);
 }
 
-/* A Joy through joy_map; one that does not fit the map, or has a mapped axis
- * that is not a number, is refused whole (no half of a pad's frame). */
+/* A Joy through joy_map; one that does not fit the map, has a mapped axis
+ * that is not a number, or has more axes or buttons than ROZ_ROS2_JOY_MAX
+ * (its sequences arrive ROZ_ROS2_JOY_MAX + 1 long: reserve_joy()), is
+ * refused whole (no half of a pad's frame). */
 static void on_joy(void *ctx, void *sample, uint64_t now_ns)
 {
     roz_ros2_op_topic_t *t = ctx;
@@ -308,8 +310,11 @@ static void on_joy(void *ctx, void *sample, uint64_t now_ns)
     roz_operator_remote_t r;
     const roz_operator_sink_t *sink = op_sink(t->bridge);
     (void)now_ns;
-    if (roz_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length, j->buttons._buffer,
-                       j->buttons._length, &r) != ROZ_OK)
+    int rc = roz_joy_remote(&t->bridge->joy_map, j->axes._buffer, j->axes._length,
+                            j->buttons._buffer, j->buttons._length, &r);
+    if (rc == ROZ_ENOSPC)
+        bump(&t->c_oversized);
+    if (rc != ROZ_OK)
         bump(&t->c_refused);
     else if (sink != NULL && sink->remote != NULL && sink->remote(sink->ctx, &r) == ROZ_OK)
         bump(&t->c_handed);
@@ -506,16 +511,26 @@ static int setup_topic(roz_ros2_bridge_t *b, uint16_t t, const char *name, const
 }
 
 /* The Joy sample's sequences and frame_id, sized once: Cyclone fills them in
- * place (a longer sequence never arrives: the type's bound). */
+ * place. The sequences are unbounded on the wire (the .msg's, ros2_msgs.idl)
+ * and hold ROZ_ROS2_JOY_MAX + 1 values here, not released: Cyclone 0.10's
+ * deserializer fills a sequence of numbers that does not release up to its
+ * _maximum and skips the rest, never growing it, so a Joy with more axes or
+ * buttons than ROZ_ROS2_JOY_MAX arrives with ROZ_ROS2_JOY_MAX + 1 of them,
+ * which on_joy() refuses and counts (a bound in the IDL would have Cyclone
+ * drop it before roz sees it, counted nowhere). close() gives the buffers
+ * back to Cyclone's free. */
 static int reserve_joy(roz_ros2_bridge_t *b, char *err, size_t errlen)
 {
     roz_ros2_op_topic_t *t = &b->op[OP_JOY];
     joy_t *j = (void *)t->sample;
     int rc = roz_dds_string_reserve(&j->header.frame_id, FRAME_ID_ROOM);
     if (rc == ROZ_OK)
-        rc = roz_dds_seq_reserve(&j->axes, ROZ_ROS2_JOY_MAX, sizeof j->axes._buffer[0]);
+        rc = roz_dds_seq_reserve(&j->axes, ROZ_ROS2_JOY_MAX + 1u, sizeof j->axes._buffer[0]);
     if (rc == ROZ_OK)
-        rc = roz_dds_seq_reserve(&j->buttons, ROZ_ROS2_JOY_MAX, sizeof j->buttons._buffer[0]);
+        rc = roz_dds_seq_reserve(&j->buttons, ROZ_ROS2_JOY_MAX + 1u,
+                                 sizeof j->buttons._buffer[0]);
+    j->axes._release = false;
+    j->buttons._release = false;
     if (rc != ROZ_OK)
         snprintf(err, errlen, "%s: topic %s: no room for its samples", b->robot->port, t->name);
     return rc;
@@ -594,6 +609,7 @@ int roz_ros2_open(roz_ros2_bridge_t *b, const roz_ros2_robot_t *robot, void *ven
         atomic_init(&b->op[k].c_samples, 0u);
         atomic_init(&b->op[k].c_refused, 0u);
         atomic_init(&b->op[k].c_handed, 0u);
+        atomic_init(&b->op[k].c_oversized, 0u);
     }
 
     rc = roz_dds_participant_open(&b->part, b->dds.network_interface, b->dds.domain,
@@ -850,6 +866,9 @@ void roz_ros2_close(void *self)
         if (reads(b, t))
             roz_dds_sample_free(tp->sample, sizeof tp->sample, tp->type);
     }
+    joy_t *j = (void *)b->op[OP_JOY].sample;
+    j->axes._release = j->axes._buffer != NULL; /* reserve_joy()'s, Cyclone's to free */
+    j->buttons._release = j->buttons._buffer != NULL;
     roz_dds_sample_free(b->op[OP_JOY].sample, sizeof b->op[OP_JOY].sample,
                         &sensor_msgs_msg_dds__Joy__desc);
     b->open = 0;
@@ -954,6 +973,7 @@ void roz_ros2_counters(const roz_ros2_bridge_t *b, roz_ros2_counters_t *out)
         out->operator_refused[k] = load(&b->op[k].c_refused);
         out->operator_handed[k] = load(&b->op[k].c_handed);
     }
+    out->operator_oversized = load(&b->op[OP_JOY].c_oversized);
 }
 
 void roz_ros2_matched(const roz_ros2_bridge_t *b, uint32_t *cmd_readers, uint32_t *state_writers)

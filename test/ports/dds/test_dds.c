@@ -330,6 +330,8 @@ typedef struct {
     ROZ_ATOMIC(uint32_t) seen;        /* samples received */
     ROZ_ATOMIC(uint32_t) last_seq;
     ROZ_ATOMIC(uint32_t) bad;         /* samples with wrong content or dirty padding */
+    ROZ_ATOMIC(uint32_t) gate;        /* 1: a fill, once it took next, waits until 0 */
+    ROZ_ATOMIC(uint32_t) in_fill;     /* fills waiting at the gate */
     int                  increment;   /* periodic: every fill publishes next++ */
 } bench_t;
 
@@ -346,6 +348,11 @@ static int fill_frame(void *ctx, void *sample, uint64_t now_ns)
             atomic_fetch_add(&b->bad, 1u);
     }
     uint32_t seq = b->increment ? atomic_fetch_add(&b->next, 1u) : atomic_load(&b->next);
+    if (atomic_load(&b->gate)) { /* the test holds this pass here */
+        atomic_fetch_add(&b->in_fill, 1u);
+        while (atomic_load(&b->gate))
+            sleep_ms(1);
+    }
     f->seq = seq;
     f->flag = (uint8_t)(seq & 0xffu);
     f->word = seq ^ 0xa5a5a5a5u;
@@ -448,6 +455,10 @@ static void test_dds_periodic_writer(void **st)
     close_pair();
 }
 
+/* Event-driven: a pass per wake, none without one, a wake that comes while
+ * a pass runs never lost, wakes that piled up one pass with the latest
+ * frame. Each step waits for what it needs (60 s the hang guard), then
+ * counts exactly: nothing here depends on the machine's pace. */
 static void test_dds_event_writer(void **st)
 {
     static bench_t b;
@@ -456,28 +467,49 @@ static void test_dds_event_writer(void **st)
     open_pair(&b);
     b.increment = 0;
     assert_int_equal(roz_dds_writer_start(&wr, 0, fill_frame, &b, &mon_tx), ROZ_OK);
-    sleep_ms(20);
+    sleep_ms(200);
     assert_int_equal(atomic_load(&wr.passes), 0); /* not woken: nothing */
     for (uint32_t k = 1; k <= 100; k++) {
         atomic_store(&b.next, k);
         roz_dds_writer_wake(&wr);
-        WAIT_FOR(atomic_load(&b.last_seq) == k, 5000);
+        WAIT_FOR(atomic_load(&b.last_seq) == k && atomic_load(&wr.published) >= k, 60000);
+        /* one pass for the wake, none of its own (a writer that polls, or
+         * passes on a timeout, shows here however fast it is) */
+        assert_int_equal(atomic_load(&wr.passes), k);
+        assert_int_equal(atomic_load(&wr.published), k);
     }
-    /* a burst of wakes is at least one pass and at most one per wake */
+    /* a wake while a pass runs: the pass held in its fill (it took 200),
+     * then 10 wakes for 300; let go, the writer passes once more, for 300 */
+    atomic_store(&b.gate, 1u);
+    atomic_store(&b.next, 200u);
+    roz_dds_writer_wake(&wr);
+    WAIT_FOR(atomic_load(&b.in_fill) == 1u, 60000);
+    atomic_store(&b.next, 300u);
+    for (int i = 0; i < 10; i++)
+        roz_dds_writer_wake(&wr);
+    atomic_store(&b.gate, 0u);
+    WAIT_FOR(atomic_load(&b.last_seq) == 300u, 60000); /* a lost wake hangs here */
+    assert_int_equal(atomic_load(&wr.passes), 102); /* the held pass and one for the 10 */
+    /* a burst of wakes while the writer sleeps: at least one pass, at most
+     * one per wake, the latest frame */
     uint64_t before = atomic_load(&wr.passes);
     atomic_store(&b.next, 1000u);
     for (int i = 0; i < 10; i++)
         roz_dds_writer_wake(&wr);
-    WAIT_FOR(atomic_load(&b.last_seq) == 1000u, 5000);
+    WAIT_FOR(atomic_load(&b.last_seq) == 1000u, 60000);
     uint64_t burst = atomic_load(&wr.passes) - before;
     assert_true(burst >= 1 && burst <= 10);
     roz_dds_writer_stop(&wr);
     assert_int_equal(atomic_load(&b.bad), 0);
+    assert_int_equal(atomic_load(&wr.errors), 0);
+    /* every pass published, every sample arrived (reliable, loopback) */
+    assert_int_equal(atomic_load(&wr.published), atomic_load(&wr.passes));
+    WAIT_FOR(atomic_load(&b.seen) == atomic_load(&wr.published), 60000);
     /* the writer publishes one last sample on the caller's thread */
     atomic_store(&b.next, 2000u);
     assert_int_equal(roz_dds_writer_publish(&wr, fill_frame, &b), 1);
     assert_int_equal(roz_dds_writer_flush(&wr, 2000), ROZ_OK);
-    WAIT_FOR(atomic_load(&b.last_seq) == 2000u, 5000);
+    WAIT_FOR(atomic_load(&b.last_seq) == 2000u, 60000);
     close_pair();
 }
 

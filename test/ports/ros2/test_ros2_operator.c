@@ -5,7 +5,7 @@
  * no type information, ROS 2's default QoS), reach a runtime's inputs
  * through roz_runtime_operator_twist() / _remote() and a controller sees
  * them; a non-finite value, a Joy that does not fit joy_map and one longer
- * than ROZ_ROS2_JOY_MAX are refused; silence makes an input stale, back to
+ * than ROZ_ROS2_JOY_MAX are refused and counted; silence makes an input stale, back to
  * its default at its rate cap. The PM01's manifest (the X2's, built as
  * test_ros2_operator_x2) with its inputs replaced by the test's own (the
  * built-ins' are the walking command and four buttons, manifests/). The
@@ -297,20 +297,33 @@ static void test_ros2_joy_reaches_the_inputs(void **st)
     c = wait_samples(1, 3);
     assert_int_equal(c.operator_refused[1], 2);
 
-    /* longer than ROZ_ROS2_JOY_MAX: never reaches the port; the next good
-     * one, written after it on the same reliable writer, does, alone */
+    /* more axes, or buttons, than ROZ_ROS2_JOY_MAX (33 axes: ROS 2 joy's
+     * message is unbounded): each refused whole and counted as oversized,
+     * the inputs unchanged; the next good one, written after them on the
+     * same reliable writer, is handed */
+    assert_int_equal(c.operator_oversized, 0);
+    roz_ros2fx_ask("joy_axis %d 0.25", ROZ_ROS2_JOY_MAX);
     roz_ros2fx_ask("joy_length %d 21", ROZ_ROS2_JOY_MAX + 1);
     roz_ros2fx_ask("joy");
+    c = wait_samples(1, 4);
+    assert_int_equal(c.operator_oversized, 1);
+    assert_int_equal(c.operator_refused[1], 3);
+    assert_int_equal(c.operator_handed[1], 1);
     roz_ros2fx_ask("joy_length 6 %d", ROZ_ROS2_JOY_MAX + 8);
     roz_ros2fx_ask("joy");
+    c = wait_samples(1, 5);
+    assert_int_equal(c.operator_oversized, 2);
+    assert_int_equal(c.operator_refused[1], 4);
+    ticks(1);
+    assert_near(input(LY), 0.75, 1e-7); /* neither moved anything */
     roz_ros2fx_ask("joy_length 6 21");
     roz_ros2fx_ask("joy_axis 1 -0.5");
     roz_ros2fx_ask("joy");
-    c = wait_samples(1, 4);
-    roz_fake_sleep_ms(50);
-    roz_ros2_counters(roz_ros2fx_bridge(), &c);
-    assert_int_equal(c.operator_samples[1], 4);
+    c = wait_samples(1, 6);
+    assert_int_equal(c.operator_samples[1], 6);
     assert_int_equal(c.operator_handed[1], 2);
+    assert_int_equal(c.operator_refused[1], 4);
+    assert_int_equal(c.operator_oversized, 2);
     ticks(2); /* 0.75 to -0.5: two ticks at 1 a tick */
     assert_near(input(LY), -0.5, 1e-7);
     assert_true(input(BTN_A) == 0.0);

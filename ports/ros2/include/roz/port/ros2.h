@@ -272,6 +272,7 @@ typedef struct roz_ros2_op_topic {
     roz_dds_reader_t     ROZ_PRIVATE(reader);
     uint64_t             ROZ_PRIVATE(sample)[16];
     ROZ_ATOMIC(uint64_t) ROZ_PRIVATE(c_samples), ROZ_PRIVATE(c_refused), ROZ_PRIVATE(c_handed);
+    ROZ_ATOMIC(uint64_t) ROZ_PRIVATE(c_oversized); /* of c_refused: past ROZ_ROS2_JOY_MAX */
 } roz_ros2_op_topic_t;
 
 /** One command topic: its writer (only the first group's has a thread; it
@@ -312,10 +313,14 @@ typedef struct roz_ros2_counters {
     uint64_t command_timeouts;/**< command watchdog trips: the tick went silent */
     uint64_t safe_published;  /**< passes that published the watchdog's damping command */
     /** The operator topics, cmd_vel then joy: samples received, refused (a
-     *  Joy shorter than joy_map needs, or with a mapped axis not finite;
-     *  a longer one than ROZ_ROS2_JOY_MAX never arrives), and handed to a
+     *  Joy shorter than joy_map needs, with a mapped axis not finite, or
+     *  with more than ROZ_ROS2_JOY_MAX axes or buttons), and handed to a
      *  runtime (roz_runtime_operator_twist(), _remote()). */
     uint64_t operator_samples[2], operator_refused[2], operator_handed[2];
+    /** Of the Joys refused, those with more than ROZ_ROS2_JOY_MAX axes or
+     *  buttons (the reader's storage holds one more of each, which Cyclone
+     *  fills and never grows: so many say the sample had more). */
+    uint64_t operator_oversized;
 } roz_ros2_counters_t;
 
 /** The bridge's instance: the first member of a ROS 2 port's instance.
