@@ -13,12 +13,15 @@ action of the policy (collect.c says how). Each iteration:
      value reaches the controller at its input's rate cap, as rozrun
      --operator feeds it), the robot driven at
      each inference by the expert with probability beta, else by the learner
-     (iteration 0: beta 1, pure cloning; then BETAS), the expert labelling
+     (iteration 0: beta 1, pure cloning; then BETAS), the expert's action
+     perturbed by a smooth noise (DART, NOISE_SIGMA), the expert labelling
      every state visited;
   2. aggregates them with every earlier iteration's data;
   3. fits the MLP (Adam, minibatches, float32; warm-started from the last
      iteration; the observations' normalisation folded into the first layer
-     at the end, so the file is a plain network).
+     at the end, so the file is a plain network);
+  4. rolls the network out alone on make demo's script at 0.5 and 0.3 m/s
+     (logged: how long it walked, how far off the command; not data).
 
 Everything is seeded: the same command gives the same file on the same
 machine (numpy's float32 matrix products may round differently on another
