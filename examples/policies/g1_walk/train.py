@@ -274,7 +274,7 @@ def main():
                     help="only check OUT_DIR's policy.npz against train_log.json (and SPEC)")
     ap.add_argument("--out-dir", default=os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--iterations", type=int, default=len(BETAS))
-    ap.add_argument("--episodes", type=int, default=10, help="a DAgger iteration's")
+    ap.add_argument("--episodes", type=int, default=14, help="a DAgger iteration's")
     ap.add_argument("--duration", type=float, default=12.0, help="s, an episode's controller time")
     ap.add_argument("--epochs", type=int, default=8)
     ap.add_argument("--hidden", type=int, default=HIDDEN, help="the hidden layers' width")
