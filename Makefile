@@ -65,52 +65,53 @@ DEMO_DIR = $(BUILD)/demo
 
 # The main job: the 12-joint Unitree G1 walks in MuJoCo for 21 s (10,500
 # ticks at 500 Hz) behind the safety filter, its velocity command read from
-# the robot's operator inputs, which a scripted operator sets. By default
-# the walker is roz's own (examples/controllers/g1_walker.c: a capture-point
-# walker, no learned network) under examples/operators/g1_walk.csv (stand,
-# forward 0.5 m/s, stop, turn 0.5 rad/s, stop). G1_WALK_POLICY names a
-# trained policy instead (unitree_rl_gym's deploy/pre_train/g1/motion.pt;
-# not shipped with roz), deployed by rozgen-nn deploy (docs/policies.md),
-# under the same script. DEMO=policy runs the policy roz trains from that
-# walker (examples/policies/g1_walk, train-g1-walk below), deployed by
-# rozgen-nn deploy, inside its deploy sequence (hung on the gantry, moved to
-# the stand, let go as the policy takes over at 1.1 s), under
-# examples/operators/g1_walk_dagger.csv: in training, it does not yet walk
-# on its own (docs/policies.md, section 7). The trace (with the
-# simulator's base pose and the inputs), the recording (the inputs in it:
-# it replays bit for bit), commanded vs achieved velocity
-# (tools/tracking.py), a plot marking the operator's commands, and frames of
-# the robot rendered offscreen (where EGL works) land in $(DEMO_DIR).
-# test/run_demo.cmake (the tests demo_plot, demo_plot_walker) runs the same.
+# the robot's operator inputs, which a scripted operator sets
+# (examples/operators/g1_walk.csv: stand, forward 0.5 m/s, stop, turn 0.5
+# rad/s, stop). By default (DEMO=policy) the walker is roz's own learned
+# policy (examples/policies/g1_walk: an MLP the repository trains itself by
+# DAgger on g1_walker.c, train-g1-walk below), deployed by rozgen-nn deploy
+# and run inside its deploy sequence (hung on the gantry, moved to the
+# stand, let go as the policy takes over at 1.1 s; docs/policies.md,
+# section 7). DEMO=walker runs the walker it learnt from
+# (examples/controllers/g1_walker.c: a capture-point walker, no learned
+# network) under the same script. G1_WALK_POLICY names a trained policy
+# instead (unitree_rl_gym's deploy/pre_train/g1/motion.pt; not shipped
+# with roz), deployed by rozgen-nn deploy (docs/policies.md). The trace
+# (with the simulator's base pose and the inputs), the recording (the
+# inputs in it: it replays bit for bit), commanded vs achieved velocity
+# (tools/tracking.py), a plot marking the operator's commands, and frames
+# of the robot rendered offscreen (where EGL works) land in $(DEMO_DIR).
+# test/run_demo.cmake (the tests demo_plot, demo_plot_policy,
+# demo_plot_walker) runs the same.
 G1_WALK_POLICY ?=
-DEMO ?= walker
+DEMO ?= policy
 # the plot's joints: the legs' pitch chain
 DEMO_CHANNELS = (hip_pitch|knee|ankle_pitch)_joint/position
 DEMO_STAGES =
-ifneq ($(strip $(G1_WALK_POLICY)),)
 DEMO_OPERATOR = examples/operators/g1_walk.csv
+DEMO_PLAN = forward 0.5 m/s from 1 s
+ifneq ($(strip $(G1_WALK_POLICY)),)
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk.wasm
 DEMO_WHAT = $(notdir $(G1_WALK_POLICY)) deployed
-DEMO_PLAN = forward 0.5 m/s from 1 s
 demo: setup $(BUILD)/build.ninja
 	$(CMAKE) -S . -B $(BUILD) -DROZ_G1_WALK_POLICY=$(abspath $(G1_WALK_POLICY))
 	$(CMAKE) --build $(BUILD) -j $(JOBS)
 else ifeq ($(DEMO),walker)
-DEMO_OPERATOR = examples/operators/g1_walk.csv
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walker.wasm
 DEMO_WHAT = roz's own walker (g1_walker.c)
-DEMO_PLAN = forward 0.5 m/s from 1 s
 demo: build
 else ifeq ($(DEMO),policy)
-DEMO_OPERATOR = examples/operators/g1_walk_dagger.csv
 DEMO_WALKER = $(BUILD)/examples/controllers/g1_walk_dagger.wasm
+# the deploy sequence, and the fuel its inference tick declares (209,000
+# units, above the G1's default ceiling of 80,000: the integrator's grant,
+# docs/policies.md sections 5 and 7)
 DEMO_STAGES = --deploy $(BUILD)/examples/controllers/g1_walk_dagger.deploy.toml \
-    --param gantry=0:551 --stage-at 0:move --stage-at 550:run
-DEMO_WHAT = roz's walking policy in training (DAgger on g1_walker.c) deployed
-DEMO_PLAN = policy from 1.1 s, forward 0.3 m/s from 1 s
+    --param gantry=0:551 --stage-at 0:move --stage-at 550:run --fuel-max 209000
+DEMO_WHAT = roz's own walking policy (DAgger on g1_walker.c) deployed
+DEMO_PLAN = policy from 1.1 s, forward 0.5 m/s from 1 s
 demo: build
 else
-$(error DEMO=$(DEMO): walker (the default) or policy)
+$(error DEMO=$(DEMO): policy (the default) or walker)
 endif
 	@mkdir -p $(DEMO_DIR)
 	$(BUILD)/tools/rozrun/rozrun --robot unitree_g1_12dof --port mujoco \

@@ -6,7 +6,7 @@
 #         -DOUT=... [-DRENDER=tools/render_frames.py]
 #         [-DOPERATOR=examples/operators/g1_walk.csv -DTRACKING=tools/tracking.py
 #          -DBOUNDS=<tracking.py's bound options>] [-DMIN_PELVIS=<m>]
-#         [-DRATE_CAPS=<n>] -P run_demo.cmake
+#         [-DRATE_CAPS=<n>] [-DSTAGES=<rozrun's deploy options>] -P run_demo.cmake
 # DEMO=walk: a walking controller (a trained policy, ROZ_G1_WALK_POLICY, or
 # roz's own walker, g1_walker.c) on the 12-joint G1 in MuJoCo under the
 # scripted operator (forward, stop, turn, stop), 21 s: the G1 up at the end,
@@ -16,7 +16,9 @@
 # commands; with MIN_PELVIS, the pelvis never lower than that (m, the
 # summary's lowest base height); with RATE_CAPS, the safety filter held back
 # exactly that many command values (the summary's rate caps: 0 for a
-# controller that keeps its commands under the manifest's rate caps).
+# controller that keeps its commands under the manifest's rate caps); with
+# STAGES, rozrun's options that run the controller inside its deploy sequence
+# (--deploy, --stage-at, the gantry; make demo DEMO=policy passes the same).
 # DEMO=stand: the balancing stand in MuJoCo, pushed half-way; the G1 must be
 # standing at the end (pelvis above 0.7 m, only its feet on the ground).
 # DEMO=ur5: the sine controller on the loopback UR5.
@@ -26,7 +28,7 @@ set(frames_at "")
 if(DEMO STREQUAL "walk")
   set(ticks 10500)
   set(cmd ${ROZRUN} --robot unitree_g1_12dof --port mujoco --controller ${CONTROLLER}
-          --ticks ${ticks} --operator ${OPERATOR}
+          --ticks ${ticks} --operator ${OPERATOR} ${STAGES}
           --trace ${OUT}/trace.csv --record ${OUT}/run.mcap)
   set(plot_args --operator ${OPERATOR} --channels "(hip_pitch|knee|ankle_pitch)_joint/position")
   set(wants "ticks                  10500" "faults                 none"

@@ -13,12 +13,15 @@ action of the policy (collect.c says how). Each iteration:
      value reaches the controller at its input's rate cap, as rozrun
      --operator feeds it), the robot driven at
      each inference by the expert with probability beta, else by the learner
-     (iteration 0: beta 1, pure cloning; then BETAS), the expert labelling
+     (iteration 0: beta 1, pure cloning; then BETAS), the expert's action
+     perturbed by a smooth noise (DART, NOISE_SIGMA), the expert labelling
      every state visited;
   2. aggregates them with every earlier iteration's data;
   3. fits the MLP (Adam, minibatches, float32; warm-started from the last
      iteration; the observations' normalisation folded into the first layer
-     at the end, so the file is a plain network).
+     at the end, so the file is a plain network);
+  4. rolls the network out alone on make demo's script at 0.5 and 0.3 m/s
+     (logged: how long it walked, how far off the command; not data).
 
 Everything is seeded: the same command gives the same file on the same
 machine (numpy's float32 matrix products may round differently on another
@@ -40,7 +43,7 @@ import sys
 
 import numpy as np
 
-HIDDEN = 128
+HIDDEN = 256
 SPEC_FMT = "dense:{n_in}:{h}:elu,dense:{h}:{h}:elu,dense:{h}:{n_out}"
 PRE_S, MOVE_S = 1.0, 1.0  # the stand before the hand-over (deploy.yaml's move_s)
 # the scripts keep to what the expert holds (g1_walker.c: forward 0.3-0.6 m/s,
@@ -48,7 +51,14 @@ PRE_S, MOVE_S = 1.0, 1.0  # the stand before the hand-over (deploy.yaml's move_s
 # 0.6 m/s it fell itself in 5 of 12 random scripts): a fallen expert labels
 # nothing
 VX_MIN, VX_MAX, WZ_MAX = 0.2, 0.5, 0.5
-BETAS = (1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.0, 0.0)
+# most iterations at small but non-zero beta: at beta 0 every episode fell
+# (docs/policies.md), and a fallen learner's states are mostly ones the
+# walker cannot recover from either
+BETAS = (1.0, 0.5, 0.3, 0.3, 0.2, 0.2, 0.1)
+# DART: the action the expert drives with is perturbed by a smooth noise (an
+# Ornstein-Uhlenbeck process, in action units: x0.25 rad), so the data hold
+# the states just off the expert's path and the labels that lead back
+NOISE_SIGMA, NOISE_TAU = 0.03, 0.05
 DROP_S = 0.1  # the samples dropped before a fall (the walker cannot recover there)
 INFO = 9
 
@@ -157,13 +167,15 @@ def demo_script(vx):
 # ---- one episode in a fresh process ----------------------------------------------------
 
 def episode(job):
-    lib_path, rows, duration, beta, params, norm, seed, decimation = job
+    lib_path, rows, duration, beta, params, norm, seed, decimation, sigma = job
     lib = ctypes.CDLL(lib_path)
     lib.g1_walk_run.argtypes = [ctypes.POINTER(Episode), ACT, ctypes.c_void_p,
                                 ctypes.POINTER(ctypes.c_double)]
     n_in, n_out = lib.g1_walk_n_in(), lib.g1_walk_n_out()
     rng = np.random.default_rng(seed)
     obs, labels, infos, used = [], [], [], []
+    decay = np.exp(-lib_dec(lib_path) / lib.g1_walk_rate_hz() / NOISE_TAU)
+    noise = np.zeros(n_out)
 
     def act(_user, o, lab, a, info):
         x = np.ctypeslib.as_array(o, shape=(n_in,)).copy()
@@ -172,8 +184,9 @@ def episode(job):
         obs.append(x)
         labels.append(y)
         infos.append(inf)
+        noise[:] = decay * noise + np.sqrt(1 - decay * decay) * sigma * rng.normal(size=n_out)
         if params is None or rng.random() < beta:
-            out, e = y, 1
+            out, e = y + noise, 1
         else:
             out, e = forward(params, ((x - norm[0]) / norm[1])[None].astype(np.float32))[0], 0
         used.append(e)
@@ -236,6 +249,24 @@ def check(out_dir, spec):
     return 0
 
 
+def write(out_dir, params, norm, data_x, data_y, log, n_in, n_out, seed):
+    """OUT_DIR/policy.npz (the normalisation folded in) and train_log.json."""
+    final = fold(params, norm[0].astype(np.float32), norm[1].astype(np.float32))
+    names = ("l0.weight", "l0.bias", "l1.weight", "l1.bias", "l2.weight", "l2.bias")
+    out = os.path.join(out_dir, "policy.npz")
+    np.savez(out, **{k: v for k, v in zip(names, final)})
+    digest = hashlib.sha256(open(out, "rb").read()).hexdigest()
+    data = hashlib.sha256()
+    for d in (*data_x, *data_y):
+        data.update(d.tobytes())
+    with open(os.path.join(out_dir, "train_log.json"), "w") as f:
+        json.dump({"spec": SPEC_FMT.format(n_in=n_in, h=len(params[1]), n_out=n_out), "seed": seed,
+                   "policy_sha256": digest, "dataset_sha256": data.hexdigest(),
+                   "iterations": log}, f, indent=1)
+        f.write("\n")
+    print(f"wrote {out} (sha256 {digest})", flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--lib", help="the harness, libg1_walk_collect.so")
@@ -243,12 +274,18 @@ def main():
                     help="only check OUT_DIR's policy.npz against train_log.json (and SPEC)")
     ap.add_argument("--out-dir", default=os.path.dirname(os.path.abspath(__file__)))
     ap.add_argument("--iterations", type=int, default=len(BETAS))
-    ap.add_argument("--episodes", type=int, default=10, help="a DAgger iteration's")
+    ap.add_argument("--episodes", type=int, default=14, help="a DAgger iteration's")
     ap.add_argument("--duration", type=float, default=12.0, help="s, an episode's controller time")
     ap.add_argument("--epochs", type=int, default=8)
+    ap.add_argument("--hidden", type=int, default=HIDDEN, help="the hidden layers' width")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--decimation", type=int, default=0, help="0: deploy.yaml's")
+    ap.add_argument("--noise", type=float,
+                    help=f"the expert's action noise (DART; action units): {NOISE_SIGMA} "
+                    "in training, 0 with --expert-only")
+    ap.add_argument("--snapshots", metavar="DIR",
+                    help="also write each iteration's network and log to DIR/itN")
     ap.add_argument("--state", metavar="PATH.npz",
                     help="save the DAgger state (data, network) after each iteration here")
     ap.add_argument("--resume", action="store_true",
@@ -268,7 +305,8 @@ def main():
     if a.expert_only:  # the folded labels drive: does the expert walk as a policy acts?
         speeds = (0.3, 0.5) if a.expert_only == "both" else (0.3,)
         dur = min(a.duration, 20.0)
-        res = rollouts(lib, [(demo_script(v), dur, 1.0, None, None, 0, a.decimation)
+        res = rollouts(lib, [(demo_script(v), dur, 1.0, None, None, 0, a.decimation,
+                              a.noise or 0.0)
                              for v in speeds], a.workers)
         fell = 0
         for v, (o, y, inf, used, ticks, summ) in zip(speeds, res):
@@ -284,7 +322,9 @@ def main():
             fell += v == 0.3 and (summ[5] or summ[4] or summ[0] < 0.7 or not ev < 0.15
                                   or o.shape[0] != ticks // lib_dec(lib))
         return 1 if fell else 0
-    params = init(rng, n_in, n_out)
+    if a.noise is None:
+        a.noise = NOISE_SIGMA
+    params = init(rng, n_in, n_out, a.hidden)
     norm = None
     data_x, data_y, log = [], [], []
     first = 0
@@ -307,7 +347,8 @@ def main():
                 dur = 20.0
             else:
                 rows, dur = script(erng, a.duration), a.duration
-            jobs.append((rows, dur, beta, params if it > 0 else None, norm, s, a.decimation))
+            jobs.append((rows, dur, beta, params if it > 0 else None, norm, s, a.decimation,
+                         a.noise))
         res = rollouts(lib, jobs, a.workers)
         falls, steps, demo = 0, 0, None
         for k, (o, y, inf, used, ticks, summ) in enumerate(res):
@@ -319,32 +360,40 @@ def main():
             if k == 0:
                 demo = (ticks, summ, tracking(inf, jobs[0][0], jobs[0][1]))
         x, y = np.concatenate(data_x), np.concatenate(data_y)
+        new = sum(len(d) for d in data_x[-len(res):])
         if norm is None:
             norm = (x.mean(0), x.std(0) + 1e-3)
         xn = ((x - norm[0]) / norm[1]).astype(np.float32)
         params, mse = fit(params, xn, y, rng, a.epochs)
-        entry = {"iteration": it, "beta": beta, "episodes": a.episodes, "falls": falls,
-                 "samples": int(len(x)), "mse": mse, "demo_ticks": demo[0],
+        tail = slice(len(x) - min(new, 20000), len(x))
+        mse_new = float(np.mean((forward(params, xn[tail]) - y[tail]) ** 2))
+        del xn
+        entry = {"iteration": it, "beta": beta, "noise": a.noise, "episodes": a.episodes,
+                 "falls": falls, "samples": int(len(x)), "mse": mse, "mse_new": mse_new,
+                 "demo_ticks": demo[0],
                  "demo_fell": demo[1][5], "demo_lowest_m": demo[1][0],
                  "demo_speed_error": demo[2][0], "demo_yaw_error": demo[2][1]}
+        # the network just fitted, alone (beta 0, no noise), on the demo's script
+        # at 0.5 and 0.3 m/s: the figure that matters (not part of the data)
+        speeds = (0.5, 0.3)
+        alone = rollouts(lib, [(demo_script(v), 20.0, 0.0, params, norm, 0, a.decimation, 0.0)
+                               for v in speeds], a.workers)
+        for v, (o, y_, inf, used, ticks, summ) in zip(speeds, alone):
+            ev, ew = tracking(inf, demo_script(v), 20.0)
+            entry[f"alone_{v}"] = {"walked_s": ticks / 500.0, "fell": summ[5],
+                                   "lowest_m": summ[0], "speed_error": ev, "yaw_error": ew}
         log.append(entry)
         print(json.dumps(entry), flush=True)
         if a.state:
             meta = json.dumps({"log": log, "rng": rng.bit_generator.state})
             np.savez(a.state, x=x, y=y, mean=norm[0], std=norm[1], meta=np.array(meta),
                      **{f"p{i}": p for i, p in enumerate(params)})
-    final = fold(params, norm[0].astype(np.float32), norm[1].astype(np.float32))
-    names = ("l0.weight", "l0.bias", "l1.weight", "l1.bias", "l2.weight", "l2.bias")
-    out = os.path.join(a.out_dir, "policy.npz")
-    np.savez(out, **{k: v for k, v in zip(names, final)})
-    digest = hashlib.sha256(open(out, "rb").read()).hexdigest()
-    data = hashlib.sha256(np.concatenate(data_x).tobytes() + np.concatenate(data_y).tobytes())
-    with open(os.path.join(a.out_dir, "train_log.json"), "w") as f:
-        json.dump({"spec": SPEC_FMT.format(n_in=n_in, h=HIDDEN, n_out=n_out), "seed": a.seed,
-                   "policy_sha256": digest, "dataset_sha256": data.hexdigest(),
-                   "iterations": log}, f, indent=1)
-        f.write("\n")
-    print(f"wrote {out} (sha256 {digest})")
+        if a.snapshots:  # as if the run had stopped here (--iterations it + 1)
+            d = os.path.join(a.snapshots, f"it{it}")
+            os.makedirs(d, exist_ok=True)
+            write(d, params, norm, data_x, data_y, log, n_in, n_out, a.seed)
+        del x, y
+    write(a.out_dir, params, norm, data_x, data_y, log, n_in, n_out, a.seed)
     return 0
 
 
