@@ -6,7 +6,8 @@
 #         -DOUT=... [-DRENDER=tools/render_frames.py]
 #         [-DOPERATOR=examples/operators/g1_walk.csv -DTRACKING=tools/tracking.py
 #          -DBOUNDS=<tracking.py's bound options>] [-DMIN_PELVIS=<m>]
-#         [-DRATE_CAPS=<n>] [-DSTAGES=<rozrun's deploy options>] -P run_demo.cmake
+#         [-DRATE_CAPS=<n>] [-DSTAGES=<rozrun's deploy options>]
+#         [-DWANTS=<more regexes the summary must match>] -P run_demo.cmake
 # DEMO=walk: a walking controller (a trained policy, ROZ_G1_WALK_POLICY, or
 # roz's own walker, g1_walker.c) on the 12-joint G1 in MuJoCo under the
 # scripted operator (forward, stop, turn, stop), 21 s: the G1 up at the end,
@@ -18,7 +19,8 @@
 # exactly that many command values (the summary's rate caps: 0 for a
 # controller that keeps its commands under the manifest's rate caps); with
 # STAGES, rozrun's options that run the controller inside its deploy sequence
-# (--deploy, --stage-at, the gantry; make demo DEMO=policy passes the same).
+# (--deploy, --stage-at, the gantry; make demo DEMO=policy passes the same,
+# and may add --swap-at); with WANTS, more lines the summary must have.
 # DEMO=stand: the balancing stand in MuJoCo, pushed half-way; the G1 must be
 # standing at the end (pelvis above 0.7 m, only its feet on the ground).
 # DEMO=ur5: the sine controller on the loopback UR5.
@@ -55,6 +57,7 @@ else()
   set(plot_args "")
   set(wants "ticks                  500" "faults                 none" "rate caps")
 endif()
+list(APPEND wants ${WANTS})
 execute_process(COMMAND ${cmd} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message(STATUS "${out}${err}")
 if(NOT rc EQUAL 0)
