@@ -34,7 +34,7 @@ SAN_ENV = ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 \
           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
           TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 
-.PHONY: all setup setup-ray build install demo train-g1-walk demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench bench-targets fuzz-diff clean
+.PHONY: all setup setup-ray build install demo train-g1-walk demo-stand demo-loopback campaign test test-asan test-tsan firmware firmware-options stress bench bench-targets bench-firmware fuzz-diff clean
 
 all: build
 
@@ -373,6 +373,22 @@ bench: build
 	    --binary roz=$(BUILD)/bench/roz_bench_peers_roz \
 	    --binary wasmtime=bench/peers/target/release/roz-peer-wasmtime \
 	    --binary wasmi=bench/peers/target/release/roz-peer-wasmi
+
+# BENCHMARKS.md's firmware section alone, without the ~100 min of make bench:
+# make firmware and make firmware-options into BENCH_FW_OUT, then
+# bench/report.py --refresh replaces that section in the existing
+# BENCHMARKS.md and keeps every other one (its header says which command
+# and commit each section comes from). Some 15 min.
+BENCH_FW_OUT ?= $(BUILD)/bench/results-firmware
+bench-firmware: setup build
+	rm -rf $(BENCH_FW_OUT) && mkdir -p $(BENCH_FW_OUT)
+	$(MAKE) --no-print-directory firmware > $(BENCH_FW_OUT)/firmware.txt 2>&1 || \
+	    { echo "make firmware failed (its output: $(BENCH_FW_OUT)/firmware.txt)"; exit 1; }
+	$(MAKE) --no-print-directory firmware-options > $(BENCH_FW_OUT)/firmware_options.md \
+	    2> $(BENCH_FW_OUT)/firmware_options.log || \
+	    { echo "make firmware-options failed (its log: $(BENCH_FW_OUT)/firmware_options.log)"; exit 1; }
+	.venv/bin/python bench/report.py --dir $(BENCH_FW_OUT) --out BENCHMARKS.md --refresh \
+	    --root $(CURDIR) --command "make bench-firmware"
 
 # The long differential run (fuzz/README.md): generated and wasm-tools smith
 # modules on roz's wasm3 against wasm-interp, then fuzz_controller from them

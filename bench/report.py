@@ -2,6 +2,7 @@
 """bench/report.py: BENCHMARKS.md from the benches' machine-readable output.
 
     report.py --dir DIR --out BENCHMARKS.md [--command CMD] [--binary NAME=PATH ...]
+    report.py --dir DIR --out BENCHMARKS.md --refresh --command CMD
 
 DIR holds what `make bench` collected: JSON lines from the C benches and
 bench_toml.py (one object per figure, bench/common/bench_json.h), and one
@@ -13,6 +14,9 @@ missing is reported as not run, with the reason make bench left in DIR
 as binutils' size reports it) goes into the peers' table. The headline
 table (the figures users compare roz with) is the first section of
 BENCHMARKS.md; no other file is written, README.md links to this one.
+With --refresh, only the sections whose results DIR holds (SECTION_INPUTS)
+replace theirs in the existing BENCHMARKS.md (make bench-firmware: section
+6), and its banner says which command, commit and date they come from.
 Prints, never fails on a time.
 """
 
@@ -21,6 +25,7 @@ import datetime
 import json
 import os
 import platform
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -845,6 +850,60 @@ def build(args) -> tuple[str, str]:
     return "\n".join(out) + "\n", headline
 
 
+# ---- refreshing some sections of an existing report ------------------------------
+
+# The sections a directory of results can refresh on its own (--refresh), with
+# the files each is rendered from. Sections 1 to 5 feed the headline and are
+# only written by a whole make bench.
+SECTION_INPUTS = {
+    "6": ("firmware.txt", "firmware.jsonl", "firmware_options.md"),
+    "7": ("toml.jsonl",),
+    "8": ("record.jsonl",),
+    "9": ("mujoco.jsonl",),
+    "10": ("campaign.jsonl",),
+    "11": ("targets.jsonl",),
+}
+
+
+def held_sections(d: Path) -> list:
+    """The sections of SECTION_INPUTS whose results d holds."""
+    return [n for n, files in SECTION_INPUTS.items() if any((d / f).exists() for f in files)]
+
+
+def split_sections(doc: str) -> list:
+    """The document cut before each "## " heading: the header first."""
+    return re.split(r"(?m)^(?=## )", doc)
+
+
+def section_number(part: str) -> str | None:
+    m = re.match(r"## (\d+)\. ", part)
+    return m.group(1) if m else None
+
+
+def refresh(old: str, new: str, numbers: list, command: str, at: str, date: str) -> str:
+    """old with its sections `numbers` replaced by new's, every other part
+    kept byte for byte; the header's Commit and Command lines say which
+    command, commit and date these sections now come from."""
+    fresh = {section_number(p): p for p in split_sections(new)}
+    parts = split_sections(old)
+    found = {section_number(p) for p in parts}
+    for n in numbers:
+        if n not in found or n not in fresh:
+            raise SystemExit(f"report.py: no section {n} to refresh")
+    parts = [fresh[section_number(p)] if section_number(p) in numbers else p for p in parts]
+    header = parts[0]
+    for n in numbers:
+        # a later refresh of a section replaces the earlier one's note
+        header = re.sub(rf"; section {n}: [^;\n]*", "", header)
+        header = re.sub(rf"; its section {n} from [^;`]*", "", header)
+        header = re.sub(r"(?m)^(- \*\*Commit:\*\* .*)$",
+                        lambda m: f"{m.group(1)}; section {n}: {at}", header, count=1)
+        header = re.sub(r"(?m)^(- \*\*Command:\*\* `[^`]*)`",
+                        lambda m: f"{m.group(1)}; its section {n} from {command} at {at}, {date}`",
+                        header, count=1)
+    return header + "".join(parts[1:])
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--dir", type=Path, required=True)
@@ -853,10 +912,24 @@ def main() -> int:
     p.add_argument("--command", default="make bench")
     p.add_argument("--machine-note", default="")
     p.add_argument("--binary", action="append")
+    p.add_argument("--refresh", action="store_true",
+                   help="replace in the existing --out only the sections whose results --dir "
+                        "holds (SECTION_INPUTS), keeping every other section as it is")
     args = p.parse_args()
     doc, _ = build(args)
+    if args.refresh:
+        numbers = held_sections(args.dir)
+        if not numbers:
+            print(f"report.py: {args.dir} holds the results of no section of "
+                  f"{', '.join(SECTION_INPUTS)}", file=sys.stderr)
+            return 1
+        now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+        doc = refresh(args.out.read_text(encoding="utf-8"), doc, numbers,
+                      args.command, commit(args.root), now)
+        print(f"report.py: refreshed section {', '.join(numbers)} of {args.out}")
+    else:
+        print(f"report.py: wrote {args.out}")
     args.out.write_text(doc, encoding="utf-8")
-    print(f"report.py: wrote {args.out}")
     return 0
 
 

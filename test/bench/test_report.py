@@ -143,3 +143,54 @@ def test_firmware_images_at_a_glance(tmp_path):
 
 def test_no_firmware_no_glance():
     assert report.firmware_summary("make: nothing\n") == ""
+
+
+def test_refresh_replaces_the_firmware_section_alone(tmp_path, monkeypatch):
+    # the existing report: every section marked, its firmware at 139.3 KB NOT met
+    old_dir, new_dir = tmp_path / "old", tmp_path / "new"
+    old_dir.mkdir()
+    new_dir.mkdir()
+    (old_dir / "firmware.txt").write_text(FIRMWARE_TXT, encoding="utf-8")
+    parts = report.split_sections(build(old_dir))
+    old = "".join(p + f"kept {k}\n" for k, p in enumerate(parts))
+    out = tmp_path / "BENCHMARKS.md"
+    out.write_text(old, encoding="utf-8")
+    # the new results: make firmware's and make firmware-options' alone
+    (new_dir / "firmware.txt").write_text(
+        FIRMWARE_TXT.replace("  total                139.3", "  total                127.1")
+        .replace("aim: flash <= 128 KB: NOT met", "aim: flash <= 128 KB: met"), encoding="utf-8")
+    (new_dir / "firmware_options.md").write_text("| option | saves |\n|---|---:|\n| x | 1 |\n",
+                                                 encoding="utf-8")
+    argv = ["report.py", "--dir", str(new_dir), "--out", str(out), "--root", str(tmp_path),
+            "--refresh", "--command", "make bench-firmware"]
+    monkeypatch.setattr("sys.argv", argv)
+    assert report.main() == 0
+    assert report.main() == 0  # twice: the header notes the latest refresh once
+    got = report.split_sections(out.read_text(encoding="utf-8"))
+    assert len(got) == len(parts)
+    for k, (was, now) in enumerate(zip(parts, got)):
+        if k == 0:
+            continue
+        if report.section_number(was) == "6":
+            assert now.startswith("## 6. Firmware\n")
+            assert f"kept {k}" not in now and "139.3 | 128 KB, NOT met" not in now
+            assert "| Unitree G1, PD controller, Cortex-M7 (mps2-an500) | 127.1 | 128 KB, met |" in now
+            assert "| x | 1 |" in now
+        else:
+            assert now == was + f"kept {k}\n"
+    header = got[0]
+    assert header != parts[0] + "kept 0\n"  # the Commit and Command lines changed
+    assert header.count("its section 6 from make bench-firmware at unknown, ") == 1
+    assert header.count("; section 6: unknown") == 1
+    assert header.endswith("kept 0\n")
+
+
+def test_refresh_needs_results_of_a_section(tmp_path, monkeypatch):
+    out = tmp_path / "BENCHMARKS.md"
+    out.write_text(build(tmp_path), encoding="utf-8")
+    (tmp_path / "tick.jsonl").write_text("", encoding="utf-8")  # section 1: a whole make bench
+    monkeypatch.setattr("sys.argv", ["report.py", "--dir", str(tmp_path), "--out", str(out),
+                                     "--root", str(tmp_path), "--refresh"])
+    before = out.read_text(encoding="utf-8")
+    assert report.main() == 1
+    assert out.read_text(encoding="utf-8") == before
